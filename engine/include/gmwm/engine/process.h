@@ -1,0 +1,128 @@
+#pragma once
+// A latent process of a GMWM model (WN, QN, RW, DR, AR1, GM, MA1, ARMA11, ARMA(p,q),
+// SIN, ...). Each process is a type deriving from Process, defined in one file under
+// engine/src/processes/ together with its registration (GMWM_REGISTER_PROCESS), so
+// adding a process touches that file plus its test.
+//
+// Parameters are the natural, discrete (per-sample) ones of DESIGN.md ("natural space").
+// Optimisers work in an unconstrained space obtained parameter by parameter through the
+// Transform of each ParameterSpec.
+//
+// Scales are given as tau = 2^j in samples (doubles, so that the formulas read as in
+// STATISTICS.md section 3).
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/random.h"
+
+namespace gmwm {
+
+/// Map from a parameter's natural domain to the real line.
+enum class Transform {
+  kLog,        ///< (0, inf):   u = log(x)
+  kAtanh,      ///< (-1, 1):    u = atanh(x)
+  kIdentity,   ///< (-inf, inf): u = x
+  kLogitHalf,  ///< (0, 1/2):   u = logit(2x)   (frequencies in cycles/sample)
+};
+
+/// Natural value -> unconstrained value.
+double to_unconstrained(Transform t, double x);
+/// Unconstrained value -> natural value.
+double from_unconstrained(Transform t, double u);
+/// d natural / d unconstrained, evaluated at unconstrained value u.
+double dnatural_du(Transform t, double u);
+/// d^2 natural / d unconstrained^2 at u.
+double d2natural_du2(Transform t, double u);
+
+struct ParameterSpec {
+  std::string name;       ///< as in the model syntax, e.g. "sigma2", "phi"
+  Transform transform;    ///< domain of the natural parameter
+  std::string meaning;    ///< one line for help texts and reports
+};
+
+/// What a process may need to know about the signal it models.
+struct ProcessContext {
+  double freq = 1.0;         ///< sampling rate in Hz (1 when unknown)
+  bool freq_known = false;   ///< whether freq came from the data or --freq
+};
+
+/// Information for a starting-value guess (see Process::initial_guess).
+struct GuessContext {
+  std::span<const double> tau;  ///< scales in samples
+  std::span<const double> wv;   ///< the part of the empirical WV this component should explain
+  double tau_hint = 0.0;        ///< scale where this component should dominate (AR1: its peak)
+};
+
+class Process {
+ public:
+  virtual ~Process() = default;
+
+  /// Name as written in model strings, without structural arguments ("AR1", "ARMA").
+  virtual std::string name() const = 0;
+  /// Structural arguments as written in model strings, e.g. "p=2,q=1" for ARMA; empty
+  /// for most processes.
+  virtual std::string structure() const { return {}; }
+  /// Position in canonical model strings (CLI.md: AR1, GM, MA1, ARMA11, ARMA, WN, QN, RW,
+  /// DR, SIN, FLICKER): smaller comes first.
+  virtual int canonical_rank() const = 0;
+  /// Parameters in the order used in theta vectors.
+  virtual const std::vector<ParameterSpec>& parameters() const = 0;
+  int size() const { return static_cast<int>(parameters().size()); }
+
+  /// True when the process contributes no randomness (DR): it then adds nothing to the
+  /// covariance of the empirical WV.
+  virtual bool deterministic() const { return false; }
+  /// True when the WV is linear in every parameter (WN, QN, RW): used by optimism checks.
+  virtual bool linear() const { return false; }
+  /// Index of the parameter whose order sorts repeated components (AR1: phi), or -1.
+  virtual int sort_key() const { return -1; }
+
+  /// Empty when theta is a valid natural parameter vector, else the reason (one line,
+  /// naming the parameter), e.g. "sigma2 must be positive (got -1)".
+  virtual std::string validate(std::span<const double> theta) const;
+
+  /// Theoretical WV nu^2(tau_k) into out[k].
+  virtual void wv(std::span<const double> theta, std::span<const double> tau,
+                  std::span<double> out) const = 0;
+  /// jac(k, l) = d nu^2(tau_k) / d theta_l (natural parameters). jac is tau.size() x size().
+  virtual void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                           Eigen::Ref<Eigen::MatrixXd> jac) const = 0;
+  /// hess(k, l * p + m) = d^2 nu^2(tau_k) / d theta_l d theta_m. hess is tau.size() x p^2.
+  virtual void wv_hessian(std::span<const double> theta, std::span<const double> tau,
+                          Eigen::Ref<Eigen::MatrixXd> hess) const = 0;
+
+  /// Generalised autocovariance g(h), h = 0..out.size()-1: for any two filters a, b with
+  /// zero sum, Cov(sum_k a_k x_{t-k}, sum_l b_l x_{s-l}) = sum_k sum_l a_k b_l g(|t-k-s+l|).
+  /// Stationary processes: the autocovariance. RW: -gamma2 |h| / 2 (minus the
+  /// semivariogram). Deterministic processes: zeros.
+  virtual void generalized_autocovariance(std::span<const double> theta,
+                                          std::span<double> out) const = 0;
+
+  /// Adds one simulated path of length out.size() to out, drawing only from rng.
+  virtual void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const = 0;
+
+  /// A starting value explaining ctx.wv (around ctx.tau_hint when the process has a
+  /// characteristic scale). Must return a valid theta.
+  virtual std::vector<double> initial_guess(const GuessContext& ctx) const = 0;
+
+  /// Value shown to users for parameter k (SIN's f in Hz when the rate is known); the
+  /// inverse is from_display. Default: identity.
+  virtual double to_display(int k, double natural) const { (void)k; return natural; }
+  virtual double from_display(int k, double shown) const { (void)k; return shown; }
+
+  const ProcessContext& context() const { return context_; }
+  void set_context(const ProcessContext& c) { context_ = c; }
+
+ private:
+  ProcessContext context_;
+};
+
+using ProcessPtr = std::shared_ptr<const Process>;
+
+}  // namespace gmwm

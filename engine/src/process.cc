@@ -1,0 +1,85 @@
+#include "gmwm/engine/process.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace gmwm {
+
+double to_unconstrained(Transform t, double x) {
+  switch (t) {
+    case Transform::kLog: return std::log(x);
+    case Transform::kAtanh: return std::atanh(x);
+    case Transform::kIdentity: return x;
+    case Transform::kLogitHalf: { const double p = 2.0 * x; return std::log(p / (1.0 - p)); }
+  }
+  return x;
+}
+
+double from_unconstrained(Transform t, double u) {
+  switch (t) {
+    case Transform::kLog: return std::exp(u);
+    case Transform::kAtanh: return std::tanh(u);
+    case Transform::kIdentity: return u;
+    case Transform::kLogitHalf: return 0.5 / (1.0 + std::exp(-u));
+  }
+  return u;
+}
+
+double dnatural_du(Transform t, double u) {
+  switch (t) {
+    case Transform::kLog: return std::exp(u);
+    case Transform::kAtanh: { const double c = std::cosh(u); return 1.0 / (c * c); }
+    case Transform::kIdentity: return 1.0;
+    case Transform::kLogitHalf: {
+      const double s = 1.0 / (1.0 + std::exp(-u));
+      return 0.5 * s * (1.0 - s);
+    }
+  }
+  return 1.0;
+}
+
+double d2natural_du2(Transform t, double u) {
+  switch (t) {
+    case Transform::kLog: return std::exp(u);
+    case Transform::kAtanh: { const double th = std::tanh(u); return -2.0 * th * (1.0 - th * th); }
+    case Transform::kIdentity: return 0.0;
+    case Transform::kLogitHalf: {
+      const double s = 1.0 / (1.0 + std::exp(-u));
+      return 0.5 * s * (1.0 - s) * (1.0 - 2.0 * s);
+    }
+  }
+  return 0.0;
+}
+
+std::string Process::validate(std::span<const double> theta) const {
+  const auto& specs = parameters();
+  if (theta.size() != specs.size()) {
+    std::ostringstream os;
+    os << name() << " takes " << specs.size() << " parameters, got " << theta.size();
+    return os.str();
+  }
+  for (std::size_t k = 0; k < specs.size(); ++k) {
+    const double x = theta[k];
+    std::ostringstream os;
+    os.precision(17);
+    if (!std::isfinite(x)) {
+      os << specs[k].name << " must be finite (got " << x << ")";
+      return os.str();
+    }
+    switch (specs[k].transform) {
+      case Transform::kLog:
+        if (!(x > 0.0)) { os << specs[k].name << " must be positive (got " << x << ")"; return os.str(); }
+        break;
+      case Transform::kAtanh:
+        if (!(x > -1.0 && x < 1.0)) { os << specs[k].name << " must be in (-1, 1) (got " << x << ")"; return os.str(); }
+        break;
+      case Transform::kLogitHalf:
+        if (!(x > 0.0 && x < 0.5)) { os << specs[k].name << " must be in (0, 0.5) cycles/sample (got " << x << ")"; return os.str(); }
+        break;
+      case Transform::kIdentity: break;
+    }
+  }
+  return {};
+}
+
+}  // namespace gmwm

@@ -1,0 +1,56 @@
+// WN: white noise with variance sigma2. nu^2(tau) = sigma2 / tau (STATISTICS.md s.3).
+#include <algorithm>
+#include <cmath>
+
+#include <boost/random/normal_distribution.hpp>
+
+#include "gmwm/engine/process_registry.h"
+
+namespace gmwm {
+namespace {
+
+class WhiteNoise final : public Process {
+ public:
+  explicit WhiteNoise(const ProcessArgs&) {}
+  std::string name() const override { return "WN"; }
+  int canonical_rank() const override { return 50; }
+  bool linear() const override { return true; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"sigma2", Transform::kLog, "white-noise variance per sample"}};
+    return specs;
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] / tau[k];
+  }
+  void wv_jacobian(std::span<const double>, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) jac(static_cast<Eigen::Index>(k), 0) = 1.0 / tau[k];
+  }
+  void wv_hessian(std::span<const double>, std::span<const double>,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    hess.setZero();
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    std::fill(out.begin(), out.end(), 0.0);
+    if (!out.empty()) out[0] = theta[0];
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[0]));
+    for (double& v : out) v += z(rng);
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    // The finest scale is where white noise dominates: sigma2 = tau_1 nu^2(tau_1).
+    double s = ctx.tau.empty() ? 1.0 : ctx.tau[0] * ctx.wv[0];
+    if (!(s > 0.0) || !std::isfinite(s)) s = 1.0;
+    return {s};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(WhiteNoise, "WN", "white noise: WN(sigma2)");
+
+}  // namespace gmwm

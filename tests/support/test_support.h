@@ -1,0 +1,35 @@
+#pragma once
+// Shared helpers for the test suites.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace gmwm::test {
+
+/// The folder with the real IMU recordings: $GMWM_SHARED_DATA, else ../shared/data
+/// beside the source tree. std::nullopt when absent (the caller skips, unless
+/// GMWM_REQUIRE_SHARED_DATA=1, in which case absence is a test failure).
+std::optional<std::filesystem::path> shared_data_dir();
+
+/// Path of a file in the shared data folder, or skips the current test (GTEST_SKIP is
+/// issued by the macro below) / fails when the data is required.
+std::string shared_data_file(const std::string& name);
+
+/// A fresh temporary directory for one test.
+std::filesystem::path temp_dir(const std::string& tag);
+
+}  // namespace gmwm::test
+
+/// Skips the current test with a clear message when the shared data folder is absent,
+/// or fails when GMWM_REQUIRE_SHARED_DATA=1.
+#define GMWM_REQUIRE_SHARED_DATA()                                                          \
+  do {                                                                                      \
+    if (!::gmwm::test::shared_data_dir()) {                                                 \
+      const char* req = std::getenv("GMWM_REQUIRE_SHARED_DATA");                            \
+      if (req && std::string(req) == "1")                                                   \
+        FAIL() << "shared data folder not found (set GMWM_SHARED_DATA); required in CI";    \
+      GTEST_SKIP() << "shared data folder not found: set GMWM_SHARED_DATA to the folder "  \
+                      "with adis_16405_imu1.csv.gz to run this test";                       \
+    }                                                                                       \
+  } while (0)
