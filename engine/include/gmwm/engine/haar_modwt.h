@@ -1,0 +1,34 @@
+#pragma once
+// Haar MODWT coefficients by prefix sums (STATISTICS.md section 1):
+//   W_{j,t} = (S_{t+1} - 2 S_{t+1-m_j} + S_{t+1-tau_j}) / tau_j,  t = tau_j - 1 .. N - 1,
+// with S_k = sum_{i<k} (x_i - xbar) (the Haar filter ignores a constant level; centring
+// keeps the prefix sums small). Only the M_j = N - tau_j + 1 coefficients that do not
+// wrap around the boundary are used. All levels cost O(N J) and share one prefix sum.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace gmwm {
+
+class HaarModwt {
+ public:
+  /// Builds the prefix sums of x (n >= 2).
+  HaarModwt(const double* x, std::int64_t n);
+
+  std::int64_t size() const { return n_; }
+  /// J = floor(log2 N): the deepest level with at least one coefficient.
+  int max_levels() const;
+  /// M_j = N - 2^j + 1.
+  std::int64_t count(int level) const;
+  /// The M_j coefficients of a level, in time order.
+  void coefficients(int level, std::vector<double>& out) const;
+  /// sum_t W_{j,t}^2 without materialising the coefficients.
+  double sum_of_squares(int level) const;
+
+ private:
+  std::int64_t n_;
+  std::vector<double> prefix_;  // size n + 1
+};
+
+}  // namespace gmwm

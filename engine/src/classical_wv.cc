@@ -1,0 +1,120 @@
+#include "gmwm/engine/classical_wv.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <tbb/parallel_for.h>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/haar_modwt.h"
+
+namespace gmwm {
+
+std::string WvOptions::Validate() const {
+  std::ostringstream os;
+  if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
+  else if (levels < 0) os << "levels must be positive (or 0 for all), got " << levels;
+  return os.str();
+}
+
+double wv_eta(std::int64_t coefficients, double tau) {
+  return std::max(static_cast<double>(coefficients) / tau, 1.0);
+}
+
+std::pair<double, double> chi_square_ci(double wv, double eta, double alpha) {
+  check_positive("chi_square_ci", "eta", eta);
+  check_probability("chi_square_ci", "alpha", alpha);
+  boost::math::chi_squared dist(eta);
+  const double q_hi = boost::math::quantile(dist, 1.0 - alpha / 2.0);
+  const double q_lo = boost::math::quantile(dist, alpha / 2.0);
+  return {eta * wv / q_hi, eta * wv / q_lo};
+}
+
+namespace {
+
+void check_series(const char* fn, std::int64_t n, const WvOptions& options) {
+  if (n < kMinSeriesLength)
+    detail::throw_check(fn, "series length", static_cast<double>(n),
+                        "at least " + std::to_string(kMinSeriesLength));
+  const std::string why = options.Validate();
+  if (!why.empty()) throw InvalidArgument(std::string(fn) + ": " + why);
+}
+
+WaveletVariance empty_wv(std::int64_t n, int J, double alpha) {
+  WaveletVariance w;
+  w.n = n;
+  w.alpha = alpha;
+  const auto sz = static_cast<std::size_t>(J);
+  w.tau.resize(sz); w.wv.resize(sz); w.ci_low.resize(sz); w.ci_high.resize(sz);
+  w.variance.resize(sz); w.eta.resize(sz); w.coefficients.resize(sz); w.notes.resize(sz);
+  return w;
+}
+
+int levels_for(const HaarModwt& modwt, const WvOptions& options) {
+  const int J = modwt.max_levels();
+  return options.levels > 0 ? std::min(options.levels, J) : J;
+}
+
+void fill_level(const HaarModwt& modwt, int j, WaveletVariance& w) {
+  const auto i = static_cast<std::size_t>(j - 1);
+  const std::int64_t M = modwt.count(j);
+  const double tau = std::ldexp(1.0, j);
+  const double v = modwt.sum_of_squares(j) / static_cast<double>(M);
+  const double eta = wv_eta(M, tau);
+  w.tau[i] = tau;
+  w.wv[i] = v;
+  w.coefficients[i] = M;
+  w.eta[i] = eta;
+  w.variance[i] = 2.0 * v * v / eta;
+  std::tie(w.ci_low[i], w.ci_high[i]) = chi_square_ci(v, eta, w.alpha);
+}
+
+}  // namespace
+
+WaveletVariance classical_wv(const double* x, std::int64_t n, const WvOptions& options) {
+  check_series("classical_wv", n, options);
+  const HaarModwt modwt(x, n);
+  const int J = levels_for(modwt, options);
+  WaveletVariance w = empty_wv(n, J, options.alpha);
+  for (int j = 1; j <= J; ++j) fill_level(modwt, j, w);
+  return w;
+}
+
+std::vector<WaveletVariance> classical_wv(const std::vector<std::span<const double>>& series,
+                                          const WvOptions& options) {
+  std::vector<std::unique_ptr<HaarModwt>> modwt(series.size());
+  std::vector<WaveletVariance> out(series.size());
+  for (const auto& s : series) check_series("classical_wv", static_cast<std::int64_t>(s.size()), options);
+  tbb::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
+    const auto n = static_cast<std::int64_t>(series[c].size());
+    modwt[c] = std::make_unique<HaarModwt>(series[c].data(), n);
+    out[c] = empty_wv(n, levels_for(*modwt[c], options), options.alpha);
+  });
+  // Levels of all series as one flat range, so that two cores share six columns evenly.
+  std::vector<std::pair<std::size_t, int>> tasks;
+  for (std::size_t c = 0; c < series.size(); ++c)
+    for (int j = 1; j <= out[c].levels(); ++j) tasks.emplace_back(c, j);
+  tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
+    const auto [c, j] = tasks[k];
+    fill_level(*modwt[c], j, out[c]);
+  });
+  return out;
+}
+
+std::vector<std::pair<double, double>> allan_variance(const WaveletVariance& wv) {
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t j = 0; j < wv.wv.size(); ++j) out.emplace_back(wv.tau[j] / 2.0, 2.0 * wv.wv[j]);
+  return out;
+}
+
+WaveletVariance ClassicalWvEstimator::compute(const double* x, std::int64_t n, int levels,
+                                              double alpha) const {
+  WvOptions o;
+  o.levels = levels;
+  o.alpha = alpha;
+  return classical_wv(x, n, o);
+}
+
+}  // namespace gmwm

@@ -1,0 +1,146 @@
+// Classical WV against the reproducible series of ../shared/reference/test_vectors.md.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/haar_modwt.h"
+
+namespace gmwm {
+namespace {
+
+// s_0 = 12345, s_{k+1} = (1664525 s_k + 1013904223) mod 2^32, x_k = s_k / 2^32 - 0.5.
+std::vector<double> lcg_series(int n) {
+  std::vector<double> x;
+  std::uint64_t s = 12345;
+  for (int k = 1; k <= n; ++k) {
+    s = (1664525ULL * s + 1013904223ULL) % 4294967296ULL;
+    x.push_back(static_cast<double>(s) / 4294967296.0 - 0.5);
+  }
+  return x;
+}
+
+struct Row { double wv, eta, lo, hi; };
+const Row kReference[] = {
+    {0.04253747205206102, 499.5, 0.037718255449903565, 0.04834826581903962},
+    {0.020127080004931127, 249.25, 0.017013013260045094, 0.024186813107700003},
+    {0.009743175180872426, 124.125, 0.00771014043297574, 0.012706217353006902},
+    {0.00403855146434386, 61.5625, 0.0029202102653904786, 0.005952794695067195},
+    {0.002052588982184266, 30.28125, 0.0013131706316662256, 0.003656020177833201},
+    {0.0015745520344519572, 14.640625, 0.0008538645702438307, 0.0038210255494375393},
+    {0.0008289920578525559, 6.8203125, 0.0003593210225269759, 0.0035214565343343373},
+    {0.0002691779601164682, 2.91015625, 8.53314146299347e-05, 0.003990115214799916},
+    {0.0002125993833911233, 1, 4.2317714905231776e-05, 0.21648108027531404},
+};
+const double kAllan[] = {0.0402541600098623,   0.0194863503617449,    0.00807710292868772,
+                         0.00410517796436853,  0.00314910406890391,   0.00165798411570511,
+                         0.000538355920232936, 0.000425198766782247};
+
+TEST(ClassicalWv, ReproducesTheReferenceSeriesFirstValues) {
+  const auto x = lcg_series(2);
+  EXPECT_NEAR(x[0], -0.4795973142609, 1e-13);
+  EXPECT_NEAR(x[1], -0.4834521517623216, 1e-16);
+}
+
+TEST(ClassicalWv, MatchesTheReferenceWvCountsAndCisTo1e12) {
+  const auto x = lcg_series(1000);
+  const WaveletVariance w = classical_wv(x.data(), 1000);
+  ASSERT_EQ(w.levels(), 9);
+  const std::int64_t counts[] = {999, 997, 993, 985, 969, 937, 873, 745, 489};
+  for (int j = 0; j < 9; ++j) {
+    SCOPED_TRACE(j + 1);
+    EXPECT_EQ(w.coefficients[j], counts[j]);
+    EXPECT_DOUBLE_EQ(w.tau[j], std::ldexp(1.0, j + 1));
+    EXPECT_NEAR(w.wv[j] / kReference[j].wv, 1.0, 1e-12);
+    EXPECT_DOUBLE_EQ(w.eta[j], kReference[j].eta);
+    EXPECT_NEAR(w.ci_low[j] / kReference[j].lo, 1.0, 1e-12);
+    EXPECT_NEAR(w.ci_high[j] / kReference[j].hi, 1.0, 1e-12);
+    EXPECT_NEAR(w.variance[j], 2.0 * w.wv[j] * w.wv[j] / w.eta[j], 1e-30);
+  }
+}
+
+TEST(ClassicalWv, AllanVarianceIsTwiceTheWvAtDoubleTheAveragingTime) {
+  const auto x = lcg_series(1000);
+  const auto avar = allan_variance(classical_wv(x.data(), 1000));
+  ASSERT_EQ(avar.size(), 9u);
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_DOUBLE_EQ(avar[k + 1].first, std::ldexp(1.0, k + 1));  // m = 2..256
+    EXPECT_NEAR(avar[k + 1].second / kAllan[k], 1.0, 1e-12);
+  }
+}
+
+TEST(ClassicalWv, UsesTheLastLevelEvenWithASingleCoefficient) {
+  const auto x = lcg_series(1024);
+  const WaveletVariance w = classical_wv(x.data(), 1024);
+  ASSERT_EQ(w.levels(), 10);
+  EXPECT_EQ(w.coefficients[9], 1);
+  EXPECT_TRUE(std::isfinite(w.wv[9]));
+  EXPECT_GT(w.wv[9], 0.0);
+  EXPECT_DOUBLE_EQ(w.eta[9], 1.0);
+}
+
+TEST(ClassicalWv, PrefixSumCoefficientsEqualTheDirectHaarFilter) {
+  const auto x = lcg_series(300);
+  HaarModwt modwt(x.data(), 300);
+  std::vector<double> w;
+  for (int j = 1; j <= modwt.max_levels(); ++j) {
+    modwt.coefficients(j, w);
+    const int tau = 1 << j, m = tau / 2;
+    for (std::size_t k = 0; k < w.size(); k += 7) {
+      const int t = static_cast<int>(k) + tau - 1;
+      double direct = 0.0;
+      for (int i = 0; i < m; ++i) direct += x[t - i];
+      for (int i = m; i < tau; ++i) direct -= x[t - i];
+      EXPECT_NEAR(w[k], direct / tau, 1e-14);
+    }
+  }
+}
+
+TEST(ClassicalWv, IgnoresAConstantOffset) {
+  auto x = lcg_series(4096);
+  const WaveletVariance a = classical_wv(x.data(), 4096);
+  for (double& v : x) v += 1e4;
+  const WaveletVariance b = classical_wv(x.data(), 4096);
+  for (int j = 0; j < a.levels(); ++j) EXPECT_NEAR(b.wv[j] / a.wv[j], 1.0, 1e-9);
+}
+
+TEST(ClassicalWv, ParallelMultiColumnEqualsOneColumnAtATime) {
+  const auto x = lcg_series(5000);
+  std::vector<double> y(x.rbegin(), x.rend());
+  const auto both = classical_wv(std::vector<std::span<const double>>{x, y});
+  const auto a = classical_wv(x.data(), 5000), b = classical_wv(y.data(), 5000);
+  EXPECT_EQ(both[0].wv, a.wv);
+  EXPECT_EQ(both[1].wv, b.wv);
+  EXPECT_EQ(both[1].ci_high, b.ci_high);
+}
+
+TEST(ClassicalWv, HonoursARequestedNumberOfLevelsAndAlpha) {
+  const auto x = lcg_series(1000);
+  WvOptions o;
+  o.levels = 4;
+  o.alpha = 0.1;
+  const WaveletVariance w = classical_wv(x.data(), 1000, o);
+  EXPECT_EQ(w.levels(), 4);
+  EXPECT_GT(w.ci_low[0], classical_wv(x.data(), 1000).ci_low[0]);
+}
+
+TEST(ClassicalWv, RejectsTooShortSeriesAndBadOptionsWithClearMessages) {
+  const auto x = lcg_series(15);
+  try {
+    classical_wv(x.data(), 15);
+    FAIL() << "expected InvalidArgument";
+  } catch (const InvalidArgument& e) {
+    EXPECT_STREQ(e.what(), "classical_wv: series length is 15, but must be at least 16");
+  }
+  WvOptions o;
+  o.alpha = 1.5;
+  EXPECT_EQ(o.Validate(), "alpha must be in (0, 1), got 1.5");
+  const auto y = lcg_series(100);
+  EXPECT_THROW(classical_wv(y.data(), 100, o), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace gmwm
