@@ -1,0 +1,101 @@
+#pragma once
+// The GMWM estimator (STATISTICS.md sections 4-5):
+//   theta_hat = argmin (nuhat - nu(theta))' Omega (nuhat - nu(theta)),
+// optimised with NLopt (L-BFGS, analytic gradients) in the unconstrained space, from
+// starting values derived from the WV's shape plus multi-starts; then inference
+// (sandwich covariance, CIs, goodness of fit).
+//
+//   gmwm::FitOptions options;            // validated by options.Validate()
+//   gmwm::FitResult r = gmwm::fit_gmwm(wv, model, options);
+//   if (r.status != gmwm::FitStatus::kConverged) ... r.message ...
+//   std::cout << r.Report();
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+
+namespace gmwm {
+
+enum class OmegaKind {
+  kDiag,       ///< diag(1 / Var(nuhat_j)) from the WV's own variance (data only)
+  kFull,       ///< V^-1, V the model-based covariance at a pilot (diag) fit
+  kBootstrap,  ///< V^-1, V from a parametric bootstrap at a pilot (diag) fit
+};
+const char* to_string(OmegaKind k);
+
+enum class FitStatus { kConverged, kNotConverged, kFailed };
+const char* to_string(FitStatus s);
+
+struct FitOptions {
+  OmegaKind omega = OmegaKind::kDiag;
+  /// A weighting matrix given by the caller (e.g. common to all models of a selection);
+  /// overrides `omega` when set.
+  std::optional<Eigen::MatrixXd> omega_matrix;
+  double alpha = 0.05;                 ///< parameter CIs at level 1 - alpha
+  int multistarts = 4;                 ///< local optimisations from the best starting points
+  int candidate_starts = 24;           ///< shape-based candidates screened by objective
+  int max_evaluations = 3000;          ///< per local optimisation
+  double relative_tolerance = 1e-12;   ///< NLopt ftol_rel
+  /// Additional starting points (natural space), e.g. warm starts from nested models.
+  std::vector<Eigen::VectorXd> starts;
+  int bootstrap_replicates = 100;      ///< for OmegaKind::kBootstrap
+  std::uint64_t seed = 0;              ///< for the bootstrap streams
+  const WvEstimator* estimator = nullptr;  ///< WV of simulated series (default classical)
+  bool inference = true;               ///< compute covariance, CIs and GoF
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+struct GoodnessOfFit {
+  double statistic = 0.0;  ///< minimised objective under Omega
+  double df = 0.0;         ///< J - p
+  double p_value = 0.0;    ///< chi-square (Omega = V^-1) or Satterthwaite-calibrated
+  std::string method;      ///< "chi-square" or "satterthwaite"
+};
+
+struct FitResult {
+  Model model;                  ///< canonical order (AR1 by increasing phi)
+  Eigen::VectorXd theta;        ///< natural parameters, canonical order
+  double objective = 0.0;
+  FitStatus status = FitStatus::kFailed;
+  std::string message;
+  int evaluations = 0;
+  Eigen::MatrixXd omega;        ///< the weighting matrix used
+  Eigen::MatrixXd wv_covariance;  ///< V used for inference
+  Eigen::VectorXd implied_wv;   ///< nu(theta_hat)
+  // Inference (natural parameters).
+  Eigen::MatrixXd covariance;
+  Eigen::VectorXd se, ci_low, ci_high;
+  GoodnessOfFit gof;
+  std::vector<std::string> notes;  ///< e.g. boundary parameters dropped from inference
+  double seconds_optimise = 0.0, seconds_inference = 0.0;
+
+  /// A multi-line human-readable summary.
+  std::string Report() const;
+};
+
+/// Fits `model` to `wv`. Throws InputError when the model cannot be fitted at all
+/// (p > J, invalid options). Numerical trouble is reported in the status.
+FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptions& options = {});
+
+/// The GMWM objective (nuhat - nu(theta))' Omega (nuhat - nu(theta)).
+double gmwm_objective(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
+                      const Eigen::MatrixXd& omega);
+
+/// diag(1 / wv.variance).
+Eigen::MatrixXd diagonal_omega(const WaveletVariance& wv);
+
+/// A starting point for `super` built from a fit of `sub` whose components all appear in
+/// `super`: shared components keep their values, the others get a negligible size.
+Eigen::VectorXd embed_start(const Model& sub, const Eigen::VectorXd& theta_sub, const Model& super,
+                            const WaveletVariance& wv);
+
+}  // namespace gmwm

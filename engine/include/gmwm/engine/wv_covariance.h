@@ -1,0 +1,28 @@
+#pragma once
+// Model-based covariance of the empirical classical WV of a Gaussian process
+// (STATISTICS.md section 5), by the exact finite-N sums
+//   Cov(nuhat_i, nuhat_j) = (2 / (M_i M_j)) sum_h n_ij(h) c_ij(h)^2,
+// where c_ij(h) = Cov(W_{i,t}, W_{j,t+h}) and n_ij(h) counts the coefficient pairs at lag
+// h; and by parametric bootstrap with any WV estimator.
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+
+namespace gmwm {
+
+/// J x J covariance of the classical WV of levels 1..levels for a series of length n.
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
+                                    std::int64_t n, int levels);
+
+/// Sample covariance of the WV of `replicates` series simulated from (model, theta),
+/// with stream seeds derived from `seed`; deterministic whatever the thread count.
+Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
+                                        std::int64_t n, int levels, int replicates,
+                                        std::uint64_t seed, const WvEstimator& estimator,
+                                        double alpha = 0.05);
+
+}  // namespace gmwm

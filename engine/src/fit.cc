@@ -1,0 +1,339 @@
+#include "gmwm/engine/fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/Dense>
+#include <nlopt.h>
+#include <spdlog/spdlog.h>
+
+#include "fit_internal.h"
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/wv_covariance.h"
+#include "starting_values.h"
+
+namespace gmwm {
+
+const char* to_string(OmegaKind k) {
+  switch (k) {
+    case OmegaKind::kDiag: return "diag";
+    case OmegaKind::kFull: return "full";
+    case OmegaKind::kBootstrap: return "bootstrap";
+  }
+  return "?";
+}
+
+const char* to_string(FitStatus s) {
+  switch (s) {
+    case FitStatus::kConverged: return "converged";
+    case FitStatus::kNotConverged: return "not_converged";
+    case FitStatus::kFailed: return "failed";
+  }
+  return "?";
+}
+
+std::string FitOptions::Validate() const {
+  std::ostringstream os;
+  if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
+  else if (multistarts < 1) os << "multistarts must be at least 1, got " << multistarts;
+  else if (candidate_starts < 1) os << "candidate_starts must be at least 1, got " << candidate_starts;
+  else if (max_evaluations < 10) os << "max_evaluations must be at least 10, got " << max_evaluations;
+  else if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0))
+    os << "relative_tolerance must be in (0, 1), got " << relative_tolerance;
+  else if (omega == OmegaKind::kBootstrap && bootstrap_replicates < 10)
+    os << "bootstrap replicates must be at least 10 for a bootstrap Omega, got " << bootstrap_replicates;
+  return os.str();
+}
+
+Eigen::MatrixXd diagonal_omega(const WaveletVariance& wv) {
+  Eigen::VectorXd d(wv.levels());
+  for (int j = 0; j < wv.levels(); ++j) {
+    const double v = wv.variance[static_cast<std::size_t>(j)];
+    d(j) = (v > 0.0 && std::isfinite(v)) ? 1.0 / v : 0.0;
+  }
+  return d.asDiagonal();
+}
+
+double gmwm_objective(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
+                      const Eigen::MatrixXd& omega) {
+  const Eigen::VectorXd r = wv.values() - model.wv(theta, wv.tau);
+  return r.dot(omega * r);
+}
+
+namespace {
+
+// Bounds of the unconstrained parameters. atanh(1 - 1e-9) = 10.70: |phi| <= 1 - 1e-9,
+// the range where the AR1 WV is numerically stable (DESIGN.md). log: e^{+-100} covers
+// any physical variance. logit(2f): f in (0.5 e^-30, 0.5 (1 - e^-30)).
+constexpr double kAtanhBound = 10.7;
+constexpr double kLogBound = 100.0;
+constexpr double kLogitBound = 30.0;
+constexpr double kIdentityBound = 1e6;
+// The relative size, against the data's WV, given to a component absent from the
+// sub-model a warm start comes from: small enough not to change the objective
+// noticeably, large enough to keep the log-parameters' gradients alive.
+constexpr double kNegligibleShare = 1e-6;
+
+double bound_of(Transform t) {
+  switch (t) {
+    case Transform::kLog: return kLogBound;
+    case Transform::kAtanh: return kAtanhBound;
+    case Transform::kLogitHalf: return kLogitBound;
+    case Transform::kIdentity: return kIdentityBound;
+  }
+  return kIdentityBound;
+}
+
+struct Problem {
+  const WaveletVariance* wv;
+  const Model* model;
+  Eigen::MatrixXd omega;
+  Eigen::VectorXd nuhat;
+  int evaluations = 0;
+};
+
+double objective_u(unsigned n, const double* u, double* grad, void* data) {
+  auto* P = static_cast<Problem*>(data);
+  ++P->evaluations;
+  Eigen::Map<const Eigen::VectorXd> uu(u, n);
+  const Eigen::VectorXd theta = P->model->from_unconstrained(uu);
+  const Eigen::VectorXd nu = P->model->wv(theta, P->wv->tau);
+  const Eigen::VectorXd r = P->nuhat - nu;
+  const Eigen::VectorXd wr = P->omega * r;
+  const double q = r.dot(wr);
+  if (!std::isfinite(q)) {
+    if (grad) std::fill(grad, grad + n, 0.0);
+    return std::numeric_limits<double>::max();
+  }
+  if (grad) {
+    const Eigen::MatrixXd A = P->model->jacobian(theta, P->wv->tau);
+    const Eigen::VectorXd d = P->model->dtheta_du(uu);
+    Eigen::Map<Eigen::VectorXd> g(grad, n);
+    g = -2.0 * (A.transpose() * wr).cwiseProduct(d);
+    for (unsigned k = 0; k < n; ++k)
+      if (!std::isfinite(grad[k])) grad[k] = 0.0;
+  }
+  return q;
+}
+
+struct LocalResult {
+  Eigen::VectorXd u;
+  double value = std::numeric_limits<double>::infinity();
+  nlopt_result code = NLOPT_FAILURE;
+};
+
+LocalResult local_optimise(Problem& P, const Eigen::VectorXd& u0, const FitOptions& o) {
+  const unsigned n = static_cast<unsigned>(u0.size());
+  LocalResult best;
+  best.u = u0;
+  std::vector<double> lb(n), ub(n);
+  for (unsigned k = 0; k < n; ++k) {
+    const double b = bound_of(P.model->spec_of(static_cast<int>(k)).transform);
+    lb[k] = -b;
+    ub[k] = b;
+  }
+  std::vector<double> x(u0.data(), u0.data() + n);
+  for (unsigned k = 0; k < n; ++k) x[k] = std::clamp(x[k], lb[k], ub[k]);
+  // Two L-BFGS passes: the second restarts the Hessian approximation, which frees
+  // runs that stopped on round-off far from a stationary point.
+  for (int pass = 0; pass < 2; ++pass) {
+    nlopt_opt opt = nlopt_create(NLOPT_LD_LBFGS, n);
+    nlopt_set_min_objective(opt, objective_u, &P);
+    nlopt_set_lower_bounds(opt, lb.data());
+    nlopt_set_upper_bounds(opt, ub.data());
+    nlopt_set_ftol_rel(opt, o.relative_tolerance);
+    nlopt_set_maxeval(opt, o.max_evaluations);
+    double f = 0.0;
+    const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
+    nlopt_destroy(opt);
+    if (code < 0 && code != NLOPT_ROUNDOFF_LIMITED && code != NLOPT_FORCED_STOP) {
+      // Keep the best point found so far (NLopt leaves x at it for most failures).
+      f = objective_u(n, x.data(), nullptr, &P);
+    }
+    if (std::isfinite(f) && f <= best.value) {
+      best.value = f;
+      best.u = Eigen::Map<Eigen::VectorXd>(x.data(), n);
+      best.code = code;
+    } else if (pass == 0) {
+      best.code = code;
+    }
+    if (code == NLOPT_MAXEVAL_REACHED) break;
+  }
+  return best;
+}
+
+// Maps an NLopt outcome to a fit status. L-BFGS often ends with ROUNDOFF_LIMITED at an
+// optimum whose objective cannot decrease further in double precision: it counts as
+// converged when the gradient in the unconstrained space is small relative to the
+// objective (kRoundoffGradient, i.e. a relative change below 1e-6 per unit step).
+constexpr double kRoundoffGradient = 1e-6;
+
+FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, double value,
+                    std::string& message) {
+  switch (code) {
+    case NLOPT_SUCCESS: case NLOPT_STOPVAL_REACHED: case NLOPT_FTOL_REACHED:
+    case NLOPT_XTOL_REACHED:
+      message = "converged (NLopt code " + std::to_string(code) + ")";
+      return FitStatus::kConverged;
+    case NLOPT_MAXEVAL_REACHED: case NLOPT_MAXTIME_REACHED:
+      message = "stopped at the evaluation limit before converging";
+      return FitStatus::kNotConverged;
+    case NLOPT_ROUNDOFF_LIMITED: {
+      std::vector<double> g(static_cast<std::size_t>(u.size()));
+      objective_u(static_cast<unsigned>(u.size()), u.data(), g.data(), &P);
+      double gmax = 0.0;
+      for (int k = 0; k < u.size(); ++k) {
+        // Components pinned at a bound are at a constrained optimum.
+        const double b = bound_of(P.model->spec_of(k).transform);
+        if (std::abs(u(k)) >= b * (1.0 - 1e-12)) continue;
+        gmax = std::max(gmax, std::abs(g[static_cast<std::size_t>(k)]));
+      }
+      if (gmax <= kRoundoffGradient * std::max(1.0, value)) {
+        message = "converged (objective limited by round-off)";
+        return FitStatus::kConverged;
+      }
+      message = "stopped on round-off with a gradient of " + std::to_string(gmax);
+      return FitStatus::kNotConverged;
+    }
+    default:
+      message = "optimiser failed (NLopt code " + std::to_string(code) + ")";
+      return FitStatus::kFailed;
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd embed_start(const Model& sub, const Eigen::VectorXd& theta_sub, const Model& super,
+                            const WaveletVariance& wv) {
+  Eigen::VectorXd theta(super.num_parameters());
+  std::vector<bool> used(static_cast<std::size_t>(sub.num_components()), false);
+  std::vector<double> small(wv.wv);
+  for (double& v : small) v = std::max(v, 1e-300) * kNegligibleShare;
+  for (int c = 0; c < super.num_components(); ++c) {
+    const Process& p = *super.components()[static_cast<std::size_t>(c)].process;
+    int match = -1;
+    for (int s = 0; s < sub.num_components() && match < 0; ++s) {
+      const Process& q = *sub.components()[static_cast<std::size_t>(s)].process;
+      if (!used[static_cast<std::size_t>(s)] && q.name() == p.name() && q.structure() == p.structure()) match = s;
+    }
+    if (match >= 0) {
+      used[static_cast<std::size_t>(match)] = true;
+      theta.segment(super.offset(c), p.size()) = theta_sub.segment(sub.offset(match), p.size());
+    } else {
+      GuessContext ctx{wv.tau, small, wv.tau[wv.tau.size() / 2]};
+      const auto g = p.initial_guess(ctx);
+      for (int i = 0; i < p.size(); ++i) theta(super.offset(c) + i) = g[static_cast<std::size_t>(i)];
+    }
+  }
+  return theta;
+}
+
+FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("fit options: " + why);
+  check_model_fits_levels(model_in, wv.levels());
+  if (model_in.num_components() == 0) throw InputError("fit: the model has no component");
+  for (int j = 0; j < wv.levels(); ++j)
+    if (!std::isfinite(wv.wv[static_cast<std::size_t>(j)]))
+      throw InputError("fit: the wavelet variance at level " + std::to_string(j + 1) +
+                       " is undefined (" + (wv.notes[static_cast<std::size_t>(j)].empty() ? "no value" : wv.notes[static_cast<std::size_t>(j)]) + ")");
+
+  Problem P;
+  P.wv = &wv;
+  P.model = &model_in;
+  P.nuhat = wv.values();
+  P.omega = options.omega_matrix ? *options.omega_matrix : diagonal_omega(wv);
+  check_size_match("fit_gmwm", "omega", static_cast<std::size_t>(P.omega.rows()), "levels",
+                   static_cast<std::size_t>(wv.levels()));
+
+  auto optimise = [&](std::vector<Eigen::VectorXd> extra) {
+    std::vector<Eigen::VectorXd> cands = detail::candidate_starts(wv, model_in, options.candidate_starts, options.seed);
+    std::vector<std::pair<double, Eigen::VectorXd>> scored;
+    for (auto& c : cands) scored.emplace_back(gmwm_objective(wv, model_in, c, P.omega), c);
+    std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Eigen::VectorXd> starts;
+    for (auto& s : extra)
+      if (model_in.validate(s).empty()) starts.push_back(s);
+    for (std::size_t k = 0; k < scored.size() && static_cast<int>(k) < options.multistarts; ++k)
+      starts.push_back(scored[k].second);
+    LocalResult best;
+    for (const auto& s : starts) {
+      LocalResult r = local_optimise(P, model_in.to_unconstrained(s), options);
+      if (r.value < best.value) best = r;
+    }
+    return best;
+  };
+
+  std::vector<Eigen::VectorXd> extra = options.starts;
+  LocalResult best = optimise(extra);
+  bool omega_is_v_inverse = false;
+  Eigen::MatrixXd v_for_omega;
+  if (!options.omega_matrix && options.omega != OmegaKind::kDiag && std::isfinite(best.value)) {
+    // Pilot (diag) fit done: build V at the pilot estimate, then refit with V^-1.
+    const Eigen::VectorXd pilot = model_in.from_unconstrained(best.u);
+    if (options.omega == OmegaKind::kFull) {
+      v_for_omega = model_wv_covariance(model_in, pilot, wv.n, wv.levels());
+    } else {
+      ClassicalWvEstimator classical;
+      const WvEstimator& est = options.estimator ? *options.estimator : classical;
+      v_for_omega = bootstrap_wv_covariance(model_in, pilot, wv.n, wv.levels(),
+                                            options.bootstrap_replicates, options.seed, est, wv.alpha);
+    }
+    P.omega = v_for_omega.completeOrthogonalDecomposition().pseudoInverse();
+    P.omega = 0.5 * (P.omega + P.omega.transpose());
+    omega_is_v_inverse = true;
+    extra.push_back(pilot);
+    best = optimise(extra);
+  }
+
+  FitResult r;
+  r.evaluations = P.evaluations;
+  r.omega = P.omega;
+  if (!std::isfinite(best.value)) {
+    r.model = model_in;
+    r.status = FitStatus::kFailed;
+    r.message = "no starting point gave a finite objective";
+    r.theta = Eigen::VectorXd::Constant(model_in.num_parameters(), std::numeric_limits<double>::quiet_NaN());
+    return r;
+  }
+  r.status = status_of(best.code, P, best.u, best.value, r.message);
+  Eigen::VectorXd theta = model_in.from_unconstrained(best.u);
+  r.model = model_in.canonical(&theta);
+  r.theta = theta;
+  r.objective = gmwm_objective(wv, r.model, r.theta, P.omega);
+  r.implied_wv = r.model.wv(r.theta, wv.tau);
+  if (v_for_omega.size()) r.wv_covariance = v_for_omega;
+  const auto t1 = std::chrono::steady_clock::now();
+  r.seconds_optimise = std::chrono::duration<double>(t1 - t0).count();
+  if (r.status != FitStatus::kConverged)
+    spdlog::get("gmwm") ? spdlog::get("gmwm")->warn("fit of {}: {}", r.model.to_string(), r.message)
+                        : spdlog::warn("fit of {}: {}", r.model.to_string(), r.message);
+  if (options.inference) detail::run_inference(wv, options, omega_is_v_inverse, r);
+  r.seconds_inference = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  return r;
+}
+
+std::string FitResult::Report() const {
+  std::ostringstream os;
+  os.precision(6);
+  os << "GMWM fit of " << model.to_string() << "\n";
+  os << "  status: " << to_string(status) << " (" << message << "), " << evaluations << " evaluations\n";
+  os << "  objective: " << objective << "\n";
+  for (int k = 0; k < theta.size(); ++k) {
+    os << "  " << model.parameter_label(k) << " = " << theta(k);
+    if (se.size() == theta.size()) os << "  (se " << se(k) << ", CI [" << ci_low(k) << ", " << ci_high(k) << "])";
+    os << "\n";
+  }
+  if (gof.df > 0) os << "  goodness of fit: statistic " << gof.statistic << ", df " << gof.df << ", p-value " << gof.p_value << " (" << gof.method << ")\n";
+  for (const auto& n : notes) os << "  note: " << n << "\n";
+  os << "  time: optimisation " << seconds_optimise << " s, inference " << seconds_inference << " s\n";
+  return os.str();
+}
+
+}  // namespace gmwm

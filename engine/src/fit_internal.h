@@ -1,0 +1,15 @@
+#pragma once
+// Internals shared by the fit and its inference.
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/fit.h"
+
+namespace gmwm::detail {
+
+/// Sandwich covariance, CIs and goodness of fit for a finished fit (fills r.covariance,
+/// r.se, r.ci_low, r.ci_high, r.gof, r.wv_covariance unless already set, r.notes).
+void run_inference(const WaveletVariance& wv, const FitOptions& options, bool omega_is_v_inverse,
+                   FitResult& r);
+
+}  // namespace gmwm::detail

@@ -1,0 +1,126 @@
+// Inference for a GMWM fit (STATISTICS.md section 5): sandwich covariance
+// H^-1 A' Omega V Omega A H^-1 with H = A' Omega A + D, CIs, goodness of fit.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
+
+#include "fit_internal.h"
+#include "gmwm/engine/wv_covariance.h"
+
+namespace gmwm::detail {
+namespace {
+
+// A component whose share of the implied WV is below this at every level is "on the
+// boundary" (a variance driven towards 0): its parameters are not identified and are
+// dropped from A and D (STATISTICS.md section 6), their se reported as NaN.
+constexpr double kBoundaryShare = 1e-8;
+
+}  // namespace
+
+void run_inference(const WaveletVariance& wv, const FitOptions& options, bool omega_is_v_inverse,
+                   FitResult& r) {
+  const Model& model = r.model;
+  const int p = model.num_parameters();
+  const int J = wv.levels();
+  const Eigen::VectorXd nu = r.implied_wv;
+  const Eigen::MatrixXd& omega = r.omega;
+
+  // V: the one behind Omega when there is one, else model-based at theta_hat.
+  if (r.wv_covariance.size() == 0) r.wv_covariance = model_wv_covariance(model, r.theta, wv.n, J);
+  const Eigen::MatrixXd& V = r.wv_covariance;
+
+  // Active parameters (components not on the boundary).
+  std::vector<int> active;
+  for (int c = 0; c < model.num_components(); ++c) {
+    const Process& proc = *model.components()[static_cast<std::size_t>(c)].process;
+    std::vector<double> part(static_cast<std::size_t>(J));
+    proc.wv({r.theta.data() + model.offset(c), static_cast<std::size_t>(proc.size())}, wv.tau, part);
+    double share = 0.0;
+    for (int j = 0; j < J; ++j) share = std::max(share, std::abs(part[static_cast<std::size_t>(j)]) / std::max(std::abs(nu(j)), 1e-300));
+    if (share < kBoundaryShare) {
+      r.notes.push_back("component " + std::to_string(c + 1) + " (" + proc.name() +
+                        ") is at the boundary (negligible at every scale): dropped from the "
+                        "covariance, its standard errors are undefined");
+      continue;
+    }
+    for (int i = 0; i < proc.size(); ++i) active.push_back(model.offset(c) + i);
+  }
+  const int q = static_cast<int>(active.size());
+  const Eigen::MatrixXd A_full = model.jacobian(r.theta, wv.tau);
+  const auto hess = model.hessians(r.theta, wv.tau);
+  const Eigen::VectorXd resid = omega * (nu - wv.values());
+  Eigen::MatrixXd A(J, q), D = Eigen::MatrixXd::Zero(q, q);
+  for (int a = 0; a < q; ++a) A.col(a) = A_full.col(active[static_cast<std::size_t>(a)]);
+  for (int j = 0; j < J; ++j)
+    for (int a = 0; a < q; ++a)
+      for (int b = 0; b < q; ++b)
+        D(a, b) += hess[static_cast<std::size_t>(j)](active[static_cast<std::size_t>(a)], active[static_cast<std::size_t>(b)]) * resid(j);
+  const Eigen::MatrixXd B = A.transpose() * omega * A;
+  const Eigen::MatrixXd H = B + D;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> Hd(H);
+  if (Hd.rank() < q) r.notes.push_back("the Hessian of the objective is singular: pseudo-inverse used");
+  const Eigen::MatrixXd Hinv = Hd.pseudoInverse();
+  const Eigen::MatrixXd meat = A.transpose() * omega * V * omega * A;
+  const Eigen::MatrixXd cov_active = Hinv * meat * Hinv.transpose();
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  r.covariance = Eigen::MatrixXd::Constant(p, p, nan);
+  for (int a = 0; a < q; ++a)
+    for (int b = 0; b < q; ++b)
+      r.covariance(active[static_cast<std::size_t>(a)], active[static_cast<std::size_t>(b)]) = cov_active(a, b);
+  r.se = Eigen::VectorXd::Constant(p, nan);
+  r.ci_low = Eigen::VectorXd::Constant(p, nan);
+  r.ci_high = Eigen::VectorXd::Constant(p, nan);
+  // Two-sided CIs at 1 - alpha with z_{1-alpha/2}, built in the unconstrained space
+  // (log for variances, atanh for phi) by the delta method and mapped back, so they
+  // stay inside the parameter's domain.
+  const double z = boost::math::quantile(boost::math::normal(), 1.0 - options.alpha / 2.0);
+  const Eigen::VectorXd u = model.to_unconstrained(r.theta);
+  const Eigen::VectorXd d = model.dtheta_du(u);
+  for (int k : active) {
+    const double var = r.covariance(k, k);
+    if (!(var >= 0.0)) continue;
+    const double se = std::sqrt(var);
+    r.se(k) = se;
+    const Transform t = model.spec_of(k).transform;
+    const double se_u = se / std::abs(d(k));
+    if (std::isfinite(se_u)) {
+      r.ci_low(k) = from_unconstrained(t, u(k) - z * se_u);
+      r.ci_high(k) = from_unconstrained(t, u(k) + z * se_u);
+    }
+  }
+
+  // Goodness of fit. With Omega = V^-1 the objective is chi-square(J - p). With another
+  // Omega, Q ~ sum_k lambda_k chi2_1 with lambda = eig(M V), M = P' Omega P,
+  // P = I - A B^-1 A' Omega; matched to a scaled chi-square a chi2_b (Satterthwaite 1946).
+  r.gof.statistic = r.objective;
+  r.gof.df = J - p;
+  if (r.gof.df <= 0) {
+    r.gof.p_value = nan;
+    r.gof.method = "none (no degrees of freedom)";
+    return;
+  }
+  if (omega_is_v_inverse) {
+    r.gof.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(r.gof.df), std::max(r.objective, 0.0)));
+    r.gof.method = "chi-square";
+    return;
+  }
+  const Eigen::MatrixXd Binv = B.completeOrthogonalDecomposition().pseudoInverse();
+  const Eigen::MatrixXd Pm = Eigen::MatrixXd::Identity(J, J) - A * Binv * A.transpose() * omega;
+  const Eigen::MatrixXd MV = Pm.transpose() * omega * Pm * V;
+  const double t1 = MV.trace(), t2 = (MV * MV).trace();
+  if (!(t1 > 0.0 && t2 > 0.0)) {
+    r.gof.p_value = nan;
+    r.gof.method = "satterthwaite (degenerate)";
+    return;
+  }
+  const double scale = t2 / t1, dof = t1 * t1 / t2;
+  r.gof.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(r.objective, 0.0) / scale));
+  r.gof.method = "satterthwaite";
+}
+
+}  // namespace gmwm::detail

@@ -1,0 +1,165 @@
+#include "gmwm/engine/wv_covariance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/simulate.h"
+
+namespace gmwm {
+namespace {
+
+// A lag k is in a component's "tail" once |Delta^2 g(k)| < kTailTolerance |Delta^2 g(0)|:
+// the cross-covariance of two Haar coefficient processes is a fourth-order difference
+// of the structure function V, i.e. a smoothed Delta^2 g, so beyond that lag (plus the
+// filters' length) its squares add less than ~1e-12 relative to the sum. Chosen so that
+// the long-double rounding of V at the last lag kept stays below that level for AR1
+// with 1 - phi >= 1e-6 (see the comment in ComponentTable).
+constexpr double kTailTolerance = 1e-6;
+// Between breakpoints (multiples of the smaller half-width m), c_ij(h)^2 n_ij(h) is a
+// polynomial in h; sums over long lag ranges use composite Simpson on a grid of
+// min(m_i, m_j) / kSimpsonPointsPerHalfWidth, relative error ~ (1/16)^4 ~ 1.5e-5.
+constexpr std::int64_t kSimpsonPointsPerHalfWidth = 16;
+
+// One stochastic component: V(d) = sum_{|k|<d} (d - |k|) (g(k) - g(0)), the structure
+// function of its partial sums, in long double. Subtracting g(0) changes V by a
+// multiple of d^2, which the Haar filters (second differences of the partial sums at
+// equal spacing) annihilate, and removes the large constant of slowly decaying AR1s.
+struct ComponentTable {
+  std::vector<long double> V;
+  std::int64_t support = 0;  // lags beyond which the component's c_ij(h) vanishes
+  bool oscillating = false;  // no decay found (SIN): sum lag by lag
+};
+
+ComponentTable make_table(const Process& p, std::span<const double> theta, std::int64_t max_lag) {
+  std::vector<double> g(static_cast<std::size_t>(max_lag) + 2);
+  p.generalized_autocovariance(theta, g);
+  ComponentTable t;
+  // Second differences (g symmetric: g(-1) = g(1)).
+  auto d2 = [&](std::size_t k) { return k == 0 ? 2.0 * (g[1] - g[0]) : g[k + 1] - 2.0 * g[k] + g[k - 1]; };
+  const double ref = std::abs(d2(0)) > 0 ? std::abs(d2(0)) : std::abs(g[0]);
+  std::int64_t last = 0;
+  for (std::size_t k = 1; k + 1 < g.size(); ++k)
+    if (std::abs(d2(k)) > kTailTolerance * ref) last = static_cast<std::int64_t>(k);
+  t.support = last + 1;
+  t.oscillating = t.support >= max_lag - 1;
+  const double g0 = g[0];
+  t.V.assign(static_cast<std::size_t>(max_lag) + 1, 0.0L);
+  long double G = 0.0L;  // sum_{|k|<=d} (g(k) - g0)
+  for (std::size_t d = 0; d + 1 < t.V.size(); ++d) {
+    G += (d == 0) ? 0.0L : 2.0L * (static_cast<long double>(g[d]) - g0);
+    t.V[d + 1] = t.V[d] + G;
+  }
+  return t;
+}
+
+struct Level {
+  std::int64_t tau, m, M;
+};
+
+// c_ij(h) = Cov(W_{i,t}, W_{j,t+h}) for one component:
+//   -1/2 sum_k sum_l c_k e_l V(|P_k - Q_l|) / (tau_i tau_j),
+// c = e = (1, -2, 1) at offsets (0, -m, -tau) from t+1 and t+h+1.
+long double cross_cov(const ComponentTable& t, const Level& a, const Level& b, std::int64_t h) {
+  const std::int64_t po[3] = {0, -a.m, -a.tau}, qo[3] = {0, -b.m, -b.tau};
+  const long double w[3] = {1.0L, -2.0L, 1.0L};
+  long double s = 0.0L;
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) {
+      const std::int64_t d = std::llabs(po[k] - qo[l] - h);
+      s += w[k] * w[l] * t.V[static_cast<std::size_t>(d)];
+    }
+  return -0.5L * s / (static_cast<long double>(a.tau) * static_cast<long double>(b.tau));
+}
+
+}  // namespace
+
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
+                                    std::int64_t n, int levels) {
+  check_at_least("model_wv_covariance", "n", static_cast<double>(n), 2.0);
+  check_at_least("model_wv_covariance", "levels", levels, 1.0);
+  std::vector<Level> lv;
+  for (int j = 1; j <= levels; ++j) {
+    const std::int64_t tau = std::int64_t{1} << j;
+    check_at_least("model_wv_covariance", "coefficients at the last level", static_cast<double>(n - tau + 1), 1.0);
+    lv.push_back({tau, tau / 2, n - tau + 1});
+  }
+  const std::int64_t max_lag = 3 * n + 4;
+  std::vector<ComponentTable> tables;
+  for (int c = 0; c < model.num_components(); ++c) {
+    const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
+    if (p.deterministic()) continue;
+    tables.push_back(make_table(p, {theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, max_lag));
+  }
+  const int J = levels;
+  Eigen::MatrixXd V = Eigen::MatrixXd::Zero(J, J);
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < J; ++i)
+    for (int j = i; j < J; ++j) pairs.emplace_back(i, j);
+  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t idx) {
+    const auto [i, j] = pairs[idx];
+    const Level& a = lv[static_cast<std::size_t>(i)];
+    const Level& b = lv[static_cast<std::size_t>(j)];
+    // Lags h with coefficient pairs: t in [tau_a - 1, n - 1], t + h in [tau_b - 1, n - 1].
+    auto count = [&](std::int64_t h) -> long double {
+      const std::int64_t lo = std::max(a.tau - 1, b.tau - 1 - h), hi = std::min(n - 1, n - 1 - h);
+      return hi >= lo ? static_cast<long double>(hi - lo + 1) : 0.0L;
+    };
+    auto f = [&](std::int64_t h) -> long double {
+      long double c = 0.0L;
+      for (const auto& t : tables)
+        if (h >= -(a.tau + t.support) && h <= b.tau + t.support) c += cross_cov(t, a, b, h);
+      return count(h) * c * c;
+    };
+    std::int64_t reach = 0;
+    bool oscillating = false;
+    for (const auto& t : tables) { reach = std::max(reach, t.support); oscillating = oscillating || t.oscillating; }
+    // t + h in [tau_b - 1, n - 1] with t in [tau_a - 1, n - 1]: h in [-(M_b - 1), M_a - 1];
+    // the filters (plus the components' reach) overlap for h in [-(tau_a + K), tau_b + K].
+    const std::int64_t h_lo = std::max(-(b.M - 1), -(a.tau + reach) - 1);
+    const std::int64_t h_hi = std::min(a.M - 1, b.tau + reach + 1);
+    const std::int64_t s = oscillating ? 1 : std::max<std::int64_t>(1, std::min(a.m, b.m) / kSimpsonPointsPerHalfWidth);
+    long double sum = 0.0L;
+    if (s == 1 || h_hi - h_lo < 8 * s) {
+      for (std::int64_t h = h_lo; h <= h_hi; ++h) sum += f(h);
+    } else {
+      // Grid points A..B (multiples of s, B - A a multiple of 2s); direct sums outside.
+      std::int64_t A = h_lo >= 0 ? ((h_lo + s - 1) / s) * s : -((-h_lo) / s) * s;
+      std::int64_t B = A + ((h_hi - A) / (2 * s)) * 2 * s;
+      for (std::int64_t h = h_lo; h < A; ++h) sum += f(h);
+      for (std::int64_t h = B + 1; h <= h_hi; ++h) sum += f(h);
+      long double simpson = 0.0L;
+      const std::int64_t steps = (B - A) / s;
+      long double fa = f(A), fb = f(B);
+      simpson += fa + fb;
+      for (std::int64_t k = 1; k < steps; ++k) simpson += ((k % 2) ? 4.0L : 2.0L) * f(A + k * s);
+      // Sum over the integers of [A, B] ~ (integral) / 1 + (f(A) + f(B)) / 2.
+      sum += simpson / 3.0L + 0.5L * (fa + fb);
+    }
+    const double v = static_cast<double>(2.0L * sum / (static_cast<long double>(a.M) * static_cast<long double>(b.M)));
+    V(i, j) = v;
+    V(j, i) = v;
+  });
+  return V;
+}
+
+Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
+                                        std::int64_t n, int levels, int replicates,
+                                        std::uint64_t seed, const WvEstimator& estimator,
+                                        double alpha) {
+  check_at_least("bootstrap_wv_covariance", "replicates", replicates, 2.0);
+  Eigen::MatrixXd W(replicates, levels);
+  tbb::parallel_for(0, replicates, [&](int r) {
+    const auto x = simulate(model, theta, n, seed, static_cast<std::uint64_t>(r));
+    const WaveletVariance w = estimator.compute(x.data(), n, levels, alpha);
+    for (int j = 0; j < levels; ++j) W(r, j) = w.wv[static_cast<std::size_t>(j)];
+  });
+  const Eigen::RowVectorXd mean = W.colwise().mean();
+  const Eigen::MatrixXd centred = W.rowwise() - mean;
+  return centred.transpose() * centred / static_cast<double>(replicates - 1);
+}
+
+}  // namespace gmwm
