@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Builds gmwm (installing missing Debian packages when root), then runs it on the shipped
+# six-axis example: the wavelet variance of one axis and a fit of AR1+WN+RW.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+bash tools/setup.sh
+build_dir=${GMWM_BUILD_DIR:-build}
+gmwm="$build_dir/gmwm"
+
+echo
+echo "== gmwm wv data/example_imu6.csv.gz --columns gyro_x --freq 100"
+"$gmwm" wv data/example_imu6.csv.gz --columns gyro_x --freq 100
+echo
+echo "== gmwm fit data/example_imu6.csv.gz --columns gyro_x --freq 100 --model AR1+WN+RW"
+"$gmwm" fit data/example_imu6.csv.gz --columns gyro_x --freq 100 --model "AR1+WN+RW"
+echo
+echo "The example was simulated from AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)"
+echo "(see data/README.md): compare with the estimates above."

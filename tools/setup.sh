@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs the Debian packages gmwm needs (when missing) and builds it into build/.
+#   bash tools/setup.sh            # as root: installs what is missing, then builds
+# Not root and something missing: prints the apt-get line to run, exits 1.
+# Environment: GMWM_BUILD_DIR (default build), GMWM_BUILD_TYPE (default Release),
+#              GMWM_JOBS (default: number of cores).
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
+          libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev libgtest-dev
+          libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev pkg-config)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg -s "$p" >/dev/null 2>&1 || \
+     ! dpkg -s "$p" 2>/dev/null | grep -q '^Status: install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]})); then
+  if [[ $(id -u) -ne 0 ]]; then
+    echo "gmwm setup: missing Debian packages; run as root:" >&2
+    echo "  apt-get update && apt-get install -y --no-install-recommends ${missing[*]}" >&2
+    exit 1
+  fi
+  echo "gmwm setup: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+build_dir=${GMWM_BUILD_DIR:-build}
+build_type=${GMWM_BUILD_TYPE:-Release}
+jobs=${GMWM_JOBS:-$(nproc 2>/dev/null || echo 2)}
+
+generator=()
+if [[ ! -f "$build_dir/CMakeCache.txt" ]] && command -v ninja >/dev/null 2>&1; then
+  generator=(-G Ninja)
+fi
+
+cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type"
+cmake --build "$build_dir" --parallel "$jobs"
