@@ -1,1 +1,66 @@
-int main() { return 0; }
+// gmwm: the command-line program (CLI.md). Exit codes: 0 success; 2 bad input or bad
+// options (one line "gmwm: error: ..." on stderr, nothing written); 1 internal failure.
+
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "common.h"
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/error.h"
+
+namespace {
+
+/// One line: newlines (CLI11 sometimes adds them) become spaces.
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+int fail(int code, const std::string& message) {
+  std::cerr << "gmwm: error: " << one_line(message) << std::endl;
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace gmwm::cli;
+  CLI::App app{"gmwm: wavelet variance and GMWM models of the stochastic errors of inertial "
+               "sensors and other long, autocorrelated signals",
+               "gmwm"};
+  app.set_version_flag("--version", gmwm::io::version());
+  app.require_subcommand(1);
+
+  CommonOptions common;
+  for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);
+  const Command commands[] = {add_wv_command(app, common), add_fit_command(app, common),
+                              add_simulate_command(app, common)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(2, e.what());
+  }
+
+  try {
+    for (const Command& c : commands)
+      if (c.app->parsed()) return c.run();
+    return fail(2, "expected a command: wv, fit or simulate");
+  } catch (const gmwm::InputError& e) {
+    return fail(2, e.what());
+  } catch (const gmwm::InvalidArgument& e) {
+    return fail(2, e.what());
+  } catch (const std::exception& e) {
+    return fail(1, std::string("internal failure: ") + e.what());
+  } catch (...) {
+    return fail(1, "internal failure: unknown exception");
+  }
+}

@@ -1,0 +1,96 @@
+#pragma once
+// The JSON documents of the `gmwm` commands (CLI.md "JSON": the field names are a
+// contract). Every document has the common top level
+//   {"tool": "gmwm", "version": "...", "command": "...", "columns": [...], "run": {...}}
+// where each element of "columns" has "name", "n", "freq" plus the command's fields, and
+// "run" holds everything that varies between identical runs (timings, threads, host,
+// date), so that two runs compare equal once "run" is removed.
+//
+// Numbers keep full precision (shortest round-trip form); NaN and infinities are written
+// as null. Nothing here writes files: callers build the whole document first, then write
+// it with write_file_atomically (no partial output on failure).
+//
+//   auto doc = gmwm::io::json_document("wv");
+//   doc["columns"].push_back(gmwm::io::wv_column_json(column, wv));
+//   gmwm::io::write_file_atomically(path, gmwm::io::dump_json(doc));
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/io/signal_reader.h"
+
+namespace gmwm::io {
+
+/// JSON objects keep their insertion order ("tool", "version", "command", ... first).
+using Json = nlohmann::ordered_json;
+
+/// The project's version ("0.1.0").
+std::string version();
+
+/// A number, or null when not finite.
+Json json_number(double x);
+
+/// What every element of "columns" starts with.
+struct ColumnInfo {
+  std::string name;
+  std::int64_t n = 0;
+  double freq = 0.0;         ///< Hz
+  bool freq_known = false;   ///< "freq" is null when false
+};
+
+/// The run-dependent facts, written under "run".
+struct RunInfo {
+  int threads = 0;                          ///< TBB's allowed parallelism
+  std::map<std::string, double> seconds;    ///< named timings, e.g. {"read", 0.12}
+  std::vector<std::string> argv;            ///< the command line
+};
+
+/// {"tool", "version", "command", "columns": []} (no "run": see add_run_info).
+Json json_document(const std::string& command);
+
+/// Adds "run": {"threads", "seconds": {...}, "host", "date" (UTC, ISO 8601), "argv"}.
+void add_run_info(Json& doc, const RunInfo& run);
+
+/// What the timestamp column says: {"column", "unit", "unit_source", "samples",
+/// "median_step_seconds", "estimated_freq", "gaps", "largest_gap_seconds", "disorder",
+/// "given_freq"}.
+Json timing_json(const TimingReport& timing);
+
+/// {"name", "n", "freq"}.
+Json column_json(const ColumnInfo& column);
+
+/// The "levels" list of a WV: {"level", "tau", "tau_seconds", "wv", "ci_low", "ci_high",
+/// "coefficients"} per level (tau_seconds null when the rate is unknown), plus "note"
+/// when the WV has one for the level.
+Json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known);
+
+/// A "wv" column: column_json + "estimator", "efficiency", "alpha", "levels".
+Json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv);
+
+/// One row of the parameter table of a fit, in display units (SIN's f in Hz, ...).
+struct ParameterRow {
+  std::string process;   ///< "AR1"
+  int component = 0;     ///< 1-based position in the canonical model
+  std::string name;      ///< "phi"
+  double value = 0.0, se = 0.0, ci_low = 0.0, ci_high = 0.0;
+};
+
+/// The parameter rows of a fit (canonical order; NaN where inference is unavailable).
+std::vector<ParameterRow> parameter_rows(const FitResult& fit);
+
+/// A "fit" column: column_json + "model", "model_structure", "parameters", "objective",
+/// "gof", "status", "message", "notes", "evaluations", "omega", "implied_wv", "levels".
+Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
+                               const FitResult& fit, OmegaKind omega);
+
+/// The document as text: pretty-printed (2 spaces), ending with a newline.
+std::string dump_json(const Json& doc);
+
+}  // namespace gmwm::io

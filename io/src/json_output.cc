@@ -1,0 +1,202 @@
+#include "gmwm/io/json_output.h"
+
+#include <cmath>
+#include <ctime>
+
+#include <unistd.h>
+
+#ifndef GMWM_VERSION
+#define GMWM_VERSION "unknown"
+#endif
+
+namespace gmwm::io {
+
+using json = Json;
+
+std::string version() { return GMWM_VERSION; }
+
+json json_number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json json_document(const std::string& command) {
+  json doc = json::object();
+  doc["tool"] = "gmwm";
+  doc["version"] = version();
+  doc["command"] = command;
+  doc["columns"] = json::array();
+  return doc;
+}
+
+namespace {
+
+std::string host_name() {
+  char buf[256] = {};
+  if (::gethostname(buf, sizeof buf - 1) != 0) return {};
+  return buf;
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// The contract's spellings (CLI.md), independent of the engine's own to_string.
+const char* status_name(FitStatus s) {
+  switch (s) {
+    case FitStatus::kConverged: return "converged";
+    case FitStatus::kNotConverged: return "not_converged";
+    case FitStatus::kFailed: return "failed";
+  }
+  return "failed";
+}
+
+const char* omega_name(OmegaKind k) {
+  switch (k) {
+    case OmegaKind::kDiag: return "diag";
+    case OmegaKind::kFull: return "full";
+    case OmegaKind::kBootstrap: return "bootstrap";
+  }
+  return "diag";
+}
+
+}  // namespace
+
+void add_run_info(json& doc, const RunInfo& run) {
+  json r = json::object();
+  r["threads"] = run.threads;
+  json secs = json::object();
+  for (const auto& [name, s] : run.seconds) secs[name] = json_number(s);
+  r["seconds"] = std::move(secs);
+  r["host"] = host_name();
+  r["date"] = utc_now();
+  r["argv"] = run.argv;
+  doc["run"] = std::move(r);
+}
+
+json timing_json(const TimingReport& t) {
+  return {{"column", t.column},
+          {"unit", t.unit},
+          {"unit_source", t.unit_source},
+          {"samples", t.samples},
+          {"median_step_seconds", json_number(t.median_step_seconds)},
+          {"estimated_freq", json_number(t.estimated_freq)},
+          {"gaps", t.gaps},
+          {"largest_gap_seconds", json_number(t.largest_gap_seconds)},
+          {"disorder", t.disorder},
+          {"given_freq", t.given_freq ? json_number(*t.given_freq) : json(nullptr)}};
+}
+
+json column_json(const ColumnInfo& column) {
+  json c = json::object();
+  c["name"] = column.name;
+  c["n"] = column.n;
+  c["freq"] = column.freq_known ? json_number(column.freq) : json(nullptr);
+  return c;
+}
+
+json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known) {
+  json levels = json::array();
+  for (int j = 0; j < wv.levels(); ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    json l = json::object();
+    l["level"] = j + 1;
+    l["tau"] = json_number(wv.tau[k]);
+    l["tau_seconds"] = freq_known && freq > 0 ? json_number(wv.tau[k] / freq) : json(nullptr);
+    l["wv"] = json_number(wv.wv[k]);
+    l["ci_low"] = json_number(wv.ci_low[k]);
+    l["ci_high"] = json_number(wv.ci_high[k]);
+    l["coefficients"] = wv.coefficients[k];
+    if (k < wv.notes.size() && !wv.notes[k].empty()) l["note"] = wv.notes[k];
+    levels.push_back(std::move(l));
+  }
+  return levels;
+}
+
+json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv) {
+  json c = column_json(column);
+  c["estimator"] = wv.estimator;
+  c["efficiency"] = wv.efficiency ? json_number(*wv.efficiency) : json(nullptr);
+  c["alpha"] = json_number(wv.alpha);
+  c["levels"] = wv_levels_json(wv, column.freq, column.freq_known);
+  return c;
+}
+
+std::vector<ParameterRow> parameter_rows(const FitResult& fit) {
+  const Model& m = fit.model;
+  std::vector<ParameterRow> rows;
+  const double nan = std::nan("");
+  auto at = [&](const Eigen::VectorXd& v, int k) { return k < v.size() ? v(k) : nan; };
+  for (int k = 0; k < m.num_parameters(); ++k) {
+    const int c = m.component_of(k);
+    const Process& p = *m.components()[static_cast<std::size_t>(c)].process;
+    const int local = k - m.offset(c);
+    ParameterRow r;
+    r.process = p.name();
+    r.component = c + 1;
+    r.name = m.spec_of(k).name;
+    const double value = at(fit.theta, k);
+    r.value = std::isfinite(value) ? p.to_display(local, value) : value;
+    // Display units are an affine change of unit at most: map the interval ends and
+    // scale the standard error by the same factor.
+    const double se = at(fit.se, k);
+    r.se = std::isfinite(se) && std::isfinite(value)
+               ? std::abs(p.to_display(local, value + se) - r.value)
+               : se;
+    const double lo = at(fit.ci_low, k), hi = at(fit.ci_high, k);
+    r.ci_low = std::isfinite(lo) ? p.to_display(local, lo) : lo;
+    r.ci_high = std::isfinite(hi) ? p.to_display(local, hi) : hi;
+    if (r.ci_low > r.ci_high) std::swap(r.ci_low, r.ci_high);
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const FitResult& fit,
+                     OmegaKind omega) {
+  json c = column_json(column);
+  const bool has_theta = fit.theta.size() == fit.model.num_parameters() &&
+                         fit.model.num_parameters() > 0;
+  c["model"] = has_theta ? json(fit.model.to_string(fit.theta)) : json(nullptr);
+  c["model_structure"] = fit.model.to_string();
+  json params = json::array();
+  if (has_theta) {
+    for (const ParameterRow& r : parameter_rows(fit)) {
+      params.push_back({{"process", r.process},
+                        {"component", r.component},
+                        {"name", r.name},
+                        {"value", json_number(r.value)},
+                        {"se", json_number(r.se)},
+                        {"ci_low", json_number(r.ci_low)},
+                        {"ci_high", json_number(r.ci_high)}});
+    }
+  }
+  c["parameters"] = std::move(params);
+  c["objective"] = json_number(fit.objective);
+  c["gof"] = {{"statistic", json_number(fit.gof.statistic)},
+              {"df", json_number(fit.gof.df)},
+              {"p_value", json_number(fit.gof.p_value)},
+              {"method", fit.gof.method}};
+  c["status"] = status_name(fit.status);
+  c["message"] = fit.message;
+  c["notes"] = fit.notes;
+  c["evaluations"] = fit.evaluations;
+  c["omega"] = omega_name(omega);
+  json implied = json::array();
+  for (Eigen::Index j = 0; j < fit.implied_wv.size(); ++j)
+    implied.push_back(json_number(fit.implied_wv(j)));
+  c["implied_wv"] = std::move(implied);
+  c["estimator"] = wv.estimator;
+  c["efficiency"] = wv.efficiency ? json_number(*wv.efficiency) : json(nullptr);
+  c["alpha"] = json_number(wv.alpha);
+  c["levels"] = wv_levels_json(wv, column.freq, column.freq_known);
+  return c;
+}
+
+std::string dump_json(const json& doc) {
+  return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace gmwm::io

@@ -1,0 +1,224 @@
+#include "common.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/io/atomic_file.h"
+
+namespace gmwm::cli {
+
+void add_common_options(CLI::App& sub, CommonOptions& common) {
+  sub.add_option("--json", common.json,
+                 "Write the machine-readable result to PATH ('-' for standard output)")
+      ->type_name("PATH");
+  sub.add_option("--threads", common.threads, "Worker threads (default: all cores)")
+      ->type_name("N")
+      ->check(CLI::Range(1, 4096));
+  sub.add_option("--seed", common.seed, "Random seed (default fixed, so runs are reproducible)")
+      ->type_name("S")
+      ->capture_default_str();
+  sub.add_flag("--quiet,-q", common.quiet,
+               "No result table on the terminal (errors and warnings still go to stderr)");
+  sub.add_option("--log-level", common.log_level, "Library log level on stderr")
+      ->type_name("LEVEL")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+      ->capture_default_str();
+}
+
+void add_input_options(CLI::App& sub, InputOptions& input) {
+  sub.add_option("INPUT", input.input,
+                 "Delimited text file (CSV/TSV/semicolon/whitespace, optionally gzip) with a "
+                 "header row")
+      ->required();
+  sub.add_option("--columns", input.columns,
+                 "Columns to use: names or 1-based indices, comma-separated (default: every "
+                 "numeric column that is not a timestamp)")
+      ->type_name("A,B,C");
+  sub.add_option_function<double>(
+         "--freq", [&input](const double& f) { input.freq = f; },
+         "Sampling rate in Hz (required when the file has no timestamp column)")
+      ->type_name("HZ");
+  sub.add_option("--alpha", input.alpha, "Confidence intervals at level 1 - alpha")
+      ->capture_default_str();
+  sub.add_option("--levels", input.levels,
+                 "Number of WV levels J (default: floor(log2 N))")
+      ->type_name("J");
+}
+
+void add_robust_options(CLI::App& sub, RobustOptions& robust) {
+  sub.add_flag("--robust", robust.robust, "Robust WV (not available yet)");
+  sub.add_option_function<double>(
+         "--eff", [&robust](const double& e) { robust.eff = e; },
+         "Efficiency of the robust WV (not available yet)")
+      ->type_name("EFF");
+  sub.add_option_function<std::string>(
+         "--estimator", [&robust](const std::string& e) { robust.estimator = e; },
+         "Robust estimator: huber|bisquare (not available yet)")
+      ->type_name("NAME");
+}
+
+void refuse_robust(const RobustOptions& robust) {
+  if (robust.robust || robust.eff || robust.estimator)
+    throw InputError("robust WV is not available yet (issue 3)");
+}
+
+std::shared_ptr<void> apply_common_options(const CommonOptions& common) {
+  auto logger = spdlog::get("gmwm_cli");
+  if (!logger) logger = spdlog::stderr_color_mt("gmwm_cli");
+  logger->set_pattern("gmwm: %l: %v");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(common.log_level));
+  if (common.threads <= 0) return nullptr;
+  return std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               static_cast<std::size_t>(common.threads));
+}
+
+void check_output_path(const std::string& option, const std::string& path) {
+  if (path.empty() || path == "-") return;
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  std::error_code ec;
+  if (fs::is_directory(p, ec))
+    throw InputError(option + " '" + path + "': is a folder, expected a file path");
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec))
+    throw InputError(option + " '" + path + "': folder '" + dir.string() +
+                     "' does not exist, expected an existing folder");
+}
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream is(s);
+  while (std::getline(is, cur, ',')) {
+    const auto b = cur.find_first_not_of(" \t");
+    const auto e = cur.find_last_not_of(" \t");
+    out.push_back(b == std::string::npos ? std::string() : cur.substr(b, e - b + 1));
+  }
+  return out;
+}
+
+}  // namespace
+
+io::SignalSet read_input(const InputOptions& input) {
+  io::ReadOptions options;
+  if (!input.columns.empty()) {
+    options.columns = split_list(input.columns);
+    for (const auto& c : options.columns)
+      if (c.empty())
+        throw InputError("--columns '" + input.columns +
+                         "': found an empty name, expected names or 1-based indices "
+                         "separated by commas");
+  }
+  options.freq = input.freq;
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  io::SignalSet set = io::read_signals(input.input, options);
+  if (!set.freq_known)
+    throw InputError(input.input +
+                     ":1: found no timestamp column in the header, expected one (timestamp, "
+                     "time, t, ...) or the sampling rate as --freq HZ");
+  return set;
+}
+
+WvOptions wv_options(const InputOptions& input) {
+  WvOptions o;
+  o.alpha = input.alpha;
+  o.levels = input.levels;
+  if (!(input.alpha > 0.0 && input.alpha < 1.0))
+    throw InputError("--alpha " + fmt(input.alpha) + ": expected a number in (0, 1)");
+  if (input.levels < 0)
+    throw InputError("--levels " + std::to_string(input.levels) +
+                     ": expected a positive number of levels");
+  return o;
+}
+
+std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOptions& options) {
+  std::vector<std::span<const double>> series;
+  for (const auto& s : set.signals) series.emplace_back(s.values);
+  return classical_wv(series, options);
+}
+
+io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {
+  const auto& s = set.signals[k];
+  return {s.name, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known};
+}
+
+int active_threads() {
+  return static_cast<int>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
+void write_json(const CommonOptions& common, io::Json& doc, io::RunInfo run) {
+  if (common.json.empty()) return;
+  run.threads = active_threads();
+  run.argv = common.argv;
+  io::add_run_info(doc, run);
+  io::write_file_atomically(common.json, io::dump_json(doc));
+}
+
+std::string fmt(double x, int digits) {
+  if (!std::isfinite(x)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+Table::Table(std::vector<std::string> header, int left) : left_(left) {
+  rows_.push_back(std::move(header));
+}
+
+void Table::add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+
+std::string Table::str() const {
+  std::vector<std::size_t> width;
+  for (const auto& r : rows_)
+    for (std::size_t c = 0; c < r.size(); ++c) {
+      if (width.size() <= c) width.push_back(0);
+      width[c] = std::max(width[c], r[c].size());
+    }
+  std::ostringstream os;
+  for (const auto& r : rows_) {
+    std::string line;
+    for (std::size_t c = 0; c < r.size(); ++c) {
+      const std::string pad(width[c] - r[c].size(), ' ');
+      if (c) line += "  ";
+      line += static_cast<int>(c) < left_ ? r[c] + pad : pad + r[c];
+    }
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    os << line << '\n';
+  }
+  return os.str();
+}
+
+void warn(const std::string& message) { std::cerr << "gmwm: warning: " << message << '\n'; }
+
+void warn_about_timing(const io::SignalSet& set) {
+  if (!set.timing) return;
+  const io::TimingReport& t = *set.timing;
+  if (t.gaps > 0)
+    warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.gaps) +
+         " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) +
+         " s); the WV assumes regular sampling");
+  if (t.disorder > 0)
+    warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.disorder) +
+         " repeated or backward timestamp(s)");
+  if (t.given_freq && t.estimated_freq > 0 &&
+      std::abs(*t.given_freq - t.estimated_freq) >
+          io::TimingReport::kDisagreement * t.estimated_freq)
+    warn(set.path + ": --freq " + fmt(*t.given_freq) + " Hz disagrees with the " +
+         fmt(t.estimated_freq) + " Hz of column '" + t.column + "'; using --freq");
+}
+
+}  // namespace gmwm::cli

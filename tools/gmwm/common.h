@@ -1,0 +1,125 @@
+#pragma once
+// Options and helpers shared by the `gmwm` subcommands. The program is thin: it parses
+// options, calls the libraries, and decides what goes to the terminal.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/random.h"
+#include "gmwm/io/json_output.h"
+#include "gmwm/io/signal_reader.h"
+
+namespace gmwm::cli {
+
+/// Options every command accepts (CLI.md).
+struct CommonOptions {
+  std::string json;                 ///< --json PATH ('-' = stdout); empty: none
+  int threads = 0;                  ///< --threads N; 0: all cores
+  std::uint64_t seed = kDefaultSeed;
+  bool quiet = false;
+  std::string log_level = "warn";
+  std::vector<std::string> argv;    ///< the command line, for the JSON "run" object
+
+  /// True when the terminal table goes to stdout (not --quiet, not --json -).
+  bool show_table() const { return !quiet && json != "-"; }
+};
+
+/// INPUT and the options that pick and describe its signals.
+struct InputOptions {
+  std::string input;
+  std::string columns;              ///< --columns a,b,c (names or 1-based indices)
+  std::optional<double> freq;       ///< --freq HZ
+  double alpha = 0.05;              ///< --alpha
+  int levels = 0;                   ///< --levels J (0: floor(log2 N))
+};
+
+/// --robust, --eff, --estimator: parsed, refused until the robust WV exists.
+struct RobustOptions {
+  bool robust = false;
+  std::optional<double> eff;
+  std::optional<std::string> estimator;
+};
+
+/// A subcommand: its CLI11 node and what to run when it was chosen (returns the exit code).
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+Command add_wv_command(CLI::App& app, CommonOptions& common);
+Command add_fit_command(CLI::App& app, CommonOptions& common);
+Command add_simulate_command(CLI::App& app, CommonOptions& common);
+
+void add_common_options(CLI::App& sub, CommonOptions& common);
+void add_input_options(CLI::App& sub, InputOptions& input);
+void add_robust_options(CLI::App& sub, RobustOptions& robust);
+
+/// Throws InputError when --robust/--eff/--estimator was given (not available yet).
+void refuse_robust(const RobustOptions& robust);
+
+/// Sets up logging (spdlog level, stderr) and returns the TBB parallelism limit to keep
+/// alive for the command's duration (nullptr when --threads was not given).
+std::shared_ptr<void> apply_common_options(const CommonOptions& common);
+
+/// Throws InputError when an output path cannot be written (its folder is missing):
+/// checked before any work so that a typo costs nothing and nothing is written.
+void check_output_path(const std::string& option, const std::string& path);
+
+/// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown.
+io::SignalSet read_input(const InputOptions& input);
+
+/// WvOptions from --levels/--alpha (InputError naming the option when invalid).
+WvOptions wv_options(const InputOptions& input);
+
+/// Classical WV of every signal, in parallel.
+std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOptions& options);
+
+io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
+
+/// TBB's current parallelism limit.
+int active_threads();
+
+/// Fills RunInfo and writes the JSON document when --json was given.
+void write_json(const CommonOptions& common, io::Json& doc, io::RunInfo run);
+
+/// A number for tables: %.6g, "-" when not finite.
+std::string fmt(double x, int digits = 6);
+
+/// A plain text table: columns right-aligned except the first `left` ones.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> header, int left = 0);
+  void add(std::vector<std::string> row);
+  std::string str() const;
+
+ private:
+  std::vector<std::vector<std::string>> rows_;
+  int left_;
+};
+
+/// Wall-clock seconds since construction.
+class Stopwatch {
+ public:
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+/// Warns on stderr about gaps, disorder, and a --freq that disagrees with the timestamps.
+void warn_about_timing(const io::SignalSet& set);
+
+/// Prints "gmwm: warning: <message>" on stderr.
+void warn(const std::string& message);
+
+}  // namespace gmwm::cli

@@ -1,0 +1,171 @@
+// gmwm fit INPUT --model SPEC [--omega diag|full|bootstrap] [--replicates B] ...
+// The GMWM fit of one model to the classical WV of every selected column.
+
+#include <iostream>
+#include <sstream>
+
+#include <tbb/parallel_for.h>
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+
+namespace gmwm::cli {
+
+namespace {
+
+struct FitArgs {
+  InputOptions input;
+  RobustOptions robust;
+  std::string model;
+  std::string omega = "diag";
+  int replicates = FitOptions{}.bootstrap_replicates;
+};
+
+OmegaKind omega_kind(const std::string& s) {
+  if (s == "full") return OmegaKind::kFull;
+  if (s == "bootstrap") return OmegaKind::kBootstrap;
+  return OmegaKind::kDiag;
+}
+
+std::string status_text(FitStatus s) {
+  switch (s) {
+    case FitStatus::kConverged: return "converged";
+    case FitStatus::kNotConverged: return "not_converged";
+    case FitStatus::kFailed: return "failed";
+  }
+  return "failed";
+}
+
+std::string terminal_report(const io::SignalSet& set, std::size_t k, const FitResult& r,
+                            OmegaKind omega) {
+  std::ostringstream os;
+  const auto& s = set.signals[k];
+  os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, Omega "
+     << to_string(omega) << '\n';
+  const bool has_theta = r.theta.size() == r.model.num_parameters() && r.theta.size() > 0;
+  os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
+  if (has_theta) {
+    Table t({"process", "component", "name", "value", "se", "CI low", "CI high"}, 1);
+    for (const io::ParameterRow& p : io::parameter_rows(r))
+      t.add({p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
+             fmt(p.ci_low), fmt(p.ci_high)});
+    os << t.str();
+  }
+  os << "objective: " << fmt(r.objective, 8) << '\n';
+  os << "goodness of fit: statistic " << fmt(r.gof.statistic) << ", df " << fmt(r.gof.df)
+     << ", p-value " << fmt(r.gof.p_value, 4)
+     << (r.gof.method.empty() ? "" : " (" + r.gof.method + ")") << '\n';
+  const std::string status = status_text(r.status);
+  const bool repeats = r.message.rfind(status, 0) == 0 ||
+                       (r.status == FitStatus::kConverged && r.message.rfind("converged", 0) == 0);
+  os << "status: " << (r.message.empty() ? status : repeats ? r.message : status + " (" + r.message + ")")
+     << '\n';
+  for (const auto& note : r.notes) os << "note: " << note << '\n';
+  return os.str();
+}
+
+int run_fit(const FitArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  refuse_robust(args.robust);
+  const WvOptions wv_opts = wv_options(args.input);
+  check_output_path("--json", common.json);
+
+  FitOptions options;
+  options.omega = omega_kind(args.omega);
+  options.alpha = args.input.alpha;
+  options.bootstrap_replicates = args.replicates;
+  options.seed = common.seed;
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+
+  // With --freq the model can be checked before reading a long file.
+  if (args.input.freq) parse_model(args.model, ProcessContext{*args.input.freq, true});
+
+  Stopwatch read_clock;
+  const io::SignalSet set = read_input(args.input);
+  const double read_seconds = read_clock.seconds();
+  const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
+
+  Stopwatch wv_clock;
+  const std::vector<WaveletVariance> wvs = compute_wv(set, wv_opts);
+  const double wv_seconds = wv_clock.seconds();
+  for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
+
+  Stopwatch fit_clock;
+  std::vector<FitResult> fits(wvs.size());
+  tbb::parallel_for(std::size_t{0}, wvs.size(),
+                    [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
+  const double fit_seconds = fit_clock.seconds();
+
+  // Everything is computed: build the outputs, then write them.
+  io::Json doc = io::json_document("fit");
+  doc["input"] = set.path;
+  doc["model_spec"] = args.model;
+  doc["seed"] = common.seed;
+  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    doc["columns"].push_back(io::fit_column_json(column_info(set, k), wvs[k], fits[k], options.omega));
+  std::string report;
+  if (common.show_table()) {
+    if (set.timing) report += set.timing->summary() + "\n";
+    for (std::size_t k = 0; k < fits.size(); ++k)
+      report += (k ? "\n" : "") + terminal_report(set, k, fits[k], options.omega);
+  }
+
+  warn_about_timing(set);
+  int usable = 0;
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    const FitResult& r = fits[k];
+    if (r.status == FitStatus::kNotConverged)
+      warn("column '" + set.signals[k].name + "': the fit did not converge" +
+           (r.message.empty() ? "" : ": " + r.message));
+    else if (r.status == FitStatus::kFailed)
+      warn("column '" + set.signals[k].name + "': the fit failed" +
+           (r.message.empty() ? "" : ": " + r.message));
+    if (r.status != FitStatus::kFailed) ++usable;
+  }
+  write_json(common, doc,
+             {.threads = 0,
+              .seconds = {{"read", read_seconds},
+                          {"wv", wv_seconds},
+                          {"fit", fit_seconds},
+                          {"total", total.seconds()}},
+              .argv = {}});
+  if (common.show_table()) {
+    std::cout << report;
+    std::cout.flush();
+  }
+  if (usable == 0) {
+    std::cerr << "gmwm: error: no usable fit (every column failed)\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_fit_command(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<FitArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "fit", "GMWM fit of a latent model (e.g. AR1+WN+RW) to the WV of each column");
+  add_input_options(*sub, args->input);
+  sub->add_option("--model", args->model,
+                  "Model, e.g. '2*AR1+WN+RW' or 'AR1(phi=0.99)+WN' (values are starting values)")
+      ->type_name("SPEC")
+      ->required();
+  sub->add_option("--omega", args->omega,
+                  "Weighting matrix: diag (data only), full (model-based) or bootstrap")
+      ->check(CLI::IsMember({"diag", "full", "bootstrap"}))
+      ->capture_default_str();
+  sub->add_option("--replicates", args->replicates, "Bootstrap replicates for --omega bootstrap")
+      ->type_name("B")
+      ->check(CLI::Range(2, 1000000))
+      ->capture_default_str();
+  add_robust_options(*sub, args->robust);
+  add_common_options(*sub, common);
+  return {sub, [args, &common] { return run_fit(*args, common); }};
+}
+
+}  // namespace gmwm::cli
