@@ -136,8 +136,8 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
       long double fa = f(A), fb = f(B);
       simpson += fa + fb;
       for (std::int64_t k = 1; k < steps; ++k) simpson += ((k % 2) ? 4.0L : 2.0L) * f(A + k * s);
-      // Sum over the integers of [A, B] ~ (integral) / 1 + (f(A) + f(B)) / 2.
-      sum += simpson / 3.0L + 0.5L * (fa + fb);
+      // Sum over the integers of [A, B] ~ integral (s/3 x Simpson) + (f(A) + f(B)) / 2.
+      sum += static_cast<long double>(s) * simpson / 3.0L + 0.5L * (fa + fb);
     }
     const double v = static_cast<double>(2.0L * sum / (static_cast<long double>(a.M) * static_cast<long double>(b.M)));
     V(i, j) = v;
