@@ -1,0 +1,98 @@
+#pragma once
+// Reads the signals of a delimited text file (CSV, TSV, semicolon- or whitespace-
+// separated), optionally gzip-compressed, into memory (CLI.md "Inputs").
+//
+// Format rules:
+// - Delimiter detected from the header and the first data row: comma, tab, semicolon,
+//   else runs of spaces/tabs. CRLF line ends and a UTF-8 byte-order mark are accepted.
+// - A header row naming the columns is required: the first line with a non-numeric
+//   token. Leading '#' lines are comments, except that the last of them is the header
+//   when the next line is already data (EuRoC: '#timestamp [ns],w_RS_S_x [rad s^-1],...').
+//   Header names may be double-quoted; data cells may not.
+// - gzip is detected by content (magic bytes 1f 8b), never by the file name.
+// - Blank lines are allowed only at the end of the file.
+// - A column whose first data cell is not a number is a text column: skipped by
+//   default, an error when picked with --columns.
+// - A timestamp column (timestamp, time, t, stamp, '#timestamp [ns]', time_s, ...; the
+//   first such column) gives the sampling rate, gaps and disorder; it is never a signal.
+//
+// Presets, recognised by their headers (original names stay valid in --columns):
+// - EuRoC imu0/data.csv  '#timestamp [ns],w_RS_S_x [rad s^-1],...,a_RS_S_z [m s^-2]':
+//     w_RS_S_x/y/z -> gyro_x/y/z (rad/s), a_RS_S_x/y/z -> accel_x/y/z (m/s^2).
+// - Kalibr bagcreater CSV  'timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z'
+//   (timestamp in ns): omega_x/y/z -> gyro_x/y/z, alpha_x/y/z -> accel_x/y/z (in Kalibr's
+//   format "alpha" is the accelerometer, not an angular acceleration).
+//
+// Every user error throws gmwm::InputError with one line:
+//   "<path>:<line>:<column>: found <what>, expected <what>" (line/column when they apply).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gmwm::io {
+
+/// Fewest samples accepted per signal. The WV has J = floor(log2 N) levels, and the
+/// smallest models worth fitting (e.g. WN + RW + QN, or AR1 + WN with 3 parameters)
+/// need more WV moments than parameters: 4 levels, i.e. N >= 2^4 = 16.
+inline constexpr std::int64_t kMinSamples = 16;
+
+struct ReadOptions {
+  /// Column names or 1-based field indices (as text). Empty: every numeric column that is
+  /// not a timestamp, in file order.
+  std::vector<std::string> columns;
+  /// --freq HZ: the sampling rate. Overrides the timestamp column's estimate.
+  std::optional<double> freq;
+
+  /// "" when valid, otherwise a one-line message naming the option.
+  std::string Validate() const;
+};
+
+/// What the timestamp column says about the sampling (present when there is one).
+struct TimingReport {
+  std::string column;               ///< the timestamp column's header name
+  double unit_to_seconds = 1.0;     ///< e.g. 1e-9 for '#timestamp [ns]'
+  std::string unit;                 ///< "s", "ms", "us" or "ns"
+  std::string unit_source;          ///< how the unit was decided (header, preset, ...)
+  std::int64_t samples = 0;
+  double median_step_seconds = 0.0;
+  double estimated_freq = 0.0;      ///< 1 / median step; 0 when the times never increase
+  std::int64_t gaps = 0;            ///< steps > kGapFactor x median step
+  double largest_gap_seconds = 0.0; ///< largest step counted as a gap (0 when no gap)
+  std::int64_t disorder = 0;        ///< non-increasing steps (repeated or backwards times)
+  std::optional<double> given_freq; ///< --freq, when it was given as well
+
+  /// A step longer than this many median steps is a gap. Timestamp jitter of a regular
+  /// stream stays well under half a period, while one dropped sample makes a step of two
+  /// periods: 1.5 sits halfway, so every lost sample counts and jitter never does.
+  static constexpr double kGapFactor = 1.5;
+  /// --freq and the estimate "disagree" above this relative difference (1%): more than
+  /// timestamp jitter explains, typical of a wrong rate or a wrong time unit.
+  static constexpr double kDisagreement = 0.01;
+
+  /// One line for the terminal; mentions a disagreement with --freq above 1%.
+  std::string summary() const;
+};
+
+struct Signal {
+  std::string name;
+  std::vector<double> values;
+  std::string unit = {};  ///< from the header ('[rad s^-1]') or the preset; "" when unknown
+};
+
+struct SignalSet {
+  std::string path;
+  std::vector<Signal> signals;
+  double freq = 0.0;        ///< from --freq, else from the timestamp column
+  bool freq_known = false;
+  std::optional<TimingReport> timing;
+  std::string preset;       ///< "euroc", "kalibr" or "" when recognised by header
+  std::string delimiter;    ///< "comma", "tab", "semicolon" or "whitespace"
+  bool compressed = false;  ///< gzip content
+};
+
+/// Reads the selected columns of `path`. Throws gmwm::InputError on bad input (see above).
+SignalSet read_signals(const std::string& path, const ReadOptions& options);
+
+}  // namespace gmwm::io

@@ -1,0 +1,333 @@
+#include "gmwm/io/signal_reader.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+#include "delimited_parser.h"
+#include "gmwm/engine/error.h"
+#include "text_source.h"
+#include "timestamp.h"
+
+namespace gmwm::io {
+
+namespace {
+
+using detail::Delimiter;
+using detail::FieldPlan;
+
+std::string quoted(std::string_view s) {
+  constexpr std::size_t kMax = 60;
+  std::string out(1, '\'');
+  out.append(s.substr(0, kMax));
+  out.append(s.size() > kMax ? "...'" : "'");
+  return out;
+}
+
+bool is_blank_line(std::string_view line) {
+  return line.find_first_not_of(" \t") == std::string_view::npos;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](char x, char y) {
+    return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+  });
+}
+
+std::string where(const std::string& path, std::int64_t line) {
+  return path + ":" + std::to_string(line) + ": ";
+}
+
+// Known layouts, recognised by their header names without units (case-insensitive).
+struct Preset {
+  const char* name;
+  std::array<const char*, 7> header;
+  std::array<const char*, 7> renamed;
+  std::array<const char*, 7> units;
+  detail::TimeUnit time_unit;
+};
+const Preset kPresets[] = {
+    {"euroc",
+     {"timestamp", "w_RS_S_x", "w_RS_S_y", "w_RS_S_z", "a_RS_S_x", "a_RS_S_y", "a_RS_S_z"},
+     {"timestamp", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"},
+     {"ns", "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2", "m/s^2"},
+     {1e-9, "ns"}},
+    {"kalibr",
+     {"timestamp", "omega_x", "omega_y", "omega_z", "alpha_x", "alpha_y", "alpha_z"},
+     {"timestamp", "gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"},
+     {"ns", "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2", "m/s^2"},
+     {1e-9, "ns"}},
+};
+
+struct Column {
+  std::string header;  // as written (without a leading '#')
+  std::string base;    // without its bracketed unit
+  std::string name;    // the signal's name (preset-renamed base)
+  std::string unit;
+  bool numeric = false;     // its first data cell is a number
+  bool time_like = false;   // named like a timestamp
+};
+
+const Preset* find_preset(const std::vector<Column>& cols) {
+  for (const Preset& p : kPresets) {
+    if (cols.size() != p.header.size()) continue;
+    bool match = true;
+    for (std::size_t k = 0; k < cols.size() && match; ++k) match = iequals(cols[k].base, p.header[k]);
+    if (match) return &p;
+  }
+  return nullptr;
+}
+
+std::string column_list(const std::vector<Column>& cols) {
+  std::string s;
+  for (std::size_t k = 0; k < cols.size(); ++k) s += (k ? ", " : "") + cols[k].name;
+  return s;
+}
+
+// The field index a --columns entry names (a 1-based index, or a name, exact match first).
+std::size_t resolve_column(const std::string& path, const std::string& spec,
+                           const std::vector<Column>& cols) {
+  const std::string prefix = path + ": --columns: ";
+  if (std::all_of(spec.begin(), spec.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    std::size_t index = 0;
+    const auto [ptr, ec] = std::from_chars(spec.data(), spec.data() + spec.size(), index);
+    if (ec != std::errc() || index < 1 || index > cols.size())
+      throw InputError(prefix + "found index " + spec + ", expected 1.." +
+                       std::to_string(cols.size()) + " (the file has " +
+                       std::to_string(cols.size()) + " columns: " + column_list(cols) + ")");
+    return index - 1;
+  }
+  for (const bool exact : {true, false}) {
+    std::vector<std::size_t> hits;
+    for (std::size_t k = 0; k < cols.size(); ++k) {
+      const Column& c = cols[k];
+      for (const std::string* n : {&c.name, &c.header, &c.base}) {
+        if (exact ? *n == spec : iequals(*n, spec)) {
+          hits.push_back(k);
+          break;
+        }
+      }
+    }
+    if (hits.size() > 1)
+      throw InputError(prefix + "found the name '" + spec + "' in columns " +
+                       std::to_string(hits[0] + 1) + " and " + std::to_string(hits[1] + 1) +
+                       ", expected a unique name (use the 1-based index instead)");
+    if (hits.size() == 1) return hits[0];
+  }
+  throw InputError(prefix + "found no column named '" + spec + "', expected one of: " +
+                   column_list(cols) + " (or a 1-based index)");
+}
+
+}  // namespace
+
+std::string ReadOptions::Validate() const {
+  if (freq && !(std::isfinite(*freq) && *freq > 0.0)) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", *freq);
+    return std::string("--freq: found ") + buf + ", expected a positive sampling rate in Hz";
+  }
+  for (const std::string& c : columns)
+    if (c.empty())
+      return "--columns: found an empty entry, expected column names or 1-based indices "
+             "separated by commas";
+  return "";
+}
+
+SignalSet read_signals(const std::string& path, const ReadOptions& options) {
+  if (const std::string msg = options.Validate(); !msg.empty()) throw InputError(msg);
+  detail::TextSource src(path);
+  if (src.empty()) throw InputError(path + ": found an empty file, expected a header row and data rows");
+
+  // Header: the first line with a non-numeric token; or the last '#' line when the next
+  // line is already data (EuRoC). Earlier '#' lines are comments.
+  std::string header, comment, first_row;
+  std::int64_t header_line = 0, comment_line = 0, first_row_line = 0;
+  std::string_view line;
+  while (src.next_line(line)) {
+    if (is_blank_line(line)) continue;
+    const std::string_view t = line.substr(line.find_first_not_of(" \t"));
+    if (t.front() == '#') {
+      comment.assign(t);
+      comment_line = src.line_number();
+      continue;
+    }
+    if (detail::is_numeric_row(line)) {
+      if (comment_line == 0)
+        throw InputError(where(path, src.line_number()) + "found a data row " + quoted(line) +
+                         " where the header belongs, expected a header row naming the columns "
+                         "(e.g. 'time,gyro_x,gyro_y')");
+      header = comment;
+      header_line = comment_line;
+      first_row.assign(line);
+      first_row_line = src.line_number();
+    } else {
+      header.assign(line);
+      header_line = src.line_number();
+    }
+    break;
+  }
+  if (header_line == 0) {
+    if (comment_line == 0)
+      throw InputError(path + ": found only blank lines, expected a header row and data rows");
+    header = comment;
+    header_line = comment_line;
+  }
+  std::int64_t blank_line = 0;  // first blank line seen after the header
+  if (first_row_line == 0) {
+    while (src.next_line(line)) {
+      if (is_blank_line(line)) {
+        if (!blank_line) blank_line = src.line_number();
+        continue;
+      }
+      first_row.assign(line);
+      first_row_line = src.line_number();
+      break;
+    }
+  }
+  if (first_row_line == 0)
+    throw InputError(where(path, header_line) + "found a header but no data rows, expected at least " +
+                     std::to_string(kMinSamples) + " rows of samples");
+  auto fail_blank = [&](std::int64_t at) {
+    throw InputError(where(path, at) +
+                     "found an empty line, expected a data row (blank lines are allowed only at "
+                     "the end of the file)");
+  };
+  if (blank_line) fail_blank(blank_line);
+
+  if (!header.empty() && header.front() == '#')
+    header.erase(0, header.find_first_not_of("# \t"));
+  const Delimiter delim = detail::detect_delimiter(header, first_row);
+  std::vector<std::string> names = detail::split_header(header, delim);
+
+  // Rows with the wrong number of fields are reported by the row parser itself.
+  detail::RowParser(path, delim, std::vector<FieldPlan>(names.size()), names, 0)
+      .parse(first_row, first_row_line);
+  const std::vector<std::string_view> first_fields = detail::split_fields(first_row, delim);
+
+  std::vector<Column> cols(names.size());
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    Column& c = cols[k];
+    if (names[k].empty()) names[k] = "column_" + std::to_string(k + 1);
+    c.header = names[k];
+    std::tie(c.base, c.unit) = detail::split_unit(c.header);
+    c.name = c.base;
+    double v;
+    const detail::NumberStatus s = detail::parse_number(first_fields[k], v);
+    c.numeric = s != detail::NumberStatus::kEmpty && s != detail::NumberStatus::kNotANumber;
+    c.time_like = detail::timestamp_name(c.header).has_value();
+  }
+  SignalSet set;
+  set.path = path;
+  set.delimiter = detail::delimiter_name(delim);
+  set.compressed = src.compressed();
+  const Preset* preset = find_preset(cols);
+  if (preset) {
+    set.preset = preset->name;
+    for (std::size_t k = 0; k < cols.size(); ++k) {
+      cols[k].name = preset->renamed[k];
+      cols[k].unit = preset->units[k];
+    }
+  }
+  std::optional<std::size_t> time_col;
+  const auto time_like = std::find_if(cols.begin(), cols.end(), [](const Column& c) { return c.time_like; });
+  if (time_like != cols.end()) time_col = static_cast<std::size_t>(time_like - cols.begin());
+  if (time_col && !cols[*time_col].numeric) {
+    if (!options.freq)
+      throw InputError(path + ":" + std::to_string(first_row_line) + ":" +
+                       std::to_string(*time_col + 1) + ": found " + quoted(first_fields[*time_col]) + " in timestamp column '" +
+                       cols[*time_col].header +
+                       "', expected a number; give the sampling rate with --freq HZ");
+    time_col.reset();  // not usable for timing; --freq rules anyway
+  }
+  if (!time_col && !options.freq)
+    throw InputError(path + ": no timestamp column found; give the sampling rate with --freq HZ");
+
+  // Which fields become signals, in which order.
+  std::vector<std::size_t> selected;
+  if (options.columns.empty()) {
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      if (cols[k].numeric && !cols[k].time_like) selected.push_back(k);
+    if (selected.empty())
+      throw InputError(where(path, header_line) + "found no numeric column besides timestamps (" +
+                       column_list(cols) + "), expected at least one signal column");
+  } else {
+    for (const std::string& spec : options.columns) {
+      const std::size_t k = resolve_column(path, spec, cols);
+      if (time_col && k == *time_col)
+        throw InputError(path + ": --columns: found '" + spec + "', the timestamp column '" +
+                         cols[k].header + "', expected a signal column");
+      if (std::find(selected.begin(), selected.end(), k) != selected.end())
+        throw InputError(path + ": --columns: found column '" + cols[k].name +
+                         "' twice, expected each column once");
+      selected.push_back(k);
+    }
+  }
+  std::vector<FieldPlan> plan(cols.size());
+  for (std::size_t i = 0; i < selected.size(); ++i)
+    plan[selected[i]] = {FieldPlan::kValue, static_cast<int>(i)};
+  if (time_col) plan[*time_col].kind = FieldPlan::kTime;
+
+  detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
+  // Reserving (virtual memory, touched only when used) avoids regrowing the columns.
+  parser.reserve(src.text_size_hint() / (first_row.size() + 1) + 1);
+  parser.parse(first_row, first_row_line);
+  while (src.next_line(line)) {
+    if (line.empty() || is_blank_line(line)) {
+      if (!blank_line) blank_line = src.line_number();
+      continue;
+    }
+    if (blank_line) fail_blank(blank_line);
+    parser.parse(line, src.line_number());
+  }
+
+  const std::int64_t rows = parser.rows();
+  if (rows < kMinSamples)
+    throw InputError(path + ": found " + std::to_string(rows) + (rows == 1 ? " sample" : " samples") +
+                     ", expected at least " + std::to_string(kMinSamples) +
+                     " (the wavelet variance needs 4 levels, 2^4 samples)");
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    const std::vector<double>& v = parser.values()[i];
+    if (std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); })) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.17g", v.front());
+      throw InputError(path + ": column " + std::to_string(selected[i] + 1) + " '" +
+                       cols[selected[i]].header + "': found all " + std::to_string(rows) +
+                       " values equal to " + buf +
+                       ", expected a varying signal (a constant has a wavelet variance of zero)");
+    }
+  }
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    const Column& c = cols[selected[i]];
+    set.signals.push_back(Signal{c.name, std::move(parser.values()[i]), c.unit});
+  }
+
+  if (time_col) {
+    const Column& c = cols[*time_col];
+    detail::TimeUnit unit = detail::timestamp_name(c.header).value_or(detail::TimeUnit{});
+    std::string source = "stated in the header";
+    if (unit.to_seconds == 0.0 && preset) {
+      unit = preset->time_unit;
+      source = std::string(preset->name) + " layout";
+    }
+    set.timing = detail::analyse_timing(c.header, parser.time_offsets(), parser.first_time(), unit,
+                                        source);
+    set.timing->given_freq = options.freq;
+  }
+  if (options.freq) {
+    set.freq = *options.freq;
+    set.freq_known = true;
+  } else if (set.timing && set.timing->estimated_freq > 0.0) {
+    set.freq = set.timing->estimated_freq;
+    set.freq_known = true;
+  } else {
+    throw InputError(path + ": found timestamps in column '" + set.timing->column +
+                     "' that never increase, expected increasing times; give the sampling rate "
+                     "with --freq HZ");
+  }
+  return set;
+}
+
+}  // namespace gmwm::io

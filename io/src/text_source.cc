@@ -1,0 +1,191 @@
+#include "text_source.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+#include <zlib.h>
+
+#include "gmwm/engine/error.h"
+
+namespace gmwm::io::detail {
+
+namespace {
+
+// Compressed bytes read from the file at a time.
+constexpr std::size_t kInputChunk = 1 << 18;
+// Text inflated at a time: large enough to amortise the per-chunk work, small enough to
+// stay in the L2 cache while the parser reads it right after inflate wrote it.
+constexpr std::size_t kTextChunk = 1 << 18;
+// Typical compression ratio of gzip on text of numbers (the ADIS files: 7.6), used only to
+// reserve memory for the columns; a wrong guess costs nothing but a reallocation.
+constexpr std::uint64_t kTypicalGzipRatio = 8;
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw InputError(path + ": " + what);
+}
+
+}  // namespace
+
+// Inflates a gzip file (one or more concatenated members) chunk by chunk.
+class GzipStream {
+ public:
+  GzipStream(std::string path, std::FILE* file) : path_(std::move(path)), file_(file) {
+    std::memset(&zs_, 0, sizeof zs_);
+    // 15 + 32: largest window, automatic gzip/zlib header detection.
+    if (inflateInit2(&zs_, 15 + 32) != Z_OK) fail(path_, "cannot initialise zlib");
+    in_.resize(kInputChunk);
+  }
+  ~GzipStream() { inflateEnd(&zs_); }
+  GzipStream(const GzipStream&) = delete;
+  GzipStream& operator=(const GzipStream&) = delete;
+
+  /// Inflates up to `cap` bytes into `dst`; returns 0 only at the end of the data.
+  std::size_t read(char* dst, std::size_t cap) {
+    zs_.next_out = reinterpret_cast<Bytef*>(dst);
+    zs_.avail_out = static_cast<uInt>(cap);
+    while (zs_.avail_out > 0 && !done_) {
+      if (zs_.avail_in == 0 && !fill_input()) {
+        if (in_member_)
+          fail(path_, "gzip stream ends early after " + std::to_string(text_bytes(cap)) +
+                          " bytes of text (truncated file?), expected a complete gzip stream");
+        done_ = true;
+        break;
+      }
+      if (!in_member_) {
+        // Between members: another member starts with the magic byte 0x1f; anything
+        // else is trailing padding, which gzip itself ignores too.
+        if (zs_.next_in[0] != 0x1f) {
+          done_ = true;
+          break;
+        }
+        inflateReset(&zs_);
+        in_member_ = true;
+      }
+      const int rc = inflate(&zs_, Z_NO_FLUSH);
+      if (rc == Z_STREAM_END) {
+        in_member_ = false;
+      } else if (rc == Z_BUF_ERROR) {
+        if (zs_.avail_in > 0) fail(path_, "corrupt gzip data, expected a valid gzip stream");
+      } else if (rc != Z_OK) {
+        fail(path_, std::string("corrupt gzip data (zlib: ") + (zs_.msg ? zs_.msg : "error") +
+                        "), expected a valid gzip stream");
+      }
+    }
+    const std::size_t produced = cap - zs_.avail_out;
+    total_out_ += produced;
+    return produced;
+  }
+
+ private:
+  bool fill_input() {
+    const std::size_t n = std::fread(in_.data(), 1, in_.size(), file_);
+    if (n == 0) {
+      if (std::ferror(file_)) fail(path_, std::string("read error: ") + std::strerror(errno));
+      return false;
+    }
+    zs_.next_in = reinterpret_cast<Bytef*>(in_.data());
+    zs_.avail_in = static_cast<uInt>(n);
+    return true;
+  }
+  std::uint64_t text_bytes(std::size_t cap) const { return total_out_ + (cap - zs_.avail_out); }
+
+  std::string path_;
+  std::FILE* file_;
+  z_stream zs_;
+  std::vector<unsigned char> in_;
+  bool in_member_ = true;
+  bool done_ = false;
+  std::uint64_t total_out_ = 0;
+};
+
+TextSource::TextSource(const std::string& path) : path_(path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    fail(path, "is a folder, expected a data file");
+  file_ = std::fopen(path.c_str(), "rb");
+  if (!file_) {
+    const int err = errno;
+    if (err == ENOENT) fail(path, "file not found, expected an existing data file");
+    fail(path, std::string("cannot open: ") + std::strerror(err) + ", expected a readable file");
+  }
+  unsigned char magic[2] = {0, 0};
+  const std::size_t got = std::fread(magic, 1, 2, file_);
+  empty_ = got == 0;
+  const auto size = std::filesystem::file_size(path, ec);
+  std::rewind(file_);
+  if (got == 2 && magic[0] == 0x1f && magic[1] == 0x8b) {
+    size_hint_ = ec ? 0 : size * kTypicalGzipRatio;
+    gzip_ = std::make_unique<GzipStream>(path_, file_);
+    return;
+  }
+  // Plain text: read it whole (one system call for a regular file).
+  size_hint_ = ec ? 0 : size;
+  reserve(ec ? kTextChunk : static_cast<std::size_t>(size) + 1);
+  for (;;) {
+    end_ += std::fread(buf_.get() + end_, 1, cap_ - end_, file_);
+    if (end_ < cap_) break;
+    reserve(2 * cap_);
+  }
+  if (std::ferror(file_)) fail(path, std::string("read error: ") + std::strerror(errno));
+  eof_ = true;
+}
+
+TextSource::~TextSource() {
+  gzip_.reset();
+  if (file_) std::fclose(file_);
+}
+
+void TextSource::reserve(std::size_t bytes) {
+  if (bytes <= cap_) return;
+  std::unique_ptr<char[]> bigger(new char[bytes]);
+  if (end_ > pos_) std::memcpy(bigger.get(), buf_.get() + pos_, end_ - pos_);
+  end_ -= pos_;
+  pos_ = 0;
+  buf_ = std::move(bigger);
+  cap_ = bytes;
+}
+
+void TextSource::refill() {
+  // Keep the unread tail (a partial line), then append freshly inflated text.
+  const std::size_t tail = end_ - pos_;
+  if (pos_ > 0 && tail > 0) std::memmove(buf_.get(), buf_.get() + pos_, tail);
+  pos_ = 0;
+  end_ = tail;
+  if (cap_ < tail + kTextChunk) reserve(std::max(tail + kTextChunk, 2 * cap_));
+  const std::size_t n = gzip_->read(buf_.get() + end_, cap_ - end_);
+  if (n == 0) eof_ = true;
+  end_ += n;
+}
+
+bool TextSource::next_line(std::string_view& line) {
+  for (;;) {
+    const char* b = buf_.get() + pos_;
+    const std::size_t avail = end_ - pos_;
+    if (line_ == 0 && pos_ == 0 && avail >= 3 && std::memcmp(b, "\xEF\xBB\xBF", 3) == 0) {
+      pos_ += 3;  // UTF-8 byte-order mark (spreadsheet exports)
+      continue;
+    }
+    const void* nl = avail ? std::memchr(b, '\n', avail) : nullptr;
+    std::size_t len;
+    if (nl) {
+      len = static_cast<std::size_t>(static_cast<const char*>(nl) - b);
+      pos_ += len + 1;
+    } else if (eof_) {
+      if (avail == 0) return false;
+      len = avail;
+      pos_ = end_;
+    } else {
+      refill();
+      continue;
+    }
+    if (len > 0 && b[len - 1] == '\r') --len;
+    line = std::string_view(b, len);
+    ++line_;
+    return true;
+  }
+}
+
+}  // namespace gmwm::io::detail

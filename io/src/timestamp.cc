@@ -1,0 +1,209 @@
+#include "timestamp.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+namespace gmwm::io::detail {
+
+namespace {
+
+// Unit of a timestamp column whose name does not say it, from the size of the median
+// step, assuming a rate in the range inertial sensors use (about 0.2 Hz to 10 kHz):
+//   step >= 1e5 -> ns  (<= 10 kHz; read as us it would be <= 10 Hz)
+//   step >= 100 -> us  (10 Hz .. 10 kHz)
+//   step >= 5   -> ms  (10 Hz .. 200 Hz)
+//   otherwise   -> s   (>= 0.2 Hz; so ms at 1 kHz, step 1, reads as 1 Hz: state the unit)
+constexpr double kNanosecondStep = 1e5;
+constexpr double kMicrosecondStep = 100.0;
+constexpr double kMillisecondStep = 5.0;
+
+// A first time in [1e9, 1e10) units of s/ms/us/ns is a Unix time between 2001 and 2286;
+// the guess is kept only when it also gives a plausible median step (1 us .. 100 s).
+constexpr double kUnixTimeLow = 1e9;
+constexpr double kUnixTimeHigh = 1e10;
+constexpr double kPlausibleStepLow = 1e-6;
+constexpr double kPlausibleStepHigh = 100.0;
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+std::string format_duration(double seconds) {
+  char buf[64];
+  const double a = std::fabs(seconds);
+  if (a != 0.0 && a < 1e-3)
+    std::snprintf(buf, sizeof buf, "%.4g us", seconds * 1e6);
+  else if (a != 0.0 && a < 1.0)
+    std::snprintf(buf, sizeof buf, "%.4g ms", seconds * 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.4g s", seconds);
+  return buf;
+}
+
+std::string format_hz(double hz) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g Hz", hz);
+  return buf;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  const double hi = v[mid];
+  if (v.size() % 2 == 1) return hi;
+  const double lo = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+std::optional<TimeUnit> parse_time_unit(std::string_view text) {
+  const std::string t = lower(trim(text));
+  if (t == "s" || t == "sec" || t == "secs" || t == "second" || t == "seconds")
+    return TimeUnit{1.0, "s"};
+  if (t == "ms" || t == "msec" || t == "millisecond" || t == "milliseconds")
+    return TimeUnit{1e-3, "ms"};
+  if (t == "us" || t == "usec" || t == "\xC2\xB5s" || t == "\xCE\xBCs" || t == "microsecond" ||
+      t == "microseconds")
+    return TimeUnit{1e-6, "us"};
+  if (t == "ns" || t == "nsec" || t == "nanosecond" || t == "nanoseconds")
+    return TimeUnit{1e-9, "ns"};
+  if (t == "min" || t == "minute" || t == "minutes") return TimeUnit{60.0, "min"};
+  if (t == "h" || t == "hour" || t == "hours") return TimeUnit{3600.0, "h"};
+  return std::nullopt;
+}
+
+std::pair<std::string, std::string> split_unit(std::string_view name) {
+  name = trim(name);
+  const std::size_t open = name.find_first_of("[(");
+  if (open == std::string_view::npos) return {std::string(name), ""};
+  const char close = name[open] == '[' ? ']' : ')';
+  const std::size_t end = name.find(close, open + 1);
+  if (end == std::string_view::npos || end + 1 != name.size()) return {std::string(name), ""};
+  return {std::string(trim(name.substr(0, open))),
+          std::string(trim(name.substr(open + 1, end - open - 1)))};
+}
+
+std::optional<TimeUnit> timestamp_name(std::string_view name) {
+  name = trim(name);
+  while (!name.empty() && (name.front() == '#' || name.front() == '%')) name.remove_prefix(1);
+  auto [base_raw, unit_text] = split_unit(name);
+  std::string base = lower(base_raw);
+  static constexpr std::array<std::string_view, 10> kNames = {
+      "timestamp", "time", "t", "stamp", "time_stamp", "timestamps",
+      "times", "header.stamp", "field.header.stamp", "time stamp"};
+  auto known = [](std::string_view b) {
+    return std::find(kNames.begin(), kNames.end(), b) != kNames.end();
+  };
+  std::optional<TimeUnit> unit;
+  if (!unit_text.empty()) unit = parse_time_unit(unit_text);
+  if (!known(base)) {
+    // Unit as a suffix: time_s, timestamp_ns, t_ms, "time s".
+    const std::size_t sep = base.find_last_of("_ ");
+    if (sep == std::string::npos || !known(std::string_view(base).substr(0, sep)))
+      return std::nullopt;
+    unit = parse_time_unit(std::string_view(base).substr(sep + 1));
+    if (!unit) return std::nullopt;
+  }
+  return unit ? *unit : TimeUnit{};
+}
+
+TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets,
+                            double first_time, const TimeUnit& unit,
+                            const std::string& unit_source) {
+  TimingReport r;
+  r.column = column;
+  r.samples = static_cast<std::int64_t>(offsets.size());
+  std::vector<double> positive;
+  positive.reserve(offsets.size());
+  for (std::size_t i = 1; i < offsets.size(); ++i) {
+    const double d = offsets[i] - offsets[i - 1];
+    if (d > 0.0) positive.push_back(d);
+    else ++r.disorder;
+  }
+  const double step = median(positive);  // in the file's unit
+
+  if (unit.to_seconds > 0.0) {
+    r.unit_to_seconds = unit.to_seconds;
+    r.unit = unit.label;
+    r.unit_source = unit_source;
+  } else {
+    static const TimeUnit kUnits[] = {{1.0, "s"}, {1e-3, "ms"}, {1e-6, "us"}, {1e-9, "ns"}};
+    for (const TimeUnit& u : kUnits) {
+      const double t = first_time * u.to_seconds;
+      const double s = step * u.to_seconds;
+      if (t >= kUnixTimeLow && t < kUnixTimeHigh && s >= kPlausibleStepLow &&
+          s <= kPlausibleStepHigh) {
+        r.unit_to_seconds = u.to_seconds;
+        r.unit = u.label;
+        r.unit_source = "the first time looks like a Unix time";
+      }
+    }
+    if (r.unit.empty()) {
+      const TimeUnit& u = step >= kNanosecondStep    ? kUnits[3]
+                          : step >= kMicrosecondStep ? kUnits[2]
+                          : step >= kMillisecondStep ? kUnits[1]
+                                                     : kUnits[0];
+      r.unit_to_seconds = u.to_seconds;
+      r.unit = u.label;
+      r.unit_source = "guessed from the median step; state it in the header, e.g. 'time [s]'";
+    }
+  }
+  r.median_step_seconds = step * r.unit_to_seconds;
+  r.estimated_freq = step > 0.0 ? 1.0 / r.median_step_seconds : 0.0;
+  if (step > 0.0) {
+    const double limit = TimingReport::kGapFactor * step;
+    double largest = 0.0;
+    for (double d : positive) {
+      if (d > limit) {
+        ++r.gaps;
+        largest = std::max(largest, d);
+      }
+    }
+    r.largest_gap_seconds = largest * r.unit_to_seconds;
+  }
+  return r;
+}
+
+}  // namespace gmwm::io::detail
+
+namespace gmwm::io {
+
+std::string TimingReport::summary() const {
+  using detail::format_duration;
+  using detail::format_hz;
+  std::string s = "timestamps '" + column + "' in " + unit + " (" + unit_source + "): ";
+  if (estimated_freq > 0.0) {
+    s += "median step " + format_duration(median_step_seconds) + " = " +
+         format_hz(estimated_freq) + ", " + std::to_string(gaps) +
+         (gaps == 1 ? " gap" : " gaps");
+    if (gaps > 0) s += " (largest " + format_duration(largest_gap_seconds) + ")";
+  } else {
+    s += "the times never increase";
+  }
+  s += ", " + std::to_string(disorder) + " out of order";
+  if (given_freq && estimated_freq > 0.0) {
+    const double rel = std::fabs(estimated_freq - *given_freq) / *given_freq;
+    if (rel > kDisagreement) {
+      char pct[32];
+      std::snprintf(pct, sizeof pct, "%.3g%%", 100.0 * rel);
+      s += "; --freq " + format_hz(*given_freq) + " disagrees with them by " + pct +
+           " (--freq is used)";
+    }
+  }
+  return s;
+}
+
+}  // namespace gmwm::io

@@ -1,0 +1,226 @@
+// Every user error of read_signals(): one line naming the file, the line and column where
+// they apply, what was found and what was expected.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/signal_writer.h"
+#include "signal_test_util.h"
+#include "test_support.h"
+
+using gmwm::io::ReadOptions;
+using gmwm::test::contains;
+using gmwm::test::csv_rows;
+using gmwm::test::read_error;
+using gmwm::test::write_text;
+
+namespace {
+
+class SignalReaderErrors : public ::testing::Test {
+ protected:
+  std::filesystem::path dir = gmwm::test::temp_dir("reader_errors");
+  void TearDown() override { std::filesystem::remove_all(dir); }
+  std::string file(const std::string& content) { return write_text(dir, "x.csv", content); }
+};
+
+}  // namespace
+
+TEST_F(SignalReaderErrors, RejectsAMissingFileNamingIt) {
+  const std::string p = (dir / "nope.csv").string();
+  EXPECT_EQ(read_error(p), p + ": file not found, expected an existing data file");
+}
+
+TEST_F(SignalReaderErrors, RejectsAFolderGivenAsTheFile) {
+  EXPECT_EQ(read_error(dir.string()), dir.string() + ": is a folder, expected a data file");
+}
+
+TEST_F(SignalReaderErrors, RejectsAnEmptyFile) {
+  const std::string p = file("");
+  EXPECT_EQ(read_error(p), p + ": found an empty file, expected a header row and data rows");
+}
+
+TEST_F(SignalReaderErrors, RejectsAFileOfBlankLines) {
+  const std::string p = file("\n  \n\r\n");
+  EXPECT_EQ(read_error(p), p + ": found only blank lines, expected a header row and data rows");
+}
+
+TEST_F(SignalReaderErrors, RejectsAHeaderWithoutDataRows) {
+  const std::string p = file("time,x,y\n\n");
+  EXPECT_EQ(read_error(p),
+            p + ":1: found a header but no data rows, expected at least 16 rows of samples");
+}
+
+TEST_F(SignalReaderErrors, RejectsAFileWithoutAHeaderRowSayingSo) {
+  const std::string p = file(csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":1: found a data row '0.00,0.000000,0' where the header belongs, "
+                               "expected a header row naming the columns (e.g. "
+                               "'time,gyro_x,gyro_y')");
+}
+
+TEST_F(SignalReaderErrors, RejectsANonNumericCellNamingLineAndColumn) {
+  const std::string p = file("time,x,y\n" + csv_rows(3) + "0.03,abc,1\n" + csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":5:2: found 'abc' in column 'x', expected a number");
+}
+
+TEST_F(SignalReaderErrors, RejectsAnEmptyCell) {
+  const std::string p = file("time,x,y\n" + csv_rows(3) + "0.03,,1\n" + csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":5:2: found an empty cell in column 'x', expected a number");
+}
+
+TEST_F(SignalReaderErrors, HintsAtTheDecimalSeparatorInASemicolonFile) {
+  const std::string p = file("time;x\n0;1\n0,01;2\n");
+  EXPECT_EQ(read_error(p), p + ":3:1: found '0,01' in column 'time', expected a number (with "
+                               "'.' as the decimal separator)");
+}
+
+TEST_F(SignalReaderErrors, RejectsNanAndInfCells) {
+  for (const std::string bad : {"nan", "NaN", "inf", "-Infinity"}) {
+    const std::string p = file("time,x,y\n" + csv_rows(3) + "0.03,1," + bad + "\n" + csv_rows(20));
+    EXPECT_EQ(read_error(p), p + ":5:3: found '" + bad +
+                                 "' in column 'y', expected a finite number (NaN and Inf are "
+                                 "not allowed)");
+  }
+}
+
+TEST_F(SignalReaderErrors, RejectsANumberOutsideTheRangeOfADouble) {
+  const std::string p = file("time,x,y\n" + csv_rows(3) + "0.03,1e999,1\n" + csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":5:2: found '1e999' in column 'x', expected a number within the "
+                               "range of a double");
+}
+
+TEST_F(SignalReaderErrors, RejectsARaggedRowNamingLineAndColumn) {
+  const std::string few = file("time,x,y\n" + csv_rows(3) + "0.03,0.5\n" + csv_rows(20));
+  EXPECT_EQ(read_error(few), few + ":5:3: found 2 fields, expected 3 like the header (no value "
+                                   "for column 'y')");
+  const std::string many = file("time,x,y\n" + csv_rows(3) + "0.03,0.5,1,9\n" + csv_rows(20));
+  EXPECT_EQ(read_error(many), many + ":5:4: found 4 fields, expected 3 like the header (extra "
+                                     "value '9')");
+}
+
+TEST_F(SignalReaderErrors, RejectsARaggedRowInAWhitespaceSeparatedFile) {
+  const std::string p = file("time x y\n" + csv_rows(3, ' ') + "0.03  0.5\n" + csv_rows(20, ' '));
+  EXPECT_EQ(read_error(p), p + ":5:3: found 2 fields, expected 3 like the header (no value for "
+                               "column 'y')");
+}
+
+TEST_F(SignalReaderErrors, RejectsABlankLineBetweenDataRows) {
+  const std::string p = file("time,x,y\n" + csv_rows(3) + "\n" + csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":5: found an empty line, expected a data row (blank lines are "
+                               "allowed only at the end of the file)");
+}
+
+TEST_F(SignalReaderErrors, RejectsFewerThanSixteenSamples) {
+  static_assert(gmwm::io::kMinSamples == 16);
+  const std::string p = file("time,x,y\n" + csv_rows(15));
+  EXPECT_EQ(read_error(p), p + ": found 15 samples, expected at least 16 (the wavelet variance "
+                               "needs 4 levels, 2^4 samples)");
+  EXPECT_EQ(read_error(file("time,x,y\n" + csv_rows(16))), "no error");
+}
+
+TEST_F(SignalReaderErrors, RejectsAConstantColumn) {
+  std::string rows;
+  for (int i = 0; i < 20; ++i) rows += std::to_string(i) + "," + std::to_string(i % 3) + ",2.5\n";
+  const std::string p = file("time,x,y\n" + rows);
+  EXPECT_EQ(read_error(p), p + ": column 3 'y': found all 20 values equal to 2.5, expected a "
+                               "varying signal (a constant has a wavelet variance of zero)");
+  ReadOptions only_x;
+  only_x.columns = {"x"};
+  EXPECT_EQ(read_error(p, only_x), "no error");
+}
+
+TEST_F(SignalReaderErrors, RejectsATruncatedGzipStream) {
+  const std::string gz = (dir / "full.csv.gz").string();
+  gmwm::io::write_signals(gz, {{"x", std::vector<double>(5000, 0.0)}}, 100.0);
+  const auto size = std::filesystem::file_size(gz);
+  std::filesystem::resize_file(gz, size / 2);
+  const std::string msg = read_error(gz);
+  EXPECT_EQ(msg.rfind(gz + ": gzip stream ends early after ", 0), 0u) << msg;
+  EXPECT_TRUE(contains(msg, "bytes of text (truncated file?), expected a complete gzip stream"))
+      << msg;
+  // Cut inside the 8-byte trailer (CRC and length): the text is whole, the stream is not.
+  gmwm::io::write_signals(gz, {{"x", std::vector<double>(5000, 0.0)}}, 100.0);
+  std::filesystem::resize_file(gz, std::filesystem::file_size(gz) - 3);
+  EXPECT_TRUE(contains(read_error(gz), ": gzip stream ends early")) << read_error(gz);
+}
+
+TEST_F(SignalReaderErrors, RejectsCorruptGzipData) {
+  const std::string gz = (dir / "bad.csv.gz").string();
+  std::vector<double> x(5000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(static_cast<double>(i));
+  gmwm::io::write_signals(gz, {{"x", x}}, 100.0);
+  std::string bytes;
+  {
+    std::ifstream in(gz, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  for (std::size_t i = 100; i < 140; ++i) bytes[i] = static_cast<char>(bytes[i] ^ 0x5a);
+  write_text(dir, "bad.csv.gz", bytes);
+  const std::string msg = read_error(gz);
+  EXPECT_EQ(msg.rfind(gz + ": corrupt gzip data", 0), 0u) << msg;
+  EXPECT_TRUE(contains(msg, "expected a valid gzip stream")) << msg;
+}
+
+TEST_F(SignalReaderErrors, RejectsAnUnknownColumnNameOrIndex) {
+  const std::string p = file("time,x,y\n" + csv_rows(20));
+  ReadOptions by_name;
+  by_name.columns = {"x", "z"};
+  EXPECT_EQ(read_error(p, by_name), p + ": --columns: found no column named 'z', expected one "
+                                        "of: time, x, y (or a 1-based index)");
+  ReadOptions by_index;
+  by_index.columns = {"4"};
+  EXPECT_EQ(read_error(p, by_index), p + ": --columns: found index 4, expected 1..3 (the file "
+                                         "has 3 columns: time, x, y)");
+  by_index.columns = {"0"};
+  EXPECT_TRUE(contains(read_error(p, by_index), "found index 0, expected 1..3"));
+}
+
+TEST_F(SignalReaderErrors, RejectsTheTimestampOrARepeatedColumnInColumns) {
+  const std::string p = file("time,x,y\n" + csv_rows(20));
+  ReadOptions o;
+  o.columns = {"1"};
+  EXPECT_EQ(read_error(p, o), p + ": --columns: found '1', the timestamp column 'time', "
+                                  "expected a signal column");
+  o.columns = {"x", "2"};
+  EXPECT_EQ(read_error(p, o), p + ": --columns: found column 'x' twice, expected each column once");
+}
+
+TEST_F(SignalReaderErrors, RejectsANonPositiveFreq) {
+  const std::string p = file("x,y\n" + csv_rows(20, ',', false));
+  for (const double bad : {0.0, -5.0, std::nan("")}) {
+    ReadOptions o;
+    o.freq = bad;
+    EXPECT_FALSE(o.Validate().empty());
+    EXPECT_EQ(read_error(p, o), o.Validate());
+  }
+  ReadOptions o;
+  o.freq = -5.0;
+  EXPECT_EQ(o.Validate(), "--freq: found -5, expected a positive sampling rate in Hz");
+  o.freq = 100.0;
+  EXPECT_EQ(o.Validate(), "");
+}
+
+TEST_F(SignalReaderErrors, RejectsAFileWithoutTimestampsWhenNoFreqIsGiven) {
+  const std::string p = file("x,y\n" + csv_rows(20, ',', false));
+  EXPECT_EQ(read_error(p), p + ": no timestamp column found; give the sampling rate with --freq HZ");
+}
+
+TEST_F(SignalReaderErrors, RejectsTimestampsThatNeverIncreaseWhenNoFreqIsGiven) {
+  std::string rows;
+  for (int i = 0; i < 20; ++i) rows += "5," + std::to_string(i % 4) + "\n";
+  const std::string p = file("t,x\n" + rows);
+  EXPECT_EQ(read_error(p), p + ": found timestamps in column 't' that never increase, expected "
+                               "increasing times; give the sampling rate with --freq HZ");
+  ReadOptions o;
+  o.freq = 10.0;
+  EXPECT_EQ(read_error(p, o), "no error");
+}
+
+TEST_F(SignalReaderErrors, RejectsATextTimestampColumnWhenNoFreqIsGiven) {
+  std::string rows;
+  for (int i = 0; i < 20; ++i) rows += "12:00:" + std::to_string(10 + i) + "," + std::to_string(i % 4) + "\n";
+  const std::string p = file("time,x\n" + rows);
+  EXPECT_EQ(read_error(p), p + ":2:1: found '12:00:10' in timestamp column 'time', expected a "
+                               "number; give the sampling rate with --freq HZ");
+}

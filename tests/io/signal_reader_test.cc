@@ -1,0 +1,265 @@
+// read_signals(): delimiters, headers, presets, column selection, timestamps, gzip.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/signal_writer.h"
+#include "signal_test_util.h"
+#include "test_support.h"
+
+using gmwm::io::read_signals;
+using gmwm::io::ReadOptions;
+using gmwm::io::SignalSet;
+using gmwm::test::contains;
+using gmwm::test::csv_rows;
+using gmwm::test::write_text;
+
+namespace {
+
+class SignalReader : public ::testing::Test {
+ protected:
+  std::filesystem::path dir = gmwm::test::temp_dir("reader");
+  void TearDown() override { std::filesystem::remove_all(dir); }
+  std::string file(const std::string& content, const std::string& name = "x.csv") {
+    return write_text(dir, name, content);
+  }
+};
+
+// EuRoC imu0/data.csv: ns since 1970 at 200 Hz (as in the dataset, first stamp included).
+std::string euroc_rows(int rows, std::int64_t step_ns = 5000000) {
+  std::string s;
+  for (int i = 0; i < rows; ++i)
+    s += std::to_string(1403636579758555392LL + i * step_ns) + "," + std::to_string(0.01 * (i % 5)) +
+         "," + std::to_string(-0.02 * (i % 3)) + "," + std::to_string(0.03 * (i % 4)) + "," +
+         std::to_string(9.0 + 0.1 * (i % 3)) + "," + std::to_string(0.1 * (i % 6)) + "," +
+         std::to_string(i % 2) + "\n";
+  return s;
+}
+
+std::string drop_first_line(const std::string& rows) { return rows.substr(rows.find('\n') + 1); }
+
+}  // namespace
+
+TEST_F(SignalReader, ReadsACsvWithATimeColumnInSeconds) {
+  const SignalSet s = read_signals(file("time,x,y\n" + csv_rows(100)), {});
+  ASSERT_EQ(s.signals.size(), 2u);
+  EXPECT_EQ(s.signals[0].name, "x");
+  EXPECT_EQ(s.signals[1].name, "y");
+  ASSERT_EQ(s.signals[0].values.size(), 100u);
+  EXPECT_EQ(s.signals[0].values[3], 0.141120);  // sin(3) to 6 decimals, parsed exactly
+  EXPECT_EQ(s.signals[1].values[9], 2.0);
+  EXPECT_TRUE(s.freq_known);
+  EXPECT_NEAR(s.freq, 100.0, 1e-9);
+  ASSERT_TRUE(s.timing);
+  EXPECT_EQ(s.timing->column, "time");
+  EXPECT_EQ(s.timing->unit_to_seconds, 1.0);
+  EXPECT_EQ(s.timing->gaps, 0);
+  EXPECT_EQ(s.timing->disorder, 0);
+  EXPECT_EQ(s.delimiter, "comma");
+  EXPECT_EQ(s.preset, "");
+  EXPECT_FALSE(s.compressed);
+}
+
+TEST_F(SignalReader, DetectsTabSemicolonAndWhitespaceDelimiters) {
+  const std::pair<char, const char*> cases[] = {{'\t', "tab"}, {';', "semicolon"}, {' ', "whitespace"}};
+  for (const auto& [c, name] : cases) {
+    const std::string header = std::string("time") + c + "x" + c + "y\n";
+    const SignalSet s = read_signals(file(header + csv_rows(40, c)), {});
+    EXPECT_EQ(s.delimiter, name);
+    ASSERT_EQ(s.signals.size(), 2u) << name;
+    EXPECT_EQ(s.signals[1].values[5], 5.0) << name;
+  }
+  // Runs of blanks, leading blanks and spaces after commas.
+  const SignalSet ws = read_signals(
+      file("  time   x  y\n  0.00   1.5\t 2\n" + drop_first_line(csv_rows(40, ' '))), {});
+  EXPECT_EQ(ws.delimiter, "whitespace");
+  EXPECT_EQ(ws.signals[0].values[0], 1.5);
+  const SignalSet spaced =
+      read_signals(file("time, x, y\n0.00, 1.5 , +2\n" + drop_first_line(csv_rows(40))), {});
+  EXPECT_EQ(spaced.signals[0].name, "x");
+  EXPECT_EQ(spaced.signals[1].values[0], 2.0);
+}
+
+TEST_F(SignalReader, HandlesCrlfAByteOrderMarkAndTrailingBlankLines) {
+  std::string rows = csv_rows(30), crlf;
+  for (char ch : rows) crlf += ch == '\n' ? std::string("\r\n") : std::string(1, ch);
+  const SignalSet s = read_signals(file("\xEF\xBB\xBFtime,x,y\r\n" + crlf + "\r\n\n  \n"), {});
+  EXPECT_EQ(s.signals[0].name, "x");
+  EXPECT_EQ(s.signals[1].values.size(), 30u);
+  EXPECT_EQ(s.signals[1].values[29], 29 % 7);
+  // No final line break.
+  const SignalSet t = read_signals(file("time,x,y\n" + rows + "0.30,1,2"), {});
+  EXPECT_EQ(t.signals[1].values.size(), 31u);
+  EXPECT_EQ(t.signals[1].values.back(), 2.0);
+}
+
+TEST_F(SignalReader, RecognisesTheEurocLayoutAndRenamesItsColumns) {
+  const SignalSet s = read_signals(
+      file("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+           "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n" + euroc_rows(200)),
+      {});
+  EXPECT_EQ(s.preset, "euroc");
+  ASSERT_EQ(s.signals.size(), 6u);
+  const char* names[] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(s.signals[i].name, names[i]);
+  EXPECT_EQ(s.signals[0].unit, "rad/s");
+  EXPECT_EQ(s.signals[5].unit, "m/s^2");
+  ASSERT_TRUE(s.timing);
+  EXPECT_EQ(s.timing->column, "timestamp [ns]");
+  EXPECT_EQ(s.timing->unit_to_seconds, 1e-9);
+  // Integer nanoseconds since 1970 exceed 2^53; the steps must still be exact.
+  EXPECT_EQ(s.timing->median_step_seconds, 5e6 * 1e-9);
+  EXPECT_DOUBLE_EQ(s.freq, 200.0);
+  EXPECT_EQ(s.timing->gaps, 0);
+  // The original names stay valid in --columns.
+  ReadOptions o;
+  o.columns = {"a_RS_S_z", "gyro_y"};
+  const SignalSet picked = read_signals(s.path, o);
+  ASSERT_EQ(picked.signals.size(), 2u);
+  EXPECT_EQ(picked.signals[0].name, "accel_z");
+  EXPECT_EQ(picked.signals[1].name, "gyro_y");
+}
+
+TEST_F(SignalReader, RecognisesTheKalibrLayoutWithNanosecondTimestamps) {
+  const SignalSet s = read_signals(
+      file("timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z\n" + euroc_rows(100, 2500000)), {});
+  EXPECT_EQ(s.preset, "kalibr");
+  EXPECT_EQ(s.signals[3].name, "accel_x");
+  EXPECT_EQ(s.timing->unit, "ns");
+  EXPECT_EQ(s.timing->unit_source, "kalibr layout");
+  EXPECT_DOUBLE_EQ(s.freq, 400.0);
+}
+
+TEST_F(SignalReader, TreatsEarlierHashLinesAsCommentsBeforeATextHeader) {
+  const SignalSet s = read_signals(file("# recorded 2024-01-01\n# rig 3\n\ntime,x,y\n" + csv_rows(20)), {});
+  EXPECT_EQ(s.signals[0].name, "x");
+  EXPECT_EQ(s.signals[0].values.size(), 20u);
+  // A '#' header followed by data (EuRoC style), with an earlier comment line.
+  const SignalSet h = read_signals(file("# comment\n# time x y\n" + csv_rows(20, ' ')), {});
+  EXPECT_EQ(h.signals[1].name, "y");
+}
+
+TEST_F(SignalReader, PicksColumnsByNameOrIndexInTheGivenOrder) {
+  const std::string p = file("time,x,y,z\n" + std::string("0,1,2,3\n0.01,2,3,5\n") + [] {
+    std::string r;
+    for (int i = 2; i < 20; ++i) r += std::to_string(i * 0.01) + "," + std::to_string(i) + "," + std::to_string(i % 3) + "," + std::to_string(-i) + "\n";
+    return r;
+  }());
+  ReadOptions o;
+  o.columns = {"4", "X"};  // an index, and a name matched without regard to case
+  const SignalSet s = read_signals(p, o);
+  ASSERT_EQ(s.signals.size(), 2u);
+  EXPECT_EQ(s.signals[0].name, "z");
+  EXPECT_EQ(s.signals[0].values[1], 5.0);
+  EXPECT_EQ(s.signals[1].name, "x");
+}
+
+TEST_F(SignalReader, SkipsTextColumnsUnlessAskedFor) {
+  std::string rows;
+  for (int i = 0; i < 20; ++i) rows += std::to_string(i) + ",ok," + std::to_string(i % 4) + "\n";
+  const std::string p = file("t,status,x\n" + rows);
+  const SignalSet s = read_signals(p, {});
+  ASSERT_EQ(s.signals.size(), 1u);
+  EXPECT_EQ(s.signals[0].name, "x");
+  ReadOptions o;
+  o.columns = {"status"};
+  EXPECT_EQ(gmwm::test::read_error(p, o), p + ":2:2: found 'ok' in column 'status', expected a number");
+}
+
+TEST_F(SignalReader, SplitsAUnitOffTheHeaderName) {
+  const SignalSet s = read_signals(file("time (s),\"gyro_x [deg/s]\",y\n" + csv_rows(20)), {});
+  EXPECT_EQ(s.signals[0].name, "gyro_x");
+  EXPECT_EQ(s.signals[0].unit, "deg/s");
+  EXPECT_EQ(s.timing->unit_source, "stated in the header");
+}
+
+TEST_F(SignalReader, DecidesTheTimeUnitFromTheNameOrTheStep) {
+  struct Case { const char* header; double scale; double unit; };
+  const Case cases[] = {
+      {"time_ms", 10.0, 1e-3},      // suffix
+      {"Timestamp [us]", 1e4, 1e-6},  // bracket
+      {"stamp", 1e7, 1e-9},         // step 1e7: ns
+      {"t", 1e4, 1e-6},             // step 1e4: us
+      {"time", 10.0, 1e-3},         // step 10: ms
+      {"time", 0.01, 1.0},          // step 0.01: s
+  };
+  for (const Case& c : cases) {
+    std::string rows;
+    for (int i = 0; i < 20; ++i) rows += std::to_string(i * c.scale) + "," + std::to_string(i % 3) + "\n";
+    const SignalSet s = read_signals(file(std::string(c.header) + ",x\n" + rows), {});
+    ASSERT_TRUE(s.timing) << c.header;
+    EXPECT_EQ(s.timing->unit_to_seconds, c.unit) << c.header;
+    EXPECT_NEAR(s.freq, 100.0, 1e-6) << c.header;
+  }
+  // A Unix time in ms at 1 kHz (step 1) is recognised by its magnitude.
+  std::string rows;
+  for (int i = 0; i < 20; ++i) rows += std::to_string(1700000000000LL + i) + "," + std::to_string(i % 3) + "\n";
+  const SignalSet ms = read_signals(file("time,x\n" + rows), {});
+  EXPECT_EQ(ms.timing->unit, "ms");
+  EXPECT_NEAR(ms.freq, 1000.0, 1e-9);
+}
+
+TEST_F(SignalReader, CountsGapsAndDisorderInTheTimestamps) {
+  std::string rows;
+  const double times[] = {0, 1, 2, 3, 5, 6, 7, 7, 8, 9, 8.5, 10, 11, 12, 16, 17, 18, 19, 20, 21};
+  for (int i = 0; i < 20; ++i) rows += std::to_string(times[i] * 0.01) + "," + std::to_string(i % 3) + "\n";
+  const SignalSet s = read_signals(file("time,x\n" + rows), {});
+  ASSERT_TRUE(s.timing);
+  EXPECT_EQ(s.timing->gaps, 2);      // 3->5 and 12->16; 8.5->10 is 1.5 steps, not a gap
+  EXPECT_NEAR(s.timing->largest_gap_seconds, 0.04, 1e-12);
+  EXPECT_EQ(s.timing->disorder, 2);  // 7->7 and 9->8.5
+  EXPECT_NEAR(s.freq, 100.0, 1e-9);
+  EXPECT_TRUE(contains(s.timing->summary(), "2 gaps (largest 40 ms), 2 out of order"))
+      << s.timing->summary();
+}
+
+TEST_F(SignalReader, LetsFreqOverrideTheTimestampsAndReportsADisagreement) {
+  const std::string p = file("time,x,y\n" + csv_rows(50));
+  ReadOptions o;
+  o.freq = 50.0;
+  const SignalSet s = read_signals(p, o);
+  EXPECT_EQ(s.freq, 50.0);
+  ASSERT_TRUE(s.timing);
+  EXPECT_NEAR(s.timing->estimated_freq, 100.0, 1e-9);
+  EXPECT_TRUE(contains(s.timing->summary(), "--freq 50 Hz disagrees with them by 100%"))
+      << s.timing->summary();
+  o.freq = 100.5;  // within 1%: no remark
+  EXPECT_FALSE(contains(read_signals(p, o).timing->summary(), "disagrees"));
+}
+
+TEST_F(SignalReader, DetectsGzipByContentNotByName) {
+  std::vector<double> x(40);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::cos(static_cast<double>(i));
+  const std::string gz = (dir / "a.csv.gz").string();
+  gmwm::io::write_signals(gz, {{"x", x}}, 100.0);
+  const std::string renamed = (dir / "a.txt").string();
+  std::filesystem::rename(gz, renamed);
+  const SignalSet s = read_signals(renamed, {});
+  EXPECT_TRUE(s.compressed);
+  EXPECT_EQ(s.signals[0].values, x);
+  // Plain text named .gz is read as plain text.
+  const SignalSet plain = read_signals(file("time,x,y\n" + csv_rows(20), "plain.csv.gz"), {});
+  EXPECT_FALSE(plain.compressed);
+  EXPECT_EQ(plain.signals.size(), 2u);
+}
+
+TEST_F(SignalReader, ReadsTheAdisRecordingQuickly) {
+  GMWM_REQUIRE_SHARED_DATA();
+  ReadOptions o;
+  o.freq = 100.0;
+  const SignalSet s = read_signals(gmwm::test::shared_data_file("adis_16405_imu1.csv.gz"), o);
+  ASSERT_EQ(s.signals.size(), 6u);
+  const char* names[] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(s.signals[i].name, names[i]);
+    EXPECT_EQ(s.signals[i].values.size(), 1000000u);
+  }
+  EXPECT_EQ(s.signals[0].values[0], -0.05);
+  EXPECT_EQ(s.signals[5].values[1], -1.01898);
+  EXPECT_EQ(s.freq, 100.0);
+  EXPECT_TRUE(s.compressed);
+  EXPECT_FALSE(s.timing);
+}
