@@ -1,0 +1,94 @@
+#include "cli_runner.h"
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace gmwm::test {
+
+namespace {
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += "'\\''";
+    else q += c;
+  }
+  return q + "'";
+}
+
+}  // namespace
+
+CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir) {
+  static int counter = 0;
+  const auto out_path = dir / (".stdout" + std::to_string(counter));
+  const auto err_path = dir / (".stderr" + std::to_string(counter++));
+  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(GMWM_CLI_PATH);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  cmd += " < /dev/null > " + shell_quote(out_path.string()) + " 2> " + shell_quote(err_path.string());
+  const int status = std::system(cmd.c_str());
+  CliRun run;
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.out = read_text(out_path);
+  run.err = read_text(err_path);
+  std::filesystem::remove(out_path);
+  std::filesystem::remove(err_path);
+  return run;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream is(text);
+  for (std::string line; std::getline(is, line);)
+    if (!line.empty()) out.push_back(line);
+  return out;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream os;
+  os << f.rdbuf();
+  return os.str();
+}
+
+nlohmann::json read_json(const std::filesystem::path& path) {
+  return nlohmann::json::parse(read_text(path));
+}
+
+void write_noise_csv(const std::filesystem::path& path, int n, const std::string& name) {
+  std::mt19937_64 rng(42);
+  std::normal_distribution<double> z;
+  std::ostringstream os;
+  os.precision(17);
+  os << name << "\n";
+  for (int i = 0; i < n; ++i) os << z(rng) << "\n";
+  write_text(path, os.str());
+}
+
+nlohmann::json without_run(nlohmann::json doc) {
+  doc.erase("run");
+  return doc;
+}
+
+void expect_bad_input(const CliRun& run, const std::vector<std::string>& mentions,
+                      const std::filesystem::path& json_path) {
+  EXPECT_EQ(run.exit_code, 2) << "stderr: " << run.err;
+  const auto err_lines = lines_of(run.err);
+  ASSERT_EQ(err_lines.size(), 1u) << "expected exactly one line on stderr, got:\n" << run.err;
+  EXPECT_EQ(err_lines[0].rfind("gmwm: error: ", 0), 0u) << err_lines[0];
+  for (const auto& m : mentions)
+    EXPECT_NE(err_lines[0].find(m), std::string::npos)
+        << "the message should mention '" << m << "': " << err_lines[0];
+  EXPECT_TRUE(run.out.empty()) << "nothing should go to stdout, got:\n" << run.out;
+  EXPECT_FALSE(std::filesystem::exists(json_path)) << json_path << " should not be written";
+}
+
+}  // namespace gmwm::test

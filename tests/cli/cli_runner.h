@@ -1,0 +1,43 @@
+#pragma once
+// Runs the built `gmwm` program (GMWM_CLI_PATH) for end-to-end tests and checks the error
+// policy: bad input -> exit 2, one line on stderr, nothing written.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace gmwm::test {
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs `gmwm args...` in folder `dir` (relative paths resolve there), capturing stdout
+/// and stderr.
+CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir);
+
+/// Non-empty lines of a text.
+std::vector<std::string> lines_of(const std::string& text);
+
+void write_text(const std::filesystem::path& path, const std::string& text);
+std::string read_text(const std::filesystem::path& path);
+nlohmann::json read_json(const std::filesystem::path& path);
+
+/// A CSV with header `name` and n Gaussian samples (fixed seed), no timestamp column.
+void write_noise_csv(const std::filesystem::path& path, int n, const std::string& name = "x");
+
+/// The document without its run-dependent "run" object.
+nlohmann::json without_run(nlohmann::json doc);
+
+/// Checks the bad-input contract for a run whose --json target is `json_path`: exit code
+/// 2, exactly one line on stderr starting "gmwm: error: " and containing every string of
+/// `mentions` (the input's name, the place, what was expected), nothing on stdout and no
+/// file at `json_path`.
+void expect_bad_input(const CliRun& run, const std::vector<std::string>& mentions,
+                      const std::filesystem::path& json_path);
+
+}  // namespace gmwm::test

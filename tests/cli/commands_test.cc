@@ -1,0 +1,269 @@
+// Success paths of `gmwm wv`, `gmwm fit` and `gmwm simulate`, end to end: the JSON
+// contract (CLI.md), values equal to the library's, reproducibility across thread counts.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/random.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/signal_writer.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kTruth = "AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)";
+
+class GmwmCli : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = gmwm::test::temp_dir("cli"); }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Simulates `signals` series of kTruth at 100 Hz into sim.csv.gz.
+  void simulate(int n, int signals) {
+    auto r = run_gmwm({"simulate", "--model", kTruth, "--n", std::to_string(n), "--freq", "100",
+                       "--signals", std::to_string(signals), "--output", "sim.csv.gz", "--json",
+                       "sim.json", "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+
+  fs::path dir_;
+};
+
+void expect_common_top_level(const json& doc, const std::string& command) {
+  EXPECT_EQ(doc.at("tool"), "gmwm");
+  EXPECT_TRUE(doc.at("version").is_string());
+  EXPECT_EQ(doc.at("command"), command);
+  ASSERT_TRUE(doc.at("columns").is_array());
+  ASSERT_TRUE(doc.at("run").is_object());
+  EXPECT_TRUE(doc.at("run").contains("threads"));
+}
+
+void expect_levels_equal_library(const json& levels, const gmwm::WaveletVariance& wv,
+                                 double freq) {
+  ASSERT_EQ(levels.size(), static_cast<std::size_t>(wv.levels()));
+  for (int j = 0; j < wv.levels(); ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    const json& l = levels[k];
+    EXPECT_EQ(l.at("level"), j + 1);
+    EXPECT_EQ(l.at("tau").get<double>(), wv.tau[k]);
+    EXPECT_DOUBLE_EQ(l.at("tau_seconds").get<double>(), wv.tau[k] / freq);
+    EXPECT_DOUBLE_EQ(l.at("wv").get<double>(), wv.wv[k]);
+    EXPECT_DOUBLE_EQ(l.at("ci_low").get<double>(), wv.ci_low[k]);
+    EXPECT_DOUBLE_EQ(l.at("ci_high").get<double>(), wv.ci_high[k]);
+    EXPECT_EQ(l.at("coefficients").get<std::int64_t>(), wv.coefficients[k]);
+  }
+}
+
+}  // namespace
+
+TEST_F(GmwmCli, WvJsonHasTheContractFieldsAndTheLibrarysValues) {
+  std::vector<gmwm::io::Signal> signals(2);
+  signals[0].name = "gyro_x";
+  signals[1].name = "gyro_y";
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> z;
+  double rw = 0.0;
+  for (int i = 0; i < 5000; ++i) {
+    rw += 0.01 * z(rng);
+    signals[0].values.push_back(z(rng) + rw);
+    signals[1].values.push_back(0.1 * z(rng));
+  }
+  gmwm::io::write_signals((dir_ / "in.csv").string(), signals, std::nullopt);
+
+  auto r = run_gmwm({"wv", "in.csv", "--freq", "50", "--alpha", "0.1", "--json", "wv.json",
+                     "--csv", "wv.csv"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  // The terminal table.
+  for (const char* head : {"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"})
+    EXPECT_NE(r.out.find(head), std::string::npos) << head;
+
+  const json doc = read_json(dir_ / "wv.json");
+  expect_common_top_level(doc, "wv");
+  ASSERT_EQ(doc["columns"].size(), 2u);
+  gmwm::WvOptions options;
+  options.alpha = 0.1;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const json& c = doc["columns"][k];
+    EXPECT_EQ(c.at("name"), signals[k].name);
+    EXPECT_EQ(c.at("n"), 5000);
+    EXPECT_EQ(c.at("freq"), 50.0);
+    EXPECT_EQ(c.at("estimator"), "classical");
+    EXPECT_TRUE(c.at("efficiency").is_null());
+    const auto wv = gmwm::classical_wv(signals[k].values.data(), 5000, options);
+    expect_levels_equal_library(c.at("levels"), wv, 50.0);
+  }
+  // The CSV table: a header and one row per column and level.
+  const auto csv = gmwm::test::lines_of(gmwm::test::read_text(dir_ / "wv.csv"));
+  ASSERT_EQ(csv.size(), 1u + 2u * doc["columns"][0]["levels"].size());
+  EXPECT_EQ(csv[0], "column,level,tau,tau_seconds,wv,ci_low,ci_high,coefficients");
+}
+
+TEST_F(GmwmCli, WvJsonOnStandardOutputIsTheOnlyThingThere) {
+  gmwm::test::write_noise_csv(dir_ / "noise.csv", 1000);
+  auto r = run_gmwm({"wv", "noise.csv", "--freq", "10", "--levels", "4", "--json", "-"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = json::parse(r.out);
+  expect_common_top_level(doc, "wv");
+  EXPECT_EQ(doc["columns"][0]["levels"].size(), 4u);
+  EXPECT_EQ(doc["columns"][0]["levels"][3]["tau_seconds"], 1.6);
+}
+
+TEST_F(GmwmCli, QuietPrintsNothingOnSuccess) {
+  gmwm::test::write_noise_csv(dir_ / "noise.csv", 1000);
+  auto r = run_gmwm({"wv", "noise.csv", "--freq", "10", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST_F(GmwmCli, SimulateWritesWhatItSaysAndIsReproducibleFromTheSeed) {
+  simulate(4096, 3);
+  const json doc = read_json(dir_ / "sim.json");
+  expect_common_top_level(doc, "simulate");
+  ASSERT_EQ(doc["columns"].size(), 3u);
+  EXPECT_EQ(doc["columns"][0]["n"], 4096);
+  EXPECT_EQ(doc["seed"], gmwm::kDefaultSeed);
+  const auto set = gmwm::io::read_signals((dir_ / "sim.csv.gz").string(), {});
+  ASSERT_EQ(set.signals.size(), 3u);
+  EXPECT_EQ(set.signals[0].values.size(), 4096u);
+  EXPECT_TRUE(set.freq_known);
+  EXPECT_NEAR(set.freq, 100.0, 1e-9);
+  EXPECT_NE(set.signals[0].values, set.signals[1].values);
+
+  // The same seed gives the same data; another seed different data.
+  auto again = run_gmwm({"simulate", "--model", kTruth, "--n", "4096", "--freq", "100",
+                         "--signals", "3", "--output", "again.csv.gz", "--quiet"},
+                        dir_);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(gmwm::io::read_signals((dir_ / "again.csv.gz").string(), {}).signals[2].values,
+            set.signals[2].values);
+  auto other = run_gmwm({"simulate", "--model", kTruth, "--n", "4096", "--freq", "100",
+                         "--signals", "3", "--output", "other.csv.gz", "--seed", "7", "--quiet"},
+                        dir_);
+  ASSERT_EQ(other.exit_code, 0) << other.err;
+  EXPECT_NE(gmwm::io::read_signals((dir_ / "other.csv.gz").string(), {}).signals[2].values,
+            set.signals[2].values);
+}
+
+TEST_F(GmwmCli, SimulateThenFitRecoversTheModel) {
+  simulate(1 << 16, 1);
+  auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN+RW", "--json", "fit.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* word : {"model:", "process", "component", "se", "objective", "status"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word;
+
+  const json doc = read_json(dir_ / "fit.json");
+  expect_common_top_level(doc, "fit");
+  ASSERT_EQ(doc["columns"].size(), 1u);
+  const json& c = doc["columns"][0];
+  EXPECT_EQ(c.at("name"), "x");
+  EXPECT_EQ(c.at("n"), 1 << 16);
+  EXPECT_NEAR(c.at("freq").get<double>(), 100.0, 1e-9);
+  const std::string status = c.at("status");
+  EXPECT_TRUE(status == "converged" || status == "not_converged") << status;
+  EXPECT_TRUE(c.at("message").is_string());
+  EXPECT_TRUE(c.at("objective").is_number());
+  for (const char* k : {"statistic", "df", "p_value"}) EXPECT_TRUE(c.at("gof").contains(k)) << k;
+  EXPECT_EQ(c.at("levels").size(), 16u);
+  EXPECT_EQ(c.at("implied_wv").size(), 16u);
+  EXPECT_EQ(c.at("model").get<std::string>().rfind("AR1(phi=", 0), 0u) << c.at("model");
+
+  const json& p = c.at("parameters");
+  ASSERT_EQ(p.size(), 4u);
+  const char* names[] = {"phi", "sigma2", "sigma2", "gamma2"};
+  const char* procs[] = {"AR1", "AR1", "WN", "RW"};
+  const int comps[] = {1, 1, 2, 3};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(p[k].at("process"), procs[k]);
+    EXPECT_EQ(p[k].at("component"), comps[k]);
+    EXPECT_EQ(p[k].at("name"), names[k]);
+    for (const char* f : {"value", "se", "ci_low", "ci_high"}) EXPECT_TRUE(p[k].contains(f)) << f;
+  }
+  // The simulated truth, within generous bounds for 2^16 samples.
+  EXPECT_NEAR(p[0]["value"].get<double>(), 0.999, 0.003);
+  EXPECT_NEAR(p[1]["value"].get<double>() / 1e-8, 1.0, 0.5);
+  EXPECT_NEAR(p[2]["value"].get<double>() / 1e-5, 1.0, 0.05);
+  EXPECT_GT(p[3]["value"].get<double>(), 0.0);
+
+  // The fitted model string is usable as SPEC_WITH_VALUES.
+  auto again = run_gmwm({"simulate", "--model", c.at("model").get<std::string>(), "--n", "64",
+                         "--output", "refit.csv", "--quiet"},
+                        dir_);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+}
+
+TEST_F(GmwmCli, ThreadCountDoesNotChangeTheWvOrFitJson) {
+  simulate(1 << 14, 3);
+  for (const std::string cmd : {"wv", "fit"}) {
+    std::vector<json> docs;
+    for (const std::string threads : {"1", "2"}) {
+      std::vector<std::string> args = {cmd, "sim.csv.gz", "--threads", threads, "--json",
+                                       cmd + threads + ".json", "--quiet"};
+      if (cmd == "fit") {
+        args.push_back("--model");
+        args.push_back("AR1+WN+RW");
+      }
+      auto r = run_gmwm(args, dir_);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      docs.push_back(read_json(dir_ / (cmd + threads + ".json")));
+    }
+    EXPECT_EQ(docs[0]["run"]["threads"], 1);
+    EXPECT_EQ(docs[1]["run"]["threads"], 2);
+    EXPECT_EQ(gmwm::test::without_run(docs[0]), gmwm::test::without_run(docs[1])) << cmd;
+  }
+}
+
+TEST_F(GmwmCli, FitWithTheModelBasedOmegaReportsAStatusAndExits0) {
+  simulate(1 << 13, 1);
+  auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json",
+                     "fit.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "fit.json");
+  const std::string status = doc["columns"][0].at("status");
+  EXPECT_TRUE(status == "converged" || status == "not_converged") << status;
+  if (status == "not_converged") EXPECT_NE(r.err.find("warning"), std::string::npos);
+  EXPECT_EQ(doc["columns"][0]["omega"], "full");
+}
+
+TEST_F(GmwmCli, HelpAndVersionExit0) {
+  EXPECT_EQ(run_gmwm({"--help"}, dir_).exit_code, 0);
+  EXPECT_EQ(run_gmwm({"--version"}, dir_).exit_code, 0);
+  for (const char* cmd : {"wv", "fit", "simulate"}) {
+    auto r = run_gmwm({cmd, "--help"}, dir_);
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("--json"), std::string::npos) << cmd;
+  }
+}
+
+TEST_F(GmwmCli, WvOfARealImuRecordingHasEveryLevel) {
+  GMWM_REQUIRE_SHARED_DATA();
+  const std::string file = gmwm::test::shared_data_file("adis_16405_imu1.csv.gz");
+  auto r = run_gmwm({"wv", file, "--freq", "100", "--columns", "gyro_x,accel_z", "--json",
+                     "adis.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "adis.json");
+  ASSERT_EQ(doc["columns"].size(), 2u);
+  for (const auto& c : doc["columns"]) {
+    EXPECT_EQ(c["n"], 1000000);
+    ASSERT_EQ(c["levels"].size(), 19u);  // floor(log2 1e6)
+    EXPECT_EQ(c["levels"][18]["coefficients"], 1000000 - (1 << 19) + 1);
+    for (const auto& l : c["levels"]) EXPECT_GT(l["wv"].get<double>(), 0.0);
+  }
+}
