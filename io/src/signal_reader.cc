@@ -88,8 +88,10 @@ std::string column_list(const std::vector<Column>& cols) {
 }
 
 // The field index a --columns entry names (a 1-based index, or a name, exact match first).
-std::size_t resolve_column(const std::string& path, const std::string& spec,
+std::size_t resolve_column(const std::string& path, const std::string& raw_spec,
                            const std::vector<Column>& cols) {
+  const std::size_t b = raw_spec.find_first_not_of(" \t");
+  const std::string spec = raw_spec.substr(b, raw_spec.find_last_not_of(" \t") + 1 - b);
   const std::string prefix = path + ": --columns: ";
   if (std::all_of(spec.begin(), spec.end(), [](char c) { return c >= '0' && c <= '9'; })) {
     std::size_t index = 0;
@@ -130,7 +132,7 @@ std::string ReadOptions::Validate() const {
     return std::string("--freq: found ") + buf + ", expected a positive sampling rate in Hz";
   }
   for (const std::string& c : columns)
-    if (c.empty())
+    if (c.find_first_not_of(" \t") == std::string::npos)
       return "--columns: found an empty entry, expected column names or 1-based indices "
              "separated by commas";
   return "";
@@ -292,7 +294,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     const std::vector<double>& v = parser.values()[i];
     if (std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); })) {
       char buf[64];
-      std::snprintf(buf, sizeof buf, "%.17g", v.front());
+      *std::to_chars(buf, buf + sizeof buf - 1, v.front()).ptr = '\0';
       throw InputError(path + ": column " + std::to_string(selected[i] + 1) + " '" +
                        cols[selected[i]].header + "': found all " + std::to_string(rows) +
                        " values equal to " + buf +

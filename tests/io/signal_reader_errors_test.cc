@@ -176,6 +176,14 @@ TEST_F(SignalReaderErrors, RejectsAnUnknownColumnNameOrIndex) {
   EXPECT_TRUE(contains(read_error(p, by_index), "found index 0, expected 1..3"));
 }
 
+TEST_F(SignalReaderErrors, RejectsAnEmptyColumnsEntry) {
+  ReadOptions o;
+  o.columns = {"x", " "};
+  EXPECT_EQ(o.Validate(), "--columns: found an empty entry, expected column names or 1-based "
+                          "indices separated by commas");
+  EXPECT_EQ(read_error(file("time,x,y\n" + csv_rows(20)), o), o.Validate());
+}
+
 TEST_F(SignalReaderErrors, RejectsTheTimestampOrARepeatedColumnInColumns) {
   const std::string p = file("time,x,y\n" + csv_rows(20));
   ReadOptions o;

@@ -149,7 +149,7 @@ TEST_F(SignalReader, PicksColumnsByNameOrIndexInTheGivenOrder) {
     return r;
   }());
   ReadOptions o;
-  o.columns = {"4", "X"};  // an index, and a name matched without regard to case
+  o.columns = {" 4", "X"};  // an index (blanks trimmed), a name matched regardless of case
   const SignalSet s = read_signals(p, o);
   ASSERT_EQ(s.signals.size(), 2u);
   EXPECT_EQ(s.signals[0].name, "z");
@@ -246,7 +246,7 @@ TEST_F(SignalReader, DetectsGzipByContentNotByName) {
   EXPECT_EQ(plain.signals.size(), 2u);
 }
 
-TEST_F(SignalReader, ReadsTheAdisRecordingQuickly) {
+TEST_F(SignalReader, ReadsTheAdisRecordingAsSixColumnsOfAMillionRows) {
   GMWM_REQUIRE_SHARED_DATA();
   ReadOptions o;
   o.freq = 100.0;
