@@ -172,6 +172,8 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     break;
   }
   if (header_line == 0) {
+    if (src.line_number() == 0)  // e.g. a gzip file holding no text
+      throw InputError(path + ": found no text, expected a header row and data rows");
     if (comment_line == 0)
       throw InputError(path + ": found only blank lines, expected a header row and data rows");
     header = comment;

@@ -41,6 +41,13 @@ TEST_F(SignalReaderErrors, RejectsAnEmptyFile) {
   EXPECT_EQ(read_error(p), p + ": found an empty file, expected a header row and data rows");
 }
 
+TEST_F(SignalReaderErrors, RejectsAGzipFileHoldingNoText) {
+  // The 20-byte gzip stream of nothing: header, an empty final block, CRC 0 and length 0.
+  const std::string empty_gzip("\x1f\x8b\x08\0\0\0\0\0\0\x03\x03\0\0\0\0\0\0\0\0\0", 20);
+  const std::string gz = write_text(dir, "empty.csv.gz", empty_gzip);
+  EXPECT_EQ(read_error(gz), gz + ": found no text, expected a header row and data rows");
+}
+
 TEST_F(SignalReaderErrors, RejectsAFileOfBlankLines) {
   const std::string p = file("\n  \n\r\n");
   EXPECT_EQ(read_error(p), p + ": found only blank lines, expected a header row and data rows");
