@@ -267,3 +267,26 @@ TEST_F(GmwmCli, WvOfARealImuRecordingHasEveryLevel) {
     for (const auto& l : c["levels"]) EXPECT_GT(l["wv"].get<double>(), 0.0);
   }
 }
+
+TEST_F(GmwmCli, ShippedExampleIsReproducedByItsDocumentedCommand) {
+  // The command of data/README.md, with the output in a temporary folder.
+  auto r = run_gmwm({"simulate", "--model",
+                     "AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)", "--n",
+                     "65536", "--freq", "100", "--signals", "6", "--names",
+                     "gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z", "--quantum", "1e-6",
+                     "--seed", "20261121", "--output", "example.csv.gz", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto shipped = gmwm::io::read_signals(
+      (fs::path(GMWM_SOURCE_DIR) / "data" / "example_imu6.csv.gz").string(), {});
+  const auto again = gmwm::io::read_signals((dir_ / "example.csv.gz").string(), {});
+  ASSERT_EQ(shipped.signals.size(), 6u);
+  ASSERT_EQ(again.signals.size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(shipped.signals[k].name, again.signals[k].name);
+    EXPECT_TRUE(shipped.signals[k].values == again.signals[k].values)
+        << "data/example_imu6.csv.gz no longer matches its documented command (column "
+        << shipped.signals[k].name
+        << "): if the simulation changed on purpose, regenerate it as data/README.md says";
+  }
+}

@@ -24,6 +24,7 @@ struct SimulateArgs {
   int signals = 1;
   std::string names;
   std::string output;
+  std::optional<double> quantum;
 };
 
 std::vector<std::string> column_names(const SimulateArgs& args) {
@@ -48,6 +49,17 @@ std::vector<std::string> column_names(const SimulateArgs& args) {
   return names;
 }
 
+/// Rounds to multiples of q. When 1/q is an integer (q = 1e-6, 0.05, ...) the result is
+/// k / (1/q), the double nearest to the decimal k q, so that files show short numbers.
+void quantize(std::vector<double>& values, double q) {
+  const double inv = std::round(1.0 / q);
+  if (inv >= 1.0 && std::abs(inv * q - 1.0) < 1e-12) {
+    for (double& v : values) v = std::nearbyint(v * inv) / inv;
+  } else {
+    for (double& v : values) v = std::nearbyint(v / q) * q;
+  }
+}
+
 std::string joined(const std::vector<std::string>& names) {
   std::string s;
   for (const auto& nm : names) s += (s.empty() ? "" : ",") + nm;
@@ -61,6 +73,8 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   check_output_path("--json", common.json);
   if (args.freq && !(*args.freq > 0.0 && std::isfinite(*args.freq)))
     throw InputError("--freq " + fmt(*args.freq) + ": expected a positive sampling rate in Hz");
+  if (args.quantum && !(*args.quantum > 0.0 && std::isfinite(*args.quantum)))
+    throw InputError("--quantum " + fmt(*args.quantum) + ": expected a positive step");
   const std::vector<std::string> names = column_names(args);
 
   const ProcessContext context{args.freq.value_or(1.0), args.freq.has_value()};
@@ -87,12 +101,14 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   for (std::size_t k = 0; k < series.size(); ++k) {
     signals[k].name = names[k];
     signals[k].values = std::move(series[k]);
+    if (args.quantum) quantize(signals[k].values, *args.quantum);
   }
 
   io::Json doc = io::json_document("simulate");
   doc["model"] = model.to_string(theta);
   doc["seed"] = common.seed;
   doc["output"] = args.output;
+  doc["quantum"] = args.quantum ? io::json_number(*args.quantum) : io::Json(nullptr);
   for (std::size_t k = 0; k < signals.size(); ++k)
     doc["columns"].push_back(io::column_json(
         {signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value()}));
@@ -110,6 +126,7 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
     std::cout << "wrote " << args.output << ": " << signals.size() << " signal(s) ("
               << joined(names) << ") x " << args.n << " samples"
               << (args.freq ? " at " + fmt(*args.freq) + " Hz with a timestamp column" : "")
+              << (args.quantum ? ", rounded to multiples of " + fmt(*args.quantum) : "")
               << "\nmodel: " << model.to_string(theta) << "\nseed: " << common.seed << '\n';
     std::cout.flush();
   }
@@ -141,6 +158,11 @@ Command add_simulate_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--names", args->names,
                   "Column names, comma-separated (default x, or x1..xK)")
       ->type_name("A,B,C");
+  sub->add_option_function<double>(
+         "--quantum", [args](const double& q) { args->quantum = q; },
+         "Round every value to a multiple of Q, like an ADC's least significant bit (adds "
+         "about Q^2/12 of white noise; keeps files small)")
+      ->type_name("Q");
   sub->add_option("--output,-o", args->output,
                   "Output file (CSV; gzip-compressed when PATH ends in .gz)")
       ->type_name("PATH")
