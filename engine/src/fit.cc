@@ -42,7 +42,6 @@ std::string FitOptions::Validate() const {
   std::ostringstream os;
   if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
   else if (multistarts < 1) os << "multistarts must be at least 1, got " << multistarts;
-  else if (candidate_starts < 1) os << "candidate_starts must be at least 1, got " << candidate_starts;
   else if (max_evaluations < 10) os << "max_evaluations must be at least 10, got " << max_evaluations;
   else if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0))
     os << "relative_tolerance must be in (0, 1), got " << relative_tolerance;
@@ -51,11 +50,21 @@ std::string FitOptions::Validate() const {
   return os.str();
 }
 
+// No WV of the processes here decays faster than tau^-2 between scales (QN and SIN are
+// the steepest: nu^2 ~ tau^-2, STATISTICS.md section 3), so nu_j^2 >= nu_{j-1}^2 / 4.
+// The weights use max(nuhat_j^2, nuhat_{j-1}^2 / 4): a coarse level whose few
+// coefficients happen to be tiny (with one coefficient nuhat^2 can be any fraction of
+// nu^2) would otherwise get a weight ~1/nuhat^4 that swamps every other level.
+constexpr double kSteepestDecayPerLevel = 0.25;
+
 Eigen::MatrixXd diagonal_omega(const WaveletVariance& wv) {
   Eigen::VectorXd d(wv.levels());
   for (int j = 0; j < wv.levels(); ++j) {
-    const double v = wv.variance[static_cast<std::size_t>(j)];
-    d(j) = (v > 0.0 && std::isfinite(v)) ? 1.0 / v : 0.0;
+    const auto i = static_cast<std::size_t>(j);
+    double v = wv.wv[i];
+    if (j > 0 && std::isfinite(wv.wv[i - 1])) v = std::max(v, kSteepestDecayPerLevel * wv.wv[i - 1]);
+    const double var = 2.0 * v * v / wv.eta[i];
+    d(j) = (var > 0.0 && std::isfinite(var)) ? 1.0 / var : 0.0;
   }
   return d.asDiagonal();
 }
@@ -184,7 +193,10 @@ FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, dou
     case NLOPT_MAXEVAL_REACHED: case NLOPT_MAXTIME_REACHED:
       message = "stopped at the evaluation limit before converging";
       return FitStatus::kNotConverged;
-    case NLOPT_ROUNDOFF_LIMITED: {
+    case NLOPT_ROUNDOFF_LIMITED:
+    case NLOPT_FAILURE: {
+      // L-BFGS reports a generic failure when its line search cannot progress, which
+      // at an optimum is the same situation as ROUNDOFF_LIMITED: judge by the gradient.
       std::vector<double> g(static_cast<std::size_t>(u.size()));
       objective_u(static_cast<unsigned>(u.size()), u.data(), g.data(), &P);
       double gmax = 0.0;
@@ -195,7 +207,7 @@ FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, dou
         gmax = std::max(gmax, std::abs(g[static_cast<std::size_t>(k)]));
       }
       if (gmax <= kRoundoffGradient * std::max(1.0, value)) {
-        message = "converged (objective limited by round-off)";
+        message = "converged (line search limited by round-off at a stationary point)";
         return FitStatus::kConverged;
       }
       message = "stopped on round-off with a gradient of " + std::to_string(gmax);
@@ -253,15 +265,10 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
                    static_cast<std::size_t>(wv.levels()));
 
   auto optimise = [&](std::vector<Eigen::VectorXd> extra) {
-    std::vector<Eigen::VectorXd> cands = detail::candidate_starts(wv, model_in, options.candidate_starts, options.seed);
-    std::vector<std::pair<double, Eigen::VectorXd>> scored;
-    for (auto& c : cands) scored.emplace_back(gmwm_objective(wv, model_in, c, P.omega), c);
-    std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<Eigen::VectorXd> starts;
     for (auto& s : extra)
       if (model_in.validate(s).empty()) starts.push_back(s);
-    for (std::size_t k = 0; k < scored.size() && static_cast<int>(k) < options.multistarts; ++k)
-      starts.push_back(scored[k].second);
+    for (auto& c : detail::candidate_starts(wv, model_in, P.omega, options.multistarts)) starts.push_back(c);
     LocalResult best;
     for (const auto& s : starts) {
       LocalResult r = local_optimise(P, model_in.to_unconstrained(s), options);

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numeric>
 
-#include <boost/random/uniform_real_distribution.hpp>
-
-#include "gmwm/engine/random.h"
+#include <Eigen/Dense>
 
 namespace gmwm::detail {
 namespace {
@@ -13,62 +13,186 @@ namespace {
 enum class Placement { kFinest, kCoarsest, kSpread };
 
 Placement placement_of(const Process& p) {
-  if (p.deterministic()) return Placement::kCoarsest;                       // DR
-  if (p.linear()) return p.name() == "RW" ? Placement::kCoarsest : Placement::kFinest;
+  if (p.deterministic()) return Placement::kCoarsest;  // DR
+  if (p.linear()) {
+    // Linear processes whose WV decreases with scale (WN, QN) sit at the finest scale,
+    // the others (RW) at the coarsest.
+    const double tau[2] = {2.0, 4.0};
+    double out[2];
+    std::vector<double> theta(static_cast<std::size_t>(p.size()), 1.0);
+    p.wv(theta, tau, out);
+    return out[1] < out[0] ? Placement::kFinest : Placement::kCoarsest;
+  }
   return Placement::kSpread;
 }
 
-// Stream identifier of the starting-value jitter (distinct from simulation streams).
-constexpr std::uint64_t kStartStream = 0x5354415254ULL;  // "START"
+// Number of grid positions (log2 scale) for the placement of scale-bearing components.
+constexpr int kGridPositions = 12;
+// Cap on the placements evaluated (C(12, 3) = 220 for three AR1s).
+constexpr int kMaxPlacements = 2000;
+// Floor of a component's size relative to the data's WV when the least-squares size
+// is zero: keeps log-parameters finite and gradients alive.
+constexpr double kSizeFloor = 1e-8;
+
+// How a component's WV scales: parameter k multiplies it linearly or, for DR's omega,
+// through its square. Found numerically, so no process names are involved.
+struct ScaleParam {
+  int index = -1;
+  bool squared = false;
+};
+
+ScaleParam find_scale_param(const Process& p, const std::vector<double>& theta,
+                            std::span<const double> tau) {
+  std::vector<double> base(tau.size()), probe(tau.size());
+  p.wv(theta, tau, base);
+  for (int k = p.size() - 1; k >= 0; --k) {
+    if (p.parameters()[static_cast<std::size_t>(k)].transform != Transform::kLog) continue;
+    for (bool squared : {false, true}) {
+      std::vector<double> t(theta);
+      t[static_cast<std::size_t>(k)] *= squared ? std::sqrt(2.0) : 2.0;
+      if (!p.validate(t).empty()) continue;
+      p.wv(t, tau, probe);
+      bool ok = true;
+      for (std::size_t j = 0; j < tau.size() && ok; ++j)
+        ok = std::abs(probe[j] - 2.0 * base[j]) <= 1e-9 * std::abs(2.0 * base[j]) + 1e-300;
+      if (ok) return {k, squared};
+    }
+  }
+  return {};
+}
+
+// Non-negative weighted least squares min (y - F s)' W (y - F s), s >= 0, by the
+// active-set method of Lawson & Hanson (1974), for the handful of columns here.
+Eigen::VectorXd nnls(const Eigen::MatrixXd& F, const Eigen::VectorXd& y, const Eigen::MatrixXd& W) {
+  const int p = static_cast<int>(F.cols());
+  std::vector<bool> free(static_cast<std::size_t>(p), true);
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(p);
+  for (int iter = 0; iter < 3 * p + 3; ++iter) {
+    std::vector<int> idx;
+    for (int k = 0; k < p; ++k)
+      if (free[static_cast<std::size_t>(k)]) idx.push_back(k);
+    if (idx.empty()) break;
+    Eigen::MatrixXd Fa(F.rows(), static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t a = 0; a < idx.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(idx[a]);
+    const Eigen::MatrixXd G = Fa.transpose() * W * Fa;
+    const Eigen::VectorXd sa = G.completeOrthogonalDecomposition().solve(Fa.transpose() * W * y);
+    int worst = -1;
+    double most_negative = 0.0;
+    for (std::size_t a = 0; a < idx.size(); ++a)
+      if (sa(static_cast<Eigen::Index>(a)) < most_negative) { most_negative = sa(static_cast<Eigen::Index>(a)); worst = idx[a]; }
+    if (worst < 0) {
+      s.setZero();
+      for (std::size_t a = 0; a < idx.size(); ++a) s(idx[a]) = sa(static_cast<Eigen::Index>(a));
+      return s;
+    }
+    free[static_cast<std::size_t>(worst)] = false;
+  }
+  return s;
+}
+
+void next_combination(std::vector<int>& c, int n, bool& done) {
+  const int k = static_cast<int>(c.size());
+  int i = k - 1;
+  while (i >= 0 && c[static_cast<std::size_t>(i)] == n - k + i) --i;
+  if (i < 0) { done = true; return; }
+  ++c[static_cast<std::size_t>(i)];
+  for (int j = i + 1; j < k; ++j) c[static_cast<std::size_t>(j)] = c[static_cast<std::size_t>(j - 1)] + 1;
+}
 
 }  // namespace
 
 std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const Model& model,
-                                              int count, std::uint64_t seed) {
+                                              const Eigen::MatrixXd& omega, int count) {
   const int J = wv.levels();
-  std::vector<double> target(wv.wv);
-  for (double& v : target)
-    if (!(v > 0.0) || !std::isfinite(v)) v = 1e-300;
-  std::vector<int> spread;
-  for (int c = 0; c < model.num_components(); ++c)
-    if (placement_of(*model.components()[static_cast<std::size_t>(c)].process) == Placement::kSpread) spread.push_back(c);
-  const int k = static_cast<int>(spread.size());
-  Rng rng = make_stream(seed, {kStartStream});
-  boost::random::uniform_real_distribution<double> unif(0.0, 1.0);
+  const int C = model.num_components();
+  Eigen::VectorXd y = wv.values();
+  for (int j = 0; j < J; ++j)
+    if (!(y(j) > 0.0) || !std::isfinite(y(j))) y(j) = 0.0;
+  const double level = std::max(y.maxCoeff(), 1e-300);
+  std::vector<double> target(y.data(), y.data() + J);
 
-  std::vector<Eigen::VectorXd> out;
-  for (int v = 0; v < std::max(count, 1); ++v) {
-    // Variant 0: evenly spread scales, equal shares. Later variants: jittered scales
-    // (log2 positions) and shares drawn in [0.05, 1].
-    std::vector<double> pos(static_cast<std::size_t>(k));
-    for (int i = 0; i < k; ++i) {
-      double frac = (i + 0.5) / k;
-      if (v > 0) frac = std::clamp(frac + (unif(rng) - 0.5) / std::max(k, 1), 0.0, 1.0);
-      pos[static_cast<std::size_t>(i)] = 1.0 + frac * (J - 1);
-    }
-    std::sort(pos.begin(), pos.end());
+  std::vector<Placement> place(static_cast<std::size_t>(C));
+  std::vector<int> spread;
+  for (int c = 0; c < C; ++c) {
+    place[static_cast<std::size_t>(c)] = placement_of(*model.components()[static_cast<std::size_t>(c)].process);
+    if (place[static_cast<std::size_t>(c)] == Placement::kSpread) spread.push_back(c);
+  }
+  const int k = static_cast<int>(spread.size());
+  const int G = std::min(kGridPositions, std::max(J, 1));
+  std::vector<double> grid(static_cast<std::size_t>(G));
+  for (int g = 0; g < G; ++g) grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? 1.0 + (J - 1.0) * g / (G - 1.0) : 1.0);
+
+  struct Scored { double value; Eigen::VectorXd theta; };
+  std::vector<Scored> scored;
+  std::vector<int> comb(static_cast<std::size_t>(k));
+  std::iota(comb.begin(), comb.end(), 0);
+  bool done = k > G;
+  if (done) {  // more placed components than grid points: spread them evenly instead
+    comb.clear();
+  }
+  int evaluated = 0;
+  do {
     Eigen::VectorXd theta(model.num_parameters());
-    int spread_index = 0;
-    for (int c = 0; c < model.num_components(); ++c) {
+    Eigen::MatrixXd F(J, C);
+    std::vector<ScaleParam> sp(static_cast<std::size_t>(C));
+    int si = 0;
+    for (int c = 0; c < C; ++c) {
       const Component& comp = model.components()[static_cast<std::size_t>(c)];
       const Process& p = *comp.process;
-      const double share = (v == 0) ? 1.0 / model.num_components() : 0.05 + 0.95 * unif(rng);
-      std::vector<double> part(target);
-      for (double& x : part) x *= share;
-      GuessContext ctx{wv.tau, part, wv.tau.front()};
-      switch (placement_of(p)) {
+      GuessContext ctx{wv.tau, target, wv.tau.front()};
+      switch (place[static_cast<std::size_t>(c)]) {
         case Placement::kFinest: ctx.tau_hint = wv.tau.front(); break;
         case Placement::kCoarsest: ctx.tau_hint = wv.tau.back(); break;
-        case Placement::kSpread: ctx.tau_hint = std::exp2(pos[static_cast<std::size_t>(spread_index++)]); break;
+        case Placement::kSpread:
+          ctx.tau_hint = comb.empty() ? std::exp2(1.0 + (J - 1.0) * (si + 0.5) / k)
+                                      : grid[static_cast<std::size_t>(comb[static_cast<std::size_t>(si)])];
+          ++si;
+          break;
       }
       std::vector<double> g = p.initial_guess(ctx);
       for (int i = 0; i < p.size(); ++i) {
         const double given = comp.given[static_cast<std::size_t>(i)];
-        theta(model.offset(c) + i) = std::isnan(given) ? g[static_cast<std::size_t>(i)] : given;
+        if (!std::isnan(given)) g[static_cast<std::size_t>(i)] = given;
+      }
+      sp[static_cast<std::size_t>(c)] = find_scale_param(p, g, wv.tau);
+      std::vector<double> f(static_cast<std::size_t>(J));
+      p.wv(g, wv.tau, f);
+      F.col(c) = Eigen::Map<Eigen::VectorXd>(f.data(), J);
+      theta.segment(model.offset(c), p.size()) = Eigen::Map<Eigen::VectorXd>(g.data(), p.size());
+    }
+    // Components without a free scale parameter keep their size: move them to y.
+    Eigen::VectorXd yy = y;
+    std::vector<int> cols;
+    for (int c = 0; c < C; ++c) {
+      const ScaleParam& s = sp[static_cast<std::size_t>(c)];
+      const bool given = s.index >= 0 && !std::isnan(model.components()[static_cast<std::size_t>(c)].given[static_cast<std::size_t>(s.index)]);
+      if (s.index < 0 || given) yy -= F.col(c); else cols.push_back(c);
+    }
+    if (!cols.empty()) {
+      Eigen::MatrixXd Fa(J, static_cast<Eigen::Index>(cols.size()));
+      for (std::size_t a = 0; a < cols.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(cols[a]);
+      const Eigen::VectorXd s = nnls(Fa, yy, omega);
+      for (std::size_t a = 0; a < cols.size(); ++a) {
+        const int c = cols[a];
+        const ScaleParam& spc = sp[static_cast<std::size_t>(c)];
+        const double fmax = std::max(F.col(c).cwiseAbs().maxCoeff(), 1e-300);
+        const double factor = std::max(s(static_cast<Eigen::Index>(a)), kSizeFloor * level / fmax);
+        double& v = theta(model.offset(c) + spc.index);
+        v *= spc.squared ? std::sqrt(factor) : factor;
       }
     }
-    if (model.validate(theta).empty()) out.push_back(theta);
-  }
+    if (model.validate(theta).empty()) {
+      const Eigen::VectorXd r = wv.values() - model.wv(theta, wv.tau);
+      const double q = r.dot(omega * r);
+      if (std::isfinite(q)) scored.push_back({q, theta});
+    }
+    ++evaluated;
+    if (!comb.empty()) next_combination(comb, G, done); else done = true;
+  } while (!done && evaluated < kMaxPlacements);
+
+  std::stable_sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) { return a.value < b.value; });
+  std::vector<Eigen::VectorXd> out;
+  for (std::size_t i = 0; i < scored.size() && static_cast<int>(i) < count; ++i) out.push_back(scored[i].theta);
   return out;
 }
 

@@ -40,8 +40,7 @@ struct FitOptions {
   /// overrides `omega` when set.
   std::optional<Eigen::MatrixXd> omega_matrix;
   double alpha = 0.05;                 ///< parameter CIs at level 1 - alpha
-  int multistarts = 4;                 ///< local optimisations from the best starting points
-  int candidate_starts = 24;           ///< shape-based candidates screened by objective
+  int multistarts = 4;                 ///< local optimisations from the best shape-based starts
   int max_evaluations = 3000;          ///< per local optimisation
   double relative_tolerance = 1e-12;   ///< NLopt ftol_rel
   /// Additional starting points (natural space), e.g. warm starts from nested models.
@@ -90,7 +89,8 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptio
 double gmwm_objective(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
                       const Eigen::MatrixXd& omega);
 
-/// diag(1 / wv.variance).
+/// diag(eta_j / (2 nu_j^4)) with nu_j^2 = max(nuhat_j^2, nuhat_{j-1}^2 / 4): the inverse
+/// chi-square variance, guarded against a coarse level whose estimate is tiny by chance.
 Eigen::MatrixXd diagonal_omega(const WaveletVariance& wv);
 
 /// A starting point for `super` built from a fit of `sub` whose components all appear in

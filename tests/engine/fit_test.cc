@@ -1,0 +1,141 @@
+// The GMWM fit: recovery of known parameters, CI coverage, status, ordering of AR1
+// components, nested models, and error paths. Seeds are fixed here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
+
+namespace gmwm {
+namespace {
+
+WaveletVariance wv_of(const std::string& spec, std::int64_t n, std::uint64_t seed, std::uint64_t signal = 0) {
+  const Model m = parse_model(spec);
+  const auto x = simulate(m, m.given_values(), n, seed, signal);
+  return classical_wv(x.data(), n);
+}
+
+TEST(GmwmFit, RecoversWhiteNoisePlusRandomWalkAndConverges) {
+  const WaveletVariance w = wv_of("WN(sigma2=2)+RW(gamma2=1e-3)", 1 << 16, 11);
+  const FitResult r = fit_gmwm(w, parse_model("WN+RW"));
+  EXPECT_EQ(r.status, FitStatus::kConverged) << r.message;
+  EXPECT_EQ(r.model.to_string(), "WN+RW");
+  EXPECT_NEAR(r.theta(0) / 2.0, 1.0, 0.05);
+  EXPECT_NEAR(r.theta(1) / 1e-3, 1.0, 0.3);
+  EXPECT_GT(r.se(0), 0.0);
+  EXPECT_LT(r.ci_low(0), r.theta(0));
+  EXPECT_GT(r.ci_high(0), r.theta(0));
+  EXPECT_EQ(r.gof.df, w.levels() - 2);
+}
+
+TEST(GmwmFit, ReportsTwoAr1ComponentsByIncreasingPhi) {
+  const WaveletVariance w = wv_of("AR1(phi=0.999,sigma2=1e-4)+AR1(phi=0.5,sigma2=1)+WN(sigma2=0.5)", 1 << 17, 12);
+  const FitResult r = fit_gmwm(w, parse_model("2*AR1+WN"));
+  EXPECT_NE(r.status, FitStatus::kFailed) << r.message;
+  ASSERT_EQ(r.model.to_string(), "2*AR1+WN");
+  EXPECT_LT(r.theta(0), r.theta(2));
+  EXPECT_NEAR(r.theta(2), 0.999, 0.002);
+}
+
+TEST(GmwmFit, ParameterCisCoverTheTruthAtAboutTheNominalRate) {
+  // WN + AR1 over 200 replicates (fixed seed): the 95% sandwich CI of each parameter
+  // covers the truth; binomial sd of a 95% rate over 200 draws is 1.5%, so [0.88, 0.995]
+  // is about +-4.5 sd around 0.95 allowing for the small-sample bias of a nonlinear fit.
+  const std::string truth = "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)";
+  const Model m = parse_model(truth);
+  const Eigen::VectorXd theta0 = m.given_values();
+  constexpr int R = 200;
+  std::vector<Eigen::VectorXd> lo(R), hi(R);
+  tbb::parallel_for(0, R, [&](int r) {
+    const auto x = simulate(m, theta0, 1 << 14, 21, static_cast<std::uint64_t>(r));
+    const FitResult f = fit_gmwm(classical_wv(x.data(), 1 << 14), parse_model("AR1+WN"));
+    lo[static_cast<std::size_t>(r)] = f.ci_low;
+    hi[static_cast<std::size_t>(r)] = f.ci_high;
+  });
+  for (int k = 0; k < 3; ++k) {
+    int cover = 0;
+    for (int r = 0; r < R; ++r) cover += (lo[r](k) <= theta0(k) && theta0(k) <= hi[r](k)) ? 1 : 0;
+    const double rate = cover / static_cast<double>(R);
+    RecordProperty("coverage_" + std::to_string(k), std::to_string(rate));
+    EXPECT_GE(rate, 0.88) << "parameter " << k;
+    EXPECT_LE(rate, 0.995) << "parameter " << k;
+  }
+}
+
+TEST(GmwmFit, FullOmegaGivesUniformGoodnessOfFitPValues) {
+  // Under the true model with Omega = V^-1, the GoF p-value is ~ U(0,1): its mean over
+  // 100 replicates is 0.5 +- 3 x 0.029 (sd of a uniform mean is 0.289/sqrt(100)).
+  const std::string truth = "AR1(phi=0.95,sigma2=0.05)+WN(sigma2=1)";
+  constexpr int R = 100;
+  std::vector<double> p(R);
+  FitOptions o;
+  o.omega = OmegaKind::kFull;
+  tbb::parallel_for(0, R, [&](int r) {
+    const FitResult f = fit_gmwm(wv_of(truth, 1 << 13, 31, static_cast<std::uint64_t>(r)), parse_model("AR1+WN"), o);
+    p[static_cast<std::size_t>(r)] = f.gof.p_value;
+  });
+  double mean = 0;
+  for (double v : p) mean += v / R;
+  EXPECT_NEAR(mean, 0.5, 3 * 0.0289);
+}
+
+TEST(GmwmFit, ALargerModelNeverEndsAboveItsSubModelUnderOneOmega) {
+  const WaveletVariance w = wv_of("AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=1)+RW(gamma2=1e-6)", 1 << 15, 41);
+  FitOptions o;
+  o.omega_matrix = diagonal_omega(w);
+  const Model sub = parse_model("AR1+WN");
+  const Model super = parse_model("2*AR1+WN+RW");
+  const FitResult rs = fit_gmwm(w, sub, o);
+  FitOptions o2 = o;
+  o2.starts.push_back(embed_start(rs.model, rs.theta, super, w));
+  const FitResult rb = fit_gmwm(w, super, o2);
+  EXPECT_LE(rb.objective, rs.objective * (1 + 1e-9));
+}
+
+TEST(GmwmFit, BootstrapOmegaIsDeterministicForAGivenSeed) {
+  const WaveletVariance w = wv_of("AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)", 4096, 51);
+  FitOptions o;
+  o.omega = OmegaKind::kBootstrap;
+  o.bootstrap_replicates = 30;
+  o.seed = 5;
+  const FitResult a = fit_gmwm(w, parse_model("AR1+WN"), o);
+  const FitResult b = fit_gmwm(w, parse_model("AR1+WN"), o);
+  EXPECT_EQ(a.theta, b.theta);
+  EXPECT_EQ(a.gof.method, "chi-square");
+}
+
+TEST(GmwmFit, RejectsAModelWithMoreParametersThanLevels) {
+  const WaveletVariance w = wv_of("WN(sigma2=1)", 64, 1);  // 6 levels
+  try {
+    fit_gmwm(w, parse_model("3*AR1+WN"));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has 7 parameters but the wavelet variance has only 6 levels"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GmwmFit, RejectsInvalidOptionsWithAClearMessage) {
+  FitOptions o;
+  o.alpha = 0;
+  EXPECT_EQ(o.Validate(), "alpha must be in (0, 1), got 0");
+  const WaveletVariance w = wv_of("WN(sigma2=1)", 256, 1);
+  EXPECT_THROW(fit_gmwm(w, parse_model("WN"), o), InputError);
+}
+
+TEST(GmwmFit, ReportNamesStatusParametersAndGoodnessOfFit) {
+  const WaveletVariance w = wv_of("WN(sigma2=2)+RW(gamma2=1e-3)", 4096, 61);
+  const std::string rep = fit_gmwm(w, parse_model("WN+RW")).Report();
+  EXPECT_NE(rep.find("status: converged"), std::string::npos) << rep;
+  EXPECT_NE(rep.find("WN[1].sigma2"), std::string::npos) << rep;
+  EXPECT_NE(rep.find("goodness of fit"), std::string::npos) << rep;
+}
+
+}  // namespace
+}  // namespace gmwm
