@@ -1,6 +1,6 @@
 // Monte Carlo checks of the classical WV: CI coverage and unbiasedness for every
 // process, with seeds fixed here before looking at results. Tolerances: 3 Monte-Carlo
-// standard errors (sd / sqrt(R)) for means; coverage is asserted >= the nominal 95%,
+// standard errors (sd / sqrt(R), sd from the model-based Var(nuhat)) for means; coverage is asserted >= the nominal 95%,
 // the eta-based interval being known to be conservative (STATISTICS.md section 5).
 #include <gtest/gtest.h>
 
@@ -14,6 +14,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "gmwm/engine/wv_covariance.h"
 
 namespace gmwm {
 namespace {
@@ -21,6 +22,7 @@ namespace {
 struct Stats {
   std::vector<double> mean, sd, coverage, eta;
   std::vector<double> truth;
+  std::vector<double> theory_sd;  // sqrt(Var(nuhat_j)) from the model-based covariance
 };
 
 Stats run(const std::string& spec, std::int64_t n, int replicates, std::uint64_t seed) {
@@ -34,6 +36,7 @@ Stats run(const std::string& spec, std::int64_t n, int replicates, std::uint64_t
   Stats s;
   const int J = w[0].levels();
   const Eigen::VectorXd nu = m.wv(theta, w[0].tau);
+  const Eigen::MatrixXd V = model_wv_covariance(m, theta, n, J);
   for (int j = 0; j < J; ++j) {
     double sum = 0, sum2 = 0, cover = 0;
     for (const auto& wr : w) {
@@ -48,18 +51,23 @@ Stats run(const std::string& spec, std::int64_t n, int replicates, std::uint64_t
     s.coverage.push_back(cover / replicates);
     s.eta.push_back(w[0].eta[static_cast<std::size_t>(j)]);
     s.truth.push_back(nu(j));
+    s.theory_sd.push_back(std::sqrt(V(j, j)));
   }
   return s;
 }
 
 void expect_unbiased(const std::string& spec, std::uint64_t seed) {
-  constexpr int kReplicates = 400;
+  // 4000 replicates: with 400 the AR1 case sat at 3.2 MC standard errors at level 6 by
+  // chance (a 4000-replicate run of the same seed shows no bias), see the issue notes.
+  constexpr int kReplicates = 4000;
   const Stats s = run(spec, 4096, kReplicates, seed);
   int checked = 0;
   for (std::size_t j = 0; j < s.mean.size(); ++j) {
     if (s.eta[j] < 30) continue;
     ++checked;
-    const double se = s.sd[j] / std::sqrt(static_cast<double>(kReplicates));
+    // Monte-Carlo standard error of the mean from the exact variance of the WV (the
+    // sample sd of a skewed statistic is itself noisy at coarse levels).
+    const double se = s.theory_sd[j] / std::sqrt(static_cast<double>(kReplicates));
     EXPECT_LE(std::abs(s.mean[j] - s.truth[j]), 3.0 * se)
         << spec << " level " << j + 1 << ": mean " << s.mean[j] << " truth " << s.truth[j] << " se " << se;
   }
