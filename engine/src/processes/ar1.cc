@@ -1,0 +1,88 @@
+// AR1: x_t = phi x_{t-1} + e_t, e_t ~ N(0, sigma2), |phi| < 1.
+// WV: the closed form of STATISTICS.md s.3, evaluated stably near phi = 1 (ar1_math.h);
+// jacobian and Hessian are the exact derivatives of that evaluation (Jet, jet.h).
+// Autocovariance g(h) = sigma2 phi^h / (1 - phi^2). Simulation starts from the
+// stationary distribution x_0 ~ N(0, sigma2 / (1 - phi^2)) (STATISTICS.md s.7).
+#include <cmath>
+
+#include <boost/random/normal_distribution.hpp>
+
+#include "ar1_math.h"
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+using internal::Jet;
+
+/// Lowest phi an initial guess proposes (a WV peaking at the finest scale).
+constexpr double kAr1GuessPhiMin = -0.9;
+
+class Ar1Process final : public Process {
+ public:
+  explicit Ar1Process(const ProcessArgs&) {}
+  std::string name() const override { return "AR1"; }
+  int canonical_rank() const override { return 10; }
+  int sort_key() const override { return 0; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"phi", Transform::kAtanh, "AR1 coefficient"},
+        {"sigma2", Transform::kLog, "AR1 innovation variance per sample"}};
+    return specs;
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      out[k] = theta[1] * internal::ar1_unit_wv(theta[0], internal::haar_half_scale(tau[k], "AR1::wv"));
+  }
+  void derivatives(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+    const Jet<2> phi = Jet<2>::variable(theta[0], 0);
+    const Jet<2> s = Jet<2>::variable(theta[1], 1);
+    for (std::size_t k = 0; k < tau.size(); ++k) {
+      const double m = internal::haar_half_scale(tau[k], "AR1::wv");
+      internal::store_jet_row(s * internal::ar1_unit_wv(phi, m), static_cast<Eigen::Index>(k),
+                              jac, hess);
+    }
+  }
+  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives(theta, tau, &jac, nullptr);
+  }
+  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    derivatives(theta, tau, nullptr, &hess);
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    const double phi = theta[0];
+    double c = theta[1] / ((1.0 - phi) * (1.0 + phi));
+    for (double& v : out) {
+      v = c;
+      c *= phi;
+    }
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    if (out.empty()) return;
+    const double phi = theta[0];
+    boost::random::normal_distribution<double> z(0.0, 1.0);
+    const double sd = std::sqrt(theta[1]);
+    double x = sd / std::sqrt((1.0 - phi) * (1.0 + phi)) * z(rng);
+    out[0] += x;
+    for (std::size_t t = 1; t < out.size(); ++t) {
+      x = phi * x + sd * z(rng);
+      out[t] += x;
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    const auto g = internal::ar1_initial_guess(ctx, kAr1GuessPhiMin);
+    return {g.phi, g.sigma2};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(Ar1Process, "AR1", "first-order autoregression: AR1(phi, sigma2)");
+
+}  // namespace gmwm

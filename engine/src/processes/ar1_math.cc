@@ -1,0 +1,132 @@
+// Special functions of ar1_math.h: value, first and second derivative, each computed
+// without cancellation (power series near 0, closed expressions elsewhere).
+#include "ar1_math.h"
+
+#include <array>
+#include <cmath>
+
+namespace gmwm::internal {
+namespace {
+
+// Series lengths: for |x| <= 1 the first omitted term is below 1e-20 of the sum
+// (sinhc, s3: 1/31!; H: 2^34/33! ~ 2e-27; E1: 1/26! ~ 2.5e-27).
+constexpr int kSinhcTerms = 31;
+constexpr int kS3Terms = 29;
+constexpr int kHTerms = 34;
+constexpr int kE1Terms = 26;
+
+double factorial(int n) {
+  double f = 1.0;
+  for (int k = 2; k <= n; ++k) f *= k;
+  return f;
+}
+
+// p(x) = sum_k c_k x^k with p' and p'' by Horner's scheme.
+template <std::size_t K>
+D2 power_series(const std::array<double, K>& c, double x) {
+  double f = 0.0, f1 = 0.0, f2 = 0.0;
+  for (std::size_t i = K; i-- > 0;) {
+    f2 = f2 * x + f1;
+    f1 = f1 * x + f;
+    f = f * x + c[i];
+  }
+  return {f, f1, 2.0 * f2};
+}
+
+const std::array<double, kSinhcTerms>& sinhc_coefficients() {
+  static const auto c = [] {
+    std::array<double, kSinhcTerms> a{};
+    for (int k = 0; k < kSinhcTerms; k += 2) a[static_cast<std::size_t>(k)] = 1.0 / factorial(k + 1);
+    return a;
+  }();
+  return c;
+}
+
+const std::array<double, kS3Terms>& s3_coefficients() {
+  static const auto c = [] {
+    std::array<double, kS3Terms> a{};
+    for (int k = 0; k < kS3Terms; k += 2) a[static_cast<std::size_t>(k)] = 1.0 / factorial(k + 3);
+    return a;
+  }();
+  return c;
+}
+
+// h(y)/y^3 = sum_j (-1)^j (2^(j+4) - 8) y^j / (j+3)!  (from the exponential series of
+// 4y - 6 + 8 e^-y - 2 e^-2y, whose terms of degree 0, 1, 2 vanish).
+const std::array<double, kHTerms>& h_coefficients() {
+  static const auto c = [] {
+    std::array<double, kHTerms> a{};
+    for (int j = 0; j < kHTerms; ++j)
+      a[static_cast<std::size_t>(j)] =
+          ((j % 2) ? -1.0 : 1.0) * (std::ldexp(1.0, j + 4) - 8.0) / factorial(j + 3);
+    return a;
+  }();
+  return c;
+}
+
+// (1 - e^-y)/y = sum_k (-1)^k y^k / (k+1)!.
+const std::array<double, kE1Terms>& e1_coefficients() {
+  static const auto c = [] {
+    std::array<double, kE1Terms> a{};
+    for (int k = 0; k < kE1Terms; ++k)
+      a[static_cast<std::size_t>(k)] = ((k % 2) ? -1.0 : 1.0) / factorial(k + 1);
+    return a;
+  }();
+  return c;
+}
+
+}  // namespace
+
+D2 sinhc_d2(double x) {
+  if (std::fabs(x) <= kSeriesMaxArg) return power_series(sinhc_coefficients(), x);
+  const double s = std::sinh(x), c = std::cosh(x);
+  return {s / x, (x * c - s) / (x * x), (x * x * s - 2.0 * x * c + 2.0 * s) / (x * x * x)};
+}
+
+D2 sinh_minus_x_over_x3_d2(double x) {
+  if (std::fabs(x) <= kSeriesMaxArg) return power_series(s3_coefficients(), x);
+  const double s = std::sinh(x) - x, c = std::cosh(x) - 1.0, x2 = x * x, x3 = x2 * x;
+  return {s / x3, c / x3 - 3.0 * s / (x3 * x),
+          (s + x) / x3 - 6.0 * c / (x3 * x) + 12.0 * s / (x3 * x2)};
+}
+
+D2 haar_h_over_y3_d2(double y) {
+  if (y <= kSeriesMaxArg) return power_series(h_coefficients(), y);
+  // h = 4(y - u) - 2u^2, h' = 4u^2, h'' = 8 e^-y u, with u = 1 - e^-y (no cancellation
+  // for y >= 1 beyond a factor 2 in h).
+  const double em = std::exp(-y), u = -std::expm1(-y);
+  const double h = 4.0 * (y - u) - 2.0 * u * u, h1 = 4.0 * u * u, h2 = 8.0 * em * u;
+  const double y3 = y * y * y;
+  return {h / y3, h1 / y3 - 3.0 * h / (y3 * y),
+          h2 / y3 - 6.0 * h1 / (y3 * y) + 12.0 * h / (y3 * y * y)};
+}
+
+D2 one_minus_exp_over_y_d2(double y) {
+  if (y <= kSeriesMaxArg) return power_series(e1_coefficients(), y);
+  const double em = std::exp(-y), u = -std::expm1(-y);
+  return {u / y, em / y - u / (y * y), -em / y - 2.0 * em / (y * y) + 2.0 * u / (y * y * y)};
+}
+
+D2 neg_log_d2(double phi) {
+  // phi - 1 is exact for phi >= 0.5 (Sterbenz), so log1p keeps full relative accuracy
+  // of L = -log(phi) as phi -> 1.
+  return {-std::log1p(phi - 1.0), -1.0 / phi, 1.0 / (phi * phi)};
+}
+
+D2 one_minus_pow_d2(double phi, double m) {
+  double f;
+  const double a = std::fabs(phi);
+  const bool even = std::fmod(m, 2.0) == 0.0;
+  if (phi == 0.0) {
+    f = 1.0;
+  } else if (phi > 0.0 || even) {
+    f = -std::expm1(m * std::log(a));  // 1 - |phi|^m without cancellation
+  } else {
+    f = 1.0 + std::pow(a, m);  // odd power of a negative phi
+  }
+  const double f1 = -m * std::pow(phi, m - 1.0);
+  const double f2 = (m == 1.0) ? 0.0 : -m * (m - 1.0) * std::pow(phi, m - 2.0);
+  return {f, f1, f2};
+}
+
+}  // namespace gmwm::internal

@@ -1,0 +1,172 @@
+#pragma once
+// Numerically stable Haar WV of an AR1 (and the pieces ARMA11 and GM reuse), written
+// once as templates over double and Jet<N> (jet.h), so the derivatives are the analytic
+// derivatives of the same stable expressions.
+//
+// The closed form of STATISTICS.md s.3, with m = tau/2 and a = phi^m,
+//
+//   nu^2 / sigma2 = [ (1 - phi^2) tau - 2 phi (1 - a)(3 - a) ] / ((1 - phi)^3 (1 + phi) tau^2),
+//
+// cancels catastrophically as phi -> 1 (numerator and denominator are O((1-phi)^3) built
+// from O(1 - phi) terms). With phi = exp(-L) and y = m L the numerator is
+// phi [ 4m (sinh L - L) + h(y) ], h(y) = 4y - 6 + 8 e^-y - 2 e^-2y, and the denominator is
+// 32 m^2 e^-2L sinh^2(L/2) sinh L, so
+//
+//   nu^2 / sigma2 = e^L [ 4 s3(L) + m^2 H(y) ] / (8 m sinhc(L/2)^2 sinhc(L)),
+//
+// with sinhc(x) = sinh(x)/x, s3(x) = (sinh x - x)/x^3 and H(y) = h(y)/y^3: every factor is
+// a positive, O(1), smooth function computed by its power series near 0 (so nothing
+// cancels), and the two terms in the bracket are both positive. As L -> 0 this tends to
+// the random-walk WV (m/6 + 1/(12 m)), as it should.
+//
+// ARMA11: with (theta + phi)(1 + theta phi) = phi (1 + theta)^2 + theta (1 - phi)^2 the
+// closed form splits into (1 + theta)^2 times the AR1 WV minus 2 theta sigma2 K, with
+//   K = (1 - a)(3 - a) / ((1 - phi)(1 + phi) tau^2),
+// where (1 - a)/(1 - phi) = m E1(m L) / E1(L), E1(y) = (1 - e^-y)/y, is again stable.
+
+#include <algorithm>
+#include <cmath>
+
+#include "gmwm/engine/process.h"
+#include "jet.h"
+#include "process_util.h"
+
+namespace gmwm::internal {
+
+/// phi above which the log form is used (phi = e^-L with L < ln 2, where the series of
+/// sinhc and s3 converge fast); at and below it the direct closed form loses at most a
+/// factor ~6 to cancellation (at phi = 0.5, tau = 2: 1.5 - 1.25 = 0.25), measured.
+inline constexpr double kAr1LogFormMinPhi = 0.5;
+inline constexpr double kLn2 = 0.69314718055994530942;
+
+/// Power-series / closed-expression switch for H and E1: at y = 1 the closed expressions
+/// lose at most ~30 ulps in the second derivative (12 h/y^5 - 6 h'/y^4 + h''/y^3 at y = 1
+/// is 0.34 from terms of size 9.6), and the series need ~30 terms.
+inline constexpr double kSeriesMaxArg = 1.0;
+
+D2 sinhc_d2(double x);                     ///< sinh(x)/x
+D2 sinh_minus_x_over_x3_d2(double x);      ///< (sinh x - x)/x^3
+D2 haar_h_over_y3_d2(double y);            ///< (4y - 6 + 8e^-y - 2e^-2y)/y^3, y >= 0
+D2 one_minus_exp_over_y_d2(double y);      ///< (1 - e^-y)/y, y >= 0
+D2 neg_log_d2(double phi);                 ///< -log(phi), phi in (0, 1]
+D2 one_minus_pow_d2(double phi, double m); ///< 1 - phi^m, m a positive integer when phi < 0
+
+template <class T>
+T one_minus_pow(const T& phi, double m) { return lift(phi, one_minus_pow_d2(value(phi), m)); }
+
+/// nu^2/sigma2 by the direct closed form; accurate for phi <= kAr1LogFormMinPhi.
+template <class T>
+T ar1_unit_wv_direct(const T& phi, double m) {
+  const T om = one_minus_pow(phi, m);
+  const T omp = 1.0 - phi;
+  const T opp = 1.0 + phi;
+  return (omp * opp * (2.0 * m) - 2.0 * phi * om * (2.0 + om)) /
+         (omp * omp * omp * opp * (4.0 * m * m));
+}
+
+/// nu^2/sigma2 of an AR1 with phi = exp(-L), L > 0, at tau = 2m: stable for all L.
+template <class T>
+T ar1_unit_wv_log(const T& L, double m) {
+  using std::exp;
+  const double l = value(L);
+  if (l >= kLn2) return ar1_unit_wv_direct(T(exp(-L)), m);
+  const T sc = lift(L, sinhc_d2(l));
+  const T half = 0.5 * L;
+  const T sch = lift(half, sinhc_d2(0.5 * l));  // sinhc(L/2)
+  const T s3 = lift(L, sinh_minus_x_over_x3_d2(l));
+  const T y = m * L;
+  const T hh = lift(y, haar_h_over_y3_d2(m * l));
+  return exp(L) * (4.0 * s3 + (m * m) * hh) / ((8.0 * m) * sch * sch * sc);
+}
+
+/// -log(phi) for phi in (0, 1).
+template <class T>
+T neg_log(const T& phi) { return lift(phi, neg_log_d2(value(phi))); }
+
+/// (1 - x^m)/(1 - x) for x in (0, 1), without cancellation as x -> 1:
+/// m E1(m L)/E1(L) with L = -log x (E1(y) = (1 - e^-y)/y) above kAr1LogFormMinPhi.
+template <class T>
+T geometric_ratio(const T& x, double m) {
+  if (value(x) > kAr1LogFormMinPhi) {
+    const T L = neg_log(x);
+    const T y = m * L;
+    return m * lift(y, one_minus_exp_over_y_d2(value(y))) /
+           lift(L, one_minus_exp_over_y_d2(value(L)));
+  }
+  return one_minus_pow(x, m) / (1.0 - x);
+}
+
+/// True when phi is close enough to -1 that the factor (1 + phi) must be cancelled
+/// analytically: 1 - phi^m = (1 + phi) G(-phi) for even m, G = geometric_ratio.
+inline bool near_minus_one_even(double phi, double m) {
+  return phi < -kAr1LogFormMinPhi && std::fmod(m, 2.0) == 0.0;
+}
+
+/// nu^2/sigma2 of an AR1 at tau = 2m, phi in (-1, 1). m = 1 is the exact
+/// 1/(2 (1 + phi)) (STATISTICS.md "handy checks").
+template <class T>
+T ar1_unit_wv(const T& phi, double m) {
+  if (m == 1.0) return 0.5 / (1.0 + phi);
+  if (value(phi) > kAr1LogFormMinPhi) return ar1_unit_wv_log(neg_log(phi), m);
+  if (near_minus_one_even(value(phi), m)) {
+    // N = (1 + phi) [ (1 - phi) 2m - 2 phi G (2 + om) ], om = (1 + phi) G.
+    const T g = geometric_ratio(T(-phi), m);
+    const T om = (1.0 + phi) * g;
+    const T omp = 1.0 - phi;
+    return (omp * (2.0 * m) - 2.0 * phi * g * (2.0 + om)) / (omp * omp * omp * (4.0 * m * m));
+  }
+  return ar1_unit_wv_direct(phi, m);
+}
+
+/// K = (1 - phi^m)(3 - phi^m) / ((1 - phi^2) tau^2), the ARMA11 cross term.
+template <class T>
+T arma11_cross_term(const T& phi, double m) {
+  if (m == 1.0) return (3.0 - phi) / (4.0 * (1.0 + phi));
+  if (value(phi) > kAr1LogFormMinPhi) {
+    const T g = geometric_ratio(phi, m);  // (1 - a)/(1 - phi)
+    return g * (2.0 + (1.0 - phi) * g) / ((1.0 + phi) * (4.0 * m * m));
+  }
+  if (near_minus_one_even(value(phi), m)) {
+    const T g = geometric_ratio(T(-phi), m);  // (1 - a)/(1 + phi)
+    return g * (2.0 + (1.0 + phi) * g) / ((1.0 - phi) * (4.0 * m * m));
+  }
+  const T om = one_minus_pow(phi, m);
+  return om * (2.0 + om) / ((1.0 - phi) * (1.0 + phi) * (4.0 * m * m));
+}
+
+/// nu^2/sigma2 of an ARMA11 at tau = 2m.
+template <class T>
+T arma11_unit_wv(const T& phi, const T& theta, double m) {
+  const T opt = 1.0 + theta;
+  return opt * opt * ar1_unit_wv(phi, m) - 2.0 * theta * arma11_cross_term(phi, m);
+}
+
+/// An AR1 WV peaks near tau = 3.79 / (1 - phi) (STATISTICS.md s.4, starting values).
+inline constexpr double kAr1PeakTauTimesOneMinusPhi = 3.79;
+/// Guessed phi is clamped into [lo, kAr1GuessPhiMax]: 1 - 1e-8 keeps atanh(phi) ~ 9.5
+/// well inside double range while covering correlation times up to ~4e8 samples.
+inline constexpr double kAr1GuessPhiMax = 1.0 - 1e-8;
+
+struct Ar1Guess {
+  double phi;
+  double sigma2;
+};
+
+/// Starting AR1 values: phi from where the bump peaks (ctx.tau_hint, else the peak of
+/// ctx.wv), clamped into [phi_min, kAr1GuessPhiMax]; sigma2 so that the AR1 WV equals
+/// ctx.wv at the level nearest that scale.
+inline Ar1Guess ar1_initial_guess(const GuessContext& ctx, double phi_min) {
+  const double tau_peak = guess_tau(ctx, 2.0 * kAr1PeakTauTimesOneMinusPhi);
+  const double phi =
+      std::clamp(1.0 - kAr1PeakTauTimesOneMinusPhi / tau_peak, phi_min, kAr1GuessPhiMax);
+  double sigma2 = 1.0;
+  const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());
+  if (n > 0) {
+    const std::size_t k = guess_level(ctx);
+    const double tau = std::max(2.0, 2.0 * std::round(0.5 * ctx.tau[k]));
+    sigma2 = positive_or(ctx.wv[k] / ar1_unit_wv(phi, 0.5 * tau), 1.0);
+  }
+  return {phi, sigma2};
+}
+
+}  // namespace gmwm::internal

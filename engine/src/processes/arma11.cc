@@ -1,0 +1,100 @@
+// ARMA11: x_t = phi x_{t-1} + e_t + theta e_{t-1}, e_t ~ N(0, sigma2).
+// WV: the closed form of STATISTICS.md s.3 rewritten as (1 + theta)^2 AR1(phi, sigma2)
+// - 2 theta sigma2 K(phi) (ar1_math.h), which stays accurate as phi -> 1; derivatives are
+// exact (Jet). Autocovariance: g(0) = sigma2 (1 + 2 theta phi + theta^2)/(1 - phi^2),
+// g(h) = phi^(h-1) sigma2 (1 + theta phi)(phi + theta)/(1 - phi^2) for h >= 1.
+//
+// Simulation starts exactly from the stationary distribution of the state
+// (x_{-1}, e_{-1}): Var x = g(0), Var e = sigma2, Cov(x, e) = sigma2, i.e.
+// x_{-1} = e_{-1} + sqrt(g(0) - sigma2) z with g(0) - sigma2 = sigma2 (phi + theta)^2 /
+// (1 - phi^2). That is the limit of an infinitely long burn-in, so none is needed.
+#include <cmath>
+
+#include <boost/random/normal_distribution.hpp>
+
+#include "ar1_math.h"
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+using internal::Jet;
+
+/// Lowest phi an initial guess proposes (as for AR1).
+constexpr double kArma11GuessPhiMin = -0.9;
+
+class Arma11Process final : public Process {
+ public:
+  explicit Arma11Process(const ProcessArgs&) {}
+  std::string name() const override { return "ARMA11"; }
+  int canonical_rank() const override { return 40; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"phi", Transform::kAtanh, "AR coefficient"},
+        {"theta", Transform::kAtanh, "MA coefficient"},
+        {"sigma2", Transform::kLog, "innovation variance per sample"}};
+    return specs;
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      out[k] = theta[2] * internal::arma11_unit_wv(
+                              theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
+  }
+  void derivatives(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+    const Jet<3> phi = Jet<3>::variable(theta[0], 0);
+    const Jet<3> th = Jet<3>::variable(theta[1], 1);
+    const Jet<3> s = Jet<3>::variable(theta[2], 2);
+    for (std::size_t k = 0; k < tau.size(); ++k) {
+      const double m = internal::haar_half_scale(tau[k], "ARMA11::wv");
+      internal::store_jet_row(s * internal::arma11_unit_wv(phi, th, m),
+                              static_cast<Eigen::Index>(k), jac, hess);
+    }
+  }
+  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives(theta, tau, &jac, nullptr);
+  }
+  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    derivatives(theta, tau, nullptr, &hess);
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    if (out.empty()) return;
+    const double phi = theta[0], th = theta[1], s = theta[2];
+    const double d = (1.0 - phi) * (1.0 + phi);
+    out[0] = s * (1.0 + 2.0 * th * phi + th * th) / d;
+    double c = s * (1.0 + th * phi) * (phi + th) / d;
+    for (std::size_t h = 1; h < out.size(); ++h) {
+      out[h] = c;
+      c *= phi;
+    }
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    const double phi = theta[0], th = theta[1];
+    const double sd = std::sqrt(theta[2]);
+    boost::random::normal_distribution<double> z(0.0, 1.0);
+    double e_prev = sd * z(rng);
+    double x_prev = e_prev + sd * std::fabs(phi + th) / std::sqrt((1.0 - phi) * (1.0 + phi)) * z(rng);
+    for (double& v : out) {
+      const double e = sd * z(rng);
+      const double x = phi * x_prev + e + th * e_prev;
+      v += x;
+      x_prev = x;
+      e_prev = e;
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    const auto g = internal::ar1_initial_guess(ctx, kArma11GuessPhiMin);
+    return {g.phi, 0.0, g.sigma2};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(Arma11Process, "ARMA11", "ARMA(1,1): ARMA11(phi, theta, sigma2)");
+
+}  // namespace gmwm

@@ -1,0 +1,72 @@
+// DR: deterministic drift omega t. nu^2(tau) = omega^2 tau^2 / 16 (STATISTICS.md s.3).
+//
+// The sign of omega is not identifiable from a WV (DESIGN.md): the natural parameter is
+// |omega| > 0 (log transform), validate() rejects omega <= 0 with a message saying so,
+// and reports show |omega|. Simulation: x_t = omega t for t = 0 .. n-1 (the path starts
+// at 0; the WV does not depend on the offset).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+class Drift final : public Process {
+ public:
+  explicit Drift(const ProcessArgs&) {}
+  std::string name() const override { return "DR"; }
+  int canonical_rank() const override { return 80; }
+  bool deterministic() const override { return true; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"omega", Transform::kLog, "drift |slope| per sample (its sign is not identifiable)"}};
+    return specs;
+  }
+  std::string validate(std::span<const double> theta) const override {
+    if (theta.size() == 1 && std::isfinite(theta[0]) && theta[0] <= 0.0) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "omega must be positive (got " << theta[0]
+         << "); the drift's sign is not identifiable from a WV: give |omega|";
+      return os.str();
+    }
+    return Process::validate(theta);
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    const double w = theta[0];
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = w * w * tau[k] * tau[k] / 16.0;
+  }
+  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      jac(static_cast<Eigen::Index>(k), 0) = theta[0] * tau[k] * tau[k] / 8.0;
+  }
+  void wv_hessian(std::span<const double>, std::span<const double> tau,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      hess(static_cast<Eigen::Index>(k), 0) = tau[k] * tau[k] / 8.0;
+  }
+  void generalized_autocovariance(std::span<const double>,
+                                  std::span<double> out) const override {
+    std::fill(out.begin(), out.end(), 0.0);
+  }
+  void simulate(std::span<const double> theta, Rng&, std::span<double> out) const override {
+    for (std::size_t t = 0; t < out.size(); ++t) out[t] += theta[0] * static_cast<double>(t);
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    // DR dominates the coarsest scale: |omega| = 4 sqrt(nu^2(tau_J)) / tau_J.
+    const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());
+    const double w = n ? 4.0 * std::sqrt(ctx.wv[n - 1]) / ctx.tau[n - 1] : 1.0;
+    return {internal::positive_or(w, 1.0)};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(Drift, "DR", "deterministic drift: DR(omega), omega = |slope| per sample");
+
+}  // namespace gmwm

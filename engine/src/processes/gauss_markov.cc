@@ -1,0 +1,94 @@
+// GM: first-order Gauss-Markov process with inverse correlation time beta (1/s) and
+// stationary variance sigma2_gm, sampled at context().freq Hz. It is an AR1 with
+//   phi = exp(-beta / f),  sigma2 = sigma2_gm (1 - exp(-2 beta / f)),
+// evaluated through L = beta / f directly (ar1_math.h), so no precision is lost in
+// forming 1 - phi when beta << f. Derivatives are exact (Jet, jet.h).
+#include <cmath>
+
+#include <boost/random/normal_distribution.hpp>
+
+#include "ar1_math.h"
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+using internal::Jet;
+
+/// Lowest phi = exp(-beta/f) an initial guess proposes (beta = 3 f).
+constexpr double kGmGuessPhiMin = 0.05;
+
+class GaussMarkov final : public Process {
+ public:
+  explicit GaussMarkov(const ProcessArgs&) {}
+  std::string name() const override { return "GM"; }
+  int canonical_rank() const override { return 20; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"beta", Transform::kLog, "inverse correlation time (1/s at the sampling rate)"},
+        {"sigma2_gm", Transform::kLog, "stationary variance"}};
+    return specs;
+  }
+  double rate() const { return context().freq; }
+
+  template <class T>
+  T wv_at(const T& beta, const T& s2gm, double m) const {
+    using std::expm1;
+    const T L = beta / rate();
+    return s2gm * (-expm1(-2.0 * L)) * internal::ar1_unit_wv_log(L, m);
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      out[k] = wv_at(theta[0], theta[1], internal::haar_half_scale(tau[k], "GM::wv"));
+  }
+  void derivatives(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+    const Jet<2> beta = Jet<2>::variable(theta[0], 0);
+    const Jet<2> s = Jet<2>::variable(theta[1], 1);
+    for (std::size_t k = 0; k < tau.size(); ++k) {
+      const double m = internal::haar_half_scale(tau[k], "GM::wv");
+      internal::store_jet_row(wv_at(beta, s, m), static_cast<Eigen::Index>(k), jac, hess);
+    }
+  }
+  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives(theta, tau, &jac, nullptr);
+  }
+  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    derivatives(theta, tau, nullptr, &hess);
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    const double L = theta[0] / rate();
+    for (std::size_t h = 0; h < out.size(); ++h)
+      out[h] = theta[1] * std::exp(-L * static_cast<double>(h));
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    if (out.empty()) return;
+    const double L = theta[0] / rate();
+    const double phi = std::exp(-L);
+    const double sd = std::sqrt(theta[1] * -std::expm1(-2.0 * L));
+    boost::random::normal_distribution<double> z(0.0, 1.0);
+    double x = std::sqrt(theta[1]) * z(rng);  // stationary start
+    out[0] += x;
+    for (std::size_t t = 1; t < out.size(); ++t) {
+      x = phi * x + sd * z(rng);
+      out[t] += x;
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    const auto g = internal::ar1_initial_guess(ctx, kGmGuessPhiMin);
+    const double L = -std::log1p(g.phi - 1.0);
+    return {L * rate(), g.sigma2 / -std::expm1(-2.0 * L)};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(GaussMarkov, "GM",
+                      "Gauss-Markov: GM(beta, sigma2_gm), an AR1 through the sampling rate");
+
+}  // namespace gmwm

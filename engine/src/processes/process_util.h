@@ -1,0 +1,69 @@
+#pragma once
+// Helpers shared by the process implementations (internal to engine/src/processes).
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/process.h"
+#include "jet.h"
+
+namespace gmwm::internal {
+
+/// m = tau / 2 for a Haar scale. Closed forms with phi^(tau/2) of a negative phi and the
+/// autocovariance sums need an even integer tau >= 2.
+inline double haar_half_scale(double tau, std::string_view who) {
+  check_at_least(who, "tau", tau, 2.0);
+  if (std::fmod(tau, 2.0) != 0.0) detail::throw_check(who, "tau", tau, "an even integer");
+  return 0.5 * tau;
+}
+
+/// x when it is finite and positive, else fallback (initial guesses must be valid).
+inline double positive_or(double x, double fallback) {
+  return (std::isfinite(x) && x > 0.0) ? x : fallback;
+}
+
+/// The level a guess should match: the one nearest to ctx.tau_hint on a log scale, or,
+/// without a hint, the one where ctx.wv peaks. 0 when ctx is empty.
+inline std::size_t guess_level(const GuessContext& ctx) {
+  const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());
+  if (n == 0) return 0;
+  std::size_t best = 0;
+  if (ctx.tau_hint > 0.0) {
+    double dist = INFINITY;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double d = std::fabs(std::log(ctx.tau[k] / ctx.tau_hint));
+      if (d < dist) { dist = d; best = k; }
+    }
+  } else {
+    for (std::size_t k = 1; k < n; ++k)
+      if (ctx.wv[k] > ctx.wv[best]) best = k;
+  }
+  return best;
+}
+
+/// ctx.tau_hint when given, else the tau of guess_level (else fallback).
+inline double guess_tau(const GuessContext& ctx, double fallback) {
+  if (ctx.tau_hint > 0.0 && std::isfinite(ctx.tau_hint)) return ctx.tau_hint;
+  const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());
+  return n ? ctx.tau[guess_level(ctx)] : fallback;
+}
+
+/// Writes a Jet's gradient into jac row k and its Hessian into hess row k
+/// (hess(k, l * p + m) = d^2 / d theta_l d theta_m), p = N.
+template <int N>
+void store_jet_row(const Jet<N>& r, Eigen::Index k, Eigen::Ref<Eigen::MatrixXd>* jac,
+                   Eigen::Ref<Eigen::MatrixXd>* hess) {
+  for (int l = 0; l < N; ++l) {
+    if (jac) (*jac)(k, l) = r.g(l);
+    if (hess)
+      for (int m = 0; m < N; ++m) (*hess)(k, l * N + m) = r.h(l, m);
+  }
+}
+
+}  // namespace gmwm::internal

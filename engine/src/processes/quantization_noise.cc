@@ -1,0 +1,68 @@
+// QN: quantization noise with parameter Q2. nu^2(tau) = 6 Q2 / tau^2 (STATISTICS.md s.3).
+// x_t = sqrt(12 Q2) (U_t - U_{t-1}), U i.i.d. uniform(0, 1): the increments of an i.i.d.
+// sequence of variance Q2, so g(0) = 2 Q2, g(1) = -Q2, g(h) = 0 beyond.
+#include <algorithm>
+#include <cmath>
+
+#include <boost/random/uniform_real_distribution.hpp>
+
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+class QuantizationNoise final : public Process {
+ public:
+  explicit QuantizationNoise(const ProcessArgs&) {}
+  std::string name() const override { return "QN"; }
+  int canonical_rank() const override { return 60; }
+  bool linear() const override { return true; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"Q2", Transform::kLog, "quantization noise coefficient Q^2 per sample"}};
+    return specs;
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = 6.0 * theta[0] / (tau[k] * tau[k]);
+  }
+  void wv_jacobian(std::span<const double>, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      jac(static_cast<Eigen::Index>(k), 0) = 6.0 / (tau[k] * tau[k]);
+  }
+  void wv_hessian(std::span<const double>, std::span<const double>,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    hess.setZero();
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    std::fill(out.begin(), out.end(), 0.0);
+    if (out.size() > 0) out[0] = 2.0 * theta[0];
+    if (out.size() > 1) out[1] = -theta[0];
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    boost::random::uniform_real_distribution<double> u(0.0, 1.0);
+    const double scale = std::sqrt(12.0 * theta[0]);
+    double prev = u(rng);
+    for (double& v : out) {
+      const double cur = u(rng);
+      v += scale * (cur - prev);
+      prev = cur;
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    // QN dominates the finest scale: Q2 = tau_1^2 nu^2(tau_1) / 6.
+    const double q = ctx.tau.empty() || ctx.wv.empty()
+                         ? 1.0
+                         : ctx.tau[0] * ctx.tau[0] * ctx.wv[0] / 6.0;
+    return {internal::positive_or(q, 1.0)};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(QuantizationNoise, "QN", "quantization noise: QN(Q2)");
+
+}  // namespace gmwm

@@ -1,0 +1,63 @@
+// RW: random walk with innovation variance gamma2. nu^2(tau) = gamma2 (tau^2 + 2)/(12 tau)
+// (STATISTICS.md s.3). Not stationary: its generalised autocovariance is minus the
+// semivariogram, g(h) = -gamma2 |h| / 2, valid for zero-sum filters (process.h).
+#include <cmath>
+
+#include <boost/random/normal_distribution.hpp>
+
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+class RandomWalk final : public Process {
+ public:
+  explicit RandomWalk(const ProcessArgs&) {}
+  std::string name() const override { return "RW"; }
+  int canonical_rank() const override { return 70; }
+  bool linear() const override { return true; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"gamma2", Transform::kLog, "random-walk innovation variance per sample"}};
+    return specs;
+  }
+  static double unit(double tau) { return (tau * tau + 2.0) / (12.0 * tau); }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * unit(tau[k]);
+  }
+  void wv_jacobian(std::span<const double>, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) jac(static_cast<Eigen::Index>(k), 0) = unit(tau[k]);
+  }
+  void wv_hessian(std::span<const double>, std::span<const double>,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    hess.setZero();
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    for (std::size_t h = 0; h < out.size(); ++h) out[h] = -0.5 * theta[0] * static_cast<double>(h);
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    // x_t = e_0 + ... + e_t: the path starts with its first increment.
+    boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[0]));
+    double x = 0.0;
+    for (double& v : out) {
+      x += z(rng);
+      v += x;
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    // RW dominates the coarsest scale: gamma2 = nu^2(tau_J) / ((tau_J^2 + 2)/(12 tau_J)).
+    const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());
+    const double g = n ? ctx.wv[n - 1] / unit(ctx.tau[n - 1]) : 1.0;
+    return {internal::positive_or(g, 1.0)};
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(RandomWalk, "RW", "random walk: RW(gamma2)");
+
+}  // namespace gmwm

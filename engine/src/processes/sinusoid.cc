@@ -1,0 +1,118 @@
+// SIN: x_t = A sin(2 pi f t + U), U ~ uniform(0, 2 pi) (a random phase makes it
+// stationary), with parameters A2 = A^2 and f in cycles/sample (0 < f < 1/2).
+// nu^2(tau) = (A2/2) sin^4(pi f tau/2) / ((tau/2)^2 sin^2(pi f)) (STATISTICS.md s.3);
+// g(h) = (A2/2) cos(2 pi f h). Angles go through sin_pi/cos_pi (Boost.Math), which
+// reduce f tau/2 exactly, so coarse scales keep full accuracy. Users see f in Hz when
+// the sampling rate is known (to_display/from_display).
+#include <algorithm>
+#include <cmath>
+
+#include <boost/math/constants/constants.hpp>
+#include <boost/math/special_functions/cos_pi.hpp>
+#include <boost/math/special_functions/sin_pi.hpp>
+#include <boost/random/uniform_real_distribution.hpp>
+
+#include "gmwm/engine/process_registry.h"
+#include "jet.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+using internal::Jet;
+
+/// Guessed f = 1/tau_peak is clamped into [kSinGuessFMin, kSinGuessFMax]: 0.45 keeps
+/// logit(2f) = 2.2 away from the Nyquist boundary; 1e-9 cycles/sample is far coarser
+/// than any record.
+constexpr double kSinGuessFMin = 1e-9;
+constexpr double kSinGuessFMax = 0.45;
+
+template <class T>
+T sin_pi_t(const T& x) {
+  constexpr double pi = boost::math::constants::pi<double>();
+  const double v = internal::value(x);
+  const double s = boost::math::sin_pi(v), c = boost::math::cos_pi(v);
+  return internal::lift(x, internal::D2{s, pi * c, -pi * pi * s});
+}
+
+template <class T>
+T sin_unit_wv(const T& f, double m) {
+  const T a = sin_pi_t(T(f * m));
+  const T b = sin_pi_t(f);
+  const T a2 = a * a;
+  return 0.5 * a2 * a2 / ((m * m) * b * b);
+}
+
+class Sinusoid final : public Process {
+ public:
+  explicit Sinusoid(const ProcessArgs&) {}
+  std::string name() const override { return "SIN"; }
+  int canonical_rank() const override { return 90; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"A2", Transform::kLog, "squared amplitude"},
+        {"f", Transform::kLogitHalf, "frequency (cycles/sample; Hz when the rate is known)"}};
+    return specs;
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau,
+          std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      out[k] = theta[0] * sin_unit_wv(theta[1], 0.5 * tau[k]);
+  }
+  void derivatives(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+    const Jet<2> a2 = Jet<2>::variable(theta[0], 0);
+    const Jet<2> f = Jet<2>::variable(theta[1], 1);
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      internal::store_jet_row(a2 * sin_unit_wv(f, 0.5 * tau[k]), static_cast<Eigen::Index>(k),
+                              jac, hess);
+  }
+  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives(theta, tau, &jac, nullptr);
+  }
+  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    derivatives(theta, tau, nullptr, &hess);
+  }
+  void generalized_autocovariance(std::span<const double> theta,
+                                  std::span<double> out) const override {
+    for (std::size_t h = 0; h < out.size(); ++h)
+      out[h] = 0.5 * theta[0] * boost::math::cos_pi(2.0 * theta[1] * static_cast<double>(h));
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    // A sin(2 pi f t + U) = A [sin(2 pi f t) cos U + cos(2 pi f t) sin U].
+    boost::random::uniform_real_distribution<double> phase(
+        0.0, 2.0 * boost::math::constants::pi<double>());
+    const double u = phase(rng);
+    const double amp = std::sqrt(theta[0]);
+    const double cu = amp * std::cos(u), su = amp * std::sin(u);
+    for (std::size_t t = 0; t < out.size(); ++t) {
+      const double x = 2.0 * theta[1] * static_cast<double>(t);
+      out[t] += cu * boost::math::sin_pi(x) + su * boost::math::cos_pi(x);
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    // The SIN WV peaks near tau = 1/f.
+    const double f = std::clamp(1.0 / internal::guess_tau(ctx, 4.0), kSinGuessFMin, kSinGuessFMax);
+    double a2 = 1.0;
+    if (std::min(ctx.tau.size(), ctx.wv.size()) > 0) {
+      const std::size_t k = internal::guess_level(ctx);
+      a2 = internal::positive_or(ctx.wv[k] / sin_unit_wv(f, 0.5 * ctx.tau[k]),
+                                 internal::positive_or(4.0 * ctx.wv[k], 1.0));
+    }
+    return {a2, f};
+  }
+  double to_display(int k, double natural) const override {
+    return (k == 1 && context().freq_known) ? natural * context().freq : natural;
+  }
+  double from_display(int k, double shown) const override {
+    return (k == 1 && context().freq_known) ? shown / context().freq : shown;
+  }
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(Sinusoid, "SIN", "sinusoid with random phase: SIN(A2, f)");
+
+}  // namespace gmwm
