@@ -158,7 +158,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
                      OmegaKind omega) {
   json c = column_json(column);
   const bool has_theta = fit.theta.size() == fit.model.num_parameters() &&
-                         fit.model.num_parameters() > 0;
+                         fit.model.num_parameters() > 0 && fit.theta.allFinite();
   c["model"] = has_theta ? json(fit.model.to_string(fit.theta)) : json(nullptr);
   c["model_structure"] = fit.model.to_string();
   json params = json::array();

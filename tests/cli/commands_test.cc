@@ -290,3 +290,19 @@ TEST_F(GmwmCli, ShippedExampleIsReproducedByItsDocumentedCommand) {
         << "): if the simulation changed on purpose, regenerate it as data/README.md says";
   }
 }
+
+TEST_F(GmwmCli, FitThatStopsBeforeConvergingExits0WithAWarningAndItsStatus) {
+  auto r = run_gmwm({"fit", (fs::path(GMWM_SOURCE_DIR) / "data" / "example_imu6.csv.gz").string(),
+                     "--columns", "gyro_x", "--model", "AR1+WN+RW", "--max-evaluations", "10",
+                     "--json", "fit.json", "--quiet"},
+                    dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "fit.json");
+  const json& c = doc["columns"][0];
+  EXPECT_EQ(c.at("status"), "not_converged");
+  EXPECT_FALSE(c.at("message").get<std::string>().empty());
+  const auto err = gmwm::test::lines_of(r.err);
+  ASSERT_EQ(err.size(), 1u) << r.err;
+  EXPECT_EQ(err[0].rfind("gmwm: warning: ", 0), 0u) << err[0];
+  EXPECT_NE(err[0].find("gyro_x"), std::string::npos) << err[0];
+}

@@ -29,7 +29,8 @@ void add_common_options(CLI::App& sub, CommonOptions& common) {
       ->capture_default_str();
   sub.add_flag("--quiet,-q", common.quiet,
                "No result table on the terminal (errors and warnings still go to stderr)");
-  sub.add_option("--log-level", common.log_level, "Library log level on stderr")
+  sub.add_option("--log-level", common.log_level,
+                 "Library log level on stderr (the command reports fit statuses itself)")
       ->type_name("LEVEL")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
@@ -73,8 +74,10 @@ void refuse_robust(const RobustOptions& robust) {
 }
 
 std::shared_ptr<void> apply_common_options(const CommonOptions& common) {
-  auto logger = spdlog::get("gmwm_cli");
-  if (!logger) logger = spdlog::stderr_color_mt("gmwm_cli");
+  // The libraries log through the logger named "gmwm" (or the default one): both go to
+  // stderr, so that stdout carries only the table or the JSON.
+  auto logger = spdlog::get("gmwm");
+  if (!logger) logger = spdlog::stderr_color_mt("gmwm");
   logger->set_pattern("gmwm: %l: %v");
   spdlog::set_default_logger(logger);
   spdlog::set_level(spdlog::level::from_str(common.log_level));

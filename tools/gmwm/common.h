@@ -25,7 +25,7 @@ struct CommonOptions {
   int threads = 0;                  ///< --threads N; 0: all cores
   std::uint64_t seed = kDefaultSeed;
   bool quiet = false;
-  std::string log_level = "warn";
+  std::string log_level = "error";
   std::vector<std::string> argv;    ///< the command line, for the JSON "run" object
 
   /// True when the terminal table goes to stdout (not --quiet, not --json -).

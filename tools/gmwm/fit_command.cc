@@ -21,6 +21,7 @@ struct FitArgs {
   std::string model;
   std::string omega = "diag";
   int replicates = FitOptions{}.bootstrap_replicates;
+  int max_evaluations = FitOptions{}.max_evaluations;
 };
 
 OmegaKind omega_kind(const std::string& s) {
@@ -44,7 +45,8 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const FitRe
   const auto& s = set.signals[k];
   os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, Omega "
      << to_string(omega) << '\n';
-  const bool has_theta = r.theta.size() == r.model.num_parameters() && r.theta.size() > 0;
+  const bool has_theta =
+      r.theta.size() == r.model.num_parameters() && r.theta.size() > 0 && r.theta.allFinite();
   os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
   if (has_theta) {
     Table t({"process", "component", "name", "value", "se", "CI low", "CI high"}, 1);
@@ -78,6 +80,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   options.alpha = args.input.alpha;
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
+  options.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
 
   // With --freq the model can be checked before reading a long file.
@@ -162,6 +165,11 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--replicates", args->replicates, "Bootstrap replicates for --omega bootstrap")
       ->type_name("B")
       ->check(CLI::Range(2, 1000000))
+      ->capture_default_str();
+  sub->add_option("--max-evaluations", args->max_evaluations,
+                  "Objective evaluations per local optimisation before giving up")
+      ->type_name("N")
+      ->check(CLI::Range(10, 100000000))
       ->capture_default_str();
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);
