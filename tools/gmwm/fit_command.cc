@@ -1,6 +1,7 @@
 // gmwm fit INPUT --model SPEC [--omega diag|full|bootstrap] [--replicates B] ...
 // The GMWM fit of one model to the classical WV of every selected column.
 
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -84,7 +85,12 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
 
   // With --freq the model can be checked before reading a long file.
-  if (args.input.freq) parse_model(args.model, ProcessContext{*args.input.freq, true});
+  if (args.input.freq) {
+    if (!(*args.input.freq > 0.0 && std::isfinite(*args.input.freq)))
+      throw InputError("--freq " + fmt(*args.input.freq) +
+                       ": expected a positive sampling rate in Hz");
+    parse_model(args.model, ProcessContext{*args.input.freq, true});
+  }
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);

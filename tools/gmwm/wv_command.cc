@@ -52,7 +52,7 @@ std::string terminal_table(const io::SignalSet& set, const std::vector<WaveletVa
     const auto& s = set.signals[k];
     if (k) os << '\n';
     os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, classical WV, "
-       << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", unit " + s.unit + "^2")
+       << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
        << '\n';
     Table t({"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"});
     for (int j = 0; j < w.levels(); ++j) {
