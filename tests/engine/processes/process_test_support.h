@@ -34,7 +34,7 @@ void expect_all_relatively_near(const std::vector<double>& actual, const std::ve
 
 /// Compares wv_jacobian with central differences of wv, and wv_hessian with central
 /// differences of wv_jacobian, both taken in the unconstrained coordinate u_l of each
-/// parameter (step 1e-4 max(|u_l|, 1); the WV varies on O(1) scales in u_l even near
+/// parameter (step 2e-5 max(|u_l|, 1); the WV varies on O(1) scales in u_l even near
 /// phi = +-1) and divided by d theta_l / d u_l. Tolerance per entry,
 /// derived from the step: 2 |D(h) - D(h/2)| (twice a Richardson estimate of the truncation
 /// error of D(h/2), which is compared) + rounding 1e3 eps max|f| / h.
