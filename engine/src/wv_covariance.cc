@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -19,10 +20,19 @@ namespace {
 // the long-double rounding of V at the last lag kept stays below that level for AR1
 // with 1 - phi >= 1e-6 (see the comment in ComponentTable).
 constexpr double kTailTolerance = 1e-6;
-// Between breakpoints (multiples of the smaller half-width m), c_ij(h)^2 n_ij(h) is a
-// polynomial in h; sums over long lag ranges use composite Simpson on a grid of
-// min(m_i, m_j) / kSimpsonPointsPerHalfWidth, relative error ~ (1/16)^4 ~ 1.5e-5.
-constexpr std::int64_t kSimpsonPointsPerHalfWidth = 16;
+// Between breakpoints, n_ij(h) c_ij(h)^2 is a polynomial in h for WN, QN and RW (their
+// structure functions are polynomials away from d = 0, 1) and a smooth function for
+// decaying stationary components; sums over long stretches use composite Simpson with
+// at most kSimpsonPointsPerStretch points (error ~ (1/64)^4 relative for the degree-7
+// polynomials), and at most 8 points per decay scale of the slowest stationary
+// component, whose support spans about kDecayScalesInSupport e-folds (1e-6 = e^-13.8).
+constexpr double kSimpsonPointsPerStretch = 64.0;
+constexpr double kDecayScalesInSupport = 14.0;
+// Components whose support is at most this many lags have (nearly) polynomial structure
+// functions beyond it (WN: 1, QN and RW: 3, short-memory AR1/MA1 a few lags).
+constexpr std::int64_t kPolynomialSupport = 16;
+// Lags summed exactly on each side of a breakpoint (covers the short-support kinks).
+constexpr std::int64_t kBreakpointMargin = 3;
 
 // One stochastic component: V(d) = sum_{|k|<d} (d - |k|) (g(k) - g(0)), the structure
 // function of its partial sums, in long double. Subtracting g(0) changes V by a
@@ -88,12 +98,15 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
     lv.push_back({tau, tau / 2, n - tau + 1});
   }
   const std::int64_t max_lag = 3 * n + 4;
-  std::vector<ComponentTable> tables;
-  for (int c = 0; c < model.num_components(); ++c) {
+  std::vector<int> stochastic;
+  for (int c = 0; c < model.num_components(); ++c)
+    if (!model.components()[static_cast<std::size_t>(c)].process->deterministic()) stochastic.push_back(c);
+  std::vector<ComponentTable> tables(stochastic.size());
+  tbb::parallel_for(std::size_t{0}, stochastic.size(), [&](std::size_t k) {
+    const int c = stochastic[k];
     const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
-    if (p.deterministic()) continue;
-    tables.push_back(make_table(p, {theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, max_lag));
-  }
+    tables[k] = make_table(p, {theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, max_lag);
+  });
   const int J = levels;
   Eigen::MatrixXd V = Eigen::MatrixXd::Zero(J, J);
   std::vector<std::pair<int, int>> pairs;
@@ -114,30 +127,72 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
         if (h >= -(a.tau + t.support) && h <= b.tau + t.support) c += cross_cov(t, a, b, h);
       return count(h) * c * c;
     };
-    std::int64_t reach = 0;
+    std::int64_t reach = 0, margin = kBreakpointMargin;
     bool oscillating = false;
-    for (const auto& t : tables) { reach = std::max(reach, t.support); oscillating = oscillating || t.oscillating; }
+    for (const auto& t : tables) {
+      reach = std::max(reach, t.support);
+      oscillating = oscillating || t.oscillating;
+      if (t.support <= kPolynomialSupport) margin = std::max(margin, t.support + kBreakpointMargin);
+    }
     // t + h in [tau_b - 1, n - 1] with t in [tau_a - 1, n - 1]: h in [-(M_b - 1), M_a - 1];
     // the filters (plus the components' reach) overlap for h in [-(tau_a + K), tau_b + K].
     const std::int64_t h_lo = std::max(-(b.M - 1), -(a.tau + reach) - 1);
     const std::int64_t h_hi = std::min(a.M - 1, b.tau + reach + 1);
-    const std::int64_t s = oscillating ? 1 : std::max<std::int64_t>(1, std::min(a.m, b.m) / kSimpsonPointsPerHalfWidth);
+    // c(h) is smooth between breakpoints: where two filter edges meet (po_k - qo_l) and
+    // where the pair count n(h) changes slope (0, tau_b - tau_a). A decaying component
+    // varies on its own scale only within its support K of a breakpoint; further away
+    // every component is polynomial in h. Sum each stretch by Simpson, the few lags
+    // around each breakpoint exactly.
+    std::vector<std::int64_t> base = {0, b.tau - a.tau};
+    const std::int64_t po[3] = {0, -a.m, -a.tau}, qo[3] = {0, -b.m, -b.tau};
+    for (auto x : po)
+      for (auto y : qo) base.push_back(x - y);
+    std::vector<std::int64_t> cuts = {h_lo, h_hi + 1};
+    std::vector<std::int64_t> pts;
+    for (auto c : base) {
+      for (std::int64_t d = -margin; d <= margin; ++d) pts.push_back(c + d);
+      for (const auto& t : tables)
+        if (t.support > kPolynomialSupport) { cuts.push_back(c - t.support); cuts.push_back(c + t.support + 1); }
+    }
+    for (const auto& t : tables) { cuts.push_back(-(a.tau + t.support)); cuts.push_back(b.tau + t.support + 1); }
+    pts.insert(pts.end(), cuts.begin(), cuts.end());
+    pts.erase(std::remove_if(pts.begin(), pts.end(), [&](std::int64_t x) { return x < h_lo || x > h_hi + 1; }), pts.end());
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    // Variation scale of c(h) on a stretch: the decay scale of the components whose
+    // support reaches it from the nearest breakpoint.
+    auto smoothness = [&](std::int64_t u, std::int64_t v) {
+      std::int64_t dist = std::numeric_limits<std::int64_t>::max();
+      for (auto c : base) {
+        if (c >= u && c <= v) return 1.0;
+        dist = std::min<std::int64_t>(dist, std::min<std::int64_t>(std::llabs(c - u), std::llabs(c - v)));
+      }
+      double sm = std::numeric_limits<double>::infinity();
+      for (const auto& t : tables)
+        if (t.support > kPolynomialSupport && t.support >= dist)
+          sm = std::min(sm, static_cast<double>(t.support) / kDecayScalesInSupport);
+      return sm;
+    };
     long double sum = 0.0L;
-    if (s == 1 || h_hi - h_lo < 8 * s) {
-      for (std::int64_t h = h_lo; h <= h_hi; ++h) sum += f(h);
-    } else {
-      // Grid points A..B (multiples of s, B - A a multiple of 2s); direct sums outside.
-      std::int64_t A = h_lo >= 0 ? ((h_lo + s - 1) / s) * s : -((-h_lo) / s) * s;
-      std::int64_t B = A + ((h_hi - A) / (2 * s)) * 2 * s;
-      for (std::int64_t h = h_lo; h < A; ++h) sum += f(h);
-      for (std::int64_t h = B + 1; h <= h_hi; ++h) sum += f(h);
-      long double simpson = 0.0L;
-      const std::int64_t steps = (B - A) / s;
-      long double fa = f(A), fb = f(B);
-      simpson += fa + fb;
-      for (std::int64_t k = 1; k < steps; ++k) simpson += ((k % 2) ? 4.0L : 2.0L) * f(A + k * s);
-      // Sum over the integers of [A, B] ~ integral (s/3 x Simpson) + (f(A) + f(B)) / 2.
-      sum += static_cast<long double>(s) * simpson / 3.0L + 0.5L * (fa + fb);
+    for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+      const std::int64_t u = pts[k], v = pts[k + 1] - 1;  // stretch [u, v]
+      const std::int64_t len = v - u;
+      std::int64_t s = 1;
+      if (!oscillating && len > 16) {
+        const double by_len = static_cast<double>(len) / kSimpsonPointsPerStretch;
+        s = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::min(by_len, smoothness(u, v) / 8.0)));
+      }
+      if (s == 1) {
+        for (std::int64_t h = u; h <= v; ++h) sum += f(h);
+        continue;
+      }
+      const std::int64_t steps = (len / (2 * s)) * 2;
+      const std::int64_t B = u + steps * s;
+      long double simpson = f(u) + f(B);
+      for (std::int64_t i = 1; i < steps; ++i) simpson += ((i % 2) ? 4.0L : 2.0L) * f(u + i * s);
+      // Sum over the integers of [u, B] ~ integral (s/3 x Simpson) + (f(u) + f(B)) / 2.
+      sum += static_cast<long double>(s) * simpson / 3.0L + 0.5L * (f(u) + f(B));
+      for (std::int64_t h = B + 1; h <= v; ++h) sum += f(h);
     }
     const double v = static_cast<double>(2.0L * sum / (static_cast<long double>(a.M) * static_cast<long double>(b.M)));
     V(i, j) = v;
