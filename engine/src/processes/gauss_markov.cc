@@ -4,10 +4,12 @@
 // evaluated through L = beta / f directly (ar1_math.h), so no precision is lost in
 // forming 1 - phi when beta << f. Derivatives are exact (Jet, jet.h).
 #include <cmath>
+#include <sstream>
 
 #include <boost/random/normal_distribution.hpp>
 
 #include "ar1_math.h"
+#include "gmwm/engine/error.h"
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
 
@@ -21,7 +23,14 @@ constexpr double kGmGuessPhiMin = 0.05;
 
 class GaussMarkov final : public Process {
  public:
-  explicit GaussMarkov(const ProcessArgs&) {}
+  explicit GaussMarkov(const ProcessArgs& args) {
+    const double f = args.context.freq;
+    if (!(f > 0.0) || !std::isfinite(f)) {
+      std::ostringstream os;
+      os << "GM needs a positive, finite sampling rate (got " << f << " Hz)";
+      throw InputError(os.str());
+    }
+  }
   std::string name() const override { return "GM"; }
   int canonical_rank() const override { return 20; }
   const std::vector<ParameterSpec>& parameters() const override {

@@ -93,13 +93,15 @@ class Sinusoid final : public Process {
     }
   }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
-    // The SIN WV peaks near tau = 1/f.
+    // The SIN WV peaks near tau = 1/f (without any information: f = 1/4).
     const double f = std::clamp(1.0 / internal::guess_tau(ctx, 4.0), kSinGuessFMin, kSinGuessFMax);
     double a2 = 1.0;
     if (std::min(ctx.tau.size(), ctx.wv.size()) > 0) {
       const std::size_t k = internal::guess_level(ctx);
+      // Fallback when the WV of this f vanishes at that level (f tau/2 an integer):
+      // the SIN WV at its peak (f tau/2 = 1/2) is about (A2/2)(4/pi^2) ~ A2/5.
       a2 = internal::positive_or(ctx.wv[k] / sin_unit_wv(f, 0.5 * ctx.tau[k]),
-                                 internal::positive_or(4.0 * ctx.wv[k], 1.0));
+                                 internal::positive_or(5.0 * ctx.wv[k], 1.0));
     }
     return {a2, f};
   }

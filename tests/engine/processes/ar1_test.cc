@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "gmwm/engine/check.h"
 #include "high_precision_reference.h"
 #include "process_test_support.h"
 
@@ -150,6 +151,13 @@ TEST(Ar1Process, RejectsPhiOutsideTheUnitIntervalNamingIt) {
   const std::string why = p->validate(std::vector<double>{1.0, 1.0});
   EXPECT_NE(why.find("phi"), std::string::npos) << why;
   EXPECT_NE(p->validate(std::vector<double>{0.5, 0.0}).find("sigma2"), std::string::npos);
+}
+
+TEST(Ar1Process, RefusesScalesThatAreNotEvenIntegers) {
+  const auto p = make_process("AR1");
+  std::vector<double> out(1);
+  EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{3.0}, out), InvalidArgument);
+  EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{1.0}, out), InvalidArgument);
 }
 
 }  // namespace

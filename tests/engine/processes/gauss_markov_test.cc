@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "gmwm/engine/error.h"
 #include "high_precision_reference.h"
 #include "process_test_support.h"
 
@@ -94,6 +95,10 @@ TEST(GaussMarkovProcess, RanksAfterAr1AndNamesItsParameters) {
   EXPECT_EQ(p->parameters().at(0).name, "beta");
   EXPECT_EQ(p->parameters().at(1).name, "sigma2_gm");
   EXPECT_NE(p->validate(std::vector<double>{-1.0, 1.0}).find("beta"), std::string::npos);
+}
+
+TEST(GaussMarkovProcess, RefusesANonPositiveSamplingRate) {
+  EXPECT_THROW(make_process("GM", {}, {0.0, true}), InputError);
 }
 
 }  // namespace

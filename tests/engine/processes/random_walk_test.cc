@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "process_test_support.h"
@@ -44,6 +46,12 @@ TEST(RandomWalkProcess, InitialGuessExplainsTheCoarsestScale) {
   const auto guess = p->initial_guess({tau, wv, 0.0});
   EXPECT_NEAR(guess.at(0), 3e-5, 1e-18);
   EXPECT_EQ(p->validate(guess), "");
+}
+
+TEST(RandomWalkProcess, RejectsNonPositiveGamma2NamingIt) {
+  const auto p = make_process("RW");
+  EXPECT_NE(p->validate(std::vector<double>{0.0}).find("gamma2"), std::string::npos);
+  EXPECT_NE(p->validate(std::vector<double>{NAN}).find("gamma2"), std::string::npos);
 }
 
 }  // namespace
