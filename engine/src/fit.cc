@@ -87,7 +87,7 @@ constexpr double kIdentityBound = 1e6;
 // The relative size, against the data's WV, given to a component absent from the
 // sub-model a warm start comes from: small enough not to change the objective
 // noticeably, large enough to keep the log-parameters' gradients alive.
-constexpr double kNegligibleShare = 1e-6;
+constexpr double kNegligibleShare = 1e-12;
 
 double bound_of(Transform t) {
   switch (t) {
