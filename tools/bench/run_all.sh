@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Runs every benchmark on ../shared/data (or $GMWM_SHARED_DATA) and writes their
+# output into tools/bench/RESULTS.md. Needs a built tree (bash tools/setup.sh).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+build=${GMWM_BUILD_DIR:-build}
+data=${GMWM_SHARED_DATA:-$(pwd)/../shared/data}
+export GMWM_SHARED_DATA=$data
+out=tools/bench/RESULTS.md
+{
+  echo "# Benchmark results"
+  echo
+  echo "Machine: $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GB; $(date -u +%Y-%m-%d). Reference times: ../shared/reference/performance.md."
+  echo
+  echo "## End-to-end \`gmwm wv\` on adis_16405_imu1.csv.gz (6 x 1,000,000, gzip)"
+  echo
+  best=1e9
+  for i in 1 2 3 4 5; do
+    s=$(date +%s.%N); "$build/gmwm" wv "$data/adis_16405_imu1.csv.gz" --freq 100 --quiet --json /tmp/gmwm_bench_wv.json; e=$(date +%s.%N)
+    best=$(echo "$e - $s" | bc -l | awk -v b="$best" '{print ($1 < b) ? $1 : b}')
+  done
+  printf 'best of 5: %.3f s wall (reference R: 3.46 s for the WV alone, parsing excluded)\n\n' "$best"
+  echo "## Speed (bench_speed)"
+  echo
+  "$build/bench_speed"
+  echo
+  echo "## Nested fits on real data (bench_nested)"
+  echo
+  "$build/bench_nested" || true
+  echo
+  echo "## Published simulation study WN + GM + DR (bench_simulation_study)"
+  echo
+  "$build/bench_simulation_study" || true
+} > "$out"
+echo "wrote $out"
