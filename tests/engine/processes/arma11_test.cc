@@ -51,7 +51,9 @@ TEST(Arma11Process, IsAccurateWithDerivativesNearTheUnitRoot) {
           const Reference ref = arma11_reference(phi, th, j, wrt);
           const double size1 = std::fabs(ref.d1) + std::fabs(ref.value);
           const double size2 = std::fabs(ref.d2) + size1;
-          if (wrt == 0) EXPECT_NEAR(wv_of(*p, theta, t)[0], ref.value, 1e-10 * ref.value) << what;
+          if (wrt == 0) {
+            EXPECT_NEAR(wv_of(*p, theta, t)[0], ref.value, 1e-10 * ref.value) << what;
+          }
           EXPECT_NEAR(jac(0, wrt), ref.d1, 1e-10 * size1) << what << " first derivative " << wrt;
           EXPECT_NEAR(hess(0, 4 * wrt), ref.d2, 1e-10 * size2) << what << " second derivative " << wrt;
         }
