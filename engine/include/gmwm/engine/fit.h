@@ -8,7 +8,7 @@
 //   gmwm::FitOptions options;            // validated by options.Validate()
 //   gmwm::FitResult r = gmwm::fit_gmwm(wv, model, options);
 //   if (r.status != gmwm::FitStatus::kConverged) ... r.message ...
-//   std::cout << r.Report();
+//   logger->info(r.Report());   // the library itself never prints
 
 #include <chrono>
 #include <cstdint>
