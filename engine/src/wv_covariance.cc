@@ -66,6 +66,14 @@ ComponentTable make_table(const Process& p, std::span<const double> theta, std::
   return t;
 }
 
+// Running sums of n(h) c(h)^2 and n(h) c(h) over lags.
+struct Sums {
+  long double squares = 0.0L, linear = 0.0L;
+  Sums& operator+=(const Sums& o) { squares += o.squares; linear += o.linear; return *this; }
+  friend Sums operator+(Sums x, const Sums& y) { return x += y; }
+  friend Sums operator*(long double w, Sums x) { x.squares *= w; x.linear *= w; return x; }
+};
+
 struct Level {
   std::int64_t tau, m, M;
 };
@@ -101,6 +109,15 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   std::vector<int> stochastic;
   for (int c = 0; c < model.num_components(); ++c)
     if (!model.components()[static_cast<std::size_t>(c)].process->deterministic()) stochastic.push_back(c);
+  // The deterministic components' Haar coefficient at each level (constant in time).
+  std::vector<long double> det(static_cast<std::size_t>(levels), 0.0L);
+  for (int c = 0; c < model.num_components(); ++c) {
+    const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
+    if (!p.deterministic()) continue;
+    const std::span<const double> th{theta.data() + model.offset(c), static_cast<std::size_t>(p.size())};
+    for (int j = 0; j < levels; ++j)
+      det[static_cast<std::size_t>(j)] += p.deterministic_coefficient(th, static_cast<double>(lv[static_cast<std::size_t>(j)].tau));
+  }
   std::vector<ComponentTable> tables(stochastic.size());
   tbb::parallel_for(std::size_t{0}, stochastic.size(), [&](std::size_t k) {
     const int c = stochastic[k];
@@ -121,11 +138,14 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
       const std::int64_t lo = std::max(a.tau - 1, b.tau - 1 - h), hi = std::min(n - 1, n - 1 - h);
       return hi >= lo ? static_cast<long double>(hi - lo + 1) : 0.0L;
     };
-    auto f = [&](std::int64_t h) -> long double {
+    // Both sums at once: n(h) c(h)^2 (the Gaussian term) and n(h) c(h) (the covariance
+    // of the two levels' coefficient means, needed with a deterministic component).
+    auto f = [&](std::int64_t h) -> Sums {
       long double c = 0.0L;
       for (const auto& t : tables)
         if (h >= -(a.tau + t.support) && h <= b.tau + t.support) c += cross_cov(t, a, b, h);
-      return count(h) * c * c;
+      const long double pairs_at_h = count(h);
+      return {pairs_at_h * c * c, pairs_at_h * c};
     };
     std::int64_t reach = 0, margin = kBreakpointMargin;
     bool oscillating = false;
@@ -173,7 +193,7 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
           sm = std::min(sm, static_cast<double>(t.support) / kDecayScalesInSupport);
       return sm;
     };
-    long double sum = 0.0L;
+    Sums sum;
     for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
       const std::int64_t u = pts[k], v = pts[k + 1] - 1;  // stretch [u, v]
       const std::int64_t len = v - u;
@@ -188,13 +208,18 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
       }
       const std::int64_t steps = (len / (2 * s)) * 2;
       const std::int64_t B = u + steps * s;
-      long double simpson = f(u) + f(B);
-      for (std::int64_t i = 1; i < steps; ++i) simpson += ((i % 2) ? 4.0L : 2.0L) * f(u + i * s);
+      const Sums ends = f(u) + f(B);
+      Sums simpson = ends;
+      for (std::int64_t q = 1; q < steps; ++q) simpson += ((q % 2) ? 4.0L : 2.0L) * f(u + q * s);
       // Sum over the integers of [u, B] ~ integral (s/3 x Simpson) + (f(u) + f(B)) / 2.
-      sum += static_cast<long double>(s) * simpson / 3.0L + 0.5L * (f(u) + f(B));
+      sum += (static_cast<long double>(s) / 3.0L) * simpson + 0.5L * ends;
       for (std::int64_t h = B + 1; h <= v; ++h) sum += f(h);
     }
-    const double v = static_cast<double>(2.0L * sum / (static_cast<long double>(a.M) * static_cast<long double>(b.M)));
+    // nuhat = mean (d + S)^2 with d the deterministic coefficient: for Gaussian S the
+    // third moments vanish, leaving Cov = 2 sum n c^2 / (M_i M_j) + 4 d_i d_j sum n c / (M_i M_j).
+    const long double mm = static_cast<long double>(a.M) * static_cast<long double>(b.M);
+    const long double di = det[static_cast<std::size_t>(i)], dj = det[static_cast<std::size_t>(j)];
+    const double v = static_cast<double>((2.0L * sum.squares + 4.0L * di * dj * sum.linear) / mm);
     V(i, j) = v;
     V(j, i) = v;
   });

@@ -13,6 +13,13 @@
 namespace gmwm {
 namespace {
 
+ProcessContext one_hz() {
+  ProcessContext c;
+  c.freq = 1.0;
+  c.freq_known = true;
+  return c;
+}
+
 TEST(WvCovariance, WhiteNoiseLevelOneVarianceMatchesTheExactSum) {
   // W_1 = (x_t - x_{t-1})/2: c(0) = s2/2, c(+-1) = -s2/4, so with M = N - 1,
   // Var = 2/M^2 (M s2^2/4 + 2 (M - 1) s2^2/16).
@@ -44,6 +51,28 @@ TEST(WvCovariance, AgreesWithMonteCarloForASumOfProcesses) {
   const double tol = 4.0 * std::sqrt(2.0 / (R - 1)) * 1.25;
   for (int j = 0; j < J; ++j) EXPECT_NEAR(S(j, j) / V(j, j), 1.0, tol) << "level " << j + 1;
   // Correlations between neighbouring levels: sd ~ (1 - rho^2)/sqrt(R).
+  for (int j = 0; j + 1 < J; ++j) {
+    const double rv = V(j, j + 1) / std::sqrt(V(j, j) * V(j + 1, j + 1));
+    const double rs = S(j, j + 1) / std::sqrt(S(j, j) * S(j + 1, j + 1));
+    EXPECT_NEAR(rs, rv, 4.0 / std::sqrt(static_cast<double>(R)) + 0.01) << "levels " << j + 1 << "," << j + 2;
+  }
+}
+
+TEST(WvCovariance, IncludesTheDriftTimesNoiseTermAndAgreesWithMonteCarlo) {
+  // With DR the Haar coefficients are d_j + S_{j,t}, d_j = omega tau_j / 4, and
+  // Cov(nuhat) gains 4 d_i d_j Cov(mean S_i, mean S_j), which dominates the coarse
+  // levels here (the published simulation study's model, shorter series).
+  const Model m = parse_model("GM(beta=0.05,sigma2_gm=16)+WN(sigma2=4)+DR(omega=0.005)", one_hz());
+  const std::int64_t n = 2048;
+  const int J = 11, R = 4000;
+  const Eigen::MatrixXd V = model_wv_covariance(m, m.given_values(), n, J);
+  const Model no_drift = parse_model("GM(beta=0.05,sigma2_gm=16)+WN(sigma2=4)", one_hz());
+  const Eigen::MatrixXd V0 = model_wv_covariance(no_drift, no_drift.given_values(), n, J);
+  EXPECT_GT(V(J - 1, J - 1), 10.0 * V0(J - 1, J - 1)) << "the drift term is missing";
+  ClassicalWvEstimator est;
+  const Eigen::MatrixXd S = bootstrap_wv_covariance(m, m.given_values(), n, J, R, 78, est);
+  const double tol = 4.0 * std::sqrt(2.0 / (R - 1)) * 1.25;
+  for (int j = 0; j < J; ++j) EXPECT_NEAR(S(j, j) / V(j, j), 1.0, tol) << "level " << j + 1;
   for (int j = 0; j + 1 < J; ++j) {
     const double rv = V(j, j + 1) / std::sqrt(V(j, j) * V(j + 1, j + 1));
     const double rs = S(j, j + 1) / std::sqrt(S(j, j) * S(j + 1, j + 1));

@@ -20,6 +20,11 @@ class Drift final : public Process {
   std::string name() const override { return "DR"; }
   int canonical_rank() const override { return 80; }
   bool deterministic() const override { return true; }
+  // Haar coefficient of omega t: (sum of the recent tau/2 samples - sum of the older
+  // tau/2) / tau = omega (tau/2)^2 / tau = omega tau / 4, so its square is the WV.
+  double deterministic_coefficient(std::span<const double> theta, double tau) const override {
+    return theta[0] * tau / 4.0;
+  }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> specs{
         {"omega", Transform::kLog, "drift |slope| per sample (its sign is not identifiable)"}};

@@ -75,9 +75,18 @@ class Process {
   virtual const std::vector<ParameterSpec>& parameters() const = 0;
   int size() const { return static_cast<int>(parameters().size()); }
 
-  /// True when the process contributes no randomness (DR): it then adds nothing to the
-  /// covariance of the empirical WV.
+  /// True when the process contributes no randomness (DR). Its Haar coefficients are then
+  /// the constant deterministic_coefficient(theta, tau), which enters the covariance of
+  /// the empirical WV through its products with the stochastic coefficients.
   virtual bool deterministic() const { return false; }
+  /// The Haar MODWT coefficient of a deterministic process at scale tau, the same at
+  /// every time (DR: omega tau / 4, the sign fixed by the filter's orientation: recent
+  /// half minus older half). Zero for stochastic processes.
+  virtual double deterministic_coefficient(std::span<const double> theta, double tau) const {
+    (void)theta;
+    (void)tau;
+    return 0.0;
+  }
   /// True when the WV is linear in every parameter (WN, QN, RW): used by optimism checks.
   virtual bool linear() const { return false; }
   /// Index of the parameter whose order sorts repeated components (AR1: phi), or -1.

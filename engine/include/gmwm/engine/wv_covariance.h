@@ -1,9 +1,13 @@
 #pragma once
 // Model-based covariance of the empirical classical WV of a Gaussian process
 // (STATISTICS.md section 5), by the exact finite-N sums
-//   Cov(nuhat_i, nuhat_j) = (2 / (M_i M_j)) sum_h n_ij(h) c_ij(h)^2,
-// where c_ij(h) = Cov(W_{i,t}, W_{j,t+h}) and n_ij(h) counts the coefficient pairs at lag
-// h; and by parametric bootstrap with any WV estimator.
+//   Cov(nuhat_i, nuhat_j) = (2 / (M_i M_j)) sum_h n_ij(h) c_ij(h)^2
+//                           + (4 d_i d_j / (M_i M_j)) sum_h n_ij(h) c_ij(h),
+// where c_ij(h) = Cov(W_{i,t}, W_{j,t+h}) for the stochastic components, n_ij(h) counts
+// the coefficient pairs at lag h, and d_j is the deterministic components' (constant)
+// Haar coefficient at level j (DR: omega tau_j / 4; the second term is the cross product
+// 2 d_j S_{j,t} inside (d_j + S_{j,t})^2, absent without a deterministic component);
+// and by parametric bootstrap with any WV estimator.
 
 #include <cstdint>
 
