@@ -101,16 +101,121 @@ void next_combination(std::vector<int>& c, int n, bool& done) {
 
 }  // namespace
 
-std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const Model& model,
-                                              const Eigen::MatrixXd& omega, int count) {
+namespace {
+
+// Component c's WV is "collapsed" when it is below this share of the data's WV at every
+// level: it then explains nothing, and the optimiser cannot bring it back (its
+// log-size gradient is ~ its share). 1e-6 is far below any share a fitted component
+// contributes on the data sets of ../shared/data (smallest seen: ~1e-3) and far above
+// the 1e-12 share given to absent components by warm starts.
+constexpr double kCollapsedShare = 1e-6;
+
+}  // namespace
+
+bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
+                 Eigen::VectorXd& theta, double& objective) {
   const int J = wv.levels();
   const int C = model.num_components();
   Eigen::VectorXd y = wv.values();
   for (int j = 0; j < J; ++j)
     if (!(y(j) > 0.0) || !std::isfinite(y(j))) y(j) = 0.0;
   const double level = std::max(y.maxCoeff(), 1e-300);
-  std::vector<double> target(y.data(), y.data() + J);
+  Eigen::MatrixXd F(J, C);
+  std::vector<ScaleParam> sp(static_cast<std::size_t>(C));
+  for (int c = 0; c < C; ++c) {
+    const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
+    std::vector<double> g(theta.data() + model.offset(c), theta.data() + model.offset(c) + p.size());
+    sp[static_cast<std::size_t>(c)] = find_scale_param(p, g, wv.tau);
+    std::vector<double> f(static_cast<std::size_t>(J));
+    p.wv(g, wv.tau, f);
+    F.col(c) = Eigen::Map<Eigen::VectorXd>(f.data(), J);
+  }
+  // Components without a free scale parameter keep their size: move them to y.
+  Eigen::VectorXd yy = y;
+  std::vector<int> cols;
+  for (int c = 0; c < C; ++c) {
+    const ScaleParam& s = sp[static_cast<std::size_t>(c)];
+    const bool given = s.index >= 0 && !std::isnan(model.components()[static_cast<std::size_t>(c)].given[static_cast<std::size_t>(s.index)]);
+    if (s.index < 0 || given) yy -= F.col(c); else cols.push_back(c);
+  }
+  if (!cols.empty()) {
+    Eigen::MatrixXd Fa(J, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t a = 0; a < cols.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(cols[a]);
+    const Eigen::VectorXd s = nnls(Fa, yy, omega);
+    for (std::size_t a = 0; a < cols.size(); ++a) {
+      const int c = cols[a];
+      const ScaleParam& spc = sp[static_cast<std::size_t>(c)];
+      const double fmax = std::max(F.col(c).cwiseAbs().maxCoeff(), 1e-300);
+      const double factor = std::max(s(static_cast<Eigen::Index>(a)), kSizeFloor * level / fmax);
+      double& v = theta(model.offset(c) + spc.index);
+      v *= spc.squared ? std::sqrt(factor) : factor;
+    }
+  }
+  if (!model.validate(theta).empty()) return false;
+  const Eigen::VectorXd r = wv.values() - model.wv(theta, wv.tau);
+  objective = r.dot(omega * r);
+  return std::isfinite(objective);
+}
 
+namespace {
+
+// Log-spaced scale grid over the WV's range (the placement positions).
+std::vector<double> placement_grid(int J) {
+  const int G = std::min(kGridPositions, std::max(J, 1));
+  std::vector<double> grid(static_cast<std::size_t>(G));
+  for (int g = 0; g < G; ++g) grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? 1.0 + (J - 1.0) * g / (G - 1.0) : 1.0);
+  return grid;
+}
+
+double hint_for(Placement pl, const WaveletVariance& wv, double spread_hint) {
+  switch (pl) {
+    case Placement::kFinest: return wv.tau.front();
+    case Placement::kCoarsest: return wv.tau.back();
+    case Placement::kSpread: return spread_hint;
+  }
+  return spread_hint;
+}
+
+// Component c's parameters: initial_guess at the hint, given values kept.
+void place_component(const WaveletVariance& wv, const Model& model, int c, double hint,
+                     const std::vector<double>& target, Eigen::VectorXd& theta) {
+  const Component& comp = model.components()[static_cast<std::size_t>(c)];
+  const Process& p = *comp.process;
+  GuessContext ctx{wv.tau, target, hint};
+  std::vector<double> g = p.initial_guess(ctx);
+  for (int i = 0; i < p.size(); ++i) {
+    const double given = comp.given[static_cast<std::size_t>(i)];
+    if (!std::isnan(given)) g[static_cast<std::size_t>(i)] = given;
+  }
+  theta.segment(model.offset(c), p.size()) = Eigen::Map<Eigen::VectorXd>(g.data(), p.size());
+}
+
+struct Scored {
+  double value;
+  Eigen::VectorXd theta;
+};
+
+std::vector<Eigen::VectorXd> best_of(std::vector<Scored> scored, int count) {
+  std::stable_sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) { return a.value < b.value; });
+  std::vector<Eigen::VectorXd> out;
+  for (std::size_t i = 0; i < scored.size() && static_cast<int>(i) < count; ++i) out.push_back(scored[i].theta);
+  return out;
+}
+
+std::vector<double> positive_target(const WaveletVariance& wv) {
+  std::vector<double> target(wv.wv);
+  for (double& v : target)
+    if (!(v > 0.0) || !std::isfinite(v)) v = 0.0;
+  return target;
+}
+
+}  // namespace
+
+std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const Model& model,
+                                              const Eigen::MatrixXd& omega, int count) {
+  const int J = wv.levels();
+  const int C = model.num_components();
+  const std::vector<double> target = positive_target(wv);
   std::vector<Placement> place(static_cast<std::size_t>(C));
   std::vector<int> spread;
   for (int c = 0; c < C; ++c) {
@@ -118,82 +223,68 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
     if (place[static_cast<std::size_t>(c)] == Placement::kSpread) spread.push_back(c);
   }
   const int k = static_cast<int>(spread.size());
-  const int G = std::min(kGridPositions, std::max(J, 1));
-  std::vector<double> grid(static_cast<std::size_t>(G));
-  for (int g = 0; g < G; ++g) grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? 1.0 + (J - 1.0) * g / (G - 1.0) : 1.0);
+  const std::vector<double> grid = placement_grid(J);
+  const int G = static_cast<int>(grid.size());
 
-  struct Scored { double value; Eigen::VectorXd theta; };
   std::vector<Scored> scored;
   std::vector<int> comb(static_cast<std::size_t>(k));
   std::iota(comb.begin(), comb.end(), 0);
   bool done = k > G;
-  if (done) {  // more placed components than grid points: spread them evenly instead
-    comb.clear();
-  }
+  if (done) comb.clear();  // more placed components than grid points: spread them evenly
   int evaluated = 0;
   do {
     Eigen::VectorXd theta(model.num_parameters());
-    Eigen::MatrixXd F(J, C);
-    std::vector<ScaleParam> sp(static_cast<std::size_t>(C));
     int si = 0;
     for (int c = 0; c < C; ++c) {
-      const Component& comp = model.components()[static_cast<std::size_t>(c)];
-      const Process& p = *comp.process;
-      GuessContext ctx{wv.tau, target, wv.tau.front()};
-      switch (place[static_cast<std::size_t>(c)]) {
-        case Placement::kFinest: ctx.tau_hint = wv.tau.front(); break;
-        case Placement::kCoarsest: ctx.tau_hint = wv.tau.back(); break;
-        case Placement::kSpread:
-          ctx.tau_hint = comb.empty() ? std::exp2(1.0 + (J - 1.0) * (si + 0.5) / k)
-                                      : grid[static_cast<std::size_t>(comb[static_cast<std::size_t>(si)])];
-          ++si;
-          break;
+      double spread_hint = wv.tau.front();
+      if (place[static_cast<std::size_t>(c)] == Placement::kSpread) {
+        spread_hint = comb.empty() ? std::exp2(1.0 + (J - 1.0) * (si + 0.5) / k)
+                                   : grid[static_cast<std::size_t>(comb[static_cast<std::size_t>(si)])];
+        ++si;
       }
-      std::vector<double> g = p.initial_guess(ctx);
-      for (int i = 0; i < p.size(); ++i) {
-        const double given = comp.given[static_cast<std::size_t>(i)];
-        if (!std::isnan(given)) g[static_cast<std::size_t>(i)] = given;
-      }
-      sp[static_cast<std::size_t>(c)] = find_scale_param(p, g, wv.tau);
-      std::vector<double> f(static_cast<std::size_t>(J));
-      p.wv(g, wv.tau, f);
-      F.col(c) = Eigen::Map<Eigen::VectorXd>(f.data(), J);
-      theta.segment(model.offset(c), p.size()) = Eigen::Map<Eigen::VectorXd>(g.data(), p.size());
+      place_component(wv, model, c, hint_for(place[static_cast<std::size_t>(c)], wv, spread_hint), target, theta);
     }
-    // Components without a free scale parameter keep their size: move them to y.
-    Eigen::VectorXd yy = y;
-    std::vector<int> cols;
-    for (int c = 0; c < C; ++c) {
-      const ScaleParam& s = sp[static_cast<std::size_t>(c)];
-      const bool given = s.index >= 0 && !std::isnan(model.components()[static_cast<std::size_t>(c)].given[static_cast<std::size_t>(s.index)]);
-      if (s.index < 0 || given) yy -= F.col(c); else cols.push_back(c);
-    }
-    if (!cols.empty()) {
-      Eigen::MatrixXd Fa(J, static_cast<Eigen::Index>(cols.size()));
-      for (std::size_t a = 0; a < cols.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(cols[a]);
-      const Eigen::VectorXd s = nnls(Fa, yy, omega);
-      for (std::size_t a = 0; a < cols.size(); ++a) {
-        const int c = cols[a];
-        const ScaleParam& spc = sp[static_cast<std::size_t>(c)];
-        const double fmax = std::max(F.col(c).cwiseAbs().maxCoeff(), 1e-300);
-        const double factor = std::max(s(static_cast<Eigen::Index>(a)), kSizeFloor * level / fmax);
-        double& v = theta(model.offset(c) + spc.index);
-        v *= spc.squared ? std::sqrt(factor) : factor;
-      }
-    }
-    if (model.validate(theta).empty()) {
-      const Eigen::VectorXd r = wv.values() - model.wv(theta, wv.tau);
-      const double q = r.dot(omega * r);
-      if (std::isfinite(q)) scored.push_back({q, theta});
-    }
+    double q = 0.0;
+    if (solve_sizes(wv, model, omega, theta, q)) scored.push_back({q, theta});
     ++evaluated;
     if (!comb.empty()) next_combination(comb, G, done); else done = true;
   } while (!done && evaluated < kMaxPlacements);
+  return best_of(std::move(scored), count);
+}
 
-  std::stable_sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) { return a.value < b.value; });
-  std::vector<Eigen::VectorXd> out;
-  for (std::size_t i = 0; i < scored.size() && static_cast<int>(i) < count; ++i) out.push_back(scored[i].theta);
+std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& model,
+                                      const Eigen::VectorXd& theta) {
+  std::vector<int> out;
+  const std::vector<double> target = positive_target(wv);
+  for (int c = 0; c < model.num_components(); ++c) {
+    const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
+    std::vector<double> f(wv.tau.size());
+    p.wv({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, wv.tau, f);
+    bool collapsed = true;
+    for (std::size_t j = 0; j < f.size() && collapsed; ++j)
+      collapsed = !(std::abs(f[j]) > kCollapsedShare * target[j]);
+    if (collapsed) out.push_back(c);
+  }
   return out;
+}
+
+std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Model& model,
+                                            const Eigen::VectorXd& theta, const Eigen::MatrixXd& omega,
+                                            int count) {
+  const std::vector<double> target = positive_target(wv);
+  const std::vector<double> grid = placement_grid(wv.levels());
+  std::vector<Scored> scored;
+  for (int c : collapsed_components(wv, model, theta)) {
+    const Placement pl = placement_of(*model.components()[static_cast<std::size_t>(c)].process);
+    const std::vector<double> hints = pl == Placement::kSpread ? grid : std::vector<double>{hint_for(pl, wv, 0.0)};
+    for (double h : hints) {
+      Eigen::VectorXd t = theta;
+      place_component(wv, model, c, h, target, t);
+      double q = 0.0;
+      if (solve_sizes(wv, model, omega, t, q)) scored.push_back({q, t});
+    }
+  }
+  return best_of(std::move(scored), count);
 }
 
 }  // namespace gmwm::detail

@@ -49,6 +49,12 @@ struct FitOptions {
   std::uint64_t seed = 0;              ///< for the bootstrap streams
   const WvEstimator* estimator = nullptr;  ///< WV of simulated series (default classical)
   bool inference = true;               ///< compute covariance, CIs and GoF
+  /// Also start from the fits of every sub-model with one component removed (fitted
+  /// with the same Omega, without nested starts of their own), so that the model's
+  /// objective is never above theirs. Costs one fit per distinct sub-model; a caller
+  /// that fits the sub-models anyway (model selection) turns it off and passes their
+  /// fits through `starts` (embed_start).
+  bool nested_starts = true;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
@@ -97,5 +103,10 @@ Eigen::MatrixXd diagonal_omega(const WaveletVariance& wv);
 /// `super`: shared components keep their values, the others get a negligible size.
 Eigen::VectorXd embed_start(const Model& sub, const Eigen::VectorXd& theta_sub, const Model& super,
                             const WaveletVariance& wv);
+
+/// Starting points for `model` from fits (under `omega`, no inference, no nested starts
+/// of their own) of each distinct sub-model with one component removed, embedded.
+std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model,
+                                           const Eigen::MatrixXd& omega, const FitOptions& options);
 
 }  // namespace gmwm
