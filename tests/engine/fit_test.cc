@@ -99,6 +99,43 @@ TEST(GmwmFit, ALargerModelNeverEndsAboveItsSubModelUnderOneOmega) {
   EXPECT_LE(rb.objective, rs.objective * (1 + 1e-9));
 }
 
+TEST(GmwmFit, IndependentFitsAreNeverAboveTheirOneComponentSubModels) {
+  // No warm starts from outside: each model fitted on its own, all under one Omega.
+  const char* truth = "AR1(phi=0.5,sigma2=0.2)+AR1(phi=0.999,sigma2=1e-4)+AR1(phi=0.99999,sigma2=1e-6)"
+                      "+WN(sigma2=1)+RW(gamma2=1e-9)+DR(omega=1e-6)";
+  const std::vector<std::string> subs = {"2*AR1+WN+RW+QN+DR", "3*AR1+RW+QN+DR", "3*AR1+WN+QN+DR",
+                                         "3*AR1+WN+RW+DR", "3*AR1+WN+RW+QN"};
+  for (std::uint64_t seed : {101u, 102u, 103u}) {
+    const WaveletVariance w = wv_of(truth, 1 << 16, seed);
+    FitOptions o;
+    o.omega_matrix = diagonal_omega(w);
+    o.inference = false;
+    const FitResult full = fit_gmwm(w, parse_model("3*AR1+WN+RW+QN+DR"), o);
+    for (const auto& sub : subs) {
+      const FitResult r = fit_gmwm(w, parse_model(sub), o);
+      EXPECT_LE(full.objective, r.objective * (1 + 1e-9)) << "seed " << seed << ", sub-model " << sub;
+    }
+  }
+}
+
+TEST(GmwmFit, EndsAtALocalMinimumInTheUnconstrainedSpace) {
+  const WaveletVariance w = wv_of("AR1(phi=0.9,sigma2=0.1)+AR1(phi=0.999,sigma2=1e-3)+WN(sigma2=1)", 1 << 15, 7);
+  FitOptions o;
+  o.inference = false;
+  const FitResult r = fit_gmwm(w, parse_model("2*AR1+WN"), o);
+  ASSERT_EQ(r.status, FitStatus::kConverged) << r.message;
+  const Eigen::VectorXd u = r.model.to_unconstrained(r.theta);
+  // A step of 1e-4 in any coordinate changes a smooth objective by ~ H h^2 / 2 at a
+  // minimum; after the Newton polish no step may lower it beyond round-off.
+  for (int k = 0; k < u.size(); ++k)
+    for (double h : {-1e-4, 1e-4}) {
+      Eigen::VectorXd v = u;
+      v(k) += h;
+      const double q = gmwm_objective(w, r.model, r.model.from_unconstrained(v), r.omega);
+      EXPECT_GE(q, r.objective * (1 - 1e-13)) << r.model.parameter_label(k) << " step " << h;
+    }
+}
+
 TEST(GmwmFit, BootstrapOmegaIsDeterministicForAGivenSeed) {
   const WaveletVariance w = wv_of("AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)", 4096, 51);
   FitOptions o;
