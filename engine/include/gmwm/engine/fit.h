@@ -2,8 +2,11 @@
 // The GMWM estimator (STATISTICS.md sections 4-5):
 //   theta_hat = argmin (nuhat - nu(theta))' Omega (nuhat - nu(theta)),
 // optimised with NLopt (L-BFGS, analytic gradients) in the unconstrained space, from
-// starting values derived from the WV's shape plus multi-starts; then inference
-// (sandwich covariance, CIs, goodness of fit).
+// starting values derived from the WV's shape plus multi-starts and the fits of the
+// one-component-removed sub-models (so a model never ends above them); components that
+// collapsed to nothing are re-placed and the optimisation resumed; a damped Newton
+// polish with the exact Hessian finishes. Then inference (sandwich covariance, CIs,
+// goodness of fit).
 //
 //   gmwm::FitOptions options;            // validated by options.Validate()
 //   gmwm::FitResult r = gmwm::fit_gmwm(wv, model, options);
