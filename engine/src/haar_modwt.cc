@@ -1,6 +1,8 @@
 #include "gmwm/engine/haar_modwt.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gmwm/engine/check.h"
 
@@ -19,7 +21,17 @@ HaarModwt::HaarModwt(const double* x, std::int64_t n) : n_(n) {
   for (std::int64_t i = 0; i < n; ++i) {
     s += static_cast<long double>(x[i]) - mean;
     prefix_[static_cast<std::size_t>(i) + 1] = static_cast<double>(s);
+    max_abs_prefix_ = std::max(max_abs_prefix_, std::abs(static_cast<double>(s)));
   }
+}
+
+double HaarModwt::noise_floor(int level) const {
+  // Each stored prefix sum carries a relative rounding error of eps/2; the filter
+  // combines four of them (weights 1, -2, 1) and divides by tau.
+  constexpr double kCombinedWeights = 4.0;
+  constexpr double kSafety = 4.0;
+  return kSafety * kCombinedWeights * std::numeric_limits<double>::epsilon() * max_abs_prefix_ /
+         std::ldexp(1.0, level);
 }
 
 int HaarModwt::max_levels() const {

@@ -25,10 +25,15 @@ class HaarModwt {
   void coefficients(int level, std::vector<double>& out) const;
   /// sum_t W_{j,t}^2 without materialising the coefficients.
   double sum_of_squares(int level) const;
+  /// Bound on the round-off of a coefficient of this level: a coefficient of a
+  /// quantized series that is exactly 0 comes out below it (the mean-centred prefix
+  /// sums are not on the data's lattice). Robust estimators count such values as zeros.
+  double noise_floor(int level) const;
 
  private:
   std::int64_t n_;
   std::vector<double> prefix_;  // size n + 1
+  double max_abs_prefix_ = 0.0;
 };
 
 }  // namespace gmwm

@@ -1,0 +1,248 @@
+#include "gmwm/robust/robust_wv.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include <tbb/parallel_for.h>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/haar_modwt.h"
+
+namespace gmwm::robust {
+namespace {
+
+// Root solving in l = log s: stop when a step or the bracket is below this (a relative
+// change of s of 1e-10, far below the estimate's sampling error of >= 1e-3 even at
+// 10^6 coefficients; quantized data make g piecewise smooth with large kinks, where a
+// tighter tolerance only buys oscillation between pieces).
+constexpr double kLogTolerance = 1e-10;
+constexpr int kMaxPasses = 200;
+// Bracket search: factors of 2 in s, at most this many (2^-300 of the start).
+constexpr int kMaxBracketSteps = 300;
+// Levels with more coefficients than this first solve on an evenly strided subsample
+// of about kSubsampleSize coefficients: its root (within ~1%) starts Newton on the full
+// level, which then needs two or three passes instead of eight or ten.
+constexpr std::size_t kSubsampleThreshold = 1 << 17;
+constexpr std::size_t kSubsampleSize = 1 << 14;
+
+struct Eval {
+  double g = 0.0;   // mean chi(W^2 / s) - a
+  double dg = 0.0;  // d g / d log s
+};
+
+Eval evaluate(std::span<const double> w, const Tuning& t, double s) {
+  const double c2 = t.c * t.c;
+  const double inv_s = 1.0 / s;
+  double sum = 0.0, dsum = 0.0;
+  if (t.kind == RobustKind::kHuber) {
+    // sum min(W^2, c^2 s) and the part below the cut, branch-free (vectorises).
+    const double cut = c2 * s;
+    double clipped = 0.0, below = 0.0;
+    for (double x : w) {
+      const double r2 = x * x;
+      clipped += std::min(r2, cut);
+      below += r2 < cut ? r2 : 0.0;
+    }
+    sum = clipped * inv_s;
+    dsum = -below * inv_s;
+  } else {
+    const double inv_c2 = 1.0 / c2;
+    for (double x : w) {
+      const double r2 = x * x * inv_s;
+      if (r2 < c2) {
+        const double u = 1.0 - r2 * inv_c2;
+        const double u3 = u * u * u;
+        sum += r2 * u3 * u;
+        dsum -= r2 * u3 * (u - 4.0 * r2 * inv_c2);
+      }
+    }
+  }
+  const double M = static_cast<double>(w.size());
+  return {sum / M - t.a, dsum / M};
+}
+
+ScaleSolution solve(std::span<const double> w, const Tuning& t, double start) {
+  ScaleSolution out;
+  out.scale = std::numeric_limits<double>::quiet_NaN();
+  std::size_t zeros = 0;
+  for (double x : w) zeros += (x == 0.0);
+  out.zero_fraction = w.empty() ? 1.0 : static_cast<double>(zeros) / static_cast<double>(w.size());
+  if (w.empty() || !(start > 0.0) || !std::isfinite(start)) return out;
+  // Huber: the left side decreases from (1 - p0) c^2 (s -> 0) to 0 (s -> inf).
+  if (t.kind == RobustKind::kHuber && (1.0 - out.zero_fraction) * t.c * t.c <= t.a) return out;
+
+  // Newton in l = log s from the start, inside a bracket (lo, hi) that is tightened by
+  // every evaluation: g > 0 puts the root above l, g < 0 on the decreasing side puts it
+  // below (Huber's g decreases everywhere; bisquare's g rises from -a near s = 0 to a
+  // hump and decreases to -a: a point with g < 0 and dg > 0 lies below the hump, and
+  // the root sought, the upper one, is above it). Steps leaving the bracket bisect it, or
+  // double/halve s while it is still open.
+  const double ln2 = std::log(2.0);
+  double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+  double g_lo = 0.0, g_hi = 0.0;
+  int side = 0;  // Illinois modification of regula falsi: which end was kept last
+  double l = std::log(start);
+  bool below_hump_seen = false;
+  for (int k = 0; k < kMaxPasses + kMaxBracketSteps; ++k) {
+    const Eval e = evaluate(w, t, std::exp(l));
+    ++out.passes;
+    if (e.g == 0.0) break;
+    double next;
+    if (e.g > 0.0) {
+      lo = l;
+      g_lo = e.g;
+      if (side == -1) g_hi *= 0.5;
+      side = -1;
+      next = e.dg < 0.0 ? l - e.g / e.dg : l + ln2;
+    } else if (e.dg < 0.0) {
+      if (below_hump_seen && !std::isfinite(lo)) return out;  // crossed the hump below a: no root
+      hi = l;
+      g_hi = e.g;
+      if (side == 1) g_lo *= 0.5;
+      side = 1;
+      next = l - e.g / e.dg;
+    } else {
+      below_hump_seen = true;  // bisquare below its hump: go up
+      lo = std::max(lo, l);
+      next = l + ln2;
+    }
+    if (!(next > lo && next < hi)) {
+      // Newton left the bracket (a kink of g): Illinois regula falsi inside it.
+      if (std::isfinite(lo) && std::isfinite(hi)) next = lo + (hi - lo) * g_lo / (g_lo - g_hi);
+      else next = std::isfinite(lo) ? lo + ln2 : hi - ln2;
+    }
+    if (std::abs(next - l) < kLogTolerance || (hi - lo) < kLogTolerance) { l = next; break; }
+    if (next < std::log(start) - kMaxBracketSteps * ln2) return out;  // no root above 2^-300 start
+    l = next;
+  }
+  out.scale = std::exp(l);
+  out.has_root = std::isfinite(out.scale) && out.scale > 0.0;
+  return out;
+}
+
+void check_series(const char* fn, std::int64_t n, const RobustWvOptions& o) {
+  if (n < kMinSeriesLength)
+    detail::throw_check(fn, "series length", static_cast<double>(n), "at least " + std::to_string(kMinSeriesLength));
+  if (const std::string why = o.Validate(); !why.empty()) throw InvalidArgument(std::string(fn) + ": " + why);
+}
+
+struct Prepared {
+  std::unique_ptr<HaarModwt> modwt;
+  WaveletVariance w;  // the classical WV, overwritten level by level
+};
+
+Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, const Tuning& t) {
+  Prepared p;
+  WvOptions co;
+  co.levels = o.levels;
+  co.alpha = o.alpha;
+  p.w = classical_wv(x, n, co);
+  p.modwt = std::make_unique<HaarModwt>(x, n);
+  p.w.estimator = to_string(t.kind);
+  p.w.efficiency = t.efficiency;
+  return p;
+}
+
+void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVariance& w) {
+  const auto i = static_cast<std::size_t>(j - 1);
+  if (w.eta[i] < kRobustMinEta) {
+    std::ostringstream os;
+    os << "classical estimate: eta = " << w.eta[i] << " < " << kRobustMinEta
+       << " effective coefficients, too few for the robust estimator's consistency";
+    w.notes[i] = os.str();
+    return;
+  }
+  thread_local std::vector<double> coef;
+  modwt.coefficients(j, coef);
+  const double floor = modwt.noise_floor(j);
+  for (double& v : coef)
+    if (std::abs(v) <= floor) v = 0.0;
+  double start = w.wv[i];
+  if (coef.size() > kSubsampleThreshold) {
+    thread_local std::vector<double> sub;
+    sub.clear();
+    const std::size_t stride = coef.size() / kSubsampleSize;
+    for (std::size_t k = 0; k < coef.size(); k += stride) sub.push_back(coef[k]);
+    const ScaleSolution s0 = solve(sub, t, start);
+    if (s0.has_root) start = s0.scale;
+  }
+  const ScaleSolution s = solve(coef, t, start);
+  if (!s.has_root) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "no root: the " << to_string(t.kind) << " equation has no solution (" << 100.0 * s.zero_fraction
+       << "% of the coefficients are exactly zero, quantized data; the limit at efficiency " << t.efficiency
+       << " is " << 100.0 * (1.0 - t.a / (t.c * t.c)) << "%)";
+    w.notes[i] = os.str();
+    w.wv[i] = w.ci_low[i] = w.ci_high[i] = w.variance[i] = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  const double eta = t.efficiency * w.eta[i];
+  w.wv[i] = s.scale;
+  w.eta[i] = eta;
+  w.variance[i] = 2.0 * s.scale * s.scale / eta;
+  std::tie(w.ci_low[i], w.ci_high[i]) = chi_square_ci(s.scale, eta, w.alpha);
+}
+
+}  // namespace
+
+std::string RobustWvOptions::Validate() const {
+  std::ostringstream os;
+  if (!(efficiency > 0.0 && efficiency < 1.0))
+    os << "efficiency must be in (0, 1) (exclusive), got " << efficiency;
+  else if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
+  else if (levels < 0) os << "levels must be positive (or 0 for all), got " << levels;
+  return os.str();
+}
+
+ScaleSolution solve_scale(std::span<const double> w, const Tuning& tuning, double start) {
+  return solve(w, tuning, start);
+}
+
+WaveletVariance robust_wv(const double* x, std::int64_t n, const RobustWvOptions& options) {
+  check_series("robust_wv", n, options);
+  const Tuning t = tune(options.estimator, options.efficiency);
+  Prepared p = prepare(x, n, options, t);
+  for (int j = 1; j <= p.w.levels(); ++j) robust_level(*p.modwt, j, t, p.w);
+  return std::move(p.w);
+}
+
+std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
+                                       const RobustWvOptions& options) {
+  for (const auto& s : series) check_series("robust_wv", static_cast<std::int64_t>(s.size()), options);
+  const Tuning t = tune(options.estimator, options.efficiency);
+  std::vector<Prepared> p(series.size());
+  tbb::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
+    p[c] = prepare(series[c].data(), static_cast<std::int64_t>(series[c].size()), options, t);
+  });
+  // All levels of all series as one flat range (the fine levels cost the same as the
+  // coarse ones: M_j ~ N at every level), so two cores share the work evenly.
+  std::vector<std::pair<std::size_t, int>> tasks;
+  for (std::size_t c = 0; c < series.size(); ++c)
+    for (int j = 1; j <= p[c].w.levels(); ++j) tasks.emplace_back(c, j);
+  tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
+    const auto [c, j] = tasks[k];
+    robust_level(*p[c].modwt, j, t, p[c].w);
+  });
+  std::vector<WaveletVariance> out;
+  out.reserve(series.size());
+  for (auto& q : p) out.push_back(std::move(q.w));
+  return out;
+}
+
+RobustWvEstimator::RobustWvEstimator(RobustWvOptions options) : options_(options) {
+  if (const std::string why = options_.Validate(); !why.empty()) throw InvalidArgument("RobustWvEstimator: " + why);
+}
+
+WaveletVariance RobustWvEstimator::compute(const double* x, std::int64_t n, int levels, double alpha) const {
+  RobustWvOptions o = options_;
+  o.levels = levels;
+  o.alpha = alpha;
+  return robust_wv(x, n, o);
+}
+
+}  // namespace gmwm::robust
