@@ -426,7 +426,8 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
     // Pilot (diag) fit done: build V at the pilot estimate, then refit with V^-1.
     const Eigen::VectorXd pilot = model_in.from_unconstrained(best.u);
     if (options.omega == OmegaKind::kFull) {
-      v_for_omega = model_wv_covariance(model_in, pilot, wv.n, wv.levels());
+      // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
+      v_for_omega = model_wv_covariance(model_in, pilot, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
     } else {
       ClassicalWvEstimator classical;
       const WvEstimator& est = options.estimator ? *options.estimator : classical;

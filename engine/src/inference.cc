@@ -30,7 +30,9 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
   const Eigen::MatrixXd& omega = r.omega;
 
   // V: the one behind Omega when there is one, else model-based at theta_hat.
-  if (r.wv_covariance.size() == 0) r.wv_covariance = model_wv_covariance(model, r.theta, wv.n, J);
+  // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
+  if (r.wv_covariance.size() == 0)
+    r.wv_covariance = model_wv_covariance(model, r.theta, wv.n, J) / wv.efficiency.value_or(1.0);
   const Eigen::MatrixXd& V = r.wv_covariance;
 
   // Active parameters (components not on the boundary).

@@ -124,6 +124,27 @@ json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv) {
   return c;
 }
 
+json robust_wv_column_json(const ColumnInfo& column, const WaveletVariance& robust,
+                           const std::vector<robust::LevelDiagnostic>& diagnostic,
+                           const robust::Quantization& quantization) {
+  json c = wv_column_json(column, robust);
+  json q = json::object();
+  q["detected"] = quantization.detected;
+  q["quantum"] = quantization.detected ? json_number(quantization.quantum) : json(nullptr);
+  c["quantization"] = std::move(q);
+  auto& levels = c["levels"];
+  for (std::size_t j = 0; j < levels.size() && j < diagnostic.size(); ++j) {
+    const auto& d = diagnostic[j];
+    levels[j]["classical_wv"] = json_number(d.classical_wv);
+    levels[j]["robust_to_classical"] = json_number(d.robust_to_classical);
+    levels[j]["ci_disjoint"] = d.ci_disjoint;
+    levels[j]["contaminated"] = d.contaminated;
+    levels[j]["rounding_ratio"] = json_number(d.expected_ratio);
+    levels[j]["tail_share"] = json_number(d.tail_share);
+  }
+  return c;
+}
+
 std::vector<ParameterRow> parameter_rows(const FitResult& fit) {
   const Model& m = fit.model;
   std::vector<ParameterRow> rows;

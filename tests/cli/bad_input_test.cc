@@ -150,19 +150,28 @@ TEST_F(GmwmCliBadInput, RejectsAModelWithMoreParametersThanLevels) {
   expect_bad_input(r, {"AR1+WN+RW", "levels"}, json());
 }
 
-TEST_F(GmwmCliBadInput, RefusesTheRobustWvUntilItExists) {
+TEST_F(GmwmCliBadInput, RejectsBadRobustOptionsWithOneLine) {
   gmwm::test::write_noise_csv(dir_ / "noise.csv", 64);
-  for (const auto& opt : std::vector<std::vector<std::string>>{
-           {"--robust"}, {"--robust", "--eff", "0.6"}, {"--estimator", "huber"}}) {
-    std::vector<std::string> args = {"wv", "noise.csv", "--freq", "100", "--json", "out.json"};
-    args.insert(args.end(), opt.begin(), opt.end());
-    auto r = run_gmwm(args, dir_);
-    expect_bad_input(r, {"robust WV is not available yet (issue 3)"}, json());
-  }
-  auto r = run_gmwm({"fit", "noise.csv", "--freq", "100", "--model", "WN", "--robust", "--json",
-                     "out.json"},
-                    dir_);
-  expect_bad_input(r, {"robust WV is not available yet (issue 3)"}, json());
+  struct Case {
+    std::vector<std::string> opts;
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {{"--robust", "--eff", "0"}, {"--eff 0", "between 0 and 1"}},
+      {{"--robust", "--eff", "1"}, {"--eff 1", "between 0 and 1"}},
+      {{"--robust", "--eff", "1.5"}, {"--eff 1.5", "between 0 and 1"}},
+      {{"--robust", "--estimator", "tukey"}, {"--estimator tukey", "huber or bisquare"}},
+      {{"--eff", "0.6"}, {"--eff 0.6", "only meaningful with --robust"}},
+      {{"--estimator", "huber"}, {"--estimator huber", "only meaningful with --robust"}},
+  };
+  for (const auto& c : cases)
+    for (const char* cmd : {"wv", "fit"}) {
+      std::vector<std::string> args = {cmd, "noise.csv", "--freq", "100", "--json", "out.json"};
+      if (std::string(cmd) == "fit") args.insert(args.end(), {"--model", "WN"});
+      args.insert(args.end(), c.opts.begin(), c.opts.end());
+      SCOPED_TRACE(std::string(cmd) + " " + c.opts[0] + " " + c.opts[1]);
+      expect_bad_input(run_gmwm(args, dir_), c.expect, json());
+    }
 }
 
 TEST_F(GmwmCliBadInput, RejectsBadOptionValuesWithOneLine) {

@@ -14,6 +14,7 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/signal_writer.h"
+#include "gmwm/robust/robust_wv.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -237,8 +238,58 @@ TEST_F(GmwmCli, FitWithTheModelBasedOmegaReportsAStatusAndExits0) {
   const json doc = read_json(dir_ / "fit.json");
   const std::string status = doc["columns"][0].at("status");
   EXPECT_TRUE(status == "converged" || status == "not_converged") << status;
-  if (status == "not_converged") EXPECT_NE(r.err.find("warning"), std::string::npos);
+  if (status == "not_converged") {
+    EXPECT_NE(r.err.find("warning"), std::string::npos);
+  }
   EXPECT_EQ(doc["columns"][0]["omega"], "full");
+}
+
+TEST_F(GmwmCli, RobustWvJsonHasTheDiagnosticFieldsAndTheLibrarysValues) {
+  simulate(1 << 12, 1);
+  auto r = run_gmwm({"wv", "sim.csv.gz", "--robust", "--eff", "0.8", "--estimator", "bisquare",
+                     "--json", "wv.json", "--csv", "wv.csv", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json col = read_json(dir_ / "wv.json")["columns"][0];
+  EXPECT_EQ(col.at("estimator"), "bisquare");
+  EXPECT_DOUBLE_EQ(col.at("efficiency").get<double>(), 0.8);
+  EXPECT_TRUE(col.at("quantization").contains("detected"));
+  const auto set = gmwm::io::read_signals((dir_ / "sim.csv.gz").string(), {});
+  const auto& x = set.signals[0].values;
+  gmwm::robust::RobustWvOptions o;
+  o.estimator = gmwm::robust::RobustKind::kBisquare;
+  o.efficiency = 0.8;
+  const auto robust = gmwm::robust::robust_wv(x.data(), static_cast<std::int64_t>(x.size()), o);
+  const auto classical = gmwm::classical_wv(x.data(), static_cast<std::int64_t>(x.size()));
+  expect_levels_equal_library(col.at("levels"), robust, set.freq);
+  for (int j = 0; j < robust.levels(); ++j) {
+    const json& l = col["levels"][static_cast<std::size_t>(j)];
+    EXPECT_DOUBLE_EQ(l.at("classical_wv").get<double>(), classical.wv[static_cast<std::size_t>(j)]);
+    EXPECT_DOUBLE_EQ(l.at("robust_to_classical").get<double>(),
+                     robust.wv[static_cast<std::size_t>(j)] / classical.wv[static_cast<std::size_t>(j)]);
+    EXPECT_TRUE(l.at("ci_disjoint").is_boolean());
+    EXPECT_FALSE(l.at("contaminated").get<bool>()) << "clean simulated data flagged at level " << j + 1;
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "wv.csv"));
+}
+
+TEST_F(GmwmCli, RobustFitUsesTheRobustWvAndInflatesTheModelBasedOmega) {
+  simulate(1 << 13, 1);
+  auto classical = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json",
+                             "c.json", "--quiet"},
+                            dir_);
+  auto robust = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--robust",
+                          "--json", "r.json", "--quiet"},
+                         dir_);
+  ASSERT_EQ(classical.exit_code, 0) << classical.err;
+  ASSERT_EQ(robust.exit_code, 0) << robust.err;
+  const json c = read_json(dir_ / "c.json")["columns"][0];
+  const json r = read_json(dir_ / "r.json")["columns"][0];
+  EXPECT_EQ(r["levels"][0]["wv"].get<double>() == c["levels"][0]["wv"].get<double>(), false)
+      << "the robust fit must use the robust WV";
+  // Efficiency 0.6: standard errors of the same parameters are larger (variance / 0.6).
+  const double se_c = c["parameters"][0]["se"].get<double>(), se_r = r["parameters"][0]["se"].get<double>();
+  EXPECT_GT(se_r, se_c);
 }
 
 TEST_F(GmwmCli, HelpAndVersionExit0) {

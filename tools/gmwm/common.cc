@@ -57,20 +57,43 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
-  sub.add_flag("--robust", robust.robust, "Robust WV (not available yet)");
+  sub.add_flag("--robust", robust.robust,
+               "Robust WV: M-estimator of each level's scale (STATISTICS.md section 2)");
   sub.add_option_function<double>(
          "--eff", [&robust](const double& e) { robust.eff = e; },
-         "Efficiency of the robust WV (not available yet)")
+         "Gaussian efficiency of the robust WV, in (0, 1) (default 0.6); needs --robust")
       ->type_name("EFF");
   sub.add_option_function<std::string>(
          "--estimator", [&robust](const std::string& e) { robust.estimator = e; },
-         "Robust estimator: huber|bisquare (not available yet)")
+         "Robust estimator: huber (default) or bisquare; needs --robust")
       ->type_name("NAME");
 }
 
-void refuse_robust(const RobustOptions& robust) {
-  if (robust.robust || robust.eff || robust.estimator)
-    throw InputError("robust WV is not available yet (issue 3)");
+std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
+                                                         const WvOptions& wv) {
+  if (!robust.robust) {
+    if (robust.eff) throw InputError("--eff " + fmt(*robust.eff) + ": only meaningful with --robust");
+    if (robust.estimator) throw InputError("--estimator " + *robust.estimator + ": only meaningful with --robust");
+    return std::nullopt;
+  }
+  robust::RobustWvOptions o;
+  o.levels = wv.levels;
+  o.alpha = wv.alpha;
+  if (robust.eff) {
+    if (!(*robust.eff > 0.0 && *robust.eff < 1.0))
+      throw InputError("--eff " + fmt(*robust.eff) +
+                       ": expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)");
+    o.efficiency = *robust.eff;
+  }
+  if (robust.estimator) {
+    const auto kind = robust::parse_robust_kind(*robust.estimator);
+    if (!kind)
+      throw InputError("--estimator " + *robust.estimator +
+                       ": unknown robust estimator; expected huber or bisquare");
+    o.estimator = *kind;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) throw InputError("--robust: " + why);
+  return o;
 }
 
 std::shared_ptr<void> apply_common_options(const CommonOptions& common) {
@@ -151,6 +174,13 @@ std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOption
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
   return classical_wv(series, options);
+}
+
+std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
+                                               const robust::RobustWvOptions& options) {
+  std::vector<std::span<const double>> series;
+  for (const auto& s : set.signals) series.emplace_back(s.values);
+  return robust::robust_wv(series, options);
 }
 
 io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {

@@ -16,6 +16,7 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/io/json_output.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/robust/robust_wv.h"
 
 namespace gmwm::cli {
 
@@ -41,7 +42,7 @@ struct InputOptions {
   int levels = 0;                   ///< --levels J (0: floor(log2 N))
 };
 
-/// --robust, --eff, --estimator: parsed, refused until the robust WV exists.
+/// --robust, --eff, --estimator.
 struct RobustOptions {
   bool robust = false;
   std::optional<double> eff;
@@ -62,8 +63,10 @@ void add_common_options(CLI::App& sub, CommonOptions& common);
 void add_input_options(CLI::App& sub, InputOptions& input);
 void add_robust_options(CLI::App& sub, RobustOptions& robust);
 
-/// Throws InputError when --robust/--eff/--estimator was given (not available yet).
-void refuse_robust(const RobustOptions& robust);
+/// The robust WV settings, or nullopt without --robust. Throws InputError (exit 2) for
+/// --eff outside (0, 1), an unknown --estimator, or either without --robust.
+std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
+                                                         const WvOptions& wv);
 
 /// Sets up logging (spdlog level, stderr) and returns the TBB parallelism limit to keep
 /// alive for the command's duration (nullptr when --threads was not given).
@@ -81,6 +84,9 @@ WvOptions wv_options(const InputOptions& input);
 
 /// Classical WV of every signal, in parallel.
 std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOptions& options);
+/// The robust WV of every column (in parallel).
+std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
+                                               const robust::RobustWvOptions& options);
 
 io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
 

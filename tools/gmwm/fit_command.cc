@@ -1,5 +1,6 @@
-// gmwm fit INPUT --model SPEC [--omega diag|full|bootstrap] [--replicates B] ...
-// The GMWM fit of one model to the classical WV of every selected column.
+// gmwm fit INPUT --model SPEC [--robust [--eff E] [--estimator NAME]] [--omega diag|full|bootstrap]
+//              [--replicates B] ...
+// The GMWM fit of one model to the (classical or robust) WV of every selected column.
 
 #include <cmath>
 #include <iostream>
@@ -40,12 +41,15 @@ std::string status_text(FitStatus s) {
   return "failed";
 }
 
-std::string terminal_report(const io::SignalSet& set, std::size_t k, const FitResult& r,
-                            OmegaKind omega) {
+std::string terminal_report(const io::SignalSet& set, std::size_t k, const WaveletVariance& w,
+                            const FitResult& r, OmegaKind omega) {
   std::ostringstream os;
   const auto& s = set.signals[k];
   os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, Omega "
-     << to_string(omega) << '\n';
+     << to_string(omega);
+  if (w.estimator != "classical")
+    os << ", " << w.estimator << " WV (efficiency " << fmt(w.efficiency.value_or(1.0)) << ")";
+  os << '\n';
   const bool has_theta =
       r.theta.size() == r.model.num_parameters() && r.theta.size() > 0 && r.theta.allFinite();
   os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
@@ -72,8 +76,11 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const FitRe
 int run_fit(const FitArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
-  refuse_robust(args.robust);
   const WvOptions wv_opts = wv_options(args.input);
+  const auto robust_options = robust_wv_options(args.robust, wv_opts);
+  // The bootstrap Omega recomputes the same WV on simulated series.
+  std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
+  if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
   check_output_path("--json", common.json);
 
   FitOptions options;
@@ -82,6 +89,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
   options.max_evaluations = args.max_evaluations;
+  options.estimator = robust_estimator.get();
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
 
   // With --freq the model can be checked before reading a long file.
@@ -98,7 +106,8 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
 
   Stopwatch wv_clock;
-  const std::vector<WaveletVariance> wvs = compute_wv(set, wv_opts);
+  const std::vector<WaveletVariance> wvs =
+      robust_options ? compute_robust_wv(set, *robust_options) : compute_wv(set, wv_opts);
   const double wv_seconds = wv_clock.seconds();
   for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
 
@@ -120,7 +129,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
     for (std::size_t k = 0; k < fits.size(); ++k)
-      report += (k ? "\n" : "") + terminal_report(set, k, fits[k], options.omega);
+      report += (k ? "\n" : "") + terminal_report(set, k, wvs[k], fits[k], options.omega);
   }
 
   warn_about_timing(set);

@@ -1,5 +1,7 @@
-// gmwm wv INPUT [--columns ..] [--freq HZ] [--alpha A] [--levels J] [--csv PATH] [--json PATH]
-// The classical Haar wavelet variance of every selected column with its CIs.
+// gmwm wv INPUT [--robust [--eff E] [--estimator huber|bisquare]] [--columns ..] [--freq HZ]
+//             [--alpha A] [--levels J] [--csv PATH] [--json PATH]
+// The Haar wavelet variance of every selected column with its CIs: classical, or robust
+// side by side with the classical one and a per-level contamination diagnostic.
 
 #include <charconv>
 #include <cmath>
@@ -8,6 +10,7 @@
 
 #include "common.h"
 #include "gmwm/io/atomic_file.h"
+#include "gmwm/robust/contamination.h"
 
 namespace gmwm::cli {
 
@@ -19,9 +22,20 @@ struct WvArgs {
   std::string csv;
 };
 
-std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs) {
+// The robust WV's companions, per column (empty for a classical run).
+struct RobustView {
+  std::vector<WaveletVariance> classical;
+  std::vector<robust::Quantization> quantization;
+  std::vector<std::vector<robust::LevelDiagnostic>> diagnostic;
+  bool active() const { return !classical.empty(); }
+};
+
+std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs,
+                      const RobustView& rv) {
   std::ostringstream os;
-  os << "column,level,tau,tau_seconds,wv,ci_low,ci_high,coefficients\n";
+  os << "column,level,tau,tau_seconds,wv,ci_low,ci_high,coefficients";
+  if (rv.active()) os << ",classical_wv,robust_to_classical,ci_disjoint,contaminated";
+  os << "\n";
   // Shortest text that reads back to the same double.
   auto num = [](std::ostream& o, double x) -> std::ostream& {
     if (!std::isfinite(x)) return o << "nan";
@@ -39,28 +53,60 @@ std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVarianc
       num(os, w.wv[l]) << ',';
       num(os, w.ci_low[l]) << ',';
       num(os, w.ci_high[l]) << ',';
-      os << w.coefficients[l] << '\n';
+      os << w.coefficients[l];
+      if (rv.active()) {
+        const auto& d = rv.diagnostic[k][l];
+        os << ',';
+        num(os, d.classical_wv) << ',';
+        num(os, d.robust_to_classical) << ',' << (d.ci_disjoint ? "true" : "false") << ','
+                                       << (d.contaminated ? "true" : "false");
+      }
+      os << '\n';
     }
   }
   return os.str();
 }
 
-std::string terminal_table(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs) {
+std::string terminal_table(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs,
+                           const RobustView& rv) {
   std::ostringstream os;
   for (std::size_t k = 0; k < wvs.size(); ++k) {
     const auto& w = wvs[k];
     const auto& s = set.signals[k];
     if (k) os << '\n';
-    os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, classical WV, "
-       << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
+    os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, ";
+    if (rv.active())
+      os << w.estimator << " WV (efficiency " << fmt(w.efficiency.value_or(1.0)) << ")";
+    else
+      os << "classical WV";
+    os << ", " << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
        << '\n';
-    Table t({"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"});
+    std::vector<std::string> head = {"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"};
+    if (rv.active()) head.insert(head.end(), {"classical", "ratio", "flag"});
+    Table t(head);
     for (int j = 0; j < w.levels(); ++j) {
       const auto l = static_cast<std::size_t>(j);
-      t.add({std::to_string(j + 1), fmt(w.tau[l], 10), fmt(w.tau[l] / set.freq), fmt(w.wv[l]),
-             fmt(w.ci_low[l]), fmt(w.ci_high[l]), std::to_string(w.coefficients[l])});
+      std::vector<std::string> row = {std::to_string(j + 1), fmt(w.tau[l], 10), fmt(w.tau[l] / set.freq),
+                                      std::isfinite(w.wv[l]) ? fmt(w.wv[l]) : "no root",
+                                      fmt(w.ci_low[l]), fmt(w.ci_high[l]), std::to_string(w.coefficients[l])};
+      if (rv.active()) {
+        const auto& d = rv.diagnostic[k][l];
+        row.insert(row.end(), {fmt(d.classical_wv), fmt(d.robust_to_classical, 4),
+                               d.contaminated ? "contaminated" : (d.ci_disjoint ? "CIs disjoint" : "")});
+      }
+      t.add(row);
     }
     os << t.str();
+    if (rv.active()) {
+      const auto& q = rv.quantization[k];
+      if (q.detected) os << "rounding step " << fmt(q.quantum) << " detected; flags are calibrated against it\n";
+      int flagged = 0;
+      for (const auto& d : rv.diagnostic[k]) flagged += d.contaminated;
+      if (flagged) os << flagged << " level(s) flagged as contaminated: there the robust WV is the one to trust\n";
+      for (int j = 0; j < w.levels(); ++j)
+        if (!w.notes[static_cast<std::size_t>(j)].empty() && !std::isfinite(w.wv[static_cast<std::size_t>(j)]))
+          os << "level " << j + 1 << ": " << w.notes[static_cast<std::size_t>(j)] << '\n';
+    }
   }
   return os.str();
 }
@@ -68,8 +114,8 @@ std::string terminal_table(const io::SignalSet& set, const std::vector<WaveletVa
 int run_wv(const WvArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
-  refuse_robust(args.robust);
   const WvOptions options = wv_options(args.input);
+  const auto robust_options = robust_wv_options(args.robust, options);
   check_output_path("--json", common.json);
   check_output_path("--csv", args.csv);
 
@@ -77,7 +123,23 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   const io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
   Stopwatch wv_clock;
-  const std::vector<WaveletVariance> wvs = compute_wv(set, options);
+  RobustView rv;
+  std::vector<WaveletVariance> wvs;
+  if (robust_options) {
+    wvs = compute_robust_wv(set, *robust_options);
+    rv.classical = compute_wv(set, options);
+    const robust::Tuning tuning = robust::tune(robust_options->estimator, robust_options->efficiency);
+    rv.quantization.resize(wvs.size());
+    rv.diagnostic.resize(wvs.size());
+    for (std::size_t k = 0; k < wvs.size(); ++k) {
+      const auto& x = set.signals[k].values;
+      rv.quantization[k] = robust::detect_quantization(x.data(), static_cast<std::int64_t>(x.size()));
+      rv.diagnostic[k] = robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), wvs[k],
+                                                          rv.classical[k], rv.quantization[k], tuning);
+    }
+  } else {
+    wvs = compute_wv(set, options);
+  }
   const double wv_seconds = wv_clock.seconds();
 
   // Everything is computed: build the outputs, then write them.
@@ -85,9 +147,11 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   doc["input"] = set.path;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
   for (std::size_t k = 0; k < wvs.size(); ++k)
-    doc["columns"].push_back(io::wv_column_json(column_info(set, k), wvs[k]));
-  const std::string csv = args.csv.empty() ? std::string() : csv_table(set, wvs);
-  const std::string table = common.show_table() ? terminal_table(set, wvs) : std::string();
+    doc["columns"].push_back(rv.active() ? io::robust_wv_column_json(column_info(set, k), wvs[k], rv.diagnostic[k],
+                                                                     rv.quantization[k])
+                                         : io::wv_column_json(column_info(set, k), wvs[k]));
+  const std::string csv = args.csv.empty() ? std::string() : csv_table(set, wvs, rv);
+  const std::string table = common.show_table() ? terminal_table(set, wvs, rv) : std::string();
 
   warn_about_timing(set);
   if (!args.csv.empty()) io::write_file_atomically(args.csv, csv);
@@ -108,7 +172,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
 Command add_wv_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<WvArgs>();
   CLI::App* sub = app.add_subcommand(
-      "wv", "Classical Haar wavelet variance of each column, with confidence intervals");
+      "wv", "Haar wavelet variance of each column (classical, or robust with --robust), with confidence intervals");
   add_input_options(*sub, args->input);
   add_robust_options(*sub, args->robust);
   sub->add_option("--csv", args->csv, "Also write the WV as a CSV table to PATH")

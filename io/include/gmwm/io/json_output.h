@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
 
@@ -73,6 +74,14 @@ Json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known);
 
 /// A "wv" column: column_json + "estimator", "efficiency", "alpha", "levels".
 Json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv);
+
+/// A robust "wv" column: wv_column_json of the robust WV, each level also with
+/// "classical_wv", "robust_to_classical", "ci_disjoint", "contaminated" (CLI.md) and
+/// "rounding_ratio" (what the data's rounding alone makes of the ratio), "tail_share";
+/// the column with "quantization": {"detected", "quantum"}.
+Json robust_wv_column_json(const ColumnInfo& column, const WaveletVariance& robust,
+                           const std::vector<robust::LevelDiagnostic>& diagnostic,
+                           const robust::Quantization& quantization);
 
 /// One row of the parameter table of a fit, in display units (SIN's f in Hz, ...).
 struct ParameterRow {
