@@ -20,6 +20,24 @@ ProcessContext one_hz() {
   return c;
 }
 
+// V against the sample covariance of R simulated WVs (seed fixed by the caller).
+void expect_matches_monte_carlo(const Model& m, const Eigen::MatrixXd& V, std::int64_t n, int R,
+                                std::uint64_t seed) {
+  const int J = static_cast<int>(V.rows());
+  ClassicalWvEstimator est;
+  const Eigen::MatrixXd S = bootstrap_wv_covariance(m, m.given_values(), n, J, R, seed, est);
+  // A sample variance has relative sd sqrt(2/(R-1)) (Gaussian approximation; the WV's
+  // skewness at coarse levels makes it a little larger): allow 4 of them.
+  const double tol = 4.0 * std::sqrt(2.0 / (R - 1)) * 1.25;
+  for (int j = 0; j < J; ++j) EXPECT_NEAR(S(j, j) / V(j, j), 1.0, tol) << "level " << j + 1;
+  // Correlations between neighbouring levels: sd ~ (1 - rho^2)/sqrt(R).
+  for (int j = 0; j + 1 < J; ++j) {
+    const double rv = V(j, j + 1) / std::sqrt(V(j, j) * V(j + 1, j + 1));
+    const double rs = S(j, j + 1) / std::sqrt(S(j, j) * S(j + 1, j + 1));
+    EXPECT_NEAR(rs, rv, 4.0 / std::sqrt(static_cast<double>(R)) + 0.01) << "levels " << j + 1 << "," << j + 2;
+  }
+}
+
 TEST(WvCovariance, WhiteNoiseLevelOneVarianceMatchesTheExactSum) {
   // W_1 = (x_t - x_{t-1})/2: c(0) = s2/2, c(+-1) = -s2/4, so with M = N - 1,
   // Var = 2/M^2 (M s2^2/4 + 2 (M - 1) s2^2/16).
@@ -44,18 +62,7 @@ TEST(WvCovariance, AgreesWithMonteCarloForASumOfProcesses) {
   const std::int64_t n = 2048;
   const int J = 8, R = 4000;
   const Eigen::MatrixXd V = model_wv_covariance(m, m.given_values(), n, J);
-  ClassicalWvEstimator est;
-  const Eigen::MatrixXd S = bootstrap_wv_covariance(m, m.given_values(), n, J, R, 77, est);
-  // A sample variance has relative sd sqrt(2/(R-1)) (Gaussian approximation; the WV's
-  // skewness at coarse levels makes it a little larger): allow 4 of them.
-  const double tol = 4.0 * std::sqrt(2.0 / (R - 1)) * 1.25;
-  for (int j = 0; j < J; ++j) EXPECT_NEAR(S(j, j) / V(j, j), 1.0, tol) << "level " << j + 1;
-  // Correlations between neighbouring levels: sd ~ (1 - rho^2)/sqrt(R).
-  for (int j = 0; j + 1 < J; ++j) {
-    const double rv = V(j, j + 1) / std::sqrt(V(j, j) * V(j + 1, j + 1));
-    const double rs = S(j, j + 1) / std::sqrt(S(j, j) * S(j + 1, j + 1));
-    EXPECT_NEAR(rs, rv, 4.0 / std::sqrt(static_cast<double>(R)) + 0.01) << "levels " << j + 1 << "," << j + 2;
-  }
+  expect_matches_monte_carlo(m, V, n, R, 77);
 }
 
 TEST(WvCovariance, IncludesTheDriftTimesNoiseTermAndAgreesWithMonteCarlo) {
@@ -69,15 +76,7 @@ TEST(WvCovariance, IncludesTheDriftTimesNoiseTermAndAgreesWithMonteCarlo) {
   const Model no_drift = parse_model("GM(beta=0.05,sigma2_gm=16)+WN(sigma2=4)", one_hz());
   const Eigen::MatrixXd V0 = model_wv_covariance(no_drift, no_drift.given_values(), n, J);
   EXPECT_GT(V(J - 1, J - 1), 10.0 * V0(J - 1, J - 1)) << "the drift term is missing";
-  ClassicalWvEstimator est;
-  const Eigen::MatrixXd S = bootstrap_wv_covariance(m, m.given_values(), n, J, R, 78, est);
-  const double tol = 4.0 * std::sqrt(2.0 / (R - 1)) * 1.25;
-  for (int j = 0; j < J; ++j) EXPECT_NEAR(S(j, j) / V(j, j), 1.0, tol) << "level " << j + 1;
-  for (int j = 0; j + 1 < J; ++j) {
-    const double rv = V(j, j + 1) / std::sqrt(V(j, j) * V(j + 1, j + 1));
-    const double rs = S(j, j + 1) / std::sqrt(S(j, j) * S(j + 1, j + 1));
-    EXPECT_NEAR(rs, rv, 4.0 / std::sqrt(static_cast<double>(R)) + 0.01) << "levels " << j + 1 << "," << j + 2;
-  }
+  expect_matches_monte_carlo(m, V, n, R, 78);
 }
 
 TEST(WvCovariance, IsFastForAMillionSamples) {
