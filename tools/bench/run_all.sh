@@ -31,5 +31,9 @@ out=tools/bench/RESULTS.md
   echo "## Published simulation study WN + GM + DR (bench_simulation_study)"
   echo
   "$build/bench_simulation_study" || true
+  echo
+  echo "## Robust WV (bench_robust)"
+  echo
+  "$build/bench_robust" || true
 } > "$out"
 echo "wrote $out"
