@@ -24,8 +24,12 @@ constexpr double kLatticeTolerance = 1e-6;
 constexpr double kNegligibleLatticeSd = 30.0;
 // The rounding model is exact at level 1 only under its uniform-phase assumption and
 // approximate beyond; the flag allows this relative slack on the expected ratio.
-// Measured on the clean ADIS recordings: |observed / expected - 1| <= 0.03 at levels
-// 1-2 (tools/bench/bench_robust.cc prints it).
+// Measured on the clean ADIS recordings (tools/bench/bench_robust.cc, section 4): where
+// robust < classical (the direction that matters), observed / expected departs from 1 by
+// up to 0.098 at levels 1-2 (accel_z of imu2); the gyro_z axes reach 0.16 the other way
+// (robust above classical, a 5-sample oscillation, never flagged). The far-tail
+// criterion is what keeps the flag off on rounded clean data; this slack is a second
+// guard.
 constexpr double kRoundingModelTolerance = 0.10;
 // Far outliers: beyond 5 sd a Gaussian (or a rounded Gaussian) has a share of 5.7e-7;
 // an excess of 100 times that (and of three effective windows, 3 / eta) is not noise.
