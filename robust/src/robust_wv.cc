@@ -70,6 +70,10 @@ ScaleSolution solve(std::span<const double> w, const Tuning& t, double start) {
   out.scale = std::numeric_limits<double>::quiet_NaN();
   std::size_t zeros = 0;
   for (double x : w) zeros += (x == 0.0);
+  double min_w2 = std::numeric_limits<double>::infinity();  // smallest non-zero W^2 (bisquare)
+  if (t.kind == RobustKind::kBisquare)
+    for (double x : w)
+      if (x != 0.0) min_w2 = std::min(min_w2, x * x);
   out.zero_fraction = w.empty() ? 1.0 : static_cast<double>(zeros) / static_cast<double>(w.size());
   if (w.empty() || !(start > 0.0) || !std::isfinite(start)) return out;
   // Huber: the left side decreases from (1 - p0) c^2 (s -> 0) to 0 (s -> inf).
@@ -82,43 +86,84 @@ ScaleSolution solve(std::span<const double> w, const Tuning& t, double start) {
   // the root sought, the upper one, is above it). Steps leaving the bracket bisect it, or
   // double/halve s while it is still open.
   const double ln2 = std::log(2.0);
+  const double c2 = t.c * t.c;
   double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
   double g_lo = 0.0, g_hi = 0.0;
   int side = 0;  // Illinois modification of regula falsi: which end was kept last
   double l = std::log(start);
-  bool below_hump_seen = false;
+  // A root is reported only once the search has converged after seeing g >= 0 (a sign
+  // change: for bisquare, a hump that reaches a), or on a vanishing Newton step; with
+  // all g < 0 the bracket collapses onto a bisquare hump, which is not a root.
+  bool sign_change = false;
+  // Bisquare, after such a collapse: the hump found stays below a, but it may be a
+  // cluster of outliers' own hump (spikes covering 8% of a level's coefficients make
+  // one) above the coefficients' hump. The search then descends past it, taking its
+  // rising side (g < 0, dg > 0) as "above the root" until a decreasing point (dg < 0)
+  // shows it has passed the valley below it.
+  bool descending = false;
   for (int k = 0; k < kMaxPasses + kMaxBracketSteps; ++k) {
     const Eval e = evaluate(w, t, std::exp(l));
     ++out.passes;
-    if (e.g == 0.0) break;
+    if (e.g == 0.0) { sign_change = true; break; }
     double next;
+    bool newton = false;
     if (e.g > 0.0) {
+      sign_change = true;
       lo = l;
       g_lo = e.g;
       if (side == -1) g_hi *= 0.5;
       side = -1;
-      next = e.dg < 0.0 ? l - e.g / e.dg : l + ln2;
-    } else if (e.dg < 0.0) {
-      if (below_hump_seen && !std::isfinite(lo)) return out;  // crossed the hump below a: no root
+      newton = e.dg < 0.0;
+      next = newton ? l - e.g / e.dg : l + ln2;
+    } else if (e.dg < 0.0 || descending) {
+      if (e.dg < 0.0) descending = false;
       hi = l;
       g_hi = e.g;
       if (side == 1) g_lo *= 0.5;
       side = 1;
-      next = l - e.g / e.dg;
+      newton = e.dg < 0.0;
+      next = newton ? l - e.g / e.dg : l - ln2;
     } else {
-      below_hump_seen = true;  // bisquare below its hump: go up
+      // Bisquare below its hump: go up. This end of the bracket has g < 0, so it is no
+      // end for regula falsi (g_lo < 0 below selects bisection).
       lo = std::max(lo, l);
+      g_lo = e.g;
       next = l + ln2;
     }
+    // While the bracket is open on a side, a step towards it at most doubles/halves s:
+    // an unbounded Newton step from far below (Huber: g' ~ 0 when every coefficient is
+    // clipped) jumped to s = inf, and one from far above (g ~ m/s - a) past the
+    // 2^-300 guard below, or into bisquare's spurious region.
+    if (!std::isfinite(hi)) next = std::min(next, l + ln2);
+    if (!std::isfinite(lo)) next = std::max(next, l - ln2);
     if (!(next > lo && next < hi)) {
-      // Newton left the bracket (a kink of g): Illinois regula falsi inside it.
-      if (std::isfinite(lo) && std::isfinite(hi)) next = lo + (hi - lo) * g_lo / (g_lo - g_hi);
+      // Newton left the bracket (a kink of g): Illinois regula falsi inside it, or
+      // bisection when the lower end is on bisquare's rising side.
+      newton = false;
+      if (std::isfinite(lo) && std::isfinite(hi))
+        next = g_lo > 0.0 ? lo + (hi - lo) * g_lo / (g_lo - g_hi) : 0.5 * (lo + hi);
       else next = std::isfinite(lo) ? lo + ln2 : hi - ln2;
     }
-    if (std::abs(next - l) < kLogTolerance || (hi - lo) < kLogTolerance) { l = next; break; }
+    if ((newton && std::abs(next - l) < kLogTolerance) || (hi - lo) < kLogTolerance) {
+      sign_change = sign_change || newton;  // a vanishing Newton step sits on the root
+      l = next;
+      if (sign_change || t.kind == RobustKind::kHuber) break;
+      // Bisquare collapsed onto a hump below a: descend past it (see `descending`).
+      descending = true;
+      hi = std::min(lo, l);
+      g_hi = -t.a;
+      lo = -std::numeric_limits<double>::infinity();
+      side = 0;
+      next = hi - ln2;
+    }
+    // Below min W^2 / c^2 every bisquare coefficient is rejected (g = -a from there
+    // down): descending further cannot find a root.
+    if (next < l && t.kind == RobustKind::kBisquare && std::exp(next) * c2 < min_w2) return out;
     if (next < std::log(start) - kMaxBracketSteps * ln2) return out;  // no root above 2^-300 start
     l = next;
+    if (k + 1 == kMaxPasses + kMaxBracketSteps) return out;  // not converged
   }
+  if (!sign_change) return out;
   out.scale = std::exp(l);
   out.has_root = std::isfinite(out.scale) && out.scale > 0.0;
   return out;
@@ -175,8 +220,11 @@ void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVarianc
     std::ostringstream os;
     os.precision(3);
     os << "no root: the " << to_string(t.kind) << " equation has no solution (" << 100.0 * s.zero_fraction
-       << "% of the coefficients are exactly zero, quantized data; the limit at efficiency " << t.efficiency
-       << " is " << 100.0 * (1.0 - t.a / (t.c * t.c)) << "%)";
+       << "% of the coefficients are exactly zero, quantized data";
+    // The closed-form limit 1 - a/c^2 is Huber's; bisquare's depends on the non-zero part.
+    if (t.kind == RobustKind::kHuber)
+      os << "; the limit at efficiency " << t.efficiency << " is " << 100.0 * (1.0 - t.a / (t.c * t.c)) << "%";
+    os << ")";
     w.notes[i] = os.str();
     w.wv[i] = w.ci_low[i] = w.ci_high[i] = w.variance[i] = std::numeric_limits<double>::quiet_NaN();
     return;
