@@ -115,12 +115,18 @@ json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known) {
   return levels;
 }
 
-json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv) {
-  json c = column_json(column);
+// The WV's own fields of a column (wv and fit): estimator, efficiency, alpha, levels.
+void add_wv_fields(json& c, const ColumnInfo& column, const WaveletVariance& wv) {
   c["estimator"] = wv.estimator;
   c["efficiency"] = wv.efficiency ? json_number(*wv.efficiency) : json(nullptr);
+  if (!wv.small_sample.empty()) c["small_sample"] = wv.small_sample;
   c["alpha"] = json_number(wv.alpha);
   c["levels"] = wv_levels_json(wv, column.freq, column.freq_known);
+}
+
+json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv) {
+  json c = column_json(column);
+  add_wv_fields(c, column, wv);
   return c;
 }
 
@@ -209,10 +215,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
   for (Eigen::Index j = 0; j < fit.implied_wv.size(); ++j)
     implied.push_back(json_number(fit.implied_wv(j)));
   c["implied_wv"] = std::move(implied);
-  c["estimator"] = wv.estimator;
-  c["efficiency"] = wv.efficiency ? json_number(*wv.efficiency) : json(nullptr);
-  c["alpha"] = json_number(wv.alpha);
-  c["levels"] = wv_levels_json(wv, column.freq, column.freq_known);
+  add_wv_fields(c, column, wv);
   return c;
 }
 

@@ -11,6 +11,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "small_sample.h"
 
 namespace gmwm::robust {
 namespace {
@@ -189,6 +190,11 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
   p.modwt = std::make_unique<HaarModwt>(x, n);
   p.w.estimator = to_string(t.kind);
   p.w.efficiency = t.efficiency;
+  std::ostringstream os;
+  os << "second-order bias correction at levels with " << kRobustMinEta << " <= eta <= "
+     << internal::kSmallSampleMaxEta << " (long-run covariances by overlapping batch means); classical estimate below eta = "
+     << kRobustMinEta;
+  p.w.small_sample = os.str();
   return p;
 }
 
@@ -229,11 +235,19 @@ void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVarianc
     w.wv[i] = w.ci_low[i] = w.ci_high[i] = w.variance[i] = std::numeric_limits<double>::quiet_NaN();
     return;
   }
+  double scale = s.scale;
+  if (w.eta[i] <= internal::kSmallSampleMaxEta) {
+    const double bias = internal::small_sample_bias(coef, t, s.scale, w.tau[i]);
+    // |bias| is ~1 / eta <= 0.1 at the robust levels; a value outside (-0.5, 1) would
+    // mean the expansion does not hold (it never did in our studies): leave it.
+    if (bias > -0.5 && bias < 1.0) scale /= 1.0 + bias;
+  }
   const double eta = t.efficiency * w.eta[i];
-  w.wv[i] = s.scale;
+  w.wv[i] = scale;
+
   w.eta[i] = eta;
-  w.variance[i] = 2.0 * s.scale * s.scale / eta;
-  std::tie(w.ci_low[i], w.ci_high[i]) = chi_square_ci(s.scale, eta, w.alpha);
+  w.variance[i] = 2.0 * scale * scale / eta;
+  std::tie(w.ci_low[i], w.ci_high[i]) = chi_square_ci(scale, eta, w.alpha);
 }
 
 }  // namespace

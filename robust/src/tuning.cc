@@ -50,6 +50,21 @@ double bisquare_eff(double c) {
   return d * d / (2.0 * (m2 - a * a));
 }
 
+// Bisquare's second-order constants (tuning.h): with v = u / c^2 on u < c^2,
+// chi'(u) u = u (1 - v)^3 (1 - 5v) and chi''(u) u^2 = -u^2 (1 - v)^2 (8 - 20v) / c^2.
+double bisquare_slope(double c) {
+  return gaussian_integral_0c([&](double z) {
+    const double u = z * z, v = u / (c * c);
+    return u * std::pow(1.0 - v, 3) * (1.0 - 5.0 * v);
+  }, c);
+}
+double bisquare_curvature(double c) {
+  return gaussian_integral_0c([&](double z) {
+    const double u = z * z, v = u / (c * c);
+    return 2.0 * u * std::pow(1.0 - v, 3) * (1.0 - 5.0 * v) - u * u * (1.0 - v) * (1.0 - v) * (8.0 - 20.0 * v) / (c * c);
+  }, c);
+}
+
 // Search interval for c: efficiency is increasing in c for both estimators; at these
 // ends it is below 1e-3 and above 1 - 1e-6 (Huber: eff(0.05) ~ 1e-4, eff(8) ~ 1 - 1e-13;
 // bisquare: eff(0.5) ~ 1e-3 ... the bracket is checked, not assumed).
@@ -101,6 +116,14 @@ Tuning tune(RobustKind kind, double target) {
   t.efficiency = target;
   t.c = 0.5 * (c1 + c2);
   t.a = consistency(kind, t.c);
+  if (huber) {
+    const double mu2 = 2.0 * Phi(t.c) - 1.0 - 2.0 * t.c * phi(t.c);
+    t.slope = mu2;
+    t.curvature = 2.0 * mu2 - t.c * t.c * t.c * phi(t.c);
+  } else {
+    t.slope = bisquare_slope(t.c);
+    t.curvature = bisquare_curvature(t.c);
+  }
   return t;
 }
 

@@ -48,22 +48,26 @@ struct LevelSummary {
   std::string note;            // of replicate 0
 };
 
-std::vector<LevelSummary> white_noise_study(RobustKind kind, double eff, std::int64_t n, int replicates,
-                                           std::uint64_t seed) {
+// Replicates of the Gaussian model `spec` (with values): robust and classical WVs.
+std::vector<LevelSummary> consistency_study(const char* spec, RobustKind kind, double eff, std::int64_t n,
+                                            int replicates, std::uint64_t seed) {
+  const Model model = parse_model(spec);
+  const Eigen::VectorXd theta = model.given_values();
   RobustWvOptions o;
   o.estimator = kind;
   o.efficiency = eff;
   std::vector<WaveletVariance> rob(static_cast<std::size_t>(replicates)), cla(rob.size());
   // Replicate r draws from stream r only: the result does not depend on the thread count.
   tbb::parallel_for(0, replicates, [&](int r) {
-    const auto x = white_noise(n, seed, static_cast<std::uint64_t>(r));
+    const auto x = simulate(model, theta, n, seed, static_cast<std::uint64_t>(r));
     rob[static_cast<std::size_t>(r)] = robust_wv(x.data(), n, o);
     cla[static_cast<std::size_t>(r)] = classical_wv(x.data(), n);
   });
   std::vector<LevelSummary> out(rob[0].wv.size());
+  const Eigen::VectorXd truth = model.wv(theta, rob[0].tau);
   for (std::size_t j = 0; j < out.size(); ++j) {
     LevelSummary& s = out[j];
-    s.truth = 1.0 / rob[0].tau[j];
+    s.truth = truth(static_cast<Eigen::Index>(j));
     s.eta = cla[0].eta[j];
     s.note = rob[0].notes[j];
     double sr = 0, sr2 = 0, sc = 0, sc2 = 0, cover = 0;
@@ -107,38 +111,43 @@ void print_study(const char* label, const std::vector<LevelSummary>& s) {
 
 // The three tests on the Huber study share one run (1.6 s on 2 cores).
 const std::vector<LevelSummary>& huber_study() {
-  static const auto s = white_noise_study(RobustKind::kHuber, 0.6, kConsistencyN, kConsistencyReplicates, 3101);
+  static const auto s = consistency_study("WN(sigma2=1)", RobustKind::kHuber, 0.6, kConsistencyN, kConsistencyReplicates, 3101);
   return s;
 }
 
 // |mean - truth| <= 3 Monte-Carlo standard errors (the replicates' sd / sqrt(R)) at every
-// level with eta >= 30. Consistency at the Gaussian is asymptotic: the estimator also
-// has an O(1/eta) small-sample bias (spec section 2), which this check resolves once
-// it exceeds ~3 standard errors.
-// The estimator is Fisher-consistent (a(c)) but, without a finite-sample correction, it
-// keeps a small-sample bias of about +0.5 / eta on wavelet levels (measured: +1.34% at
-// eta 45.9 with 2000 replicates, 4.4 Monte-Carlo standard errors; +0.96 / n on i.i.d.
-// samples). The bound is three Monte-Carlo standard errors plus that bias with a 20%
-// margin (0.6 / eta). Issue 3's plain three-se criterion is NOT met yet: it needs the
-// finite-sample correction (open item, see the issue notes).
-constexpr double kSmallSampleBias = 0.6;
-
+// level with eta >= 30 (issue 3). Without the small-sample correction
+// (robust/src/small_sample.h) the Huber estimate is biased by about +0.35 / eta on these
+// levels (4000 replicates; with this seed +1.34% at eta 45.9, 4.4 standard errors): this
+// check fails without it.
 void expect_fisher_consistent(const std::vector<LevelSummary>& s) {
   int checked = 0;
   for (std::size_t j = 0; j < s.size(); ++j) {
     if (s[j].eta < 30.0) continue;
     ++checked;
     const double se = s[j].sd / std::sqrt(static_cast<double>(kConsistencyReplicates));
-    EXPECT_LE(std::abs(s[j].mean - s[j].truth), 3.0 * se + kSmallSampleBias / s[j].eta * s[j].truth)
+    EXPECT_LE(std::abs(s[j].mean - s[j].truth), 3.0 * se)
         << "level " << j + 1 << " (eta " << s[j].eta << "): mean/truth - 1 = " << s[j].mean / s[j].truth - 1.0
         << ", " << (s[j].mean - s[j].truth) / se << " Monte-Carlo standard errors";
   }
   EXPECT_EQ(checked, 9);
 }
 
-TEST(RobustWvConsistency, HuberMeanIsWithinThreeMonteCarloErrorsPlusItsSmallSampleBias) {
+TEST(RobustWvConsistency, HuberMeanIsWithinThreeMonteCarloErrorsOfTheTruthAtEveryLevelWithEtaAtLeast30) {
   const auto& s = huber_study();
   print_study("huber 0.6", s);
+  expect_fisher_consistent(s);
+}
+
+TEST(RobustWvConsistency, HuberMeanIsWithinThreeMonteCarloErrorsOnARandomWalkPlusWhiteNoise) {
+  // The coarse levels of WN + RW (crossover at tau ~ 110) are random-walk dominated:
+  // their coefficients are correlated differently from white noise's, and the
+  // correction estimates the long-run covariances from the data rather than assuming
+  // one structure. Uncorrected, levels 7-9 are biased by +0.55%, +0.86%, +1.57% here
+  // (3.2 to 3.9 Monte-Carlo standard errors, this seed): the check fails without it.
+  const auto s = consistency_study("WN(sigma2=1)+RW(gamma2=1e-3)", RobustKind::kHuber, 0.6, kConsistencyN,
+                                   kConsistencyReplicates, 3103);
+  print_study("huber 0.6, WN+RW", s);
   expect_fisher_consistent(s);
 }
 
@@ -182,8 +191,8 @@ TEST(RobustWvConsistency, HuberCisCoverTheWhiteNoiseWvAtLeastAtTheNominalRate) {
   }
 }
 
-TEST(RobustWvConsistency, BisquareMeanIsWithinThreeMonteCarloErrorsPlusItsSmallSampleBias) {
-  const auto s = white_noise_study(RobustKind::kBisquare, 0.6, kConsistencyN, kConsistencyReplicates, 3102);
+TEST(RobustWvConsistency, BisquareMeanIsWithinThreeMonteCarloErrorsOfTheTruthAtEveryLevelWithEtaAtLeast30) {
+  const auto s = consistency_study("WN(sigma2=1)", RobustKind::kBisquare, 0.6, kConsistencyN, kConsistencyReplicates, 3102);
   print_study("bisquare 0.6", s);
   expect_fisher_consistent(s);
 }

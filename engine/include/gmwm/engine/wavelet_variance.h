@@ -24,6 +24,9 @@ struct WaveletVariance {
   std::string estimator = "classical";     ///< "classical" | "huber" | "bisquare"
   std::optional<double> efficiency;        ///< robust estimators only
   std::vector<std::string> notes;          ///< per level, empty when nothing to say
+  /// How the estimator treats levels with few effective coefficients (robust
+  /// estimators: bias correction and fallback), empty for the classical one.
+  std::string small_sample;
 
   int levels() const { return static_cast<int>(wv.size()); }
   /// The WV as an Eigen vector (a copy).

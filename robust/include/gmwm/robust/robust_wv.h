@@ -13,9 +13,12 @@
 //
 // Small samples: a(c) gives consistency as the number of coefficients grows, not at
 // coarse levels with few effective coefficients, where the robust estimate is biased
-// upwards (+8% at eta = 7, +15% at eta = 3, +24% at eta = 1 on Gaussian data, spec
-// section 2). Below kRobustMinEta the level falls back to the classical estimate and
-// says so in w.notes.
+// upwards (~+0.35 / eta on white noise; +8% at eta = 7, +15% at eta = 3, +24% at eta = 1
+// in the median, spec section 2). Levels with kRobustMinEta <= eta_j <= 3000 are
+// corrected by the second-order bias of the estimating equation, its long-run
+// covariances estimated from the level's own coefficients (robust/src/small_sample.h);
+// below kRobustMinEta the level falls back to the classical estimate and says so in
+// w.notes. w.small_sample states both.
 
 #include <cstdint>
 #include <span>

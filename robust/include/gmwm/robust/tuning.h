@@ -37,6 +37,12 @@ struct Tuning {
   double efficiency = kDefaultEfficiency;  ///< target Gaussian efficiency
   double c = 0.0;                          ///< tuning constant solving eff(c) = target
   double a = 0.0;                          ///< a(c)
+  /// Second-order constants of the estimating equation at the Gaussian (U = Z^2), for
+  /// the small-sample bias correction: slope = E[chi'(U) U] (Huber: mu2(c)) and
+  /// curvature = E[2 chi'(U) U + chi''(U) U^2] (Huber: 2 mu2(c) - c^3 phi(c), the
+  /// second term from the kink of min(u, c^2) at u = c^2).
+  double slope = 0.0;
+  double curvature = 0.0;
 };
 
 /// Solves eff(c) = target. Throws gmwm::InvalidArgument unless 0 < target < 1 (and the
