@@ -120,6 +120,15 @@ void add_wv_fields(json& c, const ColumnInfo& column, const WaveletVariance& wv)
   c["estimator"] = wv.estimator;
   c["efficiency"] = wv.efficiency ? json_number(*wv.efficiency) : json(nullptr);
   if (!wv.small_sample.empty()) c["small_sample"] = wv.small_sample;
+  if (!wv.screening.empty()) {
+    json ranges = json::array();
+    std::int64_t samples = 0;
+    for (const auto& [a, b] : wv.replaced) {
+      ranges.push_back(json::array({a, b}));
+      samples += b - a + 1;
+    }
+    c["screening"] = {{"note", wv.screening}, {"replaced_samples", samples}, {"replaced_ranges", std::move(ranges)}};
+  }
   c["alpha"] = json_number(wv.alpha);
   c["levels"] = wv_levels_json(wv, column.freq, column.freq_known);
 }

@@ -11,6 +11,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/robust/spike_screen.h"
 #include "small_sample.h"
 
 namespace gmwm::robust {
@@ -181,15 +182,54 @@ struct Prepared {
   WaveletVariance w;  // the classical WV, overwritten level by level
 };
 
+// The root of a long level: started from the root on an evenly strided subsample.
+ScaleSolution solve_level(std::span<const double> coef, const Tuning& t, double start) {
+  if (coef.size() > kSubsampleThreshold) {
+    thread_local std::vector<double> sub;
+    sub.clear();
+    const std::size_t stride = coef.size() / kSubsampleSize;
+    for (std::size_t k = 0; k < coef.size(); k += stride) sub.push_back(coef[k]);
+    const ScaleSolution s0 = solve(sub, t, start);
+    if (s0.has_root) start = s0.scale;
+  }
+  return solve(coef, t, start);
+}
+
 Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, const Tuning& t) {
   Prepared p;
   WvOptions co;
   co.levels = o.levels;
   co.alpha = o.alpha;
-  p.w = classical_wv(x, n, co);
-  p.modwt = std::make_unique<HaarModwt>(x, n);
+  SpikeScreen screen;
+  std::vector<double> cleaned;
+  const double* data = x;
+  if (o.screen_spikes) {
+    const std::vector<double> jumps = level_one_jumps(x, n);
+    double ms = 0.0;
+    for (double v : jumps) ms += v * v;
+    ms /= static_cast<double>(jumps.size());
+    const ScaleSolution s1 = solve_level(jumps, t, ms > 0.0 ? ms : 1.0);
+    screen = screen_spikes(x, n, s1.scale);
+    if (!s1.has_root) {
+      std::ostringstream os;
+      os.precision(3);
+      os << "spike screen not applied: the level-1 " << to_string(t.kind) << " equation has no root ("
+         << 100.0 * s1.zero_fraction << "% of the jumps are exactly 0)";
+      screen.note = os.str();
+    }
+    if (!screen.ranges.empty()) {
+      cleaned = replace_ranges(x, n, screen.ranges);
+      data = cleaned.data();
+    }
+  } else {
+    screen.note = "spike screen off";
+  }
+  p.w = classical_wv(data, n, co);
+  p.modwt = std::make_unique<HaarModwt>(data, n);
   p.w.estimator = to_string(t.kind);
   p.w.efficiency = t.efficiency;
+  p.w.replaced = std::move(screen.ranges);
+  p.w.screening = std::move(screen.note);
   std::ostringstream os;
   os << "second-order bias correction at levels with " << kRobustMinEta << " <= eta <= "
      << internal::kSmallSampleMaxEta << " (long-run covariances by overlapping batch means); classical estimate below eta = "
@@ -212,16 +252,7 @@ void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVarianc
   const double floor = modwt.noise_floor(j);
   for (double& v : coef)
     if (std::abs(v) <= floor) v = 0.0;
-  double start = w.wv[i];
-  if (coef.size() > kSubsampleThreshold) {
-    thread_local std::vector<double> sub;
-    sub.clear();
-    const std::size_t stride = coef.size() / kSubsampleSize;
-    for (std::size_t k = 0; k < coef.size(); k += stride) sub.push_back(coef[k]);
-    const ScaleSolution s0 = solve(sub, t, start);
-    if (s0.has_root) start = s0.scale;
-  }
-  const ScaleSolution s = solve(coef, t, start);
+  const ScaleSolution s = solve_level(coef, t, w.wv[i]);
   if (!s.has_root) {
     std::ostringstream os;
     os.precision(3);

@@ -163,13 +163,16 @@ TEST_F(GmwmCliBadInput, RejectsBadRobustOptionsWithOneLine) {
       {{"--robust", "--estimator", "tukey"}, {"--estimator tukey", "huber or bisquare"}},
       {{"--eff", "0.6"}, {"--eff 0.6", "only meaningful with --robust"}},
       {{"--estimator", "huber"}, {"--estimator huber", "only meaningful with --robust"}},
+      {{"--no-spike-screen"}, {"--no-spike-screen", "only meaningful with --robust"}},
   };
   for (const auto& c : cases)
     for (const char* cmd : {"wv", "fit"}) {
       std::vector<std::string> args = {cmd, "noise.csv", "--freq", "100", "--json", "out.json"};
       if (std::string(cmd) == "fit") args.insert(args.end(), {"--model", "WN"});
       args.insert(args.end(), c.opts.begin(), c.opts.end());
-      SCOPED_TRACE(std::string(cmd) + " " + c.opts[0] + " " + c.opts[1]);
+      std::string trace = cmd;
+      for (const auto& o : c.opts) trace += " " + o;
+      SCOPED_TRACE(trace);
       expect_bad_input(run_gmwm(args, dir_), c.expect, json());
     }
 }

@@ -270,7 +270,37 @@ TEST_F(GmwmCli, RobustWvJsonHasTheDiagnosticFieldsAndTheLibrarysValues) {
     EXPECT_TRUE(l.at("ci_disjoint").is_boolean());
     EXPECT_FALSE(l.at("contaminated").get<bool>()) << "clean simulated data flagged at level " << j + 1;
   }
+  // How the estimator treated small samples and spikes is stated (clean data: no spikes).
+  EXPECT_NE(col.at("small_sample").get<std::string>().find("bias correction"), std::string::npos);
+  EXPECT_EQ(col.at("screening").at("replaced_samples").get<std::int64_t>(), 0);
+  EXPECT_TRUE(col.at("screening").at("replaced_ranges").empty());
+  EXPECT_EQ(col.at("screening").at("note").get<std::string>().rfind("spike screen: 0 samples", 0), 0u)
+      << col.at("screening").at("note");
   EXPECT_TRUE(fs::exists(dir_ / "wv.csv"));
+}
+
+TEST_F(GmwmCli, RobustWvReportsTheReplacedSpikesAndCanKeepThem) {
+  // Two spikes of 50 sd in simulated data: replaced by default and listed (0-based
+  // sample ranges); --no-spike-screen keeps them and says so.
+  simulate(1 << 12, 1);
+  auto set = gmwm::io::read_signals((dir_ / "sim.csv.gz").string(), {});
+  auto& x = set.signals[0].values;
+  double ms = 0.0;
+  for (std::size_t t = 1; t < x.size(); ++t) ms += (x[t] - x[t - 1]) * (x[t] - x[t - 1]);
+  const double sd = std::sqrt(ms / static_cast<double>(x.size()));  // of the increments
+  x[1000] += 50.0 * sd;
+  x[3000] -= 50.0 * sd;
+  gmwm::io::write_signals((dir_ / "spiky.csv").string(), set.signals, 100.0);
+  auto r = run_gmwm({"wv", "spiky.csv", "--robust", "--json", "s.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json screening = read_json(dir_ / "s.json")["columns"][0].at("screening");
+  EXPECT_EQ(screening.at("replaced_samples").get<int>(), 2);
+  EXPECT_EQ(screening.at("replaced_ranges"), json::parse("[[1000, 1000], [3000, 3000]]"));
+  auto off = run_gmwm({"wv", "spiky.csv", "--robust", "--no-spike-screen", "--json", "o.json", "--quiet"}, dir_);
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  const json kept = read_json(dir_ / "o.json")["columns"][0].at("screening");
+  EXPECT_EQ(kept.at("note"), "spike screen off");
+  EXPECT_EQ(kept.at("replaced_samples").get<int>(), 0);
 }
 
 TEST_F(GmwmCli, RobustFitUsesTheRobustWvAndInflatesTheModelBasedOmega) {

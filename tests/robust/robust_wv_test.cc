@@ -311,7 +311,7 @@ TEST(RobustWv, OutlierBiasPredictionMatchesTheSpecFigures) {
   EXPECT_LT(outlier_scale(h, 0.02), 1.10);
 }
 
-TEST(RobustWv, IsolatedSpikesBarelyMoveTheRobustLevelOneWv) {
+TEST(RobustWv, IsolatedSpikesBarelyMoveTheRobustLevelOneWvEvenWithoutTheSpikeScreen) {
   // 1% isolated spikes of +-20 sd (one per block of 100 samples, away from the block
   // edges, so never adjacent) on unit WN. Each spike puts two level-1 coefficients at
   // ~+-10, i.e. eps = 2% gross outliers: the classical WV (0.5) gains ~eps x 100 = 2
@@ -323,6 +323,7 @@ TEST(RobustWv, IsolatedSpikesBarelyMoveTheRobustLevelOneWv) {
   RobustWvOptions hb, bs;
   bs.estimator = RobustKind::kBisquare;
   hb.levels = bs.levels = 3;
+  hb.screen_spikes = bs.screen_spikes = false;  // the estimator's own bounded influence
   tbb::parallel_for(0, kReplicates, [&](int r) {
     const auto clean = white_noise(n, 5301, static_cast<std::uint64_t>(r));
     auto spiky = clean;
@@ -347,7 +348,7 @@ TEST(RobustWv, IsolatedSpikesBarelyMoveTheRobustLevelOneWv) {
   EXPECT_NEAR(median(bisquare), pb, 0.02);
 }
 
-TEST(RobustWv, EnormousSpikesLeaveTheRobustWvFiniteAndBounded) {
+TEST(RobustWv, EnormousSpikesLeaveTheRobustWvFiniteAndBoundedEvenWithoutTheSpikeScreen) {
   // 1% isolated spikes of 1e4 sd: the classical WV is ~1e6 times the robust one. A spike
   // makes tau_j gross coefficients at level j (eps_j = tau_j / 100); the robust ratio
   // spiky / clean must be finite and close to outlier_scale(eps_j) (Huber: +6%, +12%,
@@ -362,6 +363,7 @@ TEST(RobustWv, EnormousSpikesLeaveTheRobustWvFiniteAndBounded) {
   for (RobustKind kind : {RobustKind::kHuber, RobustKind::kBisquare}) {
     RobustWvOptions o;
     o.estimator = kind;
+    o.screen_spikes = false;  // the estimator's own bounded influence (spike_screen_test.cc: with it)
     const WaveletVariance r = robust_wv(spiky.data(), n, o), c = robust_wv(clean.data(), n, o);
     const WaveletVariance cs = classical_wv(spiky.data(), n);
     for (int j = 0; j < 3; ++j) {

@@ -67,6 +67,8 @@ void add_robust_options(CLI::App& sub, RobustOptions& robust) {
          "--estimator", [&robust](const std::string& e) { robust.estimator = e; },
          "Robust estimator: huber (default) or bisquare; needs --robust")
       ->type_name("NAME");
+  sub.add_flag("--no-spike-screen", robust.no_spike_screen,
+               "Keep isolated spikes in the series (by default the robust WV replaces them first); needs --robust");
 }
 
 std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
@@ -74,11 +76,13 @@ std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& ro
   if (!robust.robust) {
     if (robust.eff) throw InputError("--eff " + fmt(*robust.eff) + ": only meaningful with --robust");
     if (robust.estimator) throw InputError("--estimator " + *robust.estimator + ": only meaningful with --robust");
+    if (robust.no_spike_screen) throw InputError("--no-spike-screen: only meaningful with --robust");
     return std::nullopt;
   }
   robust::RobustWvOptions o;
   o.levels = wv.levels;
   o.alpha = wv.alpha;
+  o.screen_spikes = !robust.no_spike_screen;
   if (robust.eff) {
     if (!(*robust.eff > 0.0 && *robust.eff < 1.0))
       throw InputError("--eff " + fmt(*robust.eff) +

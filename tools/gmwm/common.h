@@ -42,11 +42,12 @@ struct InputOptions {
   int levels = 0;                   ///< --levels J (0: floor(log2 N))
 };
 
-/// --robust, --eff, --estimator.
+/// --robust, --eff, --estimator, --no-spike-screen.
 struct RobustOptions {
   bool robust = false;
   std::optional<double> eff;
   std::optional<std::string> estimator;
+  bool no_spike_screen = false;
 };
 
 /// A subcommand: its CLI11 node and what to run when it was chosen (returns the exit code).
@@ -64,7 +65,7 @@ void add_input_options(CLI::App& sub, InputOptions& input);
 void add_robust_options(CLI::App& sub, RobustOptions& robust);
 
 /// The robust WV settings, or nullopt without --robust. Throws InputError (exit 2) for
-/// --eff outside (0, 1), an unknown --estimator, or either without --robust.
+/// --eff outside (0, 1), an unknown --estimator, or any of them without --robust.
 std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
                                                          const WvOptions& wv);
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,6 +28,10 @@ struct WaveletVariance {
   /// How the estimator treats levels with few effective coefficients (robust
   /// estimators: bias correction and fallback), empty for the classical one.
   std::string small_sample;
+  /// Samples the estimator replaced before the transform ([first, last], 0-based; the
+  /// robust estimators' spike screen) and one sentence on what it did.
+  std::vector<std::pair<std::int64_t, std::int64_t>> replaced;
+  std::string screening;
 
   int levels() const { return static_cast<int>(wv.size()); }
   /// The WV as an Eigen vector (a copy).

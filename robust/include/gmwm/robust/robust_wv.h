@@ -40,6 +40,8 @@ struct RobustWvOptions {
   double efficiency = kDefaultEfficiency;  ///< target Gaussian efficiency, in (0, 1)
   int levels = 0;                          ///< <= 0: J = floor(log2 N)
   double alpha = 0.05;                     ///< CIs at level 1 - alpha
+  /// Replace isolated spikes and short glitches before the transform (spike_screen.h).
+  bool screen_spikes = true;
   /// Empty when valid, else one line naming the option.
   std::string Validate() const;
 };
