@@ -75,7 +75,12 @@ void fill_level(const HaarModwt& modwt, int j, WaveletVariance& w) {
 
 WaveletVariance classical_wv(const double* x, std::int64_t n, const WvOptions& options) {
   check_series("classical_wv", n, options);
-  const HaarModwt modwt(x, n);
+  return classical_wv(HaarModwt(x, n), options);
+}
+
+WaveletVariance classical_wv(const HaarModwt& modwt, const WvOptions& options) {
+  const std::int64_t n = modwt.size();
+  check_series("classical_wv", n, options);
   const int J = levels_for(modwt, options);
   WaveletVariance w = empty_wv(n, J, options.alpha);
   for (int j = 1; j <= J; ++j) fill_level(modwt, j, w);

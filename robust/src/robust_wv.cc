@@ -52,30 +52,45 @@ Eval evaluate(std::span<const double> w, const Tuning& t, double s) {
     sum = clipped * inv_s;
     dsum = -below * inv_s;
   } else {
-    const double inv_c2 = 1.0 / c2;
+    // Branch-free (vectorises): u = max(0, 1 - r^2/c^2) is 0 beyond c, where both
+    // terms vanish.
+    const double k = inv_s / c2;  // r^2 / c^2 = W^2 k
+    double s4 = 0.0, d4 = 0.0;    // in units of c^2: sum v u^4, sum v u^3 (u - 4 v), v = r^2/c^2
     for (double x : w) {
-      const double r2 = x * x * inv_s;
-      if (r2 < c2) {
-        const double u = 1.0 - r2 * inv_c2;
-        const double u3 = u * u * u;
-        sum += r2 * u3 * u;
-        dsum -= r2 * u3 * (u - 4.0 * r2 * inv_c2);
-      }
+      const double v = x * x * k;
+      const double u = std::max(0.0, 1.0 - v);
+      const double u3 = u * u * u;
+      s4 += v * u3 * u;
+      d4 += v * u3 * (u - 4.0 * v);
     }
+    sum = c2 * s4;
+    dsum = -c2 * d4;
   }
   const double M = static_cast<double>(w.size());
   return {sum / M - t.a, dsum / M};
 }
 
-ScaleSolution solve(std::span<const double> w, const Tuning& t, double start) {
+// What the solver needs to know of the values besides the passes: how many are exactly
+// zero and the smallest non-zero square (bisquare's lower limit).
+struct ValueStats {
+  std::size_t zeros = 0;
+  double min_w2 = std::numeric_limits<double>::infinity();
+};
+
+ValueStats value_stats(std::span<const double> w) {
+  ValueStats v;
+  for (double x : w) {
+    v.zeros += (x == 0.0);
+    if (x != 0.0) v.min_w2 = std::min(v.min_w2, x * x);
+  }
+  return v;
+}
+
+ScaleSolution solve(std::span<const double> w, const Tuning& t, double start, const ValueStats& stats) {
   ScaleSolution out;
   out.scale = std::numeric_limits<double>::quiet_NaN();
-  std::size_t zeros = 0;
-  for (double x : w) zeros += (x == 0.0);
-  double min_w2 = std::numeric_limits<double>::infinity();  // smallest non-zero W^2 (bisquare)
-  if (t.kind == RobustKind::kBisquare)
-    for (double x : w)
-      if (x != 0.0) min_w2 = std::min(min_w2, x * x);
+  const std::size_t zeros = stats.zeros;
+  const double min_w2 = stats.min_w2;  // smallest non-zero W^2 (bisquare)
   out.zero_fraction = w.empty() ? 1.0 : static_cast<double>(zeros) / static_cast<double>(w.size());
   if (w.empty() || !(start > 0.0) || !std::isfinite(start)) return out;
   // Huber: the left side decreases from (1 - p0) c^2 (s -> 0) to 0 (s -> inf).
@@ -183,16 +198,16 @@ struct Prepared {
 };
 
 // The root of a long level: started from the root on an evenly strided subsample.
-ScaleSolution solve_level(std::span<const double> coef, const Tuning& t, double start) {
+ScaleSolution solve_level(std::span<const double> coef, const Tuning& t, double start, const ValueStats& stats) {
   if (coef.size() > kSubsampleThreshold) {
     thread_local std::vector<double> sub;
     sub.clear();
     const std::size_t stride = coef.size() / kSubsampleSize;
     for (std::size_t k = 0; k < coef.size(); k += stride) sub.push_back(coef[k]);
-    const ScaleSolution s0 = solve(sub, t, start);
+    const ScaleSolution s0 = solve(sub, t, start, value_stats(sub));
     if (s0.has_root) start = s0.scale;
   }
-  return solve(coef, t, start);
+  return solve(coef, t, start, stats);
 }
 
 Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, const Tuning& t) {
@@ -208,7 +223,7 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
     double ms = 0.0;
     for (double v : jumps) ms += v * v;
     ms /= static_cast<double>(jumps.size());
-    const ScaleSolution s1 = solve_level(jumps, t, ms > 0.0 ? ms : 1.0);
+    const ScaleSolution s1 = solve_level(jumps, t, ms > 0.0 ? ms : 1.0, value_stats(jumps));
     screen = screen_spikes(x, n, s1.scale);
     if (!s1.has_root) {
       std::ostringstream os;
@@ -224,8 +239,8 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
   } else {
     screen.note = "spike screen off";
   }
-  p.w = classical_wv(data, n, co);
   p.modwt = std::make_unique<HaarModwt>(data, n);
+  p.w = classical_wv(*p.modwt, co);
   p.w.estimator = to_string(t.kind);
   p.w.efficiency = t.efficiency;
   p.w.replaced = std::move(screen.ranges);
@@ -250,9 +265,22 @@ void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVarianc
   thread_local std::vector<double> coef;
   modwt.coefficients(j, coef);
   const double floor = modwt.noise_floor(j);
-  for (double& v : coef)
-    if (std::abs(v) <= floor) v = 0.0;
-  const ScaleSolution s = solve_level(coef, t, w.wv[i]);
+  ValueStats stats;
+  if (t.kind == RobustKind::kHuber) {  // two loops: each vectorises
+    for (double& v : coef) {
+      const bool zero = std::abs(v) <= floor;
+      v = zero ? 0.0 : v;
+      stats.zeros += zero;
+    }
+  } else {
+    for (double& v : coef) {
+      const bool zero = std::abs(v) <= floor;
+      v = zero ? 0.0 : v;
+      stats.zeros += zero;
+      stats.min_w2 = std::min(stats.min_w2, zero ? stats.min_w2 : v * v);
+    }
+  }
+  const ScaleSolution s = solve_level(coef, t, w.wv[i], stats);
   if (!s.has_root) {
     std::ostringstream os;
     os.precision(3);
@@ -293,7 +321,7 @@ std::string RobustWvOptions::Validate() const {
 }
 
 ScaleSolution solve_scale(std::span<const double> w, const Tuning& tuning, double start) {
-  return solve(w, tuning, start);
+  return solve(w, tuning, start, value_stats(w));
 }
 
 WaveletVariance robust_wv(const double* x, std::int64_t n, const RobustWvOptions& options) {

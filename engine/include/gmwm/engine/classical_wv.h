@@ -13,6 +13,8 @@
 
 namespace gmwm {
 
+class HaarModwt;
+
 struct WvOptions {
   int levels = 0;        ///< number of levels; <= 0 means J = floor(log2 N)
   double alpha = 0.05;   ///< CIs at level 1 - alpha (two-sided)
@@ -34,6 +36,11 @@ std::pair<double, double> chi_square_ci(double wv, double eta, double alpha);
 /// Classical WV of one series. Throws InvalidArgument for n < kMinSeriesLength or
 /// invalid options.
 WaveletVariance classical_wv(const double* x, std::int64_t n, const WvOptions& options = {});
+
+/// Classical WV from an existing transform (the robust WV shares it). Throws
+/// InvalidArgument for a transform of fewer than kMinSeriesLength samples or invalid
+/// options.
+WaveletVariance classical_wv(const HaarModwt& modwt, const WvOptions& options = {});
 
 /// Classical WV of several series, computed in parallel (TBB) over series x levels.
 std::vector<WaveletVariance> classical_wv(const std::vector<std::span<const double>>& series,
