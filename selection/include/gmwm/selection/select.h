@@ -1,0 +1,77 @@
+#pragma once
+// Automatic model selection (STATISTICS.md section 6): every sub-model of a maximal model
+// fitted on each signal, bottom-up by size, each warm-started from the fits of the
+// models nested in it (its parents: one component fewer), all with the signal's one
+// Omega; then scored by WVIC = objective + optimism and ranked.
+//
+//   gmwm::selection::SelectOptions o;                       // analytic optimism
+//   auto results = gmwm::selection::select_models(wvs, gmwm::parse_model("3*AR1+WN+RW+QN+DR"), o);
+//   results[s].ranking[0]                                    // the best model of signal s
+//
+// Scheduling: a TBB flow graph over signals x models; a model's node runs once its
+// parents' nodes are done, and takes their fits as starts in the parents' fixed order,
+// so the result does not depend on the thread count. A super-model's fit starts from its
+// parents' optima (embedded), so its objective is never above theirs.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/selection/optimism.h"
+
+namespace gmwm::selection {
+
+enum class Penalty {
+  kWvic,  ///< objective + optimism (prediction)
+  kBic,   ///< objective + p log(N) (consistent)
+};
+const char* to_string(Penalty p);
+
+struct SelectOptions {
+  Penalty penalty = Penalty::kWvic;
+  /// Fit settings shared by every model (omega_matrix, inference, nested_starts and
+  /// starts are set per signal/model by the selection).
+  FitOptions fit;
+  /// Called after each model fit with (models done, total), from worker threads.
+  std::function<void(int, int)> progress;
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+struct RankedModel {
+  std::string model;            ///< canonical string, without values
+  FitResult fit;                ///< no inference (see Selection::best_fit)
+  int parameters = 0;
+  double objective = 0.0;
+  double optimism = 0.0;        ///< the penalty added (analytic optimism or p log N)
+  double criterion = 0.0;       ///< objective + optimism
+  std::optional<double> optimism_analytic;
+  Optimism analytic;            ///< its status and dropped components
+  int rank = 0;                 ///< 1-based
+};
+
+struct Selection {
+  std::string full_model;
+  std::vector<RankedModel> ranking;  ///< sorted by criterion (ties: fewer parameters, then order)
+  FitResult best_fit;                ///< the first-ranked model refitted with inference
+  Eigen::MatrixXd omega;             ///< shared by all models
+  Eigen::MatrixXd v;                 ///< Cov(nuhat) for the optimism: model-based at the maximal model's fit
+  int models = 0;
+  /// Fit-quality check: models whose objective exceeds that of a model nested in them
+  /// (relative tolerance 1e-9); 0 by construction.
+  int nesting_violations = 0;
+};
+
+/// Selection on each signal's WV. Throws InputError for invalid options or a maximal
+/// model with more parameters than levels.
+std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, const Model& maximal,
+                                     const SelectOptions& options = {});
+
+}  // namespace gmwm::selection

@@ -1,0 +1,156 @@
+#include "gmwm/selection/select.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <sstream>
+
+#include <oneapi/tbb/flow_graph.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/wv_covariance.h"
+#include "gmwm/selection/submodels.h"
+
+namespace gmwm::selection {
+namespace {
+
+// Relative tolerance of the nesting check (issue 4: "relative tolerance 1e-9").
+constexpr double kNestingTolerance = 1e-9;
+
+struct SignalWork {
+  const WaveletVariance* wv = nullptr;
+  Eigen::MatrixXd omega;
+  std::vector<FitResult> fits;  // per sub-model, in SubModelSet order
+};
+
+bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
+  for (std::size_t g = 0; g < sub.size(); ++g)
+    if (sub[g] > super[g]) return false;
+  return true;
+}
+
+}  // namespace
+
+const char* to_string(Penalty p) { return p == Penalty::kWvic ? "wvic" : "bic"; }
+
+std::string SelectOptions::Validate() const {
+  FitOptions f = fit;
+  f.omega_matrix.reset();
+  return f.Validate();
+}
+
+std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, const Model& maximal,
+                                     const SelectOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("select: " + why);
+  const SubModelSet set = enumerate_submodels(maximal);
+  const std::size_t K = set.models.size();
+  for (const auto& wv : wvs) check_model_fits_levels(set.models.back().model, wv.levels());
+
+  std::vector<SignalWork> work(wvs.size());
+  for (std::size_t s = 0; s < wvs.size(); ++s) {
+    work[s].wv = &wvs[s];
+    work[s].omega = options.fit.omega_matrix ? *options.fit.omega_matrix : diagonal_omega(wvs[s]);
+    work[s].fits.resize(K);
+  }
+  const int total = static_cast<int>(wvs.size() * K);
+  std::atomic<int> done{0};
+
+  // One node per (signal, model); edges from each parent model's node.
+  namespace flow = oneapi::tbb::flow;
+  flow::graph g;
+  using Node = flow::continue_node<flow::continue_msg>;
+  std::vector<std::unique_ptr<Node>> nodes;
+  nodes.reserve(wvs.size() * K);
+  for (std::size_t s = 0; s < wvs.size(); ++s) {
+    for (std::size_t i = 0; i < K; ++i) {
+      nodes.push_back(std::make_unique<Node>(g, [&, s, i](const flow::continue_msg&) {
+        SignalWork& w = work[s];
+        const SubModel& m = set.models[i];
+        FitOptions fo = options.fit;
+        fo.omega_matrix = w.omega;
+        fo.nested_starts = false;
+        fo.inference = false;
+        for (int p : m.parents) {
+          const FitResult& pf = w.fits[static_cast<std::size_t>(p)];
+          if (pf.status != FitStatus::kFailed) fo.starts.push_back(embed_start(pf.model, pf.theta, m.model, *w.wv));
+        }
+        w.fits[i] = fit_gmwm(*w.wv, m.model, fo);
+        const int d = ++done;
+        if (options.progress) options.progress(d, total);
+      }));
+    }
+    for (std::size_t i = 0; i < K; ++i)
+      for (int p : set.models[i].parents)
+        flow::make_edge(*nodes[s * K + static_cast<std::size_t>(p)], *nodes[s * K + i]);
+  }
+  for (std::size_t s = 0; s < wvs.size(); ++s)
+    for (std::size_t i = 0; i < K; ++i)
+      if (set.models[i].parents.empty()) nodes[s * K + i]->try_put(flow::continue_msg());
+  g.wait_for_all();
+
+  // Scoring and ranking, per signal.
+  std::vector<Selection> out(wvs.size());
+  for (std::size_t s = 0; s < wvs.size(); ++s) {
+    const SignalWork& w = work[s];
+    const WaveletVariance& wv = *w.wv;
+    Selection& sel = out[s];
+    sel.full_model = set.models.back().model.to_string();
+    sel.models = static_cast<int>(K);
+    sel.omega = w.omega;
+    const FitResult& full = w.fits.back();
+    sel.v = model_wv_covariance(full.model, full.theta, wv.n, wv.levels());
+    if (wv.efficiency) sel.v /= *wv.efficiency;  // robust WV: variance inflated by 1/eff
+    const Eigen::VectorXd nuhat = wv.values();
+    for (std::size_t i = 0; i < K; ++i) {
+      RankedModel r;
+      r.fit = w.fits[i];
+      r.model = set.models[i].model.to_string();
+      r.parameters = set.models[i].model.num_parameters();
+      r.objective = r.fit.objective;
+      if (r.fit.status != FitStatus::kFailed) {
+        r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, w.omega, sel.v);
+        if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
+      }
+      if (options.penalty == Penalty::kWvic)
+        r.optimism = r.optimism_analytic.value_or(std::numeric_limits<double>::quiet_NaN());
+      else
+        r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
+      r.criterion = r.objective + r.optimism;
+      sel.ranking.push_back(std::move(r));
+    }
+    for (std::size_t i = 0; i < K; ++i)
+      for (std::size_t k = 0; k < K; ++k)
+        if (k != i && nested_in(set.models[k].counts, set.models[i].counts) &&
+            sel.ranking[i].objective > sel.ranking[k].objective * (1.0 + kNestingTolerance))
+          ++sel.nesting_violations;
+    // Sort: criterion (NaN last), then fewer parameters, then enumeration order.
+    std::vector<std::size_t> order(K);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      const RankedModel &x = sel.ranking[a], &y = sel.ranking[b];
+      const bool xn = std::isnan(x.criterion), yn = std::isnan(y.criterion);
+      if (xn != yn) return yn;
+      if (!xn && x.criterion != y.criterion) return x.criterion < y.criterion;
+      return x.parameters < y.parameters;
+    });
+    std::vector<RankedModel> ranked;
+    for (std::size_t k = 0; k < K; ++k) {
+      ranked.push_back(std::move(sel.ranking[order[k]]));
+      ranked.back().rank = static_cast<int>(k) + 1;
+    }
+    sel.ranking = std::move(ranked);
+    // The best model with inference (same Omega, started from its own optimum).
+    FitOptions fo = options.fit;
+    fo.omega_matrix = w.omega;
+    fo.nested_starts = false;
+    fo.inference = true;
+    fo.starts = {sel.ranking.front().fit.theta};
+    sel.best_fit = fit_gmwm(wv, sel.ranking.front().fit.model, fo);
+  }
+  return out;
+}
+
+}  // namespace gmwm::selection
