@@ -62,6 +62,22 @@ const char* omega_name(OmegaKind k) {
   return "diag";
 }
 
+json parameters_json(const FitResult& fit) {
+  json params = json::array();
+  const bool has_theta = fit.theta.size() == fit.model.num_parameters() && fit.model.num_parameters() > 0 &&
+                         fit.theta.allFinite();
+  if (!has_theta) return params;
+  for (const ParameterRow& r : parameter_rows(fit))
+    params.push_back({{"process", r.process},
+                      {"component", r.component},
+                      {"name", r.name},
+                      {"value", json_number(r.value)},
+                      {"se", json_number(r.se)},
+                      {"ci_low", json_number(r.ci_low)},
+                      {"ci_high", json_number(r.ci_high)}});
+  return params;
+}
+
 }  // namespace
 
 void add_run_info(json& doc, const RunInfo& run) {
@@ -197,19 +213,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
                          fit.model.num_parameters() > 0 && fit.theta.allFinite();
   c["model"] = has_theta ? json(fit.model.to_string(fit.theta)) : json(nullptr);
   c["model_structure"] = fit.model.to_string();
-  json params = json::array();
-  if (has_theta) {
-    for (const ParameterRow& r : parameter_rows(fit)) {
-      params.push_back({{"process", r.process},
-                        {"component", r.component},
-                        {"name", r.name},
-                        {"value", json_number(r.value)},
-                        {"se", json_number(r.se)},
-                        {"ci_low", json_number(r.ci_low)},
-                        {"ci_high", json_number(r.ci_high)}});
-    }
-  }
-  c["parameters"] = std::move(params);
+  c["parameters"] = parameters_json(fit);
   c["objective"] = json_number(fit.objective);
   c["gof"] = {{"statistic", json_number(fit.gof.statistic)},
               {"df", json_number(fit.gof.df)},
@@ -224,6 +228,48 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
   for (Eigen::Index j = 0; j < fit.implied_wv.size(); ++j)
     implied.push_back(json_number(fit.implied_wv(j)));
   c["implied_wv"] = std::move(implied);
+  add_wv_fields(c, column, wv);
+  return c;
+}
+
+
+json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
+                        selection::Penalty penalty) {
+  json c = column_json(column);
+  c["full_model"] = sel.full_model;
+  c["best"] = sel.ranking.empty() ? json(nullptr) : json(sel.ranking.front().model);
+  const FitResult& b = sel.best_fit;
+  c["best_model"] = b.theta.size() == b.model.num_parameters() && b.theta.allFinite() ? json(b.model.to_string(b.theta))
+                                                                                       : json(nullptr);
+  c["penalty"] = selection::to_string(penalty);
+  c["models"] = sel.models;
+  c["nesting_violations"] = sel.nesting_violations;
+  json ranking = json::array();
+  for (const auto& r : sel.ranking) {
+    json e = {{"rank", r.rank},
+              {"model", r.model},
+              {"objective", json_number(r.objective)},
+              {"optimism", json_number(r.optimism)},
+              {"criterion", json_number(r.criterion)},
+              {"optimism_analytic", r.optimism_analytic ? json_number(*r.optimism_analytic) : json(nullptr)},
+              {"optimism_bootstrap", nullptr},
+              {"optimism_bootstrap_se", nullptr},
+              {"rank_analytic", penalty == selection::Penalty::kWvic ? json(r.rank) : json(nullptr)},
+              {"rank_bootstrap", nullptr},
+              {"gof_p_value", r.rank == 1 ? json_number(b.gof.p_value) : json(nullptr)},
+              {"status", status_name(r.fit.status)},
+              {"parameters", parameters_json(r.rank == 1 ? b : r.fit)}};
+    if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;
+    ranking.push_back(std::move(e));
+  }
+  c["ranking"] = std::move(ranking);
+  c["best_fit"] = {{"objective", json_number(b.objective)},
+                   {"status", status_name(b.status)},
+                   {"gof", {{"statistic", json_number(b.gof.statistic)},
+                            {"df", json_number(b.gof.df)},
+                            {"p_value", json_number(b.gof.p_value)},
+                            {"method", b.gof.method}}},
+                   {"notes", b.notes}};
   add_wv_fields(c, column, wv);
   return c;
 }

@@ -19,6 +19,9 @@ namespace {
 
 // Relative tolerance of the nesting check (issue 4: "relative tolerance 1e-9").
 constexpr double kNestingTolerance = 1e-9;
+// Criteria this close (relative) are tied: the optimiser's own precision (ftol 1e-12)
+// with margin, far below any difference a penalty makes (>= 1e-3 relative here).
+constexpr double kTieTolerance = 1e-9;
 
 struct SignalWork {
   const WaveletVariance* wv = nullptr;
@@ -136,6 +139,17 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
       if (!xn && x.criterion != y.criterion) return x.criterion < y.criterion;
       return x.parameters < y.parameters;
     });
+    // Criteria equal to kTieTolerance (a model whose extra components sit at the
+    // boundary repeats its sub-model's criterion up to round-off): fewer parameters
+    // first within such a run.
+    for (std::size_t a = 0; a < K;) {
+      std::size_t b = a + 1;
+      const double ca = sel.ranking[order[a]].criterion;
+      while (b < K && std::abs(sel.ranking[order[b]].criterion - ca) <= kTieTolerance * std::abs(ca)) ++b;
+      std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(a), order.begin() + static_cast<std::ptrdiff_t>(b),
+                       [&](std::size_t x, std::size_t y) { return sel.ranking[x].parameters < sel.ranking[y].parameters; });
+      a = b;
+    }
     std::vector<RankedModel> ranked;
     for (std::size_t k = 0; k < K; ++k) {
       ranked.push_back(std::move(sel.ranking[order[k]]));

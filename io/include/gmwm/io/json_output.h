@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
@@ -98,6 +99,15 @@ std::vector<ParameterRow> parameter_rows(const FitResult& fit);
 /// "gof", "status", "message", "notes", "evaluations", "omega", "implied_wv", "levels".
 Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
                                const FitResult& fit, OmegaKind omega);
+
+/// A "select" column (CLI.md): column_json + "full_model", "best" (canonical, no values),
+/// "best_model" (with values), "penalty", "nesting_violations", "ranking" (rank, model,
+/// objective, optimism, criterion, optimism_analytic, optimism_bootstrap,
+/// optimism_bootstrap_se, rank_analytic, rank_bootstrap, gof_p_value, parameters, and
+/// "optimism_note" when the analytic optimism dropped boundary components), "best_fit"
+/// (the first-ranked model with inference, as a fit column's fields) and "levels".
+Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
+                        selection::Penalty penalty);
 
 /// The document as text: pretty-printed (2 spaces), ending with a newline.
 std::string dump_json(const Json& doc);

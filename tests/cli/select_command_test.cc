@@ -1,0 +1,88 @@
+// `gmwm select` end to end: the CLI.md JSON fields, the terminal table, identical JSON
+// for --threads 1 and 2 (apart from "run"), and bad options (exit 2, one line).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::expect_bad_input;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+class GmwmSelect : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_select");
+    auto r = run_gmwm({"simulate", "--model", "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)", "--n", "16384", "--freq",
+                       "100", "--signals", "2", "--output", "sim.csv.gz", "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
+  auto r = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--json", "s.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "s.json");
+  EXPECT_EQ(doc.at("command"), "select");
+  ASSERT_EQ(doc.at("columns").size(), 2u);
+  for (const json& col : doc["columns"]) {
+    EXPECT_EQ(col.at("full_model"), "2*AR1+WN+RW");
+    EXPECT_EQ(col.at("nesting_violations"), 0);
+    const json& ranking = col.at("ranking");
+    ASSERT_EQ(ranking.size(), 11u);
+    EXPECT_EQ(col.at("best"), ranking[0].at("model"));
+    for (const char* field : {"rank", "model", "objective", "optimism", "criterion", "optimism_analytic",
+                              "optimism_bootstrap", "optimism_bootstrap_se", "rank_analytic", "rank_bootstrap",
+                              "gof_p_value", "parameters"})
+      EXPECT_TRUE(ranking[3].contains(field)) << field;
+    EXPECT_TRUE(ranking[0].at("gof_p_value").is_number());
+    EXPECT_TRUE(ranking[3].at("gof_p_value").is_null());  // computed for the best model only
+    EXPECT_TRUE(ranking[3].at("optimism_bootstrap").is_null());
+    EXPECT_FALSE(ranking[0].at("parameters").empty());
+    // Sorted by criterion; ties to 1e-9 (relative) put fewer parameters first.
+    for (std::size_t k = 1; k < ranking.size(); ++k)
+      EXPECT_GE(ranking[k].at("criterion").get<double>(), ranking[k - 1].at("criterion").get<double>() * (1 - 1e-9));
+  }
+  // The terminal table: header and one row per model.
+  EXPECT_NE(r.out.find("rank"), std::string::npos);
+  EXPECT_NE(r.out.find("GoF p-value"), std::string::npos);
+  EXPECT_NE(r.out.find("best: "), std::string::npos);
+}
+
+TEST_F(GmwmSelect, JsonIsIdenticalWithOneAndTwoThreadsApartFromTheRunObject) {
+  auto a = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "1", "--json", "a.json",
+                     "--quiet"},
+                    dir_);
+  auto b = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "2", "--json", "b.json",
+                     "--quiet"},
+                    dir_);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_EQ(gmwm::test::without_run(read_json(dir_ / "a.json")), gmwm::test::without_run(read_json(dir_ / "b.json")));
+}
+
+TEST_F(GmwmSelect, RejectsBadOptionsWithOneLine) {
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--penalty", "aic", "--json", "x.json"}, dir_),
+                   {"--penalty"}, dir_ / "x.json");
+  expect_bad_input(
+      run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--optimism", "bootstrap", "--json", "x.json"}, dir_),
+      {"--optimism"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+XX", "--json", "x.json"}, dir_), {"XX"},
+                   dir_ / "x.json");
+}
+
+}  // namespace

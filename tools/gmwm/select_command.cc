@@ -1,0 +1,141 @@
+// gmwm select INPUT --model SPEC [--penalty wvic|bic] [--optimism analytic] [--robust ...]
+// Every sub-model of SPEC fitted on every selected column and ranked (selection/).
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/selection/select.h"
+
+namespace gmwm::cli {
+
+namespace {
+
+struct SelectArgs {
+  InputOptions input;
+  RobustOptions robust;
+  std::string model;
+  std::string penalty = "wvic";
+  std::string optimism = "analytic";
+  int max_evaluations = FitOptions{}.max_evaluations;
+};
+
+std::string terminal_report(const io::SignalSet& set, std::size_t k, const selection::Selection& sel) {
+  std::ostringstream os;
+  const auto& s = set.signals[k];
+  os << s.name << ": N = " << s.values.size() << ", " << sel.models << " sub-models of " << sel.full_model
+     << ", nesting violations " << sel.nesting_violations << '\n';
+  Table t({"rank", "model", "objective", "optimism", "criterion", "GoF p-value"}, 1);
+  for (const auto& r : sel.ranking)
+    t.add({std::to_string(r.rank), r.model, fmt(r.objective, 6), fmt(r.optimism, 4), fmt(r.criterion, 6),
+           r.rank == 1 ? fmt(sel.best_fit.gof.p_value, 3) : std::string("-")});
+  os << t.str();
+  const FitResult& b = sel.best_fit;
+  if (b.theta.size() == b.model.num_parameters() && b.theta.allFinite())
+    os << "best: " << b.model.to_string(b.theta) << '\n';
+  return os.str();
+}
+
+int run_select(const SelectArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  const WvOptions wv_opts = wv_options(args.input);
+  const auto robust_options = robust_wv_options(args.robust, wv_opts);
+  check_output_path("--json", common.json);
+  selection::SelectOptions options;
+  options.penalty = args.penalty == "bic" ? selection::Penalty::kBic : selection::Penalty::kWvic;
+  options.fit.alpha = args.input.alpha;
+  options.fit.seed = common.seed;
+  options.fit.max_evaluations = args.max_evaluations;
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (args.input.freq) {
+    if (!(*args.input.freq > 0.0 && std::isfinite(*args.input.freq)))
+      throw InputError("--freq " + fmt(*args.input.freq) + ": expected a positive sampling rate in Hz");
+    parse_model(args.model, ProcessContext{*args.input.freq, true});
+  }
+
+  Stopwatch read_clock;
+  const io::SignalSet set = read_input(args.input);
+  const double read_seconds = read_clock.seconds();
+  const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
+  Stopwatch wv_clock;
+  const std::vector<WaveletVariance> wvs =
+      robust_options ? compute_robust_wv(set, *robust_options) : compute_wv(set, wv_opts);
+  const double wv_seconds = wv_clock.seconds();
+  for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
+
+  // Progress on a terminal: models done / total, on one line of stderr.
+  const bool bar = common.show_table() && isatty(STDERR_FILENO);
+  std::mutex progress_mutex;
+  if (bar)
+    options.progress = [&](int done, int total_models) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      std::fprintf(stderr, "\rselect: %d / %d models", done, total_models);
+      if (done == total_models) std::fprintf(stderr, "\n");
+      std::fflush(stderr);
+    };
+  Stopwatch select_clock;
+  const std::vector<selection::Selection> result = selection::select_models(wvs, model, options);
+  const double select_seconds = select_clock.seconds();
+
+  io::Json doc = io::json_document("select");
+  doc["input"] = set.path;
+  doc["model_spec"] = args.model;
+  doc["optimism"] = args.optimism;
+  doc["seed"] = common.seed;
+  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    doc["columns"].push_back(io::select_column_json(column_info(set, k), wvs[k], result[k], options.penalty));
+  std::string report;
+  if (common.show_table()) {
+    if (set.timing) report += set.timing->summary() + "\n";
+    for (std::size_t k = 0; k < result.size(); ++k) report += (k ? "\n" : "") + terminal_report(set, k, result[k]);
+  }
+  warn_about_timing(set);
+  for (std::size_t k = 0; k < result.size(); ++k)
+    if (result[k].best_fit.status == FitStatus::kFailed)
+      warn("column '" + set.signals[k].name + "': the best model's fit with inference failed");
+  write_json(common, doc,
+             {.threads = 0,
+              .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"select", select_seconds},
+                          {"total", total.seconds()}},
+              .argv = {}});
+  if (common.show_table()) {
+    std::cout << report;
+    std::cout.flush();
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_select_command(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<SelectArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "select", "Fit every sub-model of a maximal model (e.g. 3*AR1+WN+RW+QN+DR) on each column and rank them");
+  add_input_options(*sub, args->input);
+  sub->add_option("--model", args->model, "Maximal model, e.g. '3*AR1+WN+RW+QN+DR'")->type_name("SPEC")->required();
+  sub->add_option("--penalty", args->penalty, "wvic (objective + analytic optimism) or bic (+ p log N)")
+      ->check(CLI::IsMember({"wvic", "bic"}))
+      ->capture_default_str();
+  sub->add_option("--optimism", args->optimism, "Optimism of the WVIC: analytic (bootstrap: not yet available)")
+      ->check(CLI::IsMember({"analytic"}))
+      ->capture_default_str();
+  sub->add_option("--max-evaluations", args->max_evaluations,
+                  "Objective evaluations per local optimisation before giving up")
+      ->type_name("N")
+      ->check(CLI::Range(10, 100000000))
+      ->capture_default_str();
+  add_robust_options(*sub, args->robust);
+  add_common_options(*sub, common);
+  return {sub, [args, &common] { return run_select(*args, common); }};
+}
+
+}  // namespace gmwm::cli
