@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <oneapi/tbb/flow_graph.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
@@ -96,7 +97,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
 
   // Scoring and ranking, per signal.
   std::vector<Selection> out(wvs.size());
-  for (std::size_t s = 0; s < wvs.size(); ++s) {
+  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     const SignalWork& w = work[s];
     const WaveletVariance& wv = *w.wv;
     Selection& sel = out[s];
@@ -163,7 +164,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     fo.inference = true;
     fo.starts = {sel.ranking.front().fit.theta};
     sel.best_fit = fit_gmwm(wv, sel.ranking.front().fit.model, fo);
-  }
+  });
   return out;
 }
 

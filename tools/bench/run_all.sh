@@ -32,6 +32,10 @@ out=tools/bench/RESULTS.md
   echo
   "$build/bench_simulation_study" || true
   echo
+  echo "## Model selection (bench_select)"
+  echo
+  "$build/bench_select" || true
+  echo
   echo "## Robust WV (bench_robust)"
   echo
   "$build/bench_robust" || true
