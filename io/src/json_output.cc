@@ -235,6 +235,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
 
 json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
                         selection::Penalty penalty) {
+  (void)penalty;
   json c = column_json(column);
   c["full_model"] = sel.full_model;
   c["best"] = sel.ranking.empty() ? json(nullptr) : json(sel.ranking.front().model);
@@ -252,14 +253,17 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
               {"optimism", json_number(r.optimism)},
               {"criterion", json_number(r.criterion)},
               {"optimism_analytic", r.optimism_analytic ? json_number(*r.optimism_analytic) : json(nullptr)},
-              {"optimism_bootstrap", nullptr},
-              {"optimism_bootstrap_se", nullptr},
-              {"rank_analytic", penalty == selection::Penalty::kWvic ? json(r.rank) : json(nullptr)},
-              {"rank_bootstrap", nullptr},
+              {"optimism_bootstrap", r.optimism_bootstrap ? json_number(*r.optimism_bootstrap) : json(nullptr)},
+              {"optimism_bootstrap_se", r.optimism_bootstrap_se ? json_number(*r.optimism_bootstrap_se) : json(nullptr)},
+              {"rank_analytic", r.rank_analytic ? json(*r.rank_analytic) : json(nullptr)},
+              {"rank_bootstrap", r.rank_bootstrap ? json(*r.rank_bootstrap) : json(nullptr)},
               {"gof_p_value", r.rank == 1 ? json_number(b.gof.p_value) : json(nullptr)},
               {"status", status_name(r.fit.status)},
               {"parameters", parameters_json(r.rank == 1 ? b : r.fit)}};
     if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;
+    if (r.optimism_bootstrap && r.optimism_analytic)
+      e["optimism_difference"] = json_number(*r.optimism_bootstrap - *r.optimism_analytic);
+    if (r.bootstrap_failed > 0) e["bootstrap_failed"] = r.bootstrap_failed;
     ranking.push_back(std::move(e));
   }
   c["ranking"] = std::move(ranking);

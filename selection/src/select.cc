@@ -11,7 +11,9 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
 #include "gmwm/selection/submodels.h"
 
@@ -23,6 +25,75 @@ constexpr double kNestingTolerance = 1e-9;
 // Criteria this close (relative) are tied: the optimiser's own precision (ftol 1e-12)
 // with margin, far below any difference a penalty makes (>= 1e-3 relative here).
 constexpr double kTieTolerance = 1e-9;
+
+// Replicate streams are (signal, model, replicate) packed as
+// ((signal * models) + model) * kMaxReplicates + replicate.
+constexpr int kMaxReplicates = 100000;
+
+struct BootstrapResult {
+  double value = 0.0, se = 0.0;
+  int failed = 0;
+};
+
+// Parametric-bootstrap optimism of one fitted model (STATISTICS.md section 6): B series
+// simulated from the fit, their WV by the same estimator, refits warm-started from the
+// fit under the same Omega; optimism = 2 tr(Omega C), C the sample cross-covariance of
+// nu(theta*) and nuhat*. Its Monte-Carlo s.e. from the per-replicate terms
+// 2 (nu(theta*_b) - mean)' Omega (nuhat*_b - mean) (their mean, times B/(B-1), is the
+// estimate).
+BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& fit, const Eigen::MatrixXd& omega,
+                                   const SelectOptions& options, std::uint64_t stream_base) {
+  const int B = options.bootstrap_replicates;
+  const Eigen::Index J = wv.levels();
+  const ClassicalWvEstimator classical;
+  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
+  std::vector<Eigen::VectorXd> implied(static_cast<std::size_t>(B)), empirical(static_cast<std::size_t>(B));
+  std::vector<char> ok(static_cast<std::size_t>(B), 0);
+  oneapi::tbb::parallel_for(0, B, [&](int b) {
+    const std::vector<double> x =
+        simulate(fit.model, fit.theta, wv.n, options.seed, stream_base + static_cast<std::uint64_t>(b));
+    const WaveletVariance w = estimator.compute(x.data(), wv.n, static_cast<int>(J), wv.alpha);
+    if (!w.values().allFinite()) return;
+    FitOptions fo = options.fit;
+    fo.omega_matrix = omega;
+    fo.nested_starts = false;
+    fo.inference = false;
+    fo.multistarts = 1;
+    fo.starts = {fit.theta};
+    const FitResult r = fit_gmwm(w, fit.model, fo);
+    if (r.status == FitStatus::kFailed) return;
+    implied[static_cast<std::size_t>(b)] = r.implied_wv;
+    empirical[static_cast<std::size_t>(b)] = w.values();
+    ok[static_cast<std::size_t>(b)] = 1;
+  });
+  BootstrapResult out;
+  Eigen::VectorXd mi = Eigen::VectorXd::Zero(J), me = Eigen::VectorXd::Zero(J);
+  int n = 0;
+  for (int b = 0; b < B; ++b)
+    if (ok[static_cast<std::size_t>(b)]) {
+      mi += implied[static_cast<std::size_t>(b)];
+      me += empirical[static_cast<std::size_t>(b)];
+      ++n;
+    }
+  out.failed = B - n;
+  if (n < 2) {
+    out.value = out.se = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  }
+  mi /= n;
+  me /= n;
+  std::vector<double> terms;
+  for (int b = 0; b < B; ++b)
+    if (ok[static_cast<std::size_t>(b)])
+      terms.push_back(2.0 * (implied[static_cast<std::size_t>(b)] - mi).dot(omega * (empirical[static_cast<std::size_t>(b)] - me)));
+  double sum = 0.0, sum2 = 0.0;
+  for (double t : terms) sum += t;
+  const double mean = sum / n;
+  for (double t : terms) sum2 += (t - mean) * (t - mean);
+  out.value = sum / (n - 1);
+  out.se = std::sqrt(sum2 / (n - 1)) / std::sqrt(static_cast<double>(n)) * n / (n - 1);
+  return out;
+}
 
 struct SignalWork {
   const WaveletVariance* wv = nullptr;
@@ -40,7 +111,19 @@ bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
 
 const char* to_string(Penalty p) { return p == Penalty::kWvic ? "wvic" : "bic"; }
 
+const char* to_string(OptimismMethod m) {
+  switch (m) {
+    case OptimismMethod::kAnalytic: return "analytic";
+    case OptimismMethod::kBootstrap: return "bootstrap";
+    case OptimismMethod::kBoth: return "both";
+  }
+  return "analytic";
+}
+
 std::string SelectOptions::Validate() const {
+  if (optimism != OptimismMethod::kAnalytic && !(bootstrap_replicates >= 2 && bootstrap_replicates <= kMaxReplicates))
+    return "bootstrap replicates must be in [2, " + std::to_string(kMaxReplicates) + "], got " +
+           std::to_string(bootstrap_replicates);
   FitOptions f = fit;
   f.omega_matrix.reset();
   return f.Validate();
@@ -95,6 +178,22 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
       if (set.models[i].parents.empty()) nodes[s * K + i]->try_put(flow::continue_msg());
   g.wait_for_all();
 
+  // Bootstrap optimism of every (signal, model), when asked.
+  const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
+  std::vector<BootstrapResult> boot(want_bootstrap ? wvs.size() * K : 0);
+  if (want_bootstrap)
+    oneapi::tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t k) {
+      const std::size_t s = k / K, i = k % K;
+      const FitResult& f = work[s].fits[i];
+      if (f.status == FitStatus::kFailed) {
+        boot[k].value = boot[k].se = std::numeric_limits<double>::quiet_NaN();
+        boot[k].failed = options.bootstrap_replicates;
+        return;
+      }
+      boot[k] = bootstrap_optimism(*work[s].wv, f, work[s].omega, options,
+                                   static_cast<std::uint64_t>(k) * static_cast<std::uint64_t>(kMaxReplicates));
+    });
+
   // Scoring and ranking, per signal.
   std::vector<Selection> out(wvs.size());
   oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
@@ -118,8 +217,17 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
         r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, w.omega, sel.v);
         if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
       }
+      if (want_bootstrap) {
+        const BootstrapResult& bo = boot[s * K + i];
+        if (std::isfinite(bo.value)) {
+          r.optimism_bootstrap = bo.value;
+          r.optimism_bootstrap_se = bo.se;
+        }
+        r.bootstrap_failed = bo.failed;
+      }
       if (options.penalty == Penalty::kWvic)
-        r.optimism = r.optimism_analytic.value_or(std::numeric_limits<double>::quiet_NaN());
+        r.optimism = (options.optimism == OptimismMethod::kBootstrap ? r.optimism_bootstrap : r.optimism_analytic)
+                         .value_or(std::numeric_limits<double>::quiet_NaN());
       else
         r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
       r.criterion = r.objective + r.optimism;
@@ -155,6 +263,32 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     for (std::size_t k = 0; k < K; ++k) {
       ranked.push_back(std::move(sel.ranking[order[k]]));
       ranked.back().rank = static_cast<int>(k) + 1;
+    }
+    // Ranks under each optimism (WVIC): by objective + that optimism, same tie rule.
+    if (options.penalty == Penalty::kWvic) {
+      auto rank_by = [&](auto get, auto set_rank) {
+        std::vector<std::size_t> idx(K);
+        std::iota(idx.begin(), idx.end(), 0);
+        auto crit = [&](std::size_t a) {
+          const auto o = get(ranked[a]);
+          return o ? ranked[a].objective + *o : std::numeric_limits<double>::infinity();
+        };
+        std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return crit(a) < crit(b); });
+        for (std::size_t a = 0; a < K;) {
+          std::size_t b = a + 1;
+          while (b < K && std::abs(crit(idx[b]) - crit(idx[a])) <= kTieTolerance * std::abs(crit(idx[a]))) ++b;
+          std::stable_sort(idx.begin() + static_cast<std::ptrdiff_t>(a), idx.begin() + static_cast<std::ptrdiff_t>(b),
+                           [&](std::size_t x, std::size_t y) { return ranked[x].parameters < ranked[y].parameters; });
+          a = b;
+        }
+        for (std::size_t k = 0; k < K; ++k)
+          if (get(ranked[idx[k]])) set_rank(ranked[idx[k]], static_cast<int>(k) + 1);
+      };
+      rank_by([](const RankedModel& r) { return r.optimism_analytic; },
+              [](RankedModel& r, int k) { r.rank_analytic = k; });
+      if (want_bootstrap)
+        rank_by([](const RankedModel& r) { return r.optimism_bootstrap; },
+                [](RankedModel& r, int k) { r.rank_bootstrap = k; });
     }
     sel.ranking = std::move(ranked);
     // The best model with inference (same Omega, started from its own optimum).

@@ -79,7 +79,7 @@ TEST_F(GmwmSelect, RejectsBadOptionsWithOneLine) {
   expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--penalty", "aic", "--json", "x.json"}, dir_),
                    {"--penalty"}, dir_ / "x.json");
   expect_bad_input(
-      run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--optimism", "bootstrap", "--json", "x.json"}, dir_),
+      run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--optimism", "jackknife", "--json", "x.json"}, dir_),
       {"--optimism"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+XX", "--json", "x.json"}, dir_), {"XX"},
                    dir_ / "x.json");

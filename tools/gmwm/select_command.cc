@@ -1,10 +1,13 @@
-// gmwm select INPUT --model SPEC [--penalty wvic|bic] [--optimism analytic] [--robust ...]
+// gmwm select INPUT --model SPEC [--penalty wvic|bic] [--optimism analytic|bootstrap|both]
+//              [--replicates B] [--robust ...]
 // Every sub-model of SPEC fitted on every selected column and ranked (selection/).
 
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <iostream>
 #include <mutex>
 #include <sstream>
@@ -12,6 +15,7 @@
 #include "common.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/select.h"
 
 namespace gmwm::cli {
@@ -24,6 +28,7 @@ struct SelectArgs {
   std::string model;
   std::string penalty = "wvic";
   std::string optimism = "analytic";
+  int replicates = selection::SelectOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
 };
 
@@ -32,10 +37,20 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
   const auto& s = set.signals[k];
   os << s.name << ": N = " << s.values.size() << ", " << sel.models << " sub-models of " << sel.full_model
      << ", nesting violations " << sel.nesting_violations << '\n';
-  Table t({"rank", "model", "objective", "optimism", "criterion", "GoF p-value"}, 1);
-  for (const auto& r : sel.ranking)
-    t.add({std::to_string(r.rank), r.model, fmt(r.objective, 6), fmt(r.optimism, 4), fmt(r.criterion, 6),
-           r.rank == 1 ? fmt(sel.best_fit.gof.p_value, 3) : std::string("-")});
+  const bool both = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap && sel.ranking.front().optimism_analytic;
+  std::vector<std::string> head = {"rank", "model", "objective", "optimism", "criterion", "GoF p-value"};
+  if (both) head.insert(head.end(), {"analytic", "bootstrap (se)", "rank a/b"});
+  Table t(head, 1);
+  auto opt = [](const std::optional<double>& v, int digits) { return v ? fmt(*v, digits) : std::string("-"); };
+  for (const auto& r : sel.ranking) {
+    std::vector<std::string> row = {std::to_string(r.rank), r.model, fmt(r.objective, 6), fmt(r.optimism, 4),
+                                    fmt(r.criterion, 6), r.rank == 1 ? fmt(sel.best_fit.gof.p_value, 3) : "-"};
+    if (both)
+      row.insert(row.end(), {opt(r.optimism_analytic, 4), opt(r.optimism_bootstrap, 4) + " (" + opt(r.optimism_bootstrap_se, 2) + ")",
+                             (r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +
+                                 (r.rank_bootstrap ? std::to_string(*r.rank_bootstrap) : "-")});
+    t.add(row);
+  }
   os << t.str();
   const FitResult& b = sel.best_fit;
   if (b.theta.size() == b.model.num_parameters() && b.theta.allFinite())
@@ -48,8 +63,16 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
   const auto robust_options = robust_wv_options(args.robust, wv_opts);
+  std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
+  if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
   check_output_path("--json", common.json);
   selection::SelectOptions options;
+  options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
+                     : args.optimism == "both"    ? selection::OptimismMethod::kBoth
+                                                  : selection::OptimismMethod::kAnalytic;
+  options.bootstrap_replicates = args.replicates;
+  options.seed = common.seed;
+  options.estimator = robust_estimator.get();
   options.penalty = args.penalty == "bic" ? selection::Penalty::kBic : selection::Penalty::kWvic;
   options.fit.alpha = args.input.alpha;
   options.fit.seed = common.seed;
@@ -125,8 +148,14 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--penalty", args->penalty, "wvic (objective + analytic optimism) or bic (+ p log N)")
       ->check(CLI::IsMember({"wvic", "bic"}))
       ->capture_default_str();
-  sub->add_option("--optimism", args->optimism, "Optimism of the WVIC: analytic (bootstrap: not yet available)")
-      ->check(CLI::IsMember({"analytic"}))
+  sub->add_option("--optimism", args->optimism,
+                  "Optimism of the WVIC: analytic (delta method), bootstrap (parametric, --replicates per model) "
+                  "or both side by side (the criterion uses the analytic one)")
+      ->check(CLI::IsMember({"analytic", "bootstrap", "both"}))
+      ->capture_default_str();
+  sub->add_option("--replicates", args->replicates, "Bootstrap replicates per model")
+      ->type_name("B")
+      ->check(CLI::Range(2, 100000))
       ->capture_default_str();
   sub->add_option("--max-evaluations", args->max_evaluations,
                   "Objective evaluations per local optimisation before giving up")

@@ -34,8 +34,20 @@ enum class Penalty {
 };
 const char* to_string(Penalty p);
 
+/// How the WVIC's optimism is computed: analytic (delta method), parametric bootstrap,
+/// or both side by side (the criterion then uses the analytic one).
+enum class OptimismMethod { kAnalytic, kBootstrap, kBoth };
+const char* to_string(OptimismMethod m);
+
 struct SelectOptions {
   Penalty penalty = Penalty::kWvic;
+  OptimismMethod optimism = OptimismMethod::kAnalytic;
+  /// Bootstrap optimism: replicates per model (issue 4 default 50), their seed, and the
+  /// WV estimator of the simulated series (nullptr: classical; a robust selection passes
+  /// its robust estimator so the replicates use the same WV).
+  int bootstrap_replicates = 50;
+  std::uint64_t seed = 0;
+  const WvEstimator* estimator = nullptr;
   /// Fit settings shared by every model (omega_matrix, inference, nested_starts and
   /// starts are set per signal/model by the selection).
   FitOptions fit;
@@ -54,7 +66,10 @@ struct RankedModel {
   double criterion = 0.0;       ///< objective + optimism
   std::optional<double> optimism_analytic;
   Optimism analytic;            ///< its status and dropped components
-  int rank = 0;                 ///< 1-based
+  std::optional<double> optimism_bootstrap, optimism_bootstrap_se;  ///< and its Monte-Carlo s.e.
+  int bootstrap_failed = 0;     ///< replicates whose refit failed (left out)
+  int rank = 0;                 ///< 1-based, under `criterion`
+  std::optional<int> rank_analytic, rank_bootstrap;  ///< under each optimism (WVIC only)
 };
 
 struct Selection {
