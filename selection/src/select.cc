@@ -110,6 +110,113 @@ bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
   return true;
 }
 
+// Indices of `ranking` sorted by crit (NaN last); criteria within kTieTolerance
+// (relative) of a run's first are ordered by fewer parameters.
+template <class Crit>
+std::vector<std::size_t> rank_order(const std::vector<RankedModel>& ranking, Crit crit) {
+  const std::size_t K = ranking.size();
+  std::vector<std::size_t> order(K);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const double x = crit(ranking[a]), y = crit(ranking[b]);
+    const bool xn = std::isnan(x), yn = std::isnan(y);
+    if (xn != yn) return yn;
+    if (!xn && x != y) return x < y;
+    return ranking[a].parameters < ranking[b].parameters;
+  });
+  // A model whose extra components sit at the boundary repeats its sub-model's criterion.
+  for (std::size_t a = 0; a < K;) {
+    std::size_t b = a + 1;
+    const double ca = crit(ranking[order[a]]);
+    while (b < K && std::abs(crit(ranking[order[b]]) - ca) <= kTieTolerance * std::abs(ca)) ++b;
+    std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(a), order.begin() + static_cast<std::ptrdiff_t>(b),
+                     [&](std::size_t x, std::size_t y) { return ranking[x].parameters < ranking[y].parameters; });
+    a = b;
+  }
+  return order;
+}
+
+// Scores the fitted candidates of one signal (optimism, criterion), ranks them, and
+// refits the best with inference. full: the fit of the model containing them all (V).
+void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega,
+                    const std::vector<FitResult>& fits, const FitResult& full, const std::vector<std::string>& names,
+                    const std::vector<const BootstrapResult*>& boot, const SelectOptions& options) {
+  const std::size_t K = fits.size();
+  sel.models = static_cast<int>(K);
+  sel.omega = omega;
+  sel.v = model_wv_covariance(full.model, full.theta, wv.n, wv.levels());
+  if (wv.efficiency) sel.v /= *wv.efficiency;  // robust WV: variance inflated by 1/eff
+  const Eigen::VectorXd nuhat = wv.values();
+  std::vector<RankedModel> scored;
+  for (std::size_t i = 0; i < K; ++i) {
+    RankedModel r;
+    r.fit = fits[i];
+    r.model = names[i];
+    r.parameters = r.fit.model.num_parameters();
+    r.objective = r.fit.objective;
+    if (r.fit.status != FitStatus::kFailed) {
+      r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, omega, sel.v);
+      if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
+    }
+    if (boot[i]) {
+      if (std::isfinite(boot[i]->value)) {
+        r.optimism_bootstrap = boot[i]->value;
+        r.optimism_bootstrap_se = boot[i]->se;
+      }
+      r.bootstrap_failed = boot[i]->failed;
+    }
+    if (options.penalty == Penalty::kWvic)
+      r.optimism = (options.optimism == OptimismMethod::kBootstrap ? r.optimism_bootstrap : r.optimism_analytic)
+                       .value_or(std::numeric_limits<double>::quiet_NaN());
+    else
+      r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
+    r.criterion = r.objective + r.optimism;
+    scored.push_back(std::move(r));
+  }
+  // Ranks under each optimism (WVIC): by objective + that optimism, same tie rule.
+  auto with = [](const std::optional<double>& o, double objective) {
+    return o ? objective + *o : std::numeric_limits<double>::quiet_NaN();
+  };
+  if (options.penalty == Penalty::kWvic) {
+    const auto a = rank_order(scored, [&](const RankedModel& r) { return with(r.optimism_analytic, r.objective); });
+    for (std::size_t k = 0; k < K; ++k)
+      if (scored[a[k]].optimism_analytic) scored[a[k]].rank_analytic = static_cast<int>(k) + 1;
+    if (options.optimism != OptimismMethod::kAnalytic) {
+      const auto b = rank_order(scored, [&](const RankedModel& r) { return with(r.optimism_bootstrap, r.objective); });
+      for (std::size_t k = 0; k < K; ++k)
+        if (scored[b[k]].optimism_bootstrap) scored[b[k]].rank_bootstrap = static_cast<int>(k) + 1;
+    }
+  }
+  const auto order = rank_order(scored, [](const RankedModel& r) { return r.criterion; });
+  sel.ranking.clear();
+  for (std::size_t k = 0; k < K; ++k) {
+    sel.ranking.push_back(std::move(scored[order[k]]));
+    sel.ranking.back().rank = static_cast<int>(k) + 1;
+  }
+  // The best model with inference (same Omega, started from its own optimum).
+  FitOptions fo = options.fit;
+  fo.omega_matrix = omega;
+  fo.nested_starts = false;
+  fo.inference = true;
+  fo.starts = {sel.ranking.front().fit.theta};
+  sel.best_fit = fit_gmwm(wv, sel.ranking.front().fit.model, fo);
+}
+
+// Models whose objective exceeds that of a model nested in them (kNestingTolerance).
+int count_nesting_violations(const SubModelSet& set, const std::vector<FitResult>& fits,
+                             const std::vector<int>* members = nullptr) {
+  int n = 0;
+  const std::size_t K = fits.size();
+  auto counts = [&](std::size_t i) -> const std::vector<int>& {
+    return set.models[static_cast<std::size_t>(members ? (*members)[i] : static_cast<int>(i))].counts;
+  };
+  for (std::size_t i = 0; i < K; ++i)
+    for (std::size_t k = 0; k < K; ++k)
+      if (k != i && nested_in(counts(k), counts(i)) && fits[i].objective > fits[k].objective * (1.0 + kNestingTolerance))
+        ++n;
+  return n;
+}
+
 }  // namespace
 
 const char* to_string(Penalty p) { return p == Penalty::kWvic ? "wvic" : "bic"; }
@@ -201,106 +308,15 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
   std::vector<Selection> out(wvs.size());
   oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     const SignalWork& w = work[s];
-    const WaveletVariance& wv = *w.wv;
+    std::vector<std::string> names;
+    for (const auto& m : set.models) names.push_back(m.model.to_string());
+    std::vector<const BootstrapResult*> b(K, nullptr);
+    if (want_bootstrap)
+      for (std::size_t i = 0; i < K; ++i) b[i] = &boot[s * K + i];
     Selection& sel = out[s];
     sel.full_model = set.models.back().model.to_string();
-    sel.models = static_cast<int>(K);
-    sel.omega = w.omega;
-    const FitResult& full = w.fits.back();
-    sel.v = model_wv_covariance(full.model, full.theta, wv.n, wv.levels());
-    if (wv.efficiency) sel.v /= *wv.efficiency;  // robust WV: variance inflated by 1/eff
-    const Eigen::VectorXd nuhat = wv.values();
-    for (std::size_t i = 0; i < K; ++i) {
-      RankedModel r;
-      r.fit = w.fits[i];
-      r.model = set.models[i].model.to_string();
-      r.parameters = set.models[i].model.num_parameters();
-      r.objective = r.fit.objective;
-      if (r.fit.status != FitStatus::kFailed) {
-        r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, w.omega, sel.v);
-        if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
-      }
-      if (want_bootstrap) {
-        const BootstrapResult& bo = boot[s * K + i];
-        if (std::isfinite(bo.value)) {
-          r.optimism_bootstrap = bo.value;
-          r.optimism_bootstrap_se = bo.se;
-        }
-        r.bootstrap_failed = bo.failed;
-      }
-      if (options.penalty == Penalty::kWvic)
-        r.optimism = (options.optimism == OptimismMethod::kBootstrap ? r.optimism_bootstrap : r.optimism_analytic)
-                         .value_or(std::numeric_limits<double>::quiet_NaN());
-      else
-        r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
-      r.criterion = r.objective + r.optimism;
-      sel.ranking.push_back(std::move(r));
-    }
-    for (std::size_t i = 0; i < K; ++i)
-      for (std::size_t k = 0; k < K; ++k)
-        if (k != i && nested_in(set.models[k].counts, set.models[i].counts) &&
-            sel.ranking[i].objective > sel.ranking[k].objective * (1.0 + kNestingTolerance))
-          ++sel.nesting_violations;
-    // Sort: criterion (NaN last), then fewer parameters, then enumeration order.
-    std::vector<std::size_t> order(K);
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      const RankedModel &x = sel.ranking[a], &y = sel.ranking[b];
-      const bool xn = std::isnan(x.criterion), yn = std::isnan(y.criterion);
-      if (xn != yn) return yn;
-      if (!xn && x.criterion != y.criterion) return x.criterion < y.criterion;
-      return x.parameters < y.parameters;
-    });
-    // Criteria equal to kTieTolerance (a model whose extra components sit at the
-    // boundary repeats its sub-model's criterion): fewer parameters first within such
-    // a run.
-    for (std::size_t a = 0; a < K;) {
-      std::size_t b = a + 1;
-      const double ca = sel.ranking[order[a]].criterion;
-      while (b < K && std::abs(sel.ranking[order[b]].criterion - ca) <= kTieTolerance * std::abs(ca)) ++b;
-      std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(a), order.begin() + static_cast<std::ptrdiff_t>(b),
-                       [&](std::size_t x, std::size_t y) { return sel.ranking[x].parameters < sel.ranking[y].parameters; });
-      a = b;
-    }
-    std::vector<RankedModel> ranked;
-    for (std::size_t k = 0; k < K; ++k) {
-      ranked.push_back(std::move(sel.ranking[order[k]]));
-      ranked.back().rank = static_cast<int>(k) + 1;
-    }
-    // Ranks under each optimism (WVIC): by objective + that optimism, same tie rule.
-    if (options.penalty == Penalty::kWvic) {
-      auto rank_by = [&](auto get, auto set_rank) {
-        std::vector<std::size_t> idx(K);
-        std::iota(idx.begin(), idx.end(), 0);
-        auto crit = [&](std::size_t a) {
-          const auto o = get(ranked[a]);
-          return o ? ranked[a].objective + *o : std::numeric_limits<double>::infinity();
-        };
-        std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return crit(a) < crit(b); });
-        for (std::size_t a = 0; a < K;) {
-          std::size_t b = a + 1;
-          while (b < K && std::abs(crit(idx[b]) - crit(idx[a])) <= kTieTolerance * std::abs(crit(idx[a]))) ++b;
-          std::stable_sort(idx.begin() + static_cast<std::ptrdiff_t>(a), idx.begin() + static_cast<std::ptrdiff_t>(b),
-                           [&](std::size_t x, std::size_t y) { return ranked[x].parameters < ranked[y].parameters; });
-          a = b;
-        }
-        for (std::size_t k = 0; k < K; ++k)
-          if (get(ranked[idx[k]])) set_rank(ranked[idx[k]], static_cast<int>(k) + 1);
-      };
-      rank_by([](const RankedModel& r) { return r.optimism_analytic; },
-              [](RankedModel& r, int k) { r.rank_analytic = k; });
-      if (want_bootstrap)
-        rank_by([](const RankedModel& r) { return r.optimism_bootstrap; },
-                [](RankedModel& r, int k) { r.rank_bootstrap = k; });
-    }
-    sel.ranking = std::move(ranked);
-    // The best model with inference (same Omega, started from its own optimum).
-    FitOptions fo = options.fit;
-    fo.omega_matrix = w.omega;
-    fo.nested_starts = false;
-    fo.inference = true;
-    fo.starts = {sel.ranking.front().fit.theta};
-    sel.best_fit = fit_gmwm(wv, sel.ranking.front().fit.model, fo);
+    score_and_rank(sel, *w.wv, w.omega, w.fits, w.fits.back(), names, b, options);
+    sel.nesting_violations = count_nesting_violations(set, w.fits);
   });
   return out;
 }
