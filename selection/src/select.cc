@@ -110,6 +110,24 @@ bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
   return true;
 }
 
+// The bootstrap optimism of every (signal, model) of `work` (K models per signal);
+// replicate streams depend on (signal, model, replicate) only.
+std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, std::size_t K,
+                                           const SelectOptions& options) {
+  std::vector<BootstrapResult> boot(work.size() * K);
+  oneapi::tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t k) {
+    const FitResult& f = work[k / K].fits[k % K];
+    if (f.status == FitStatus::kFailed) {
+      boot[k].value = boot[k].se = std::numeric_limits<double>::quiet_NaN();
+      boot[k].failed = options.bootstrap_replicates;
+      return;
+    }
+    boot[k] = bootstrap_optimism(*work[k / K].wv, f, work[k / K].omega, options,
+                                 static_cast<std::uint64_t>(k) * static_cast<std::uint64_t>(kMaxReplicates));
+  });
+  return boot;
+}
+
 // Indices of `ranking` sorted by crit (NaN last); criteria within kTieTolerance
 // (relative) of a run's first are ordered by fewer parameters.
 template <class Crit>
@@ -290,19 +308,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
 
   // Bootstrap optimism of every (signal, model), when asked.
   const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
-  std::vector<BootstrapResult> boot(want_bootstrap ? wvs.size() * K : 0);
-  if (want_bootstrap)
-    oneapi::tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t k) {
-      const std::size_t s = k / K, i = k % K;
-      const FitResult& f = work[s].fits[i];
-      if (f.status == FitStatus::kFailed) {
-        boot[k].value = boot[k].se = std::numeric_limits<double>::quiet_NaN();
-        boot[k].failed = options.bootstrap_replicates;
-        return;
-      }
-      boot[k] = bootstrap_optimism(*work[s].wv, f, work[s].omega, options,
-                                   static_cast<std::uint64_t>(k) * static_cast<std::uint64_t>(kMaxReplicates));
-    });
+  const std::vector<BootstrapResult> boot = want_bootstrap ? bootstrap_all(work, K, options) : std::vector<BootstrapResult>{};
 
   // Scoring and ranking, per signal.
   std::vector<Selection> out(wvs.size());
@@ -317,6 +323,76 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     sel.full_model = set.models.back().model.to_string();
     score_and_rank(sel, *w.wv, w.omega, w.fits, w.fits.back(), names, b, options);
     sel.nesting_violations = count_nesting_violations(set, w.fits);
+  });
+  return out;
+}
+
+std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, const std::vector<Model>& models,
+                                    const SelectOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("select: " + why);
+  if (models.empty()) throw InputError("select: no models given");
+  const Model super = common_supermodel(models);
+  const SubModelSet set = enumerate_submodels(super);
+  // Each listed model's place among the super-model's sub-models (for the nesting check).
+  std::vector<int> members;
+  std::vector<std::string> names;
+  for (const Model& m : models) {
+    std::vector<int> counts(set.groups.size(), 0);
+    for (const Component& c : m.components())
+      for (std::size_t g = 0; g < set.groups.size(); ++g)
+        if (set.groups[g].prototype.process->name() == c.process->name() &&
+            set.groups[g].prototype.process->structure() == c.process->structure())
+          ++counts[g];
+    members.push_back(set.find(counts));
+    names.push_back(m.canonical().to_string());
+  }
+  for (const auto& wv : wvs) {
+    check_model_fits_levels(super, wv.levels());
+  }
+  const std::size_t K = models.size();
+  std::vector<SignalWork> work(wvs.size());
+  for (std::size_t s = 0; s < wvs.size(); ++s) {
+    work[s].wv = &wvs[s];
+    work[s].omega = options.fit.omega_matrix ? *options.fit.omega_matrix : diagonal_omega(wvs[s]);
+    work[s].fits.resize(K);
+  }
+  const int total = static_cast<int>(wvs.size() * (K + 1));
+  std::atomic<int> done{0};
+  auto tick = [&] {
+    const int d = ++done;
+    if (options.progress) options.progress(d, total);
+  };
+  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size() * K, [&](std::size_t k) {
+    const std::size_t s = k / K, i = k % K;
+    FitOptions fo = options.fit;
+    fo.omega_matrix = work[s].omega;
+    fo.inference = false;  // nested_starts as the caller set it (default on)
+    work[s].fits[i] = fit_gmwm(*work[s].wv, models[i], fo);
+    tick();
+  });
+  std::vector<FitResult> full(wvs.size());
+  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+    FitOptions fo = options.fit;
+    fo.omega_matrix = work[s].omega;
+    fo.inference = false;
+    fo.nested_starts = false;
+    for (const FitResult& f : work[s].fits)
+      if (f.status != FitStatus::kFailed) fo.starts.push_back(embed_start(f.model, f.theta, super, *work[s].wv));
+    full[s] = fit_gmwm(*work[s].wv, super, fo);
+    tick();
+  });
+  // Bootstrap optimism of every (signal, model), when asked.
+  const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
+  const std::vector<BootstrapResult> boot = want_bootstrap ? bootstrap_all(work, K, options) : std::vector<BootstrapResult>{};
+  std::vector<Selection> out(wvs.size());
+  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+    std::vector<const BootstrapResult*> b(K, nullptr);
+    if (want_bootstrap)
+      for (std::size_t i = 0; i < K; ++i) b[i] = &boot[s * K + i];
+    Selection& sel = out[s];
+    sel.full_model = super.to_string();
+    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].fits, full[s], names, b, options);
+    sel.nesting_violations = count_nesting_violations(set, work[s].fits, &members);
   });
   return out;
 }

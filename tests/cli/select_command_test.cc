@@ -62,6 +62,17 @@ TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
   EXPECT_NE(r.out.find("best: "), std::string::npos);
 }
 
+TEST_F(GmwmSelect, RanksOnlyTheListedModelsInTheNonNestedMode) {
+  auto r = run_gmwm({"select", "sim.csv.gz", "--models", "AR1+WN;2*AR1;WN+RW", "--json", "s.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "s.json");
+  EXPECT_EQ(doc.at("mode"), "listed");
+  for (const json& col : doc["columns"]) {
+    EXPECT_EQ(col.at("full_model"), "2*AR1+WN+RW");
+    ASSERT_EQ(col.at("ranking").size(), 3u);
+  }
+}
+
 TEST_F(GmwmSelect, JsonIsIdenticalWithOneAndTwoThreadsApartFromTheRunObject) {
   auto a = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "1", "--json", "a.json",
                      "--quiet"},
@@ -75,7 +86,9 @@ TEST_F(GmwmSelect, JsonIsIdenticalWithOneAndTwoThreadsApartFromTheRunObject) {
 }
 
 TEST_F(GmwmSelect, RejectsBadOptionsWithOneLine) {
-  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model", "--models"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--models", "AR1+WN;;WN", "--json", "x.json"}, dir_),
+                   {"--models", "empty model"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--penalty", "aic", "--json", "x.json"}, dir_),
                    {"--penalty"}, dir_ / "x.json");
   expect_bad_input(

@@ -157,3 +157,27 @@ TEST(SelectModels, RejectsTooFewBootstrapReplicates) {
 
 }  // namespace
 }  // namespace gmwm::selection
+
+namespace gmwm::selection {
+namespace {
+
+TEST(SelectAmong, RanksOnlyTheListedModelsWithTheirCommonSuperModelForTheOptimism) {
+  const auto wvs = simulated_wvs(1, 7107);
+  const std::vector<Model> listed = {parse_model("AR1+WN"), parse_model("2*AR1"), parse_model("WN+RW"),
+                                     parse_model("AR1")};
+  const auto sel = select_among(wvs, listed).front();
+  EXPECT_EQ(sel.full_model, "2*AR1+WN+RW");
+  ASSERT_EQ(sel.ranking.size(), 4u);
+  std::set<std::string> names;
+  for (const auto& r : sel.ranking) {
+    names.insert(r.model);
+    EXPECT_TRUE(r.optimism_analytic.has_value()) << r.model;
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"AR1+WN", "2*AR1", "WN+RW", "AR1"}));
+  EXPECT_EQ(sel.nesting_violations, 0);  // AR1 is nested in AR1+WN and in 2*AR1
+  EXPECT_EQ(sel.ranking.front().model, "AR1+WN") << "the true model";
+  EXPECT_THROW(select_among(wvs, {}), InputError);
+}
+
+}  // namespace
+}  // namespace gmwm::selection

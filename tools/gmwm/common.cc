@@ -71,6 +71,13 @@ void add_robust_options(CLI::App& sub, RobustOptions& robust) {
                "Keep isolated spikes in the series (by default the robust WV replaces them first); needs --robust");
 }
 
+void add_max_evaluations_option(CLI::App& sub, int& max_evaluations) {
+  sub.add_option("--max-evaluations", max_evaluations, "Objective evaluations per local optimisation before giving up")
+      ->type_name("N")
+      ->check(CLI::Range(10, 100000000))
+      ->capture_default_str();
+}
+
 std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
                                                          const WvOptions& wv) {
   if (!robust.robust) {

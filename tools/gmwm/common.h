@@ -64,6 +64,8 @@ Command add_select_command(CLI::App& app, CommonOptions& common);
 void add_common_options(CLI::App& sub, CommonOptions& common);
 void add_input_options(CLI::App& sub, InputOptions& input);
 void add_robust_options(CLI::App& sub, RobustOptions& robust);
+/// --max-evaluations N (fit and select).
+void add_max_evaluations_option(CLI::App& sub, int& max_evaluations);
 
 /// The robust WV settings, or nullopt without --robust. Throws InputError (exit 2) for
 /// --eff outside (0, 1), an unknown --estimator, or any of them without --robust.

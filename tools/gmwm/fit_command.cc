@@ -181,11 +181,7 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
       ->type_name("B")
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
-  sub->add_option("--max-evaluations", args->max_evaluations,
-                  "Objective evaluations per local optimisation before giving up")
-      ->type_name("N")
-      ->check(CLI::Range(10, 100000000))
-      ->capture_default_str();
+  add_max_evaluations_option(*sub, args->max_evaluations);
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_fit(*args, common); }};

@@ -1,4 +1,4 @@
-// gmwm select INPUT --model SPEC [--penalty wvic|bic] [--optimism analytic|bootstrap|both]
+// gmwm select INPUT (--model SPEC | --models "SPEC1;SPEC2;...") [--penalty wvic|bic] [--optimism analytic|bootstrap|both]
 //              [--replicates B] [--robust ...]
 // Every sub-model of SPEC fitted on every selected column and ranked (selection/).
 
@@ -17,6 +17,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/select.h"
+#include "gmwm/selection/submodels.h"
 
 namespace gmwm::cli {
 
@@ -26,6 +27,7 @@ struct SelectArgs {
   InputOptions input;
   RobustOptions robust;
   std::string model;
+  std::string models;  ///< --models "SPEC1;SPEC2;..."
   std::string penalty = "wvic";
   std::string optimism = "analytic";
   int replicates = selection::SelectOptions{}.bootstrap_replicates;
@@ -78,16 +80,40 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   options.fit.seed = common.seed;
   options.fit.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (args.model.empty() == args.models.empty())
+    throw InputError("select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
+  // The listed models of --models, split at ';' (empty entries are an error).
+  std::vector<std::string> specs;
+  if (!args.models.empty()) {
+    std::string cur;
+    for (char ch : args.models + ";") {
+      if (ch != ';') {
+        cur += ch;
+        continue;
+      }
+      if (cur.find_first_not_of(" \t") == std::string::npos)
+        throw InputError("--models \"" + args.models + "\": empty model in the list");
+      specs.push_back(cur);
+      cur.clear();
+    }
+  }
+  auto parse_all = [&](const ProcessContext& ctx) {
+    std::vector<Model> out;
+    if (specs.empty()) out.push_back(parse_model(args.model, ctx));
+    for (const auto& sp : specs) out.push_back(parse_model(sp, ctx));
+    return out;
+  };
   if (args.input.freq) {
     if (!(*args.input.freq > 0.0 && std::isfinite(*args.input.freq)))
       throw InputError("--freq " + fmt(*args.input.freq) + ": expected a positive sampling rate in Hz");
-    parse_model(args.model, ProcessContext{*args.input.freq, true});
+    parse_all(ProcessContext{*args.input.freq, true});
   }
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
-  const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
+  const std::vector<Model> models = parse_all(ProcessContext{set.freq, set.freq_known});
+  const Model model = specs.empty() ? models.front() : selection::common_supermodel(models);
   Stopwatch wv_clock;
   const std::vector<WaveletVariance> wvs =
       robust_options ? compute_robust_wv(set, *robust_options) : compute_wv(set, wv_opts);
@@ -105,12 +131,14 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
       std::fflush(stderr);
     };
   Stopwatch select_clock;
-  const std::vector<selection::Selection> result = selection::select_models(wvs, model, options);
+  const std::vector<selection::Selection> result =
+      specs.empty() ? selection::select_models(wvs, model, options) : selection::select_among(wvs, models, options);
   const double select_seconds = select_clock.seconds();
 
   io::Json doc = io::json_document("select");
   doc["input"] = set.path;
-  doc["model_spec"] = args.model;
+  doc["model_spec"] = specs.empty() ? args.model : args.models;
+  doc["mode"] = specs.empty() ? "sub-models" : "listed";
   doc["optimism"] = args.optimism;
   doc["seed"] = common.seed;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
@@ -144,7 +172,12 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
   CLI::App* sub = app.add_subcommand(
       "select", "Fit every sub-model of a maximal model (e.g. 3*AR1+WN+RW+QN+DR) on each column and rank them");
   add_input_options(*sub, args->input);
-  sub->add_option("--model", args->model, "Maximal model, e.g. '3*AR1+WN+RW+QN+DR'")->type_name("SPEC")->required();
+  auto* one = sub->add_option("--model", args->model, "Maximal model, e.g. '3*AR1+WN+RW+QN+DR': every sub-model is ranked")
+                  ->type_name("SPEC");
+  sub->add_option("--models", args->models,
+                  "Non-nested mode: only these models, e.g. 'AR1+WN;2*AR1;WN+RW' (their common super-model gives V)")
+      ->type_name("SPEC1;SPEC2;...")
+      ->excludes(one);
   sub->add_option("--penalty", args->penalty, "wvic (objective + analytic optimism) or bic (+ p log N)")
       ->check(CLI::IsMember({"wvic", "bic"}))
       ->capture_default_str();
@@ -157,11 +190,7 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->type_name("B")
       ->check(CLI::Range(2, 100000))
       ->capture_default_str();
-  sub->add_option("--max-evaluations", args->max_evaluations,
-                  "Objective evaluations per local optimisation before giving up")
-      ->type_name("N")
-      ->check(CLI::Range(10, 100000000))
-      ->capture_default_str();
+  add_max_evaluations_option(*sub, args->max_evaluations);
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_select(*args, common); }};

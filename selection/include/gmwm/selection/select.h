@@ -89,4 +89,12 @@ struct Selection {
 std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, const Model& maximal,
                                      const SelectOptions& options = {});
 
+/// The non-nested mode: only `models` are fitted and ranked (each with nested starts of
+/// its own), on each signal; their smallest common super-model (common_supermodel) is
+/// fitted too, warm-started from them, for the covariance V of the optimism, and is
+/// Selection::full_model. Throws InputError for an empty list, invalid options or a model
+/// with more parameters than levels.
+std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, const std::vector<Model>& models,
+                                    const SelectOptions& options = {});
+
 }  // namespace gmwm::selection
