@@ -36,6 +36,10 @@ out=tools/bench/RESULTS.md
   echo
   "$build/bench_select" || true
   echo
+  echo "## WVIC optimism: analytic vs bootstrap vs Monte-Carlo truth (bench_optimism)"
+  echo
+  "$build/bench_optimism" || true
+  echo
   echo "## Robust WV (bench_robust)"
   echo
   "$build/bench_robust" || true
