@@ -96,33 +96,47 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
     }
   }
 
-  // Goodness of fit. With Omega = V^-1 the objective is chi-square(J - p). With another
-  // Omega, Q ~ sum_k lambda_k chi2_1 with lambda = eig(M V), M = P' Omega P,
+  r.gof = goodness_of_fit(A, r.objective, J - p, omega, V, omega_is_v_inverse);
+}
+
+}  // namespace gmwm::detail
+
+namespace gmwm {
+
+GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double df, const Eigen::MatrixXd& omega,
+                              const Eigen::MatrixXd& V, bool omega_is_v_inverse) {
+  // With Omega = V^-1 the objective is chi-square(J - p). With another Omega,
+  // Q ~ sum_k lambda_k chi2_1 with lambda = eig(M V), M = P' Omega P,
   // P = I - A B^-1 A' Omega; matched to a scaled chi-square a chi2_b (Satterthwaite 1946).
-  r.gof.statistic = r.objective;
-  r.gof.df = J - p;
-  if (r.gof.df <= 0) {
-    r.gof.p_value = nan;
-    r.gof.method = "none (no degrees of freedom)";
-    return;
+  GoodnessOfFit g;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  g.statistic = objective;
+  g.df = df;
+  if (g.df <= 0) {
+    g.p_value = nan;
+    g.method = "none (no degrees of freedom)";
+    return g;
   }
   if (omega_is_v_inverse) {
-    r.gof.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(r.gof.df), std::max(r.objective, 0.0)));
-    r.gof.method = "chi-square";
-    return;
+    g.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(g.df), std::max(objective, 0.0)));
+    g.method = "chi-square";
+    return g;
   }
+  const Eigen::Index J = omega.rows();
+  const Eigen::MatrixXd B = A.transpose() * omega * A;
   const Eigen::MatrixXd Binv = B.completeOrthogonalDecomposition().pseudoInverse();
   const Eigen::MatrixXd Pm = Eigen::MatrixXd::Identity(J, J) - A * Binv * A.transpose() * omega;
   const Eigen::MatrixXd MV = Pm.transpose() * omega * Pm * V;
   const double t1 = MV.trace(), t2 = (MV * MV).trace();
   if (!(t1 > 0.0 && t2 > 0.0)) {
-    r.gof.p_value = nan;
-    r.gof.method = "satterthwaite (degenerate)";
-    return;
+    g.p_value = nan;
+    g.method = "satterthwaite (degenerate)";
+    return g;
   }
   const double scale = t2 / t1, dof = t1 * t1 / t2;
-  r.gof.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(r.objective, 0.0) / scale));
-  r.gof.method = "satterthwaite";
+  g.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(objective, 0.0) / scale));
+  g.method = "satterthwaite";
+  return g;
 }
 
-}  // namespace gmwm::detail
+}  // namespace gmwm

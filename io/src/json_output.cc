@@ -257,7 +257,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
               {"optimism_bootstrap_se", r.optimism_bootstrap_se ? json_number(*r.optimism_bootstrap_se) : json(nullptr)},
               {"rank_analytic", r.rank_analytic ? json(*r.rank_analytic) : json(nullptr)},
               {"rank_bootstrap", r.rank_bootstrap ? json(*r.rank_bootstrap) : json(nullptr)},
-              {"gof_p_value", r.rank == 1 ? json_number(b.gof.p_value) : json(nullptr)},
+              {"gof_p_value", json_number(r.gof.p_value)},
               {"status", status_name(r.fit.status)},
               {"parameters", parameters_json(r.rank == 1 ? b : r.fit)}};
     if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <span>
 #include <numeric>
 #include <sstream>
 
@@ -128,6 +129,21 @@ std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, 
   return boot;
 }
 
+// The Jacobian of nu at theta without the parameters of the listed components.
+Eigen::MatrixXd active_jacobian(const Model& model, const Eigen::VectorXd& theta, std::span<const double> tau,
+                                const std::vector<int>& dropped) {
+  const Eigen::MatrixXd full = model.jacobian(theta, tau);
+  std::vector<Eigen::Index> keep;
+  for (int c = 0; c < model.num_components(); ++c) {
+    if (std::find(dropped.begin(), dropped.end(), c) != dropped.end()) continue;
+    for (int k = 0; k < model.components()[static_cast<std::size_t>(c)].process->size(); ++k)
+      keep.push_back(model.offset(c) + k);
+  }
+  Eigen::MatrixXd A(full.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (Eigen::Index a = 0; a < A.cols(); ++a) A.col(a) = full.col(keep[static_cast<std::size_t>(a)]);
+  return A;
+}
+
 // Indices of `ranking` sorted by crit (NaN last); criteria within kTieTolerance
 // (relative) of a run's first are ordered by fewer parameters.
 template <class Crit>
@@ -175,6 +191,8 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
     if (r.fit.status != FitStatus::kFailed) {
       r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, omega, sel.v);
       if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
+      r.gof = goodness_of_fit(active_jacobian(r.fit.model, r.fit.theta, wv.tau, r.analytic.boundary_components),
+                              r.objective, static_cast<double>(wv.levels() - r.parameters), omega, sel.v, false);
     }
     if (boot[i]) {
       if (std::isfinite(boot[i]->value)) {

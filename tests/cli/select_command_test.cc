@@ -48,8 +48,11 @@ TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
                               "optimism_bootstrap", "optimism_bootstrap_se", "rank_analytic", "rank_bootstrap",
                               "gof_p_value", "parameters"})
       EXPECT_TRUE(ranking[3].contains(field)) << field;
-    EXPECT_TRUE(ranking[0].at("gof_p_value").is_number());
-    EXPECT_TRUE(ranking[3].at("gof_p_value").is_null());  // computed for the best model only
+    for (const json& entry : ranking) {
+      ASSERT_TRUE(entry.at("gof_p_value").is_number()) << entry.at("model");  // every model, shared Omega and V
+      EXPECT_GE(entry.at("gof_p_value").get<double>(), 0.0);
+      EXPECT_LE(entry.at("gof_p_value").get<double>(), 1.0);
+    }
     EXPECT_TRUE(ranking[3].at("optimism_bootstrap").is_null());
     EXPECT_FALSE(ranking[0].at("parameters").empty());
     // Sorted by criterion; ties to 1e-6 (relative) put fewer parameters first.

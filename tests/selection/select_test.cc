@@ -61,6 +61,8 @@ TEST(SelectModels, FitsAndRanksEverySubModelOfEverySignalWithoutNestingViolation
       EXPECT_NE(r.fit.status, FitStatus::kFailed) << r.model;
       ASSERT_TRUE(r.optimism_analytic.has_value()) << r.model;
       EXPECT_DOUBLE_EQ(r.criterion, r.objective + r.optimism);
+      EXPECT_TRUE(r.gof.p_value >= 0.0 && r.gof.p_value <= 1.0) << r.model << ": " << r.gof.p_value;
+      EXPECT_EQ(r.gof.method, "satterthwaite") << r.model;
       if (k > 0) {
         // sorted; ties to 1e-6 (relative) put fewer parameters first
         EXPECT_GE(r.criterion, sel.ranking[k - 1].criterion * (1 - 1e-6));

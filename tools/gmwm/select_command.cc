@@ -46,7 +46,7 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
   auto opt = [](const std::optional<double>& v, int digits) { return v ? fmt(*v, digits) : std::string("-"); };
   for (const auto& r : sel.ranking) {
     std::vector<std::string> row = {std::to_string(r.rank), r.model, fmt(r.objective, 6), fmt(r.optimism, 4),
-                                    fmt(r.criterion, 6), r.rank == 1 ? fmt(sel.best_fit.gof.p_value, 3) : "-"};
+                                    fmt(r.criterion, 6), fmt(r.gof.p_value, 3)};
     if (both)
       row.insert(row.end(), {opt(r.optimism_analytic, 4), opt(r.optimism_bootstrap, 4) + " (" + opt(r.optimism_bootstrap_se, 2) + ")",
                              (r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +

@@ -94,6 +94,13 @@ struct FitResult {
 /// (p > J, invalid options). Numerical trouble is reported in the status.
 FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptions& options = {});
 
+/// Goodness of fit of a minimised objective with `df` = J - p degrees of freedom, A the
+/// J x p Jacobian at the fit (boundary parameters left out): chi-square(df) when
+/// Omega = V^-1, else Q ~ sum lambda_k chi2_1 matched to a scaled chi-square
+/// (Satterthwaite), lambda = eig(P' Omega P V), P = I - A (A' Omega A)^+ A' Omega.
+GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double df, const Eigen::MatrixXd& omega,
+                              const Eigen::MatrixXd& V, bool omega_is_v_inverse);
+
 /// The GMWM objective (nuhat - nu(theta))' Omega (nuhat - nu(theta)).
 double gmwm_objective(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
                       const Eigen::MatrixXd& omega);

@@ -59,7 +59,7 @@ struct SelectOptions {
 
 struct RankedModel {
   std::string model;            ///< canonical string, without values
-  FitResult fit;                ///< no inference (see Selection::best_fit)
+  FitResult fit;                ///< no inference (see Selection::best_fit; gof below)
   int parameters = 0;
   double objective = 0.0;
   double optimism = 0.0;        ///< the penalty added (analytic optimism or p log N)
@@ -68,6 +68,9 @@ struct RankedModel {
   Optimism analytic;            ///< its status and dropped components
   std::optional<double> optimism_bootstrap, optimism_bootstrap_se;  ///< and its Monte-Carlo s.e.
   int bootstrap_failed = 0;     ///< replicates whose refit failed (left out)
+  /// Goodness of fit under the selection's shared Omega and V (Satterthwaite),
+  /// boundary components left out of A as for the optimism.
+  GoodnessOfFit gof;
   int rank = 0;                 ///< 1-based, under `criterion`
   std::optional<int> rank_analytic, rank_bootstrap;  ///< under each optimism (WVIC only)
 };
