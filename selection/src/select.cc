@@ -111,6 +111,18 @@ bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
   return true;
 }
 
+// Per signal: its WV, its one Omega (the caller's, or the data's diag Omega) and room
+// for K fits.
+std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::size_t K, const SelectOptions& options) {
+  std::vector<SignalWork> work(wvs.size());
+  for (std::size_t s = 0; s < wvs.size(); ++s) {
+    work[s].wv = &wvs[s];
+    work[s].omega = options.fit.omega_matrix ? *options.fit.omega_matrix : diagonal_omega(wvs[s]);
+    work[s].fits.resize(K);
+  }
+  return work;
+}
+
 // The bootstrap optimism of every (signal, model) of `work` (K models per signal);
 // replicate streams depend on (signal, model, replicate) only.
 std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, std::size_t K,
@@ -282,12 +294,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
   const std::size_t K = set.models.size();
   for (const auto& wv : wvs) check_model_fits_levels(set.models.back().model, wv.levels());
 
-  std::vector<SignalWork> work(wvs.size());
-  for (std::size_t s = 0; s < wvs.size(); ++s) {
-    work[s].wv = &wvs[s];
-    work[s].omega = options.fit.omega_matrix ? *options.fit.omega_matrix : diagonal_omega(wvs[s]);
-    work[s].fits.resize(K);
-  }
+  std::vector<SignalWork> work = make_work(wvs, K, options);
   const int total = static_cast<int>(wvs.size() * K);
   std::atomic<int> done{0};
 
@@ -368,12 +375,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     check_model_fits_levels(super, wv.levels());
   }
   const std::size_t K = models.size();
-  std::vector<SignalWork> work(wvs.size());
-  for (std::size_t s = 0; s < wvs.size(); ++s) {
-    work[s].wv = &wvs[s];
-    work[s].omega = options.fit.omega_matrix ? *options.fit.omega_matrix : diagonal_omega(wvs[s]);
-    work[s].fits.resize(K);
-  }
+  std::vector<SignalWork> work = make_work(wvs, K, options);
   const int total = static_cast<int>(wvs.size() * (K + 1));
   std::atomic<int> done{0};
   auto tick = [&] {
