@@ -243,6 +243,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
   c["best_model"] = b.theta.size() == b.model.num_parameters() && b.theta.allFinite() ? json(b.model.to_string(b.theta))
                                                                                        : json(nullptr);
   c["penalty"] = selection::to_string(penalty);
+  c["omega"] = selection::to_string(sel.omega_source);
   c["models"] = sel.models;
   c["nesting_violations"] = sel.nesting_violations;
   json ranking = json::array();

@@ -77,15 +77,24 @@ Optimism analytic_optimism(const Model& model, const Eigen::VectorXd& theta, std
     out.message = "B + D could not be decomposed";
     return out;
   }
+  // At an interior minimum B + D (half the Hessian of the objective) is positive
+  // definite. A direction of non-positive curvature means the optimum sits at the edge of
+  // the parameter space along it (a variance near 0, phi near 1), where the first-order
+  // condition behind the delta method does not hold: such directions are left out like
+  // the boundary components, as are near-null ones (pseudo-inverse).
   const double big = eig.eigenvalues().cwiseAbs().maxCoeff();
-  const double small = eig.eigenvalues().cwiseAbs().minCoeff();
-  if (small > kMinReciprocalCondition * big) {
-    out.value = 2.0 * Ms.fullPivLu().solve(Gs).trace();
+  const double floor = kMinReciprocalCondition * big;
+  int negative = 0, dropped = 0;
+  for (Eigen::Index a = 0; a < K; ++a) {
+    if (eig.eigenvalues()(a) < -floor) ++negative;
+    if (!(eig.eigenvalues()(a) > floor)) ++dropped;
+  }
+  if (dropped == 0) {
+    out.value = 2.0 * Ms.llt().solve(Gs).trace();
     out.status = OptimismStatus::kOk;
   } else {
     Eigen::VectorXd inv = eig.eigenvalues();
-    for (Eigen::Index a = 0; a < K; ++a)
-      inv(a) = std::abs(inv(a)) > kMinReciprocalCondition * big ? 1.0 / inv(a) : 0.0;
+    for (Eigen::Index a = 0; a < K; ++a) inv(a) = inv(a) > floor ? 1.0 / inv(a) : 0.0;
     const Eigen::MatrixXd pinv = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
     out.value = 2.0 * (pinv * Gs).trace();
     out.status = OptimismStatus::kPseudoInverse;
@@ -96,8 +105,15 @@ Optimism analytic_optimism(const Model& model, const Eigen::VectorXd& theta, std
     for (int c : out.boundary_components) os << " " << c + 1;
     os << " at the boundary (WV below " << kBoundaryShare << " of the data's at every level): dropped from A and D";
   }
-  if (out.status == OptimismStatus::kPseudoInverse)
-    os << (os.tellp() > 0 ? "; " : "") << "B + D near singular: pseudo-inverse";
+  if (out.status == OptimismStatus::kPseudoInverse) {
+    os << (os.tellp() > 0 ? "; " : "") << "B + D ";
+    if (negative > 0)
+      os << "not positive definite (" << negative << " direction" << (negative > 1 ? "s" : "")
+         << " of negative curvature: a parameter at the edge of its space)";
+    else
+      os << "near singular";
+    os << ": pseudo-inverse over its " << K - dropped << " positive direction" << (K - dropped != 1 ? "s" : "");
+  }
   out.message = os.str();
   return out;
 }

@@ -6,10 +6,12 @@
 #include <memory>
 #include <span>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include <oneapi/tbb/flow_graph.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/classical_wv.h"
@@ -102,7 +104,19 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
 struct SignalWork {
   const WaveletVariance* wv = nullptr;
   Eigen::MatrixXd omega;
-  std::vector<FitResult> fits;  // per sub-model, in SubModelSet order
+  OmegaSource omega_source = OmegaSource::kData;
+  std::optional<FitResult> pilot;  // the maximal model's fit under the data's Omega (kModel)
+  Eigen::MatrixXd v;               // model-based Cov(nuhat) at the pilot (kModel), else empty
+  std::vector<FitResult> fits;     // per sub-model, in SubModelSet order
+
+  // Cov(nuhat) for the optimism and GoF: at the pilot when there is one (it is the
+  // maximal model's fit too, and its V formed Omega), else at `full`.
+  Eigen::MatrixXd covariance(const FitResult& full) const {
+    if (v.size() > 0) return v;
+    Eigen::MatrixXd c = model_wv_covariance(full.model, full.theta, wv->n, wv->levels());
+    if (wv->efficiency) c /= *wv->efficiency;  // robust WV: variance inflated by 1/eff
+    return c;
+  }
 };
 
 bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
@@ -111,15 +125,45 @@ bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
   return true;
 }
 
-// Per signal: its WV, its one Omega (the caller's, or the data's diag Omega) and room
-// for K fits.
-std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::size_t K, const SelectOptions& options) {
+// diag(1 / V_jj) for the model-based V; a level where V_jj is not positive and finite
+// keeps the data's weight.
+Eigen::MatrixXd model_omega(const Eigen::MatrixXd& v, const Eigen::MatrixXd& data_omega) {
+  Eigen::VectorXd d = data_omega.diagonal();
+  for (Eigen::Index j = 0; j < d.size(); ++j)
+    if (v(j, j) > 0.0 && std::isfinite(v(j, j))) d(j) = 1.0 / v(j, j);
+  return d.asDiagonal();
+}
+
+// Per signal: its WV, its one Omega (the caller's; the data's diag Omega; or the model
+// Omega at a pilot fit of `maximal`) and room for K fits.
+std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::size_t K, const Model& maximal,
+                                  const SelectOptions& options) {
   std::vector<SignalWork> work(wvs.size());
-  for (std::size_t s = 0; s < wvs.size(); ++s) {
-    work[s].wv = &wvs[s];
-    work[s].omega = options.fit.omega_matrix ? *options.fit.omega_matrix : diagonal_omega(wvs[s]);
-    work[s].fits.resize(K);
-  }
+  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+    SignalWork& w = work[s];
+    w.wv = &wvs[s];
+    w.fits.resize(K);
+    if (options.fit.omega_matrix) {
+      w.omega = *options.fit.omega_matrix;
+      return;
+    }
+    w.omega = diagonal_omega(wvs[s]);
+    if (options.omega != OmegaSource::kModel) return;
+    FitOptions fo = options.fit;
+    fo.omega_matrix = w.omega;
+    fo.inference = false;
+    fo.nested_starts = false;
+    FitResult pilot = fit_gmwm(wvs[s], maximal, fo);
+    if (pilot.status == FitStatus::kFailed) {
+      spdlog::warn("select: the pilot fit of {} failed ({}); using the data's Omega", maximal.to_string(),
+                   pilot.message);
+      return;
+    }
+    w.pilot = std::move(pilot);
+    w.v = w.covariance(*w.pilot);
+    w.omega = model_omega(w.v, w.omega);
+    w.omega_source = OmegaSource::kModel;
+  });
   return work;
 }
 
@@ -183,15 +227,14 @@ std::vector<std::size_t> rank_order(const std::vector<RankedModel>& ranking, Cri
 }
 
 // Scores the fitted candidates of one signal (optimism, criterion), ranks them, and
-// refits the best with inference. full: the fit of the model containing them all (V).
-void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega,
-                    const std::vector<FitResult>& fits, const FitResult& full, const std::vector<std::string>& names,
+// refits the best with inference. v: Cov(nuhat), model-based at the maximal model's fit.
+void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega, Eigen::MatrixXd v,
+                    const std::vector<FitResult>& fits, const std::vector<std::string>& names,
                     const std::vector<const BootstrapResult*>& boot, const SelectOptions& options) {
   const std::size_t K = fits.size();
   sel.models = static_cast<int>(K);
   sel.omega = omega;
-  sel.v = model_wv_covariance(full.model, full.theta, wv.n, wv.levels());
-  if (wv.efficiency) sel.v /= *wv.efficiency;  // robust WV: variance inflated by 1/eff
+  sel.v = std::move(v);
   const Eigen::VectorXd nuhat = wv.values();
   std::vector<RankedModel> scored;
   for (std::size_t i = 0; i < K; ++i) {
@@ -269,6 +312,8 @@ int count_nesting_violations(const SubModelSet& set, const std::vector<FitResult
 
 const char* to_string(Penalty p) { return p == Penalty::kWvic ? "wvic" : "bic"; }
 
+const char* to_string(OmegaSource o) { return o == OmegaSource::kModel ? "model" : "data"; }
+
 const char* to_string(OptimismMethod m) {
   switch (m) {
     case OptimismMethod::kAnalytic: return "analytic";
@@ -294,7 +339,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
   const std::size_t K = set.models.size();
   for (const auto& wv : wvs) check_model_fits_levels(set.models.back().model, wv.levels());
 
-  std::vector<SignalWork> work = make_work(wvs, K, options);
+  std::vector<SignalWork> work = make_work(wvs, K, maximal, options);
   const int total = static_cast<int>(wvs.size() * K);
   std::atomic<int> done{0};
 
@@ -317,6 +362,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
           const FitResult& pf = w.fits[static_cast<std::size_t>(p)];
           if (pf.status != FitStatus::kFailed) fo.starts.push_back(embed_start(pf.model, pf.theta, m.model, *w.wv));
         }
+        if (i + 1 == K && w.pilot) fo.starts.push_back(embed_start(w.pilot->model, w.pilot->theta, m.model, *w.wv));
         w.fits[i] = fit_gmwm(*w.wv, m.model, fo);
         const int d = ++done;
         if (options.progress) options.progress(d, total);
@@ -346,7 +392,8 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
       for (std::size_t i = 0; i < K; ++i) b[i] = &boot[s * K + i];
     Selection& sel = out[s];
     sel.full_model = set.models.back().model.to_string();
-    score_and_rank(sel, *w.wv, w.omega, w.fits, w.fits.back(), names, b, options);
+    sel.omega_source = w.omega_source;
+    score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.fits, names, b, options);
     sel.nesting_violations = count_nesting_violations(set, w.fits);
   });
   return out;
@@ -375,7 +422,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     check_model_fits_levels(super, wv.levels());
   }
   const std::size_t K = models.size();
-  std::vector<SignalWork> work = make_work(wvs, K, options);
+  std::vector<SignalWork> work = make_work(wvs, K, super, options);
   const int total = static_cast<int>(wvs.size() * (K + 1));
   std::atomic<int> done{0};
   auto tick = [&] {
@@ -398,6 +445,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     fo.nested_starts = false;
     for (const FitResult& f : work[s].fits)
       if (f.status != FitStatus::kFailed) fo.starts.push_back(embed_start(f.model, f.theta, super, *work[s].wv));
+    if (work[s].pilot) fo.starts.push_back(embed_start(work[s].pilot->model, work[s].pilot->theta, super, *work[s].wv));
     full[s] = fit_gmwm(*work[s].wv, super, fo);
     tick();
   });
@@ -411,7 +459,8 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
       for (std::size_t i = 0; i < K; ++i) b[i] = &boot[s * K + i];
     Selection& sel = out[s];
     sel.full_model = super.to_string();
-    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].fits, full[s], names, b, options);
+    sel.omega_source = work[s].omega_source;
+    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].fits, names, b, options);
     sel.nesting_violations = count_nesting_violations(set, work[s].fits, &members);
   });
   return out;

@@ -41,6 +41,7 @@ TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
   for (const json& col : doc["columns"]) {
     EXPECT_EQ(col.at("full_model"), "2*AR1+WN+RW");
     EXPECT_EQ(col.at("nesting_violations"), 0);
+    EXPECT_EQ(col.at("omega"), "model");
     const json& ranking = col.at("ranking");
     ASSERT_EQ(ranking.size(), 11u);
     EXPECT_EQ(col.at("best"), ranking[0].at("model"));
@@ -97,6 +98,8 @@ TEST_F(GmwmSelect, RejectsBadOptionsWithOneLine) {
   expect_bad_input(
       run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--optimism", "jackknife", "--json", "x.json"}, dir_),
       {"--optimism"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json", "x.json"}, dir_),
+                   {"--omega"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+XX", "--json", "x.json"}, dir_), {"XX"},
                    dir_ / "x.json");
 }

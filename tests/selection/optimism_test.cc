@@ -108,3 +108,25 @@ TEST(AnalyticOptimism, RejectsInconsistentSizesNamingTheArgument) {
 
 }  // namespace
 }  // namespace gmwm::selection
+
+namespace gmwm::selection {
+namespace {
+
+TEST(AnalyticOptimism, LeavesOutDirectionsOfNegativeCurvatureAndSaysSo) {
+  // Data far above the model's WV (a fit stopped at the edge of the parameter space,
+  // where the first-order condition fails): the AR1's phi direction has negative
+  // curvature, which the plain inverse turned into a large negative optimism.
+  const ReferenceCase c;
+  for (double f : {0.2, 2.0}) {
+    const Optimism o = analytic_optimism(c.model, c.theta, c.tau, Eigen::VectorXd(f * c.nu), c.omega, c.v);
+    EXPECT_EQ(o.status, OptimismStatus::kPseudoInverse) << f;
+    EXPECT_NE(o.message.find("1 direction of negative curvature"), std::string::npos) << o.message;
+    EXPECT_NE(o.message.find("pseudo-inverse over its 2 positive directions"), std::string::npos) << o.message;
+    // Two directions kept, V = Omega^-1: a positive optimism of the order of 2 x 2.
+    EXPECT_GT(o.value, 1.0) << f;
+    EXPECT_LT(o.value, 6.0) << f;
+  }
+}
+
+}  // namespace
+}  // namespace gmwm::selection

@@ -96,6 +96,33 @@ TEST(SelectModels, GivesIdenticalResultsWithOneAndTwoThreads) {
     }
 }
 
+TEST(SelectModels, SharesTheModelOmegaOfAPilotFitByDefaultOrTheDataOmegaWhenAsked) {
+  const auto wvs = simulated_wvs(1, 7104);
+  const Model maximal = parse_model("2*AR1+WN+RW");
+  const Selection by_model = select_models(wvs, maximal).front();
+  EXPECT_EQ(by_model.omega_source, OmegaSource::kModel);
+  // Omega = diag 1 / V_jj with V the covariance used for the optimism (the pilot's).
+  ASSERT_EQ(by_model.v.rows(), wvs[0].levels());
+  for (int j = 0; j < wvs[0].levels(); ++j) {
+    EXPECT_DOUBLE_EQ(by_model.omega(j, j), 1.0 / by_model.v(j, j)) << j;
+    for (int k = 0; k < wvs[0].levels(); ++k)
+      if (k != j) EXPECT_EQ(by_model.omega(j, k), 0.0);
+  }
+  // Every model's objective is under that Omega.
+  for (const auto& r : by_model.ranking) EXPECT_EQ(r.fit.omega, by_model.omega) << r.model;
+
+  SelectOptions o;
+  o.omega = OmegaSource::kData;
+  const Selection by_data = select_models(wvs, maximal, o).front();
+  EXPECT_EQ(by_data.omega_source, OmegaSource::kData);
+  EXPECT_EQ(by_data.omega, diagonal_omega(wvs[0]));
+  EXPECT_EQ(std::string(to_string(OmegaSource::kModel)), "model");
+  EXPECT_EQ(std::string(to_string(OmegaSource::kData)), "data");
+  // The truth (AR1+WN) is first either way on this series.
+  EXPECT_EQ(by_model.ranking.front().model, "AR1+WN");
+  EXPECT_EQ(by_data.ranking.front().model, "AR1+WN");
+}
+
 TEST(SelectModels, BicPenalisesEachParameterByTheLogLength) {
   const auto wvs = simulated_wvs(1, 7103);
   SelectOptions o;

@@ -1,4 +1,5 @@
 // gmwm select INPUT (--model SPEC | --models "SPEC1;SPEC2;...") [--penalty wvic|bic] [--optimism analytic|bootstrap|both]
+//              [--omega model|data]
 //              [--replicates B] [--robust ...]
 // Every sub-model of SPEC fitted on every selected column and ranked (selection/).
 
@@ -30,6 +31,7 @@ struct SelectArgs {
   std::string models;  ///< --models "SPEC1;SPEC2;..."
   std::string penalty = "wvic";
   std::string optimism = "analytic";
+  std::string omega = "model";
   int replicates = selection::SelectOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
 };
@@ -72,6 +74,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
                      : args.optimism == "both"    ? selection::OptimismMethod::kBoth
                                                   : selection::OptimismMethod::kAnalytic;
+  options.omega = args.omega == "data" ? selection::OmegaSource::kData : selection::OmegaSource::kModel;
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
   options.estimator = robust_estimator.get();
@@ -140,6 +143,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   doc["model_spec"] = specs.empty() ? args.model : args.models;
   doc["mode"] = specs.empty() ? "sub-models" : "listed";
   doc["optimism"] = args.optimism;
+  doc["omega"] = args.omega;
   doc["seed"] = common.seed;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
   for (std::size_t k = 0; k < wvs.size(); ++k)
@@ -185,6 +189,11 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
                   "Optimism of the WVIC: analytic (delta method), bootstrap (parametric, --replicates per model) "
                   "or both side by side (the criterion uses the analytic one)")
       ->check(CLI::IsMember({"analytic", "bootstrap", "both"}))
+      ->capture_default_str();
+  sub->add_option("--omega", args->omega,
+                  "Omega shared by all models: model (diag 1 / V_jj, V model-based at a pilot fit of the maximal "
+                  "model) or data (diag 1 / Var(nuhat_j) from the data's WV alone)")
+      ->check(CLI::IsMember({"model", "data"}))
       ->capture_default_str();
   sub->add_option("--replicates", args->replicates, "Bootstrap replicates per model")
       ->type_name("B")

@@ -22,9 +22,10 @@ namespace gmwm::selection {
 /// A component whose WV is below this share of the empirical WV at every level counts as
 /// at the boundary (the fit's own collapse threshold, engine/src/starting_values.cc).
 inline constexpr double kBoundaryShare = 1e-6;
-/// (B + D) restricted to the kept parameters is solved by LDLT; below this reciprocal
-/// condition number (of its diagonal-scaled form) a pseudo-inverse is used instead and
-/// the result says so.
+/// (B + D) restricted to the kept parameters (diagonal-scaled) is solved by Cholesky when
+/// every eigenvalue exceeds this share of the largest; otherwise by a pseudo-inverse over
+/// the directions of positive curvature (negative curvature: a parameter at the edge of
+/// its space, where the delta method's first-order condition fails), and the result says so.
 inline constexpr double kMinReciprocalCondition = 1e-12;
 
 enum class OptimismStatus { kOk, kPseudoInverse, kFailed };

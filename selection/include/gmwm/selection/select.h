@@ -39,8 +39,23 @@ const char* to_string(Penalty p);
 enum class OptimismMethod { kAnalytic, kBootstrap, kBoth };
 const char* to_string(OptimismMethod m);
 
+/// The Omega all models of a signal share (STATISTICS.md section 4: "from the data's WV,
+/// or from the maximal model's fit").
+enum class OmegaSource {
+  /// diag(1 / Var(nuhat_j)) from the chi-square variance 2 nuhat_j^4 / eta_j: the data
+  /// alone. Its weights at the coarsest levels (eta ~ 1) follow the noise of nuhat_j
+  /// (the weight is ~ 1 / nuhat_j^2), which adds optimism the delta method does not see.
+  kData,
+  /// diag(1 / V_jj), V the model-based Cov(nuhat) at a pilot fit of the maximal model
+  /// (under the data's Omega): a smooth function of all levels, so the analytic
+  /// optimism's fixed-Omega assumption holds (bench_optimism). The default.
+  kModel,
+};
+const char* to_string(OmegaSource o);
+
 struct SelectOptions {
   Penalty penalty = Penalty::kWvic;
+  OmegaSource omega = OmegaSource::kModel;
   OptimismMethod optimism = OptimismMethod::kAnalytic;
   /// Bootstrap optimism: replicates per model (issue 4 default 50), their seed, and the
   /// WV estimator of the simulated series (nullptr: classical; a robust selection passes
@@ -80,7 +95,8 @@ struct Selection {
   std::vector<RankedModel> ranking;  ///< sorted by criterion (ties: fewer parameters, then order)
   FitResult best_fit;                ///< the first-ranked model refitted with inference
   Eigen::MatrixXd omega;             ///< shared by all models
-  Eigen::MatrixXd v;                 ///< Cov(nuhat) for the optimism: model-based at the maximal model's fit
+  OmegaSource omega_source = OmegaSource::kData;  ///< how `omega` was formed (kData also when the caller gave it)
+  Eigen::MatrixXd v;                 ///< Cov(nuhat) for the optimism and GoF: model-based at the maximal model's fit (the pilot's with OmegaSource::kModel)
   int models = 0;
   /// Fit-quality check: models whose objective exceeds that of a model nested in them
   /// (relative tolerance 1e-9); 0 by construction.
