@@ -460,7 +460,7 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   if (v_for_omega.size()) r.wv_covariance = v_for_omega;
   const auto t1 = std::chrono::steady_clock::now();
   r.seconds_optimise = std::chrono::duration<double>(t1 - t0).count();
-  if (r.status != FitStatus::kConverged)
+  if (r.status != FitStatus::kConverged && options.log_not_converged)
     spdlog::get("gmwm") ? spdlog::get("gmwm")->warn("fit of {}: {}", r.model.to_string(), r.message)
                         : spdlog::warn("fit of {}: {}", r.model.to_string(), r.message);
   if (options.inference) detail::run_inference(wv, options, omega_is_v_inverse, r);

@@ -265,6 +265,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
     if (r.optimism_bootstrap && r.optimism_analytic)
       e["optimism_difference"] = json_number(*r.optimism_bootstrap - *r.optimism_analytic);
     if (r.bootstrap_failed > 0) e["bootstrap_failed"] = r.bootstrap_failed;
+    if (r.bootstrap_not_converged > 0) e["bootstrap_not_converged"] = r.bootstrap_not_converged;
     ranking.push_back(std::move(e));
   }
   c["ranking"] = std::move(ranking);

@@ -38,7 +38,7 @@ constexpr int kMaxReplicates = 100000;
 
 struct BootstrapResult {
   double value = 0.0, se = 0.0;
-  int failed = 0;
+  int failed = 0, not_converged = 0;
 };
 
 // Parametric-bootstrap optimism of one fitted model (STATISTICS.md section 6): B series
@@ -54,7 +54,7 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
   const ClassicalWvEstimator classical;
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
   std::vector<Eigen::VectorXd> implied(static_cast<std::size_t>(B)), empirical(static_cast<std::size_t>(B));
-  std::vector<char> ok(static_cast<std::size_t>(B), 0);
+  std::vector<char> ok(static_cast<std::size_t>(B), 0), converged(static_cast<std::size_t>(B), 0);
   oneapi::tbb::parallel_for(0, B, [&](int b) {
     const std::vector<double> x =
         simulate(fit.model, fit.theta, wv.n, options.seed, stream_base + static_cast<std::uint64_t>(b));
@@ -66,8 +66,10 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
     fo.inference = false;
     fo.multistarts = 1;
     fo.starts = {fit.theta};
+    fo.log_not_converged = false;  // counted and reported once per model below
     const FitResult r = fit_gmwm(w, fit.model, fo);
     if (r.status == FitStatus::kFailed) return;
+    converged[static_cast<std::size_t>(b)] = r.status == FitStatus::kConverged;
     implied[static_cast<std::size_t>(b)] = r.implied_wv;
     empirical[static_cast<std::size_t>(b)] = w.values();
     ok[static_cast<std::size_t>(b)] = 1;
@@ -82,6 +84,11 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
       ++n;
     }
   out.failed = B - n;
+  for (int b = 0; b < B; ++b)
+    if (ok[static_cast<std::size_t>(b)] && !converged[static_cast<std::size_t>(b)]) ++out.not_converged;
+  if (out.failed > 0 || out.not_converged > 0)
+    spdlog::warn("bootstrap optimism of {}: {} of {} refits failed (left out), {} stopped before convergence (kept)",
+                 fit.model.to_string(), out.failed, B, out.not_converged);
   if (n < 2) {
     out.value = out.se = std::numeric_limits<double>::quiet_NaN();
     return out;
@@ -255,6 +262,7 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
         r.optimism_bootstrap_se = boot[i]->se;
       }
       r.bootstrap_failed = boot[i]->failed;
+      r.bootstrap_not_converged = boot[i]->not_converged;
     }
     if (options.penalty == Penalty::kWvic)
       r.optimism = (options.optimism == OptimismMethod::kBootstrap ? r.optimism_bootstrap : r.optimism_analytic)

@@ -52,6 +52,9 @@ struct FitOptions {
   std::uint64_t seed = 0;              ///< for the bootstrap streams
   const WvEstimator* estimator = nullptr;  ///< WV of simulated series (default classical)
   bool inference = true;               ///< compute covariance, CIs and GoF
+  /// Log a warning when the optimiser does not converge (the status says so either way);
+  /// callers that run many fits and summarise their statuses (bootstrap refits) turn it off.
+  bool log_not_converged = true;
   /// Also start from the fits of every sub-model with one component removed (fitted
   /// with the same Omega, without nested starts of their own), so that the model's
   /// objective is never above theirs. Costs one fit per distinct sub-model; a caller

@@ -83,6 +83,7 @@ struct RankedModel {
   Optimism analytic;            ///< its status and dropped components
   std::optional<double> optimism_bootstrap, optimism_bootstrap_se;  ///< and its Monte-Carlo s.e.
   int bootstrap_failed = 0;     ///< replicates whose refit failed (left out)
+  int bootstrap_not_converged = 0;  ///< replicates whose refit stopped before convergence (kept)
   /// Goodness of fit under the selection's shared Omega and V (Satterthwaite),
   /// boundary components left out of A as for the optimism.
   GoodnessOfFit gof;
