@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include <Eigen/Cholesky>
 #include <oneapi/tbb/flow_graph.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <spdlog/spdlog.h>
@@ -132,9 +133,17 @@ bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
   return true;
 }
 
-// diag(1 / V_jj) for the model-based V; a level where V_jj is not positive and finite
-// keeps the data's weight.
-Eigen::MatrixXd model_omega(const Eigen::MatrixXd& v, const Eigen::MatrixXd& data_omega) {
+// V^-1 for the model-based V when `full` and V is positive definite, else diag(1 / V_jj)
+// (a level where V_jj is not positive and finite keeps the data's weight).
+Eigen::MatrixXd model_omega(const Eigen::MatrixXd& v, const Eigen::MatrixXd& data_omega, bool full) {
+  if (full) {
+    const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (v + v.transpose()));
+    if (llt.info() == Eigen::Success) {
+      Eigen::MatrixXd inv = llt.solve(Eigen::MatrixXd::Identity(v.rows(), v.cols()));
+      if (inv.allFinite()) return 0.5 * (inv + inv.transpose());
+    }
+    spdlog::warn("select: the model-based V is not positive definite; using diag 1 / V_jj");
+  }
   Eigen::VectorXd d = data_omega.diagonal();
   for (Eigen::Index j = 0; j < d.size(); ++j)
     if (v(j, j) > 0.0 && std::isfinite(v(j, j))) d(j) = 1.0 / v(j, j);
@@ -155,7 +164,7 @@ std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::
       return;
     }
     w.omega = diagonal_omega(wvs[s]);
-    if (options.omega != OmegaSource::kModel) return;
+    if (options.omega == OmegaSource::kData) return;
     FitOptions fo = options.fit;
     fo.omega_matrix = w.omega;
     fo.inference = false;
@@ -168,8 +177,9 @@ std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::
     }
     w.pilot = std::move(pilot);
     w.v = w.covariance(*w.pilot);
-    w.omega = model_omega(w.v, w.omega);
-    w.omega_source = OmegaSource::kModel;
+    const bool full = options.omega == OmegaSource::kModelFull;
+    w.omega = model_omega(w.v, w.omega, full);
+    w.omega_source = full && !w.omega.isDiagonal(0.0) ? OmegaSource::kModelFull : OmegaSource::kModel;
   });
   return work;
 }
@@ -254,7 +264,8 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
       r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, omega, sel.v);
       if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
       r.gof = goodness_of_fit(active_jacobian(r.fit.model, r.fit.theta, wv.tau, r.analytic.boundary_components),
-                              r.objective, static_cast<double>(wv.levels() - r.parameters), omega, sel.v, false);
+                              r.objective, static_cast<double>(wv.levels() - r.parameters), omega, sel.v,
+                              sel.omega_source == OmegaSource::kModelFull);
     }
     if (boot[i]) {
       if (std::isfinite(boot[i]->value)) {
@@ -320,7 +331,14 @@ int count_nesting_violations(const SubModelSet& set, const std::vector<FitResult
 
 const char* to_string(Penalty p) { return p == Penalty::kWvic ? "wvic" : "bic"; }
 
-const char* to_string(OmegaSource o) { return o == OmegaSource::kModel ? "model" : "data"; }
+const char* to_string(OmegaSource o) {
+  switch (o) {
+    case OmegaSource::kData: return "data";
+    case OmegaSource::kModel: return "model";
+    case OmegaSource::kModelFull: return "full";
+  }
+  return "model";
+}
 
 const char* to_string(OptimismMethod m) {
   switch (m) {

@@ -98,7 +98,7 @@ TEST_F(GmwmSelect, RejectsBadOptionsWithOneLine) {
   expect_bad_input(
       run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--optimism", "jackknife", "--json", "x.json"}, dir_),
       {"--optimism"}, dir_ / "x.json");
-  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json", "x.json"}, dir_),
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--omega", "diag", "--json", "x.json"}, dir_),
                    {"--omega"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+XX", "--json", "x.json"}, dir_), {"XX"},
                    dir_ / "x.json");

@@ -96,7 +96,7 @@ TEST(SelectModels, GivesIdenticalResultsWithOneAndTwoThreads) {
     }
 }
 
-TEST(SelectModels, SharesTheModelOmegaOfAPilotFitByDefaultOrTheDataOmegaWhenAsked) {
+TEST(SelectModels, SharesTheModelOmegaOfAPilotFitByDefaultOrTheDataOrFullOmegaWhenAsked) {
   const auto wvs = simulated_wvs(1, 7104);
   const Model maximal = parse_model("2*AR1+WN+RW");
   const Selection by_model = select_models(wvs, maximal).front();
@@ -105,8 +105,9 @@ TEST(SelectModels, SharesTheModelOmegaOfAPilotFitByDefaultOrTheDataOmegaWhenAske
   ASSERT_EQ(by_model.v.rows(), wvs[0].levels());
   for (int j = 0; j < wvs[0].levels(); ++j) {
     EXPECT_DOUBLE_EQ(by_model.omega(j, j), 1.0 / by_model.v(j, j)) << j;
-    for (int k = 0; k < wvs[0].levels(); ++k)
+    for (int k = 0; k < wvs[0].levels(); ++k) {
       if (k != j) EXPECT_EQ(by_model.omega(j, k), 0.0);
+    }
   }
   // Every model's objective is under that Omega.
   for (const auto& r : by_model.ranking) EXPECT_EQ(r.fit.omega, by_model.omega) << r.model;
@@ -118,9 +119,18 @@ TEST(SelectModels, SharesTheModelOmegaOfAPilotFitByDefaultOrTheDataOmegaWhenAske
   EXPECT_EQ(by_data.omega, diagonal_omega(wvs[0]));
   EXPECT_EQ(std::string(to_string(OmegaSource::kModel)), "model");
   EXPECT_EQ(std::string(to_string(OmegaSource::kData)), "data");
-  // The truth (AR1+WN) is first either way on this series.
+  o.omega = OmegaSource::kModelFull;
+  const Selection by_full = select_models(wvs, maximal, o).front();
+  EXPECT_EQ(by_full.omega_source, OmegaSource::kModelFull);
+  EXPECT_LT((by_full.omega * by_full.v - Eigen::MatrixXd::Identity(wvs[0].levels(), wvs[0].levels())).norm(), 1e-6)
+      << "Omega = V^-1";
+  EXPECT_EQ(std::string(to_string(OmegaSource::kModelFull)), "full");
+  // With Omega = V^-1 the GoF is the plain chi-square with J - p df.
+  for (const auto& r : by_full.ranking) EXPECT_EQ(r.gof.method, "chi-square") << r.model;
+  // The truth (AR1+WN) is first every way on this series.
   EXPECT_EQ(by_model.ranking.front().model, "AR1+WN");
   EXPECT_EQ(by_data.ranking.front().model, "AR1+WN");
+  EXPECT_EQ(by_full.ranking.front().model, "AR1+WN");
 }
 
 TEST(SelectModels, BicPenalisesEachParameterByTheLogLength) {

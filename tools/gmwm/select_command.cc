@@ -1,5 +1,5 @@
 // gmwm select INPUT (--model SPEC | --models "SPEC1;SPEC2;...") [--penalty wvic|bic] [--optimism analytic|bootstrap|both]
-//              [--omega model|data]
+//              [--omega model|full|data]
 //              [--replicates B] [--robust ...]
 // Every sub-model of SPEC fitted on every selected column and ranked (selection/).
 
@@ -74,7 +74,9 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
                      : args.optimism == "both"    ? selection::OptimismMethod::kBoth
                                                   : selection::OptimismMethod::kAnalytic;
-  options.omega = args.omega == "data" ? selection::OmegaSource::kData : selection::OmegaSource::kModel;
+  options.omega = args.omega == "data"   ? selection::OmegaSource::kData
+                  : args.omega == "full" ? selection::OmegaSource::kModelFull
+                                         : selection::OmegaSource::kModel;
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
   options.estimator = robust_estimator.get();
@@ -192,8 +194,9 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->capture_default_str();
   sub->add_option("--omega", args->omega,
                   "Omega shared by all models: model (diag 1 / V_jj, V model-based at a pilot fit of the maximal "
-                  "model) or data (diag 1 / Var(nuhat_j) from the data's WV alone)")
-      ->check(CLI::IsMember({"model", "data"}))
+                  "model), full (V^-1, same V: chi-square scaled objective) or data (diag 1 / Var(nuhat_j) from the "
+                  "data's WV alone)")
+      ->check(CLI::IsMember({"model", "full", "data"}))
       ->capture_default_str();
   sub->add_option("--replicates", args->replicates, "Bootstrap replicates per model")
       ->type_name("B")

@@ -50,6 +50,10 @@ enum class OmegaSource {
   /// (under the data's Omega): a smooth function of all levels, so the analytic
   /// optimism's fixed-Omega assumption holds (bench_optimism). The default.
   kModel,
+  /// V^-1 (full), V as for kModel: the objective is then chi-square scaled, so that the
+  /// objective differences of nested models are too (the levels of long-memory
+  /// components are strongly correlated, which a diagonal Omega ignores).
+  kModelFull,
 };
 const char* to_string(OmegaSource o);
 
