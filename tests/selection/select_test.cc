@@ -106,7 +106,9 @@ TEST(SelectModels, SharesTheModelOmegaOfAPilotFitByDefaultOrTheDataOrFullOmegaWh
   for (int j = 0; j < wvs[0].levels(); ++j) {
     EXPECT_DOUBLE_EQ(by_model.omega(j, j), 1.0 / by_model.v(j, j)) << j;
     for (int k = 0; k < wvs[0].levels(); ++k) {
-      if (k != j) EXPECT_EQ(by_model.omega(j, k), 0.0);
+      if (k != j) {
+        EXPECT_EQ(by_model.omega(j, k), 0.0);
+      }
     }
   }
   // Every model's objective is under that Omega.
