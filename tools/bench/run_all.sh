@@ -36,12 +36,16 @@ out=tools/bench/RESULTS.md
   echo
   "$build/bench_select" || true
   echo
+  echo "## Robust WV (bench_robust)"
+  echo
+  "$build/bench_robust" || true
+  echo
   echo "## WVIC optimism: analytic vs bootstrap vs Monte-Carlo truth (bench_optimism)"
   echo
   "$build/bench_optimism" || true
   echo
-  echo "## Robust WV (bench_robust)"
+  echo "## Model selection accuracy: WVIC vs BIC (bench_selection_accuracy)"
   echo
-  "$build/bench_robust" || true
+  "$build/bench_selection_accuracy" || true
 } > "$out"
 echo "wrote $out"

@@ -1,0 +1,136 @@
+// FLICKER: 1/f ("bias instability") noise as a sum of AR1 processes, one per octave of
+// correlation time T_k = 2^k samples for k = kmin..kmax, each with stationary variance
+// B2 ln2 / pi (STATISTICS.md section 3). Summed over octaves the AR1 spectra give
+// S(f) ~ (B2 ln2 / pi) / (2 ln2 f) = B2 / (2 pi f): a flat WV ("plateau") of B2 ln2 / pi at
+// scales well inside the octave range, rolling off below 2^kmin and above 2^kmax samples.
+// B2 is the squared bias-instability coefficient of the 0.664 convention: the Allan
+// deviation floor is B sqrt(2 ln2 / pi) = 0.664 B, i.e. AVAR = 2 WV = 2 B2 ln2 / pi.
+//
+// The WV is linear in B2; each octave's AR1 WV goes through the stable closed form of
+// ar1_math.h with phi_k = exp(-L_k), L_k = 2^-k, so octaves far beyond the record
+// (phi within 1e-12 of 1) cost no accuracy.
+//
+// Structural arguments: FLICKER(kmin=0,kmax=40) by default (written only when they differ):
+// the octaves start at one sample (below every Haar scale) and end at 2^40 samples
+// (beyond any record: an octave with T >> tau adds ~ s tau / (6 T), so the terms beyond
+// the record sum to a fraction ~ tau / T_max of the plateau).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <boost/math/constants/constants.hpp>
+#include <boost/random/normal_distribution.hpp>
+
+#include "ar1_math.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/process_registry.h"
+#include "process_util.h"
+
+namespace gmwm {
+namespace {
+
+/// Default octave range (see the file comment).
+constexpr long kFlickerDefaultKmin = 0;
+constexpr long kFlickerDefaultKmax = 40;
+/// Octaves beyond 2^62 samples would overflow the exponent arithmetic of the structure;
+/// no record comes close.
+constexpr long kFlickerMaxK = 62;
+
+class Flicker final : public Process {
+ public:
+  explicit Flicker(const ProcessArgs& args) {
+    if (auto it = args.structural.find("kmin"); it != args.structural.end()) kmin_ = it->second;
+    if (auto it = args.structural.find("kmax"); it != args.structural.end()) kmax_ = it->second;
+    if (kmin_ < 0 || kmax_ > kFlickerMaxK || kmin_ > kmax_) {
+      std::ostringstream os;
+      os << "FLICKER: the octave range must satisfy 0 <= kmin <= kmax <= " << kFlickerMaxK << " (got kmin=" << kmin_
+         << ", kmax=" << kmax_ << ")";
+      throw InputError(os.str());
+    }
+  }
+  std::string name() const override { return "FLICKER"; }
+  std::string structure() const override {
+    if (kmin_ == kFlickerDefaultKmin && kmax_ == kFlickerDefaultKmax) return {};
+    return "kmin=" + std::to_string(kmin_) + ",kmax=" + std::to_string(kmax_);
+  }
+  int canonical_rank() const override { return 100; }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> specs{
+        {"B2", Transform::kLog, "squared bias-instability coefficient (WV plateau B2 ln2 / pi)"}};
+    return specs;
+  }
+  bool linear() const override { return true; }
+
+  /// The WV per unit B2 at scale tau.
+  double unit_wv(double tau) const {
+    const double m = 0.5 * tau;
+    double sum = 0.0;
+    for (long k = kmin_; k <= kmax_; ++k) {
+      const double L = std::ldexp(1.0, static_cast<int>(-k));
+      // AR1 with stationary variance 1: innovation variance 1 - phi^2 = -expm1(-2L).
+      sum += -std::expm1(-2.0 * L) * internal::ar1_unit_wv_log(L, m);
+    }
+    return kStationaryPerB2 * sum;
+  }
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * unit_wv(tau[k]);
+  }
+  void wv_jacobian(std::span<const double>, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) jac(static_cast<Eigen::Index>(k), 0) = unit_wv(tau[k]);
+  }
+  void wv_hessian(std::span<const double>, std::span<const double>, Eigen::Ref<Eigen::MatrixXd> hess) const override {
+    hess.setZero();
+  }
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
+    // Sum of the octaves' autocovariances s phi_k^h, s = B2 ln2 / pi.
+    const double s = theta[0] * kStationaryPerB2;
+    for (double& v : out) v = 0.0;
+    for (long k = kmin_; k <= kmax_; ++k) {
+      const double phi = std::exp(-std::ldexp(1.0, static_cast<int>(-k)));
+      double c = s;
+      for (double& v : out) {
+        v += c;
+        c *= phi;
+      }
+    }
+  }
+  void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
+    if (out.empty()) return;
+    boost::random::normal_distribution<double> z(0.0, 1.0);
+    const double s = theta[0] * kStationaryPerB2;
+    for (long k = kmin_; k <= kmax_; ++k) {
+      const double L = std::ldexp(1.0, static_cast<int>(-k));
+      const double phi = std::exp(-L);
+      const double sd = std::sqrt(-s * std::expm1(-2.0 * L));  // innovation sd
+      double x = std::sqrt(s) * z(rng);                          // stationary start
+      out[0] += x;
+      for (std::size_t t = 1; t < out.size(); ++t) {
+        x = phi * x + sd * z(rng);
+        out[t] += x;
+      }
+    }
+  }
+  std::vector<double> initial_guess(const GuessContext& ctx) const override {
+    // The plateau: the median of the WV this component should explain, per unit B2.
+    if (ctx.wv.empty()) return {1.0};
+    std::vector<double> w(ctx.wv.begin(), ctx.wv.end());
+    std::nth_element(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2), w.end());
+    return {internal::positive_or(w[w.size() / 2] / kStationaryPerB2, 1.0)};
+  }
+
+ private:
+  /// Stationary variance of each octave per unit B2: ln2 / pi.
+  static constexpr double kStationaryPerB2 = 0.69314718055994530942 / boost::math::constants::pi<double>();
+  long kmin_ = kFlickerDefaultKmin;
+  long kmax_ = kFlickerDefaultKmax;
+};
+
+}  // namespace
+
+GMWM_REGISTER_PROCESS(Flicker, "FLICKER",
+                      "1/f noise as one AR1 per octave: FLICKER(B2), plateau B2 ln2/pi; FLICKER(kmin=..,kmax=..) "
+                      "sets the octaves 2^kmin..2^kmax samples",
+                      "kmin", "kmax");
+
+}  // namespace gmwm

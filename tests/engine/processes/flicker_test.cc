@@ -1,0 +1,84 @@
+// FLICKER (engine/src/processes/flicker.cc): 1/f noise as one AR1 per octave.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "process_test_support.h"
+
+namespace gmwm::test {
+namespace {
+
+constexpr double kLn2OverPi = 0.69314718055994530942 / 3.14159265358979323846;
+
+// Reference: the sum over k = 0..39 of the AR1 closed form (STATISTICS.md section 3) with
+// phi = exp(-2^-k) and stationary variance 1, at 50 significant digits (mpmath):
+//   from mpmath import mp, mpf, exp; mp.dps = 50
+//   ar1 = lambda p, s2, t: s2*((p**2-1)*t + 2*p*(p**t - 4*p**(t/2) + 3))/((p-1)**3*(p+1)*t**2)
+//   sum(ar1(exp(-1/mpf(2)**k), 1 - exp(-2/mpf(2)**k), mpf(2)**j) for k in range(40))
+TEST(FlickerProcess, MatchesAHighPrecisionSumOfOctaveAr1s) {
+  const auto p = make_process("FLICKER", {{"kmin", 0}, {"kmax", 39}});
+  const std::vector<double> tau = {2.0, 4.0, 32.0, 1024.0, std::ldexp(1.0, 20), std::ldexp(1.0, 30)};
+  const std::vector<double> expected = {0.7433669398597585, 0.76703191695959206, 0.95218240788698986,
+                                        0.99837600503627839, 0.99999808969834774, 0.99967455706890806};
+  // B2 = pi / ln2 makes each octave's stationary variance 1.
+  expect_all_relatively_near(wv_of(*p, std::vector<double>{1.0 / kLn2OverPi}, tau), expected, 1e-10,
+                             "FLICKER(kmin=0,kmax=39)");
+}
+
+TEST(FlickerProcess, HasThePlateauB2Ln2OverPiInsideItsOctaveRange) {
+  const auto p = make_process("FLICKER");
+  const double b2 = 3e-7;
+  const auto tau = dyadic_scales(30, 8);
+  for (double v : wv_of(*p, std::vector<double>{b2}, tau)) EXPECT_NEAR(v / (b2 * kLn2OverPi), 1.0, 0.01);
+  // Beyond 2^kmax the plateau falls off (like an AR1 beyond its correlation time).
+  const auto short_range = make_process("FLICKER", {{"kmin", 0}, {"kmax", 8}});
+  const std::vector<double> far = {std::ldexp(1.0, 16)};
+  EXPECT_LT(wv_of(*short_range, std::vector<double>{b2}, far)[0], 0.05 * b2 * kLn2OverPi);
+}
+
+TEST(FlickerProcess, IsLinearWithAnalyticDerivatives) {
+  const auto p = make_process("FLICKER");
+  EXPECT_TRUE(p->linear());
+  EXPECT_EQ(p->canonical_rank(), 100);
+  expect_derivatives_match_finite_differences(*p, {2e-5}, dyadic_scales(12));
+}
+
+TEST(FlickerProcess, AutocovarianceReproducesTheWaveletVariance) {
+  const auto p = make_process("FLICKER", {{"kmin", 0}, {"kmax", 12}});
+  const std::vector<double> theta{0.8};
+  const auto tau = dyadic_scales(6);
+  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-9, "FLICKER from g");
+}
+
+TEST(FlickerProcess, SimulatedMomentsMatchTheAutocovariance) {
+  const auto p = make_process("FLICKER", {{"kmin", 0}, {"kmax", 10}});
+  expect_simulated_moments_match(*p, std::vector<double>{1.3}, {.length = 128, .replicates = 2000, .seed = 901});
+}
+
+TEST(FlickerProcess, WritesItsOctaveRangeOnlyWhenNotTheDefault) {
+  EXPECT_EQ(parse_model("FLICKER").to_string(), "FLICKER");
+  EXPECT_EQ(parse_model("FLICKER(kmin=2,kmax=20)").to_string(), "FLICKER(kmin=2,kmax=20)");
+  EXPECT_EQ(parse_model("WN+FLICKER+AR1").canonical().to_string(), "AR1+WN+FLICKER");
+}
+
+TEST(FlickerProcess, RejectsABadOctaveRangeOrAnUnknownKeyWithOneClearLine) {
+  auto message = [](const std::string& spec) {
+    try {
+      parse_model(spec);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("FLICKER(kmin=9,kmax=3)").find("0 <= kmin <= kmax <= 62 (got kmin=9, kmax=3)"), std::string::npos)
+      << message("FLICKER(kmin=9,kmax=3)");
+  EXPECT_NE(message("FLICKER(kmax=70)").find("kmax=70"), std::string::npos);
+  EXPECT_NE(message("FLICKER(octaves=3)").find("FLICKER has no parameter 'octaves' (parameters: B2)"), std::string::npos)
+      << message("FLICKER(octaves=3)");
+}
+
+}  // namespace
+}  // namespace gmwm::test
