@@ -1,0 +1,425 @@
+#include "gmwm/selection/gap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <oneapi/tbb/parallel_for.h>
+
+#include "gap_reference.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/robust/contamination.h"
+#include "gmwm/robust/tuning.h"
+
+namespace gmwm::selection {
+namespace {
+
+// Local optimisations per candidate fit: the effects have one or two parameters, whose
+// shape-based starts (engine/src/starting_values.cc) place scale-bearing ones on a grid.
+constexpr int kCandidateStarts = 4;
+// Reference replicates used to calibrate each candidate's threshold (each costs one fit
+// per candidate and step); the threshold comes from a scaled chi-square matched to their
+// drops' mean and variance (Satterthwaite 1946), so 100 give a stable tail quantile.
+constexpr int kCalibrationReplicates = 100;
+// The finest levels where outliers show first (GAP.md: robust/classical ratio at tau = 2..8).
+constexpr int kOutlierLevels = 3;
+// Stream offset of the reference replicates of each forward step's shifted reference is
+// not needed (the reference is simulated once); the replicate streams are (seed, b).
+
+struct CandidateSpec {
+  GapEffect effect;
+  const char* process;  // added process (nullptr: REPARAMETERISE)
+};
+
+constexpr CandidateSpec kCatalogue[] = {
+    {GapEffect::kWN, "WN"},          {GapEffect::kQN, "QN"},   {GapEffect::kRW, "RW"},
+    {GapEffect::kDR, "DR"},          {GapEffect::kAR1, "AR1"}, {GapEffect::kFlicker, "FLICKER"},
+    {GapEffect::kSin, "SIN"},        {GapEffect::kReparameterise, nullptr},
+};
+
+bool has_process(const Model& m, const std::string& name) {
+  for (const auto& c : m.components())
+    if (c.process->name() == name) return true;
+  return false;
+}
+
+// The candidates tried against `base`: the requested ones (all by default), without
+// a single-instance term the base already has (adding it is a re-sizing, i.e.
+// REPARAMETERISE, GAP.md s.5), and without REPARAMETERISE when the base is refitted anyway.
+std::vector<CandidateSpec> candidates_for(const Model& base, const GapOptions& o) {
+  std::vector<CandidateSpec> out;
+  for (const auto& c : kCatalogue) {
+    if (!o.candidates.empty() && std::find(o.candidates.begin(), o.candidates.end(), c.effect) == o.candidates.end())
+      continue;
+    if (c.process == nullptr) {
+      if (!o.refit_baseline) out.push_back(c);
+      continue;
+    }
+    const std::string p = c.process;
+    if ((p == "WN" || p == "QN" || p == "RW" || p == "DR") && has_process(base, p)) continue;
+    out.push_back(c);
+  }
+  return out;
+}
+
+Model concat(const Model& a, const Model& b) {
+  std::vector<Component> c = a.components();
+  for (const auto& x : b.components()) c.push_back(x);
+  return Model(std::move(c));
+}
+
+WaveletVariance with_values(const WaveletVariance& like, const Eigen::VectorXd& v) {
+  WaveletVariance w = like;
+  w.wv.assign(v.data(), v.data() + v.size());
+  return w;
+}
+
+double objective(const Eigen::VectorXd& target, const Eigen::VectorXd& nu, const Eigen::MatrixXd& omega) {
+  const Eigen::VectorXd r = target - nu;
+  return r.dot(omega * r);
+}
+
+FitOptions candidate_fit_options(const GapOptions& o, const Eigen::MatrixXd& omega) {
+  FitOptions fo = o.fit;
+  fo.omega_matrix = omega;
+  fo.inference = false;
+  fo.nested_starts = false;
+  fo.multistarts = kCandidateStarts;
+  fo.log_not_converged = false;
+  return fo;
+}
+
+// The baseline as the candidates see it: its family, its values and its WV.
+struct Base {
+  Model model;
+  Eigen::VectorXd theta;
+  Eigen::VectorXd nu;
+};
+
+// The objective left by `spec` on `target` (baseline fixed: the effect is fitted to the
+// residual; refit: the family and the effect together, started from the base's values)
+// and the fit behind it. REPARAMETERISE: the base's family with free values.
+double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::VectorXd& target,
+                     const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o, FitResult* out) {
+  FitOptions fo = candidate_fit_options(o, omega);
+  FitResult r;
+  if (spec.process == nullptr) {
+    fo.starts = {base.theta};
+    r = fit_gmwm(with_values(like, target), base.model, fo);
+  } else if (!o.refit_baseline) {
+    r = fit_gmwm(with_values(like, target - base.nu), parse_model(spec.process), fo);
+  } else {
+    const Model m = concat(base.model, parse_model(spec.process));
+    const WaveletVariance w = with_values(like, target);
+    fo.starts = {embed_start(base.model, base.theta, m, w)};
+    r = fit_gmwm(w, m, fo);
+  }
+  const double g = r.status == FitStatus::kFailed ? std::numeric_limits<double>::infinity() : r.objective;
+  if (out) *out = std::move(r);
+  return g;
+}
+
+// The objective of the base itself on `target`: fixed, or refitted (--fit mode).
+double base_objective(const Base& base, const Eigen::VectorXd& target, const WaveletVariance& like,
+                      const Eigen::MatrixXd& omega, const GapOptions& o) {
+  if (!o.refit_baseline) return objective(target, base.nu, omega);
+  FitOptions fo = candidate_fit_options(o, omega);
+  fo.starts = {base.theta};
+  const FitResult r = fit_gmwm(with_values(like, target), base.model, fo);
+  return r.status == FitStatus::kFailed ? objective(target, base.nu, omega) : r.objective;
+}
+
+// (1 - level) quantile of a scaled chi-square a chi2_d matched to the drops' mean and variance.
+double calibrated_threshold(const std::vector<double>& drops, double level) {
+  double mean = 0.0, var = 0.0;
+  for (double d : drops) mean += d;
+  mean /= static_cast<double>(drops.size());
+  for (double d : drops) var += (d - mean) * (d - mean);
+  var /= static_cast<double>(drops.size() - 1);
+  const double biggest = *std::max_element(drops.begin(), drops.end());
+  if (!(mean > 0.0) || !(var > 0.0)) return std::max(biggest, 0.0);
+  const double a = var / (2.0 * mean), d = 2.0 * mean * mean / var;
+  return a * boost::math::quantile(boost::math::complement(boost::math::chi_squared(d), level));
+}
+
+struct Step {
+  std::vector<GapCandidate> scored;
+  int best = -1;  // index into scored, -1 when nothing cleared
+};
+
+// Scores every candidate on the data and calibrates it on the replicates (rows of `reps`,
+// data from the base alone).
+Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const Eigen::VectorXd& nuhat,
+                const Eigen::MatrixXd& reps, const WaveletVariance& like, const Eigen::MatrixXd& omega,
+                const GapOptions& o) {
+  const std::size_t K = specs.size();
+  const int R = std::min<int>(kCalibrationReplicates, static_cast<int>(reps.rows()));
+  Step s;
+  s.scored.resize(K);
+  std::vector<std::vector<double>> drops(K, std::vector<double>(static_cast<std::size_t>(R), 0.0));
+  const double g_data = base_objective(base, nuhat, like, omega, o);
+  oneapi::tbb::parallel_for(std::size_t{0}, K * static_cast<std::size_t>(R + 1), [&](std::size_t k) {
+    const std::size_t c = k % K, b = k / K;
+    if (b == 0) {
+      GapCandidate& g = s.scored[c];
+      g.effect = specs[c].effect;
+      const double left = fit_candidate(specs[c], base, nuhat, like, omega, o, &g.fit);
+      g.improvement = std::isfinite(left) ? g_data - left : 0.0;
+      if (g.fit.status != FitStatus::kFailed) g.model = g.fit.model.to_string(g.fit.theta);
+      return;
+    }
+    const Eigen::VectorXd t = reps.row(static_cast<Eigen::Index>(b - 1)).transpose();
+    const double left = fit_candidate(specs[c], base, t, like, omega, o, nullptr);
+    drops[c][b - 1] = std::isfinite(left) ? base_objective(base, t, like, omega, o) - left : 0.0;
+  });
+  // Cleared candidates rank by how far their drop exceeds their own null threshold (a
+  // flexible candidate pays for its flexibility through a higher threshold).
+  double best_margin = 0.0;
+  for (std::size_t c = 0; c < K; ++c) {
+    GapCandidate& g = s.scored[c];
+    g.threshold = calibrated_threshold(drops[c], o.alpha / static_cast<double>(K));
+    g.cleared = g.fit.status != FitStatus::kFailed && g.improvement > g.threshold;
+    if (g.cleared && g.improvement - g.threshold > best_margin) {
+      best_margin = g.improvement - g.threshold;
+      s.best = static_cast<int>(c);
+    }
+  }
+  return s;
+}
+
+std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_threshold, double min_effect) {
+  std::vector<GapBand> bands;
+  for (std::size_t j = 0; j < levels.size();) {
+    const GapLevel& l = levels[j];
+    const int sign = l.z > 0 ? 1 : -1;
+    auto in_band = [&](const GapLevel& x, int sg) {
+      return std::abs(x.z) > z_threshold && std::abs(x.ratio - 1.0) > min_effect && (x.z > 0 ? 1 : -1) == sg;
+    };
+    if (!in_band(l, sign)) {
+      ++j;
+      continue;
+    }
+    GapBand b;
+    b.first_level = static_cast<int>(j) + 1;
+    b.direction = sign > 0 ? "excess" : "deficit";
+    b.peak_ratio = l.ratio;
+    std::size_t k = j;
+    while (k < levels.size() && in_band(levels[k], sign)) {
+      if (std::abs(std::log(levels[k].ratio)) > std::abs(std::log(b.peak_ratio))) b.peak_ratio = levels[k].ratio;
+      ++k;
+    }
+    b.last_level = static_cast<int>(k);
+    b.tau_from = levels[j].tau;
+    b.tau_to = levels[k - 1].tau;
+    bands.push_back(b);
+    j = k;
+  }
+  return bands;
+}
+
+// The levels' map of nuhat against a reference whose log mean is shifted by `shift`
+// (the reference of the base with added effects: replicates rescaled by nu_new / nu_base).
+std::vector<GapLevel> map_levels(const WaveletVariance& wv, const Eigen::VectorXd& nuhat, const detail::Reference& ref,
+                                 const Eigen::VectorXd& nu_model, const Eigen::VectorXd& shift, double alpha) {
+  const double zp = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2.0));
+  std::vector<GapLevel> out;
+  for (int j = 0; j < wv.levels(); ++j) {
+    GapLevel l;
+    l.tau = wv.tau[static_cast<std::size_t>(j)];
+    l.ratio = nuhat(j) / nu_model(j);
+    const double m = ref.mean_log(j) + shift(j), s = ref.sd_log(j);
+    l.z = (std::log(nuhat(j)) - m) / s;
+    l.ref_low = std::exp(m - zp * s);
+    l.ref_high = std::exp(m + zp * s);
+    l.outside = nuhat(j) < l.ref_low || nuhat(j) > l.ref_high;
+    out.push_back(l);
+  }
+  return out;
+}
+
+double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, const std::vector<GapBand>& bands) {
+  double s = 0.0;
+  int n = 0;
+  for (const auto& b : bands)
+    for (int j = b.first_level - 1; j < b.last_level; ++j) {
+      const double r = std::log(nuhat(j) / nu(j));
+      s += r * r;
+      ++n;
+    }
+  return n ? std::sqrt(s / n) : 0.0;
+}
+
+}  // namespace
+
+const char* to_string(GapEffect e) {
+  switch (e) {
+    case GapEffect::kNone: return "none";
+    case GapEffect::kWN: return "WN";
+    case GapEffect::kQN: return "QN";
+    case GapEffect::kRW: return "RW";
+    case GapEffect::kDR: return "DR";
+    case GapEffect::kAR1: return "AR1";
+    case GapEffect::kFlicker: return "FLICKER";
+    case GapEffect::kSin: return "SIN";
+    case GapEffect::kOutliers: return "OUTLIERS";
+    case GapEffect::kStep: return "STEP";
+    case GapEffect::kTransient: return "TRANSIENT";
+    case GapEffect::kTemperature: return "TEMPERATURE";
+    case GapEffect::kReparameterise: return "REPARAMETERISE";
+  }
+  return "none";
+}
+
+std::string GapOptions::Validate() const {
+  std::ostringstream os;
+  if (replicates < 20 || replicates > 100000) os << "replicates must be in [20, 100000], got " << replicates;
+  else if (!(alpha > 0.0 && alpha < 0.5)) os << "alpha must be in (0, 0.5), got " << alpha;
+  else if (!(min_effect >= 0.0)) os << "min_effect must be >= 0, got " << min_effect;
+  else if (max_steps < 0) os << "max_steps must be >= 0, got " << max_steps;
+  return os.str();
+}
+
+GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
+                       const GapOptions& options, const WaveletVariance* robust, const std::vector<double>* x) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
+  if (const std::string why = baseline.validate(theta); !why.empty()) throw InputError("gap: baseline " + why);
+  const Eigen::VectorXd nuhat = wv.values();
+  for (int j = 0; j < wv.levels(); ++j)
+    if (!(nuhat(j) > 0.0) || !std::isfinite(nuhat(j)))
+      throw InputError("gap: the WV at level " + std::to_string(j + 1) + " is not positive (" +
+                       std::to_string(nuhat(j)) + "); a gap is measured on log scales");
+  const ClassicalWvEstimator classical;
+  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
+  const detail::Reference ref = detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates,
+                                                        options.seed, estimator, wv.alpha, options.progress);
+  const int J = wv.levels();
+  GapResult g;
+  g.baseline = baseline;
+  g.baseline_theta = theta;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(J);
+  g.levels = map_levels(wv, nuhat, ref, ref.nu, zero, options.alpha);
+  g.statistic = detail::distance(ref, nuhat, zero);
+  g.p_value = detail::p_value(ref, g.statistic);
+  const double z_bonferroni =
+      boost::math::quantile(boost::math::complement(boost::math::normal(), options.alpha / (2.0 * J)));
+  g.bands = find_bands(g.levels, z_bonferroni, options.min_effect);
+  g.detected = g.p_value < options.alpha && !g.bands.empty();
+
+  // The objective's weights: the baseline's own spread of nuhat (raw scale).
+  const Eigen::MatrixXd omega = ref.var.cwiseInverse().asDiagonal();
+  double null_mean = 0.0;
+  for (Eigen::Index b = 0; b < ref.wv.rows(); ++b) null_mean += objective(ref.wv.row(b).transpose(), ref.nu, omega);
+  null_mean /= static_cast<double>(ref.wv.rows());
+
+  GapShrinkage& s = g.shrinkage;
+  s.objective_before = objective(nuhat, ref.nu, omega);
+  s.null_mean = null_mean;
+  s.rms_log_ratio_before = rms_log_ratio(nuhat, ref.nu, g.bands);
+  for (const auto& l : g.levels) s.levels_outside_before += l.outside;
+  s.p_value_before = g.p_value;
+  g.final_model = baseline;
+  g.final_theta = theta;
+  auto finish_unchanged = [&] {
+    s.objective_after = s.objective_before;
+    s.rms_log_ratio_after = s.rms_log_ratio_before;
+    s.levels_outside_after = s.levels_outside_before;
+    s.p_value_after = s.p_value_before;
+  };
+  if (!g.detected) {
+    g.notes.push_back(g.p_value >= options.alpha ? "the global test does not reject the baseline"
+                                                 : "no band of levels passes both the multiplicity-corrected z "
+                                                   "threshold and the effect-size threshold");
+    finish_unchanged();
+    return g;
+  }
+
+  // OUTLIERS first: a fine-scale excess the robust WV does not show.
+  Eigen::VectorXd data = nuhat;
+  if (robust && x) {
+    const robust::Quantization q = robust::detect_quantization(x->data(), static_cast<std::int64_t>(x->size()));
+    const robust::Tuning tuning = robust::tune(
+        robust::parse_robust_kind(robust->estimator).value_or(robust::RobustKind::kHuber),
+        robust->efficiency.value_or(robust::kDefaultEfficiency));
+    const auto diag = robust::contamination_diagnostic(x->data(), static_cast<std::int64_t>(x->size()), *robust, wv, q,
+                                                       tuning);
+    int flagged = 0;
+    for (int j = 0; j < std::min(kOutlierLevels, J); ++j) flagged += diag[static_cast<std::size_t>(j)].contaminated;
+    if (flagged > 0) {
+      g.steps.push_back(GapEffect::kOutliers);
+      g.notes.push_back(std::to_string(flagged) + " of the finest " + std::to_string(kOutlierLevels) +
+                        " levels flagged contaminated (robust WV below classical beyond what the data's rounding "
+                        "explains, with an excess of far outliers): the robust WV is used from here on");
+      bool usable = true;
+      for (int j = 0; j < J; ++j) usable &= robust->wv[static_cast<std::size_t>(j)] > 0.0;
+      if (usable) data = robust->values();
+    }
+  }
+
+  Base base{baseline, theta, ref.nu};
+  Eigen::MatrixXd reps = ref.wv;
+  std::vector<FitResult> added;
+  for (int step = 0; step < options.max_steps; ++step) {
+    const auto specs = candidates_for(base.model, options);
+    if (specs.empty()) break;
+    Step st = score_step(specs, base, data, reps, wv, omega, options);
+    if (step == 0) g.candidates = st.scored;
+    // Disambiguation (GAP.md s.3, candidate 0): a new effect must beat re-sizing the
+    // baseline's own terms by more than its own null threshold; otherwise the answer is
+    // REPARAMETERISE (an AR1 with phi ~ 0 is a white noise, a FLICKER over few octaves
+    // a re-sized random walk, ...).
+    int pick = st.best;
+    for (std::size_t c = 0; c < specs.size(); ++c) {
+      const GapCandidate& re = st.scored[c];
+      if (specs[c].effect != GapEffect::kReparameterise || !re.cleared) continue;
+      if (pick < 0 || st.scored[static_cast<std::size_t>(pick)].improvement - re.improvement <=
+                          st.scored[static_cast<std::size_t>(pick)].threshold)
+        pick = static_cast<int>(c);
+    }
+    if (pick < 0) break;
+    const GapCandidate& chosen = st.scored[static_cast<std::size_t>(pick)];
+    g.steps.push_back(chosen.effect);
+    // The new base: the chosen fit (REPARAMETERISE or refit: the whole model; else
+    // base + the effect at its fitted values).
+    Base next;
+    if (chosen.effect == GapEffect::kReparameterise || options.refit_baseline) {
+      next.model = chosen.fit.model;
+      next.theta = chosen.fit.theta;
+    } else {
+      next.model = concat(base.model, chosen.fit.model);
+      next.theta.resize(base.theta.size() + chosen.fit.theta.size());
+      next.theta << base.theta, chosen.fit.theta;
+      added.push_back(chosen.fit);
+    }
+    next.nu = next.model.wv(next.theta, wv.tau);
+    // Replicates of the new base: the old ones rescaled level by level.
+    const Eigen::VectorXd scale = (next.nu.array() / base.nu.array()).matrix();
+    reps = reps * scale.asDiagonal();
+    base = std::move(next);
+    const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
+    if (detail::p_value(ref, detail::distance(ref, data, shift)) >= options.alpha) break;
+    if (chosen.effect == GapEffect::kReparameterise) break;
+  }
+  g.effect = g.steps.empty() ? GapEffect::kNone : g.steps.front();
+  if (g.steps.empty())
+    g.notes.push_back("no candidate effect clears its calibrated threshold: no unmodelled effect found");
+  g.final_model = base.model.canonical(&base.theta);
+  g.final_theta = base.theta;
+  if (!added.empty()) g.final_fit = added.front();
+
+  const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
+  const auto after = map_levels(wv, data, ref, base.nu, shift, options.alpha);
+  s.objective_after = objective(data, base.nu, omega);
+  const double excess = s.objective_before - s.null_mean;
+  s.excess_removed = excess > 0.0 ? (s.objective_before - s.objective_after) / excess : 0.0;
+  s.rms_log_ratio_after = rms_log_ratio(data, base.nu, g.bands);
+  s.levels_outside_after = 0;
+  for (const auto& l : after) s.levels_outside_after += l.outside;
+  s.p_value_after = detail::p_value(ref, detail::distance(ref, data, shift));
+  return g;
+}
+
+}  // namespace gmwm::selection

@@ -1,0 +1,44 @@
+#pragma once
+// The baseline's reference distribution of the WV (GAP.md s.2), internal to gap.cc.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+
+namespace gmwm::selection::detail {
+
+/// Shrinkage of the log-WV covariance towards its diagonal before inversion (B ~ 100
+/// replicates for J ~ 20 levels leave the sample covariance noisy; Ledoit & Wolf 2004
+/// motivate a fixed convex combination, 0.2 keeps it well conditioned).
+inline constexpr double kCovarianceShrinkage = 0.2;
+
+struct Reference {
+  Eigen::MatrixXd wv;        ///< B x J: the replicates' WV
+  Eigen::VectorXd nu;        ///< the baseline's theoretical WV
+  Eigen::VectorXd mean_log, sd_log;  ///< per level, over all replicates
+  Eigen::VectorXd var;       ///< per level variance of nuhat (raw scale), over all replicates
+  // The global test uses two halves: its mean and (shrunk) covariance from half A, the
+  // null distribution of the distance from half B (exchangeable with the data).
+  Eigen::VectorXd mean_log_a;
+  Eigen::MatrixXd precision_a;
+  std::vector<double> null_distance;  ///< half B's distances, sorted
+};
+
+/// Simulates `replicates` series of length n from (model, theta) with streams
+/// (seed, stream_base + b), computes their WV with `estimator` (J levels), and
+/// summarises them. Throws InputError if fewer than 8 replicates give a finite WV.
+Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
+                          int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
+                          const std::function<void(int, int)>& progress);
+
+/// Mahalanobis distance of log(nuhat) - shift from the half-A reference.
+double distance(const Reference& ref, const Eigen::VectorXd& nuhat, const Eigen::VectorXd& log_shift);
+
+/// Monte-Carlo p-value of a distance against half B: (1 + #{null >= d}) / (1 + B/2).
+double p_value(const Reference& ref, double d);
+
+}  // namespace gmwm::selection::detail
