@@ -1,0 +1,74 @@
+#include "gmwm/io/units.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "gmwm/engine/error.h"
+
+namespace gmwm::io {
+namespace {
+
+// Standard gravity (CGPM 1901, exact): 1 g = 9.80665 m/s^2.
+constexpr double kStandardGravity = 9.80665;
+constexpr double kDegreesPerRadian = 57.295779513082320877;  // 180 / pi
+constexpr double kSecondsPerHour = 3600.0;
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+bool contains(const std::string& s, const char* what) { return s.find(what) != std::string::npos; }
+
+}  // namespace
+
+const char* to_string(SensorKind k) { return k == SensorKind::kGyro ? "gyro" : "accel"; }
+
+SensorKind sensor_kind_of_column(const std::string& column) {
+  const std::string c = lower(column);
+  if (contains(c, "gyr") || contains(c, "omega") || c.rfind("w_", 0) == 0) return SensorKind::kGyro;
+  if (contains(c, "acc") || contains(c, "alpha") || c.rfind("a_", 0) == 0) return SensorKind::kAccel;
+  throw InputError("column '" + column +
+                   "': cannot tell whether it is a gyroscope or an accelerometer from its name; "
+                   "give --sensor gyro or --sensor accel");
+}
+
+Unit si_unit(SensorKind kind) { return kind == SensorKind::kGyro ? Unit{"rad/s", 1.0} : Unit{"m/s^2", 1.0}; }
+
+Unit parse_unit(const std::string& name, SensorKind kind) {
+  const std::string n = lower(name);
+  if (kind == SensorKind::kGyro) {
+    if (n == "rad/s") return {"rad/s", 1.0};
+    if (n == "deg/s") return {"deg/s", kDegreesPerRadian};
+    if (n == "deg/h") return {"deg/h", kDegreesPerRadian * kSecondsPerHour};
+    throw InputError("unit '" + name + "' for gyro: expected rad/s, deg/s or deg/h");
+  }
+  if (n == "m/s^2" || n == "m/s2") return {"m/s^2", 1.0};
+  if (n == "g") return {"g", 1.0 / kStandardGravity};
+  if (n == "mg") return {"mg", 1000.0 / kStandardGravity};
+  throw InputError("unit '" + name + "' for accel: expected m/s^2, g or mg");
+}
+
+std::map<SensorKind, Unit> parse_units(const std::string& spec) {
+  std::map<SensorKind, Unit> out = {{SensorKind::kGyro, si_unit(SensorKind::kGyro)},
+                                    {SensorKind::kAccel, si_unit(SensorKind::kAccel)}};
+  std::size_t start = 0;
+  while (start <= spec.size() && !spec.empty()) {
+    const std::size_t comma = std::min(spec.find(',', start), spec.size());
+    const std::string item = spec.substr(start, comma - start);
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos)
+      throw InputError("--units '" + spec + "': expected kind=unit pairs such as gyro=deg/s,accel=g, found '" + item + "'");
+    const std::string key = lower(item.substr(0, eq));
+    SensorKind kind;
+    if (key == "gyro") kind = SensorKind::kGyro;
+    else if (key == "accel") kind = SensorKind::kAccel;
+    else throw InputError("--units '" + spec + "': unknown sensor kind '" + item.substr(0, eq) + "' (expected gyro or accel)");
+    out[kind] = parse_unit(item.substr(eq + 1), kind);
+    start = comma + 1;
+  }
+  return out;
+}
+
+}  // namespace gmwm::io

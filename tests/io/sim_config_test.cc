@@ -1,0 +1,136 @@
+// Units (io/src/units.cc) and the Kalibr imu.yaml reader (io/src/kalibr_yaml.cc), against
+// values computed by hand from Kalibr's documented conventions (continuous densities:
+// sigma2 = N^2 f for the white noise per sample, gamma2 = K^2 / f for the random walk),
+// with the EuRoC ADIS16448 figures Kalibr ships (imu_adis16448.yaml, update_rate 200).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/io/sim_config.h"
+#include "gmwm/io/units.h"
+#include "test_support.h"
+
+namespace gmwm::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class KalibrYaml : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = gmwm::test::temp_dir("kalibr"); }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& text) {
+    const fs::path p = dir_ / "imu.yaml";
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  std::string error_of(const std::string& text, double f = 200.0) {
+    try {
+      read_kalibr_imu_yaml(write(text), f, parse_units(""));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+  fs::path dir_;
+};
+
+constexpr const char* kEuroc =
+    "#Accelerometers\n"
+    "accelerometer_noise_density: 2.0000e-3   #Noise density (continuous-time)\n"
+    "accelerometer_random_walk:   3.0000e-3   #Bias random walk\n"
+    "\n"
+    "#Gyroscopes\n"
+    "gyroscope_noise_density:     1.6968e-04  #Noise density (continuous-time)\n"
+    "gyroscope_random_walk:       1.9393e-05  #Bias random walk\n"
+    "\n"
+    "rostopic:                    /imu0       #the IMU ROS topic\n"
+    "update_rate:                 200.0       #Hz (for discretization of the values above)\n";
+
+TEST_F(KalibrYaml, ConvertsTheEurocDensitiesToPerSampleVariancesAtTheDataRate) {
+  const SimConfig c = read_kalibr_imu_yaml(write(kEuroc), 200.0, parse_units(""));
+  const Model& gyro = c.models.at(SensorKind::kGyro);
+  ASSERT_EQ(gyro.to_string(), "WN+RW");
+  // (1.6968e-4)^2 x 200 = 5.7583e-6 (rad/s)^2; (1.9393e-5)^2 / 200 = 1.88044e-12.
+  EXPECT_NEAR(gyro.given_values()(0), 5.758260e-06, 1e-12);
+  EXPECT_NEAR(gyro.given_values()(1), 1.880442e-12, 1e-17);
+  const Model& accel = c.models.at(SensorKind::kAccel);
+  EXPECT_NEAR(accel.given_values()(0), 8.0e-4, 1e-15);   // (2e-3)^2 x 200
+  EXPECT_NEAR(accel.given_values()(1), 4.5e-8, 1e-20);   // (3e-3)^2 / 200
+  ASSERT_EQ(c.conversions.at(SensorKind::kGyro).size(), 2u);
+  EXPECT_NE(c.conversions.at(SensorKind::kGyro)[0].find("gyroscope_noise_density = 0.00016968 rad/s/sqrt(Hz) -> WN "
+                                                          "sigma2 = (N)^2 x f = 5.75826e-06 (rad/s)^2 per sample"),
+            std::string::npos)
+      << c.conversions.at(SensorKind::kGyro)[0];
+  EXPECT_TRUE(c.notes.empty());
+}
+
+TEST_F(KalibrYaml, ConvertsToTheDataUnitsAndSaysWhenTheRatesDiffer) {
+  const SimConfig c = read_kalibr_imu_yaml(write(kEuroc), 100.0, parse_units("gyro=deg/s,accel=g"));
+  // 1.6968e-4 rad/s/sqrt(Hz) = 9.72194e-3 deg/s/sqrt(Hz); squared x 100 Hz.
+  EXPECT_NEAR(c.models.at(SensorKind::kGyro).given_values()(0), 9.451627e-03, 1e-9);
+  // 2e-3 m/s^2/sqrt(Hz) = 2.03943e-4 g/sqrt(Hz); squared x 100 Hz.
+  EXPECT_NEAR(c.models.at(SensorKind::kAccel).given_values()(0), 4.159285e-06, 1e-12);
+  EXPECT_NE(c.conversions.at(SensorKind::kGyro)[0].find("x 57.2958 deg/s per rad/s"), std::string::npos)
+      << c.conversions.at(SensorKind::kGyro)[0];
+  ASSERT_EQ(c.notes.size(), 1u);
+  EXPECT_NE(c.notes[0].find("update_rate 200 Hz differs from the data's 100 Hz"), std::string::npos) << c.notes[0];
+}
+
+TEST_F(KalibrYaml, LeavesOutAZeroFigure) {
+  const SimConfig c = read_kalibr_imu_yaml(
+      write("accelerometer_noise_density: 0\naccelerometer_random_walk: 1e-4\ngyroscope_noise_density: 1e-4\n"
+            "gyroscope_random_walk: 0.0\nupdate_rate: 200\n"),
+      200.0, parse_units(""));
+  EXPECT_EQ(c.models.at(SensorKind::kAccel).to_string(), "RW");
+  EXPECT_EQ(c.models.at(SensorKind::kGyro).to_string(), "WN");
+}
+
+TEST_F(KalibrYaml, RejectsMalformedNegativeOrMissingFiguresWithTheLine) {
+  EXPECT_NE(error_of("gyroscope_noise_density: abc\n").find("imu.yaml:1: gyroscope_noise_density: found 'abc', "
+                                                            "expected a number"),
+            std::string::npos)
+      << error_of("gyroscope_noise_density: abc\n");
+  EXPECT_NE(error_of("\ngyroscope_random_walk: -1e-5\n").find("imu.yaml:2: gyroscope_random_walk: found -1e-5, "
+                                                              "expected a non-negative noise figure"),
+            std::string::npos);
+  EXPECT_NE(error_of("gyroscope_noise_density: 1e-4\n").find("missing accelerometer_noise_density"), std::string::npos);
+  try {
+    read_kalibr_imu_yaml((dir_ / "absent.yaml").string(), 100.0, parse_units(""));
+    ADD_FAILURE() << "no throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos);
+  }
+}
+
+TEST(Units, ParsesEachKindsUnitsAndRejectsOthersWithOneLine) {
+  const auto u = parse_units("gyro=deg/h,accel=mg");
+  EXPECT_NEAR(u.at(SensorKind::kGyro).per_si, 206264.80624709636, 1e-6);  // 180/pi x 3600
+  EXPECT_NEAR(u.at(SensorKind::kAccel).per_si, 101.97162129779282, 1e-10);  // 1000 / 9.80665
+  EXPECT_EQ(parse_units("").at(SensorKind::kGyro).name, "rad/s");
+  auto message = [](const std::string& spec) {
+    try {
+      parse_units(spec);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("gyro=g").find("unit 'g' for gyro: expected rad/s, deg/s or deg/h"), std::string::npos);
+  EXPECT_NE(message("mag=uT").find("unknown sensor kind 'mag'"), std::string::npos);
+  EXPECT_NE(message("gyro").find("expected kind=unit pairs"), std::string::npos);
+}
+
+TEST(Units, TellsTheSensorKindFromTheColumnName) {
+  EXPECT_EQ(sensor_kind_of_column("gyro_x"), SensorKind::kGyro);
+  EXPECT_EQ(sensor_kind_of_column("w_RS_S_x"), SensorKind::kGyro);
+  EXPECT_EQ(sensor_kind_of_column("accel_z"), SensorKind::kAccel);
+  EXPECT_EQ(sensor_kind_of_column("alpha_y"), SensorKind::kAccel);
+  EXPECT_THROW(sensor_kind_of_column("temperature"), InputError);
+}
+
+}  // namespace
+}  // namespace gmwm::io
