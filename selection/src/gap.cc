@@ -111,9 +111,9 @@ double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::V
     fo.starts = {base.theta};
     r = fit_gmwm(with_values(like, target), base.model, fo);
   } else if (!o.refit_baseline) {
-    r = fit_gmwm(with_values(like, target - base.nu), parse_model(spec.process), fo);
+    r = fit_gmwm(with_values(like, target - base.nu), parse_model(spec.process, o.context), fo);
   } else {
-    const Model m = concat(base.model, parse_model(spec.process));
+    const Model m = concat(base.model, parse_model(spec.process, o.context));
     const WaveletVariance w = with_values(like, target);
     fo.starts = {embed_start(base.model, base.theta, m, w)};
     r = fit_gmwm(w, m, fo);

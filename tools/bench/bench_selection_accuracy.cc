@@ -147,8 +147,8 @@ bool study(const char* truth_spec, std::uint64_t seed, std::vector<std::string>&
     for (const auto& p : picks) {
       const Counts c = components(p);
       if (c == want) ++t.first;
-      if (c == det.detectable) ++t.detectable_first;
       else ++t.wrong[difference(c, want)];
+      if (c == det.detectable) ++t.detectable_first;
       if (contains(c, want)) ++t.contained;
     }
     return t;

@@ -37,7 +37,8 @@ int main(int argc, char** argv) {
   CommonOptions common;
   for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);
   const Command commands[] = {add_wv_command(app, common), add_fit_command(app, common),
-                              add_select_command(app, common), add_simulate_command(app, common)};
+                              add_select_command(app, common), add_gap_command(app, common),
+                              add_simulate_command(app, common)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/selection/gap.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -108,6 +109,12 @@ Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
 /// (the first-ranked model with inference, as a fit column's fields) and "levels".
 Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
                         selection::Penalty penalty);
+
+/// A "gap" column (CLI.md): column_json + "baseline_model", "gap" {detected, p_value,
+/// statistic, bands, levels, windows (null: not computed)}, "attribution" {effect, steps,
+/// model, parameters, candidates}, "shrinkage" {...}, "conversions" and "notes".
+Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
+                     const std::vector<std::string>& conversions);
 
 /// The document as text: pretty-printed (2 spaces), ending with a newline.
 std::string dump_json(const Json& doc);

@@ -67,6 +67,8 @@ struct GapOptions {
   int max_steps = 3;
   /// Fit settings of the candidates (omega_matrix, starts, inference set per fit).
   FitOptions fit;
+  /// The signal's sampling rate, for the candidates' display units (SIN's f in Hz).
+  ProcessContext context;
   /// Called with (replicates done, total) while the reference is simulated.
   std::function<void(int, int)> progress;
   /// Empty when valid, else one line.

@@ -1,0 +1,81 @@
+// The "gap" command's column JSON (CLI.md).
+#include <cmath>
+
+#include "gmwm/io/json_output.h"
+
+namespace gmwm::io {
+namespace {
+
+using json = Json;
+
+json seconds(double tau_samples, const ColumnInfo& c) {
+  return c.freq_known && c.freq > 0.0 ? json_number(tau_samples / c.freq) : json(nullptr);
+}
+
+json effect_parameters(const FitResult& fit) {
+  json out = json::array();
+  if (fit.status == FitStatus::kFailed || fit.theta.size() != fit.model.num_parameters()) return out;
+  for (const ParameterRow& r : parameter_rows(fit))
+    out.push_back({{"process", r.process}, {"component", r.component}, {"name", r.name}, {"value", json_number(r.value)}});
+  return out;
+}
+
+}  // namespace
+
+Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, const std::vector<std::string>& conversions) {
+  json c = column_json(column);
+  c["baseline_model"] = g.baseline.to_string(g.baseline_theta);
+  json bands = json::array();
+  for (const auto& b : g.bands)
+    bands.push_back({{"tau_from_seconds", seconds(b.tau_from, column)},
+                     {"tau_to_seconds", seconds(b.tau_to, column)},
+                     {"tau_from", b.tau_from},
+                     {"tau_to", b.tau_to},
+                     {"direction", b.direction},
+                     {"peak_ratio", json_number(b.peak_ratio)}});
+  json levels = json::array();
+  for (const auto& l : g.levels)
+    levels.push_back({{"tau", l.tau},
+                      {"tau_seconds", seconds(l.tau, column)},
+                      {"ratio", json_number(l.ratio)},
+                      {"z", json_number(l.z)},
+                      {"ref_low", json_number(l.ref_low)},
+                      {"ref_high", json_number(l.ref_high)},
+                      {"outside", l.outside}});
+  c["gap"] = {{"detected", g.detected},
+              {"p_value", json_number(g.p_value)},
+              {"statistic", json_number(g.statistic)},
+              {"bands", std::move(bands)},
+              {"levels", std::move(levels)},
+              {"windows", nullptr}};
+  json candidates = json::array();
+  for (const auto& k : g.candidates)
+    candidates.push_back({{"effect", selection::to_string(k.effect)},
+                          {"improvement", json_number(k.improvement)},
+                          {"threshold", json_number(k.threshold)},
+                          {"cleared", k.cleared},
+                          {"model", k.model}});
+  json steps = json::array();
+  for (auto e : g.steps) steps.push_back(selection::to_string(e));
+  c["attribution"] = {{"effect", selection::to_string(g.effect)},
+                      {"steps", std::move(steps)},
+                      {"model", g.final_model.to_string(g.final_theta)},
+                      {"parameters", effect_parameters(g.final_fit)},
+                      {"candidates", std::move(candidates)}};
+  const auto& s = g.shrinkage;
+  c["shrinkage"] = {{"objective_before", json_number(s.objective_before)},
+                    {"objective_after", json_number(s.objective_after)},
+                    {"null_mean", json_number(s.null_mean)},
+                    {"excess_removed", json_number(s.excess_removed)},
+                    {"rms_log_ratio_before", json_number(s.rms_log_ratio_before)},
+                    {"rms_log_ratio_after", json_number(s.rms_log_ratio_after)},
+                    {"levels_outside_before", s.levels_outside_before},
+                    {"levels_outside_after", s.levels_outside_after},
+                    {"p_value_before", json_number(s.p_value_before)},
+                    {"p_value_after", json_number(s.p_value_after)}};
+  c["conversions"] = conversions;
+  c["notes"] = g.notes;
+  return c;
+}
+
+}  // namespace gmwm::io

@@ -1,0 +1,124 @@
+// `gmwm gap` end to end: a sinusoid withheld from the baseline is located and named in
+// the CLI.md JSON fields and in the terminal summary; a Kalibr imu.yaml as the baseline
+// with its conversions; the same JSON for --threads 1 and 2; bad options (exit 2, one line).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::expect_bad_input;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kBase = "WN(sigma2=1e-4)+RW(gamma2=1e-10)";
+
+class GmwmGap : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_gap");
+    // A 2 Hz sinusoid at 100 Hz (f = 0.02 cycles/sample) on top of the baseline.
+    auto r = run_gmwm({"simulate", "--model", std::string(kBase) + "+SIN(A2=4e-4,f=2)", "--n", "65536", "--freq", "100",
+                       "--names", "gyro_x", "--output", "sim.csv.gz", "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "60", "--json", "g.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "g.json");
+  EXPECT_EQ(doc.at("command"), "gap");
+  ASSERT_EQ(doc.at("columns").size(), 1u);
+  const json& c = doc["columns"][0];
+  EXPECT_EQ(c.at("baseline_model"), "WN(sigma2=0.0001)+RW(gamma2=1e-10)");
+  const json& gap = c.at("gap");
+  EXPECT_TRUE(gap.at("detected").get<bool>());
+  EXPECT_LT(gap.at("p_value").get<double>(), 0.05);
+  ASSERT_FALSE(gap.at("bands").empty());
+  for (const char* f : {"tau_from_seconds", "tau_to_seconds", "direction"}) EXPECT_TRUE(gap["bands"][0].contains(f)) << f;
+  EXPECT_EQ(gap["bands"][0]["direction"], "excess");
+  ASSERT_EQ(gap.at("levels").size(), 16u);
+  for (const char* f : {"tau_seconds", "ratio", "z"}) EXPECT_TRUE(gap["levels"][0].contains(f)) << f;
+  EXPECT_TRUE(gap.at("windows").is_null());
+  const json& a = c.at("attribution");
+  EXPECT_EQ(a.at("effect"), "SIN");
+  EXPECT_NE(a.at("model").get<std::string>().find("SIN("), std::string::npos);
+  bool frequency_found = false;
+  for (const json& p : a.at("parameters"))
+    if (p.at("name") == "f") {
+      EXPECT_NEAR(p.at("value").get<double>(), 2.0, 0.1) << "Hz";
+      frequency_found = true;
+    }
+  EXPECT_TRUE(frequency_found);
+  ASSERT_FALSE(a.at("candidates").empty());
+  for (const char* f : {"effect", "improvement", "threshold"}) EXPECT_TRUE(a["candidates"][0].contains(f)) << f;
+  const json& s = c.at("shrinkage");
+  for (const char* f : {"objective_before", "objective_after", "excess_removed", "levels_outside_before",
+                        "levels_outside_after", "p_value_after"})
+    EXPECT_TRUE(s.contains(f)) << f;
+  EXPECT_GE(s["excess_removed"].get<double>(), 0.8);
+  // The terminal summary reads in one line.
+  auto t = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "60"}, dir_);
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_NE(t.out.find("gyro_x: excess at"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("explained by SIN at 2"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("gap removed"), std::string::npos) << t.out;
+}
+
+TEST_F(GmwmGap, TakesAKalibrImuYamlAndPrintsItsConversions) {
+  std::ofstream(dir_ / "imu.yaml") << "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\n"
+                                      "gyroscope_noise_density: 1.0e-3\ngyroscope_random_walk: 1.0e-4\n"
+                                      "update_rate: 100.0\n";
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "imu.yaml", "--replicates", "40", "--json", "g.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("conversion: gyroscope_noise_density = 0.001 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 0.0001 "
+                       "(rad/s)^2 per sample at f = 100 Hz"),
+            std::string::npos)
+      << r.out;
+  const json doc = read_json(dir_ / "g.json");
+  // sigma2 = (1e-3)^2 x 100, gamma2 = (1e-4)^2 / 100 (the rate estimated from the timestamps).
+  const std::string base = doc["columns"][0]["baseline_model"];
+  EXPECT_EQ(base.rfind("WN(sigma2=0.0001", 0), 0u) << base;
+  EXPECT_NE(base.find("+RW(gamma2=9.99999999999"), std::string::npos) << base;
+  EXPECT_EQ(doc["columns"][0]["conversions"].size(), 2u);
+}
+
+TEST_F(GmwmGap, WritesTheSameJsonWithOneAndTwoThreads) {
+  auto one = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "1", "--json", "1.json"}, dir_);
+  auto two = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "2", "--json", "2.json"}, dir_);
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  json a = read_json(dir_ / "1.json"), b = read_json(dir_ / "2.json");
+  a.erase("run");
+  b.erase("run");
+  EXPECT_EQ(a, b);
+}
+
+TEST_F(GmwmGap, RejectsBadOptionsWithOneLine) {
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model", "--kalibr", "--fit"},
+                   dir_ / "x.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", "WN+RW", "--json", "x.json"}, dir_),
+                   {"SPEC_WITH_VALUES"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--units", "gyro=g", "--json", "x.json"}, dir_),
+                   {"unit 'g' for gyro"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "5", "--json", "x.json"}, dir_),
+                   {"--replicates"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--kalibr", "absent.yaml", "--json", "x.json"}, dir_),
+                   {"absent.yaml"}, dir_ / "x.json");
+}
+
+}  // namespace

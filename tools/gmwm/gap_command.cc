@@ -1,0 +1,260 @@
+// gmwm gap INPUT (--model SPEC_WITH_VALUES | --kalibr imu.yaml | --fit SPEC)
+//              [--units gyro=deg/s,accel=g] [--sensor gyro|accel] [--replicates B]
+// Where a simulator's (or a fitted) noise model departs from each column's WV, which
+// unmodelled effect explains it, and how much of the gap it removes (GAP.md).
+#include <cmath>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <unistd.h>
+
+#include <tbb/parallel_for.h>
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/sim_config.h"
+#include "gmwm/io/units.h"
+#include "gmwm/selection/gap.h"
+
+namespace gmwm::cli {
+namespace {
+
+struct GapArgs {
+  InputOptions input;
+  std::string model;   ///< --model SPEC_WITH_VALUES
+  std::string kalibr;  ///< --kalibr imu.yaml
+  std::string fit;     ///< --fit SPEC
+  std::string units;   ///< --units gyro=deg/s,accel=g
+  std::string sensor;  ///< --sensor gyro|accel (all columns)
+  int replicates = selection::GapOptions{}.replicates;
+};
+
+std::string seconds_text(double tau, const io::SignalSet& set) {
+  return set.freq_known ? fmt(tau / set.freq, 3) + " s" : fmt(tau, 6) + " samples";
+}
+
+// What the added effect is, in a few words (the first step's effect).
+std::string effect_text(const selection::GapResult& g) {
+  using selection::GapEffect;
+  const FitResult& f = g.final_fit;
+  const bool has = f.status != FitStatus::kFailed && f.theta.size() == f.model.num_parameters() && f.theta.size() > 0;
+  switch (g.effect) {
+    case GapEffect::kNone: return "no unmodelled effect found";
+    case GapEffect::kOutliers: return "explained by OUTLIERS (the robust WV does not show the fine-scale excess)";
+    case GapEffect::kReparameterise:
+      return "explained by REPARAMETERISE: " + g.final_model.to_string(g.final_theta);
+    default: break;
+  }
+  std::string what = selection::to_string(g.effect);
+  if (has && g.effect == GapEffect::kSin) {
+    const auto& p = *f.model.components()[0].process;
+    what += " at " + fmt(p.to_display(1, f.theta(1)), 4) + (p.context().freq_known ? " Hz" : " cycles/sample");
+  } else if (has && g.effect == GapEffect::kAR1) {
+    const auto& p = *f.model.components()[0].process;
+    const double T = -1.0 / std::log(f.theta(0));
+    what += " with correlation time " + (p.context().freq_known ? fmt(T / p.context().freq, 3) + " s"
+                                                                 : fmt(T, 4) + " samples");
+  }
+  return "explained by " + what;
+}
+
+std::string summary_line(const std::string& name, const selection::GapResult& g, const io::SignalSet& set) {
+  std::ostringstream os;
+  os << name << ": ";
+  if (!g.detected) {
+    os << "no gap (global test p = " << fmt(g.p_value, 3) << ", " << g.shrinkage.levels_outside_before
+       << " of " << g.levels.size() << " levels outside the 95% reference band)";
+    return os.str();
+  }
+  for (std::size_t b = 0; b < g.bands.size(); ++b) {
+    const auto& band = g.bands[b];
+    os << (b ? ", " : "") << band.direction << " at " << seconds_text(band.tau_from, set);
+    if (band.tau_to > band.tau_from) os << " - " << seconds_text(band.tau_to, set);
+    os << " (up to " << fmt(band.peak_ratio, 3) << "x)";
+  }
+  os << "; " << effect_text(g);
+  if (g.effect != selection::GapEffect::kNone)
+    os << "; gap removed " << fmt(100.0 * g.shrinkage.excess_removed, 3) << "%";
+  return os.str();
+}
+
+std::string terminal_report(const std::string& name, const selection::GapResult& g, const io::SignalSet& set,
+                            const std::vector<std::string>& conversions) {
+  std::ostringstream os;
+  os << summary_line(name, g, set) << '\n';
+  os << "  baseline: " << g.baseline.to_string(g.baseline_theta) << '\n';
+  for (const auto& c : conversions) os << "  conversion: " << c << '\n';
+  Table levels({"tau", "ratio", "z", "reference band", "outside"});
+  for (const auto& l : g.levels)
+    levels.add({seconds_text(l.tau, set), fmt(l.ratio, 4), fmt(l.z, 3), fmt(l.ref_low, 3) + " - " + fmt(l.ref_high, 3),
+                l.outside ? "yes" : ""});
+  os << levels.str();
+  if (!g.candidates.empty()) {
+    Table cand({"candidate", "improvement", "threshold", "cleared", "fit"}, 1);
+    for (const auto& c : g.candidates)
+      cand.add({selection::to_string(c.effect), fmt(c.improvement, 5), fmt(c.threshold, 4), c.cleared ? "yes" : "",
+                c.model});
+    os << cand.str();
+  }
+  const auto& s = g.shrinkage;
+  os << "  objective " << fmt(s.objective_before) << " -> " << fmt(s.objective_after) << " (null mean "
+     << fmt(s.null_mean, 4) << "), levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after
+     << ", global p " << fmt(s.p_value_before, 3) << " -> " << fmt(s.p_value_after, 3) << '\n';
+  for (const auto& n : g.notes) os << "  note: " << n << '\n';
+  return os.str();
+}
+
+int run_gap(const GapArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  const WvOptions wv_opts = wv_options(args.input);
+  check_output_path("--json", common.json);
+  const int given = !args.model.empty() + !args.kalibr.empty() + !args.fit.empty();
+  if (given != 1)
+    throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml or --fit SPEC");
+  const auto units = io::parse_units(args.units);
+  std::optional<io::SensorKind> sensor;
+  if (!args.sensor.empty()) sensor = args.sensor == "gyro" ? io::SensorKind::kGyro : io::SensorKind::kAccel;
+  selection::GapOptions options;
+  options.replicates = args.replicates;
+  options.seed = common.seed;
+  options.alpha = args.input.alpha;
+  options.refit_baseline = !args.fit.empty();
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
+
+  Stopwatch read_clock;
+  const io::SignalSet set = read_input(args.input);
+  const double read_seconds = read_clock.seconds();
+  const ProcessContext ctx{set.freq, set.freq_known};
+  options.context = ctx;
+  std::optional<io::SimConfig> config;
+  if (!args.kalibr.empty()) config = io::read_kalibr_imu_yaml(args.kalibr, set.freq, units);
+  const std::optional<Model> spec_model =
+      !args.model.empty() ? std::optional<Model>(parse_model(args.model, ctx))
+                          : !args.fit.empty() ? std::optional<Model>(parse_model(args.fit, ctx)) : std::nullopt;
+  if (spec_model && !args.model.empty()) {
+    const Eigen::VectorXd v = spec_model->given_values();
+    if (const std::string why = spec_model->validate(v); !why.empty() || !v.allFinite())
+      throw InputError("--model '" + args.model + "': give every parameter's value (SPEC_WITH_VALUES), e.g. "
+                       "WN(sigma2=2.5e-5)+RW(gamma2=1e-12)");
+  }
+  // Each column's baseline and the conversions behind it.
+  const std::size_t K = set.signals.size();
+  std::vector<Model> baselines(K);
+  std::vector<std::vector<std::string>> conversions(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    if (config) {
+      const io::SensorKind kind = sensor ? *sensor : io::sensor_kind_of_column(set.signals[k].name);
+      const auto it = config->models.find(kind);
+      if (it == config->models.end())
+        throw InputError(args.kalibr + ": every " + std::string(io::to_string(kind)) +
+                         " figure is zero, nothing to compare column '" + set.signals[k].name + "' with");
+      baselines[k] = it->second;
+      conversions[k] = config->conversions.at(kind);
+      for (const auto& n : config->notes) conversions[k].push_back(n);
+    } else {
+      baselines[k] = *spec_model;
+    }
+  }
+  Stopwatch wv_clock;
+  const std::vector<WaveletVariance> wvs = compute_wv(set, wv_opts);
+  robust::RobustWvOptions ropts;
+  ropts.levels = wv_opts.levels;
+  ropts.alpha = wv_opts.alpha;
+  const std::vector<WaveletVariance> robust_wvs = compute_robust_wv(set, ropts);
+  const double wv_seconds = wv_clock.seconds();
+
+  // --fit: the family fitted on each column first.
+  std::vector<Eigen::VectorXd> thetas(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    check_model_fits_levels(baselines[k], wvs[k].levels());
+    if (args.fit.empty()) {
+      thetas[k] = baselines[k].given_values();
+      continue;
+    }
+    FitOptions fo;
+    fo.inference = false;
+    const FitResult f = fit_gmwm(wvs[k], baselines[k], fo);
+    if (f.status == FitStatus::kFailed)
+      throw InputError("--fit '" + args.fit + "': the fit failed on column '" + set.signals[k].name + "'");
+    baselines[k] = f.model;
+    thetas[k] = f.theta;
+    conversions[k].push_back("baseline fitted on the column: " + f.model.to_string(f.theta));
+  }
+
+  const bool bar = common.show_table() && isatty(STDERR_FILENO);
+  std::mutex progress_mutex;
+  Stopwatch gap_clock;
+  std::vector<selection::GapResult> results(K);
+  for (std::size_t k = 0; k < K; ++k) {
+    selection::GapOptions o = options;
+    o.seed = common.seed + k;  // each column its own reference streams
+    if (bar)
+      o.progress = [&, k](int done, int total_reps) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        std::fprintf(stderr, "\rgap: column %zu / %zu, reference %d / %d", k + 1, K, done, total_reps);
+        if (done == total_reps && k + 1 == K) std::fprintf(stderr, "\n");
+      };
+    const std::vector<double>& x = set.signals[k].values;
+    results[k] = selection::diagnose_gap(wvs[k], baselines[k], thetas[k], o, &robust_wvs[k], &x);
+  }
+  const double gap_seconds = gap_clock.seconds();
+
+  io::Json doc = io::json_document("gap");
+  doc["input"] = set.path;
+  doc["baseline_source"] = !args.kalibr.empty() ? config->source : !args.fit.empty() ? "fit " + args.fit : "model";
+  doc["replicates"] = args.replicates;
+  doc["seed"] = common.seed;
+  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
+  for (std::size_t k = 0; k < K; ++k)
+    doc["columns"].push_back(io::gap_column_json(column_info(set, k), results[k], conversions[k]));
+  std::string report;
+  if (common.show_table()) {
+    if (set.timing) report += set.timing->summary() + "\n";
+    for (std::size_t k = 0; k < K; ++k)
+      report += (k ? "\n" : "") + terminal_report(set.signals[k].name, results[k], set, conversions[k]);
+    report += "\nsummary:\n";
+    for (std::size_t k = 0; k < K; ++k) report += "  " + summary_line(set.signals[k].name, results[k], set) + "\n";
+  }
+  warn_about_timing(set);
+  write_json(common, doc,
+             {.threads = 0,
+              .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"gap", gap_seconds}, {"total", total.seconds()}},
+              .argv = {}});
+  if (common.show_table()) {
+    std::cout << report;
+    std::cout.flush();
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_gap_command(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<GapArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "gap", "Where a simulator's or fitted noise model departs from each column, which effect explains it, and by how much");
+  add_input_options(*sub, args->input);
+  auto* m = sub->add_option("--model", args->model, "Baseline with every value, e.g. 'WN(sigma2=2.5e-5)+RW(gamma2=1e-12)'")
+                ->type_name("SPEC_WITH_VALUES");
+  auto* k = sub->add_option("--kalibr", args->kalibr, "Baseline from a Kalibr imu.yaml (noise densities and random walks)")
+                ->type_name("imu.yaml");
+  auto* f = sub->add_option("--fit", args->fit, "Fit this family on each column first, then diagnose what it lacks")
+                ->type_name("SPEC");
+  m->excludes(k)->excludes(f);
+  k->excludes(f);
+  sub->add_option("--units", args->units, "Units of the columns, e.g. gyro=deg/s,accel=g (SI by default)")
+      ->type_name("KIND=UNIT,...");
+  sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
+      ->check(CLI::IsMember({"gyro", "accel"}));
+  sub->add_option("--replicates", args->replicates, "Reference replicates (parametric bootstrap of the baseline)")
+      ->type_name("B")
+      ->check(CLI::Range(20, 100000))
+      ->capture_default_str();
+  add_common_options(*sub, common);
+  return {sub, [args, &common] { return run_gap(*args, common); }};
+}
+
+}  // namespace gmwm::cli
