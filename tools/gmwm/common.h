@@ -61,6 +61,7 @@ Command add_fit_command(CLI::App& app, CommonOptions& common);
 Command add_simulate_command(CLI::App& app, CommonOptions& common);
 Command add_select_command(CLI::App& app, CommonOptions& common);
 Command add_gap_command(CLI::App& app, CommonOptions& common);
+Command add_gap_check_command(CLI::App& app, CommonOptions& common);
 
 void add_common_options(CLI::App& sub, CommonOptions& common);
 void add_input_options(CLI::App& sub, InputOptions& input);

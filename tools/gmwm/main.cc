@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);
   const Command commands[] = {add_wv_command(app, common), add_fit_command(app, common),
                               add_select_command(app, common), add_gap_command(app, common),
+                              add_gap_check_command(app, common),
                               add_simulate_command(app, common)};
   try {
     app.parse(argc, argv);

@@ -1,0 +1,77 @@
+#pragma once
+// The gap diagnosis' self-check on data whose effect is known because it was withheld
+// (GAP.md s.5): series from a WN+RW base plus one effect the base lacks, at a grid of
+// strengths with random nuisance parameters; the diagnosis gets only the base model and
+// is scored on detection, location, attribution, parameters and shrinkage. The null side:
+// the base alone (must give "no new effect") and the base with its parameters off by
+// +-20% (must give REPARAMETERISE or no new effect).
+//
+// Strength (GAP.md s.5): for effects with a WV, the largest ratio over levels of the
+// effect's WV to the base's; for OUTLIERS, the relative excess the spikes cause in the
+// classical WV at level 1.
+//
+// Seeds: the cases' data come from streams of `seed`; each diagnosis calibrates its
+// thresholds on its own reference replicates from a different seed family
+// (seed + kCalibrationSeedOffset), so calibration and evaluation never share draws.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gmwm/selection/gap.h"
+
+namespace gmwm::selection {
+
+struct GapCheckOptions {
+  /// Cases per effect family; the null side has 5x as many base-only cases and 2x as
+  /// many with the base's parameters off (issue 5: 100, 500, 200).
+  int cases = 100;
+  /// Strengths, cycled through each family's cases.
+  std::vector<double> strengths = {2.0, 4.0, 8.0};
+  std::int64_t n = std::int64_t{1} << 18;
+  double freq = 100.0;
+  /// Reference replicates of each diagnosis.
+  int replicates = 100;
+  std::uint64_t seed = 0;
+  /// The withheld families (those the diagnosis implements).
+  std::vector<GapEffect> families = {GapEffect::kQN,      GapEffect::kDR,  GapEffect::kAR1,
+                                     GapEffect::kFlicker, GapEffect::kSin, GapEffect::kOutliers};
+  bool null_side = true;
+  /// Called with (cases done, total).
+  std::function<void(int, int)> progress;
+  std::string Validate() const;
+};
+
+struct GapCheckCase {
+  GapEffect truth = GapEffect::kNone;  ///< kNone: base only; kReparameterise: base off by +-20%
+  double strength = 0.0;               ///< 0 on the null side
+  std::string injected;                ///< the effect with its values (or the altered base)
+  GapEffect reported = GapEffect::kNone;
+  bool detected = false;
+  bool located = false;                ///< a reported band overlaps the effect's dominant levels
+  bool correct = false;                ///< top-1 attribution (null side: none / REPARAMETERISE)
+  double excess_removed = 0.0;
+  /// SIN: |f_hat / f - 1|; AR1: |log(T_hat / T)| / log 2 (<= 1: within a factor 2); NaN otherwise.
+  double parameter_error = 0.0;
+};
+
+struct GapCheckFamily {
+  int cases = 0, correct = 0, located = 0, detected = 0;
+  double median_excess_removed = 0.0;      ///< over the correctly attributed cases
+  std::map<double, double> power;          ///< strength -> share correctly attributed
+};
+
+struct GapCheckResult {
+  std::vector<GapCheckCase> cases;
+  std::map<std::string, std::map<std::string, int>> confusion;  ///< truth -> reported -> count
+  std::map<std::string, GapCheckFamily> families;               ///< per truth (incl. "none", "REPARAMETERISE")
+  int correct = 0;
+  int false_alarms = 0;  ///< null-side cases given a new effect
+};
+
+/// Runs the self-check. Throws InputError on invalid options.
+GapCheckResult run_gap_check(const GapCheckOptions& options);
+
+}  // namespace gmwm::selection

@@ -1,0 +1,153 @@
+// gmwm gap-check [--cases K] [--n N] [--replicates B] [--strengths S1,S2,...]
+// The gap diagnosis' withheld-effect self-check (GAP.md s.5): a confusion matrix, power
+// by strength, location and shrinkage per effect family, and the null side.
+#include <cmath>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <unistd.h>
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/selection/gap_check.h"
+
+namespace gmwm::cli {
+namespace {
+
+struct GapCheckArgs {
+  int cases = 3;
+  std::int64_t n = std::int64_t{1} << 18;
+  int replicates = 100;
+  std::string strengths = "2,4,8";
+};
+
+std::vector<double> parse_strengths(const std::string& s) {
+  std::vector<double> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !(v > 0.0))
+      throw InputError("--strengths '" + s + "': expected positive numbers separated by commas, found '" + item + "'");
+    out.push_back(v);
+  }
+  if (out.empty()) throw InputError("--strengths: at least one strength is needed");
+  return out;
+}
+
+std::string report(const selection::GapCheckResult& r) {
+  std::ostringstream os;
+  std::vector<std::string> reported;
+  for (const auto& [t, row] : r.confusion)
+    for (const auto& [rep, n] : row)
+      if (std::find(reported.begin(), reported.end(), rep) == reported.end()) reported.push_back(rep);
+  std::vector<std::string> head = {"truth \\ reported"};
+  head.insert(head.end(), reported.begin(), reported.end());
+  Table conf(head, 1);
+  for (const auto& [t, row] : r.confusion) {
+    std::vector<std::string> line = {t};
+    for (const auto& rep : reported) {
+      const auto it = row.find(rep);
+      line.push_back(it == row.end() ? "" : std::to_string(it->second));
+    }
+    conf.add(line);
+  }
+  os << "confusion matrix (rows: withheld effect; none = base only, REPARAMETERISE = base off by +-20%)\n"
+     << conf.str();
+  Table fam({"truth", "cases", "top-1 correct", "detected", "band located", "median S", "power by strength"}, 1);
+  for (const auto& [t, f] : r.families) {
+    std::string power;
+    for (const auto& [s, p] : f.power) power += (power.empty() ? "" : ", ") + fmt(s, 3) + ": " + fmt(100 * p, 3) + "%";
+    fam.add({t, std::to_string(f.cases), fmt(100.0 * f.correct / f.cases, 3) + "%",
+             fmt(100.0 * f.detected / f.cases, 3) + "%", fmt(100.0 * f.located / f.cases, 3) + "%",
+             fmt(f.median_excess_removed, 3), power.empty() ? "-" : power});
+  }
+  os << fam.str();
+  os << "correct " << r.correct << " of " << r.cases.size() << ", false alarms on the null side " << r.false_alarms
+     << '\n';
+  return os.str();
+}
+
+int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  check_output_path("--json", common.json);
+  selection::GapCheckOptions o;
+  o.cases = args.cases;
+  o.n = args.n;
+  o.replicates = args.replicates;
+  o.strengths = parse_strengths(args.strengths);
+  o.seed = common.seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw InputError("gap-check: " + why);
+  const bool bar = common.show_table() && isatty(STDERR_FILENO);
+  std::mutex m;
+  if (bar)
+    o.progress = [&](int done, int all) {
+      std::lock_guard<std::mutex> lock(m);
+      std::fprintf(stderr, "\rgap-check: %d / %d cases", done, all);
+      if (done == all) std::fprintf(stderr, "\n");
+    };
+  const selection::GapCheckResult r = selection::run_gap_check(o);
+  io::Json doc = io::json_document("gap-check");
+  doc["n"] = args.n;
+  doc["replicates"] = args.replicates;
+  doc["strengths"] = o.strengths;
+  doc["seed"] = common.seed;
+  doc["cases"] = static_cast<int>(r.cases.size());
+  doc["correct"] = r.correct;
+  doc["false_alarms"] = r.false_alarms;
+  doc["confusion"] = r.confusion;
+  io::Json power = io::Json::object(), families = io::Json::object();
+  for (const auto& [t, f] : r.families) {
+    io::Json p = io::Json::object();
+    for (const auto& [s, share] : f.power) p[fmt(s, 6)] = share;
+    if (!f.power.empty()) power[t] = p;
+    families[t] = {{"cases", f.cases},
+                   {"correct", f.correct},
+                   {"detected", f.detected},
+                   {"located", f.located},
+                   {"median_excess_removed", io::json_number(f.median_excess_removed)}};
+  }
+  doc["power"] = power;
+  doc["families"] = families;
+  io::Json list = io::Json::array();
+  for (const auto& c : r.cases)
+    list.push_back({{"truth", selection::to_string(c.truth)},
+                    {"strength", c.strength},
+                    {"injected", c.injected},
+                    {"reported", selection::to_string(c.reported)},
+                    {"detected", c.detected},
+                    {"located", c.located},
+                    {"correct", c.correct},
+                    {"excess_removed", io::json_number(c.excess_removed)},
+                    {"parameter_error", io::json_number(c.parameter_error)}});
+  doc["case_list"] = list;
+  write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  if (common.show_table()) std::cout << report(r) << std::flush;
+  return 0;
+}
+
+}  // namespace
+
+Command add_gap_check_command(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<GapCheckArgs>();
+  CLI::App* sub = app.add_subcommand("gap-check", "The gap diagnosis' self-check on data whose effect was withheld");
+  sub->add_option("--cases", args->cases, "Cases per withheld effect (the null side gets 5x and 2x as many)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  sub->add_option("--n", args->n, "Samples per case")->check(CLI::Range(std::int64_t{256}, std::int64_t{1} << 26))->capture_default_str();
+  sub->add_option("--replicates", args->replicates, "Reference replicates per diagnosis")
+      ->check(CLI::Range(20, 100000))
+      ->capture_default_str();
+  sub->add_option("--strengths", args->strengths, "Strengths, cycled through each family's cases")->capture_default_str();
+  add_common_options(*sub, common);
+  return {sub, [args, &common] { return run_gap_check(*args, common); }};
+}
+
+}  // namespace gmwm::cli
