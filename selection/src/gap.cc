@@ -241,6 +241,46 @@ std::vector<GapLevel> map_levels(const WaveletVariance& wv, const Eigen::VectorX
   return out;
 }
 
+// The added effect's component of a refitted augmented model (base family + effect),
+// as a fit of that component alone: every base component is matched, greedily, to the
+// augmented component of the same process whose values are closest (relative); the one
+// left over is the effect.
+FitResult effect_part(const FitResult& augmented, const Base& base) {
+  const Model& m = augmented.model;
+  std::vector<char> used(static_cast<std::size_t>(m.num_components()), 0);
+  for (int b = 0; b < base.model.num_components(); ++b) {
+    const Process& pb = *base.model.components()[static_cast<std::size_t>(b)].process;
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < m.num_components(); ++c) {
+      const Process& pc = *m.components()[static_cast<std::size_t>(c)].process;
+      if (used[static_cast<std::size_t>(c)] || pc.name() != pb.name() || pc.size() != pb.size()) continue;
+      double d = 0.0;
+      for (int k = 0; k < pc.size(); ++k) {
+        const double x = augmented.theta(m.offset(c) + k), y = base.theta(base.model.offset(b) + k);
+        d += std::pow((x - y) / std::max({std::abs(x), std::abs(y), 1e-300}), 2);
+      }
+      if (d < best_d) {
+        best_d = d;
+        best = c;
+      }
+    }
+    if (best >= 0) used[static_cast<std::size_t>(best)] = 1;
+  }
+  FitResult out = augmented;
+  for (int c = 0; c < m.num_components(); ++c) {
+    if (used[static_cast<std::size_t>(c)]) continue;
+    const auto& comp = m.components()[static_cast<std::size_t>(c)];
+    out.model = Model({comp});
+    out.theta = augmented.theta.segment(m.offset(c), comp.process->size());
+    out.se.resize(0);
+    out.ci_low.resize(0);
+    out.ci_high.resize(0);
+    break;
+  }
+  return out;
+}
+
 double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, const std::vector<GapBand>& bands) {
   double s = 0.0;
   int n = 0;
@@ -388,6 +428,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     if (chosen.effect == GapEffect::kReparameterise || options.refit_baseline) {
       next.model = chosen.fit.model;
       next.theta = chosen.fit.theta;
+      if (chosen.effect != GapEffect::kReparameterise) added.push_back(effect_part(chosen.fit, base));
     } else {
       next.model = concat(base.model, chosen.fit.model);
       next.theta.resize(base.theta.size() + chosen.fit.theta.size());

@@ -122,3 +122,37 @@ TEST_F(GmwmGap, RejectsBadOptionsWithOneLine) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(GmwmGapCheck, ScoresEveryFamilyAndTheNullSideInTheContractFields) {
+  const fs::path dir = gmwm::test::temp_dir("cli_gap_check");
+  auto r = run_gmwm({"gap-check", "--cases", "1", "--n", "16384", "--replicates", "30", "--strengths", "8", "--json",
+                     "c.json"},
+                    dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir / "c.json");
+  EXPECT_EQ(doc.at("command"), "gap-check");
+  // 6 families x 1 case, 5 base-only and 2 off-by-20% cases.
+  EXPECT_EQ(doc.at("cases"), 13);
+  EXPECT_LE(doc.at("correct").get<int>(), 13);
+  EXPECT_GE(doc.at("false_alarms").get<int>(), 0);
+  const json& confusion = doc.at("confusion");
+  for (const char* t : {"QN", "DR", "AR1", "FLICKER", "SIN", "OUTLIERS", "none", "REPARAMETERISE"})
+    EXPECT_TRUE(confusion.contains(t)) << t;
+  int total = 0;
+  for (const auto& [truth, row] : confusion.items())
+    for (const auto& [reported, n] : row.items()) total += n.get<int>();
+  EXPECT_EQ(total, 13);
+  EXPECT_TRUE(doc.at("power").contains("SIN"));
+  EXPECT_TRUE(doc["power"]["SIN"].contains("8"));
+  EXPECT_EQ(doc.at("case_list").size(), 13u);
+  EXPECT_NE(r.out.find("confusion matrix"), std::string::npos) << r.out;
+  expect_bad_input(run_gmwm({"gap-check", "--strengths", "2,x", "--json", "x.json"}, dir), {"--strengths"},
+                   dir / "x.json");
+  expect_bad_input(run_gmwm({"gap-check", "--replicates", "3", "--json", "x.json"}, dir), {"--replicates"},
+                   dir / "x.json");
+  fs::remove_all(dir);
+}
+
+}  // namespace

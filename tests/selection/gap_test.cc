@@ -8,6 +8,7 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/robust/robust_wv.h"
@@ -90,6 +91,26 @@ TEST(DiagnoseGap, CallsAMisSetWhiteNoiseReparameterise) {
   const GapResult g = diagnose(simulate_case("WN(sigma2=1.3e-4)+RW(gamma2=1e-10)", 8104), 8204);
   EXPECT_TRUE(g.detected);
   EXPECT_EQ(g.effect, GapEffect::kReparameterise);
+}
+
+TEST(DiagnoseGap, FindsWhatAFittedFamilyLacksWhenTheBaselineIsRefitted) {
+  // --fit mode: WN+RW fitted on data that also hold an AR1; the family is re-estimated
+  // together with each candidate, and the effect is reported on its own.
+  const Case c = simulate_case(std::string(kBase) + "+AR1(phi=0.995,sigma2=2e-7)", 8107);
+  FitOptions fo;
+  fo.inference = false;
+  const FitResult base = fit_gmwm(c.wv, parse_model("WN+RW"), fo);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8207;
+  o.refit_baseline = true;
+  const GapResult g = diagnose_gap(c.wv, base.model, base.theta, o);
+  EXPECT_TRUE(g.detected);
+  EXPECT_EQ(g.effect, GapEffect::kAR1);
+  for (const auto& k : g.candidates) EXPECT_NE(k.effect, GapEffect::kReparameterise) << "no re-sizing in --fit mode";
+  ASSERT_EQ(g.final_fit.model.to_string(), "AR1");
+  EXPECT_NEAR(g.final_fit.theta(0), 0.995, 0.003);
+  EXPECT_EQ(g.final_model.to_string(), "AR1+WN+RW");
 }
 
 TEST(DiagnoseGap, NamesSpikesOutliers) {

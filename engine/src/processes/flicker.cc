@@ -15,6 +15,7 @@
 // (beyond any record: an octave with T >> tau adds ~ s tau / (6 T), so the terms beyond
 // the record sum to a fraction ~ tau / T_max of the plateau).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -47,6 +48,9 @@ class Flicker final : public Process {
          << ", kmax=" << kmax_ << ")";
       throw InputError(os.str());
     }
+    // The unit WV at the dyadic scales, once: fits evaluate it at every iteration, and
+    // each value sums kmax - kmin + 1 stable AR1 closed forms.
+    for (int j = 1; j < kDyadicTable; ++j) dyadic_[static_cast<std::size_t>(j)] = compute_unit_wv(std::ldexp(1.0, j));
   }
   std::string name() const override { return "FLICKER"; }
   std::string structure() const override {
@@ -61,8 +65,13 @@ class Flicker final : public Process {
   }
   bool linear() const override { return true; }
 
-  /// The WV per unit B2 at scale tau.
+  /// The WV per unit B2 at scale tau (from the table at dyadic scales).
   double unit_wv(double tau) const {
+    int e = 0;
+    if (std::frexp(tau, &e) == 0.5 && e - 1 >= 1 && e - 1 < kDyadicTable) return dyadic_[static_cast<std::size_t>(e - 1)];
+    return compute_unit_wv(tau);
+  }
+  double compute_unit_wv(double tau) const {
     const double m = 0.5 * tau;
     double sum = 0.0;
     for (long k = kmin_; k <= kmax_; ++k) {
@@ -122,8 +131,10 @@ class Flicker final : public Process {
  private:
   /// Stationary variance of each octave per unit B2: ln2 / pi.
   static constexpr double kStationaryPerB2 = 0.69314718055994530942 / boost::math::constants::pi<double>();
+  static constexpr int kDyadicTable = 63;  ///< tau = 2^1 .. 2^62
   long kmin_ = kFlickerDefaultKmin;
   long kmax_ = kFlickerDefaultKmax;
+  std::array<double, kDyadicTable> dyadic_{};
 };
 
 }  // namespace
