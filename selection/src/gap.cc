@@ -402,10 +402,13 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   Base base{baseline, theta, ref.nu};
   Eigen::MatrixXd reps = ref.wv;
   std::vector<FitResult> added;
+  // After a REPARAMETERISE step the baseline's values are the data's, not the sim's:
+  // later candidates re-estimate them together with the effect (as in --fit mode).
+  GapOptions step_options = options;
   for (int step = 0; step < options.max_steps; ++step) {
-    const auto specs = candidates_for(base.model, options);
+    const auto specs = candidates_for(base.model, step_options);
     if (specs.empty()) break;
-    Step st = score_step(specs, base, data, reps, wv, omega, options);
+    Step st = score_step(specs, base, data, reps, wv, omega, step_options);
     if (step == 0) g.candidates = st.scored;
     // Disambiguation (GAP.md s.3, candidate 0): a new effect must beat re-sizing the
     // baseline's own terms by more than its own null threshold; otherwise the answer is
@@ -425,7 +428,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     // The new base: the chosen fit (REPARAMETERISE or refit: the whole model; else
     // base + the effect at its fitted values).
     Base next;
-    if (chosen.effect == GapEffect::kReparameterise || options.refit_baseline) {
+    if (chosen.effect == GapEffect::kReparameterise || step_options.refit_baseline) {
       next.model = chosen.fit.model;
       next.theta = chosen.fit.theta;
       if (chosen.effect != GapEffect::kReparameterise) added.push_back(effect_part(chosen.fit, base));
@@ -442,7 +445,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     base = std::move(next);
     const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
     if (detail::p_value(ref, detail::distance(ref, data, shift)) >= options.alpha) break;
-    if (chosen.effect == GapEffect::kReparameterise) break;
+    if (chosen.effect == GapEffect::kReparameterise) step_options.refit_baseline = true;
   }
   g.effect = g.steps.empty() ? GapEffect::kNone : g.steps.front();
   if (g.steps.empty())

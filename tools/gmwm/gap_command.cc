@@ -2,6 +2,7 @@
 //              [--units gyro=deg/s,accel=g] [--sensor gyro|accel] [--replicates B]
 // Where a simulator's (or a fitted) noise model departs from each column's WV, which
 // unmodelled effect explains it, and how much of the gap it removes (GAP.md).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <mutex>
@@ -35,29 +36,34 @@ std::string seconds_text(double tau, const io::SignalSet& set) {
   return set.freq_known ? fmt(tau / set.freq, 3) + " s" : fmt(tau, 6) + " samples";
 }
 
-// What the added effect is, in a few words (the first step's effect).
+// What the diagnosis added, in a few words: each step's effect, the first added
+// effect with its key parameter (SIN's frequency, AR1's correlation time).
 std::string effect_text(const selection::GapResult& g) {
   using selection::GapEffect;
+  if (g.steps.empty()) return "no unmodelled effect found";
   const FitResult& f = g.final_fit;
   const bool has = f.status != FitStatus::kFailed && f.theta.size() == f.model.num_parameters() && f.theta.size() > 0;
-  switch (g.effect) {
-    case GapEffect::kNone: return "no unmodelled effect found";
-    case GapEffect::kOutliers: return "explained by OUTLIERS (the robust WV does not show the fine-scale excess)";
-    case GapEffect::kReparameterise:
-      return "explained by REPARAMETERISE: " + g.final_model.to_string(g.final_theta);
-    default: break;
-  }
-  std::string what = selection::to_string(g.effect);
-  if (has && g.effect == GapEffect::kSin) {
+  bool detailed = false;
+  std::string out = "explained by ";
+  for (std::size_t k = 0; k < g.steps.size(); ++k) {
+    const GapEffect e = g.steps[k];
+    out += k ? " + " : "";
+    out += selection::to_string(e);
+    if (e == GapEffect::kOutliers) out += " (the robust WV does not show the fine-scale excess)";
+    if (e == GapEffect::kReparameterise || e == GapEffect::kOutliers || detailed || !has) continue;
+    detailed = true;
     const auto& p = *f.model.components()[0].process;
-    what += " at " + fmt(p.to_display(1, f.theta(1)), 4) + (p.context().freq_known ? " Hz" : " cycles/sample");
-  } else if (has && g.effect == GapEffect::kAR1) {
-    const auto& p = *f.model.components()[0].process;
-    const double T = -1.0 / std::log(f.theta(0));
-    what += " with correlation time " + (p.context().freq_known ? fmt(T / p.context().freq, 3) + " s"
-                                                                 : fmt(T, 4) + " samples");
+    if (e == GapEffect::kSin)
+      out += " at " + fmt(p.to_display(1, f.theta(1)), 4) + (p.context().freq_known ? " Hz" : " cycles/sample");
+    else if (e == GapEffect::kAR1) {
+      const double T = -1.0 / std::log(f.theta(0));
+      out += " with correlation time " +
+             (p.context().freq_known ? fmt(T / p.context().freq, 3) + " s" : fmt(T, 4) + " samples");
+    }
   }
-  return "explained by " + what;
+  if (std::find(g.steps.begin(), g.steps.end(), GapEffect::kReparameterise) != g.steps.end())
+    out += " (final model " + g.final_model.to_string(g.final_theta) + ")";
+  return out;
 }
 
 std::string summary_line(const std::string& name, const selection::GapResult& g, const io::SignalSet& set) {
