@@ -20,6 +20,22 @@ json effect_parameters(const FitResult& fit) {
   return out;
 }
 
+// The flagged (window, level) cells; null when the series was too short for a map.
+json windows_json(const selection::GapResult& g, const ColumnInfo& c) {
+  if (!g.windows_checked) return nullptr;
+  json out = json::array();
+  for (const auto& w : g.windows)
+    out.push_back({{"t_from_seconds", seconds(static_cast<double>(w.first_sample), c)},
+                   {"t_to_seconds", seconds(static_cast<double>(w.last_sample + 1), c)},
+                   {"first_sample", w.first_sample},
+                   {"last_sample", w.last_sample},
+                   {"tau_seconds", seconds(w.tau, c)},
+                   {"tau", w.tau},
+                   {"ratio", json_number(w.ratio)},
+                   {"z", json_number(w.z)}});
+  return out;
+}
+
 }  // namespace
 
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, const std::vector<std::string>& conversions) {
@@ -47,7 +63,9 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
               {"statistic", json_number(g.statistic)},
               {"bands", std::move(bands)},
               {"levels", std::move(levels)},
-              {"windows", nullptr}};
+              {"windows", windows_json(g, column)},
+              {"window_length_seconds", g.windows_checked ? seconds(static_cast<double>(g.window_length), column)
+                                                          : json(nullptr)}};
   json candidates = json::array();
   for (const auto& k : g.candidates)
     candidates.push_back({{"effect", selection::to_string(k.effect)},

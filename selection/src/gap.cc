@@ -9,6 +9,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "gap_reference.h"
+#include "gap_windows.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
@@ -21,6 +22,8 @@ namespace {
 // Local optimisations per candidate fit: the effects have one or two parameters, whose
 // shape-based starts (engine/src/starting_values.cc) place scale-bearing ones on a grid.
 constexpr int kCandidateStarts = 4;
+// Shape-based starts of the --fit mode calibration refits (besides the warm starts).
+constexpr int kRefitCalibrationStarts = 1;
 // Reference replicates used to calibrate each candidate's threshold (each costs one fit
 // per candidate and step); the threshold comes from a scaled chi-square matched to their
 // drops' mean and variance (Satterthwaite 1946), so 100 give a stable tail quantile.
@@ -104,9 +107,14 @@ struct Base {
 // residual; refit: the family and the effect together, started from the base's values)
 // and the fit behind it. REPARAMETERISE: the base's family with free values.
 double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::VectorXd& target,
-                     const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o, FitResult* out) {
+                     const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o, FitResult* out,
+                     const FitResult* warm = nullptr) {
   FitOptions fo = candidate_fit_options(o, omega);
   FitResult r;
+  // Calibration refits of --fit mode (family + effect on each replicate) start from the
+  // data's fit and one shape-based start: they cost the most, and the replicates lie
+  // close to the base.
+  if (warm && o.refit_baseline && spec.process != nullptr) fo.multistarts = kRefitCalibrationStarts;
   if (spec.process == nullptr) {
     fo.starts = {base.theta};
     r = fit_gmwm(with_values(like, target), base.model, fo);
@@ -116,6 +124,7 @@ double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::V
     const Model m = concat(base.model, parse_model(spec.process, o.context));
     const WaveletVariance w = with_values(like, target);
     fo.starts = {embed_start(base.model, base.theta, m, w)};
+    if (warm && warm->status != FitStatus::kFailed) fo.starts.push_back(embed_start(warm->model, warm->theta, m, w));
     r = fit_gmwm(w, m, fo);
   }
   const double g = r.status == FitStatus::kFailed ? std::numeric_limits<double>::infinity() : r.objective;
@@ -128,6 +137,7 @@ double base_objective(const Base& base, const Eigen::VectorXd& target, const Wav
                       const Eigen::MatrixXd& omega, const GapOptions& o) {
   if (!o.refit_baseline) return objective(target, base.nu, omega);
   FitOptions fo = candidate_fit_options(o, omega);
+  fo.multistarts = kRefitCalibrationStarts;
   fo.starts = {base.theta};
   const FitResult r = fit_gmwm(with_values(like, target), base.model, fo);
   return r.status == FitStatus::kFailed ? objective(target, base.nu, omega) : r.objective;
@@ -162,19 +172,25 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
   s.scored.resize(K);
   std::vector<std::vector<double>> drops(K, std::vector<double>(static_cast<std::size_t>(R), 0.0));
   const double g_data = base_objective(base, nuhat, like, omega, o);
-  oneapi::tbb::parallel_for(std::size_t{0}, K * static_cast<std::size_t>(R + 1), [&](std::size_t k) {
+  // The base's own objective on each replicate, once (a refit in --fit mode).
+  std::vector<double> g_base(static_cast<std::size_t>(R));
+  oneapi::tbb::parallel_for(0, R, [&](int b) {
+    g_base[static_cast<std::size_t>(b)] =
+        base_objective(base, reps.row(b).transpose(), like, omega, o);
+  });
+  // The data's fits first (the replicates' refits start from them).
+  oneapi::tbb::parallel_for(std::size_t{0}, K, [&](std::size_t c) {
+    GapCandidate& g = s.scored[c];
+    g.effect = specs[c].effect;
+    const double left = fit_candidate(specs[c], base, nuhat, like, omega, o, &g.fit);
+    g.improvement = std::isfinite(left) ? g_data - left : 0.0;
+    if (g.fit.status != FitStatus::kFailed) g.model = g.fit.model.to_string(g.fit.theta);
+  });
+  oneapi::tbb::parallel_for(std::size_t{0}, K * static_cast<std::size_t>(R), [&](std::size_t k) {
     const std::size_t c = k % K, b = k / K;
-    if (b == 0) {
-      GapCandidate& g = s.scored[c];
-      g.effect = specs[c].effect;
-      const double left = fit_candidate(specs[c], base, nuhat, like, omega, o, &g.fit);
-      g.improvement = std::isfinite(left) ? g_data - left : 0.0;
-      if (g.fit.status != FitStatus::kFailed) g.model = g.fit.model.to_string(g.fit.theta);
-      return;
-    }
-    const Eigen::VectorXd t = reps.row(static_cast<Eigen::Index>(b - 1)).transpose();
-    const double left = fit_candidate(specs[c], base, t, like, omega, o, nullptr);
-    drops[c][b - 1] = std::isfinite(left) ? base_objective(base, t, like, omega, o) - left : 0.0;
+    const Eigen::VectorXd t = reps.row(static_cast<Eigen::Index>(b)).transpose();
+    const double left = fit_candidate(specs[c], base, t, like, omega, o, nullptr, &s.scored[c].fit);
+    drops[c][b] = std::isfinite(left) ? g_base[b] - left : 0.0;
   });
   // Cleared candidates rank by how far their drop exceeds their own null threshold (a
   // flexible candidate pays for its flexibility through a higher threshold).
@@ -348,6 +364,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
       boost::math::quantile(boost::math::complement(boost::math::normal(), options.alpha / (2.0 * J)));
   g.bands = find_bands(g.levels, z_bonferroni, options.min_effect);
   g.detected = g.p_value < options.alpha && !g.bands.empty();
+  if (x) detail::map_windows(*x, baseline, theta, options, g);
 
   // The objective's weights: the baseline's own spread of nuhat (raw scale).
   const Eigen::MatrixXd omega = ref.var.cwiseInverse().asDiagonal();

@@ -53,7 +53,10 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   EXPECT_EQ(gap["bands"][0]["direction"], "excess");
   ASSERT_EQ(gap.at("levels").size(), 16u);
   for (const char* f : {"tau_seconds", "ratio", "z"}) EXPECT_TRUE(gap["levels"][0].contains(f)) << f;
-  EXPECT_TRUE(gap.at("windows").is_null());
+  // A stationary sinusoid: no window departs from the rest of the record.
+  ASSERT_TRUE(gap.at("windows").is_array());
+  EXPECT_TRUE(gap["windows"].empty()) << gap["windows"].dump();
+  EXPECT_NEAR(gap.at("window_length_seconds").get<double>(), 81.92, 1e-9);
   const json& a = c.at("attribution");
   EXPECT_EQ(a.at("effect"), "SIN");
   EXPECT_NE(a.at("model").get<std::string>().find("SIN("), std::string::npos);

@@ -10,7 +10,10 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
+
+#include <boost/random/normal_distribution.hpp>
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/gap.h"
 
@@ -111,6 +114,30 @@ TEST(DiagnoseGap, FindsWhatAFittedFamilyLacksWhenTheBaselineIsRefitted) {
   ASSERT_EQ(g.final_fit.model.to_string(), "AR1");
   EXPECT_NEAR(g.final_fit.theta(0), 0.995, 0.003);
   EXPECT_EQ(g.final_model.to_string(), "AR1+WN+RW");
+}
+
+TEST(DiagnoseGap, MapsABurstToItsTimeWindowAndAStationarySeriesToNone) {
+  Case c = simulate_case(kBase, 8108);
+  const Model base = parse_model(kBase);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8208;
+  const GapResult quiet = diagnose_gap(c.wv, base, base.given_values(), o, nullptr, &c.x);
+  EXPECT_TRUE(quiet.windows_checked);
+  EXPECT_EQ(quiet.window_length, 8192);  // 2^16 / 8 windows
+  EXPECT_TRUE(quiet.windows.empty()) << quiet.windows.size() << " windows flagged on stationary data";
+  // Extra white noise (5 x the baseline's) in samples [20000, 22000): window 2 of 8.
+  Rng rng = make_stream(8308, {1});
+  boost::random::normal_distribution<double> z(0.0, std::sqrt(5e-4));
+  for (std::size_t t = 20000; t < 22000; ++t) c.x[t] += z(rng);
+  c.wv = classical_wv(c.x.data(), kN);
+  const GapResult burst = diagnose_gap(c.wv, base, base.given_values(), o, nullptr, &c.x);
+  ASSERT_FALSE(burst.windows.empty());
+  for (const auto& w : burst.windows) {
+    EXPECT_EQ(w.first_sample, 2 * 8192) << w.tau;
+    EXPECT_EQ(w.last_sample, 3 * 8192 - 1);
+    EXPECT_GT(w.z, 0.0);
+  }
 }
 
 TEST(DiagnoseGap, NamesSpikesOutliers) {

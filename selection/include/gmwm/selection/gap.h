@@ -110,6 +110,16 @@ struct GapShrinkage {
   double p_value_before = 1.0, p_value_after = 1.0;  ///< global test
 };
 
+/// A time window whose WV at one level departs from the record's typical window (the
+/// median over windows, with the spread of the baseline's same-length reference):
+/// non-stationarity such as warm-up, steps, bursts (GAP.md s.2).
+struct GapWindow {
+  std::int64_t first_sample = 0, last_sample = 0;  ///< inclusive, 0-based
+  double tau = 0.0;                                 ///< samples
+  double ratio = 1.0;                               ///< window WV / the median window's at that level
+  double z = 0.0;
+};
+
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
@@ -118,6 +128,12 @@ struct GapResult {
   double p_value = 1.0;            ///< global test
   bool detected = false;           ///< p_value < alpha and at least one gap band
   std::vector<GapBand> bands;
+  /// Sliding-window map: only the (window, level) cells beyond the Bonferroni threshold
+  /// over all cells and the effect size; empty when none, and when the series is too
+  /// short for kMinWindows windows (windows_checked false).
+  std::vector<GapWindow> windows;
+  bool windows_checked = false;
+  std::int64_t window_length = 0;
   GapEffect effect = GapEffect::kNone;      ///< the first step's attribution
   std::vector<GapEffect> steps;             ///< every effect added, in order
   std::vector<GapCandidate> candidates;     ///< the first step's scores
