@@ -93,10 +93,12 @@ Injection make_injection(GapEffect family, double strength, const Model& base, c
   const Eigen::VectorXd nu_base = base.wv(base_theta, tau), nu_unit = in.model.wv(unit, tau);
   const Eigen::VectorXd ratio = nu_unit.cwiseQuotient(nu_base);
   const double peak = ratio.maxCoeff();
-  // Every effect's WV is linear in its first parameter, except DR's (omega^2).
+  // Every effect's WV is linear in its size parameter (AR1: sigma2, the second; the
+  // others: the first), except DR's (omega^2).
   const double scale = strength / peak;
   in.theta = unit;
-  in.theta(0) = family == GapEffect::kDR ? std::sqrt(scale) : scale;
+  const Eigen::Index size_index = family == GapEffect::kAR1 ? 1 : 0;
+  in.theta(size_index) = family == GapEffect::kDR ? std::sqrt(scale) : scale;
   for (int j = 0; j < J; ++j)
     if (ratio(j) >= kDominantShare * peak) in.dominant.push_back(j);
   return in;

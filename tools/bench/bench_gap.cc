@@ -115,7 +115,16 @@ void power_section() {
     for (double s : {0.25, 0.5, 1.0}) std::printf(" %.0f%% |", f.power.count(s) ? 100 * f.power.at(s) : 0.0);
     std::printf("\n");
   }
-  std::printf("\n");
+  // DR's strength is its WV ratio at the coarsest level (one coefficient, where the
+  // base's own spread is widest): it shows only well above strength 8.
+  selection::GapCheckOptions d = o;
+  d.families = {selection::GapEffect::kDR};
+  d.strengths = {16.0, 64.0, 256.0};
+  const auto rd = selection::run_gap_check(d);
+  std::printf("\nDR above strength 8 (10 cases per strength):\n\n| truth | 16 | 64 | 256 |\n|---|---|---|---|\n| DR |");
+  for (double s : d.strengths)
+    std::printf(" %.0f%% |", rd.families.count("DR") && rd.families.at("DR").power.count(s) ? 100 * rd.families.at("DR").power.at(s) : 0.0);
+  std::printf("\n\n");
   std::fflush(stdout);
 }
 
