@@ -22,6 +22,10 @@ namespace {
 // Local optimisations per candidate fit: the effects have one or two parameters, whose
 // shape-based starts (engine/src/starting_values.cc) place scale-bearing ones on a grid.
 constexpr int kCandidateStarts = 4;
+// --fit mode (and after REPARAMETERISE) each calibration replicate costs two refits of
+// the family per candidate: half as many replicates (the threshold's two-moment
+// chi-square fit stays stable: the mean and variance of 50 drops).
+constexpr int kRefitCalibrationReplicates = 50;
 // Shape-based starts of the --fit mode calibration refits (besides the warm starts).
 constexpr int kRefitCalibrationStarts = 1;
 // Reference replicates used to calibrate each candidate's threshold (each costs one fit
@@ -167,7 +171,8 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
                 const Eigen::MatrixXd& reps, const WaveletVariance& like, const Eigen::MatrixXd& omega,
                 const GapOptions& o) {
   const std::size_t K = specs.size();
-  const int R = std::min<int>(kCalibrationReplicates, static_cast<int>(reps.rows()));
+  const int R = std::min<int>(o.refit_baseline ? kRefitCalibrationReplicates : kCalibrationReplicates,
+                              static_cast<int>(reps.rows()));
   Step s;
   s.scored.resize(K);
   std::vector<std::vector<double>> drops(K, std::vector<double>(static_cast<std::size_t>(R), 0.0));
