@@ -209,6 +209,22 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
       s.best = static_cast<int>(c);
     }
   }
+  // Parsimony (GAP.md s.3, "parsimony"): a candidate with more parameters must beat
+  // every cleared simpler one by more than its own threshold, else the simpler one that
+  // explains the most is kept (a SIN near Nyquist has QN's slope; an AR1 with a long
+  // correlation time a FLICKER's plateau over a few octaves).
+  if (s.best >= 0 && specs[static_cast<std::size_t>(s.best)].process != nullptr) {
+    const GapCandidate& b = s.scored[static_cast<std::size_t>(s.best)];
+    int simpler = -1;
+    for (std::size_t c = 0; c < K; ++c) {
+      const GapCandidate& g = s.scored[c];
+      if (!g.cleared || specs[c].process == nullptr || g.fit.theta.size() >= b.fit.theta.size()) continue;
+      if (b.improvement - g.improvement > b.threshold) continue;
+      if (simpler < 0 || g.improvement > s.scored[static_cast<std::size_t>(simpler)].improvement)
+        simpler = static_cast<int>(c);
+    }
+    if (simpler >= 0) s.best = simpler;
+  }
   return s;
 }
 

@@ -47,5 +47,9 @@ out=tools/bench/RESULTS.md
   echo "## Model selection accuracy: WVIC vs BIC (bench_selection_accuracy)"
   echo
   "$build/bench_selection_accuracy" || true
+  echo
+  echo "## Sim-to-real gap diagnosis (bench_gap)"
+  echo
+  "$build/bench_gap" || true
 } > "$out"
 echo "wrote $out"
