@@ -203,4 +203,10 @@ std::string Model::parameter_label(int k) const {
   return components_[c].process->name() + "[" + std::to_string(c + 1) + "]." + spec_of(k).name;
 }
 
+Model operator+(const Model& a, const Model& b) {
+  std::vector<Component> c = a.components();
+  c.insert(c.end(), b.components().begin(), b.components().end());
+  return Model(std::move(c));
+}
+
 }  // namespace gmwm

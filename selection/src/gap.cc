@@ -73,12 +73,6 @@ std::vector<CandidateSpec> candidates_for(const Model& base, const GapOptions& o
   return out;
 }
 
-Model concat(const Model& a, const Model& b) {
-  std::vector<Component> c = a.components();
-  for (const auto& x : b.components()) c.push_back(x);
-  return Model(std::move(c));
-}
-
 WaveletVariance with_values(const WaveletVariance& like, const Eigen::VectorXd& v) {
   WaveletVariance w = like;
   w.wv.assign(v.data(), v.data() + v.size());
@@ -125,7 +119,7 @@ double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::V
   } else if (!o.refit_baseline) {
     r = fit_gmwm(with_values(like, target - base.nu), parse_model(spec.process, o.context), fo);
   } else {
-    const Model m = concat(base.model, parse_model(spec.process, o.context));
+    const Model m = base.model + parse_model(spec.process, o.context);
     const WaveletVariance w = with_values(like, target);
     fo.starts = {embed_start(base.model, base.theta, m, w)};
     if (warm && warm->status != FitStatus::kFailed) fo.starts.push_back(embed_start(warm->model, warm->theta, m, w));
@@ -471,7 +465,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
       next.theta = chosen.fit.theta;
       if (chosen.effect != GapEffect::kReparameterise) added.push_back(effect_part(chosen.fit, base));
     } else {
-      next.model = concat(base.model, chosen.fit.model);
+      next.model = base.model + chosen.fit.model;
       next.theta.resize(base.theta.size() + chosen.fit.theta.size());
       next.theta << base.theta, chosen.fit.theta;
       added.push_back(chosen.fit);

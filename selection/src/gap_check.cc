@@ -44,12 +44,6 @@ std::vector<double> dyadic(int J) {
   return t;
 }
 
-Model concat(const Model& a, const Model& b) {
-  std::vector<Component> c = a.components();
-  for (const auto& x : b.components()) c.push_back(x);
-  return Model(std::move(c));
-}
-
 struct Injection {
   Model model;             // the effect (empty for OUTLIERS and the null side)
   Eigen::VectorXd theta;
@@ -173,7 +167,7 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
       c.injected = base.to_string(theta);
     } else if (p.truth != GapEffect::kNone && p.truth != GapEffect::kOutliers) {
       in = make_injection(p.truth, p.strength, base, base_theta, options.n, rng, ctx);
-      model = concat(base, in.model);
+      model = base + in.model;
       theta.resize(base_theta.size() + in.theta.size());
       theta << base_theta, in.theta;
       c.injected = in.model.to_string(in.theta);

@@ -73,4 +73,9 @@ class Model {
   int num_parameters_ = 0;
 };
 
+/// The sum of two models: a's components then b's (theta concatenates in that order,
+/// a's parameters first). Not canonical: call canonical() to sort.
+Model operator+(const Model& a, const Model& b);
+
+
 }  // namespace gmwm
