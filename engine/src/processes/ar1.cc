@@ -75,6 +75,18 @@ class Ar1Process final : public Process {
       out[t] += x;
     }
   }
+  // The autocovariance decays as |phi|^h = exp(-h / (f T)): T = -1 / (f ln|phi|) seconds
+  // (the envelope's when phi < 0; 0 at phi = 0, inf at |phi| = 1); the stationary sd is
+  // sqrt(g(0)). ln|phi| = log1p(|phi| - 1) keeps its digits as |phi| -> 1.
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double freq) const override {
+    const double a = std::fabs(theta[0]);
+    const double T = a >= 1.0 ? INFINITY : 1.0 / (freq * -std::log1p(a - 1.0));
+    return {{"correlation time", T, "s",
+             "T = -1 / (f ln|phi|) (autocovariance ~ exp(-|lag| / T); for phi < 0 its envelope)"},
+            {"stationary sigma", std::sqrt(theta[1] / ((1.0 - a) * (1.0 + a))), "U",
+             "sigma = sqrt(sigma2 / (1 - phi^2)), the process's standard deviation"}};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     const auto g = internal::ar1_initial_guess(ctx, kAr1GuessPhiMin);
     return {g.phi, g.sigma2};

@@ -59,6 +59,24 @@ class Drift final : public Process {
                                   std::span<double> out) const override {
     std::fill(out.begin(), out.end(), 0.0);
   }
+  // x_t = omega t for t = 1..K sums to omega K (K + 1) / 2, without randomness.
+  std::vector<SumMoments> sum_moments(std::span<const double> theta,
+                                      std::span<const std::int64_t> counts) const override {
+    std::vector<SumMoments> out;
+    for (std::int64_t k : counts) {
+      check_at_least("DR::sum_moments", "K", static_cast<double>(k), 1.0);
+      const auto K = static_cast<double>(k);
+      out.push_back({theta[0] * K * (K + 1.0) / 2.0, 0.0});
+    }
+    return out;
+  }
+  // IEEE 952 rate ramp: AVAR(T) = R^2 T^2 / 2. Here AVAR(m) = 2 WV(2m) = omega^2 m^2 / 2
+  // with m = T f samples: R = omega f.
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double freq) const override {
+    return {{"drift rate", theta[0] * freq, "U/s",
+             "R = |omega| f (IEEE 952 rate ramp: AVAR = R^2 T^2 / 2; sign not identifiable)"}};
+  }
   void simulate(std::span<const double> theta, Rng&, std::span<double> out) const override {
     for (std::size_t t = 0; t < out.size(); ++t) out[t] += theta[0] * static_cast<double>(t);
   }

@@ -120,6 +120,17 @@ class Flicker final : public Process {
       }
     }
   }
+  // Scale-free: B2 is the same per sample or per second. The WV plateau B2 ln2 / pi gives
+  // the Allan variance floor 2 B2 ln2 / pi (AVAR = 2 WV), i.e. the Allan deviation floor
+  // sqrt(2 ln2 / pi) B = 0.6643 B, the IEEE 952 value for a flicker PSD B^2 / (2 pi F).
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double) const override {
+    const double b = std::sqrt(theta[0]);
+    return {{"flicker coefficient", b, "U", "B = sqrt(B2) (flicker PSD B^2 / (2 pi F))"},
+            {"bias instability", kAdevFloorPerB * b, "U",
+             "bias instability = 0.664 * B (IEEE 952 convention: the Allan deviation floor of "
+             "flicker noise, sqrt(2 ln2 / pi) B)"}};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // The plateau: the median of the WV this component should explain, per unit B2.
     if (ctx.wv.empty()) return {1.0};
@@ -131,6 +142,8 @@ class Flicker final : public Process {
  private:
   /// Stationary variance of each octave per unit B2: ln2 / pi.
   static constexpr double kStationaryPerB2 = 0.69314718055994530942 / boost::math::constants::pi<double>();
+  /// Allan deviation floor per unit B: sqrt(2 ln2 / pi) (IEEE 952's 0.664).
+  static constexpr double kAdevFloorPerB = 0.6642824702679601;
   static constexpr int kDyadicTable = 63;  ///< tau = 2^1 .. 2^62
   long kmin_ = kFlickerDefaultKmin;
   long kmax_ = kFlickerDefaultKmax;

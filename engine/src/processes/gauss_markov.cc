@@ -88,6 +88,15 @@ class GaussMarkov final : public Process {
       out[t] += x;
     }
   }
+  // beta and sigma2_gm are continuous already: T = 1 / beta (= -1 / (f ln phi) of the
+  // equivalent AR1, phi = exp(-beta / f)), sigma = sqrt(sigma2_gm). freq is not needed.
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double) const override {
+    return {{"correlation time", 1.0 / theta[0], "s",
+             "T = 1 / beta (autocovariance sigma^2 exp(-|lag| / T))"},
+            {"stationary sigma", std::sqrt(theta[1]), "U",
+             "sigma = sqrt(sigma2_gm), the process's standard deviation"}};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     const auto g = internal::ar1_initial_guess(ctx, kGmGuessPhiMin);
     const double L = -std::log1p(g.phi - 1.0);

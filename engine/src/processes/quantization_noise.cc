@@ -52,6 +52,15 @@ class QuantizationNoise final : public Process {
       prev = cur;
     }
   }
+  // IEEE 952: AVAR(T) = 3 Q^2 / T^2 with T in seconds. Here AVAR(m) = 2 WV(2m)
+  // = 2 * 6 Q2 / (2m)^2 = 3 Q2 / m^2 with m = T f samples, = 3 (sqrt(Q2) / f)^2 / T^2,
+  // so Q = sqrt(Q2) / f in U*s (for a rate in U: the angle/velocity quantization step
+  // is sqrt(12) Q).
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double freq) const override {
+    return {{"quantization", std::sqrt(theta[0]) / freq, "U*s",
+             "Q = sqrt(Q2) / f (IEEE 952: AVAR = 3 Q^2 / T^2; step = sqrt(12) Q)"}};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // QN dominates the finest scale: Q2 = tau_1^2 nu^2(tau_1) / 6.
     const double q = ctx.tau.empty() || ctx.wv.empty()

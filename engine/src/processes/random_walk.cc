@@ -39,6 +39,25 @@ class RandomWalk final : public Process {
                                   std::span<double> out) const override {
     for (std::size_t h = 0; h < out.size(); ++h) out[h] = -0.5 * theta[0] * static_cast<double>(h);
   }
+  // Var(x_1 + ... + x_K) with x_t = e_1 + ... + e_t: e_s enters K - s + 1 of the terms,
+  // so the variance is gamma2 sum_{n=1}^K n^2 = gamma2 K (K + 1) (2K + 1) / 6.
+  std::vector<SumMoments> sum_moments(std::span<const double> theta,
+                                      std::span<const std::int64_t> counts) const override {
+    std::vector<SumMoments> out;
+    for (std::int64_t k : counts) {
+      check_at_least("RW::sum_moments", "K", static_cast<double>(k), 1.0);
+      const auto K = static_cast<double>(k);
+      out.push_back({0.0, theta[0] * K * (K + 1.0) * (2.0 * K + 1.0) / 6.0});
+    }
+    return out;
+  }
+  // IEEE 952: AVAR(T) = K^2 T / 3. Here AVAR(m) = 2 WV(2m) = gamma2 (4 m^2 + 2) / (12 m)
+  // ~ gamma2 m / 3 for large m, with m = T f samples: K^2 = gamma2 f.
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double freq) const override {
+    return {{"random walk", std::sqrt(theta[0] * freq), "U/s/sqrt(Hz)",
+             "K = sqrt(gamma2 f) (IEEE 952 rate random walk: AVAR = K^2 T / 3)"}};
+  }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     // x_t = e_0 + ... + e_t: the path starts with its first increment.
     boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[0]));

@@ -41,6 +41,13 @@ class WhiteNoise final : public Process {
     boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[0]));
     for (double& v : out) v += z(rng);
   }
+  // IEEE 952: AVAR(T) = N^2 / T. Here AVAR(m) = 2 WV(2m) = sigma2 / m with m = T f samples,
+  // so N^2 = sigma2 / f.
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                              double freq) const override {
+    return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",
+             "N = sqrt(sigma2 / f) (IEEE 952: AVAR = N^2 / T; angle/velocity random walk)"}};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // The finest scale is where white noise dominates: sigma2 = tau_1 nu^2(tau_1).
     double s = ctx.tau.empty() ? 1.0 : ctx.tau[0] * ctx.wv[0];

@@ -160,5 +160,29 @@ TEST(Ar1Process, RefusesScalesThatAreNotEvenIntegers) {
   EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{1.0}, out), InvalidArgument);
 }
 
+TEST(Ar1Process, PhysicalCorrelationTimeAndStationarySigma) {
+  // phi = 0.99, sigma2 = 1e-4 at f = 100 Hz:
+  //   T = -1 / (100 ln 0.99) = -1 / (100 * -0.01005033585) = 0.99499162 s,
+  //   sigma = sqrt(1e-4 / (1 - 0.9801)) = sqrt(1e-4 / 0.0199) = 0.07088812 U.
+  const auto p = make_process("AR1");
+  const auto q = p->physical(std::vector<double>{0.99, 1e-4}, 100.0);
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0].name, "correlation time");
+  EXPECT_NEAR(q[0].value, 0.9949916247342208, 1e-12);
+  EXPECT_EQ(render_unit(q[0].unit_pattern, "deg/s"), "s");
+  EXPECT_EQ(q[1].name, "stationary sigma");
+  EXPECT_NEAR(q[1].value, 0.07088812050083354, 1e-14);
+  EXPECT_EQ(render_unit(q[1].unit_pattern, "deg/s"), "deg/s");
+  // The autocovariance decays as exp(-lag / T): g(50) / g(0) = exp(-0.5 / T).
+  std::vector<double> g(51);
+  p->generalized_autocovariance(std::vector<double>{0.99, 1e-4}, g);
+  EXPECT_NEAR(g[50] / g[0], std::exp(-0.5 / q[0].value), 1e-13);
+  // phi < 0: the envelope's time, -1 / (100 ln 0.5) = 1 / (100 ln 2) = 0.0144269504 s;
+  // phi = 0: 0; |phi| -> 1 stays accurate: phi = 1 - 1e-12 gives 1e12 / 100 s.
+  EXPECT_NEAR(p->physical(std::vector<double>{-0.5, 1.0}, 100.0)[0].value, 0.014426950408889633, 1e-15);
+  EXPECT_EQ(p->physical(std::vector<double>{0.0, 1.0}, 100.0)[0].value, 0.0);
+  EXPECT_NEAR(p->physical(std::vector<double>{1.0 - 1e-12, 1.0}, 100.0)[0].value / 1e10, 1.0, 1e-4);
+}
+
 }  // namespace
 }  // namespace gmwm::test

@@ -95,5 +95,18 @@ TEST(Arma11Process, InitialGuessIsValid) {
   EXPECT_NE(p->validate(std::vector<double>{0.5, -1.5, 1.0}).find("theta"), std::string::npos);
 }
 
+TEST(Arma11Process, PhysicalQuantitiesAreTheDiscreteParameters) {
+  const auto p = make_process("ARMA11");
+  const auto q = p->physical(std::vector<double>{0.9, 0.2, 0.01}, 50.0);
+  ASSERT_EQ(q.size(), 3u);
+  const char* names[] = {"phi", "theta", "sigma2"};
+  const double values[] = {0.9, 0.2, 0.01};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(q[k].name, names[k]);
+    EXPECT_EQ(q[k].value, values[k]);
+    EXPECT_EQ(q[k].unit_pattern, "");
+  }
+}
+
 }  // namespace
 }  // namespace gmwm::test

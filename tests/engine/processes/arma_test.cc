@@ -151,5 +151,18 @@ TEST(ArmaProcess, InitialGuessIsValidAndMatchesTheHintedLevel) {
   EXPECT_EQ(p->validate(p->initial_guess({})), "");
 }
 
+TEST(ArmaProcess, PhysicalQuantitiesAreTheDiscreteParameters) {
+  const auto p = arma(2, 1);
+  const auto q = p->physical(std::vector<double>{0.5, -0.2, 0.3, 1.5}, 10.0);
+  ASSERT_EQ(q.size(), 4u);
+  const char* names[] = {"phi1", "phi2", "theta1", "sigma2"};
+  const double values[] = {0.5, -0.2, 0.3, 1.5};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(q[k].name, names[k]);
+    EXPECT_EQ(q[k].value, values[k]);
+    EXPECT_EQ(q[k].unit_pattern, "");
+  }
+}
+
 }  // namespace
 }  // namespace gmwm::test

@@ -1,3 +1,6 @@
+#include <cstdint>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "gmwm/engine/random.h"
@@ -49,6 +52,33 @@ TEST(DriftProcess, InitialGuessExplainsTheCoarsestScale) {
   const auto wv = wv_of(*p, std::vector<double>{1e-3}, tau);
   const auto guess = p->initial_guess({tau, wv, 0.0});
   EXPECT_NEAR(guess.at(0), 1e-3, 1e-15);
+}
+
+TEST(DriftProcess, PhysicalDriftRate) {
+  // omega = 3e-7 deg/s per sample at f = 200 Hz: R = 3e-7 * 200 = 6e-5 deg/s^2.
+  const auto p = make_process("DR");
+  const std::vector<double> theta{3e-7};
+  const auto q = p->physical(theta, 200.0);
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_EQ(q[0].name, "drift rate");
+  EXPECT_NEAR(q[0].value, 6e-5, 1e-12 * 6e-5);
+  EXPECT_EQ(render_unit(q[0].unit_pattern, "deg/s"), "deg/s^2");
+  // The derivation: AVAR(T) = 2 WV(2m) = omega^2 m^2 / 2 equals R^2 T^2 / 2, T = m / f.
+  const double m = 256.0, T = m / 200.0;
+  const std::vector<double> tau{2.0 * m};
+  EXPECT_NEAR(2.0 * wv_of(*p, theta, tau)[0] / (q[0].value * q[0].value * T * T / 2.0), 1.0, 1e-12);
+}
+
+TEST(DriftProcess, SumMomentsAreDeterministic) {
+  // x_t = omega t, t = 1..K: K = 1: omega; K = 4: 10 omega; K = 100: 5050 omega.
+  const auto p = make_process("DR");
+  const std::vector<std::int64_t> counts{1, 4, 100};
+  const auto m = p->sum_moments(std::vector<double>{0.5}, counts);
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_DOUBLE_EQ(m[0].mean, 0.5);
+  EXPECT_DOUBLE_EQ(m[1].mean, 5.0);
+  EXPECT_DOUBLE_EQ(m[2].mean, 2525.0);
+  for (const auto& x : m) EXPECT_EQ(x.variance, 0.0);
 }
 
 }  // namespace

@@ -80,5 +80,25 @@ TEST(FlickerProcess, RejectsABadOctaveRangeOrAnUnknownKeyWithOneClearLine) {
       << message("FLICKER(octaves=3)");
 }
 
+TEST(FlickerProcess, PhysicalCoefficientAndBiasInstability) {
+  // B2 = 4e-6 (deg/s)^2: B = 2e-3 deg/s; bias instability = sqrt(2 ln2 / pi) B
+  // = 0.66428247 * 2e-3 = 1.3285649e-3 deg/s (IEEE 952's 0.664 B), at any rate.
+  const auto p = make_process("FLICKER");
+  const std::vector<double> theta{4e-6};
+  const auto q = p->physical(theta, 200.0);
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0].name, "flicker coefficient");
+  EXPECT_NEAR(q[0].value, 2e-3, 1e-15);
+  EXPECT_EQ(q[1].name, "bias instability");
+  EXPECT_NEAR(q[1].value, 1.32856494053592e-3, 1e-15);
+  EXPECT_EQ(render_unit(q[1].unit_pattern, "deg/s"), "deg/s");
+  EXPECT_NE(q[1].convention.find("0.664"), std::string::npos);
+  EXPECT_EQ(p->physical(theta, 1.0)[1].value, q[1].value);
+  // It is the Allan deviation floor: sqrt(AVAR) = sqrt(2 WV) on the plateau (within its
+  // 1% ripple, see HasThePlateauB2Ln2OverPiInsideItsOctaveRange).
+  const std::vector<double> tau{std::ldexp(1.0, 16)};
+  EXPECT_NEAR(std::sqrt(2.0 * wv_of(*p, theta, tau)[0]) / q[1].value, 1.0, 0.01);
+}
+
 }  // namespace
 }  // namespace gmwm::test

@@ -101,5 +101,23 @@ TEST(GaussMarkovProcess, RefusesANonPositiveSamplingRate) {
   EXPECT_THROW(make_process("GM", {}, {0.0, true}), InputError);
 }
 
+TEST(GaussMarkovProcess, PhysicalQuantitiesAreItsParametersAndMatchTheAr1s) {
+  // beta = 2 /s, sigma2_gm = 3 at 100 Hz: T = 1 / 2 = 0.5 s, sigma = sqrt(3) = 1.7320508 U.
+  const auto gm = make_process("GM", {}, at_rate(100.0));
+  const auto q = gm->physical(std::vector<double>{2.0, 3.0}, 100.0);
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0].name, "correlation time");
+  EXPECT_DOUBLE_EQ(q[0].value, 0.5);
+  EXPECT_EQ(q[1].name, "stationary sigma");
+  EXPECT_DOUBLE_EQ(q[1].value, 1.7320508075688772);
+  // The equivalent AR1 (phi = exp(-0.02), sigma2 = 3 (1 - exp(-0.04))) reads the same.
+  const auto ar1 = make_process("AR1")->physical(
+      std::vector<double>{0.9801986733067553, 0.11763168254303047}, 100.0);
+  EXPECT_NEAR(ar1[0].value, q[0].value, 1e-12);
+  EXPECT_NEAR(ar1[1].value, q[1].value, 1e-12);
+  EXPECT_EQ(ar1[0].unit_pattern, q[0].unit_pattern);
+  EXPECT_EQ(ar1[1].unit_pattern, q[1].unit_pattern);
+}
+
 }  // namespace
 }  // namespace gmwm::test

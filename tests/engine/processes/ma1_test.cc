@@ -1,3 +1,5 @@
+#include <string>
+
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
@@ -52,6 +54,21 @@ TEST(Ma1Process, RejectsANonInvertibleThetaNamingIt) {
   const auto p = make_process("MA1");
   EXPECT_EQ(p->canonical_rank(), 30);
   EXPECT_NE(p->validate(std::vector<double>{1.0, 1.0}).find("theta"), std::string::npos);
+}
+
+TEST(Ma1Process, PhysicalQuantitiesAreTheDiscreteParameters) {
+  // No standard physical counterpart: the default reports theta and sigma2 unchanged.
+  const auto p = make_process("MA1");
+  const auto q = p->physical(std::vector<double>{-0.3, 2.5}, 100.0);
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0].name, "theta");
+  EXPECT_EQ(q[0].value, -0.3);
+  EXPECT_EQ(q[1].name, "sigma2");
+  EXPECT_EQ(q[1].value, 2.5);
+  for (const auto& x : q) {
+    EXPECT_EQ(x.unit_pattern, "");
+    EXPECT_NE(x.convention.find("discrete"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -1,3 +1,5 @@
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "process_test_support.h"
@@ -50,6 +52,25 @@ TEST(QuantizationNoiseProcess, InitialGuessExplainsTheFinestScale) {
 TEST(QuantizationNoiseProcess, RejectsNonPositiveQ2NamingIt) {
   const auto p = make_process("QN");
   EXPECT_NE(p->validate(std::vector<double>{-1.0}).find("Q2"), std::string::npos);
+}
+
+TEST(QuantizationNoiseProcess, PhysicalQuantizationCoefficientInUnitSeconds) {
+  // Q2 = 4e-6 (deg/s)^2 per sample at f = 100 Hz: Q = sqrt(4e-6) / 100 = 2e-3 / 100
+  // = 2e-5 deg (U*s with U = deg/s).
+  const auto p = make_process("QN");
+  const std::vector<double> theta{4e-6};
+  const auto q = p->physical(theta, 100.0);
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_EQ(q[0].name, "quantization");
+  EXPECT_NEAR(q[0].value, 2e-5, 1e-12 * 2e-5);
+  EXPECT_EQ(render_unit(q[0].unit_pattern, "deg/s"), "deg");
+  EXPECT_EQ(render_unit(q[0].unit_pattern, "g"), "g*s");
+  // The derivation: AVAR(T) = 2 WV(2m) = 12 Q2 / (2m)^2 equals 3 Q^2 / T^2, T = m / f.
+  for (double m : {1.0, 8.0, 512.0}) {
+    const double T = m / 100.0;
+    const std::vector<double> tau{2.0 * m};
+    EXPECT_NEAR(2.0 * wv_of(*p, theta, tau)[0] / (3.0 * q[0].value * q[0].value / (T * T)), 1.0, 1e-12);
+  }
 }
 
 }  // namespace

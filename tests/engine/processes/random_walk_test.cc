@@ -1,4 +1,6 @@
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -52,6 +54,37 @@ TEST(RandomWalkProcess, RejectsNonPositiveGamma2NamingIt) {
   const auto p = make_process("RW");
   EXPECT_NE(p->validate(std::vector<double>{0.0}).find("gamma2"), std::string::npos);
   EXPECT_NE(p->validate(std::vector<double>{NAN}).find("gamma2"), std::string::npos);
+}
+
+TEST(RandomWalkProcess, PhysicalRandomWalkDensity) {
+  // gamma2 = 2e-10 (rad/s)^2 per sample at f = 200 Hz: K = sqrt(2e-10 * 200) = sqrt(4e-8)
+  // = 2e-4 rad/s^2/sqrt(Hz) (Kalibr's gyroscope_random_walk unit).
+  const auto p = make_process("RW");
+  const std::vector<double> theta{2e-10};
+  const auto q = p->physical(theta, 200.0);
+  ASSERT_EQ(q.size(), 1u);
+  EXPECT_EQ(q[0].name, "random walk");
+  EXPECT_NEAR(q[0].value, 2e-4, 1e-12 * 2e-4);
+  EXPECT_EQ(render_unit(q[0].unit_pattern, "rad/s"), "rad/s^2/sqrt(Hz)");
+  // The derivation: AVAR(T) = 2 WV(2m) = gamma2 (4 m^2 + 2) / (12 m) -> K^2 T / 3 with
+  // T = m / f, up to a relative 1 / (2 m^2).
+  const double m = 1024.0, T = m / 200.0;
+  const std::vector<double> tau{2.0 * m};
+  EXPECT_NEAR(2.0 * wv_of(*p, theta, tau)[0] / (q[0].value * q[0].value * T / 3.0), 1.0, 1e-6);
+}
+
+TEST(RandomWalkProcess, SumMomentsAreTheClosedFormOfAWalkStartedAtZero) {
+  // x_t = e_1 + ... + e_t: Var(x_1 + ... + x_K) = gamma2 (1^2 + ... + K^2):
+  // K = 1: gamma2; K = 2: 5 gamma2; K = 3: 14 gamma2; K = 10: 385 gamma2.
+  const auto p = make_process("RW");
+  const std::vector<std::int64_t> counts{1, 2, 3, 10};
+  const auto m = p->sum_moments(std::vector<double>{0.5}, counts);
+  ASSERT_EQ(m.size(), 4u);
+  const double expected[] = {0.5, 2.5, 7.0, 192.5};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(m[k].variance, expected[k]) << "K = " << counts[k];
+    EXPECT_EQ(m[k].mean, 0.0);
+  }
 }
 
 }  // namespace

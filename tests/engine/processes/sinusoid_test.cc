@@ -73,5 +73,18 @@ TEST(SinusoidProcess, RejectsFrequenciesOutsideNyquistNamingF) {
   EXPECT_NE(p->validate(std::vector<double>{0.0, 0.1}).find("A2"), std::string::npos);
 }
 
+TEST(SinusoidProcess, PhysicalAmplitudeAndFrequency) {
+  // A2 = 2.25, f = 0.05 cycles/sample at 200 Hz: A = sqrt(2.25) = 1.5 U, F = 0.05 * 200 = 10 Hz.
+  const auto p = make_process("SIN");
+  const auto q = p->physical(std::vector<double>{2.25, 0.05}, 200.0);
+  ASSERT_EQ(q.size(), 2u);
+  EXPECT_EQ(q[0].name, "amplitude");
+  EXPECT_DOUBLE_EQ(q[0].value, 1.5);
+  EXPECT_EQ(render_unit(q[0].unit_pattern, "m/s^2"), "m/s^2");
+  EXPECT_EQ(q[1].name, "frequency");
+  EXPECT_DOUBLE_EQ(q[1].value, 10.0);
+  EXPECT_EQ(render_unit(q[1].unit_pattern, "m/s^2"), "Hz");
+}
+
 }  // namespace
 }  // namespace gmwm::test

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/physical.h"
 #include "gmwm/engine/random.h"
 
 namespace gmwm {
@@ -57,6 +58,13 @@ struct GuessContext {
   std::span<const double> tau;  ///< scales in samples
   std::span<const double> wv;   ///< the part of the empirical WV this component should explain
   double tau_hint = 0.0;        ///< scale where this component should dominate (AR1: its peak)
+};
+
+/// Mean and variance of the sum x_1 + ... + x_K of K consecutive samples (see
+/// Process::sum_moments).
+struct SumMoments {
+  double mean = 0.0;
+  double variance = 0.0;
 };
 
 class Process {
@@ -125,8 +133,36 @@ class Process {
   virtual double to_display(int k, double natural) const { (void)k; return natural; }
   virtual double from_display(int k, double shown) const { (void)k; return shown; }
 
+  /// Physical (continuous-time) quantities of theta at the sampling rate freq in Hz, with
+  /// unit patterns in the data unit "U" (physical.h), e.g. WN: noise density
+  /// N = sqrt(sigma2 / f) in U/sqrt(Hz). The number and order of the quantities depend on
+  /// the process only, never on theta's values. theta is not validated beyond its size:
+  /// the formulas are evaluated as they stand, so values on the edge of a domain give the
+  /// limits (sigma2 = 0 -> N = 0; phi = 1 -> correlation time inf), which
+  /// physical_interval relies on. Processes without a standard physical meaning (MA1,
+  /// ARMA11, ARMA) keep the default: the discrete parameters unchanged, unit "", the
+  /// convention naming them discrete. Throws InvalidArgument (check.h) for a theta of the
+  /// wrong size or a non-positive or non-finite freq.
+  std::vector<PhysicalQuantity> physical(std::span<const double> theta, double freq) const;
+
+  /// For each K in counts (each >= 1), the mean and variance of x_1 + ... + x_K, the K
+  /// samples after time 0 of a path whose non-stationary part starts at 0 at time 0 (RW:
+  /// x_t = e_1 + ... + e_t, as simulate's samples 0..K-1; DR: x_t = omega t, t = 1..K).
+  /// The default is for stationary processes: mean 0 and variance
+  /// K g(0) + 2 sum_{h=1}^{K-1} (K - h) g(h) from generalized_autocovariance, O(max K)
+  /// time and memory for all counts together. Non-stationary processes (RW, DR) override
+  /// it with their closed forms. Used for the integrated error (integrated_error.h).
+  virtual std::vector<SumMoments> sum_moments(std::span<const double> theta,
+                                              std::span<const std::int64_t> counts) const;
+
   const ProcessContext& context() const { return context_; }
   void set_context(const ProcessContext& c) { context_ = c; }
+
+ protected:
+  /// The conversion behind physical(), called with a theta of the right size and a
+  /// positive freq. Default: the discrete parameters unchanged (see physical()).
+  virtual std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
+                                                      double freq) const;
 
  private:
   ProcessContext context_;
