@@ -36,6 +36,31 @@ json windows_json(const selection::GapResult& g, const ColumnInfo& c) {
   return out;
 }
 
+json event_json(const selection::GapResult& g, const ColumnInfo& c) {
+  if (!g.event) return nullptr;
+  const auto& e = *g.event;
+  return {{"effect", selection::to_string(e.effect)},
+          {"sample", e.sample},
+          {"time_seconds", seconds(static_cast<double>(e.sample), c)},
+          {"size", json_number(e.size)},
+          {"time_constant", json_number(e.time_constant)},
+          {"time_constant_seconds", e.effect == selection::GapEffect::kTransient ? seconds(e.time_constant, c) : json(nullptr)},
+          {"level", e.level},
+          {"statistic", json_number(e.statistic)},
+          {"threshold", json_number(e.threshold)}};
+}
+
+json temperature_json(const selection::GapResult& g) {
+  if (!g.temperature) return nullptr;
+  const auto& t = *g.temperature;
+  return {{"coupling", json_number(t.k)},
+          {"ci_low", json_number(t.ci_low)},
+          {"ci_high", json_number(t.ci_high)},
+          {"z", json_number(t.z)},
+          {"threshold", json_number(t.threshold)},
+          {"significant", t.significant}};
+}
+
 }  // namespace
 
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, const std::vector<std::string>& conversions) {
@@ -79,6 +104,11 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                       {"steps", std::move(steps)},
                       {"model", g.final_model.to_string(g.final_theta)},
                       {"parameters", effect_parameters(g.final_fit)},
+                      {"event", event_json(g, column)},
+                      {"event_test", g.event_tested ? json{{"statistic", json_number(g.event_statistic)},
+                                                           {"threshold", json_number(g.event_threshold)}}
+                                                     : json(nullptr)},
+                      {"temperature", temperature_json(g)},
                       {"candidates", std::move(candidates)}};
   const auto& s = g.shrinkage;
   c["shrinkage"] = {{"objective_before", json_number(s.objective_before)},

@@ -8,12 +8,14 @@
 #include <boost/math/distributions/normal.hpp>
 #include <oneapi/tbb/parallel_for.h>
 
+#include "gap_events.h"
 #include "gap_reference.h"
 #include "gap_windows.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/contamination.h"
+#include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
 
 namespace gmwm::selection {
@@ -345,6 +347,12 @@ const char* to_string(GapEffect e) {
   return "none";
 }
 
+std::optional<GapEffect> parse_gap_effect(const std::string& name) {
+  for (int e = static_cast<int>(GapEffect::kNone); e <= static_cast<int>(GapEffect::kReparameterise); ++e)
+    if (name == to_string(static_cast<GapEffect>(e))) return static_cast<GapEffect>(e);
+  return std::nullopt;
+}
+
 std::string GapOptions::Validate() const {
   std::ostringstream os;
   if (replicates < 20 || replicates > 100000) os << "replicates must be in [20, 100000], got " << replicates;
@@ -355,7 +363,8 @@ std::string GapOptions::Validate() const {
 }
 
 GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
-                       const GapOptions& options, const WaveletVariance* robust, const std::vector<double>* x) {
+                       const GapOptions& options, const WaveletVariance* robust, const std::vector<double>* x,
+                       const std::vector<double>* temperature) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
   if (const std::string why = baseline.validate(theta); !why.empty()) throw InputError("gap: baseline " + why);
   const Eigen::VectorXd nuhat = wv.values();
@@ -363,10 +372,20 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     if (!(nuhat(j) > 0.0) || !std::isfinite(nuhat(j)))
       throw InputError("gap: the WV at level " + std::to_string(j + 1) + " is not positive (" +
                        std::to_string(nuhat(j)) + "); a gap is measured on log scales");
+  if (temperature && (!x || temperature->size() != x->size()))
+    throw InputError("gap: the temperature channel has " + std::to_string(temperature->size()) +
+                     " samples, the signal " + std::to_string(x ? x->size() : 0));
   const ClassicalWvEstimator classical;
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
-  const detail::Reference ref = detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates,
-                                                        options.seed, estimator, wv.alpha, options.progress);
+  const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
+  detail::SeriesStatistic series_statistic;
+  if (x)
+    series_statistic = [&](const std::vector<double>& s) {
+      return detail::series_statistics(s, temperature, nu_base);
+    };
+  const detail::Reference ref =
+      detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
+                              wv.alpha, options.progress, series_statistic);
   const int J = wv.levels();
   GapResult g;
   g.baseline = baseline;
@@ -380,6 +399,17 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   g.bands = find_bands(g.levels, z_bonferroni, options.min_effect);
   g.detected = g.p_value < options.alpha && !g.bands.empty();
   if (x) detail::map_windows(*x, baseline, theta, options, g);
+  // Time-domain tests (Bonferroni over them and the WV candidates): a significant event or
+  // temperature coupling is a departure from the baseline even where the WV shows none.
+  detail::TimeFindings time;
+  if (x) {
+    const double K = static_cast<double>(candidates_for(baseline, options).size()) + 1.0 + (temperature ? 1.0 : 0.0);
+    time = detail::run_time_tests(*x, temperature, nu_base, ref.series_stats, options.alpha / K, options.alpha, g);
+    if ((time.event || time.coupling) && !g.detected) {
+      g.detected = true;
+      if (g.bands.empty()) g.bands = detail::event_bands(time, g.levels);
+    }
+  }
 
   // The objective's weights: the baseline's own spread of nuhat (raw scale).
   const Eigen::MatrixXd omega = ref.var.cwiseInverse().asDiagonal();
@@ -411,6 +441,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
 
   // OUTLIERS first: a fine-scale excess the robust WV does not show.
   Eigen::VectorXd data = nuhat;
+  bool outliers = false;
   if (robust && x) {
     const robust::Quantization q = robust::detect_quantization(x->data(), static_cast<std::int64_t>(x->size()));
     const robust::Tuning tuning = robust::tune(
@@ -420,6 +451,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
                                                        tuning);
     int flagged = 0;
     for (int j = 0; j < std::min(kOutlierLevels, J); ++j) flagged += diag[static_cast<std::size_t>(j)].contaminated;
+    outliers = flagged > 0;
     if (flagged > 0) {
       g.steps.push_back(GapEffect::kOutliers);
       g.notes.push_back(std::to_string(flagged) + " of the finest " + std::to_string(kOutlierLevels) +
@@ -431,13 +463,33 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     }
   }
 
+  // Then the time-domain effects: the series corrected for them, its WV the data from here on.
+  bool time_explained = false;
+  if (time.event || time.coupling) {
+    const std::vector<double> corrected = detail::apply_time_effects(*x, temperature, time, g);
+    if (g.event) g.bands = detail::merge_event_band(g.bands, time, g.levels, g.event->effect);
+    WaveletVariance w;
+    if (outliers) {
+      robust::RobustWvOptions ro;
+      ro.estimator = robust::parse_robust_kind(robust->estimator).value_or(robust::RobustKind::kHuber);
+      ro.efficiency = robust->efficiency.value_or(robust::kDefaultEfficiency);
+      ro.levels = J;
+      w = robust::robust_wv(corrected.data(), wv.n, ro);
+    } else {
+      w = estimator.compute(corrected.data(), wv.n, J, wv.alpha);
+    }
+    const Eigen::VectorXd v = w.values();
+    if (v.allFinite() && (v.array() > 0.0).all()) data = v;
+    time_explained = detail::p_value(ref, detail::distance(ref, data, zero)) >= options.alpha;
+  }
+
   Base base{baseline, theta, ref.nu};
   Eigen::MatrixXd reps = ref.wv;
   std::vector<FitResult> added;
   // After a REPARAMETERISE step the baseline's values are the data's, not the sim's:
   // later candidates re-estimate them together with the effect (as in --fit mode).
   GapOptions step_options = options;
-  for (int step = 0; step < options.max_steps; ++step) {
+  for (int step = 0; step < options.max_steps && !time_explained; ++step) {
     const auto specs = candidates_for(base.model, step_options);
     if (specs.empty()) break;
     Step st = score_step(specs, base, data, reps, wv, omega, step_options);

@@ -34,6 +34,12 @@ constexpr double kAr1MinLog2T = 2.0;
 constexpr double kAr1RecordShare = 1.0 / 8.0;
 constexpr double kSinMinCycles = 8.0;
 constexpr double kSinMaxF = 0.45;
+// STEP times uniform over the record but this share of it from either end (a step at the
+// very end is a few samples of offset); TRANSIENT time constants log-uniform in
+// [2^kTransientMinLog2T, 2^kTransientMaxLog2T] samples (0.64 s to 41 s at 100 Hz).
+constexpr double kStepEdgeShare = 1.0 / 16.0;
+constexpr double kTransientMinLog2T = 6.0;
+constexpr double kTransientMaxLog2T = 12.0;
 // Levels whose effect/base ratio is at least this share of the largest count as the
 // effect's dominant scales.
 constexpr double kDominantShare = 0.5;
@@ -45,11 +51,26 @@ std::vector<double> dyadic(int J) {
 }
 
 struct Injection {
-  Model model;             // the effect (empty for OUTLIERS and the null side)
+  Model model;             // the effect (empty for OUTLIERS, STEP, TRANSIENT and the null side)
   Eigen::VectorXd theta;
+  std::vector<double> signal;  // STEP, TRANSIENT: the deterministic signal added
   std::vector<int> dominant;  // 0-based levels
-  double truth_parameter = 0.0;  // SIN f or AR1 T (samples)
+  double truth_parameter = 0.0;  // SIN f, AR1 or TRANSIENT T (samples), STEP time (sample)
 };
+
+// A deterministic effect (STEP, TRANSIENT) scaled to `strength`: the relative excess its
+// WV causes at the level where it is largest (GAP.md s.5; the cross terms with the noise
+// have mean zero).
+void scale_signal(Injection& in, double strength, const Model& base, const Eigen::VectorXd& base_theta) {
+  const auto n = static_cast<std::int64_t>(in.signal.size());
+  const WaveletVariance w = classical_wv(in.signal.data(), n);
+  const Eigen::VectorXd ratio = w.values().cwiseQuotient(base.wv(base_theta, w.tau));
+  const double peak = ratio.maxCoeff();
+  const double a = std::sqrt(strength / peak);
+  for (double& v : in.signal) v *= a;
+  for (int j = 0; j < w.levels(); ++j)
+    if (ratio(j) >= kDominantShare * peak) in.dominant.push_back(j);
+}
 
 // The effect of `family` at `strength` (ratio of its WV to the base's at the level where
 // that ratio peaks), with nuisance parameters drawn from rng.
@@ -80,6 +101,22 @@ Injection make_injection(GapEffect family, double strength, const Model& base, c
       spec = "SIN";
       unit = (Eigen::VectorXd(2) << 1.0, f).finished();
       break;
+    }
+    case GapEffect::kStep: {
+      const double t0 = std::floor((kStepEdgeShare + u(rng) * (1.0 - 2.0 * kStepEdgeShare)) * static_cast<double>(n));
+      in.truth_parameter = t0;
+      in.signal.assign(static_cast<std::size_t>(n), 0.0);
+      for (auto t = static_cast<std::size_t>(t0); t < in.signal.size(); ++t) in.signal[t] = 1.0;
+      scale_signal(in, strength, base, base_theta);
+      return in;
+    }
+    case GapEffect::kTransient: {
+      const double T = std::exp2(kTransientMinLog2T + u(rng) * (kTransientMaxLog2T - kTransientMinLog2T));
+      in.truth_parameter = T;
+      in.signal.resize(static_cast<std::size_t>(n));
+      for (std::size_t t = 0; t < in.signal.size(); ++t) in.signal[t] = std::exp(-static_cast<double>(t) / T);
+      scale_signal(in, strength, base, base_theta);
+      return in;
     }
     default: return in;
   }
@@ -128,8 +165,8 @@ std::string GapCheckOptions::Validate() const {
   for (double s : strengths)
     if (!(s > 0.0) && os.tellp() == 0) os << "strengths must be positive, got " << s;
   for (GapEffect f : families)
-    if (f == GapEffect::kNone || f == GapEffect::kReparameterise || f == GapEffect::kStep ||
-        f == GapEffect::kTransient || f == GapEffect::kTemperature || f == GapEffect::kWN || f == GapEffect::kRW)
+    if (f == GapEffect::kNone || f == GapEffect::kReparameterise || f == GapEffect::kTemperature ||
+        f == GapEffect::kWN || f == GapEffect::kRW)
       if (os.tellp() == 0)
         os << "family " << to_string(f) << " cannot be withheld from a WN+RW base by this check";
   return os.str();
@@ -167,12 +204,21 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
       c.injected = base.to_string(theta);
     } else if (p.truth != GapEffect::kNone && p.truth != GapEffect::kOutliers) {
       in = make_injection(p.truth, p.strength, base, base_theta, options.n, rng, ctx);
-      model = base + in.model;
-      theta.resize(base_theta.size() + in.theta.size());
-      theta << base_theta, in.theta;
-      c.injected = in.model.to_string(in.theta);
+      if (in.signal.empty()) {
+        model = base + in.model;
+        theta.resize(base_theta.size() + in.theta.size());
+        theta << base_theta, in.theta;
+        c.injected = in.model.to_string(in.theta);
+      } else if (p.truth == GapEffect::kStep) {
+        c.injected = "step of " + std::to_string(in.signal.back()) + " at sample " +
+                     std::to_string(static_cast<std::int64_t>(in.truth_parameter));
+      } else {
+        c.injected = "transient " + std::to_string(in.signal.front()) + " exp(-t / " +
+                     std::to_string(in.truth_parameter) + " samples)";
+      }
     }
     std::vector<double> x = simulate(model, theta, options.n, options.seed, 2 * static_cast<std::uint64_t>(i) + 1);
+    for (std::size_t t = 0; t < in.signal.size(); ++t) x[t] += in.signal[t];
     WaveletVariance wv = classical_wv(x.data(), options.n);
     if (p.truth == GapEffect::kOutliers) {
       // Spikes of +-a at kSpikeShare of the samples: each adds 2 (a/2)^2 to the level-1
@@ -205,6 +251,13 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
       if (p.truth == GapEffect::kAR1)
         c.parameter_error = std::abs(std::log(-1.0 / std::log(g.final_fit.theta(0)) / in.truth_parameter)) / std::log(2.0);
     }
+    // STEP: the time error in windows of the sliding map (<= 1: within one window);
+    // TRANSIENT: |log(T_hat / T)| / log 2 (<= 1: within a factor 2).
+    if (c.correct && g.event && p.truth == GapEffect::kStep && g.window_length > 0)
+      c.parameter_error = std::abs(static_cast<double>(g.event->sample) - in.truth_parameter) /
+                          static_cast<double>(g.window_length);
+    if (c.correct && g.event && p.truth == GapEffect::kTransient)
+      c.parameter_error = std::abs(std::log(g.event->time_constant / in.truth_parameter)) / std::log(2.0);
     const int d = ++done;
     if (options.progress) options.progress(d, total);
   });

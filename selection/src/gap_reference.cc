@@ -21,8 +21,8 @@ Eigen::VectorXd column_mean(const Eigen::MatrixXd& m) { return m.colwise().mean(
 
 Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
                           int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
-                          const std::function<void(int, int)>& progress) {
-  std::vector<Eigen::VectorXd> rows(static_cast<std::size_t>(replicates));
+                          const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic) {
+  std::vector<Eigen::VectorXd> rows(static_cast<std::size_t>(replicates)), stats(static_cast<std::size_t>(replicates));
   std::vector<char> ok(static_cast<std::size_t>(replicates), 0);
   std::atomic<int> done{0};
   oneapi::tbb::parallel_for(0, replicates, [&](int b) {
@@ -31,14 +31,18 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
     const Eigen::VectorXd v = w.values();
     if (v.allFinite() && (v.array() > 0.0).all()) {
       rows[static_cast<std::size_t>(b)] = v;
+      if (series_statistic) stats[static_cast<std::size_t>(b)] = series_statistic(x);
       ok[static_cast<std::size_t>(b)] = 1;
     }
     const int d = ++done;
     if (progress) progress(d, replicates);
   });
-  std::vector<Eigen::VectorXd> good;
+  std::vector<Eigen::VectorXd> good, good_stats;
   for (int b = 0; b < replicates; ++b)
-    if (ok[static_cast<std::size_t>(b)]) good.push_back(rows[static_cast<std::size_t>(b)]);
+    if (ok[static_cast<std::size_t>(b)]) {
+      good.push_back(rows[static_cast<std::size_t>(b)]);
+      good_stats.push_back(stats[static_cast<std::size_t>(b)]);
+    }
   const int B = static_cast<int>(good.size());
   if (B < kMinReplicates)
     throw InputError("gap: only " + std::to_string(B) + " of " + std::to_string(replicates) +
@@ -46,6 +50,10 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
   Reference ref;
   ref.wv.resize(B, levels);
   for (int b = 0; b < B; ++b) ref.wv.row(b) = good[static_cast<std::size_t>(b)].transpose();
+  if (series_statistic) {
+    ref.series_stats.resize(B, good_stats.front().size());
+    for (int b = 0; b < B; ++b) ref.series_stats.row(b) = good_stats[static_cast<std::size_t>(b)].transpose();
+  }
   std::vector<double> tau;
   for (int j = 1; j <= levels; ++j) tau.push_back(std::ldexp(1.0, j));
   ref.nu = model.wv(theta, tau);

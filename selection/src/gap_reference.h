@@ -26,14 +26,19 @@ struct Reference {
   Eigen::VectorXd mean_log_a;
   Eigen::MatrixXd precision_a;
   std::vector<double> null_distance;  ///< half B's distances, sorted
+  /// Per replicate (same rows as wv): the series statistic, when one was requested.
+  Eigen::MatrixXd series_stats;
 };
+
+/// A statistic of each simulated series besides its WV (the time-domain tests).
+using SeriesStatistic = std::function<Eigen::VectorXd(const std::vector<double>&)>;
 
 /// Simulates `replicates` series of length n from (model, theta) with streams
 /// (seed, stream_base + b), computes their WV with `estimator` (J levels), and
 /// summarises them. Throws InputError if fewer than 8 replicates give a finite WV.
 Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
                           int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
-                          const std::function<void(int, int)>& progress);
+                          const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic = {});
 
 /// Mahalanobis distance of log(nuhat) - shift from the half-A reference.
 double distance(const Reference& ref, const Eigen::VectorXd& nuhat, const Eigen::VectorXd& log_shift);

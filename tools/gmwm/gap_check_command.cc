@@ -19,7 +19,22 @@ struct GapCheckArgs {
   std::int64_t n = std::int64_t{1} << 18;
   int replicates = 100;
   std::string strengths = "2,4,8";
+  std::string families;  ///< empty: every family
+  bool no_null = false;
 };
+
+std::vector<selection::GapEffect> parse_families(const std::string& s) {
+  std::vector<selection::GapEffect> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const auto e = selection::parse_gap_effect(item);
+    if (!e) throw InputError("--families '" + s + "': unknown effect '" + item + "' (QN, DR, AR1, FLICKER, SIN, OUTLIERS, STEP, TRANSIENT)");
+    out.push_back(*e);
+  }
+  if (out.empty()) throw InputError("--families: at least one family is needed");
+  return out;
+}
 
 std::vector<double> parse_strengths(const std::string& s) {
   std::vector<double> out;
@@ -83,6 +98,8 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   o.n = args.n;
   o.replicates = args.replicates;
   o.strengths = parse_strengths(args.strengths);
+  if (!args.families.empty()) o.families = parse_families(args.families);
+  o.null_side = !args.no_null;
   o.seed = common.seed;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("gap-check: " + why);
   const bool bar = common.show_table() && isatty(STDERR_FILENO);
@@ -146,6 +163,8 @@ Command add_gap_check_command(CLI::App& app, CommonOptions& common) {
       ->check(CLI::Range(20, 100000))
       ->capture_default_str();
   sub->add_option("--strengths", args->strengths, "Strengths, cycled through each family's cases")->capture_default_str();
+  sub->add_option("--families", args->families, "Withheld families, comma-separated (default: all of them)");
+  sub->add_flag("--no-null", args->no_null, "Leave out the null side (base-only and off-by-20% cases)");
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_gap_check(*args, common); }};
 }

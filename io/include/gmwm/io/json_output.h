@@ -112,7 +112,11 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 
 /// A "gap" column (CLI.md): column_json + "baseline_model", "gap" {detected, p_value,
 /// statistic, bands, levels, windows (null: not computed)}, "attribution" {effect, steps,
-/// model, parameters, candidates}, "shrinkage" {...}, "conversions" and "notes".
+/// model, parameters, event (STEP/TRANSIENT: sample, time_seconds, size, time_constant
+/// [_seconds], level, statistic, threshold; else null), event_test {statistic, threshold}
+/// (null without the series), temperature {coupling, ci_low, ci_high, z, threshold,
+/// significant} (null without a temperature channel), candidates}, "shrinkage" {...},
+/// "conversions" and "notes".
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
 

@@ -47,6 +47,8 @@ enum class GapEffect {
   kNone, kWN, kQN, kRW, kDR, kAR1, kFlicker, kSin, kOutliers, kStep, kTransient, kTemperature, kReparameterise,
 };
 const char* to_string(GapEffect e);
+/// The effect named as to_string writes it ("STEP", "SIN", ...), or nullopt.
+std::optional<GapEffect> parse_gap_effect(const std::string& name);
 
 struct GapOptions {
   /// Reference replicates (GAP.md s.2; issue 5 asks for 200).
@@ -120,6 +122,24 @@ struct GapWindow {
   double z = 0.0;
 };
 
+/// A time-local effect found in the series by the coarse-level matched filter (STEP, or
+/// TRANSIENT when it sits at the record's start and a exp(-t/T) fits it better).
+struct GapEvent {
+  GapEffect effect = GapEffect::kNone;
+  std::int64_t sample = 0;          ///< STEP: the first sample after the jump; TRANSIENT: 0
+  double size = 0.0;                ///< STEP: the jump; TRANSIENT: the amplitude a (data units)
+  double time_constant = 0.0;       ///< TRANSIENT: T in samples
+  int level = 0;                    ///< the level where its coefficients concentrate most (1-based)
+  double statistic = 0.0, threshold = 0.0;  ///< calibrated concentration test
+};
+
+/// The signal's coupling to a temperature channel (data units per temperature unit).
+struct GapCoupling {
+  double k = 0.0, ci_low = 0.0, ci_high = 0.0;  ///< estimate and 1 - alpha interval
+  double z = 0.0, threshold = 0.0;              ///< against the baseline's replicates
+  bool significant = false;
+};
+
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
@@ -141,15 +161,23 @@ struct GapResult {
   Eigen::VectorXd final_theta;
   FitResult final_fit;                      ///< with inference (the effects' CIs); failed when nothing added
   GapShrinkage shrinkage;
+  /// Time-domain effects (need the series): the concentration test's outcome, the event
+  /// when it is significant, and the temperature coupling when a channel was given.
+  bool event_tested = false;
+  double event_statistic = 0.0, event_threshold = 0.0;
+  std::optional<GapEvent> event;
+  std::optional<GapCoupling> temperature;
   std::vector<std::string> notes;           ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
 };
 
 /// The diagnosis of one signal. `wv` is the data's classical WV; `robust` (optional) its
 /// robust WV for the OUTLIERS check together with `x` (the series, for the
-/// rounding-calibrated contamination flags). Throws InputError on invalid options or a
-/// baseline whose values are missing or invalid.
+/// rounding-calibrated contamination flags, the time-window map and the time-domain
+/// effects STEP and TRANSIENT). `temperature` (optional, same length as x) adds the
+/// TEMPERATURE effect. Throws InputError on invalid options, a baseline whose values are
+/// missing or invalid, or a temperature channel of another length.
 GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
                        const GapOptions& options, const WaveletVariance* robust = nullptr,
-                       const std::vector<double>* x = nullptr);
+                       const std::vector<double>* x = nullptr, const std::vector<double>* temperature = nullptr);
 
 }  // namespace gmwm::selection

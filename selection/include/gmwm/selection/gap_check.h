@@ -37,7 +37,8 @@ struct GapCheckOptions {
   std::uint64_t seed = 0;
   /// The withheld families (those the diagnosis implements).
   std::vector<GapEffect> families = {GapEffect::kQN,      GapEffect::kDR,  GapEffect::kAR1,
-                                     GapEffect::kFlicker, GapEffect::kSin, GapEffect::kOutliers};
+                                     GapEffect::kFlicker, GapEffect::kSin, GapEffect::kOutliers,
+                                     GapEffect::kStep,  GapEffect::kTransient};
   bool null_side = true;
   /// Called with (cases done, total).
   std::function<void(int, int)> progress;
@@ -53,7 +54,8 @@ struct GapCheckCase {
   bool located = false;                ///< a reported band overlaps the effect's dominant levels
   bool correct = false;                ///< top-1 attribution (null side: none / REPARAMETERISE)
   double excess_removed = 0.0;
-  /// SIN: |f_hat / f - 1|; AR1: |log(T_hat / T)| / log 2 (<= 1: within a factor 2); NaN otherwise.
+  /// SIN: |f_hat / f - 1|; AR1, TRANSIENT: |log(T_hat / T)| / log 2 (<= 1: within a factor
+  /// 2); STEP: |t_hat - t| / the window length (<= 1: within one window); NaN otherwise.
   double parameter_error = 0.0;
 };
 

@@ -1,0 +1,340 @@
+#include "gap_events.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <boost/math/distributions/normal.hpp>
+
+#include "gmwm/engine/haar_modwt.h"
+
+namespace gmwm::selection::detail {
+namespace {
+
+// Euler-Mascheroni constant: the mean of the standard Gumbel law (its variance is
+// pi^2 / 6), for the method-of-moments fit of the event statistic's null maximum.
+constexpr double kEulerGamma = 0.5772156649015329;
+// TRANSIENT check: the start segment is this many filter lengths of the event's level,
+// and the time constants tried are 2^(k / kTransientGridPerOctave) samples up to it.
+constexpr int kTransientSegmentBlocks = 4;
+constexpr int kTransientGridPerOctave = 4;
+
+double mean_of(const Eigen::VectorXd& v) { return v.mean(); }
+
+double sd_of(const Eigen::VectorXd& v) {
+  const double m = v.mean();
+  return std::sqrt((v.array() - m).square().sum() / std::max<Eigen::Index>(1, v.size() - 1));
+}
+
+// (1 - level) quantile of a Gumbel law matched to the sample's mean and variance.
+double gumbel_quantile(const Eigen::VectorXd& sample, double level) {
+  const double beta = sd_of(sample) * std::sqrt(6.0) / M_PI;
+  const double mu = mean_of(sample) - kEulerGamma * beta;
+  return mu - beta * std::log(-std::log1p(-level));
+}
+
+// Prefix sums of x and x^2 (size n + 1), for segment means and residual sums of squares.
+struct Prefix {
+  std::vector<double> s, s2;
+  explicit Prefix(const std::vector<double>& x) : s(x.size() + 1, 0.0), s2(x.size() + 1, 0.0) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      s[i + 1] = s[i] + x[i];
+      s2[i + 1] = s2[i] + x[i] * x[i];
+    }
+  }
+  double sum(std::int64_t a, std::int64_t b) const { return s[static_cast<std::size_t>(b)] - s[static_cast<std::size_t>(a)]; }
+  double sum2(std::int64_t a, std::int64_t b) const { return s2[static_cast<std::size_t>(b)] - s2[static_cast<std::size_t>(a)]; }
+  // Residual sum of squares of x[a, b) about its mean.
+  double rss(std::int64_t a, std::int64_t b) const {
+    const double m = static_cast<double>(b - a);
+    return m > 0 ? sum2(a, b) - sum(a, b) * sum(a, b) / m : 0.0;
+  }
+};
+
+// The best two-mean split of x[a, b) with the split point in [lo, hi]: the first sample
+// of the right part, its jump (right mean - left mean) and the split's residual sum.
+struct Split {
+  std::int64_t at = 0;
+  double jump = 0.0, rss = std::numeric_limits<double>::infinity();
+};
+Split best_split(const Prefix& p, std::int64_t a, std::int64_t b, std::int64_t lo, std::int64_t hi) {
+  Split best;
+  for (std::int64_t s = std::max(lo, a + 1); s <= std::min(hi, b - 1); ++s) {
+    const double r = p.rss(a, s) + p.rss(s, b);
+    if (r < best.rss) {
+      best.rss = r;
+      best.at = s;
+      best.jump = p.sum(s, b) / static_cast<double>(b - s) - p.sum(a, s) / static_cast<double>(s - a);
+    }
+  }
+  return best;
+}
+
+// Least squares of x[0, L) on (1, exp(-t / T)) over the grid of T: the best T, its
+// amplitude and residual sum.
+struct Decay {
+  double T = 0.0, amplitude = 0.0, rss = std::numeric_limits<double>::infinity();
+};
+Decay best_decay(const std::vector<double>& x, std::int64_t L) {
+  Decay best;
+  double sx = 0.0, sxx = 0.0;
+  for (std::int64_t t = 0; t < L; ++t) {
+    sx += x[static_cast<std::size_t>(t)];
+    sxx += x[static_cast<std::size_t>(t)] * x[static_cast<std::size_t>(t)];
+  }
+  const double n = static_cast<double>(L);
+  const int steps = static_cast<int>(std::floor(std::log2(n) * kTransientGridPerOctave));
+  for (int k = 0; k <= steps; ++k) {
+    const double T = std::exp2(static_cast<double>(k) / kTransientGridPerOctave);
+    double se = 0.0, see = 0.0, sxe = 0.0;
+    for (std::int64_t t = 0; t < L; ++t) {
+      const double e = std::exp(-static_cast<double>(t) / T);
+      se += e;
+      see += e * e;
+      sxe += x[static_cast<std::size_t>(t)] * e;
+    }
+    const double vee = see - se * se / n, vxe = sxe - sx * se / n, vxx = sxx - sx * sx / n;
+    if (!(vee > 0.0)) continue;
+    const double a = vxe / vee, r = vxx - a * vxe;
+    if (r < best.rss) best = {T, a, r};
+  }
+  return best;
+}
+
+}  // namespace
+
+std::pair<int, int> event_levels(std::int64_t n) {
+  int last = 0;
+  while (std::ldexp(static_cast<double>(kEventMinBlocks), last + 1) <= static_cast<double>(n)) ++last;
+  return {kEventMinLevel, last};
+}
+
+Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vector<double>* temperature,
+                                  const Eigen::VectorXd& nu_base) {
+  const auto n = static_cast<std::int64_t>(x.size());
+  const auto [first, last] = event_levels(n);
+  const int L = std::max(0, last - first + 1);
+  Eigen::VectorXd out(L + (temperature ? 1 : 0));
+  const HaarModwt modwt(x.data(), n);
+  std::vector<double> w, wt;
+  for (int j = first; j <= last; ++j) {
+    modwt.coefficients(j, w);
+    double peak = 0.0, sum = 0.0;
+    for (double v : w) {
+      peak = std::max(peak, v * v);
+      sum += v * v;
+    }
+    const double mean = sum / static_cast<double>(w.size());
+    out(j - first) = mean > 0.0 ? std::log(peak / mean) : 0.0;
+  }
+  if (temperature) {
+    const HaarModwt tm(temperature->data(), n);
+    double num = 0.0, den = 0.0;
+    const int top = std::min<int>(std::max(last, 1), static_cast<int>(nu_base.size()));
+    for (int j = 1; j <= top; ++j) {
+      modwt.coefficients(j, w);
+      tm.coefficients(j, wt);
+      double c = 0.0, v = 0.0;
+      for (std::size_t t = 0; t < w.size(); ++t) {
+        c += w[t] * wt[t];
+        v += wt[t] * wt[t];
+      }
+      const double m = static_cast<double>(w.size());
+      num += c / m / nu_base(j - 1);
+      den += v / m / nu_base(j - 1);
+    }
+    out(L) = den > 0.0 ? num / den : 0.0;
+  }
+  return out;
+}
+
+TimeEffectTests test_time_effects(const Eigen::VectorXd& data_stats, const Eigen::MatrixXd& reps, std::int64_t n,
+                                  bool with_temperature, double level) {
+  TimeEffectTests t;
+  const auto [first, last] = event_levels(n);
+  const int L = std::max(0, last - first + 1);
+  const Eigen::Index B = reps.rows();
+  if (L > 0 && B >= 2) {
+    t.event_tested = true;
+    t.first_event_level = first;
+    Eigen::VectorXd mean(L), sd(L);
+    for (int j = 0; j < L; ++j) {
+      mean(j) = mean_of(reps.col(j));
+      sd(j) = std::max(sd_of(reps.col(j)), std::numeric_limits<double>::min());
+    }
+    Eigen::VectorXd null_max(B);
+    for (Eigen::Index b = 0; b < B; ++b)
+      null_max(b) = ((reps.row(b).head(L).transpose() - mean).array() / sd.array()).maxCoeff();
+    t.event_statistic = -std::numeric_limits<double>::infinity();
+    for (int j = 0; j < L; ++j) {
+      const double z = (data_stats(j) - mean(j)) / sd(j);
+      t.event_z.push_back(z);
+      if (z > t.event_statistic) {
+        t.event_statistic = z;
+        t.event_level = first + j;
+      }
+    }
+    t.event_threshold = gumbel_quantile(null_max, level);
+  }
+  if (with_temperature && B >= 2) {
+    t.coupling_tested = true;
+    const Eigen::VectorXd k = reps.col(L);
+    t.coupling = data_stats(L);
+    t.coupling_sd = sd_of(k);
+    t.coupling_z = t.coupling_sd > 0.0 ? (t.coupling - mean_of(k)) / t.coupling_sd : 0.0;
+    t.coupling_threshold = boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2.0));
+  }
+  return t;
+}
+
+GapEvent locate_event(const std::vector<double>& x, int level) {
+  const auto n = static_cast<std::int64_t>(x.size());
+  const HaarModwt modwt(x.data(), n);
+  std::vector<double> w;
+  modwt.coefficients(level, w);
+  std::size_t peak = 0;
+  for (std::size_t i = 1; i < w.size(); ++i)
+    if (std::abs(w[i]) > std::abs(w[peak])) peak = i;
+  // Coefficient i covers samples [i, i + tau); a step at t0 peaks where the recent half
+  // starts at t0, i.e. i = t0 - tau / 2.
+  const std::int64_t tau = std::int64_t{1} << level, half = tau / 2;
+  const std::int64_t t0 = static_cast<std::int64_t>(peak) + half;
+  const Prefix p(x);
+  const std::int64_t a = std::max<std::int64_t>(0, t0 - tau), b = std::min(n, t0 + tau);
+  const Split split = best_split(p, a, b, t0 - half, t0 + half);
+  GapEvent e;
+  e.effect = GapEffect::kStep;
+  e.level = level;
+  e.sample = split.at;
+  e.size = split.jump;
+  if (static_cast<std::int64_t>(peak) <= half) {
+    // At the record's start: a step there and a decay from t = 0 compete on the start
+    // segment, with the same number of parameters (level, jump, time / amplitude, T).
+    const std::int64_t seg = std::min(n, kTransientSegmentBlocks * tau);
+    const Split start = best_split(p, 0, seg, 1, seg - 1);
+    const Decay d = best_decay(x, seg);
+    if (d.rss < start.rss) {
+      e.effect = GapEffect::kTransient;
+      e.sample = 0;
+      e.size = d.amplitude;
+      e.time_constant = d.T;
+    }
+  }
+  return e;
+}
+
+void remove_event(std::vector<double>& x, const GapEvent& e) {
+  if (e.effect == GapEffect::kStep) {
+    for (std::size_t t = static_cast<std::size_t>(std::max<std::int64_t>(0, e.sample)); t < x.size(); ++t) x[t] -= e.size;
+  } else if (e.effect == GapEffect::kTransient && e.time_constant > 0.0) {
+    for (std::size_t t = 0; t < x.size(); ++t) {
+      const double v = e.size * std::exp(-static_cast<double>(t) / e.time_constant);
+      if (std::abs(v) < std::numeric_limits<double>::min()) break;
+      x[t] -= v;
+    }
+  }
+}
+
+TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<double>* temperature,
+                            const Eigen::VectorXd& nu_base, const Eigen::MatrixXd& reps, double level, double alpha,
+                            GapResult& g) {
+  TimeFindings f;
+  if (reps.rows() < 2) return f;
+  const Eigen::VectorXd stats = series_statistics(x, temperature, nu_base);
+  const TimeEffectTests t = test_time_effects(stats, reps, static_cast<std::int64_t>(x.size()), temperature != nullptr, level);
+  g.event_tested = t.event_tested;
+  if (t.event_tested) {
+    g.event_statistic = t.event_statistic;
+    g.event_threshold = t.event_threshold;
+    f.event = t.event_statistic > t.event_threshold;
+    f.event_level = t.event_level;
+    f.event_statistic = t.event_statistic;
+    f.event_threshold = t.event_threshold;
+    f.event_z = t.event_z;
+    f.first_event_level = t.first_event_level;
+  }
+  if (t.coupling_tested) {
+    const double zc = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2.0));
+    GapCoupling c;
+    c.k = t.coupling;
+    c.ci_low = t.coupling - zc * t.coupling_sd;
+    c.ci_high = t.coupling + zc * t.coupling_sd;
+    c.z = t.coupling_z;
+    c.threshold = t.coupling_threshold;
+    c.significant = std::abs(t.coupling_z) > t.coupling_threshold;
+    f.coupling = c.significant;
+    g.temperature = c;
+  }
+  return f;
+}
+
+std::vector<GapBand> event_bands(const TimeFindings& f, const std::vector<GapLevel>& levels) {
+  if (!f.event) return {};
+  const int peak = f.event_level - f.first_event_level;
+  int lo = peak, hi = peak;
+  const int L = static_cast<int>(f.event_z.size());
+  while (lo > 0 && f.event_z[static_cast<std::size_t>(lo - 1)] > f.event_threshold) --lo;
+  while (hi + 1 < L && f.event_z[static_cast<std::size_t>(hi + 1)] > f.event_threshold) ++hi;
+  GapBand b;
+  b.first_level = f.first_event_level + lo;
+  b.last_level = f.first_event_level + hi;
+  b.direction = "excess";
+  b.tau_from = levels[static_cast<std::size_t>(b.first_level - 1)].tau;
+  b.tau_to = levels[static_cast<std::size_t>(b.last_level - 1)].tau;
+  b.peak_ratio = 1.0;
+  for (int j = b.first_level; j <= b.last_level; ++j)
+    b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
+  return {b};
+}
+
+std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const TimeFindings& f,
+                                      const std::vector<GapLevel>& levels, GapEffect effect) {
+  std::vector<GapBand> eb = event_bands(f, levels);
+  if (eb.empty()) return bands;
+  GapBand e = eb.front();
+  if (effect == GapEffect::kStep) e.last_level = static_cast<int>(levels.size());
+  std::vector<GapBand> out;
+  for (const auto& b : bands) {
+    if (b.direction == "excess" && b.last_level + 1 >= e.first_level && b.first_level <= e.last_level + 1) {
+      e.first_level = std::min(e.first_level, b.first_level);
+      e.last_level = std::max(e.last_level, b.last_level);
+    } else {
+      out.push_back(b);
+    }
+  }
+  e.tau_from = levels[static_cast<std::size_t>(e.first_level - 1)].tau;
+  e.tau_to = levels[static_cast<std::size_t>(e.last_level - 1)].tau;
+  e.peak_ratio = 1.0;
+  for (int j = e.first_level; j <= e.last_level; ++j)
+    if (std::abs(std::log(levels[static_cast<std::size_t>(j - 1)].ratio)) > std::abs(std::log(e.peak_ratio)))
+      e.peak_ratio = levels[static_cast<std::size_t>(j - 1)].ratio;
+  out.push_back(e);
+  std::sort(out.begin(), out.end(), [](const GapBand& a, const GapBand& b) { return a.first_level < b.first_level; });
+  return out;
+}
+
+std::vector<double> apply_time_effects(const std::vector<double>& x, const std::vector<double>* temperature,
+                                       const TimeFindings& f, GapResult& g) {
+  std::vector<double> out = x;
+  if (f.coupling && temperature && g.temperature) {
+    for (std::size_t t = 0; t < out.size(); ++t) out[t] -= g.temperature->k * (*temperature)[t];
+    g.steps.push_back(GapEffect::kTemperature);
+    g.notes.push_back("the signal follows the temperature channel (coupling z = " + std::to_string(g.temperature->z) +
+                      " against the baseline's replicates): the coupled part is removed before the WV is compared");
+  }
+  if (f.event) {
+    GapEvent e = locate_event(out, f.event_level);
+    e.statistic = f.event_statistic;
+    e.threshold = f.event_threshold;
+    remove_event(out, e);
+    g.steps.push_back(e.effect);
+    g.event = e;
+    g.notes.push_back(std::string(e.effect == GapEffect::kStep ? "a bias step" : "a warm-up transient") +
+                      " concentrates the coarse-level coefficients (statistic " + std::to_string(e.statistic) +
+                      " > threshold " + std::to_string(e.threshold) + " at level " + std::to_string(e.level) +
+                      "): it is removed before the WV is compared");
+  }
+  return out;
+}
+
+}  // namespace gmwm::selection::detail

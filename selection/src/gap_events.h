@@ -1,0 +1,105 @@
+#pragma once
+// Time-domain effects of the gap diagnosis (GAP.md s.3 table), internal to gap.cc:
+//
+// STEP / TRANSIENT: a bias step at an unknown time has the WV of a random walk
+// (shrinking as 1/N), and a warm-up transient a exp(-t/T) a hump that shrinks alike; the
+// WV cannot tell them from a re-sized random walk. Their coefficients can: a step puts
+// all of a coarse level's excess into the 2^j coefficients around it (a triangle of peak
+// size/2), where a random walk spreads it over the record. The test statistic per level
+// is the concentration c_j = log(max_t W_{j,t}^2 / mean_t W_{j,t}^2) (scale-free, so a
+// re-sized baseline does not move it), standardised by its mean and spread over the
+// baseline's reference replicates; the event statistic is the largest standardised c_j
+// over the event levels, calibrated against the same maximum over the replicates (a
+// Gumbel law matched to their moments: the maximum of many weakly dependent terms).
+// The event is located by the matched filter (the coefficient of largest magnitude at
+// the most concentrated level), refined by a two-mean least-squares split around it; an
+// event at the record's start is a TRANSIENT when a exp(-t/T) fits the start better than
+// a step does.
+//
+// TEMPERATURE: with a temperature channel, the coupling k of the signal to it, pooled
+// over levels from the wavelet covariances (weights 1 / nu_j(baseline)):
+//   k = sum_j cov_j(x, T) / nu_j  /  sum_j var_j(T) / nu_j,
+// calibrated by the replicates (series of the baseline, independent of the temperature by
+// construction, give k's null distribution conditionally on the recorded temperature).
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/selection/gap.h"
+
+namespace gmwm::selection::detail {
+
+/// Event levels: from kEventMinLevel (coarser than the finest levels where spikes show,
+/// GAP.md: robust/classical ratio at tau = 2..8) to the deepest level with at least
+/// kEventMinBlocks filter lengths in the record.
+inline constexpr int kEventMinLevel = 5;
+inline constexpr int kEventMinBlocks = 16;
+
+/// The levels [first, last] (1-based) of the event statistic for a series of length n,
+/// or first > last when the series is too short.
+std::pair<int, int> event_levels(std::int64_t n);
+
+/// Per-series statistics shared by the data and every reference replicate: the event
+/// levels' concentrations c_j, then (with a temperature channel) the coupling k.
+Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vector<double>* temperature,
+                                  const Eigen::VectorXd& nu_base);
+
+/// Calibrated tests on the data's statistics against the replicates' (rows of `reps`).
+struct TimeEffectTests {
+  // Event.
+  bool event_tested = false;
+  double event_statistic = 0.0, event_threshold = 0.0;
+  int event_level = 0;                   ///< 1-based, the most concentrated level
+  std::vector<double> event_z;           ///< per event level
+  int first_event_level = 0;
+  // Temperature.
+  bool coupling_tested = false;
+  double coupling = 0.0, coupling_sd = 0.0, coupling_z = 0.0, coupling_threshold = 0.0;
+};
+
+TimeEffectTests test_time_effects(const Eigen::VectorXd& data_stats, const Eigen::MatrixXd& reps, std::int64_t n,
+                                  bool with_temperature, double level);
+
+/// Locates the event at `level` (1-based) in x and estimates it: STEP (sample, size) or,
+/// when it sits at the record's start and an exponential decay fits better, TRANSIENT
+/// (amplitude, time constant in samples). Returns the event with effect, sample, size,
+/// time_constant filled (seconds left to the caller).
+GapEvent locate_event(const std::vector<double>& x, int level);
+
+/// x minus the event's signal (a step from `sample` on, or a exp(-t/T)).
+void remove_event(std::vector<double>& x, const GapEvent& e);
+
+/// What the time-domain tests found on the data.
+struct TimeFindings {
+  bool event = false, coupling = false;
+  int event_level = 0;
+  double event_statistic = 0.0, event_threshold = 0.0;
+  std::vector<double> event_z;
+  int first_event_level = 0;
+};
+
+/// Runs the tests at `level` (the event's and the coupling's) and records them in `g`
+/// (event_tested/statistic/threshold; temperature with its 1 - alpha interval).
+TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<double>* temperature,
+                            const Eigen::VectorXd& nu_base, const Eigen::MatrixXd& reps, double level, double alpha,
+                            GapResult& g);
+
+/// The gap band of a significant event when the WV shows none: the run of event levels
+/// around the most concentrated one whose standardised concentration clears the threshold.
+std::vector<GapBand> event_bands(const TimeFindings& f, const std::vector<GapLevel>& levels);
+
+/// The bands with the located event's band merged in (overlapping excess bands joined):
+/// the event levels whose concentration clears the threshold, for a STEP up to the
+/// coarsest level (its WV excess over the baseline grows with the scale there: a random
+/// walk's signature, shrinking as 1 / M_j).
+std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const TimeFindings& f,
+                                      const std::vector<GapLevel>& levels, GapEffect effect);
+
+/// A copy of x corrected for the significant effects (the temperature coupling first, then
+/// the located event), each recorded in g (steps, event, notes).
+std::vector<double> apply_time_effects(const std::vector<double>& x, const std::vector<double>* temperature,
+                                       const TimeFindings& f, GapResult& g);
+
+}  // namespace gmwm::selection::detail

@@ -1,0 +1,136 @@
+// Time-domain effects of the gap diagnosis (selection/src/gap_events.cc): a bias step, a
+// warm-up transient and a temperature coupling added to a WN+RW series whose baseline is
+// the WN+RW alone; and the same tests on the baseline's own data, where nothing is found.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <boost/random/normal_distribution.hpp>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/random.h"
+#include "gmwm/engine/simulate.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/selection/gap.h"
+
+namespace gmwm::selection {
+namespace {
+
+constexpr std::int64_t kN = 1 << 16;
+constexpr const char* kBase = "WN(sigma2=1e-4)+RW(gamma2=1e-10)";
+// sqrt(N gamma2): the random walk's typical displacement over the record (2.6e-3).
+const double kRwSpread = std::sqrt(static_cast<double>(kN) * 1e-10);
+
+std::vector<double> base_series(std::uint64_t seed) {
+  const Model m = parse_model(kBase);
+  return simulate(m, m.given_values(), kN, seed, 0);
+}
+
+GapResult diagnose(const std::vector<double>& x, std::uint64_t seed, const std::vector<double>* temperature = nullptr) {
+  const Model base = parse_model(kBase);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = seed;
+  const WaveletVariance wv = classical_wv(x.data(), kN);
+  const WaveletVariance r = robust::robust_wv(x.data(), kN);
+  return diagnose_gap(wv, base, base.given_values(), o, &r, &x, temperature);
+}
+
+// A smooth temperature record: a slow random walk (the room), in degrees.
+std::vector<double> temperature_series(std::uint64_t seed) {
+  Rng rng = make_stream(seed, {1});
+  boost::random::normal_distribution<double> n01;
+  std::vector<double> t(static_cast<std::size_t>(kN));
+  double level = 25.0;
+  for (auto& v : t) {
+    level += 0.01 * n01(rng);
+    v = level;
+  }
+  return t;
+}
+
+TEST(GapTimeEffects, FindNoEventOnDataFromTheBaselineItself) {
+  const GapResult g = diagnose(base_series(9101), 9201);
+  ASSERT_TRUE(g.event_tested);
+  EXPECT_LT(g.event_statistic, g.event_threshold);
+  EXPECT_FALSE(g.event.has_value());
+  EXPECT_EQ(g.effect, GapEffect::kNone);
+}
+
+TEST(GapTimeEffects, NameABiasStepStepWithItsTimeAndSize) {
+  std::vector<double> x = base_series(9102);
+  // A jump of 3 random-walk spreads at 40% of the record: a re-sized random walk in the
+  // WV, but concentrated in the coarse coefficients around sample 26214.
+  const std::int64_t t0 = 26214;
+  const double size = 3.0 * kRwSpread;
+  for (std::int64_t t = t0; t < kN; ++t) x[static_cast<std::size_t>(t)] += size;
+  const GapResult g = diagnose(x, 9202);
+  ASSERT_TRUE(g.detected);
+  EXPECT_EQ(g.effect, GapEffect::kStep);
+  ASSERT_TRUE(g.event.has_value());
+  EXPECT_GT(g.event->statistic, g.event->threshold);
+  // Within one window of the sliding map (GAP.md s.5), in fact within a few samples.
+  ASSERT_GT(g.window_length, 0);
+  EXPECT_LT(std::abs(g.event->sample - t0), g.window_length);
+  EXPECT_NEAR(g.event->size, size, 0.1 * size);
+  // Removing it closes the gap.
+  EXPECT_GT(g.shrinkage.excess_removed, 0.8);
+  EXPECT_GE(g.shrinkage.p_value_after, 0.05);
+}
+
+TEST(GapTimeEffects, NameAWarmUpTransientTransientWithItsTimeConstant) {
+  std::vector<double> x = base_series(9103);
+  const double T = 500.0, a = 0.05;  // 5 white-noise deviations at t = 0
+  for (std::int64_t t = 0; t < kN; ++t) x[static_cast<std::size_t>(t)] += a * std::exp(-static_cast<double>(t) / T);
+  const GapResult g = diagnose(x, 9203);
+  ASSERT_TRUE(g.detected);
+  EXPECT_EQ(g.effect, GapEffect::kTransient);
+  ASSERT_TRUE(g.event.has_value());
+  EXPECT_EQ(g.event->sample, 0);
+  EXPECT_LT(std::abs(std::log(g.event->time_constant / T)), std::log(2.0));  // within a factor 2
+  EXPECT_NEAR(g.event->size, a, 0.2 * a);
+  EXPECT_GT(g.shrinkage.excess_removed, 0.8);
+}
+
+TEST(GapTimeEffects, NameATemperatureCouplingTemperatureWithItsCoefficient) {
+  std::vector<double> x = base_series(9104);
+  const std::vector<double> temp = temperature_series(9304);
+  const double k = 2e-3;  // data units per degree
+  for (std::size_t t = 0; t < x.size(); ++t) x[t] += k * temp[t];
+  const GapResult g = diagnose(x, 9204, &temp);
+  ASSERT_TRUE(g.temperature.has_value());
+  EXPECT_TRUE(g.temperature->significant);
+  EXPECT_EQ(g.effect, GapEffect::kTemperature);
+  EXPECT_LT(g.temperature->ci_low, k);
+  EXPECT_GT(g.temperature->ci_high, k);
+  EXPECT_GT(g.shrinkage.excess_removed, 0.8);
+}
+
+TEST(GapTimeEffects, FindNoCouplingToAnUnrelatedTemperatureChannel) {
+  const std::vector<double> x = base_series(9105);
+  const std::vector<double> temp = temperature_series(9305);
+  const GapResult g = diagnose(x, 9205, &temp);
+  ASSERT_TRUE(g.temperature.has_value());
+  EXPECT_FALSE(g.temperature->significant);
+  EXPECT_LT(g.temperature->ci_low, 0.0);
+  EXPECT_GT(g.temperature->ci_high, 0.0);
+  EXPECT_EQ(g.effect, GapEffect::kNone);
+}
+
+TEST(GapTimeEffects, RejectATemperatureChannelOfAnotherLength) {
+  const std::vector<double> x = base_series(9106);
+  const std::vector<double> temp(100, 25.0);
+  try {
+    diagnose(x, 9206, &temp);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "gap: the temperature channel has 100 samples, the signal 65536");
+  }
+}
+
+}  // namespace
+}  // namespace gmwm::selection
