@@ -1,6 +1,7 @@
 // `gmwm gap` end to end: a sinusoid withheld from the baseline is located and named in
-// the CLI.md JSON fields and in the terminal summary; a Kalibr imu.yaml as the baseline
-// with its conversions; the same JSON for --threads 1 and 2; bad options (exit 2, one line).
+// the CLI.md JSON fields and in the terminal summary; a Kalibr imu.yaml and a Gazebo SDF as
+// the baseline with their conversions; the same JSON for --threads 1 and 2; bad options
+// (exit 2, one line).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -100,6 +101,58 @@ TEST_F(GmwmGap, TakesAKalibrImuYamlAndPrintsItsConversions) {
   EXPECT_EQ(doc["columns"][0]["conversions"].size(), 2u);
 }
 
+TEST_F(GmwmGap, TakesTheShippedGazeboSdfAndPrintsItsConversions) {
+  const std::string sdf = std::string(GMWM_SOURCE_DIR) + "/data/adis16405_gz.sdf";
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", sdf, "--replicates", "40", "--json", "g.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("conversion: angular_velocity stddev = 0.00873 rad/s per sample (not a density) -> WN sigma2 = "
+                       "(s)^2 = 7.62129e-05 (rad/s)^2 per sample"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("valid once the noise spans a few LSBs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("summary:\n  gyro_x: "), std::string::npos) << r.out;
+  const json doc = read_json(dir_ / "g.json");
+  EXPECT_EQ(doc.at("baseline_source"), "gz-sensors SDF <noise> blocks (" + sdf + ")");
+  // AR1: phi = exp(-1/(f x 1000 s)) ~ 0.99999; WN: 0.00873^2 + 0.000873^2 / 12 = 7.627641075e-5 (rate-free).
+  const std::string base = doc["columns"][0]["baseline_model"];
+  EXPECT_EQ(base.rfind("AR1(phi=0.99999", 0), 0u) << base;
+  EXPECT_NE(base.find("+WN(sigma2=7.62764107"), std::string::npos) << base;
+  // alike axes, mean, bias_mean, bias_stddev, stddev, precision, their sum, dynamic bias.
+  EXPECT_EQ(doc["columns"][0]["conversions"].size(), 8u) << doc["columns"][0]["conversions"].dump();
+}
+
+TEST_F(GmwmGap, TakesTheColumnsAxisFromAGazeboSdfWhoseAxesDiffer) {
+  auto axis = [](const char* a, const char* s) {
+    return std::string("<") + a + "><noise type=\"gaussian\"><stddev>" + s + "</stddev></noise></" + a + ">";
+  };
+  std::ofstream(dir_ / "axes.sdf") << "<sdf version=\"1.9\"><model name=\"m\"><link name=\"l\">"
+                                      "<sensor name=\"imu\" type=\"imu\"><imu><angular_velocity>"
+                                   << axis("x", "0.01") << axis("y", "0.02") << axis("z", "0.03")
+                                   << "</angular_velocity></imu></sensor></link></model></sdf>\n";
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", "axes.sdf", "--replicates", "20", "--json", "g.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "g.json");
+  // gyro_x takes the <x> block: 0.01^2.
+  EXPECT_EQ(doc["columns"][0]["baseline_model"].get<std::string>().rfind("WN(sigma2=0.0001", 0), 0u)
+      << doc["columns"][0]["baseline_model"];
+  EXPECT_NE(doc["columns"][0]["conversions"].dump().find("angular_velocity <x> stddev = 0.01 rad/s"), std::string::npos)
+      << doc["columns"][0]["conversions"].dump();
+}
+
+TEST_F(GmwmGap, RejectsAGazeboFileWithoutImuNoiseWithOneLine) {
+  // A camera's noise only: nothing to build an IMU baseline from.
+  std::ofstream(dir_ / "camera.sdf") << "<sdf version=\"1.9\"><model name=\"c\"><link name=\"l\">"
+                                        "<sensor name=\"cam\" type=\"camera\"><camera><noise type=\"gaussian\">"
+                                        "<mean>0</mean><stddev>0.007</stddev></noise></camera></sensor>"
+                                        "</link></model></sdf>\n";
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--gazebo", "camera.sdf", "--json", "x.json"}, dir_),
+                   {"camera.sdf: no IMU <noise> block or RotorS/PX4 IMU plugin parameters found"}, dir_ / "x.json");
+  std::ofstream(dir_ / "bad.sdf") << "<sdf>\n<model>\n</sdf>\n";
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--gazebo", "bad.sdf", "--json", "x.json"}, dir_),
+                   {"bad.sdf:2: XML parse error"}, dir_ / "x.json");
+}
+
 TEST_F(GmwmGap, WritesTheSameJsonWithOneAndTwoThreads) {
   auto one = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "1", "--json", "1.json"}, dir_);
   auto two = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "2", "--json", "2.json"}, dir_);
@@ -112,8 +165,8 @@ TEST_F(GmwmGap, WritesTheSameJsonWithOneAndTwoThreads) {
 }
 
 TEST_F(GmwmGap, RejectsBadOptionsWithOneLine) {
-  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model", "--kalibr", "--fit"},
-                   dir_ / "x.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--json", "x.json"}, dir_),
+                   {"--model", "--kalibr", "--gazebo", "--fit"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", "WN+RW", "--json", "x.json"}, dir_),
                    {"SPEC_WITH_VALUES"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--units", "gyro=g", "--json", "x.json"}, dir_),

@@ -1,4 +1,4 @@
-// gmwm gap INPUT (--model SPEC_WITH_VALUES | --kalibr imu.yaml | --fit SPEC)
+// gmwm gap INPUT (--model SPEC_WITH_VALUES | --kalibr imu.yaml | --gazebo FILE.sdf | --fit SPEC)
 //              [--units gyro=deg/s,accel=g] [--sensor gyro|accel] [--replicates B]
 // Where a simulator's (or a fitted) noise model departs from each column's WV, which
 // unmodelled effect explains it, and how much of the gap it removes (GAP.md).
@@ -26,6 +26,7 @@ struct GapArgs {
   InputOptions input;
   std::string model;   ///< --model SPEC_WITH_VALUES
   std::string kalibr;  ///< --kalibr imu.yaml
+  std::string gazebo;  ///< --gazebo FILE.sdf (gz-sensors <noise> blocks or a RotorS/PX4 IMU plugin)
   std::string fit;     ///< --fit SPEC
   std::string units;   ///< --units gyro=deg/s,accel=g
   std::string sensor;  ///< --sensor gyro|accel (all columns)
@@ -117,9 +118,10 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
   check_output_path("--json", common.json);
-  const int given = !args.model.empty() + !args.kalibr.empty() + !args.fit.empty();
+  const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty();
   if (given != 1)
-    throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml or --fit SPEC");
+    throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf "
+                     "or --fit SPEC");
   const auto units = io::parse_units(args.units);
   std::optional<io::SensorKind> sensor;
   if (!args.sensor.empty()) sensor = args.sensor == "gyro" ? io::SensorKind::kGyro : io::SensorKind::kAccel;
@@ -137,6 +139,8 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   options.context = ctx;
   std::optional<io::SimConfig> config;
   if (!args.kalibr.empty()) config = io::read_kalibr_imu_yaml(args.kalibr, set.freq, units);
+  if (!args.gazebo.empty()) config = io::read_gazebo_sdf(args.gazebo, set.freq, units);
+  const std::string& config_path = !args.kalibr.empty() ? args.kalibr : args.gazebo;
   const std::optional<Model> spec_model =
       !args.model.empty() ? std::optional<Model>(parse_model(args.model, ctx))
                           : !args.fit.empty() ? std::optional<Model>(parse_model(args.fit, ctx)) : std::nullopt;
@@ -153,13 +157,13 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   for (std::size_t k = 0; k < K; ++k) {
     if (config) {
       const io::SensorKind kind = sensor ? *sensor : io::sensor_kind_of_column(set.signals[k].name);
-      const auto it = config->models.find(kind);
-      if (it == config->models.end())
-        throw InputError(args.kalibr + ": every " + std::string(io::to_string(kind)) +
-                         " figure is zero, nothing to compare column '" + set.signals[k].name + "' with");
-      baselines[k] = it->second;
-      conversions[k] = config->conversions.at(kind);
-      for (const auto& n : config->notes) conversions[k].push_back(n);
+      // The kind's model, or the column's axis's when the simulator's axes differ.
+      auto b = io::baseline_for_column(*config, kind, set.signals[k].name);
+      if (!b)
+        throw InputError(config_path + ": every " + std::string(io::to_string(kind)) +
+                         " figure is zero or absent, nothing to compare column '" + set.signals[k].name + "' with");
+      baselines[k] = std::move(b->model);
+      conversions[k] = std::move(b->conversions);
     } else {
       baselines[k] = *spec_model;
     }
@@ -210,7 +214,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
 
   io::Json doc = io::json_document("gap");
   doc["input"] = set.path;
-  doc["baseline_source"] = !args.kalibr.empty() ? config->source : !args.fit.empty() ? "fit " + args.fit : "model";
+  doc["baseline_source"] = config ? config->source : !args.fit.empty() ? "fit " + args.fit : "model";
   doc["replicates"] = args.replicates;
   doc["seed"] = common.seed;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
@@ -247,10 +251,15 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
                 ->type_name("SPEC_WITH_VALUES");
   auto* k = sub->add_option("--kalibr", args->kalibr, "Baseline from a Kalibr imu.yaml (noise densities and random walks)")
                 ->type_name("imu.yaml");
+  auto* z = sub->add_option("--gazebo", args->gazebo,
+                            "Baseline from a Gazebo SDF: gz-sensors IMU <noise> blocks or RotorS/PX4 IMU plugin "
+                            "parameters")
+                ->type_name("FILE.sdf");
   auto* f = sub->add_option("--fit", args->fit, "Fit this family on each column first, then diagnose what it lacks")
                 ->type_name("SPEC");
-  m->excludes(k)->excludes(f);
-  k->excludes(f);
+  m->excludes(k)->excludes(z)->excludes(f);
+  k->excludes(z)->excludes(f);
+  z->excludes(f);
   sub->add_option("--units", args->units, "Units of the columns, e.g. gyro=deg/s,accel=g (SI by default)")
       ->type_name("KIND=UNIT,...");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")

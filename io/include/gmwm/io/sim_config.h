@@ -11,7 +11,11 @@
 //   update_rate                  Hz (Kalibr's own discretisation rate; the densities are
 //                                rate-free, so the data's rate f is used)
 // with u the data unit per SI unit (--units). A zero figure leaves its term out.
+//
+// Gazebo (io/src/gazebo_sdf.cc): gz-sensors SDF <noise> blocks of an IMU sensor and
+// RotorS/PX4 IMU <plugin> parameters; see read_gazebo_sdf below.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,10 +29,68 @@ struct SimConfig {
   std::map<SensorKind, Model> models;                       ///< with values (Model::given_values)
   std::map<SensorKind, std::vector<std::string>> conversions;  ///< one line per figure, with units
   std::vector<std::string> notes;                           ///< e.g. a rate mismatch
+  /// Per-axis models, for a simulator that configures the x, y and z axes of a sensor
+  /// differently (gz-sensors <x>/<y>/<z> noise blocks), keyed to_string(kind) + "_" + axis
+  /// ("gyro_x", "accel_z"). A kind is either in `models` (axes alike) or here (axes
+  /// differ), never both; an axis without any term has no entry. Empty for Kalibr.
+  std::map<std::string, Model> axis_models;
+  /// The conversion lines of each axis ("gyro_x" ...), for every axis of a per-axis kind
+  /// (conversions[kind] then holds the kind's own lines, e.g. that its axes differ).
+  std::map<std::string, std::vector<std::string>> axis_conversions;
 };
+
+/// One column's baseline from a SimConfig: the model and the lines behind it (the kind's
+/// conversions, the axis's when per-axis, then the notes).
+struct SimBaseline {
+  Model model;
+  std::vector<std::string> conversions;
+};
+
+/// The axis a column name ends in: 'x', 'y' or 'z' when its last character is that letter
+/// (either case) and it is the whole name or follows a character that is not a letter
+/// ("gyro_x", "w_RS_S_y", "acc.Z", "gyro2x", "x"), or is a capital following a lower-case
+/// letter ("gyroX"); 0 otherwise ("gyro", "accx": no axis).
+char column_axis(const std::string& column);
+
+/// The baseline of a column of sensor `kind`: the kind's model when its axes are alike,
+/// else the model of the column's axis (column_axis). std::nullopt when the config has no
+/// term for that kind (or axis). InputError naming the column when the kind's axes differ
+/// and the column name ends in no axis letter.
+std::optional<SimBaseline> baseline_for_column(const SimConfig& config, SensorKind kind, const std::string& column);
 
 /// Reads a Kalibr imu.yaml. Throws InputError "<path>:<line>: ..." for a malformed or
 /// negative figure, and "<path>: ..." for a missing one or an unreadable file.
 SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units);
+
+/// Reads the IMU noise of a Gazebo model or world (any XML file: SDF, URDF <gazebo>
+/// extensions), at the data's rate f and in the data's units (u per SI unit):
+///
+/// gz-sensors: the <noise type="gaussian|gaussian_quantized|none"> blocks under an
+/// <imu>'s <angular_velocity> (rad/s) and <linear_acceleration> (m/s^2) <x>, <y>, <z>:
+///   stddev s (per sample, NOT a density)         -> WN sigma2 = (s u)^2
+///   precision p (the output rounded to p)        -> WN + (p u)^2 / 12 (once the noise spans
+///                                                   a few LSBs; not QN). gz-sensors ignores
+///                                                   p within 1e-6 of zero, so does this.
+///   dynamic_bias_stddev sigma_b (a DRIVING density, rad/s^2/sqrt(Hz) or m/s^3/sqrt(Hz)) with
+///   dynamic_bias_correlation_time T (s)          -> AR1 phi = exp(-1/(f T)), innovation
+///                                                   variance (sigma_b u)^2 (T/2)(1 - exp(-2/(f T)));
+///                                                   stationary variance (sigma_b u)^2 T/2
+///   mean, bias_mean, bias_stddev                 -> constant offsets: no term (a line says so)
+/// When the three axes of a sensor are alike: one model per kind (`models`), else one per
+/// axis (`axis_models`).
+///
+/// RotorS / PX4 sitl_gazebo IMU plugin: the children of a <plugin> element
+///   gyroscopeNoiseDensity N (rad/s/sqrt(Hz))     -> WN sigma2 = (N u)^2 f
+///   gyroscopeRandomWalk K (rad/s^2/sqrt(Hz)) with gyroscopeBiasCorrelationTime T (s)
+///                                                -> AR1 as the dynamic bias above (K drives it)
+///   gyroscopeTurnOnBiasSigma                     -> constant: no term (a line says so)
+///   accelerometer* likewise (m/s^2/sqrt(Hz), m/s^3/sqrt(Hz)).
+///
+/// With several IMU noise sources in the file, the first (document order) is used and a
+/// note names the others. Zero figures leave their term out; a kind without any term is
+/// not in the maps. Throws InputError "<path>: ..." (unreadable file, nothing found) or
+/// "<path>:<line>: ..." (XML syntax; a negative or non-numeric figure, naming the element;
+/// a bias density without a positive correlation time).
+SimConfig read_gazebo_sdf(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units);
 
 }  // namespace gmwm::io
