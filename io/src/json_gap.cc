@@ -3,6 +3,10 @@
 
 #include "gmwm/io/json_output.h"
 
+#include <span>
+
+#include "gmwm/engine/physical.h"
+
 namespace gmwm::io {
 namespace {
 
@@ -12,11 +16,44 @@ json seconds(double tau_samples, const ColumnInfo& c) {
   return c.freq_known && c.freq > 0.0 ? json_number(tau_samples / c.freq) : json(nullptr);
 }
 
+std::string data_unit(const ColumnInfo& c) { return c.unit.empty() ? "U" : c.unit; }
+
 json effect_parameters(const FitResult& fit) {
   json out = json::array();
   if (fit.status == FitStatus::kFailed || fit.theta.size() != fit.model.num_parameters()) return out;
   for (const ParameterRow& r : parameter_rows(fit))
-    out.push_back({{"process", r.process}, {"component", r.component}, {"name", r.name}, {"value", json_number(r.value)}});
+    out.push_back({{"process", r.process},
+                   {"component", r.component},
+                   {"name", r.name},
+                   {"value", json_number(r.value)},
+                   {"se", json_number(r.se)},
+                   {"ci_low", json_number(r.ci_low)},
+                   {"ci_high", json_number(r.ci_high)}});
+  return out;
+}
+
+// The effect's continuous quantities with their intervals (the bootstrap bounds mapped).
+json effect_physical(const FitResult& fit, const ColumnInfo& c) {
+  json out = json::array();
+  if (fit.status == FitStatus::kFailed || fit.theta.size() != fit.model.num_parameters() || !c.freq_known) return out;
+  for (int k = 0; k < fit.model.num_components(); ++k) {
+    const Process& p = *fit.model.components()[static_cast<std::size_t>(k)].process;
+    const auto off = fit.model.offset(k);
+    const std::span<const double> th(fit.theta.data() + off, static_cast<std::size_t>(p.size()));
+    const auto q = p.physical(th, c.freq);
+    std::vector<PhysicalInterval> iv;
+    if (fit.ci_low.size() == fit.theta.size())
+      iv = physical_interval(p, th, std::span<const double>(fit.ci_low.data() + off, static_cast<std::size_t>(p.size())),
+                             std::span<const double>(fit.ci_high.data() + off, static_cast<std::size_t>(p.size())), c.freq);
+    for (std::size_t i = 0; i < q.size(); ++i)
+      out.push_back({{"process", p.name()},
+                     {"name", q[i].name},
+                     {"value", json_number(q[i].value)},
+                     {"ci_low", i < iv.size() ? json_number(iv[i].low) : json(nullptr)},
+                     {"ci_high", i < iv.size() ? json_number(iv[i].high) : json(nullptr)},
+                     {"unit", render_unit(q[i].unit_pattern, data_unit(c))},
+                     {"convention", q[i].convention}});
+  }
   return out;
 }
 
@@ -104,6 +141,7 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                       {"steps", std::move(steps)},
                       {"model", g.final_model.to_string(g.final_theta)},
                       {"parameters", effect_parameters(g.final_fit)},
+                      {"physical", effect_physical(g.final_fit, column)},
                       {"event", event_json(g, column)},
                       {"event_test", g.event_tested ? json{{"statistic", json_number(g.event_statistic)},
                                                            {"threshold", json_number(g.event_threshold)}}
@@ -121,6 +159,10 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                     {"levels_outside_after", s.levels_outside_after},
                     {"p_value_before", json_number(s.p_value_before)},
                     {"p_value_after", json_number(s.p_value_after)}};
+  c["navigation"] = {{"horizon_seconds", g.navigation.horizon_seconds},
+                     {"rms_without", json_number(g.navigation.rms_without)},
+                     {"rms_with", json_number(g.navigation.rms_with)},
+                     {"unit", render_unit("U*s", data_unit(column))}};
   c["conversions"] = conversions;
   c["notes"] = g.notes;
   return c;

@@ -9,10 +9,12 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "gap_events.h"
+#include "gap_levels.h"
 #include "gap_reference.h"
 #include "gap_windows.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/integrated_error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/robust/robust_wv.h"
@@ -156,6 +158,60 @@ double calibrated_threshold(const std::vector<double>& drops, double level) {
   return a * boost::math::quantile(boost::math::complement(boost::math::chi_squared(d), level));
 }
 
+FitResult effect_part(const FitResult& augmented, const Base& base);
+
+// Percentile intervals of the effect chosen at a step: the effect refitted on
+// replicates of the augmented model (the base's reference rescaled level by level to it),
+// exactly as it was fitted on the data. Fills fit.se, ci_low, ci_high.
+void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::MatrixXd& reps_augmented,
+                      const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o,
+                      const FitResult& chosen, FitResult& fit) {
+  const int R = std::min<int>(o.refit_baseline ? kRefitCalibrationReplicates : kCalibrationReplicates,
+                              static_cast<int>(reps_augmented.rows()));
+  const Eigen::Index p = fit.theta.size();
+  Eigen::MatrixXd draws = Eigen::MatrixXd::Constant(R, p, std::numeric_limits<double>::quiet_NaN());
+  oneapi::tbb::parallel_for(0, R, [&](int b) {
+    FitResult r;
+    const double left = fit_candidate(spec, base, reps_augmented.row(b).transpose(), like, omega, o, &r, &chosen);
+    if (!std::isfinite(left)) return;
+    const FitResult e = o.refit_baseline ? effect_part(r, base) : r;
+    if (e.theta.size() == p) draws.row(b) = e.theta.transpose();
+  });
+  fit.se.resize(p);
+  fit.ci_low.resize(p);
+  fit.ci_high.resize(p);
+  for (Eigen::Index k = 0; k < p; ++k) {
+    std::vector<double> v;
+    for (int b = 0; b < R; ++b)
+      if (std::isfinite(draws(b, k))) v.push_back(draws(b, k));
+    if (v.size() < 2) {
+      fit.se(k) = fit.ci_low(k) = fit.ci_high(k) = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    std::sort(v.begin(), v.end());
+    double mean = 0.0, var = 0.0;
+    for (double x : v) mean += x;
+    mean /= static_cast<double>(v.size());
+    for (double x : v) var += (x - mean) * (x - mean);
+    fit.se(k) = std::sqrt(var / static_cast<double>(v.size() - 1));
+    auto q = [&](double level) { return v[static_cast<std::size_t>(std::lround(level * static_cast<double>(v.size() - 1)))]; };
+    fit.ci_low(k) = q(o.alpha / 2.0);
+    fit.ci_high(k) = q(1.0 - o.alpha / 2.0);
+  }
+}
+
+// RMS of the noise's integral over kNavigationHorizonSeconds (NaN without a known rate).
+double navigation_rms(const Model& m, const Eigen::VectorXd& theta, const ProcessContext& ctx,
+                      std::vector<std::string>& notes) {
+  if (!ctx.freq_known) return std::numeric_limits<double>::quiet_NaN();
+  try {
+    return integrated_error(m, theta, ctx.freq, kNavigationHorizonSeconds).total_rms;
+  } catch (const std::exception& e) {
+    notes.push_back(std::string("integrated error not computed: ") + e.what());
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
 struct Step {
   std::vector<GapCandidate> scored;
   int best = -1;  // index into scored, -1 when nothing cleared
@@ -224,56 +280,6 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
   return s;
 }
 
-std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_threshold, double min_effect) {
-  std::vector<GapBand> bands;
-  for (std::size_t j = 0; j < levels.size();) {
-    const GapLevel& l = levels[j];
-    const int sign = l.z > 0 ? 1 : -1;
-    auto in_band = [&](const GapLevel& x, int sg) {
-      return std::abs(x.z) > z_threshold && std::abs(x.ratio - 1.0) > min_effect && (x.z > 0 ? 1 : -1) == sg;
-    };
-    if (!in_band(l, sign)) {
-      ++j;
-      continue;
-    }
-    GapBand b;
-    b.first_level = static_cast<int>(j) + 1;
-    b.direction = sign > 0 ? "excess" : "deficit";
-    b.peak_ratio = l.ratio;
-    std::size_t k = j;
-    while (k < levels.size() && in_band(levels[k], sign)) {
-      if (std::abs(std::log(levels[k].ratio)) > std::abs(std::log(b.peak_ratio))) b.peak_ratio = levels[k].ratio;
-      ++k;
-    }
-    b.last_level = static_cast<int>(k);
-    b.tau_from = levels[j].tau;
-    b.tau_to = levels[k - 1].tau;
-    bands.push_back(b);
-    j = k;
-  }
-  return bands;
-}
-
-// The levels' map of nuhat against a reference whose log mean is shifted by `shift`
-// (the reference of the base with added effects: replicates rescaled by nu_new / nu_base).
-std::vector<GapLevel> map_levels(const WaveletVariance& wv, const Eigen::VectorXd& nuhat, const detail::Reference& ref,
-                                 const Eigen::VectorXd& nu_model, const Eigen::VectorXd& shift, double alpha) {
-  const double zp = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2.0));
-  std::vector<GapLevel> out;
-  for (int j = 0; j < wv.levels(); ++j) {
-    GapLevel l;
-    l.tau = wv.tau[static_cast<std::size_t>(j)];
-    l.ratio = nuhat(j) / nu_model(j);
-    const double m = ref.mean_log(j) + shift(j), s = ref.sd_log(j);
-    l.z = (std::log(nuhat(j)) - m) / s;
-    l.ref_low = std::exp(m - zp * s);
-    l.ref_high = std::exp(m + zp * s);
-    l.outside = nuhat(j) < l.ref_low || nuhat(j) > l.ref_high;
-    out.push_back(l);
-  }
-  return out;
-}
-
 // The added effect's component of a refitted augmented model (base family + effect),
 // as a fit of that component alone: every base component is matched, greedily, to the
 // augmented component of the same process whose values are closest (relative); the one
@@ -312,18 +318,6 @@ FitResult effect_part(const FitResult& augmented, const Base& base) {
     break;
   }
   return out;
-}
-
-double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, const std::vector<GapBand>& bands) {
-  double s = 0.0;
-  int n = 0;
-  for (const auto& b : bands)
-    for (int j = b.first_level - 1; j < b.last_level; ++j) {
-      const double r = std::log(nuhat(j) / nu(j));
-      s += r * r;
-      ++n;
-    }
-  return n ? std::sqrt(s / n) : 0.0;
 }
 
 }  // namespace
@@ -391,12 +385,12 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   g.baseline = baseline;
   g.baseline_theta = theta;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(J);
-  g.levels = map_levels(wv, nuhat, ref, ref.nu, zero, options.alpha);
+  g.levels = detail::map_levels(wv, nuhat, ref, ref.nu, zero, options.alpha);
   g.statistic = detail::distance(ref, nuhat, zero);
   g.p_value = detail::p_value(ref, g.statistic);
   const double z_bonferroni =
       boost::math::quantile(boost::math::complement(boost::math::normal(), options.alpha / (2.0 * J)));
-  g.bands = find_bands(g.levels, z_bonferroni, options.min_effect);
+  g.bands = detail::find_bands(g.levels, z_bonferroni, options.min_effect);
   g.detected = g.p_value < options.alpha && !g.bands.empty();
   if (x) detail::map_windows(*x, baseline, theta, options, g);
   // Time-domain tests (Bonferroni over them and the WV candidates): a significant event or
@@ -420,11 +414,12 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   GapShrinkage& s = g.shrinkage;
   s.objective_before = objective(nuhat, ref.nu, omega);
   s.null_mean = null_mean;
-  s.rms_log_ratio_before = rms_log_ratio(nuhat, ref.nu, g.bands);
+  s.rms_log_ratio_before = detail::rms_log_ratio(nuhat, ref.nu, g.bands);
   for (const auto& l : g.levels) s.levels_outside_before += l.outside;
   s.p_value_before = g.p_value;
   g.final_model = baseline;
   g.final_theta = theta;
+  g.navigation.rms_without = g.navigation.rms_with = navigation_rms(baseline, theta, options.context, g.notes);
   auto finish_unchanged = [&] {
     s.objective_after = s.objective_before;
     s.rms_log_ratio_after = s.rms_log_ratio_before;
@@ -525,7 +520,11 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     next.nu = next.model.wv(next.theta, wv.tau);
     // Replicates of the new base: the old ones rescaled level by level.
     const Eigen::VectorXd scale = (next.nu.array() / base.nu.array()).matrix();
-    reps = reps * scale.asDiagonal();
+    const Eigen::MatrixXd reps_next = reps * scale.asDiagonal();
+    if (chosen.effect != GapEffect::kReparameterise && added.size() == 1)
+      effect_intervals(specs[static_cast<std::size_t>(pick)], base, reps_next, wv, omega, step_options, chosen.fit,
+                       added.front());
+    reps = reps_next;
     base = std::move(next);
     const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
     if (detail::p_value(ref, detail::distance(ref, data, shift)) >= options.alpha) break;
@@ -539,14 +538,15 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   if (!added.empty()) g.final_fit = added.front();
 
   const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
-  const auto after = map_levels(wv, data, ref, base.nu, shift, options.alpha);
+  const auto after = detail::map_levels(wv, data, ref, base.nu, shift, options.alpha);
   s.objective_after = objective(data, base.nu, omega);
   const double excess = s.objective_before - s.null_mean;
   s.excess_removed = excess > 0.0 ? (s.objective_before - s.objective_after) / excess : 0.0;
-  s.rms_log_ratio_after = rms_log_ratio(data, base.nu, g.bands);
+  s.rms_log_ratio_after = detail::rms_log_ratio(data, base.nu, g.bands);
   s.levels_outside_after = 0;
   for (const auto& l : after) s.levels_outside_after += l.outside;
   s.p_value_after = detail::p_value(ref, detail::distance(ref, data, shift));
+  g.navigation.rms_with = navigation_rms(g.final_model, g.final_theta, options.context, g.notes);
   return g;
 }
 

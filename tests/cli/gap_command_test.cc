@@ -4,6 +4,7 @@
 // (exit 2, one line).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -65,9 +66,28 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   for (const json& p : a.at("parameters"))
     if (p.at("name") == "f") {
       EXPECT_NEAR(p.at("value").get<double>(), 2.0, 0.1) << "Hz";
+      // The bootstrap interval brackets the estimate.
+      EXPECT_LT(p.at("ci_low").get<double>(), p.at("value").get<double>());
+      EXPECT_GT(p.at("ci_high").get<double>(), p.at("value").get<double>());
       frequency_found = true;
     }
   EXPECT_TRUE(frequency_found);
+  // Physical units: amplitude sqrt(A2) = 0.02 in the data's unit ("U" when undeclared).
+  bool amplitude_found = false;
+  for (const json& p : a.at("physical"))
+    if (p.at("name") == "amplitude") {
+      EXPECT_NEAR(p.at("value").get<double>(), 0.02, 0.002);
+      EXPECT_EQ(p.at("unit"), "U");
+      EXPECT_LT(p.at("ci_low").get<double>(), 0.02 * 1.1);
+      amplitude_found = true;
+    }
+  EXPECT_TRUE(amplitude_found);
+  // 60 s (K = 6000 samples) of the baseline's noise integrated, x 1/f = 0.01 s: WN
+  // sqrt(6000 x 1e-4) / 100 = 7.746e-3, RW sqrt(1e-10 x 6000 x 6001 x 12001 / 6) / 100 =
+  // 2.6836e-2; together sqrt(7.746e-3^2 + 2.6836e-2^2) = 2.7932e-2.
+  const json& nav = c.at("navigation");
+  EXPECT_EQ(nav.at("horizon_seconds").get<double>(), 60.0);
+  EXPECT_NEAR(nav.at("rms_without").get<double>(), 2.7932e-2, 1e-6);
   ASSERT_FALSE(a.at("candidates").empty());
   for (const char* f : {"effect", "improvement", "threshold"}) EXPECT_TRUE(a["candidates"][0].contains(f)) << f;
   const json& s = c.at("shrinkage");
@@ -81,6 +101,43 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   EXPECT_NE(t.out.find("gyro_x: excess at"), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("explained by SIN at 2"), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("gap removed"), std::string::npos) << t.out;
+}
+
+TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
+  // gyro_x = the baseline's noise + 2e-3 x a slowly wandering temperature.
+  auto r = run_gmwm({"simulate", "--model", std::string(kBase), "--n", "65536", "--freq", "100", "--names", "noise",
+                     "--output", "noise.csv", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir_ / "noise.csv");
+  std::ofstream out(dir_ / "coupled.csv");
+  std::string line;
+  std::getline(in, line);
+  out << "gyro_x,temp\n";
+  out.precision(17);
+  double temp = 25.0;
+  for (int i = 0; std::getline(in, line); ++i) {
+    temp += 0.01 * std::sin(1e-3 * i) + 0.002 * std::cos(0.37 * i);  // deterministic, slow
+    const double noise = std::stod(line.substr(line.find(',') + 1));  // "time,noise"
+    out << noise + 2e-3 * temp << "," << temp << "\n";
+  }
+  out.close();
+  auto g = run_gmwm({"gap", "coupled.csv", "--freq", "100", "--model", kBase, "--temperature", "temp", "--replicates",
+                     "60", "--json", "t.json"},
+                    dir_);
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  const json doc = read_json(dir_ / "t.json");
+  EXPECT_EQ(doc.at("temperature_column"), "temp");
+  ASSERT_EQ(doc.at("columns").size(), 1u);  // the temperature is not diagnosed itself
+  const json& t = doc["columns"][0].at("attribution").at("temperature");
+  EXPECT_TRUE(t.at("significant").get<bool>());
+  EXPECT_LT(t.at("ci_low").get<double>(), 2e-3);
+  EXPECT_GT(t.at("ci_high").get<double>(), 2e-3);
+  EXPECT_EQ(doc["columns"][0]["attribution"]["effect"], "TEMPERATURE");
+  expect_bad_input(run_gmwm({"gap", "coupled.csv", "--freq", "100", "--model", kBase, "--temperature", "celsius",
+                             "--json", "x.json"},
+                            dir_),
+                   {"--temperature 'celsius'", "gyro_x, temp"}, dir_ / "x.json");
 }
 
 TEST_F(GmwmGap, TakesAKalibrImuYamlAndPrintsItsConversions) {
@@ -189,24 +246,28 @@ TEST(GmwmGapCheck, ScoresEveryFamilyAndTheNullSideInTheContractFields) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir / "c.json");
   EXPECT_EQ(doc.at("command"), "gap-check");
-  // 6 families x 1 case, 5 base-only and 2 off-by-20% cases.
-  EXPECT_EQ(doc.at("cases"), 13);
-  EXPECT_LE(doc.at("correct").get<int>(), 13);
+  // 8 families x 1 case, 5 base-only and 2 off-by-20% cases.
+  EXPECT_EQ(doc.at("cases"), 15);
+  EXPECT_LE(doc.at("correct").get<int>(), 15);
   EXPECT_GE(doc.at("false_alarms").get<int>(), 0);
   const json& confusion = doc.at("confusion");
-  for (const char* t : {"QN", "DR", "AR1", "FLICKER", "SIN", "OUTLIERS", "none", "REPARAMETERISE"})
+  for (const char* t : {"QN", "DR", "AR1", "FLICKER", "SIN", "OUTLIERS", "STEP", "TRANSIENT", "none", "REPARAMETERISE"})
     EXPECT_TRUE(confusion.contains(t)) << t;
   int total = 0;
   for (const auto& [truth, row] : confusion.items())
     for (const auto& [reported, n] : row.items()) total += n.get<int>();
-  EXPECT_EQ(total, 13);
+  EXPECT_EQ(total, 15);
   EXPECT_TRUE(doc.at("power").contains("SIN"));
   EXPECT_TRUE(doc["power"]["SIN"].contains("8"));
-  EXPECT_EQ(doc.at("case_list").size(), 13u);
+  EXPECT_EQ(doc.at("case_list").size(), 15u);
   EXPECT_NE(r.out.find("confusion matrix"), std::string::npos) << r.out;
   expect_bad_input(run_gmwm({"gap-check", "--strengths", "2,x", "--json", "x.json"}, dir), {"--strengths"},
                    dir / "x.json");
   expect_bad_input(run_gmwm({"gap-check", "--replicates", "3", "--json", "x.json"}, dir), {"--replicates"},
+                   dir / "x.json");
+  expect_bad_input(run_gmwm({"gap-check", "--families", "STEP,WOBBLE", "--json", "x.json"}, dir),
+                   {"--families", "WOBBLE"}, dir / "x.json");
+  expect_bad_input(run_gmwm({"gap-check", "--families", "RW", "--json", "x.json"}, dir), {"RW", "withheld"},
                    dir / "x.json");
   fs::remove_all(dir);
 }

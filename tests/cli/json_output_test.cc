@@ -45,7 +45,7 @@ TEST(GmwmJsonOutput, WvLevelsHaveNullSecondsWhenTheRateIsUnknown) {
   std::vector<double> x(64);
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.7 * static_cast<double>(i * i));
   const auto wv = gmwm::classical_wv(x.data(), 64);
-  const Json c = gmwm::io::wv_column_json({"x", 64, 0.0, false}, wv);
+  const Json c = gmwm::io::wv_column_json({"x", 64, 0.0, false, {}}, wv);
   EXPECT_TRUE(c["freq"].is_null());
   ASSERT_EQ(c["levels"].size(), 6u);
   EXPECT_TRUE(c["levels"][0]["tau_seconds"].is_null());
@@ -62,7 +62,7 @@ TEST(GmwmJsonOutput, AFailedFitHasANullModelAndNoParameters) {
   fit.status = gmwm::FitStatus::kFailed;
   fit.message = "no starting point gave a finite objective";
   fit.objective = std::numeric_limits<double>::quiet_NaN();
-  const Json c = gmwm::io::fit_column_json({"x", 256, 100.0, true}, wv, fit, gmwm::OmegaKind::kDiag);
+  const Json c = gmwm::io::fit_column_json({"x", 256, 100.0, true, {}}, wv, fit, gmwm::OmegaKind::kDiag);
   EXPECT_TRUE(c["model"].is_null());
   EXPECT_TRUE(c["parameters"].empty());
   EXPECT_TRUE(c["objective"].is_null());

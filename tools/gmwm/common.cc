@@ -196,7 +196,7 @@ std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
 
 io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {
   const auto& s = set.signals[k];
-  return {s.name, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known};
+  return {s.name, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known, {}};
 }
 
 int active_threads() {

@@ -17,6 +17,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
+#include "gmwm/engine/physical.h"
 #include "gmwm/selection/gap.h"
 
 namespace gmwm::cli {
@@ -30,6 +31,7 @@ struct GapArgs {
   std::string fit;     ///< --fit SPEC
   std::string units;   ///< --units gyro=deg/s,accel=g
   std::string sensor;  ///< --sensor gyro|accel (all columns)
+  std::string temperature;  ///< --temperature COLUMN
   int replicates = selection::GapOptions{}.replicates;
 };
 
@@ -51,6 +53,20 @@ std::string effect_text(const selection::GapResult& g) {
     out += k ? " + " : "";
     out += selection::to_string(e);
     if (e == GapEffect::kOutliers) out += " (the robust WV does not show the fine-scale excess)";
+    if ((e == GapEffect::kStep || e == GapEffect::kTransient) && g.event) {
+      const auto& ev = *g.event;
+      const bool hz = g.baseline.num_components() > 0 && g.baseline.components()[0].process->context().freq_known;
+      const double rate = hz ? g.baseline.components()[0].process->context().freq : 1.0;
+      const std::string unit = hz ? " s" : " samples";
+      if (e == GapEffect::kStep)
+        out += " of " + fmt(ev.size, 3) + " at " + fmt(static_cast<double>(ev.sample) / rate, 6) + unit;
+      else
+        out += " " + fmt(ev.size, 3) + " exp(-t / " + fmt(ev.time_constant / rate, 3) + unit + ")";
+    }
+    if (e == GapEffect::kTemperature && g.temperature)
+      out += " (coupling " + fmt(g.temperature->k, 4) + " per temperature unit, 95% CI " + fmt(g.temperature->ci_low, 3) +
+             " to " + fmt(g.temperature->ci_high, 3) + ")";
+    if (e == GapEffect::kStep || e == GapEffect::kTransient || e == GapEffect::kTemperature) continue;
     if (e == GapEffect::kReparameterise || e == GapEffect::kOutliers || detailed || !has) continue;
     detailed = true;
     const auto& p = *f.model.components()[0].process;
@@ -87,8 +103,33 @@ std::string summary_line(const std::string& name, const selection::GapResult& g,
   return os.str();
 }
 
+// The first added effect's parameters with their bootstrap intervals, discrete and in
+// the continuous units a navigation engineer uses.
+std::string effect_table(const selection::GapResult& g, const io::SignalSet& set, const std::string& unit) {
+  const FitResult& f = g.final_fit;
+  if (f.status == FitStatus::kFailed || f.theta.size() != f.model.num_parameters() || f.theta.size() == 0) return {};
+  Table t({"effect parameter", "value", "95% interval (bootstrap)", "unit"}, 1);
+  for (const auto& r : io::parameter_rows(f))
+    t.add({r.process + " " + r.name, fmt(r.value, 5), fmt(r.ci_low, 4) + " - " + fmt(r.ci_high, 4), "discrete"});
+  if (set.freq_known && f.ci_low.size() == f.theta.size())
+    for (int k = 0; k < f.model.num_components(); ++k) {
+      const Process& p = *f.model.components()[static_cast<std::size_t>(k)].process;
+      const std::span<const double> th(f.theta.data() + f.model.offset(k), static_cast<std::size_t>(p.size()));
+      const auto q = p.physical(th, set.freq);
+      const auto iv = physical_interval(
+          p, th, std::span<const double>(f.ci_low.data() + f.model.offset(k), static_cast<std::size_t>(p.size())),
+          std::span<const double>(f.ci_high.data() + f.model.offset(k), static_cast<std::size_t>(p.size())), set.freq);
+      for (std::size_t i = 0; i < q.size(); ++i)
+        if (!q[i].unit_pattern.empty())
+          t.add({p.name() + " " + q[i].name, fmt(q[i].value, 5),
+                 i < iv.size() ? fmt(iv[i].low, 4) + " - " + fmt(iv[i].high, 4) : "",
+                 render_unit(q[i].unit_pattern, unit.empty() ? "U" : unit)});
+    }
+  return t.str();
+}
+
 std::string terminal_report(const std::string& name, const selection::GapResult& g, const io::SignalSet& set,
-                            const std::vector<std::string>& conversions) {
+                            const std::vector<std::string>& conversions, const std::string& unit) {
   std::ostringstream os;
   os << summary_line(name, g, set) << '\n';
   os << "  baseline: " << g.baseline.to_string(g.baseline_theta) << '\n';
@@ -109,8 +150,31 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
   os << "  objective " << fmt(s.objective_before) << " -> " << fmt(s.objective_after) << " (null mean "
      << fmt(s.null_mean, 4) << "), levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after
      << ", global p " << fmt(s.p_value_before, 3) << " -> " << fmt(s.p_value_after, 3) << '\n';
+  os << effect_table(g, set, unit);
+  if (std::isfinite(g.navigation.rms_without))
+    os << "  integrated error after " << fmt(g.navigation.horizon_seconds, 3)
+       << " s (attitude for a gyro, velocity for an accelerometer): " << fmt(g.navigation.rms_without, 3) << " -> "
+       << fmt(g.navigation.rms_with, 3) << " " << render_unit("U*s", unit.empty() ? "U" : unit)
+       << " RMS (baseline -> with the effects)\n";
   for (const auto& n : g.notes) os << "  note: " << n << '\n';
   return os.str();
+}
+
+// --temperature COLUMN: that column's values, taken out of the analysed signals.
+std::vector<double> take_temperature(io::SignalSet& set, const std::string& column) {
+  if (column.empty()) return {};
+  std::string names;
+  for (auto it = set.signals.begin(); it != set.signals.end(); ++it) {
+    if (it->name == column) {
+      std::vector<double> t = std::move(it->values);
+      set.signals.erase(it);
+      if (set.signals.empty()) throw InputError("--temperature '" + column + "': no other column is left to diagnose");
+      return t;
+    }
+    names += (names.empty() ? "" : ", ") + it->name;
+  }
+  throw InputError("--temperature '" + column + "': no such column among those read (" + names +
+                   "); include it in --columns");
 }
 
 int run_gap(const GapArgs& args, const CommonOptions& common) {
@@ -133,7 +197,8 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
 
   Stopwatch read_clock;
-  const io::SignalSet set = read_input(args.input);
+  io::SignalSet set = read_input(args.input);
+  const std::vector<double> temperature = take_temperature(set, args.temperature);
   const double read_seconds = read_clock.seconds();
   const ProcessContext ctx{set.freq, set.freq_known};
   options.context = ctx;
@@ -208,7 +273,8 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
         if (done == total_reps && k + 1 == K) std::fprintf(stderr, "\n");
       };
     const std::vector<double>& x = set.signals[k].values;
-    results[k] = selection::diagnose_gap(wvs[k], baselines[k], thetas[k], o, &robust_wvs[k], &x);
+    results[k] = selection::diagnose_gap(wvs[k], baselines[k], thetas[k], o, &robust_wvs[k], &x,
+                                         temperature.empty() ? nullptr : &temperature);
   }
   const double gap_seconds = gap_clock.seconds();
 
@@ -218,13 +284,28 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   doc["replicates"] = args.replicates;
   doc["seed"] = common.seed;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
+  // The data unit of each column, when declared (--units, or a simulator's SI figures).
+  std::vector<std::string> column_units(K);
   for (std::size_t k = 0; k < K; ++k)
-    doc["columns"].push_back(io::gap_column_json(column_info(set, k), results[k], conversions[k]));
+    if (!args.units.empty() || config) {
+      std::optional<io::SensorKind> kind = sensor;
+      if (!kind) try {
+          kind = io::sensor_kind_of_column(set.signals[k].name);
+        } catch (const InputError&) {
+        }
+      if (kind) column_units[k] = units.count(*kind) ? units.at(*kind).name : io::si_unit(*kind).name;
+    }
+  if (!temperature.empty()) doc["temperature_column"] = args.temperature;
+  for (std::size_t k = 0; k < K; ++k) {
+    io::ColumnInfo info = column_info(set, k);
+    info.unit = column_units[k];
+    doc["columns"].push_back(io::gap_column_json(info, results[k], conversions[k]));
+  }
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
     for (std::size_t k = 0; k < K; ++k)
-      report += (k ? "\n" : "") + terminal_report(set.signals[k].name, results[k], set, conversions[k]);
+      report += (k ? "\n" : "") + terminal_report(set.signals[k].name, results[k], set, conversions[k], column_units[k]);
     report += "\nsummary:\n";
     for (std::size_t k = 0; k < K; ++k) report += "  " + summary_line(set.signals[k].name, results[k], set) + "\n";
   }
@@ -264,6 +345,9 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
       ->type_name("KIND=UNIT,...");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
       ->check(CLI::IsMember({"gyro", "accel"}));
+  sub->add_option("--temperature", args->temperature,
+                  "A temperature column: each signal's coupling to it is tested (TEMPERATURE); it is not diagnosed itself")
+      ->type_name("COLUMN");
   sub->add_option("--replicates", args->replicates, "Reference replicates (parametric bootstrap of the baseline)")
       ->type_name("B")
       ->check(CLI::Range(20, 100000))

@@ -111,7 +111,7 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   doc["quantum"] = args.quantum ? io::json_number(*args.quantum) : io::Json(nullptr);
   for (std::size_t k = 0; k < signals.size(); ++k)
     doc["columns"].push_back(io::column_json(
-        {signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value()}));
+        {signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
 
   Stopwatch write_clock;
   io::write_signals(args.output, signals, args.freq);

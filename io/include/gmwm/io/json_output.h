@@ -46,6 +46,7 @@ struct ColumnInfo {
   std::int64_t n = 0;
   double freq = 0.0;         ///< Hz
   bool freq_known = false;   ///< "freq" is null when false
+  std::string unit;          ///< the data's unit ("deg/s") when declared, else empty
 };
 
 /// The run-dependent facts, written under "run".
@@ -116,7 +117,9 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// [_seconds], level, statistic, threshold; else null), event_test {statistic, threshold}
 /// (null without the series), temperature {coupling, ci_low, ci_high, z, threshold,
 /// significant} (null without a temperature channel), candidates}, "shrinkage" {...},
-/// "conversions" and "notes".
+/// "conversions" and "notes". The effect's parameters carry their bootstrap CIs and
+/// "physical" quantities (engine/physical.h) in the column's unit ("U" when undeclared);
+/// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
 

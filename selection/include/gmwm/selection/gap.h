@@ -30,6 +30,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -140,6 +141,19 @@ struct GapCoupling {
   bool significant = false;
 };
 
+/// GAP.md s.4: "what it means for navigation (predicted integrated error growth, e.g.
+/// attitude error after 60 s)".
+inline constexpr double kNavigationHorizonSeconds = 60.0;
+
+/// The integral of the noise over the horizon (attitude error for a gyro, velocity error
+/// for an accelerometer, in data units x s): RMS under the baseline and under the final
+/// model (engine/integrated_error.h). NaN when the sampling rate is unknown.
+struct GapNavigation {
+  double horizon_seconds = kNavigationHorizonSeconds;
+  double rms_without = std::numeric_limits<double>::quiet_NaN();
+  double rms_with = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
@@ -159,8 +173,12 @@ struct GapResult {
   std::vector<GapCandidate> candidates;     ///< the first step's scores
   Model final_model;                        ///< baseline + the effects added (values)
   Eigen::VectorXd final_theta;
-  FitResult final_fit;                      ///< with inference (the effects' CIs); failed when nothing added
+  /// The first added effect's fit; its se / ci_low / ci_high are parametric-bootstrap
+  /// intervals (percentile, level 1 - alpha) from the reference replicates rescaled to the
+  /// augmented model. Failed when no process effect was added.
+  FitResult final_fit;
   GapShrinkage shrinkage;
+  GapNavigation navigation;
   /// Time-domain effects (need the series): the concentration test's outcome, the event
   /// when it is significant, and the temperature coupling when a channel was given.
   bool event_tested = false;
