@@ -133,6 +133,8 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
     candidates.push_back({{"effect", selection::to_string(k.effect)},
                           {"improvement", json_number(k.improvement)},
                           {"threshold", json_number(k.threshold)},
+                          {"optimism", json_number(k.optimism)},
+                          {"wvic_confirmed", k.wvic_confirmed},
                           {"cleared", k.cleared},
                           {"model", k.model}});
   json steps = json::array();

@@ -255,7 +255,10 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
   for (std::size_t c = 0; c < K; ++c) {
     GapCandidate& g = s.scored[c];
     g.threshold = calibrated_threshold(drops[c], o.alpha / static_cast<double>(K));
-    g.cleared = g.fit.status != FitStatus::kFailed && g.improvement > g.threshold;
+    for (double d : drops[c]) g.optimism += d;
+    g.optimism /= static_cast<double>(drops[c].size());
+    g.wvic_confirmed = g.improvement > 2.0 * g.optimism;
+    g.cleared = g.fit.status != FitStatus::kFailed && g.improvement > g.threshold && g.wvic_confirmed;
     if (g.cleared && g.improvement - g.threshold > best_margin) {
       best_margin = g.improvement - g.threshold;
       s.best = static_cast<int>(c);

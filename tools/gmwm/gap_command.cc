@@ -140,10 +140,10 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
                 l.outside ? "yes" : ""});
   os << levels.str();
   if (!g.candidates.empty()) {
-    Table cand({"candidate", "improvement", "threshold", "cleared", "fit"}, 1);
+    Table cand({"candidate", "improvement", "threshold", "2 x optimism (WVIC)", "cleared", "fit"}, 1);
     for (const auto& c : g.candidates)
-      cand.add({selection::to_string(c.effect), fmt(c.improvement, 5), fmt(c.threshold, 4), c.cleared ? "yes" : "",
-                c.model});
+      cand.add({selection::to_string(c.effect), fmt(c.improvement, 5), fmt(c.threshold, 4), fmt(2.0 * c.optimism, 4),
+                c.cleared ? "yes" : "", c.model});
     os << cand.str();
   }
   const auto& s = g.shrinkage;

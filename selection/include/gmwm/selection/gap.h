@@ -100,7 +100,12 @@ struct GapCandidate {
   std::string model;               ///< what was added (canonical, with values), or the refitted baseline
   double improvement = 0.0;        ///< drop in G
   double threshold = 0.0;          ///< calibrated (1 - alpha/K) null quantile of the drop
-  bool cleared = false;
+  /// WVIC confirmation (GAP.md s.3): the candidate's optimism is its mean drop on data
+  /// without it (the in-sample gain a parametric bootstrap of WVIC estimates), and WVIC
+  /// prefers the augmented model when the drop exceeds twice that.
+  double optimism = 0.0;
+  bool wvic_confirmed = false;
+  bool cleared = false;            ///< drop > threshold and WVIC confirms
   FitResult fit;                   ///< the augmented model's fit (no inference)
 };
 
