@@ -304,10 +304,9 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
   }
   e.tau_from = levels[static_cast<std::size_t>(e.first_level - 1)].tau;
   e.tau_to = levels[static_cast<std::size_t>(e.last_level - 1)].tau;
-  e.peak_ratio = 1.0;
+  e.peak_ratio = 1.0;  // an excess band: its largest ratio
   for (int j = e.first_level; j <= e.last_level; ++j)
-    if (std::abs(std::log(levels[static_cast<std::size_t>(j - 1)].ratio)) > std::abs(std::log(e.peak_ratio)))
-      e.peak_ratio = levels[static_cast<std::size_t>(j - 1)].ratio;
+    e.peak_ratio = std::max(e.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
   out.push_back(e);
   std::sort(out.begin(), out.end(), [](const GapBand& a, const GapBand& b) { return a.first_level < b.first_level; });
   return out;

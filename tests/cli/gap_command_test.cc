@@ -45,6 +45,7 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   const json doc = read_json(dir_ / "g.json");
   EXPECT_EQ(doc.at("command"), "gap");
   ASSERT_EQ(doc.at("columns").size(), 1u);
+  EXPECT_EQ(doc.at("cross_axis").at("tested"), 0);  // one column: no pair
   const json& c = doc["columns"][0];
   EXPECT_EQ(c.at("baseline_model"), "WN(sigma2=0.0001)+RW(gamma2=1e-10)");
   const json& gap = c.at("gap");

@@ -4,6 +4,7 @@
 // unmodelled effect explains it, and how much of the gap it removes (GAP.md).
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <iostream>
 #include <mutex>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/engine/physical.h"
+#include "gmwm/selection/cross_axis.h"
 #include "gmwm/selection/gap.h"
 
 namespace gmwm::cli {
@@ -160,6 +162,24 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
   return os.str();
 }
 
+// One line per correlated pair: the scales where its cross-axis correlation is significant.
+std::string cross_axis_text(const std::vector<selection::CrossAxisPair>& pairs, const io::SignalSet& set) {
+  std::map<std::pair<int, int>, std::vector<const selection::CrossAxisPair*>> by_pair;
+  for (const auto& p : pairs)
+    if (p.significant) by_pair[{p.a, p.b}].push_back(&p);
+  std::string out;
+  for (const auto& [ab, v] : by_pair) {
+    double peak = 0.0;
+    for (const auto* p : v)
+      if (std::abs(p->rho) > std::abs(peak)) peak = p->rho;
+    out += "  cross-axis: " + set.signals[static_cast<std::size_t>(ab.first)].name + " & " +
+           set.signals[static_cast<std::size_t>(ab.second)].name + " correlated at " + seconds_text(v.front()->tau, set) +
+           (v.size() > 1 ? " - " + seconds_text(v.back()->tau, set) : "") + " (" + std::to_string(v.size()) +
+           (v.size() > 1 ? " levels" : " level") + ", rho up to " + fmt(peak, 3) + "): a shared effect\n";
+  }
+  return out;
+}
+
 // --temperature COLUMN: that column's values, taken out of the analysed signals.
 std::vector<double> take_temperature(io::SignalSet& set, const std::string& column) {
   if (column.empty()) return {};
@@ -296,6 +316,20 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
       if (kind) column_units[k] = units.count(*kind) ? units.at(*kind).name : io::si_unit(*kind).name;
     }
   if (!temperature.empty()) doc["temperature_column"] = args.temperature;
+  // Cross-axis wavelet correlation (GAP.md s.2) when several columns are given.
+  std::vector<std::span<const double>> spans;
+  for (const auto& sig : set.signals) spans.emplace_back(sig.values);
+  const auto cross = selection::cross_axis_correlation(spans, wv_opts.levels, options.alpha);
+  io::Json cross_json = io::Json::array();
+  for (const auto& p : cross)
+    if (p.significant)
+      cross_json.push_back({{"a", set.signals[static_cast<std::size_t>(p.a)].name},
+                            {"b", set.signals[static_cast<std::size_t>(p.b)].name},
+                            {"tau", p.tau},
+                            {"tau_seconds", set.freq_known ? io::Json(p.tau / set.freq) : io::Json(nullptr)},
+                            {"rho", io::json_number(p.rho)},
+                            {"z", io::json_number(p.z)}});
+  doc["cross_axis"] = {{"tested", cross.size()}, {"significant", std::move(cross_json)}};
   for (std::size_t k = 0; k < K; ++k) {
     io::ColumnInfo info = column_info(set, k);
     info.unit = column_units[k];
@@ -308,6 +342,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
       report += (k ? "\n" : "") + terminal_report(set.signals[k].name, results[k], set, conversions[k], column_units[k]);
     report += "\nsummary:\n";
     for (std::size_t k = 0; k < K; ++k) report += "  " + summary_line(set.signals[k].name, results[k], set) + "\n";
+    report += cross_axis_text(cross, set);
   }
   warn_about_timing(set);
   write_json(common, doc,
