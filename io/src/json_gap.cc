@@ -87,6 +87,17 @@ json event_json(const selection::GapResult& g, const ColumnInfo& c) {
           {"threshold", json_number(e.threshold)}};
 }
 
+json trend_json(const selection::GapResult& g) {
+  if (!g.trend) return nullptr;
+  const auto& t = *g.trend;
+  return {{"omega", json_number(t.omega)},
+          {"ci_low", json_number(t.ci_low)},
+          {"ci_high", json_number(t.ci_high)},
+          {"z", json_number(t.z)},
+          {"threshold", json_number(t.threshold)},
+          {"significant", t.significant}};
+}
+
 json temperature_json(const selection::GapResult& g) {
   if (!g.temperature) return nullptr;
   const auto& t = *g.temperature;
@@ -149,6 +160,8 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                                                            {"threshold", json_number(g.event_threshold)}}
                                                      : json(nullptr)},
                       {"temperature", temperature_json(g)},
+                      {"drift", trend_json(g)},
+                      {"step_drops", g.step_drops},
                       {"candidates", std::move(candidates)}};
   const auto& s = g.shrinkage;
   c["shrinkage"] = {{"objective_before", json_number(s.objective_before)},

@@ -11,10 +11,10 @@
 #include "gap_events.h"
 #include "gap_levels.h"
 #include "gap_reference.h"
+#include "gap_summary.h"
 #include "gap_windows.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
-#include "gmwm/engine/integrated_error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/robust/robust_wv.h"
@@ -197,18 +197,6 @@ void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::
     auto q = [&](double level) { return v[static_cast<std::size_t>(std::lround(level * static_cast<double>(v.size() - 1)))]; };
     fit.ci_low(k) = q(o.alpha / 2.0);
     fit.ci_high(k) = q(1.0 - o.alpha / 2.0);
-  }
-}
-
-// RMS of the noise's integral over kNavigationHorizonSeconds (NaN without a known rate).
-double navigation_rms(const Model& m, const Eigen::VectorXd& theta, const ProcessContext& ctx,
-                      std::vector<std::string>& notes) {
-  if (!ctx.freq_known) return std::numeric_limits<double>::quiet_NaN();
-  try {
-    return integrated_error(m, theta, ctx.freq, kNavigationHorizonSeconds).total_rms;
-  } catch (const std::exception& e) {
-    notes.push_back(std::string("integrated error not computed: ") + e.what());
-    return std::numeric_limits<double>::quiet_NaN();
   }
 }
 
@@ -402,9 +390,10 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   if (x) {
     const double K = static_cast<double>(candidates_for(baseline, options).size()) + 1.0 + (temperature ? 1.0 : 0.0);
     time = detail::run_time_tests(*x, temperature, nu_base, ref.series_stats, options.alpha / K, options.alpha, g);
-    if ((time.event || time.coupling) && !g.detected) {
+    if ((time.event || time.coupling || time.trend) && !g.detected) {
       g.detected = true;
       if (g.bands.empty()) g.bands = detail::event_bands(time, g.levels);
+      if (g.bands.empty() && time.trend) g.bands = detail::drift_band(g.trend->omega, wv, nu_base, options.context, g.levels);
     }
   }
 
@@ -422,7 +411,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   s.p_value_before = g.p_value;
   g.final_model = baseline;
   g.final_theta = theta;
-  g.navigation.rms_without = g.navigation.rms_with = navigation_rms(baseline, theta, options.context, g.notes);
+  g.navigation.rms_without = g.navigation.rms_with = detail::navigation_rms(baseline, theta, options.context, g.notes);
   auto finish_unchanged = [&] {
     s.objective_after = s.objective_before;
     s.rms_log_ratio_after = s.rms_log_ratio_before;
@@ -458,12 +447,15 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
       bool usable = true;
       for (int j = 0; j < J; ++j) usable &= robust->wv[static_cast<std::size_t>(j)] > 0.0;
       if (usable) data = robust->values();
+      g.step_drops.push_back(s.objective_before - objective(data, ref.nu, omega));
     }
   }
 
   // Then the time-domain effects: the series corrected for them, its WV the data from here on.
   bool time_explained = false;
-  if (time.event || time.coupling) {
+  if (time.event || time.coupling || time.trend) {
+    const std::size_t first_time_step = g.steps.size();
+    const double g_before_time = objective(data, ref.nu, omega);
     const std::vector<double> corrected = detail::apply_time_effects(*x, temperature, time, g);
     if (g.event) g.bands = detail::merge_event_band(g.bands, time, g.levels, g.event->effect);
     WaveletVariance w;
@@ -479,6 +471,9 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     const Eigen::VectorXd v = w.values();
     if (v.allFinite() && (v.array() > 0.0).all()) data = v;
     time_explained = detail::p_value(ref, detail::distance(ref, data, zero)) >= options.alpha;
+    // The time effects' drop together, credited to the first of them.
+    for (std::size_t k = first_time_step; k < g.steps.size(); ++k)
+      g.step_drops.push_back(k == first_time_step ? g_before_time - objective(data, ref.nu, omega) : 0.0);
   }
 
   Base base{baseline, theta, ref.nu};
@@ -507,6 +502,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     if (pick < 0) break;
     const GapCandidate& chosen = st.scored[static_cast<std::size_t>(pick)];
     g.steps.push_back(chosen.effect);
+    const double g_before_step = objective(data, base.nu, omega);
     // The new base: the chosen fit (REPARAMETERISE or refit: the whole model; else
     // base + the effect at its fitted values).
     Base next;
@@ -529,16 +525,27 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
                        added.front());
     reps = reps_next;
     base = std::move(next);
+    g.step_drops.push_back(g_before_step - objective(data, base.nu, omega));
     const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
     if (detail::p_value(ref, detail::distance(ref, data, shift)) >= options.alpha) break;
     if (chosen.effect == GapEffect::kReparameterise) step_options.refit_baseline = true;
   }
-  g.effect = g.steps.empty() ? GapEffect::kNone : g.steps.front();
+  // The top candidate: the step that removed the most of the gap.
+  g.effect = GapEffect::kNone;
+  double best_drop = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < g.steps.size(); ++k)
+    if (g.step_drops[k] > best_drop) {
+      best_drop = g.step_drops[k];
+      g.effect = g.steps[k];
+    }
   if (g.steps.empty())
     g.notes.push_back("no candidate effect clears its calibrated threshold: no unmodelled effect found");
   g.final_model = base.model.canonical(&base.theta);
   g.final_theta = base.theta;
   if (!added.empty()) g.final_fit = added.front();
+  const bool drift = std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR) != g.steps.end() && g.trend &&
+                     g.trend->significant;
+  if (drift && (g.effect == GapEffect::kDR || added.empty())) g.final_fit = detail::drift_fit(*g.trend, options);
 
   const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
   const auto after = detail::map_levels(wv, data, ref, base.nu, shift, options.alpha);
@@ -549,7 +556,15 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   s.levels_outside_after = 0;
   for (const auto& l : after) s.levels_outside_after += l.outside;
   s.p_value_after = detail::p_value(ref, detail::distance(ref, data, shift));
-  g.navigation.rms_with = navigation_rms(g.final_model, g.final_theta, options.context, g.notes);
+  if (drift && !has_process(g.final_model, "DR")) {
+    // The drift removed in the time domain belongs to the final model too.
+    const FitResult d = detail::drift_fit(*g.trend, options);
+    Eigen::VectorXd th(g.final_theta.size() + 1);
+    th << g.final_theta, d.theta;
+    g.final_model = (g.final_model + d.model).canonical(&th);
+    g.final_theta = th;
+  }
+  g.navigation.rms_with = detail::navigation_rms(g.final_model, g.final_theta, options.context, g.notes);
   return g;
 }
 

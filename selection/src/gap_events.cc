@@ -103,6 +103,18 @@ Decay best_decay(const std::vector<double>& x, std::int64_t L) {
 
 }  // namespace
 
+double trend_slope(const std::vector<double>& x) {
+  const auto n = static_cast<std::int64_t>(x.size());
+  const std::int64_t L = std::max<std::int64_t>(1, n / kTrendSegments);
+  if (n < 2 * L) return 0.0;
+  double head = 0.0, tail = 0.0;
+  for (std::int64_t t = 0; t < L; ++t) {
+    head += x[static_cast<std::size_t>(t)];
+    tail += x[static_cast<std::size_t>(n - L + t)];
+  }
+  return (tail - head) / static_cast<double>(L) / static_cast<double>(n - L);
+}
+
 std::pair<int, int> event_levels(std::int64_t n) {
   int last = 0;
   while (std::ldexp(static_cast<double>(kEventMinBlocks), last + 1) <= static_cast<double>(n)) ++last;
@@ -114,7 +126,8 @@ Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vecto
   const auto n = static_cast<std::int64_t>(x.size());
   const auto [first, last] = event_levels(n);
   const int L = std::max(0, last - first + 1);
-  Eigen::VectorXd out(L + (temperature ? 1 : 0));
+  Eigen::VectorXd out(L + 1 + (temperature ? 1 : 0));
+  out(L) = trend_slope(x);
   const HaarModwt modwt(x.data(), n);
   std::vector<double> w, wt;
   for (int j = first; j <= last; ++j) {
@@ -143,7 +156,7 @@ Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vecto
       num += c / m / nu_base(j - 1);
       den += v / m / nu_base(j - 1);
     }
-    out(L) = den > 0.0 ? num / den : 0.0;
+    out(L + 1) = den > 0.0 ? num / den : 0.0;
   }
   return out;
 }
@@ -176,10 +189,18 @@ TimeEffectTests test_time_effects(const Eigen::VectorXd& data_stats, const Eigen
     }
     t.event_threshold = gumbel_quantile(null_max, level);
   }
+  if (B >= 2) {
+    const Eigen::VectorXd w = reps.col(L);
+    t.trend = data_stats(L);
+    t.trend_sd = sd_of(w);
+    t.trend_mean = mean_of(w);
+    t.trend_z = t.trend_sd > 0.0 ? (t.trend - t.trend_mean) / t.trend_sd : 0.0;
+    t.trend_threshold = boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2.0));
+  }
   if (with_temperature && B >= 2) {
     t.coupling_tested = true;
-    const Eigen::VectorXd k = reps.col(L);
-    t.coupling = data_stats(L);
+    const Eigen::VectorXd k = reps.col(L + 1);
+    t.coupling = data_stats(L + 1);
     t.coupling_sd = sd_of(k);
     t.coupling_z = t.coupling_sd > 0.0 ? (t.coupling - mean_of(k)) / t.coupling_sd : 0.0;
     t.coupling_threshold = boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2.0));
@@ -253,6 +274,20 @@ TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<doub
     f.event_z = t.event_z;
     f.first_event_level = t.first_event_level;
   }
+  f.trend = std::abs(t.trend_z) > t.trend_threshold;
+  f.trend_null_mean = t.trend_mean;
+  f.trend_null_sd = t.trend_sd;
+  f.trend_level_z = t.trend_threshold;
+  f.ci_z = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2.0));
+  GapTrend tr;
+  tr.omega = t.trend;
+  tr.z = t.trend_z;
+  tr.threshold = t.trend_threshold;
+  tr.significant = f.trend;
+  const double zt = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2.0));
+  tr.ci_low = t.trend - zt * t.trend_sd;
+  tr.ci_high = t.trend + zt * t.trend_sd;
+  g.trend = tr;
   if (t.coupling_tested) {
     const double zc = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2.0));
     GapCoupling c;
@@ -332,6 +367,23 @@ std::vector<double> apply_time_effects(const std::vector<double>& x, const std::
                       " concentrates the coarse-level coefficients (statistic " + std::to_string(e.statistic) +
                       " > threshold " + std::to_string(e.threshold) + " at level " + std::to_string(e.level) +
                       "): it is removed before the WV is compared");
+  }
+  if (f.trend && g.trend && f.trend_null_sd > 0.0) {
+    GapTrend& tr = *g.trend;
+    if (f.event) {  // re-test on the series without the event
+      tr.omega = trend_slope(out);
+      tr.z = (tr.omega - f.trend_null_mean) / f.trend_null_sd;
+      tr.ci_low = tr.omega - f.ci_z * f.trend_null_sd;
+      tr.ci_high = tr.omega + f.ci_z * f.trend_null_sd;
+      tr.significant = std::abs(tr.z) > f.trend_level_z;
+    }
+    if (tr.significant) {
+      const double mid = 0.5 * static_cast<double>(out.size() - 1);
+      for (std::size_t t = 0; t < out.size(); ++t) out[t] -= tr.omega * (static_cast<double>(t) - mid);
+      g.steps.push_back(GapEffect::kDR);
+      g.notes.push_back("the record drifts (end-segment slope z = " + std::to_string(tr.z) +
+                        " against the baseline's replicates): the linear trend is removed before the WV is compared");
+    }
   }
   return out;
 }

@@ -36,13 +36,22 @@ namespace gmwm::selection::detail {
 /// kEventMinBlocks filter lengths in the record.
 inline constexpr int kEventMinLevel = 5;
 inline constexpr int kEventMinBlocks = 16;
+/// DR: the drift's slope from the means of the record's first and last 1/kTrendSegments
+/// (close to the most powerful test of a drift in white noise plus a random walk, whose
+/// end-segment means average the white noise away while the random walk's displacement
+/// over the record bounds any estimator; see bench_gap's oracle bound).
+inline constexpr int kTrendSegments = 16;
+
+/// (mean of the last n/kTrendSegments samples - mean of the first) / (n - n/kTrendSegments).
+double trend_slope(const std::vector<double>& x);
 
 /// The levels [first, last] (1-based) of the event statistic for a series of length n,
 /// or first > last when the series is too short.
 std::pair<int, int> event_levels(std::int64_t n);
 
 /// Per-series statistics shared by the data and every reference replicate: the event
-/// levels' concentrations c_j, then (with a temperature channel) the coupling k.
+/// levels' concentrations c_j, the trend slope, then (with a temperature channel) the
+/// coupling k.
 Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vector<double>* temperature,
                                   const Eigen::VectorXd& nu_base);
 
@@ -54,6 +63,8 @@ struct TimeEffectTests {
   int event_level = 0;                   ///< 1-based, the most concentrated level
   std::vector<double> event_z;           ///< per event level
   int first_event_level = 0;
+  // Trend (DR).
+  double trend = 0.0, trend_mean = 0.0, trend_sd = 0.0, trend_z = 0.0, trend_threshold = 0.0;
   // Temperature.
   bool coupling_tested = false;
   double coupling = 0.0, coupling_sd = 0.0, coupling_z = 0.0, coupling_threshold = 0.0;
@@ -73,7 +84,9 @@ void remove_event(std::vector<double>& x, const GapEvent& e);
 
 /// What the time-domain tests found on the data.
 struct TimeFindings {
-  bool event = false, coupling = false;
+  bool event = false, coupling = false, trend = false;
+  double trend_null_mean = 0.0, trend_null_sd = 0.0, trend_level_z = 0.0;  ///< to re-test after the event
+  double ci_z = 0.0;                                                       ///< z of the 1 - alpha intervals
   int event_level = 0;
   double event_statistic = 0.0, event_threshold = 0.0;
   std::vector<double> event_z;
@@ -98,7 +111,8 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
                                       const std::vector<GapLevel>& levels, GapEffect effect);
 
 /// A copy of x corrected for the significant effects (the temperature coupling first, then
-/// the located event), each recorded in g (steps, event, notes).
+/// the located event, then the trend, re-tested once the event is gone: a step moves the
+/// end-segment means too), each recorded in g (steps, event, trend, notes).
 std::vector<double> apply_time_effects(const std::vector<double>& x, const std::vector<double>* temperature,
                                        const TimeFindings& f, GapResult& g);
 

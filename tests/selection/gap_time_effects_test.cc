@@ -96,6 +96,22 @@ TEST(GapTimeEffects, NameAWarmUpTransientTransientWithItsTimeConstant) {
   EXPECT_GT(g.shrinkage.excess_removed, 0.8);
 }
 
+TEST(GapTimeEffects, NameADriftDrWithItsSlopeInsideItsInterval) {
+  std::vector<double> x = base_series(9107);
+  // A drift of 6 random-walk spreads over the record: omega N = 6 sqrt(N gamma2).
+  const double omega = 6.0 * kRwSpread / static_cast<double>(kN);
+  for (std::int64_t t = 0; t < kN; ++t) x[static_cast<std::size_t>(t)] += omega * static_cast<double>(t);
+  const GapResult g = diagnose(x, 9207);
+  ASSERT_TRUE(g.trend.has_value());
+  EXPECT_TRUE(g.trend->significant);
+  EXPECT_EQ(g.effect, GapEffect::kDR);
+  EXPECT_LT(g.trend->ci_low, omega);
+  EXPECT_GT(g.trend->ci_high, omega);
+  // The final model carries the drift, so the integrated error grows with it.
+  EXPECT_NE(g.final_model.to_string(g.final_theta).find("DR("), std::string::npos);
+  ASSERT_EQ(g.step_drops.size(), g.steps.size());
+}
+
 TEST(GapTimeEffects, NameATemperatureCouplingTemperatureWithItsCoefficient) {
   std::vector<double> x = base_series(9104);
   const std::vector<double> temp = temperature_series(9304);

@@ -74,6 +74,8 @@ std::string effect_text(const selection::GapResult& g) {
     const auto& p = *f.model.components()[0].process;
     if (e == GapEffect::kSin)
       out += " at " + fmt(p.to_display(1, f.theta(1)), 4) + (p.context().freq_known ? " Hz" : " cycles/sample");
+    else if (e == GapEffect::kDR && p.context().freq_known)
+      out += " of " + fmt(f.theta(0) * p.context().freq, 3) + " per s";
     else if (e == GapEffect::kAR1) {
       const double T = -1.0 / std::log(f.theta(0));
       out += " with correlation time " +

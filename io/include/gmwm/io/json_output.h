@@ -116,7 +116,10 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// model, parameters, event (STEP/TRANSIENT: sample, time_seconds, size, time_constant
 /// [_seconds], level, statistic, threshold; else null), event_test {statistic, threshold}
 /// (null without the series), temperature {coupling, ci_low, ci_high, z, threshold,
-/// significant} (null without a temperature channel), candidates}, "shrinkage" {...},
+/// significant} (null without a temperature channel), drift {omega (per sample), ci_low,
+/// ci_high, z, threshold, significant} (the end-segment trend test; null without the
+/// series), step_drops (G removed by each step; "effect" is the largest), candidates},
+/// "shrinkage" {...},
 /// "conversions" and "notes". The effect's parameters carry their bootstrap CIs and
 /// "physical" quantities (engine/physical.h) in the column's unit ("U" when undeclared);
 /// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.

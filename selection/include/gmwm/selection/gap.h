@@ -159,6 +159,13 @@ struct GapNavigation {
   double rms_with = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// The record's linear trend (DR found in the time domain): slope per sample.
+struct GapTrend {
+  double omega = 0.0, ci_low = 0.0, ci_high = 0.0;  ///< data units per sample
+  double z = 0.0, threshold = 0.0;                  ///< against the baseline's replicates
+  bool significant = false;
+};
+
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
@@ -190,6 +197,10 @@ struct GapResult {
   double event_statistic = 0.0, event_threshold = 0.0;
   std::optional<GapEvent> event;
   std::optional<GapCoupling> temperature;
+  std::optional<GapTrend> trend;
+  /// What each step removed: G before it minus G after it, in the order of `steps`;
+  /// `effect` is the step that removed the most (GAP.md s.3: the top candidate).
+  std::vector<double> step_drops;
   std::vector<std::string> notes;           ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
 };
 
