@@ -129,6 +129,8 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                       {"ratio", json_number(l.ratio)},
                       {"z", json_number(l.z)},
                       {"ref_low", json_number(l.ref_low)},
+                      {"analytic_low", json_number(l.analytic_low)},
+                      {"analytic_high", json_number(l.analytic_high)},
                       {"ref_high", json_number(l.ref_high)},
                       {"outside", l.outside}});
   c["gap"] = {{"detected", g.detected},

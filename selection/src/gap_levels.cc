@@ -2,7 +2,10 @@
 
 #include <cmath>
 
+#include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/normal.hpp>
+
+#include "gmwm/engine/classical_wv.h"
 
 namespace gmwm::selection::detail {
 
@@ -49,6 +52,10 @@ std::vector<GapLevel> map_levels(const WaveletVariance& wv, const Eigen::VectorX
     l.ref_low = std::exp(m - zp * s);
     l.ref_high = std::exp(m + zp * s);
     l.outside = nuhat(j) < l.ref_low || nuhat(j) > l.ref_high;
+    const double eta = wv_eta(wv.n - static_cast<std::int64_t>(l.tau) + 1, l.tau);
+    const boost::math::chi_squared chi(eta);
+    l.analytic_low = nu_model(j) * boost::math::quantile(chi, alpha / 2.0) / eta;
+    l.analytic_high = nu_model(j) * boost::math::quantile(boost::math::complement(chi, alpha / 2.0)) / eta;
     out.push_back(l);
   }
   return out;

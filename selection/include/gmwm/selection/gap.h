@@ -83,7 +83,10 @@ struct GapLevel {
   double tau = 0.0;          ///< samples
   double ratio = 1.0;        ///< nuhat_j / nu_j(baseline), variances
   double z = 0.0;            ///< (log nuhat_j - m_j) / s_j
-  double ref_low = 0.0, ref_high = 0.0;  ///< pointwise 1 - alpha reference band of nuhat_j
+  double ref_low = 0.0, ref_high = 0.0;  ///< pointwise 1 - alpha reference band of nuhat_j (bootstrap)
+  /// The closed-form band: nu_j(baseline) q_{a/2, 1-a/2}(eta_j) / eta_j, eta_j = max(M_j / 2^j, 1)
+  /// (the chi-square approximation of the WV's CIs; the bootstrap band is the one used).
+  double analytic_low = 0.0, analytic_high = 0.0;
   bool outside = false;      ///< nuhat_j outside [ref_low, ref_high]
 };
 
