@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "common.h"
+#include "units_tables.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -24,6 +25,7 @@ struct FitArgs {
   std::string omega = "diag";
   int replicates = FitOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
+  UnitsOptions units;
 };
 
 OmegaKind omega_kind(const std::string& s) {
@@ -124,12 +126,21 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   doc["seed"] = common.seed;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
   for (std::size_t k = 0; k < wvs.size(); ++k)
-    doc["columns"].push_back(io::fit_column_json(column_info(set, k), wvs[k], fits[k], options.omega));
+  {
+    const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
+    io::Json col = io::fit_column_json(info, wvs[k], fits[k], options.omega);
+    col["unit"] = info.unit.empty() ? io::Json(nullptr) : io::Json(info.unit);
+    col["continuous"] = io::continuous_json(fits[k], info);
+    col["kalman"] = io::kalman_json(fits[k], info, filter_rate(args.units, set));
+    doc["columns"].push_back(std::move(col));
+  }
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
     for (std::size_t k = 0; k < fits.size(); ++k)
-      report += (k ? "\n" : "") + terminal_report(set, k, wvs[k], fits[k], options.omega);
+      report += (k ? "\n" : "") + terminal_report(set, k, wvs[k], fits[k], options.omega) +
+                continuous_table(fits[k], with_unit(column_info(set, k), args.units)) +
+                kalman_table(fits[k], with_unit(column_info(set, k), args.units), filter_rate(args.units, set));
   }
 
   warn_about_timing(set);
@@ -188,3 +199,4 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
 }
 
 }  // namespace gmwm::cli
+  add_units_options(*sub, args->units);

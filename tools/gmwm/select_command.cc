@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "common.h"
+#include "units_tables.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/robust_wv.h"
@@ -34,6 +35,7 @@ struct SelectArgs {
   std::string omega = "model";
   int replicates = selection::SelectOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
+  UnitsOptions units;
 };
 
 std::string terminal_report(const io::SignalSet& set, std::size_t k, const selection::Selection& sel) {
@@ -149,11 +151,22 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   doc["seed"] = common.seed;
   if (set.timing) doc["timing"] = io::timing_json(*set.timing);
   for (std::size_t k = 0; k < wvs.size(); ++k)
-    doc["columns"].push_back(io::select_column_json(column_info(set, k), wvs[k], result[k], options.penalty));
+  {
+    const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
+    io::Json col = io::select_column_json(info, wvs[k], result[k], options.penalty);
+    col["unit"] = info.unit.empty() ? io::Json(nullptr) : io::Json(info.unit);
+    col["best_continuous"] = io::continuous_json(result[k].best_fit, info);
+    col["best_kalman"] = io::kalman_json(result[k].best_fit, info, filter_rate(args.units, set));
+    doc["columns"].push_back(std::move(col));
+  }
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
-    for (std::size_t k = 0; k < result.size(); ++k) report += (k ? "\n" : "") + terminal_report(set, k, result[k]);
+    for (std::size_t k = 0; k < result.size(); ++k) {
+      const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
+      report += (k ? "\n" : "") + terminal_report(set, k, result[k]) + continuous_table(result[k].best_fit, info) +
+                kalman_table(result[k].best_fit, info, filter_rate(args.units, set));
+    }
   }
   warn_about_timing(set);
   for (std::size_t k = 0; k < result.size(); ++k)
@@ -209,3 +222,4 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
 }
 
 }  // namespace gmwm::cli
+  add_units_options(*sub, args->units);

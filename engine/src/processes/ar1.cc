@@ -78,6 +78,13 @@ class Ar1Process final : public Process {
   // The autocovariance decays as |phi|^h = exp(-h / (f T)): T = -1 / (f ln|phi|) seconds
   // (the envelope's when phi < 0; 0 at phi = 0, inf at |phi| = 1); the stationary sd is
   // sqrt(g(0)). ln|phi| = log1p(|phi| - 1) keeps its digits as |phi| -> 1.
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double filter_rate) const override {
+    const double a = std::fabs(theta[0]);
+    if (theta[0] <= 0.0 || a >= 1.0) return Process::kalman_impl(theta, freq, filter_rate);
+    const double T = 1.0 / (freq * -std::log(a));
+    return {gauss_markov_term(T, theta[1] / ((1.0 - a) * (1.0 + a)), filter_rate)};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     const double a = std::fabs(theta[0]);

@@ -72,6 +72,18 @@ class Drift final : public Process {
   }
   // IEEE 952 rate ramp: AVAR(T) = R^2 T^2 / 2. Here AVAR(m) = 2 WV(2m) = omega^2 m^2 / 2
   // with m = T f samples: R = omega f.
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double) const override {
+    KalmanTerm k;
+    k.role = "deterministic drift: a rate state";
+    k.q = 0.0;
+    k.q_unit = "U^2/s^3";
+    k.transition = 1.0;
+    k.discrete = theta[0] * freq;
+    k.discrete_unit = "U/s";
+    k.note = "no process noise; the state's initial value is the drift rate omega f (the discrete value shown)";
+    return {k};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"drift rate", theta[0] * freq, "U/s",

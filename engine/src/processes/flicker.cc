@@ -123,6 +123,14 @@ class Flicker final : public Process {
   // Scale-free: B2 is the same per sample or per second. The WV plateau B2 ln2 / pi gives
   // the Allan variance floor 2 B2 ln2 / pi (AVAR = 2 WV), i.e. the Allan deviation floor
   // sqrt(2 ln2 / pi) B = 0.6643 B, the IEEE 952 value for a flicker PSD B^2 / (2 pi F).
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double filter_rate) const override {
+    KalmanTerm k = Process::kalman_impl(theta, freq, filter_rate).front();
+    k.role = "flicker (1/f): no finite state";
+    k.note = "approximate it with 2-3 Gauss-Markov states over the band the filter cares about "
+             "(fit AR1 terms in its place, e.g. gmwm select with 3*AR1)";
+    return {k};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double) const override {
     const double b = std::sqrt(theta[0]);

@@ -90,6 +90,10 @@ class GaussMarkov final : public Process {
   }
   // beta and sigma2_gm are continuous already: T = 1 / beta (= -1 / (f ln phi) of the
   // equivalent AR1, phi = exp(-beta / f)), sigma = sqrt(sigma2_gm). freq is not needed.
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double,
+                                      double filter_rate) const override {
+    return {gauss_markov_term(1.0 / theta[0], theta[1], filter_rate)};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double) const override {
     return {{"correlation time", 1.0 / theta[0], "s",

@@ -56,6 +56,16 @@ class QuantizationNoise final : public Process {
   // = 2 * 6 Q2 / (2m)^2 = 3 Q2 / m^2 with m = T f samples, = 3 (sqrt(Q2) / f)^2 / T^2,
   // so Q = sqrt(Q2) / f in U*s (for a rate in U: the angle/velocity quantization step
   // is sqrt(12) Q).
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double filter_rate) const override {
+    KalmanTerm k;
+    const double Q = std::sqrt(theta[0]) / freq;
+    k.role = "measurement noise R (quantization, approximate)";
+    k.discrete = 2.0 * Q * Q * filter_rate * filter_rate;
+    k.discrete_unit = "U^2";
+    k.note = "R = 2 Q^2 f_k^2, Q = sqrt(Q2) / f; lag-1 correlated, a white R is the usual approximation";
+    return {k};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"quantization", std::sqrt(theta[0]) / freq, "U*s",

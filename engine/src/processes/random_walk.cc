@@ -53,6 +53,18 @@ class RandomWalk final : public Process {
   }
   // IEEE 952: AVAR(T) = K^2 T / 3. Here AVAR(m) = 2 WV(2m) = gamma2 (4 m^2 + 2) / (12 m)
   // ~ gamma2 m / 3 for large m, with m = T f samples: K^2 = gamma2 f.
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double filter_rate) const override {
+    KalmanTerm k;
+    k.role = "bias random walk state";
+    k.q = theta[0] * freq;
+    k.q_unit = "U^2/s";
+    k.transition = 1.0;
+    k.discrete = k.q / filter_rate;
+    k.discrete_unit = "U^2";
+    k.note = "q = K^2 = gamma2 f; F = 1, Q_d = q dt";
+    return {k};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"random walk", std::sqrt(theta[0] * freq), "U/s/sqrt(Hz)",

@@ -107,6 +107,19 @@ class Sinusoid final : public Process {
   }
   // x_t = A sin(2 pi f t + U): amplitude sqrt(A2) in U, frequency f (cycles/sample) times
   // the rate in Hz.
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double filter_rate) const override {
+    KalmanTerm k;
+    k.role = "deterministic harmonic: two states";
+    k.q = 0.0;
+    k.q_unit = "U^2/s";
+    k.transition = std::cos(2.0 * M_PI * theta[1] * freq / filter_rate);
+    k.discrete = 0.0;
+    k.discrete_unit = "U^2";
+    k.note = "a rotation by 2 pi F dt of (a, b) with no process noise (the value shown is its cosine), "
+             "or a notch filter on the measurement";
+    return {k};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"amplitude", std::sqrt(theta[0]), "U", "A = sqrt(A2) (x = A sin(2 pi F t + U))"},

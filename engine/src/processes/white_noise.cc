@@ -43,6 +43,17 @@ class WhiteNoise final : public Process {
   }
   // IEEE 952: AVAR(T) = N^2 / T. Here AVAR(m) = 2 WV(2m) = sigma2 / m with m = T f samples,
   // so N^2 = sigma2 / f.
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                      double filter_rate) const override {
+    KalmanTerm k;
+    k.role = "measurement noise R";
+    k.q = theta[0] / freq;
+    k.q_unit = "U^2/Hz";
+    k.discrete = k.q * filter_rate;
+    k.discrete_unit = "U^2";
+    k.note = "q = N^2 = sigma2 / f; R = q f_k (= sigma2 when the filter runs at the data rate)";
+    return {k};
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/kalman.h"
 #include "gmwm/engine/physical.h"
 #include "gmwm/engine/random.h"
 
@@ -145,6 +146,11 @@ class Process {
   /// wrong size or a non-positive or non-finite freq.
   std::vector<PhysicalQuantity> physical(std::span<const double> theta, double freq) const;
 
+  /// The component's terms for a Kalman filter running at filter_rate Hz (kalman.h), from
+  /// theta at the data's sampling rate freq. Throws InvalidArgument (check.h) for a theta
+  /// of the wrong size or a non-positive or non-finite rate.
+  std::vector<KalmanTerm> kalman(std::span<const double> theta, double freq, double filter_rate) const;
+
   /// For each K in counts (each >= 1), the mean and variance of x_1 + ... + x_K, the K
   /// samples after time 0 of a path whose non-stationary part starts at 0 at time 0 (RW:
   /// x_t = e_1 + ... + e_t, as simulate's samples 0..K-1; DR: x_t = omega t, t = 1..K).
@@ -163,6 +169,10 @@ class Process {
   /// positive freq. Default: the discrete parameters unchanged (see physical()).
   virtual std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                                       double freq) const;
+  /// The terms behind kalman(), with a checked theta size and positive rates. Default: one
+  /// term saying the process has no finite Gauss-Markov form.
+  virtual std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
+                                              double filter_rate) const;
 
  private:
   ProcessContext context_;

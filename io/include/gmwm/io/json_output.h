@@ -126,6 +126,16 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
 
+/// A fit's parameters as continuous quantities (engine/physical.h) with their intervals
+/// mapped from the discrete CIs and unit strings in the column's unit ("U" when it is not
+/// declared): [{process, component, name, value, ci_low, ci_high, unit, convention}];
+/// empty without a known sampling rate or a usable fit.
+Json continuous_json(const FitResult& fit, const ColumnInfo& column);
+
+/// A fit's Kalman-filter terms at `filter_rate` Hz (engine/kalman.h): {filter_rate, terms:
+/// [{process, component, role, q, q_unit, transition, discrete, discrete_unit, note}]}.
+Json kalman_json(const FitResult& fit, const ColumnInfo& column, double filter_rate);
+
 /// The document as text: pretty-printed (2 spaces), ending with a newline.
 std::string dump_json(const Json& doc);
 

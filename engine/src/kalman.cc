@@ -1,0 +1,37 @@
+#include "gmwm/engine/kalman.h"
+
+#include <cmath>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/process.h"
+
+namespace gmwm {
+
+KalmanTerm gauss_markov_term(double T, double s2, double filter_rate) {
+  KalmanTerm k;
+  k.role = "first-order Gauss-Markov bias state";
+  k.q = 2.0 * s2 / T;
+  k.q_unit = "U^2/s";
+  k.transition = std::exp(-1.0 / (filter_rate * T));
+  k.discrete = -s2 * std::expm1(-2.0 / (filter_rate * T));  // s2 (1 - F^2)
+  k.discrete_unit = "U^2";
+  k.note = "dx/dt = -x/T + w, q = 2 s2 / T; F = exp(-dt/T), Q_d = s2 (1 - F^2)";
+  return k;
+}
+
+std::vector<KalmanTerm> Process::kalman(std::span<const double> theta, double freq, double filter_rate) const {
+  check_size_match("Process::kalman", "theta", theta.size(), "parameters of " + name(), parameters().size());
+  check_positive("Process::kalman", "freq", freq);
+  check_positive("Process::kalman", "filter_rate", filter_rate);
+  return kalman_impl(theta, freq, filter_rate);
+}
+
+std::vector<KalmanTerm> Process::kalman_impl(std::span<const double>, double, double) const {
+  KalmanTerm k;
+  k.role = "no finite Gauss-Markov state";
+  k.note = name() + " has no state with white driving noise of the usual form; model it from its fitted "
+                    "autocovariance or approximate it with Gauss-Markov states";
+  return {k};
+}
+
+}  // namespace gmwm

@@ -1,0 +1,66 @@
+#include "units_tables.h"
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/io/units.h"
+
+namespace gmwm::cli {
+
+void add_units_options(CLI::App& sub, UnitsOptions& o) {
+  sub.add_option("--units", o.units,
+                 "Units of the columns, e.g. gyro=deg/s,accel=g: continuous quantities are then given in them")
+      ->type_name("KIND=UNIT,...");
+  sub.add_option("--kf-rate", o.kf_rate, "Rate of the Kalman filter for the Q/R table (default: the data's rate)")
+      ->type_name("HZ")
+      ->check(CLI::PositiveNumber);
+}
+
+std::string column_unit(const UnitsOptions& o, const std::string& column) {
+  if (o.units.empty()) return {};
+  const auto units = io::parse_units(o.units);
+  try {
+    const io::SensorKind kind = io::sensor_kind_of_column(column);
+    return units.count(kind) ? units.at(kind).name : io::si_unit(kind).name;
+  } catch (const InputError&) {
+    return {};
+  }
+}
+
+double filter_rate(const UnitsOptions& o, const io::SignalSet& set) {
+  if (o.kf_rate > 0.0) return o.kf_rate;
+  return set.freq_known ? set.freq : 0.0;
+}
+
+io::ColumnInfo with_unit(io::ColumnInfo info, const UnitsOptions& o) {
+  info.unit = column_unit(o, info.name);
+  return info;
+}
+
+std::string continuous_table(const FitResult& fit, const io::ColumnInfo& column) {
+  const io::Json rows = io::continuous_json(fit, column);
+  if (rows.empty()) return {};
+  Table t({"continuous", "value", "CI low", "CI high", "unit"}, 1);
+  for (const auto& r : rows) {
+    if (r.at("unit").get<std::string>().empty()) continue;  // no physical counterpart (MA1, ARMA)
+    auto num = [](const io::Json& v) { return v.is_number() ? fmt(v.get<double>(), 5) : std::string("-"); };
+    t.add({r.at("process").get<std::string>() + " " + r.at("name").get<std::string>(), num(r.at("value")),
+           num(r.at("ci_low")), num(r.at("ci_high")), r.at("unit").get<std::string>()});
+  }
+  return t.str();
+}
+
+std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate) {
+  const io::Json k = io::kalman_json(fit, column, filter_rate);
+  if (k.at("terms").empty()) return {};
+  Table t({"Kalman filter at " + fmt(filter_rate, 6) + " Hz", "role", "q (continuous)", "F", "R or Q_d", "note"}, 2);
+  auto num = [](const io::Json& v, const io::Json& unit) {
+    if (!v.is_number()) return std::string("-");
+    return fmt(v.get<double>(), 5) + (unit.is_string() ? " " + unit.get<std::string>() : "");
+  };
+  for (const auto& r : k.at("terms"))
+    t.add({r.at("process").get<std::string>(), r.at("role").get<std::string>(), num(r.at("q"), r.at("q_unit")),
+           num(r.at("transition"), nullptr), num(r.at("discrete"), r.at("discrete_unit")), r.at("note").get<std::string>()});
+  return t.str();
+}
+
+}  // namespace gmwm::cli

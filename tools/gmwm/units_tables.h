@@ -1,0 +1,38 @@
+#pragma once
+// The CLI's continuous-units and Kalman-filter tables (issue 6, items 2 and 4), shared by
+// `fit` and `select`: --units KIND=UNIT,... names each column's unit; --kf-rate HZ the
+// filter's rate (the data's by default).
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "gmwm/engine/fit.h"
+#include "gmwm/io/json_output.h"
+#include "gmwm/io/signal_reader.h"
+
+namespace gmwm::cli {
+
+struct UnitsOptions {
+  std::string units;     ///< --units gyro=deg/s,accel=g
+  double kf_rate = 0.0;  ///< --kf-rate HZ; 0: the data's rate
+};
+
+/// Adds --units and --kf-rate.
+void add_units_options(CLI::App& sub, UnitsOptions& o);
+
+/// The column's unit name: the declared unit of its sensor kind (told by its name), "" when
+/// --units was not given or the name says no kind. Throws InputError for a bad --units.
+std::string column_unit(const UnitsOptions& o, const std::string& column);
+
+/// The filter rate: --kf-rate, else the data's rate (0 when unknown).
+double filter_rate(const UnitsOptions& o, const io::SignalSet& set);
+
+/// The column's info with its unit, for io::continuous_json / kalman_json.
+io::ColumnInfo with_unit(io::ColumnInfo info, const UnitsOptions& o);
+
+/// Text tables: the parameters in continuous units with their intervals, and the Kalman
+/// filter terms (empty strings when the rate is unknown or the fit unusable).
+std::string continuous_table(const FitResult& fit, const io::ColumnInfo& column);
+std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate);
+
+}  // namespace gmwm::cli
