@@ -73,6 +73,13 @@ json windows_json(const selection::GapResult& g, const ColumnInfo& c) {
   return out;
 }
 
+json split_half_json(const selection::GapResult& g, const ColumnInfo& c) {
+  json out = json::array();
+  for (const auto& h : g.split_half)
+    out.push_back({{"tau", h.tau}, {"tau_seconds", seconds(h.tau, c)}, {"ratio", json_number(h.ratio)}, {"disjoint", h.disjoint}});
+  return out;
+}
+
 json event_json(const selection::GapResult& g, const ColumnInfo& c) {
   if (!g.event) return nullptr;
   const auto& e = *g.event;
@@ -139,6 +146,7 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
               {"bands", std::move(bands)},
               {"levels", std::move(levels)},
               {"windows", windows_json(g, column)},
+              {"split_half", split_half_json(g, column)},
               {"window_length_seconds", g.windows_checked ? seconds(static_cast<double>(g.window_length), column)
                                                           : json(nullptr)}};
   json candidates = json::array();

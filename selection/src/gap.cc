@@ -383,7 +383,10 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
       boost::math::quantile(boost::math::complement(boost::math::normal(), options.alpha / (2.0 * J)));
   g.bands = detail::find_bands(g.levels, z_bonferroni, options.min_effect);
   g.detected = g.p_value < options.alpha && !g.bands.empty();
-  if (x) detail::map_windows(*x, baseline, theta, options, g);
+  if (x) {
+    detail::map_windows(*x, baseline, theta, options, g);
+    detail::split_halves(*x, options.alpha, g);
+  }
   // Time-domain tests (Bonferroni over them and the WV candidates): a significant event or
   // temperature coupling is a departure from the baseline even where the WV shows none.
   detail::TimeFindings time;

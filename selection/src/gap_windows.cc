@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <boost/math/distributions/normal.hpp>
 
@@ -17,6 +18,8 @@ constexpr int kWindowScaleRatio = 16;
 constexpr std::int64_t kMinWindows = 8;
 // Fewest levels per window (tau = 2, 4, 8, 16 at least: L >= 16 x 16 = 256 samples).
 constexpr int kMinWindowLevels = 4;
+// Shortest half worth comparing (the WV's minimum length, classical_wv.h).
+constexpr std::int64_t kMinHalfLength = 16;
 // Stream family of the window reference (apart from the full-length reference's).
 constexpr std::uint64_t kWindowSeedOffset = 0x77696eULL;
 
@@ -61,6 +64,22 @@ void map_windows(const std::vector<double>& x, const Model& baseline, const Eige
       if (std::abs(z) > z_threshold && std::abs(ratio - 1.0) > options.min_effect)
         result.windows.push_back({w * L, (w + 1) * L - 1, std::ldexp(1.0, j + 1), ratio, z});
     }
+  }
+}
+
+void split_halves(const std::vector<double>& x, double alpha, GapResult& result) {
+  const auto half = static_cast<std::int64_t>(x.size()) / 2;
+  if (half < kMinHalfLength) return;
+  WvOptions o;
+  o.alpha = alpha;
+  const WaveletVariance a = classical_wv(x.data(), half, o), b = classical_wv(x.data() + half, half, o);
+  for (int j = 0; j < std::min(a.levels(), b.levels()); ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    GapSplitHalf h;
+    h.tau = a.tau[k];
+    h.ratio = a.wv[k] > 0.0 ? b.wv[k] / a.wv[k] : std::numeric_limits<double>::quiet_NaN();
+    h.disjoint = a.ci_high[k] < b.ci_low[k] || b.ci_high[k] < a.ci_low[k];
+    result.split_half.push_back(h);
   }
 }
 

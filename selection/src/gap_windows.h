@@ -15,4 +15,8 @@ namespace gmwm::selection::detail {
 void map_windows(const std::vector<double>& x, const Model& baseline, const Eigen::VectorXd& theta,
                  const GapOptions& options, GapResult& result);
 
+/// The split-half check: the classical WV of each half of x at every level both have,
+/// compared through their 1 - alpha chi-square CIs. Fills result.split_half.
+void split_halves(const std::vector<double>& x, double alpha, GapResult& result);
+
 }  // namespace gmwm::selection::detail

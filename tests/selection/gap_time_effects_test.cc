@@ -137,6 +137,24 @@ TEST(GapTimeEffects, FindNoCouplingToAnUnrelatedTemperatureChannel) {
   EXPECT_EQ(g.effect, GapEffect::kNone);
 }
 
+TEST(GapTimeEffects, SplitHalvesAgreeOnAStationaryRecordAndNotWhenTheNoiseChanges) {
+  const std::vector<double> x = base_series(9108);
+  const GapResult g = diagnose(x, 9208);
+  ASSERT_EQ(g.split_half.size(), 15u);  // J = 15 levels for each half of 2^16 samples
+  int disjoint = 0;
+  for (const auto& h : g.split_half) disjoint += h.disjoint;
+  // 95% CIs overlap unless the halves differ by much more than their spread: a handful
+  // of levels at most by chance (independent disjointness ~ 0.6% per level).
+  EXPECT_LE(disjoint, 2);
+  // A sinusoid of amplitude 0.01 near 1/3 cycle per sample in the second half only: its
+  // variance 5e-5 adds half the white noise's at the finest level there.
+  std::vector<double> y = base_series(9109);
+  for (std::size_t t = y.size() / 2; t + 1 < y.size(); ++t) y[t] += 0.01 * std::sin(0.0 + static_cast<double>(t) * 2.1);
+  const GapResult h = diagnose(y, 9209);
+  EXPECT_TRUE(h.split_half.front().disjoint);
+  EXPECT_GT(h.split_half.front().ratio, 1.5);
+}
+
 TEST(GapTimeEffects, RejectATemperatureChannelOfAnotherLength) {
   const std::vector<double> x = base_series(9106);
   const std::vector<double> temp(100, 25.0);

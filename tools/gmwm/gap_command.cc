@@ -154,6 +154,11 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
   os << "  objective " << fmt(s.objective_before) << " -> " << fmt(s.objective_after) << " (null mean "
      << fmt(s.null_mean, 4) << "), levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after
      << ", global p " << fmt(s.p_value_before, 3) << " -> " << fmt(s.p_value_after, 3) << '\n';
+  int disjoint = 0;
+  for (const auto& h : g.split_half) disjoint += h.disjoint;
+  if (!g.split_half.empty())
+    os << "  split halves: " << disjoint << " of " << g.split_half.size()
+       << " levels disagree (95% CIs disjoint)" << (disjoint ? ": the record is not stationary" : "") << '\n';
   os << effect_table(g, set, unit);
   if (std::isfinite(g.navigation.rms_without))
     os << "  integrated error after " << fmt(g.navigation.horizon_seconds, 3)

@@ -169,6 +169,14 @@ struct GapTrend {
   bool significant = false;
 };
 
+/// The split-half check (GAP.md s.2): the two halves' WVs per level; they must agree
+/// within their chi-square CIs on a stationary record.
+struct GapSplitHalf {
+  double tau = 0.0;          ///< samples
+  double ratio = 1.0;        ///< second half's WV / first half's
+  bool disjoint = false;     ///< the two halves' 1 - alpha CIs do not overlap
+};
+
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
@@ -183,6 +191,8 @@ struct GapResult {
   std::vector<GapWindow> windows;
   bool windows_checked = false;
   std::int64_t window_length = 0;
+  /// The split-half check (empty without the series or when a half is too short).
+  std::vector<GapSplitHalf> split_half;
   GapEffect effect = GapEffect::kNone;      ///< the first step's attribution
   std::vector<GapEffect> steps;             ///< every effect added, in order
   std::vector<GapCandidate> candidates;     ///< the first step's scores
