@@ -133,6 +133,43 @@ void check_output_path(const std::string& option, const std::string& path) {
                      "' does not exist, expected an existing folder");
 }
 
+void add_report_option(CLI::App& sub, CommonOptions& common) {
+  sub.add_option("--report", common.report,
+                 "Write a self-contained HTML report with interactive plots to PATH (opens offline), and its main "
+                 "plot as PATH.svg")
+      ->type_name("PATH");
+}
+
+void check_report_option(const CommonOptions& common) {
+  if (common.report.empty()) return;
+  if (common.report == "-")
+    throw InputError("--report '-': expected a file path (the report is a file, with PATH.svg beside it)");
+  check_output_path("--report", common.report);
+  if (const std::string why = io::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
+}
+
+io::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec) {
+  io::ReportData r;
+  r.command = command;
+  r.input = set.path;
+  r.model_spec = model_spec;
+  for (const auto& s : set.signals) {
+    io::ReportColumn c;
+    c.name = s.name;
+    c.n = static_cast<std::int64_t>(s.values.size());
+    c.freq = set.freq;
+    c.freq_known = set.freq_known;
+    c.unit = s.unit;
+    r.columns.push_back(std::move(c));
+  }
+  return r;
+}
+
+void write_report(const CommonOptions& common, const io::ReportData& data) {
+  if (common.report.empty()) return;
+  io::write_html_report(common.report, data);
+}
+
 namespace {
 
 std::vector<std::string> split_list(const std::string& s) {

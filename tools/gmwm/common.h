@@ -14,6 +14,7 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/random.h"
+#include "gmwm/io/html_report.h"
 #include "gmwm/io/json_output.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
@@ -28,6 +29,7 @@ struct CommonOptions {
   bool quiet = false;
   std::string log_level = "error";
   std::vector<std::string> argv;    ///< the command line, for the JSON "run" object
+  std::string report;               ///< --report PATH (wv, fit, select, gap); empty: none
 
   /// True when the terminal table goes to stdout (not --quiet, not --json -).
   bool show_table() const { return !quiet && json != "-"; }
@@ -81,6 +83,17 @@ std::shared_ptr<void> apply_common_options(const CommonOptions& common);
 /// Throws InputError when an output path cannot be written (its folder is missing):
 /// checked before any work so that a typo costs nothing and nothing is written.
 void check_output_path(const std::string& option, const std::string& path);
+
+/// --report PATH: the self-contained HTML report (io/html_report.h), plus PATH.svg.
+void add_report_option(CLI::App& sub, CommonOptions& common);
+/// Checked before any work (InputError, exit 2): --report names a file in an existing
+/// folder (not '-') and the Vega modules the page inlines can be read.
+void check_report_option(const CommonOptions& common);
+/// The report's skeleton: one column per signal (name, n, rate, unit), no results yet.
+io::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec = {});
+/// Writes the report and its SVG (atomically) when --report was given; call it last,
+/// once every other output succeeded.
+void write_report(const CommonOptions& common, const io::ReportData& data);
 
 /// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown.
 io::SignalSet read_input(const InputOptions& input);

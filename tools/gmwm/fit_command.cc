@@ -84,6 +84,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
   if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
   check_output_path("--json", common.json);
+  check_report_option(common);
 
   FitOptions options;
   options.omega = omega_kind(args.omega);
@@ -162,6 +163,14 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
                           {"fit", fit_seconds},
                           {"total", total.seconds()}},
               .argv = {}});
+  if (!common.report.empty() && usable > 0) {
+    io::ReportData rep = report_data("fit", set, args.model);
+    for (std::size_t k = 0; k < fits.size(); ++k) {
+      rep.columns[k].wvs = {wvs[k]};
+      rep.columns[k].fit = fits[k];
+    }
+    write_report(common, rep);
+  }
   if (common.show_table()) {
     std::cout << report;
     std::cout.flush();
@@ -193,10 +202,11 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
   add_max_evaluations_option(*sub, args->max_evaluations);
+  add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);
+  add_report_option(*sub, common);
   return {sub, [args, &common] { return run_fit(*args, common); }};
 }
 
 }  // namespace gmwm::cli
-  add_units_options(*sub, args->units);

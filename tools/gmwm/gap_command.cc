@@ -209,6 +209,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
   check_output_path("--json", common.json);
+  check_report_option(common);
   const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty();
   if (given != 1)
     throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf "
@@ -356,6 +357,17 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
              {.threads = 0,
               .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"gap", gap_seconds}, {"total", total.seconds()}},
               .argv = {}});
+  if (!common.report.empty()) {
+    io::ReportData rep =
+        report_data("gap", set, !args.model.empty() ? args.model : !args.fit.empty() ? "fit " + args.fit : config_path);
+    for (std::size_t k = 0; k < K; ++k) {
+      rep.columns[k].wvs = {wvs[k], robust_wvs[k]};
+      rep.columns[k].gap = results[k];
+      rep.columns[k].conversions = conversions[k];
+      if (!column_units[k].empty()) rep.columns[k].unit = column_units[k];
+    }
+    write_report(common, rep);
+  }
   if (common.show_table()) {
     std::cout << report;
     std::cout.flush();
@@ -395,6 +407,7 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
       ->check(CLI::Range(20, 100000))
       ->capture_default_str();
   add_common_options(*sub, common);
+  add_report_option(*sub, common);
   return {sub, [args, &common] { return run_gap(*args, common); }};
 }
 

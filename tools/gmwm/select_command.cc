@@ -72,6 +72,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
   if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
   check_output_path("--json", common.json);
+  check_report_option(common);
   selection::SelectOptions options;
   options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
                      : args.optimism == "both"    ? selection::OptimismMethod::kBoth
@@ -177,6 +178,14 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
               .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"select", select_seconds},
                           {"total", total.seconds()}},
               .argv = {}});
+  if (!common.report.empty()) {
+    io::ReportData rep = report_data("select", set, specs.empty() ? args.model : args.models);
+    for (std::size_t k = 0; k < result.size(); ++k) {
+      rep.columns[k].wvs = {wvs[k]};
+      rep.columns[k].selection = result[k];
+    }
+    write_report(common, rep);
+  }
   if (common.show_table()) {
     std::cout << report;
     std::cout.flush();
@@ -216,10 +225,11 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->check(CLI::Range(2, 100000))
       ->capture_default_str();
   add_max_evaluations_option(*sub, args->max_evaluations);
+  add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);
+  add_report_option(*sub, common);
   return {sub, [args, &common] { return run_select(*args, common); }};
 }
 
 }  // namespace gmwm::cli
-  add_units_options(*sub, args->units);

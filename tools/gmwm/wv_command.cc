@@ -117,6 +117,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   const WvOptions options = wv_options(args.input);
   const auto robust_options = robust_wv_options(args.robust, options);
   check_output_path("--json", common.json);
+  check_report_option(common);
   check_output_path("--csv", args.csv);
 
   Stopwatch read_clock;
@@ -159,6 +160,13 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
              {.threads = 0,
               .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"total", total.seconds()}},
               .argv = {}});
+  if (!common.report.empty()) {
+    io::ReportData rep = report_data("wv", set);
+    for (std::size_t k = 0; k < wvs.size(); ++k)
+      rep.columns[k].wvs =
+          rv.active() ? std::vector<WaveletVariance>{rv.classical[k], wvs[k]} : std::vector<WaveletVariance>{wvs[k]};
+    write_report(common, rep);
+  }
   if (common.show_table()) {
     if (set.timing) std::cout << set.timing->summary() << '\n';
     std::cout << table;
@@ -178,6 +186,7 @@ Command add_wv_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--csv", args->csv, "Also write the WV as a CSV table to PATH")
       ->type_name("PATH");
   add_common_options(*sub, common);
+  add_report_option(*sub, common);
   return {sub, [args, &common] { return run_wv(*args, common); }};
 }
 

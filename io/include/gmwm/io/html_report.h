@@ -1,0 +1,103 @@
+#pragma once
+// The self-contained HTML report of `gmwm wv|fit|select|gap --report PATH` (issue 6):
+// one file that opens offline, with interactive Vega 5 plots (zoom, pan, hover values)
+// and the tables a reader needs beside them.
+//
+//   gmwm::io::ReportData r;                       // filled by the command
+//   r.command = "select"; r.input = set.path;
+//   gmwm::io::ReportColumn c; c.name = "gyro_x"; c.freq = 100; c.freq_known = true; c.wvs = {wv};
+//   r.columns.push_back(c);
+//   r.columns.back().selection = result[0];
+//   gmwm::io::write_html_report("report.html", r);  // report.html and report.html.svg
+//
+// What the page holds, per column: the log-log WV against tau in seconds with its CI band
+// (every WV given, e.g. classical and robust overlaid), the model's implied WV and each
+// component's WV (dashed) for a fit or a selection's chosen model, the parameter table in
+// discrete (per sample) and continuous (physical) units, the selection's ranking with the
+// chosen model highlighted, and for a gap diagnosis the window x scale map, the
+// before/after curves (data, baseline, final model, reference band) and its tables; once
+// per report, the gap's scale x axis map of log2(data WV / baseline WV).
+//
+// Plotting: Vega 5 from Debian's libjs-vega, inlined into the page, so that it opens with
+// no network. Debian 12 ships Vega as its separate UMD modules (vega-util.min.js,
+// vega-view.min.js, ...; no single vega.min.js bundle), so the page inlines the modules a
+// plain Vega spec needs, each wrapped in a tiny CommonJS loader, and composes the `vega`
+// object the way Vega's own index does (its transforms registered with the dataflow). The
+// folder is found at configure time (CMake: GMWM_VEGA_DIR) and read when a report is
+// rendered; the environment variable GMWM_VEGA_DIR overrides it.
+//
+// DOM contract (tests/cli/html_report_browser_test.cc relies on it): each plot is a
+// <div class="gmwm-plot" data-plot="KIND" id="..."> with KIND one of wv, gap-levels,
+// gap-windows, gap-curves; its Vega spec is the entry with that id in the JSON array of
+// <script id="gmwm-specs" type="application/json">. Views render with the SVG renderer;
+// a rendered plot gets data-rendered="svg". Script errors (window.onerror, rejected
+// promises, Vega's own error log) are written into <div id="gmwm-errors">, Vega warnings
+// into <div id="gmwm-warnings">; when every view has run, <body> gets
+// data-gmwm-status="done" and data-gmwm-rendered="<count>".
+//
+// Static image: write_html_report also writes PATH.svg, the first column's WV plot. It is
+// drawn here as a plain SVG (polylines and polygons on log-log axes with decade ticks),
+// not by Vega: running a browser from the command line would make a CLI result depend on
+// a browser being installed and on its sandbox. The decision is deliberate: the plot is a
+// trivial polyline plot, while every interactive plot stays Vega's. The page also offers
+// Vega's own SVG and PNG export of each plot (view.toImageURL) for pasting.
+//
+// Escaping: every user string (column names, paths, model strings, notes) is HTML-escaped
+// in text and attributes; data and specs are embedded as JSON with '<', '>' and '&'
+// written as \u003c, \u003e, \u0026, so that no string can close the script element.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/selection/gap.h"
+#include "gmwm/selection/select.h"
+
+namespace gmwm::io {
+
+/// One analysed column (signal) of a report.
+struct ReportColumn {
+  std::string name;
+  std::int64_t n = 0;
+  double freq = 1.0;         ///< Hz
+  bool freq_known = false;   ///< tau in seconds when true, else in samples
+  std::string unit;          ///< the data unit ("deg/s"); empty: undeclared (shown as "U")
+  /// The WVs to overlay (e.g. the classical one, then a robust one), each labelled by its
+  /// `estimator`. The first one is the one the model was fitted to (if any).
+  std::vector<WaveletVariance> wvs;
+  /// `fit`: the fitted model (its implied WV, components and parameter table).
+  std::optional<FitResult> fit;
+  /// `select`: the ranking; its best_fit is the model drawn and tabulated.
+  std::optional<selection::Selection> selection;
+  /// `gap`: the diagnosis and how the baseline was converted to this column.
+  std::optional<selection::GapResult> gap;
+  std::vector<std::string> conversions;
+};
+
+struct ReportData {
+  std::string title;         ///< empty: "gmwm COMMAND: INPUT"
+  std::string command;       ///< wv | fit | select | gap
+  std::string input;         ///< the input file's path, as given
+  std::string model_spec;    ///< the model option as given (may be empty)
+  std::vector<std::string> notes;  ///< free lines shown under the header
+  std::vector<ReportColumn> columns;
+};
+
+/// Empty when the Vega modules can be read, else why not (one line, naming the folder).
+std::string vega_missing_reason();
+
+/// The whole page. Throws InputError when Vega cannot be read (vega_missing_reason).
+std::string render_html_report(const ReportData& data);
+
+/// The static SVG of a column's WV plot (estimates with CI bands, model and components).
+std::string render_wv_svg(const ReportColumn& column);
+
+/// Renders the page and the first column's SVG, then writes PATH and PATH.svg, each
+/// atomically (temporary file + rename). Throws InputError for an unwritable path or a
+/// missing Vega; nothing is written then.
+void write_html_report(const std::string& path, const ReportData& data);
+
+}  // namespace gmwm::io

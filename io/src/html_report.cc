@@ -1,0 +1,166 @@
+// The HTML report's page: header, per-column sections with their plots and tables, the
+// embedded specs and the inlined Vega (html_report.h); and its atomic writer.
+
+#include "gmwm/io/html_report.h"
+
+#include <filesystem>
+#include <sstream>
+#include <system_error>
+
+#include <spdlog/spdlog.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/io/atomic_file.h"
+#include "html_report_detail.h"
+
+namespace gmwm::io {
+
+namespace {
+
+using report_detail::html_escape;
+
+struct Plots {
+  Json specs = Json::array();
+  /// The container of a plot and its spec's entry. `id` is built from indices only.
+  std::string add(const std::string& id, const std::string& kind, Json spec) {
+    specs.push_back({{"id", id}, {"kind", kind}, {"spec", std::move(spec)}});
+    // The log-log plots (wv, gap-curves) zoom and pan; the maps show values on hover.
+    const bool zooms = kind == "wv" || kind == "gap-curves";
+    return "<div class=\"gmwm-plot\" data-plot=\"" + kind + "\" id=\"" + id + "\"><div class=\"view\"></div><div class=\"hint\">" +
+           (zooms ? "drag to pan, wheel to zoom, double-click to reset; hover a point for its values"
+                  : "hover a cell for its values") +
+           "<span class=\"export\"></span></div></div>\n";
+  }
+};
+
+// Catches errors of every later script, Vega's modules included.
+constexpr const char* kErrorCapture = R"JS(<script>
+(function () {
+  function note(msg) {
+    var box = document.getElementById('gmwm-errors');
+    var line = document.createElement('div');
+    line.textContent = String(msg);
+    box.appendChild(line);
+    box.hidden = false;
+  }
+  window.onerror = function (msg, src, line, col) {
+    note('script error: ' + msg + (line ? ' (line ' + line + ':' + col + ')' : ''));
+  };
+  window.addEventListener('unhandledrejection', function (e) {
+    note('unhandled promise rejection: ' + ((e.reason && e.reason.message) || e.reason));
+  });
+})();
+</script>
+)JS";
+
+std::string column_facts(const ReportColumn& c) {
+  std::ostringstream os;
+  os << "N = " << c.n;
+  if (c.freq_known) os << ", " << html_escape(report_detail::num(c.freq, 6)) << " Hz (" << html_escape(report_detail::num(static_cast<double>(c.n) / c.freq, 4)) << " s)";
+  else os << ", sampling rate unknown (tau in samples)";
+  os << ", data unit " << (c.unit.empty() ? "not declared (U)" : html_escape(c.unit));
+  for (const auto& w : c.wvs) os << "; " << html_escape(report_detail::wv_label(w)) << ", " << w.levels() << " levels";
+  return os.str();
+}
+
+std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
+  const std::string idx = std::to_string(k + 1);
+  std::ostringstream os;
+  os << "<section class=\"column\" id=\"col-" << idx << "\">\n<h2>" << html_escape(c.name) << "</h2>\n<p class=\"facts\">"
+     << column_facts(c) << "</p>\n";
+  if (!c.wvs.empty()) os << plots.add("plot-" + idx + "-wv", "wv", report_detail::wv_plot_spec(c));
+  if (c.fit) {
+    os << "<h3>fit</h3>\n<p class=\"facts\">objective " << html_escape(report_detail::num(c.fit->objective, 6))
+       << ", goodness of fit: statistic " << html_escape(report_detail::num(c.fit->gof.statistic)) << ", df "
+       << html_escape(report_detail::num(c.fit->gof.df)) << ", p-value " << html_escape(report_detail::num(c.fit->gof.p_value, 4))
+       << ", status " << html_escape(gmwm::to_string(c.fit->status))
+       << (c.fit->message.empty() ? "" : " (" + html_escape(c.fit->message) + ")") << "</p>\n";
+    os << report_detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
+    for (const auto& n : c.fit->notes) os << "<p class=\"facts\">note: " << html_escape(n) << "</p>\n";
+  }
+  if (c.selection) {
+    os << "<h3>model selection</h3>\n" << report_detail::ranking_table(*c.selection);
+    if (const FitResult* f = report_detail::shown_model(c))
+      os << report_detail::parameter_tables(*f, c, "chosen model " + f->model.to_string() + " (refitted with inference)");
+  }
+  if (c.gap) {
+    os << "<h3>sim-to-real gap</h3>\n";
+    os << plots.add("plot-" + idx + "-gap-curves", "gap-curves", report_detail::gap_curves_spec(c));
+    if (c.gap->windows_checked)
+      os << plots.add("plot-" + idx + "-gap-windows", "gap-windows", report_detail::gap_windows_spec(c));
+    else
+      os << "<p class=\"facts\">window x scale map: the series is too short for enough windows.</p>\n";
+    os << report_detail::gap_tables(c);
+  }
+  os << report_detail::wv_table(c) << "</section>\n";
+  return os.str();
+}
+
+}  // namespace
+
+std::string vega_missing_reason() {
+  try {
+    (void)report_detail::vega_script();
+    return {};
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
+std::string render_html_report(const ReportData& data) {
+  const std::string vega = report_detail::vega_script();  // first: fails before any work
+  const std::string title = data.title.empty() ? "gmwm " + data.command + ": " + data.input : data.title;
+  Plots plots;
+  std::ostringstream body;
+  body << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version()) << " &middot; command <code>"
+       << html_escape(data.command) << "</code> &middot; input <code>" << html_escape(data.input) << "</code>";
+  if (!data.model_spec.empty()) body << " &middot; model <code>" << html_escape(data.model_spec) << "</code>";
+  body << "</p>\n<p>" << data.columns.size() << " column(s). WV = Haar wavelet variance nu^2 at tau_j = 2^j samples, "
+       << "tau shown in seconds (AVAR at averaging time m = 2 x WV at tau = 2m).</p>\n</header>\n<main>\n"
+       << "<div id=\"gmwm-errors\" class=\"errors\" hidden></div>\n"
+       << "<div id=\"gmwm-warnings\" class=\"warnings\" hidden></div>\n"
+       << kErrorCapture;
+  if (data.columns.size() > 1) {
+    body << "<nav>columns: ";
+    for (std::size_t k = 0; k < data.columns.size(); ++k)
+      body << "<a href=\"#col-" << k + 1 << "\">" << html_escape(data.columns[k].name) << "</a>";
+    body << "</nav>\n";
+  }
+  for (const auto& n : data.notes) body << "<p class=\"facts\">" << html_escape(n) << "</p>\n";
+  bool any_gap = false;
+  for (const auto& c : data.columns) any_gap = any_gap || c.gap.has_value();
+  if (any_gap)
+    body << "<section class=\"column\" id=\"gap-overview\">\n<h2>gap overview</h2>\n"
+         << plots.add("plot-gap-levels", "gap-levels", report_detail::gap_levels_spec(data)) << "</section>\n";
+  for (std::size_t k = 0; k < data.columns.size(); ++k) body << column_section(data.columns[k], k, plots);
+  body << "</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network. Drag to pan, wheel "
+          "to zoom, double-click to reset, hover a point for its values; SVG/PNG under each plot saves it.</footer>\n";
+
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" content=\"gmwm "
+       << html_escape(version()) << "\">\n<title>" << html_escape(title) << "</title>\n<style>\n"
+       << report_detail::page_style() << "</style>\n</head>\n<body>\n"
+       << body.str() << "<script type=\"application/json\" id=\"gmwm-specs\">" << report_detail::script_json(plots.specs)
+       << "</script>\n<script>\n"
+       << vega << "</script>\n<script>\n"
+       << report_detail::page_script() << "</script>\n</body>\n</html>\n";
+  spdlog::debug("HTML report: {} plot(s), {} bytes", plots.specs.size(), page.tellp());
+  return page.str();
+}
+
+void write_html_report(const std::string& path, const ReportData& data) {
+  const std::string html = render_html_report(data);
+  const std::string svg = data.columns.empty() ? std::string() : render_wv_svg(data.columns.front());
+  const std::string svg_path = path + ".svg";
+  if (!svg.empty()) write_file_atomically(svg_path, svg);
+  try {
+    write_file_atomically(path, html);
+  } catch (...) {
+    std::error_code ec;
+    if (!svg.empty()) std::filesystem::remove(svg_path, ec);
+    throw;
+  }
+}
+
+}  // namespace gmwm::io

@@ -1,0 +1,120 @@
+// Escaping, numbers and the series the report's plots draw (html_report_detail.h).
+
+#include <cmath>
+#include <cstdio>
+#include <span>
+
+#include "html_report_detail.h"
+
+namespace gmwm::io::report_detail {
+
+std::string html_escape(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + 16);
+  for (const char ch : s) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+std::string script_json(const Json& j) {
+  // Invalid UTF-8 in a user string (a column name) is replaced rather than thrown on.
+  const std::string text = j.dump(-1, ' ', false, Json::error_handler_t::replace);
+  std::string out;
+  out.reserve(text.size() + 64);
+  for (const char ch : text) {
+    switch (ch) {
+      case '<': out += "\\u003c"; break;
+      case '>': out += "\\u003e"; break;
+      case '&': out += "\\u0026"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+std::string num(double x, int digits) {
+  if (!std::isfinite(x)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+double tau_scale(const ReportColumn& c) { return c.freq_known && c.freq > 0.0 ? 1.0 / c.freq : 1.0; }
+
+std::string tau_unit(const ReportColumn& c) { return c.freq_known && c.freq > 0.0 ? "s" : "samples"; }
+
+std::string data_unit(const ReportColumn& c) { return c.unit.empty() ? "U" : c.unit; }
+
+std::string wv_label(const WaveletVariance& wv) {
+  if (wv.estimator == "classical" || wv.estimator.empty()) return "classical WV";
+  std::string s = wv.estimator + " WV";
+  if (wv.efficiency) s += " (eff. " + num(*wv.efficiency, 3) + ")";
+  return s;
+}
+
+WvSeries wv_series(const WaveletVariance& wv, const ReportColumn& c) {
+  WvSeries s;
+  s.name = wv_label(wv);
+  const double scale = tau_scale(c);
+  const double nan = std::nan("");
+  auto positive = [&](const std::vector<double>& v, std::size_t j) {
+    return j < v.size() && std::isfinite(v[j]) && v[j] > 0.0 ? v[j] : nan;
+  };
+  for (std::size_t j = 0; j < wv.wv.size() && j < wv.tau.size(); ++j) {
+    if (!(std::isfinite(wv.wv[j]) && wv.wv[j] > 0.0)) continue;
+    s.points.push_back({static_cast<int>(j) + 1, wv.tau[j] * scale, wv.wv[j], positive(wv.ci_low, j),
+                        positive(wv.ci_high, j)});
+  }
+  return s;
+}
+
+bool has_theta(const FitResult& f) {
+  return f.status != FitStatus::kFailed && f.model.num_parameters() > 0 &&
+         f.theta.size() == f.model.num_parameters() && f.theta.allFinite();
+}
+
+const FitResult* shown_model(const ReportColumn& c) {
+  if (c.fit && has_theta(*c.fit)) return &*c.fit;
+  if (c.selection) {
+    if (has_theta(c.selection->best_fit)) return &c.selection->best_fit;
+    if (!c.selection->ranking.empty() && has_theta(c.selection->ranking.front().fit))
+      return &c.selection->ranking.front().fit;
+  }
+  return nullptr;
+}
+
+std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta,
+                                const std::vector<double>& tau_samples, double scale,
+                                const std::string& label, bool components) {
+  std::vector<Curve> out;
+  if (tau_samples.empty() || theta.size() != model.num_parameters() || !theta.allFinite()) return out;
+  auto keep = [&](Curve c, const double* v) {
+    for (std::size_t j = 0; j < tau_samples.size(); ++j)
+      if (std::isfinite(v[j]) && v[j] > 0.0) {
+        c.tau.push_back(tau_samples[j] * scale);
+        c.value.push_back(v[j]);
+      }
+    if (!c.tau.empty()) out.push_back(std::move(c));
+  };
+  const Eigen::VectorXd total = model.wv(theta, tau_samples);
+  keep({label, false, {}, {}}, total.data());
+  if (!components || model.num_components() < 2) return out;
+  std::vector<double> v(tau_samples.size());
+  for (int k = 0; k < model.num_components(); ++k) {
+    const Process& p = *model.components()[static_cast<std::size_t>(k)].process;
+    const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
+    p.wv(th, tau_samples, v);
+    keep({std::to_string(k + 1) + ": " + p.name(), true, {}, {}}, v.data());
+  }
+  return out;
+}
+
+}  // namespace gmwm::io::report_detail

@@ -1,0 +1,193 @@
+// The report's HTML tables: parameters (discrete and continuous), the selection ranking,
+// the gap diagnosis and the WV levels. Every user string goes through html_escape.
+
+#include <cmath>
+#include <exception>
+#include <span>
+#include <sstream>
+
+#include "gmwm/engine/physical.h"
+#include "html_report_detail.h"
+
+namespace gmwm::io::report_detail {
+
+namespace {
+
+std::string td(const std::string& text, const char* cls = nullptr) {
+  return std::string("<td") + (cls ? std::string(" class=\"") + cls + "\"" : "") + ">" + html_escape(text) + "</td>";
+}
+
+std::string th_row(const std::vector<std::string>& head) {
+  std::string s = "<tr>";
+  for (const auto& h : head) s += "<th>" + html_escape(h) + "</th>";
+  return s + "</tr>\n";
+}
+
+std::string interval(double lo, double hi, int digits = 4) {
+  if (!std::isfinite(lo) && !std::isfinite(hi)) return "-";
+  return num(lo, digits) + " to " + num(hi, digits);
+}
+
+}  // namespace
+
+std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const std::string& caption) {
+  if (!has_theta(fit)) return {};
+  std::ostringstream os;
+  os << "<div class=\"params\">\n<h4>" << html_escape(caption) << "</h4>\n";
+  os << "<p class=\"model\">" << html_escape(fit.model.to_string(fit.theta)) << "</p>\n";
+  os << "<table class=\"discrete\">\n<caption>discrete (per sample) parameters, as estimated</caption>\n"
+     << th_row({"component", "process", "parameter", "value", "se",
+               c.wvs.empty() ? std::string("interval") : "interval (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "%)",
+               "meaning"});
+  for (const ParameterRow& r : parameter_rows(fit)) {
+    std::string meaning;
+    for (int k = 0; k < fit.model.num_parameters(); ++k)
+      if (fit.model.component_of(k) + 1 == r.component && fit.model.spec_of(k).name == r.name)
+        meaning = fit.model.spec_of(k).meaning;
+    os << "<tr>" << td(std::to_string(r.component)) << td(r.process) << td(r.name) << td(num(r.value, 6), "num")
+       << td(num(r.se, 3), "num") << td(interval(r.ci_low, r.ci_high), "num") << td(meaning, "note") << "</tr>\n";
+  }
+  os << "</table>\n";
+  if (c.freq_known && c.freq > 0.0) {
+    os << "<table class=\"continuous\">\n<caption>continuous (physical) quantities at " << html_escape(num(c.freq, 6))
+       << " Hz, data unit " << html_escape(data_unit(c)) << "</caption>\n"
+       << th_row({"component", "process", "quantity", "value", "interval", "unit", "convention"});
+    const bool ci = fit.ci_low.size() == fit.theta.size() && fit.ci_high.size() == fit.theta.size();
+    for (int k = 0; k < fit.model.num_components(); ++k) {
+      const Process& p = *fit.model.components()[static_cast<std::size_t>(k)].process;
+      const auto off = static_cast<std::size_t>(fit.model.offset(k));
+      const auto size = static_cast<std::size_t>(p.size());
+      const std::span<const double> th(fit.theta.data() + off, size);
+      std::vector<PhysicalQuantity> q;
+      std::vector<PhysicalInterval> iv;
+      try {
+        q = p.physical(th, c.freq);
+        if (ci)
+          iv = physical_interval(p, th, std::span<const double>(fit.ci_low.data() + off, size),
+                                 std::span<const double>(fit.ci_high.data() + off, size), c.freq);
+      } catch (const std::exception&) {
+        // An interval that cannot be mapped (e.g. crossing bounds) is shown as "-".
+      }
+      for (std::size_t i = 0; i < q.size(); ++i)
+        os << "<tr>" << td(std::to_string(k + 1)) << td(p.name()) << td(q[i].name) << td(num(q[i].value, 6), "num")
+           << td(i < iv.size() ? interval(iv[i].low, iv[i].high) : "-", "num")
+           << td(q[i].unit_pattern.empty() ? "(discrete)" : render_unit(q[i].unit_pattern, data_unit(c)))
+           << td(q[i].convention, "note") << "</tr>\n";
+    }
+    os << "</table>\n";
+  }
+  os << "</div>\n";
+  return os.str();
+}
+
+std::string ranking_table(const selection::Selection& sel) {
+  std::ostringstream os;
+  const bool boot = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap.has_value();
+  os << "<div class=\"ranking\">\n<h4>model ranking: " << sel.models << " models ("
+     << html_escape(sel.full_model) << "), nesting violations " << sel.nesting_violations << "</h4>\n"
+     << "<table class=\"ranking\">\n";
+  std::vector<std::string> head = {"rank", "model", "parameters", "objective", "optimism", "criterion"};
+  if (boot) head.insert(head.end(), {"bootstrap optimism (se)", "rank a/b"});
+  head.push_back("GoF p-value");
+  os << th_row(head);
+  for (std::size_t i = 0; i < sel.ranking.size(); ++i) {
+    const auto& r = sel.ranking[i];
+    const bool chosen = i == 0;
+    os << "<tr" << (chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num")
+       << "<td>" << html_escape(r.model) << (chosen ? " <span class=\"badge\">chosen</span>" : "") << "</td>"
+       << td(std::to_string(r.parameters), "num") << td(num(r.objective, 6), "num") << td(num(r.optimism, 4), "num")
+       << td(num(r.criterion, 6), "num");
+    if (boot)
+      os << td(r.optimism_bootstrap ? num(*r.optimism_bootstrap, 4) + " (" + num(r.optimism_bootstrap_se.value_or(NAN), 2) + ")"
+                                    : "-",
+               "num")
+         << td((r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +
+                   (r.rank_bootstrap ? std::to_string(*r.rank_bootstrap) : "-"),
+               "num");
+    os << td(num(r.gof.p_value, 3), "num") << "</tr>\n";
+  }
+  os << "</table>\n</div>\n";
+  return os.str();
+}
+
+std::string gap_tables(const ReportColumn& c) {
+  const selection::GapResult& g = *c.gap;
+  const double scale = tau_scale(c);
+  const std::string unit = tau_unit(c);
+  std::ostringstream os;
+  os << "<div class=\"gap\">\n<p class=\"summary\"><b>" << (g.detected ? "gap detected" : "no gap") << "</b> (global test p = "
+     << html_escape(num(g.p_value, 3)) << ", statistic " << html_escape(num(g.statistic, 4)) << ")";
+  for (const auto& b : g.bands)
+    os << "; " << html_escape(b.direction) << " at " << html_escape(num(b.tau_from * scale, 4)) << " to "
+       << html_escape(num(b.tau_to * scale, 4)) << " " << unit << " (up to " << html_escape(num(b.peak_ratio, 3)) << "x)";
+  if (!g.steps.empty()) {
+    os << "; explained by ";
+    for (std::size_t k = 0; k < g.steps.size(); ++k) os << (k ? " + " : "") << selection::to_string(g.steps[k]);
+    os << ", gap removed " << html_escape(num(100.0 * g.shrinkage.excess_removed, 3)) << "%";
+  } else {
+    os << "; no unmodelled effect found";
+  }
+  os << "</p>\n<ul class=\"facts\">\n<li>baseline: <code>" << html_escape(g.baseline.to_string(g.baseline_theta))
+     << "</code></li>\n";
+  if (!g.steps.empty())
+    os << "<li>final model: <code>" << html_escape(g.final_model.to_string(g.final_theta)) << "</code></li>\n";
+  for (const auto& conv : c.conversions) os << "<li>conversion: " << html_escape(conv) << "</li>\n";
+  const auto& s = g.shrinkage;
+  os << "<li>objective " << num(s.objective_before) << " &rarr; " << num(s.objective_after) << " (null mean "
+     << num(s.null_mean, 4) << "), levels outside the band " << s.levels_outside_before << " &rarr; "
+     << s.levels_outside_after << ", global p " << num(s.p_value_before, 3) << " &rarr; " << num(s.p_value_after, 3)
+     << "</li>\n";
+  if (std::isfinite(g.navigation.rms_without))
+    os << "<li>integrated error after " << num(g.navigation.horizon_seconds, 3) << " s: " << num(g.navigation.rms_without, 3)
+       << " &rarr; " << num(g.navigation.rms_with, 3) << " " << html_escape(render_unit("U*s", data_unit(c)))
+       << " RMS (baseline &rarr; with the effects)</li>\n";
+  if (g.event)
+    os << "<li>" << selection::to_string(g.event->effect) << " at sample " << g.event->sample << ", size "
+       << num(g.event->size, 4) << "</li>\n";
+  if (g.trend && g.trend->significant)
+    os << "<li>drift (end-segment trend): " << num(g.trend->omega, 4) << " per sample</li>\n";
+  if (g.temperature)
+    os << "<li>temperature coupling " << num(g.temperature->k, 4) << " (" << interval(g.temperature->ci_low, g.temperature->ci_high)
+       << ")" << (g.temperature->significant ? ", significant" : "") << "</li>\n";
+  for (const auto& n : g.notes) os << "<li>note: " << html_escape(n) << "</li>\n";
+  os << "</ul>\n";
+  if (!g.candidates.empty()) {
+    os << "<table class=\"candidates\">\n<caption>candidate effects (first step)</caption>\n"
+       << th_row({"effect", "improvement", "threshold", "2 x optimism (WVIC)", "cleared", "fit"});
+    for (const auto& cand : g.candidates)
+      os << "<tr" << (cand.cleared ? " class=\"chosen\"" : "") << ">" << td(selection::to_string(cand.effect))
+         << td(num(cand.improvement, 5), "num") << td(num(cand.threshold, 4), "num") << td(num(2.0 * cand.optimism, 4), "num")
+         << td(cand.cleared ? "yes" : "") << td(cand.model, "note") << "</tr>\n";
+    os << "</table>\n";
+  }
+  os << "<details><summary>levels against the baseline's reference</summary>\n<table class=\"levels\">\n"
+     << th_row({"level", "tau [" + unit + "]", "ratio", "z", "reference band (bootstrap)", "closed-form band", "outside"});
+  int level = 0;
+  for (const auto& l : g.levels)
+    os << "<tr" << (l.outside ? " class=\"outside\"" : "") << ">" << td(std::to_string(++level), "num")
+       << td(num(l.tau * scale, 5), "num") << td(num(l.ratio, 4), "num") << td(num(l.z, 3), "num")
+       << td(interval(l.ref_low, l.ref_high), "num") << td(interval(l.analytic_low, l.analytic_high), "num")
+       << td(l.outside ? "yes" : "") << "</tr>\n";
+  os << "</table>\n</details>\n";
+  os << parameter_tables(g.final_fit, c, "first added effect's parameters (bootstrap intervals)");
+  os << "</div>\n";
+  return os.str();
+}
+
+std::string wv_table(const ReportColumn& c) {
+  std::ostringstream os;
+  const double scale = tau_scale(c);
+  for (const auto& w : c.wvs) {
+    os << "<details><summary>" << html_escape(wv_label(w)) << " by level</summary>\n<table class=\"levels\">\n"
+       << th_row({"level", "tau [samples]", "tau [" + tau_unit(c) + "]", "WV", "CI low", "CI high", "M_j"});
+    for (std::size_t j = 0; j < w.wv.size(); ++j)
+      os << "<tr>" << td(std::to_string(j + 1), "num") << td(num(w.tau[j], 10), "num") << td(num(w.tau[j] * scale, 5), "num")
+         << td(num(w.wv[j]), "num") << td(num(j < w.ci_low.size() ? w.ci_low[j] : NAN), "num")
+         << td(num(j < w.ci_high.size() ? w.ci_high[j] : NAN), "num")
+         << td(j < w.coefficients.size() ? std::to_string(w.coefficients[j]) : "-", "num") << "</tr>\n";
+    os << "</table>\n</details>\n";
+  }
+  return os.str();
+}
+
+}  // namespace gmwm::io::report_detail
