@@ -9,6 +9,11 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 
+namespace gmwm::cli {
+// `gmwm export` (export_command.cc).
+Command add_export_command(CLI::App& app, CommonOptions& common);
+}  // namespace gmwm::cli
+
 namespace {
 
 /// One line: newlines (CLI11 sometimes adds them) become spaces.
@@ -39,7 +44,7 @@ int main(int argc, char** argv) {
   const Command commands[] = {add_wv_command(app, common), add_fit_command(app, common),
                               add_select_command(app, common), add_gap_command(app, common),
                               add_gap_check_command(app, common),
-                              add_simulate_command(app, common)};
+                              add_simulate_command(app, common), add_export_command(app, common)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

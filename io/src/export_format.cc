@@ -1,0 +1,162 @@
+// The export entry point (render_export), the format and aggregation names, the options'
+// validation and the text helpers the renderers share (export_internal.h).
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "export_internal.h"
+#include "gmwm/engine/error.h"
+
+namespace gmwm::io {
+namespace {
+
+struct FormatName {
+  ExportFormat format;
+  const char* name;
+};
+constexpr FormatName kFormats[] = {{ExportFormat::kKalibr, "kalibr"},   {ExportFormat::kOpenVins, "openvins"},
+                                   {ExportFormat::kVins, "vins"},       {ExportFormat::kOrbSlam3, "orbslam3"},
+                                   {ExportFormat::kBasalt, "basalt"},   {ExportFormat::kGzSdf, "gz-sdf"},
+                                   {ExportFormat::kRotors, "rotors"}};
+
+}  // namespace
+
+const char* to_string(ExportFormat f) {
+  for (const auto& n : kFormats)
+    if (n.format == f) return n.name;
+  return "?";
+}
+
+std::optional<ExportFormat> parse_export_format(const std::string& name) {
+  for (const auto& n : kFormats)
+    if (name == n.name) return n.format;
+  return std::nullopt;
+}
+
+std::string export_format_names() {
+  std::string out;
+  for (const auto& n : kFormats) out += (out.empty() ? "" : ", ") + std::string(n.name);
+  return out;
+}
+
+bool has_per_axis_fields(ExportFormat f) { return f == ExportFormat::kBasalt || f == ExportFormat::kGzSdf; }
+
+bool allows_comments(ExportFormat f) { return f != ExportFormat::kBasalt; }
+
+const char* to_string(Aggregation a) {
+  switch (a) {
+    case Aggregation::kPerAxis: return "per-axis";
+    case Aggregation::kMean: return "mean";
+    case Aggregation::kWorst: return "worst";
+  }
+  return "?";
+}
+
+std::optional<Aggregation> parse_aggregation(const std::string& name) {
+  for (Aggregation a : {Aggregation::kPerAxis, Aggregation::kMean, Aggregation::kWorst})
+    if (name == to_string(a)) return a;
+  return std::nullopt;
+}
+
+std::string ExportOptions::Validate() const {
+  if (!(inflate > 0.0) || !std::isfinite(inflate))
+    return "--inflate " + export_detail::num(inflate) +
+           ": expected a positive factor (it multiplies the noise densities and standard deviations; 1 = as fitted)";
+  if (rate && (!(*rate > 0.0) || !std::isfinite(*rate)))
+    return "--rate " + export_detail::num(*rate) + ": expected a positive IMU rate in Hz";
+  if (aggregation == Aggregation::kPerAxis && !has_per_axis_fields(format))
+    return std::string("--aggregate per-axis: the ") + to_string(format) +
+           " format has one value per sensor, not per axis; expected --aggregate mean or worst (per-axis fields: "
+           "basalt, gz-sdf)";
+  if (rostopic.empty()) return "--rostopic: expected a topic name such as /imu0";
+  return "";
+}
+
+namespace export_detail {
+
+std::string real(double x) {
+  if (!std::isfinite(x)) return x != x ? ".nan" : x > 0 ? ".inf" : "-.inf";
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, x);
+  std::string s(buf, res.ptr);
+  const auto e = s.find_first_of("eE");
+  const std::string mantissa = s.substr(0, e);
+  std::string exponent = e == std::string::npos ? "" : s.substr(e + 1);
+  std::string out = mantissa.find('.') == std::string::npos ? mantissa + ".0" : mantissa;
+  if (!exponent.empty()) {
+    if (exponent[0] != '-' && exponent[0] != '+') exponent = "+" + exponent;
+    out += "e" + exponent;
+  }
+  return out;
+}
+
+std::string num(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+std::string yaml_comments(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const auto& l : lines) out += l.empty() ? "#\n" : "# " + l + "\n";
+  return out;
+}
+
+std::string xml_comment(const std::vector<std::string>& lines, const std::string& indent) {
+  std::string out = indent + "<!--\n";
+  for (std::string l : lines) {
+    for (std::size_t p; (p = l.find("--")) != std::string::npos;) l.replace(p, 2, "- -");
+    if (!l.empty() && l.back() == '-') l += ' ';  // "--->" would end the comment badly
+    out += indent + "  " + l + "\n";
+  }
+  return out + indent + "-->\n";
+}
+
+SiNames si_names(SensorKind kind) {
+  return kind == SensorKind::kGyro ? SiNames{"rad/s", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)"}
+                                   : SiNames{"m/s^2", "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)"};
+}
+
+const KindExport* find_kind(const ExportResult& r, SensorKind kind) {
+  for (const auto& k : r.kinds)
+    if (k.kind == kind && !k.columns.empty()) return &k;
+  return nullptr;
+}
+
+WrittenNoise combined_or_zero(const ExportResult& r, SensorKind kind) {
+  const KindExport* k = find_kind(r, kind);
+  return k ? k->combined : WrittenNoise{};
+}
+
+bool simulates_bias(ExportFormat f) { return f == ExportFormat::kGzSdf || f == ExportFormat::kRotors; }
+
+}  // namespace export_detail
+
+ExportResult render_export(const std::vector<ExportColumn>& columns, const ExportOptions& options,
+                           const std::string& source) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (columns.empty()) throw InputError("export: no column to export");
+  std::set<std::string> names;
+  for (const auto& c : columns)
+    if (!names.insert(c.name).second) throw InputError("export: column '" + c.name + "' appears twice");
+  ExportResult r;
+  export_detail::plan_export(columns, options, source, r);
+  switch (options.format) {
+    case ExportFormat::kKalibr: r.content = export_detail::render_kalibr(options, r); break;
+    case ExportFormat::kOpenVins: r.content = export_detail::render_openvins(options, r); break;
+    case ExportFormat::kVins: r.content = export_detail::render_vins(options, r); break;
+    case ExportFormat::kOrbSlam3: r.content = export_detail::render_orbslam3(options, r); break;
+    case ExportFormat::kBasalt: {
+      std::string sidecar;
+      r.content = export_detail::render_basalt(options, r, sidecar);
+      r.sidecar = std::move(sidecar);
+      break;
+    }
+    case ExportFormat::kGzSdf: r.content = export_detail::render_gz_sdf(options, r); break;
+    case ExportFormat::kRotors: r.content = export_detail::render_rotors(options, r); break;
+  }
+  return r;
+}
+
+}  // namespace gmwm::io

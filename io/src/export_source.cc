@@ -1,0 +1,135 @@
+// The fitted models of a `gmwm fit --json` / `gmwm select --json` document, as the columns
+// an export takes (read_result_columns, export.h). The field names are the CLI.md contract:
+// per column "name", "n", "freq" and "model" (fit) or "best_model" (select), a canonical
+// model string with its values usable as SPEC_WITH_VALUES.
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/export.h"
+
+namespace gmwm::io {
+namespace {
+
+using nlohmann::json;
+
+const char* kExpected = "expected the --json result of gmwm fit or gmwm select";
+
+// "path:line:column: " of a byte offset (1-based, as nlohmann reports it).
+std::string place(const std::string& path, const std::string& text, std::size_t byte) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+}
+
+std::string names_of(const json& columns) {
+  std::string out;
+  for (const auto& c : columns)
+    if (c.is_object() && c.contains("name") && c["name"].is_string())
+      out += (out.empty() ? "" : ", ") + c["name"].get<std::string>();
+  return out;
+}
+
+}  // namespace
+
+ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& o) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the result file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(place(path, text, e.byte) + "invalid JSON, " + kExpected);
+  }
+  if (!doc.is_object() || !doc.contains("tool") || doc["tool"] != "gmwm" || !doc.contains("command") ||
+      !doc["command"].is_string())
+    throw InputError(path + ": not a gmwm JSON document (no \"tool\": \"gmwm\" with a \"command\"), " + kExpected);
+  ResultColumns r;
+  r.command = doc["command"].get<std::string>();
+  if (r.command != "fit" && r.command != "select")
+    throw InputError(path + ": a gmwm " + r.command + " document holds no fitted model, " + kExpected);
+  if (doc.contains("input") && doc["input"].is_string()) r.input = doc["input"].get<std::string>();
+  if (!doc.contains("columns") || !doc["columns"].is_array() || doc["columns"].empty())
+    throw InputError(path + ": no \"columns\" in the document, " + kExpected);
+  const json& all = doc["columns"];
+
+  // The columns to export, in the requested order.
+  std::vector<const json*> picked;
+  if (o.columns.empty()) {
+    for (const auto& c : all) picked.push_back(&c);
+  } else {
+    for (const auto& name : o.columns) {
+      const json* found = nullptr;
+      for (const auto& c : all)
+        if (c.is_object() && c.contains("name") && c["name"] == name) found = &c;
+      if (!found)
+        throw InputError(path + ": --columns: no column '" + name + "' in the result (it has " + names_of(all) + ")");
+      picked.push_back(found);
+    }
+  }
+
+  const char* model_field = r.command == "fit" ? "model" : "best_model";
+  for (const json* cp : picked) {
+    const json& c = *cp;
+    if (!c.is_object() || !c.contains("name") || !c["name"].is_string())
+      throw InputError(path + ": a column without a \"name\", " + kExpected);
+    const std::string name = c["name"].get<std::string>();
+    const std::string at = path + ": column '" + name + "': ";
+    std::string status = "unknown";
+    if (r.command == "fit" && c.contains("status") && c["status"].is_string()) status = c["status"];
+    if (r.command == "select" && c.contains("best_fit") && c["best_fit"].is_object() &&
+        c["best_fit"].contains("status") && c["best_fit"]["status"].is_string())
+      status = c["best_fit"]["status"];
+    if (!c.contains(model_field) || !c[model_field].is_string())
+      throw InputError(at + "no fitted model (\"" + model_field + "\" is null; status " + status +
+                       "); leave the column out with --columns");
+
+    ExportColumn e;
+    e.name = name;
+    if (c.contains("n") && c["n"].is_number_integer()) e.n = c["n"].get<std::int64_t>();
+    if (c.contains("freq") && c["freq"].is_number()) {
+      e.freq = c["freq"].get<double>();
+    } else if (o.rate) {
+      e.freq = *o.rate;
+    } else {
+      throw InputError(at + "no sampling rate (\"freq\" is null); give --rate HZ, the rate its data were sampled at");
+    }
+    if (!(e.freq > 0.0)) throw InputError(at + "\"freq\" is not a positive rate in Hz");
+    try {
+      e.kind = o.sensor ? *o.sensor : sensor_kind_of_column(name);
+      std::string declared;
+      if (c.contains("unit") && c["unit"].is_string()) declared = c["unit"].get<std::string>();
+      e.unit = o.units ? o.units->at(e.kind) : !declared.empty() ? parse_unit(declared, e.kind) : si_unit(e.kind);
+    } catch (const InputError& err) {
+      throw InputError(path + ": " + err.what());
+    }
+    const std::string spec = c[model_field].get<std::string>();
+    try {
+      e.model = parse_model(spec, ProcessContext{e.freq, true});
+    } catch (const InputError& err) {
+      throw InputError(at + "\"" + model_field + "\": " + err.what());
+    }
+    if (!e.model.fully_specified())
+      throw InputError(at + "\"" + model_field + "\" '" + spec + "' does not give every parameter's value");
+    e.theta = e.model.given_values();
+    e.model = e.model.canonical(&e.theta);
+    r.columns.push_back(std::move(e));
+    r.statuses.push_back(status);
+  }
+  return r;
+}
+
+}  // namespace gmwm::io

@@ -1,0 +1,319 @@
+// gmwm export INPUT --format F --output PATH [--model SPEC] [--aggregate per-axis|mean|worst]
+//                   [--inflate X] [--rate HZ] [--units gyro=deg/s,accel=g] [--sensor gyro|accel]
+// The fitted noise parameters in the exact form a consumer reads (io/export.h): from a
+// `gmwm fit --json` / `gmwm select --json` result, or from a data file fitted first with
+// --model (as `gmwm fit` does: classical WV, diagonal Omega).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/atomic_file.h"
+#include "gmwm/io/export.h"
+#include "gmwm/io/units.h"
+
+namespace gmwm::cli {
+namespace {
+
+// A data file whose fit failed: no usable result (exit 1, CLI.md), nothing written.
+class NoUsableResult : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ExportArgs {
+  InputOptions input;
+  std::string format;
+  std::string output;
+  std::string model;       ///< --model SPEC: fit the data file first
+  std::string units;       ///< --units gyro=deg/s,accel=g
+  std::string sensor;      ///< --sensor gyro|accel
+  std::string aggregate = "mean";
+  double inflate = 1.0;
+  std::optional<double> rate;
+  std::string rostopic = "/imu0";
+  int max_evaluations = FitOptions{}.max_evaluations;
+  CLI::App* sub = nullptr;  ///< to tell which options were given
+};
+
+// A gmwm JSON result starts with '{'; data files (text or gzip) never do.
+bool is_json_result(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the input file");
+  char c = 0;
+  while (in.get(c))
+    if (c != ' ' && c != '\t' && c != '\r' && c != '\n') return c == '{';
+  return false;
+}
+
+std::optional<io::SensorKind> sensor_of(const std::string& s) {
+  if (s.empty()) return std::nullopt;
+  return s == "gyro" ? io::SensorKind::kGyro : io::SensorKind::kAccel;
+}
+
+// Reads the columns of a fit/select result.
+std::vector<io::ExportColumn> from_result(const ExportArgs& a, std::string& source) {
+  for (const char* opt : {"--model", "--freq", "--alpha", "--levels", "--max-evaluations"})
+    if (a.sub->count(opt) > 0)
+      throw InputError(std::string(opt) + ": only for a data file INPUT; '" + a.input.input +
+                       "' is a gmwm result whose models are already fitted (--rate sets the update rate)");
+  io::ResultReadOptions o;
+  if (!a.input.columns.empty()) {
+    std::stringstream ss(a.input.columns);
+    for (std::string c; std::getline(ss, c, ',');) {
+      c.erase(0, c.find_first_not_of(" \t"));
+      c.erase(c.find_last_not_of(" \t") + 1);
+      o.columns.push_back(c);
+    }
+  }
+  o.rate = a.rate;
+  o.sensor = sensor_of(a.sensor);
+  if (!a.units.empty()) o.units = io::parse_units(a.units);
+  io::ResultColumns r = io::read_result_columns(a.input.input, o);
+  source = "gmwm " + r.command + " result " + a.input.input + (r.input.empty() ? "" : " (data " + r.input + ")");
+  for (std::size_t k = 0; k < r.columns.size(); ++k)
+    if (r.statuses[k] != "converged")
+      warn("column '" + r.columns[k].name + "': its fit's status is " + r.statuses[k] + " in " + a.input.input);
+  return std::move(r.columns);
+}
+
+// Fits --model to every column of a data file, as `gmwm fit` does.
+std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions& common, std::string& source) {
+  if (a.model.empty())
+    throw InputError(a.input.input + ": a data file; give --model SPEC to fit it first, or pass the --json result of "
+                     "gmwm fit or gmwm select");
+  const WvOptions wv_opts = wv_options(a.input);
+  if (a.input.freq) {
+    if (!(*a.input.freq > 0.0 && std::isfinite(*a.input.freq)))
+      throw InputError("--freq " + fmt(*a.input.freq) + ": expected a positive sampling rate in Hz");
+    parse_model(a.model, ProcessContext{*a.input.freq, true});
+  }
+  const auto units = a.units.empty() ? std::nullopt : std::optional(io::parse_units(a.units));
+  const auto sensor = sensor_of(a.sensor);
+  const io::SignalSet set = read_input(a.input);
+  const Model model = parse_model(a.model, ProcessContext{set.freq, set.freq_known});
+  std::vector<io::ExportColumn> columns(set.signals.size());
+  for (std::size_t k = 0; k < set.signals.size(); ++k) {
+    const io::Signal& s = set.signals[k];
+    io::ExportColumn& c = columns[k];
+    c.name = s.name;
+    c.kind = sensor ? *sensor : io::sensor_kind_of_column(s.name);
+    c.freq = set.freq;
+    c.n = static_cast<std::int64_t>(s.values.size());
+    // The unit: --units, else the file's own (EuRoC's header units), else SI.
+    c.unit = io::si_unit(c.kind);
+    if (units) {
+      c.unit = units->at(c.kind);
+    } else if (!s.unit.empty()) {
+      try {
+        c.unit = io::parse_unit(s.unit, c.kind);
+      } catch (const InputError&) {
+      }
+    }
+  }
+  const std::vector<WaveletVariance> wvs = compute_wv(set, wv_opts);
+  for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
+  FitOptions options;
+  options.alpha = a.input.alpha;
+  options.seed = common.seed;
+  options.max_evaluations = a.max_evaluations;
+  options.inference = false;  // the export needs the estimates only
+  std::vector<FitResult> fits(wvs.size());
+  tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
+  warn_about_timing(set);
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    const FitResult& r = fits[k];
+    if (r.status == FitStatus::kFailed || r.theta.size() != r.model.num_parameters() || !r.theta.allFinite())
+      throw NoUsableResult("column '" + set.signals[k].name + "': the fit of " + a.model + " failed" +
+                               (r.message.empty() ? "" : ": " + r.message) + "; nothing written");
+    if (r.status == FitStatus::kNotConverged)
+      warn("column '" + set.signals[k].name + "': the fit did not converge" + (r.message.empty() ? "" : ": " + r.message));
+    columns[k].model = r.model;
+    columns[k].theta = r.theta;
+  }
+  source = "data " + set.path + " fitted with " + a.model + " (as gmwm fit: classical WV, Omega diag)";
+  return columns;
+}
+
+io::Json written_json(const io::WrittenNoise& w) {
+  return {{"noise_density", io::json_number(w.noise_density)},
+          {"random_walk", io::json_number(w.random_walk)},
+          {"bias_drive", io::json_number(w.bias_drive)},
+          {"bias_correlation_time", io::json_number(w.bias_correlation_time)},
+          {"bias_from_random_walk", w.bias_from_random_walk}};
+}
+
+io::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, const std::string& output,
+                     const std::string& source) {
+  io::Json doc = io::json_document("export");
+  doc["format"] = io::to_string(o.format);
+  doc["output"] = output;
+  doc["sidecar"] = r.sidecar ? io::Json(output + ".txt") : io::Json(nullptr);
+  doc["source"] = source;
+  doc["aggregation"] = io::to_string(o.aggregation);
+  doc["inflate"] = io::json_number(o.inflate);
+  doc["rate"] = io::json_number(r.rate);
+  for (const auto& a : r.columns) {
+    io::Json c = {{"name", a.column}, {"freq", io::json_number(a.freq)}, {"kind", io::to_string(a.kind)},
+                  {"unit", a.unit.name}, {"model", a.model},
+                  {"noise_density", io::json_number(a.white)}, {"random_walk", io::json_number(a.walk)}};
+    io::Json gm = io::Json::array();
+    for (const auto& g : a.gauss_markov)
+      gm.push_back({{"correlation_time", io::json_number(g.correlation_time)},
+                    {"sigma", io::json_number(g.sigma)},
+                    {"drive", io::json_number(g.drive)}});
+    c["gauss_markov"] = std::move(gm);
+    c["others"] = a.others;
+    doc["columns"].push_back(std::move(c));
+  }
+  io::Json kinds = io::Json::object();
+  for (const auto& k : r.kinds) {
+    if (k.columns.empty()) continue;
+    io::Json e = {{"columns", k.columns}, {"per_axis", k.per_axis}, {"combined", written_json(k.combined)}};
+    if (k.per_axis) e["axes"] = {{"x", written_json(k.axes[0])}, {"y", written_json(k.axes[1])}, {"z", written_json(k.axes[2])}};
+    kinds[io::to_string(k.kind)] = std::move(e);
+  }
+  doc["written"] = std::move(kinds);
+  doc["warnings"] = r.warnings;
+  return doc;
+}
+
+std::string terminal_report(const io::ExportOptions& o, const io::ExportResult& r, const std::string& output) {
+  std::ostringstream os;
+  os << "wrote " << io::to_string(o.format) << " noise parameters to " << output;
+  if (r.sidecar) os << " (header in " << output << ".txt)";
+  os << " at " << fmt(r.rate) << " Hz, " << io::to_string(o.aggregation) << ", inflation x" << fmt(o.inflate) << '\n';
+  Table t({"sensor", "axis", "noise density", "random walk", "bias drive", "bias T (s)"}, 2);
+  for (const auto& k : r.kinds) {
+    if (k.columns.empty()) continue;
+    const char* si_density = k.kind == io::SensorKind::kGyro ? "rad/s/sqrt(Hz)" : "m/s^2/sqrt(Hz)";
+    auto row = [&](const std::string& axis, const io::WrittenNoise& w) {
+      t.add({std::string(io::to_string(k.kind)) + " [" + si_density + "]", axis, fmt(w.noise_density, 5),
+             fmt(w.random_walk, 5), w.bias_drive > 0 ? fmt(w.bias_drive, 5) : "-",
+             w.bias_drive > 0 ? fmt(w.bias_correlation_time, 5) : "-"});
+    };
+    if (k.per_axis) {
+      row("x", k.axes[0]);
+      row("y", k.axes[1]);
+      row("z", k.axes[2]);
+    } else {
+      row(io::to_string(o.aggregation), k.combined);
+    }
+  }
+  os << t.str();
+  return os.str();
+}
+
+int run_export(const ExportArgs& a, const CommonOptions& common) {
+  auto threads = apply_common_options(common);
+  io::ExportOptions o;
+  const auto format = io::parse_export_format(a.format);
+  if (!format)
+    throw InputError("--format '" + a.format + "': unknown format, expected one of " + io::export_format_names());
+  o.format = *format;
+  const auto aggregation = io::parse_aggregation(a.aggregate);
+  if (!aggregation)
+    throw InputError("--aggregate '" + a.aggregate + "': expected per-axis, mean or worst");
+  o.aggregation = *aggregation;
+  o.inflate = a.inflate;
+  o.rate = a.rate;
+  o.rostopic = a.rostopic;
+  if (const std::string why = o.Validate(); !why.empty()) throw InputError(why);
+  if (a.output == "-" && !io::allows_comments(o.format))
+    throw InputError("--output -: the " + std::string(io::to_string(o.format)) +
+                     " export writes its header to a sidecar PATH.txt; expected a file path");
+  check_output_path("--output", a.output);
+  check_output_path("--json", common.json);
+  if (!a.units.empty()) io::parse_units(a.units);  // a bad --units fails before any work
+
+  std::string source;
+  std::vector<io::ExportColumn> columns;
+  try {
+    columns = is_json_result(a.input.input) ? from_result(a, source) : from_data(a, common, source);
+  } catch (const NoUsableResult& e) {
+    std::cerr << "gmwm: error: " << e.what() << '\n';
+    return 1;
+  }
+  const io::ExportResult r = io::render_export(columns, o, source);
+
+  // Everything is computed: write the file (and its sidecar), then the JSON.
+  io::write_file_atomically(a.output, r.content);
+  if (r.sidecar) {
+    try {
+      io::write_file_atomically(a.output + ".txt", *r.sidecar);
+    } catch (...) {
+      std::error_code ec;
+      std::filesystem::remove(a.output, ec);
+      throw;
+    }
+  }
+  for (const auto& w : r.warnings) warn(w);
+  io::Json doc = result_json(o, r, a.output, source);
+  write_json(common, doc, {.threads = 0, .seconds = {}, .argv = {}});
+  if (common.show_table() && a.output != "-") {
+    std::cout << terminal_report(o, r, a.output);
+    std::cout.flush();
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_export_command(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "export",
+      "Write the fitted noise parameters for Kalibr, OpenVINS, VINS, ORB-SLAM3, Basalt, gz-sensors or RotorS, from "
+      "a gmwm fit/select --json result or from a data file fitted with --model");
+  args->sub = sub;
+  add_input_options(*sub, args->input);
+  sub->get_option("INPUT")->description(
+      "A gmwm fit/select --json result, or a delimited data file (CSV/TSV/..., optionally gzip) to fit with --model");
+  sub->add_option("--format", args->format,
+                  "Target: kalibr (imu.yaml), openvins (kalibr_imu_chain.yaml), vins (acc_n, gyr_n, acc_w, gyr_w), "
+                  "orbslam3 (IMU.NoiseGyro, ...), basalt (calib.json noise fields; JSON has no comments, so the "
+                  "header goes to a sidecar PATH.txt), gz-sdf (gz-sensors <sensor>/<imu> <noise> blocks), rotors "
+                  "(RotorS/PX4 IMU <plugin> parameters)")
+      ->type_name("F")
+      ->required();
+  sub->add_option("--output", args->output,
+                  "The file to write (atomically; basalt also writes PATH.txt with the header)")
+      ->type_name("PATH")
+      ->required();
+  sub->add_option("--model", args->model,
+                  "With a data file INPUT: the model to fit first, e.g. 'WN+RW' (as gmwm fit, Omega diag)")
+      ->type_name("SPEC");
+  sub->add_option("--aggregate", args->aggregate,
+                  "How a sensor's axes become the file's figures: per-axis (basalt, gz-sdf only), mean or worst "
+                  "(the largest value of each figure)")
+      ->type_name("HOW")
+      ->capture_default_str();
+  sub->add_option("--inflate", args->inflate,
+                  "Multiplies every noise figure written (densities and standard deviations, not variances)")
+      ->type_name("X")
+      ->capture_default_str();
+  sub->add_option_function<double>(
+         "--rate", [a = args.get()](const double& r) { a->rate = r; },
+         "The IMU rate for update-rate fields and per-sample values (default: the data's rate; needed when a "
+         "result has no rate)")
+      ->type_name("HZ");
+  sub->add_option("--units", args->units,
+                  "Units of the data, e.g. gyro=deg/s,accel=g (default SI, or the result's own); the files are in SI")
+      ->type_name("SPEC");
+  sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
+      ->check(CLI::IsMember({"gyro", "accel"}));
+  sub->add_option("--rostopic", args->rostopic, "rostopic for kalibr and openvins")->type_name("TOPIC")->capture_default_str();
+  add_max_evaluations_option(*sub, args->max_evaluations);
+  add_common_options(*sub, common);
+  return {sub, [args, &common] { return run_export(*args, common); }};
+}
+
+}  // namespace gmwm::cli
