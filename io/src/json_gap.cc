@@ -18,19 +18,6 @@ json seconds(double tau_samples, const ColumnInfo& c) {
 
 std::string data_unit(const ColumnInfo& c) { return c.unit.empty() ? "U" : c.unit; }
 
-json effect_parameters(const FitResult& fit) {
-  json out = json::array();
-  if (fit.status == FitStatus::kFailed || fit.theta.size() != fit.model.num_parameters()) return out;
-  for (const ParameterRow& r : parameter_rows(fit))
-    out.push_back({{"process", r.process},
-                   {"component", r.component},
-                   {"name", r.name},
-                   {"value", json_number(r.value)},
-                   {"se", json_number(r.se)},
-                   {"ci_low", json_number(r.ci_low)},
-                   {"ci_high", json_number(r.ci_high)}});
-  return out;
-}
 
 // The effect's continuous quantities with their intervals (the bootstrap bounds mapped).
 json effect_physical(const FitResult& fit, const ColumnInfo& c) {
@@ -163,7 +150,7 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
   c["attribution"] = {{"effect", selection::to_string(g.effect)},
                       {"steps", std::move(steps)},
                       {"model", g.final_model.to_string(g.final_theta)},
-                      {"parameters", effect_parameters(g.final_fit)},
+                      {"parameters", parameters_json(g.final_fit)},
                       {"physical", effect_physical(g.final_fit, column)},
                       {"event", event_json(g, column)},
                       {"event_test", g.event_tested ? json{{"statistic", json_number(g.event_statistic)},

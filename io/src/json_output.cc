@@ -62,7 +62,10 @@ const char* omega_name(OmegaKind k) {
   return "diag";
 }
 
-json parameters_json(const FitResult& fit) {
+
+}  // namespace
+
+Json parameters_json(const FitResult& fit) {
   json params = json::array();
   const bool has_theta = fit.theta.size() == fit.model.num_parameters() && fit.model.num_parameters() > 0 &&
                          fit.theta.allFinite();
@@ -77,8 +80,6 @@ json parameters_json(const FitResult& fit) {
                       {"ci_high", json_number(r.ci_high)}});
   return params;
 }
-
-}  // namespace
 
 void add_run_info(json& doc, const RunInfo& run) {
   json r = json::object();

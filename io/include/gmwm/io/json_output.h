@@ -97,6 +97,10 @@ struct ParameterRow {
 /// The parameter rows of a fit (canonical order; NaN where inference is unavailable).
 std::vector<ParameterRow> parameter_rows(const FitResult& fit);
 
+/// The parameter rows as JSON: [{process, component, name, value, se, ci_low, ci_high}]
+/// (empty when the fit has no usable values).
+Json parameters_json(const FitResult& fit);
+
 /// A "fit" column: column_json + "model", "model_structure", "parameters", "objective",
 /// "gof", "status", "message", "notes", "evaluations", "omega", "implied_wv", "levels".
 Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
