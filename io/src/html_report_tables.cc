@@ -75,6 +75,25 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
            << td(q[i].convention, "note") << "</tr>\n";
     }
     os << "</table>\n";
+    // The Kalman-filter terms (engine/kalman.h) at the filter's rate.
+    ColumnInfo info{c.name, c.n, c.freq, c.freq_known, c.unit};
+    const double rate = c.filter_rate > 0.0 ? c.filter_rate : c.freq;
+    const Json k = kalman_json(fit, info, rate);
+    if (!k.at("terms").empty()) {
+      os << "<table class=\"kalman\">\n<caption>Kalman filter at " << html_escape(num(rate, 6))
+         << " Hz: continuous q, transition F and the discrete R or Q_d</caption>\n"
+         << th_row({"component", "process", "role", "q", "F", "R or Q_d", "note"});
+      auto cell = [](const Json& v, const Json& unit) {
+        if (!v.is_number()) return std::string("-");
+        return num(v.get<double>(), 5) + (unit.is_string() ? " " + unit.get<std::string>() : std::string());
+      };
+      for (const auto& t : k.at("terms"))
+        os << "<tr>" << td(std::to_string(t.at("component").get<int>())) << td(t.at("process").get<std::string>())
+           << td(t.at("role").get<std::string>()) << td(cell(t.at("q"), t.at("q_unit")), "num")
+           << td(cell(t.at("transition"), nullptr), "num") << td(cell(t.at("discrete"), t.at("discrete_unit")), "num")
+           << td(t.at("note").get<std::string>(), "note") << "</tr>\n";
+      os << "</table>\n";
+    }
   }
   os << "</div>\n";
   return os.str();

@@ -166,6 +166,10 @@ TEST(HtmlReport, ShowsParametersInDiscreteAndContinuousUnits) {
   EXPECT_NE(html.find("<td class=\"num\">0.1</td><td class=\"num\">"), std::string::npos);
   EXPECT_NE(html.find("<td>deg/s/sqrt(Hz)</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>correlation time</td>"), std::string::npos);
+  // The Kalman-filter table, at the data's rate: WN sigma2 = 1 per sample is R = 1 (deg/s)^2.
+  EXPECT_EQ(count(html, "<table class=\"kalman\">"), 6);
+  EXPECT_NE(html.find("<td>measurement noise R</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"num\">1 (deg/s)^2</td>"), std::string::npos);
 }
 
 TEST(HtmlReport, HighlightsTheChosenModelOfASelection) {

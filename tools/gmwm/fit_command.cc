@@ -168,6 +168,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < fits.size(); ++k) {
       rep.columns[k].wvs = {wvs[k]};
       rep.columns[k].fit = fits[k];
+      rep.columns[k].filter_rate = filter_rate(args.units, set);
       if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
     }
     write_report(common, rep);

@@ -183,6 +183,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < result.size(); ++k) {
       rep.columns[k].wvs = {wvs[k]};
       rep.columns[k].selection = result[k];
+      rep.columns[k].filter_rate = filter_rate(args.units, set);
       if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
     }
     write_report(common, rep);

@@ -65,6 +65,7 @@ struct ReportColumn {
   double freq = 1.0;         ///< Hz
   bool freq_known = false;   ///< tau in seconds when true, else in samples
   std::string unit;          ///< the data unit ("deg/s"); empty: undeclared (shown as "U")
+  double filter_rate = 0.0;  ///< Kalman table's filter rate in Hz; 0: the data's rate
   /// The WVs to overlay (e.g. the classical one, then a robust one), each labelled by its
   /// `estimator`. The first one is the one the model was fitted to (if any).
   std::vector<WaveletVariance> wvs;
