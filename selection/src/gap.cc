@@ -533,14 +533,20 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     if (detail::p_value(ref, detail::distance(ref, data, shift)) >= options.alpha) break;
     if (chosen.effect == GapEffect::kReparameterise) step_options.refit_baseline = true;
   }
-  // The top candidate: the step that removed the most of the gap.
-  g.effect = GapEffect::kNone;
-  double best_drop = -std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < g.steps.size(); ++k)
-    if (g.step_drops[k] > best_drop) {
-      best_drop = g.step_drops[k];
-      g.effect = g.steps[k];
-    }
+  // The top candidate: the first step (OUTLIERS, then the time-domain effects, then the
+  // WV candidates by calibrated margin), except that a drift, step or transient found in
+  // the time domain yields to a later step that removed more of the gap (a strong slow
+  // AR1 or flicker moves the end segments and concentrates coarse coefficients too).
+  g.effect = g.steps.empty() ? GapEffect::kNone : g.steps.front();
+  const auto time_domain = [](GapEffect e) {
+    return e == GapEffect::kDR || e == GapEffect::kStep || e == GapEffect::kTransient;
+  };
+  if (!g.steps.empty() && time_domain(g.steps.front()))
+    for (std::size_t k = 1; k < g.steps.size(); ++k)
+      if (g.step_drops[k] > g.step_drops[0] && g.steps[k] != GapEffect::kReparameterise) {
+        g.effect = g.steps[k];
+        break;
+      }
   if (g.steps.empty())
     g.notes.push_back("no candidate effect clears its calibrated threshold: no unmodelled effect found");
   g.final_model = base.model.canonical(&base.theta);

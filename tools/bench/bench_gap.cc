@@ -400,8 +400,10 @@ void sdf_section(const std::vector<Column>& cols, const std::map<io::SensorKind,
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::err);
+  // `bench_gap real`: only the real-data controls (section 3).
+  if (argc > 1 && std::string(argv[1]) == "real") return real_controls() ? 0 : 1;
   const bool speed = kalibr_and_speed();
   const bool check = check_section();
   power_section();

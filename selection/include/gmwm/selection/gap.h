@@ -211,8 +211,9 @@ struct GapResult {
   std::optional<GapEvent> event;
   std::optional<GapCoupling> temperature;
   std::optional<GapTrend> trend;
-  /// What each step removed: G before it minus G after it, in the order of `steps`;
-  /// `effect` is the step that removed the most (GAP.md s.3: the top candidate).
+  /// What each step removed: G before it minus G after it, in the order of `steps`.
+  /// `effect` is the first step, except that a time-domain DR, STEP or TRANSIENT yields
+  /// to a later non-REPARAMETERISE step that removed more.
   std::vector<double> step_drops;
   std::vector<std::string> notes;           ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
 };
