@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "common.h"
+#include "units_tables.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -315,14 +316,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   // The data unit of each column, when declared (--units, or a simulator's SI figures).
   std::vector<std::string> column_units(K);
   for (std::size_t k = 0; k < K; ++k)
-    if (!args.units.empty() || config) {
-      std::optional<io::SensorKind> kind = sensor;
-      if (!kind) try {
-          kind = io::sensor_kind_of_column(set.signals[k].name);
-        } catch (const InputError&) {
-        }
-      if (kind) column_units[k] = units.count(*kind) ? units.at(*kind).name : io::si_unit(*kind).name;
-    }
+    if (!args.units.empty() || config) column_units[k] = unit_of_column(units, sensor, set.signals[k].name);
   if (!temperature.empty()) doc["temperature_column"] = args.temperature;
   // Cross-axis wavelet correlation (GAP.md s.2) when several columns are given.
   std::vector<std::span<const double>> spans;

@@ -2,7 +2,6 @@
 
 #include "common.h"
 #include "gmwm/engine/error.h"
-#include "gmwm/io/units.h"
 
 namespace gmwm::cli {
 
@@ -15,15 +14,19 @@ void add_units_options(CLI::App& sub, UnitsOptions& o) {
       ->check(CLI::PositiveNumber);
 }
 
+std::string unit_of_column(const std::map<io::SensorKind, io::Unit>& units, std::optional<io::SensorKind> kind,
+                           const std::string& column) {
+  if (!kind) try {
+      kind = io::sensor_kind_of_column(column);
+    } catch (const InputError&) {
+      return {};
+    }
+  return units.count(*kind) ? units.at(*kind).name : io::si_unit(*kind).name;
+}
+
 std::string column_unit(const UnitsOptions& o, const std::string& column) {
   if (o.units.empty()) return {};
-  const auto units = io::parse_units(o.units);
-  try {
-    const io::SensorKind kind = io::sensor_kind_of_column(column);
-    return units.count(kind) ? units.at(kind).name : io::si_unit(kind).name;
-  } catch (const InputError&) {
-    return {};
-  }
+  return unit_of_column(io::parse_units(o.units), std::nullopt, column);
 }
 
 double filter_rate(const UnitsOptions& o, const io::SignalSet& set) {

@@ -2,6 +2,8 @@
 // The CLI's continuous-units and Kalman-filter tables (issue 6, items 2 and 4), shared by
 // `fit` and `select`: --units KIND=UNIT,... names each column's unit; --kf-rate HZ the
 // filter's rate (the data's by default).
+#include <map>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +11,7 @@
 #include "gmwm/engine/fit.h"
 #include "gmwm/io/json_output.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/io/units.h"
 
 namespace gmwm::cli {
 
@@ -20,8 +23,13 @@ struct UnitsOptions {
 /// Adds --units and --kf-rate.
 void add_units_options(CLI::App& sub, UnitsOptions& o);
 
-/// The column's unit name: the declared unit of its sensor kind (told by its name), "" when
-/// --units was not given or the name says no kind. Throws InputError for a bad --units.
+/// The unit of a column of sensor `kind` (or, without one, the kind its name says): the
+/// declared unit of that kind, SI where none is declared; "" when no kind is known.
+std::string unit_of_column(const std::map<io::SensorKind, io::Unit>& units, std::optional<io::SensorKind> kind,
+                           const std::string& column);
+
+/// The column's unit name from --units (unit_of_column), "" when --units was not given.
+/// Throws InputError for a bad --units.
 std::string column_unit(const UnitsOptions& o, const std::string& column);
 
 /// The filter rate: --kf-rate, else the data's rate (0 when unknown).
