@@ -10,7 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
-#include "gmwm/io/atomic_file.h"
+#include "gmwm/io/output_set.h"
 #include "html_report_detail.h"
 
 namespace gmwm::io {
@@ -149,18 +149,20 @@ std::string render_html_report(const ReportData& data) {
   return page.str();
 }
 
-void write_html_report(const std::string& path, const ReportData& data) {
+std::string report_svg_path(const std::string& path) { return path + ".svg"; }
+
+void stage_html_report(OutputSet& outputs, const std::string& path, const ReportData& data) {
   const std::string html = render_html_report(data);
-  const std::string svg = data.columns.empty() ? std::string() : render_wv_svg(data.columns.front());
-  const std::string svg_path = path + ".svg";
-  if (!svg.empty()) write_file_atomically(svg_path, svg);
-  try {
-    write_file_atomically(path, html);
-  } catch (...) {
-    std::error_code ec;
-    if (!svg.empty()) std::filesystem::remove(svg_path, ec);
-    throw;
-  }
+  outputs.stage(path, html);
+  if (!data.columns.empty()) outputs.stage(report_svg_path(path), render_wv_svg(data.columns.front()));
+}
+
+void write_html_report(const std::string& path, const ReportData& data) {
+  OutputSet outputs;
+  outputs.declare("--report", path);
+  outputs.declare("--report", report_svg_path(path));
+  stage_html_report(outputs, path, data);
+  outputs.commit();
 }
 
 }  // namespace gmwm::io

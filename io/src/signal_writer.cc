@@ -3,11 +3,9 @@
 #include <charconv>
 #include <cstring>
 
-#include <zlib.h>
-
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
-#include "gmwm/io/atomic_file.h"
+#include "gmwm/io/output_set.h"
 
 namespace gmwm::io {
 
@@ -37,69 +35,86 @@ void append_number(std::string& out, double x) {
   out.append(buf, ptr);
 }
 
-bool ends_with(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
+// Text formatted before it is handed to the stream: one system call (or deflate call)
+// per megabyte keeps their cost out of the profile without holding the file in memory.
+constexpr std::size_t kRowBuffer = 1 << 20;
 
-std::string gzip(const std::string& path, const std::string& text) {
-  z_stream zs;
-  std::memset(&zs, 0, sizeof zs);
-  // 15 + 16: largest window with a gzip (not zlib) wrapper.
-  if (deflateInit2(&zs, kGzipLevel, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-    throw InputError("cannot write '" + path + "': zlib initialisation failed");
-  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  const int rc = deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  if (rc != Z_STREAM_END) throw InputError("cannot write '" + path + "': gzip compression failed");
-  return out;
-}
-
-}  // namespace
-
-std::string format_signals_csv(const std::vector<Signal>& signals, std::optional<double> freq) {
+void check_signals(const std::vector<Signal>& signals, std::optional<double> freq) {
   if (freq) check_positive("write_signals", "freq", *freq);
   const std::size_t n = signals.empty() ? 0 : signals.front().values.size();
   for (const Signal& s : signals)
     check_size_match("write_signals", signals.front().name, n, s.name, s.values.size());
-  std::string out;
-  out.reserve((n + 1) * (signals.size() + 1) * 12);
+}
+
+}  // namespace
+
+void write_signals_csv(OutputStream& out, const std::vector<Signal>& signals, std::optional<double> freq) {
+  check_signals(signals, freq);
+  const std::size_t n = signals.empty() ? 0 : signals.front().values.size();
+  std::string buf;
+  buf.reserve(kRowBuffer + 4096);
   bool first = true;
   if (freq) {
-    out += "time";
+    buf += "time";
     first = false;
   }
   for (const Signal& s : signals) {
-    if (!first) out += ',';
-    append_name(out, s.name);
+    if (!first) buf += ',';
+    append_name(buf, s.name);
     first = false;
   }
-  out += '\n';
+  buf += '\n';
   for (std::size_t i = 0; i < n; ++i) {
     first = true;
     if (freq) {
-      append_number(out, static_cast<double>(i) / *freq);
+      append_number(buf, static_cast<double>(i) / *freq);
       first = false;
     }
     for (const Signal& s : signals) {
-      if (!first) out += ',';
-      append_number(out, s.values[i]);
+      if (!first) buf += ',';
+      append_number(buf, s.values[i]);
       first = false;
     }
-    out += '\n';
+    buf += '\n';
+    if (buf.size() >= kRowBuffer) {
+      out.write(buf);
+      buf.clear();
+    }
   }
-  return out;
+  out.write(buf);
+}
+
+std::string format_signals_csv(const std::vector<Signal>& signals, std::optional<double> freq) {
+  std::string text;
+  struct ToString final : OutputStream {
+    std::string& s;
+    explicit ToString(std::string& t) : s(t) {}
+    void write(std::string_view b) override { s.append(b); }
+  } sink(text);
+  write_signals_csv(sink, signals, freq);
+  return text;
+}
+
+void stage_signals(OutputSet& outputs, const std::string& path, const std::vector<Signal>& signals,
+                   std::optional<double> freq) {
+  check_signals(signals, freq);
+  outputs.stage(path, [&](OutputStream& file) {
+    if (!gzip_by_name(path)) {
+      write_signals_csv(file, signals, freq);
+      return;
+    }
+    GzipOutput gz(file, path, kGzipLevel);
+    write_signals_csv(gz, signals, freq);
+    gz.finish();
+  });
 }
 
 void write_signals(const std::string& path, const std::vector<Signal>& signals,
                    std::optional<double> freq) {
-  std::string text = format_signals_csv(signals, freq);
-  if (ends_with(path, ".gz")) text = gzip(path, text);
-  write_file_atomically(path, text);
+  OutputSet outputs;
+  outputs.declare("output", path);
+  stage_signals(outputs, path, signals, freq);
+  outputs.commit();
 }
 
 }  // namespace gmwm::io

@@ -23,12 +23,30 @@ std::string shell_quote(const std::string& s) {
 }  // namespace
 
 CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir) {
+  return run_gmwm(args, dir, RunOptions{});
+}
+
+std::vector<std::string> staged_leftovers(const std::filesystem::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.find(".gmwm-") != std::string::npos) out.push_back(name);
+  }
+  return out;
+}
+
+CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir, const RunOptions& how) {
   static int counter = 0;
   const auto out_path = dir / (".stdout" + std::to_string(counter));
   const auto err_path = dir / (".stderr" + std::to_string(counter++));
-  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(GMWM_CLI_PATH);
+  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + how.before + " ";
+  if (how.stdin_pipe) cmd += how.stdin_from + " | ";
+  cmd += shell_quote(GMWM_CLI_PATH);
   for (const auto& a : args) cmd += " " + shell_quote(a);
-  cmd += " < /dev/null > " + shell_quote(out_path.string()) + " 2> " + shell_quote(err_path.string());
+  if (!how.stdin_pipe) cmd += " < " + how.stdin_from;
+  cmd += " > " + (how.stdout_to.empty() ? shell_quote(out_path.string()) : how.stdout_to) + " 2> " +
+         shell_quote(err_path.string());
+  cmd = "bash -c " + shell_quote(cmd);
   const int status = std::system(cmd.c_str());
   CliRun run;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -16,9 +16,21 @@ struct CliRun {
   std::string out, err;
 };
 
+/// How run_gmwm() starts the program (shell fragments, not quoted: the test writes them).
+struct RunOptions {
+  std::string before;                  ///< run first in the same shell, e.g. "ulimit -f 64;"
+  std::string stdin_from = "/dev/null";  ///< stdin redirection target, or a pipe source with stdin_pipe
+  bool stdin_pipe = false;             ///< `stdin_from | gmwm ...` instead of `< stdin_from`
+  std::string stdout_to;               ///< stdout to this path instead of the captured file (out stays empty)
+};
+
 /// Runs `gmwm args...` in folder `dir` (relative paths resolve there), capturing stdout
 /// and stderr.
 CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir);
+CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir, const RunOptions& how);
+
+/// Files in `dir` left by an interrupted or failed write (gmwm's ".NAME.gmwm-XXXXXX").
+std::vector<std::string> staged_leftovers(const std::filesystem::path& dir);
 
 /// Non-empty lines of a text.
 std::vector<std::string> lines_of(const std::string& text);

@@ -13,7 +13,6 @@
 #include <tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
-#include "gmwm/io/atomic_file.h"
 
 namespace gmwm::cli {
 
@@ -120,18 +119,14 @@ std::shared_ptr<void> apply_common_options(const CommonOptions& common) {
                                                static_cast<std::size_t>(common.threads));
 }
 
-void check_output_path(const std::string& option, const std::string& path) {
-  if (path.empty() || path == "-") return;
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  std::error_code ec;
-  if (fs::is_directory(p, ec))
-    throw InputError(option + " '" + path + "': is a folder, expected a file path");
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec))
-    throw InputError(option + " '" + path + "': folder '" + dir.string() +
-                     "' does not exist, expected an existing folder");
+void declare_output(const CommonOptions& common, const std::string& option, const std::string& path) {
+  if (path.empty()) return;
+  common.outputs->declare(option, path);
 }
+
+void declare_input(const CommonOptions& common, const std::string& path) { common.outputs->add_input(path); }
+
+void commit_outputs(const CommonOptions& common) { common.outputs->commit(); }
 
 void add_report_option(CLI::App& sub, CommonOptions& common) {
   sub.add_option("--report", common.report,
@@ -144,7 +139,8 @@ void check_report_option(const CommonOptions& common) {
   if (common.report.empty()) return;
   if (common.report == "-")
     throw InputError("--report '-': expected a file path (the report is a file, with PATH.svg beside it)");
-  check_output_path("--report", common.report);
+  declare_output(common, "--report", common.report);
+  declare_output(common, "--report", io::report_svg_path(common.report));
   if (const std::string why = io::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
 }
 
@@ -167,7 +163,7 @@ io::ReportData report_data(const std::string& command, const io::SignalSet& set,
 
 void write_report(const CommonOptions& common, const io::ReportData& data) {
   if (common.report.empty()) return;
-  io::write_html_report(common.report, data);
+  io::stage_html_report(*common.outputs, common.report, data);
 }
 
 namespace {
@@ -246,7 +242,7 @@ void write_json(const CommonOptions& common, io::Json& doc, io::RunInfo run) {
   run.threads = active_threads();
   run.argv = common.argv;
   io::add_run_info(doc, run);
-  io::write_file_atomically(common.json, io::dump_json(doc));
+  common.outputs->stage(common.json, io::dump_json(doc));
 }
 
 std::string fmt(double x, int digits) {

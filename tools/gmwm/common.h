@@ -16,6 +16,7 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/io/html_report.h"
 #include "gmwm/io/json_output.h"
+#include "gmwm/io/output_set.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
 
@@ -30,6 +31,9 @@ struct CommonOptions {
   std::string log_level = "error";
   std::vector<std::string> argv;    ///< the command line, for the JSON "run" object
   std::string report;               ///< --report PATH (wv, fit, select, gap); empty: none
+  /// Not an option: the files this run writes, all or none (declared before any work,
+  /// staged as results come, committed by commit_outputs()).
+  std::shared_ptr<io::OutputSet> outputs = std::make_shared<io::OutputSet>();
 
   /// True when the terminal table goes to stdout (not --quiet, not --json -).
   bool show_table() const { return !quiet && json != "-"; }
@@ -80,9 +84,15 @@ std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& ro
 /// alive for the command's duration (nullptr when --threads was not given).
 std::shared_ptr<void> apply_common_options(const CommonOptions& common);
 
-/// Throws InputError when an output path cannot be written (its folder is missing):
-/// checked before any work so that a typo costs nothing and nothing is written.
-void check_output_path(const std::string& option, const std::string& path);
+/// Declares an output (nothing when `path` is empty) before any work, so that a typo, a
+/// device, a symlink, an input or a second output of the same name costs nothing and
+/// nothing is written (io::OutputSet::declare; InputError naming the option).
+void declare_output(const CommonOptions& common, const std::string& option, const std::string& path);
+/// Declares a file the run reads (an output may not be it).
+void declare_input(const CommonOptions& common, const std::string& path);
+/// Writes every staged output (standard output first, then the files), all or none.
+/// Call it once every result is staged, before the terminal table.
+void commit_outputs(const CommonOptions& common);
 
 /// --report PATH: the self-contained HTML report (io/html_report.h), plus PATH.svg.
 void add_report_option(CLI::App& sub, CommonOptions& common);
@@ -91,8 +101,7 @@ void add_report_option(CLI::App& sub, CommonOptions& common);
 void check_report_option(const CommonOptions& common);
 /// The report's skeleton: one column per signal (name, n, rate, unit), no results yet.
 io::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec = {});
-/// Writes the report and its SVG (atomically) when --report was given; call it last,
-/// once every other output succeeded.
+/// Stages the report and its SVG when --report was given.
 void write_report(const CommonOptions& common, const io::ReportData& data);
 
 /// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown.
@@ -112,7 +121,7 @@ io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
 /// TBB's current parallelism limit.
 int active_threads();
 
-/// Fills RunInfo and writes the JSON document when --json was given.
+/// Fills RunInfo and stages the JSON document when --json was given.
 void write_json(const CommonOptions& common, io::Json& doc, io::RunInfo run);
 
 /// A number for tables: %.6g, "-" when not finite.

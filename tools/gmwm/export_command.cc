@@ -230,8 +230,10 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   if (a.output == "-" && !io::allows_comments(o.format))
     throw InputError("--output -: the " + std::string(io::to_string(o.format)) +
                      " export writes its header to a sidecar PATH.txt; expected a file path");
-  check_output_path("--output", a.output);
-  check_output_path("--json", common.json);
+  declare_input(common, a.input.input);
+  declare_output(common, "--output", a.output);
+  if (!io::allows_comments(o.format)) declare_output(common, "--output", a.output + ".txt");
+  declare_output(common, "--json", common.json);
   if (!a.units.empty()) io::parse_units(a.units);  // a bad --units fails before any work
 
   std::string source;
@@ -245,19 +247,12 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   const io::ExportResult r = io::render_export(columns, o, source);
 
   // Everything is computed: write the file (and its sidecar), then the JSON.
-  io::write_file_atomically(a.output, r.content);
-  if (r.sidecar) {
-    try {
-      io::write_file_atomically(a.output + ".txt", *r.sidecar);
-    } catch (...) {
-      std::error_code ec;
-      std::filesystem::remove(a.output, ec);
-      throw;
-    }
-  }
+  common.outputs->stage(a.output, r.content);
+  if (r.sidecar) common.outputs->stage(a.output + ".txt", *r.sidecar);
   for (const auto& w : r.warnings) warn(w);
   io::Json doc = result_json(o, r, a.output, source);
   write_json(common, doc, {.threads = 0, .seconds = {}, .argv = {}});
+  commit_outputs(common);
   if (common.show_table() && a.output != "-") {
     std::cout << terminal_report(o, r, a.output);
     std::cout.flush();

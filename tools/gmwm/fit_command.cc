@@ -83,7 +83,8 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   // The bootstrap Omega recomputes the same WV on simulated series.
   std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
   if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
-  check_output_path("--json", common.json);
+  declare_input(common, args.input.input);
+  declare_output(common, "--json", common.json);
   check_report_option(common);
 
   FitOptions options;
@@ -173,6 +174,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     }
     write_report(common, rep);
   }
+  commit_outputs(common);
   if (common.show_table()) {
     std::cout << report;
     std::cout.flush();

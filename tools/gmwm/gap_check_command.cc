@@ -92,7 +92,7 @@ std::string report(const selection::GapCheckResult& r) {
 int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
-  check_output_path("--json", common.json);
+  declare_output(common, "--json", common.json);
   selection::GapCheckOptions o;
   o.cases = args.cases;
   o.n = args.n;
@@ -146,6 +146,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
                     {"parameter_error", io::json_number(c.parameter_error)}});
   doc["case_list"] = list;
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  commit_outputs(common);
   if (common.show_table()) std::cout << report(r) << std::flush;
   return 0;
 }

@@ -209,7 +209,10 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
-  check_output_path("--json", common.json);
+  declare_input(common, args.input.input);
+  declare_input(common, args.kalibr);
+  declare_input(common, args.gazebo);
+  declare_output(common, "--json", common.json);
   check_report_option(common);
   const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty();
   if (given != 1)
@@ -362,6 +365,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     }
     write_report(common, rep);
   }
+  commit_outputs(common);
   if (common.show_table()) {
     std::cout << report;
     std::cout.flush();

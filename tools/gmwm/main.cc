@@ -1,6 +1,7 @@
 // gmwm: the command-line program (CLI.md). Exit codes: 0 success; 2 bad input or bad
 // options (one line "gmwm: error: ..." on stderr, nothing written); 1 internal failure.
 
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -38,6 +39,11 @@ int main(int argc, char** argv) {
                "gmwm"};
   app.set_version_flag("--version", gmwm::io::version());
   app.require_subcommand(1);
+
+  // Past a file-size limit (ulimit -f) write(2) must fail with EFBIG, so that the staged
+  // outputs are removed and the error reported, rather than the process being killed by
+  // SIGXFSZ with a temporary file left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
 
   CommonOptions common;
   for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);

@@ -71,7 +71,8 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const auto robust_options = robust_wv_options(args.robust, wv_opts);
   std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
   if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
-  check_output_path("--json", common.json);
+  declare_input(common, args.input.input);
+  declare_output(common, "--json", common.json);
   check_report_option(common);
   selection::SelectOptions options;
   options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
@@ -188,6 +189,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     }
     write_report(common, rep);
   }
+  commit_outputs(common);
   if (common.show_table()) {
     std::cout << report;
     std::cout.flush();

@@ -69,8 +69,8 @@ std::string joined(const std::vector<std::string>& names) {
 int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
-  check_output_path("--output", args.output);
-  check_output_path("--json", common.json);
+  declare_output(common, "--output", args.output);
+  declare_output(common, "--json", common.json);
   if (args.freq && !(*args.freq > 0.0 && std::isfinite(*args.freq)))
     throw InputError("--freq " + fmt(*args.freq) + ": expected a positive sampling rate in Hz");
   if (args.quantum && !(*args.quantum > 0.0 && std::isfinite(*args.quantum)))
@@ -114,7 +114,7 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
         {signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
 
   Stopwatch write_clock;
-  io::write_signals(args.output, signals, args.freq);
+  io::stage_signals(*common.outputs, args.output, signals, args.freq);
   const double write_seconds = write_clock.seconds();
   write_json(common, doc,
              {.threads = 0,
@@ -122,6 +122,7 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
                           {"write", write_seconds},
                           {"total", total.seconds()}},
               .argv = {}});
+  commit_outputs(common);
   if (common.show_table()) {
     std::cout << "wrote " << args.output << ": " << signals.size() << " signal(s) ("
               << joined(names) << ") x " << args.n << " samples"

@@ -9,7 +9,6 @@
 #include <sstream>
 
 #include "common.h"
-#include "gmwm/io/atomic_file.h"
 #include "gmwm/robust/contamination.h"
 
 namespace gmwm::cli {
@@ -116,9 +115,10 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   const WvOptions options = wv_options(args.input);
   const auto robust_options = robust_wv_options(args.robust, options);
-  check_output_path("--json", common.json);
+  declare_input(common, args.input.input);
+  declare_output(common, "--json", common.json);
   check_report_option(common);
-  check_output_path("--csv", args.csv);
+  declare_output(common, "--csv", args.csv);
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
@@ -155,7 +155,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   const std::string table = common.show_table() ? terminal_table(set, wvs, rv) : std::string();
 
   warn_about_timing(set);
-  if (!args.csv.empty()) io::write_file_atomically(args.csv, csv);
+  if (!args.csv.empty()) common.outputs->stage(args.csv, csv);
   write_json(common, doc,
              {.threads = 0,
               .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"total", total.seconds()}},
@@ -167,6 +167,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
           rv.active() ? std::vector<WaveletVariance>{rv.classical[k], wvs[k]} : std::vector<WaveletVariance>{wvs[k]};
     write_report(common, rep);
   }
+  commit_outputs(common);
   if (common.show_table()) {
     if (set.timing) std::cout << set.timing->summary() << '\n';
     std::cout << table;

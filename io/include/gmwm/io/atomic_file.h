@@ -1,7 +1,8 @@
 #pragma once
-// Writes an output file all-or-nothing: the content goes to a temporary file beside the
-// target, which is renamed over the target only on success (DESIGN.md error policy: no
-// partial output files).
+// Writes one output file all-or-nothing: OutputSet (output_set.h) with a single file. The
+// content goes to a temporary file beside the target, renamed over it only on success; a
+// target that is a folder, a device, a FIFO or a symbolic link is refused (DESIGN.md error
+// policy: no partial output files, nothing of the user's clobbered).
 
 #include <string>
 #include <string_view>
@@ -9,7 +10,8 @@
 namespace gmwm::io {
 
 /// Writes `content` to `path` atomically. Throws InputError (naming the path) when the
-/// folder is missing or not writable. `path` "-" writes to standard output.
+/// folder is missing or not writable, or the target is not a regular file. `path` "-"
+/// writes to standard output (errors checked).
 void write_file_atomically(const std::string& path, std::string_view content);
 
 }  // namespace gmwm::io

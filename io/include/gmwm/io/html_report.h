@@ -55,6 +55,7 @@
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/selection/gap.h"
 #include "gmwm/selection/select.h"
+#include "gmwm/io/output_set.h"
 
 namespace gmwm::io {
 
@@ -96,9 +97,16 @@ std::string render_html_report(const ReportData& data);
 /// The static SVG of a column's WV plot (estimates with CI bands, model and components).
 std::string render_wv_svg(const ReportColumn& column);
 
-/// Renders the page and the first column's SVG, then writes PATH and PATH.svg, each
-/// atomically (temporary file + rename). Throws InputError for an unwritable path or a
-/// missing Vega; nothing is written then.
+/// Renders the page and the first column's SVG, then writes PATH and PATH.svg, both or
+/// neither (an OutputSet). Throws InputError for an unwritable path or a missing Vega;
+/// nothing is written then.
 void write_html_report(const std::string& path, const ReportData& data);
+
+/// As write_html_report(), staged in `outputs` with the run's other files (PATH.svg is
+/// declared there as "--report"'s companion, so it too may not be an input).
+void stage_html_report(OutputSet& outputs, const std::string& path, const ReportData& data);
+
+/// The companion SVG's path for a report at `path`.
+std::string report_svg_path(const std::string& path);
 
 }  // namespace gmwm::io
