@@ -14,6 +14,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/model_relations.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/wv_covariance.h"
 #include "starting_values.h"
@@ -77,13 +78,6 @@ double gmwm_objective(const WaveletVariance& wv, const Model& model, const Eigen
 
 namespace {
 
-// Bounds of the unconstrained parameters. atanh(1 - 1e-9) = 10.70: |phi| <= 1 - 1e-9,
-// the range where the AR1 WV is numerically stable (DESIGN.md). log: e^{+-100} covers
-// any physical variance. logit(2f): f in (0.5 e^-30, 0.5 (1 - e^-30)).
-constexpr double kAtanhBound = 10.7;
-constexpr double kLogBound = 100.0;
-constexpr double kLogitBound = 30.0;
-constexpr double kIdentityBound = 1e6;
 // The relative size, against the data's WV, given to a component absent from the
 // sub-model a warm start comes from: small enough not to change the objective
 // noticeably, large enough to keep the log-parameters' gradients alive.
@@ -310,37 +304,20 @@ FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, dou
   }
 }
 
-bool same_component(const Component& a, const Component& b) {
-  if (a.process->name() != b.process->name() || a.process->structure() != b.process->structure()) return false;
-  for (std::size_t i = 0; i < a.given.size(); ++i) {
-    const double x = a.given[i], y = b.given[i];
-    if (!(x == y || (std::isnan(x) && std::isnan(y)))) return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model,
                                            const Eigen::MatrixXd& omega, const FitOptions& options) {
   std::vector<Eigen::VectorXd> out;
-  const auto& comps = model.components();
-  if (comps.size() < 2) return out;
   FitOptions sub_options = options;
   sub_options.omega_matrix = omega;
   sub_options.nested_starts = false;
   sub_options.inference = false;
   sub_options.starts.clear();
-  for (std::size_t c = 0; c < comps.size(); ++c) {
-    bool seen = false;  // removing one of several identical components gives one sub-model
-    for (std::size_t e = 0; e < c && !seen; ++e) seen = same_component(comps[c], comps[e]);
-    if (seen) continue;
-    std::vector<Component> kept;
-    for (std::size_t k = 0; k < comps.size(); ++k)
-      if (k != c) kept.push_back(comps[k]);
-    const Model sub(std::move(kept));
+  for (const Model& sub : representation_neighbours(model)) {
     const FitResult f = fit_gmwm(wv, sub, sub_options);
-    if (f.status != FitStatus::kFailed) out.push_back(embed_start(f.model, f.theta, model, wv));
+    if (f.status == FitStatus::kFailed) continue;
+    if (auto start = represent_start(model, f.model, f.theta, wv)) out.push_back(std::move(*start));
   }
   return out;
 }

@@ -112,7 +112,7 @@ Eigen::VectorXd Model::dtheta_du(const Eigen::VectorXd& u) const {
   return d;
 }
 
-Model Model::canonical(Eigen::VectorXd* theta) const {
+Model Model::canonical(Eigen::VectorXd* theta, std::vector<int>* permutation) const {
   std::vector<int> order(components_.size());
   std::iota(order.begin(), order.end(), 0);
   auto key = [&](int c) {
@@ -139,6 +139,7 @@ Model Model::canonical(Eigen::VectorXd* theta) const {
     }
   }
   if (theta) *theta = sorted;
+  if (permutation) *permutation = order;
   return Model(std::move(comps));
 }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "gmwm/engine/process_registry.h"
+
 namespace gmwm {
 
 double to_unconstrained(Transform t, double x) {
@@ -80,6 +82,33 @@ std::string Process::validate(std::span<const double> theta) const {
     }
   }
   return {};
+}
+
+std::optional<std::vector<double>> Process::represent(const Process& other,
+                                                      std::span<const double> other_theta) const {
+  if (!same_process(*this, other)) return std::nullopt;
+  return std::vector<double>(other_theta.begin(), other_theta.end());
+}
+
+std::vector<SimplerForm> Process::simpler_forms(std::span<const double> theta) const {
+  (void)theta;
+  return {};
+}
+
+std::optional<std::vector<double>> Process::merged(std::span<const double> a, std::span<const double> b) const {
+  (void)a;
+  (void)b;
+  return std::nullopt;
+}
+
+ProcessPtr make_process(const std::string& name, const ProcessContext& context) {
+  ProcessArgs args;
+  args.context = context;
+  return ProcessRegistry::instance().create(name, args);
+}
+
+bool same_process(const Process& a, const Process& b) {
+  return a.name() == b.name() && a.structure() == b.structure();
 }
 
 }  // namespace gmwm

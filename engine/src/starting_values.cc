@@ -287,4 +287,9 @@ std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Mod
   return best_of(std::move(scored), count);
 }
 
+int linear_scale_parameter(const Process& p, const std::vector<double>& theta, std::span<const double> tau) {
+  const ScaleParam sp = find_scale_param(p, theta, tau);
+  return sp.squared ? -1 : sp.index;
+}
+
 }  // namespace gmwm::detail

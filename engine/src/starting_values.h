@@ -29,6 +29,10 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
 bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
                  Eigen::VectorXd& theta, double& objective);
 
+/// Index of the parameter that scales p's WV linearly at theta (sigma2, gamma2, Q2, A2 ...;
+/// found numerically, no process names involved), or -1 when none does.
+int linear_scale_parameter(const Process& p, const std::vector<double>& theta, std::span<const double> tau);
+
 /// Components of theta whose WV is negligible at every level (below a tiny share of the
 /// data's WV): a local optimum the optimiser cannot leave by itself.
 std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& model,

@@ -103,11 +103,12 @@ std::string ranking_table(const selection::Selection& sel) {
   std::ostringstream os;
   const bool boot = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap.has_value();
   os << "<div class=\"ranking\">\n<h4>model ranking: " << sel.models << " models ("
-     << html_escape(sel.full_model) << "), nesting violations " << sel.nesting_violations << "</h4>\n"
+     << html_escape(sel.full_model) << "), representation violations " << sel.representation_violations << "</h4>\n"
      << "<table class=\"ranking\">\n";
-  std::vector<std::string> head = {"rank", "model", "parameters", "objective", "optimism", "criterion"};
+  std::vector<std::string> head = {"rank", "model (effective)", "parameters", "objective", "optimism", "criterion"};
   if (boot) head.insert(head.end(), {"bootstrap optimism (se)", "rank a/b"});
   head.push_back("GoF p-value");
+  head.push_back("candidates that fell onto it");
   os << th_row(head);
   for (std::size_t i = 0; i < sel.ranking.size(); ++i) {
     const auto& r = sel.ranking[i];
@@ -123,7 +124,10 @@ std::string ranking_table(const selection::Selection& sel) {
          << td((r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +
                    (r.rank_bootstrap ? std::to_string(*r.rank_bootstrap) : "-"),
                "num");
-    os << td(num(r.gof.p_value, 3), "num") << "</tr>\n";
+    std::string others;
+    for (const auto& m : r.members)
+      if (m != r.model) others += (others.empty() ? "" : ", ") + m;
+    os << td(num(r.gof.p_value, 3), "num") << td(others) << "</tr>\n";
   }
   os << "</table>\n</div>\n";
   return os.str();

@@ -234,6 +234,19 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
 }
 
 
+namespace {
+
+// A ranking row's effective model and parameters as a FitResult (values only).
+FitResult effective_fit(const selection::RankedModel& r) {
+  FitResult f;
+  f.model = r.effective.model;
+  f.theta = r.effective.theta;
+  f.status = r.fit.status;
+  return f;
+}
+
+}  // namespace
+
 json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
                         selection::Penalty penalty) {
   (void)penalty;
@@ -246,7 +259,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
   c["penalty"] = selection::to_string(penalty);
   c["omega"] = selection::to_string(sel.omega_source);
   c["models"] = sel.models;
-  c["nesting_violations"] = sel.nesting_violations;
+  c["representation_violations"] = sel.representation_violations;
   json ranking = json::array();
   for (const auto& r : sel.ranking) {
     json e = {{"rank", r.rank},
@@ -261,7 +274,10 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
               {"rank_bootstrap", r.rank_bootstrap ? json(*r.rank_bootstrap) : json(nullptr)},
               {"gof_p_value", json_number(r.gof.p_value)},
               {"status", status_name(r.fit.status)},
-              {"parameters", parameters_json(r.rank == 1 ? b : r.fit)}};
+              {"effective_parameters", r.parameters},
+              {"members", r.members},
+              {"reductions", r.effective.reductions},
+              {"parameters", parameters_json(r.rank == 1 ? b : effective_fit(r))}};
     if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;
     if (r.optimism_bootstrap && r.optimism_analytic)
       e["optimism_difference"] = json_number(*r.optimism_bootstrap - *r.optimism_analytic);
@@ -270,6 +286,16 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
     ranking.push_back(std::move(e));
   }
   c["ranking"] = std::move(ranking);
+  json candidates = json::array();
+  for (const auto& cf : sel.candidates)
+    candidates.push_back({{"model", cf.model},
+                          {"objective", json_number(cf.fit.objective)},
+                          {"status", status_name(cf.fit.status)},
+                          {"effective", cf.effective.model.to_string()},
+                          {"reductions", cf.effective.reductions}});
+  c["candidates"] = std::move(candidates);
+  c["not_converged"] = sel.not_converged;
+  c["failed"] = sel.failed;
   c["best_fit"] = {{"objective", json_number(b.objective)},
                    {"status", status_name(b.status)},
                    {"gof", {{"statistic", json_number(b.gof.statistic)},

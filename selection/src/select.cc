@@ -16,6 +16,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/model_relations.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
@@ -127,12 +128,6 @@ struct SignalWork {
   }
 };
 
-bool nested_in(const std::vector<int>& sub, const std::vector<int>& super) {
-  for (std::size_t g = 0; g < sub.size(); ++g)
-    if (sub[g] > super[g]) return false;
-  return true;
-}
-
 // V^-1 for the model-based V when `full` and V is positive definite, else diag(1 / V_jj)
 // (a level where V_jj is not positive and finite keeps the data's weight).
 Eigen::MatrixXd model_omega(const Eigen::MatrixXd& v, const Eigen::MatrixXd& data_omega, bool full) {
@@ -243,7 +238,67 @@ std::vector<std::size_t> rank_order(const std::vector<RankedModel>& ranking, Cri
   return order;
 }
 
-// Scores the fitted candidates of one signal (optimism, criterion), ranks them, and
+// Scores one candidate's fit as its effective model: the analytic optimism and the GoF
+// at the effective parameters (boundary components left out of A), the bootstrap
+// optimism of the candidate as fitted, and the criterion objective + penalty.
+RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& omega, const Eigen::MatrixXd& v,
+                            const CandidateFit& c, const BootstrapResult* boot, bool omega_is_v_inverse,
+                            const SelectOptions& options) {
+  RankedModel r;
+  r.fit = c.fit;
+  r.effective = c.effective;
+  r.model = c.effective.model.to_string();
+  r.members = {c.model};
+  r.parameters = c.effective.parameters();
+  r.objective = c.fit.objective;
+  if (c.fit.status != FitStatus::kFailed) {
+    const Model& m = c.effective.model;
+    r.analytic = analytic_optimism(m, c.effective.theta, wv.tau, wv.values(), omega, v);
+    if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
+    r.gof = goodness_of_fit(active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components), r.objective,
+                            static_cast<double>(wv.levels() - r.parameters), omega, v, omega_is_v_inverse);
+  }
+  if (boot) {
+    if (std::isfinite(boot->value)) {
+      r.optimism_bootstrap = boot->value;
+      r.optimism_bootstrap_se = boot->se;
+    }
+    r.bootstrap_failed = boot->failed;
+    r.bootstrap_not_converged = boot->not_converged;
+  }
+  if (options.penalty == Penalty::kWvic)
+    r.optimism = (options.optimism == OptimismMethod::kBootstrap ? r.optimism_bootstrap : r.optimism_analytic)
+                     .value_or(std::numeric_limits<double>::quiet_NaN());
+  else
+    r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
+  r.criterion = c.fit.status == FitStatus::kFailed ? std::numeric_limits<double>::quiet_NaN() : r.objective + r.optimism;
+  return r;
+}
+
+// One row per distinct effective model: the member with the lowest criterion stands for
+// it (ties: fewer raw parameters, then the enumeration order); the others are listed.
+std::vector<RankedModel> group_by_effective_model(std::vector<RankedModel> scored) {
+  std::vector<RankedModel> rows;
+  for (auto& r : scored) {
+    auto it = std::find_if(rows.begin(), rows.end(), [&](const RankedModel& x) { return x.model == r.model; });
+    if (it == rows.end()) {
+      rows.push_back(std::move(r));
+      continue;
+    }
+    const bool better = !std::isnan(r.criterion) &&
+                        (std::isnan(it->criterion) || r.criterion < it->criterion ||
+                         (r.criterion == it->criterion && r.fit.model.num_parameters() < it->fit.model.num_parameters()));
+    if (better) {
+      r.members.insert(r.members.end(), it->members.begin(), it->members.end());
+      *it = std::move(r);
+    } else {
+      it->members.push_back(r.members.front());
+    }
+  }
+  return rows;
+}
+
+// Scores the fitted candidates of one signal, ranks their distinct effective models, and
 // refits the best with inference. v: Cov(nuhat), model-based at the maximal model's fit.
 void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega, Eigen::MatrixXd v,
                     const std::vector<FitResult>& fits, const std::vector<std::string>& names,
@@ -252,79 +307,111 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
   sel.models = static_cast<int>(K);
   sel.omega = omega;
   sel.v = std::move(v);
-  const Eigen::VectorXd nuhat = wv.values();
+  sel.candidates.clear();
+  sel.not_converged = sel.failed = 0;
   std::vector<RankedModel> scored;
   for (std::size_t i = 0; i < K; ++i) {
-    RankedModel r;
-    r.fit = fits[i];
-    r.model = names[i];
-    r.parameters = r.fit.model.num_parameters();
-    r.objective = r.fit.objective;
-    if (r.fit.status != FitStatus::kFailed) {
-      r.analytic = analytic_optimism(r.fit.model, r.fit.theta, wv.tau, nuhat, omega, sel.v);
-      if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
-      r.gof = goodness_of_fit(active_jacobian(r.fit.model, r.fit.theta, wv.tau, r.analytic.boundary_components),
-                              r.objective, static_cast<double>(wv.levels() - r.parameters), omega, sel.v,
-                              sel.omega_source == OmegaSource::kModelFull);
+    CandidateFit c{names[i], fits[i], {}};
+    if (fits[i].status == FitStatus::kFailed) {
+      ++sel.failed;
+      c.effective.model = fits[i].model.canonical();
+      c.effective.theta = fits[i].theta;
+    } else {
+      if (fits[i].status == FitStatus::kNotConverged) ++sel.not_converged;
+      c.effective = effective_model(wv, fits[i].model, fits[i].theta);
     }
-    if (boot[i]) {
-      if (std::isfinite(boot[i]->value)) {
-        r.optimism_bootstrap = boot[i]->value;
-        r.optimism_bootstrap_se = boot[i]->se;
-      }
-      r.bootstrap_failed = boot[i]->failed;
-      r.bootstrap_not_converged = boot[i]->not_converged;
-    }
-    if (options.penalty == Penalty::kWvic)
-      r.optimism = (options.optimism == OptimismMethod::kBootstrap ? r.optimism_bootstrap : r.optimism_analytic)
-                       .value_or(std::numeric_limits<double>::quiet_NaN());
-    else
-      r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
-    r.criterion = r.objective + r.optimism;
-    scored.push_back(std::move(r));
+    scored.push_back(score_candidate(wv, omega, sel.v, c, boot[i], sel.omega_source == OmegaSource::kModelFull, options));
+    sel.candidates.push_back(std::move(c));
   }
+  std::vector<RankedModel> rows = group_by_effective_model(std::move(scored));
+  const std::size_t R = rows.size();
   // Ranks under each optimism (WVIC): by objective + that optimism, same tie rule.
   auto with = [](const std::optional<double>& o, double objective) {
     return o ? objective + *o : std::numeric_limits<double>::quiet_NaN();
   };
   if (options.penalty == Penalty::kWvic) {
-    const auto a = rank_order(scored, [&](const RankedModel& r) { return with(r.optimism_analytic, r.objective); });
-    for (std::size_t k = 0; k < K; ++k)
-      if (scored[a[k]].optimism_analytic) scored[a[k]].rank_analytic = static_cast<int>(k) + 1;
+    const auto a = rank_order(rows, [&](const RankedModel& r) { return with(r.optimism_analytic, r.objective); });
+    for (std::size_t k = 0; k < R; ++k)
+      if (rows[a[k]].optimism_analytic) rows[a[k]].rank_analytic = static_cast<int>(k) + 1;
     if (options.optimism != OptimismMethod::kAnalytic) {
-      const auto b = rank_order(scored, [&](const RankedModel& r) { return with(r.optimism_bootstrap, r.objective); });
-      for (std::size_t k = 0; k < K; ++k)
-        if (scored[b[k]].optimism_bootstrap) scored[b[k]].rank_bootstrap = static_cast<int>(k) + 1;
+      const auto b = rank_order(rows, [&](const RankedModel& r) { return with(r.optimism_bootstrap, r.objective); });
+      for (std::size_t k = 0; k < R; ++k)
+        if (rows[b[k]].optimism_bootstrap) rows[b[k]].rank_bootstrap = static_cast<int>(k) + 1;
     }
   }
-  const auto order = rank_order(scored, [](const RankedModel& r) { return r.criterion; });
+  const auto order = rank_order(rows, [](const RankedModel& r) { return r.criterion; });
   sel.ranking.clear();
-  for (std::size_t k = 0; k < K; ++k) {
-    sel.ranking.push_back(std::move(scored[order[k]]));
+  for (std::size_t k = 0; k < R; ++k) {
+    sel.ranking.push_back(std::move(rows[order[k]]));
     sel.ranking.back().rank = static_cast<int>(k) + 1;
   }
-  // The best model with inference (same Omega, started from its own optimum).
+  // The best effective model with inference (same Omega), from its effective parameters
+  // and, when it is a candidate itself, from that candidate's optimum.
+  const RankedModel& top = sel.ranking.front();
   FitOptions fo = options.fit;
   fo.omega_matrix = omega;
   fo.nested_starts = false;
   fo.inference = true;
-  fo.starts = {sel.ranking.front().fit.theta};
-  sel.best_fit = fit_gmwm(wv, sel.ranking.front().fit.model, fo);
+  fo.starts = {top.effective.theta};
+  for (const auto& c : sel.candidates)
+    if (c.model == top.model && c.fit.status != FitStatus::kFailed) fo.starts.push_back(c.fit.theta);
+  sel.best_fit = fit_gmwm(wv, top.effective.model, fo);
 }
 
-// Models whose objective exceeds that of a model nested in them (kNestingTolerance).
-int count_nesting_violations(const SubModelSet& set, const std::vector<FitResult>& fits,
-                             const std::vector<int>* members = nullptr) {
+// Pairs (i, k) where models[i] represents models[k] (nested or through an equivalent
+// form) and still ends above it (relative kNestingTolerance).
+int count_representation_violations(const std::vector<std::vector<bool>>& rep, const std::vector<FitResult>& fits) {
   int n = 0;
-  const std::size_t K = fits.size();
-  auto counts = [&](std::size_t i) -> const std::vector<int>& {
-    return set.models[static_cast<std::size_t>(members ? (*members)[i] : static_cast<int>(i))].counts;
-  };
-  for (std::size_t i = 0; i < K; ++i)
-    for (std::size_t k = 0; k < K; ++k)
-      if (k != i && nested_in(counts(k), counts(i)) && fits[i].objective > fits[k].objective * (1.0 + kNestingTolerance))
+  for (std::size_t i = 0; i < fits.size(); ++i)
+    for (std::size_t k = 0; k < fits.size(); ++k)
+      if (rep[i][k] && fits[i].status != FitStatus::kFailed && fits[k].status != FitStatus::kFailed &&
+          fits[i].objective > fits[k].objective * (1.0 + kNestingTolerance))
         ++n;
   return n;
+}
+
+/// Fits `models` on every signal of `work` along the representation order: a model's
+/// node runs once the nodes of the models it covers are done and starts from their
+/// optima mapped into it (represent_start), in the covers' fixed order, so the result
+/// does not depend on the thread count. `with_own_starts`: each fit also starts from its
+/// own representation neighbours (the non-nested mode, where they are not in the list).
+void fit_along_representation(std::vector<SignalWork>& work, const std::vector<Model>& models,
+                              const std::vector<std::vector<int>>& covers, const Model* maximal,
+                              bool with_own_starts, const SelectOptions& options, int total, std::atomic<int>& done) {
+  const std::size_t K = models.size();
+  namespace flow = oneapi::tbb::flow;
+  flow::graph g;
+  using Node = flow::continue_node<flow::continue_msg>;
+  std::vector<std::unique_ptr<Node>> nodes;
+  nodes.reserve(work.size() * K);
+  for (std::size_t s = 0; s < work.size(); ++s) {
+    for (std::size_t i = 0; i < K; ++i) {
+      nodes.push_back(std::make_unique<Node>(g, [&, s, i](const flow::continue_msg&) {
+        SignalWork& w = work[s];
+        const Model& m = models[i];
+        FitOptions fo = options.fit;
+        fo.omega_matrix = w.omega;
+        fo.nested_starts = with_own_starts;
+        fo.inference = false;
+        for (int k : covers[i]) {
+          const FitResult& kf = w.fits[static_cast<std::size_t>(k)];
+          if (kf.status == FitStatus::kFailed) continue;
+          if (auto start = represent_start(m, kf.model, kf.theta, *w.wv)) fo.starts.push_back(std::move(*start));
+        }
+        if (w.pilot && maximal && m.to_string() == maximal->to_string())
+          if (auto start = represent_start(m, w.pilot->model, w.pilot->theta, *w.wv)) fo.starts.push_back(std::move(*start));
+        w.fits[i] = fit_gmwm(*w.wv, m, fo);
+        const int d = ++done;
+        if (options.progress) options.progress(d, total);
+      }));
+    }
+    for (std::size_t i = 0; i < K; ++i)
+      for (int k : covers[i]) flow::make_edge(*nodes[s * K + static_cast<std::size_t>(k)], *nodes[s * K + i]);
+  }
+  for (std::size_t s = 0; s < work.size(); ++s)
+    for (std::size_t i = 0; i < K; ++i)
+      if (covers[i].empty()) nodes[s * K + i]->try_put(flow::continue_msg());
+  g.wait_for_all();
 }
 
 }  // namespace
@@ -368,40 +455,11 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
   std::vector<SignalWork> work = make_work(wvs, K, maximal, options);
   const int total = static_cast<int>(wvs.size() * K);
   std::atomic<int> done{0};
-
-  // One node per (signal, model); edges from each parent model's node.
-  namespace flow = oneapi::tbb::flow;
-  flow::graph g;
-  using Node = flow::continue_node<flow::continue_msg>;
-  std::vector<std::unique_ptr<Node>> nodes;
-  nodes.reserve(wvs.size() * K);
-  for (std::size_t s = 0; s < wvs.size(); ++s) {
-    for (std::size_t i = 0; i < K; ++i) {
-      nodes.push_back(std::make_unique<Node>(g, [&, s, i](const flow::continue_msg&) {
-        SignalWork& w = work[s];
-        const SubModel& m = set.models[i];
-        FitOptions fo = options.fit;
-        fo.omega_matrix = w.omega;
-        fo.nested_starts = false;
-        fo.inference = false;
-        for (int p : m.parents) {
-          const FitResult& pf = w.fits[static_cast<std::size_t>(p)];
-          if (pf.status != FitStatus::kFailed) fo.starts.push_back(embed_start(pf.model, pf.theta, m.model, *w.wv));
-        }
-        if (i + 1 == K && w.pilot) fo.starts.push_back(embed_start(w.pilot->model, w.pilot->theta, m.model, *w.wv));
-        w.fits[i] = fit_gmwm(*w.wv, m.model, fo);
-        const int d = ++done;
-        if (options.progress) options.progress(d, total);
-      }));
-    }
-    for (std::size_t i = 0; i < K; ++i)
-      for (int p : set.models[i].parents)
-        flow::make_edge(*nodes[s * K + static_cast<std::size_t>(p)], *nodes[s * K + i]);
-  }
-  for (std::size_t s = 0; s < wvs.size(); ++s)
-    for (std::size_t i = 0; i < K; ++i)
-      if (set.models[i].parents.empty()) nodes[s * K + i]->try_put(flow::continue_msg());
-  g.wait_for_all();
+  std::vector<Model> models;
+  for (const auto& m : set.models) models.push_back(m.model);
+  const auto rep = representation_matrix(models);
+  fit_along_representation(work, models, representation_covers(rep), &set.models.back().model, false, options, total,
+                           done);
 
   // Bootstrap optimism of every (signal, model), when asked.
   const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
@@ -420,7 +478,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     sel.full_model = set.models.back().model.to_string();
     sel.omega_source = w.omega_source;
     score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.fits, names, b, options);
-    sel.nesting_violations = count_nesting_violations(set, w.fits);
+    sel.representation_violations = count_representation_violations(rep, w.fits);
   });
   return out;
 }
@@ -430,23 +488,9 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("select: " + why);
   if (models.empty()) throw InputError("select: no models given");
   const Model super = common_supermodel(models);
-  const SubModelSet set = enumerate_submodels(super);
-  // Each listed model's place among the super-model's sub-models (for the nesting check).
-  std::vector<int> members;
   std::vector<std::string> names;
-  for (const Model& m : models) {
-    std::vector<int> counts(set.groups.size(), 0);
-    for (const Component& c : m.components())
-      for (std::size_t g = 0; g < set.groups.size(); ++g)
-        if (set.groups[g].prototype.process->name() == c.process->name() &&
-            set.groups[g].prototype.process->structure() == c.process->structure())
-          ++counts[g];
-    members.push_back(set.find(counts));
-    names.push_back(m.canonical().to_string());
-  }
-  for (const auto& wv : wvs) {
-    check_model_fits_levels(super, wv.levels());
-  }
+  for (const Model& m : models) names.push_back(m.canonical().to_string());
+  for (const auto& wv : wvs) check_model_fits_levels(super, wv.levels());
   const std::size_t K = models.size();
   std::vector<SignalWork> work = make_work(wvs, K, super, options);
   const int total = static_cast<int>(wvs.size() * (K + 1));
@@ -455,14 +499,11 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     const int d = ++done;
     if (options.progress) options.progress(d, total);
   };
-  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size() * K, [&](std::size_t k) {
-    const std::size_t s = k / K, i = k % K;
-    FitOptions fo = options.fit;
-    fo.omega_matrix = work[s].omega;
-    fo.inference = false;  // nested_starts as the caller set it (default on)
-    work[s].fits[i] = fit_gmwm(*work[s].wv, models[i], fo);
-    tick();
-  });
+  // The listed models along the representation order among them, each also with its own
+  // representation neighbours (they are not in the list): nested_starts as the caller set it.
+  const auto rep = representation_matrix(models);
+  fit_along_representation(work, models, representation_covers(rep), nullptr, options.fit.nested_starts, options, total,
+                           done);
   std::vector<FitResult> full(wvs.size());
   oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     FitOptions fo = options.fit;
@@ -470,8 +511,11 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     fo.inference = false;
     fo.nested_starts = false;
     for (const FitResult& f : work[s].fits)
-      if (f.status != FitStatus::kFailed) fo.starts.push_back(embed_start(f.model, f.theta, super, *work[s].wv));
-    if (work[s].pilot) fo.starts.push_back(embed_start(work[s].pilot->model, work[s].pilot->theta, super, *work[s].wv));
+      if (f.status != FitStatus::kFailed)
+        if (auto start = represent_start(super, f.model, f.theta, *work[s].wv)) fo.starts.push_back(std::move(*start));
+    if (work[s].pilot)
+      if (auto start = represent_start(super, work[s].pilot->model, work[s].pilot->theta, *work[s].wv))
+        fo.starts.push_back(std::move(*start));
     full[s] = fit_gmwm(*work[s].wv, super, fo);
     tick();
   });
@@ -487,7 +531,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     sel.full_model = super.to_string();
     sel.omega_source = work[s].omega_source;
     score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].fits, names, b, options);
-    sel.nesting_violations = count_nesting_violations(set, work[s].fits, &members);
+    sel.representation_violations = count_representation_violations(rep, work[s].fits);
   });
   return out;
 }

@@ -2,6 +2,8 @@
 // for --threads 1 and 2 (apart from "run"), and bad options (exit 2, one line).
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -40,21 +42,28 @@ TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
   ASSERT_EQ(doc.at("columns").size(), 2u);
   for (const json& col : doc["columns"]) {
     EXPECT_EQ(col.at("full_model"), "2*AR1+WN+RW");
-    EXPECT_EQ(col.at("nesting_violations"), 0);
+    EXPECT_EQ(col.at("representation_violations"), 0);
     EXPECT_EQ(col.at("omega"), "model");
     const json& ranking = col.at("ranking");
-    ASSERT_EQ(ranking.size(), 11u);
+    // One row per distinct effective model; every one of the 11 candidates in exactly one row.
+    ASSERT_EQ(col.at("candidates").size(), 11u);
+    ASSERT_GE(ranking.size(), 2u);
+    std::multiset<std::string> members;
+    for (const json& entry : ranking)
+      for (const json& m : entry.at("members")) members.insert(m.get<std::string>());
+    EXPECT_EQ(members.size(), 11u);
+    EXPECT_EQ(std::set<std::string>(members.begin(), members.end()).size(), 11u);
     EXPECT_EQ(col.at("best"), ranking[0].at("model"));
     for (const char* field : {"rank", "model", "objective", "optimism", "criterion", "optimism_analytic",
                               "optimism_bootstrap", "optimism_bootstrap_se", "rank_analytic", "rank_bootstrap",
-                              "gof_p_value", "parameters"})
-      EXPECT_TRUE(ranking[3].contains(field)) << field;
+                              "gof_p_value", "parameters", "effective_parameters", "members", "reductions"})
+      EXPECT_TRUE(ranking[1].contains(field)) << field;
     for (const json& entry : ranking) {
       ASSERT_TRUE(entry.at("gof_p_value").is_number()) << entry.at("model");  // every model, shared Omega and V
       EXPECT_GE(entry.at("gof_p_value").get<double>(), 0.0);
       EXPECT_LE(entry.at("gof_p_value").get<double>(), 1.0);
     }
-    EXPECT_TRUE(ranking[3].at("optimism_bootstrap").is_null());
+    EXPECT_TRUE(ranking[1].at("optimism_bootstrap").is_null());
     EXPECT_FALSE(ranking[0].at("parameters").empty());
     // Sorted by criterion; ties to 1e-6 (relative) put fewer parameters first.
     for (std::size_t k = 1; k < ranking.size(); ++k)
@@ -73,7 +82,11 @@ TEST_F(GmwmSelect, RanksOnlyTheListedModelsInTheNonNestedMode) {
   EXPECT_EQ(doc.at("mode"), "listed");
   for (const json& col : doc["columns"]) {
     EXPECT_EQ(col.at("full_model"), "2*AR1+WN+RW");
-    ASSERT_EQ(col.at("ranking").size(), 3u);
+    ASSERT_EQ(col.at("candidates").size(), 3u);
+    std::set<std::string> members;
+    for (const json& entry : col.at("ranking"))
+      for (const json& m : entry.at("members")) members.insert(m.get<std::string>());
+    EXPECT_EQ(members, (std::set<std::string>{"AR1+WN", "2*AR1", "WN+RW"}));
   }
 }
 

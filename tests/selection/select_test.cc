@@ -51,14 +51,21 @@ TEST(SelectModels, FitsAndRanksEverySubModelOfEverySignalWithoutNestingViolation
   EXPECT_EQ(last.load(), 22);
   for (const auto& sel : result) {
     EXPECT_EQ(sel.full_model, "2*AR1+WN+RW");
-    ASSERT_EQ(sel.ranking.size(), 11u);
-    EXPECT_EQ(sel.nesting_violations, 0);
+    ASSERT_EQ(sel.candidates.size(), 11u);
+    EXPECT_EQ(sel.representation_violations, 0);
+    // Every candidate falls onto exactly one row, and rows are distinct effective models.
+    std::multiset<std::string> members;
+    for (const auto& r : sel.ranking) members.insert(r.members.begin(), r.members.end());
+    EXPECT_EQ(members.size(), 11u);
+    for (const auto& c : sel.candidates) EXPECT_EQ(members.count(c.model), 1u) << c.model;
     std::set<std::string> names;
     for (std::size_t k = 0; k < sel.ranking.size(); ++k) {
       const auto& r = sel.ranking[k];
       names.insert(r.model);
       EXPECT_EQ(r.rank, static_cast<int>(k) + 1);
       EXPECT_NE(r.fit.status, FitStatus::kFailed) << r.model;
+      EXPECT_EQ(r.parameters, r.effective.parameters()) << "the penalty counts the effective parameters";
+      EXPECT_EQ(r.model, r.effective.model.to_string());
       ASSERT_TRUE(r.optimism_analytic.has_value()) << r.model;
       EXPECT_DOUBLE_EQ(r.criterion, r.objective + r.optimism);
       EXPECT_TRUE(r.gof.p_value >= 0.0 && r.gof.p_value <= 1.0) << r.model << ": " << r.gof.p_value;
@@ -71,7 +78,7 @@ TEST(SelectModels, FitsAndRanksEverySubModelOfEverySignalWithoutNestingViolation
         }
       }
     }
-    EXPECT_EQ(names.size(), 11u);
+    EXPECT_EQ(names.size(), sel.ranking.size());
     // The truth (AR1+WN) or a model containing it comes first, never one without WN or AR1.
     const std::string best = sel.ranking.front().model;
     EXPECT_NE(best.find("AR1"), std::string::npos) << best;
@@ -208,14 +215,14 @@ TEST(SelectAmong, RanksOnlyTheListedModelsWithTheirCommonSuperModelForTheOptimis
                                      parse_model("AR1")};
   const auto sel = select_among(wvs, listed).front();
   EXPECT_EQ(sel.full_model, "2*AR1+WN+RW");
-  ASSERT_EQ(sel.ranking.size(), 4u);
+  ASSERT_EQ(sel.candidates.size(), 4u);
   std::set<std::string> names;
   for (const auto& r : sel.ranking) {
-    names.insert(r.model);
+    names.insert(r.members.begin(), r.members.end());
     EXPECT_TRUE(r.optimism_analytic.has_value()) << r.model;
   }
   EXPECT_EQ(names, (std::set<std::string>{"AR1+WN", "2*AR1", "WN+RW", "AR1"}));
-  EXPECT_EQ(sel.nesting_violations, 0);  // AR1 is nested in AR1+WN and in 2*AR1
+  EXPECT_EQ(sel.representation_violations, 0);  // AR1 is nested in AR1+WN and in 2*AR1
   EXPECT_EQ(sel.ranking.front().model, "AR1+WN") << "the true model";
   EXPECT_THROW(select_among(wvs, {}), InputError);
 }

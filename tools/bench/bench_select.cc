@@ -59,9 +59,9 @@ int main() {
               "|---|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < result.size(); ++k) {
     const auto& s = result[k];
-    violations += s.nesting_violations;
+    violations += s.representation_violations;
     models += s.models;
-    std::printf("| %s | %d | %d | %s | %.6g | %s | %.6g |\n", names[k].c_str(), s.models, s.nesting_violations,
+    std::printf("| %s | %d | %d | %s | %.6g | %s | %.6g |\n", names[k].c_str(), s.models, s.representation_violations,
                 s.ranking[0].model.c_str(), s.ranking[0].criterion, s.ranking[1].model.c_str(), s.ranking[1].criterion);
   }
   const bool fast = best < 3.0, clean = violations == 0;
@@ -122,7 +122,7 @@ int main() {
   }
   std::printf("\nBest models with values: classical %s; robust %s. Nesting violations: classical %d, robust %d.\n",
               classical_sel.best_fit.model.to_string(classical_sel.best_fit.theta).c_str(),
-              robust_sel.best_fit.model.to_string(robust_sel.best_fit.theta).c_str(), classical_sel.nesting_violations,
-              robust_sel.nesting_violations);
+              robust_sel.best_fit.model.to_string(robust_sel.best_fit.theta).c_str(), classical_sel.representation_violations,
+              robust_sel.representation_violations);
   return fast && clean && boot_fast ? 0 : 1;
 }

@@ -38,19 +38,33 @@ struct SelectArgs {
   UnitsOptions units;
 };
 
+// The candidates of a ranking row other than the effective model itself: "3*AR1, 2*AR1+WN
+// (+3 more)"; "" when the only member is the model as named.
+std::string members_text(const selection::RankedModel& r) {
+  constexpr std::size_t kShown = 3;
+  std::vector<std::string> others;
+  for (const auto& m : r.members)
+    if (m != r.model) others.push_back(m);
+  std::string out;
+  for (std::size_t i = 0; i < others.size() && i < kShown; ++i) out += (i ? ", " : "") + others[i];
+  if (others.size() > kShown) out += " (+" + std::to_string(others.size() - kShown) + " more)";
+  return out;
+}
+
 std::string terminal_report(const io::SignalSet& set, std::size_t k, const selection::Selection& sel) {
   std::ostringstream os;
   const auto& s = set.signals[k];
   os << s.name << ": N = " << s.values.size() << ", " << sel.models << " sub-models of " << sel.full_model
-     << ", nesting violations " << sel.nesting_violations << '\n';
+     << ", representation violations " << sel.representation_violations << '\n';
   const bool both = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap && sel.ranking.front().optimism_analytic;
-  std::vector<std::string> head = {"rank", "model", "objective", "optimism", "criterion", "GoF p-value"};
+  std::vector<std::string> head = {"rank", "model (effective)", "p", "objective", "optimism", "criterion", "GoF p-value",
+                                   "candidates that fell onto it"};
   if (both) head.insert(head.end(), {"analytic", "bootstrap (se)", "rank a/b"});
-  Table t(head, 1);
+  Table t(head, 2);
   auto opt = [](const std::optional<double>& v, int digits) { return v ? fmt(*v, digits) : std::string("-"); };
   for (const auto& r : sel.ranking) {
-    std::vector<std::string> row = {std::to_string(r.rank), r.model, fmt(r.objective, 6), fmt(r.optimism, 4),
-                                    fmt(r.criterion, 6), fmt(r.gof.p_value, 3)};
+    std::vector<std::string> row = {std::to_string(r.rank), r.model, std::to_string(r.parameters), fmt(r.objective, 6),
+                                    fmt(r.optimism, 4), fmt(r.criterion, 6), fmt(r.gof.p_value, 3), members_text(r)};
     if (both)
       row.insert(row.end(), {opt(r.optimism_analytic, 4), opt(r.optimism_bootstrap, 4) + " (" + opt(r.optimism_bootstrap_se, 2) + ")",
                              (r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +

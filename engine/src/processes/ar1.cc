@@ -94,6 +94,29 @@ class Ar1Process final : public Process {
             {"stationary sigma", std::sqrt(theta[1] / ((1.0 - a) * (1.0 + a))), "U",
              "sigma = sqrt(sigma2 / (1 - phi^2)), the process's standard deviation"}};
   }
+  // AR1(phi = 0, sigma2) is WN(sigma2); as phi -> 1 with sigma2 fixed its WV tends to
+  // RW(gamma2 = sigma2)'s (the AR1 forgets nothing over the record, a constant aside).
+  std::optional<std::vector<double>> represent(const Process& other,
+                                               std::span<const double> other_theta) const override {
+    if (other.name() == "WN") return std::vector<double>{0.0, other_theta[0]};
+    if (other.name() == "RW") return std::vector<double>{internal::phi_at_bound(), other_theta[0]};
+    return Process::represent(other, other_theta);
+  }
+  // WN-like: the same long-run variance sigma2 / (1 - phi)^2 (the spectral density at 0,
+  // which sets the WV at scales beyond the correlation time); RW-like: gamma2 = sigma2.
+  std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const override {
+    const double phi = theta[0], s2 = theta[1];
+    return {{make_process("WN", context()), {s2 / ((1.0 - phi) * (1.0 - phi))}, "WN-like"},
+            {make_process("RW", context()), {s2}, "RW-like"}};
+  }
+  // Two AR1s at one phi are one AR1 (sigma2 adds); at different phis the candidate takes
+  // the long-run-variance-weighted phi, for the caller to test.
+  std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
+    const double wa = a[1] / ((1.0 - a[0]) * (1.0 - a[0])), wb = b[1] / ((1.0 - b[0]) * (1.0 - b[0]));
+    const double phi = (wa * a[0] + wb * b[0]) / (wa + wb);
+    if (!(std::fabs(phi) < 1.0)) return std::nullopt;
+    return std::vector<double>{phi, a[1] + b[1]};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     const auto g = internal::ar1_initial_guess(ctx, kAr1GuessPhiMin);
     return {g.phi, g.sigma2};

@@ -87,6 +87,21 @@ class Arma11Process final : public Process {
       e_prev = e;
     }
   }
+  // ARMA11(phi, 0) is AR1(phi); ARMA11(0, theta) is MA1(theta), hence WN and QN too.
+  std::optional<std::vector<double>> represent(const Process& other,
+                                               std::span<const double> other_theta) const override {
+    if (other.name() == "AR1") return std::vector<double>{other_theta[0], 0.0, other_theta[1]};
+    if (other.name() == "MA1") return std::vector<double>{0.0, other_theta[0], other_theta[1]};
+    if (other.name() == "WN") return std::vector<double>{0.0, 0.0, other_theta[0]};
+    if (other.name() == "QN") return std::vector<double>{0.0, -internal::phi_at_bound(), other_theta[0]};
+    return Process::represent(other, other_theta);
+  }
+  std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const override {
+    const double phi = theta[0], th = theta[1], s2 = theta[2];
+    return {{make_process("AR1", context()), {phi, s2 * (1.0 + th) * (1.0 + th)}, "AR1-like"},
+            {make_process("MA1", context()), {th, s2}, "MA1-like"},
+            {make_process("WN", context()), {s2 * (1.0 + th) * (1.0 + th) / ((1.0 - phi) * (1.0 - phi))}, "WN-like"}};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     const auto g = internal::ar1_initial_guess(ctx, kArma11GuessPhiMin);
     return {g.phi, 0.0, g.sigma2};

@@ -92,6 +92,9 @@ class Drift final : public Process {
   void simulate(std::span<const double> theta, Rng&, std::span<double> out) const override {
     for (std::size_t t = 0; t < out.size(); ++t) out[t] += theta[0] * static_cast<double>(t);
   }
+  std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
+    return internal::summed_size(a, b);
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // DR dominates the coarsest scale: |omega| = 4 sqrt(nu^2(tau_J)) / tau_J.
     const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());

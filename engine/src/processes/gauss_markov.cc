@@ -18,6 +18,11 @@ namespace {
 
 using internal::Jet;
 
+/// beta / f where GM stands for a white noise (phi = e^-40 = 4e-18, zero in double) and
+/// for a random walk (1 - phi = 1e-15: its WV is RW's within ~tau 1e-15 relative).
+constexpr double kGmWhiteL = 40.0;
+constexpr double kGmWalkL = 1e-15;
+
 /// Lowest phi = exp(-beta/f) an initial guess proposes (beta = 3 f).
 constexpr double kGmGuessPhiMin = 0.05;
 
@@ -100,6 +105,26 @@ class GaussMarkov final : public Process {
              "T = 1 / beta (autocovariance sigma^2 exp(-|lag| / T))"},
             {"stationary sigma", std::sqrt(theta[1]), "U",
              "sigma = sqrt(sigma2_gm), the process's standard deviation"}};
+  }
+  // GM is AR1 through the rate: phi = exp(-beta / f), sigma2 = sigma2_gm (1 - phi^2).
+  // A very short correlation time (beta / f = kGmWhiteL) is WN(sigma2_gm); a very long one
+  // (beta / f = kGmWalkL) with sigma2_gm = gamma2 / (1 - exp(-2 beta / f)) is RW(gamma2).
+  std::optional<std::vector<double>> represent(const Process& other,
+                                               std::span<const double> other_theta) const override {
+    const double f = rate();
+    if (other.name() == "WN") return std::vector<double>{kGmWhiteL * f, other_theta[0]};
+    if (other.name() == "RW") return std::vector<double>{kGmWalkL * f, other_theta[0] / -std::expm1(-2.0 * kGmWalkL)};
+    if (other.name() == "AR1" && other_theta[0] > 0.0) {
+      const double L = -std::log(other_theta[0]);
+      return std::vector<double>{L * f, other_theta[1] / -std::expm1(-2.0 * L)};
+    }
+    return Process::represent(other, other_theta);
+  }
+  std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const override {
+    const double L = theta[0] / rate(), phi = std::exp(-L);
+    const double innovation = theta[1] * -std::expm1(-2.0 * L);
+    return {{make_process("WN", context()), {theta[1] * (1.0 + phi) / (1.0 - phi)}, "WN-like"},
+            {make_process("RW", context()), {innovation}, "RW-like"}};
   }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     const auto g = internal::ar1_initial_guess(ctx, kGmGuessPhiMin);

@@ -71,6 +71,20 @@ class Ma1Process final : public Process {
       prev = e;
     }
   }
+  // MA1(theta = 0) is WN(sigma2); MA1(theta -> -1) is QN(Q2 = sigma2): its WV is
+  // sigma2 (1 + theta)^2 / tau + 6 (-theta sigma2) / tau^2, i.e. WN + QN for theta <= 0.
+  std::optional<std::vector<double>> represent(const Process& other,
+                                               std::span<const double> other_theta) const override {
+    if (other.name() == "WN") return std::vector<double>{0.0, other_theta[0]};
+    if (other.name() == "QN") return std::vector<double>{-internal::phi_at_bound(), other_theta[0]};
+    return Process::represent(other, other_theta);
+  }
+  std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const override {
+    const double th = theta[0], s2 = theta[1];
+    std::vector<SimplerForm> out{{make_process("WN", context()), {s2 * (1.0 + th) * (1.0 + th)}, "WN-like"}};
+    if (th < 0.0) out.push_back({make_process("QN", context()), {-th * s2}, "QN-like"});
+    return out;
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     double s = 1.0;
     if (std::min(ctx.tau.size(), ctx.wv.size()) > 0) {

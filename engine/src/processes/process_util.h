@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
+#include <vector>
 #include <span>
 #include <string_view>
 
@@ -22,6 +24,16 @@ inline double haar_half_scale(double tau, std::string_view who) {
   if (std::fmod(tau, 2.0) != 0.0) detail::throw_check(who, "tau", tau, "an even integer");
   return 0.5 * tau;
 }
+
+/// The merged parameters of a process whose one parameter is a size that adds up (WN,
+/// QN, RW): two components are exactly one with the sizes summed.
+inline std::optional<std::vector<double>> summed_size(std::span<const double> a, std::span<const double> b) {
+  return std::vector<double>{a[0] + b[0]};
+}
+
+/// phi at the optimiser's bound, tanh(kAtanhBound) = 1 - 1e-15: where an AR1 stands for a
+/// random walk (its WV differs from RW(sigma2)'s by ~ tau (1 - phi) / 2 relative).
+inline double phi_at_bound() { return std::tanh(kAtanhBound); }
 
 /// x when it is finite and positive, else fallback (initial guesses must be valid).
 inline double positive_or(double x, double fallback) {

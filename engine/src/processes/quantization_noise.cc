@@ -71,6 +71,9 @@ class QuantizationNoise final : public Process {
     return {{"quantization", std::sqrt(theta[0]) / freq, "U*s",
              "Q = sqrt(Q2) / f (IEEE 952: AVAR = 3 Q^2 / T^2; step = sqrt(12) Q)"}};
   }
+  std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
+    return internal::summed_size(a, b);
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // QN dominates the finest scale: Q2 = tau_1^2 nu^2(tau_1) / 6.
     const double q = ctx.tau.empty() || ctx.wv.empty()

@@ -79,6 +79,9 @@ class RandomWalk final : public Process {
       v += x;
     }
   }
+  std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
+    return internal::summed_size(a, b);
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // RW dominates the coarsest scale: gamma2 = nu^2(tau_J) / ((tau_J^2 + 2)/(12 tau_J)).
     const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());

@@ -5,6 +5,7 @@
 #include <boost/random/normal_distribution.hpp>
 
 #include "gmwm/engine/process_registry.h"
+#include "process_util.h"
 
 namespace gmwm {
 namespace {
@@ -58,6 +59,9 @@ class WhiteNoise final : public Process {
                                               double freq) const override {
     return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",
              "N = sqrt(sigma2 / f) (IEEE 952: AVAR = N^2 / T; angle/velocity random walk)"}};
+  }
+  std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
+    return internal::summed_size(a, b);
   }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // The finest scale is where white noise dominates: sigma2 = tau_1 nu^2(tau_1).

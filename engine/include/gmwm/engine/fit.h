@@ -3,7 +3,9 @@
 //   theta_hat = argmin (nuhat - nu(theta))' Omega (nuhat - nu(theta)),
 // optimised with NLopt (L-BFGS, analytic gradients) in the unconstrained space, from
 // starting values derived from the WV's shape plus multi-starts and the fits of the
-// one-component-removed sub-models (so a model never ends above them); components that
+// models one step below it in the representation order (one component removed or
+// replaced by a simpler one it contains: model_relations.h), so a model never ends above
+// a model it can represent; components that
 // collapsed to nothing are re-placed and the optimisation resumed; a damped Newton
 // polish with the exact Hessian finishes. Then inference (sandwich covariance, CIs,
 // goodness of fit).
@@ -55,7 +57,9 @@ struct FitOptions {
   /// Log a warning when the optimiser does not converge (the status says so either way);
   /// callers that run many fits and summarise their statuses (bootstrap refits) turn it off.
   bool log_not_converged = true;
-  /// Also start from the fits of every sub-model with one component removed (fitted
+  /// Also start from the fits of every model one step below in the representation order
+  /// (representation_neighbours: one component removed, or replaced by a simpler process
+  /// it contains such as AR1 -> WN or RW; fitted
   /// with the same Omega, without nested starts of their own), so that the model's
   /// objective is never above theirs. Costs one fit per distinct sub-model; a caller
   /// that fits the sub-models anyway (model selection) turns it off and passes their
@@ -118,7 +122,7 @@ Eigen::VectorXd embed_start(const Model& sub, const Eigen::VectorXd& theta_sub, 
                             const WaveletVariance& wv);
 
 /// Starting points for `model` from fits (under `omega`, no inference, no nested starts
-/// of their own) of each distinct sub-model with one component removed, embedded.
+/// of their own) of each representation_neighbours() model, mapped by represent_start.
 std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model,
                                            const Eigen::MatrixXd& omega, const FitOptions& options);
 

@@ -54,8 +54,9 @@ class Model {
 
   /// Components sorted canonically (CLI.md order; repeated components by their sort
   /// key, e.g. AR1 by increasing phi). Returns the permutation of components applied
-  /// and permutes theta (if given) accordingly.
-  Model canonical(Eigen::VectorXd* theta = nullptr) const;
+  /// and permutes theta (if given) accordingly; `permutation` (if given) receives, per
+  /// component of the result, its index in this model.
+  Model canonical(Eigen::VectorXd* theta = nullptr, std::vector<int>* permutation = nullptr) const;
 
   /// "2*AR1+WN+RW" (no values).
   std::string to_string() const;

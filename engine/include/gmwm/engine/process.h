@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -24,6 +25,20 @@
 #include "gmwm/engine/random.h"
 
 namespace gmwm {
+
+/// Bounds of the unconstrained parameters the optimiser keeps to. atanh: 1 - tanh(u) =
+/// 2 / (e^{2u} + 1), so u = 17.6 allows |phi| up to 1 - 1e-15 (nine units in the last
+/// place of 1). There an AR1's WV equals RW(gamma2 = sigma2)'s to 2e-10 relative at
+/// tau = 2^19 (and MA1's with theta -> -1 QN's), so a model with an AR1 slot reaches a
+/// random walk's fit to within 1e-9 of its objective, as representation requires
+/// (model_relations.h); the AR1 formulas are evaluated through L = -ln(phi) and stay
+/// exact there (ar1_math.h; 1 - 1e-9 left 2.6e-8 of the objective on the table on real
+/// data). log: e^{+-100} covers any physical variance; logit(2f): f in
+/// (0.5 e^-30, 0.5 (1 - e^-30)).
+constexpr double kAtanhBound = 17.6;
+constexpr double kLogBound = 100.0;
+constexpr double kLogitBound = 30.0;
+constexpr double kIdentityBound = 1e6;
 
 /// Map from a parameter's natural domain to the real line.
 enum class Transform {
@@ -66,6 +81,16 @@ struct GuessContext {
 struct SumMoments {
   double mean = 0.0;
   double variance = 0.0;
+};
+
+class Process;
+using ProcessPtr = std::shared_ptr<const Process>;
+
+/// A simpler process that may stand for one component (Process::simpler_forms).
+struct SimplerForm {
+  ProcessPtr process;          ///< e.g. WN for an AR1 with phi near 0
+  std::vector<double> theta;   ///< its parameters reproducing the component where it can
+  std::string label;           ///< how the component reads then: "WN-like", "RW-like"
 };
 
 class Process {
@@ -161,6 +186,27 @@ class Process {
   virtual std::vector<SumMoments> sum_moments(std::span<const double> theta,
                                               std::span<const std::int64_t> counts) const;
 
+  /// Parameters with which this process reproduces the WV of `other` at `other_theta`,
+  /// exactly or in a limit of this process's space taken to the optimiser's bound, or
+  /// nullopt when it cannot. The default covers the same process (and structure); a
+  /// process that contains others overrides it (AR1: WN at phi = 0, RW as phi -> 1;
+  /// MA1: WN, QN; ARMA11: AR1, MA1, WN, QN; GM: WN, RW, AR1). A model represents another
+  /// when its components can take the other's components one each, the rest vanishing:
+  /// its fit must then never end above the other's (model_relations.h).
+  virtual std::optional<std::vector<double>> represent(const Process& other,
+                                                       std::span<const double> other_theta) const;
+
+  /// Simpler processes this component may be indistinguishable from, each with the
+  /// parameters that match it where the simpler one can (AR1: WN with its long-run
+  /// variance sigma2 / (1 - phi)^2, RW with gamma2 = sigma2). Whether the difference is
+  /// visible in the data is decided by the caller (effective_model.h). Default: none.
+  virtual std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const;
+
+  /// The parameters of one component of this process equal (or closest) to the sum of
+  /// two of them with theta_a and theta_b, or nullopt when sums never merge. Default:
+  /// nullopt. WN, QN, RW add their sizes; AR1 merges at a common phi.
+  virtual std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const;
+
   const ProcessContext& context() const { return context_; }
   void set_context(const ProcessContext& c) { context_ = c; }
 
@@ -178,6 +224,13 @@ class Process {
   ProcessContext context_;
 };
 
-using ProcessPtr = std::shared_ptr<const Process>;
+
+/// A registered process by name (as in model strings), with the given context. Throws
+/// InputError for an unknown name; for processes with structural arguments use the
+/// registry.
+ProcessPtr make_process(const std::string& name, const ProcessContext& context);
+
+/// True when a and b are the same process with the same structure.
+bool same_process(const Process& a, const Process& b);
 
 }  // namespace gmwm

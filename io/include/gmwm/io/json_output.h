@@ -107,7 +107,7 @@ Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
                                const FitResult& fit, OmegaKind omega);
 
 /// A "select" column (CLI.md): column_json + "full_model", "best" (canonical, no values),
-/// "best_model" (with values), "penalty", "nesting_violations", "ranking" (rank, model,
+/// "best_model" (with values), "penalty", "representation_violations", "ranking" (rank, model,
 /// objective, optimism, criterion, optimism_analytic, optimism_bootstrap,
 /// optimism_bootstrap_se, rank_analytic, rank_bootstrap, gof_p_value, parameters, and
 /// "optimism_note" when the analytic optimism dropped boundary components), "best_fit"

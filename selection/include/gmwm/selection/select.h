@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/effective_model.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -76,10 +77,23 @@ struct SelectOptions {
   std::string Validate() const;
 };
 
+/// One candidate of a selection as fitted, and what it is in effect.
+struct CandidateFit {
+  std::string model;            ///< the candidate (canonical string, without values)
+  FitResult fit;                ///< no inference
+  EffectiveModel effective;     ///< its effective form (effective_model.h)
+};
+
+/// One row of a ranking: a distinct effective model, with the candidates whose fits fell
+/// onto it (e.g. 3*AR1, 2*AR1+WN and 2*AR1+WN+QN all being "2*AR1+WN" in effect). Its
+/// numbers are those of its best member (the representative); the penalty counts the
+/// effective model's parameters.
 struct RankedModel {
-  std::string model;            ///< canonical string, without values
-  FitResult fit;                ///< no inference (see Selection::best_fit; gof below)
-  int parameters = 0;
+  std::string model;            ///< the effective model (canonical string, without values)
+  std::vector<std::string> members;  ///< candidates that fell onto it, the representative first
+  FitResult fit;                ///< the representative's fit (no inference; see Selection::best_fit)
+  EffectiveModel effective;     ///< the representative's effective form (model, theta, reductions)
+  int parameters = 0;           ///< effective parameters
   double objective = 0.0;
   double optimism = 0.0;        ///< the penalty added (analytic optimism or p log N)
   double criterion = 0.0;       ///< objective + optimism
@@ -97,15 +111,23 @@ struct RankedModel {
 
 struct Selection {
   std::string full_model;
-  std::vector<RankedModel> ranking;  ///< sorted by criterion (ties: fewer parameters, then order)
-  FitResult best_fit;                ///< the first-ranked model refitted with inference
+  /// One row per distinct effective model, sorted by criterion (criteria within 1e-6
+  /// relative are tied, and ties go to the smaller effective model).
+  std::vector<RankedModel> ranking;
+  std::vector<CandidateFit> candidates;  ///< every candidate as fitted, in the enumeration order
+  int not_converged = 0;             ///< candidates whose fit stopped before converging
+  int failed = 0;                    ///< candidates whose fit failed (ranked last, criterion NaN)
+  /// The first-ranked effective model refitted with inference (from its effective
+  /// parameters; and from its own candidate fit when it is a candidate).
+  FitResult best_fit;
   Eigen::MatrixXd omega;             ///< shared by all models
   OmegaSource omega_source = OmegaSource::kData;  ///< how `omega` was formed (kData also when the caller gave it)
   Eigen::MatrixXd v;                 ///< Cov(nuhat) for the optimism and GoF: model-based at the maximal model's fit (the pilot's with OmegaSource::kModel)
   int models = 0;
-  /// Fit-quality check: models whose objective exceeds that of a model nested in them
-  /// (relative tolerance 1e-9); 0 by construction.
-  int nesting_violations = 0;
+  /// Fit-quality check: pairs of candidates where one represents the other (nested, or
+  /// through an equivalent form: model_relations.h) and still ends above it (relative
+  /// tolerance 1e-9); 0 by construction.
+  int representation_violations = 0;
 };
 
 /// Selection on each signal's WV. Throws InputError for invalid options or a maximal

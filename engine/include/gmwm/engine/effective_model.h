@@ -1,0 +1,63 @@
+#pragma once
+// The effective form of a fitted model: the smallest model the data cannot tell apart
+// from it. A fit of 3*AR1 may hold an AR1 with phi ~ 0 (a white noise), one whose
+// correlation time is far beyond the record (a random walk over it) and two at the same
+// phi (one AR1); a fit of AR1+WN+RW may hold a WN at 1e-16 (nothing). Reporting such a
+// fit as it stands misleads (a "3*AR1" with no white noise exports a noise density of 0)
+// and counting its parameters as free over-penalises it; its effective form says what it
+// is, and is what the ranking of a selection shows and counts.
+//
+// Reductions, tried greedily (the least visible first), each against the original fit:
+//   - drop a component (a collapsed term);
+//   - replace a component by a simpler process it may be indistinguishable from
+//     (Process::simpler_forms: an AR1 as WN-like or RW-like, an MA1 as WN- or QN-like ...),
+//     its size re-solved by weighted least squares to the component's own WV;
+//   - merge two components of the same process (Process::merged: AR1s at one phi).
+// A reduction is accepted while the effective model's implied WV stays within what the
+// data resolve of the original one: S = sum_j ((nu_eff_j - nu_fit_j) / sd_j)^2 at most the
+// chi-square quantile at 1 - alpha with as many degrees of freedom as parameters removed
+// in all, sd_j the WV estimator's standard deviation at level j (chi-square, eta_j
+// equivalent degrees of freedom; robust: inflated by 1/efficiency) taken at the fit.
+// Levels are treated as independent (their correlation makes the test conservative
+// where one component spans many levels).
+//
+//   const gmwm::EffectiveModel e = gmwm::effective_model(wv, fit.model, fit.theta);
+//   e.model.to_string(e.theta);  e.reductions  // "AR1 (phi = 0.0031) is WN-like", ...
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+
+namespace gmwm {
+
+struct EffectiveOptions {
+  double alpha = 0.05;  ///< level of the indistinguishability test
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+struct EffectiveModel {
+  Model model;                          ///< canonical order
+  Eigen::VectorXd theta;                ///< its parameters
+  std::vector<std::string> reductions;  ///< one line per reduction, in the order applied
+  /// Labels of the effective model's components that stand for another process
+  /// ("WN-like" for a WN that was an AR1), per component, empty when it is as fitted.
+  std::vector<std::string> labels;
+  double statistic = 0.0;   ///< S of the accepted reductions (0 when none)
+  double threshold = 0.0;   ///< its chi-square quantile (0 when none)
+  int removed_parameters = 0;
+  bool reduced() const { return !reductions.empty(); }
+  int parameters() const { return model.num_parameters(); }
+};
+
+/// The effective form of the fit (model, theta) of `wv`. A model with nothing to reduce
+/// comes back as it is (canonical). Throws InvalidArgument for a theta of the wrong size
+/// and InputError for invalid options.
+EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
+                               const EffectiveOptions& options = {});
+
+}  // namespace gmwm
