@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -208,6 +209,19 @@ Model operator+(const Model& a, const Model& b) {
   std::vector<Component> c = a.components();
   c.insert(c.end(), b.components().begin(), b.components().end());
   return Model(std::move(c));
+}
+
+std::string component_text(const Model& model, int c, const Eigen::VectorXd& theta, int digits) {
+  const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
+  std::string s = p.name() + (p.structure().empty() ? "" : "[" + p.structure() + "]") + "(";
+  const auto& specs = p.parameters();
+  for (std::size_t k = 0; k < specs.size(); ++k) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits,
+                  p.to_display(static_cast<int>(k), theta(model.offset(c) + static_cast<int>(k))));
+    s += (k ? "," : "") + specs[k].name + "=" + buf;
+  }
+  return s + ")";
 }
 
 }  // namespace gmwm

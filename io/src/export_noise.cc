@@ -17,6 +17,13 @@ namespace {
 
 using export_detail::num;
 
+// A Gauss-Markov term faster than this is white noise where N is read (IEEE 952 reads N
+// at 1 s): it is part of N, not a bias of its own.
+constexpr double kBiasMinCorrelationTime = 1.0;
+// The record assumed for the model's Allan deviation when the result does not say how
+// many samples there were (only the range of taus over which slopes are sought depends on it).
+constexpr std::int64_t kAssumedRecordSamples = 1000000;
+
 // The quantity named `name` among a component's physical quantities, or NaN.
 double quantity(const std::vector<PhysicalQuantity>& q, const char* name, const char* pattern) {
   for (const auto& x : q)
@@ -66,10 +73,12 @@ WrittenNoise written(const AxisNoise& a, const ExportOptions& o, std::vector<std
     w.bias_correlation_time = g.correlation_time;
     for (std::size_t i = 0; i + 1 < a.gauss_markov.size(); ++i)
       gm_line(a.gauss_markov[i], "the simulator models one bias, written from the longest correlation time");
-    if (a.walk > 0.0)
+    if (a.walk > 0.0 && a.figures.walk.source != "bound")
       dropped.push_back("RW (K = " + num(a.walk) + " " + si.walk +
                         "): the simulator models one bias, written from the Gauss-Markov term");
-  } else if (a.walk > 0.0) {
+  } else if (a.walk > 0.0 && a.figures.walk.source != "bound") {
+    // A bias is simulated only from a random walk the model or the data show; a mere
+    // upper bound (no +1/2 slope) leaves the simulated bias off (said in the header).
     w.bias_drive = a.walk * x;
     w.bias_correlation_time = a.record_seconds > 0.0 ? export_detail::kRandomWalkTimeRecords * a.record_seconds
                                                       : export_detail::kRandomWalkFallbackTime;
@@ -114,14 +123,15 @@ WrittenNoise aggregate(const std::vector<WrittenNoise>& ws, Aggregation how) {
 std::string figures_text(const AxisNoise& a) {
   const export_detail::SiNames si = export_detail::si_names(a.kind);
   std::vector<std::string> parts;
-  if (a.white > 0.0) parts.push_back("N = " + num(a.white) + " " + si.density);
-  if (a.walk > 0.0) parts.push_back("K = " + num(a.walk) + " " + si.walk);
+  parts.push_back("N = " + num(a.white) + " " + si.density + " (" + a.figures.white.source + ")");
+  parts.push_back("K = " + num(a.walk) + " " + si.walk + " (" + a.figures.walk.source + ")");
+  parts.push_back("B = " + num(a.instability) + " " + si.value + " (" + a.figures.instability.source + ")");
   for (const auto& g : a.gauss_markov)
     parts.push_back("Gauss-Markov T = " + num(g.correlation_time) + " s, sigma = " + num(g.sigma) + " " + si.value +
                     " (driving density " + num(g.drive) + " " + si.walk + ")");
   std::string out;
   for (const auto& p : parts) out += (out.empty() ? "" : ", ") + p;
-  return out.empty() ? "no white noise, random walk or Gauss-Markov term" : out;
+  return out;
 }
 
 std::string units_line(const std::vector<AxisNoise>& columns) {
@@ -147,6 +157,11 @@ std::string units_line(const std::vector<AxisNoise>& columns) {
 
 }  // namespace
 
+ExportFigures export_figures(const ChosenFigures& f) {
+  auto one = [](const ChosenFigure& c) { return ExportFigure{c.figure.value, to_string(c.source), c.note}; };
+  return {one(f.white), one(f.walk), one(f.instability)};
+}
+
 AxisNoise axis_noise(const ExportColumn& column) {
   check_positive("axis_noise", "freq", column.freq);
   check_positive("axis_noise", "unit.per_si", column.unit.per_si);
@@ -163,12 +178,20 @@ AxisNoise axis_noise(const ExportColumn& column) {
   a.model = m.to_string(column.theta);
   a.unit = column.unit;
   const double u = column.unit.per_si;  // data units per SI unit
+  // N, K, B of the model as a whole (IEEE 952 read-offs), as the result chose them
+  // against the data, else from the model's own Allan deviation over the record.
+  a.figures = column.figures ? *column.figures
+                             : export_figures(model_only_figures(m, column.theta, column.freq,
+                                                                 column.n > 0 ? column.n : kAssumedRecordSamples));
+  a.white = a.figures.white.value / u;
+  a.walk = a.figures.walk.value / u;
+  a.instability = a.figures.instability.value / u;
   for (int k = 0; k < m.num_components(); ++k) {
     const Component& c = m.components()[static_cast<std::size_t>(k)];
     const Process& p = *c.process;
     const std::span<const double> th(column.theta.data() + m.offset(k), static_cast<std::size_t>(p.size()));
-    // The format fields are continuous quantities of the engine (engine/physical.h), picked
-    // by their name and unit pattern, so that any process stating them maps the same way.
+    // The components by their continuous quantities (engine/physical.h), picked by name and
+    // unit pattern so that any process stating them maps the same way.
     const auto q = p.physical(th, column.freq);
     const double white = quantity(q, "noise density", "U/sqrt(Hz)");
     const double walk = quantity(q, "random walk", "U/s/sqrt(Hz)");
@@ -178,22 +201,21 @@ AxisNoise axis_noise(const ExportColumn& column) {
     // alternating process) shares the quantities' names but is no bias.
     double g[2] = {0.0, 0.0};
     if (std::isfinite(T)) p.generalized_autocovariance(th, g);
-    if (std::isfinite(white)) {
-      a.white = std::sqrt(a.white * a.white + (white / u) * (white / u));
-    } else if (std::isfinite(walk)) {
-      a.walk = std::sqrt(a.walk * a.walk + (walk / u) * (walk / u));
-    } else if (std::isfinite(T) && T > 0.0 && std::isfinite(sigma) && g[1] > 0.0) {
+    if (std::isfinite(white) || std::isfinite(walk)) continue;  // in N and K
+    if (std::isfinite(T) && T > 0.0 && std::isfinite(sigma) && g[1] > 0.0) {
       const double s = sigma / u;
-      a.gauss_markov.push_back({T, s, s * std::sqrt(2.0 / T), component_text(c, th)});
-    } else {
-      std::string text = component_text(c, th);
-      std::string figures;
-      for (const auto& x : q)
-        if (!x.unit_pattern.empty() || x.name == "frequency")
-          figures += (figures.empty() ? "" : ", ") + x.name + " " + num(x.value) + " " +
-                     render_unit(x.unit_pattern, column.unit.name);
-      a.others.push_back(figures.empty() ? text : text + " (" + figures + ", " + column.unit.name + " data)");
+      const GaussMarkovNoise gm{T, s, s * std::sqrt(2.0 / T), component_text(c, th)};
+      if (T >= kBiasMinCorrelationTime) a.gauss_markov.push_back(gm);
+      else a.absorbed.push_back(gm.text + " (correlation time " + num(T) + " s)");
+      continue;
     }
+    std::string text = component_text(c, th);
+    std::string figures;
+    for (const auto& x : q)
+      if (!x.unit_pattern.empty() || x.name == "frequency")
+        figures += (figures.empty() ? "" : ", ") + x.name + " " + num(x.value) + " " +
+                   render_unit(x.unit_pattern, column.unit.name);
+    a.others.push_back(figures.empty() ? text : text + " (" + figures + ", " + column.unit.name + " data)");
   }
   std::sort(a.gauss_markov.begin(), a.gauss_markov.end(),
             [](const GaussMarkovNoise& x, const GaussMarkovNoise& y) { return x.correlation_time < y.correlation_time; });
@@ -268,20 +290,14 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
       for (std::size_t s = 0; s < 3; ++s) k.axes[s] = ws[static_cast<std::size_t>(at[s])];
     }
     k.combined = aggregate(ws, o.aggregation == Aggregation::kWorst ? Aggregation::kWorst : Aggregation::kMean);
-    if (!simulates_bias(o.format)) {
-      const bool zero_white = k.per_axis ? std::any_of(k.axes.begin(), k.axes.end(),
-                                                       [](const WrittenNoise& w) { return !(w.noise_density > 0.0); })
-                                         : !(k.combined.noise_density > 0.0);
-      const bool zero_walk = k.per_axis ? std::any_of(k.axes.begin(), k.axes.end(),
-                                                      [](const WrittenNoise& w) { return !(w.random_walk > 0.0); })
-                                        : !(k.combined.random_walk > 0.0);
-      if (zero_white)
-        r.warnings.push_back(std::string(to_string(kind)) + ": no WN term in the fitted model: the " + kind_word(kind) +
-                             " noise density is written as 0 (the estimator needs a positive value)");
-      if (zero_walk)
-        r.warnings.push_back(std::string(to_string(kind)) + ": no RW term in the fitted model: the " + kind_word(kind) +
-                             " random walk is written as 0 (the estimator needs a positive value)");
-    }
+    // The figures come from the Allan deviation (a bound where no slope shows), so they
+    // are positive for any noise; a zero would mean a degenerate fit.
+    const bool zero_white = k.per_axis ? std::any_of(k.axes.begin(), k.axes.end(),
+                                                     [](const WrittenNoise& w) { return !(w.noise_density > 0.0); })
+                                       : !(k.combined.noise_density > 0.0);
+    if (zero_white)
+      r.warnings.push_back(std::string(to_string(kind)) + ": the fitted model implies no white noise at all: the " +
+                           kind_word(kind) + " noise density is written as 0 (check the fit)");
     r.kinds.push_back(k);
   }
 
@@ -295,6 +311,14 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
     h.push_back("  " + a.column + " (" + to_string(a.kind) + ", " + a.unit.name + " at " + num(a.freq) + " Hz" +
                 (a.record_seconds > 0.0 ? ", " + num(a.record_seconds) + " s record" : std::string()) +
                 "): " + a.model + " -> " + figures_text(a));
+  h.push_back("Noise figures: IEEE Std 952 read-offs of the Allan deviation of the model as a whole (N on the -1/2 "
+              "slope at 1 s, K on the +1/2 slope at 3 s, B = flat minimum / 0.664), or of the data where the model "
+              "misses them; a figure neither shows is its upper bound. Per column:");
+  for (const auto& a : r.columns) {
+    for (const ExportFigure* f : {&a.figures.white, &a.figures.walk, &a.figures.instability})
+      h.push_back("  " + a.column + " (" + a.unit.name + " data): " + f->note);
+    for (const auto& x : a.absorbed) h.push_back("  " + a.column + ": " + x + ": part of N (faster than 1 s)");
+  }
   std::string agg = std::string("Aggregation: ") + to_string(o.aggregation) + ": ";
   agg += o.aggregation == Aggregation::kPerAxis ? "one figure per axis"
          : o.aggregation == Aggregation::kMean  ? "the arithmetic mean of each figure over a sensor's columns"

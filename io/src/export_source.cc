@@ -40,6 +40,23 @@ std::string names_of(const json& columns) {
   return out;
 }
 
+// The noise figures a fit/select result chose (json_noise.cc), when it has them all.
+std::optional<ExportFigures> figures_of(const json& c) {
+  if (!c.contains("noise_figures") || !c["noise_figures"].is_object()) return std::nullopt;
+  const json& nf = c["noise_figures"];
+  ExportFigures out;
+  for (auto [key, f] : {std::pair{"white", &out.white}, std::pair{"walk", &out.walk},
+                        std::pair{"instability", &out.instability}}) {
+    if (!nf.contains(key) || !nf[key].is_object()) return std::nullopt;
+    const json& x = nf[key];
+    if (!x.contains("value") || !x["value"].is_number() || !(x["value"].get<double>() > 0.0)) return std::nullopt;
+    f->value = x["value"].get<double>();
+    f->source = x.contains("source") && x["source"].is_string() ? x["source"].get<std::string>() : "model";
+    f->note = x.contains("note") && x["note"].is_string() ? x["note"].get<std::string>() : std::string();
+  }
+  return out;
+}
+
 }  // namespace
 
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& o) {
@@ -126,6 +143,7 @@ ResultColumns read_result_columns(const std::string& path, const ResultReadOptio
       throw InputError(at + "\"" + model_field + "\" '" + spec + "' does not give every parameter's value");
     e.theta = e.model.given_values();
     e.model = e.model.canonical(&e.theta);
+    e.figures = figures_of(c);
     r.columns.push_back(std::move(e));
     r.statuses.push_back(status);
   }

@@ -78,6 +78,11 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
     os << report_detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
     for (const auto& n : c.fit->notes) os << "<p class=\"facts\">note: " << html_escape(n) << "</p>\n";
   }
+  if (c.allan) {
+    os << "<h3>Allan deviation and noise figures</h3>\n"
+       << plots.add("plot-" + idx + "-adev", "adev", report_detail::adev_plot_spec(c))
+       << report_detail::noise_figures_table(c);
+  }
   if (c.selection) {
     os << "<h3>model selection</h3>\n" << report_detail::ranking_table(*c.selection);
     if (const FitResult* f = report_detail::shown_model(c))

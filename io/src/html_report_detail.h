@@ -70,6 +70,9 @@ std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta
 
 /// The column's WV plot (estimates, CI bands, model and components).
 Json wv_plot_spec(const ReportColumn& c);
+/// The column's Allan deviation plot (requires c.allan): data with its band, the model's
+/// curve, the N / K / B guide lines.
+Json adev_plot_spec(const ReportColumn& c);
 /// Scale x axis heat map of log2(ratio) of every column with a gap result.
 Json gap_levels_spec(const ReportData& d);
 /// Window x scale map of the cells that depart (requires gap->windows_checked).
@@ -85,6 +88,8 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
 std::string ranking_table(const selection::Selection& sel);
 /// The gap's summary, levels, candidates, shrinkage and notes.
 std::string gap_tables(const ReportColumn& c);
+/// The noise figures N, K, B with their sources, read-offs and notes.
+std::string noise_figures_table(const ReportColumn& c);
 /// The WV levels of the column's first WV (collapsed <details>).
 std::string wv_table(const ReportColumn& c);
 

@@ -91,6 +91,9 @@ const FitResult* shown_model(const ReportColumn& c) {
   return nullptr;
 }
 
+// Components below this share of the model's WV at every scale are not drawn.
+constexpr double kNegligibleShare = 1e-6;
+
 std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta,
                                 const std::vector<double>& tau_samples, double scale,
                                 const std::string& label, bool components) {
@@ -112,6 +115,11 @@ std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta
     const Process& p = *model.components()[static_cast<std::size_t>(k)].process;
     const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
     p.wv(th, tau_samples, v);
+    // A collapsed component (its share of the model below kNegligibleShare at every scale)
+    // would only stretch the axis by ten decades: its table row says where it went.
+    bool visible = false;
+    for (std::size_t j = 0; j < v.size(); ++j) visible = visible || v[j] > kNegligibleShare * total(static_cast<Eigen::Index>(j));
+    if (!visible) continue;
     keep({std::to_string(k + 1) + ": " + p.name(), true, {}, {}}, v.data());
   }
   return out;

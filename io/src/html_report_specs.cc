@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "html_report_detail.h"
@@ -25,6 +26,7 @@ Json number(double x) { return json_number(x); }
 
 struct LogLog {
   std::string title, x_title, y_title, tau_unit;
+  std::string value_name = "WV";  ///< the y quantity in tooltips
   std::vector<WvSeries> estimates;
   std::vector<Curve> curves;
   std::string reference_name;                     ///< empty: no reference band
@@ -184,7 +186,8 @@ Json loglog_spec(const LogLog& p) {
       "{'series': datum.series, 'level': datum.level, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), 'WV': format(datum.wv, '.4~e'), 'CI': (datum.lo > 0 ? format(datum.lo, '.3~e') + ' to ' + "
       "format(datum.hi, '.3~e') : 'n/a')}";
   const std::string tip_curve =
-      "{'series': datum.series, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), 'WV': format(datum.v, '.4~e')}";
+      "{'series': datum.series, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), '" + p.value_name +
+      "': format(datum.v, '.4~e')}";
   Json marks = Json::array();
   if (!p.reference_name.empty()) {
     Json enc = xy("tau", "lo");
@@ -269,6 +272,59 @@ Json wv_plot_spec(const ReportColumn& c) {
   }
   if (!c.wvs.empty()) title += " (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "% CI)";
   p.title = title;
+  return loglog_spec(p);
+}
+
+Json adev_plot_spec(const ReportColumn& c) {
+  const FigureReport& f = *c.allan;
+  LogLog p;
+  p.value_name = "ADEV";
+  p.tau_unit = "s";
+  p.x_title = "tau [s]";
+  p.y_title = "Allan deviation [" + data_unit(c) + "]";
+  WvSeries data;
+  data.name = "data (overlapping ADEV)";
+  for (std::size_t i = 0; i < f.adev.size(); ++i) {
+    if (!(f.adev.adev[i] > 0.0)) continue;
+    const double lo = f.adev.ci_low[i] > 0.0 ? f.adev.ci_low[i] : NAN, hi = f.adev.ci_high[i] > 0.0 ? f.adev.ci_high[i] : NAN;
+    data.points.push_back({static_cast<int>(f.adev.m[i]), f.adev.tau[i], f.adev.adev[i], lo, hi});
+  }
+  p.estimates.push_back(std::move(data));
+  const std::vector<double>& tau = f.adev.tau;
+  if (f.model_adev.size() == tau.size()) {
+    Curve m;
+    m.name = "model";
+    for (std::size_t i = 0; i < tau.size(); ++i)
+      if (f.model_adev[i] > 0.0) {
+        m.tau.push_back(tau[i]);
+        m.value.push_back(f.model_adev[i]);
+      }
+    p.curves.push_back(std::move(m));
+  }
+  // The IEEE 952 guides through the figures used, dashed, over the data's range.
+  // Guides stay within a decade of the data's range, so they do not stretch the axis.
+  double lo = INFINITY, hi = 0.0;
+  for (const double a : f.adev.adev)
+    if (a > 0.0) lo = std::min(lo, a), hi = std::max(hi, a);
+  auto guide = [&](const std::string& name, const std::function<double(double)>& y) {
+    Curve g;
+    g.name = name;
+    g.dashed = true;
+    for (const double t : tau) {
+      const double v = y(t);
+      if (!(v >= lo / 10.0 && v <= hi * 10.0)) continue;
+      g.tau.push_back(t);
+      g.value.push_back(v);
+    }
+    if (!g.tau.empty()) p.curves.push_back(std::move(g));
+  };
+  const double N = f.chosen.white.figure.value, K = f.chosen.walk.figure.value,
+               B = f.chosen.instability.figure.value;
+  if (N > 0.0) guide("N = " + num(N, 4) + " (-1/2 slope)", [N](double t) { return N / std::sqrt(t); });
+  if (K > 0.0) guide("K = " + num(K, 4) + " (+1/2 slope)", [K](double t) { return K * std::sqrt(t / 3.0); });
+  if (B > 0.0) guide("0.664 B, B = " + num(B, 4), [B](double) { return kBiasInstabilityFactor * B; });
+  p.title = c.name + ": Allan deviation" + (f.model_adev.empty() ? "" : " and the model's") + " (" +
+            num(100.0 * (1.0 - f.adev.alpha), 3) + "% CI), IEEE 952 guides";
   return loglog_spec(p);
 }
 

@@ -78,7 +78,7 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
     // The Kalman-filter terms (engine/kalman.h) at the filter's rate.
     ColumnInfo info{c.name, c.n, c.freq, c.freq_known, c.unit};
     const double rate = c.filter_rate > 0.0 ? c.filter_rate : c.freq;
-    const Json k = kalman_json(fit, info, rate);
+    const Json k = kalman_json(fit, info, rate, c.allan ? &c.allan->chosen : nullptr);
     if (!k.at("terms").empty()) {
       os << "<table class=\"kalman\">\n<caption>Kalman filter at " << html_escape(num(rate, 6))
          << " Hz: continuous q, transition F and the discrete R or Q_d</caption>\n"
@@ -88,7 +88,8 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
         return num(v.get<double>(), 5) + (unit.is_string() ? " " + unit.get<std::string>() : std::string());
       };
       for (const auto& t : k.at("terms"))
-        os << "<tr>" << td(std::to_string(t.at("component").get<int>())) << td(t.at("process").get<std::string>())
+        os << "<tr>" << td(t.at("component").is_number() ? std::to_string(t.at("component").get<int>()) : "-")
+           << td(t.at("process").get<std::string>())
            << td(t.at("role").get<std::string>()) << td(cell(t.at("q"), t.at("q_unit")), "num")
            << td(cell(t.at("transition"), nullptr), "num") << td(cell(t.at("discrete"), t.at("discrete_unit")), "num")
            << td(t.at("note").get<std::string>(), "note") << "</tr>\n";
@@ -130,6 +131,36 @@ std::string ranking_table(const selection::Selection& sel) {
     os << td(num(r.gof.p_value, 3), "num") << td(others) << "</tr>\n";
   }
   os << "</table>\n</div>\n";
+  return os.str();
+}
+
+std::string noise_figures_table(const ReportColumn& c) {
+  const ChosenFigures& f = c.allan->chosen;
+  const FigureUnits units = figure_units(c.unit);
+  std::ostringstream os;
+  os << "<div class=\"figures\">\n<table class=\"figures\">\n"
+     << th_row({"noise figure (IEEE 952)", "value", "CI low", "CI high", "unit", "source", "model's read-off",
+                "data's read-off", "read"});
+  auto shown = [](const Readoff& r) {
+    if (!r.available()) return std::string("-");
+    return num(r.value, 4) + (r.status == ReadoffStatus::kBound ? " (bound)" : "");
+  };
+  std::string notes;
+  auto row = [&](const char* name, const ChosenFigure& x, const std::string& u) {
+    os << "<tr>" << td(name) << td(num(x.figure.value, 5), "num") << td(num(x.figure.low, 4), "num")
+       << td(num(x.figure.high, 4), "num") << td(u) << td(to_string(x.source)) << td(shown(x.model), "num")
+       << td(shown(x.data), "num") << td(x.figure.how) << "</tr>\n";
+    std::string comps;
+    for (const auto& [component, share] : x.model.sources)
+      comps += (comps.empty() ? "" : ", ") + component + " " + num(100.0 * share, 3) + "%";
+    notes += "<p class=\"facts\">" + html_escape(std::string(name) + ": " + x.note +
+                                                  (comps.empty() ? "" : "; the model's curve there: " + comps)) +
+             "</p>\n";
+  };
+  row("N white noise", f.white, units.white);
+  row("K random walk", f.walk, units.walk);
+  row("B bias instability", f.instability, units.instability);
+  os << "</table>\n" << notes << "</div>\n";
   return os.str();
 }
 

@@ -52,9 +52,20 @@ Json continuous_json(const FitResult& fit, const ColumnInfo& c) {
   return out;
 }
 
-Json kalman_json(const FitResult& fit, const ColumnInfo& c, double filter_rate) {
+Json kalman_json(const FitResult& fit, const ColumnInfo& c, double filter_rate, const ChosenFigures* figures) {
   Json out = {{"filter_rate", json_number(filter_rate)}, {"terms", Json::array()}};
   if (!usable(fit, c) || !(filter_rate > 0.0)) return out;
+  if (figures)
+    for (const KalmanTerm& t : kalman_terms(*figures, filter_rate))
+      out["terms"].push_back({{"process", "N, K, B"},
+                              {"component", nullptr},
+                              {"role", t.role},
+                              {"q", json_number(t.q)},
+                              {"q_unit", kalman_unit(t.q_unit, c)},
+                              {"transition", json_number(t.transition)},
+                              {"discrete", json_number(t.discrete)},
+                              {"discrete_unit", kalman_unit(t.discrete_unit, c)},
+                              {"note", t.note}});
   for (int k = 0; k < fit.model.num_components(); ++k) {
     const Process& p = *fit.model.components()[static_cast<std::size_t>(k)].process;
     for (const KalmanTerm& t : p.kalman(part(fit.theta, fit.model, k), c.freq, filter_rate))

@@ -48,6 +48,12 @@ void check_signals(const std::vector<Signal>& signals, std::optional<double> fre
 
 }  // namespace
 
+std::string csv_field(const std::string& text) {
+  std::string out;
+  append_name(out, text);
+  return out;
+}
+
 void write_signals_csv(OutputStream& out, const std::vector<Signal>& signals, std::optional<double> freq) {
   check_signals(signals, freq);
   const std::size_t n = signals.empty() ? 0 : signals.front().values.size();

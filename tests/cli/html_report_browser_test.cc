@@ -143,8 +143,11 @@ void expect_rendered(const std::string& dom, const std::map<std::string, int>& k
   EXPECT_NE(dom.find("data-gmwm-rendered=\"" + std::to_string(total) + "\""), std::string::npos);
   // Each view's own <svg class="marks">, with marks in it.
   EXPECT_EQ(count_matches(dom, "<svg [^>]*class=\"marks\""), total);
-  const int loglog = (kinds.count("wv") ? kinds.at("wv") : 0) + (kinds.count("gap-curves") ? kinds.at("gap-curves") : 0);
-  EXPECT_EQ(count_matches(dom, "aria-label=\"Y-axis titled 'wavelet variance nu\\^2"), loglog);
+  const int wv_like = (kinds.count("wv") ? kinds.at("wv") : 0) + (kinds.count("gap-curves") ? kinds.at("gap-curves") : 0);
+  const int adev = kinds.count("adev") ? kinds.at("adev") : 0;
+  const int loglog = wv_like + adev;
+  EXPECT_EQ(count_matches(dom, "aria-label=\"Y-axis titled 'wavelet variance nu\\^2"), wv_like);
+  EXPECT_EQ(count_matches(dom, "aria-label=\"Y-axis titled 'Allan deviation \\["), adev);
   EXPECT_GE(count_matches(dom, "aria-label=\"X-axis titled 'tau \\[s\\]'"), loglog);
   EXPECT_GE(count_matches(dom, "class=\"mark-line role-mark"), 2 * loglog);
   EXPECT_GE(count_matches(dom, "class=\"mark-area role-mark"), loglog);
@@ -198,7 +201,7 @@ void check_report(const std::string& exe, const std::string& name, std::vector<s
 
 TEST(HtmlReportInBrowser, SelectReportOnSixAxesRendersEveryPlotOfflineWithoutScriptErrors) {
   REQUIRE_BROWSER(exe);
-  check_report(*exe, "report_select", {"select", example(), "--model", "AR1+WN+RW"}, {{"wv", 6}});
+  check_report(*exe, "report_select", {"select", example(), "--model", "AR1+WN+RW"}, {{"wv", 6}, {"adev", 6}});
   // The ranking of every axis, its chosen model highlighted.
   const std::string html = read_text(artefact_dir() / "report_select.html");
   EXPECT_EQ(count_matches(html, "<tr class=\"chosen\">"), 6);
@@ -217,7 +220,22 @@ TEST(HtmlReportInBrowser, GapReportRendersTheScaleAxisMapWindowMapsAndBeforeAfte
 TEST(HtmlReportInBrowser, RobustWvAndFitReportsRenderTheirPlots) {
   REQUIRE_BROWSER(exe);
   check_report(*exe, "report_wv", {"wv", example(), "--columns", "gyro_x,accel_y", "--robust"}, {{"wv", 2}});
-  check_report(*exe, "report_fit", {"fit", example(), "--columns", "gyro_z", "--model", "AR1+WN+RW"}, {{"wv", 1}});
+  check_report(*exe, "report_fit", {"fit", example(), "--columns", "gyro_z", "--model", "AR1+WN+RW"},
+               {{"wv", 1}, {"adev", 1}});
+}
+
+// wv --adev: the Allan deviation plot with its band and the N / K / B guides, and the
+// noise-figure table under it.
+TEST(HtmlReportInBrowser, AllanDeviationPlotRendersWithItsGuideLines) {
+  REQUIRE_BROWSER(exe);
+  check_report(*exe, "report_adev",
+               {"wv", example(), "--columns", "gyro_x,accel_x", "--adev", "--units", "gyro=rad/s,accel=m/s^2"},
+               {{"wv", 2}, {"adev", 2}});
+  const std::string html = read_text(artefact_dir() / "report_adev.html");
+  EXPECT_EQ(count_matches(html, "<table class=\"figures\">"), 2);
+  EXPECT_NE(html.find("N white noise"), std::string::npos);
+  EXPECT_NE(html.find("(-1/2 slope)"), std::string::npos) << "the N guide is drawn";
+  EXPECT_NE(html.find("rad/s/sqrt(Hz)"), std::string::npos);
 }
 
 // A wheel event over the plot zooms about the pointer (both log10 domains shrink) and
@@ -275,7 +293,7 @@ TEST(HtmlReportInBrowser, SelectReportOnTheSixAxisAdisRecordingStaysUnderFiveMeg
   check_report(*exe, "report_select_adis",
                {"select", gmwm::test::shared_data_file("adis_16405_imu1.csv.gz"), "--freq", "100", "--model",
                 "AR1+WN+RW"},
-               {{"wv", 6}});
+               {{"wv", 6}, {"adev", 6}});
 }
 
 }  // namespace

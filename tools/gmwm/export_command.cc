@@ -16,7 +16,6 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
-#include "gmwm/io/atomic_file.h"
 #include "gmwm/io/export.h"
 #include "gmwm/io/units.h"
 
@@ -138,6 +137,10 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
       warn("column '" + set.signals[k].name + "': the fit did not converge" + (r.message.empty() ? "" : ": " + r.message));
     columns[k].model = r.model;
     columns[k].theta = r.theta;
+    // N, K, B against the data's own Allan deviation (noise_figures.h).
+    const FigureReport figures =
+        noise_figure_report(set.signals[k].values, set.freq, r.model, r.theta, nullptr);
+    columns[k].figures = io::export_figures(figures.chosen);
   }
   source = "data " + set.path + " fitted with " + a.model + " (as gmwm fit: classical WV, Omega diag)";
   return columns;

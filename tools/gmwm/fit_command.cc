@@ -121,6 +121,10 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
                     [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
   const double fit_seconds = fit_clock.seconds();
 
+  std::vector<const FitResult*> fit_ptrs;
+  for (const auto& f : fits) fit_ptrs.push_back(&f);
+  const auto figures = figure_reports(set, fit_ptrs, args.input.alpha);
+
   // Everything is computed: build the outputs, then write them.
   io::Json doc = io::json_document("fit");
   doc["input"] = set.path;
@@ -133,7 +137,10 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     io::Json col = io::fit_column_json(info, wvs[k], fits[k], options.omega);
     col["unit"] = info.unit.empty() ? io::Json(nullptr) : io::Json(info.unit);
     col["continuous"] = io::continuous_json(fits[k], info);
-    col["kalman"] = io::kalman_json(fits[k], info, filter_rate(args.units, set));
+    col["kalman"] = io::kalman_json(fits[k], info, filter_rate(args.units, set),
+                                    figures[k] ? &figures[k]->chosen : nullptr);
+    col["allan"] = figures[k] ? io::allan_json(figures[k]->adev, figures[k]->model_adev) : io::Json(nullptr);
+    col["noise_figures"] = figures[k] ? io::noise_figures_json(figures[k]->chosen, info.unit) : io::Json(nullptr);
     doc["columns"].push_back(std::move(col));
   }
   std::string report;
@@ -142,7 +149,9 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < fits.size(); ++k)
       report += (k ? "\n" : "") + terminal_report(set, k, wvs[k], fits[k], options.omega) +
                 continuous_table(fits[k], with_unit(column_info(set, k), args.units)) +
-                kalman_table(fits[k], with_unit(column_info(set, k), args.units), filter_rate(args.units, set));
+                (figures[k] ? noise_figures_table(figures[k]->chosen, column_unit(args.units, set.signals[k].name)) : "") +
+                kalman_table(fits[k], with_unit(column_info(set, k), args.units), filter_rate(args.units, set),
+                             figures[k] ? &figures[k]->chosen : nullptr);
   }
 
   warn_about_timing(set);
@@ -169,6 +178,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < fits.size(); ++k) {
       rep.columns[k].wvs = {wvs[k]};
       rep.columns[k].fit = fits[k];
+      rep.columns[k].allan = figures[k];
       rep.columns[k].filter_rate = filter_rate(args.units, set);
       if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
     }

@@ -157,6 +157,9 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const std::vector<selection::Selection> result =
       specs.empty() ? selection::select_models(wvs, model, options) : selection::select_among(wvs, models, options);
   const double select_seconds = select_clock.seconds();
+  std::vector<const FitResult*> best_fits;
+  for (const auto& sel : result) best_fits.push_back(&sel.best_fit);
+  const auto figures = figure_reports(set, best_fits, args.input.alpha);
 
   io::Json doc = io::json_document("select");
   doc["input"] = set.path;
@@ -172,7 +175,10 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     io::Json col = io::select_column_json(info, wvs[k], result[k], options.penalty);
     col["unit"] = info.unit.empty() ? io::Json(nullptr) : io::Json(info.unit);
     col["best_continuous"] = io::continuous_json(result[k].best_fit, info);
-    col["best_kalman"] = io::kalman_json(result[k].best_fit, info, filter_rate(args.units, set));
+    col["best_kalman"] = io::kalman_json(result[k].best_fit, info, filter_rate(args.units, set),
+                                    figures[k] ? &figures[k]->chosen : nullptr);
+    col["allan"] = figures[k] ? io::allan_json(figures[k]->adev, figures[k]->model_adev) : io::Json(nullptr);
+    col["noise_figures"] = figures[k] ? io::noise_figures_json(figures[k]->chosen, info.unit) : io::Json(nullptr);
     doc["columns"].push_back(std::move(col));
   }
   std::string report;
@@ -181,7 +187,9 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < result.size(); ++k) {
       const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
       report += (k ? "\n" : "") + terminal_report(set, k, result[k]) + continuous_table(result[k].best_fit, info) +
-                kalman_table(result[k].best_fit, info, filter_rate(args.units, set));
+                (figures[k] ? noise_figures_table(figures[k]->chosen, info.unit) : "") +
+                kalman_table(result[k].best_fit, info, filter_rate(args.units, set),
+                             figures[k] ? &figures[k]->chosen : nullptr);
     }
   }
   warn_about_timing(set);
@@ -198,6 +206,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < result.size(); ++k) {
       rep.columns[k].wvs = {wvs[k]};
       rep.columns[k].selection = result[k];
+      rep.columns[k].allan = figures[k];
       rep.columns[k].filter_rate = filter_rate(args.units, set);
       if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
     }

@@ -1,14 +1,20 @@
 #include "units_tables.h"
 
 #include "common.h"
+
+#include <tbb/parallel_for.h>
 #include "gmwm/engine/error.h"
 
 namespace gmwm::cli {
 
-void add_units_options(CLI::App& sub, UnitsOptions& o) {
+void add_units_option(CLI::App& sub, UnitsOptions& o) {
   sub.add_option("--units", o.units,
                  "Units of the columns, e.g. gyro=deg/s,accel=g: continuous quantities are then given in them")
       ->type_name("KIND=UNIT,...");
+}
+
+void add_units_options(CLI::App& sub, UnitsOptions& o) {
+  add_units_option(sub, o);
   sub.add_option("--kf-rate", o.kf_rate, "Rate of the Kalman filter for the Q/R table (default: the data's rate)")
       ->type_name("HZ")
       ->check(CLI::PositiveNumber);
@@ -52,8 +58,9 @@ std::string continuous_table(const FitResult& fit, const io::ColumnInfo& column)
   return t.str();
 }
 
-std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate) {
-  const io::Json k = io::kalman_json(fit, column, filter_rate);
+std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate,
+                         const ChosenFigures* figures) {
+  const io::Json k = io::kalman_json(fit, column, filter_rate, figures);
   if (k.at("terms").empty()) return {};
   Table t({"Kalman filter at " + fmt(filter_rate, 6) + " Hz", "role", "q (continuous)", "F", "R or Q_d", "note"}, 2);
   auto num = [](const io::Json& v, const io::Json& unit) {
@@ -64,6 +71,45 @@ std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, dou
     t.add({r.at("process").get<std::string>(), r.at("role").get<std::string>(), num(r.at("q"), r.at("q_unit")),
            num(r.at("transition"), nullptr), num(r.at("discrete"), r.at("discrete_unit")), r.at("note").get<std::string>()});
   return t.str();
+}
+
+std::string noise_figures_table(const ChosenFigures& figures, const std::string& unit) {
+  const io::FigureUnits units = io::figure_units(unit);
+  Table t({"noise figure (IEEE 952)", "value", "CI low", "CI high", "unit", "source", "model's", "data's", "read"}, 1);
+  auto status = [](const Readoff& r) {
+    if (!r.available()) return std::string("-");
+    return fmt(r.value, 4) + (r.status == ReadoffStatus::kBound ? " (bound)" : "");
+  };
+  std::string notes;
+  auto row = [&](const char* name, const ChosenFigure& c, const std::string& u) {
+    const Readoff& f = c.figure;
+    t.add({name, fmt(f.value, 5), fmt(f.low, 4), fmt(f.high, 4), u, to_string(c.source), status(c.model),
+           status(c.data), f.how});
+    std::string comps;
+    for (const auto& [component, share] : c.model.sources)
+      comps += (comps.empty() ? "" : ", ") + component + " " + fmt(100.0 * share, 3) + "%";
+    notes += std::string("  ") + name + ": " + c.note + (comps.empty() ? "" : "; model's curve there: " + comps) + "\n";
+  };
+  row("N white noise", figures.white, units.white);
+  row("K random walk", figures.walk, units.walk);
+  row("B bias instability", figures.instability, units.instability);
+  return t.str() + notes;
+}
+
+std::vector<std::optional<FigureReport>> figure_reports(const io::SignalSet& set, const std::vector<const FitResult*>& fits,
+                                                        double alpha) {
+  std::vector<std::optional<FigureReport>> out(fits.size());
+  if (!set.freq_known) return out;
+  tbb::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t k) {
+    const FitResult& f = *fits[k];
+    if (f.status == FitStatus::kFailed || f.theta.size() != f.model.num_parameters() || !f.theta.allFinite()) return;
+    AllanOptions ao;
+    ao.alpha = alpha;
+    ReadoffOptions ro;
+    ro.alpha = alpha;
+    out[k] = noise_figure_report(set.signals[k].values, set.freq, f.model, f.theta, &f.covariance, ao, ro);
+  });
+  return out;
 }
 
 }  // namespace gmwm::cli

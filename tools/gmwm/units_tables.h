@@ -5,10 +5,12 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/io/json_output.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
@@ -22,6 +24,8 @@ struct UnitsOptions {
 
 /// Adds --units and --kf-rate.
 void add_units_options(CLI::App& sub, UnitsOptions& o);
+/// Adds --units alone (commands without a Kalman table).
+void add_units_option(CLI::App& sub, UnitsOptions& o);
 
 /// The unit of a column of sensor `kind` (or, without one, the kind its name says): the
 /// declared unit of that kind, SI where none is declared; "" when no kind is known.
@@ -41,6 +45,17 @@ io::ColumnInfo with_unit(io::ColumnInfo info, const UnitsOptions& o);
 /// Text tables: the parameters in continuous units with their intervals, and the Kalman
 /// filter terms (empty strings when the rate is unknown or the fit unusable).
 std::string continuous_table(const FitResult& fit, const io::ColumnInfo& column);
-std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate);
+std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate,
+                         const ChosenFigures* figures = nullptr);
+
+/// The noise figures N, K, B (IEEE 952 read-offs): the value to use with its source,
+/// interval and where it was read, the model's and the data's read-offs side by side,
+/// the components behind each, and a note where the model misses the data.
+std::string noise_figures_table(const ChosenFigures& figures, const std::string& unit);
+
+/// Each column's noise-figure report (engine/noise_figures.h) for its fit, in parallel;
+/// empty reports for unusable fits (no values).
+std::vector<std::optional<FigureReport>> figure_reports(const io::SignalSet& set, const std::vector<const FitResult*>& fits,
+                                                        double alpha);
 
 }  // namespace gmwm::cli

@@ -8,7 +8,14 @@
 #include <iostream>
 #include <sstream>
 
+#include <tbb/parallel_for.h>
+
 #include "common.h"
+#include "units_tables.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/io/signal_writer.h"
+#include "gmwm/io/units.h"
 #include "gmwm/robust/contamination.h"
 
 namespace gmwm::cli {
@@ -19,7 +26,54 @@ struct WvArgs {
   InputOptions input;
   RobustOptions robust;
   std::string csv;
+  bool adev = false;         ///< --adev: the Allan deviation and its IEEE 952 read-offs
+  std::string adev_csv;      ///< --adev-csv PATH
+  int adev_points = AllanOptions{}.points_per_octave;
+  UnitsOptions units;
 };
+
+// The Allan deviation table and its read-offs, per column.
+std::string adev_terminal(const io::SignalSet& set, const std::vector<std::optional<FigureReport>>& reports,
+                          const UnitsOptions& units) {
+  std::ostringstream os;
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    if (!reports[k]) continue;
+    const FigureReport& r = *reports[k];
+    const std::string unit = column_unit(units, set.signals[k].name);
+    os << '\n' << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
+       << "% CI (chi-square, edf = (N - 2m + 1) / 2m)" << (unit.empty() ? "" : ", in " + unit) << '\n';
+    Table t({"m", "tau [s]", "ADEV", "CI low", "CI high", "edf"});
+    for (std::size_t i = 0; i < r.adev.size(); ++i)
+      t.add({std::to_string(r.adev.m[i]), fmt(r.adev.tau[i]), fmt(r.adev.adev[i]), fmt(r.adev.ci_low[i]),
+             fmt(r.adev.ci_high[i]), fmt(r.adev.edf[i], 4)});
+    os << t.str() << noise_figures_table(r.chosen, unit);
+  }
+  return os.str();
+}
+
+std::string adev_csv(const io::SignalSet& set, const std::vector<std::optional<FigureReport>>& reports) {
+  std::ostringstream os;
+  os << "column,m,tau_seconds,adev,ci_low,ci_high,edf\n";
+  auto num = [](std::ostream& o, double x) -> std::ostream& {
+    if (!std::isfinite(x)) return o << "nan";
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    return o.write(buf, r.ptr - buf);
+  };
+  for (std::size_t k = 0; k < reports.size(); ++k) {
+    if (!reports[k]) continue;
+    const AllanDeviation& a = reports[k]->adev;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      os << io::csv_field(set.signals[k].name) << ',' << a.m[i] << ',';
+      num(os, a.tau[i]) << ',';
+      num(os, a.adev[i]) << ',';
+      num(os, a.ci_low[i]) << ',';
+      num(os, a.ci_high[i]) << ',';
+      num(os, a.edf[i]) << '\n';
+    }
+  }
+  return os.str();
+}
 
 // The robust WV's companions, per column (empty for a classical run).
 struct RobustView {
@@ -46,7 +100,7 @@ std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVarianc
     const auto& w = wvs[k];
     for (int j = 0; j < w.levels(); ++j) {
       const auto l = static_cast<std::size_t>(j);
-      os << set.signals[k].name << ',' << (j + 1) << ',';
+      os << io::csv_field(set.signals[k].name) << ',' << (j + 1) << ',';
       num(os, w.tau[l]) << ',';
       num(os, w.tau[l] / set.freq) << ',';
       num(os, w.wv[l]) << ',';
@@ -119,6 +173,14 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   declare_output(common, "--json", common.json);
   check_report_option(common);
   declare_output(common, "--csv", args.csv);
+  declare_output(common, "--adev-csv", args.adev_csv);
+  if (!args.adev_csv.empty() && !args.adev)
+    throw InputError("--adev-csv " + args.adev_csv + ": only meaningful with --adev");
+  if (!args.units.units.empty()) io::parse_units(args.units.units);  // a bad --units fails before any work
+  AllanOptions allan_options;
+  allan_options.points_per_octave = args.adev_points;
+  allan_options.alpha = args.input.alpha;
+  if (const std::string why = allan_options.Validate(); !why.empty()) throw InputError("--adev-points: " + why);
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
@@ -142,6 +204,14 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
     wvs = compute_wv(set, options);
   }
   const double wv_seconds = wv_clock.seconds();
+  std::vector<std::optional<FigureReport>> adev(set.signals.size());
+  if (args.adev) {
+    ReadoffOptions ro;
+    ro.alpha = args.input.alpha;
+    tbb::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+      adev[k] = data_figure_report(set.signals[k].values, set.freq, allan_options, ro);
+    });
+  }
 
   // Everything is computed: build the outputs, then write them.
   io::Json doc = io::json_document("wv");
@@ -151,11 +221,19 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
     doc["columns"].push_back(rv.active() ? io::robust_wv_column_json(column_info(set, k), wvs[k], rv.diagnostic[k],
                                                                      rv.quantization[k])
                                          : io::wv_column_json(column_info(set, k), wvs[k]));
+  for (std::size_t k = 0; k < adev.size(); ++k)
+    if (adev[k]) {
+      const std::string unit = column_unit(args.units, set.signals[k].name);
+      doc["columns"][k]["unit"] = unit.empty() ? io::Json(nullptr) : io::Json(unit);
+      doc["columns"][k]["allan"] = io::allan_json(adev[k]->adev, {});
+      doc["columns"][k]["noise_figures"] = io::noise_figures_json(adev[k]->chosen, unit);
+    }
   const std::string csv = args.csv.empty() ? std::string() : csv_table(set, wvs, rv);
   const std::string table = common.show_table() ? terminal_table(set, wvs, rv) : std::string();
 
   warn_about_timing(set);
   if (!args.csv.empty()) common.outputs->stage(args.csv, csv);
+  if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, adev_csv(set, adev));
   write_json(common, doc,
              {.threads = 0,
               .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"total", total.seconds()}},
@@ -165,12 +243,16 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < wvs.size(); ++k)
       rep.columns[k].wvs =
           rv.active() ? std::vector<WaveletVariance>{rv.classical[k], wvs[k]} : std::vector<WaveletVariance>{wvs[k]};
+    for (std::size_t k = 0; k < wvs.size(); ++k) {
+      rep.columns[k].allan = adev[k];
+      if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
+    }
     write_report(common, rep);
   }
   commit_outputs(common);
   if (common.show_table()) {
     if (set.timing) std::cout << set.timing->summary() << '\n';
-    std::cout << table;
+    std::cout << table << adev_terminal(set, adev, args.units);
     std::cout.flush();
   }
   return 0;
@@ -186,6 +268,15 @@ Command add_wv_command(CLI::App& app, CommonOptions& common) {
   add_robust_options(*sub, args->robust);
   sub->add_option("--csv", args->csv, "Also write the WV as a CSV table to PATH")
       ->type_name("PATH");
+  sub->add_flag("--adev", args->adev,
+                "Also the overlapping Allan deviation with its CI and the IEEE 952 read-offs N (-1/2 slope at 1 s), "
+                "K (+1/2 slope at 3 s) and B (flat minimum / 0.664)");
+  sub->add_option("--adev-csv", args->adev_csv, "With --adev: write the Allan deviation as a CSV table to PATH")
+      ->type_name("PATH");
+  sub->add_option("--adev-points", args->adev_points, "With --adev: averaging times per octave (1: octaves only)")
+      ->type_name("K")
+      ->capture_default_str();
+  add_units_option(*sub, args->units);
   add_common_options(*sub, common);
   add_report_option(*sub, common);
   return {sub, [args, &common] { return run_wv(*args, common); }};

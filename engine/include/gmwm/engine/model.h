@@ -74,6 +74,10 @@ class Model {
   int num_parameters_ = 0;
 };
 
+/// Component c with its values, compact ("AR1(phi=0.16,sigma2=0.1195)", `digits`
+/// significant digits, display units): for messages and tables.
+std::string component_text(const Model& model, int c, const Eigen::VectorXd& theta, int digits = 4);
+
 /// The sum of two models: a's components then b's (theta concatenates in that order,
 /// a's parameters first). Not canonical: call canonical() to sort.
 Model operator+(const Model& a, const Model& b);

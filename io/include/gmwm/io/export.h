@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "gmwm/engine/model.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/io/units.h"
 
 namespace gmwm::io {
@@ -67,6 +68,21 @@ struct ExportOptions {
   std::string Validate() const;
 };
 
+/// A noise figure as the exporter takes it, in the data's unit (noise_figures.h).
+struct ExportFigure {
+  double value = 0.0;
+  std::string source;  ///< "model", "data" or "bound" (FigureSource)
+  std::string note;    ///< where it comes from, one line
+};
+
+/// N, K and B to write (from choose_noise_figures, or the model alone).
+struct ExportFigures {
+  ExportFigure white, walk, instability;
+};
+
+/// The export's view of chosen figures.
+ExportFigures export_figures(const ChosenFigures& figures);
+
 /// One fitted column, as the exporter takes it (from a fit/select result or a fresh fit).
 struct ExportColumn {
   std::string name;
@@ -76,6 +92,9 @@ struct ExportColumn {
   Model model;                ///< canonical, with the fitted values in theta
   Eigen::VectorXd theta;      ///< natural (discrete, per-sample) parameters
   Unit unit;                  ///< the data's unit (per_si of it per SI unit)
+  /// N, K, B in the data's unit, as the fit/select result chose them against the data's
+  /// Allan deviation; when absent they are read off the model's own Allan deviation.
+  std::optional<ExportFigures> figures;
 };
 
 /// A first-order Gauss-Markov term (AR1 with phi > 0, or GM) in continuous form, SI.
@@ -98,15 +117,22 @@ struct AxisNoise {
   double record_seconds = 0.0;   ///< n / freq (0 when unknown)
   std::string model;             ///< the fitted model with its values (discrete, data unit)
   Unit unit;                     ///< the data's unit
-  double white = 0.0;            ///< WN noise density N, SI/sqrt(Hz) (0 without WN)
-  double walk = 0.0;             ///< RW density K, SI/s/sqrt(Hz) (0 without RW)
-  std::vector<GaussMarkovNoise> gauss_markov;  ///< by increasing correlation time
+  /// White noise density N, SI/sqrt(Hz): the IEEE 952 read-off of the model as a whole
+  /// (a fast AR1 adds to it), or of the data where the model misses them.
+  double white = 0.0;
+  /// Random walk K, SI/s/sqrt(Hz): its read-off, or an upper bound where no +1/2 slope shows.
+  double walk = 0.0;
+  double instability = 0.0;      ///< bias instability B, SI (for the header)
+  ExportFigures figures;         ///< the three with their sources and notes (data unit)
+  std::vector<GaussMarkovNoise> gauss_markov;  ///< slow terms (T >= 1 s), by increasing correlation time
+  std::vector<std::string> absorbed;  ///< fast terms counted in N (T < 1 s), as text
   std::vector<std::string> others;  ///< the remaining components (QN, DR, SIN, ...) as text
 };
 
-/// The figures of one column from its model: WN, RW and Gauss-Markov terms through
-/// Process::physical at the column's rate, divided by unit.per_si. Throws InvalidArgument
-/// (check.h) for a non-positive rate or a theta that does not match the model.
+/// The figures of one column: N and K from its noise figures (ExportColumn::figures, else
+/// the model's own Allan deviation), Gauss-Markov biases from its slow AR1/GM components,
+/// divided by unit.per_si. Throws InvalidArgument (check.h) for a non-positive rate or a
+/// theta that does not match the model.
 AxisNoise axis_noise(const ExportColumn& column);
 
 /// What a file holds for one axis (or the aggregate of a sensor's axes): SI, inflated.

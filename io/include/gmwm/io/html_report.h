@@ -27,7 +27,7 @@
 // rendered; the environment variable GMWM_VEGA_DIR overrides it.
 //
 // DOM contract (tests/cli/html_report_browser_test.cc relies on it): each plot is a
-// <div class="gmwm-plot" data-plot="KIND" id="..."> with KIND one of wv, gap-levels,
+// <div class="gmwm-plot" data-plot="KIND" id="..."> with KIND one of wv, adev, gap-levels,
 // gap-windows, gap-curves; its Vega spec is the entry with that id in the JSON array of
 // <script id="gmwm-specs" type="application/json">. Views render with the SVG renderer;
 // a rendered plot gets data-rendered="svg". Script errors (window.onerror, rejected
@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/selection/gap.h"
 #include "gmwm/selection/select.h"
@@ -74,6 +75,10 @@ struct ReportColumn {
   std::optional<FitResult> fit;
   /// `select`: the ranking; its best_fit is the model drawn and tabulated.
   std::optional<selection::Selection> selection;
+  /// The Allan deviation with its noise figures (fit, select, wv --adev): a log-log ADEV
+  /// plot of the data with its interval band, the model's curve when fitted, and the IEEE
+  /// 952 guide lines (-1/2 through N, +1/2 through K, the flat 0.664 B), then the table.
+  std::optional<FigureReport> allan;
   /// `gap`: the diagnosis and how the baseline was converted to this column.
   std::optional<selection::GapResult> gap;
   std::vector<std::string> conversions;

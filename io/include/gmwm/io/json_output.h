@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/selection/gap.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
@@ -130,6 +131,27 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
 
+/// The data's Allan deviation and the model's on the same grid: {"points_per_octave"?,
+/// "alpha", "tau" [s], "m", "adev", "ci_low", "ci_high", "edf", "model" (null entries
+/// when no model)}, in the column's unit.
+Json allan_json(const AllanDeviation& adev, const std::vector<double>& model_adev);
+
+/// One read-off: {"value", "low", "high", "status", "tau", "region_from", "region_to",
+/// "how", "components": [{"component", "share"}]}.
+Json readoff_json(const Readoff& r);
+
+/// The figures to use: {"unit": {N, K, B units}, "white"/"walk"/"instability": {value,
+/// low, high, unit, source ("model"|"data"|"bound"), status, tau, how, note, components,
+/// "model": readoff, "data": readoff}} in the column's unit ("U" when undeclared).
+Json noise_figures_json(const ChosenFigures& figures, const std::string& unit);
+
+/// The units of N, K and B for a data unit ("deg/s" -> deg/s/sqrt(Hz), deg/s^2/sqrt(Hz),
+/// deg/s); "U" patterns when the unit is empty.
+struct FigureUnits {
+  std::string white, walk, instability;
+};
+FigureUnits figure_units(const std::string& unit);
+
 /// A fit's parameters as continuous quantities (engine/physical.h) with their intervals
 /// mapped from the discrete CIs and unit strings in the column's unit ("U" when it is not
 /// declared): [{process, component, name, value, ci_low, ci_high, unit, convention}];
@@ -138,7 +160,11 @@ Json continuous_json(const FitResult& fit, const ColumnInfo& column);
 
 /// A fit's Kalman-filter terms at `filter_rate` Hz (engine/kalman.h): {filter_rate, terms:
 /// [{process, component, role, q, q_unit, transition, discrete, discrete_unit, note}]}.
-Json kalman_json(const FitResult& fit, const ColumnInfo& column, double filter_rate);
+/// With `figures`, the terms of the model as a whole come first (kalman_terms of
+/// noise_figures.h: R from N, the bias random walk from K, a Gauss-Markov state for B),
+/// their "process" "N, K, B"; the per-component terms follow.
+Json kalman_json(const FitResult& fit, const ColumnInfo& column, double filter_rate,
+                 const ChosenFigures* figures = nullptr);
 
 /// The document as text: pretty-printed (2 spaces), ending with a newline.
 std::string dump_json(const Json& doc);

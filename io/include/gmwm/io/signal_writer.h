@@ -26,6 +26,10 @@ void write_signals(const std::string& path, const std::vector<Signal>& signals,
 void stage_signals(OutputSet& outputs, const std::string& path, const std::vector<Signal>& signals,
                    std::optional<double> freq);
 
+/// A CSV field: as it is, or double-quoted (quotes doubled) when it holds a comma, a
+/// double quote or a line break (RFC 4180).
+std::string csv_field(const std::string& text);
+
 /// The CSV text, streamed into `out` (uncompressed; wrap `out` in a GzipOutput to compress).
 void write_signals_csv(OutputStream& out, const std::vector<Signal>& signals, std::optional<double> freq);
 

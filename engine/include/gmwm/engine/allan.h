@@ -1,0 +1,63 @@
+#pragma once
+// The overlapping Allan deviation (IEEE Std 952-1997, Std 1554-2005), the curve inertial
+// engineers read, of a series and of a model.
+//
+// At averaging factor m (tau = m / f seconds), with S the prefix sums of x:
+//   AVAR(m) = 1 / (2 m^2 (N - 2m + 1)) sum_{t=0}^{N-2m} (S_{t+2m} - 2 S_{t+m} + S_t)^2,
+// which is exactly twice the Haar wavelet variance at scale 2m (STATISTICS.md s.1), so a
+// model's Allan variance is 2 nu^2(theta; 2m) for any m. Its 1 - alpha interval is the
+// chi-square one with eta = max((N - 2m + 1) / (2m), 1) equivalent degrees of freedom,
+// the WV's at tau = 2m.
+//
+//   gmwm::AllanOptions o;                    // 4 points per octave, 95% intervals
+//   const gmwm::AllanDeviation a = gmwm::allan_deviation(x, 100.0, o);
+//   a.tau[k], a.adev[k], a.ci_low[k], a.ci_high[k]
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/model.h"
+
+namespace gmwm {
+
+struct AllanOptions {
+  /// Averaging factors m = round(2^(k / points_per_octave)), k = 0, 1, ..., distinct,
+  /// up to N / 2; 1 gives the octave points (m = 1, 2, 4, ...).
+  int points_per_octave = 4;
+  double alpha = 0.05;  ///< intervals at level 1 - alpha
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+struct AllanDeviation {
+  std::vector<std::int64_t> m;   ///< averaging factor in samples
+  std::vector<double> tau;       ///< m / freq in seconds
+  std::vector<double> adev;      ///< sqrt(AVAR), in the data's unit
+  std::vector<double> ci_low, ci_high;
+  std::vector<double> edf;       ///< equivalent degrees of freedom of the interval
+  double freq = 1.0;
+  std::int64_t n = 0;
+  double alpha = 0.05;
+  std::size_t size() const { return m.size(); }
+};
+
+/// The averaging factors of AllanOptions for a series of n samples.
+std::vector<std::int64_t> allan_factors(std::int64_t n, int points_per_octave);
+
+/// The overlapping Allan deviation of x sampled at freq Hz. Throws InputError for invalid
+/// options and InvalidArgument for fewer than 2 samples, a non-finite sample or a
+/// non-positive rate.
+AllanDeviation allan_deviation(std::span<const double> x, double freq, const AllanOptions& options = {});
+
+/// The model's Allan deviation sqrt(2 nu^2(theta; 2m)) at each averaging factor.
+std::vector<double> model_allan_deviation(const Model& model, const Eigen::VectorXd& theta,
+                                          std::span<const std::int64_t> m);
+
+/// Each component's Allan variance 2 nu_c^2(theta; 2m) at one averaging factor.
+std::vector<double> component_allan_variances(const Model& model, const Eigen::VectorXd& theta, std::int64_t m);
+
+}  // namespace gmwm

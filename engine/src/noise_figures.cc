@@ -1,0 +1,570 @@
+#include "gmwm/engine/noise_figures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+
+#include <boost/math/distributions/normal.hpp>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/error.h"
+
+namespace gmwm {
+
+const char* to_string(ReadoffStatus s) {
+  switch (s) {
+    case ReadoffStatus::kRead: return "read";
+    case ReadoffStatus::kExtrapolated: return "extrapolated";
+    case ReadoffStatus::kBound: return "bound";
+  }
+  return "?";
+}
+
+std::string ReadoffOptions::Validate() const {
+  if (!(slope_tolerance > 0.0 && slope_tolerance < 0.5))
+    return "noise figures: slope tolerance must be in (0, 0.5), got " + std::to_string(slope_tolerance);
+  if (!(min_edf >= 1.0)) return "noise figures: min_edf must be at least 1, got " + std::to_string(min_edf);
+  if (!(alpha > 0.0 && alpha < 1.0)) return "noise figures: alpha must be in (0, 1), got " + std::to_string(alpha);
+  return {};
+}
+
+namespace {
+
+// The IEEE 952 read-off taus (seconds).
+constexpr double kWhiteTau = 1.0;  // N = ADEV(1 s) on the -1/2 line
+constexpr double kWalkTau = 3.0;   // K = ADEV(3 s) on the +1/2 line
+// Points in a slope region at least (one alone could be a wiggle of the curve).
+constexpr std::size_t kMinRegionPoints = 2;
+// How far beyond the record a model's curve is searched for its -1/2 and +1/2 slopes.
+constexpr double kModelReachRecords = 100.0;
+// Local slopes are least-squares fits over points within half an octave on each side.
+constexpr double kSlopeHalfWindowOctaves = 0.5;
+
+struct Curve {
+  std::vector<double> tau, sigma;
+  std::vector<bool> usable;     ///< points that decide slopes
+  std::vector<bool> in_record;  ///< points a bound may come from (empty: the usable ones)
+  bool bounds_from(std::size_t i) const { return in_record.empty() ? usable[i] : in_record[i]; }
+};
+
+/// (low, high) of sigma_i times `scale` at 1 - alpha.
+using IntervalFn = std::function<std::pair<double, double>(std::size_t i, double scale)>;
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+std::vector<double> local_slopes(const Curve& c) {
+  const std::size_t K = c.tau.size();
+  std::vector<double> out(K, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < K; ++i) {
+    if (!c.usable[i]) continue;
+    // Half an octave each side, and at least the next point on each side (octave grids).
+    double half = kSlopeHalfWindowOctaves;
+    if (i > 0) half = std::max(half, std::log2(c.tau[i] / c.tau[i - 1]));
+    if (i + 1 < K) half = std::max(half, std::log2(c.tau[i + 1] / c.tau[i]));
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (std::size_t j = 0; j < K; ++j) {
+      if (!c.usable[j] || !(c.sigma[j] > 0.0)) continue;
+      const double x = std::log2(c.tau[j] / c.tau[i]);
+      if (std::abs(x) > half + 1e-9) continue;
+      const double y = std::log2(c.sigma[j]);
+      sx += x, sy += y, sxx += x * x, sxy += x * y;
+      ++n;
+    }
+    const double den = n * sxx - sx * sx;
+    if (n >= 2 && den > 0.0) out[i] = (n * sxy - sx * sy) / den;
+  }
+  return out;
+}
+
+/// The line of slope `target` (N: -1/2, K: +1/2): value = sigma(tau_i) * scale(tau_i).
+Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double target, double ieee_tau,
+                   const std::function<double(double)>& scale, const IntervalFn& interval, const char* slope_name,
+                   const ReadoffOptions& o) {
+  const std::size_t K = c.tau.size();
+  // Runs of consecutive usable points on the slope.
+  struct Region {
+    std::size_t first, last, count;
+  };
+  std::vector<Region> regions;
+  for (std::size_t i = 0; i < K; ++i) {
+    const bool on = c.usable[i] && std::isfinite(slopes[i]) && std::abs(slopes[i] - target) <= o.slope_tolerance;
+    if (!on) continue;
+    if (!regions.empty() && regions.back().last + 1 == i) {
+      regions.back().last = i;
+      ++regions.back().count;
+    } else {
+      regions.push_back({i, i, 1});
+    }
+  }
+  auto log_distance = [&](std::size_t i) { return std::abs(std::log(c.tau[i] / ieee_tau)); };
+  // The region holding the IEEE tau, else the one nearest to it.
+  const Region* best = nullptr;
+  auto distance = [&](const Region& r) {
+    if (c.tau[r.first] <= ieee_tau && ieee_tau <= c.tau[r.last]) return 0.0;
+    return std::min(log_distance(r.first), log_distance(r.last));
+  };
+  for (const auto& r : regions) {
+    if (r.count < kMinRegionPoints) continue;
+    if (!best || distance(r) < distance(*best)) best = &r;
+  }
+  Readoff out;
+  if (best) {
+    std::size_t at = best->first;
+    for (std::size_t i = best->first; i <= best->last; ++i)
+      if (log_distance(i) < log_distance(at)) at = i;
+    const double s = scale(c.tau[at]);
+    out.value = c.sigma[at] * s;
+    std::tie(out.low, out.high) = interval(at, s);
+    out.tau = c.tau[at];
+    out.region_from = c.tau[best->first];
+    out.region_to = c.tau[best->last];
+    const bool holds = out.region_from <= ieee_tau && ieee_tau <= out.region_to;
+    out.status = holds ? ReadoffStatus::kRead : ReadoffStatus::kExtrapolated;
+    out.how = std::string("on the ") + slope_name + " slope over " + fmt(out.region_from) + "-" + fmt(out.region_to) +
+              " s, " + (holds ? "at " + fmt(out.tau) + " s" : "extended from " + fmt(out.tau) + " s to " + fmt(ieee_tau) + " s");
+    return out;
+  }
+  // No slope: the curve bounds the figure from above.
+  for (std::size_t i = 0; i < K; ++i) {
+    if (!c.bounds_from(i) || !(c.sigma[i] > 0.0)) continue;
+    const double v = c.sigma[i] * scale(c.tau[i]);
+    if (!(v >= out.value)) {
+      out.value = v;
+      out.tau = c.tau[i];
+    }
+  }
+  out.status = ReadoffStatus::kBound;
+  out.high = out.value;
+  out.how = std::string("no ") + slope_name + " slope: an upper bound, the " + slope_name + " line touching the curve at " +
+            fmt(out.tau) + " s";
+  return out;
+}
+
+// B: the lowest flat stretch (slope within the tolerance of 0 over at least two points),
+// else an interior minimum of the curve, else a bound.
+Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const IntervalFn& interval,
+                     const ReadoffOptions& o) {
+  const std::size_t K = c.tau.size();
+  std::size_t first = K, last = K, lowest = K;
+  for (std::size_t i = 0; i < K; ++i) {
+    if (!c.usable[i] || !(c.sigma[i] > 0.0)) continue;
+    if (first == K) first = i;
+    last = i;
+    if (lowest == K || c.sigma[i] < c.sigma[lowest]) lowest = i;
+  }
+  Readoff out;
+  if (lowest == K) {
+    out.how = "no usable point";
+    return out;
+  }
+  const double s = 1.0 / kBiasInstabilityFactor;
+  auto flat = [&](std::size_t i) {
+    return c.usable[i] && c.sigma[i] > 0.0 && std::isfinite(slopes[i]) && std::abs(slopes[i]) <= o.slope_tolerance;
+  };
+  // Flat stretches; the one holding the lowest point wins.
+  std::size_t best_from = K, best_to = K, best_at = K;
+  for (std::size_t i = first; i <= last; ++i) {
+    if (!flat(i)) continue;
+    std::size_t j = i;
+    while (j + 1 <= last && flat(j + 1)) ++j;
+    if (j > i) {
+      std::size_t at = i;
+      for (std::size_t k = i; k <= j; ++k)
+        if (c.sigma[k] < c.sigma[at]) at = k;
+      if (best_at == K || c.sigma[at] < c.sigma[best_at]) {
+        best_from = i;
+        best_to = j;
+        best_at = at;
+      }
+    }
+    i = j;
+  }
+  const bool interior = lowest != first && lowest != last;
+  if (best_at == K && !interior) {
+    out.value = c.sigma[lowest] * s;
+    out.tau = c.tau[lowest];
+    out.status = ReadoffStatus::kBound;
+    out.high = out.value;
+    out.how = lowest == last ? "no flat part or minimum: an upper bound, the curve still falls at its last usable point (" +
+                                   fmt(out.tau) + " s)"
+                             : "no flat part or minimum: an upper bound, the curve rises from its first point";
+    return out;
+  }
+  std::size_t at = best_at != K ? best_at : lowest, a = at, b = at;
+  if (best_at != K) {
+    a = best_from;
+    b = best_to;
+  } else {
+    while (a > first && flat(a - 1)) --a;
+    while (b < last && flat(b + 1)) ++b;
+  }
+  out.value = c.sigma[at] * s;
+  std::tie(out.low, out.high) = interval(at, s);
+  out.tau = c.tau[at];
+  out.region_from = c.tau[a];
+  out.region_to = c.tau[b];
+  out.status = ReadoffStatus::kRead;
+  out.how = (best_at != K ? "on the flat part over " + fmt(out.region_from) + "-" + fmt(out.region_to) + " s, lowest at " +
+                                fmt(out.tau) + " s"
+                          : "at the minimum, " + fmt(out.tau) + " s") +
+            ", divided by 0.664";
+  return out;
+}
+
+// Where both lines were read, each read point still carries the other term: the Allan
+// variance there is N^2 / tau + K^2 tau / 3 (the two add). Solving that pair of equations
+// at the two read points removes it (a +1/2 region starting where the white noise still
+// adds a quarter of the variance would otherwise read K 12% high). Intervals scale along.
+void separate_white_and_walk(NoiseFigures& f) {
+  auto shows = [](const Readoff& r) { return r.available() && r.status != ReadoffStatus::kBound; };
+  if (!shows(f.white) || !shows(f.walk) || !(f.walk.tau > f.white.tau)) return;
+  const double tn = f.white.tau, tk = f.walk.tau;
+  const double sn2 = f.white.value * f.white.value / tn;             // AVAR at tn
+  const double sk2 = f.walk.value * f.walk.value * tk / kWalkTau;    // AVAR at tk
+  const double det = (tk / tn - tn / tk) / 3.0;
+  const double n2 = (sn2 * tk / 3.0 - sk2 * tn / 3.0) / det;
+  const double k2 = (sk2 / tn - sn2 / tk) / det;
+  if (!(n2 > 0.0) || !(k2 > 0.0)) return;
+  const double rn = std::sqrt(n2) / f.white.value, rk = std::sqrt(k2) / f.walk.value;
+  f.white.value *= rn, f.white.low *= rn, f.white.high *= rn;
+  f.walk.value *= rk, f.walk.low *= rk, f.walk.high *= rk;
+  f.white.how += "; the random walk's share at " + fmt(tn) + " s removed";
+  f.walk.how += "; the white noise's share at " + fmt(tk) + " s removed";
+}
+
+NoiseFigures read_all(const Curve& c, const IntervalFn& interval, const ReadoffOptions& o) {
+  const std::vector<double> slopes = local_slopes(c);
+  NoiseFigures f;
+  f.white = read_slope(c, slopes, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval, "-1/2", o);
+  f.walk = read_slope(c, slopes, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); }, interval, "+1/2", o);
+  f.instability = read_minimum(c, slopes, interval, o);
+  return f;
+}
+
+std::vector<bool> usable_points(const AllanDeviation& a, const ReadoffOptions& o) {
+  std::vector<bool> u(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) u[i] = a.edf[i] >= o.min_edf;
+  return u;
+}
+
+// A model's N (or K), once the line is found on its total curve at tau*: only the
+// components that are themselves on that slope at tau* count (the others' share at tau*
+// is not white noise, or not random walk), each with its exact continuous figure when it
+// states one (WN's noise density, RW's random walk: engine/physical.h) and otherwise its
+// Allan variance at tau* on the line (a fast AR1's long-run white level, a slow one's
+// early random walk). So a WN + RW model gives back sqrt(sigma2 / f) and
+// sqrt(gamma2 f) exactly, and the white-and-walk separation is not needed.
+void refine_from_components(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid, Readoff& r,
+                            double target, const char* quantity, const char* pattern, const ReadoffOptions& o) {
+  if (!r.available() || r.status == ReadoffStatus::kBound) return;
+  std::size_t at = 0;
+  for (std::size_t i = 1; i < grid.size(); ++i)
+    if (std::abs(grid.tau[i] - r.tau) < std::abs(grid.tau[at] - r.tau)) at = i;
+  const std::size_t lo = at > 0 ? at - 1 : at, hi = at + 1 < grid.size() ? at + 1 : at;
+  if (lo == hi) return;
+  const auto here = component_allan_variances(model, theta, grid.m[at]);
+  const auto left = component_allan_variances(model, theta, grid.m[lo]);
+  const auto right = component_allan_variances(model, theta, grid.m[hi]);
+  const double span = std::log(grid.tau[hi] / grid.tau[lo]);
+  const double scale2 = target < 0.0 ? r.tau : kWalkTau / r.tau;  // value^2 = AVAR * scale2
+  double sum = 0.0;
+  for (int k = 0; k < model.num_components(); ++k) {
+    const auto c = static_cast<std::size_t>(k);
+    if (!(left[c] > 0.0) || !(right[c] > 0.0)) continue;
+    const double slope = 0.5 * std::log(right[c] / left[c]) / span;
+    if (std::abs(slope - target) > o.slope_tolerance) continue;
+    const Process& p = *model.components()[c].process;
+    const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
+    double exact = NAN;
+    for (const auto& q : p.physical(th, grid.freq))
+      if (q.name == quantity && q.unit_pattern == pattern) exact = q.value;
+    sum += std::isfinite(exact) ? exact * exact : here[c] * scale2;
+  }
+  if (!(sum > 0.0)) return;
+  const double ratio = std::sqrt(sum) / r.value;
+  r.value *= ratio, r.low *= ratio, r.high *= ratio;
+  r.how += "; the components on this slope at " + fmt(r.tau) + " s only";
+}
+
+}  // namespace
+
+NoiseFigures read_noise_figures(const AllanDeviation& adev, const ReadoffOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  Curve c{adev.tau, adev.adev, usable_points(adev, options), {}};
+  NoiseFigures f = read_all(
+      c, [&](std::size_t i, double s) { return std::make_pair(adev.ci_low[i] * s, adev.ci_high[i] * s); }, options);
+  separate_white_and_walk(f);
+  return f;
+}
+
+NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
+                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  check_size_match("model_noise_figures", "theta", static_cast<std::size_t>(theta.size()), "parameters",
+                   static_cast<std::size_t>(model.num_parameters()));
+  // N and K: the model's curve is known beyond the record, so its slopes are sought on the
+  // data's grid extended to kModelReachRecords records (a fitted random walk shows its +1/2
+  // slope even where the record is too short to; whether the data allow it is decided by
+  // choose_noise_figures). B: the data's usable range only (a minimum is about the record).
+  std::vector<std::int64_t> m_ext = grid.m;
+  const std::int64_t reach = static_cast<std::int64_t>(kModelReachRecords) * std::max<std::int64_t>(grid.n, 2);
+  for (int k = 1; !m_ext.empty(); ++k) {
+    const double v = std::round(static_cast<double>(m_ext.back()) * std::exp2(1.0 / AllanOptions{}.points_per_octave));
+    if (v > static_cast<double>(reach)) break;
+    m_ext.push_back(std::max(static_cast<std::int64_t>(v), m_ext.back() + 1));
+  }
+  AllanDeviation ext;
+  ext.freq = grid.freq;
+  ext.n = grid.n;
+  ext.m = m_ext;
+  for (std::int64_t m : m_ext) ext.tau.push_back(static_cast<double>(m) / grid.freq);
+  const Curve cd{grid.tau, model_allan_deviation(model, theta, grid.m), usable_points(grid, options), {}};
+  // Slopes anywhere on the extended curve; a bound (no such slope) only over the record.
+  std::vector<bool> in_record = cd.usable;
+  in_record.resize(ext.m.size(), false);
+  const Curve ce{ext.tau, model_allan_deviation(model, theta, ext.m), std::vector<bool>(ext.m.size(), true), in_record};
+  // Components at a boundary have no standard errors (NaN rows in the fit's covariance):
+  // they enter the delta method with none.
+  Eigen::MatrixXd cov;
+  const bool with_cov = covariance && covariance->rows() == theta.size() && covariance->cols() == theta.size();
+  if (with_cov) cov = covariance->unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
+  const double z = boost::math::quantile(boost::math::normal(), 1.0 - options.alpha / 2.0);
+  // Delta method on log(value): value = sigma(tau_i) s, d sigma = d AVAR / (2 sigma) = d nu^2(2m) / sigma.
+  auto interval_on = [&](const Curve& c, const std::vector<std::int64_t>& ms) -> IntervalFn {
+    return [&, ms](std::size_t i, double s) -> std::pair<double, double> {
+      if (!with_cov || !(c.sigma[i] > 0.0)) return {NAN, NAN};
+      const double tau2[1] = {2.0 * static_cast<double>(ms[i])};
+      const Eigen::RowVectorXd g = model.jacobian(theta, tau2).row(0) / c.sigma[i];
+      const double var = (g * cov * g.transpose())(0, 0);
+      if (!(var >= 0.0) || !std::isfinite(var)) return {NAN, NAN};
+      const double rel = z * std::sqrt(var) / c.sigma[i];
+      const double v = c.sigma[i] * s;
+      return {v * std::exp(-rel), v * std::exp(rel)};
+    };
+  };
+  NoiseFigures f;
+  const std::vector<double> slopes_e = local_slopes(ce);
+  f.white = read_slope(ce, slopes_e, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval_on(ce, ext.m),
+                       "-1/2", options);
+  f.walk = read_slope(ce, slopes_e, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); },
+                      interval_on(ce, ext.m), "+1/2", options);
+  f.instability = read_minimum(cd, local_slopes(cd), interval_on(cd, grid.m), options);
+  refine_from_components(model, theta, ext, f.white, -0.5, "noise density", "U/sqrt(Hz)", options);
+  refine_from_components(model, theta, ext, f.walk, 0.5, "random walk", "U/s/sqrt(Hz)", options);
+  // The components behind each figure: their shares of the Allan variance where it was read.
+  constexpr double kShownShare = 0.01;
+  for (Readoff* r : {&f.white, &f.walk, &f.instability}) {
+    if (!std::isfinite(r->tau)) continue;
+    const auto at = static_cast<std::size_t>(
+        std::min_element(ext.tau.begin(), ext.tau.end(),
+                         [&](double a, double b) { return std::abs(a - r->tau) < std::abs(b - r->tau); }) -
+        ext.tau.begin());
+    const auto parts = component_allan_variances(model, theta, ext.m[at]);
+    double total = 0.0;
+    for (double v : parts) total += std::max(v, 0.0);
+    if (!(total > 0.0)) continue;
+    std::vector<std::pair<std::string, double>> shares;
+    for (int k = 0; k < model.num_components(); ++k) {
+      const double share = std::max(parts[static_cast<std::size_t>(k)], 0.0) / total;
+      if (share >= kShownShare) shares.emplace_back(component_text(model, k, theta), share);
+    }
+    std::sort(shares.begin(), shares.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    r->sources = std::move(shares);
+  }
+  return f;
+}
+
+const char* to_string(FigureSource s) {
+  switch (s) {
+    case FigureSource::kModel: return "model";
+    case FigureSource::kData: return "data";
+    case FigureSource::kBound: return "bound";
+  }
+  return "?";
+}
+
+namespace {
+
+ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviation& adev,
+                    std::span<const double> model_adev, const char* name, const char* feature) {
+  ChosenFigure c;
+  c.model = model;
+  c.data = data;
+  const bool data_shows = data.available() && data.status != ReadoffStatus::kBound;
+  const bool model_shows = model.available() && model.status != ReadoffStatus::kBound;
+  if (data_shows) {
+    // Where the data's figure is read: is the model's curve inside the data's interval?
+    std::size_t at = 0;
+    for (std::size_t i = 1; i < adev.size(); ++i)
+      if (std::abs(adev.tau[i] - data.tau) < std::abs(adev.tau[at] - data.tau)) at = i;
+    const double mv = at < model_adev.size() ? model_adev[at] : NAN;
+    const bool inside = std::isfinite(mv) && mv >= adev.ci_low[at] && mv <= adev.ci_high[at];
+    if (model_shows && inside) {
+      c.figure = model;
+      c.source = FigureSource::kModel;
+      c.note = std::string(name) + " from the model: its Allan deviation is inside the data's interval at " +
+               fmt(data.tau) + " s";
+      return c;
+    }
+    c.figure = data;
+    c.source = FigureSource::kData;
+    if (!model_shows)
+      c.note = std::string(name) + " from the data's Allan deviation: the model's shows no " + feature;
+    else
+      c.note = std::string(name) + " from the data's Allan deviation: the model misses it at " + fmt(data.tau) +
+               " s (model/data " + fmt(mv / adev.adev[at]) + ", outside the data's " +
+               fmt(100.0 * (1.0 - adev.alpha)) + "% interval); the model's own value is " + fmt(model.value);
+    return c;
+  }
+  if (model_shows) {
+    const bool below = !data.available() || model.value <= data.value;
+    if (below) {
+      c.figure = model;
+      c.source = FigureSource::kModel;
+      c.note = std::string(name) + " from the model (the data alone show no " + feature +
+               (data.available() ? ", only a bound of " + fmt(data.value) : std::string()) + ")";
+      return c;
+    }
+  }
+  // A bound: the smaller of what either curve allows.
+  const bool use_data = data.available() && (!model.available() || data.value <= model.value);
+  c.figure = use_data ? data : model;
+  c.figure.status = ReadoffStatus::kBound;
+  c.figure.low = NAN;
+  c.figure.high = c.figure.value;
+  c.source = FigureSource::kBound;
+  const std::string where = std::isfinite(c.figure.tau) ? " (the line touching the " + std::string(use_data ? "data's" : "model's") +
+                                                               " curve at " + fmt(c.figure.tau) + " s)"
+                                                         : std::string();
+  c.note = std::string(name) + " not read: " +
+           (model_shows ? "the data show no " + std::string(feature) + " and the model's value " + fmt(model.value) +
+                              " exceeds their upper bound"
+                        : "neither the data's nor the model's Allan deviation shows a " + std::string(feature)) +
+           "; written as the upper bound " + fmt(c.figure.value) + where;
+  return c;
+}
+
+}  // namespace
+
+ChosenFigures choose_noise_figures(const NoiseFigures& model, const NoiseFigures& data, const AllanDeviation& data_adev,
+                                   std::span<const double> model_adev) {
+  ChosenFigures out;
+  out.white = choose(model.white, data.white, data_adev, model_adev, "N", "-1/2 slope");
+  out.walk = choose(model.walk, data.walk, data_adev, model_adev, "K", "+1/2 slope");
+  out.instability = choose(model.instability, data.instability, data_adev, model_adev, "B", "minimum");
+  return out;
+}
+
+FigureReport noise_figure_report(std::span<const double> x, double freq, const Model& model,
+                                 const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
+                                 const AllanOptions& allan, const ReadoffOptions& readoff) {
+  FigureReport r;
+  r.adev = allan_deviation(x, freq, allan);
+  r.data = read_noise_figures(r.adev, readoff);
+  r.model_adev = model_allan_deviation(model, theta, r.adev.m);
+  const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
+  r.model = model_noise_figures(model, theta, r.adev, cov, readoff);
+  r.chosen = choose_noise_figures(r.model, r.data, r.adev, r.model_adev);
+  return r;
+}
+
+FigureReport data_figure_report(std::span<const double> x, double freq, const AllanOptions& allan,
+                                const ReadoffOptions& readoff) {
+  FigureReport r;
+  r.adev = allan_deviation(x, freq, allan);
+  r.data = read_noise_figures(r.adev, readoff);
+  auto take = [](const Readoff& d, const char* name) {
+    ChosenFigure c;
+    c.figure = d;
+    c.data = d;
+    const bool shows = d.available() && d.status != ReadoffStatus::kBound;
+    c.source = shows ? FigureSource::kData : FigureSource::kBound;
+    c.note = std::string(name) + (shows ? " from the data's Allan deviation" : " not read in the data's Allan deviation: " + d.how);
+    return c;
+  };
+  r.chosen.white = take(r.data.white, "N");
+  r.chosen.walk = take(r.data.walk, "K");
+  r.chosen.instability = take(r.data.instability, "B");
+  return r;
+}
+
+ChosenFigures model_only_figures(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
+                                 const ReadoffOptions& readoff) {
+  check_positive("model_only_figures", "freq", freq);
+  check_at_least("model_only_figures", "n", static_cast<double>(n), 4.0);
+  AllanDeviation grid;
+  grid.freq = freq;
+  grid.n = n;
+  grid.alpha = readoff.alpha;
+  grid.m = allan_factors(n, AllanOptions{}.points_per_octave);
+  for (std::int64_t m : grid.m) {
+    grid.tau.push_back(static_cast<double>(m) / freq);
+    grid.edf.push_back(std::max(static_cast<double>(n - 2 * m + 1) / static_cast<double>(2 * m), 1.0));
+  }
+  grid.adev = model_allan_deviation(model, theta, grid.m);
+  grid.ci_low = grid.ci_high = grid.adev;
+  const NoiseFigures f = model_noise_figures(model, theta, grid, nullptr, readoff);
+  ChosenFigures out;
+  auto take = [](const Readoff& r, const char* name) {
+    ChosenFigure c;
+    c.figure = r;
+    c.model = r;
+    const bool shows = r.available() && r.status != ReadoffStatus::kBound;
+    c.source = shows ? FigureSource::kModel : FigureSource::kBound;
+    c.note = std::string(name) + (shows ? " from the model's Allan deviation (the data were not at hand)"
+                                        : " not read in the model's Allan deviation (the data were not at hand): " + r.how);
+    return c;
+  };
+  out.white = take(f.white, "N");
+  out.walk = take(f.walk, "K");
+  out.instability = take(f.instability, "B");
+  return out;
+}
+
+std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter_rate) {
+  check_positive("kalman_terms", "filter_rate", filter_rate);
+  std::vector<KalmanTerm> out;
+  const double N = figures.white.figure.value, K = figures.walk.figure.value;
+  if (std::isfinite(N)) {
+    KalmanTerm t;
+    t.role = "white measurement noise R (from N)";
+    t.q = N * N;
+    t.q_unit = "U^2/Hz";
+    t.discrete = N * N * filter_rate;
+    t.discrete_unit = "U^2";
+    t.note = "R = N^2 f_k: every white-looking term at 1 s, fast AR1s included (N: " +
+             std::string(to_string(figures.white.source)) + ")";
+    out.push_back(t);
+  }
+  if (std::isfinite(K)) {
+    KalmanTerm t;
+    t.role = "bias random walk state (from K)";
+    t.q = K * K;
+    t.q_unit = "U^2/s";
+    t.transition = 1.0;
+    t.discrete = K * K / filter_rate;
+    t.discrete_unit = "U^2";
+    t.note = std::string("F = 1, Q_d = K^2 / f_k") +
+             (figures.walk.source == FigureSource::kBound ? " (K is an upper bound: no +1/2 slope)" : "");
+    out.push_back(t);
+  }
+  const Readoff& B = figures.instability.figure;
+  if (B.available() && B.status != ReadoffStatus::kBound && std::isfinite(B.tau)) {
+    const double sigma = kBiasInstabilityFactor * B.value / kGaussMarkovPeakAdev;
+    KalmanTerm t = gauss_markov_term(B.tau / kGaussMarkovPeakTau, sigma * sigma, filter_rate);
+    t.role = "bias instability as a Gauss-Markov state (from B)";
+    t.note = "T = tau_B / 1.8926, sigma = 0.664 B / 0.6174: its Allan deviation peaks at the flat minimum "
+             "(an approximation of a flicker floor); " + t.note;
+    out.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace gmwm

@@ -1,0 +1,145 @@
+// The Allan deviation (allan.h) and the IEEE 952 read-offs of the data's and a model's
+// curve (noise_figures.h). Seeds are fixed here; tolerances follow the chi-square
+// intervals of the estimates.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/allan.h"
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/engine/simulate.h"
+
+namespace gmwm {
+namespace {
+
+std::vector<double> simulated(const std::string& spec, std::int64_t n, std::uint64_t seed) {
+  const Model m = parse_model(spec);
+  return simulate(m, m.given_values(), n, seed, 0);
+}
+
+// Continuous closed forms at rate f: WN of variance s2 per sample has N = sqrt(s2 / f),
+// AVAR = N^2 / tau; RW of gamma2 per sample has K = sqrt(gamma2 f), AVAR = K^2 tau / 3
+// (plus the discrete correction gamma2 / (6 m) ... taken from the exact WV below).
+TEST(AllanDeviation, EqualsTwiceTheWaveletVarianceAtTwiceTheAveragingFactor) {
+  const auto x = simulated("WN(sigma2=1)+RW(gamma2=1e-4)", 1 << 14, 31);
+  AllanOptions o;
+  o.points_per_octave = 1;
+  const AllanDeviation a = allan_deviation(x, 100.0, o);
+  const WaveletVariance w = classical_wv(x.data(), static_cast<std::int64_t>(x.size()));
+  ASSERT_EQ(a.m.front(), 1);
+  for (std::size_t i = 0; i < a.size() && i < static_cast<std::size_t>(w.levels()); ++i) {
+    EXPECT_EQ(a.m[i], std::int64_t{1} << i);
+    EXPECT_NEAR(a.adev[i] * a.adev[i] / (2.0 * w.wv[i]), 1.0, 1e-10) << "m = " << a.m[i];
+    EXPECT_DOUBLE_EQ(a.tau[i], static_cast<double>(a.m[i]) / 100.0);
+    EXPECT_NEAR(a.edf[i], w.eta[i], 1e-9);
+  }
+}
+
+TEST(AllanDeviation, OfWhiteNoisePlusRandomWalkMatchesTheClosedFormWithinItsIntervalAtEveryTau) {
+  const Model model = parse_model("WN(sigma2=0.04)+RW(gamma2=1e-8)");
+  const auto x = simulated("WN(sigma2=0.04)+RW(gamma2=1e-8)", 1 << 18, 32);
+  const AllanDeviation a = allan_deviation(x, 200.0);
+  const std::vector<double> truth = model_allan_deviation(model, model.given_values(), a.m);
+  int outside = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    // The closed form: AVAR = sigma2 / m + gamma2 (2 m^2 + 1) / (6 m) (the WV's at tau = 2m).
+    const double m = static_cast<double>(a.m[i]);
+    EXPECT_NEAR(truth[i] * truth[i], 0.04 / m + 1e-8 * (2.0 * m * m + 1.0) / (6.0 * m), 1e-12 * truth[i] * truth[i]);
+    outside += truth[i] < a.ci_low[i] || truth[i] > a.ci_high[i];
+  }
+  // The points are strongly correlated (overlapping averages): the curve lies inside its
+  // 95% band everywhere for this seed; a couple of points would be a fair miss elsewhere.
+  EXPECT_EQ(outside, 0) << "of " << a.size();
+}
+
+TEST(NoiseFigures, ReadNAndKWithinFivePercentOnAMillionSamples) {
+  // N = sqrt(0.04 / 200) = 0.014142, K = sqrt(1e-8 * 200) = 0.0014142.
+  const double f = 200.0, N = std::sqrt(0.04 / f), K = std::sqrt(1e-8 * f);
+  const auto x = simulated("WN(sigma2=0.04)+RW(gamma2=1e-8)", 1 << 20, 33);
+  const NoiseFigures r = read_noise_figures(allan_deviation(x, f));
+  EXPECT_EQ(r.white.status, ReadoffStatus::kRead) << r.white.how;
+  EXPECT_NEAR(r.white.value / N, 1.0, 0.05) << r.white.how;
+  EXPECT_LT(r.white.low, N);
+  EXPECT_GT(r.white.high, N);
+  EXPECT_NE(r.walk.status, ReadoffStatus::kBound) << r.walk.how;
+  EXPECT_NEAR(r.walk.value / K, 1.0, 0.05) << r.walk.how;
+  EXPECT_EQ(r.instability.status, ReadoffStatus::kRead) << "WN + RW has an interior minimum";
+}
+
+TEST(NoiseFigures, AFastAr1AddsToNAndAModelWithoutRandomWalkGivesABound) {
+  // The ADIS gyros' own filter: AR1 with phi = 0.16 (T = 5.5 ms at 100 Hz) and no WN term.
+  const Model m = parse_model("AR1(phi=0.16,sigma2=0.12)+AR1(phi=0.9999,sigma2=2e-8)");
+  const double f = 100.0;
+  const ChosenFigures c = model_only_figures(m, m.given_values(), f, 1000000);
+  // Long-run variance of the fast AR1: sigma2 / (1 - phi)^2 per sample -> N = sqrt(that / f).
+  const double N = std::sqrt(0.12 / ((1 - 0.16) * (1 - 0.16)) / f);
+  EXPECT_EQ(c.white.source, FigureSource::kModel);
+  EXPECT_NEAR(c.white.figure.value / N, 1.0, 0.03) << c.white.figure.how;
+  EXPECT_GT(c.walk.figure.value, 0.0) << "never 0";
+  ASSERT_FALSE(c.white.model.sources.empty());
+  EXPECT_EQ(c.white.model.sources.front().first.rfind("AR1(phi=0.16", 0), 0u) << c.white.model.sources.front().first;
+}
+
+TEST(NoiseFigures, TheModelsFigureIsUsedOnlyWhereItMatchesTheData) {
+  const double f = 100.0;
+  const auto x = simulated("WN(sigma2=0.01)+RW(gamma2=1e-9)", 1 << 18, 34);
+  const Model right = parse_model("WN(sigma2=0.01)+RW(gamma2=1e-9)");
+  const Model wrong = parse_model("WN(sigma2=0.0144)+RW(gamma2=1e-9)");  // N 20% too high
+  const FigureReport good = noise_figure_report(x, f, right, right.given_values(), nullptr);
+  EXPECT_EQ(good.chosen.white.source, FigureSource::kModel) << good.chosen.white.note;
+  const FigureReport bad = noise_figure_report(x, f, wrong, wrong.given_values(), nullptr);
+  EXPECT_EQ(bad.chosen.white.source, FigureSource::kData) << bad.chosen.white.note;
+  EXPECT_NE(bad.chosen.white.note.find("the model misses it"), std::string::npos) << bad.chosen.white.note;
+  EXPECT_DOUBLE_EQ(bad.chosen.white.figure.value, bad.data.white.value);
+  EXPECT_NEAR(bad.chosen.white.model.value / bad.data.white.value, 1.2, 0.05);
+}
+
+TEST(NoiseFigures, KalmanTermsFollowTheFigures) {
+  ChosenFigures c;
+  c.white.figure.value = 0.01;
+  c.walk.figure.value = 1e-4;
+  c.walk.source = FigureSource::kBound;
+  c.instability.figure.value = 0.002;
+  c.instability.figure.status = ReadoffStatus::kRead;
+  c.instability.figure.tau = 189.26;
+  const auto t = kalman_terms(c, 200.0);
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_NEAR(t[0].discrete, 0.01 * 0.01 * 200.0, 1e-15);   // R = N^2 f_k
+  EXPECT_NEAR(t[1].discrete, 1e-8 / 200.0, 1e-20);          // Q_d = K^2 / f_k
+  EXPECT_NE(t[1].note.find("upper bound"), std::string::npos);
+  EXPECT_NEAR(t[2].transition, std::exp(-1.0 / (200.0 * 100.0)), 1e-12);  // T = 189.26 / 1.8926 = 100 s
+  EXPECT_THROW(kalman_terms(c, 0.0), InvalidArgument);
+}
+
+TEST(NoiseFigures, TheGaussMarkovPeakConstantsMaximiseItsAllanDeviation) {
+  // AVAR / sigma^2 = (2x - 3 + 4 e^-x - e^-2x) / x^2, x = tau / T.
+  auto f = [](double x) { return std::sqrt((2 * x - 3 + 4 * std::exp(-x) - std::exp(-2 * x)) / (x * x)); };
+  EXPECT_NEAR(f(kGaussMarkovPeakTau), kGaussMarkovPeakAdev, 1e-5);
+  EXPECT_LT(f(kGaussMarkovPeakTau * 1.01), f(kGaussMarkovPeakTau));
+  EXPECT_LT(f(kGaussMarkovPeakTau * 0.99), f(kGaussMarkovPeakTau));
+}
+
+TEST(NoiseFigures, RejectBadOptionsAndSeries) {
+  AllanOptions a;
+  a.points_per_octave = 0;
+  EXPECT_NE(a.Validate().find("points per octave"), std::string::npos);
+  const std::vector<double> x(100, 1.0);
+  EXPECT_THROW(allan_deviation(x, 100.0, a), InputError);
+  EXPECT_THROW(allan_deviation(std::vector<double>{1.0}, 100.0), InvalidArgument);
+  EXPECT_THROW(allan_deviation(x, 0.0), InvalidArgument);
+  std::vector<double> bad(100, 0.0);
+  bad[3] = NAN;
+  EXPECT_THROW(allan_deviation(bad, 100.0), InvalidArgument);
+  ReadoffOptions r;
+  r.slope_tolerance = 0.7;
+  EXPECT_NE(r.Validate().find("slope tolerance"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gmwm
