@@ -9,6 +9,7 @@
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/haar_modwt.h"
 
 namespace gmwm {
 
@@ -36,17 +37,11 @@ AllanDeviation allan_deviation(std::span<const double> x, double freq, const All
   check_positive("allan_deviation", "freq", freq);
   const auto n = static_cast<std::int64_t>(x.size());
   check_at_least("allan_deviation", "samples", static_cast<double>(n), 2.0);
-  // Prefix sums of the centred series in long double: the Allan variance ignores a
-  // constant, and centring keeps S small so the second differences lose no digits.
-  long double mean = 0.0L;
-  for (double v : x) {
+  for (double v : x)
     if (!std::isfinite(v)) throw InvalidArgument("allan_deviation: the series holds a non-finite sample");
-    mean += v;
-  }
-  mean /= static_cast<long double>(n);
-  std::vector<long double> S(static_cast<std::size_t>(n) + 1, 0.0L);
-  for (std::int64_t t = 0; t < n; ++t)
-    S[static_cast<std::size_t>(t) + 1] = S[static_cast<std::size_t>(t)] + (x[static_cast<std::size_t>(t)] - mean);
+  // The Haar transform's mean-centred prefix sums (accumulated in long double, stored in
+  // double): the Allan variance at m is twice the mean square of the width-2m filter.
+  const HaarModwt modwt(x.data(), n);
 
   AllanDeviation a;
   a.freq = freq;
@@ -62,14 +57,7 @@ AllanDeviation allan_deviation(std::span<const double> x, double freq, const All
   tbb::parallel_for(std::size_t{0}, K, [&](std::size_t k) {
     const std::int64_t m = a.m[k];
     const std::int64_t count = n - 2 * m + 1;
-    long double sum = 0.0L;
-    for (std::int64_t t = 0; t < count; ++t) {
-      const auto i = static_cast<std::size_t>(t);
-      const long double d = S[i + 2 * static_cast<std::size_t>(m)] - 2.0L * S[i + static_cast<std::size_t>(m)] + S[i];
-      sum += d * d;
-    }
-    const double avar =
-        static_cast<double>(sum / (2.0L * static_cast<long double>(m) * static_cast<long double>(m) * count));
+    const double avar = 2.0 * modwt.sum_of_squares_half_width(m) / static_cast<double>(count);
     const double eta = std::max(static_cast<double>(count) / static_cast<double>(2 * m), 1.0);
     const boost::math::chi_squared chi(eta);
     a.tau[k] = static_cast<double>(m) / freq;

@@ -56,8 +56,14 @@ void HaarModwt::coefficients(int level, std::vector<double>& out) const {
 }
 
 double HaarModwt::sum_of_squares(int level) const {
-  const std::int64_t tau = std::int64_t{1} << level, m = tau / 2;
-  const std::int64_t M = count(level);
+  const std::int64_t tau = std::int64_t{1} << level;
+  return sum_of_squares_half_width(tau / 2);
+}
+
+double HaarModwt::sum_of_squares_half_width(std::int64_t m) const {
+  const std::int64_t tau = 2 * m;
+  const std::int64_t M = n_ - tau + 1;
+  if (m < 1 || M < 1) return 0.0;
   const double* a = prefix_.data() + tau;
   const double* b = prefix_.data() + m;
   const double* c = prefix_.data();

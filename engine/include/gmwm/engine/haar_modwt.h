@@ -25,6 +25,10 @@ class HaarModwt {
   void coefficients(int level, std::vector<double>& out) const;
   /// sum_t W_{j,t}^2 without materialising the coefficients.
   double sum_of_squares(int level) const;
+  /// The same for a Haar filter of any half-width m (width 2m, not only 2^(j-1)): the
+  /// sum over t of ((S_{t+2m} - 2 S_{t+m} + S_t) / 2m)^2, N - 2m + 1 terms; 0 when there
+  /// are none. The overlapping Allan variance at averaging factor m is twice its mean.
+  double sum_of_squares_half_width(std::int64_t m) const;
   /// Bound on the round-off of a coefficient of this level: a coefficient of a
   /// quantized series that is exactly 0 comes out below it (the mean-centred prefix
   /// sums are not on the data's lattice). Robust estimators count such values as zeros.
