@@ -445,6 +445,42 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   return r;
 }
 
+std::string rejection_summary(const FitResult& fit, double freq, bool freq_known, double level) {
+  if (!std::isfinite(fit.gof.p_value) || fit.gof.p_value >= level) return {};
+  std::ostringstream os;
+  os.precision(3);
+  os << "rejected at " << 100.0 * level << "% (GoF p = " << fit.gof.p_value << ")";
+  const auto worst = fit.worst_levels(3);
+  if (!worst.empty()) {
+    os << ": the data depart most at ";
+    for (std::size_t i = 0; i < worst.size(); ++i) {
+      const auto& m = worst[i];
+      os << (i ? ", " : "");
+      if (freq_known) os << m.tau / freq << " s";
+      else os << "tau = " << m.tau;
+      os << " (data/model " << m.ratio << ", z = " << m.z << ")";
+    }
+  }
+  return os.str();
+}
+
+std::string degeneracy_summary(const FitResult& fit) {
+  if (!fit.degenerate()) return {};
+  std::string collapsed, flat;
+  for (int k = 0; k < static_cast<int>(fit.interval.size()); ++k) {
+    const IntervalKind kind = fit.interval[static_cast<std::size_t>(k)];
+    const int c = fit.model.component_of(k);
+    if (kind == IntervalKind::kBoundary && k == fit.model.offset(c))
+      collapsed += (collapsed.empty() ? "" : ", ") + fit.model.components()[static_cast<std::size_t>(c)].process->name() +
+                   "[" + std::to_string(c + 1) + "]";
+    if (kind == IntervalKind::kNotIdentified) flat += (flat.empty() ? "" : ", ") + fit.model.parameter_label(k);
+  }
+  std::string out = "degenerate fit:";
+  if (!collapsed.empty()) out += " " + collapsed + " collapsed to nothing (no share of the WV at any scale)";
+  if (!flat.empty()) out += std::string(collapsed.empty() ? "" : ";") + " " + flat + " not identified (flat objective)";
+  return out + "; the intervals describe the rest only";
+}
+
 std::string FitResult::Report() const {
   std::ostringstream os;
   os.precision(6);

@@ -2,6 +2,7 @@
 // H^-1 A' Omega V Omega A H^-1 with H = A' Omega A + D, CIs, goodness of fit.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <Eigen/Dense>
@@ -13,6 +14,26 @@
 
 namespace gmwm::detail {
 namespace {
+
+// A direction of the scaled Hessian (curvature per relative change of each parameter)
+// whose eigenvalue is below this fraction of the largest is flat: 1e-10 is far below
+// any curvature the data can determine (the weakest identified ones on the shared
+// recordings are ~1e-6) and far above round-off in the Hessian (~1e-14).
+constexpr double kFlatCurvature = 1e-10;
+// A parameter loading on a flat direction by more than this (the eigenvector's entry)
+// is not identified.
+constexpr double kFlatLoading = 0.3;
+
+/// The closure of a parameter's natural domain.
+std::pair<double, double> domain_of(Transform t) {
+  switch (t) {
+    case Transform::kLog: return {0.0, std::numeric_limits<double>::infinity()};
+    case Transform::kAtanh: return {-1.0, 1.0};
+    case Transform::kLogitHalf: return {0.0, 0.5};
+    case Transform::kIdentity: break;
+  }
+  return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+}
 
 // A component whose share of the implied WV is below this at every level is "on the
 // boundary" (a variance driven towards 0): its parameters are not identified and are
@@ -63,9 +84,44 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
         D(a, b) += hess[static_cast<std::size_t>(j)](active[static_cast<std::size_t>(a)], active[static_cast<std::size_t>(b)]) * resid(j);
   const Eigen::MatrixXd B = A.transpose() * omega * A;
   const Eigen::MatrixXd H = B + D;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> Hd(H);
-  if (Hd.rank() < q) r.notes.push_back("the Hessian of the objective is singular: pseudo-inverse used");
-  const Eigen::MatrixXd Hinv = Hd.pseudoInverse();
+  // Directions along which the objective is flat (relative curvature below
+  // kFlatCurvature): the pseudo-inverse would give them a variance of 0, i.e. a
+  // zero-width interval. The parameters that load on them are not identified.
+  std::vector<bool> flat(static_cast<std::size_t>(q), false);
+  Eigen::MatrixXd Hinv = Eigen::MatrixXd::Zero(q, q);
+  if (q > 0) {
+    // Scale-free: curvature per relative change of a variance (log-parameters), per unit
+    // change of a bounded one (phi, theta, frequencies).
+    Eigen::VectorXd scale(q);
+    for (int a = 0; a < q; ++a) {
+      const int k = active[static_cast<std::size_t>(a)];
+      scale(a) = model.spec_of(k).transform == Transform::kLog ? std::max(std::abs(r.theta(k)), 1e-300) : 1.0;
+    }
+    const Eigen::MatrixXd Hs = scale.asDiagonal() * (0.5 * (H + H.transpose())) * scale.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Hs);
+    const double top = eig.eigenvalues().cwiseAbs().maxCoeff();
+    Eigen::MatrixXd inv = Eigen::MatrixXd::Zero(q, q);
+    bool any_flat = false;
+    for (int e = 0; e < q; ++e) {
+      const double lambda = eig.eigenvalues()(e);
+      const Eigen::VectorXd v = eig.eigenvectors().col(e);
+      if (lambda > kFlatCurvature * top) {
+        inv += v * v.transpose() / lambda;
+        continue;
+      }
+      any_flat = true;
+      for (int a = 0; a < q; ++a)
+        if (std::abs(v(a)) > kFlatLoading) flat[static_cast<std::size_t>(a)] = true;
+    }
+    Hinv = scale.asDiagonal() * inv * scale.asDiagonal();
+    if (any_flat) {
+      std::string names;
+      for (int a = 0; a < q; ++a)
+        if (flat[static_cast<std::size_t>(a)]) names += (names.empty() ? "" : ", ") + model.parameter_label(active[static_cast<std::size_t>(a)]);
+      r.notes.push_back("the objective is flat along " + (names.empty() ? std::string("a combination of parameters") : names) +
+                        " (its Hessian is singular there): not identified, no interval");
+    }
+  }
   const Eigen::MatrixXd meat = A.transpose() * omega * V * omega * A;
   const Eigen::MatrixXd cov_active = Hinv * meat * Hinv.transpose();
 
@@ -73,27 +129,65 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
   r.covariance = Eigen::MatrixXd::Constant(p, p, nan);
   for (int a = 0; a < q; ++a)
     for (int b = 0; b < q; ++b)
-      r.covariance(active[static_cast<std::size_t>(a)], active[static_cast<std::size_t>(b)]) = cov_active(a, b);
+      if (!flat[static_cast<std::size_t>(a)] && !flat[static_cast<std::size_t>(b)])
+        r.covariance(active[static_cast<std::size_t>(a)], active[static_cast<std::size_t>(b)]) = cov_active(a, b);
   r.se = Eigen::VectorXd::Constant(p, nan);
   r.ci_low = Eigen::VectorXd::Constant(p, nan);
   r.ci_high = Eigen::VectorXd::Constant(p, nan);
-  // Two-sided CIs at 1 - alpha with z_{1-alpha/2}, built in the unconstrained space
-  // (log for variances, atanh for phi) by the delta method and mapped back, so they
-  // stay inside the parameter's domain.
+  // CIs at 1 - alpha with z_{1-alpha/2}: built in the unconstrained space (log for
+  // variances, atanh for phi) by the delta method and mapped back, so they stay inside
+  // the parameter's domain; but where the natural Wald interval reaches the domain's edge
+  // (phi = 0.9999999 with se 3e-5) that map saturates (atanh's derivative vanishes: the
+  // interval would be the whole of (-1, 1) around a tiny se), so the interval is the Wald
+  // one closed by the edge: one-sided, e.g. [0.99994, 1).
   const double z = boost::math::quantile(boost::math::normal(), 1.0 - options.alpha / 2.0);
   const Eigen::VectorXd u = model.to_unconstrained(r.theta);
   const Eigen::VectorXd d = model.dtheta_du(u);
-  for (int k : active) {
+  r.interval.assign(static_cast<std::size_t>(p), IntervalKind::kBoundary);
+  for (int a = 0; a < q; ++a) {
+    const int k = active[static_cast<std::size_t>(a)];
+    if (flat[static_cast<std::size_t>(a)]) {
+      r.interval[static_cast<std::size_t>(k)] = IntervalKind::kNotIdentified;
+      continue;
+    }
     const double var = r.covariance(k, k);
     if (!(var >= 0.0)) continue;
     const double se = std::sqrt(var);
     r.se(k) = se;
     const Transform t = model.spec_of(k).transform;
+    const auto [lo, hi] = domain_of(t);
+    const double x = r.theta(k);
+    if (x - z * se <= lo || x + z * se >= hi) {
+      r.ci_low(k) = std::max(lo, x - z * se);
+      r.ci_high(k) = std::min(hi, x + z * se);
+      r.interval[static_cast<std::size_t>(k)] = IntervalKind::kOneSided;
+      continue;
+    }
     const double se_u = se / std::abs(d(k));
     if (std::isfinite(se_u)) {
       r.ci_low(k) = from_unconstrained(t, u(k) - z * se_u);
       r.ci_high(k) = from_unconstrained(t, u(k) + z * se_u);
     }
+    r.interval[static_cast<std::size_t>(k)] = IntervalKind::kTwoSided;
+  }
+  for (int k = 0; k < p; ++k)
+    if (r.interval[static_cast<std::size_t>(k)] == IntervalKind::kOneSided)
+    {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, " is at the edge of its domain: one-sided interval [%.6g, %.6g]", r.ci_low(k),
+                    r.ci_high(k));
+      r.notes.push_back(model.parameter_label(k) + buf);
+    }
+  // Where the data depart from the fit, level by level.
+  r.misfits.clear();
+  for (int j = 0; j < J; ++j) {
+    LevelMisfit m;
+    m.level = j + 1;
+    m.tau = wv.tau[static_cast<std::size_t>(j)];
+    m.ratio = wv.wv[static_cast<std::size_t>(j)] / nu(j);
+    const double sd = std::sqrt(V(j, j));
+    m.z = sd > 0.0 ? (wv.wv[static_cast<std::size_t>(j)] - nu(j)) / sd : std::numeric_limits<double>::quiet_NaN();
+    r.misfits.push_back(m);
   }
 
   r.gof = goodness_of_fit(A, r.objective, J - p, omega, V, omega_is_v_inverse);
@@ -102,6 +196,31 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
 }  // namespace gmwm::detail
 
 namespace gmwm {
+
+const char* to_string(IntervalKind k) {
+  switch (k) {
+    case IntervalKind::kTwoSided: return "two-sided";
+    case IntervalKind::kOneSided: return "one-sided";
+    case IntervalKind::kNotIdentified: return "not identified";
+    case IntervalKind::kBoundary: return "boundary";
+  }
+  return "?";
+}
+
+std::vector<LevelMisfit> FitResult::worst_levels(int count) const {
+  std::vector<LevelMisfit> v;
+  for (const auto& m : misfits)
+    if (std::isfinite(m.z)) v.push_back(m);
+  std::sort(v.begin(), v.end(), [](const LevelMisfit& a, const LevelMisfit& b) { return std::abs(a.z) > std::abs(b.z); });
+  if (static_cast<int>(v.size()) > count) v.resize(static_cast<std::size_t>(count));
+  return v;
+}
+
+bool FitResult::degenerate() const {
+  for (IntervalKind k : interval)
+    if (k == IntervalKind::kNotIdentified || k == IntervalKind::kBoundary) return true;
+  return false;
+}
 
 GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double df, const Eigen::MatrixXd& omega,
                               const Eigen::MatrixXd& V, bool omega_is_v_inverse) {

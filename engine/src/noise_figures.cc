@@ -475,6 +475,34 @@ FigureReport noise_figure_report(std::span<const double> x, double freq, const M
   return r;
 }
 
+FigureReport noise_figure_report_from_wv(const WaveletVariance& wv, double freq, const Model& model,
+                                         const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
+                                         const ReadoffOptions& readoff) {
+  check_positive("noise_figure_report_from_wv", "freq", freq);
+  FigureReport r;
+  AllanDeviation& a = r.adev;
+  a.freq = freq;
+  a.n = wv.n;
+  a.alpha = wv.alpha;
+  const double eff = wv.efficiency.value_or(1.0);
+  for (int j = 0; j < wv.levels(); ++j) {
+    const auto i = static_cast<std::size_t>(j);
+    if (!(wv.wv[i] > 0.0)) continue;
+    a.m.push_back(static_cast<std::int64_t>(wv.tau[i] / 2.0));
+    a.tau.push_back(wv.tau[i] / 2.0 / freq);
+    a.adev.push_back(std::sqrt(2.0 * wv.wv[i]));
+    a.ci_low.push_back(std::sqrt(2.0 * std::max(wv.ci_low[i], 0.0)));
+    a.ci_high.push_back(std::sqrt(2.0 * wv.ci_high[i]));
+    a.edf.push_back(wv.eta[i] * eff);
+  }
+  r.data = read_noise_figures(a, readoff);
+  r.model_adev = model_allan_deviation(model, theta, a.m);
+  const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
+  r.model = model_noise_figures(model, theta, a, cov, readoff);
+  r.chosen = choose_noise_figures(r.model, r.data, a, r.model_adev);
+  return r;
+}
+
 FigureReport data_figure_report(std::span<const double> x, double freq, const AllanOptions& allan,
                                 const ReadoffOptions& readoff) {
   FigureReport r;

@@ -63,6 +63,20 @@ std::string column_facts(const ReportColumn& c) {
   return os.str();
 }
 
+// The fit-quality sentences (rejection with the worst scales, degeneracy), highlighted.
+std::string quality_lines(const FitResult& f, const ReportColumn& c, bool all_rejected, const std::string& full_model) {
+  std::ostringstream os;
+  const std::string why = rejection_summary(f, c.freq, c.freq_known);
+  if (all_rejected)
+    os << "<p class=\"quality\"><b>every candidate is rejected at 5%</b>: no sub-model of " << html_escape(full_model)
+       << " describes these data" << (why.empty() ? "" : "; the chosen " + html_escape(f.model.to_string()) + " is " + html_escape(why))
+       << "</p>\n";
+  else if (!why.empty())
+    os << "<p class=\"quality\"><b>" << html_escape(f.model.to_string()) << " is " << html_escape(why) << "</b></p>\n";
+  if (const std::string d = degeneracy_summary(f); !d.empty()) os << "<p class=\"quality\">" << html_escape(d) << "</p>\n";
+  return os.str();
+}
+
 std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   const std::string idx = std::to_string(k + 1);
   std::ostringstream os;
@@ -77,6 +91,7 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
        << (c.fit->message.empty() ? "" : " (" + html_escape(c.fit->message) + ")") << "</p>\n";
     os << report_detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
     for (const auto& n : c.fit->notes) os << "<p class=\"facts\">note: " << html_escape(n) << "</p>\n";
+    os << quality_lines(*c.fit, c, false, "");
   }
   if (c.allan) {
     os << "<h3>Allan deviation and noise figures</h3>\n"
@@ -85,8 +100,15 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   }
   if (c.selection) {
     os << "<h3>model selection</h3>\n" << report_detail::ranking_table(*c.selection);
-    if (const FitResult* f = report_detail::shown_model(c))
+    if (const FitResult* f = report_detail::shown_model(c)) {
       os << report_detail::parameter_tables(*f, c, "chosen model " + f->model.to_string() + " (refitted with inference)");
+      os << quality_lines(*f, c, c.selection->all_rejected, c.selection->full_model);
+    }
+    for (const auto& r : c.selection->ranking)
+      if (r.rank == 1)
+        for (const auto& line : r.effective.reductions)
+          os << "<p class=\"facts\">effective form of " << html_escape(r.members.front()) << ": " << html_escape(line)
+             << "</p>\n";
   }
   if (c.gap) {
     os << "<h3>sim-to-real gap</h3>\n";

@@ -77,8 +77,26 @@ Json parameters_json(const FitResult& fit) {
                       {"value", json_number(r.value)},
                       {"se", json_number(r.se)},
                       {"ci_low", json_number(r.ci_low)},
-                      {"ci_high", json_number(r.ci_high)}});
+                      {"ci_high", json_number(r.ci_high)},
+                      {"interval", r.interval.empty() ? json(nullptr) : json(r.interval)}});
   return params;
+}
+
+Json fit_quality_json(const FitResult& fit, double freq, bool freq_known) {
+  const std::string verdict = rejection_summary(fit, freq, freq_known);
+  const std::string degeneracy = degeneracy_summary(fit);
+  json worst = json::array();
+  for (const auto& m : fit.worst_levels(3))
+    worst.push_back({{"level", m.level},
+                     {"tau", json_number(m.tau)},
+                     {"tau_seconds", freq_known ? json_number(m.tau / freq) : json(nullptr)},
+                     {"ratio", json_number(m.ratio)},
+                     {"z", json_number(m.z)}});
+  return {{"rejected", std::isfinite(fit.gof.p_value) && fit.gof.p_value < 0.05},
+          {"verdict", verdict.empty() ? json(nullptr) : json(verdict)},
+          {"worst_levels", std::move(worst)},
+          {"degenerate", fit.degenerate()},
+          {"degeneracy", degeneracy.empty() ? json(nullptr) : json(degeneracy)}};
 }
 
 void add_run_info(json& doc, const RunInfo& run) {
@@ -202,6 +220,7 @@ std::vector<ParameterRow> parameter_rows(const FitResult& fit) {
     r.ci_low = std::isfinite(lo) ? p.to_display(local, lo) : lo;
     r.ci_high = std::isfinite(hi) ? p.to_display(local, hi) : hi;
     if (r.ci_low > r.ci_high) std::swap(r.ci_low, r.ci_high);
+    if (static_cast<std::size_t>(k) < fit.interval.size()) r.interval = to_string(fit.interval[static_cast<std::size_t>(k)]);
     rows.push_back(std::move(r));
   }
   return rows;
@@ -215,6 +234,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
   c["model"] = has_theta ? json(fit.model.to_string(fit.theta)) : json(nullptr);
   c["model_structure"] = fit.model.to_string();
   c["parameters"] = parameters_json(fit);
+  c["quality"] = fit_quality_json(fit, column.freq, column.freq_known);
   c["objective"] = json_number(fit.objective);
   c["gof"] = {{"statistic", json_number(fit.gof.statistic)},
               {"df", json_number(fit.gof.df)},
@@ -302,7 +322,9 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
                             {"df", json_number(b.gof.df)},
                             {"p_value", json_number(b.gof.p_value)},
                             {"method", b.gof.method}}},
-                   {"notes", b.notes}};
+                   {"notes", b.notes},
+                   {"quality", fit_quality_json(b, column.freq, column.freq_known)}};
+  c["all_rejected"] = sel.all_rejected;
   add_wv_fields(c, column, wv);
   return c;
 }

@@ -34,6 +34,9 @@ constexpr double kNestingTolerance = 1e-9;
 // relative even at criteria of 3e4 (the ADIS gyro_z).
 constexpr double kTieTolerance = 1e-6;
 
+// A model is rejected when its goodness-of-fit p-value is below this (the 5% of issue 13).
+constexpr double kRejectionLevel = 0.05;
+
 // Replicate streams are (signal, model, replicate) packed as
 // ((signal * models) + model) * kMaxReplicates + replicate.
 constexpr int kMaxReplicates = 100000;
@@ -356,6 +359,9 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
   for (const auto& c : sel.candidates)
     if (c.model == top.model && c.fit.status != FitStatus::kFailed) fo.starts.push_back(c.fit.theta);
   sel.best_fit = fit_gmwm(wv, top.effective.model, fo);
+  sel.all_rejected = std::all_of(sel.ranking.begin(), sel.ranking.end(), [](const RankedModel& r) {
+    return !std::isfinite(r.gof.p_value) || r.gof.p_value < kRejectionLevel;
+  });
 }
 
 // Pairs (i, k) where models[i] represents models[k] (nested or through an equivalent

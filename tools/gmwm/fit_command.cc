@@ -56,10 +56,10 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
       r.theta.size() == r.model.num_parameters() && r.theta.size() > 0 && r.theta.allFinite();
   os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
   if (has_theta) {
-    Table t({"process", "component", "name", "value", "se", "CI low", "CI high"}, 1);
+    Table t({"process", "component", "name", "value", "se", "CI low", "CI high", "interval"}, 1);
     for (const io::ParameterRow& p : io::parameter_rows(r))
       t.add({p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
-             fmt(p.ci_low), fmt(p.ci_high)});
+             fmt(p.ci_low), fmt(p.ci_high), p.interval == "two-sided" ? "" : p.interval});
     os << t.str();
   }
   os << "objective: " << fmt(r.objective, 8) << '\n';
@@ -72,6 +72,9 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   os << "status: " << (r.message.empty() ? status : repeats ? r.message : status + " (" + r.message + ")")
      << '\n';
   for (const auto& note : r.notes) os << "note: " << note << '\n';
+  if (const std::string why = rejection_summary(r, set.freq, set.freq_known); !why.empty())
+    os << "fit quality: " << r.model.to_string() << " is " << why << '\n';
+  if (const std::string why = degeneracy_summary(r); !why.empty()) os << "fit quality: " << why << '\n';
   return os.str();
 }
 
@@ -123,7 +126,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
 
   std::vector<const FitResult*> fit_ptrs;
   for (const auto& f : fits) fit_ptrs.push_back(&f);
-  const auto figures = figure_reports(set, fit_ptrs, args.input.alpha);
+  const auto figures = figure_reports(set, fit_ptrs, wvs, args.input.alpha);
 
   // Everything is computed: build the outputs, then write them.
   io::Json doc = io::json_document("fit");

@@ -75,6 +75,20 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
   const FitResult& b = sel.best_fit;
   if (b.theta.size() == b.model.num_parameters() && b.theta.allFinite())
     os << "best: " << b.model.to_string(b.theta) << '\n';
+  for (const auto& r : sel.ranking)
+    if (r.rank == 1)
+      for (const auto& line : r.effective.reductions) os << "  " << r.members.front() << ": " << line << '\n';
+  if (sel.not_converged > 0 || sel.failed > 0)
+    os << "candidates: " << sel.candidates.size() << " fitted, " << sel.not_converged
+       << " stopped before converging, " << sel.failed << " failed (their fits are in the JSON \"candidates\")\n";
+  if (sel.all_rejected) {
+    const std::string why = rejection_summary(b, set.freq, set.freq_known);
+    os << "fit quality: every candidate is rejected at 5%: no sub-model of " << sel.full_model
+       << " describes these data" << (why.empty() ? "" : "; the chosen " + b.model.to_string() + " is " + why) << '\n';
+  } else if (const std::string why = rejection_summary(b, set.freq, set.freq_known); !why.empty()) {
+    os << "fit quality: the chosen " << b.model.to_string() << " is " << why << '\n';
+  }
+  if (const std::string why = degeneracy_summary(b); !why.empty()) os << "fit quality: " << why << '\n';
   return os.str();
 }
 
@@ -159,7 +173,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const double select_seconds = select_clock.seconds();
   std::vector<const FitResult*> best_fits;
   for (const auto& sel : result) best_fits.push_back(&sel.best_fit);
-  const auto figures = figure_reports(set, best_fits, args.input.alpha);
+  const auto figures = figure_reports(set, best_fits, wvs, args.input.alpha);
 
   io::Json doc = io::json_document("select");
   doc["input"] = set.path;

@@ -97,7 +97,7 @@ std::string noise_figures_table(const ChosenFigures& figures, const std::string&
 }
 
 std::vector<std::optional<FigureReport>> figure_reports(const io::SignalSet& set, const std::vector<const FitResult*>& fits,
-                                                        double alpha) {
+                                                        const std::vector<WaveletVariance>& wvs, double alpha) {
   std::vector<std::optional<FigureReport>> out(fits.size());
   if (!set.freq_known) return out;
   tbb::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t k) {
@@ -107,7 +107,10 @@ std::vector<std::optional<FigureReport>> figure_reports(const io::SignalSet& set
     ao.alpha = alpha;
     ReadoffOptions ro;
     ro.alpha = alpha;
-    out[k] = noise_figure_report(set.signals[k].values, set.freq, f.model, f.theta, &f.covariance, ao, ro);
+    if (k < wvs.size() && wvs[k].estimator != "classical")
+      out[k] = noise_figure_report_from_wv(wvs[k], set.freq, f.model, f.theta, &f.covariance, ro);
+    else
+      out[k] = noise_figure_report(set.signals[k].values, set.freq, f.model, f.theta, &f.covariance, ao, ro);
   });
   return out;
 }

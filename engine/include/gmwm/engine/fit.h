@@ -76,6 +76,25 @@ struct GoodnessOfFit {
   std::string method;      ///< "chi-square" or "satterthwaite"
 };
 
+/// How a parameter's interval was formed (FitResult::interval).
+enum class IntervalKind {
+  kTwoSided,       ///< the delta-method interval, built in the unconstrained space
+  kOneSided,       ///< the Wald interval reaches the edge of the parameter's domain (phi at
+                   ///< +-1, a variance at 0): that edge closes it, e.g. phi in [0.9998, 1)
+  kNotIdentified,  ///< the objective is flat along this parameter (a null direction of its
+                   ///< Hessian): no standard error, no interval
+  kBoundary,       ///< its component collapsed (negligible at every scale): no interval
+};
+const char* to_string(IntervalKind k);
+
+/// How far the data's WV is from the fit's at one level.
+struct LevelMisfit {
+  int level = 0;       ///< 1-based
+  double tau = 0.0;    ///< samples
+  double ratio = 0.0;  ///< data / model
+  double z = 0.0;      ///< (nuhat - nu) / sqrt(V_jj)
+};
+
 struct FitResult {
   Model model;                  ///< canonical order (AR1 by increasing phi)
   Eigen::VectorXd theta;        ///< natural parameters, canonical order
@@ -90,9 +109,16 @@ struct FitResult {
   Eigen::MatrixXd covariance;
   Eigen::VectorXd se, ci_low, ci_high;
   GoodnessOfFit gof;
+  std::vector<IntervalKind> interval;  ///< per parameter (inference only)
+  std::vector<LevelMisfit> misfits;    ///< per level (inference only)
   std::vector<std::string> notes;  ///< e.g. boundary parameters dropped from inference
   double seconds_optimise = 0.0, seconds_inference = 0.0;
 
+  /// The `count` levels where the data depart most from the fit (largest |z| first).
+  std::vector<LevelMisfit> worst_levels(int count = 3) const;
+  /// True when a component collapsed or a parameter is not identified: the fit's
+  /// intervals do not describe every parameter.
+  bool degenerate() const;
   /// A multi-line human-readable summary.
   std::string Report() const;
 };
@@ -107,6 +133,16 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptio
 /// (Satterthwaite), lambda = eig(P' Omega P V), P = I - A (A' Omega A)^+ A' Omega.
 GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double df, const Eigen::MatrixXd& omega,
                               const Eigen::MatrixXd& V, bool omega_is_v_inverse);
+
+/// One sentence saying that the fit is rejected by its goodness-of-fit test at `level` and
+/// where the data depart most from it ("rejected at 5% (GoF p = 1.2e-78): the data depart
+/// most at 0.02 s (data/model 1.25, z = 9.1), ..."), taus in seconds when the rate is known;
+/// empty when the fit is not rejected or has no test.
+std::string rejection_summary(const FitResult& fit, double freq, bool freq_known, double level = 0.05);
+
+/// One sentence naming what makes a fit degenerate (collapsed components, parameters not
+/// identified); empty when it is not.
+std::string degeneracy_summary(const FitResult& fit);
 
 /// The GMWM objective (nuhat - nu(theta))' Omega (nuhat - nu(theta)).
 double gmwm_objective(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,

@@ -37,6 +37,7 @@
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/kalman.h"
 #include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
 
 namespace gmwm {
 
@@ -145,6 +146,14 @@ struct FigureReport {
 FigureReport noise_figure_report(std::span<const double> x, double freq, const Model& model,
                                  const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
                                  const AllanOptions& allan = {}, const ReadoffOptions& readoff = {});
+
+/// As noise_figure_report, with the data's Allan deviation taken from a WV (octave
+/// points: AVAR(m = tau_j / 2) = 2 nu_j^2, its interval from the WV's): for a robust WV,
+/// whose ADEV is the one to trust on contaminated data (the classical one carries the
+/// contamination).
+FigureReport noise_figure_report_from_wv(const WaveletVariance& wv, double freq, const Model& model,
+                                         const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
+                                         const ReadoffOptions& readoff = {});
 
 /// The data's figures alone (no model; model_adev empty): each figure the data's read-off
 /// (source kData) or its bound (kBound).

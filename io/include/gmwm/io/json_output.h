@@ -93,12 +93,18 @@ struct ParameterRow {
   int component = 0;     ///< 1-based position in the canonical model
   std::string name;      ///< "phi"
   double value = 0.0, se = 0.0, ci_low = 0.0, ci_high = 0.0;
+  std::string interval;  ///< to_string(IntervalKind): "two-sided", "one-sided", ... ("" without inference)
 };
+
+/// The fit-quality fields: {"rejected" (GoF p < 0.05), "verdict" (rejection_summary, or
+/// null), "worst_levels": [{level, tau, tau_seconds, ratio, z}], "degenerate",
+/// "degeneracy" (or null)}.
+Json fit_quality_json(const FitResult& fit, double freq, bool freq_known);
 
 /// The parameter rows of a fit (canonical order; NaN where inference is unavailable).
 std::vector<ParameterRow> parameter_rows(const FitResult& fit);
 
-/// The parameter rows as JSON: [{process, component, name, value, se, ci_low, ci_high}]
+/// The parameter rows as JSON: [{process, component, name, value, se, ci_low, ci_high, interval}]
 /// (empty when the fit has no usable values).
 Json parameters_json(const FitResult& fit);
 

@@ -116,6 +116,9 @@ struct Selection {
   std::vector<RankedModel> ranking;
   std::vector<CandidateFit> candidates;  ///< every candidate as fitted, in the enumeration order
   int not_converged = 0;             ///< candidates whose fit stopped before converging
+  /// True when every ranked model is rejected by its goodness-of-fit test at 5%: no
+  /// candidate describes the data (best_fit.worst_levels() says where the chosen one misses).
+  bool all_rejected = false;
   int failed = 0;                    ///< candidates whose fit failed (ranked last, criterion NaN)
   /// The first-ranked effective model refitted with inference (from its effective
   /// parameters; and from its own candidate fit when it is a candidate).
