@@ -1,11 +1,15 @@
-// Selection accuracy (issue 4): for each true model, 100 series of length 2^17 are
-// simulated and every sub-model of 3*AR1+WN+RW+QN+DR (63) is fitted and ranked, once by
-// the WVIC (objective + analytic optimism) and once by the consistent BIC-type penalty
-// (objective + p log N), both with the selection's default Omega. Reported per truth and
-// criterion: how often the true model ranks first, how often the first-ranked model
-// contains the true one, and what the wrong picks add or miss (which explains the
-// difference between the criteria). Goal: at least 70% first place for each truth under
-// at least one criterion. Seeds fixed below. Exit 0 when the goal holds.
+// Selection accuracy (issues 4 and 13): for each true model, 100 series of length 2^17
+// are simulated and every sub-model of 3*AR1+WN+RW+QN+DR (63) is fitted and ranked, once
+// by the WVIC (objective + analytic optimism) and once by the consistent BIC-type penalty
+// (objective + p log N), both with the selection's default Omega. The ranking's rows are
+// effective models (effective_model.h: an AR1 at phi -> 1 reads as the RW it stands for,
+// collapsed terms dropped), so "effective truth first" counts equivalent forms as the
+// truth; "as fitted" asks whether the best-scoring candidate itself was the truth's
+// structure. Four truths with every component detectable (non-centrality >= 25 under the
+// exact WV covariance) and one with a borderline component (nc 2-8), whose oracle power is
+// printed. Also the representation violations over every selection (bar 0). Goal: the
+// effective truth first in >= 80% of the series of each fully detectable truth, with WVIC
+// and with BIC. Seeds fixed below. Exit 0 when the goal and the bar hold.
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -14,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/non_central_chi_squared.hpp>
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
 
@@ -30,11 +36,9 @@ namespace {
 
 constexpr std::int64_t kN = 1 << 17;
 constexpr int kReplicates = 100;
-constexpr double kGoal = 0.70;
+constexpr double kGoal = 0.80;
+constexpr double kDetectableNc = 25.0;
 constexpr const char* kMaximal = "3*AR1+WN+RW+QN+DR";
-// A component is called detectable when the oracle test for it (every other parameter
-// known, exact Cov(nuhat)) has power >= 50% at level 5%: sqrt(nc) >= z_0.95 = 1.6449.
-constexpr double kZ95 = 1.6448536269514722;
 
 // Per component of the truth: the non-centrality nc = d' V0^-1 d of its WV d (at the true
 // values) under the exact covariance V0 of nuhat at the truth, J = log2 N levels. It
@@ -59,7 +63,12 @@ std::vector<double> noncentrality(const Model& truth) {
   return out;
 }
 
-double oracle_power(double nc) { return 0.5 * std::erfc(-(std::sqrt(nc) - kZ95) / std::sqrt(2.0)); }
+// The oracle's power for one component: the chi-square test (1 df, level 5%) of its
+// absence with every other parameter known, non-centrality nc.
+double oracle_power(double nc) {
+  const double q = boost::math::quantile(boost::math::chi_squared(1.0), 0.95);
+  return boost::math::cdf(boost::math::complement(boost::math::non_central_chi_squared(1.0, nc), q));
+}
 
 using Counts = std::map<std::string, int>;
 
@@ -94,7 +103,7 @@ std::string difference(const Counts& picked, const Counts& truth) {
 }
 
 struct Tally {
-  int first = 0, contained = 0, detectable_first = 0;
+  int first = 0, as_fitted = 0, contained = 0;
   std::map<std::string, int> wrong;  // difference -> count
 };
 
@@ -109,8 +118,8 @@ std::string top_wrong(const Tally& t) {
 }
 
 struct Detectability {
-  std::string text;   // per component: nc and oracle power
-  Counts detectable;  // the truth's detectable components
+  std::string text;        // per component: nc and oracle power
+  bool all_detectable = true;
 };
 
 Detectability detectability(const Model& truth) {
@@ -118,56 +127,64 @@ Detectability detectability(const Model& truth) {
   const auto nc = noncentrality(truth);
   for (int c = 0; c < truth.num_components(); ++c) {
     const auto& comp = truth.components()[static_cast<std::size_t>(c)];
+    const double v = nc[static_cast<std::size_t>(c)];
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%s%s nc %.3g (oracle power %.0f%%)", c ? "; " : "", comp.process->name().c_str(),
-                  nc[static_cast<std::size_t>(c)], 100 * oracle_power(nc[static_cast<std::size_t>(c)]));
+    std::snprintf(buf, sizeof buf, "%s%s nc %.3g (oracle power %.0f%%)", c ? "; " : "", comp.process->name().c_str(), v,
+                  100 * oracle_power(v));
     d.text += buf;
-    if (oracle_power(nc[static_cast<std::size_t>(c)]) >= 0.5) ++d.detectable[comp.process->name()];
+    d.all_detectable = d.all_detectable && v >= kDetectableNc;
   }
   return d;
 }
 
+struct Pick {
+  std::string effective, fitted;
+  int violations = 0;
+};
+
+int g_violations = 0, g_selections = 0;
+
 bool study(const char* truth_spec, std::uint64_t seed, std::vector<std::string>& notes) {
   const Model truth = parse_model(truth_spec);
-  const Counts want = components(truth.to_string());
+  const std::string want_name = truth.to_string();
+  const Counts want = components(want_name);
   const Detectability det = detectability(truth);
   const Model maximal = parse_model(kMaximal);
-  std::vector<std::string> pick_wvic(kReplicates), pick_bic(kReplicates);
+  std::vector<Pick> pick_wvic(kReplicates), pick_bic(kReplicates);
   tbb::parallel_for(0, kReplicates, [&](int r) {
     const auto x = simulate(truth, truth.given_values(), kN, seed, static_cast<std::uint64_t>(r));
     const std::vector<WaveletVariance> wv = {classical_wv(x.data(), kN)};
     selection::SelectOptions o;
     o.omega = g_omega;
-    pick_wvic[static_cast<std::size_t>(r)] = selection::select_models(wv, maximal, o).front().ranking.front().model;
+    auto pick = [&](const selection::Selection& sel) {
+      return Pick{sel.ranking.front().model, sel.ranking.front().members.front(), sel.representation_violations};
+    };
+    pick_wvic[static_cast<std::size_t>(r)] = pick(selection::select_models(wv, maximal, o).front());
     o.penalty = selection::Penalty::kBic;
-    pick_bic[static_cast<std::size_t>(r)] = selection::select_models(wv, maximal, o).front().ranking.front().model;
+    pick_bic[static_cast<std::size_t>(r)] = pick(selection::select_models(wv, maximal, o).front());
   });
-  auto tally = [&](const std::vector<std::string>& picks) {
+  auto tally = [&](const std::vector<Pick>& picks) {
     Tally t;
     for (const auto& p : picks) {
-      const Counts c = components(p);
-      if (c == want) ++t.first;
+      const Counts c = components(p.effective);
+      if (p.effective == want_name) ++t.first;
       else ++t.wrong[difference(c, want)];
-      if (c == det.detectable) ++t.detectable_first;
+      if (p.fitted == want_name) ++t.as_fitted;
       if (contains(c, want)) ++t.contained;
+      g_violations += p.violations;
+      ++g_selections;
     }
     return t;
   };
   const Tally w = tally(pick_wvic), b = tally(pick_bic);
   auto pct = [](int n) { return 100.0 * n / kReplicates; };
-  std::string dname;
-  for (const auto& [k, n] : det.detectable) {
-    if (!dname.empty()) dname += '+';
-    if (n > 1) dname += std::to_string(n) + '*';
-    dname += k;
-  }
-  std::printf("| %s | WVIC | %.0f%% | %.0f%% | %.0f%% | %s |\n", truth_spec, pct(w.first), pct(w.contained),
-              pct(w.detectable_first), top_wrong(w).c_str());
-  std::printf("| | BIC | %.0f%% | %.0f%% | %.0f%% | %s |\n", pct(b.first), pct(b.contained), pct(b.detectable_first),
+  std::printf("| %s | WVIC | %.0f%% | %.0f%% | %.0f%% | %s |\n", truth_spec, pct(w.first), pct(w.as_fitted),
+              pct(w.contained), top_wrong(w).c_str());
+  std::printf("| | BIC | %.0f%% | %.0f%% | %.0f%% | %s |\n", pct(b.first), pct(b.as_fitted), pct(b.contained),
               top_wrong(b).c_str());
-  notes.push_back(std::string(truth_spec) + ": " + det.text + "; detectable part " + dname + ".");
+  notes.push_back(std::string(truth_spec) + ": " + det.text + (det.all_detectable ? "." : " (a borderline component)."));
   std::fflush(stdout);
-  return std::max(w.first, b.first) >= kGoal * kReplicates;
+  return !det.all_detectable || (w.first >= kGoal * kReplicates && b.first >= kGoal * kReplicates);
 }
 
 }  // namespace
@@ -183,31 +200,27 @@ int main(int argc, char** argv) {
   std::printf("%d series of N = 2^17 per true model, every sub-model of %s (63), Omega %s; "
               "WVIC = objective + analytic optimism, BIC = objective + p log N.\n\n", kReplicates, kMaximal,
               selection::to_string(g_omega));
-  std::printf("| true model | criterion | true model first | first contains the truth | detectable part of the truth "
-              "first | wrong picks: difference from the truth (count) |\n|---|---|---|---|---|---|\n");
+  std::printf("| true model | criterion | effective truth first | truth first as fitted | first contains the truth | "
+              "wrong picks: difference from the truth (count) |\n|---|---|---|---|---|---|\n");
   bool ok = true;
   std::vector<std::string> notes;
-  if (!only || only == 1) ok &= study("AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)+RW(gamma2=1e-8)", 5101, notes);
-  if (!only || only == 2) ok &= study("AR1(phi=0.95,sigma2=0.05)+AR1(phi=0.9995,sigma2=2e-6)+WN(sigma2=1)", 5102, notes);
-  if (!only || only == 3) ok &= study("WN(sigma2=1)+QN(Q2=1)+RW(gamma2=1e-6)", 5103, notes);
+  const char* truths[] = {"WN(sigma2=1)+QN(Q2=1)+RW(gamma2=3e-6)",
+                          "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)+RW(gamma2=3e-5)",
+                          "AR1(phi=0.95,sigma2=0.05)+AR1(phi=0.998,sigma2=3e-4)+WN(sigma2=1)",
+                          "AR1(phi=0.5,sigma2=0.3)+WN(sigma2=1)+QN(Q2=0.3)+DR(omega=1e-4)",
+                          "WN(sigma2=1)+RW(gamma2=1e-7)"};
+  for (int t = 0; t < 5; ++t)
+    if (!only || only == t + 1) ok &= study(truths[t], 5101 + static_cast<std::uint64_t>(t), notes);
   std::printf("\nDetectability of each true component at N = 2^17: non-centrality nc = d' V0^-1 d of its WV d under "
-              "the exact Cov(nuhat) at the truth, and the power of the oracle test (all other parameters known) at "
-              "5%%, Phi(sqrt(nc) - 1.645): an upper bound for any WV-based selection. \"Detectable\" = oracle power "
-              ">= 50%%.\n\n");
+              "the exact Cov(nuhat) at the truth, and the power of the oracle test of its absence (all other "
+              "parameters known; chi-square, 1 df, 5%%): an upper bound for any WV-based selection. Fully detectable "
+              "= every nc >= %.0f.\n\n", kDetectableNc);
   for (const auto& n : notes) std::printf("- %s\n", n.c_str());
-  if (!only && g_omega == selection::OmegaSource::kModel) {
-    // Information: the third truth (the only one whose every component is detectable)
-    // under the other shared Omegas.
-    for (auto other : {selection::OmegaSource::kData, selection::OmegaSource::kModelFull}) {
-      g_omega = other;
-      std::printf("\nThe third truth with Omega %s:\n\n| true model | criterion | true model first | first contains "
-                  "the truth | detectable part of the truth first | wrong picks |\n|---|---|---|---|---|---|\n",
-                  selection::to_string(other));
-      std::vector<std::string> ignored;
-      study("WN(sigma2=1)+QN(Q2=1)+RW(gamma2=1e-6)", 5103, ignored);
-    }
-  }
-  std::printf("\nGoal: at least %.0f%% first place for each true model under at least one criterion: %s "
-              "(%.0f s).\n", 100 * kGoal, ok ? "pass" : "FAIL", clock.seconds());
+  std::printf("\nRepresentation violations over the %d selections (63 candidates each): %d (bar 0).\n", g_selections,
+              g_violations);
+  ok = ok && g_violations == 0;
+  std::printf("\nGoal: the effective truth first in at least %.0f%% of the series of each fully detectable truth, "
+              "with WVIC and with BIC, and no representation violation: %s (%.0f s).\n",
+              100 * kGoal, ok ? "pass" : "FAIL", clock.seconds());
   return ok ? 0 : 1;
 }

@@ -44,6 +44,18 @@ out=tools/bench/RESULTS.md
   echo
   "$build/bench_optimism" || true
   echo
+  echo "## Representability on real data (bench_representation)"
+  echo
+  "$build/bench_representation" || true
+  echo
+  echo "## Noise figures on real recordings (bench_noise_figures)"
+  echo
+  "$build/bench_noise_figures" || true
+  echo
+  echo "## Robust goodness of fit (bench_robust_gof)"
+  echo
+  "$build/bench_robust_gof" || true
+  echo
   echo "## Model selection accuracy: WVIC vs BIC (bench_selection_accuracy)"
   echo
   "$build/bench_selection_accuracy" || true

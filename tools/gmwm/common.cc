@@ -57,7 +57,7 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
   sub.add_flag("--robust", robust.robust,
-               "Robust WV: M-estimator of each level's scale (STATISTICS.md section 2)");
+               "Robust WV: M-estimator of each level's scale (Huber's Proposal 2, Fisher-consistent)");
   sub.add_option_function<double>(
          "--eff", [&robust](const double& e) { robust.eff = e; },
          "Gaussian efficiency of the robust WV, in (0, 1) (default 0.6); needs --robust")
