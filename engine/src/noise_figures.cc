@@ -462,6 +462,25 @@ ChosenFigures choose_noise_figures(const NoiseFigures& model, const NoiseFigures
   return out;
 }
 
+namespace {
+
+// The figures when only one curve is at hand: each its read-off (source `shown`) or its
+// bound, and the read-offs recorded on that side.
+ChosenFigures one_sided_choice(const NoiseFigures& f, FigureSource shown, const std::string& curve) {
+  auto take = [&](const Readoff& r, const char* name) {
+    ChosenFigure c;
+    c.figure = r;
+    (shown == FigureSource::kData ? c.data : c.model) = r;
+    const bool shows = r.available() && r.status != ReadoffStatus::kBound;
+    c.source = shows ? shown : FigureSource::kBound;
+    c.note = std::string(name) + (shows ? " from " + curve : " not read in " + curve + ": " + r.how);
+    return c;
+  };
+  return {take(f.white, "N"), take(f.walk, "K"), take(f.instability, "B")};
+}
+
+}  // namespace
+
 FigureReport noise_figure_report(std::span<const double> x, double freq, const Model& model,
                                  const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
                                  const AllanOptions& allan, const ReadoffOptions& readoff) {
@@ -508,18 +527,7 @@ FigureReport data_figure_report(std::span<const double> x, double freq, const Al
   FigureReport r;
   r.adev = allan_deviation(x, freq, allan);
   r.data = read_noise_figures(r.adev, readoff);
-  auto take = [](const Readoff& d, const char* name) {
-    ChosenFigure c;
-    c.figure = d;
-    c.data = d;
-    const bool shows = d.available() && d.status != ReadoffStatus::kBound;
-    c.source = shows ? FigureSource::kData : FigureSource::kBound;
-    c.note = std::string(name) + (shows ? " from the data's Allan deviation" : " not read in the data's Allan deviation: " + d.how);
-    return c;
-  };
-  r.chosen.white = take(r.data.white, "N");
-  r.chosen.walk = take(r.data.walk, "K");
-  r.chosen.instability = take(r.data.instability, "B");
+  r.chosen = one_sided_choice(r.data, FigureSource::kData, "the data's Allan deviation");
   return r;
 }
 
@@ -539,21 +547,7 @@ ChosenFigures model_only_figures(const Model& model, const Eigen::VectorXd& thet
   grid.adev = model_allan_deviation(model, theta, grid.m);
   grid.ci_low = grid.ci_high = grid.adev;
   const NoiseFigures f = model_noise_figures(model, theta, grid, nullptr, readoff);
-  ChosenFigures out;
-  auto take = [](const Readoff& r, const char* name) {
-    ChosenFigure c;
-    c.figure = r;
-    c.model = r;
-    const bool shows = r.available() && r.status != ReadoffStatus::kBound;
-    c.source = shows ? FigureSource::kModel : FigureSource::kBound;
-    c.note = std::string(name) + (shows ? " from the model's Allan deviation (the data were not at hand)"
-                                        : " not read in the model's Allan deviation (the data were not at hand): " + r.how);
-    return c;
-  };
-  out.white = take(f.white, "N");
-  out.walk = take(f.walk, "K");
-  out.instability = take(f.instability, "B");
-  return out;
+  return one_sided_choice(f, FigureSource::kModel, "the model's Allan deviation (the data were not at hand)");
 }
 
 std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter_rate) {

@@ -55,29 +55,22 @@ Json continuous_json(const FitResult& fit, const ColumnInfo& c) {
 Json kalman_json(const FitResult& fit, const ColumnInfo& c, double filter_rate, const ChosenFigures* figures) {
   Json out = {{"filter_rate", json_number(filter_rate)}, {"terms", Json::array()}};
   if (!usable(fit, c) || !(filter_rate > 0.0)) return out;
+  auto row = [&](const KalmanTerm& t, const std::string& process, Json component) {
+    out["terms"].push_back({{"process", process},
+                            {"component", std::move(component)},
+                            {"role", t.role},
+                            {"q", json_number(t.q)},
+                            {"q_unit", kalman_unit(t.q_unit, c)},
+                            {"transition", json_number(t.transition)},
+                            {"discrete", json_number(t.discrete)},
+                            {"discrete_unit", kalman_unit(t.discrete_unit, c)},
+                            {"note", t.note}});
+  };
   if (figures)
-    for (const KalmanTerm& t : kalman_terms(*figures, filter_rate))
-      out["terms"].push_back({{"process", "N, K, B"},
-                              {"component", nullptr},
-                              {"role", t.role},
-                              {"q", json_number(t.q)},
-                              {"q_unit", kalman_unit(t.q_unit, c)},
-                              {"transition", json_number(t.transition)},
-                              {"discrete", json_number(t.discrete)},
-                              {"discrete_unit", kalman_unit(t.discrete_unit, c)},
-                              {"note", t.note}});
+    for (const KalmanTerm& t : kalman_terms(*figures, filter_rate)) row(t, "N, K, B", nullptr);
   for (int k = 0; k < fit.model.num_components(); ++k) {
     const Process& p = *fit.model.components()[static_cast<std::size_t>(k)].process;
-    for (const KalmanTerm& t : p.kalman(part(fit.theta, fit.model, k), c.freq, filter_rate))
-      out["terms"].push_back({{"process", p.name()},
-                              {"component", k + 1},
-                              {"role", t.role},
-                              {"q", json_number(t.q)},
-                              {"q_unit", kalman_unit(t.q_unit, c)},
-                              {"transition", json_number(t.transition)},
-                              {"discrete", json_number(t.discrete)},
-                              {"discrete_unit", kalman_unit(t.discrete_unit, c)},
-                              {"note", t.note}});
+    for (const KalmanTerm& t : p.kalman(part(fit.theta, fit.model, k), c.freq, filter_rate)) row(t, p.name(), k + 1);
   }
   return out;
 }

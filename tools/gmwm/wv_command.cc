@@ -22,6 +22,14 @@ namespace gmwm::cli {
 
 namespace {
 
+// Shortest text that reads back to the same double ("nan" when not finite).
+std::ostream& num(std::ostream& o, double x) {
+  if (!std::isfinite(x)) return o << "nan";
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return o.write(buf, r.ptr - buf);
+}
+
 struct WvArgs {
   InputOptions input;
   RobustOptions robust;
@@ -54,12 +62,6 @@ std::string adev_terminal(const io::SignalSet& set, const std::vector<std::optio
 std::string adev_csv(const io::SignalSet& set, const std::vector<std::optional<FigureReport>>& reports) {
   std::ostringstream os;
   os << "column,m,tau_seconds,adev,ci_low,ci_high,edf\n";
-  auto num = [](std::ostream& o, double x) -> std::ostream& {
-    if (!std::isfinite(x)) return o << "nan";
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x);
-    return o.write(buf, r.ptr - buf);
-  };
   for (std::size_t k = 0; k < reports.size(); ++k) {
     if (!reports[k]) continue;
     const AllanDeviation& a = reports[k]->adev;
@@ -89,13 +91,6 @@ std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVarianc
   os << "column,level,tau,tau_seconds,wv,ci_low,ci_high,coefficients";
   if (rv.active()) os << ",classical_wv,robust_to_classical,ci_disjoint,contaminated";
   os << "\n";
-  // Shortest text that reads back to the same double.
-  auto num = [](std::ostream& o, double x) -> std::ostream& {
-    if (!std::isfinite(x)) return o << "nan";
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x);
-    return o.write(buf, r.ptr - buf);
-  };
   for (std::size_t k = 0; k < wvs.size(); ++k) {
     const auto& w = wvs[k];
     for (int j = 0; j < w.levels(); ++j) {
