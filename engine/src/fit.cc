@@ -430,6 +430,19 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   }
   r.status = status_of(best.code, P, best.u, best.value, r.message);
   Eigen::VectorXd theta = model_in.from_unconstrained(best.u);
+  // Signed-magnitude parameters (DR's omega) come out positive: the WV cannot see their
+  // sign, so it is carried from the first start (or given value) that has one.
+  for (int k = 0; k < model_in.num_parameters(); ++k) {
+    if (!model_in.spec_of(k).signed_magnitude) continue;
+    double sign = 0.0;
+    for (const auto& s : options.starts)
+      if (s.size() == theta.size() && std::isfinite(s(k)) && s(k) != 0.0) { sign = s(k); break; }
+    if (sign == 0.0) {
+      const Eigen::VectorXd given = model_in.given_values();
+      if (std::isfinite(given(k)) && given(k) != 0.0) sign = given(k);
+    }
+    if (sign < 0.0) theta(k) = -theta(k);
+  }
   r.model = model_in.canonical(&theta);
   r.theta = theta;
   r.objective = gmwm_objective(wv, r.model, r.theta, P.omega);
@@ -496,6 +509,39 @@ std::string FitResult::Report() const {
   for (const auto& n : notes) os << "  note: " << n << "\n";
   os << "  time: optimisation " << seconds_optimise << " s, inference " << seconds_inference << " s\n";
   return os.str();
+}
+
+double orient_by_series(FitResult& fit, std::span<const double> x) {
+  // Least-squares slope of x on t = 0..n-1: sum (t - tbar)(x_t - xbar) / sum (t - tbar)^2,
+  // accumulated in long double (n up to 1e9: sum t^2 ~ 1e27).
+  const auto n = static_cast<long double>(x.size());
+  if (x.size() < 2) return 0.0;
+  const long double tbar = (n - 1.0L) / 2.0L;
+  long double sxy = 0.0L, mean = 0.0L;
+  for (double v : x) mean += v;
+  mean /= n;
+  for (std::size_t t = 0; t < x.size(); ++t) sxy += (static_cast<long double>(t) - tbar) * (x[t] - mean);
+  const long double sxx = n * (n * n - 1.0L) / 12.0L;
+  const double slope = static_cast<double>(sxy / sxx);
+  if (fit.theta.size() != fit.model.num_parameters()) return slope;
+  std::vector<int> flipped;
+  for (int k = 0; k < fit.model.num_parameters(); ++k) {
+    if (!fit.model.spec_of(k).signed_magnitude || !((slope < 0.0) != (fit.theta(k) < 0.0))) continue;
+    fit.theta(k) = -fit.theta(k);
+    if (fit.ci_low.size() == fit.theta.size()) {
+      const double lo = fit.ci_low(k);
+      fit.ci_low(k) = -fit.ci_high(k);
+      fit.ci_high(k) = -lo;
+    }
+    flipped.push_back(k);
+  }
+  // The covariance's rows/columns of a flipped parameter change sign with it.
+  if (fit.covariance.rows() == fit.theta.size())
+    for (int k : flipped) {
+      fit.covariance.row(k) *= -1.0;
+      fit.covariance.col(k) *= -1.0;
+    }
+  return slope;
 }
 
 }  // namespace gmwm

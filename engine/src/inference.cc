@@ -156,18 +156,20 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
     r.se(k) = se;
     const Transform t = model.spec_of(k).transform;
     const auto [lo, hi] = domain_of(t);
-    const double x = r.theta(k);
+    // A negative signed-magnitude value (a falling drift): the interval of |x|, mirrored.
+    const double sign = model.spec_of(k).signed_magnitude && r.theta(k) < 0.0 ? -1.0 : 1.0;
+    const double x = sign * r.theta(k);
+    auto set_interval = [&](double a, double b) {
+      r.ci_low(k) = sign > 0.0 ? a : -b;
+      r.ci_high(k) = sign > 0.0 ? b : -a;
+    };
     if (x - z * se <= lo || x + z * se >= hi) {
-      r.ci_low(k) = std::max(lo, x - z * se);
-      r.ci_high(k) = std::min(hi, x + z * se);
+      set_interval(std::max(lo, x - z * se), std::min(hi, x + z * se));
       r.interval[static_cast<std::size_t>(k)] = IntervalKind::kOneSided;
       continue;
     }
     const double se_u = se / std::abs(d(k));
-    if (std::isfinite(se_u)) {
-      r.ci_low(k) = from_unconstrained(t, u(k) - z * se_u);
-      r.ci_high(k) = from_unconstrained(t, u(k) + z * se_u);
-    }
+    if (std::isfinite(se_u)) set_interval(from_unconstrained(t, u(k) - z * se_u), from_unconstrained(t, u(k) + z * se_u));
     r.interval[static_cast<std::size_t>(k)] = IntervalKind::kTwoSided;
   }
   for (int k = 0; k < p; ++k)

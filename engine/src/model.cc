@@ -97,7 +97,10 @@ std::vector<Eigen::MatrixXd> Model::hessians(const Eigen::VectorXd& theta,
 
 Eigen::VectorXd Model::to_unconstrained(const Eigen::VectorXd& theta) const {
   Eigen::VectorXd u(theta.size());
-  for (int k = 0; k < num_parameters_; ++k) u(k) = gmwm::to_unconstrained(spec_of(k).transform, theta(k));
+  for (int k = 0; k < num_parameters_; ++k) {
+    const ParameterSpec& s = spec_of(k);
+    u(k) = gmwm::to_unconstrained(s.transform, s.signed_magnitude ? std::abs(theta(k)) : theta(k));
+  }
   return u;
 }
 

@@ -70,7 +70,12 @@ std::string Process::validate(std::span<const double> theta) const {
     }
     switch (specs[k].transform) {
       case Transform::kLog:
-        if (!(x > 0.0)) { os << specs[k].name << " must be positive (got " << x << ")"; return os.str(); }
+        if (specs[k].signed_magnitude) {
+          if (x == 0.0) { os << specs[k].name << " must be non-zero (got 0)"; return os.str(); }
+        } else if (!(x > 0.0)) {
+          os << specs[k].name << " must be positive (got " << x << ")";
+          return os.str();
+        }
         break;
       case Transform::kAtanh:
         if (!(x > -1.0 && x < 1.0)) { os << specs[k].name << " must be in (-1, 1) (got " << x << ")"; return os.str(); }

@@ -74,8 +74,14 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& F, const Eigen::VectorXd& y, const E
     if (idx.empty()) break;
     Eigen::MatrixXd Fa(F.rows(), static_cast<Eigen::Index>(idx.size()));
     for (std::size_t a = 0; a < idx.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(idx[a]);
+    // Jacobi scaling: the components' WVs differ by many decades (a WN's 1/tau against a
+    // random walk's tau/6 at tau = 2^16, under weights of 1e15), and the rank-revealing
+    // solve would otherwise read the small column as null and drop it.
     const Eigen::MatrixXd G = Fa.transpose() * W * Fa;
-    const Eigen::VectorXd sa = G.completeOrthogonalDecomposition().solve(Fa.transpose() * W * y);
+    const Eigen::VectorXd d = G.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd Gs = d.asDiagonal() * G * d.asDiagonal();
+    const Eigen::VectorXd sa =
+        d.cwiseProduct(Gs.completeOrthogonalDecomposition().solve(d.cwiseProduct(Fa.transpose() * W * y)));
     int worst = -1;
     double most_negative = 0.0;
     for (std::size_t a = 0; a < idx.size(); ++a)

@@ -208,6 +208,25 @@ TEST_F(GmwmCli, SimulateThenFitRecoversTheModel) {
   EXPECT_EQ(again.exit_code, 0) << again.err;
 }
 
+TEST_F(GmwmCli, ANegativeDriftSurvivesSimulateFitAndItsInterval) {
+  // The WV sees omega^2; the sign must come back from the series through fit.
+  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=1)+DR(omega=-1e-3)", "--n", "65536", "--freq", "100",
+                     "--names", "x", "--output", "dr.csv", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_gmwm({"fit", "dr.csv", "--model", "WN+DR", "--json", "f.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json c = read_json(dir_ / "f.json")["columns"][0];
+  const std::string model = c.at("model");
+  EXPECT_NE(model.find("DR(omega=-"), std::string::npos) << model;
+  const json& p = c.at("parameters");
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[1].at("process"), "DR");
+  EXPECT_NEAR(p[1]["value"].get<double>() / -1e-3, 1.0, 0.05);
+  EXPECT_LT(p[1]["ci_high"].get<double>(), 0.0);
+  EXPECT_LT(p[1]["ci_low"].get<double>(), p[1]["value"].get<double>());
+}
+
 TEST_F(GmwmCli, ThreadCountDoesNotChangeTheWvOrFitJson) {
   simulate(1 << 14, 3);
   for (const std::string cmd : {"wv", "fit"}) {

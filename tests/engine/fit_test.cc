@@ -35,6 +35,29 @@ TEST(GmwmFit, RecoversWhiteNoisePlusRandomWalkAndConverges) {
   EXPECT_EQ(r.gof.df, w.levels() - 2);
 }
 
+TEST(GmwmFit, AFallingDriftKeepsItsSignThroughTheSeriesSlope) {
+  // The WV sees omega^2 only: the fit returns |omega|, orient_by_series takes the sign
+  // (and mirrors the interval) from the series' least-squares slope.
+  const Model truth = parse_model("WN(sigma2=1)+DR(omega=-1e-3)");
+  const std::int64_t n = 1 << 16;
+  const auto x = simulate(truth, truth.given_values(), n, 17, 0);
+  FitResult r = fit_gmwm(classical_wv(x.data(), n), parse_model("WN+DR"));
+  ASSERT_EQ(r.status, FitStatus::kConverged) << r.message;
+  EXPECT_GT(r.theta(1), 0.0);
+  const double slope = orient_by_series(r, x);
+  EXPECT_NEAR(slope, -1e-3, 1e-5);
+  EXPECT_NEAR(r.theta(1) / -1e-3, 1.0, 0.05);
+  EXPECT_LT(r.ci_low(1), r.theta(1));
+  EXPECT_GT(r.ci_high(1), r.theta(1));
+  EXPECT_LT(r.ci_high(1), 0.0);
+  // A negative start carries its sign through the fit itself.
+  FitOptions o;
+  o.starts = {truth.given_values()};
+  const FitResult s = fit_gmwm(classical_wv(x.data(), n), parse_model("WN+DR"), o);
+  EXPECT_LT(s.theta(1), 0.0);
+  EXPECT_EQ(parse_model("DR(omega=-2.5e-7)").validate(Eigen::VectorXd::Constant(1, -2.5e-7)), "");
+}
+
 TEST(GmwmFit, ReportsTwoAr1ComponentsByIncreasingPhi) {
   const WaveletVariance w = wv_of("AR1(phi=0.999,sigma2=1e-4)+AR1(phi=0.5,sigma2=1)+WN(sigma2=0.5)", 1 << 17, 12);
   const FitResult r = fit_gmwm(w, parse_model("2*AR1+WN"));

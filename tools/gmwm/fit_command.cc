@@ -122,6 +122,8 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   std::vector<FitResult> fits(wvs.size());
   tbb::parallel_for(std::size_t{0}, wvs.size(),
                     [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
+  // A drift's sign is not in the WV: the series' own slope gives it.
+  for (std::size_t k = 0; k < fits.size(); ++k) orient_by_series(fits[k], set.signals[k].values);
   const double fit_seconds = fit_clock.seconds();
 
   std::vector<const FitResult*> fit_ptrs;

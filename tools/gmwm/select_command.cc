@@ -157,19 +157,14 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const double wv_seconds = wv_clock.seconds();
   for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
 
-  // Progress on a terminal: models done / total, on one line of stderr.
-  const bool bar = common.show_table() && isatty(STDERR_FILENO);
-  std::mutex progress_mutex;
-  if (bar)
-    options.progress = [&](int done, int total_models) {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      std::fprintf(stderr, "\rselect: %d / %d models", done, total_models);
-      if (done == total_models) std::fprintf(stderr, "\n");
-      std::fflush(stderr);
-    };
+  // Progress on a terminal: models done / total (bootstrap refits included), time left.
+  ProgressBar bar("select: models", common);
+  if (bar.enabled()) options.progress = [&](int done, int total_models) { bar.update(done, total_models); };
   Stopwatch select_clock;
-  const std::vector<selection::Selection> result =
+  std::vector<selection::Selection> result =
       specs.empty() ? selection::select_models(wvs, model, options) : selection::select_among(wvs, models, options);
+  // A drift's sign is not in the WV: the series' own slope gives it.
+  for (std::size_t k = 0; k < result.size(); ++k) orient_by_series(result[k].best_fit, set.signals[k].values);
   const double select_seconds = select_clock.seconds();
   std::vector<const FitResult*> best_fits;
   for (const auto& sel : result) best_fits.push_back(&sel.best_fit);

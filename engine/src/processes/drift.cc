@@ -1,9 +1,11 @@
 // DR: deterministic drift omega t. nu^2(tau) = omega^2 tau^2 / 16 (STATISTICS.md s.3).
 //
-// The sign of omega is not identifiable from a WV (DESIGN.md): the natural parameter is
-// |omega| > 0 (log transform), validate() rejects omega <= 0 with a message saying so,
-// and reports show |omega|. Simulation: x_t = omega t for t = 0 .. n-1 (the path starts
-// at 0; the WV does not depend on the offset).
+// omega is signed (a falling drift is negative) but the WV sees only omega^2: the
+// optimiser works on |omega| (log transform of the magnitude, ParameterSpec::
+// signed_magnitude), the sign is carried from a given or starting value, or taken from
+// the series' own slope (orient_by_series, fit.h). validate() rejects omega = 0.
+// Simulation: x_t = omega t for t = 0 .. n-1 (the path starts at 0; the WV does not depend
+// on the offset); sum_moments and the Kalman rate state keep the sign.
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -27,17 +29,10 @@ class Drift final : public Process {
   }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> specs{
-        {"omega", Transform::kLog, "drift |slope| per sample (its sign is not identifiable)"}};
+        {"omega", Transform::kLog, "drift slope per sample (signed; the WV sees only its magnitude)", true}};
     return specs;
   }
   std::string validate(std::span<const double> theta) const override {
-    if (theta.size() == 1 && std::isfinite(theta[0]) && theta[0] <= 0.0) {
-      std::ostringstream os;
-      os.precision(17);
-      os << "omega must be positive (got " << theta[0]
-         << "); the drift's sign is not identifiable from a WV: give |omega|";
-      return os.str();
-    }
     return Process::validate(theta);
   }
   void wv(std::span<const double> theta, std::span<const double> tau,
@@ -87,7 +82,7 @@ class Drift final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"drift rate", theta[0] * freq, "U/s",
-             "R = |omega| f (IEEE 952 rate ramp: AVAR = R^2 T^2 / 2; sign not identifiable)"}};
+             "R = omega f, signed (IEEE 952 rate ramp: AVAR = R^2 T^2 / 2 sees |R|; the sign is the series' slope)"}};
   }
   void simulate(std::span<const double> theta, Rng&, std::span<double> out) const override {
     for (std::size_t t = 0; t < out.size(); ++t) out[t] += theta[0] * static_cast<double>(t);
@@ -105,6 +100,6 @@ class Drift final : public Process {
 
 }  // namespace
 
-GMWM_REGISTER_PROCESS(Drift, "DR", "deterministic drift: DR(omega), omega = |slope| per sample");
+GMWM_REGISTER_PROCESS(Drift, "DR", "deterministic drift: DR(omega), omega = slope per sample (signed)");
 
 }  // namespace gmwm

@@ -37,13 +37,25 @@ TEST(DriftProcess, SimulatesAStraightLineFromZero) {
   for (std::size_t t = 0; t < x.size(); ++t) EXPECT_DOUBLE_EQ(x[t], 1.0 + 0.25 * static_cast<double>(t));
 }
 
-TEST(DriftProcess, RejectsNonPositiveOmegaSayingTheSignIsNotIdentifiable) {
+TEST(DriftProcess, AcceptsANegativeOmegaAndRejectsZero) {
   const auto p = make_process("DR");
-  const std::string why = p->validate(std::vector<double>{-0.5});
-  EXPECT_NE(why.find("omega"), std::string::npos) << why;
-  EXPECT_NE(why.find("|omega|"), std::string::npos) << why;
-  EXPECT_NE(p->validate(std::vector<double>{0.0}), "");
+  EXPECT_EQ(p->validate(std::vector<double>{-0.5}), "");
   EXPECT_EQ(p->validate(std::vector<double>{0.5}), "");
+  const std::string why = p->validate(std::vector<double>{0.0});
+  EXPECT_NE(why.find("omega must be non-zero"), std::string::npos) << why;
+}
+
+TEST(DriftProcess, ANegativeDriftHasTheSameWaveletVarianceAndAFallingPath) {
+  const auto p = make_process("DR");
+  expect_all_relatively_near(wv_of(*p, std::vector<double>{-1.0}, dyadic_scales(6)),
+                             {0.25, 1, 4, 16, 64, 256}, 1e-15, "DR(-1)");
+  Rng rng = make_stream(1, {1});
+  std::vector<double> x(10, 0.0);
+  p->simulate(std::vector<double>{-0.25}, rng, x);
+  for (std::size_t t = 0; t < x.size(); ++t) EXPECT_DOUBLE_EQ(x[t], -0.25 * static_cast<double>(t));
+  // The integrated error keeps the sign: x_1 + ... + x_4 = -0.25 (0 + 1 + 2 + 3)... with t = 1..K: -2.5.
+  const auto m = p->sum_moments(std::vector<double>{-0.25}, std::vector<std::int64_t>{4});
+  EXPECT_DOUBLE_EQ(m[0].mean, -2.5);
 }
 
 TEST(DriftProcess, InitialGuessExplainsTheCoarsestScale) {

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,11 @@ struct FitResult {
 /// Fits `model` to `wv`. Throws InputError when the model cannot be fitted at all
 /// (p > J, invalid options). Numerical trouble is reported in the status.
 FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptions& options = {});
+
+/// The sign of every signed-magnitude parameter (DR's omega) of a fit, which the WV cannot
+/// see, set from the series itself: the sign of its least-squares slope against time. The
+/// estimate, its interval (mirrored) and the implied WV are updated; returns the slope.
+double orient_by_series(FitResult& fit, std::span<const double> x);
 
 /// Goodness of fit of a minimised objective with `df` = J - p degrees of freedom, A the
 /// J x p Jacobian at the fit (boundary parameters left out): chi-square(df) when

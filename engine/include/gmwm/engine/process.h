@@ -61,6 +61,11 @@ struct ParameterSpec {
   std::string name;       ///< as in the model syntax, e.g. "sigma2", "phi"
   Transform transform;    ///< domain of the natural parameter
   std::string meaning;    ///< one line for help texts and reports
+  /// The model depends on the parameter through its magnitude only (DR's omega: the WV
+  /// sees omega^2). Its value may be negative; the optimiser works on |x| (the transform
+  /// applies to |x|) and the sign is carried from the starting value, or set from the
+  /// time domain (orient_by_series in fit.h).
+  bool signed_magnitude = false;
 };
 
 /// What a process may need to know about the signal it models.
