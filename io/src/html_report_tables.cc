@@ -169,26 +169,26 @@ std::string gap_tables(const ReportColumn& c) {
   const double scale = tau_scale(c);
   const std::string unit = tau_unit(c);
   std::ostringstream os;
-  os << "<div class=\"gap\">\n<p class=\"summary\"><b>" << (g.detected ? "gap detected" : "no gap") << "</b> (global test p = "
-     << html_escape(num(g.p_value, 3)) << ", statistic " << html_escape(num(g.statistic, 4)) << ")";
-  for (const auto& b : g.bands)
-    os << "; " << html_escape(b.direction) << " at " << html_escape(num(b.tau_from * scale, 4)) << " to "
-       << html_escape(num(b.tau_to * scale, 4)) << " " << unit << " (up to " << html_escape(num(b.peak_ratio, 3)) << "x)";
-  if (!g.steps.empty()) {
-    os << "; explained by ";
-    for (std::size_t k = 0; k < g.steps.size(); ++k) os << (k ? " + " : "") << selection::to_string(g.steps[k]);
-    os << ", gap removed " << html_escape(num(100.0 * g.shrinkage.excess_removed, 3)) << "%";
-  } else {
-    os << "; no unmodelled effect found";
-  }
+  os << "<div class=\"gap\">\n<p class=\"summary\"><b>" << (g.detected ? "gap detected" : "no gap") << "</b>: "
+     << html_escape(g.headline) << " (global test statistic " << html_escape(num(g.statistic, 4)) << ")";
   os << "</p>\n<ul class=\"facts\">\n<li>baseline: <code>" << html_escape(g.baseline.to_string(g.baseline_theta))
      << "</code></li>\n";
   if (!g.steps.empty())
     os << "<li>final model: <code>" << html_escape(g.final_model.to_string(g.final_theta)) << "</code></li>\n";
   for (const auto& conv : c.conversions) os << "<li>conversion: " << html_escape(conv) << "</li>\n";
+  for (const auto& r : g.refused) os << "<li>refused (does not make the fit better): " << html_escape(r) << "</li>\n";
+  if (g.contamination_screened) {
+    os << "<li>contamination screen: ";
+    if (g.contaminated_levels.empty()) os << "no level flagged";
+    for (std::size_t i = 0; i < g.contaminated_levels.size(); ++i)
+      os << (i ? ", " : "levels flagged at ")
+         << html_escape(num(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - 1)].tau * scale, 4)) << " "
+         << unit;
+    os << " (robust WV below the classical one beyond the data's rounding, with far outliers)</li>\n";
+  }
   const auto& s = g.shrinkage;
   os << "<li>objective " << num(s.objective_before) << " &rarr; " << num(s.objective_after) << " (null mean "
-     << num(s.null_mean, 4) << "), levels outside the band " << s.levels_outside_before << " &rarr; "
+     << num(s.null_mean, 4) << " &rarr; " << num(s.null_mean_after, 4) << "), levels outside the band " << s.levels_outside_before << " &rarr; "
      << s.levels_outside_after << ", global p " << num(s.p_value_before, 3) << " &rarr; " << num(s.p_value_after, 3)
      << "</li>\n";
   if (std::isfinite(g.navigation.rms_without))

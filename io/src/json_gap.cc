@@ -103,19 +103,24 @@ json temperature_json(const selection::GapResult& g) {
           {"significant", t.significant}};
 }
 
-}  // namespace
-
-Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, const std::vector<std::string>& conversions) {
-  json c = column_json(column);
-  c["baseline_model"] = g.baseline.to_string(g.baseline_theta);
+json bands_json(const std::vector<selection::GapBand>& v, const ColumnInfo& column) {
   json bands = json::array();
-  for (const auto& b : g.bands)
+  for (const auto& b : v)
     bands.push_back({{"tau_from_seconds", seconds(b.tau_from, column)},
                      {"tau_to_seconds", seconds(b.tau_to, column)},
                      {"tau_from", b.tau_from},
                      {"tau_to", b.tau_to},
                      {"direction", b.direction},
                      {"peak_ratio", json_number(b.peak_ratio)}});
+  return bands;
+}
+
+}  // namespace
+
+Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, const std::vector<std::string>& conversions) {
+  json c = column_json(column);
+  c["baseline_model"] = g.baseline.to_string(g.baseline_theta);
+  json bands = bands_json(g.bands, column);
   json levels = json::array();
   for (const auto& l : g.levels)
     levels.push_back({{"tau", l.tau},
@@ -159,11 +164,24 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                       {"temperature", temperature_json(g)},
                       {"drift", trend_json(g)},
                       {"step_drops", g.step_drops},
+                      {"step_details", g.step_details},
+                      {"refused", g.refused},
                       {"candidates", std::move(candidates)}};
   const auto& s = g.shrinkage;
+  c["headline"] = g.headline;
+  c["contamination"] = {{"screened", g.contamination_screened}, {"levels", g.contaminated_levels}};
+  int outside_after = 0;
+  for (const auto& l : g.levels_after) outside_after += l.outside;
+  c["remaining"] = {{"closed", !g.detected || (g.remaining.empty() && g.headline.find("gap remains") == std::string::npos)},
+                    {"bands", bands_json(g.remaining, column)},
+                    {"levels_outside", outside_after}};
   c["shrinkage"] = {{"objective_before", json_number(s.objective_before)},
                     {"objective_after", json_number(s.objective_after)},
                     {"null_mean", json_number(s.null_mean)},
+                    {"null_mean_after", json_number(s.null_mean_after)},
+                    {"distance_before", json_number(s.distance_before)},
+                    {"distance_after", json_number(s.distance_after)},
+                    {"null_distance_mean", json_number(s.null_distance_mean)},
                     {"excess_removed", json_number(s.excess_removed)},
                     {"rms_log_ratio_before", json_number(s.rms_log_ratio_before)},
                     {"rms_log_ratio_after", json_number(s.rms_log_ratio_after)},

@@ -71,4 +71,20 @@ std::map<SensorKind, Unit> parse_units(const std::string& spec) {
   return out;
 }
 
+std::vector<Unit> units_of(SensorKind kind) {
+  if (kind == SensorKind::kGyro) return {parse_unit("rad/s", kind), parse_unit("deg/s", kind), parse_unit("deg/h", kind)};
+  return {parse_unit("m/s^2", kind), parse_unit("g", kind), parse_unit("mg", kind)};
+}
+
+std::optional<UnitSuggestion> suggest_unit(double variance_ratio, SensorKind kind, const Unit& declared) {
+  if (!(variance_ratio > 0.0) || !std::isfinite(variance_ratio)) return std::nullopt;
+  if (std::abs(std::log(variance_ratio)) < std::log(kUnitRatioMinimum)) return std::nullopt;
+  for (const Unit& u : units_of(kind)) {
+    if (u.name == declared.name) continue;
+    const double f = (u.per_si / declared.per_si) * (u.per_si / declared.per_si);
+    if (std::abs(std::log(variance_ratio / f)) <= std::log(kUnitFactorTolerance)) return UnitSuggestion{u, f};
+  }
+  return std::nullopt;
+}
+
 }  // namespace gmwm::io

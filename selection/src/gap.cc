@@ -105,6 +105,14 @@ struct Base {
   Eigen::VectorXd nu;
 };
 
+// The family of a model without its given values: a refit's starting values must not be
+// anchored to the baseline's sizes (the starting-value search keeps given sizes fixed).
+Model family_of(const Model& m) {
+  std::vector<Component> cs = m.components();
+  for (auto& c : cs) std::fill(c.given.begin(), c.given.end(), std::numeric_limits<double>::quiet_NaN());
+  return Model(std::move(cs));
+}
+
 // The objective left by `spec` on `target` (baseline fixed: the effect is fitted to the
 // residual; refit: the family and the effect together, started from the base's values)
 // and the fit behind it. REPARAMETERISE: the base's family with free values.
@@ -117,13 +125,19 @@ double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::V
   // data's fit and one shape-based start: they cost the most, and the replicates lie
   // close to the base.
   if (warm && o.refit_baseline && spec.process != nullptr) fo.multistarts = kRefitCalibrationStarts;
+  // The data's own refits (REPARAMETERISE, --fit mode) also start from the family's
+  // sub-models: from a baseline far from the data (a datasheet white noise 200x too
+  // high) the shape-based starts alone can end with the white noise collapsed on a
+  // boundary (objective 32704 where 292 exists). The replicates' refits warm-start from
+  // the data's fit instead.
+  if (!warm && (spec.process == nullptr || o.refit_baseline)) fo.nested_starts = true;
   if (spec.process == nullptr) {
     fo.starts = {base.theta};
-    r = fit_gmwm(with_values(like, target), base.model, fo);
+    r = fit_gmwm(with_values(like, target), family_of(base.model), fo);
   } else if (!o.refit_baseline) {
     r = fit_gmwm(with_values(like, target - base.nu), parse_model(spec.process, o.context), fo);
   } else {
-    const Model m = base.model + parse_model(spec.process, o.context);
+    const Model m = family_of(base.model) + parse_model(spec.process, o.context);
     const WaveletVariance w = with_values(like, target);
     fo.starts = {embed_start(base.model, base.theta, m, w)};
     if (warm && warm->status != FitStatus::kFailed) fo.starts.push_back(embed_start(warm->model, warm->theta, m, w));
@@ -141,7 +155,7 @@ double base_objective(const Base& base, const Eigen::VectorXd& target, const Wav
   FitOptions fo = candidate_fit_options(o, omega);
   fo.multistarts = kRefitCalibrationStarts;
   fo.starts = {base.theta};
-  const FitResult r = fit_gmwm(with_values(like, target), base.model, fo);
+  const FitResult r = fit_gmwm(with_values(like, target), family_of(base.model), fo);
   return r.status == FitStatus::kFailed ? objective(target, base.nu, omega) : r.objective;
 }
 
@@ -347,6 +361,430 @@ std::string GapOptions::Validate() const {
   return os.str();
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// The diagnosis as a pipeline of stages with typed hand-offs:
+//   reference -> locate -> time-domain events -> attribution (OUTLIERS, time effects,
+//   WV stepwise) -> shrinkage -> summary.
+// ---------------------------------------------------------------------------------------
+
+// What every stage after the reference shares.
+struct Context {
+  const WaveletVariance& wv;
+  const GapOptions& options;
+  const detail::Reference& ref;
+  const WaveletVariance* robust;
+  const std::vector<double>* x;
+  const std::vector<double>* temperature;
+  /// The objective's weights (objective_weights).
+  Eigen::MatrixXd omega;
+};
+
+// Whether a level carries enough independent coefficients to decide anything alone.
+bool decides(const WaveletVariance& wv, double tau, const GapOptions& o) {
+  return wv_eta(wv.n - static_cast<std::int64_t>(tau) + 1, tau) >= o.min_deciding_coefficients;
+}
+
+// The objective's weights: 1 / Var(nuhat_j) at the data's level where the data lie below
+// the baseline, i.e. the baseline replicates' variance of nuhat_j rescaled by r_j^2,
+// r_j = min(nuhat_j / nu_j(baseline), 1) (a WV's spread scales with its level). Weights from the baseline alone make every refit on data
+// far from it (a datasheet white noise 8x or 200x too high) chase the baseline's scales
+// and stop short (README example: 10 of 16 levels left outside). Where a level has too
+// few coefficients to decide (decides()), its own nuhat_j can sit 100x below its mean, so
+// r_j is taken from the coarsest deciding level instead.
+Eigen::MatrixXd objective_weights(const WaveletVariance& wv, const Eigen::VectorXd& nuhat,
+                                  const detail::Reference& ref, const GapOptions& o) {
+  const Eigen::Index J = nuhat.size();
+  Eigen::VectorXd r = (nuhat.array() / ref.nu.array()).matrix();
+  double last = 1.0;
+  for (Eigen::Index j = 0; j < J; ++j) {
+    if (decides(wv, wv.tau[static_cast<std::size_t>(j)], o)) last = r(j);
+    else r(j) = last;
+  }
+  // Only deficits raise a weight (r_j < 1: the data are more precise there than the
+  // baseline says); an excess keeps the baseline's weight, so the levels where an
+  // unmodelled effect shows still pin its parameters (a SIN's frequency).
+  r = r.cwiseMin(1.0);
+  return (ref.var.array() * r.array().square()).cwiseInverse().matrix().asDiagonal();
+}
+
+// E[G] of a model on data from itself: sum_j omega_j Var_m(nuhat_j), the replicates'
+// variance rescaled to the model's WV. The excess of a model is its G above this.
+double null_mean(const Context& c, const Eigen::VectorXd& nu) {
+  double e = 0.0;
+  for (Eigen::Index j = 0; j < nu.size(); ++j) {
+    const double r = nu(j) / c.ref.nu(j);
+    e += c.omega(j, j) * c.ref.var(j) * r * r;
+  }
+  return e;
+}
+
+// How well a model describes the current data: the objective, the levels outside its
+// reference band (the baseline's reference shifted to the model) and the global p.
+struct Fitness {
+  double objective = 0.0;
+  int outside = 0;
+  double distance = 0.0;  ///< the global test's statistic against the model's reference
+  double p = 1.0;
+};
+
+Eigen::VectorXd log_shift(const Context& c, const Eigen::VectorXd& nu) {
+  return (nu.array() / c.ref.nu.array()).log().matrix();
+}
+
+Fitness fitness(const Context& c, const Eigen::VectorXd& data, const Eigen::VectorXd& nu) {
+  const Eigen::VectorXd shift = log_shift(c, nu);
+  Fitness f;
+  f.objective = objective(data, nu, c.omega);
+  for (const auto& l : detail::map_levels(c.wv, data, c.ref, nu, shift, c.options.alpha)) f.outside += l.outside;
+  f.distance = detail::distance(c.ref, data, shift);
+  f.p = detail::p_value(c.ref, f.distance);
+  return f;
+}
+
+// An effect is kept only when it makes the fit better on the data: a lower objective and
+// no more levels outside the band than before (issue 14, item 1).
+bool better(const Fitness& after, const Fitness& before) {
+  return after.objective < before.objective && after.outside <= before.outside;
+}
+
+std::string refusal(const std::string& what, const Fitness& before, const Fitness& after) {
+  std::ostringstream os;
+  os.precision(4);
+  os << what << " (objective " << before.objective << " -> " << after.objective << ", levels outside "
+     << before.outside << " -> " << after.outside << ")";
+  return os.str();
+}
+
+// Bands that rest only on levels with too few coefficients are dropped (a single
+// coefficient's chi-square(1) spans three decades).
+std::vector<GapBand> deciding_bands(const WaveletVariance& wv, std::vector<GapBand> bands, const GapOptions& o) {
+  std::erase_if(bands, [&](const GapBand& b) {
+    for (int j = b.first_level; j <= b.last_level; ++j)
+      if (decides(wv, wv.tau[static_cast<std::size_t>(j - 1)], o)) return false;
+    return true;
+  });
+  return bands;
+}
+
+double bonferroni_z(const GapOptions& o, int levels) {
+  return boost::math::quantile(boost::math::complement(boost::math::normal(), o.alpha / (2.0 * levels)));
+}
+
+// Stage 1: the baseline's reference distribution (simulated replicates).
+detail::Reference reference_stage(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
+                                  const GapOptions& options, const std::vector<double>* x,
+                                  const std::vector<double>* temperature) {
+  const ClassicalWvEstimator classical;
+  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
+  const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
+  detail::SeriesStatistic series_statistic;
+  if (x)
+    series_statistic = [temperature, nu_base](const std::vector<double>& s) {
+      return detail::series_statistics(s, temperature, nu_base);
+    };
+  return detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
+                                 wv.alpha, options.progress, series_statistic);
+}
+
+// Stage 2: where the data depart from the reference (levels, bands, global test, time
+// windows, split halves).
+void locate_stage(const Context& c, const Eigen::VectorXd& nuhat, GapResult& g) {
+  const int J = c.wv.levels();
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(J);
+  g.levels = detail::map_levels(c.wv, nuhat, c.ref, c.ref.nu, zero, c.options.alpha);
+  g.statistic = detail::distance(c.ref, nuhat, zero);
+  g.p_value = detail::p_value(c.ref, g.statistic);
+  const std::vector<GapBand> all = detail::find_bands(g.levels, bonferroni_z(c.options, J), c.options.min_effect);
+  g.bands = deciding_bands(c.wv, all, c.options);
+  if (g.bands.size() < all.size())
+    g.notes.push_back(std::to_string(all.size() - g.bands.size()) +
+                      " band(s) at the coarsest levels rest on fewer than " +
+                      std::to_string(static_cast<int>(c.options.min_deciding_coefficients)) +
+                      " effective coefficients and do not decide detection");
+  g.detected = g.p_value < c.options.alpha && !g.bands.empty();
+  if (c.x) {
+    detail::map_windows(*c.x, g.baseline, g.baseline_theta, c.options, g);
+    detail::split_halves(*c.x, c.options.alpha, g);
+  }
+}
+
+// Stage 3: time-domain events (step, transient, drift, temperature coupling), tested
+// with Bonferroni over them and the WV candidates. They support a detection only when
+// the global WV test rejects: a baseline the WV does not reject gets no effect named.
+detail::TimeFindings time_events_stage(const Context& c, const Eigen::VectorXd& nu_base, GapResult& g) {
+  detail::TimeFindings time;
+  if (!c.x) return time;
+  const double K =
+      static_cast<double>(candidates_for(g.baseline, c.options).size()) + 1.0 + (c.temperature ? 1.0 : 0.0);
+  time = detail::run_time_tests(*c.x, c.temperature, nu_base, c.ref.series_stats, c.options.alpha / K,
+                                c.options.alpha, g);
+  const bool found = time.event || time.coupling || time.trend;
+  if (found && !g.detected) {
+    g.detected = true;
+    if (g.bands.empty()) g.bands = detail::event_bands(time, g.levels);
+    if (g.bands.empty() && time.trend)
+      g.bands = detail::drift_band(g.trend->omega, c.wv, nu_base, c.options.context, g.levels);
+  }
+  return time;
+}
+
+// The attribution's running state.
+struct Attribution {
+  Eigen::VectorXd data;  ///< the WV compared from here on (robust, corrected for time effects)
+  Base base;
+  Eigen::MatrixXd reps;  ///< the current base's reference replicates (rescaled)
+  std::vector<FitResult> added;
+  bool outliers = false;
+  Fitness now;
+  GapOptions step_options;
+};
+
+// Stage 4a: OUTLIERS, a fine-scale excess the robust WV does not show.
+void outliers_stage(const Context& c, GapResult& g, Attribution& a) {
+  if (!c.robust || !c.x) return;
+  const std::vector<double>& x = *c.x;
+  const robust::Quantization q = robust::detect_quantization(x.data(), static_cast<std::int64_t>(x.size()));
+  const robust::Tuning tuning =
+      robust::tune(robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber),
+                   c.robust->efficiency.value_or(robust::kDefaultEfficiency));
+  const auto diag = robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), *c.robust, c.wv,
+                                                     q, tuning);
+  const int J = c.wv.levels();
+  g.contamination_screened = true;
+  for (int j = 0; j < static_cast<int>(diag.size()); ++j)
+    if (diag[static_cast<std::size_t>(j)].contaminated) g.contaminated_levels.push_back(j + 1);
+  int flagged = 0;
+  for (int j = 0; j < std::min(kOutlierLevels, J); ++j) flagged += diag[static_cast<std::size_t>(j)].contaminated;
+  if (flagged == 0) return;
+  bool usable = true;
+  for (int j = 0; j < J; ++j) usable &= c.robust->wv[static_cast<std::size_t>(j)] > 0.0;
+  const std::string flags = std::to_string(flagged) + " of the finest " + std::to_string(kOutlierLevels) +
+                            " levels flagged contaminated (robust WV below classical beyond what the data's rounding "
+                            "explains, with an excess of far outliers)";
+  if (!usable) {
+    g.notes.push_back(flags + ", but the robust WV is not positive at every level: not used");
+    return;
+  }
+  const Eigen::VectorXd robust_data = c.robust->values();
+  const Fitness f = fitness(c, robust_data, a.base.nu);
+  if (!better(f, a.now)) {
+    g.refused.push_back(refusal("OUTLIERS", a.now, f));
+    g.notes.push_back(flags + ", but the robust WV does not fit the baseline better: OUTLIERS not added");
+    return;
+  }
+  g.steps.push_back(GapEffect::kOutliers);
+  g.step_details.push_back("OUTLIERS (the robust WV does not show the fine-scale excess)");
+  g.notes.push_back(flags + ": the robust WV is used from here on");
+  g.step_drops.push_back(a.now.objective - f.objective);
+  a.data = robust_data;
+  a.now = f;
+  a.outliers = true;
+}
+
+// Stage 4b: the time-domain effects: the series corrected for them, its WV the data from
+// here on, kept only when that makes the fit better.
+void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapResult& g, Attribution& a) {
+  if (!(time.event || time.coupling || time.trend)) return;
+  // A snapshot to restore when the correction does not help.
+  const std::size_t steps = g.steps.size(), notes = g.notes.size();
+  const auto event = g.event;
+  const auto trend = g.trend;
+  const auto temperature = g.temperature;
+  const auto bands = g.bands;
+  const std::vector<double> corrected = detail::apply_time_effects(*c.x, c.temperature, time, g);
+  if (g.event) g.bands = detail::merge_event_band(g.bands, time, g.levels, g.event->effect);
+  WaveletVariance w;
+  if (a.outliers) {
+    robust::RobustWvOptions ro;
+    ro.estimator = robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber);
+    ro.efficiency = c.robust->efficiency.value_or(robust::kDefaultEfficiency);
+    ro.levels = c.wv.levels();
+    w = robust::robust_wv(corrected.data(), c.wv.n, ro);
+  } else {
+    const ClassicalWvEstimator classical;
+    const WvEstimator& estimator = c.options.estimator ? *c.options.estimator : classical;
+    w = estimator.compute(corrected.data(), c.wv.n, c.wv.levels(), c.wv.alpha);
+  }
+  const Eigen::VectorXd v = w.values();
+  const bool usable = v.allFinite() && (v.array() > 0.0).all();
+  const Fitness f = usable ? fitness(c, v, a.base.nu) : a.now;
+  std::string what;
+  for (std::size_t k = steps; k < g.steps.size(); ++k) what += (k > steps ? " + " : "") + std::string(to_string(g.steps[k]));
+  if (!usable || !better(f, a.now)) {
+    if (usable) g.refused.push_back(refusal(what, a.now, f));
+    g.steps.resize(steps);
+    g.notes.resize(notes);
+    g.event = event;
+    g.trend = trend;
+    g.temperature = temperature;
+    g.bands = bands;
+    g.notes.push_back(what + " found in the time domain, but removing it does not make the fit better: not added");
+    return;
+  }
+  // The time effects' drop together, credited to the first of them.
+  for (std::size_t k = steps; k < g.steps.size(); ++k) {
+    g.step_drops.push_back(k == steps ? a.now.objective - f.objective : 0.0);
+    g.step_details.push_back(detail::time_step_text(g.steps[k], g, c.options.context));
+  }
+  a.data = v;
+  a.now = f;
+}
+
+// The cleared candidates of a step in the order they are tried: the disambiguated pick
+// first (GAP.md s.3, candidate 0: a new effect must beat re-sizing the baseline's own
+// terms by more than its own null threshold, else REPARAMETERISE), then the others by
+// their margin over their threshold.
+std::vector<int> picks_in_order(const Step& st, const std::vector<CandidateSpec>& specs) {
+  int pick = st.best;
+  for (std::size_t c = 0; c < specs.size(); ++c) {
+    const GapCandidate& re = st.scored[c];
+    if (specs[c].effect != GapEffect::kReparameterise || !re.cleared) continue;
+    if (pick < 0 || st.scored[static_cast<std::size_t>(pick)].improvement - re.improvement <=
+                        st.scored[static_cast<std::size_t>(pick)].threshold)
+      pick = static_cast<int>(c);
+  }
+  std::vector<int> order;
+  if (pick >= 0) order.push_back(pick);
+  std::vector<int> rest;
+  for (std::size_t c = 0; c < specs.size(); ++c)
+    if (st.scored[c].cleared && static_cast<int>(c) != pick) rest.push_back(static_cast<int>(c));
+  std::sort(rest.begin(), rest.end(), [&](int l, int r) {
+    const auto& a = st.scored[static_cast<std::size_t>(l)];
+    const auto& b = st.scored[static_cast<std::size_t>(r)];
+    return a.improvement - a.threshold > b.improvement - b.threshold;
+  });
+  order.insert(order.end(), rest.begin(), rest.end());
+  return order;
+}
+
+// The base after a chosen candidate (REPARAMETERISE or refit: the whole fitted model;
+// else the base plus the effect at its fitted values).
+Base next_base(const GapCandidate& chosen, const Base& base, const GapOptions& o, const WaveletVariance& wv) {
+  Base next;
+  if (chosen.effect == GapEffect::kReparameterise || o.refit_baseline) {
+    next.model = chosen.fit.model;
+    next.theta = chosen.fit.theta;
+  } else {
+    next.model = base.model + chosen.fit.model;
+    next.theta.resize(base.theta.size() + chosen.fit.theta.size());
+    next.theta << base.theta, chosen.fit.theta;
+  }
+  next.nu = next.model.wv(next.theta, wv.tau);
+  return next;
+}
+
+// Stage 4c: forward stepwise over the WV candidates. Each step takes the first cleared
+// candidate (in picks_in_order) that makes the fit better on the data; the search stops
+// when the global test stops rejecting, when no cleared candidate improves the fit, or
+// after max_steps.
+void stepwise_stage(const Context& c, GapResult& g, Attribution& a) {
+  for (int step = 0; step < c.options.max_steps && a.now.p < c.options.alpha; ++step) {
+    const auto specs = candidates_for(a.base.model, a.step_options);
+    if (specs.empty()) break;
+    Step st = score_step(specs, a.base, a.data, a.reps, c.wv, c.omega, a.step_options);
+    if (step == 0) g.candidates = st.scored;
+    const std::vector<int> order = picks_in_order(st, specs);
+    if (order.empty()) break;
+    bool took = false;
+    for (int pick : order) {
+      const GapCandidate& chosen = st.scored[static_cast<std::size_t>(pick)];
+      Base next = next_base(chosen, a.base, a.step_options, c.wv);
+      const Fitness f = fitness(c, a.data, next.nu);
+      if (!better(f, a.now)) {
+        g.refused.push_back(refusal(to_string(chosen.effect), a.now, f));
+        continue;
+      }
+      const bool effect = chosen.effect != GapEffect::kReparameterise;
+      if (effect) a.added.push_back(a.step_options.refit_baseline ? effect_part(chosen.fit, a.base) : chosen.fit);
+      // Replicates of the new base: the old ones rescaled level by level.
+      const Eigen::VectorXd scale = (next.nu.array() / a.base.nu.array()).matrix();
+      const Eigen::MatrixXd reps_next = a.reps * scale.asDiagonal();
+      if (effect && a.added.size() == 1)
+        effect_intervals(specs[static_cast<std::size_t>(pick)], a.base, reps_next, c.wv, c.omega, a.step_options,
+                         chosen.fit, a.added.front());
+      g.steps.push_back(chosen.effect);
+      g.step_details.push_back(effect ? detail::effect_step_text(chosen.effect, a.added.back(), c.options.context)
+                                      : std::string("REPARAMETERISE"));
+      g.step_drops.push_back(a.now.objective - f.objective);
+      a.reps = reps_next;
+      a.base = std::move(next);
+      a.now = f;
+      if (!effect) a.step_options.refit_baseline = true;
+      took = true;
+      break;
+    }
+    if (!took) {
+      g.notes.push_back("no candidate that clears its threshold makes the fit better on the data (lower objective, "
+                        "no more levels outside): the search stops");
+      break;
+    }
+  }
+}
+
+// The top candidate: the first step (OUTLIERS, then the time-domain effects, then the WV
+// candidates by calibrated margin), except that a drift, step or transient found in the
+// time domain yields to a later step that removed more of the gap (a strong slow AR1 or
+// flicker moves the end segments and concentrates coarse coefficients too).
+GapEffect top_effect(const GapResult& g) {
+  if (g.steps.empty()) return GapEffect::kNone;
+  const auto time_domain = [](GapEffect e) {
+    return e == GapEffect::kDR || e == GapEffect::kStep || e == GapEffect::kTransient;
+  };
+  if (time_domain(g.steps.front()))
+    for (std::size_t k = 1; k < g.steps.size(); ++k)
+      if (g.step_drops[k] > g.step_drops[0] && g.steps[k] != GapEffect::kReparameterise) return g.steps[k];
+  return g.steps.front();
+}
+
+// Stage 5: the final model and how much of the gap it removed.
+void shrinkage_stage(const Context& c, const Attribution& a, GapResult& g) {
+  g.effect = top_effect(g);
+  if (g.steps.empty() && g.detected)
+    g.notes.push_back("no candidate effect clears its calibrated threshold and improves the fit: no unmodelled "
+                      "effect found");
+  {
+    Eigen::VectorXd th = a.base.theta;
+    g.final_model = a.base.model.canonical(&th);
+    g.final_theta = th;
+  }
+  if (!a.added.empty()) g.final_fit = a.added.front();
+  const bool drift = std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR) != g.steps.end() && g.trend &&
+                     g.trend->significant;
+  if (drift && (g.effect == GapEffect::kDR || a.added.empty())) g.final_fit = detail::drift_fit(*g.trend, c.options);
+
+  GapShrinkage& s = g.shrinkage;
+  g.levels_after = detail::map_levels(c.wv, a.data, c.ref, a.base.nu, log_shift(c, a.base.nu), c.options.alpha);
+  s.objective_after = a.now.objective;
+  s.levels_outside_after = a.now.outside;
+  s.p_value_after = a.now.p;
+  s.rms_log_ratio_after = detail::rms_log_ratio(a.data, a.base.nu, g.bands);
+  s.null_mean_after = null_mean(c, a.base.nu);
+  // The share removed is measured by the global test's statistic (the squared
+  // Mahalanobis distance of log nuhat from the model's reference), on one yardstick for
+  // every model: its excess over its null mean.
+  s.distance_after = a.now.distance;
+  const double excess_before = std::max(s.distance_before - s.null_distance_mean, 0.0);
+  const double excess_after = std::max(s.distance_after - s.null_distance_mean, 0.0);
+  s.excess_removed = excess_before > 0.0 ? std::clamp((excess_before - excess_after) / excess_before, 0.0, 1.0) : 0.0;
+  // Where the final model still misses: runs of levels outside its band (deciding ones).
+  std::vector<GapLevel> outside = g.levels_after;
+  for (auto& l : outside) l.z = l.outside ? l.z : 0.0;
+  g.remaining = deciding_bands(c.wv, detail::find_bands(outside, 0.0, 0.0), c.options);
+  if (drift && !has_process(g.final_model, "DR")) {
+    // The drift removed in the time domain belongs to the final model too (signed).
+    const FitResult d = detail::drift_fit(*g.trend, c.options);
+    Eigen::VectorXd th(g.final_theta.size() + 1);
+    th << g.final_theta, d.theta;
+    g.final_model = (g.final_model + d.model).canonical(&th);
+    g.final_theta = th;
+  }
+  g.navigation.rms_with = detail::navigation_rms(g.final_model, g.final_theta, c.options.context, g.notes);
+}
+
+}  // namespace
+
 GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
                        const GapOptions& options, const WaveletVariance* robust, const std::vector<double>* x,
                        const std::vector<double>* temperature) {
@@ -360,220 +798,45 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   if (temperature && (!x || temperature->size() != x->size()))
     throw InputError("gap: the temperature channel has " + std::to_string(temperature->size()) +
                      " samples, the signal " + std::to_string(x ? x->size() : 0));
-  const ClassicalWvEstimator classical;
-  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
-  const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
-  detail::SeriesStatistic series_statistic;
-  if (x)
-    series_statistic = [&](const std::vector<double>& s) {
-      return detail::series_statistics(s, temperature, nu_base);
-    };
-  const detail::Reference ref =
-      detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
-                              wv.alpha, options.progress, series_statistic);
-  const int J = wv.levels();
+
+  const detail::Reference ref = reference_stage(wv, baseline, theta, options, x, temperature);
+  Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, options)};
+
   GapResult g;
   g.baseline = baseline;
   g.baseline_theta = theta;
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(J);
-  g.levels = detail::map_levels(wv, nuhat, ref, ref.nu, zero, options.alpha);
-  g.statistic = detail::distance(ref, nuhat, zero);
-  g.p_value = detail::p_value(ref, g.statistic);
-  const double z_bonferroni =
-      boost::math::quantile(boost::math::complement(boost::math::normal(), options.alpha / (2.0 * J)));
-  g.bands = detail::find_bands(g.levels, z_bonferroni, options.min_effect);
-  g.detected = g.p_value < options.alpha && !g.bands.empty();
-  if (x) {
-    detail::map_windows(*x, baseline, theta, options, g);
-    detail::split_halves(*x, options.alpha, g);
-  }
-  // Time-domain tests (Bonferroni over them and the WV candidates): a significant event or
-  // temperature coupling is a departure from the baseline even where the WV shows none.
-  detail::TimeFindings time;
-  if (x) {
-    const double K = static_cast<double>(candidates_for(baseline, options).size()) + 1.0 + (temperature ? 1.0 : 0.0);
-    time = detail::run_time_tests(*x, temperature, nu_base, ref.series_stats, options.alpha / K, options.alpha, g);
-    if ((time.event || time.coupling || time.trend) && !g.detected) {
-      g.detected = true;
-      if (g.bands.empty()) g.bands = detail::event_bands(time, g.levels);
-      if (g.bands.empty() && time.trend) g.bands = detail::drift_band(g.trend->omega, wv, nu_base, options.context, g.levels);
-    }
-  }
+  locate_stage(c, nuhat, g);
+  const bool wv_detected = g.detected;
+  const detail::TimeFindings time = time_events_stage(c, ref.nu, g);
 
-  // The objective's weights: the baseline's own spread of nuhat (raw scale).
-  const Eigen::MatrixXd omega = ref.var.cwiseInverse().asDiagonal();
-  double null_mean = 0.0;
-  for (Eigen::Index b = 0; b < ref.wv.rows(); ++b) null_mean += objective(ref.wv.row(b).transpose(), ref.nu, omega);
-  null_mean /= static_cast<double>(ref.wv.rows());
-
+  Attribution a{nuhat, Base{baseline, theta, ref.nu}, ref.wv, {}, false, fitness(c, nuhat, ref.nu), options};
   GapShrinkage& s = g.shrinkage;
-  s.objective_before = objective(nuhat, ref.nu, omega);
-  s.null_mean = null_mean;
+  s.objective_before = a.now.objective;
+  s.null_mean = null_mean(c, ref.nu);
   s.rms_log_ratio_before = detail::rms_log_ratio(nuhat, ref.nu, g.bands);
-  for (const auto& l : g.levels) s.levels_outside_before += l.outside;
+  s.levels_outside_before = a.now.outside;
+  s.distance_before = a.now.distance;
+  for (double d : ref.null_distance) s.null_distance_mean += d;
+  s.null_distance_mean /= static_cast<double>(std::max<std::size_t>(ref.null_distance.size(), 1));
   s.p_value_before = g.p_value;
-  g.final_model = baseline;
-  g.final_theta = theta;
-  g.navigation.rms_without = g.navigation.rms_with = detail::navigation_rms(baseline, theta, options.context, g.notes);
-  auto finish_unchanged = [&] {
-    s.objective_after = s.objective_before;
-    s.rms_log_ratio_after = s.rms_log_ratio_before;
-    s.levels_outside_after = s.levels_outside_before;
-    s.p_value_after = s.p_value_before;
-  };
+  g.navigation.rms_without = detail::navigation_rms(baseline, theta, options.context, g.notes);
   if (!g.detected) {
     g.notes.push_back(g.p_value >= options.alpha ? "the global test does not reject the baseline"
                                                  : "no band of levels passes both the multiplicity-corrected z "
                                                    "threshold and the effect-size threshold");
-    finish_unchanged();
-    return g;
-  }
-
-  // OUTLIERS first: a fine-scale excess the robust WV does not show.
-  Eigen::VectorXd data = nuhat;
-  bool outliers = false;
-  if (robust && x) {
-    const robust::Quantization q = robust::detect_quantization(x->data(), static_cast<std::int64_t>(x->size()));
-    const robust::Tuning tuning = robust::tune(
-        robust::parse_robust_kind(robust->estimator).value_or(robust::RobustKind::kHuber),
-        robust->efficiency.value_or(robust::kDefaultEfficiency));
-    const auto diag = robust::contamination_diagnostic(x->data(), static_cast<std::int64_t>(x->size()), *robust, wv, q,
-                                                       tuning);
-    int flagged = 0;
-    for (int j = 0; j < std::min(kOutlierLevels, J); ++j) flagged += diag[static_cast<std::size_t>(j)].contaminated;
-    outliers = flagged > 0;
-    if (flagged > 0) {
-      g.steps.push_back(GapEffect::kOutliers);
-      g.notes.push_back(std::to_string(flagged) + " of the finest " + std::to_string(kOutlierLevels) +
-                        " levels flagged contaminated (robust WV below classical beyond what the data's rounding "
-                        "explains, with an excess of far outliers): the robust WV is used from here on");
-      bool usable = true;
-      for (int j = 0; j < J; ++j) usable &= robust->wv[static_cast<std::size_t>(j)] > 0.0;
-      if (usable) data = robust->values();
-      g.step_drops.push_back(s.objective_before - objective(data, ref.nu, omega));
+  } else {
+    outliers_stage(c, g, a);
+    time_effects_stage(c, time, g, a);
+    stepwise_stage(c, g, a);
+    // Detected by a time-domain test alone whose correction did not help: no gap.
+    if (!wv_detected && g.steps.empty()) {
+      g.detected = false;
+      g.bands.clear();
+      g.notes.push_back("the time-domain finding was not kept and the WV shows no gap: no gap");
     }
   }
-
-  // Then the time-domain effects: the series corrected for them, its WV the data from here on.
-  bool time_explained = false;
-  if (time.event || time.coupling || time.trend) {
-    const std::size_t first_time_step = g.steps.size();
-    const double g_before_time = objective(data, ref.nu, omega);
-    const std::vector<double> corrected = detail::apply_time_effects(*x, temperature, time, g);
-    if (g.event) g.bands = detail::merge_event_band(g.bands, time, g.levels, g.event->effect);
-    WaveletVariance w;
-    if (outliers) {
-      robust::RobustWvOptions ro;
-      ro.estimator = robust::parse_robust_kind(robust->estimator).value_or(robust::RobustKind::kHuber);
-      ro.efficiency = robust->efficiency.value_or(robust::kDefaultEfficiency);
-      ro.levels = J;
-      w = robust::robust_wv(corrected.data(), wv.n, ro);
-    } else {
-      w = estimator.compute(corrected.data(), wv.n, J, wv.alpha);
-    }
-    const Eigen::VectorXd v = w.values();
-    if (v.allFinite() && (v.array() > 0.0).all()) data = v;
-    time_explained = detail::p_value(ref, detail::distance(ref, data, zero)) >= options.alpha;
-    // The time effects' drop together, credited to the first of them.
-    for (std::size_t k = first_time_step; k < g.steps.size(); ++k)
-      g.step_drops.push_back(k == first_time_step ? g_before_time - objective(data, ref.nu, omega) : 0.0);
-  }
-
-  Base base{baseline, theta, ref.nu};
-  Eigen::MatrixXd reps = ref.wv;
-  std::vector<FitResult> added;
-  // After a REPARAMETERISE step the baseline's values are the data's, not the sim's:
-  // later candidates re-estimate them together with the effect (as in --fit mode).
-  GapOptions step_options = options;
-  for (int step = 0; step < options.max_steps && !time_explained; ++step) {
-    const auto specs = candidates_for(base.model, step_options);
-    if (specs.empty()) break;
-    Step st = score_step(specs, base, data, reps, wv, omega, step_options);
-    if (step == 0) g.candidates = st.scored;
-    // Disambiguation (GAP.md s.3, candidate 0): a new effect must beat re-sizing the
-    // baseline's own terms by more than its own null threshold; otherwise the answer is
-    // REPARAMETERISE (an AR1 with phi ~ 0 is a white noise, a FLICKER over few octaves
-    // a re-sized random walk, ...).
-    int pick = st.best;
-    for (std::size_t c = 0; c < specs.size(); ++c) {
-      const GapCandidate& re = st.scored[c];
-      if (specs[c].effect != GapEffect::kReparameterise || !re.cleared) continue;
-      if (pick < 0 || st.scored[static_cast<std::size_t>(pick)].improvement - re.improvement <=
-                          st.scored[static_cast<std::size_t>(pick)].threshold)
-        pick = static_cast<int>(c);
-    }
-    if (pick < 0) break;
-    const GapCandidate& chosen = st.scored[static_cast<std::size_t>(pick)];
-    g.steps.push_back(chosen.effect);
-    const double g_before_step = objective(data, base.nu, omega);
-    // The new base: the chosen fit (REPARAMETERISE or refit: the whole model; else
-    // base + the effect at its fitted values).
-    Base next;
-    if (chosen.effect == GapEffect::kReparameterise || step_options.refit_baseline) {
-      next.model = chosen.fit.model;
-      next.theta = chosen.fit.theta;
-      if (chosen.effect != GapEffect::kReparameterise) added.push_back(effect_part(chosen.fit, base));
-    } else {
-      next.model = base.model + chosen.fit.model;
-      next.theta.resize(base.theta.size() + chosen.fit.theta.size());
-      next.theta << base.theta, chosen.fit.theta;
-      added.push_back(chosen.fit);
-    }
-    next.nu = next.model.wv(next.theta, wv.tau);
-    // Replicates of the new base: the old ones rescaled level by level.
-    const Eigen::VectorXd scale = (next.nu.array() / base.nu.array()).matrix();
-    const Eigen::MatrixXd reps_next = reps * scale.asDiagonal();
-    if (chosen.effect != GapEffect::kReparameterise && added.size() == 1)
-      effect_intervals(specs[static_cast<std::size_t>(pick)], base, reps_next, wv, omega, step_options, chosen.fit,
-                       added.front());
-    reps = reps_next;
-    base = std::move(next);
-    g.step_drops.push_back(g_before_step - objective(data, base.nu, omega));
-    const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
-    if (detail::p_value(ref, detail::distance(ref, data, shift)) >= options.alpha) break;
-    if (chosen.effect == GapEffect::kReparameterise) step_options.refit_baseline = true;
-  }
-  // The top candidate: the first step (OUTLIERS, then the time-domain effects, then the
-  // WV candidates by calibrated margin), except that a drift, step or transient found in
-  // the time domain yields to a later step that removed more of the gap (a strong slow
-  // AR1 or flicker moves the end segments and concentrates coarse coefficients too).
-  g.effect = g.steps.empty() ? GapEffect::kNone : g.steps.front();
-  const auto time_domain = [](GapEffect e) {
-    return e == GapEffect::kDR || e == GapEffect::kStep || e == GapEffect::kTransient;
-  };
-  if (!g.steps.empty() && time_domain(g.steps.front()))
-    for (std::size_t k = 1; k < g.steps.size(); ++k)
-      if (g.step_drops[k] > g.step_drops[0] && g.steps[k] != GapEffect::kReparameterise) {
-        g.effect = g.steps[k];
-        break;
-      }
-  if (g.steps.empty())
-    g.notes.push_back("no candidate effect clears its calibrated threshold: no unmodelled effect found");
-  g.final_model = base.model.canonical(&base.theta);
-  g.final_theta = base.theta;
-  if (!added.empty()) g.final_fit = added.front();
-  const bool drift = std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR) != g.steps.end() && g.trend &&
-                     g.trend->significant;
-  if (drift && (g.effect == GapEffect::kDR || added.empty())) g.final_fit = detail::drift_fit(*g.trend, options);
-
-  const Eigen::VectorXd shift = (base.nu.array() / ref.nu.array()).log().matrix();
-  const auto after = detail::map_levels(wv, data, ref, base.nu, shift, options.alpha);
-  s.objective_after = objective(data, base.nu, omega);
-  const double excess = s.objective_before - s.null_mean;
-  s.excess_removed = excess > 0.0 ? (s.objective_before - s.objective_after) / excess : 0.0;
-  s.rms_log_ratio_after = detail::rms_log_ratio(data, base.nu, g.bands);
-  s.levels_outside_after = 0;
-  for (const auto& l : after) s.levels_outside_after += l.outside;
-  s.p_value_after = detail::p_value(ref, detail::distance(ref, data, shift));
-  if (drift && !has_process(g.final_model, "DR")) {
-    // The drift removed in the time domain belongs to the final model too.
-    const FitResult d = detail::drift_fit(*g.trend, options);
-    Eigen::VectorXd th(g.final_theta.size() + 1);
-    th << g.final_theta, d.theta;
-    g.final_model = (g.final_model + d.model).canonical(&th);
-    g.final_theta = th;
-  }
-  g.navigation.rms_with = detail::navigation_rms(g.final_model, g.final_theta, options.context, g.notes);
+  shrinkage_stage(c, a, g);
+  g.headline = detail::headline(g, options.context, options.alpha);
   return g;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include <boost/math/distributions/normal.hpp>
 
@@ -52,6 +53,94 @@ double navigation_rms(const Model& m, const Eigen::VectorXd& theta, const Proces
     notes.push_back(std::string("integrated error not computed: ") + e.what());
     return std::numeric_limits<double>::quiet_NaN();
   }
+}
+
+namespace {
+
+std::string g3(double x, int digits = 3) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << x;
+  return os.str();
+}
+
+std::string band_text(const GapBand& b, const ProcessContext& ctx) {
+  std::string out = scale_text(b.tau_from, ctx);
+  if (b.tau_to > b.tau_from) out += " - " + scale_text(b.tau_to, ctx);
+  return out;
+}
+
+}  // namespace
+
+std::string scale_text(double tau, const ProcessContext& ctx) {
+  return ctx.freq_known ? g3(tau / ctx.freq) + " s" : g3(tau, 6) + " samples";
+}
+
+std::string time_step_text(GapEffect e, const GapResult& g, const ProcessContext& ctx) {
+  std::string out = to_string(e);
+  const double rate = ctx.freq_known ? ctx.freq : 1.0;
+  const std::string unit = ctx.freq_known ? " s" : " samples";
+  if ((e == GapEffect::kStep || e == GapEffect::kTransient) && g.event) {
+    const GapEvent& ev = *g.event;
+    if (e == GapEffect::kStep)
+      out += " of " + g3(ev.size) + " at " + g3(static_cast<double>(ev.sample) / rate, 6) + unit;
+    else
+      out += " " + g3(ev.size) + " exp(-t / " + g3(ev.time_constant / rate) + unit + ")";
+  }
+  if (e == GapEffect::kDR && g.trend)
+    out += " of " + g3(g.trend->omega * rate) + (ctx.freq_known ? " per s" : " per sample");
+  if (e == GapEffect::kTemperature && g.temperature)
+    out += " (coupling " + g3(g.temperature->k, 4) + " per temperature unit, 95% CI " + g3(g.temperature->ci_low) +
+           " to " + g3(g.temperature->ci_high) + ")";
+  return out;
+}
+
+std::string effect_step_text(GapEffect e, const FitResult& f, const ProcessContext& ctx) {
+  std::string out = to_string(e);
+  if (f.status == FitStatus::kFailed || f.theta.size() == 0 || f.model.num_components() == 0) return out;
+  const Process& p = *f.model.components()[0].process;
+  if (e == GapEffect::kSin && f.theta.size() >= 2)
+    out += " at " + g3(p.to_display(1, f.theta(1)), 4) + (ctx.freq_known ? " Hz" : " cycles/sample");
+  else if (e == GapEffect::kDR)
+    out += " of " + g3(f.theta(0) * (ctx.freq_known ? ctx.freq : 1.0)) + (ctx.freq_known ? " per s" : " per sample");
+  else if (e == GapEffect::kAR1 && f.theta(0) > 0.0 && f.theta(0) < 1.0) {
+    const double T = -1.0 / std::log(f.theta(0));
+    out += " with correlation time " + (ctx.freq_known ? g3(T / ctx.freq) + " s" : g3(T, 4) + " samples");
+  }
+  return out;
+}
+
+std::string headline(const GapResult& g, const ProcessContext& ctx, double alpha) {
+  std::ostringstream os;
+  const GapShrinkage& s = g.shrinkage;
+  if (!g.detected) {
+    os << "no gap (global test p = " << g3(g.p_value) << ", " << s.levels_outside_before << " of " << g.levels.size()
+       << " levels outside the 95% reference band)";
+    return os.str();
+  }
+  for (std::size_t b = 0; b < g.bands.size(); ++b)
+    os << (b ? ", " : "") << g.bands[b].direction << " at " << band_text(g.bands[b], ctx) << " (up to "
+       << g3(g.bands[b].peak_ratio) << "x)";
+  os << "; ";
+  if (g.steps.empty()) {
+    os << "no unmodelled effect found";
+  } else {
+    os << "explained by ";
+    for (std::size_t k = 0; k < g.steps.size(); ++k)
+      os << (k ? " + " : "") << (k < g.step_details.size() ? g.step_details[k] : std::string(to_string(g.steps[k])));
+  }
+  os << "; levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after << " of " << g.levels.size()
+     << ", global p " << g3(s.p_value_before) << " -> " << g3(s.p_value_after);
+  if (!g.steps.empty()) os << ", excess removed " << g3(100.0 * s.excess_removed) << "%";
+  if (!g.remaining.empty()) {
+    os << "; gap remains at ";
+    for (std::size_t b = 0; b < g.remaining.size(); ++b) os << (b ? ", " : "") << band_text(g.remaining[b], ctx);
+  } else if (s.p_value_after < alpha) {
+    os << "; gap remains (the global test still rejects)";
+  } else {
+    os << "; gap closed (the final model is not rejected)";
+  }
+  return os.str();
 }
 
 }  // namespace gmwm::selection::detail

@@ -24,4 +24,19 @@ std::vector<GapBand> drift_band(double omega, const WaveletVariance& wv, const E
 double navigation_rms(const Model& m, const Eigen::VectorXd& theta, const ProcessContext& ctx,
                       std::vector<std::string>& notes);
 
+/// A scale in seconds when the rate is known, else in samples ("2.56 s", "256 samples").
+std::string scale_text(double tau, const ProcessContext& ctx);
+
+/// A time-domain step (STEP, TRANSIENT, DR, TEMPERATURE) in a few words, from what g holds.
+std::string time_step_text(GapEffect e, const GapResult& g, const ProcessContext& ctx);
+
+/// A WV effect added at a step in a few words, from its fit (SIN's frequency, AR1's
+/// correlation time, DR's signed rate, ...).
+std::string effect_step_text(GapEffect e, const FitResult& fit, const ProcessContext& ctx);
+
+/// The summary line (GapResult::headline): bands, effects, levels outside before -> after,
+/// the global p after, "gap remains at SCALES" while the final model is still rejected, and
+/// the share of the excess removed.
+std::string headline(const GapResult& g, const ProcessContext& ctx, double alpha);
+
 }  // namespace gmwm::selection::detail

@@ -101,7 +101,8 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   ASSERT_EQ(t.exit_code, 0) << t.err;
   EXPECT_NE(t.out.find("gyro_x: excess at"), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("explained by SIN at 2"), std::string::npos) << t.out;
-  EXPECT_NE(t.out.find("gap removed"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("excess removed"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("levels outside "), std::string::npos) << t.out;
 }
 
 TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
@@ -171,12 +172,17 @@ TEST_F(GmwmGap, TakesTheShippedGazeboSdfAndPrintsItsConversions) {
   EXPECT_NE(r.out.find("summary:\n  gyro_x: "), std::string::npos) << r.out;
   const json doc = read_json(dir_ / "g.json");
   EXPECT_EQ(doc.at("baseline_source"), "gz-sensors SDF <noise> blocks (" + sdf + ")");
-  // AR1: phi = exp(-1/(f x 1000 s)) ~ 0.99999; WN: 0.00873^2 + 0.000873^2 / 12 = 7.627641075e-5 (rate-free).
+  // WN: 0.00873^2 + 0.000873^2 / 12 = 7.627641075e-5 (rate-free). The dynamic bias, an AR1
+  // with phi = exp(-1/(f x 1000 s)) ~ 0.99999, is a random walk over this 655 s record
+  // (RW-like), and one too small to show in its WV: the baseline's effective form is the WN.
   const std::string base = doc["columns"][0]["baseline_model"];
-  EXPECT_EQ(base.rfind("AR1(phi=0.99999", 0), 0u) << base;
-  EXPECT_NE(base.find("+WN(sigma2=7.62764107"), std::string::npos) << base;
-  // alike axes, mean, bias_mean, bias_stddev, stddev, precision, their sum, dynamic bias.
-  EXPECT_EQ(doc["columns"][0]["conversions"].size(), 8u) << doc["columns"][0]["conversions"].dump();
+  EXPECT_EQ(base.rfind("WN(sigma2=7.62764107", 0), 0u) << base;
+  // alike axes, mean, bias_mean, bias_stddev, stddev, precision, their sum, dynamic bias,
+  // and the two reductions over this record.
+  const std::string conv = doc["columns"][0]["conversions"].dump();
+  EXPECT_EQ(doc["columns"][0]["conversions"].size(), 10u) << conv;
+  EXPECT_NE(conv.find("over this record (65536 samples) AR1(phi=1"), std::string::npos) << conv;
+  EXPECT_NE(conv.find("is RW-like"), std::string::npos) << conv;
 }
 
 TEST_F(GmwmGap, TakesTheColumnsAxisFromAGazeboSdfWhoseAxesDiffer) {
@@ -220,6 +226,84 @@ TEST_F(GmwmGap, WritesTheSameJsonWithOneAndTwoThreads) {
   a.erase("run");
   b.erase("run");
   EXPECT_EQ(a, b);
+}
+
+TEST_F(GmwmGap, StopsOnAUnitMixUpNamingTheUnitsThatFit) {
+  // Data in deg/s (a rad/s white noise of 1e-4 scaled by (180/pi)^2) against a Kalibr file
+  // in rad/s: exit 2, one line suggesting --units gyro=deg/s, no output.
+  std::ofstream(dir_ / "imu.yaml") << "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\n"
+                                      "gyroscope_noise_density: 1.0e-3\ngyroscope_random_walk: 1.0e-6\n"
+                                      "update_rate: 100.0\n";
+  auto s = run_gmwm({"simulate", "--model", "WN(sigma2=0.32828)+RW(gamma2=1e-9)", "--n", "16384", "--freq", "100",
+                     "--names", "gyro_x", "--output", "deg.csv", "--quiet"},
+                    dir_);
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  expect_bad_input(run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--replicates", "20", "--json", "x.json"}, dir_),
+                   {"deg.csv", "gyro_x", "--units gyro=deg/s", "(deg/s per rad/s)^2 = 3283"}, dir_ / "x.json");
+  // Declared, it runs; and --no-unit-check lets the user diagnose anyway.
+  auto r = run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--units", "gyro=deg/s", "--replicates", "20", "--quiet",
+                     "--json", "ok.json"},
+                    dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--no-unit-check", "--replicates", "20", "--quiet"}, dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST_F(GmwmGap, AYamlAndARotorsFileWithTheSameFiguresGiveTheSameDiagnosis) {
+  // The same densities in a Kalibr imu.yaml and a RotorS plugin whose bias correlation
+  // time is far beyond the record (a random walk over it): one baseline, one diagnosis.
+  std::ofstream(dir_ / "imu.yaml") << "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-4\n"
+                                      "gyroscope_noise_density: 1.0e-3\ngyroscope_random_walk: 1.0e-5\n"
+                                      "update_rate: 100.0\n";
+  std::ofstream(dir_ / "imu.sdf")
+      << "<?xml version=\"1.0\"?>\n<sdf version=\"1.6\"><model name=\"m\">\n"
+         "<plugin filename=\"librotors_gazebo_imu_plugin.so\" name=\"rotors_gazebo_imu_plugin\">\n"
+         "  <gyroscopeNoiseDensity>1.0e-3</gyroscopeNoiseDensity>\n"
+         "  <gyroscopeRandomWalk>1.0e-5</gyroscopeRandomWalk>\n"
+         "  <gyroscopeBiasCorrelationTime>1.0e9</gyroscopeBiasCorrelationTime>\n"
+         "  <gyroscopeTurnOnBiasSigma>0.0</gyroscopeTurnOnBiasSigma>\n"
+         "  <accelerometerNoiseDensity>2.0e-3</accelerometerNoiseDensity>\n"
+         "  <accelerometerRandomWalk>3.0e-4</accelerometerRandomWalk>\n"
+         "  <accelerometerBiasCorrelationTime>1.0e9</accelerometerBiasCorrelationTime>\n"
+         "  <accelerometerTurnOnBiasSigma>0.0</accelerometerTurnOnBiasSigma>\n"
+         "</plugin>\n</model></sdf>\n";
+  auto a = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "imu.yaml", "--replicates", "40", "--quiet", "--json", "a.json"},
+                    dir_);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  auto b = run_gmwm({"gap", "sim.csv.gz", "--gazebo", "imu.sdf", "--replicates", "40", "--quiet", "--json", "b.json"},
+                    dir_);
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const json ja = read_json(dir_ / "a.json")["columns"][0], jb = read_json(dir_ / "b.json")["columns"][0];
+  // The RotorS bias reads as a random walk over this record, said in its conversions.
+  const std::string conv = jb["conversions"].dump();
+  EXPECT_NE(conv.find("RW-like"), std::string::npos) << conv;
+  EXPECT_EQ(ja["attribution"]["steps"], jb["attribution"]["steps"]) << ja["headline"] << "\n" << jb["headline"];
+  EXPECT_EQ(ja["gap"]["detected"], jb["gap"]["detected"]);
+  EXPECT_EQ(ja["shrinkage"]["levels_outside_before"], jb["shrinkage"]["levels_outside_before"]);
+  EXPECT_EQ(ja["shrinkage"]["levels_outside_after"], jb["shrinkage"]["levels_outside_after"]);
+  EXPECT_NEAR(ja["gap"]["p_value"].get<double>(), jb["gap"]["p_value"].get<double>(), 0.03);
+}
+
+TEST_F(GmwmGap, DrawsNoProgressBarWhenStandardErrorIsNotATerminal) {
+  // The test runner's standard error is a pipe: the table is shown, the bar is not.
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "20"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("left"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("summary:"), std::string::npos);
+}
+
+TEST_F(GmwmGap, HeadlineIsTheSameInTheTerminalAndTheJson) {
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40", "--json", "g.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json c = read_json(dir_ / "g.json")["columns"][0];
+  const std::string h = c["headline"];
+  EXPECT_NE(r.out.find("  gyro_x: " + h), std::string::npos) << r.out << "\n" << h;
+  EXPECT_NE(h.find("levels outside "), std::string::npos) << h;
+  const double s = c["shrinkage"]["excess_removed"];
+  EXPECT_GE(s, 0.0);
+  EXPECT_LE(s, 1.0);
+  EXPECT_TRUE(c.contains("remaining"));
 }
 
 TEST_F(GmwmGap, RejectsBadOptionsWithOneLine) {

@@ -2,6 +2,8 @@
 // nothing added, a sinusoid, an AR1 (bias instability band), a mis-set white noise, spikes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -171,6 +173,72 @@ TEST(DiagnoseGap, RejectsBadOptionsAndABaselineWithoutValues) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("gap: baseline"), std::string::npos) << e.what();
   }
+}
+
+TEST(DiagnoseGap, KeepsOnlyEffectsThatMakeTheFitBetterAndSaysTheGapRemains) {
+  // An AR1 withheld, but only QN may be tried: whatever is kept must lower the objective
+  // without putting more levels outside the band, and the headline must say the gap
+  // remains (with its scales) while the final model is still rejected.
+  const Case c = simulate_case(std::string(kBase) + "+AR1(phi=0.995,sigma2=2e-7)", 8111);
+  const Model base = parse_model(kBase);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8211;
+  o.candidates = {GapEffect::kQN};
+  const GapResult g = diagnose_gap(c.wv, base, base.given_values(), o);
+  ASSERT_TRUE(g.detected);
+  EXPECT_LE(g.shrinkage.objective_after, g.shrinkage.objective_before);
+  EXPECT_LE(g.shrinkage.levels_outside_after, g.shrinkage.levels_outside_before);
+  EXPECT_LT(g.shrinkage.p_value_after, o.alpha);
+  EXPECT_FALSE(g.remaining.empty());
+  EXPECT_NE(g.headline.find("gap remains at "), std::string::npos) << g.headline;
+  EXPECT_NE(g.headline.find("levels outside "), std::string::npos) << g.headline;
+  EXPECT_EQ(g.headline.find("gap closed"), std::string::npos) << g.headline;
+  EXPECT_GE(g.shrinkage.excess_removed, 0.0);
+  EXPECT_LE(g.shrinkage.excess_removed, 1.0);
+}
+
+TEST(DiagnoseGap, SaysTheGapIsClosedOnlyWhenTheFinalModelIsNotRejected) {
+  const GapResult g = diagnose(simulate_case(std::string(kBase) + "+AR1(phi=0.995,sigma2=2e-7)", 8103), 8203);
+  ASSERT_TRUE(g.detected);
+  EXPECT_GE(g.shrinkage.p_value_after, 0.05);
+  EXPECT_TRUE(g.remaining.empty());
+  EXPECT_NE(g.headline.find("gap closed"), std::string::npos) << g.headline;
+  EXPECT_NE(g.headline.find("AR1 with correlation time"), std::string::npos) << g.headline;
+  EXPECT_LE(g.shrinkage.excess_removed, 1.0);
+}
+
+TEST(DiagnoseGap, NeverDetectsFromALevelWithOneCoefficientAlone) {
+  // Data from the baseline itself, the coarsest level (one coefficient) inflated 1000x:
+  // that level alone must not make a gap band.
+  Case c = simulate_case(kBase, 8112);
+  c.wv.wv.back() *= 1000.0;
+  const Model base = parse_model(kBase);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8212;
+  const GapResult g = diagnose_gap(c.wv, base, base.given_values(), o);
+  for (const auto& b : g.bands) EXPECT_LT(b.last_level, static_cast<int>(c.wv.levels())) << b.first_level;
+  EXPECT_FALSE(g.detected) << g.headline;
+  bool noted = false;
+  for (const auto& n : g.notes) noted |= n.find("fewer than 4 effective coefficients") != std::string::npos;
+  EXPECT_TRUE(noted);
+}
+
+TEST(DiagnoseGap, ResizesADatasheetWhiteNoiseEightTimesTooHigh) {
+  // The README example's situation: the baseline's white noise is ~8x the data's, and the
+  // data hold an AR1 the baseline lacks. REPARAMETERISE must re-size the white noise and
+  // the final model must describe the data (no level outside its band).
+  const Case c = simulate_case("AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)", 8113);
+  const Model base = parse_model("WN(sigma2=7.6e-5)+RW(gamma2=4e-12)");
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8213;
+  const GapResult g = diagnose_gap(c.wv, base, base.given_values(), o);
+  ASSERT_TRUE(g.detected);
+  EXPECT_NE(std::find(g.steps.begin(), g.steps.end(), GapEffect::kReparameterise), g.steps.end()) << g.headline;
+  EXPECT_EQ(g.shrinkage.levels_outside_after, 0) << g.headline;
+  EXPECT_NE(g.headline.find("gap closed"), std::string::npos) << g.headline;
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -296,6 +298,43 @@ void warn_about_timing(const io::SignalSet& set) {
           io::TimingReport::kDisagreement * t.estimated_freq)
     warn(set.path + ": --freq " + fmt(*t.given_freq) + " Hz disagrees with the " +
          fmt(t.estimated_freq) + " Hz of column '" + t.column + "'; using --freq");
+}
+
+ProgressBar::ProgressBar(std::string label, const CommonOptions& common)
+    : label_(std::move(label)), enabled_(common.show_table() && isatty(STDERR_FILENO)) {}
+
+ProgressBar::~ProgressBar() { finish(); }
+
+void ProgressBar::update(double done, double total) {
+  if (!enabled_ || !(total > 0.0)) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (finished_) return;
+  const double now = clock_.seconds();
+  const bool complete = done >= total;
+  if (!complete && last_draw_ >= 0.0 && now - last_draw_ < kRedrawSeconds) return;
+  last_draw_ = now;
+  const double f = std::clamp(done / total, 0.0, 1.0);
+  const int filled = static_cast<int>(std::lround(f * kWidth));
+  std::string line = "\r" + label_ + " [" + std::string(static_cast<std::size_t>(filled), '#') +
+                     std::string(static_cast<std::size_t>(kWidth - filled), '-') + "] " +
+                     std::to_string(static_cast<long long>(done)) + " / " + std::to_string(static_cast<long long>(total)) +
+                     " (" + std::to_string(static_cast<int>(std::lround(100.0 * f))) + "%)";
+  if (complete) line += ", " + fmt(now, 3) + " s";
+  else if (f > 0.0) line += ", " + fmt(now * (1.0 - f) / f, 2) + " s left";
+  line += "    ";
+  std::fputs(line.c_str(), stderr);
+  std::fflush(stderr);
+  drawn_ = true;
+  if (complete) {
+    std::fputc('\n', stderr);
+    finished_ = true;
+  }
+}
+
+void ProgressBar::finish() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (drawn_ && !finished_) std::fputc('\n', stderr);
+  finished_ = true;
 }
 
 }  // namespace gmwm::cli

@@ -3,6 +3,7 @@
 // options, calls the libraries, and decides what goes to the terminal.
 
 #include <chrono>
+#include <mutex>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -148,6 +149,34 @@ class Stopwatch {
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+/// A progress bar on one line of stderr for long work (gap, gap-check, select, bootstrap):
+/// "gap [#########---------] 120 / 400 (30%), 12 s left". Drawn only when the table is
+/// shown (not --quiet, not --json -) and stderr is a terminal; redrawn at most every
+/// kRedrawSeconds; thread-safe (TBB workers report). The time left extrapolates the
+/// elapsed time over the fraction done.
+class ProgressBar {
+ public:
+  ProgressBar(std::string label, const CommonOptions& common);
+  ~ProgressBar();
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+  bool enabled() const { return enabled_; }
+  /// Work done out of total (any units); the last call with done == total ends the line.
+  void update(double done, double total);
+  /// Ends the line (once) when anything was drawn.
+  void finish();
+
+ private:
+  static constexpr double kRedrawSeconds = 0.1;
+  static constexpr int kWidth = 24;
+  std::string label_;
+  bool enabled_ = false;
+  bool drawn_ = false, finished_ = false;
+  double last_draw_ = -1.0;
+  Stopwatch clock_;
+  std::mutex mutex_;
 };
 
 /// Warns on stderr about gaps, disorder, and a --freq that disagrees with the timestamps.

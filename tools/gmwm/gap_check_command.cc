@@ -102,14 +102,8 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   o.null_side = !args.no_null;
   o.seed = common.seed;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("gap-check: " + why);
-  const bool bar = common.show_table() && isatty(STDERR_FILENO);
-  std::mutex m;
-  if (bar)
-    o.progress = [&](int done, int all) {
-      std::lock_guard<std::mutex> lock(m);
-      std::fprintf(stderr, "\rgap-check: %d / %d cases", done, all);
-      if (done == all) std::fprintf(stderr, "\n");
-    };
+  ProgressBar bar("gap-check: cases", common);
+  if (bar.enabled()) o.progress = [&](int done, int all) { bar.update(done, all); };
   const selection::GapCheckResult r = selection::run_gap_check(o);
   io::Json doc = io::json_document("gap-check");
   doc["n"] = args.n;

@@ -14,6 +14,7 @@
 
 #include "common.h"
 #include "units_tables.h"
+#include "gmwm/engine/effective_model.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -36,77 +37,45 @@ struct GapArgs {
   std::string sensor;  ///< --sensor gyro|accel (all columns)
   std::string temperature;  ///< --temperature COLUMN
   int replicates = selection::GapOptions{}.replicates;
+  bool no_unit_check = false;  ///< --no-unit-check
 };
+
+// The finest levels compared for a unit mix-up (white noise dominates there on an IMU).
+constexpr int kUnitCheckLevels = 3;
+
+// Before diagnosing: a data / baseline ratio at the finest levels near a unit factor
+// ((180/pi)^2 for deg/s read as rad/s, 9.80665^2 for m/s^2 read as g, ...) is a unit
+// mix-up, not a gap: stop with one line naming the --units that fits.
+void check_units(const std::string& path, const std::string& column, const WaveletVariance& wv, const Model& base,
+                 const Eigen::VectorXd& theta, const std::map<io::SensorKind, io::Unit>& units,
+                 std::optional<io::SensorKind> sensor) {
+  io::SensorKind kind;
+  try {
+    kind = sensor ? *sensor : io::sensor_kind_of_column(column);
+  } catch (const InputError&) {
+    return;  // neither a gyro nor an accelerometer: no unit to suggest
+  }
+  const Eigen::VectorXd nu = base.wv(theta, wv.tau);
+  std::vector<double> r;
+  for (int j = 0; j < std::min(kUnitCheckLevels, wv.levels()); ++j) r.push_back(wv.wv[static_cast<std::size_t>(j)] / nu(j));
+  if (r.empty()) return;
+  std::sort(r.begin(), r.end());
+  const double ratio = r[r.size() / 2];
+  const io::Unit& declared = units.at(kind);
+  const auto s = io::suggest_unit(ratio, kind, declared);
+  if (!s) return;
+  throw InputError(path + ": column '" + column + "': its WV at the finest scales is " + fmt(ratio, 3) +
+                   " x the baseline's, near (" + s->unit.name + " per " + declared.name + ")^2 = " + fmt(s->factor, 4) +
+                   ": the data look like " + s->unit.name + ", not " + declared.name + "; give --units " +
+                   io::to_string(kind) + "=" + s->unit.name + " (or --no-unit-check if the sensor really is that far "
+                   "from the baseline)");
+}
 
 std::string seconds_text(double tau, const io::SignalSet& set) {
   return set.freq_known ? fmt(tau / set.freq, 3) + " s" : fmt(tau, 6) + " samples";
 }
 
-// What the diagnosis added, in a few words: each step's effect, the first added
-// effect with its key parameter (SIN's frequency, AR1's correlation time).
-std::string effect_text(const selection::GapResult& g) {
-  using selection::GapEffect;
-  if (g.steps.empty()) return "no unmodelled effect found";
-  const FitResult& f = g.final_fit;
-  const bool has = f.status != FitStatus::kFailed && f.theta.size() == f.model.num_parameters() && f.theta.size() > 0;
-  bool detailed = false;
-  std::string out = "explained by ";
-  for (std::size_t k = 0; k < g.steps.size(); ++k) {
-    const GapEffect e = g.steps[k];
-    out += k ? " + " : "";
-    out += selection::to_string(e);
-    if (e == GapEffect::kOutliers) out += " (the robust WV does not show the fine-scale excess)";
-    if ((e == GapEffect::kStep || e == GapEffect::kTransient) && g.event) {
-      const auto& ev = *g.event;
-      const bool hz = g.baseline.num_components() > 0 && g.baseline.components()[0].process->context().freq_known;
-      const double rate = hz ? g.baseline.components()[0].process->context().freq : 1.0;
-      const std::string unit = hz ? " s" : " samples";
-      if (e == GapEffect::kStep)
-        out += " of " + fmt(ev.size, 3) + " at " + fmt(static_cast<double>(ev.sample) / rate, 6) + unit;
-      else
-        out += " " + fmt(ev.size, 3) + " exp(-t / " + fmt(ev.time_constant / rate, 3) + unit + ")";
-    }
-    if (e == GapEffect::kTemperature && g.temperature)
-      out += " (coupling " + fmt(g.temperature->k, 4) + " per temperature unit, 95% CI " + fmt(g.temperature->ci_low, 3) +
-             " to " + fmt(g.temperature->ci_high, 3) + ")";
-    if (e == GapEffect::kStep || e == GapEffect::kTransient || e == GapEffect::kTemperature) continue;
-    if (e == GapEffect::kReparameterise || e == GapEffect::kOutliers || detailed || !has) continue;
-    detailed = true;
-    const auto& p = *f.model.components()[0].process;
-    if (e == GapEffect::kSin)
-      out += " at " + fmt(p.to_display(1, f.theta(1)), 4) + (p.context().freq_known ? " Hz" : " cycles/sample");
-    else if (e == GapEffect::kDR && p.context().freq_known)
-      out += " of " + fmt(f.theta(0) * p.context().freq, 3) + " per s";
-    else if (e == GapEffect::kAR1) {
-      const double T = -1.0 / std::log(f.theta(0));
-      out += " with correlation time " +
-             (p.context().freq_known ? fmt(T / p.context().freq, 3) + " s" : fmt(T, 4) + " samples");
-    }
-  }
-  if (std::find(g.steps.begin(), g.steps.end(), GapEffect::kReparameterise) != g.steps.end())
-    out += " (final model " + g.final_model.to_string(g.final_theta) + ")";
-  return out;
-}
-
-std::string summary_line(const std::string& name, const selection::GapResult& g, const io::SignalSet& set) {
-  std::ostringstream os;
-  os << name << ": ";
-  if (!g.detected) {
-    os << "no gap (global test p = " << fmt(g.p_value, 3) << ", " << g.shrinkage.levels_outside_before
-       << " of " << g.levels.size() << " levels outside the 95% reference band)";
-    return os.str();
-  }
-  for (std::size_t b = 0; b < g.bands.size(); ++b) {
-    const auto& band = g.bands[b];
-    os << (b ? ", " : "") << band.direction << " at " << seconds_text(band.tau_from, set);
-    if (band.tau_to > band.tau_from) os << " - " << seconds_text(band.tau_to, set);
-    os << " (up to " << fmt(band.peak_ratio, 3) << "x)";
-  }
-  os << "; " << effect_text(g);
-  if (g.effect != selection::GapEffect::kNone)
-    os << "; gap removed " << fmt(100.0 * g.shrinkage.excess_removed, 3) << "%";
-  return os.str();
-}
+std::string summary_line(const std::string& name, const selection::GapResult& g) { return name + ": " + g.headline; }
 
 // The first added effect's parameters with their bootstrap intervals, discrete and in
 // the continuous units a navigation engineer uses.
@@ -136,7 +105,7 @@ std::string effect_table(const selection::GapResult& g, const io::SignalSet& set
 std::string terminal_report(const std::string& name, const selection::GapResult& g, const io::SignalSet& set,
                             const std::vector<std::string>& conversions, const std::string& unit) {
   std::ostringstream os;
-  os << summary_line(name, g, set) << '\n';
+  os << summary_line(name, g) << '\n';
   os << "  baseline: " << g.baseline.to_string(g.baseline_theta) << '\n';
   for (const auto& c : conversions) os << "  conversion: " << c << '\n';
   Table levels({"tau", "ratio", "z", "reference band", "outside"});
@@ -153,7 +122,7 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
   }
   const auto& s = g.shrinkage;
   os << "  objective " << fmt(s.objective_before) << " -> " << fmt(s.objective_after) << " (null mean "
-     << fmt(s.null_mean, 4) << "), levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after
+     << fmt(s.null_mean, 4) << " -> " << fmt(s.null_mean_after, 4) << "), levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after
      << ", global p " << fmt(s.p_value_before, 3) << " -> " << fmt(s.p_value_after, 3) << '\n';
   int disjoint = 0;
   for (const auto& h : g.split_half) disjoint += h.disjoint;
@@ -166,6 +135,15 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
        << " s (attitude for a gyro, velocity for an accelerometer): " << fmt(g.navigation.rms_without, 3) << " -> "
        << fmt(g.navigation.rms_with, 3) << " " << render_unit("U*s", unit.empty() ? "U" : unit)
        << " RMS (baseline -> with the effects)\n";
+  if (g.contamination_screened) {
+    os << "  contamination screen: ";
+    if (g.contaminated_levels.empty()) os << "no level flagged";
+    for (std::size_t i = 0; i < g.contaminated_levels.size(); ++i)
+      os << (i ? ", " : "levels flagged at ")
+         << seconds_text(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - 1)].tau, set);
+    os << " (robust WV below the classical one beyond the data's rounding, with far outliers)\n";
+  }
+  for (const auto& r : g.refused) os << "  refused (does not make the fit better): " << r << '\n';
   for (const auto& n : g.notes) os << "  note: " << n << '\n';
   return os.str();
 }
@@ -279,6 +257,21 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     check_model_fits_levels(baselines[k], wvs[k].levels());
     if (args.fit.empty()) {
       thetas[k] = baselines[k].given_values();
+      if (config) {
+        // A simulator's terms the record cannot tell from simpler ones (a Gauss-Markov
+        // bias whose correlation time is far beyond the record is a random walk over
+        // it): the baseline in its effective form, so that a Kalibr yaml and an SDF
+        // carrying the same figures give the same baseline.
+        const EffectiveModel e = effective_model(wvs[k], baselines[k], thetas[k]);
+        for (const auto& r : e.reductions)
+          conversions[k].push_back("over this record (" + std::to_string(wvs[k].n) + " samples) " + r);
+        if (e.reduced()) {
+          baselines[k] = e.model;
+          thetas[k] = e.theta;
+        }
+      }
+      if (!args.no_unit_check)
+        check_units(set.path, set.signals[k].name, wvs[k], baselines[k], thetas[k], units, sensor);
       continue;
     }
     FitOptions fo;
@@ -291,22 +284,21 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     conversions[k].push_back("baseline fitted on the column: " + f.model.to_string(f.theta));
   }
 
-  const bool bar = common.show_table() && isatty(STDERR_FILENO);
-  std::mutex progress_mutex;
+  // Progress on a terminal: per column, its reference replicates (half of its cost) and
+  // then its attribution (the other half), with the time left.
+  ProgressBar bar("gap: columns x steps", common);
   Stopwatch gap_clock;
   std::vector<selection::GapResult> results(K);
+  const double per_column = 2.0 * options.replicates;
   for (std::size_t k = 0; k < K; ++k) {
     selection::GapOptions o = options;
     o.seed = common.seed + k;  // each column its own reference streams
-    if (bar)
-      o.progress = [&, k](int done, int total_reps) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        std::fprintf(stderr, "\rgap: column %zu / %zu, reference %d / %d", k + 1, K, done, total_reps);
-        if (done == total_reps && k + 1 == K) std::fprintf(stderr, "\n");
-      };
+    if (bar.enabled())
+      o.progress = [&, k](int done, int) { bar.update(static_cast<double>(k) * per_column + done, K * per_column); };
     const std::vector<double>& x = set.signals[k].values;
     results[k] = selection::diagnose_gap(wvs[k], baselines[k], thetas[k], o, &robust_wvs[k], &x,
                                          temperature.empty() ? nullptr : &temperature);
+    bar.update(static_cast<double>(k + 1) * per_column, K * per_column);
   }
   const double gap_seconds = gap_clock.seconds();
 
@@ -346,7 +338,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     for (std::size_t k = 0; k < K; ++k)
       report += (k ? "\n" : "") + terminal_report(set.signals[k].name, results[k], set, conversions[k], column_units[k]);
     report += "\nsummary:\n";
-    for (std::size_t k = 0; k < K; ++k) report += "  " + summary_line(set.signals[k].name, results[k], set) + "\n";
+    for (std::size_t k = 0; k < K; ++k) report += "  " + summary_line(set.signals[k].name, results[k]) + "\n";
     report += cross_axis_text(cross, set);
   }
   warn_about_timing(set);
@@ -404,6 +396,9 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
       ->type_name("B")
       ->check(CLI::Range(20, 100000))
       ->capture_default_str();
+  sub->add_flag("--no-unit-check", args->no_unit_check,
+                "Diagnose even when a column's finest scales sit at a unit factor ((180/pi)^2, 9.80665^2, ...) "
+                "from the baseline");
   add_common_options(*sub, common);
   add_report_option(*sub, common);
   return {sub, [args, &common] { return run_gap(*args, common); }};

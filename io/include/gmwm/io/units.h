@@ -3,6 +3,8 @@
 // m/s^2) can be compared with data recorded in deg/s or g. Declared per sensor kind with
 // --units gyro=deg/s,accel=g; SI by default.
 #include <map>
+#include <optional>
+#include <vector>
 #include <string>
 
 namespace gmwm::io {
@@ -29,5 +31,23 @@ std::map<SensorKind, Unit> parse_units(const std::string& spec);
 
 /// The SI unit of a kind ("rad/s", "m/s^2").
 Unit si_unit(SensorKind kind);
+
+/// The units a sensor kind may be declared in (rad/s, deg/s, deg/h; m/s^2, g, mg).
+std::vector<Unit> units_of(SensorKind kind);
+
+/// A unit mix-up seen in a variance ratio (data / baseline at the finest scales).
+struct UnitSuggestion {
+  Unit unit;           ///< the unit the data look like they are in
+  double factor = 1.0; ///< (unit.per_si / declared.per_si)^2, the ratio a mix-up gives
+};
+
+/// Data in `unit` read as `declared` make the data / baseline variance ratio
+/// (unit.per_si / declared.per_si)^2 times the sensor's own departure from its datasheet.
+/// Returns the unit whose factor explains `variance_ratio` within kUnitFactorTolerance
+/// when the ratio itself is at least kUnitRatioMinimum away from 1; nullopt otherwise.
+/// The factors of one kind are at least 96x apart (9.80665^2), so one at most matches.
+inline constexpr double kUnitFactorTolerance = 2.0;  // a datasheet within 1.41x of the unit in sd
+inline constexpr double kUnitRatioMinimum = 10.0;    // no real noise figure is read 10x off in variance by accident
+std::optional<UnitSuggestion> suggest_unit(double variance_ratio, SensorKind kind, const Unit& declared);
 
 }  // namespace gmwm::io
