@@ -11,18 +11,29 @@ namespace gmwm {
 HaarModwt::HaarModwt(const double* x, std::int64_t n) : n_(n) {
   check_at_least("HaarModwt", "series length", static_cast<double>(n), 2.0);
   // Centre by the mean (the Haar filter has zero sum, so W is unchanged) to keep the
-  // prefix sums small; accumulate in long double to avoid drift over 10^6+ samples.
-  long double mean = 0.0L;
-  for (std::int64_t i = 0; i < n; ++i) mean += x[i];
-  mean /= static_cast<long double>(n);
+  // prefix sums small. Both sums are compensated (Neumaier 1974): the rounding error
+  // stays O(eps) whatever n, as with the long-double loop this replaces, at a fraction of
+  // its cost (x87 arithmetic was a quarter of a gap run's time: 200 reference replicates
+  // of 1e6 samples per column).
+  double mean = 0.0, mean_c = 0.0;
+  for (std::int64_t i = 0; i < n; ++i) {
+    const double v = x[i], t = mean + v;
+    mean_c += std::abs(mean) >= std::abs(v) ? (mean - t) + v : (v - t) + mean;
+    mean = t;
+  }
+  const double mu = (mean + mean_c) / static_cast<double>(n);
   prefix_.resize(static_cast<std::size_t>(n) + 1);
-  long double s = 0.0L;
+  double s = 0.0, c = 0.0, peak = 0.0;
   prefix_[0] = 0.0;
   for (std::int64_t i = 0; i < n; ++i) {
-    s += static_cast<long double>(x[i]) - mean;
-    prefix_[static_cast<std::size_t>(i) + 1] = static_cast<double>(s);
-    max_abs_prefix_ = std::max(max_abs_prefix_, std::abs(static_cast<double>(s)));
+    const double v = x[i] - mu, t = s + v;
+    c += std::abs(s) >= std::abs(v) ? (s - t) + v : (v - t) + s;
+    s = t;
+    const double p = s + c;
+    prefix_[static_cast<std::size_t>(i) + 1] = p;
+    peak = std::max(peak, std::abs(p));
   }
+  max_abs_prefix_ = peak;
 }
 
 double HaarModwt::noise_floor(int level) const {

@@ -113,6 +113,13 @@ std::string effect_step_text(GapEffect e, const FitResult& f, const ProcessConte
 std::string headline(const GapResult& g, const ProcessContext& ctx, double alpha) {
   std::ostringstream os;
   const GapShrinkage& s = g.shrinkage;
+  if (!g.detected && g.p_value < alpha) {
+    os << "departures below the effect size: the global test rejects (p = " << g3(g.p_value) << "), "
+       << s.levels_outside_before << " of " << g.levels.size()
+       << " levels outside the 95% reference band, but no band of deciding levels departs by more than the "
+          "effect size; no effect sought";
+    return os.str();
+  }
   if (!g.detected) {
     os << "no gap (global test p = " << g3(g.p_value) << ", " << s.levels_outside_before << " of " << g.levels.size()
        << " levels outside the 95% reference band)";

@@ -24,7 +24,7 @@ import sys
 import tempfile
 import time
 
-GMWM = sys.argv[1] if len(sys.argv) > 1 else "build/gmwm"
+GMWM = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else "build/gmwm")
 DATA = os.environ.get("GMWM_SHARED_DATA", os.path.join(os.path.dirname(__file__), "../../../shared/data"))
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../..")
 UNITS = "gyro=deg/s,accel=g"
