@@ -60,6 +60,10 @@ out=tools/bench/RESULTS.md
   echo
   "$build/bench_selection_accuracy" || true
   echo
+  echo "## Sim-to-real gap on real recordings (gap_real.py)"
+  echo
+  python3 tools/bench/gap_real.py "$build/gmwm" || true
+  echo
   echo "## Sim-to-real gap diagnosis (bench_gap)"
   echo
   "$build/bench_gap" || true
