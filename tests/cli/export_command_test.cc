@@ -152,9 +152,9 @@ TEST_F(GmwmExport, WritesAGazeboSdfThatTheGapCommandReads) {
   const json column = read_json(dir_ / "g.json").at("columns")[0];
   const std::string baseline = column.at("baseline_model");
   // The random walk, exported as a bias with T = 1000 x the record, reads back as a random
-  // walk over the record (RW-like), as a Kalibr file of the same figures gives (here one
-  // too small to show in this record's WV, so the effective baseline keeps the WN alone).
+  // walk over the record (RW-like), as a Kalibr file of the same figures gives.
   EXPECT_EQ(baseline.find("AR1("), std::string::npos) << baseline;
+  EXPECT_NE(baseline.find("RW(gamma2="), std::string::npos) << baseline;
   EXPECT_NE(column.at("conversions").dump().find("is RW-like"), std::string::npos) << column.at("conversions").dump();
 }
 

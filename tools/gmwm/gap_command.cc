@@ -14,7 +14,6 @@
 
 #include "common.h"
 #include "units_tables.h"
-#include "gmwm/engine/effective_model.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -39,6 +38,44 @@ struct GapArgs {
   int replicates = selection::GapOptions{}.replicates;
   bool no_unit_check = false;  ///< --no-unit-check
 };
+
+// A simulator's Gauss-Markov bias whose correlation time is at least this many records
+// long is a random walk over the record: its WV differs from RW(gamma2 = its innovation
+// variance)'s by about tau / (2 T) relative, at most 5% at the coarsest scale.
+constexpr double kRandomWalkLikeRecords = 10.0;
+
+// Such a bias replaced by that random walk, said in the conversions: a Kalibr yaml and an
+// SDF or RotorS file carrying the same densities then give the same baseline (and the
+// same diagnosis). Nothing else is simplified: a term too small to show in one record's
+// WV still belongs to the simulator's noise.
+void random_walk_like(Model& base, Eigen::VectorXd& theta, std::int64_t n, std::vector<std::string>& conversions) {
+  std::vector<Component> comps;
+  std::vector<double> values;
+  bool changed = false;
+  for (int c = 0; c < base.num_components(); ++c) {
+    const Component& comp = base.components()[static_cast<std::size_t>(c)];
+    const Process& p = *comp.process;
+    const double* th = theta.data() + base.offset(c);
+    const double T = p.name() == "AR1" && th[0] > 0.0 && th[0] < 1.0 ? -1.0 / std::log(th[0]) : 0.0;
+    if (T >= kRandomWalkLikeRecords * static_cast<double>(n)) {
+      const Model rw = parse_model("RW(gamma2=" + fmt(th[1], 17) + ")", p.context());
+      comps.push_back(rw.components()[0]);
+      values.push_back(th[1]);
+      conversions.push_back("over this record (" + std::to_string(n) + " samples) the Gauss-Markov bias " +
+                            p.name() + " (correlation time " + fmt(T, 3) + " samples, " +
+                            fmt(T / static_cast<double>(n), 3) + " records) is RW-like: RW(gamma2 = its innovation "
+                            "variance " + fmt(th[1], 6) + "), as a random-walk density gives");
+      changed = true;
+      continue;
+    }
+    comps.push_back(comp);
+    values.insert(values.end(), th, th + p.size());
+  }
+  if (!changed) return;
+  Eigen::VectorXd t = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+  base = Model(std::move(comps)).canonical(&t);
+  theta = t;
+}
 
 // The finest levels compared for a unit mix-up (white noise dominates there on an IMU).
 constexpr int kUnitCheckLevels = 3;
@@ -257,19 +294,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     check_model_fits_levels(baselines[k], wvs[k].levels());
     if (args.fit.empty()) {
       thetas[k] = baselines[k].given_values();
-      if (config) {
-        // A simulator's terms the record cannot tell from simpler ones (a Gauss-Markov
-        // bias whose correlation time is far beyond the record is a random walk over
-        // it): the baseline in its effective form, so that a Kalibr yaml and an SDF
-        // carrying the same figures give the same baseline.
-        const EffectiveModel e = effective_model(wvs[k], baselines[k], thetas[k]);
-        for (const auto& r : e.reductions)
-          conversions[k].push_back("over this record (" + std::to_string(wvs[k].n) + " samples) " + r);
-        if (e.reduced()) {
-          baselines[k] = e.model;
-          thetas[k] = e.theta;
-        }
-      }
+      if (config) random_walk_like(baselines[k], thetas[k], wvs[k].n, conversions[k]);
       if (!args.no_unit_check)
         check_units(set.path, set.signals[k].name, wvs[k], baselines[k], thetas[k], units, sensor);
       continue;
