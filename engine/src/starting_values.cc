@@ -112,7 +112,7 @@ namespace {
 // Component c's WV is "collapsed" when it is below this share of the data's WV at every
 // level: it then explains nothing, and the optimiser cannot bring it back (its
 // log-size gradient is ~ its share). 1e-6 is far below any share a fitted component
-// contributes on the data sets of ../shared/data (smallest seen: ~1e-3) and far above
+// contributes on the shared ADIS and Xsens recordings (smallest seen: ~1e-3) and far above
 // the 1e-12 share given to absent components by warm starts.
 constexpr double kCollapsedShare = 1e-6;
 

@@ -229,7 +229,7 @@ TEST(ContaminationDiagnostic, RejectsMismatchedLevels) {
 }
 
 // ---------------------------------------------------------------------------------
-// Real recordings (../shared/data/README.md).
+// Real recordings ($GMWM_SHARED_DATA: the shared ADIS16405 and Xsens files).
 
 io::SignalSet read_recording(const std::string& name) {
   io::ReadOptions ro;

@@ -1,5 +1,5 @@
-// Analytic WVIC optimism (selection/src/optimism.cc) against the reference value of
-// ../shared/reference/test_vectors.md ("Analytic optimism"), the exact 2p of linear
+// Analytic WVIC optimism (selection/src/optimism.cc) against a high-precision reference
+// value ("Analytic optimism", computed independently of this code), the exact 2p of linear
 // models, boundary components, and the error paths.
 #include <gtest/gtest.h>
 

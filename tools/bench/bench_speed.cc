@@ -1,6 +1,6 @@
-// Speed of the foundation on ../shared/data/adis_16405_imu1.csv.gz (6 x 1,000,000, gzip):
+// Speed of the foundation on the shared recording adis_16405_imu1.csv.gz ($GMWM_SHARED_DATA) (6 x 1,000,000, gzip):
 // parsing, the classical WV of all six columns, and one fit of 3*AR1+WN+RW+QN+DR.
-// Reference (R GMWM 3.0.0 on this machine kind, ../shared/reference/performance.md):
+// Reference (R GMWM 3.0.0 timed on this machine kind):
 // WV one column 0.53 s, six columns 3.46 s; one fit of AR1+WN+RW+QN 2.89 s.
 #include <algorithm>
 #include <cstdio>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every benchmark on ../shared/data (or $GMWM_SHARED_DATA) and writes their
+# Runs every benchmark on the shared IMU recordings ($GMWM_SHARED_DATA, by default ../shared/data beside the clone) and writes their
 # output into tools/bench/RESULTS.md. Needs a built tree (bash tools/setup.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -10,7 +10,7 @@ out=tools/bench/RESULTS.md
 {
   echo "# Benchmark results"
   echo
-  echo "Machine: $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GB; $(date -u +%Y-%m-%d). Reference times: ../shared/reference/performance.md."
+  echo "Machine: $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GB; $(date -u +%Y-%m-%d). Reference times: R GMWM 3.0.0 on this machine kind (quoted per section)."
   echo
   echo "## End-to-end \`gmwm wv\` on adis_16405_imu1.csv.gz (6 x 1,000,000, gzip)"
   echo
