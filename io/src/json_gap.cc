@@ -172,7 +172,7 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
   c["contamination"] = {{"screened", g.contamination_screened}, {"levels", g.contaminated_levels}};
   int outside_after = 0;
   for (const auto& l : g.levels_after) outside_after += l.outside;
-  c["remaining"] = {{"closed", !g.detected || (g.remaining.empty() && g.headline.find("gap remains") == std::string::npos)},
+  c["remaining"] = {{"closed", g.closed},
                     {"bands", bands_json(g.remaining, column)},
                     {"levels_outside", outside_after}};
   c["shrinkage"] = {{"objective_before", json_number(s.objective_before)},

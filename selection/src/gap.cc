@@ -536,6 +536,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     }
   }
   shrinkage_stage(c, a, g);
+  g.closed = !g.detected || (g.remaining.empty() && !(g.shrinkage.p_value_after < options.alpha));
   g.headline = detail::headline(g, options.context, options.alpha);
   return g;
 }

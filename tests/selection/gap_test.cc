@@ -191,6 +191,7 @@ TEST(DiagnoseGap, KeepsOnlyEffectsThatMakeTheFitBetterAndSaysTheGapRemains) {
   EXPECT_LE(g.shrinkage.levels_outside_after, g.shrinkage.levels_outside_before);
   EXPECT_LT(g.shrinkage.p_value_after, o.alpha);
   EXPECT_FALSE(g.remaining.empty());
+  EXPECT_FALSE(g.closed);
   EXPECT_NE(g.headline.find("gap remains at "), std::string::npos) << g.headline;
   EXPECT_NE(g.headline.find("levels outside "), std::string::npos) << g.headline;
   EXPECT_EQ(g.headline.find("gap closed"), std::string::npos) << g.headline;
@@ -203,6 +204,7 @@ TEST(DiagnoseGap, SaysTheGapIsClosedOnlyWhenTheFinalModelIsNotRejected) {
   ASSERT_TRUE(g.detected);
   EXPECT_GE(g.shrinkage.p_value_after, 0.05);
   EXPECT_TRUE(g.remaining.empty());
+  EXPECT_TRUE(g.closed);
   EXPECT_NE(g.headline.find("gap closed"), std::string::npos) << g.headline;
   EXPECT_NE(g.headline.find("AR1 with correlation time"), std::string::npos) << g.headline;
   EXPECT_LE(g.shrinkage.excess_removed, 1.0);

@@ -246,6 +246,9 @@ struct GapResult {
   /// Where the final model still misses: runs of levels outside its reference band that
   /// decide (enough coefficients); empty when the gap is closed.
   std::vector<GapBand> remaining;
+  /// No gap left: nothing detected, or the final model is no longer rejected by the
+  /// global test and no deciding level remains outside its band.
+  bool closed = true;
   /// Effects tried and refused because they did not make the fit better on the data
   /// (objective not lower, or more levels outside), e.g. "SIN (objective 16.3 -> 2.1e6)".
   std::vector<std::string> refused;
