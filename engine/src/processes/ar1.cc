@@ -33,16 +33,18 @@ class Ar1Process final : public Process {
   }
   void wv(std::span<const double> theta, std::span<const double> tau,
           std::span<double> out) const override {
+    const internal::Ar1UnitWv<double> unit(theta[0]);
     for (std::size_t k = 0; k < tau.size(); ++k)
-      out[k] = theta[1] * internal::ar1_unit_wv(theta[0], internal::haar_half_scale(tau[k], "AR1::wv"));
+      out[k] = theta[1] * unit.at(internal::haar_half_scale(tau[k], "AR1::wv"));
   }
   void derivatives(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<2> phi = Jet<2>::variable(theta[0], 0);
     const Jet<2> s = Jet<2>::variable(theta[1], 1);
+    const internal::Ar1UnitWv<Jet<2>> unit(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "AR1::wv");
-      internal::store_jet_row(s * internal::ar1_unit_wv(phi, m), static_cast<Eigen::Index>(k),
+      internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k),
                               jac, hess);
     }
   }

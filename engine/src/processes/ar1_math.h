@@ -37,6 +37,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <optional>
+
 #include "gmwm/engine/process.h"
 #include "jet.h"
 #include "process_util.h"
@@ -64,6 +66,34 @@ D2 one_minus_pow_d2(double phi, double m); ///< 1 - phi^m, m a positive integer 
 template <class T>
 T one_minus_pow(const T& phi, double m) { return lift(phi, one_minus_pow_d2(value(phi), m)); }
 
+/// nu^2/sigma2 of an AR1 with phi = exp(-L), L > 0, at tau = 2m, stable for all L:
+///   e^L (4 s3(L) + m^2 H(mL)) / (8 m sinhc(L/2)^2 sinhc(L)).
+/// The factors that depend on L only are computed once at construction, so a WV over J
+/// levels costs one H per level (they were 60% of the AR1 kernels' time when evaluated
+/// per level).
+template <class T>
+class Ar1LogForm {
+ public:
+  explicit Ar1LogForm(const T& L) : L_(L), l_(value(L)) {
+    using std::exp;
+    if (l_ >= kLn2) {
+      phi_ = exp(-L);
+      return;
+    }
+    const T sc = lift(L, sinhc_d2(l_));
+    const T half = 0.5 * L;
+    const T sch = lift(half, sinhc_d2(0.5 * l_));  // sinhc(L/2)
+    s3x4_ = 4.0 * lift(L, sinh_minus_x_over_x3_d2(l_));
+    scale_ = exp(L) / (8.0 * sch * sch * sc);
+  }
+  T at(double m) const;
+
+ private:
+  T L_;
+  double l_;
+  T phi_{}, s3x4_{}, scale_{};
+};
+
 /// nu^2/sigma2 by the direct closed form; accurate for phi <= kAr1LogFormMinPhi.
 template <class T>
 T ar1_unit_wv_direct(const T& phi, double m) {
@@ -74,20 +104,17 @@ T ar1_unit_wv_direct(const T& phi, double m) {
          (omp * omp * omp * opp * (4.0 * m * m));
 }
 
-/// nu^2/sigma2 of an AR1 with phi = exp(-L), L > 0, at tau = 2m: stable for all L.
 template <class T>
-T ar1_unit_wv_log(const T& L, double m) {
-  using std::exp;
-  const double l = value(L);
-  if (l >= kLn2) return ar1_unit_wv_direct(T(exp(-L)), m);
-  const T sc = lift(L, sinhc_d2(l));
-  const T half = 0.5 * L;
-  const T sch = lift(half, sinhc_d2(0.5 * l));  // sinhc(L/2)
-  const T s3 = lift(L, sinh_minus_x_over_x3_d2(l));
-  const T y = m * L;
-  const T hh = lift(y, haar_h_over_y3_d2(m * l));
-  return exp(L) * (4.0 * s3 + (m * m) * hh) / ((8.0 * m) * sch * sch * sc);
+T Ar1LogForm<T>::at(double m) const {
+  if (l_ >= kLn2) return ar1_unit_wv_direct(phi_, m);
+  const T y = m * L_;
+  const T hh = lift(y, haar_h_over_y3_d2(m * l_));
+  return scale_ * (s3x4_ + (m * m) * hh) / m;
 }
+
+/// One level of Ar1LogForm (a WV over several levels should keep the form).
+template <class T>
+T ar1_unit_wv_log(const T& L, double m) { return Ar1LogForm<T>(L).at(m); }
 
 /// -log(phi) for phi in (0, 1).
 template <class T>
@@ -112,21 +139,37 @@ inline bool near_minus_one_even(double phi, double m) {
   return phi < -kAr1LogFormMinPhi && std::fmod(m, 2.0) == 0.0;
 }
 
-/// nu^2/sigma2 of an AR1 at tau = 2m, phi in (-1, 1). m = 1 is the exact
-/// 1/(2 (1 + phi)) (STATISTICS.md "handy checks").
+/// nu^2/sigma2 of an AR1 at tau = 2m, phi in (-1, 1), for any number of levels: the
+/// log form's L-only factors are computed once. m = 1 is the exact 1/(2 (1 + phi))
+/// (STATISTICS.md "handy checks").
 template <class T>
-T ar1_unit_wv(const T& phi, double m) {
-  if (m == 1.0) return 0.5 / (1.0 + phi);
-  if (value(phi) > kAr1LogFormMinPhi) return ar1_unit_wv_log(neg_log(phi), m);
-  if (near_minus_one_even(value(phi), m)) {
-    // N = (1 + phi) [ (1 - phi) 2m - 2 phi G (2 + om) ], om = (1 + phi) G.
-    const T g = geometric_ratio(T(-phi), m);
-    const T om = (1.0 + phi) * g;
-    const T omp = 1.0 - phi;
-    return (omp * (2.0 * m) - 2.0 * phi * g * (2.0 + om)) / (omp * omp * omp * (4.0 * m * m));
+class Ar1UnitWv {
+ public:
+  explicit Ar1UnitWv(const T& phi) : phi_(phi) {
+    if (value(phi) > kAr1LogFormMinPhi) log_form_.emplace(neg_log(phi));
   }
-  return ar1_unit_wv_direct(phi, m);
-}
+  T at(double m) const {
+    const T& phi = phi_;
+    if (m == 1.0) return 0.5 / (1.0 + phi);
+    if (log_form_) return log_form_->at(m);
+    if (near_minus_one_even(value(phi), m)) {
+      // N = (1 + phi) [ (1 - phi) 2m - 2 phi G (2 + om) ], om = (1 + phi) G.
+      const T g = geometric_ratio(T(-phi), m);
+      const T om = (1.0 + phi) * g;
+      const T omp = 1.0 - phi;
+      return (omp * (2.0 * m) - 2.0 * phi * g * (2.0 + om)) / (omp * omp * omp * (4.0 * m * m));
+    }
+    return ar1_unit_wv_direct(phi, m);
+  }
+
+ private:
+  T phi_;
+  std::optional<Ar1LogForm<T>> log_form_;
+};
+
+/// One level of Ar1UnitWv.
+template <class T>
+T ar1_unit_wv(const T& phi, double m) { return Ar1UnitWv<T>(phi).at(m); }
 
 /// K = (1 - phi^m)(3 - phi^m) / ((1 - phi^2) tau^2), the ARMA11 cross term.
 template <class T>
@@ -146,9 +189,9 @@ T arma11_cross_term(const T& phi, double m) {
 
 /// nu^2/sigma2 of an ARMA11 at tau = 2m.
 template <class T>
-T arma11_unit_wv(const T& phi, const T& theta, double m) {
+T arma11_unit_wv(const Ar1UnitWv<T>& ar1, const T& phi, const T& theta, double m) {
   const T opt = 1.0 + theta;
-  return opt * opt * ar1_unit_wv(phi, m) - 2.0 * theta * arma11_cross_term(phi, m);
+  return opt * opt * ar1.at(m) - 2.0 * theta * arma11_cross_term(phi, m);
 }
 
 /// An AR1 WV peaks near tau = 3.79 / (1 - phi) (STATISTICS.md s.4, starting values).

@@ -38,18 +38,20 @@ class Arma11Process final : public Process {
   }
   void wv(std::span<const double> theta, std::span<const double> tau,
           std::span<double> out) const override {
+    const internal::Ar1UnitWv<double> ar1(theta[0]);
     for (std::size_t k = 0; k < tau.size(); ++k)
       out[k] = theta[2] * internal::arma11_unit_wv(
-                              theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
+                              ar1, theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
   }
   void derivatives(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<3> phi = Jet<3>::variable(theta[0], 0);
     const Jet<3> th = Jet<3>::variable(theta[1], 1);
     const Jet<3> s = Jet<3>::variable(theta[2], 2);
+    const internal::Ar1UnitWv<Jet<3>> ar1(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "ARMA11::wv");
-      internal::store_jet_row(s * internal::arma11_unit_wv(phi, th, m),
+      internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m),
                               static_cast<Eigen::Index>(k), jac, hess);
     }
   }

@@ -46,25 +46,27 @@ class GaussMarkov final : public Process {
   }
   double rate() const { return context().freq; }
 
-  template <class T>
-  T wv_at(const T& beta, const T& s2gm, double m) const {
+  /// nu^2 at every tau: sigma2_gm (1 - phi^2) x the AR1 unit WV, phi = exp(-beta / rate).
+  template <class T, class Store>
+  void wv_levels(const T& beta, const T& s2gm, std::span<const double> tau, Store store) const {
     using std::expm1;
     const T L = beta / rate();
-    return s2gm * (-expm1(-2.0 * L)) * internal::ar1_unit_wv_log(L, m);
+    const T stationary = s2gm * (-expm1(-2.0 * L));
+    const internal::Ar1LogForm<T> unit(L);
+    for (std::size_t k = 0; k < tau.size(); ++k)
+      store(k, stationary * unit.at(internal::haar_half_scale(tau[k], "GM::wv")));
   }
   void wv(std::span<const double> theta, std::span<const double> tau,
           std::span<double> out) const override {
-    for (std::size_t k = 0; k < tau.size(); ++k)
-      out[k] = wv_at(theta[0], theta[1], internal::haar_half_scale(tau[k], "GM::wv"));
+    wv_levels(theta[0], theta[1], tau, [&](std::size_t k, double v) { out[k] = v; });
   }
   void derivatives(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<2> beta = Jet<2>::variable(theta[0], 0);
     const Jet<2> s = Jet<2>::variable(theta[1], 1);
-    for (std::size_t k = 0; k < tau.size(); ++k) {
-      const double m = internal::haar_half_scale(tau[k], "GM::wv");
-      internal::store_jet_row(wv_at(beta, s, m), static_cast<Eigen::Index>(k), jac, hess);
-    }
+    wv_levels(beta, s, tau, [&](std::size_t k, const Jet<2>& v) {
+      internal::store_jet_row(v, static_cast<Eigen::Index>(k), jac, hess);
+    });
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
