@@ -15,19 +15,36 @@ namespace {
 
 // A lag k is in a component's "tail" once |Delta^2 g(k)| < kTailTolerance |Delta^2 g(0)|:
 // the cross-covariance of two Haar coefficient processes is a fourth-order difference
-// of the structure function V, i.e. a smoothed Delta^2 g, so beyond that lag (plus the
-// filters' length) its squares add less than ~1e-12 relative to the sum. Chosen so that
-// the long-double rounding of V at the last lag kept stays below that level for AR1
-// with 1 - phi >= 1e-6 (see the comment in ComponentTable).
+// of the structure function V, i.e. a smoothed Delta^2 g. Continuing g linearly beyond
+// that lag leaves a slope error of about that size, which moves V_ij by up to ~6e-7 of
+// sqrt(V_ii V_jj) at the coarse levels (measured against the lag-by-lag sum, AR1 with
+// phi 0.5-0.99; wv_covariance_test). A smaller tolerance lengthens the tables until the
+// long-double rounding of V at the last lag kept dominates (1e-9 broke N = 1e6 with
+// 1 - phi = 1e-4; see the comment in ComponentTable).
 constexpr double kTailTolerance = 1e-6;
 // Between breakpoints, n_ij(h) c_ij(h)^2 is a polynomial in h for WN, QN and RW (their
 // structure functions are polynomials away from d = 0, 1) and a smooth function for
-// decaying stationary components; sums over long stretches use composite Simpson with
-// at most kSimpsonPointsPerStretch points (error ~ (1/64)^4 relative for the degree-7
-// polynomials), and at most 8 points per decay scale of the slowest stationary
-// component, whose support spans about kDecayScalesInSupport e-folds (1e-6 = e^-13.8).
-constexpr double kSimpsonPointsPerStretch = 64.0;
+// decaying stationary components; sums over long stretches use the corrected Simpson rule
+// of sum_smooth (error O(s^6 f^(6))) with at least kSimpsonPointsPerStretch panels and
+// kPointsPerDecayScale per decay scale of the slowest stationary component, whose support
+// spans about kDecayScalesInSupport e-folds (1e-6 = e^-13.8). Measured against the
+// lag-by-lag sum at N = 1e6, 19 levels (WN+RW+QN; 2-4 AR1s with phi up to 1 - 1e-6 beside
+// WN/RW/QN): |dV_ij| <= 1e-7 sqrt(V_ii V_jj), where plain Simpson with 64 panels and 8 per
+// decay scale (no end corrections) reached 1.7e-5 at 2-4 times the cost; halving the
+// panels to 16 raises the polynomial case's error to 5e-7 (the s^6 law).
+constexpr double kSimpsonPointsPerStretch = 32.0;
 constexpr double kDecayScalesInSupport = 14.0;
+constexpr double kPointsPerDecayScale = 4.0;
+// Stretches shorter than this are summed lag by lag; the rule needs at least kMinPanels
+// panels (five points for each end's differences).
+constexpr std::int64_t kExactStretch = 24;
+constexpr std::int64_t kMinPanels = 4;
+// A stochastic component whose WV is below this share of the model's at every level is
+// left out: its coefficients' covariances are at most that share of the model's
+// (|c_ij(h)| <= sqrt(nu_i nu_j) by Cauchy-Schwarz), so it moves V by less than about
+// 2e-12 relative. Collapsed terms of a maximal model's fit (a WN at 1e-17 beside AR1s)
+// would otherwise cost a full table and a term in every lag's sum.
+constexpr double kNegligibleShare = 1e-12;
 // Components whose support is at most this many lags have (nearly) polynomial structure
 // functions beyond it (WN: 1, QN and RW: 3, short-memory AR1/MA1 a few lags).
 constexpr std::int64_t kPolynomialSupport = 16;
@@ -127,6 +144,56 @@ long double cross_cov(const ComponentTable& t, const Level& a, const Level& b, s
   return -0.5L * s / (static_cast<long double>(a.tau) * static_cast<long double>(b.tau));
 }
 
+// sum_{h=u}^{v} f(h) for f smooth on [u, v] (no breakpoint inside), sampled every
+// `max_step` lags at most: composite Simpson on the grid u + q s plus the Euler-Maclaurin
+// terms that turn an integral into a sum over the integers,
+//   sum = integral + (f(u) + f(B))/2 + (f'(B) - f'(u))/12 - (f'''(B) - f'''(u))/720,
+// with Simpson's own leading error removed (Simpson = integral + s^4/180 (f'''(B) - f'''(u))); f' and f'''
+// at the ends come from five-point one-sided differences on the same grid (step s), so
+// the rule costs no extra evaluation and its error is O(s^6 f^(6)). The part of the
+// stretch the grid leaves over (shorter than its number of panels) is summed the same
+// way, or lag by lag when short.
+template <class F>
+Sums sum_smooth(const F& f, std::int64_t u, std::int64_t v, double max_step) {
+  Sums total;
+  for (;;) {
+    const std::int64_t len = v - u;
+    std::int64_t panels = 0, s = 0;
+    if (len >= kExactStretch && max_step >= 2.0) {
+      panels = static_cast<std::int64_t>(std::ceil(static_cast<double>(len) / max_step));
+      panels = std::max<std::int64_t>(kMinPanels, panels + (panels % 2));
+      s = len / panels;
+    }
+    if (s < 2) {
+      for (std::int64_t h = u; h <= v; ++h) total += f(h);
+      return total;
+    }
+    const std::int64_t B = u + panels * s;
+    std::vector<Sums> y(static_cast<std::size_t>(panels) + 1);
+    for (std::int64_t q = 0; q <= panels; ++q) y[static_cast<std::size_t>(q)] = f(u + q * s);
+    const long double h = static_cast<long double>(s);
+    Sums simpson = y.front() + y.back();
+    for (std::int64_t q = 1; q < panels; ++q) simpson += ((q % 2) ? 4.0L : 2.0L) * y[static_cast<std::size_t>(q)];
+    // Five-point one-sided differences at the left end (forward, y[0..4]); at the right
+    // end the same stencil on y[P], y[P-1], ... gives the odd derivatives with flipped sign.
+    const std::size_t P = static_cast<std::size_t>(panels);
+    auto stencil = [&](const long double c[5], bool right) {
+      Sums r;
+      for (std::size_t k = 0; k < 5; ++k) r += c[k] * (right ? y[P - k] : y[k]);
+      return right ? (-1.0L) * r : r;
+    };
+    static constexpr long double kD1[5] = {-25.0L / 12.0L, 4.0L, -3.0L, 4.0L / 3.0L, -0.25L};
+    static constexpr long double kD3[5] = {-2.5L, 9.0L, -12.0L, 7.0L, -1.5L};
+    const Sums d1_diff = (1.0L / h) * (stencil(kD1, true) + (-1.0L) * stencil(kD1, false));
+    const Sums d3_diff = (1.0L / (h * h * h)) * (stencil(kD3, true) + (-1.0L) * stencil(kD3, false));
+    const long double c3 = -h * h * h * h / 180.0L - 1.0L / 720.0L;
+    total += (h / 3.0L) * simpson + 0.5L * (y.front() + y.back()) + (1.0L / 12.0L) * d1_diff + c3 * d3_diff;
+    if (B == v) return total;
+    u = B + 1;
+    max_step = std::min(max_step, static_cast<double>(v - u) / static_cast<double>(kMinPanels));
+  }
+}
+
 }  // namespace
 
 Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
@@ -140,9 +207,27 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
     lv.push_back({tau, tau / 2, n - tau + 1});
   }
   const std::int64_t max_lag = 3 * n + 4;
+  std::vector<double> taus(static_cast<std::size_t>(levels));
+  for (int j = 0; j < levels; ++j) taus[static_cast<std::size_t>(j)] = static_cast<double>(lv[static_cast<std::size_t>(j)].tau);
+  std::vector<std::vector<double>> parts;
+  std::vector<double> total(static_cast<std::size_t>(levels), 0.0);
+  std::vector<int> candidates;
+  for (int c = 0; c < model.num_components(); ++c) {
+    const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
+    if (p.deterministic()) continue;
+    std::vector<double> part(static_cast<std::size_t>(levels));
+    p.wv({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, taus, part);
+    for (int j = 0; j < levels; ++j) total[static_cast<std::size_t>(j)] += std::abs(part[static_cast<std::size_t>(j)]);
+    candidates.push_back(c);
+    parts.push_back(std::move(part));
+  }
   std::vector<int> stochastic;
-  for (int c = 0; c < model.num_components(); ++c)
-    if (!model.components()[static_cast<std::size_t>(c)].process->deterministic()) stochastic.push_back(c);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    bool visible = false;
+    for (int j = 0; j < levels && !visible; ++j)
+      visible = !(std::abs(parts[k][static_cast<std::size_t>(j)]) < kNegligibleShare * total[static_cast<std::size_t>(j)]);
+    if (visible) stochastic.push_back(candidates[k]);
+  }
   // The deterministic components' Haar coefficient at each level (constant in time).
   std::vector<long double> det(static_cast<std::size_t>(levels), 0.0L);
   for (int c = 0; c < model.num_components(); ++c) {
@@ -230,24 +315,13 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
     Sums sum;
     for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
       const std::int64_t u = pts[k], v = pts[k + 1] - 1;  // stretch [u, v]
-      const std::int64_t len = v - u;
-      std::int64_t s = 1;
-      if (!oscillating && len > 16) {
-        const double by_len = static_cast<double>(len) / kSimpsonPointsPerStretch;
-        s = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::min(by_len, smoothness(u, v) / 8.0)));
-      }
-      if (s == 1) {
+      if (oscillating) {
         for (std::int64_t h = u; h <= v; ++h) sum += f(h);
         continue;
       }
-      const std::int64_t steps = (len / (2 * s)) * 2;
-      const std::int64_t B = u + steps * s;
-      const Sums ends = f(u) + f(B);
-      Sums simpson = ends;
-      for (std::int64_t q = 1; q < steps; ++q) simpson += ((q % 2) ? 4.0L : 2.0L) * f(u + q * s);
-      // Sum over the integers of [u, B] ~ integral (s/3 x Simpson) + (f(u) + f(B)) / 2.
-      sum += (static_cast<long double>(s) / 3.0L) * simpson + 0.5L * ends;
-      for (std::int64_t h = B + 1; h <= v; ++h) sum += f(h);
+      const double len = static_cast<double>(v - u);
+      const double max_step = std::min(len / kSimpsonPointsPerStretch, smoothness(u, v) / kPointsPerDecayScale);
+      sum += sum_smooth(f, u, v, max_step);
     }
     // nuhat = mean (d + S)^2 with d the deterministic coefficient: for Gaussian S the
     // third moments vanish, leaving Cov = 2 sum n c^2 / (M_i M_j) + 4 d_i d_j sum n c / (M_i M_j).
