@@ -44,6 +44,7 @@ std::string FitOptions::Validate() const {
   if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
   else if (multistarts < 1) os << "multistarts must be at least 1, got " << multistarts;
   else if (max_evaluations < 10) os << "max_evaluations must be at least 10, got " << max_evaluations;
+  else if (nested_depth < 1) os << "nested_depth must be at least 1, got " << nested_depth;
   else if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0))
     os << "relative_tolerance must be in (0, 1), got " << relative_tolerance;
   else if (omega == OmegaKind::kBootstrap && bootstrap_replicates < 10)
@@ -57,13 +58,24 @@ std::string FitOptions::Validate() const {
 // coefficients happen to be tiny (with one coefficient nuhat^2 can be any fraction of
 // nu^2) would otherwise get a weight ~1/nuhat^4 that swamps every other level.
 constexpr double kSteepestDecayPerLevel = 0.25;
+// Below this many equivalent degrees of freedom a level cannot size its own variance at
+// all (the chi-square's coefficient of variation sqrt(2/eta) exceeds 0.7): its weight
+// uses at least the value used at the level before it, instead of a quarter of that
+// level's. A flat or rising WV is what those scales show in an IMU (RW, rate ramp, bias
+// instability); a WN-like decay gets a weight ~4x too small, where a low draw got one
+// ~1000x too large (WN+RW on 2^16 samples: last level, 1 coefficient, at 8e-4 of the
+// truth; RW gamma2 fitted 430x low).
+constexpr double kFewCoefficients = 4.0;
 
 Eigen::MatrixXd diagonal_omega(const WaveletVariance& wv) {
   Eigen::VectorXd d(wv.levels());
+  double previous = 0.0;  // the value used at the level before
   for (int j = 0; j < wv.levels(); ++j) {
     const auto i = static_cast<std::size_t>(j);
     double v = wv.wv[i];
     if (j > 0 && std::isfinite(wv.wv[i - 1])) v = std::max(v, kSteepestDecayPerLevel * wv.wv[i - 1]);
+    if (wv.eta[i] < kFewCoefficients && std::isfinite(previous)) v = std::max(v, previous);
+    previous = v;
     const double var = 2.0 * v * v / wv.eta[i];
     d(j) = (var > 0.0 && std::isfinite(var)) ? 1.0 / var : 0.0;
   }
@@ -311,7 +323,8 @@ std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Mode
   std::vector<Eigen::VectorXd> out;
   FitOptions sub_options = options;
   sub_options.omega_matrix = omega;
-  sub_options.nested_starts = false;
+  sub_options.nested_starts = options.nested_depth > 1;
+  sub_options.nested_depth = std::max(1, options.nested_depth - 1);
   sub_options.inference = false;
   sub_options.starts.clear();
   for (const Model& sub : representation_neighbours(model)) {

@@ -122,6 +122,41 @@ TEST(GmwmFit, ALargerModelNeverEndsAboveItsSubModelUnderOneOmega) {
   EXPECT_LE(rb.objective, rs.objective * (1 + 1e-9));
 }
 
+TEST(GmwmFit, DiagonalOmegaSizesALevelWithFewCoefficientsByTheLevelBeforeIt) {
+  // Three levels: many coefficients, many, then one (eta = 1) whose value is 1e-3 of the
+  // one before. Its weight comes from the previous level's value, not its own: a low
+  // draw must not get a weight ~1/nuhat^4.
+  WaveletVariance w;
+  w.tau = {2, 4, 8};
+  w.wv = {1e-4, 1e-4, 1e-7};
+  w.eta = {1000, 500, 1};
+  const Eigen::MatrixXd om = diagonal_omega(w);
+  EXPECT_DOUBLE_EQ(om(2, 2), 1.0 / (2.0 * 1e-4 * 1e-4 / 1.0));
+  // With enough coefficients the level keeps its own value, floored at a quarter of the
+  // level before (the steepest decay any process shows).
+  w.eta = {1000, 500, 100};
+  EXPECT_DOUBLE_EQ(diagonal_omega(w)(2, 2), 1.0 / (2.0 * 0.25e-4 * 0.25e-4 / 100.0));
+  w.wv = {1e-4, 1e-4, 3e-4};
+  EXPECT_DOUBLE_EQ(diagonal_omega(w)(2, 2), 1.0 / (2.0 * 3e-4 * 3e-4 / 100.0));
+}
+
+TEST(GmwmFit, ARandomWalkSeenOnlyAtTheLastLevelsIsNotDraggedDownByALowSingleCoefficient) {
+  // WN(1e-4)+RW(1e-10) on 2^16 samples: the RW shows only at the last ~4 levels; seed 7024
+  // draws the last level (one coefficient) at 8e-4 of its expectation. With its own value
+  // sizing its weight, RW gamma2 came out 2.3e-13 (430x low); the 95% range of the
+  // estimate at this length is roughly a factor 10 either way.
+  const WaveletVariance w = wv_of("WN(sigma2=1e-4)+RW(gamma2=1e-10)", 1 << 16, 7024);
+  FitOptions o;
+  o.inference = false;
+  const FitResult r = fit_gmwm(w, parse_model("WN+RW"), o);
+  ASSERT_NE(r.status, FitStatus::kFailed);
+  double gamma2 = 0.0;
+  for (int c = 0; c < r.model.num_components(); ++c)
+    if (r.model.components()[static_cast<std::size_t>(c)].process->name() == "RW") gamma2 = r.theta(r.model.offset(c));
+  EXPECT_GT(gamma2, 1e-11) << r.model.to_string();
+  EXPECT_LT(gamma2, 1e-9) << r.model.to_string();
+}
+
 TEST(GmwmFit, IndependentFitsAreNeverAboveTheirOneComponentSubModels) {
   // No warm starts from outside: each model fitted on its own, all under one Omega.
   const char* truth = "AR1(phi=0.5,sigma2=0.2)+AR1(phi=0.999,sigma2=1e-4)+AR1(phi=0.99999,sigma2=1e-6)"

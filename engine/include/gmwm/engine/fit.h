@@ -66,6 +66,9 @@ struct FitOptions {
   /// that fits the sub-models anyway (model selection) turns it off and passes their
   /// fits through `starts` (embed_start).
   bool nested_starts = true;
+  /// How deep those warm starts go: 1 fits the neighbours without starts of their own,
+  /// 2 gives each neighbour its own neighbours' fits, and so on (cost ~ components^depth).
+  int nested_depth = 2;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
