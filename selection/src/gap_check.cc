@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <tuple>
 
 #include <boost/random/uniform_01.hpp>
+#include <Eigen/Cholesky>
 #include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/classical_wv.h"
@@ -13,6 +16,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
+#include "gmwm/engine/wv_covariance.h"
 #include "gmwm/robust/robust_wv.h"
 
 namespace gmwm::selection {
@@ -43,6 +47,13 @@ constexpr double kTransientMaxLog2T = 12.0;
 // Levels whose effect/base ratio is at least this share of the largest count as the
 // effect's dominant scales.
 constexpr double kDominantShare = 0.5;
+
+// The oracle's one-sided test at size 5%: z_0.95 of the standard normal.
+constexpr double kZ95 = 1.6448536269514722;
+// A family's "strength at 90% power" (issue 14, item 7).
+constexpr double kTargetPower = 0.9;
+
+double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
 
 std::vector<double> dyadic(int J) {
   std::vector<double> t;
@@ -153,7 +164,55 @@ struct Plan {
   double strength;
 };
 
+// dnu' V0^-1 dnu.
+double noncentrality(const Eigen::LLT<Eigen::MatrixXd>& v0, const Eigen::VectorXd& dnu) {
+  return dnu.dot(v0.solve(dnu));
+}
+
+// The strength at which the mean oracle power over the cases' non-centralities is 90%
+// (bisection in log strength; the mean is increasing in the strength).
+double oracle_strength(const std::vector<double>& nc) {
+  auto power = [&](double s) {
+    double sum = 0.0;
+    for (double q : nc) sum += normal_cdf(s * std::sqrt(q) - kZ95);
+    return sum / static_cast<double>(nc.size());
+  };
+  double lo = std::log(1e-8), hi = std::log(1e8);
+  if (nc.empty() || power(std::exp(hi)) < kTargetPower) return std::numeric_limits<double>::quiet_NaN();
+  for (int it = 0; it < 200 && hi - lo > 1e-10; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (power(std::exp(mid)) < kTargetPower ? lo : hi) = mid;
+  }
+  return std::exp(0.5 * (lo + hi));
+}
+
+// The first crossing of 90% along the grid, interpolated linearly in log strength.
+std::pair<double, Crossing> our_strength(const std::map<double, double>& power) {
+  double prev_s = 0.0, prev_p = 0.0;
+  bool first = true;
+  for (const auto& [s, p] : power) {
+    if (p >= kTargetPower) {
+      if (first) return {s, Crossing::kAtMost};
+      const double w = (kTargetPower - prev_p) / (p - prev_p);
+      return {std::exp(std::log(prev_s) + w * (std::log(s) - std::log(prev_s))), Crossing::kInterpolated};
+    }
+    prev_s = s;
+    prev_p = p;
+    first = false;
+  }
+  return {power.empty() ? std::numeric_limits<double>::quiet_NaN() : power.rbegin()->first, Crossing::kBeyond};
+}
+
 }  // namespace
+
+const char* to_string(Crossing c) {
+  switch (c) {
+    case Crossing::kInterpolated: return "interpolated";
+    case Crossing::kAtMost: return "at most";
+    case Crossing::kBeyond: return "beyond";
+  }
+  return "?";
+}
 
 std::string GapCheckOptions::Validate() const {
   std::ostringstream os;
@@ -185,6 +244,12 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
     for (int c = 0; c < 5 * options.cases; ++c) plan.push_back({GapEffect::kNone, 0.0});
     for (int c = 0; c < 2 * options.cases; ++c) plan.push_back({GapEffect::kReparameterise, 0.0});
   }
+  // The oracle's null covariance: the base's exact Cov(nuhat) at the check's length.
+  const std::vector<double> zeros(static_cast<std::size_t>(options.n), 0.0);
+  const std::vector<double> tau = classical_wv(zeros.data(), options.n).tau;
+  const int J = static_cast<int>(tau.size());
+  const Eigen::LLT<Eigen::MatrixXd> v0(model_wv_covariance(base, base_theta, options.n, J));
+  const Eigen::VectorXd nu_base = base.wv(base_theta, tau);
   GapCheckResult out;
   out.cases.resize(plan.size());
   std::atomic<int> done{0};
@@ -230,6 +295,21 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
       wv = classical_wv(x.data(), options.n);
       in.dominant = {0, 1};
       c.injected = "spikes of +-" + std::to_string(a) + " at " + std::to_string(kSpikeShare) + " of the samples";
+    }
+    // The effect's expected WV at strength 1 (each is linear in the strength).
+    c.oracle_nc = std::numeric_limits<double>::quiet_NaN();
+    if (p.strength > 0.0) {
+      Eigen::VectorXd dnu;
+      if (p.truth == GapEffect::kOutliers) {
+        // iid spikes of variance share a^2 = 2 strength nu_base(2): a WN of that variance.
+        dnu = Eigen::VectorXd(J);
+        for (int j = 0; j < J; ++j) dnu(j) = 2.0 * nu_base(0) / tau[static_cast<std::size_t>(j)];
+      } else if (!in.signal.empty()) {
+        dnu = classical_wv(in.signal.data(), options.n).values() / p.strength;
+      } else {
+        dnu = in.model.wv(in.theta, tau) / p.strength;
+      }
+      if (dnu.size() == J && dnu.allFinite()) c.oracle_nc = noncentrality(v0, dnu);
     }
     const WaveletVariance robust = robust::robust_wv(x.data(), options.n);
     GapOptions go;
@@ -281,9 +361,17 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
       s.first += c.correct;
     }
   }
+  std::map<std::string, std::vector<double>> nc;
+  for (const auto& c : out.cases)
+    if (std::isfinite(c.oracle_nc)) nc[to_string(c.truth)].push_back(c.oracle_nc);
   for (auto& [t, f] : out.families) {
     f.median_excess_removed = median(removed[t]);
     for (const auto& [s, k] : by_strength[t]) f.power[s] = static_cast<double>(k.first) / k.second;
+    f.strength_90 = f.oracle_strength_90 = f.oracle_ratio = std::numeric_limits<double>::quiet_NaN();
+    if (f.power.empty()) continue;
+    std::tie(f.strength_90, f.crossing) = our_strength(f.power);
+    f.oracle_strength_90 = oracle_strength(nc[t]);
+    f.oracle_ratio = f.strength_90 / f.oracle_strength_90;
   }
   return out;
 }

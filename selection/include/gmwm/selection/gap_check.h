@@ -57,12 +57,28 @@ struct GapCheckCase {
   /// SIN: |f_hat / f - 1|; AR1, TRANSIENT: |log(T_hat / T)| / log 2 (<= 1: within a factor
   /// 2); STEP: |t_hat - t| / the window length (<= 1: within one window); NaN otherwise.
   double parameter_error = 0.0;
+  /// The oracle's non-centrality at strength 1 (item 7 of issue 14): dnu' V0^-1 dnu, with
+  /// dnu the effect's expected WV at strength 1 (this case's shape: AR1 T, SIN f, STEP
+  /// time ...) and V0 the exact Cov(nuhat) of the base. The one-sided test of "amplitude
+  /// 0" that knows everything but the amplitude has power Phi(s sqrt(nc) - z_0.95) at
+  /// strength s (NaN on the null side).
+  double oracle_nc = 0.0;
 };
+
+/// Where a power curve crosses 90%: interpolated (log strength) between two strengths of
+/// the grid, at most the grid's smallest strength, or beyond its largest.
+enum class Crossing { kInterpolated, kAtMost, kBeyond };
+const char* to_string(Crossing c);
 
 struct GapCheckFamily {
   int cases = 0, correct = 0, located = 0, detected = 0;
   double median_excess_removed = 0.0;      ///< over the correctly attributed cases
   std::map<double, double> power;          ///< strength -> share correctly attributed
+  /// The strength at which the share correctly attributed reaches 90% (see `crossing`),
+  /// the oracle's (mean of its power over this family's cases = 90%), and their ratio,
+  /// the figure of merit (goal <= 1.5). NaN on the null side.
+  double strength_90 = 0.0, oracle_strength_90 = 0.0, oracle_ratio = 0.0;
+  Crossing crossing = Crossing::kInterpolated;
 };
 
 struct GapCheckResult {
