@@ -245,9 +245,9 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
     for (int c = 0; c < 2 * options.cases; ++c) plan.push_back({GapEffect::kReparameterise, 0.0});
   }
   // The oracle's null covariance: the base's exact Cov(nuhat) at the check's length.
-  const std::vector<double> zeros(static_cast<std::size_t>(options.n), 0.0);
-  const std::vector<double> tau = classical_wv(zeros.data(), options.n).tau;
-  const int J = static_cast<int>(tau.size());
+  // The classical WV's default levels: J = floor(log2 N) (classical_wv.h).
+  const int J = static_cast<int>(std::floor(std::log2(static_cast<double>(options.n))));
+  const std::vector<double> tau = dyadic(J);
   const Eigen::LLT<Eigen::MatrixXd> v0(model_wv_covariance(base, base_theta, options.n, J));
   const Eigen::VectorXd nu_base = base.wv(base_theta, tau);
   GapCheckResult out;
