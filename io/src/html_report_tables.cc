@@ -195,11 +195,22 @@ std::string gap_tables(const ReportColumn& c) {
     os << "<li>integrated error after " << num(g.navigation.horizon_seconds, 3) << " s: " << num(g.navigation.rms_without, 3)
        << " &rarr; " << num(g.navigation.rms_with, 3) << " " << html_escape(render_unit("U*s", data_unit(c)))
        << " RMS (baseline &rarr; with the effects)</li>\n";
-  if (g.event)
-    os << "<li>" << selection::to_string(g.event->effect) << " at sample " << g.event->sample << ", size "
-       << num(g.event->size, 4) << "</li>\n";
+  // Times and rates in seconds when the sampling rate is known (issue 14, item 6).
+  const bool seconds = c.freq_known && c.freq > 0.0;
+  const double rate = seconds ? c.freq : 1.0;
+  const char* per = seconds ? " per s" : " per sample";
+  if (g.event) {
+    const auto& e = *g.event;
+    os << "<li>" << selection::to_string(e.effect);
+    if (e.effect == selection::GapEffect::kOutliers) os << " (a burst of " << e.length << " samples)";
+    os << " at " << (seconds ? num(static_cast<double>(e.sample) / rate, 6) + " s" : "sample " + std::to_string(e.sample))
+       << ", " << (e.effect == selection::GapEffect::kOutliers ? "peak departure " : "size ") << num(e.size, 4);
+    if (e.effect == selection::GapEffect::kTransient)
+      os << ", time constant " << num(e.time_constant / rate, 4) << (seconds ? " s" : " samples");
+    os << "</li>\n";
+  }
   if (g.trend && g.trend->significant)
-    os << "<li>drift (end-segment trend): " << num(g.trend->omega, 4) << " per sample</li>\n";
+    os << "<li>drift (end-segment trend): " << num(g.trend->omega * rate, 4) << per << "</li>\n";
   if (g.temperature)
     os << "<li>temperature coupling " << num(g.temperature->k, 4) << " (" << interval(g.temperature->ci_low, g.temperature->ci_high)
        << ")" << (g.temperature->significant ? ", significant" : "") << "</li>\n";

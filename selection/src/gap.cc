@@ -284,52 +284,75 @@ void outliers_stage(const Context& c, GapResult& g, Attribution& a) {
 }
 
 // Stage 4b: the time-domain effects: the series corrected for them, its WV the data from
-// here on, kept only when that makes the fit better.
+// here on, kept only when that makes the fit better. A located STEP with a burst beside
+// it (a shock that returns where it started) competes with that burst: the correction
+// that fits better is kept (a two-mean split across a shock reads a step the record's
+// longer means do not show).
 void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapResult& g, Attribution& a) {
   if (!(time.event || time.coupling || time.trend)) return;
   // A snapshot to restore when the correction does not help.
   const std::size_t steps = g.steps.size(), notes = g.notes.size();
-  const auto event = g.event;
-  const auto trend = g.trend;
-  const auto temperature = g.temperature;
-  const auto bands = g.bands;
-  const std::vector<double> corrected = detail::apply_time_effects(*c.x, c.temperature, time, g);
-  if (g.event) g.bands = detail::merge_event_band(g.bands, time, g.levels, g.event->effect);
-  WaveletVariance w;
-  if (a.outliers) {
-    robust::RobustWvOptions ro;
-    ro.estimator = robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber);
-    ro.efficiency = c.robust->efficiency.value_or(robust::kDefaultEfficiency);
-    ro.levels = c.wv.levels();
-    w = robust::robust_wv(corrected.data(), c.wv.n, ro);
-  } else {
-    const ClassicalWvEstimator classical;
-    const WvEstimator& estimator = c.options.estimator ? *c.options.estimator : classical;
-    w = estimator.compute(corrected.data(), c.wv.n, c.wv.levels(), c.wv.alpha);
+  const GapResult snapshot = g;
+  struct Trial {
+    GapResult g;
+    Eigen::VectorXd data;
+    Fitness f;
+    bool usable = false;
+  };
+  const auto trial = [&](const GapEvent* event) {
+    Trial t{snapshot, {}, a.now, false};
+    const std::vector<double> corrected = detail::apply_time_effects(*c.x, c.temperature, time, t.g, event);
+    if (t.g.event) t.g.bands = detail::merge_event_band(t.g.bands, time, t.g.levels, t.g.event->effect);
+    WaveletVariance w;
+    if (a.outliers) {
+      robust::RobustWvOptions ro;
+      ro.estimator = robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber);
+      ro.efficiency = c.robust->efficiency.value_or(robust::kDefaultEfficiency);
+      ro.levels = c.wv.levels();
+      w = robust::robust_wv(corrected.data(), c.wv.n, ro);
+    } else {
+      const ClassicalWvEstimator classical;
+      const WvEstimator& estimator = c.options.estimator ? *c.options.estimator : classical;
+      w = estimator.compute(corrected.data(), c.wv.n, c.wv.levels(), c.wv.alpha);
+    }
+    t.data = w.values();
+    t.usable = t.data.allFinite() && (t.data.array() > 0.0).all();
+    if (t.usable) t.f = fitness(c, t.data, a.base.nu);
+    return t;
+  };
+  Trial best = trial(nullptr);
+  if (best.g.event && best.g.event->effect == GapEffect::kStep &&
+      !detail::step_persists(*c.x, *best.g.event, c.wv.values())) {
+    const GapEvent step = *best.g.event;
+    const auto burst = detail::burst_alternative(*c.x, step);
+    GapEvent none;  // effect kNone: the event is not removed
+    best = trial(burst ? &*burst : &none);
+    best.g.notes.push_back(
+        "the jump of " + std::to_string(step.size) + " a two-mean split reads at " +
+        scale_text(static_cast<double>(step.sample), c.options.context) +
+        " does not persist at the coarser levels (not a step): " +
+        (burst ? "a burst of " + std::to_string(burst->length) + " samples that returns to its level is removed instead"
+               : std::string("no burst found there either, so nothing is removed")));
   }
-  const Eigen::VectorXd v = w.values();
-  const bool usable = v.allFinite() && (v.array() > 0.0).all();
-  const Fitness f = usable ? fitness(c, v, a.base.nu) : a.now;
   std::string what;
-  for (std::size_t k = steps; k < g.steps.size(); ++k) what += (k > steps ? " + " : "") + std::string(to_string(g.steps[k]));
-  if (!usable || !better(f, a.now)) {
-    if (usable) g.refused.push_back(refusal(what, a.now, f));
+  for (std::size_t k = steps; k < best.g.steps.size(); ++k)
+    what += (k > steps ? " + " : "") + std::string(to_string(best.g.steps[k]));
+  if (!best.usable || !better(best.f, a.now)) {
+    g = snapshot;
+    if (best.usable) g.refused.push_back(refusal(what, a.now, best.f));
     g.steps.resize(steps);
     g.notes.resize(notes);
-    g.event = event;
-    g.trend = trend;
-    g.temperature = temperature;
-    g.bands = bands;
     g.notes.push_back(what + " found in the time domain, but removing it does not make the fit better: not added");
     return;
   }
+  g = std::move(best.g);
   // The time effects' drop together, credited to the first of them.
   for (std::size_t k = steps; k < g.steps.size(); ++k) {
-    g.step_drops.push_back(k == steps ? a.now.objective - f.objective : 0.0);
+    g.step_drops.push_back(k == steps ? a.now.objective - best.f.objective : 0.0);
     g.step_details.push_back(detail::time_step_text(g.steps[k], g, c.options.context));
   }
-  a.data = v;
-  a.now = f;
+  a.data = best.data;
+  a.now = best.f;
 }
 
 // The cleared candidates of a step in the order they are tried: the disambiguated pick

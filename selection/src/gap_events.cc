@@ -244,8 +244,68 @@ GapEvent locate_event(const std::vector<double>& x, int level) {
   return e;
 }
 
+bool step_persists(const std::vector<double>& x, const GapEvent& step, const Eigen::VectorXd& nuhat) {
+  const auto n = static_cast<std::int64_t>(x.size());
+  const Prefix p(x);
+  const std::int64_t s = step.sample;
+  double step_score = 0.0, burst_score = 0.0;
+  int used = 0;
+  for (int k = step.level + 1; k <= std::min<int>(step.level + kPersistLevels, static_cast<int>(nuhat.size())); ++k) {
+    const std::int64_t half = std::int64_t{1} << (k - 1);
+    if (s - half < 0 || s + half > n || !(nuhat(k - 1) > 0.0)) continue;
+    // The level-k Haar coefficient centred on the step: half the difference of the means.
+    const double w = 0.5 * (p.sum(s, s + half) - p.sum(s - half, s)) / static_cast<double>(half);
+    step_score += (w - 0.5 * step.size) * (w - 0.5 * step.size) / nuhat(k - 1);
+    burst_score += w * w / nuhat(k - 1);
+    ++used;
+  }
+  return used == 0 || step_score <= burst_score;
+}
+
+std::optional<GapEvent> burst_alternative(const std::vector<double>& x, const GapEvent& step) {
+  if (step.effect != GapEffect::kStep || step.level < 1) return std::nullopt;
+  const auto n = static_cast<std::int64_t>(x.size());
+  const std::int64_t tau = std::int64_t{1} << step.level;
+  const std::int64_t a = std::max<std::int64_t>(0, step.sample - tau), b = std::min(n, step.sample + tau);
+  if (b - a < 8) return std::nullopt;
+  const auto median = [](std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  std::vector<double> window(x.begin() + a, x.begin() + b), diffs;
+  for (std::size_t i = 1; i < window.size(); ++i) diffs.push_back(window[i] - window[i - 1]);
+  const double level = median(window);
+  const double d_med = median(diffs);
+  for (double& d : diffs) d = std::abs(d - d_med);
+  // 1.4826: the MAD's consistency factor for a Gaussian; a difference has twice the variance.
+  const double sd = 1.4826 * median(diffs) / std::sqrt(2.0);
+  if (!(sd > 0.0)) return std::nullopt;
+  std::int64_t first = -1, last = -1;
+  double peak = 0.0;
+  for (std::int64_t t = a; t < b; ++t) {
+    const double dev = x[static_cast<std::size_t>(t)] - level;
+    if (std::abs(dev) <= kBurstZ * sd) continue;
+    if (first < 0) first = t;
+    last = t;
+    if (std::abs(dev) > std::abs(peak)) peak = dev;
+  }
+  // A burst returns: it spans at most half the event's scale and ends inside the window.
+  if (first < 0 || last - first + 1 > tau / 2 || last + 1 >= b) return std::nullopt;
+  GapEvent e = step;
+  e.effect = GapEffect::kOutliers;
+  e.sample = first;
+  e.length = last - first + 1;
+  e.size = peak;
+  e.fill = level;
+  return e;
+}
+
 void remove_event(std::vector<double>& x, const GapEvent& e) {
-  if (e.effect == GapEffect::kStep) {
+  if (e.effect == GapEffect::kOutliers) {
+    const auto from = static_cast<std::size_t>(std::max<std::int64_t>(0, e.sample));
+    for (std::size_t t = from; t < std::min(x.size(), from + static_cast<std::size_t>(e.length)); ++t) x[t] = e.fill;
+  } else if (e.effect == GapEffect::kStep) {
     for (std::size_t t = static_cast<std::size_t>(std::max<std::int64_t>(0, e.sample)); t < x.size(); ++t) x[t] -= e.size;
   } else if (e.effect == GapEffect::kTransient && e.time_constant > 0.0) {
     for (std::size_t t = 0; t < x.size(); ++t) {
@@ -348,7 +408,7 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
 }
 
 std::vector<double> apply_time_effects(const std::vector<double>& x, const std::vector<double>* temperature,
-                                       const TimeFindings& f, GapResult& g) {
+                                       const TimeFindings& f, GapResult& g, const GapEvent* event) {
   std::vector<double> out = x;
   if (f.coupling && temperature && g.temperature) {
     for (std::size_t t = 0; t < out.size(); ++t) out[t] -= g.temperature->k * (*temperature)[t];
@@ -356,14 +416,17 @@ std::vector<double> apply_time_effects(const std::vector<double>& x, const std::
     g.notes.push_back("the signal follows the temperature channel (coupling z = " + std::to_string(g.temperature->z) +
                       " against the baseline's replicates): the coupled part is removed before the WV is compared");
   }
-  if (f.event) {
-    GapEvent e = locate_event(out, f.event_level);
+  if (f.event && !(event && event->effect == GapEffect::kNone)) {
+    GapEvent e = event ? *event : locate_event(out, f.event_level);
     e.statistic = f.event_statistic;
     e.threshold = f.event_threshold;
     remove_event(out, e);
     g.steps.push_back(e.effect);
     g.event = e;
-    g.notes.push_back(std::string(e.effect == GapEffect::kStep ? "a bias step" : "a warm-up transient") +
+    const char* what = e.effect == GapEffect::kStep        ? "a bias step"
+                       : e.effect == GapEffect::kOutliers ? "a burst (a short excursion that returns)"
+                                                          : "a warm-up transient";
+    g.notes.push_back(std::string(what) +
                       " concentrates the coarse-level coefficients (statistic " + std::to_string(e.statistic) +
                       " > threshold " + std::to_string(e.threshold) + " at level " + std::to_string(e.level) +
                       "): it is removed before the WV is compared");

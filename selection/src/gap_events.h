@@ -79,7 +79,26 @@ TimeEffectTests test_time_effects(const Eigen::VectorXd& data_stats, const Eigen
 /// time_constant filled (seconds left to the caller).
 GapEvent locate_event(const std::vector<double>& x, int level);
 
-/// x minus the event's signal (a step from `sample` on, or a exp(-t/T)).
+/// Whether a located STEP persists: a step of size a puts a/2 into the Haar coefficient
+/// centred on it at every coarser level, a burst (a short excursion that returns, area A)
+/// only A / 2^k. Over the kPersistLevels levels above the event's that fit in the
+/// record, the coefficients are compared with both (squared distances weighted by the
+/// data's WV, the coefficient's variance): true when they lie nearer a/2 than 0, or when
+/// no coarser level fits.
+inline constexpr int kPersistLevels = 4;
+bool step_persists(const std::vector<double>& x, const GapEvent& step, const Eigen::VectorXd& nuhat);
+/// A burst: samples near a located STEP that depart from the local level by more than
+/// kBurstZ robust standard deviations and span at most half the event's scale (a shock
+/// that returns where it started also concentrates one level's coefficients, and a
+/// two-mean split across it reads a step that the record's longer means do not show).
+/// The robust scale is the MAD of the first differences (/ sqrt 2) over the event's
+/// window, the level its median. nullopt when no such samples are found.
+/// kBurstZ: Hampel's rule flags |x - median| > 3 MADs; 5 keeps the chance of a flagged
+/// Gaussian sample in a 2^13-sample window below 1%.
+inline constexpr double kBurstZ = 5.0;
+std::optional<GapEvent> burst_alternative(const std::vector<double>& x, const GapEvent& step);
+/// x minus the event's signal (a step from `sample` on, a exp(-t/T), or a burst's
+/// samples replaced by the local level).
 void remove_event(std::vector<double>& x, const GapEvent& e);
 
 /// What the time-domain tests found on the data.
@@ -113,7 +132,8 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
 /// A copy of x corrected for the significant effects (the temperature coupling first, then
 /// the located event, then the trend, re-tested once the event is gone: a step moves the
 /// end-segment means too), each recorded in g (steps, event, trend, notes).
+/// `event`, when given, replaces the located one (the burst alternative to a step).
 std::vector<double> apply_time_effects(const std::vector<double>& x, const std::vector<double>* temperature,
-                                       const TimeFindings& f, GapResult& g);
+                                       const TimeFindings& f, GapResult& g, const GapEvent* event = nullptr);
 
 }  // namespace gmwm::selection::detail

@@ -80,9 +80,13 @@ std::string time_step_text(GapEffect e, const GapResult& g, const ProcessContext
   std::string out = to_string(e);
   const double rate = ctx.freq_known ? ctx.freq : 1.0;
   const std::string unit = ctx.freq_known ? " s" : " samples";
-  if ((e == GapEffect::kStep || e == GapEffect::kTransient) && g.event) {
+  if ((e == GapEffect::kStep || e == GapEffect::kTransient || e == GapEffect::kOutliers) && g.event &&
+      g.event->effect == e) {
     const GapEvent& ev = *g.event;
-    if (e == GapEffect::kStep)
+    if (e == GapEffect::kOutliers)
+      out += " (a burst of " + std::to_string(ev.length) + " samples at " +
+             g3(static_cast<double>(ev.sample) / rate, 6) + unit + ", peak departure " + g3(ev.size) + ")";
+    else if (e == GapEffect::kStep)
       out += " of " + g3(ev.size) + " at " + g3(static_cast<double>(ev.sample) / rate, 6) + unit;
     else
       out += " " + g3(ev.size) + " exp(-t / " + g3(ev.time_constant / rate) + unit + ")";

@@ -82,6 +82,28 @@ TEST(GapTimeEffects, NameABiasStepStepWithItsTimeAndSize) {
   EXPECT_GE(g.shrinkage.p_value_after, 0.05);
 }
 
+TEST(GapTimeEffects, CallAShockThatReturnsToItsLevelABurstNotAStep) {
+  std::vector<double> x = base_series(9108);
+  // A shock as on adis_16405_imu1 accel_z at 3.3 s: up by ~17 white-noise deviations,
+  // then down by ~14, back within 8 samples. A two-mean split across it reads a jump the
+  // record's longer means do not show.
+  const std::int64_t t0 = 20000;
+  const double sd = 1e-2;  // sqrt(sigma2) of the base's white noise
+  const std::vector<double> shock = {15, 19, 0, -14, -13, -9.5, -6.7};
+  for (std::size_t k = 0; k < shock.size(); ++k) x[static_cast<std::size_t>(t0) + k] += shock[k] * sd;
+  const GapResult g = diagnose(x, 9208);
+  EXPECT_NE(g.effect, GapEffect::kStep);
+  for (GapEffect e : g.steps) EXPECT_NE(e, GapEffect::kStep);
+  // The shock concentrates level 5 (statistic above the threshold); located, it is the burst.
+  ASSERT_TRUE(g.event.has_value()) << g.headline;
+  {
+    EXPECT_EQ(g.event->effect, GapEffect::kOutliers);
+    EXPECT_GE(g.event->sample, t0);
+    EXPECT_LE(g.event->sample + g.event->length, t0 + static_cast<std::int64_t>(shock.size()));
+    EXPECT_NEAR(g.event->size, 19 * sd, 4 * sd);
+  }
+}
+
 TEST(GapTimeEffects, NameAWarmUpTransientTransientWithItsTimeConstant) {
   std::vector<double> x = base_series(9103);
   const double T = 500.0, a = 0.05;  // 5 white-noise deviations at t = 0

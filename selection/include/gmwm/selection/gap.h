@@ -154,6 +154,11 @@ struct GapEvent {
   std::int64_t sample = 0;          ///< STEP: the first sample after the jump; TRANSIENT: 0
   double size = 0.0;                ///< STEP: the jump; TRANSIENT: the amplitude a (data units)
   double time_constant = 0.0;       ///< TRANSIENT: T in samples
+  /// OUTLIERS (a burst: a short excursion that returns to the level it left, e.g. a
+  /// shock): `sample` is its first sample, `length` its samples, `size` its largest
+  /// departure and `fill` the local level they are replaced by.
+  std::int64_t length = 0;
+  double fill = 0.0;
   int level = 0;                    ///< the level where its coefficients concentrate most (1-based)
   double statistic = 0.0, threshold = 0.0;  ///< calibrated concentration test
 };
