@@ -169,12 +169,40 @@ double noncentrality(const Eigen::LLT<Eigen::MatrixXd>& v0, const Eigen::VectorX
   return dnu.dot(v0.solve(dnu));
 }
 
+// m' Sigma^-1 m for a mean m_t added to WN(sigma2) + RW(gamma2) (the RW's first step
+// included, as simulate() draws it), in the coordinates y_0 = x_0, y_t = x_t - x_{t-1}
+// (unit Jacobian, so the non-centrality is unchanged) where Sigma is tridiagonal:
+// diagonal gamma2 + sigma2 (t = 0) and gamma2 + 2 sigma2, off-diagonal -sigma2. Solved by
+// the Thomas algorithm (the matrix is diagonally dominant).
+double series_noncentrality(const std::vector<double>& m, double sigma2, double gamma2) {
+  const std::size_t n = m.size();
+  if (n == 0) return 0.0;
+  std::vector<double> y(n), c(n), d(n);
+  for (std::size_t t = 0; t < n; ++t) y[t] = t == 0 ? m[0] : m[t] - m[t - 1];
+  const double off = -sigma2;
+  double denom = gamma2 + sigma2;
+  c[0] = off / denom;
+  d[0] = y[0] / denom;
+  for (std::size_t t = 1; t < n; ++t) {
+    denom = gamma2 + 2.0 * sigma2 - off * c[t - 1];
+    c[t] = off / denom;
+    d[t] = (y[t] - off * d[t - 1]) / denom;
+  }
+  double nc = 0.0, v = 0.0;
+  for (std::size_t t = n; t-- > 0;) {
+    v = d[t] - (t + 1 < n ? c[t] * v : 0.0);
+    nc += y[t] * v;
+  }
+  return nc;
+}
+
 // The strength at which the mean oracle power over the cases' non-centralities is 90%
-// (bisection in log strength; the mean is increasing in the strength).
-double oracle_strength(const std::vector<double>& nc) {
+// (bisection in log strength; the mean is increasing in the strength). `series`: the
+// time-domain oracle, whose z grows as sqrt(strength) (GapCheckCase::oracle_time_domain).
+double oracle_strength(const std::vector<double>& nc, bool series) {
   auto power = [&](double s) {
     double sum = 0.0;
-    for (double q : nc) sum += normal_cdf(s * std::sqrt(q) - kZ95);
+    for (double q : nc) sum += normal_cdf((series ? std::sqrt(s * q) : s * std::sqrt(q)) - kZ95);
     return sum / static_cast<double>(nc.size());
   };
   double lo = std::log(1e-8), hi = std::log(1e8);
@@ -309,7 +337,17 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
       } else {
         dnu = in.model.wv(in.theta, tau) / p.strength;
       }
-      if (dnu.size() == J && dnu.allFinite()) c.oracle_nc = noncentrality(v0, dnu);
+      if (p.truth == GapEffect::kDR) {
+        // omega at strength 1: the injected omega / sqrt(strength); the base's values in
+        // kBase's order (WN sigma2, RW gamma2).
+        const double omega1 = in.theta(0) / std::sqrt(p.strength);
+        std::vector<double> m(static_cast<std::size_t>(options.n));
+        for (std::size_t t = 0; t < m.size(); ++t) m[t] = omega1 * static_cast<double>(t);
+        c.oracle_nc = series_noncentrality(m, base_theta(0), base_theta(1));
+        c.oracle_time_domain = true;
+      } else if (dnu.size() == J && dnu.allFinite()) {
+        c.oracle_nc = noncentrality(v0, dnu);
+      }
     }
     const WaveletVariance robust = robust::robust_wv(x.data(), options.n);
     GapOptions go;
@@ -362,15 +400,19 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
     }
   }
   std::map<std::string, std::vector<double>> nc;
+  std::map<std::string, bool> series;
   for (const auto& c : out.cases)
-    if (std::isfinite(c.oracle_nc)) nc[to_string(c.truth)].push_back(c.oracle_nc);
+    if (std::isfinite(c.oracle_nc)) {
+      nc[to_string(c.truth)].push_back(c.oracle_nc);
+      series[to_string(c.truth)] = c.oracle_time_domain;
+    }
   for (auto& [t, f] : out.families) {
     f.median_excess_removed = median(removed[t]);
     for (const auto& [s, k] : by_strength[t]) f.power[s] = static_cast<double>(k.first) / k.second;
     f.strength_90 = f.oracle_strength_90 = f.oracle_ratio = std::numeric_limits<double>::quiet_NaN();
     if (f.power.empty()) continue;
     std::tie(f.strength_90, f.crossing) = our_strength(f.power);
-    f.oracle_strength_90 = oracle_strength(nc[t]);
+    f.oracle_strength_90 = oracle_strength(nc[t], series[t]);
     f.oracle_ratio = f.strength_90 / f.oracle_strength_90;
   }
   return out;

@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+
+#include <Eigen/Cholesky>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/selection/gap_check.h"
@@ -34,6 +37,32 @@ TEST(GapCheck, TheOraclesStrengthAtNinetyPercentPowerInvertsItsNoncentrality) {
   // One case: Phi(s sqrt(nc) - z_0.95) = 0.9 at s = (z_0.95 + z_0.90) / sqrt(nc).
   EXPECT_NEAR(f.oracle_strength_90 * std::sqrt(nc), kZ95PlusZ90, 1e-8);
   EXPECT_NEAR(f.oracle_ratio, f.strength_90 / f.oracle_strength_90, 1e-12);
+}
+
+TEST(GapCheck, TheDriftsOracleIsTheGlsTestOnTheSeriesWithTheBasesExactCovariance) {
+  GapCheckOptions o = one_case(GapEffect::kDR, 4.0);
+  o.n = 1024;
+  const GapCheckResult r = run_gap_check(o);
+  ASSERT_EQ(r.cases.size(), 1u);
+  const GapCheckCase& c = r.cases[0];
+  ASSERT_TRUE(c.oracle_time_domain);
+  // omega at strength 1 from the injected DR(omega=...), omega growing as sqrt(strength).
+  const auto at = c.injected.find("omega=");
+  ASSERT_NE(at, std::string::npos) << c.injected;
+  const double omega1 = std::stod(c.injected.substr(at + 6)) / 2.0;
+  // Dense: Sigma_x = sigma2 I + gamma2 (min(s, t) + 1) (the RW's first step included).
+  const double sigma2 = 1e-4, gamma2 = 1e-10;
+  const Eigen::Index n = o.n;
+  Eigen::MatrixXd S(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) S(i, j) = gamma2 * static_cast<double>(std::min(i, j) + 1) + (i == j ? sigma2 : 0.0);
+  Eigen::VectorXd m(n);
+  for (Eigen::Index t = 0; t < n; ++t) m(t) = omega1 * static_cast<double>(t);
+  const double dense = m.dot(S.ldlt().solve(m));
+  EXPECT_NEAR(c.oracle_nc / dense, 1.0, 1e-8);
+  // Its power Phi(sqrt(s nc) - z_0.95) is 90% where s nc = (z_0.95 + z_0.90)^2.
+  const GapCheckFamily& f = r.families.at("DR");
+  EXPECT_NEAR(f.oracle_strength_90 * c.oracle_nc, kZ95PlusZ90 * kZ95PlusZ90, 1e-6);
 }
 
 TEST(GapCheck, APowerCurveThatStartsAboveNinetyPercentGivesAnUpperBound) {

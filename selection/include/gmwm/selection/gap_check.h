@@ -63,6 +63,13 @@ struct GapCheckCase {
   /// 0" that knows everything but the amplitude has power Phi(s sqrt(nc) - z_0.95) at
   /// strength s (NaN on the null side).
   double oracle_nc = 0.0;
+  /// DR only: the oracle is the Neyman-Pearson test on the series itself (a drift is a
+  /// deterministic mean omega t, so the most powerful test of omega = 0 is the GLS
+  /// z-test under the base's exact covariance; the WV's Gaussian approximation at the
+  /// few-coefficient levels where a drift shows would claim more power than that bound).
+  /// oracle_nc is then omega_1^2 t' Sigma^-1 t at strength 1, and since omega grows as
+  /// sqrt(strength) the power is Phi(sqrt(s nc) - z_0.95).
+  bool oracle_time_domain = false;
 };
 
 /// Where a power curve crosses 90%: interpolated (log strength) between two strengths of
