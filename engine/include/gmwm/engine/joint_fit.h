@@ -1,0 +1,59 @@
+#pragma once
+// The multi-signal GMWM: one model from K replicates of a sensor axis (recordings of the
+// same axis on different days, or several units of one model), each with its own length,
+// levels and weighting matrix:
+//
+//   theta_hat = argmin_theta  sum_k (nuhat_k - nu(theta; tau_k))' Omega_k (nuhat_k - nu(theta; tau_k))
+//
+// (Bakalli et al., IEEE/ION PLANS 2018; Radi et al., IEEE Trans. Instrum. Meas.). It is a
+// GMWM fit of the stacked WV [nuhat_1; ...; nuhat_K] with a block-diagonal Omega, started
+// from every replicate's own fit and from their average (AGMWM, reported beside it).
+// Inference is the sandwich over the stacked WV with V = blockdiag(V_k), V_k the
+// model-based covariance of replicate k's WV at theta_hat (independent replicates).
+//
+//   gmwm::JointFitResult r = gmwm::fit_gmwm_joint(wvs, model, options);
+//   r.joint.theta, r.joint.ci_low, r.joint.gof ...;  r.agmwm;  r.singles[k]
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+
+namespace gmwm {
+
+struct JointFitResult {
+  /// MGMWM: the joint estimate (canonical order), its objective (the sum over the
+  /// replicates), the stacked Omega and V, sandwich inference and goodness of fit
+  /// (df = sum_k J_k - p). Its per-level misfits index the stacked levels.
+  FitResult joint;
+  /// Each replicate's own fit (same options), the joint fit's starting points.
+  std::vector<FitResult> singles;
+  /// AGMWM: the mean of the single-signal estimates over the replicates whose fit did not
+  /// fail (canonical order; repeated components matched by that order, e.g. AR1s by
+  /// increasing phi), and its standard error sd / sqrt(K) (NaN when K < 2).
+  Eigen::VectorXd agmwm, agmwm_se;
+  /// Replicate k's term of the joint objective at theta_hat.
+  std::vector<double> objective_share;
+  /// Replicate k's levels J_k: its rows of the stacked WV follow those of replicates < k.
+  std::vector<int> levels;
+};
+
+/// The K WVs as one: levels of replicate 1, then of replicate 2, ... (tau, values,
+/// variances, CIs and coefficient counts stacked; n the longest length). For the joint
+/// objective and its inference only: its taus are not sorted.
+WaveletVariance stack_wv(std::span<const WaveletVariance> wvs);
+
+/// Fits `model` jointly to the replicates' WVs (classical or robust alike). Omega:
+/// OmegaKind::kDiag gives each replicate its own diag(1 / Var(nuhat_kj)); kFull gives it
+/// V_k^-1 at a pilot (diag) joint fit. Throws InputError when there is no replicate, when a
+/// replicate has too few levels for the model or an undefined level (naming it by its
+/// 1-based index), for OmegaKind::kBootstrap or a caller-given omega_matrix (not supported
+/// for the joint fit), or for invalid options.
+JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model,
+                              const FitOptions& options = {});
+
+}  // namespace gmwm

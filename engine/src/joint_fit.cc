@@ -1,0 +1,183 @@
+#include "gmwm/engine/joint_fit.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Dense>
+#include <oneapi/tbb/parallel_for.h>
+
+#include "fit_internal.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/wv_covariance.h"
+
+namespace gmwm {
+namespace {
+
+std::string replicate_name(std::size_t k) { return "replicate " + std::to_string(k + 1); }
+
+// Stage 0: every replicate usable for the model, the options supported.
+void check_inputs(std::span<const WaveletVariance> wvs, const Model& model, const FitOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("fit options: " + why);
+  if (wvs.empty()) throw InputError("joint fit: no replicate given");
+  if (model.num_components() == 0) throw InputError("joint fit: the model has no component");
+  if (options.omega == OmegaKind::kBootstrap)
+    throw InputError("joint fit: a bootstrap Omega is not supported for replicates (use diag or full)");
+  if (options.omega_matrix)
+    throw InputError("joint fit: a caller-given Omega is not supported (each replicate gets its own)");
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    try {
+      check_model_fits_levels(model, wvs[k].levels());
+    } catch (const InputError& e) {
+      throw InputError(replicate_name(k) + ": " + e.what());
+    }
+    for (int j = 0; j < wvs[k].levels(); ++j)
+      if (!std::isfinite(wvs[k].wv[static_cast<std::size_t>(j)]))
+        throw InputError(replicate_name(k) + ": the wavelet variance at level " + std::to_string(j + 1) +
+                         " is undefined");
+  }
+}
+
+Eigen::MatrixXd block_diagonal(const std::vector<Eigen::MatrixXd>& blocks) {
+  Eigen::Index n = 0;
+  for (const auto& b : blocks) n += b.rows();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
+  Eigen::Index at = 0;
+  for (const auto& b : blocks) {
+    out.block(at, at, b.rows(), b.cols()) = b;
+    at += b.rows();
+  }
+  return out;
+}
+
+// V_k^-1 (pseudo-inverse, symmetrised) for every replicate at theta.
+std::vector<Eigen::MatrixXd> model_covariances(std::span<const WaveletVariance> wvs, const Model& model,
+                                               const Eigen::VectorXd& theta) {
+  std::vector<Eigen::MatrixXd> v(wvs.size());
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    v[k] = model_wv_covariance(model, theta, wvs[k].n, wvs[k].levels()) / wvs[k].efficiency.value_or(1.0);
+  return v;
+}
+
+Eigen::MatrixXd inverse(const Eigen::MatrixXd& v) {
+  Eigen::MatrixXd w = v.completeOrthogonalDecomposition().pseudoInverse();
+  return 0.5 * (w + w.transpose());
+}
+
+// Stage 1: the single-signal fits (in parallel; each is deterministic on its own).
+std::vector<FitResult> single_fits(std::span<const WaveletVariance> wvs, const Model& model,
+                                   const FitOptions& options) {
+  std::vector<FitResult> singles(wvs.size());
+  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(),
+                            [&](std::size_t k) { singles[k] = fit_gmwm(wvs[k], model, options); });
+  return singles;
+}
+
+// Stage 2: AGMWM, the average of the single estimates, with its standard error.
+void average_estimates(const std::vector<FitResult>& singles, int p, JointFitResult& out) {
+  std::vector<const Eigen::VectorXd*> ok;
+  for (const auto& s : singles)
+    if (s.status != FitStatus::kFailed && s.theta.size() == p && s.theta.allFinite()) ok.push_back(&s.theta);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.agmwm = Eigen::VectorXd::Constant(p, nan);
+  out.agmwm_se = Eigen::VectorXd::Constant(p, nan);
+  if (ok.empty()) return;
+  out.agmwm.setZero();
+  for (const auto* t : ok) out.agmwm += *t;
+  out.agmwm /= static_cast<double>(ok.size());
+  if (ok.size() < 2) return;
+  Eigen::VectorXd ss = Eigen::VectorXd::Zero(p);
+  for (const auto* t : ok) ss += (*t - out.agmwm).cwiseAbs2();
+  out.agmwm_se = (ss / static_cast<double>(ok.size() - 1) / static_cast<double>(ok.size())).cwiseSqrt();
+}
+
+// Stage 3: the joint minimisation of the stacked objective under `omega`, from `starts`.
+FitResult minimise(const WaveletVariance& stacked, const Model& model, const Eigen::MatrixXd& omega,
+                   const std::vector<Eigen::VectorXd>& starts, const FitOptions& options) {
+  FitOptions o = options;
+  o.omega_matrix = omega;
+  o.starts = starts;
+  o.nested_starts = false;  // the replicates' own fits already carry their nested starts
+  o.multistarts = 1;
+  o.inference = false;
+  return fit_gmwm(stacked, model, o);
+}
+
+}  // namespace
+
+WaveletVariance stack_wv(std::span<const WaveletVariance> wvs) {
+  WaveletVariance s;
+  if (wvs.empty()) return s;
+  s.alpha = wvs.front().alpha;
+  s.estimator = wvs.front().estimator;
+  s.efficiency = wvs.front().efficiency;
+  for (const auto& w : wvs) {
+    s.n = std::max(s.n, w.n);
+    const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    append(s.tau, w.tau);
+    append(s.wv, w.wv);
+    append(s.ci_low, w.ci_low);
+    append(s.ci_high, w.ci_high);
+    append(s.variance, w.variance);
+    append(s.eta, w.eta);
+    append(s.coefficients, w.coefficients);
+    append(s.notes, w.notes);
+  }
+  s.notes.resize(s.wv.size());
+  return s;
+}
+
+JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model_in, const FitOptions& options) {
+  check_inputs(wvs, model_in, options);
+  // Canonical from the start, so that every replicate's estimate lines up with the others.
+  const Model model = model_in.canonical();
+  const int p = model.num_parameters();
+  JointFitResult out;
+  for (const auto& w : wvs) out.levels.push_back(w.levels());
+
+  out.singles = single_fits(wvs, model, options);
+  average_estimates(out.singles, p, out);
+
+  std::vector<Eigen::VectorXd> starts;
+  for (const auto& s : out.singles)
+    if (s.status != FitStatus::kFailed && s.theta.size() == p && s.theta.allFinite()) starts.push_back(s.theta);
+  if (out.agmwm.allFinite()) starts.push_back(out.agmwm);
+  for (const auto& s : options.starts) starts.push_back(s);
+
+  const WaveletVariance stacked = stack_wv(wvs);
+  std::vector<Eigen::MatrixXd> omegas;
+  for (const auto& w : wvs) omegas.push_back(diagonal_omega(w));
+  FitResult joint = minimise(stacked, model, block_diagonal(omegas), starts, options);
+
+  bool omega_is_v_inverse = false;
+  std::vector<Eigen::MatrixXd> v;
+  if (options.omega == OmegaKind::kFull && joint.status != FitStatus::kFailed) {
+    // Pilot (diag) joint fit done: each replicate's V_k there, then refit with V_k^-1.
+    v = model_covariances(wvs, joint.model, joint.theta);
+    omegas.clear();
+    for (const auto& vk : v) omegas.push_back(inverse(vk));
+    starts.push_back(joint.theta);
+    joint = minimise(stacked, model, block_diagonal(omegas), starts, options);
+    omega_is_v_inverse = true;
+  }
+  if (joint.status != FitStatus::kFailed) {
+    // The objective's terms, replicate by replicate.
+    Eigen::Index at = 0;
+    for (std::size_t k = 0; k < wvs.size(); ++k) {
+      const Eigen::Index J = wvs[k].levels();
+      const Eigen::VectorXd r = wvs[k].values() - joint.implied_wv.segment(at, J);
+      out.objective_share.push_back(r.dot(joint.omega.block(at, at, J, J) * r));
+      at += J;
+    }
+    if (options.inference) {
+      if (!omega_is_v_inverse) v = model_covariances(wvs, joint.model, joint.theta);
+      joint.wv_covariance = block_diagonal(v);
+      detail::run_inference(stacked, options, omega_is_v_inverse, joint);
+    }
+  }
+  out.joint = std::move(joint);
+  return out;
+}
+
+}  // namespace gmwm

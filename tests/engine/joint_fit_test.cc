@@ -1,0 +1,124 @@
+// The multi-signal (joint) GMWM fit over replicates of different lengths: the joint
+// estimate, its objective as the sum of the replicates' terms, AGMWM beside it, the
+// sandwich over the stacked WV, and the error paths. Seeds are fixed here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/joint_fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
+
+namespace gmwm {
+namespace {
+
+constexpr const char* kTruth = "AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1e-2)+RW(gamma2=1e-8)";
+
+std::vector<WaveletVariance> replicates(const std::string& spec, const std::vector<int>& log2n, std::uint64_t seed) {
+  const Model m = parse_model(spec);
+  std::vector<WaveletVariance> out;
+  for (std::size_t k = 0; k < log2n.size(); ++k) {
+    const std::int64_t n = std::int64_t{1} << log2n[k];
+    const auto x = simulate(m, m.given_values(), n, seed, k);
+    out.push_back(classical_wv(x.data(), n));
+  }
+  return out;
+}
+
+TEST(JointFit, RecoversASharedModelFromReplicatesOfDifferentLengths) {
+  const auto wvs = replicates(kTruth, {14, 15, 16}, 301);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("AR1+WN+RW"));
+  ASSERT_EQ(r.joint.status, FitStatus::kConverged) << r.joint.message;
+  ASSERT_EQ(r.singles.size(), 3u);
+  EXPECT_EQ(r.levels, (std::vector<int>{14, 15, 16}));
+  const Eigen::VectorXd truth = parse_model(kTruth).given_values();
+  // Within 4 sandwich standard errors of the truth, parameter by parameter (p = 4).
+  for (Eigen::Index i = 0; i < truth.size(); ++i) {
+    ASSERT_GT(r.joint.se(i), 0.0) << i;
+    EXPECT_LT(std::abs(r.joint.theta(i) - truth(i)), 4.0 * r.joint.se(i)) << "parameter " << i;
+  }
+  // df = sum_k J_k - p.
+  EXPECT_EQ(r.joint.gof.df, 14 + 15 + 16 - 4);
+}
+
+TEST(JointFit, ItsObjectiveIsTheSumOfTheReplicatesTermsAndNoStartBeatsIt) {
+  const auto wvs = replicates(kTruth, {14, 16}, 302);
+  const Model model = parse_model("AR1+WN+RW");
+  const JointFitResult r = fit_gmwm_joint(wvs, model);
+  ASSERT_NE(r.joint.status, FitStatus::kFailed);
+  ASSERT_EQ(r.objective_share.size(), 2u);
+  // Each term recomputed from its own WV and its own diagonal Omega.
+  double sum = 0.0;
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    const double term = gmwm_objective(wvs[k], r.joint.model, r.joint.theta, diagonal_omega(wvs[k]));
+    EXPECT_NEAR(r.objective_share[k] / term, 1.0, 1e-10);
+    sum += term;
+  }
+  EXPECT_NEAR(r.joint.objective / sum, 1.0, 1e-10);
+  // The joint minimum is at or below the joint objective at AGMWM and at every single
+  // estimate (it starts from all of them).
+  const WaveletVariance stacked = stack_wv(wvs);
+  EXPECT_LE(r.joint.objective, gmwm_objective(stacked, r.joint.model, r.agmwm, r.joint.omega) * (1 + 1e-12));
+  for (const auto& s : r.singles)
+    EXPECT_LE(r.joint.objective, gmwm_objective(stacked, r.joint.model, s.theta, r.joint.omega) * (1 + 1e-12));
+}
+
+TEST(JointFit, AgmwmIsTheMeanOfTheSingleEstimatesWithItsStandardError) {
+  const auto wvs = replicates(kTruth, {14, 14, 15}, 303);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("AR1+WN+RW"));
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(4);
+  for (const auto& s : r.singles) mean += s.theta / 3.0;
+  EXPECT_TRUE(r.agmwm.isApprox(mean, 1e-12));
+  Eigen::VectorXd ss = Eigen::VectorXd::Zero(4);
+  for (const auto& s : r.singles) ss += (s.theta - mean).cwiseAbs2();
+  EXPECT_TRUE(r.agmwm_se.isApprox((ss / 2.0 / 3.0).cwiseSqrt(), 1e-10));
+}
+
+TEST(JointFit, OneReplicateGivesTheSingleSignalFit) {
+  const auto wvs = replicates(kTruth, {15}, 304);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("AR1+WN+RW"));
+  ASSERT_EQ(r.singles.size(), 1u);
+  EXPECT_NEAR(r.joint.objective / r.singles[0].objective, 1.0, 1e-6);
+  for (Eigen::Index i = 0; i < 4; ++i) EXPECT_NEAR(r.joint.theta(i) / r.singles[0].theta(i), 1.0, 1e-3) << i;
+  EXPECT_TRUE(std::isnan(r.agmwm_se(0)));
+}
+
+TEST(JointFit, TheModelBasedOmegaWeighsEachReplicateByItsOwnCovariance) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {13, 15}, 305);
+  FitOptions o;
+  o.omega = OmegaKind::kFull;
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"), o);
+  ASSERT_NE(r.joint.status, FitStatus::kFailed) << r.joint.message;
+  EXPECT_EQ(r.joint.gof.method, "chi-square");
+  // Block-diagonal: no weight between the replicates' levels.
+  EXPECT_EQ(r.joint.omega.block(0, 13, 13, 15).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(r.joint.wv_covariance.block(0, 13, 13, 15).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(JointFit, RejectsNoReplicateABootstrapOmegaAndAReplicateTooShortForTheModel) {
+  const Model model = parse_model("AR1+WN+RW");
+  std::vector<WaveletVariance> none;
+  try {
+    fit_gmwm_joint(none, model);
+    FAIL() << "no replicate accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "joint fit: no replicate given");
+  }
+  const auto wvs = replicates(kTruth, {12, 4}, 306);
+  try {
+    fit_gmwm_joint(wvs, parse_model("2*AR1+WN+RW"));
+    FAIL() << "a 16-sample replicate (4 levels) accepted for a 6-parameter model";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("replicate 2: ", 0), 0u) << e.what();
+  }
+  FitOptions o;
+  o.omega = OmegaKind::kBootstrap;
+  EXPECT_THROW(fit_gmwm_joint(replicates(kTruth, {12}, 307), model, o), InputError);
+}
+
+}  // namespace
+}  // namespace gmwm
