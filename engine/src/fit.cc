@@ -536,7 +536,12 @@ double orient_by_series(FitResult& fit, std::span<const double> x) {
   for (std::size_t t = 0; t < x.size(); ++t) sxy += (static_cast<long double>(t) - tbar) * (x[t] - mean);
   const long double sxx = n * (n * n - 1.0L) / 12.0L;
   const double slope = static_cast<double>(sxy / sxx);
-  if (fit.theta.size() != fit.model.num_parameters()) return slope;
+  orient_by_slope(fit, slope);
+  return slope;
+}
+
+void orient_by_slope(FitResult& fit, double slope) {
+  if (fit.theta.size() != fit.model.num_parameters()) return;
   std::vector<int> flipped;
   for (int k = 0; k < fit.model.num_parameters(); ++k) {
     if (!fit.model.spec_of(k).signed_magnitude || !((slope < 0.0) != (fit.theta(k) < 0.0))) continue;
@@ -554,7 +559,6 @@ double orient_by_series(FitResult& fit, std::span<const double> x) {
       fit.covariance.row(k) *= -1.0;
       fit.covariance.col(k) *= -1.0;
     }
-  return slope;
 }
 
 }  // namespace gmwm

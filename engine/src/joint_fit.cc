@@ -8,6 +8,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fit_internal.h"
+#include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/wv_covariance.h"
@@ -178,6 +179,21 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
   }
   out.joint = std::move(joint);
   return out;
+}
+
+double orient_by_replicates(JointFitResult& r, std::span<const std::span<const double>> series) {
+  check_size_match("orient_by_replicates", "series", series.size(), "replicates", r.singles.size());
+  long double sxy = 0.0L, sxx = 0.0L;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const double slope = orient_by_series(r.singles[k], series[k]);
+    const auto n = static_cast<long double>(series[k].size());
+    const long double s = n * (n * n - 1.0L) / 12.0L;  // sum (t - tbar)^2
+    sxy += static_cast<long double>(slope) * s;
+    sxx += s;
+  }
+  const double pooled = sxx > 0.0L ? static_cast<double>(sxy / sxx) : 0.0;
+  orient_by_slope(r.joint, pooled);
+  return pooled;
 }
 
 }  // namespace gmwm

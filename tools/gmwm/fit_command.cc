@@ -9,9 +9,12 @@
 #include <tbb/parallel_for.h>
 
 #include "common.h"
+#include "replicates.h"
 #include "units_tables.h"
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 
 namespace gmwm::cli {
@@ -26,6 +29,7 @@ struct FitArgs {
   int replicates = FitOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
   UnitsOptions units;
+  std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
 };
 
 OmegaKind omega_kind(const std::string& s) {
@@ -78,6 +82,126 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   return os.str();
 }
 
+// The joint (multi-signal) fit of each axis over its replicates: the joint estimate with
+// its sandwich intervals, AGMWM and every replicate's own estimate side by side.
+std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, OmegaKind omega) {
+  std::ostringstream os;
+  os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << '\n';
+  for (std::size_t k = 0; k < g.sources.size(); ++k)
+    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", "
+       << r.levels[k] << " levels"
+       << (k < r.objective_share.size() ? ", its share of the objective " + fmt(r.objective_share[k], 4) : "")
+       << ", own fit " << status_text(r.singles[k].status) << '\n';
+  const FitResult& j = r.joint;
+  const bool ok = j.theta.size() == j.model.num_parameters() && j.theta.size() > 0 && j.theta.allFinite();
+  os << "model: " << (ok ? j.model.to_string(j.theta) : j.model.to_string()) << '\n';
+  if (ok) {
+    std::vector<std::string> header = {"process", "component", "name", "joint", "se", "CI low", "CI high",
+                                       "AGMWM", "AGMWM se"};
+    for (std::size_t k = 0; k < r.singles.size(); ++k) header.push_back("replicate " + std::to_string(k + 1));
+    Table t(header, 1);
+    const auto rows = io::parameter_rows(j);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const auto& p = rows[i];
+      std::vector<std::string> row = {p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
+                                      fmt(p.ci_low), fmt(p.ci_high), fmt(r.agmwm(static_cast<Eigen::Index>(i))),
+                                      fmt(r.agmwm_se(static_cast<Eigen::Index>(i)), 3)};
+      for (const auto& s : r.singles)
+        row.push_back(s.theta.size() == j.theta.size() ? fmt(s.theta(static_cast<Eigen::Index>(i))) : "-");
+      t.add(row);
+    }
+    os << t.str();
+  }
+  os << "objective: " << fmt(j.objective, 8) << " (the sum over the replicates)\n";
+  os << "goodness of fit: statistic " << fmt(j.gof.statistic) << ", df " << fmt(j.gof.df) << ", p-value "
+     << fmt(j.gof.p_value, 4) << (j.gof.method.empty() ? "" : " (" + j.gof.method + ")") << '\n';
+  os << "status: " << (j.message.empty() ? status_text(j.status) : j.message) << '\n';
+  for (const auto& note : j.notes) os << "note: " << note << '\n';
+  return os.str();
+}
+
+io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const io::SignalSet& set) {
+  io::Json col;
+  col["name"] = g.axis;
+  col["freq"] = set.freq;
+  io::Json reps = io::Json::array();
+  for (std::size_t k = 0; k < g.sources.size(); ++k) {
+    const FitResult& s = r.singles[k];
+    reps.push_back({{"source", g.sources[k]},
+                    {"n", g.series[k].size()},
+                    {"levels", r.levels[k]},
+                    {"objective_share", io::json_number(k < r.objective_share.size() ? r.objective_share[k] : NAN)},
+                    {"fit", {{"model", s.theta.allFinite() ? s.model.to_string(s.theta) : s.model.to_string()},
+                             {"status", status_text(s.status)},
+                             {"objective", io::json_number(s.objective)},
+                             {"parameters", io::parameters_json(s)}}}});
+  }
+  col["replicates"] = reps;
+  const FitResult& j = r.joint;
+  col["model"] = j.theta.allFinite() ? j.model.to_string(j.theta) : j.model.to_string();
+  col["model_structure"] = j.model.to_string();
+  col["parameters"] = io::parameters_json(j);
+  io::Json agmwm = io::Json::array();
+  for (Eigen::Index i = 0; i < r.agmwm.size(); ++i)
+    agmwm.push_back({{"value", io::json_number(r.agmwm(i))}, {"se", io::json_number(r.agmwm_se(i))}});
+  col["agmwm"] = agmwm;
+  col["objective"] = io::json_number(j.objective);
+  col["gof"] = {{"statistic", io::json_number(j.gof.statistic)},
+                {"df", j.gof.df},
+                {"p_value", io::json_number(j.gof.p_value)},
+                {"method", j.gof.method}};
+  col["status"] = status_text(j.status);
+  col["message"] = j.message;
+  col["notes"] = j.notes;
+  return col;
+}
+
+int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOptions& options) {
+  Stopwatch total;
+  if (args.robust.robust)
+    throw InputError("--joint with --robust: the joint fit takes the classical WV for now");
+  for (const auto& e : args.joint) declare_input(common, e);
+  const WvOptions wv_opts = wv_options(args.input);
+  const io::SignalSet set = read_input(args.input);
+  const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
+  const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
+
+  std::vector<JointFitResult> fits;
+  for (const ReplicateGroup& g : groups) {
+    std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
+    const std::vector<WaveletVariance> wvs = classical_wv(series, wv_opts);
+    for (std::size_t k = 0; k < wvs.size(); ++k) {
+      try {
+        check_model_fits_levels(model, wvs[k].levels());
+      } catch (const InputError& e) {
+        throw InputError(g.sources[k] + " (" + std::to_string(g.series[k].size()) + " samples): " + e.what());
+      }
+    }
+    fits.push_back(fit_gmwm_joint(wvs, model, options));
+    orient_by_replicates(fits.back(), series);
+  }
+
+  io::Json doc = io::json_document("fit");
+  doc["input"] = set.path;
+  doc["model_spec"] = args.model;
+  doc["seed"] = common.seed;
+  doc["joint"] = true;
+  std::string report;
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    doc["columns"].push_back(joint_json(groups[i], fits[i], set));
+    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], options.omega);
+  }
+  write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  commit_outputs(common);
+  if (common.show_table()) std::cout << report << std::flush;
+  for (std::size_t i = 0; i < fits.size(); ++i)
+    if (fits[i].joint.status == FitStatus::kFailed) {
+      std::cerr << "gmwm: error: the joint fit of '" << groups[i].axis << "' failed: " << fits[i].joint.message << '\n';
+      return 1;
+    }
+  return 0;
+}
+
 int run_fit(const FitArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
@@ -98,6 +222,12 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   options.max_evaluations = args.max_evaluations;
   options.estimator = robust_estimator.get();
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (!args.joint.empty()) {
+    if (options.omega == OmegaKind::kBootstrap)
+      throw InputError("--joint with --omega bootstrap: the joint fit takes --omega diag or full");
+    if (!common.report.empty()) throw InputError("--joint with --report: the joint fit has no report yet");
+    return run_joint_fit(args, common, options);
+  }
 
   // With --freq the model can be checked before reading a long file.
   if (args.input.freq) {
@@ -220,6 +350,12 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
       ->type_name("B")
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
+  sub->add_option("--joint", args->joint,
+                  "Replicates of INPUT's sensor, fitted jointly with it (multi-signal GMWM): FILE adds that "
+                  "file's columns of the same names (one joint model per axis), FILE:COLUMN one column as a "
+                  "replicate of INPUT's single selected column")
+      ->type_name("FILE[:COLUMN] ...")
+      ->expected(1, -1);
   add_max_evaluations_option(*sub, args->max_evaluations);
   add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);

@@ -135,6 +135,8 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptio
 /// see, set from the series itself: the sign of its least-squares slope against time. The
 /// estimate, its interval (mirrored) and the implied WV are updated; returns the slope.
 double orient_by_series(FitResult& fit, std::span<const double> x);
+/// The same from a slope already known (e.g. pooled over replicates).
+void orient_by_slope(FitResult& fit, double slope);
 
 /// Goodness of fit of a minimised objective with `df` = J - p degrees of freedom, A the
 /// J x p Jacobian at the fit (boundary parameters left out): chi-square(df) when

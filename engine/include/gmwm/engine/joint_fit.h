@@ -56,4 +56,9 @@ WaveletVariance stack_wv(std::span<const WaveletVariance> wvs);
 JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model,
                               const FitOptions& options = {});
 
+/// The sign of every signed-magnitude parameter (DR's omega): each single fit from its own
+/// series' slope, the joint fit from the pooled slope (each replicate with its own
+/// intercept: sum_k Sxy_k / sum_k Sxx_k). `series[k]` is replicate k. Returns the pooled slope.
+double orient_by_replicates(JointFitResult& r, std::span<const std::span<const double>> series);
+
 }  // namespace gmwm

@@ -1,0 +1,102 @@
+// `gmwm fit INPUT --joint FILE[:COLUMN] ...`: one joint (multi-signal) model per axis from
+// replicates of a sensor, end to end, and its bad-input paths (exit 2, one line naming the
+// replicate, nothing written).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::expect_bad_input;
+using gmwm::test::run_gmwm;
+
+namespace {
+
+constexpr const char* kTruth = "AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1e-2)+RW(gamma2=1e-8)";
+
+class GmwmCliJointFit : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_joint");
+    // Three recordings of a two-axis sensor, 2^12, 2^13 and 2^14 samples at 100 Hz.
+    for (int k = 1; k <= 3; ++k) simulate("r" + std::to_string(k) + ".csv", 1 << (11 + k), "100", k);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  void simulate(const std::string& file, int n, const std::string& freq, int seed,
+                const std::string& names = "gx,gy") {
+    const auto r = run_gmwm({"simulate", "--model", kTruth, "--n", std::to_string(n), "--freq", freq, "--signals",
+                             std::to_string(std::count(names.begin(), names.end(), ',') + 1), "--names", names,
+                             "--seed", std::to_string(seed), "-o", file, "--quiet"},
+                            dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  gmwm::test::CliRun fit(std::vector<std::string> extra) {
+    std::vector<std::string> args = {"fit", "r1.csv", "--model", "AR1+WN+RW", "--json", "out.json", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_gmwm(args, dir_);
+  }
+  fs::path json() const { return dir_ / "out.json"; }
+  fs::path dir_;
+};
+
+TEST_F(GmwmCliJointFit, ThreeFilesGiveOneJointModelPerAxisWithEveryReplicateBesideIt) {
+  const auto r = fit({"--joint", "r2.csv", "r3.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = gmwm::test::read_json(json());
+  EXPECT_TRUE(doc["joint"].get<bool>());
+  ASSERT_EQ(doc["columns"].size(), 2u);
+  for (const auto& col : doc["columns"]) {
+    ASSERT_EQ(col["replicates"].size(), 3u);
+    EXPECT_EQ(col["replicates"][0]["source"], "r1.csv:" + col["name"].get<std::string>());
+    EXPECT_EQ(col["replicates"][2]["n"], 1 << 14);
+    EXPECT_EQ(col["status"], "converged");
+    EXPECT_EQ(col["parameters"].size(), 4u);
+    EXPECT_EQ(col["agmwm"].size(), 4u);
+    // df = (12 + 13 + 14) levels - 4 parameters.
+    EXPECT_EQ(col["gof"]["df"].get<double>(), 35.0);
+    double shares = 0.0;
+    for (const auto& rep : col["replicates"]) shares += rep["objective_share"].get<double>();
+    EXPECT_NEAR(shares / col["objective"].get<double>(), 1.0, 1e-9);
+  }
+}
+
+TEST_F(GmwmCliJointFit, FileColonColumnAddsOneColumnAsAReplicateOfTheSelectedOne) {
+  const auto r = fit({"--columns", "gx", "--joint", "r1.csv:gy", "r2.csv:gx"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = gmwm::test::read_json(json());
+  ASSERT_EQ(doc["columns"].size(), 1u);
+  const auto& reps = doc["columns"][0]["replicates"];
+  ASSERT_EQ(reps.size(), 3u);
+  EXPECT_EQ(reps[1]["source"], "r1.csv:gy");
+  EXPECT_EQ(reps[2]["source"], "r2.csv:gx");
+}
+
+TEST_F(GmwmCliJointFit, RejectsAReplicateWithoutOneOfTheInputsColumns) {
+  simulate("one_axis.csv", 1 << 12, "100", 9, "gx");
+  expect_bad_input(fit({"--joint", "one_axis.csv"}), {"one_axis.csv", "gy"}, json());
+}
+
+TEST_F(GmwmCliJointFit, RejectsAReplicateTooShortForTheModelsLevels) {
+  simulate("short.csv", 8, "100", 9);
+  expect_bad_input(fit({"--joint", "short.csv"}), {"short.csv"}, json());
+}
+
+TEST_F(GmwmCliJointFit, RejectsARecordingGivenTwice) {
+  expect_bad_input(fit({"--joint", "r2.csv", "r1.csv"}), {"r1.csv", "given twice"}, json());
+}
+
+TEST_F(GmwmCliJointFit, RejectsAColumnEntryWhenSeveralInputColumnsAreSelected) {
+  expect_bad_input(fit({"--joint", "r2.csv:gx"}), {"r2.csv:gx", "--columns"}, json());
+}
+
+TEST_F(GmwmCliJointFit, RejectsAReplicateAtAnotherRate) {
+  simulate("fast.csv", 1 << 12, "200", 9);
+  expect_bad_input(fit({"--joint", "fast.csv"}), {"fast.csv", "200 Hz", "100 Hz"}, json());
+}
+
+}  // namespace

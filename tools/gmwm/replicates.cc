@@ -1,0 +1,72 @@
+#include "replicates.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "gmwm/engine/error.h"
+
+namespace gmwm::cli {
+namespace {
+
+// Rates that differ by less than this (relative) are the same rate (timestamps jitter).
+constexpr double kRateTolerance = 1e-6;
+
+struct Entry {
+  std::string path;
+  std::string column;  // empty: every INPUT column by name
+};
+
+// FILE[:COLUMN]: split at the last ':' only when what precedes it is a file and the whole
+// entry is not (a file name may contain ':').
+Entry parse_entry(const std::string& text) {
+  namespace fs = std::filesystem;
+  const auto colon = text.rfind(':');
+  if (colon != std::string::npos && colon > 0 && !fs::exists(text) && fs::exists(text.substr(0, colon))) {
+    if (colon + 1 == text.size()) throw InputError("--joint " + text + ": expected FILE or FILE:COLUMN, got an empty column");
+    return {text.substr(0, colon), text.substr(colon + 1)};
+  }
+  return {text, ""};
+}
+
+io::SignalSet read_columns(const std::string& path, const std::vector<std::string>& columns, const InputOptions& options) {
+  InputOptions o = options;
+  o.input = path;
+  o.columns.clear();
+  for (std::size_t i = 0; i < columns.size(); ++i) o.columns += (i ? "," : "") + columns[i];
+  return read_input(o);
+}
+
+}  // namespace
+
+std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const std::vector<std::string>& entries,
+                                            const InputOptions& options) {
+  std::vector<ReplicateGroup> groups;
+  std::vector<std::string> names;
+  for (const auto& s : input.signals) {
+    groups.push_back({s.name, {input.path + ":" + s.name}, {s.values}});
+    names.push_back(s.name);
+  }
+  for (const std::string& text : entries) {
+    const Entry e = parse_entry(text);
+    if (!e.column.empty() && groups.size() != 1)
+      throw InputError("--joint " + text + ": names one column, but INPUT has " + std::to_string(groups.size()) +
+                       " selected columns; select one with --columns");
+    const io::SignalSet set = read_columns(e.path, e.column.empty() ? names : std::vector<std::string>{e.column}, options);
+    if (std::abs(set.freq / input.freq - 1.0) > kRateTolerance)
+      throw InputError("--joint " + text + ": sampled at " + fmt(set.freq) + " Hz, INPUT at " + fmt(input.freq) +
+                       " Hz; replicates must share the rate");
+    for (std::size_t k = 0; k < set.signals.size(); ++k) {
+      ReplicateGroup& g = groups[e.column.empty() ? k : 0];
+      const std::string source = e.path + ":" + set.signals[k].name;
+      for (std::size_t r = 0; r < g.series.size(); ++r)
+        if (g.series[r] == set.signals[k].values)
+          throw InputError("--joint " + text + ": " + source + " is the same recording as " + g.sources[r] +
+                           " (a replicate given twice)");
+      g.sources.push_back(source);
+      g.series.push_back(set.signals[k].values);
+    }
+  }
+  return groups;
+}
+
+}  // namespace gmwm::cli
