@@ -1,5 +1,6 @@
 #include "gmwm/engine/joint_fit.h"
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -10,7 +11,9 @@
 #include "fit_internal.h"
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
 
 namespace gmwm {
@@ -178,6 +181,103 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
     }
   }
   out.joint = std::move(joint);
+  return out;
+}
+
+std::string ReplicateTestOptions::Validate() const {
+  if (bootstrap < 19) return "bootstrap must be at least 19 (a p-value of 0.05 needs 19 draws), got " + std::to_string(bootstrap);
+  return fit.Validate();
+}
+
+namespace {
+
+// min over theta of the stacked objective under a fixed Omega, from `starts`.
+double minimum(const WaveletVariance& stacked, const Model& model, const Eigen::MatrixXd& omega,
+               const std::vector<Eigen::VectorXd>& starts, const FitOptions& options) {
+  const FitResult f = minimise(stacked, model, omega, starts, options);
+  return f.status == FitStatus::kFailed ? std::numeric_limits<double>::quiet_NaN() : f.objective;
+}
+
+// T and H of a set of WVs under the per-replicate Omega_k, every minimisation started
+// from `starts` (and, for replicate k's own minimum, `own_starts[k]` when given).
+struct Statistics {
+  double t = 0.0, h = 0.0;
+  std::vector<double> own;
+};
+Statistics statistics(std::span<const WaveletVariance> wvs, const Model& model,
+                      const std::vector<Eigen::MatrixXd>& omegas, const std::vector<Eigen::VectorXd>& starts,
+                      const std::vector<Eigen::VectorXd>& own_starts, const FitOptions& options) {
+  Statistics s;
+  s.t = minimum(stack_wv(wvs), model, block_diagonal(omegas), starts, options);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    std::vector<Eigen::VectorXd> st = starts;
+    if (k < own_starts.size()) st.push_back(own_starts[k]);
+    s.own.push_back(minimum(wvs[k], model, omegas[k], st, options));
+    sum += s.own.back();
+  }
+  // A replicate's own minimum cannot exceed the joint's share at the joint optimum: the
+  // difference is >= 0 up to the optimiser's tolerance.
+  s.h = std::max(0.0, s.t - sum);
+  return s;
+}
+
+double upper_p(const std::vector<double>& null, double observed) {
+  int above = 0;
+  for (double v : null) above += v >= observed;
+  return (1.0 + above) / (1.0 + static_cast<double>(null.size()));
+}
+
+}  // namespace
+
+ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFitResult& joint,
+                             const ReplicateTestOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("replicate test: " + why);
+  const FitResult& j = joint.joint;
+  if (j.status == FitStatus::kFailed || !j.theta.allFinite() || wvs.size() != joint.singles.size())
+    throw InputError("replicate test: the joint fit has no usable estimate");
+  const Model& model = j.model;
+  const Eigen::VectorXd& theta = j.theta;
+  std::vector<Eigen::MatrixXd> omegas;
+  for (const auto& v : model_covariances(wvs, model, theta)) omegas.push_back(inverse(v));
+
+  std::vector<Eigen::VectorXd> own;
+  for (const auto& s : joint.singles) own.push_back(s.theta.size() == theta.size() ? s.theta : theta);
+  const Statistics data = statistics(wvs, model, omegas, {theta}, own, options.fit);
+  ReplicateTest out;
+  out.statistic = data.t;
+  out.heterogeneity = data.h;
+  out.own_minimum = data.own;
+
+  const ClassicalWvEstimator classical;
+  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
+  std::vector<double> t(static_cast<std::size_t>(options.bootstrap)), h(t.size());
+  std::atomic<int> done{0};
+  oneapi::tbb::parallel_for(0, options.bootstrap, [&](int b) {
+    std::vector<WaveletVariance> sim;
+    for (std::size_t k = 0; k < wvs.size(); ++k) {
+      const std::vector<double> x = simulate(model, theta, wvs[k].n, options.seed,
+                                             static_cast<std::uint64_t>(b) * wvs.size() + k);
+      sim.push_back(estimator.compute(x.data(), wvs[k].n, wvs[k].levels(), wvs[k].alpha));
+    }
+    bool finite = true;
+    for (const auto& w : sim) finite &= w.values().allFinite();
+    const Statistics s = finite ? statistics(sim, model, omegas, {theta}, {}, options.fit) : Statistics{NAN, NAN, {}};
+    t[static_cast<std::size_t>(b)] = s.t;
+    h[static_cast<std::size_t>(b)] = s.h;
+    const int d = ++done;
+    if (options.progress) options.progress(d, options.bootstrap);
+  });
+  std::vector<double> nt, nh;
+  for (std::size_t b = 0; b < t.size(); ++b)
+    if (std::isfinite(t[b]) && std::isfinite(h[b])) {
+      nt.push_back(t[b]);
+      nh.push_back(h[b]);
+    }
+  out.draws = static_cast<int>(nt.size());
+  if (nt.empty()) throw InputError("replicate test: no bootstrap draw gave a finite statistic");
+  out.p_value = upper_p(nt, out.statistic);
+  out.heterogeneity_p = upper_p(nh, out.heterogeneity);
   return out;
 }
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <oneapi/tbb/global_control.h>
+
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/joint_fit.h"
@@ -118,6 +120,53 @@ TEST(JointFit, RejectsNoReplicateABootstrapOmegaAndAReplicateTooShortForTheModel
   FitOptions o;
   o.omega = OmegaKind::kBootstrap;
   EXPECT_THROW(fit_gmwm_joint(replicates(kTruth, {12}, 307), model, o), InputError);
+}
+
+TEST(JointFit, TheReplicateTestAcceptsASharedThetaAndRejectsAReplicateWhoseNoiseDiffers) {
+  ReplicateTestOptions o;
+  o.bootstrap = 39;
+  o.seed = 7;
+  const Model model = parse_model("WN+RW");
+  // Shared: three replicates of one WN+RW.
+  const auto same = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {13, 14, 14}, 308);
+  const ReplicateTest a = replicate_test(same, fit_gmwm_joint(same, model), o);
+  EXPECT_EQ(a.draws, 39);
+  EXPECT_GE(a.heterogeneity, 0.0);
+  EXPECT_GT(a.heterogeneity_p, 0.05);
+  // One replicate with twice the white noise: its own fit is far from the others'.
+  auto differ = same;
+  differ[2] = replicates("WN(sigma2=2e-2)+RW(gamma2=1e-8)", {14}, 309)[0];
+  const ReplicateTest b = replicate_test(differ, fit_gmwm_joint(differ, model), o);
+  EXPECT_LE(b.heterogeneity_p, 1.0 / 40.0 + 1e-12);  // above every bootstrap draw
+  EXPECT_LE(b.p_value, 0.05);
+  ASSERT_EQ(b.own_minimum.size(), 3u);
+  EXPECT_GT(b.heterogeneity, a.heterogeneity);
+}
+
+TEST(JointFit, TheReplicateTestIsTheSameWhateverTheThreadCount) {
+  ReplicateTestOptions o;
+  o.bootstrap = 19;
+  o.seed = 8;
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12, 13}, 310);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));
+  const ReplicateTest many = replicate_test(wvs, r, o);
+  oneapi::tbb::global_control one(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+  const ReplicateTest single = replicate_test(wvs, r, o);
+  EXPECT_EQ(many.p_value, single.p_value);
+  EXPECT_EQ(many.heterogeneity_p, single.heterogeneity_p);
+  EXPECT_EQ(many.statistic, single.statistic);
+}
+
+TEST(JointFit, TheReplicateTestNeedsAtLeastNineteenDraws) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12}, 311);
+  ReplicateTestOptions o;
+  o.bootstrap = 10;
+  try {
+    replicate_test(wvs, fit_gmwm_joint(wvs, parse_model("WN+RW")), o);
+    FAIL() << "10 draws accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "replicate test: bootstrap must be at least 19 (a p-value of 0.05 needs 19 draws), got 10");
+  }
 }
 
 }  // namespace

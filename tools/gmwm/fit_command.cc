@@ -84,7 +84,7 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
 
 // The joint (multi-signal) fit of each axis over its replicates: the joint estimate with
 // its sandwich intervals, AGMWM and every replicate's own estimate side by side.
-std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, OmegaKind omega) {
+std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test, OmegaKind omega) {
   std::ostringstream os;
   os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
@@ -117,10 +117,15 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, Omega
      << fmt(j.gof.p_value, 4) << (j.gof.method.empty() ? "" : " (" + j.gof.method + ")") << '\n';
   os << "status: " << (j.message.empty() ? status_text(j.status) : j.message) << '\n';
   for (const auto& note : j.notes) os << "note: " << note << '\n';
+  if (test)
+    os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p " << fmt(test->heterogeneity_p, 3)
+       << (test->heterogeneity_p < 0.05 ? " (the replicates do not share one theta)" : " (one theta fits them all)")
+       << "; joint misfit T = " << fmt(test->statistic, 4) << ", bootstrap p " << fmt(test->p_value, 3) << " ("
+       << test->draws << " draws, Omega_k = V_k^-1 at the joint estimate)\n";
   return os.str();
 }
 
-io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const io::SignalSet& set) {
+io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test, const io::SignalSet& set) {
   io::Json col;
   col["name"] = g.axis;
   col["freq"] = set.freq;
@@ -153,6 +158,13 @@ io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const io::
   col["status"] = status_text(j.status);
   col["message"] = j.message;
   col["notes"] = j.notes;
+  col["replicate_test"] = test ? io::Json{{"heterogeneity", io::json_number(test->heterogeneity)},
+                                          {"heterogeneity_p_value", io::json_number(test->heterogeneity_p)},
+                                          {"statistic", io::json_number(test->statistic)},
+                                          {"p_value", io::json_number(test->p_value)},
+                                          {"own_minimum", test->own_minimum},
+                                          {"draws", test->draws}}
+                               : io::Json(nullptr);
   return col;
 }
 
@@ -167,6 +179,13 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
 
   std::vector<JointFitResult> fits;
+  std::vector<std::optional<ReplicateTest>> tests;
+  ReplicateTestOptions test_options;
+  test_options.bootstrap = args.replicates;
+  test_options.seed = common.seed;
+  test_options.fit = options;
+  test_options.fit.inference = false;
+  if (const std::string why = test_options.Validate(); !why.empty()) throw InputError("--replicates: " + why);
   for (const ReplicateGroup& g : groups) {
     std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
     const std::vector<WaveletVariance> wvs = classical_wv(series, wv_opts);
@@ -179,6 +198,9 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
     }
     fits.push_back(fit_gmwm_joint(wvs, model, options));
     orient_by_replicates(fits.back(), series);
+    tests.emplace_back();
+    if (wvs.size() > 1 && fits.back().joint.status != FitStatus::kFailed)
+      tests.back() = replicate_test(wvs, fits.back(), test_options);
   }
 
   io::Json doc = io::json_document("fit");
@@ -188,8 +210,9 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   doc["joint"] = true;
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
-    doc["columns"].push_back(joint_json(groups[i], fits[i], set));
-    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], options.omega);
+    const ReplicateTest* test = tests[i] ? &*tests[i] : nullptr;
+    doc["columns"].push_back(joint_json(groups[i], fits[i], test, set));
+    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], test, options.omega);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
@@ -346,7 +369,8 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
                   "Weighting matrix: diag (data only), full (model-based) or bootstrap")
       ->check(CLI::IsMember({"diag", "full", "bootstrap"}))
       ->capture_default_str();
-  sub->add_option("--replicates", args->replicates, "Bootstrap replicates for --omega bootstrap")
+  sub->add_option("--replicates", args->replicates,
+                  "Bootstrap replicates for --omega bootstrap, and for the shared-theta test with --joint")
       ->type_name("B")
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();

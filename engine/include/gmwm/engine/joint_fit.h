@@ -14,7 +14,10 @@
 //   gmwm::JointFitResult r = gmwm::fit_gmwm_joint(wvs, model, options);
 //   r.joint.theta, r.joint.ci_low, r.joint.gof ...;  r.agmwm;  r.singles[k]
 
+#include <cstdint>
+#include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,6 +58,37 @@ WaveletVariance stack_wv(std::span<const WaveletVariance> wvs);
 /// for the joint fit), or for invalid options.
 JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model,
                               const FitOptions& options = {});
+
+/// Do the replicates share one theta? (the near-stationarity test of the multi-signal
+/// GMWM). Two statistics, both under Omega_k = V_k^-1, V_k the model-based covariance of
+/// replicate k's WV at the joint estimate theta_hat (the same Omega for the data and every
+/// bootstrap draw, so that the statistic and its null distribution share one scale):
+///   T = min_theta sum_k (nuhat_k - nu(theta))' Omega_k (nuhat_k - nu(theta))   (joint misfit)
+///   H = T - sum_k min_theta_k (nuhat_k - nu(theta_k))' Omega_k (...)          (heterogeneity:
+///       what forcing one theta costs beyond each replicate's own best fit)
+/// Null distributions by parametric bootstrap from theta_hat, each replicate simulated at
+/// its own length and its WV recomputed with the same estimator; p = (1 + #{null >= obs}) /
+/// (1 + B). T also rejects a model that fits no replicate; H is the test of a shared theta.
+struct ReplicateTestOptions {
+  int bootstrap = 100;                      ///< B
+  std::uint64_t seed = 0;                   ///< bootstrap streams (seed, b, k)
+  const WvEstimator* estimator = nullptr;   ///< WV of simulated series (default classical)
+  FitOptions fit;                           ///< minimisation settings (Omega is set here)
+  std::function<void(int, int)> progress;   ///< (done, total) bootstrap draws
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+struct ReplicateTest {
+  double statistic = 0.0, p_value = 1.0;          ///< T and its bootstrap p
+  double heterogeneity = 0.0, heterogeneity_p = 1.0;  ///< H and its bootstrap p
+  std::vector<double> own_minimum;                ///< per replicate, its own minimum under Omega_k
+  int draws = 0;                                  ///< bootstrap draws that gave a finite statistic
+};
+
+/// Throws InputError for invalid options or when `joint` has no usable estimate.
+ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFitResult& joint,
+                             const ReplicateTestOptions& options = {});
 
 /// The sign of every signed-magnitude parameter (DR's omega): each single fit from its own
 /// series' slope, the joint fit from the pooled slope (each replicate with its own
