@@ -53,7 +53,8 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
   // V: the one behind Omega when there is one, else model-based at theta_hat.
   // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
   if (r.wv_covariance.size() == 0)
-    r.wv_covariance = model_wv_covariance(model, r.theta, wv.n, J) / wv.efficiency.value_or(1.0);
+    r.wv_covariance = wv.covariance ? *wv.covariance
+                                    : model_wv_covariance(model, r.theta, wv.n, J) / wv.efficiency.value_or(1.0);
   const Eigen::MatrixXd& V = r.wv_covariance;
 
   // Active parameters (components not on the boundary).

@@ -157,6 +157,20 @@ std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::
     SignalWork& w = work[s];
     w.wv = &wvs[s];
     w.fits.resize(K);
+    if (wvs[s].covariance) {
+      // The caller's V (stacked replicates): Omega from it as for kModel / kModelFull.
+      w.v = *wvs[s].covariance;
+      if (options.fit.omega_matrix) {
+        w.omega = *options.fit.omega_matrix;
+        return;
+      }
+      const bool full = options.omega == OmegaSource::kModelFull;
+      w.omega = options.omega == OmegaSource::kData ? diagonal_omega(wvs[s]) : model_omega(w.v, diagonal_omega(wvs[s]), full);
+      w.omega_source = options.omega == OmegaSource::kData ? OmegaSource::kData
+                       : full && !w.omega.isDiagonal(0.0) ? OmegaSource::kModelFull
+                                                          : OmegaSource::kModel;
+      return;
+    }
     if (options.fit.omega_matrix) {
       w.omega = *options.fit.omega_matrix;
       return;

@@ -121,7 +121,7 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
     os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p " << fmt(test->heterogeneity_p, 3)
        << (test->heterogeneity_p < 0.05 ? " (the replicates do not share one theta)" : " (one theta fits them all)")
        << "; joint misfit T = " << fmt(test->statistic, 4) << ", bootstrap p " << fmt(test->p_value, 3) << " ("
-       << test->draws << " draws, Omega_k = V_k^-1 at the joint estimate)\n";
+       << test->draws << " draws, Omega_k = V_k^-1 at the fixed-point estimate)\n";
   return os.str();
 }
 

@@ -61,7 +61,8 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
 
 /// Do the replicates share one theta? (the near-stationarity test of the multi-signal
 /// GMWM). Two statistics, both under Omega_k = V_k^-1, V_k the model-based covariance of
-/// replicate k's WV at the joint estimate theta_hat (the same Omega for the data and every
+/// replicate k's WV at theta_hat, the fixed point theta_hat = argmin under V_k(theta_hat)^-1
+/// started from the joint estimate (the same Omega for the data and every
 /// bootstrap draw, so that the statistic and its null distribution share one scale):
 ///   T = min_theta sum_k (nuhat_k - nu(theta))' Omega_k (nuhat_k - nu(theta))   (joint misfit)
 ///   H = T - sum_k min_theta_k (nuhat_k - nu(theta_k))' Omega_k (...)          (heterogeneity:

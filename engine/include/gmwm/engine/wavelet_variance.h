@@ -19,7 +19,11 @@ struct WaveletVariance {
   std::vector<double> variance;            ///< Var(nu_hat_j^2) used for diag Omega
   std::vector<double> eta;                 ///< equivalent degrees of freedom of the CI
   std::vector<std::int64_t> coefficients;  ///< M_j = N - tau_j + 1
-  std::optional<Eigen::MatrixXd> covariance;  ///< full Cov(nu_hat), when known
+  /// Full Cov(nu_hat) when the caller knows it better than the model-based one at a fit
+  /// (a stacked WV of replicates carries blockdiag(V_k) here): used instead of it by the
+  /// fit's inference and the selection's optimism and goodness of fit. Unset by the
+  /// estimators.
+  std::optional<Eigen::MatrixXd> covariance;
   double alpha = 0.05;
   std::int64_t n = 0;                      ///< series length
   std::string estimator = "classical";     ///< "classical" | "huber" | "bisquare"

@@ -1,0 +1,73 @@
+#pragma once
+// Model selection over replicates of a sensor (the multi-signal GMWM's cross-validation):
+// every sub-model of a maximal model is fitted jointly on each training subset S of
+// s = ceil(K/2) replicates (all C(K, s) of them) and scored by its loss on the held-out
+// replicates,
+//
+//   loss(m, S) = sum_{k not in S} (nuhat_k - nu_m(theta_hat_S; tau_k))' Omega_k (...),
+//   CV-WVIC(m) = mean over S of loss(m, S),
+//
+// with each replicate's Omega_k fixed for every model and split (model-based at a pilot
+// joint fit of the maximal model, as in single-signal selection). Beside it: the analytic
+// WVIC of the joint fit on all replicates (the stacked WV with V = blockdiag(V_k)). The
+// model with the smallest CV-WVIC is chosen; the models whose paired loss difference to
+// it over the splits is not significantly positive (bootstrap over the splits) are
+// "equivalent", and the smallest equivalent model is recommended.
+//
+//   gmwm::selection::ReplicateSelectOptions o;
+//   auto r = gmwm::selection::select_by_replicates(wvs, gmwm::parse_model("3*AR1+WN+RW"), o);
+//   r.recommended, r.ranking[0].cv_wvic ...
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/model.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/selection/select.h"
+
+namespace gmwm::selection {
+
+struct ReplicateSelectOptions {
+  /// The selection of each split (penalty WVIC, Omega source kModel or kModelFull, fit
+  /// settings, progress); its optimism is analytic (a parametric bootstrap of a stacked WV
+  /// is not defined).
+  SelectOptions select;
+  int split_bootstrap = 2000;      ///< resamples of the splits for the equivalence test
+  double equivalence_level = 0.05; ///< a model is equivalent unless its excess loss is significant at this level
+  std::uint64_t seed = 0;
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+struct CvCandidate {
+  std::string model;               ///< the candidate (canonical, without values)
+  int parameters = 0;
+  double cv_wvic = 0.0;            ///< mean held-out loss over the splits
+  std::vector<double> split_loss;  ///< per split, in ReplicateSelection::training order
+  double objective = 0.0;          ///< joint objective on all replicates
+  double analytic_wvic = 0.0;      ///< objective + analytic optimism on all replicates
+  int rank = 0;                    ///< by CV-WVIC (ties: fewer parameters)
+  int rank_analytic = 0;           ///< by the analytic WVIC
+  /// Bootstrap probability (over the splits) that its mean loss is not above the chosen
+  /// model's; equivalent when above equivalence_level.
+  double p_not_worse = 1.0;
+  bool equivalent = false;
+};
+
+struct ReplicateSelection {
+  std::string full_model;
+  std::vector<std::vector<int>> training;  ///< each split's training replicates (0-based)
+  std::vector<CvCandidate> ranking;        ///< by CV-WVIC
+  std::string chosen;                      ///< smallest CV-WVIC
+  std::string recommended;                 ///< smallest equivalent model (ties: lower CV-WVIC)
+  std::string chosen_analytic;             ///< smallest analytic WVIC on all replicates
+};
+
+/// Throws InputError for fewer than 2 replicates, invalid options, or a replicate with
+/// fewer levels than the maximal model has parameters (naming it, 1-based).
+ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, const Model& maximal,
+                                        const ReplicateSelectOptions& options = {});
+
+}  // namespace gmwm::selection
