@@ -99,4 +99,25 @@ TEST_F(GmwmCliJointFit, RejectsAReplicateAtAnotherRate) {
   expect_bad_input(fit({"--joint", "fast.csv"}), {"fast.csv", "200 Hz", "100 Hz"}, json());
 }
 
+TEST_F(GmwmCliJointFit, SelectRanksEverySubModelByItsWvicCrossValidatedOverTheReplicates) {
+  const auto r = run_gmwm({"select", "r1.csv", "--columns", "gx", "--joint", "r2.csv", "r3.csv", "--model", "AR1+WN+RW",
+                           "--optimism", "replicates", "--json", "out.json", "--quiet"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = gmwm::test::read_json(json());
+  ASSERT_EQ(doc["columns"].size(), 1u);
+  const auto& col = doc["columns"][0];
+  EXPECT_EQ(col["training"].size(), 3u);
+  ASSERT_EQ(col["ranking"].size(), 7u);
+  EXPECT_EQ(col["ranking"][0]["rank"], 1);
+  EXPECT_TRUE(col["ranking"][0]["equivalent"].get<bool>());
+  EXPECT_EQ(col["ranking"][0]["split_loss"].size(), 3u);
+  EXPECT_FALSE(col["recommended"].get<std::string>().empty());
+}
+
+TEST_F(GmwmCliJointFit, RejectsTheReplicateOptimismWithoutReplicates) {
+  const auto r = run_gmwm({"select", "r1.csv", "--model", "WN+RW", "--optimism", "replicates", "--json", "out.json"}, dir_);
+  expect_bad_input(r, {"--optimism replicates", "--joint"}, json());
+}
+
 }  // namespace

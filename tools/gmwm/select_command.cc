@@ -18,8 +18,10 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/robust_wv.h"
+#include "gmwm/selection/replicate_select.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/selection/submodels.h"
+#include "replicates.h"
 
 namespace gmwm::cli {
 
@@ -36,6 +38,7 @@ struct SelectArgs {
   int replicates = selection::SelectOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
   UnitsOptions units;
+  std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
 };
 
 // The candidates of a ranking row other than the effective model itself: "3*AR1, 2*AR1+WN
@@ -92,6 +95,96 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
   return os.str();
 }
 
+// Selection over replicates: per axis, every sub-model of the maximal model ranked by its
+// cross-validated WVIC over the replicates, the analytic WVIC of the joint fit beside it,
+// the equivalent models and the recommended one.
+std::string joint_select_report(const ReplicateGroup& g, const selection::ReplicateSelection& r) {
+  std::ostringstream os;
+  os << g.axis << ": selection over " << g.sources.size() << " replicates (" << r.training.size()
+     << " training splits of " << r.training.front().size() << "), maximal model " << r.full_model << '\n';
+  for (std::size_t k = 0; k < g.sources.size(); ++k)
+    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << '\n';
+  Table t({"rank", "model", "p", "CV-WVIC", "analytic WVIC", "rank (analytic)", "P(not worse)", "equivalent"}, 1);
+  for (const auto& c : r.ranking)
+    t.add({std::to_string(c.rank), c.model, std::to_string(c.parameters), fmt(c.cv_wvic, 6), fmt(c.analytic_wvic, 6),
+           std::to_string(c.rank_analytic), fmt(c.p_not_worse, 3), c.equivalent ? "yes" : ""});
+  os << t.str();
+  os << "chosen (smallest CV-WVIC): " << r.chosen << "; recommended (smallest equivalent model): " << r.recommended
+     << "; smallest analytic WVIC of the joint fit: " << r.chosen_analytic << '\n';
+  os << "note: a parametric-bootstrap optimism is not defined for a joint fit over replicates (use "
+        "--optimism bootstrap on one recording)\n";
+  return os.str();
+}
+
+int run_joint_select(const SelectArgs& args, const CommonOptions& common, const selection::SelectOptions& options) {
+  Stopwatch total;
+  if (args.robust.robust) throw InputError("--joint with --robust: the selection over replicates takes the classical WV for now");
+  if (args.model.empty()) throw InputError("--joint: give the maximal model with --model SPEC (not --models)");
+  if (args.optimism == "bootstrap" || args.optimism == "both")
+    throw InputError("--joint with --optimism " + args.optimism +
+                     ": a parametric bootstrap of a joint fit is not defined; use --optimism replicates or all");
+  for (const auto& e : args.joint) declare_input(common, e);
+  const WvOptions wv_opts = wv_options(args.input);
+  const io::SignalSet set = read_input(args.input);
+  const Model maximal = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
+  const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
+  selection::ReplicateSelectOptions ro;
+  ro.select = options;
+  ro.seed = common.seed;
+  if (const std::string why = ro.Validate(); !why.empty()) throw InputError(why);
+  std::vector<selection::ReplicateSelection> results;
+  for (const ReplicateGroup& g : groups) {
+    std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
+    const std::vector<WaveletVariance> wvs = classical_wv(series, wv_opts);
+    for (std::size_t k = 0; k < wvs.size(); ++k) {
+      try {
+        check_model_fits_levels(maximal, wvs[k].levels());
+      } catch (const InputError& e) {
+        throw InputError(g.sources[k] + " (" + std::to_string(g.series[k].size()) + " samples): " + e.what());
+      }
+    }
+    results.push_back(selection::select_by_replicates(wvs, maximal, ro));
+  }
+  io::Json doc = io::json_document("select");
+  doc["input"] = set.path;
+  doc["model_spec"] = args.model;
+  doc["seed"] = common.seed;
+  doc["joint"] = true;
+  doc["optimism"] = "replicates";
+  std::string report;
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const auto& r = results[i];
+    io::Json col;
+    col["name"] = groups[i].axis;
+    col["freq"] = set.freq;
+    col["replicates"] = groups[i].sources;
+    col["full_model"] = r.full_model;
+    col["training"] = r.training;
+    col["chosen"] = r.chosen;
+    col["recommended"] = r.recommended;
+    col["chosen_analytic"] = r.chosen_analytic;
+    io::Json rows = io::Json::array();
+    for (const auto& c : r.ranking)
+      rows.push_back({{"rank", c.rank},
+                      {"model", c.model},
+                      {"parameters", c.parameters},
+                      {"cv_wvic", io::json_number(c.cv_wvic)},
+                      {"split_loss", c.split_loss},
+                      {"objective", io::json_number(c.objective)},
+                      {"analytic_wvic", io::json_number(c.analytic_wvic)},
+                      {"rank_analytic", c.rank_analytic},
+                      {"p_not_worse", io::json_number(c.p_not_worse)},
+                      {"equivalent", c.equivalent}});
+    col["ranking"] = rows;
+    doc["columns"].push_back(std::move(col));
+    report += (i ? "\n" : "") + joint_select_report(groups[i], r);
+  }
+  write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  commit_outputs(common);
+  if (common.show_table()) std::cout << report << std::flush;
+  return 0;
+}
+
 int run_select(const SelectArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
@@ -103,6 +196,10 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   declare_output(common, "--json", common.json);
   check_report_option(common);
   selection::SelectOptions options;
+  const bool by_replicates = args.optimism == "replicates" || args.optimism == "all";
+  if (by_replicates && args.joint.empty())
+    throw InputError("--optimism " + args.optimism +
+                     ": the replicate-based optimism needs replicates; give them with --joint FILE[:COLUMN] ...");
   options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
                      : args.optimism == "both"    ? selection::OptimismMethod::kBoth
                                                   : selection::OptimismMethod::kAnalytic;
@@ -117,6 +214,10 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   options.fit.seed = common.seed;
   options.fit.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (!args.joint.empty()) {
+    if (!common.report.empty()) throw InputError("--joint with --report: the selection over replicates has no report yet");
+    return run_joint_select(args, common, options);
+  }
   if (args.model.empty() == args.models.empty())
     throw InputError("select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
   // The listed models of --models, split at ';' (empty entries are an error).
@@ -247,8 +348,9 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->capture_default_str();
   sub->add_option("--optimism", args->optimism,
                   "Optimism of the WVIC: analytic (delta method), bootstrap (parametric, --replicates per model) "
-                  "or both side by side (the criterion uses the analytic one)")
-      ->check(CLI::IsMember({"analytic", "bootstrap", "both"}))
+                  "or both side by side (the criterion uses the analytic one); with --joint: replicates "
+                  "(cross-validated over the replicates) or all (it and the joint fit's analytic one side by side)")
+      ->check(CLI::IsMember({"analytic", "bootstrap", "both", "replicates", "all"}))
       ->capture_default_str();
   sub->add_option("--omega", args->omega,
                   "Omega shared by all models: model (diag 1 / V_jj, V model-based at a pilot fit of the maximal "
@@ -260,6 +362,11 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->type_name("B")
       ->check(CLI::Range(2, 100000))
       ->capture_default_str();
+  sub->add_option("--joint", args->joint,
+                  "Replicates of INPUT's sensor (FILE: its columns of the same names; FILE:COLUMN: one column for "
+                  "INPUT's single selected one): every sub-model ranked by its WVIC cross-validated over them")
+      ->type_name("FILE[:COLUMN] ...")
+      ->expected(1, -1);
   add_max_evaluations_option(*sub, args->max_evaluations);
   add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);
