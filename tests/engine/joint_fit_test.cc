@@ -14,6 +14,7 @@
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "test_support.h"
 
 namespace gmwm {
 namespace {
@@ -21,14 +22,7 @@ namespace {
 constexpr const char* kTruth = "AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1e-2)+RW(gamma2=1e-8)";
 
 std::vector<WaveletVariance> replicates(const std::string& spec, const std::vector<int>& log2n, std::uint64_t seed) {
-  const Model m = parse_model(spec);
-  std::vector<WaveletVariance> out;
-  for (std::size_t k = 0; k < log2n.size(); ++k) {
-    const std::int64_t n = std::int64_t{1} << log2n[k];
-    const auto x = simulate(m, m.given_values(), n, seed, k);
-    out.push_back(classical_wv(x.data(), n));
-  }
-  return out;
+  return test::simulated_replicates(spec, log2n, seed);
 }
 
 TEST(JointFit, RecoversASharedModelFromReplicatesOfDifferentLengths) {

@@ -10,20 +10,14 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "test_support.h"
 #include "gmwm/selection/replicate_select.h"
 
 namespace gmwm::selection {
 namespace {
 
 std::vector<WaveletVariance> replicates(const std::string& spec, const std::vector<int>& log2n, std::uint64_t seed) {
-  const Model m = parse_model(spec);
-  std::vector<WaveletVariance> out;
-  for (std::size_t k = 0; k < log2n.size(); ++k) {
-    const std::int64_t n = std::int64_t{1} << log2n[k];
-    const auto x = simulate(m, m.given_values(), n, seed, k);
-    out.push_back(classical_wv(x.data(), n));
-  }
-  return out;
+  return test::simulated_replicates(spec, log2n, seed);
 }
 
 TEST(ReplicateSelect, RecommendsTheTruthFromThreeReplicatesOfWhiteNoiseAndRandomWalk) {

@@ -1,5 +1,9 @@
 #include "test_support.h"
 
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
+
 #include <cstdlib>
 #include <random>
 
@@ -27,6 +31,18 @@ std::filesystem::path temp_dir(const std::string& tag) {
            ("gmwm_test_" + tag + "_" + std::to_string(rd()));
   std::filesystem::create_directories(p);
   return p;
+}
+
+std::vector<WaveletVariance> simulated_replicates(const std::string& spec, const std::vector<int>& log2n,
+                                                  std::uint64_t seed) {
+  const Model m = parse_model(spec);
+  std::vector<WaveletVariance> out;
+  for (std::size_t k = 0; k < log2n.size(); ++k) {
+    const std::int64_t n = std::int64_t{1} << log2n[k];
+    const auto x = simulate(m, m.given_values(), n, seed, k);
+    out.push_back(classical_wv(x.data(), n));
+  }
+  return out;
 }
 
 }  // namespace gmwm::test

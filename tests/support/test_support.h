@@ -1,9 +1,13 @@
 #pragma once
 // Shared helpers for the test suites.
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "gmwm/engine/wavelet_variance.h"
 
 namespace gmwm::test {
 
@@ -18,6 +22,11 @@ std::string shared_data_file(const std::string& name);
 
 /// A fresh temporary directory for one test.
 std::filesystem::path temp_dir(const std::string& tag);
+
+/// Classical WVs of replicates of `spec` (a model with every value): replicate k has
+/// 2^log2n[k] samples, stream (seed, k).
+std::vector<WaveletVariance> simulated_replicates(const std::string& spec, const std::vector<int>& log2n,
+                                                  std::uint64_t seed);
 
 }  // namespace gmwm::test
 

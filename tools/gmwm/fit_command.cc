@@ -187,16 +187,9 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   test_options.fit.inference = false;
   if (const std::string why = test_options.Validate(); !why.empty()) throw InputError("--replicates: " + why);
   for (const ReplicateGroup& g : groups) {
-    std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
-    const std::vector<WaveletVariance> wvs = classical_wv(series, wv_opts);
-    for (std::size_t k = 0; k < wvs.size(); ++k) {
-      try {
-        check_model_fits_levels(model, wvs[k].levels());
-      } catch (const InputError& e) {
-        throw InputError(g.sources[k] + " (" + std::to_string(g.series[k].size()) + " samples): " + e.what());
-      }
-    }
+    const std::vector<WaveletVariance> wvs = replicate_wvs(g, model, wv_opts);
     fits.push_back(fit_gmwm_joint(wvs, model, options));
+    const std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
     orient_by_replicates(fits.back(), series);
     tests.emplace_back();
     if (wvs.size() > 1 && fits.back().joint.status != FitStatus::kFailed)

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
 
 namespace gmwm::cli {
 namespace {
@@ -67,6 +68,19 @@ std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const st
     }
   }
   return groups;
+}
+
+std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options) {
+  std::vector<std::span<const double>> series(group.series.begin(), group.series.end());
+  std::vector<WaveletVariance> wvs = classical_wv(series, options);
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    try {
+      check_model_fits_levels(model, wvs[k].levels());
+    } catch (const InputError& e) {
+      throw InputError(group.sources[k] + " (" + std::to_string(group.series[k].size()) + " samples): " + e.what());
+    }
+  }
+  return wvs;
 }
 
 }  // namespace gmwm::cli

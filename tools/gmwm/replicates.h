@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "common.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/model.h"
 #include "gmwm/io/signal_reader.h"
 
 namespace gmwm::cli {
@@ -25,5 +27,9 @@ struct ReplicateGroup {
 /// INPUT's, or a recording is given twice.
 std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const std::vector<std::string>& entries,
                                             const InputOptions& options);
+
+/// The classical WVs of a group's replicates, each checked against `model`'s parameter
+/// count (InputError naming the replicate's source and length).
+std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options);
 
 }  // namespace gmwm::cli

@@ -134,15 +134,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   if (const std::string why = ro.Validate(); !why.empty()) throw InputError(why);
   std::vector<selection::ReplicateSelection> results;
   for (const ReplicateGroup& g : groups) {
-    std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
-    const std::vector<WaveletVariance> wvs = classical_wv(series, wv_opts);
-    for (std::size_t k = 0; k < wvs.size(); ++k) {
-      try {
-        check_model_fits_levels(maximal, wvs[k].levels());
-      } catch (const InputError& e) {
-        throw InputError(g.sources[k] + " (" + std::to_string(g.series[k].size()) + " samples): " + e.what());
-      }
-    }
+    const std::vector<WaveletVariance> wvs = replicate_wvs(g, maximal, wv_opts);
     results.push_back(selection::select_by_replicates(wvs, maximal, ro));
   }
   io::Json doc = io::json_document("select");
