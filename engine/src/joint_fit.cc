@@ -313,6 +313,7 @@ double orient_by_replicates(JointFitResult& r, std::span<const std::span<const d
   }
   const double pooled = sxx > 0.0L ? static_cast<double>(sxy / sxx) : 0.0;
   orient_by_slope(r.joint, pooled);
+  average_estimates(r.singles, static_cast<int>(r.joint.theta.size()), r);  // with the signs now set
   return pooled;
 }
 

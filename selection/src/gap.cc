@@ -284,10 +284,10 @@ void outliers_stage(const Context& c, GapResult& g, Attribution& a) {
 }
 
 // Stage 4b: the time-domain effects: the series corrected for them, its WV the data from
-// here on, kept only when that makes the fit better. A located STEP with a burst beside
-// it (a shock that returns where it started) competes with that burst: the correction
-// that fits better is kept (a two-mean split across a shock reads a step the record's
-// longer means do not show).
+// here on, kept only when that makes the fit better. A located STEP must persist at the
+// coarser levels (step_persists); when it does not, it is a burst (a shock that returns
+// where it started) and the burst is removed instead, or nothing when none is found (a
+// two-mean split across a shock reads a step the record's longer means do not show).
 void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapResult& g, Attribution& a) {
   if (!(time.event || time.coupling || time.trend)) return;
   // A snapshot to restore when the correction does not help.
@@ -321,30 +321,39 @@ void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapR
     return t;
   };
   Trial best = trial(nullptr);
-  if (best.g.event && best.g.event->effect == GapEffect::kStep &&
-      !detail::step_persists(*c.x, *best.g.event, c.wv.values())) {
-    const GapEvent step = *best.g.event;
-    const auto burst = detail::burst_alternative(*c.x, step);
-    GapEvent none;  // effect kNone: the event is not removed
-    best = trial(burst ? &*burst : &none);
-    best.g.notes.push_back(
-        "the jump of " + std::to_string(step.size) + " a two-mean split reads at " +
-        scale_text(static_cast<double>(step.sample), c.options.context) +
-        " does not persist at the coarser levels (not a step): " +
-        (burst ? "a burst of " + std::to_string(burst->length) + " samples that returns to its level is removed instead"
-               : std::string("no burst found there either, so nothing is removed")));
+  std::string persistence;  // why a located step was not taken as one
+  if (best.g.event && best.g.event->effect == GapEffect::kStep) {
+    // The series the event was located on: the temperature coupling removed first.
+    std::vector<double> series = *c.x;
+    if (time.coupling && c.temperature && snapshot.temperature)
+      for (std::size_t t = 0; t < series.size(); ++t) series[t] -= snapshot.temperature->k * (*c.temperature)[t];
+    if (!detail::step_persists(series, *best.g.event, c.wv.values())) {
+      const GapEvent step = *best.g.event;
+      const auto burst = detail::burst_alternative(series, step);
+      GapEvent none;  // effect kNone: the event is not removed
+      best = trial(burst ? &*burst : &none);
+      persistence = "the jump of " + std::to_string(step.size) + " a two-mean split reads at " +
+                    scale_text(static_cast<double>(step.sample), c.options.context) +
+                    " does not persist at the coarser levels (not a step): " +
+                    (burst ? "a burst of " + std::to_string(burst->length) +
+                                 " samples that returns to its level is removed instead"
+                           : std::string("no burst found there either, so nothing is removed"));
+    }
   }
   std::string what;
   for (std::size_t k = steps; k < best.g.steps.size(); ++k)
     what += (k > steps ? " + " : "") + std::string(to_string(best.g.steps[k]));
-  if (!best.usable || !better(best.f, a.now)) {
+  if (what.empty() || !best.usable || !better(best.f, a.now)) {
     g = snapshot;
-    if (best.usable) g.refused.push_back(refusal(what, a.now, best.f));
+    if (best.usable && !what.empty()) g.refused.push_back(refusal(what, a.now, best.f));
     g.steps.resize(steps);
     g.notes.resize(notes);
-    g.notes.push_back(what + " found in the time domain, but removing it does not make the fit better: not added");
+    if (!what.empty())
+      g.notes.push_back(what + " found in the time domain, but removing it does not make the fit better: not added");
+    if (!persistence.empty()) g.notes.push_back(persistence);
     return;
   }
+  if (!persistence.empty()) best.g.notes.push_back(persistence);
   g = std::move(best.g);
   // The time effects' drop together, credited to the first of them.
   for (std::size_t k = steps; k < g.steps.size(); ++k) {

@@ -18,8 +18,8 @@
 namespace gmwm::selection {
 namespace {
 
-// Relative tolerance under which two CV-WVICs are tied (the smaller model goes first).
-constexpr double kTieTolerance = 1e-9;
+// C(12, 6) = 924 training splits, each a full selection: the most this runs.
+constexpr int kMaxReplicates = 12;
 // A paired mean excess below this share of the chosen model's CV-WVIC is no excess: the
 // optimiser's own tolerance (1e-10 relative per fit, summed over splits and levels) makes
 // models that are the same in effect differ by ~1e-8 of the loss.
@@ -162,6 +162,9 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
   if (K < 2)
     throw InputError("select by replicates: the replicate-based optimism needs at least 2 replicates, got " +
                      std::to_string(K));
+  if (K > kMaxReplicates)
+    throw InputError("select by replicates: at most " + std::to_string(kMaxReplicates) + " replicates (C(K, K/2) "
+                     "training splits, each a full selection), got " + std::to_string(K));
   for (int k = 0; k < K; ++k) {
     try {
       check_model_fits_levels(maximal, wvs[static_cast<std::size_t>(k)].levels());
@@ -199,13 +202,12 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
     for (double l : r.split_loss) sum += l;
     r.cv_wvic = sum / static_cast<double>(r.split_loss.size());
   }
-  // Ranks: by CV-WVIC (NaN last; ties within kTieTolerance to the smaller model), and by
-  // the analytic WVIC.
+  // Ranks: by CV-WVIC (NaN last; equal values to the smaller model), and by the analytic WVIC.
+  // A strict weak order: NaN last, then by value, then by size.
   const auto before = [](double a, double b, int pa, int pb) {
     if (std::isnan(a) != std::isnan(b)) return std::isnan(b);
-    if (std::isnan(a)) return pa < pb;
-    if (std::abs(a - b) <= kTieTolerance * std::max(std::abs(a), std::abs(b))) return pa < pb;
-    return a < b;
+    if (!std::isnan(a) && a != b) return a < b;
+    return pa < pb;
   };
   std::vector<std::size_t> by_analytic(out.ranking.size());
   for (std::size_t i = 0; i < by_analytic.size(); ++i) by_analytic[i] = i;

@@ -99,6 +99,16 @@ TEST_F(GmwmCliJointFit, RejectsAReplicateAtAnotherRate) {
   expect_bad_input(fit({"--joint", "fast.csv"}), {"fast.csv", "200 Hz", "100 Hz"}, json());
 }
 
+TEST_F(GmwmCliJointFit, NeverWritesOverAReplicateNamedWithItsColumn) {
+  const std::string before = gmwm::test::read_text(dir_ / "r2.csv");
+  const auto r = run_gmwm({"fit", "r1.csv", "--columns", "gx", "--joint", "r2.csv:gx", "--model", "WN+RW", "--json",
+                           "r2.csv"},
+                          dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("r2.csv"), std::string::npos) << r.err;
+  EXPECT_EQ(gmwm::test::read_text(dir_ / "r2.csv"), before);
+}
+
 TEST_F(GmwmCliJointFit, SelectRanksEverySubModelByItsWvicCrossValidatedOverTheReplicates) {
   const auto r = run_gmwm({"select", "r1.csv", "--columns", "gx", "--joint", "r2.csv", "r3.csv", "--model", "AR1+WN+RW",
                            "--optimism", "replicates", "--json", "out.json", "--quiet"},

@@ -82,6 +82,15 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   return os.str();
 }
 
+// AGMWM as a fit of the joint model (for its rows in display units).
+FitResult agmwm_fit(const JointFitResult& r) {
+  FitResult f;
+  f.model = r.joint.model;
+  f.theta = r.agmwm;
+  f.se = r.agmwm_se;
+  return f;
+}
+
 // The joint (multi-signal) fit of each axis over its replicates: the joint estimate with
 // its sandwich intervals, AGMWM and every replicate's own estimate side by side.
 std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test, OmegaKind omega) {
@@ -100,14 +109,16 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
                                        "AGMWM", "AGMWM se"};
     for (std::size_t k = 0; k < r.singles.size(); ++k) header.push_back("replicate " + std::to_string(k + 1));
     Table t(header, 1);
+    // Every column in display units (SIN f in Hz ...), as parameter_rows gives them.
     const auto rows = io::parameter_rows(j);
+    const auto agmwm = io::parameter_rows(agmwm_fit(r));
+    std::vector<std::vector<io::ParameterRow>> own;
+    for (const auto& s : r.singles) own.push_back(io::parameter_rows(s));
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const auto& p = rows[i];
       std::vector<std::string> row = {p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
-                                      fmt(p.ci_low), fmt(p.ci_high), fmt(r.agmwm(static_cast<Eigen::Index>(i))),
-                                      fmt(r.agmwm_se(static_cast<Eigen::Index>(i)), 3)};
-      for (const auto& s : r.singles)
-        row.push_back(s.theta.size() == j.theta.size() ? fmt(s.theta(static_cast<Eigen::Index>(i))) : "-");
+                                      fmt(p.ci_low), fmt(p.ci_high), fmt(agmwm[i].value), fmt(agmwm[i].se, 3)};
+      for (const auto& o : own) row.push_back(i < o.size() ? fmt(o[i].value) : "-");
       t.add(row);
     }
     os << t.str();
@@ -147,8 +158,8 @@ io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const Repl
   col["model_structure"] = j.model.to_string();
   col["parameters"] = io::parameters_json(j);
   io::Json agmwm = io::Json::array();
-  for (Eigen::Index i = 0; i < r.agmwm.size(); ++i)
-    agmwm.push_back({{"value", io::json_number(r.agmwm(i))}, {"se", io::json_number(r.agmwm_se(i))}});
+  for (const auto& p : io::parameter_rows(agmwm_fit(r)))
+    agmwm.push_back({{"value", io::json_number(p.value)}, {"se", io::json_number(p.se)}});
   col["agmwm"] = agmwm;
   col["objective"] = io::json_number(j.objective);
   col["gof"] = {{"statistic", io::json_number(j.gof.statistic)},
@@ -172,7 +183,7 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   Stopwatch total;
   if (args.robust.robust)
     throw InputError("--joint with --robust: the joint fit takes the classical WV for now");
-  for (const auto& e : args.joint) declare_input(common, e);
+  for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
   const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});

@@ -22,7 +22,8 @@ struct Entry {
 Entry parse_entry(const std::string& text) {
   namespace fs = std::filesystem;
   const auto colon = text.rfind(':');
-  if (colon != std::string::npos && colon > 0 && !fs::exists(text) && fs::exists(text.substr(0, colon))) {
+  std::error_code ec;  // a name the system cannot even look up is "not a file", not a crash
+  if (colon != std::string::npos && colon > 0 && !fs::exists(text, ec) && fs::exists(text.substr(0, colon), ec)) {
     if (colon + 1 == text.size()) throw InputError("--joint " + text + ": expected FILE or FILE:COLUMN, got an empty column");
     return {text.substr(0, colon), text.substr(colon + 1)};
   }
@@ -38,6 +39,8 @@ io::SignalSet read_columns(const std::string& path, const std::vector<std::strin
 }
 
 }  // namespace
+
+std::string replicate_path(const std::string& entry) { return parse_entry(entry).path; }
 
 std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const std::vector<std::string>& entries,
                                             const InputOptions& options) {

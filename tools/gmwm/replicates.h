@@ -28,6 +28,9 @@ struct ReplicateGroup {
 std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const std::vector<std::string>& entries,
                                             const InputOptions& options);
 
+/// The file of a --joint entry (FILE[:COLUMN]), for the output safety checks.
+std::string replicate_path(const std::string& entry);
+
 /// The classical WVs of a group's replicates, each checked against `model`'s parameter
 /// count (InputError naming the replicate's source and length).
 std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options);

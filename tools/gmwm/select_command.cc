@@ -119,11 +119,13 @@ std::string joint_select_report(const ReplicateGroup& g, const selection::Replic
 int run_joint_select(const SelectArgs& args, const CommonOptions& common, const selection::SelectOptions& options) {
   Stopwatch total;
   if (args.robust.robust) throw InputError("--joint with --robust: the selection over replicates takes the classical WV for now");
-  if (args.model.empty()) throw InputError("--joint: give the maximal model with --model SPEC (not --models)");
+  if (args.model.empty() || !args.models.empty())
+    throw InputError("--joint: give the maximal model with --model SPEC (not --models)");
+  if (args.penalty == "bic") throw InputError("--joint with --penalty bic: the selection over replicates ranks by the cross-validated WVIC");
   if (args.optimism == "bootstrap" || args.optimism == "both")
     throw InputError("--joint with --optimism " + args.optimism +
                      ": a parametric bootstrap of a joint fit is not defined; use --optimism replicates or all");
-  for (const auto& e : args.joint) declare_input(common, e);
+  for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
   const Model maximal = parse_model(args.model, ProcessContext{set.freq, set.freq_known});

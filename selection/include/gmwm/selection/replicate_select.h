@@ -51,7 +51,9 @@ struct CvCandidate {
   int rank = 0;                    ///< by CV-WVIC (ties: fewer parameters)
   int rank_analytic = 0;           ///< by the analytic WVIC
   /// Bootstrap probability (over the splits) that its mean loss is not above the chosen
-  /// model's; equivalent when above equivalence_level.
+  /// model's; equivalent when above equivalence_level. The splits share replicates, so
+  /// their losses are not independent: with few replicates this probability is coarse
+  /// (3 splits for K = 3) and errs towards calling a model worse.
   double p_not_worse = 1.0;
   bool equivalent = false;
 };
@@ -65,7 +67,7 @@ struct ReplicateSelection {
   std::string chosen_analytic;             ///< smallest analytic WVIC on all replicates
 };
 
-/// Throws InputError for fewer than 2 replicates, invalid options, or a replicate with
+/// Throws InputError for fewer than 2 or more than 12 replicates, invalid options, or a replicate with
 /// fewer levels than the maximal model has parameters (naming it, 1-based).
 ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, const Model& maximal,
                                         const ReplicateSelectOptions& options = {});
