@@ -1,11 +1,13 @@
 #include "gmwm/engine/joint_fit.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include <Eigen/Dense>
+#include <boost/random/uniform_int_distribution.hpp>
 #include <oneapi/tbb/parallel_for.h>
 
 #include "fit_internal.h"
@@ -13,6 +15,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
 
@@ -298,6 +301,121 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
   if (nt.empty()) throw InputError("replicate test: no bootstrap draw gave a finite statistic");
   out.p_value = upper_p(nt, out.statistic);
   out.heterogeneity_p = upper_p(nh, out.heterogeneity);
+  return out;
+}
+
+namespace {
+
+// Every count vector (m_1..m_K), sum K, in lexicographic order: the distinct resamples.
+void multisets(int K, int at, int left, std::vector<int>& m, std::vector<std::vector<int>>& out) {
+  if (at == K - 1) {
+    m[static_cast<std::size_t>(at)] = left;
+    out.push_back(m);
+    return;
+  }
+  for (int c = left; c >= 0; --c) {
+    m[static_cast<std::size_t>(at)] = c;
+    multisets(K, at + 1, left - c, m, out);
+  }
+}
+
+// log of K! / (prod m_i! K^K): the bootstrap probability of a resample with counts m.
+double log_probability(const std::vector<int>& m) {
+  const auto K = static_cast<double>(m.size());
+  double l = std::lgamma(K + 1.0) - K * std::log(K);
+  for (int c : m) l -= std::lgamma(static_cast<double>(c) + 1.0);
+  return l;
+}
+
+// Weighted quantile q of values (weights sum to 1).
+double weighted_quantile(std::vector<std::pair<double, double>> vw, double q) {
+  std::sort(vw.begin(), vw.end());
+  double acc = 0.0;
+  for (const auto& [v, w] : vw) {
+    acc += w;
+    if (acc >= q) return v;
+  }
+  return vw.empty() ? std::numeric_limits<double>::quiet_NaN() : vw.back().first;
+}
+
+}  // namespace
+
+ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, const JointFitResult& joint, double alpha,
+                                       int max_draws, std::uint64_t seed, const FitOptions& fit) {
+  const FitResult& j = joint.joint;
+  if (j.status == FitStatus::kFailed || !j.theta.allFinite() || wvs.size() != joint.levels.size())
+    throw InputError("replicate bootstrap: the joint fit has no usable estimate");
+  if (!(alpha > 0.0 && alpha < 1.0)) throw InputError("replicate bootstrap: alpha must be in (0, 1)");
+  if (max_draws < 10) throw InputError("replicate bootstrap: max_draws must be at least 10, got " + std::to_string(max_draws));
+  const int K = static_cast<int>(wvs.size());
+  // Each replicate's block of the joint Omega.
+  std::vector<Eigen::MatrixXd> blocks;
+  Eigen::Index at = 0;
+  for (const auto& w : wvs) {
+    const Eigen::Index J = w.levels();
+    blocks.push_back(j.omega.block(at, at, J, J));
+    at += J;
+  }
+  // The resamples: all distinct ones with their probabilities, or max_draws drawn.
+  std::vector<std::vector<int>> counts;
+  std::vector<double> weight;
+  ReplicateBootstrap out;
+  {
+    std::vector<int> m(static_cast<std::size_t>(K));
+    std::vector<std::vector<int>> all;
+    const double distinct = std::exp(std::lgamma(2.0 * K) - std::lgamma(K + 1.0) - std::lgamma(static_cast<double>(K)));
+    if (distinct <= max_draws + 0.5) {
+      multisets(K, 0, K, m, all);
+      for (const auto& c : all) {
+        counts.push_back(c);
+        weight.push_back(std::exp(log_probability(c)));
+      }
+      out.exhaustive = true;
+    } else {
+      for (int b = 0; b < max_draws; ++b) {
+        Rng rng = make_stream(seed, {0x7262u, static_cast<std::uint64_t>(b)});
+        boost::random::uniform_int_distribution<int> pick(0, K - 1);
+        std::vector<int> c(static_cast<std::size_t>(K), 0);
+        for (int i = 0; i < K; ++i) ++c[static_cast<std::size_t>(pick(rng))];
+        counts.push_back(c);
+        weight.push_back(1.0 / max_draws);
+      }
+    }
+  }
+  std::vector<Eigen::VectorXd> thetas(counts.size());
+  std::vector<char> ok(counts.size(), 0);
+  oneapi::tbb::parallel_for(std::size_t{0}, counts.size(), [&](std::size_t b) {
+    std::vector<WaveletVariance> part;
+    std::vector<Eigen::MatrixXd> omega;
+    for (int k = 0; k < K; ++k)
+      for (int r = 0; r < counts[b][static_cast<std::size_t>(k)]; ++r) {
+        part.push_back(wvs[static_cast<std::size_t>(k)]);
+        omega.push_back(blocks[static_cast<std::size_t>(k)]);
+      }
+    const FitResult f = minimise(stack_wv(part), j.model, block_diagonal(omega), {j.theta}, fit);
+    if (f.status == FitStatus::kFailed || !f.theta.allFinite()) return;
+    thetas[b] = f.theta;
+    // The WV cannot see a signed parameter's sign: the joint estimate's is kept.
+    for (int k = 0; k < j.model.num_parameters(); ++k)
+      if (j.model.spec_of(k).signed_magnitude && (j.theta(k) < 0.0) != (thetas[b](k) < 0.0)) thetas[b](k) = -thetas[b](k);
+    ok[b] = 1;
+  });
+  const Eigen::Index p = j.theta.size();
+  out.ci_low = out.ci_high = Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
+  double total = 0.0;
+  for (std::size_t b = 0; b < counts.size(); ++b)
+    if (ok[b]) {
+      total += weight[b];
+      ++out.draws;
+    }
+  if (out.draws == 0) return out;
+  for (Eigen::Index i = 0; i < p; ++i) {
+    std::vector<std::pair<double, double>> vw;
+    for (std::size_t b = 0; b < counts.size(); ++b)
+      if (ok[b]) vw.emplace_back(thetas[b](i), weight[b] / total);
+    out.ci_low(i) = weighted_quantile(vw, alpha / 2.0);
+    out.ci_high(i) = weighted_quantile(vw, 1.0 - alpha / 2.0);
+  }
   return out;
 }
 

@@ -151,6 +151,32 @@ TEST(JointFit, TheReplicateTestIsTheSameWhateverTheThreadCount) {
   EXPECT_EQ(many.statistic, single.statistic);
 }
 
+TEST(JointFit, TheReplicateBootstrapFitsEveryDistinctResampleOfThreeReplicates) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {13, 14, 15}, 312);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));
+  const ReplicateBootstrap b = replicate_bootstrap(wvs, r);
+  EXPECT_TRUE(b.exhaustive);
+  EXPECT_EQ(b.draws, 10);  // C(5, 3) multisets of 3 replicates
+  for (Eigen::Index i = 0; i < 2; ++i) {
+    ASSERT_TRUE(std::isfinite(b.ci_low(i)) && std::isfinite(b.ci_high(i))) << i;
+    EXPECT_LE(b.ci_low(i), b.ci_high(i));
+  }
+  // The white noise is pinned by the finest levels of all three: its interval holds the joint estimate.
+  EXPECT_LE(b.ci_low(0), r.joint.theta(0));
+  EXPECT_GE(b.ci_high(0), r.joint.theta(0));
+}
+
+TEST(JointFit, TheReplicateBootstrapDrawsResamplesWhenThereAreTooManyAndRepeatsWithTheSeed) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12, 12, 12, 13, 13, 13}, 313);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));
+  const ReplicateBootstrap a = replicate_bootstrap(wvs, r, 0.05, 40, 5);
+  EXPECT_FALSE(a.exhaustive);  // C(11, 6) = 462 > 40
+  EXPECT_EQ(a.draws, 40);
+  const ReplicateBootstrap b = replicate_bootstrap(wvs, r, 0.05, 40, 5);
+  EXPECT_EQ(a.ci_low, b.ci_low);
+  EXPECT_EQ(a.ci_high, b.ci_high);
+}
+
 TEST(JointFit, TheReplicateTestNeedsAtLeastNineteenDraws) {
   const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12}, 311);
   ReplicateTestOptions o;

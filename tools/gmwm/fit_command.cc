@@ -82,6 +82,10 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   return os.str();
 }
 
+// Resamples of the replicates for the bootstrap intervals when they are too many to fit
+// every distinct one (C(2K-1, K) > 200 from K = 6 on).
+constexpr int kReplicateBootstrapDraws = 200;
+
 // AGMWM as a fit of the joint model (for its rows in display units).
 FitResult agmwm_fit(const JointFitResult& r) {
   FitResult f;
@@ -93,7 +97,18 @@ FitResult agmwm_fit(const JointFitResult& r) {
 
 // The joint (multi-signal) fit of each axis over its replicates: the joint estimate with
 // its sandwich intervals, AGMWM and every replicate's own estimate side by side.
-std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test, OmegaKind omega) {
+// The replicate-bootstrap interval as a fit of the joint model (display units).
+FitResult bootstrap_fit(const JointFitResult& r, const ReplicateBootstrap& b) {
+  FitResult f;
+  f.model = r.joint.model;
+  f.theta = r.joint.theta;
+  f.ci_low = b.ci_low;
+  f.ci_high = b.ci_high;
+  return f;
+}
+
+std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
+                         const ReplicateBootstrap* boot, OmegaKind omega) {
   std::ostringstream os;
   os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
@@ -106,18 +121,22 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
   os << "model: " << (ok ? j.model.to_string(j.theta) : j.model.to_string()) << '\n';
   if (ok) {
     std::vector<std::string> header = {"process", "component", "name", "joint", "se", "CI low", "CI high",
-                                       "AGMWM", "AGMWM se"};
+                                       "boot low", "boot high", "AGMWM", "AGMWM se"};
     for (std::size_t k = 0; k < r.singles.size(); ++k) header.push_back("replicate " + std::to_string(k + 1));
     Table t(header, 1);
     // Every column in display units (SIN f in Hz ...), as parameter_rows gives them.
     const auto rows = io::parameter_rows(j);
     const auto agmwm = io::parameter_rows(agmwm_fit(r));
+    const auto boot_rows = boot ? io::parameter_rows(bootstrap_fit(r, *boot)) : std::vector<io::ParameterRow>{};
     std::vector<std::vector<io::ParameterRow>> own;
     for (const auto& s : r.singles) own.push_back(io::parameter_rows(s));
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const auto& p = rows[i];
       std::vector<std::string> row = {p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
-                                      fmt(p.ci_low), fmt(p.ci_high), fmt(agmwm[i].value), fmt(agmwm[i].se, 3)};
+                                      fmt(p.ci_low), fmt(p.ci_high),
+                                      i < boot_rows.size() ? fmt(boot_rows[i].ci_low) : "-",
+                                      i < boot_rows.size() ? fmt(boot_rows[i].ci_high) : "-", fmt(agmwm[i].value),
+                                      fmt(agmwm[i].se, 3)};
       for (const auto& o : own) row.push_back(i < o.size() ? fmt(o[i].value) : "-");
       t.add(row);
     }
@@ -128,6 +147,11 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
      << fmt(j.gof.p_value, 4) << (j.gof.method.empty() ? "" : " (" + j.gof.method + ")") << '\n';
   os << "status: " << (j.message.empty() ? status_text(j.status) : j.message) << '\n';
   for (const auto& note : j.notes) os << "note: " << note << '\n';
+  if (boot)
+    os << "boot low / high: percentile interval from the joint fit redone on " << boot->draws
+       << (boot->exhaustive ? " distinct resamples (all, weighted by their bootstrap probability)"
+                            : " resamples")
+       << " of the replicates drawn with replacement\n";
   if (test)
     os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p " << fmt(test->heterogeneity_p, 3)
        << (test->heterogeneity_p < 0.05 ? " (the replicates do not share one theta)" : " (one theta fits them all)")
@@ -136,7 +160,8 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
   return os.str();
 }
 
-io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test, const io::SignalSet& set) {
+io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
+                   const ReplicateBootstrap* boot, const io::SignalSet& set) {
   io::Json col;
   col["name"] = g.axis;
   col["freq"] = set.freq;
@@ -169,6 +194,16 @@ io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const Repl
   col["status"] = status_text(j.status);
   col["message"] = j.message;
   col["notes"] = j.notes;
+  if (boot) {
+    io::Json lo = io::Json::array(), hi = io::Json::array();
+    for (const auto& p : io::parameter_rows(bootstrap_fit(r, *boot))) {
+      lo.push_back(io::json_number(p.ci_low));
+      hi.push_back(io::json_number(p.ci_high));
+    }
+    col["replicate_bootstrap"] = {{"ci_low", lo}, {"ci_high", hi}, {"draws", boot->draws}, {"exhaustive", boot->exhaustive}};
+  } else {
+    col["replicate_bootstrap"] = nullptr;
+  }
   col["replicate_test"] = test ? io::Json{{"heterogeneity", io::json_number(test->heterogeneity)},
                                           {"heterogeneity_p_value", io::json_number(test->heterogeneity_p)},
                                           {"statistic", io::json_number(test->statistic)},
@@ -191,6 +226,7 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
 
   std::vector<JointFitResult> fits;
   std::vector<std::optional<ReplicateTest>> tests;
+  std::vector<std::optional<ReplicateBootstrap>> boots;
   ReplicateTestOptions test_options;
   test_options.bootstrap = args.replicates;
   test_options.seed = common.seed;
@@ -203,8 +239,12 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
     const std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
     orient_by_replicates(fits.back(), series);
     tests.emplace_back();
-    if (wvs.size() > 1 && fits.back().joint.status != FitStatus::kFailed)
+    boots.emplace_back();
+    if (wvs.size() > 1 && fits.back().joint.status != FitStatus::kFailed) {
       tests.back() = replicate_test(wvs, fits.back(), test_options);
+      boots.back() = replicate_bootstrap(wvs, fits.back(), options.alpha, kReplicateBootstrapDraws, common.seed,
+                                         test_options.fit);
+    }
   }
 
   io::Json doc = io::json_document("fit");
@@ -215,8 +255,9 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const ReplicateTest* test = tests[i] ? &*tests[i] : nullptr;
-    doc["columns"].push_back(joint_json(groups[i], fits[i], test, set));
-    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], test, options.omega);
+    const ReplicateBootstrap* boot = boots[i] ? &*boots[i] : nullptr;
+    doc["columns"].push_back(joint_json(groups[i], fits[i], test, boot, set));
+    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], test, boot, options.omega);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);

@@ -91,6 +91,21 @@ struct ReplicateTest {
 ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFitResult& joint,
                              const ReplicateTestOptions& options = {});
 
+/// Intervals by bootstrap over whole replicates: the joint fit redone on resamples of the
+/// K replicates drawn with replacement (each replicate's WV and its block of the joint
+/// Omega kept whole), started from the joint estimate; percentile intervals at level
+/// 1 - alpha. When the distinct resamples (multisets, C(2K-1, K): 10 for K = 3) number at
+/// most max_draws, every one is fitted and weighted by its bootstrap probability
+/// K! / (prod m_i! K^K); else max_draws resamples are drawn (streams from seed).
+struct ReplicateBootstrap {
+  Eigen::VectorXd ci_low, ci_high;  ///< natural parameters, canonical order (NaN when no draw)
+  int draws = 0;                    ///< fits that did not fail
+  bool exhaustive = false;          ///< every distinct resample was fitted
+};
+ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, const JointFitResult& joint,
+                                       double alpha = 0.05, int max_draws = 200, std::uint64_t seed = 0,
+                                       const FitOptions& fit = {});
+
 /// The sign of every signed-magnitude parameter (DR's omega): each single fit from its own
 /// series' slope, the joint fit from the pooled slope (each replicate with its own
 /// intercept: sum_k Sxy_k / sum_k Sxx_k). `series[k]` is replicate k. Returns the pooled slope.
