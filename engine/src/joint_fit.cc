@@ -7,6 +7,7 @@
 #include <string>
 
 #include <Eigen/Dense>
+#include <boost/math/distributions/students_t.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
 #include <oneapi/tbb/parallel_for.h>
 
@@ -348,6 +349,7 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
   if (!(alpha > 0.0 && alpha < 1.0)) throw InputError("replicate bootstrap: alpha must be in (0, 1)");
   if (max_draws < 10) throw InputError("replicate bootstrap: max_draws must be at least 10, got " + std::to_string(max_draws));
   const int K = static_cast<int>(wvs.size());
+  if (K < 2) throw InputError("replicate bootstrap: needs at least 2 replicates, got " + std::to_string(K));
   // Each replicate's block of the joint Omega.
   std::vector<Eigen::MatrixXd> blocks;
   Eigen::Index at = 0;
@@ -401,7 +403,8 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
     ok[b] = 1;
   });
   const Eigen::Index p = j.theta.size();
-  out.ci_low = out.ci_high = Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.ci_low = out.ci_high = out.percentile_low = out.percentile_high = out.se = Eigen::VectorXd::Constant(p, nan);
   double total = 0.0;
   for (std::size_t b = 0; b < counts.size(); ++b)
     if (ok[b]) {
@@ -409,12 +412,39 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
       ++out.draws;
     }
   if (out.draws == 0) return out;
+  // The replicate-t interval: the bootstrap variance of a mean of K replicates is
+  // (K - 1) / K times the usual s^2 / K, so it is inflated by K / (K - 1) and paired with
+  // Student's t at K - 1 degrees of freedom (exact for a mean of K normal replicates);
+  // built in the unconstrained space of each parameter (log for a variance, atanh for phi;
+  // on |x| for a signed magnitude), as the sandwich intervals are.
+  const double t = boost::math::quantile(boost::math::students_t(static_cast<double>(K - 1)), 1.0 - alpha / 2.0);
+  const double inflate = std::sqrt(static_cast<double>(K) / static_cast<double>(K - 1));
   for (Eigen::Index i = 0; i < p; ++i) {
     std::vector<std::pair<double, double>> vw;
     for (std::size_t b = 0; b < counts.size(); ++b)
       if (ok[b]) vw.emplace_back(thetas[b](i), weight[b] / total);
-    out.ci_low(i) = weighted_quantile(vw, alpha / 2.0);
-    out.ci_high(i) = weighted_quantile(vw, 1.0 - alpha / 2.0);
+    out.percentile_low(i) = weighted_quantile(vw, alpha / 2.0);
+    out.percentile_high(i) = weighted_quantile(vw, 1.0 - alpha / 2.0);
+    const auto& spec = j.model.spec_of(static_cast<int>(i));
+    const double sign = spec.signed_magnitude && j.theta(i) < 0.0 ? -1.0 : 1.0;
+    const auto u = [&](double x) { return to_unconstrained(spec.transform, spec.signed_magnitude ? std::abs(x) : x); };
+    double mean = 0.0, var = 0.0, var_natural = 0.0, mean_natural = 0.0;
+    for (const auto& [x, w] : vw) {
+      mean += w * u(x);
+      mean_natural += w * x;
+    }
+    for (const auto& [x, w] : vw) {
+      var += w * (u(x) - mean) * (u(x) - mean);
+      var_natural += w * (x - mean_natural) * (x - mean_natural);
+    }
+    out.se(i) = inflate * std::sqrt(var_natural);
+    const double centre = u(j.theta(i));
+    const double half = t * inflate * std::sqrt(var);
+    if (!std::isfinite(centre) || !std::isfinite(half)) continue;
+    const double a = from_unconstrained(spec.transform, centre - half);
+    const double c = from_unconstrained(spec.transform, centre + half);
+    out.ci_low(i) = sign > 0.0 ? a : -c;
+    out.ci_high(i) = sign > 0.0 ? c : -a;
   }
   return out;
 }

@@ -7,12 +7,15 @@
 
 #include <Eigen/Cholesky>
 #include <boost/random/uniform_int_distribution.hpp>
+#include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/random.h"
+#include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
 
 namespace gmwm::selection {
@@ -24,6 +27,10 @@ constexpr int kMaxReplicates = 12;
 // optimiser's own tolerance (1e-10 relative per fit, summed over splits and levels) makes
 // models that are the same in effect differ by ~1e-8 of the loss.
 constexpr double kEquivalenceTolerance = 1e-6;
+// Bootstrap streams of the stacked draw: replicate k of draw `stream` is simulated on
+// stream * kStreamsPerDraw + k (kMaxReplicates <= kStreamsPerDraw keeps them distinct).
+constexpr std::uint64_t kStreamsPerDraw = 16;
+static_assert(kMaxReplicates <= static_cast<int>(kStreamsPerDraw));
 
 Eigen::MatrixXd block_diagonal(const std::vector<const Eigen::MatrixXd*>& blocks) {
   Eigen::Index n = 0;
@@ -86,10 +93,28 @@ std::vector<std::vector<int>> subsets(int K, int s) {
   return out;
 }
 
+// The parametric-bootstrap draw of a stacked WV: every member replicate simulated from the
+// fitted model at its own length, its WV by the selection's estimator at its own levels,
+// stacked in the same order.
+SelectOptions::BootstrapDraw stacked_draw(std::vector<WaveletVariance> part, const ReplicateSelectOptions& o) {
+  return [part = std::move(part), estimator = o.select.estimator, seed = o.seed](
+             const WaveletVariance&, const Model& model, const Eigen::VectorXd& theta, std::uint64_t stream) {
+    const ClassicalWvEstimator classical;
+    const WvEstimator& e = estimator ? *estimator : classical;
+    std::vector<WaveletVariance> draws;
+    for (std::size_t k = 0; k < part.size(); ++k) {
+      const std::vector<double> x = simulate(model, theta, part[k].n, seed, stream * kStreamsPerDraw + k);
+      draws.push_back(e.compute(x.data(), part[k].n, static_cast<int>(part[k].levels()), part[k].alpha));
+    }
+    return stack_wv(draws);
+  };
+}
+
 // Stage 2: the selection (every sub-model, warm-started along the representation order)
-// on the stacked WV of `members`, under their fixed Omega_k and V_k.
+// on the stacked WV of `members`, under their fixed Omega_k and V_k; with the
+// parametric-bootstrap optimism beside the analytic one when `bootstrap` is set.
 Selection select_on(std::span<const WaveletVariance> wvs, const std::vector<int>& members, const Weights& w,
-                    const Model& maximal, const ReplicateSelectOptions& o) {
+                    const Model& maximal, const ReplicateSelectOptions& o, bool bootstrap) {
   std::vector<WaveletVariance> part;
   std::vector<const Eigen::MatrixXd*> v, omega;
   for (int k : members) {
@@ -100,9 +125,10 @@ Selection select_on(std::span<const WaveletVariance> wvs, const std::vector<int>
   WaveletVariance stacked = stack_wv(part);
   stacked.covariance = block_diagonal(v);
   SelectOptions so = o.select;
-  so.optimism = OptimismMethod::kAnalytic;
+  so.optimism = bootstrap ? OptimismMethod::kBoth : OptimismMethod::kAnalytic;
   so.penalty = Penalty::kWvic;
   so.fit.omega_matrix = block_diagonal(omega);
+  if (bootstrap) so.bootstrap_draw = stacked_draw(std::move(part), o);
   return select_models({stacked}, maximal, so).front();
 }
 
@@ -179,24 +205,37 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
   out.training = subsets(K, (K + 1) / 2);
   std::vector<int> all(static_cast<std::size_t>(K));
   for (int k = 0; k < K; ++k) all[static_cast<std::size_t>(k)] = k;
-  const Selection whole = select_on(wvs, all, w, maximal, options);
+  // The selection on all replicates (task 0) and on every training split, as one parallel
+  // loop (each selection parallel inside over its models); each task writes its own slot.
+  const bool bootstrap = options.select.optimism != OptimismMethod::kAnalytic;
+  const std::size_t S = out.training.size();
+  std::vector<Selection> sel(S + 1);
+  oneapi::tbb::parallel_for(std::size_t{0}, S + 1, [&](std::size_t t) {
+    sel[t] = t == 0 ? select_on(wvs, all, w, maximal, options, bootstrap)
+                    : select_on(wvs, out.training[t - 1], w, maximal, options, false);
+  });
+  const Selection& whole = sel.front();
 
-  std::map<std::string, double> analytic;  // candidate -> its effective model's WVIC
+  std::map<std::string, const RankedModel*> row_of;  // candidate -> its effective model's row
   for (const auto& row : whole.ranking)
-    for (const auto& m : row.members) analytic[m] = row.criterion;
+    for (const auto& m : row.members) row_of[m] = &row;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& c : whole.candidates) {
     CvCandidate r;
     r.model = c.model;
     r.parameters = c.fit.model.num_parameters();
     r.objective = c.fit.objective;
-    r.analytic_wvic = analytic.count(c.model) ? analytic[c.model] : std::numeric_limits<double>::quiet_NaN();
+    const RankedModel* row = row_of.count(c.model) ? row_of[c.model] : nullptr;
+    r.analytic_wvic = row ? row->objective + row->optimism_analytic.value_or(nan) : nan;
+    if (row && row->optimism_bootstrap) {
+      r.bootstrap_wvic = row->objective + *row->optimism_bootstrap;
+      r.bootstrap_se = row->optimism_bootstrap_se.value_or(nan);
+    }
     out.ranking.push_back(std::move(r));
   }
-  for (const auto& training : out.training) {
-    const Selection sel = select_on(wvs, training, w, maximal, options);
-    for (std::size_t i = 0; i < sel.candidates.size(); ++i)
-      out.ranking[i].split_loss.push_back(held_out_loss(wvs, training, w, sel.candidates[i].fit));
-  }
+  for (std::size_t t = 1; t <= S; ++t)
+    for (std::size_t i = 0; i < sel[t].candidates.size(); ++i)
+      out.ranking[i].split_loss.push_back(held_out_loss(wvs, out.training[t - 1], w, sel[t].candidates[i].fit));
   for (auto& r : out.ranking) {
     double sum = 0.0;
     for (double l : r.split_loss) sum += l;
@@ -209,14 +248,18 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
     if (!std::isnan(a) && a != b) return a < b;
     return pa < pb;
   };
-  std::vector<std::size_t> by_analytic(out.ranking.size());
-  for (std::size_t i = 0; i < by_analytic.size(); ++i) by_analytic[i] = i;
-  std::stable_sort(by_analytic.begin(), by_analytic.end(), [&](std::size_t a, std::size_t b) {
-    return before(out.ranking[a].analytic_wvic, out.ranking[b].analytic_wvic, out.ranking[a].parameters,
-                  out.ranking[b].parameters);
-  });
-  for (std::size_t k = 0; k < by_analytic.size(); ++k) out.ranking[by_analytic[k]].rank_analytic = static_cast<int>(k) + 1;
-  out.chosen_analytic = out.ranking[by_analytic.front()].model;
+  // Ranks under another criterion; returns the first-ranked model (empty when every value is NaN).
+  const auto rank_by = [&](double CvCandidate::*value, int CvCandidate::*rank) {
+    std::vector<std::size_t> order(out.ranking.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return before(out.ranking[a].*value, out.ranking[b].*value, out.ranking[a].parameters, out.ranking[b].parameters);
+    });
+    for (std::size_t k = 0; k < order.size(); ++k) out.ranking[order[k]].*rank = static_cast<int>(k) + 1;
+    return std::isnan(out.ranking[order.front()].*value) ? std::string() : out.ranking[order.front()].model;
+  };
+  out.chosen_analytic = rank_by(&CvCandidate::analytic_wvic, &CvCandidate::rank_analytic);
+  if (bootstrap) out.chosen_bootstrap = rank_by(&CvCandidate::bootstrap_wvic, &CvCandidate::rank_bootstrap);
   std::stable_sort(out.ranking.begin(), out.ranking.end(), [&](const CvCandidate& a, const CvCandidate& b) {
     return before(a.cv_wvic, b.cv_wvic, a.parameters, b.parameters);
   });
@@ -228,6 +271,14 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
     if (r.equivalent && (r.parameters < rec->parameters || (r.parameters == rec->parameters && r.cv_wvic < rec->cv_wvic)))
       rec = &r;
   out.recommended = rec->model;
+  return out;
+}
+
+std::vector<ReplicateSelection> select_by_replicates(std::span<const std::vector<WaveletVariance>> axes,
+                                                     const Model& maximal, const ReplicateSelectOptions& options) {
+  std::vector<ReplicateSelection> out(axes.size());
+  oneapi::tbb::parallel_for(std::size_t{0}, axes.size(),
+                            [&](std::size_t a) { out[a] = select_by_replicates(axes[a], maximal, options); });
   return out;
 }
 

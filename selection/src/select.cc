@@ -61,9 +61,13 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
   std::vector<Eigen::VectorXd> implied(static_cast<std::size_t>(B)), empirical(static_cast<std::size_t>(B));
   std::vector<char> ok(static_cast<std::size_t>(B), 0), converged(static_cast<std::size_t>(B), 0);
   oneapi::tbb::parallel_for(0, B, [&](int b) {
-    const std::vector<double> x =
-        simulate(fit.model, fit.theta, wv.n, options.seed, stream_base + static_cast<std::uint64_t>(b));
-    const WaveletVariance w = estimator.compute(x.data(), wv.n, static_cast<int>(J), wv.alpha);
+    const std::uint64_t stream = stream_base + static_cast<std::uint64_t>(b);
+    const WaveletVariance w = [&] {
+      if (options.bootstrap_draw) return options.bootstrap_draw(wv, fit.model, fit.theta, stream);
+      const std::vector<double> x = simulate(fit.model, fit.theta, wv.n, options.seed, stream);
+      return estimator.compute(x.data(), wv.n, static_cast<int>(J), wv.alpha);
+    }();
+    if (w.levels() != J) return;
     if (!w.values().allFinite()) return;
     FitOptions fo = options.fit;
     fo.omega_matrix = omega;

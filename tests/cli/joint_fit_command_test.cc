@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,14 @@ using gmwm::test::expect_bad_input;
 using gmwm::test::run_gmwm;
 
 namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  return cells;
+}
 
 constexpr const char* kTruth = "AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1e-2)+RW(gamma2=1e-8)";
 
@@ -123,6 +132,72 @@ TEST_F(GmwmCliJointFit, SelectRanksEverySubModelByItsWvicCrossValidatedOverTheRe
   EXPECT_TRUE(col["ranking"][0]["equivalent"].get<bool>());
   EXPECT_EQ(col["ranking"][0]["split_loss"].size(), 3u);
   EXPECT_FALSE(col["recommended"].get<std::string>().empty());
+}
+
+TEST_F(GmwmCliJointFit, ARobustJointFitResistsSpikesInEveryReplicate) {
+  // One spike of 5 (50 white-noise sd) every 100 samples of each recording's gx. (Spikes in
+  // one replicate alone barely move even the classical joint fit: its diagonal Omega gives
+  // that replicate's inflated WV a weight ~ (0.01 / 0.26)^2 of the others'.)
+  for (const char* file : {"r1.csv", "r2.csv", "r3.csv"}) {
+    std::istringstream in(gmwm::test::read_text(dir_ / file));
+    std::ostringstream out;
+    std::string line;
+    std::getline(in, line);
+    out << line << '\n';
+    const auto header = split(line);
+    const std::size_t gx = static_cast<std::size_t>(std::find(header.begin(), header.end(), "gx") - header.begin());
+    ASSERT_LT(gx, header.size());
+    for (int i = 0; std::getline(in, line); ++i) {
+      auto cells = split(line);
+      if (i % 100 == 0) cells[gx] = std::to_string(std::stod(cells[gx]) + 5.0);
+      for (std::size_t c = 0; c < cells.size(); ++c) out << (c ? "," : "") << cells[c];
+      out << '\n';
+    }
+    gmwm::test::write_text(dir_ / file, out.str());
+  }
+  const auto wn = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"--columns", "gx", "--joint", "r2.csv", "r3.csv"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = fit(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const auto doc = gmwm::test::read_json(json());
+    EXPECT_EQ(doc["estimator"], extra.empty() ? "classical" : "robust");
+    for (const auto& p : doc["columns"][0]["parameters"])
+      if (p["process"] == "WN") return p["value"].get<double>();
+    return -1.0;
+  };
+  const double classical = wn({}), robust = wn({"--robust"});
+  // The spikes add 25 / 100 = 0.25 to the variance: the classical joint WN is pulled far
+  // above the truth 1e-2; the robust one stays within 20% of it.
+  EXPECT_GT(classical, 3e-2);
+  EXPECT_NEAR(robust, 1e-2, 2e-3);
+}
+
+TEST_F(GmwmCliJointFit, SelectWithOptimismAllGivesTheThreeWvicsSideBySide) {
+  const auto r = run_gmwm({"select", "r1.csv", "--columns", "gx", "--joint", "r2.csv", "r3.csv", "--model", "WN+RW",
+                           "--optimism", "all", "--replicates", "20", "--json", "out.json"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("bootstrap WVIC"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("smallest bootstrap WVIC"), std::string::npos) << r.out;
+  const auto doc = gmwm::test::read_json(json());
+  EXPECT_EQ(doc["optimism"], "all");
+  const auto& col = doc["columns"][0];
+  EXPECT_TRUE(col["chosen_bootstrap"].is_string());
+  ASSERT_EQ(col["ranking"].size(), 3u);
+  for (const auto& row : col["ranking"]) {
+    EXPECT_TRUE(row["cv_wvic"].is_number()) << row.dump();
+    EXPECT_TRUE(row["analytic_wvic"].is_number()) << row.dump();
+    EXPECT_TRUE(row["bootstrap_wvic"].is_number()) << row.dump();
+    EXPECT_TRUE(row["rank_bootstrap"].is_number()) << row.dump();
+  }
+}
+
+TEST_F(GmwmCliJointFit, RejectsTheBootstrapOptimismAloneWithReplicates) {
+  const auto r = run_gmwm({"select", "r1.csv", "--columns", "gx", "--joint", "r2.csv", "--model", "WN+RW", "--optimism",
+                           "bootstrap", "--json", "out.json"},
+                          dir_);
+  expect_bad_input(r, {"--joint with --optimism bootstrap", "--optimism all"}, json());
 }
 
 TEST_F(GmwmCliJointFit, RejectsTheReplicateOptimismWithoutReplicates) {

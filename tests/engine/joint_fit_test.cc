@@ -166,6 +166,34 @@ TEST(JointFit, TheReplicateBootstrapFitsEveryDistinctResampleOfThreeReplicates) 
   EXPECT_GE(b.ci_high(0), r.joint.theta(0));
 }
 
+TEST(JointFit, TheReplicateTIntervalWidensThePercentileOneByStudentsTAndTheBootstrapVarianceCorrection) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {13, 14, 15}, 314);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));
+  const ReplicateBootstrap b = replicate_bootstrap(wvs, r);
+  for (Eigen::Index i = 0; i < 2; ++i) {
+    ASSERT_TRUE(b.percentile_low.allFinite() && b.se.allFinite());
+    // The percentile interval stays within the range of the resampled fits; the replicate-t
+    // one (t_{2, 0.975} = 4.30, x sqrt(3/2)) reaches beyond it on both sides.
+    EXPECT_LT(b.ci_low(i), b.percentile_low(i)) << i;
+    EXPECT_GT(b.ci_high(i), b.percentile_high(i)) << i;
+    EXPECT_LT(b.ci_low(i), r.joint.theta(i));
+    EXPECT_GT(b.ci_high(i), r.joint.theta(i));
+    // Built on the log scale for a variance: the estimate is the geometric centre.
+    EXPECT_NEAR(std::log(b.ci_low(i)) + std::log(b.ci_high(i)), 2.0 * std::log(r.joint.theta(i)), 1e-9);
+    EXPECT_GT(b.se(i), 0.0);
+  }
+}
+
+TEST(JointFit, TheReplicateBootstrapNeedsTwoReplicates) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12}, 315);
+  try {
+    replicate_bootstrap(wvs, fit_gmwm_joint(wvs, parse_model("WN+RW")));
+    FAIL() << "one replicate accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "replicate bootstrap: needs at least 2 replicates, got 1");
+  }
+}
+
 TEST(JointFit, TheReplicateBootstrapDrawsResamplesWhenThereAreTooManyAndRepeatsWithTheSeed) {
   const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12, 12, 12, 13, 13, 13}, 313);
   const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));

@@ -2,9 +2,12 @@
 // chosen and recommended models on replicates of a known truth, and the error paths.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include <oneapi/tbb/global_control.h>
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
@@ -46,6 +49,62 @@ TEST(ReplicateSelect, FourReplicatesGiveSixSplitsOfTwo) {
   EXPECT_EQ(r.training.size(), 6u);
   EXPECT_EQ(r.training.back(), (std::vector<int>{2, 3}));
   for (const auto& c : r.ranking) EXPECT_EQ(c.split_loss.size(), 6u);
+}
+
+TEST(ReplicateSelect, GivesTheSameResultWhateverTheThreadCountAndForEveryAxisAtOnce) {
+  const std::vector<std::vector<WaveletVariance>> axes = {
+      replicates("WN(sigma2=1e-2)+RW(gamma2=1e-6)", {12, 13, 13}, 404),
+      replicates("AR1(phi=0.9,sigma2=1e-2)+WN(sigma2=1e-2)", {12, 12, 13}, 405)};
+  const Model maximal = parse_model("AR1+WN+RW");
+  const std::vector<ReplicateSelection> many = select_by_replicates(axes, maximal);
+  ReplicateSelection single;
+  {
+    oneapi::tbb::global_control one(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+    single = select_by_replicates(axes[1], maximal);
+  }
+  ASSERT_EQ(many.size(), 2u);
+  EXPECT_EQ(many[1].chosen, single.chosen);
+  EXPECT_EQ(many[1].recommended, single.recommended);
+  ASSERT_EQ(many[1].ranking.size(), single.ranking.size());
+  for (std::size_t i = 0; i < single.ranking.size(); ++i) {
+    EXPECT_EQ(many[1].ranking[i].model, single.ranking[i].model);
+    EXPECT_EQ(many[1].ranking[i].split_loss, single.ranking[i].split_loss);  // bit for bit
+    EXPECT_EQ(many[1].ranking[i].analytic_wvic, single.ranking[i].analytic_wvic);
+    EXPECT_EQ(many[1].ranking[i].p_not_worse, single.ranking[i].p_not_worse);
+  }
+  EXPECT_EQ(many[0].recommended, "WN+RW");
+}
+
+TEST(ReplicateSelect, PutsTheBootstrapWvicOfTheJointFitBesideTheAnalyticOne) {
+  const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-6)", {12, 13, 13}, 406);
+  ReplicateSelectOptions o;
+  o.select.optimism = OptimismMethod::kBoth;
+  o.select.bootstrap_replicates = 40;
+  const ReplicateSelection r = select_by_replicates(wvs, parse_model("AR1+WN+RW"), o);
+  EXPECT_FALSE(r.chosen_bootstrap.empty());
+  std::vector<int> ranks;
+  for (const auto& c : r.ranking) {
+    if (c.model == "AR1+WN+RW") continue;  // the maximal model may sit at the boundary
+    ASSERT_TRUE(std::isfinite(c.bootstrap_wvic)) << c.model;
+    // The bootstrap optimism estimates the analytic one: 2 tr(...) = 2p when the model holds
+    // (Monte-Carlo s.e. from 40 draws); both are positive penalties on the same objective.
+    EXPECT_GT(c.bootstrap_wvic, c.objective) << c.model;
+    ranks.push_back(c.rank_bootstrap);
+  }
+  std::sort(ranks.begin(), ranks.end());
+  EXPECT_EQ(ranks.front(), 1);
+  // At the truth WN+RW both estimate the same optimism: within 4 Monte-Carlo s.e. of the
+  // 40 draws, plus the analytic formula's own first-order error (a quarter of it).
+  for (const auto& c : r.ranking)
+    if (c.model == "WN+RW") {
+      const double analytic = c.analytic_wvic - c.objective, boot = c.bootstrap_wvic - c.objective;
+      EXPECT_NEAR(boot, analytic, 4.0 * c.bootstrap_se + 0.25 * analytic) << c.bootstrap_se;
+    }
+  // Without the request: none.
+  const ReplicateSelection plain = select_by_replicates(wvs, parse_model("AR1+WN+RW"));
+  EXPECT_TRUE(plain.chosen_bootstrap.empty());
+  EXPECT_TRUE(std::isnan(plain.ranking.front().bootstrap_wvic));
+  EXPECT_EQ(plain.ranking.front().rank_bootstrap, 0);
 }
 
 TEST(ReplicateSelect, NeedsAtLeastTwoReplicates) {

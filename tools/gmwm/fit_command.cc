@@ -108,9 +108,10 @@ FitResult bootstrap_fit(const JointFitResult& r, const ReplicateBootstrap& b) {
 }
 
 std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
-                         const ReplicateBootstrap* boot, OmegaKind omega) {
+                         const ReplicateBootstrap* boot, OmegaKind omega, const std::string& estimator) {
   std::ostringstream os;
-  os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << '\n';
+  os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << ", "
+     << estimator << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
     os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", "
        << r.levels[k] << " levels"
@@ -148,7 +149,9 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
   os << "status: " << (j.message.empty() ? status_text(j.status) : j.message) << '\n';
   for (const auto& note : j.notes) os << "note: " << note << '\n';
   if (boot)
-    os << "boot low / high: percentile interval from the joint fit redone on " << boot->draws
+    os << "boot low / high: replicate-t interval (t at K - 1 df, bootstrap sd x sqrt(K / (K - 1)), log scale for "
+          "variances) from the joint fit redone on "
+       << boot->draws
        << (boot->exhaustive ? " distinct resamples (all, weighted by their bootstrap probability)"
                             : " resamples")
        << " of the replicates drawn with replacement\n";
@@ -200,7 +203,7 @@ io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const Repl
       lo.push_back(io::json_number(p.ci_low));
       hi.push_back(io::json_number(p.ci_high));
     }
-    col["replicate_bootstrap"] = {{"ci_low", lo}, {"ci_high", hi}, {"draws", boot->draws}, {"exhaustive", boot->exhaustive}};
+    col["replicate_bootstrap"] = {{"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi}, {"draws", boot->draws}, {"exhaustive", boot->exhaustive}};
   } else {
     col["replicate_bootstrap"] = nullptr;
   }
@@ -214,10 +217,9 @@ io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const Repl
   return col;
 }
 
-int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOptions& options) {
+int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOptions& options,
+                  const robust::RobustWvOptions* robust) {
   Stopwatch total;
-  if (args.robust.robust)
-    throw InputError("--joint with --robust: the joint fit takes the classical WV for now");
   for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
@@ -232,9 +234,10 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   test_options.seed = common.seed;
   test_options.fit = options;
   test_options.fit.inference = false;
+  test_options.estimator = options.estimator;  // draws get the data's WV estimator
   if (const std::string why = test_options.Validate(); !why.empty()) throw InputError("--replicates: " + why);
   for (const ReplicateGroup& g : groups) {
-    const std::vector<WaveletVariance> wvs = replicate_wvs(g, model, wv_opts);
+    const std::vector<WaveletVariance> wvs = replicate_wvs(g, model, wv_opts, robust);
     fits.push_back(fit_gmwm_joint(wvs, model, options));
     const std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
     orient_by_replicates(fits.back(), series);
@@ -252,12 +255,15 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   doc["model_spec"] = args.model;
   doc["seed"] = common.seed;
   doc["joint"] = true;
+  doc["estimator"] = robust ? "robust" : "classical";
+  const std::string estimator =
+      robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const ReplicateTest* test = tests[i] ? &*tests[i] : nullptr;
     const ReplicateBootstrap* boot = boots[i] ? &*boots[i] : nullptr;
     doc["columns"].push_back(joint_json(groups[i], fits[i], test, boot, set));
-    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], test, boot, options.omega);
+    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], test, boot, options.omega, estimator);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
@@ -294,7 +300,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     if (options.omega == OmegaKind::kBootstrap)
       throw InputError("--joint with --omega bootstrap: the joint fit takes --omega diag or full");
     if (!common.report.empty()) throw InputError("--joint with --report: the joint fit has no report yet");
-    return run_joint_fit(args, common, options);
+    return run_joint_fit(args, common, options, robust_options ? &*robust_options : nullptr);
   }
 
   // With --freq the model can be checked before reading a long file.

@@ -73,9 +73,10 @@ std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const st
   return groups;
 }
 
-std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options) {
+std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
+                                           const robust::RobustWvOptions* robust) {
   std::vector<std::span<const double>> series(group.series.begin(), group.series.end());
-  std::vector<WaveletVariance> wvs = classical_wv(series, options);
+  std::vector<WaveletVariance> wvs = robust ? robust::robust_wv(series, *robust) : classical_wv(series, options);
   for (std::size_t k = 0; k < wvs.size(); ++k) {
     try {
       check_model_fits_levels(model, wvs[k].levels());

@@ -11,6 +11,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/robust/robust_wv.h"
 
 namespace gmwm::cli {
 
@@ -31,8 +32,10 @@ std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const st
 /// The file of a --joint entry (FILE[:COLUMN]), for the output safety checks.
 std::string replicate_path(const std::string& entry);
 
-/// The classical WVs of a group's replicates, each checked against `model`'s parameter
-/// count (InputError naming the replicate's source and length).
-std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options);
+/// The WVs of a group's replicates (classical, or robust when `robust` is given), each
+/// checked against `model`'s parameter count (InputError naming the replicate's source and
+/// length).
+std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
+                                           const robust::RobustWvOptions* robust = nullptr);
 
 }  // namespace gmwm::cli

@@ -98,33 +98,45 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
 // Selection over replicates: per axis, every sub-model of the maximal model ranked by its
 // cross-validated WVIC over the replicates, the analytic WVIC of the joint fit beside it,
 // the equivalent models and the recommended one.
-std::string joint_select_report(const ReplicateGroup& g, const selection::ReplicateSelection& r) {
+std::string joint_select_report(const ReplicateGroup& g, const selection::ReplicateSelection& r,
+                                const std::string& estimator) {
   std::ostringstream os;
+  const bool boot = !r.chosen_bootstrap.empty();
   os << g.axis << ": selection over " << g.sources.size() << " replicates (" << r.training.size()
-     << " training splits of " << r.training.front().size() << "), maximal model " << r.full_model << '\n';
+     << " training splits of " << r.training.front().size() << "), maximal model " << r.full_model << ", " << estimator
+     << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
     os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << '\n';
-  Table t({"rank", "model", "p", "CV-WVIC", "analytic WVIC", "rank (analytic)", "P(not worse)", "equivalent"}, 1);
-  for (const auto& c : r.ranking)
-    t.add({std::to_string(c.rank), c.model, std::to_string(c.parameters), fmt(c.cv_wvic, 6), fmt(c.analytic_wvic, 6),
-           std::to_string(c.rank_analytic), fmt(c.p_not_worse, 3), c.equivalent ? "yes" : ""});
+  std::vector<std::string> head = {"rank", "model", "p", "CV-WVIC", "analytic WVIC", "rank (analytic)"};
+  if (boot) head.insert(head.end(), {"bootstrap WVIC (s.e.)", "rank (bootstrap)"});
+  head.insert(head.end(), {"P(not worse)", "equivalent"});
+  Table t(head, 1);
+  for (const auto& c : r.ranking) {
+    std::vector<std::string> row = {std::to_string(c.rank), c.model, std::to_string(c.parameters), fmt(c.cv_wvic, 6),
+                                    fmt(c.analytic_wvic, 6), std::to_string(c.rank_analytic)};
+    if (boot)
+      row.insert(row.end(), {fmt(c.bootstrap_wvic, 6) + " (" + fmt(c.bootstrap_se, 2) + ")", std::to_string(c.rank_bootstrap)});
+    row.insert(row.end(), {fmt(c.p_not_worse, 3), c.equivalent ? "yes" : ""});
+    t.add(row);
+  }
   os << t.str();
   os << "chosen (smallest CV-WVIC): " << r.chosen << "; recommended (smallest equivalent model): " << r.recommended
-     << "; smallest analytic WVIC of the joint fit: " << r.chosen_analytic << '\n';
-  os << "note: a parametric-bootstrap optimism is not defined for a joint fit over replicates (use "
-        "--optimism bootstrap on one recording)\n";
+     << "; smallest analytic WVIC of the joint fit: " << r.chosen_analytic;
+  if (boot) os << "; smallest bootstrap WVIC: " << r.chosen_bootstrap;
+  os << '\n';
   return os.str();
 }
 
-int run_joint_select(const SelectArgs& args, const CommonOptions& common, const selection::SelectOptions& options) {
+int run_joint_select(const SelectArgs& args, const CommonOptions& common, const selection::SelectOptions& options,
+                     const robust::RobustWvOptions* robust) {
   Stopwatch total;
-  if (args.robust.robust) throw InputError("--joint with --robust: the selection over replicates takes the classical WV for now");
   if (args.model.empty() || !args.models.empty())
     throw InputError("--joint: give the maximal model with --model SPEC (not --models)");
   if (args.penalty == "bic") throw InputError("--joint with --penalty bic: the selection over replicates ranks by the cross-validated WVIC");
   if (args.optimism == "bootstrap" || args.optimism == "both")
     throw InputError("--joint with --optimism " + args.optimism +
-                     ": a parametric bootstrap of a joint fit is not defined; use --optimism replicates or all");
+                     ": the selection over replicates ranks by the cross-validated WVIC; --optimism all gives the "
+                     "analytic and bootstrap WVIC of the joint fit beside it");
   for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
@@ -132,19 +144,22 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
   selection::ReplicateSelectOptions ro;
   ro.select = options;
+  ro.select.optimism =
+      args.optimism == "all" ? selection::OptimismMethod::kBoth : selection::OptimismMethod::kAnalytic;
   ro.seed = common.seed;
   if (const std::string why = ro.Validate(); !why.empty()) throw InputError(why);
-  std::vector<selection::ReplicateSelection> results;
-  for (const ReplicateGroup& g : groups) {
-    const std::vector<WaveletVariance> wvs = replicate_wvs(g, maximal, wv_opts);
-    results.push_back(selection::select_by_replicates(wvs, maximal, ro));
-  }
+  std::vector<std::vector<WaveletVariance>> axes;
+  for (const ReplicateGroup& g : groups) axes.push_back(replicate_wvs(g, maximal, wv_opts, robust));
+  const std::vector<selection::ReplicateSelection> results = selection::select_by_replicates(axes, maximal, ro);
+  const std::string estimator =
+      robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
   io::Json doc = io::json_document("select");
   doc["input"] = set.path;
   doc["model_spec"] = args.model;
   doc["seed"] = common.seed;
   doc["joint"] = true;
-  doc["optimism"] = "replicates";
+  doc["optimism"] = args.optimism;
+  doc["estimator"] = robust ? "robust" : "classical";
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const auto& r = results[i];
@@ -157,6 +172,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
     col["chosen"] = r.chosen;
     col["recommended"] = r.recommended;
     col["chosen_analytic"] = r.chosen_analytic;
+    col["chosen_bootstrap"] = r.chosen_bootstrap.empty() ? io::Json(nullptr) : io::Json(r.chosen_bootstrap);
     io::Json rows = io::Json::array();
     for (const auto& c : r.ranking)
       rows.push_back({{"rank", c.rank},
@@ -167,11 +183,14 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
                       {"objective", io::json_number(c.objective)},
                       {"analytic_wvic", io::json_number(c.analytic_wvic)},
                       {"rank_analytic", c.rank_analytic},
+                      {"bootstrap_wvic", io::json_number(c.bootstrap_wvic)},
+                      {"bootstrap_se", io::json_number(c.bootstrap_se)},
+                      {"rank_bootstrap", c.rank_bootstrap ? io::Json(c.rank_bootstrap) : io::Json(nullptr)},
                       {"p_not_worse", io::json_number(c.p_not_worse)},
                       {"equivalent", c.equivalent}});
     col["ranking"] = rows;
     doc["columns"].push_back(std::move(col));
-    report += (i ? "\n" : "") + joint_select_report(groups[i], r);
+    report += (i ? "\n" : "") + joint_select_report(groups[i], r, estimator);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
@@ -210,7 +229,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
     if (!common.report.empty()) throw InputError("--joint with --report: the selection over replicates has no report yet");
-    return run_joint_select(args, common, options);
+    return run_joint_select(args, common, options, robust_options ? &*robust_options : nullptr);
   }
   if (args.model.empty() == args.models.empty())
     throw InputError("select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
@@ -343,7 +362,8 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--optimism", args->optimism,
                   "Optimism of the WVIC: analytic (delta method), bootstrap (parametric, --replicates per model) "
                   "or both side by side (the criterion uses the analytic one); with --joint: replicates "
-                  "(cross-validated over the replicates) or all (it and the joint fit's analytic one side by side)")
+                  "(cross-validated over the replicates, the joint fit's analytic WVIC beside it) or all (and the "
+                  "joint fit's parametric-bootstrap WVIC, --replicates draws of every replicate per model)")
       ->check(CLI::IsMember({"analytic", "bootstrap", "both", "replicates", "all"}))
       ->capture_default_str();
   sub->add_option("--omega", args->omega,

@@ -93,12 +93,21 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
 
 /// Intervals by bootstrap over whole replicates: the joint fit redone on resamples of the
 /// K replicates drawn with replacement (each replicate's WV and its block of the joint
-/// Omega kept whole), started from the joint estimate; percentile intervals at level
-/// 1 - alpha. When the distinct resamples (multisets, C(2K-1, K): 10 for K = 3) number at
-/// most max_draws, every one is fitted and weighted by its bootstrap probability
-/// K! / (prod m_i! K^K); else max_draws resamples are drawn (streams from seed).
+/// Omega kept whole), started from the joint estimate. When the distinct resamples
+/// (multisets, C(2K-1, K): 10 for K = 3) number at most max_draws, every one is fitted and
+/// weighted by its bootstrap probability K! / (prod m_i! K^K); else max_draws resamples
+/// are drawn (streams from seed).
+///
+/// The interval at level 1 - alpha is the replicate-t interval: in each parameter's
+/// unconstrained space (log for a variance), u_hat +- t_{K-1, 1-alpha/2} sqrt(K / (K-1))
+/// sd*(u), sd* the bootstrap standard deviation. Its percentile interval is given too, but
+/// it cannot cover: the resampled fits stay within the range of the K replicates'
+/// estimates, which misses the truth with probability 2^(1-K) (25% for K = 3), and the
+/// bootstrap variance of a mean of K is (K-1)/K of its variance.
 struct ReplicateBootstrap {
-  Eigen::VectorXd ci_low, ci_high;  ///< natural parameters, canonical order (NaN when no draw)
+  Eigen::VectorXd ci_low, ci_high;  ///< replicate-t interval (natural parameters, canonical order; NaN when no draw)
+  Eigen::VectorXd percentile_low, percentile_high;  ///< the plain percentile interval
+  Eigen::VectorXd se;               ///< sqrt(K / (K-1)) x the bootstrap sd (natural scale)
   int draws = 0;                    ///< fits that did not fail
   bool exhaustive = false;          ///< every distinct resample was fitted
 };

@@ -19,6 +19,7 @@
 //   r.recommended, r.ranking[0].cv_wvic ...
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,8 +32,11 @@ namespace gmwm::selection {
 
 struct ReplicateSelectOptions {
   /// The selection of each split (penalty WVIC, Omega source kModel or kModelFull, fit
-  /// settings, progress); its optimism is analytic (a parametric bootstrap of a stacked WV
-  /// is not defined).
+  /// settings, progress). Its optimism: kAnalytic, or kBootstrap / kBoth for the
+  /// parametric-bootstrap optimism of the joint fit on all replicates beside the analytic
+  /// one (every replicate simulated at its own length from the candidate's joint fit,
+  /// bootstrap_replicates draws per candidate, its WV by `select.estimator`); the splits
+  /// are always scored by their held-out loss.
   SelectOptions select;
   int split_bootstrap = 2000;      ///< resamples of the splits for the equivalence test
   double equivalence_level = 0.05; ///< a model is equivalent unless its excess loss is significant at this level
@@ -48,8 +52,13 @@ struct CvCandidate {
   std::vector<double> split_loss;  ///< per split, in ReplicateSelection::training order
   double objective = 0.0;          ///< joint objective on all replicates
   double analytic_wvic = 0.0;      ///< objective + analytic optimism on all replicates
+  /// objective + parametric-bootstrap optimism on all replicates, and the optimism's
+  /// Monte-Carlo s.e. (NaN unless asked for)
+  double bootstrap_wvic = std::numeric_limits<double>::quiet_NaN();
+  double bootstrap_se = std::numeric_limits<double>::quiet_NaN();
   int rank = 0;                    ///< by CV-WVIC (ties: fewer parameters)
   int rank_analytic = 0;           ///< by the analytic WVIC
+  int rank_bootstrap = 0;          ///< by the bootstrap WVIC (0 unless asked for)
   /// Bootstrap probability (over the splits) that its mean loss is not above the chosen
   /// model's; equivalent when above equivalence_level. The splits share replicates, so
   /// their losses are not independent: with few replicates this probability is coarse
@@ -65,11 +74,19 @@ struct ReplicateSelection {
   std::string chosen;                      ///< smallest CV-WVIC
   std::string recommended;                 ///< smallest equivalent model (ties: lower CV-WVIC)
   std::string chosen_analytic;             ///< smallest analytic WVIC on all replicates
+  std::string chosen_bootstrap;            ///< smallest bootstrap WVIC (empty unless asked for)
 };
 
 /// Throws InputError for fewer than 2 or more than 12 replicates, invalid options, or a replicate with
 /// fewer levels than the maximal model has parameters (naming it, 1-based).
+/// The C(K, s) split selections and the one on all replicates run as one parallel loop;
+/// the result does not depend on the thread count.
 ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, const Model& maximal,
                                         const ReplicateSelectOptions& options = {});
+
+/// Every axis at once (each axis its own replicates' WVs): axes x splits x models in one
+/// TBB task tree; result i is select_by_replicates(axes[i], ...), bit for bit.
+std::vector<ReplicateSelection> select_by_replicates(std::span<const std::vector<WaveletVariance>> axes,
+                                                     const Model& maximal, const ReplicateSelectOptions& options = {});
 
 }  // namespace gmwm::selection

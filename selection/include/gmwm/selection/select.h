@@ -68,6 +68,14 @@ struct SelectOptions {
   int bootstrap_replicates = 50;
   std::uint64_t seed = 0;
   const WvEstimator* estimator = nullptr;
+  /// The WV of one bootstrap series drawn from a fitted model: given the signal's WV, the
+  /// model, its theta and a stream number distinct per (signal, model, replicate). Empty:
+  /// one series of the signal's length simulated with (seed, stream), its WV by
+  /// `estimator`. The selection over replicates sets it to draw every replicate at its own
+  /// length and stack their WVs.
+  using BootstrapDraw = std::function<WaveletVariance(const WaveletVariance& wv, const Model& model,
+                                                     const Eigen::VectorXd& theta, std::uint64_t stream)>;
+  BootstrapDraw bootstrap_draw;
   /// Fit settings shared by every model (omega_matrix, inference, nested_starts and
   /// starts are set per signal/model by the selection).
   FitOptions fit;
