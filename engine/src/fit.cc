@@ -471,7 +471,8 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   return r;
 }
 
-std::string rejection_summary(const FitResult& fit, double freq, bool freq_known, double level) {
+std::string rejection_summary(const FitResult& fit, double freq, bool freq_known, double level,
+                              std::span<const int> replicate_levels) {
   if (!std::isfinite(fit.gof.p_value) || fit.gof.p_value >= level) return {};
   std::ostringstream os;
   os.precision(3);
@@ -482,6 +483,14 @@ std::string rejection_summary(const FitResult& fit, double freq, bool freq_known
     for (std::size_t i = 0; i < worst.size(); ++i) {
       const auto& m = worst[i];
       os << (i ? ", " : "");
+      int first = 0;  // stacked levels: name the replicate
+      for (std::size_t k = 0; k < replicate_levels.size(); ++k) {
+        if (m.level <= first + replicate_levels[k]) {
+          os << "replicate " << k + 1 << " at ";
+          break;
+        }
+        first += replicate_levels[k];
+      }
       if (freq_known) os << m.tau / freq << " s";
       else os << "tau = " << m.tau;
       os << " (data/model " << m.ratio << ", z = " << m.z << ")";

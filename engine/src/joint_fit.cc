@@ -465,4 +465,27 @@ double orient_by_replicates(JointFitResult& r, std::span<const std::span<const d
   return pooled;
 }
 
+std::string JointAnalysisOptions::Validate() const {
+  if (std::string why = fit.Validate(); !why.empty()) return why;
+  if (std::string why = test.Validate(); !why.empty()) return why;
+  if (bootstrap_draws < 10) return "bootstrap draws must be at least 10, got " + std::to_string(bootstrap_draws);
+  return {};
+}
+
+JointAnalysis analyse_replicates(std::span<const WaveletVariance> wvs, std::span<const std::span<const double>> series,
+                                 const Model& model, const JointAnalysisOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("joint analysis: " + why);
+  check_size_match("analyse_replicates", "series", series.size(), "replicates", wvs.size());
+  JointAnalysis out;
+  out.fit = fit_gmwm_joint(wvs, model, options.fit);
+  out.pooled_slope = orient_by_replicates(out.fit, series);
+  if (wvs.size() < 2 || out.fit.joint.status == FitStatus::kFailed) return out;
+  ReplicateTestOptions t = options.test;
+  t.fit = options.fit;
+  t.fit.inference = false;
+  out.test = replicate_test(wvs, out.fit, t);
+  out.bootstrap = replicate_bootstrap(wvs, out.fit, options.fit.alpha, options.bootstrap_draws, options.test.seed, t.fit);
+  return out;
+}
+
 }  // namespace gmwm

@@ -59,6 +59,11 @@ std::string column_facts(const ReportColumn& c) {
   if (c.freq_known) os << ", " << html_escape(report_detail::num(c.freq, 6)) << " Hz (" << html_escape(report_detail::num(static_cast<double>(c.n) / c.freq, 4)) << " s)";
   else os << ", sampling rate unknown (tau in samples)";
   os << ", data unit " << (c.unit.empty() ? "not declared (U)" : html_escape(c.unit));
+  if (c.replicates) {
+    os << "; " << c.wvs.size() << " replicates (" << html_escape(c.replicates->estimator)
+       << "), N and levels per replicate below";
+    return os.str();
+  }
   for (const auto& w : c.wvs) os << "; " << html_escape(report_detail::wv_label(w)) << ", " << w.levels() << " levels";
   return os.str();
 }
@@ -66,7 +71,9 @@ std::string column_facts(const ReportColumn& c) {
 // The fit-quality sentences (rejection with the worst scales, degeneracy), highlighted.
 std::string quality_lines(const FitResult& f, const ReportColumn& c, bool all_rejected, const std::string& full_model) {
   std::ostringstream os;
-  const std::string why = rejection_summary(f, c.freq, c.freq_known);
+  const std::vector<int> none;
+  const std::vector<int>& stacked = c.replicates && c.replicates->joint ? c.replicates->joint->levels : none;
+  const std::string why = rejection_summary(f, c.freq, c.freq_known, 0.05, stacked);
   if (all_rejected)
     os << "<p class=\"quality\"><b>every candidate is rejected at 5%</b>: no sub-model of " << html_escape(full_model)
        << " describes these data" << (why.empty() ? "" : "; the chosen " + html_escape(f.model.to_string()) + " is " + html_escape(why))
@@ -84,7 +91,10 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
      << column_facts(c) << "</p>\n";
   if (!c.wvs.empty()) os << plots.add("plot-" + idx + "-wv", "wv", report_detail::wv_plot_spec(c));
   if (c.fit) {
-    os << "<h3>fit</h3>\n<p class=\"facts\">objective " << html_escape(report_detail::num(c.fit->objective, 6))
+    os << "<h3>" << (c.replicates ? (c.replicates->selection ? "recommended model, fitted jointly over the replicates"
+                                                               : "joint fit over the replicates")
+                                  : "fit")
+       << "</h3>\n<p class=\"facts\">objective " << html_escape(report_detail::num(c.fit->objective, 6))
        << ", goodness of fit: statistic " << html_escape(report_detail::num(c.fit->gof.statistic)) << ", df "
        << html_escape(report_detail::num(c.fit->gof.df)) << ", p-value " << html_escape(report_detail::num(c.fit->gof.p_value, 4))
        << ", status " << html_escape(gmwm::to_string(c.fit->status))
@@ -93,6 +103,7 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
     for (const auto& n : c.fit->notes) os << "<p class=\"facts\">note: " << html_escape(n) << "</p>\n";
     os << quality_lines(*c.fit, c, false, "");
   }
+  os << report_detail::replicate_tables(c);
   if (c.allan) {
     os << "<h3>Allan deviation and noise figures</h3>\n"
        << plots.add("plot-" + idx + "-adev", "adev", report_detail::adev_plot_spec(c))

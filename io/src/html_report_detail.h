@@ -58,6 +58,9 @@ WvSeries wv_series(const WaveletVariance& wv, const ReportColumn& c);
 /// The model whose WV the column shows: the fit, else the selection's best fit (else its
 /// first-ranked model's fit); nullptr when none has a finite theta.
 const FitResult* shown_model(const ReportColumn& c);
+/// The scales (in samples) the model curve is drawn at: those of the WV with the most
+/// levels (the longest replicate for a joint column).
+const std::vector<double>& model_tau(const ReportColumn& c);
 /// True when the fit holds a usable theta.
 bool has_theta(const FitResult& f);
 /// The model's WV at the scales `tau_samples` ("<label>") and, when `components`, each
@@ -90,6 +93,9 @@ std::string ranking_table(const selection::Selection& sel);
 std::string gap_tables(const ReportColumn& c);
 /// The noise figures N, K, B with their sources, read-offs and notes.
 std::string noise_figures_table(const ReportColumn& c);
+/// An axis fitted over replicates: the replicates, the shared-theta test, the parameters
+/// side by side and the selection's three-WVIC table (empty without c.replicates).
+std::string replicate_tables(const ReportColumn& c);
 /// The WV levels of the column's first WV (collapsed <details>).
 std::string wv_table(const ReportColumn& c);
 

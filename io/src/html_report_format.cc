@@ -81,6 +81,13 @@ bool has_theta(const FitResult& f) {
          f.theta.size() == f.model.num_parameters() && f.theta.allFinite();
 }
 
+const std::vector<double>& model_tau(const ReportColumn& c) {
+  const WaveletVariance* longest = &c.wvs.front();
+  for (const auto& w : c.wvs)
+    if (w.levels() > longest->levels()) longest = &w;
+  return longest->tau;
+}
+
 const FitResult* shown_model(const ReportColumn& c) {
   if (c.fit && has_theta(*c.fit)) return &*c.fit;
   if (c.selection) {

@@ -15,6 +15,14 @@ namespace gmwm::io::report_detail {
 
 namespace {
 
+// A replicate's legend label: its file name without the folder (the column is the axis's).
+std::string source_label(const std::string& source) {
+  const auto colon = source.rfind(':');
+  const std::string file = colon == std::string::npos ? source : source.substr(0, colon);
+  const auto slash = file.find_last_of('/');
+  return slash == std::string::npos ? file : file.substr(slash + 1);
+}
+
 // Series colours: the WV estimates first, then the model, then its components. The static
 // SVG (html_report_svg.cc) uses the same order.
 constexpr std::array<const char*, 10> kPalette = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
@@ -263,12 +271,21 @@ Json wv_plot_spec(const ReportColumn& c) {
   p.x_title = tau_axis_title(c);
   p.tau_unit = tau_unit(c);
   p.y_title = wv_axis_title(c);
-  for (const auto& w : c.wvs) p.estimates.push_back(wv_series(w, c));
+  for (std::size_t k = 0; k < c.wvs.size(); ++k) {
+    p.estimates.push_back(wv_series(c.wvs[k], c));
+    if (c.replicates && k < c.replicates->sources.size())
+      p.estimates.back().name = "replicate " + std::to_string(k + 1) + ": " + source_label(c.replicates->sources[k]);
+  }
   std::string title = c.name + ": wavelet variance";
+  if (c.replicates) title += " of " + std::to_string(c.wvs.size()) + " replicates";
   if (const FitResult* f = shown_model(c); f && !c.wvs.empty()) {
-    p.curves = model_curves(f->model, f->theta, c.wvs.front().tau, tau_scale(c),
-                            "model " + f->model.to_string(), true);
-    title += " and " + std::string(c.selection ? "chosen model " : "fitted model ") + f->model.to_string();
+    p.curves = model_curves(f->model, f->theta, model_tau(c), tau_scale(c),
+                            (c.replicates ? "joint model " : "model ") + f->model.to_string(), true);
+    title += " and " +
+             std::string(c.replicates ? (c.replicates->selection ? "recommended joint model " : "joint model ")
+                         : c.selection ? "chosen model "
+                                       : "fitted model ") +
+             f->model.to_string();
   }
   if (!c.wvs.empty()) title += " (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "% CI)";
   p.title = title;

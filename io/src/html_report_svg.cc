@@ -70,7 +70,7 @@ std::string render_wv_svg(const ReportColumn& c) {
   std::vector<report_detail::Curve> curves;
   std::string title = c.name + ": wavelet variance";
   if (const FitResult* f = report_detail::shown_model(c); f && !c.wvs.empty()) {
-    curves = report_detail::model_curves(f->model, f->theta, c.wvs.front().tau, report_detail::tau_scale(c),
+    curves = report_detail::model_curves(f->model, f->theta, report_detail::model_tau(c), report_detail::tau_scale(c),
                                   "model " + f->model.to_string(), true);
     title += " and " + std::string(c.selection ? "chosen model " : "fitted model ") + f->model.to_string();
   }

@@ -242,8 +242,12 @@ std::string gap_tables(const ReportColumn& c) {
 std::string wv_table(const ReportColumn& c) {
   std::ostringstream os;
   const double scale = tau_scale(c);
-  for (const auto& w : c.wvs) {
-    os << "<details><summary>" << html_escape(wv_label(w)) << " by level</summary>\n<table class=\"levels\">\n"
+  for (std::size_t k = 0; k < c.wvs.size(); ++k) {
+    const WaveletVariance& w = c.wvs[k];
+    const std::string label = c.replicates && k < c.replicates->sources.size()
+                                  ? "replicate " + std::to_string(k + 1) + " (" + c.replicates->sources[k] + "): " + wv_label(w)
+                                  : wv_label(w);
+    os << "<details><summary>" << html_escape(label) << " by level</summary>\n<table class=\"levels\">\n"
        << th_row({"level", "tau [samples]", "tau [" + tau_unit(c) + "]", "WV", "CI low", "CI high", "M_j"});
     for (std::size_t j = 0; j < w.wv.size(); ++j)
       os << "<tr>" << td(std::to_string(j + 1), "num") << td(num(w.tau[j], 10), "num") << td(num(w.tau[j] * scale, 5), "num")
@@ -252,6 +256,115 @@ std::string wv_table(const ReportColumn& c) {
          << td(j < w.coefficients.size() ? std::to_string(w.coefficients[j]) : "-", "num") << "</tr>\n";
     os << "</table>\n</details>\n";
   }
+  return os.str();
+}
+
+}  // namespace gmwm::io::report_detail
+
+namespace gmwm::io::report_detail {
+
+namespace {
+
+// The shared-theta test in one sentence, highlighted when it rejects.
+std::string replicate_test_line(const ReplicateTest& t) {
+  const bool rejects = t.heterogeneity_p < 0.05;
+  std::ostringstream os;
+  os << "<p class=\"" << (rejects ? "quality" : "facts") << "\">shared theta? heterogeneity H = "
+     << html_escape(num(t.heterogeneity, 4)) << ", bootstrap p " << html_escape(num(t.heterogeneity_p, 3)) << ": "
+     << (rejects ? "<b>the replicates do not share one theta</b> (compare their own estimates below)"
+                 : "one theta fits them all")
+     << "; joint misfit T = " << html_escape(num(t.statistic, 4)) << ", bootstrap p " << html_escape(num(t.p_value, 3))
+     << " (" << t.draws << " parametric-bootstrap draws, Omega_k = V_k^-1 at the fixed-point estimate)</p>\n";
+  return os.str();
+}
+
+// Parameters side by side: joint (sandwich and replicate-t intervals), AGMWM, each replicate's own.
+std::string side_by_side(const ReplicateReport& r, const ReportColumn& c) {
+  const JointFitResult& j = *r.joint;
+  const FitResult& f = j.joint;
+  if (!has_theta(f)) return {};
+  const std::string level = c.wvs.empty() ? std::string() : " (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "%)";
+  std::vector<std::string> head = {"component", "process", "parameter", "joint", "sandwich interval" + level};
+  if (r.bootstrap) head.push_back("replicate-t interval" + level);
+  head.insert(head.end(), {"AGMWM", "AGMWM se"});
+  for (std::size_t k = 0; k < j.singles.size(); ++k) head.push_back("replicate " + std::to_string(k + 1) + " alone");
+  std::ostringstream os;
+  os << "<div class=\"params\">\n<table class=\"discrete\">\n<caption>discrete (per sample) parameters: the joint "
+        "estimate beside the average of the replicates' own estimates (AGMWM) and each of them</caption>\n"
+     << th_row(head);
+  const bool sandwich = f.ci_low.size() == f.theta.size() && f.ci_high.size() == f.theta.size();
+  const bool boot = r.bootstrap && r.bootstrap->ci_low.size() == f.theta.size();
+  for (int i = 0; i < f.model.num_parameters(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    const int comp = f.model.component_of(i);
+    os << "<tr>" << td(std::to_string(comp + 1))
+       << td(f.model.components()[static_cast<std::size_t>(comp)].process->name()) << td(f.model.spec_of(i).name)
+       << td(num(f.theta(k), 6), "num") << td(sandwich ? interval(f.ci_low(k), f.ci_high(k)) : "-", "num");
+    if (r.bootstrap) os << td(boot ? interval(r.bootstrap->ci_low(k), r.bootstrap->ci_high(k)) : "-", "num");
+    os << td(k < j.agmwm.size() ? num(j.agmwm(k), 6) : "-", "num")
+       << td(k < j.agmwm_se.size() ? num(j.agmwm_se(k), 3) : "-", "num");
+    for (const auto& s : j.singles)
+      os << td(has_theta(s) && k < s.theta.size() ? num(s.theta(k), 6) : "-", "num");
+    os << "</tr>\n";
+  }
+  os << "</table>\n</div>\n";
+  return os.str();
+}
+
+// The selection over replicates: CV-WVIC, analytic and bootstrap WVIC side by side.
+std::string replicate_ranking(const selection::ReplicateSelection& s) {
+  const bool boot = !s.chosen_bootstrap.empty();
+  std::ostringstream os;
+  os << "<div class=\"ranking\">\n<h4>model selection over the replicates: " << s.ranking.size() << " sub-models of "
+     << html_escape(s.full_model) << ", " << s.training.size() << " training splits of "
+     << (s.training.empty() ? 0 : s.training.front().size()) << "</h4>\n<table class=\"ranking\">\n";
+  std::vector<std::string> head = {"rank (CV)", "model", "parameters", "CV-WVIC", "analytic WVIC", "rank (analytic)"};
+  if (boot) head.insert(head.end(), {"bootstrap WVIC (s.e.)", "rank (bootstrap)"});
+  head.insert(head.end(), {"P(not worse)", "equivalent"});
+  os << th_row(head);
+  for (const auto& r : s.ranking) {
+    const bool chosen = r.model == s.chosen;
+    std::string badges;
+    if (chosen) badges += " <span class=\"badge\">chosen</span>";
+    if (r.model == s.recommended) badges += " <span class=\"badge\">recommended</span>";
+    os << "<tr" << (chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num") << "<td>"
+       << html_escape(r.model) << badges << "</td>" << td(std::to_string(r.parameters), "num")
+       << td(num(r.cv_wvic, 6), "num") << td(num(r.analytic_wvic, 6), "num") << td(std::to_string(r.rank_analytic), "num");
+    if (boot)
+      os << td(num(r.bootstrap_wvic, 6) + " (" + num(r.bootstrap_se, 2) + ")", "num")
+         << td(r.rank_bootstrap ? std::to_string(r.rank_bootstrap) : "-", "num");
+    os << td(num(r.p_not_worse, 3), "num") << td(r.equivalent ? "yes" : "") << "</tr>\n";
+  }
+  os << "</table>\n<p class=\"facts\">chosen (smallest CV-WVIC): " << html_escape(s.chosen)
+     << "; recommended (smallest equivalent model): " << html_escape(s.recommended)
+     << "; smallest analytic WVIC of the joint fit: " << html_escape(s.chosen_analytic);
+  if (boot) os << "; smallest bootstrap WVIC: " << html_escape(s.chosen_bootstrap);
+  os << ". A model is equivalent to the chosen one unless its held-out loss is larger in more than 95% of "
+        "bootstrap resamples of the splits.</p>\n</div>\n";
+  return os.str();
+}
+
+}  // namespace
+
+std::string replicate_tables(const ReportColumn& c) {
+  if (!c.replicates) return {};
+  const ReplicateReport& r = *c.replicates;
+  std::ostringstream os;
+  os << "<div class=\"params\">\n<table class=\"replicates\">\n<caption>replicates (" << html_escape(r.estimator)
+     << ")</caption>\n"
+     << th_row({"replicate", "source", "N", "levels", "share of the joint objective", "own fit"});
+  for (std::size_t k = 0; k < r.sources.size(); ++k) {
+    const bool fitted = r.joint && k < r.joint->singles.size();
+    os << "<tr>" << td(std::to_string(k + 1)) << td(r.sources[k])
+       << td(k < r.n.size() ? std::to_string(r.n[k]) : "-", "num")
+       << td(k < c.wvs.size() ? std::to_string(c.wvs[k].levels()) : "-", "num")
+       << td(r.joint && k < r.joint->objective_share.size() ? num(r.joint->objective_share[k], 4) : "-", "num")
+       << td(fitted ? gmwm::to_string(r.joint->singles[k].status) : "-") << "</tr>\n";
+  }
+  os << "</table>\n</div>\n";
+  if (r.test) os << replicate_test_line(*r.test);
+  if (r.joint) os << side_by_side(r, c);
+  if (r.selection) os << replicate_ranking(*r.selection);
   return os.str();
 }
 

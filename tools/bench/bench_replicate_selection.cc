@@ -6,6 +6,7 @@
 // model. Scored: the truth (its canonical string) first.
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,8 @@ constexpr const char* kMaximal = "3*AR1+WN+RW+QN+DR";
 
 }  // namespace
 
-int main() {
+// Arguments: optional 1-based truth numbers to run (default: all four).
+int main(int argc, char** argv) {
   using namespace gmwm;
   const char* truths[] = {"WN(sigma2=1)+QN(Q2=1)+RW(gamma2=3e-6)",
                           "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)+RW(gamma2=1e-4)",
@@ -40,8 +42,22 @@ int main() {
   std::printf("| truth | replicates: CV-WVIC chosen | replicates: recommended | replicates: joint analytic WVIC | "
               "one series: WVIC |\n|---|---|---|---|---|\n");
   bench::Stopwatch clock;
+  std::vector<bool> run(4, argc <= 1);
+  for (int a = 1; a < argc; ++a) {
+    const int t = std::atoi(argv[a]);
+    if (t < 1 || t > 4) {
+      std::fprintf(stderr, "bench_replicate_selection: truth numbers are 1..4, got '%s'\n", argv[a]);
+      return 2;
+    }
+    run[static_cast<std::size_t>(t - 1)] = true;
+  }
   std::uint64_t seed = 7100;
-  for (const char* spec : truths) {
+  for (std::size_t t = 0; t < 4; ++t) {
+    const char* spec = truths[t];
+    if (!run[t]) {
+      seed += 1000;  // each truth keeps its own seeds
+      continue;
+    }
     const Model m = parse_model(spec);
     const std::string truth = m.canonical().to_string();
     std::atomic<int> cv{0}, rec{0}, ana{0}, single{0};

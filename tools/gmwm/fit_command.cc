@@ -226,28 +226,19 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
 
-  std::vector<JointFitResult> fits;
-  std::vector<std::optional<ReplicateTest>> tests;
-  std::vector<std::optional<ReplicateBootstrap>> boots;
-  ReplicateTestOptions test_options;
-  test_options.bootstrap = args.replicates;
-  test_options.seed = common.seed;
-  test_options.fit = options;
-  test_options.fit.inference = false;
-  test_options.estimator = options.estimator;  // draws get the data's WV estimator
-  if (const std::string why = test_options.Validate(); !why.empty()) throw InputError("--replicates: " + why);
+  JointAnalysisOptions ao;
+  ao.fit = options;
+  ao.test.bootstrap = args.replicates;
+  ao.test.seed = common.seed;
+  ao.test.estimator = options.estimator;  // draws get the data's WV estimator
+  ao.bootstrap_draws = kReplicateBootstrapDraws;
+  if (const std::string why = ao.test.Validate(); !why.empty()) throw InputError("--replicates: " + why);
+  std::vector<std::vector<WaveletVariance>> wvs;
+  std::vector<JointAnalysis> results;
   for (const ReplicateGroup& g : groups) {
-    const std::vector<WaveletVariance> wvs = replicate_wvs(g, model, wv_opts, robust);
-    fits.push_back(fit_gmwm_joint(wvs, model, options));
+    wvs.push_back(replicate_wvs(g, model, wv_opts, robust));
     const std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
-    orient_by_replicates(fits.back(), series);
-    tests.emplace_back();
-    boots.emplace_back();
-    if (wvs.size() > 1 && fits.back().joint.status != FitStatus::kFailed) {
-      tests.back() = replicate_test(wvs, fits.back(), test_options);
-      boots.back() = replicate_bootstrap(wvs, fits.back(), options.alpha, kReplicateBootstrapDraws, common.seed,
-                                         test_options.fit);
-    }
+    results.push_back(analyse_replicates(wvs.back(), series, model, ao));
   }
 
   io::Json doc = io::json_document("fit");
@@ -256,21 +247,34 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   doc["seed"] = common.seed;
   doc["joint"] = true;
   doc["estimator"] = robust ? "robust" : "classical";
-  const std::string estimator =
-      robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
+  const std::string estimator = replicate_estimator_text(robust);
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
-    const ReplicateTest* test = tests[i] ? &*tests[i] : nullptr;
-    const ReplicateBootstrap* boot = boots[i] ? &*boots[i] : nullptr;
-    doc["columns"].push_back(joint_json(groups[i], fits[i], test, boot, set));
-    report += (i ? "\n" : "") + joint_report(groups[i], fits[i], test, boot, options.omega, estimator);
+    const ReplicateTest* test = results[i].test ? &*results[i].test : nullptr;
+    const ReplicateBootstrap* boot = results[i].bootstrap ? &*results[i].bootstrap : nullptr;
+    doc["columns"].push_back(joint_json(groups[i], results[i].fit, test, boot, set));
+    report += (i ? "\n" : "") + joint_report(groups[i], results[i].fit, test, boot, options.omega, estimator);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  if (!common.report.empty()) {
+    io::ReportData rep = report_data("fit", set, args.model);
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      io::ReportColumn& c = rep.columns[i];
+      c.wvs = wvs[i];
+      c.fit = results[i].fit.joint;
+      c.replicates = replicate_report(groups[i], estimator);
+      c.replicates->joint = results[i].fit;
+      c.replicates->test = results[i].test;
+      c.replicates->bootstrap = results[i].bootstrap;
+    }
+    write_report(common, rep);
+  }
   commit_outputs(common);
   if (common.show_table()) std::cout << report << std::flush;
-  for (std::size_t i = 0; i < fits.size(); ++i)
-    if (fits[i].joint.status == FitStatus::kFailed) {
-      std::cerr << "gmwm: error: the joint fit of '" << groups[i].axis << "' failed: " << fits[i].joint.message << '\n';
+  for (std::size_t i = 0; i < results.size(); ++i)
+    if (results[i].fit.joint.status == FitStatus::kFailed) {
+      std::cerr << "gmwm: error: the joint fit of '" << groups[i].axis << "' failed: " << results[i].fit.joint.message
+                << '\n';
       return 1;
     }
   return 0;
@@ -299,7 +303,6 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   if (!args.joint.empty()) {
     if (options.omega == OmegaKind::kBootstrap)
       throw InputError("--joint with --omega bootstrap: the joint fit takes --omega diag or full");
-    if (!common.report.empty()) throw InputError("--joint with --report: the joint fit has no report yet");
     return run_joint_fit(args, common, options, robust_options ? &*robust_options : nullptr);
   }
 

@@ -87,4 +87,16 @@ std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Mo
   return wvs;
 }
 
+std::string replicate_estimator_text(const robust::RobustWvOptions* robust) {
+  return robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
+}
+
+io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator) {
+  io::ReplicateReport r;
+  r.sources = group.sources;
+  for (const auto& s : group.series) r.n.push_back(static_cast<std::int64_t>(s.size()));
+  r.estimator = estimator;
+  return r;
+}
+
 }  // namespace gmwm::cli

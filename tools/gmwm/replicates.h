@@ -10,6 +10,7 @@
 #include "common.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model.h"
+#include "gmwm/io/html_report.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
 
@@ -37,5 +38,12 @@ std::string replicate_path(const std::string& entry);
 /// length).
 std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
                                            const robust::RobustWvOptions* robust = nullptr);
+
+/// "classical WV" or "robust WV (Gaussian efficiency E)".
+std::string replicate_estimator_text(const robust::RobustWvOptions* robust);
+
+/// The report's replicate block of a group (sources, lengths, estimator); the caller adds
+/// the joint fit, test and selection.
+io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator);
 
 }  // namespace gmwm::cli

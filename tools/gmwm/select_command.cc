@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "common.h"
 #include "units_tables.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/replicate_select.h"
@@ -98,6 +100,9 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
 // Selection over replicates: per axis, every sub-model of the maximal model ranked by its
 // cross-validated WVIC over the replicates, the analytic WVIC of the joint fit beside it,
 // the equivalent models and the recommended one.
+// The shared-theta test in a report needs at least this many draws (ReplicateTestOptions).
+constexpr int kMinReportTestDraws = 19;
+
 std::string joint_select_report(const ReplicateGroup& g, const selection::ReplicateSelection& r,
                                 const std::string& estimator) {
   std::ostringstream os;
@@ -151,8 +156,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   std::vector<std::vector<WaveletVariance>> axes;
   for (const ReplicateGroup& g : groups) axes.push_back(replicate_wvs(g, maximal, wv_opts, robust));
   const std::vector<selection::ReplicateSelection> results = selection::select_by_replicates(axes, maximal, ro);
-  const std::string estimator =
-      robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
+  const std::string estimator = replicate_estimator_text(robust);
   io::Json doc = io::json_document("select");
   doc["input"] = set.path;
   doc["model_spec"] = args.model;
@@ -193,6 +197,29 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
     report += (i ? "\n" : "") + joint_select_report(groups[i], r, estimator);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  if (!common.report.empty()) {
+    // The recommended model of each axis fitted jointly, with its shared-theta test and
+    // replicate-t intervals, drawn over the replicates' WVs beside the three-WVIC table.
+    JointAnalysisOptions ao;
+    ao.fit = options.fit;
+    ao.test.bootstrap = std::max(args.replicates, kMinReportTestDraws);
+    ao.test.seed = common.seed;
+    ao.test.estimator = options.estimator;
+    io::ReportData rep = report_data("select", set, args.model);
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const std::vector<std::span<const double>> series(groups[i].series.begin(), groups[i].series.end());
+      const JointAnalysis a = analyse_replicates(axes[i], series, parse_model(results[i].recommended, ProcessContext{set.freq, set.freq_known}), ao);
+      io::ReportColumn& c = rep.columns[i];
+      c.wvs = axes[i];
+      c.fit = a.fit.joint;
+      c.replicates = replicate_report(groups[i], estimator);
+      c.replicates->joint = a.fit;
+      c.replicates->test = a.test;
+      c.replicates->bootstrap = a.bootstrap;
+      c.replicates->selection = results[i];
+    }
+    write_report(common, rep);
+  }
   commit_outputs(common);
   if (common.show_table()) std::cout << report << std::flush;
   return 0;
@@ -228,7 +255,6 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   options.fit.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
-    if (!common.report.empty()) throw InputError("--joint with --report: the selection over replicates has no report yet");
     return run_joint_select(args, common, options, robust_options ? &*robust_options : nullptr);
   }
   if (args.model.empty() == args.models.empty())

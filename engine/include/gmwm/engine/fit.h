@@ -149,7 +149,10 @@ GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double
 /// where the data depart most from it ("rejected at 5% (GoF p = 1.2e-78): the data depart
 /// most at 0.02 s (data/model 1.25, z = 9.1), ..."), taus in seconds when the rate is known;
 /// empty when the fit is not rejected or has no test.
-std::string rejection_summary(const FitResult& fit, double freq, bool freq_known, double level = 0.05);
+/// For a joint fit over replicates (joint_fit.h) give `replicate_levels` (each replicate's
+/// J_k, in stacking order): each scale is then named with its replicate.
+std::string rejection_summary(const FitResult& fit, double freq, bool freq_known, double level = 0.05,
+                              std::span<const int> replicate_levels = {});
 
 /// One sentence naming what makes a fit degenerate (collapsed components, parameters not
 /// identified); empty when it is not.

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -119,5 +120,26 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
 /// series' slope, the joint fit from the pooled slope (each replicate with its own
 /// intercept: sum_k Sxy_k / sum_k Sxx_k). `series[k]` is replicate k. Returns the pooled slope.
 double orient_by_replicates(JointFitResult& r, std::span<const std::span<const double>> series);
+
+/// The whole analysis of one axis over its replicates, as `gmwm fit --joint` gives it:
+/// the joint fit (fit_gmwm_joint), the drift signs from the series (orient_by_replicates),
+/// and with two or more replicates and a usable joint estimate the shared-theta test
+/// (replicate_test) and the replicate-t intervals (replicate_bootstrap).
+struct JointAnalysisOptions {
+  FitOptions fit;                  ///< the joint fit's settings (alpha: the intervals' level)
+  ReplicateTestOptions test;       ///< its fit settings are the joint fit's, without inference
+  int bootstrap_draws = 200;       ///< max_draws of replicate_bootstrap (all distinct resamples up to K = 5)
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+struct JointAnalysis {
+  JointFitResult fit;
+  double pooled_slope = 0.0;                   ///< the drift's slope pooled over the replicates
+  std::optional<ReplicateTest> test;           ///< none with one replicate or a failed fit
+  std::optional<ReplicateBootstrap> bootstrap;  ///< likewise
+};
+/// `series[k]` is replicate k (its WV is wvs[k]). Throws as the functions it calls.
+JointAnalysis analyse_replicates(std::span<const WaveletVariance> wvs, std::span<const std::span<const double>> series,
+                                 const Model& model, const JointAnalysisOptions& options = {});
 
 }  // namespace gmwm

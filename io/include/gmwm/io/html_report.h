@@ -16,7 +16,12 @@
 // discrete (per sample) and continuous (physical) units, the selection's ranking with the
 // chosen model highlighted, and for a gap diagnosis the window x scale map, the
 // before/after curves (data, baseline, final model, reference band) and its tables; once
-// per report, the gap's scale x axis map of log2(data WV / baseline WV).
+// per report, the gap's scale x axis map of log2(data WV / baseline WV). For an axis
+// fitted over replicates (`--joint`): every replicate's WV with its band overlaid with the
+// joint model, each replicate's share of the objective, the shared-theta test, the
+// parameters side by side (joint with sandwich and replicate-t intervals, AGMWM, each
+// replicate's own estimate) and, for a selection, the CV / analytic / bootstrap WVIC table
+// with the equivalent models and the recommended one.
 //
 // Plotting: Vega 5 from Debian's libjs-vega, inlined into the page, so that it opens with
 // no network. Debian 12 ships Vega as its separate UMD modules (vega-util.min.js,
@@ -52,13 +57,29 @@
 #include <vector>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/selection/gap.h"
+#include "gmwm/selection/replicate_select.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/io/output_set.h"
 
 namespace gmwm::io {
+
+/// `fit --joint` / `select --joint`: an axis fitted over replicates. The column's `wvs`
+/// are the replicates' WVs (in this order, overlaid and labelled by their sources) and its
+/// `fit` is the joint model drawn over them (for select: the recommended model's joint fit).
+struct ReplicateReport {
+  std::vector<std::string> sources;   ///< "FILE:COLUMN" per replicate
+  std::vector<std::int64_t> n;        ///< per replicate
+  std::string estimator;              ///< "classical WV", "robust WV (...)"
+  /// The joint fit with each replicate's own fit and AGMWM (per-parameter view).
+  std::optional<JointFitResult> joint;
+  std::optional<ReplicateTest> test;             ///< the shared-theta test
+  std::optional<ReplicateBootstrap> bootstrap;   ///< replicate-t intervals
+  std::optional<selection::ReplicateSelection> selection;  ///< CV / analytic / bootstrap WVIC table
+};
 
 /// One analysed column (signal) of a report.
 struct ReportColumn {
@@ -81,6 +102,8 @@ struct ReportColumn {
   std::optional<FigureReport> allan;
   /// `gap`: the diagnosis and how the baseline was converted to this column.
   std::optional<selection::GapResult> gap;
+  /// `fit --joint`, `select --joint`: the replicates, their test and selection.
+  std::optional<ReplicateReport> replicates;
   std::vector<std::string> conversions;
 };
 
