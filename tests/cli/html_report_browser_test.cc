@@ -224,6 +224,19 @@ TEST(HtmlReportInBrowser, RobustWvAndFitReportsRenderTheirPlots) {
                {{"wv", 1}, {"adev", 1}});
 }
 
+// fit --joint: the replicates' WVs overlaid with the joint model (here the example's three
+// gyro axes stand in for three recordings of one axis).
+TEST(HtmlReportInBrowser, JointFitReportOverlaysTheReplicatesWithTheJointModel) {
+  REQUIRE_BROWSER(exe);
+  check_report(*exe, "report_joint",
+               {"fit", example(), "--columns", "gyro_x", "--joint", example() + ":gyro_y", example() + ":gyro_z",
+                "--model", "AR1+WN+RW", "--replicates", "19"},
+               {{"wv", 1}});
+  const std::string html = read_text(artefact_dir() / "report_joint.html");
+  EXPECT_NE(html.find("replicate-t interval"), std::string::npos);
+  EXPECT_NE(html.find("shared theta?"), std::string::npos);
+}
+
 // wv --adev: the Allan deviation plot with its band and the N / K / B guides, and the
 // noise-figure table under it.
 TEST(HtmlReportInBrowser, AllanDeviationPlotRendersWithItsGuideLines) {

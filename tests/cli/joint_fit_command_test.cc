@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "gmwm/io/html_report.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -198,6 +199,24 @@ TEST_F(GmwmCliJointFit, RejectsTheBootstrapOptimismAloneWithReplicates) {
                            "bootstrap", "--json", "out.json"},
                           dir_);
   expect_bad_input(r, {"--joint with --optimism bootstrap", "--optimism all"}, json());
+}
+
+TEST_F(GmwmCliJointFit, FitAndSelectWriteAReportOfTheReplicates) {
+  if (!gmwm::io::vega_missing_reason().empty()) GTEST_SKIP() << gmwm::io::vega_missing_reason();
+  auto r = fit({"--joint", "r2.csv", "r3.csv", "--columns", "gx", "--report", "fit.html"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string html = gmwm::test::read_text(dir_ / "fit.html");
+  EXPECT_NE(html.find("joint fit over the replicates"), std::string::npos);
+  EXPECT_NE(html.find("r3.csv:gx"), std::string::npos);
+  EXPECT_NE(html.find("shared theta?"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir_ / "fit.html.svg"));
+  r = run_gmwm({"select", "r1.csv", "--columns", "gx", "--joint", "r2.csv", "r3.csv", "--model", "WN+RW", "--report",
+                "select.html", "--quiet"},
+               dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  html = gmwm::test::read_text(dir_ / "select.html");
+  EXPECT_NE(html.find("model selection over the replicates"), std::string::npos);
+  EXPECT_NE(html.find("recommended model, fitted jointly over the replicates"), std::string::npos);
 }
 
 TEST_F(GmwmCliJointFit, RejectsTheReplicateOptimismWithoutReplicates) {

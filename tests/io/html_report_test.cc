@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -17,7 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/selection/replicate_select.h"
 #include "gmwm/io/html_report.h"
 #include "test_support.h"
 
@@ -238,6 +241,66 @@ TEST(HtmlReport, DrawsTheGapMapsAndCurvesOfEveryDiagnosedColumn) {
       EXPECT_EQ(s.at("spec").at("data")[0].at("values").size(), 28u);
     }
   }
+}
+
+TEST(HtmlReport, OverlaysTheReplicatesWithTheJointModelAndTabulatesTheTestAndTheThreeWvics) {
+  REQUIRE_VEGA();
+  // Three replicates of different lengths; the longest is the last, so the model curve must
+  // reach its coarsest scale.
+  const auto wvs = gmwm::test::simulated_replicates("WN(sigma2=1e-2)+RW(gamma2=1e-6)", {12, 13, 15}, 77);
+  const gmwm::Model model = gmwm::parse_model("WN+RW");
+  gmwm::ReplicateTestOptions to;
+  to.bootstrap = 19;
+  gmwm::selection::ReplicateSelectOptions so;
+  so.select.optimism = gmwm::selection::OptimismMethod::kBoth;
+  so.select.bootstrap_replicates = 10;
+  gmwm::io::ReplicateReport rep;
+  rep.sources = {"a/r1.csv:gx", "b/r2.csv:gx", kNastyName};
+  rep.n = {1 << 12, 1 << 13, 1 << 15};
+  rep.estimator = "classical WV";
+  rep.joint = gmwm::fit_gmwm_joint(wvs, model);
+  rep.test = gmwm::replicate_test(wvs, *rep.joint, to);
+  rep.bootstrap = gmwm::replicate_bootstrap(wvs, *rep.joint);
+  rep.selection = gmwm::selection::select_by_replicates(wvs, gmwm::parse_model("AR1+WN+RW"), so);
+  ReportData d;
+  d.command = "select";
+  d.input = "a/r1.csv";
+  ReportColumn c;
+  c.name = "gx";
+  c.n = 1 << 12;
+  c.wvs = wvs;
+  c.fit = rep.joint->joint;
+  c.replicates = rep;
+  d.columns.push_back(c);
+  const std::string html = gmwm::io::render_html_report(d);
+  // The legend names each replicate by its file; the table by its full source, escaped.
+  const nlohmann::json specs = specs_of(html);
+  ASSERT_EQ(specs.size(), 1u);
+  std::set<std::string> series;
+  double longest = 0.0;
+  for (const auto& data : specs[0].at("spec").at("data"))
+    if (data.contains("values"))
+      for (const auto& row : data.at("values"))
+        if (row.contains("series")) {
+          series.insert(row.at("series").get<std::string>());
+          if (row.at("series") == "joint model WN+RW") longest = std::max(longest, row.at("tau").get<double>());
+        }
+  EXPECT_TRUE(series.count("replicate 1: r1.csv"));
+  EXPECT_TRUE(series.count("replicate 2: r2.csv"));
+  EXPECT_TRUE(series.count("joint model WN+RW"));
+  EXPECT_EQ(longest, wvs.back().tau.back());  // tau in samples (rate unknown)
+  EXPECT_GT(longest, wvs.front().tau.back());
+  EXPECT_NE(html.find("a/r1.csv:gx"), std::string::npos);
+  EXPECT_EQ(html.find("<script>alert(1)"), std::string::npos);
+  // The test, the side-by-side parameters and the three-WVIC table.
+  EXPECT_NE(html.find("shared theta? heterogeneity H = "), std::string::npos);
+  EXPECT_NE(html.find("replicate-t interval (95%)"), std::string::npos);
+  EXPECT_NE(html.find("replicate 3 alone"), std::string::npos);
+  EXPECT_NE(html.find("AGMWM"), std::string::npos);
+  EXPECT_NE(html.find("bootstrap WVIC (s.e.)"), std::string::npos);
+  EXPECT_NE(html.find("<span class=\"badge\">recommended</span>"), std::string::npos);
+  EXPECT_EQ(count(html, "<tr class=\"chosen\">"), 1);
+  EXPECT_NE(html.find("recommended model, fitted jointly over the replicates"), std::string::npos);
 }
 
 TEST(HtmlReport, StaticSvgDrawsTheFirstColumnsWvModelAndComponents) {
