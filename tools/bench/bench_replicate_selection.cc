@@ -25,10 +25,14 @@ constexpr int kSets = 50;
 constexpr int kLog2n = 15;
 constexpr int kK = 3;
 constexpr const char* kMaximal = "3*AR1+WN+RW+QN+DR";
+constexpr int kBootstrapSets = 20;
+constexpr int kBootstrapDraws = 20;
 
 }  // namespace
 
-// Arguments: optional 1-based truth numbers to run (default: all four).
+// Arguments: optional 1-based truth numbers to run (default: all four), and "--bootstrap"
+// to add the joint fit's parametric-bootstrap WVIC (kBootstrapDraws per candidate) on
+// kBootstrapSets data sets per truth.
 int main(int argc, char** argv) {
   using namespace gmwm;
   const char* truths[] = {"WN(sigma2=1)+QN(Q2=1)+RW(gamma2=3e-6)",
@@ -36,14 +40,20 @@ int main(int argc, char** argv) {
                           "AR1(phi=0.95,sigma2=0.05)+AR1(phi=0.998,sigma2=3e-4)+WN(sigma2=1)",
                           "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)+QN(Q2=0.3)+DR(omega=1e-4)"};
   const Model maximal = parse_model(kMaximal);
+  bool bootstrap = false;
+  for (int a = 1; a < argc; ++a) bootstrap = bootstrap || std::string(argv[a]) == "--bootstrap";
+  const int sets = bootstrap ? kBootstrapSets : kSets;
   std::printf("## Selection with replicates against one signal of the same length (bench_replicate_selection)\n\n");
   std::printf("%d data sets per truth: %d replicates of 2^%d samples, or one series of %d x 2^%d; maximal %s.\n\n",
-              kSets, kK, kLog2n, kK, kLog2n, kMaximal);
-  std::printf("| truth | replicates: CV-WVIC chosen | replicates: recommended | replicates: joint analytic WVIC | "
-              "one series: WVIC |\n|---|---|---|---|---|\n");
+              sets, kK, kLog2n, kK, kLog2n, kMaximal);
+  if (bootstrap) std::printf("Bootstrap WVIC: %d draws of every replicate per candidate.\n\n", kBootstrapDraws);
+  std::printf("| truth | replicates: CV-WVIC chosen | replicates: recommended | replicates: joint analytic WVIC | %s"
+              "one series: WVIC |\n|---|---|---|---|%s---|\n",
+              bootstrap ? "replicates: joint bootstrap WVIC | " : "", bootstrap ? "---|" : "");
   bench::Stopwatch clock;
-  std::vector<bool> run(4, argc <= 1);
+  std::vector<bool> run(4, argc <= 1 + static_cast<int>(bootstrap));
   for (int a = 1; a < argc; ++a) {
+    if (std::string(argv[a]) == "--bootstrap") continue;
     const int t = std::atoi(argv[a]);
     if (t < 1 || t > 4) {
       std::fprintf(stderr, "bench_replicate_selection: truth numbers are 1..4, got '%s'\n", argv[a]);
@@ -60,8 +70,8 @@ int main(int argc, char** argv) {
     }
     const Model m = parse_model(spec);
     const std::string truth = m.canonical().to_string();
-    std::atomic<int> cv{0}, rec{0}, ana{0}, single{0};
-    oneapi::tbb::parallel_for(0, kSets, [&](int i) {
+    std::atomic<int> cv{0}, rec{0}, ana{0}, boot{0}, single{0};
+    oneapi::tbb::parallel_for(0, sets, [&](int i) {
       const std::int64_t n = std::int64_t{1} << kLog2n;
       std::vector<WaveletVariance> wvs;
       for (int k = 0; k < kK; ++k) {
@@ -72,16 +82,22 @@ int main(int argc, char** argv) {
       const WaveletVariance long_wv = classical_wv(long_x.data(), kK * n);
       selection::ReplicateSelectOptions ro;
       ro.seed = static_cast<std::uint64_t>(i);
+      if (bootstrap) {
+        ro.select.optimism = selection::OptimismMethod::kBoth;
+        ro.select.bootstrap_replicates = kBootstrapDraws;
+      }
       const auto r = selection::select_by_replicates(wvs, maximal, ro);
       cv += r.chosen == truth;
       rec += r.recommended == truth;
       ana += r.chosen_analytic == truth;
+      boot += r.chosen_bootstrap == truth;
       const auto s = selection::select_models({long_wv}, maximal).front();
       single += !s.ranking.empty() && s.ranking.front().model == truth;
     });
     seed += 1000;
-    std::printf("| %s | %d%% | %d%% | %d%% | %d%% |\n", spec, 100 * cv / kSets, 100 * rec / kSets, 100 * ana / kSets,
-                100 * single / kSets);
+    const std::string boot_cell = bootstrap ? std::to_string(100 * boot / sets) + "% | " : "";
+    std::printf("| %s | %d%% | %d%% | %d%% | %s%d%% |\n", spec, 100 * cv / sets, 100 * rec / sets, 100 * ana / sets,
+                boot_cell.c_str(), 100 * single / sets);
     std::fflush(stdout);
   }
   std::printf("\n(%.0f s)\n", clock.seconds());

@@ -51,9 +51,12 @@ struct JointFitResult {
 /// objective and its inference only: its taus are not sorted.
 WaveletVariance stack_wv(std::span<const WaveletVariance> wvs);
 
-/// Fits `model` jointly to the replicates' WVs (classical or robust alike). Omega:
-/// OmegaKind::kDiag gives each replicate its own diag(1 / Var(nuhat_kj)); kFull gives it
-/// V_k^-1 at a pilot (diag) joint fit. Throws InputError when there is no replicate, when a
+/// Fits `model` jointly to the replicates' WVs (classical or robust alike), in two steps:
+/// a pilot under each replicate's own data-based diag(1 / Var(nuhat_kj)), then the fit
+/// under model-based weights from V_k, the covariance of replicate k's WV at the pilot:
+/// diag(1 / V_k,jj) for OmegaKind::kDiag, V_k^-1 for kFull. (Data-based weights favour, at
+/// each coarse level, the replicate whose WV came out lowest, and bias long-memory terms
+/// down the more the more replicates there are.) Throws InputError when there is no replicate, when a
 /// replicate has too few levels for the model or an undefined level (naming it by its
 /// 1-based index), for OmegaKind::kBootstrap or a caller-given omega_matrix (not supported
 /// for the joint fit), or for invalid options.
