@@ -340,7 +340,11 @@ std::string replicate_ranking(const selection::ReplicateSelection& s) {
      << "; smallest analytic WVIC of the joint fit: " << html_escape(s.chosen_analytic);
   if (boot) os << "; smallest bootstrap WVIC: " << html_escape(s.chosen_bootstrap);
   os << ". A model is equivalent to the chosen one unless its held-out loss is larger in more than 95% of "
-        "bootstrap resamples of the splits.</p>\n</div>\n";
+        "bootstrap resamples of the splits.</p>\n";
+  if (s.all_rejected)
+    os << "<p class=\"quality\"><b>every candidate's joint fit is rejected at 5%</b>: no sub-model of "
+       << html_escape(s.full_model) << " describes these recordings, and the ranking compares misfits</p>\n";
+  os << "</div>\n";
   return os.str();
 }
 

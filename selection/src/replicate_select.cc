@@ -215,6 +215,7 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
                     : select_on(wvs, out.training[t - 1], w, maximal, options, false);
   });
   const Selection& whole = sel.front();
+  out.all_rejected = whole.all_rejected;
 
   std::map<std::string, const RankedModel*> row_of;  // candidate -> its effective model's row
   for (const auto& row : whole.ranking)

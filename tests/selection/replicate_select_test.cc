@@ -107,6 +107,12 @@ TEST(ReplicateSelect, PutsTheBootstrapWvicOfTheJointFitBesideTheAnalyticOne) {
   EXPECT_EQ(plain.ranking.front().rank_bootstrap, 0);
 }
 
+TEST(ReplicateSelect, SaysWhenNoCandidateDescribesTheRecordings) {
+  const auto wvs = replicates("AR1(phi=0.9,sigma2=1e-2)+RW(gamma2=1e-6)", {13, 13, 14}, 407);
+  EXPECT_TRUE(select_by_replicates(wvs, parse_model("WN+QN")).all_rejected);
+  EXPECT_FALSE(select_by_replicates(wvs, parse_model("AR1+WN+RW")).all_rejected);
+}
+
 TEST(ReplicateSelect, NeedsAtLeastTwoReplicates) {
   const auto wvs = replicates("WN(sigma2=1e-2)", {12}, 403);
   try {

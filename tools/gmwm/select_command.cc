@@ -129,6 +129,9 @@ std::string joint_select_report(const ReplicateGroup& g, const selection::Replic
      << "; smallest analytic WVIC of the joint fit: " << r.chosen_analytic;
   if (boot) os << "; smallest bootstrap WVIC: " << r.chosen_bootstrap;
   os << '\n';
+  if (r.all_rejected)
+    os << "warning: every candidate's joint fit is rejected by its goodness-of-fit test at 5%: no sub-model of "
+       << r.full_model << " describes these recordings, and the ranking compares misfits\n";
   return os.str();
 }
 
@@ -177,6 +180,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
     col["recommended"] = r.recommended;
     col["chosen_analytic"] = r.chosen_analytic;
     col["chosen_bootstrap"] = r.chosen_bootstrap.empty() ? io::Json(nullptr) : io::Json(r.chosen_bootstrap);
+    col["all_rejected"] = r.all_rejected;
     io::Json rows = io::Json::array();
     for (const auto& c : r.ranking)
       rows.push_back({{"rank", c.rank},

@@ -75,6 +75,9 @@ struct ReplicateSelection {
   std::string recommended;                 ///< smallest equivalent model (ties: lower CV-WVIC)
   std::string chosen_analytic;             ///< smallest analytic WVIC on all replicates
   std::string chosen_bootstrap;            ///< smallest bootstrap WVIC (empty unless asked for)
+  /// Every candidate's joint fit on all replicates is rejected by its goodness-of-fit test
+  /// at 5%: no sub-model describes the recordings, and the ranking compares misfits.
+  bool all_rejected = false;
 };
 
 /// Throws InputError for fewer than 2 or more than 12 replicates, invalid options, or a replicate with
