@@ -5,8 +5,14 @@
 #include <sstream>
 
 #include "gmwm/engine/error.h"
+#include "processes/builtin_processes.h"
 
 namespace gmwm {
+
+#define GMWM_DECLARE_REGISTRATION(Type) void register_process_##Type(ProcessRegistry& registry);
+GMWM_BUILTIN_PROCESSES(GMWM_DECLARE_REGISTRATION)
+#undef GMWM_DECLARE_REGISTRATION
+
 namespace {
 std::string upper(std::string s) {
   for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -15,7 +21,14 @@ std::string upper(std::string s) {
 }  // namespace
 
 ProcessRegistry& ProcessRegistry::instance() {
-  static ProcessRegistry registry;
+  // Built once, thread-safely, at the first use.
+  static ProcessRegistry registry = [] {
+    ProcessRegistry r;
+#define GMWM_CALL_REGISTRATION(Type) register_process_##Type(r);
+    GMWM_BUILTIN_PROCESSES(GMWM_CALL_REGISTRATION)
+#undef GMWM_CALL_REGISTRATION
+    return r;
+  }();
   return registry;
 }
 

@@ -5,15 +5,13 @@
 
 #include <unistd.h>
 
-#ifndef GMWM_VERSION
-#define GMWM_VERSION "unknown"
-#endif
+#include "gmwm/version.h"
 
 namespace gmwm::io {
 
 using json = Json;
 
-std::string version() { return GMWM_VERSION; }
+std::string version() { return library_version(); }
 
 json json_number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 

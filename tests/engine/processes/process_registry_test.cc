@@ -19,6 +19,27 @@ TEST(ProcessRegistry, KnowsEveryProcessOfTheLibrary) {
             (std::vector<std::string>{"p", "q"}));
 }
 
+TEST(ProcessRegistry, IsBuiltExplicitlyWithExactlyTheBuiltInProcesses) {
+  // The registry is filled at first use from engine/src/processes/builtin_processes.h, not
+  // by load-time side effects: the same eleven types in a static build.
+  auto names = ProcessRegistry::instance().names();
+  std::erase(names, "MYWN");  // added by the next test when run in the same process
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"AR1", "ARMA", "ARMA11", "DR", "FLICKER", "GM", "MA1", "QN", "RW", "SIN", "WN"}));
+}
+
+TEST(ProcessRegistry, TakesAnApplicationsOwnProcessTypeButNeverReplacesOne) {
+  ProcessRegistry& r = ProcessRegistry::instance();
+  const ProcessEntry* wn = r.find("WN");
+  ASSERT_NE(wn, nullptr);
+  ProcessEntry mine = *wn;
+  EXPECT_FALSE(r.add(mine));  // "WN" is taken
+  mine.name = "MYWN";
+  mine.summary = "an application's white noise";
+  EXPECT_TRUE(r.add(mine));
+  EXPECT_NE(r.find("mywn"), nullptr);
+}
+
 TEST(ProcessRegistry, RejectsAnUnknownNameListingTheKnownOnes) {
   try {
     make_process("AR3");

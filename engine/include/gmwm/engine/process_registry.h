@@ -1,8 +1,13 @@
 #pragma once
-// Registry of process types by name. Each process file registers itself:
+// Registry of process types by name, built explicitly at its first use (no reliance on
+// load-time side effects, so static builds keep every process). Each built-in process
+// file defines its registration function with
 //
-//   GMWM_REGISTER_PROCESS(Ar1Process, "AR1", {});          // no structural arguments
-//   GMWM_REGISTER_PROCESS_WITH(ArmaProcess, "ARMA", {"p", "q"}, make_arma);
+//   GMWM_REGISTER_PROCESS(Ar1Process, "AR1", "first-order autoregression: AR1(phi, sigma2)");
+//   GMWM_REGISTER_PROCESS(ArmaProcess, "ARMA", "...", "p", "q");   // structural arguments
+//
+// and names its type in engine/src/processes/builtin_processes.h, the list the registry
+// calls. An application adds its own type with ProcessRegistry::instance().add(entry).
 //
 // Structural arguments (integers written in the model string, e.g. ARMA(p=2,q=1)) are
 // consumed by the factory; every other key=value in a model string is a parameter value.
@@ -45,24 +50,20 @@ class ProcessRegistry {
   std::map<std::string, ProcessEntry> entries_;  // key: upper-case name
 };
 
-namespace detail {
-struct ProcessRegistrar {
-  explicit ProcessRegistrar(ProcessEntry e) { ProcessRegistry::instance().add(std::move(e)); }
-};
-}  // namespace detail
 
 }  // namespace gmwm
 
-#define GMWM_PP_CAT2(a, b) a##b
-#define GMWM_PP_CAT(a, b) GMWM_PP_CAT2(a, b)
-
-/// Registers a process type whose constructor takes (const ProcessArgs&).
+/// Defines `void register_process_<Type>(ProcessRegistry&)` for a process type whose
+/// constructor takes (const ProcessArgs&); used at namespace gmwm scope in the type's file.
 #define GMWM_REGISTER_PROCESS(Type, Name, Summary, ...)                                    \
-  static const ::gmwm::detail::ProcessRegistrar GMWM_PP_CAT(gmwm_registrar_, __LINE__){    \
-      ::gmwm::ProcessEntry{Name, std::vector<std::string>{__VA_ARGS__},                    \
-                           [](const ::gmwm::ProcessArgs& a) -> std::unique_ptr<::gmwm::Process> { \
-                             auto p = std::make_unique<Type>(a);                           \
-                             p->set_context(a.context);                                    \
-                             return p;                                                     \
-                           },                                                              \
-                           Summary}}
+  void register_process_##Type(::gmwm::ProcessRegistry& registry) {                        \
+    registry.add(::gmwm::ProcessEntry{                                                      \
+        Name, std::vector<std::string>{__VA_ARGS__},                                        \
+        [](const ::gmwm::ProcessArgs& a) -> std::unique_ptr<::gmwm::Process> {              \
+          auto p = std::make_unique<Type>(a);                                               \
+          p->set_context(a.context);                                                        \
+          return p;                                                                         \
+        },                                                                                  \
+        Summary});                                                                          \
+  }                                                                                         \
+  static_assert(true, "the caller's ';' ends this")
