@@ -100,7 +100,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   const int original_parameters = parameters_of(st.parts);
   const Eigen::VectorXd nu_fit = total_wv(st.parts, tau);
   // sd_j of the WV estimator at the fit: chi-square with eta_j equivalent degrees of
-  // freedom (STATISTICS.md s.1), inflated by 1/efficiency for a robust WV (s.2).
+  // freedom (docs/statistics.md section 1), inflated by 1/efficiency for a robust WV (section 2).
   Eigen::VectorXd sd(J), w(J);
   const double inflation = 1.0 / wv.efficiency.value_or(1.0);
   for (Eigen::Index j = 0; j < J; ++j) {

@@ -53,7 +53,7 @@ std::string FitOptions::Validate() const {
 }
 
 // No WV of the processes here decays faster than tau^-2 between scales (QN and SIN are
-// the steepest: nu^2 ~ tau^-2, STATISTICS.md section 3), so nu_j^2 >= nu_{j-1}^2 / 4.
+// the steepest: nu^2 ~ tau^-2, docs/statistics.md section 3), so nu_j^2 >= nu_{j-1}^2 / 4.
 // The weights use max(nuhat_j^2, nuhat_{j-1}^2 / 4): a coarse level whose few
 // coefficients happen to be tiny (with one coefficient nuhat^2 can be any fraction of
 // nu^2) would otherwise get a weight ~1/nuhat^4 that swamps every other level.

@@ -1,4 +1,4 @@
-// Inference for a GMWM fit (STATISTICS.md section 5): sandwich covariance
+// Inference for a GMWM fit (docs/statistics.md section 5): sandwich covariance
 // H^-1 A' Omega V Omega A H^-1 with H = A' Omega A + D, CIs, goodness of fit.
 #include <algorithm>
 #include <cmath>
@@ -37,7 +37,7 @@ std::pair<double, double> domain_of(Transform t) {
 
 // A component whose share of the implied WV is below this at every level is "on the
 // boundary" (a variance driven towards 0): its parameters are not identified and are
-// dropped from A and D (STATISTICS.md section 6), their se reported as NaN.
+// dropped from A and D (docs/statistics.md section 6), their se reported as NaN.
 constexpr double kBoundaryShare = 1e-8;
 
 }  // namespace

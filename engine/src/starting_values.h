@@ -1,6 +1,6 @@
 #pragma once
 // Starting values for the GMWM optimiser, derived from the shape of the empirical WV
-// (STATISTICS.md section 4). White noise and quantisation are anchored at the finest
+// (docs/statistics.md section 4). White noise and quantisation are anchored at the finest
 // scales, random walk and drift at the coarsest; components with a characteristic
 // scale (AR1, GM, MA1, ARMA, SIN) are placed at every combination of scales from a
 // log-spaced grid over the WV's range (AR1 slots interchangeable, so only sorted

@@ -1,5 +1,5 @@
 // The fitted models of a `gmwm fit --json` / `gmwm select --json` document, as the columns
-// an export takes (read_result_columns, export.h). The field names are the CLI.md contract:
+// an export takes (read_result_columns, export.h). The field names are the docs/cli.md contract:
 // per column "name", "n", "freq" and "model" (fit) or "best_model" (select), a canonical
 // model string with its values usable as SPEC_WITH_VALUES.
 #include <fstream>

@@ -1,4 +1,4 @@
-// Gazebo IMU noise as a baseline model (GAP.md s.1): gz-sensors SDF <noise> blocks and
+// Gazebo IMU noise as a baseline model (docs/gap.md, method note 1): gz-sensors SDF <noise> blocks and
 // RotorS/PX4 sitl_gazebo IMU <plugin> parameters, converted to discrete processes at the
 // data's rate and in the data's units (the conversions are listed in sim_config.h).
 //

@@ -1,4 +1,4 @@
-// The "gap" command's column JSON (CLI.md).
+// The "gap" command's column JSON (docs/cli.md).
 #include <cmath>
 
 #include "gmwm/io/json_output.h"

@@ -41,7 +41,7 @@ std::string utc_now() {
   return buf;
 }
 
-// The contract's spellings (CLI.md), independent of the engine's own to_string.
+// The contract's spellings (docs/cli.md), independent of the engine's own to_string.
 const char* status_name(FitStatus s) {
   switch (s) {
     case FitStatus::kConverged: return "converged";

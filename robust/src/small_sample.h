@@ -1,6 +1,6 @@
 #pragma once
 // Small-sample bias correction of the robust scale estimate of one wavelet level
-// (internal to robust/; STATISTICS.md section 2 "Small samples").
+// (internal to robust/; docs/statistics.md section 2 "Small samples").
 //
 // The root s of mean chi(W_t^2 / s) = a(c) is Fisher-consistent (a(c)) but, with M
 // strongly correlated coefficients, biased at order 1 / eta: +0.98 / n on n i.i.d.

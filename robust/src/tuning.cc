@@ -16,7 +16,7 @@ namespace {
 double Phi(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
 double phi(double x) { return std::exp(-0.5 * x * x) / std::sqrt(2.0 * boost::math::constants::pi<double>()); }
 
-// Huber, closed forms (STATISTICS.md section 2).
+// Huber, closed forms (docs/statistics.md section 2).
 double huber_a(double c) { return (2.0 * Phi(c) - 1.0) - 2.0 * c * phi(c) + 2.0 * c * c * (1.0 - Phi(c)); }
 double huber_eff(double c) {
   const double mu2 = 2.0 * Phi(c) - 1.0 - 2.0 * c * phi(c);

@@ -365,7 +365,7 @@ void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapR
 }
 
 // The cleared candidates of a step in the order they are tried: the disambiguated pick
-// first (GAP.md s.3, candidate 0: a new effect must beat re-sizing the baseline's own
+// first (docs/gap.md, method note 3, candidate 0: a new effect must beat re-sizing the baseline's own
 // terms by more than its own null threshold, else REPARAMETERISE), then the others by
 // their margin over their threshold.
 std::vector<int> picks_in_order(const Step& st, const std::vector<CandidateSpec>& specs) {

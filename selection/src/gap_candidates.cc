@@ -42,7 +42,7 @@ bool has_process(const Model& m, const std::string& name) {
 
 // The candidates tried against `base`: the requested ones (all by default), without
 // a single-instance term the base already has (adding it is a re-sizing, i.e.
-// REPARAMETERISE, GAP.md s.5), and without REPARAMETERISE when the base is refitted anyway.
+// REPARAMETERISE, docs/gap.md, method note 5), and without REPARAMETERISE when the base is refitted anyway.
 std::vector<CandidateSpec> candidates_for(const Model& base, const GapOptions& o) {
   std::vector<CandidateSpec> out;
   for (const auto& c : kCatalogue) {
@@ -237,7 +237,7 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
       s.best = static_cast<int>(c);
     }
   }
-  // Parsimony (GAP.md s.3, "parsimony"): a candidate with more parameters must beat
+  // Parsimony (docs/gap.md, method note 3, "parsimony"): a candidate with more parameters must beat
   // every cleared simpler one by more than its own threshold, else the simpler one that
   // explains the most is kept (a SIN near Nyquist has QN's slope; an AR1 with a long
   // correlation time a FLICKER's plateau over a few octaves).

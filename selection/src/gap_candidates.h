@@ -1,5 +1,5 @@
 #pragma once
-// The candidate effects of the gap diagnosis (GAP.md s.3), internal to gap.cc: the
+// The candidate effects of the gap diagnosis (docs/gap.md, method note 3), internal to gap.cc: the
 // catalogue, each candidate's fit on top of the current base (fixed, or re-estimated with
 // it), its threshold calibrated on the base's own replicates, and its bootstrap intervals.
 #include <vector>
@@ -12,7 +12,8 @@
 
 namespace gmwm::selection::detail {
 
-/// The finest levels where outliers show first (GAP.md: robust/classical ratio at tau = 2..8).
+/// The finest levels where outliers show first (docs/gap.md, method note 3: robust/classical
+/// ratio at tau = 2..8).
 inline constexpr int kOutlierLevels = 3;
 
 struct CandidateSpec {

@@ -22,12 +22,12 @@
 namespace gmwm::selection {
 namespace {
 
-// The base of the check (GAP.md s.5: "base model WN+RW"): white noise and random walk
+// The base of the check (docs/gap.md, method note 5: "base model WN+RW"): white noise and random walk
 // crossing near tau ~ sqrt(12 sigma2 / gamma2) ~ 3500 samples, inside every record.
 constexpr const char* kBase = "WN(sigma2=1e-4)+RW(gamma2=1e-10)";
 // Spikes: 0.1% of the samples (issue 5's real-data check uses the same share).
 constexpr double kSpikeShare = 1e-3;
-// The base's parameters off by this factor on the null side (GAP.md s.5: +-20%).
+// The base's parameters off by this factor on the null side (docs/gap.md, method note 5: +-20%).
 constexpr double kOffFactor = 0.2;
 // Calibration draws come from another seed family than the evaluation data.
 constexpr std::uint64_t kCalibrationSeedOffset = 0x5eedca1bULL;
@@ -70,7 +70,7 @@ struct Injection {
 };
 
 // A deterministic effect (STEP, TRANSIENT) scaled to `strength`: the relative excess its
-// WV causes at the level where it is largest (GAP.md s.5; the cross terms with the noise
+// WV causes at the level where it is largest (docs/gap.md, method note 5; the cross terms with the noise
 // have mean zero).
 void scale_signal(Injection& in, double strength, const Model& base, const Eigen::VectorXd& base_theta) {
   const auto n = static_cast<std::int64_t>(in.signal.size());

@@ -1,5 +1,5 @@
 #pragma once
-// Time-domain effects of the gap diagnosis (GAP.md s.3 table), internal to gap.cc:
+// Time-domain effects of the gap diagnosis (docs/gap.md, method note 3, table), internal to gap.cc:
 //
 // STEP / TRANSIENT: a bias step at an unknown time has the WV of a random walk
 // (shrinking as 1/N), and a warm-up transient a exp(-t/T) a hump that shrinks alike; the
@@ -32,7 +32,7 @@
 namespace gmwm::selection::detail {
 
 /// Event levels: from kEventMinLevel (coarser than the finest levels where spikes show,
-/// GAP.md: robust/classical ratio at tau = 2..8) to the deepest level with at least
+/// docs/gap.md, method note 3: robust/classical ratio at tau = 2..8) to the deepest level with at least
 /// kEventMinBlocks filter lengths in the record.
 inline constexpr int kEventMinLevel = 5;
 inline constexpr int kEventMinBlocks = 16;

@@ -1,5 +1,5 @@
 #pragma once
-// Per-level map and gap bands of the gap diagnosis (GAP.md s.2), internal to gap.cc.
+// Per-level map and gap bands of the gap diagnosis (docs/gap.md, method note 2), internal to gap.cc.
 #include <vector>
 
 #include <Eigen/Core>

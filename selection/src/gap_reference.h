@@ -1,5 +1,5 @@
 #pragma once
-// The baseline's reference distribution of the WV (GAP.md s.2), internal to gap.cc.
+// The baseline's reference distribution of the WV (docs/gap.md, method note 2), internal to gap.cc.
 #include <cstdint>
 #include <functional>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// Pieces of the gap diagnosis' result derived from its findings (GAP.md s.4), internal to
+// Pieces of the gap diagnosis' result derived from its findings (docs/gap.md, method note 4), internal to
 // gap.cc: the drift found in the time domain as a fit and as a band, and what the noise
 // means for navigation.
 #include <string>

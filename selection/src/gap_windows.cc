@@ -12,7 +12,7 @@
 namespace gmwm::selection::detail {
 namespace {
 
-// GAP.md s.2: "window at least 16 x the largest scale of interest".
+// docs/gap.md, method note 2: "window at least 16 x the largest scale of interest".
 constexpr int kWindowScaleRatio = 16;
 // Fewest windows worth a map (fewer cannot say where in time something happens).
 constexpr std::int64_t kMinWindows = 8;

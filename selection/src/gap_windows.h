@@ -1,5 +1,5 @@
 #pragma once
-// Sliding-window map of the gap diagnosis (GAP.md s.2), internal to gap.cc.
+// Sliding-window map of the gap diagnosis (docs/gap.md, method note 2), internal to gap.cc.
 #include <vector>
 
 #include "gmwm/selection/gap.h"
@@ -7,7 +7,7 @@
 namespace gmwm::selection::detail {
 
 /// Non-overlapping windows of length L (a power of two, at least kMinWindows of them);
-/// their classical WV at levels with tau <= L / kWindowScaleRatio (GAP.md: the window is
+/// their classical WV at levels with tau <= L / kWindowScaleRatio (docs/gap.md, method note 2: the window is
 /// at least 16 x the largest scale) against a reference of the baseline simulated at
 /// length L (its spread of log WV), each window's log WV against the median over windows:
 /// a window is flagged when it departs from the rest of the record, i.e. where the

@@ -46,7 +46,7 @@ struct BootstrapResult {
   int failed = 0, not_converged = 0;
 };
 
-// Parametric-bootstrap optimism of one fitted model (STATISTICS.md section 6): B series
+// Parametric-bootstrap optimism of one fitted model (docs/statistics.md section 6): B series
 // simulated from the fit, their WV by the same estimator, refits warm-started from the
 // fit under the same Omega; optimism = 2 tr(Omega C), C the sample cross-covariance of
 // nu(theta*) and nuhat*. Its Monte-Carlo s.e. from the per-replicate terms

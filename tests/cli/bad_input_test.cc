@@ -1,4 +1,4 @@
-// The error policy end to end (DESIGN.md): every bad input or option gives exit code 2,
+// The error policy end to end (docs/design.md section 3): every bad input or option gives exit code 2,
 // ONE line on stderr naming the input, the place (line/column where it applies) and what
 // was expected, and no output file.
 

@@ -1,5 +1,5 @@
 // Success paths of `gmwm wv`, `gmwm fit` and `gmwm simulate`, end to end: the JSON
-// contract (CLI.md), values equal to the library's, reproducibility across thread counts.
+// contract (docs/cli.md), values equal to the library's, reproducibility across thread counts.
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // `gmwm gap` end to end: a sinusoid withheld from the baseline is located and named in
-// the CLI.md JSON fields and in the terminal summary; a Kalibr imu.yaml and a Gazebo SDF as
+// the docs/cli.md JSON fields and in the terminal summary; a Kalibr imu.yaml and a Gazebo SDF as
 // the baseline with their conversions; the same JSON for --threads 1 and 2; bad options
 // (exit 2, one line).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// `gmwm select` end to end: the CLI.md JSON fields, the terminal table, identical JSON
+// `gmwm select` end to end: the docs/cli.md JSON fields, the terminal table, identical JSON
 // for --threads 1 and 2 (apart from "run"), and bad options (exit 2, one line).
 #include <gtest/gtest.h>
 

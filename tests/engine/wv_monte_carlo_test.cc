@@ -1,7 +1,7 @@
 // Monte Carlo checks of the classical WV: CI coverage and unbiasedness for every
 // process, with seeds fixed here before looking at results. Tolerances: 3 Monte-Carlo
 // standard errors (sd / sqrt(R), sd from the model-based Var(nuhat)) for means; coverage is asserted >= the nominal 95%,
-// the eta-based interval being known to be conservative (STATISTICS.md section 5).
+// the eta-based interval being known to be conservative (docs/statistics.md section 5).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Tuning of the robust scale M-estimators (robust/src/tuning.cc): the table of c and
-// a(c) for Huber's Proposal 2 in STATISTICS.md section 2, eff(tune(e).c) == e for both
+// a(c) for Huber's Proposal 2 in docs/statistics.md section 2, eff(tune(e).c) == e for both
 // estimators, a(c) == E[chi_c(Z)] by an independent quadrature, argument checks of
 // tune(), and the estimator names.
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@ namespace gmwm::robust {
 namespace {
 
 struct TableRow { double eff, c, a; };
-// STATISTICS.md section 2, "Values": target efficiency, c, a(c) (10 decimals).
+// docs/statistics.md section 2, "Values": target efficiency, c, a(c) (10 decimals).
 const TableRow kSpecTable[] = {
     {0.5, 1.0303349218, 0.5351519938},  {0.6, 1.2245090302, 0.6486092194},
     {0.7, 1.4400500526, 0.7535145427},  {0.8, 1.6995410597, 0.8485514579},

@@ -73,7 +73,7 @@ TEST(GapTimeEffects, NameABiasStepStepWithItsTimeAndSize) {
   EXPECT_EQ(g.effect, GapEffect::kStep);
   ASSERT_TRUE(g.event.has_value());
   EXPECT_GT(g.event->statistic, g.event->threshold);
-  // Within one window of the sliding map (GAP.md s.5), in fact within a few samples.
+  // Within one window of the sliding map (docs/gap.md, method note 5), in fact within a few samples.
   ASSERT_GT(g.window_length, 0);
   EXPECT_LT(std::abs(g.event->sample - t0), g.window_length);
   EXPECT_NEAR(g.event->size, size, 0.1 * size);

@@ -23,8 +23,8 @@ std::vector<double> dyadic_tau(int J) {
   return tau;
 }
 
-// test_vectors.md: theta = AR1(0.9, 0.1) + WN(1), j = 1..9, nuhat_j = nu_j (1 + 0.1 sin j),
-// Omega = diag(1 / (0.1 nu_j)^2), V = Omega^-1, natural parameters.
+// docs/statistics.md section 6, the formula check: theta = AR1(0.9, 0.1) + WN(1), j = 1..9,
+// nuhat_j = nu_j (1 + 0.1 sin j), Omega = diag(1 / (0.1 nu_j)^2), V = Omega^-1, natural parameters.
 struct ReferenceCase {
   Model model = parse_model("AR1+WN");
   Eigen::VectorXd theta = (Eigen::VectorXd(3) << 0.9, 0.1, 1.0).finished();

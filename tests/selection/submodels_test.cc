@@ -1,4 +1,4 @@
-// Sub-model enumeration (selection/src/submodels.cc): the counts of STATISTICS.md
+// Sub-model enumeration (selection/src/submodels.cc): the counts of docs/statistics.md
 // section 6, the order (by size, parents first), the parent links, interchangeable slots,
 // the common super-model of the non-nested mode, and the error paths.
 #include <gtest/gtest.h>

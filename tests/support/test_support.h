@@ -11,8 +11,8 @@
 
 namespace gmwm::test {
 
-/// The folder with the real IMU recordings: $GMWM_SHARED_DATA, else ../shared/data
-/// beside the source tree. std::nullopt when absent (the caller skips, unless
+/// The folder with the real IMU recordings: the folder named by $GMWM_SHARED_DATA,
+/// else a default folder beside the source tree. std::nullopt when absent (the caller skips, unless
 /// GMWM_REQUIRE_SHARED_DATA=1, in which case absence is a test failure).
 std::optional<std::filesystem::path> shared_data_dir();
 

@@ -11,7 +11,7 @@
 
 namespace gmwm::bench {
 
-/// $GMWM_SHARED_DATA, else ../shared/data beside the source tree. Exits with a clear
+/// The folder named by $GMWM_SHARED_DATA, else a default folder beside the source tree. Exits with a clear
 /// message when the folder is absent (benchmarks need the real data).
 inline std::string shared_data_file(const std::string& name) {
   std::filesystem::path dir;

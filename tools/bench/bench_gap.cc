@@ -108,7 +108,7 @@ constexpr double kBaseSigma2 = 1e-4, kBaseGamma2 = 1e-10;
 constexpr std::int64_t kCheckN = std::int64_t{1} << 18;
 
 // omega of the gap-check's DR injection at `strength` (its WV over the base's at the level
-// where that ratio peaks, GAP.md s.5).
+// where that ratio peaks, docs/gap.md, method note 5).
 double dr_omega_at_strength(double strength) {
   const int J = static_cast<int>(std::floor(std::log2(static_cast<double>(kCheckN))));
   std::vector<double> tau;

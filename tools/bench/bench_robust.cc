@@ -1,4 +1,4 @@
-// The robust wavelet variance (robust/, STATISTICS.md section 2) on simulated and real data.
+// The robust wavelet variance (robust/, docs/statistics.md section 2) on simulated and real data.
 //
 // 1. Speed: Huber (eff 0.6) and bisquare robust WV of the six columns of
 //    adis_16405_imu1.csv.gz (6 x 1,000,000), best of 5, parsing excluded. Reference R
@@ -336,7 +336,7 @@ bool contamination_section() {
 // 3. cont_imu1
 // ---------------------------------------------------------------------------------------
 
-constexpr double kEtaCriterion = 30.0;  // STATISTICS.md section 2: criteria apply where eta_j >= 30
+constexpr double kEtaCriterion = 30.0;  // docs/statistics.md section 2: criteria apply where eta_j >= 30
 constexpr double kInsideBar = 0.80;
 
 // Levels with classical eta >= 30, and how many of them have the implied WV inside the

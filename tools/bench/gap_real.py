@@ -14,7 +14,8 @@ Then cont_imu1 against a baseline that passes its GoF (--fit AR1+WN): no effect 
 Then the round trip: 100 series of WN+RW (N = 2^16, 100 Hz), each fitted, exported to
 Kalibr and diagnosed against that file: "no gap" in at least 95%.
 
-Usage: GMWM_SHARED_DATA=../shared/data python3 tools/bench/gap_real.py [build/gmwm]
+Usage: GMWM_SHARED_DATA=DIR python3 tools/bench/gap_real.py [build/gmwm]
+(DIR: the folder with the real IMU recordings)
 Prints markdown; exit 0 when every bar holds.
 """
 import json

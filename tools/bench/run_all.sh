@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every benchmark on the shared IMU recordings ($GMWM_SHARED_DATA, by default ../shared/data beside the clone) and writes their
+# Runs every benchmark on the shared IMU recordings (the folder named by $GMWM_SHARED_DATA; a default folder beside the clone when unset) and writes their
 # output into tools/bench/RESULTS.md. Needs a built tree (bash tools/setup.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."

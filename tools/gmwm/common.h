@@ -23,7 +23,7 @@
 
 namespace gmwm::cli {
 
-/// Options every command accepts (CLI.md).
+/// Options every command accepts (docs/cli.md).
 struct CommonOptions {
   std::string json;                 ///< --json PATH ('-' = stdout); empty: none
   int threads = 0;                  ///< --threads N; 0: all cores

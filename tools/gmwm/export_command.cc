@@ -22,7 +22,7 @@
 namespace gmwm::cli {
 namespace {
 
-// A data file whose fit failed: no usable result (exit 1, CLI.md), nothing written.
+// A data file whose fit failed: no usable result (exit 1, docs/cli.md), nothing written.
 class NoUsableResult : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

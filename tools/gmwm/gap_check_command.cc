@@ -1,5 +1,5 @@
 // gmwm gap-check [--cases K] [--n N] [--replicates B] [--strengths S1,S2,...]
-// The gap diagnosis' withheld-effect self-check (GAP.md s.5): a confusion matrix, power
+// The gap diagnosis' withheld-effect self-check (docs/gap.md, method note 5): a confusion matrix, power
 // by strength, location and shrinkage per effect family, and the null side.
 #include <cmath>
 #include <iostream>

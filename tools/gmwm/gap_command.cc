@@ -1,7 +1,7 @@
 // gmwm gap INPUT (--model SPEC_WITH_VALUES | --kalibr imu.yaml | --gazebo FILE.sdf | --fit SPEC)
 //              [--units gyro=deg/s,accel=g] [--sensor gyro|accel] [--replicates B]
 // Where a simulator's (or a fitted) noise model departs from each column's WV, which
-// unmodelled effect explains it, and how much of the gap it removes (GAP.md).
+// unmodelled effect explains it, and how much of the gap it removes (docs/gap.md).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -338,7 +338,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   for (std::size_t k = 0; k < K; ++k)
     if (!args.units.empty() || config) column_units[k] = unit_of_column(units, sensor, set.signals[k].name);
   if (!temperature.empty()) doc["temperature_column"] = args.temperature;
-  // Cross-axis wavelet correlation (GAP.md s.2) when several columns are given.
+  // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.
   std::vector<std::span<const double>> spans;
   for (const auto& sig : set.signals) spans.emplace_back(sig.values);
   const auto cross = selection::cross_axis_correlation(spans, wv_opts.levels, options.alpha);

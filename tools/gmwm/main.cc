@@ -1,4 +1,4 @@
-// gmwm: the command-line program (CLI.md). Exit codes: 0 success; 2 bad input or bad
+// gmwm: the command-line program (docs/cli.md). Exit codes: 0 success; 2 bad input or bad
 // options (one line "gmwm: error: ..." on stderr, nothing written); 1 internal failure.
 
 #include <csignal>

@@ -1,8 +1,8 @@
 // AR1: x_t = phi x_{t-1} + e_t, e_t ~ N(0, sigma2), |phi| < 1.
-// WV: the closed form of STATISTICS.md s.3, evaluated stably near phi = 1 (ar1_math.h);
+// WV: the closed form of docs/statistics.md section 3, evaluated stably near phi = 1 (ar1_math.h);
 // jacobian and Hessian are the exact derivatives of that evaluation (Jet, jet.h).
 // Autocovariance g(h) = sigma2 phi^h / (1 - phi^2). Simulation starts from the
-// stationary distribution x_0 ~ N(0, sigma2 / (1 - phi^2)) (STATISTICS.md s.7).
+// stationary distribution x_0 ~ N(0, sigma2 / (1 - phi^2)) (docs/statistics.md section 7).
 #include <cmath>
 
 #include <boost/random/normal_distribution.hpp>

@@ -3,7 +3,7 @@
 // once as templates over double and Jet<N> (jet.h), so the derivatives are the analytic
 // derivatives of the same stable expressions.
 //
-// The closed form of STATISTICS.md s.3, with m = tau/2 and a = phi^m,
+// The closed form of docs/statistics.md section 3, with m = tau/2 and a = phi^m,
 //
 //   nu^2 / sigma2 = [ (1 - phi^2) tau - 2 phi (1 - a)(3 - a) ] / ((1 - phi)^3 (1 + phi) tau^2),
 //
@@ -141,7 +141,7 @@ inline bool near_minus_one_even(double phi, double m) {
 
 /// nu^2/sigma2 of an AR1 at tau = 2m, phi in (-1, 1), for any number of levels: the
 /// log form's L-only factors are computed once. m = 1 is the exact 1/(2 (1 + phi))
-/// (STATISTICS.md "handy checks").
+/// (docs/statistics.md section 3, "Handy checks").
 template <class T>
 class Ar1UnitWv {
  public:
@@ -194,7 +194,7 @@ T arma11_unit_wv(const Ar1UnitWv<T>& ar1, const T& phi, const T& theta, double m
   return opt * opt * ar1.at(m) - 2.0 * theta * arma11_cross_term(phi, m);
 }
 
-/// An AR1 WV peaks near tau = 3.79 / (1 - phi) (STATISTICS.md s.4, starting values).
+/// An AR1 WV peaks near tau = 3.79 / (1 - phi) (docs/statistics.md section 4, starting values).
 inline constexpr double kAr1PeakTauTimesOneMinusPhi = 3.79;
 /// Guessed phi is clamped into [lo, kAr1GuessPhiMax]: 1 - 1e-8 keeps atanh(phi) ~ 9.5
 /// well inside double range while covering correlation times up to ~4e8 samples.

@@ -1,5 +1,5 @@
 // ARMA11: x_t = phi x_{t-1} + e_t + theta e_{t-1}, e_t ~ N(0, sigma2).
-// WV: the closed form of STATISTICS.md s.3 rewritten as (1 + theta)^2 AR1(phi, sigma2)
+// WV: the closed form of docs/statistics.md section 3 rewritten as (1 + theta)^2 AR1(phi, sigma2)
 // - 2 theta sigma2 K(phi) (ar1_math.h), which stays accurate as phi -> 1; derivatives are
 // exact (Jet). Autocovariance: g(0) = sigma2 (1 + 2 theta phi + theta^2)/(1 - phi^2),
 // g(h) = phi^(h-1) sigma2 (1 + theta phi)(phi + theta)/(1 - phi^2) for h >= 1.

@@ -17,7 +17,7 @@
 // (well conditioned up to the unit root), and v obeys v(k) = u + sum_i phi_i v(k-i) - r_k.
 // With m = tau/2 and weights w_m(k) = 3k - 2m (k < m), 2m - k (m <= k < 2m),
 //   nu^2 = (2/tau^2) sum_{k=1}^{2m-1} w_m(k) v(k) = (2/tau^2) [m gamma(0) - sum w_m(k) gamma(k)],
-// which is [2 Var(S_m) - 2 Cov(S_m, S'_m)] / tau^2 of STATISTICS.md s.3. Both sums are
+// which is [2 Var(S_m) - 2 Cov(S_m, S'_m)] / tau^2 of docs/statistics.md section 3. Both sums are
 // accumulated (O(tau) per level) and, per level, the one with the smaller sum of |terms|
 // (hence the smaller rounding error) is returned: the v form near a unit root, the gamma
 // form for short memory at coarse scales.

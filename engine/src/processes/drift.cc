@@ -1,4 +1,4 @@
-// DR: deterministic drift omega t. nu^2(tau) = omega^2 tau^2 / 16 (STATISTICS.md s.3).
+// DR: deterministic drift omega t. nu^2(tau) = omega^2 tau^2 / 16 (docs/statistics.md section 3).
 //
 // omega is signed (a falling drift is negative) but the WV sees only omega^2: the
 // optimiser works on |omega| (log transform of the magnitude, ParameterSpec::

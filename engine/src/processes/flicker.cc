@@ -1,6 +1,6 @@
 // FLICKER: 1/f ("bias instability") noise as a sum of AR1 processes, one per octave of
 // correlation time T_k = 2^k samples for k = kmin..kmax, each with stationary variance
-// B2 ln2 / pi (STATISTICS.md section 3). Summed over octaves the AR1 spectra give
+// B2 ln2 / pi (docs/statistics.md section 3). Summed over octaves the AR1 spectra give
 // S(f) ~ (B2 ln2 / pi) / (2 ln2 f) = B2 / (2 pi f): a flat WV ("plateau") of B2 ln2 / pi at
 // scales well inside the octave range, rolling off below 2^kmin and above 2^kmax samples.
 // B2 is the squared bias-instability coefficient of the 0.664 convention: the Allan

@@ -1,5 +1,5 @@
 // MA1: x_t = e_t + theta e_{t-1}, e_t ~ N(0, sigma2), |theta| < 1 (invertible).
-// nu^2(tau) = sigma2 ((1 + theta)^2 tau - 6 theta) / tau^2 (STATISTICS.md s.3);
+// nu^2(tau) = sigma2 ((1 + theta)^2 tau - 6 theta) / tau^2 (docs/statistics.md section 3);
 // g(0) = sigma2 (1 + theta^2), g(1) = sigma2 theta, g(h) = 0 beyond. Simulation draws
 // e_{-1} as well, so the path is stationary from its first sample (no burn-in needed).
 #include <algorithm>

@@ -1,4 +1,4 @@
-// QN: quantization noise with parameter Q2. nu^2(tau) = 6 Q2 / tau^2 (STATISTICS.md s.3).
+// QN: quantization noise with parameter Q2. nu^2(tau) = 6 Q2 / tau^2 (docs/statistics.md section 3).
 // x_t = sqrt(12 Q2) (U_t - U_{t-1}), U i.i.d. uniform(0, 1): the increments of an i.i.d.
 // sequence of variance Q2, so g(0) = 2 Q2, g(1) = -Q2, g(h) = 0 beyond.
 #include <algorithm>

@@ -1,5 +1,5 @@
 // RW: random walk with innovation variance gamma2. nu^2(tau) = gamma2 (tau^2 + 2)/(12 tau)
-// (STATISTICS.md s.3). Not stationary: its generalised autocovariance is minus the
+// (docs/statistics.md section 3). Not stationary: its generalised autocovariance is minus the
 // semivariogram, g(h) = -gamma2 |h| / 2, valid for zero-sum filters (process.h).
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // SIN: x_t = A sin(2 pi f t + U), U ~ uniform(0, 2 pi) (a random phase makes it
 // stationary), with parameters A2 = A^2 and f in cycles/sample (0 < f < 1/2).
-// nu^2(tau) = (A2/2) sin^4(pi f tau/2) / ((tau/2)^2 sin^2(pi f)) (STATISTICS.md s.3);
+// nu^2(tau) = (A2/2) sin^4(pi f tau/2) / ((tau/2)^2 sin^2(pi f)) (docs/statistics.md section 3);
 // g(h) = (A2/2) cos(2 pi f h). Angles go through sin_pi/cos_pi (Boost.Math), which
 // reduce f tau/2 exactly, so coarse scales keep full accuracy. Users see f in Hz when
 // the sampling rate is known (to_display/from_display).

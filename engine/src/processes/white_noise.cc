@@ -1,4 +1,4 @@
-// WN: white noise with variance sigma2. nu^2(tau) = sigma2 / tau (STATISTICS.md s.3).
+// WN: white noise with variance sigma2. nu^2(tau) = sigma2 / tau (docs/statistics.md section 3).
 #include <algorithm>
 #include <cmath>
 

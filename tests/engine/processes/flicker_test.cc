@@ -13,7 +13,7 @@ namespace {
 
 constexpr double kLn2OverPi = 0.69314718055994530942 / 3.14159265358979323846;
 
-// Reference: the sum over k = 0..39 of the AR1 closed form (STATISTICS.md section 3) with
+// Reference: the sum over k = 0..39 of the AR1 closed form (docs/statistics.md section 3) with
 // phi = exp(-2^-k) and stationary variance 1, at 50 significant digits (mpmath):
 //   from mpmath import mp, mpf, exp; mp.dps = 50
 //   ar1 = lambda p, s2, t: s2*((p**2-1)*t + 2*p*(p**t - 4*p**(t/2) + 3))/((p-1)**3*(p+1)*t**2)

@@ -1,6 +1,6 @@
 #pragma once
-// Reference values for the near-unit-root tests: the naive closed forms of STATISTICS.md
-// s.3 evaluated in 100-digit arithmetic (Boost.Multiprecision), differentiated exactly by
+// Reference values for the near-unit-root tests: the naive closed forms of docs/statistics.md
+// section 3 evaluated in 100-digit arithmetic (Boost.Multiprecision), differentiated exactly by
 // Boost.Math's autodiff. The closed form loses ~2 log10(1/(1-phi)) + 3 digits to
 // cancellation, which leaves > 70 correct digits for every case tested here.
 

@@ -4,7 +4,7 @@
 //
 // At averaging factor m (tau = m / f seconds), with S the prefix sums of x:
 //   AVAR(m) = 1 / (2 m^2 (N - 2m + 1)) sum_{t=0}^{N-2m} (S_{t+2m} - 2 S_{t+m} + S_t)^2,
-// which is exactly twice the Haar wavelet variance at scale 2m (STATISTICS.md s.1), so a
+// which is exactly twice the Haar wavelet variance at scale 2m (docs/statistics.md section 1), so a
 // model's Allan variance is 2 nu^2(theta; 2m) for any m. Its 1 - alpha interval is the
 // chi-square one with eta = max((N - 2m + 1) / (2m), 1) equivalent degrees of freedom,
 // the WV's at tau = 2m.

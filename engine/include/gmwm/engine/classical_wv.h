@@ -1,7 +1,7 @@
 #pragma once
 // The classical (unbiased, no mean subtraction) Haar wavelet variance with chi-square
 // confidence intervals at real-valued degrees of freedom, and the overlapping Allan
-// variance obtained from the same coefficients (STATISTICS.md section 1).
+// variance obtained from the same coefficients (docs/statistics.md section 1).
 
 #include <cstdint>
 #include <span>

@@ -1,5 +1,5 @@
 #pragma once
-// The GMWM estimator (STATISTICS.md sections 4-5):
+// The GMWM estimator (docs/statistics.md sections 4-5):
 //   theta_hat = argmin (nuhat - nu(theta))' Omega (nuhat - nu(theta)),
 // optimised with NLopt (L-BFGS, analytic gradients) in the unconstrained space, from
 // starting values derived from the WV's shape plus multi-starts and the fits of the

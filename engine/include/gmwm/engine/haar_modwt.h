@@ -1,5 +1,5 @@
 #pragma once
-// Haar MODWT coefficients by prefix sums (STATISTICS.md section 1):
+// Haar MODWT coefficients by prefix sums (docs/statistics.md section 1):
 //   W_{j,t} = (S_{t+1} - 2 S_{t+1-m_j} + S_{t+1-tau_j}) / tau_j,  t = tau_j - 1 .. N - 1,
 // with S_k = sum_{i<k} (x_i - xbar) (the Haar filter ignores a constant level; centring
 // keeps the prefix sums small). Only the M_j = N - tau_j + 1 coefficients that do not

@@ -1,5 +1,5 @@
 #pragma once
-// Predicted integrated-error growth of a noise model (GAP.md section 4: "what it means
+// Predicted integrated-error growth of a noise model (docs/gap.md, method note 4: "what it means
 // for navigation, e.g. attitude error after 60 s"): the error of the integral of the
 // noise over a horizon, S = (1/f) (x_1 + ... + x_K), K = round(horizon * f) samples at the
 // sampling rate f. Gyro noise in deg/s integrates to an attitude error in deg,

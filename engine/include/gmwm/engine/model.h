@@ -52,7 +52,7 @@ class Model {
   /// d theta / d u (diagonal), at u.
   Eigen::VectorXd dtheta_du(const Eigen::VectorXd& u) const;
 
-  /// Components sorted canonically (CLI.md order; repeated components by their sort
+  /// Components sorted canonically (docs/cli.md order; repeated components by their sort
   /// key, e.g. AR1 by increasing phi). Returns the permutation of components applied
   /// and permutes theta (if given) accordingly; `permutation` (if given) receives, per
   /// component of the result, its index in this model.

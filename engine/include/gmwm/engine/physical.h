@@ -7,7 +7,7 @@
 // unit rendering and the mapping of parameter confidence intervals.
 //
 // IEEE Std 952 relations used to derive the conversions (AVAR(m) = 2 WV(tau = 2m), m
-// samples = T f seconds; DESIGN.md): white noise AVAR = N^2 / T, rate random walk
+// samples = T f seconds; docs/design.md section 1): white noise AVAR = N^2 / T, rate random walk
 // AVAR = K^2 T / 3, quantization AVAR = 3 Q^2 / T^2, rate ramp AVAR = R^2 T^2 / 2, flicker
 // floor AVAR = (2 ln2 / pi) B^2. Each process file writes its derivation next to its code.
 

@@ -4,12 +4,12 @@
 // engine/src/processes/ together with its registration (GMWM_REGISTER_PROCESS), so
 // adding a process touches that file plus its test.
 //
-// Parameters are the natural, discrete (per-sample) ones of DESIGN.md ("natural space").
+// Parameters are the natural, discrete (per-sample) ones of docs/design.md section 2 ("natural space").
 // Optimisers work in an unconstrained space obtained parameter by parameter through the
 // Transform of each ParameterSpec.
 //
 // Scales are given as tau = 2^j in samples (doubles, so that the formulas read as in
-// STATISTICS.md section 3).
+// docs/statistics.md section 3).
 
 #include <cstdint>
 #include <memory>
@@ -107,7 +107,7 @@ class Process {
   /// Structural arguments as written in model strings, e.g. "p=2,q=1" for ARMA; empty
   /// for most processes.
   virtual std::string structure() const { return {}; }
-  /// Position in canonical model strings (CLI.md: AR1, GM, MA1, ARMA11, ARMA, WN, QN, RW,
+  /// Position in canonical model strings (docs/cli.md: AR1, GM, MA1, ARMA11, ARMA, WN, QN, RW,
   /// DR, SIN, FLICKER): smaller comes first.
   virtual int canonical_rank() const = 0;
   /// Parameters in the order used in theta vectors.

@@ -29,7 +29,7 @@ inline Rng make_stream(std::uint64_t seed, std::initializer_list<std::uint64_t> 
   return Rng(h);
 }
 
-/// The default seed of every command (CLI.md: "default fixed, so runs are reproducible").
+/// The default seed of every command (docs/cli.md: "default fixed: runs are reproducible").
 inline constexpr std::uint64_t kDefaultSeed = 20261121;
 
 }  // namespace gmwm

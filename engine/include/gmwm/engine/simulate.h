@@ -1,5 +1,5 @@
 #pragma once
-// Simulation of a model (STATISTICS.md section 7): components are summed, each drawing
+// Simulation of a model (docs/statistics.md section 7): components are summed, each drawing
 // from its own seeded stream make_stream(seed, {signal, component}), so a signal does
 // not depend on how many other signals are simulated or on the thread count.
 

@@ -1,6 +1,6 @@
 #pragma once
 // Model-based covariance of the empirical classical WV of a Gaussian process
-// (STATISTICS.md section 5), by the exact finite-N sums
+// (docs/statistics.md section 5), by the exact finite-N sums
 //   Cov(nuhat_i, nuhat_j) = (2 / (M_i M_j)) sum_h n_ij(h) c_ij(h)^2
 //                           + (4 d_i d_j / (M_i M_j)) sum_h n_ij(h) c_ij(h),
 // where c_ij(h) = Cov(W_{i,t}, W_{j,t+h}) for the stochastic components, n_ij(h) counts

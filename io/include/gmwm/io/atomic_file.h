@@ -1,7 +1,7 @@
 #pragma once
 // Writes one output file all-or-nothing: OutputSet (output_set.h) with a single file. The
 // content goes to a temporary file beside the target, renamed over it only on success; a
-// target that is a folder, a device, a FIFO or a symbolic link is refused (DESIGN.md error
+// target that is a folder, a device, a FIFO or a symbolic link is refused (docs/design.md section 3, error
 // policy: no partial output files, nothing of the user's clobbered).
 
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The JSON documents of the `gmwm` commands (CLI.md "JSON": the field names are a
+// The JSON documents of the `gmwm` commands (docs/cli.md "JSON": the field names are a
 // contract). Every document has the common top level
 //   {"tool": "gmwm", "version": "...", "command": "...", "columns": [...], "run": {...}}
 // where each element of "columns" has "name", "n", "freq" plus the command's fields, and
@@ -80,7 +80,7 @@ Json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known);
 Json wv_column_json(const ColumnInfo& column, const WaveletVariance& wv);
 
 /// A robust "wv" column: wv_column_json of the robust WV, each level also with
-/// "classical_wv", "robust_to_classical", "ci_disjoint", "contaminated" (CLI.md) and
+/// "classical_wv", "robust_to_classical", "ci_disjoint", "contaminated" (docs/cli.md) and
 /// "rounding_ratio" (what the data's rounding alone makes of the ratio), "tail_share";
 /// the column with "quantization": {"detected", "quantum"}.
 Json robust_wv_column_json(const ColumnInfo& column, const WaveletVariance& robust,
@@ -113,7 +113,7 @@ Json parameters_json(const FitResult& fit);
 Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
                                const FitResult& fit, OmegaKind omega);
 
-/// A "select" column (CLI.md): column_json + "full_model", "best" (canonical, no values),
+/// A "select" column (docs/cli.md): column_json + "full_model", "best" (canonical, no values),
 /// "best_model" (with values), "penalty", "representation_violations", "ranking" (rank, model,
 /// objective, optimism, criterion, optimism_analytic, optimism_bootstrap,
 /// optimism_bootstrap_se, rank_analytic, rank_bootstrap, gof_p_value, parameters, and
@@ -122,7 +122,7 @@ Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
 Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
                         selection::Penalty penalty);
 
-/// A "gap" column (CLI.md): column_json + "baseline_model", "gap" {detected, p_value,
+/// A "gap" column (docs/cli.md): column_json + "baseline_model", "gap" {detected, p_value,
 /// statistic, bands, levels, windows (null: not computed)}, "attribution" {effect, steps,
 /// model, parameters, event (STEP/TRANSIENT: sample, time_seconds, size, time_constant
 /// [_seconds], level, statistic, threshold; else null), event_test {statistic, threshold}

@@ -1,6 +1,6 @@
 #pragma once
 // Reads the signals of a delimited text file (CSV, TSV, semicolon- or whitespace-
-// separated), optionally gzip-compressed, into memory (CLI.md "Inputs").
+// separated), optionally gzip-compressed, into memory (docs/cli.md "Inputs").
 //
 // Format rules:
 // - Delimiter detected from the header and the first data row: comma, tab, semicolon,

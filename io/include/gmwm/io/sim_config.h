@@ -1,6 +1,6 @@
 #pragma once
 // A simulator's IMU noise configuration as a baseline model for the gap diagnosis
-// (GAP.md s.1): the continuous noise figures converted to discrete processes at the
+// (docs/gap.md, method note 1): the continuous noise figures converted to discrete processes at the
 // data's sampling rate and in the data's units, every conversion written out.
 //
 // Kalibr imu.yaml (flat "key: value  # comment" lines; other keys are ignored):

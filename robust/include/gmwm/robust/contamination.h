@@ -1,7 +1,7 @@
 #pragma once
 // Where does contamination act? Per level, the robust and classical WVs side by side,
 // whether their CIs are disjoint, and a contamination flag calibrated against what the
-// data's rounding alone produces (STATISTICS.md section 2, "Quantized data").
+// data's rounding alone produces (docs/statistics.md section 2, "Quantized data").
 //
 // Rounding model: the sensor outputs x_t = q round(y_t / q) for a continuous Gaussian y
 // whose position within a quantum is uniform. Then K = tau_j W_{j,t} / q is an integer

@@ -1,5 +1,5 @@
 #pragma once
-// The robust Haar wavelet variance (STATISTICS.md section 2): per level, the scale
+// The robust Haar wavelet variance (docs/statistics.md section 2): per level, the scale
 // M-estimator (Huber's Proposal 2 or Tukey's bisquare) of the MODWT coefficients, with
 // the Fisher-consistency constant a(c) and c tuned to a target Gaussian efficiency.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Tuning of the robust scale M-estimators of the wavelet variance (STATISTICS.md
+// Tuning of the robust scale M-estimators of the wavelet variance (docs/statistics.md
 // section 2). For r = W / nu the estimating equation is mean chi(r) = a(c), with
 //   Huber's Proposal 2:  chi(r) = min(r^2, c^2),
 //   Tukey's bisquare:    chi(r) = r^2 (1 - r^2/c^2)^4 for |r| <= c, else 0,
@@ -22,7 +22,7 @@ const char* to_string(RobustKind k);
 /// The estimator named s, or nullopt (the caller reports the unknown name).
 std::optional<RobustKind> parse_robust_kind(std::string_view s);
 
-/// Default target efficiency (STATISTICS.md section 2, CLI.md `--eff 0.6`).
+/// Default target efficiency (docs/statistics.md section 2, docs/cli.md `--eff 0.6`).
 inline constexpr double kDefaultEfficiency = 0.6;
 
 /// a(c) = E[chi_c(Z)].

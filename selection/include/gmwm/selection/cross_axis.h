@@ -1,5 +1,5 @@
 #pragma once
-// Cross-axis wavelet correlation (GAP.md s.2, "per axis: ... cross-axis wavelet correlation
+// Cross-axis wavelet correlation (docs/gap.md, method note 2, "per axis: ... cross-axis wavelet correlation
 // where several axes are given"): per level j, the correlation of two signals' Haar MODWT
 // coefficients,
 //   rho_j(a, b) = sum_t W^a_{j,t} W^b_{j,t} / sqrt(sum_t (W^a_{j,t})^2 sum_t (W^b_{j,t})^2),

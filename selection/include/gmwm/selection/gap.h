@@ -1,5 +1,5 @@
 #pragma once
-// Sim-to-real gap diagnosis (GAP.md): where a baseline noise model (a simulator's
+// Sim-to-real gap diagnosis (docs/gap.md): where a baseline noise model (a simulator's
 // configuration or a fitted model) departs from a real signal's WV, which unmodelled
 // effect explains the departure, and how much of it that effect removes.
 //
@@ -7,7 +7,7 @@
 //   auto g = gmwm::selection::diagnose_gap(wv, baseline, theta, o);
 //   g.detected, g.bands, g.effect, g.shrinkage.excess_removed
 //
-// Locate (GAP.md s.2): B series simulated from the baseline at the data's length, their
+// Locate (docs/gap.md, method note 2): B series simulated from the baseline at the data's length, their
 // WV by the same estimator, give per level the mean m_j and spread s_j of log nuhat and
 // their covariance. Per level: the ratio nuhat_j / nu_j(baseline) and
 // z_j = (log nuhat_j - m_j) / s_j. Global test: the Mahalanobis distance of log nuhat from
@@ -15,7 +15,7 @@
 // levels with |z_j| above the Bonferroni threshold z_{1 - alpha / (2J)} and a practical
 // effect size |ratio - 1| > min_effect.
 //
-// Attribute (GAP.md s.3): each candidate effect is fitted on top of the baseline (the
+// Attribute (docs/gap.md, method note 3): each candidate effect is fitted on top of the baseline (the
 // baseline fixed, or re-estimated with it when `refit_baseline`), and scored by its drop
 // in the objective G = (nuhat - nu)' Omega (nuhat - nu), Omega = diag(1 / Var*(nuhat_j))
 // from the reference replicates. The drop is calibrated: its threshold is the
@@ -43,7 +43,7 @@
 
 namespace gmwm::selection {
 
-/// The effects a gap can be attributed to (CLI.md "attribution.effect").
+/// The effects a gap can be attributed to (docs/cli.md, JSON "attribution.effect").
 enum class GapEffect {
   kNone, kWN, kQN, kRW, kDR, kAR1, kFlicker, kSin, kOutliers, kStep, kTransient, kTemperature, kReparameterise,
 };
@@ -52,13 +52,13 @@ const char* to_string(GapEffect e);
 std::optional<GapEffect> parse_gap_effect(const std::string& name);
 
 struct GapOptions {
-  /// Reference replicates (GAP.md s.2; issue 5 asks for 200).
+  /// Reference replicates (docs/gap.md, method note 2; issue 5 asks for 200).
   int replicates = 200;
   std::uint64_t seed = 0;
   /// Level of the global test, of the gap bands (Bonferroni over levels) and of the
   /// candidates' thresholds (Bonferroni over candidates).
   double alpha = 0.05;
-  /// Practical effect size of a gap band: |ratio - 1| above this (GAP.md: "e.g. 10%").
+  /// Practical effect size of a gap band: |ratio - 1| above this (docs/gap.md, method note 2: 10%).
   double min_effect = 0.10;
   /// WV estimator of the simulated replicates (nullptr: classical).
   const WvEstimator* estimator = nullptr;
@@ -108,7 +108,7 @@ struct GapCandidate {
   std::string model;               ///< what was added (canonical, with values), or the refitted baseline
   double improvement = 0.0;        ///< drop in G
   double threshold = 0.0;          ///< calibrated (1 - alpha/K) null quantile of the drop
-  /// WVIC confirmation (GAP.md s.3): the candidate's optimism is its mean drop on data
+  /// WVIC confirmation (docs/gap.md, method note 3): the candidate's optimism is its mean drop on data
   /// without it (the in-sample gain a parametric bootstrap of WVIC estimates), and WVIC
   /// prefers the augmented model when the drop exceeds twice that.
   double optimism = 0.0;
@@ -139,7 +139,7 @@ struct GapShrinkage {
 
 /// A time window whose WV at one level departs from the record's typical window (the
 /// median over windows, with the spread of the baseline's same-length reference):
-/// non-stationarity such as warm-up, steps, bursts (GAP.md s.2).
+/// non-stationarity such as warm-up, steps, bursts (docs/gap.md, method note 2).
 struct GapWindow {
   std::int64_t first_sample = 0, last_sample = 0;  ///< inclusive, 0-based
   double tau = 0.0;                                 ///< samples
@@ -170,7 +170,7 @@ struct GapCoupling {
   bool significant = false;
 };
 
-/// GAP.md s.4: "what it means for navigation (predicted integrated error growth, e.g.
+/// docs/gap.md, method note 4: "what it means for navigation (predicted integrated error growth, e.g.
 /// attitude error after 60 s)".
 inline constexpr double kNavigationHorizonSeconds = 60.0;
 
@@ -190,7 +190,7 @@ struct GapTrend {
   bool significant = false;
 };
 
-/// The split-half check (GAP.md s.2): the two halves' WVs per level; they must agree
+/// The split-half check (docs/gap.md, method note 2): the two halves' WVs per level; they must agree
 /// within their chi-square CIs on a stationary record.
 struct GapSplitHalf {
   double tau = 0.0;          ///< samples

@@ -1,12 +1,12 @@
 #pragma once
 // The gap diagnosis' self-check on data whose effect is known because it was withheld
-// (GAP.md s.5): series from a WN+RW base plus one effect the base lacks, at a grid of
+// (docs/gap.md, method note 5): series from a WN+RW base plus one effect the base lacks, at a grid of
 // strengths with random nuisance parameters; the diagnosis gets only the base model and
 // is scored on detection, location, attribution, parameters and shrinkage. The null side:
 // the base alone (must give "no new effect") and the base with its parameters off by
 // +-20% (must give REPARAMETERISE or no new effect).
 //
-// Strength (GAP.md s.5): for effects with a WV, the largest ratio over levels of the
+// Strength (docs/gap.md, method note 5): for effects with a WV, the largest ratio over levels of the
 // effect's WV to the base's; for OUTLIERS, the relative excess the spikes cause in the
 // classical WV at level 1.
 //

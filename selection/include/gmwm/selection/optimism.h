@@ -1,5 +1,5 @@
 #pragma once
-// The analytic optimism of the WVIC (STATISTICS.md section 6):
+// The analytic optimism of the WVIC (docs/statistics.md section 6):
 //   optimism = 2 tr( A (B + D)^-1 A' Omega V Omega ),
 // A = d nu / d theta (J x p, natural parameters), B = A' Omega A,
 // D_kl = sum_j (d^2 nu_j / d theta_k d theta_l) r_j with r = Omega (nu(theta) - nuhat),

@@ -1,5 +1,5 @@
 #pragma once
-// Automatic model selection (STATISTICS.md section 6): every sub-model of a maximal model
+// Automatic model selection (docs/statistics.md section 6): every sub-model of a maximal model
 // fitted on each signal, bottom-up by size, each warm-started from the fits of the
 // models nested in it (its parents: one component fewer), all with the signal's one
 // Omega; then scored by WVIC = objective + optimism and ranked.
@@ -40,7 +40,7 @@ const char* to_string(Penalty p);
 enum class OptimismMethod { kAnalytic, kBootstrap, kBoth };
 const char* to_string(OptimismMethod m);
 
-/// The Omega all models of a signal share (STATISTICS.md section 4: "from the data's WV,
+/// The Omega all models of a signal share (docs/statistics.md section 4: "from the data's WV,
 /// or from the maximal model's fit").
 enum class OmegaSource {
   /// diag(1 / Var(nuhat_j)) from the chi-square variance 2 nuhat_j^4 / eta_j: the data

@@ -1,5 +1,5 @@
 #pragma once
-// The candidate models of a selection (STATISTICS.md section 6): every non-empty
+// The candidate models of a selection (docs/statistics.md section 6): every non-empty
 // multiset of a maximal model's components. Components of the same process (same name
 // and structure) are interchangeable slots, so 3*AR1+WN+RW+QN+DR has 4 x 2^4 - 1 = 63
 // sub-models and 4*AR1+WN+RW has 5 x 2 x 2 - 1 = 19.
