@@ -1,8 +1,16 @@
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
@@ -35,45 +43,117 @@ struct Figure {
   int line = 0;
 };
 
+constexpr const char* kNumericKeys[] = {"accelerometer_noise_density", "accelerometer_random_walk",
+                                        "gyroscope_noise_density", "gyroscope_random_walk", "update_rate"};
+
+std::string at(const std::string& path, const YAML::Mark& m) {
+  return m.is_null() ? path : path + ":" + std::to_string(m.line + 1);
+}
+
+// The file's text with an OpenCV-style first line "%YAML:1.0" (OpenVINS, VINS) blanked:
+// YAML proper writes that directive "%YAML 1.0". Line numbers are kept.
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the Kalibr imu.yaml");
+  std::ostringstream os;
+  os << in.rdbuf();
+  std::string text = os.str();
+  if (text.rfind("%YAML:", 0) == 0) text.erase(0, text.find('\n'));
+  return text;
+}
+
+// A map's keys, each once: a repeated key is an error naming both lines (YAML leaves it
+// to the reader, and yaml-cpp would silently keep the first).
+void check_unique_keys(const YAML::Node& map, const std::string& path) {
+  std::map<std::string, YAML::Mark> seen;
+  for (const auto& kv : map) {
+    const std::string key = kv.first.Scalar();
+    const auto [it, fresh] = seen.emplace(key, kv.first.Mark());
+    if (!fresh)
+      throw InputError(at(path, kv.first.Mark()) + ": duplicate key '" + key + "' (first at line " +
+                       std::to_string(it->second.line + 1) + ")");
+  }
+}
+
+// A plain decimal number: what the CSV reader accepts (no hex floats, no ".inf").
+std::optional<double> decimal(const std::string& text) {
+  double v = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
+  if (ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+// The map holding the figures: the file itself, or one IMU of a chain (imu0, imu1, ...).
+YAML::Node imu_node(const YAML::Node& root, const std::string& path, const std::string& imu) {
+  std::vector<std::string> chain;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.Scalar();
+    if (key.size() > 3 && key.rfind("imu", 0) == 0 && key.find_first_not_of("0123456789", 3) == std::string::npos &&
+        kv.second.IsMap())
+      chain.push_back(key);
+  }
+  if (!imu.empty()) {
+    if (std::find(chain.begin(), chain.end(), imu) == chain.end())
+      throw InputError(path + ": no IMU '" + imu + "' in this file" +
+                       (chain.empty() ? std::string(" (a single imu.yaml: give the file alone)")
+                                      : " (it has " + [&] {
+                                          std::string l;
+                                          for (const auto& c : chain) l += (l.empty() ? "" : ", ") + c;
+                                          return l;
+                                        }() + ")"));
+    return root[imu];
+  }
+  if (chain.empty()) return root;
+  if (chain.size() == 1) return root[chain.front()];
+  std::string list;
+  for (const auto& c : chain) list += (list.empty() ? "" : ", ") + c;
+  throw InputError(path + ": an IMU chain with " + list + ": name the IMU, e.g. --kalibr " + path + ":" +
+                   chain.front());
+}
+
+// A per-sample variance from a figure must be a normal positive double.
+void check_representable(double v, const std::string& path, const Figure& from, const char* key, const char* what) {
+  if (std::isfinite(v) && v >= std::numeric_limits<double>::min()) return;
+  throw InputError(path + ":" + std::to_string(from.line) + ": " + key + ": " + g(from.value) + " gives " + what +
+                   " = " + g(v) + " per sample, outside the range of a double (expected a figure near the sensor's)");
+}
+
 }  // namespace
 
-SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the Kalibr imu.yaml");
+SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units,
+                               const std::string& imu) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(read_text(path));
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                     ": not valid YAML: " + e.msg);
+  }
+  if (!root.IsMap())
+    throw InputError(path + ": expected a Kalibr imu.yaml (key: value noise figures) or an IMU chain (imu0: ...)");
+  check_unique_keys(root, path);
+  const YAML::Node node = imu_node(root, path, imu);
+  check_unique_keys(node, path);
   std::map<std::string, Figure> figures;
-  std::string line;
-  for (int no = 1; std::getline(in, line); ++no) {
-    const std::string body = trim(line.substr(0, line.find('#')));
-    if (body.empty() || body == "---") continue;
-    const auto colon = body.find(':');
-    if (colon == std::string::npos) continue;  // not a key: value line (Kalibr files are flat)
-    const std::string key = trim(body.substr(0, colon));
-    std::string value = trim(body.substr(colon + 1));
-    if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') && value.back() == value.front())
-      value = value.substr(1, value.size() - 2);
-    const bool numeric_key = key == "accelerometer_noise_density" || key == "accelerometer_random_walk" ||
-                             key == "gyroscope_noise_density" || key == "gyroscope_random_walk" || key == "update_rate";
-    if (!numeric_key) continue;
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != value.size() || !std::isfinite(v))
-      throw InputError(path + ":" + std::to_string(no) + ": " + key + ": found '" + value + "', expected a number");
-    if (v < 0.0 || (key == "update_rate" && v == 0.0))
-      throw InputError(path + ":" + std::to_string(no) + ": " + key + ": found " + value + ", expected " +
-                       (key == "update_rate" ? "a positive rate in Hz" : "a non-negative noise figure"));
-    figures[key] = {v, no};
+  for (const char* key : kNumericKeys) {
+    const YAML::Node v = node[key];
+    if (!v) continue;
+    const std::string where = at(path, v.Mark());
+    const std::string text = v.IsScalar() ? v.Scalar() : std::string(v.IsMap() ? "a map" : "a list");
+    const std::optional<double> x = v.IsScalar() ? decimal(trim(text)) : std::nullopt;
+    if (!x) throw InputError(where + ": " + key + ": found '" + text + "', expected a number");
+    if (*x < 0.0 || (std::string(key) == "update_rate" && *x == 0.0))
+      throw InputError(where + ": " + key + ": found " + text + ", expected " +
+                       (std::string(key) == "update_rate" ? "a positive rate in Hz" : "a non-negative noise figure"));
+    figures[key] = {*x, v.Mark().line + 1};
   }
   for (const char* k : {"accelerometer_noise_density", "accelerometer_random_walk", "gyroscope_noise_density",
                         "gyroscope_random_walk"})
-    if (!figures.count(k)) throw InputError(path + ": missing " + std::string(k) + " (a Kalibr imu.yaml gives the "
-                                            "four noise figures and update_rate)");
+    if (!figures.count(k)) throw InputError(path + (imu.empty() ? "" : ":" + imu) + ": missing " + std::string(k) +
+                                            " (a Kalibr imu.yaml gives the four noise figures and update_rate)");
   SimConfig c;
-  c.source = "Kalibr imu.yaml (" + path + ")";
+  c.source = "Kalibr imu.yaml (" + path + (imu.empty() ? "" : ", " + imu) + ")";
   const double f = data_freq;
   if (auto it = figures.find("update_rate"); it != figures.end() && std::abs(it->second.value - f) > 1e-9 * f)
     c.notes.push_back("update_rate " + g(it->second.value) + " Hz differs from the data's " + g(f) +
@@ -98,6 +178,7 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
     std::string spec;
     if (N > 0.0) {
       const double sigma2 = (N * u.per_si) * (N * u.per_si) * f;
+      check_representable(sigma2, path, figures[k.white], k.white, "WN sigma2");
       lines.push_back(std::string(k.white) + " = " + g(N) + " " + k.density_unit + " -> WN sigma2 = (N" + per +
                       ")^2 x f = " + g(sigma2) + " (" + u.name + ")^2 per sample at f = " + g(f) + " Hz");
       spec += "WN(sigma2=" + exact(sigma2) + ")";
@@ -106,6 +187,7 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
     }
     if (K > 0.0) {
       const double gamma2 = (K * u.per_si) * (K * u.per_si) / f;
+      check_representable(gamma2, path, figures[k.walk], k.walk, "RW gamma2");
       lines.push_back(std::string(k.walk) + " = " + g(K) + " " + k.walk_unit + " -> RW gamma2 = (K" + per +
                       ")^2 / f = " + g(gamma2) + " (" + u.name + ")^2 per sample at f = " + g(f) + " Hz");
       spec += std::string(spec.empty() ? "" : "+") + "RW(gamma2=" + exact(gamma2) + ")";

@@ -142,6 +142,24 @@ TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
                    {"--temperature 'celsius'", "gyro_x, temp"}, dir_ / "x.json");
 }
 
+TEST_F(GmwmGap, TakesTheNamedImuOfAKalibrChainAndRefusesAnAmbiguousOne) {
+  std::ofstream(dir_ / "chain.yaml") << "imu0:\n  accelerometer_noise_density: 2.0e-3\n  accelerometer_random_walk: 3.0e-3\n"
+                                        "  gyroscope_noise_density: 1.0e-3\n  gyroscope_random_walk: 1.0e-4\n"
+                                        "imu1:\n  accelerometer_noise_density: 2.0e-2\n  accelerometer_random_walk: 3.0e-2\n"
+                                        "  gyroscope_noise_density: 1.0e-2\n  gyroscope_random_walk: 1.0e-3\n";
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml", "--json", "g.json"}, dir_),
+                   {"chain.yaml: an IMU chain with imu0, imu1", "chain.yaml:imu0"}, dir_ / "g.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml:cam0", "--json", "g.json"}, dir_),
+                   {"--kalibr chain.yaml:cam0", "FILE:imuN"}, dir_ / "g.json");
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml:imu1", "--replicates", "20", "--quiet", "--json",
+                     "g.json"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // imu1's gyro density 1e-2 rad/s/sqrt(Hz): sigma2 = 1e-4 x 100 = 1e-2 (imu0's would give 1e-4).
+  const std::string base = read_json(dir_ / "g.json")["columns"][0]["baseline_model"];
+  EXPECT_EQ(base.rfind("WN(sigma2=0.01", 0), 0u) << base;
+}
+
 TEST_F(GmwmGap, TakesAKalibrImuYamlAndPrintsItsConversions) {
   std::ofstream(dir_ / "imu.yaml") << "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\n"
                                       "gyroscope_noise_density: 1.0e-3\ngyroscope_random_walk: 1.0e-4\n"

@@ -106,6 +106,65 @@ TEST_F(KalibrYaml, RejectsMalformedNegativeOrMissingFiguresWithTheLine) {
   }
 }
 
+// An IMU chain as Kalibr's camchain-imucam / OpenVINS's kalibr_imu_chain.yaml write it:
+// two IMUs whose figures differ by a factor of 10.
+constexpr const char* kChain =
+    "%YAML:1.0\n"
+    "imu0:\n"
+    "  accelerometer_noise_density: 2.0e-3\n"
+    "  accelerometer_random_walk: 3.0e-3\n"
+    "  gyroscope_noise_density: 1.0e-4\n"
+    "  gyroscope_random_walk: 2.0e-5\n"
+    "  update_rate: 200.0\n"
+    "imu1:\n"
+    "  accelerometer_noise_density: 2.0e-2\n"
+    "  accelerometer_random_walk: 3.0e-2\n"
+    "  gyroscope_noise_density: 1.0e-3\n"
+    "  gyroscope_random_walk: 2.0e-4\n"
+    "  update_rate: 200.0\n";
+
+TEST_F(KalibrYaml, TakesTheNamedImuOfAChainAndRefusesToGuessBetweenSeveral) {
+  const std::string path = write(kChain);
+  const SimConfig c0 = read_kalibr_imu_yaml(path, 200.0, parse_units(""), "imu0");
+  const SimConfig c1 = read_kalibr_imu_yaml(path, 200.0, parse_units(""), "imu1");
+  EXPECT_NEAR(c0.models.at(SensorKind::kGyro).given_values()(0), 1e-8 * 200.0, 1e-18);   // (1e-4)^2 x 200
+  EXPECT_NEAR(c1.models.at(SensorKind::kGyro).given_values()(0), 1e-6 * 200.0, 1e-16);   // (1e-3)^2 x 200
+  EXPECT_NE(c1.source.find("imu1"), std::string::npos) << c1.source;
+  const std::string why = error_of(kChain);
+  EXPECT_NE(why.find("imu.yaml: an IMU chain with imu0, imu1: name the IMU, e.g. --kalibr "), std::string::npos) << why;
+  try {
+    read_kalibr_imu_yaml(path, 200.0, parse_units(""), "imu2");
+    ADD_FAILURE() << "imu2 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no IMU 'imu2' in this file (it has imu0, imu1)"), std::string::npos) << e.what();
+  }
+  // A chain of one IMU needs no name.
+  const std::string one(kChain, std::string(kChain).find("imu1:"));
+  EXPECT_NEAR(read_kalibr_imu_yaml(write(one), 200.0, parse_units("")).models.at(SensorKind::kGyro).given_values()(0),
+              2e-6, 1e-18);
+}
+
+TEST_F(KalibrYaml, RejectsDuplicateKeysHexFloatsBadYamlAndUnrepresentableFiguresWithTheLine) {
+  std::string why = error_of(std::string(kEuroc) + "gyroscope_noise_density: 1e-3\n");
+  EXPECT_NE(why.find("imu.yaml:11: duplicate key 'gyroscope_noise_density' (first at line 6)"), std::string::npos) << why;
+  why = error_of("accelerometer_noise_density: 0x1p-9\n");
+  EXPECT_NE(why.find("imu.yaml:1: accelerometer_noise_density: found '0x1p-9', expected a number"), std::string::npos)
+      << why;
+  why = error_of("gyroscope_noise_density: [1e-4\n");
+  EXPECT_NE(why.find("imu.yaml:2:"), std::string::npos) << why;
+  EXPECT_NE(why.find("not valid YAML"), std::string::npos) << why;
+  why = error_of("accelerometer_noise_density: 1e300\naccelerometer_random_walk: 1e-4\ngyroscope_noise_density: 1e-4\n"
+                 "gyroscope_random_walk: 1e-5\n");
+  EXPECT_NE(why.find("imu.yaml:1: accelerometer_noise_density: 1e+300 gives WN sigma2 = inf per sample"),
+            std::string::npos)
+      << why;
+  why = error_of("accelerometer_noise_density: 1e-4\naccelerometer_random_walk: 1e-300\ngyroscope_noise_density: 1e-4\n"
+                 "gyroscope_random_walk: 1e-5\n");
+  EXPECT_NE(why.find("imu.yaml:2: accelerometer_random_walk: 1e-300 gives RW gamma2 = 0 per sample"), std::string::npos)
+      << why;
+  EXPECT_NE(error_of("- 1\n- 2\n").find("expected a Kalibr imu.yaml"), std::string::npos);
+}
+
 TEST(Units, ParsesEachKindsUnitsAndRejectsOthersWithOneLine) {
   const auto u = parse_units("gyro=deg/h,accel=mg");
   EXPECT_NEAR(u.at(SensorKind::kGyro).per_si, 206264.80624709636, 1e-6);  // 180/pi x 3600

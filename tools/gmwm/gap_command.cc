@@ -4,6 +4,7 @@
 // unmodelled effect explains it, and how much of the gap it removes (docs/gap.md).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <iostream>
 #include <mutex>
@@ -220,12 +221,27 @@ std::vector<double> take_temperature(io::SignalSet& set, const std::string& colu
                    "); include it in --columns");
 }
 
+// --kalibr FILE[:imuN]: the file, and the IMU of a chain (empty: the file is one IMU).
+// Split at the last ':' only when the whole text is not a file, its head is, and its
+// tail names an IMU (a file name may contain ':').
+std::pair<std::string, std::string> kalibr_source(const std::string& text) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || fs::exists(text, ec) || !fs::exists(text.substr(0, colon), ec)) return {text, ""};
+  const std::string imu = text.substr(colon + 1);
+  if (imu.size() <= 3 || imu.rfind("imu", 0) != 0 || imu.find_first_not_of("0123456789", 3) != std::string::npos)
+    throw InputError("--kalibr " + text + ": expected FILE or FILE:imuN (e.g. imu_chain.yaml:imu1), got '" + imu + "'");
+  return {text.substr(0, colon), imu};
+}
+
 int run_gap(const GapArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
   declare_input(common, args.input.input);
-  declare_input(common, args.kalibr);
+  const auto [kalibr_path, kalibr_imu] = kalibr_source(args.kalibr);
+  declare_input(common, kalibr_path);
   declare_input(common, args.gazebo);
   declare_output(common, "--json", common.json);
   check_report_option(common);
@@ -250,9 +266,9 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   const ProcessContext ctx{set.freq, set.freq_known};
   options.context = ctx;
   std::optional<io::SimConfig> config;
-  if (!args.kalibr.empty()) config = io::read_kalibr_imu_yaml(args.kalibr, set.freq, units);
+  if (!args.kalibr.empty()) config = io::read_kalibr_imu_yaml(kalibr_path, set.freq, units, kalibr_imu);
   if (!args.gazebo.empty()) config = io::read_gazebo_sdf(args.gazebo, set.freq, units);
-  const std::string& config_path = !args.kalibr.empty() ? args.kalibr : args.gazebo;
+  const std::string& config_path = !args.kalibr.empty() ? kalibr_path : args.gazebo;
   const std::optional<Model> spec_model =
       !args.model.empty() ? std::optional<Model>(parse_model(args.model, ctx))
                           : !args.fit.empty() ? std::optional<Model>(parse_model(args.fit, ctx)) : std::nullopt;
@@ -399,8 +415,9 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
   add_input_options(*sub, args->input);
   auto* m = sub->add_option("--model", args->model, "Baseline with every value, e.g. 'WN(sigma2=2.5e-5)+RW(gamma2=1e-12)'")
                 ->type_name("SPEC_WITH_VALUES");
-  auto* k = sub->add_option("--kalibr", args->kalibr, "Baseline from a Kalibr imu.yaml (noise densities and random walks)")
-                ->type_name("imu.yaml");
+  auto* k = sub->add_option("--kalibr", args->kalibr, "Baseline from a Kalibr imu.yaml (noise densities and random walks); "
+                            "FILE:imuN takes one IMU of a chain (imu0, imu1, ...)")
+                ->type_name("imu.yaml[:imuN]");
   auto* z = sub->add_option("--gazebo", args->gazebo,
                             "Baseline from a Gazebo SDF: gz-sensors IMU <noise> blocks or RotorS/PX4 IMU plugin "
                             "parameters")

@@ -58,9 +58,15 @@ char column_axis(const std::string& column);
 /// and the column name ends in no axis letter.
 std::optional<SimBaseline> baseline_for_column(const SimConfig& config, SensorKind kind, const std::string& column);
 
-/// Reads a Kalibr imu.yaml. Throws InputError "<path>:<line>: ..." for a malformed or
-/// negative figure, and "<path>: ..." for a missing one or an unreadable file.
-SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units);
+/// Reads a Kalibr imu.yaml (yaml-cpp), or one IMU of a chain (imu0:, imu1:, ... as Kalibr's
+/// camchain-imucam and OpenVINS's kalibr_imu_chain.yaml write them; an OpenCV "%YAML:1.0"
+/// first line is accepted). `imu` names the chain's IMU ("imu1"); empty: the file is one
+/// IMU, or a chain of exactly one. Throws InputError "<path>:<line>[:<column>]: ..." for
+/// invalid YAML, a duplicate key, a malformed (hex floats included), negative or
+/// unrepresentable figure; "<path>: ..." for a missing figure, an unreadable file, an
+/// unknown `imu`, or a chain of several IMUs with none named.
+SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units,
+                               const std::string& imu = {});
 
 /// Reads the IMU noise of a Gazebo model or world (any XML file: SDF, URDF <gazebo>
 /// extensions), at the data's rate f and in the data's units (u per SI unit):
