@@ -11,6 +11,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
           libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev libgtest-dev
           libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libtinyxml2-dev libyaml-cpp-dev pkg-config
+          pybind11-dev python3-dev python3-numpy python3-pytest
           libjs-vega chromium)
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
 # browser test (tests/cli/html_report_browser_test.cc).
@@ -46,3 +47,15 @@ fi
 
 cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type"
 cmake --build "$build_dir" --parallel "$jobs"
+
+# `import gmwm` from the system Python (Debian's python3, which has python3-numpy): a .pth
+# file naming the build tree's python folder (python/CMakeLists.txt puts the module there).
+if [[ -x /usr/bin/python3 && -d "$build_dir/python/gmwm" ]]; then
+  python_dir=$(cd "$build_dir/python" && pwd)
+  site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])')
+  if [[ $(id -u) -eq 0 ]]; then
+    mkdir -p "$site" && echo "$python_dir" > "$site/gmwm-build.pth"
+  else
+    echo "gmwm setup: to import gmwm from Python, export PYTHONPATH=$python_dir" >&2
+  fi
+fi

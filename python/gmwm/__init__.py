@@ -1,0 +1,16 @@
+"""gmwm: the Generalized Method of Wavelet Moments for inertial sensor noise.
+
+The functions take numpy arrays and return the plain-Python form of the JSON columns the
+`gmwm` command writes for the same data and options (docs/cli.md, "JSON"):
+
+    import numpy as np, gmwm
+    x = gmwm.simulate("WN(sigma2=1e-4)+RW(gamma2=1e-9)", 2**17, freq=100)
+    w = gmwm.wv(x, freq=100)                       # w["levels"][j]["wv"], ["ci_low"], ...
+    f = gmwm.fit(x, "WN+RW", freq=100)             # f["parameters"], f["gof"], ...
+    s = gmwm.select(np.column_stack([x, x]), "AR1+WN+RW", freq=100)   # one entry per column
+
+Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
+"""
+from ._gmwm import DEFAULT_SEED, InputError, __version__, fit, select, simulate, wv
+
+__all__ = ["wv", "fit", "select", "simulate", "InputError", "DEFAULT_SEED", "__version__"]

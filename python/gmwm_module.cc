@@ -1,0 +1,238 @@
+// The Python module `gmwm` (pybind11): the library's wavelet variance, GMWM fit, model
+// selection and simulation on numpy arrays. Each result is the plain-Python form of the
+// JSON column the command-line program writes for the same data and options (built by the
+// same io/ functions, so the numbers are equal to the last bit). The GIL is released while
+// the library computes; the library's InputError becomes gmwm.InputError (a ValueError)
+// with the same one-line message.
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/random.h"
+#include "gmwm/engine/simulate.h"
+#include "gmwm/io/json_output.h"
+#include "gmwm/selection/select.h"
+#include "gmwm/version.h"
+
+namespace py = pybind11;
+
+namespace {
+
+using gmwm::io::Json;
+
+// A JSON document as Python objects, through Python's own json module: floats written
+// with 17 significant digits read back to the same double.
+py::object to_python(const Json& j) {
+  // Imported per call (a cached module lookup): a static py::object would be released
+  // after the interpreter has finalized.
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+// A 1-D float64 view of one series (copied when not contiguous float64).
+std::vector<double> series_of(const py::handle& obj, const char* what) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a) throw gmwm::InputError(std::string(what) + ": expected a 1-D array of numbers");
+  if (a.ndim() != 1)
+    throw gmwm::InputError(std::string(what) + ": expected a 1-D array, got " + std::to_string(a.ndim()) +
+                           " dimensions");
+  std::vector<double> x(a.data(), a.data() + a.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!std::isfinite(x[i]))
+      throw gmwm::InputError(std::string(what) + ": sample " + std::to_string(i) + " is not a finite number");
+  return x;
+}
+
+// Columns: a 1-D array (one column), a 2-D array (samples x columns, as a file's columns)
+// or a sequence of 1-D arrays.
+std::vector<std::vector<double>> columns_of(const py::handle& obj) {
+  if (py::isinstance<py::array>(obj) && py::cast<py::array>(obj).ndim() == 2) {
+    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+    std::vector<std::vector<double>> out(static_cast<std::size_t>(a.shape(1)));
+    for (py::ssize_t c = 0; c < a.shape(1); ++c) {
+      py::object col = py::reinterpret_steal<py::object>(
+          PyObject_GetItem(a.ptr(), py::make_tuple(py::slice(py::none(), py::none(), py::none()), c).ptr()));
+      out[static_cast<std::size_t>(c)] = series_of(col, ("column " + std::to_string(c + 1)).c_str());
+    }
+    return out;
+  }
+  if (py::isinstance<py::array>(obj)) return {series_of(obj, "data")};
+  std::vector<std::vector<double>> out;
+  std::size_t k = 0;
+  for (const auto& item : py::cast<py::sequence>(obj)) out.push_back(series_of(item, ("column " + std::to_string(++k)).c_str()));
+  return out;
+}
+
+gmwm::io::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
+                          const std::string& unit) {
+  if (freq && !(*freq > 0.0 && std::isfinite(*freq)))
+    throw gmwm::InputError("freq: expected a positive sampling rate in Hz, got " + std::to_string(*freq));
+  return {name, static_cast<std::int64_t>(n), freq.value_or(1.0), freq.has_value(), unit};
+}
+
+std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names) {
+  if (names.empty()) {
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < k; ++i) out.push_back("x" + std::to_string(i + 1));
+    return out;
+  }
+  if (names.size() != k)
+    throw gmwm::InputError("names: " + std::to_string(names.size()) + " names for " + std::to_string(k) + " columns");
+  return names;
+}
+
+gmwm::OmegaKind omega_kind(const std::string& s) {
+  if (s == "diag") return gmwm::OmegaKind::kDiag;
+  if (s == "full") return gmwm::OmegaKind::kFull;
+  if (s == "bootstrap") return gmwm::OmegaKind::kBootstrap;
+  throw gmwm::InputError("omega: expected diag, full or bootstrap, got '" + s + "'");
+}
+
+py::object py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels, const std::string& name) {
+  const std::vector<double> x = series_of(data, "data");
+  const gmwm::io::ColumnInfo column = info(name, x.size(), freq, "");
+  gmwm::WvOptions o;
+  o.alpha = alpha;
+  o.levels = levels;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  Json out;
+  {
+    py::gil_scoped_release release;
+    const std::vector<std::span<const double>> series{std::span<const double>(x)};
+    out = gmwm::io::wv_column_json(column, gmwm::classical_wv(series, o).front());
+  }
+  return to_python(out);
+}
+
+py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
+               const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name) {
+  const std::vector<double> x = series_of(data, "data");
+  const gmwm::io::ColumnInfo column = info(name, x.size(), freq, "");
+  const gmwm::Model model = gmwm::parse_model(model_spec, gmwm::ProcessContext{column.freq, column.freq_known});
+  gmwm::FitOptions o;
+  o.omega = omega_kind(omega);
+  o.alpha = alpha;
+  o.bootstrap_replicates = replicates;
+  o.seed = seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  Json out;
+  {
+    py::gil_scoped_release release;
+    gmwm::WvOptions wo;
+    wo.alpha = alpha;
+    const std::vector<std::span<const double>> series{std::span<const double>(x)};
+    const gmwm::WaveletVariance w = gmwm::classical_wv(series, wo).front();
+    gmwm::check_model_fits_levels(model, w.levels());
+    gmwm::FitResult f = gmwm::fit_gmwm(w, model, o);
+    gmwm::orient_by_series(f, x);  // a drift's sign from the series' slope, as the CLI does
+    out = gmwm::io::fit_column_json(column, w, f, o.omega);
+  }
+  return to_python(out);
+}
+
+py::object py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
+                  const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
+                  double alpha, std::uint64_t seed, const std::vector<std::string>& names) {
+  const std::vector<std::vector<double>> cols = columns_of(data);
+  const std::vector<std::string> labels = names_for(cols.size(), names);
+  const gmwm::io::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
+  const gmwm::Model maximal = gmwm::parse_model(model_spec, gmwm::ProcessContext{first.freq, first.freq_known});
+  namespace sel = gmwm::selection;
+  sel::SelectOptions o;
+  if (optimism == "analytic") o.optimism = sel::OptimismMethod::kAnalytic;
+  else if (optimism == "bootstrap") o.optimism = sel::OptimismMethod::kBootstrap;
+  else if (optimism == "both") o.optimism = sel::OptimismMethod::kBoth;
+  else throw gmwm::InputError("optimism: expected analytic, bootstrap or both, got '" + optimism + "'");
+  if (omega == "model") o.omega = sel::OmegaSource::kModel;
+  else if (omega == "full") o.omega = sel::OmegaSource::kModelFull;
+  else if (omega == "data") o.omega = sel::OmegaSource::kData;
+  else throw gmwm::InputError("omega: expected model, full or data, got '" + omega + "'");
+  if (penalty == "wvic") o.penalty = sel::Penalty::kWvic;
+  else if (penalty == "bic") o.penalty = sel::Penalty::kBic;
+  else throw gmwm::InputError("penalty: expected wvic or bic, got '" + penalty + "'");
+  o.bootstrap_replicates = replicates;
+  o.seed = seed;
+  o.fit.alpha = alpha;
+  o.fit.seed = seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  Json out = Json::array();
+  {
+    py::gil_scoped_release release;
+    gmwm::WvOptions wo;
+    wo.alpha = alpha;
+    std::vector<std::span<const double>> series;
+    for (const auto& c : cols) series.emplace_back(c);
+    const std::vector<gmwm::WaveletVariance> wvs = gmwm::classical_wv(series, wo);
+    for (const auto& w : wvs) gmwm::check_model_fits_levels(maximal, w.levels());
+    std::vector<sel::Selection> result = sel::select_models(wvs, maximal, o);
+    for (std::size_t k = 0; k < result.size(); ++k) {
+      gmwm::orient_by_series(result[k].best_fit, cols[k]);
+      out.push_back(gmwm::io::select_column_json(info(labels[k], cols[k].size(), freq, ""), wvs[k], result[k],
+                                                 o.penalty));
+    }
+  }
+  return to_python(out);
+}
+
+py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
+                             std::optional<double> freq) {
+  if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
+  if (signals < 1) throw gmwm::InputError("signals: expected at least 1, got " + std::to_string(signals));
+  const gmwm::Model model =
+      gmwm::parse_model(model_spec, gmwm::ProcessContext{freq.value_or(1.0), freq.has_value()});
+  if (!model.fully_specified())
+    throw gmwm::InputError("model '" + model_spec + "': give every parameter a value to simulate");
+  const Eigen::VectorXd theta = model.given_values();
+  if (const std::string why = model.validate(theta); !why.empty()) throw gmwm::InputError(why);
+  py::array_t<double> out(signals == 1 ? std::vector<py::ssize_t>{n} : std::vector<py::ssize_t>{signals, n});
+  double* dst = out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    for (int k = 0; k < signals; ++k) {
+      const std::vector<double> x = gmwm::simulate(model, theta, n, seed, static_cast<std::uint64_t>(k));
+      std::copy(x.begin(), x.end(), dst + static_cast<std::ptrdiff_t>(k) * n);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_gmwm, m) {
+  m.doc() = "gmwm: wavelet variance, GMWM fits and model selection for inertial sensor noise";
+  m.attr("__version__") = gmwm::library_version();
+  m.attr("DEFAULT_SEED") = gmwm::kDefaultSeed;
+  static py::exception<gmwm::InputError> input_error(m, "InputError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const gmwm::InputError& e) {
+      input_error(e.what());
+    }
+  });
+  m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,
+        py::arg("levels") = 0, py::arg("name") = "x1",
+        "Classical Haar wavelet variance with its chi-square intervals: the 'wv' JSON column");
+  m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
+        py::arg("omega") = "diag", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1",
+        "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference: the 'fit' JSON column");
+  m.def("select", &py_select, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
+        py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
+        py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{},
+        "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns");
+  m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
+        py::arg("signals") = 1, py::arg("freq") = py::none(),
+        "Independent series of a fully specified model (signal k on stream k, as gmwm simulate)");
+}

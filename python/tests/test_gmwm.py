@@ -1,0 +1,124 @@
+"""The Python module against the command-line program: same data, same options, the same
+JSON numbers to the last bit; and its error path (gmwm.InputError, the CLI's message)."""
+import csv
+import gzip
+import json
+import os
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import gmwm
+
+SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+CLI = os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm"))
+EXAMPLE = os.path.join(SOURCE, "data", "example_imu6.csv.gz")
+
+
+def read_example():
+    """The shipped example's columns, parsed by Python (correctly rounded, as the C++ reader)."""
+    with gzip.open(EXAMPLE, "rt") as f:
+        rows = list(csv.reader(f))
+    header, body = rows[0], rows[1:]
+    return {name: np.array([float(r[i]) for r in body]) for i, name in enumerate(header)}
+
+
+def cli_json(tmp_path, *args):
+    out = tmp_path / "out.json"
+    subprocess.run([CLI, *args, "--json", str(out), "--quiet"], check=True)
+    return json.loads(out.read_text())
+
+
+@pytest.fixture(scope="module")
+def example():
+    return read_example()
+
+
+def test_the_module_reports_the_library_version():
+    assert gmwm.__version__.count(".") == 2
+
+
+def test_wv_equals_the_cli_json_bit_for_bit(tmp_path, example):
+    doc = cli_json(tmp_path, "wv", EXAMPLE, "--columns", "gyro_x")
+    col = doc["columns"][0]
+    mine = gmwm.wv(example["gyro_x"], freq=col["freq"], name="gyro_x")
+    assert mine["levels"] == col["levels"]
+    assert mine["n"] == col["n"]
+
+
+def test_fit_equals_the_cli_json_bit_for_bit(tmp_path, example):
+    doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "accel_y", "--model", "AR1+WN+RW")
+    col = doc["columns"][0]
+    mine = gmwm.fit(example["accel_y"], "AR1+WN+RW", freq=col["freq"], name="accel_y")
+    for key in ("model", "parameters", "objective", "gof", "status", "implied_wv", "levels"):
+        assert mine[key] == col[key], key
+
+
+def test_select_equals_the_cli_json_bit_for_bit_on_two_columns(tmp_path, example):
+    doc = cli_json(tmp_path, "select", EXAMPLE, "--columns", "gyro_z,accel_x", "--model", "AR1+WN+RW")
+    data = np.column_stack([example["gyro_z"], example["accel_x"]])
+    mine = gmwm.select(data, "AR1+WN+RW", freq=doc["columns"][0]["freq"], names=["gyro_z", "accel_x"])
+    assert len(mine) == 2
+    for m, c in zip(mine, doc["columns"]):
+        assert m["name"] == c["name"]
+        for key in ("best", "best_model", "ranking", "best_fit"):
+            assert m[key] == c[key], key
+
+
+def test_simulate_equals_the_cli_series(tmp_path):
+    out = tmp_path / "sim.csv"
+    subprocess.run([CLI, "simulate", "--model", "AR1(phi=0.9,sigma2=1e-4)+RW(gamma2=1e-8)", "--n", "2000",
+                    "--signals", "2", "--output", str(out), "--quiet"], check=True)
+    with open(out) as f:
+        rows = list(csv.reader(f))
+    names = rows[0]
+    cli = np.array([[float(v) for v in r] for r in rows[1:]])
+    mine = gmwm.simulate("AR1(phi=0.9,sigma2=1e-4)+RW(gamma2=1e-8)", 2000, signals=2)
+    assert mine.shape == (2, 2000)
+    first = names.index(next(n for n in names if n != "time"))
+    # The CSV carries the values to round-trip precision: the same doubles.
+    np.testing.assert_array_equal(mine[0], cli[:, first])
+    np.testing.assert_array_equal(mine[1], cli[:, first + 1])
+
+
+def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.fit(example["gyro_x"], "AR1+FOO")
+    cli = subprocess.run([CLI, "fit", EXAMPLE, "--columns", "gyro_x", "--model", "AR1+FOO"], capture_output=True,
+                         text=True)
+    assert cli.returncode == 2
+    assert str(e.value) in cli.stderr
+    assert isinstance(e.value, ValueError)
+    with pytest.raises(gmwm.InputError, match="sample 2 is not a finite number"):
+        gmwm.wv(np.array([1.0, 2.0, np.nan] + [0.0] * 100))
+    with pytest.raises(gmwm.InputError, match="expected a 1-D array"):
+        gmwm.wv(np.zeros((4, 4, 4)))
+
+
+def test_computations_release_the_gil(example):
+    # Two selections in threads finish with the same results as one after the other; while
+    # they run, the interpreter keeps executing Python (a counter advances).
+    data = example["gyro_x"]
+    expected = gmwm.select(data, "2*AR1+WN+RW")[0]["ranking"]
+    results, ticks, done = [], [0], threading.Event()
+
+    def work():
+        results.append(gmwm.select(data, "2*AR1+WN+RW")[0]["ranking"])
+
+    def count():
+        while not done.is_set():
+            ticks[0] += 1
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    workers = [threading.Thread(target=work) for _ in range(2)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    done.set()
+    counter.join()
+    assert results == [expected, expected]
+    assert ticks[0] > 1000
