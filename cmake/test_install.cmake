@@ -15,7 +15,8 @@ endfunction()
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 foreach(f include/gmwm/version.h include/gmwm/engine/fit.h include/gmwm/io/html_report.h
           lib/cmake/gmwm/gmwmConfig.cmake lib/cmake/gmwm/gmwmConfigVersion.cmake lib/cmake/gmwm/gmwmTargets.cmake
-          lib/pkgconfig/gmwm.pc bin/gmwm share/doc/gmwm/LICENSE)
+          lib/pkgconfig/gmwm.pc bin/gmwm share/doc/gmwm/LICENSE share/man/man1/gmwm.1
+          share/bash-completion/completions/gmwm)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
   endif()

@@ -13,6 +13,9 @@
 namespace gmwm::cli {
 // `gmwm export` (export_command.cc).
 Command add_export_command(CLI::App& app, CommonOptions& common);
+// `gmwm completion bash`, `gmwm man` (docs_command.cc): generated from the options above.
+Command add_completion_command(CLI::App& app);
+Command add_man_command(CLI::App& app);
 }  // namespace gmwm::cli
 
 namespace {
@@ -50,7 +53,8 @@ int main(int argc, char** argv) {
   const Command commands[] = {add_wv_command(app, common), add_fit_command(app, common),
                               add_select_command(app, common), add_gap_command(app, common),
                               add_gap_check_command(app, common),
-                              add_simulate_command(app, common), add_export_command(app, common)};
+                              add_simulate_command(app, common), add_export_command(app, common),
+                              add_completion_command(app), add_man_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
