@@ -28,6 +28,23 @@ std::filesystem::path temp_dir(const std::string& tag);
 std::vector<WaveletVariance> simulated_replicates(const std::string& spec, const std::vector<int>& log2n,
                                                   std::uint64_t seed);
 
+/// A PX4 ULog file written byte by byte from the published format (independent of the
+/// reader in io/): header, a flag-bits message, an info message, the formats of
+/// sensor_combined (PX4's field layout) and sensor_gyro, subscriptions, a logged string
+/// and a sync message among the data. sensor_combined sample i has timestamp
+/// t0 + i * step_us, gyro_rad = (i, -i, 2i) / 1024 and accelerometer_m_s2 = (9.81 + i / 4096,
+/// 0.5 + (i mod 7) / 8, -i / 2048) (floats, exact); sensor_gyro instance k sample i has x = k + i / 512,
+/// y = z = 0. `stamps`, when given, replaces sensor_combined's timestamps.
+struct UlogFixture {
+  int samples = 64;
+  std::uint64_t t0 = 1000000, step_us = 5000;  // 200 Hz
+  int gyro_instances = 2;
+  std::vector<std::uint64_t> stamps;
+};
+std::vector<unsigned char> ulog_bytes(const UlogFixture& f = {});
+/// The fixture's sensor_combined values as doubles: (gyro_x..z, accel_x..z) per sample.
+std::vector<std::vector<double>> ulog_expected(const UlogFixture& f = {});
+
 }  // namespace gmwm::test
 
 /// Skips the current test with a clear message when the shared data folder is absent,

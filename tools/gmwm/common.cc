@@ -40,8 +40,12 @@ void add_common_options(CLI::App& sub, CommonOptions& common) {
 void add_input_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("INPUT", input.input,
                  "Delimited text file (CSV/TSV/semicolon/whitespace, optionally gzip) with a "
-                 "header row")
+                 "header row, or a PX4 ULog flight log (.ulg; see --topic)")
       ->required();
+  sub.add_option("--topic", input.topic,
+                 "The IMU topic of a PX4 ULog file: sensor_combined (default), sensor_gyro or sensor_accel, "
+                 "NAME:K for instance K")
+      ->type_name("NAME[:K]");
   sub.add_option("--columns", input.columns,
                  "Columns to use: names or 1-based indices, comma-separated (default: every "
                  "numeric column that is not a timestamp)")
@@ -195,6 +199,7 @@ io::SignalSet read_input(const InputOptions& input) {
                          "separated by commas");
   }
   options.freq = input.freq;
+  options.topic = input.topic;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   io::SignalSet set = io::read_signals(input.input, options);
   if (!set.freq_known)

@@ -45,6 +45,7 @@ struct InputOptions {
   std::string input;
   std::string columns;              ///< --columns a,b,c (names or 1-based indices)
   std::optional<double> freq;       ///< --freq HZ
+  std::string topic;                ///< --topic NAME[:INSTANCE] (PX4 ULog)
   double alpha = 0.05;              ///< --alpha
   int levels = 0;                   ///< --levels J (0: floor(log2 N))
 };

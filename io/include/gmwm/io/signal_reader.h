@@ -23,6 +23,9 @@
 //   (timestamp in ns): omega_x/y/z -> gyro_x/y/z, alpha_x/y/z -> accel_x/y/z (in Kalibr's
 //   format "alpha" is the accelerometer, not an angular acceleration).
 //
+// PX4 ULog files (detected by their magic bytes) give the IMU topic named by --topic
+// (io/src/ulog_reader.cc): gyro_x..z in rad/s, accel_x..z in m/s^2, timestamps in us.
+//
 // Every user error throws gmwm::InputError with one line:
 //   "<path>:<line>:<column>: found <what>, expected <what>" (line/column when they apply).
 
@@ -44,6 +47,9 @@ struct ReadOptions {
   std::vector<std::string> columns;
   /// --freq HZ: the sampling rate. Overrides the timestamp column's estimate.
   std::optional<double> freq;
+  /// --topic NAME[:INSTANCE]: the topic of a log file (PX4 ULog: sensor_combined, the
+  /// default, sensor_gyro or sensor_accel). Refused for a delimited text file.
+  std::string topic;
 
   /// "" when valid, otherwise a one-line message naming the option.
   std::string Validate() const;

@@ -1,0 +1,323 @@
+// PX4 ULog input (docs/cli.md "Inputs"): the IMU topics of a flight log as signals.
+//
+// The format (PX4's published ULog specification): a 16-byte header (magic "ULog" 01 12 35,
+// a version byte, the start time in us), then messages of a 3-byte header (uint16 payload
+// size, uint8 type) and a payload, little-endian. Definitions: 'F' formats
+// ("name:type field;type field;..." with int8_t..uint64_t, float, double, bool, char,
+// arrays "type[n]" and other formats as field types; padding is explicit, "_padding0"
+// fields), 'A' subscriptions (multi_id, msg_id, name); data: 'D' (msg_id, the packed
+// fields). Other types ('B', 'I', 'M', 'P', 'Q', 'L', 'C', 'S', 'O', 'R') are skipped.
+//
+// Topics read, with the signals they give (timestamps from the "timestamp" field, in us):
+//   sensor_combined: gyro_rad[3] -> gyro_x..z (rad/s), accelerometer_m_s2[3] -> accel_x..z (m/s^2)
+//   sensor_gyro:  x, y, z -> gyro_x..z (rad/s)      sensor_accel: x, y, z -> accel_x..z (m/s^2)
+// `--topic NAME` picks one (NAME:K its instance K, default 0); without it sensor_combined.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/error.h"
+#include "timestamp.h"
+#include "ulog_reader.h"
+
+namespace gmwm::io::detail {
+namespace {
+
+constexpr std::array<unsigned char, 7> kMagic = {'U', 'L', 'o', 'g', 0x01, 0x12, 0x35};
+constexpr std::size_t kHeaderBytes = 16;
+
+struct Field {
+  std::string type, name;
+  int count = 1;           // array length
+  std::size_t offset = 0;  // in the message's payload (after msg_id)
+  std::size_t size = 0;    // of one element
+};
+
+struct Format {
+  std::vector<Field> fields;
+  std::size_t size = 0;
+};
+
+std::size_t basic_size(const std::string& t) {
+  static const std::map<std::string, std::size_t> sizes = {
+      {"int8_t", 1},  {"uint8_t", 1},  {"bool", 1},     {"char", 1},     {"int16_t", 2}, {"uint16_t", 2},
+      {"int32_t", 4}, {"uint32_t", 4}, {"float", 4},    {"int64_t", 8},  {"uint64_t", 8}, {"double", 8}};
+  const auto it = sizes.find(t);
+  return it == sizes.end() ? 0 : it->second;
+}
+
+template <typename T>
+T load(const unsigned char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);  // ULog is little-endian, as every host this builds on
+  return v;
+}
+
+double number(const Field& f, const unsigned char* p) {
+  const std::string& t = f.type;
+  if (t == "float") return load<float>(p);
+  if (t == "double") return load<double>(p);
+  if (t == "int8_t") return load<std::int8_t>(p);
+  if (t == "uint8_t" || t == "bool") return load<std::uint8_t>(p);
+  if (t == "int16_t") return load<std::int16_t>(p);
+  if (t == "uint16_t") return load<std::uint16_t>(p);
+  if (t == "int32_t") return load<std::int32_t>(p);
+  if (t == "uint32_t") return load<std::uint32_t>(p);
+  if (t == "int64_t") return static_cast<double>(load<std::int64_t>(p));
+  if (t == "uint64_t") return static_cast<double>(load<std::uint64_t>(p));
+  return 0.0;
+}
+
+// What one topic gives: the fields and element indices of each signal.
+struct Wanted {
+  std::string name, field, unit;
+  int element = 0;
+};
+
+std::vector<Wanted> wanted_of(const std::string& topic) {
+  if (topic == "sensor_combined")
+    return {{"gyro_x", "gyro_rad", "rad/s", 0},          {"gyro_y", "gyro_rad", "rad/s", 1},
+            {"gyro_z", "gyro_rad", "rad/s", 2},          {"accel_x", "accelerometer_m_s2", "m/s^2", 0},
+            {"accel_y", "accelerometer_m_s2", "m/s^2", 1}, {"accel_z", "accelerometer_m_s2", "m/s^2", 2}};
+  if (topic == "sensor_gyro")
+    return {{"gyro_x", "x", "rad/s", 0}, {"gyro_y", "y", "rad/s", 0}, {"gyro_z", "z", "rad/s", 0}};
+  if (topic == "sensor_accel")
+    return {{"accel_x", "x", "m/s^2", 0}, {"accel_y", "y", "m/s^2", 0}, {"accel_z", "z", "m/s^2", 0}};
+  return {};
+}
+
+class Parser {
+ public:
+  explicit Parser(std::string path) : path_(std::move(path)) {}
+
+  SignalSet read(const ReadOptions& options) {
+    load_file();
+    std::string topic = options.topic.empty() ? "sensor_combined" : options.topic;
+    int instance = 0;
+    if (const auto colon = topic.find(':'); colon != std::string::npos) {
+      const std::string k = topic.substr(colon + 1);
+      if (k.empty() || k.size() > 3 || k.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(path_ + ": --topic " + topic + ": expected NAME or NAME:INSTANCE (e.g. sensor_gyro:1)");
+      instance = std::stoi(k);
+      topic.resize(colon);
+    }
+    const std::vector<Wanted> wanted = wanted_of(topic);
+    if (wanted.empty())
+      throw InputError(path_ + ": --topic " + topic +
+                       ": expected an IMU topic: sensor_combined, sensor_gyro or sensor_accel");
+    scan(topic, instance, wanted);
+    return result(topic, instance, wanted, options);
+  }
+
+ private:
+  [[noreturn]] void fail(std::size_t at, std::size_t index, const std::string& what) const {
+    throw InputError(path_ + ": message " + std::to_string(index) + " at byte " + std::to_string(at) + ": " + what);
+  }
+
+  void load_file() {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) throw InputError(path_ + ": cannot open the ULog file");
+    bytes_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (bytes_.size() < kHeaderBytes || std::memcmp(bytes_.data(), kMagic.data(), kMagic.size()) != 0)
+      throw InputError(path_ + ": found no ULog header, expected the magic bytes 'ULog' 01 12 35");
+  }
+
+  // A format definition "name:type field;type field;...".
+  void define(const std::string& text, std::size_t at, std::size_t index) {
+    const auto colon = text.find(':');
+    if (colon == std::string::npos || colon == 0) fail(at, index, "format '" + text + "' has no 'name:'");
+    raw_formats_[text.substr(0, colon)] = text.substr(colon + 1);
+  }
+
+  // The layout of a format (resolving nested types), memoised.
+  const Format& layout(const std::string& name, int depth = 0) {
+    if (const auto it = formats_.find(name); it != formats_.end()) return it->second;
+    const auto raw = raw_formats_.find(name);
+    if (raw == raw_formats_.end() || depth > 16)
+      throw InputError(path_ + ": format '" + name + "' is used but never defined (or nests too deep)");
+    Format f;
+    std::size_t start = 0;
+    const std::string& s = raw->second;
+    while (start < s.size()) {
+      auto end = s.find(';', start);
+      if (end == std::string::npos) end = s.size();
+      const std::string item = s.substr(start, end - start);
+      start = end + 1;
+      if (item.empty()) continue;
+      const auto space = item.find(' ');
+      if (space == std::string::npos) throw InputError(path_ + ": format '" + name + "': field '" + item + "' has no type");
+      Field fd;
+      fd.type = item.substr(0, space);
+      fd.name = item.substr(space + 1);
+      if (const auto br = fd.type.find('['); br != std::string::npos) {
+        const std::string n = fd.type.substr(br + 1, fd.type.size() - br - 2);
+        if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos || fd.type.back() != ']' || n.size() > 6)
+          throw InputError(path_ + ": format '" + name + "': field '" + item + "' has a bad array length");
+        fd.count = std::stoi(n);
+        fd.type.resize(br);
+      }
+      fd.size = basic_size(fd.type);
+      if (fd.size == 0) fd.size = layout(fd.type, depth + 1).size;  // a nested message
+      fd.offset = f.size;
+      f.size += fd.size * static_cast<std::size_t>(fd.count);
+      f.fields.push_back(fd);
+    }
+    return formats_.emplace(name, std::move(f)).first->second;
+  }
+
+  void scan(const std::string& topic, int instance, const std::vector<Wanted>& wanted) {
+    std::size_t at = kHeaderBytes;
+    std::optional<std::uint16_t> msg_id;
+    std::vector<const Field*> fields;
+    const Field* stamp = nullptr;
+    std::size_t payload_size = 0;
+    bool listed_topic = false;
+    for (std::size_t index = 1; at < bytes_.size(); ++index) {
+      if (bytes_.size() - at < 3) fail(at, index, "truncated message header (" + std::to_string(bytes_.size() - at) +
+                                                     " bytes left, expected 3)");
+      const std::uint16_t size = load<std::uint16_t>(&bytes_[at]);
+      const char type = static_cast<char>(bytes_[at + 2]);
+      const std::size_t body = at + 3;
+      if (bytes_.size() - body < size)
+        fail(at, index, "truncated: a '" + std::string(1, type) + "' message of " + std::to_string(size) +
+                            " bytes with " + std::to_string(bytes_.size() - body) + " left");
+      const unsigned char* p = &bytes_[body];
+      if (type == 'F') {
+        define(std::string(reinterpret_cast<const char*>(p), size), at, index);
+      } else if (type == 'A') {
+        if (size < 4) fail(at, index, "an 'A' message shorter than 4 bytes");
+        const int multi = p[0];
+        const std::uint16_t id = load<std::uint16_t>(p + 1);
+        const std::string name(reinterpret_cast<const char*>(p + 3), size - 3);
+        if (name == topic) listed_topic = true;
+        if (name == topic && multi == instance) {
+          msg_id = id;
+          const Format& f = layout(name);
+          payload_size = f.size;
+          fields.clear();
+          for (const Wanted& w : wanted) {
+            const Field* found = nullptr;
+            for (const Field& fd : f.fields)
+              if (fd.name == w.field) found = &fd;
+            if (!found || w.element >= found->count || basic_size(found->type) == 0)
+              fail(at, index, "topic " + topic + " has no numeric field " + w.field +
+                                  (w.element ? "[" + std::to_string(w.element) + "]" : "") + ", expected IMU messages");
+            fields.push_back(found);
+          }
+          stamp = nullptr;
+          for (const Field& fd : f.fields)
+            if (fd.name == "timestamp" && fd.type == "uint64_t") stamp = &fd;
+          if (!stamp) fail(at, index, "topic " + topic + " has no uint64_t timestamp field");
+          values_.assign(wanted.size(), {});
+        }
+      } else if (type == 'D' && msg_id) {
+        if (size < 2) fail(at, index, "a 'D' message shorter than 2 bytes");
+        if (load<std::uint16_t>(p) == *msg_id) {
+          if (size - 2 < payload_size)
+            fail(at, index, topic + " data of " + std::to_string(size - 2) + " bytes, expected " +
+                                std::to_string(payload_size));
+          const unsigned char* d = p + 2;
+          const double t = static_cast<double>(load<std::uint64_t>(d + stamp->offset));
+          if (!times_.empty() && t <= times_.back())
+            fail(at, index, topic + " timestamp " + std::to_string(static_cast<std::uint64_t>(t)) +
+                                " us is not after the previous one (" +
+                                std::to_string(static_cast<std::uint64_t>(times_.back())) + " us): unsorted stamps");
+          times_.push_back(t);
+          for (std::size_t k = 0; k < fields.size(); ++k) {
+            const Field& fd = *fields[k];
+            const double v = number(fd, d + fd.offset + fd.size * static_cast<std::size_t>(wanted[k].element));
+            if (!std::isfinite(v)) fail(at, index, topic + " " + wanted[k].name + " is not a finite number");
+            values_[k].push_back(v);
+          }
+        }
+      }
+      at = body + size;
+    }
+    if (!msg_id)
+      throw InputError(path_ + ": no topic " + topic + (listed_topic ? " instance " + std::to_string(instance) : "") +
+                       " in this log" + topics_hint());
+  }
+
+  std::string topics_hint() const {
+    std::string imu;
+    for (const char* t : {"sensor_combined", "sensor_gyro", "sensor_accel"})
+      if (raw_formats_.count(t)) imu += (imu.empty() ? "" : ", ") + std::string(t);
+    return imu.empty() ? " (it logs none of sensor_combined, sensor_gyro, sensor_accel)" : " (it has " + imu + ")";
+  }
+
+  SignalSet result(const std::string& topic, int instance, const std::vector<Wanted>& wanted,
+                   const ReadOptions& options) {
+    if (static_cast<std::int64_t>(times_.size()) < kMinSamples)
+      throw InputError(path_ + ": topic " + topic + " has " + std::to_string(times_.size()) + " messages, expected at least " +
+                       std::to_string(kMinSamples));
+    SignalSet set;
+    set.path = path_;
+    set.preset = "ulog:" + topic + (instance ? ":" + std::to_string(instance) : "");
+    std::vector<std::size_t> pick;
+    if (options.columns.empty()) {
+      for (std::size_t k = 0; k < wanted.size(); ++k) pick.push_back(k);
+    } else {
+      for (const std::string& c : options.columns) {
+        std::size_t k = 0;
+        while (k < wanted.size() && wanted[k].name != c) ++k;
+        if (k == wanted.size()) {
+          std::string names;
+          for (const Wanted& w : wanted) names += (names.empty() ? "" : ", ") + w.name;
+          throw InputError(path_ + ": --columns " + c + ": topic " + topic + " gives " + names);
+        }
+        pick.push_back(k);
+      }
+    }
+    for (std::size_t k : pick) {
+      const std::vector<double>& v = values_[k];
+      if (std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); }))
+        throw InputError(path_ + ": topic " + topic + " " + wanted[k].name + ": found all " + std::to_string(v.size()) +
+                         " values equal to " + std::to_string(v.front()) +
+                         ", expected a varying signal (a constant has a wavelet variance of zero)");
+      set.signals.push_back({wanted[k].name, std::move(values_[k]), wanted[k].unit});
+    }
+    std::vector<double> offsets(times_.size());
+    for (std::size_t i = 0; i < times_.size(); ++i) offsets[i] = times_[i] - times_.front();
+    set.timing = analyse_timing("timestamp", offsets, times_.front(), TimeUnit{1e-6, "us"}, "ULog (microseconds)");
+    set.timing->given_freq = options.freq;
+    if (options.freq) {
+      set.freq = *options.freq;
+      set.freq_known = true;
+    } else if (set.timing->estimated_freq > 0.0) {
+      set.freq = set.timing->estimated_freq;
+      set.freq_known = true;
+    }
+    return set;
+  }
+
+  std::string path_;
+  std::vector<unsigned char> bytes_;
+  std::map<std::string, std::string> raw_formats_;
+  std::map<std::string, Format> formats_;
+  std::vector<double> times_;
+  std::vector<std::vector<double>> values_;
+};
+
+}  // namespace
+
+bool is_ulog(const std::string& path) {
+  // Regular files only: sniffing a pipe here would consume its first bytes.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  std::array<unsigned char, kMagic.size()> head{};
+  return in && in.read(reinterpret_cast<char*>(head.data()), head.size()) && head == kMagic;
+}
+
+SignalSet read_ulog(const std::string& path, const ReadOptions& options) { return Parser(path).read(options); }
+
+}  // namespace gmwm::io::detail

@@ -1,0 +1,69 @@
+// `--topic` and PX4 ULog input end to end: the WV of a log's IMU topic equals, to the last
+// bit, the WV of the same values read from CSV; bad logs exit 2 with one line, writing nothing.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::expect_bad_input;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+
+namespace {
+
+class GmwmUlog : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_ulog");
+    fixture_.samples = 4096;
+    const auto bytes = gmwm::test::ulog_bytes(fixture_);
+    std::ofstream(dir_ / "log.ulg", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  gmwm::test::UlogFixture fixture_;
+  fs::path dir_;
+};
+
+TEST_F(GmwmUlog, GivesTheSameWvAsTheSameValuesInCsvToTheLastBit) {
+  auto r = run_gmwm({"wv", "log.ulg", "--topic", "sensor_combined", "--json", "ulog.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto v = gmwm::test::ulog_expected(fixture_);
+  std::ofstream csv(dir_ / "same.csv");
+  csv << "gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z\n";
+  char cell[40];
+  for (std::size_t i = 0; i < v[0].size(); ++i)
+    for (std::size_t k = 0; k < 6; ++k) {
+      std::snprintf(cell, sizeof cell, "%.17g", v[k][i]);
+      csv << cell << (k == 5 ? "\n" : ",");
+    }
+  csv.close();
+  r = run_gmwm({"wv", "same.csv", "--freq", "200", "--json", "csv.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto a = read_json(dir_ / "ulog.json"), b = read_json(dir_ / "csv.json");
+  ASSERT_EQ(a["columns"].size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(a["columns"][k]["name"], b["columns"][k]["name"]);
+    EXPECT_EQ(a["columns"][k]["levels"], b["columns"][k]["levels"]) << k;  // doubles compared exactly
+  }
+  EXPECT_EQ(a["columns"][0]["freq"].get<double>(), 200.0);  // from the 5000 us stamps
+}
+
+TEST_F(GmwmUlog, ABadLogExitsTwoWithOneLineAndWritesNothing) {
+  auto bytes = gmwm::test::ulog_bytes(fixture_);
+  bytes.resize(bytes.size() / 2 + 7);
+  std::ofstream(dir_ / "cut.ulg", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  expect_bad_input(run_gmwm({"wv", "cut.ulg", "--json", "x.json"}, dir_), {"cut.ulg: message ", "truncated"},
+                   dir_ / "x.json");
+  expect_bad_input(run_gmwm({"wv", "log.ulg", "--topic", "sensor_mag", "--json", "x.json"}, dir_),
+                   {"log.ulg", "--topic sensor_mag", "expected an IMU topic"}, dir_ / "x.json");
+}
+
+}  // namespace
