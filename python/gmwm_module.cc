@@ -15,6 +15,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
@@ -22,6 +23,7 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/io/json_output.h"
+#include "gmwm/io/signal_reader.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/version.h"
 
@@ -42,10 +44,16 @@ py::object to_python(const Json& j) {
 // A 1-D float64 view of one series (copied when not contiguous float64).
 std::vector<double> series_of(const py::handle& obj, const char* what) {
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a) throw gmwm::InputError(std::string(what) + ": expected a 1-D array of numbers");
+  if (!a) {
+    PyErr_Clear();  // ensure() leaves the conversion's error set
+    throw gmwm::InputError(std::string(what) + ": expected a 1-D array of numbers");
+  }
   if (a.ndim() != 1)
     throw gmwm::InputError(std::string(what) + ": expected a 1-D array, got " + std::to_string(a.ndim()) +
                            " dimensions");
+  if (a.size() < gmwm::io::kMinSamples)
+    throw gmwm::InputError(std::string(what) + ": found " + std::to_string(a.size()) + " samples, expected at least " +
+                           std::to_string(gmwm::io::kMinSamples) + " (the wavelet variance needs 4 levels, 2^4 samples)");
   std::vector<double> x(a.data(), a.data() + a.size());
   for (std::size_t i = 0; i < x.size(); ++i)
     if (!std::isfinite(x[i]))
@@ -58,6 +66,11 @@ std::vector<double> series_of(const py::handle& obj, const char* what) {
 std::vector<std::vector<double>> columns_of(const py::handle& obj) {
   if (py::isinstance<py::array>(obj) && py::cast<py::array>(obj).ndim() == 2) {
     auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+    if (!a) {
+      PyErr_Clear();
+      throw gmwm::InputError("data: expected a 2-D array of numbers (samples x columns)");
+    }
+    if (a.shape(1) == 0) throw gmwm::InputError("data: found no column, expected samples x columns");
     std::vector<std::vector<double>> out(static_cast<std::size_t>(a.shape(1)));
     for (py::ssize_t c = 0; c < a.shape(1); ++c) {
       py::object col = py::reinterpret_steal<py::object>(
@@ -67,9 +80,12 @@ std::vector<std::vector<double>> columns_of(const py::handle& obj) {
     return out;
   }
   if (py::isinstance<py::array>(obj)) return {series_of(obj, "data")};
+  if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj))
+    throw gmwm::InputError("data: expected an array (samples, or samples x columns) or a list of 1-D arrays");
   std::vector<std::vector<double>> out;
   std::size_t k = 0;
   for (const auto& item : py::cast<py::sequence>(obj)) out.push_back(series_of(item, ("column " + std::to_string(++k)).c_str()));
+  if (out.empty()) throw gmwm::InputError("data: found no column, expected samples x columns");
   return out;
 }
 
@@ -188,19 +204,22 @@ py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, s
                              std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
   if (signals < 1) throw gmwm::InputError("signals: expected at least 1, got " + std::to_string(signals));
+  if (freq && !(*freq > 0.0 && std::isfinite(*freq)))
+    throw gmwm::InputError("freq: expected a positive sampling rate in Hz, got " + std::to_string(*freq));
   const gmwm::Model model =
       gmwm::parse_model(model_spec, gmwm::ProcessContext{freq.value_or(1.0), freq.has_value()});
   if (!model.fully_specified())
     throw gmwm::InputError("model '" + model_spec + "': give every parameter a value to simulate");
   const Eigen::VectorXd theta = model.given_values();
   if (const std::string why = model.validate(theta); !why.empty()) throw gmwm::InputError(why);
-  py::array_t<double> out(signals == 1 ? std::vector<py::ssize_t>{n} : std::vector<py::ssize_t>{signals, n});
+  // Samples x signals, as a file's columns and as select() takes them.
+  py::array_t<double> out(signals == 1 ? std::vector<py::ssize_t>{n} : std::vector<py::ssize_t>{n, signals});
   double* dst = out.mutable_data();
   {
     py::gil_scoped_release release;
     for (int k = 0; k < signals; ++k) {
       const std::vector<double> x = gmwm::simulate(model, theta, n, seed, static_cast<std::uint64_t>(k));
-      std::copy(x.begin(), x.end(), dst + static_cast<std::ptrdiff_t>(k) * n);
+      for (std::int64_t i = 0; i < n; ++i) dst[i * signals + k] = x[static_cast<std::size_t>(i)];
     }
   }
   return out;
@@ -218,6 +237,8 @@ PYBIND11_MODULE(_gmwm, m) {
       if (p) std::rethrow_exception(p);
     } catch (const gmwm::InputError& e) {
       input_error(e.what());
+    } catch (const gmwm::InvalidArgument& e) {
+      input_error(e.what());  // the library's argument checks: bad input too, as the CLI's exit 2
     }
   });
   m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,
@@ -234,5 +255,6 @@ PYBIND11_MODULE(_gmwm, m) {
         "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
-        "Independent series of a fully specified model (signal k on stream k, as gmwm simulate)");
+        "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "
+        "as gmwm simulate's columns");
 }

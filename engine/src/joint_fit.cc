@@ -410,7 +410,14 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
         part.push_back(wvs[static_cast<std::size_t>(k)]);
         omega.push_back(blocks[static_cast<std::size_t>(k)]);
       }
-    const FitResult f = minimise(stack_wv(part), j.model, block_diagonal(omega), {j.theta}, fit);
+    std::vector<Eigen::VectorXd> starts = {j.theta};
+    for (int k = 0; k < K; ++k) {
+      const FitResult& own = joint.singles.size() == wvs.size() ? joint.singles[static_cast<std::size_t>(k)] : j;
+      if (counts[b][static_cast<std::size_t>(k)] > 0 && own.status != FitStatus::kFailed && own.theta.allFinite() &&
+          own.theta.size() == j.theta.size())
+        starts.push_back(own.theta);
+    }
+    const FitResult f = minimise(stack_wv(part), j.model, block_diagonal(omega), starts, fit);
     if (f.status == FitStatus::kFailed || !f.theta.allFinite()) return;
     thetas[b] = f.theta;
     // The WV cannot see a signed parameter's sign: the joint estimate's is kept.
@@ -457,6 +464,10 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
     const double centre = u(j.theta(i));
     const double half = t * inflate * std::sqrt(var);
     if (!std::isfinite(centre) || !std::isfinite(half)) continue;
+    if (j.interval.size() == static_cast<std::size_t>(p) &&
+        (j.interval[static_cast<std::size_t>(i)] == IntervalKind::kBoundary ||
+         j.interval[static_cast<std::size_t>(i)] == IntervalKind::kNotIdentified))
+      continue;  // collapsed or not identified: no interval (see the header)
     const double a = from_unconstrained(spec.transform, centre - half);
     const double c = from_unconstrained(spec.transform, centre + half);
     out.ci_low(i) = sign > 0.0 ? a : -c;

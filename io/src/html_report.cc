@@ -68,12 +68,16 @@ std::string column_facts(const ReportColumn& c) {
   return os.str();
 }
 
+// The goodness-of-fit level of the "rejected" lines: 5%, as everywhere a fit is called
+// rejected (rejection_summary's default, engine/fit.h; the JSON's "rejected").
+constexpr double kRejectionLevel = 0.05;
+
 // The fit-quality sentences (rejection with the worst scales, degeneracy), highlighted.
 std::string quality_lines(const FitResult& f, const ReportColumn& c, bool all_rejected, const std::string& full_model) {
   std::ostringstream os;
   const std::vector<int> none;
   const std::vector<int>& stacked = c.replicates && c.replicates->joint ? c.replicates->joint->levels : none;
-  const std::string why = rejection_summary(f, c.freq, c.freq_known, 0.05, stacked);
+  const std::string why = rejection_summary(f, c.freq, c.freq_known, kRejectionLevel, stacked);
   if (all_rejected)
     os << "<p class=\"quality\"><b>every candidate is rejected at 5%</b>: no sub-model of " << html_escape(full_model)
        << " describes these data" << (why.empty() ? "" : "; the chosen " + html_escape(f.model.to_string()) + " is " + html_escape(why))

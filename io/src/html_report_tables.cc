@@ -267,7 +267,7 @@ namespace {
 
 // The shared-theta test in one sentence, highlighted when it rejects.
 std::string replicate_test_line(const ReplicateTest& t) {
-  const bool rejects = t.heterogeneity_p < 0.05;
+  const bool rejects = t.rejects();
   std::ostringstream os;
   os << "<p class=\"" << (rejects ? "quality" : "facts") << "\">shared theta? heterogeneity H = "
      << html_escape(num(t.heterogeneity, 4)) << ", bootstrap p " << html_escape(num(t.heterogeneity_p, 3)) << ": "

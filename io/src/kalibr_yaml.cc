@@ -75,11 +75,15 @@ void check_unique_keys(const YAML::Node& map, const std::string& path) {
   }
 }
 
-// A plain decimal number: what the CSV reader accepts (no hex floats, no ".inf").
-std::optional<double> decimal(const std::string& text) {
+// A plain decimal number (an optional leading '+', as YAML 1.2 allows): what the CSV
+// reader accepts (no hex floats, no ".inf"). Sets `out_of_range` for a number beyond a double.
+std::optional<double> decimal(std::string text, bool& out_of_range) {
+  out_of_range = false;
+  if (!text.empty() && text.front() == '+') text.erase(0, 1);
   double v = 0.0;
   const char* end = text.data() + text.size();
   const auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
+  if (ec == std::errc::result_out_of_range && ptr == end) out_of_range = true;
   if (ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
   return v;
 }
@@ -127,7 +131,9 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
   try {
     root = YAML::Load(read_text(path));
   } catch (const YAML::Exception& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+    throw InputError((e.mark.is_null() ? path
+                                       : path + ":" + std::to_string(e.mark.line + 1) + ":" +
+                                             std::to_string(e.mark.column + 1)) +
                      ": not valid YAML: " + e.msg);
   }
   if (!root.IsMap())
@@ -139,14 +145,21 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
   for (const char* key : kNumericKeys) {
     const YAML::Node v = node[key];
     if (!v) continue;
-    const std::string where = at(path, v.Mark());
+    YAML::Mark mark = v.Mark();  // the key's line: a missing value's mark is the next line
+    for (const auto& kv : node)
+      if (kv.first.Scalar() == key) mark = kv.first.Mark();
+    const std::string where = at(path, mark);
+    if (v.IsNull()) throw InputError(where + ": " + key + ": found nothing, expected a number");
     const std::string text = v.IsScalar() ? v.Scalar() : std::string(v.IsMap() ? "a map" : "a list");
-    const std::optional<double> x = v.IsScalar() ? decimal(trim(text)) : std::nullopt;
+    bool out_of_range = false;
+    const std::optional<double> x = v.IsScalar() ? decimal(trim(text), out_of_range) : std::nullopt;
+    if (out_of_range)
+      throw InputError(where + ": " + key + ": found " + text + ", beyond the range of a double");
     if (!x) throw InputError(where + ": " + key + ": found '" + text + "', expected a number");
     if (*x < 0.0 || (std::string(key) == "update_rate" && *x == 0.0))
       throw InputError(where + ": " + key + ": found " + text + ", expected " +
                        (std::string(key) == "update_rate" ? "a positive rate in Hz" : "a non-negative noise figure"));
-    figures[key] = {*x, v.Mark().line + 1};
+    figures[key] = {*x, mark.line + 1};
   }
   for (const char* k : {"accelerometer_noise_density", "accelerometer_random_walk", "gyroscope_noise_density",
                         "gyroscope_random_walk"})

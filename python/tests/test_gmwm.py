@@ -76,11 +76,13 @@ def test_simulate_equals_the_cli_series(tmp_path):
     names = rows[0]
     cli = np.array([[float(v) for v in r] for r in rows[1:]])
     mine = gmwm.simulate("AR1(phi=0.9,sigma2=1e-4)+RW(gamma2=1e-8)", 2000, signals=2)
-    assert mine.shape == (2, 2000)
+    assert mine.shape == (2000, 2)  # samples x signals, as the file's columns
     first = names.index(next(n for n in names if n != "time"))
     # The CSV carries the values to round-trip precision: the same doubles.
-    np.testing.assert_array_equal(mine[0], cli[:, first])
-    np.testing.assert_array_equal(mine[1], cli[:, first + 1])
+    np.testing.assert_array_equal(mine[:, 0], cli[:, first])
+    np.testing.assert_array_equal(mine[:, 1], cli[:, first + 1])
+    # ... and select() reads them as two columns.
+    assert len(gmwm.select(mine, "WN+RW")) == 2
 
 
 def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
@@ -95,6 +97,18 @@ def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
         gmwm.wv(np.array([1.0, 2.0, np.nan] + [0.0] * 100))
     with pytest.raises(gmwm.InputError, match="expected a 1-D array"):
         gmwm.wv(np.zeros((4, 4, 4)))
+    with pytest.raises(gmwm.InputError, match="found 10 samples, expected at least 16"):
+        gmwm.wv(np.arange(10.0))
+    with pytest.raises(gmwm.InputError, match="expected a 2-D array of numbers"):
+        gmwm.select(np.array([["1", "a"]] * 100, dtype=object), "WN+RW")
+    with pytest.raises(gmwm.InputError, match="found no column"):
+        gmwm.select([], "WN+RW")
+    with pytest.raises(gmwm.InputError, match="found no column"):
+        gmwm.select(np.zeros((100, 0)), "WN+RW")
+    with pytest.raises(gmwm.InputError, match="expected an array"):
+        gmwm.select(1.0, "WN+RW")
+    with pytest.raises(gmwm.InputError, match="freq: expected a positive sampling rate"):
+        gmwm.simulate("WN(sigma2=1)", 100, freq=0)
 
 
 def test_computations_release_the_gil(example):

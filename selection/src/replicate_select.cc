@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 
@@ -75,6 +76,22 @@ Weights pilot_weights(std::span<const WaveletVariance> wvs, const Model& maximal
     w.omega.push_back(std::move(omega));
   }
   return w;
+}
+
+// Runs f(t) for t in [0, n) in parallel and rethrows the lowest-index task's exception,
+// so that which message the user sees does not depend on which thread failed first.
+template <typename F>
+void parallel_in_order(std::size_t n, F f) {
+  std::vector<std::exception_ptr> errors(n);
+  oneapi::tbb::parallel_for(std::size_t{0}, n, [&](std::size_t t) {
+    try {
+      f(t);
+    } catch (...) {
+      errors[t] = std::current_exception();
+    }
+  });
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 // Every subset of size s of {0, ..., K-1}, in lexicographic order.
@@ -210,7 +227,7 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
   const bool bootstrap = options.select.optimism != OptimismMethod::kAnalytic;
   const std::size_t S = out.training.size();
   std::vector<Selection> sel(S + 1);
-  oneapi::tbb::parallel_for(std::size_t{0}, S + 1, [&](std::size_t t) {
+  parallel_in_order(S + 1, [&](std::size_t t) {
     sel[t] = t == 0 ? select_on(wvs, all, w, maximal, options, bootstrap)
                     : select_on(wvs, out.training[t - 1], w, maximal, options, false);
   });
@@ -278,8 +295,7 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
 std::vector<ReplicateSelection> select_by_replicates(std::span<const std::vector<WaveletVariance>> axes,
                                                      const Model& maximal, const ReplicateSelectOptions& options) {
   std::vector<ReplicateSelection> out(axes.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, axes.size(),
-                            [&](std::size_t a) { out[a] = select_by_replicates(axes[a], maximal, options); });
+  parallel_in_order(axes.size(), [&](std::size_t a) { out[a] = select_by_replicates(axes[a], maximal, options); });
   return out;
 }
 

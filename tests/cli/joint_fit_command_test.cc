@@ -136,9 +136,7 @@ TEST_F(GmwmCliJointFit, SelectRanksEverySubModelByItsWvicCrossValidatedOverTheRe
 }
 
 TEST_F(GmwmCliJointFit, ARobustJointFitResistsSpikesInEveryReplicate) {
-  // One spike of 5 (50 white-noise sd) every 100 samples of each recording's gx. (Spikes in
-  // one replicate alone barely move even the classical joint fit: its diagonal Omega gives
-  // that replicate's inflated WV a weight ~ (0.01 / 0.26)^2 of the others'.)
+  // One spike of 5 (50 white-noise sd) every 100 samples of each recording's gx.
   for (const char* file : {"r1.csv", "r2.csv", "r3.csv"}) {
     std::istringstream in(gmwm::test::read_text(dir_ / file));
     std::ostringstream out;

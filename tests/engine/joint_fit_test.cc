@@ -217,6 +217,19 @@ TEST(JointFit, TheReplicateTIntervalWidensThePercentileOneByStudentsTAndTheBoots
   }
 }
 
+TEST(JointFit, TheReplicateBootstrapGivesNoIntervalForACollapsedComponent) {
+  // White noise only, fitted with WN+RW: the RW collapses in the joint fit, and the
+  // resamples cannot say how uncertain a collapsed value is.
+  const auto wvs = replicates("WN(sigma2=1e-2)", {12, 13, 14}, 316);
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));
+  ASSERT_EQ(r.joint.interval.size(), 2u);
+  if (r.joint.interval[1] != IntervalKind::kBoundary && r.joint.interval[1] != IntervalKind::kNotIdentified)
+    GTEST_SKIP() << "the RW did not collapse in this draw: " << to_string(r.joint.interval[1]);
+  const ReplicateBootstrap b = replicate_bootstrap(wvs, r);
+  EXPECT_TRUE(std::isfinite(b.ci_low(0)) && std::isfinite(b.ci_high(0)));
+  EXPECT_TRUE(std::isnan(b.ci_low(1)) && std::isnan(b.ci_high(1)));
+}
+
 TEST(JointFit, TheReplicateBootstrapNeedsTwoReplicates) {
   const auto wvs = replicates("WN(sigma2=1e-2)+RW(gamma2=1e-8)", {12}, 315);
   try {

@@ -163,6 +163,18 @@ TEST_F(KalibrYaml, RejectsDuplicateKeysHexFloatsBadYamlAndUnrepresentableFigures
   EXPECT_NE(why.find("imu.yaml:2: accelerometer_random_walk: 1e-300 gives RW gamma2 = 0 per sample"), std::string::npos)
       << why;
   EXPECT_NE(error_of("- 1\n- 2\n").find("expected a Kalibr imu.yaml"), std::string::npos);
+  why = error_of("accelerometer_noise_density: 1e-3\ngyroscope_noise_density:\ngyroscope_random_walk: 1e-5\n");
+  EXPECT_NE(why.find("imu.yaml:2: gyroscope_noise_density: found nothing, expected a number"), std::string::npos) << why;
+  why = error_of("gyroscope_noise_density: 1e-400\n");
+  EXPECT_NE(why.find("imu.yaml:1: gyroscope_noise_density: found 1e-400, beyond the range of a double"),
+            std::string::npos)
+      << why;
+  // YAML 1.2 allows a leading '+'.
+  const SimConfig plus = read_kalibr_imu_yaml(
+      write("accelerometer_noise_density: +2.0e-3\naccelerometer_random_walk: 3.0e-3\ngyroscope_noise_density: "
+            "1.0e-4\ngyroscope_random_walk: 2.0e-5\n"),
+      200.0, parse_units(""));
+  EXPECT_NEAR(plus.models.at(SensorKind::kAccel).given_values()(0), 8.0e-4, 1e-15);
 }
 
 TEST(Units, ParsesEachKindsUnitsAndRejectsOthersWithOneLine) {

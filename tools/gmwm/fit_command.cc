@@ -157,7 +157,7 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
        << " of the replicates drawn with replacement\n";
   if (test)
     os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p " << fmt(test->heterogeneity_p, 3)
-       << (test->heterogeneity_p < 0.05 ? " (the replicates do not share one theta)" : " (one theta fits them all)")
+       << (test->rejects() ? " (the replicates do not share one theta)" : " (one theta fits them all)")
        << "; joint misfit T = " << fmt(test->statistic, 4) << ", bootstrap p " << fmt(test->p_value, 3) << " ("
        << test->draws << " draws, Omega_k = V_k^-1 at the fixed-point estimate)\n";
   return os.str();

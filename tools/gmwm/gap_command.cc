@@ -228,11 +228,13 @@ std::pair<std::string, std::string> kalibr_source(const std::string& text) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const auto colon = text.rfind(':');
-  if (colon == std::string::npos || fs::exists(text, ec) || !fs::exists(text.substr(0, colon), ec)) return {text, ""};
+  if (colon == std::string::npos || colon == 0 || fs::exists(text, ec)) return {text, ""};
   const std::string imu = text.substr(colon + 1);
-  if (imu.size() <= 3 || imu.rfind("imu", 0) != 0 || imu.find_first_not_of("0123456789", 3) != std::string::npos)
-    throw InputError("--kalibr " + text + ": expected FILE or FILE:imuN (e.g. imu_chain.yaml:imu1), got '" + imu + "'");
-  return {text.substr(0, colon), imu};
+  const bool names_imu =
+      imu.size() > 3 && imu.rfind("imu", 0) == 0 && imu.find_first_not_of("0123456789", 3) == std::string::npos;
+  if (names_imu) return {text.substr(0, colon), imu};  // a missing FILE is then reported by its own name
+  if (!fs::exists(text.substr(0, colon), ec)) return {text, ""};
+  throw InputError("--kalibr " + text + ": expected FILE or FILE:imuN (e.g. imu_chain.yaml:imu1), got '" + imu + "'");
 }
 
 int run_gap(const GapArgs& args, const CommonOptions& common) {

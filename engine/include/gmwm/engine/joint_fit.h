@@ -84,11 +84,19 @@ struct ReplicateTestOptions {
   std::string Validate() const;
 };
 
+/// The level at which the shared-theta test is read ("the replicates do not share one
+/// theta" when heterogeneity_p <= it): the conventional 5%, at which its level was
+/// measured (tools/bench/RESULTS.md). With B draws the smallest p is 1 / (1 + B), so B = 19
+/// can just reject.
+inline constexpr double kReplicateTestLevel = 0.05;
+
 struct ReplicateTest {
   double statistic = 0.0, p_value = 1.0;          ///< T and its bootstrap p
   double heterogeneity = 0.0, heterogeneity_p = 1.0;  ///< H and its bootstrap p
   std::vector<double> own_minimum;                ///< per replicate, its own minimum under Omega_k
   int draws = 0;                                  ///< bootstrap draws that gave a finite statistic
+  /// The replicates do not share one theta: heterogeneity_p <= kReplicateTestLevel.
+  bool rejects() const { return heterogeneity_p <= kReplicateTestLevel; }
 };
 
 /// Throws InputError for invalid options or when `joint` has no usable estimate.
@@ -108,8 +116,12 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
 /// it cannot cover: the resampled fits stay within the range of the K replicates'
 /// estimates, which misses the truth with probability 2^(1-K) (25% for K = 3), and the
 /// bootstrap variance of a mean of K is (K-1)/K of its variance.
+/// A parameter of the joint fit that is not identified or whose component collapsed gets
+/// no replicate-t interval (NaN): the resamples' fits sit at the same collapsed value, and
+/// their spread says nothing of its uncertainty.
+/// Each resample's fit starts from the joint estimate and from its replicates' own fits.
 struct ReplicateBootstrap {
-  Eigen::VectorXd ci_low, ci_high;  ///< replicate-t interval (natural parameters, canonical order; NaN when no draw)
+  Eigen::VectorXd ci_low, ci_high;  ///< replicate-t interval (natural parameters, canonical order; NaN when no draw, collapsed or not identified)
   Eigen::VectorXd percentile_low, percentile_high;  ///< the plain percentile interval
   Eigen::VectorXd se;               ///< sqrt(K / (K-1)) x the bootstrap sd (natural scale)
   int draws = 0;                    ///< fits that did not fail

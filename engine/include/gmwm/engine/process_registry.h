@@ -53,8 +53,11 @@ class ProcessRegistry {
 
 }  // namespace gmwm
 
-/// Defines `void register_process_<Type>(ProcessRegistry&)` for a process type whose
-/// constructor takes (const ProcessArgs&); used at namespace gmwm scope in the type's file.
+/// For the library's built-in processes only: defines `void register_process_<Type>(
+/// ProcessRegistry&)` for a process type (an unqualified name) whose constructor takes
+/// (const ProcessArgs&), at namespace gmwm scope in the type's file; the registry calls it
+/// because builtin_processes.h lists the type. It registers nothing by itself: an
+/// application adds its own type with ProcessRegistry::instance().add(entry).
 #define GMWM_REGISTER_PROCESS(Type, Name, Summary, ...)                                    \
   void register_process_##Type(::gmwm::ProcessRegistry& registry) {                        \
     registry.add(::gmwm::ProcessEntry{                                                      \

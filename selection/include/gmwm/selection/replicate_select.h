@@ -35,7 +35,8 @@ struct ReplicateSelectOptions {
   /// settings, progress). Its optimism: kAnalytic, or kBootstrap / kBoth for the
   /// parametric-bootstrap optimism of the joint fit on all replicates beside the analytic
   /// one (every replicate simulated at its own length from the candidate's joint fit,
-  /// bootstrap_replicates draws per candidate, its WV by `select.estimator`); the splits
+  /// bootstrap_replicates draws per candidate, its WV by `select.estimator`, streams from
+  /// this struct's `seed`, not select.seed); the splits
   /// are always scored by their held-out loss.
   SelectOptions select;
   int split_bootstrap = 2000;      ///< resamples of the splits for the equivalence test
@@ -88,7 +89,8 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
                                         const ReplicateSelectOptions& options = {});
 
 /// Every axis at once (each axis its own replicates' WVs): axes x splits x models in one
-/// TBB task tree; result i is select_by_replicates(axes[i], ...), bit for bit.
+/// TBB task tree; result i is select_by_replicates(axes[i], ...), bit for bit. When several
+/// fail, the first axis's (then first split's) error is thrown, whatever the thread timing.
 std::vector<ReplicateSelection> select_by_replicates(std::span<const std::vector<WaveletVariance>> axes,
                                                      const Model& maximal, const ReplicateSelectOptions& options = {});
 
