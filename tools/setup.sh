@@ -10,7 +10,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
           libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev libgtest-dev
-          libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libtinyxml2-dev libyaml-cpp-dev pkg-config
+          libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev pkg-config
           pybind11-dev python3-dev python3-numpy python3-pytest
           libjs-vega chromium)
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless

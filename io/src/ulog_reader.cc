@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "gmwm/engine/error.h"
+#include "log_signals.h"
 #include "timestamp.h"
 #include "ulog_reader.h"
 
@@ -256,47 +257,10 @@ class Parser {
 
   SignalSet result(const std::string& topic, int instance, const std::vector<Wanted>& wanted,
                    const ReadOptions& options) {
-    if (static_cast<std::int64_t>(times_.size()) < kMinSamples)
-      throw InputError(path_ + ": topic " + topic + " has " + std::to_string(times_.size()) + " messages, expected at least " +
-                       std::to_string(kMinSamples));
-    SignalSet set;
-    set.path = path_;
-    set.preset = "ulog:" + topic + (instance ? ":" + std::to_string(instance) : "");
-    std::vector<std::size_t> pick;
-    if (options.columns.empty()) {
-      for (std::size_t k = 0; k < wanted.size(); ++k) pick.push_back(k);
-    } else {
-      for (const std::string& c : options.columns) {
-        std::size_t k = 0;
-        while (k < wanted.size() && wanted[k].name != c) ++k;
-        if (k == wanted.size()) {
-          std::string names;
-          for (const Wanted& w : wanted) names += (names.empty() ? "" : ", ") + w.name;
-          throw InputError(path_ + ": --columns " + c + ": topic " + topic + " gives " + names);
-        }
-        pick.push_back(k);
-      }
-    }
-    for (std::size_t k : pick) {
-      const std::vector<double>& v = values_[k];
-      if (std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); }))
-        throw InputError(path_ + ": topic " + topic + " " + wanted[k].name + ": found all " + std::to_string(v.size()) +
-                         " values equal to " + std::to_string(v.front()) +
-                         ", expected a varying signal (a constant has a wavelet variance of zero)");
-      set.signals.push_back({wanted[k].name, std::move(values_[k]), wanted[k].unit});
-    }
-    std::vector<double> offsets(times_.size());
-    for (std::size_t i = 0; i < times_.size(); ++i) offsets[i] = times_[i] - times_.front();
-    set.timing = analyse_timing("timestamp", offsets, times_.front(), TimeUnit{1e-6, "us"}, "ULog (microseconds)");
-    set.timing->given_freq = options.freq;
-    if (options.freq) {
-      set.freq = *options.freq;
-      set.freq_known = true;
-    } else if (set.timing->estimated_freq > 0.0) {
-      set.freq = set.timing->estimated_freq;
-      set.freq_known = true;
-    }
-    return set;
+    std::vector<LogAxis> axes;
+    for (std::size_t k = 0; k < wanted.size(); ++k) axes.push_back({wanted[k].name, wanted[k].unit, std::move(values_[k])});
+    return log_signal_set(path_, "ulog:" + topic + (instance ? ":" + std::to_string(instance) : ""), "topic " + topic,
+                          std::move(axes), times_, TimeUnit{1e-6, "us"}, "ULog (microseconds)", options);
   }
 
   std::string path_;
