@@ -6,6 +6,7 @@
 // with the same one-line message.
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -24,6 +25,8 @@
 #include "gmwm/engine/simulate.h"
 #include "gmwm/io/json_output.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/robust/tuning.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/version.h"
 
@@ -107,6 +110,43 @@ std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>
   return names;
 }
 
+// The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust.
+std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::optional<double> eff,
+                                                            const std::optional<std::string>& estimator,
+                                                            double alpha) {
+  if (!robust) {
+    if (eff) throw gmwm::InputError("eff: only meaningful with robust=True");
+    if (estimator) throw gmwm::InputError("estimator: only meaningful with robust=True");
+    return std::nullopt;
+  }
+  gmwm::robust::RobustWvOptions o;
+  o.alpha = alpha;
+  if (eff) {
+    if (!(*eff > 0.0 && *eff < 1.0))
+      throw gmwm::InputError("eff: expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6), got " +
+                             std::to_string(*eff));
+    o.efficiency = *eff;
+  }
+  if (estimator) {
+    const auto kind = gmwm::robust::parse_robust_kind(*estimator);
+    if (!kind) throw gmwm::InputError("estimator: unknown robust estimator '" + *estimator + "'; expected huber or bisquare");
+    o.estimator = *kind;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("robust: " + why);
+  return o;
+}
+
+// The WVs of the columns, classical or robust (as the CLI computes them).
+std::vector<gmwm::WaveletVariance> wvs_of(const std::vector<std::vector<double>>& cols, double alpha,
+                                          const std::optional<gmwm::robust::RobustWvOptions>& robust) {
+  std::vector<std::span<const double>> series;
+  for (const auto& c : cols) series.emplace_back(c);
+  if (robust) return gmwm::robust::robust_wv(series, *robust);
+  gmwm::WvOptions wo;
+  wo.alpha = alpha;
+  return gmwm::classical_wv(series, wo);
+}
+
 gmwm::OmegaKind omega_kind(const std::string& s) {
   if (s == "diag") return gmwm::OmegaKind::kDiag;
   if (s == "full") return gmwm::OmegaKind::kFull;
@@ -131,8 +171,12 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
 }
 
 py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
-               const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name) {
+               const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
+               bool robust, std::optional<double> eff, const std::optional<std::string>& estimator) {
   const std::vector<double> x = series_of(data, "data");
+  const auto ro = robust_options(robust, eff, estimator, alpha);
+  std::unique_ptr<gmwm::robust::RobustWvEstimator> robust_estimator;
+  if (ro) robust_estimator = std::make_unique<gmwm::robust::RobustWvEstimator>(*ro);
   const gmwm::io::ColumnInfo column = info(name, x.size(), freq, "");
   const gmwm::Model model = gmwm::parse_model(model_spec, gmwm::ProcessContext{column.freq, column.freq_known});
   gmwm::FitOptions o;
@@ -140,14 +184,12 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
   o.alpha = alpha;
   o.bootstrap_replicates = replicates;
   o.seed = seed;
+  o.estimator = robust_estimator.get();  // the bootstrap Omega recomputes the same WV
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   Json out;
   {
     py::gil_scoped_release release;
-    gmwm::WvOptions wo;
-    wo.alpha = alpha;
-    const std::vector<std::span<const double>> series{std::span<const double>(x)};
-    const gmwm::WaveletVariance w = gmwm::classical_wv(series, wo).front();
+    const gmwm::WaveletVariance w = wvs_of({x}, alpha, ro).front();
     gmwm::check_model_fits_levels(model, w.levels());
     gmwm::FitResult f = gmwm::fit_gmwm(w, model, o);
     gmwm::orient_by_series(f, x);  // a drift's sign from the series' slope, as the CLI does
@@ -158,8 +200,12 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
 
 py::object py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                   const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
-                  double alpha, std::uint64_t seed, const std::vector<std::string>& names) {
+                  double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
+                  std::optional<double> eff, const std::optional<std::string>& estimator) {
   const std::vector<std::vector<double>> cols = columns_of(data);
+  const auto ro = robust_options(robust, eff, estimator, alpha);
+  std::unique_ptr<gmwm::robust::RobustWvEstimator> robust_estimator;
+  if (ro) robust_estimator = std::make_unique<gmwm::robust::RobustWvEstimator>(*ro);
   const std::vector<std::string> labels = names_for(cols.size(), names);
   const gmwm::io::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
   const gmwm::Model maximal = gmwm::parse_model(model_spec, gmwm::ProcessContext{first.freq, first.freq_known});
@@ -180,15 +226,12 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
   o.seed = seed;
   o.fit.alpha = alpha;
   o.fit.seed = seed;
+  o.estimator = robust_estimator.get();  // bootstrap draws get the same WV
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   Json out = Json::array();
   {
     py::gil_scoped_release release;
-    gmwm::WvOptions wo;
-    wo.alpha = alpha;
-    std::vector<std::span<const double>> series;
-    for (const auto& c : cols) series.emplace_back(c);
-    const std::vector<gmwm::WaveletVariance> wvs = gmwm::classical_wv(series, wo);
+    const std::vector<gmwm::WaveletVariance> wvs = wvs_of(cols, alpha, ro);
     for (const auto& w : wvs) gmwm::check_model_fits_levels(maximal, w.levels());
     std::vector<sel::Selection> result = sel::select_models(wvs, maximal, o);
     for (std::size_t k = 0; k < result.size(); ++k) {
@@ -246,12 +289,14 @@ PYBIND11_MODULE(_gmwm, m) {
         "Classical Haar wavelet variance with its chi-square intervals: the 'wv' JSON column");
   m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("omega") = "diag", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
-        py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1",
-        "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference: the 'fit' JSON column");
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1", py::arg("robust") = false,
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
+        "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column");
   m.def("select", &py_select, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{},
+        py::arg("robust") = false, py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
         "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),

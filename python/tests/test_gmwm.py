@@ -67,6 +67,25 @@ def test_select_equals_the_cli_json_bit_for_bit_on_two_columns(tmp_path, example
             assert m[key] == c[key], key
 
 
+def test_robust_fit_and_select_equal_the_cli_json_bit_for_bit(tmp_path, example):
+    doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "gyro_y", "--model", "AR1+WN+RW", "--robust", "--eff", "0.8")
+    col = doc["columns"][0]
+    mine = gmwm.fit(example["gyro_y"], "AR1+WN+RW", freq=col["freq"], name="gyro_y", robust=True, eff=0.8)
+    for key in ("model", "parameters", "objective", "gof", "levels"):
+        assert mine[key] == col[key], key
+    doc = cli_json(tmp_path, "select", EXAMPLE, "--columns", "accel_z", "--model", "AR1+WN+RW", "--robust",
+                   "--estimator", "bisquare")
+    col = doc["columns"][0]
+    mine = gmwm.select(example["accel_z"], "AR1+WN+RW", freq=col["freq"], names=["accel_z"], robust=True,
+                       estimator="bisquare")[0]
+    for key in ("best_model", "ranking", "levels"):
+        assert mine[key] == col[key], key
+    with pytest.raises(gmwm.InputError, match="eff: only meaningful with robust=True"):
+        gmwm.fit(example["gyro_y"], "WN", eff=0.6)
+    with pytest.raises(gmwm.InputError, match="unknown robust estimator 'tukey'"):
+        gmwm.fit(example["gyro_y"], "WN", robust=True, estimator="tukey")
+
+
 def test_simulate_equals_the_cli_series(tmp_path):
     out = tmp_path / "sim.csv"
     subprocess.run([CLI, "simulate", "--model", "AR1(phi=0.9,sigma2=1e-4)+RW(gamma2=1e-8)", "--n", "2000",
