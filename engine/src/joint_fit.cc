@@ -52,18 +52,6 @@ void check_inputs(std::span<const WaveletVariance> wvs, const Model& model, cons
   }
 }
 
-Eigen::MatrixXd block_diagonal(const std::vector<Eigen::MatrixXd>& blocks) {
-  Eigen::Index n = 0;
-  for (const auto& b : blocks) n += b.rows();
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
-  Eigen::Index at = 0;
-  for (const auto& b : blocks) {
-    out.block(at, at, b.rows(), b.cols()) = b;
-    at += b.rows();
-  }
-  return out;
-}
-
 // V_k^-1 (pseudo-inverse, symmetrised) for every replicate at theta.
 std::vector<Eigen::MatrixXd> model_covariances(std::span<const WaveletVariance> wvs, const Model& model,
                                                const Eigen::VectorXd& theta) {
@@ -118,6 +106,18 @@ FitResult minimise(const WaveletVariance& stacked, const Model& model, const Eig
 }
 
 }  // namespace
+
+Eigen::MatrixXd block_diagonal(std::span<const Eigen::MatrixXd> blocks) {
+  Eigen::Index n = 0;
+  for (const auto& b : blocks) n += b.rows();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
+  Eigen::Index at = 0;
+  for (const auto& b : blocks) {
+    out.block(at, at, b.rows(), b.cols()) = b;
+    at += b.rows();
+  }
+  return out;
+}
 
 WaveletVariance stack_wv(std::span<const WaveletVariance> wvs) {
   WaveletVariance s;

@@ -33,18 +33,6 @@ constexpr double kEquivalenceTolerance = 1e-6;
 constexpr std::uint64_t kStreamsPerDraw = 16;
 static_assert(kMaxReplicates <= static_cast<int>(kStreamsPerDraw));
 
-Eigen::MatrixXd block_diagonal(const std::vector<const Eigen::MatrixXd*>& blocks) {
-  Eigen::Index n = 0;
-  for (const auto* b : blocks) n += b->rows();
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, n);
-  Eigen::Index at = 0;
-  for (const auto* b : blocks) {
-    out.block(at, at, b->rows(), b->cols()) = *b;
-    at += b->rows();
-  }
-  return out;
-}
-
 // Stage 1: each replicate's V_k and Omega_k at a pilot joint fit of the maximal model.
 struct Weights {
   std::vector<Eigen::MatrixXd> v, omega;
@@ -133,11 +121,11 @@ SelectOptions::BootstrapDraw stacked_draw(std::vector<WaveletVariance> part, con
 Selection select_on(std::span<const WaveletVariance> wvs, const std::vector<int>& members, const Weights& w,
                     const Model& maximal, const ReplicateSelectOptions& o, bool bootstrap) {
   std::vector<WaveletVariance> part;
-  std::vector<const Eigen::MatrixXd*> v, omega;
+  std::vector<Eigen::MatrixXd> v, omega;  // J_k x J_k blocks: copies are cheap
   for (int k : members) {
     part.push_back(wvs[static_cast<std::size_t>(k)]);
-    v.push_back(&w.v[static_cast<std::size_t>(k)]);
-    omega.push_back(&w.omega[static_cast<std::size_t>(k)]);
+    v.push_back(w.v[static_cast<std::size_t>(k)]);
+    omega.push_back(w.omega[static_cast<std::size_t>(k)]);
   }
   WaveletVariance stacked = stack_wv(part);
   stacked.covariance = block_diagonal(v);

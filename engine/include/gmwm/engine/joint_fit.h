@@ -51,6 +51,10 @@ struct JointFitResult {
 /// objective and its inference only: its taus are not sorted.
 WaveletVariance stack_wv(std::span<const WaveletVariance> wvs);
 
+/// The block-diagonal matrix of `blocks` in order: the stacked WV's Omega or V from each
+/// replicate's own block.
+Eigen::MatrixXd block_diagonal(std::span<const Eigen::MatrixXd> blocks);
+
 /// Fits `model` jointly to the replicates' WVs (classical or robust alike), in two steps:
 /// a pilot under each replicate's own data-based diag(1 / Var(nuhat_kj)), then the fit
 /// under model-based weights from V_k, the covariance of replicate k's WV at the pilot:
