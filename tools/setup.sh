@@ -10,8 +10,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
           libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev libgtest-dev
-          libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev pkg-config
-          pybind11-dev python3-dev python3-numpy python3-pytest
+          libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev libbz2-dev liblz4-dev libzstd-dev pkg-config
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-rosbag python3-sensor-msgs
           libjs-vega chromium)
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
 # browser test (tests/cli/html_report_browser_test.cc).

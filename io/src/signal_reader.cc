@@ -11,6 +11,7 @@
 #include "gmwm/engine/error.h"
 #include "text_source.h"
 #include "timestamp.h"
+#include "rosbag1_reader.h"
 #include "rosbag2_reader.h"
 #include "ulog_reader.h"
 
@@ -144,9 +145,10 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (const std::string msg = options.Validate(); !msg.empty()) throw InputError(msg);
   if (detail::is_ulog(path)) return detail::read_ulog(path, options);
   if (detail::is_rosbag2_sqlite(path)) return detail::read_rosbag2_sqlite(path, options);
+  if (detail::is_rosbag1(path)) return detail::read_rosbag1(path, options);
   if (!options.topic.empty())
     throw InputError(path + ": --topic " + options.topic + ": the file is delimited text, which has no topics "
-                     "(--topic reads a PX4 ULog file or a rosbag2 .db3 bag)");
+                     "(--topic reads a PX4 ULog file or a ROS bag: .bag, .db3, .mcap)");
   detail::TextSource src(path);
   if (src.empty()) throw InputError(path + ": found an empty file, expected a header row and data rows");
 

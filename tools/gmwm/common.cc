@@ -40,11 +40,12 @@ void add_common_options(CLI::App& sub, CommonOptions& common) {
 void add_input_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("INPUT", input.input,
                  "Delimited text file (CSV/TSV/semicolon/whitespace, optionally gzip) with a "
-                 "header row, a PX4 ULog flight log (.ulg) or a rosbag2 sqlite3 bag (.db3); see --topic")
+                 "header row, a PX4 ULog flight log (.ulg), a ROS 1 bag (.bag) or a ROS 2 bag (sqlite3 .db3 or "
+                 "MCAP .mcap); see --topic")
       ->required();
   sub.add_option("--topic", input.topic,
                  "The IMU topic of a log: PX4 ULog sensor_combined (default), sensor_gyro or sensor_accel "
-                 "(NAME:K for instance K); rosbag2: a sensor_msgs/msg/Imu topic (default: the only one)")
+                 "(NAME:K for instance K); ROS bags: a sensor_msgs Imu topic (default: the only one)")
       ->type_name("NAME[:K]");
   sub.add_option("--columns", input.columns,
                  "Columns to use: names or 1-based indices, comma-separated (default: every "

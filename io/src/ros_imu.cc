@@ -1,0 +1,134 @@
+#include "ros_imu.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "gmwm/engine/error.h"
+
+namespace gmwm::io::detail {
+namespace {
+
+constexpr std::size_t kCdrEncapsulation = 4;
+constexpr int kImuDoubles = 37;         // 4 + 9 + 3 + 9 + 3 + 9
+constexpr int kGyroFirst = 13;          // after orientation (4) and its covariance (9)
+constexpr int kAccelFirst = 25;         // after angular_velocity (3) and its covariance (9)
+
+// A bounds-checked little-endian cursor. `align` true: CDR, each primitive aligned to its
+// size; false: ROS 1, packed.
+class Cursor {
+ public:
+  Cursor(const unsigned char* p, std::size_t n, bool align) : p_(p), n_(n), align_(align) {}
+  bool ok() const { return ok_; }
+  std::size_t size() const { return n_; }
+  template <typename T>
+  T get() {
+    if (align_) pos_ = (pos_ + sizeof(T) - 1) / sizeof(T) * sizeof(T);
+    T v{};
+    if (!ok_ || pos_ > n_ || sizeof(T) > n_ - pos_) {
+      ok_ = false;
+      return v;
+    }
+    std::memcpy(&v, p_ + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  void skip_string() {
+    const auto len = get<std::uint32_t>();
+    if (!ok_ || len > n_ - pos_) {
+      ok_ = false;
+      return;
+    }
+    pos_ += len;
+  }
+
+ private:
+  const unsigned char* p_;
+  std::size_t n_, pos_ = 0;
+  bool align_;
+  bool ok_ = true;
+};
+
+std::optional<ImuMessage> decode_body(Cursor& c, ImuMessage m, std::string& error) {
+  c.skip_string();  // frame_id
+  double v[kImuDoubles];
+  for (double& x : v) x = c.get<double>();
+  if (!c.ok()) {
+    error = "truncated: " + std::to_string(c.size()) + " bytes do not hold a sensor_msgs Imu message";
+    return std::nullopt;
+  }
+  if (m.nanosec >= 1000000000u) {
+    error = "header stamp nanoseconds " + std::to_string(m.nanosec) + ", expected < 1e9";
+    return std::nullopt;
+  }
+  for (int a = 0; a < 3; ++a) {
+    m.gyro[a] = v[kGyroFirst + a];
+    m.accel[a] = v[kAccelFirst + a];
+  }
+  return m;
+}
+
+}  // namespace
+
+std::optional<ImuMessage> decode_imu_cdr(const unsigned char* data, std::size_t size, std::string& error) {
+  if (size < kCdrEncapsulation) {
+    error = "found " + std::to_string(size) + " bytes, expected a CDR sensor_msgs/msg/Imu";
+    return std::nullopt;
+  }
+  if (data[0] != 0x00 || data[1] != 0x01) {
+    error = "found CDR encapsulation " + std::to_string(data[0]) + " " + std::to_string(data[1]) +
+            ", expected 0 1 (little-endian CDR)";
+    return std::nullopt;
+  }
+  Cursor c(data + kCdrEncapsulation, size - kCdrEncapsulation, true);
+  ImuMessage m;
+  m.sec = c.get<std::int32_t>();
+  m.nanosec = c.get<std::uint32_t>();
+  return decode_body(c, m, error);
+}
+
+std::optional<ImuMessage> decode_imu_ros1(const unsigned char* data, std::size_t size, std::string& error) {
+  Cursor c(data, size, false);
+  c.get<std::uint32_t>();  // seq
+  ImuMessage m;
+  m.sec = c.get<std::uint32_t>();
+  m.nanosec = c.get<std::uint32_t>();
+  return decode_body(c, m, error);
+}
+
+std::string ImuTopic::where(std::int64_t index) const {
+  return path_ + ": topic " + topic_ + " message " + std::to_string(index) + ": ";
+}
+
+void ImuTopic::reserve(std::size_t n) {
+  stamps_.reserve(n);
+  for (LogAxis& a : axes_) a.values.reserve(n);
+}
+
+void ImuTopic::add(const ImuMessage& m, std::int64_t index) {
+  if (stamps_.empty()) first_sec_ = m.sec;
+  const double t = static_cast<double>(m.sec - first_sec_) * 1e9 + static_cast<double>(m.nanosec);
+  if (!stamps_.empty() && t <= stamps_.back()) {
+    char stamp[48];
+    std::snprintf(stamp, sizeof stamp, "%lld.%09u", static_cast<long long>(m.sec), static_cast<unsigned>(m.nanosec));
+    throw InputError(where(index) + "header stamp " + stamp + " s is not after the previous message's: unsorted stamps");
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(m.gyro[a])) throw InputError(where(index) + axes_[static_cast<std::size_t>(a)].name + " is not a finite number");
+    if (!std::isfinite(m.accel[a]))
+      throw InputError(where(index) + axes_[static_cast<std::size_t>(3 + a)].name + " is not a finite number");
+  }
+  stamps_.push_back(t);
+  for (int a = 0; a < 3; ++a) {
+    axes_[static_cast<std::size_t>(a)].values.push_back(m.gyro[a]);
+    axes_[static_cast<std::size_t>(3 + a)].values.push_back(m.accel[a]);
+  }
+}
+
+SignalSet ImuTopic::signals(const std::string& preset, const std::string& stamp_source,
+                            const ReadOptions& options) && {
+  return log_signal_set(path_, preset, "topic " + topic_, std::move(axes_), stamps_, TimeUnit{1e-9, "ns"},
+                        stamp_source, options);
+}
+
+}  // namespace gmwm::io::detail
