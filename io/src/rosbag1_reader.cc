@@ -35,13 +35,12 @@
 #include <string>
 #include <vector>
 
-#include <bzlib.h>
 #include <fcntl.h>
-#include <lz4frame.h>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include "gmwm/engine/error.h"
+#include "decompress.h"
 #include "ros_imu.h"
 
 namespace gmwm::io::detail {
@@ -171,48 +170,19 @@ struct ChunkMessages {
   bool error_in_message = false;  // the error belongs to message (messages.size() + 1) of the chunk
 };
 
-std::vector<unsigned char> decompress(const std::string& compression, const std::vector<unsigned char>& in,
+// The chunk compressions of the format.
+constexpr CompressionName kCompressions[] = {
+    {"none", Compression::kNone}, {"bz2", Compression::kBz2}, {"lz4", Compression::kLz4Frame}};
+
+// The chunk's data decompressed; `error` set on failure.
+std::vector<unsigned char> chunk_body(const std::string& compression, const std::vector<unsigned char>& in,
                                       std::uint64_t size, std::string& error) {
-  std::vector<unsigned char> out;
-  if (compression == "none") {
-    if (in.size() != size) error = "uncompressed chunk of " + std::to_string(in.size()) + " bytes, its header says " + std::to_string(size);
-    else out = in;
-    return out;
+  const Compression* c = compression_named(kCompressions, compression);
+  if (!c) {
+    error = "chunk compression '" + compression + "', expected " + compression_list(kCompressions);
+    return {};
   }
-  out.resize(size);
-  if (compression == "bz2") {
-    auto dest = static_cast<unsigned int>(size);
-    const int rc = BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &dest,
-                                              const_cast<char*>(reinterpret_cast<const char*>(in.data())),
-                                              static_cast<unsigned int>(in.size()), 0, 0);
-    if (rc != BZ_OK || dest != size)
-      error = "bz2 chunk does not decompress to its " + std::to_string(size) + " bytes (libbz2 code " + std::to_string(rc) + ")";
-    return out;
-  }
-  if (compression == "lz4") {
-    LZ4F_dctx* ctx = nullptr;
-    if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) {
-      error = "cannot create an LZ4 decompression context";
-      return out;
-    }
-    std::size_t done = 0, used = 0, ret = 1;
-    while (ret != 0 && used < in.size()) {
-      std::size_t dst = out.size() - done, src = in.size() - used;
-      ret = LZ4F_decompress(ctx, out.data() + done, &dst, in.data() + used, &src, nullptr);
-      if (LZ4F_isError(ret)) break;
-      done += dst;
-      used += src;
-      if (dst == 0 && src == 0) break;
-    }
-    const bool bad = LZ4F_isError(ret);
-    if (bad || ret != 0 || done != size)
-      error = "lz4 chunk does not decompress to its " + std::to_string(size) + " bytes" +
-              (bad ? std::string(" (") + LZ4F_getErrorName(ret) + ")" : std::string(" (truncated frame)"));
-    LZ4F_freeDecompressionContext(ctx);
-    return out;
-  }
-  error = "chunk compression '" + compression + "', expected none, bz2 or lz4";
-  return out;
+  return decompress(*c, in.data(), in.size(), size, error);
 }
 
 // Reads the chunk at `pos` and decodes the messages of `conns` in it.
@@ -228,7 +198,7 @@ ChunkMessages read_chunk(const std::string& path, const File& f, std::uint64_t p
       return out;
     }
     std::string error;
-    const std::vector<unsigned char> body = decompress(*compression, chunk.data, *size, error);
+    const std::vector<unsigned char> body = chunk_body(*compression, chunk.data, *size, error);
     if (!error.empty()) {
       out.error = path + ": chunk at byte " + std::to_string(pos) + ": " + error;
       return out;

@@ -11,6 +11,7 @@
 #include "gmwm/engine/error.h"
 #include "text_source.h"
 #include "timestamp.h"
+#include "mcap_reader.h"
 #include "rosbag1_reader.h"
 #include "rosbag2_reader.h"
 #include "ulog_reader.h"
@@ -146,6 +147,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (detail::is_ulog(path)) return detail::read_ulog(path, options);
   if (detail::is_rosbag2_sqlite(path)) return detail::read_rosbag2_sqlite(path, options);
   if (detail::is_rosbag1(path)) return detail::read_rosbag1(path, options);
+  if (detail::is_mcap(path)) return detail::read_mcap(path, options);
   if (!options.topic.empty())
     throw InputError(path + ": --topic " + options.topic + ": the file is delimited text, which has no topics "
                      "(--topic reads a PX4 ULog file or a ROS bag: .bag, .db3, .mcap)");

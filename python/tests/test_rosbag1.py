@@ -127,7 +127,7 @@ def damage_first_chunk(path):
     ("truncated", [], ["bag.bag: ", "truncated"]),
     ("unindexed", [], ["bag.bag: the bag has no index", "rosbag reindex"]),
     ("version 1.2", [], ["bag.bag: found a ROS bag of version '1.2', expected 2.0"]),
-    ("damaged bz2", [], ["bag.bag: chunk at byte ", "bz2 chunk does not decompress"]),
+    ("damaged bz2", [], ["bag.bag: chunk at byte ", "bz2 data does not decompress"]),
     ("too short", [], ["bag.bag: topic /imu/data has 8 messages, expected at least 16"]),
 ])
 def test_a_bad_bag_exits_two_with_one_line_naming_file_topic_and_message(tmp_path, case, args, words):

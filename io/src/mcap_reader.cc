@@ -1,0 +1,317 @@
+// MCAP input (docs/cli.md "Inputs"): a sensor_msgs/msg/Imu topic of a ROS 2 bag in MCAP
+// storage, as signals, without a ROS installation.
+//
+// The format (mcap.dev, "MCAP format specification", version 0): the magic 0x89 "MCAP0\r\n",
+// then records {uint8 opcode, uint64 length, content}, all integers little-endian, strings
+// and byte arrays prefixed by a uint32 length. The records read here:
+//   0x03 Schema   uint16 id, string name, string encoding, bytes data
+//   0x04 Channel  uint16 id, uint16 schema_id, string topic, string message_encoding, map metadata
+//   0x05 Message  uint16 channel_id, uint32 sequence, uint64 log_time, uint64 publish_time, data (the rest)
+//   0x06 Chunk    uint64 start, uint64 end, uint64 uncompressed_size, uint32 uncompressed_crc
+//                 (CRC-32, 0: not computed), string compression ("" none, "lz4" an LZ4 frame,
+//                 "zstd" a zstd frame), uint64 length + records (schemas, channels, messages)
+//   0x0F DataEnd  the end of the data section (the summary and footer follow)
+//   0x02 Footer   the end of the file
+// Other opcodes are skipped, as the specification asks. One pass over the data section in
+// storage order: messages of every sensor_msgs/msg/Imu channel are decoded (CDR, ros_imu.cc)
+// and kept per topic; the topic named by --topic (or the only IMU one) is checked and
+// returned at the end. A file without DataEnd or footer (an interrupted recording) is
+// refused, naming the byte where it ends ("mcap recover" rewrites such a file).
+
+#include "mcap_reader.h"
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include "decompress.h"
+#include "gmwm/engine/error.h"
+#include "ros_imu.h"
+
+namespace gmwm::io::detail {
+namespace {
+
+constexpr unsigned char kMagic[] = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'};
+constexpr const char* kImuSchema = "sensor_msgs/msg/Imu";
+constexpr std::size_t kRecordHead = 9;  // opcode + uint64 length
+// A chunk's uncompressed size above this is refused before allocating (docs/cli.md
+// "Limits"); writers use chunks of about 1-4 MB.
+constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
+
+enum Op : std::uint8_t {
+  kFooter = 0x02,
+  kSchema = 0x03,
+  kChannel = 0x04,
+  kMessage = 0x05,
+  kChunk = 0x06,
+  kDataEnd = 0x0F,
+};
+
+constexpr CompressionName kCompressions[] = {
+    {"", Compression::kNone}, {"lz4", Compression::kLz4Frame}, {"zstd", Compression::kZstd}};
+
+// Bounds-checked little-endian reads over a record's content.
+class Reader {
+ public:
+  Reader(const unsigned char* p, std::uint64_t n) : p_(p), n_(n) {}
+  bool ok() const { return ok_; }
+  std::uint64_t left() const { return n_ - pos_; }
+  const unsigned char* here() const { return p_ + pos_; }
+  template <typename T>
+  T get() {
+    T v{};
+    if (!ok_ || sizeof(T) > n_ - pos_) {
+      ok_ = false;
+      return v;
+    }
+    std::memcpy(&v, p_ + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::string string() {
+    const auto len = get<std::uint32_t>();
+    if (!ok_ || len > n_ - pos_) {
+      ok_ = false;
+      return {};
+    }
+    std::string s(reinterpret_cast<const char*>(p_ + pos_), len);
+    pos_ += len;
+    return s;
+  }
+
+ private:
+  const unsigned char* p_;
+  std::uint64_t n_, pos_ = 0;
+  bool ok_ = true;
+};
+
+struct Mapping {
+  void* base = MAP_FAILED;
+  std::size_t size = 0;
+  ~Mapping() {
+    if (base != MAP_FAILED) ::munmap(base, size);
+  }
+};
+
+struct Channel {
+  std::string topic, schema, encoding;
+};
+
+// The messages of one IMU topic as read, checked once the topic is chosen.
+struct TopicMessages {
+  std::vector<ImuMessage> messages;
+  std::string error;  // the first message that did not decode (its index: messages.size() + 1)
+  std::string encoding;
+};
+
+class McapPass {
+ public:
+  explicit McapPass(std::string path) : path_(std::move(path)) {}
+
+  // The records of `data`: the file's data section (`base`: its byte offset in the file) or,
+  // `in_chunk`, a chunk's records (`base`: the chunk's byte offset, `at` counted in its
+  // records). Returns false at a DataEnd or Footer record.
+  bool records(const unsigned char* data, std::uint64_t n, std::uint64_t base, bool in_chunk) {
+    std::uint64_t at = 0;
+    while (at < n) {
+      chunk_ = base;
+      const std::uint64_t offset = in_chunk ? at : base + at;
+      if (n - at < kRecordHead)
+        throw InputError(path_ + ": " + place(offset, in_chunk) + "truncated: the " + (in_chunk ? "chunk" : "file") +
+                         " ends inside a record header" + recover_hint(in_chunk));
+      const std::uint8_t op = data[at];
+      std::uint64_t len;
+      std::memcpy(&len, data + at + 1, 8);
+      if (len > n - at - kRecordHead)
+        throw InputError(path_ + ": " + place(offset, in_chunk) + "record of " + std::to_string(len) + " bytes runs past the end of the " +
+                         (in_chunk ? "chunk" : "file") + ": truncated" + recover_hint(in_chunk));
+      const unsigned char* content = data + at + kRecordHead;
+      switch (op) {
+        case kSchema: schema(content, len, offset, in_chunk); break;
+        case kChannel: channel(content, len, offset, in_chunk); break;
+        case kMessage: message(content, len, offset, in_chunk); break;
+        case kChunk:
+          if (in_chunk) throw InputError(path_ + ": " + place(offset, true) + "a chunk inside a chunk");
+          chunk(content, len, offset);
+          break;
+        case kDataEnd:
+        case kFooter:
+          if (!in_chunk) return false;
+          break;
+        default: break;  // other records (indexes, attachments, metadata, statistics): skipped
+      }
+      at += kRecordHead + len;
+    }
+    return true;
+  }
+
+  SignalSet finish(const ReadOptions& options) {
+    std::string all, imu;
+    for (const auto& [topic, c] : topics_) all += (all.empty() ? "" : ", ") + topic + " (" + c + ")";
+    for (const auto& [topic, m] : imu_) imu += (imu.empty() ? "" : ", ") + topic;
+    std::string topic = options.topic;
+    if (topic.empty()) {
+      if (imu_.size() != 1)
+        throw InputError(path_ + (imu_.empty() ? ": no " + std::string(kImuSchema) + " topic in this bag (it has " +
+                                                     (all.empty() ? std::string("no topic") : all) + ")"
+                                               : ": several " + std::string(kImuSchema) + " topics (" + imu +
+                                                     "): name one with --topic"));
+      topic = imu_.begin()->first;
+    }
+    const auto t = topics_.find(topic);
+    if (t == topics_.end())
+      throw InputError(path_ + ": no topic " + topic + " in this bag (it has " + (all.empty() ? std::string("no topic") : all) + ")");
+    if (t->second != kImuSchema)
+      throw InputError(path_ + ": topic " + topic + " is " + t->second + ", expected " + kImuSchema + " messages");
+    TopicMessages& m = imu_[topic];
+    if (!m.encoding.empty() && m.encoding != "cdr")
+      throw InputError(path_ + ": topic " + topic + " is encoded as '" + m.encoding + "', expected cdr");
+    ImuTopic out(path_, topic);
+    out.reserve(m.messages.size());
+    std::int64_t index = 0;
+    for (const ImuMessage& msg : m.messages) out.add(msg, ++index);
+    if (!m.error.empty()) throw InputError(out.where(index + 1) + m.error);
+    m.messages = {};
+    return std::move(out).signals("mcap:" + topic, "MCAP header stamps (ns)", options);
+  }
+
+ private:
+  std::string place(std::uint64_t offset, bool in_chunk) const {
+    return in_chunk ? "chunk at byte " + std::to_string(chunk_) + ", record at byte " + std::to_string(offset) + " of its records: "
+                    : "record at byte " + std::to_string(offset) + ": ";
+  }
+  static std::string recover_hint(bool in_chunk) {
+    return in_chunk ? "" : " (an interrupted recording? 'mcap recover' rewrites it)";
+  }
+  [[noreturn]] void malformed(const char* what, std::uint64_t offset, bool in_chunk) const {
+    throw InputError(path_ + ": " + place(offset, in_chunk) + "malformed " + what + " record");
+  }
+
+  void schema(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
+    Reader r(p, n);
+    const auto id = r.get<std::uint16_t>();
+    std::string name = r.string();
+    if (!r.ok()) malformed("schema", offset, in_chunk);
+    schemas_[id] = std::move(name);
+  }
+
+  void channel(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
+    Reader r(p, n);
+    const auto id = r.get<std::uint16_t>();
+    const auto schema_id = r.get<std::uint16_t>();
+    Channel c;
+    c.topic = r.string();
+    c.encoding = r.string();
+    if (!r.ok()) malformed("channel", offset, in_chunk);
+    const auto s = schemas_.find(schema_id);
+    c.schema = schema_id == 0 ? "(no schema)" : s == schemas_.end() ? "(unknown schema " + std::to_string(schema_id) + ")" : s->second;
+    topics_.emplace(c.topic, c.schema);
+    if (c.schema == kImuSchema) imu_[c.topic].encoding = c.encoding;
+    channels_[id] = std::move(c);
+  }
+
+  void message(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
+    Reader r(p, n);
+    const auto id = r.get<std::uint16_t>();
+    r.get<std::uint32_t>();  // sequence
+    r.get<std::uint64_t>();  // log_time
+    r.get<std::uint64_t>();  // publish_time
+    if (!r.ok()) malformed("message", offset, in_chunk);
+    const auto c = channels_.find(id);
+    if (c == channels_.end())
+      throw InputError(path_ + ": " + place(offset, in_chunk) + "a message on channel " + std::to_string(id) +
+                       ", which no channel record defines before it");
+    if (c->second.schema != kImuSchema) return;
+    TopicMessages& t = imu_[c->second.topic];
+    if (!t.error.empty() || t.encoding != "cdr") return;  // reported when (if) the topic is chosen
+    std::string error;
+    if (const auto m = decode_imu_cdr(r.here(), static_cast<std::size_t>(r.left()), error)) t.messages.push_back(*m);
+    else t.error = error;
+  }
+
+  void chunk(const unsigned char* p, std::uint64_t n, std::uint64_t offset) {
+    Reader r(p, n);
+    r.get<std::uint64_t>();  // message_start_time
+    r.get<std::uint64_t>();  // message_end_time
+    const auto size = r.get<std::uint64_t>();
+    const auto crc = r.get<std::uint32_t>();
+    const std::string compression = r.string();
+    const auto records_len = r.get<std::uint64_t>();
+    if (!r.ok() || records_len > r.left()) malformed("chunk", offset, false);
+    const std::string where = path_ + ": chunk at byte " + std::to_string(offset) + ": ";
+    const Compression* c = compression_named(kCompressions, compression);
+    if (!c) throw InputError(where + "compression '" + compression + "', expected " + compression_list(kCompressions));
+    if (size > kMaxChunkBytes)
+      throw InputError(where + "uncompressed size " + std::to_string(size) + " bytes, above the limit of " +
+                       std::to_string(kMaxChunkBytes));
+    // Records stored without compression are read in place.
+    if (*c == Compression::kNone) {
+      if (records_len != size)
+        throw InputError(where + "uncompressed records of " + std::to_string(records_len) + " bytes, its header says " +
+                         std::to_string(size));
+      check_crc(r.here(), size, crc, where);
+      records(r.here(), size, offset, true);
+      return;
+    }
+    std::string error;
+    const std::vector<unsigned char> body = decompress(*c, r.here(), static_cast<std::size_t>(records_len), size, error);
+    if (!error.empty()) throw InputError(where + error);
+    check_crc(body.data(), size, crc, where);
+    records(body.data(), size, offset, true);
+  }
+
+  static void check_crc(const unsigned char* p, std::uint64_t n, std::uint32_t crc, const std::string& where) {
+    if (crc == 0) return;  // not computed by the writer
+    uLong c = crc32_z(0L, Z_NULL, 0);
+    c = crc32_z(c, p, static_cast<z_size_t>(n));
+    if (static_cast<std::uint32_t>(c) != crc)
+      throw InputError(where + "CRC-32 of the records is " + std::to_string(c) + ", the chunk says " + std::to_string(crc) +
+                       ": a damaged file");
+  }
+
+  std::string path_;
+  std::uint64_t chunk_ = 0;  // the byte offset of the chunk being read
+  std::map<std::uint16_t, std::string> schemas_;
+  std::map<std::uint16_t, Channel> channels_;
+  std::map<std::string, std::string> topics_;       // topic -> schema name
+  std::map<std::string, TopicMessages> imu_;        // the IMU topics' messages
+};
+
+}  // namespace
+
+bool is_mcap(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // never sniff a pipe
+  std::ifstream in(path, std::ios::binary);
+  unsigned char head[sizeof kMagic] = {};
+  return in && in.read(reinterpret_cast<char*>(head), sizeof head) && std::memcmp(head, kMagic, sizeof head) == 0;
+}
+
+SignalSet read_mcap(const std::string& path, const ReadOptions& options) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError(path + ": cannot open the MCAP file");
+  Mapping map;
+  map.size = static_cast<std::size_t>(std::filesystem::file_size(path));
+  if (map.size > sizeof kMagic) map.base = ::mmap(nullptr, map.size, PROT_READ, MAP_PRIVATE, fd, 0);
+  ::close(fd);
+  if (map.base == MAP_FAILED) throw InputError(path + ": cannot map the MCAP file (" + std::to_string(map.size) + " bytes)");
+  ::madvise(map.base, map.size, MADV_SEQUENTIAL);
+  const auto* data = static_cast<const unsigned char*>(map.base);
+  McapPass pass(path);
+  if (pass.records(data + sizeof kMagic, map.size - sizeof kMagic, sizeof kMagic, false))
+    throw InputError(path + ": the file ends at byte " + std::to_string(map.size) +
+                     " without a DataEnd or footer record: truncated (an interrupted recording? 'mcap recover' "
+                     "rewrites it)");
+  return pass.finish(options);
+}
+
+}  // namespace gmwm::io::detail
