@@ -21,6 +21,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/io/json_output.h"
@@ -170,6 +171,28 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
   return to_python(out);
 }
 
+// The data's Allan deviation and the noise figures read off it: the 'allan' and
+// 'noise_figures' fields `gmwm wv --adev` gives a column (the same engine and io functions).
+py::object py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& unit) {
+  const std::vector<double> x = series_of(data, "data");
+  if (!(freq > 0.0) || !std::isfinite(freq)) throw gmwm::InputError("freq: expected a positive sampling rate in Hz");
+  gmwm::AllanOptions allan;
+  allan.points_per_octave = points_per_octave;
+  allan.alpha = alpha;
+  if (const std::string why = allan.Validate(); !why.empty()) throw gmwm::InputError("points_per_octave: " + why);
+  Json out;
+  {
+    py::gil_scoped_release release;
+    gmwm::ReadoffOptions readoff;
+    readoff.alpha = alpha;
+    const gmwm::FigureReport r = gmwm::data_figure_report(x, freq, allan, readoff);
+    out["unit"] = unit.empty() ? Json(nullptr) : Json(unit);
+    out["allan"] = gmwm::io::allan_json(r.adev, {});
+    out["noise_figures"] = gmwm::io::noise_figures_json(r.chosen, unit);
+  }
+  return to_python(out);
+}
+
 py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
                bool robust, std::optional<double> eff, const std::optional<std::string>& estimator) {
@@ -298,6 +321,11 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{},
         py::arg("robust") = false, py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
         "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns");
+  m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq"),
+        py::arg("points_per_octave") = gmwm::AllanOptions{}.points_per_octave, py::arg("alpha") = 0.05,
+        py::arg("unit") = "",
+        "Overlapping Allan deviation with chi-square intervals and the noise figures read off it (N, K, B): "
+        "the 'allan' and 'noise_figures' fields of gmwm wv --adev");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

@@ -8,9 +8,10 @@ The functions take numpy arrays and return the plain-Python form of the JSON col
     w = gmwm.wv(x, freq=100)                       # w["levels"][j]["wv"], ["ci_low"], ...
     f = gmwm.fit(x, "WN+RW", freq=100)             # f["parameters"], f["gof"], ...
     s = gmwm.select(np.column_stack([x, x]), "AR1+WN+RW", freq=100)   # one entry per column
+    a = gmwm.allan(x, freq=100, unit="rad/s")      # a["allan"], a["noise_figures"] (N, K, B)
 
 Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
 """
-from ._gmwm import DEFAULT_SEED, InputError, __version__, fit, select, simulate, wv
+from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, select, simulate, wv
 
-__all__ = ["wv", "fit", "select", "simulate", "InputError", "DEFAULT_SEED", "__version__"]
+__all__ = ["wv", "allan", "fit", "select", "simulate", "InputError", "DEFAULT_SEED", "__version__"]

@@ -48,6 +48,22 @@ def test_wv_equals_the_cli_json_bit_for_bit(tmp_path, example):
     assert mine["n"] == col["n"]
 
 
+def test_allan_equals_the_cli_adev_json_bit_for_bit(tmp_path, example):
+    doc = cli_json(tmp_path, "wv", EXAMPLE, "--columns", "gyro_y", "--adev", "--units", "gyro=rad/s")
+    col = doc["columns"][0]
+    mine = gmwm.allan(example["gyro_y"], freq=col["freq"], unit="rad/s")
+    assert col["allan"] and col["noise_figures"]
+    for key in ("unit", "allan", "noise_figures"):
+        assert mine[key] == col[key], key
+
+
+def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
+    with pytest.raises(gmwm.InputError, match="freq: expected a positive sampling rate in Hz"):
+        gmwm.allan(example["gyro_y"], freq=0.0)
+    with pytest.raises(gmwm.InputError, match="^points_per_octave: "):
+        gmwm.allan(example["gyro_y"], freq=100.0, points_per_octave=0)
+
+
 def test_fit_equals_the_cli_json_bit_for_bit(tmp_path, example):
     doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "accel_y", "--model", "AR1+WN+RW")
     col = doc["columns"][0]
