@@ -23,6 +23,7 @@
 #include "gmwm/engine/physical.h"
 #include "gmwm/selection/cross_axis.h"
 #include "gmwm/selection/gap.h"
+#include "gmwm/pipeline/gap_study.h"
 
 namespace gmwm::cli {
 namespace {
@@ -39,75 +40,6 @@ struct GapArgs {
   int replicates = selection::GapOptions{}.replicates;
   bool no_unit_check = false;  ///< --no-unit-check
 };
-
-// A simulator's Gauss-Markov bias whose correlation time is at least this many records
-// long is a random walk over the record: its WV differs from RW(gamma2 = its innovation
-// variance)'s by about tau / (2 T) relative, at most 5% at the coarsest scale.
-constexpr double kRandomWalkLikeRecords = 10.0;
-
-// Such a bias replaced by that random walk, said in the conversions: a Kalibr yaml and an
-// SDF or RotorS file carrying the same densities then give the same baseline (and the
-// same diagnosis). Nothing else is simplified: a term too small to show in one record's
-// WV still belongs to the simulator's noise.
-void random_walk_like(Model& base, Eigen::VectorXd& theta, std::int64_t n, std::vector<std::string>& conversions) {
-  std::vector<Component> comps;
-  std::vector<double> values;
-  bool changed = false;
-  for (int c = 0; c < base.num_components(); ++c) {
-    const Component& comp = base.components()[static_cast<std::size_t>(c)];
-    const Process& p = *comp.process;
-    const double* th = theta.data() + base.offset(c);
-    const double T = p.name() == "AR1" && th[0] > 0.0 && th[0] < 1.0 ? -1.0 / std::log(th[0]) : 0.0;
-    if (T >= kRandomWalkLikeRecords * static_cast<double>(n)) {
-      const Model rw = parse_model("RW(gamma2=" + fmt(th[1], 17) + ")", p.context());
-      comps.push_back(rw.components()[0]);
-      values.push_back(th[1]);
-      conversions.push_back("over this record (" + std::to_string(n) + " samples) the Gauss-Markov bias " +
-                            p.name() + " (correlation time " + fmt(T, 3) + " samples, " +
-                            fmt(T / static_cast<double>(n), 3) + " records) is RW-like: RW(gamma2 = its innovation "
-                            "variance " + fmt(th[1], 6) + "), as a random-walk density gives");
-      changed = true;
-      continue;
-    }
-    comps.push_back(comp);
-    values.insert(values.end(), th, th + p.size());
-  }
-  if (!changed) return;
-  Eigen::VectorXd t = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
-  base = Model(std::move(comps)).canonical(&t);
-  theta = t;
-}
-
-// The finest levels compared for a unit mix-up (white noise dominates there on an IMU).
-constexpr int kUnitCheckLevels = 3;
-
-// Before diagnosing: a data / baseline ratio at the finest levels near a unit factor
-// ((180/pi)^2 for deg/s read as rad/s, 9.80665^2 for m/s^2 read as g, ...) is a unit
-// mix-up, not a gap: stop with one line naming the --units that fits.
-void check_units(const std::string& path, const std::string& column, const WaveletVariance& wv, const Model& base,
-                 const Eigen::VectorXd& theta, const std::map<io::SensorKind, io::Unit>& units,
-                 std::optional<io::SensorKind> sensor) {
-  io::SensorKind kind;
-  try {
-    kind = sensor ? *sensor : io::sensor_kind_of_column(column);
-  } catch (const InputError&) {
-    return;  // neither a gyro nor an accelerometer: no unit to suggest
-  }
-  const Eigen::VectorXd nu = base.wv(theta, wv.tau);
-  std::vector<double> r;
-  for (int j = 0; j < std::min(kUnitCheckLevels, wv.levels()); ++j) r.push_back(wv.wv[static_cast<std::size_t>(j)] / nu(j));
-  if (r.empty()) return;
-  std::sort(r.begin(), r.end());
-  const double ratio = r[r.size() / 2];
-  const io::Unit& declared = units.at(kind);
-  const auto s = io::suggest_unit(ratio, kind, declared);
-  if (!s) return;
-  throw InputError(path + ": column '" + column + "': its WV at the finest scales is " + fmt(ratio, 3) +
-                   " x the baseline's, near (" + s->unit.name + " per " + declared.name + ")^2 = " + fmt(s->factor, 4) +
-                   ": the data look like " + s->unit.name + ", not " + declared.name + "; give --units " +
-                   io::to_string(kind) + "=" + s->unit.name + " (or --no-unit-check if the sensor really is that far "
-                   "from the baseline)");
-}
 
 std::string seconds_text(double tau, const io::SignalSet& set) {
   return set.freq_known ? fmt(tau / set.freq, 3) + " s" : fmt(tau, 6) + " samples";
@@ -204,23 +136,6 @@ std::string cross_axis_text(const std::vector<selection::CrossAxisPair>& pairs, 
   return out;
 }
 
-// --temperature COLUMN: that column's values, taken out of the analysed signals.
-std::vector<double> take_temperature(io::SignalSet& set, const std::string& column) {
-  if (column.empty()) return {};
-  std::string names;
-  for (auto it = set.signals.begin(); it != set.signals.end(); ++it) {
-    if (it->name == column) {
-      std::vector<double> t = std::move(it->values);
-      set.signals.erase(it);
-      if (set.signals.empty()) throw InputError("--temperature '" + column + "': no other column is left to diagnose");
-      return t;
-    }
-    names += (names.empty() ? "" : ", ") + it->name;
-  }
-  throw InputError("--temperature '" + column + "': no such column among those read (" + names +
-                   "); include it in --columns");
-}
-
 // --kalibr FILE[:imuN]: the file, and the IMU of a chain (empty: the file is one IMU).
 // Split at the last ':' only when the whole text is not a file, its head is, and its
 // tail names an IMU (a file name may contain ':').
@@ -251,152 +166,65 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   if (given != 1)
     throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf "
                      "or --fit SPEC");
-  const auto units = io::parse_units(args.units);
-  std::optional<io::SensorKind> sensor;
-  if (!args.sensor.empty()) sensor = args.sensor == "gyro" ? io::SensorKind::kGyro : io::SensorKind::kAccel;
-  selection::GapOptions options;
+  pipeline::GapStudyOptions options;
+  options.wv = wv_opts;
+  options.units = io::parse_units(args.units);
+  options.units_declared = !args.units.empty();
+  if (!args.sensor.empty()) options.sensor = args.sensor == "gyro" ? io::SensorKind::kGyro : io::SensorKind::kAccel;
+  options.temperature_column = args.temperature;
+  options.unit_check = !args.no_unit_check;
   options.replicates = args.replicates;
   options.seed = common.seed;
   options.alpha = args.input.alpha;
-  options.refit_baseline = !args.fit.empty();
-  if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
+  if (!args.model.empty()) options.baseline = pipeline::ModelBaseline{args.model};
+  if (!args.fit.empty()) options.baseline = pipeline::FitBaseline{args.fit};
 
   Stopwatch read_clock;
   io::SignalSet set = read_input(args.input);
-  const std::vector<double> temperature = take_temperature(set, args.temperature);
   const double read_seconds = read_clock.seconds();
-  const ProcessContext ctx{set.freq, set.freq_known};
-  options.context = ctx;
-  std::optional<io::SimConfig> config;
-  if (!args.kalibr.empty()) config = io::read_kalibr_imu_yaml(kalibr_path, set.freq, units, kalibr_imu);
-  if (!args.gazebo.empty()) config = io::read_gazebo_sdf(args.gazebo, set.freq, units);
-  const std::string& config_path = !args.kalibr.empty() ? kalibr_path : args.gazebo;
-  const std::optional<Model> spec_model =
-      !args.model.empty() ? std::optional<Model>(parse_model(args.model, ctx))
-                          : !args.fit.empty() ? std::optional<Model>(parse_model(args.fit, ctx)) : std::nullopt;
-  if (spec_model && !args.model.empty()) {
-    const Eigen::VectorXd v = spec_model->given_values();
-    if (const std::string why = spec_model->validate(v); !why.empty() || !v.allFinite())
-      throw InputError("--model '" + args.model + "': give every parameter's value (SPEC_WITH_VALUES), e.g. "
-                       "WN(sigma2=2.5e-5)+RW(gamma2=1e-12)");
-  }
-  // Each column's baseline and the conversions behind it.
-  const std::size_t K = set.signals.size();
-  std::vector<Model> baselines(K);
-  std::vector<std::vector<std::string>> conversions(K);
-  for (std::size_t k = 0; k < K; ++k) {
-    if (config) {
-      const io::SensorKind kind = sensor ? *sensor : io::sensor_kind_of_column(set.signals[k].name);
-      // The kind's model, or the column's axis's when the simulator's axes differ.
-      auto b = io::baseline_for_column(*config, kind, set.signals[k].name);
-      if (!b)
-        throw InputError(config_path + ": every " + std::string(io::to_string(kind)) +
-                         " figure is zero or absent, nothing to compare column '" + set.signals[k].name + "' with");
-      baselines[k] = std::move(b->model);
-      conversions[k] = std::move(b->conversions);
-    } else {
-      baselines[k] = *spec_model;
-    }
-  }
-  Stopwatch wv_clock;
-  const std::vector<WaveletVariance> wvs = compute_wv(set, wv_opts);
-  robust::RobustWvOptions ropts;
-  ropts.levels = wv_opts.levels;
-  ropts.alpha = wv_opts.alpha;
-  const std::vector<WaveletVariance> robust_wvs = compute_robust_wv(set, ropts);
-  const double wv_seconds = wv_clock.seconds();
-
-  // --fit: the family fitted on each column first.
-  std::vector<Eigen::VectorXd> thetas(K);
-  for (std::size_t k = 0; k < K; ++k) {
-    check_model_fits_levels(baselines[k], wvs[k].levels());
-    if (args.fit.empty()) {
-      thetas[k] = baselines[k].given_values();
-      if (config) random_walk_like(baselines[k], thetas[k], wvs[k].n, conversions[k]);
-      if (!args.no_unit_check)
-        check_units(set.path, set.signals[k].name, wvs[k], baselines[k], thetas[k], units, sensor);
-      continue;
-    }
-    FitOptions fo;
-    fo.inference = false;
-    const FitResult f = fit_gmwm(wvs[k], baselines[k], fo);
-    if (f.status == FitStatus::kFailed)
-      throw InputError("--fit '" + args.fit + "': the fit failed on column '" + set.signals[k].name + "'");
-    baselines[k] = f.model;
-    thetas[k] = f.theta;
-    conversions[k].push_back("baseline fitted on the column: " + f.model.to_string(f.theta));
-  }
-
-  // Progress on a terminal: per column, its reference replicates (half of its cost) and
-  // then its attribution (the other half), with the time left.
+  if (!args.kalibr.empty())
+    options.baseline = pipeline::ConfigBaseline{io::read_kalibr_imu_yaml(kalibr_path, set.freq, options.units, kalibr_imu),
+                                                kalibr_path};
+  if (!args.gazebo.empty())
+    options.baseline = pipeline::ConfigBaseline{io::read_gazebo_sdf(args.gazebo, set.freq, options.units), args.gazebo};
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
+  // Progress on a terminal: per column, its reference replicates and then its attribution.
   ProgressBar bar("gap: columns x steps", common);
-  Stopwatch gap_clock;
-  std::vector<selection::GapResult> results(K);
-  const double per_column = 2.0 * options.replicates;
-  for (std::size_t k = 0; k < K; ++k) {
-    selection::GapOptions o = options;
-    o.seed = common.seed + k;  // each column its own reference streams
-    if (bar.enabled())
-      o.progress = [&, k](int done, int) { bar.update(static_cast<double>(k) * per_column + done, K * per_column); };
-    const std::vector<double>& x = set.signals[k].values;
-    results[k] = selection::diagnose_gap(wvs[k], baselines[k], thetas[k], o, &robust_wvs[k], &x,
-                                         temperature.empty() ? nullptr : &temperature);
-    bar.update(static_cast<double>(k + 1) * per_column, K * per_column);
-  }
-  const double gap_seconds = gap_clock.seconds();
+  if (bar.enabled()) options.progress = [&bar](double done, double all) { bar.update(done, all); };
+  const pipeline::GapStudy study = pipeline::study_gap(set, options);
 
-  io::Json doc = io::json_document("gap");
-  doc["input"] = set.path;
-  doc["baseline_source"] = config ? config->source : !args.fit.empty() ? "fit " + args.fit : "model";
-  doc["replicates"] = args.replicates;
-  doc["seed"] = common.seed;
-  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
-  // The data unit of each column, when declared (--units, or a simulator's SI figures).
-  std::vector<std::string> column_units(K);
-  for (std::size_t k = 0; k < K; ++k)
-    if (!args.units.empty() || config) column_units[k] = unit_of_column(units, sensor, set.signals[k].name);
-  if (!temperature.empty()) doc["temperature_column"] = args.temperature;
-  // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.
-  std::vector<std::span<const double>> spans;
-  for (const auto& sig : set.signals) spans.emplace_back(sig.values);
-  const auto cross = selection::cross_axis_correlation(spans, wv_opts.levels, options.alpha);
-  io::Json cross_json = io::Json::array();
-  for (const auto& p : cross)
-    if (p.significant)
-      cross_json.push_back({{"a", set.signals[static_cast<std::size_t>(p.a)].name},
-                            {"b", set.signals[static_cast<std::size_t>(p.b)].name},
-                            {"tau", p.tau},
-                            {"tau_seconds", set.freq_known ? io::Json(p.tau / set.freq) : io::Json(nullptr)},
-                            {"rho", io::json_number(p.rho)},
-                            {"z", io::json_number(p.z)}});
-  doc["cross_axis"] = {{"tested", cross.size()}, {"significant", std::move(cross_json)}};
-  for (std::size_t k = 0; k < K; ++k) {
-    io::ColumnInfo info = column_info(set, k);
-    info.unit = column_units[k];
-    doc["columns"].push_back(io::gap_column_json(info, results[k], conversions[k]));
-  }
+  io::Json doc = io::gap_document(set, study);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
-    for (std::size_t k = 0; k < K; ++k)
-      report += (k ? "\n" : "") + terminal_report(set.signals[k].name, results[k], set, conversions[k], column_units[k]);
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::GapColumnStudy& c = study.columns[k];
+      report += (k ? "\n" : "") + terminal_report(c.name, c.result, set, c.conversions, c.unit);
+    }
     report += "\nsummary:\n";
-    for (std::size_t k = 0; k < K; ++k) report += "  " + summary_line(set.signals[k].name, results[k]) + "\n";
-    report += cross_axis_text(cross, set);
+    for (const pipeline::GapColumnStudy& c : study.columns) report += "  " + summary_line(c.name, c.result) + "\n";
+    report += cross_axis_text(study.cross_axis, set);
   }
   warn_about_timing(set);
   write_json(common, doc,
              {.threads = 0,
-              .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"gap", gap_seconds}, {"total", total.seconds()}},
+              .seconds = {{"read", read_seconds},
+                          {"wv", study.wv_seconds},
+                          {"gap", study.gap_seconds},
+                          {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
-    io::ReportData rep =
-        report_data("gap", set, !args.model.empty() ? args.model : !args.fit.empty() ? "fit " + args.fit : config_path);
-    for (std::size_t k = 0; k < K; ++k) {
-      rep.columns[k].wvs = {wvs[k], robust_wvs[k]};
-      rep.columns[k].gap = results[k];
-      rep.columns[k].conversions = conversions[k];
-      if (!column_units[k].empty()) rep.columns[k].unit = column_units[k];
+    io::ReportData rep = report_data("gap", set,
+                                     !args.model.empty() ? args.model
+                                     : !args.fit.empty() ? "fit " + args.fit
+                                     : !args.kalibr.empty() ? kalibr_path
+                                                            : args.gazebo);
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::GapColumnStudy& c = study.columns[k];
+      rep.columns[k].wvs = {c.wv, c.robust_wv};
+      rep.columns[k].gap = c.result;
+      rep.columns[k].conversions = c.conversions;
+      if (!c.unit.empty()) rep.columns[k].unit = c.unit;
     }
     write_report(common, rep);
   }

@@ -20,19 +20,9 @@ void add_units_options(CLI::App& sub, UnitsOptions& o) {
       ->check(CLI::PositiveNumber);
 }
 
-std::string unit_of_column(const std::map<io::SensorKind, io::Unit>& units, std::optional<io::SensorKind> kind,
-                           const std::string& column) {
-  if (!kind) try {
-      kind = io::sensor_kind_of_column(column);
-    } catch (const InputError&) {
-      return {};
-    }
-  return units.count(*kind) ? units.at(*kind).name : io::si_unit(*kind).name;
-}
-
 std::string column_unit(const UnitsOptions& o, const std::string& column) {
   if (o.units.empty()) return {};
-  return unit_of_column(io::parse_units(o.units), std::nullopt, column);
+  return io::unit_of_column(io::parse_units(o.units), std::nullopt, column);
 }
 
 double filter_rate(const UnitsOptions& o, const io::SignalSet& set) {

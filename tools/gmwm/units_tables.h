@@ -27,12 +27,7 @@ void add_units_options(CLI::App& sub, UnitsOptions& o);
 /// Adds --units alone (commands without a Kalman table).
 void add_units_option(CLI::App& sub, UnitsOptions& o);
 
-/// The unit of a column of sensor `kind` (or, without one, the kind its name says): the
-/// declared unit of that kind, SI where none is declared; "" when no kind is known.
-std::string unit_of_column(const std::map<io::SensorKind, io::Unit>& units, std::optional<io::SensorKind> kind,
-                           const std::string& column);
-
-/// The column's unit name from --units (unit_of_column), "" when --units was not given.
+/// The column's unit name from --units (io::unit_of_column), "" when --units was not given.
 /// Throws InputError for a bad --units.
 std::string column_unit(const UnitsOptions& o, const std::string& column);
 

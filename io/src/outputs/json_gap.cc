@@ -198,4 +198,31 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
   return c;
 }
 
+Json gap_document(const SignalSet& set, const pipeline::GapStudy& study) {
+  Json doc = json_document("gap");
+  doc["input"] = set.path;
+  doc["baseline_source"] = study.baseline_source;
+  doc["replicates"] = study.replicates;
+  doc["seed"] = study.seed;
+  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  if (!study.temperature_column.empty()) doc["temperature_column"] = study.temperature_column;
+  Json significant = Json::array();
+  for (const auto& p : study.cross_axis)
+    if (p.significant)
+      significant.push_back({{"a", study.columns[static_cast<std::size_t>(p.a)].name},
+                             {"b", study.columns[static_cast<std::size_t>(p.b)].name},
+                             {"tau", p.tau},
+                             {"tau_seconds", set.freq_known ? Json(p.tau / set.freq) : Json(nullptr)},
+                             {"rho", json_number(p.rho)},
+                             {"z", json_number(p.z)}});
+  doc["cross_axis"] = {{"tested", study.cross_axis.size()}, {"significant", std::move(significant)}};
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::GapColumnStudy& c = study.columns[k];
+    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
+                          c.unit};
+    doc["columns"].push_back(gap_column_json(info, c.result, c.conversions));
+  }
+  return doc;
+}
+
 }  // namespace gmwm::io

@@ -87,4 +87,14 @@ std::optional<UnitSuggestion> suggest_unit(double variance_ratio, SensorKind kin
   return std::nullopt;
 }
 
+std::string unit_of_column(const std::map<SensorKind, Unit>& units, std::optional<SensorKind> kind,
+                           const std::string& column) {
+  if (!kind) try {
+      kind = sensor_kind_of_column(column);
+    } catch (const InputError&) {
+      return {};
+    }
+  return units.count(*kind) ? units.at(*kind).name : si_unit(*kind).name;
+}
+
 }  // namespace gmwm::io

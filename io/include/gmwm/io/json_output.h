@@ -29,6 +29,7 @@
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/pipeline/gap_study.h"
 
 namespace gmwm::io {
 
@@ -136,6 +137,12 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
+
+/// The gap study's document (json_document("gap") filled): "input", "baseline_source",
+/// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant
+/// [{a, b, tau, tau_seconds, rho, z}]} and "columns" (gap_column_json). `set` is the set
+/// the study ran on.
+Json gap_document(const SignalSet& set, const pipeline::GapStudy& study);
 
 /// The data's Allan deviation and the model's on the same grid: {"points_per_octave"?,
 /// "alpha", "tau" [s], "m", "adev", "ci_low", "ci_high", "edf", "model" (null entries

@@ -32,6 +32,11 @@ std::map<SensorKind, Unit> parse_units(const std::string& spec);
 /// The SI unit of a kind ("rad/s", "m/s^2").
 Unit si_unit(SensorKind kind);
 
+/// The unit of a column of sensor `kind` (or, without one, the kind its name says): the
+/// declared unit of that kind in `units`, SI where none is declared; "" when no kind is known.
+std::string unit_of_column(const std::map<SensorKind, Unit>& units, std::optional<SensorKind> kind,
+                           const std::string& column);
+
 /// The units a sensor kind may be declared in (rad/s, deg/s, deg/h; m/s^2, g, mg).
 std::vector<Unit> units_of(SensorKind kind);
 

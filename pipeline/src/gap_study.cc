@@ -1,0 +1,268 @@
+// The gap study as a pipeline of named stages (docs/gap.md):
+//   take_temperature -> resolve_baselines -> wavelet_variances -> baseline_values
+//   (simulator biases as RW, unit check, or the fit) -> diagnose_columns -> cross-axis.
+#include "gmwm/pipeline/gap_study.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <span>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/robust/robust_wv.h"
+
+namespace gmwm::pipeline {
+namespace {
+
+// A simulator's Gauss-Markov bias whose correlation time is at least this many records
+// long is a random walk over the record: its WV differs from RW(gamma2 = its innovation
+// variance)'s by about tau / (2 T) relative, at most 5% at the coarsest scale.
+constexpr double kRandomWalkLikeRecords = 10.0;
+
+// The finest levels compared for a unit mix-up (white noise dominates there on an IMU).
+constexpr int kUnitCheckLevels = 3;
+
+std::string num(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Stage 1: the temperature column out of the set.
+std::vector<double> take_temperature(io::SignalSet& set, const std::string& column) {
+  if (column.empty()) return {};
+  std::string names;
+  for (auto it = set.signals.begin(); it != set.signals.end(); ++it) {
+    if (it->name == column) {
+      std::vector<double> t = std::move(it->values);
+      set.signals.erase(it);
+      if (set.signals.empty()) throw InputError("--temperature '" + column + "': no other column is left to diagnose");
+      return t;
+    }
+    names += (names.empty() ? "" : ", ") + it->name;
+  }
+  throw InputError("--temperature '" + column + "': no such column among those read (" + names +
+                   "); include it in --columns");
+}
+
+// Stage 2: each column's baseline model (values still to be set) and its conversions.
+struct Baselines {
+  std::vector<Model> models;
+  std::vector<std::vector<std::string>> conversions;
+  std::string source;
+};
+
+Baselines resolve_baselines(const io::SignalSet& set, const GapStudyOptions& o, const ProcessContext& ctx) {
+  const std::size_t K = set.signals.size();
+  Baselines b{std::vector<Model>(K), std::vector<std::vector<std::string>>(K), {}};
+  if (const auto* c = std::get_if<ConfigBaseline>(&o.baseline)) {
+    b.source = c->config.source;
+    for (std::size_t k = 0; k < K; ++k) {
+      const io::SensorKind kind = o.sensor ? *o.sensor : io::sensor_kind_of_column(set.signals[k].name);
+      // The kind's model, or the column's axis's when the simulator's axes differ.
+      auto sb = io::baseline_for_column(c->config, kind, set.signals[k].name);
+      if (!sb)
+        throw InputError(c->path + ": every " + std::string(io::to_string(kind)) +
+                         " figure is zero or absent, nothing to compare column '" + set.signals[k].name + "' with");
+      b.models[k] = std::move(sb->model);
+      b.conversions[k] = std::move(sb->conversions);
+    }
+    return b;
+  }
+  const bool fit = std::holds_alternative<FitBaseline>(o.baseline);
+  const std::string& spec = fit ? std::get<FitBaseline>(o.baseline).spec : std::get<ModelBaseline>(o.baseline).spec;
+  const Model m = parse_model(spec, ctx);
+  if (!fit) {
+    const Eigen::VectorXd v = m.given_values();
+    if (const std::string why = m.validate(v); !why.empty() || !v.allFinite())
+      throw InputError("--model '" + spec + "': give every parameter's value (SPEC_WITH_VALUES), e.g. "
+                       "WN(sigma2=2.5e-5)+RW(gamma2=1e-12)");
+  }
+  b.source = fit ? "fit " + spec : "model";
+  std::fill(b.models.begin(), b.models.end(), m);
+  return b;
+}
+
+// Stage 3: classical and robust WVs of every column.
+void wavelet_variances(const io::SignalSet& set, const WvOptions& o, std::vector<WaveletVariance>& wvs,
+                       std::vector<WaveletVariance>& robust_wvs) {
+  std::vector<std::span<const double>> series;
+  for (const auto& s : set.signals) series.emplace_back(s.values);
+  wvs = classical_wv(series, o);
+  robust::RobustWvOptions r;
+  r.levels = o.levels;
+  r.alpha = o.alpha;
+  robust_wvs = robust::robust_wv(series, r);
+}
+
+// A simulator's bias with a correlation time of many records replaced by the random walk
+// it is over the record, said in the conversions: a Kalibr yaml and an SDF or RotorS file
+// carrying the same densities then give the same baseline (and the same diagnosis).
+// Nothing else is simplified: a term too small to show in one record's WV still belongs
+// to the simulator's noise.
+void random_walk_like(Model& base, Eigen::VectorXd& theta, std::int64_t n, std::vector<std::string>& conversions) {
+  std::vector<Component> comps;
+  std::vector<double> values;
+  bool changed = false;
+  for (int c = 0; c < base.num_components(); ++c) {
+    const Component& comp = base.components()[static_cast<std::size_t>(c)];
+    const Process& p = *comp.process;
+    const double* th = theta.data() + base.offset(c);
+    const double T = p.name() == "AR1" && th[0] > 0.0 && th[0] < 1.0 ? -1.0 / std::log(th[0]) : 0.0;
+    if (T >= kRandomWalkLikeRecords * static_cast<double>(n)) {
+      const Model rw = parse_model("RW(gamma2=" + num(th[1], 17) + ")", p.context());
+      comps.push_back(rw.components()[0]);
+      values.push_back(th[1]);
+      conversions.push_back("over this record (" + std::to_string(n) + " samples) the Gauss-Markov bias " + p.name() +
+                            " (correlation time " + num(T, 3) + " samples, " + num(T / static_cast<double>(n), 3) +
+                            " records) is RW-like: RW(gamma2 = its innovation variance " + num(th[1], 6) +
+                            "), as a random-walk density gives");
+      changed = true;
+      continue;
+    }
+    comps.push_back(comp);
+    values.insert(values.end(), th, th + p.size());
+  }
+  if (!changed) return;
+  Eigen::VectorXd t = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+  base = Model(std::move(comps)).canonical(&t);
+  theta = t;
+}
+
+// A data / baseline ratio at the finest levels near a unit factor ((180/pi)^2 for deg/s
+// read as rad/s, 9.80665^2 for m/s^2 read as g, ...) is a unit mix-up, not a gap: stop
+// with one line naming the --units that fits.
+void check_units(const std::string& path, const std::string& column, const WaveletVariance& wv, const Model& base,
+                 const Eigen::VectorXd& theta, const GapStudyOptions& o) {
+  io::SensorKind kind;
+  try {
+    kind = o.sensor ? *o.sensor : io::sensor_kind_of_column(column);
+  } catch (const InputError&) {
+    return;  // neither a gyro nor an accelerometer: no unit to suggest
+  }
+  const Eigen::VectorXd nu = base.wv(theta, wv.tau);
+  std::vector<double> r;
+  for (int j = 0; j < std::min(kUnitCheckLevels, wv.levels()); ++j) r.push_back(wv.wv[static_cast<std::size_t>(j)] / nu(j));
+  if (r.empty()) return;
+  std::sort(r.begin(), r.end());
+  const double ratio = r[r.size() / 2];
+  const io::Unit declared = o.units.count(kind) ? o.units.at(kind) : io::si_unit(kind);
+  const auto s = io::suggest_unit(ratio, kind, declared);
+  if (!s) return;
+  throw InputError(path + ": column '" + column + "': its WV at the finest scales is " + num(ratio, 3) +
+                   " x the baseline's, near (" + s->unit.name + " per " + declared.name + ")^2 = " + num(s->factor, 4) +
+                   ": the data look like " + s->unit.name + ", not " + declared.name + "; give --units " +
+                   io::to_string(kind) + "=" + s->unit.name + " (or --no-unit-check if the sensor really is that far "
+                   "from the baseline)");
+}
+
+// Stage 4: the baseline's values on each column: as given (a simulator's long biases as
+// RW, then the unit check), or fitted.
+void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStudy& study) {
+  const bool config = std::holds_alternative<ConfigBaseline>(o.baseline);
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    GapColumnStudy& c = study.columns[k];
+    check_model_fits_levels(c.baseline, c.wv.levels());
+    if (const auto* f = std::get_if<FitBaseline>(&o.baseline)) {
+      FitOptions fo;
+      fo.inference = false;
+      const FitResult r = fit_gmwm(c.wv, c.baseline, fo);
+      if (r.status == FitStatus::kFailed)
+        throw InputError("--fit '" + f->spec + "': the fit failed on column '" + c.name + "'");
+      c.baseline = r.model;
+      c.theta = r.theta;
+      c.conversions.push_back("baseline fitted on the column: " + r.model.to_string(r.theta));
+      continue;
+    }
+    c.theta = c.baseline.given_values();
+    if (config) random_walk_like(c.baseline, c.theta, c.wv.n, c.conversions);
+    if (o.unit_check) check_units(set.path, c.name, c.wv, c.baseline, c.theta, o);
+  }
+}
+
+// Stage 5: each column diagnosed against its baseline (selection::diagnose_gap), column k
+// on its own reference streams (seed + k).
+void diagnose_columns(const io::SignalSet& set, const std::vector<double>& temperature, const GapStudyOptions& o,
+                      const ProcessContext& ctx, GapStudy& study) {
+  selection::GapOptions g;
+  g.replicates = o.replicates;
+  g.alpha = o.alpha;
+  g.refit_baseline = std::holds_alternative<FitBaseline>(o.baseline);
+  g.context = ctx;
+  const std::size_t K = study.columns.size();
+  const double per_column = 2.0 * o.replicates;  // the reference replicates, then the attribution
+  for (std::size_t k = 0; k < K; ++k) {
+    selection::GapOptions gk = g;
+    gk.seed = o.seed + k;
+    if (o.progress)
+      gk.progress = [&, k](int done, int) { o.progress(static_cast<double>(k) * per_column + done, K * per_column); };
+    GapColumnStudy& c = study.columns[k];
+    c.result = selection::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, &set.signals[k].values,
+                                       temperature.empty() ? nullptr : &temperature);
+    if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
+  }
+}
+
+}  // namespace
+
+std::string GapStudyOptions::Validate() const {
+  selection::GapOptions g;
+  g.replicates = replicates;
+  g.alpha = alpha;
+  if (std::string why = g.Validate(); !why.empty()) return why;
+  if (std::string why = wv.Validate(); !why.empty()) return why;
+  const std::string* spec = std::holds_alternative<ModelBaseline>(baseline) ? &std::get<ModelBaseline>(baseline).spec
+                            : std::holds_alternative<FitBaseline>(baseline) ? &std::get<FitBaseline>(baseline).spec
+                                                                            : nullptr;
+  if (spec && spec->empty()) return "the baseline's model is empty";
+  return {};
+}
+
+GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
+  const std::vector<double> temperature = take_temperature(set, options.temperature_column);
+  const ProcessContext ctx{set.freq, set.freq_known};
+  Baselines b = resolve_baselines(set, options, ctx);
+
+  GapStudy study;
+  study.baseline_source = b.source;
+  study.temperature_column = temperature.empty() ? std::string() : options.temperature_column;
+  study.replicates = options.replicates;
+  study.seed = options.seed;
+  const auto wv_start = std::chrono::steady_clock::now();
+  std::vector<WaveletVariance> wvs, robust_wvs;
+  wavelet_variances(set, options.wv, wvs, robust_wvs);
+  study.wv_seconds = seconds_since(wv_start);
+  const bool config = std::holds_alternative<ConfigBaseline>(options.baseline);
+  for (std::size_t k = 0; k < set.signals.size(); ++k) {
+    GapColumnStudy c;
+    c.name = set.signals[k].name;
+    if (options.units_declared || config) c.unit = io::unit_of_column(options.units, options.sensor, c.name);
+    c.baseline = std::move(b.models[k]);
+    c.conversions = std::move(b.conversions[k]);
+    c.wv = std::move(wvs[k]);
+    c.robust_wv = std::move(robust_wvs[k]);
+    study.columns.push_back(std::move(c));
+  }
+  baseline_values(set, options, study);
+
+  const auto gap_start = std::chrono::steady_clock::now();
+  diagnose_columns(set, temperature, options, ctx, study);
+  study.gap_seconds = seconds_since(gap_start);
+
+  // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.
+  std::vector<std::span<const double>> spans;
+  for (const auto& s : set.signals) spans.emplace_back(s.values);
+  study.cross_axis = selection::cross_axis_correlation(spans, options.wv.levels, options.alpha);
+  return study;
+}
+
+}  // namespace gmwm::pipeline
