@@ -26,6 +26,9 @@
 #include "gmwm/engine/simulate.h"
 #include "gmwm/io/json_output.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/io/sim_config.h"
+#include "gmwm/io/units.h"
+#include "gmwm/pipeline/gap_study.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
 #include "gmwm/selection/select.h"
@@ -266,6 +269,53 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
   return to_python(out);
 }
 
+// The gap study (gmwm::pipeline::study_gap, as `gmwm gap`): the document gmwm gap --json
+// writes, its "input" being "<array>".
+py::object py_gap(const py::object& data, double freq, const std::optional<std::string>& model,
+                  const std::optional<std::string>& fit, const std::optional<std::string>& kalibr,
+                  const std::string& kalibr_imu, const std::optional<std::string>& gazebo,
+                  const std::vector<std::string>& names, const std::string& units, const std::optional<std::string>& sensor,
+                  const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
+                  int levels, bool unit_check) {
+  if (!(freq > 0.0) || !std::isfinite(freq)) throw gmwm::InputError("freq: expected a positive sampling rate in Hz");
+  const int given = model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value();
+  if (given != 1)
+    throw gmwm::InputError("gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf "
+                           "or fit=SPEC");
+  std::vector<std::vector<double>> cols = columns_of(data);
+  const std::vector<std::string> labels = names_for(cols.size(), names);
+  gmwm::io::SignalSet set;
+  set.path = "<array>";
+  set.freq = freq;
+  set.freq_known = true;
+  for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
+  gmwm::pipeline::GapStudyOptions o;
+  o.wv.alpha = alpha;
+  o.wv.levels = levels;
+  o.units = gmwm::io::parse_units(units);
+  o.units_declared = !units.empty();
+  if (sensor) {
+    if (*sensor != "gyro" && *sensor != "accel") throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
+    o.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
+  }
+  o.temperature_column = temperature.value_or("");
+  o.unit_check = unit_check;
+  o.replicates = replicates;
+  o.seed = seed;
+  o.alpha = alpha;
+  if (model) o.baseline = gmwm::pipeline::ModelBaseline{*model};
+  if (fit) o.baseline = gmwm::pipeline::FitBaseline{*fit};
+  if (kalibr) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_kalibr_imu_yaml(*kalibr, freq, o.units, kalibr_imu), *kalibr};
+  if (gazebo) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_gazebo_sdf(*gazebo, freq, o.units), *gazebo};
+  Json out;
+  {
+    py::gil_scoped_release release;
+    const gmwm::pipeline::GapStudy study = gmwm::pipeline::study_gap(set, o);
+    out = gmwm::io::gap_document(set, study);
+  }
+  return to_python(out);
+}
+
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
                              std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
@@ -326,6 +376,14 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("unit") = "",
         "Overlapping Allan deviation with chi-square intervals and the noise figures read off it (N, K, B): "
         "the 'allan' and 'noise_figures' fields of gmwm wv --adev");
+  m.def("gap", &py_gap, py::arg("data"), py::kw_only(), py::arg("freq"), py::arg("model") = py::none(),
+        py::arg("fit") = py::none(), py::arg("kalibr") = py::none(), py::arg("kalibr_imu") = "",
+        py::arg("gazebo") = py::none(), py::arg("names") = std::vector<std::string>{}, py::arg("units") = "",
+        py::arg("sensor") = py::none(), py::arg("temperature") = py::none(),
+        py::arg("replicates") = gmwm::selection::GapOptions{}.replicates, py::arg("seed") = gmwm::kDefaultSeed,
+        py::arg("alpha") = 0.05, py::arg("levels") = 0, py::arg("unit_check") = true,
+        "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=) departs from each column's WV, "
+        "which effect explains it and by how much: the document gmwm gap --json writes");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

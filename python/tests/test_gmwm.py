@@ -64,6 +64,30 @@ def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
         gmwm.allan(example["gyro_y"], freq=100.0, points_per_octave=0)
 
 
+@pytest.mark.parametrize("baseline", [
+    ["--model", "WN(sigma2=1e-6)+RW(gamma2=1e-12)"],
+    ["--kalibr", os.path.join(SOURCE, "data", "adis16405_imu.yaml"), "--no-unit-check"],
+    ["--fit", "WN+RW"],
+])
+def test_gap_equals_the_cli_json_bit_for_bit(tmp_path, example, baseline):
+    doc = cli_json(tmp_path, "gap", EXAMPLE, "--columns", "gyro_x,accel_y", "--replicates", "40", *baseline)
+    kwargs = {"model": baseline[1]} if baseline[0] == "--model" else \
+        {"kalibr": baseline[1], "unit_check": False} if baseline[0] == "--kalibr" else {"fit": baseline[1]}
+    mine = gmwm.gap(np.column_stack([example["gyro_x"], example["accel_y"]]), freq=doc["columns"][0]["freq"],
+                    names=["gyro_x", "accel_y"], replicates=40, **kwargs)
+    assert [c["headline"] for c in doc["columns"]]
+    for key in ("baseline_source", "replicates", "seed", "cross_axis", "columns"):
+        assert mine[key] == doc[key], key
+
+
+def test_gap_refuses_two_baselines_and_a_bad_sensor_with_one_line(example):
+    x = np.column_stack([example["gyro_x"]])
+    with pytest.raises(gmwm.InputError, match="^gap: give exactly one baseline"):
+        gmwm.gap(x, freq=100.0, model="WN(sigma2=1)", fit="WN")
+    with pytest.raises(gmwm.InputError, match="^sensor: expected gyro or accel, got 'mag'"):
+        gmwm.gap(x, freq=100.0, model="WN(sigma2=1)", sensor="mag")
+
+
 def test_fit_equals_the_cli_json_bit_for_bit(tmp_path, example):
     doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "accel_y", "--model", "AR1+WN+RW")
     col = doc["columns"][0]
