@@ -262,7 +262,7 @@ std::vector<bool> usable_points(const AllanDeviation& a, const ReadoffOptions& o
 // early random walk). So a WN + RW model gives back sqrt(sigma2 / f) and
 // sqrt(gamma2 f) exactly, and the white-and-walk separation is not needed.
 void refine_from_components(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid, Readoff& r,
-                            double target, const char* quantity, const char* pattern, const ReadoffOptions& o) {
+                            double target, PhysicalKind kind, const ReadoffOptions& o) {
   if (!r.available() || r.status == ReadoffStatus::kBound) return;
   std::size_t at = 0;
   for (std::size_t i = 1; i < grid.size(); ++i)
@@ -282,9 +282,7 @@ void refine_from_components(const Model& model, const Eigen::VectorXd& theta, co
     if (std::abs(slope - target) > o.slope_tolerance) continue;
     const Process& p = *model.components()[c].process;
     const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
-    double exact = NAN;
-    for (const auto& q : p.physical(th, grid.freq))
-      if (q.name == quantity && q.unit_pattern == pattern) exact = q.value;
+    const double exact = quantity_of_kind(p.physical(th, grid.freq), kind);
     sum += std::isfinite(exact) ? exact * exact : here[c] * scale2;
   }
   if (!(sum > 0.0)) return;
@@ -356,8 +354,8 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
   f.walk = read_slope(ce, slopes_e, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); },
                       interval_on(ce, ext.m), "+1/2", options);
   f.instability = read_minimum(cd, local_slopes(cd), interval_on(cd, grid.m), options);
-  refine_from_components(model, theta, ext, f.white, -0.5, "noise density", "U/sqrt(Hz)", options);
-  refine_from_components(model, theta, ext, f.walk, 0.5, "random walk", "U/s/sqrt(Hz)", options);
+  refine_from_components(model, theta, ext, f.white, -0.5, PhysicalKind::kNoiseDensity, options);
+  refine_from_components(model, theta, ext, f.walk, 0.5, PhysicalKind::kRandomWalk, options);
   // The components behind each figure: their shares of the Allan variance where it was read.
   constexpr double kShownShare = 0.01;
   for (Readoff* r : {&f.white, &f.walk, &f.instability}) {

@@ -74,6 +74,12 @@ bool same_value(double a, double b) { return a == b || (std::isnan(a) && std::is
 
 }  // namespace
 
+double quantity_of_kind(const std::vector<PhysicalQuantity>& q, PhysicalKind kind) {
+  for (const PhysicalQuantity& x : q)
+    if (x.kind == kind) return x.value;
+  return std::nan("");
+}
+
 std::string render_unit(const std::string& pattern, const std::string& data_unit) {
   std::vector<Factor> factors;
   for (const Factor& f : split_factors(pattern, false)) {

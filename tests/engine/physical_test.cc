@@ -67,6 +67,36 @@ TEST(PhysicalQuantities, DefaultReportsTheDiscreteParameters) {
   EXPECT_NE(q[0].convention.find("MA1 coefficient"), std::string::npos);
 }
 
+TEST(PhysicalQuantities, CarryAKindThatCodePicksThemByNotTheirDisplayName) {
+  struct Case {
+    const char* process;
+    std::vector<double> theta;
+    std::vector<std::pair<PhysicalKind, const char*>> kinds;  // each quantity's kind and unit pattern
+  };
+  const std::vector<Case> cases = {
+      {"WN", {1e-4}, {{PhysicalKind::kNoiseDensity, "U/sqrt(Hz)"}}},
+      {"RW", {1e-8}, {{PhysicalKind::kRandomWalk, "U/s/sqrt(Hz)"}}},
+      {"AR1", {0.9, 1e-4}, {{PhysicalKind::kCorrelationTime, "s"}, {PhysicalKind::kStationarySigma, "U"}}},
+      {"GM", {0.1, 1e-4}, {{PhysicalKind::kCorrelationTime, "s"}, {PhysicalKind::kStationarySigma, "U"}}},
+      {"DR", {1e-5}, {{PhysicalKind::kDriftRate, "U/s"}}},
+      {"QN", {1e-6}, {{PhysicalKind::kQuantization, "U*s"}}},
+      {"FLICKER", {1e-6}, {{PhysicalKind::kFlickerCoefficient, "U"}, {PhysicalKind::kBiasInstability, "U"}}},
+      {"SIN", {1e-2, 0.01}, {{PhysicalKind::kAmplitude, "U"}, {PhysicalKind::kFrequency, "Hz"}}},
+      {"MA1", {0.4, 2.0}, {{PhysicalKind::kParameter, ""}, {PhysicalKind::kParameter, ""}}},
+  };
+  for (const Case& c : cases) {
+    const auto q = make(c.process)->physical(c.theta, 100.0);
+    ASSERT_EQ(q.size(), c.kinds.size()) << c.process;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      EXPECT_EQ(q[i].kind, c.kinds[i].first) << c.process << " " << q[i].name;
+      EXPECT_EQ(q[i].unit_pattern, c.kinds[i].second) << c.process << " " << q[i].name;
+      if (q[i].kind != PhysicalKind::kParameter) EXPECT_EQ(quantity_of_kind(q, q[i].kind), q[i].value) << c.process;
+    }
+  }
+  EXPECT_TRUE(std::isnan(quantity_of_kind(make("WN")->physical(std::vector<double>{1e-4}, 100.0),
+                                          PhysicalKind::kRandomWalk)));
+}
+
 TEST(PhysicalQuantities, RejectAWrongSizeOrRateWithCheckMessages) {
   const auto p = make("WN");
   EXPECT_EQ(message_of([&] { p->physical(std::vector<double>{1.0}, 0.0); }),

@@ -92,9 +92,10 @@ class Ar1Process final : public Process {
     const double a = std::fabs(theta[0]);
     const double T = a >= 1.0 ? INFINITY : 1.0 / (freq * -std::log1p(a - 1.0));
     return {{"correlation time", T, "s",
-             "T = -1 / (f ln|phi|) (autocovariance ~ exp(-|lag| / T); for phi < 0 its envelope)"},
+             "T = -1 / (f ln|phi|) (autocovariance ~ exp(-|lag| / T); for phi < 0 its envelope)",
+             PhysicalKind::kCorrelationTime},
             {"stationary sigma", std::sqrt(theta[1] / ((1.0 - a) * (1.0 + a))), "U",
-             "sigma = sqrt(sigma2 / (1 - phi^2)), the process's standard deviation"}};
+             "sigma = sqrt(sigma2 / (1 - phi^2)), the process's standard deviation", PhysicalKind::kStationarySigma}};
   }
   // AR1(phi = 0, sigma2) is WN(sigma2); as phi -> 1 with sigma2 fixed its WV tends to
   // RW(gamma2 = sigma2)'s (the AR1 forgets nothing over the record, a constant aside).

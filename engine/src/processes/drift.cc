@@ -82,7 +82,8 @@ class Drift final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"drift rate", theta[0] * freq, "U/s",
-             "R = omega f, signed (IEEE 952 rate ramp: AVAR = R^2 T^2 / 2 sees |R|; the sign is the series' slope)"}};
+             "R = omega f, signed (IEEE 952 rate ramp: AVAR = R^2 T^2 / 2 sees |R|; the sign is the series' slope)",
+             PhysicalKind::kDriftRate}};
   }
   void simulate(std::span<const double> theta, Rng&, std::span<double> out) const override {
     for (std::size_t t = 0; t < out.size(); ++t) out[t] += theta[0] * static_cast<double>(t);

@@ -134,10 +134,11 @@ class Flicker final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double) const override {
     const double b = std::sqrt(theta[0]);
-    return {{"flicker coefficient", b, "U", "B = sqrt(B2) (flicker PSD B^2 / (2 pi F))"},
+    return {{"flicker coefficient", b, "U", "B = sqrt(B2) (flicker PSD B^2 / (2 pi F))",
+             PhysicalKind::kFlickerCoefficient},
             {"bias instability", kAdevFloorPerB * b, "U",
              "bias instability = 0.664 * B (IEEE 952 convention: the Allan deviation floor of "
-             "flicker noise, sqrt(2 ln2 / pi) B)"}};
+             "flicker noise, sqrt(2 ln2 / pi) B)", PhysicalKind::kBiasInstability}};
   }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // The plateau: the median of the WV this component should explain, per unit B2.

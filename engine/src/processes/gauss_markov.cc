@@ -104,9 +104,9 @@ class GaussMarkov final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double) const override {
     return {{"correlation time", 1.0 / theta[0], "s",
-             "T = 1 / beta (autocovariance sigma^2 exp(-|lag| / T))"},
+             "T = 1 / beta (autocovariance sigma^2 exp(-|lag| / T))", PhysicalKind::kCorrelationTime},
             {"stationary sigma", std::sqrt(theta[1]), "U",
-             "sigma = sqrt(sigma2_gm), the process's standard deviation"}};
+             "sigma = sqrt(sigma2_gm), the process's standard deviation", PhysicalKind::kStationarySigma}};
   }
   // GM is AR1 through the rate: phi = exp(-beta / f), sigma2 = sigma2_gm (1 - phi^2).
   // A very short correlation time (beta / f = kGmWhiteL) is WN(sigma2_gm); a very long one

@@ -69,7 +69,7 @@ class QuantizationNoise final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"quantization", std::sqrt(theta[0]) / freq, "U*s",
-             "Q = sqrt(Q2) / f (IEEE 952: AVAR = 3 Q^2 / T^2; step = sqrt(12) Q)"}};
+             "Q = sqrt(Q2) / f (IEEE 952: AVAR = 3 Q^2 / T^2; step = sqrt(12) Q)", PhysicalKind::kQuantization}};
   }
   std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
     return internal::summed_size(a, b);

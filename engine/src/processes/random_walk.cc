@@ -68,7 +68,7 @@ class RandomWalk final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"random walk", std::sqrt(theta[0] * freq), "U/s/sqrt(Hz)",
-             "K = sqrt(gamma2 f) (IEEE 952 rate random walk: AVAR = K^2 T / 3)"}};
+             "K = sqrt(gamma2 f) (IEEE 952 rate random walk: AVAR = K^2 T / 3)", PhysicalKind::kRandomWalk}};
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     // x_t = e_0 + ... + e_t: the path starts with its first increment.

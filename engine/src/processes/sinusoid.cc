@@ -122,8 +122,9 @@ class Sinusoid final : public Process {
   }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
-    return {{"amplitude", std::sqrt(theta[0]), "U", "A = sqrt(A2) (x = A sin(2 pi F t + U))"},
-            {"frequency", theta[1] * freq, "Hz", "F = f_cycles_per_sample * f_rate"}};
+    return {{"amplitude", std::sqrt(theta[0]), "U", "A = sqrt(A2) (x = A sin(2 pi F t + U))",
+             PhysicalKind::kAmplitude},
+            {"frequency", theta[1] * freq, "Hz", "F = f_cycles_per_sample * f_rate", PhysicalKind::kFrequency}};
   }
   double to_display(int k, double natural) const override {
     return (k == 1 && context().freq_known) ? natural * context().freq : natural;

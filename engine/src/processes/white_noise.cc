@@ -58,7 +58,8 @@ class WhiteNoise final : public Process {
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",
-             "N = sqrt(sigma2 / f) (IEEE 952: AVAR = N^2 / T; angle/velocity random walk)"}};
+             "N = sqrt(sigma2 / f) (IEEE 952: AVAR = N^2 / T; angle/velocity random walk)",
+             PhysicalKind::kNoiseDensity}};
   }
   std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
     return internal::summed_size(a, b);

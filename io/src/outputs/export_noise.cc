@@ -24,13 +24,6 @@ constexpr double kBiasMinCorrelationTime = 1.0;
 // many samples there were (only the range of taus over which slopes are sought depends on it).
 constexpr std::int64_t kAssumedRecordSamples = 1000000;
 
-// The quantity named `name` among a component's physical quantities, or NaN.
-double quantity(const std::vector<PhysicalQuantity>& q, const char* name, const char* pattern) {
-  for (const auto& x : q)
-    if (x.name == name && x.unit_pattern == pattern) return x.value;
-  return std::nan("");
-}
-
 // "AR1(phi=0.99,sigma2=1e-06)": one component with its values.
 std::string component_text(const Component& c, std::span<const double> th) {
   Eigen::VectorXd theta(static_cast<Eigen::Index>(th.size()));
@@ -190,13 +183,13 @@ AxisNoise axis_noise(const ExportColumn& column) {
     const Component& c = m.components()[static_cast<std::size_t>(k)];
     const Process& p = *c.process;
     const std::span<const double> th(column.theta.data() + m.offset(k), static_cast<std::size_t>(p.size()));
-    // The components by their continuous quantities (engine/physical.h), picked by name and
-    // unit pattern so that any process stating them maps the same way.
+    // The components by their continuous quantities (engine/physical.h), picked by kind so
+    // that any process stating them maps the same way.
     const auto q = p.physical(th, column.freq);
-    const double white = quantity(q, "noise density", "U/sqrt(Hz)");
-    const double walk = quantity(q, "random walk", "U/s/sqrt(Hz)");
-    const double T = quantity(q, "correlation time", "s");
-    const double sigma = quantity(q, "stationary sigma", "U");
+    const double white = quantity_of_kind(q, PhysicalKind::kNoiseDensity);
+    const double walk = quantity_of_kind(q, PhysicalKind::kRandomWalk);
+    const double T = quantity_of_kind(q, PhysicalKind::kCorrelationTime);
+    const double sigma = quantity_of_kind(q, PhysicalKind::kStationarySigma);
     // A Gauss-Markov bias has a positive lag-1 autocovariance; an AR1 with phi < 0 (an
     // alternating process) shares the quantities' names but is no bias.
     double g[2] = {0.0, 0.0};
@@ -212,7 +205,7 @@ AxisNoise axis_noise(const ExportColumn& column) {
     std::string text = component_text(c, th);
     std::string figures;
     for (const auto& x : q)
-      if (!x.unit_pattern.empty() || x.name == "frequency")
+      if (!x.unit_pattern.empty() || x.kind == PhysicalKind::kFrequency)
         figures += (figures.empty() ? "" : ", ") + x.name + " " + num(x.value) + " " +
                    render_unit(x.unit_pattern, column.unit.name);
     a.others.push_back(figures.empty() ? text : text + " (" + figures + ", " + column.unit.name + " data)");

@@ -19,12 +19,32 @@ namespace gmwm {
 
 class Process;
 
+/// What a physical quantity is: code (the exporters, the noise-figure refinement) picks
+/// quantities by kind, never by their display name.
+enum class PhysicalKind {
+  kParameter,           ///< a discrete parameter without a standard physical meaning
+  kNoiseDensity,        ///< white noise: U/sqrt(Hz)
+  kRandomWalk,          ///< rate random walk: U/s/sqrt(Hz)
+  kCorrelationTime,     ///< Gauss-Markov: s
+  kStationarySigma,     ///< Gauss-Markov: U
+  kDriftRate,           ///< U/s
+  kFlickerCoefficient,  ///< U
+  kBiasInstability,     ///< U (the Allan deviation's flicker floor)
+  kQuantization,        ///< U*s
+  kAmplitude,           ///< sinusoid: U
+  kFrequency,           ///< sinusoid: Hz
+};
+
 struct PhysicalQuantity {
-  std::string name;          ///< e.g. "noise density", "correlation time"
+  std::string name;          ///< for people: "noise density", "correlation time"
   double value = 0.0;
   std::string unit_pattern;  ///< "U" is the data unit: "U/sqrt(Hz)", "s", "U*s"; "" if none
   std::string convention;    ///< one line: the formula and its convention
+  PhysicalKind kind = PhysicalKind::kParameter;
 };
+
+/// The value of the quantity of `kind` among `q`, or NaN when none is of that kind.
+double quantity_of_kind(const std::vector<PhysicalQuantity>& q, PhysicalKind kind);
 
 /// The unit of a pattern for data in `data_unit`: each factor "U" becomes the data unit's
 /// factors (inverted when U is in a denominator) and powers of seconds are collected into
