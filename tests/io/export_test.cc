@@ -13,11 +13,15 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <tinyxml2.h>
+#include <yaml-cpp/yaml.h>
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
@@ -66,34 +70,57 @@ ExportOptions options(ExportFormat f) {
 }
 
 // The raw value of "key: value  # comment" (the first such line, any indentation).
-std::string raw(const std::string& text, const std::string& key) {
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) {
-    const auto a = line.find_first_not_of(' ');
-    if (a == std::string::npos || line.compare(a, key.size() + 1, key + ":") != 0) continue;
-    std::string v = line.substr(a + key.size() + 1, line.find('#') == std::string::npos ? std::string::npos
-                                                                                        : line.find('#') - a - key.size() - 1);
-    v.erase(0, v.find_first_not_of(' '));
-    v.erase(v.find_last_not_of(' ') + 1);
-    return v;
+// A YAML export parsed by a real YAML parser (yaml-cpp), after OpenCV's "%YAML:1.0" first
+// line (a FileStorage directive yaml-cpp does not know; OpenCV itself skips it): the
+// scalar under `key`, searched through nested maps (a chain's imu0), as written.
+std::optional<std::string> find_scalar(const YAML::Node& node, const std::string& key) {
+  if (!node.IsMap()) return std::nullopt;
+  for (const auto& kv : node) {
+    if (kv.first.as<std::string>() == key && kv.second.IsScalar()) return kv.second.Scalar();
+    if (auto v = find_scalar(kv.second, key)) return v;
   }
-  ADD_FAILURE() << "no '" << key << ":' line in\n" << text;
+  return std::nullopt;
+}
+
+std::string raw(const std::string& text, const std::string& key) {
+  std::string yaml = text;
+  if (yaml.rfind("%YAML:", 0) == 0) yaml.erase(0, yaml.find('\n') + 1);
+  YAML::Node doc;
+  try {
+    doc = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    ADD_FAILURE() << "not valid YAML (" << e.what() << "):\n" << text;
+    return "nan";
+  }
+  if (auto v = find_scalar(doc, key)) return *v;
+  ADD_FAILURE() << "no scalar '" << key << "' in\n" << text;
   return "nan";
 }
+
 double value(const std::string& text, const std::string& key) { return std::stod(raw(text, key)); }
 
-// The k-th <name>...</name> of an XML text after its header comment, as a number.
+// The k-th <name> element of an XML export (in document order), parsed by tinyxml2, as a number.
 double element(const std::string& text, const std::string& name, int k = 0) {
-  std::size_t at = text.find("-->");
-  for (int i = 0; i <= k; ++i) {
-    at = text.find("<" + name + ">", at);
-    if (at == std::string::npos) {
-      ADD_FAILURE() << "no <" << name << "> #" << k;
-      return std::nan("");
-    }
-    at += name.size() + 2;
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    ADD_FAILURE() << "not valid XML (" << doc.ErrorStr() << "):\n" << text;
+    return std::nan("");
   }
-  return std::stod(text.substr(at, text.find('<', at) - at));
+  int seen = 0;
+  const std::function<const tinyxml2::XMLElement*(const tinyxml2::XMLElement*)> find =
+      [&](const tinyxml2::XMLElement* e) -> const tinyxml2::XMLElement* {
+    for (; e; e = e->NextSiblingElement()) {
+      if (name == e->Name() && seen++ == k) return e;
+      if (const auto* f = find(e->FirstChildElement())) return f;
+    }
+    return nullptr;
+  };
+  const tinyxml2::XMLElement* e = find(doc.FirstChildElement());
+  if (!e || !e->GetText()) {
+    ADD_FAILURE() << "no <" << name << "> #" << k;
+    return std::nan("");
+  }
+  return std::stod(e->GetText());
 }
 
 std::string write_file(const fs::path& dir, const std::string& name, const std::string& text) {
@@ -233,7 +260,7 @@ TEST_F(Export, OpenVinsWritesTheKalibrDensitiesUnderImu0) {
   EXPECT_NE(r.content.find("\nimu0:\n  T_i_b:\n    - [1.0, 0.0, 0.0, 0.0]\n"), std::string::npos) << r.content;
   EXPECT_NEAR(value(r.content, "gyroscope_noise_density"), 1.6968e-04, 1e-13);
   EXPECT_NEAR(value(r.content, "accelerometer_random_walk"), 3.0e-03, 1e-12);
-  EXPECT_EQ(raw(r.content, "model"), "\"kalibr\"");
+  EXPECT_EQ(raw(r.content, "model"), "kalibr");  // a YAML string (written quoted)
   EXPECT_EQ(raw(r.content, "time_offset"), "0.0");
   EXPECT_EQ(raw(r.content, "update_rate"), "200.0");
   // The file's key: value lines are what our Kalibr importer reads too.
