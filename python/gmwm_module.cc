@@ -28,6 +28,7 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
+#include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
@@ -196,30 +197,34 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
   return to_python(out);
 }
 
+// The fit study (gmwm::pipeline::study_fit, as `gmwm fit`): the 'fit' JSON column with its
+// continuous parameters, Kalman terms, Allan deviations and noise figures.
 py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
-               bool robust, std::optional<double> eff, const std::optional<std::string>& estimator) {
-  const std::vector<double> x = series_of(data, "data");
-  const auto ro = robust_options(robust, eff, estimator, alpha);
-  std::unique_ptr<gmwm::robust::RobustWvEstimator> robust_estimator;
-  if (ro) robust_estimator = std::make_unique<gmwm::robust::RobustWvEstimator>(*ro);
+               bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
+               const std::string& unit) {
+  std::vector<double> x = series_of(data, "data");
   const gmwm::io::ColumnInfo column = info(name, x.size(), freq, "");
-  const gmwm::Model model = gmwm::parse_model(model_spec, gmwm::ProcessContext{column.freq, column.freq_known});
-  gmwm::FitOptions o;
-  o.omega = omega_kind(omega);
-  o.alpha = alpha;
-  o.bootstrap_replicates = replicates;
-  o.seed = seed;
-  o.estimator = robust_estimator.get();  // the bootstrap Omega recomputes the same WV
+  gmwm::io::SignalSet set;
+  set.path = "<array>";
+  set.freq = column.freq;
+  set.freq_known = column.freq_known;
+  set.signals.push_back({name, std::move(x), ""});
+  gmwm::pipeline::FitStudyOptions o;
+  o.model = model_spec;
+  o.fit.omega = omega_kind(omega);
+  o.fit.alpha = alpha;
+  o.fit.bootstrap_replicates = replicates;
+  o.fit.seed = seed;
+  o.wv.alpha = alpha;
+  o.robust = robust_options(robust, eff, estimator, alpha);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
   Json out;
   {
     py::gil_scoped_release release;
-    const gmwm::WaveletVariance w = wvs_of({x}, alpha, ro).front();
-    gmwm::check_model_fits_levels(model, w.levels());
-    gmwm::FitResult f = gmwm::fit_gmwm(w, model, o);
-    gmwm::orient_by_series(f, x);  // a drift's sign from the series' slope, as the CLI does
-    out = gmwm::io::fit_column_json(column, w, f, o.omega);
+    const gmwm::pipeline::FitStudy study = gmwm::pipeline::study_fit(set, o);
+    out = gmwm::io::fit_document(set, study, {unit}, set.freq_known ? set.freq : 0.0)["columns"][0];
   }
   return to_python(out);
 }
@@ -363,8 +368,9 @@ PYBIND11_MODULE(_gmwm, m) {
   m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("omega") = "diag", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1", py::arg("robust") = false,
-        py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
-        "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column");
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("unit") = "",
+        "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
+        "(with continuous parameters, Kalman terms, Allan deviations and noise figures in `unit`)");
   m.def("select", &py_select, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,

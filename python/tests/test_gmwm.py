@@ -92,7 +92,8 @@ def test_fit_equals_the_cli_json_bit_for_bit(tmp_path, example):
     doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "accel_y", "--model", "AR1+WN+RW")
     col = doc["columns"][0]
     mine = gmwm.fit(example["accel_y"], "AR1+WN+RW", freq=col["freq"], name="accel_y")
-    for key in ("model", "parameters", "objective", "gof", "status", "implied_wv", "levels"):
+    for key in ("model", "parameters", "objective", "gof", "status", "implied_wv", "levels", "unit", "continuous",
+                "kalman", "allan", "noise_figures"):
         assert mine[key] == col[key], key
 
 

@@ -16,6 +16,7 @@
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/pipeline/fit_study.h"
 
 namespace gmwm::cli {
 
@@ -226,11 +227,15 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
 
+  // The test's draws get the data's WV estimator.
+  std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
+  if (robust) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust);
   JointAnalysisOptions ao;
   ao.fit = options;
+  ao.fit.estimator = robust_estimator.get();
   ao.test.bootstrap = args.replicates;
   ao.test.seed = common.seed;
-  ao.test.estimator = options.estimator;  // draws get the data's WV estimator
+  ao.test.estimator = robust_estimator.get();
   ao.bootstrap_draws = kReplicateBootstrapDraws;
   if (const std::string why = ao.test.Validate(); !why.empty()) throw InputError("--replicates: " + why);
   std::vector<std::vector<WaveletVariance>> wvs;
@@ -285,9 +290,6 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
   const auto robust_options = robust_wv_options(args.robust, wv_opts);
-  // The bootstrap Omega recomputes the same WV on simulated series.
-  std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
-  if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
   check_report_option(common);
@@ -298,7 +300,6 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
   options.max_evaluations = args.max_evaluations;
-  options.estimator = robust_estimator.get();
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
     if (options.omega == OmegaKind::kBootstrap)
@@ -317,82 +318,56 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
-  const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
-
-  Stopwatch wv_clock;
-  const std::vector<WaveletVariance> wvs =
-      robust_options ? compute_robust_wv(set, *robust_options) : compute_wv(set, wv_opts);
-  const double wv_seconds = wv_clock.seconds();
-  for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
-
-  Stopwatch fit_clock;
-  std::vector<FitResult> fits(wvs.size());
-  tbb::parallel_for(std::size_t{0}, wvs.size(),
-                    [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
-  // A drift's sign is not in the WV: the series' own slope gives it.
-  for (std::size_t k = 0; k < fits.size(); ++k) orient_by_series(fits[k], set.signals[k].values);
-  const double fit_seconds = fit_clock.seconds();
-
-  std::vector<const FitResult*> fit_ptrs;
-  for (const auto& f : fits) fit_ptrs.push_back(&f);
-  const auto figures = figure_reports(set, fit_ptrs, wvs, args.input.alpha);
+  pipeline::FitStudyOptions study_options;
+  study_options.model = args.model;
+  study_options.fit = options;
+  study_options.wv = wv_opts;
+  study_options.robust = robust_options;
+  const pipeline::FitStudy study = pipeline::study_fit(set, study_options);
+  std::vector<std::string> units;
+  for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
 
   // Everything is computed: build the outputs, then write them.
-  io::Json doc = io::json_document("fit");
-  doc["input"] = set.path;
-  doc["model_spec"] = args.model;
-  doc["seed"] = common.seed;
-  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
-  for (std::size_t k = 0; k < wvs.size(); ++k)
-  {
-    const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
-    io::Json col = io::fit_column_json(info, wvs[k], fits[k], options.omega);
-    col["unit"] = info.unit.empty() ? io::Json(nullptr) : io::Json(info.unit);
-    col["continuous"] = io::continuous_json(fits[k], info);
-    col["kalman"] = io::kalman_json(fits[k], info, filter_rate(args.units, set),
-                                    figures[k] ? &figures[k]->chosen : nullptr);
-    col["allan"] = figures[k] ? io::allan_json(figures[k]->adev, figures[k]->model_adev) : io::Json(nullptr);
-    col["noise_figures"] = figures[k] ? io::noise_figures_json(figures[k]->chosen, info.unit) : io::Json(nullptr);
-    doc["columns"].push_back(std::move(col));
-  }
+  io::Json doc = io::fit_document(set, study, units, filter_rate(args.units, set));
+  const double filter = filter_rate(args.units, set);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
-    for (std::size_t k = 0; k < fits.size(); ++k)
-      report += (k ? "\n" : "") + terminal_report(set, k, wvs[k], fits[k], options.omega) +
-                continuous_table(fits[k], with_unit(column_info(set, k), args.units)) +
-                (figures[k] ? noise_figures_table(figures[k]->chosen, column_unit(args.units, set.signals[k].name)) : "") +
-                kalman_table(fits[k], with_unit(column_info(set, k), args.units), filter_rate(args.units, set),
-                             figures[k] ? &figures[k]->chosen : nullptr);
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::FitColumnStudy& c = study.columns[k];
+      const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
+      const ChosenFigures* chosen = c.figures ? &c.figures->chosen : nullptr;
+      report += (k ? "\n" : "") + terminal_report(set, k, c.wv, c.fit, options.omega) + continuous_table(c.fit, info) +
+                (chosen ? noise_figures_table(*chosen, units[k]) : "") + kalman_table(c.fit, info, filter, chosen);
+    }
   }
 
   warn_about_timing(set);
   int usable = 0;
-  for (std::size_t k = 0; k < fits.size(); ++k) {
-    const FitResult& r = fits[k];
+  for (const pipeline::FitColumnStudy& c : study.columns) {
+    const FitResult& r = c.fit;
     if (r.status == FitStatus::kNotConverged)
-      warn("column '" + set.signals[k].name + "': the fit did not converge" +
-           (r.message.empty() ? "" : ": " + r.message));
+      warn("column '" + c.name + "': the fit did not converge" + (r.message.empty() ? "" : ": " + r.message));
     else if (r.status == FitStatus::kFailed)
-      warn("column '" + set.signals[k].name + "': the fit failed" +
-           (r.message.empty() ? "" : ": " + r.message));
+      warn("column '" + c.name + "': the fit failed" + (r.message.empty() ? "" : ": " + r.message));
     if (r.status != FitStatus::kFailed) ++usable;
   }
   write_json(common, doc,
              {.threads = 0,
               .seconds = {{"read", read_seconds},
-                          {"wv", wv_seconds},
-                          {"fit", fit_seconds},
+                          {"wv", study.wv_seconds},
+                          {"fit", study.fit_seconds},
                           {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty() && usable > 0) {
     io::ReportData rep = report_data("fit", set, args.model);
-    for (std::size_t k = 0; k < fits.size(); ++k) {
-      rep.columns[k].wvs = {wvs[k]};
-      rep.columns[k].fit = fits[k];
-      rep.columns[k].allan = figures[k];
-      rep.columns[k].filter_rate = filter_rate(args.units, set);
-      if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::FitColumnStudy& c = study.columns[k];
+      rep.columns[k].wvs = {c.wv};
+      rep.columns[k].fit = c.fit;
+      rep.columns[k].allan = c.figures;
+      rep.columns[k].filter_rate = filter;
+      if (!units[k].empty()) rep.columns[k].unit = units[k];
     }
     write_report(common, rep);
   }

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "common.h"
+#include "gmwm/pipeline/fit_study.h"
 #include "units_tables.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/joint_fit.h"
@@ -313,7 +314,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const double select_seconds = select_clock.seconds();
   std::vector<const FitResult*> best_fits;
   for (const auto& sel : result) best_fits.push_back(&sel.best_fit);
-  const auto figures = figure_reports(set, best_fits, wvs, args.input.alpha);
+  const auto figures = pipeline::noise_figures_of(set, best_fits, wvs, args.input.alpha);
 
   io::Json doc = io::json_document("select");
   doc["input"] = set.path;

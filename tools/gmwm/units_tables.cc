@@ -86,23 +86,4 @@ std::string noise_figures_table(const ChosenFigures& figures, const std::string&
   return t.str() + notes;
 }
 
-std::vector<std::optional<FigureReport>> figure_reports(const io::SignalSet& set, const std::vector<const FitResult*>& fits,
-                                                        const std::vector<WaveletVariance>& wvs, double alpha) {
-  std::vector<std::optional<FigureReport>> out(fits.size());
-  if (!set.freq_known) return out;
-  tbb::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t k) {
-    const FitResult& f = *fits[k];
-    if (f.status == FitStatus::kFailed || f.theta.size() != f.model.num_parameters() || !f.theta.allFinite()) return;
-    AllanOptions ao;
-    ao.alpha = alpha;
-    ReadoffOptions ro;
-    ro.alpha = alpha;
-    if (k < wvs.size() && wvs[k].estimator != "classical")
-      out[k] = noise_figure_report_from_wv(wvs[k], set.freq, f.model, f.theta, &f.covariance, ro);
-    else
-      out[k] = noise_figure_report(set.signals[k].values, set.freq, f.model, f.theta, &f.covariance, ao, ro);
-  });
-  return out;
-}
-
 }  // namespace gmwm::cli

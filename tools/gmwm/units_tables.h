@@ -48,11 +48,4 @@ std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, dou
 /// the components behind each, and a note where the model misses the data.
 std::string noise_figures_table(const ChosenFigures& figures, const std::string& unit);
 
-/// Each column's noise-figure report (engine/noise_figures.h) for its fit, in parallel;
-/// empty reports for unusable fits (no values).
-/// With a robust WV (not "classical") the data's Allan deviation is the robust one at the
-/// octave points (noise_figure_report_from_wv): the classical one carries the contamination.
-std::vector<std::optional<FigureReport>> figure_reports(const io::SignalSet& set, const std::vector<const FitResult*>& fits,
-                                                        const std::vector<WaveletVariance>& wvs, double alpha);
-
 }  // namespace gmwm::cli

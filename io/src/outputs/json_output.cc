@@ -331,4 +331,26 @@ std::string dump_json(const json& doc) {
   return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
+json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
+                  double filter_rate) {
+  json doc = json_document("fit");
+  doc["input"] = set.path;
+  doc["model_spec"] = study.model_spec;
+  doc["seed"] = study.seed;
+  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::FitColumnStudy& c = study.columns[k];
+    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
+                          k < units.size() ? units[k] : std::string()};
+    json col = fit_column_json(info, c.wv, c.fit, study.omega);
+    col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
+    col["continuous"] = continuous_json(c.fit, info);
+    col["kalman"] = kalman_json(c.fit, info, filter_rate, c.figures ? &c.figures->chosen : nullptr);
+    col["allan"] = c.figures ? allan_json(c.figures->adev, c.figures->model_adev) : json(nullptr);
+    col["noise_figures"] = c.figures ? noise_figures_json(c.figures->chosen, info.unit) : json(nullptr);
+    doc["columns"].push_back(std::move(col));
+  }
+  return doc;
+}
+
 }  // namespace gmwm::io

@@ -29,6 +29,7 @@
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
 
 namespace gmwm::io {
@@ -137,6 +138,13 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
+
+/// The fit study's document (json_document("fit") filled): "input", "model_spec", "seed",
+/// "timing" and "columns": fit_column_json with "unit", "continuous", "kalman" (at
+/// `filter_rate`, 0: the data's rate), "allan" and "noise_figures". `units[k]` is column
+/// k's declared unit ("" when none; empty vector: none declared).
+Json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
+                  double filter_rate);
 
 /// The gap study's document (json_document("gap") filled): "input", "baseline_source",
 /// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant
