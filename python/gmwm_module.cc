@@ -30,6 +30,7 @@
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/select_study.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
 #include "gmwm/selection/select.h"
@@ -141,17 +142,6 @@ std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::op
   return o;
 }
 
-// The WVs of the columns, classical or robust (as the CLI computes them).
-std::vector<gmwm::WaveletVariance> wvs_of(const std::vector<std::vector<double>>& cols, double alpha,
-                                          const std::optional<gmwm::robust::RobustWvOptions>& robust) {
-  std::vector<std::span<const double>> series;
-  for (const auto& c : cols) series.emplace_back(c);
-  if (robust) return gmwm::robust::robust_wv(series, *robust);
-  gmwm::WvOptions wo;
-  wo.alpha = alpha;
-  return gmwm::classical_wv(series, wo);
-}
-
 gmwm::OmegaKind omega_kind(const std::string& s) {
   if (s == "diag") return gmwm::OmegaKind::kDiag;
   if (s == "full") return gmwm::OmegaKind::kFull;
@@ -229,47 +219,53 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
   return to_python(out);
 }
 
+// The selection study (gmwm::pipeline::study_select, as `gmwm select --model`): a list of
+// 'select' JSON columns with the best fit's continuous parameters, Kalman terms, Allan
+// deviations and noise figures.
 py::object py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                   const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
                   double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
-                  std::optional<double> eff, const std::optional<std::string>& estimator) {
-  const std::vector<std::vector<double>> cols = columns_of(data);
-  const auto ro = robust_options(robust, eff, estimator, alpha);
-  std::unique_ptr<gmwm::robust::RobustWvEstimator> robust_estimator;
-  if (ro) robust_estimator = std::make_unique<gmwm::robust::RobustWvEstimator>(*ro);
+                  std::optional<double> eff, const std::optional<std::string>& estimator,
+                  const std::vector<std::string>& units) {
+  std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
+  if (!units.empty() && units.size() != cols.size())
+    throw gmwm::InputError("units: " + std::to_string(units.size()) + " units for " + std::to_string(cols.size()) +
+                           " columns");
   const gmwm::io::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
-  const gmwm::Model maximal = gmwm::parse_model(model_spec, gmwm::ProcessContext{first.freq, first.freq_known});
+  gmwm::io::SignalSet set;
+  set.path = "<array>";
+  set.freq = first.freq;
+  set.freq_known = first.freq_known;
+  for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
   namespace sel = gmwm::selection;
-  sel::SelectOptions o;
-  if (optimism == "analytic") o.optimism = sel::OptimismMethod::kAnalytic;
-  else if (optimism == "bootstrap") o.optimism = sel::OptimismMethod::kBootstrap;
-  else if (optimism == "both") o.optimism = sel::OptimismMethod::kBoth;
+  gmwm::pipeline::SelectStudyOptions o;
+  o.models = {model_spec};
+  sel::SelectOptions& so = o.select;
+  if (optimism == "analytic") so.optimism = sel::OptimismMethod::kAnalytic;
+  else if (optimism == "bootstrap") so.optimism = sel::OptimismMethod::kBootstrap;
+  else if (optimism == "both") so.optimism = sel::OptimismMethod::kBoth;
   else throw gmwm::InputError("optimism: expected analytic, bootstrap or both, got '" + optimism + "'");
-  if (omega == "model") o.omega = sel::OmegaSource::kModel;
-  else if (omega == "full") o.omega = sel::OmegaSource::kModelFull;
-  else if (omega == "data") o.omega = sel::OmegaSource::kData;
+  if (omega == "model") so.omega = sel::OmegaSource::kModel;
+  else if (omega == "full") so.omega = sel::OmegaSource::kModelFull;
+  else if (omega == "data") so.omega = sel::OmegaSource::kData;
   else throw gmwm::InputError("omega: expected model, full or data, got '" + omega + "'");
-  if (penalty == "wvic") o.penalty = sel::Penalty::kWvic;
-  else if (penalty == "bic") o.penalty = sel::Penalty::kBic;
+  if (penalty == "wvic") so.penalty = sel::Penalty::kWvic;
+  else if (penalty == "bic") so.penalty = sel::Penalty::kBic;
   else throw gmwm::InputError("penalty: expected wvic or bic, got '" + penalty + "'");
-  o.bootstrap_replicates = replicates;
-  o.seed = seed;
-  o.fit.alpha = alpha;
-  o.fit.seed = seed;
-  o.estimator = robust_estimator.get();  // bootstrap draws get the same WV
+  so.bootstrap_replicates = replicates;
+  so.seed = seed;
+  so.fit.alpha = alpha;
+  so.fit.seed = seed;
+  o.wv.alpha = alpha;
+  o.robust = robust_options(robust, eff, estimator, alpha);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
-  Json out = Json::array();
+  gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
+  Json out;
   {
     py::gil_scoped_release release;
-    const std::vector<gmwm::WaveletVariance> wvs = wvs_of(cols, alpha, ro);
-    for (const auto& w : wvs) gmwm::check_model_fits_levels(maximal, w.levels());
-    std::vector<sel::Selection> result = sel::select_models(wvs, maximal, o);
-    for (std::size_t k = 0; k < result.size(); ++k) {
-      gmwm::orient_by_series(result[k].best_fit, cols[k]);
-      out.push_back(gmwm::io::select_column_json(info(labels[k], cols[k].size(), freq, ""), wvs[k], result[k],
-                                                 o.penalty));
-    }
+    const gmwm::pipeline::SelectStudy study = gmwm::pipeline::study_select(set, o);
+    out = gmwm::io::select_document(set, study, units, set.freq_known ? set.freq : 0.0)["columns"];
   }
   return to_python(out);
 }
@@ -376,7 +372,10 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{},
         py::arg("robust") = false, py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
-        "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns");
+        py::arg("units") = std::vector<std::string>{},
+        "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns "
+        "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` one "
+        "per column)");
   m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq"),
         py::arg("points_per_octave") = gmwm::AllanOptions{}.points_per_octave, py::arg("alpha") = 0.05,
         py::arg("unit") = "",

@@ -98,13 +98,17 @@ def test_fit_equals_the_cli_json_bit_for_bit(tmp_path, example):
 
 
 def test_select_equals_the_cli_json_bit_for_bit_on_two_columns(tmp_path, example):
-    doc = cli_json(tmp_path, "select", EXAMPLE, "--columns", "gyro_z,accel_x", "--model", "AR1+WN+RW")
+    doc = cli_json(tmp_path, "select", EXAMPLE, "--columns", "gyro_z,accel_x", "--model", "AR1+WN+RW",
+                   "--units", "gyro=rad/s,accel=m/s^2")
     data = np.column_stack([example["gyro_z"], example["accel_x"]])
-    mine = gmwm.select(data, "AR1+WN+RW", freq=doc["columns"][0]["freq"], names=["gyro_z", "accel_x"])
+    mine = gmwm.select(data, "AR1+WN+RW", freq=doc["columns"][0]["freq"], names=["gyro_z", "accel_x"],
+                       units=["rad/s", "m/s^2"])
     assert len(mine) == 2
     for m, c in zip(mine, doc["columns"]):
         assert m["name"] == c["name"]
-        for key in ("best", "best_model", "ranking", "best_fit"):
+        assert c["noise_figures"] and c["best_kalman"]
+        for key in ("best", "best_model", "ranking", "best_fit", "unit", "best_continuous", "best_kalman", "allan",
+                    "noise_figures"):
             assert m[key] == c[key], key
 
 

@@ -16,6 +16,7 @@
 
 #include "common.h"
 #include "gmwm/pipeline/fit_study.h"
+#include "gmwm/pipeline/select_study.h"
 #include "units_tables.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/joint_fit.h"
@@ -236,8 +237,6 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   const WvOptions wv_opts = wv_options(args.input);
   const auto robust_options = robust_wv_options(args.robust, wv_opts);
-  std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
-  if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
   check_report_option(common);
@@ -254,13 +253,16 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
                                          : selection::OmegaSource::kModel;
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
-  options.estimator = robust_estimator.get();
   options.penalty = args.penalty == "bic" ? selection::Penalty::kBic : selection::Penalty::kWvic;
   options.fit.alpha = args.input.alpha;
   options.fit.seed = common.seed;
   options.fit.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
+    // Bootstrap draws get the data's WV estimator.
+    std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
+    if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
+    options.estimator = robust_estimator.get();
     return run_joint_select(args, common, options, robust_options ? &*robust_options : nullptr);
   }
   if (args.model.empty() == args.models.empty())
@@ -280,90 +282,62 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
       cur.clear();
     }
   }
-  auto parse_all = [&](const ProcessContext& ctx) {
-    std::vector<Model> out;
-    if (specs.empty()) out.push_back(parse_model(args.model, ctx));
-    for (const auto& sp : specs) out.push_back(parse_model(sp, ctx));
-    return out;
-  };
+  pipeline::SelectStudyOptions study_options;
+  study_options.models = specs.empty() ? std::vector<std::string>{args.model} : specs;
+  study_options.listed = !specs.empty();
+  study_options.select = options;
+  study_options.wv = wv_opts;
+  study_options.robust = robust_options;
   if (args.input.freq) {
     if (!(*args.input.freq > 0.0 && std::isfinite(*args.input.freq)))
       throw InputError("--freq " + fmt(*args.input.freq) + ": expected a positive sampling rate in Hz");
-    parse_all(ProcessContext{*args.input.freq, true});
+    for (const std::string& m : study_options.models) parse_model(m, ProcessContext{*args.input.freq, true});
   }
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
-  const std::vector<Model> models = parse_all(ProcessContext{set.freq, set.freq_known});
-  const Model model = specs.empty() ? models.front() : selection::common_supermodel(models);
-  Stopwatch wv_clock;
-  const std::vector<WaveletVariance> wvs =
-      robust_options ? compute_robust_wv(set, *robust_options) : compute_wv(set, wv_opts);
-  const double wv_seconds = wv_clock.seconds();
-  for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
-
   // Progress on a terminal: models done / total (bootstrap refits included), time left.
   ProgressBar bar("select: models", common);
-  if (bar.enabled()) options.progress = [&](int done, int total_models) { bar.update(done, total_models); };
-  Stopwatch select_clock;
-  std::vector<selection::Selection> result =
-      specs.empty() ? selection::select_models(wvs, model, options) : selection::select_among(wvs, models, options);
-  // A drift's sign is not in the WV: the series' own slope gives it.
-  for (std::size_t k = 0; k < result.size(); ++k) orient_by_series(result[k].best_fit, set.signals[k].values);
-  const double select_seconds = select_clock.seconds();
-  std::vector<const FitResult*> best_fits;
-  for (const auto& sel : result) best_fits.push_back(&sel.best_fit);
-  const auto figures = pipeline::noise_figures_of(set, best_fits, wvs, args.input.alpha);
+  if (bar.enabled()) study_options.select.progress = [&](int done, int total_models) { bar.update(done, total_models); };
+  const pipeline::SelectStudy study = pipeline::study_select(set, study_options);
 
-  io::Json doc = io::json_document("select");
-  doc["input"] = set.path;
-  doc["model_spec"] = specs.empty() ? args.model : args.models;
-  doc["mode"] = specs.empty() ? "sub-models" : "listed";
-  doc["optimism"] = args.optimism;
-  doc["omega"] = args.omega;
-  doc["seed"] = common.seed;
-  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
-  for (std::size_t k = 0; k < wvs.size(); ++k)
-  {
-    const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
-    io::Json col = io::select_column_json(info, wvs[k], result[k], options.penalty);
-    col["unit"] = info.unit.empty() ? io::Json(nullptr) : io::Json(info.unit);
-    col["best_continuous"] = io::continuous_json(result[k].best_fit, info);
-    col["best_kalman"] = io::kalman_json(result[k].best_fit, info, filter_rate(args.units, set),
-                                    figures[k] ? &figures[k]->chosen : nullptr);
-    col["allan"] = figures[k] ? io::allan_json(figures[k]->adev, figures[k]->model_adev) : io::Json(nullptr);
-    col["noise_figures"] = figures[k] ? io::noise_figures_json(figures[k]->chosen, info.unit) : io::Json(nullptr);
-    doc["columns"].push_back(std::move(col));
-  }
+  std::vector<std::string> units;
+  for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
+  const double filter = filter_rate(args.units, set);
+  io::Json doc = io::select_document(set, study, units, filter);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
-    for (std::size_t k = 0; k < result.size(); ++k) {
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::SelectColumnStudy& c = study.columns[k];
       const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
-      report += (k ? "\n" : "") + terminal_report(set, k, result[k]) + continuous_table(result[k].best_fit, info) +
-                (figures[k] ? noise_figures_table(figures[k]->chosen, info.unit) : "") +
-                kalman_table(result[k].best_fit, info, filter_rate(args.units, set),
-                             figures[k] ? &figures[k]->chosen : nullptr);
+      const ChosenFigures* chosen = c.figures ? &c.figures->chosen : nullptr;
+      report += (k ? "\n" : "") + terminal_report(set, k, c.selection) + continuous_table(c.selection.best_fit, info) +
+                (chosen ? noise_figures_table(*chosen, info.unit) : "") +
+                kalman_table(c.selection.best_fit, info, filter, chosen);
     }
   }
   warn_about_timing(set);
-  for (std::size_t k = 0; k < result.size(); ++k)
-    if (result[k].best_fit.status == FitStatus::kFailed)
-      warn("column '" + set.signals[k].name + "': the best model's fit with inference failed");
+  for (const pipeline::SelectColumnStudy& c : study.columns)
+    if (c.selection.best_fit.status == FitStatus::kFailed)
+      warn("column '" + c.name + "': the best model's fit with inference failed");
   write_json(common, doc,
              {.threads = 0,
-              .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"select", select_seconds},
+              .seconds = {{"read", read_seconds},
+                          {"wv", study.wv_seconds},
+                          {"select", study.select_seconds},
                           {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
     io::ReportData rep = report_data("select", set, specs.empty() ? args.model : args.models);
-    for (std::size_t k = 0; k < result.size(); ++k) {
-      rep.columns[k].wvs = {wvs[k]};
-      rep.columns[k].selection = result[k];
-      rep.columns[k].allan = figures[k];
-      rep.columns[k].filter_rate = filter_rate(args.units, set);
-      if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::SelectColumnStudy& c = study.columns[k];
+      rep.columns[k].wvs = {c.wv};
+      rep.columns[k].selection = c.selection;
+      rep.columns[k].allan = c.figures;
+      rep.columns[k].filter_rate = filter;
+      if (!units[k].empty()) rep.columns[k].unit = units[k];
     }
     write_report(common, rep);
   }

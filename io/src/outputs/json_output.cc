@@ -353,4 +353,31 @@ json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const s
   return doc;
 }
 
+json select_document(const SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
+                     double filter_rate) {
+  json doc = json_document("select");
+  doc["input"] = set.path;
+  std::string spec;
+  for (const std::string& m : study.models) spec += (spec.empty() ? "" : ";") + m;
+  doc["model_spec"] = spec;
+  doc["mode"] = study.listed ? "listed" : "sub-models";
+  doc["optimism"] = selection::to_string(study.options.optimism);
+  doc["omega"] = selection::to_string(study.options.omega);
+  doc["seed"] = study.options.seed;
+  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::SelectColumnStudy& c = study.columns[k];
+    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
+                          k < units.size() ? units[k] : std::string()};
+    json col = select_column_json(info, c.wv, c.selection, study.options.penalty);
+    col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
+    col["best_continuous"] = continuous_json(c.selection.best_fit, info);
+    col["best_kalman"] = kalman_json(c.selection.best_fit, info, filter_rate, c.figures ? &c.figures->chosen : nullptr);
+    col["allan"] = c.figures ? allan_json(c.figures->adev, c.figures->model_adev) : json(nullptr);
+    col["noise_figures"] = c.figures ? noise_figures_json(c.figures->chosen, info.unit) : json(nullptr);
+    doc["columns"].push_back(std::move(col));
+  }
+  return doc;
+}
+
 }  // namespace gmwm::io

@@ -31,6 +31,7 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/select_study.h"
 
 namespace gmwm::io {
 
@@ -145,6 +146,13 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
 /// k's declared unit ("" when none; empty vector: none declared).
 Json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
                   double filter_rate);
+
+/// The selection study's document (json_document("select") filled): "input", "model_spec"
+/// (the models joined by ';'), "mode" ("sub-models" or "listed"), "optimism", "omega",
+/// "seed", "timing" and "columns": select_column_json with "unit", "best_continuous",
+/// "best_kalman" (at `filter_rate`), "allan" and "noise_figures"; `units` as fit_document's.
+Json select_document(const SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
+                     double filter_rate);
 
 /// The gap study's document (json_document("gap") filled): "input", "baseline_source",
 /// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant

@@ -1,0 +1,64 @@
+#pragma once
+// The selection study of a signal set: every sub-model of a maximal model (or the models of
+// a list, fitted under their common supermodel's Omega) ranked by WVIC or BIC on each
+// column's (classical or robust) WV, the best fit's drift oriented by the series' slope,
+// and its noise figures. What `gmwm select` and Python's gmwm.select both run;
+// io::select_document writes it.
+//
+//   gmwm::pipeline::SelectStudyOptions o;
+//   o.models = {"3*AR1+WN+RW+QN+DR"};
+//   const gmwm::pipeline::SelectStudy s = gmwm::pipeline::study_select(set, o);
+//   // s.columns[k].selection.best_model ...
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/selection/select.h"
+
+namespace gmwm::pipeline {
+
+struct SelectStudyOptions {
+  /// One maximal model (every sub-model is ranked), or, `listed`, the models to rank as
+  /// given.
+  std::vector<std::string> models;
+  bool listed = false;
+  /// Optimism, Omega, penalty, replicates, seed, the fits' options, progress. Its
+  /// `estimator` is set by the study (the robust WV's) and must be left null.
+  selection::SelectOptions select;
+  /// Levels and alpha of the classical WV.
+  WvOptions wv;
+  /// The robust WV instead of the classical one.
+  std::optional<robust::RobustWvOptions> robust;
+
+  /// Empty when valid, else what is wrong.
+  std::string Validate() const;
+};
+
+struct SelectColumnStudy {
+  std::string name;
+  WaveletVariance wv;
+  selection::Selection selection;
+  /// The best fit's noise figures; absent without a known rate or a usable fit.
+  std::optional<FigureReport> figures;
+};
+
+struct SelectStudy {
+  /// False when every sub-model of models[0] was ranked; true for a list.
+  bool listed = false;
+  std::vector<std::string> models;
+  selection::SelectOptions options;  // as run (without the estimator and progress)
+  std::vector<SelectColumnStudy> columns;
+  double wv_seconds = 0.0, select_seconds = 0.0;
+};
+
+/// Runs the study on every column of `set`. Throws InputError for invalid options, a model
+/// that does not parse, or a maximal model with more parameters than a column's WV has levels.
+SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& options);
+
+}  // namespace gmwm::pipeline

@@ -1,0 +1,77 @@
+// The selection study as named stages: models -> wavelet variances -> selection (drifts
+// oriented) -> the best fits' noise figures.
+#include "gmwm/pipeline/select_study.h"
+
+#include <chrono>
+#include <memory>
+#include <span>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/pipeline/fit_study.h"
+#include "gmwm/selection/submodels.h"
+
+namespace gmwm::pipeline {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::string SelectStudyOptions::Validate() const {
+  if (models.empty()) return "no model given";
+  if (!listed && models.size() != 1) return "give one maximal model (or set listed for a list of models)";
+  for (const std::string& m : models)
+    if (m.find_first_not_of(" \t") == std::string::npos) return "an empty model";
+  if (select.estimator) return "leave SelectOptions::estimator null: the study sets it";
+  if (std::string why = select.Validate(); !why.empty()) return why;
+  return wv.Validate();
+}
+
+SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  SelectStudy study;
+  study.listed = options.listed;
+  study.models = options.models;
+  study.options = options.select;
+  study.options.progress = nullptr;
+
+  // The models at the data's rate; a list is fitted under its common supermodel's Omega.
+  const ProcessContext ctx{set.freq, set.freq_known};
+  std::vector<Model> models;
+  for (const std::string& m : options.models) models.push_back(parse_model(m, ctx));
+  const Model maximal = !study.listed ? models.front() : selection::common_supermodel(models);
+
+  const auto wv_start = std::chrono::steady_clock::now();
+  std::vector<std::span<const double>> series;
+  for (const auto& s : set.signals) series.emplace_back(s.values);
+  std::vector<WaveletVariance> wvs =
+      options.robust ? robust::robust_wv(series, *options.robust) : classical_wv(series, options.wv);
+  study.wv_seconds = seconds_since(wv_start);
+  for (const auto& w : wvs) check_model_fits_levels(maximal, w.levels());
+
+  // Bootstrap draws get the data's WV estimator.
+  std::unique_ptr<robust::RobustWvEstimator> estimator;
+  selection::SelectOptions so = options.select;
+  if (options.robust) {
+    estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
+    so.estimator = estimator.get();
+  }
+  const auto select_start = std::chrono::steady_clock::now();
+  std::vector<selection::Selection> result =
+      !study.listed ? selection::select_models(wvs, maximal, so) : selection::select_among(wvs, models, so);
+  // A drift's sign is not in the WV: the series' own slope gives it.
+  for (std::size_t k = 0; k < result.size(); ++k) orient_by_series(result[k].best_fit, set.signals[k].values);
+  study.select_seconds = seconds_since(select_start);
+
+  std::vector<const FitResult*> best;
+  for (const auto& s : result) best.push_back(&s.best_fit);
+  std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, best, wvs, options.select.fit.alpha);
+  for (std::size_t k = 0; k < result.size(); ++k)
+    study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(result[k]), std::move(figures[k])});
+  return study;
+}
+
+}  // namespace gmwm::pipeline
