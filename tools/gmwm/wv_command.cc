@@ -16,6 +16,7 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/io/signal_writer.h"
 #include "gmwm/io/units.h"
+#include "gmwm/pipeline/wv_study.h"
 #include "gmwm/robust/contamination.h"
 
 namespace gmwm::cli {
@@ -41,12 +42,11 @@ struct WvArgs {
 };
 
 // The Allan deviation table and its read-offs, per column.
-std::string adev_terminal(const io::SignalSet& set, const std::vector<std::optional<FigureReport>>& reports,
-                          const UnitsOptions& units) {
+std::string adev_terminal(const io::SignalSet& set, const pipeline::WvStudy& study, const UnitsOptions& units) {
   std::ostringstream os;
-  for (std::size_t k = 0; k < reports.size(); ++k) {
-    if (!reports[k]) continue;
-    const FigureReport& r = *reports[k];
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    if (!study.columns[k].allan) continue;
+    const FigureReport& r = *study.columns[k].allan;
     const std::string unit = column_unit(units, set.signals[k].name);
     os << '\n' << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
        << "% CI (chi-square, edf = (N - 2m + 1) / 2m)" << (unit.empty() ? "" : ", in " + unit) << '\n';
@@ -59,12 +59,12 @@ std::string adev_terminal(const io::SignalSet& set, const std::vector<std::optio
   return os.str();
 }
 
-std::string adev_csv(const io::SignalSet& set, const std::vector<std::optional<FigureReport>>& reports) {
+std::string adev_csv(const io::SignalSet& set, const pipeline::WvStudy& study) {
   std::ostringstream os;
   os << "column,m,tau_seconds,adev,ci_low,ci_high,edf\n";
-  for (std::size_t k = 0; k < reports.size(); ++k) {
-    if (!reports[k]) continue;
-    const AllanDeviation& a = reports[k]->adev;
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    if (!study.columns[k].allan) continue;
+    const AllanDeviation& a = study.columns[k].allan->adev;
     for (std::size_t i = 0; i < a.size(); ++i) {
       os << io::csv_field(set.signals[k].name) << ',' << a.m[i] << ',';
       num(os, a.tau[i]) << ',';
@@ -77,22 +77,14 @@ std::string adev_csv(const io::SignalSet& set, const std::vector<std::optional<F
   return os.str();
 }
 
-// The robust WV's companions, per column (empty for a classical run).
-struct RobustView {
-  std::vector<WaveletVariance> classical;
-  std::vector<robust::Quantization> quantization;
-  std::vector<std::vector<robust::LevelDiagnostic>> diagnostic;
-  bool active() const { return !classical.empty(); }
-};
-
-std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs,
-                      const RobustView& rv) {
+std::string csv_table(const io::SignalSet& set, const pipeline::WvStudy& study) {
+  const bool robust = !study.columns.empty() && study.columns.front().robust.has_value();
   std::ostringstream os;
   os << "column,level,tau,tau_seconds,wv,ci_low,ci_high,coefficients";
-  if (rv.active()) os << ",classical_wv,robust_to_classical,ci_disjoint,contaminated";
+  if (robust) os << ",classical_wv,robust_to_classical,ci_disjoint,contaminated";
   os << "\n";
-  for (std::size_t k = 0; k < wvs.size(); ++k) {
-    const auto& w = wvs[k];
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const auto& w = study.columns[k].wv;
     for (int j = 0; j < w.levels(); ++j) {
       const auto l = static_cast<std::size_t>(j);
       os << io::csv_field(set.signals[k].name) << ',' << (j + 1) << ',';
@@ -102,8 +94,8 @@ std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVarianc
       num(os, w.ci_low[l]) << ',';
       num(os, w.ci_high[l]) << ',';
       os << w.coefficients[l];
-      if (rv.active()) {
-        const auto& d = rv.diagnostic[k][l];
+      if (robust) {
+        const auto& d = study.columns[k].robust->diagnostic[l];
         os << ',';
         num(os, d.classical_wv) << ',';
         num(os, d.robust_to_classical) << ',' << (d.ci_disjoint ? "true" : "false") << ','
@@ -115,41 +107,41 @@ std::string csv_table(const io::SignalSet& set, const std::vector<WaveletVarianc
   return os.str();
 }
 
-std::string terminal_table(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs,
-                           const RobustView& rv) {
+std::string terminal_table(const io::SignalSet& set, const pipeline::WvStudy& study) {
   std::ostringstream os;
-  for (std::size_t k = 0; k < wvs.size(); ++k) {
-    const auto& w = wvs[k];
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const auto& w = study.columns[k].wv;
+    const std::optional<pipeline::RobustWvView>& rv = study.columns[k].robust;
     const auto& s = set.signals[k];
     if (k) os << '\n';
     os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, ";
-    if (rv.active())
+    if (rv)
       os << w.estimator << " WV (efficiency " << fmt(w.efficiency.value_or(1.0)) << ")";
     else
       os << "classical WV";
     os << ", " << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
        << '\n';
     std::vector<std::string> head = {"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"};
-    if (rv.active()) head.insert(head.end(), {"classical", "ratio", "flag"});
+    if (rv) head.insert(head.end(), {"classical", "ratio", "flag"});
     Table t(head);
     for (int j = 0; j < w.levels(); ++j) {
       const auto l = static_cast<std::size_t>(j);
       std::vector<std::string> row = {std::to_string(j + 1), fmt(w.tau[l], 10), fmt(w.tau[l] / set.freq),
                                       std::isfinite(w.wv[l]) ? fmt(w.wv[l]) : "no root",
                                       fmt(w.ci_low[l]), fmt(w.ci_high[l]), std::to_string(w.coefficients[l])};
-      if (rv.active()) {
-        const auto& d = rv.diagnostic[k][l];
+      if (rv) {
+        const auto& d = rv->diagnostic[l];
         row.insert(row.end(), {fmt(d.classical_wv), fmt(d.robust_to_classical, 4),
                                d.contaminated ? "contaminated" : (d.ci_disjoint ? "CIs disjoint" : "")});
       }
       t.add(row);
     }
     os << t.str();
-    if (rv.active()) {
-      const auto& q = rv.quantization[k];
+    if (rv) {
+      const auto& q = rv->quantization;
       if (q.detected) os << "rounding step " << fmt(q.quantum) << " detected; flags are calibrated against it\n";
       int flagged = 0;
-      for (const auto& d : rv.diagnostic[k]) flagged += d.contaminated;
+      for (const auto& d : rv->diagnostic) flagged += d.contaminated;
       if (flagged) os << flagged << " level(s) flagged as contaminated: there the robust WV is the one to trust\n";
       for (int j = 0; j < w.levels(); ++j)
         if (!w.notes[static_cast<std::size_t>(j)].empty() && !std::isfinite(w.wv[static_cast<std::size_t>(j)]))
@@ -180,74 +172,40 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
-  Stopwatch wv_clock;
-  RobustView rv;
-  std::vector<WaveletVariance> wvs;
-  if (robust_options) {
-    wvs = compute_robust_wv(set, *robust_options);
-    rv.classical = compute_wv(set, options);
-    const robust::Tuning tuning = robust::tune(robust_options->estimator, robust_options->efficiency);
-    rv.quantization.resize(wvs.size());
-    rv.diagnostic.resize(wvs.size());
-    for (std::size_t k = 0; k < wvs.size(); ++k) {
-      const auto& x = set.signals[k].values;
-      rv.quantization[k] = robust::detect_quantization(x.data(), static_cast<std::int64_t>(x.size()));
-      rv.diagnostic[k] = robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), wvs[k],
-                                                          rv.classical[k], rv.quantization[k], tuning);
-    }
-  } else {
-    wvs = compute_wv(set, options);
-  }
-  const double wv_seconds = wv_clock.seconds();
-  std::vector<std::optional<FigureReport>> adev(set.signals.size());
-  if (args.adev) {
-    ReadoffOptions ro;
-    ro.alpha = args.input.alpha;
-    tbb::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
-      adev[k] = data_figure_report(set.signals[k].values, set.freq, allan_options, ro);
-    });
-  }
+  pipeline::WvStudyOptions study_options;
+  study_options.wv = options;
+  study_options.robust = robust_options;
+  if (args.adev) study_options.allan = allan_options;
+  const pipeline::WvStudy study = pipeline::study_wv(set, study_options);
 
   // Everything is computed: build the outputs, then write them.
-  io::Json doc = io::json_document("wv");
-  doc["input"] = set.path;
-  if (set.timing) doc["timing"] = io::timing_json(*set.timing);
-  for (std::size_t k = 0; k < wvs.size(); ++k)
-    doc["columns"].push_back(rv.active() ? io::robust_wv_column_json(column_info(set, k), wvs[k], rv.diagnostic[k],
-                                                                     rv.quantization[k])
-                                         : io::wv_column_json(column_info(set, k), wvs[k]));
-  for (std::size_t k = 0; k < adev.size(); ++k)
-    if (adev[k]) {
-      const std::string unit = column_unit(args.units, set.signals[k].name);
-      doc["columns"][k]["unit"] = unit.empty() ? io::Json(nullptr) : io::Json(unit);
-      doc["columns"][k]["allan"] = io::allan_json(adev[k]->adev, {});
-      doc["columns"][k]["noise_figures"] = io::noise_figures_json(adev[k]->chosen, unit);
-    }
-  const std::string csv = args.csv.empty() ? std::string() : csv_table(set, wvs, rv);
-  const std::string table = common.show_table() ? terminal_table(set, wvs, rv) : std::string();
+  std::vector<std::string> units;
+  for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
+  io::Json doc = io::wv_document(set, study, units);
+  const std::string csv = args.csv.empty() ? std::string() : csv_table(set, study);
+  const std::string table = common.show_table() ? terminal_table(set, study) : std::string();
 
   warn_about_timing(set);
   if (!args.csv.empty()) common.outputs->stage(args.csv, csv);
-  if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, adev_csv(set, adev));
+  if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, adev_csv(set, study));
   write_json(common, doc,
              {.threads = 0,
-              .seconds = {{"read", read_seconds}, {"wv", wv_seconds}, {"total", total.seconds()}},
+              .seconds = {{"read", read_seconds}, {"wv", study.wv_seconds}, {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
     io::ReportData rep = report_data("wv", set);
-    for (std::size_t k = 0; k < wvs.size(); ++k)
-      rep.columns[k].wvs =
-          rv.active() ? std::vector<WaveletVariance>{rv.classical[k], wvs[k]} : std::vector<WaveletVariance>{wvs[k]};
-    for (std::size_t k = 0; k < wvs.size(); ++k) {
-      rep.columns[k].allan = adev[k];
-      if (const std::string u = column_unit(args.units, set.signals[k].name); !u.empty()) rep.columns[k].unit = u;
+    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+      const pipeline::WvColumnStudy& c = study.columns[k];
+      rep.columns[k].wvs = c.robust ? std::vector<WaveletVariance>{c.robust->classical, c.wv} : std::vector<WaveletVariance>{c.wv};
+      rep.columns[k].allan = c.allan;
+      if (!units[k].empty()) rep.columns[k].unit = units[k];
     }
     write_report(common, rep);
   }
   commit_outputs(common);
   if (common.show_table()) {
     if (set.timing) std::cout << set.timing->summary() << '\n';
-    std::cout << table << adev_terminal(set, adev, args.units);
+    std::cout << table << adev_terminal(set, study, args.units);
     std::cout.flush();
   }
   return 0;

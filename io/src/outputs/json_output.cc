@@ -331,6 +331,26 @@ std::string dump_json(const json& doc) {
   return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
+json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
+  json doc = json_document("wv");
+  doc["input"] = set.path;
+  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::WvColumnStudy& c = study.columns[k];
+    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
+                          k < units.size() ? units[k] : std::string()};
+    json col = c.robust ? robust_wv_column_json(info, c.wv, c.robust->diagnostic, c.robust->quantization)
+                        : wv_column_json(info, c.wv);
+    if (c.allan) {
+      col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
+      col["allan"] = allan_json(c.allan->adev, {});
+      col["noise_figures"] = noise_figures_json(c.allan->chosen, info.unit);
+    }
+    doc["columns"].push_back(std::move(col));
+  }
+  return doc;
+}
+
 json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
                   double filter_rate) {
   json doc = json_document("fit");

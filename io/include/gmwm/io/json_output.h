@@ -32,6 +32,7 @@
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/select_study.h"
+#include "gmwm/pipeline/wv_study.h"
 
 namespace gmwm::io {
 
@@ -139,6 +140,11 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.
 Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
                      const std::vector<std::string>& conversions);
+
+/// The WV study's document (json_document("wv") filled): "input", "timing" and "columns":
+/// wv_column_json (robust_wv_column_json for a robust study), with "unit", "allan" and
+/// "noise_figures" when the study has the Allan deviation; `units` as fit_document's.
+Json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units);
 
 /// The fit study's document (json_document("fit") filled): "input", "model_spec", "seed",
 /// "timing" and "columns": fit_column_json with "unit", "continuous", "kalman" (at

@@ -1,0 +1,59 @@
+// The WV study as named stages: wavelet variances (robust: with the classical one, the
+// rounding check and the contamination diagnostic) -> Allan deviations and noise figures.
+#include "gmwm/pipeline/wv_study.h"
+
+#include <chrono>
+#include <span>
+
+#include <tbb/parallel_for.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/robust/tuning.h"
+
+namespace gmwm::pipeline {
+
+std::string WvStudyOptions::Validate() const {
+  if (std::string why = wv.Validate(); !why.empty()) return why;
+  if (allan)
+    if (std::string why = allan->Validate(); !why.empty()) return why;
+  return {};
+}
+
+WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (options.allan && !set.freq_known)
+    throw InputError(set.path + ": the Allan deviation needs the sampling rate: give --freq HZ or a timestamp column");
+  WvStudy study;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::span<const double>> series;
+  for (const auto& s : set.signals) series.emplace_back(s.values);
+  std::vector<WaveletVariance> classical = classical_wv(series, options.wv);
+  if (options.robust) {
+    std::vector<WaveletVariance> robust_wvs = robust::robust_wv(series, *options.robust);
+    const robust::Tuning tuning = robust::tune(options.robust->estimator, options.robust->efficiency);
+    for (std::size_t k = 0; k < set.signals.size(); ++k) {
+      const auto& x = set.signals[k].values;
+      const auto n = static_cast<std::int64_t>(x.size());
+      RobustWvView view;
+      view.quantization = robust::detect_quantization(x.data(), n);
+      view.diagnostic =
+          robust::contamination_diagnostic(x.data(), n, robust_wvs[k], classical[k], view.quantization, tuning);
+      view.classical = std::move(classical[k]);
+      study.columns.push_back({set.signals[k].name, std::move(robust_wvs[k]), std::move(view), std::nullopt});
+    }
+  } else {
+    for (std::size_t k = 0; k < set.signals.size(); ++k)
+      study.columns.push_back({set.signals[k].name, std::move(classical[k]), std::nullopt, std::nullopt});
+  }
+  study.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (options.allan) {
+    ReadoffOptions ro;
+    ro.alpha = options.allan->alpha;
+    tbb::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+      study.columns[k].allan = data_figure_report(set.signals[k].values, set.freq, *options.allan, ro);
+    });
+  }
+  return study;
+}
+
+}  // namespace gmwm::pipeline
