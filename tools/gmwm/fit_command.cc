@@ -39,15 +39,6 @@ OmegaKind omega_kind(const std::string& s) {
   return OmegaKind::kDiag;
 }
 
-std::string status_text(FitStatus s) {
-  switch (s) {
-    case FitStatus::kConverged: return "converged";
-    case FitStatus::kNotConverged: return "not_converged";
-    case FitStatus::kFailed: return "failed";
-  }
-  return "failed";
-}
-
 std::string terminal_report(const io::SignalSet& set, std::size_t k, const WaveletVariance& w,
                             const FitResult& r, OmegaKind omega) {
   std::ostringstream os;
@@ -71,7 +62,7 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   os << "goodness of fit: statistic " << fmt(r.gof.statistic) << ", df " << fmt(r.gof.df)
      << ", p-value " << fmt(r.gof.p_value, 4)
      << (r.gof.method.empty() ? "" : " (" + r.gof.method + ")") << '\n';
-  const std::string status = status_text(r.status);
+  const std::string status = to_string(r.status);
   const bool repeats = r.message.rfind(status, 0) == 0 ||
                        (r.status == FitStatus::kConverged && r.message.rfind("converged", 0) == 0);
   os << "status: " << (r.message.empty() ? status : repeats ? r.message : status + " (" + r.message + ")")
@@ -83,31 +74,6 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   return os.str();
 }
 
-// Resamples of the replicates for the bootstrap intervals when they are too many to fit
-// every distinct one (C(2K-1, K) > 200 from K = 6 on).
-constexpr int kReplicateBootstrapDraws = 200;
-
-// AGMWM as a fit of the joint model (for its rows in display units).
-FitResult agmwm_fit(const JointFitResult& r) {
-  FitResult f;
-  f.model = r.joint.model;
-  f.theta = r.agmwm;
-  f.se = r.agmwm_se;
-  return f;
-}
-
-// The joint (multi-signal) fit of each axis over its replicates: the joint estimate with
-// its sandwich intervals, AGMWM and every replicate's own estimate side by side.
-// The replicate-bootstrap interval as a fit of the joint model (display units).
-FitResult bootstrap_fit(const JointFitResult& r, const ReplicateBootstrap& b) {
-  FitResult f;
-  f.model = r.joint.model;
-  f.theta = r.joint.theta;
-  f.ci_low = b.ci_low;
-  f.ci_high = b.ci_high;
-  return f;
-}
-
 std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
                          const ReplicateBootstrap* boot, OmegaKind omega, const std::string& estimator) {
   std::ostringstream os;
@@ -117,7 +83,7 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
     os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", "
        << r.levels[k] << " levels"
        << (k < r.objective_share.size() ? ", its share of the objective " + fmt(r.objective_share[k], 4) : "")
-       << ", own fit " << status_text(r.singles[k].status) << '\n';
+       << ", own fit " << to_string(r.singles[k].status) << '\n';
   const FitResult& j = r.joint;
   const bool ok = j.theta.size() == j.model.num_parameters() && j.theta.size() > 0 && j.theta.allFinite();
   os << "model: " << (ok ? j.model.to_string(j.theta) : j.model.to_string()) << '\n';
@@ -128,8 +94,8 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
     Table t(header, 1);
     // Every column in display units (SIN f in Hz ...), as parameter_rows gives them.
     const auto rows = io::parameter_rows(j);
-    const auto agmwm = io::parameter_rows(agmwm_fit(r));
-    const auto boot_rows = boot ? io::parameter_rows(bootstrap_fit(r, *boot)) : std::vector<io::ParameterRow>{};
+    const auto agmwm = io::parameter_rows(io::agmwm_as_fit(r));
+    const auto boot_rows = boot ? io::parameter_rows(io::replicate_bootstrap_as_fit(r, *boot)) : std::vector<io::ParameterRow>{};
     std::vector<std::vector<io::ParameterRow>> own;
     for (const auto& s : r.singles) own.push_back(io::parameter_rows(s));
     for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -147,7 +113,7 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
   os << "objective: " << fmt(j.objective, 8) << " (the sum over the replicates)\n";
   os << "goodness of fit: statistic " << fmt(j.gof.statistic) << ", df " << fmt(j.gof.df) << ", p-value "
      << fmt(j.gof.p_value, 4) << (j.gof.method.empty() ? "" : " (" + j.gof.method + ")") << '\n';
-  os << "status: " << (j.message.empty() ? status_text(j.status) : j.message) << '\n';
+  os << "status: " << (j.message.empty() ? to_string(j.status) : j.message) << '\n';
   for (const auto& note : j.notes) os << "note: " << note << '\n';
   if (boot)
     os << "boot low / high: replicate-t interval (t at K - 1 df, bootstrap sd x sqrt(K / (K - 1)), log scale for "
@@ -164,59 +130,6 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
   return os.str();
 }
 
-io::Json joint_json(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
-                   const ReplicateBootstrap* boot, const io::SignalSet& set) {
-  io::Json col;
-  col["name"] = g.axis;
-  col["freq"] = set.freq;
-  io::Json reps = io::Json::array();
-  for (std::size_t k = 0; k < g.sources.size(); ++k) {
-    const FitResult& s = r.singles[k];
-    reps.push_back({{"source", g.sources[k]},
-                    {"n", g.series[k].size()},
-                    {"levels", r.levels[k]},
-                    {"objective_share", io::json_number(k < r.objective_share.size() ? r.objective_share[k] : NAN)},
-                    {"fit", {{"model", s.theta.allFinite() ? s.model.to_string(s.theta) : s.model.to_string()},
-                             {"status", status_text(s.status)},
-                             {"objective", io::json_number(s.objective)},
-                             {"parameters", io::parameters_json(s)}}}});
-  }
-  col["replicates"] = reps;
-  const FitResult& j = r.joint;
-  col["model"] = j.theta.allFinite() ? j.model.to_string(j.theta) : j.model.to_string();
-  col["model_structure"] = j.model.to_string();
-  col["parameters"] = io::parameters_json(j);
-  io::Json agmwm = io::Json::array();
-  for (const auto& p : io::parameter_rows(agmwm_fit(r)))
-    agmwm.push_back({{"value", io::json_number(p.value)}, {"se", io::json_number(p.se)}});
-  col["agmwm"] = agmwm;
-  col["objective"] = io::json_number(j.objective);
-  col["gof"] = {{"statistic", io::json_number(j.gof.statistic)},
-                {"df", j.gof.df},
-                {"p_value", io::json_number(j.gof.p_value)},
-                {"method", j.gof.method}};
-  col["status"] = status_text(j.status);
-  col["message"] = j.message;
-  col["notes"] = j.notes;
-  if (boot) {
-    io::Json lo = io::Json::array(), hi = io::Json::array();
-    for (const auto& p : io::parameter_rows(bootstrap_fit(r, *boot))) {
-      lo.push_back(io::json_number(p.ci_low));
-      hi.push_back(io::json_number(p.ci_high));
-    }
-    col["replicate_bootstrap"] = {{"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi}, {"draws", boot->draws}, {"exhaustive", boot->exhaustive}};
-  } else {
-    col["replicate_bootstrap"] = nullptr;
-  }
-  col["replicate_test"] = test ? io::Json{{"heterogeneity", io::json_number(test->heterogeneity)},
-                                          {"heterogeneity_p_value", io::json_number(test->heterogeneity_p)},
-                                          {"statistic", io::json_number(test->statistic)},
-                                          {"p_value", io::json_number(test->p_value)},
-                                          {"own_minimum", test->own_minimum},
-                                          {"draws", test->draws}}
-                               : io::Json(nullptr);
-  return col;
-}
 
 int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOptions& options,
                   const robust::RobustWvOptions* robust) {
@@ -224,62 +137,44 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
-  const Model model = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
+  pipeline::JointFitStudyOptions o;
+  o.model = args.model;
+  o.fit = options;
+  o.wv = wv_opts;
+  if (robust) o.robust = *robust;
+  o.test_draws = args.replicates;
+  o.seed = common.seed;
+  const pipeline::JointFitStudy study = pipeline::study_joint_fit(groups, ProcessContext{set.freq, set.freq_known}, o);
 
-  // The test's draws get the data's WV estimator.
-  std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
-  if (robust) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust);
-  JointAnalysisOptions ao;
-  ao.fit = options;
-  ao.fit.estimator = robust_estimator.get();
-  ao.test.bootstrap = args.replicates;
-  ao.test.seed = common.seed;
-  ao.test.estimator = robust_estimator.get();
-  ao.bootstrap_draws = kReplicateBootstrapDraws;
-  if (const std::string why = ao.test.Validate(); !why.empty()) throw InputError("--replicates: " + why);
-  std::vector<std::vector<WaveletVariance>> wvs;
-  std::vector<JointAnalysis> results;
-  for (const ReplicateGroup& g : groups) {
-    wvs.push_back(replicate_wvs(g, model, wv_opts, robust));
-    const std::vector<std::span<const double>> series(g.series.begin(), g.series.end());
-    results.push_back(analyse_replicates(wvs.back(), series, model, ao));
-  }
-
-  io::Json doc = io::json_document("fit");
-  doc["input"] = set.path;
-  doc["model_spec"] = args.model;
-  doc["seed"] = common.seed;
-  doc["joint"] = true;
-  doc["estimator"] = robust ? "robust" : "classical";
+  io::Json doc = io::joint_fit_document(set, groups, study);
   const std::string estimator = replicate_estimator_text(robust);
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
-    const ReplicateTest* test = results[i].test ? &*results[i].test : nullptr;
-    const ReplicateBootstrap* boot = results[i].bootstrap ? &*results[i].bootstrap : nullptr;
-    doc["columns"].push_back(joint_json(groups[i], results[i].fit, test, boot, set));
-    report += (i ? "\n" : "") + joint_report(groups[i], results[i].fit, test, boot, options.omega, estimator);
+    const JointAnalysis& a = study.groups[i].analysis;
+    report += (i ? "\n" : "") + joint_report(groups[i], a.fit, a.test ? &*a.test : nullptr,
+                                             a.bootstrap ? &*a.bootstrap : nullptr, options.omega, estimator);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {
     io::ReportData rep = report_data("fit", set, args.model);
     for (std::size_t i = 0; i < groups.size(); ++i) {
+      const JointAnalysis& a = study.groups[i].analysis;
       io::ReportColumn& c = rep.columns[i];
-      c.wvs = wvs[i];
-      c.fit = results[i].fit.joint;
+      c.wvs = study.groups[i].wvs;
+      c.fit = a.fit.joint;
       c.replicates = replicate_report(groups[i], estimator);
-      c.replicates->joint = results[i].fit;
-      c.replicates->test = results[i].test;
-      c.replicates->bootstrap = results[i].bootstrap;
+      c.replicates->joint = a.fit;
+      c.replicates->test = a.test;
+      c.replicates->bootstrap = a.bootstrap;
     }
     write_report(common, rep);
   }
   commit_outputs(common);
   if (common.show_table()) std::cout << report << std::flush;
-  for (std::size_t i = 0; i < results.size(); ++i)
-    if (results[i].fit.joint.status == FitStatus::kFailed) {
-      std::cerr << "gmwm: error: the joint fit of '" << groups[i].axis << "' failed: " << results[i].fit.joint.message
-                << '\n';
+  for (std::size_t i = 0; i < groups.size(); ++i)
+    if (const FitResult& j = study.groups[i].analysis.fit.joint; j.status == FitStatus::kFailed) {
+      std::cerr << "gmwm: error: the joint fit of '" << groups[i].axis << "' failed: " << j.message << '\n';
       return 1;
     }
   return 0;

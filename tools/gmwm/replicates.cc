@@ -73,20 +73,6 @@ std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const st
   return groups;
 }
 
-std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
-                                           const robust::RobustWvOptions* robust) {
-  std::vector<std::span<const double>> series(group.series.begin(), group.series.end());
-  std::vector<WaveletVariance> wvs = robust ? robust::robust_wv(series, *robust) : classical_wv(series, options);
-  for (std::size_t k = 0; k < wvs.size(); ++k) {
-    try {
-      check_model_fits_levels(model, wvs[k].levels());
-    } catch (const InputError& e) {
-      throw InputError(group.sources[k] + " (" + std::to_string(group.series[k].size()) + " samples): " + e.what());
-    }
-  }
-  return wvs;
-}
-
 std::string replicate_estimator_text(const robust::RobustWvOptions* robust) {
   return robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
 }

@@ -12,16 +12,13 @@
 #include "gmwm/engine/model.h"
 #include "gmwm/io/html_report.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/pipeline/replicate_study.h"
 #include "gmwm/robust/robust_wv.h"
 
 namespace gmwm::cli {
 
 /// One axis and its replicates, INPUT's column first.
-struct ReplicateGroup {
-  std::string axis;                          ///< INPUT's column name
-  std::vector<std::string> sources;          ///< "FILE:COLUMN" per replicate
-  std::vector<std::vector<double>> series;   ///< per replicate
-};
+using ReplicateGroup = pipeline::ReplicateGroup;
 
 /// The groups for INPUT's selected columns and the --joint entries (read here, at INPUT's
 /// rate). Throws InputError (one line naming the entry) when an entry names a column and
@@ -32,12 +29,6 @@ std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const st
 
 /// The file of a --joint entry (FILE[:COLUMN]), for the output safety checks.
 std::string replicate_path(const std::string& entry);
-
-/// The WVs of a group's replicates (classical, or robust when `robust` is given), each
-/// checked against `model`'s parameter count (InputError naming the replicate's source and
-/// length).
-std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
-                                           const robust::RobustWvOptions* robust = nullptr);
 
 /// "classical WV" or "robust WV (Gaussian efficiency E)".
 std::string replicate_estimator_text(const robust::RobustWvOptions* robust);

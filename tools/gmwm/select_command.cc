@@ -150,80 +150,38 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
-  const Model maximal = parse_model(args.model, ProcessContext{set.freq, set.freq_known});
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
-  selection::ReplicateSelectOptions ro;
-  ro.select = options;
-  ro.select.optimism =
+  pipeline::JointSelectStudyOptions o;
+  o.model = args.model;
+  o.select.select = options;
+  o.select.select.estimator = nullptr;  // the study sets it
+  o.select.select.optimism =
       args.optimism == "all" ? selection::OptimismMethod::kBoth : selection::OptimismMethod::kAnalytic;
-  ro.seed = common.seed;
-  if (const std::string why = ro.Validate(); !why.empty()) throw InputError(why);
-  std::vector<std::vector<WaveletVariance>> axes;
-  for (const ReplicateGroup& g : groups) axes.push_back(replicate_wvs(g, maximal, wv_opts, robust));
-  const std::vector<selection::ReplicateSelection> results = selection::select_by_replicates(axes, maximal, ro);
+  o.select.seed = common.seed;
+  o.wv = wv_opts;
+  if (robust) o.robust = *robust;
+  // A report draws the recommended model of each axis fitted jointly, with its test.
+  if (!common.report.empty()) o.recommended_test_draws = std::max(args.replicates, kMinReportTestDraws);
+  const pipeline::JointSelectStudy study =
+      pipeline::study_joint_select(groups, ProcessContext{set.freq, set.freq_known}, o);
   const std::string estimator = replicate_estimator_text(robust);
-  io::Json doc = io::json_document("select");
-  doc["input"] = set.path;
-  doc["model_spec"] = args.model;
-  doc["seed"] = common.seed;
-  doc["joint"] = true;
-  // With --joint the ranking is the cross-validated one: the default "analytic" means "replicates".
-  doc["optimism"] = args.optimism == "all" ? "all" : "replicates";
-  doc["estimator"] = robust ? "robust" : "classical";
+  io::Json doc = io::joint_select_document(set, groups, study);
   std::string report;
-  for (std::size_t i = 0; i < groups.size(); ++i) {
-    const auto& r = results[i];
-    io::Json col;
-    col["name"] = groups[i].axis;
-    col["freq"] = set.freq;
-    col["replicates"] = groups[i].sources;
-    col["full_model"] = r.full_model;
-    col["training"] = r.training;
-    col["chosen"] = r.chosen;
-    col["recommended"] = r.recommended;
-    col["chosen_analytic"] = r.chosen_analytic;
-    col["chosen_bootstrap"] = r.chosen_bootstrap.empty() ? io::Json(nullptr) : io::Json(r.chosen_bootstrap);
-    col["all_rejected"] = r.all_rejected;
-    io::Json rows = io::Json::array();
-    for (const auto& c : r.ranking)
-      rows.push_back({{"rank", c.rank},
-                      {"model", c.model},
-                      {"parameters", c.parameters},
-                      {"cv_wvic", io::json_number(c.cv_wvic)},
-                      {"split_loss", c.split_loss},
-                      {"objective", io::json_number(c.objective)},
-                      {"analytic_wvic", io::json_number(c.analytic_wvic)},
-                      {"rank_analytic", c.rank_analytic},
-                      {"bootstrap_wvic", io::json_number(c.bootstrap_wvic)},
-                      {"bootstrap_se", io::json_number(c.bootstrap_se)},
-                      {"rank_bootstrap", c.rank_bootstrap ? io::Json(c.rank_bootstrap) : io::Json(nullptr)},
-                      {"p_not_worse", io::json_number(c.p_not_worse)},
-                      {"equivalent", c.equivalent}});
-    col["ranking"] = rows;
-    doc["columns"].push_back(std::move(col));
-    report += (i ? "\n" : "") + joint_select_report(groups[i], r, estimator);
-  }
+  for (std::size_t i = 0; i < groups.size(); ++i)
+    report += (i ? "\n" : "") + joint_select_report(groups[i], study.results[i], estimator);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {
-    // The recommended model of each axis fitted jointly, with its shared-theta test and
-    // replicate-t intervals, drawn over the replicates' WVs beside the three-WVIC table.
-    JointAnalysisOptions ao;
-    ao.fit = options.fit;
-    ao.test.bootstrap = std::max(args.replicates, kMinReportTestDraws);
-    ao.test.seed = common.seed;
-    ao.test.estimator = options.estimator;
     io::ReportData rep = report_data("select", set, args.model);
     for (std::size_t i = 0; i < groups.size(); ++i) {
-      const std::vector<std::span<const double>> series(groups[i].series.begin(), groups[i].series.end());
-      const JointAnalysis a = analyse_replicates(axes[i], series, parse_model(results[i].recommended, ProcessContext{set.freq, set.freq_known}), ao);
+      const JointAnalysis& a = study.recommended[i];
       io::ReportColumn& c = rep.columns[i];
-      c.wvs = axes[i];
+      c.wvs = study.wvs[i];
       c.fit = a.fit.joint;
       c.replicates = replicate_report(groups[i], estimator);
       c.replicates->joint = a.fit;
       c.replicates->test = a.test;
       c.replicates->bootstrap = a.bootstrap;
-      c.replicates->selection = results[i];
+      c.replicates->selection = study.results[i];
     }
     write_report(common, rep);
   }
@@ -259,10 +217,6 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   options.fit.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
-    // Bootstrap draws get the data's WV estimator.
-    std::unique_ptr<robust::RobustWvEstimator> robust_estimator;
-    if (robust_options) robust_estimator = std::make_unique<robust::RobustWvEstimator>(*robust_options);
-    options.estimator = robust_estimator.get();
     return run_joint_select(args, common, options, robust_options ? &*robust_options : nullptr);
   }
   if (args.model.empty() == args.models.empty())

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/selection/gap.h"
 #include "gmwm/selection/select.h"
@@ -31,6 +32,7 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/replicate_study.h"
 #include "gmwm/pipeline/select_study.h"
 #include "gmwm/pipeline/wv_study.h"
 
@@ -159,6 +161,23 @@ Json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const s
 /// "best_kalman" (at `filter_rate`), "allan" and "noise_figures"; `units` as fit_document's.
 Json select_document(const SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
                      double filter_rate);
+
+/// AGMWM (the replicates' own estimates averaged) as a fit of the joint model, and the
+/// replicate-t interval as the joint fit's intervals: for parameter_rows (display units).
+FitResult agmwm_as_fit(const JointFitResult& r);
+FitResult replicate_bootstrap_as_fit(const JointFitResult& r, const ReplicateBootstrap& b);
+
+/// The joint fit's document (json_document("fit") with "joint": true, "estimator"): per
+/// axis its replicates (source, n, levels, objective share, own fit), the joint model and
+/// parameters, AGMWM, the replicate-t interval and the shared-theta test (docs/cli.md).
+Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+                        const pipeline::JointFitStudy& study);
+
+/// The selection over replicates' document (json_document("select") with "joint": true,
+/// "optimism" "replicates" or "all"): per axis the chosen, recommended and analytic/bootstrap
+/// choices and the ranking with its three WVICs.
+Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+                           const pipeline::JointSelectStudy& study);
 
 /// The gap study's document (json_document("gap") filled): "input", "baseline_source",
 /// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant

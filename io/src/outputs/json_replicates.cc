@@ -1,0 +1,143 @@
+// The JSON documents of the studies over replicates (docs/cli.md "JSON"): the joint fit of
+// each axis and the selection over replicates.
+#include <cmath>
+
+#include "gmwm/io/json_output.h"
+
+namespace gmwm::io {
+namespace {
+
+Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
+                       const ReplicateBootstrap* boot, const SignalSet& set) {
+  Json col;
+  col["name"] = g.axis;
+  col["freq"] = set.freq;
+  Json reps = Json::array();
+  for (std::size_t k = 0; k < g.sources.size(); ++k) {
+    const FitResult& s = r.singles[k];
+    reps.push_back({{"source", g.sources[k]},
+                    {"n", g.series[k].size()},
+                    {"levels", r.levels[k]},
+                    {"objective_share", json_number(k < r.objective_share.size() ? r.objective_share[k] : NAN)},
+                    {"fit", {{"model", s.theta.allFinite() ? s.model.to_string(s.theta) : s.model.to_string()},
+                             {"status", to_string(s.status)},
+                             {"objective", json_number(s.objective)},
+                             {"parameters", parameters_json(s)}}}});
+  }
+  col["replicates"] = reps;
+  const FitResult& j = r.joint;
+  col["model"] = j.theta.allFinite() ? j.model.to_string(j.theta) : j.model.to_string();
+  col["model_structure"] = j.model.to_string();
+  col["parameters"] = parameters_json(j);
+  Json agmwm = Json::array();
+  for (const auto& p : parameter_rows(agmwm_as_fit(r)))
+    agmwm.push_back({{"value", json_number(p.value)}, {"se", json_number(p.se)}});
+  col["agmwm"] = agmwm;
+  col["objective"] = json_number(j.objective);
+  col["gof"] = {{"statistic", json_number(j.gof.statistic)},
+                {"df", j.gof.df},
+                {"p_value", json_number(j.gof.p_value)},
+                {"method", j.gof.method}};
+  col["status"] = to_string(j.status);
+  col["message"] = j.message;
+  col["notes"] = j.notes;
+  if (boot) {
+    Json lo = Json::array(), hi = Json::array();
+    for (const auto& p : parameter_rows(replicate_bootstrap_as_fit(r, *boot))) {
+      lo.push_back(json_number(p.ci_low));
+      hi.push_back(json_number(p.ci_high));
+    }
+    col["replicate_bootstrap"] = {{"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi}, {"draws", boot->draws}, {"exhaustive", boot->exhaustive}};
+  } else {
+    col["replicate_bootstrap"] = nullptr;
+  }
+  col["replicate_test"] = test ? Json{{"heterogeneity", json_number(test->heterogeneity)},
+                                          {"heterogeneity_p_value", json_number(test->heterogeneity_p)},
+                                          {"statistic", json_number(test->statistic)},
+                                          {"p_value", json_number(test->p_value)},
+                                          {"own_minimum", test->own_minimum},
+                                          {"draws", test->draws}}
+                               : Json(nullptr);
+  return col;
+}
+
+}  // namespace
+
+FitResult agmwm_as_fit(const JointFitResult& r) {
+  FitResult f;
+  f.model = r.joint.model;
+  f.theta = r.agmwm;
+  f.se = r.agmwm_se;
+  return f;
+}
+
+FitResult replicate_bootstrap_as_fit(const JointFitResult& r, const ReplicateBootstrap& b) {
+  FitResult f;
+  f.model = r.joint.model;
+  f.theta = r.joint.theta;
+  f.ci_low = b.ci_low;
+  f.ci_high = b.ci_high;
+  return f;
+}
+
+Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+                        const pipeline::JointFitStudy& study) {
+  Json doc = json_document("fit");
+  doc["input"] = set.path;
+  doc["model_spec"] = study.model_spec;
+  doc["seed"] = study.seed;
+  doc["joint"] = true;
+  doc["estimator"] = study.robust ? "robust" : "classical";
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const JointAnalysis& a = study.groups[i].analysis;
+    doc["columns"].push_back(joint_column_json(groups[i], a.fit, a.test ? &*a.test : nullptr,
+                                               a.bootstrap ? &*a.bootstrap : nullptr, set));
+  }
+  return doc;
+}
+
+Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+                           const pipeline::JointSelectStudy& study) {
+  Json doc = json_document("select");
+  doc["input"] = set.path;
+  doc["model_spec"] = study.model_spec;
+  doc["seed"] = study.seed;
+  doc["joint"] = true;
+  // The ranking is the cross-validated one; "all" adds the joint fit's bootstrap WVIC.
+  doc["optimism"] = study.all_optimisms ? "all" : "replicates";
+  doc["estimator"] = study.robust ? "robust" : "classical";
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const selection::ReplicateSelection& r = study.results[i];
+    Json col;
+    col["name"] = groups[i].axis;
+    col["freq"] = set.freq;
+    col["replicates"] = groups[i].sources;
+    col["full_model"] = r.full_model;
+    col["training"] = r.training;
+    col["chosen"] = r.chosen;
+    col["recommended"] = r.recommended;
+    col["chosen_analytic"] = r.chosen_analytic;
+    col["chosen_bootstrap"] = r.chosen_bootstrap.empty() ? Json(nullptr) : Json(r.chosen_bootstrap);
+    col["all_rejected"] = r.all_rejected;
+    Json rows = Json::array();
+    for (const auto& c : r.ranking)
+      rows.push_back({{"rank", c.rank},
+                      {"model", c.model},
+                      {"parameters", c.parameters},
+                      {"cv_wvic", json_number(c.cv_wvic)},
+                      {"split_loss", c.split_loss},
+                      {"objective", json_number(c.objective)},
+                      {"analytic_wvic", json_number(c.analytic_wvic)},
+                      {"rank_analytic", c.rank_analytic},
+                      {"bootstrap_wvic", json_number(c.bootstrap_wvic)},
+                      {"bootstrap_se", json_number(c.bootstrap_se)},
+                      {"rank_bootstrap", c.rank_bootstrap ? Json(c.rank_bootstrap) : Json(nullptr)},
+                      {"p_not_worse", json_number(c.p_not_worse)},
+                      {"equivalent", c.equivalent}});
+    col["ranking"] = rows;
+    doc["columns"].push_back(std::move(col));
+  }
+  return doc;
+}
+
+}  // namespace gmwm::io

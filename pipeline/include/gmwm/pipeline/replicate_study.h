@@ -1,0 +1,100 @@
+#pragma once
+// Studies over replicates (several recordings of one sensor): the joint fit of one model per
+// axis (MGMWM with the shared-theta test and replicate-t intervals) and the selection over
+// replicates (cross-validated WVIC, with the joint fit's analytic and bootstrap WVIC beside
+// it). What `gmwm fit --joint` and `gmwm select --joint` run; io::joint_fit_document and
+// io::joint_select_document write them.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/joint_fit.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/selection/replicate_select.h"
+
+namespace gmwm::pipeline {
+
+/// One axis and its replicates, the primary recording's column first.
+struct ReplicateGroup {
+  std::string axis;                         ///< the primary recording's column name
+  std::vector<std::string> sources;         ///< "FILE:COLUMN" per replicate
+  std::vector<std::vector<double>> series;  ///< per replicate
+};
+
+/// Resamples of the replicates for the replicate-t intervals when they are too many to fit
+/// every distinct one (C(2K-1, K) > 200 from K = 6 on).
+inline constexpr int kReplicateBootstrapDraws = 200;
+
+/// The WVs of a group's replicates (classical, or robust when `robust` is given), each
+/// checked against `model`'s parameter count (InputError naming the replicate's source and
+/// length).
+std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
+                                           const std::optional<robust::RobustWvOptions>& robust);
+
+struct JointFitStudyOptions {
+  std::string model;
+  /// The joint fit's settings (Omega diag or full, alpha, seed ...); `estimator` is set by
+  /// the study and must be left null.
+  FitOptions fit;
+  WvOptions wv;
+  std::optional<robust::RobustWvOptions> robust;
+  /// Draws of the shared-theta test's parametric bootstrap, and its seed.
+  int test_draws = ReplicateTestOptions{}.bootstrap;
+  std::uint64_t seed = 0;
+
+  std::string Validate() const;
+};
+
+struct JointFitGroupStudy {
+  std::vector<WaveletVariance> wvs;  ///< per replicate
+  JointAnalysis analysis;
+};
+
+struct JointFitStudy {
+  std::string model_spec;
+  std::uint64_t seed = 0;
+  bool robust = false;
+  OmegaKind omega = OmegaKind::kDiag;
+  std::vector<JointFitGroupStudy> groups;  ///< per ReplicateGroup
+};
+
+/// The joint analysis of each group (analyse_replicates) at the rate of `context`. Throws
+/// InputError for invalid options, a model that does not parse, or a replicate too short.
+JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const ProcessContext& context,
+                              const JointFitStudyOptions& options);
+
+struct JointSelectStudyOptions {
+  /// The maximal model: every sub-model is ranked.
+  std::string model;
+  /// The selection's settings; select.optimism kBoth adds the joint fit's bootstrap WVIC
+  /// ("all"), kAnalytic gives the cross-validated and the analytic WVIC. select.estimator
+  /// is set by the study and must be left null.
+  selection::ReplicateSelectOptions select;
+  WvOptions wv;
+  std::optional<robust::RobustWvOptions> robust;
+  /// > 0: the recommended model of each axis is also fitted jointly with its shared-theta
+  /// test of that many draws (what a report draws); 0: not.
+  int recommended_test_draws = 0;
+
+  std::string Validate() const;
+};
+
+struct JointSelectStudy {
+  std::string model_spec;
+  std::uint64_t seed = 0;
+  bool robust = false;
+  bool all_optimisms = false;
+  std::vector<std::vector<WaveletVariance>> wvs;      ///< per group, per replicate
+  std::vector<selection::ReplicateSelection> results;  ///< per group
+  std::vector<JointAnalysis> recommended;             ///< per group, when asked
+};
+
+JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, const ProcessContext& context,
+                                    const JointSelectStudyOptions& options);
+
+}  // namespace gmwm::pipeline
