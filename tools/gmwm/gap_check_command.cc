@@ -116,46 +116,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   ProgressBar bar("gap-check: cases", common);
   if (bar.enabled()) o.progress = [&](int done, int all) { bar.update(done, all); };
   const selection::GapCheckResult r = selection::run_gap_check(o);
-  io::Json doc = io::json_document("gap-check");
-  doc["n"] = args.n;
-  doc["replicates"] = args.replicates;
-  doc["strengths"] = o.strengths;
-  doc["seed"] = common.seed;
-  doc["cases"] = static_cast<int>(r.cases.size());
-  doc["correct"] = r.correct;
-  doc["false_alarms"] = r.false_alarms;
-  doc["confusion"] = r.confusion;
-  io::Json power = io::Json::object(), families = io::Json::object();
-  for (const auto& [t, f] : r.families) {
-    io::Json p = io::Json::object();
-    for (const auto& [s, share] : f.power) p[fmt(s, 6)] = share;
-    if (!f.power.empty()) power[t] = p;
-    families[t] = {{"cases", f.cases},
-                   {"correct", f.correct},
-                   {"detected", f.detected},
-                   {"located", f.located},
-                   {"median_excess_removed", io::json_number(f.median_excess_removed)},
-                   {"strength_90", io::json_number(f.strength_90)},
-                   {"strength_90_crossing", f.power.empty() ? "" : selection::to_string(f.crossing)},
-                   {"oracle_strength_90", io::json_number(f.oracle_strength_90)},
-                   {"oracle_ratio", io::json_number(f.oracle_ratio)}};
-  }
-  doc["power"] = power;
-  doc["families"] = families;
-  io::Json list = io::Json::array();
-  for (const auto& c : r.cases)
-    list.push_back({{"truth", selection::to_string(c.truth)},
-                    {"strength", c.strength},
-                    {"injected", c.injected},
-                    {"reported", selection::to_string(c.reported)},
-                    {"detected", c.detected},
-                    {"located", c.located},
-                    {"correct", c.correct},
-                    {"excess_removed", io::json_number(c.excess_removed)},
-                    {"parameter_error", io::json_number(c.parameter_error)},
-                    {"oracle_nc", io::json_number(c.oracle_nc)},
-                    {"oracle", c.oracle_time_domain ? "series" : "wv"}});
-  doc["case_list"] = list;
+  io::Json doc = io::gap_check_document(o, r);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
   if (common.show_table()) std::cout << report(r) << std::flush;

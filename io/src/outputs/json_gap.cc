@@ -1,5 +1,6 @@
 // The "gap" command's column JSON (docs/cli.md).
 #include <cmath>
+#include <cstdio>
 
 #include "gmwm/io/json_output.h"
 
@@ -9,6 +10,13 @@
 
 namespace gmwm::io {
 namespace {
+
+// A strength as an object key: %.6g, as the table prints it.
+std::string number_key(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
 
 using json = Json;
 
@@ -222,6 +230,50 @@ Json gap_document(const SignalSet& set, const pipeline::GapStudy& study) {
                           c.unit};
     doc["columns"].push_back(gap_column_json(info, c.result, c.conversions));
   }
+  return doc;
+}
+
+Json gap_check_document(const selection::GapCheckOptions& options, const selection::GapCheckResult& r) {
+  Json doc = json_document("gap-check");
+  doc["n"] = options.n;
+  doc["replicates"] = options.replicates;
+  doc["strengths"] = options.strengths;
+  doc["seed"] = options.seed;
+  doc["cases"] = static_cast<int>(r.cases.size());
+  doc["correct"] = r.correct;
+  doc["false_alarms"] = r.false_alarms;
+  doc["confusion"] = r.confusion;
+  Json power = Json::object(), families = Json::object();
+  for (const auto& [t, f] : r.families) {
+    Json p = Json::object();
+    for (const auto& [s, share] : f.power) p[number_key(s)] = share;
+    if (!f.power.empty()) power[t] = p;
+    families[t] = {{"cases", f.cases},
+                   {"correct", f.correct},
+                   {"detected", f.detected},
+                   {"located", f.located},
+                   {"median_excess_removed", json_number(f.median_excess_removed)},
+                   {"strength_90", json_number(f.strength_90)},
+                   {"strength_90_crossing", f.power.empty() ? "" : selection::to_string(f.crossing)},
+                   {"oracle_strength_90", json_number(f.oracle_strength_90)},
+                   {"oracle_ratio", json_number(f.oracle_ratio)}};
+  }
+  doc["power"] = power;
+  doc["families"] = families;
+  Json list = Json::array();
+  for (const auto& c : r.cases)
+    list.push_back({{"truth", selection::to_string(c.truth)},
+                    {"strength", c.strength},
+                    {"injected", c.injected},
+                    {"reported", selection::to_string(c.reported)},
+                    {"detected", c.detected},
+                    {"located", c.located},
+                    {"correct", c.correct},
+                    {"excess_removed", json_number(c.excess_removed)},
+                    {"parameter_error", json_number(c.parameter_error)},
+                    {"oracle_nc", json_number(c.oracle_nc)},
+                    {"oracle", c.oracle_time_domain ? "series" : "wv"}});
+  doc["case_list"] = list;
   return doc;
 }
 

@@ -26,6 +26,7 @@
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/selection/gap.h"
+#include "gmwm/selection/gap_check.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -178,6 +179,11 @@ Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::Replic
 /// choices and the ranking with its three WVICs.
 Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
                            const pipeline::JointSelectStudy& study);
+
+/// The gap diagnosis's self-check document (json_document("gap-check") filled): the
+/// settings, the confusion matrix, power per family and strength, each family's
+/// detection/location and oracle comparison, and the case list (docs/gap.md).
+Json gap_check_document(const selection::GapCheckOptions& options, const selection::GapCheckResult& result);
 
 /// The gap study's document (json_document("gap") filled): "input", "baseline_source",
 /// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant
