@@ -23,8 +23,11 @@
 //   (timestamp in ns): omega_x/y/z -> gyro_x/y/z, alpha_x/y/z -> accel_x/y/z (in Kalibr's
 //   format "alpha" is the accelerometer, not an angular acceleration).
 //
-// PX4 ULog files (detected by their magic bytes) give the IMU topic named by --topic
-// (io/src/ulog_reader.cc): gyro_x..z in rad/s, accel_x..z in m/s^2, timestamps in us.
+// Log files, detected by their magic bytes, give the IMU topic named by `topic`:
+// PX4 ULog (io/src/readers/ulog_reader.cc, timestamps in us), and the sensor_msgs Imu
+// topics of ROS 1 bags (rosbag1_reader.cc), rosbag2 sqlite3 bags (rosbag2_reader.cc) and
+// MCAP files (mcap_reader.cc), times from the header stamps (ns): gyro_x..z in rad/s,
+// accel_x..z in m/s^2.
 //
 // Every user error throws gmwm::InputError with one line:
 //   "<path>:<line>:<column>: found <what>, expected <what>" (line/column when they apply).
@@ -48,7 +51,8 @@ struct ReadOptions {
   /// --freq HZ: the sampling rate. Overrides the timestamp column's estimate.
   std::optional<double> freq;
   /// --topic NAME[:INSTANCE]: the topic of a log file (PX4 ULog: sensor_combined, the
-  /// default, sensor_gyro or sensor_accel). Refused for a delimited text file.
+  /// default, sensor_gyro or sensor_accel; ROS bags: a sensor_msgs Imu topic, default the
+  /// only one). Refused for a delimited text file.
   std::string topic;
 
   /// "" when valid, otherwise a one-line message naming the option.
