@@ -28,15 +28,8 @@ class Ulog : public ::testing::Test {
                                              static_cast<std::streamsize>(bytes.size()));
     return p.string();
   }
-  std::string error_of(const std::string& path, const std::string& topic = {}) {
-    ReadOptions o;
-    o.topic = topic;
-    try {
-      read_signals(path, o);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "no error";
+  static std::string error_of(const std::string& path, const std::string& topic = {}) {
+    return gmwm::test::read_error(path, topic);
   }
   fs::path dir_;
 };

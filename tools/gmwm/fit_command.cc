@@ -158,16 +158,8 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {
     io::ReportData rep = report_data("fit", set, args.model);
-    for (std::size_t i = 0; i < groups.size(); ++i) {
-      const JointAnalysis& a = study.groups[i].analysis;
-      io::ReportColumn& c = rep.columns[i];
-      c.wvs = study.groups[i].wvs;
-      c.fit = a.fit.joint;
-      c.replicates = replicate_report(groups[i], estimator);
-      c.replicates->joint = a.fit;
-      c.replicates->test = a.test;
-      c.replicates->bootstrap = a.bootstrap;
-    }
+    for (std::size_t i = 0; i < groups.size(); ++i)
+      fill_joint_report_column(rep.columns[i], groups[i], study.groups[i].wvs, study.groups[i].analysis, estimator);
     write_report(common, rep);
   }
   commit_outputs(common);

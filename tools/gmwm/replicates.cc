@@ -85,4 +85,15 @@ io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::str
   return r;
 }
 
+void fill_joint_report_column(io::ReportColumn& column, const ReplicateGroup& group,
+                              const std::vector<WaveletVariance>& wvs, const JointAnalysis& analysis,
+                              const std::string& estimator) {
+  column.wvs = wvs;
+  column.fit = analysis.fit.joint;
+  column.replicates = replicate_report(group, estimator);
+  column.replicates->joint = analysis.fit;
+  column.replicates->test = analysis.test;
+  column.replicates->bootstrap = analysis.bootstrap;
+}
+
 }  // namespace gmwm::cli

@@ -37,4 +37,10 @@ std::string replicate_estimator_text(const robust::RobustWvOptions* robust);
 /// the joint fit, test and selection.
 io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator);
 
+/// A report column of a group's joint analysis: its replicates' WVs, the joint fit, the
+/// replicate block with the joint fit, test and bootstrap.
+void fill_joint_report_column(io::ReportColumn& column, const ReplicateGroup& group,
+                              const std::vector<WaveletVariance>& wvs, const JointAnalysis& analysis,
+                              const std::string& estimator);
+
 }  // namespace gmwm::cli

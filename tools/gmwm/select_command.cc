@@ -173,15 +173,8 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   if (!common.report.empty()) {
     io::ReportData rep = report_data("select", set, args.model);
     for (std::size_t i = 0; i < groups.size(); ++i) {
-      const JointAnalysis& a = study.recommended[i];
-      io::ReportColumn& c = rep.columns[i];
-      c.wvs = study.wvs[i];
-      c.fit = a.fit.joint;
-      c.replicates = replicate_report(groups[i], estimator);
-      c.replicates->joint = a.fit;
-      c.replicates->test = a.test;
-      c.replicates->bootstrap = a.bootstrap;
-      c.replicates->selection = study.results[i];
+      fill_joint_report_column(rep.columns[i], groups[i], study.wvs[i], study.recommended[i], estimator);
+      rep.columns[i].replicates->selection = study.results[i];
     }
     write_report(common, rep);
   }

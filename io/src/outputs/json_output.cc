@@ -331,14 +331,36 @@ std::string dump_json(const json& doc) {
   return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
+namespace {
+
+// Column k of a study on `set`: its name, length and rate, and its declared unit.
+ColumnInfo study_column(const SignalSet& set, std::size_t k, const std::string& name,
+                        const std::vector<std::string>& units) {
+  return {name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
+          k < units.size() ? units[k] : std::string()};
+}
+
+// A fitted column's physical fields: "unit", the continuous parameters and Kalman terms
+// (under the given keys), the Allan deviations and the noise figures.
+void add_physical_fields(json& col, const FitResult& fit, const ColumnInfo& info, double filter_rate,
+                         const std::optional<FigureReport>& figures, const char* continuous_key,
+                         const char* kalman_key) {
+  col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
+  col[continuous_key] = continuous_json(fit, info);
+  col[kalman_key] = kalman_json(fit, info, filter_rate, figures ? &figures->chosen : nullptr);
+  col["allan"] = figures ? allan_json(figures->adev, figures->model_adev) : json(nullptr);
+  col["noise_figures"] = figures ? noise_figures_json(figures->chosen, info.unit) : json(nullptr);
+}
+
+}  // namespace
+
 json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
   json doc = json_document("wv");
   doc["input"] = set.path;
   if (set.timing) doc["timing"] = timing_json(*set.timing);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::WvColumnStudy& c = study.columns[k];
-    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
-                          k < units.size() ? units[k] : std::string()};
+    const ColumnInfo info = study_column(set, k, c.name, units);
     json col = c.robust ? robust_wv_column_json(info, c.wv, c.robust->diagnostic, c.robust->quantization)
                         : wv_column_json(info, c.wv);
     if (c.allan) {
@@ -360,14 +382,9 @@ json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const s
   if (set.timing) doc["timing"] = timing_json(*set.timing);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::FitColumnStudy& c = study.columns[k];
-    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
-                          k < units.size() ? units[k] : std::string()};
+    const ColumnInfo info = study_column(set, k, c.name, units);
     json col = fit_column_json(info, c.wv, c.fit, study.omega);
-    col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
-    col["continuous"] = continuous_json(c.fit, info);
-    col["kalman"] = kalman_json(c.fit, info, filter_rate, c.figures ? &c.figures->chosen : nullptr);
-    col["allan"] = c.figures ? allan_json(c.figures->adev, c.figures->model_adev) : json(nullptr);
-    col["noise_figures"] = c.figures ? noise_figures_json(c.figures->chosen, info.unit) : json(nullptr);
+    add_physical_fields(col, c.fit, info, filter_rate, c.figures, "continuous", "kalman");
     doc["columns"].push_back(std::move(col));
   }
   return doc;
@@ -387,14 +404,9 @@ json select_document(const SignalSet& set, const pipeline::SelectStudy& study, c
   if (set.timing) doc["timing"] = timing_json(*set.timing);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::SelectColumnStudy& c = study.columns[k];
-    const ColumnInfo info{c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
-                          k < units.size() ? units[k] : std::string()};
+    const ColumnInfo info = study_column(set, k, c.name, units);
     json col = select_column_json(info, c.wv, c.selection, study.options.penalty);
-    col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
-    col["best_continuous"] = continuous_json(c.selection.best_fit, info);
-    col["best_kalman"] = kalman_json(c.selection.best_fit, info, filter_rate, c.figures ? &c.figures->chosen : nullptr);
-    col["allan"] = c.figures ? allan_json(c.figures->adev, c.figures->model_adev) : json(nullptr);
-    col["noise_figures"] = c.figures ? noise_figures_json(c.figures->chosen, info.unit) : json(nullptr);
+    add_physical_fields(col, c.selection.best_fit, info, filter_rate, c.figures, "best_continuous", "best_kalman");
     doc["columns"].push_back(std::move(col));
   }
   return doc;

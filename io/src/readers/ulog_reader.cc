@@ -223,7 +223,7 @@ class Parser {
       } else if (type == 'D' && msg_id) {
         if (size < 2) fail(at, index, "a 'D' message shorter than 2 bytes");
         if (load<std::uint16_t>(p) == *msg_id) {
-          if (size - 2 < payload_size)
+          if (static_cast<std::size_t>(size - 2) < payload_size)
             fail(at, index, topic + " data of " + std::to_string(size - 2) + " bytes, expected " +
                                 std::to_string(payload_size));
           const unsigned char* d = p + 2;
