@@ -13,6 +13,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/io/signal_reader.h"
+#include "signal_test_util.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;

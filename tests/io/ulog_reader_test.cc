@@ -9,6 +9,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/io/signal_reader.h"
+#include "signal_test_util.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -29,7 +30,9 @@ class Ulog : public ::testing::Test {
     return p.string();
   }
   static std::string error_of(const std::string& path, const std::string& topic = {}) {
-    return gmwm::test::read_error(path, topic);
+    ReadOptions o;
+    o.topic = topic;
+    return gmwm::test::read_error(path, o);
   }
   fs::path dir_;
 };

@@ -1,8 +1,5 @@
 #include "test_support.h"
 
-#include "gmwm/engine/error.h"
-#include "gmwm/io/signal_reader.h"
-
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
@@ -164,17 +161,6 @@ std::vector<std::vector<double>> ulog_expected(const UlogFixture& f) {
     for (std::size_t a = 0; a < 6; ++a) out[a].push_back(static_cast<double>(v[a]));
   }
   return out;
-}
-
-std::string read_error(const std::string& path, const std::string& topic) {
-  io::ReadOptions o;
-  o.topic = topic;
-  try {
-    io::read_signals(path, o);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 }  // namespace gmwm::test

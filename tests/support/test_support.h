@@ -23,9 +23,6 @@ std::string shared_data_file(const std::string& name);
 /// A fresh temporary directory for one test.
 std::filesystem::path temp_dir(const std::string& tag);
 
-/// The InputError message of io::read_signals(path) with --topic `topic`, or "no error".
-std::string read_error(const std::string& path, const std::string& topic = {});
-
 /// Classical WVs of replicates of `spec` (a model with every value): replicate k has
 /// 2^log2n[k] samples, stream (seed, k).
 std::vector<WaveletVariance> simulated_replicates(const std::string& spec, const std::vector<int>& log2n,
