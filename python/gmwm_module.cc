@@ -100,8 +100,8 @@ std::vector<std::vector<double>> columns_of(const py::handle& obj) {
 
 gmwm::io::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
                           const std::string& unit) {
-  if (freq && !(*freq > 0.0 && std::isfinite(*freq)))
-    throw gmwm::InputError("freq: expected a positive sampling rate in Hz, got " + std::to_string(*freq));
+  if (freq)
+    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   return {name, static_cast<std::int64_t>(n), freq.value_or(1.0), freq.has_value(), unit};
 }
 
@@ -169,7 +169,7 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
 // 'noise_figures' fields `gmwm wv --adev` gives a column (the same engine and io functions).
 py::object py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& unit) {
   const std::vector<double> x = series_of(data, "data");
-  if (!(freq > 0.0) || !std::isfinite(freq)) throw gmwm::InputError("freq: expected a positive sampling rate in Hz");
+  if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   gmwm::AllanOptions allan;
   allan.points_per_octave = points_per_octave;
   allan.alpha = alpha;
@@ -278,7 +278,7 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
                   const std::vector<std::string>& names, const std::string& units, const std::optional<std::string>& sensor,
                   const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
                   int levels, bool unit_check) {
-  if (!(freq > 0.0) || !std::isfinite(freq)) throw gmwm::InputError("freq: expected a positive sampling rate in Hz");
+  if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   const int given = model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value();
   if (given != 1)
     throw gmwm::InputError("gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf "
@@ -321,8 +321,8 @@ py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, s
                              std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
   if (signals < 1) throw gmwm::InputError("signals: expected at least 1, got " + std::to_string(signals));
-  if (freq && !(*freq > 0.0 && std::isfinite(*freq)))
-    throw gmwm::InputError("freq: expected a positive sampling rate in Hz, got " + std::to_string(*freq));
+  if (freq)
+    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   const gmwm::Model model =
       gmwm::parse_model(model_spec, gmwm::ProcessContext{freq.value_or(1.0), freq.has_value()});
   if (!model.fully_specified())
@@ -353,9 +353,9 @@ PYBIND11_MODULE(_gmwm, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const gmwm::InputError& e) {
-      input_error(e.what());
+      input_error(gmwm::printable_line(e.what()).c_str());
     } catch (const gmwm::InvalidArgument& e) {
-      input_error(e.what());  // the library's argument checks: bad input too, as the CLI's exit 2
+      input_error(gmwm::printable_line(e.what()).c_str());  // the library's argument checks: bad input too, as the CLI's exit 2
     }
   });
   m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,

@@ -74,14 +74,23 @@ class Parser {
     if (std::isdigit(static_cast<unsigned char>(s_[pos_]))) {
       const std::size_t b = pos_;
       while (!at_end() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
-      repeat = std::stol(s_.substr(b, std::min<std::size_t>(pos_ - b, 6)));
+      // The count as written (shortened when absurdly long): no leading zero, at most the
+      // digits kMaxRepeat has, so that no digit is silently dropped.
+      const std::string digits = s_.substr(b, pos_ - b);
+      const std::string shown = digits.size() > 24 ? digits.substr(0, 21) + "..." : digits;
+      const std::size_t max_digits = std::to_string(kMaxRepeat).size();
+      repeat = digits.size() <= max_digits ? std::stol(digits) : kMaxRepeat + 1;
       skip();
       if (at_end() || s_[pos_] != '*') fail(found(), "'*' after a repeat count");
       ++pos_;
       skip();
+      if (digits.size() > 1 && digits[0] == '0') {
+        pos_ = b;
+        fail("repeat count '" + shown + "'", "a count without leading zeros, from 1 to " + std::to_string(kMaxRepeat));
+      }
       if (repeat < 1 || repeat > kMaxRepeat) {
         pos_ = b;
-        fail("repeat count " + std::to_string(repeat), "a count from 1 to " + std::to_string(kMaxRepeat));
+        fail("repeat count " + shown, "a count from 1 to " + std::to_string(kMaxRepeat));
       }
     }
     const std::size_t name_pos = pos_;

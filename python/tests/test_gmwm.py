@@ -58,7 +58,7 @@ def test_allan_equals_the_cli_adev_json_bit_for_bit(tmp_path, example):
 
 
 def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
-    with pytest.raises(gmwm.InputError, match="freq: expected a positive sampling rate in Hz"):
+    with pytest.raises(gmwm.InputError, match="^freq: found 0, expected a sampling rate in Hz from 1e-09 to 1e\+09"):
         gmwm.allan(example["gyro_y"], freq=0.0)
     with pytest.raises(gmwm.InputError, match="^points_per_octave: "):
         gmwm.allan(example["gyro_y"], freq=100.0, points_per_octave=0)
@@ -171,7 +171,7 @@ def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
         gmwm.select(np.zeros((100, 0)), "WN+RW")
     with pytest.raises(gmwm.InputError, match="expected an array"):
         gmwm.select(1.0, "WN+RW")
-    with pytest.raises(gmwm.InputError, match="freq: expected a positive sampling rate"):
+    with pytest.raises(gmwm.InputError, match="^freq: found 0, expected a sampling rate in Hz"):
         gmwm.simulate("WN(sigma2=1)", 100, freq=0)
 
 

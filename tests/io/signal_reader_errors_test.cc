@@ -211,7 +211,9 @@ TEST_F(SignalReaderErrors, RejectsANonPositiveFreq) {
   }
   ReadOptions o;
   o.freq = -5.0;
-  EXPECT_EQ(o.Validate(), "--freq: found -5, expected a positive sampling rate in Hz");
+  EXPECT_EQ(o.Validate(), "--freq: found -5, expected a sampling rate in Hz from 1e-09 to 1e+09");
+  o.freq = 1e-320;  // subnormal: its reciprocal overflows
+  EXPECT_EQ(o.Validate(), "--freq: found 9.99989e-321, expected a sampling rate in Hz from 1e-09 to 1e+09");
   o.freq = 100.0;
   EXPECT_EQ(o.Validate(), "");
 }

@@ -47,9 +47,10 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
                  "The IMU topic of a log: PX4 ULog sensor_combined (default), sensor_gyro or sensor_accel "
                  "(NAME:K for instance K); ROS bags: a sensor_msgs Imu topic (default: the only one)")
       ->type_name("NAME[:K]");
-  sub.add_option("--columns", input.columns,
-                 "Columns to use: names or 1-based indices, comma-separated (default: every "
-                 "numeric column that is not a timestamp)")
+  sub.add_option_function<std::string>(
+         "--columns", [&input](const std::string& c) { input.columns = c; },
+         "Columns to use: names or 1-based indices, comma-separated (default: every "
+         "numeric column that is not a timestamp)")
       ->type_name("A,B,C");
   sub.add_option_function<double>(
          "--freq", [&input](const double& f) { input.freq = f; },
@@ -59,7 +60,8 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
       ->capture_default_str();
   sub.add_option("--levels", input.levels,
                  "Number of WV levels J (default: floor(log2 N))")
-      ->type_name("J");
+      ->type_name("J")
+      ->check(CLI::Range(1, kMaxLevelsOption));
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
@@ -173,8 +175,6 @@ void write_report(const CommonOptions& common, const io::ReportData& data) {
   io::stage_html_report(*common.outputs, common.report, data);
 }
 
-namespace {
-
 std::vector<std::string> split_list(const std::string& s) {
   std::vector<std::string> out;
   std::string cur;
@@ -187,15 +187,15 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
-}  // namespace
-
 io::SignalSet read_input(const InputOptions& input) {
   io::ReadOptions options;
-  if (!input.columns.empty()) {
-    options.columns = split_list(input.columns);
+  if (input.columns) {
+    options.columns = split_list(*input.columns);
+    if (options.columns.empty())
+      throw InputError("--columns: found an empty list, expected names or 1-based indices separated by commas");
     for (const auto& c : options.columns)
       if (c.empty())
-        throw InputError("--columns '" + input.columns +
+        throw InputError("--columns '" + *input.columns +
                          "': found an empty name, expected names or 1-based indices "
                          "separated by commas");
   }

@@ -40,10 +40,17 @@ struct CommonOptions {
   bool show_table() const { return !quiet && json != "-"; }
 };
 
+/// The largest --levels: J levels need 2^J samples, and no record reaches 2^62.
+inline constexpr int kMaxLevelsOption = 62;
+
+/// A comma-separated list with each entry trimmed ("" gives an empty list; "a,,b" keeps
+/// the empty entry for the caller to refuse).
+std::vector<std::string> split_list(const std::string& s);
+
 /// INPUT and the options that pick and describe its signals.
 struct InputOptions {
   std::string input;
-  std::string columns;              ///< --columns a,b,c (names or 1-based indices)
+  std::optional<std::string> columns;  ///< --columns a,b,c (names or 1-based indices); given empty: refused
   std::optional<double> freq;       ///< --freq HZ
   std::string topic;                ///< --topic NAME[:INSTANCE] (PX4 ULog)
   double alpha = 0.05;              ///< --alpha

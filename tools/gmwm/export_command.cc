@@ -65,13 +65,10 @@ std::vector<io::ExportColumn> from_result(const ExportArgs& a, std::string& sour
       throw InputError(std::string(opt) + ": only for a data file INPUT; '" + a.input.input +
                        "' is a gmwm result whose models are already fitted (--rate sets the update rate)");
   io::ResultReadOptions o;
-  if (!a.input.columns.empty()) {
-    std::stringstream ss(a.input.columns);
-    for (std::string c; std::getline(ss, c, ',');) {
-      c.erase(0, c.find_first_not_of(" \t"));
-      c.erase(c.find_last_not_of(" \t") + 1);
-      o.columns.push_back(c);
-    }
+  if (a.input.columns) {
+    o.columns = split_list(*a.input.columns);
+    if (o.columns.empty())
+      throw InputError("--columns: found an empty list, expected column names separated by commas");
   }
   o.rate = a.rate;
   o.sensor = sensor_of(a.sensor);
@@ -91,8 +88,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
                      "gmwm fit or gmwm select");
   const WvOptions wv_opts = wv_options(a.input);
   if (a.input.freq) {
-    if (!(*a.input.freq > 0.0 && std::isfinite(*a.input.freq)))
-      throw InputError("--freq " + fmt(*a.input.freq) + ": expected a positive sampling rate in Hz");
+    if (const std::string why = io::sampling_rate_problem(*a.input.freq, "--freq"); !why.empty()) throw InputError(why);
     parse_model(a.model, ProcessContext{*a.input.freq, true});
   }
   const auto units = a.units.empty() ? std::nullopt : std::optional(io::parse_units(a.units));

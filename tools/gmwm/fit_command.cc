@@ -196,9 +196,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
 
   // With --freq the model can be checked before reading a long file.
   if (args.input.freq) {
-    if (!(*args.input.freq > 0.0 && std::isfinite(*args.input.freq)))
-      throw InputError("--freq " + fmt(*args.input.freq) +
-                       ": expected a positive sampling rate in Hz");
+    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty()) throw InputError(why);
     parse_model(args.model, ProcessContext{*args.input.freq, true});
   }
 

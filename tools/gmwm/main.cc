@@ -20,16 +20,9 @@ Command add_man_command(CLI::App& app);
 
 namespace {
 
-/// One line: newlines (CLI11 sometimes adds them) become spaces.
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
-
 int fail(int code, const std::string& message) {
-  std::cerr << "gmwm: error: " << one_line(message) << std::endl;
+  // One printable line: CLI11 sometimes adds newlines, and a file's bytes may be anything.
+  std::cerr << "gmwm: error: " << gmwm::printable_line(message) << std::endl;
   return code;
 }
 
@@ -55,6 +48,17 @@ int main(int argc, char** argv) {
                               add_gap_check_command(app, common),
                               add_simulate_command(app, common), add_export_command(app, common),
                               add_completion_command(app), add_man_command(app)};
+  // A first word that names no command: say so, listing them (CLI11 would only say that a
+  // command is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const Command& c : commands) {
+      names += (names.empty() ? "" : ", ") + c.app->get_name();
+      known = known || c.app->get_name() == argv[1];
+    }
+    if (!known) return fail(2, std::string("unknown command '") + argv[1] + "', expected one of: " + names);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -70,7 +74,7 @@ int main(int argc, char** argv) {
   try {
     for (const Command& c : commands)
       if (c.app->parsed()) return c.run();
-    return fail(2, "expected a command: wv, fit or simulate");
+    return fail(2, "expected a command (gmwm --help lists them)");
   } catch (const gmwm::InputError& e) {
     return fail(2, e.what());
   } catch (const gmwm::InvalidArgument& e) {

@@ -33,8 +33,9 @@ Entry parse_entry(const std::string& text) {
 io::SignalSet read_columns(const std::string& path, const std::vector<std::string>& columns, const InputOptions& options) {
   InputOptions o = options;
   o.input = path;
-  o.columns.clear();
-  for (std::size_t i = 0; i < columns.size(); ++i) o.columns += (i ? "," : "") + columns[i];
+  std::string list;
+  for (std::size_t i = 0; i < columns.size(); ++i) list += (i ? "," : "") + columns[i];
+  o.columns = list;
   return read_input(o);
 }
 

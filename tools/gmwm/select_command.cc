@@ -236,8 +236,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   study_options.wv = wv_opts;
   study_options.robust = robust_options;
   if (args.input.freq) {
-    if (!(*args.input.freq > 0.0 && std::isfinite(*args.input.freq)))
-      throw InputError("--freq " + fmt(*args.input.freq) + ": expected a positive sampling rate in Hz");
+    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty()) throw InputError(why);
     for (const std::string& m : study_options.models) parse_model(m, ProcessContext{*args.input.freq, true});
   }
 

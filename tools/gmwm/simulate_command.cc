@@ -3,6 +3,9 @@
 // Simulates K independent series of a fully specified model into a delimited file
 // (gzip-compressed when PATH ends in .gz), reproducible from --seed.
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -27,6 +30,23 @@ struct SimulateArgs {
   std::optional<double> quantum;
 };
 
+// The simulated series are held in memory (8 bytes a sample and signal) while they are
+// written; a request above this share of the machine's physical memory is refused before
+// anything is allocated, instead of ending in an allocation failure.
+constexpr double kSimulateMemoryShare = 0.75;
+
+void check_memory(const SimulateArgs& args) {
+  const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
+  const double page = static_cast<double>(::sysconf(_SC_PAGESIZE));
+  if (!(pages > 0.0 && page > 0.0)) return;  // unknown: let the allocation decide
+  const double needed = 8.0 * static_cast<double>(args.n) * args.signals;
+  const double limit = kSimulateMemoryShare * pages * page;
+  if (needed > limit)
+    throw InputError("--n " + std::to_string(args.n) + " x " + std::to_string(args.signals) + " signal(s): needs " +
+                     fmt(needed / 1e9, 3) + " GB for the samples, more than " + fmt(100.0 * kSimulateMemoryShare, 3) +
+                     "% of this machine's " + fmt(pages * page / 1e9, 3) + " GB; expected a smaller --n (or fewer --signals)");
+}
+
 std::vector<std::string> column_names(const SimulateArgs& args) {
   std::vector<std::string> names;
   if (args.names.empty()) {
@@ -41,11 +61,20 @@ std::vector<std::string> column_names(const SimulateArgs& args) {
     throw InputError("--names '" + args.names + "': found " + std::to_string(names.size()) +
                      " names, expected " + std::to_string(args.signals) +
                      " (one per signal, comma-separated)");
-  for (const auto& nm : names)
-    if (nm.empty() || nm.find_first_of(" \t\"") != std::string::npos)
-      throw InputError("--names '" + args.names +
-                       "': found an empty name or one with spaces or quotes, expected "
-                       "plain column names");
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& nm = names[k];
+    const bool plain = !nm.empty() && std::all_of(nm.begin(), nm.end(), [](char c) {
+      return c > ' ' && c < 0x7f && c != '"' && c != '\'';
+    });
+    if (!plain)
+      throw InputError("--names: name " + std::to_string(k + 1) +
+                       " is empty or has a space, quote or control character, expected plain column names");
+    if (io::is_timestamp_column_name(nm))
+      throw InputError("--names: '" + nm + "' is a timestamp column's name (gmwm would read it back as "
+                       "times, not as a signal), expected another name");
+    for (std::size_t j = 0; j < k; ++j)
+      if (names[j] == nm) throw InputError("--names: '" + nm + "' is given twice, expected distinct names");
+  }
   return names;
 }
 
@@ -71,8 +100,8 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   auto threads = apply_common_options(common);
   declare_output(common, "--output", args.output);
   declare_output(common, "--json", common.json);
-  if (args.freq && !(*args.freq > 0.0 && std::isfinite(*args.freq)))
-    throw InputError("--freq " + fmt(*args.freq) + ": expected a positive sampling rate in Hz");
+  if (args.freq)
+    if (const std::string why = io::sampling_rate_problem(*args.freq, "--freq"); !why.empty()) throw InputError(why);
   if (args.quantum && !(*args.quantum > 0.0 && std::isfinite(*args.quantum)))
     throw InputError("--quantum " + fmt(*args.quantum) + ": expected a positive step");
   const std::vector<std::string> names = column_names(args);
@@ -92,6 +121,7 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   if (const std::string why = model.validate(theta); !why.empty())
     throw InputError("--model '" + args.model + "': " + why);
 
+  check_memory(args);
   Stopwatch sim_clock;
   std::vector<std::vector<double>> series =
       simulate_many(model, theta, args.n, args.signals, common.seed);

@@ -1,5 +1,7 @@
 // The export entry point (render_export), the format and aggregation names, the options'
 // validation and the text helpers the renderers share (export_internal.h).
+#include <cctype>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -70,6 +72,14 @@ std::string ExportOptions::Validate() const {
            " format has one value per sensor, not per axis; expected --aggregate mean or worst (per-axis fields: "
            "basalt, gz-sdf)";
   if (rostopic.empty()) return "--rostopic: expected a topic name such as /imu0";
+  // A ROS graph resource name (wiki.ros.org/Names): a letter, '/' or '~' first, then
+  // letters, digits, '_' and '/'. Anything else could break out of the YAML value.
+  const auto ros_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/'; };
+  const bool valid = (std::isalpha(static_cast<unsigned char>(rostopic[0])) || rostopic[0] == '/' || rostopic[0] == '~') &&
+                     std::all_of(rostopic.begin() + 1, rostopic.end(), ros_char);
+  if (!valid)
+    return "--rostopic '" + rostopic +
+           "': expected a ROS topic name (a letter, '/' or '~' first, then letters, digits, '_' and '/')";
   return "";
 }
 
@@ -97,15 +107,21 @@ std::string num(double x, int digits) {
   return buf;
 }
 
+// Comment lines carry names from files (columns, sources): as one printable line each
+// (printable_line), so that a newline in a name cannot start a key of its own.
 std::string yaml_comments(const std::vector<std::string>& lines) {
   std::string out;
-  for (const auto& l : lines) out += l.empty() ? "#\n" : "# " + l + "\n";
+  for (const auto& line : lines) {
+    const std::string l = printable_line(line);
+    out += l.empty() ? "#\n" : "# " + l + "\n";
+  }
   return out;
 }
 
 std::string xml_comment(const std::vector<std::string>& lines, const std::string& indent) {
   std::string out = indent + "<!--\n";
-  for (std::string l : lines) {
+  for (const std::string& line : lines) {
+    std::string l = printable_line(line);
     for (std::size_t p; (p = l.find("--")) != std::string::npos;) l.replace(p, 2, "- -");
     if (!l.empty() && l.back() == '-') l += ' ';  // "--->" would end the comment badly
     out += indent + "  " + l + "\n";

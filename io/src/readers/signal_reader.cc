@@ -129,12 +129,18 @@ std::size_t resolve_column(const std::string& path, const std::string& raw_spec,
 
 }  // namespace
 
+std::string sampling_rate_problem(double freq, const std::string& option) {
+  if (freq >= kMinFreq && freq <= kMaxFreq) return {};
+  char buf[96];
+  std::snprintf(buf, sizeof buf, ": found %g, expected a sampling rate in Hz from %g to %g", freq, kMinFreq, kMaxFreq);
+  return option + buf;
+}
+
+bool is_timestamp_column_name(std::string_view name) { return detail::timestamp_name(name).has_value(); }
+
 std::string ReadOptions::Validate() const {
-  if (freq && !(std::isfinite(*freq) && *freq > 0.0)) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", *freq);
-    return std::string("--freq: found ") + buf + ", expected a positive sampling rate in Hz";
-  }
+  if (freq)
+    if (std::string why = sampling_rate_problem(*freq, "--freq"); !why.empty()) return why;
   for (const std::string& c : columns)
     if (c.find_first_not_of(" \t") == std::string::npos)
       return "--columns: found an empty entry, expected column names or 1-based indices "

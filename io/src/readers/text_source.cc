@@ -6,6 +6,10 @@
 #include <filesystem>
 #include <system_error>
 
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include "gmwm/engine/error.h"
@@ -22,9 +26,42 @@ constexpr std::size_t kTextChunk = 1 << 18;
 // Typical compression ratio of gzip on text of numbers (the ADIS files: 7.6), used only to
 // reserve memory for the columns; a wrong guess costs nothing but a reallocation.
 constexpr std::uint64_t kTypicalGzipRatio = 8;
+// A FIFO or pipe is opened without blocking; when nothing has come after this long, a
+// FIFO that no writer has opened stops the run instead of hanging (docs/cli.md "Limits"),
+// while a pipe whose writer is merely slow (`slow | gmwm wv /dev/stdin`) is waited for.
+constexpr int kFifoWriterWaitMs = 5000;
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
   throw InputError(path + ": " + what);
+}
+
+// Opens a FIFO or pipe without blocking (a blocking open of a FIFO waits for a writer
+// forever) and returns it as a blocking stream. With nothing to read after
+// kFifoWriterWaitMs, a non-blocking read tells a missing writer (end of file) from a
+// silent one (EAGAIN).
+std::FILE* open_fifo(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) fail(path, std::string("cannot open: ") + std::strerror(errno) + ", expected a readable file");
+  pollfd p{fd, POLLIN, 0};
+  int early = EOF;  // a byte read while probing, given back to the stream
+  if (::poll(&p, 1, kFifoWriterWaitMs) == 0) {
+    unsigned char c;
+    const ssize_t n = ::read(fd, &c, 1);
+    if (n == 0) {
+      ::close(fd);
+      fail(path, "is a FIFO that no writer opened within " + std::to_string(kFifoWriterWaitMs / 1000) +
+                     " s, expected data (start the writer first)");
+    }
+    if (n == 1) early = c;
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  std::FILE* f = ::fdopen(fd, "rb");
+  if (!f) {
+    ::close(fd);
+    fail(path, std::string("cannot open: ") + std::strerror(errno));
+  }
+  if (early != EOF) std::ungetc(early, f);
+  return f;
 }
 
 }  // namespace
@@ -32,11 +69,16 @@ constexpr std::uint64_t kTypicalGzipRatio = 8;
 // Inflates a gzip file (one or more concatenated members) chunk by chunk.
 class GzipStream {
  public:
-  GzipStream(std::string path, std::FILE* file) : path_(std::move(path)), file_(file) {
+  // `prefix`: the bytes already read from `file` (the sniffed magic), inflated first.
+  GzipStream(std::string path, std::FILE* file, const unsigned char* prefix, std::size_t prefix_size)
+      : path_(std::move(path)), file_(file) {
     std::memset(&zs_, 0, sizeof zs_);
     // 15 + 32: largest window, automatic gzip/zlib header detection.
     if (inflateInit2(&zs_, 15 + 32) != Z_OK) fail(path_, "cannot initialise zlib");
     in_.resize(kInputChunk);
+    std::memcpy(in_.data(), prefix, prefix_size);
+    zs_.next_in = reinterpret_cast<Bytef*>(in_.data());
+    zs_.avail_in = static_cast<uInt>(prefix_size);
   }
   ~GzipStream() { inflateEnd(&zs_); }
   GzipStream(const GzipStream&) = delete;
@@ -105,25 +147,32 @@ TextSource::TextSource(const std::string& path) : path_(path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     fail(path, "is a folder, expected a data file");
-  file_ = std::fopen(path.c_str(), "rb");
+  struct stat st {};
+  const bool fifo = ::stat(path.c_str(), &st) == 0 && S_ISFIFO(st.st_mode);
+  file_ = fifo ? open_fifo(path) : std::fopen(path.c_str(), "rb");
   if (!file_) {
     const int err = errno;
     if (err == ENOENT) fail(path, "file not found, expected an existing data file");
     fail(path, std::string("cannot open: ") + std::strerror(err) + ", expected a readable file");
   }
+  // The format is sniffed from the first bytes, which are kept (never re-read: a pipe
+  // or a FIFO cannot rewind).
   unsigned char magic[2] = {0, 0};
   const std::size_t got = std::fread(magic, 1, 2, file_);
   empty_ = got == 0;
-  const auto size = std::filesystem::file_size(path, ec);
-  std::rewind(file_);
+  const bool regular = std::filesystem::is_regular_file(path, ec);
+  const auto size = regular ? std::filesystem::file_size(path, ec) : 0;
+  const bool known_size = regular && !ec;
   if (got == 2 && magic[0] == 0x1f && magic[1] == 0x8b) {
-    size_hint_ = ec ? 0 : size * kTypicalGzipRatio;
-    gzip_ = std::make_unique<GzipStream>(path_, file_);
+    size_hint_ = known_size ? size * kTypicalGzipRatio : 0;
+    gzip_ = std::make_unique<GzipStream>(path_, file_, magic, got);
     return;
   }
   // Plain text: read it whole (one system call for a regular file).
-  size_hint_ = ec ? 0 : size;
-  reserve(ec ? kTextChunk : static_cast<std::size_t>(size) + 1);
+  size_hint_ = known_size ? size : 0;
+  reserve(known_size ? static_cast<std::size_t>(size) + 1 : kTextChunk);
+  std::memcpy(buf_.get(), magic, got);
+  end_ = got;
   for (;;) {
     end_ += std::fread(buf_.get() + end_, 1, cap_ - end_, file_);
     if (end_ < cap_) break;

@@ -65,7 +65,11 @@ std::map<SensorKind, Unit> parse_units(const std::string& spec) {
     if (key == "gyro") kind = SensorKind::kGyro;
     else if (key == "accel") kind = SensorKind::kAccel;
     else throw InputError("--units '" + spec + "': unknown sensor kind '" + item.substr(0, eq) + "' (expected gyro or accel)");
-    out[kind] = parse_unit(item.substr(eq + 1), kind);
+    try {
+      out[kind] = parse_unit(item.substr(eq + 1), kind);
+    } catch (const InputError& e) {
+      throw InputError("--units '" + spec + "': " + e.what());
+    }
     start = comma + 1;
   }
   return out;

@@ -5,12 +5,20 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace gmwm {
 
+/// A message as one printable line: line breaks become spaces, other control bytes, DEL
+/// and bytes that are not valid UTF-8 are shown as \xNN, so that a NUL or binary junk
+/// from a file cannot cut, hide or garble what is printed; trailing spaces are dropped.
+std::string printable_line(std::string_view message);
+
+/// The message is kept as printable_line(message): what() is one printable line whatever
+/// bytes of a file it quotes.
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(std::string_view message) : std::runtime_error(printable_line(message)) {}
 };
 
 }  // namespace gmwm

@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gmwm::io {
@@ -43,6 +44,19 @@ namespace gmwm::io {
 /// smallest models worth fitting (e.g. WN + RW + QN, or AR1 + WN with 3 parameters)
 /// need more WV moments than parameters: 4 levels, i.e. N >= 2^4 = 16.
 inline constexpr std::int64_t kMinSamples = 16;
+
+/// The sampling rates accepted (Hz): one sample in ~30 years to 1 GHz. Beyond them a rate
+/// is a typo, and its reciprocal (the tau in seconds) leaves the range of doubles.
+inline constexpr double kMinFreq = 1e-9;
+inline constexpr double kMaxFreq = 1e9;
+
+/// "" when `freq` is within [kMinFreq, kMaxFreq], else "OPTION: found F, expected a
+/// sampling rate in Hz from 1e-09 to 1e+09" with `option` naming where it came from.
+std::string sampling_rate_problem(double freq, const std::string& option);
+
+/// True when the reader takes a column of this header name as timestamps ("time",
+/// "timestamp", "#timestamp [ns]", ...), not as a signal.
+bool is_timestamp_column_name(std::string_view name);
 
 struct ReadOptions {
   /// Column names or 1-based field indices (as text). Empty: every numeric column that is

@@ -1,0 +1,250 @@
+// The bad-input contract against a corpus of hostile inputs and options: each case exits
+// 2 with exactly one line "gmwm: error: ..." naming the file or option and what was
+// expected, writes nothing to stdout, creates or changes no file in its folder, and runs
+// in under kMaxSeconds with the program's peak memory under kMaxRssBytes.
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::CliRun;
+using gmwm::test::run_gmwm;
+using gmwm::test::RunOptions;
+using gmwm::test::write_text;
+
+namespace {
+
+// The bars of the contract (issue 17): a refusal is quick and cheap.
+constexpr double kMaxSeconds = 10.0;
+constexpr long kMaxRssBytes = 1L << 30;
+
+// 4096 rows of a time column and two signals at 100 Hz.
+std::string base_csv() {
+  std::string s = "time,gyro_x,accel_x\n";
+  for (int i = 0; i < 4096; ++i)
+    s += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i * 0.37) * 1e-3 + (i % 7) * 1e-4) + "," +
+         std::to_string(9.81 + std::cos(i * 0.11) * 1e-2) + "\n";
+  return s;
+}
+
+std::string bytes(std::initializer_list<int> b) {
+  std::string s;
+  for (int c : b) s += static_cast<char>(c);
+  return s;
+}
+
+struct Case {
+  std::string name;
+  std::vector<std::string> args;
+  std::vector<std::string> mentions;  // each must appear in the one error line
+  std::function<void(const fs::path&)> setup = nullptr;
+  RunOptions how = {};
+};
+
+// Every file of a folder with its content (the folder's state).
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::error_code ec;
+    if (e.is_regular_file(ec)) {
+      std::ifstream in(e.path(), std::ios::binary);
+      out[e.path().filename().string()] = std::string(std::istreambuf_iterator<char>(in), {});
+    } else {
+      out[e.path().filename().string()] = e.is_symlink(ec) ? "<symlink>" : "<special>";
+    }
+  }
+  return out;
+}
+
+const std::string kYamlWithoutGyroDensity =
+    "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
+    "gyroscope_random_walk: 2.0e-05\nupdate_rate: 100.0\n";
+const std::string kYaml = kYamlWithoutGyroDensity + "gyroscope_noise_density: 8.73e-04\n";
+
+std::vector<Case> corpus() {
+  const auto file = [](const std::string& name, const std::string& text) {
+    return [=](const fs::path& d) { write_text(d / name, text); };
+  };
+  const auto both = [](std::function<void(const fs::path&)> a, std::function<void(const fs::path&)> b) {
+    return [=](const fs::path& d) { a(d), b(d); };
+  };
+  const std::string rows = base_csv();
+  const auto base = file("base.csv", rows);
+  const std::string head = "time,gyro_x,accel_x\n";
+  std::vector<Case> c = {
+      // --- outputs ---------------------------------------------------------------------
+      {"output equal to the input", {"wv", "base.csv", "--csv", "base.csv"}, {"base.csv"}, base},
+      {"json over the input", {"fit", "base.csv", "--model", "WN", "--json", "base.csv"}, {"--json", "base.csv"}, base},
+      {"two outputs, one file", {"wv", "base.csv", "--json", "o.json", "--csv", "o.json"}, {"o.json"}, base},
+      {"output to a folder", {"wv", "base.csv", "--json", "sub"}, {"sub"},
+       both(base, [](const fs::path& d) { fs::create_directory(d / "sub"); })},
+      {"output through a symlink", {"wv", "base.csv", "--json", "link.json"}, {"link.json"},
+       both(base, [](const fs::path& d) { fs::create_symlink(d / "target.json", d / "link.json"); })},
+      {"output to a FIFO", {"wv", "base.csv", "--json", "pipe.json"}, {"pipe.json"},
+       both(base, [](const fs::path& d) { ::mkfifo((d / "pipe.json").c_str(), 0600); })},
+      {"output to a device", {"wv", "base.csv", "--json", "/dev/full"}, {"/dev/full"}, base},
+      {"output in a missing folder", {"wv", "base.csv", "--json", "nowhere/o.json"}, {"nowhere"}, base},
+      {"partial outputs", {"wv", "base.csv", "--csv", "ok.csv", "--json", "/proc/x/o.json"}, {"/proc/x"}, base},
+      {"simulate output equal to json", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--output", "x.csv",
+                                          "--json", "x.csv"}, {"x.csv"}},
+      // --- reading ---------------------------------------------------------------------
+      {"missing input", {"wv", "nothere.csv", "--freq", "100"}, {"nothere.csv", "not found"}},
+      {"folder as input", {"wv", "sub", "--freq", "100"}, {"sub", "folder"},
+       [](const fs::path& d) { fs::create_directory(d / "sub"); }},
+      {"empty file", {"wv", "empty.csv", "--freq", "100"}, {"empty.csv"}, file("empty.csv", "")},
+      {"header only", {"wv", "h.csv", "--freq", "100"}, {"h.csv"}, file("h.csv", "a,b\n")},
+      {"NUL in a cell", {"wv", "n.csv"}, {"n.csv:3:2", "\\x00", "expected a number"},
+       file("n.csv", head + "0,1,2\n0.01," + bytes({0}) + "x,3\n")},
+      {"binary junk in a cell", {"wv", "b.csv"}, {"b.csv:3:2", "\\x01\\xFF", "expected a number"},
+       file("b.csv", head + "0,1,2\n0.01," + bytes({1, 0xff, 0xfe}) + ",3\n")},
+      {"text in a cell", {"wv", "t.csv"}, {"t.csv:3:3", "'oops'", "expected a number"},
+       file("t.csv", head + "0,1,2\n0.01,2,oops\n")},
+      {"NaN in a cell", {"wv", "t.csv"}, {"t.csv:3:2", "NaN"}, file("t.csv", head + "0,1,2\n0.01,nan,3\n")},
+      {"out-of-range number", {"wv", "t.csv"}, {"t.csv:3:2", "1e999"}, file("t.csv", head + "0,1,2\n0.01,1e999,3\n")},
+      {"ragged row", {"wv", "t.csv"}, {"t.csv:3"}, file("t.csv", head + "0,1,2\n0.01,2,3,4\n")},
+      {"too few rows", {"wv", "t.csv"}, {"t.csv", "16"}, file("t.csv", head + "0,1,2\n0.01,2,3\n")},
+      {"constant column", {"wv", "c.csv", "--freq", "100"}, {"c.csv", "constant"},
+       file("c.csv", [] {
+         std::string s = "a\n";
+         for (int i = 0; i < 64; ++i) s += "1.5\n";
+         return s;
+       }())},
+      {"truncated gzip", {"wv", "t.csv.gz", "--freq", "100"}, {"t.csv.gz", "gzip"},
+       file("t.csv.gz", bytes({0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0x4b, 0x4c}))},
+      {"corrupt gzip", {"wv", "c.csv.gz", "--freq", "100"}, {"c.csv.gz", "gzip"},
+       file("c.csv.gz", bytes({0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0xff, 0xff, 0xff, 0xff, 0, 0, 0, 0}))},
+      {"FIFO with no writer", {"wv", "fifo", "--freq", "100"}, {"fifo", "no writer"},
+       [](const fs::path& d) { ::mkfifo((d / "fifo").c_str(), 0600); }},
+      {"unknown column", {"wv", "base.csv", "--columns", "nosuch"}, {"base.csv", "nosuch"}, base},
+      {"empty column list", {"wv", "base.csv", "--columns", ""}, {"--columns", "empty list"}, base},
+      {"empty column entry", {"wv", "base.csv", "--columns", "gyro_x,,accel_x"}, {"--columns", "empty"}, base},
+      {"zero rate", {"wv", "base.csv", "--freq", "0"}, {"--freq", "from 1e-09 to 1e+09"}, base},
+      {"negative rate", {"wv", "base.csv", "--freq=-1"}, {"--freq", "from 1e-09"}, base},
+      {"subnormal rate", {"wv", "base.csv", "--freq", "1e-320"}, {"--freq", "from 1e-09"}, base},
+      {"NaN rate", {"wv", "base.csv", "--freq", "nan"}, {"--freq"}, base},
+      {"zero levels", {"wv", "base.csv", "--levels", "0"}, {"--levels"}, base},
+      {"alpha of zero", {"wv", "base.csv", "--alpha", "0"}, {"alpha"}, base},
+      {"alpha above one", {"wv", "base.csv", "--alpha", "1.5"}, {"alpha"}, base},
+      {"topic on a CSV", {"wv", "base.csv", "--topic", "/imu"}, {"base.csv", "--topic"}, base},
+      {"ULog magic then junk", {"wv", "x.ulg"}, {"x.ulg"},
+       file("x.ulg", std::string("ULog\x01\x12\x35", 7) + std::string(9, '\0') + "junkjunkjunk")},
+      {"ROS bag header cut", {"wv", "x.bag"}, {"x.bag"}, file("x.bag", "#ROSBAG V2.0\n\x45\x00\x00")},
+      {"old ROS bag version", {"wv", "x.bag"}, {"x.bag", "1.2"}, file("x.bag", "#ROSBAG V1.2\nxxxxxxxx")},
+      {"MCAP magic then junk", {"wv", "x.mcap"}, {"x.mcap"},
+       file("x.mcap", std::string("\x89MCAP0\r\n", 8) + "\x01\xff\xff\xff\xff\xff\xff\xff\x7f")},
+      {"SQLite file without bag tables", {"wv", "x.db3"}, {"x.db3"},
+       file("x.db3", std::string("SQLite format 3\0", 16) + std::string(100, '\0'))},
+      // --- models ----------------------------------------------------------------------
+      {"unknown process", {"fit", "base.csv", "--model", "AR1+FOO"}, {"AR1+FOO", "FOO"}, base},
+      {"huge repeat count", {"fit", "base.csv", "--model", "99999999999999999999*AR1"},
+       {"repeat count 99999999999999999999", "from 1 to"}, base},
+      {"repeat count with leading zeros", {"fit", "base.csv", "--model", "0000012*AR1+WN"},
+       {"'0000012'", "leading zeros"}, base},
+      {"empty model", {"fit", "base.csv", "--model", ""}, {"model"}, base},
+      {"trailing plus", {"fit", "base.csv", "--model", "WN+"}, {"WN+"}, base},
+      {"invalid parameter value", {"simulate", "--model", "AR1(phi=2,sigma2=1)", "--n", "100", "--output", "s.csv"},
+       {"AR1", "phi"}},
+      {"model without values", {"simulate", "--model", "WN", "--n", "100", "--output", "s.csv"},
+       {"--model 'WN'", "sigma2"}},
+      {"more parameters than levels", {"fit", "t.csv", "--freq", "100", "--model", "4*AR1+WN+RW+QN+DR"}, {"level"},
+       file("t.csv", [] {
+         std::string s = "a\n";
+         for (int i = 0; i < 40; ++i) s += std::to_string(std::sin(i * 1.3)) + "\n";
+         return s;
+       }())},
+      // --- simulate --------------------------------------------------------------------
+      {"timestamp name for a signal", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--names", "time",
+                                        "--freq", "10", "--output", "s.csv"}, {"--names", "'time'"}},
+      {"duplicate names", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--signals", "2", "--names", "a,a",
+                            "--output", "s.csv"}, {"--names", "twice"}},
+      {"name with a newline", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--names", "a\nb: 1",
+                                "--output", "s.csv"}, {"--names", "control"}},
+      {"more samples than memory", {"simulate", "--model", "WN(sigma2=1)", "--n", "1000000000000", "--output",
+                                     "s.csv"}, {"--n 1000000000000", "GB"}},
+      {"zero samples", {"simulate", "--model", "WN(sigma2=1)", "--n", "0"}, {"--n"}},
+      // --- gap and simulator configurations --------------------------------------------
+      {"two baselines", {"gap", "base.csv", "--model", "WN(sigma2=1)", "--fit", "WN"}, {"--"}, base},
+      {"too few replicates", {"gap", "base.csv", "--model", "WN(sigma2=1)", "--replicates", "5"}, {"--replicates"},
+       base},
+      {"missing Kalibr file", {"gap", "base.csv", "--kalibr", "none.yaml"}, {"none.yaml"}, base},
+      {"Kalibr value out of range", {"gap", "base.csv", "--kalibr", "k.yaml"}, {"k.yaml:1"},
+       both(base, file("k.yaml", "gyroscope_noise_density: 1e300\n" + kYamlWithoutGyroDensity))},
+      {"Kalibr duplicate key", {"gap", "base.csv", "--kalibr", "k.yaml"}, {"k.yaml", "gyroscope_noise_density"},
+       both(base, file("k.yaml", kYaml + "gyroscope_noise_density: 1.0e-3\n"))},
+      {"Kalibr hex float", {"gap", "base.csv", "--kalibr", "k.yaml"}, {"k.yaml:1"},
+       both(base, file("k.yaml", "gyroscope_noise_density: 0x1p-10\n" + kYamlWithoutGyroDensity))},
+      {"invalid YAML", {"gap", "base.csv", "--kalibr", "k.yaml"}, {"k.yaml"}, both(base, file("k.yaml", "a: [1, 2\n"))},
+      {"invalid SDF", {"gap", "base.csv", "--gazebo", "s.sdf"}, {"s.sdf"}, both(base, file("s.sdf", "<sdf><model>"))},
+      {"bad units", {"gap", "base.csv", "--model", "WN(sigma2=1)", "--units", "gyro=furlong"}, {"--units", "furlong"},
+       base},
+      // --- robust and options ----------------------------------------------------------
+      {"efficiency without robust", {"wv", "base.csv", "--eff", "0.8"}, {"--eff", "--robust"}, base},
+      {"efficiency above one", {"wv", "base.csv", "--robust", "--eff", "1.5"}, {"--eff"}, base},
+      {"unknown option", {"wv", "base.csv", "--frobnicate"}, {"--frobnicate"}, base},
+      {"unknown command", {"frobnicate"}, {"unknown command 'frobnicate'", "wv, fit"}},
+      // --- export ----------------------------------------------------------------------
+      {"unknown export format", {"export", "base.csv", "--model", "WN+RW", "--format", "nope", "--output", "o.yaml"},
+       {"--format"}, base},
+      {"rostopic with a newline", {"export", "base.csv", "--model", "WN+RW", "--format", "kalibr", "--rostopic",
+                                    "/imu\nrate: 1", "--output", "o.yaml"}, {"--rostopic", "ROS topic name"}, base},
+      {"export over its source", {"export", "base.csv", "--model", "WN+RW", "--format", "kalibr", "--output",
+                                   "base.csv"}, {"base.csv"}, base},
+  };
+  return c;
+}
+
+class Hostile : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Hostile, ExitsTwoWithOneLineNamingThePlaceAndLeavesEverythingAsItWas) {
+  const Case& c = GetParam();
+  const fs::path dir = gmwm::test::temp_dir("hostile");
+  if (c.setup) c.setup(dir);
+  const auto before = snapshot(dir);
+  const auto t0 = std::chrono::steady_clock::now();
+  const CliRun r = run_gmwm(c.args, dir, c.how);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  rusage usage{};
+  ::getrusage(RUSAGE_CHILDREN, &usage);  // the largest descendant so far: this case's at most
+
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const auto lines = gmwm::test::lines_of(r.err);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("gmwm: error: ", 0), 0u) << lines[0];
+  for (const auto& m : c.mentions) EXPECT_NE(lines[0].find(m), std::string::npos) << "'" << m << "' in: " << lines[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(snapshot(dir), before) << "a file was created or changed";
+  EXPECT_LT(seconds, kMaxSeconds);
+  EXPECT_LT(usage.ru_maxrss * 1024L, kMaxRssBytes);
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, Hostile, ::testing::ValuesIn(corpus()), [](const auto& info) {
+  std::string name;
+  bool up = true;
+  for (char ch : info.param.name) {
+    if (std::isalnum(static_cast<unsigned char>(ch))) {
+      name += up ? static_cast<char>(std::toupper(static_cast<unsigned char>(ch))) : ch;
+      up = false;
+    } else {
+      up = true;
+    }
+  }
+  return name;
+});
+
+TEST(HostileCorpus, HoldsAtLeastSixtyCases) { EXPECT_GE(corpus().size(), 60u); }
+
+}  // namespace
