@@ -200,6 +200,12 @@ std::vector<Case> corpus() {
        {"--format"}, base},
       {"rostopic with a newline", {"export", "base.csv", "--model", "WN+RW", "--format", "kalibr", "--rostopic",
                                     "/imu\nrate: 1", "--output", "o.yaml"}, {"--rostopic", "ROS topic name"}, base},
+      {"Kalman rate absurd", {"fit", "base.csv", "--model", "WN+RW", "--kf-rate=-1e300"},
+       {"--kf-rate: found -1e+300, expected a sampling rate in Hz from 1e-09 to 1e+09"}, base},
+      {"numeric model in an export source", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
+       {"r.json: column 'x': found \"model\": number, expected a model string"},
+       file("r.json", R"({"tool": "gmwm", "version": "0.1.0", "command": "fit", "input": "d.csv", "columns": [)"
+                      R"({"name": "x", "n": 4096, "freq": 100.0, "model": 5, "status": "converged"}]})")},
       {"export over its source", {"export", "base.csv", "--model", "WN+RW", "--format", "kalibr", "--output",
                                    "base.csv"}, {"base.csv"}, base},
   };

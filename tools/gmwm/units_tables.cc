@@ -15,9 +15,14 @@ void add_units_option(CLI::App& sub, UnitsOptions& o) {
 
 void add_units_options(CLI::App& sub, UnitsOptions& o) {
   add_units_option(sub, o);
-  sub.add_option("--kf-rate", o.kf_rate, "Rate of the Kalman filter for the Q/R table (default: the data's rate)")
-      ->type_name("HZ")
-      ->check(CLI::PositiveNumber);
+  sub.add_option_function<double>(
+         "--kf-rate",
+         [&o](const double& f) {
+           if (const std::string why = io::sampling_rate_problem(f, "--kf-rate"); !why.empty()) throw CLI::ValidationError(why);
+           o.kf_rate = f;
+         },
+         "Rate of the Kalman filter for the Q/R table (default: the data's rate)")
+      ->type_name("HZ");
 }
 
 std::string column_unit(const UnitsOptions& o, const std::string& column) {

@@ -110,6 +110,9 @@ ResultColumns read_result_columns(const std::string& path, const ResultReadOptio
     if (r.command == "select" && c.contains("best_fit") && c["best_fit"].is_object() &&
         c["best_fit"].contains("status") && c["best_fit"]["status"].is_string())
       status = c["best_fit"]["status"];
+    if (c.contains(model_field) && !c[model_field].is_string() && !c[model_field].is_null())
+      throw InputError(at + "found \"" + model_field + "\": " + c[model_field].type_name() +
+                       ", expected a model string such as \"WN(sigma2=1e-4)+RW(gamma2=1e-9)\"");
     if (!c.contains(model_field) || !c[model_field].is_string())
       throw InputError(at + "no fitted model (\"" + model_field + "\" is null; status " + status +
                        "); leave the column out with --columns");
