@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -16,6 +17,9 @@ namespace {
 // Upper bound on "k*NAME" repeats: more latent components than this cannot be
 // identified from the ~20-30 levels of any realistic series.
 constexpr long kMaxRepeat = 16;
+// Structural keys (ARMA's orders p and q) are small integers; beyond this a value is a
+// typo, and converting it to an integer would overflow (found by fuzzing).
+constexpr double kMaxStructuralValue = 1000.0;
 
 class Parser {
  public:
@@ -140,7 +144,12 @@ class Parser {
       for (const auto& sk : entry->structural_keys)
         if (sk == key) structural = true;
       if (structural) {
-        if (v != std::floor(v)) fail_msg(entry->name + ": " + key + " must be an integer (got " + std::to_string(v) + ")");
+        if (v != std::floor(v) || !(std::abs(v) <= kMaxStructuralValue)) {
+          char got[32];
+          std::snprintf(got, sizeof got, "%g", v);
+          fail_msg(entry->name + ": " + key + " must be an integer from 0 to " +
+                   std::to_string(static_cast<long>(kMaxStructuralValue)) + " (got " + got + ")");
+        }
         pargs.structural[key] = static_cast<long>(v);
       } else {
         values.emplace_back(key, v);

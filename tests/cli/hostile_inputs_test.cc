@@ -154,6 +154,8 @@ std::vector<Case> corpus() {
       {"repeat count with leading zeros", {"fit", "base.csv", "--model", "0000012*AR1+WN"},
        {"'0000012'", "leading zeros"}, base},
       {"empty model", {"fit", "base.csv", "--model", ""}, {"model"}, base},
+      {"ARMA order overflowing an integer (found by fuzzing)", {"fit", "base.csv", "--model", "ARMA(p=1e300,q=1)"},
+       {"ARMA: p must be an integer from 0 to 1000 (got 1e+300)"}, base},
       {"trailing plus", {"fit", "base.csv", "--model", "WN+"}, {"WN+"}, base},
       {"invalid parameter value", {"simulate", "--model", "AR1(phi=2,sigma2=1)", "--n", "100", "--output", "s.csv"},
        {"AR1", "phi"}},
@@ -206,6 +208,9 @@ std::vector<Case> corpus() {
        {"r.json: column 'x': found \"model\": number, expected a model string"},
        file("r.json", R"({"tool": "gmwm", "version": "0.1.0", "command": "fit", "input": "d.csv", "columns": [)"
                       R"({"name": "x", "n": 4096, "freq": 100.0, "model": 5, "status": "converged"}]})")},
+      {"number beyond a double in an export source (found by fuzzing)",
+       {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"}, {"r.json: invalid JSON"},
+       file("r.json", R"({"tool": "gmwm", "command": "fit", "columns": [{"name": "x", "n": 1e999}]})")},
       {"export over its source", {"export", "base.csv", "--model", "WN+RW", "--format", "kalibr", "--output",
                                    "base.csv"}, {"base.csv"}, base},
   };

@@ -70,6 +70,8 @@ ResultColumns read_result_columns(const std::string& path, const ResultReadOptio
     doc = json::parse(text);
   } catch (const json::parse_error& e) {
     throw InputError(place(path, text, e.byte) + "invalid JSON, " + kExpected);
+  } catch (const json::exception& e) {  // e.g. a number beyond the range of a double (found by fuzzing)
+    throw InputError(path + ": invalid JSON (" + e.what() + "), " + kExpected);
   }
   if (!doc.is_object() || !doc.contains("tool") || doc["tool"] != "gmwm" || !doc.contains("command") ||
       !doc["command"].is_string())
