@@ -123,7 +123,9 @@ Command add_completion_command(CLI::App& app) {
                                                "(source <(gmwm completion bash))");
   auto shell = std::make_shared<std::string>();
   sub->add_option("shell", *shell, "The shell: bash")->required()->check(CLI::IsMember({"bash"}));
-  return {sub, [&app] {
+  // The option writes into *shell whenever the command line is parsed: the string lives as
+  // long as the command (a use after free otherwise, found by AddressSanitizer).
+  return {sub, [&app, shell] {
             std::cout << bash_completion(app) << std::flush;
             return std::cout ? 0 : 1;
           }};
