@@ -91,7 +91,8 @@ TEST_F(GmwmNoiseFigures, AnExportFromAModelWithoutWhiteNoiseWritesTheDensityTheD
   EXPECT_NE(r.out.find("N white noise"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("white measurement noise R (from N)"), std::string::npos) << "the Kalman table's R from N";
   const double n_true = std::sqrt(0.12 / (0.84 * 0.84) / 100.0);
-  for (const json& c : read_json(dir_ / "fit.json").at("columns")) {
+  const json doc = read_json(dir_ / "fit.json");  // a range over a temporary's member would dangle
+  for (const json& c : doc.at("columns")) {
     const json& n = c.at("noise_figures").at("white");
     EXPECT_NEAR(n.at("value").get<double>() / n_true, 1.0, 0.02) << c.at("name");
     EXPECT_FALSE(n.at("components").empty());
