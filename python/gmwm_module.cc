@@ -116,6 +116,18 @@ std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>
   return names;
 }
 
+// The columns as the signal set a file would give ("<array>", the rate when known).
+gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const std::vector<std::string>& labels,
+                                  std::optional<double> freq) {
+  const gmwm::io::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
+  gmwm::io::SignalSet set;
+  set.path = "<array>";
+  set.freq = first.freq;
+  set.freq_known = first.freq_known;
+  for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
+  return set;
+}
+
 // The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust.
 std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::optional<double> eff,
                                                             const std::optional<std::string>& estimator,
@@ -193,13 +205,7 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
                const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
                bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
                const std::string& unit) {
-  std::vector<double> x = series_of(data, "data");
-  const gmwm::io::ColumnInfo column = info(name, x.size(), freq, "");
-  gmwm::io::SignalSet set;
-  set.path = "<array>";
-  set.freq = column.freq;
-  set.freq_known = column.freq_known;
-  set.signals.push_back({name, std::move(x), ""});
+  const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
   gmwm::pipeline::FitStudyOptions o;
   o.model = model_spec;
   o.fit.omega = omega_kind(omega);
@@ -232,12 +238,7 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
   if (!units.empty() && units.size() != cols.size())
     throw gmwm::InputError("units: " + std::to_string(units.size()) + " units for " + std::to_string(cols.size()) +
                            " columns");
-  const gmwm::io::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
-  gmwm::io::SignalSet set;
-  set.path = "<array>";
-  set.freq = first.freq;
-  set.freq_known = first.freq_known;
-  for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
+  const gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
   namespace sel = gmwm::selection;
   gmwm::pipeline::SelectStudyOptions o;
   o.models = {model_spec};
@@ -285,11 +286,7 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
                            "or fit=SPEC");
   std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
-  gmwm::io::SignalSet set;
-  set.path = "<array>";
-  set.freq = freq;
-  set.freq_known = true;
-  for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
+  gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
   gmwm::pipeline::GapStudyOptions o;
   o.wv.alpha = alpha;
   o.wv.levels = levels;
