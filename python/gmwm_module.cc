@@ -168,6 +168,8 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
   o.alpha = alpha;
   o.levels = levels;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  if (const std::string why = gmwm::io::levels_problem(levels, static_cast<std::int64_t>(x.size()), "levels"); !why.empty())
+    throw gmwm::InputError(why);
   Json out;
   {
     py::gil_scoped_release release;
@@ -290,6 +292,9 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
   gmwm::pipeline::GapStudyOptions o;
   o.wv.alpha = alpha;
   o.wv.levels = levels;
+  if (const std::string why = gmwm::io::levels_problem(levels, static_cast<std::int64_t>(set.signals.front().values.size()), "levels");
+      !why.empty())
+    throw gmwm::InputError(why);
   o.units = gmwm::io::parse_units(units);
   o.units_declared = !units.empty();
   if (sensor) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "cli_runner.h"
 #include "test_support.h"
@@ -44,6 +45,32 @@ std::string bytes(std::initializer_list<int> b) {
   std::string s;
   for (int c : b) s += static_cast<char>(c);
   return s;
+}
+
+// One gzip member holding `text`.
+std::string gzip_member(const std::string& text) {
+  z_stream zs{};
+  deflateInit2(&zs, Z_BEST_COMPRESSION, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY);
+  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  zs.avail_in = static_cast<uInt>(text.size());
+  zs.next_out = reinterpret_cast<Bytef*>(out.data());
+  zs.avail_out = static_cast<uInt>(out.size());
+  deflate(&zs, Z_FINISH);
+  out.resize(zs.total_out);
+  deflateEnd(&zs);
+  return out;
+}
+
+// A decompression bomb: `head` in a first member, then `copies` members of 1 MiB of `unit`
+// repeated (concatenated members are one gzip stream; each costs about 1 kB).
+std::string gzip_bomb(const std::string& head, const std::string& unit, int copies) {
+  std::string body;
+  while (body.size() < (std::size_t{1} << 20)) body += unit;
+  std::string out = gzip_member(head);
+  const std::string member = gzip_member(body);
+  for (int i = 0; i < copies; ++i) out += member;
+  return out;
 }
 
 struct Case {
@@ -126,6 +153,29 @@ std::vector<Case> corpus() {
        file("t.csv.gz", bytes({0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0x4b, 0x4c}))},
       {"corrupt gzip", {"wv", "c.csv.gz", "--freq", "100"}, {"c.csv.gz", "gzip"},
        file("c.csv.gz", bytes({0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0xff, 0xff, 0xff, 0xff, 0, 0, 0, 0}))},
+      // --- limits (docs/cli.md "Limits") -------------------------------------------------
+      {"10 MB line", {"wv", "l.csv"}, {"l.csv:3", "line longer than 1048576 bytes"},
+       file("l.csv", head + "0,1,2\n0.01," + std::string(10'000'000, '7') + ",3\n")},
+      {"1e6 columns", {"wv", "w.csv", "--freq", "100"}, {"w.csv:1", "line longer than"}, file("w.csv", [] {
+         std::string s;
+         for (int k = 0; k < 1'000'000; ++k) s += (k ? ",c" : "c") + std::to_string(k);
+         return s + "\n";
+       }())},
+      {"5000 columns", {"wv", "w.csv", "--freq", "100"}, {"w.csv:1", "found 5000 columns, expected at most 4096"},
+       file("w.csv", [] {
+         std::string h, r;
+         for (int k = 0; k < 5000; ++k) { h += (k ? ",c" : "c") + std::to_string(k); r += k ? ",1" : "1"; }
+         return h + "\n" + r + "\n" + r + "\n";
+       }())},
+      {"gzip bomb of zeros (1 GB, no line break)", {"wv", "z.csv.gz", "--freq", "100"},
+       {"z.csv.gz:1", "line longer than"}, file("z.csv.gz", gzip_bomb("", std::string(1, '0'), 1024))},
+      {"gzip bomb of rows (1 GB)", {"wv", "r.csv.gz", "--freq", "100"},
+       {"r.csv.gz", "more than 250 times", "decompression bomb"},
+       file("r.csv.gz", gzip_bomb("x\n", "1.00000000000000000000000000000000000000000000000000000000000000000000001\n", 1024))},
+      {"gzip bomb of blank lines after the data (1 GB)", {"wv", "b.csv.gz"}, {"b.csv.gz", "more than 250 times"},
+       file("b.csv.gz", gzip_bomb(rows, "\n", 1024))},
+      {"levels beyond the series", {"wv", "base.csv", "--levels", "40"},
+       {"base.csv: --levels 40: the signals have 4096 samples, which give at most 12 levels"}, base},
       {"FIFO with no writer", {"wv", "fifo", "--freq", "100"}, {"fifo", "no writer"},
        [](const fs::path& d) { ::mkfifo((d / "fifo").c_str(), 0600); }},
       {"unknown column", {"wv", "base.csv", "--columns", "nosuch"}, {"base.csv", "nosuch"}, base},

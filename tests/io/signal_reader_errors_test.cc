@@ -241,3 +241,32 @@ TEST_F(SignalReaderErrors, RejectsATextTimestampColumnWhenNoFreqIsGiven) {
   EXPECT_EQ(read_error(p), p + ":2:1: found '12:00:10' in timestamp column 'time', expected a "
                                "number; give the sampling rate with --freq HZ");
 }
+
+TEST_F(SignalReaderErrors, RejectsALineLongerThanTheLimitNamingIt) {
+  const std::string row(gmwm::io::kMaxLineBytes + 10, '1');
+  const std::string msg = gmwm::test::read_error(file("time,x\n0,1\n0.01,2\n0.02," + row + "\n0.03,3\n"));
+  EXPECT_TRUE(contains(msg, "x.csv:4: found a line longer than 1048576 bytes")) << msg;
+  EXPECT_TRUE(contains(msg, "at most 1 MiB")) << msg;
+}
+
+TEST_F(SignalReaderErrors, RejectsAHeaderWithMoreColumnsThanTheLimit) {
+  std::string header, row;
+  for (std::size_t k = 0; k <= gmwm::io::kMaxColumns; ++k) {
+    header += (k ? ",c" : "c") + std::to_string(k);
+    row += k ? ",1" : "1";
+  }
+  const std::string msg = gmwm::test::read_error(file(header + "\n" + row + "\n"));
+  EXPECT_TRUE(contains(msg, "x.csv:1: found 4097 columns, expected at most 4096")) << msg;
+}
+
+TEST_F(SignalReaderErrors, RefusesMoreRowsThanTheMemoryBudgetBeforeReadingThemAll) {
+  // A budget of 1 MB holds 31,250 rows of two columns at 16 bytes a value: the file's
+  // 70,000 rows are refused at the first check past it (row 65,536), naming the line.
+  gmwm::io::ReadOptions o;
+  o.memory_budget = 1e6;
+  const std::string msg = gmwm::test::read_error(file("time,x,y\n" + csv_rows(70000)), o);
+  EXPECT_TRUE(contains(msg, "x.csv:65537: found more than 31250 rows of 2 column(s)")) << msg;
+  EXPECT_TRUE(contains(msg, "memory budget of 1 MB; read fewer columns with --columns")) << msg;
+  o.memory_budget = -1.0;
+  EXPECT_TRUE(contains(gmwm::test::read_error(file("time,x,y\n" + csv_rows(20)), o), "memory_budget: found -1"));
+}

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "gmwm/io/signal_reader.h"
@@ -262,4 +265,93 @@ TEST_F(SignalReader, ReadsTheAdisRecordingAsSixColumnsOfAMillionRows) {
   EXPECT_EQ(s.freq, 100.0);
   EXPECT_TRUE(s.compressed);
   EXPECT_FALSE(s.timing);
+}
+
+namespace {
+
+// The reader's timing from steps it never stores must equal what the list of all steps
+// gives: the median (mean of the two middle ones for an even count), the gaps and the
+// disorder. `stamps` are integer nanoseconds, so each offset (and step) is exact.
+struct ListTiming {
+  double median_step_s = 0.0;
+  std::int64_t gaps = 0, disorder = 0;
+  double largest_gap_s = 0.0;
+};
+ListTiming timing_of_list(const std::vector<std::int64_t>& stamps) {
+  std::vector<double> steps;
+  ListTiming t;
+  for (std::size_t i = 1; i < stamps.size(); ++i) {
+    const double d = static_cast<double>(stamps[i] - stamps[0]) - static_cast<double>(stamps[i - 1] - stamps[0]);
+    if (d > 0) steps.push_back(d); else ++t.disorder;
+  }
+  std::vector<double> sorted = steps;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t mid = sorted.size() / 2;
+  const double median = sorted.size() % 2 ? sorted[mid] : 0.5 * (sorted[mid - 1] + sorted[mid]);
+  t.median_step_s = median * 1e-9;
+  for (double d : steps)
+    if (d > gmwm::io::TimingReport::kGapFactor * median) { ++t.gaps; t.largest_gap_s = std::max(t.largest_gap_s, d * 1e-9); }
+  return t;
+}
+
+std::string ns_csv(const std::vector<std::int64_t>& stamps) {
+  std::string s = "timestamp [ns],x\n";
+  for (std::size_t i = 0; i < stamps.size(); ++i) s += std::to_string(stamps[i]) + "," + std::to_string(std::sin(0.1 * static_cast<double>(i))) + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_F(SignalReader, TimesWithFewDistinctStepsGiveTheListsExactMedianForAnEvenCount) {
+  // Steps 4.9, 5.0 and 5.1 ms (plus one gap and one repeat): 2000 steps whose two middle
+  // ones differ, so the median is their mean.
+  std::vector<std::int64_t> stamps = {1700000000000000000};
+  for (int i = 0; i < 2000; ++i) {
+    const std::int64_t step = i == 700 ? 0 : i == 1300 ? 40000000 : (i < 1000 ? 4900000 : 5100000);
+    stamps.push_back(stamps.back() + step);
+  }
+  const ListTiming want = timing_of_list(stamps);
+  const SignalSet s = read_signals(file(ns_csv(stamps)), {});
+  ASSERT_TRUE(s.timing);
+  EXPECT_EQ(s.timing->median_step_seconds, want.median_step_s);
+  EXPECT_EQ(s.timing->gaps, want.gaps);
+  EXPECT_EQ(s.timing->largest_gap_seconds, want.largest_gap_s);
+  EXPECT_EQ(s.timing->disorder, want.disorder);
+  EXPECT_EQ(want.disorder, 1);
+  EXPECT_EQ(want.gaps, 1);
+}
+
+TEST_F(SignalReader, JitteryTimesWithMoreDistinctStepsThanTheTableGiveTheListsExactMedian) {
+  // 150001 stamps at 5 ms +- 0.4 ms of jitter (a fixed LCG): about 150,000 distinct steps,
+  // more than the 2^16 the step table counts before it spills to a list.
+  std::vector<std::int64_t> stamps = {1700000000000000000};
+  std::uint64_t state = 12345;
+  for (int i = 0; i < 150000; ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const auto jitter = static_cast<std::int64_t>((state >> 33) % 800001) - 400000;
+    stamps.push_back(stamps.back() + (i == 9000 ? 60000000 : 5000000 + jitter));
+  }
+  const ListTiming want = timing_of_list(stamps);
+  const SignalSet s = read_signals(file(ns_csv(stamps)), {});
+  ASSERT_TRUE(s.timing);
+  EXPECT_EQ(s.timing->median_step_seconds, want.median_step_s);
+  EXPECT_EQ(s.timing->gaps, want.gaps);
+  EXPECT_EQ(s.timing->largest_gap_seconds, want.largest_gap_s);
+  EXPECT_EQ(s.timing->disorder, 0);
+  EXPECT_GE(want.gaps, 1);
+}
+
+TEST_F(SignalReader, APlainFileLargerThanItsReadChunkIsReadWhole) {
+  // 60000 rows (about 1.4 MB): lines cross the reader's chunk boundaries.
+  std::string text = "time,x\n";
+  std::vector<double> want;
+  char buf[64];
+  for (int i = 0; i < 60000; ++i) {
+    std::snprintf(buf, sizeof buf, "%.17g", std::sin(0.37 * i) * 1e-3 + i * 1e-9);
+    want.push_back(std::strtod(buf, nullptr));
+    text += std::to_string(i * 0.01) + "," + buf + "\n";
+  }
+  const SignalSet s = read_signals(file(text), {});
+  ASSERT_EQ(s.signals.size(), 1u);
+  EXPECT_EQ(s.signals[0].values, want);
 }

@@ -203,6 +203,10 @@ io::SignalSet read_input(const InputOptions& input) {
   options.topic = input.topic;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   io::SignalSet set = io::read_signals(input.input, options);
+  if (!set.signals.empty())
+    if (const std::string why = io::levels_problem(input.levels, static_cast<std::int64_t>(set.signals.front().values.size()), "--levels");
+        !why.empty())
+      throw InputError(input.input + ": " + why);
   if (!set.freq_known)
     throw InputError(input.input +
                      ":1: found no timestamp column in the header, expected one (timestamp, "

@@ -14,6 +14,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "gmwm/io/signal_reader.h"
 #include "gmwm/io/signal_writer.h"
 
 namespace gmwm::cli {
@@ -31,20 +32,17 @@ struct SimulateArgs {
 };
 
 // The simulated series are held in memory (8 bytes a sample and signal) while they are
-// written; a request above this share of the machine's physical memory is refused before
-// anything is allocated, instead of ending in an allocation failure.
-constexpr double kSimulateMemoryShare = 0.75;
-
+// written; a request beyond the memory budget (io::kMemoryShare of the physical memory, the
+// reader's budget) is refused before anything is allocated, instead of ending in an
+// allocation failure.
 void check_memory(const SimulateArgs& args) {
-  const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
-  const double page = static_cast<double>(::sysconf(_SC_PAGESIZE));
-  if (!(pages > 0.0 && page > 0.0)) return;  // unknown: let the allocation decide
+  const double limit = io::memory_budget_bytes();
+  if (!(limit > 0.0)) return;  // unknown: let the allocation decide
   const double needed = 8.0 * static_cast<double>(args.n) * args.signals;
-  const double limit = kSimulateMemoryShare * pages * page;
   if (needed > limit)
     throw InputError("--n " + std::to_string(args.n) + " x " + std::to_string(args.signals) + " signal(s): needs " +
-                     fmt(needed / 1e9, 3) + " GB for the samples, more than " + fmt(100.0 * kSimulateMemoryShare, 3) +
-                     "% of this machine's " + fmt(pages * page / 1e9, 3) + " GB; expected a smaller --n (or fewer --signals)");
+                     fmt(needed / 1e9, 3) + " GB for the samples, more than " + fmt(100.0 * io::kMemoryShare, 3) +
+                     "% of this machine's " + fmt(limit / io::kMemoryShare / 1e9, 3) + " GB; expected a smaller --n (or fewer --signals)");
 }
 
 std::vector<std::string> column_names(const SimulateArgs& args) {

@@ -160,9 +160,6 @@ RowParser::RowParser(std::string path, Delimiter d, std::vector<FieldPlan> plan,
 
 void RowParser::reserve(std::size_t rows) {
   for (auto& v : values_) v.reserve(rows);
-  if (plan_.end() != std::find_if(plan_.begin(), plan_.end(),
-                                  [](const FieldPlan& f) { return f.kind == FieldPlan::kTime; }))
-    time_offsets_.reserve(rows);
 }
 
 void RowParser::parse(std::string_view line, std::int64_t line_number) {
@@ -275,9 +272,9 @@ void RowParser::store_time(const char* b, const char* e, std::int64_t line_numbe
   }
   std::int64_t diff = 0;
   if (is_int && first_time_is_int_ && !__builtin_sub_overflow(i, first_time_int_, &diff))
-    time_offsets_.push_back(static_cast<double>(diff));
+    time_steps_.add(static_cast<double>(diff));
   else
-    time_offsets_.push_back(v - first_time_);
+    time_steps_.add(v - first_time_);
 }
 
 void RowParser::fail_cell(std::int64_t line_number, std::size_t field, std::string_view text,

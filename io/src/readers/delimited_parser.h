@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "timestamp.h"
+
 namespace gmwm::io::detail {
 
 enum class Delimiter : char { kComma = ',', kTab = '\t', kSemicolon = ';', kWhitespace = ' ' };
@@ -55,9 +57,10 @@ class RowParser {
 
   std::int64_t rows() const { return rows_; }
   std::vector<std::vector<double>>& values() { return values_; }
-  /// Times relative to the first one, in the file's unit; exact for integer timestamps
-  /// such as nanoseconds since 1970 (which a double cannot hold exactly).
-  std::vector<double>& time_offsets() { return time_offsets_; }
+  /// The steps of the times, in the file's unit, taken from times relative to the first
+  /// one: exact for integer timestamps such as nanoseconds since 1970 (which a double
+  /// cannot hold exactly). The times themselves are not kept.
+  const StepStatistics& time_steps() const { return time_steps_; }
   double first_time() const { return first_time_; }
   bool has_time() const { return has_time_; }
 
@@ -78,7 +81,7 @@ class RowParser {
   std::vector<FieldPlan> plan_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> values_;
-  std::vector<double> time_offsets_;
+  StepStatistics time_steps_;
   std::int64_t rows_ = 0;
   bool has_time_ = false;
   bool first_time_is_int_ = false;

@@ -6,6 +6,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+
+#include <unistd.h>
 
 #include "delimited_parser.h"
 #include "gmwm/engine/error.h"
@@ -136,6 +139,21 @@ std::string sampling_rate_problem(double freq, const std::string& option) {
   return option + buf;
 }
 
+std::string levels_problem(int levels, std::int64_t n, const std::string& option) {
+  int deepest = 0;
+  while (deepest < 62 && (std::int64_t{2} << deepest) <= n) ++deepest;
+  if (levels <= deepest) return {};
+  return option + " " + std::to_string(levels) + ": the signals have " + std::to_string(n) +
+         " samples, which give at most " + std::to_string(deepest) + " levels (2^" + std::to_string(deepest) +
+         " <= " + std::to_string(n) + "), expected 1 to " + std::to_string(deepest);
+}
+
+double memory_budget_bytes() {
+  const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
+  const double page = static_cast<double>(::sysconf(_SC_PAGESIZE));
+  return pages > 0.0 && page > 0.0 ? kMemoryShare * pages * page : 0.0;
+}
+
 bool is_timestamp_column_name(std::string_view name) { return detail::timestamp_name(name).has_value(); }
 
 std::string ReadOptions::Validate() const {
@@ -145,6 +163,8 @@ std::string ReadOptions::Validate() const {
     if (c.find_first_not_of(" \t") == std::string::npos)
       return "--columns: found an empty entry, expected column names or 1-based indices "
              "separated by commas";
+  if (!(memory_budget >= 0.0) || !std::isfinite(memory_budget))
+    return "memory_budget: found " + std::to_string(memory_budget) + ", expected a finite number of bytes >= 0 (0: the default)";
   return "";
 }
 
@@ -222,6 +242,9 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     header.erase(0, header.find_first_not_of("# \t"));
   const Delimiter delim = detail::detect_delimiter(header, first_row);
   std::vector<std::string> names = detail::split_header(header, delim);
+  if (names.size() > kMaxColumns)
+    throw InputError(where(path, header_line) + "found " + std::to_string(names.size()) +
+                     " columns, expected at most " + std::to_string(kMaxColumns));
 
   // Rows with the wrong number of fields are reported by the row parser itself.
   detail::RowParser(path, delim, std::vector<FieldPlan>(names.size()), names, 0)
@@ -295,6 +318,12 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   // Reserving (virtual memory, touched only when used) avoids regrowing the columns.
   parser.reserve(src.text_size_hint() / (first_row.size() + 1) + 1);
   parser.parse(first_row, first_row_line);
+  // Rows that fit the memory budget (checked every kRowsPerMemoryCheck rows).
+  const double budget = options.memory_budget > 0.0 ? options.memory_budget : memory_budget_bytes();
+  const std::int64_t max_rows =
+      budget > 0.0 ? static_cast<std::int64_t>(budget / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(selected.size(), 1))))
+                   : std::numeric_limits<std::int64_t>::max();
+  constexpr std::int64_t kRowsPerMemoryCheck = std::int64_t{1} << 16;
   while (src.next_line(line)) {
     if (line.empty() || is_blank_line(line)) {
       if (!blank_line) blank_line = src.line_number();
@@ -302,6 +331,14 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     }
     if (blank_line) fail_blank(blank_line);
     parser.parse(line, src.line_number());
+    if (parser.rows() % kRowsPerMemoryCheck == 0 && parser.rows() > max_rows)
+      throw InputError(where(path, src.line_number()) + "found more than " + std::to_string(max_rows) + " rows of " +
+                       std::to_string(selected.size()) + " column(s), expected at most " + std::to_string(max_rows) +
+                       ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed the memory budget of " +
+                       std::to_string(static_cast<long long>(budget / 1e6)) + " MB" +
+                       (options.memory_budget > 0.0 ? std::string()
+                                                    : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) + "% of this machine's memory)") +
+                       "; read fewer columns with --columns");
   }
 
   const std::int64_t rows = parser.rows();
@@ -333,7 +370,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
       unit = preset->time_unit;
       source = std::string(preset->name) + " layout";
     }
-    set.timing = detail::analyse_timing(c.header, parser.time_offsets(), parser.first_time(), unit,
+    set.timing = detail::analyse_timing(c.header, parser.time_steps(), parser.first_time(), unit,
                                         source);
     set.timing->given_freq = options.freq;
   }

@@ -13,6 +13,7 @@
 #include <zlib.h>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/io/signal_reader.h"
 
 namespace gmwm::io::detail {
 
@@ -20,7 +21,7 @@ namespace {
 
 // Compressed bytes read from the file at a time.
 constexpr std::size_t kInputChunk = 1 << 18;
-// Text inflated at a time: large enough to amortise the per-chunk work, small enough to
+// Text read or inflated at a time: large enough to amortise the per-chunk work, small enough to
 // stay in the L2 cache while the parser reads it right after inflate wrote it.
 constexpr std::size_t kTextChunk = 1 << 18;
 // Typical compression ratio of gzip on text of numbers (the ADIS files: 7.6), used only to
@@ -79,6 +80,7 @@ class GzipStream {
     std::memcpy(in_.data(), prefix, prefix_size);
     zs_.next_in = reinterpret_cast<Bytef*>(in_.data());
     zs_.avail_in = static_cast<uInt>(prefix_size);
+    total_in_ = prefix_size;
   }
   ~GzipStream() { inflateEnd(&zs_); }
   GzipStream(const GzipStream&) = delete;
@@ -118,6 +120,12 @@ class GzipStream {
     }
     const std::size_t produced = cap - zs_.avail_out;
     total_out_ += produced;
+    if (total_out_ > kGzipRatioFloorBytes && static_cast<double>(total_out_) > kMaxGzipRatio * static_cast<double>(total_in_)) {
+      char ratio[32];
+      std::snprintf(ratio, sizeof ratio, "%.0f", kMaxGzipRatio);
+      fail(path_, "gzip data inflates to " + std::to_string(total_out_) + " bytes from " + std::to_string(total_in_) +
+                      ", more than " + ratio + " times (a decompression bomb?), expected compressed text of numbers");
+    }
     return produced;
   }
 
@@ -130,6 +138,7 @@ class GzipStream {
     }
     zs_.next_in = reinterpret_cast<Bytef*>(in_.data());
     zs_.avail_in = static_cast<uInt>(n);
+    total_in_ += n;
     return true;
   }
   std::uint64_t text_bytes(std::size_t cap) const { return total_out_ + (cap - zs_.avail_out); }
@@ -140,7 +149,8 @@ class GzipStream {
   std::vector<unsigned char> in_;
   bool in_member_ = true;
   bool done_ = false;
-  std::uint64_t total_out_ = 0;
+  std::uint64_t total_in_ = 0;   // compressed bytes read
+  std::uint64_t total_out_ = 0;  // text bytes inflated
 };
 
 TextSource::TextSource(const std::string& path) : path_(path) {
@@ -168,18 +178,13 @@ TextSource::TextSource(const std::string& path) : path_(path) {
     gzip_ = std::make_unique<GzipStream>(path_, file_, magic, got);
     return;
   }
-  // Plain text: read it whole (one system call for a regular file).
+  // Plain text: read chunk by chunk like inflated text (memory independent of the
+  // file's size).
   size_hint_ = known_size ? size : 0;
-  reserve(known_size ? static_cast<std::size_t>(size) + 1 : kTextChunk);
+  reserve(kTextChunk);
   std::memcpy(buf_.get(), magic, got);
   end_ = got;
-  for (;;) {
-    end_ += std::fread(buf_.get() + end_, 1, cap_ - end_, file_);
-    if (end_ < cap_) break;
-    reserve(2 * cap_);
-  }
-  if (std::ferror(file_)) fail(path, std::string("read error: ") + std::strerror(errno));
-  eof_ = true;
+  eof_ = got < 2;
 }
 
 TextSource::~TextSource() {
@@ -203,10 +208,23 @@ void TextSource::refill() {
   if (pos_ > 0 && tail > 0) std::memmove(buf_.get(), buf_.get() + pos_, tail);
   pos_ = 0;
   end_ = tail;
+  if (tail > kMaxLineBytes) fail_long_line();
   if (cap_ < tail + kTextChunk) reserve(std::max(tail + kTextChunk, 2 * cap_));
-  const std::size_t n = gzip_->read(buf_.get() + end_, cap_ - end_);
+  std::size_t n = 0;
+  if (gzip_) {
+    n = gzip_->read(buf_.get() + end_, cap_ - end_);
+  } else {
+    n = std::fread(buf_.get() + end_, 1, cap_ - end_, file_);
+    if (n == 0 && std::ferror(file_)) fail(path_, std::string("read error: ") + std::strerror(errno));
+  }
   if (n == 0) eof_ = true;
   end_ += n;
+}
+
+void TextSource::fail_long_line() const {
+  throw InputError(path_ + ":" + std::to_string(line_ + 1) + ": found a line longer than " +
+                   std::to_string(kMaxLineBytes) + " bytes, expected rows of at most " +
+                   std::to_string(kMaxLineBytes >> 20) + " MiB each (is this a text file of numbers?)");
 }
 
 bool TextSource::next_line(std::string_view& line) {
@@ -230,6 +248,7 @@ bool TextSource::next_line(std::string_view& line) {
       refill();
       continue;
     }
+    if (len > kMaxLineBytes) fail_long_line();
     if (len > 0 && b[len - 1] == '\r') --len;
     line = std::string_view(b, len);
     ++line_;

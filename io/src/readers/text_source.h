@@ -1,7 +1,8 @@
 #pragma once
 // Line-by-line access to a text file that may be gzip-compressed (detected by its magic
-// bytes). Plain files are read whole; gzip files are inflated in chunks, so a line view
-// points into a buffer that stays cache-warm while it is parsed.
+// bytes). Both are read (or inflated) in chunks, so a line view points into a buffer that
+// stays cache-warm while it is parsed and memory does not grow with the file. A line is at
+// most kMaxLineBytes; gzip text inflates at most kMaxGzipRatio times (signal_reader.h).
 
 #include <cstdint>
 #include <cstdio>
@@ -37,6 +38,7 @@ class TextSource {
 
  private:
   void refill();
+  [[noreturn]] void fail_long_line() const;
   void reserve(std::size_t bytes);
 
   std::string path_;

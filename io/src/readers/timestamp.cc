@@ -57,16 +57,6 @@ std::string format_hz(double hz) {
   return buf;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  const double hi = v[mid];
-  if (v.size() % 2 == 1) return hi;
-  const double lo = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
-  return 0.5 * (lo + hi);
-}
-
 }  // namespace
 
 std::optional<TimeUnit> parse_time_unit(std::string_view text) {
@@ -120,21 +110,106 @@ std::optional<TimeUnit> timestamp_name(std::string_view name) {
   return unit ? *unit : TimeUnit{};
 }
 
+void StepStatistics::add(double offset) {
+  if (samples_++ == 0) {
+    previous_ = offset;
+    return;
+  }
+  const double d = offset - previous_;
+  previous_ = offset;
+  if (!(d > 0.0)) {
+    ++disorder_;
+    return;
+  }
+  if (run_length_ > 0 && d == run_step_) {
+    ++run_length_;
+    return;
+  }
+  flush_run();
+  run_step_ = d;
+  run_length_ = 1;
+}
+
+void StepStatistics::flush_run() const {
+  if (run_length_ == 0) return;
+  if (spilling_) {
+    spilled_.insert(spilled_.end(), static_cast<std::size_t>(run_length_), run_step_);
+  } else {
+    counts_[run_step_] += run_length_;
+    if (counts_.size() > kMaxDistinctSteps) {
+      for (const auto& [step, count] : counts_) spilled_.insert(spilled_.end(), static_cast<std::size_t>(count), step);
+      counts_ = {};
+      spilling_ = true;
+    }
+  }
+  run_length_ = 0;
+}
+
+double StepStatistics::median() const {
+  flush_run();
+  if (spilling_) {
+    if (spilled_.empty()) return 0.0;
+    std::vector<double>& v = spilled_;  // reordered in place; the multiset is unchanged
+    const std::size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+    const double hi = v[mid];
+    if (v.size() % 2 == 1) return hi;
+    const double lo = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
+    return 0.5 * (lo + hi);
+  }
+  std::vector<std::pair<double, std::int64_t>> sorted(counts_.begin(), counts_.end());
+  if (sorted.empty()) return 0.0;
+  std::sort(sorted.begin(), sorted.end());
+  std::int64_t total = 0;
+  for (const auto& e : sorted) total += e.second;
+  // The steps at 0-based ranks mid - 1 and mid of the sorted list.
+  const std::int64_t mid = total / 2;
+  auto at_rank = [&](std::int64_t r) {
+    std::int64_t seen = 0;
+    for (const auto& [step, count] : sorted) {
+      seen += count;
+      if (r < seen) return step;
+    }
+    return sorted.back().first;
+  };
+  const double hi = at_rank(mid);
+  if (total % 2 == 1) return hi;
+  return 0.5 * (at_rank(mid - 1) + hi);
+}
+
+std::pair<std::int64_t, double> StepStatistics::above(double limit) const {
+  flush_run();
+  std::int64_t n = 0;
+  double largest = 0.0;
+  auto visit = [&](double step, std::int64_t count) {
+    if (step > limit) {
+      n += count;
+      largest = std::max(largest, step);
+    }
+  };
+  if (spilling_)
+    for (double d : spilled_) visit(d, 1);
+  else
+    for (const auto& [step, count] : counts_) visit(step, count);
+  return {n, largest};
+}
+
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets,
+                            double first_time, const TimeUnit& unit,
+                            const std::string& unit_source) {
+  StepStatistics steps;
+  for (double t : offsets) steps.add(t);
+  return analyse_timing(column, steps, first_time, unit, unit_source);
+}
+
+TimingReport analyse_timing(const std::string& column, const StepStatistics& steps,
                             double first_time, const TimeUnit& unit,
                             const std::string& unit_source) {
   TimingReport r;
   r.column = column;
-  r.samples = static_cast<std::int64_t>(offsets.size());
-  std::vector<double> positive;
-  positive.reserve(offsets.size());
-  for (std::size_t i = 1; i < offsets.size(); ++i) {
-    const double d = offsets[i] - offsets[i - 1];
-    if (d > 0.0) positive.push_back(d);
-    else ++r.disorder;
-  }
-  const double step = median(positive);  // in the file's unit
-
+  r.samples = steps.samples();
+  r.disorder = steps.disorder();
+  const double step = steps.median();  // in the file's unit
   if (unit.to_seconds > 0.0) {
     r.unit_to_seconds = unit.to_seconds;
     r.unit = unit.label;
@@ -164,14 +239,8 @@ TimingReport analyse_timing(const std::string& column, const std::vector<double>
   r.median_step_seconds = step * r.unit_to_seconds;
   r.estimated_freq = step > 0.0 ? 1.0 / r.median_step_seconds : 0.0;
   if (step > 0.0) {
-    const double limit = TimingReport::kGapFactor * step;
-    double largest = 0.0;
-    for (double d : positive) {
-      if (d > limit) {
-        ++r.gaps;
-        largest = std::max(largest, d);
-      }
-    }
+    const auto [gaps, largest] = steps.above(TimingReport::kGapFactor * step);
+    r.gaps = gaps;
     r.largest_gap_seconds = largest * r.unit_to_seconds;
   }
   return r;

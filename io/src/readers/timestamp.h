@@ -2,8 +2,10 @@
 // Timestamp columns: recognising them by name (with the unit when the name states it),
 // deciding the unit otherwise, and measuring the sampling (rate, gaps, disorder).
 
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <string_view>
 #include <vector>
 
@@ -28,9 +30,49 @@ std::optional<TimeUnit> timestamp_name(std::string_view name);
 /// "rad s^-1") and the name without it; unit "" when there is none.
 std::pair<std::string, std::string> split_unit(std::string_view name);
 
-/// Measures the sampling from times relative to the first (`offsets`, in the file's
-/// unit; `first_time` is the first raw time). `unit.to_seconds` 0: decided here from the
-/// first time (a Unix time in s/ms/us/ns) or from the median step.
+/// The steps between consecutive times, gathered while the times are read, so that the
+/// times themselves need not be kept (8 bytes a sample that a long record cannot spare):
+/// the exact median step, the gaps and the disorder. A uniformly sampled log has a handful
+/// of distinct steps, counted in a table; times with more distinct steps than
+/// kMaxDistinctSteps (jittery stamps) spill to a list of the increasing steps.
+class StepStatistics {
+ public:
+  /// Distinct steps counted before spilling to a list: a 2^16-entry table is about 3 MB.
+  static constexpr std::size_t kMaxDistinctSteps = std::size_t{1} << 16;
+
+  /// The next time, relative to the first one (the first call passes 0).
+  void add(double offset);
+  std::int64_t samples() const { return samples_; }
+  /// Steps that are not increasing (zero or negative).
+  std::int64_t disorder() const { return disorder_; }
+  /// Median of the increasing steps (the mean of the two middle ones for an even count);
+  /// 0 when there is none. Equal, bit for bit, to the median of the list of steps.
+  double median() const;
+  /// The increasing steps above `limit`: how many, and the largest (0 when none).
+  std::pair<std::int64_t, double> above(double limit) const;
+
+ private:
+  void flush_run() const;
+
+  std::int64_t samples_ = 0;
+  std::int64_t disorder_ = 0;
+  double previous_ = 0.0;
+  // The current run of equal steps, counted before it is added to the table (consecutive
+  // steps of a uniform log are mostly equal: one comparison instead of a hash lookup).
+  mutable double run_step_ = 0.0;
+  mutable std::int64_t run_length_ = 0;
+  mutable std::unordered_map<double, std::int64_t> counts_;
+  mutable std::vector<double> spilled_;  // used once the table is full
+  mutable bool spilling_ = false;
+};
+
+/// Measures the sampling from the steps of the times (in the file's unit; `first_time` is
+/// the first raw time). `unit.to_seconds` 0: decided here from the first time (a Unix time
+/// in s/ms/us/ns) or from the median step.
+TimingReport analyse_timing(const std::string& column, const StepStatistics& steps,
+                            double first_time, const TimeUnit& unit,
+                            const std::string& unit_source);
+/// The same from times relative to the first one.
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets,
                             double first_time, const TimeUnit& unit,
                             const std::string& unit_source);

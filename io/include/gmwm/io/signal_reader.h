@@ -45,6 +45,26 @@ namespace gmwm::io {
 /// need more WV moments than parameters: 4 levels, i.e. N >= 2^4 = 16.
 inline constexpr std::int64_t kMinSamples = 16;
 
+/// Limits on a delimited text file (docs/cli.md "Limits"). Beyond them the file is
+/// refused with one line before its memory or time runs away; none is near a real
+/// recording's size.
+/// A line (one row) is at most 1 MiB: 4096 columns of 256 characters.
+inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+/// A file has at most 4096 columns (IMU logs have tens; a whole vehicle's log hundreds).
+inline constexpr std::size_t kMaxColumns = 4096;
+/// gzip text may inflate to at most 250 times its compressed size once past 256 MiB:
+/// text of numbers compresses 3-10 times (the ADIS files 7.6, simulated 3.4), while a
+/// decompression bomb reaches zlib's limit of about 1000.
+inline constexpr double kMaxGzipRatio = 250.0;
+inline constexpr std::uint64_t kGzipRatioFloorBytes = std::uint64_t{256} << 20;
+/// The values read are refused when, at kBytesPerValue each (the value and the Haar
+/// transform's prefix sum built from it), they would exceed kMemoryShare of the machine's
+/// physical memory; `simulate` applies the same budget to what it generates.
+inline constexpr double kMemoryShare = 0.75;
+inline constexpr double kBytesPerValue = 16.0;
+/// kMemoryShare of the physical memory in bytes; 0 when the system does not say.
+double memory_budget_bytes();
+
 /// The sampling rates accepted (Hz): one sample in ~30 years to 1 GHz. Beyond them a rate
 /// is a typo, and its reciprocal (the tau in seconds) leaves the range of doubles.
 inline constexpr double kMinFreq = 1e-9;
@@ -53,6 +73,11 @@ inline constexpr double kMaxFreq = 1e9;
 /// "" when `freq` is within [kMinFreq, kMaxFreq], else "OPTION: found F, expected a
 /// sampling rate in Hz from 1e-09 to 1e+09" with `option` naming where it came from.
 std::string sampling_rate_problem(double freq, const std::string& option);
+
+/// "" when `levels` (0: all) is at most J = floor(log2 n), the deepest level a series of
+/// n samples has; else "OPTION LEVELS: the signals have N samples, which give at most J
+/// levels, expected 1 to J" (a deeper request would otherwise be cut silently).
+std::string levels_problem(int levels, std::int64_t n, const std::string& option);
 
 /// True when the reader takes a column of this header name as timestamps ("time",
 /// "timestamp", "#timestamp [ns]", ...), not as a signal.
@@ -68,6 +93,8 @@ struct ReadOptions {
   /// default, sensor_gyro or sensor_accel; ROS bags: a sensor_msgs Imu topic, default the
   /// only one). Refused for a delimited text file.
   std::string topic;
+  /// Bytes the values read may take at kBytesPerValue each; 0: memory_budget_bytes().
+  double memory_budget = 0.0;
 
   /// "" when valid, otherwise a one-line message naming the option.
   std::string Validate() const;
