@@ -5,11 +5,11 @@
 #include <numeric>
 
 #include <boost/math/distributions/chi_squared.hpp>
-#include <tbb/parallel_for.h>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm {
 
@@ -54,7 +54,7 @@ AllanDeviation allan_deviation(std::span<const double> x, double freq, const All
   a.ci_low.resize(K);
   a.ci_high.resize(K);
   a.edf.resize(K);
-  tbb::parallel_for(std::size_t{0}, K, [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, K, [&](std::size_t k) {
     const std::int64_t m = a.m[k];
     const std::int64_t count = n - 2 * m + 1;
     const double avar = 2.0 * modwt.sum_of_squares_half_width(m) / static_cast<double>(count);

@@ -5,10 +5,10 @@
 #include <sstream>
 
 #include <boost/math/distributions/chi_squared.hpp>
-#include <tbb/parallel_for.h>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm {
 
@@ -92,7 +92,7 @@ std::vector<WaveletVariance> classical_wv(const std::vector<std::span<const doub
   std::vector<std::unique_ptr<HaarModwt>> modwt(series.size());
   std::vector<WaveletVariance> out(series.size());
   for (const auto& s : series) check_series("classical_wv", static_cast<std::int64_t>(s.size()), options);
-  tbb::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
+  gmwm::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
     const auto n = static_cast<std::int64_t>(series[c].size());
     modwt[c] = std::make_unique<HaarModwt>(series[c].data(), n);
     out[c] = empty_wv(n, levels_for(*modwt[c], options), options.alpha);
@@ -101,7 +101,7 @@ std::vector<WaveletVariance> classical_wv(const std::vector<std::span<const doub
   std::vector<std::pair<std::size_t, int>> tasks;
   for (std::size_t c = 0; c < series.size(); ++c)
     for (int j = 1; j <= out[c].levels(); ++j) tasks.emplace_back(c, j);
-  tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
     const auto [c, j] = tasks[k];
     fill_level(*modwt[c], j, out[c]);
   });

@@ -9,13 +9,13 @@
 #include <Eigen/Dense>
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
-#include <oneapi/tbb/parallel_for.h>
 
 #include "fit_internal.h"
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
@@ -70,7 +70,7 @@ Eigen::MatrixXd inverse(const Eigen::MatrixXd& v) {
 std::vector<FitResult> single_fits(std::span<const WaveletVariance> wvs, const Model& model,
                                    const FitOptions& options) {
   std::vector<FitResult> singles(wvs.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(),
+  gmwm::parallel_for(std::size_t{0}, wvs.size(),
                             [&](std::size_t k) { singles[k] = fit_gmwm(wvs[k], model, options); });
   return singles;
 }
@@ -293,7 +293,7 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
   std::vector<double> t(static_cast<std::size_t>(options.bootstrap)), h(t.size());
   std::atomic<int> done{0};
-  oneapi::tbb::parallel_for(0, options.bootstrap, [&](int b) {
+  gmwm::parallel_for(0, options.bootstrap, [&](int b) {
     std::vector<WaveletVariance> sim;
     for (std::size_t k = 0; k < wvs.size(); ++k) {
       const std::vector<double> x = simulate(model, theta, wvs[k].n, options.seed,
@@ -402,7 +402,7 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
   }
   std::vector<Eigen::VectorXd> thetas(counts.size());
   std::vector<char> ok(counts.size(), 0);
-  oneapi::tbb::parallel_for(std::size_t{0}, counts.size(), [&](std::size_t b) {
+  gmwm::parallel_for(std::size_t{0}, counts.size(), [&](std::size_t b) {
     std::vector<WaveletVariance> part;
     std::vector<Eigen::MatrixXd> omega;
     for (int k = 0; k < K; ++k)

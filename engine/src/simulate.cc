@@ -1,8 +1,7 @@
 #include "gmwm/engine/simulate.h"
 
-#include <tbb/parallel_for.h>
-
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
 
 namespace gmwm {
@@ -25,7 +24,7 @@ std::vector<std::vector<double>> simulate_many(const Model& model, const Eigen::
                                                std::int64_t n, int signals, std::uint64_t seed) {
   check_at_least("simulate_many", "signals", signals, 1.0);
   std::vector<std::vector<double>> out(static_cast<std::size_t>(signals));
-  tbb::parallel_for(0, signals, [&](int k) {
+  gmwm::parallel_for(0, signals, [&](int k) {
     out[static_cast<std::size_t>(k)] = simulate(model, theta, n, seed, static_cast<std::uint64_t>(k));
   });
   return out;

@@ -5,9 +5,8 @@
 #include <limits>
 #include <vector>
 
-#include <tbb/parallel_for.h>
-
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/simulate.h"
 
 namespace gmwm {
@@ -238,7 +237,7 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
       det[static_cast<std::size_t>(j)] += p.deterministic_coefficient(th, static_cast<double>(lv[static_cast<std::size_t>(j)].tau));
   }
   std::vector<ComponentTable> tables(stochastic.size());
-  tbb::parallel_for(std::size_t{0}, stochastic.size(), [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, stochastic.size(), [&](std::size_t k) {
     const int c = stochastic[k];
     const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
     tables[k] = make_table(p, {theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, max_lag);
@@ -248,7 +247,7 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < J; ++i)
     for (int j = i; j < J; ++j) pairs.emplace_back(i, j);
-  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t idx) {
+  gmwm::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t idx) {
     const auto [i, j] = pairs[idx];
     const Level& a = lv[static_cast<std::size_t>(i)];
     const Level& b = lv[static_cast<std::size_t>(j)];
@@ -340,7 +339,7 @@ Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorX
                                         double alpha) {
   check_at_least("bootstrap_wv_covariance", "replicates", replicates, 2.0);
   Eigen::MatrixXd W(replicates, levels);
-  tbb::parallel_for(0, replicates, [&](int r) {
+  gmwm::parallel_for(0, replicates, [&](int r) {
     const auto x = simulate(model, theta, n, seed, static_cast<std::uint64_t>(r));
     const WaveletVariance w = estimator.compute(x.data(), n, levels, alpha);
     for (int j = 0; j < levels; ++j) W(r, j) = w.wv[static_cast<std::size_t>(j)];

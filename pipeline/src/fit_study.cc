@@ -1,12 +1,11 @@
 // The fit study as named stages: wavelet variances -> fits (in parallel, drifts oriented)
 // -> noise figures.
+#include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/fit_study.h"
 
 #include <chrono>
 #include <memory>
 #include <span>
-
-#include <tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
@@ -38,7 +37,7 @@ std::vector<std::optional<FigureReport>> noise_figures_of(const io::SignalSet& s
                                                           const std::vector<WaveletVariance>& wvs, double alpha) {
   std::vector<std::optional<FigureReport>> out(fits.size());
   if (!set.freq_known) return out;
-  tbb::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t k) {
     const FitResult& f = *fits[k];
     if (f.status == FitStatus::kFailed || f.theta.size() != f.model.num_parameters() || !f.theta.allFinite()) return;
     AllanOptions ao;
@@ -75,7 +74,7 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   }
   const auto fit_start = std::chrono::steady_clock::now();
   std::vector<FitResult> fits(wvs.size());
-  tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], study.model, fo); });
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], study.model, fo); });
   // A drift's sign is not in the WV: the series' own slope gives it.
   for (std::size_t k = 0; k < fits.size(); ++k) orient_by_series(fits[k], set.signals[k].values);
   study.fit_seconds = seconds_since(fit_start);

@@ -1,11 +1,10 @@
 // The WV study as named stages: wavelet variances (robust: with the classical one, the
 // rounding check and the contamination diagnostic) -> Allan deviations and noise figures.
+#include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/wv_study.h"
 
 #include <chrono>
 #include <span>
-
-#include <tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/robust/tuning.h"
@@ -49,7 +48,7 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   if (options.allan) {
     ReadoffOptions ro;
     ro.alpha = options.allan->alpha;
-    tbb::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+    gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
       study.columns[k].allan = data_figure_report(set.signals[k].values, set.freq, *options.allan, ro);
     });
   }

@@ -7,10 +7,9 @@
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/tools/roots.hpp>
 
-#include <tbb/parallel_for.h>
-
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm::robust {
 namespace {
@@ -144,7 +143,7 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int6
   std::vector<LevelDiagnostic> out(robust.wv.size());
   const HaarModwt modwt(x, n);
   const double gaussian_tail = 2.0 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), kTailSd));
-  tbb::parallel_for(std::size_t{0}, out.size(), [&](std::size_t j) {
+  gmwm::parallel_for(std::size_t{0}, out.size(), [&](std::size_t j) {
     if (!(robust.wv[j] > 0.0)) return;
     std::vector<double> w;
     modwt.coefficients(static_cast<int>(j) + 1, w);

@@ -6,11 +6,10 @@
 #include <memory>
 #include <sstream>
 
-#include <tbb/parallel_for.h>
-
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/robust/spike_screen.h"
 #include "small_sample.h"
 
@@ -337,7 +336,7 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
   for (const auto& s : series) check_series("robust_wv", static_cast<std::int64_t>(s.size()), options);
   const Tuning t = tune(options.estimator, options.efficiency);
   std::vector<Prepared> p(series.size());
-  tbb::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
+  gmwm::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
     p[c] = prepare(series[c].data(), static_cast<std::int64_t>(series[c].size()), options, t);
   });
   // All levels of all series as one flat range (the fine levels cost the same as the
@@ -345,7 +344,7 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
   std::vector<std::pair<std::size_t, int>> tasks;
   for (std::size_t c = 0; c < series.size(); ++c)
     for (int j = 1; j <= p[c].w.levels(); ++j) tasks.emplace_back(c, j);
-  tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
     const auto [c, j] = tasks[k];
     robust_level(*p[c].modwt, j, t, p[c].w);
   });

@@ -4,10 +4,10 @@
 #include <cstdint>
 
 #include <boost/math/distributions/normal.hpp>
-#include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm::selection {
 
@@ -34,7 +34,7 @@ std::vector<CrossAxisPair> cross_axis_correlation(const std::vector<std::span<co
   const double z_crit = boost::math::quantile(boost::math::complement(
       boost::math::normal(), alpha / (2.0 * static_cast<double>(P * std::max<std::size_t>(1, tested.size())))));
   std::vector<std::vector<CrossAxisPair>> per_level(tested.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, tested.size(), [&](std::size_t i) {
+  gmwm::parallel_for(std::size_t{0}, tested.size(), [&](std::size_t i) {
     const int j = tested[i];
     std::vector<std::vector<double>> w(K);
     for (std::size_t k = 0; k < K; ++k) modwt[k].coefficients(j, w[k]);

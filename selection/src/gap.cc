@@ -6,7 +6,6 @@
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/normal.hpp>
-#include <oneapi/tbb/parallel_for.h>
 
 #include "gap_candidates.h"
 #include "gap_events.h"

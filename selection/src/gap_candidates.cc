@@ -5,8 +5,8 @@
 #include <limits>
 
 #include <boost/math/distributions/chi_squared.hpp>
-#include <oneapi/tbb/parallel_for.h>
 
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/model_syntax.h"
 
 namespace gmwm::selection::detail {
@@ -26,7 +26,6 @@ constexpr int kRefitCalibrationStarts = 1;
 constexpr int kCalibrationReplicates = 100;
 // Stream offset of the reference replicates of each forward step's shifted reference is
 // not needed (the reference is simulated once); the replicate streams are (seed, b).
-
 
 constexpr CandidateSpec kCatalogue[] = {
     {GapEffect::kWN, "WN"},          {GapEffect::kQN, "QN"},   {GapEffect::kRW, "RW"},
@@ -79,7 +78,6 @@ static FitOptions candidate_fit_options(const GapOptions& o, const Eigen::Matrix
   fo.log_not_converged = false;
   return fo;
 }
-
 
 // The family of a model without its given values: a refit's starting values must not be
 // anchored to the baseline's sizes (the starting-value search keeps given sizes fixed).
@@ -148,7 +146,6 @@ static double calibrated_threshold(const std::vector<double>& drops, double leve
   return a * boost::math::quantile(boost::math::complement(boost::math::chi_squared(d), level));
 }
 
-
 // Percentile intervals of the effect chosen at a step: the effect refitted on
 // replicates of the augmented model (the base's reference rescaled level by level to it),
 // exactly as it was fitted on the data. Fills fit.se, ci_low, ci_high.
@@ -159,7 +156,7 @@ void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::
                               static_cast<int>(reps_augmented.rows()));
   const Eigen::Index p = fit.theta.size();
   Eigen::MatrixXd draws = Eigen::MatrixXd::Constant(R, p, std::numeric_limits<double>::quiet_NaN());
-  oneapi::tbb::parallel_for(0, R, [&](int b) {
+  gmwm::parallel_for(0, R, [&](int b) {
     FitResult r;
     const double left = fit_candidate(spec, base, reps_augmented.row(b).transpose(), like, omega, o, &r, &chosen);
     if (!std::isfinite(left)) return;
@@ -189,7 +186,6 @@ void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::
   }
 }
 
-
 // Scores every candidate on the data and calibrates it on the replicates (rows of `reps`,
 // data from the base alone).
 Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const Eigen::VectorXd& nuhat,
@@ -204,19 +200,19 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
   const double g_data = base_objective(base, nuhat, like, omega, o);
   // The base's own objective on each replicate, once (a refit in --fit mode).
   std::vector<double> g_base(static_cast<std::size_t>(R));
-  oneapi::tbb::parallel_for(0, R, [&](int b) {
+  gmwm::parallel_for(0, R, [&](int b) {
     g_base[static_cast<std::size_t>(b)] =
         base_objective(base, reps.row(b).transpose(), like, omega, o);
   });
   // The data's fits first (the replicates' refits start from them).
-  oneapi::tbb::parallel_for(std::size_t{0}, K, [&](std::size_t c) {
+  gmwm::parallel_for(std::size_t{0}, K, [&](std::size_t c) {
     GapCandidate& g = s.scored[c];
     g.effect = specs[c].effect;
     const double left = fit_candidate(specs[c], base, nuhat, like, omega, o, &g.fit);
     g.improvement = std::isfinite(left) ? g_data - left : 0.0;
     if (g.fit.status != FitStatus::kFailed) g.model = g.fit.model.to_string(g.fit.theta);
   });
-  oneapi::tbb::parallel_for(std::size_t{0}, K * static_cast<std::size_t>(R), [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, K * static_cast<std::size_t>(R), [&](std::size_t k) {
     const std::size_t c = k % K, b = k / K;
     const Eigen::VectorXd t = reps.row(static_cast<Eigen::Index>(b)).transpose();
     const double left = fit_candidate(specs[c], base, t, like, omega, o, nullptr, &s.scored[c].fit);

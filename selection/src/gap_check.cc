@@ -9,11 +9,11 @@
 
 #include <boost/random/uniform_01.hpp>
 #include <Eigen/Cholesky>
-#include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
@@ -282,7 +282,7 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
   out.cases.resize(plan.size());
   std::atomic<int> done{0};
   const int total = static_cast<int>(plan.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, plan.size(), [&](std::size_t i) {
+  gmwm::parallel_for(std::size_t{0}, plan.size(), [&](std::size_t i) {
     const Plan& p = plan[i];
     GapCheckCase& c = out.cases[i];
     c.truth = p.truth;

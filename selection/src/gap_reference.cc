@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
-#include <oneapi/tbb/parallel_for.h>
 
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/simulate.h"
 
@@ -25,7 +25,7 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
   std::vector<Eigen::VectorXd> rows(static_cast<std::size_t>(replicates)), stats(static_cast<std::size_t>(replicates));
   std::vector<char> ok(static_cast<std::size_t>(replicates), 0);
   std::atomic<int> done{0};
-  oneapi::tbb::parallel_for(0, replicates, [&](int b) {
+  gmwm::parallel_for(0, replicates, [&](int b) {
     const std::vector<double> x = simulate(model, theta, n, seed, static_cast<std::uint64_t>(b));
     const WaveletVariance w = estimator.compute(x.data(), n, levels, alpha);
     const Eigen::VectorXd v = w.values();

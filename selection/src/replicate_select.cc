@@ -8,13 +8,13 @@
 
 #include <Eigen/Cholesky>
 #include <boost/random/uniform_int_distribution.hpp>
-#include <oneapi/tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
@@ -71,7 +71,7 @@ Weights pilot_weights(std::span<const WaveletVariance> wvs, const Model& maximal
 template <typename F>
 void parallel_in_order(std::size_t n, F f) {
   std::vector<std::exception_ptr> errors(n);
-  oneapi::tbb::parallel_for(std::size_t{0}, n, [&](std::size_t t) {
+  gmwm::parallel_for(std::size_t{0}, n, [&](std::size_t t) {
     try {
       f(t);
     } catch (...) {

@@ -11,13 +11,13 @@
 
 #include <Eigen/Cholesky>
 #include <oneapi/tbb/flow_graph.h>
-#include <oneapi/tbb/parallel_for.h>
 #include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_relations.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
 #include "gmwm/selection/submodels.h"
@@ -60,7 +60,7 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
   std::vector<Eigen::VectorXd> implied(static_cast<std::size_t>(B)), empirical(static_cast<std::size_t>(B));
   std::vector<char> ok(static_cast<std::size_t>(B), 0), converged(static_cast<std::size_t>(B), 0);
-  oneapi::tbb::parallel_for(0, B, [&](int b) {
+  gmwm::parallel_for(0, B, [&](int b) {
     const std::uint64_t stream = stream_base + static_cast<std::uint64_t>(b);
     const WaveletVariance w = [&] {
       if (options.bootstrap_draw) return options.bootstrap_draw(wv, fit.model, fit.theta, stream);
@@ -157,7 +157,7 @@ Eigen::MatrixXd model_omega(const Eigen::MatrixXd& v, const Eigen::MatrixXd& dat
 std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::size_t K, const Model& maximal,
                                   const SelectOptions& options) {
   std::vector<SignalWork> work(wvs.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     SignalWork& w = work[s];
     w.wv = &wvs[s];
     w.fits.resize(K);
@@ -205,7 +205,7 @@ std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::
 std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, std::size_t K,
                                            const SelectOptions& options) {
   std::vector<BootstrapResult> boot(work.size() * K);
-  oneapi::tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t k) {
+  gmwm::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t k) {
     const FitResult& f = work[k / K].fits[k % K];
     if (f.status == FitStatus::kFailed) {
       boot[k].value = boot[k].se = std::numeric_limits<double>::quiet_NaN();
@@ -408,9 +408,16 @@ void fit_along_representation(std::vector<SignalWork>& work, const std::vector<M
   using Node = flow::continue_node<flow::continue_msg>;
   std::vector<std::unique_ptr<Node>> nodes;
   nodes.reserve(work.size() * K);
+  // ThreadSanitizer edges for what libtbb orders out of its sight: the caller before every
+  // node, a node before the nodes that start from its fit, every node before the caller's
+  // return (gmwm/engine/parallel.h).
+  const char fork = 0, join = 0;
+  const std::vector<char> finished(work.size() * K, 0);
   for (std::size_t s = 0; s < work.size(); ++s) {
     for (std::size_t i = 0; i < K; ++i) {
       nodes.push_back(std::make_unique<Node>(g, [&, s, i](const flow::continue_msg&) {
+        tsan::acquire(&fork);
+        for (int k : covers[i]) tsan::acquire(&finished[s * K + static_cast<std::size_t>(k)]);
         SignalWork& w = work[s];
         const Model& m = models[i];
         FitOptions fo = options.fit;
@@ -425,6 +432,8 @@ void fit_along_representation(std::vector<SignalWork>& work, const std::vector<M
         if (w.pilot && maximal && m.to_string() == maximal->to_string())
           if (auto start = represent_start(m, w.pilot->model, w.pilot->theta, *w.wv)) fo.starts.push_back(std::move(*start));
         w.fits[i] = fit_gmwm(*w.wv, m, fo);
+        tsan::release(&finished[s * K + i]);
+        tsan::release(&join);
         const int d = ++done;
         if (options.progress) options.progress(d, total);
       }));
@@ -432,10 +441,12 @@ void fit_along_representation(std::vector<SignalWork>& work, const std::vector<M
     for (std::size_t i = 0; i < K; ++i)
       for (int k : covers[i]) flow::make_edge(*nodes[s * K + static_cast<std::size_t>(k)], *nodes[s * K + i]);
   }
+  tsan::release(&fork);
   for (std::size_t s = 0; s < work.size(); ++s)
     for (std::size_t i = 0; i < K; ++i)
       if (covers[i].empty()) nodes[s * K + i]->try_put(flow::continue_msg());
   g.wait_for_all();
+  tsan::acquire(&join);
 }
 
 }  // namespace
@@ -491,7 +502,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
 
   // Scoring and ranking, per signal.
   std::vector<Selection> out(wvs.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     const SignalWork& w = work[s];
     std::vector<std::string> names;
     for (const auto& m : set.models) names.push_back(m.model.to_string());
@@ -529,7 +540,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
   fit_along_representation(work, models, representation_covers(rep), nullptr, options.fit.nested_starts, options, total,
                            done);
   std::vector<FitResult> full(wvs.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     FitOptions fo = options.fit;
     fo.omega_matrix = work[s].omega;
     fo.inference = false;
@@ -547,7 +558,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
   const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
   const std::vector<BootstrapResult> boot = want_bootstrap ? bootstrap_all(work, K, options) : std::vector<BootstrapResult>{};
   std::vector<Selection> out(wvs.size());
-  oneapi::tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     std::vector<const BootstrapResult*> b(K, nullptr);
     if (want_bootstrap)
       for (std::size_t i = 0; i < K; ++i) b[i] = &boot[s * K + i];

@@ -12,7 +12,6 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 
 #include "gmwm/engine/error.h"
 

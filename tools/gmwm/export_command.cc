@@ -10,9 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <tbb/parallel_for.h>
-
 #include "common.h"
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -122,7 +121,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
   options.max_evaluations = a.max_evaluations;
   options.inference = false;  // the export needs the estimates only
   std::vector<FitResult> fits(wvs.size());
-  tbb::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
   warn_about_timing(set);
   for (std::size_t k = 0; k < fits.size(); ++k) {
     const FitResult& r = fits[k];

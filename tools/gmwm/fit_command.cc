@@ -6,8 +6,6 @@
 #include <iostream>
 #include <sstream>
 
-#include <tbb/parallel_for.h>
-
 #include "common.h"
 #include "replicates.h"
 #include "units_tables.h"
@@ -129,7 +127,6 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
        << test->draws << " draws, Omega_k = V_k^-1 at the fixed-point estimate)\n";
   return os.str();
 }
-
 
 int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOptions& options,
                   const robust::RobustWvOptions* robust) {

@@ -11,8 +11,6 @@
 #include <sstream>
 #include <unistd.h>
 
-#include <tbb/parallel_for.h>
-
 #include "common.h"
 #include "units_tables.h"
 #include "gmwm/engine/error.h"

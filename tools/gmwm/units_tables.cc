@@ -2,7 +2,6 @@
 
 #include "common.h"
 
-#include <tbb/parallel_for.h>
 #include "gmwm/engine/error.h"
 
 namespace gmwm::cli {

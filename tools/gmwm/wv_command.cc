@@ -8,8 +8,6 @@
 #include <iostream>
 #include <sstream>
 
-#include <tbb/parallel_for.h>
-
 #include "common.h"
 #include "units_tables.h"
 #include "gmwm/engine/error.h"

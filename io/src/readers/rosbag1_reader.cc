@@ -36,9 +36,9 @@
 #include <vector>
 
 #include <fcntl.h>
-#include <tbb/parallel_for.h>
 #include <unistd.h>
 
+#include "gmwm/engine/parallel.h"
 #include "gmwm/engine/error.h"
 #include "decompress.h"
 #include "ros_imu.h"
@@ -343,7 +343,7 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   }
   std::sort(wanted.begin(), wanted.end(), [](const ChunkInfo& a, const ChunkInfo& b) { return a.pos < b.pos; });
   std::vector<ChunkMessages> read(wanted.size());
-  tbb::parallel_for(std::size_t{0}, wanted.size(), [&](std::size_t k) { read[k] = read_chunk(path, f, wanted[k].pos, conns); });
+  gmwm::parallel_for(std::size_t{0}, wanted.size(), [&](std::size_t k) { read[k] = read_chunk(path, f, wanted[k].pos, conns); });
 
   ImuTopic imu(path, topic);
   std::uint64_t expected = 0;
