@@ -10,6 +10,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/parallel.h"
+#include "gmwm/engine/samples.h"
 
 namespace gmwm {
 
@@ -37,8 +38,11 @@ AllanDeviation allan_deviation(std::span<const double> x, double freq, const All
   check_positive("allan_deviation", "freq", freq);
   const auto n = static_cast<std::int64_t>(x.size());
   check_at_least("allan_deviation", "samples", static_cast<double>(n), 2.0);
-  for (double v : x)
-    if (!std::isfinite(v)) throw InvalidArgument("allan_deviation: the series holds a non-finite sample");
+  bool finite = true;
+  for_each_block(x, [&](std::span<const double> part, std::size_t) {
+    for (double v : part) finite = finite && std::isfinite(v);
+  });
+  if (!finite) throw InvalidArgument("allan_deviation: the series holds a non-finite sample");
   // The Haar transform's mean-centred prefix sums (accumulated in long double, stored in
   // double): the Allan variance at m is twice the mean square of the width-2m filter.
   const HaarModwt modwt(x.data(), n);

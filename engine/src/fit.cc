@@ -16,6 +16,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_relations.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/samples.h"
 #include "gmwm/engine/wv_covariance.h"
 #include "starting_values.h"
 
@@ -540,9 +541,13 @@ double orient_by_series(FitResult& fit, std::span<const double> x) {
   if (x.size() < 2) return 0.0;
   const long double tbar = (n - 1.0L) / 2.0L;
   long double sxy = 0.0L, mean = 0.0L;
-  for (double v : x) mean += v;
+  for_each_block(x, [&](std::span<const double> part, std::size_t) {
+    for (double v : part) mean += v;
+  });
   mean /= n;
-  for (std::size_t t = 0; t < x.size(); ++t) sxy += (static_cast<long double>(t) - tbar) * (x[t] - mean);
+  for_each_block(x, [&](std::span<const double> part, std::size_t at) {
+    for (std::size_t i = 0; i < part.size(); ++i) sxy += (static_cast<long double>(at + i) - tbar) * (part[i] - mean);
+  });
   const long double sxx = n * (n * n - 1.0L) / 12.0L;
   const double slope = static_cast<double>(sxy / sxx);
   orient_by_slope(fit, slope);

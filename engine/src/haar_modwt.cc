@@ -5,36 +5,74 @@
 #include <limits>
 
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/samples.h"
 
 namespace gmwm {
 
+namespace {
+
+// Values passed between releases of the pages behind a pass over a series in a file
+// (and its prefix sums): 1 << 20 doubles = 8 MiB, a multiple of the four accumulators of
+// sum_of_squares_half_width, so that blocking changes no sum.
+constexpr std::int64_t kPassBlock = std::int64_t{1} << 20;
+
+}  // namespace
+
 HaarModwt::HaarModwt(const double* x, std::int64_t n) : n_(n) {
   check_at_least("HaarModwt", "series length", static_cast<double>(n), 2.0);
+  // A series held in a file (Samples::in_file) gets its prefix sums in a temporary file
+  // too, and both files' pages are released behind each pass: the transform then costs
+  // no memory that grows with n.
+  const bool in_file = detail::in_sample_file(x, static_cast<std::size_t>(n));
+  double* p = nullptr;
+  if (in_file) {
+    file_ = std::make_unique<detail::TemporaryArray>(static_cast<std::size_t>(n) + 1);
+    p = file_->data();
+  } else {
+    prefix_.resize(static_cast<std::size_t>(n) + 1);
+    p = prefix_.data();
+  }
+  p_ = p;
   // Centre by the mean (the Haar filter has zero sum, so W is unchanged) to keep the
   // prefix sums small. Both sums are compensated (Neumaier 1974): the rounding error
   // stays O(eps) whatever n, as with the long-double loop this replaces, at a fraction of
   // its cost (x87 arithmetic was a quarter of a gap run's time: 200 reference replicates
   // of 1e6 samples per column).
   double mean = 0.0, mean_c = 0.0;
-  for (std::int64_t i = 0; i < n; ++i) {
-    const double v = x[i], t = mean + v;
-    mean_c += std::abs(mean) >= std::abs(v) ? (mean - t) + v : (v - t) + mean;
-    mean = t;
+  for (std::int64_t b = 0; b < n; b += kPassBlock) {
+    const std::int64_t e = std::min(n, b + kPassBlock);
+    for (std::int64_t i = b; i < e; ++i) {
+      const double v = x[i], t = mean + v;
+      mean_c += std::abs(mean) >= std::abs(v) ? (mean - t) + v : (v - t) + mean;
+      mean = t;
+    }
+    if (in_file) detail::release_file_pages(x, x + e);
   }
   const double mu = (mean + mean_c) / static_cast<double>(n);
-  prefix_.resize(static_cast<std::size_t>(n) + 1);
   double s = 0.0, c = 0.0, peak = 0.0;
-  prefix_[0] = 0.0;
-  for (std::int64_t i = 0; i < n; ++i) {
-    const double v = x[i] - mu, t = s + v;
-    c += std::abs(s) >= std::abs(v) ? (s - t) + v : (v - t) + s;
-    s = t;
-    const double p = s + c;
-    prefix_[static_cast<std::size_t>(i) + 1] = p;
-    peak = std::max(peak, std::abs(p));
+  p[0] = 0.0;
+  for (std::int64_t b = 0; b < n; b += kPassBlock) {
+    const std::int64_t e = std::min(n, b + kPassBlock);
+    for (std::int64_t i = b; i < e; ++i) {
+      const double v = x[i] - mu, t = s + v;
+      c += std::abs(s) >= std::abs(v) ? (s - t) + v : (v - t) + s;
+      s = t;
+      const double q = s + c;
+      p[i + 1] = q;
+      peak = std::max(peak, std::abs(q));
+    }
+    if (in_file) {
+      detail::release_file_pages(x, x + e);
+      detail::release_file_pages(p, p + e);
+    }
   }
   max_abs_prefix_ = peak;
 }
+
+HaarModwt::~HaarModwt() = default;
+// A moved vector keeps its buffer and a moved unique_ptr its array: p_ stays valid.
+HaarModwt::HaarModwt(HaarModwt&&) noexcept = default;
+HaarModwt& HaarModwt::operator=(HaarModwt&&) noexcept = default;
 
 double HaarModwt::noise_floor(int level) const {
   // Each stored prefix sum carries a relative rounding error of eps/2; the filter
@@ -60,9 +98,9 @@ void HaarModwt::coefficients(int level, std::vector<double>& out) const {
   const std::int64_t M = count(level);
   out.resize(static_cast<std::size_t>(M > 0 ? M : 0));
   const double inv = 1.0 / static_cast<double>(tau);
-  const double* a = prefix_.data() + tau;   // S_{t+1} for t = tau-1
-  const double* b = prefix_.data() + m;     // S_{t+1-m}
-  const double* c = prefix_.data();         // S_{t+1-tau}
+  const double* a = p_ + tau;   // S_{t+1} for t = tau-1
+  const double* b = p_ + m;     // S_{t+1-m}
+  const double* c = p_;         // S_{t+1-tau}
   for (std::int64_t k = 0; k < M; ++k) out[static_cast<std::size_t>(k)] = (a[k] - 2.0 * b[k] + c[k]) * inv;
 }
 
@@ -75,18 +113,30 @@ double HaarModwt::sum_of_squares_half_width(std::int64_t m) const {
   const std::int64_t tau = 2 * m;
   const std::int64_t M = n_ - tau + 1;
   if (m < 1 || M < 1) return 0.0;
-  const double* a = prefix_.data() + tau;
-  const double* b = prefix_.data() + m;
-  const double* c = prefix_.data();
-  // Four independent accumulators let the compiler vectorise and pipeline the loop.
+  const double* a = p_ + tau;
+  const double* b = p_ + m;
+  const double* c = p_;
+  // Four independent accumulators let the compiler vectorise and pipeline the loop. In
+  // blocks of kPassBlock (a multiple of four: the sums are those of one loop), releasing
+  // the pages of a prefix sum file behind the trailing pointer.
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
   std::int64_t k = 0;
-  for (; k + 4 <= M; k += 4) {
-    const double d0 = a[k] - 2.0 * b[k] + c[k];
-    const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
-    const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
-    const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-    s0 += d0 * d0; s1 += d1 * d1; s2 += d2 * d2; s3 += d3 * d3;
+  while (k + 4 <= M) {
+    const std::int64_t start = k, end = std::min(M - 3, k + kPassBlock);
+    for (; k < end; k += 4) {
+      const double d0 = a[k] - 2.0 * b[k] + c[k];
+      const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
+      const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
+      const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
+      s0 += d0 * d0; s1 += d1 * d1; s2 += d2 * d2; s3 += d3 * d3;
+    }
+    if (file_) {
+      // Behind each of the three pointers: the pages between them (tau apart, up to half
+      // the series at the coarsest level) are read again from the file's page cache.
+      detail::release_file_pages(p_, c + k);
+      detail::release_file_pages(b + start, b + k);
+      detail::release_file_pages(a + start, a + k);
+    }
   }
   for (; k < M; ++k) { const double d = a[k] - 2.0 * b[k] + c[k]; s0 += d * d; }
   const double inv = 1.0 / static_cast<double>(tau);

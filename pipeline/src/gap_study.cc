@@ -42,7 +42,7 @@ std::vector<double> take_temperature(io::SignalSet& set, const std::string& colu
   std::string names;
   for (auto it = set.signals.begin(); it != set.signals.end(); ++it) {
     if (it->name == column) {
-      std::vector<double> t = std::move(it->values);
+      std::vector<double> t = it->values.to_vector();
       set.signals.erase(it);
       if (set.signals.empty()) throw InputError("--temperature '" + column + "': no other column is left to diagnose");
       return t;
@@ -205,7 +205,10 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
     if (o.progress)
       gk.progress = [&, k](int done, int) { o.progress(static_cast<double>(k) * per_column + done, K * per_column); };
     GapColumnStudy& c = study.columns[k];
-    c.result = selection::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, &set.signals[k].values,
+    // The time-domain stage reads the series as a vector: a series in a file is copied.
+    const Samples& x = set.signals[k].values;
+    const std::vector<double> copy = x.vector() ? std::vector<double>() : x.to_vector();
+    c.result = selection::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, x.vector() ? x.vector() : &copy,
                                        temperature.empty() ? nullptr : &temperature);
     if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
   }

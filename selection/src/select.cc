@@ -403,50 +403,58 @@ void fit_along_representation(std::vector<SignalWork>& work, const std::vector<M
                               const std::vector<std::vector<int>>& covers, const Model* maximal,
                               bool with_own_starts, const SelectOptions& options, int total, std::atomic<int>& done) {
   const std::size_t K = models.size();
+  // One fit: signal s, model i, started from the fits of the models it covers.
+  auto fit_one = [&](std::size_t s, std::size_t i) {
+    SignalWork& w = work[s];
+    const Model& m = models[i];
+    FitOptions fo = options.fit;
+    fo.omega_matrix = w.omega;
+    fo.nested_starts = with_own_starts;
+    fo.inference = false;
+    for (int k : covers[i]) {
+      const FitResult& kf = w.fits[static_cast<std::size_t>(k)];
+      if (kf.status == FitStatus::kFailed) continue;
+      if (auto start = represent_start(m, kf.model, kf.theta, *w.wv)) fo.starts.push_back(std::move(*start));
+    }
+    if (w.pilot && maximal && m.to_string() == maximal->to_string())
+      if (auto start = represent_start(m, w.pilot->model, w.pilot->theta, *w.wv)) fo.starts.push_back(std::move(*start));
+    w.fits[i] = fit_gmwm(*w.wv, m, fo);
+    const int d = ++done;
+    if (options.progress) options.progress(d, total);
+  };
+#ifdef GMWM_THREAD_SANITIZER
+  // Under ThreadSanitizer (gmwm/engine/parallel.h): the same fits in waves, each wave the
+  // models whose covered models are all fitted, run by gmwm::parallel_for on std::threads.
+  std::vector<char> fitted(K, 0);
+  for (std::size_t left = K; left > 0;) {
+    std::vector<std::size_t> wave;
+    for (std::size_t i = 0; i < K; ++i)
+      if (!fitted[i] && std::all_of(covers[i].begin(), covers[i].end(),
+                                    [&](int k) { return fitted[static_cast<std::size_t>(k)] != 0; }))
+        wave.push_back(i);
+    if (wave.empty()) throw std::logic_error("fit_along_representation: the covers are not a DAG");
+    gmwm::parallel_for(std::size_t{0}, wave.size() * work.size(),
+                       [&](std::size_t t) { fit_one(t / wave.size(), wave[t % wave.size()]); });
+    for (std::size_t i : wave) fitted[i] = 1;
+    left -= wave.size();
+  }
+#else
   namespace flow = oneapi::tbb::flow;
   flow::graph g;
   using Node = flow::continue_node<flow::continue_msg>;
   std::vector<std::unique_ptr<Node>> nodes;
   nodes.reserve(work.size() * K);
-  // ThreadSanitizer edges for what libtbb orders out of its sight: the caller before every
-  // node, a node before the nodes that start from its fit, every node before the caller's
-  // return (gmwm/engine/parallel.h).
-  const char fork = 0, join = 0;
-  const std::vector<char> finished(work.size() * K, 0);
   for (std::size_t s = 0; s < work.size(); ++s) {
-    for (std::size_t i = 0; i < K; ++i) {
-      nodes.push_back(std::make_unique<Node>(g, [&, s, i](const flow::continue_msg&) {
-        tsan::acquire(&fork);
-        for (int k : covers[i]) tsan::acquire(&finished[s * K + static_cast<std::size_t>(k)]);
-        SignalWork& w = work[s];
-        const Model& m = models[i];
-        FitOptions fo = options.fit;
-        fo.omega_matrix = w.omega;
-        fo.nested_starts = with_own_starts;
-        fo.inference = false;
-        for (int k : covers[i]) {
-          const FitResult& kf = w.fits[static_cast<std::size_t>(k)];
-          if (kf.status == FitStatus::kFailed) continue;
-          if (auto start = represent_start(m, kf.model, kf.theta, *w.wv)) fo.starts.push_back(std::move(*start));
-        }
-        if (w.pilot && maximal && m.to_string() == maximal->to_string())
-          if (auto start = represent_start(m, w.pilot->model, w.pilot->theta, *w.wv)) fo.starts.push_back(std::move(*start));
-        w.fits[i] = fit_gmwm(*w.wv, m, fo);
-        tsan::release(&finished[s * K + i]);
-        tsan::release(&join);
-        const int d = ++done;
-        if (options.progress) options.progress(d, total);
-      }));
-    }
+    for (std::size_t i = 0; i < K; ++i)
+      nodes.push_back(std::make_unique<Node>(g, [&, s, i](const flow::continue_msg&) { fit_one(s, i); }));
     for (std::size_t i = 0; i < K; ++i)
       for (int k : covers[i]) flow::make_edge(*nodes[s * K + static_cast<std::size_t>(k)], *nodes[s * K + i]);
   }
-  tsan::release(&fork);
   for (std::size_t s = 0; s < work.size(); ++s)
     for (std::size_t i = 0; i < K; ++i)
       if (covers[i].empty()) nodes[s * K + i]->try_put(flow::continue_msg());
   g.wait_for_all();
-  tsan::acquire(&join);
+#endif
 }
 
 }  // namespace

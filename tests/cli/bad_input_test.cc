@@ -103,7 +103,9 @@ TEST_F(GmwmCliBadInput, RejectsATruncatedGzipStreamWithExitCode2AndNoOutput) {
   signals[0].name = "x";
   std::mt19937_64 rng(7);
   std::normal_distribution<double> z;
-  for (int i = 0; i < 20000; ++i) signals[0].values.push_back(z(rng));
+  std::vector<double> x;
+  for (int i = 0; i < 20000; ++i) x.push_back(z(rng));
+  signals[0].values = std::move(x);
   gmwm::io::write_signals((dir_ / "cut.csv.gz").string(), signals, std::nullopt);
   fs::resize_file(dir_ / "cut.csv.gz", fs::file_size(dir_ / "cut.csv.gz") / 2);
   auto r = run_gmwm({"wv", "cut.csv.gz", "--freq", "100", "--json", "out.json"}, dir_);

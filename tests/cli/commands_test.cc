@@ -77,11 +77,14 @@ TEST_F(GmwmCli, WvJsonHasTheContractFieldsAndTheLibrarysValues) {
   std::mt19937_64 rng(3);
   std::normal_distribution<double> z;
   double rw = 0.0;
+  std::vector<double> a, b;
   for (int i = 0; i < 5000; ++i) {
     rw += 0.01 * z(rng);
-    signals[0].values.push_back(z(rng) + rw);
-    signals[1].values.push_back(0.1 * z(rng));
+    a.push_back(z(rng) + rw);
+    b.push_back(0.1 * z(rng));
   }
+  signals[0].values = std::move(a);
+  signals[1].values = std::move(b);
   gmwm::io::write_signals((dir_ / "in.csv").string(), signals, std::nullopt);
 
   auto r = run_gmwm({"wv", "in.csv", "--freq", "50", "--alpha", "0.1", "--json", "wv.json",
@@ -303,12 +306,13 @@ TEST_F(GmwmCli, RobustWvReportsTheReplacedSpikesAndCanKeepThem) {
   // sample ranges); --no-spike-screen keeps them and says so.
   simulate(1 << 12, 1);
   auto set = gmwm::io::read_signals((dir_ / "sim.csv.gz").string(), {});
-  auto& x = set.signals[0].values;
+  std::vector<double> x = set.signals[0].values.to_vector();
   double ms = 0.0;
   for (std::size_t t = 1; t < x.size(); ++t) ms += (x[t] - x[t - 1]) * (x[t] - x[t - 1]);
   const double sd = std::sqrt(ms / static_cast<double>(x.size()));  // of the increments
   x[1000] += 50.0 * sd;
   x[3000] -= 50.0 * sd;
+  set.signals[0].values = std::move(x);
   gmwm::io::write_signals((dir_ / "spiky.csv").string(), set.signals, 100.0);
   auto r = run_gmwm({"wv", "spiky.csv", "--robust", "--json", "s.json", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -405,4 +409,26 @@ TEST_F(GmwmCli, FitThatStopsBeforeConvergingExits0WithAWarningAndItsStatus) {
   ASSERT_EQ(err.size(), 1u) << r.err;
   EXPECT_EQ(err[0].rfind("gmwm: warning: ", 0), 0u) << err[0];
   EXPECT_NE(err[0].find("gyro_x"), std::string::npos) << err[0];
+}
+
+TEST_F(GmwmCli, ARecordBeyondTheMemoryOptionGivesTheSameWvFitAndSelectionFromTemporaryFiles) {
+  // 2^19 samples of two columns need 16 MB at 16 bytes a value; --memory 4 (MB) sends
+  // them to temporary files from the first check past 4 MB. Every result is the same.
+  simulate(1 << 19, 2);
+  const std::vector<std::vector<std::string>> runs = {
+      {"wv", "sim.csv.gz", "--adev"},
+      {"fit", "sim.csv.gz", "--model", "AR1+WN+RW"},
+      {"select", "sim.csv.gz", "--model", "2*AR1+WN+RW"}};
+  for (const auto& args : runs) {
+    auto in_memory = args, spilled = args;
+    in_memory.insert(in_memory.end(), {"--json", "a.json", "--quiet"});
+    spilled.insert(spilled.end(), {"--memory", "4", "--json", "b.json", "--quiet"});
+    ASSERT_EQ(run_gmwm(in_memory, dir_).exit_code, 0) << args[0];
+    const auto r = run_gmwm(spilled, dir_);
+    ASSERT_EQ(r.exit_code, 0) << args[0] << ": " << r.err;
+    json a = gmwm::test::read_json(dir_ / "a.json"), b = gmwm::test::read_json(dir_ / "b.json");
+    a.erase("run");
+    b.erase("run");
+    EXPECT_EQ(a, b) << args[0];
+  }
 }

@@ -264,6 +264,7 @@ TEST_F(SignalReaderErrors, RefusesMoreRowsThanTheMemoryBudgetBeforeReadingThemAl
   // 70,000 rows are refused at the first check past it (row 65,536), naming the line.
   gmwm::io::ReadOptions o;
   o.memory_budget = 1e6;
+  o.spill = false;  // the default goes on in temporary files (signal_reader_test.cc)
   const std::string msg = gmwm::test::read_error(file("time,x,y\n" + csv_rows(70000)), o);
   EXPECT_TRUE(contains(msg, "x.csv:65537: found more than 31250 rows of 2 column(s)")) << msg;
   EXPECT_TRUE(contains(msg, "memory budget of 1 MB; read fewer columns with --columns")) << msg;

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/signal_writer.h"
 #include "signal_test_util.h"
@@ -359,4 +360,30 @@ TEST_F(SignalReader, APlainFileLargerThanItsReadChunkIsReadWhole) {
   const SignalSet s = read_signals(file(text), {});
   ASSERT_EQ(s.signals.size(), 1u);
   EXPECT_EQ(s.signals[0].values, want);
+}
+
+TEST_F(SignalReader, ARecordBeyondTheMemoryBudgetGoesOnInTemporaryFilesWithTheSameValuesAndWv) {
+  // A budget of 1 MB holds 31,250 rows of two columns: 200,000 rows go to temporary files
+  // (from the first check past the budget, row 65,536), value for value the same as in
+  // memory, and so is the classical WV (the Haar prefix sums then live in a file too).
+  const std::string p = file("time,x,y\n" + csv_rows(200000));
+  const SignalSet in_memory = read_signals(p, {});
+  ReadOptions o;
+  o.memory_budget = 1e6;
+  const SignalSet spilled = read_signals(p, o);
+  EXPECT_FALSE(in_memory.spilled);
+  ASSERT_TRUE(spilled.spilled);
+  ASSERT_EQ(spilled.signals.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_TRUE(spilled.signals[k].values.in_file());
+    EXPECT_FALSE(in_memory.signals[k].values.in_file());
+    EXPECT_TRUE(spilled.signals[k].values == in_memory.signals[k].values);
+    const auto a = gmwm::classical_wv(in_memory.signals[k].values.data(), 200000);
+    const auto b = gmwm::classical_wv(spilled.signals[k].values.data(), 200000);
+    EXPECT_EQ(a.wv, b.wv);
+    EXPECT_EQ(a.ci_low, b.ci_low);
+  }
+  EXPECT_EQ(spilled.freq, in_memory.freq);
+  ASSERT_TRUE(spilled.timing);
+  EXPECT_EQ(spilled.timing->median_step_seconds, in_memory.timing->median_step_seconds);
 }

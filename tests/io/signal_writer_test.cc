@@ -48,7 +48,7 @@ std::vector<Signal> awkward_signals(std::size_t n) {
   return {{"a", a}, {"b", b}};
 }
 
-void expect_bitwise_equal(const std::vector<double>& got, const std::vector<double>& want) {
+void expect_bitwise_equal(std::span<const double> got, std::span<const double> want) {
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i)
     ASSERT_EQ(std::memcmp(&got[i], &want[i], sizeof(double)), 0)

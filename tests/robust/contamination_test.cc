@@ -242,7 +242,7 @@ TEST(ContaminationDiagnosticOnRealData, FlagsNoLevelOfTheCleanAdisRecording) {
   const io::SignalSet set = read_recording("adis_16405_imu1.csv.gz");
   ASSERT_EQ(set.signals.size(), 6u);
   for (const auto& s : set.signals) {
-    const Diagnosis d = diagnose(s.values);
+    const Diagnosis d = diagnose(s.values.to_vector());
     EXPECT_TRUE(d.quantization.detected) << s.name;  // gyro 0.05 deg/s, accel ~0.00333 g
     for (std::size_t j = 0; j < d.levels.size(); ++j)
       EXPECT_FALSE(d.levels[j].contaminated) << s.name << " " << describe(d, j);
@@ -256,7 +256,7 @@ TEST(ContaminationDiagnosticOnRealData, FlagsLevelOneOfTheContaminatedXsensGyro)
   const io::SignalSet set = read_recording("cont_imu1.csv.gz");
   ASSERT_EQ(set.signals.size(), 1u);
   ASSERT_EQ(set.signals[0].name, "gyro_x");
-  const Diagnosis d = diagnose(set.signals[0].values);
+  const Diagnosis d = diagnose(set.signals[0].values.to_vector());
   EXPECT_TRUE(d.levels[0].contaminated) << describe(d, 0);
   EXPECT_LT(d.levels[0].robust_to_classical, 1.0) << describe(d, 0);
   std::string flagged;

@@ -345,7 +345,7 @@ bool kalibr_and_speed() {
   std::vector<Column> cols(set.signals.size());
   tbb::parallel_for(std::size_t{0}, cols.size(), [&](std::size_t k) {
     cols[k].name = set.signals[k].name;
-    cols[k].x = set.signals[k].values;
+    cols[k].x = set.signals[k].values.to_vector();
     const auto n = static_cast<std::int64_t>(cols[k].x.size());
     cols[k].wv = classical_wv(cols[k].x.data(), n);
     cols[k].robust = robust::robust_wv(cols[k].x.data(), n);

@@ -61,6 +61,12 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
                  "Number of WV levels J (default: floor(log2 N))")
       ->type_name("J")
       ->check(CLI::Range(1, kMaxLevelsOption));
+  sub.add_option("--memory", input.memory_mb,
+                 "Memory for the samples in MB (default: 75% of physical memory, at 16 bytes a value); a longer "
+                 "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit "
+                 "and select then use memory that no longer grows with it")
+      ->type_name("MB")
+      ->check(CLI::Range(1.0, 1e12));
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
@@ -200,6 +206,7 @@ io::SignalSet read_input(const InputOptions& input) {
   }
   options.freq = input.freq;
   options.topic = input.topic;
+  if (input.memory_mb) options.memory_budget = *input.memory_mb * 1e6;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   io::SignalSet set = io::read_signals(input.input, options);
   if (!set.signals.empty())

@@ -55,6 +55,7 @@ struct InputOptions {
   std::string topic;                ///< --topic NAME[:INSTANCE] (PX4 ULog)
   double alpha = 0.05;              ///< --alpha
   int levels = 0;                   ///< --levels J (0: floor(log2 N))
+  std::optional<double> memory_mb;  ///< --memory MB (default: io::kMemoryShare of physical memory)
 };
 
 /// --robust, --eff, --estimator, --no-spike-screen.

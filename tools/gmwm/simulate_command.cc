@@ -128,8 +128,8 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   std::vector<io::Signal> signals(series.size());
   for (std::size_t k = 0; k < series.size(); ++k) {
     signals[k].name = names[k];
+    if (args.quantum) quantize(series[k], *args.quantum);
     signals[k].values = std::move(series[k]);
-    if (args.quantum) quantize(signals[k].values, *args.quantum);
   }
 
   io::Json doc = io::json_document("simulate");

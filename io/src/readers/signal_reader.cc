@@ -7,11 +7,15 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
+#include <optional>
 
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include "delimited_parser.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/samples.h"
 #include "text_source.h"
 #include "timestamp.h"
 #include "mcap_reader.h"
@@ -147,6 +151,22 @@ std::string levels_problem(int levels, std::int64_t n, const std::string& option
          " samples, which give at most " + std::to_string(deepest) + " levels (2^" + std::to_string(deepest) +
          " <= " + std::to_string(n) + "), expected 1 to " + std::to_string(deepest);
 }
+
+namespace {
+
+// The value of a series whose values are all equal, else nullopt (a series in a file is
+// read in blocks whose pages are released behind).
+std::optional<double> constant_value(const Samples& x) {
+  if (x.empty()) return std::nullopt;
+  const double first = x.front();
+  bool constant = true;
+  for_each_block(x, [&](std::span<const double> part, std::size_t) {
+    constant = constant && std::all_of(part.begin(), part.end(), [&](double v) { return v == first; });
+  });
+  return constant ? std::optional<double>(first) : std::nullopt;
+}
+
+}  // namespace
 
 double memory_budget_bytes() {
   const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
@@ -315,15 +335,26 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (time_col) plan[*time_col].kind = FieldPlan::kTime;
 
   detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
-  // Reserving (virtual memory, touched only when used) avoids regrowing the columns.
-  parser.reserve(src.text_size_hint() / (first_row.size() + 1) + 1);
-  parser.parse(first_row, first_row_line);
-  // Rows that fit the memory budget (checked every kRowsPerMemoryCheck rows).
+  // Rows whose values fit the memory budget (checked every kRowsPerMemoryCheck rows).
   const double budget = options.memory_budget > 0.0 ? options.memory_budget : memory_budget_bytes();
   const std::int64_t max_rows =
       budget > 0.0 ? static_cast<std::int64_t>(budget / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(selected.size(), 1))))
                    : std::numeric_limits<std::int64_t>::max();
   constexpr std::int64_t kRowsPerMemoryCheck = std::int64_t{1} << 16;
+  // Reserving (virtual memory, touched only when used) avoids regrowing the columns.
+  parser.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(src.text_size_hint() / (first_row.size() + 1) + 1,
+                                                                  static_cast<std::uint64_t>(max_rows) + 1)));
+  parser.parse(first_row, first_row_line);
+  // Beyond the budget the columns go to temporary files (ReadOptions::spill), emptied into
+  // them every kRowsPerMemoryCheck rows.
+  std::vector<std::unique_ptr<SampleFileWriter>> spill;
+  auto empty_into_files = [&] {
+    for (std::size_t i = 0; i < selected.size(); ++i) {
+      std::vector<double>& v = parser.values()[i];
+      spill[i]->append(v.data(), v.size());
+      v.clear();
+    }
+  };
   while (src.next_line(line)) {
     if (line.empty() || is_blank_line(line)) {
       if (!blank_line) blank_line = src.line_number();
@@ -331,15 +362,34 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     }
     if (blank_line) fail_blank(blank_line);
     parser.parse(line, src.line_number());
-    if (parser.rows() % kRowsPerMemoryCheck == 0 && parser.rows() > max_rows)
-      throw InputError(where(path, src.line_number()) + "found more than " + std::to_string(max_rows) + " rows of " +
-                       std::to_string(selected.size()) + " column(s), expected at most " + std::to_string(max_rows) +
-                       ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed the memory budget of " +
-                       std::to_string(static_cast<long long>(budget / 1e6)) + " MB" +
-                       (options.memory_budget > 0.0 ? std::string()
-                                                    : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) + "% of this machine's memory)") +
-                       "; read fewer columns with --columns");
+    if (parser.rows() % kRowsPerMemoryCheck != 0) continue;
+    if (!spill.empty()) {
+      empty_into_files();
+    } else if (parser.rows() > max_rows) {
+      const std::string limit = "the memory budget of " + std::to_string(static_cast<long long>(budget / 1e6)) + " MB" +
+                                (options.memory_budget > 0.0 ? std::string()
+                                                             : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) +
+                                                                   "% of this machine's memory)");
+      if (!options.spill)
+        throw InputError(where(path, src.line_number()) + "found more than " + std::to_string(max_rows) + " rows of " +
+                         std::to_string(selected.size()) + " column(s), expected at most " + std::to_string(max_rows) +
+                         ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed " +
+                         limit + "; read fewer columns with --columns");
+      spdlog::info("{}: more than {} rows exceed {}: the columns go to temporary files in {}", path, max_rows, limit,
+                   gmwm::detail::temporary_folder());
+      for (std::size_t i = 0; i < selected.size(); ++i) spill.push_back(std::make_unique<SampleFileWriter>());
+      empty_into_files();
+      for (auto& v : parser.values()) {
+        std::vector<double>().swap(v);  // give the budget's memory back
+        v.reserve(static_cast<std::size_t>(kRowsPerMemoryCheck));
+      }
+    }
   }
+  if (!spill.empty()) empty_into_files();
+  std::vector<Samples> columns;
+  for (std::size_t i = 0; i < selected.size(); ++i)
+    columns.push_back(spill.empty() ? Samples(std::move(parser.values()[i])) : spill[i]->finish());
+  set.spilled = !spill.empty();
 
   const std::int64_t rows = parser.rows();
   if (rows < kMinSamples)
@@ -347,10 +397,9 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
                      ", expected at least " + std::to_string(kMinSamples) +
                      " (the wavelet variance needs 4 levels, 2^4 samples)");
   for (std::size_t i = 0; i < selected.size(); ++i) {
-    const std::vector<double>& v = parser.values()[i];
-    if (std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); })) {
+    if (const std::optional<double> c = constant_value(columns[i])) {
       char buf[64];
-      *std::to_chars(buf, buf + sizeof buf - 1, v.front()).ptr = '\0';
+      *std::to_chars(buf, buf + sizeof buf - 1, *c).ptr = '\0';
       throw InputError(path + ": column " + std::to_string(selected[i] + 1) + " '" +
                        cols[selected[i]].header + "': found all " + std::to_string(rows) +
                        " values equal to " + buf +
@@ -359,7 +408,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   }
   for (std::size_t i = 0; i < selected.size(); ++i) {
     const Column& c = cols[selected[i]];
-    set.signals.push_back(Signal{c.name, std::move(parser.values()[i]), c.unit});
+    set.signals.push_back(Signal{c.name, std::move(columns[i]), c.unit});
   }
 
   if (time_col) {

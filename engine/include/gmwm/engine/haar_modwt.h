@@ -4,17 +4,27 @@
 // with S_k = sum_{i<k} (x_i - xbar) (the Haar filter ignores a constant level; centring
 // keeps the prefix sums small). Only the M_j = N - tau_j + 1 coefficients that do not
 // wrap around the boundary are used. All levels cost O(N J) and share one prefix sum.
+// The prefix sums of a series held in a file (gmwm::Samples, samples.h) go to a temporary
+// file, and the pages behind each pass are released: memory then does not grow with N.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 namespace gmwm {
 
+namespace detail {
+class TemporaryArray;
+}
+
 class HaarModwt {
  public:
   /// Builds the prefix sums of x (n >= 2).
   HaarModwt(const double* x, std::int64_t n);
+  ~HaarModwt();
+  HaarModwt(HaarModwt&&) noexcept;
+  HaarModwt& operator=(HaarModwt&&) noexcept;
 
   std::int64_t size() const { return n_; }
   /// J = floor(log2 N): the deepest level with at least one coefficient.
@@ -36,7 +46,9 @@ class HaarModwt {
 
  private:
   std::int64_t n_;
-  std::vector<double> prefix_;  // size n + 1
+  std::vector<double> prefix_;                    // S_0 .. S_n in memory, or
+  std::unique_ptr<detail::TemporaryArray> file_;  // in a temporary file
+  const double* p_ = nullptr;                     // whichever holds them
   double max_abs_prefix_ = 0.0;
 };
 

@@ -1,58 +1,63 @@
 #pragma once
-// gmwm::parallel_for: tbb::parallel_for over an index range [first, last), with its fork
-// and join told to ThreadSanitizer.
+// gmwm::parallel_for: body(i) for every i in [first, last), in parallel: what every
+// parallel loop of gmwm goes through. Each body writes only its own results, so the
+// outcome does not depend on the schedule or the thread count.
 //
-// oneTBB's scheduler (task spawning, stealing, the wait at the join) lives in libtbb,
-// which Debian builds without ThreadSanitizer: TSan then sees no happens-before edge
-// between the caller's writes and the bodies' reads, nor between the bodies' writes and
-// the caller's reads after the join, and reports each of them as a race. Under TSan the
-// wrapper adds exactly those edges (caller -> every body at the fork, every body -> caller
-// at the join) and nothing between two bodies, so a real race between bodies is still
-// reported. Without TSan it is tbb::parallel_for itself.
+// Normally this is tbb::parallel_for. Under ThreadSanitizer (a GMWM_SANITIZE=thread
+// build) the bodies run on std::threads instead: oneTBB's scheduler lives in libtbb,
+// which Debian builds without TSan, so TSan cannot see its hand-offs (task spawning,
+// stealing, the join, recycled task memory) and reports them as races by the dozen,
+// hiding any real one. std::thread creation and join are visible to TSan, so there the
+// only reports left are races between gmwm's own bodies, which is what the TSan run is
+// for (tools/sanitize.sh thread).
 
 #include <tbb/parallel_for.h>
 
 #if defined(__SANITIZE_THREAD__)
-#define GMWM_TSAN_ANNOTATIONS 1
+#define GMWM_THREAD_SANITIZER 1
 #elif defined(__has_feature)
 #if __has_feature(thread_sanitizer)
-#define GMWM_TSAN_ANNOTATIONS 1
+#define GMWM_THREAD_SANITIZER 1
 #endif
 #endif
 
-#ifdef GMWM_TSAN_ANNOTATIONS
-extern "C" void __tsan_acquire(void* addr);
-extern "C" void __tsan_release(void* addr);
+#ifdef GMWM_THREAD_SANITIZER
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
 #endif
 
 namespace gmwm {
 
-namespace tsan {
-/// Happens-before edges for ThreadSanitizer: everything before release(p) on one thread
-/// happens before everything after a later acquire(p) on another. No-ops without TSan.
-inline void release([[maybe_unused]] const void* p) {
-#ifdef GMWM_TSAN_ANNOTATIONS
-  __tsan_release(const_cast<void*>(p));
+#ifdef GMWM_THREAD_SANITIZER
+/// Threads of a parallel_for under ThreadSanitizer: at least two, so that bodies overlap.
+inline unsigned sanitizer_threads() { return std::max(2u, std::thread::hardware_concurrency()); }
 #endif
-}
-inline void acquire([[maybe_unused]] const void* p) {
-#ifdef GMWM_TSAN_ANNOTATIONS
-  __tsan_acquire(const_cast<void*>(p));
-#endif
-}
-}  // namespace tsan
 
 template <class Index, class Body>
 void parallel_for(Index first, Index last, const Body& body) {
-#ifdef GMWM_TSAN_ANNOTATIONS
-  const char fork = 0, join = 0;
-  tsan::release(&fork);
-  tbb::parallel_for(first, last, [&](Index i) {
-    tsan::acquire(&fork);
-    body(i);
-    tsan::release(&join);
-  });
-  tsan::acquire(&join);
+#ifdef GMWM_THREAD_SANITIZER
+  std::atomic<Index> next{first};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto work = [&] {
+    for (Index i = next++; i < last; i = next++) {
+      try {
+        body(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned t = 1; t < sanitizer_threads(); ++t) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
 #else
   tbb::parallel_for(first, last, body);
 #endif

@@ -38,6 +38,8 @@
 #include <string_view>
 #include <vector>
 
+#include "gmwm/engine/samples.h"
+
 namespace gmwm::io {
 
 /// Fewest samples accepted per signal. The WV has J = floor(log2 N) levels, and the
@@ -95,6 +97,10 @@ struct ReadOptions {
   std::string topic;
   /// Bytes the values read may take at kBytesPerValue each; 0: memory_budget_bytes().
   double memory_budget = 0.0;
+  /// Beyond the budget: true, the columns go on in temporary files (in $TMPDIR: 8 bytes a
+  /// value on disk, memory that no longer grows with the record; samples.h); false, the
+  /// file is refused with one line.
+  bool spill = true;
 
   /// "" when valid, otherwise a one-line message naming the option.
   std::string Validate() const;
@@ -128,7 +134,9 @@ struct TimingReport {
 
 struct Signal {
   std::string name;
-  std::vector<double> values;
+  /// In memory, or in a temporary file when the record exceeds the memory budget
+  /// (ReadOptions::spill).
+  Samples values;
   std::string unit = {};  ///< from the header ('[rad s^-1]') or the preset; "" when unknown
 };
 
@@ -138,6 +146,8 @@ struct SignalSet {
   double freq = 0.0;        ///< from --freq, else from the timestamp column
   bool freq_known = false;
   std::optional<TimingReport> timing;
+  /// True when the columns are held in temporary files (the record exceeded the budget).
+  bool spilled = false;
   std::string preset;       ///< "euroc", "kalibr" or "" when recognised by header
   std::string delimiter;    ///< "comma", "tab", "semicolon" or "whitespace"
   bool compressed = false;  ///< gzip content

@@ -13,6 +13,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
+#include "gmwm/engine/samples.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/replicate_select.h"
@@ -23,7 +24,7 @@ namespace gmwm::pipeline {
 struct ReplicateGroup {
   std::string axis;                         ///< the primary recording's column name
   std::vector<std::string> sources;         ///< "FILE:COLUMN" per replicate
-  std::vector<std::vector<double>> series;  ///< per replicate
+  std::vector<Samples> series;  ///< per replicate (in memory or in temporary files, as read)
 };
 
 /// Resamples of the replicates for the replicate-t intervals when they are too many to fit
