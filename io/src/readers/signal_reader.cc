@@ -166,6 +166,82 @@ std::optional<double> constant_value(const Samples& x) {
   return constant ? std::optional<double>(first) : std::nullopt;
 }
 
+// Rows between two checks of the memory budget (and, past it, between two emptyings of
+// the columns into their files).
+constexpr std::int64_t kRowsPerMemoryCheck = std::int64_t{1} << 16;
+
+// The selected columns as the rows come: in the parser's vectors up to the memory budget
+// (ReadOptions::memory_budget at kBytesPerValue a value), then in temporary files, emptied
+// into them every kRowsPerMemoryCheck rows (or the file refused when spill is off).
+class ColumnSink {
+ public:
+  ColumnSink(const std::string& path, detail::RowParser& parser, std::size_t columns, const ReadOptions& options)
+      : path_(path), parser_(parser), options_(options),
+        budget_(options.memory_budget > 0.0 ? options.memory_budget : memory_budget_bytes()),
+        max_rows_(budget_ > 0.0 ? static_cast<std::int64_t>(budget_ / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(columns, 1))))
+                                : std::numeric_limits<std::int64_t>::max()) {}
+
+  /// Rows worth reserving for a text of about `hint` bytes of rows of `row_bytes` each:
+  /// virtual memory, touched only when used, that saves regrowing the columns.
+  std::size_t rows_to_reserve(std::uint64_t hint, std::size_t row_bytes) const {
+    return static_cast<std::size_t>(std::min<std::uint64_t>(hint / (row_bytes + 1) + 1, static_cast<std::uint64_t>(max_rows_) + 1));
+  }
+
+  /// Called after each row; `line` is its line number.
+  void after_row(std::int64_t line) {
+    if (parser_.rows() % kRowsPerMemoryCheck != 0) return;
+    if (!files_.empty()) {
+      empty_into_files();
+      return;
+    }
+    if (parser_.rows() <= max_rows_) return;
+    const std::string limit = "the memory budget of " + std::to_string(static_cast<long long>(budget_ / 1e6)) + " MB" +
+                              (options_.memory_budget > 0.0 ? std::string()
+                                                            : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) +
+                                                                  "% of this machine's memory)");
+    if (!options_.spill)
+      throw InputError(where(path_, line) + "found more than " + std::to_string(max_rows_) + " rows of " +
+                       std::to_string(parser_.values().size()) + " column(s), expected at most " + std::to_string(max_rows_) +
+                       ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed " + limit +
+                       "; read fewer columns with --columns");
+    spdlog::info("{}: more than {} rows exceed {}: the columns go to temporary files in {}", path_, max_rows_, limit,
+                 gmwm::detail::temporary_folder());
+    for (std::size_t i = 0; i < parser_.values().size(); ++i) files_.push_back(std::make_unique<SampleFileWriter>());
+    empty_into_files();
+    for (auto& v : parser_.values()) {
+      std::vector<double>().swap(v);  // give the budget's memory back
+      v.reserve(static_cast<std::size_t>(kRowsPerMemoryCheck));
+    }
+  }
+
+  bool spilled() const { return !files_.empty(); }
+
+  /// The columns, moved out of the parser or handed over by their files.
+  std::vector<Samples> finish() {
+    std::vector<Samples> out;
+    if (spilled()) empty_into_files();
+    for (std::size_t i = 0; i < parser_.values().size(); ++i)
+      out.push_back(spilled() ? files_[i]->finish() : Samples(std::move(parser_.values()[i])));
+    return out;
+  }
+
+ private:
+  void empty_into_files() {
+    for (std::size_t i = 0; i < files_.size(); ++i) {
+      std::vector<double>& v = parser_.values()[i];
+      files_[i]->append(v.data(), v.size());
+      v.clear();
+    }
+  }
+
+  const std::string& path_;
+  detail::RowParser& parser_;
+  const ReadOptions& options_;
+  double budget_;
+  std::int64_t max_rows_;
+  std::vector<std::unique_ptr<SampleFileWriter>> files_;
+};
+
 }  // namespace
 
 double memory_budget_bytes() {
@@ -335,26 +411,9 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (time_col) plan[*time_col].kind = FieldPlan::kTime;
 
   detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
-  // Rows whose values fit the memory budget (checked every kRowsPerMemoryCheck rows).
-  const double budget = options.memory_budget > 0.0 ? options.memory_budget : memory_budget_bytes();
-  const std::int64_t max_rows =
-      budget > 0.0 ? static_cast<std::int64_t>(budget / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(selected.size(), 1))))
-                   : std::numeric_limits<std::int64_t>::max();
-  constexpr std::int64_t kRowsPerMemoryCheck = std::int64_t{1} << 16;
-  // Reserving (virtual memory, touched only when used) avoids regrowing the columns.
-  parser.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(src.text_size_hint() / (first_row.size() + 1) + 1,
-                                                                  static_cast<std::uint64_t>(max_rows) + 1)));
+  ColumnSink sink(path, parser, selected.size(), options);
+  parser.reserve(sink.rows_to_reserve(src.text_size_hint(), first_row.size()));
   parser.parse(first_row, first_row_line);
-  // Beyond the budget the columns go to temporary files (ReadOptions::spill), emptied into
-  // them every kRowsPerMemoryCheck rows.
-  std::vector<std::unique_ptr<SampleFileWriter>> spill;
-  auto empty_into_files = [&] {
-    for (std::size_t i = 0; i < selected.size(); ++i) {
-      std::vector<double>& v = parser.values()[i];
-      spill[i]->append(v.data(), v.size());
-      v.clear();
-    }
-  };
   while (src.next_line(line)) {
     if (line.empty() || is_blank_line(line)) {
       if (!blank_line) blank_line = src.line_number();
@@ -362,34 +421,10 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     }
     if (blank_line) fail_blank(blank_line);
     parser.parse(line, src.line_number());
-    if (parser.rows() % kRowsPerMemoryCheck != 0) continue;
-    if (!spill.empty()) {
-      empty_into_files();
-    } else if (parser.rows() > max_rows) {
-      const std::string limit = "the memory budget of " + std::to_string(static_cast<long long>(budget / 1e6)) + " MB" +
-                                (options.memory_budget > 0.0 ? std::string()
-                                                             : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) +
-                                                                   "% of this machine's memory)");
-      if (!options.spill)
-        throw InputError(where(path, src.line_number()) + "found more than " + std::to_string(max_rows) + " rows of " +
-                         std::to_string(selected.size()) + " column(s), expected at most " + std::to_string(max_rows) +
-                         ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed " +
-                         limit + "; read fewer columns with --columns");
-      spdlog::info("{}: more than {} rows exceed {}: the columns go to temporary files in {}", path, max_rows, limit,
-                   gmwm::detail::temporary_folder());
-      for (std::size_t i = 0; i < selected.size(); ++i) spill.push_back(std::make_unique<SampleFileWriter>());
-      empty_into_files();
-      for (auto& v : parser.values()) {
-        std::vector<double>().swap(v);  // give the budget's memory back
-        v.reserve(static_cast<std::size_t>(kRowsPerMemoryCheck));
-      }
-    }
+    sink.after_row(src.line_number());
   }
-  if (!spill.empty()) empty_into_files();
-  std::vector<Samples> columns;
-  for (std::size_t i = 0; i < selected.size(); ++i)
-    columns.push_back(spill.empty() ? Samples(std::move(parser.values()[i])) : spill[i]->finish());
-  set.spilled = !spill.empty();
+  std::vector<Samples> columns = sink.finish();
+  set.spilled = sink.spilled();
 
   const std::int64_t rows = parser.rows();
   if (rows < kMinSamples)
