@@ -174,6 +174,14 @@ std::vector<Case> corpus() {
        file("r.csv.gz", gzip_bomb("x\n", "1.00000000000000000000000000000000000000000000000000000000000000000000001\n", 1024))},
       {"gzip bomb of blank lines after the data (1 GB)", {"wv", "b.csv.gz"}, {"b.csv.gz", "more than 250 times"},
        file("b.csv.gz", gzip_bomb(rows, "\n", 1024))},
+      {"no temporary folder for a record beyond --memory", {"wv", "long.csv", "--memory", "1"},
+       {"temporary folder '/nonexistent/gmwm-tmp'", "set TMPDIR"},
+       file("long.csv", [] {
+         std::string s = "time,gyro_x,accel_x\n";
+         for (int i = 0; i < 70000; ++i) s += std::to_string(i) + "," + std::to_string(i % 13) + "," + std::to_string(i % 7) + "\n";
+         return s;
+       }()),
+       {"export TMPDIR=/nonexistent/gmwm-tmp;"}},
       {"levels beyond the series", {"wv", "base.csv", "--levels", "40"},
        {"base.csv: --levels 40: the signals have 4096 samples, which give at most 12 levels"}, base},
       {"FIFO with no writer", {"wv", "fifo", "--freq", "100"}, {"fifo", "no writer"},
