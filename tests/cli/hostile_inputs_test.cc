@@ -182,6 +182,7 @@ std::vector<Case> corpus() {
          return s;
        }()),
        {"export TMPDIR=/nonexistent/gmwm-tmp;"}},
+      {"zero memory", {"wv", "base.csv", "--memory", "0"}, {"--memory: found '0', expected a number of MB from 1"}, base},
       {"levels beyond the series", {"wv", "base.csv", "--levels", "40"},
        {"base.csv: --levels 40: the signals have 4096 samples, which give at most 12 levels"}, base},
       {"FIFO with no writer", {"wv", "fifo", "--freq", "100"}, {"fifo", "no writer"},

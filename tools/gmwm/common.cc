@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -66,7 +67,14 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
                  "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit "
                  "and select then use memory that no longer grows with it")
       ->type_name("MB")
-      ->check(CLI::Range(1.0, 1e12));
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double mb = 0.0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), mb);
+            if (ec == std::errc() && end == text.data() + text.size() && mb >= 1.0 && mb <= 1e12) return "";
+            return "found '" + text + "', expected a number of MB from 1 to 1e12";
+          },
+          "MB"));
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
