@@ -51,6 +51,9 @@ void delimited(const std::uint8_t* data, std::size_t size) {
   io::ReadOptions o;
   o.freq = 100.0;
   expect_result_or_refusal([&] { io::read_signals(path, o); });
+  // A budget of one byte: from row 65,536 on, the columns go on in temporary files.
+  o.memory_budget = 1.0;
+  expect_result_or_refusal([&] { io::read_signals(path, o); });
   std::remove(path.c_str());
 }
 
