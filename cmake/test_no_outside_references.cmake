@@ -45,6 +45,45 @@ set(allowed
 # This script names the patterns it looks for.
 set(skipped_files cmake/test_no_outside_references.cmake)
 
+# A tracked symbolic link is checked before anything is read: one that leaves the
+# repository (an absolute target, or a relative one climbing out of it) fails the test by
+# name, whether or not its target exists on this machine (a link into /tmp once made a fresh
+# clone fail here on the dangling link instead).
+set(links_outside)
+set(tracked_links)
+find_program(GIT_EXECUTABLE git)
+if(GIT_EXECUTABLE AND EXISTS "${SOURCE_DIR}/.git")
+  execute_process(COMMAND "${GIT_EXECUTABLE}" -C "${SOURCE_DIR}" ls-files --stage
+                  OUTPUT_VARIABLE staged RESULT_VARIABLE git_rc ERROR_QUIET)
+  if(git_rc EQUAL 0)
+    string(REPLACE "\n" ";" staged_lines "${staged}")
+    foreach(entry IN LISTS staged_lines)
+      if(entry MATCHES "^120000 [0-9a-f]+ [0-9]\t(.*)$")
+        set(link "${CMAKE_MATCH_1}")
+        list(APPEND tracked_links "${link}")
+        file(READ_SYMLINK "${SOURCE_DIR}/${link}" target)
+        if(IS_ABSOLUTE "${target}")
+          set(resolved "${target}")
+        else()
+          get_filename_component(link_dir "${SOURCE_DIR}/${link}" DIRECTORY)
+          get_filename_component(resolved "${link_dir}/${target}" ABSOLUTE)
+        endif()
+        file(RELATIVE_PATH inside "${SOURCE_DIR}" "${resolved}")
+        if(IS_ABSOLUTE "${target}" OR inside MATCHES "^\\.\\.(/|$)")
+          list(APPEND links_outside "${link} -> ${target}")
+        endif()
+      endif()
+    endforeach()
+  endif()
+endif()
+if(links_outside)
+  list(LENGTH links_outside n)
+  string(REPLACE ";" "\n  " listing "${links_outside}")
+  message(FATAL_ERROR
+    "${n} tracked symbolic link(s) leaving the repository (a clone elsewhere has nothing there; "
+    "remove them from git and ignore the path instead):\n  ${listing}")
+endif()
+
 set(files)
 foreach(d IN LISTS scanned_dirs)
   if(IS_DIRECTORY "${SOURCE_DIR}/${d}")
@@ -71,6 +110,15 @@ foreach(f IN LISTS scanned_files)
 endforeach()
 list(REMOVE_DUPLICATES files)
 list(REMOVE_ITEM files ${skipped_files})
+# Links are not read (those inside the repository point at files scanned in their own
+# place), nor is anything that is not a regular file (an untracked dangling link, say).
+set(readable)
+foreach(f IN LISTS files)
+  if(NOT IS_SYMLINK "${SOURCE_DIR}/${f}" AND NOT IS_DIRECTORY "${SOURCE_DIR}/${f}" AND EXISTS "${SOURCE_DIR}/${f}")
+    list(APPEND readable "${f}")
+  endif()
+endforeach()
+set(files ${readable})
 list(SORT files)
 
 string(JOIN "|" pattern_regex ${patterns})
