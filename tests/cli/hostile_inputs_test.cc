@@ -2,99 +2,22 @@
 // 2 with exactly one line "gmwm: error: ..." naming the file or option and what was
 // expected, writes nothing to stdout, creates or changes no file in its folder, and runs
 // in under kMaxSeconds with the program's peak memory under kMaxRssBytes.
-#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <functional>
-#include <map>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <zlib.h>
 
-#include "cli_runner.h"
-#include "test_support.h"
+#include "hostile_harness.h"
 
 namespace fs = std::filesystem;
-using gmwm::test::CliRun;
-using gmwm::test::run_gmwm;
-using gmwm::test::RunOptions;
+using namespace gmwm::test::hostile;
 using gmwm::test::write_text;
 
 namespace {
-
-// The bars of the contract (issue 17): a refusal is quick and cheap.
-constexpr double kMaxSeconds = 10.0;
-constexpr long kMaxRssBytes = 1L << 30;
-
-// 4096 rows of a time column and two signals at 100 Hz.
-std::string base_csv() {
-  std::string s = "time,gyro_x,accel_x\n";
-  for (int i = 0; i < 4096; ++i)
-    s += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i * 0.37) * 1e-3 + (i % 7) * 1e-4) + "," +
-         std::to_string(9.81 + std::cos(i * 0.11) * 1e-2) + "\n";
-  return s;
-}
-
-std::string bytes(std::initializer_list<int> b) {
-  std::string s;
-  for (int c : b) s += static_cast<char>(c);
-  return s;
-}
-
-// One gzip member holding `text`.
-std::string gzip_member(const std::string& text) {
-  z_stream zs{};
-  deflateInit2(&zs, Z_BEST_COMPRESSION, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY);
-  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
-}
-
-// A decompression bomb: `head` in a first member, then `copies` members of 1 MiB of `unit`
-// repeated (concatenated members are one gzip stream; each costs about 1 kB).
-std::string gzip_bomb(const std::string& head, const std::string& unit, int copies) {
-  std::string body;
-  while (body.size() < (std::size_t{1} << 20)) body += unit;
-  std::string out = gzip_member(head);
-  const std::string member = gzip_member(body);
-  for (int i = 0; i < copies; ++i) out += member;
-  return out;
-}
-
-struct Case {
-  std::string name;
-  std::vector<std::string> args;
-  std::vector<std::string> mentions;  // each must appear in the one error line
-  std::function<void(const fs::path&)> setup = nullptr;
-  RunOptions how = {};
-};
-
-// Every file of a folder with its content (the folder's state).
-std::map<std::string, std::string> snapshot(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    std::error_code ec;
-    if (e.is_regular_file(ec)) {
-      std::ifstream in(e.path(), std::ios::binary);
-      out[e.path().filename().string()] = std::string(std::istreambuf_iterator<char>(in), {});
-    } else {
-      out[e.path().filename().string()] = e.is_symlink(ec) ? "<symlink>" : "<special>";
-    }
-  }
-  return out;
-}
 
 const std::string kYamlWithoutGyroDensity =
     "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
@@ -102,12 +25,6 @@ const std::string kYamlWithoutGyroDensity =
 const std::string kYaml = kYamlWithoutGyroDensity + "gyroscope_noise_density: 8.73e-04\n";
 
 std::vector<Case> corpus() {
-  const auto file = [](const std::string& name, const std::string& text) {
-    return [=](const fs::path& d) { write_text(d / name, text); };
-  };
-  const auto both = [](std::function<void(const fs::path&)> a, std::function<void(const fs::path&)> b) {
-    return [=](const fs::path& d) { a(d), b(d); };
-  };
   const std::string rows = base_csv();
   const auto base = file("base.csv", rows);
   const std::string head = "time,gyro_x,accel_x\n";
@@ -276,45 +193,8 @@ std::vector<Case> corpus() {
   return c;
 }
 
-class Hostile : public ::testing::TestWithParam<Case> {};
+}  // namespace
 
-TEST_P(Hostile, ExitsTwoWithOneLineNamingThePlaceAndLeavesEverythingAsItWas) {
-  const Case& c = GetParam();
-  const fs::path dir = gmwm::test::temp_dir("hostile");
-  if (c.setup) c.setup(dir);
-  const auto before = snapshot(dir);
-  const auto t0 = std::chrono::steady_clock::now();
-  const CliRun r = run_gmwm(c.args, dir, c.how);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  rusage usage{};
-  ::getrusage(RUSAGE_CHILDREN, &usage);  // the largest descendant so far: this case's at most
-
-  EXPECT_EQ(r.exit_code, 2) << r.err;
-  const auto lines = gmwm::test::lines_of(r.err);
-  ASSERT_EQ(lines.size(), 1u) << r.err;
-  EXPECT_EQ(lines[0].rfind("gmwm: error: ", 0), 0u) << lines[0];
-  for (const auto& m : c.mentions) EXPECT_NE(lines[0].find(m), std::string::npos) << "'" << m << "' in: " << lines[0];
-  EXPECT_TRUE(r.out.empty()) << r.out;
-  EXPECT_EQ(snapshot(dir), before) << "a file was created or changed";
-  EXPECT_LT(seconds, kMaxSeconds);
-  EXPECT_LT(usage.ru_maxrss * 1024L, kMaxRssBytes);
-  fs::remove_all(dir);
-}
-
-INSTANTIATE_TEST_SUITE_P(Corpus, Hostile, ::testing::ValuesIn(corpus()), [](const auto& info) {
-  std::string name;
-  bool up = true;
-  for (char ch : info.param.name) {
-    if (std::isalnum(static_cast<unsigned char>(ch))) {
-      name += up ? static_cast<char>(std::toupper(static_cast<unsigned char>(ch))) : ch;
-      up = false;
-    } else {
-      up = true;
-    }
-  }
-  return name;
-});
+HOSTILE_CORPUS(Hostile, corpus());
 
 TEST(HostileCorpus, HoldsAtLeastSixtyCases) { EXPECT_GE(corpus().size(), 60u); }
-
-}  // namespace
