@@ -530,7 +530,8 @@ FigureReport data_figure_report(std::span<const double> x, double freq, const Al
 }
 
 ChosenFigures model_only_figures(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
-                                 const ReadoffOptions& readoff) {
+                                 const ReadoffOptions& readoff, const Eigen::MatrixXd* covariance,
+                                 const std::string& why) {
   check_positive("model_only_figures", "freq", freq);
   check_at_least("model_only_figures", "n", static_cast<double>(n), 4.0);
   AllanDeviation grid;
@@ -544,8 +545,8 @@ ChosenFigures model_only_figures(const Model& model, const Eigen::VectorXd& thet
   }
   grid.adev = model_allan_deviation(model, theta, grid.m);
   grid.ci_low = grid.ci_high = grid.adev;
-  const NoiseFigures f = model_noise_figures(model, theta, grid, nullptr, readoff);
-  return one_sided_choice(f, FigureSource::kModel, "the model's Allan deviation (the data were not at hand)");
+  const NoiseFigures f = model_noise_figures(model, theta, grid, covariance, readoff);
+  return one_sided_choice(f, FigureSource::kModel, why);
 }
 
 std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter_rate) {

@@ -20,6 +20,19 @@ std::unique_ptr<robust::RobustWvEstimator> estimator_for(const std::optional<rob
 }  // namespace
 
 std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
+std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, const ReplicateGroup& group,
+                                                 const ProcessContext& context, double alpha) {
+  const FitResult& j = fit.joint;
+  if (!context.freq_known || group.series.empty() || j.status == FitStatus::kFailed ||
+      j.theta.size() != j.model.num_parameters() || !j.theta.allFinite())
+    return std::nullopt;
+  ReadoffOptions ro;
+  ro.alpha = alpha;
+  const Eigen::MatrixXd* covariance = j.covariance.size() > 0 && j.covariance.allFinite() ? &j.covariance : nullptr;
+  return model_only_figures(j.model, j.theta, context.freq, static_cast<std::int64_t>(group.series.front().size()), ro,
+                            covariance, "the joint model's Allan deviation (the replicates share the model)");
+}
+
                                            const std::optional<robust::RobustWvOptions>& robust) {
   const std::vector<std::span<const double>> series = spans_of(group);
   std::vector<WaveletVariance> wvs = robust ? robust::robust_wv(series, *robust) : classical_wv(series, options);
@@ -66,6 +79,7 @@ JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const P
     study.groups.push_back(std::move(s));
   }
   return study;
+    s.figures = joint_noise_figures(s.analysis.fit, g, context, options.fit.alpha);
 }
 
 std::string JointSelectStudyOptions::Validate() const {
@@ -94,21 +108,28 @@ JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, c
   study.all_optimisms = options.select.select.optimism == selection::OptimismMethod::kBoth;
   for (const ReplicateGroup& g : groups) study.wvs.push_back(replicate_wvs(g, maximal, options.wv, options.robust));
   study.results = selection::select_by_replicates(study.wvs, maximal, ro);
-  if (options.recommended_test_draws > 0) {
-    // The recommended model of each axis fitted jointly, with its shared-theta test and
-    // replicate-t intervals.
-    JointAnalysisOptions ao;
-    ao.fit = options.select.select.fit;
-    ao.test.bootstrap = options.recommended_test_draws;
-    ao.test.seed = options.select.seed;
-    ao.test.estimator = estimator.get();
-    for (std::size_t i = 0; i < groups.size(); ++i) {
-      const std::vector<std::span<const double>> series = spans_of(groups[i]);
-      study.recommended.push_back(
-          analyse_replicates(study.wvs[i], series, parse_model(study.results[i].recommended, context), ao));
+  // The recommended model of each axis fitted jointly (the values a consumer takes), with
+  // its shared-theta test and replicate-t intervals when asked.
+  JointAnalysisOptions ao;
+  ao.fit = options.select.select.fit;
+  ao.fit.estimator = estimator.get();
+  ao.test.seed = options.select.seed;
+  ao.test.estimator = estimator.get();
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const std::vector<std::span<const double>> series = spans_of(groups[i]);
+    const Model recommended = parse_model(study.results[i].recommended, context);
+    JointAnalysis a;
+    if (options.recommended_test_draws > 0) {
+      ao.test.bootstrap = options.recommended_test_draws;
+      a = analyse_replicates(study.wvs[i], series, recommended, ao);
+    } else {
+      a.fit = fit_gmwm_joint(study.wvs[i], recommended, ao.fit);
+      a.pooled_slope = orient_by_replicates(a.fit, series);
     }
   }
   return study;
 }
+    study.figures.push_back(joint_noise_figures(a.fit, groups[i], context, ao.fit.alpha));
+    study.recommended.push_back(std::move(a));
 
 }  // namespace gmwm::pipeline

@@ -52,7 +52,7 @@ class GmwmExport : public ::testing::Test {
                        "--quiet"},
                       dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "fit.json", "--quiet"}, dir_);
+    r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--json", "fit.json", "--quiet"}, dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     fit_ = read_json(dir_ / "fit.json");
   }
@@ -97,7 +97,8 @@ TEST_F(GmwmExport, WritesAKalibrYamlFromAFitResult) {
 
 TEST_F(GmwmExport, FitsADataFileFirstWhenGivenAModel) {
   // The same fit as `gmwm fit` (classical WV, diagonal Omega): the same figures.
-  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--format", "orbslam3", "--output", "orb.yaml", "--quiet"},
+  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "orbslam3", "--output",
+                     "orb.yaml", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "orb.yaml");
@@ -110,10 +111,12 @@ TEST_F(GmwmExport, FitsADataFileFirstWhenGivenAModel) {
 }
 
 TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
-  // Read as deg/s data, the same numbers are pi/180 times smaller in rad/s.
-  auto r = run_gmwm({"export", "fit.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml",
-                     "--quiet"},
-                    dir_);
+  // A result fitted without --units, exported as deg/s data: the same numbers are pi/180
+  // times smaller in rad/s.
+  auto r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "plain.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_gmwm({"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml", "--quiet"},
+               dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "vins.yaml");
   const auto [n, k] = mean_n_k();
@@ -156,6 +159,25 @@ TEST_F(GmwmExport, WritesAGazeboSdfThatTheGapCommandReads) {
   EXPECT_EQ(baseline.find("AR1("), std::string::npos) << baseline;
   EXPECT_NE(baseline.find("RW(gamma2="), std::string::npos) << baseline;
   EXPECT_NE(column.at("conversions").dump().find("is RW-like"), std::string::npos) << column.at("conversions").dump();
+}
+
+// Issue 25: a result or a data file that does not say its unit is refused, never taken as SI.
+TEST_F(GmwmExport, RefusesAResultOrDataWithoutAUnitAndAUnitContradictingTheResult) {
+  auto r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "plain.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_bad_input(run_gmwm({"export", "plain.json", "--format", "kalibr", "--output", "out.yaml"}, dir_),
+                   {"plain.json: column 'gyro_x': the result does not say the data's unit", "--units gyro=UNIT"},
+                   dir_ / "out.yaml");
+  // --units naming the other sensor only does not say this one's.
+  expect_bad_input(run_gmwm({"export", "plain.json", "--format", "kalibr", "--units", "accel=g", "--output", "out.yaml"},
+                            dir_),
+                   {"column 'gyro_x'", "--units gyro=UNIT"}, dir_ / "out.yaml");
+  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "out.yaml"},
+                            dir_),
+                   {"--units says gyro=deg/s, but the result was fitted on rad/s data"}, dir_ / "out.yaml");
+  expect_bad_input(run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--format", "kalibr", "--output", "out.yaml"}, dir_),
+                   {"sim.csv: column 'gyro_x': the file does not say its unit; give --units gyro=UNIT"},
+                   dir_ / "out.yaml");
 }
 
 TEST_F(GmwmExport, RejectsBadInputWithOneLineAndNoFile) {

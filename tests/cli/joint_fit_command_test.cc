@@ -222,4 +222,71 @@ TEST_F(GmwmCliJointFit, RejectsTheReplicateOptimismWithoutReplicates) {
   expect_bad_input(r, {"--optimism replicates", "--joint"}, json());
 }
 
+// Issue 25: a joint result said nothing of its unit, and export took it as SI (a deg/s
+// fit written as rad/s/sqrt(Hz), 57x too large).
+TEST_F(GmwmCliJointFit, UnitsGiveTheJointModelItsUnitAndNoiseFiguresAndExportConvertsThemToSi) {
+  for (int k = 1; k <= 3; ++k)
+    simulate("g" + std::to_string(k) + ".csv", 1 << (11 + k), "100", 10 + k, "gyro_x,gyro_y");
+  auto r = run_gmwm({"fit", "g1.csv", "--joint", "g2.csv", "g3.csv", "--model", "AR1+WN+RW", "--units", "gyro=deg/s",
+                     "--json", "out.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = gmwm::test::read_json(json());
+  ASSERT_EQ(doc["columns"].size(), 2u);
+  const auto& col = doc["columns"][0];
+  EXPECT_EQ(col["unit"], "deg/s");
+  ASSERT_TRUE(col["noise_figures"].is_object()) << col.dump();
+  const double n_deg = col["noise_figures"]["white"]["value"].get<double>();
+  EXPECT_GT(n_deg, 0.0);
+  EXPECT_EQ(col["noise_figures"]["white"]["unit"], "deg/s/sqrt(Hz)");
+  EXPECT_FALSE(col["continuous"].empty());
+  EXPECT_FALSE(col["kalman"]["terms"].empty());
+
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string yaml = gmwm::test::read_text(dir_ / "imu.yaml");
+  const auto at = yaml.find("gyroscope_noise_density:");
+  ASSERT_NE(at, std::string::npos) << yaml;
+  // The mean over the two axes, in rad/s/sqrt(Hz).
+  const double n_deg_y = doc["columns"][1]["noise_figures"]["white"]["value"].get<double>();
+  const double written = std::stod(yaml.substr(at + 24));
+  EXPECT_NEAR(written, 0.5 * (n_deg + n_deg_y) * 3.14159265358979323846 / 180.0, 1e-6 * written) << yaml;
+}
+
+TEST_F(GmwmCliJointFit, SelectGivesTheRecommendedModelFittedJointlyWithItsUnitForExport) {
+  for (int k = 1; k <= 3; ++k) simulate("g" + std::to_string(k) + ".csv", 1 << (11 + k), "100", 10 + k, "gyro_x");
+  auto r = run_gmwm({"select", "g1.csv", "--joint", "g2.csv", "g3.csv", "--model", "AR1+WN+RW", "--units",
+                     "gyro=deg/s", "--json", "out.json"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("recommended, fitted jointly: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("deg/s/sqrt(Hz)"), std::string::npos) << r.out;
+  const auto doc = gmwm::test::read_json(json());
+  const auto& col = doc["columns"][0];
+  EXPECT_EQ(col["unit"], "deg/s");
+  ASSERT_TRUE(col["best_model"].is_string()) << col.dump();
+  EXPECT_EQ(col["best_fit"]["model"], col["recommended"]);
+  EXPECT_TRUE(col["noise_figures"].is_object());
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(gmwm::test::read_text(dir_ / "imu.yaml").find("deg/s"), std::string::npos);
+}
+
+TEST_F(GmwmCliJointFit, ExportRefusesAJointResultWhoseUnitItCannotTell) {
+  for (int k = 1; k <= 2; ++k) simulate("g" + std::to_string(k) + ".csv", 1 << 12, "100", 10 + k, "gyro_x");
+  auto r = run_gmwm({"fit", "g1.csv", "--joint", "g2.csv", "--model", "WN+RW", "--json", "out.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(gmwm::test::read_json(json())["columns"][0]["unit"].is_null());
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml"}, dir_);
+  expect_bad_input(r, {"out.json", "column 'gyro_x'", "does not say the data's unit", "--units gyro="}, dir_ / "imu.yaml");
+  // Told the unit, it converts.
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "imu.yaml", "--quiet"},
+               dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST_F(GmwmCliJointFit, RejectsBadUnitsBeforeAnyWork) {
+  expect_bad_input(fit({"--joint", "r2.csv", "--units", "gyro=furlong/s"}), {"--units", "furlong/s"}, json());
+}
+
 }  // namespace

@@ -466,7 +466,8 @@ TEST_F(Export, ReadsTheModelsOfAFitAndASelectResult) {
   const std::string fit = write_file(
       dir_, "fit.json",
       R"J({"tool": "gmwm", "version": "0.1.0", "command": "fit", "input": "imu.csv", "columns": [
-          {"name": "gyro_x", "n": 1000, "freq": 200, "model": "WN(sigma2=5.75826048e-06)", "status": "converged"},
+          {"name": "gyro_x", "n": 1000, "freq": 200, "model": "WN(sigma2=5.75826048e-06)", "unit": "rad/s",
+           "status": "converged"},
           {"name": "w_RS_S_y", "n": 1000, "freq": 200, "model": null, "status": "failed"}]})J");
   ResultReadOptions o;
   o.columns = {"gyro_x"};

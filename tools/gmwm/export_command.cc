@@ -71,7 +71,7 @@ std::vector<io::ExportColumn> from_result(const ExportArgs& a, std::string& sour
   }
   o.rate = a.rate;
   o.sensor = sensor_of(a.sensor);
-  if (!a.units.empty()) o.units = io::parse_units(a.units);
+  if (!a.units.empty()) o.units = io::parse_declared_units(a.units);
   io::ResultColumns r = io::read_result_columns(a.input.input, o);
   source = "gmwm " + r.command + " result " + a.input.input + (r.input.empty() ? "" : " (data " + r.input + ")");
   for (std::size_t k = 0; k < r.columns.size(); ++k)
@@ -90,7 +90,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
     if (const std::string why = io::sampling_rate_problem(*a.input.freq, "--freq"); !why.empty()) throw InputError(why);
     parse_model(a.model, ProcessContext{*a.input.freq, true});
   }
-  const auto units = a.units.empty() ? std::nullopt : std::optional(io::parse_units(a.units));
+  const auto units = a.units.empty() ? std::map<io::SensorKind, io::Unit>{} : io::parse_declared_units(a.units);
   const auto sensor = sensor_of(a.sensor);
   const io::SignalSet set = read_input(a.input);
   const Model model = parse_model(a.model, ProcessContext{set.freq, set.freq_known});
@@ -102,15 +102,20 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
     c.kind = sensor ? *sensor : io::sensor_kind_of_column(s.name);
     c.freq = set.freq;
     c.n = static_cast<std::int64_t>(s.values.size());
-    // The unit: --units, else the file's own (EuRoC's header units), else SI.
-    c.unit = io::si_unit(c.kind);
-    if (units) {
-      c.unit = units->at(c.kind);
+    // The unit: --units, else the file's own (EuRoC's header units); never assumed.
+    if (const auto given = units.find(c.kind); given != units.end()) {
+      c.unit = given->second;
     } else if (!s.unit.empty()) {
       try {
         c.unit = io::parse_unit(s.unit, c.kind);
-      } catch (const InputError&) {
+      } catch (const InputError& e) {
+        throw InputError(set.path + ": column '" + s.name + "': its header gives the unit '" + s.unit + "', which is not a " +
+                         io::to_string(c.kind) + " unit (" + e.what() + "); give --units");
       }
+    } else {
+      throw InputError(set.path + ": column '" + s.name + "': the file does not say its unit; give --units " +
+                       io::to_string(c.kind) + "=UNIT (" +
+                       (c.kind == io::SensorKind::kGyro ? "rad/s, deg/s or deg/h" : "m/s^2, g or mg") + ")");
     }
   }
   const std::vector<WaveletVariance> wvs = compute_wv(set, wv_opts);

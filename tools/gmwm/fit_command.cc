@@ -135,6 +135,10 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
+  // The declared units (a bad --units fails here, before any work) and the Kalman rate.
+  std::vector<std::string> units;
+  for (const ReplicateGroup& g : groups) units.push_back(column_unit(args.units, g.axis));
+  const double filter = filter_rate(args.units, set);
   pipeline::JointFitStudyOptions o;
   o.model = args.model;
   o.fit = options;
@@ -144,13 +148,14 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   o.seed = common.seed;
   const pipeline::JointFitStudy study = pipeline::study_joint_fit(groups, ProcessContext{set.freq, set.freq_known}, o);
 
-  io::Json doc = io::joint_fit_document(set, groups, study);
+  io::Json doc = io::joint_fit_document(set, groups, study, units, filter);
   const std::string estimator = replicate_estimator_text(robust);
   std::string report;
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const JointAnalysis& a = study.groups[i].analysis;
     report += (i ? "\n" : "") + joint_report(groups[i], a.fit, a.test ? &*a.test : nullptr,
-                                             a.bootstrap ? &*a.bootstrap : nullptr, options.omega, estimator);
+                                             a.bootstrap ? &*a.bootstrap : nullptr, options.omega, estimator) +
+              joint_physical_tables(groups[i], set, a.fit.joint, study.groups[i].figures, args.units, filter);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {

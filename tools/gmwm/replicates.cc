@@ -86,6 +86,17 @@ io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::str
   return r;
 }
 
+std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalSet& set, const FitResult& joint,
+                                  const std::optional<ChosenFigures>& figures, const UnitsOptions& units,
+                                  double filter_rate) {
+  const io::ColumnInfo info = with_unit(
+      {group.axis, group.series.empty() ? 0 : static_cast<std::int64_t>(group.series.front().size()), set.freq,
+       set.freq_known, ""},
+      units);
+  return continuous_table(joint, info) + (figures ? noise_figures_table(*figures, info.unit) : "") +
+         kalman_table(joint, info, filter_rate, figures ? &*figures : nullptr);
+}
+
 void fill_joint_report_column(io::ReportColumn& column, const ReplicateGroup& group,
                               const std::vector<WaveletVariance>& wvs, const JointAnalysis& analysis,
                               const std::string& estimator) {

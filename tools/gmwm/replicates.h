@@ -4,10 +4,12 @@
 // same names (axis-wise replicates: one joint model per axis); FILE:COLUMN adds one
 // column as a replicate of INPUT's single selected column.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common.h"
+#include "units_tables.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/io/html_report.h"
@@ -36,6 +38,12 @@ std::string replicate_estimator_text(const robust::RobustWvOptions* robust);
 /// The report's replicate block of a group (sources, lengths, estimator); the caller adds
 /// the joint fit, test and selection.
 io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator);
+
+/// The joint model's tables in the data's units, as a single fit shows them: continuous
+/// parameters, noise figures (when given) and the Kalman terms at `filter_rate` Hz.
+std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalSet& set, const FitResult& joint,
+                                  const std::optional<ChosenFigures>& figures, const UnitsOptions& units,
+                                  double filter_rate);
 
 /// A report column of a group's joint analysis: its replicates' WVs, the joint fit, the
 /// replicate block with the joint fit, test and bootstrap.

@@ -151,6 +151,10 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
   const std::vector<ReplicateGroup> groups = read_replicates(set, args.joint, args.input);
+  // The declared units (a bad --units fails here, before any work) and the Kalman rate.
+  std::vector<std::string> units;
+  for (const ReplicateGroup& g : groups) units.push_back(column_unit(args.units, g.axis));
+  const double filter = filter_rate(args.units, set);
   pipeline::JointSelectStudyOptions o;
   o.model = args.model;
   o.select.select = options;
@@ -165,10 +169,15 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   const pipeline::JointSelectStudy study =
       pipeline::study_joint_select(groups, ProcessContext{set.freq, set.freq_known}, o);
   const std::string estimator = replicate_estimator_text(robust);
-  io::Json doc = io::joint_select_document(set, groups, study);
+  io::Json doc = io::joint_select_document(set, groups, study, units, filter);
   std::string report;
-  for (std::size_t i = 0; i < groups.size(); ++i)
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const FitResult& best = study.recommended[i].fit.joint;
     report += (i ? "\n" : "") + joint_select_report(groups[i], study.results[i], estimator);
+    if (best.theta.size() == best.model.num_parameters() && best.theta.allFinite())
+      report += "recommended, fitted jointly: " + best.model.to_string(best.theta) + "\n" +
+                joint_physical_tables(groups[i], set, best, study.figures[i], args.units, filter);
+  }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {
     io::ReportData rep = report_data("select", set, args.model);

@@ -57,6 +57,33 @@ std::optional<ExportFigures> figures_of(const json& c) {
   return out;
 }
 
+// The unit the column's numbers are in: the result's own "unit" (what its fit was told with
+// --units), or the export's --units for a result that does not say. A result that says
+// nothing, with no --units, is refused rather than taken as SI (a deg/s fit exported as
+// rad/s is 57x off); so is an export --units that contradicts the result's own.
+Unit result_unit(const json& c, SensorKind kind, const ResultReadOptions& o, const std::string& at) {
+  std::optional<Unit> declared;
+  if (c.contains("unit") && !c["unit"].is_null()) {
+    if (!c["unit"].is_string())
+      throw InputError(at + "found \"unit\": " + std::string(c["unit"].type_name()) + ", expected a unit name such as \"deg/s\"");
+    try {
+      declared = parse_unit(c["unit"].get<std::string>(), kind);
+    } catch (const InputError& err) {
+      throw InputError(at + "\"unit\": " + err.what());
+    }
+  }
+  const auto given = o.units ? o.units->find(kind) : std::map<SensorKind, Unit>::const_iterator{};
+  const bool has_given = o.units && given != o.units->end();
+  if (declared && has_given && given->second.name != declared->name)
+    throw InputError(at + "--units says " + to_string(kind) + "=" + given->second.name + ", but the result was fitted on " +
+                     declared->name + " data (its \"unit\"); leave --units out or give " + to_string(kind) + "=" + declared->name);
+  if (declared) return *declared;
+  if (has_given) return given->second;
+  throw InputError(at + "the result does not say the data's unit (it was fitted without --units); give --units " +
+                   to_string(kind) + "=UNIT, the unit of the data it was fitted on (" + to_string(kind) +
+                   (kind == SensorKind::kGyro ? ": rad/s, deg/s or deg/h)" : ": m/s^2, g or mg)"));
+}
+
 }  // namespace
 
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& o) {
@@ -132,12 +159,10 @@ ResultColumns read_result_columns(const std::string& path, const ResultReadOptio
     if (!(e.freq > 0.0)) throw InputError(at + "\"freq\" is not a positive rate in Hz");
     try {
       e.kind = o.sensor ? *o.sensor : sensor_kind_of_column(name);
-      std::string declared;
-      if (c.contains("unit") && c["unit"].is_string()) declared = c["unit"].get<std::string>();
-      e.unit = o.units ? o.units->at(e.kind) : !declared.empty() ? parse_unit(declared, e.kind) : si_unit(e.kind);
     } catch (const InputError& err) {
       throw InputError(path + ": " + err.what());
     }
+    e.unit = result_unit(c, e.kind, o, at);
     const std::string spec = c[model_field].get<std::string>();
     try {
       e.model = parse_model(spec, ProcessContext{e.freq, true});

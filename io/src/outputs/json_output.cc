@@ -340,19 +340,24 @@ ColumnInfo study_column(const SignalSet& set, std::size_t k, const std::string& 
           k < units.size() ? units[k] : std::string()};
 }
 
-// A fitted column's physical fields: "unit", the continuous parameters and Kalman terms
-// (under the given keys), the Allan deviations and the noise figures.
 void add_physical_fields(json& col, const FitResult& fit, const ColumnInfo& info, double filter_rate,
                          const std::optional<FigureReport>& figures, const char* continuous_key,
                          const char* kalman_key) {
-  col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
-  col[continuous_key] = continuous_json(fit, info);
-  col[kalman_key] = kalman_json(fit, info, filter_rate, figures ? &figures->chosen : nullptr);
-  col["allan"] = figures ? allan_json(figures->adev, figures->model_adev) : json(nullptr);
-  col["noise_figures"] = figures ? noise_figures_json(figures->chosen, info.unit) : json(nullptr);
+  add_physical_fields(col, fit, info, filter_rate, figures ? &figures->chosen : nullptr,
+                      figures ? allan_json(figures->adev, figures->model_adev) : json(nullptr), continuous_key,
+                      kalman_key);
 }
 
 }  // namespace
+
+void add_physical_fields(Json& col, const FitResult& fit, const ColumnInfo& info, double filter_rate,
+                         const ChosenFigures* figures, Json allan, const char* continuous_key, const char* kalman_key) {
+  col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
+  col[continuous_key] = continuous_json(fit, info);
+  col[kalman_key] = kalman_json(fit, info, filter_rate, figures);
+  col["allan"] = std::move(allan);
+  col["noise_figures"] = figures ? noise_figures_json(*figures, info.unit) : json(nullptr);
+}
 
 json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
   json doc = json_document("wv");

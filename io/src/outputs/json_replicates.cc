@@ -7,6 +7,17 @@
 namespace gmwm::io {
 namespace {
 
+// A group's column head: its name, the primary recording's length, the rate, the declared unit.
+ColumnInfo group_info(const pipeline::ReplicateGroup& g, const SignalSet& set, const std::vector<std::string>& units,
+                      std::size_t i) {
+  return {g.axis, g.series.empty() ? 0 : static_cast<std::int64_t>(g.series.front().size()), set.freq, set.freq_known,
+          i < units.size() ? units[i] : std::string()};
+}
+
+double kalman_rate(const SignalSet& set, double filter_rate) {
+  return filter_rate > 0.0 ? filter_rate : set.freq_known ? set.freq : 0.0;
+}
+
 Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
                        const ReplicateBootstrap* boot, const SignalSet& set) {
   Json col;
@@ -81,7 +92,8 @@ FitResult replicate_bootstrap_as_fit(const JointFitResult& r, const ReplicateBoo
 }
 
 Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
-                        const pipeline::JointFitStudy& study) {
+                        const pipeline::JointFitStudy& study, const std::vector<std::string>& units,
+                        double filter_rate) {
   Json doc = json_document("fit");
   doc["input"] = set.path;
   doc["model_spec"] = study.model_spec;
@@ -90,14 +102,18 @@ Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::Replic
   doc["estimator"] = study.robust ? "robust" : "classical";
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const JointAnalysis& a = study.groups[i].analysis;
-    doc["columns"].push_back(joint_column_json(groups[i], a.fit, a.test ? &*a.test : nullptr,
-                                               a.bootstrap ? &*a.bootstrap : nullptr, set));
+    Json col = joint_column_json(groups[i], a.fit, a.test ? &*a.test : nullptr, a.bootstrap ? &*a.bootstrap : nullptr, set);
+    const auto& figures = study.groups[i].figures;
+    add_physical_fields(col, a.fit.joint, group_info(groups[i], set, units, i), kalman_rate(set, filter_rate),
+                        figures ? &*figures : nullptr, Json(nullptr), "continuous", "kalman");
+    doc["columns"].push_back(std::move(col));
   }
   return doc;
 }
 
 Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
-                           const pipeline::JointSelectStudy& study) {
+                           const pipeline::JointSelectStudy& study, const std::vector<std::string>& units,
+                           double filter_rate) {
   Json doc = json_document("select");
   doc["input"] = set.path;
   doc["model_spec"] = study.model_spec;
@@ -135,6 +151,22 @@ Json joint_select_document(const SignalSet& set, const std::vector<pipeline::Rep
                       {"p_not_worse", json_number(c.p_not_worse)},
                       {"equivalent", c.equivalent}});
     col["ranking"] = rows;
+    // The recommended model fitted jointly on all replicates: the values a consumer takes.
+    if (i < study.recommended.size()) {
+      const FitResult& b = study.recommended[i].fit.joint;
+      const bool usable = b.status != FitStatus::kFailed && b.theta.size() == b.model.num_parameters() && b.theta.allFinite();
+      col["best_model"] = usable ? Json(b.model.to_string(b.theta)) : Json(nullptr);
+      col["best_fit"] = {{"model", r.recommended},
+                         {"status", to_string(b.status)},
+                         {"objective", json_number(b.objective)},
+                         {"gof", {{"statistic", json_number(b.gof.statistic)},
+                                  {"df", b.gof.df},
+                                  {"p_value", json_number(b.gof.p_value)},
+                                  {"method", b.gof.method}}}};
+      const auto& figures = study.figures[i];
+      add_physical_fields(col, b, group_info(groups[i], set, units, i), kalman_rate(set, filter_rate),
+                          figures ? &*figures : nullptr, Json(nullptr), "best_continuous", "best_kalman");
+    }
     doc["columns"].push_back(std::move(col));
   }
   return doc;

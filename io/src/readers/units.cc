@@ -53,6 +53,12 @@ Unit parse_unit(const std::string& name, SensorKind kind) {
 std::map<SensorKind, Unit> parse_units(const std::string& spec) {
   std::map<SensorKind, Unit> out = {{SensorKind::kGyro, si_unit(SensorKind::kGyro)},
                                     {SensorKind::kAccel, si_unit(SensorKind::kAccel)}};
+  for (const auto& [kind, unit] : parse_declared_units(spec)) out[kind] = unit;
+  return out;
+}
+
+std::map<SensorKind, Unit> parse_declared_units(const std::string& spec) {
+  std::map<SensorKind, Unit> out;
   std::size_t start = 0;
   while (start <= spec.size() && !spec.empty()) {
     const std::size_t comma = std::min(spec.find(',', start), spec.size());

@@ -161,9 +161,12 @@ FigureReport data_figure_report(std::span<const double> x, double freq, const Al
                                 const ReadoffOptions& readoff = {});
 
 /// The model's figures alone, on the averaging factors of a record of n samples at freq
-/// (when the data are not at hand, e.g. exporting a saved fit): each figure from the
-/// model (source kModel) or its bound (kBound).
+/// (when the data are not at hand, e.g. exporting a saved fit, or when several recordings
+/// share the model): each figure from the model (source kModel) or its bound (kBound),
+/// with delta-method intervals when `covariance` (of theta) is given; `why` is the notes'
+/// reason for reading the model alone.
 ChosenFigures model_only_figures(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
-                                 const ReadoffOptions& readoff = {});
+                                 const ReadoffOptions& readoff = {}, const Eigen::MatrixXd* covariance = nullptr,
+                                 const std::string& why = "the model's Allan deviation (the data were not at hand)");
 
 }  // namespace gmwm

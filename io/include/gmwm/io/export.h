@@ -179,7 +179,9 @@ struct ResultReadOptions {
   std::vector<std::string> columns;   ///< keep only these names, in this order (empty: all)
   std::optional<double> rate;         ///< the data's rate for columns whose "freq" is null
   std::optional<SensorKind> sensor;   ///< every column is this sensor (else told by its name)
-  /// Declared units (--units); without them a column's "unit" field when present, else SI.
+  /// Declared units (--units): the unit of a column whose "unit" field is null or absent.
+  /// A column without either is refused (never taken as SI), and so is a declared unit
+  /// contradicting the column's own.
   std::optional<std::map<SensorKind, Unit>> units;
 };
 
@@ -196,7 +198,7 @@ struct ResultColumns {
 /// path (with line:column for a JSON syntax error, or the column) for anything else: not a
 /// gmwm fit/select document, a column without a fitted model (its fit failed), an unknown
 /// name in options.columns, a null "freq" without options.rate, a name that tells no sensor
-/// kind without options.sensor.
+/// kind without options.sensor, a column whose unit is not known (ResultReadOptions::units).
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& options);
 
 }  // namespace gmwm::io

@@ -170,15 +170,22 @@ FitResult replicate_bootstrap_as_fit(const JointFitResult& r, const ReplicateBoo
 
 /// The joint fit's document (json_document("fit") with "joint": true, "estimator"): per
 /// axis its replicates (source, n, levels, objective share, own fit), the joint model and
-/// parameters, AGMWM, the replicate-t interval and the shared-theta test (docs/cli.md).
+/// parameters, AGMWM, the replicate-t interval and the shared-theta test, and the physical
+/// fields of the joint model (add_physical_fields: "unit" from `units[k]` for group k,
+/// "continuous", "kalman" at `filter_rate` (0: the data's rate), "noise_figures") (docs/cli.md).
 Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
-                        const pipeline::JointFitStudy& study);
+                        const pipeline::JointFitStudy& study, const std::vector<std::string>& units = {},
+                        double filter_rate = 0.0);
 
 /// The selection over replicates' document (json_document("select") with "joint": true,
 /// "optimism" "replicates" or "all"): per axis the chosen, recommended and analytic/bootstrap
-/// choices and the ranking with its three WVICs.
+/// choices and the ranking with its three WVICs, and the recommended model's joint fit:
+/// "best_model" (with values), "best_fit" {status, objective, gof}, and its physical fields
+/// ("unit", "best_continuous", "best_kalman", "noise_figures"); `units`, `filter_rate` as
+/// joint_fit_document's.
 Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
-                           const pipeline::JointSelectStudy& study);
+                           const pipeline::JointSelectStudy& study, const std::vector<std::string>& units = {},
+                           double filter_rate = 0.0);
 
 /// The gap diagnosis's self-check document (json_document("gap-check") filled): the
 /// settings, the confusion matrix, power per family and strength, each family's
@@ -225,6 +232,13 @@ Json continuous_json(const FitResult& fit, const ColumnInfo& column);
 /// their "process" "N, K, B"; the per-component terms follow.
 Json kalman_json(const FitResult& fit, const ColumnInfo& column, double filter_rate,
                  const ChosenFigures* figures = nullptr);
+
+/// A fitted column's physical fields: "unit" (null when not declared), the continuous
+/// parameters and Kalman terms under the given keys, "allan" as given, and "noise_figures"
+/// (null without `figures`). What every fitted column of fit/select documents carries, joint
+/// ones included, so that export can tell the unit its numbers are in.
+void add_physical_fields(Json& col, const FitResult& fit, const ColumnInfo& info, double filter_rate,
+                         const ChosenFigures* figures, Json allan, const char* continuous_key, const char* kalman_key);
 
 /// The document as text: pretty-printed (2 spaces), ending with a newline.
 std::string dump_json(const Json& doc);

@@ -29,6 +29,10 @@ Unit parse_unit(const std::string& name, SensorKind kind);
 /// "--units gyro=deg/s,accel=g": the units per sensor kind (SI where not given).
 std::map<SensorKind, Unit> parse_units(const std::string& spec);
 
+/// The kinds "--units" names and nothing else (no SI default): where a unit must be known,
+/// not assumed (export). Throws as parse_units.
+std::map<SensorKind, Unit> parse_declared_units(const std::string& spec);
+
 /// The SI unit of a kind ("rad/s", "m/s^2").
 Unit si_unit(SensorKind kind);
 

@@ -13,6 +13,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/samples.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/robust/robust_wv.h"
@@ -54,7 +55,17 @@ struct JointFitStudyOptions {
 struct JointFitGroupStudy {
   std::vector<WaveletVariance> wvs;  ///< per replicate
   JointAnalysis analysis;
+  /// N, K, B of the joint model (joint_noise_figures); none when the rate is not known or
+  /// the fit failed.
+  std::optional<ChosenFigures> figures;
 };
+
+/// The noise figures of a group's joint model: read off the model's Allan deviation on the
+/// averaging factors of the group's first recording (model_only_figures; the replicates
+/// share the model, not one data curve). nullopt when the rate is unknown or the joint fit
+/// has no finite estimate.
+std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, const ReplicateGroup& group,
+                                                 const ProcessContext& context, double alpha);
 
 struct JointFitStudy {
   std::string model_spec;
@@ -78,8 +89,8 @@ struct JointSelectStudyOptions {
   selection::ReplicateSelectOptions select;
   WvOptions wv;
   std::optional<robust::RobustWvOptions> robust;
-  /// > 0: the recommended model of each axis is also fitted jointly with its shared-theta
-  /// test of that many draws (what a report draws); 0: not.
+  /// The recommended model of each axis is always fitted jointly (the result's values);
+  /// > 0: with its shared-theta test of that many draws (what a report draws); 0: without.
   int recommended_test_draws = 0;
 
   std::string Validate() const;
@@ -92,7 +103,10 @@ struct JointSelectStudy {
   bool all_optimisms = false;
   std::vector<std::vector<WaveletVariance>> wvs;      ///< per group, per replicate
   std::vector<selection::ReplicateSelection> results;  ///< per group
-  std::vector<JointAnalysis> recommended;             ///< per group, when asked
+  /// Per group: the recommended model fitted jointly on all replicates, oriented; its
+  /// shared-theta test and replicate-t intervals only when recommended_test_draws > 0.
+  std::vector<JointAnalysis> recommended;
+  std::vector<std::optional<ChosenFigures>> figures;  ///< per group, of `recommended` (joint_noise_figures)
 };
 
 JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, const ProcessContext& context,
