@@ -27,20 +27,29 @@ std::size_t utf8_length(std::string_view s, std::size_t i) {
   return 0;
 }
 
-}  // namespace
+// Control bytes (but line breaks, as `breaks` says, and tabs when kept), DEL, C1 controls
+// and bytes that are not valid UTF-8 as \xNN.
+enum class Breaks { kSpace, kKeepNewlineAndTab };
 
-std::string printable_line(std::string_view message) {
+std::string escape_controls(std::string_view message, Breaks breaks) {
   std::string out;
   out.reserve(message.size());
   for (std::size_t i = 0; i < message.size();) {
     const auto c = static_cast<unsigned char>(message[i]);
-    if (c == '\n' || c == '\r') {
+    const bool keep = breaks == Breaks::kKeepNewlineAndTab && (c == '\n' || c == '\t');
+    if (keep) {
+      out += static_cast<char>(c);
+      ++i;
+    } else if (breaks == Breaks::kSpace && (c == '\n' || c == '\r')) {
       out += ' ';
       ++i;
     } else if (c >= 0x20 && c < 0x7F) {
       out += static_cast<char>(c);
       ++i;
-    } else if (const std::size_t n = c >= 0x80 ? utf8_length(message, i) : 0; n > 0) {
+    } else if (const std::size_t n = c >= 0x80 ? utf8_length(message, i) : 0;
+               n > 0 && !(n == 2 && c == 0xC2 && static_cast<unsigned char>(message[i + 1]) < 0xA0)) {
+      // Valid UTF-8 but the C1 controls U+0080..U+009F (CSI U+009B starts a terminal
+      // escape sequence as ESC [ does).
       out.append(message.substr(i, n));
       i += n;
     } else {
@@ -50,8 +59,17 @@ std::string printable_line(std::string_view message) {
       ++i;
     }
   }
+  return out;
+}
+
+}  // namespace
+
+std::string printable_line(std::string_view message) {
+  std::string out = escape_controls(message, Breaks::kSpace);
   while (!out.empty() && out.back() == ' ') out.pop_back();
   return out;
 }
+
+std::string printable_text(std::string_view text) { return escape_controls(text, Breaks::kKeepNewlineAndTab); }
 
 }  // namespace gmwm

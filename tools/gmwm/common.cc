@@ -282,7 +282,12 @@ Table::Table(std::vector<std::string> header, int left) : left_(left) {
   rows_.push_back(std::move(header));
 }
 
-void Table::add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+void Table::add(std::vector<std::string> row) {
+  // One printable line a cell (names from files may hold control bytes): the widths then
+  // count what the terminal shows.
+  for (std::string& cell : row) cell = printable_line(cell);
+  rows_.push_back(std::move(row));
+}
 
 std::string Table::str() const {
   std::vector<std::size_t> width;
@@ -305,7 +310,9 @@ std::string Table::str() const {
   return os.str();
 }
 
-void warn(const std::string& message) { std::cerr << "gmwm: warning: " << message << '\n'; }
+void warn(const std::string& message) { std::cerr << "gmwm: warning: " << printable_line(message) << '\n'; }
+
+void print_text(const std::string& text) { std::cout << printable_text(text) << std::flush; }
 
 void warn_about_timing(const io::SignalSet& set) {
   if (!set.timing) return;

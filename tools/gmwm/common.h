@@ -191,7 +191,12 @@ class ProgressBar {
 /// Warns on stderr about gaps, disorder, and a --freq that disagrees with the timestamps.
 void warn_about_timing(const io::SignalSet& set);
 
-/// Prints "gmwm: warning: <message>" on stderr.
+/// Prints "gmwm: warning: <message>" on stderr, as one printable line.
 void warn(const std::string& message);
+
+/// Prints a terminal report on stdout with every control byte but line breaks and tabs
+/// shown as \xNN (printable_text): names from files reach the terminal as text, never as
+/// escape sequences.
+void print_text(const std::string& text);
 
 }  // namespace gmwm::cli

@@ -244,7 +244,7 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   try {
     columns = is_json_result(a.input.input) ? from_result(a, source) : from_data(a, common, source);
   } catch (const NoUsableResult& e) {
-    std::cerr << "gmwm: error: " << e.what() << '\n';
+    std::cerr << "gmwm: error: " << printable_line(e.what()) << '\n';
     return 1;
   }
   const io::ExportResult r = io::render_export(columns, o, source);
@@ -257,8 +257,7 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   write_json(common, doc, {.threads = 0, .seconds = {}, .argv = {}});
   commit_outputs(common);
   if (common.show_table() && a.output != "-") {
-    std::cout << terminal_report(o, r, a.output);
-    std::cout.flush();
+    print_text(terminal_report(o, r, a.output));
   }
   return 0;
 }

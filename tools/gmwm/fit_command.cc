@@ -165,10 +165,10 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
     write_report(common, rep);
   }
   commit_outputs(common);
-  if (common.show_table()) std::cout << report << std::flush;
+  if (common.show_table()) print_text(report);
   for (std::size_t i = 0; i < groups.size(); ++i)
     if (const FitResult& j = study.groups[i].analysis.fit.joint; j.status == FitStatus::kFailed) {
-      std::cerr << "gmwm: error: the joint fit of '" << groups[i].axis << "' failed: " << j.message << '\n';
+      std::cerr << "gmwm: error: " << printable_line("the joint fit of '" + groups[i].axis + "' failed: " + j.message) << '\n';
       return 1;
     }
   return 0;
@@ -260,8 +260,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   }
   commit_outputs(common);
   if (common.show_table()) {
-    std::cout << report;
-    std::cout.flush();
+    print_text(report);
   }
   if (usable == 0) {
     std::cerr << "gmwm: error: no usable fit (every column failed)\n";

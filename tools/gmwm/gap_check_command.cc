@@ -119,7 +119,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   io::Json doc = io::gap_check_document(o, r);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
-  if (common.show_table()) std::cout << report(r) << std::flush;
+  if (common.show_table()) print_text(report(r));
   return 0;
 }
 

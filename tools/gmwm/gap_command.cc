@@ -228,8 +228,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   }
   commit_outputs(common);
   if (common.show_table()) {
-    std::cout << report;
-    std::cout.flush();
+    print_text(report);
   }
   return 0;
 }

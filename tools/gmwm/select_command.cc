@@ -188,7 +188,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
     write_report(common, rep);
   }
   commit_outputs(common);
-  if (common.show_table()) std::cout << report << std::flush;
+  if (common.show_table()) print_text(report);
   return 0;
 }
 
@@ -298,8 +298,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   }
   commit_outputs(common);
   if (common.show_table()) {
-    std::cout << report;
-    std::cout.flush();
+    print_text(report);
   }
   return 0;
 }

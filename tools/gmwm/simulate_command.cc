@@ -152,12 +152,12 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
               .argv = {}});
   commit_outputs(common);
   if (common.show_table()) {
-    std::cout << "wrote " << args.output << ": " << signals.size() << " signal(s) ("
-              << joined(names) << ") x " << args.n << " samples"
-              << (args.freq ? " at " + fmt(*args.freq) + " Hz with a timestamp column" : "")
-              << (args.quantum ? ", rounded to multiples of " + fmt(*args.quantum) : "")
-              << "\nmodel: " << model.to_string(theta) << "\nseed: " << common.seed << '\n';
-    std::cout.flush();
+    std::ostringstream os;
+    os << "wrote " << args.output << ": " << signals.size() << " signal(s) (" << joined(names) << ") x " << args.n
+       << " samples" << (args.freq ? " at " + fmt(*args.freq) + " Hz with a timestamp column" : "")
+       << (args.quantum ? ", rounded to multiples of " + fmt(*args.quantum) : "")
+       << "\nmodel: " << model.to_string(theta) << "\nseed: " << common.seed << '\n';
+    print_text(os.str());
   }
   return 0;
 }

@@ -202,9 +202,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   }
   commit_outputs(common);
   if (common.show_table()) {
-    if (set.timing) std::cout << set.timing->summary() << '\n';
-    std::cout << table << adev_terminal(set, study, args.units);
-    std::cout.flush();
+    print_text((set.timing ? set.timing->summary() + "\n" : std::string()) + table + adev_terminal(set, study, args.units));
   }
   return 0;
 }

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "export_internal.h"
+#include "gmwm/engine/error.h"
 
 namespace gmwm::io::export_detail {
 namespace {
@@ -56,7 +57,9 @@ std::string render_basalt(const ExportOptions& o, const ExportResult& r, std::st
         "                                      a bias change over dt is weighted by 1 / (bias_std^2 dt)"})
     lines.push_back(l);
   sidecar.clear();
-  for (const auto& l : lines) sidecar += l + "\n";
+  // One printable line each, as the comment formats' headers: names from files carry no
+  // line break or escape sequence into the text.
+  for (const auto& l : lines) sidecar += printable_line(l) + "\n";
   return doc.dump(4) + "\n";
 }
 

@@ -118,14 +118,17 @@ std::string yaml_comments(const std::vector<std::string>& lines) {
   return out;
 }
 
+std::string xml_comment_text(std::string_view text) {
+  std::string l = printable_line(text);
+  // XML 1.0 (2.5): a comment holds no "--" and does not end with '-' ("--->").
+  for (std::size_t p; (p = l.find("--")) != std::string::npos;) l.replace(p, 2, "- -");
+  if (!l.empty() && l.back() == '-') l += ' ';
+  return l;
+}
+
 std::string xml_comment(const std::vector<std::string>& lines, const std::string& indent) {
   std::string out = indent + "<!--\n";
-  for (const std::string& line : lines) {
-    std::string l = printable_line(line);
-    for (std::size_t p; (p = l.find("--")) != std::string::npos;) l.replace(p, 2, "- -");
-    if (!l.empty() && l.back() == '-') l += ' ';  // "--->" would end the comment badly
-    out += indent + "  " + l + "\n";
-  }
+  for (const std::string& line : lines) out += indent + "  " + xml_comment_text(line) + "\n";
   return out + indent + "-->\n";
 }
 

@@ -35,7 +35,7 @@ constexpr double kRotorsAccelCorrelationTime = 300.0;
 std::string element(const std::string& indent, const std::string& name, const std::string& value,
                     const std::string& comment = "") {
   return indent + "<" + name + ">" + value + "</" + name + ">" +
-         (comment.empty() ? "" : "  <!-- " + comment + " -->") + "\n";
+         (comment.empty() ? "" : "  <!-- " + xml_comment_text(comment) + " -->") + "\n";
 }
 
 std::string bias_comment(const WrittenNoise& w, const SiNames& si) {
@@ -97,7 +97,7 @@ std::string render_gz_sdf(const ExportOptions& o, const ExportResult& r) {
         std::string column;
         for (const auto& a : r.columns)
           if (a.kind == b.kind && a.axis == axis) column = a.column;
-        out += "  <!-- column " + column + " -->";
+        out += "  <!-- column " + xml_comment_text(column) + " -->";
       }
       out += '\n';
       out += noise_block("        ", k->per_axis ? k->axes[s] : k->combined, b.kind, r.rate);

@@ -4,6 +4,7 @@
 // render_export (export_format.cc) builds the ExportResult's figures and header
 // (export_noise.cc), then calls the format's renderer for the text.
 
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ std::string num(double x, int digits = 6);
 std::string yaml_comments(const std::vector<std::string>& lines);
 /// Lines inside one XML comment <!-- ... -->; "--" (not allowed in XML comments) becomes "- -".
 std::string xml_comment(const std::vector<std::string>& lines, const std::string& indent = "");
+/// `text` as the content of one XML comment: one printable line (printable_line) without
+/// "--", not ending with '-'; whatever a name holds, it cannot close the comment.
+std::string xml_comment_text(std::string_view text);
 
 /// SI unit names of a sensor kind.
 struct SiNames {

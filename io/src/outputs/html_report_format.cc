@@ -18,7 +18,13 @@ std::string html_escape(std::string_view s) {
       case '>': out += "&gt;"; break;
       case '"': out += "&quot;"; break;
       case '\'': out += "&#39;"; break;
-      default: out += ch;
+      default:
+        // Control bytes (from a name in a file) as the replacement character: a page
+        // carries no escape sequence to whoever prints it.
+        if ((static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n' && ch != '\r') || ch == 0x7F)
+          out += "\xEF\xBF\xBD";
+        else
+          out += ch;
     }
   }
   return out;

@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cstring>
+#include <string>
+#include <string_view>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
@@ -49,7 +51,14 @@ void check_signals(const std::vector<Signal>& signals, std::optional<double> fre
 }  // namespace
 
 std::string csv_field(const std::string& text) {
+  // A cell starting with = + - @ (or a tab or CR) is a formula to a spreadsheet
+  // (OWASP, "CSV injection"): a leading ' makes it text, and the cell is quoted.
   std::string out;
+  if (!text.empty() && std::string_view("=+-@\t\r").find(text.front()) != std::string_view::npos) {
+    std::string quoted = "\"'";
+    for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
+  }
   append_name(out, text);
   return out;
 }

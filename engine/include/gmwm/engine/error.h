@@ -9,10 +9,15 @@
 
 namespace gmwm {
 
-/// A message as one printable line: line breaks become spaces, other control bytes, DEL
-/// and bytes that are not valid UTF-8 are shown as \xNN, so that a NUL or binary junk
+/// A message as one printable line: line breaks become spaces, other control bytes, DEL,
+/// the C1 controls and bytes that are not valid UTF-8 are shown as \xNN, so that a NUL or binary junk
 /// from a file cannot cut, hide or garble what is printed; trailing spaces are dropped.
 std::string printable_line(std::string_view message);
+
+/// Text for a terminal: as printable_line but line breaks and tabs are kept, so that a name
+/// read from a file cannot carry an escape sequence (ESC, CSI, a carriage return that
+/// overwrites the line) into what is printed.
+std::string printable_text(std::string_view text);
 
 /// The message is kept as printable_line(message): what() is one printable line whatever
 /// bytes of a file it quotes.

@@ -26,8 +26,9 @@ void write_signals(const std::string& path, const std::vector<Signal>& signals,
 void stage_signals(OutputSet& outputs, const std::string& path, const std::vector<Signal>& signals,
                    std::optional<double> freq);
 
-/// A CSV field: as it is, or double-quoted (quotes doubled) when it holds a comma, a
-/// double quote or a line break (RFC 4180).
+/// A CSV field of a result table: as it is, or double-quoted (quotes doubled) when it
+/// holds a comma, a double quote or a line break (RFC 4180); a field a spreadsheet would
+/// run as a formula (starting with = + - @, a tab or a CR) is quoted with a leading '.
 std::string csv_field(const std::string& text);
 
 /// The CSV text, streamed into `out` (uncompressed; wrap `out` in a GzipOutput to compress).
