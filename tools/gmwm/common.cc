@@ -324,6 +324,8 @@ void warn_about_timing(const io::SignalSet& set) {
   if (t.disorder > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.disorder) +
          " repeated or backward timestamp(s)");
+  if (t.rate_change)  // read only with --freq: the samples are taken as evenly spaced
+    warn(set.path + ": column '" + t.column + "': " + t.rate_change_text() + "; --freq takes the samples as evenly spaced");
   if (t.given_freq && t.estimated_freq > 0 &&
       std::abs(*t.given_freq - t.estimated_freq) >
           io::TimingReport::kDisagreement * t.estimated_freq)

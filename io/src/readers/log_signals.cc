@@ -42,6 +42,7 @@ SignalSet log_signal_set(const std::string& path, const std::string& preset, con
   for (std::size_t i = 0; i < stamps.size(); ++i) offsets[i] = stamps[i] - stamps.front();
   set.timing = analyse_timing("stamp", offsets, stamps.front(), unit, unit_source);
   set.timing->given_freq = options.freq;
+  check_one_rate(path, *set.timing, options);
   if (options.freq) {
     set.freq = *options.freq;
     set.freq_known = true;

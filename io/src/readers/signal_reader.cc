@@ -461,6 +461,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (options.freq) {
     set.freq = *options.freq;
     set.freq_known = true;
+    detail::check_one_rate(path, *set.timing, options);
   } else if (set.timing && set.timing->estimated_freq > 0.0) {
     set.freq = set.timing->estimated_freq;
     set.freq_known = true;

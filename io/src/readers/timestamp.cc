@@ -1,5 +1,7 @@
 #include "timestamp.h"
 
+#include "gmwm/engine/error.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -110,6 +112,22 @@ std::optional<TimeUnit> timestamp_name(std::string_view name) {
   return unit ? *unit : TimeUnit{};
 }
 
+namespace {
+
+// The mean of the middle half of a block (reordered in place).
+double interquartile_mean(std::vector<double>& b) {
+  const std::size_t n = b.size(), q1 = n / 4, q3 = n - n / 4;
+  std::nth_element(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(q1), b.end());
+  std::nth_element(b.begin() + static_cast<std::ptrdiff_t>(q1), b.begin() + static_cast<std::ptrdiff_t>(q3), b.end());
+  double sum = 0.0;
+  for (std::size_t i = q1; i < q3; ++i) sum += b[i];
+  return sum / static_cast<double>(q3 - q1);
+}
+
+}  // namespace
+
+StepStatistics::StepStatistics() { block_.reserve(kRateBlock); }
+
 void StepStatistics::add(double offset) {
   if (samples_++ == 0) {
     previous_ = offset;
@@ -121,6 +139,9 @@ void StepStatistics::add(double offset) {
     ++disorder_;
     return;
   }
+  if (block_.empty()) block_start_ = samples_ - 2;  // the sample the step starts from
+  block_.push_back(d);
+  if (block_.size() == kRateBlock) end_block();
   if (run_length_ > 0 && d == run_step_) {
     ++run_length_;
     return;
@@ -128,6 +149,27 @@ void StepStatistics::add(double offset) {
   flush_run();
   run_step_ = d;
   run_length_ = 1;
+}
+
+void StepStatistics::end_block() const {
+  const double typical = interquartile_mean(block_);
+  block_.clear();
+  if (!have_first_) {
+    have_first_ = true;
+    first_typical_ = far_typical_ = typical;
+    far_start_ = block_start_;
+  } else if (std::fabs(std::log(typical / first_typical_)) > std::fabs(std::log(far_typical_ / first_typical_))) {
+    far_typical_ = typical;
+    far_start_ = block_start_;
+  }
+}
+
+std::optional<RateChange> StepStatistics::rate_change() const {
+  if (block_.size() >= kRateBlockMin) end_block();
+  block_.clear();
+  if (!have_first_ || std::fabs(std::log(far_typical_ / first_typical_)) <= std::log(kRateChangeRatio))
+    return std::nullopt;
+  return RateChange{first_typical_, far_typical_, 0, far_start_};
 }
 
 void StepStatistics::flush_run() const {
@@ -194,6 +236,13 @@ std::pair<std::int64_t, double> StepStatistics::above(double limit) const {
   return {n, largest};
 }
 
+void check_one_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options) {
+  if (!timing.rate_change || options.freq) return;
+  throw InputError(path + ": timestamps '" + timing.column + "': " + timing.rate_change_text() +
+                   ", expected one rate (a wavelet variance's scales are counted in samples): split the record "
+                   "there, or give --freq HZ to take the samples as evenly spaced");
+}
+
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets,
                             double first_time, const TimeUnit& unit,
                             const std::string& unit_source) {
@@ -238,6 +287,11 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
   }
   r.median_step_seconds = step * r.unit_to_seconds;
   r.estimated_freq = step > 0.0 ? 1.0 / r.median_step_seconds : 0.0;
+  if (const std::optional<RateChange> c = steps.rate_change()) {
+    r.rate_change = TimingReport::RateChange{1.0 / (c->from_step * r.unit_to_seconds),
+                                             1.0 / (c->to_step * r.unit_to_seconds), c->to_sample};
+  }
+
   if (step > 0.0) {
     const auto [gaps, largest] = steps.above(TimingReport::kGapFactor * step);
     r.gaps = gaps;
@@ -263,6 +317,7 @@ std::string TimingReport::summary() const {
     s += "the times never increase";
   }
   s += ", " + std::to_string(disorder) + " out of order";
+  if (rate_change) s += "; " + rate_change_text();
   if (given_freq && estimated_freq > 0.0) {
     const double rel = std::fabs(estimated_freq - *given_freq) / *given_freq;
     if (rel > kDisagreement) {
@@ -273,6 +328,14 @@ std::string TimingReport::summary() const {
     }
   }
   return s;
+}
+
+std::string TimingReport::rate_change_text() const {
+  if (!rate_change) return {};
+  using detail::format_hz;
+  return "the sampling rate changes within the record, from about " + format_hz(rate_change->from_hz) +
+         " at its start to about " + format_hz(rate_change->to_hz) + " from sample " +
+         std::to_string(rate_change->sample + 1);
 }
 
 }  // namespace gmwm::io

@@ -119,6 +119,15 @@ struct TimingReport {
   double largest_gap_seconds = 0.0; ///< largest step counted as a gap (0 when no gap)
   std::int64_t disorder = 0;        ///< non-increasing steps (repeated or backwards times)
   std::optional<double> given_freq; ///< --freq, when it was given as well
+  /// A sustained change of the sampling rate inside the record (blocks of 1024 steps whose
+  /// typical steps differ by more than 1.2x; gaps and jitter do not count): the rate at the
+  /// start, the rate furthest from it and the 0-based sample where that block starts. The
+  /// readers refuse such a record unless --freq says to take the samples as evenly spaced.
+  struct RateChange {
+    double from_hz = 0.0, to_hz = 0.0;
+    std::int64_t sample = 0;
+  };
+  std::optional<RateChange> rate_change;
 
   /// A step longer than this many median steps is a gap. Timestamp jitter of a regular
   /// stream stays well under half a period, while one dropped sample makes a step of two
@@ -130,6 +139,9 @@ struct TimingReport {
 
   /// One line for the terminal; mentions a disagreement with --freq above 1%.
   std::string summary() const;
+  /// "the sampling rate changes within the record, from about 100 Hz at its start to about
+  /// 200 Hz from sample 2049"; "" without a rate change.
+  std::string rate_change_text() const;
 };
 
 struct Signal {

