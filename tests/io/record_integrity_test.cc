@@ -26,6 +26,21 @@ using gmwm::test::write_text;
 
 namespace {
 
+// One gzip member holding `text`.
+std::string gzip_member(const std::string& text) {
+  z_stream zs{};
+  deflateInit2(&zs, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY);
+  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  zs.avail_in = static_cast<uInt>(text.size());
+  zs.next_out = reinterpret_cast<Bytef*>(out.data());
+  zs.avail_out = static_cast<uInt>(out.size());
+  deflate(&zs, Z_FINISH);
+  out.resize(zs.total_out);
+  deflateEnd(&zs);
+  return out;
+}
+
 // A CSV of nanosecond stamps (steps as given) and one varying signal.
 std::string stamps_csv(const std::vector<std::int64_t>& steps) {
   std::string s = "timestamp [ns],x\n";
@@ -99,6 +114,28 @@ TEST_F(RecordIntegrity, JitterRoundingAndGapsAreNotARateChange) {
     ASSERT_TRUE(s.timing);
     EXPECT_FALSE(s.timing->rate_change) << s.timing->summary();
   }
+}
+
+TEST_F(RecordIntegrity, EveryMemberOfAConcatenatedGzipFileIsRead) {
+  std::string first = "time,x\n", second;
+  for (int i = 0; i < 3000; ++i) (i < 1000 ? first : second) += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\n";
+  const SignalSet s = read_signals(file(gzip_member(first) + gzip_member(second), "two.csv.gz"), {});
+  ASSERT_EQ(s.signals.size(), 1u);
+  EXPECT_EQ(s.signals[0].values.size(), 3000u);
+  // Zero padding after the last member (tape blocks) is ignored, as gzip does.
+  const SignalSet padded = read_signals(file(gzip_member(first) + std::string(512, '\0'), "padded.csv.gz"), {});
+  EXPECT_EQ(padded.signals[0].values.size(), 1000u);
+}
+
+TEST_F(RecordIntegrity, TextAppendedAfterAGzipStreamIsRefusedNotDropped) {
+  std::string rows = "time,x\n", more;
+  for (int i = 0; i < 100; ++i) rows += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\n";
+  for (int i = 100; i < 200; ++i) more += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\n";
+  const std::string member = gzip_member(rows);
+  const std::string e = read_error(file(member + more, "mixed.csv.gz"));
+  EXPECT_TRUE(contains(e, "mixed.csv.gz: found bytes that are not gzip data after the end of the gzip stream, at byte "
+                          "offset " + std::to_string(member.size())))
+      << e;
 }
 
 }  // namespace

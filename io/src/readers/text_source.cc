@@ -99,9 +99,11 @@ class GzipStream {
         break;
       }
       if (!in_member_) {
-        // Between members: another member starts with the magic byte 0x1f; anything
-        // else is trailing padding, which gzip itself ignores too.
+        // Between members: another member starts with the magic byte 0x1f. Zero bytes to
+        // the end are padding (tape blocks), which gzip ignores too; anything else (plain
+        // rows appended to a .gz, say) would be lost without a word, and is refused.
         if (zs_.next_in[0] != 0x1f) {
+          expect_only_padding();
           done_ = true;
           break;
         }
@@ -130,6 +132,21 @@ class GzipStream {
   }
 
  private:
+  // The rest of the file after the last member: zeros only, else InputError naming the
+  // byte offset of the first other byte.
+  void expect_only_padding() {
+    do {
+      const auto* p = static_cast<const unsigned char*>(zs_.next_in);
+      for (uInt i = 0; i < zs_.avail_in; ++i)
+        if (p[i] != 0)
+          fail(path_, "found bytes that are not gzip data after the end of the gzip stream, at byte offset " +
+                          std::to_string(total_in_ - zs_.avail_in + i) +
+                          ", expected only gzip members (plain text appended to a .gz file? decompress the gzip part "
+                          "and join them as text)");
+      zs_.avail_in = 0;
+    } while (fill_input());
+  }
+
   bool fill_input() {
     const std::size_t n = std::fread(in_.data(), 1, in_.size(), file_);
     if (n == 0) {
