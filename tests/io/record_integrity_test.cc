@@ -138,4 +138,15 @@ TEST_F(RecordIntegrity, TextAppendedAfterAGzipStreamIsRefusedNotDropped) {
       << e;
 }
 
+TEST_F(RecordIntegrity, ASimulatedFileAtAVeryLowRateReadsBackAtThatRate) {
+  // Its time column says its unit: a step of 1000 s is not read as 1000 us.
+  std::vector<double> x(64);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.3 * static_cast<double>(i));
+  const std::string p = (dir / "slow.csv").string();
+  gmwm::io::write_signals(p, {{"x", x}}, 0.001);
+  const SignalSet s = read_signals(p, {});
+  EXPECT_NEAR(s.freq, 0.001, 1e-15);
+  EXPECT_EQ(s.timing->unit, "s");
+}
+
 }  // namespace

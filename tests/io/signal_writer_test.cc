@@ -69,7 +69,8 @@ TEST_F(SignalWriter, RoundTripsPlainCsvToFullDoublePrecision) {
   expect_bitwise_equal(s.signals[0].values, signals[0].values);
   expect_bitwise_equal(s.signals[1].values, signals[1].values);
   ASSERT_TRUE(s.timing);
-  EXPECT_EQ(s.timing->column, "time");
+  EXPECT_EQ(s.timing->column, "time [s]");
+  EXPECT_EQ(s.timing->unit_source, "stated in the header");
   EXPECT_NEAR(s.freq, 100.0, 1e-9);
 }
 
@@ -98,7 +99,7 @@ TEST_F(SignalWriter, WritesNoTimeColumnWithoutAFreq) {
 
 TEST_F(SignalWriter, WritesTheTimeInSecondsFirst) {
   EXPECT_EQ(gmwm::io::format_signals_csv({{"x", {1.0, 2.0, 4.0}}}, 4.0),
-            "time,x\n0,1\n0.25,2\n0.5,4\n");
+            "time [s],x\n0,1\n0.25,2\n0.5,4\n");
 }
 
 TEST_F(SignalWriter, QuotesNamesThatNeedIt) {

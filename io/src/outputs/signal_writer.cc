@@ -70,7 +70,9 @@ void write_signals_csv(OutputStream& out, const std::vector<Signal>& signals, st
   buf.reserve(kRowBuffer + 4096);
   bool first = true;
   if (freq) {
-    buf += "time";
+    // The unit in the header: without it a reader guesses it from the step, and a step of
+    // 1000 s (--freq 0.001) reads as 1000 us.
+    buf += "time [s]";
     first = false;
   }
   for (const Signal& s : signals) {

@@ -11,7 +11,7 @@
 namespace gmwm::io {
 
 /// Writes `signals` (all of the same length) to `path` as comma-separated text with a
-/// header row; with `freq`, a leading column "time" holds i / freq in seconds. Numbers are
+/// header row; with `freq`, a leading column "time [s]" holds i / freq in seconds. Numbers are
 /// written in the shortest form that reads back to the same double (std::to_chars), so a
 /// round trip through read_signals() is exact. A path ending in ".gz" is gzip-compressed.
 /// Names containing a comma, a double quote or a line break are double-quoted.
