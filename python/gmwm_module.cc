@@ -4,7 +4,9 @@
 // same io/ functions, so the numbers are equal to the last bit). The GIL is released while
 // the library computes; the library's InputError becomes gmwm.InputError (a ValueError)
 // with the same one-line message.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -67,7 +69,20 @@ std::vector<double> series_of(const py::handle& obj, const char* what) {
   for (std::size_t i = 0; i < x.size(); ++i)
     if (!std::isfinite(x[i]))
       throw gmwm::InputError(std::string(what) + ": sample " + std::to_string(i) + " is not a finite number");
+  // As the CLI's reader: a constant has a wavelet variance of zero, nothing to fit.
+  if (std::all_of(x.begin(), x.end(), [&](double v) { return v == x.front(); })) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", x.front());
+    throw gmwm::InputError(std::string(what) + ": found all " + std::to_string(x.size()) + " values equal to " + buf +
+                           ", expected a varying signal (a constant has a wavelet variance of zero)");
+  }
   return x;
+}
+
+// The library's check that a WV can be used (underflow, overflow), naming the column.
+void check_wv_range(const std::string& name, const gmwm::WaveletVariance& wv, std::span<const double> x) {
+  if (const std::string why = gmwm::wv_range_problem(wv, x, false); !why.empty())
+    throw gmwm::InputError("column '" + name + "': " + why);
 }
 
 // Columns: a 1-D array (one column), a 2-D array (samples x columns, as a file's columns)
@@ -174,7 +189,9 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
   {
     py::gil_scoped_release release;
     const std::vector<std::span<const double>> series{std::span<const double>(x)};
-    out = gmwm::io::wv_column_json(column, gmwm::classical_wv(series, o).front());
+    const gmwm::WaveletVariance wv = gmwm::classical_wv(series, o).front();
+    check_wv_range(name, wv, x);
+    out = gmwm::io::wv_column_json(column, wv);
   }
   return to_python(out);
 }
@@ -193,6 +210,7 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
     py::gil_scoped_release release;
     gmwm::ReadoffOptions readoff;
     readoff.alpha = alpha;
+    check_wv_range("data", gmwm::classical_wv(std::vector<std::span<const double>>{std::span<const double>(x)}, {}).front(), x);
     const gmwm::FigureReport r = gmwm::data_figure_report(x, freq, allan, readoff);
     out["unit"] = unit.empty() ? Json(nullptr) : Json(unit);
     out["allan"] = gmwm::io::allan_json(r.adev, {});

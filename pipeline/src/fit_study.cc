@@ -2,6 +2,7 @@
 // -> noise figures.
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/fit_study.h"
+#include "usable_wv.h"
 
 #include <chrono>
 #include <memory>
@@ -63,6 +64,7 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   const auto wv_start = std::chrono::steady_clock::now();
   std::vector<WaveletVariance> wvs = wavelet_variances(set, options);
   study.wv_seconds = seconds_since(wv_start);
+  detail::check_usable_wvs(set, wvs, true);
   for (const auto& w : wvs) check_model_fits_levels(study.model, w.levels());
 
   // The bootstrap Omega recomputes the same WV on simulated series.

@@ -2,6 +2,7 @@
 //   take_temperature -> resolve_baselines -> wavelet_variances -> baseline_values
 //   (simulator biases as RW, unit check, or the fit) -> diagnose_columns -> cross-axis.
 #include "gmwm/pipeline/gap_study.h"
+#include "usable_wv.h"
 
 #include <algorithm>
 #include <chrono>
@@ -97,6 +98,7 @@ void wavelet_variances(const io::SignalSet& set, const WvOptions& o, std::vector
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
   wvs = classical_wv(series, o);
+  detail::check_usable_wvs(set, wvs, true);
   robust::RobustWvOptions r;
   r.levels = o.levels;
   r.alpha = o.alpha;

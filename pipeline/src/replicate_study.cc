@@ -1,6 +1,7 @@
 // Studies over replicates: per group, the replicates' WVs, then the joint analysis
 // (analyse_replicates) or the selection over replicates (select_by_replicates).
 #include "gmwm/pipeline/replicate_study.h"
+#include "usable_wv.h"
 
 #include <memory>
 #include <span>
@@ -19,7 +20,6 @@ std::unique_ptr<robust::RobustWvEstimator> estimator_for(const std::optional<rob
 
 }  // namespace
 
-std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
 std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, const ReplicateGroup& group,
                                                  const ProcessContext& context, double alpha) {
   const FitResult& j = fit.joint;
@@ -33,9 +33,12 @@ std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, cons
                             covariance, "the joint model's Allan deviation (the replicates share the model)");
 }
 
+std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
                                            const std::optional<robust::RobustWvOptions>& robust) {
   const std::vector<std::span<const double>> series = spans_of(group);
   std::vector<WaveletVariance> wvs = robust ? robust::robust_wv(series, *robust) : classical_wv(series, options);
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    detail::check_usable_wv(group.sources[k] + ": ", wvs[k], series[k], true);
   for (std::size_t k = 0; k < wvs.size(); ++k) {
     try {
       check_model_fits_levels(model, wvs[k].levels());
@@ -76,10 +79,10 @@ JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const P
     s.wvs = replicate_wvs(g, model, options.wv, options.robust);
     const std::vector<std::span<const double>> series = spans_of(g);
     s.analysis = analyse_replicates(s.wvs, series, model, ao);
+    s.figures = joint_noise_figures(s.analysis.fit, g, context, options.fit.alpha);
     study.groups.push_back(std::move(s));
   }
   return study;
-    s.figures = joint_noise_figures(s.analysis.fit, g, context, options.fit.alpha);
 }
 
 std::string JointSelectStudyOptions::Validate() const {
@@ -126,10 +129,10 @@ JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, c
       a.fit = fit_gmwm_joint(study.wvs[i], recommended, ao.fit);
       a.pooled_slope = orient_by_replicates(a.fit, series);
     }
+    study.figures.push_back(joint_noise_figures(a.fit, groups[i], context, ao.fit.alpha));
+    study.recommended.push_back(std::move(a));
   }
   return study;
 }
-    study.figures.push_back(joint_noise_figures(a.fit, groups[i], context, ao.fit.alpha));
-    study.recommended.push_back(std::move(a));
 
 }  // namespace gmwm::pipeline

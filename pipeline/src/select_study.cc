@@ -1,6 +1,7 @@
 // The selection study as named stages: models -> wavelet variances -> selection (drifts
 // oriented) -> the best fits' noise figures.
 #include "gmwm/pipeline/select_study.h"
+#include "usable_wv.h"
 
 #include <chrono>
 #include <memory>
@@ -50,6 +51,7 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   std::vector<WaveletVariance> wvs =
       options.robust ? robust::robust_wv(series, *options.robust) : classical_wv(series, options.wv);
   study.wv_seconds = seconds_since(wv_start);
+  detail::check_usable_wvs(set, wvs, true);
   for (const auto& w : wvs) check_model_fits_levels(maximal, w.levels());
 
   // Bootstrap draws get the data's WV estimator.

@@ -2,6 +2,7 @@
 // rounding check and the contamination diagnostic) -> Allan deviations and noise figures.
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/wv_study.h"
+#include "usable_wv.h"
 
 #include <chrono>
 #include <span>
@@ -27,6 +28,7 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
   std::vector<WaveletVariance> classical = classical_wv(series, options.wv);
+  detail::check_usable_wvs(set, classical, false);
   if (options.robust) {
     std::vector<WaveletVariance> robust_wvs = robust::robust_wv(series, *options.robust);
     const robust::Tuning tuning = robust::tune(options.robust->estimator, options.robust->efficiency);

@@ -175,6 +175,21 @@ def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
         gmwm.simulate("WN(sigma2=1)", 100, freq=0)
 
 
+def test_a_constant_or_underflowing_series_is_refused_naming_it(example):
+    # Issue 25: these came back "converged" at a parameter floor of 3.7e-44.
+    with pytest.raises(gmwm.InputError, match="found all 1000 values equal to 1.5, expected a varying signal"):
+        gmwm.fit(np.full(1000, 1.5), "WN")
+    with pytest.raises(gmwm.InputError, match="found all 1000 values equal to 0"):
+        gmwm.select(np.zeros(1000), "WN+RW")
+    tiny = example["gyro_x"] * 1e-300
+    for call in (lambda: gmwm.wv(tiny, name="gyro_x"), lambda: gmwm.fit(tiny, "WN+RW", name="gyro_x"),
+                 lambda: gmwm.allan(tiny, freq=100.0)):
+        with pytest.raises(gmwm.InputError, match="zero at every level although the values vary"):
+            call()
+    with pytest.raises(gmwm.InputError, match="column 'gyro_x': the wavelet variance at level"):
+        gmwm.fit(example["gyro_x"] * 1e160, "WN+RW", name="gyro_x")
+
+
 def test_computations_release_the_gil(example):
     # Two selections in threads finish with the same results as one after the other; while
     # they run, the interpreter keeps executing Python (a counter advances).

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,27 @@ struct WaveletVariance {
     return Eigen::Map<const Eigen::VectorXd>(wv.data(), static_cast<Eigen::Index>(wv.size()));
   }
 };
+
+/// The range of a WV level's value (a variance) that doubles hold with its own variance
+/// Var(nu_hat_j^2) ~ 2 nu_j^4 / M_j, whose inverse weighs the level in a fit: both must be
+/// normal doubles (2.2e-308 .. 1.8e308). Data of magnitude 1e-300 (their squares underflow
+/// to 0) or 1e150 (sums of squares overflow) fall outside.
+inline constexpr double kMinRepresentableWv = 1e-150;
+inline constexpr double kMaxRepresentableWv = 1e150;
+
+/// The range of WV levels a fit can take: the fit's parameters are exp(u) with |u| <=
+/// kLogBound = 100 (process.h), so variances within 3.7e-44 .. 2.7e43; levels within
+/// [1e-30, 1e30] leave 13 orders of magnitude for components far below the total (a random
+/// walk's gamma2 is about nu_j^2 / tau_j, tau_j up to 2^40). Every real sensor unit is well
+/// inside (a gyroscope in rad/s: 1e-8 .. 1e-14; a magnetometer in tesla: about 1e-18).
+inline constexpr double kMinFittableWv = 1e-30;
+inline constexpr double kMaxFittableWv = 1e30;
+
+/// Why `wv` (of series x) is unusable, as a phrase, "" when it is usable: a level that is
+/// not finite (sums of squares overflowed), zero at every level (a constant series), or a
+/// level outside [kMinRepresentableWv, kMaxRepresentableWv]; with `for_fit`, outside
+/// [kMinFittableWv, kMaxFittableWv]. Ends with what to do about it.
+std::string wv_range_problem(const WaveletVariance& wv, std::span<const double> x, bool for_fit);
 
 /// Strategy for computing a WV from a series, so that bootstrap and gap code can
 /// recompute "the same WV" on simulated data without engine/ depending on robust/.
