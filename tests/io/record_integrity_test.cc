@@ -138,6 +138,27 @@ TEST_F(RecordIntegrity, TextAppendedAfterAGzipStreamIsRefusedNotDropped) {
       << e;
 }
 
+TEST_F(RecordIntegrity, Utf16AndCrOnlyLineEndingsAreNamedAsSuch) {
+  std::string utf16 = "\xFF\xFE";
+  for (char c : std::string("time,x\n0,1\n0.01,2\n")) utf16 += std::string(1, c) + '\0';
+  EXPECT_TRUE(contains(read_error(file(utf16, "u.csv")), "u.csv:1: found a UTF-16 byte-order mark")) << read_error(file(utf16, "u.csv"));
+  std::string no_bom;
+  for (char c : std::string("time,x\n0,1\n0.01,2\n")) no_bom += std::string(1, c) + '\0';
+  EXPECT_TRUE(contains(read_error(file(no_bom, "n.csv")), "n.csv:1: found NUL bytes in the header line"));
+  std::string cr = "time,x\r";
+  for (int i = 0; i < 100; ++i) cr += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\r";
+  const std::string e = read_error(file(cr, "mac.csv"));
+  EXPECT_TRUE(contains(e, "mac.csv:1: found carriage returns (CR) inside the first line")) << e;
+  // ... also when the CR-only file is longer than the line limit.
+  std::string long_cr = "time,x\r";
+  while (long_cr.size() <= gmwm::io::kMaxLineBytes) long_cr += "0.01,0.123456789\r";
+  EXPECT_TRUE(contains(read_error(file(long_cr, "long.csv")), "carriage returns (CR)"));
+  // CR LF line endings are fine.
+  std::string crlf = "time,x\r\n";
+  for (int i = 0; i < 100; ++i) crlf += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\r\n";
+  EXPECT_EQ(read_signals(file(crlf, "dos.csv"), {}).signals[0].values.size(), 100u);
+}
+
 TEST_F(RecordIntegrity, ASimulatedFileAtAVeryLowRateReadsBackAtThatRate) {
   // Its time column says its unit: a step of 1000 s is not read as 1000 us.
   std::vector<double> x(64);

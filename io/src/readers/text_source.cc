@@ -238,7 +238,21 @@ void TextSource::refill() {
   end_ += n;
 }
 
+void TextSource::check_encoding(std::string_view first) const {
+  const auto starts = [&](const char* magic) { return first.rfind(magic, 0) == 0; };
+  if (starts("\xFF\xFE") || starts("\xFE\xFF") || first.find('\0') != std::string_view::npos)
+    throw InputError(path_ + ":1: found " +
+                     (starts("\xFF\xFE") || starts("\xFE\xFF") ? std::string("a UTF-16 byte-order mark")
+                                                               : std::string("NUL bytes in the header line")) +
+                     ", expected UTF-8 or ASCII text (UTF-16 text? convert it: iconv -f UTF-16 -t UTF-8)");
+  if (first.find('\r') != std::string_view::npos)
+    throw InputError(path_ + ":1: found carriage returns (CR) inside the first line, expected lines ending in LF or CR LF "
+                             "(a file with CR-only line endings? convert it: tr '\\r' '\\n')");
+}
+
 void TextSource::fail_long_line() const {
+  if (line_ == 0 && std::memchr(buf_.get() + pos_, '\r', std::min(end_ - pos_, kMaxLineBytes)))
+    check_encoding(std::string_view(buf_.get() + pos_, std::min(end_ - pos_, kMaxLineBytes)));
   throw InputError(path_ + ":" + std::to_string(line_ + 1) + ": found a line longer than " +
                    std::to_string(kMaxLineBytes) + " bytes, expected rows of at most " +
                    std::to_string(kMaxLineBytes >> 20) + " MiB each (is this a text file of numbers?)");
@@ -268,6 +282,7 @@ bool TextSource::next_line(std::string_view& line) {
     if (len > kMaxLineBytes) fail_long_line();
     if (len > 0 && b[len - 1] == '\r') --len;
     line = std::string_view(b, len);
+    if (line_ == 0) check_encoding(line);
     ++line_;
     return true;
   }

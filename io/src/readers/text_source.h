@@ -39,6 +39,9 @@ class TextSource {
  private:
   void refill();
   [[noreturn]] void fail_long_line() const;
+  // Refuses a first line that shows the wrong encoding (UTF-16: a byte-order mark or NUL
+  // bytes) or CR-only line endings, naming that cause rather than its consequence.
+  void check_encoding(std::string_view first) const;
   void reserve(std::size_t bytes);
 
   std::string path_;
