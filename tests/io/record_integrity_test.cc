@@ -159,6 +159,28 @@ TEST_F(RecordIntegrity, Utf16AndCrOnlyLineEndingsAreNamedAsSuch) {
   EXPECT_EQ(read_signals(file(crlf, "dos.csv"), {}).signals[0].values.size(), 100u);
 }
 
+TEST_F(RecordIntegrity, JitteryStampsBeyondTheMemoryBudgetKeepTheirStepsInAFileWithTheSameTiming) {
+  // 150,001 stamps at 5 ms with 0.4 ms of jitter: more distinct steps than the step table
+  // holds, so the steps are listed (8 bytes a row); beyond a 1 MB budget the list goes to a
+  // temporary file and the median is selected from it, bit for bit the same.
+  std::uint64_t state = 12345;
+  std::vector<std::int64_t> steps;
+  for (int i = 0; i < 150000; ++i)
+    steps.push_back(i == 9000 ? 60000000 : 5000000 + static_cast<std::int64_t>((uniform(state) - 0.5) * 800000));
+  const std::string p = file(stamps_csv(steps));
+  const SignalSet in_memory = read_signals(p, {});
+  ReadOptions o;
+  o.memory_budget = 1e6;
+  const SignalSet spilled = read_signals(p, o);
+  ASSERT_TRUE(spilled.spilled);
+  ASSERT_TRUE(in_memory.timing && spilled.timing);
+  EXPECT_EQ(spilled.timing->median_step_seconds, in_memory.timing->median_step_seconds);
+  EXPECT_EQ(spilled.timing->gaps, in_memory.timing->gaps);
+  EXPECT_EQ(spilled.timing->largest_gap_seconds, in_memory.timing->largest_gap_seconds);
+  EXPECT_EQ(spilled.freq, in_memory.freq);
+  EXPECT_GE(spilled.timing->gaps, 1);
+}
+
 TEST_F(RecordIntegrity, ASimulatedFileAtAVeryLowRateReadsBackAtThatRate) {
   // Its time column says its unit: a step of 1000 s is not read as 1000 us.
   std::vector<double> x(64);

@@ -363,7 +363,7 @@ TEST_F(SignalReader, APlainFileLargerThanItsReadChunkIsReadWhole) {
 }
 
 TEST_F(SignalReader, ARecordBeyondTheMemoryBudgetGoesOnInTemporaryFilesWithTheSameValuesAndWv) {
-  // A budget of 1 MB holds 31,250 rows of two columns: 200,000 rows go to temporary files
+  // A budget of 1 MB holds 20,833 rows of two columns and a timestamp column: 200,000 rows go to temporary files
   // (from the first check past the budget, row 65,536), value for value the same as in
   // memory, and so is the classical WV (the Haar prefix sums then live in a file too).
   const std::string p = file("time,x,y\n" + csv_rows(200000));

@@ -61,6 +61,7 @@ class RowParser {
   /// one: exact for integer timestamps such as nanoseconds since 1970 (which a double
   /// cannot hold exactly). The times themselves are not kept.
   const StepStatistics& time_steps() const { return time_steps_; }
+  StepStatistics& time_steps() { return time_steps_; }
   double first_time() const { return first_time_; }
   bool has_time() const { return has_time_; }
 

@@ -201,13 +201,16 @@ class ColumnSink {
                                                                   "% of this machine's memory)");
     if (!options_.spill)
       throw InputError(where(path_, line) + "found more than " + std::to_string(max_rows_) + " rows of " +
-                       std::to_string(parser_.values().size()) + " column(s), expected at most " + std::to_string(max_rows_) +
+                       std::to_string(parser_.values().size()) + " column(s)" +
+                       (parser_.has_time() ? std::string(" and a timestamp column") : std::string()) +
+                       ", expected at most " + std::to_string(max_rows_) +
                        ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed " + limit +
                        "; read fewer columns with --columns");
     spdlog::info("{}: more than {} rows exceed {}: the columns go to temporary files in {}", path_, max_rows_, limit,
                  gmwm::detail::temporary_folder());
     for (std::size_t i = 0; i < parser_.values().size(); ++i) files_.push_back(std::make_unique<SampleFileWriter>());
     empty_into_files();
+    parser_.time_steps().spill_to_file();  // the steps of jittery stamps, 8 bytes a row, too
     for (auto& v : parser_.values()) {
       std::vector<double>().swap(v);  // give the budget's memory back
       v.reserve(static_cast<std::size_t>(kRowsPerMemoryCheck));
@@ -411,7 +414,8 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (time_col) plan[*time_col].kind = FieldPlan::kTime;
 
   detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
-  ColumnSink sink(path, parser, selected.size(), options);
+  // A timestamp column counts as a column: jittery stamps keep a step a row (StepStatistics).
+  ColumnSink sink(path, parser, selected.size() + (time_col ? 1 : 0), options);
   parser.reserve(sink.rows_to_reserve(src.text_size_hint(), first_row.size()));
   parser.parse(first_row, first_row_line);
   while (src.next_line(line)) {
@@ -457,11 +461,11 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     set.timing = detail::analyse_timing(c.header, parser.time_steps(), parser.first_time(), unit,
                                         source);
     set.timing->given_freq = options.freq;
+    detail::check_one_rate(path, *set.timing, options);
   }
   if (options.freq) {
     set.freq = *options.freq;
     set.freq_known = true;
-    detail::check_one_rate(path, *set.timing, options);
   } else if (set.timing && set.timing->estimated_freq > 0.0) {
     set.freq = set.timing->estimated_freq;
     set.freq_known = true;

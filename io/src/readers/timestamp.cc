@@ -1,12 +1,15 @@
 #include "timestamp.h"
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/samples.h"
 
 #include <algorithm>
+#include <bit>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <span>
 
 namespace gmwm::io::detail {
 
@@ -112,7 +115,61 @@ std::optional<TimeUnit> timestamp_name(std::string_view name) {
   return unit ? *unit : TimeUnit{};
 }
 
+// The list of increasing steps of jittery stamps: in memory, or in a temporary file once
+// the record is beyond the memory budget.
+struct StepStatistics::Store {
+  std::vector<double> memory;
+  std::unique_ptr<SampleFileWriter> writer;
+  Samples file;
+
+  void push(double step, std::int64_t count) {
+    if (writer) {
+      for (std::int64_t i = 0; i < count; ++i) writer->append(&step, 1);
+    } else {
+      memory.insert(memory.end(), static_cast<std::size_t>(count), step);
+    }
+  }
+  void to_file() {
+    if (writer || file.in_file()) return;
+    writer = std::make_unique<SampleFileWriter>();
+    writer->append(memory.data(), memory.size());
+    std::vector<double>().swap(memory);
+  }
+  bool in_file() const { return writer || file.in_file(); }
+  // The steps in a file, once every one has been added.
+  std::span<const double> file_view() {
+    if (writer) {
+      file = writer->finish();
+      writer.reset();
+    }
+    return file;
+  }
+};
+
 namespace {
+
+// The k-th smallest (0-based) of positive finite doubles, exactly, in four passes over a
+// series of any length (a radix selection on the bits, which order positive doubles as
+// integers): for a list in a file, whose pages each pass releases (for_each_block).
+double select_rank(std::span<const double> v, std::uint64_t k) {
+  constexpr int kDigitBits = 16;
+  std::vector<std::uint64_t> counts(std::size_t{1} << kDigitBits);
+  std::uint64_t prefix = 0, mask = 0;
+  for (int shift = 64 - kDigitBits; shift >= 0; shift -= kDigitBits) {
+    std::fill(counts.begin(), counts.end(), 0);
+    for_each_block(v, [&](std::span<const double> part, std::size_t) {
+      for (double d : part) {
+        const auto u = std::bit_cast<std::uint64_t>(d);
+        if ((u & mask) == prefix) ++counts[(u >> shift) & 0xFFFF];
+      }
+    });
+    std::uint64_t digit = 0;
+    while (digit + 1 < counts.size() && k >= counts[digit]) k -= counts[digit++];
+    prefix |= digit << shift;
+    mask |= std::uint64_t{0xFFFF} << shift;
+  }
+  return std::bit_cast<double>(prefix);
+}
 
 // The mean of the middle half of a block (reordered in place).
 double interquartile_mean(std::vector<double>& b) {
@@ -127,6 +184,9 @@ double interquartile_mean(std::vector<double>& b) {
 }  // namespace
 
 StepStatistics::StepStatistics() { block_.reserve(kRateBlock); }
+StepStatistics::~StepStatistics() = default;
+StepStatistics::StepStatistics(StepStatistics&&) noexcept = default;
+StepStatistics& StepStatistics::operator=(StepStatistics&&) noexcept = default;
 
 void StepStatistics::add(double offset) {
   if (samples_++ == 0) {
@@ -172,16 +232,22 @@ std::optional<RateChange> StepStatistics::rate_change() const {
   return RateChange{first_typical_, far_typical_, 0, far_start_};
 }
 
+void StepStatistics::spill_to_file() {
+  to_file_ = true;
+  if (spilled_) spilled_->to_file();
+}
+
 void StepStatistics::flush_run() const {
   if (run_length_ == 0) return;
-  if (spilling_) {
-    spilled_.insert(spilled_.end(), static_cast<std::size_t>(run_length_), run_step_);
+  if (spilled_) {
+    spilled_->push(run_step_, run_length_);
   } else {
     counts_[run_step_] += run_length_;
     if (counts_.size() > kMaxDistinctSteps) {
-      for (const auto& [step, count] : counts_) spilled_.insert(spilled_.end(), static_cast<std::size_t>(count), step);
+      spilled_ = std::make_unique<Store>();
+      if (to_file_) spilled_->to_file();
+      for (const auto& [step, count] : counts_) spilled_->push(step, count);
       counts_ = {};
-      spilling_ = true;
     }
   }
   run_length_ = 0;
@@ -189,9 +255,17 @@ void StepStatistics::flush_run() const {
 
 double StepStatistics::median() const {
   flush_run();
-  if (spilling_) {
-    if (spilled_.empty()) return 0.0;
-    std::vector<double>& v = spilled_;  // reordered in place; the multiset is unchanged
+  if (spilled_ && spilled_->in_file()) {
+    const std::span<const double> v = spilled_->file_view();
+    if (v.empty()) return 0.0;
+    const std::uint64_t mid = v.size() / 2;
+    const double hi = select_rank(v, mid);
+    if (v.size() % 2 == 1) return hi;
+    return 0.5 * (select_rank(v, mid - 1) + hi);
+  }
+  if (spilled_) {
+    std::vector<double>& v = spilled_->memory;  // reordered in place; the multiset is unchanged
+    if (v.empty()) return 0.0;
     const std::size_t mid = v.size() / 2;
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
     const double hi = v[mid];
@@ -229,10 +303,15 @@ std::pair<std::int64_t, double> StepStatistics::above(double limit) const {
       largest = std::max(largest, step);
     }
   };
-  if (spilling_)
-    for (double d : spilled_) visit(d, 1);
-  else
+  if (spilled_ && spilled_->in_file()) {
+    for_each_block(spilled_->file_view(), [&](std::span<const double> part, std::size_t) {
+      for (double d : part) visit(d, 1);
+    });
+  } else if (spilled_) {
+    for (double d : spilled_->memory) visit(d, 1);
+  } else {
     for (const auto& [step, count] : counts_) visit(step, count);
+  }
   return {n, largest};
 }
 
@@ -291,7 +370,6 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
     r.rate_change = TimingReport::RateChange{1.0 / (c->from_step * r.unit_to_seconds),
                                              1.0 / (c->to_step * r.unit_to_seconds), c->to_sample};
   }
-
   if (step > 0.0) {
     const auto [gaps, largest] = steps.above(TimingReport::kGapFactor * step);
     r.gaps = gaps;

@@ -3,6 +3,7 @@
 // deciding the unit otherwise, and measuring the sampling (rate, gaps, disorder).
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -38,9 +39,10 @@ struct RateChange {
 
 /// The steps between consecutive times, gathered while the times are read, so that the
 /// times themselves need not be kept (8 bytes a sample that a long record cannot spare):
-/// the exact median step, the gaps, the disorder and a change of rate. A uniformly sampled log has a handful
-/// of distinct steps, counted in a table; times with more distinct steps than
-/// kMaxDistinctSteps (jittery stamps) spill to a list of the increasing steps.
+/// the exact median step, the gaps, the disorder and a change of rate. A uniformly sampled
+/// log has a handful of distinct steps, counted in a table; times with more distinct steps
+/// than kMaxDistinctSteps (jittery stamps) spill to a list of the increasing steps, kept in
+/// memory or, beyond the memory budget (spill_to_file), in a temporary file.
 class StepStatistics {
  public:
   /// Distinct steps counted before spilling to a list: a 2^16-entry table is about 3 MB.
@@ -59,6 +61,9 @@ class StepStatistics {
   static constexpr double kRateChangeRatio = 1.2;
 
   StepStatistics();
+  ~StepStatistics();
+  StepStatistics(StepStatistics&&) noexcept;
+  StepStatistics& operator=(StepStatistics&&) noexcept;
 
   /// The next time, relative to the first one (the first call passes 0).
   void add(double offset);
@@ -66,15 +71,21 @@ class StepStatistics {
   /// Steps that are not increasing (zero or negative).
   std::int64_t disorder() const { return disorder_; }
   /// Median of the increasing steps (the mean of the two middle ones for an even count);
-  /// 0 when there is none. Equal, bit for bit, to the median of the list of steps.
+  /// 0 when there is none. Equal, bit for bit, to the median of the list of steps, wherever
+  /// the list is kept.
   double median() const;
   /// The increasing steps above `limit`: how many, and the largest (0 when none).
   std::pair<std::int64_t, double> above(double limit) const;
   /// The first and the most distant block typical steps when they differ by more than
   /// kRateChangeRatio (the earliest block against the one furthest from it), else nullopt.
   std::optional<RateChange> rate_change() const;
+  /// From now on, a list of steps (jittery stamps) is kept in a temporary file: called when
+  /// the record goes beyond the memory budget. Throws InputError when the temporary folder
+  /// cannot take it.
+  void spill_to_file();
 
  private:
+  struct Store;
   void flush_run() const;
   void end_block() const;
 
@@ -86,8 +97,8 @@ class StepStatistics {
   mutable double run_step_ = 0.0;
   mutable std::int64_t run_length_ = 0;
   mutable std::unordered_map<double, std::int64_t> counts_;
-  mutable std::vector<double> spilled_;  // used once the table is full
-  mutable bool spilling_ = false;
+  mutable std::unique_ptr<Store> spilled_;  // the list of steps once the table is full
+  bool to_file_ = false;
   // The rate-change check: the current block, and the first and most distant typical steps.
   mutable std::vector<double> block_;
   mutable std::int64_t block_start_ = 0;
