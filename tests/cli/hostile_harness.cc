@@ -8,8 +8,6 @@
 #include <fstream>
 #include <iterator>
 
-#include <zlib.h>
-
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -28,20 +26,6 @@ std::string bytes(std::initializer_list<int> b) {
   std::string s;
   for (int c : b) s += static_cast<char>(c);
   return s;
-}
-
-std::string gzip_member(const std::string& text) {
-  z_stream zs{};
-  deflateInit2(&zs, Z_BEST_COMPRESSION, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY);
-  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
 }
 
 std::string gzip_bomb(const std::string& head, const std::string& unit, int copies) {

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_runner.h"
+#include "test_support.h"
 
 namespace gmwm::test::hostile {
 
@@ -39,8 +40,8 @@ std::string base_csv();
 /// A string of the given byte values.
 std::string bytes(std::initializer_list<int> b);
 
-/// One gzip member holding `text`.
-std::string gzip_member(const std::string& text);
+/// One gzip member holding `text` (test_support.h).
+using ::gmwm::test::gzip_member;
 
 /// A decompression bomb: `head` in a first member, then `copies` members of 1 MiB of `unit`
 /// repeated (concatenated members are one gzip stream; each costs about 1 kB).

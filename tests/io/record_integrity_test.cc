@@ -10,8 +10,6 @@
 #include <string>
 #include <vector>
 
-#include <zlib.h>
-
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/signal_writer.h"
 #include "signal_test_util.h"
@@ -21,25 +19,11 @@ using gmwm::io::read_signals;
 using gmwm::io::ReadOptions;
 using gmwm::io::SignalSet;
 using gmwm::test::contains;
+using gmwm::test::gzip_member;
 using gmwm::test::read_error;
 using gmwm::test::write_text;
 
 namespace {
-
-// One gzip member holding `text`.
-std::string gzip_member(const std::string& text) {
-  z_stream zs{};
-  deflateInit2(&zs, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY);
-  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
-}
 
 // A CSV of nanosecond stamps (steps as given) and one varying signal.
 std::string stamps_csv(const std::vector<std::int64_t>& steps) {

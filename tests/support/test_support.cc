@@ -9,6 +9,8 @@
 #include <array>
 #include <random>
 
+#include <zlib.h>
+
 namespace gmwm::test {
 
 std::optional<std::filesystem::path> shared_data_dir() {
@@ -25,6 +27,20 @@ std::optional<std::filesystem::path> shared_data_dir() {
 std::string shared_data_file(const std::string& name) {
   auto d = shared_data_dir();
   return d ? (*d / name).string() : std::string();
+}
+
+std::string gzip_member(const std::string& text) {
+  z_stream zs{};
+  deflateInit2(&zs, Z_BEST_COMPRESSION, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY);
+  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  zs.avail_in = static_cast<uInt>(text.size());
+  zs.next_out = reinterpret_cast<Bytef*>(out.data());
+  zs.avail_out = static_cast<uInt>(out.size());
+  deflate(&zs, Z_FINISH);
+  out.resize(zs.total_out);
+  deflateEnd(&zs);
+  return out;
 }
 
 std::filesystem::path temp_dir(const std::string& tag) {

@@ -20,6 +20,10 @@ std::optional<std::filesystem::path> shared_data_dir();
 /// issued by the macro below) / fails when the data is required.
 std::string shared_data_file(const std::string& name);
 
+/// One gzip member holding `text` (zlib at the best compression): concatenated members are
+/// one gzip stream.
+std::string gzip_member(const std::string& text);
+
 /// A fresh temporary directory for one test.
 std::filesystem::path temp_dir(const std::string& tag);
 
