@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Builds gmwm (installing missing Debian packages when root), then runs it on the shipped
-# six-axis example: the wavelet variance of one axis and a fit of AR1+WN+RW.
+# Builds the gmwm program alone (installing the missing Debian packages it needs when root),
+# then runs it on the shipped six-axis example: the wavelet variance of one axis and a fit
+# of AR1+WN+RW.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-bash tools/setup.sh
+bash tools/setup.sh --demo
 build_dir=${GMWM_BUILD_DIR:-build}
 gmwm="$build_dir/gmwm"
 

@@ -1,20 +1,31 @@
 #!/usr/bin/env bash
 # Installs the Debian packages gmwm needs (when missing) and builds it into build/.
-#   bash tools/setup.sh            # as root: installs what is missing, then builds
-# Not root and something missing: prints the apt-get line to run, exits 1.
+#   bash tools/setup.sh            # everything: program, libraries, tests, benchmarks, Python module
+#   bash tools/setup.sh --demo     # only what tools/demo.sh runs: the gmwm program and its libraries
+# As root it installs what is missing; not root and something missing: prints the apt-get
+# line to run, exits 1.
 # Environment: GMWM_BUILD_DIR (default build), GMWM_BUILD_TYPE (default Release),
 #              GMWM_JOBS (default: number of cores).
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
+demo=0
+if [[ ${1:-} == --demo ]]; then demo=1; fi
+
+# What building the program needs.
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
-          libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev libgtest-dev
-          libgmock-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev libbz2-dev liblz4-dev libzstd-dev pkg-config
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-rosbag python3-sensor-msgs
-          libjs-vega chromium)
+          libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev zlib1g-dev libcli11-dev
+          nlohmann-json3-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev libbz2-dev liblz4-dev
+          libzstd-dev pkg-config)
+# What the tests, the benchmarks and the Python module need besides.
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
-# browser test (tests/cli/html_report_browser_test.cc).
+# browser test (tests/cli/html_report_browser_test.cc); python3-rosbag and
+# python3-sensor-msgs: ROS's own writer of the ROS 1 test bags.
+if ((!demo)); then
+  packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
+             python3-rosbag python3-sensor-msgs libjs-vega chromium)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -45,7 +56,16 @@ if [[ ! -f "$build_dir/CMakeCache.txt" ]] && command -v ninja >/dev/null 2>&1; t
   generator=(-G Ninja)
 fi
 
-cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type"
+if ((demo)); then
+  # The program alone: the tests, benchmarks and Python module are not configured (their
+  # packages may be missing) nor built. A later full setup turns them back on.
+  cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type" \
+        -DGMWM_BUILD_TESTS=OFF -DGMWM_BUILD_BENCHMARKS=OFF -DGMWM_BUILD_PYTHON=OFF
+  cmake --build "$build_dir" --parallel "$jobs" --target gmwm
+  exit 0
+fi
+cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type" \
+      -DGMWM_BUILD_TESTS=ON -DGMWM_BUILD_BENCHMARKS=ON -DGMWM_BUILD_PYTHON=ON
 cmake --build "$build_dir" --parallel "$jobs"
 
 # `import gmwm` from the system Python (Debian's python3, which has python3-numpy): a .pth
