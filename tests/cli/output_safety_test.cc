@@ -2,9 +2,16 @@
 // leaves half of its outputs behind, or loses data past 4 GB of gzip text.
 
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <filesystem>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -141,4 +148,67 @@ TEST_F(GmwmCliOutputSafety, ReplacesAnExistingOutputWhole) {
   const std::string csv = read_text(dir_ / "wv.csv");
   EXPECT_EQ(csv.find('~'), std::string::npos) << "no byte of the old file may remain";
   EXPECT_TRUE(staged_leftovers(dir_).empty());
+}
+
+namespace {
+
+// Starts `gmwm args...` in `dir` (no core dump, stdout and stderr to /dev/null).
+pid_t start_gmwm(const std::vector<std::string>& args, const fs::path& dir) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const rlimit none{0, 0};
+    ::setrlimit(RLIMIT_CORE, &none);
+    if (::chdir(dir.c_str()) != 0) ::_exit(126);
+    const int null = ::open("/dev/null", O_RDWR);
+    ::dup2(null, 0), ::dup2(null, 1), ::dup2(null, 2);
+    std::vector<char*> argv{const_cast<char*>(GMWM_CLI_PATH)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(GMWM_CLI_PATH, argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Bytes written so far to an unnamed file of `dir` that process `pid` holds open (its
+// /proc link reads "DIR/#INODE (deleted)"), or -1 when it has none.
+long long staged_bytes(pid_t pid, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path fds = "/proc/" + std::to_string(pid) + "/fd";
+  for (const auto& e : fs::directory_iterator(fds, ec)) {
+    const fs::path to = fs::read_symlink(e.path(), ec);
+    if (ec) continue;
+    const std::string t = to.string();
+    if (t.rfind(fs::canonical(dir).string() + "/#", 0) != 0) continue;
+    struct stat st {};
+    if (::stat(e.path().c_str(), &st) == 0) return st.st_size;
+  }
+  return -1;
+}
+
+}  // namespace
+
+TEST_F(GmwmCliOutputSafety, NoKillWhileAnOutputIsWrittenLeavesAnythingInItsFolder) {
+  // 3e6 samples: about 60 MB of CSV, written over a second or more; each signal is sent
+  // once the staged file holds 1 MB (no sleep to guess).
+  for (int sig : {SIGKILL, SIGQUIT, SIGALRM, SIGTERM, SIGINT}) {
+    const fs::path out = dir_ / ("run" + std::to_string(sig));
+    fs::create_directory(out);
+    const pid_t pid = start_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "3000000", "--output", "big.csv",
+                                  "--json", "s.json"},
+                                 out);
+    const auto t0 = std::chrono::steady_clock::now();
+    long long bytes = -1;
+    while ((bytes = staged_bytes(pid, out)) < (1 << 20) &&
+           std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ASSERT_GE(bytes, 1 << 20) << "signal " << sig << ": no unnamed staged file seen growing in " << out;
+    ::kill(pid, sig);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "signal " << sig << ": status " << status;
+    EXPECT_EQ(WTERMSIG(status), sig);
+    EXPECT_TRUE(fs::is_empty(out)) << "signal " << sig << ": a file was left in " << out << ": "
+                                   << fs::directory_iterator(out)->path();
+  }
 }

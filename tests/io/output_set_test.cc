@@ -4,8 +4,15 @@
 #include "gmwm/io/output_set.h"
 
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <csignal>
+#include <functional>
 #include <zlib.h>
 
 #include <cstring>
@@ -270,4 +277,94 @@ TEST_F(OutputSetTest, GzipOutputPastFourGigabytesInflatesToEveryByte) {
   EXPECT_TRUE(sink.ended) << "the gzip trailer must be written";
   EXPECT_EQ(sink.text_bytes, target);
   EXPECT_EQ(sink.crc, crc);
+}
+
+namespace {
+
+// Runs `child` in a forked process (no core dump, the signals at their default action) and
+// returns its wait status.
+template <class F>
+int in_child(F&& child) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const rlimit none{0, 0};
+    ::setrlimit(RLIMIT_CORE, &none);
+    child();
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+// A producer that writes 4 MB, then delivers `sig` to its own process.
+std::function<void(OutputStream&)> killed_midway(int sig) {
+  return [sig](OutputStream& s) {
+    const std::string block(1 << 20, 'x');
+    for (int i = 0; i < 4; ++i) s.write(block);
+    ::kill(::getpid(), sig);
+    ::_exit(3);  // not reached when the signal ends the process
+  };
+}
+
+}  // namespace
+
+TEST_F(OutputSetTest, StagedFilesAreUnnamedUntilCommitAndNoSignalLeavesThemBehind) {
+  // SIGKILL cannot be caught: only an unnamed (O_TMPFILE) staged file is sure to vanish.
+  const int probe = ::open(dir_.c_str(), O_TMPFILE | O_RDWR, 0600);
+  if (probe < 0) GTEST_SKIP() << "no O_TMPFILE in " << dir_ << ": " << std::strerror(errno);
+  ::close(probe);
+  for (int sig : {SIGKILL, SIGQUIT, SIGALRM, SIGTERM}) {
+    write(path("old.csv"), "old");
+    const int status = in_child([&] {
+      OutputSet out;
+      out.declare("--csv", path("old.csv"));
+      out.declare("--json", path("new.json"));
+      out.stage(path("new.json"), "{}");
+      // Nothing of a staged file is visible in the folder.
+      if (names() != std::vector<std::string>{"old.csv"}) ::_exit(4);
+      out.stage(path("old.csv"), killed_midway(sig));
+    });
+    ASSERT_TRUE(WIFSIGNALED(status)) << "signal " << sig << ": status " << status;
+    EXPECT_EQ(WTERMSIG(status), sig);
+    EXPECT_EQ(names(), std::vector<std::string>{"old.csv"}) << "signal " << sig;
+    EXPECT_EQ(read(path("old.csv")), "old");
+  }
+}
+
+TEST_F(OutputSetTest, NamedStagingIsRemovedOnEveryCatchableSignal) {
+  // Where the filesystem has no O_TMPFILE: named files, removed by the signal handler.
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT, SIGALRM}) {
+    struct sigaction current {};
+    ::sigaction(sig, nullptr, &current);
+    if (current.sa_handler == SIG_IGN) continue;  // ignored by whoever started the test: nothing to remove
+    write(path("old.csv"), "old");
+    const int status = in_child([&] {
+      OutputSet out;
+      out.force_named_staging();
+      out.declare("--csv", path("old.csv"));
+      out.declare("--json", path("new.json"));
+      out.stage(path("new.json"), "{}");
+      if (names().size() != 2) ::_exit(4);  // the named staged file is there
+      out.stage(path("old.csv"), killed_midway(sig));
+    });
+    ASSERT_TRUE(WIFSIGNALED(status)) << "signal " << sig << ": status " << status;
+    EXPECT_EQ(WTERMSIG(status), sig);
+    EXPECT_EQ(names(), std::vector<std::string>{"old.csv"}) << "signal " << sig;
+    EXPECT_EQ(read(path("old.csv")), "old");
+  }
+}
+
+TEST_F(OutputSetTest, NamedStagingCommitsLikeUnnamedStaging) {
+  write(path("a.json"), "old");
+  OutputSet out;
+  out.force_named_staging();
+  out.declare("--json", path("a.json"));
+  out.declare("--csv", path("b.csv"));
+  out.stage(path("a.json"), "new");
+  out.stage(path("b.csv"), "x\n");
+  out.commit();
+  EXPECT_EQ(read(path("a.json")), "new");
+  EXPECT_EQ(read(path("b.csv")), "x\n");
+  EXPECT_EQ(names(), (std::vector<std::string>{"a.json", "b.csv"}));
 }

@@ -1,7 +1,9 @@
 // gmwm: the command-line program (docs/cli.md). Exit codes: 0 success; 2 bad input or bad
 // options (one line "gmwm: error: ..." on stderr, nothing written); 1 internal failure.
 
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -40,6 +42,10 @@ int main(int argc, char** argv) {
   // outputs are removed and the error reported, rather than the process being killed by
   // SIGXFSZ with a temporary file left behind.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A closed standard output (`gmwm ... --json - | head -c1`) must fail the write with EPIPE,
+  // reported in one line with exit 2 and the staged outputs dropped, rather than kill the
+  // process with SIGPIPE (exit 141, no message).
+  std::signal(SIGPIPE, SIG_IGN);
 
   CommonOptions common;
   for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);
@@ -73,7 +79,21 @@ int main(int argc, char** argv) {
 
   try {
     for (const Command& c : commands)
-      if (c.app->parsed()) return c.run();
+      if (c.app->parsed()) {
+        const int code = c.run();
+        // The table (or page) on standard output after the files: a closed pipe or a full
+        // disk there is still an error to report, not a silent exit 0.
+        std::cout.flush();
+        if (!std::cout) {
+          // errno still holds the failed write's reason unless something ran since.
+          const int err = errno;
+          const bool write_error = err == EPIPE || err == ENOSPC || err == EIO || err == EFBIG || err == EDQUOT;
+          return fail(2, std::string("cannot write to standard output: ") +
+                             (write_error ? std::strerror(err) : "write error") +
+                             (err == EPIPE ? " (its reader closed it)" : ""));
+        }
+        return code;
+      }
     return fail(2, "expected a command (gmwm --help lists them)");
   } catch (const gmwm::InputError& e) {
     return fail(2, e.what());

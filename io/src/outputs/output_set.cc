@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -38,12 +40,23 @@ constexpr std::size_t kDeflateChunk = 1 << 20;
 
 std::string errno_text(int err) { return std::strerror(err); }
 
-// --- Temporary files removed on SIGINT / SIGTERM / SIGHUP -------------------------------
-// A run interrupted while it stages its outputs must not leave ".name.gmwm-XXXXXX" files
-// behind. The handler may only call async-signal-safe functions, hence fixed slots with
-// C strings and unlink(2).
+// --- Staged files that no kill leaves behind ------------------------------------------
+// A staged file is normally invisible: opened with O_TMPFILE in its target's folder (an
+// inode with no name, freed by the kernel however the process ends, SIGKILL and the OOM
+// killer included) and given a name only at commit(), just before it is renamed over its
+// target. Where the filesystem refuses O_TMPFILE it is a named ".NAME.gmwm-XXXXXX" file,
+// removed on the signals that can be caught: the handler may only call async-signal-safe
+// functions, hence fixed slots with C strings and unlink(2). The slots also hold the names
+// that exist only during commit() (an invisible file's link, a replaced target's backup).
 constexpr int kCleanupSlots = 256;
 constexpr std::size_t kCleanupPath = PATH_MAX;
+// The signals whose default action ends the process and that a handler can catch: the
+// terminal's (SIGINT, SIGQUIT, SIGHUP), kill's default (SIGTERM), a closed pipe (SIGPIPE,
+// when the program has not ignored it) and alarm(2)/timeout(1) (SIGALRM).
+constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT, SIGALRM};
+// Attempts at a fresh random name for a staged file before giving up (each collision is
+// a file of that exact name already there: one in 62^6 per attempt).
+constexpr int kNameAttempts = 100;
 
 struct CleanupSlot {
   std::atomic<bool> used{false};
@@ -52,20 +65,28 @@ struct CleanupSlot {
 CleanupSlot g_cleanup[kCleanupSlots];
 
 extern "C" void remove_staged_and_reraise(int sig) {
+  const int saved = errno;
   for (auto& s : g_cleanup)
     if (s.used.load()) ::unlink(s.path);
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
+  errno = saved;
+  // Back to the default action, delivered once this handler returns (the signal is
+  // blocked while it runs): the process ends as it would have without the handler.
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  ::sigaction(sig, &dfl, nullptr);
+  ::raise(sig);
 }
 
 void install_cleanup_handlers() {
   static std::once_flag once;
   std::call_once(once, [] {
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    for (int sig : kCleanupSignals) {
       struct sigaction current {};
       if (::sigaction(sig, nullptr, &current) != 0) continue;
-      // Only where nobody else handles the signal (an embedding program keeps its own).
-      if (current.sa_handler != SIG_DFL) continue;
+      // Only where nobody else handles the signal (an embedding program keeps its own, and
+      // an ignored SIGPIPE stays ignored: the write then fails with EPIPE).
+      if ((current.sa_flags & SA_SIGINFO) || current.sa_handler != SIG_DFL) continue;
       struct sigaction ours {};
       ours.sa_handler = remove_staged_and_reraise;
       sigemptyset(&ours.sa_mask);
@@ -92,6 +113,66 @@ int register_cleanup(const std::string& path) {
 
 void release_cleanup(int slot) {
   if (slot >= 0) g_cleanup[slot].used.store(false);
+}
+
+/// ".NAME.gmwm-" followed by six random letters or digits, in `dir`.
+std::string random_staged_name(const fs::path& dir, const std::string& filename) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+  unsigned char r[6] = {};
+  if (::getrandom(r, sizeof r, GRND_NONBLOCK) != static_cast<ssize_t>(sizeof r)) {
+    static std::atomic<unsigned> counter{0};
+    const unsigned long long x = static_cast<unsigned long long>(::getpid()) * 2654435761ULL + ++counter +
+                                 static_cast<unsigned long long>(::time(nullptr));
+    for (std::size_t i = 0; i < sizeof r; ++i) r[i] = static_cast<unsigned char>(x >> (8 * i));
+  }
+  std::string name = "." + filename + ".gmwm-";
+  for (unsigned char c : r) name += kAlphabet[c % (sizeof kAlphabet - 1)];
+  return (dir / name).string();
+}
+
+/// An unnamed file in `dir` (O_TMPFILE), or -1 with errno set. errno EOPNOTSUPP, EISDIR
+/// or EINVAL: the filesystem or the kernel does not offer O_TMPFILE.
+int open_invisible(const fs::path& dir) {
+  return ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+}
+
+bool no_invisible_files(int err) { return err == EOPNOTSUPP || err == EISDIR || err == EINVAL; }
+
+/// Gives the unnamed file `fd` the name `name` (which must not exist): through /proc (any
+/// user), else linkat(AT_EMPTY_PATH) (where the kernel permits it). 0 or an errno.
+int link_invisible(int fd, const std::string& name) {
+  char proc[64];
+  std::snprintf(proc, sizeof proc, "/proc/self/fd/%d", fd);
+  if (::linkat(AT_FDCWD, proc, AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) return 0;
+  const int first = errno;
+  if (first == EEXIST) return first;
+  if (::linkat(fd, "", AT_FDCWD, name.c_str(), AT_EMPTY_PATH) == 0) return 0;
+  // Without /proc (ENOENT there) the second attempt's reason is the one that matters.
+  return first == ENOENT ? errno : first;
+}
+
+/// Copies the whole content of `from` (from its start) to `to`; 0 or an errno.
+int copy_file(int from, int to) {
+  std::vector<char> buf(kFileBuffer);
+  off_t at = 0;
+  for (;;) {
+    const ssize_t n = ::pread(from, buf.data(), buf.size(), at);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    if (n == 0) break;
+    for (ssize_t done = 0; done < n;) {
+      const ssize_t w = ::write(to, buf.data() + done, static_cast<std::size_t>(n - done));
+      if (w < 0) {
+        if (errno == EINTR) continue;
+        return errno;
+      }
+      done += w;
+    }
+    at += n;
+  }
+  return ::fsync(to) != 0 && errno != EINVAL && errno != EROFS ? errno : 0;
 }
 
 // --- What a path is ------------------------------------------------------------------
@@ -277,14 +358,17 @@ struct OutputSet::Impl {
   };
   struct Staged {
     std::string path;       // the target
-    std::string tmp;        // the temporary file beside it ("" for standard output)
+    int fd = -1;            // the unnamed (O_TMPFILE) file, until commit() names it
+    std::string tmp;        // the named temporary file beside the target ("" while unnamed, and for standard output)
     std::string content;    // standard output's bytes
     int slot = -1;          // cleanup registration of tmp
+    bool to_stdout() const { return path == "-"; }
   };
 
   std::vector<Input> inputs;
   std::vector<Declared> declared;
   std::vector<Staged> staged;
+  bool named_staging = false;  // force_named_staging()
 
   const Declared* find(const std::string& path) const {
     for (const auto& d : declared)
@@ -294,6 +378,8 @@ struct OutputSet::Impl {
 
   void discard() {
     for (auto& s : staged) {
+      if (s.fd >= 0) ::close(s.fd);  // an unnamed file: freed with its last descriptor
+      s.fd = -1;
       if (!s.tmp.empty()) ::unlink(s.tmp.c_str());
       release_cleanup(s.slot);
     }
@@ -304,6 +390,8 @@ struct OutputSet::Impl {
 OutputSet::OutputSet() : impl_(std::make_unique<Impl>()) { install_cleanup_handlers(); }
 
 OutputSet::~OutputSet() { impl_->discard(); }
+
+void OutputSet::force_named_staging() { impl_->named_staging = true; }
 
 bool OutputSet::empty() const { return impl_->staged.empty(); }
 
@@ -365,7 +453,7 @@ void OutputSet::stage(const std::string& path, const std::function<void(OutputSt
     if (s.path == path) throw InputError("output '" + path + "': written twice in one run");
   Impl::Staged s;
   s.path = path;
-  if (path == "-") {
+  if (s.to_stdout()) {
     StringOutput out(s.content);
     produce(out);
     impl_->staged.push_back(std::move(s));
@@ -373,15 +461,21 @@ void OutputSet::stage(const std::string& path, const std::function<void(OutputSt
   }
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string tmpl = (dir / ("." + target.filename().string() + ".gmwm-XXXXXX")).string();
-  const int fd = ::mkstemp(tmpl.data());
-  if (fd < 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
-  s.tmp = tmpl;
-  s.slot = register_cleanup(s.tmp);
-  // Until it is closed, any failure removes the temporary file and the entry.
+  int fd = impl_->named_staging ? -1 : open_invisible(dir);
+  if (fd < 0 && !impl_->named_staging && !no_invisible_files(errno))
+    throw InputError("cannot write '" + path + "': " + errno_text(errno));
+  if (fd < 0) {
+    // No O_TMPFILE here: a named file, removed on failure and on the catchable signals.
+    std::string tmpl = (dir / ("." + target.filename().string() + ".gmwm-XXXXXX")).string();
+    fd = ::mkostemp(tmpl.data(), O_CLOEXEC);
+    if (fd < 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
+    s.tmp = tmpl;
+    s.slot = register_cleanup(s.tmp);
+  }
+  // Until it is staged, any failure closes (and so frees, or removes) the file.
   auto abandon = [&] {
     ::close(fd);
-    ::unlink(s.tmp.c_str());
+    if (!s.tmp.empty()) ::unlink(s.tmp.c_str());
     release_cleanup(s.slot);
   };
   try {
@@ -399,7 +493,9 @@ void OutputSet::stage(const std::string& path, const std::function<void(OutputSt
     abandon();
     throw;
   }
-  if (::close(fd) != 0) {
+  if (s.tmp.empty()) {
+    s.fd = fd;  // unnamed: kept open until commit() links it
+  } else if (::close(fd) != 0) {
     const int err = errno;
     ::unlink(s.tmp.c_str());
     release_cleanup(s.slot);
@@ -408,27 +504,68 @@ void OutputSet::stage(const std::string& path, const std::function<void(OutputSt
   impl_->staged.push_back(std::move(s));
 }
 
+namespace {
+
+/// Gives a staged unnamed file a fresh hidden name beside its target (registered for
+/// removal on a signal), or copies it to a named file where it cannot be linked. 0 or an errno.
+int name_staged(int& fd, const std::string& target, std::string& tmp, int& slot) {
+  const fs::path t(target);
+  const fs::path dir = t.has_parent_path() ? t.parent_path() : fs::path(".");
+  int err = EEXIST;
+  for (int attempt = 0; attempt < kNameAttempts && err == EEXIST; ++attempt) {
+    const std::string name = random_staged_name(dir, t.filename().string());
+    err = link_invisible(fd, name);
+    if (err == 0) {
+      tmp = name;
+      slot = register_cleanup(name);
+    }
+  }
+  if (err != 0 && err != EEXIST) {
+    // Not linkable here (no /proc and no permission for AT_EMPTY_PATH): a named copy.
+    std::string tmpl = (dir / ("." + t.filename().string() + ".gmwm-XXXXXX")).string();
+    const int named = ::mkostemp(tmpl.data(), O_CLOEXEC);
+    if (named < 0) return errno;
+    slot = register_cleanup(tmpl);
+    struct stat st {};
+    err = ::fstat(fd, &st) != 0 ? errno : ::fchmod(named, st.st_mode & 07777) != 0 ? errno : copy_file(fd, named);
+    if (::close(named) != 0 && err == 0) err = errno;
+    if (err != 0) {
+      ::unlink(tmpl.c_str());
+      release_cleanup(slot);
+      slot = -1;
+      return err;
+    }
+    tmp = tmpl;
+  }
+  if (err != 0) return err;
+  ::close(fd);
+  fd = -1;
+  return 0;
+}
+
+}  // namespace
+
 void OutputSet::commit() {
   auto& staged = impl_->staged;
   // The targets may have changed since declare(): check them all before touching any.
   for (const auto& s : staged)
-    if (!s.tmp.empty())
+    if (!s.to_stdout())
       if (const std::string why = unusable_target(s.path); !why.empty())
         throw InputError("output '" + s.path + "': " + why);
   // Standard output first: a write error there (a full disk, a closed pipe) leaves the files.
   for (const auto& s : staged) {
-    if (!s.tmp.empty()) continue;
+    if (!s.to_stdout()) continue;
+    const auto* d = impl_->find("-");
+    const std::string what = (d ? d->option : std::string("output")) + " -: cannot write to standard output: ";
+    auto failed = [&](int err) {
+      std::clearerr(stdout);
+      return InputError(what + errno_text(err) + (err == EPIPE ? " (its reader closed it)" : "") +
+                        "; no output file was written");
+    };
     std::fflush(stdout);
-    if (!s.content.empty() && std::fwrite(s.content.data(), 1, s.content.size(), stdout) != s.content.size()) {
-      const int err = errno;
-      std::clearerr(stdout);
-      throw InputError("cannot write to standard output: " + errno_text(err));
-    }
-    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-      const int err = errno;
-      std::clearerr(stdout);
-      throw InputError("cannot write to standard output: " + errno_text(err));
-    }
+    if (!s.content.empty() && std::fwrite(s.content.data(), 1, s.content.size(), stdout) != s.content.size())
+      throw failed(errno);
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) throw failed(errno);
   }
   // Rename each staged file over its target, keeping a hard link to the old target until
   // all succeeded, so that a late failure can put every earlier target back.
@@ -449,7 +586,15 @@ void OutputSet::commit() {
     }
   };
   for (auto& s : staged) {
-    if (s.tmp.empty()) continue;
+    if (s.to_stdout()) continue;
+    // An unnamed file gets its name now, right before the rename: the only moment a kill
+    // that cannot be caught (SIGKILL) could leave it behind.
+    if (s.fd >= 0)
+      if (const int err = name_staged(s.fd, s.path, s.tmp, s.slot); err != 0) {
+        roll_back();
+        impl_->discard();
+        throw InputError("cannot write '" + s.path + "': " + errno_text(err));
+      }
     Done d;
     d.target = s.path;
     struct stat st {};

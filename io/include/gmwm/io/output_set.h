@@ -7,10 +7,14 @@
 // target would not be written, the link would be replaced), a file the run reads (same
 // inode, so hard links and other spellings count), two outputs naming the same file, and
 // standard output ("-") twice. Results are then staged (stage()): each goes to a new
-// temporary file in its target's folder, every write and the close checked. commit()
-// renames the staged files over their targets only once every one of them was written;
-// a failure at any point leaves every target as it was and removes the temporary files
-// (the destructor does the same for a set that was never committed, e.g. on an exception).
+// unnamed file in its target's folder (O_TMPFILE: nothing of it can be left behind, even
+// by SIGKILL or the OOM killer), every write and the fsync checked. commit() gives each a
+// hidden name and renames it over its target only once every one of them was written; a
+// failure at any point leaves every target as it was and frees the staged files (the
+// destructor does the same for a set that was never committed, e.g. on an exception).
+// Where the filesystem has no O_TMPFILE the staged files are named ".NAME.gmwm-XXXXXX" and
+// removed on failure and on SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGQUIT and SIGALRM (when the
+// program left those at their default action).
 //
 //   gmwm::io::OutputSet out;
 //   out.add_input("data.csv");
@@ -19,8 +23,8 @@
 //   out.stage(json_path, text);
 //   out.commit();
 //
-// Standard output ("-") is written at commit() (first, so that a write error there
-// leaves every file untouched), with the write and the flush checked.
+// Standard output ("-") is written at commit() (first, so that a write error there, a
+// closed pipe included, leaves every file untouched), with the write and the flush checked.
 
 #include <functional>
 #include <memory>
@@ -87,6 +91,9 @@ class OutputSet {
 
   /// True when nothing is staged.
   bool empty() const;
+
+  /// Stages in named files as on a filesystem without O_TMPFILE (tests of that path).
+  void force_named_staging();
 
  private:
   struct Impl;
