@@ -1,6 +1,13 @@
 // The bad-input contract (hostile_harness.h) for what issue 25 found beyond reading a
-// file: standard output closed under the writer (a pipe to `head -c1`).
+// file: standard output closed under the writer (a pipe to `head -c1`); side files that
+// are devices, sockets, FIFOs, endless pipes or too large.
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -37,8 +44,39 @@ RunOptions to_head() {
   return how;
 }
 
+const std::string kYaml =
+    "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
+    "gyroscope_noise_density: 8.73e-04\ngyroscope_random_walk: 2.0e-05\nupdate_rate: 100.0\n";
+
+// A FIFO that no writer will open.
+Setup fifo(const std::string& name) {
+  return [name](const fs::path& d) { ::mkfifo((d / name).c_str(), 0600); };
+}
+
+// A Unix socket bound at `name` (the socket file stays once the descriptor is closed).
+Setup socket_file(const std::string& name) {
+  return [name](const fs::path& d) {
+    const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un a{};
+    a.sun_family = AF_UNIX;
+    const std::string path = (d / name).string();
+    std::strncpy(a.sun_path, path.c_str(), sizeof a.sun_path - 1);
+    ::bind(s, reinterpret_cast<const sockaddr*>(&a), sizeof a);
+    ::close(s);
+  };
+}
+
+// A file of `bytes` bytes: `head`, then zeros (sparse: they are not written).
+Setup sized(const std::string& name, const std::string& head, std::uintmax_t bytes) {
+  return [name, head, bytes](const fs::path& d) {
+    gmwm::test::write_text(d / name, head);
+    fs::resize_file(d / name, bytes);
+  };
+}
+
 std::vector<Case> corpus() {
   const auto wide = file("wide.csv", wide_csv(200));
+  const auto base = file("base.csv", base_csv());
   std::vector<Case> c = {
       // --- standard output closed under the writer -------------------------------------------
       {"json on a closed pipe with a csv beside it", {"wv", "wide.csv", "--json", "-", "--csv", "out.csv"},
@@ -49,6 +87,26 @@ std::vector<Case> corpus() {
                                              "--json", "s.json"},
        {"--output -: cannot write to standard output: Broken pipe"}, nullptr, to_head()},
       {"table on a closed pipe", {"wv", "wide.csv"}, {"cannot write to standard output: Broken pipe"}, wide, to_head()},
+      // --- side files: --kalibr and --gazebo -------------------------------------------------
+      {"Kalibr file that is /dev/zero", {"gap", "base.csv", "--kalibr", "/dev/zero"},
+       {"--kalibr /dev/zero: is a character device, expected a Kalibr imu.yaml"}, base},
+      {"Gazebo file that is /dev/zero", {"gap", "base.csv", "--gazebo", "/dev/zero"},
+       {"--gazebo /dev/zero: is a character device, expected a Gazebo SDF file"}, base},
+      {"Kalibr file that is a folder", {"gap", "base.csv", "--kalibr", "sub"}, {"--kalibr sub: is a folder"},
+       both(base, [](const fs::path& d) { fs::create_directory(d / "sub"); })},
+      {"Gazebo file that is a socket", {"gap", "base.csv", "--gazebo", "s.sdf"}, {"--gazebo s.sdf: is a socket"},
+       both(base, socket_file("s.sdf"))},
+      {"Kalibr FIFO with no writer", {"gap", "base.csv", "--kalibr", "k.yaml"}, {"--kalibr k.yaml", "no writer"},
+       both(base, fifo("k.yaml"))},
+      {"Gazebo FIFO with no writer", {"gap", "base.csv", "--gazebo", "s.sdf"}, {"--gazebo s.sdf", "no writer"},
+       both(base, fifo("s.sdf"))},
+      {"Kalibr file beyond 1 MiB", {"gap", "base.csv", "--kalibr", "k.yaml"},
+       {"--kalibr k.yaml: holds more than 1048576 bytes, expected a Kalibr imu.yaml of at most 1 MiB"},
+       both(base, file("k.yaml", kYaml + std::string(2 << 20, '#')))},
+      {"Gazebo file beyond 64 MiB", {"gap", "base.csv", "--gazebo", "s.sdf"},
+       {"--gazebo s.sdf: holds more than 67108864 bytes"}, both(base, sized("s.sdf", "<sdf>", (64u << 20) + 1))},
+      {"endless YAML through a pipe", {"gap", "base.csv", "--kalibr", "/dev/stdin"},
+       {"--kalibr /dev/stdin: holds more than 1048576 bytes"}, base, {.stdin_from = "yes '#'", .stdin_pipe = true}},
   };
   return c;
 }

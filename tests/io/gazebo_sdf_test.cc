@@ -320,7 +320,7 @@ TEST_F(GazeboSdf, RejectsBadFilesWithTheElementAndLine) {
     read_gazebo_sdf((dir_ / "absent.sdf").string(), 100.0, parse_units(""));
     ADD_FAILURE() << "no throw";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("absent.sdf: cannot open"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("absent.sdf: file not found, expected a Gazebo SDF file"), std::string::npos) << e.what();
   }
   // tinyxml2 gives the line of the element whose end tag does not match (<model>).
   expect_error("<sdf>\n<model>\n</sdf>\n", "imu.sdf:2: XML parse error (mismatched element)");

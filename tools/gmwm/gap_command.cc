@@ -180,11 +180,21 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   Stopwatch read_clock;
   io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
+  // A side file's refusal names its option too: "--kalibr imu.yaml:3: ...".
+  auto named = [](const char* option, const auto& read) {
+    try {
+      return read();
+    } catch (const InputError& e) {
+      throw InputError(std::string(option) + " " + e.what());
+    }
+  };
   if (!args.kalibr.empty())
-    options.baseline = pipeline::ConfigBaseline{io::read_kalibr_imu_yaml(kalibr_path, set.freq, options.units, kalibr_imu),
-                                                kalibr_path};
+    options.baseline = pipeline::ConfigBaseline{
+        named("--kalibr", [&] { return io::read_kalibr_imu_yaml(kalibr_path, set.freq, options.units, kalibr_imu); }),
+        kalibr_path};
   if (!args.gazebo.empty())
-    options.baseline = pipeline::ConfigBaseline{io::read_gazebo_sdf(args.gazebo, set.freq, options.units), args.gazebo};
+    options.baseline = pipeline::ConfigBaseline{
+        named("--gazebo", [&] { return io::read_gazebo_sdf(args.gazebo, set.freq, options.units); }), args.gazebo};
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
   // Progress on a terminal: per column, its reference replicates and then its attribution.
   ProgressBar bar("gap: columns x steps", common);

@@ -2,14 +2,13 @@
 // an export takes (read_result_columns, export.h). The field names are the docs/cli.md contract:
 // per column "name", "n", "freq" and "model" (fit) or "best_model" (select), a canonical
 // model string with its values usable as SPEC_WITH_VALUES.
-#include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/export.h"
+#include "gmwm/io/side_file.h"
 
 namespace gmwm::io {
 namespace {
@@ -87,11 +86,7 @@ Unit result_unit(const json& c, SensorKind kind, const ResultReadOptions& o, con
 }  // namespace
 
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& o) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the result file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text = read_side_file(path, "the --json result of gmwm fit or gmwm select");
   json doc;
   try {
     doc = json::parse(text);

@@ -12,7 +12,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <sstream>
 
@@ -20,6 +19,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/side_file.h"
 #include "gmwm/io/sim_config.h"
 
 namespace gmwm::io {
@@ -405,12 +405,7 @@ void Reader::rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) 
 SimConfig Reader::read() const {
   if (!(f_ > 0.0) || !std::isfinite(f_))
     throw InputError(path_ + ": the data's sampling rate is needed to convert the noise figures (give --freq)");
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) throw InputError(path_ + ": cannot open the Gazebo SDF file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path_ + ": cannot read the Gazebo SDF file");
-  const std::string xml = text.str();
+  const std::string xml = read_side_file(path_, "a Gazebo SDF file");
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
     const int line = doc.ErrorLineNum();

@@ -2,7 +2,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -14,6 +13,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/side_file.h"
 #include "gmwm/io/sim_config.h"
 
 namespace gmwm::io {
@@ -53,11 +53,7 @@ std::string at(const std::string& path, const YAML::Mark& m) {
 // The file's text with an OpenCV-style first line "%YAML:1.0" (OpenVINS, VINS) blanked:
 // YAML proper writes that directive "%YAML 1.0". Line numbers are kept.
 std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the Kalibr imu.yaml");
-  std::ostringstream os;
-  os << in.rdbuf();
-  std::string text = os.str();
+  std::string text = read_side_file(path, "a Kalibr imu.yaml", kMaxKalibrYamlBytes);
   if (text.rfind("%YAML:", 0) == 0) text.erase(0, text.find('\n'));
   return text;
 }

@@ -13,6 +13,7 @@
 #include <zlib.h>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/io/side_file.h"
 #include "gmwm/io/signal_reader.h"
 
 namespace gmwm::io::detail {
@@ -27,41 +28,23 @@ constexpr std::size_t kTextChunk = 1 << 18;
 // Typical compression ratio of gzip on text of numbers (the ADIS files: 7.6), used only to
 // reserve memory for the columns; a wrong guess costs nothing but a reallocation.
 constexpr std::uint64_t kTypicalGzipRatio = 8;
-// A FIFO or pipe is opened without blocking; when nothing has come after this long, a
-// FIFO that no writer has opened stops the run instead of hanging (docs/cli.md "Limits"),
-// while a pipe whose writer is merely slow (`slow | gmwm wv /dev/stdin`) is waited for.
-constexpr int kFifoWriterWaitMs = 5000;
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
   throw InputError(path + ": " + what);
 }
 
-// Opens a FIFO or pipe without blocking (a blocking open of a FIFO waits for a writer
-// forever) and returns it as a blocking stream. With nothing to read after
-// kFifoWriterWaitMs, a non-blocking read tells a missing writer (end of file) from a
-// silent one (EAGAIN).
+// A FIFO or pipe as a blocking stream, opened with the bounded wait every input gets
+// (io::detail::open_pipe_bounded, side_file.h: kPipeWriterWaitMs), so that a FIFO no writer
+// opens stops the run instead of hanging, while a slow writer is waited for.
 std::FILE* open_fifo(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) fail(path, std::string("cannot open: ") + std::strerror(errno) + ", expected a readable file");
-  pollfd p{fd, POLLIN, 0};
-  int early = EOF;  // a byte read while probing, given back to the stream
-  if (::poll(&p, 1, kFifoWriterWaitMs) == 0) {
-    unsigned char c;
-    const ssize_t n = ::read(fd, &c, 1);
-    if (n == 0) {
-      ::close(fd);
-      fail(path, "is a FIFO that no writer opened within " + std::to_string(kFifoWriterWaitMs / 1000) +
-                     " s, expected data (start the writer first)");
-    }
-    if (n == 1) early = c;
-  }
-  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  int early = -1;  // a byte read while probing, given back to the stream
+  const int fd = open_pipe_bounded(path, "data", early);
   std::FILE* f = ::fdopen(fd, "rb");
   if (!f) {
     ::close(fd);
     fail(path, std::string("cannot open: ") + std::strerror(errno));
   }
-  if (early != EOF) std::ungetc(early, f);
+  if (early >= 0) std::ungetc(early, f);
   return f;
 }
 

@@ -199,6 +199,8 @@ struct ResultColumns {
 /// gmwm fit/select document, a column without a fitted model (its fit failed), an unknown
 /// name in options.columns, a null "freq" without options.rate, a name that tells no sensor
 /// kind without options.sensor, a column whose unit is not known (ResultReadOptions::units).
+/// The file is read as a side file (side_file.h: at most kMaxSideFileBytes; a device, folder
+/// or socket refused; a FIFO's writer waited for 5 s).
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& options);
 
 }  // namespace gmwm::io

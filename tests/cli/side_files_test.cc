@@ -1,0 +1,77 @@
+// Side files end to end (issue 25): a Kalibr file read through a pipe gives what the
+// regular file gives.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::read_text;
+using gmwm::test::run_gmwm;
+using gmwm::test::RunOptions;
+using gmwm::test::write_text;
+
+namespace {
+
+class GmwmSideFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_side_files");
+    auto r = run_gmwm({"simulate", "--model", "WN(sigma2=5.75826048e-06)+RW(gamma2=1.880442245e-12)", "--n", "16384",
+                       "--freq", "200", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z", "--output", "sim.csv",
+                       "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "fit.json", "--quiet"}, dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "file.yaml", "--quiet"}, dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    from_file_ = read_text(dir_ / "file.yaml");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// The YAML without its comment lines (they name the source, which differs).
+  static std::string values_of(const std::string& yaml) {
+    std::string out;
+    std::size_t at = 0;
+    while (at < yaml.size()) {
+      std::size_t end = yaml.find('\n', at);
+      if (end == std::string::npos) end = yaml.size();
+      const std::string line = yaml.substr(at, end - at);
+      if (!line.empty() && line[0] != '#') out += line + "\n";
+      at = end + 1;
+    }
+    return out;
+  }
+
+  static std::string cli() { return "'" + std::string(GMWM_CLI_PATH) + "'"; }
+
+  fs::path dir_;
+  std::string from_file_;
+};
+
+}  // namespace
+
+TEST_F(GmwmSideFiles, GapReadsAKalibrFilePipedIntoIt) {
+  write_text(dir_ / "imu.yaml",
+             "gyroscope_noise_density: 1.6968e-04\ngyroscope_random_walk: 1.9393e-05\n"
+             "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\nupdate_rate: 200.0\n");
+  auto r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--kalibr", "imu.yaml", "--replicates", "20", "--json",
+                     "file.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  RunOptions how;
+  how.stdin_pipe = true;
+  how.stdin_from = "cat imu.yaml";
+  r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--kalibr", "/dev/stdin", "--replicates", "20", "--json",
+                "pipe.json", "--quiet"},
+               dir_, how);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto file = gmwm::test::without_run(gmwm::test::read_json(dir_ / "file.json"));
+  auto pipe = gmwm::test::without_run(gmwm::test::read_json(dir_ / "pipe.json"));
+  EXPECT_EQ(file["columns"][0]["baseline_model"], pipe["columns"][0]["baseline_model"]);
+}
