@@ -107,6 +107,18 @@ std::vector<Case> corpus() {
        {"--gazebo s.sdf: holds more than 67108864 bytes"}, both(base, sized("s.sdf", "<sdf>", (64u << 20) + 1))},
       {"endless YAML through a pipe", {"gap", "base.csv", "--kalibr", "/dev/stdin"},
        {"--kalibr /dev/stdin: holds more than 1048576 bytes"}, base, {.stdin_from = "yes '#'", .stdin_pipe = true}},
+      // --- side files: an export's JSON source -----------------------------------------------
+      {"export source that is /dev/zero", {"export", "/dev/zero", "--format", "kalibr", "--output", "o.yaml"},
+       {"/dev/zero: is a character device"}},
+      {"export source that is a socket", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
+       {"r.json: is a socket"}, socket_file("r.json")},
+      {"export source FIFO with no writer", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
+       {"r.json", "no writer"}, fifo("r.json")},
+      {"export source beyond 64 MiB", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
+       {"r.json: holds more than 67108864 bytes"}, sized("r.json", "{", (64u << 20) + 1)},
+      {"endless JSON through a pipe", {"export", "/dev/stdin", "--format", "kalibr", "--output", "o.yaml"},
+       {"/dev/stdin: holds more than 67108864 bytes, expected the --json result of gmwm fit or gmwm select"}, nullptr,
+       {.stdin_from = "yes '{'", .stdin_pipe = true}},
   };
   return c;
 }

@@ -1,5 +1,5 @@
-// Side files end to end (issue 25): a Kalibr file read through a pipe gives what the
-// regular file gives.
+// Side files end to end (issue 25): an export's JSON source and a Kalibr file read through
+// pipes and FIFOs (the sniff keeps the bytes it looks at) give what the regular file gives.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -55,6 +55,38 @@ class GmwmSideFiles : public ::testing::Test {
 };
 
 }  // namespace
+
+TEST_F(GmwmSideFiles, AnExportReadsAFitResultPipedIntoItWhole) {
+  // The sniff used to consume the pipe's first byte: "invalid JSON at 2:11".
+  RunOptions how;
+  how.stdin_pipe = true;
+  how.stdin_from = cli() + " fit sim.csv --model WN+RW --json - --quiet";
+  const auto r = run_gmwm({"export", "/dev/stdin", "--format", "kalibr", "--output", "pipe.yaml", "--quiet"}, dir_, how);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(values_of(read_text(dir_ / "pipe.yaml")), values_of(from_file_));
+}
+
+TEST_F(GmwmSideFiles, AnExportReadsADataFilePipedIntoItWhole) {
+  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--format", "kalibr", "--output", "data.yaml", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  RunOptions how;
+  how.stdin_pipe = true;
+  how.stdin_from = "cat sim.csv";
+  r = run_gmwm({"export", "/dev/stdin", "--model", "WN+RW", "--format", "kalibr", "--output", "pipe.yaml", "--quiet"},
+               dir_, how);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(values_of(read_text(dir_ / "pipe.yaml")), values_of(read_text(dir_ / "data.yaml")));
+}
+
+TEST_F(GmwmSideFiles, AnExportReadsAResultFromAFifo) {
+  // The sniff peeks at the FIFO (tee), the JSON reader then takes every byte.
+  RunOptions how;
+  how.before = "mkfifo r.fifo && (cat fit.json > r.fifo &);";
+  const auto r = run_gmwm({"export", "r.fifo", "--format", "kalibr", "--output", "fifo.yaml", "--quiet"}, dir_, how);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(values_of(read_text(dir_ / "fifo.yaml")), values_of(from_file_));
+}
 
 TEST_F(GmwmSideFiles, GapReadsAKalibrFilePipedIntoIt) {
   write_text(dir_ / "imu.yaml",

@@ -16,6 +16,7 @@
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/export.h"
+#include "gmwm/io/side_file.h"
 #include "gmwm/io/units.h"
 
 namespace gmwm::cli {
@@ -42,14 +43,17 @@ struct ExportArgs {
   CLI::App* sub = nullptr;  ///< to tell which options were given
 };
 
-// A gmwm JSON result starts with '{'; data files (text or gzip) never do.
-bool is_json_result(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the input file");
-  char c = 0;
-  while (in.get(c))
-    if (c != ' ' && c != '\t' && c != '\r' && c != '\n') return c == '{';
-  return false;
+// Bytes looked at to tell a JSON result from a data file: the blanks before the first '{'
+// of a JSON document written by any tool fit many times over.
+constexpr std::size_t kSniffBytes = 4096;
+
+// A gmwm JSON result starts with '{' (after blanks); data files (text or gzip) never do.
+// The bytes are peeked, not consumed: a pipe (`gmwm fit --json - | gmwm export /dev/stdin`)
+// still holds them for the JSON or the data reader.
+bool is_json_result(io::SideFile& input) {
+  const std::string head = input.peek(kSniffBytes);
+  const auto first = head.find_first_not_of(" \t\r\n");
+  return first != std::string::npos && head[first] == '{';
 }
 
 std::optional<io::SensorKind> sensor_of(const std::string& s) {
@@ -58,7 +62,7 @@ std::optional<io::SensorKind> sensor_of(const std::string& s) {
 }
 
 // Reads the columns of a fit/select result.
-std::vector<io::ExportColumn> from_result(const ExportArgs& a, std::string& source) {
+std::vector<io::ExportColumn> from_result(const ExportArgs& a, io::SideFile& input, std::string& source) {
   for (const char* opt : {"--model", "--freq", "--alpha", "--levels", "--max-evaluations"})
     if (a.sub->count(opt) > 0)
       throw InputError(std::string(opt) + ": only for a data file INPUT; '" + a.input.input +
@@ -72,7 +76,8 @@ std::vector<io::ExportColumn> from_result(const ExportArgs& a, std::string& sour
   o.rate = a.rate;
   o.sensor = sensor_of(a.sensor);
   if (!a.units.empty()) o.units = io::parse_declared_units(a.units);
-  io::ResultColumns r = io::read_result_columns(a.input.input, o);
+  input.expect("the --json result of gmwm fit or gmwm select");
+  io::ResultColumns r = io::read_result_columns(a.input.input, input.read(), o);
   source = "gmwm " + r.command + " result " + a.input.input + (r.input.empty() ? "" : " (data " + r.input + ")");
   for (std::size_t k = 0; k < r.columns.size(); ++k)
     if (r.statuses[k] != "converged")
@@ -241,8 +246,10 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
 
   std::string source;
   std::vector<io::ExportColumn> columns;
+  // Kept open until the data are read: a FIFO's content lives while a reader holds it.
+  io::SideFile input(a.input.input, "the --json result of gmwm fit or gmwm select, or a data file");
   try {
-    columns = is_json_result(a.input.input) ? from_result(a, source) : from_data(a, common, source);
+    columns = is_json_result(input) ? from_result(a, input, source) : from_data(a, common, source);
   } catch (const NoUsableResult& e) {
     std::cerr << "gmwm: error: " << printable_line(e.what()) << '\n';
     return 1;

@@ -86,7 +86,10 @@ Unit result_unit(const json& c, SensorKind kind, const ResultReadOptions& o, con
 }  // namespace
 
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& o) {
-  const std::string text = read_side_file(path, "the --json result of gmwm fit or gmwm select");
+  return read_result_columns(path, read_side_file(path, "the --json result of gmwm fit or gmwm select"), o);
+}
+
+ResultColumns read_result_columns(const std::string& path, const std::string& text, const ResultReadOptions& o) {
   json doc;
   try {
     doc = json::parse(text);

@@ -202,5 +202,8 @@ struct ResultColumns {
 /// The file is read as a side file (side_file.h: at most kMaxSideFileBytes; a device, folder
 /// or socket refused; a FIFO's writer waited for 5 s).
 ResultColumns read_result_columns(const std::string& path, const ResultReadOptions& options);
+/// The same from the document's text, already read from `path` (a pipe can be read only
+/// once: `gmwm fit --json - | gmwm export /dev/stdin ...`); `path` names it in messages.
+ResultColumns read_result_columns(const std::string& path, const std::string& text, const ResultReadOptions& options);
 
 }  // namespace gmwm::io
