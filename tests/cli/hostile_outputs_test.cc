@@ -119,6 +119,9 @@ std::vector<Case> corpus() {
       {"endless JSON through a pipe", {"export", "/dev/stdin", "--format", "kalibr", "--output", "o.yaml"},
        {"/dev/stdin: holds more than 67108864 bytes, expected the --json result of gmwm fit or gmwm select"}, nullptr,
        {.stdin_from = "yes '{'", .stdin_pipe = true}},
+      {"export source in UTF-16", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
+       {"r.json: starts with a UTF-16 or UTF-32 byte-order mark, expected UTF-8 text"},
+       file("r.json", bytes({0xFF, 0xFE, '{', 0, '}', 0}))},
   };
   return c;
 }

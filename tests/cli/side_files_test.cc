@@ -1,5 +1,6 @@
 // Side files end to end (issue 25): an export's JSON source and a Kalibr file read through
-// pipes and FIFOs (the sniff keeps the bytes it looks at) give what the regular file gives.
+// pipes and FIFOs (the sniff keeps the bytes it looks at), or with a UTF-8 byte-order mark,
+// give what the regular file gives.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -86,6 +87,14 @@ TEST_F(GmwmSideFiles, AnExportReadsAResultFromAFifo) {
   const auto r = run_gmwm({"export", "r.fifo", "--format", "kalibr", "--output", "fifo.yaml", "--quiet"}, dir_, how);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(values_of(read_text(dir_ / "fifo.yaml")), values_of(from_file_));
+}
+
+TEST_F(GmwmSideFiles, AnExportAcceptsAUtf8ByteOrderMark) {
+  // RFC 8259 lets a reader ignore it; it was taken for a data file ("give --model").
+  write_text(dir_ / "bom.json", "\xEF\xBB\xBF" + read_text(dir_ / "fit.json"));
+  const auto r = run_gmwm({"export", "bom.json", "--format", "kalibr", "--output", "bom.yaml", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(values_of(read_text(dir_ / "bom.yaml")), values_of(from_file_));
 }
 
 TEST_F(GmwmSideFiles, GapReadsAKalibrFilePipedIntoIt) {

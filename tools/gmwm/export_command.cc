@@ -43,17 +43,23 @@ struct ExportArgs {
   CLI::App* sub = nullptr;  ///< to tell which options were given
 };
 
-// Bytes looked at to tell a JSON result from a data file: the blanks before the first '{'
-// of a JSON document written by any tool fit many times over.
+// Bytes looked at to tell a JSON result from a data file: a byte-order mark and the
+// blanks before the first '{' of a JSON document written by any tool fit many times over.
 constexpr std::size_t kSniffBytes = 4096;
 
-// A gmwm JSON result starts with '{' (after blanks); data files (text or gzip) never do.
-// The bytes are peeked, not consumed: a pipe (`gmwm fit --json - | gmwm export /dev/stdin`)
-// still holds them for the JSON or the data reader.
-bool is_json_result(io::SideFile& input) {
+// A gmwm JSON result starts with '{' (after an optional UTF-8 byte-order mark, which RFC
+// 8259 lets a reader ignore, and blanks); data files (text or gzip) never do. The bytes are
+// peeked, not consumed: a pipe (`gmwm fit --json - | gmwm export /dev/stdin`) still holds
+// them for the JSON or the data reader. A UTF-16 or UTF-32 byte-order mark is named.
+bool is_json_result(io::SideFile& input, const std::string& path) {
   const std::string head = input.peek(kSniffBytes);
-  const auto first = head.find_first_not_of(" \t\r\n");
-  return first != std::string::npos && head[first] == '{';
+  std::string_view v(head);
+  if (v.starts_with("\xEF\xBB\xBF")) v.remove_prefix(3);
+  else if (v.starts_with("\xFF\xFE") || v.starts_with("\xFE\xFF") || v.starts_with(std::string_view("\0\0\xFE\xFF", 4)))
+    throw InputError(path + ": starts with a UTF-16 or UTF-32 byte-order mark, expected UTF-8 text (the --json "
+                     "result of gmwm fit or gmwm select, or a data file)");
+  const auto first = v.find_first_not_of(" \t\r\n");
+  return first != std::string_view::npos && v[first] == '{';
 }
 
 std::optional<io::SensorKind> sensor_of(const std::string& s) {
@@ -249,7 +255,7 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   // Kept open until the data are read: a FIFO's content lives while a reader holds it.
   io::SideFile input(a.input.input, "the --json result of gmwm fit or gmwm select, or a data file");
   try {
-    columns = is_json_result(input) ? from_result(a, input, source) : from_data(a, common, source);
+    columns = is_json_result(input, a.input.input) ? from_result(a, input, source) : from_data(a, common, source);
   } catch (const NoUsableResult& e) {
     std::cerr << "gmwm: error: " << printable_line(e.what()) << '\n';
     return 1;
