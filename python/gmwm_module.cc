@@ -3,11 +3,16 @@
 // JSON column the command-line program writes for the same data and options (built by the
 // same io/ functions, so the numbers are equal to the last bit). The GIL is released while
 // the library computes; the library's InputError becomes gmwm.InputError (a ValueError)
-// with the same one-line message.
+// with the same one-line message. Ctrl-C stops a long fit, select or gap within about a
+// second with KeyboardInterrupt (run_cancellable below).
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <functional>
+#include <future>
 #include <memory>
 #include <optional>
 #include <span>
@@ -50,6 +55,52 @@ py::object to_python(const Json& j) {
   // Imported per call (a cached module lookup): a static py::object would be released
   // after the interpreter has finalized.
   return py::module_::import("json").attr("loads")(j.dump());
+}
+
+// How often the interpreter's main thread looks for a signal while the library computes
+// (Ctrl-C): often enough that KeyboardInterrupt comes well within a second, rarely enough
+// that taking the GIL costs nothing next to the work.
+constexpr auto kSignalCheckInterval = std::chrono::milliseconds(50);
+
+// A study that Ctrl-C can stop. Python runs its signal handlers only on the main thread
+// and only when that thread calls PyErr_CheckSignals, while the library's progress
+// callbacks come from TBB's worker threads. So the study runs on a thread of its own (the
+// GIL released) and this thread, every kSignalCheckInterval, takes the GIL briefly and
+// calls PyErr_CheckSignals. When a handler raises (KeyboardInterrupt), `cancel` is set; the
+// progress callbacks the study was given (cancellation_point) then throw gmwm::Cancelled
+// at their next call, which unwinds the study's parallel loops, and the handler's
+// exception is raised here. `study(progress)` gets that progress callback to install.
+template <class Study>
+auto run_cancellable(Study&& study) -> decltype(study(std::function<void(int, int)>())) {
+  using Result = decltype(study(std::function<void(int, int)>()));
+  auto cancel = std::make_shared<std::atomic<bool>>(false);
+  const std::function<void(int, int)> cancellation_point = [cancel](int, int) {
+    if (cancel->load(std::memory_order_relaxed)) throw gmwm::Cancelled();
+  };
+  bool interrupted = false;
+  std::future<Result> done;
+  {
+    py::gil_scoped_release release;
+    done = std::async(std::launch::async, [&] { return study(cancellation_point); });
+    while (done.wait_for(kSignalCheckInterval) != std::future_status::ready) {
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        // The handler's exception stays set on this thread while the study winds down.
+        interrupted = true;
+        cancel->store(true);
+        break;
+      }
+    }
+    done.wait();
+  }
+  if (interrupted) {
+    try {
+      done.get();  // gmwm::Cancelled, or a result that came first: either way, interrupted
+    } catch (...) {
+    }
+    throw py::error_already_set();
+  }
+  return done.get();
 }
 
 // A 1-D float64 view of one series (copied when not contiguous float64).
@@ -236,12 +287,13 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
   o.robust = robust_options(robust, eff, estimator, alpha);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
-  Json out;
-  {
-    py::gil_scoped_release release;
-    const gmwm::pipeline::FitStudy study = gmwm::pipeline::study_fit(set, o);
-    out = gmwm::io::fit_document(set, study, {unit}, set.freq_known ? set.freq : 0.0)["columns"][0];
-  }
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::FitStudyOptions oc = o;
+    oc.fit.progress = progress;  // the bootstrap Omega's draws
+    if (oc.robust) oc.robust->progress = progress;
+    const gmwm::pipeline::FitStudy study = gmwm::pipeline::study_fit(set, oc);
+    return Json(gmwm::io::fit_document(set, study, {unit}, set.freq_known ? set.freq : 0.0)["columns"][0]);
+  });
   return to_python(out);
 }
 
@@ -282,12 +334,13 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
   o.robust = robust_options(robust, eff, estimator, alpha);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
-  Json out;
-  {
-    py::gil_scoped_release release;
-    const gmwm::pipeline::SelectStudy study = gmwm::pipeline::study_select(set, o);
-    out = gmwm::io::select_document(set, study, units, set.freq_known ? set.freq : 0.0)["columns"];
-  }
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::SelectStudyOptions oc = o;
+    oc.select.progress = progress;  // every fit and bootstrap draw
+    if (oc.robust) oc.robust->progress = progress;
+    const gmwm::pipeline::SelectStudy study = gmwm::pipeline::study_select(set, oc);
+    return Json(gmwm::io::select_document(set, study, units, set.freq_known ? set.freq : 0.0)["columns"]);
+  });
   return to_python(out);
 }
 
@@ -328,12 +381,12 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
   if (fit) o.baseline = gmwm::pipeline::FitBaseline{*fit};
   if (kalibr) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_kalibr_imu_yaml(*kalibr, freq, o.units, kalibr_imu), *kalibr};
   if (gazebo) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_gazebo_sdf(*gazebo, freq, o.units), *gazebo};
-  Json out;
-  {
-    py::gil_scoped_release release;
-    const gmwm::pipeline::GapStudy study = gmwm::pipeline::study_gap(set, o);
-    out = gmwm::io::gap_document(set, study);
-  }
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::GapStudyOptions oc = o;
+    oc.progress = [progress](double, double) { progress(0, 0); };  // every replicate and attribution fit
+    const gmwm::pipeline::GapStudy study = gmwm::pipeline::study_gap(set, oc);
+    return gmwm::io::gap_document(set, study);
+  });
   return to_python(out);
 }
 

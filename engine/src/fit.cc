@@ -423,7 +423,8 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
       ClassicalWvEstimator classical;
       const WvEstimator& est = options.estimator ? *options.estimator : classical;
       v_for_omega = bootstrap_wv_covariance(model_in, pilot, wv.n, wv.levels(),
-                                            options.bootstrap_replicates, options.seed, est, wv.alpha);
+                                            options.bootstrap_replicates, options.seed, est, wv.alpha,
+                                            options.progress);
     }
     P.omega = v_for_omega.completeOrthogonalDecomposition().pseudoInverse();
     P.omega = 0.5 * (P.omega + P.omega.transpose());

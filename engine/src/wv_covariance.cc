@@ -1,6 +1,7 @@
 #include "gmwm/engine/wv_covariance.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -336,13 +337,16 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
 Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
                                         std::int64_t n, int levels, int replicates,
                                         std::uint64_t seed, const WvEstimator& estimator,
-                                        double alpha) {
+                                        double alpha, const std::function<void(int, int)>& progress) {
   check_at_least("bootstrap_wv_covariance", "replicates", replicates, 2.0);
   Eigen::MatrixXd W(replicates, levels);
+  std::atomic<int> done{0};
   gmwm::parallel_for(0, replicates, [&](int r) {
     const auto x = simulate(model, theta, n, seed, static_cast<std::uint64_t>(r));
     const WaveletVariance w = estimator.compute(x.data(), n, levels, alpha);
     for (int j = 0; j < levels; ++j) W(r, j) = w.wv[static_cast<std::size_t>(j)];
+    const int d = ++done;
+    if (progress) progress(d, replicates);
   });
   const Eigen::RowVectorXd mean = W.colwise().mean();
   const Eigen::MatrixXd centred = W.rowwise() - mean;

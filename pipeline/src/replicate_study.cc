@@ -72,6 +72,7 @@ JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const P
   ao.test.bootstrap = options.test_draws;
   ao.test.seed = options.seed;
   ao.test.estimator = estimator.get();
+  ao.test.progress = options.progress;
   ao.bootstrap_draws = kReplicateBootstrapDraws;
   JointFitStudy study{options.model, options.seed, options.robust.has_value(), options.fit.omega, {}};
   for (const ReplicateGroup& g : groups) {

@@ -1,6 +1,7 @@
 #include "gmwm/robust/robust_wv.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -336,17 +337,28 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
   for (const auto& s : series) check_series("robust_wv", static_cast<std::int64_t>(s.size()), options);
   const Tuning t = tune(options.estimator, options.efficiency);
   std::vector<Prepared> p(series.size());
+  // Progress (and the cancellation point) after each series prepared and each level: the
+  // levels' count is known once every series is prepared, so the total grows then.
+  std::atomic<int> done{0};
+  std::atomic<int> total{static_cast<int>(series.size())};
+  auto tick = [&] {
+    const int d = ++done;
+    if (options.progress) options.progress(d, total.load());
+  };
   gmwm::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
     p[c] = prepare(series[c].data(), static_cast<std::int64_t>(series[c].size()), options, t);
+    tick();
   });
   // All levels of all series as one flat range (the fine levels cost the same as the
   // coarse ones: M_j ~ N at every level), so two cores share the work evenly.
   std::vector<std::pair<std::size_t, int>> tasks;
   for (std::size_t c = 0; c < series.size(); ++c)
     for (int j = 1; j <= p[c].w.levels(); ++j) tasks.emplace_back(c, j);
+  total += static_cast<int>(tasks.size());
   gmwm::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
     const auto [c, j] = tasks[k];
     robust_level(*p[c].modwt, j, t, p[c].w);
+    tick();
   });
   std::vector<WaveletVariance> out;
   out.reserve(series.size());
@@ -354,7 +366,8 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
   return out;
 }
 
-RobustWvEstimator::RobustWvEstimator(RobustWvOptions options) : options_(options) {
+RobustWvEstimator::RobustWvEstimator(RobustWvOptions options) : options_(std::move(options)) {
+  options_.progress = nullptr;  // the caller's progress is the data's, not the draws'
   if (const std::string why = options_.Validate(); !why.empty()) throw InvalidArgument("RobustWvEstimator: " + why);
 }
 

@@ -27,6 +27,12 @@ constexpr int kCalibrationReplicates = 100;
 // Stream offset of the reference replicates of each forward step's shifted reference is
 // not needed (the reference is simulated once); the replicate streams are (seed, b).
 
+// The attribution's cancellation point: the progress callback called again with the
+// reference complete (the bar stays where it is; a Cancelled thrown there stops the work).
+void checkpoint(const GapOptions& o) {
+  if (o.progress) o.progress(o.replicates, o.replicates);
+}
+
 constexpr CandidateSpec kCatalogue[] = {
     {GapEffect::kWN, "WN"},          {GapEffect::kQN, "QN"},   {GapEffect::kRW, "RW"},
     {GapEffect::kDR, "DR"},          {GapEffect::kAR1, "AR1"}, {GapEffect::kFlicker, "FLICKER"},
@@ -157,6 +163,7 @@ void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::
   const Eigen::Index p = fit.theta.size();
   Eigen::MatrixXd draws = Eigen::MatrixXd::Constant(R, p, std::numeric_limits<double>::quiet_NaN());
   gmwm::parallel_for(0, R, [&](int b) {
+    checkpoint(o);
     FitResult r;
     const double left = fit_candidate(spec, base, reps_augmented.row(b).transpose(), like, omega, o, &r, &chosen);
     if (!std::isfinite(left)) return;
@@ -201,11 +208,13 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
   // The base's own objective on each replicate, once (a refit in --fit mode).
   std::vector<double> g_base(static_cast<std::size_t>(R));
   gmwm::parallel_for(0, R, [&](int b) {
+    checkpoint(o);
     g_base[static_cast<std::size_t>(b)] =
         base_objective(base, reps.row(b).transpose(), like, omega, o);
   });
   // The data's fits first (the replicates' refits start from them).
   gmwm::parallel_for(std::size_t{0}, K, [&](std::size_t c) {
+    checkpoint(o);
     GapCandidate& g = s.scored[c];
     g.effect = specs[c].effect;
     const double left = fit_candidate(specs[c], base, nuhat, like, omega, o, &g.fit);
@@ -213,6 +222,7 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
     if (g.fit.status != FitStatus::kFailed) g.model = g.fit.model.to_string(g.fit.theta);
   });
   gmwm::parallel_for(std::size_t{0}, K * static_cast<std::size_t>(R), [&](std::size_t k) {
+    checkpoint(o);
     const std::size_t c = k % K, b = k / K;
     const Eigen::VectorXd t = reps.row(static_cast<Eigen::Index>(b)).transpose();
     const double left = fit_candidate(specs[c], base, t, like, omega, o, nullptr, &s.scored[c].fit);

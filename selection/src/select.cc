@@ -53,7 +53,8 @@ struct BootstrapResult {
 // 2 (nu(theta*_b) - mean)' Omega (nuhat*_b - mean) (their mean, times B/(B-1), is the
 // estimate).
 BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& fit, const Eigen::MatrixXd& omega,
-                                   const SelectOptions& options, std::uint64_t stream_base) {
+                                   const SelectOptions& options, std::uint64_t stream_base,
+                                   const std::function<void()>& tick) {
   const int B = options.bootstrap_replicates;
   const Eigen::Index J = wv.levels();
   const ClassicalWvEstimator classical;
@@ -61,6 +62,7 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
   std::vector<Eigen::VectorXd> implied(static_cast<std::size_t>(B)), empirical(static_cast<std::size_t>(B));
   std::vector<char> ok(static_cast<std::size_t>(B), 0), converged(static_cast<std::size_t>(B), 0);
   gmwm::parallel_for(0, B, [&](int b) {
+    tick();  // progress, and the cancellation point, before each draw's work
     const std::uint64_t stream = stream_base + static_cast<std::uint64_t>(b);
     const WaveletVariance w = [&] {
       if (options.bootstrap_draw) return options.bootstrap_draw(wv, fit.model, fit.theta, stream);
@@ -203,17 +205,18 @@ std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::
 // The bootstrap optimism of every (signal, model) of `work` (K models per signal);
 // replicate streams depend on (signal, model, replicate) only.
 std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, std::size_t K,
-                                           const SelectOptions& options) {
+                                           const SelectOptions& options, const std::function<void()>& tick) {
   std::vector<BootstrapResult> boot(work.size() * K);
   gmwm::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t k) {
     const FitResult& f = work[k / K].fits[k % K];
     if (f.status == FitStatus::kFailed) {
       boot[k].value = boot[k].se = std::numeric_limits<double>::quiet_NaN();
       boot[k].failed = options.bootstrap_replicates;
+      for (int b = 0; b < options.bootstrap_replicates; ++b) tick();  // no draws: counted as done
       return;
     }
     boot[k] = bootstrap_optimism(*work[k / K].wv, f, work[k / K].omega, options,
-                                 static_cast<std::uint64_t>(k) * static_cast<std::uint64_t>(kMaxReplicates));
+                                 static_cast<std::uint64_t>(k) * static_cast<std::uint64_t>(kMaxReplicates), tick);
   });
   return boot;
 }
@@ -496,8 +499,14 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
   for (const auto& wv : wvs) check_model_fits_levels(set.models.back().model, wv.levels());
 
   std::vector<SignalWork> work = make_work(wvs, K, maximal, options);
-  const int total = static_cast<int>(wvs.size() * K);
+  // Progress: every fit, then every bootstrap draw (a failed fit's draws count as done).
+  const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
+  const int total = static_cast<int>(wvs.size() * K * (1 + (want_bootstrap ? options.bootstrap_replicates : 0)));
   std::atomic<int> done{0};
+  auto tick = [&] {
+    const int d = ++done;
+    if (options.progress) options.progress(d, total);
+  };
   std::vector<Model> models;
   for (const auto& m : set.models) models.push_back(m.model);
   const auto rep = representation_matrix(models);
@@ -505,8 +514,8 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
                            done);
 
   // Bootstrap optimism of every (signal, model), when asked.
-  const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
-  const std::vector<BootstrapResult> boot = want_bootstrap ? bootstrap_all(work, K, options) : std::vector<BootstrapResult>{};
+  const std::vector<BootstrapResult> boot =
+      want_bootstrap ? bootstrap_all(work, K, options, tick) : std::vector<BootstrapResult>{};
 
   // Scoring and ranking, per signal.
   std::vector<Selection> out(wvs.size());
@@ -536,7 +545,8 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
   for (const auto& wv : wvs) check_model_fits_levels(super, wv.levels());
   const std::size_t K = models.size();
   std::vector<SignalWork> work = make_work(wvs, K, super, options);
-  const int total = static_cast<int>(wvs.size() * (K + 1));
+  const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
+  const int total = static_cast<int>(wvs.size() * (K + 1 + (want_bootstrap ? K * options.bootstrap_replicates : 0)));
   std::atomic<int> done{0};
   auto tick = [&] {
     const int d = ++done;
@@ -563,8 +573,8 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     tick();
   });
   // Bootstrap optimism of every (signal, model), when asked.
-  const bool want_bootstrap = options.optimism != OptimismMethod::kAnalytic;
-  const std::vector<BootstrapResult> boot = want_bootstrap ? bootstrap_all(work, K, options) : std::vector<BootstrapResult>{};
+  const std::vector<BootstrapResult> boot =
+      want_bootstrap ? bootstrap_all(work, K, options, tick) : std::vector<BootstrapResult>{};
   std::vector<Selection> out(wvs.size());
   gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t s) {
     std::vector<const BootstrapResult*> b(K, nullptr);

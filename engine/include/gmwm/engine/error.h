@@ -26,4 +26,14 @@ class InputError : public std::runtime_error {
   explicit InputError(std::string_view message) : std::runtime_error(printable_line(message)) {}
 };
 
+/// Thrown by a progress callback to stop the computation that called it (Python's Ctrl-C:
+/// python/gmwm_module.cc). Every long computation of the library reports progress through a
+/// callback (a study's `progress` option), which is where it may be cancelled: the exception
+/// goes through the parallel loops (gmwm::parallel_for) and the selection's flow graph,
+/// which stop starting work and rethrow it, and nothing is left half-written.
+class Cancelled : public std::exception {
+ public:
+  const char* what() const noexcept override { return "cancelled"; }
+};
+
 }  // namespace gmwm

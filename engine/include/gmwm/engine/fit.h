@@ -69,6 +69,9 @@ struct FitOptions {
   /// How deep those warm starts go: 1 fits the neighbours without starts of their own,
   /// 2 gives each neighbour its own neighbours' fits, and so on (cost ~ components^depth).
   int nested_depth = 2;
+  /// (draws done, total) while the bootstrap Omega (OmegaKind::kBootstrap) is simulated;
+  /// may throw gmwm::Cancelled to stop the fit (error.h).
+  std::function<void(int, int)> progress;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };

@@ -10,6 +10,7 @@
 // and by parametric bootstrap with any WV estimator.
 
 #include <cstdint>
+#include <functional>
 
 #include <Eigen/Core>
 
@@ -24,9 +25,11 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
 
 /// Sample covariance of the WV of `replicates` series simulated from (model, theta),
 /// with stream seeds derived from `seed`; deterministic whatever the thread count.
+/// `progress` (draws done, replicates) after each draw; it may throw gmwm::Cancelled.
 Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
                                         std::int64_t n, int levels, int replicates,
                                         std::uint64_t seed, const WvEstimator& estimator,
-                                        double alpha = 0.05);
+                                        double alpha = 0.05,
+                                        const std::function<void(int, int)>& progress = {});
 
 }  // namespace gmwm

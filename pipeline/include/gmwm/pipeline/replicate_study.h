@@ -6,6 +6,7 @@
 // io::joint_select_document write them.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct JointFitStudyOptions {
   /// Draws of the shared-theta test's parametric bootstrap, and its seed.
   int test_draws = ReplicateTestOptions{}.bootstrap;
   std::uint64_t seed = 0;
+  /// (draws done, total) of the shared-theta test's bootstrap, per group; may throw
+  /// gmwm::Cancelled to stop the study (error.h).
+  std::function<void(int, int)> progress;
 
   std::string Validate() const;
 };

@@ -21,6 +21,7 @@
 // w.notes. w.small_sample states both.
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ struct RobustWvOptions {
   double alpha = 0.05;                     ///< CIs at level 1 - alpha
   /// Replace isolated spikes and short glitches before the transform (spike_screen.h).
   bool screen_spikes = true;
+  /// (tasks done, total) of the several-series robust_wv: one task per series prepared
+  /// (screened and transformed), one per level of each; may throw gmwm::Cancelled to stop
+  /// it (error.h). Not called by the one-series form, which bootstrap draws use.
+  std::function<void(int, int)> progress;
   /// Empty when valid, else one line naming the option.
   std::string Validate() const;
 };

@@ -77,7 +77,9 @@ struct GapOptions {
   FitOptions fit;
   /// The signal's sampling rate, for the candidates' display units (SIN's f in Hz).
   ProcessContext context;
-  /// Called with (replicates done, total) while the reference is simulated.
+  /// Called with (replicates done, total) while the reference is simulated, then again
+  /// with (total, total) before each fit of the attribution; may throw gmwm::Cancelled to
+  /// stop the diagnosis (error.h).
   std::function<void(int, int)> progress;
   /// Empty when valid, else one line.
   std::string Validate() const;

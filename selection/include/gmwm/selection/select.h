@@ -79,7 +79,8 @@ struct SelectOptions {
   /// Fit settings shared by every model (omega_matrix, inference, nested_starts and
   /// starts are set per signal/model by the selection).
   FitOptions fit;
-  /// Called after each model fit with (models done, total), from worker threads.
+  /// Called after each model fit and each bootstrap draw of the optimism with (done, total),
+  /// from worker threads; may throw gmwm::Cancelled to stop the selection (error.h).
   std::function<void(int, int)> progress;
   /// Empty when valid, else one line.
   std::string Validate() const;
