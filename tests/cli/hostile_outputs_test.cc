@@ -1,6 +1,7 @@
 // The bad-input contract (hostile_harness.h) for what issue 25 found beyond reading a
 // file: standard output closed under the writer (a pipe to `head -c1`); side files that
-// are devices, sockets, FIFOs, endless pipes or too large.
+// are devices, sockets, FIFOs, endless pipes or too large; numbers in options and results
+// at the edge of their types.
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -13,8 +14,10 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "hostile_harness.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace gmwm::test::hostile;
@@ -122,6 +125,22 @@ std::vector<Case> corpus() {
       {"export source in UTF-16", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
        {"r.json: starts with a UTF-16 or UTF-32 byte-order mark, expected UTF-8 text"},
        file("r.json", bytes({0xFF, 0xFE, '{', 0, '}', 0}))},
+      // --- whole numbers in options ----------------------------------------------------------
+      {"negative seed", {"wv", "base.csv", "--seed=-1"},
+       {"--seed: found '-1', expected an integer from 0 to 18446744073709551615"}, base},
+      {"seed beyond 64 bits", {"wv", "base.csv", "--seed", "18446744073709551616"},
+       {"--seed: found '18446744073709551616', expected an integer from 0"}, base},
+      {"seed in hex", {"wv", "base.csv", "--seed", "0x10"}, {"--seed: found '0x10'"}, base},
+      {"negative thread count", {"wv", "base.csv", "--threads=-1"},
+       {"--threads: found '-1', expected an integer from 1 to 4096"}, base},
+      {"levels in octal notation", {"wv", "base.csv", "--levels", "+010"}, {"--levels: found '+010'"}, base},
+      {"negative sample count", {"simulate", "--model", "WN(sigma2=1)", "--n=-5", "--output", "s.csv"},
+       {"--n: found '-5', expected an integer from 1 to 1099511627776"}},
+      {"signal count as a real", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--signals", "2.5", "--output",
+                                  "s.csv"}, {"--signals: found '2.5'"}},
+      {"replicates in hex",
+       {"select", "base.csv", "--model", "WN+RW", "--optimism", "bootstrap", "--replicates", "0x20"},
+       {"--replicates: found '0x20'"}, base},
   };
   return c;
 }
@@ -129,3 +148,14 @@ std::vector<Case> corpus() {
 }  // namespace
 
 HOSTILE_CORPUS(HostileOutputs, corpus());
+
+// A whole number is read in decimal whatever its leading zeros (CLI11 alone read "010" as
+// octal 8).
+TEST(HostileOutputs, LeadingZerosDoNotMakeAnOctalNumber) {
+  const fs::path dir = gmwm::test::temp_dir("octal");
+  gmwm::test::write_text(dir / "base.csv", base_csv());
+  const gmwm::test::CliRun r = gmwm::test::run_gmwm({"wv", "base.csv", "--levels", "010", "--json", "-"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["columns"][0]["levels"].size(), 10u);
+  fs::remove_all(dir);
+}

@@ -76,7 +76,7 @@ TEST_F(GmwmNoiseFigures, WvAdevRejectsItsOptionsWithoutAdevAndBadPointsPerOctave
   expect_bad_input(run_gmwm({"wv", "sim.csv.gz", "--adev-csv", "a.csv", "--json", "o.json"}, dir_),
                    {"--adev-csv", "only meaningful with --adev"}, dir_ / "o.json");
   expect_bad_input(run_gmwm({"wv", "sim.csv.gz", "--adev", "--adev-points", "0", "--json", "o.json"}, dir_),
-                   {"--adev-points", "points per octave"}, dir_ / "o.json");
+                   {"--adev-points: found '0', expected an integer from 1 to 64"}, dir_ / "o.json");
   expect_bad_input(run_gmwm({"wv", "sim.csv.gz", "--adev", "--units", "gyro=furlong", "--json", "o.json"}, dir_),
                    {"furlong"}, dir_ / "o.json");
   EXPECT_FALSE(fs::exists(dir_ / "a.csv"));

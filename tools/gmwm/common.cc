@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -18,15 +19,31 @@
 
 namespace gmwm::cli {
 
+CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi) {
+  const std::string range = std::to_string(lo) + " to " + std::to_string(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        std::uint64_t v = 0;
+        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (!digits || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+          return "found '" + text + "', expected an integer from " + range;
+        text = std::to_string(v);
+        return "";
+      },
+      range);
+}
+
 void add_common_options(CLI::App& sub, CommonOptions& common) {
   sub.add_option("--json", common.json,
                  "Write the machine-readable result to PATH ('-' for standard output)")
       ->type_name("PATH");
   sub.add_option("--threads", common.threads, "Worker threads (default: all cores)")
       ->type_name("N")
-      ->check(CLI::Range(1, 4096));
+      ->transform(whole_number(1, 4096));
   sub.add_option("--seed", common.seed, "Random seed (default fixed, so runs are reproducible)")
       ->type_name("S")
+      ->transform(whole_number(0, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
   sub.add_flag("--quiet,-q", common.quiet,
                "No result table on the terminal (errors and warnings still go to stderr)");
@@ -61,7 +78,7 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("--levels", input.levels,
                  "Number of WV levels J (default: floor(log2 N))")
       ->type_name("J")
-      ->check(CLI::Range(1, kMaxLevelsOption));
+      ->transform(whole_number(1, kMaxLevelsOption));
   sub.add_option("--memory", input.memory_mb,
                  "Memory for the samples in MB (default: 75% of physical memory, at 16 bytes a value); a longer "
                  "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit "
@@ -95,7 +112,7 @@ void add_robust_options(CLI::App& sub, RobustOptions& robust) {
 void add_max_evaluations_option(CLI::App& sub, int& max_evaluations) {
   sub.add_option("--max-evaluations", max_evaluations, "Objective evaluations per local optimisation before giving up")
       ->type_name("N")
-      ->check(CLI::Range(10, 100000000))
+      ->transform(whole_number(10, 100000000))
       ->capture_default_str();
 }
 

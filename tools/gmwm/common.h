@@ -43,6 +43,12 @@ struct CommonOptions {
 /// The largest --levels: J levels need 2^J samples, and no record reaches 2^62.
 inline constexpr int kMaxLevelsOption = 62;
 
+/// The check of a whole-number option, run on its text before CLI11 converts it: plain
+/// decimal digits within [lo, hi] ("found '-1', expected an integer from 0 to N"). CLI11
+/// alone reads "-1" as 2^64 - 1 into an unsigned option, "010" as 8 and "0x10" as 16; the
+/// text is rewritten to its canonical digits so that what is converted is what was checked.
+CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi);
+
 /// A comma-separated list with each entry trimmed ("" gives an empty list; "a,,b" keeps
 /// the empty entry for the caller to refuse).
 std::vector<std::string> split_list(const std::string& s);

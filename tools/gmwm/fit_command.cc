@@ -287,7 +287,7 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--replicates", args->replicates,
                   "Bootstrap replicates for --omega bootstrap, and for the shared-theta test with --joint")
       ->type_name("B")
-      ->check(CLI::Range(2, 1000000))
+      ->transform(whole_number(2, 1000000))
       ->capture_default_str();
   sub->add_option("--joint", args->joint,
                   "Replicates of INPUT's sensor, fitted jointly with it (multi-signal GMWM): FILE adds that "

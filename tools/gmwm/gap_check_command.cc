@@ -129,11 +129,11 @@ Command add_gap_check_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<GapCheckArgs>();
   CLI::App* sub = app.add_subcommand("gap-check", "The gap diagnosis' self-check on data whose effect was withheld");
   sub->add_option("--cases", args->cases, "Cases per withheld effect (the null side gets 5x and 2x as many)")
-      ->check(CLI::Range(1, 100000))
+      ->transform(whole_number(1, 100000))
       ->capture_default_str();
-  sub->add_option("--n", args->n, "Samples per case")->check(CLI::Range(std::int64_t{256}, std::int64_t{1} << 26))->capture_default_str();
+  sub->add_option("--n", args->n, "Samples per case")->transform(whole_number(256, std::uint64_t{1} << 26))->capture_default_str();
   sub->add_option("--replicates", args->replicates, "Reference replicates per diagnosis")
-      ->check(CLI::Range(20, 100000))
+      ->transform(whole_number(20, 100000))
       ->capture_default_str();
   sub->add_option("--strengths", args->strengths, "Strengths, cycled through each family's cases")->capture_default_str();
   sub->add_option("--families", args->families, "Withheld families, comma-separated (default: all of them)");

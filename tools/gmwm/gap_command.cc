@@ -273,7 +273,7 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
       ->type_name("COLUMN");
   sub->add_option("--replicates", args->replicates, "Reference replicates (parametric bootstrap of the baseline)")
       ->type_name("B")
-      ->check(CLI::Range(20, 100000))
+      ->transform(whole_number(20, 100000))
       ->capture_default_str();
   sub->add_flag("--no-unit-check", args->no_unit_check,
                 "Diagnose even when a column's finest scales sit at a unit factor ((180/pi)^2, 9.80665^2, ...) "

@@ -334,7 +334,7 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->capture_default_str();
   sub->add_option("--replicates", args->replicates, "Bootstrap replicates per model")
       ->type_name("B")
-      ->check(CLI::Range(2, 100000))
+      ->transform(whole_number(2, 100000))
       ->capture_default_str();
   sub->add_option("--joint", args->joint,
                   "Replicates of INPUT's sensor (FILE: its columns of the same names; FILE:COLUMN: one column for "

@@ -175,14 +175,14 @@ Command add_simulate_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--n", args->n, "Samples per signal")
       ->type_name("N")
       ->required()
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+      ->transform(whole_number(1, std::uint64_t{1} << 40));
   sub->add_option_function<double>(
          "--freq", [args](const double& f) { args->freq = f; },
          "Sampling rate in Hz: adds a timestamp column (seconds)")
       ->type_name("HZ");
   sub->add_option("--signals", args->signals, "Number of independent signals (columns)")
       ->type_name("K")
-      ->check(CLI::Range(1, 100000))
+      ->transform(whole_number(1, 100000))
       ->capture_default_str();
   sub->add_option("--names", args->names,
                   "Column names, comma-separated (default x, or x1..xK)")

@@ -224,6 +224,7 @@ Command add_wv_command(CLI::App& app, CommonOptions& common) {
       ->type_name("PATH");
   sub->add_option("--adev-points", args->adev_points, "With --adev: averaging times per octave (1: octaves only)")
       ->type_name("K")
+      ->transform(whole_number(1, 64))
       ->capture_default_str();
   add_units_option(*sub, args->units);
   add_common_options(*sub, common);
