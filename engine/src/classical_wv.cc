@@ -15,6 +15,7 @@ namespace gmwm {
 std::string WvOptions::Validate() const {
   std::ostringstream os;
   if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
+  else if (alpha < kMinAlpha) os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
   else if (levels < 0) os << "levels must be positive (or 0 for all), got " << levels;
   return os.str();
 }

@@ -43,6 +43,7 @@ const char* to_string(FitStatus s) {
 std::string FitOptions::Validate() const {
   std::ostringstream os;
   if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
+  else if (alpha < kMinAlpha) os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
   else if (multistarts < 1) os << "multistarts must be at least 1, got " << multistarts;
   else if (max_evaluations < 10) os << "max_evaluations must be at least 10, got " << max_evaluations;
   else if (nested_depth < 1) os << "nested_depth must be at least 1, got " << nested_depth;

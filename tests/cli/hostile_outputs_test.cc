@@ -47,6 +47,13 @@ RunOptions to_head() {
   return how;
 }
 
+// A fit result with one column whose "freq" is `freq` (JSON text).
+std::string fit_result(const std::string& freq) {
+  return R"j({"tool": "gmwm", "version": "0.1.0", "command": "fit", "input": "d.csv", "columns": [)j"
+         R"j({"name": "gyro_x", "n": 4096, "freq": )j" +
+         freq + R"j(, "model": "WN(sigma2=1e-06)+RW(gamma2=1e-12)", "status": "converged"}]})j";
+}
+
 const std::string kYaml =
     "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
     "gyroscope_noise_density: 8.73e-04\ngyroscope_random_walk: 2.0e-05\nupdate_rate: 100.0\n";
@@ -141,6 +148,23 @@ std::vector<Case> corpus() {
       {"replicates in hex",
        {"select", "base.csv", "--model", "WN+RW", "--optimism", "bootstrap", "--replicates", "0x20"},
        {"--replicates: found '0x20'"}, base},
+      // --- real numbers in options -----------------------------------------------------------
+      {"subnormal alpha", {"wv", "base.csv", "--alpha", "1e-320"},
+       {"--alpha: found '1e-320', expected a number from 1e-10 to below 1"}, base},
+      {"alpha as a hex float", {"wv", "base.csv", "--alpha", "0x1p-4"}, {"--alpha: found '0x1p-4'"}, base},
+      {"infinite alpha", {"fit", "base.csv", "--model", "WN", "--alpha", "inf"}, {"--alpha: found 'inf'"}, base},
+      {"rate in hex", {"wv", "base.csv", "--freq", "0x1p3"}, {"--freq: found '0x1p3', expected a sampling rate in Hz"},
+       base},
+      {"subnormal simulate rate", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--freq", "1e-310", "--output",
+                                   "s.csv"}, {"--freq: found '1e-310'"}},
+      {"infinite inflation", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml", "--inflate", "inf"},
+       {"--inflate: found 'inf'"}, file("r.json", fit_result("100"))},
+      {"infinite strength", {"gap-check", "--strengths", "1,inf"}, {"--strengths", "'inf'"}},
+      {"efficiency in hex", {"wv", "base.csv", "--robust", "--eff", "0x1p-1"}, {"--eff: found '0x1p-1'"}, base},
+      {"quantum as NaN", {"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--quantum", "nan", "--output", "s.csv"},
+       {"--quantum: found 'nan'"}},
+      {"Kalman rate in hex", {"fit", "base.csv", "--model", "WN+RW", "--kf-rate", "0x10"}, {"--kf-rate: found '0x10'"},
+       base},
   };
   return c;
 }

@@ -19,6 +19,19 @@
 
 namespace gmwm::cli {
 
+std::optional<double> parse_decimal(std::string_view text) {
+  if (text.empty()) return std::nullopt;
+  // from_chars takes no '+'; it takes "inf" and "nan", refused below, and never hex.
+  if (text.front() == '+') text.remove_prefix(1);
+  if (text.empty() || !(std::isdigit(static_cast<unsigned char>(text.front())) || text.front() == '.' ||
+                        text.front() == '-'))
+    return std::nullopt;
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v, std::chars_format::general);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi) {
   const std::string range = std::to_string(lo) + " to " + std::to_string(hi);
   return CLI::Validator(
@@ -32,6 +45,29 @@ CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi) {
         return "";
       },
       range);
+}
+
+CLI::Validator decimal_number(std::function<bool(double)> accept, std::string expected) {
+  return CLI::Validator(
+      [accept = std::move(accept), expected](std::string& text) -> std::string {
+        const std::optional<double> v = parse_decimal(text);
+        if (!v || !accept(*v)) return "found '" + text + "', expected " + expected;
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.17g", *v);
+        text = buf;
+        return "";
+      },
+      "");
+}
+
+CLI::Validator decimal_number(std::string expected) {
+  return decimal_number([](double) { return true; }, std::move(expected));
+}
+
+CLI::Validator sampling_rate_number() {
+  char expected[96];
+  std::snprintf(expected, sizeof expected, "a sampling rate in Hz from %g to %g", io::kMinFreq, io::kMaxFreq);
+  return decimal_number([](double f) { return io::sampling_rate_problem(f, "").empty(); }, expected);
 }
 
 void add_common_options(CLI::App& sub, CommonOptions& common) {
@@ -72,8 +108,11 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
   sub.add_option_function<double>(
          "--freq", [&input](const double& f) { input.freq = f; },
          "Sampling rate in Hz (required when the file has no timestamp column)")
-      ->type_name("HZ");
+      ->type_name("HZ")
+      ->transform(sampling_rate_number());
   sub.add_option("--alpha", input.alpha, "Confidence intervals at level 1 - alpha")
+      ->transform(decimal_number([](double a) { return a >= kMinAlpha && a < 1.0; },
+                             "a number from 1e-10 to below 1 (the intervals' level is 1 - alpha)"))
       ->capture_default_str();
   sub.add_option("--levels", input.levels,
                  "Number of WV levels J (default: floor(log2 N))")
@@ -100,7 +139,8 @@ void add_robust_options(CLI::App& sub, RobustOptions& robust) {
   sub.add_option_function<double>(
          "--eff", [&robust](const double& e) { robust.eff = e; },
          "Gaussian efficiency of the robust WV, in (0, 1) (default 0.6); needs --robust")
-      ->type_name("EFF");
+      ->type_name("EFF")
+      ->transform(decimal_number("a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)"));
   sub.add_option_function<std::string>(
          "--estimator", [&robust](const std::string& e) { robust.estimator = e; },
          "Robust estimator: huber (default) or bisquare; needs --robust")

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -43,11 +44,25 @@ struct CommonOptions {
 /// The largest --levels: J levels need 2^J samples, and no record reaches 2^62.
 inline constexpr int kMaxLevelsOption = 62;
 
+/// A decimal number as every option takes it: an optional sign, digits with an optional
+/// point and exponent, finite. Not hex floats ("0x1p3"), "inf" or "nan", which strtod (and
+/// so CLI11 alone) would take. nullopt otherwise.
+std::optional<double> parse_decimal(std::string_view text);
+
 /// The check of a whole-number option, run on its text before CLI11 converts it: plain
 /// decimal digits within [lo, hi] ("found '-1', expected an integer from 0 to N"). CLI11
 /// alone reads "-1" as 2^64 - 1 into an unsigned option, "010" as 8 and "0x10" as 16; the
 /// text is rewritten to its canonical digits so that what is converted is what was checked.
 CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi);
+
+/// The check of a real-number option, run on its text: parse_decimal, then `accept`
+/// ("found '0x10', expected <expected>"). The text is rewritten to 17 significant digits.
+CLI::Validator decimal_number(std::function<bool(double)> accept, std::string expected);
+/// decimal_number accepting any finite value (the command checks its range itself).
+CLI::Validator decimal_number(std::string expected);
+/// decimal_number within the sampling rates of io::sampling_rate_problem (1e-9 to 1e9 Hz):
+/// "found '1e-310', expected a sampling rate in Hz from 1e-09 to 1e+09".
+CLI::Validator sampling_rate_number();
 
 /// A comma-separated list with each entry trimmed ("" gives an empty list; "a,,b" keeps
 /// the empty entry for the caller to refuse).

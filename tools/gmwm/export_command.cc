@@ -309,6 +309,7 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--inflate", args->inflate,
                   "Multiplies every noise figure written (densities and standard deviations, not variances)")
       ->type_name("X")
+      ->transform(decimal_number("a positive factor"))
       ->capture_default_str();
   sub->add_option_function<double>(
          "--rate", [a = args.get()](const double& r) { a->rate = r; },

@@ -41,16 +41,11 @@ std::vector<double> parse_strengths(const std::string& s) {
   std::stringstream in(s);
   std::string item;
   while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !(v > 0.0))
+    // parse_decimal: no hex floats, "inf" or "nan" (std::stod took "inf" as a strength).
+    const std::optional<double> v = parse_decimal(item);
+    if (!v || !(*v > 0.0))
       throw InputError("--strengths '" + s + "': expected positive numbers separated by commas, found '" + item + "'");
-    out.push_back(v);
+    out.push_back(*v);
   }
   if (out.empty()) throw InputError("--strengths: at least one strength is needed");
   return out;

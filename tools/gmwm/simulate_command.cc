@@ -179,7 +179,8 @@ Command add_simulate_command(CLI::App& app, CommonOptions& common) {
   sub->add_option_function<double>(
          "--freq", [args](const double& f) { args->freq = f; },
          "Sampling rate in Hz: adds a timestamp column (seconds)")
-      ->type_name("HZ");
+      ->type_name("HZ")
+      ->transform(sampling_rate_number());
   sub->add_option("--signals", args->signals, "Number of independent signals (columns)")
       ->type_name("K")
       ->transform(whole_number(1, 100000))
@@ -191,7 +192,8 @@ Command add_simulate_command(CLI::App& app, CommonOptions& common) {
          "--quantum", [args](const double& q) { args->quantum = q; },
          "Round every value to a multiple of Q, like an ADC's least significant bit (adds "
          "about Q^2/12 of white noise; keeps files small)")
-      ->type_name("Q");
+      ->type_name("Q")
+      ->transform(decimal_number("a positive step"));
   sub->add_option("--output,-o", args->output,
                   "Output file (CSV; gzip-compressed when PATH ends in .gz)")
       ->type_name("PATH")

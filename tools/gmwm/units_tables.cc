@@ -21,7 +21,8 @@ void add_units_options(CLI::App& sub, UnitsOptions& o) {
            o.kf_rate = f;
          },
          "Rate of the Kalman filter for the Q/R table (default: the data's rate)")
-      ->type_name("HZ");
+      ->type_name("HZ")
+      ->transform(decimal_number("a sampling rate in Hz"));
 }
 
 std::string column_unit(const UnitsOptions& o, const std::string& column) {

@@ -15,6 +15,12 @@ namespace gmwm {
 
 class HaarModwt;
 
+/// The smallest alpha of any interval (WV, parameters, Allan deviation): at 1 - 1e-10 an
+/// interval already spans ~6.5 standard errors, and below about 2^-53 the level
+/// 1 - alpha/2 rounds to 1, where the chi-square quantile is infinite (a subnormal alpha
+/// such as 1e-320 ended in an overflow inside Boost).
+inline constexpr double kMinAlpha = 1e-10;
+
 struct WvOptions {
   int levels = 0;        ///< number of levels; <= 0 means J = floor(log2 N)
   double alpha = 0.05;   ///< CIs at level 1 - alpha (two-sided)

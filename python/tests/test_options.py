@@ -1,0 +1,16 @@
+"""Numbers at the edge of their types (issue 25): an alpha so small that the level
+1 - alpha/2 rounds to 1 is refused with the valid range, not an overflow inside Boost."""
+import pytest
+
+import gmwm
+
+
+@pytest.mark.parametrize("call", [
+    lambda x: gmwm.wv(x, alpha=1e-320),
+    lambda x: gmwm.fit(x, "WN", alpha=1e-320),
+    lambda x: gmwm.select(x, "WN+RW", alpha=1e-17),
+])
+def test_a_subnormal_alpha_is_refused_with_the_valid_range(call):
+    x = gmwm.simulate("WN(sigma2=1)", 4096)
+    with pytest.raises(gmwm.InputError, match="alpha must be at least 1e-10"):
+        call(x)
