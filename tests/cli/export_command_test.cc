@@ -195,7 +195,7 @@ TEST_F(GmwmExport, RejectsBadInputWithOneLineAndNoFile) {
   expect_bad_input(run_gmwm({"export", "fit.json", "--model", "WN", "--format", "kalibr", "--output", "out.yaml"}, dir_),
                    {"--model", "only for a data file"}, out);
   expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--rate", "-1", "--output", "out.yaml"}, dir_),
-                   {"--rate -1"}, out);
+                   {"--rate: found '-1', expected a sampling rate in Hz"}, out);
   expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--columns", "gyro_q", "--output", "out.yaml"},
                             dir_),
                    {"fit.json", "no column 'gyro_q'"}, out);

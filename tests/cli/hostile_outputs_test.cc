@@ -165,6 +165,13 @@ std::vector<Case> corpus() {
        {"--quantum: found 'nan'"}},
       {"Kalman rate in hex", {"fit", "base.csv", "--model", "WN+RW", "--kf-rate", "0x10"}, {"--kf-rate: found '0x10'"},
        base},
+      // --- sampling rates: --rate and a result's "freq" --------------------------------------
+      {"subnormal export rate", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml", "--rate", "1e-310"},
+       {"--rate: found '1e-310', expected a sampling rate in Hz from 1e-09 to 1e+09"},
+       file("r.json", fit_result("100"))},
+      {"subnormal rate in an export source", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
+       {"r.json", "column 'gyro_x'", "\"freq\": found 4.94066e-324, expected a sampling rate in Hz from 1e-09"},
+       file("r.json", fit_result("5e-324"))},
   };
   return c;
 }

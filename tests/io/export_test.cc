@@ -441,7 +441,7 @@ TEST_F(Export, BadOptionsAreOneLineMessagesNamingTheOption) {
   EXPECT_EQ(o.Validate().rfind("--inflate 0: expected a positive factor", 0), 0u) << o.Validate();
   o.inflate = 1.0;
   o.rate = -5.0;
-  EXPECT_EQ(o.Validate(), "--rate -5: expected a positive IMU rate in Hz");
+  EXPECT_EQ(o.Validate(), "--rate: found -5, expected a sampling rate in Hz from 1e-09 to 1e+09");
   o.rate.reset();
   o.aggregation = Aggregation::kPerAxis;
   EXPECT_EQ(o.Validate().rfind("--aggregate per-axis: the kalibr format has one value per sensor", 0), 0u);

@@ -315,7 +315,8 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
          "--rate", [a = args.get()](const double& r) { a->rate = r; },
          "The IMU rate for update-rate fields and per-sample values (default: the data's rate; needed when a "
          "result has no rate)")
-      ->type_name("HZ");
+      ->type_name("HZ")
+      ->transform(sampling_rate_number());
   sub->add_option("--units", args->units,
                   "Units of the data, e.g. gyro=deg/s,accel=g (default SI, or the result's own); the files are in SI")
       ->type_name("SPEC");

@@ -9,6 +9,7 @@
 
 #include "export_internal.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/io/signal_reader.h"
 
 namespace gmwm::io {
 namespace {
@@ -65,8 +66,8 @@ std::string ExportOptions::Validate() const {
   if (!(inflate > 0.0) || !std::isfinite(inflate))
     return "--inflate " + export_detail::num(inflate) +
            ": expected a positive factor (it multiplies the noise densities and standard deviations; 1 = as fitted)";
-  if (rate && (!(*rate > 0.0) || !std::isfinite(*rate)))
-    return "--rate " + export_detail::num(*rate) + ": expected a positive IMU rate in Hz";
+  if (rate)
+    if (std::string why = sampling_rate_problem(*rate, "--rate"); !why.empty()) return why;
   if (aggregation == Aggregation::kPerAxis && !has_per_axis_fields(format))
     return std::string("--aggregate per-axis: the ") + to_string(format) +
            " format has one value per sensor, not per axis; expected --aggregate mean or worst (per-axis fields: "
@@ -157,8 +158,13 @@ ExportResult render_export(const std::vector<ExportColumn>& columns, const Expor
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (columns.empty()) throw InputError("export: no column to export");
   std::set<std::string> names;
-  for (const auto& c : columns)
+  for (const auto& c : columns) {
     if (!names.insert(c.name).second) throw InputError("export: column '" + c.name + "' appears twice");
+    // A rate outside what a sampling rate can be (a subnormal "freq" in a hand-edited
+    // result) would make every per-second figure infinite.
+    if (std::string why = sampling_rate_problem(c.freq, "\"freq\""); !why.empty())
+      throw InputError(source + ": column '" + c.name + "': " + why);
+  }
   ExportResult r;
   export_detail::plan_export(columns, options, source, r);
   switch (options.format) {

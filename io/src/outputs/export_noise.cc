@@ -3,6 +3,7 @@
 // the header every exported file carries (plan_export).
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
 
 #include "export_internal.h"
@@ -232,7 +233,7 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
                      "); give --rate HZ, the IMU rate for the update-rate fields");
   // A rate estimated from timestamps carries rounding noise in its last digits (1 / median
   // step = 199.99999999999997 Hz): the update rate keeps 10 significant digits of it.
-  r.rate = o.rate ? *o.rate : std::stod(num(f0, 10));
+  r.rate = o.rate ? *o.rate : std::strtod(num(f0, 10).c_str(), nullptr);
   for (const auto& c : columns) r.columns.push_back(axis_noise(c));
 
   std::vector<std::string> not_representable;
