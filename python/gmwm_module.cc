@@ -428,7 +428,7 @@ PYBIND11_MODULE(_gmwm, m) {
     } catch (const gmwm::InputError& e) {
       input_error(gmwm::printable_line(e.what()).c_str());
     } catch (const gmwm::InvalidArgument& e) {
-      input_error(gmwm::printable_line(e.what()).c_str());  // the library's argument checks: bad input too, as the CLI's exit 2
+      input_error(gmwm::capped_line(gmwm::printable_line(e.what())).c_str());  // the library's argument checks: bad input too, as the CLI's exit 2
     }
   });
   m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,

@@ -1,7 +1,7 @@
 // The bad-input contract (hostile_harness.h) for what issue 25 found beyond reading a
 // file: standard output closed under the writer (a pipe to `head -c1`); side files that
 // are devices, sockets, FIFOs, endless pipes or too large; numbers in options and results
-// at the edge of their types.
+// at the edge of their types; the length of an error line.
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -172,6 +172,14 @@ std::vector<Case> corpus() {
       {"subnormal rate in an export source", {"export", "r.json", "--format", "kalibr", "--output", "o.yaml"},
        {"r.json", "column 'gyro_x'", "\"freq\": found 4.94066e-324, expected a sampling rate in Hz from 1e-09"},
        file("r.json", fit_result("5e-324"))},
+      // --- the length of an error line -------------------------------------------------------
+      {"100 kB model in the message", {"fit", "base.csv", "--model", std::string(100000, 'Q')}, {"more bytes]"}, base},
+      {"800 kB column name in the message", {"wv", "h.csv", "--freq", "100", "--columns", "nosuch"},
+       {"h.csv", "nosuch", "more bytes]"}, file("h.csv", [] {
+         std::string s = std::string(800000, 'n') + ",b\n";
+         for (int i = 0; i < 64; ++i) s += std::to_string(i % 5) + "," + std::to_string(i % 3) + "\n";
+         return s;
+       }())},
   };
   return c;
 }
@@ -188,5 +196,19 @@ TEST(HostileOutputs, LeadingZerosDoNotMakeAnOctalNumber) {
   const gmwm::test::CliRun r = gmwm::test::run_gmwm({"wv", "base.csv", "--levels", "010", "--json", "-"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["columns"][0]["levels"].size(), 10u);
+  fs::remove_all(dir);
+}
+
+// Every error line is at most gmwm::kMaxErrorLineBytes (500) and its note, whatever it
+// quotes, and keeps its end: what was expected.
+TEST(HostileOutputs, AnErrorLineIsCappedAndKeepsWhatWasExpected) {
+  const fs::path dir = gmwm::test::temp_dir("cap");
+  const gmwm::test::CliRun r = gmwm::test::run_gmwm({"wv", "x.csv", "--freq", std::string(100000, '7') + "x"}, dir);
+  EXPECT_EQ(r.exit_code, 2);
+  const auto lines = gmwm::test::lines_of(r.err);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_LE(lines[0].size(), std::string("gmwm: error: ").size() + 500 + 32) << lines[0];
+  EXPECT_NE(lines[0].find("more bytes]"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("expected a sampling rate in Hz from 1e-09 to 1e+09"), std::string::npos) << lines[0];
   fs::remove_all(dir);
 }

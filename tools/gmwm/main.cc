@@ -23,8 +23,9 @@ Command add_man_command(CLI::App& app);
 namespace {
 
 int fail(int code, const std::string& message) {
-  // One printable line: CLI11 sometimes adds newlines, and a file's bytes may be anything.
-  std::cerr << "gmwm: error: " << gmwm::printable_line(message) << std::endl;
+  // One printable line of bounded length: CLI11 sometimes adds newlines, a file's bytes may
+  // be anything, and an option's value any length.
+  std::cerr << "gmwm: error: " << gmwm::capped_line(gmwm::printable_line(message)) << std::endl;
   return code;
 }
 

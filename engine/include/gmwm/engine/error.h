@@ -3,6 +3,7 @@
 // and prints what() as one line. The message names the input, the place (line/column
 // where it applies) and what was expected.
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -19,11 +20,22 @@ std::string printable_line(std::string_view message);
 /// overwrites the line) into what is printed.
 std::string printable_text(std::string_view text);
 
-/// The message is kept as printable_line(message): what() is one printable line whatever
-/// bytes of a file it quotes.
+/// The longest error line, in bytes: five lines of a terminal, more than any message needs
+/// to name a file, a place and what was expected, while a quoted 10 MB cell or option value
+/// made a line of 10 MB.
+inline constexpr std::size_t kMaxErrorLineBytes = 500;
+
+/// A printable line cut to at most `max` bytes (plus the note), keeping its end ("expected
+/// ..."): the longest quoted text ('...' or "...") is shortened first, to its head, "..."
+/// and "[N more bytes]"; a line still too long loses its middle the same way. Never cuts a
+/// UTF-8 character or a \xNN escape.
+std::string capped_line(std::string_view line, std::size_t max = kMaxErrorLineBytes);
+
+/// The message is kept as capped_line(printable_line(message)): what() is one printable
+/// line of at most kMaxErrorLineBytes (and its note) whatever bytes of a file it quotes.
 class InputError : public std::runtime_error {
  public:
-  explicit InputError(std::string_view message) : std::runtime_error(printable_line(message)) {}
+  explicit InputError(std::string_view message) : std::runtime_error(capped_line(printable_line(message))) {}
 };
 
 /// Thrown by a progress callback to stop the computation that called it (Python's Ctrl-C:
