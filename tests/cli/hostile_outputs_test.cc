@@ -51,7 +51,7 @@ RunOptions to_head() {
 std::string fit_result(const std::string& freq) {
   return R"j({"tool": "gmwm", "version": "0.1.0", "command": "fit", "input": "d.csv", "columns": [)j"
          R"j({"name": "gyro_x", "n": 4096, "freq": )j" +
-         freq + R"j(, "model": "WN(sigma2=1e-06)+RW(gamma2=1e-12)", "status": "converged"}]})j";
+         freq + R"j(, "model": "WN(sigma2=1e-06)+RW(gamma2=1e-12)", "unit": "rad/s", "status": "converged"}]})j";
 }
 
 const std::string kYaml =
