@@ -120,6 +120,50 @@ TEST_F(Ulog, RefusesAConstantAxisAsTheCsvReaderDoes) {
   }
 }
 
+// Issue 25: a topic subscribed again (a logger restart: its format defined again and a new
+// 'A' under another msg_id) lost every message before the second subscription.
+TEST_F(Ulog, ReadsEveryMessageOfATopicSubscribedTwiceInOrder) {
+  gmwm::test::UlogFixture f;
+  f.resubscribe_at = 40;
+  const auto set = read_signals(write(gmwm::test::ulog_bytes(f)), {});
+  const auto expected = gmwm::test::ulog_expected(f);
+  ASSERT_EQ(set.signals.size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(set.signals[k].values, expected[k]) << set.signals[k].name;
+  ASSERT_TRUE(set.timing.has_value());
+  EXPECT_EQ(set.timing->samples, f.samples);
+  EXPECT_EQ(set.timing->gaps, 0);
+  EXPECT_DOUBLE_EQ(set.freq, 200.0);
+}
+
+// A msg_id that another topic's subscription takes over no longer gives the topic's data.
+TEST_F(Ulog, AMsgIdTakenOverByAnotherTopicStopsCounting) {
+  gmwm::test::UlogFixture f;
+  f.gyro_instances = 0;
+  f.samples = 40;
+  auto bytes = gmwm::test::ulog_bytes(f);
+  // sensor_gyro subscribed under sensor_combined's msg_id 7, then one message of 48 bytes
+  // that is not sensor_combined's: a stamp from the past would be refused as unsorted.
+  const std::string gyro_format =
+      "sensor_gyro:uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float x;float y;float z;"
+      "float temperature;uint32_t error_count;uint8_t[3] clip_counter;uint8_t samples;uint8_t[4] _padding0;";
+  const auto message = [&](char type, const std::vector<unsigned char>& payload) {
+    bytes.push_back(static_cast<unsigned char>(payload.size() & 0xff));
+    bytes.push_back(static_cast<unsigned char>(payload.size() >> 8));
+    bytes.push_back(static_cast<unsigned char>(type));
+    bytes.insert(bytes.end(), payload.begin(), payload.end());
+  };
+  message('F', std::vector<unsigned char>(gyro_format.begin(), gyro_format.end()));
+  std::vector<unsigned char> a = {0, 7, 0};
+  a.insert(a.end(), {'s', 'e', 'n', 's', 'o', 'r', '_', 'g', 'y', 'r', 'o'});
+  message('A', a);
+  std::vector<unsigned char> d(50, 0);
+  d[0] = 7;  // msg_id 7, timestamp 1 us
+  d[2] = 1;
+  message('D', d);
+  const auto set = read_signals(write(bytes), {});
+  EXPECT_EQ(set.signals[0].values.size(), 40u);
+}
+
 TEST_F(Ulog, RefusesATopicForADelimitedTextFile) {
   const fs::path p = dir_ / "x.csv";
   std::ofstream(p) << "a\n1\n2\n";

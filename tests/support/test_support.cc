@@ -129,10 +129,18 @@ std::vector<unsigned char> ulog_bytes(const UlogFixture& f) {
   };
   subscribe(0, 7, "sensor_combined");
   for (int k = 0; k < f.gyro_instances; ++k) subscribe(static_cast<std::uint8_t>(k), static_cast<std::uint16_t>(20 + k), "sensor_gyro");
+  std::uint16_t combined_id = 7;
   for (int i = 0; i < f.samples; ++i) {
+    if (i == f.resubscribe_at) {
+      Bytes b;
+      b.text(kSensorCombined);
+      out.message('F', b);
+      combined_id = 8;
+      subscribe(0, combined_id, "sensor_combined");
+    }
     const std::uint64_t t = f.stamps.empty() ? f.t0 + static_cast<std::uint64_t>(i) * f.step_us : f.stamps[static_cast<std::size_t>(i)];
     Bytes d;  // sensor_combined, 48 bytes
-    d.put(static_cast<std::uint16_t>(7));
+    d.put(combined_id);
     d.put(t);
     const auto v = combined(i);
     for (int a = 0; a < 3; ++a) d.put(v[static_cast<std::size_t>(a)]);

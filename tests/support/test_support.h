@@ -38,12 +38,15 @@ std::vector<WaveletVariance> simulated_replicates(const std::string& spec, const
 /// and a sync message among the data. sensor_combined sample i has timestamp
 /// t0 + i * step_us, gyro_rad = (i, -i, 2i) / 1024 and accelerometer_m_s2 = (9.81 + i / 4096,
 /// 0.5 + (i mod 7) / 8, -i / 2048) (floats, exact); sensor_gyro instance k sample i has x = k + i / 512,
-/// y = z = 0. `stamps`, when given, replaces sensor_combined's timestamps.
+/// y = z = 0. `stamps`, when given, replaces sensor_combined's timestamps. `resubscribe_at`
+/// >= 0: before sample i = resubscribe_at, sensor_combined is subscribed again under msg_id
+/// 8 (its format defined again too, as after a logger restart), and its later data use it.
 struct UlogFixture {
   int samples = 64;
   std::uint64_t t0 = 1000000, step_us = 5000;  // 200 Hz
   int gyro_instances = 2;
   std::vector<std::uint64_t> stamps;
+  int resubscribe_at = -1;
 };
 std::vector<unsigned char> ulog_bytes(const UlogFixture& f = {});
 /// The fixture's sensor_combined values as doubles: (gyro_x..z, accel_x..z) per sample.

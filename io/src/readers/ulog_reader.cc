@@ -5,8 +5,10 @@
 // size, uint8 type) and a payload, little-endian. Definitions: 'F' formats
 // ("name:type field;type field;..." with int8_t..uint64_t, float, double, bool, char,
 // arrays "type[n]" and other formats as field types; padding is explicit, "_padding0"
-// fields), 'A' subscriptions (multi_id, msg_id, name); data: 'D' (msg_id, the packed
-// fields). Other types ('B', 'I', 'M', 'P', 'Q', 'L', 'C', 'S', 'O', 'R') are skipped.
+// fields), 'A' subscriptions (multi_id, msg_id, name), 'R' unsubscriptions (msg_id); data:
+// 'D' (msg_id, the packed fields). A topic instance may be subscribed more than once (a
+// logger restart, a new msg_id): the data of every subscription are read, in file order.
+// Other types ('B', 'I', 'M', 'P', 'Q', 'L', 'C', 'S', 'O') are skipped.
 //
 // Topics read, with the signals they give (timestamps from the "timestamp" field, in us):
 //   sensor_combined: gyro_rad[3] -> gyro_x..z (rad/s), accelerometer_m_s2[3] -> accel_x..z (m/s^2)
@@ -136,7 +138,11 @@ class Parser {
   void define(const std::string& text, std::size_t at, std::size_t index) {
     const auto colon = text.find(':');
     if (colon == std::string::npos || colon == 0) fail(at, index, "format '" + text + "' has no 'name:'");
-    raw_formats_[text.substr(0, colon)] = text.substr(colon + 1);
+    // A format defined again (a logger restart) with another layout: the layouts worked out
+    // so far may have used the old one.
+    std::string& raw = raw_formats_[text.substr(0, colon)];
+    if (raw != text.substr(colon + 1)) formats_.clear();
+    raw = text.substr(colon + 1);
   }
 
   // The layout of a format (resolving nested types), memoised.
@@ -175,13 +181,45 @@ class Parser {
     return formats_.emplace(name, std::move(f)).first->second;
   }
 
+  // What a subscription of the topic instance gives: where the wanted fields and the
+  // timestamp are in its data messages (copies: a later 'F' may redefine the format).
+  struct Subscription {
+    std::size_t payload_size = 0;
+    std::vector<Field> fields;  // one per wanted axis
+    Field stamp;
+  };
+
+  Subscription subscription(const std::string& topic, const std::vector<Wanted>& wanted, std::size_t at,
+                            std::size_t index) {
+    const Format& f = layout(topic);
+    Subscription s;
+    s.payload_size = f.size;
+    for (const Wanted& w : wanted) {
+      const Field* found = nullptr;
+      for (const Field& fd : f.fields)
+        if (fd.name == w.field) found = &fd;
+      if (!found || w.element >= found->count || basic_size(found->type) == 0)
+        fail(at, index, "topic " + topic + " has no numeric field " + w.field +
+                            (w.element ? "[" + std::to_string(w.element) + "]" : "") + ", expected IMU messages");
+      s.fields.push_back(*found);
+    }
+    const Field* stamp = nullptr;
+    for (const Field& fd : f.fields)
+      if (fd.name == "timestamp" && fd.type == "uint64_t") stamp = &fd;
+    if (!stamp) fail(at, index, "topic " + topic + " has no uint64_t timestamp field");
+    s.stamp = *stamp;
+    return s;
+  }
+
+  // Every subscription ('A') of the topic instance counts: a log may subscribe it again
+  // (a logger restart, a new msg_id), and the data of all of them are the topic's, in
+  // file order. A msg_id that another topic's subscription takes over, or that an 'R'
+  // (unsubscription) names, stops counting.
   void scan(const std::string& topic, int instance, const std::vector<Wanted>& wanted) {
     std::size_t at = kHeaderBytes;
-    std::optional<std::uint16_t> msg_id;
-    std::vector<const Field*> fields;
-    const Field* stamp = nullptr;
-    std::size_t payload_size = 0;
-    bool listed_topic = false;
+    std::map<std::uint16_t, Subscription> subscriptions;
+    bool subscribed = false, listed_topic = false;
+    values_.assign(wanted.size(), {});
     for (std::size_t index = 1; at < bytes_.size(); ++index) {
       if (bytes_.size() - at < 3) fail(at, index, "truncated message header (" + std::to_string(bytes_.size() - at) +
                                                      " bytes left, expected 3)");
@@ -201,40 +239,31 @@ class Parser {
         const std::string name(reinterpret_cast<const char*>(p + 3), size - 3);
         if (name == topic) listed_topic = true;
         if (name == topic && multi == instance) {
-          msg_id = id;
-          const Format& f = layout(name);
-          payload_size = f.size;
-          fields.clear();
-          for (const Wanted& w : wanted) {
-            const Field* found = nullptr;
-            for (const Field& fd : f.fields)
-              if (fd.name == w.field) found = &fd;
-            if (!found || w.element >= found->count || basic_size(found->type) == 0)
-              fail(at, index, "topic " + topic + " has no numeric field " + w.field +
-                                  (w.element ? "[" + std::to_string(w.element) + "]" : "") + ", expected IMU messages");
-            fields.push_back(found);
-          }
-          stamp = nullptr;
-          for (const Field& fd : f.fields)
-            if (fd.name == "timestamp" && fd.type == "uint64_t") stamp = &fd;
-          if (!stamp) fail(at, index, "topic " + topic + " has no uint64_t timestamp field");
-          values_.assign(wanted.size(), {});
+          subscriptions[id] = subscription(topic, wanted, at, index);
+          subscribed = true;
+        } else {
+          subscriptions.erase(id);
         }
-      } else if (type == 'D' && msg_id) {
+      } else if (type == 'R') {
+        if (size < 2) fail(at, index, "an 'R' message shorter than 2 bytes");
+        subscriptions.erase(load<std::uint16_t>(p));
+      } else if (type == 'D' && !subscriptions.empty()) {
         if (size < 2) fail(at, index, "a 'D' message shorter than 2 bytes");
-        if (load<std::uint16_t>(p) == *msg_id) {
-          if (static_cast<std::size_t>(size - 2) < payload_size)
+        const auto sub = subscriptions.find(load<std::uint16_t>(p));
+        if (sub != subscriptions.end()) {
+          const Subscription& s = sub->second;
+          if (static_cast<std::size_t>(size - 2) < s.payload_size)
             fail(at, index, topic + " data of " + std::to_string(size - 2) + " bytes, expected " +
-                                std::to_string(payload_size));
+                                std::to_string(s.payload_size));
           const unsigned char* d = p + 2;
-          const double t = static_cast<double>(load<std::uint64_t>(d + stamp->offset));
+          const double t = static_cast<double>(load<std::uint64_t>(d + s.stamp.offset));
           if (!times_.empty() && t <= times_.back())
             fail(at, index, topic + " timestamp " + std::to_string(static_cast<std::uint64_t>(t)) +
                                 " us is not after the previous one (" +
                                 std::to_string(static_cast<std::uint64_t>(times_.back())) + " us): unsorted stamps");
           times_.push_back(t);
-          for (std::size_t k = 0; k < fields.size(); ++k) {
-            const Field& fd = *fields[k];
+          for (std::size_t k = 0; k < s.fields.size(); ++k) {
+            const Field& fd = s.fields[k];
             const double v = number(fd, d + fd.offset + fd.size * static_cast<std::size_t>(wanted[k].element));
             if (!std::isfinite(v)) fail(at, index, topic + " " + wanted[k].name + " is not a finite number");
             values_[k].push_back(v);
@@ -243,7 +272,7 @@ class Parser {
       }
       at = body + size;
     }
-    if (!msg_id)
+    if (!subscribed)
       throw InputError(path_ + ": no topic " + topic + (listed_topic ? " instance " + std::to_string(instance) : "") +
                        " in this log" + topics_hint());
   }
