@@ -33,6 +33,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "checked_size.h"
 #include "decompress.h"
 #include "gmwm/engine/error.h"
 #include "ros_imu.h"
@@ -59,39 +60,59 @@ enum Op : std::uint8_t {
 constexpr CompressionName kCompressions[] = {
     {"", Compression::kNone}, {"lz4", Compression::kLz4Frame}, {"zstd", Compression::kZstd}};
 
-// Bounds-checked little-endian reads over a record's content.
+// Bounds-checked little-endian reads over a record's content: every stated length is
+// compared with what is left (fits(): no sum can wrap around); the first failure is kept as
+// text naming the field.
 class Reader {
  public:
   Reader(const unsigned char* p, std::uint64_t n) : p_(p), n_(n) {}
   bool ok() const { return ok_; }
+  const std::string& failure() const { return failure_; }
   std::uint64_t left() const { return n_ - pos_; }
   const unsigned char* here() const { return p_ + pos_; }
   template <typename T>
-  T get() {
+  T get(const char* what) {
     T v{};
-    if (!ok_ || sizeof(T) > n_ - pos_) {
-      ok_ = false;
+    if (!ok_) return v;
+    if (!fits(pos_, sizeof(T), n_)) {
+      fail(std::string("its ") + what + " (" + std::to_string(sizeof(T)) + " bytes at byte " + std::to_string(pos_) +
+           " of it) runs past its " + std::to_string(n_) + " bytes");
       return v;
     }
     std::memcpy(&v, p_ + pos_, sizeof(T));
     pos_ += sizeof(T);
     return v;
   }
-  std::string string() {
-    const auto len = get<std::uint32_t>();
-    if (!ok_ || len > n_ - pos_) {
-      ok_ = false;
+  std::string string(const char* what) {
+    const auto len = get<std::uint32_t>(what);
+    if (!ok_) return {};
+    if (!fits(pos_, len, n_)) {
+      fail(std::string("its ") + what + " (a string of " + std::to_string(len) + " bytes at byte " + std::to_string(pos_) +
+           " of it) runs past its " + std::to_string(n_) + " bytes");
       return {};
     }
     std::string s(reinterpret_cast<const char*>(p_ + pos_), len);
     pos_ += len;
     return s;
   }
+  /// A length-prefixed (uint64) byte run that must fit in what is left.
+  std::uint64_t bytes_length(const char* what) {
+    const auto len = get<std::uint64_t>(what);
+    if (ok_ && len > left())
+      fail(std::string("its ") + what + " (" + std::to_string(len) + " bytes at byte " + std::to_string(pos_) +
+           " of it) runs past its " + std::to_string(n_) + " bytes");
+    return ok_ ? len : 0;
+  }
 
  private:
+  void fail(std::string what) {
+    ok_ = false;
+    failure_ = std::move(what);
+  }
   const unsigned char* p_;
   std::uint64_t n_, pos_ = 0;
   bool ok_ = true;
+  std::string failure_;
 };
 
 struct Mapping {
@@ -192,26 +213,27 @@ class McapPass {
   static std::string recover_hint(bool in_chunk) {
     return in_chunk ? "" : " (an interrupted recording? 'mcap recover' rewrites it)";
   }
-  [[noreturn]] void malformed(const char* what, std::uint64_t offset, bool in_chunk) const {
-    throw InputError(path_ + ": " + place(offset, in_chunk) + "malformed " + what + " record");
+  [[noreturn]] void malformed(const char* what, const Reader& r, std::uint64_t offset, bool in_chunk) const {
+    throw InputError(path_ + ": " + place(offset, in_chunk) + "malformed " + what + " record: " + r.failure() +
+                     ", expected a whole " + what + " record");
   }
 
   void schema(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
     Reader r(p, n);
-    const auto id = r.get<std::uint16_t>();
-    std::string name = r.string();
-    if (!r.ok()) malformed("schema", offset, in_chunk);
+    const auto id = r.get<std::uint16_t>("id");
+    std::string name = r.string("name");
+    if (!r.ok()) malformed("schema", r, offset, in_chunk);
     schemas_[id] = std::move(name);
   }
 
   void channel(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
     Reader r(p, n);
-    const auto id = r.get<std::uint16_t>();
-    const auto schema_id = r.get<std::uint16_t>();
+    const auto id = r.get<std::uint16_t>("id");
+    const auto schema_id = r.get<std::uint16_t>("schema_id");
     Channel c;
-    c.topic = r.string();
-    c.encoding = r.string();
-    if (!r.ok()) malformed("channel", offset, in_chunk);
+    c.topic = r.string("topic");
+    c.encoding = r.string("message_encoding");
+    if (!r.ok()) malformed("channel", r, offset, in_chunk);
     const auto s = schemas_.find(schema_id);
     c.schema = schema_id == 0 ? "(no schema)" : s == schemas_.end() ? "(unknown schema " + std::to_string(schema_id) + ")" : s->second;
     topics_.emplace(c.topic, c.schema);
@@ -221,11 +243,11 @@ class McapPass {
 
   void message(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
     Reader r(p, n);
-    const auto id = r.get<std::uint16_t>();
-    r.get<std::uint32_t>();  // sequence
-    r.get<std::uint64_t>();  // log_time
-    r.get<std::uint64_t>();  // publish_time
-    if (!r.ok()) malformed("message", offset, in_chunk);
+    const auto id = r.get<std::uint16_t>("channel_id");
+    r.get<std::uint32_t>("sequence");
+    r.get<std::uint64_t>("log_time");
+    r.get<std::uint64_t>("publish_time");
+    if (!r.ok()) malformed("message", r, offset, in_chunk);
     const auto c = channels_.find(id);
     if (c == channels_.end())
       throw InputError(path_ + ": " + place(offset, in_chunk) + "a message on channel " + std::to_string(id) +
@@ -240,13 +262,13 @@ class McapPass {
 
   void chunk(const unsigned char* p, std::uint64_t n, std::uint64_t offset) {
     Reader r(p, n);
-    r.get<std::uint64_t>();  // message_start_time
-    r.get<std::uint64_t>();  // message_end_time
-    const auto size = r.get<std::uint64_t>();
-    const auto crc = r.get<std::uint32_t>();
-    const std::string compression = r.string();
-    const auto records_len = r.get<std::uint64_t>();
-    if (!r.ok() || records_len > r.left()) malformed("chunk", offset, false);
+    r.get<std::uint64_t>("message_start_time");
+    r.get<std::uint64_t>("message_end_time");
+    const auto size = r.get<std::uint64_t>("uncompressed_size");
+    const auto crc = r.get<std::uint32_t>("uncompressed_crc");
+    const std::string compression = r.string("compression");
+    const auto records_len = r.bytes_length("records");
+    if (!r.ok()) malformed("chunk", r, offset, false);
     const std::string where = path_ + ": chunk at byte " + std::to_string(offset) + ": ";
     const Compression* c = compression_named(kCompressions, compression);
     if (!c) throw InputError(where + "compression '" + compression + "', expected " + compression_list(kCompressions));

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "checked_size.h"
 #include "gmwm/engine/error.h"
 
 namespace gmwm::io::detail {
@@ -15,46 +16,57 @@ constexpr int kGyroFirst = 13;          // after orientation (4) and its covaria
 constexpr int kAccelFirst = 25;         // after angular_velocity (3) and its covariance (9)
 
 // A bounds-checked little-endian cursor. `align` true: CDR, each primitive aligned to its
-// size; false: ROS 1, packed.
+// size; false: ROS 1, packed. Every position is checked before it is used (fits(): no sum
+// of a stated length and a position can wrap around); the first failure is kept as text.
 class Cursor {
  public:
-  Cursor(const unsigned char* p, std::size_t n, bool align) : p_(p), n_(n), align_(align) {}
+  Cursor(const unsigned char* p, std::size_t n, bool align, std::size_t origin)
+      : p_(p), n_(n), origin_(origin), align_(align) {}
   bool ok() const { return ok_; }
-  std::size_t size() const { return n_; }
+  const std::string& failure() const { return failure_; }
   template <typename T>
-  T get() {
-    if (align_) pos_ = (pos_ + sizeof(T) - 1) / sizeof(T) * sizeof(T);
+  T get(const char* what) {
     T v{};
-    if (!ok_ || pos_ > n_ || sizeof(T) > n_ - pos_) {
-      ok_ = false;
+    if (!ok_) return v;
+    const std::size_t at = align_ ? (pos_ + sizeof(T) - 1) / sizeof(T) * sizeof(T) : pos_;
+    if (!fits(at, sizeof(T), n_)) {
+      fail(std::string(what) + " (" + std::to_string(sizeof(T)) + " bytes at byte " + std::to_string(origin_ + at) +
+           ") runs past its end");
       return v;
     }
-    std::memcpy(&v, p_ + pos_, sizeof(T));
-    pos_ += sizeof(T);
+    std::memcpy(&v, p_ + at, sizeof(T));
+    pos_ = at + sizeof(T);
     return v;
   }
-  void skip_string() {
-    const auto len = get<std::uint32_t>();
-    if (!ok_ || len > n_ - pos_) {
-      ok_ = false;
+  void skip_string(const char* what) {
+    const auto len = get<std::uint32_t>(what);
+    if (!ok_) return;
+    if (!fits(pos_, len, n_)) {
+      fail(std::string(what) + " (a string of " + std::to_string(len) + " bytes at byte " + std::to_string(origin_ + pos_) +
+           ") runs past its end");
       return;
     }
     pos_ += len;
   }
 
  private:
+  void fail(std::string what) {
+    ok_ = false;
+    failure_ = std::move(what);
+  }
   const unsigned char* p_;
-  std::size_t n_, pos_ = 0;
+  std::size_t n_, pos_ = 0, origin_;
   bool align_;
   bool ok_ = true;
+  std::string failure_;
 };
 
-std::optional<ImuMessage> decode_body(Cursor& c, ImuMessage m, std::string& error) {
-  c.skip_string();  // frame_id
+std::optional<ImuMessage> decode_body(Cursor& c, ImuMessage m, std::size_t size, std::string& error) {
+  c.skip_string("frame_id");
   double v[kImuDoubles];
-  for (double& x : v) x = c.get<double>();
+  for (double& x : v) x = c.get<double>("the orientation, angular_velocity and linear_acceleration fields");
   if (!c.ok()) {
-    error = "truncated: " + std::to_string(c.size()) + " bytes do not hold a sensor_msgs Imu message";
+    error = "truncated: " + c.failure() + " (" + std::to_string(size) + " bytes), expected a whole sensor_msgs Imu message";
     return std::nullopt;
   }
   if (m.nanosec >= 1000000000u) {
@@ -80,20 +92,20 @@ std::optional<ImuMessage> decode_imu_cdr(const unsigned char* data, std::size_t 
             ", expected 0 1 (little-endian CDR)";
     return std::nullopt;
   }
-  Cursor c(data + kCdrEncapsulation, size - kCdrEncapsulation, true);
+  Cursor c(data + kCdrEncapsulation, size - kCdrEncapsulation, true, kCdrEncapsulation);
   ImuMessage m;
-  m.sec = c.get<std::int32_t>();
-  m.nanosec = c.get<std::uint32_t>();
-  return decode_body(c, m, error);
+  m.sec = c.get<std::int32_t>("the header stamp");
+  m.nanosec = c.get<std::uint32_t>("the header stamp");
+  return decode_body(c, m, size, error);
 }
 
 std::optional<ImuMessage> decode_imu_ros1(const unsigned char* data, std::size_t size, std::string& error) {
-  Cursor c(data, size, false);
-  c.get<std::uint32_t>();  // seq
+  Cursor c(data, size, false, 0);
+  c.get<std::uint32_t>("the header seq");
   ImuMessage m;
-  m.sec = c.get<std::uint32_t>();
-  m.nanosec = c.get<std::uint32_t>();
-  return decode_body(c, m, error);
+  m.sec = c.get<std::uint32_t>("the header stamp");
+  m.nanosec = c.get<std::uint32_t>("the header stamp");
+  return decode_body(c, m, size, error);
 }
 
 std::string ImuTopic::where(std::int64_t index) const {

@@ -40,6 +40,7 @@
 
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/error.h"
+#include "checked_size.h"
 #include "decompress.h"
 #include "ros_imu.h"
 
@@ -209,16 +210,20 @@ ChunkMessages read_chunk(const std::string& path, const File& f, std::uint64_t p
       const auto bad = [&](const std::string& what) {
         out.error = path + ": chunk at byte " + std::to_string(pos) + ", record at " + std::to_string(at) + " of it: " + what;
       };
+      const std::string chunk_bytes = " the chunk's " + std::to_string(body.size()) + " bytes";
       std::uint32_t hl = 0, dl = 0;
-      if (body.size() - at < 4) return bad("truncated"), out;
+      if (!fits(at, 4, body.size())) return bad("truncated: its header length runs past" + chunk_bytes), out;
       std::memcpy(&hl, body.data() + at, 4);
-      if (hl > body.size() - at - 4) return bad("header runs past the chunk"), out;
+      if (!fits(at + 4, hl, body.size()))
+        return bad("its header of " + std::to_string(hl) + " bytes runs past" + chunk_bytes + ", expected a record inside the chunk"), out;
       Fields h;
-      if (!parse_fields(body.data() + at + 4, hl, h)) return bad("malformed record header"), out;
+      if (!parse_fields(body.data() + at + 4, hl, h))
+        return bad("malformed record header (a field without '=' or overrunning the header)"), out;
       const std::size_t data_at = at + 4 + hl;
-      if (body.size() - data_at < 4) return bad("truncated"), out;
+      if (!fits(data_at, 4, body.size())) return bad("truncated: its data length runs past" + chunk_bytes), out;
       std::memcpy(&dl, body.data() + data_at, 4);
-      if (dl > body.size() - data_at - 4) return bad("data runs past the chunk"), out;
+      if (!fits(data_at + 4, dl, body.size()))
+        return bad("its data of " + std::to_string(dl) + " bytes runs past" + chunk_bytes + ", expected a record inside the chunk"), out;
       const auto op = field<std::uint8_t>(h, "op");
       const auto conn = field<std::uint32_t>(h, "conn");
       if (op && *op == kMessage && conn && conns.count(*conn)) {

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "checked_size.h"
 #include "gmwm/engine/error.h"
 #include "log_signals.h"
 #include "timestamp.h"
@@ -37,6 +38,12 @@ namespace {
 
 constexpr std::array<unsigned char, 7> kMagic = {'U', 'L', 'o', 'g', 0x01, 0x12, 0x35};
 constexpr std::size_t kHeaderBytes = 16;
+// The largest payload of a data message ('D': a uint16 payload size, of which the msg_id takes
+// 2 bytes): a topic's format must fit in it.
+constexpr std::uint64_t kMaxPayloadBytes = 0xffff - 2;
+// Formats nested in formats: PX4's nest a few levels; far beyond that a format most likely
+// contains itself (directly or through others).
+constexpr int kMaxNesting = 16;
 
 struct Field {
   std::string type, name;
@@ -145,12 +152,17 @@ class Parser {
     raw = text.substr(colon + 1);
   }
 
-  // The layout of a format (resolving nested types), memoised.
-  const Format& layout(const std::string& name, int depth = 0) {
+  // The layout of a format (resolving nested types), memoised. Sizes are summed with
+  // overflow checks and a format must fit in a data message (kMaxPayloadBytes): a crafted
+  // nest of arrays would otherwise wrap around to a small size and send the field offsets
+  // far outside the message. Errors name the message (`at`, `index`) that needs the layout.
+  const Format& layout(const std::string& name, std::size_t at, std::size_t index, int depth = 0) {
     if (const auto it = formats_.find(name); it != formats_.end()) return it->second;
     const auto raw = raw_formats_.find(name);
-    if (raw == raw_formats_.end() || depth > 16)
-      throw InputError(path_ + ": format '" + name + "' is used but never defined (or nests too deep)");
+    if (raw == raw_formats_.end()) fail(at, index, "format '" + name + "' is used but never defined");
+    if (depth > kMaxNesting)
+      fail(at, index, "format '" + name + "' nests deeper than " + std::to_string(kMaxNesting) +
+                          " levels (a format that contains itself?), expected at most " + std::to_string(kMaxNesting));
     Format f;
     std::size_t start = 0;
     const std::string& s = raw->second;
@@ -161,21 +173,26 @@ class Parser {
       start = end + 1;
       if (item.empty()) continue;
       const auto space = item.find(' ');
-      if (space == std::string::npos) throw InputError(path_ + ": format '" + name + "': field '" + item + "' has no type");
+      if (space == std::string::npos) fail(at, index, "format '" + name + "': field '" + item + "' has no type");
       Field fd;
       fd.type = item.substr(0, space);
       fd.name = item.substr(space + 1);
       if (const auto br = fd.type.find('['); br != std::string::npos) {
-        const std::string n = fd.type.substr(br + 1, fd.type.size() - br - 2);
-        if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos || fd.type.back() != ']' || n.size() > 6)
-          throw InputError(path_ + ": format '" + name + "': field '" + item + "' has a bad array length");
+        const std::string n = fd.type.back() == ']' ? fd.type.substr(br + 1, fd.type.size() - br - 2) : std::string();
+        if (n.empty() || n.find_first_not_of("0123456789") != std::string::npos || n.size() > 6)
+          fail(at, index, "format '" + name + "': field '" + item + "' has a bad array length, expected [1..999999]");
         fd.count = std::stoi(n);
         fd.type.resize(br);
       }
       fd.size = basic_size(fd.type);
-      if (fd.size == 0) fd.size = layout(fd.type, depth + 1).size;  // a nested message
+      if (fd.size == 0) fd.size = layout(fd.type, at, index, depth + 1).size;  // a nested message
       fd.offset = f.size;
-      f.size += fd.size * static_cast<std::size_t>(fd.count);
+      const auto bytes = checked_mul(fd.size, static_cast<std::uint64_t>(fd.count));
+      const auto total = bytes ? checked_add(f.size, *bytes) : std::nullopt;
+      if (!total || *total > kMaxPayloadBytes)
+        fail(at, index, "format '" + name + "': field '" + item + "' makes it larger than " +
+                            std::to_string(kMaxPayloadBytes) + " bytes, expected a format that fits in a data message");
+      f.size = static_cast<std::size_t>(*total);
       f.fields.push_back(fd);
     }
     return formats_.emplace(name, std::move(f)).first->second;
@@ -191,7 +208,7 @@ class Parser {
 
   Subscription subscription(const std::string& topic, const std::vector<Wanted>& wanted, std::size_t at,
                             std::size_t index) {
-    const Format& f = layout(topic);
+    const Format& f = layout(topic, at, index);
     Subscription s;
     s.payload_size = f.size;
     for (const Wanted& w : wanted) {

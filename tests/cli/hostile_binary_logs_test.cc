@@ -1,0 +1,184 @@
+// The bad-input contract (hostile_harness.h) over crafted binary logs (issue 25): PX4 ULog,
+// ROS 1 bags, MCAP files and rosbag2 databases whose size fields are driven to overflow, whose
+// chunks (none, bz2, lz4, zstd) claim more than they hold or inflate past the limits. Each
+// case exits 2 with one line naming the file, the place (byte offset, or topic and message
+// index) and what was expected, writes nothing and stays under 10 s and 1 GB. The files are
+// written by tests/support/log_writers.h from the published formats, then tampered with.
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "hostile_harness.h"
+#include "log_writers.h"
+
+namespace fs = std::filesystem;
+using namespace gmwm::test::hostile;
+using gmwm::test::LeBytes;
+using gmwm::test::patch;
+
+namespace {
+
+std::string at(std::uint64_t offset) { return "byte " + std::to_string(offset); }
+
+// The offset of the value of header field `name` ("name=") in `bag`, searched from `from`.
+std::uint64_t field_value(const std::string& bag, std::uint64_t from, const std::string& name) {
+  const auto p = bag.find(name + "=", from);
+  EXPECT_NE(p, std::string::npos) << name;
+  return p + name.size() + 1;
+}
+
+// Where a ROS 1 record's data start (after its header and the data length).
+std::uint64_t record_data(const std::string& bag, std::uint64_t record) {
+  std::uint32_t header = 0;
+  std::memcpy(&header, bag.data() + record, 4);
+  return record + 4 + header + 4;
+}
+
+// A ULog whose sensor_combined nests arrays to 2^64 - 2^40 + 48 bytes: in size_t the format
+// wraps around to 48 bytes, a data message of 48 bytes passes the size check, and gyro_rad's
+// offset is 2^40 + 8 (the reader read there: SIGSEGV).
+std::string ulog_wrapping_format() {
+  gmwm::test::UlogBuilder u;
+  u.format("t1:uint8_t[65536] a;");  // 2^16 bytes
+  u.format("t2:t1[65536] a;");       // 2^32
+  u.format("t3:t2[65536] a;");       // 2^48
+  u.format(
+      "sensor_combined:uint64_t timestamp;t2[256] pad;float[3] gyro_rad;uint32_t gyro_integral_dt;"
+      "int32_t accelerometer_timestamp_relative;float[3] accelerometer_m_s2;uint32_t accelerometer_integral_dt;"
+      "uint32_t flags;t3[65535] wrap1;t2[65280] wrap2;");
+  u.subscribe(0, 0, "sensor_combined");
+  for (int i = 0; i < 32; ++i) u.data(0, LeBytes().put(std::uint64_t{1000} * static_cast<std::uint64_t>(i + 1)).b + std::string(40, '\1'));
+  return u.bytes;
+}
+
+std::vector<Case> corpus() {
+  std::vector<Case> c;
+  // --- PX4 ULog: formats and message sizes --------------------------------------------------
+  {
+    c.push_back({"ULog format sizes that wrap around 2^64", {"wv", "wrap.ulg"},
+                 {"wrap.ulg", "message 5 at byte", "format 't1'", "larger than 65533 bytes"},
+                 file("wrap.ulg", ulog_wrapping_format())});
+    gmwm::test::UlogBuilder self;
+    self.format("loop:uint64_t timestamp;loop inner;").format("sensor_combined:uint64_t timestamp;loop l;");
+    self.subscribe(0, 0, "sensor_combined");
+    c.push_back({"ULog format that contains itself", {"wv", "self.ulg"},
+                 {"self.ulg", "message 3 at byte", "format 'loop' nests deeper than 16"}, file("self.ulg", self.bytes)});
+    gmwm::test::UlogBuilder array;
+    array.format("sensor_combined:uint64_t timestamp;float[18446744073709551615] gyro_rad;");
+    array.subscribe(0, 0, "sensor_combined");
+    c.push_back({"ULog array length of 2^64 - 1", {"wv", "array.ulg"},
+                 {"array.ulg", "message 2 at byte", "bad array length, expected [1..999999]"},
+                 file("array.ulg", array.bytes)});
+    std::string cut = gmwm::test::ulog_sensor_combined(64);
+    patch(cut, cut.size() - 53, std::uint16_t{0xffff});  // the last message (3 + 2 + 48 bytes) claims 65535
+    c.push_back({"ULog message size past the end", {"wv", "cut.ulg"},
+                 {"cut.ulg", "at byte " + std::to_string(cut.size() - 53), "a 'D' message of 65535 bytes with 50 left"},
+                 file("cut.ulg", cut)});
+    gmwm::test::UlogBuilder shortd;
+    shortd.bytes = gmwm::test::ulog_sensor_combined(20);
+    shortd.data(0, std::string(6, '\0'));
+    c.push_back({"ULog data shorter than its format", {"wv", "short.ulg"},
+                 {"short.ulg", "message 23 at byte", "data of 6 bytes, expected 48"}, file("short.ulg", shortd.bytes)});
+    gmwm::test::UlogBuilder shorta;
+    shorta.add('A', std::string(2, '\0'));
+    c.push_back({"ULog subscription shorter than its fields", {"wv", "a.ulg"},
+                 {"a.ulg", "message 1 at byte 16", "an 'A' message shorter than 4 bytes"}, file("a.ulg", shorta.bytes)});
+  }
+  // --- ROS 1 bags: record, header, index and chunk sizes ------------------------------------
+  {
+    const gmwm::test::Ros1Bag bag = gmwm::test::ros1_bag();
+    std::string header_len = bag.bytes;
+    patch(header_len, 13, std::uint32_t{0xffffffff});
+    c.push_back({"ROS bag record header length 2^32 - 1", {"wv", "h.bag"},
+                 {"h.bag", "record at byte 13", "header length 4294967295 runs past the end of the file"},
+                 file("h.bag", header_len)});
+    std::string data_len = bag.bytes;
+    std::uint32_t h = 0;
+    std::memcpy(&h, bag.bytes.data() + 13, 4);
+    patch(data_len, 13 + 4 + h, std::uint32_t{0xfffffff0});
+    c.push_back({"ROS bag record data length 2^32 - 16", {"wv", "d.bag"},
+                 {"d.bag", "record at byte 13", "data of 4294967280 bytes runs past the end of the file"},
+                 file("d.bag", data_len)});
+    std::string index_pos = bag.bytes;
+    patch(index_pos, field_value(bag.bytes, 13, "index_pos"), ~std::uint64_t{0});
+    c.push_back({"ROS bag index_pos 2^64 - 1", {"wv", "i.bag"},
+                 {"i.bag", "index_pos 18446744073709551615 is outside the file"}, file("i.bag", index_pos)});
+    std::string chunk_pos = bag.bytes;
+    patch(chunk_pos, field_value(bag.bytes, bag.chunk_info_at[1], "chunk_pos"), std::uint64_t{1} << 63);
+    c.push_back({"ROS bag chunk_pos 2^63", {"wv", "c.bag"},
+                 {"c.bag", "record at byte 9223372036854775808", "truncated (the file ends inside it)"},
+                 file("c.bag", chunk_pos)});
+    std::string count = bag.bytes;
+    patch(count, field_value(bag.bytes, bag.chunk_info_at[0], "count"), std::uint32_t{0x20000000});
+    c.push_back({"ROS bag chunk info count 2^29", {"wv", "n.bag"},
+                 {"n.bag", "chunk info record at " + at(bag.chunk_info_at[0]), "is malformed"}, file("n.bag", count)});
+    std::string inner = bag.bytes;
+    const std::uint64_t records = record_data(bag.bytes, bag.chunk_pos[0]);
+    patch(inner, records, std::uint32_t{0xfffffff0});
+    c.push_back({"ROS bag record inside a chunk with a header of 2^32 - 16 bytes", {"wv", "r.bag"},
+                 {"r.bag", "chunk at " + at(bag.chunk_pos[0]) + ", record at 0 of it",
+                  "its header of 4294967280 bytes runs past the chunk's"},
+                 file("r.bag", inner)});
+    std::string frame = bag.bytes;
+    patch(frame, records + bag.first_message_data_at + 12, std::uint32_t{0xffffffff});
+    c.push_back({"ROS bag message frame_id of 2^32 - 1 bytes", {"wv", "f.bag"},
+                 {"f.bag", "topic /imu message 1", "frame_id (a string of 4294967295 bytes at byte 16) runs past its end"},
+                 file("f.bag", frame)});
+  }
+  // --- MCAP: record lengths, chunk fields, strings, CDR ------------------------------------------
+  {
+    gmwm::test::McapOptions o;
+    o.crc = false;  // the tampered records are then read, not refused by their CRC
+    const gmwm::test::Mcap m = gmwm::test::mcap_file(o);
+    std::string len = m.bytes;
+    patch(len, 9, ~std::uint64_t{0});
+    c.push_back({"MCAP record length 2^64 - 1", {"wv", "l.mcap"},
+                 {"l.mcap", "record at byte 8", "record of 18446744073709551615 bytes runs past the end of the file"},
+                 file("l.mcap", len)});
+    std::string records_len = m.bytes;
+    patch(records_len, m.chunk_at[0] + 9 + 28 + 4, ~std::uint64_t{0});
+    c.push_back({"MCAP chunk records length 2^64 - 1", {"wv", "c.mcap"},
+                 {"c.mcap", "record at " + at(m.chunk_at[0]), "malformed chunk record: its records (18446744073709551615 bytes"},
+                 file("c.mcap", records_len)});
+    std::string compression = m.bytes;
+    patch(compression, m.chunk_at[0] + 9 + 28, std::uint32_t{0xffffffff});
+    c.push_back({"MCAP chunk compression string of 2^32 - 1 bytes", {"wv", "s.mcap"},
+                 {"s.mcap", "record at " + at(m.chunk_at[0]), "its compression (a string of 4294967295 bytes"},
+                 file("s.mcap", compression)});
+    std::string inner = m.bytes;
+    patch(inner, m.chunk_at[0] + 9 + 28 + 4 + 8 + 1, std::uint64_t{1} << 63);
+    c.push_back({"MCAP record inside a chunk of 2^63 bytes", {"wv", "i.mcap"},
+                 {"i.mcap", "chunk at " + at(m.chunk_at[0]) + ", record at byte 0 of its records",
+                  "record of 9223372036854775808 bytes runs past the end of the chunk"},
+                 file("i.mcap", inner)});
+    std::string topic = m.bytes;
+    patch(topic, topic.find("/imu") - 4, std::uint32_t{0xfffffffe});
+    c.push_back({"MCAP channel topic of 2^32 - 2 bytes", {"wv", "t.mcap"},
+                 {"t.mcap", "malformed channel record: its topic (a string of 4294967294 bytes"}, file("t.mcap", topic)});
+    std::string cdr = m.bytes;
+    patch(cdr, cdr.find(std::string("\x04\x00\x00\x00imu\x00", 8)), std::uint32_t{0xffffffff});
+    c.push_back({"MCAP CDR frame_id of 2^32 - 1 bytes", {"wv", "cdr.mcap"},
+                 {"cdr.mcap", "topic /imu message 1", "frame_id (a string of 4294967295 bytes at byte 16) runs past its end"},
+                 file("cdr.mcap", cdr)});
+    gmwm::test::McapOptions flat = o;
+    flat.per_chunk = 0;
+    flat.messages = 20;
+    std::string shortm = gmwm::test::mcap_file(flat).bytes;
+    const std::uint64_t content = 2 + 4 + 8 + 8 + gmwm::test::imu_cdr(0, o.step_ns).size();
+    const std::uint64_t first_message = shortm.find(LeBytes().put(std::uint8_t{0x05}).put(content).b);
+    patch(shortm, first_message + 1, std::uint64_t{10});
+    shortm.erase(first_message + 9 + 10, content - 10);
+    c.push_back({"MCAP message shorter than its fields", {"wv", "m.mcap"},
+                 {"m.mcap", "record at " + at(first_message), "malformed message record: its log_time (8 bytes at byte 6"},
+                 file("m.mcap", shortm)});
+  }
+  return c;
+}
+
+}  // namespace
+
+HOSTILE_CORPUS(HostileBinaryLogs, corpus());
