@@ -172,6 +172,16 @@ std::vector<Case> corpus() {
     const std::uint64_t first_message = shortm.find(LeBytes().put(std::uint8_t{0x05}).put(content).b);
     patch(shortm, first_message + 1, std::uint64_t{10});
     shortm.erase(first_message + 9 + 10, content - 10);
+    std::string cut = m.bytes;
+    cut.resize(m.chunk_at[1] + 100);
+    c.push_back({"MCAP cut inside a chunk", {"wv", "cut.mcap"},
+                 {"cut.mcap", "record at " + at(m.chunk_at[1]), "runs past the end of the file: truncated"},
+                 file("cut.mcap", cut)});
+    std::string big_schema = std::string("\x89MCAP0\r\n", 8) +
+                             gmwm::test::mcap_record(0x03, LeBytes().put(std::uint16_t{1}).b + std::string(17u << 20, 's'));
+    c.push_back({"MCAP schema record of 17 MiB", {"wv", "schema.mcap"},
+                 {"schema.mcap", "record at byte 8", "a schema record of 17825794 bytes, above the limit of 16777216"},
+                 file("schema.mcap", big_schema)});
     c.push_back({"MCAP message shorter than its fields", {"wv", "m.mcap"},
                  {"m.mcap", "record at " + at(first_message), "malformed message record: its log_time (8 bytes at byte 6"},
                  file("m.mcap", shortm)});

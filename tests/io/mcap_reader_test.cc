@@ -13,6 +13,8 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/io/signal_reader.h"
+#include "input_file.h"
+#include "log_writers.h"
 #include "signal_test_util.h"
 #include "test_support.h"
 
@@ -181,6 +183,45 @@ TEST_F(Mcap, RefusesAZstdChunkThatDoesNotDecompress) {
   const std::string e = error_of(write(b));
   EXPECT_NE(e.find("bag.mcap: chunk at byte "), std::string::npos) << e;
   EXPECT_NE(e.find("zstd data does not decompress to its "), std::string::npos) << e;
+}
+
+// Issue 25: the file was mapped, and a file truncated while it was read killed the process
+// with SIGBUS. Read with pread(), a file that shrinks is one line naming the byte where it
+// now ends. Deterministic: the reader's hook truncates the file once the reading has passed
+// its first megabyte.
+TEST_F(Mcap, AFileThatShrinksWhileItIsReadIsAnErrorLineNotASignal) {
+  gmwm::test::McapOptions o;
+  o.messages = 20000;  // about 7 MB in uncompressed chunks
+  const std::string bytes = gmwm::test::mcap_file(o).bytes;
+  const std::string p = write(std::vector<char>(bytes.begin(), bytes.end()));
+  constexpr std::uint64_t kCut = 1u << 19;
+  bool cut = false;
+  gmwm::io::detail::testing::set_read_hook([&](const std::string& path, std::uint64_t offset) {
+    if (!cut && path == p && offset > (1u << 20)) {
+      fs::resize_file(p, kCut);
+      cut = true;
+    }
+  });
+  const std::string e = error_of(p);
+  gmwm::io::detail::testing::set_read_hook(nullptr);
+  EXPECT_TRUE(cut);
+  EXPECT_EQ(e.rfind(p + ": the file ends at byte " + std::to_string(kCut) + ", expected ", 0), 0u) << e;
+  EXPECT_NE(e.find("bytes when opened: it shrank while being read)"), std::string::npos) << e;
+}
+
+// The same file read whole: the values the writer put, at its rate.
+TEST_F(Mcap, ReadsTheTestWritersFileInEveryChunkCompression) {
+  for (const char* compression : {"", "lz4", "zstd"}) {
+    gmwm::test::McapOptions o;
+    o.messages = 1000;
+    o.compression = compression;
+    const std::string bytes = gmwm::test::mcap_file(o).bytes;
+    const auto set = read_signals(write(std::vector<char>(bytes.begin(), bytes.end())), {});
+    ASSERT_EQ(set.signals.size(), 6u);
+    for (std::size_t k = 0; k < 6; ++k)
+      for (int i = 0; i < 1000; i += 97) EXPECT_EQ(set.signals[k].values[static_cast<std::size_t>(i)], gmwm::test::imu_values(i)[k]);
+    EXPECT_DOUBLE_EQ(set.freq, 200.0) << compression;
+  }
 }
 
 }  // namespace

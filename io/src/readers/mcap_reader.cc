@@ -28,13 +28,11 @@
 #include <string>
 #include <vector>
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include "checked_size.h"
 #include "decompress.h"
+#include "input_file.h"
 #include "gmwm/engine/error.h"
 #include "ros_imu.h"
 
@@ -47,6 +45,12 @@ constexpr std::size_t kRecordHead = 9;  // opcode + uint64 length
 // A chunk's uncompressed size above this is refused before allocating (docs/cli.md
 // "Limits"); writers use chunks of about 1-4 MB.
 constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
+// A chunk record: its fields (34 bytes and the compression's name) and at most a chunk's
+// worth of stored records.
+constexpr std::uint64_t kMaxChunkRecordBytes = kMaxChunkBytes + 4096;
+// A schema (a message definition of a few kB), a channel or an IMU message (about 300 bytes)
+// read whole: the limit of a ROS 1 record header.
+constexpr std::uint64_t kMaxRecordBytes = 16u << 20;
 
 enum Op : std::uint8_t {
   kFooter = 0x02,
@@ -115,14 +119,6 @@ class Reader {
   std::string failure_;
 };
 
-struct Mapping {
-  void* base = MAP_FAILED;
-  std::size_t size = 0;
-  ~Mapping() {
-    if (base != MAP_FAILED) ::munmap(base, size);
-  }
-};
-
 struct Channel {
   std::string topic, schema, encoding;
 };
@@ -171,6 +167,60 @@ class McapPass {
         default: break;  // other records (indexes, attachments, metadata, statistics): skipped
       }
       at += kRecordHead + len;
+    }
+    return true;
+  }
+
+  // The records of the file's data section, read from `file` (never mapped: issue 25) up to
+  // the size it had when opened. Returns false at a DataEnd or Footer record, true when the
+  // file ends without one. Schema and channel records and the messages of IMU channels are
+  // read whole (at most kMaxRecordBytes), chunks whole (at most kMaxChunkRecordBytes); other
+  // records, and messages on other channels, are skipped without being read.
+  bool file_records(const InputFile& file) {
+    InputWindow window(file);
+    const std::uint64_t n = file.size();
+    std::vector<unsigned char> big;  // a chunk's content
+    for (std::uint64_t at = sizeof kMagic; at < n;) {
+      chunk_ = 0;
+      if (n - at < kRecordHead)
+        throw InputError(path_ + ": " + place(at, false) + "truncated: the file ends inside a record header" +
+                         recover_hint(false));
+      const unsigned char* head = window.view(at, kRecordHead);
+      const std::uint8_t op = head[0];
+      std::uint64_t len;
+      std::memcpy(&len, head + 1, 8);
+      if (!fits(at + kRecordHead, len, n))
+        throw InputError(path_ + ": " + place(at, false) + "record of " + std::to_string(len) +
+                         " bytes runs past the end of the file: truncated" + recover_hint(false));
+      const std::uint64_t content = at + kRecordHead;
+      const auto whole = [&](std::uint64_t limit, const char* what) {
+        if (len > limit)
+          throw InputError(path_ + ": " + place(at, false) + "a " + what + " record of " + std::to_string(len) +
+                           " bytes, above the limit of " + std::to_string(limit) + " (docs/cli.md \"Memory and limits\")");
+        return window.view(content, static_cast<std::size_t>(len));
+      };
+      switch (op) {
+        case kSchema: schema(whole(kMaxRecordBytes, "schema"), len, at, false); break;
+        case kChannel: channel(whole(kMaxRecordBytes, "channel"), len, at, false); break;
+        case kMessage:
+          if (wanted(window.view(content, static_cast<std::size_t>(std::min<std::uint64_t>(len, 2))), len))
+            message(whole(kMaxRecordBytes, "message"), len, at, false);
+          break;
+        case kChunk:
+          if (len > kMaxChunkRecordBytes)
+            throw InputError(path_ + ": " + place(at, false) + "a chunk record of " + std::to_string(len) +
+                             " bytes, above the limit of " + std::to_string(kMaxChunkRecordBytes) +
+                             " (a chunk of at most " + std::to_string(kMaxChunkBytes) + " bytes)");
+          big.resize(static_cast<std::size_t>(len));
+          file.read(content, big.data(), big.size());
+          chunk(big.data(), len, at);
+          break;
+        case kDataEnd:
+        case kFooter:
+          return false;
+        default: break;  // other records (indexes, attachments, metadata, statistics): skipped
+      }
+      at = content + len;
     }
     return true;
   }
@@ -239,6 +289,19 @@ class McapPass {
     topics_.emplace(c.topic, c.schema);
     if (c.schema == kImuSchema) imu_[c.topic].encoding = c.encoding;
     channels_[id] = std::move(c);
+  }
+
+  // Whether a message record (its first bytes `p`, of `n`) is read whole: a message of an
+  // IMU channel still being gathered, or one that message() must refuse.
+  bool wanted(const unsigned char* p, std::uint64_t n) const {
+    if (n < 2) return true;
+    std::uint16_t id;
+    std::memcpy(&id, p, 2);
+    const auto c = channels_.find(id);
+    if (c == channels_.end()) return true;
+    if (c->second.schema != kImuSchema) return false;
+    const auto t = imu_.find(c->second.topic);
+    return t != imu_.end() && t->second.error.empty() && t->second.encoding == "cdr";
   }
 
   void message(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
@@ -319,18 +382,10 @@ bool is_mcap(const std::string& path) {
 }
 
 SignalSet read_mcap(const std::string& path, const ReadOptions& options) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError(path + ": cannot open the MCAP file");
-  Mapping map;
-  map.size = static_cast<std::size_t>(std::filesystem::file_size(path));
-  if (map.size > sizeof kMagic) map.base = ::mmap(nullptr, map.size, PROT_READ, MAP_PRIVATE, fd, 0);
-  ::close(fd);
-  if (map.base == MAP_FAILED) throw InputError(path + ": cannot map the MCAP file (" + std::to_string(map.size) + " bytes)");
-  ::madvise(map.base, map.size, MADV_SEQUENTIAL);
-  const auto* data = static_cast<const unsigned char*>(map.base);
+  const InputFile file(path, "MCAP file");
   McapPass pass(path);
-  if (pass.records(data + sizeof kMagic, map.size - sizeof kMagic, sizeof kMagic, false))
-    throw InputError(path + ": the file ends at byte " + std::to_string(map.size) +
+  if (pass.file_records(file))
+    throw InputError(path + ": the file ends at byte " + std::to_string(file.size()) +
                      " without a DataEnd or footer record: truncated (an interrupted recording? 'mcap recover' "
                      "rewrites it)");
   return pass.finish(options);
