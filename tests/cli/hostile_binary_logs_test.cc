@@ -186,6 +186,92 @@ std::vector<Case> corpus() {
                  {"m.mcap", "record at " + at(first_message), "malformed message record: its log_time (8 bytes at byte 6"},
                  file("m.mcap", shortm)});
   }
+  // --- chunks: the stated sizes and the inflation of every codec (none, bz2, lz4, zstd) ------
+  {
+    const std::string zeros(std::size_t{1} << 20, '\0');  // 1 MiB: a bomb against a stated 4 kB
+    const std::string bz2_bomb = gmwm::test::bz2_compress(zeros);
+    const std::string lz4_bomb = gmwm::test::lz4_frame_compress(zeros);
+    const std::string zstd_bomb = gmwm::test::zstd_compress(zeros);
+    const std::string small(4096, 'x');
+    for (const char* codec : {"bz2", "lz4"}) {
+      gmwm::test::Ros1BagOptions o;
+      o.compression = codec;
+      const gmwm::test::Ros1Bag bag = gmwm::test::ros1_bag(o);
+      std::string four_gib = bag.bytes;
+      patch(four_gib, bag.chunk_size_at[0], std::uint32_t{0xffffffff});
+      const std::string name = std::string("g4.") + codec + ".bag";
+      c.push_back({std::string("ROS bag ") + codec + " chunk claiming 4 GiB", {"wv", name},
+                   {name, "chunk at " + at(bag.chunk_pos[0]), "uncompressed size 4294967295 bytes, above the limit of 1073741824"},
+                   file(name, four_gib)});
+      std::string ratio = bag.bytes;
+      patch(ratio, bag.chunk_size_at[0], std::uint32_t{(1u << 30) - 1});
+      const std::string rname = std::string("r.") + codec + ".bag";
+      c.push_back({std::string("ROS bag ") + codec + " chunk claiming 1 GiB from a few kB", {"wv", rname},
+                   {rname, "chunk at " + at(bag.chunk_pos[0]), "more than 250 times their compressed size past 256 MiB"},
+                   file(rname, ratio)});
+      std::string together = bag.bytes;
+      for (std::uint64_t size_at : bag.chunk_size_at) patch(together, size_at, std::uint32_t{100u << 20});
+      const std::string tname = std::string("t.") + codec + ".bag";
+      c.push_back({std::string("ROS bag ") + codec + " chunks of 100 MiB each, past the limit together", {"wv", tname},
+                   {tname, "chunk at " + at(bag.chunk_pos[2]), "brings the file's chunks to 314572800 bytes"},
+                   file(tname, together)});
+    }
+    const auto bag_bomb = [&](const char* codec, const std::string& stored) {
+      const gmwm::test::Ros1Bag b = gmwm::test::ros1_bag_of_chunks({{codec, 4096, stored}});
+      const std::string name = std::string("bomb.") + codec + ".bag";
+      return Case{std::string("ROS bag ") + codec + " chunk inflating past the size it states", {"wv", name},
+                  {name, "chunk at " + at(b.chunk_pos[0]), std::string(codec) + " data does not decompress to its 4096 bytes"},
+                  file(name, b.bytes)};
+    };
+    c.push_back(bag_bomb("bz2", bz2_bomb));
+    c.push_back(bag_bomb("lz4", lz4_bomb));
+    const gmwm::test::Ros1Bag none = gmwm::test::ros1_bag_of_chunks({{"none", 8192, small}});
+    c.push_back({"ROS bag uncompressed chunk stating another size", {"wv", "none.bag"},
+                 {"none.bag", "chunk at " + at(none.chunk_pos[0]), "uncompressed data of 4096 bytes, its header says 8192 bytes"},
+                 file("none.bag", none.bytes)});
+    c.push_back({"ROS bag shorter than its first line", {"wv", "short.bag"},
+                 {"short.bag", "found a ROS bag of version 'r', expected 2.0"}, file("short.bag", "#ROSBAG Vr")});
+    const gmwm::test::Ros1Bag zlib = gmwm::test::ros1_bag_of_chunks({{"zlib", 4096, small}});
+    c.push_back({"ROS bag chunk of an unknown compression", {"wv", "zlib.bag"},
+                 {"zlib.bag", "chunk at " + at(zlib.chunk_pos[0]), "chunk compression 'zlib', expected none, bz2 or lz4"},
+                 file("zlib.bag", zlib.bytes)});
+
+    const gmwm::test::Mcap huge = gmwm::test::mcap_of_chunks({{"zstd", std::uint64_t{1} << 40, zstd_bomb}});
+    c.push_back({"MCAP zstd chunk claiming 1 TiB", {"wv", "huge.mcap"},
+                 {"huge.mcap", "chunk at " + at(huge.chunk_at[0]), "uncompressed size 1099511627776 bytes, above the limit"},
+                 file("huge.mcap", huge.bytes)});
+    for (const char* codec : {"lz4", "zstd"}) {
+      const gmwm::test::Mcap r = gmwm::test::mcap_of_chunks({{codec, (std::uint64_t{1} << 30) - 1, small}});
+      const std::string name = std::string("r.") + codec + ".mcap";
+      c.push_back({std::string("MCAP ") + codec + " chunk claiming 1 GiB from 4 kB", {"wv", name},
+                   {name, "chunk at " + at(r.chunk_at[0]), "more than 250 times their compressed size past 256 MiB"},
+                   file(name, r.bytes)});
+      const std::string& bomb = std::string(codec) == "lz4" ? lz4_bomb : zstd_bomb;
+      const gmwm::test::Mcap b = gmwm::test::mcap_of_chunks({{codec, 4096, bomb}});
+      const std::string bname = std::string("bomb.") + codec + ".mcap";
+      c.push_back({std::string("MCAP ") + codec + " chunk inflating past the size it states", {"wv", bname},
+                   {bname, "chunk at " + at(b.chunk_at[0]), std::string(codec) + " data does not decompress to its 4096 bytes"},
+                   file(bname, b.bytes)});
+    }
+    // MCAP chunks are read one after the other: two real chunks of 100 MiB of zeros (empty
+    // records of 9 bytes) inflate, the third brings the file past the rule before inflating.
+    c.push_back({"MCAP zstd chunks of 100 MiB each, past the limit together", {"wv", "t.mcap"},
+                 {"t.mcap", "chunk at byte", "brings the file's chunks to 314572788 bytes", "more than 250 times"},
+                 [](const fs::path& d) {
+                   constexpr std::size_t kZeros = 104857596;  // 100 MiB - 4: whole empty records
+                   const std::string chunk = gmwm::test::zstd_compress(std::string(kZeros, '\0'));
+                   std::vector<gmwm::test::McapStoredChunk> many(4, {"zstd", kZeros, chunk});
+                   gmwm::test::write_text(d / "t.mcap", gmwm::test::mcap_of_chunks(many).bytes);
+                 }});
+    const gmwm::test::Mcap none_m = gmwm::test::mcap_of_chunks({{"", 8192, small}});
+    c.push_back({"MCAP uncompressed chunk stating another size", {"wv", "none.mcap"},
+                 {"none.mcap", "chunk at " + at(none_m.chunk_at[0]), "uncompressed records of 4096 bytes, its header says 8192"},
+                 file("none.mcap", none_m.bytes)});
+    const gmwm::test::Mcap gz = gmwm::test::mcap_of_chunks({{"gzip", 4096, small}});
+    c.push_back({"MCAP chunk of an unknown compression", {"wv", "gz.mcap"},
+                 {"gz.mcap", "chunk at " + at(gz.chunk_at[0]), "compression 'gzip', expected '' (none), lz4 or zstd"},
+                 file("gz.mcap", gz.bytes)});
+  }
   return c;
 }
 

@@ -235,6 +235,64 @@ Mcap mcap_file(const McapOptions& o) {
   return m;
 }
 
+Ros1Bag ros1_bag_of_chunks(const std::vector<Ros1StoredChunk>& chunks) {
+  Ros1Bag bag;
+  std::string& out = bag.bytes;
+  const std::string conn_header = u32_string("topic=/imu") + u32_string("type=sensor_msgs/Imu") +
+                                  u32_string(std::string("md5sum=") + kImuMd5);
+  const std::string connection =
+      ros1_record({ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", std::uint32_t{0}), "topic=/imu"}, conn_header);
+  const auto bag_header = [&](std::uint64_t index_pos) {
+    return ros1_record({ros1_field("op", std::uint8_t{0x03}), ros1_field("index_pos", index_pos),
+                        ros1_field("conn_count", std::uint32_t{1}),
+                        ros1_field("chunk_count", static_cast<std::uint32_t>(chunks.size()))},
+                       std::string(64, ' '));
+  };
+  out = "#ROSBAG V2.0\n" + bag_header(0);
+  std::vector<std::string> infos;
+  for (const Ros1StoredChunk& c : chunks) {
+    const std::uint64_t pos = out.size();
+    bag.chunk_pos.push_back(pos);
+    out += ros1_record({ros1_field("op", std::uint8_t{0x05}), "compression=" + c.compression, ros1_field("size", c.size)},
+                       c.stored);
+    LeBytes per;
+    per.put(std::uint32_t{0}).put(std::uint32_t{1});
+    infos.push_back(ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
+                                 ros1_field("chunk_pos", pos), ros1_field("start_time", std::uint64_t{kFirstSec}),
+                                 ros1_field("end_time", std::uint64_t{kFirstSec}), ros1_field("count", std::uint32_t{1})},
+                                per.b));
+  }
+  bag.index_pos = out.size();
+  bag.connection_at = out.size();
+  out += connection;
+  for (const std::string& info : infos) {
+    bag.chunk_info_at.push_back(out.size());
+    out += info;
+  }
+  const std::string h = bag_header(bag.index_pos);
+  out.replace(13, h.size(), h);
+  return bag;
+}
+
+Mcap mcap_of_chunks(const std::vector<McapStoredChunk>& chunks) {
+  Mcap m;
+  std::string& out = m.bytes;
+  out = std::string("\x89MCAP0\r\n", 8);
+  out += mcap_record(0x01, u32_string("ros2") + u32_string("gmwm tests"));
+  for (const McapStoredChunk& c : chunks) {
+    LeBytes b;
+    b.put(std::uint64_t{0}).put(std::uint64_t{0}).put(c.size).put(std::uint32_t{0});
+    b.text(u32_string(c.compression)).put(static_cast<std::uint64_t>(c.stored.size())).text(c.stored);
+    m.chunk_at.push_back(out.size());
+    out += mcap_record(0x06, b.b);
+  }
+  m.data_end_at = out.size();
+  out += mcap_record(0x0F, LeBytes().put(std::uint32_t{0}).b);
+  out += mcap_record(0x02, LeBytes().put(std::uint64_t{0}).put(std::uint64_t{0}).put(std::uint32_t{0}).b);
+  out += std::string("\x89MCAP0\r\n", 8);
+  return m;
+}
+
 // --- ULog ------------------------------------------------------------------------------------------
 
 UlogBuilder::UlogBuilder() {

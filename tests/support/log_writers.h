@@ -99,6 +99,25 @@ std::string mcap_record(std::uint8_t op, const std::string& content);
 /// sensor_msgs/msg/Imu message i in little-endian CDR, with the given frame_id.
 std::string imu_cdr(int i, std::uint64_t step_ns, const std::string& frame = "imu");
 
+/// A ROS 1 bag of one IMU connection whose chunks are given as they are stored: each with
+/// its compression name, the uncompressed size its header states and its data; the index
+/// gives each chunk one message. Returns the bag and the chunks' offsets.
+struct Ros1StoredChunk {
+  std::string compression;
+  std::uint32_t size;
+  std::string stored;
+};
+Ros1Bag ros1_bag_of_chunks(const std::vector<Ros1StoredChunk>& chunks);
+
+/// An MCAP file whose chunks are given as they are stored (no schema or channel outside
+/// them): compression name, stated uncompressed size, stored records.
+struct McapStoredChunk {
+  std::string compression;
+  std::uint64_t size;
+  std::string stored;
+};
+Mcap mcap_of_chunks(const std::vector<McapStoredChunk>& chunks);
+
 // --- compression --------------------------------------------------------------------------------
 
 std::string bz2_compress(const std::string& in);

@@ -42,9 +42,6 @@ namespace {
 constexpr unsigned char kMagic[] = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'};
 constexpr const char* kImuSchema = "sensor_msgs/msg/Imu";
 constexpr std::size_t kRecordHead = 9;  // opcode + uint64 length
-// A chunk's uncompressed size above this is refused before allocating (docs/cli.md
-// "Limits"); writers use chunks of about 1-4 MB.
-constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
 // A chunk record: its fields (34 bytes and the compression's name) and at most a chunk's
 // worth of stored records.
 constexpr std::uint64_t kMaxChunkRecordBytes = kMaxChunkBytes + 4096;
@@ -335,9 +332,8 @@ class McapPass {
     const std::string where = path_ + ": chunk at byte " + std::to_string(offset) + ": ";
     const Compression* c = compression_named(kCompressions, compression);
     if (!c) throw InputError(where + "compression '" + compression + "', expected " + compression_list(kCompressions));
-    if (size > kMaxChunkBytes)
-      throw InputError(where + "uncompressed size " + std::to_string(size) + " bytes, above the limit of " +
-                       std::to_string(kMaxChunkBytes));
+    // What the chunk states is checked before anything is allocated or inflated (decompress.h).
+    if (const std::string why = budget_.add(records_len, size); !why.empty()) throw InputError(where + why);
     // Records stored without compression are read in place.
     if (*c == Compression::kNone) {
       if (records_len != size)
@@ -348,7 +344,7 @@ class McapPass {
       return;
     }
     std::string error;
-    const std::vector<unsigned char> body = decompress(*c, r.here(), static_cast<std::size_t>(records_len), size, error);
+    const ByteBuffer body = decompress(*c, r.here(), static_cast<std::size_t>(records_len), size, error);
     if (!error.empty()) throw InputError(where + error);
     check_crc(body.data(), size, crc, where);
     records(body.data(), size, offset, true);
@@ -365,6 +361,7 @@ class McapPass {
 
   std::string path_;
   std::uint64_t chunk_ = 0;  // the byte offset of the chunk being read
+  ChunkBudget budget_;       // what the file's chunks state, against the limits
   std::map<std::uint16_t, std::string> schemas_;
   std::map<std::uint16_t, Channel> channels_;
   std::map<std::string, std::string> topics_;       // topic -> schema name

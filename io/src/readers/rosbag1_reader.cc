@@ -42,6 +42,7 @@
 #include "gmwm/engine/error.h"
 #include "checked_size.h"
 #include "decompress.h"
+#include "input_file.h"
 #include "ros_imu.h"
 
 namespace gmwm::io::detail {
@@ -54,11 +55,15 @@ constexpr const char* kImuType = "sensor_msgs/Imu";
 // The MD5 of sensor_msgs/Imu's full definition (ROS 1 `rosmsg md5 sensor_msgs/Imu`): a
 // topic with another is a different layout under the same name.
 constexpr const char* kImuMd5 = "6a62c6daae103f4ff57a132d6f95cec2";
-// Limits against hostile files (docs/cli.md "Limits"): a record header (connection headers
-// carry the message definition, a few kB) and a chunk's uncompressed size (rosbag's default
-// chunk is 768 kB; `rosbag record --chunksize` takes kB up to a few MB).
+// Limits against hostile files (docs/cli.md "Memory and limits"): a record header
+// (connection headers carry the message definition, a few kB); a chunk's uncompressed size
+// and the inflation of the chunks are limited as in MCAP files (decompress.h).
 constexpr std::uint32_t kMaxHeaderBytes = 16u << 20;
-constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
+// Chunks read and decompressed at a time (in parallel), and at most this many bytes of
+// theirs uncompressed (at least one chunk): enough to keep the cores busy with rosbag's
+// 768 kB chunks, while the memory in flight stays bounded whatever the bag's size.
+constexpr std::size_t kChunksInFlight = 16;
+constexpr std::uint64_t kBytesInFlight = std::uint64_t{32} << 20;
 
 enum Op : std::uint8_t { kMessage = 0x02, kBagHeader = 0x03, kChunk = 0x05, kChunkInfo = 0x06, kConnection = 0x07 };
 
@@ -98,60 +103,52 @@ std::optional<std::string> text_field(const Fields& f, const std::string& name) 
   return it->second;
 }
 
-struct File {
-  int fd = -1;
-  std::uint64_t size = 0;
-  ~File() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-// One record read from the file at `offset`: its header fields and data.
-struct Record {
+// A record's header, read from the file at `offset` (its data are read apart, when needed).
+struct RecordHead {
   Fields header;
-  std::vector<unsigned char> data;
-  std::uint64_t end = 0;  // the offset after it
   std::uint8_t op = 0;
+  std::uint64_t offset = 0, data_at = 0, data_len = 0;
+  std::uint64_t end() const { return data_at + data_len; }
 };
 
-bool read_at(const File& f, std::uint64_t offset, void* out, std::size_t n) {
-  auto* p = static_cast<unsigned char*>(out);
-  while (n > 0) {
-    const ssize_t r = ::pread(f.fd, p, n, static_cast<off_t>(offset));
-    if (r <= 0) return false;
-    p += r;
-    n -= static_cast<std::size_t>(r);
-    offset += static_cast<std::uint64_t>(r);
-  }
-  return true;
-}
-
-// Reads the record at `offset`; the error names the file and the byte offset.
-Record read_record(const std::string& path, const File& f, std::uint64_t offset, std::uint64_t max_data) {
+// Reads the header of the record at `offset`; the errors name the file and the byte offset.
+RecordHead read_head(const InputFile& f, std::uint64_t offset) {
   const auto fail = [&](const std::string& what) {
-    return InputError(path + ": record at byte " + std::to_string(offset) + ": " + what);
+    return InputError(f.path() + ": record at byte " + std::to_string(offset) + ": " + what);
   };
-  Record r;
+  RecordHead r;
+  r.offset = offset;
   std::uint32_t header_len = 0, data_len = 0;
-  if (offset > f.size || f.size - offset < 4 || !read_at(f, offset, &header_len, 4))
-    throw fail("truncated (the file ends inside it)");
-  if (header_len > kMaxHeaderBytes || header_len > f.size - offset - 4)
+  if (!fits(offset, 4, f.size())) throw fail("truncated (the file ends inside it)");
+  f.read(offset, &header_len, 4);
+  if (header_len > kMaxHeaderBytes || !fits(offset + 4, header_len, f.size()))
     throw fail("header length " + std::to_string(header_len) + " runs past the end of the file or the limit of " +
                std::to_string(kMaxHeaderBytes) + " bytes: truncated or not a bag");
   std::vector<unsigned char> header(header_len);
-  if (!read_at(f, offset + 4, header.data(), header_len) || !parse_fields(header.data(), header_len, r.header))
+  f.read(offset + 4, header.data(), header_len);
+  if (!parse_fields(header.data(), header_len, r.header))
     throw fail("found a malformed record header (a field without '=' or overrunning the header)");
   const auto op = field<std::uint8_t>(r.header, "op");
   if (!op) throw fail("found a record header without a one-byte 'op' field");
   r.op = *op;
-  const std::uint64_t data_at = offset + 4 + header_len;
-  if (f.size - data_at < 4 || !read_at(f, data_at, &data_len, 4)) throw fail("truncated (no data length)");
-  if (data_len > f.size - data_at - 4) throw fail("data of " + std::to_string(data_len) + " bytes runs past the end of the file: truncated");
-  if (data_len > max_data) throw fail("data of " + std::to_string(data_len) + " bytes, above the limit of " + std::to_string(max_data));
-  r.data.resize(data_len);
-  if (!read_at(f, data_at + 4, r.data.data(), data_len)) throw fail("cannot read its data");
-  r.end = data_at + 4 + data_len;
+  const std::uint64_t length_at = offset + 4 + header_len;
+  if (!fits(length_at, 4, f.size())) throw fail("truncated (no data length)");
+  f.read(length_at, &data_len, 4);
+  if (!fits(length_at + 4, data_len, f.size()))
+    throw fail("data of " + std::to_string(data_len) + " bytes runs past the end of the file: truncated");
+  r.data_at = length_at + 4;
+  r.data_len = data_len;
   return r;
+}
+
+// The data of a record whose header was read; at most `max_data` bytes.
+std::vector<unsigned char> read_data(const InputFile& f, const RecordHead& r, std::uint64_t max_data) {
+  if (r.data_len > max_data)
+    throw InputError(f.path() + ": record at byte " + std::to_string(r.offset) + ": data of " + std::to_string(r.data_len) +
+                     " bytes, above the limit of " + std::to_string(max_data));
+  std::vector<unsigned char> data(static_cast<std::size_t>(r.data_len));
+  f.read(r.data_at, data.data(), data.size());
+  return data;
 }
 
 struct Connection {
@@ -159,9 +156,14 @@ struct Connection {
   std::string topic, type, md5;
 };
 
+// A chunk that holds the topic: where it is, what its header says, and how many of the
+// topic's messages the index gives it.
 struct ChunkInfo {
   std::uint64_t pos;
   std::uint64_t messages;  // of the chosen topic's connections
+  RecordHead head = {};
+  Compression compression = Compression::kNone;
+  std::uint64_t size = 0;  // uncompressed, as its header states
 };
 
 // One chunk's messages of the chosen connections, or the first error met in it.
@@ -175,31 +177,32 @@ struct ChunkMessages {
 constexpr CompressionName kCompressions[] = {
     {"none", Compression::kNone}, {"bz2", Compression::kBz2}, {"lz4", Compression::kLz4Frame}};
 
-// The chunk's data decompressed; `error` set on failure.
-std::vector<unsigned char> chunk_body(const std::string& compression, const std::vector<unsigned char>& in,
-                                      std::uint64_t size, std::string& error) {
-  const Compression* c = compression_named(kCompressions, compression);
-  if (!c) {
-    error = "chunk compression '" + compression + "', expected " + compression_list(kCompressions);
-    return {};
-  }
-  return decompress(*c, in.data(), in.size(), size, error);
+// Reads the header of the chunk at `c.pos` into `c`, checking what it states against the
+// limits (kMaxChunkBytes, the file's inflation budget) before anything is allocated.
+void check_chunk(const InputFile& f, ChunkInfo& c, ChunkBudget& budget) {
+  const std::string where = f.path() + ": chunk at byte " + std::to_string(c.pos) + ": ";
+  c.head = read_head(f, c.pos);
+  const auto size = field<std::uint32_t>(c.head.header, "size");
+  const auto compression = text_field(c.head.header, "compression");
+  if (c.head.op != kChunk || !size || !compression)
+    throw InputError(f.path() + ": record at byte " + std::to_string(c.pos) + ": the index names a chunk there, found op " +
+                     std::to_string(c.head.op) + ": a damaged bag");
+  const Compression* kind = compression_named(kCompressions, *compression);
+  if (!kind) throw InputError(where + "chunk compression '" + *compression + "', expected " + compression_list(kCompressions));
+  if (const std::string why = budget.add(c.head.data_len, *size); !why.empty()) throw InputError(where + why);
+  c.compression = *kind;
+  c.size = *size;
 }
 
-// Reads the chunk at `pos` and decodes the messages of `conns` in it.
-ChunkMessages read_chunk(const std::string& path, const File& f, std::uint64_t pos, const std::set<std::uint32_t>& conns) {
+// Reads the chunk `c` (checked by check_chunk) and decodes the messages of `conns` in it.
+ChunkMessages read_chunk(const InputFile& f, const ChunkInfo& c, const std::set<std::uint32_t>& conns) {
+  const std::string& path = f.path();
+  const std::uint64_t pos = c.pos;
   ChunkMessages out;
   try {
-    const Record chunk = read_record(path, f, pos, kMaxChunkBytes);
-    const auto size = field<std::uint32_t>(chunk.header, "size");
-    const auto compression = text_field(chunk.header, "compression");
-    if (chunk.op != kChunk || !size || !compression) {
-      out.error = path + ": record at byte " + std::to_string(pos) + ": the index names a chunk there, found op " +
-                  std::to_string(chunk.op) + ": a damaged bag";
-      return out;
-    }
+    const std::vector<unsigned char> stored = read_data(f, c.head, kMaxChunkBytes);
     std::string error;
-    const std::vector<unsigned char> body = chunk_body(*compression, chunk.data, *size, error);
+    const ByteBuffer body = decompress(c.compression, stored.data(), stored.size(), c.size, error);
     if (!error.empty()) {
       out.error = path + ": chunk at byte " + std::to_string(pos) + ": " + error;
       return out;
@@ -254,18 +257,17 @@ bool is_rosbag1(const std::string& path) {
 }
 
 SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
-  File f;
-  f.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (f.fd < 0) throw InputError(path + ": cannot open the ROS bag");
-  f.size = std::filesystem::file_size(path);
+  const InputFile f(path, "ROS bag");
   char magic[kMagicSize] = {};
-  if (!read_at(f, 0, magic, kMagicSize) || std::memcmp(magic, kMagic20, kMagicSize) != 0) {
+  f.read(0, magic, static_cast<std::size_t>(std::min<std::uint64_t>(f.size(), kMagicSize)));  // a shorter file: its bytes
+  if (std::memcmp(magic, kMagic20, kMagicSize) != 0) {
     std::string line(magic, strnlen(magic, kMagicSize));
     if (!line.empty() && line.back() == '\n') line.pop_back();
-    throw InputError(path + ": found a ROS bag of version '" + line.substr(sizeof kMagicPrefix - 1) +
+    const std::size_t version = sizeof kMagicPrefix - 1;  // is_rosbag1() saw the prefix
+    throw InputError(path + ": found a ROS bag of version '" + (line.size() > version ? line.substr(version) : "") +
                      "', expected 2.0 (rosbag migrate / rosbag fix convert older bags)");
   }
-  const Record header = read_record(path, f, kMagicSize, kMaxHeaderBytes);
+  const RecordHead header = read_head(f, kMagicSize);
   const auto index_pos = field<std::uint64_t>(header.header, "index_pos");
   const auto conn_count = field<std::uint32_t>(header.header, "conn_count");
   const auto chunk_count = field<std::uint32_t>(header.header, "chunk_count");
@@ -273,36 +275,38 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
     throw InputError(path + ": the first record is not a bag header (op 3 with index_pos, conn_count, chunk_count)");
   if (*index_pos == 0)
     throw InputError(path + ": the bag has no index (an interrupted recording): run 'rosbag reindex' on it first");
-  if (*index_pos < header.end || *index_pos > f.size)
+  if (*index_pos < header.end() || *index_pos > f.size())
     throw InputError(path + ": the bag header's index_pos " + std::to_string(*index_pos) + " is outside the file: truncated");
 
   // The index section: connections, then chunk infos.
   std::vector<Connection> connections;
   std::vector<std::pair<std::uint64_t, std::map<std::uint32_t, std::uint32_t>>> chunks;  // pos, conn -> messages
-  for (std::uint64_t at = *index_pos; at < f.size;) {
-    const Record r = read_record(path, f, at, kMaxHeaderBytes);
+  for (std::uint64_t at = *index_pos; at < f.size();) {
+    const RecordHead r = read_head(f, at);
     if (r.op == kConnection) {
+      const std::vector<unsigned char> data = read_data(f, r, kMaxHeaderBytes);
       const auto conn = field<std::uint32_t>(r.header, "conn");
       const auto topic = text_field(r.header, "topic");
       Fields c;
-      if (!conn || !topic || !parse_fields(r.data.data(), r.data.size(), c))
+      if (!conn || !topic || !parse_fields(data.data(), data.size(), c))
         throw InputError(path + ": connection record at byte " + std::to_string(at) + " is malformed");
       connections.push_back({*conn, *topic, text_field(c, "type").value_or("?"), text_field(c, "md5sum").value_or("?")});
     } else if (r.op == kChunkInfo) {
       const auto pos = field<std::uint64_t>(r.header, "chunk_pos");
       const auto count = field<std::uint32_t>(r.header, "count");
-      if (!pos || !count || r.data.size() != std::uint64_t{*count} * 8)
+      if (!pos || !count || r.data_len != std::uint64_t{*count} * 8)
         throw InputError(path + ": chunk info record at byte " + std::to_string(at) + " is malformed");
+      const std::vector<unsigned char> data = read_data(f, r, kMaxHeaderBytes);
       std::map<std::uint32_t, std::uint32_t> per;
       for (std::uint32_t k = 0; k < *count; ++k) {
         std::uint32_t c, n;
-        std::memcpy(&c, r.data.data() + 8 * k, 4);
-        std::memcpy(&n, r.data.data() + 8 * k + 4, 4);
+        std::memcpy(&c, data.data() + 8 * k, 4);
+        std::memcpy(&n, data.data() + 8 * k + 4, 4);
         per[c] = n;
       }
       chunks.emplace_back(*pos, std::move(per));
     }
-    at = r.end;
+    at = r.end();
   }
   if (connections.size() != *conn_count || chunks.size() != *chunk_count)
     throw InputError(path + ": the index holds " + std::to_string(connections.size()) + " connections and " +
@@ -347,23 +351,35 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
     if (n > 0) wanted.push_back({pos, n});
   }
   std::sort(wanted.begin(), wanted.end(), [](const ChunkInfo& a, const ChunkInfo& b) { return a.pos < b.pos; });
-  std::vector<ChunkMessages> read(wanted.size());
-  gmwm::parallel_for(std::size_t{0}, wanted.size(), [&](std::size_t k) { read[k] = read_chunk(path, f, wanted[k].pos, conns); });
+  // What every chunk states is checked first, in file order, before any is inflated.
+  ChunkBudget budget;
+  for (ChunkInfo& c : wanted) check_chunk(f, c, budget);
 
   ImuTopic imu(path, topic);
   std::uint64_t expected = 0;
   for (const ChunkInfo& c : wanted) expected += c.messages;
-  imu.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(expected, f.size / sizeof(double))));
+  imu.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(expected, f.size() / sizeof(double))));
   std::int64_t index = 0;
-  for (std::size_t k = 0; k < read.size(); ++k) {
-    for (const ImuMessage& m : read[k].messages) imu.add(m, ++index);
-    if (!read[k].error.empty())
-      throw InputError(read[k].error_in_message ? imu.where(index + 1) + read[k].error : read[k].error);
-    if (read[k].messages.size() != wanted[k].messages)
-      throw InputError(path + ": chunk at byte " + std::to_string(wanted[k].pos) + " holds " +
-                       std::to_string(read[k].messages.size()) + " messages of " + topic + ", the index says " +
-                       std::to_string(wanted[k].messages) + ": a damaged bag");
-    read[k] = {};
+  // The chunks in windows of at most kChunksInFlight and kBytesInFlight, each window read in
+  // parallel, then its messages taken in chunk order.
+  for (std::size_t first = 0; first < wanted.size();) {
+    std::size_t last = first + 1;
+    std::uint64_t bytes = wanted[first].size;
+    while (last < wanted.size() && last - first < kChunksInFlight && wanted[last].size <= kBytesInFlight - std::min(bytes, kBytesInFlight))
+      bytes += wanted[last++].size;
+    std::vector<ChunkMessages> read(last - first);
+    gmwm::parallel_for(first, last, [&](std::size_t k) { read[k - first] = read_chunk(f, wanted[k], conns); });
+    for (std::size_t k = first; k < last; ++k) {
+      ChunkMessages& r = read[k - first];
+      for (const ImuMessage& m : r.messages) imu.add(m, ++index);
+      if (!r.error.empty()) throw InputError(r.error_in_message ? imu.where(index + 1) + r.error : r.error);
+      if (r.messages.size() != wanted[k].messages)
+        throw InputError(path + ": chunk at byte " + std::to_string(wanted[k].pos) + " holds " +
+                         std::to_string(r.messages.size()) + " messages of " + topic + ", the index says " +
+                         std::to_string(wanted[k].messages) + ": a damaged bag");
+      r = {};
+    }
+    first = last;
   }
   return std::move(imu).signals("rosbag:" + topic, "ROS bag header stamps (ns)", options);
 }

@@ -253,6 +253,10 @@ double memory_budget_bytes() {
   return pages > 0.0 && page > 0.0 ? kMemoryShare * pages * page : 0.0;
 }
 
+bool inflation_exceeds(std::uint64_t in, std::uint64_t out) {
+  return out > kInflationRatioFloorBytes && static_cast<double>(out) > kMaxInflationRatio * static_cast<double>(in);
+}
+
 bool is_timestamp_column_name(std::string_view name) { return detail::timestamp_name(name).has_value(); }
 
 std::string ReadOptions::Validate() const {

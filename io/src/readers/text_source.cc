@@ -105,9 +105,9 @@ class GzipStream {
     }
     const std::size_t produced = cap - zs_.avail_out;
     total_out_ += produced;
-    if (total_out_ > kGzipRatioFloorBytes && static_cast<double>(total_out_) > kMaxGzipRatio * static_cast<double>(total_in_)) {
+    if (inflation_exceeds(total_in_, total_out_)) {
       char ratio[32];
-      std::snprintf(ratio, sizeof ratio, "%.0f", kMaxGzipRatio);
+      std::snprintf(ratio, sizeof ratio, "%.0f", kMaxInflationRatio);
       fail(path_, "gzip data inflates to " + std::to_string(total_out_) + " bytes from " + std::to_string(total_in_) +
                       ", more than " + ratio + " times (a decompression bomb?), expected compressed text of numbers");
     }

@@ -2,7 +2,7 @@
 // Line-by-line access to a text file that may be gzip-compressed (detected by its magic
 // bytes). Both are read (or inflated) in chunks, so a line view points into a buffer that
 // stays cache-warm while it is parsed and memory does not grow with the file. A line is at
-// most kMaxLineBytes; gzip text inflates at most kMaxGzipRatio times (signal_reader.h).
+// most kMaxLineBytes; gzip text inflates at most kMaxInflationRatio times (signal_reader.h).
 
 #include <cstdint>
 #include <cstdio>

@@ -54,11 +54,17 @@ inline constexpr std::int64_t kMinSamples = 16;
 inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 /// A file has at most 4096 columns (IMU logs have tens; a whole vehicle's log hundreds).
 inline constexpr std::size_t kMaxColumns = 4096;
-/// gzip text may inflate to at most 250 times its compressed size once past 256 MiB:
-/// text of numbers compresses 3-10 times (the ADIS files 7.6, simulated 3.4), while a
-/// decompression bomb reaches zlib's limit of about 1000.
-inline constexpr double kMaxGzipRatio = 250.0;
-inline constexpr std::uint64_t kGzipRatioFloorBytes = std::uint64_t{256} << 20;
+/// Compressed input may inflate to at most 250 times its compressed size once past 256 MiB,
+/// counted over the file: gzip text as it inflates, and the bz2, lz4 and zstd chunks of ROS 1
+/// bags and MCAP files by the uncompressed sizes they state, before they are inflated (each
+/// then inflates into exactly that size). Text of numbers compresses 3-10 times (the ADIS
+/// files 7.6, simulated 3.4), IMU messages in chunks 5-8 times (the bags of
+/// tools/bench/log_readers.py: lz4 5.4, bz2 8.2), while a decompression bomb reaches zlib's
+/// limit of about 1000, and bz2's, lz4's and zstd's far beyond.
+inline constexpr double kMaxInflationRatio = 250.0;
+inline constexpr std::uint64_t kInflationRatioFloorBytes = std::uint64_t{256} << 20;
+/// True when `out` bytes inflated (or stated) from `in` compressed bytes break that rule.
+bool inflation_exceeds(std::uint64_t in, std::uint64_t out);
 /// The values read are refused when, at kBytesPerValue each (the value and the Haar
 /// transform's prefix sum built from it), they would exceed kMemoryShare of the machine's
 /// physical memory; `simulate` applies the same budget to what it generates.
