@@ -5,15 +5,20 @@
 // index) and what was expected, writes nothing and stays under 10 s and 1 GB. The files are
 // written by tests/support/log_writers.h from the published formats, then tampered with.
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "hostile_harness.h"
 #include "log_writers.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace gmwm::test::hostile;
@@ -272,9 +277,123 @@ std::vector<Case> corpus() {
                  {"gz.mcap", "chunk at " + at(gz.chunk_at[0]), "compression 'gzip', expected '' (none), lz4 or zstd"},
                  file("gz.mcap", gz.bytes)});
   }
+  // --- rosbag2: tables that are programs, values and stamps ----------------------------------
+  {
+    const auto bag = [](const std::string& name, gmwm::test::Rosbag2Options o) -> Setup {
+      return [=](const fs::path& d) { gmwm::test::rosbag2_db((d / name).string(), o); };
+    };
+    const std::string recursive_messages =
+        "CREATE VIEW messages(id, topic_id, timestamp, data) AS WITH RECURSIVE r(i) AS "
+        "(SELECT 1 UNION ALL SELECT i + 1 FROM r) SELECT i, 1, i, zeroblob(1000) FROM r";
+    const std::string recursive_topics =
+        "CREATE VIEW topics(id, name, type, serialization_format) AS WITH RECURSIVE r(i) AS "
+        "(SELECT 1 UNION ALL SELECT i + 1 FROM r) SELECT i, 'imu' || i, 'sensor_msgs/msg/Imu', 'cdr' FROM r";
+    gmwm::test::Rosbag2Options o;
+    o.messages_sql = recursive_messages;
+    c.push_back({"rosbag2 messages as a recursive view", {"wv", "v.db3"},
+                 {"v.db3", "'messages' is a view, expected the rosbag2 table"}, bag("v.db3", o)});
+    o.wal = true;  // and nothing may appear beside it: no -shm, no -wal
+    c.push_back({"rosbag2 in WAL mode with messages as a recursive view", {"wv", "w.db3"},
+                 {"w.db3", "'messages' is a view"}, bag("w.db3", o)});
+    gmwm::test::Rosbag2Options t;
+    t.topics_sql = recursive_topics;
+    c.push_back({"rosbag2 topics as a recursive view", {"wv", "t.db3"},
+                 {"t.db3", "'topics' is a view, expected the rosbag2 table"}, bag("t.db3", t)});
+    gmwm::test::Rosbag2Options fts;
+    fts.messages_sql = "CREATE VIRTUAL TABLE messages USING fts5(id, topic_id, timestamp, data)";
+    c.push_back({"rosbag2 messages as a virtual table", {"wv", "fts.db3"},
+                 {"fts.db3", "'messages' is a virtual table, expected the rosbag2 table"}, bag("fts.db3", fts)});
+    gmwm::test::Rosbag2Options generated;
+    generated.messages_sql =
+        "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
+        "data BLOB GENERATED ALWAYS AS (zeroblob(1000000000)) VIRTUAL)";
+    c.push_back({"rosbag2 data as a generated column of 1 GB", {"wv", "g.db3"},
+                 {"g.db3", "column 'data' of table 'messages' is generated, expected a stored column"},
+                 bag("g.db3", generated)});
+    gmwm::test::Rosbag2Options nodata;
+    nodata.messages_sql = "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, blob BLOB)";
+    c.push_back({"rosbag2 messages without a data column", {"wv", "n.db3"},
+                 {"n.db3", "table 'messages' has no column 'data', expected rosbag2's columns"}, bag("n.db3", nodata)});
+    gmwm::test::Rosbag2Options big;
+    big.messages = 2;
+    big.blob = [](int) { return std::string(20u << 20, '\1'); };
+    c.push_back({"rosbag2 message blob of 20 MiB", {"wv", "b.db3"},
+                 {"b.db3", "topic /imu message 1: cannot read it: string or blob too big"}, bag("b.db3", big)});
+    gmwm::test::Rosbag2Options frame;
+    frame.blob = [](int i) {
+      std::string m = gmwm::test::imu_cdr(i, 5000000);
+      if (i == 4) patch(m, 12, std::uint32_t{0xffffffff});
+      return m;
+    };
+    c.push_back({"rosbag2 CDR frame_id of 2^32 - 1 bytes", {"wv", "f.db3"},
+                 {"f.db3", "topic /imu message 5: truncated: frame_id (a string of 4294967295 bytes"},
+                 bag("f.db3", frame)});
+    c.push_back({"rosbag2 with a write-ahead log beside it", {"wv", "l.db3"},
+                 {"l.db3", "found ", "l.db3-wal beside it with changes not yet in the database", "PRAGMA wal_checkpoint"},
+                 [](const fs::path& d) {
+                   // The log of an open connection, copied beside a copy of its database.
+                   const fs::path live = d.parent_path() / (d.filename().string() + "-live.db3");
+                   sqlite3* db = nullptr;
+                   sqlite3_open(live.c_str(), &db);
+                   sqlite3_exec(db, "PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0;", nullptr, nullptr, nullptr);
+                   sqlite3_exec(db, "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);"
+                                    "INSERT INTO topics VALUES (1, '/imu', 'sensor_msgs/msg/Imu', 'cdr');",
+                                nullptr, nullptr, nullptr);
+                   fs::copy_file(live, d / "l.db3");
+                   fs::copy_file(live.string() + "-wal", d / "l.db3-wal");
+                   sqlite3_close(db);
+                   fs::remove(live);
+                 }});
+  }
   return c;
 }
 
 }  // namespace
 
 HOSTILE_CORPUS(HostileBinaryLogs, corpus());
+
+// The positive side of the rosbag2 cases (issue 25): a bag in WAL mode is read without any
+// file appearing beside it, and a bag on read-only media (a read-only file in a read-only
+// folder, read as another user when the tests run as root, whom permissions do not stop) is
+// read, not refused as having "no topics table".
+namespace {
+
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+TEST(Rosbag2Storage, AWalModeBagIsReadAndNothingAppearsBesideIt) {
+  const fs::path dir = gmwm::test::temp_dir("rosbag2_wal");
+  gmwm::test::Rosbag2Options o;
+  o.wal = true;
+  gmwm::test::rosbag2_db((dir / "bag.db3").string(), o);
+  ASSERT_EQ(listing(dir), std::vector<std::string>{"bag.db3"});
+  const gmwm::test::CliRun r = gmwm::test::run_gmwm({"wv", "bag.db3", "--json", "-", "--quiet"}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["columns"].size(), 6u);
+  EXPECT_EQ(listing(dir), std::vector<std::string>{"bag.db3"});  // no bag.db3-shm, no bag.db3-wal
+  fs::remove_all(dir);
+}
+
+TEST(Rosbag2Storage, ABagOnReadOnlyMediaIsRead) {
+  const fs::path dir = gmwm::test::temp_dir("rosbag2_ro");
+  gmwm::test::Rosbag2Options o;
+  o.wal = true;  // the case that was refused: WAL without a -shm that may be created
+  gmwm::test::rosbag2_db((dir / "bag.db3").string(), o);
+  fs::permissions(dir / "bag.db3", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec |
+                           fs::perms::others_read | fs::perms::others_exec);
+  gmwm::test::RunOptions how;
+  if (::geteuid() == 0) how.before = "setpriv --reuid=65534 --regid=65534 --clear-groups";  // nobody
+  const gmwm::test::CliRun r = gmwm::test::run_gmwm({"wv", "bag.db3", "--json", "-", "--quiet"}, dir, how);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  if (r.exit_code == 0) EXPECT_EQ(nlohmann::json::parse(r.out)["columns"].size(), 6u);
+  EXPECT_EQ(listing(dir), std::vector<std::string>{"bag.db3"});
+  fs::permissions(dir, fs::perms::owner_all);
+  fs::remove_all(dir);
+}

@@ -6,6 +6,7 @@
 #include <bzlib.h>
 #include <lz4frame.h>
 #include <zlib.h>
+#include <sqlite3.h>
 #include <zstd.h>
 
 namespace gmwm::test {
@@ -291,6 +292,50 @@ Mcap mcap_of_chunks(const std::vector<McapStoredChunk>& chunks) {
   out += mcap_record(0x02, LeBytes().put(std::uint64_t{0}).put(std::uint64_t{0}).put(std::uint32_t{0}).b);
   out += std::string("\x89MCAP0\r\n", 8);
   return m;
+}
+
+// --- rosbag2 ---------------------------------------------------------------------------------------
+
+void rosbag2_db(const std::string& path, const Rosbag2Options& o) {
+  sqlite3* db = nullptr;
+  if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) throw std::runtime_error("cannot create " + path);
+  const auto exec = [&](const std::string& sql, bool must) {
+    char* err = nullptr;
+    if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK && must) {
+      const std::string why = err ? err : "?";
+      sqlite3_free(err);
+      sqlite3_close(db);
+      throw std::runtime_error(path + ": " + sql + ": " + why);
+    }
+    sqlite3_free(err);
+  };
+  if (o.wal) exec("PRAGMA journal_mode=WAL", true);
+  exec("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL)", true);
+  exec(o.topics_sql.empty() ? "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
+                              "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL)"
+                            : o.topics_sql,
+       true);
+  exec(o.messages_sql.empty() ? "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, "
+                                "timestamp INTEGER NOT NULL, data BLOB NOT NULL)"
+                              : o.messages_sql,
+       true);
+  exec("INSERT INTO topics VALUES (1, '/imu', 'sensor_msgs/msg/Imu', 'cdr', '')", false);
+  exec("BEGIN", true);
+  sqlite3_stmt* insert = nullptr;
+  if (sqlite3_prepare_v2(db, "INSERT INTO messages(id, topic_id, timestamp, data) VALUES (?, 1, ?, ?)", -1, &insert,
+                         nullptr) == SQLITE_OK) {
+    for (int i = 0; i < o.messages; ++i) {
+      const std::string blob = o.blob ? o.blob(i) : imu_cdr(i, 5000000);
+      sqlite3_bind_int(insert, 1, i + 1);
+      sqlite3_bind_int64(insert, 2, 1700000000000000000LL + i * 5000000LL);
+      sqlite3_bind_blob(insert, 3, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT);
+      sqlite3_step(insert);
+      sqlite3_reset(insert);
+    }
+  }
+  sqlite3_finalize(insert);
+  exec("COMMIT", true);
+  sqlite3_close(db);
 }
 
 // --- ULog ------------------------------------------------------------------------------------------

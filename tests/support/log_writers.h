@@ -118,6 +118,21 @@ struct McapStoredChunk {
 };
 Mcap mcap_of_chunks(const std::vector<McapStoredChunk>& chunks);
 
+// --- rosbag2 (sqlite3) --------------------------------------------------------------------------
+
+struct Rosbag2Options {
+  int messages = 64;
+  std::string topics_sql;    ///< replaces the topics table's CREATE when not empty
+  std::string messages_sql;  ///< replaces the messages table's CREATE when not empty
+  bool wal = false;          ///< journal_mode=WAL (the database closed: no -wal left)
+  /// Message i's blob; empty: imu_cdr(i, 5 ms).
+  std::string (*blob)(int i) = nullptr;
+};
+
+/// A rosbag2 database (rosbag2_storage_default_plugins' schema) of one sensor_msgs/msg/Imu
+/// topic /imu, written with SQLite; rows go in only where the tables take them.
+void rosbag2_db(const std::string& path, const Rosbag2Options& o = {});
+
 // --- compression --------------------------------------------------------------------------------
 
 std::string bz2_compress(const std::string& in);
