@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "log_writers.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -64,6 +65,34 @@ TEST_F(GmwmUlog, ABadLogExitsTwoWithOneLineAndWritesNothing) {
                    dir_ / "x.json");
   expect_bad_input(run_gmwm({"wv", "log.ulg", "--topic", "sensor_mag", "--json", "x.json"}, dir_),
                    {"log.ulg", "--topic sensor_mag", "expected an IMU topic"}, dir_ / "x.json");
+}
+
+// Issue 25: `--memory MB` holds for the binary logs too; beyond it their axes go to temporary
+// files and the WV is the same to the last bit (140,000 messages: 6.7 MB of values, past a
+// budget of 1 MB from the first check on).
+TEST(GmwmBinaryLogs, MemoryGivesTheSameWvToTheLastBitForEveryBinaryLog) {
+  const fs::path dir = gmwm::test::temp_dir("cli_log_memory");
+  gmwm::test::Ros1BagOptions bag;
+  bag.messages = 140000;
+  bag.per_chunk = 2000;
+  bag.compression = "lz4";
+  gmwm::test::McapOptions mcap;
+  mcap.messages = 140000;
+  mcap.per_chunk = 3000;
+  mcap.compression = "zstd";
+  std::ofstream(dir / "log.ulg", std::ios::binary) << gmwm::test::ulog_sensor_combined(140000);
+  std::ofstream(dir / "log.bag", std::ios::binary) << gmwm::test::ros1_bag(bag).bytes;
+  std::ofstream(dir / "log.mcap", std::ios::binary) << gmwm::test::mcap_file(mcap).bytes;
+  for (const char* log : {"log.ulg", "log.bag", "log.mcap"}) {
+    auto r = run_gmwm({"wv", log, "--json", "memory.json", "--quiet"}, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = run_gmwm({"wv", log, "--memory", "1", "--json", "files.json", "--quiet"}, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto a = read_json(dir / "memory.json"), b = read_json(dir / "files.json");
+    ASSERT_EQ(a["columns"].size(), 6u) << log;
+    for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(a["columns"][k]["levels"], b["columns"][k]["levels"]) << log << " " << k;
+  }
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -5,46 +5,62 @@
 #include "gmwm/engine/error.h"
 
 namespace gmwm::io::detail {
+namespace {
 
-SignalSet log_signal_set(const std::string& path, const std::string& preset, const std::string& what,
-                         std::vector<LogAxis> axes, const std::vector<double>& stamps, const TimeUnit& unit,
-                         const std::string& unit_source, const ReadOptions& options) {
-  if (static_cast<std::int64_t>(stamps.size()) < kMinSamples)
-    throw InputError(path + ": " + what + " has " + std::to_string(stamps.size()) + " messages, expected at least " +
-                     std::to_string(kMinSamples));
+std::vector<std::size_t> picked(const std::string& path, const std::string& what, const std::vector<LogAxis>& axes,
+                                const ReadOptions& options) {
   std::vector<std::size_t> pick;
   if (options.columns.empty()) {
     for (std::size_t k = 0; k < axes.size(); ++k) pick.push_back(k);
-  } else {
-    for (const std::string& c : options.columns) {
-      std::size_t k = 0;
-      while (k < axes.size() && axes[k].name != c) ++k;
-      if (k == axes.size()) {
-        std::string names;
-        for (const LogAxis& a : axes) names += (names.empty() ? "" : ", ") + a.name;
-        throw InputError(path + ": --columns " + c + ": " + what + " gives " + names);
-      }
-      pick.push_back(k);
+    return pick;
+  }
+  for (const std::string& c : options.columns) {
+    std::size_t k = 0;
+    while (k < axes.size() && axes[k].name != c) ++k;
+    if (k == axes.size()) {
+      std::string names;
+      for (const LogAxis& a : axes) names += (names.empty() ? "" : ", ") + a.name;
+      throw InputError(path + ": --columns " + c + ": " + what + " gives " + names);
     }
+    pick.push_back(k);
   }
+  return pick;
+}
+
+}  // namespace
+
+LogColumns::LogColumns(std::string path, std::string what, std::vector<LogAxis> axes, const ReadOptions& options)
+    : path_(std::move(path)), what_(std::move(what)), axes_(std::move(axes)), options_(options),
+      pick_(picked(path_, what_, axes_, options)), columns_(pick_.size()),
+      sink_(path_, columns_, options, SinkNouns{"messages", "axes", "read fewer axes with --columns"}, &steps_) {}
+
+void LogColumns::reserve(std::uint64_t messages) {
+  const std::size_t n = sink_.rows_to_reserve(messages);
+  for (auto& c : columns_) c.reserve(n);
+}
+
+SignalSet LogColumns::finish(const std::string& preset, const TimeUnit& unit, const std::string& unit_source) && {
+  if (count_ < kMinSamples)
+    throw InputError(path_ + ": " + what_ + " has " + std::to_string(count_) + " messages, expected at least " +
+                     std::to_string(kMinSamples));
   SignalSet set;
-  set.path = path;
+  set.path = path_;
   set.preset = preset;
-  for (std::size_t k : pick) {
-    const std::vector<double>& v = axes[k].values;
-    if (std::all_of(v.begin(), v.end(), [&](double x) { return x == v.front(); }))
-      throw InputError(path + ": " + what + " " + axes[k].name + ": found all " + std::to_string(v.size()) +
-                       " values equal to " + std::to_string(v.front()) +
+  set.spilled = sink_.spilled();
+  std::vector<Samples> values = sink_.finish();
+  for (std::size_t k = 0; k < pick_.size(); ++k) {
+    const LogAxis& a = axes_[pick_[k]];
+    if (const std::optional<double> c = constant_value(values[k]))
+      throw InputError(path_ + ": " + what_ + " " + a.name + ": found all " + std::to_string(count_) +
+                       " values equal to " + std::to_string(*c) +
                        ", expected a varying signal (a constant has a wavelet variance of zero)");
-    set.signals.push_back({axes[k].name, std::move(axes[k].values), axes[k].unit});
+    set.signals.push_back({a.name, std::move(values[k]), a.unit});
   }
-  std::vector<double> offsets(stamps.size());
-  for (std::size_t i = 0; i < stamps.size(); ++i) offsets[i] = stamps[i] - stamps.front();
-  set.timing = analyse_timing("stamp", offsets, stamps.front(), unit, unit_source);
-  set.timing->given_freq = options.freq;
-  check_one_rate(path, *set.timing, options);
-  if (options.freq) {
-    set.freq = *options.freq;
+  set.timing = analyse_timing("stamp", steps_, first_, unit, unit_source);
+  set.timing->given_freq = options_.freq;
+  check_one_rate(path_, *set.timing, options_);
+  if (options_.freq) {
+    set.freq = *options_.freq;
     set.freq_known = true;
   } else if (set.timing->estimated_freq > 0.0) {
     set.freq = set.timing->estimated_freq;

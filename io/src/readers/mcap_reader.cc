@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -120,16 +121,20 @@ struct Channel {
   std::string topic, schema, encoding;
 };
 
-// The messages of one IMU topic as read, checked once the topic is chosen.
-struct TopicMessages {
-  std::vector<ImuMessage> messages;
-  std::string error;  // the first message that did not decode (its index: messages.size() + 1)
+// An IMU topic as the pass meets it: its messages, gathered (within the memory budget:
+// ImuTopic) while it may be the topic returned, or the first error met in them, reported if
+// (when) the topic is chosen.
+struct TopicState {
+  std::unique_ptr<ImuTopic> data;  // nullptr: not gathered (--topic names another, or several
+                                   // IMU topics and no --topic: the read will be refused)
+  std::string error;
   std::string encoding;
+  std::int64_t messages = 0;       // gathered so far
 };
 
 class McapPass {
  public:
-  explicit McapPass(std::string path) : path_(std::move(path)) {}
+  McapPass(std::string path, const ReadOptions& options) : path_(std::move(path)), options_(options) {}
 
   // The records of `data`: the file's data section (`base`: its byte offset in the file) or,
   // `in_chunk`, a chunk's records (`base`: the chunk's byte offset, `at` counted in its
@@ -222,11 +227,11 @@ class McapPass {
     return true;
   }
 
-  SignalSet finish(const ReadOptions& options) {
+  SignalSet finish() {
     std::string all, imu;
     for (const auto& [topic, c] : topics_) all += (all.empty() ? "" : ", ") + topic + " (" + c + ")";
     for (const auto& [topic, m] : imu_) imu += (imu.empty() ? "" : ", ") + topic;
-    std::string topic = options.topic;
+    std::string topic = options_.topic;
     if (topic.empty()) {
       if (imu_.size() != 1)
         throw InputError(path_ + (imu_.empty() ? ": no " + std::string(kImuSchema) + " topic in this bag (it has " +
@@ -240,16 +245,12 @@ class McapPass {
       throw InputError(path_ + ": no topic " + topic + " in this bag (it has " + (all.empty() ? std::string("no topic") : all) + ")");
     if (t->second != kImuSchema)
       throw InputError(path_ + ": topic " + topic + " is " + t->second + ", expected " + kImuSchema + " messages");
-    TopicMessages& m = imu_[topic];
+    TopicState& m = imu_[topic];
     if (!m.encoding.empty() && m.encoding != "cdr")
       throw InputError(path_ + ": topic " + topic + " is encoded as '" + m.encoding + "', expected cdr");
-    ImuTopic out(path_, topic);
-    out.reserve(m.messages.size());
-    std::int64_t index = 0;
-    for (const ImuMessage& msg : m.messages) out.add(msg, ++index);
-    if (!m.error.empty()) throw InputError(out.where(index + 1) + m.error);
-    m.messages = {};
-    return std::move(out).signals("mcap:" + topic, "MCAP header stamps (ns)", options);
+    if (!m.error.empty()) throw InputError(m.error);
+    if (!m.data) m.data = std::make_unique<ImuTopic>(path_, topic, options_);
+    return std::move(*m.data).signals("mcap:" + topic, "MCAP header stamps (ns)");
   }
 
  private:
@@ -284,7 +285,15 @@ class McapPass {
     const auto s = schemas_.find(schema_id);
     c.schema = schema_id == 0 ? "(no schema)" : s == schemas_.end() ? "(unknown schema " + std::to_string(schema_id) + ")" : s->second;
     topics_.emplace(c.topic, c.schema);
-    if (c.schema == kImuSchema) imu_[c.topic].encoding = c.encoding;
+    if (c.schema == kImuSchema) {
+      TopicState& t = imu_[c.topic];
+      t.encoding = c.encoding;
+      if (options_.topic.empty() && imu_.size() > 1) {
+        for (auto& [name, other] : imu_) other.data.reset();  // several: the read will be refused
+      } else if (!t.data && t.messages == 0 && (options_.topic.empty() || options_.topic == c.topic)) {
+        t.data = std::make_unique<ImuTopic>(path_, c.topic, options_);
+      }
+    }
     channels_[id] = std::move(c);
   }
 
@@ -298,7 +307,7 @@ class McapPass {
     if (c == channels_.end()) return true;
     if (c->second.schema != kImuSchema) return false;
     const auto t = imu_.find(c->second.topic);
-    return t != imu_.end() && t->second.error.empty() && t->second.encoding == "cdr";
+    return t != imu_.end() && t->second.data && t->second.error.empty() && t->second.encoding == "cdr";
   }
 
   void message(const unsigned char* p, std::uint64_t n, std::uint64_t offset, bool in_chunk) {
@@ -313,11 +322,19 @@ class McapPass {
       throw InputError(path_ + ": " + place(offset, in_chunk) + "a message on channel " + std::to_string(id) +
                        ", which no channel record defines before it");
     if (c->second.schema != kImuSchema) return;
-    TopicMessages& t = imu_[c->second.topic];
-    if (!t.error.empty() || t.encoding != "cdr") return;  // reported when (if) the topic is chosen
+    TopicState& t = imu_[c->second.topic];
+    if (!t.data || !t.error.empty() || t.encoding != "cdr") return;  // reported when (if) the topic is chosen
     std::string error;
-    if (const auto m = decode_imu_cdr(r.here(), static_cast<std::size_t>(r.left()), error)) t.messages.push_back(*m);
-    else t.error = error;
+    const std::int64_t index = t.messages + 1;
+    const auto m = decode_imu_cdr(r.here(), static_cast<std::size_t>(r.left()), error);
+    try {
+      if (!m) throw InputError(t.data->where(index) + error);
+      t.data->add(*m, index);
+      t.messages = index;
+    } catch (const InputError& e) {
+      t.error = e.what();
+      t.data.reset();
+    }
   }
 
   void chunk(const unsigned char* p, std::uint64_t n, std::uint64_t offset) {
@@ -365,7 +382,8 @@ class McapPass {
   std::map<std::uint16_t, std::string> schemas_;
   std::map<std::uint16_t, Channel> channels_;
   std::map<std::string, std::string> topics_;       // topic -> schema name
-  std::map<std::string, TopicMessages> imu_;        // the IMU topics' messages
+  std::map<std::string, TopicState> imu_;           // the IMU topics
+  const ReadOptions& options_;
 };
 
 }  // namespace
@@ -380,12 +398,12 @@ bool is_mcap(const std::string& path) {
 
 SignalSet read_mcap(const std::string& path, const ReadOptions& options) {
   const InputFile file(path, "MCAP file");
-  McapPass pass(path);
+  McapPass pass(path, options);
   if (pass.file_records(file))
     throw InputError(path + ": the file ends at byte " + std::to_string(file.size()) +
                      " without a DataEnd or footer record: truncated (an interrupted recording? 'mcap recover' "
                      "rewrites it)");
-  return pass.finish(options);
+  return pass.finish();
 }
 
 }  // namespace gmwm::io::detail

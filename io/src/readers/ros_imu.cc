@@ -108,39 +108,36 @@ std::optional<ImuMessage> decode_imu_ros1(const unsigned char* data, std::size_t
   return decode_body(c, m, size, error);
 }
 
+ImuTopic::ImuTopic(std::string path, std::string topic, const ReadOptions& options)
+    : path_(std::move(path)), topic_(std::move(topic)),
+      columns_(path_, "topic " + topic_,
+               {{"gyro_x", "rad/s"}, {"gyro_y", "rad/s"}, {"gyro_z", "rad/s"},
+                {"accel_x", "m/s^2"}, {"accel_y", "m/s^2"}, {"accel_z", "m/s^2"}},
+               options) {}
+
 std::string ImuTopic::where(std::int64_t index) const {
   return path_ + ": topic " + topic_ + " message " + std::to_string(index) + ": ";
 }
 
-void ImuTopic::reserve(std::size_t n) {
-  stamps_.reserve(n);
-  for (LogAxis& a : axes_) a.values.reserve(n);
-}
-
 void ImuTopic::add(const ImuMessage& m, std::int64_t index) {
-  if (stamps_.empty()) first_sec_ = m.sec;
+  if (columns_.size() == 0) first_sec_ = m.sec;
   const double t = static_cast<double>(m.sec - first_sec_) * 1e9 + static_cast<double>(m.nanosec);
-  if (!stamps_.empty() && t <= stamps_.back()) {
+  if (columns_.size() > 0 && t <= columns_.last()) {
     char stamp[48];
     std::snprintf(stamp, sizeof stamp, "%lld.%09u", static_cast<long long>(m.sec), static_cast<unsigned>(m.nanosec));
     throw InputError(where(index) + "header stamp " + stamp + " s is not after the previous message's: unsorted stamps");
   }
+  static const char* const kNames[] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
+  const double values[6] = {m.gyro[0], m.gyro[1], m.gyro[2], m.accel[0], m.accel[1], m.accel[2]};
   for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(m.gyro[a])) throw InputError(where(index) + axes_[static_cast<std::size_t>(a)].name + " is not a finite number");
-    if (!std::isfinite(m.accel[a]))
-      throw InputError(where(index) + axes_[static_cast<std::size_t>(3 + a)].name + " is not a finite number");
+    if (!std::isfinite(values[a])) throw InputError(where(index) + kNames[a] + " is not a finite number");
+    if (!std::isfinite(values[3 + a])) throw InputError(where(index) + kNames[3 + a] + " is not a finite number");
   }
-  stamps_.push_back(t);
-  for (int a = 0; a < 3; ++a) {
-    axes_[static_cast<std::size_t>(a)].values.push_back(m.gyro[a]);
-    axes_[static_cast<std::size_t>(3 + a)].values.push_back(m.accel[a]);
-  }
+  columns_.add(t, values, [&] { return where(index); });
 }
 
-SignalSet ImuTopic::signals(const std::string& preset, const std::string& stamp_source,
-                            const ReadOptions& options) && {
-  return log_signal_set(path_, preset, "topic " + topic_, std::move(axes_), stamps_, TimeUnit{1e-9, "ns"},
-                        stamp_source, options);
+SignalSet ImuTopic::signals(const std::string& preset, const std::string& stamp_source) && {
+  return std::move(columns_).finish(preset, TimeUnit{1e-9, "ns"}, stamp_source);
 }
 
 }  // namespace gmwm::io::detail

@@ -38,29 +38,32 @@ std::optional<ImuMessage> decode_imu_ros1(const unsigned char* data, std::size_t
 
 /// The messages of one IMU topic in storage order. add() refuses (InputError naming the
 /// file, topic and 1-based message index) a stamp that does not increase and a value that
-/// is not finite; signals() builds the six axes (log_signal_set).
+/// is not finite, and keeps the axes --columns picks within the memory budget (LogColumns);
+/// signals() builds the signal set. Neither copied nor moved (the budget's sink refers to
+/// its columns).
 class ImuTopic {
  public:
-  ImuTopic(std::string path, std::string topic) : path_(std::move(path)), topic_(std::move(topic)) {}
+  ImuTopic(std::string path, std::string topic, const ReadOptions& options);
+  ImuTopic(const ImuTopic&) = delete;
+  ImuTopic& operator=(const ImuTopic&) = delete;
 
   const std::string& topic() const { return topic_; }
-  std::size_t size() const { return stamps_.size(); }
+  std::int64_t size() const { return columns_.size(); }
   /// "FILE: topic T message N: ", the prefix of a message's errors.
   std::string where(std::int64_t index) const;
   /// Index: the message's 1-based place among the topic's messages.
   void add(const ImuMessage& m, std::int64_t index);
-  void reserve(std::size_t n);
+  /// Room for up to n messages (within the budget).
+  void reserve(std::uint64_t n) { columns_.reserve(n); }
 
   /// `preset` names the source in outputs ("rosbag:/imu"); `stamp_source` says where the
   /// times come from in the timing report.
-  SignalSet signals(const std::string& preset, const std::string& stamp_source, const ReadOptions& options) &&;
+  SignalSet signals(const std::string& preset, const std::string& stamp_source) &&;
 
  private:
   std::string path_, topic_;
   std::int64_t first_sec_ = 0;
-  std::vector<double> stamps_;  // ns from the first message's whole second
-  std::vector<LogAxis> axes_ = {{"gyro_x", "rad/s", {}},  {"gyro_y", "rad/s", {}},  {"gyro_z", "rad/s", {}},
-                                {"accel_x", "m/s^2", {}}, {"accel_y", "m/s^2", {}}, {"accel_z", "m/s^2", {}}};
+  LogColumns columns_;
 };
 
 }  // namespace gmwm::io::detail

@@ -63,6 +63,9 @@ constexpr std::uint32_t kMaxHeaderBytes = 16u << 20;
 // theirs uncompressed (at least one chunk): enough to keep the cores busy with rosbag's
 // 768 kB chunks, while the memory in flight stays bounded whatever the bag's size.
 constexpr std::size_t kChunksInFlight = 16;
+// A message record of an IMU takes more than this many bytes of the file (its 37 doubles
+// alone 296): what the index's counts may claim is bounded by the file's size.
+constexpr std::uint64_t kMinMessageBytes = 300;
 constexpr std::uint64_t kBytesInFlight = std::uint64_t{32} << 20;
 
 enum Op : std::uint8_t { kMessage = 0x02, kBagHeader = 0x03, kChunk = 0x05, kChunkInfo = 0x06, kConnection = 0x07 };
@@ -355,10 +358,10 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   ChunkBudget budget;
   for (ChunkInfo& c : wanted) check_chunk(f, c, budget);
 
-  ImuTopic imu(path, topic);
+  ImuTopic imu(path, topic, options);
   std::uint64_t expected = 0;
   for (const ChunkInfo& c : wanted) expected += c.messages;
-  imu.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(expected, f.size() / sizeof(double))));
+  imu.reserve(std::min<std::uint64_t>(expected, f.size() / kMinMessageBytes));
   std::int64_t index = 0;
   // The chunks in windows of at most kChunksInFlight and kBytesInFlight, each window read in
   // parallel, then its messages taken in chunk order.
@@ -381,7 +384,7 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
     }
     first = last;
   }
-  return std::move(imu).signals("rosbag:" + topic, "ROS bag header stamps (ns)", options);
+  return std::move(imu).signals("rosbag:" + topic, "ROS bag header stamps (ns)");
 }
 
 }  // namespace gmwm::io::detail

@@ -225,7 +225,7 @@ SignalSet read_rosbag2_sqlite(const std::string& path, const ReadOptions& option
   Statement messages;
   bag.prepare(messages, "SELECT data FROM messages WHERE topic_id = ? ORDER BY timestamp, id", "messages");
   sqlite3_bind_int64(messages.s, 1, topic_id);
-  ImuTopic imu(path, topic);
+  ImuTopic imu(path, topic, options);
   for (std::int64_t index = 1;; ++index) {
     const int rc = sqlite3_step(messages.s);
     if (rc == SQLITE_DONE) break;
@@ -237,7 +237,7 @@ SignalSet read_rosbag2_sqlite(const std::string& path, const ReadOptions& option
     if (!m) throw InputError(imu.where(index) + error);
     imu.add(*m, index);
   }
-  return std::move(imu).signals("rosbag2:" + topic, "rosbag2 header stamps (ns)", options);
+  return std::move(imu).signals("rosbag2:" + topic, "rosbag2 header stamps (ns)");
 }
 
 }  // namespace gmwm::io::detail

@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include "column_sink.h"
 #include "delimited_parser.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/samples.h"
@@ -151,101 +152,6 @@ std::string levels_problem(int levels, std::int64_t n, const std::string& option
          " samples, which give at most " + std::to_string(deepest) + " levels (2^" + std::to_string(deepest) +
          " <= " + std::to_string(n) + "), expected 1 to " + std::to_string(deepest);
 }
-
-namespace {
-
-// The value of a series whose values are all equal, else nullopt (a series in a file is
-// read in blocks whose pages are released behind).
-std::optional<double> constant_value(const Samples& x) {
-  if (x.empty()) return std::nullopt;
-  const double first = x.front();
-  bool constant = true;
-  for_each_block(x, [&](std::span<const double> part, std::size_t) {
-    constant = constant && std::all_of(part.begin(), part.end(), [&](double v) { return v == first; });
-  });
-  return constant ? std::optional<double>(first) : std::nullopt;
-}
-
-// Rows between two checks of the memory budget (and, past it, between two emptyings of
-// the columns into their files).
-constexpr std::int64_t kRowsPerMemoryCheck = std::int64_t{1} << 16;
-
-// The selected columns as the rows come: in the parser's vectors up to the memory budget
-// (ReadOptions::memory_budget at kBytesPerValue a value), then in temporary files, emptied
-// into them every kRowsPerMemoryCheck rows (or the file refused when spill is off).
-class ColumnSink {
- public:
-  ColumnSink(const std::string& path, detail::RowParser& parser, std::size_t columns, const ReadOptions& options)
-      : path_(path), parser_(parser), options_(options),
-        budget_(options.memory_budget > 0.0 ? options.memory_budget : memory_budget_bytes()),
-        max_rows_(budget_ > 0.0 ? static_cast<std::int64_t>(budget_ / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(columns, 1))))
-                                : std::numeric_limits<std::int64_t>::max()) {}
-
-  /// Rows worth reserving for a text of about `hint` bytes of rows of `row_bytes` each:
-  /// virtual memory, touched only when used, that saves regrowing the columns.
-  std::size_t rows_to_reserve(std::uint64_t hint, std::size_t row_bytes) const {
-    return static_cast<std::size_t>(std::min<std::uint64_t>(hint / (row_bytes + 1) + 1, static_cast<std::uint64_t>(max_rows_) + 1));
-  }
-
-  /// Called after each row; `line` is its line number.
-  void after_row(std::int64_t line) {
-    if (parser_.rows() % kRowsPerMemoryCheck != 0) return;
-    if (!files_.empty()) {
-      empty_into_files();
-      return;
-    }
-    if (parser_.rows() <= max_rows_) return;
-    const std::string limit = "the memory budget of " + std::to_string(static_cast<long long>(budget_ / 1e6)) + " MB" +
-                              (options_.memory_budget > 0.0 ? std::string()
-                                                            : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) +
-                                                                  "% of this machine's memory)");
-    if (!options_.spill)
-      throw InputError(where(path_, line) + "found more than " + std::to_string(max_rows_) + " rows of " +
-                       std::to_string(parser_.values().size()) + " column(s)" +
-                       (parser_.has_time() ? std::string(" and a timestamp column") : std::string()) +
-                       ", expected at most " + std::to_string(max_rows_) +
-                       ": at " + std::to_string(static_cast<int>(kBytesPerValue)) + " bytes a value they exceed " + limit +
-                       "; read fewer columns with --columns");
-    spdlog::info("{}: more than {} rows exceed {}: the columns go to temporary files in {}", path_, max_rows_, limit,
-                 gmwm::detail::temporary_folder());
-    for (std::size_t i = 0; i < parser_.values().size(); ++i) files_.push_back(std::make_unique<SampleFileWriter>());
-    empty_into_files();
-    parser_.time_steps().spill_to_file();  // the steps of jittery stamps, 8 bytes a row, too
-    for (auto& v : parser_.values()) {
-      std::vector<double>().swap(v);  // give the budget's memory back
-      v.reserve(static_cast<std::size_t>(kRowsPerMemoryCheck));
-    }
-  }
-
-  bool spilled() const { return !files_.empty(); }
-
-  /// The columns, moved out of the parser or handed over by their files.
-  std::vector<Samples> finish() {
-    std::vector<Samples> out;
-    if (spilled()) empty_into_files();
-    for (std::size_t i = 0; i < parser_.values().size(); ++i)
-      out.push_back(spilled() ? files_[i]->finish() : Samples(std::move(parser_.values()[i])));
-    return out;
-  }
-
- private:
-  void empty_into_files() {
-    for (std::size_t i = 0; i < files_.size(); ++i) {
-      std::vector<double>& v = parser_.values()[i];
-      files_[i]->append(v.data(), v.size());
-      v.clear();
-    }
-  }
-
-  const std::string& path_;
-  detail::RowParser& parser_;
-  const ReadOptions& options_;
-  double budget_;
-  std::int64_t max_rows_;
-  std::vector<std::unique_ptr<SampleFileWriter>> files_;
-};
-
-}  // namespace
 
 double memory_budget_bytes() {
   const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
@@ -419,8 +325,9 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
 
   detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
   // A timestamp column counts as a column: jittery stamps keep a step a row (StepStatistics).
-  ColumnSink sink(path, parser, selected.size() + (time_col ? 1 : 0), options);
-  parser.reserve(sink.rows_to_reserve(src.text_size_hint(), first_row.size()));
+  detail::ColumnSink sink(path, parser.values(), options, {"rows", "column(s)", "read fewer columns with --columns"},
+                          time_col ? &parser.time_steps() : nullptr);
+  parser.reserve(sink.rows_to_reserve(src.text_size_hint() / (first_row.size() + 1) + 1));
   parser.parse(first_row, first_row_line);
   while (src.next_line(line)) {
     if (line.empty() || is_blank_line(line)) {
@@ -429,7 +336,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     }
     if (blank_line) fail_blank(blank_line);
     parser.parse(line, src.line_number());
-    sink.after_row(src.line_number());
+    sink.after_row(parser.rows(), [&] { return where(path, src.line_number()); });
   }
   std::vector<Samples> columns = sink.finish();
   set.spilled = sink.spilled();
@@ -440,7 +347,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
                      ", expected at least " + std::to_string(kMinSamples) +
                      " (the wavelet variance needs 4 levels, 2^4 samples)");
   for (std::size_t i = 0; i < selected.size(); ++i) {
-    if (const std::optional<double> c = constant_value(columns[i])) {
+    if (const std::optional<double> c = detail::constant_value(columns[i])) {
       char buf[64];
       *std::to_chars(buf, buf + sizeof buf - 1, *c).ptr = '\0';
       throw InputError(path + ": column " + std::to_string(selected[i] + 1) + " '" +

@@ -14,6 +14,9 @@
 //   sensor_combined: gyro_rad[3] -> gyro_x..z (rad/s), accelerometer_m_s2[3] -> accel_x..z (m/s^2)
 //   sensor_gyro:  x, y, z -> gyro_x..z (rad/s)      sensor_accel: x, y, z -> accel_x..z (m/s^2)
 // `--topic NAME` picks one (NAME:K its instance K, default 0); without it sensor_combined.
+//
+// The file is read once, in order, through a window (input_file.h), never whole: the axes
+// are kept within the memory budget and in temporary files beyond it (LogColumns).
 
 #include <algorithm>
 #include <array>
@@ -29,6 +32,7 @@
 
 #include "checked_size.h"
 #include "gmwm/engine/error.h"
+#include "input_file.h"
 #include "log_signals.h"
 #include "timestamp.h"
 #include "ulog_reader.h"
@@ -110,7 +114,11 @@ class Parser {
   explicit Parser(std::string path) : path_(std::move(path)) {}
 
   SignalSet read(const ReadOptions& options) {
-    load_file();
+    const InputFile file(path_, "ULog file");
+    unsigned char head[kHeaderBytes] = {};
+    if (file.size() >= kHeaderBytes) file.read(0, head, kHeaderBytes);
+    if (std::memcmp(head, kMagic.data(), kMagic.size()) != 0)
+      throw InputError(path_ + ": found no ULog header, expected the magic bytes 'ULog' 01 12 35");
     std::string topic = options.topic.empty() ? "sensor_combined" : options.topic;
     int instance = 0;
     if (const auto colon = topic.find(':'); colon != std::string::npos) {
@@ -124,25 +132,21 @@ class Parser {
     if (wanted.empty())
       throw InputError(path_ + ": --topic " + topic +
                        ": expected an IMU topic: sensor_combined, sensor_gyro or sensor_accel");
-    scan(topic, instance, wanted);
-    return result(topic, instance, wanted, options);
+    std::vector<LogAxis> axes;
+    for (const Wanted& w : wanted) axes.push_back({w.name, w.unit});
+    LogColumns columns(path_, "topic " + topic, std::move(axes), options);
+    scan(file, topic, instance, wanted, columns);
+    return std::move(columns).finish("ulog:" + topic + (instance ? ":" + std::to_string(instance) : ""),
+                                     TimeUnit{1e-6, "us"}, "ULog (microseconds)");
   }
 
  private:
-  [[noreturn]] void fail(std::size_t at, std::size_t index, const std::string& what) const {
+  [[noreturn]] void fail(std::uint64_t at, std::size_t index, const std::string& what) const {
     throw InputError(path_ + ": message " + std::to_string(index) + " at byte " + std::to_string(at) + ": " + what);
   }
 
-  void load_file() {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw InputError(path_ + ": cannot open the ULog file");
-    bytes_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (bytes_.size() < kHeaderBytes || std::memcmp(bytes_.data(), kMagic.data(), kMagic.size()) != 0)
-      throw InputError(path_ + ": found no ULog header, expected the magic bytes 'ULog' 01 12 35");
-  }
-
   // A format definition "name:type field;type field;...".
-  void define(const std::string& text, std::size_t at, std::size_t index) {
+  void define(const std::string& text, std::uint64_t at, std::size_t index) {
     const auto colon = text.find(':');
     if (colon == std::string::npos || colon == 0) fail(at, index, "format '" + text + "' has no 'name:'");
     // A format defined again (a logger restart) with another layout: the layouts worked out
@@ -156,7 +160,7 @@ class Parser {
   // overflow checks and a format must fit in a data message (kMaxPayloadBytes): a crafted
   // nest of arrays would otherwise wrap around to a small size and send the field offsets
   // far outside the message. Errors name the message (`at`, `index`) that needs the layout.
-  const Format& layout(const std::string& name, std::size_t at, std::size_t index, int depth = 0) {
+  const Format& layout(const std::string& name, std::uint64_t at, std::size_t index, int depth = 0) {
     if (const auto it = formats_.find(name); it != formats_.end()) return it->second;
     const auto raw = raw_formats_.find(name);
     if (raw == raw_formats_.end()) fail(at, index, "format '" + name + "' is used but never defined");
@@ -206,7 +210,7 @@ class Parser {
     Field stamp;
   };
 
-  Subscription subscription(const std::string& topic, const std::vector<Wanted>& wanted, std::size_t at,
+  Subscription subscription(const std::string& topic, const std::vector<Wanted>& wanted, std::uint64_t at,
                             std::size_t index) {
     const Format& f = layout(topic, at, index);
     Subscription s;
@@ -232,21 +236,32 @@ class Parser {
   // (a logger restart, a new msg_id), and the data of all of them are the topic's, in
   // file order. A msg_id that another topic's subscription takes over, or that an 'R'
   // (unsubscription) names, stops counting.
-  void scan(const std::string& topic, int instance, const std::vector<Wanted>& wanted) {
-    std::size_t at = kHeaderBytes;
+  //
+  // The file is read once, in order, through a window (input_file.h): a message's header,
+  // then its payload when it is needed (formats, subscriptions, and the data of the topic).
+  void scan(const InputFile& file, const std::string& topic, int instance, const std::vector<Wanted>& wanted,
+            LogColumns& columns) {
+    InputWindow window(file);
+    const std::uint64_t end = file.size();
+    std::uint64_t at = kHeaderBytes;
     std::map<std::uint16_t, Subscription> subscriptions;
     bool subscribed = false, listed_topic = false;
-    values_.assign(wanted.size(), {});
-    for (std::size_t index = 1; at < bytes_.size(); ++index) {
-      if (bytes_.size() - at < 3) fail(at, index, "truncated message header (" + std::to_string(bytes_.size() - at) +
-                                                     " bytes left, expected 3)");
-      const std::uint16_t size = load<std::uint16_t>(&bytes_[at]);
-      const char type = static_cast<char>(bytes_[at + 2]);
-      const std::size_t body = at + 3;
-      if (bytes_.size() - body < size)
+    std::vector<double> values(wanted.size());
+    for (std::size_t index = 1; at < end; ++index) {
+      if (end - at < 3) fail(at, index, "truncated message header (" + std::to_string(end - at) + " bytes left, expected 3)");
+      const unsigned char* h = window.view(at, 3);
+      const std::uint16_t size = load<std::uint16_t>(h);
+      const char type = static_cast<char>(h[2]);
+      const std::uint64_t body = at + 3;
+      if (end - body < size)
         fail(at, index, "truncated: a '" + std::string(1, type) + "' message of " + std::to_string(size) +
-                            " bytes with " + std::to_string(bytes_.size() - body) + " left");
-      const unsigned char* p = &bytes_[body];
+                            " bytes with " + std::to_string(end - body) + " left");
+      if (type != 'F' && type != 'A' && type != 'R' && type != 'D') {
+        at = body + size;  // other messages: skipped unread
+        continue;
+      }
+      // The payload: whole, but for data messages only their msg_id until it is the topic's.
+      const unsigned char* p = window.view(body, type == 'D' ? std::min<std::size_t>(size, 2) : size);
       if (type == 'F') {
         define(std::string(reinterpret_cast<const char*>(p), size), at, index);
       } else if (type == 'A') {
@@ -272,19 +287,21 @@ class Parser {
           if (static_cast<std::size_t>(size - 2) < s.payload_size)
             fail(at, index, topic + " data of " + std::to_string(size - 2) + " bytes, expected " +
                                 std::to_string(s.payload_size));
-          const unsigned char* d = p + 2;
+          if (columns.size() == 0) columns.reserve((end - at) / (s.payload_size + 5));  // at most this many
+          const unsigned char* d = window.view(body, size) + 2;
           const double t = static_cast<double>(load<std::uint64_t>(d + s.stamp.offset));
-          if (!times_.empty() && t <= times_.back())
+          if (columns.size() > 0 && t <= columns.last())
             fail(at, index, topic + " timestamp " + std::to_string(static_cast<std::uint64_t>(t)) +
                                 " us is not after the previous one (" +
-                                std::to_string(static_cast<std::uint64_t>(times_.back())) + " us): unsorted stamps");
-          times_.push_back(t);
+                                std::to_string(static_cast<std::uint64_t>(columns.last())) + " us): unsorted stamps");
           for (std::size_t k = 0; k < s.fields.size(); ++k) {
             const Field& fd = s.fields[k];
-            const double v = number(fd, d + fd.offset + fd.size * static_cast<std::size_t>(wanted[k].element));
-            if (!std::isfinite(v)) fail(at, index, topic + " " + wanted[k].name + " is not a finite number");
-            values_[k].push_back(v);
+            values[k] = number(fd, d + fd.offset + fd.size * static_cast<std::size_t>(wanted[k].element));
+            if (!std::isfinite(values[k])) fail(at, index, topic + " " + wanted[k].name + " is not a finite number");
           }
+          columns.add(t, values.data(), [&] {
+            return path_ + ": message " + std::to_string(index) + " at byte " + std::to_string(at) + ": ";
+          });
         }
       }
       at = body + size;
@@ -301,20 +318,9 @@ class Parser {
     return imu.empty() ? " (it logs none of sensor_combined, sensor_gyro, sensor_accel)" : " (it has " + imu + ")";
   }
 
-  SignalSet result(const std::string& topic, int instance, const std::vector<Wanted>& wanted,
-                   const ReadOptions& options) {
-    std::vector<LogAxis> axes;
-    for (std::size_t k = 0; k < wanted.size(); ++k) axes.push_back({wanted[k].name, wanted[k].unit, std::move(values_[k])});
-    return log_signal_set(path_, "ulog:" + topic + (instance ? ":" + std::to_string(instance) : ""), "topic " + topic,
-                          std::move(axes), times_, TimeUnit{1e-6, "us"}, "ULog (microseconds)", options);
-  }
-
   std::string path_;
-  std::vector<unsigned char> bytes_;
   std::map<std::string, std::string> raw_formats_;
   std::map<std::string, Format> formats_;
-  std::vector<double> times_;
-  std::vector<std::vector<double>> values_;
 };
 
 }  // namespace
