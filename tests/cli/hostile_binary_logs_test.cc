@@ -352,6 +352,8 @@ std::vector<Case> corpus() {
 
 HOSTILE_CORPUS(HostileBinaryLogs, corpus());
 
+TEST(HostileBinaryLogsCorpus, HoldsAtLeastTwentyFiveCases) { EXPECT_GE(corpus().size(), 25u); }
+
 // The positive side of the rosbag2 cases (issue 25): a bag in WAL mode is read without any
 // file appearing beside it, and a bag on read-only media (a read-only file in a read-only
 // folder, read as another user when the tests run as root, whom permissions do not stop) is
