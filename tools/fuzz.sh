@@ -8,7 +8,7 @@
 # Needs Debian clang and libfuzzer-14-dev (apt-get install clang libfuzzer-14-dev).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-targets=(delimited model_syntax kalibr_yaml gazebo_sdf export_source binary_logs)
+targets=(delimited model_syntax kalibr_yaml gazebo_sdf export_source binary_logs ulog rosbag1 mcap cdr)
 seconds=${2:-600}
 if [[ $# -ge 1 ]]; then targets=("$1"); fi
 
@@ -20,8 +20,12 @@ for t in "${targets[@]}"; do
   corpus=tests/fuzz/corpus/$t
   mkdir -p "$corpus"
   echo "fuzz_$t: ${seconds} s on $corpus"
-  # Leak checking stays on (detect_leaks=1); -max_len bounds one input at 64 kB.
+  # Leak checking stays on (detect_leaks=1); -max_len bounds one input at 64 kB. The binary
+  # readers' targets have a dictionary (tests/fuzz/dict/) and a mutator that drives their
+  # size fields to extremes (tests/fuzz/size_fields.h).
+  dict=()
+  if [[ -f tests/fuzz/dict/$t.dict ]]; then dict=(-dict="tests/fuzz/dict/$t.dict"); fi
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "build-fuzz/fuzz_$t" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
-    -artifact_prefix="$corpus/" "$corpus" 2>&1 | tail -n 3
+    "${dict[@]}" -artifact_prefix="$corpus/" "$corpus" 2>&1 | tail -n 3
 done

@@ -13,6 +13,10 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
+#include "mcap_reader.h"
+#include "ros_imu.h"
+#include "rosbag1_reader.h"
+#include "ulog_reader.h"
 
 namespace gmwm::fuzz {
 namespace {
@@ -89,6 +93,37 @@ void binary_logs(const std::uint8_t* data, std::size_t size) {
   const std::string path = write_input(data + 1, size - 1, ".log", magics[data[0] % 3]);
   expect_result_or_refusal([&] { io::read_signals(path, {}); });
   std::remove(path.c_str());
+}
+
+namespace {
+
+// A reader on a whole file: as given, then with a one-byte memory budget (the spill stage).
+template <typename Read>
+void whole_file(const std::uint8_t* data, std::size_t size, const char* suffix, Read read, const char* topic = "") {
+  const std::string path = write_input(data, size, suffix);
+  io::ReadOptions o;
+  o.topic = topic;
+  expect_result_or_refusal([&] { read(path, o); });
+  o.memory_budget = 1.0;
+  expect_result_or_refusal([&] { read(path, o); });
+  std::remove(path.c_str());
+}
+
+}  // namespace
+
+void ulog(const std::uint8_t* data, std::size_t size) {
+  whole_file(data, size, ".ulg", io::detail::read_ulog);
+  whole_file(data, size, ".ulg", io::detail::read_ulog, "sensor_gyro:1");
+}
+
+void rosbag1(const std::uint8_t* data, std::size_t size) { whole_file(data, size, ".bag", io::detail::read_rosbag1); }
+
+void mcap(const std::uint8_t* data, std::size_t size) { whole_file(data, size, ".mcap", io::detail::read_mcap); }
+
+void cdr(const std::uint8_t* data, std::size_t size) {
+  std::string error;
+  (void)io::detail::decode_imu_cdr(data, size, error);
+  (void)io::detail::decode_imu_ros1(data, size, error);
 }
 
 }  // namespace gmwm::fuzz

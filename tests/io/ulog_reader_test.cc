@@ -106,6 +106,18 @@ TEST_F(Ulog, RejectsUnsortedStampsWithTheMessageIndex) {
   EXPECT_NE(why.find("message 17 "), std::string::npos) << why;  // B, I, 2 F, A, then D 1..11 (+1 for the swap)
 }
 
+// Issue 25, a fuzzer's finding: stamps near 2^64 round, as doubles, to 2^64, and naming them
+// through the double was undefined behaviour; the message names the stamps as read.
+TEST_F(Ulog, NamesStampsNear2To64AsTheyAreWritten) {
+  gmwm::test::UlogFixture f;
+  f.gyro_instances = 0;
+  for (int i = 0; i < f.samples; ++i) f.stamps.push_back(~std::uint64_t{0} - 64 + static_cast<std::uint64_t>(i));
+  const std::string why = error_of(write(gmwm::test::ulog_bytes(f)));
+  EXPECT_NE(why.find("timestamp 18446744073709551552 us is not after the previous one (18446744073709551551 us)"),
+            std::string::npos)
+      << why;
+}
+
 TEST_F(Ulog, RefusesAConstantAxisAsTheCsvReaderDoes) {
   // sensor_gyro's y axis is 0 in every message.
   ReadOptions o;

@@ -247,6 +247,7 @@ class Parser {
     std::map<std::uint16_t, Subscription> subscriptions;
     bool subscribed = false, listed_topic = false;
     std::vector<double> values(wanted.size());
+    std::uint64_t previous_stamp = 0;
     for (std::size_t index = 1; at < end; ++index) {
       if (end - at < 3) fail(at, index, "truncated message header (" + std::to_string(end - at) + " bytes left, expected 3)");
       const unsigned char* h = window.view(at, 3);
@@ -289,11 +290,14 @@ class Parser {
                                 std::to_string(s.payload_size));
           if (columns.size() == 0) columns.reserve((end - at) / (s.payload_size + 5));  // at most this many
           const unsigned char* d = window.view(body, size) + 2;
-          const double t = static_cast<double>(load<std::uint64_t>(d + s.stamp.offset));
+          // The stamp as read is named in messages: its double may round to 2^64, which no
+          // uint64 holds (a fuzzer's finding).
+          const std::uint64_t stamp = load<std::uint64_t>(d + s.stamp.offset);
+          const double t = static_cast<double>(stamp);
           if (columns.size() > 0 && t <= columns.last())
-            fail(at, index, topic + " timestamp " + std::to_string(static_cast<std::uint64_t>(t)) +
-                                " us is not after the previous one (" +
-                                std::to_string(static_cast<std::uint64_t>(columns.last())) + " us): unsorted stamps");
+            fail(at, index, topic + " timestamp " + std::to_string(stamp) + " us is not after the previous one (" +
+                                std::to_string(previous_stamp) + " us): unsorted stamps");
+          previous_stamp = stamp;
           for (std::size_t k = 0; k < s.fields.size(); ++k) {
             const Field& fd = s.fields[k];
             values[k] = number(fd, d + fd.offset + fd.size * static_cast<std::size_t>(wanted[k].element));
