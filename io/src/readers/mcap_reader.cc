@@ -43,7 +43,7 @@ namespace {
 constexpr unsigned char kMagic[] = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'};
 constexpr const char* kImuSchema = "sensor_msgs/msg/Imu";
 constexpr std::size_t kRecordHead = 9;  // opcode + uint64 length
-// A chunk record: its fields (34 bytes and the compression's name) and at most a chunk's
+// A chunk record: its fields (40 bytes and the compression's name) and at most a chunk's
 // worth of stored records.
 constexpr std::uint64_t kMaxChunkRecordBytes = kMaxChunkBytes + 4096;
 // A schema (a message definition of a few kB), a channel or an IMU message (about 300 bytes)
