@@ -109,4 +109,14 @@ void expect_bad_input(const CliRun& run, const std::vector<std::string>& mention
   EXPECT_FALSE(std::filesystem::exists(json_path)) << json_path << " should not be written";
 }
 
+void write_adis_gyro_fit(const std::filesystem::path& dir, int n) {
+  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=5.75826048e-06)+RW(gamma2=1.880442245e-12)", "--n",
+                     std::to_string(n), "--freq", "200", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z",
+                     "--output", "sim.csv", "--quiet"},
+                    dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--json", "fit.json", "--quiet"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
 }  // namespace gmwm::test

@@ -42,6 +42,11 @@ nlohmann::json read_json(const std::filesystem::path& path);
 /// A CSV with header `name` and n Gaussian samples (fixed seed), no timestamp column.
 void write_noise_csv(const std::filesystem::path& path, int n, const std::string& name = "x");
 
+/// Writes `sim.csv` (three gyro axes gyro_x/y/z at 200 Hz with the EuRoC ADIS16448 figures,
+/// N = 1.6968e-4 rad/s/sqrt(Hz), K = 1.9393e-5 rad/s^2/sqrt(Hz), n samples each) and
+/// `fit.json` (WN+RW fitted with --units gyro=rad/s) in `dir`; gtest failures on error.
+void write_adis_gyro_fit(const std::filesystem::path& dir, int n);
+
 /// The document without its run-dependent "run" object.
 nlohmann::json without_run(nlohmann::json doc);
 

@@ -47,13 +47,7 @@ class GmwmExport : public ::testing::Test {
   void SetUp() override {
     dir_ = gmwm::test::temp_dir("cli_export");
     // Three gyro axes with the EuRoC ADIS16448 figures at 200 Hz (N = 1.6968e-4, K = 1.9393e-5).
-    auto r = run_gmwm({"simulate", "--model", "WN(sigma2=5.75826048e-06)+RW(gamma2=1.880442245e-12)", "--n", "32768",
-                       "--freq", "200", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z", "--output", "sim.csv",
-                       "--quiet"},
-                      dir_);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--json", "fit.json", "--quiet"}, dir_);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_NO_FATAL_FAILURE(gmwm::test::write_adis_gyro_fit(dir_, 32768));
     fit_ = read_json(dir_ / "fit.json");
   }
   void TearDown() override { fs::remove_all(dir_); }

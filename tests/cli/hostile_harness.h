@@ -71,4 +71,4 @@ std::string test_name(const std::string& name);
     ::gmwm::test::hostile::expect_contract(GetParam());                                                       \
   }                                                                                                           \
   INSTANTIATE_TEST_SUITE_P(Corpus, Suite, ::testing::ValuesIn(cases),                                         \
-                           [](const auto& info) { return ::gmwm::test::hostile::test_name(info.param.name); })
+                           [](const auto& param_info) { return ::gmwm::test::hostile::test_name(param_info.param.name); })

@@ -22,14 +22,8 @@ class GmwmSideFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = gmwm::test::temp_dir("cli_side_files");
-    auto r = run_gmwm({"simulate", "--model", "WN(sigma2=5.75826048e-06)+RW(gamma2=1.880442245e-12)", "--n", "16384",
-                       "--freq", "200", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z", "--output", "sim.csv",
-                       "--quiet"},
-                      dir_);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--json", "fit.json", "--quiet"}, dir_);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "file.yaml", "--quiet"}, dir_);
+    ASSERT_NO_FATAL_FAILURE(gmwm::test::write_adis_gyro_fit(dir_, 16384));
+    auto r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "file.yaml", "--quiet"}, dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     from_file_ = read_text(dir_ / "file.yaml");
   }

@@ -90,6 +90,23 @@ std::string ros1_record(const std::vector<std::string>& fields, const std::strin
   return u32_string(header) + u32_string(data);
 }
 
+namespace {
+
+/// Appends a bag's index section (the connection record, then one chunk info record per
+/// chunk) and records where each part starts.
+void append_index_section(Ros1Bag& bag, const std::string& connection, const std::vector<std::string>& infos) {
+  std::string& out = bag.bytes;
+  bag.index_pos = out.size();
+  bag.connection_at = out.size();
+  out += connection;
+  for (const std::string& info : infos) {
+    bag.chunk_info_at.push_back(out.size());
+    out += info;
+  }
+}
+
+}  // namespace
+
 Ros1Bag ros1_bag(const Ros1BagOptions& o) {
   Ros1Bag bag;
   const std::string conn_header = u32_string("topic=" + o.topic) + u32_string("type=sensor_msgs/Imu") +
@@ -155,13 +172,7 @@ Ros1Bag ros1_bag(const Ros1BagOptions& o) {
                                  ros1_field("end_time", s1 | (std::uint64_t{n1} << 32)), ros1_field("count", std::uint32_t{1})},
                                 per.b));
   }
-  bag.index_pos = out.size();
-  bag.connection_at = out.size();
-  out += connection;
-  for (const std::string& info : infos) {
-    bag.chunk_info_at.push_back(out.size());
-    out += info;
-  }
+  append_index_section(bag, connection, infos);
   const std::string h = bag_header(bag.index_pos, static_cast<std::uint32_t>(bag.chunk_pos.size()));
   out.replace(header_at, h.size(), h);
   return bag;
@@ -263,13 +274,7 @@ Ros1Bag ros1_bag_of_chunks(const std::vector<Ros1StoredChunk>& chunks) {
                                  ros1_field("end_time", std::uint64_t{kFirstSec}), ros1_field("count", std::uint32_t{1})},
                                 per.b));
   }
-  bag.index_pos = out.size();
-  bag.connection_at = out.size();
-  out += connection;
-  for (const std::string& info : infos) {
-    bag.chunk_info_at.push_back(out.size());
-    out += info;
-  }
+  append_index_section(bag, connection, infos);
   const std::string h = bag_header(bag.index_pos);
   out.replace(13, h.size(), h);
   return bag;
