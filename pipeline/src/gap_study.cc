@@ -218,6 +218,16 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
 
 }  // namespace
 
+std::optional<ColumnBaseline> config_baseline(const io::SimConfig& config, io::SensorKind kind,
+                                              const std::string& column, std::int64_t n) {
+  auto sb = io::baseline_for_column(config, kind, column);
+  if (!sb) return std::nullopt;
+  ColumnBaseline b{std::move(sb->model), {}, std::move(sb->conversions)};
+  b.theta = b.model.given_values();
+  random_walk_like(b.model, b.theta, n, b.conversions);
+  return b;
+}
+
 std::string GapStudyOptions::Validate() const {
   selection::GapOptions g;
   g.replicates = replicates;

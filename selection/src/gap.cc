@@ -514,6 +514,39 @@ void shrinkage_stage(const Context& c, const Attribution& a, GapResult& g) {
   g.navigation.rms_with = detail::navigation_rms(g.final_model, g.final_theta, c.options.context, g.notes);
 }
 
+// The diagnosis' yardstick kept for other models: copies of what the stages shared.
+class Assessor final : public GapAssessor {
+ public:
+  Assessor(const Context& c, Eigen::VectorXd data)
+      : wv_(c.wv), options_(c.options), ref_(c.ref), omega_(c.omega), data_(std::move(data)) {
+    options_.progress = nullptr;
+  }
+  GapAssessment assess(const Model& model, const Eigen::VectorXd& theta) const override {
+    if (const std::string why = model.validate(theta); !why.empty()) throw InputError("gap: assessed model " + why);
+    const Context c{wv_, options_, ref_, nullptr, nullptr, nullptr, omega_};
+    const Eigen::VectorXd nu = model.wv(theta, wv_.tau);
+    const Fitness f = fitness(c, data_, nu);
+    GapAssessment a;
+    a.objective = f.objective;
+    a.null_mean = null_mean(c, nu);
+    a.levels_outside = f.outside;
+    a.p_value = f.p;
+    std::vector<GapLevel> levels = detail::map_levels(wv_, data_, ref_, nu, log_shift(c, nu), options_.alpha);
+    for (auto& l : levels) l.z = l.outside ? l.z : 0.0;
+    a.remaining = deciding_bands(wv_, detail::find_bands(levels, 0.0, 0.0), options_);
+    std::vector<std::string> notes;
+    a.navigation_rms = detail::navigation_rms(model, theta, options_.context, notes);
+    return a;
+  }
+
+ private:
+  WaveletVariance wv_;
+  GapOptions options_;
+  detail::Reference ref_;
+  Eigen::MatrixXd omega_;
+  Eigen::VectorXd data_;
+};
+
 }  // namespace
 
 GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
@@ -567,6 +600,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     }
   }
   shrinkage_stage(c, a, g);
+  g.assessor = std::make_shared<Assessor>(c, a.data);
   g.closed = !g.detected || (g.remaining.empty() && !(g.shrinkage.p_value_after < options.alpha));
   g.headline = detail::headline(g, options.context, options.alpha);
   return g;

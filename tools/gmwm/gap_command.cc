@@ -16,6 +16,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/corrected_config.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/engine/physical.h"
@@ -37,6 +38,7 @@ struct GapArgs {
   std::string temperature;  ///< --temperature COLUMN
   int replicates = selection::GapOptions{}.replicates;
   bool no_unit_check = false;  ///< --no-unit-check
+  std::string corrected;       ///< --corrected PATH
 };
 
 std::string seconds_text(double tau, const io::SignalSet& set) {
@@ -116,6 +118,40 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
   return os.str();
 }
 
+// What to change: the corrected configuration's fields (input -> corrected) and, per
+// column, the gap left with the input, with the corrected file and with the full model.
+std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set) {
+  std::ostringstream os;
+  os << "\nwhat to change (" << c.format << ", --corrected writes it):\n";
+  if (c.format != "model") {
+    Table t({"field", "input", "corrected", "unit", "changed"}, 1);
+    for (const auto& ch : c.changes)
+      t.add({ch.field, std::isfinite(ch.input) ? fmt(ch.input, 4) : "-", std::isfinite(ch.corrected) ? fmt(ch.corrected, 4) : "-",
+             ch.unit, ch.changed ? "yes" : ""});
+    os << t.str();
+  }
+  const bool nav = set.freq_known;
+  std::vector<std::string> head{"column", "levels outside (input -> file -> full)", "objective (input -> file -> full)"};
+  if (nav) head.push_back("integrated error after 60 s (input -> file -> full)");
+  Table g(head, 1);
+  for (const auto& col : c.columns) {
+    std::vector<std::string> row{col.name,
+                                 std::to_string(col.before.levels_outside) + " -> " +
+                                     std::to_string(col.with_config.levels_outside) + " -> " +
+                                     std::to_string(col.with_full.levels_outside),
+                                 fmt(col.before.objective, 3) + " -> " + fmt(col.with_config.objective, 3) + " -> " +
+                                     fmt(col.with_full.objective, 3)};
+    if (nav)
+      row.push_back(fmt(col.before.navigation_rms, 3) + " -> " + fmt(col.with_config.navigation_rms, 3) + " -> " +
+                    fmt(col.with_full.navigation_rms, 3) + " (data unit x s)");
+    g.add(row);
+  }
+  os << g.str();
+  for (const auto& col : c.columns)
+    for (const auto& x : col.not_expressible) os << "  cannot express, " << col.name << ": " << x << '\n';
+  return os.str();
+}
+
 // One line per correlated pair: the scales where its cross-axis correlation is significant.
 std::string cross_axis_text(const std::vector<selection::CrossAxisPair>& pairs, const io::SignalSet& set) {
   std::map<std::pair<int, int>, std::vector<const selection::CrossAxisPair*>> by_pair;
@@ -159,6 +195,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   declare_input(common, kalibr_path);
   declare_input(common, args.gazebo);
   declare_output(common, "--json", common.json);
+  declare_output(common, "--corrected", args.corrected);
   check_report_option(common);
   const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty();
   if (given != 1)
@@ -201,7 +238,12 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   if (bar.enabled()) options.progress = [&bar](double done, double all) { bar.update(done, all); };
   const pipeline::GapStudy study = pipeline::study_gap(set, options);
 
+  // The corrected configuration (docs/gap.md): in the JSON and the table always, in a file with --corrected.
+  std::optional<io::CorrectedConfig> corrected =
+      io::corrected_config(set, study, options, {options.units, options.sensor, !args.kalibr.empty() ? kalibr_path : args.gazebo});
+  if (!args.corrected.empty()) common.outputs->stage(args.corrected, corrected->content);
   io::Json doc = io::gap_document(set, study);
+  if (corrected) doc["corrected"] = io::corrected_config_json(*corrected, set.freq_known ? set.freq : 0.0);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
@@ -212,6 +254,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     report += "\nsummary:\n";
     for (const pipeline::GapColumnStudy& c : study.columns) report += "  " + summary_line(c.name, c.result) + "\n";
     report += cross_axis_text(study.cross_axis, set);
+    if (corrected) report += changes_text(*corrected, set);
   }
   warn_about_timing(set);
   write_json(common, doc,
@@ -275,6 +318,11 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
       ->type_name("B")
       ->transform(whole_number(20, 100000))
       ->capture_default_str();
+  sub->add_option("--corrected", args->corrected,
+                  "Write the corrected simulator configuration to PATH in the baseline's own format (Kalibr yaml, "
+                  "gz-sensors SDF, RotorS plugin, or one model string per column), with a header of what changed, "
+                  "why, and what the format cannot express")
+      ->type_name("PATH");
   sub->add_flag("--no-unit-check", args->no_unit_check,
                 "Diagnose even when a column's finest scales sit at a unit factor ((180/pi)^2, 9.80665^2, ...) "
                 "from the baseline");

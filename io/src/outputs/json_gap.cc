@@ -277,4 +277,37 @@ Json gap_check_document(const selection::GapCheckOptions& options, const selecti
   return doc;
 }
 
+Json corrected_config_json(const CorrectedConfig& c, double freq) {
+  ColumnInfo info;
+  info.freq = freq;
+  info.freq_known = freq > 0.0;
+  const auto assessment = [&](const selection::GapAssessment& a) {
+    return json{{"objective", json_number(a.objective)},
+                {"null_mean", json_number(a.null_mean)},
+                {"levels_outside", a.levels_outside},
+                {"p_value", json_number(a.p_value)},
+                {"navigation_rms", json_number(a.navigation_rms)},
+                {"remaining", bands_json(a.remaining, info)}};
+  };
+  json changes = json::array();
+  for (const auto& ch : c.changes)
+    changes.push_back({{"field", ch.field},
+                       {"input", json_number(ch.input)},
+                       {"corrected", json_number(ch.corrected)},
+                       {"unit", ch.unit},
+                       {"changed", ch.changed}});
+  json columns = json::array();
+  for (const auto& col : c.columns)
+    columns.push_back({{"name", col.name},
+                       {"expressible", col.expressible.num_components() ? json(col.expressible.to_string(col.expressible_theta))
+                                                                        : json(nullptr)},
+                       {"full", col.full.to_string(col.full_theta)},
+                       {"not_expressible", col.not_expressible},
+                       {"gap_left",
+                        {{"input", assessment(col.before)},
+                         {"config", assessment(col.with_config)},
+                         {"full", assessment(col.with_full)}}}});
+  return {{"format", c.format}, {"content", c.content}, {"header", c.header}, {"changes", changes}, {"columns", columns}};
+}
+
 }  // namespace gmwm::io

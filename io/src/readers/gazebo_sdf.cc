@@ -152,8 +152,8 @@ std::string error_words(const char* name) {
 
 class Reader {
  public:
-  Reader(std::string path, double f, const std::map<SensorKind, Unit>& units)
-      : path_(std::move(path)), f_(f), units_(units) {}
+  Reader(std::string path, double f, const std::map<SensorKind, Unit>& units, const std::string* text = nullptr)
+      : path_(std::move(path)), f_(f), units_(units), text_(text) {}
 
   SimConfig read() const;
 
@@ -179,7 +179,26 @@ class Reader {
   std::string path_;
   double f_;
   const std::map<SensorKind, Unit>& units_;
+  const std::string* text_;  ///< the file's text when given, else read from path_
+  /// Every figure read, in order (SimConfig::fields).
+  mutable std::vector<ConfigField> fields_;
 };
+
+// The unit of a figure from its place: a gz-sensors path "angular_velocity/x/noise/NAME"
+// or a RotorS parameter "gyroscopeNAME" (gz-sensors and RotorS documentation).
+std::string field_unit(const std::string& where) {
+  const auto ends = [&](const std::string& tail) {
+    return where.size() >= tail.size() && where.compare(where.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends("update_rate")) return "Hz";
+  if (ends("correlation_time") || ends("CorrelationTime")) return "s";
+  for (const Kind& k : kKinds) {
+    if (where.rfind(k.sdf, 0) == 0) return ends("dynamic_bias_stddev") ? k.drive : k.si;
+    if (where.rfind(k.rotors, 0) == 0)
+      return ends("NoiseDensity") ? k.white : ends("RandomWalk") ? k.drive : k.si;
+  }
+  return "";
+}
 
 Figure Reader::number(const XMLElement* e, const std::string& where, bool signed_ok) const {
   const char* raw = e->GetText();
@@ -196,6 +215,7 @@ Figure Reader::number(const XMLElement* e, const std::string& where, bool signed
   if (used == 0 || used != text.size() || !std::isfinite(v))
     throw InputError(place + ": found '" + text + "', expected a number");
   if (v < 0.0 && !signed_ok) throw InputError(place + ": found " + text + ", expected a non-negative noise figure");
+  fields_.push_back({where, v, field_unit(where)});
   return {v, e->GetLineNum()};
 }
 
@@ -405,7 +425,7 @@ void Reader::rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) 
 SimConfig Reader::read() const {
   if (!(f_ > 0.0) || !std::isfinite(f_))
     throw InputError(path_ + ": the data's sampling rate is needed to convert the noise figures (give --freq)");
-  const std::string xml = read_side_file(path_, "a Gazebo SDF file");
+  const std::string xml = text_ ? *text_ : read_side_file(path_, "a Gazebo SDF file");
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
     const int line = doc.ErrorLineNum();
@@ -422,6 +442,7 @@ SimConfig Reader::read() const {
   const bool plugin = std::string(used->Name()) == "plugin";
   SimConfig c;
   c.source = (plugin ? "RotorS/PX4 IMU plugin parameters (" : "gz-sensors SDF <noise> blocks (") + path_ + ")";
+  c.format = plugin ? SimFormat::kRotors : SimFormat::kGzSensors;
   for (const Kind& k : kKinds) plugin ? rotors_kind(used, k, c) : gz_kind(used, k, c);
   if (!plugin) {
     if (const XMLElement* sensor = enclosing_sensor(used)) {
@@ -441,6 +462,7 @@ SimConfig Reader::read() const {
                       " IMU noise sources: the baseline is the first, " +
                       describe(used) + "; not used: " + others);
   }
+  c.fields = fields_;
   return c;
 }
 
@@ -448,6 +470,20 @@ SimConfig Reader::read() const {
 
 SimConfig read_gazebo_sdf(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units) {
   return Reader(path, data_freq, units).read();
+}
+
+SimConfig parse_gazebo_sdf(const std::string& text, const std::string& name, double data_freq,
+                           const std::map<SensorKind, Unit>& units) {
+  return Reader(name, data_freq, units, &text).read();
+}
+
+const char* to_string(SimFormat f) {
+  switch (f) {
+    case SimFormat::kKalibr: return "kalibr";
+    case SimFormat::kGzSensors: return "gz-sdf";
+    case SimFormat::kRotors: return "rotors";
+  }
+  return "kalibr";
 }
 
 }  // namespace gmwm::io

@@ -46,6 +46,15 @@ struct Figure {
 constexpr const char* kNumericKeys[] = {"accelerometer_noise_density", "accelerometer_random_walk",
                                         "gyroscope_noise_density", "gyroscope_random_walk", "update_rate"};
 
+// The unit of a Kalibr figure (Kalibr's own documentation of imu.yaml).
+std::string kalibr_unit(const std::string& key) {
+  if (key == "accelerometer_noise_density") return "m/s^2/sqrt(Hz)";
+  if (key == "accelerometer_random_walk") return "m/s^3/sqrt(Hz)";
+  if (key == "gyroscope_noise_density") return "rad/s/sqrt(Hz)";
+  if (key == "gyroscope_random_walk") return "rad/s^2/sqrt(Hz)";
+  return "Hz";  // update_rate
+}
+
 std::string at(const std::string& path, const YAML::Mark& m) {
   return m.is_null() ? path : path + ":" + std::to_string(m.line + 1);
 }
@@ -53,9 +62,7 @@ std::string at(const std::string& path, const YAML::Mark& m) {
 // The file's text with an OpenCV-style first line "%YAML:1.0" (OpenVINS, VINS) blanked:
 // YAML proper writes that directive "%YAML 1.0". Line numbers are kept.
 std::string read_text(const std::string& path) {
-  std::string text = read_side_file(path, "a Kalibr imu.yaml", kMaxKalibrYamlBytes);
-  if (text.rfind("%YAML:", 0) == 0) text.erase(0, text.find('\n'));
-  return text;
+  return read_side_file(path, "a Kalibr imu.yaml", kMaxKalibrYamlBytes);
 }
 
 // A map's keys, each once: a repeated key is an error naming both lines (YAML leaves it
@@ -123,9 +130,16 @@ void check_representable(double v, const std::string& path, const Figure& from, 
 
 SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units,
                                const std::string& imu) {
+  return parse_kalibr_imu_yaml(read_text(path), path, data_freq, units, imu);
+}
+
+SimConfig parse_kalibr_imu_yaml(const std::string& text_in, const std::string& path, double data_freq,
+                                const std::map<SensorKind, Unit>& units, const std::string& imu) {
+  std::string text = text_in;
+  if (text.rfind("%YAML:", 0) == 0) text.erase(0, text.find('\n'));
   YAML::Node root;
   try {
-    root = YAML::Load(read_text(path));
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError((e.mark.is_null() ? path
                                        : path + ":" + std::to_string(e.mark.line + 1) + ":" +
@@ -163,6 +177,9 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
                                             " (a Kalibr imu.yaml gives the four noise figures and update_rate)");
   SimConfig c;
   c.source = "Kalibr imu.yaml (" + path + (imu.empty() ? "" : ", " + imu) + ")";
+  c.format = SimFormat::kKalibr;
+  for (const char* key : kNumericKeys)
+    if (auto it = figures.find(key); it != figures.end()) c.fields.push_back({key, it->second.value, kalibr_unit(key)});
   const double f = data_freq;
   if (auto it = figures.find("update_rate"); it != figures.end() && std::abs(it->second.value - f) > 1e-9 * f)
     c.notes.push_back("update_rate " + g(it->second.value) + " Hz differs from the data's " + g(f) +

@@ -30,6 +30,7 @@
 #include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/io/corrected_config.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
@@ -197,6 +198,13 @@ Json gap_check_document(const selection::GapCheckOptions& options, const selecti
 /// [{a, b, tau, tau_seconds, rho, z}]} and "columns" (gap_column_json). `set` is the set
 /// the study ran on.
 Json gap_document(const SignalSet& set, const pipeline::GapStudy& study);
+
+/// The corrected configuration (io/corrected_config.h) as the gap document's "corrected":
+/// {format, content, header [..], changes [{field, input, corrected, unit, changed}],
+/// columns [{name, expressible, full, not_expressible [..], gap_left {input, config, full:
+/// {objective, null_mean, levels_outside, p_value, navigation_rms, remaining [bands]}}}]}.
+/// Band times in seconds when `freq` > 0.
+Json corrected_config_json(const CorrectedConfig& c, double freq);
 
 /// The data's Allan deviation and the model's on the same grid: {"points_per_octave"?,
 /// "alpha", "tau" [s], "m", "adev", "ci_low", "ci_high", "edf", "model" (null entries

@@ -24,8 +24,23 @@
 
 namespace gmwm::io {
 
+/// The file formats a simulator's configuration is read from.
+enum class SimFormat { kKalibr, kGzSensors, kRotors };
+/// "kalibr", "gz-sdf", "rotors" (the export format names that write each).
+const char* to_string(SimFormat f);
+
+/// One numeric figure as the file gives it, in the file's own unit.
+struct ConfigField {
+  std::string name;   ///< Kalibr key, gz-sensors path ("angular_velocity/x/noise/stddev") or RotorS parameter
+  double value = 0.0;
+  std::string unit;   ///< e.g. "rad/s/sqrt(Hz)", "s", "Hz"
+};
+
 struct SimConfig {
   std::string source;                                       ///< e.g. "Kalibr imu.yaml (path)"
+  SimFormat format = SimFormat::kKalibr;
+  /// Every numeric figure read, in file order (for what a corrected file changes).
+  std::vector<ConfigField> fields;
   std::map<SensorKind, Model> models;                       ///< with values (Model::given_values)
   std::map<SensorKind, std::vector<std::string>> conversions;  ///< one line per figure, with units
   std::vector<std::string> notes;                           ///< e.g. a rate mismatch
@@ -67,6 +82,9 @@ std::optional<SimBaseline> baseline_for_column(const SimConfig& config, SensorKi
 /// unknown `imu`, or a chain of several IMUs with none named.
 SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units,
                                const std::string& imu = {});
+/// As read_kalibr_imu_yaml, from the file's text; `name` stands for the path in messages.
+SimConfig parse_kalibr_imu_yaml(const std::string& text, const std::string& name, double data_freq,
+                                const std::map<SensorKind, Unit>& units, const std::string& imu = {});
 
 /// Reads the IMU noise of a Gazebo model or world (any XML file: SDF, URDF <gazebo>
 /// extensions), at the data's rate f and in the data's units (u per SI unit):
@@ -98,5 +116,8 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
 /// "<path>:<line>: ..." (XML syntax; a negative or non-numeric figure, naming the element;
 /// a bias density without a positive correlation time).
 SimConfig read_gazebo_sdf(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units);
+/// As read_gazebo_sdf, from the file's text; `name` stands for the path in messages.
+SimConfig parse_gazebo_sdf(const std::string& text, const std::string& name, double data_freq,
+                           const std::map<SensorKind, Unit>& units);
 
 }  // namespace gmwm::io

@@ -97,6 +97,18 @@ struct GapStudy {
   double wv_seconds = 0.0, gap_seconds = 0.0;
 };
 
+/// A column's baseline from a simulator configuration as study_gap takes it: the kind's
+/// (or the column's axis's) model with its values, a Gauss-Markov bias whose correlation
+/// time spans many records of n samples taken as the random walk it is over the record.
+struct ColumnBaseline {
+  Model model;
+  Eigen::VectorXd theta;
+  std::vector<std::string> conversions;
+};
+/// std::nullopt when the configuration has no term for the column's sensor (or axis).
+std::optional<ColumnBaseline> config_baseline(const io::SimConfig& config, io::SensorKind kind,
+                                              const std::string& column, std::int64_t n);
+
 /// Runs the study on `set` (the temperature column, when named, is taken out of it).
 /// Throws InputError for invalid options, a baseline without values, a simulator file
 /// with no figure for a column's sensor, a unit mix-up (unless unit_check is off), a failed

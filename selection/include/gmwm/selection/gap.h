@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -200,6 +201,28 @@ struct GapSplitHalf {
   bool disjoint = false;     ///< the two halves' 1 - alpha CIs do not overlap
 };
 
+/// How a model with values fits the data the diagnosis ended on (the WV after OUTLIERS and
+/// the time-domain corrections), on the diagnosis' own yardstick: its objective and the
+/// reference shifted to the model.
+struct GapAssessment {
+  double objective = 0.0;
+  double null_mean = 0.0;   ///< E_m[G] on data from the model itself
+  int levels_outside = 0;
+  double p_value = 1.0;     ///< global test
+  std::vector<GapBand> remaining;  ///< deciding runs of levels outside the model's band
+  /// RMS of the integrated noise over kNavigationHorizonSeconds (NaN: rate unknown).
+  double navigation_rms = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Assesses other models against one diagnosis' data and reference (a corrected simulator
+/// configuration, say); kept by GapResult::assessor. Thread-safe (const).
+class GapAssessor {
+ public:
+  virtual ~GapAssessor() = default;
+  /// Throws InputError for a theta that does not validate for the model.
+  virtual GapAssessment assess(const Model& model, const Eigen::VectorXd& theta) const = 0;
+};
+
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
@@ -259,6 +282,8 @@ struct GapResult {
   /// Effects tried and refused because they did not make the fit better on the data
   /// (objective not lower, or more levels outside), e.g. "SIN (objective 16.3 -> 2.1e6)".
   std::vector<std::string> refused;
+  /// The yardstick of this diagnosis, for other models (set by diagnose_gap).
+  std::shared_ptr<const GapAssessor> assessor;
   /// One line: the bands, the effects added, levels outside before -> after, the global
   /// p after, "gap remains at SCALES" while the final model is still rejected, and the
   /// share of the excess removed. Scales in seconds when the rate is known.

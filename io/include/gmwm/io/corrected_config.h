@@ -1,0 +1,79 @@
+#pragma once
+// The corrected simulator configuration of a gap study (docs/gap.md, "The corrected
+// configuration"): the diagnosis' final model of every column written back in the
+// baseline's own format (Kalibr imu.yaml, gz-sensors <sensor>, RotorS plugin, or a model
+// string), with the same figures `export` writes for that model (IEEE 952 read-offs
+// checked against the data's Allan deviation), a header saying which fields changed, from
+// what to what and why, and what the format cannot express; then the file read back
+// exactly as `gap --kalibr/--gazebo` would read it and assessed on the diagnosis' own
+// yardstick (the gap left with the expressible config and with the full model).
+//
+//   const gmwm::io::CorrectedConfig c = gmwm::io::corrected_config(set, study, options);
+//   write_file_atomically(path, c.content);   // c.changes, c.columns[k].expressible ...
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gmwm/engine/model.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/units.h"
+#include "gmwm/pipeline/gap_study.h"
+#include "gmwm/selection/gap.h"
+
+namespace gmwm::io {
+
+/// One field of the configuration, in the format's own unit.
+struct ConfigChange {
+  std::string field;
+  double input = std::numeric_limits<double>::quiet_NaN();      ///< NaN: not in the input file
+  double corrected = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not in the corrected file
+  std::string unit;
+  bool changed = false;  ///< beyond kUnchangedRelative of the input (or added / dropped)
+};
+
+/// Two figures closer than this (relative) are the same figure: well below any figure's
+/// uncertainty (a noise density read off 1e6 samples is known to ~0.1% at best), well
+/// above rounding (the export writes the shortest text that reads back exactly).
+inline constexpr double kUnchangedRelative = 1e-3;
+
+/// One column: its baseline as the corrected file gives it, and the gap left.
+struct CorrectedColumn {
+  std::string name;
+  Model expressible;                 ///< the corrected file's model for this column (data units, per sample)
+  Eigen::VectorXd expressible_theta;
+  Model full;                        ///< the diagnosis' final model
+  Eigen::VectorXd full_theta;
+  /// On the diagnosis' yardstick: the input baseline, the corrected file, the full model.
+  selection::GapAssessment before, with_config, with_full;
+  /// Components of the full model the format holds no field for (e.g. "QN(Q2=...)").
+  std::vector<std::string> not_expressible;
+};
+
+struct CorrectedConfig {
+  std::string format;   ///< "kalibr", "gz-sdf", "rotors" or "model"
+  std::string content;  ///< the file's text, header included
+  std::vector<std::string> header;  ///< the header lines (without comment markers)
+  std::vector<ConfigChange> changes;
+  std::vector<CorrectedColumn> columns;
+};
+
+struct CorrectedConfigOptions {
+  std::map<SensorKind, Unit> units;     ///< the data's units (SI where absent)
+  std::optional<SensorKind> sensor;     ///< every column is this sensor
+  std::string baseline_path;            ///< the input configuration's path, for the header
+};
+
+/// The corrected configuration of `study` (run on `set`, whose series it reads for the
+/// Allan deviation). Throws InputError when the study's rate is unknown and the baseline is
+/// a simulator's configuration (its figures are densities), or when the export of the
+/// final models fails (one line).
+CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy& study,
+                                 const pipeline::GapStudyOptions& options, const CorrectedConfigOptions& o);
+
+}  // namespace gmwm::io

@@ -1,0 +1,252 @@
+// The corrected simulator configuration of a gap study as a pipeline of named stages:
+//   export_columns (final models + their figures against the data's Allan deviation)
+//   -> render (the baseline's format, via render_export) -> read_back (the reader gap
+//   uses) -> changes (input vs corrected fields) -> assess (gap left) -> header.
+#include "gmwm/io/corrected_config.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "export_internal.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/io/export.h"
+#include "gmwm/io/sim_config.h"
+
+namespace gmwm::io {
+namespace {
+
+using export_detail::num;
+
+SensorKind kind_of(const std::string& column, const CorrectedConfigOptions& o) {
+  return o.sensor ? *o.sensor : sensor_kind_of_column(column);
+}
+
+Unit unit_of(SensorKind kind, const CorrectedConfigOptions& o) {
+  const auto it = o.units.find(kind);
+  return it != o.units.end() ? it->second : si_unit(kind);
+}
+
+// Stage 1: every column's final model with the figures `export` would write for it: N, K
+// and B read off the model's Allan deviation where it matches the data's, else the data's.
+std::vector<ExportColumn> export_columns(const SignalSet& set, const pipeline::GapStudy& study,
+                                         const CorrectedConfigOptions& o) {
+  std::vector<ExportColumn> cols;
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::GapColumnStudy& c = study.columns[k];
+    ExportColumn e;
+    e.name = c.name;
+    e.kind = kind_of(c.name, o);
+    e.freq = set.freq;
+    e.n = c.wv.n;
+    e.model = c.result.final_model;
+    e.theta = c.result.final_theta;
+    e.unit = unit_of(e.kind, o);
+    const FigureReport figures = noise_figure_report(set.signals[k].values, set.freq, e.model, e.theta, nullptr);
+    e.figures = export_figures(figures.chosen);
+    cols.push_back(std::move(e));
+  }
+  return cols;
+}
+
+ExportFormat export_format(SimFormat f) {
+  switch (f) {
+    case SimFormat::kKalibr: return ExportFormat::kKalibr;
+    case SimFormat::kGzSensors: return ExportFormat::kGzSdf;
+    case SimFormat::kRotors: return ExportFormat::kRotors;
+  }
+  return ExportFormat::kKalibr;
+}
+
+// Stage 4: the fields of the input and of the corrected file, joined by name (input order,
+// then fields only the corrected file has).
+std::vector<ConfigChange> changes(const SimConfig& input, const SimConfig& corrected) {
+  std::vector<ConfigChange> out;
+  for (const ConfigField& f : input.fields) out.push_back({f.name, f.value, std::nan(""), f.unit, false});
+  for (const ConfigField& f : corrected.fields) {
+    auto it = std::find_if(out.begin(), out.end(), [&](const ConfigChange& c) { return c.field == f.name; });
+    if (it == out.end()) out.push_back({f.name, std::nan(""), f.value, f.unit, false});
+    else it->corrected = f.value;
+  }
+  for (ConfigChange& c : out) {
+    const bool both = std::isfinite(c.input) && std::isfinite(c.corrected);
+    c.changed = !both ? std::isfinite(c.input) != std::isfinite(c.corrected)
+                      : std::abs(c.corrected - c.input) > kUnchangedRelative * std::max(std::abs(c.input), std::abs(c.corrected));
+  }
+  return out;
+}
+
+// A Kalibr file holds both sensors; a sensor with no column in the study keeps the input's
+// figures (the export writes 0 for it): its lines are rewritten with the input's values.
+void keep_undiagnosed_kinds(const SimConfig& input, ExportResult& r) {
+  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
+    const KindExport* k = export_detail::find_kind(r, kind);
+    if (k && !k->columns.empty()) continue;
+    const std::string prefix = kind == SensorKind::kGyro ? "gyroscope_" : "accelerometer_";
+    for (const ConfigField& f : input.fields) {
+      if (f.name.rfind(prefix, 0) != 0) continue;
+      const std::size_t at = r.content.find("\n" + f.name + ": ");
+      if (at == std::string::npos) continue;
+      const std::size_t from = at + 1 + f.name.size() + 2, to = r.content.find_first_of(" \n", from);
+      r.content.replace(from, to - from, export_detail::real(f.value));
+    }
+    // The export's header line "No ... column in the source: ... written as 0" no longer holds.
+    const std::string word = kind == SensorKind::kGyro ? "gyroscope" : "accelerometer";
+    const std::size_t line = r.content.find("# No " + word + " column in the source");
+    const std::string kept = "# No " + word + " column diagnosed: its figures are the input's\n";
+    if (line != std::string::npos) r.content.replace(line, r.content.find('\n', line) + 1 - line, kept);
+    else r.content += kept;
+  }
+}
+
+std::string effects_text(const selection::GapResult& g) {
+  std::string s;
+  for (const auto& d : g.step_details) s += (s.empty() ? "" : " + ") + d;
+  return s.empty() ? "no effect added" : s;
+}
+
+std::string outside_text(const selection::GapAssessment& a) {
+  return std::to_string(a.levels_outside) + " levels outside";
+}
+
+// Stage 6: the header: what changed and why, what the format cannot hold, the gap left.
+std::vector<std::string> header_lines(const CorrectedConfig& c, const pipeline::GapStudy& study,
+                                      const SignalSet& set, const CorrectedConfigOptions& o) {
+  std::vector<std::string> h;
+  h.push_back("gmwm gap: the corrected " + c.format + " configuration for " + set.path + " (baseline: " +
+              (o.baseline_path.empty() ? study.baseline_source : o.baseline_path) + ")");
+  h.push_back("Each figure is what 'gmwm export' writes for the diagnosis' final model of the column (IEEE 952 "
+              "read-offs of the model's Allan deviation where it matches the data's, else the data's own).");
+  int changed = 0;
+  for (const ConfigChange& ch : c.changes) {
+    if (!ch.changed) continue;
+    ++changed;
+    h.push_back("changed: " + ch.field + " " + (std::isfinite(ch.input) ? num(ch.input, 4) : std::string("(absent)")) +
+                " -> " + (std::isfinite(ch.corrected) ? num(ch.corrected, 4) : std::string("(dropped)")) + " " + ch.unit);
+  }
+  if (changed == 0) h.push_back("changed: nothing (every figure within " + num(kUnchangedRelative * 100.0, 2) + "% of the input)");
+  for (std::size_t k = 0; k < c.columns.size(); ++k) {
+    const CorrectedColumn& col = c.columns[k];
+    const selection::GapResult& g = study.columns[k].result;
+    h.push_back("why, " + col.name + ": " + effects_text(g) + "; full model " + col.full.to_string(col.full_theta));
+    for (const std::string& x : col.not_expressible)
+      h.push_back("cannot express, " + col.name + ": " + x);
+    h.push_back("gap left, " + col.name + ": input " + outside_text(col.before) + " (objective " +
+                num(col.before.objective, 4) + ") -> this file " + outside_text(col.with_config) + " (objective " +
+                num(col.with_config.objective, 4) + ") -> full model " + outside_text(col.with_full) +
+                " (objective " + num(col.with_full.objective, 4) + ")");
+  }
+  return h;
+}
+
+std::string with_header(const std::string& format, const std::string& body, const std::vector<std::string>& h) {
+  if (format == "gz-sdf" || format == "rotors") {
+    std::string comment = "<!--\n";
+    for (const auto& l : h) comment += "  " + export_detail::xml_comment_text(l) + "\n";
+    comment += "-->\n";
+    // After an XML declaration, which must come first.
+    if (body.rfind("<?xml", 0) == 0) {
+      const std::size_t eol = body.find('\n');
+      return body.substr(0, eol + 1) + comment + body.substr(eol + 1);
+    }
+    return comment + body;
+  }
+  return export_detail::yaml_comments(h) + body;
+}
+
+CorrectedConfig model_config(const SignalSet& set, const pipeline::GapStudy& study, const CorrectedConfigOptions& o) {
+  CorrectedConfig c;
+  c.format = "model";
+  std::string body;
+  for (const pipeline::GapColumnStudy& s : study.columns) {
+    CorrectedColumn col;
+    col.name = s.name;
+    col.full = s.result.final_model;
+    col.full_theta = s.result.final_theta;
+    col.expressible = col.full;
+    col.expressible_theta = col.full_theta;
+    if (s.result.assessor) {
+      col.before = s.result.assessor->assess(s.baseline, s.theta);
+      col.with_full = col.with_config = s.result.assessor->assess(col.full, col.full_theta);
+    }
+    body += s.name + ": " + col.full.to_string(col.full_theta) + "\n";
+    c.changes.push_back({s.name, std::nan(""), std::nan(""), "model", !(s.result.steps.empty())});
+    c.columns.push_back(std::move(col));
+  }
+  c.header = header_lines(c, study, set, o);
+  c.content = with_header(c.format, body, c.header);
+  return c;
+}
+
+}  // namespace
+
+CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy& study,
+                                 const pipeline::GapStudyOptions& options, const CorrectedConfigOptions& o) {
+  const auto* config = std::get_if<pipeline::ConfigBaseline>(&options.baseline);
+  if (!config) return model_config(set, study, o);
+  if (!set.freq_known)
+    throw InputError("--corrected: the data's sampling rate is needed to write noise densities (give --freq)");
+  CorrectedConfig c;
+  c.format = to_string(config->config.format);
+  // Stages 1-2: the final models in the baseline's format (per axis when the input's axes differ).
+  ExportOptions eo;
+  eo.format = export_format(config->config.format);
+  eo.aggregation = eo.format == ExportFormat::kGzSdf && !config->config.axis_models.empty() ? Aggregation::kPerAxis
+                                                                                           : Aggregation::kMean;
+  const std::vector<ExportColumn> cols = export_columns(set, study, o);
+  ExportResult r;
+  std::vector<std::string> notes;
+  try {
+    r = render_export(cols, eo, "gmwm gap of " + set.path);
+  } catch (const InputError&) {
+    if (eo.aggregation != Aggregation::kPerAxis) throw;
+    // Not every axis of a sensor has a column: one figure per sensor, said in the header.
+    eo.aggregation = Aggregation::kMean;
+    r = render_export(cols, eo, "gmwm gap of " + set.path);
+    notes.push_back("not every axis of a sensor was diagnosed: the diagnosed columns' mean is written for all three "
+                    "axes (the input's axes differed)");
+  }
+  if (eo.format == ExportFormat::kKalibr) keep_undiagnosed_kinds(config->config, r);
+  // Stage 3: read back exactly as gap reads a baseline.
+  const SimConfig back = eo.format == ExportFormat::kKalibr
+                             ? parse_kalibr_imu_yaml(r.content, "the corrected configuration", set.freq, o.units)
+                             : parse_gazebo_sdf(r.content, "the corrected configuration", set.freq, o.units);
+  c.changes = changes(config->config, back);
+  // Stage 5: each column's gap left with the corrected file and with the full model.
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::GapColumnStudy& s = study.columns[k];
+    CorrectedColumn col;
+    col.name = s.name;
+    col.full = s.result.final_model;
+    col.full_theta = s.result.final_theta;
+    const AxisNoise& a = r.columns[k];
+    col.not_expressible = a.others;
+    if (eo.format == ExportFormat::kKalibr)
+      for (const GaussMarkovNoise& gm : a.gauss_markov)
+        col.not_expressible.push_back(gm.text + " (a Gauss-Markov bias, correlation time " + num(gm.correlation_time, 3) +
+                                      " s: Kalibr holds white noise and a random walk only)");
+    else if (a.gauss_markov.size() > 1)
+      for (std::size_t i = 0; i + 1 < a.gauss_markov.size(); ++i)
+        col.not_expressible.push_back(a.gauss_markov[i].text + " (the simulator holds one Gauss-Markov bias: the "
+                                      "slowest is written)");
+    for (const std::string& x : a.absorbed) col.not_expressible.push_back(x + ": counted in the white noise density");
+    const auto expressible = pipeline::config_baseline(back, kind_of(s.name, o), s.name, s.wv.n);
+    if (expressible) {
+      col.expressible = expressible->model;
+      col.expressible_theta = expressible->theta;
+    }
+    if (s.result.assessor) {
+      col.before = s.result.assessor->assess(s.baseline, s.theta);
+      col.with_full = s.result.assessor->assess(col.full, col.full_theta);
+      if (expressible) col.with_config = s.result.assessor->assess(col.expressible, col.expressible_theta);
+    }
+    c.columns.push_back(std::move(col));
+  }
+  c.header = header_lines(c, study, set, o);
+  c.header.insert(c.header.begin() + 2, notes.begin(), notes.end());
+  c.content = with_header(c.format, r.content, c.header);
+  return c;
+}
+
+}  // namespace gmwm::io

@@ -1,0 +1,131 @@
+// `gmwm gap --corrected PATH` end to end (docs/gap.md, "The corrected configuration"): a
+// sensor whose datasheet white noise is 1.7x too high gets a Kalibr yaml whose density is
+// the sensor's, the fields it changed in the header and the JSON, the sensor without
+// columns kept as it was; the corrected yaml, given back to gap, is not re-sized again.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::read_json;
+using gmwm::test::read_text;
+using gmwm::test::run_gmwm;
+using gmwm::test::write_text;
+using nlohmann::json;
+
+namespace {
+
+// The sensor: N = 1e-3 rad/s/sqrt(Hz) at 100 Hz (sigma2 = N^2 f = 1e-4), K = 1e-5
+// rad/s^2/sqrt(Hz) (gamma2 = K^2 / f = 1e-12); 2^17 samples per axis.
+constexpr double kN = 1e-3, kK = 1e-5;
+constexpr const char* kSensor = "WN(sigma2=1e-4)+RW(gamma2=1e-12)";
+
+// The figure of `key` in a Kalibr yaml ("key: value  # comment").
+double yaml_figure(const std::string& text, const std::string& key) {
+  std::istringstream is(text);
+  for (std::string line; std::getline(is, line);)
+    if (line.rfind(key + ":", 0) == 0) return std::stod(line.substr(key.size() + 1));
+  ADD_FAILURE() << "no " << key;
+  return NAN;
+}
+
+class GmwmGapCorrected : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_gap_corrected");
+    auto r = run_gmwm({"simulate", "--model", kSensor, "--n", "131072", "--freq", "100", "--signals", "3", "--names",
+                       "gyro_x,gyro_y,gyro_z", "--output", "sim.csv.gz", "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // The datasheet: white noise 1.7x the sensor's, the random walk right, accelerometer figures of its own.
+    write_text(dir_ / "datasheet.yaml", "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
+                                        "gyroscope_noise_density: 1.7e-03\ngyroscope_random_walk: 1.0e-05\n"
+                                        "update_rate: 100.0\n");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(GmwmGapCorrected, WritesAKalibrYamlWhoseWhiteNoiseIsTheSensorsAndSaysWhatChanged) {
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "datasheet.yaml", "--replicates", "60", "--corrected",
+                     "corrected.yaml", "--json", "g.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string yaml = read_text(dir_ / "corrected.yaml");
+  // 2^17 samples put N's read-off within ~1% (its Allan deviation at 1 s averages 1e4
+  // independent pairs); 5% is the bar.
+  EXPECT_NEAR(yaml_figure(yaml, "gyroscope_noise_density"), kN, 0.05 * kN) << yaml;
+  // No accelerometer column: its figures are the input's, not zeros.
+  EXPECT_DOUBLE_EQ(yaml_figure(yaml, "accelerometer_noise_density"), 4.9e-3);
+  EXPECT_DOUBLE_EQ(yaml_figure(yaml, "accelerometer_random_walk"), 3.0e-4);
+  EXPECT_NE(yaml.find("# changed: gyroscope_noise_density 0.0017 -> "), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.find("changed: accelerometer"), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.find("written as 0"), std::string::npos) << yaml;
+
+  const json doc = read_json(dir_ / "g.json");
+  const json& c = doc.at("corrected");
+  EXPECT_EQ(c.at("format"), "kalibr");
+  EXPECT_EQ(c.at("content").get<std::string>(), yaml);
+  bool density_changed = false;
+  for (const json& ch : c.at("changes")) {
+    if (ch.at("field") == "gyroscope_noise_density") {
+      density_changed = ch.at("changed").get<bool>();
+      EXPECT_DOUBLE_EQ(ch.at("input").get<double>(), 1.7e-3);
+      EXPECT_EQ(ch.at("unit"), "rad/s/sqrt(Hz)");
+    }
+    if (ch.at("field").get<std::string>().rfind("accelerometer", 0) == 0) EXPECT_FALSE(ch.at("changed").get<bool>());
+  }
+  EXPECT_TRUE(density_changed);
+  ASSERT_EQ(c.at("columns").size(), 3u);
+  for (const json& col : c.at("columns")) {
+    const json& left = col.at("gap_left");
+    // The datasheet misses every fine level; the corrected file (WN + RW, all this sensor has) fits.
+    EXPECT_GT(left.at("input").at("levels_outside").get<int>(), 3) << col.at("name");
+    EXPECT_LT(left.at("config").at("objective").get<double>(), 0.05 * left.at("input").at("objective").get<double>())
+        << col.at("name");
+    EXPECT_LE(left.at("config").at("levels_outside").get<int>(), 2) << col.at("name");
+  }
+
+  // The same data against the corrected file: nothing left to re-size.
+  r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "corrected.yaml", "--replicates", "60", "--json", "again.json",
+                "--quiet"},
+               dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const json& col : read_json(dir_ / "again.json").at("columns"))
+    for (const json& step : col.at("gap").at("attribution").at("steps"))
+      EXPECT_NE(step.get<std::string>(), "REPARAMETERISE") << col.at("name");
+}
+
+TEST_F(GmwmGapCorrected, WritesOneModelStringPerColumnForAModelBaseline) {
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--columns", "gyro_x", "--model", "WN(sigma2=2.89e-4)+RW(gamma2=1e-12)",
+                     "--replicates", "60", "--corrected", "corrected.txt", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = read_text(dir_ / "corrected.txt");
+  std::istringstream is(text);
+  std::string model_line;
+  for (std::string line; std::getline(is, line);)
+    if (line.rfind("gyro_x: ", 0) == 0) model_line = line;
+  ASSERT_FALSE(model_line.empty()) << text;
+  EXPECT_NE(model_line.find("WN(sigma2="), std::string::npos) << model_line;
+  EXPECT_NE(text.find("# gap left, gyro_x: input "), std::string::npos) << text;
+}
+
+TEST_F(GmwmGapCorrected, RefusesACorrectedPathThatIsTheBaselineItself) {
+  const std::string before = read_text(dir_ / "datasheet.yaml");
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "datasheet.yaml", "--corrected", "datasheet.yaml", "--quiet"},
+                    dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--corrected"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(dir_ / "datasheet.yaml"), before);
+}
+
+}  // namespace
