@@ -385,7 +385,11 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
     gmwm::pipeline::GapStudyOptions oc = o;
     oc.progress = [progress](double, double) { progress(0, 0); };  // every replicate and attribution fit
     const gmwm::pipeline::GapStudy study = gmwm::pipeline::study_gap(set, oc);
-    return gmwm::io::gap_document(set, study);
+    Json doc = gmwm::io::gap_document(set, study);
+    // The corrected configuration, as `gmwm gap` writes it (its "content" is the file's text).
+    doc["corrected"] = gmwm::io::corrected_config_json(
+        gmwm::io::corrected_config(set, study, oc, {o.units, o.sensor, kalibr ? *kalibr : gazebo.value_or("")}), freq);
+    return doc;
   });
   return to_python(out);
 }

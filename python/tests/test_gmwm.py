@@ -58,7 +58,7 @@ def test_allan_equals_the_cli_adev_json_bit_for_bit(tmp_path, example):
 
 
 def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
-    with pytest.raises(gmwm.InputError, match="^freq: found 0, expected a sampling rate in Hz from 1e-09 to 1e\+09"):
+    with pytest.raises(gmwm.InputError, match=r"^freq: found 0, expected a sampling rate in Hz from 1e-09 to 1e\+09"):
         gmwm.allan(example["gyro_y"], freq=0.0)
     with pytest.raises(gmwm.InputError, match="^points_per_octave: "):
         gmwm.allan(example["gyro_y"], freq=100.0, points_per_octave=0)
@@ -78,6 +78,9 @@ def test_gap_equals_the_cli_json_bit_for_bit(tmp_path, example, baseline):
     assert [c["headline"] for c in doc["columns"]]
     for key in ("baseline_source", "replicates", "seed", "cross_axis", "columns"):
         assert mine[key] == doc[key], key
+    # The corrected configuration: the same fields and gap left (its text names the input).
+    for key in ("format", "changes", "columns"):
+        assert mine["corrected"][key] == doc["corrected"][key], key
 
 
 def test_gap_refuses_two_baselines_and_a_bad_sensor_with_one_line(example):
