@@ -1,5 +1,7 @@
 # Test: install gmwm into a fresh prefix, build examples/ against it with find_package(gmwm)
-# and with pkg-config, and run both programs. Arguments (-D): BUILD_DIR, SOURCE_DIR, WORK_DIR.
+# and with pkg-config, and run both programs. Arguments (-D): BUILD_DIR, SOURCE_DIR, WORK_DIR,
+# and the build's GENERATOR, MAKE_PROGRAM and CXX_COMPILER (the example is built with them: a
+# machine set up by tools/setup.sh has ninja and no make).
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
@@ -27,7 +29,17 @@ if(NOT sonames)
 endif()
 
 # find_package(gmwm): the imported targets carry their include folders and dependencies.
-run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples -B ${WORK_DIR}/build -DCMAKE_PREFIX_PATH=${prefix}
+set(generator_args)
+if(GENERATOR)
+  list(APPEND generator_args -G ${GENERATOR})
+endif()
+if(MAKE_PROGRAM)
+  list(APPEND generator_args -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM})
+endif()
+if(CXX_COMPILER)
+  list(APPEND generator_args -DCMAKE_CXX_COMPILER=${CXX_COMPILER})
+endif()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples -B ${WORK_DIR}/build ${generator_args} -DCMAKE_PREFIX_PATH=${prefix}
     -DCMAKE_BUILD_TYPE=Release)
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/fit_example)
@@ -40,7 +52,10 @@ if(PKG_CONFIG)
   run(${PKG_CONFIG} --cflags --libs gmwm)
   string(STRIP "${run_output}" flags)
   separate_arguments(flags UNIX_COMMAND "${flags}")
-  run(c++ -std=c++20 -O1 ${SOURCE_DIR}/examples/fit_example.cc -o ${WORK_DIR}/fit_example_pc ${flags}
+  if(NOT CXX_COMPILER)
+    set(CXX_COMPILER c++)
+  endif()
+  run(${CXX_COMPILER} -std=c++20 -O1 ${SOURCE_DIR}/examples/fit_example.cc -o ${WORK_DIR}/fit_example_pc ${flags}
       -Wl,-rpath,${prefix}/lib)
   run(${WORK_DIR}/fit_example_pc)
 endif()
