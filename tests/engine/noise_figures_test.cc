@@ -86,6 +86,25 @@ TEST(NoiseFigures, AFastAr1AddsToNAndAModelWithoutRandomWalkGivesABound) {
   EXPECT_EQ(c.white.model.sources.front().first.rfind("AR1(phi=0.16", 0), 0u) << c.white.model.sources.front().first;
 }
 
+TEST(NoiseFigures, AGaussMarkovTermAFewCorrelationTimesBelowTheReadOffCountsInN) {
+  // adis_16405_imu1 gyro_z's gap model: WN + an AR1 with T = 0.19 s at 100 Hz. At 1 s
+  // (five correlation times) the AR1's own Allan deviation slope is -0.31: not yet -1/2,
+  // but white noise in the making. N must be what the model's curve says at tau*,
+  // sqrt(tau* AVAR(tau*)) less the random walk's share, not the WN term alone (18% low).
+  const Model m = parse_model("WN(sigma2=0.0984)+AR1(phi=0.949,sigma2=1.576e-4)+RW(gamma2=1.2e-8)");
+  const double f = 100.0;
+  const ChosenFigures c = model_only_figures(m, m.given_values(), f, 1000000);
+  ASSERT_EQ(c.white.source, FigureSource::kModel);
+  const double tau = c.white.figure.tau;
+  const auto mm = static_cast<std::int64_t>(std::llround(tau * f));
+  const double avar = std::pow(model_allan_deviation(m, m.given_values(), std::vector<std::int64_t>{mm}).front(), 2);
+  // The random walk's share at tau: K^2 tau / 3 with K^2 = gamma2 f (the closed form above).
+  const double walk = 1.2e-8 * f * tau / 3.0;
+  const double expected = std::sqrt((avar - walk) * tau);
+  EXPECT_NEAR(c.white.figure.value / expected, 1.0, 0.01) << c.white.figure.how;
+  EXPECT_GT(c.white.figure.value, 1.1 * std::sqrt(0.0984 / f)) << "the AR1 is part of N";
+}
+
 TEST(NoiseFigures, TheModelsFigureIsUsedOnlyWhereItMatchesTheData) {
   const double f = 100.0;
   const auto x = simulated("WN(sigma2=0.01)+RW(gamma2=1e-9)", 1 << 18, 34);
