@@ -207,6 +207,7 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
     if (o.progress)
       gk.progress = [&, k](int done, int) { o.progress(static_cast<double>(k) * per_column + done, K * per_column); };
     GapColumnStudy& c = study.columns[k];
+    gk.unit = c.unit;
     // The time-domain stage reads the series as a vector: a series in a file is copied.
     const Samples& x = set.signals[k].values;
     const std::vector<double> copy = x.vector() ? std::vector<double>() : x.to_vector();

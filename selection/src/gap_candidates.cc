@@ -128,6 +128,13 @@ static double fit_candidate(const CandidateSpec& spec, const Base& base, const E
   return g;
 }
 
+FitResult refit_family(const Base& base, const Eigen::VectorXd& target, const WaveletVariance& like,
+                       const Eigen::MatrixXd& omega, const GapOptions& o) {
+  FitResult r;
+  fit_candidate(CandidateSpec{GapEffect::kReparameterise, nullptr}, base, target, like, omega, o, &r);
+  return r;
+}
+
 // The objective of the base itself on `target`: fixed, or refitted (--fit mode).
 static double base_objective(const Base& base, const Eigen::VectorXd& target, const WaveletVariance& like,
                       const Eigen::MatrixXd& omega, const GapOptions& o) {

@@ -52,6 +52,11 @@ void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::
                       const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o,
                       const FitResult& chosen, FitResult& fit);
 
+/// The base's family re-estimated on `target` (REPARAMETERISE's fit: from the base's values
+/// and the family's sub-models, the objective's weights `omega`).
+FitResult refit_family(const Base& base, const Eigen::VectorXd& target, const WaveletVariance& like,
+                       const Eigen::MatrixXd& omega, const GapOptions& o);
+
 /// The added effect's component of a refitted augmented model (base family + effect).
 FitResult effect_part(const FitResult& augmented, const Base& base);
 

@@ -115,6 +115,30 @@ double trend_slope(const std::vector<double>& x) {
   return (tail - head) / static_cast<double>(L) / static_cast<double>(n - L);
 }
 
+double trend_slope_sd(const Model& m, const Eigen::VectorXd& theta, std::int64_t n) {
+  const std::int64_t L = std::max<std::int64_t>(1, n / kTrendSegments);
+  if (n < 2 * L) return 0.0;
+  // g(h), h = 0..n-1, summed over the components.
+  std::vector<double> g(static_cast<std::size_t>(n), 0.0), part(static_cast<std::size_t>(n));
+  for (int k = 0; k < m.num_components(); ++k) {
+    const Process& p = *m.components()[static_cast<std::size_t>(k)].process;
+    std::fill(part.begin(), part.end(), 0.0);
+    p.generalized_autocovariance(std::span<const double>(theta.data() + m.offset(k), static_cast<std::size_t>(p.size())),
+                                 part);
+    for (std::size_t h = 0; h < g.size(); ++h) g[h] += part[h];
+  }
+  // Var(sum_tail - sum_head) = 2 [L g(0) + 2 sum_{h<L} (L - h) g(h)] - 2 sum_d c(d) g(d),
+  // d = l - k over head k and tail l: from n - 2L + 1 to n - 1, c(d) = L - |d - (n - L)|.
+  double within = static_cast<double>(L) * g[0];
+  for (std::int64_t h = 1; h < L; ++h) within += 2.0 * static_cast<double>(L - h) * g[static_cast<std::size_t>(h)];
+  double across = 0.0;
+  for (std::int64_t d = n - 2 * L + 1; d <= n - 1; ++d)
+    across += static_cast<double>(L - std::abs(d - (n - L))) * g[static_cast<std::size_t>(d)];
+  const double var_sum = 2.0 * within - 2.0 * across;
+  if (!(var_sum > 0.0)) return 0.0;
+  return std::sqrt(var_sum) / static_cast<double>(L) / static_cast<double>(n - L);
+}
+
 std::pair<int, int> event_levels(std::int64_t n) {
   int last = 0;
   while (std::ldexp(static_cast<double>(kEventMinBlocks), last + 1) <= static_cast<double>(n)) ++last;

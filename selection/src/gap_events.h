@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/model.h"
 #include "gmwm/selection/gap.h"
 
 namespace gmwm::selection::detail {
@@ -102,6 +103,13 @@ std::optional<GapEvent> burst_alternative(const std::vector<double>& x, const Ga
 void remove_event(std::vector<double>& x, const GapEvent& e);
 
 /// What the time-domain tests found on the data.
+/// The standard deviation of trend_slope on n samples of a model, exact: the slope is a
+/// zero-sum filter of the series (the last n/kTrendSegments samples' mean less the
+/// first's, over n - L), so its variance follows from the model's generalised
+/// autocovariance (Process::generalized_autocovariance; a random walk's included).
+/// O(n) time and memory.
+double trend_slope_sd(const Model& m, const Eigen::VectorXd& theta, std::int64_t n);
+
 struct TimeFindings {
   bool event = false, coupling = false, trend = false;
   double trend_null_mean = 0.0, trend_null_sd = 0.0, trend_level_z = 0.0;  ///< to re-test after the event

@@ -28,15 +28,22 @@ double navigation_rms(const Model& m, const Eigen::VectorXd& theta, const Proces
 std::string scale_text(double tau, const ProcessContext& ctx);
 
 /// A time-domain step (STEP, TRANSIENT, DR, TEMPERATURE) in a few words, from what g holds.
-std::string time_step_text(GapEffect e, const GapResult& g, const ProcessContext& ctx);
+std::string time_step_text(GapEffect e, const GapResult& g, const ProcessContext& ctx, const std::string& unit);
 
 /// A WV effect added at a step in a few words, from its fit (SIN's frequency, AR1's
 /// correlation time, DR's signed rate, ...).
-std::string effect_step_text(GapEffect e, const FitResult& fit, const ProcessContext& ctx);
+std::string effect_step_text(GapEffect e, const FitResult& fit, const ProcessContext& ctx, const std::string& unit);
 
-/// The summary line (GapResult::headline): bands, effects, levels outside before -> after,
-/// the global p after, "gap remains at SCALES" while the final model is still rejected, and
-/// the share of the excess removed.
+/// A step's share of the baseline's excess at or above which the headline says the gap is
+/// "explained by" it; below it the step is listed as "minor". One tenth: an effect that
+/// removes less leaves 90% of the excess where it was, and naming it as the explanation
+/// is what issue 26 found misleading ("explained by STEP + AR1 + SIN + SIN" for 3.2%).
+inline constexpr double kExplainedShare = 0.10;
+
+/// The summary line (GapResult::headline): bands, effects (explained by / minor, each with
+/// its share of the excess), levels outside before -> after, the global p after, "gap
+/// remains at SCALES" while the final model is still rejected, and the share of the
+/// excess removed.
 std::string headline(const GapResult& g, const ProcessContext& ctx, double alpha);
 
 }  // namespace gmwm::selection::detail

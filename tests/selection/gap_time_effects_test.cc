@@ -3,6 +3,7 @@
 // the WN+RW alone; and the same tests on the baseline's own data, where nothing is found.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -132,6 +133,26 @@ TEST(GapTimeEffects, NameADriftDrWithItsSlopeInsideItsInterval) {
   // The final model carries the drift, so the integrated error grows with it.
   EXPECT_NE(g.final_model.to_string(g.final_theta).find("DR("), std::string::npos);
   ASSERT_EQ(g.step_drops.size(), g.steps.size());
+}
+
+TEST(GapTimeEffects, CallTheSlopeOfAWalkLargerThanTheBaselinesAWalkNotADrift) {
+  // The data's random walk is 25x the baseline's in gamma2 (a datasheet's K 5x too small):
+  // its end-segment slope is far outside the baseline's replicates (sd 5x smaller), but
+  // within the exact slope distribution of the baseline's family re-sized to the data.
+  const Model truth = parse_model("WN(sigma2=1e-4)+RW(gamma2=2.5e-9)");
+  int walks = 0, tested = 0;
+  for (std::uint64_t seed : {9301u, 9302u, 9303u, 9304u}) {
+    const std::vector<double> x = simulate(truth, truth.given_values(), kN, seed, 0);
+    const GapResult g = diagnose(x, seed + 100);
+    ASSERT_TRUE(g.trend.has_value());
+    if (std::abs(g.trend->z) <= g.trend->threshold) continue;  // the baseline's own test did not fire
+    ++tested;
+    EXPECT_EQ(std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR), g.steps.end()) << g.headline;
+    EXPECT_FALSE(g.trend->significant);
+    for (const auto& n : g.notes) walks += n.find("a random walk of the data's size, not a drift") != std::string::npos;
+  }
+  EXPECT_GE(tested, 2) << "the baseline's own trend test fires on most walks 5x its spread";
+  EXPECT_EQ(walks, tested);
 }
 
 TEST(GapTimeEffects, NameATemperatureCouplingTemperatureWithItsCoefficient) {

@@ -113,14 +113,14 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
          << seconds_text(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - 1)].tau, set);
     os << " (robust WV below the classical one beyond the data's rounding, with far outliers)\n";
   }
-  for (const auto& r : g.refused) os << "  refused (does not make the fit better): " << r << '\n';
+  for (const auto& r : g.refused) os << "  refused (does not lower the objective's excess): " << r << '\n';
   for (const auto& n : g.notes) os << "  note: " << n << '\n';
   return os.str();
 }
 
 // What to change: the corrected configuration's fields (input -> corrected) and, per
 // column, the gap left with the input, with the corrected file and with the full model.
-std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set) {
+std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set, const pipeline::GapStudy& study) {
   std::ostringstream os;
   os << "\nwhat to change (" << c.format << ", --corrected writes it):\n";
   if (c.format != "model") {
@@ -135,6 +135,9 @@ std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set)
   if (nav) head.push_back("integrated error after 60 s (input -> file -> full)");
   Table g(head, 1);
   for (const auto& col : c.columns) {
+    std::string unit = "U";
+    for (const auto& sc : study.columns)
+      if (sc.name == col.name && !sc.unit.empty()) unit = sc.unit;
     std::vector<std::string> row{col.name,
                                  std::to_string(col.before.levels_outside) + " -> " +
                                      std::to_string(col.with_config.levels_outside) + " -> " +
@@ -143,7 +146,7 @@ std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set)
                                      fmt(col.with_full.objective, 3)};
     if (nav)
       row.push_back(fmt(col.before.navigation_rms, 3) + " -> " + fmt(col.with_config.navigation_rms, 3) + " -> " +
-                    fmt(col.with_full.navigation_rms, 3) + " (data unit x s)");
+                    fmt(col.with_full.navigation_rms, 3) + " " + render_unit("U*s", unit) + " RMS");
     g.add(row);
   }
   os << g.str();
@@ -254,7 +257,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     report += "\nsummary:\n";
     for (const pipeline::GapColumnStudy& c : study.columns) report += "  " + summary_line(c.name, c.result) + "\n";
     report += cross_axis_text(study.cross_axis, set);
-    if (corrected) report += changes_text(*corrected, set);
+    if (corrected) report += changes_text(*corrected, set, study);
   }
   warn_about_timing(set);
   write_json(common, doc,

@@ -78,6 +78,9 @@ struct GapOptions {
   FitOptions fit;
   /// The signal's sampling rate, for the candidates' display units (SIN's f in Hz).
   ProcessContext context;
+  /// The data's unit for display ("deg/s"): STEP sizes, DR rates and burst peaks carry it
+  /// in the step texts and the headline; empty: "data units".
+  std::string unit;
   /// Called with (replicates done, total) while the reference is simulated, then again
   /// with (total, total) before each fit of the attribution; may throw gmwm::Cancelled to
   /// stop the diagnosis (error.h).
@@ -129,11 +132,13 @@ struct GapShrinkage {
   /// model's reference) for the baseline and the final model, and its mean over the
   /// held-out null replicates (the same for every model: the reference is shifted).
   double distance_before = 0.0, distance_after = 0.0, null_distance_mean = 0.0;
-  /// The share of the gap removed, in [0, 1]: with a model's excess
-  /// X_m = max(D_m - E0[D], 0), S = (X_before - X_after) / X_before, clamped to [0, 1]
-  /// (0 when the baseline has no excess). S = 1 means the final model sits no farther
-  /// from the data than a typical replicate of itself; then the global test does not
-  /// reject it.
+  /// The excess of the baseline and of the final model over their null means,
+  /// X = max(G - E_m[G], 0), G on the data the diagnosis compares at each stage.
+  double excess_before = 0.0, excess_after = 0.0;
+  /// The share of the gap removed, S = (X_before - X_after) / X_before (0 when the
+  /// baseline has no excess), in [0, 1] by construction: every kept step lowers
+  /// G - E_m[G]. S = 1 means the final model fits the data as well as a typical replicate
+  /// of itself fits its own WV; it does not mean every level is inside its band.
   double excess_removed = 0.0;
   double rms_log_ratio_before = 0.0, rms_log_ratio_after = 0.0;  ///< over the gap bands' levels
   int levels_outside_before = 0, levels_outside_after = 0;
@@ -264,6 +269,11 @@ struct GapResult {
   /// `effect` is the first step, except that a time-domain DR, STEP or TRANSIENT yields
   /// to a later non-REPARAMETERISE step that removed more.
   std::vector<double> step_drops;
+  /// The model's excess X after each step, and each step's share: REPARAMETERISE's of the
+  /// baseline's excess X_before, every other step's of the excess the re-sizing leaves
+  /// (X_before less REPARAMETERISE's drop; X_before when none was taken); NaN when that
+  /// excess is 0. In the order of `steps`.
+  std::vector<double> step_excess, step_shares;
   std::vector<std::string> notes;           ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
   /// The contamination screen (with the robust WV and the series): the levels (1-based)
   /// whose robust WV sits below the classical one beyond what the data's rounding
