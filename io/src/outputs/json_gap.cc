@@ -172,6 +172,11 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                       {"temperature", temperature_json(g)},
                       {"drift", trend_json(g)},
                       {"step_drops", g.step_drops},
+                      {"step_shares", [&] {
+                         json a = json::array();
+                         for (double x : g.step_shares) a.push_back(json_number(x));  // NaN -> null
+                         return a;
+                       }()},
                       {"step_details", g.step_details},
                       {"refused", g.refused},
                       {"candidates", std::move(candidates)}};
@@ -190,6 +195,8 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                     {"distance_before", json_number(s.distance_before)},
                     {"distance_after", json_number(s.distance_after)},
                     {"null_distance_mean", json_number(s.null_distance_mean)},
+                    {"excess_before", json_number(s.excess_before)},
+                    {"excess_after", json_number(s.excess_after)},
                     {"excess_removed", json_number(s.excess_removed)},
                     {"rms_log_ratio_before", json_number(s.rms_log_ratio_before)},
                     {"rms_log_ratio_after", json_number(s.rms_log_ratio_after)},
