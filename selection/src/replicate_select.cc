@@ -1,6 +1,7 @@
 #include "gmwm/selection/replicate_select.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -215,9 +216,17 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
   const bool bootstrap = options.select.optimism != OptimismMethod::kAnalytic;
   const std::size_t S = out.training.size();
   std::vector<Selection> sel(S + 1);
+  // Progress: the selections done out of S + 1, reported when each ends and, as the
+  // cancellation point, whenever one of them reports its own (the same count again).
+  std::atomic<int> done{0};
+  ReplicateSelectOptions inner = options;
+  if (options.select.progress)
+    inner.select.progress = [&](int, int) { options.select.progress(done.load(), static_cast<int>(S + 1)); };
   parallel_in_order(S + 1, [&](std::size_t t) {
-    sel[t] = t == 0 ? select_on(wvs, all, w, maximal, options, bootstrap)
-                    : select_on(wvs, out.training[t - 1], w, maximal, options, false);
+    sel[t] = t == 0 ? select_on(wvs, all, w, maximal, inner, bootstrap)
+                    : select_on(wvs, out.training[t - 1], w, maximal, inner, false);
+    const int d = ++done;
+    if (options.select.progress) options.select.progress(d, static_cast<int>(S + 1));
   });
   const Selection& whole = sel.front();
   out.all_rejected = whole.all_rejected;

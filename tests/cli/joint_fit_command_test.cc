@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -287,6 +288,47 @@ TEST_F(GmwmCliJointFit, ExportRefusesAJointResultWhoseUnitItCannotTell) {
 
 TEST_F(GmwmCliJointFit, RejectsBadUnitsBeforeAnyWork) {
   expect_bad_input(fit({"--joint", "r2.csv", "--units", "gyro=furlong/s"}), {"--units", "furlong/s"}, json());
+}
+
+}  // namespace
+
+namespace {
+
+// The progress bars of the joint commands (issue 26, item 6): drawn on a terminal (run
+// under script(1), which gives the command a pseudo-terminal), absent off one and with
+// --quiet.
+class GmwmCliJointProgress : public GmwmCliJointFit {
+ protected:
+  // stdout and stderr of `gmwm ARGS` run on a pseudo-terminal, or "" when script(1) is missing.
+  std::string on_terminal(const std::vector<std::string>& args) {
+    if (std::system("command -v script > /dev/null 2>&1") != 0) return {};
+    std::string cmd = std::string("'") + GMWM_CLI_PATH + "'";
+    for (const auto& a : args) cmd += " '" + a + "'";
+    const fs::path log = dir_ / "tty.log";
+    const std::string shell = "cd '" + dir_.string() + "' && script -qec \"" + cmd + "\" /dev/null > '" + log.string() + "' 2>&1";
+    EXPECT_EQ(std::system(shell.c_str()), 0) << shell;
+    return gmwm::test::read_text(log);
+  }
+};
+
+TEST_F(GmwmCliJointProgress, FitAndSelectJointShowProgressOnATerminalAndNotOffOne) {
+  const std::vector<std::string> fit_args = {"fit", "r1.csv", "--model", "AR1+WN+RW", "--joint", "r2.csv", "r3.csv",
+                                             "--replicates", "20"};
+  const std::vector<std::string> select_args = {"select", "r1.csv", "--model", "WN+RW", "--joint", "r2.csv", "r3.csv"};
+  const std::string fit_tty = on_terminal(fit_args);
+  if (fit_tty.empty()) GTEST_SKIP() << "script(1) (bsdutils) is not installed: no pseudo-terminal to test on";
+  EXPECT_NE(fit_tty.find("fit --joint: bootstrap draws"), std::string::npos) << fit_tty;
+  EXPECT_NE(on_terminal(select_args).find("select --joint: selections"), std::string::npos);
+  // Off a terminal (the captured stderr of run_gmwm), and --quiet: no bar.
+  auto r = run_gmwm(fit_args, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("bootstrap draws"), std::string::npos) << r.err;
+  r = run_gmwm(select_args, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("selections"), std::string::npos) << r.err;
+  std::vector<std::string> quiet = fit_args;
+  quiet.push_back("--quiet");
+  EXPECT_EQ(on_terminal(quiet).find("bootstrap draws"), std::string::npos);
 }
 
 }  // namespace

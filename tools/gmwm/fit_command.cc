@@ -146,7 +146,11 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   if (robust) o.robust = *robust;
   o.test_draws = args.replicates;
   o.seed = common.seed;
+  // Progress on a terminal: the shared-theta test's bootstrap draws (each a joint refit).
+  ProgressBar bar("fit --joint: bootstrap draws", common);
+  if (bar.enabled()) o.progress = [&](int done, int total) { bar.update(done, total); };
   const pipeline::JointFitStudy study = pipeline::study_joint_fit(groups, ProcessContext{set.freq, set.freq_known}, o);
+  bar.finish();
 
   io::Json doc = io::joint_fit_document(set, groups, study, units, filter);
   const std::string estimator = replicate_estimator_text(robust);

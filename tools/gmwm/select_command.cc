@@ -166,8 +166,12 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   if (robust) o.robust = *robust;
   // A report draws the recommended model of each axis fitted jointly, with its test.
   if (!common.report.empty()) o.recommended_test_draws = std::max(args.replicates, kMinReportTestDraws);
+  // Progress on a terminal: the selections (all replicates, then every training split) done.
+  ProgressBar bar("select --joint: selections", common);
+  if (bar.enabled()) o.select.select.progress = [&](int done, int total) { bar.update(done, total); };
   const pipeline::JointSelectStudy study =
       pipeline::study_joint_select(groups, ProcessContext{set.freq, set.freq_known}, o);
+  bar.finish();
   const std::string estimator = replicate_estimator_text(robust);
   io::Json doc = io::joint_select_document(set, groups, study, units, filter);
   std::string report;
