@@ -123,4 +123,15 @@ WaveletVariance ClassicalWvEstimator::compute(const double* x, std::int64_t n, i
   return classical_wv(x, n, o);
 }
 
+WaveletVariance ClassicalWvEstimator::compute(const HaarModwt& modwt, const double* x, std::int64_t n, int levels,
+                                              double alpha) const {
+  static_cast<void>(x);
+  check_size_match("ClassicalWvEstimator", "transform length", static_cast<std::size_t>(modwt.size()),
+                   "series length", static_cast<std::size_t>(n));
+  WvOptions o;
+  o.levels = levels;
+  o.alpha = alpha;
+  return classical_wv(modwt, o);
+}
+
 }  // namespace gmwm

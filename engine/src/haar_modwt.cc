@@ -132,14 +132,39 @@ void HaarModwt::coefficients(int level, std::vector<double>& out) const {
 }
 
 double HaarModwt::sum_of_squares(int level) const {
+  if (const Squares* k = kept(level)) return k->sum;
   const std::int64_t tau = std::int64_t{1} << level;
   return sum_of_squares_half_width(tau / 2);
 }
 
-double HaarModwt::sum_of_squares_half_width(std::int64_t m) const {
+const HaarModwt::Squares* HaarModwt::kept(int level) const {
+  const auto i = static_cast<std::size_t>(level - 1);
+  return level >= 1 && i < kept_valid_.size() && kept_valid_[i] ? &kept_[i] : nullptr;
+}
+
+void HaarModwt::keep_squares(int first, int last) {
+  first = std::max(first, 1);
+  last = std::min(last, max_levels());
+  if (last < first) return;
+  kept_.resize(static_cast<std::size_t>(std::max<std::size_t>(kept_.size(), static_cast<std::size_t>(last))));
+  kept_valid_.resize(kept_.size(), 0);
+  for (int j = first; j <= last; ++j) {
+    kept_[static_cast<std::size_t>(j - 1)] = squares(std::int64_t{1} << (j - 1), true);
+    kept_valid_[static_cast<std::size_t>(j - 1)] = 1;
+  }
+}
+
+double HaarModwt::sum_of_squares_half_width(std::int64_t m) const { return squares(m, false).sum; }
+
+HaarModwt::Squares HaarModwt::squares_of_level(int level) const {
+  if (const Squares* k = kept(level)) return *k;
+  return squares(std::int64_t{1} << (level - 1), true);
+}
+
+HaarModwt::Squares HaarModwt::squares(std::int64_t m, bool with_peak) const {
   const std::int64_t tau = 2 * m;
   const std::int64_t M = n_ - tau + 1;
-  if (m < 1 || M < 1) return 0.0;
+  if (m < 1 || M < 1) return {};
   const double* a = p_ + tau;
   const double* b = p_ + m;
   const double* c = p_;
@@ -147,16 +172,31 @@ double HaarModwt::sum_of_squares_half_width(std::int64_t m) const {
   // memory, one loop; for prefix sums in a file, blocks of kPassBlock (a multiple of four:
   // the sums are those of one loop), releasing the pages behind each of the three
   // pointers between blocks (they are tau apart: up to half the series at the coarsest
-  // level; the pages between them are read again from the file's page cache).
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  // level; the pages between them are read again from the file's page cache). The peak
+  // has its own loop shape so the plain sum keeps its vectorised kernel.
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0, peak = 0.0;
   auto kernel = [&](std::int64_t from, std::int64_t to) {  // k in [from, to), multiples of 4
     double t0 = s0, t1 = s1, t2 = s2, t3 = s3;
-    for (std::int64_t k = from; k < to; k += 4) {
-      const double d0 = a[k] - 2.0 * b[k] + c[k];
-      const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
-      const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
-      const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-      t0 += d0 * d0; t1 += d1 * d1; t2 += d2 * d2; t3 += d3 * d3;
+    if (!with_peak) {
+      for (std::int64_t k = from; k < to; k += 4) {
+        const double d0 = a[k] - 2.0 * b[k] + c[k];
+        const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
+        const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
+        const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
+        t0 += d0 * d0; t1 += d1 * d1; t2 += d2 * d2; t3 += d3 * d3;
+      }
+    } else {
+      double q0 = peak, q1 = peak, q2 = peak, q3 = peak;
+      for (std::int64_t k = from; k < to; k += 4) {
+        const double d0 = a[k] - 2.0 * b[k] + c[k];
+        const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
+        const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
+        const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
+        const double e0 = d0 * d0, e1 = d1 * d1, e2 = d2 * d2, e3 = d3 * d3;
+        t0 += e0; t1 += e1; t2 += e2; t3 += e3;
+        q0 = std::max(q0, e0); q1 = std::max(q1, e1); q2 = std::max(q2, e2); q3 = std::max(q3, e3);
+      }
+      peak = std::max(std::max(q0, q1), std::max(q2, q3));
     }
     s0 = t0; s1 = t1; s2 = t2; s3 = t3;
   };
@@ -173,9 +213,13 @@ double HaarModwt::sum_of_squares_half_width(std::int64_t m) const {
     }
   }
   std::int64_t k = whole;
-  for (; k < M; ++k) { const double d = a[k] - 2.0 * b[k] + c[k]; s0 += d * d; }
+  for (; k < M; ++k) {
+    const double d = a[k] - 2.0 * b[k] + c[k];
+    s0 += d * d;
+    peak = std::max(peak, d * d);
+  }
   const double inv = 1.0 / static_cast<double>(tau);
-  return (s0 + s1 + s2 + s3) * inv * inv;
+  return {(s0 + s1 + s2 + s3) * inv * inv, peak * inv * inv};
 }
 
 }  // namespace gmwm

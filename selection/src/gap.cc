@@ -194,8 +194,8 @@ detail::Reference reference_stage(const WaveletVariance& wv, const Model& baseli
   const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
   detail::SeriesStatistic series_statistic;
   if (x)
-    series_statistic = [temperature, nu_base](const std::vector<double>& s) {
-      return detail::series_statistics(s, temperature, nu_base);
+    series_statistic = [temperature, nu_base](const std::vector<double>& s, HaarModwt& transform) {
+      return detail::series_statistics(s, transform, temperature, nu_base);
     };
   return detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
                                  wv.alpha, options.progress, series_statistic);

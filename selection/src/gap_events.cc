@@ -145,24 +145,19 @@ std::pair<int, int> event_levels(std::int64_t n) {
   return {kEventMinLevel, last};
 }
 
-Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vector<double>* temperature,
-                                  const Eigen::VectorXd& nu_base) {
+Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt,
+                                  const std::vector<double>* temperature, const Eigen::VectorXd& nu_base) {
   const auto n = static_cast<std::int64_t>(x.size());
   const auto [first, last] = event_levels(n);
   const int L = std::max(0, last - first + 1);
   Eigen::VectorXd out(L + 1 + (temperature ? 1 : 0));
   out(L) = trend_slope(x);
-  const HaarModwt modwt(x.data(), n);
   std::vector<double> w, wt;
+  modwt.keep_squares(first, last);
   for (int j = first; j <= last; ++j) {
-    modwt.coefficients(j, w);
-    double peak = 0.0, sum = 0.0;
-    for (double v : w) {
-      peak = std::max(peak, v * v);
-      sum += v * v;
-    }
-    const double mean = sum / static_cast<double>(w.size());
-    out(j - first) = mean > 0.0 ? std::log(peak / mean) : 0.0;
+    const HaarModwt::Squares s = modwt.squares_of_level(j);
+    const double mean = s.sum / static_cast<double>(modwt.count(j));
+    out(j - first) = mean > 0.0 ? std::log(s.peak / mean) : 0.0;
   }
   if (temperature) {
     const HaarModwt tm(temperature->data(), n);
@@ -345,7 +340,9 @@ TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<doub
                             GapResult& g) {
   TimeFindings f;
   if (reps.rows() < 2) return f;
-  const Eigen::VectorXd stats = series_statistics(x, temperature, nu_base);
+  HaarModwt transform(x.data(), static_cast<std::int64_t>(x.size()));
+  const Eigen::VectorXd stats =
+      series_statistics(x, transform, temperature, nu_base);
   const TimeEffectTests t = test_time_effects(stats, reps, static_cast<std::int64_t>(x.size()), temperature != nullptr, level);
   g.event_tested = t.event_tested;
   if (t.event_tested) {

@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/selection/gap.h"
 
@@ -52,9 +53,10 @@ std::pair<int, int> event_levels(std::int64_t n);
 
 /// Per-series statistics shared by the data and every reference replicate: the event
 /// levels' concentrations c_j, the trend slope, then (with a temperature channel) the
-/// coupling k.
-Eigen::VectorXd series_statistics(const std::vector<double>& x, const std::vector<double>* temperature,
-                                  const Eigen::VectorXd& nu_base);
+/// coupling k. `modwt` is x's Haar transform; it keeps the event levels' squares
+/// (HaarModwt::keep_squares), so a WV computed from it afterwards reuses them.
+Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt,
+                                  const std::vector<double>* temperature, const Eigen::VectorXd& nu_base);
 
 /// Calibrated tests on the data's statistics against the replicates' (rows of `reps`).
 struct TimeEffectTests {

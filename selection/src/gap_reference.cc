@@ -7,6 +7,7 @@
 
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/simulate.h"
 
 namespace gmwm::selection::detail {
@@ -27,11 +28,14 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
   std::atomic<int> done{0};
   gmwm::parallel_for(0, replicates, [&](int b) {
     const std::vector<double> x = simulate(model, theta, n, seed, static_cast<std::uint64_t>(b));
-    const WaveletVariance w = estimator.compute(x.data(), n, levels, alpha);
+    HaarModwt transform(x.data(), n);
+    Eigen::VectorXd statistic;
+    if (series_statistic) statistic = series_statistic(x, transform);
+    const WaveletVariance w = estimator.compute(transform, x.data(), n, levels, alpha);
     const Eigen::VectorXd v = w.values();
     if (v.allFinite() && (v.array() > 0.0).all()) {
       rows[static_cast<std::size_t>(b)] = v;
-      if (series_statistic) stats[static_cast<std::size_t>(b)] = series_statistic(x);
+      stats[static_cast<std::size_t>(b)] = std::move(statistic);
       ok[static_cast<std::size_t>(b)] = 1;
     }
     const int d = ++done;

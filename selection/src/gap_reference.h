@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/engine/wavelet_variance.h"
 
@@ -31,7 +32,9 @@ struct Reference {
 };
 
 /// A statistic of each simulated series besides its WV (the time-domain tests).
-using SeriesStatistic = std::function<Eigen::VectorXd(const std::vector<double>&)>;
+/// It gets the series and its Haar transform (built once per replicate, shared with the WV,
+/// which is computed after it: the statistic may keep levels' squares for the WV to reuse).
+using SeriesStatistic = std::function<Eigen::VectorXd(const std::vector<double>&, HaarModwt&)>;
 
 /// Simulates `replicates` series of length n from (model, theta) with streams
 /// (seed, stream_base + b), computes their WV with `estimator` (J levels), and

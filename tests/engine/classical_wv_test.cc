@@ -1,6 +1,7 @@
 // Classical WV against reproducible series generated in this file (a 32-bit LCG, s_0 = 12345), with reference values from an independent high-precision computation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -97,6 +98,32 @@ TEST(ClassicalWv, PrefixSumCoefficientsEqualTheDirectHaarFilter) {
       EXPECT_NEAR(w[k], direct / tau, 1e-14);
     }
   }
+}
+
+TEST(ClassicalWv, LevelSquaresGiveTheSumOfSquaresBitForBitAndTheLargestSquaredCoefficient) {
+  const auto x = lcg_series(1001);  // M_j not a multiple of four at every level: the tail loop counts
+  HaarModwt modwt(x.data(), 1001);
+  std::vector<double> w;
+  for (int j = 1; j <= modwt.max_levels(); ++j) {
+    modwt.coefficients(j, w);
+    double peak = 0.0;
+    for (double v : w) peak = std::max(peak, v * v);
+    const HaarModwt::Squares s = modwt.squares_of_level(j);
+    EXPECT_EQ(s.sum, modwt.sum_of_squares(j)) << "level " << j;
+    EXPECT_EQ(s.peak, peak) << "level " << j;  // tau a power of two: the scaling is exact
+  }
+}
+
+TEST(ClassicalWv, KeptSquaresChangeNoWvAndATransformGivenToTheEstimatorGivesTheSameWv) {
+  const auto x = lcg_series(1001);
+  const WaveletVariance direct = ClassicalWvEstimator().compute(x.data(), 1001, 0, 0.05);
+  HaarModwt modwt(x.data(), 1001);
+  modwt.keep_squares(2, 5);
+  modwt.keep_squares(0, 99);  // clamped to the transform's levels
+  const WaveletVariance shared = ClassicalWvEstimator().compute(modwt, x.data(), 1001, 0, 0.05);
+  ASSERT_EQ(shared.wv.size(), direct.wv.size());
+  for (std::size_t j = 0; j < direct.wv.size(); ++j) EXPECT_EQ(shared.wv[j], direct.wv[j]) << "level " << j + 1;
+  EXPECT_THROW(ClassicalWvEstimator().compute(modwt, x.data(), 1000, 0, 0.05), InvalidArgument);
 }
 
 TEST(ClassicalWv, IgnoresAConstantOffset) {

@@ -148,7 +148,7 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   o.seed = common.seed;
   // Progress on a terminal: the shared-theta test's bootstrap draws (each a joint refit).
   ProgressBar bar("fit --joint: bootstrap draws", common);
-  if (bar.enabled()) o.progress = [&](int done, int total) { bar.update(done, total); };
+  if (bar.enabled()) o.progress = [&](int done, int draws) { bar.update(done, draws); };
   const pipeline::JointFitStudy study = pipeline::study_joint_fit(groups, ProcessContext{set.freq, set.freq_known}, o);
   bar.finish();
 

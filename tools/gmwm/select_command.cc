@@ -168,7 +168,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   if (!common.report.empty()) o.recommended_test_draws = std::max(args.replicates, kMinReportTestDraws);
   // Progress on a terminal: the selections (all replicates, then every training split) done.
   ProgressBar bar("select --joint: selections", common);
-  if (bar.enabled()) o.select.select.progress = [&](int done, int total) { bar.update(done, total); };
+  if (bar.enabled()) o.select.select.progress = [&](int done, int count) { bar.update(done, count); };
   const pipeline::JointSelectStudy study =
       pipeline::study_joint_select(groups, ProcessContext{set.freq, set.freq_known}, o);
   bar.finish();

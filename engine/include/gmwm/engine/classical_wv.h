@@ -61,6 +61,8 @@ class ClassicalWvEstimator final : public WvEstimator {
  public:
   WaveletVariance compute(const double* x, std::int64_t n, int levels,
                           double alpha) const override;
+  WaveletVariance compute(const HaarModwt& modwt, const double* x, std::int64_t n, int levels,
+                          double alpha) const override;
   std::string name() const override { return "classical"; }
 };
 

@@ -39,13 +39,28 @@ class HaarModwt {
   /// sum over t of ((S_{t+2m} - 2 S_{t+m} + S_t) / 2m)^2, N - 2m + 1 terms; 0 when there
   /// are none. The overlapping Allan variance at averaging factor m is twice its mean.
   double sum_of_squares_half_width(std::int64_t m) const;
+  /// sum_t W_{j,t}^2 and max_t W_{j,t}^2 of a level in one pass (the gap's burst
+  /// statistic log(max / mean) on every reference replicate); the sum equals sum_of_squares.
+  struct Squares {
+    double sum = 0.0, peak = 0.0;
+  };
+  Squares squares_of_level(int level) const;
+  /// Computes squares_of_level for levels [first, last] once and keeps them: later calls
+  /// of squares_of_level and sum_of_squares on those levels return the kept values (the
+  /// same numbers, one pass instead of two when a caller wants the peaks and the WV).
+  void keep_squares(int first, int last);
   /// Bound on the round-off of a coefficient of this level: a coefficient of a
   /// quantized series that is exactly 0 comes out below it (the mean-centred prefix
   /// sums are not on the data's lattice). Robust estimators count such values as zeros.
   double noise_floor(int level) const;
 
  private:
+  Squares squares(std::int64_t half_width, bool with_peak) const;
+  const Squares* kept(int level) const;
+
   std::int64_t n_;
+  std::vector<Squares> kept_;  // by level - 1; kept_valid_ marks the levels computed
+  std::vector<char> kept_valid_;
   std::vector<double> prefix_;                    // S_0 .. S_n in memory, or
   std::unique_ptr<detail::TemporaryArray> file_;  // in a temporary file
   const double* p_ = nullptr;                     // whichever holds them

@@ -13,6 +13,8 @@
 
 namespace gmwm {
 
+class HaarModwt;
+
 struct WaveletVariance {
   std::vector<double> tau;                 ///< scales in samples (2^j)
   std::vector<double> wv;                  ///< estimate nu_hat_j^2 (NaN where undefined)
@@ -74,6 +76,14 @@ class WvEstimator {
   /// WV of levels 1..levels (levels <= 0: J = floor(log2 N)) at CI level 1 - alpha.
   virtual WaveletVariance compute(const double* x, std::int64_t n, int levels,
                                   double alpha) const = 0;
+  /// The same WV when the caller already holds x's Haar transform (the gap reference
+  /// builds one per replicate for its time-domain statistics too): estimators that work
+  /// from the transform alone use it instead of building their own; the default ignores it.
+  virtual WaveletVariance compute(const HaarModwt& modwt, const double* x, std::int64_t n, int levels,
+                                  double alpha) const {
+    static_cast<void>(modwt);
+    return compute(x, n, levels, alpha);
+  }
   virtual std::string name() const = 0;
 };
 

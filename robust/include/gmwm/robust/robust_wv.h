@@ -78,6 +78,7 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
 class RobustWvEstimator final : public WvEstimator {
  public:
   explicit RobustWvEstimator(RobustWvOptions options);
+  using WvEstimator::compute;  // the transform-taking form: the robust WV screens x first
   WaveletVariance compute(const double* x, std::int64_t n, int levels, double alpha) const override;
   std::string name() const override { return to_string(options_.estimator); }
 
