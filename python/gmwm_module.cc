@@ -349,14 +349,15 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
 py::object py_gap(const py::object& data, double freq, const std::optional<std::string>& model,
                   const std::optional<std::string>& fit, const std::optional<std::string>& kalibr,
                   const std::string& kalibr_imu, const std::optional<std::string>& gazebo,
-                  const std::vector<std::string>& names, const std::string& units, const std::optional<std::string>& sensor,
+                  const std::optional<std::string>& datasheet, const std::vector<std::string>& names, const std::string& units, const std::optional<std::string>& sensor,
                   const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
                   int levels, bool unit_check) {
   if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
-  const int given = model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value();
+  const int given =
+      model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value() + datasheet.has_value();
   if (given != 1)
-    throw gmwm::InputError("gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf "
-                           "or fit=SPEC");
+    throw gmwm::InputError("gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf, "
+                           "datasheet=FILE.yaml or fit=SPEC");
   std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
   gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
@@ -381,6 +382,9 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
   if (fit) o.baseline = gmwm::pipeline::FitBaseline{*fit};
   if (kalibr) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_kalibr_imu_yaml(*kalibr, freq, o.units, kalibr_imu), *kalibr};
   if (gazebo) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_gazebo_sdf(*gazebo, freq, o.units), *gazebo};
+  if (datasheet)
+    o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_datasheet_yaml(*datasheet, freq, o.units), *datasheet};
+  const std::string baseline_file = kalibr ? *kalibr : gazebo ? *gazebo : datasheet.value_or("");
   const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
     gmwm::pipeline::GapStudyOptions oc = o;
     oc.progress = [progress](double, double) { progress(0, 0); };  // every replicate and attribution fit
@@ -388,7 +392,7 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
     Json doc = gmwm::io::gap_document(set, study);
     // The corrected configuration, as `gmwm gap` writes it (its "content" is the file's text).
     doc["corrected"] = gmwm::io::corrected_config_json(
-        gmwm::io::corrected_config(set, study, oc, {o.units, o.sensor, kalibr ? *kalibr : gazebo.value_or("")}), freq);
+        gmwm::io::corrected_config(set, study, oc, {o.units, o.sensor, baseline_file}), freq);
     return doc;
   });
   return to_python(out);
@@ -460,11 +464,12 @@ PYBIND11_MODULE(_gmwm, m) {
         "the 'allan' and 'noise_figures' fields of gmwm wv --adev");
   m.def("gap", &py_gap, py::arg("data"), py::kw_only(), py::arg("freq"), py::arg("model") = py::none(),
         py::arg("fit") = py::none(), py::arg("kalibr") = py::none(), py::arg("kalibr_imu") = "",
-        py::arg("gazebo") = py::none(), py::arg("names") = std::vector<std::string>{}, py::arg("units") = "",
+        py::arg("gazebo") = py::none(), py::arg("datasheet") = py::none(), py::arg("names") = std::vector<std::string>{},
+        py::arg("units") = "",
         py::arg("sensor") = py::none(), py::arg("temperature") = py::none(),
         py::arg("replicates") = gmwm::selection::GapOptions{}.replicates, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("alpha") = 0.05, py::arg("levels") = 0, py::arg("unit_check") = true,
-        "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=) departs from each column's WV, "
+        "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each column's WV, "
         "which effect explains it and by how much: the document gmwm gap --json writes");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),

@@ -67,12 +67,13 @@ def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
 @pytest.mark.parametrize("baseline", [
     ["--model", "WN(sigma2=1e-6)+RW(gamma2=1e-12)"],
     ["--kalibr", os.path.join(SOURCE, "data", "adis16405_imu.yaml"), "--no-unit-check"],
+    ["--datasheet", os.path.join(SOURCE, "data", "adis16405_datasheet.yaml"), "--no-unit-check"],
     ["--fit", "WN+RW"],
 ])
 def test_gap_equals_the_cli_json_bit_for_bit(tmp_path, example, baseline):
     doc = cli_json(tmp_path, "gap", EXAMPLE, "--columns", "gyro_x,accel_y", "--replicates", "40", *baseline)
     kwargs = {"model": baseline[1]} if baseline[0] == "--model" else \
-        {"kalibr": baseline[1], "unit_check": False} if baseline[0] == "--kalibr" else {"fit": baseline[1]}
+        {baseline[0][2:]: baseline[1], "unit_check": False} if "--no-unit-check" in baseline else {"fit": baseline[1]}
     mine = gmwm.gap(np.column_stack([example["gyro_x"], example["accel_y"]]), freq=doc["columns"][0]["freq"],
                     names=["gyro_x", "accel_y"], replicates=40, **kwargs)
     assert [c["headline"] for c in doc["columns"]]

@@ -161,4 +161,52 @@ TEST_F(GmwmGapCorrected, RefusesACorrectedPathThatIsTheBaselineItself) {
   EXPECT_EQ(read_text(dir_ / "datasheet.yaml"), before);
 }
 
+// --datasheet (docs/gap.md, "A datasheet as the baseline"): the figures in the datasheet's
+// own units; the corrected datasheet keeps the input's keys and units.
+TEST_F(GmwmGapCorrected, ADatasheetInItsOwnUnitsGetsACorrectedDatasheetWithTheSensorsDensity) {
+  // N 1.7x the sensor's, as an angle random walk: 1.7e-3 rad/s/sqrt(Hz) = 1.7e-3 x 60 x 180/pi deg/sqrt(h).
+  const double arw = 1.7e-3 * 60.0 * 180.0 / M_PI;
+  write_text(dir_ / "sheet.yaml", "name: test part\ngyroscope:\n  angle_random_walk: " + std::to_string(arw) +
+                                      " deg/sqrt(h)\n  rate_random_walk: 2.0626 deg/h/sqrt(h)\n");
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--datasheet", "sheet.yaml", "--replicates", "60", "--corrected",
+                     "corrected.yaml", "--json", "g.json"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Every conversion is printed, from the datasheet's unit to SI to the per-sample term.
+  EXPECT_NE(r.out.find("conversion: angle_random_walk = " ), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("deg/sqrt(h) = 0.0017 rad/s/sqrt(Hz) -> WN sigma2 = N^2 f"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("what to change (datasheet, --corrected writes it)"), std::string::npos) << r.out;
+  const std::string yaml = read_text(dir_ / "corrected.yaml");
+  const std::size_t at = yaml.find("  angle_random_walk: ");
+  ASSERT_NE(at, std::string::npos) << yaml;
+  const double corrected = std::stod(yaml.substr(at + 21));
+  EXPECT_NE(yaml.find(" deg/sqrt(h)\n", at), std::string::npos) << yaml;
+  // The sensor's N in deg/sqrt(h), within the 5%.
+  EXPECT_NEAR(corrected, kN * 60.0 * 180.0 / M_PI, 0.05 * kN * 60.0 * 180.0 / M_PI) << yaml;
+  EXPECT_NE(yaml.find("# changed: gyroscope/angle_random_walk 5.844 -> "), std::string::npos) << yaml;
+  EXPECT_EQ(read_json(dir_ / "g.json").at("corrected").at("format"), "datasheet");
+  // Given back, the corrected datasheet is not re-sized in N again.
+  r = run_gmwm({"gap", "sim.csv.gz", "--datasheet", "corrected.yaml", "--replicates", "60", "--quiet", "--json", "h.json"},
+               dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const json& col : read_json(dir_ / "h.json").at("columns")) {
+    const json& steps = col.at("attribution").at("steps");
+    EXPECT_EQ(std::find(steps.begin(), steps.end(), "REPARAMETERISE"), steps.end()) << col.at("name") << steps;
+  }
+}
+
+TEST_F(GmwmGapCorrected, ADatasheetWithoutUnitsOrBesideAnotherBaselineIsRefusedWithOneLineAndNothingWritten) {
+  write_text(dir_ / "bad.yaml", "gyroscope:\n  noise_density: 0.05\n");
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--datasheet", "bad.yaml", "--corrected", "c.yaml", "--json", "g.json"}, dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--datasheet bad.yaml:2: gyroscope.noise_density: found 0.05 without a unit"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "c.yaml"));
+  EXPECT_FALSE(fs::exists(dir_ / "g.json"));
+  r = run_gmwm({"gap", "sim.csv.gz", "--datasheet", "bad.yaml", "--kalibr", "datasheet.yaml"}, dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--datasheet"), std::string::npos) << r.err;
+}
+
 }  // namespace

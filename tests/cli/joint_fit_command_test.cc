@@ -331,4 +331,17 @@ TEST_F(GmwmCliJointProgress, FitAndSelectJointShowProgressOnATerminalAndNotOffOn
   EXPECT_EQ(on_terminal(quiet).find("bootstrap draws"), std::string::npos);
 }
 
+TEST_F(GmwmCliJointProgress, GapShowsProgressOnATerminalAndNotOffOneOrWithQuiet) {
+  const std::vector<std::string> gap_args = {"gap", "r3.csv", "--model", "WN(sigma2=1e-4)", "--replicates", "20"};
+  const std::string tty = on_terminal(gap_args);
+  if (tty.empty()) GTEST_SKIP() << "script(1) (bsdutils) is not installed: no pseudo-terminal to test on";
+  EXPECT_NE(tty.find("gap: columns x steps"), std::string::npos) << tty;
+  const auto r = run_gmwm(gap_args, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("columns x steps"), std::string::npos) << r.err;
+  std::vector<std::string> quiet = gap_args;
+  quiet.push_back("--quiet");
+  EXPECT_EQ(on_terminal(quiet).find("columns x steps"), std::string::npos);
+}
+
 }  // namespace

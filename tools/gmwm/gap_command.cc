@@ -1,4 +1,4 @@
-// gmwm gap INPUT (--model SPEC_WITH_VALUES | --kalibr imu.yaml | --gazebo FILE.sdf | --fit SPEC)
+// gmwm gap INPUT (--model SPEC_WITH_VALUES | --kalibr imu.yaml | --gazebo FILE.sdf | --datasheet FILE.yaml | --fit SPEC)
 //              [--units gyro=deg/s,accel=g] [--sensor gyro|accel] [--replicates B]
 // Where a simulator's (or a fitted) noise model departs from each column's WV, which
 // unmodelled effect explains it, and how much of the gap it removes (docs/gap.md).
@@ -33,6 +33,7 @@ struct GapArgs {
   std::string kalibr;  ///< --kalibr imu.yaml
   std::string gazebo;  ///< --gazebo FILE.sdf (gz-sensors <noise> blocks or a RotorS/PX4 IMU plugin)
   std::string fit;     ///< --fit SPEC
+  std::string datasheet;  ///< --datasheet FILE.yaml (figures in the datasheet's units)
   std::string units;   ///< --units gyro=deg/s,accel=g
   std::string sensor;  ///< --sensor gyro|accel (all columns)
   std::string temperature;  ///< --temperature COLUMN
@@ -197,13 +198,15 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   const auto [kalibr_path, kalibr_imu] = kalibr_source(args.kalibr);
   declare_input(common, kalibr_path);
   declare_input(common, args.gazebo);
+  declare_input(common, args.datasheet);
   declare_output(common, "--json", common.json);
   declare_output(common, "--corrected", args.corrected);
   check_report_option(common);
-  const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty();
+  const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty() +
+                    !args.datasheet.empty();
   if (given != 1)
-    throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf "
-                     "or --fit SPEC");
+    throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf, "
+                     "--datasheet FILE.yaml or --fit SPEC");
   pipeline::GapStudyOptions options;
   options.wv = wv_opts;
   options.units = io::parse_units(args.units);
@@ -235,6 +238,14 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   if (!args.gazebo.empty())
     options.baseline = pipeline::ConfigBaseline{
         named("--gazebo", [&] { return io::read_gazebo_sdf(args.gazebo, set.freq, options.units); }), args.gazebo};
+  if (!args.datasheet.empty())
+    options.baseline = pipeline::ConfigBaseline{
+        named("--datasheet", [&] { return io::read_datasheet_yaml(args.datasheet, set.freq, options.units); }),
+        args.datasheet};
+  // The file a baseline came from ("" for --model and --fit).
+  const std::string baseline_file = !args.kalibr.empty()  ? kalibr_path
+                                    : !args.gazebo.empty() ? args.gazebo
+                                                           : args.datasheet;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
   // Progress on a terminal: per column, its reference replicates and then its attribution.
   ProgressBar bar("gap: columns x steps", common);
@@ -243,7 +254,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
 
   // The corrected configuration (docs/gap.md): in the JSON and the table always, in a file with --corrected.
   std::optional<io::CorrectedConfig> corrected =
-      io::corrected_config(set, study, options, {options.units, options.sensor, !args.kalibr.empty() ? kalibr_path : args.gazebo});
+      io::corrected_config(set, study, options, {options.units, options.sensor, baseline_file});
   if (!args.corrected.empty()) common.outputs->stage(args.corrected, corrected->content);
   io::Json doc = io::gap_document(set, study);
   if (corrected) doc["corrected"] = io::corrected_config_json(*corrected, set.freq_known ? set.freq : 0.0);
@@ -271,8 +282,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
     io::ReportData rep = report_data("gap", set,
                                      !args.model.empty() ? args.model
                                      : !args.fit.empty() ? "fit " + args.fit
-                                     : !args.kalibr.empty() ? kalibr_path
-                                                            : args.gazebo);
+                                                         : baseline_file);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::GapColumnStudy& c = study.columns[k];
       rep.columns[k].wvs = {c.wv, c.robust_wv};
@@ -305,11 +315,17 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
                             "Baseline from a Gazebo SDF: gz-sensors IMU <noise> blocks or RotorS/PX4 IMU plugin "
                             "parameters")
                 ->type_name("FILE.sdf");
+  auto* d = sub->add_option("--datasheet", args->datasheet,
+                            "Baseline from a datasheet's figures in its own units (YAML: gyroscope/accelerometer "
+                            "noise_density or angle/velocity random walk, bias_instability or in_run_bias_stability "
+                            "with an optional bias_correlation_time, rate/acceleration random walk; docs/gap.md)")
+                ->type_name("FILE.yaml");
   auto* f = sub->add_option("--fit", args->fit, "Fit this family on each column first, then diagnose what it lacks")
                 ->type_name("SPEC");
-  m->excludes(k)->excludes(z)->excludes(f);
-  k->excludes(z)->excludes(f);
-  z->excludes(f);
+  m->excludes(k)->excludes(z)->excludes(d)->excludes(f);
+  k->excludes(z)->excludes(d)->excludes(f);
+  z->excludes(d)->excludes(f);
+  d->excludes(f);
   sub->add_option("--units", args->units, "Units of the columns, e.g. gyro=deg/s,accel=g (SI by default)")
       ->type_name("KIND=UNIT,...");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")

@@ -55,8 +55,43 @@ ExportFormat export_format(SimFormat f) {
     case SimFormat::kKalibr: return ExportFormat::kKalibr;
     case SimFormat::kGzSensors: return ExportFormat::kGzSdf;
     case SimFormat::kRotors: return ExportFormat::kRotors;
+    case SimFormat::kDatasheet: break;  // Kalibr's N and K, then the datasheet's own text (corrected_config)
   }
   return ExportFormat::kKalibr;
+}
+
+// A datasheet's figures of each diagnosed sensor (SI): N and K as the Kalibr export
+// combines them over the sensor's columns (their mean), B as the columns' mean, and the slowest Gauss-Markov bias's correlation time when
+// every column of the sensor has one.
+std::map<SensorKind, DatasheetFigures> datasheet_figures(const ExportResult& r) {
+  std::map<SensorKind, DatasheetFigures> out;
+  for (const KindExport& k : r.kinds) {
+    if (k.columns.empty()) continue;
+    DatasheetFigures d;
+    d.white = k.combined.noise_density;
+    d.walk = k.combined.random_walk;
+    int count = 0, with_bias = 0;
+    double T = 0.0;
+    for (std::size_t c = 0; c < r.columns.size(); ++c) {
+      const AxisNoise& a = r.columns[c];
+      if (a.kind != k.kind) continue;
+      ++count;
+      d.instability += a.instability;
+      if (!a.gauss_markov.empty()) {
+        ++with_bias;
+        T += a.gauss_markov.back().correlation_time;
+      }
+    }
+    d.instability /= count;
+    d.correlation_time = with_bias == count ? T / count : 0.0;
+    out[k.kind] = d;
+  }
+  return out;
+}
+
+bool writes_correlation_time(const SimConfig& back, SensorKind kind) {
+  const std::string name = std::string(kind == SensorKind::kGyro ? "gyroscope" : "accelerometer") + "/bias_correlation_time";
+  return std::any_of(back.fields.begin(), back.fields.end(), [&](const ConfigField& f) { return f.name == name; });
 }
 
 // Stage 4: the fields of the input and of the corrected file, joined by name (input order,
@@ -207,11 +242,14 @@ CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy&
     notes.push_back("not every axis of a sensor was diagnosed: the diagnosed columns' mean is written for all three "
                     "axes (the input's axes differed)");
   }
-  if (eo.format == ExportFormat::kKalibr) keep_undiagnosed_kinds(config->config, r);
+  const bool datasheet = config->config.format == SimFormat::kDatasheet;
+  if (datasheet) r.content = write_datasheet_yaml(config->config, datasheet_figures(r), set.freq);
+  else if (eo.format == ExportFormat::kKalibr) keep_undiagnosed_kinds(config->config, r);
   // Stage 3: read back exactly as gap reads a baseline.
-  const SimConfig back = eo.format == ExportFormat::kKalibr
-                             ? parse_kalibr_imu_yaml(r.content, "the corrected configuration", set.freq, o.units)
-                             : parse_gazebo_sdf(r.content, "the corrected configuration", set.freq, o.units);
+  const std::string name = "the corrected configuration";
+  const SimConfig back = datasheet                           ? parse_datasheet_yaml(r.content, name, set.freq, o.units)
+                         : eo.format == ExportFormat::kKalibr ? parse_kalibr_imu_yaml(r.content, name, set.freq, o.units)
+                                                              : parse_gazebo_sdf(r.content, name, set.freq, o.units);
   c.changes = changes(config->config, back);
   // Stage 5: each column's gap left with the corrected file and with the full model.
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
@@ -222,7 +260,21 @@ CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy&
     col.full_theta = s.result.final_theta;
     const AxisNoise& a = r.columns[k];
     col.not_expressible = a.others;
-    if (eo.format == ExportFormat::kKalibr)
+    // A datasheet's bias figure without a correlation time is a flicker floor: the model's
+    // FLICKER is what it holds.
+    if (datasheet && !writes_correlation_time(back, a.kind))
+      std::erase_if(col.not_expressible, [](const std::string& x) { return x.rfind("FLICKER(", 0) == 0; });
+    if (datasheet)
+      for (std::size_t i = 0; i < a.gauss_markov.size(); ++i) {
+        const bool written = i + 1 == a.gauss_markov.size() && writes_correlation_time(back, a.kind);
+        if (!written)
+          col.not_expressible.push_back(a.gauss_markov[i].text + " (a Gauss-Markov bias, correlation time " +
+                                        num(a.gauss_markov[i].correlation_time, 3) +
+                                        " s: the datasheet holds one bias figure, " +
+                                        (i + 1 == a.gauss_markov.size() ? std::string("here a flicker floor")
+                                                                        : std::string("the slowest")) + ")");
+      }
+    else if (eo.format == ExportFormat::kKalibr)
       for (const GaussMarkovNoise& gm : a.gauss_markov)
         col.not_expressible.push_back(gm.text + " (a Gauss-Markov bias, correlation time " + num(gm.correlation_time, 3) +
                                       " s: Kalibr holds white noise and a random walk only)");

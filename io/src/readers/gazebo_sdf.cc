@@ -21,6 +21,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/side_file.h"
 #include "gmwm/io/sim_config.h"
+#include "config_text.h"
 
 namespace gmwm::io {
 namespace {
@@ -48,20 +49,9 @@ constexpr Kind kKinds[] = {
 
 constexpr const char* kRotorsParameters[] = {"NoiseDensity", "RandomWalk", "BiasCorrelationTime", "TurnOnBiasSigma"};
 
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r\n");
-  if (a == std::string::npos) return {};
-  const auto b = s.find_last_not_of(" \t\r\n");
-  return s.substr(a, b - a + 1);
-}
-
-std::string g(double x, int digits = 6) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-std::string exact(double x) { return g(x, 17); }
+using detail::exact;
+using detail::g;
+using detail::trim;
 
 struct Figure {
   double value = 0.0;
@@ -482,6 +472,7 @@ const char* to_string(SimFormat f) {
     case SimFormat::kKalibr: return "kalibr";
     case SimFormat::kGzSensors: return "gz-sdf";
     case SimFormat::kRotors: return "rotors";
+    case SimFormat::kDatasheet: return "datasheet";
   }
   return "kalibr";
 }

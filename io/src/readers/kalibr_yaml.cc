@@ -15,28 +15,17 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/side_file.h"
 #include "gmwm/io/sim_config.h"
+#include "config_text.h"
+#include "yaml_figures.h"
 
 namespace gmwm::io {
 namespace {
 
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return {};
-  const auto b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
-
-std::string g(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
-}
-
-std::string exact(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+using detail::check_unique_keys;
+using detail::decimal;
+using detail::exact;
+using detail::g;
+using detail::trim;
 
 struct Figure {
   double value = 0.0;
@@ -55,40 +44,10 @@ std::string kalibr_unit(const std::string& key) {
   return "Hz";  // update_rate
 }
 
-std::string at(const std::string& path, const YAML::Mark& m) {
-  return m.is_null() ? path : path + ":" + std::to_string(m.line + 1);
-}
-
 // The file's text with an OpenCV-style first line "%YAML:1.0" (OpenVINS, VINS) blanked:
 // YAML proper writes that directive "%YAML 1.0". Line numbers are kept.
 std::string read_text(const std::string& path) {
   return read_side_file(path, "a Kalibr imu.yaml", kMaxKalibrYamlBytes);
-}
-
-// A map's keys, each once: a repeated key is an error naming both lines (YAML leaves it
-// to the reader, and yaml-cpp would silently keep the first).
-void check_unique_keys(const YAML::Node& map, const std::string& path) {
-  std::map<std::string, YAML::Mark> seen;
-  for (const auto& kv : map) {
-    const std::string key = kv.first.Scalar();
-    const auto [it, fresh] = seen.emplace(key, kv.first.Mark());
-    if (!fresh)
-      throw InputError(at(path, kv.first.Mark()) + ": duplicate key '" + key + "' (first at line " +
-                       std::to_string(it->second.line + 1) + ")");
-  }
-}
-
-// A plain decimal number (an optional leading '+', as YAML 1.2 allows): what the CSV
-// reader accepts (no hex floats, no ".inf"). Sets `out_of_range` for a number beyond a double.
-std::optional<double> decimal(std::string text, bool& out_of_range) {
-  out_of_range = false;
-  if (!text.empty() && text.front() == '+') text.erase(0, 1);
-  double v = 0.0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
-  if (ec == std::errc::result_out_of_range && ptr == end) out_of_range = true;
-  if (ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
-  return v;
 }
 
 // The map holding the figures: the file itself, or one IMU of a chain (imu0, imu1, ...).
@@ -137,15 +96,7 @@ SimConfig parse_kalibr_imu_yaml(const std::string& text_in, const std::string& p
                                 const std::map<SensorKind, Unit>& units, const std::string& imu) {
   std::string text = text_in;
   if (text.rfind("%YAML:", 0) == 0) text.erase(0, text.find('\n'));
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError((e.mark.is_null() ? path
-                                       : path + ":" + std::to_string(e.mark.line + 1) + ":" +
-                                             std::to_string(e.mark.column + 1)) +
-                     ": not valid YAML: " + e.msg);
-  }
+  const YAML::Node root = detail::load_yaml(text, path);
   if (!root.IsMap())
     throw InputError(path + ": expected a Kalibr imu.yaml (key: value noise figures) or an IMU chain (imu0: ...)");
   check_unique_keys(root, path);
@@ -155,19 +106,17 @@ SimConfig parse_kalibr_imu_yaml(const std::string& text_in, const std::string& p
   for (const char* key : kNumericKeys) {
     const YAML::Node v = node[key];
     if (!v) continue;
-    YAML::Mark mark = v.Mark();  // the key's line: a missing value's mark is the next line
-    for (const auto& kv : node)
-      if (kv.first.Scalar() == key) mark = kv.first.Mark();
-    const std::string where = at(path, mark);
+    const YAML::Mark mark = detail::key_mark(node, key);
+    const std::string where = detail::yaml_at(path, mark);
     if (v.IsNull()) throw InputError(where + ": " + key + ": found nothing, expected a number");
-    const std::string text = v.IsScalar() ? v.Scalar() : std::string(v.IsMap() ? "a map" : "a list");
+    const std::string found = v.IsScalar() ? v.Scalar() : std::string(v.IsMap() ? "a map" : "a list");
     bool out_of_range = false;
-    const std::optional<double> x = v.IsScalar() ? decimal(trim(text), out_of_range) : std::nullopt;
+    const std::optional<double> x = v.IsScalar() ? decimal(trim(found), out_of_range) : std::nullopt;
     if (out_of_range)
-      throw InputError(where + ": " + key + ": found " + text + ", beyond the range of a double");
-    if (!x) throw InputError(where + ": " + key + ": found '" + text + "', expected a number");
+      throw InputError(where + ": " + key + ": found " + found + ", beyond the range of a double");
+    if (!x) throw InputError(where + ": " + key + ": found '" + found + "', expected a number");
     if (*x < 0.0 || (std::string(key) == "update_rate" && *x == 0.0))
-      throw InputError(where + ": " + key + ": found " + text + ", expected " +
+      throw InputError(where + ": " + key + ": found " + found + ", expected " +
                        (std::string(key) == "update_rate" ? "a positive rate in Hz" : "a non-negative noise figure"));
     figures[key] = {*x, mark.line + 1};
   }

@@ -25,8 +25,8 @@
 namespace gmwm::io {
 
 /// The file formats a simulator's configuration is read from.
-enum class SimFormat { kKalibr, kGzSensors, kRotors };
-/// "kalibr", "gz-sdf", "rotors" (the export format names that write each).
+enum class SimFormat { kKalibr, kGzSensors, kRotors, kDatasheet };
+/// "kalibr", "gz-sdf", "rotors" (the export format names that write each), "datasheet".
 const char* to_string(SimFormat f);
 
 /// One numeric figure as the file gives it, in the file's own unit.
@@ -85,6 +85,53 @@ SimConfig read_kalibr_imu_yaml(const std::string& path, double data_freq, const 
 /// As read_kalibr_imu_yaml, from the file's text; `name` stands for the path in messages.
 SimConfig parse_kalibr_imu_yaml(const std::string& text, const std::string& name, double data_freq,
                                 const std::map<SensorKind, Unit>& units, const std::string& imu = {});
+
+/// Reads a datasheet's noise figures (docs/gap.md, "A datasheet as the baseline"): a YAML
+/// map per sensor (`gyroscope:` / `gyro:`, `accelerometer:` / `accel:`; an optional
+/// `name:`), each figure "<number> <unit>" in the datasheet's own unit, converted to SI and
+/// then to discrete terms at the data's rate f and unit (u per SI unit):
+///   noise_density | angle_random_walk | velocity_random_walk  N  (deg/s/sqrt(Hz), deg/sqrt(h),
+///       ug/sqrt(Hz), m/s/sqrt(h), ...)                     -> WN sigma2 = (N u)^2 f
+///   bias_instability B (IEEE 952: the flicker floor of the Allan deviation is 0.664 B)
+///                                                          -> FLICKER(B2 = (B u)^2), or with
+///       bias_correlation_time T an AR1 (phi = exp(-1/(f T))) whose Allan deviation peaks at 0.664 B
+///   in_run_bias_stability S (the Allan deviation's minimum, as ADI, TDK or Bosch print it)
+///                                                          -> the same term, sized so that the
+///       whole curve (white noise + bias + random walk) has its minimum at S
+///   rate_random_walk | acceleration_random_walk | random_walk  K (deg/h/sqrt(h),
+///       rad/s^2/sqrt(Hz), m/s^2/sqrt(h), ...)               -> RW gamma2 = (K u)^2 / f
+/// Every figure needs its unit (a dimension check refuses deg/h for a density). Throws
+/// InputError "<path>:<line>: ..." for invalid YAML, an unknown key or figure, a figure
+/// given twice (noise_density and angle_random_walk), a missing or wrong unit, a negative
+/// figure, a correlation time without a bias figure; "<path>: ..." for an unreadable file.
+SimConfig read_datasheet_yaml(const std::string& path, double data_freq, const std::map<SensorKind, Unit>& units);
+/// As read_datasheet_yaml, from the file's text; `name` stands for the path in messages.
+SimConfig parse_datasheet_yaml(const std::string& text, const std::string& name, double data_freq,
+                               const std::map<SensorKind, Unit>& units);
+
+/// One sensor's figures for a corrected datasheet, SI (rad, m, s): what the datasheet yaml
+/// can hold of a model.
+struct DatasheetFigures {
+  double white = 0.0;             ///< N, SI/sqrt(Hz)
+  double walk = 0.0;              ///< K, SI/s/sqrt(Hz)
+  double instability = 0.0;       ///< IEEE 952's B, SI
+  double correlation_time = 0.0;  ///< a Gauss-Markov bias's T, s (0: none)
+};
+
+/// A datasheet yaml with `input`'s figures (same keys, each in the unit the input wrote it:
+/// "what the datasheet should say") holding `figures` for the sensors it has; a sensor not
+/// in `figures` keeps the input's lines. A figure the model has and the input lacked is
+/// added in a common unit (deg/h, mg, deg/h/sqrt(h), m/s^2/sqrt(h)); a bias correlation
+/// time is written when figures.correlation_time > 0 and the input gave one. An in-run bias
+/// stability is the minimum of the Allan deviation of N + the bias of B + K at `freq` Hz:
+/// read back, it gives that bias again. Reads back with parse_datasheet_yaml.
+std::string write_datasheet_yaml(const SimConfig& input, const std::map<SensorKind, DatasheetFigures>& figures,
+                                 double freq);
+
+/// The minimum of a model's Allan deviation (the model's unit) over averaging times of one
+/// sample to 1e5 s (at most 2^30 samples) at `freq` Hz: what a datasheet's in-run bias
+/// stability reads.
+double allan_deviation_minimum(const Model& model, const Eigen::VectorXd& theta, double freq);
 
 /// Reads the IMU noise of a Gazebo model or world (any XML file: SDF, URDF <gazebo>
 /// extensions), at the data's rate f and in the data's units (u per SI unit):

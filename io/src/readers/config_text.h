@@ -1,0 +1,27 @@
+#pragma once
+// Text helpers shared by the simulator-configuration readers (Kalibr yaml, Gazebo SDF,
+// datasheet yaml): trimming and the two ways they print a figure.
+#include <cstdio>
+#include <string>
+
+namespace gmwm::io::detail {
+
+/// s without leading and trailing blanks (spaces, tabs, CR, LF).
+inline std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return {};
+  const auto b = s.find_last_not_of(" \t\r\n");
+  return s.substr(a, b - a + 1);
+}
+
+/// A figure for a message or a conversion line (%g, 6 significant digits by default).
+inline std::string g(double x, int digits = 6) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+/// A figure that reads back to the same double (a model string's value).
+inline std::string exact(double x) { return g(x, 17); }
+
+}  // namespace gmwm::io::detail
