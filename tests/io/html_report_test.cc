@@ -153,6 +153,42 @@ TEST(HtmlReport, EscapesColumnNamesAndPathsInTextAttributesAndScripts) {
   EXPECT_NE(specs[5].at("spec").at("title").at("text").get<std::string>().find(kNastyName), std::string::npos);
 }
 
+TEST(HtmlReport, ShowsWhatToChangeWithEveryFieldColumnAndTheFileEscaped) {
+  REQUIRE_VEGA();
+  ReportData d = six_columns();
+  gmwm::io::CorrectedConfig c;
+  c.format = "datasheet";
+  c.content = "gyroscope:\n  noise_density: 0.0404 deg/s/sqrt(Hz)  # </pre><script>alert(1)</script>\n";
+  c.changes.push_back({"gyroscope/noise_density", 0.05, 0.0404, "deg/s/sqrt(Hz)", true});
+  c.changes.push_back({"gyroscope/rate_random_walk", NAN, 65.5, "deg/h/sqrt(h)", true});
+  gmwm::io::CorrectedColumn col;
+  col.name = kNastyName;
+  col.before.levels_outside = 14;
+  col.with_config.levels_outside = 6;
+  col.with_full.levels_outside = 2;
+  col.before.objective = 9.81e5;
+  col.with_config.objective = 1.24e5;
+  col.with_full.objective = 20.0;
+  col.not_expressible.push_back("SIN(A2=1,f=16) <b>");
+  c.columns.push_back(col);
+  d.corrected = c;
+  const std::string html = gmwm::io::render_html_report(d);
+  const std::size_t at = html.find("<section class=\"column\" id=\"what-to-change\">");
+  ASSERT_NE(at, std::string::npos);
+  const std::string section = html.substr(at, html.find("</section>", at) - at);
+  EXPECT_NE(section.find("<h2>what to change (datasheet)</h2>"), std::string::npos);
+  EXPECT_NE(section.find("<td>gyroscope/noise_density</td><td class=\"num\">0.05</td><td class=\"num\">0.0404</td>"
+                         "<td>deg/s/sqrt(Hz)</td><td>yes</td>"),
+            std::string::npos)
+      << section;
+  EXPECT_NE(section.find("<td class=\"num\">-</td><td class=\"num\">65.5</td>"), std::string::npos);  // added field
+  EXPECT_NE(section.find("14 -&gt; 6 -&gt; 2"), std::string::npos) << section;
+  EXPECT_NE(section.find("SIN(A2=1,f=16) &lt;b&gt;"), std::string::npos);
+  EXPECT_NE(section.find("&lt;/pre&gt;&lt;script&gt;alert(1)&lt;/script&gt;"), std::string::npos);
+  EXPECT_EQ(section.find(kNastyName), std::string::npos);  // the column name only escaped
+  EXPECT_EQ(count(html, "</script>"), 4);
+}
+
 TEST(HtmlReport, StaysUnderFiveMegabytesForSixColumns) {
   REQUIRE_VEGA();
   const std::string html = gmwm::io::render_html_report(six_columns());

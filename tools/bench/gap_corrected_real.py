@@ -13,7 +13,10 @@ the shipped Kalibr yaml and the shipped gz-sensors SDF:
     every figure within 15% (the same question asked twice gets one answer);
   - `gap --kalibr CORRECTED.yaml` on the same data: no REPARAMETERISE.
 
-Usage: GMWM_SHARED_DATA=DIR python3 tools/bench/gap_corrected_real.py [build/gmwm]
+The shipped datasheet yaml (--datasheet) gets the same table of N and levels outside.
+
+Usage: GMWM_SHARED_DATA=DIR [GAP_UNITS=1,2,3] [GAP_BASELINES=kalibr,gazebo,datasheet]
+       python3 tools/bench/gap_corrected_real.py [build/gmwm]
 Prints markdown; exit 0 when every bar holds.
 """
 import json
@@ -65,13 +68,19 @@ def main():
     ok = True
     rows, agree_rows, again_rows, times = [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
-        for u in (1, 2, 3):
+        units = [int(u) for u in os.environ.get("GAP_UNITS", "1,2,3").split(",")]
+        wanted = os.environ.get("GAP_BASELINES", "kalibr,gazebo,datasheet").split(",")
+        baselines = [(f, b, ext) for f, b, ext in (("--kalibr", "data/adis16405_imu.yaml", ".yaml"),
+                                                   ("--gazebo", "data/adis16405_gz.sdf", ".sdf"),
+                                                   ("--datasheet", "data/adis16405_datasheet.yaml", ".sheet.yaml"))
+                     if f[2:] in wanted]
+        for u in units:
             path = os.path.join(DATA, "adis_16405_imu%d.csv.gz" % u)
             common = [path, "--freq", "100", "--units", UNITS]
             run(["wv"] + common + ["--adev", "--json", "adev.json", "--quiet"], tmp)
             adev = {c["name"]: c["noise_figures"]["white"]["value"] for c in json.load(open(os.path.join(tmp, "adev.json")))["columns"]}
-            for flag, base in (("--kalibr", "data/adis16405_imu.yaml"), ("--gazebo", "data/adis16405_gz.sdf")):
-                out = "corr_%d%s" % (u, ".yaml" if flag == "--kalibr" else ".sdf")
+            for flag, base, ext in baselines:
+                out = "corr_%d%s" % (u, ext)
                 secs = run(["gap"] + common + [flag, os.path.join(ROOT, base), "--corrected", out, "--json", "g.json", "--quiet"], tmp)
                 times.append((u, flag, secs))
                 doc = json.load(open(os.path.join(tmp, "g.json")))

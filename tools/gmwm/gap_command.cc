@@ -290,6 +290,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
       rep.columns[k].conversions = c.conversions;
       if (!c.unit.empty()) rep.columns[k].unit = c.unit;
     }
+    rep.corrected = corrected;
     write_report(common, rep);
   }
   commit_outputs(common);

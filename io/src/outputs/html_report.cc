@@ -174,6 +174,7 @@ std::string render_html_report(const ReportData& data) {
   if (any_gap)
     body << "<section class=\"column\" id=\"gap-overview\">\n<h2>gap overview</h2>\n"
          << plots.add("plot-gap-levels", "gap-levels", report_detail::gap_levels_spec(data)) << "</section>\n";
+  if (data.corrected) body << report_detail::corrected_section(*data.corrected, data);
   for (std::size_t k = 0; k < data.columns.size(); ++k) body << column_section(data.columns[k], k, plots);
   body << "</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network. Drag to pan, wheel "
           "to zoom, double-click to reset, hover a point for its values; SVG/PNG under each plot saves it.</footer>\n";

@@ -85,6 +85,11 @@ Json gap_curves_spec(const ReportColumn& c);
 
 // ---- html_report_tables.cc ----
 
+/// A table cell, its text escaped (cls: an optional class).
+std::string td(const std::string& text, const char* cls = nullptr);
+/// A header row, each heading escaped.
+std::string th_row(const std::vector<std::string>& head);
+
 /// Discrete and continuous parameter tables of a fit (empty when no theta).
 std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const std::string& caption);
 /// The ranking table, the chosen model's row highlighted.
@@ -98,6 +103,13 @@ std::string noise_figures_table(const ReportColumn& c);
 std::string replicate_tables(const ReportColumn& c);
 /// The WV levels of the column's first WV (collapsed <details>).
 std::string wv_table(const ReportColumn& c);
+
+// ---- html_report_corrected.cc ----
+
+/// `gap`'s corrected configuration: the fields changed (input, corrected, unit), each
+/// column's gap left (input -> file -> full model: levels outside, objective, integrated
+/// error), what the format cannot express, and the file's text (collapsed).
+std::string corrected_section(const CorrectedConfig& c, const ReportData& data);
 
 // ---- html_report_vega.cc ----
 

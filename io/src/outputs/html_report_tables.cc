@@ -11,9 +11,7 @@
 
 namespace gmwm::io::report_detail {
 
-namespace {
-
-std::string td(const std::string& text, const char* cls = nullptr) {
+std::string td(const std::string& text, const char* cls) {
   return std::string("<td") + (cls ? std::string(" class=\"") + cls + "\"" : "") + ">" + html_escape(text) + "</td>";
 }
 
@@ -22,6 +20,8 @@ std::string th_row(const std::vector<std::string>& head) {
   for (const auto& h : head) s += "<th>" + html_escape(h) + "</th>";
   return s + "</tr>\n";
 }
+
+namespace {
 
 std::string interval(double lo, double hi, int digits = 4) {
   if (!std::isfinite(lo) && !std::isfinite(hi)) return "-";

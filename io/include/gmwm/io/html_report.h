@@ -63,6 +63,7 @@
 #include "gmwm/selection/gap.h"
 #include "gmwm/selection/replicate_select.h"
 #include "gmwm/selection/select.h"
+#include "gmwm/io/corrected_config.h"
 #include "gmwm/io/output_set.h"
 
 namespace gmwm::io {
@@ -114,6 +115,8 @@ struct ReportData {
   std::string model_spec;    ///< the model option as given (may be empty)
   std::vector<std::string> notes;  ///< free lines shown under the header
   std::vector<ReportColumn> columns;
+  /// `gap`: the corrected configuration ("what to change"), shown after the overview.
+  std::optional<CorrectedConfig> corrected;
 };
 
 /// Empty when the Vega modules can be read, else why not (one line, naming the folder).
