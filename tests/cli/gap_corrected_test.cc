@@ -209,4 +209,35 @@ TEST_F(GmwmGapCorrected, ADatasheetWithoutUnitsOrBesideAnotherBaselineIsRefusedW
   EXPECT_NE(r.err.find("--datasheet"), std::string::npos) << r.err;
 }
 
+// A simulator's file keeps what the diagnosis cannot see: the constant offsets (turn-on
+// bias) and the sensor without columns.
+TEST_F(GmwmGapCorrected, ACorrectedSdfKeepsTheTurnOnBiasAndTheUndiagnosedAccelerometer) {
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", std::string(GMWM_SOURCE_DIR) + "/data/adis16405_gz.sdf",
+                     "--replicates", "40", "--corrected", "corrected.sdf", "--quiet", "--no-unit-check"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string sdf = read_text(dir_ / "corrected.sdf");
+  const std::size_t gyro = sdf.find("<angular_velocity>", sdf.find("-->")), accel = sdf.find("<linear_acceleration>", gyro);
+  ASSERT_NE(gyro, std::string::npos) << sdf;
+  ASSERT_NE(accel, std::string::npos) << "the accelerometer was dropped:\n" << sdf;
+  // The gyroscope's turn-on bias sigma (5.24e-2 rad/s in the input), kept on each axis.
+  const std::string gyro_block = sdf.substr(gyro, accel - gyro);
+  std::size_t kept = 0;
+  for (std::size_t at = gyro_block.find("<bias_stddev>0.0524</bias_stddev>"); at != std::string::npos;
+       at = gyro_block.find("<bias_stddev>0.0524</bias_stddev>", at + 1))
+    ++kept;
+  EXPECT_EQ(kept, 3u) << gyro_block;
+  // The accelerometer's Gauss-Markov bias as the input has it (3.0e-4 m/s^3/sqrt(Hz), 300 s).
+  const std::string accel_block = sdf.substr(accel);
+  // (read back through the input's AR1: equal to the last digits)
+  const auto element = [&](const std::string& tag) {
+    const std::size_t at = accel_block.find("<" + tag + ">");
+    return at == std::string::npos ? NAN : std::stod(accel_block.substr(at + tag.size() + 2));
+  };
+  EXPECT_NEAR(element("dynamic_bias_stddev"), 3.0e-4, 1e-12) << accel_block;
+  EXPECT_NEAR(element("dynamic_bias_correlation_time"), 300.0, 1e-9) << accel_block;
+  EXPECT_EQ(sdf.find("changed: linear_acceleration/x/noise/dynamic_bias_stddev"), std::string::npos) << sdf;
+  EXPECT_NE(sdf.find("precision 0.000873 rad/s not written"), std::string::npos) << sdf;
+}
+
 }  // namespace

@@ -60,6 +60,59 @@ ExportFormat export_format(SimFormat f) {
   return ExportFormat::kKalibr;
 }
 
+// The input's constant offsets in a simulator's file, kept: gz-sensors <mean>, <bias_mean>,
+// <bias_stddev> and RotorS *TurnOnBiasSigma are constants within a run, invisible to a
+// wavelet variance, so the diagnosis has nothing to say about them and the export's 0 must
+// not replace the user's value. A field is the input's path ("angular_velocity/x/noise/
+// bias_mean") or RotorS parameter; its element in the export's text gets the input's value.
+// <precision> is not kept: its rounding noise is part of the data's white noise, which the
+// corrected <stddev> already holds (keeping both would count it twice); a note says so.
+void keep_constant_offsets(const SimConfig& input, ExportResult& r, std::vector<std::string>& notes) {
+  auto leaf_of = [](const std::string& name) { return name.substr(name.rfind('/') + 1); };
+  // The first `tag` at or after `from` outside an XML comment (the export's comments name
+  // elements too).
+  auto find_tag = [&](const std::string& tag, std::size_t from) {
+    for (std::size_t at = r.content.find(tag, from); at != std::string::npos; at = r.content.find(tag, at + 1)) {
+      const std::size_t open = r.content.rfind("<!--", at), close = r.content.rfind("-->", at);
+      if (open == std::string::npos || (close != std::string::npos && close > open)) return at;
+    }
+    return std::string::npos;
+  };
+  auto set_value = [&](std::size_t from, std::size_t to, const std::string& leaf, double value) {
+    const std::string open = "<" + leaf + ">", close = "</" + leaf + ">";
+    const std::size_t at = find_tag(open, from);
+    if (at == std::string::npos || at >= to) return false;
+    const std::size_t v = at + open.size(), end = r.content.find(close, v);
+    if (end == std::string::npos) return false;
+    r.content.replace(v, end - v, export_detail::real(value));
+    return true;
+  };
+  for (const ConfigField& f : input.fields) {
+    const std::string leaf = leaf_of(f.name);
+    if (input.format == SimFormat::kRotors) {
+      if (f.name.size() >= 15 && f.name.compare(f.name.size() - 15, 15, "TurnOnBiasSigma") == 0)
+        set_value(0, r.content.size(), f.name, f.value);
+      continue;
+    }
+    if (leaf == "precision" && f.value != 0.0) {
+      notes.push_back(f.name + " " + export_detail::real(f.value) + " " + f.unit +
+                      " not written: the output's rounding noise is part of the data's white noise, which the "
+                      "corrected stddev holds");
+      continue;
+    }
+    if (leaf != "mean" && leaf != "bias_mean" && leaf != "bias_stddev") continue;
+    // "angular_velocity/x/noise/bias_mean": the block of that sensor and axis.
+    const std::size_t slash1 = f.name.find('/'), slash2 = f.name.find('/', slash1 + 1);
+    if (slash1 == std::string::npos || slash2 == std::string::npos) continue;
+    const std::size_t block = find_tag("<" + f.name.substr(0, slash1) + ">", 0);
+    if (block == std::string::npos) continue;
+    const std::size_t axis = find_tag("<" + f.name.substr(slash1 + 1, slash2 - slash1 - 1) + ">", block);
+    if (axis == std::string::npos) continue;
+    const std::size_t noise = find_tag("<noise", axis), end = find_tag("</noise>", noise);
+    if (noise != std::string::npos && end != std::string::npos) set_value(noise, end, leaf, f.value);
+  }
+}
+
 // A datasheet's figures of each diagnosed sensor (SI): N and K as the Kalibr export
 // combines them over the sensor's columns (their mean), B as the columns' mean, and the slowest Gauss-Markov bias's correlation time when
 // every column of the sensor has one.
@@ -92,6 +145,37 @@ std::map<SensorKind, DatasheetFigures> datasheet_figures(const ExportResult& r) 
 bool writes_correlation_time(const SimConfig& back, SensorKind kind) {
   const std::string name = std::string(kind == SensorKind::kGyro ? "gyroscope" : "accelerometer") + "/bias_correlation_time";
   return std::any_of(back.fields.begin(), back.fields.end(), [&](const ConfigField& f) { return f.name == name; });
+}
+
+// A simulator's file holds both sensors: a sensor with no column in the study keeps the
+// input's noise, written from the input's own model of it (per axis when the input's axes
+// differ), its figures read off that model's Allan deviation over the record's length.
+// Appended after the study's columns, so their indices stay those of the study.
+void add_undiagnosed_kinds(const SimConfig& config, const SignalSet& set, std::vector<ExportColumn>& cols,
+                           const CorrectedConfigOptions& o) {
+  const std::int64_t n = cols.empty() ? 0 : cols.front().n;
+  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
+    if (std::any_of(cols.begin(), cols.end(), [&](const ExportColumn& c) { return c.kind == kind; })) continue;
+    auto add = [&](const std::string& name, const Model& m) {
+      ExportColumn e;
+      e.name = name;
+      e.kind = kind;
+      e.freq = set.freq;
+      e.n = n;
+      e.model = m;
+      e.theta = m.given_values();
+      e.unit = unit_of(kind, o);
+      cols.push_back(std::move(e));
+    };
+    if (const auto it = config.models.find(kind); it != config.models.end()) {
+      add(std::string(to_string(kind)), it->second);
+      continue;
+    }
+    for (const char axis : {'x', 'y', 'z'})
+      if (const auto it = config.axis_models.find(std::string(to_string(kind)) + "_" + axis);
+          it != config.axis_models.end())
+        add(it->first, it->second);
+  }
 }
 
 // Stage 4: the fields of the input and of the corrected file, joined by name (input order,
@@ -229,7 +313,9 @@ CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy&
   eo.format = export_format(config->config.format);
   eo.aggregation = eo.format == ExportFormat::kGzSdf && !config->config.axis_models.empty() ? Aggregation::kPerAxis
                                                                                            : Aggregation::kMean;
-  const std::vector<ExportColumn> cols = export_columns(set, study, o);
+  std::vector<ExportColumn> cols = export_columns(set, study, o);
+  if (config->config.format == SimFormat::kGzSensors || config->config.format == SimFormat::kRotors)
+    add_undiagnosed_kinds(config->config, set, cols, o);
   ExportResult r;
   std::vector<std::string> notes;
   try {
@@ -245,6 +331,7 @@ CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy&
   const bool datasheet = config->config.format == SimFormat::kDatasheet;
   if (datasheet) r.content = write_datasheet_yaml(config->config, datasheet_figures(r), set.freq);
   else if (eo.format == ExportFormat::kKalibr) keep_undiagnosed_kinds(config->config, r);
+  else keep_constant_offsets(config->config, r, notes);
   // Stage 3: read back exactly as gap reads a baseline.
   const std::string name = "the corrected configuration";
   const SimConfig back = datasheet                           ? parse_datasheet_yaml(r.content, name, set.freq, o.units)
