@@ -227,6 +227,14 @@ TEST_F(GmwmGapCorrected, ACorrectedSdfKeepsTheTurnOnBiasAndTheUndiagnosedAcceler
        at = gyro_block.find("<bias_stddev>0.0524</bias_stddev>", at + 1))
     ++kept;
   EXPECT_EQ(kept, 3u) << gyro_block;
+  // Every gyroscope axis was diagnosed: each axis gets its own white noise (real units' axes
+  // differ by more than one figure can hold), the same N within sampling error here.
+  std::vector<double> stddev;
+  for (std::size_t at = gyro_block.find("<stddev>"); at != std::string::npos; at = gyro_block.find("<stddev>", at + 1))
+    stddev.push_back(std::stod(gyro_block.substr(at + 8)));
+  ASSERT_EQ(stddev.size(), 3u) << gyro_block;
+  EXPECT_FALSE(stddev[0] == stddev[1] && stddev[1] == stddev[2]) << gyro_block;
+  for (double s : stddev) EXPECT_NEAR(s, kN * 10.0, 0.05 * kN * 10.0);  // N sqrt(100 Hz)
   // The accelerometer's Gauss-Markov bias as the input has it (3.0e-4 m/s^3/sqrt(Hz), 300 s).
   const std::string accel_block = sdf.substr(accel);
   // (read back through the input's AR1: equal to the last digits)
