@@ -235,12 +235,19 @@ std::vector<std::string> header_lines(const CorrectedConfig& c, const pipeline::
   std::vector<std::string> h;
   h.push_back("gmwm gap: the corrected " + c.format + " configuration for " + set.path + " (baseline: " +
               (o.baseline_path.empty() ? study.baseline_source : o.baseline_path) + ")");
-  h.push_back("Each figure is what 'gmwm export' writes for the diagnosis' final model of the column (IEEE 952 "
-              "read-offs of the model's Allan deviation where it matches the data's, else the data's own).");
+  h.push_back(c.format == "model"
+                  ? "Each column's line is the diagnosis' final model with its values (discrete, per sample, in the "
+                    "data's unit): give it to 'gmwm gap --model' or 'gmwm export INPUT --model' for a simulator's file."
+                  : "Each figure is what 'gmwm export' writes for the diagnosis' final model of the column (IEEE 952 "
+                    "read-offs of the model's Allan deviation where it matches the data's, else the data's own).");
   int changed = 0;
   for (const ConfigChange& ch : c.changes) {
     if (!ch.changed) continue;
     ++changed;
+    if (c.format == "model") {  // a column's whole model: its line below holds it
+      h.push_back("changed: " + ch.field + "'s model (the diagnosis added or re-sized terms: its line below)");
+      continue;
+    }
     h.push_back("changed: " + ch.field + " " + (std::isfinite(ch.input) ? num(ch.input, 4) : std::string("(absent)")) +
                 " -> " + (std::isfinite(ch.corrected) ? num(ch.corrected, 4) : std::string("(dropped)")) + " " + ch.unit);
   }
