@@ -47,7 +47,8 @@ std::string error_of(const std::string& text) {
 TEST(DatasheetYaml, ADensityPerRootHertzAnAngleRandomWalkPerRootHourAndDegreesPerHourAgree) {
   // 0.05 deg/s/sqrt(Hz) = 3 deg/sqrt(h) (sqrt(3600 s) = 60) = 180 deg/h/sqrt(Hz).
   for (const std::string fig : {"noise_density: 0.05 deg/s/sqrt(Hz)", "angle_random_walk: 3 deg/sqrt(h)",
-                                "noise_density: 180 deg/h/sqrt(Hz)", "angle_random_walk: 3 \xC2\xB0/\xE2\x88\x9Ahr"}) {
+                                "noise_density: 180 deg/h/sqrt(Hz)", "angle_random_walk: 3 \xC2\xB0/\xE2\x88\x9Ahr",
+                                "angle_random_walk: 3 deg/hr^0.5", "noise_density: 0.05 dps/rtHz"}) {
     const SimConfig c = parse("gyroscope:\n  " + fig + "\n", kDegG);
     // sigma2 = N^2 f in (deg/s)^2: 0.05^2 x 100 = 0.25.
     EXPECT_NEAR(value(c, SensorKind::kGyro, "WN"), 0.25, 1e-12) << fig;

@@ -110,7 +110,7 @@ std::string canonical(const std::string& unit) {
   return s;
 }
 
-// One factor of a unit: "deg", "s^2", "s2", "sqrt(hz)", "sqrthz", "rthz", "rt(h)".
+// One factor of a unit: "deg", "s^2", "s2", "sqrt(hz)", "sqrthz", "rthz", "rt(h)", "h^0.5".
 std::optional<Dimension> factor(std::string t) {
   bool root = false;
   for (const char* r : {"sqrt", "rt"})
@@ -123,8 +123,14 @@ std::optional<Dimension> factor(std::string t) {
   int power = 1;
   if (const auto caret = t.find('^'); caret != std::string::npos) {
     const std::string p = t.substr(caret + 1);
-    if (p != "2" && p != "3") return std::nullopt;
-    power = p[0] - '0';
+    if (p == "0.5" || p == ".5") {
+      if (root) return std::nullopt;  // sqrt(h^0.5)
+      root = true;
+    } else if (p == "2" || p == "3") {
+      power = p[0] - '0';
+    } else {
+      return std::nullopt;
+    }
     t.erase(caret);
   } else if (t.size() >= 2 && (t.back() == '2' || t.back() == '3') && std::isalpha(static_cast<unsigned char>(t[t.size() - 2]))) {
     power = t.back() - '0';
