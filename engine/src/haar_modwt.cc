@@ -157,6 +157,7 @@ void HaarModwt::keep_squares(int first, int last) {
 double HaarModwt::sum_of_squares_half_width(std::int64_t m) const { return squares(m, false).sum; }
 
 HaarModwt::Squares HaarModwt::squares_of_level(int level) const {
+  if (level < 1 || level > max_levels()) return {};  // no coefficient
   if (const Squares* k = kept(level)) return *k;
   return squares(std::int64_t{1} << (level - 1), true);
 }

@@ -112,6 +112,9 @@ TEST(ClassicalWv, LevelSquaresGiveTheSumOfSquaresBitForBitAndTheLargestSquaredCo
     EXPECT_EQ(s.sum, modwt.sum_of_squares(j)) << "level " << j;
     EXPECT_EQ(s.peak, peak) << "level " << j;  // tau a power of two: the scaling is exact
   }
+  // Levels without coefficients: zero, not a shift by a negative count.
+  EXPECT_EQ(modwt.squares_of_level(0).sum, 0.0);
+  EXPECT_EQ(modwt.squares_of_level(modwt.max_levels() + 1).peak, 0.0);
 }
 
 TEST(ClassicalWv, KeptSquaresChangeNoWvAndATransformGivenToTheEstimatorGivesTheSameWv) {
