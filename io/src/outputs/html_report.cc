@@ -156,7 +156,10 @@ std::string render_html_report(const ReportData& data) {
   std::ostringstream body;
   body << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version()) << " &middot; command <code>"
        << html_escape(data.command) << "</code> &middot; input <code>" << html_escape(data.input) << "</code>";
-  if (!data.model_spec.empty()) body << " &middot; model <code>" << html_escape(data.model_spec) << "</code>";
+  // gap's "model" is its baseline: a model with values, "fit SPEC", or the simulator's or datasheet's file.
+  if (!data.model_spec.empty())
+    body << " &middot; " << (data.command == "gap" ? "baseline" : "model") << " <code>" << html_escape(data.model_spec)
+         << "</code>";
   body << "</p>\n<p>" << data.columns.size() << " column(s). WV = Haar wavelet variance nu^2 at tau_j = 2^j samples, "
        << "tau shown in seconds (AVAR at averaging time m = 2 x WV at tau = 2m).</p>\n</header>\n<main>\n"
        << "<div id=\"gmwm-errors\" class=\"errors\" hidden></div>\n"
