@@ -19,27 +19,29 @@ bool decides(const WaveletVariance& wv, double tau, const GapOptions& o) {
   return wv_eta(wv.n - static_cast<std::int64_t>(tau) + 1, tau) >= o.min_deciding_coefficients;
 }
 
-// The objective's weights: 1 / Var(nuhat_j) at the data's level where the data lie below
-// the baseline, i.e. the baseline replicates' variance of nuhat_j rescaled by r_j^2,
-// r_j = min(nuhat_j / nu_j(baseline), 1) (a WV's spread scales with its level). Weights from the baseline alone make every refit on data
-// far from it (a datasheet white noise 8x or 200x too high) chase the baseline's scales
-// and stop short (README example: 10 of 16 levels left outside). Where a level has too
-// few coefficients to decide (decides()), its own nuhat_j can sit 100x below its mean, so
-// r_j is taken from the coarsest deciding level instead.
+// The weights under a model m (WV nu): 1 / Var_m(nuhat_j), the baseline replicates'
+// variance of nuhat_j rescaled by (nu_j / nu_j(baseline))^2 (a WV's spread scales with its
+// level), and at the data's level where the data lie below m: r_j = min(nuhat_j / nu_j, 1)
+// rescales once more. With m the baseline these are the objective's weights. Weights from
+// the baseline alone make every refit on data far from it (a datasheet white noise 8x or
+// 200x too high) chase the baseline's scales and stop short (README example: 10 of 16
+// levels left outside). Only deficits raise a weight: an excess keeps the model's weight,
+// so the levels where an unmodelled effect shows still pin its parameters (a SIN's
+// frequency; weighting them at the data's level too cost the self-check 8 points of top-1
+// on AR1 and 10 on SIN, tools/bench/RESULTS.md). Where a level has too few coefficients to
+// decide (decides()), its own nuhat_j can sit 100x below its mean, so r_j is taken from
+// the coarsest deciding level instead.
 Eigen::MatrixXd objective_weights(const WaveletVariance& wv, const Eigen::VectorXd& nuhat,
-                                  const detail::Reference& ref, const GapOptions& o) {
+                                  const detail::Reference& ref, const Eigen::VectorXd& nu, const GapOptions& o) {
   const Eigen::Index J = nuhat.size();
-  Eigen::VectorXd r = (nuhat.array() / ref.nu.array()).matrix();
+  Eigen::VectorXd r = (nuhat.array() / nu.array()).matrix();
   double last = 1.0;
   for (Eigen::Index j = 0; j < J; ++j) {
     if (decides(wv, wv.tau[static_cast<std::size_t>(j)], o)) last = r(j);
     else r(j) = last;
   }
-  // Only deficits raise a weight (r_j < 1: the data are more precise there than the
-  // baseline says); an excess keeps the baseline's weight, so the levels where an
-  // unmodelled effect shows still pin its parameters (a SIN's frequency).
-  r = r.cwiseMin(1.0);
-  return (ref.var.array() * r.array().square()).cwiseInverse().matrix().asDiagonal();
+  const Eigen::ArrayXd scale = (nu.array() / ref.nu.array()) * r.array().min(1.0);
+  return (ref.var.array() * scale.square()).cwiseInverse().matrix().asDiagonal();
 }
 
 // E[G] of a model on data from itself: sum_j omega_j Var_m(nuhat_j), the replicates'

@@ -42,9 +42,11 @@ struct Fitness {
 /// Whether a level carries enough independent coefficients to decide anything alone.
 bool decides(const WaveletVariance& wv, double tau, const GapOptions& o);
 
-/// The objective's weights: 1 / Var(nuhat_j), rescaled where the data lie below the baseline.
+/// The weights 1 / Var(nuhat_j) under the model with WV `nu` (the reference's variance
+/// rescaled to it), at the data's level where the data lie below that model.
+/// objective_weights(wv, nuhat, ref, ref.nu, o) is the objective's (the baseline's).
 Eigen::MatrixXd objective_weights(const WaveletVariance& wv, const Eigen::VectorXd& nuhat, const Reference& ref,
-                                  const GapOptions& o);
+                                  const Eigen::VectorXd& nu, const GapOptions& o);
 
 /// E[G] of a model (WV nu) on data from itself.
 double null_mean(const Context& c, const Eigen::VectorXd& nu);

@@ -52,6 +52,12 @@ def wn_density(model):
     return math.sqrt(float(m.group(1)) / FREQ) if m else 0.0
 
 
+def rw_density(model):
+    """K of a model string's RW term, sqrt(gamma2 f): data unit / s / sqrt(Hz)."""
+    m = re.search(r"RW\(gamma2=([0-9.eE+-]+)\)", model)
+    return math.sqrt(float(m.group(1)) * FREQ) if m else float("nan")
+
+
 def yaml_figures(text):
     out = {}
     for line in text.splitlines():
@@ -66,7 +72,7 @@ def main():
         print("GMWM_SHARED_DATA is not set to the folder with the ADIS recordings")
         return 2
     ok = True
-    rows, agree_rows, again_rows, times = [], [], [], []
+    rows, agree_rows, again_rows, spread_rows, times = [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         units = [int(u) for u in os.environ.get("GAP_UNITS", "1,2,3").split(",")]
         wanted = os.environ.get("GAP_BASELINES", "kalibr,gazebo,datasheet").split(",")
@@ -114,11 +120,33 @@ def main():
                         agree_rows.append("| imu%d | %s | %.4g | %.4g | %.3f%s |" % (u, k, a[k], b[k], r, "" if good else " **x**"))
                     # The corrected yaml given back to gap: nothing to re-size.
                     run(["gap"] + common + ["--kalibr", out, "--json", "again.json", "--quiet"], tmp)
+                    optimum = {}
                     for col in json.load(open(os.path.join(tmp, "again.json")))["columns"]:
                         steps = col["attribution"]["steps"]
                         good = "REPARAMETERISE" not in steps
                         ok = ok and good
-                        again_rows.append("| imu%d | %s | %s%s |" % (u, col["name"], " + ".join(steps) or "-", "" if good else " **x**"))
+                        # Where the re-sizing would put this axis' own WN + RW, and how far
+                        # from it a figure may lie before the re-sizing clears its threshold
+                        # (G quadratic in log N near the optimum: half-width
+                        # |log(N_file / N_opt)| sqrt(threshold / improvement)).
+                        re_ = [c for c in col["attribution"]["candidates"] if c["effect"] == "REPARAMETERISE"]
+                        detail = "| - | - | - |"
+                        if re_ and re_[0]["improvement"] > 0:
+                            n_opt = wn_density(re_[0]["model"]) / wn_density(col["baseline_model"])
+                            k_opt = rw_density(re_[0]["model"]) / rw_density(col["baseline_model"])
+                            width = abs(math.log(n_opt)) * math.sqrt(re_[0]["threshold"] / re_[0]["improvement"])
+                            optimum.setdefault(col["name"].split("_")[0], []).append((n_opt, width))
+                            detail = "| %.3f | %.3f | %.2g / %.3g = %.3g | +-%.2f%% |" % (
+                                n_opt, k_opt, re_[0]["improvement"], re_[0]["threshold"],
+                                re_[0]["improvement"] / re_[0]["threshold"], 100 * width)
+                        again_rows.append("| imu%d | %s | %s%s %s" % (u, col["name"], " + ".join(steps) or "-",
+                                                                    "" if good else " **x**", detail))
+                    for sensor, xs in sorted(optimum.items()):
+                        lo, hi = min(x for x, _ in xs), max(x for x, _ in xs)
+                        widest = max(w for _, w in xs)
+                        spread_rows.append("| imu%d | %s | %.3f - %.3f | %.1f%% | +-%.2f%% | %s |" % (
+                            u, sensor, lo, hi, 100 * math.log(hi / lo), 100 * widest,
+                            "yes" if math.log(hi / lo) > 2 * widest else "no"))
     print("| unit | baseline | axis | N (wv --adev) | N (corrected file) | ratio | baseline off by (WV) | full / baseline objective | levels outside (baseline -> file -> full) | attribution |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     print("\n".join(rows))
@@ -127,9 +155,17 @@ def main():
     print("|---|---|---|---|---|")
     print("\n".join(agree_rows))
     print()
-    print("| unit | axis | steps of gap --kalibr CORRECTED.yaml |")
-    print("|---|---|---|")
+    print("| unit | axis | steps of gap --kalibr CORRECTED.yaml | re-sized N / file N | re-sized K / file K | "
+          "re-sizing's drop / threshold | N half-width without REPARAMETERISE |")
+    print("|---|---|---|---|---|---|---|")
     print("\n".join(again_rows))
+    print()
+    print("Kalibr holds one N per sensor for its three axes. No single figure avoids the re-sizing on every axis "
+          "when the axes' own optima (relative to the file's N) lie further apart than twice the widest half-width:")
+    print()
+    print("| unit | sensor | axes' re-sized N / file N | spread (log) | widest half-width | one figure cannot serve all axes |")
+    print("|---|---|---|---|---|---|")
+    print("\n".join(spread_rows))
     print()
     for u, flag, secs in times:
         print("gap imu%d %s (6 axes, 1e6 samples each): %.1f s" % (u, flag, secs))
