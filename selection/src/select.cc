@@ -46,6 +46,10 @@ struct BootstrapResult {
   int failed = 0, not_converged = 0;
 };
 
+/// The bootstrap optimism of a row's own fit when it is no candidate (row index given for
+/// its streams); empty function: none.
+using RowBootstrap = std::function<std::optional<BootstrapResult>(const FitResult&, std::size_t row)>;
+
 // Parametric-bootstrap optimism of one fitted model (docs/statistics.md section 6): B series
 // simulated from the fit, their WV by the same estimator, refits warm-started from the
 // fit under the same Omega; optimism = 2 tr(Omega C), C the sample cross-covariance of
@@ -136,6 +140,17 @@ struct SignalWork {
     return c;
   }
 };
+
+// The bootstrap optimism of a row that is no candidate (its own fit), when the selection
+// asked for bootstrap optimism: streams after every candidate's of every signal.
+RowBootstrap row_bootstrap(const SignalWork& w, std::size_t signal, std::size_t signals, std::size_t K,
+                           const SelectOptions& options) {
+  if (options.optimism == OptimismMethod::kAnalytic) return {};
+  return [&w, signal, signals, K, &options](const FitResult& f, std::size_t row) -> std::optional<BootstrapResult> {
+    const auto base = static_cast<std::uint64_t>(signals * K + signal * K + row) * static_cast<std::uint64_t>(kMaxReplicates);
+    return bootstrap_optimism(*w.wv, f, w.omega, options, base, [] {});
+  };
+}
 
 // V^-1 for the model-based V when `full` and V is positive definite, else diag(1 / V_jj)
 // (a level where V_jj is not positive and finite keeps the data's weight).
@@ -299,41 +314,121 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
   return r;
 }
 
-// One row per distinct effective model: the member with the lowest criterion stands for
-// it (ties: fewer raw parameters, then the enumeration order); the others are listed.
-std::vector<RankedModel> group_by_effective_model(std::vector<RankedModel> scored) {
-  std::vector<RankedModel> rows;
-  for (auto& r : scored) {
-    auto it = std::find_if(rows.begin(), rows.end(), [&](const RankedModel& x) { return x.model == r.model; });
-    if (it == rows.end()) {
-      rows.push_back(std::move(r));
-      continue;
-    }
-    const bool better = !std::isnan(r.criterion) &&
-                        (std::isnan(it->criterion) || r.criterion < it->criterion ||
-                         (r.criterion == it->criterion && r.fit.model.num_parameters() < it->fit.model.num_parameters()));
-    if (better) {
-      r.members.insert(r.members.end(), it->members.begin(), it->members.end());
-      *it = std::move(r);
+// A row's own fit: its displayed model fitted alone, started from every member's
+// effective parameters and from its own candidate fit when it is a candidate; the better
+// of that refit and the candidate's fit. A row used to keep its best member's fit, so
+// "AR1+WN" showed the objective and GoF of the 3*AR1+WN+QN+RW+DR it had been reduced from
+// (issue 27).
+FitResult own_fit(const WaveletVariance& wv, const Eigen::MatrixXd& omega, const Model& model,
+                  const std::vector<const CandidateFit*>& members, const FitResult* exact, const SelectOptions& options) {
+  FitOptions fo = options.fit;
+  fo.omega_matrix = omega;
+  fo.nested_starts = false;
+  fo.inference = false;
+  if (exact) fo.starts.push_back(exact->theta);
+  for (const CandidateFit* c : members)
+    if (c->fit.status != FitStatus::kFailed && c->effective.theta.size() == model.num_parameters())
+      fo.starts.push_back(c->effective.theta);
+  FitResult r = fit_gmwm(wv, model, fo);
+  if (exact && (r.status == FitStatus::kFailed || exact->objective <= r.objective)) return *exact;
+  return r;
+}
+
+// The model as fitted, in canonical order, as its own effective form (nothing reduced).
+EffectiveModel as_fitted(const FitResult& f) {
+  EffectiveModel e;
+  Eigen::VectorXd th = f.theta;
+  e.model = f.model.canonical(&th);
+  e.theta = th;
+  e.labels.assign(static_cast<std::size_t>(e.model.num_components()), "");
+  return e;
+}
+
+// The rows of a ranking. `group`: one per distinct effective model, the candidates that
+// fell onto it listed as members (the model itself first when it is a candidate, then by
+// their own objectives); else one per listed model. Every row's numbers are its own
+// model's fit (own_fit); the reductions shown are how its best member fell onto it.
+std::vector<RankedModel> ranking_rows(const WaveletVariance& wv, const Eigen::MatrixXd& omega, const Eigen::MatrixXd& v,
+                                      const std::vector<CandidateFit>& cands,
+                                      const std::vector<const BootstrapResult*>& boot, bool group,
+                                      bool omega_is_v_inverse, const SelectOptions& options,
+                                      const RowBootstrap& row_bootstrap) {
+  std::vector<std::string> keys;
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const std::string key = group ? cands[i].effective.model.to_string() : cands[i].model;
+    const auto it = std::find(keys.begin(), keys.end(), key);
+    if (it == keys.end()) {
+      keys.push_back(key);
+      groups.push_back({i});
     } else {
-      it->members.push_back(r.members.front());
+      groups[static_cast<std::size_t>(it - keys.begin())].push_back(i);
     }
   }
+  std::vector<RankedModel> rows(keys.size());
+  gmwm::parallel_for(std::size_t{0}, keys.size(), [&](std::size_t g) {
+    std::vector<std::size_t> idx = groups[g];
+    std::optional<std::size_t> exact;
+    for (std::size_t i : idx)
+      if (cands[i].model == keys[g] && cands[i].fit.status != FitStatus::kFailed) exact = i;
+    // Members: the model itself first, then by their own objectives (failed fits last).
+    std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+      if (exact && (a == *exact) != (b == *exact)) return a == *exact;
+      const double x = cands[a].fit.status == FitStatus::kFailed ? INFINITY : cands[a].fit.objective;
+      const double y = cands[b].fit.status == FitStatus::kFailed ? INFINITY : cands[b].fit.objective;
+      return x < y;
+    });
+    std::vector<const CandidateFit*> members;
+    for (std::size_t i : idx) members.push_back(&cands[i]);
+    const bool any = std::any_of(members.begin(), members.end(),
+                                 [](const CandidateFit* c) { return c->fit.status != FitStatus::kFailed; });
+    CandidateFit row{keys[g], cands[idx.front()].fit, {}};
+    if (!any) {
+      row.effective = cands[idx.front()].effective;
+    } else {
+      const Model& model = group ? members.front()->effective.model : members.front()->fit.model;
+      row.fit = group ? own_fit(wv, omega, model, members, exact ? &cands[*exact].fit : nullptr, options)
+                      : cands[idx.front()].fit;
+      row.effective = as_fitted(row.fit);
+    }
+    const BootstrapResult* b = exact ? boot[*exact] : (group ? nullptr : boot[idx.front()]);
+    std::optional<BootstrapResult> extra;
+    if (!b && any && row_bootstrap) {
+      extra = row_bootstrap(row.fit, g);
+      if (extra) b = &*extra;
+    }
+    RankedModel r = score_candidate(wv, omega, v, row, b, omega_is_v_inverse, options);
+    r.model = keys[g];
+    r.members.clear();
+    for (const CandidateFit* c : members) {
+      r.members.push_back(c->model);
+      r.member_objectives.push_back(c->fit.status == FitStatus::kFailed ? std::numeric_limits<double>::quiet_NaN()
+                                                                        : c->fit.objective);
+    }
+    // How the members fell onto the row's model: the reductions of its best-fitting member.
+    for (const CandidateFit* c : members)
+      if (c->effective.reduced()) {
+        r.effective.reductions = c->effective.reductions;
+        r.reduced_member = c->model;
+        break;
+      }
+    rows[g] = std::move(r);
+  });
   return rows;
 }
 
-// Scores the fitted candidates of one signal, ranks their distinct effective models, and
-// refits the best with inference. v: Cov(nuhat), model-based at the maximal model's fit.
+// Scores the fitted candidates of one signal, ranks their rows (ranking_rows), and refits
+// the best with inference. v: Cov(nuhat), model-based at the maximal model's fit.
 void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega, Eigen::MatrixXd v,
                     const std::vector<FitResult>& fits, const std::vector<std::string>& names,
-                    const std::vector<const BootstrapResult*>& boot, const SelectOptions& options) {
+                    const std::vector<const BootstrapResult*>& boot, bool group, const SelectOptions& options,
+                    const RowBootstrap& row_bootstrap) {
   const std::size_t K = fits.size();
   sel.models = static_cast<int>(K);
   sel.omega = omega;
   sel.v = std::move(v);
   sel.candidates.clear();
   sel.not_converged = sel.failed = 0;
-  std::vector<RankedModel> scored;
   for (std::size_t i = 0; i < K; ++i) {
     CandidateFit c{names[i], fits[i], {}};
     if (fits[i].status == FitStatus::kFailed) {
@@ -344,10 +439,10 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
       if (fits[i].status == FitStatus::kNotConverged) ++sel.not_converged;
       c.effective = effective_model(wv, fits[i].model, fits[i].theta);
     }
-    scored.push_back(score_candidate(wv, omega, sel.v, c, boot[i], sel.omega_source == OmegaSource::kModelFull, options));
     sel.candidates.push_back(std::move(c));
   }
-  std::vector<RankedModel> rows = group_by_effective_model(std::move(scored));
+  std::vector<RankedModel> rows = ranking_rows(wv, omega, sel.v, sel.candidates, boot, group,
+                                               sel.omega_source == OmegaSource::kModelFull, options, row_bootstrap);
   const std::size_t R = rows.size();
   // Ranks under each optimism (WVIC): by objective + that optimism, same tie rule.
   auto with = [](const std::optional<double>& o, double objective) {
@@ -377,8 +472,6 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
   fo.nested_starts = false;
   fo.inference = true;
   fo.starts = {top.effective.theta};
-  for (const auto& c : sel.candidates)
-    if (c.model == top.model && c.fit.status != FitStatus::kFailed) fo.starts.push_back(c.fit.theta);
   sel.best_fit = fit_gmwm(wv, top.effective.model, fo);
   sel.all_rejected = std::all_of(sel.ranking.begin(), sel.ranking.end(), [](const RankedModel& r) {
     return !std::isfinite(r.gof.p_value) || r.gof.p_value < kRejectionLevel;
@@ -529,7 +622,8 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     Selection& sel = out[s];
     sel.full_model = set.models.back().model.to_string();
     sel.omega_source = w.omega_source;
-    score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.fits, names, b, options);
+    score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.fits, names, b, true, options,
+                   row_bootstrap(w, s, wvs.size(), K, options));
     sel.representation_violations = count_representation_violations(rep, w.fits);
   });
   return out;
@@ -583,7 +677,8 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     Selection& sel = out[s];
     sel.full_model = super.to_string();
     sel.omega_source = work[s].omega_source;
-    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].fits, names, b, options);
+    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].fits, names, b, false, options,
+                   {});
     sel.representation_violations = count_representation_violations(rep, work[s].fits);
   });
   return out;

@@ -14,6 +14,7 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/selection/select.h"
@@ -225,6 +226,60 @@ TEST(SelectAmong, RanksOnlyTheListedModelsWithTheirCommonSuperModelForTheOptimis
   EXPECT_EQ(sel.representation_violations, 0);  // AR1 is nested in AR1+WN and in 2*AR1
   EXPECT_EQ(sel.ranking.front().model, "AR1+WN") << "the true model";
   EXPECT_THROW(select_among(wvs, {}), InputError);
+}
+
+// The objective of `model` at `theta` under the selection's Omega, computed here.
+double objective_at(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
+                    const Eigen::MatrixXd& omega) {
+  const Eigen::VectorXd r = wv.values() - model.wv(theta, wv.tau);
+  return r.dot(omega * r);
+}
+
+TEST(SelectModels, ShowsEveryRankingRowWithItsOwnModelsFitAndItsMembersWithTheirOwnObjectives) {
+  // Issue 27, mechanism (c): a row showed the reduced model ("AR1+WN") with the objective
+  // and GoF of the larger member it came from. Truth with a slow AR1 next to a fast one;
+  // every row's objective must be its own model's, at its own parameters, and no lower than
+  // that model fitted alone (relative 1e-6); each member carries its own objective.
+  const Model truth = parse_model("AR1(phi=0.9,sigma2=0.1)+AR1(phi=0.999,sigma2=1e-5)+WN(sigma2=1)");
+  const std::int64_t n = 1 << 17;
+  const auto x = simulate(truth, truth.given_values(), n, 2701, 0);
+  const std::vector<WaveletVariance> wvs = {classical_wv(x.data(), n)};
+  const Selection sel = select_models(wvs, parse_model("3*AR1+WN+RW"), {}).front();
+  ASSERT_GT(sel.ranking.size(), 3u);
+  for (const RankedModel& r : sel.ranking) {
+    if (std::isnan(r.criterion)) continue;
+    const Model m = parse_model(r.model);
+    ASSERT_EQ(r.fit.model.to_string(), r.model);
+    EXPECT_NEAR(objective_at(wvs[0], r.fit.model, r.fit.theta, sel.omega), r.objective, 1e-9 * r.objective) << r.model;
+    FitOptions fo;
+    fo.omega_matrix = sel.omega;
+    fo.inference = false;
+    const FitResult alone = fit_gmwm(wvs[0], m, fo);
+    EXPECT_GE(r.objective, alone.objective * (1.0 - 1e-6)) << r.model << ": the row's objective is below its own model's";
+    EXPECT_EQ(r.parameters, m.num_parameters()) << r.model;
+    ASSERT_EQ(r.members.size(), r.member_objectives.size());
+    for (std::size_t k = 0; k < r.members.size(); ++k)
+      for (const CandidateFit& c : sel.candidates)
+        if (c.model == r.members[k]) EXPECT_DOUBLE_EQ(r.member_objectives[k], c.fit.objective) << r.members[k];
+  }
+}
+
+TEST(SelectAmong, ReturnsOneRowPerListedModelEachWithItsOwnFit) {
+  // `--models "AR1+WN;2*AR1+WN"` came back as one row, AR1+WN, with 2*AR1+WN's objective.
+  const Model truth = parse_model("AR1(phi=0.9,sigma2=0.1)+AR1(phi=0.999,sigma2=1e-5)+WN(sigma2=1)");
+  const std::int64_t n = 1 << 17;
+  const auto x = simulate(truth, truth.given_values(), n, 2702, 0);
+  const std::vector<WaveletVariance> wvs = {classical_wv(x.data(), n)};
+  const std::vector<Model> listed = {parse_model("AR1+WN"), parse_model("2*AR1+WN")};
+  const Selection sel = select_among(wvs, listed, {}).front();
+  ASSERT_EQ(sel.ranking.size(), 2u);
+  std::set<std::string> names;
+  for (const RankedModel& r : sel.ranking) {
+    names.insert(r.model);
+    for (const CandidateFit& c : sel.candidates)
+      if (c.model == r.model) EXPECT_DOUBLE_EQ(r.objective, c.fit.objective) << r.model;
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"AR1+WN", "2*AR1+WN"}));
 }
 
 }  // namespace

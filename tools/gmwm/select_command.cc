@@ -45,13 +45,15 @@ struct SelectArgs {
   std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
 };
 
-// The candidates of a ranking row other than the effective model itself: "3*AR1, 2*AR1+WN
-// (+3 more)"; "" when the only member is the model as named.
+// The candidates of a ranking row other than its model itself, each with its own
+// objective: "3*AR1 (7.78), 2*AR1+WN (8.1) (+3 more)"; "" when the only member is the model.
 std::string members_text(const selection::RankedModel& r) {
   constexpr std::size_t kShown = 3;
   std::vector<std::string> others;
-  for (const auto& m : r.members)
-    if (m != r.model) others.push_back(m);
+  for (std::size_t k = 0; k < r.members.size(); ++k)
+    if (r.members[k] != r.model)
+      others.push_back(r.members[k] + " (" +
+                       (k < r.member_objectives.size() ? fmt(r.member_objectives[k], 4) : std::string("-")) + ")");
   std::string out;
   for (std::size_t i = 0; i < others.size() && i < kShown; ++i) out += (i ? ", " : "") + others[i];
   if (others.size() > kShown) out += " (+" + std::to_string(others.size() - kShown) + " more)";
@@ -65,7 +67,7 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
      << ", representation violations " << sel.representation_violations << '\n';
   const bool both = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap && sel.ranking.front().optimism_analytic;
   std::vector<std::string> head = {"rank", "model (effective)", "p", "objective", "optimism", "criterion", "GoF p-value",
-                                   "candidates that fell onto it"};
+                                   "candidates that fell onto it (their own objective)"};
   if (both) head.insert(head.end(), {"analytic", "bootstrap (se)", "rank a/b"});
   Table t(head, 2);
   auto opt = [](const std::optional<double>& v, int digits) { return v ? fmt(*v, digits) : std::string("-"); };
@@ -84,7 +86,7 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
     os << "best: " << b.model.to_string(b.theta) << '\n';
   for (const auto& r : sel.ranking)
     if (r.rank == 1)
-      for (const auto& line : r.effective.reductions) os << "  " << r.members.front() << ": " << line << '\n';
+      for (const auto& line : r.effective.reductions) os << "  " << r.reduced_member << ": " << line << '\n';
   if (sel.not_converged > 0 || sel.failed > 0)
     os << "candidates: " << sel.candidates.size() << " fitted, " << sel.not_converged
        << " stopped before converging, " << sel.failed << " failed (their fits are in the JSON \"candidates\")\n";

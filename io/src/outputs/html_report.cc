@@ -122,7 +122,7 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
     for (const auto& r : c.selection->ranking)
       if (r.rank == 1)
         for (const auto& line : r.effective.reductions)
-          os << "<p class=\"facts\">effective form of " << html_escape(r.members.front()) << ": " << html_escape(line)
+          os << "<p class=\"facts\">effective form of " << html_escape(r.reduced_member) << ": " << html_escape(line)
              << "</p>\n";
   }
   if (c.gap) {

@@ -109,7 +109,7 @@ std::string ranking_table(const selection::Selection& sel) {
   std::vector<std::string> head = {"rank", "model (effective)", "parameters", "objective", "optimism", "criterion"};
   if (boot) head.insert(head.end(), {"bootstrap optimism (se)", "rank a/b"});
   head.push_back("GoF p-value");
-  head.push_back("candidates that fell onto it");
+  head.push_back("candidates that fell onto it (their own objective)");
   os << th_row(head);
   for (std::size_t i = 0; i < sel.ranking.size(); ++i) {
     const auto& r = sel.ranking[i];
@@ -126,8 +126,10 @@ std::string ranking_table(const selection::Selection& sel) {
                    (r.rank_bootstrap ? std::to_string(*r.rank_bootstrap) : "-"),
                "num");
     std::string others;
-    for (const auto& m : r.members)
-      if (m != r.model) others += (others.empty() ? "" : ", ") + m;
+    for (std::size_t k = 0; k < r.members.size(); ++k)
+      if (r.members[k] != r.model)
+        others += (others.empty() ? "" : ", ") + r.members[k] + " (" +
+                  (k < r.member_objectives.size() ? num(r.member_objectives[k], 4) : std::string("-")) + ")";
     os << td(num(r.gof.p_value, 3), "num") << td(others) << "</tr>\n";
   }
   os << "</table>\n</div>\n";

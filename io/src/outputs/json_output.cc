@@ -255,6 +255,13 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
 namespace {
 
 // A ranking row's effective model and parameters as a FitResult (values only).
+// Each member's own objective (null where its fit failed).
+json member_objectives(const selection::RankedModel& r) {
+  json a = json::array();
+  for (double g : r.member_objectives) a.push_back(std::isfinite(g) ? json_number(g) : json(nullptr));
+  return a;
+}
+
 FitResult effective_fit(const selection::RankedModel& r) {
   FitResult f;
   f.model = r.effective.model;
@@ -294,6 +301,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
               {"status", status_name(r.fit.status)},
               {"effective_parameters", r.parameters},
               {"members", r.members},
+              {"member_objectives", member_objectives(r)},
               {"reductions", r.effective.reductions},
               {"parameters", parameters_json(r.rank == 1 ? b : effective_fit(r))}};
     if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;

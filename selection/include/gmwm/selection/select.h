@@ -93,16 +93,23 @@ struct CandidateFit {
   EffectiveModel effective;     ///< its effective form (effective_model.h)
 };
 
-/// One row of a ranking: a distinct effective model, with the candidates whose fits fell
-/// onto it (e.g. 3*AR1, 2*AR1+WN and 2*AR1+WN+QN all being "2*AR1+WN" in effect). Its
-/// numbers are those of its best member (the representative); the penalty counts the
-/// effective model's parameters.
+/// One row of a ranking: a distinct effective model (select_models; e.g. 3*AR1, 2*AR1+WN
+/// and 2*AR1+WN+QN all being "2*AR1+WN" in effect), or one listed model (select_among).
+/// Every number of a row is its own model's fit: the model fitted alone, from its members'
+/// effective parameters and its own candidate fit (the better of the two); the members are
+/// listed with their own objectives.
 struct RankedModel {
-  std::string model;            ///< the effective model (canonical string, without values)
-  std::vector<std::string> members;  ///< candidates that fell onto it, the representative first
-  FitResult fit;                ///< the representative's fit (no inference; see Selection::best_fit)
-  EffectiveModel effective;     ///< the representative's effective form (model, theta, reductions)
-  int parameters = 0;           ///< effective parameters
+  std::string model;            ///< the row's model (canonical string, without values)
+  /// Candidates that fell onto it: the model itself first when it is a candidate, then by
+  /// their own objectives; member_objectives[k] is members[k]'s own objective (NaN: failed).
+  std::vector<std::string> members;
+  std::vector<double> member_objectives;
+  FitResult fit;                ///< the row model's own fit (no inference; see Selection::best_fit)
+  /// The row model as fitted (model, theta); `reductions` are how `reduced_member` (its
+  /// best-fitting member that was reduced) fell onto it, empty when none was.
+  EffectiveModel effective;
+  std::string reduced_member;
+  int parameters = 0;           ///< the row model's parameters
   double objective = 0.0;
   double optimism = 0.0;        ///< the penalty added (analytic optimism or p log N)
   double criterion = 0.0;       ///< objective + optimism
