@@ -79,7 +79,14 @@ struct Candidate {
   std::string text;
   double statistic = 0.0, p_value = 0.0;
   int removed = 0;
+  bool carried = false;  ///< the reduced component(s) carried a share of the WV
+  int df = 0;            ///< degrees of freedom of the test: parameters removed that carried a share
 };
+
+// A component's WV closer to zero than this (squared distance in units of the WV's own
+// standard deviations, summed over levels) carries no share of it: 0.001 is a shift of
+// 0.03 standard deviations at one level, far below anything a test at 5% resolves.
+constexpr double kNoShare = 1e-3;
 
 }  // namespace
 
@@ -99,27 +106,53 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   }
   const int original_parameters = parameters_of(st.parts);
   const Eigen::VectorXd nu_fit = total_wv(st.parts, tau);
-  // sd_j of the WV estimator at the fit: chi-square with eta_j equivalent degrees of
-  // freedom (docs/statistics.md section 1), inflated by 1/efficiency for a robust WV (section 2).
+  // The statistic's yardstick: S = sum_j d_j^2 / Var(nuhat_j), levels independent, as the
+  // selection's objective weighs them (its model-based Omega is diag(V)^-1). Var from
+  // options.covariance (the exact Cov(nuhat) the rest of the inference uses); without it,
+  // a chi-square with eta_j equivalent degrees of freedom (docs/statistics.md section 1),
+  // inflated by 1/efficiency for a robust WV (section 2), whose variance is 2-5x the exact
+  // one for the processes selection meets (typically 2.8x, issue 27) and reduces components
+  // the objective clearly sees. (The full d' V^-1 d is smaller still for a smooth bump over
+  // correlated levels: 3.2 for the slow AR1 of AR1(0.9, 0.1) + AR1(0.999, 1e-5) + WN(1) at
+  // 2^17, against 7.0 on the diagonal and the objective's own 8.4.)
   Eigen::VectorXd sd(J), w(J);
   const double inflation = 1.0 / wv.efficiency.value_or(1.0);
   for (Eigen::Index j = 0; j < J; ++j) {
     const double level = nu_fit(j) > 0.0 && std::isfinite(nu_fit(j)) ? nu_fit(j) : std::abs(wv.wv[static_cast<std::size_t>(j)]);
     sd(j) = level * std::sqrt(2.0 / wv.eta[static_cast<std::size_t>(j)] * inflation);
-    w(j) = sd(j) > 0.0 && std::isfinite(sd(j)) ? 1.0 / (sd(j) * sd(j)) : 0.0;
   }
-  auto statistic = [&](const std::vector<Part>& parts) {
-    const Eigen::VectorXd d = total_wv(parts, tau) - nu_fit;
-    return (w.array() * d.array() * d.array()).sum();
-  };
+  if (options.covariance) {
+    const Eigen::MatrixXd& v = *options.covariance;
+    if (v.rows() != J || v.cols() != J)
+      throw InvalidArgument("effective_model: the covariance is " + std::to_string(v.rows()) + " x " +
+                            std::to_string(v.cols()) + ", the WV has " + std::to_string(J) + " levels");
+    for (Eigen::Index j = 0; j < J; ++j)
+      if (v(j, j) > 0.0 && std::isfinite(v(j, j))) sd(j) = std::sqrt(v(j, j));
+  }
+  for (Eigen::Index j = 0; j < J; ++j) w(j) = sd(j) > 0.0 && std::isfinite(sd(j)) ? 1.0 / (sd(j) * sd(j)) : 0.0;
+  auto distance = [&](const Eigen::VectorXd& d) { return (w.array() * d.array() * d.array()).sum(); };
+  auto statistic = [&](const std::vector<Part>& parts) { return distance(total_wv(parts, tau) - nu_fit); };
+  // Whether a component carries a share of the WV the test can see at all: its own WV's
+  // distance from zero above kNoShare. A collapsed term (an AR1 at sigma2 1e-16) carries
+  // none; its parameters are removed without counting as degrees of freedom, so that they
+  // do not give the test budget for dropping a component that does carry one (issue 27,
+  // mechanism b).
+  auto carries = [&](const Part& p) { return distance(part_wv(p, tau)) > kNoShare; };
+  // Degrees of freedom of the accepted reductions so far (parameters that carried a share).
+  int tested = 0;
   auto score = [&](Candidate& cand) {
     cand.removed = original_parameters - parameters_of(cand.parts);
     cand.statistic = statistic(cand.parts);
+    cand.df = tested + (cand.carried ? cand.removed - (original_parameters - parameters_of(st.parts)) : 0);
     if (cand.removed <= 0 || !std::isfinite(cand.statistic)) {
       cand.p_value = 0.0;
       return;
     }
-    const boost::math::chi_squared chi(cand.removed);
+    if (cand.df <= 0) {
+      cand.p_value = cand.statistic <= kNoShare ? 1.0 : 0.0;
+      return;
+    }
+    const boost::math::chi_squared chi(cand.df);
     cand.p_value = boost::math::cdf(boost::math::complement(chi, std::min(cand.statistic, 1e300)));
   };
 
@@ -131,6 +164,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
       for (std::size_t k = 0; k < parts.size(); ++k)
         if (k != c) cand.parts.push_back(parts[k]);
       cand.text = text_of(parts[c]) + " dropped: no visible share of the WV";
+      cand.carried = carries(parts[c]);
       cands.push_back(std::move(cand));
     }
     for (std::size_t c = 0; c < parts.size(); ++c) {
@@ -143,6 +177,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
         cand.parts = parts;
         cand.parts[c] = q;
         cand.text = text_of(parts[c]) + " is " + f.label + ": " + text_of(q);
+        cand.carried = carries(parts[c]);
         cands.push_back(std::move(cand));
       }
     }
@@ -157,18 +192,22 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
         for (std::size_t k = 0; k < parts.size(); ++k)
           if (k != b) cand.parts.push_back(k == a ? q : parts[k]);
         cand.text = text_of(parts[a]) + " and " + text_of(parts[b]) + " merged: " + text_of(q);
+        cand.carried = carries(parts[a]) || carries(parts[b]);
         cands.push_back(std::move(cand));
       }
     const Candidate* best = nullptr;
     for (auto& cand : cands) {
       score(cand);
-      const boost::math::chi_squared chi(std::max(cand.removed, 1));
-      const bool accepted = cand.removed > 0 && cand.statistic <= boost::math::quantile(chi, 1.0 - options.alpha);
+      const bool accepted =
+          cand.removed > 0 &&
+          (cand.df <= 0 ? cand.statistic <= kNoShare
+                        : cand.statistic <= boost::math::quantile(boost::math::chi_squared(cand.df), 1.0 - options.alpha));
       if (accepted && (!best || cand.p_value > best->p_value)) best = &cand;
     }
     if (!best) break;
     st.parts = best->parts;
     st.reductions.push_back(best->text);
+    tested = best->df;
   }
 
   EffectiveModel out;
@@ -185,9 +224,10 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   for (int k : order) out.labels.push_back(st.parts[static_cast<std::size_t>(k)].label);
   out.reductions = st.reductions;
   out.removed_parameters = original_parameters - out.model.num_parameters();
+  out.tested_parameters = tested;
   if (out.removed_parameters > 0) {
     out.statistic = statistic(st.parts);
-    out.threshold = boost::math::quantile(boost::math::chi_squared(out.removed_parameters), 1.0 - options.alpha);
+    out.threshold = tested > 0 ? boost::math::quantile(boost::math::chi_squared(tested), 1.0 - options.alpha) : kNoShare;
   }
   return out;
 }

@@ -437,7 +437,9 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
       c.effective.theta = fits[i].theta;
     } else {
       if (fits[i].status == FitStatus::kNotConverged) ++sel.not_converged;
-      c.effective = effective_model(wv, fits[i].model, fits[i].theta);
+      EffectiveOptions eo;
+      eo.covariance = sel.v;  // the exact Cov(nuhat) the optimism and GoF use
+      c.effective = effective_model(wv, fits[i].model, fits[i].theta, eo);
     }
     sel.candidates.push_back(std::move(c));
   }

@@ -14,16 +14,20 @@
 //     its size re-solved by weighted least squares to the component's own WV;
 //   - merge two components of the same process (Process::merged: AR1s at one phi).
 // A reduction is accepted while the effective model's implied WV stays within what the
-// data resolve of the original one: S = sum_j ((nu_eff_j - nu_fit_j) / sd_j)^2 at most the
-// chi-square quantile at 1 - alpha with as many degrees of freedom as parameters removed
-// in all, sd_j the WV estimator's standard deviation at level j (chi-square, eta_j
-// equivalent degrees of freedom; robust: inflated by 1/efficiency) taken at the fit.
-// Levels are treated as independent (their correlation makes the test conservative
-// where one component spans many levels).
+// data resolve of the original one: S = sum_j ((nu_eff_j - nu_fit_j) / sd_j)^2, sd_j^2 =
+// Var(nuhat_j) (EffectiveOptions::covariance's diagonal: the exact Cov(nuhat) the
+// selection's inference uses; levels independent, as its objective weighs them), at most
+// the chi-square quantile at 1 - alpha with as many degrees of freedom as parameters
+// removed from components that carried a share of the WV (their own WV farther than
+// kNoShare from zero in that metric). A collapsed component is removed for free and adds no
+// budget. Without a covariance, sd_j is the chi-square approximation's (eta_j equivalent
+// degrees of freedom; robust: inflated by 1/efficiency), 2-5x too large in variance, which
+// reduces components the objective sees (issue 27); selection always passes V.
 //
 //   const gmwm::EffectiveModel e = gmwm::effective_model(wv, fit.model, fit.theta);
 //   e.model.to_string(e.theta);  e.reductions  // "AR1 (phi = 0.0031) is WN-like", ...
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +40,10 @@ namespace gmwm {
 
 struct EffectiveOptions {
   double alpha = 0.05;  ///< level of the indistinguishability test
+  /// Cov(nuhat) (levels x levels) whose diagonal the test measures distances with. Empty:
+  /// the chi-square approximation (eta_j equivalent degrees of freedom), whose variance is
+  /// 2-5x the exact one for the processes selection meets.
+  std::optional<Eigen::MatrixXd> covariance;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
@@ -50,6 +58,9 @@ struct EffectiveModel {
   double statistic = 0.0;   ///< S of the accepted reductions (0 when none)
   double threshold = 0.0;   ///< its chi-square quantile (0 when none)
   int removed_parameters = 0;
+  /// The test's degrees of freedom: removed parameters of components that carried a share
+  /// of the WV (a collapsed term's are removed for free).
+  int tested_parameters = 0;
   bool reduced() const { return !reductions.empty(); }
   int parameters() const { return model.num_parameters(); }
 };
