@@ -227,51 +227,57 @@ TEST(DiagnoseGap, NeverDetectsFromALevelWithOneCoefficientAlone) {
   EXPECT_TRUE(noted);
 }
 
+// The diagnosis against a baseline given with its values (100 replicates).
+GapResult diagnose_against(const Case& c, const std::string& baseline, std::uint64_t seed) {
+  const Model base = parse_model(baseline);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = seed;
+  return diagnose_gap(c.wv, base, base.given_values(), o);
+}
+
+// Whether the final model has a `process` whose first parameter satisfies `ok`.
+template <class Ok>
+bool final_has(const GapResult& g, const std::string& process, Ok ok) {
+  for (int k = 0; k < g.final_model.num_components(); ++k)
+    if (g.final_model.components()[static_cast<std::size_t>(k)].process->name() == process &&
+        ok(g.final_theta(g.final_model.offset(k))))
+      return true;
+  return false;
+}
+
+bool took(const GapResult& g, GapEffect e) { return std::find(g.steps.begin(), g.steps.end(), e) != g.steps.end(); }
+
 TEST(DiagnoseGap, ResizesADatasheetWhiteNoiseEightTimesTooHigh) {
   // The README example's situation: the baseline's white noise is ~8x the data's, and the
   // data hold an AR1 the baseline lacks. REPARAMETERISE must re-size the white noise to the
   // data's (within 5%: its estimate's relative sd at 2^16 samples is ~1%) and the final
   // model must describe the data (the global test does not reject it).
   const Case c = simulate_case("AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)", 8113);
-  const Model base = parse_model("WN(sigma2=7.6e-5)+RW(gamma2=4e-12)");
-  GapOptions o;
-  o.replicates = 100;
-  o.seed = 8213;
-  const GapResult g = diagnose_gap(c.wv, base, base.given_values(), o);
+  const GapResult g = diagnose_against(c, "WN(sigma2=7.6e-5)+RW(gamma2=4e-12)", 8213);
   ASSERT_TRUE(g.detected);
-  EXPECT_NE(std::find(g.steps.begin(), g.steps.end(), GapEffect::kReparameterise), g.steps.end()) << g.headline;
-  bool wn = false;
-  for (int k = 0; k < g.final_model.num_components(); ++k)
-    if (g.final_model.components()[static_cast<std::size_t>(k)].process->name() == "WN")
-      wn = std::abs(g.final_theta(g.final_model.offset(k)) / 1e-5 - 1.0) < 0.05;
-  EXPECT_TRUE(wn) << g.final_model.to_string(g.final_theta);
-  EXPECT_GE(g.shrinkage.p_value_after, o.alpha) << g.headline;
+  EXPECT_TRUE(took(g, GapEffect::kReparameterise)) << g.headline;
+  EXPECT_TRUE(final_has(g, "WN", [](double s2) { return std::abs(s2 / 1e-5 - 1.0) < 0.05; }))
+      << g.final_model.to_string(g.final_theta);
+  EXPECT_GE(g.shrinkage.p_value_after, GapOptions{}.alpha) << g.headline;
   EXPECT_NE(g.headline.find("gap closed"), std::string::npos) << g.headline;
 }
 
 TEST(DiagnoseGap, ReachesTheTruthFromADatasheetFarBelowTheDataAtCoarseScales) {
   // A datasheet baseline (white noise 7.6x too high, a flicker floor) whose coarse levels
-  // lie ~200x below data that hold AR1 + RW: weighting the levels where the data exceed
-  // the baseline by the baseline's own (far smaller) spread made the re-sizing chase the
-  // coarse levels, swap the white noise for QN, and stop with 11 of 16 levels outside.
-  // With the weights at the data's level (docs/gap.md, "The objective") the search must
-  // name the AR1 (correlation time 10 s, within a factor 2) and close the gap.
+  // lie ~200x below data that hold AR1 + RW: the objective's weights keep the baseline's
+  // (far smaller) spread where the data exceed it, and with them the re-sizing chased the
+  // coarse levels, swapped the white noise for QN and stopped with 11 of 16 levels outside.
+  // With the candidates' weights following the re-sized base (docs/gap.md, "The
+  // objective") the search must name the AR1 (1 / (1 - phi) = 1000 samples, within a
+  // factor 2) and close the gap.
   const Case c = simulate_case("AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)", 20261121);
-  const Model base = parse_model("WN(sigma2=7.6e-5)+FLICKER(B2=3.4e-8)");
-  GapOptions o;
-  o.replicates = 100;
-  o.seed = 8214;
-  const GapResult g = diagnose_gap(c.wv, base, base.given_values(), o);
+  const GapResult g = diagnose_against(c, "WN(sigma2=7.6e-5)+FLICKER(B2=3.4e-8)", 8214);
   ASSERT_TRUE(g.detected);
-  EXPECT_EQ(std::find(g.steps.begin(), g.steps.end(), GapEffect::kQN), g.steps.end()) << g.headline;
-  EXPECT_NE(std::find(g.steps.begin(), g.steps.end(), GapEffect::kAR1), g.steps.end()) << g.headline;
-  bool ar1 = false;
-  for (int k = 0; k < g.final_model.num_components(); ++k) {
-    if (g.final_model.components()[static_cast<std::size_t>(k)].process->name() != "AR1") continue;
-    const double samples = 1.0 / (1.0 - g.final_theta(g.final_model.offset(k)));  // 1 / (1 - phi)
-    ar1 |= samples > 500.0 && samples < 2000.0;
-  }
-  EXPECT_TRUE(ar1) << g.final_model.to_string(g.final_theta);
+  EXPECT_FALSE(took(g, GapEffect::kQN)) << g.headline;
+  EXPECT_TRUE(took(g, GapEffect::kAR1)) << g.headline;
+  EXPECT_TRUE(final_has(g, "AR1", [](double phi) { return 1.0 / (1.0 - phi) > 500.0 && 1.0 / (1.0 - phi) < 2000.0; }))
+      << g.final_model.to_string(g.final_theta);
   EXPECT_EQ(g.shrinkage.levels_outside_after, 0) << g.headline;
   EXPECT_NE(g.headline.find("gap closed"), std::string::npos) << g.headline;
 }
