@@ -221,10 +221,8 @@ std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::op
 }
 
 gmwm::OmegaKind omega_kind(const std::string& s) {
-  if (s == "diag") return gmwm::OmegaKind::kDiag;
-  if (s == "full") return gmwm::OmegaKind::kFull;
-  if (s == "bootstrap") return gmwm::OmegaKind::kBootstrap;
-  throw gmwm::InputError("omega: expected diag, full or bootstrap, got '" + s + "'");
+  if (const auto k = gmwm::parse_omega_kind(s)) return *k;
+  throw gmwm::InputError("omega: expected model, diag, full or bootstrap, got '" + s + "'");
 }
 
 py::object py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels, const std::string& name) {
@@ -443,7 +441,7 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("levels") = 0, py::arg("name") = "x1",
         "Classical Haar wavelet variance with its chi-square intervals: the 'wv' JSON column");
   m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
-        py::arg("omega") = "diag", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
+        py::arg("omega") = "model", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1", py::arg("robust") = false,
         py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("unit") = "",
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "

@@ -27,8 +27,15 @@ const char* to_string(OmegaKind k) {
     case OmegaKind::kDiag: return "diag";
     case OmegaKind::kFull: return "full";
     case OmegaKind::kBootstrap: return "bootstrap";
+    case OmegaKind::kModel: return "model";
   }
   return "?";
+}
+
+std::optional<OmegaKind> parse_omega_kind(const std::string& name) {
+  for (OmegaKind k : {OmegaKind::kDiag, OmegaKind::kFull, OmegaKind::kBootstrap, OmegaKind::kModel})
+    if (name == to_string(k)) return k;
+  return std::nullopt;
 }
 
 const char* to_string(FitStatus s) {
@@ -417,7 +424,7 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   if (!options.omega_matrix && options.omega != OmegaKind::kDiag && std::isfinite(best.value)) {
     // Pilot (diag) fit done: build V at the pilot estimate, then refit with V^-1.
     const Eigen::VectorXd pilot = model_in.from_unconstrained(best.u);
-    if (options.omega == OmegaKind::kFull) {
+    if (options.omega == OmegaKind::kFull || options.omega == OmegaKind::kModel) {
       // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
       v_for_omega = model_wv_covariance(model_in, pilot, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
     } else {
@@ -427,9 +434,19 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
                                             options.bootstrap_replicates, options.seed, est, wv.alpha,
                                             options.progress);
     }
-    P.omega = v_for_omega.completeOrthogonalDecomposition().pseudoInverse();
-    P.omega = 0.5 * (P.omega + P.omega.transpose());
-    omega_is_v_inverse = true;
+    if (options.omega == OmegaKind::kModel) {
+      // diag(1 / V_jj); a level whose V_jj is not positive and finite keeps the data's weight.
+      for (Eigen::Index j = 0; j < P.omega.rows(); ++j) {
+        const double vj = v_for_omega(j, j);
+        const double keep = P.omega(j, j);
+        P.omega.row(j).setZero();
+        P.omega(j, j) = vj > 0.0 && std::isfinite(vj) ? 1.0 / vj : keep;
+      }
+    } else {
+      P.omega = v_for_omega.completeOrthogonalDecomposition().pseudoInverse();
+      P.omega = 0.5 * (P.omega + P.omega.transpose());
+      omega_is_v_inverse = true;
+    }
     extra.push_back(pilot);
     best = optimise(extra);
   }

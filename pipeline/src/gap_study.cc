@@ -176,6 +176,7 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
     if (const auto* f = std::get_if<FitBaseline>(&o.baseline)) {
       FitOptions fo;
       fo.inference = false;
+      fo.omega = OmegaKind::kModel;  // as `gmwm fit` weighs by default
       const FitResult r = fit_gmwm(c.wv, c.baseline, fo);
       if (r.status == FitStatus::kFailed)
         throw InputError("--fit '" + f->spec + "': the fit failed on column '" + c.name + "'");

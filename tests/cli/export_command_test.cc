@@ -90,7 +90,8 @@ TEST_F(GmwmExport, WritesAKalibrYamlFromAFitResult) {
 }
 
 TEST_F(GmwmExport, FitsADataFileFirstWhenGivenAModel) {
-  // The same fit as `gmwm fit` (classical WV, diagonal Omega): the same figures.
+  // The same fit as `gmwm fit` (classical WV, its default model-based diagonal Omega): the
+  // same figures.
   auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "orbslam3", "--output",
                      "orb.yaml", "--quiet"},
                     dir_);

@@ -2,6 +2,7 @@
 // components, nested models, and error paths. Seeds are fixed here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -230,6 +231,38 @@ TEST(GmwmFit, ReportNamesStatusParametersAndGoodnessOfFit) {
   EXPECT_NE(rep.find("status: converged"), std::string::npos) << rep;
   EXPECT_NE(rep.find("WN[1].sigma2"), std::string::npos) << rep;
   EXPECT_NE(rep.find("goodness of fit"), std::string::npos) << rep;
+}
+
+TEST(GmwmFit, ModelBasedWeightsEstimateARandomWalkWithoutTheDataWeightsLowBias) {
+  // Issue 27: with the data-only weights 1 / Var(nuhat_j) ~ 1 / nuhat_j^2, a coarse level
+  // whose estimate falls low weighs more, and the random walk of AR1 + WN + RW came out low
+  // (median -20% over 40 series at 2^17, intervals covering 85%). The model-based diagonal
+  // weights (kModel, `gmwm fit`'s default) must bring the median relative error within
+  // 3 standard errors of 0 (its sd over 100 series: 1.25 x ~0.35 / 10 = 0.044, so 0.13).
+  // (The data-only weights: median -0.196 over 40 other series, `gmwm fit --omega diag`.) The
+  // intervals' coverage is still short: 85 of 100 for these Wald intervals on a skewed
+  // estimate (open in issue 27); it is reported, not asserted.
+  const Model truth = parse_model("AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1)+RW(gamma2=1e-6)");
+  constexpr int kSeries = 100;
+  constexpr std::int64_t kLength = 1 << 17;
+  std::vector<double> rel(kSeries, 0.0);
+  std::vector<int> covered(kSeries, 0);
+  tbb::parallel_for(0, kSeries, [&](int r) {
+    const auto x = simulate(truth, truth.given_values(), kLength, 2727, static_cast<std::uint64_t>(r));
+    FitOptions o;
+    o.omega = OmegaKind::kModel;
+    const FitResult f = fit_gmwm(classical_wv(x.data(), kLength), parse_model("AR1+WN+RW"), o);
+    const Eigen::Index k = f.theta.size() - 1;  // RW's gamma2 comes last in canonical order
+    rel[static_cast<std::size_t>(r)] = f.theta(k) / 1e-6 - 1.0;
+    covered[static_cast<std::size_t>(r)] = f.ci_low(k) <= 1e-6 && 1e-6 <= f.ci_high(k);
+  });
+  std::vector<double> sorted = rel;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = 0.5 * (sorted[kSeries / 2 - 1] + sorted[kSeries / 2]);
+  int cover = 0;
+  for (int c : covered) cover += c;
+  EXPECT_LT(std::abs(median), 0.13) << "median relative error of gamma2";
+  RecordProperty("rw_interval_coverage_of_100", cover);
 }
 
 }  // namespace

@@ -136,6 +136,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
   options.seed = common.seed;
   options.max_evaluations = a.max_evaluations;
   options.inference = false;  // the export needs the estimates only
+  options.omega = OmegaKind::kModel;  // as `gmwm fit` weighs by default
   std::vector<FitResult> fits(wvs.size());
   gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
   warn_about_timing(set);

@@ -1,4 +1,4 @@
-// gmwm fit INPUT --model SPEC [--robust [--eff E] [--estimator NAME]] [--omega diag|full|bootstrap]
+// gmwm fit INPUT --model SPEC [--robust [--eff E] [--estimator NAME]] [--omega model|diag|full|bootstrap]
 //              [--replicates B] ...
 // The GMWM fit of one model to the (classical or robust) WV of every selected column.
 
@@ -24,18 +24,14 @@ struct FitArgs {
   InputOptions input;
   RobustOptions robust;
   std::string model;
-  std::string omega = "diag";
+  std::string omega = "model";
   int replicates = FitOptions{}.bootstrap_replicates;
   int max_evaluations = FitOptions{}.max_evaluations;
   UnitsOptions units;
   std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
 };
 
-OmegaKind omega_kind(const std::string& s) {
-  if (s == "full") return OmegaKind::kFull;
-  if (s == "bootstrap") return OmegaKind::kBootstrap;
-  return OmegaKind::kDiag;
-}
+OmegaKind omega_kind(const std::string& s) { return parse_omega_kind(s).value_or(OmegaKind::kModel); }
 
 std::string terminal_report(const io::SignalSet& set, std::size_t k, const WaveletVariance& w,
                             const FitResult& r, OmegaKind omega) {
@@ -285,8 +281,9 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
       ->type_name("SPEC")
       ->required();
   sub->add_option("--omega", args->omega,
-                  "Weighting matrix: diag (data only), full (model-based) or bootstrap")
-      ->check(CLI::IsMember({"diag", "full", "bootstrap"}))
+                  "Weighting matrix: model (1 / Var(nuhat_j) of the model at a pilot fit; the data-only weights "
+                  "bias long-memory terms low), diag (data only), full (the model's V^-1) or bootstrap")
+      ->check(CLI::IsMember({"model", "diag", "full", "bootstrap"}))
       ->capture_default_str();
   sub->add_option("--replicates", args->replicates,
                   "Bootstrap replicates for --omega bootstrap, and for the shared-theta test with --joint")

@@ -51,14 +51,6 @@ const char* status_name(FitStatus s) {
   return "failed";
 }
 
-const char* omega_name(OmegaKind k) {
-  switch (k) {
-    case OmegaKind::kDiag: return "diag";
-    case OmegaKind::kFull: return "full";
-    case OmegaKind::kBootstrap: return "bootstrap";
-  }
-  return "diag";
-}
 
 
 }  // namespace
@@ -242,7 +234,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
   c["message"] = fit.message;
   c["notes"] = fit.notes;
   c["evaluations"] = fit.evaluations;
-  c["omega"] = omega_name(omega);
+  c["omega"] = to_string(omega);  // the library's one spelling
   json implied = json::array();
   for (Eigen::Index j = 0; j < fit.implied_wv.size(); ++j)
     implied.push_back(json_number(fit.implied_wv(j)));
