@@ -192,7 +192,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
     if (options.omega == OmegaKind::kBootstrap)
-      throw InputError("--joint with --omega bootstrap: the joint fit takes --omega diag or full");
+      throw InputError("--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
     return run_joint_fit(args, common, options, robust_options ? &*robust_options : nullptr);
   }
 
