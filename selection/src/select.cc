@@ -368,8 +368,11 @@ std::vector<RankedModel> ranking_rows(const WaveletVariance& wv, const Eigen::Ma
   std::vector<RankedModel> rows(keys.size());
   gmwm::parallel_for(std::size_t{0}, keys.size(), [&](std::size_t g) {
     std::vector<std::size_t> idx = groups[g];
+    // The row's model as a candidate itself, wherever its own fit's effective form put it
+    // (AR1+WN+RW whose RW collapsed is "AR1+WN" in effect, yet its fit is still the best of
+    // the row AR1+WN+RW that other members fell onto).
     std::optional<std::size_t> exact;
-    for (std::size_t i : idx)
+    for (std::size_t i = 0; i < cands.size(); ++i)
       if (cands[i].model == keys[g] && cands[i].fit.status != FitStatus::kFailed) exact = i;
     // Members: the model itself first, then by their own objectives (failed fits last).
     std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {

@@ -256,6 +256,11 @@ TEST(SelectModels, ShowsEveryRankingRowWithItsOwnModelsFitAndItsMembersWithTheir
     fo.inference = false;
     const FitResult alone = fit_gmwm(wvs[0], m, fo);
     EXPECT_GE(r.objective, alone.objective * (1.0 - 1e-6)) << r.model << ": the row's objective is below its own model's";
+    // ... and no higher than its own candidate fit, wherever that candidate's effective form
+    // put it (an AR1+WN+RW whose RW collapsed is AR1+WN in effect).
+    for (const CandidateFit& c : sel.candidates)
+      if (c.model == r.model && c.fit.status != FitStatus::kFailed)
+        EXPECT_LE(r.objective, c.fit.objective * (1.0 + 1e-9)) << r.model;
     EXPECT_EQ(r.parameters, m.num_parameters()) << r.model;
     ASSERT_EQ(r.members.size(), r.member_objectives.size());
     for (std::size_t k = 0; k < r.members.size(); ++k)
