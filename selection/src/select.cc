@@ -580,6 +580,30 @@ const char* to_string(OptimismMethod m) {
   return "analytic";
 }
 
+namespace {
+template <class E, std::size_t N>
+std::optional<E> parse_among(const std::string& name, const E (&all)[N]) {
+  for (E e : all)
+    if (name == to_string(e)) return e;
+  return std::nullopt;
+}
+}  // namespace
+
+std::optional<Penalty> parse_penalty(const std::string& name) {
+  constexpr Penalty kAll[] = {Penalty::kWvic, Penalty::kBic};
+  return parse_among(name, kAll);
+}
+
+std::optional<OptimismMethod> parse_optimism_method(const std::string& name) {
+  constexpr OptimismMethod kAll[] = {OptimismMethod::kAnalytic, OptimismMethod::kBootstrap, OptimismMethod::kBoth};
+  return parse_among(name, kAll);
+}
+
+std::optional<OmegaSource> parse_omega_source(const std::string& name) {
+  constexpr OmegaSource kAll[] = {OmegaSource::kData, OmegaSource::kModel, OmegaSource::kModelFull};
+  return parse_among(name, kAll);
+}
+
 std::string SelectOptions::Validate() const {
   if (optimism != OptimismMethod::kAnalytic && !(bootstrap_replicates >= 2 && bootstrap_replicates <= kMaxReplicates))
     return "bootstrap replicates must be in [2, " + std::to_string(kMaxReplicates) + "], got " +

@@ -211,15 +211,12 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   if (by_replicates && args.joint.empty())
     throw InputError("--optimism " + args.optimism +
                      ": the replicate-based optimism needs replicates; give them with --joint FILE[:COLUMN] ...");
-  options.optimism = args.optimism == "bootstrap" ? selection::OptimismMethod::kBootstrap
-                     : args.optimism == "both"    ? selection::OptimismMethod::kBoth
-                                                  : selection::OptimismMethod::kAnalytic;
-  options.omega = args.omega == "data"   ? selection::OmegaSource::kData
-                  : args.omega == "full" ? selection::OmegaSource::kModelFull
-                                         : selection::OmegaSource::kModel;
+  // CLI11 checked the names against the same spellings.
+  options.optimism = selection::parse_optimism_method(args.optimism).value_or(selection::OptimismMethod::kAnalytic);
+  options.omega = selection::parse_omega_source(args.omega).value_or(selection::OmegaSource::kModel);
   options.bootstrap_replicates = args.replicates;
   options.seed = common.seed;
-  options.penalty = args.penalty == "bic" ? selection::Penalty::kBic : selection::Penalty::kWvic;
+  options.penalty = selection::parse_penalty(args.penalty).value_or(selection::Penalty::kWvic);
   options.fit.alpha = args.input.alpha;
   options.fit.seed = common.seed;
   options.fit.max_evaluations = args.max_evaluations;

@@ -57,6 +57,11 @@ enum class OmegaSource {
   kModelFull,
 };
 const char* to_string(OmegaSource o);
+/// The inverses of to_string (nullopt for any other name): the one spelling the CLI and
+/// Python parse with.
+std::optional<Penalty> parse_penalty(const std::string& name);
+std::optional<OptimismMethod> parse_optimism_method(const std::string& name);
+std::optional<OmegaSource> parse_omega_source(const std::string& name);
 
 struct SelectOptions {
   Penalty penalty = Penalty::kWvic;
