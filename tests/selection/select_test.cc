@@ -287,5 +287,16 @@ TEST(SelectAmong, ReturnsOneRowPerListedModelEachWithItsOwnFit) {
   EXPECT_EQ(names, (std::set<std::string>{"AR1+WN", "2*AR1+WN"}));
 }
 
+TEST(SelectOptionNames, ParseBackEveryNameTheLibraryWritesAndNothingElse) {
+  for (Penalty p : {Penalty::kWvic, Penalty::kBic}) EXPECT_EQ(parse_penalty(to_string(p)), p);
+  for (OptimismMethod m : {OptimismMethod::kAnalytic, OptimismMethod::kBootstrap, OptimismMethod::kBoth})
+    EXPECT_EQ(parse_optimism_method(to_string(m)), m);
+  for (OmegaSource o : {OmegaSource::kData, OmegaSource::kModel, OmegaSource::kModelFull})
+    EXPECT_EQ(parse_omega_source(to_string(o)), o);
+  EXPECT_FALSE(parse_penalty("aic"));
+  EXPECT_FALSE(parse_optimism_method("Analytic"));
+  EXPECT_FALSE(parse_omega_source("diag"));
+}
+
 }  // namespace
 }  // namespace gmwm::selection
