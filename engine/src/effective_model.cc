@@ -6,10 +6,14 @@
 #include <limits>
 #include <optional>
 
-#include <boost/math/distributions/chi_squared.hpp>
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <boost/math/distributions/normal.hpp>
+#include <boost/random/normal_distribution.hpp>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/random.h"
 #include "starting_values.h"
 
 namespace gmwm {
@@ -74,8 +78,17 @@ void fit_size(Part& q, const Eigen::VectorXd& target, const Eigen::VectorXd& w, 
   if (std::isfinite(s) && s > 0.0) q.theta[static_cast<std::size_t>(k)] *= s;
 }
 
+// What a reduction removed that carried a share of the WV: the WVs of the shapes the
+// removed part could have taken (one column each; Process::shape_family), and whether its
+// size is one-signed (a variance: the fit collapses it rather than go negative).
+struct Removal {
+  Eigen::MatrixXd shapes;
+  bool one_sided = true;
+};
+
 struct Candidate {
   std::vector<Part> parts;
+  std::vector<Removal> removals;  ///< this step's (carried parts only)
   std::string text;
   double statistic = 0.0, p_value = 0.0;
   int removed = 0;
@@ -87,6 +100,228 @@ struct Candidate {
 // standard deviations, summed over levels) carries no share of it: 0.001 is a shift of
 // 0.03 standard deviations at one level, far below anything a test at 5% resolves.
 constexpr double kNoShare = 1e-3;
+
+// The test's null distribution is simulated (Hansen 1996, "Inference when a nuisance
+// parameter is not identified under the null hypothesis", Econometrica 64:413): draws of
+// nuhat - nu ~ N(0, V) through the linearised fit. 2000 draws put the Monte-Carlo
+// standard error of a p-value near 0.05 at sqrt(0.05 x 0.95 / 2000) = 0.5 points. The
+// seed is fixed: the same fit always gets the same decision.
+constexpr int kCalibrationDraws = 2000;
+constexpr std::uint64_t kCalibrationSeed = 0x27'0001;
+// Columns of W^1/2 D whose pivoted-QR diagonal falls below this fraction of the largest
+// are dependent (a parameter at its bound, two AR1s at one phi) and left out of the basis.
+constexpr double kRankTolerance = 1e-9;
+// The reduced model's parameters are moved to the statistic's minimum by at most this many
+// Gauss-Newton steps (each halved down to kSmallestStep while it leaves the parameter
+// space or does not lower the distance): from the reduction's own values (a re-sized
+// component) the distance is within a few percent of its minimum after one or two.
+constexpr int kProjectionSteps = 4;
+constexpr double kSmallestStep = 1.0 / 64.0;
+
+// Jacobian of the parts' total WV with respect to all their parameters (J x p).
+Eigen::MatrixXd jacobian_of(const std::vector<Part>& parts, std::span<const double> tau) {
+  const auto J = static_cast<Eigen::Index>(tau.size());
+  Eigen::MatrixXd d(J, parameters_of(parts));
+  Eigen::Index col = 0;
+  for (const auto& p : parts) {
+    Eigen::MatrixXd block(J, p.process->size());
+    p.process->wv_jacobian(p.theta, tau, block);
+    d.middleCols(col, block.cols()) = block;
+    col += block.cols();
+  }
+  return d;
+}
+
+// The reduction test's statistic and its null distribution. For a reduced model R of the
+// fit F: S = min over R's parameters (one Gauss-Newton step from the reduction's values)
+// of sum_j w_j (nu_R - nu_F)_j^2, w_j = 1 / V_jj, the fit's own metric. Under R, to first
+// order, F's fit adds to R's the projection of nuhat - nu on the removed part's direction
+// g (orthogonalised against R's tangent space in that metric) and picks the g among the
+// part's shapes that fits best, so S = max_g (a_g' e)^2 with a_g = W g~ / |g~|_W and
+// e ~ N(0, V); with several removed parts, the sum of their maxima. Its quantiles are
+// simulated, so the test keeps its level with correlated levels (a_g' V a_g != 1) and a
+// nuisance parameter (an AR1's phi) that a chi-square with one degree of freedom per
+// parameter ignores (issue 27: 23-28% instead of 5%).
+class ReductionTest {
+ public:
+  ReductionTest(std::span<const double> tau, const Eigen::MatrixXd& v, const Eigen::VectorXd& w)
+      : tau_(tau), v_(v), sqrt_w_(w.array().sqrt()) {}
+
+  // The reduced parts with their parameters moved (Gauss-Newton, each step kept only
+  // when every part stays valid and the distance falls) towards the minimum of
+  // sum_j w_j (nu_R - nu_fit)_j^2; the distance there is the statistic S.
+  double project(std::vector<Part>& parts, const Eigen::VectorXd& nu_fit) const {
+    auto dist = [&](const std::vector<Part>& p) {
+      return sqrt_w_.cwiseProduct(total_wv(p, tau_) - nu_fit).squaredNorm();
+    };
+    double s = dist(parts);
+    for (int step = 0; step < kProjectionSteps && std::isfinite(s); ++step) {
+      const Eigen::VectorXd r = sqrt_w_.cwiseProduct(total_wv(parts, tau_) - nu_fit);
+      const Eigen::MatrixXd d = sqrt_w_.asDiagonal() * jacobian_of(parts, tau_);
+      if (d.cols() == 0 || !d.allFinite()) break;
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(d);
+      qr.setThreshold(kRankTolerance);
+      const Eigen::VectorXd delta = qr.solve(-r);
+      if (!delta.allFinite()) break;
+      bool improved = false;
+      for (double scale = 1.0; scale >= kSmallestStep && !improved; scale *= 0.5) {
+        std::vector<Part> moved = parts;
+        Eigen::Index k = 0;
+        bool valid = true;
+        for (auto& p : moved) {
+          for (double& x : p.theta) x += scale * delta(k++);
+          valid = valid && p.process->validate(p.theta).empty();
+        }
+        if (!valid) continue;
+        const double t = dist(moved);
+        if (t < s) {
+          parts = std::move(moved);
+          s = t;
+          improved = true;
+        }
+      }
+      if (!improved) break;
+    }
+    return s;
+  }
+
+  // P(S* >= s) under the reduced model, with the removals' shapes. 0 without drawing when
+  // a Bonferroni bound already puts it below alpha (the statistic far beyond what the
+  // shapes can produce under the null: most reductions of a selection's larger
+  // candidates), so that only the reductions near acceptance are simulated.
+  double p_value(const std::vector<Part>& parts, const std::vector<Removal>& removals, double s, double alpha) {
+    const std::vector<Directions> dirs = directions(parts, removals);
+    if (dirs.empty()) return s <= kNoShare ? 1.0 : 0.0;
+    if (s > bonferroni_bound(dirs, alpha)) return 0.0;
+    const Eigen::VectorXd draws = null_draws(dirs);
+    const auto above = (draws.array() >= s).count();
+    return static_cast<double>(above + 1) / static_cast<double>(draws.size() + 1);
+  }
+
+  // The 1 - alpha quantile of S*.
+  double critical_value(const std::vector<Part>& parts, const std::vector<Removal>& removals, double alpha) {
+    const std::vector<Directions> dirs = directions(parts, removals);
+    if (dirs.empty()) return kNoShare;
+    const Eigen::VectorXd draws = null_draws(dirs);
+    std::vector<double> v(draws.data(), draws.data() + draws.size());
+    const auto k = std::min(static_cast<std::size_t>(std::floor((1.0 - alpha) * static_cast<double>(v.size()))), v.size() - 1);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  }
+
+ private:
+  // Orthonormal basis of W^1/2 D_R.
+  Eigen::MatrixXd basis(const std::vector<Part>& parts) const {
+    const Eigen::MatrixXd d = sqrt_w_.asDiagonal() * jacobian_of(parts, tau_);
+    if (d.cols() == 0) return Eigen::MatrixXd(d.rows(), 0);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(d);
+    qr.setThreshold(kRankTolerance);
+    const Eigen::Index rank = qr.rank();
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(d.rows(), rank);
+    return q;
+  }
+
+  // W^1/2 e for each draw (J x draws), made once per call of effective_model.
+  const Eigen::MatrixXd& scaled_errors() {
+    if (u_.size() > 0) return u_;
+    const auto J = v_.rows();
+    Eigen::MatrixXd l;
+    Eigen::LLT<Eigen::MatrixXd> llt(v_);
+    if (llt.info() == Eigen::Success) {
+      l = llt.matrixL();
+    } else {  // not positive definite in floating point: the levels' own variances
+      l = v_.diagonal().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+    }
+    Rng rng = make_stream(kCalibrationSeed, {static_cast<std::uint64_t>(J)});
+    boost::random::normal_distribution<double> z(0.0, 1.0);
+    Eigen::MatrixXd e(J, kCalibrationDraws);
+    for (Eigen::Index b = 0; b < e.cols(); ++b)
+      for (Eigen::Index j = 0; j < J; ++j) e(j, b) = z(rng);
+    u_ = sqrt_w_.asDiagonal() * (l * e);
+    return u_;
+  }
+
+  // One removal's directions in the whitened space: unit columns h~ (the shapes, W^1/2
+  // scaled and orthogonalised against R's tangent space), each statistic (h~' W^1/2 e)^2
+  // of variance c = h~' C h~ (C = W^1/2 V W^1/2, the levels' correlation).
+  struct Directions {
+    Eigen::MatrixXd unit;
+    double largest_variance = 0.0;
+    bool one_sided = true;
+  };
+
+  std::vector<Directions> directions(const std::vector<Part>& parts, const std::vector<Removal>& removals) const {
+    const Eigen::MatrixXd q = basis(parts);
+    std::vector<Directions> out;
+    for (const Removal& rm : removals) {
+      Eigen::MatrixXd h = sqrt_w_.asDiagonal() * rm.shapes;
+      const Eigen::VectorXd raw = h.colwise().norm();
+      h -= q * (q.transpose() * h);
+      Directions d;
+      d.one_sided = rm.one_sided;
+      d.unit.resize(h.rows(), h.cols());
+      Eigen::Index kept = 0;
+      for (Eigen::Index c = 0; c < h.cols(); ++c) {
+        const double norm = h.col(c).norm();
+        if (!(norm > kRankTolerance * raw(c) && norm > 0.0)) continue;
+        d.unit.col(kept++) = h.col(c) / norm;
+      }
+      if (kept == 0) continue;  // the part adds nothing R cannot do: no excess to test
+      d.unit.conservativeResize(Eigen::NoChange, kept);
+      d.largest_variance = (d.unit.transpose() * correlation() * d.unit).diagonal().maxCoeff();
+      out.push_back(std::move(d));
+    }
+    return out;
+  }
+
+  // P(sum_k max_g X_kg > sum_k t_k) <= sum_k P(max_g X_kg > t_k) <= sum_k G_k P(c_k chi > t_k):
+  // with t_k at alpha / (K G_k) each, a statistic above their sum has p below alpha.
+  double bonferroni_bound(const std::vector<Directions>& dirs, double alpha) const {
+    double bound = 0.0;
+    const boost::math::normal z;
+    for (const auto& d : dirs) {
+      const double tail = alpha / static_cast<double>(dirs.size() * static_cast<std::size_t>(d.unit.cols()));
+      const double q = boost::math::quantile(boost::math::complement(z, d.one_sided ? tail : tail / 2.0));
+      bound += d.largest_variance * q * q;
+    }
+    return bound;
+  }
+
+  const Eigen::MatrixXd& correlation() const {
+    if (c_.size() == 0) c_ = sqrt_w_.asDiagonal() * v_ * sqrt_w_.asDiagonal();
+    return c_;
+  }
+
+  Eigen::VectorXd null_draws(const std::vector<Directions>& dirs) {
+    Eigen::VectorXd total = Eigen::VectorXd::Zero(kCalibrationDraws);
+    for (const Directions& d : dirs) {
+      const Eigen::MatrixXd z = d.unit.transpose() * scaled_errors();  // shapes x draws
+      for (Eigen::Index b = 0; b < z.cols(); ++b) {
+        double best = 0.0;
+        for (Eigen::Index g = 0; g < z.rows(); ++g) {
+          const double x = d.one_sided ? std::max(z(g, b), 0.0) : z(g, b);
+          best = std::max(best, x * x);
+        }
+        total(b) += best;
+      }
+    }
+    return total;
+  }
+
+  std::span<const double> tau_;
+  const Eigen::MatrixXd& v_;
+  Eigen::VectorXd sqrt_w_;
+  Eigen::MatrixXd u_;
+  mutable Eigen::MatrixXd c_;
+};
+
+// The shapes of a part's process over tau (Process::shape_family), one WV per column.
+Eigen::MatrixXd shapes_of(const Part& p, std::span<const double> tau) {
+  const auto family = p.process->shape_family(p.theta, tau);
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(tau.size()), static_cast<Eigen::Index>(family.size()));
+  for (std::size_t k = 0; k < family.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = part_wv({p.process, family[k], ""}, tau);
+  return out;
+}
 
 }  // namespace
 
@@ -106,44 +341,47 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   }
   const int original_parameters = parameters_of(st.parts);
   const Eigen::VectorXd nu_fit = total_wv(st.parts, tau);
-  // The statistic's yardstick: S = sum_j d_j^2 / Var(nuhat_j), levels independent, as the
-  // selection's objective weighs them (its model-based Omega is diag(V)^-1). Var from
-  // options.covariance (the exact Cov(nuhat) the rest of the inference uses); without it,
-  // a chi-square with eta_j equivalent degrees of freedom (docs/statistics.md section 1),
+  // The metric: w_j = 1 / Var(nuhat_j), levels weighed as the selection's objective weighs
+  // them (its model-based Omega is diag(V)^-1). V is options.covariance (the exact
+  // Cov(nuhat) the rest of the inference uses); without it, the chi-square approximation's
+  // diagonal with eta_j equivalent degrees of freedom (docs/statistics.md section 1),
   // inflated by 1/efficiency for a robust WV (section 2), whose variance is 2-5x the exact
-  // one for the processes selection meets (typically 2.8x, issue 27) and reduces components
-  // the objective clearly sees. (The full d' V^-1 d is smaller still for a smooth bump over
-  // correlated levels: 3.2 for the slow AR1 of AR1(0.9, 0.1) + AR1(0.999, 1e-5) + WN(1) at
-  // 2^17, against 7.0 on the diagonal and the objective's own 8.4.)
-  Eigen::VectorXd sd(J), w(J);
+  // one for the processes selection meets (typically 2.8x, issue 27) and reduces
+  // components the objective clearly sees.
+  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(J, J);
   const double inflation = 1.0 / wv.efficiency.value_or(1.0);
   for (Eigen::Index j = 0; j < J; ++j) {
     const double level = nu_fit(j) > 0.0 && std::isfinite(nu_fit(j)) ? nu_fit(j) : std::abs(wv.wv[static_cast<std::size_t>(j)]);
-    sd(j) = level * std::sqrt(2.0 / wv.eta[static_cast<std::size_t>(j)] * inflation);
+    v(j, j) = level * level * 2.0 / wv.eta[static_cast<std::size_t>(j)] * inflation;
   }
   if (options.covariance) {
-    const Eigen::MatrixXd& v = *options.covariance;
-    if (v.rows() != J || v.cols() != J)
-      throw InvalidArgument("effective_model: the covariance is " + std::to_string(v.rows()) + " x " +
-                            std::to_string(v.cols()) + ", the WV has " + std::to_string(J) + " levels");
-    for (Eigen::Index j = 0; j < J; ++j)
-      if (v(j, j) > 0.0 && std::isfinite(v(j, j))) sd(j) = std::sqrt(v(j, j));
+    const Eigen::MatrixXd& given = *options.covariance;
+    if (given.rows() != J || given.cols() != J)
+      throw InvalidArgument("effective_model: the covariance is " + std::to_string(given.rows()) + " x " +
+                            std::to_string(given.cols()) + ", the WV has " + std::to_string(J) + " levels");
+    if (given.allFinite() && (given.diagonal().array() > 0.0).all()) v = given;
+    else
+      for (Eigen::Index j = 0; j < J; ++j)
+        if (given(j, j) > 0.0 && std::isfinite(given(j, j))) v(j, j) = given(j, j);
   }
-  for (Eigen::Index j = 0; j < J; ++j) w(j) = sd(j) > 0.0 && std::isfinite(sd(j)) ? 1.0 / (sd(j) * sd(j)) : 0.0;
+  Eigen::VectorXd w(J);
+  for (Eigen::Index j = 0; j < J; ++j) w(j) = v(j, j) > 0.0 && std::isfinite(v(j, j)) ? 1.0 / v(j, j) : 0.0;
   auto distance = [&](const Eigen::VectorXd& d) { return (w.array() * d.array() * d.array()).sum(); };
-  auto statistic = [&](const std::vector<Part>& parts) { return distance(total_wv(parts, tau) - nu_fit); };
+  ReductionTest test(tau, v, w);
   // Whether a component carries a share of the WV the test can see at all: its own WV's
   // distance from zero above kNoShare. A collapsed term (an AR1 at sigma2 1e-16) carries
-  // none; its parameters are removed without counting as degrees of freedom, so that they
-  // do not give the test budget for dropping a component that does carry one (issue 27,
-  // mechanism b).
+  // none; it is removed without a test, and adds nothing to the null distribution, so that
+  // it gives no budget for dropping a component that does carry one (issue 27, mechanism b).
   auto carries = [&](const Part& p) { return distance(part_wv(p, tau)) > kNoShare; };
-  // Degrees of freedom of the accepted reductions so far (parameters that carried a share).
+  // The carried parts removed by the accepted reductions so far (the statistic is always
+  // against the original fit, so its null sums over all of them).
+  std::vector<Removal> accepted;
   int tested = 0;
   auto score = [&](Candidate& cand) {
     cand.removed = original_parameters - parameters_of(cand.parts);
-    cand.statistic = statistic(cand.parts);
-    cand.df = tested + (cand.carried ? cand.removed - (original_parameters - parameters_of(st.parts)) : 0);
+    cand.statistic = test.project(cand.parts, nu_fit);
+    const int step_removed = cand.removed - (original_parameters - parameters_of(st.parts));
+    cand.df = tested + (cand.carried ? step_removed : 0);
     if (cand.removed <= 0 || !std::isfinite(cand.statistic)) {
       cand.p_value = 0.0;
       return;
@@ -152,8 +390,9 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
       cand.p_value = cand.statistic <= kNoShare ? 1.0 : 0.0;
       return;
     }
-    const boost::math::chi_squared chi(cand.df);
-    cand.p_value = boost::math::cdf(boost::math::complement(chi, std::min(cand.statistic, 1e300)));
+    std::vector<Removal> all = accepted;
+    all.insert(all.end(), cand.removals.begin(), cand.removals.end());
+    cand.p_value = test.p_value(cand.parts, all, cand.statistic, options.alpha);
   };
 
   for (;;) {
@@ -165,6 +404,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
         if (k != c) cand.parts.push_back(parts[k]);
       cand.text = text_of(parts[c]) + " dropped: no visible share of the WV";
       cand.carried = carries(parts[c]);
+      if (cand.carried) cand.removals.push_back({shapes_of(parts[c], tau), true});
       cands.push_back(std::move(cand));
     }
     for (std::size_t c = 0; c < parts.size(); ++c) {
@@ -178,6 +418,16 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
         cand.parts[c] = q;
         cand.text = text_of(parts[c]) + " is " + f.label + ": " + text_of(q);
         cand.carried = carries(parts[c]);
+        // What the component has beyond the simpler form: the difference at its fitted
+        // shape, or at any other one the fit could have chosen (an AR1's phi anywhere short
+        // of the RW it tends to: a chance low at the coarsest levels is fitted by the phi
+        // that bends there), of either sign.
+        if (cand.carried) {
+          const Eigen::MatrixXd family = shapes_of(parts[c], tau);
+          Eigen::MatrixXd shapes(family.rows(), family.cols() + 1);
+          shapes << family, part_wv(parts[c], tau) - part_wv(q, tau);
+          cand.removals.push_back({shapes, false});
+        }
         cands.push_back(std::move(cand));
       }
     }
@@ -193,20 +443,22 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
           if (k != b) cand.parts.push_back(k == a ? q : parts[k]);
         cand.text = text_of(parts[a]) + " and " + text_of(parts[b]) + " merged: " + text_of(q);
         cand.carried = carries(parts[a]) || carries(parts[b]);
+        // Two of one process where the merged one stands: a second one of any shape beside it.
+        if (cand.carried) cand.removals.push_back({shapes_of(parts[b], tau), true});
         cands.push_back(std::move(cand));
       }
-    const Candidate* best = nullptr;
+    Candidate* best = nullptr;
     for (auto& cand : cands) {
       score(cand);
-      const bool accepted =
-          cand.removed > 0 &&
-          (cand.df <= 0 ? cand.statistic <= kNoShare
-                        : cand.statistic <= boost::math::quantile(boost::math::chi_squared(cand.df), 1.0 - options.alpha));
-      if (accepted && (!best || cand.p_value > best->p_value)) best = &cand;
+      const bool accepted_here = cand.removed > 0 && cand.p_value > options.alpha;
+      if (accepted_here && (!best || cand.p_value > best->p_value ||
+                            (cand.p_value == best->p_value && cand.statistic < best->statistic)))
+        best = &cand;
     }
     if (!best) break;
     st.parts = best->parts;
     st.reductions.push_back(best->text);
+    accepted.insert(accepted.end(), best->removals.begin(), best->removals.end());
     tested = best->df;
   }
 
@@ -226,8 +478,8 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   out.removed_parameters = original_parameters - out.model.num_parameters();
   out.tested_parameters = tested;
   if (out.removed_parameters > 0) {
-    out.statistic = statistic(st.parts);
-    out.threshold = tested > 0 ? boost::math::quantile(boost::math::chi_squared(tested), 1.0 - options.alpha) : kNoShare;
+    out.statistic = test.project(st.parts, nu_fit);
+    out.threshold = tested > 0 ? test.critical_value(st.parts, accepted, options.alpha) : kNoShare;
   }
   return out;
 }

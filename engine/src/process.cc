@@ -100,6 +100,12 @@ std::vector<SimplerForm> Process::simpler_forms(std::span<const double> theta) c
   return {};
 }
 
+std::vector<std::vector<double>> Process::shape_family(std::span<const double> theta,
+                                                      std::span<const double> tau) const {
+  (void)tau;
+  return {std::vector<double>(theta.begin(), theta.end())};
+}
+
 std::optional<std::vector<double>> Process::merged(std::span<const double> a, std::span<const double> b) const {
   (void)a;
   (void)b;

@@ -112,6 +112,13 @@ class Ar1Process final : public Process {
     return {{make_process("WN", context()), {s2 / ((1.0 - phi) * (1.0 - phi))}, "WN-like"},
             {make_process("RW", context()), {s2}, "RW-like"}};
   }
+  // Its shapes: phi over correlation times covering the scales (ar1_math.h).
+  std::vector<std::vector<double>> shape_family(std::span<const double> theta,
+                                                std::span<const double> tau) const override {
+    std::vector<std::vector<double>> out;
+    for (double phi : internal::ar1_shape_phis(tau)) out.push_back({phi, theta[1]});
+    return out;
+  }
   // Two AR1s at one phi are one AR1 (sigma2 adds); at different phis the candidate takes
   // the long-run-variance-weighted phi, for the caller to test.
   std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {

@@ -222,4 +222,29 @@ inline Ar1Guess ar1_initial_guess(const GuessContext& ctx, double phi_min) {
   return {phi, sigma2};
 }
 
+/// The shapes an AR1's WV takes over scales tau (Process::shape_family), as phis: positive
+/// phi = exp(-1 / T) at correlation times T (samples) from kAr1ShapeMinT to
+/// kAr1ShapeMaxTFactor x the largest scale, kAr1ShapePointsPerOctave per octave of T, and
+/// the negative phis of kAr1ShapeNegativePhis (WVs concentrated at the finest scales, the
+/// form a noise-fitting AR1 takes there). Neighbouring shapes correlate above 0.99 in
+/// the WV metric at 4 per octave (an AR1 bump spans about 3 octaves of tau), so the
+/// largest excess over the grid is that over the continuum within Monte-Carlo error.
+inline constexpr double kAr1ShapeMinT = 0.25;
+inline constexpr double kAr1ShapeMaxTFactor = 4.0;
+inline constexpr int kAr1ShapePointsPerOctave = 4;
+inline constexpr double kAr1ShapeNegativePhis[] = {-0.3, -0.6, -0.9, -0.99};
+
+inline std::vector<double> ar1_shape_phis(std::span<const double> tau) {
+  double top = 2.0;
+  for (double t : tau) top = std::max(top, t);
+  std::vector<double> out(std::begin(kAr1ShapeNegativePhis), std::end(kAr1ShapeNegativePhis));
+  const double octaves = std::log2(kAr1ShapeMaxTFactor * top / kAr1ShapeMinT);
+  const int points = static_cast<int>(std::ceil(octaves * kAr1ShapePointsPerOctave));
+  for (int k = 0; k <= points; ++k) {
+    const double T = kAr1ShapeMinT * std::exp2(static_cast<double>(k) / kAr1ShapePointsPerOctave);
+    out.push_back(std::exp(-1.0 / T));
+  }
+  return out;
+}
+
 }  // namespace gmwm::internal

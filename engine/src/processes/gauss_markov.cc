@@ -122,6 +122,14 @@ class GaussMarkov final : public Process {
     }
     return Process::represent(other, other_theta);
   }
+  // Its shapes: an AR1's with phi > 0 (ar1_math.h), as beta = -f ln(phi).
+  std::vector<std::vector<double>> shape_family(std::span<const double> theta,
+                                                std::span<const double> tau) const override {
+    std::vector<std::vector<double>> out;
+    for (double phi : internal::ar1_shape_phis(tau))
+      if (phi > 0.0) out.push_back({-std::log(phi) * rate(), theta[1]});
+    return out;
+  }
   std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const override {
     const double L = theta[0] / rate(), phi = std::exp(-L);
     const double innovation = theta[1] * -std::expm1(-2.0 * L);

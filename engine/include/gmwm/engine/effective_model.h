@@ -13,16 +13,18 @@
 //     (Process::simpler_forms: an AR1 as WN-like or RW-like, an MA1 as WN- or QN-like ...),
 //     its size re-solved by weighted least squares to the component's own WV;
 //   - merge two components of the same process (Process::merged: AR1s at one phi).
-// A reduction is accepted while the effective model's implied WV stays within what the
-// data resolve of the original one: S = sum_j ((nu_eff_j - nu_fit_j) / sd_j)^2, sd_j^2 =
-// Var(nuhat_j) (EffectiveOptions::covariance's diagonal: the exact Cov(nuhat) the
-// selection's inference uses; levels independent, as its objective weighs them), at most
-// the chi-square quantile at 1 - alpha with as many degrees of freedom as parameters
-// removed from components that carried a share of the WV (their own WV farther than
-// kNoShare from zero in that metric). A collapsed component is removed for free and adds no
-// budget. Without a covariance, sd_j is the chi-square approximation's (eta_j equivalent
-// degrees of freedom; robust: inflated by 1/efficiency), 2-5x too large in variance, which
-// reduces components the objective sees (issue 27); selection always passes V.
+// A reduction is accepted while the fit's WV cannot be told apart from the reduced one's
+// at level alpha. Statistic: S = min over the reduced model's parameters (Gauss-Newton
+// from the reduction's values; the effective model carries the values reached) of
+// sum_j (nu_eff_j - nu_fit_j)^2 / V_jj, V = EffectiveOptions::covariance (the exact
+// Cov(nuhat) the selection's inference uses; without it, the chi-square approximation's
+// diagonal, 2-5x too large in variance). Null: simulated (Hansen 1996) from 2000 seeded
+// draws of N(0, V) through the linearised fit, each removed part contributing the largest
+// excess over its shapes (Process::shape_family: an AR1's phi is not identified once its
+// variance is 0), so the level holds with correlated levels and a nuisance parameter
+// (docs/model-selection.md: 3.0% +- 1.2% at nominal 5%; the chi-square rule gave 23%). A
+// component whose own WV is within kNoShare of zero is removed without a test and adds
+// nothing to the null.
 //
 //   const gmwm::EffectiveModel e = gmwm::effective_model(wv, fit.model, fit.theta);
 //   e.model.to_string(e.theta);  e.reductions  // "AR1 (phi = 0.0031) is WN-like", ...
@@ -56,10 +58,10 @@ struct EffectiveModel {
   /// ("WN-like" for a WN that was an AR1), per component, empty when it is as fitted.
   std::vector<std::string> labels;
   double statistic = 0.0;   ///< S of the accepted reductions (0 when none)
-  double threshold = 0.0;   ///< its chi-square quantile (0 when none)
+  double threshold = 0.0;   ///< its simulated 1 - alpha quantile (0 when none)
   int removed_parameters = 0;
-  /// The test's degrees of freedom: removed parameters of components that carried a share
-  /// of the WV (a collapsed term's are removed for free).
+  /// Removed parameters of components that carried a share of the WV (tested; a collapsed
+  /// term's are removed for free).
   int tested_parameters = 0;
   bool reduced() const { return !reductions.empty(); }
   int parameters() const { return model.num_parameters(); }

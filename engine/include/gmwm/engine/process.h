@@ -207,6 +207,14 @@ class Process {
   /// visible in the data is decided by the caller (effective_model.h). Default: none.
   virtual std::vector<SimplerForm> simpler_forms(std::span<const double> theta) const;
 
+  /// Parameter vectors (each the size of theta, at theta's size) spanning the shapes this
+  /// component's WV can take over the scales tau: the values of the parameters that are
+  /// not identified once its size is 0 (an AR1's phi). A test that the component is absent
+  /// takes the largest excess over them (effective_model.h; Davies 1987, Hansen 1996).
+  /// Default: {theta} (the shape is fixed: WN, QN, RW, DR ...).
+  virtual std::vector<std::vector<double>> shape_family(std::span<const double> theta,
+                                                        std::span<const double> tau) const;
+
   /// The parameters of one component of this process equal (or closest) to the sum of
   /// two of them with theta_a and theta_b, or nullopt when sums never merge. Default:
   /// nullopt. WN, QN, RW add their sizes; AR1 merges at a common phi.
