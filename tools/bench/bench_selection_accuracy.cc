@@ -7,9 +7,16 @@
 // truth; "as fitted" asks whether the best-scoring candidate itself was the truth's
 // structure. Four truths with every component detectable (non-centrality >= 25 under the
 // exact WV covariance, with the other components known and with them re-estimated) and
-// one with a borderline component (nc 2-8), whose oracle power is printed. Also the representation violations over every selection (bar 0). Goal: the
-// effective truth first in >= 80% of the series of each fully detectable truth, with WVIC
-// and with BIC. Seeds fixed below. Exit 0 when the goal and the bar hold.
+// one with a borderline component (nc 2-8), whose oracle power is printed; and one with a
+// slow AR1 the data only just resolve (issue 27), where "effective truth first" is set
+// against the Monte-Carlo oracle that knows the forms: the same criterion choosing between
+// the truth and the truth without its slow AR1 only (select_among on the two), on the same
+// series. Also: the representation violations over every selection (bar 0), and every row
+// of every WVIC selection refitted alone (its model, the selection's Omega, default
+// starts): no refit may end below the row's objective (relative 1e-6), since a row is its
+// own model's fit. Goal (issue 27): the effective truth first in >= 85% of the series of
+// each fully detectable truth, and within 10 points of the oracle for the slow-AR1 truth,
+// with WVIC and with BIC. Seeds fixed below. Exit 0 when the goals and the bars hold.
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -24,6 +31,7 @@
 #include <tbb/parallel_for.h>
 
 #include "bench_common.h"
+#include "bench_detectability.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -37,81 +45,14 @@ namespace {
 
 constexpr std::int64_t kN = 1 << 17;
 constexpr int kReplicates = 100;
-constexpr double kGoal = 0.80;
+constexpr double kGoal = 0.85;
+constexpr double kOracleGap = 0.10;  // points of the oracle, slow-AR1 truth
 constexpr double kDetectableNc = 25.0;
 constexpr const char* kMaximal = "3*AR1+WN+RW+QN+DR";
 
-// Per component of the truth: the non-centrality nc = d' V0^-1 d of its WV d (at the true
-// values) under the exact covariance V0 of nuhat at the truth, J = log2 N levels. It
-// bounds what any WV-based selection can see: dropping the component and refitting the
-// others shifts the expected WV by at most d, so no test has more power than the oracle
-// test with power Phi(sqrt(nc) - z_0.95).
-std::vector<double> noncentrality(const Model& truth) {
-  const int J = static_cast<int>(std::log2(static_cast<double>(kN)));
-  std::vector<double> tau;
-  for (int j = 1; j <= J; ++j) tau.push_back(std::ldexp(1.0, j));
-  const Eigen::VectorXd theta = truth.given_values();
-  const Eigen::MatrixXd v0 = model_wv_covariance(truth, theta, kN, J);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(v0);
-  std::vector<double> out;
-  for (int c = 0; c < truth.num_components(); ++c) {
-    const Process& p = *truth.components()[static_cast<std::size_t>(c)].process;
-    std::vector<double> f(tau.size());
-    p.wv({theta.data() + truth.offset(c), static_cast<std::size_t>(p.size())}, tau, f);
-    const Eigen::VectorXd d = Eigen::Map<const Eigen::VectorXd>(f.data(), J);
-    out.push_back(d.dot(ldlt.solve(d)));
-  }
-  return out;
-}
-
-// The same with the other components re-estimated: the minimum over the model without
-// component c of (nu0 - nu(theta))' V0^-1 (nu0 - nu(theta)), nu0 the truth's exact WV. It
-// is what a test that knows the forms but not the values can see (a component another one
-// can mimic, like a WN beside an AR1 and a QN, is much less visible than nc says).
-std::vector<double> refit_noncentrality(const Model& truth) {
-  const int J = static_cast<int>(std::log2(static_cast<double>(kN)));
-  WaveletVariance w;
-  for (int j = 1; j <= J; ++j) {
-    const double tau = std::ldexp(1.0, j);
-    w.tau.push_back(tau);
-    w.coefficients.push_back(kN - static_cast<std::int64_t>(tau) + 1);
-    w.eta.push_back(std::max(static_cast<double>(w.coefficients.back()) / tau, 1.0));
-    w.notes.emplace_back();
-  }
-  w.n = kN;
-  const Eigen::VectorXd theta = truth.given_values();
-  const Eigen::VectorXd nu0 = truth.wv(theta, w.tau);
-  w.wv.assign(nu0.data(), nu0.data() + J);
-  w.ci_low = w.ci_high = w.variance = w.wv;
-  const Eigen::MatrixXd v0 = model_wv_covariance(truth, theta, kN, J);
-  const Eigen::MatrixXd omega = v0.ldlt().solve(Eigen::MatrixXd::Identity(J, J));
-  std::vector<double> out;
-  for (int c = 0; c < truth.num_components(); ++c) {
-    std::vector<Component> kept;
-    Eigen::VectorXd start(truth.num_parameters() - truth.components()[static_cast<std::size_t>(c)].process->size());
-    int pos = 0;
-    for (int k = 0; k < truth.num_components(); ++k) {
-      if (k == c) continue;
-      kept.push_back(truth.components()[static_cast<std::size_t>(k)]);
-      const int size = truth.components()[static_cast<std::size_t>(k)].process->size();
-      start.segment(pos, size) = theta.segment(truth.offset(k), size);
-      pos += size;
-    }
-    FitOptions fo;
-    fo.omega_matrix = omega;
-    fo.inference = false;
-    fo.starts = {start};
-    out.push_back(fit_gmwm(w, Model(kept), fo).objective);
-  }
-  return out;
-}
-
-// The oracle's power for one component: the chi-square test (1 df, level 5%) of its
-// absence with every other parameter known, non-centrality nc.
-double oracle_power(double nc) {
-  const double q = boost::math::quantile(boost::math::chi_squared(1.0), 0.95);
-  return boost::math::cdf(boost::math::complement(boost::math::non_central_chi_squared(1.0, nc), q));
-}
+std::vector<double> noncentrality(const Model& truth) { return bench::noncentrality(truth, kN); }
+std::vector<double> refit_noncentrality(const Model& truth) { return bench::refit_noncentrality(truth, kN); }
+using bench::oracle_power;
 
 using Counts = std::map<std::string, int>;
 
@@ -146,7 +87,7 @@ std::string difference(const Counts& picked, const Counts& truth) {
 }
 
 struct Tally {
-  int first = 0, as_fitted = 0, contained = 0;
+  int first = 0, as_fitted = 0, contained = 0, oracle = 0;
   std::map<std::string, int> wrong;  // difference -> count
 };
 
@@ -184,11 +125,43 @@ Detectability detectability(const Model& truth) {
 struct Pick {
   std::string effective, fitted;
   int violations = 0;
+  bool oracle_truth = false;  // the criterion prefers the truth over the truth without its slow AR1
 };
 
 int g_violations = 0, g_selections = 0;
+int g_rows = 0, g_rows_below = 0;  // rows refitted alone; refits ending below the row
+double g_worst_row = 0.0;           // largest relative amount a refit ended below its row
 
-bool study(const char* truth_spec, std::uint64_t seed, std::vector<std::string>& notes) {
+// Every row of `sel` refitted alone from the default starts under the selection's Omega.
+void check_rows(const WaveletVariance& wv, const selection::Selection& sel) {
+  for (const auto& row : sel.ranking) {
+    FitOptions fo;
+    fo.omega_matrix = sel.omega;
+    fo.inference = false;
+    const FitResult alone = fit_gmwm(wv, parse_model(row.model), fo);
+    const double rel = (row.objective - alone.objective) / std::max(std::abs(row.objective), 1e-300);
+    ++g_rows;
+    if (rel > 1e-6) ++g_rows_below;
+    g_worst_row = std::max(g_worst_row, rel);
+  }
+}
+
+// The truth without its slowest AR1 (the oracle's alternative), or "" when it has no two AR1s.
+std::string without_slow_ar1(const Model& truth) {
+  int slow = -1, ar1s = 0;
+  for (int c = 0; c < truth.num_components(); ++c)
+    if (truth.components()[static_cast<std::size_t>(c)].process->name() == "AR1") {
+      ++ar1s;
+      if (slow < 0 || truth.given_values()(truth.offset(c)) > truth.given_values()(truth.offset(slow))) slow = c;
+    }
+  if (ar1s < 2) return "";
+  std::vector<Component> kept;
+  for (int c = 0; c < truth.num_components(); ++c)
+    if (c != slow) kept.push_back(truth.components()[static_cast<std::size_t>(c)]);
+  return Model(kept).to_string();
+}
+
+bool study(const char* truth_spec, std::uint64_t seed, bool oracle, std::vector<std::string>& notes) {
   const Model truth = parse_model(truth_spec);
   const std::string want_name = truth.to_string();
   const Counts want = components(want_name);
@@ -203,9 +176,18 @@ bool study(const char* truth_spec, std::uint64_t seed, std::vector<std::string>&
     auto pick = [&](const selection::Selection& sel) {
       return Pick{sel.ranking.front().model, sel.ranking.front().members.front(), sel.representation_violations};
     };
-    pick_wvic[static_cast<std::size_t>(r)] = pick(selection::select_models(wv, maximal, o).front());
+    auto oracle_pick = [&](Pick& p) {
+      if (!oracle) return;
+      const std::vector<Model> two = {parse_model(want_name), parse_model(without_slow_ar1(truth))};
+      p.oracle_truth = selection::select_among(wv, two, o).front().ranking.front().model == want_name;
+    };
+    const selection::Selection sw = selection::select_models(wv, maximal, o).front();
+    check_rows(wv.front(), sw);
+    pick_wvic[static_cast<std::size_t>(r)] = pick(sw);
+    oracle_pick(pick_wvic[static_cast<std::size_t>(r)]);
     o.penalty = selection::Penalty::kBic;
     pick_bic[static_cast<std::size_t>(r)] = pick(selection::select_models(wv, maximal, o).front());
+    oracle_pick(pick_bic[static_cast<std::size_t>(r)]);
   });
   auto tally = [&](const std::vector<Pick>& picks) {
     Tally t;
@@ -215,6 +197,7 @@ bool study(const char* truth_spec, std::uint64_t seed, std::vector<std::string>&
       else ++t.wrong[difference(c, want)];
       if (p.fitted == want_name) ++t.as_fitted;
       if (contains(c, want)) ++t.contained;
+      if (p.oracle_truth) ++t.oracle;
       g_violations += p.violations;
       ++g_selections;
     }
@@ -222,12 +205,15 @@ bool study(const char* truth_spec, std::uint64_t seed, std::vector<std::string>&
   };
   const Tally w = tally(pick_wvic), b = tally(pick_bic);
   auto pct = [](int n) { return 100.0 * n / kReplicates; };
-  std::printf("| %s | WVIC | %.0f%% | %.0f%% | %.0f%% | %s |\n", truth_spec, pct(w.first), pct(w.as_fitted),
-              pct(w.contained), top_wrong(w).c_str());
-  std::printf("| | BIC | %.0f%% | %.0f%% | %.0f%% | %s |\n", pct(b.first), pct(b.as_fitted), pct(b.contained),
-              top_wrong(b).c_str());
+  auto oracle_text = [&](const Tally& t) { return oracle ? std::to_string(t.oracle) + "%" : std::string("-"); };
+  std::printf("| %s | WVIC | %.0f%% | %s | %.0f%% | %.0f%% | %s |\n", truth_spec, pct(w.first), oracle_text(w).c_str(),
+              pct(w.as_fitted), pct(w.contained), top_wrong(w).c_str());
+  std::printf("| | BIC | %.0f%% | %s | %.0f%% | %.0f%% | %s |\n", pct(b.first), oracle_text(b).c_str(), pct(b.as_fitted),
+              pct(b.contained), top_wrong(b).c_str());
   notes.push_back(std::string(truth_spec) + ": " + det.text + (det.all_detectable ? "." : " (a borderline component)."));
   std::fflush(stdout);
+  if (oracle)
+    return std::abs(w.first - w.oracle) <= kOracleGap * kReplicates && std::abs(b.first - b.oracle) <= kOracleGap * kReplicates;
   return !det.all_detectable || (w.first >= kGoal * kReplicates && b.first >= kGoal * kReplicates);
 }
 
@@ -244,15 +230,18 @@ int main(int argc, char** argv) {
   std::printf("%d series of N = 2^17 per true model, every sub-model of %s (63), Omega %s; "
               "WVIC = objective + analytic optimism, BIC = objective + p log N.\n\n", kReplicates, kMaximal,
               selection::to_string(g_omega));
-  std::printf("| true model | criterion | effective truth first | truth first as fitted | first contains the truth | "
-              "wrong picks: difference from the truth (count) |\n|---|---|---|---|---|---|\n");
+  std::printf("| true model | criterion | effective truth first | oracle (truth vs truth without its slow AR1) | "
+              "truth first as fitted | first contains the truth | "
+              "wrong picks: difference from the truth (count) |\n|---|---|---|---|---|---|---|\n");
   bool ok = true;
   std::vector<std::string> notes;
   const char* truths[] = {"WN(sigma2=1)+QN(Q2=1)+RW(gamma2=3e-6)",
                           "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)+RW(gamma2=1e-4)",
                           "AR1(phi=0.95,sigma2=0.05)+AR1(phi=0.998,sigma2=3e-4)+WN(sigma2=1)",
                           "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)+QN(Q2=0.3)+DR(omega=1e-4)",
-                          "WN(sigma2=1)+RW(gamma2=1e-7)"};
+                          "WN(sigma2=1)+RW(gamma2=1e-7)",
+                          "AR1(phi=0.9,sigma2=0.1)+AR1(phi=0.999,sigma2=1e-5)+WN(sigma2=1)"};
+  constexpr int kTruths = 6, kSlowAr1Truth = 5;  // the last: the oracle's
   if (only < 0) {  // detectability only: of the truths below, or of the models given after "-1"
     std::vector<std::string> notes;
     std::vector<std::string> specs(std::begin(truths), std::end(truths));
@@ -261,8 +250,8 @@ int main(int argc, char** argv) {
     for (const auto& n : notes) std::printf("- %s\n", n.c_str());
     return 0;
   }
-  for (int t = 0; t < 5; ++t)
-    if (!only || only == t + 1) ok &= study(truths[t], 5101 + static_cast<std::uint64_t>(t), notes);
+  for (int t = 0; t < kTruths; ++t)
+    if (!only || only == t + 1) ok &= study(truths[t], 5101 + static_cast<std::uint64_t>(t), t == kSlowAr1Truth, notes);
   std::printf("\nDetectability of each true component at N = 2^17: non-centrality nc = d' V0^-1 d of its WV d under "
               "the exact Cov(nuhat) at the truth, and the power of the oracle test of its absence (all other "
               "parameters known; chi-square, 1 df, 5%%): an upper bound for any WV-based selection; and the same "
@@ -272,9 +261,13 @@ int main(int argc, char** argv) {
   for (const auto& n : notes) std::printf("- %s\n", n.c_str());
   std::printf("\nRepresentation violations over the %d selections (63 candidates each): %d (bar 0).\n", g_selections,
               g_violations);
-  ok = ok && g_violations == 0;
+  std::printf("\nRows refitted alone (every row of every WVIC selection, default starts, the selection's Omega): %d; "
+              "refits ending below their row by more than 1e-6 relative: %d (bar 0; largest %.2g).\n",
+              g_rows, g_rows_below, g_worst_row);
+  ok = ok && g_violations == 0 && g_rows_below == 0;
   std::printf("\nGoal: the effective truth first in at least %.0f%% of the series of each fully detectable truth, "
-              "with WVIC and with BIC, and no representation violation: %s (%.0f s).\n",
-              100 * kGoal, ok ? "pass" : "FAIL", clock.seconds());
+              "within %.0f points of the oracle for the slow-AR1 truth, with WVIC and with BIC, no representation "
+              "violation and no row below its refit: %s (%.0f s).\n",
+              100 * kGoal, 100 * kOracleGap, ok ? "pass" : "FAIL", clock.seconds());
   return ok ? 0 : 1;
 }
