@@ -22,6 +22,11 @@ std::string shell_quote(const std::string& s) {
 
 }  // namespace
 
+const char* gmwm_cli_path() {
+  const char* given = std::getenv("GMWM_CLI");
+  return given && *given ? given : GMWM_CLI_PATH;
+}
+
 CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir) {
   return run_gmwm(args, dir, RunOptions{});
 }
@@ -41,7 +46,7 @@ CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::pat
   const auto err_path = dir / (".stderr" + std::to_string(counter++));
   std::string cmd = "cd " + shell_quote(dir.string()) + " && " + how.before + " ";
   if (how.stdin_pipe) cmd += how.stdin_from + " | ";
-  cmd += shell_quote(GMWM_CLI_PATH);
+  cmd += shell_quote(gmwm_cli_path());
   for (const auto& a : args) cmd += " " + shell_quote(a);
   if (!how.stdin_pipe) cmd += " < " + how.stdin_from;
   cmd += " > " + (how.stdout_to.empty() ? shell_quote(out_path.string()) : how.stdout_to) + " 2> " +

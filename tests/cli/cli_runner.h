@@ -24,6 +24,11 @@ struct RunOptions {
   std::string stdout_to;               ///< stdout to this path instead of the captured file (out stays empty)
 };
 
+/// The `gmwm` program the tests run: $GMWM_CLI when set (tools/sanitize.sh points it at
+/// the AddressSanitizer build of the program, so that the hostile corpus runs against it
+/// without rebuilding the tests), else the program built beside the tests (GMWM_CLI_PATH).
+const char* gmwm_cli_path();
+
 /// Runs `gmwm args...` in folder `dir` (relative paths resolve there), capturing stdout
 /// and stderr.
 CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::path& dir);

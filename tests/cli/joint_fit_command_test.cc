@@ -302,7 +302,7 @@ class GmwmCliJointProgress : public GmwmCliJointFit {
   // stdout and stderr of `gmwm ARGS` run on a pseudo-terminal, or "" when script(1) is missing.
   std::string on_terminal(const std::vector<std::string>& args) {
     if (std::system("command -v script > /dev/null 2>&1") != 0) return {};
-    std::string cmd = std::string("'") + GMWM_CLI_PATH + "'";
+    std::string cmd = std::string("'") + gmwm::test::gmwm_cli_path() + "'";
     for (const auto& a : args) cmd += " '" + a + "'";
     const fs::path log = dir_ / "tty.log";
     const std::string shell = "cd '" + dir_.string() + "' && script -qec \"" + cmd + "\" /dev/null > '" + log.string() + "' 2>&1";

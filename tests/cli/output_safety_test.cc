@@ -161,10 +161,10 @@ pid_t start_gmwm(const std::vector<std::string>& args, const fs::path& dir) {
     if (::chdir(dir.c_str()) != 0) ::_exit(126);
     const int null = ::open("/dev/null", O_RDWR);
     ::dup2(null, 0), ::dup2(null, 1), ::dup2(null, 2);
-    std::vector<char*> argv{const_cast<char*>(GMWM_CLI_PATH)};
+    std::vector<char*> argv{const_cast<char*>(gmwm::test::gmwm_cli_path())};
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    ::execv(GMWM_CLI_PATH, argv.data());
+    ::execv(gmwm::test::gmwm_cli_path(), argv.data());
     ::_exit(127);
   }
   return pid;

@@ -43,7 +43,7 @@ class GmwmSideFiles : public ::testing::Test {
     return out;
   }
 
-  static std::string cli() { return "'" + std::string(GMWM_CLI_PATH) + "'"; }
+  static std::string cli() { return "'" + std::string(gmwm::test::gmwm_cli_path()) + "'"; }
 
   fs::path dir_;
   std::string from_file_;
