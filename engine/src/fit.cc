@@ -486,7 +486,20 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   if (r.status != FitStatus::kConverged && options.log_not_converged)
     spdlog::get("gmwm") ? spdlog::get("gmwm")->warn("fit of {}: {}", r.model.to_string(), r.message)
                         : spdlog::warn("fit of {}: {}", r.model.to_string(), r.message);
-  if (options.inference) detail::run_inference(wv, options, omega_is_v_inverse, r);
+  if (options.inference) {
+    // The parameters' covariance is measured with Cov(nuhat) at the final estimate, not at
+    // the pilot that formed the weights: the pilot is the data-weighted fit, whose
+    // long-memory terms come out low (a random walk's gamma2 by ~20% at 2^17), and V at the
+    // coarse levels scales with them, so the standard errors came out ~20% short and the
+    // 95% intervals of a random walk covered 84-88% (issue 27; tools/bench/bench_random_walk).
+    // The goodness of fit keeps the pilot's V, the one Omega was formed from (with V at the
+    // final estimate the p-values of a true model averaged 0.6 instead of 0.5 under V^-1
+    // weights). A bootstrap V is the user's own estimate and serves both.
+    Eigen::MatrixXd v_final;
+    if (v_for_omega.size() && options.omega != OmegaKind::kBootstrap && !wv.covariance)
+      v_final = model_wv_covariance(r.model, r.theta, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
+    detail::run_inference(wv, options, omega_is_v_inverse, r, v_final.size() ? &v_final : nullptr);
+  }
   r.seconds_inference = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   return r;
 }

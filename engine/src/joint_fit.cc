@@ -200,9 +200,13 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
       at += J;
     }
     if (options.inference) {
-      if (!omega_is_v_inverse) v = model_covariances(wvs, joint.model, joint.theta);
+      // The parameters' covariance with V at the final estimate (fit.cc says why); under
+      // V^-1 weights the goodness of fit keeps the pilot's V they were formed from.
+      const std::vector<Eigen::MatrixXd> v_final = model_covariances(wvs, joint.model, joint.theta);
+      if (!omega_is_v_inverse) v = v_final;
       joint.wv_covariance = block_diagonal(v);
-      detail::run_inference(stacked, options, omega_is_v_inverse, joint);
+      const Eigen::MatrixXd parameter_v = block_diagonal(v_final);
+      detail::run_inference(stacked, options, omega_is_v_inverse, joint, &parameter_v);
     }
   }
   out.joint = std::move(joint);

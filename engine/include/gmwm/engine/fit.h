@@ -48,7 +48,8 @@ enum class FitStatus { kConverged, kNotConverged, kFailed };
 const char* to_string(FitStatus s);
 
 struct FitOptions {
-  OmegaKind omega = OmegaKind::kDiag;
+  /// The default, as `gmwm fit` and Python's fit: model-based diagonal weights (kModel).
+  OmegaKind omega = OmegaKind::kModel;
   /// A weighting matrix given by the caller (e.g. common to all models of a selection);
   /// overrides `omega` when set.
   std::optional<Eigen::MatrixXd> omega_matrix;
