@@ -33,20 +33,11 @@ std::vector<std::int64_t> allan_factors(std::int64_t n, int points_per_octave) {
   return out;
 }
 
-AllanDeviation allan_deviation(std::span<const double> x, double freq, const AllanOptions& options) {
-  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  check_positive("allan_deviation", "freq", freq);
-  const auto n = static_cast<std::int64_t>(x.size());
-  check_at_least("allan_deviation", "samples", static_cast<double>(n), 2.0);
-  bool finite = true;
-  for_each_block(x, [&](std::span<const double> part, std::size_t) {
-    for (double v : part) finite = finite && std::isfinite(v);
-  });
-  if (!finite) throw InvalidArgument("allan_deviation: the series holds a non-finite sample");
-  // The Haar transform's mean-centred prefix sums (accumulated in long double, stored in
-  // double): the Allan variance at m is twice the mean square of the width-2m filter.
-  const HaarModwt modwt(x.data(), n);
+namespace {
 
+// The deviation's grid, its intervals and, point by point, its values from the sums of
+// squares `sum(k)` of the width-2m Haar filter (HaarModwt::sum_of_squares_half_width).
+AllanDeviation empty_deviation(std::int64_t n, double freq, const AllanOptions& options) {
   AllanDeviation a;
   a.freq = freq;
   a.n = n;
@@ -58,19 +49,76 @@ AllanDeviation allan_deviation(std::span<const double> x, double freq, const All
   a.ci_low.resize(K);
   a.ci_high.resize(K);
   a.edf.resize(K);
-  gmwm::parallel_for(std::size_t{0}, K, [&](std::size_t k) {
-    const std::int64_t m = a.m[k];
-    const std::int64_t count = n - 2 * m + 1;
-    const double avar = 2.0 * modwt.sum_of_squares_half_width(m) / static_cast<double>(count);
-    const double eta = std::max(static_cast<double>(count) / static_cast<double>(2 * m), 1.0);
-    const boost::math::chi_squared chi(eta);
-    a.tau[k] = static_cast<double>(m) / freq;
-    a.adev[k] = std::sqrt(avar);
-    a.edf[k] = eta;
-    a.ci_low[k] = std::sqrt(eta * avar / boost::math::quantile(chi, 1.0 - options.alpha / 2.0));
-    a.ci_high[k] = std::sqrt(eta * avar / boost::math::quantile(chi, options.alpha / 2.0));
-  });
   return a;
+}
+
+void fill_point(AllanDeviation& a, std::size_t k, double sum_of_squares) {
+  const std::int64_t m = a.m[k];
+  const std::int64_t count = a.n - 2 * m + 1;
+  const double avar = 2.0 * sum_of_squares / static_cast<double>(count);
+  const double eta = std::max(static_cast<double>(count) / static_cast<double>(2 * m), 1.0);
+  const boost::math::chi_squared chi(eta);
+  a.tau[k] = static_cast<double>(m) / a.freq;
+  a.adev[k] = std::sqrt(avar);
+  a.edf[k] = eta;
+  a.ci_low[k] = std::sqrt(eta * avar / boost::math::quantile(chi, 1.0 - a.alpha / 2.0));
+  a.ci_high[k] = std::sqrt(eta * avar / boost::math::quantile(chi, a.alpha / 2.0));
+}
+
+// The level j with 2^(j-1) = m, or 0 when m is not a power of two.
+int octave_level(std::int64_t m) {
+  if (m < 1 || (m & (m - 1)) != 0) return 0;
+  int j = 1;
+  while ((std::int64_t{1} << (j - 1)) < m) ++j;
+  return j;
+}
+
+}  // namespace
+
+AllanDeviation allan_deviation(std::span<const double> x, double freq, const AllanOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  check_positive("allan_deviation", "freq", freq);
+  const auto n = static_cast<std::int64_t>(x.size());
+  check_at_least("allan_deviation", "samples", static_cast<double>(n), 2.0);
+  bool finite = true;
+  for_each_block(x, [&](std::span<const double> part, std::size_t) {
+    for (double v : part) finite = finite && std::isfinite(v);
+  });
+  if (!finite) throw InvalidArgument("allan_deviation: the series holds a non-finite sample");
+  // The Haar transform's mean-centred prefix sums (compensated sums, stored in double): the
+  // Allan variance at m is twice the mean square of the width-2m filter.
+  std::vector<std::unique_ptr<HaarModwt>> modwt;
+  modwt.push_back(std::make_unique<HaarModwt>(x.data(), n));
+  return std::move(allan_deviation(modwt, freq, options).front());
+}
+
+std::vector<AllanDeviation> allan_deviation(const std::vector<std::unique_ptr<HaarModwt>>& transforms, double freq,
+                                            const AllanOptions& options,
+                                            const std::vector<std::vector<double>>& level_sums) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  check_positive("allan_deviation", "freq", freq);
+  std::vector<AllanDeviation> out;
+  // An octave point whose level sum is given takes it; the others are computed in shared
+  // passes over each series' prefix sums.
+  std::vector<std::vector<std::size_t>> points(transforms.size());
+  std::vector<std::vector<std::int64_t>> half_widths(transforms.size());
+  for (std::size_t c = 0; c < transforms.size(); ++c) {
+    check_at_least("allan_deviation", "samples", static_cast<double>(transforms[c]->size()), 2.0);
+    out.push_back(empty_deviation(transforms[c]->size(), freq, options));
+    for (std::size_t k = 0; k < out[c].size(); ++k) {
+      const auto j = static_cast<std::size_t>(octave_level(out[c].m[k]));
+      if (c < level_sums.size() && j >= 1 && j <= level_sums[c].size()) {
+        fill_point(out[c], k, level_sums[c][j - 1]);
+      } else {
+        points[c].push_back(k);
+        half_widths[c].push_back(out[c].m[k]);
+      }
+    }
+  }
+  const std::vector<std::vector<double>> sums = sums_of_squares_half_width(transforms, half_widths);
+  for (std::size_t c = 0; c < transforms.size(); ++c)
+    for (std::size_t i = 0; i < points[c].size(); ++i) fill_point(out[c], points[c][i], sums[c][i]);
+  return out;
 }
 
 std::vector<double> model_allan_deviation(const Model& model, const Eigen::VectorXd& theta,

@@ -58,11 +58,12 @@ int levels_for(const HaarModwt& modwt, const WvOptions& options) {
   return options.levels > 0 ? std::min(options.levels, J) : J;
 }
 
-void fill_level(const HaarModwt& modwt, int j, WaveletVariance& w) {
+// Level j of w from its sum of squares (HaarModwt::sum_of_squares(j)).
+void fill_level(const HaarModwt& modwt, int j, double sum_of_squares, WaveletVariance& w) {
   const auto i = static_cast<std::size_t>(j - 1);
   const std::int64_t M = modwt.count(j);
   const double tau = std::ldexp(1.0, j);
-  const double v = modwt.sum_of_squares(j) / static_cast<double>(M);
+  const double v = sum_of_squares / static_cast<double>(M);
   const double eta = wv_eta(M, tau);
   w.tau[i] = tau;
   w.wv[i] = v;
@@ -84,28 +85,32 @@ WaveletVariance classical_wv(const HaarModwt& modwt, const WvOptions& options) {
   check_series("classical_wv", n, options);
   const int J = levels_for(modwt, options);
   WaveletVariance w = empty_wv(n, J, options.alpha);
-  for (int j = 1; j <= J; ++j) fill_level(modwt, j, w);
+  for (int j = 1; j <= J; ++j) fill_level(modwt, j, modwt.sum_of_squares(j), w);
   return w;
 }
 
 std::vector<WaveletVariance> classical_wv(const std::vector<std::span<const double>>& series,
                                           const WvOptions& options) {
-  std::vector<std::unique_ptr<HaarModwt>> modwt(series.size());
-  std::vector<WaveletVariance> out(series.size());
   for (const auto& s : series) check_series("classical_wv", static_cast<std::int64_t>(s.size()), options);
-  gmwm::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
-    const auto n = static_cast<std::int64_t>(series[c].size());
-    modwt[c] = std::make_unique<HaarModwt>(series[c].data(), n);
-    out[c] = empty_wv(n, levels_for(*modwt[c], options), options.alpha);
-  });
-  // Levels of all series as one flat range, so that two cores share six columns evenly.
-  std::vector<std::pair<std::size_t, int>> tasks;
-  for (std::size_t c = 0; c < series.size(); ++c)
-    for (int j = 1; j <= out[c].levels(); ++j) tasks.emplace_back(c, j);
-  gmwm::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
-    const auto [c, j] = tasks[k];
-    fill_level(*modwt[c], j, out[c]);
-  });
+  return classical_wv(haar_transforms(series), options);
+}
+
+std::vector<WaveletVariance> classical_wv(const std::vector<std::unique_ptr<HaarModwt>>& transforms,
+                                          const WvOptions& options, std::vector<std::vector<double>>* level_sums) {
+  std::vector<WaveletVariance> out(transforms.size());
+  std::vector<std::vector<double>> sums(transforms.size());
+  for (std::size_t c = 0; c < transforms.size(); ++c) {
+    check_series("classical_wv", transforms[c]->size(), options);
+    out[c] = empty_wv(transforms[c]->size(), levels_for(*transforms[c], options), options.alpha);
+  }
+  // Every level's sum (level j: half-width 2^(j-1)) in shared passes over the prefix sums.
+  std::vector<std::vector<std::int64_t>> half_widths(transforms.size());
+  for (std::size_t c = 0; c < transforms.size(); ++c)
+    for (int j = 1; j <= out[c].levels(); ++j) half_widths[c].push_back(std::int64_t{1} << (j - 1));
+  sums = sums_of_squares_half_width(transforms, half_widths);
+  for (std::size_t c = 0; c < transforms.size(); ++c)
+    for (int j = 1; j <= out[c].levels(); ++j) fill_level(*transforms[c], j, sums[c][static_cast<std::size_t>(j - 1)], out[c]);
+  if (level_sums) *level_sums = std::move(sums);
   return out;
 }
 

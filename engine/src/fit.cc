@@ -586,6 +586,12 @@ double orient_by_series(FitResult& fit, std::span<const double> x) {
   return slope;
 }
 
+bool has_sign_from_series(const FitResult& fit) {
+  for (int k = 0; k < fit.model.num_parameters(); ++k)
+    if (fit.model.spec_of(k).signed_magnitude) return true;
+  return false;
+}
+
 void orient_by_slope(FitResult& fit, double slope) {
   if (fit.theta.size() != fit.model.num_parameters()) return;
   std::vector<int> flipped;

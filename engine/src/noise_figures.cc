@@ -499,8 +499,13 @@ ChosenFigures one_sided_choice(const NoiseFigures& f, FigureSource shown, const 
 FigureReport noise_figure_report(std::span<const double> x, double freq, const Model& model,
                                  const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
                                  const AllanOptions& allan, const ReadoffOptions& readoff) {
+  return noise_figure_report(allan_deviation(x, freq, allan), model, theta, covariance, readoff);
+}
+
+FigureReport noise_figure_report(AllanDeviation adev, const Model& model, const Eigen::VectorXd& theta,
+                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& readoff) {
   FigureReport r;
-  r.adev = allan_deviation(x, freq, allan);
+  r.adev = std::move(adev);
   r.data = read_noise_figures(r.adev, readoff);
   r.model_adev = model_allan_deviation(model, theta, r.adev.m);
   const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
@@ -539,8 +544,12 @@ FigureReport noise_figure_report_from_wv(const WaveletVariance& wv, double freq,
 
 FigureReport data_figure_report(std::span<const double> x, double freq, const AllanOptions& allan,
                                 const ReadoffOptions& readoff) {
+  return data_figure_report(allan_deviation(x, freq, allan), readoff);
+}
+
+FigureReport data_figure_report(AllanDeviation adev, const ReadoffOptions& readoff) {
   FigureReport r;
-  r.adev = allan_deviation(x, freq, allan);
+  r.adev = std::move(adev);
   r.data = read_noise_figures(r.adev, readoff);
   r.chosen = one_sided_choice(r.data, FigureSource::kData, "the data's Allan deviation");
   return r;

@@ -1,7 +1,8 @@
-// The fit study as named stages: wavelet variances -> fits (in parallel, drifts oriented)
-// -> noise figures.
+// The fit study as named stages: wavelet variances and the data's Allan deviations (one
+// transform per column) -> fits (in parallel, drifts oriented) -> noise figures.
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/fit_study.h"
+#include "data_curves.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -18,12 +19,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::vector<WaveletVariance> wavelet_variances(const io::SignalSet& set, const FitStudyOptions& o) {
-  std::vector<std::span<const double>> series;
-  for (const auto& s : set.signals) series.emplace_back(s.values);
-  return o.robust ? robust::robust_wv(series, *o.robust) : classical_wv(series, o.wv);
-}
-
 }  // namespace
 
 std::string FitStudyOptions::Validate() const {
@@ -35,7 +30,8 @@ std::string FitStudyOptions::Validate() const {
 
 std::vector<std::optional<FigureReport>> noise_figures_of(const io::SignalSet& set,
                                                           const std::vector<const FitResult*>& fits,
-                                                          const std::vector<WaveletVariance>& wvs, double alpha) {
+                                                          const std::vector<WaveletVariance>& wvs,
+                                                          const std::vector<AllanDeviation>& allan, double alpha) {
   std::vector<std::optional<FigureReport>> out(fits.size());
   if (!set.freq_known) return out;
   gmwm::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t k) {
@@ -47,6 +43,8 @@ std::vector<std::optional<FigureReport>> noise_figures_of(const io::SignalSet& s
     ro.alpha = alpha;
     if (k < wvs.size() && wvs[k].estimator != "classical")
       out[k] = noise_figure_report_from_wv(wvs[k], set.freq, f.model, f.theta, &f.covariance, ro);
+    else if (k < allan.size())
+      out[k] = noise_figure_report(allan[k], f.model, f.theta, &f.covariance, ro);
     else
       out[k] = noise_figure_report(set.signals[k].values, set.freq, f.model, f.theta, &f.covariance, ao, ro);
   });
@@ -61,9 +59,10 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   study.omega = options.fit.omega;
   study.model = parse_model(options.model, ProcessContext{set.freq, set.freq_known});
 
-  const auto wv_start = std::chrono::steady_clock::now();
-  std::vector<WaveletVariance> wvs = wavelet_variances(set, options);
-  study.wv_seconds = seconds_since(wv_start);
+  detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.fit.alpha);
+  std::vector<WaveletVariance>& wvs = curves.wvs;
+  study.wv_seconds = curves.wv_seconds;
+  study.allan_seconds = curves.allan_seconds;
   detail::check_usable_wvs(set, wvs, true);
   for (const auto& w : wvs) check_model_fits_levels(study.model, w.levels());
 
@@ -78,12 +77,13 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   std::vector<FitResult> fits(wvs.size());
   gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], study.model, fo); });
   // A drift's sign is not in the WV: the series' own slope gives it.
-  for (std::size_t k = 0; k < fits.size(); ++k) orient_by_series(fits[k], set.signals[k].values);
+  for (std::size_t k = 0; k < fits.size(); ++k)
+    if (has_sign_from_series(fits[k])) orient_by_series(fits[k], set.signals[k].values);
   study.fit_seconds = seconds_since(fit_start);
 
   std::vector<const FitResult*> ptrs;
   for (const auto& f : fits) ptrs.push_back(&f);
-  std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, ptrs, wvs, options.fit.alpha);
+  std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, ptrs, wvs, curves.allan, options.fit.alpha);
   for (std::size_t k = 0; k < fits.size(); ++k)
     study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(fits[k]), std::move(figures[k])});
   return study;

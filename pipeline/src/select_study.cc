@@ -1,6 +1,8 @@
-// The selection study as named stages: models -> wavelet variances -> selection (drifts
-// oriented) -> the best fits' noise figures.
+// The selection study as named stages: models -> wavelet variances and the data's Allan
+// deviations (one transform per column) -> selection (drifts oriented) -> the best fits'
+// noise figures.
 #include "gmwm/pipeline/select_study.h"
+#include "data_curves.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -45,12 +47,10 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   for (const std::string& m : options.models) models.push_back(parse_model(m, ctx));
   const Model maximal = !study.listed ? models.front() : selection::common_supermodel(models);
 
-  const auto wv_start = std::chrono::steady_clock::now();
-  std::vector<std::span<const double>> series;
-  for (const auto& s : set.signals) series.emplace_back(s.values);
-  std::vector<WaveletVariance> wvs =
-      options.robust ? robust::robust_wv(series, *options.robust) : classical_wv(series, options.wv);
-  study.wv_seconds = seconds_since(wv_start);
+  detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.select.fit.alpha);
+  std::vector<WaveletVariance>& wvs = curves.wvs;
+  study.wv_seconds = curves.wv_seconds;
+  study.allan_seconds = curves.allan_seconds;
   detail::check_usable_wvs(set, wvs, true);
   for (const auto& w : wvs) check_model_fits_levels(maximal, w.levels());
 
@@ -65,12 +65,13 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   std::vector<selection::Selection> result =
       !study.listed ? selection::select_models(wvs, maximal, so) : selection::select_among(wvs, models, so);
   // A drift's sign is not in the WV: the series' own slope gives it.
-  for (std::size_t k = 0; k < result.size(); ++k) orient_by_series(result[k].best_fit, set.signals[k].values);
+  for (std::size_t k = 0; k < result.size(); ++k)
+    if (has_sign_from_series(result[k].best_fit)) orient_by_series(result[k].best_fit, set.signals[k].values);
   study.select_seconds = seconds_since(select_start);
 
   std::vector<const FitResult*> best;
   for (const auto& s : result) best.push_back(&s.best_fit);
-  std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, best, wvs, options.select.fit.alpha);
+  std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, best, wvs, curves.allan, options.select.fit.alpha);
   for (std::size_t k = 0; k < result.size(); ++k)
     study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(result[k]), std::move(figures[k])});
   return study;

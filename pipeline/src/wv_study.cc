@@ -1,7 +1,9 @@
-// The WV study as named stages: wavelet variances (robust: with the classical one, the
-// rounding check and the contamination diagnostic) -> Allan deviations and noise figures.
+// The WV study as named stages: wavelet variances and, with --adev, the Allan deviations
+// from the same transforms (robust: with the classical one, the rounding check and the
+// contamination diagnostic) -> noise figures.
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/wv_study.h"
+#include "data_curves.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -27,7 +29,8 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
-  std::vector<WaveletVariance> classical = classical_wv(series, options.wv);
+  detail::DataCurves curves = detail::classical_curves(series, options.wv, set.freq, options.allan);
+  std::vector<WaveletVariance>& classical = curves.wvs;
   detail::check_usable_wvs(set, classical, false);
   if (options.robust) {
     std::vector<WaveletVariance> robust_wvs = robust::robust_wv(series, *options.robust);
@@ -46,12 +49,14 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
     for (std::size_t k = 0; k < set.signals.size(); ++k)
       study.columns.push_back({set.signals[k].name, std::move(classical[k]), std::nullopt, std::nullopt});
   }
-  study.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  study.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+                     curves.allan_seconds;
+  study.allan_seconds = curves.allan_seconds;
   if (options.allan) {
     ReadoffOptions ro;
     ro.alpha = options.allan->alpha;
     gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
-      study.columns[k].allan = data_figure_report(set.signals[k].values, set.freq, *options.allan, ro);
+      study.columns[k].allan = data_figure_report(std::move(curves.allan[k]), ro);
     });
   }
   return study;

@@ -251,6 +251,29 @@ TEST_F(GmwmCli, ThreadCountDoesNotChangeTheWvOrFitJson) {
   }
 }
 
+TEST_F(GmwmCli, FitSelectAndWvReportTheAllanDeviationAsAStageOfItsOwn) {
+  // Issue 27: the data's Allan deviation behind the noise figures comes from the WV's own
+  // transforms, and run.seconds names its time; without a rate, or with the robust WV
+  // (whose figures read the robust WV itself), there is none.
+  simulate(20000, 1);
+  const std::vector<std::vector<std::string>> runs = {
+      {"fit", "sim.csv.gz", "--model", "WN+RW"},
+      {"select", "sim.csv.gz", "--model", "WN+RW"},
+      {"wv", "sim.csv.gz", "--adev"},
+      {"fit", "sim.csv.gz", "--model", "WN+RW", "--robust"}};
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    std::vector<std::string> args = runs[i];
+    args.insert(args.end(), {"--quiet", "--json", "r.json"});
+    const auto r = run_gmwm(args, dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json seconds = read_json(dir_ / "r.json").at("run").at("seconds");
+    for (const char* stage : {"read", "wv", "allan", "total"}) EXPECT_TRUE(seconds.contains(stage)) << stage;
+    if (i < 3) EXPECT_GT(seconds.at("allan").get<double>(), 0.0) << args[0];
+    else EXPECT_EQ(seconds.at("allan").get<double>(), 0.0);
+    EXPECT_LE(seconds.at("wv").get<double>() + seconds.at("allan").get<double>(), seconds.at("total").get<double>());
+  }
+}
+
 TEST_F(GmwmCli, FitWithTheModelBasedOmegaReportsAStatusAndExits0) {
   simulate(1 << 13, 1);
   auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json",

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "gmwm/engine/check.h"
@@ -127,6 +128,47 @@ TEST(ClassicalWv, KeptSquaresChangeNoWvAndATransformGivenToTheEstimatorGivesTheS
   ASSERT_EQ(shared.wv.size(), direct.wv.size());
   for (std::size_t j = 0; j < direct.wv.size(); ++j) EXPECT_EQ(shared.wv[j], direct.wv[j]) << "level " << j + 1;
   EXPECT_THROW(ClassicalWvEstimator().compute(modwt, x.data(), 1000, 0, 0.05), InvalidArgument);
+}
+
+TEST(HaarModwt, SharedPassesGiveEverySumBitForBitAsOnePassEach) {
+  // Three blocks of the shared pass (2^17 values each) and a tail that is not a multiple of
+  // four; half-widths from 1 to past half the series (no term: 0) and an invalid 0.
+  const int n = 3 * (1 << 17) + 5;
+  const auto x = lcg_series(n);
+  const HaarModwt modwt(x.data(), n);
+  const std::vector<std::int64_t> m = {1, 3, 7, 1000, (1 << 17) - 1, (1 << 17) + 3, n / 2 - 1, n / 2, n / 2 + 1, 0};
+  const std::vector<double> shared = modwt.sums_of_squares_half_width(m);
+  ASSERT_EQ(shared.size(), m.size());
+  for (std::size_t i = 0; i < m.size(); ++i)
+    EXPECT_EQ(shared[i], modwt.sum_of_squares_half_width(m[i])) << "half-width " << m[i];
+  EXPECT_EQ(shared[8], 0.0);
+  EXPECT_EQ(shared[9], 0.0);
+}
+
+TEST(HaarModwt, ParallelSumsOfSeveralTransformsEqualEachTransformsOwnWhateverTheGrouping) {
+  const auto x = lcg_series(40000);
+  const std::vector<double> y(x.rbegin(), x.rend() - 7);
+  const auto transforms = haar_transforms({std::span<const double>(x), std::span<const double>(y)});
+  // Lists longer and shorter than the number of groups.
+  const std::vector<std::vector<std::int64_t>> m = {{1, 2, 3, 5, 8, 13, 21, 34, 55, 89}, {4, 9}};
+  const auto sums = sums_of_squares_half_width(transforms, m);
+  for (std::size_t c = 0; c < m.size(); ++c)
+    for (std::size_t i = 0; i < m[c].size(); ++i)
+      EXPECT_EQ(sums[c][i], transforms[c]->sum_of_squares_half_width(m[c][i])) << "series " << c << ", m " << m[c][i];
+  EXPECT_THROW(sums_of_squares_half_width(transforms, {{1}}), InvalidArgument);
+}
+
+TEST(ClassicalWv, OfTransformsEqualsTheWvOfTheSeriesAndGivesItsLevelSums) {
+  const auto x = lcg_series(5000);
+  const auto transforms = haar_transforms({std::span<const double>(x)});
+  std::vector<std::vector<double>> sums;
+  const auto wv = classical_wv(transforms, WvOptions{}, &sums);
+  const WaveletVariance direct = classical_wv(x.data(), 5000);
+  EXPECT_EQ(wv.front().wv, direct.wv);
+  EXPECT_EQ(wv.front().ci_low, direct.ci_low);
+  ASSERT_EQ(sums.front().size(), direct.wv.size());
+  for (int j = 1; j <= direct.levels(); ++j)
+    EXPECT_EQ(sums.front()[static_cast<std::size_t>(j - 1)], transforms.front()->sum_of_squares(j)) << "level " << j;
 }
 
 TEST(ClassicalWv, IgnoresAConstantOffset) {

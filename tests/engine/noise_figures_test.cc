@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/simulate.h"
@@ -39,6 +41,35 @@ TEST(AllanDeviation, EqualsTwiceTheWaveletVarianceAtTwiceTheAveragingFactor) {
     EXPECT_DOUBLE_EQ(a.tau[i], static_cast<double>(a.m[i]) / 100.0);
     EXPECT_NEAR(a.edf[i], w.eta[i], 1e-9);
   }
+}
+
+TEST(AllanDeviation, FromTheWvsTransformsEqualsOnePassPerPointBitForBit) {
+  // Issue 27: fit and select take the data's Allan deviation from the WV's own transforms
+  // (octave points: the WV's level sums; the others: shared passes). Every point must be
+  // what a pass of its own over the prefix sums gives, 2 S_m / (N - 2m + 1).
+  const Model model = parse_model("WN(sigma2=1)+RW(gamma2=1e-4)");
+  const auto x = simulate(model, model.given_values(), 300001, 8, 0);
+  const auto y = simulate(model, model.given_values(), 4099, 8, 1);
+  const std::vector<std::span<const double>> series = {x, y};
+  const auto transforms = haar_transforms(series);
+  std::vector<std::vector<double>> sums;
+  classical_wv(transforms, WvOptions{}, &sums);
+  AllanOptions o;
+  o.alpha = 0.1;
+  const std::vector<AllanDeviation> shared = allan_deviation(transforms, 50.0, o, sums);
+  ASSERT_EQ(shared.size(), 2u);
+  for (std::size_t c = 0; c < 2; ++c) {
+    const AllanDeviation own = allan_deviation(series[c], 50.0, o);
+    EXPECT_EQ(shared[c].m, own.m);
+    EXPECT_EQ(shared[c].adev, own.adev);
+    EXPECT_EQ(shared[c].ci_high, own.ci_high);
+    for (std::size_t k = 0; k < own.size(); ++k) {
+      const double avar = 2.0 * transforms[c]->sum_of_squares_half_width(own.m[k]) /
+                          static_cast<double>(static_cast<std::int64_t>(series[c].size()) - 2 * own.m[k] + 1);
+      EXPECT_EQ(shared[c].adev[k], std::sqrt(avar)) << "series " << c << ", m " << own.m[k];
+    }
+  }
+  EXPECT_THROW(allan_deviation(transforms, 0.0, o), InvalidArgument);
 }
 
 TEST(AllanDeviation, OfWhiteNoisePlusRandomWalkMatchesTheClosedFormWithinItsIntervalAtEveryTau) {

@@ -243,6 +243,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
              {.threads = 0,
               .seconds = {{"read", read_seconds},
                           {"wv", study.wv_seconds},
+                          {"allan", study.allan_seconds},
                           {"fit", study.fit_seconds},
                           {"total", total.seconds()}},
               .argv = {}});

@@ -284,6 +284,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
              {.threads = 0,
               .seconds = {{"read", read_seconds},
                           {"wv", study.wv_seconds},
+                          {"allan", study.allan_seconds},
                           {"select", study.select_seconds},
                           {"total", total.seconds()}},
               .argv = {}});

@@ -188,7 +188,10 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, adev_csv(set, study));
   write_json(common, doc,
              {.threads = 0,
-              .seconds = {{"read", read_seconds}, {"wv", study.wv_seconds}, {"total", total.seconds()}},
+              .seconds = {{"read", read_seconds},
+                          {"wv", study.wv_seconds},
+                          {"allan", study.allan_seconds},
+                          {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
     io::ReportData rep = report_data("wv", set);

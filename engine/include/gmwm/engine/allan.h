@@ -14,6 +14,7 @@
 //   a.tau[k], a.adev[k], a.ci_low[k], a.ci_high[k]
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@
 #include "gmwm/engine/model.h"
 
 namespace gmwm {
+
+class HaarModwt;
 
 struct AllanOptions {
   /// Averaging factors m = round(2^(k / points_per_octave)), k = 0, 1, ..., distinct,
@@ -52,6 +55,18 @@ std::vector<std::int64_t> allan_factors(std::int64_t n, int points_per_octave);
 /// options and InvalidArgument for fewer than 2 samples, a non-finite sample or a
 /// non-positive rate.
 AllanDeviation allan_deviation(std::span<const double> x, double freq, const AllanOptions& options = {});
+
+/// The same for several series from their transforms (haar_transforms: the classical WV's),
+/// every point of every series one task (in parallel): the same values as
+/// allan_deviation(x, freq, options) without building the prefix sums again. `level_sums`
+/// (classical_wv's, per series, may be empty) give the octave points m = 2^(j-1), which are
+/// then not computed again. The series' samples are not checked again: a non-finite sample
+/// or a sum of squares beyond a double gives non-finite values, which the caller's check of
+/// the WV from the same transforms refuses. Throws InputError for invalid options and
+/// InvalidArgument for a non-positive rate.
+std::vector<AllanDeviation> allan_deviation(const std::vector<std::unique_ptr<HaarModwt>>& transforms, double freq,
+                                            const AllanOptions& options = {},
+                                            const std::vector<std::vector<double>>& level_sums = {});
 
 /// The model's Allan deviation sqrt(2 nu^2(theta; 2m)) at each averaging factor.
 std::vector<double> model_allan_deviation(const Model& model, const Eigen::VectorXd& theta,

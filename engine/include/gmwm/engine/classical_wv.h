@@ -4,6 +4,7 @@
 // variance obtained from the same coefficients (docs/statistics.md section 1).
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -51,6 +52,14 @@ WaveletVariance classical_wv(const HaarModwt& modwt, const WvOptions& options = 
 /// Classical WV of several series, computed in parallel (TBB) over series x levels.
 std::vector<WaveletVariance> classical_wv(const std::vector<std::span<const double>>& series,
                                           const WvOptions& options = {});
+
+/// The same from the series' transforms (haar_transforms), which stay available for other
+/// statistics of the same prefix sums. `level_sums`, when given, receives per series the
+/// sums of squares of its levels 1..J (HaarModwt::sum_of_squares): the Allan sums at the
+/// octave points m = 2^(j-1) (allan.h takes them instead of passing over the data again).
+std::vector<WaveletVariance> classical_wv(const std::vector<std::unique_ptr<HaarModwt>>& transforms,
+                                          const WvOptions& options,
+                                          std::vector<std::vector<double>>* level_sums = nullptr);
 
 /// Overlapping Allan variance at averaging times m = tau/2 of every level
 /// (AVAR(m) = 2 nu^2(tau = 2m), all N - 2m + 1 differences); returns pairs (m, avar).

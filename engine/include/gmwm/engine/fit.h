@@ -148,6 +148,10 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model, const FitOptio
 double orient_by_series(FitResult& fit, std::span<const double> x);
 /// The same from a slope already known (e.g. pooled over replicates).
 void orient_by_slope(FitResult& fit, double slope);
+/// Whether the fit has a parameter whose sign only the series can give (DR's omega): when
+/// not, orient_by_series changes nothing and its pass over the series (0.4 s at 1e8
+/// samples) can be left out.
+bool has_sign_from_series(const FitResult& fit);
 
 /// Goodness of fit of a minimised objective with `df` = J - p degrees of freedom, A the
 /// J x p Jacobian at the fit (boundary parameters left out): chi-square(df) when

@@ -39,6 +39,11 @@ class HaarModwt {
   /// sum over t of ((S_{t+2m} - 2 S_{t+m} + S_t) / 2m)^2, N - 2m + 1 terms; 0 when there
   /// are none. The overlapping Allan variance at averaging factor m is twice its mean.
   double sum_of_squares_half_width(std::int64_t m) const;
+  /// sum_of_squares_half_width of each of several half-widths in one pass over the prefix
+  /// sums, block by block (the block's S_t serve every half-width from cache, where a pass
+  /// per half-width reads them from memory each time): the same values, bit for bit, as
+  /// one call per half-width (each sum is accumulated in the same order).
+  std::vector<double> sums_of_squares_half_width(std::span<const std::int64_t> m) const;
   /// sum_t W_{j,t}^2 and max_t W_{j,t}^2 of a level in one pass (the gap's burst
   /// statistic log(max / mean) on every reference replicate); the sum equals sum_of_squares.
   struct Squares {
@@ -66,5 +71,19 @@ class HaarModwt {
   const double* p_ = nullptr;                     // whichever holds them
   double max_abs_prefix_ = 0.0;
 };
+
+/// The transforms of several series, built in parallel (one task per series): what the
+/// classical WV and the Allan deviation of those series share (classical_wv.h, allan.h).
+std::vector<std::unique_ptr<HaarModwt>> haar_transforms(const std::vector<std::span<const double>>& series);
+
+/// HaarModwt::sums_of_squares_half_width of several transforms, half_widths[c] on
+/// transforms[c], in parallel: each series' half-widths in kSharedPassGroups interleaved
+/// groups (small and large half-widths mixed, so the groups cost alike), one shared pass
+/// each, every group of every series one task. The same values whatever the thread count.
+std::vector<std::vector<double>> sums_of_squares_half_width(const std::vector<std::unique_ptr<HaarModwt>>& transforms,
+                                                            const std::vector<std::vector<std::int64_t>>& half_widths);
+/// Groups per series of that parallel pass: four keep two cores busy on a single series;
+/// each group re-reads the block of S_t the others read, a small part of the traffic.
+inline constexpr std::size_t kSharedPassGroups = 4;
 
 }  // namespace gmwm

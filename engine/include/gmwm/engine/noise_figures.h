@@ -147,6 +147,11 @@ FigureReport noise_figure_report(std::span<const double> x, double freq, const M
                                  const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
                                  const AllanOptions& allan = {}, const ReadoffOptions& readoff = {});
 
+/// The same from the data's Allan deviation already computed (allan_deviation of the
+/// series' transforms, shared with its WV).
+FigureReport noise_figure_report(AllanDeviation adev, const Model& model, const Eigen::VectorXd& theta,
+                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& readoff = {});
+
 /// As noise_figure_report, with the data's Allan deviation taken from a WV (octave
 /// points: AVAR(m = tau_j / 2) = 2 nu_j^2, its interval from the WV's): for a robust WV,
 /// whose ADEV is the one to trust on contaminated data (the classical one carries the
@@ -159,6 +164,8 @@ FigureReport noise_figure_report_from_wv(const WaveletVariance& wv, double freq,
 /// (source kData) or its bound (kBound).
 FigureReport data_figure_report(std::span<const double> x, double freq, const AllanOptions& allan = {},
                                 const ReadoffOptions& readoff = {});
+/// The same from the data's Allan deviation already computed.
+FigureReport data_figure_report(AllanDeviation adev, const ReadoffOptions& readoff = {});
 
 /// The model's figures alone, on the averaging factors of a record of n samples at freq
 /// (when the data are not at hand, e.g. exporting a saved fit, or when several recordings

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/allan.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/noise_figures.h"
@@ -53,7 +54,9 @@ struct FitStudy {
   OmegaKind omega = OmegaKind::kDiag;
   Model model;
   std::vector<FitColumnStudy> columns;
-  double wv_seconds = 0.0, fit_seconds = 0.0;
+  /// Stage times: the WV (its transforms included), the data's Allan deviation from the
+  /// same transforms (0 without a known rate or with the robust WV), the fits.
+  double wv_seconds = 0.0, allan_seconds = 0.0, fit_seconds = 0.0;
 };
 
 /// Runs the study on every column of `set`. Throws InputError for invalid options, a model
@@ -63,9 +66,11 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options);
 
 /// The noise figures of fitted columns (FitColumnStudy::figures), `fits[k]` on column k of
 /// `set` with its WV `wvs[k]`: from the robust WV when the fit used one, else from the
-/// series; nothing without a known rate or for a failed fit. In parallel.
+/// data's Allan deviation `allan[k]` (computed from the series when `allan` is empty);
+/// nothing without a known rate or for a failed fit. In parallel.
 std::vector<std::optional<FigureReport>> noise_figures_of(const io::SignalSet& set,
                                                           const std::vector<const FitResult*>& fits,
-                                                          const std::vector<WaveletVariance>& wvs, double alpha);
+                                                          const std::vector<WaveletVariance>& wvs,
+                                                          const std::vector<AllanDeviation>& allan, double alpha);
 
 }  // namespace gmwm::pipeline

@@ -54,7 +54,9 @@ struct SelectStudy {
   std::vector<std::string> models;
   selection::SelectOptions options;  // as run (without the estimator and progress)
   std::vector<SelectColumnStudy> columns;
-  double wv_seconds = 0.0, select_seconds = 0.0;
+  /// Stage times: the WV, the data's Allan deviation from the same transforms (0 without a
+  /// known rate or with the robust WV), the selection.
+  double wv_seconds = 0.0, allan_seconds = 0.0, select_seconds = 0.0;
 };
 
 /// Runs the study on every column of `set`. Throws InputError for invalid options, a model

@@ -48,7 +48,8 @@ struct WvColumnStudy {
 
 struct WvStudy {
   std::vector<WvColumnStudy> columns;
-  double wv_seconds = 0.0;
+  /// Stage times: the WVs, the Allan deviations from the same transforms (0 without one).
+  double wv_seconds = 0.0, allan_seconds = 0.0;
 };
 
 /// Runs the study on every column of `set` (the Allan deviations in parallel). Throws

@@ -1,0 +1,54 @@
+#include "data_curves.h"
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/haar_modwt.h"
+
+namespace gmwm::pipeline::detail {
+
+DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv,
+                            double freq, const std::optional<AllanOptions>& allan) {
+  using Clock = std::chrono::steady_clock;
+  DataCurves out;
+  const auto wv_start = Clock::now();
+  // classical_wv's own refusals (a short series, invalid options) before any transform.
+  for (const auto& s : series)
+    if (static_cast<std::int64_t>(s.size()) < kMinSeriesLength)
+      gmwm::detail::throw_check("classical_wv", "series length", static_cast<double>(s.size()),
+                                "at least " + std::to_string(kMinSeriesLength));
+  if (const std::string why = wv.Validate(); !why.empty()) throw InvalidArgument("classical_wv: " + why);
+  std::vector<std::vector<double>> level_sums;
+  const std::vector<std::unique_ptr<HaarModwt>> transforms = haar_transforms(series);
+  out.wvs = classical_wv(transforms, wv, &level_sums);
+  out.wv_seconds = std::chrono::duration<double>(Clock::now() - wv_start).count();
+  if (allan) {
+    const auto allan_start = Clock::now();
+    out.allan = allan_deviation(transforms, freq, *allan, level_sums);
+    out.allan_seconds = std::chrono::duration<double>(Clock::now() - allan_start).count();
+  }
+  return out;
+}
+
+DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
+                      const std::optional<robust::RobustWvOptions>& robust, double alpha) {
+  std::vector<std::span<const double>> series;
+  for (const auto& s : set.signals) series.emplace_back(s.values);
+  if (robust) {
+    const auto start = std::chrono::steady_clock::now();
+    DataCurves out;
+    out.wvs = robust::robust_wv(series, *robust);
+    out.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  }
+  std::optional<AllanOptions> allan;
+  if (set.freq_known) {
+    allan.emplace();
+    allan->alpha = alpha;
+  }
+  return classical_curves(series, wv, set.freq, allan);
+}
+
+}  // namespace gmwm::pipeline::detail

@@ -1,0 +1,36 @@
+#pragma once
+// The studies' first stage: every column's classical wavelet variance and, when asked, its
+// overlapping Allan deviation from the same Haar transforms (one set of prefix sums per
+// column instead of two; the deviation's octave points are the WV's own level sums), each
+// stage timed. What `fit`, `select` and `wv --adev` share.
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "gmwm/engine/allan.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/robust/robust_wv.h"
+
+namespace gmwm::pipeline::detail {
+
+struct DataCurves {
+  std::vector<WaveletVariance> wvs;
+  /// Per column when asked, else empty.
+  std::vector<AllanDeviation> allan;
+  double wv_seconds = 0.0, allan_seconds = 0.0;
+};
+
+/// The classical WVs of `series` and, when `allan` is given, their Allan deviations at
+/// `freq` Hz.
+DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv,
+                            double freq, const std::optional<AllanOptions>& allan);
+
+/// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
+/// figures then read the robust WV itself), else the classical ones with the Allan
+/// deviations at intervals of level 1 - alpha when the rate is known.
+DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
+                      const std::optional<robust::RobustWvOptions>& robust, double alpha);
+
+}  // namespace gmwm::pipeline::detail
