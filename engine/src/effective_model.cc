@@ -95,6 +95,7 @@ struct Candidate {
   int removed = 0;
   bool carried = false;  ///< the reduced component(s) carried a share of the WV
   int df = 0;            ///< degrees of freedom of the test: parameters removed that carried a share
+  Eigen::VectorXd metric;  ///< W^1/2 of the reduced model the test measured with
 };
 
 // A component's WV closer to zero than this (squared distance in units of the WV's own
@@ -159,17 +160,22 @@ class ReductionTest {
   ReductionTest(std::span<const double> tau, const Eigen::MatrixXd& v, const Eigen::VectorXd& w)
       : tau_(tau), v_(v), sqrt_w_(w.array().sqrt()) {}
 
+  // The test's metric W^1/2 (w_j = 1 / V_jj). Every method takes the metric of the reduced
+  // model under test: V rescaled to that model's levels, D V D, keeps the correlation
+  // C = W^1/2 V W^1/2 and the whitened draws W^1/2 e, so one set of draws serves all.
+  const Eigen::VectorXd& base_metric() const { return sqrt_w_; }
+
   // The reduced parts with their parameters moved (Gauss-Newton, each step kept only
   // when every part stays valid and the distance falls) towards the minimum of
   // sum_j w_j (nu_R - nu_fit)_j^2; the distance there is the statistic S.
-  double project(std::vector<Part>& parts, const Eigen::VectorXd& nu_fit) const {
+  double project(std::vector<Part>& parts, const Eigen::VectorXd& nu_fit, const Eigen::VectorXd& sqrt_w) const {
     auto dist = [&](const std::vector<Part>& p) {
-      return sqrt_w_.cwiseProduct(total_wv(p, tau_) - nu_fit).squaredNorm();
+      return sqrt_w.cwiseProduct(total_wv(p, tau_) - nu_fit).squaredNorm();
     };
     double s = dist(parts);
     for (int step = 0; step < kProjectionSteps && std::isfinite(s); ++step) {
-      const Eigen::VectorXd r = sqrt_w_.cwiseProduct(total_wv(parts, tau_) - nu_fit);
-      const Eigen::MatrixXd d = sqrt_w_.asDiagonal() * jacobian_of(parts, tau_);
+      const Eigen::VectorXd r = sqrt_w.cwiseProduct(total_wv(parts, tau_) - nu_fit);
+      const Eigen::MatrixXd d = sqrt_w.asDiagonal() * jacobian_of(parts, tau_);
       if (d.cols() == 0 || !d.allFinite()) break;
       Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(d);
       qr.setThreshold(kRankTolerance);
@@ -201,8 +207,9 @@ class ReductionTest {
   // a Bonferroni bound already puts it below alpha (the statistic far beyond what the
   // shapes can produce under the null: most reductions of a selection's larger
   // candidates), so that only the reductions near acceptance are simulated.
-  double p_value(const std::vector<Part>& parts, const std::vector<Removal>& removals, double s, double alpha) {
-    const std::vector<Directions> dirs = directions(parts, removals);
+  double p_value(const std::vector<Part>& parts, const std::vector<Removal>& removals, double s, double alpha,
+                 const Eigen::VectorXd& sqrt_w) {
+    const std::vector<Directions> dirs = directions(parts, removals, sqrt_w);
     if (dirs.empty()) return s <= kNoShare ? 1.0 : 0.0;
     if (s > bonferroni_bound(dirs, alpha)) return 0.0;
     // Sequential Monte-Carlo p-value (Besag & Clifford 1991): draw in batches until
@@ -225,8 +232,9 @@ class ReductionTest {
   }
 
   // The 1 - alpha quantile of S*.
-  double critical_value(const std::vector<Part>& parts, const std::vector<Removal>& removals, double alpha) {
-    const std::vector<Directions> dirs = directions(parts, removals);
+  double critical_value(const std::vector<Part>& parts, const std::vector<Removal>& removals, double alpha,
+                        const Eigen::VectorXd& sqrt_w) {
+    const std::vector<Directions> dirs = directions(parts, removals, sqrt_w);
     if (dirs.empty()) return kNoShare;
     const Eigen::VectorXd draws = null_draws(dirs, 0, kCalibrationDraws);
     std::vector<double> v(draws.data(), draws.data() + draws.size());
@@ -237,8 +245,8 @@ class ReductionTest {
 
  private:
   // Orthonormal basis of W^1/2 D_R.
-  Eigen::MatrixXd basis(const std::vector<Part>& parts) const {
-    const Eigen::MatrixXd d = sqrt_w_.asDiagonal() * jacobian_of(parts, tau_);
+  Eigen::MatrixXd basis(const std::vector<Part>& parts, const Eigen::VectorXd& sqrt_w) const {
+    const Eigen::MatrixXd d = sqrt_w.asDiagonal() * jacobian_of(parts, tau_);
     if (d.cols() == 0) return Eigen::MatrixXd(d.rows(), 0);
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(d);
     qr.setThreshold(kRankTolerance);
@@ -276,11 +284,12 @@ class ReductionTest {
     bool one_sided = true;
   };
 
-  std::vector<Directions> directions(const std::vector<Part>& parts, const std::vector<Removal>& removals) const {
-    const Eigen::MatrixXd q = basis(parts);
+  std::vector<Directions> directions(const std::vector<Part>& parts, const std::vector<Removal>& removals,
+                                     const Eigen::VectorXd& sqrt_w) const {
+    const Eigen::MatrixXd q = basis(parts, sqrt_w);
     std::vector<Directions> out;
     for (const Removal& rm : removals) {
-      Eigen::MatrixXd h = sqrt_w_.asDiagonal() * rm.shapes;
+      Eigen::MatrixXd h = sqrt_w.asDiagonal() * rm.shapes;
       const Eigen::VectorXd raw = h.colwise().norm();
       h -= q * (q.transpose() * h);
       Directions d;
@@ -395,6 +404,42 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   for (Eigen::Index j = 0; j < J; ++j) w(j) = v(j, j) > 0.0 && std::isfinite(v(j, j)) ? 1.0 / v(j, j) : 0.0;
   auto distance = [&](const Eigen::VectorXd& d) { return (w.array() * d.array() * d.array()).sum(); };
   ReductionTest test(tau, v, w);
+  // The metric of a reduced model: V is the model's covariance at the WV options.covariance_wv
+  // (the selection's pilot fit); the reduction is tested under its null, the reduced model,
+  // so V's variances are taken at the reduced model's levels, V_R = D V D with
+  // D_j = nu_R,j / nu_at,j (Var(nuhat_j) scales as nu_j^2 at a given spectral shape). The
+  // pilot fits the coarse levels' chance lows (their few degrees of freedom put the median
+  // of nuhat_j below its mean), so its V there was 3-100x below the truth's, and a slow AR1
+  // that only follows those lows was tested as if it stood out from a random walk (issue 27:
+  // a WN+QN+RW truth read as AR1+WN+QN in 27 of 100 series).
+  const Eigen::VectorXd* nu_at = options.covariance && options.covariance_wv &&
+                                         options.covariance_wv->size() == J
+                                     ? &*options.covariance_wv
+                                     : nullptr;
+  auto metric_of = [&](const std::vector<Part>& parts) -> Eigen::VectorXd {
+    Eigen::VectorXd m = test.base_metric();
+    if (!nu_at) return m;
+    const Eigen::VectorXd nu_r = total_wv(parts, tau);
+    for (Eigen::Index j = 0; j < J; ++j) {
+      const double d = nu_r(j) / (*nu_at)(j);
+      if (std::isfinite(d) && d > 0.0) m(j) /= d;
+    }
+    return m;
+  };
+  // S under the reduced model's metric: projected under the base metric first (the
+  // reduction's values may be far from the minimum), then again under the metric of the
+  // model reached, whose values the test then uses.
+  auto statistic_of = [&](std::vector<Part>& parts, Eigen::VectorXd& metric) {
+    double s = test.project(parts, nu_fit, test.base_metric());
+    if (!nu_at || !std::isfinite(s)) {
+      metric = test.base_metric();
+      return s;
+    }
+    metric = metric_of(parts);
+    s = test.project(parts, nu_fit, metric);
+    metric = metric_of(parts);
+    return test.project(parts, nu_fit, metric);
+  };
   // Each part's shapes, computed once per call (a part stays as it is, and is tried in
   // several reductions, until a reduction is accepted).
   std::map<std::pair<const Process*, std::vector<double>>, Eigen::MatrixXd> shape_cache;
@@ -415,7 +460,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   int tested = 0;
   auto score = [&](Candidate& cand) {
     cand.removed = original_parameters - parameters_of(cand.parts);
-    cand.statistic = test.project(cand.parts, nu_fit);
+    cand.statistic = statistic_of(cand.parts, cand.metric);
     const int step_removed = cand.removed - (original_parameters - parameters_of(st.parts));
     cand.df = tested + (cand.carried ? step_removed : 0);
     if (cand.removed <= 0 || !std::isfinite(cand.statistic)) {
@@ -428,7 +473,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
     }
     std::vector<Removal> all = accepted;
     all.insert(all.end(), cand.removals.begin(), cand.removals.end());
-    cand.p_value = test.p_value(cand.parts, all, cand.statistic, options.alpha);
+    cand.p_value = test.p_value(cand.parts, all, cand.statistic, options.alpha, cand.metric);
   };
 
   for (;;) {
@@ -508,8 +553,9 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   out.removed_parameters = original_parameters - out.model.num_parameters();
   out.tested_parameters = tested;
   if (out.removed_parameters > 0) {
-    out.statistic = test.project(st.parts, nu_fit);
-    out.threshold = tested > 0 ? test.critical_value(st.parts, accepted, options.alpha) : kNoShare;
+    Eigen::VectorXd metric;
+    out.statistic = statistic_of(st.parts, metric);
+    out.threshold = tested > 0 ? test.critical_value(st.parts, accepted, options.alpha, metric) : kNoShare;
   }
   return out;
 }

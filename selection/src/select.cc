@@ -139,6 +139,13 @@ struct SignalWork {
     if (wv->efficiency) c /= *wv->efficiency;  // robust WV: variance inflated by 1/eff
     return c;
   }
+  // The model WV that covariance(full) is the Cov(nuhat) of; none when the caller gave V.
+  std::optional<Eigen::VectorXd> covariance_wv(const FitResult& full) const {
+    if (wv->covariance) return std::nullopt;
+    const FitResult& at = pilot ? *pilot : full;
+    if (at.status == FitStatus::kFailed || at.implied_wv.size() != wv->levels()) return std::nullopt;
+    return at.implied_wv;
+  }
 };
 
 // The bootstrap optimism of a row that is no candidate (its own fit), when the selection
@@ -423,7 +430,8 @@ std::vector<RankedModel> ranking_rows(const WaveletVariance& wv, const Eigen::Ma
 // Scores the fitted candidates of one signal, ranks their rows (ranking_rows), and refits
 // the best with inference. v: Cov(nuhat), model-based at the maximal model's fit.
 void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega, Eigen::MatrixXd v,
-                    const std::vector<FitResult>& fits, const std::vector<std::string>& names,
+                    const std::optional<Eigen::VectorXd>& v_at, const std::vector<FitResult>& fits,
+                    const std::vector<std::string>& names,
                     const std::vector<const BootstrapResult*>& boot, bool group, const SelectOptions& options,
                     const RowBootstrap& row_bootstrap) {
   const std::size_t K = fits.size();
@@ -442,6 +450,7 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
       if (fits[i].status == FitStatus::kNotConverged) ++sel.not_converged;
       EffectiveOptions eo;
       eo.covariance = sel.v;  // the exact Cov(nuhat) the optimism and GoF use
+      eo.covariance_wv = v_at;  // ... at this WV: each reduction is tested at its own levels
       c.effective = effective_model(wv, fits[i].model, fits[i].theta, eo);
     }
     sel.candidates.push_back(std::move(c));
@@ -651,7 +660,8 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     Selection& sel = out[s];
     sel.full_model = set.models.back().model.to_string();
     sel.omega_source = w.omega_source;
-    score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.fits, names, b, true, options,
+    score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.covariance_wv(w.fits.back()), w.fits, names, b,
+                   true, options,
                    row_bootstrap(w, s, wvs.size(), K, options));
     sel.representation_violations = count_representation_violations(rep, w.fits);
   });
@@ -706,7 +716,8 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     Selection& sel = out[s];
     sel.full_model = super.to_string();
     sel.omega_source = work[s].omega_source;
-    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].fits, names, b, false, options,
+    score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].covariance_wv(full[s]),
+                   work[s].fits, names, b, false, options,
                    {});
     sel.representation_violations = count_representation_violations(rep, work[s].fits);
   });

@@ -128,6 +128,32 @@ TEST(EffectiveModel, StillMergesAnAr1ThatIsAWhiteNoiseAndCountsItsParameter) {
   EXPECT_EQ(e.tested_parameters, 1);
 }
 
+TEST(EffectiveModel, TestsAnAr1AsRwLikeUnderTheRandomWalksOwnVariancesWhenToldWhereTheCovarianceWasTaken) {
+  // Issue 27: a selection's V is the model's at its pilot fit, which follows the coarse
+  // levels' chance lows (so its variances there are several times too small). An AR1 that
+  // bends just below a random walk's line at the coarsest levels (T = N / 7) then stands
+  // out from the RW it stands for if V is taken as it is; tested under its null, V at the
+  // RW-like model's own levels, it is RW-like. The fit's own WV is the data here.
+  const Model fit = parse_model("AR1(phi=0.99994,sigma2=3e-6)+WN(sigma2=1)+QN(Q2=1)");
+  const Eigen::VectorXd theta = fit.given_values();
+  WaveletVariance wv = wv_of_length(kN);
+  const Eigen::VectorXd nu = fit.wv(theta, wv.tau);
+  wv.wv.assign(nu.data(), nu.data() + nu.size());
+  EffectiveOptions o;
+  o.covariance = model_wv_covariance(fit, theta, kN, wv.levels());
+  const EffectiveModel as_given = effective_model(wv, fit, theta, o);
+  o.covariance_wv = nu;
+  const EffectiveModel at_null = effective_model(wv, fit, theta, o);
+  EXPECT_EQ(as_given.model.to_string(), "AR1+WN+QN") << as_given.model.to_string(as_given.theta);
+  EXPECT_EQ(at_null.model.to_string(), "WN+QN+RW") << at_null.model.to_string(at_null.theta);
+  ASSERT_FALSE(at_null.reductions.empty());
+  EXPECT_NE(at_null.reductions.front().find("RW-like"), std::string::npos) << at_null.reductions.front();
+  EXPECT_LE(at_null.statistic, at_null.threshold);
+  // A covariance_wv of the wrong size is ignored (V as it is).
+  o.covariance_wv = Eigen::VectorXd::Ones(3);
+  EXPECT_EQ(effective_model(wv, fit, theta, o).model.to_string(), as_given.model.to_string());
+}
+
 TEST(EffectiveModel, RejectsACovarianceOfTheWrongSize) {
   const WaveletVariance wv = wv_of_length(1 << 10);
   const Model m = parse_model("AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)");

@@ -3,10 +3,12 @@
 // fits a candidate (select_among on the one model: the model-based Omega of its pilot,
 // the exact Cov(nuhat) for the test):
 //
-//  - level: truth AR1(0.9, 0.1) + WN(1) fitted as 2*AR1+WN. The reduced model is true,
-//    so the share of fits NOT reduced to AR1+WN is the test's rejection rate under its
-//    null; nominal alpha = 5%. A fit whose extra AR1 collapsed (no share) is reduced for
-//    free and tests nothing: those are counted apart.
+//  - level, per kind of reduction: a spurious AR1 dropped (truth AR1(0.9, 0.1) + WN(1)
+//    fitted as 2*AR1+WN), an AR1 that stands for a random walk (WN + RW fitted as AR1+WN),
+//    an AR1 that stands for a white noise (AR1 + WN fitted as 2*AR1). The reduced model
+//    is true, so the share of fits NOT reduced to it is the test's rejection rate under
+//    its null; nominal alpha = 5%. A fit whose extra term collapsed (no share) is reduced
+//    for free and tests nothing: those are counted apart.
 //  - power: truth AR1(0.9, 0.1) + AR1(0.999, 1e-5) + WN(1) fitted as itself. The share of
 //    fits whose slow AR1 is kept (the effective model is the truth's structure), against
 //    the oracle that knows the slow component's form: the chi-square test (1 df, 5%) with
@@ -81,31 +83,50 @@ int main(int argc, char** argv) {
   const int series = argc > 1 ? std::atoi(argv[1]) : 400;
   bench::Stopwatch clock;
 
-  const char* null_truth = "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)";
-  const auto lv = run(null_truth, "2*AR1+WN", kLevelSeed, series);
-  const std::string reduced = parse_model(null_truth).to_string();
-  int tested = 0, rejected = 0, free_reduced = 0;
-  for (const auto& o : lv) {
-    if (o.effective == reduced) {
-      if (o.tested > 0) ++tested;
-      else ++free_reduced;
-    } else {
-      ++tested;
-      ++rejected;
+  // Level, one case per kind of reduction, each under its own null (the reduced model true):
+  struct LevelCase {
+    const char* kind;
+    const char* truth;
+    const char* fitted;
+    std::uint64_t seed;
+  };
+  const LevelCase cases[] = {
+      // a spurious AR1 beside a real one: dropped
+      {"drop", "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)", "2*AR1+WN", kLevelSeed},
+      // an AR1 standing for a random walk (phi -> 1): RW-like (the truth's RW detectable, nc 51)
+      {"RW-like", "WN(sigma2=1)+RW(gamma2=1e-5)", "AR1+WN", kLevelSeed + 10},
+      // an AR1 standing for a white noise (phi -> 0) beside a real AR1: WN-like
+      {"WN-like", "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)", "2*AR1", kLevelSeed + 20},
+  };
+  std::printf("Level of each kind of reduction: the reduced model is true, so the share of fits NOT reduced to it "
+              "is the test's rejection rate under its null; %d series of N = 2^17 each, nominal %.0f%%.\n\n",
+              series, 100 * kAlpha);
+  std::printf("| reduction | truth | fitted as | reduced for free (nothing tested) | tested | not reduced | "
+              "rejection rate under the null |\n|---|---|---|---|---|---|---|\n");
+  for (const LevelCase& c : cases) {
+    const auto lv = run(c.truth, c.fitted, c.seed, series);
+    const std::string reduced = parse_model(c.truth).to_string();
+    int tested = 0, rejected = 0, free_reduced = 0;
+    for (const auto& o : lv) {
+      if (o.effective == reduced) {
+        if (o.tested > 0) ++tested;
+        else ++free_reduced;
+      } else {
+        ++tested;
+        ++rejected;
+      }
     }
+    const double level = tested ? static_cast<double>(rejected) / tested : 0.0;
+    std::printf("| %s | %s | %s | %d | %d | %d | %.1f%% +- %.1f%% |\n", c.kind, c.truth, c.fitted, free_reduced, tested,
+                rejected, 100 * level, 100 * mc_se(level, std::max(tested, 1)));
+    if (std::getenv("GMWM_BENCH_VERBOSE")) {
+      print_outcomes(lv);
+      for (const auto& o : lv)
+        std::printf("    %s S %.3g (threshold %.3g, %d df): %s\n", o.effective.c_str(), o.statistic, o.threshold,
+                    o.tested, o.reductions.c_str());
+    }
+    std::fflush(stdout);
   }
-  const double level = tested ? static_cast<double>(rejected) / tested : 0.0;
-  std::printf("Level: truth %s fitted as 2*AR1+WN, %d series of N = 2^17 (seed %llu).\n", null_truth, series,
-              static_cast<unsigned long long>(kLevelSeed));
-  print_outcomes(lv);
-  if (std::getenv("GMWM_BENCH_VERBOSE"))
-    for (const auto& o : lv)
-      std::printf("    %s S %.3g (threshold %.3g, %d df): %s\n", o.effective.c_str(), o.statistic, o.threshold, o.tested,
-                  o.reductions.c_str());
-  std::printf("  reduced for free (extra AR1 collapsed, nothing tested): %d; tested: %d; not reduced to %s: %d\n",
-              free_reduced, tested, reduced.c_str(), rejected);
-  std::printf("  rejection rate under the null %.1f%% +- %.1f%% (Monte-Carlo s.e.), nominal %.0f%%\n", 100 * level,
-              100 * mc_se(level, std::max(tested, 1)), 100 * kAlpha);
 
   const char* slow_truth = "AR1(phi=0.9,sigma2=0.1)+AR1(phi=0.999,sigma2=1e-5)+WN(sigma2=1)";
   const Model st = parse_model(slow_truth);

@@ -46,6 +46,11 @@ struct EffectiveOptions {
   /// the chi-square approximation (eta_j equivalent degrees of freedom), whose variance is
   /// 2-5x the exact one for the processes selection meets.
   std::optional<Eigen::MatrixXd> covariance;
+  /// The model WV at which `covariance` was computed (the selection's pilot fit). Given,
+  /// each reduction is tested under its null: V's variances taken at the reduced model's
+  /// levels (V rescaled level by level by (nu_reduced / nu_at)^2, its correlation kept).
+  /// Empty: `covariance` as it is for every reduction.
+  std::optional<Eigen::VectorXd> covariance_wv;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
