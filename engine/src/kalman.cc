@@ -34,4 +34,23 @@ std::vector<KalmanTerm> Process::kalman_impl(std::span<const double>, double, do
   return {k};
 }
 
+std::optional<ContinuousForm> Process::continuous_form(std::span<const double> theta, double freq) const {
+  check_size_match("Process::continuous_form", "theta", theta.size(), "parameters of " + name(), parameters().size());
+  check_positive("Process::continuous_form", "freq", freq);
+  return continuous_form_impl(theta, freq);
+}
+
+std::optional<ContinuousForm> Process::continuous_form_impl(std::span<const double>, double) const {
+  return std::nullopt;
+}
+
+ContinuousForm gauss_markov_form(double T, double s2) {
+  ContinuousForm c;
+  c.F = Eigen::MatrixXd::Constant(1, 1, -1.0 / T);
+  c.Qc = Eigen::MatrixXd::Constant(1, 1, 2.0 * s2 / T);
+  c.P0 = Eigen::MatrixXd::Constant(1, 1, s2);
+  c.H = Eigen::RowVectorXd::Ones(1);
+  return c;
+}
+
 }  // namespace gmwm

@@ -87,6 +87,13 @@ class Ar1Process final : public Process {
     const double T = 1.0 / (freq * -std::log(a));
     return {gauss_markov_term(T, theta[1] / ((1.0 - a) * (1.0 + a)), filter_rate)};
   }
+  // A first-order Gauss-Markov state, T = -1 / (f ln phi), s2 = sigma2 / (1 - phi^2): the
+  // AR1's values at the samples exactly. A negative phi (an oscillating AR1) has none.
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
+    const double a = theta[0];
+    if (!(a > 0.0 && a < 1.0)) return std::nullopt;
+    return gauss_markov_form(1.0 / (freq * -std::log(a)), theta[1] / ((1.0 - a) * (1.0 + a)));
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     const double a = std::fabs(theta[0]);

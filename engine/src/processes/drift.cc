@@ -79,6 +79,19 @@ class Drift final : public Process {
     k.note = "no process noise; the state's initial value is the drift rate omega f (the discrete value shown)";
     return {k};
   }
+  // A rate ramp R = omega f whose sign the analysis does not assume: x = [value, slope],
+  // d value / dt = slope, value(0) = 0, slope ~ N(0, R^2) (its error grows as |R| t^2 / 2).
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
+    ContinuousForm c;
+    c.F = Eigen::MatrixXd::Zero(2, 2);
+    c.F(0, 1) = 1.0;
+    c.Qc = Eigen::MatrixXd::Zero(2, 2);
+    c.P0 = Eigen::MatrixXd::Zero(2, 2);
+    c.P0(1, 1) = theta[0] * freq * theta[0] * freq;
+    c.H = Eigen::RowVectorXd::Zero(2);
+    c.H(0) = 1.0;
+    return c;
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"drift rate", theta[0] * freq, "U/s",

@@ -101,6 +101,9 @@ class GaussMarkov final : public Process {
                                       double filter_rate) const override {
     return {gauss_markov_term(1.0 / theta[0], theta[1], filter_rate)};
   }
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double) const override {
+    return gauss_markov_form(1.0 / theta[0], theta[1]);
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double) const override {
     return {{"correlation time", 1.0 / theta[0], "s",

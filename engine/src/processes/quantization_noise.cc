@@ -3,6 +3,7 @@
 // sequence of variance Q2, so g(0) = 2 Q2, g(1) = -Q2, g(h) = 0 beyond.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <boost/random/uniform_real_distribution.hpp>
 
@@ -65,6 +66,22 @@ class QuantizationNoise final : public Process {
     k.discrete_unit = "U^2";
     k.note = "R = 2 Q^2 f_k^2, Q = sqrt(Q2) / f; lag-1 correlated, a white R is the usual approximation";
     return {k};
+  }
+  // The rounding of the integrated output: its increments telescope, so the integral of the
+  // component is the difference of two roundings (sd sqrt(2) Q at most), never growing:
+  // nothing that accumulates, no state.
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
+    ContinuousForm c;
+    c.F.resize(0, 0);
+    c.Qc.resize(0, 0);
+    c.P0.resize(0, 0);
+    c.H.resize(0);
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "QN (Q = %.3g U*s) left out: the rounding of the integrated output telescopes, an error of at "
+                  "most sqrt(2) Q that never accumulates", std::sqrt(theta[0]) / freq);
+    c.notes.push_back(buf);
+    return c;
   }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {

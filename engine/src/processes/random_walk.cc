@@ -65,6 +65,15 @@ class RandomWalk final : public Process {
     k.note = "q = K^2 = gamma2 f; F = 1, Q_d = q dt";
     return {k};
   }
+  // A bias random walk of density K^2 = gamma2 f, starting at 0.
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
+    ContinuousForm c;
+    c.F = Eigen::MatrixXd::Zero(1, 1);
+    c.Qc = Eigen::MatrixXd::Constant(1, 1, theta[0] * freq);
+    c.P0 = Eigen::MatrixXd::Zero(1, 1);
+    c.H = Eigen::RowVectorXd::Ones(1);
+    return c;
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"random walk", std::sqrt(theta[0] * freq), "U/s/sqrt(Hz)",

@@ -55,6 +55,16 @@ class WhiteNoise final : public Process {
     k.note = "q = N^2 = sigma2 / f; R = q f_k (= sigma2 when the filter runs at the data rate)";
     return {k};
   }
+  // White noise of density N^2 = sigma2 / f: no state.
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
+    ContinuousForm c;
+    c.F.resize(0, 0);
+    c.Qc.resize(0, 0);
+    c.P0.resize(0, 0);
+    c.H.resize(0);
+    c.white = theta[0] / freq;
+    return c;
+  }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {
     return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",

@@ -88,6 +88,27 @@ struct SumMoments {
   double variance = 0.0;
 };
 
+/// A component as a continuous-time linear Gauss-Markov model, for navigation-error
+/// analysis (nav/): states x with dx/dt = F x + w, w white with power spectral density Qc
+/// (states' units^2 / Hz), x(0) ~ N(0, P0); the component's value y = H x + v, v white of
+/// density `white` (U^2/Hz), independent of w. A WN is v alone; a RW one state (F = 0,
+/// Qc = K^2); an AR1 or GM a first-order Gauss-Markov state (F = -1/T, Qc = 2 s2 / T,
+/// P0 = s2); a DR a rate ramp of random sign (x = [value, slope], P0 = diag(0, R^2)).
+/// Everything in the data's unit U and in seconds, from theta at the sampling rate.
+struct ContinuousForm {
+  Eigen::MatrixXd F, Qc, P0;  ///< n x n (n may be 0)
+  Eigen::RowVectorXd H;       ///< 1 x n
+  double white = 0.0;         ///< density of the white part of y, U^2/Hz
+  /// Bounded errors the form leaves out, one sentence each (QN: the rounding of the
+  /// integrated output, which never accumulates).
+  std::vector<std::string> notes;
+  int states() const { return static_cast<int>(F.rows()); }
+};
+
+/// A first-order Gauss-Markov state of correlation time T (s) and stationary variance s2:
+/// F = -1/T, Qc = 2 s2 / T, P0 = s2, H = 1 (AR1 and GM's continuous form).
+ContinuousForm gauss_markov_form(double T, double s2);
+
 class Process;
 using ProcessPtr = std::shared_ptr<const Process>;
 
@@ -181,6 +202,12 @@ class Process {
   /// of the wrong size or a non-positive or non-finite rate.
   std::vector<KalmanTerm> kalman(std::span<const double> theta, double freq, double filter_rate) const;
 
+  /// The component as a continuous-time Gauss-Markov model at sampling rate freq Hz
+  /// (ContinuousForm), or nullopt for a process without a finite one (SIN, FLICKER, MA1,
+  /// ARMA). Throws InvalidArgument (check.h) for a theta of the wrong size or a
+  /// non-positive or non-finite freq.
+  std::optional<ContinuousForm> continuous_form(std::span<const double> theta, double freq) const;
+
   /// For each K in counts (each >= 1), the mean and variance of x_1 + ... + x_K, the K
   /// samples after time 0 of a path whose non-stationary part starts at 0 at time 0 (RW:
   /// x_t = e_1 + ... + e_t, as simulate's samples 0..K-1; DR: x_t = omega t, t = 1..K).
@@ -232,6 +259,9 @@ class Process {
   /// term saying the process has no finite Gauss-Markov form.
   virtual std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
                                               double filter_rate) const;
+  /// The form behind continuous_form(), with a checked theta size and a positive rate.
+  /// Default: nullopt (no finite Gauss-Markov form).
+  virtual std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const;
 
  private:
   ProcessContext context_;

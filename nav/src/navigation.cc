@@ -1,0 +1,381 @@
+// The covariance analysis of a mismatched navigation filter (navigation.h) as named stages:
+// models -> error systems -> exact block steps -> the filter's own gains and covariance ->
+// the actual errors of the augmented [truth; filter estimate] system -> NEES and verdict.
+#include "gmwm/nav/navigation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/random/normal_distribution.hpp>
+
+#include "error_system.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/parallel.h"
+#include "gmwm/engine/random.h"
+
+namespace gmwm::nav {
+
+using detail::kAttitude;
+using detail::kNavStates;
+using detail::kPosition;
+using detail::kVelocity;
+
+const char* to_string(Verdict v) {
+  switch (v) {
+    case Verdict::kConsistent: return "consistent";
+    case Verdict::kOptimistic: return "optimistic";
+    case Verdict::kPessimistic: return "pessimistic";
+  }
+  return "?";
+}
+
+std::string SensorModel::Validate() const {
+  if (!(freq > 0.0) || !std::isfinite(freq)) return "the sampling rate must be positive (got " + std::to_string(freq) + ")";
+  if (theta.size() != model.num_parameters())
+    return "the model " + model.to_string() + " has " + std::to_string(model.num_parameters()) + " parameters, " +
+           std::to_string(theta.size()) + " values given";
+  if (std::string why = model.validate(theta); !why.empty()) return why;
+  for (int c = 0; c < model.num_components(); ++c) {
+    const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
+    if (!p.continuous_form({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, freq))
+      return "component " + std::to_string(c + 1) + " (" + p.name() +
+             ") has no continuous-time Gauss-Markov form (an AR1 needs 0 < phi < 1; SIN, FLICKER, MA1 and ARMA "
+             "have none): navigation errors cannot be propagated through it";
+  }
+  return {};
+}
+
+ImuModel ImuModel::isotropic(std::string label, const SensorModel& gyro, const SensorModel& accel) {
+  ImuModel m;
+  m.label = std::move(label);
+  m.gyro.fill(gyro);
+  m.accel.fill(accel);
+  return m;
+}
+
+std::string ImuModel::Validate() const {
+  static const char* const kAxis[] = {"x", "y", "z"};
+  const std::string who = label.empty() ? "" : label + ": ";
+  for (int a = 0; a < 3; ++a) {
+    if (std::string why = gyro[static_cast<std::size_t>(a)].Validate(); !why.empty())
+      return who + "gyroscope " + kAxis[a] + ": " + why;
+    if (std::string why = accel[static_cast<std::size_t>(a)].Validate(); !why.empty())
+      return who + "accelerometer " + kAxis[a] + ": " + why;
+  }
+  const double f = rate();
+  for (int a = 0; a < 3; ++a)
+    for (const SensorModel* m : {&gyro[static_cast<std::size_t>(a)], &accel[static_cast<std::size_t>(a)]})
+      if (std::abs(m->freq - f) > 1e-9 * f)
+        return who + "its sensors' models are at different rates (" + std::to_string(f) + " and " +
+               std::to_string(m->freq) + " Hz)";
+  return {};
+}
+
+std::string Scenario::Validate() const {
+  auto positive = [](double x) { return x > 0.0 && std::isfinite(x); };
+  if (!positive(horizon)) return "horizon must be positive (s), got " + std::to_string(horizon);
+  if (!(fix_rate >= 0.0) || !std::isfinite(fix_rate)) return "fix rate must be 0 or positive (Hz)";
+  if (fix_rate > 0.0 && !positive(fix_sigma)) return "fix sigma must be positive (m)";
+  if (!positive(gravity)) return "gravity must be positive (m/s^2)";
+  if (!positive(initial_position) || !positive(initial_velocity) || !positive(initial_attitude))
+    return "the initial errors must be positive";
+  if (!positive(output_interval)) return "the output interval must be positive (s)";
+  for (const Outage& o : outages)
+    if (!(o.start >= 0.0 && o.end > o.start) || !std::isfinite(o.end))
+      return "an outage must have 0 <= start < end (s), got [" + std::to_string(o.start) + ", " +
+             std::to_string(o.end) + "]";
+  return {};
+}
+
+namespace {
+
+// The analysis' time grid: blocks of `block` IMU steps, a fix (where one is due) at the end
+// of each block, an output every `per_output` blocks.
+struct Grid {
+  double dt = 0.0;
+  std::int64_t block = 1, blocks = 0, per_output = 1;
+  bool fixes = false;
+};
+
+// n steps of length dt in a duration, or -1 when it is not a whole number of them.
+std::int64_t whole_steps(double duration, double dt) {
+  const double k = duration / dt;
+  const double r = std::round(k);
+  return std::abs(k - r) <= 1e-6 * std::max(1.0, r) && r >= 1.0 ? static_cast<std::int64_t>(r) : -1;
+}
+
+Grid grid_of(const Scenario& s, double freq) {
+  Grid g;
+  g.dt = 1.0 / freq;
+  const std::int64_t out = whole_steps(s.output_interval, g.dt);
+  if (out < 0)
+    throw InputError("the output interval (" + std::to_string(s.output_interval) +
+                     " s) must be a whole number of IMU periods (1/" + std::to_string(freq) + " s)");
+  g.fixes = s.fix_rate > 0.0;
+  if (g.fixes) {
+    g.block = whole_steps(1.0 / s.fix_rate, g.dt);
+    if (g.block < 0)
+      throw InputError("the fix period (1/" + std::to_string(s.fix_rate) + " s) must be a whole number of IMU periods");
+    if (out % g.block != 0)
+      throw InputError("the output interval (" + std::to_string(s.output_interval) +
+                       " s) must be a whole number of fix periods");
+    g.per_output = out / g.block;
+  } else {
+    g.block = out;
+  }
+  g.blocks = static_cast<std::int64_t>(std::floor(s.horizon / (static_cast<double>(g.block) * g.dt) + 1e-9));
+  if (g.blocks < 1) throw InputError("the horizon is shorter than one output interval");
+  return g;
+}
+
+bool fix_at(const Scenario& s, const Grid& g, double t) {
+  if (!g.fixes) return false;
+  for (const Outage& o : s.outages)
+    if (t >= o.start && t < o.end) return false;
+  return true;
+}
+
+// Rows of the position fix H (3 x n): the position errors.
+Eigen::MatrixXd fix_rows(int n) {
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(3, n);
+  h.leftCols(3).setIdentity();
+  return h;
+}
+
+// sqrt of the trace of a 3x3 block.
+double root_trace(const Eigen::MatrixXd& m, int at) { return std::sqrt(std::max(m.block(at, at, 3, 3).trace(), 0.0)); }
+
+// The band of the mean NEES of n states over kNeesRuns runs.
+std::pair<double, double> nees_band(int n) {
+  const boost::math::chi_squared chi(static_cast<double>(n * kNeesRuns));
+  return {boost::math::quantile(chi, 0.025) / kNeesRuns, boost::math::quantile(chi, 0.975) / kNeesRuns};
+}
+
+void finish_verdict(FilterErrors& f) {
+  int inside = 0, above = 0, below = 0;
+  for (double v : f.nees) {
+    if (v > f.nees_high) ++above;
+    else if (v < f.nees_low) ++below;
+    else ++inside;
+  }
+  f.nees_inside = f.nees.empty() ? 0.0 : static_cast<double>(inside) / static_cast<double>(f.nees.size());
+  f.verdict = f.nees_inside >= 0.95 ? Verdict::kConsistent : above >= below ? Verdict::kOptimistic : Verdict::kPessimistic;
+}
+
+// What the covariance analysis and the Monte Carlo share for one filter: its system's
+// block step and its gains and covariance along the grid (the gains do not depend on the
+// data: a linear filter's are the same in every run).
+struct FilterPlan {
+  detail::ErrorSystem sys;
+  detail::Step step;                 // one block
+  std::vector<Eigen::MatrixXd> gain;  // per block (empty where no fix)
+  std::vector<Eigen::MatrixXd> nav_covariance;  // per output: the filter's own 9 x 9
+};
+
+FilterPlan plan_filter(const ImuModel& model, const Scenario& s, const Grid& g) {
+  FilterPlan f;
+  f.sys = detail::error_system(model, s);
+  f.step = detail::repeat(detail::discretise(f.sys.F, f.sys.Qc, g.dt), g.block);
+  const int n = f.sys.states();
+  const Eigen::MatrixXd H = fix_rows(n);
+  const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(3, 3) * (s.fix_sigma * s.fix_sigma);
+  Eigen::MatrixXd P = f.sys.P0;
+  f.nav_covariance.push_back(P.topLeftCorner(kNavStates, kNavStates));
+  f.gain.resize(static_cast<std::size_t>(g.blocks));
+  for (std::int64_t b = 0; b < g.blocks; ++b) {
+    P = f.step.Phi * P * f.step.Phi.transpose() + f.step.Q;
+    const double t = static_cast<double>((b + 1) * g.block) * g.dt;
+    if (fix_at(s, g, t)) {
+      const Eigen::MatrixXd S = H * P * H.transpose() + R;
+      const Eigen::MatrixXd K = P * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(3, 3));
+      const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
+      P = I_KH * P * I_KH.transpose() + K * R * K.transpose();  // Joseph form
+      f.gain[static_cast<std::size_t>(b)] = K;
+    }
+    P = 0.5 * (P + P.transpose());
+    if ((b + 1) % g.per_output == 0) f.nav_covariance.push_back(P.topLeftCorner(kNavStates, kNavStates));
+  }
+  return f;
+}
+
+void check_rates(const ImuModel& truth, const std::vector<ImuModel>& filters) {
+  const double f = truth.rate();
+  for (const ImuModel& m : filters)
+    if (std::abs(m.rate() - f) > 1e-9 * f)
+      throw InputError((m.label.empty() ? std::string("a filter model") : m.label) + ": its models are at " +
+                       std::to_string(m.rate()) + " Hz, the truth's at " + std::to_string(f) +
+                       " Hz: give every model at the IMU's rate");
+}
+
+void report(const Progress& progress, double share) {
+  if (progress && !progress(share)) throw InputError("cancelled");
+}
+
+}  // namespace
+
+Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario,
+                 const Progress& progress) {
+  if (const std::string why = scenario.Validate(); !why.empty()) throw InputError("scenario: " + why);
+  if (const std::string why = truth.Validate(); !why.empty()) throw InputError(why);
+  for (const ImuModel& m : filters)
+    if (const std::string why = m.Validate(); !why.empty()) throw InputError(why);
+  check_rates(truth, filters);
+  const Grid g = grid_of(scenario, truth.rate());
+  Analysis out;
+  out.scenario = scenario;
+  out.imu_rate = truth.rate();
+  const detail::ErrorSystem ts = detail::error_system(truth, scenario);
+  const detail::Step tstep = detail::repeat(detail::discretise(ts.F, ts.Qc, g.dt), g.block);
+  const int nt = ts.states();
+  const auto [low, high] = nees_band(kNavStates);
+  for (std::size_t fi = 0; fi < filters.size(); ++fi) {
+    const FilterPlan fp = plan_filter(filters[fi], scenario, g);
+    const int nf = fp.sys.states(), na = nt + nf;
+    // The augmented [x_truth; x_hat] between fixes and at a fix.
+    Eigen::MatrixXd Phi = Eigen::MatrixXd::Zero(na, na), Q = Eigen::MatrixXd::Zero(na, na);
+    Phi.topLeftCorner(nt, nt) = tstep.Phi;
+    Phi.bottomRightCorner(nf, nf) = fp.step.Phi;
+    Q.topLeftCorner(nt, nt) = tstep.Q;
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(na, na);
+    A.topLeftCorner(nt, nt) = ts.P0;
+    // The nine navigation errors: truth's minus the estimate's.
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(kNavStates, na);
+    E.leftCols(kNavStates).setIdentity();
+    E.block(0, nt, kNavStates, kNavStates) = -Eigen::MatrixXd::Identity(kNavStates, kNavStates);
+    const Eigen::MatrixXd Ht = fix_rows(nt), Hf = fix_rows(nf);
+    const double r = scenario.fix_sigma * scenario.fix_sigma;
+    FilterErrors fe;
+    fe.label = filters[fi].label;
+    fe.nees_low = low;
+    fe.nees_high = high;
+    fe.notes = fp.sys.notes;
+    auto record = [&](double t, std::size_t output) {
+      const Eigen::MatrixXd actual = E * A * E.transpose();
+      const Eigen::MatrixXd& claimed = fp.nav_covariance[output];
+      fe.time.push_back(t);
+      fe.position_rms.push_back(root_trace(actual, kPosition));
+      fe.velocity_rms.push_back(root_trace(actual, kVelocity));
+      fe.attitude_rms.push_back(root_trace(actual, kAttitude));
+      fe.position_claimed.push_back(root_trace(claimed, kPosition));
+      fe.velocity_claimed.push_back(root_trace(claimed, kVelocity));
+      fe.attitude_claimed.push_back(root_trace(claimed, kAttitude));
+      fe.nees.push_back(claimed.ldlt().solve(actual).trace());
+    };
+    record(0.0, 0);
+    std::size_t output = 0;
+    for (std::int64_t b = 0; b < g.blocks; ++b) {
+      A = Phi * A * Phi.transpose() + Q;
+      const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
+      if (K.size() > 0) {
+        // x_hat <- x_hat + K (Ht x + e - Hf x_hat)
+        Eigen::MatrixXd M = Eigen::MatrixXd::Identity(na, na);
+        M.block(nt, 0, nf, nt) = K * Ht;
+        M.block(nt, nt, nf, nf) -= K * Hf;
+        A = M * A * M.transpose();
+        A.bottomRightCorner(nf, nf) += r * K * K.transpose();
+      }
+      A = 0.5 * (A + A.transpose());
+      if ((b + 1) % g.per_output == 0) record(static_cast<double>((b + 1) * g.block) * g.dt, ++output);
+      if ((b & 63) == 0)
+        report(progress, (static_cast<double>(fi) + static_cast<double>(b + 1) / static_cast<double>(g.blocks)) /
+                             static_cast<double>(filters.size()));
+    }
+    finish_verdict(fe);
+    out.filters.push_back(std::move(fe));
+  }
+  report(progress, 1.0);
+  return out;
+}
+
+}  // namespace gmwm::nav
+
+namespace gmwm::nav {
+
+Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario, int runs,
+                     std::uint64_t seed, const Progress& progress) {
+  if (runs < 2) throw InputError("Monte Carlo needs at least 2 runs, got " + std::to_string(runs));
+  if (const std::string why = scenario.Validate(); !why.empty()) throw InputError("scenario: " + why);
+  if (const std::string why = truth.Validate(); !why.empty()) throw InputError(why);
+  for (const ImuModel& m : filters)
+    if (const std::string why = m.Validate(); !why.empty()) throw InputError(why);
+  check_rates(truth, filters);
+  const Grid g = grid_of(scenario, truth.rate());
+  const detail::ErrorSystem ts = detail::error_system(truth, scenario);
+  const detail::Step tstep = detail::repeat(detail::discretise(ts.F, ts.Qc, g.dt), g.block);
+  const Eigen::MatrixXd noise_root = detail::square_root(tstep.Q), start_root = detail::square_root(ts.P0);
+  const int nt = ts.states();
+  const std::size_t outputs = static_cast<std::size_t>(g.blocks / g.per_output) + 1;
+  const auto [low, high] = nees_band(kNavStates);
+  Analysis out;
+  out.scenario = scenario;
+  out.imu_rate = truth.rate();
+  for (std::size_t fi = 0; fi < filters.size(); ++fi) {
+    const FilterPlan fp = plan_filter(filters[fi], scenario, g);
+    const int nf = fp.sys.states();
+    std::vector<Eigen::LLT<Eigen::MatrixXd>> claimed_inverse;
+    for (const auto& c : fp.nav_covariance) claimed_inverse.emplace_back(c);
+    // Per run and output: the squared errors of the three quantities and the NEES (stored
+    // per run, summed in run order: the same result whatever the thread count).
+    std::vector<Eigen::Matrix<double, 4, Eigen::Dynamic>> per_run(static_cast<std::size_t>(runs));
+    const double r = scenario.fix_sigma;
+    gmwm::parallel_for(0, runs, [&](int run) {
+      Rng rng = make_stream(seed, {static_cast<std::uint64_t>(fi), static_cast<std::uint64_t>(run)});
+      boost::random::normal_distribution<double> z(0.0, 1.0);
+      auto normals = [&](int n) {
+        Eigen::VectorXd v(n);
+        for (int k = 0; k < n; ++k) v(k) = z(rng);
+        return v;
+      };
+      Eigen::VectorXd x = start_root * normals(nt), xh = Eigen::VectorXd::Zero(nf);
+      auto& acc = per_run[static_cast<std::size_t>(run)];
+      acc.resize(4, static_cast<Eigen::Index>(outputs));
+      auto record = [&](std::size_t o) {
+        const Eigen::VectorXd e = x.head(kNavStates) - xh.head(kNavStates);
+        acc(0, static_cast<Eigen::Index>(o)) = e.segment(kPosition, 3).squaredNorm();
+        acc(1, static_cast<Eigen::Index>(o)) = e.segment(kVelocity, 3).squaredNorm();
+        acc(2, static_cast<Eigen::Index>(o)) = e.segment(kAttitude, 3).squaredNorm();
+        acc(3, static_cast<Eigen::Index>(o)) = e.dot(claimed_inverse[o].solve(e));
+      };
+      record(0);
+      std::size_t o = 0;
+      for (std::int64_t b = 0; b < g.blocks; ++b) {
+        x = tstep.Phi * x + noise_root * normals(nt);
+        xh = fp.step.Phi * xh;
+        const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
+        if (K.size() > 0) {
+          const Eigen::Vector3d fix = x.head(3) + r * normals(3);
+          xh += K * (fix - xh.head(3));
+        }
+        if ((b + 1) % g.per_output == 0) record(++o);
+      }
+    });
+    report(progress, static_cast<double>(fi + 1) / static_cast<double>(filters.size()));
+    Eigen::Matrix<double, 4, Eigen::Dynamic> sum = Eigen::Matrix<double, 4, Eigen::Dynamic>::Zero(4, static_cast<Eigen::Index>(outputs));
+    for (const auto& a : per_run) sum += a;
+    sum /= static_cast<double>(runs);
+    FilterErrors fe;
+    fe.label = filters[fi].label;
+    fe.nees_low = low;
+    fe.nees_high = high;
+    fe.notes = fp.sys.notes;
+    for (std::size_t k = 0; k < outputs; ++k) {
+      const auto c = static_cast<Eigen::Index>(k);
+      fe.time.push_back(static_cast<double>(static_cast<std::int64_t>(k) * g.per_output * g.block) * g.dt);
+      fe.position_rms.push_back(std::sqrt(sum(0, c)));
+      fe.velocity_rms.push_back(std::sqrt(sum(1, c)));
+      fe.attitude_rms.push_back(std::sqrt(sum(2, c)));
+      fe.position_claimed.push_back(root_trace(fp.nav_covariance[k], kPosition));
+      fe.velocity_claimed.push_back(root_trace(fp.nav_covariance[k], kVelocity));
+      fe.attitude_claimed.push_back(root_trace(fp.nav_covariance[k], kAttitude));
+      fe.nees.push_back(sum(3, c));
+    }
+    finish_verdict(fe);
+    out.filters.push_back(std::move(fe));
+  }
+  return out;
+}
+
+}  // namespace gmwm::nav

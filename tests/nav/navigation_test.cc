@@ -1,0 +1,182 @@
+// The navigation-error analysis (nav/navigation.h) against closed forms, against its own
+// Monte Carlo, and its refusals (issue 28).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/nav/navigation.h"
+
+namespace gmwm::nav {
+namespace {
+
+constexpr double kRate = 100.0;  // Hz
+
+SensorModel sensor(const std::string& spec) {
+  const Model m = parse_model(spec);
+  return {m, m.given_values(), kRate};
+}
+
+// A sensor whose error is negligible beside the one under test (a white noise of density
+// 1e-15 of it: its share of a variance is ~1e-30).
+SensorModel quiet() { return sensor("WN(sigma2=1e-30)"); }
+
+// No fixes, initial errors at ~0: the free-inertial growth of one sensor's error.
+Scenario free_inertial(double horizon) {
+  Scenario s;
+  s.horizon = horizon;
+  s.fix_rate = 0.0;
+  s.initial_position = s.initial_velocity = s.initial_attitude = 1e-15;
+  s.output_interval = 1.0;
+  return s;
+}
+
+// The last output's attitude / velocity / position root-mean-square over the three axes.
+const FilterErrors& only(const Analysis& a) { return a.filters.front(); }
+
+TEST(NavigationErrors, AWhiteGyroGivesAnAttitudeErrorOfNRootT) {
+  // sigma2 = 1e-6 (rad/s)^2 per sample at 100 Hz: N^2 = 1e-8 rad^2/s. Per axis
+  // Var(psi) = N^2 t; over three axes the root of the trace is sqrt(3 N^2 t).
+  const ImuModel m = ImuModel::isotropic("wn", sensor("WN(sigma2=1e-6)"), quiet());
+  const Analysis a = analyse(m, {m}, free_inertial(600.0));
+  const FilterErrors& f = only(a);
+  for (std::size_t k = 1; k < f.time.size(); k += 97) {
+    const double want = std::sqrt(3.0 * 1e-8 * f.time[k]);
+    EXPECT_NEAR(f.attitude_rms[k], want, 1e-9 * want) << "t = " << f.time[k];
+  }
+  EXPECT_EQ(f.time.back(), 600.0);
+}
+
+TEST(NavigationErrors, ARandomWalkGyroBiasGivesKTToTheThreeHalvesOverRootThree) {
+  // gamma2 = 1e-12 per sample at 100 Hz: K^2 = 1e-10 (rad/s)^2/s. Var(psi) = K^2 t^3 / 3
+  // per axis: the root of the trace over three axes is K t^(3/2).
+  const ImuModel m = ImuModel::isotropic("rw", sensor("RW(gamma2=1e-12)"), quiet());
+  const FilterErrors& f = only(analyse(m, {m}, free_inertial(600.0)));
+  for (std::size_t k = 1; k < f.time.size(); k += 97) {
+    const double t = f.time[k], want = std::sqrt(1e-10) * std::pow(t, 1.5);
+    EXPECT_NEAR(f.attitude_rms[k], want, 1e-9 * want) << "t = " << t;
+  }
+}
+
+TEST(NavigationErrors, AGaussMarkovGyroBiasGivesItsKnownIntegral) {
+  // AR1(phi, sigma2) at 100 Hz: T = -1 / (f ln phi), s2 = sigma2 / (1 - phi^2). The
+  // integral of a stationary Gauss-Markov bias has variance 2 s2 T^2 (t/T - 1 + e^(-t/T)).
+  const double phi = 0.999, sigma2 = 1e-8;
+  const double T = -1.0 / (kRate * std::log(phi)), s2 = sigma2 / (1.0 - phi * phi);
+  const ImuModel m = ImuModel::isotropic("gm", sensor("AR1(phi=0.999,sigma2=1e-8)"), quiet());
+  const FilterErrors& f = only(analyse(m, {m}, free_inertial(600.0)));
+  for (std::size_t k = 1; k < f.time.size(); k += 97) {
+    const double t = f.time[k];
+    const double want = std::sqrt(3.0 * 2.0 * s2 * T * T * (t / T - 1.0 + std::exp(-t / T)));
+    EXPECT_NEAR(f.attitude_rms[k], want, 1e-9 * want) << "t = " << t;
+  }
+}
+
+TEST(NavigationErrors, AWhiteAccelerometerGivesAVelocityRandomWalkAndNTToTheThreeHalvesInPosition) {
+  // sigma2 = 1e-4 (m/s^2)^2 at 100 Hz: N^2 = 1e-6. Per axis Var(dv) = N^2 t and
+  // Var(dp) = N^2 t^3 / 3 (no attitude error to couple in).
+  const ImuModel m = ImuModel::isotropic("acc", quiet(), sensor("WN(sigma2=1e-4)"));
+  const FilterErrors& f = only(analyse(m, {m}, free_inertial(600.0)));
+  for (std::size_t k = 1; k < f.time.size(); k += 97) {
+    const double t = f.time[k];
+    const double v = std::sqrt(3.0 * 1e-6 * t), p = std::sqrt(1e-6 * t * t * t);
+    EXPECT_NEAR(f.velocity_rms[k], v, 1e-9 * v) << "t = " << t;
+    EXPECT_NEAR(f.position_rms[k], p, 1e-9 * p) << "t = " << t;
+  }
+}
+
+TEST(NavigationErrors, ARightModelIsConsistentAndOneWithoutItsGaussMarkovBiasIsOptimistic) {
+  // Position fixes every second (1 m) and a 60 s outage: the filter that knows the truth's
+  // Gauss-Markov bias claims what it makes (NEES = 9 at every time: consistent); the one
+  // that leaves it out claims less error than it makes.
+  Scenario s;
+  s.horizon = 300.0;
+  s.outages = {{120.0, 180.0}};
+  const ImuModel truth = ImuModel::isotropic("truth", sensor("AR1(phi=0.9999,sigma2=1e-12)+WN(sigma2=1e-8)"),
+                       sensor("AR1(phi=0.9999,sigma2=1e-8)+WN(sigma2=1e-5)"));
+  const ImuModel without = ImuModel::isotropic("no GM", sensor("WN(sigma2=1e-8)"), sensor("WN(sigma2=1e-5)"));
+  const Analysis a = analyse(truth, {truth, without}, s);
+  const FilterErrors& right = a.filters[0];
+  const FilterErrors& wrong = a.filters[1];
+  for (double v : right.nees) EXPECT_NEAR(v, 9.0, 1e-6);
+  EXPECT_EQ(right.verdict, Verdict::kConsistent);
+  // The actual and the claimed covariance come from two recursions (the augmented 2n-state
+  // one and the filter's own): equal up to rounding, which grows with the 300 fix updates
+  // (each loses ~cond(S) eps ~ 1e-12 relative): 1e-7 relative is far above it and far below
+  // any modelling difference (the wrong filter's differ by tens of percent).
+  for (std::size_t k = 0; k < right.time.size(); ++k)
+    EXPECT_NEAR(right.position_rms[k], right.position_claimed[k], 1e-7 * right.position_claimed[k]);
+  EXPECT_EQ(wrong.verdict, Verdict::kOptimistic);
+  // At the end of the outage (t = 180 s) the wrong filter's errors are larger than the
+  // right one's and larger than what it claims.
+  const std::size_t end = 180;
+  ASSERT_EQ(wrong.time[end], 180.0);
+  EXPECT_GT(wrong.position_rms[end], right.position_rms[end]);
+  EXPECT_GT(wrong.position_rms[end], wrong.position_claimed[end]);
+}
+
+TEST(NavigationErrors, TheCovarianceAnalysisEqualsItsMonteCarloWithinTheMonteCarloError) {
+  // 1000 runs of 10 minutes with a 60 s outage: at every output time the runs' mean squared
+  // position error, a mean of 1000 values of a scaled chi-square-like quantity, lies within
+  // 4 of its standard errors of the analysis' (the standard error of a mean square of a
+  // Gaussian vector: at most sqrt(2 / runs) of it, 0.045 relative); likewise the mean NEES.
+  Scenario s;
+  s.horizon = 600.0;
+  s.outages = {{300.0, 360.0}};
+  s.output_interval = 10.0;
+  const ImuModel truth = ImuModel::isotropic("truth", sensor("AR1(phi=0.9995,sigma2=1e-12)+RW(gamma2=1e-14)+WN(sigma2=1e-8)"),
+                       sensor("AR1(phi=0.999,sigma2=1e-9)+WN(sigma2=1e-5)"));
+  const ImuModel filter = ImuModel::isotropic("WN+RW", sensor("RW(gamma2=1e-13)+WN(sigma2=1e-8)"), sensor("RW(gamma2=1e-10)+WN(sigma2=1e-5)"));
+  constexpr int kRuns = 1000;
+  const Analysis exact = analyse(truth, {filter}, s);
+  const Analysis mc = monte_carlo(truth, {filter}, s, kRuns, 2828);
+  const FilterErrors& e = exact.filters.front();
+  const FilterErrors& m = mc.filters.front();
+  ASSERT_EQ(e.time, m.time);
+  const double tol = 4.0 * std::sqrt(2.0 / kRuns);
+  int worst = 0;
+  double worst_z = 0.0;
+  for (std::size_t k = 1; k < e.time.size(); ++k) {
+    const double rel = m.position_rms[k] * m.position_rms[k] / (e.position_rms[k] * e.position_rms[k]) - 1.0;
+    EXPECT_LT(std::abs(rel), tol) << "position, t = " << e.time[k];
+    const double relv = m.velocity_rms[k] * m.velocity_rms[k] / (e.velocity_rms[k] * e.velocity_rms[k]) - 1.0;
+    EXPECT_LT(std::abs(relv), tol) << "velocity, t = " << e.time[k];
+    EXPECT_LT(std::abs(m.nees[k] / e.nees[k] - 1.0), tol) << "NEES, t = " << e.time[k];
+    if (std::abs(rel) / tol > worst_z) worst_z = std::abs(rel) / tol, worst = static_cast<int>(k);
+  }
+  RecordProperty("worst_position_in_tolerances", std::to_string(worst_z) + " at output " + std::to_string(worst));
+}
+
+TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingTheField) {
+  const ImuModel ok = ImuModel::isotropic("ok", sensor("WN(sigma2=1e-6)"), sensor("WN(sigma2=1e-4)"));
+  const ImuModel sin = ImuModel::isotropic("sin", sensor("SIN(A2=1e-6,f=0.1)"), sensor("WN(sigma2=1e-4)"));
+  try {
+    analyse(sin, {ok}, Scenario{});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sin: gyroscope x: component 1 (SIN) has no continuous-time"), std::string::npos)
+        << e.what();
+  }
+  Scenario s;
+  s.horizon = -1.0;
+  EXPECT_THROW(analyse(ok, {ok}, s), InputError);
+  s = Scenario{};
+  s.output_interval = 0.5;  // not a whole number of 1 s fix periods
+  try {
+    analyse(ok, {ok}, s);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("whole number of fix periods"), std::string::npos) << e.what();
+  }
+  ImuModel other = ok;
+  other.label = "fast";
+  for (auto& g : other.gyro) g.freq = 200.0;
+  for (auto& a : other.accel) a.freq = 200.0;
+  EXPECT_THROW(analyse(ok, {other}, Scenario{}), InputError);
+  EXPECT_THROW(monte_carlo(ok, {ok}, Scenario{}, 1, 1), InputError);
+}
+
+}  // namespace
+}  // namespace gmwm::nav
