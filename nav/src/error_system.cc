@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "gmwm/engine/error.h"
@@ -12,12 +13,19 @@ namespace gmwm::nav::detail {
 
 namespace {
 
-// One sensor's forms, component by component (SensorModel::Validate has checked them).
+// One sensor's forms, component by component (SensorModel::Validate has checked them),
+// scaled from the model's unit to SI: the states (and the output) by to_si, so F is
+// unchanged and Qc, P0 and the white density scale by to_si^2.
 std::vector<ContinuousForm> forms_of(const SensorModel& s) {
   std::vector<ContinuousForm> out;
+  const double k2 = s.to_si * s.to_si;
   for (int c = 0; c < s.model.num_components(); ++c) {
     const Process& p = *s.model.components()[static_cast<std::size_t>(c)].process;
-    out.push_back(*p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq));
+    ContinuousForm f = *p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq);
+    f.Qc *= k2;
+    f.P0 *= k2;
+    f.white *= k2;
+    out.push_back(std::move(f));
   }
   return out;
 }
@@ -28,10 +36,10 @@ int states_of(const std::vector<ContinuousForm>& forms) {
   return n;
 }
 
-// Adds a sensor's states, axis by axis, at `at`, driving row block `target` (the velocity
-// for an accelerometer, sign +1; the attitude for a gyroscope, sign -1).
-void add_sensor(const std::array<std::vector<ContinuousForm>, 3>& axes, int target, double sign, int& at,
-                ErrorSystem& sys) {
+// Adds a sensor's states, axis by axis, at `at`: their dynamics, and the rows by which
+// they drive the sensor's body-frame error (`rows`, 3 x n) and its white densities.
+void add_sensor(const std::array<std::vector<ContinuousForm>, 3>& axes, Eigen::MatrixXd& rows, Eigen::Vector3d& white,
+                int& at, ErrorSystem& sys) {
   for (int axis = 0; axis < 3; ++axis) {
     for (const ContinuousForm& f : axes[static_cast<std::size_t>(axis)]) {
       const int n = f.states();
@@ -39,12 +47,18 @@ void add_sensor(const std::array<std::vector<ContinuousForm>, 3>& axes, int targ
         sys.F.block(at, at, n, n) = f.F;
         sys.Qc.block(at, at, n, n) = f.Qc;
         sys.P0.block(at, at, n, n) = f.P0;
-        sys.F.block(target + axis, at, 1, n) = sign * f.H;
+        rows.block(axis, at, 1, n) = f.H;
       }
-      sys.Qc(target + axis, target + axis) += f.white;
+      white(axis) += f.white;
       at += n;
     }
   }
+}
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
 }
 
 }  // namespace
@@ -62,20 +76,21 @@ ErrorSystem error_system(const ImuModel& model, const Scenario& scenario) {
   sys.F = Eigen::MatrixXd::Zero(n, n);
   sys.Qc = Eigen::MatrixXd::Zero(n, n);
   sys.P0 = Eigen::MatrixXd::Zero(n, n);
-  // d(dp)/dt = dv; d(dv)/dt = f_n x psi with f_n = (0, 0, -g) at rest: [f_n x] psi =
-  // (g psi_y, -g psi_x, 0).
-  for (int k = 0; k < 3; ++k) sys.F(kPosition + k, kVelocity + k) = 1.0;
-  const double g = scenario.gravity;
-  sys.F(kVelocity + 0, kAttitude + 1) = g;
-  sys.F(kVelocity + 1, kAttitude + 0) = -g;
+  sys.gyro_rows = Eigen::MatrixXd::Zero(3, n);
+  sys.accel_rows = Eigen::MatrixXd::Zero(3, n);
+  for (int k = 0; k < 3; ++k) sys.F(kPosition + k, kVelocity + k) = 1.0;  // d(dp)/dt = dv
   for (int k = 0; k < 3; ++k) {
     sys.P0(kPosition + k, kPosition + k) = scenario.initial_position * scenario.initial_position;
     sys.P0(kVelocity + k, kVelocity + k) = scenario.initial_velocity * scenario.initial_velocity;
     sys.P0(kAttitude + k, kAttitude + k) = scenario.initial_attitude * scenario.initial_attitude;
   }
   int at = kNavStates;
-  add_sensor(gyro, kAttitude, -1.0, at, sys);
-  add_sensor(accel, kVelocity, 1.0, at, sys);
+  add_sensor(gyro, sys.gyro_rows, sys.gyro_white, at, sys);
+  add_sensor(accel, sys.accel_rows, sys.accel_white, at, sys);
+  Eigen::MatrixXd F, Qc;
+  at_pose(sys, Pose{0.0, Eigen::Vector3d(0.0, 0.0, -scenario.gravity)}, F, Qc);
+  sys.F = F;
+  sys.Qc = Qc;
   static const char* const kAxis[] = {"x", "y", "z"};
   for (std::size_t a = 0; a < 3; ++a)
     for (const auto* forms : {&gyro[a], &accel[a]})
@@ -83,6 +98,18 @@ ErrorSystem error_system(const ImuModel& model, const Scenario& scenario) {
         for (const std::string& note : f.notes)
           sys.notes.push_back(std::string(forms == &gyro[a] ? "gyroscope " : "accelerometer ") + kAxis[a] + ": " + note);
   return sys;
+}
+
+void at_pose(const ErrorSystem& sys, const Pose& pose, Eigen::MatrixXd& F, Eigen::MatrixXd& Qc) {
+  const Eigen::Matrix3d C = Eigen::AngleAxisd(pose.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const int n = sys.states(), ns = n - kNavStates;
+  F = sys.F;
+  Qc = sys.Qc;
+  F.block(kVelocity, kAttitude, 3, 3) = skew(pose.specific_force);  // f x psi
+  F.block(kVelocity, kNavStates, 3, ns) = C * sys.accel_rows.rightCols(ns);
+  F.block(kAttitude, kNavStates, 3, ns) = -C * sys.gyro_rows.rightCols(ns);
+  Qc.block(kVelocity, kVelocity, 3, 3) = C * sys.accel_white.asDiagonal() * C.transpose();
+  Qc.block(kAttitude, kAttitude, 3, 3) = C * sys.gyro_white.asDiagonal() * C.transpose();
 }
 
 Step discretise(const Eigen::MatrixXd& F, const Eigen::MatrixXd& Qc, double dt) {

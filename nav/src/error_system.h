@@ -14,17 +14,27 @@ namespace gmwm::nav::detail {
 /// Indices of the navigation errors in every state vector: position, velocity, attitude.
 inline constexpr int kPosition = 0, kVelocity = 3, kAttitude = 6, kNavStates = 9;
 
-/// dx/dt = F x + w, Cov(w) = Qc dt (white), x(0) ~ N(0, P0); x = [dp, dv, psi, the gyro's
-/// states (axis by axis, component by component), the accelerometer's].
+/// The sensors' part of the error system, in the body frame: dx/dt = F x + w over
+/// x = [dp, dv, psi, the gyro's states (axis by axis, component by component), the
+/// accelerometer's], Cov(w) = Qc dt, x(0) ~ N(0, P0). What the trajectory changes (the
+/// body-to-level rotation C and the specific force f) enters through at_pose.
 struct ErrorSystem {
-  Eigen::MatrixXd F, Qc, P0;
+  Eigen::MatrixXd F, Qc, P0;  ///< at rest, heading north (C = I, f = (0, 0, -g))
+  /// Body-frame couplings: the gyroscope's errors on the body axes are gyro_rows x (3 x n),
+  /// the accelerometer's accel_rows x; the white parts' densities per body axis (SI^2/Hz).
+  Eigen::MatrixXd gyro_rows, accel_rows;
+  Eigen::Vector3d gyro_white = Eigen::Vector3d::Zero(), accel_white = Eigen::Vector3d::Zero();
   std::vector<std::string> notes;  ///< what the sensor models leave out
   int states() const { return static_cast<int>(F.rows()); }
 };
 
-/// The system of `model` under `scenario` (at rest: f_n = (0, 0, -g), C = I). Throws
+/// The system of `model` (each sensor's form scaled to SI by its to_si). Throws
 /// InputError naming the component without a continuous form.
 ErrorSystem error_system(const ImuModel& model, const Scenario& scenario);
+
+/// F and Qc of `sys` at a pose: the sensors' errors rotated to the level frame by C, and
+/// d(dv)/dt = f x psi + C db_a, d(psi)/dt = -C db_g.
+void at_pose(const ErrorSystem& sys, const Pose& pose, Eigen::MatrixXd& F, Eigen::MatrixXd& Qc);
 
 /// x_{k+1} = Phi x_k + v_k, Cov(v_k) = Q.
 struct Step {

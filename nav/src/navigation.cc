@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 
 #include <Eigen/Cholesky>
@@ -34,6 +35,7 @@ const char* to_string(Verdict v) {
 
 std::string SensorModel::Validate() const {
   if (!(freq > 0.0) || !std::isfinite(freq)) return "the sampling rate must be positive (got " + std::to_string(freq) + ")";
+  if (!(to_si > 0.0) || !std::isfinite(to_si)) return "the unit's factor to SI must be positive (got " + std::to_string(to_si) + ")";
   if (theta.size() != model.num_parameters())
     return "the model " + model.to_string() + " has " + std::to_string(model.num_parameters()) + " parameters, " +
            std::to_string(theta.size()) + " values given";
@@ -65,18 +67,13 @@ std::string ImuModel::Validate() const {
     if (std::string why = accel[static_cast<std::size_t>(a)].Validate(); !why.empty())
       return who + "accelerometer " + kAxis[a] + ": " + why;
   }
-  const double f = rate();
-  for (int a = 0; a < 3; ++a)
-    for (const SensorModel* m : {&gyro[static_cast<std::size_t>(a)], &accel[static_cast<std::size_t>(a)]})
-      if (std::abs(m->freq - f) > 1e-9 * f)
-        return who + "its sensors' models are at different rates (" + std::to_string(f) + " and " +
-               std::to_string(m->freq) + " Hz)";
   return {};
 }
 
 std::string Scenario::Validate() const {
   auto positive = [](double x) { return x > 0.0 && std::isfinite(x); };
   if (!positive(horizon)) return "horizon must be positive (s), got " + std::to_string(horizon);
+  if (!(imu_rate >= 0.0) || !std::isfinite(imu_rate)) return "the IMU rate must be 0 (the truth's) or positive (Hz)";
   if (!(fix_rate >= 0.0) || !std::isfinite(fix_rate)) return "fix rate must be 0 or positive (Hz)";
   if (fix_rate > 0.0 && !positive(fix_sigma)) return "fix sigma must be positive (m)";
   if (!positive(gravity)) return "gravity must be positive (m/s^2)";
@@ -90,14 +87,63 @@ std::string Scenario::Validate() const {
   return {};
 }
 
+const char* to_string(Trajectory t) {
+  switch (t) {
+    case Trajectory::kStatic: return "static";
+    case Trajectory::kConstantVelocity: return "constant-velocity";
+    case Trajectory::kManoeuvre: return "manoeuvre";
+  }
+  return "?";
+}
+
+std::optional<Trajectory> parse_trajectory(const std::string& name) {
+  for (Trajectory t : {Trajectory::kStatic, Trajectory::kConstantVelocity, Trajectory::kManoeuvre})
+    if (name == to_string(t)) return t;
+  return std::nullopt;
+}
+
+namespace {
+// The built-in manoeuvre (navigation.h): speed 10 m/s reached in 5 s, sides of 20 s, turns
+// of 10 s through 90 degrees. A coordinated turn at speed v and yaw rate w has a
+// centripetal acceleration v w towards the turn's centre.
+constexpr std::int64_t kAccelerateSeconds = 5, kStraightSeconds = 20, kTurnSeconds = 10;
+constexpr double kSpeed = 10.0;  // m/s
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+Pose pose_at(Trajectory trajectory, std::int64_t second, double gravity) {
+  Pose p;
+  p.specific_force = Eigen::Vector3d(0.0, 0.0, -gravity);
+  if (trajectory != Trajectory::kManoeuvre) return p;
+  if (second < kAccelerateSeconds) {
+    p.specific_force.x() = kSpeed / static_cast<double>(kAccelerateSeconds);
+    return p;
+  }
+  const std::int64_t side = kStraightSeconds + kTurnSeconds;
+  const std::int64_t in_cycle = (second - kAccelerateSeconds) % (4 * side);
+  const std::int64_t k = in_cycle / side, s = in_cycle % side;
+  const double rate = (kPi / 2.0) / static_cast<double>(kTurnSeconds);  // rad/s
+  p.heading = static_cast<double>(k) * kPi / 2.0;
+  if (s >= kStraightSeconds) {
+    p.heading += rate * (static_cast<double>(s - kStraightSeconds) + 0.5);
+    const double towards = p.heading + kPi / 2.0;  // a right turn's centre
+    p.specific_force.x() = kSpeed * rate * std::cos(towards);
+    p.specific_force.y() = kSpeed * rate * std::sin(towards);
+  }
+  return p;
+}
+
 namespace {
 
-// The analysis' time grid: blocks of `block` IMU steps, a fix (where one is due) at the end
-// of each block, an output every `per_output` blocks.
+// The analysis' time grid: blocks of `block` IMU steps (the largest that divides the fix
+// period, the output interval and, for the manoeuvre, the second its pose is held for),
+// a fix (where one is due) at the end of a block, an output every `per_output` blocks,
+// and the pose each block is flown at (an index into `poses`).
 struct Grid {
   double dt = 0.0;
-  std::int64_t block = 1, blocks = 0, per_output = 1;
-  bool fixes = false;
+  std::int64_t block = 1, blocks = 0, per_output = 1, per_fix = 0;  // per_fix 0: no fixes
+  std::vector<Pose> poses;
+  std::vector<int> pose_of_block;
 };
 
 // n steps of length dt in a duration, or -1 when it is not a whole number of them.
@@ -107,6 +153,8 @@ std::int64_t whole_steps(double duration, double dt) {
   return std::abs(k - r) <= 1e-6 * std::max(1.0, r) && r >= 1.0 ? static_cast<std::int64_t>(r) : -1;
 }
 
+double imu_rate_of(const Scenario& s, const ImuModel& truth) { return s.imu_rate > 0.0 ? s.imu_rate : truth.gyro[0].freq; }
+
 Grid grid_of(const Scenario& s, double freq) {
   Grid g;
   g.dt = 1.0 / freq;
@@ -114,28 +162,65 @@ Grid grid_of(const Scenario& s, double freq) {
   if (out < 0)
     throw InputError("the output interval (" + std::to_string(s.output_interval) +
                      " s) must be a whole number of IMU periods (1/" + std::to_string(freq) + " s)");
-  g.fixes = s.fix_rate > 0.0;
-  if (g.fixes) {
-    g.block = whole_steps(1.0 / s.fix_rate, g.dt);
-    if (g.block < 0)
+  std::int64_t block = out, fix = 0;
+  if (s.fix_rate > 0.0) {
+    fix = whole_steps(1.0 / s.fix_rate, g.dt);
+    if (fix < 0)
       throw InputError("the fix period (1/" + std::to_string(s.fix_rate) + " s) must be a whole number of IMU periods");
-    if (out % g.block != 0)
-      throw InputError("the output interval (" + std::to_string(s.output_interval) +
-                       " s) must be a whole number of fix periods");
-    g.per_output = out / g.block;
-  } else {
-    g.block = out;
+    block = std::gcd(block, fix);
   }
+  std::int64_t second = 0;
+  if (s.trajectory == Trajectory::kManoeuvre) {
+    second = whole_steps(1.0, g.dt);
+    if (second < 0)
+      throw InputError("the manoeuvre holds each pose for a second: the IMU rate (" + std::to_string(freq) +
+                       " Hz) must be a whole number of Hz");
+    block = std::gcd(block, second);
+  }
+  g.block = block;
+  g.per_output = out / block;
+  g.per_fix = fix / block;
   g.blocks = static_cast<std::int64_t>(std::floor(s.horizon / (static_cast<double>(g.block) * g.dt) + 1e-9));
+  g.blocks -= g.blocks % g.per_output;  // end on an output
   if (g.blocks < 1) throw InputError("the horizon is shorter than one output interval");
+  g.pose_of_block.resize(static_cast<std::size_t>(g.blocks));
+  for (std::int64_t b = 0; b < g.blocks; ++b) {
+    const Pose p = pose_at(s.trajectory, second > 0 ? b * g.block / second : 0, s.gravity);
+    std::size_t k = 0;
+    while (k < g.poses.size() && !(g.poses[k].heading == p.heading && g.poses[k].specific_force == p.specific_force)) ++k;
+    if (k == g.poses.size()) g.poses.push_back(p);
+    g.pose_of_block[static_cast<std::size_t>(b)] = static_cast<int>(k);
+  }
   return g;
 }
 
-bool fix_at(const Scenario& s, const Grid& g, double t) {
-  if (!g.fixes) return false;
+// Whether a fix comes at the end of block b.
+bool fix_at(const Scenario& s, const Grid& g, std::int64_t b) {
+  if (g.per_fix == 0 || (b + 1) % g.per_fix != 0) return false;
+  const double t = static_cast<double>((b + 1) * g.block) * g.dt;
   for (const Outage& o : s.outages)
     if (t >= o.start && t < o.end) return false;
   return true;
+}
+
+// A system and its exact block step at each of the grid's poses.
+struct Propagation {
+  detail::ErrorSystem sys;
+  std::vector<detail::Step> steps;  // per pose
+  const detail::Step& at(const Grid& g, std::int64_t b) const {
+    return steps[static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)])];
+  }
+};
+
+Propagation propagation(const ImuModel& model, const Scenario& s, const Grid& g) {
+  Propagation p;
+  p.sys = detail::error_system(model, s);
+  Eigen::MatrixXd F, Qc;
+  for (const Pose& pose : g.poses) {
+    detail::at_pose(p.sys, pose, F, Qc);
+    p.steps.push_back(detail::repeat(detail::discretise(F, Qc, g.dt), g.block));
+  }
+  return p;
 }
 
 // Rows of the position fix H (3 x n): the position errors.
@@ -166,29 +251,27 @@ void finish_verdict(FilterErrors& f) {
 }
 
 // What the covariance analysis and the Monte Carlo share for one filter: its system's
-// block step and its gains and covariance along the grid (the gains do not depend on the
+// block steps and its gains and covariance along the grid (the gains do not depend on the
 // data: a linear filter's are the same in every run).
 struct FilterPlan {
-  detail::ErrorSystem sys;
-  detail::Step step;                 // one block
-  std::vector<Eigen::MatrixXd> gain;  // per block (empty where no fix)
+  Propagation prop;
+  std::vector<Eigen::MatrixXd> gain;            // per block (empty where no fix)
   std::vector<Eigen::MatrixXd> nav_covariance;  // per output: the filter's own 9 x 9
 };
 
 FilterPlan plan_filter(const ImuModel& model, const Scenario& s, const Grid& g) {
   FilterPlan f;
-  f.sys = detail::error_system(model, s);
-  f.step = detail::repeat(detail::discretise(f.sys.F, f.sys.Qc, g.dt), g.block);
-  const int n = f.sys.states();
+  f.prop = propagation(model, s, g);
+  const int n = f.prop.sys.states();
   const Eigen::MatrixXd H = fix_rows(n);
   const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(3, 3) * (s.fix_sigma * s.fix_sigma);
-  Eigen::MatrixXd P = f.sys.P0;
+  Eigen::MatrixXd P = f.prop.sys.P0;
   f.nav_covariance.push_back(P.topLeftCorner(kNavStates, kNavStates));
   f.gain.resize(static_cast<std::size_t>(g.blocks));
   for (std::int64_t b = 0; b < g.blocks; ++b) {
-    P = f.step.Phi * P * f.step.Phi.transpose() + f.step.Q;
-    const double t = static_cast<double>((b + 1) * g.block) * g.dt;
-    if (fix_at(s, g, t)) {
+    const detail::Step& step = f.prop.at(g, b);
+    P = step.Phi * P * step.Phi.transpose() + step.Q;
+    if (fix_at(s, g, b)) {
       const Eigen::MatrixXd S = H * P * H.transpose() + R;
       const Eigen::MatrixXd K = P * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(3, 3));
       const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
@@ -201,13 +284,14 @@ FilterPlan plan_filter(const ImuModel& model, const Scenario& s, const Grid& g) 
   return f;
 }
 
-void check_rates(const ImuModel& truth, const std::vector<ImuModel>& filters) {
-  const double f = truth.rate();
+// The checks both methods start with; the grid at the scenario's IMU rate.
+Grid checked_grid(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario) {
+  if (const std::string why = scenario.Validate(); !why.empty()) throw InputError("scenario: " + why);
+  if (const std::string why = truth.Validate(); !why.empty()) throw InputError(why);
   for (const ImuModel& m : filters)
-    if (std::abs(m.rate() - f) > 1e-9 * f)
-      throw InputError((m.label.empty() ? std::string("a filter model") : m.label) + ": its models are at " +
-                       std::to_string(m.rate()) + " Hz, the truth's at " + std::to_string(f) +
-                       " Hz: give every model at the IMU's rate");
+    if (const std::string why = m.Validate(); !why.empty()) throw InputError(why);
+  if (filters.empty()) throw InputError("no filter model to analyse");
+  return grid_of(scenario, imu_rate_of(scenario, truth));
 }
 
 void report(const Progress& progress, double share) {
@@ -218,29 +302,28 @@ void report(const Progress& progress, double share) {
 
 Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario,
                  const Progress& progress) {
-  if (const std::string why = scenario.Validate(); !why.empty()) throw InputError("scenario: " + why);
-  if (const std::string why = truth.Validate(); !why.empty()) throw InputError(why);
-  for (const ImuModel& m : filters)
-    if (const std::string why = m.Validate(); !why.empty()) throw InputError(why);
-  check_rates(truth, filters);
-  const Grid g = grid_of(scenario, truth.rate());
+  const Grid g = checked_grid(truth, filters, scenario);
   Analysis out;
   out.scenario = scenario;
-  out.imu_rate = truth.rate();
-  const detail::ErrorSystem ts = detail::error_system(truth, scenario);
-  const detail::Step tstep = detail::repeat(detail::discretise(ts.F, ts.Qc, g.dt), g.block);
-  const int nt = ts.states();
+  out.imu_rate = 1.0 / g.dt;
+  const Propagation tp = propagation(truth, scenario, g);
+  const int nt = tp.sys.states();
   const auto [low, high] = nees_band(kNavStates);
   for (std::size_t fi = 0; fi < filters.size(); ++fi) {
     const FilterPlan fp = plan_filter(filters[fi], scenario, g);
-    const int nf = fp.sys.states(), na = nt + nf;
-    // The augmented [x_truth; x_hat] between fixes and at a fix.
-    Eigen::MatrixXd Phi = Eigen::MatrixXd::Zero(na, na), Q = Eigen::MatrixXd::Zero(na, na);
-    Phi.topLeftCorner(nt, nt) = tstep.Phi;
-    Phi.bottomRightCorner(nf, nf) = fp.step.Phi;
-    Q.topLeftCorner(nt, nt) = tstep.Q;
+    const int nf = fp.prop.sys.states(), na = nt + nf;
+    // The augmented [x_truth; x_hat] between fixes, per pose (the estimate follows the
+    // filter's own model and no noise).
+    std::vector<detail::Step> aug(g.poses.size());
+    for (std::size_t k = 0; k < g.poses.size(); ++k) {
+      aug[k].Phi = Eigen::MatrixXd::Zero(na, na);
+      aug[k].Q = Eigen::MatrixXd::Zero(na, na);
+      aug[k].Phi.topLeftCorner(nt, nt) = tp.steps[k].Phi;
+      aug[k].Phi.bottomRightCorner(nf, nf) = fp.prop.steps[k].Phi;
+      aug[k].Q.topLeftCorner(nt, nt) = tp.steps[k].Q;
+    }
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(na, na);
-    A.topLeftCorner(nt, nt) = ts.P0;
+    A.topLeftCorner(nt, nt) = tp.sys.P0;
     // The nine navigation errors: truth's minus the estimate's.
     Eigen::MatrixXd E = Eigen::MatrixXd::Zero(kNavStates, na);
     E.leftCols(kNavStates).setIdentity();
@@ -251,7 +334,7 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
     fe.label = filters[fi].label;
     fe.nees_low = low;
     fe.nees_high = high;
-    fe.notes = fp.sys.notes;
+    fe.notes = fp.prop.sys.notes;
     auto record = [&](double t, std::size_t output) {
       const Eigen::MatrixXd actual = E * A * E.transpose();
       const Eigen::MatrixXd& claimed = fp.nav_covariance[output];
@@ -267,7 +350,8 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
     record(0.0, 0);
     std::size_t output = 0;
     for (std::int64_t b = 0; b < g.blocks; ++b) {
-      A = Phi * A * Phi.transpose() + Q;
+      const detail::Step& step = aug[static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)])];
+      A = step.Phi * A * step.Phi.transpose() + step.Q;
       const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
       if (K.size() > 0) {
         // x_hat <- x_hat + K (Ht x + e - Hf x_hat)
@@ -297,24 +381,20 @@ namespace gmwm::nav {
 Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario, int runs,
                      std::uint64_t seed, const Progress& progress) {
   if (runs < 2) throw InputError("Monte Carlo needs at least 2 runs, got " + std::to_string(runs));
-  if (const std::string why = scenario.Validate(); !why.empty()) throw InputError("scenario: " + why);
-  if (const std::string why = truth.Validate(); !why.empty()) throw InputError(why);
-  for (const ImuModel& m : filters)
-    if (const std::string why = m.Validate(); !why.empty()) throw InputError(why);
-  check_rates(truth, filters);
-  const Grid g = grid_of(scenario, truth.rate());
-  const detail::ErrorSystem ts = detail::error_system(truth, scenario);
-  const detail::Step tstep = detail::repeat(detail::discretise(ts.F, ts.Qc, g.dt), g.block);
-  const Eigen::MatrixXd noise_root = detail::square_root(tstep.Q), start_root = detail::square_root(ts.P0);
-  const int nt = ts.states();
+  const Grid g = checked_grid(truth, filters, scenario);
+  const Propagation tp = propagation(truth, scenario, g);
+  std::vector<Eigen::MatrixXd> noise_root;
+  for (const detail::Step& step : tp.steps) noise_root.push_back(detail::square_root(step.Q));
+  const Eigen::MatrixXd start_root = detail::square_root(tp.sys.P0);
+  const int nt = tp.sys.states();
   const std::size_t outputs = static_cast<std::size_t>(g.blocks / g.per_output) + 1;
   const auto [low, high] = nees_band(kNavStates);
   Analysis out;
   out.scenario = scenario;
-  out.imu_rate = truth.rate();
+  out.imu_rate = 1.0 / g.dt;
   for (std::size_t fi = 0; fi < filters.size(); ++fi) {
     const FilterPlan fp = plan_filter(filters[fi], scenario, g);
-    const int nf = fp.sys.states();
+    const int nf = fp.prop.sys.states();
     std::vector<Eigen::LLT<Eigen::MatrixXd>> claimed_inverse;
     for (const auto& c : fp.nav_covariance) claimed_inverse.emplace_back(c);
     // Per run and output: the squared errors of the three quantities and the NEES (stored
@@ -342,8 +422,9 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
       record(0);
       std::size_t o = 0;
       for (std::int64_t b = 0; b < g.blocks; ++b) {
-        x = tstep.Phi * x + noise_root * normals(nt);
-        xh = fp.step.Phi * xh;
+        const auto pose = static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)]);
+        x = tp.steps[pose].Phi * x + noise_root[pose] * normals(nt);
+        xh = fp.prop.steps[pose].Phi * xh;
         const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
         if (K.size() > 0) {
           const Eigen::Vector3d fix = x.head(3) + r * normals(3);
@@ -360,7 +441,7 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
     fe.label = filters[fi].label;
     fe.nees_low = low;
     fe.nees_high = high;
-    fe.notes = fp.sys.notes;
+    fe.notes = fp.prop.sys.notes;
     for (std::size_t k = 0; k < outputs; ++k) {
       const auto c = static_cast<Eigen::Index>(k);
       fe.time.push_back(static_cast<double>(static_cast<std::int64_t>(k) * g.per_output * g.block) * g.dt);

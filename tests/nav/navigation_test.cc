@@ -149,6 +149,72 @@ TEST(NavigationErrors, TheCovarianceAnalysisEqualsItsMonteCarloWithinTheMonteCar
   RecordProperty("worst_position_in_tolerances", std::to_string(worst_z) + " at output " + std::to_string(worst));
 }
 
+TEST(NavigationErrors, AManoeuvreMakesTheHeadingObservableAndTheRightFilterStaysConsistent) {
+  // At rest a position fix says nothing of the heading error (the yaw's error grows with
+  // the gyro's as in free inertial); turns and accelerations put it into the position, so
+  // the attitude error ends far smaller. The right filter claims what it makes on both
+  // (NEES 9 to rounding), and the pose changes every second without losing exactness.
+  Scenario s;
+  s.horizon = 600.0;
+  const ImuModel truth = ImuModel::isotropic("truth", sensor("RW(gamma2=1e-14)+WN(sigma2=1e-8)"),
+                                             sensor("RW(gamma2=1e-10)+WN(sigma2=1e-5)"));
+  const FilterErrors at_rest = only(analyse(truth, {truth}, s));
+  s.trajectory = Trajectory::kManoeuvre;
+  const FilterErrors moving = only(analyse(truth, {truth}, s));
+  // (0.0045 rad against 0.0086 rad after 600 s; the yaw's random-walk part keeps growing
+  // between turns.)
+  EXPECT_LT(moving.attitude_rms.back(), 0.75 * at_rest.attitude_rms.back());
+  for (double v : moving.nees) EXPECT_NEAR(v, 9.0, 1e-6);
+  EXPECT_EQ(moving.verdict, Verdict::kConsistent);
+}
+
+TEST(NavigationErrors, TheManoeuvresPosesAreTheCircuitItDescribes) {
+  const double g = 9.80665;
+  const Pose start = pose_at(Trajectory::kManoeuvre, 0, g);
+  EXPECT_DOUBLE_EQ(start.specific_force.x(), 2.0);  // 10 m/s in 5 s
+  EXPECT_DOUBLE_EQ(start.heading, 0.0);
+  const Pose straight = pose_at(Trajectory::kManoeuvre, 5 + 10, g);
+  EXPECT_DOUBLE_EQ(straight.specific_force.head<2>().norm(), 0.0);
+  // The first turn's middle second: heading 4.5 x 9 deg, centripetal v w = 10 x pi / 20
+  // towards heading + 90 deg; after four sides the circuit repeats.
+  const Pose turning = pose_at(Trajectory::kManoeuvre, 5 + 20 + 4, g);
+  const double pi = 3.14159265358979323846;
+  EXPECT_NEAR(turning.heading, 4.5 * pi / 20.0, 1e-15);
+  EXPECT_NEAR(turning.specific_force.head<2>().norm(), 10.0 * pi / 20.0, 1e-12);
+  EXPECT_NEAR(turning.specific_force.head<2>().dot(Eigen::Vector2d(std::cos(turning.heading), std::sin(turning.heading))), 0.0, 1e-12);
+  const Pose again = pose_at(Trajectory::kManoeuvre, 5 + 20 + 4 + 120, g);
+  EXPECT_EQ(again.heading, turning.heading);
+  EXPECT_EQ(pose_at(Trajectory::kStatic, 29, g).specific_force, Eigen::Vector3d(0.0, 0.0, -g));
+  EXPECT_EQ(parse_trajectory("manoeuvre"), Trajectory::kManoeuvre);
+  EXPECT_FALSE(parse_trajectory("maneuver").has_value());
+}
+
+TEST(NavigationErrors, AModelInDegreesPerSecondMeansTheSameAsItsValuesInRadians) {
+  // WN(sigma2) in deg/s with to_si = pi / 180 is WN(sigma2 (pi / 180)^2) in rad/s.
+  const double k = 3.14159265358979323846 / 180.0;
+  SensorModel deg = sensor("WN(sigma2=1e-4)+RW(gamma2=1e-10)");
+  deg.to_si = k;
+  const Model m = parse_model("WN+RW");
+  Eigen::VectorXd theta(2);
+  theta << 1e-4 * k * k, 1e-10 * k * k;
+  const SensorModel rad{m, theta, kRate};
+  const FilterErrors a = only(analyse(ImuModel::isotropic("deg", deg, quiet()), {ImuModel::isotropic("deg", deg, quiet())}, free_inertial(100.0)));
+  const FilterErrors b = only(analyse(ImuModel::isotropic("rad", rad, quiet()), {ImuModel::isotropic("rad", rad, quiet())}, free_inertial(100.0)));
+  EXPECT_NEAR(a.attitude_rms.back(), b.attitude_rms.back(), 1e-12 * b.attitude_rms.back());
+}
+
+TEST(NavigationErrors, AModelGivenAtAnotherRateMeansTheSameThroughItsContinuousForm) {
+  // WN(sigma2) at 100 Hz has the density sigma2 / 100; at 200 Hz the same density is
+  // WN(2 sigma2): a filter given at 200 Hz over a 100 Hz truth is the truth itself.
+  const ImuModel truth = ImuModel::isotropic("truth", sensor("WN(sigma2=1e-6)"), sensor("WN(sigma2=1e-4)"));
+  ImuModel fast = ImuModel::isotropic("fast", sensor("WN(sigma2=2e-6)"), sensor("WN(sigma2=2e-4)"));
+  for (auto& g : fast.gyro) g.freq = 200.0;
+  for (auto& a : fast.accel) a.freq = 200.0;
+  const Analysis a = analyse(truth, {fast}, Scenario{});
+  for (double v : a.filters.front().nees) EXPECT_NEAR(v, 9.0, 1e-6);
+  EXPECT_EQ(a.imu_rate, kRate);
+}
+
 TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingTheField) {
   const ImuModel ok = ImuModel::isotropic("ok", sensor("WN(sigma2=1e-6)"), sensor("WN(sigma2=1e-4)"));
   const ImuModel sin = ImuModel::isotropic("sin", sensor("SIN(A2=1e-6,f=0.1)"), sensor("WN(sigma2=1e-4)"));
@@ -163,18 +229,25 @@ TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingT
   s.horizon = -1.0;
   EXPECT_THROW(analyse(ok, {ok}, s), InputError);
   s = Scenario{};
-  s.output_interval = 0.5;  // not a whole number of 1 s fix periods
+  s.output_interval = 0.0125;  // 1.25 IMU periods at 100 Hz
   try {
     analyse(ok, {ok}, s);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("whole number of fix periods"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("whole number of IMU periods"), std::string::npos) << e.what();
   }
-  ImuModel other = ok;
-  other.label = "fast";
-  for (auto& g : other.gyro) g.freq = 200.0;
-  for (auto& a : other.accel) a.freq = 200.0;
-  EXPECT_THROW(analyse(ok, {other}, Scenario{}), InputError);
+  s = Scenario{};
+  s.trajectory = Trajectory::kManoeuvre;
+  s.imu_rate = 100.5;
+  s.fix_rate = 0.0;
+  s.output_interval = 2.0 / 100.5;
+  try {
+    analyse(ok, {ok}, s);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("must be a whole number of Hz"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(analyse(ok, {}, Scenario{}), InputError);
   EXPECT_THROW(monte_carlo(ok, {ok}, Scenario{}, 1, 1), InputError);
 }
 

@@ -9,13 +9,15 @@
 // The error model: a flat, non-rotating Earth in a local level frame (x north, y east,
 // z down), errors e = [dp, dv, psi] (position m, velocity m/s, attitude rad):
 //   d(dp)/dt = dv,  d(dv)/dt = f_n x psi + C db_a,  d(psi)/dt = -C db_g,
-// f_n the specific force (0, 0, -g) at rest, C the body-to-level rotation (identity here),
+// f_n the specific force ((0, 0, -g) at rest), C the body-to-level rotation (the heading),
 // db_a and db_g the accelerometer's and gyroscope's errors, each axis its own model
 // (ContinuousForm of its components, process.h). Continuous time throughout; the
 // discrete step is the exact one (Van Loan 1978), so a white gyro's attitude error is
 // N sqrt(t) and a random walk's K t^(3/2) / sqrt(3) at every output time, to rounding.
 // Constant velocity on this Earth has the same error dynamics as rest (no Coriolis, no
-// transport rate); the scenario keeps the name for what a user asks.
+// transport rate); the scenario keeps the name for what a user asks. The manoeuvring
+// trajectory (Trajectory::kManoeuvre) changes C and f_n second by second, so that the
+// heading error and the horizontal biases become observable as on a real vehicle.
 //
 //   gmwm::nav::Scenario s;                 // at rest, 600 s, a fix every second (1 m)
 //   s.outages = {{300.0, 360.0}};          // a 60 s outage
@@ -24,6 +26,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +42,9 @@ struct SensorModel {
   Model model;
   Eigen::VectorXd theta;
   double freq = 0.0;
+  /// SI units per unit of the model (1 / Unit::per_si: 0.0174533 for deg/s, 9.80665 for g);
+  /// the model's values are in its own unit, the analysis in SI.
+  double to_si = 1.0;
   /// Empty when valid (every component with a continuous form, theta the model's size, a
   /// positive rate), else one line naming the component.
   std::string Validate() const;
@@ -51,7 +57,6 @@ struct ImuModel {
   std::array<SensorModel, 3> gyro, accel;
   /// The same gyroscope and accelerometer models on the three axes.
   static ImuModel isotropic(std::string label, const SensorModel& gyro, const SensorModel& accel);
-  double rate() const { return gyro[0].freq; }
   /// Empty when valid, else one line naming the label, the sensor and the axis.
   std::string Validate() const;
 };
@@ -60,7 +65,31 @@ struct Outage {
   double start = 0.0, end = 0.0;  ///< s, no position fix in [start, end)
 };
 
+/// What the vehicle does: at rest, at constant velocity (the same error dynamics on a flat,
+/// non-rotating Earth), or the built-in manoeuvre: a 5 s acceleration north at 2 m/s^2 to
+/// 10 m/s, then a square circuit repeated for the horizon, each side 20 s straight and a
+/// 10 s coordinated 90-degree right turn (yaw rate 9 deg/s, centripetal 1.571 m/s^2). The
+/// heading and the specific force are held constant over each second (at the second's
+/// midpoint): the analysis is exact for that piecewise-constant trajectory.
+enum class Trajectory { kStatic, kConstantVelocity, kManoeuvre };
+const char* to_string(Trajectory t);  ///< "static", "constant-velocity", "manoeuvre"
+std::optional<Trajectory> parse_trajectory(const std::string& name);
+
+/// The vehicle's state as the error dynamics see it: heading (rad, from north towards
+/// east; the body is level) and the specific force in the level frame (m/s^2).
+struct Pose {
+  double heading = 0.0;
+  Eigen::Vector3d specific_force = Eigen::Vector3d::Zero();
+};
+
+/// The pose of `trajectory` over the second starting at whole second `second`.
+Pose pose_at(Trajectory trajectory, std::int64_t second, double gravity);
+
 struct Scenario {
+  Trajectory trajectory = Trajectory::kStatic;
+  /// IMU rate, Hz: the analysis' step (0: the truth's sampling rate). Every model is used
+  /// through its continuous form, so a filter model given at another rate means the same.
+  double imu_rate = 0.0;
   double horizon = 600.0;       ///< s
   double fix_rate = 1.0;        ///< Hz, position fixes (0: none)
   double fix_sigma = 1.0;       ///< m, per axis
@@ -111,8 +140,7 @@ struct Analysis {
 /// Progress in [0, 1]; return false to cancel (InputError "cancelled").
 using Progress = std::function<bool(double)>;
 
-/// The errors of each filter model against the truth, by covariance analysis. Every model
-/// must share the truth's rate. Throws InputError naming the field for an invalid
+/// The errors of each filter model against the truth, by covariance analysis. Throws InputError naming the field for an invalid
 /// scenario or model.
 Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario,
                  const Progress& progress = {});
