@@ -44,8 +44,14 @@ std::optional<ContinuousForm> Process::continuous_form_impl(std::span<const doub
   return std::nullopt;
 }
 
-ContinuousForm gauss_markov_form(double T, double s2) {
+ContinuousForm gauss_markov_form(double T, double s2, double dt) {
   ContinuousForm c;
+  // coth(L/2) - 2/L = L/6 - L^3/360 + ...: the series below L = 1e-3, where the difference
+  // of the two would lose all its digits (its third term is then below 1e-13 relative).
+  const double L = dt / T;
+  constexpr double kSeriesBelow = 1e-3;
+  const double excess = L < kSeriesBelow ? L / 6.0 - L * L * L / 360.0 : 1.0 / std::tanh(0.5 * L) - 2.0 / L;
+  c.white = s2 * dt * excess;
   c.F = Eigen::MatrixXd::Constant(1, 1, -1.0 / T);
   c.Qc = Eigen::MatrixXd::Constant(1, 1, 2.0 * s2 / T);
   c.P0 = Eigen::MatrixXd::Constant(1, 1, s2);

@@ -92,7 +92,7 @@ class Ar1Process final : public Process {
   std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
     const double a = theta[0];
     if (!(a > 0.0 && a < 1.0)) return std::nullopt;
-    return gauss_markov_form(1.0 / (freq * -std::log(a)), theta[1] / ((1.0 - a) * (1.0 + a)));
+    return gauss_markov_form(1.0 / (freq * -std::log(a)), theta[1] / ((1.0 - a) * (1.0 + a)), 1.0 / freq);
   }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {

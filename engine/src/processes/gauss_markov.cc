@@ -101,8 +101,8 @@ class GaussMarkov final : public Process {
                                       double filter_rate) const override {
     return {gauss_markov_term(1.0 / theta[0], theta[1], filter_rate)};
   }
-  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double) const override {
-    return gauss_markov_form(1.0 / theta[0], theta[1]);
+  std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
+    return gauss_markov_form(1.0 / theta[0], theta[1], 1.0 / freq);
   }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double) const override {
