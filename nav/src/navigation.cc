@@ -44,8 +44,8 @@ std::string SensorModel::Validate() const {
     const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
     if (!p.continuous_form({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, freq))
       return "component " + std::to_string(c + 1) + " (" + p.name() +
-             ") has no continuous-time Gauss-Markov form (an AR1 needs 0 < phi < 1; SIN, FLICKER, MA1 and ARMA "
-             "have none): navigation errors cannot be propagated through it";
+             ") has no continuous-time Gauss-Markov form (an AR1 needs 0 < phi < 1; SIN, MA1 and ARMA have "
+             "none): navigation errors cannot be propagated through it";
   }
   return {};
 }

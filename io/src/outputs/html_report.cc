@@ -18,40 +18,8 @@ namespace gmwm::io {
 namespace {
 
 using report_detail::html_escape;
-
-struct Plots {
-  Json specs = Json::array();
-  /// The container of a plot and its spec's entry. `id` is built from indices only.
-  std::string add(const std::string& id, const std::string& kind, Json spec) {
-    specs.push_back({{"id", id}, {"kind", kind}, {"spec", std::move(spec)}});
-    // The log-log plots (wv, gap-curves) zoom and pan; the maps show values on hover.
-    const bool zooms = kind == "wv" || kind == "gap-curves";
-    return "<div class=\"gmwm-plot\" data-plot=\"" + kind + "\" id=\"" + id + "\"><div class=\"view\"></div><div class=\"hint\">" +
-           (zooms ? "drag to pan, wheel to zoom, double-click to reset; hover a point for its values"
-                  : "hover a cell for its values") +
-           "<span class=\"export\"></span></div></div>\n";
-  }
-};
-
-// Catches errors of every later script, Vega's modules included.
-constexpr const char* kErrorCapture = R"JS(<script>
-(function () {
-  function note(msg) {
-    var box = document.getElementById('gmwm-errors');
-    var line = document.createElement('div');
-    line.textContent = String(msg);
-    box.appendChild(line);
-    box.hidden = false;
-  }
-  window.onerror = function (msg, src, line, col) {
-    note('script error: ' + msg + (line ? ' (line ' + line + ':' + col + ')' : ''));
-  };
-  window.addEventListener('unhandledrejection', function (e) {
-    note('unhandled promise rejection: ' + ((e.reason && e.reason.message) || e.reason));
-  });
-})();
-</script>
-)JS";
+using report_detail::kErrorCapture;
+using report_detail::Plots;
 
 std::string column_facts(const ReportColumn& c) {
   std::ostringstream os;
@@ -182,17 +150,9 @@ std::string render_html_report(const ReportData& data) {
   body << "</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network. Drag to pan, wheel "
           "to zoom, double-click to reset, hover a point for its values; SVG/PNG under each plot saves it.</footer>\n";
 
-  std::ostringstream page;
-  page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" content=\"gmwm "
-       << html_escape(version()) << "\">\n<title>" << html_escape(title) << "</title>\n<style>\n"
-       << report_detail::page_style() << "</style>\n</head>\n<body>\n"
-       << body.str() << "<script type=\"application/json\" id=\"gmwm-specs\">" << report_detail::script_json(plots.specs)
-       << "</script>\n<script>\n"
-       << vega << "</script>\n<script>\n"
-       << report_detail::page_script() << "</script>\n</body>\n</html>\n";
-  spdlog::debug("HTML report: {} plot(s), {} bytes", plots.specs.size(), page.tellp());
-  return page.str();
+  std::string page = report_detail::html_page(title, body.str(), plots, vega);
+  spdlog::debug("HTML report: {} plot(s), {} bytes", plots.specs.size(), page.size());
+  return page;
 }
 
 std::string report_svg_path(const std::string& path) { return path + ".svg"; }

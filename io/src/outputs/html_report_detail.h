@@ -20,6 +20,21 @@ namespace gmwm::io::report_detail {
 
 // ---- html_report_format.cc ----
 
+/// The page's plots: each a container and its spec's entry in the page's spec list.
+struct Plots {
+  Json specs = Json::array();
+  /// The container of a plot and its spec's entry. `id` is built from indices only.
+  std::string add(const std::string& id, const std::string& kind, Json spec);
+};
+
+/// A script that catches the errors of every later script (Vega's modules included) into
+/// <div id="gmwm-errors">.
+extern const char* const kErrorCapture;
+
+/// The whole page around `body` (already escaped HTML): head, style, the specs, Vega
+/// (`vega`, from vega_script()) and the page's script.
+std::string html_page(const std::string& title, const std::string& body, const Plots& plots, const std::string& vega);
+
 /// Text for HTML text and attribute values: & < > " ' escaped.
 std::string html_escape(std::string_view s);
 /// JSON text safe inside a <script> element: '<', '>', '&' as \u003c, \u003e, \u0026

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <span>
 
+#include <sstream>
+
 #include "html_report_detail.h"
 
 namespace gmwm::io::report_detail {
@@ -136,6 +138,53 @@ std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta
     keep({std::to_string(k + 1) + ": " + p.name(), true, {}, {}}, v.data());
   }
   return out;
+}
+
+
+std::string Plots::add(const std::string& id, const std::string& kind, Json spec) {
+  specs.push_back({{"id", id}, {"kind", kind}, {"spec", std::move(spec)}});
+  // The log-log plots (wv, gap-curves) zoom and pan; the maps show values on hover, and
+  // the navigation curves at each output time.
+  const bool zooms = kind == "wv" || kind == "gap-curves";
+  const bool curves = kind.rfind("nav-", 0) == 0;
+  return "<div class=\"gmwm-plot\" data-plot=\"" + kind + "\" id=\"" + id + "\"><div class=\"view\"></div><div class=\"hint\">" +
+         (zooms    ? "drag to pan, wheel to zoom, double-click to reset; hover a point for its values"
+          : curves ? "hover a curve for its value at each output time"
+                   : "hover a cell for its values") +
+         "<span class=\"export\"></span></div></div>\n";
+}
+
+// Catches errors of every later script, Vega's modules included.
+const char* const kErrorCapture = R"JS(<script>
+(function () {
+  function note(msg) {
+    var box = document.getElementById('gmwm-errors');
+    var line = document.createElement('div');
+    line.textContent = String(msg);
+    box.appendChild(line);
+    box.hidden = false;
+  }
+  window.onerror = function (msg, src, line, col) {
+    note('script error: ' + msg + (line ? ' (line ' + line + ':' + col + ')' : ''));
+  };
+  window.addEventListener('unhandledrejection', function (e) {
+    note('unhandled promise rejection: ' + ((e.reason && e.reason.message) || e.reason));
+  });
+})();
+</script>
+)JS";
+
+std::string html_page(const std::string& title, const std::string& body, const Plots& plots, const std::string& vega) {
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" content=\"gmwm "
+       << html_escape(version()) << "\">\n<title>" << html_escape(title) << "</title>\n<style>\n"
+       << page_style() << "</style>\n</head>\n<body>\n"
+       << body << "<script type=\"application/json\" id=\"gmwm-specs\">" << script_json(plots.specs)
+       << "</script>\n<script>\n"
+       << vega << "</script>\n<script>\n"
+       << page_script() << "</script>\n</body>\n</html>\n";
+  return page.str();
 }
 
 }  // namespace gmwm::io::report_detail
