@@ -382,11 +382,19 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
                      std::uint64_t seed, const Progress& progress) {
   if (runs < 2) throw InputError("Monte Carlo needs at least 2 runs, got " + std::to_string(runs));
   const Grid g = checked_grid(truth, filters, scenario);
-  const Propagation tp = propagation(truth, scenario, g);
+  // Runs step at the IMU's rate (the analysis' block steps are composed from these, so the
+  // runs check the composition too), each pose's one-step transition and noise root.
+  const detail::ErrorSystem ts = detail::error_system(truth, scenario);
+  std::vector<detail::Step> truth_step;
   std::vector<Eigen::MatrixXd> noise_root;
-  for (const detail::Step& step : tp.steps) noise_root.push_back(detail::square_root(step.Q));
-  const Eigen::MatrixXd start_root = detail::square_root(tp.sys.P0);
-  const int nt = tp.sys.states();
+  for (const Pose& pose : g.poses) {
+    Eigen::MatrixXd F, Qc;
+    detail::at_pose(ts, pose, F, Qc);
+    truth_step.push_back(detail::discretise(F, Qc, g.dt));
+    noise_root.push_back(detail::square_root(truth_step.back().Q));
+  }
+  const Eigen::MatrixXd start_root = detail::square_root(ts.P0);
+  const int nt = ts.states();
   const std::size_t outputs = static_cast<std::size_t>(g.blocks / g.per_output) + 1;
   const auto [low, high] = nees_band(kNavStates);
   Analysis out;
@@ -395,6 +403,12 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
   for (std::size_t fi = 0; fi < filters.size(); ++fi) {
     const FilterPlan fp = plan_filter(filters[fi], scenario, g);
     const int nf = fp.prop.sys.states();
+    std::vector<Eigen::MatrixXd> filter_step;
+    for (const Pose& pose : g.poses) {
+      Eigen::MatrixXd F, Qc;
+      detail::at_pose(fp.prop.sys, pose, F, Qc);
+      filter_step.push_back(detail::discretise(F, Qc, g.dt).Phi);
+    }
     std::vector<Eigen::LLT<Eigen::MatrixXd>> claimed_inverse;
     for (const auto& c : fp.nav_covariance) claimed_inverse.emplace_back(c);
     // Per run and output: the squared errors of the three quantities and the NEES (stored
@@ -402,7 +416,8 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
     std::vector<Eigen::Matrix<double, 4, Eigen::Dynamic>> per_run(static_cast<std::size_t>(runs));
     const double r = scenario.fix_sigma;
     gmwm::parallel_for(0, runs, [&](int run) {
-      Rng rng = make_stream(seed, {static_cast<std::uint64_t>(fi), static_cast<std::uint64_t>(run)});
+      // One stream per run, the same for every filter: each filter meets the same truths.
+      Rng rng = make_stream(seed, {static_cast<std::uint64_t>(run)});
       boost::random::normal_distribution<double> z(0.0, 1.0);
       auto normals = [&](int n) {
         Eigen::VectorXd v(n);
@@ -423,8 +438,10 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
       std::size_t o = 0;
       for (std::int64_t b = 0; b < g.blocks; ++b) {
         const auto pose = static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)]);
-        x = tp.steps[pose].Phi * x + noise_root[pose] * normals(nt);
-        xh = fp.prop.steps[pose].Phi * xh;
+        for (std::int64_t k = 0; k < g.block; ++k) {
+          x = truth_step[pose].Phi * x + noise_root[pose] * normals(nt);
+          xh = filter_step[pose] * xh;
+        }
         const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
         if (K.size() > 0) {
           const Eigen::Vector3d fix = x.head(3) + r * normals(3);
