@@ -80,6 +80,7 @@ std::string Scenario::Validate() const {
   if (!positive(initial_position) || !positive(initial_velocity) || !positive(initial_attitude))
     return "the initial errors must be positive";
   if (!positive(output_interval)) return "the output interval must be positive (s)";
+  if (!(judge_from >= 0.0) || !(judge_from < horizon)) return "the judged stretch must start in [0, horizon) (s)";
   for (const Outage& o : outages)
     if (!(o.start >= 0.0 && o.end > o.start) || !std::isfinite(o.end))
       return "an outage must have 0 <= start < end (s), got [" + std::to_string(o.start) + ", " +
@@ -239,14 +240,18 @@ std::pair<double, double> nees_band(int n) {
   return {boost::math::quantile(chi, 0.025) / kNeesRuns, boost::math::quantile(chi, 0.975) / kNeesRuns};
 }
 
-void finish_verdict(FilterErrors& f) {
+void finish_verdict(FilterErrors& f, double judge_from) {
   int inside = 0, above = 0, below = 0;
-  for (double v : f.nees) {
+  for (std::size_t k = 0; k < f.nees.size(); ++k) {
+    if (f.time[k] < judge_from - 1e-9) continue;
+    const double v = f.nees[k];
     if (v > f.nees_high) ++above;
     else if (v < f.nees_low) ++below;
     else ++inside;
   }
-  f.nees_inside = f.nees.empty() ? 0.0 : static_cast<double>(inside) / static_cast<double>(f.nees.size());
+  const int judged = inside + above + below;
+  f.nees_inside = judged == 0 ? 0.0 : static_cast<double>(inside) / static_cast<double>(judged);
+  f.nees_above = judged == 0 ? 0.0 : static_cast<double>(above) / static_cast<double>(judged);
   f.verdict = f.nees_inside >= 0.95 ? Verdict::kConsistent : above >= below ? Verdict::kOptimistic : Verdict::kPessimistic;
 }
 
@@ -300,6 +305,39 @@ void report(const Progress& progress, double share) {
 
 }  // namespace
 
+// The estimation error's system, closed loop (the filter's corrections fed back to the
+// navigation solution, as an error-state filter runs): y = [e, the navigation errors after
+// the corrections (9); the truth's sensor states; the filter's estimates of its own sensor
+// states]. The open-loop form [x_truth; x_hat] carries the raw inertial errors, which grow
+// without bound (10^5 m after 20 min at rest), and takes e as the difference of two such
+// numbers: its variance lost every digit past ~1000 s at 20 Hz updates. Closed loop, e's
+// dynamics need only the truth's and the filter's sensor couplings: both share the
+// kinematic block Phi_nn (the same trajectory), so x_hat's navigation part drops out.
+struct ClosedLoop {
+  int nt = 0, nf = 0;
+  int size() const { return nt + nf - kNavStates; }
+  int truth_sensors() const { return nt - kNavStates; }
+  int filter_sensors() const { return nf - kNavStates; }
+  // Phi of y from the truth's and the filter's transition over the same interval.
+  Eigen::MatrixXd phi(const Eigen::MatrixXd& pt, const Eigen::MatrixXd& pf) const {
+    const int st = truth_sensors(), sf = filter_sensors();
+    Eigen::MatrixXd p = Eigen::MatrixXd::Zero(size(), size());
+    p.topLeftCorner(kNavStates, kNavStates) = pt.topLeftCorner(kNavStates, kNavStates);
+    p.block(0, kNavStates, kNavStates, st) = pt.block(0, kNavStates, kNavStates, st);
+    p.block(0, kNavStates + st, kNavStates, sf) = -pf.block(0, kNavStates, kNavStates, sf);
+    p.block(kNavStates, kNavStates, st, st) = pt.bottomRightCorner(st, st);
+    p.block(kNavStates + st, kNavStates + st, sf, sf) = pf.bottomRightCorner(sf, sf);
+    return p;
+  }
+  // A fix's correction y <- y + G (H e + v), G = [-K_nav; 0; K_sensors] (size x 3).
+  Eigen::MatrixXd correction(const Eigen::MatrixXd& K) const {
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(size(), 3);
+    G.topRows(kNavStates) = -K.topRows(kNavStates);
+    G.bottomRows(filter_sensors()) = K.bottomRows(filter_sensors());
+    return G;
+  }
+};
+
 Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario,
                  const Progress& progress) {
   const Grid g = checked_grid(truth, filters, scenario);
@@ -311,24 +349,16 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
   const auto [low, high] = nees_band(kNavStates);
   for (std::size_t fi = 0; fi < filters.size(); ++fi) {
     const FilterPlan fp = plan_filter(filters[fi], scenario, g);
-    const int nf = fp.prop.sys.states(), na = nt + nf;
-    // The augmented [x_truth; x_hat] between fixes, per pose (the estimate follows the
-    // filter's own model and no noise).
-    std::vector<detail::Step> aug(g.poses.size());
+    const ClosedLoop cl{nt, fp.prop.sys.states()};
+    const int ny = cl.size();
+    std::vector<detail::Step> step(g.poses.size());
     for (std::size_t k = 0; k < g.poses.size(); ++k) {
-      aug[k].Phi = Eigen::MatrixXd::Zero(na, na);
-      aug[k].Q = Eigen::MatrixXd::Zero(na, na);
-      aug[k].Phi.topLeftCorner(nt, nt) = tp.steps[k].Phi;
-      aug[k].Phi.bottomRightCorner(nf, nf) = fp.prop.steps[k].Phi;
-      aug[k].Q.topLeftCorner(nt, nt) = tp.steps[k].Q;
+      step[k].Phi = cl.phi(tp.steps[k].Phi, fp.prop.steps[k].Phi);
+      step[k].Q = Eigen::MatrixXd::Zero(ny, ny);
+      step[k].Q.topLeftCorner(nt, nt) = tp.steps[k].Q;
     }
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(na, na);
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(ny, ny);  // Cov(y); the estimates start at 0
     A.topLeftCorner(nt, nt) = tp.sys.P0;
-    // The nine navigation errors: truth's minus the estimate's.
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(kNavStates, na);
-    E.leftCols(kNavStates).setIdentity();
-    E.block(0, nt, kNavStates, kNavStates) = -Eigen::MatrixXd::Identity(kNavStates, kNavStates);
-    const Eigen::MatrixXd Ht = fix_rows(nt), Hf = fix_rows(nf);
     const double r = scenario.fix_sigma * scenario.fix_sigma;
     FilterErrors fe;
     fe.label = filters[fi].label;
@@ -336,7 +366,7 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
     fe.nees_high = high;
     fe.notes = fp.prop.sys.notes;
     auto record = [&](double t, std::size_t output) {
-      const Eigen::MatrixXd actual = E * A * E.transpose();
+      const Eigen::MatrixXd actual = A.topLeftCorner(kNavStates, kNavStates);
       const Eigen::MatrixXd& claimed = fp.nav_covariance[output];
       fe.time.push_back(t);
       fe.position_rms.push_back(root_trace(actual, kPosition));
@@ -350,24 +380,22 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
     record(0.0, 0);
     std::size_t output = 0;
     for (std::int64_t b = 0; b < g.blocks; ++b) {
-      const detail::Step& step = aug[static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)])];
-      A = step.Phi * A * step.Phi.transpose() + step.Q;
+      const detail::Step& s = step[static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)])];
+      A = s.Phi * A * s.Phi.transpose() + s.Q;
       const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
       if (K.size() > 0) {
-        // x_hat <- x_hat + K (Ht x + e - Hf x_hat)
-        Eigen::MatrixXd M = Eigen::MatrixXd::Identity(na, na);
-        M.block(nt, 0, nf, nt) = K * Ht;
-        M.block(nt, nt, nf, nf) -= K * Hf;
-        A = M * A * M.transpose();
-        A.bottomRightCorner(nf, nf) += r * K * K.transpose();
+        const Eigen::MatrixXd G = cl.correction(K);
+        Eigen::MatrixXd M = Eigen::MatrixXd::Identity(ny, ny);
+        M.leftCols(3) += G;  // H selects e's position: y + G H y
+        A = M * A * M.transpose() + r * G * G.transpose();
       }
       A = 0.5 * (A + A.transpose());
-      if ((b + 1) % g.per_output == 0) record(static_cast<double>((b + 1) * g.block) * g.dt, ++output);
+      if ((b + 1) % g.per_output == 0) record(static_cast<double>((b + 1) * g.block) / out.imu_rate, ++output);
       if ((b & 63) == 0)
         report(progress, (static_cast<double>(fi) + static_cast<double>(b + 1) / static_cast<double>(g.blocks)) /
                              static_cast<double>(filters.size()));
     }
-    finish_verdict(fe);
+    finish_verdict(fe, scenario.judge_from);
     out.filters.push_back(std::move(fe));
   }
   report(progress, 1.0);
@@ -402,12 +430,12 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
   out.imu_rate = 1.0 / g.dt;
   for (std::size_t fi = 0; fi < filters.size(); ++fi) {
     const FilterPlan fp = plan_filter(filters[fi], scenario, g);
-    const int nf = fp.prop.sys.states();
-    std::vector<Eigen::MatrixXd> filter_step;
-    for (const Pose& pose : g.poses) {
+    const ClosedLoop cl{nt, fp.prop.sys.states()};
+    std::vector<Eigen::MatrixXd> y_step;  // one IMU step of y, per pose
+    for (std::size_t k = 0; k < g.poses.size(); ++k) {
       Eigen::MatrixXd F, Qc;
-      detail::at_pose(fp.prop.sys, pose, F, Qc);
-      filter_step.push_back(detail::discretise(F, Qc, g.dt).Phi);
+      detail::at_pose(fp.prop.sys, g.poses[k], F, Qc);
+      y_step.push_back(cl.phi(truth_step[k].Phi, detail::discretise(F, Qc, g.dt).Phi));
     }
     std::vector<Eigen::LLT<Eigen::MatrixXd>> claimed_inverse;
     for (const auto& c : fp.nav_covariance) claimed_inverse.emplace_back(c);
@@ -424,11 +452,12 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
         for (int k = 0; k < n; ++k) v(k) = z(rng);
         return v;
       };
-      Eigen::VectorXd x = start_root * normals(nt), xh = Eigen::VectorXd::Zero(nf);
+      Eigen::VectorXd y = Eigen::VectorXd::Zero(cl.size());  // closed loop, as analyse
+      y.head(nt) = start_root * normals(nt);
       auto& acc = per_run[static_cast<std::size_t>(run)];
       acc.resize(4, static_cast<Eigen::Index>(outputs));
       auto record = [&](std::size_t o) {
-        const Eigen::VectorXd e = x.head(kNavStates) - xh.head(kNavStates);
+        const Eigen::VectorXd e = y.head(kNavStates);
         acc(0, static_cast<Eigen::Index>(o)) = e.segment(kPosition, 3).squaredNorm();
         acc(1, static_cast<Eigen::Index>(o)) = e.segment(kVelocity, 3).squaredNorm();
         acc(2, static_cast<Eigen::Index>(o)) = e.segment(kAttitude, 3).squaredNorm();
@@ -439,13 +468,13 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
       for (std::int64_t b = 0; b < g.blocks; ++b) {
         const auto pose = static_cast<std::size_t>(g.pose_of_block[static_cast<std::size_t>(b)]);
         for (std::int64_t k = 0; k < g.block; ++k) {
-          x = truth_step[pose].Phi * x + noise_root[pose] * normals(nt);
-          xh = filter_step[pose] * xh;
+          y = y_step[pose] * y;
+          y.head(nt) += noise_root[pose] * normals(nt);
         }
         const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
         if (K.size() > 0) {
-          const Eigen::Vector3d fix = x.head(3) + r * normals(3);
-          xh += K * (fix - xh.head(3));
+          const Eigen::Vector3d innovation = y.head(3) + r * normals(3);  // the fix minus the corrected solution
+          y += cl.correction(K) * innovation;
         }
         if ((b + 1) % g.per_output == 0) record(++o);
       }
@@ -461,7 +490,7 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
     fe.notes = fp.prop.sys.notes;
     for (std::size_t k = 0; k < outputs; ++k) {
       const auto c = static_cast<Eigen::Index>(k);
-      fe.time.push_back(static_cast<double>(static_cast<std::int64_t>(k) * g.per_output * g.block) * g.dt);
+      fe.time.push_back(static_cast<double>(static_cast<std::int64_t>(k) * g.per_output * g.block) / out.imu_rate);
       fe.position_rms.push_back(std::sqrt(sum(0, c)));
       fe.velocity_rms.push_back(std::sqrt(sum(1, c)));
       fe.attitude_rms.push_back(std::sqrt(sum(2, c)));
@@ -470,7 +499,7 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
       fe.attitude_claimed.push_back(root_trace(fp.nav_covariance[k], kAttitude));
       fe.nees.push_back(sum(3, c));
     }
-    finish_verdict(fe);
+    finish_verdict(fe, scenario.judge_from);
     out.filters.push_back(std::move(fe));
   }
   return out;

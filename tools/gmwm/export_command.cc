@@ -18,6 +18,7 @@
 #include "gmwm/io/export.h"
 #include "gmwm/io/side_file.h"
 #include "gmwm/io/units.h"
+#include "gmwm/pipeline/nav_study.h"
 
 namespace gmwm::cli {
 namespace {
@@ -37,6 +38,7 @@ struct ExportArgs {
   std::string sensor;      ///< --sensor gyro|accel
   std::string aggregate = "mean";
   double inflate = 1.0;
+  std::string consistent_for;  ///< --consistent-for RATE,HORIZON[,SIGMA]
   std::optional<double> rate;
   std::string rostopic = "/imu0";
   int max_evaluations = FitOptions{}.max_evaluations;
@@ -158,6 +160,45 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
   return columns;
 }
 
+// --consistent-for RATE,HORIZON[,SIGMA]: the setting of pipeline::consistent_inflation.
+pipeline::ConsistencyOptions consistency_options(const std::string& text) {
+  const std::vector<std::string> parts = split_list(text);
+  pipeline::ConsistencyOptions c;
+  std::vector<double> v;
+  for (const std::string& p : parts)
+    if (const auto x = parse_decimal(p); x && *x > 0.0) v.push_back(*x);
+  if (v.size() != parts.size() || v.size() < 2 || v.size() > 3)
+    throw InputError("--consistent-for '" + text +
+                     "': expected RATE,HORIZON[,SIGMA]: the filter's update rate in Hz, the longest time on the IMU alone "
+                     "in s, and optionally an update's error in m (default 0.05), all positive, e.g. 20,60");
+  c.update_rate = v[0];
+  c.horizon = v[1];
+  if (v.size() == 3) c.fix_sigma = v[2];
+  if (const std::string why = c.Validate(); !why.empty()) throw InputError("--consistent-for: " + why);
+  return c;
+}
+
+// The WN + RW figures a file would hold (SI), as the filter model they make, on the axes
+// the truth has: per axis for a per-axis export, else the kind's combined figures.
+nav::ImuModel written_model(const io::ExportResult& r, const nav::ImuModel& truth) {
+  nav::ImuModel m;
+  m.label = "the exported WN + RW figures";
+  for (const io::KindExport& k : r.kinds) {
+    const bool gyro = k.kind == io::SensorKind::kGyro;
+    const auto& axes = gyro ? truth.gyro : truth.accel;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const io::WrittenNoise& w = k.per_axis ? k.axes[a] : k.combined;
+      const double f = axes[a].freq;
+      const Model model = parse_model(w.random_walk > 0.0 ? "WN+RW" : "WN", ProcessContext{f, true});
+      Eigen::VectorXd theta(model.num_parameters());
+      theta(0) = w.noise_density * w.noise_density * f;                        // sigma2 = N^2 f
+      if (w.random_walk > 0.0) theta(1) = w.random_walk * w.random_walk / f;  // gamma2 = K^2 / f
+      (gyro ? m.gyro : m.accel)[a] = nav::SensorModel{model, theta, f, 1.0};
+    }
+  }
+  return m;
+}
+
 io::Json written_json(const io::WrittenNoise& w) {
   return {{"noise_density", io::json_number(w.noise_density)},
           {"random_walk", io::json_number(w.random_walk)},
@@ -175,6 +216,7 @@ io::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, cons
   doc["source"] = source;
   doc["aggregation"] = io::to_string(o.aggregation);
   doc["inflate"] = io::json_number(o.inflate);
+  doc["inflate_walk"] = io::json_number(o.inflate_walk.value_or(o.inflate));
   doc["rate"] = io::json_number(r.rate);
   for (const auto& a : r.columns) {
     io::Json c = {{"name", a.column}, {"freq", io::json_number(a.freq)}, {"kind", io::to_string(a.kind)},
@@ -205,7 +247,9 @@ std::string terminal_report(const io::ExportOptions& o, const io::ExportResult& 
   std::ostringstream os;
   os << "wrote " << io::to_string(o.format) << " noise parameters to " << output;
   if (r.sidecar) os << " (header in " << output << ".txt)";
-  os << " at " << fmt(r.rate) << " Hz, " << io::to_string(o.aggregation) << ", inflation x" << fmt(o.inflate) << '\n';
+  os << " at " << fmt(r.rate) << " Hz, " << io::to_string(o.aggregation) << ", inflation x" << fmt(o.inflate);
+  if (o.inflate_walk && *o.inflate_walk != o.inflate) os << " (random walks x" << fmt(*o.inflate_walk) << ")";
+  os << '\n';
   Table t({"sensor", "axis", "noise density", "random walk", "bias drive", "bias T (s)"}, 2);
   for (const auto& k : r.kinds) {
     if (k.columns.empty()) continue;
@@ -261,6 +305,28 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
     std::cerr << "gmwm: error: " << printable_line(e.what()) << '\n';
     return 1;
   }
+  std::optional<pipeline::ConsistentInflation> consistent;
+  std::optional<pipeline::ConsistencyOptions> consistency;
+  if (!a.consistent_for.empty()) {
+    consistency = consistency_options(a.consistent_for);
+    if (o.format == io::ExportFormat::kGzSdf || o.format == io::ExportFormat::kRotors)
+      throw InputError("--consistent-for: for the WN + RW formats (kalibr, openvins, vins, orbslam3, basalt); " +
+                       std::string(io::to_string(o.format)) + " writes the Gauss-Markov bias itself");
+    if (a.sub->count("--inflate") > 0)
+      throw InputError("--consistent-for derives the inflation; leave out --inflate");
+    pipeline::NavModelInfo truth;
+    try {
+      truth = pipeline::imu_model_of(columns, a.input.input);
+    } catch (const InputError& e) {
+      throw InputError(std::string("--consistent-for needs the models of both sensors on every axis (gyroscope and "
+                                   "accelerometer columns): ") + e.what());
+    }
+    const io::ExportResult plain = io::render_export(columns, o, source);
+    consistent = pipeline::consistent_inflation(truth.model, written_model(plain, truth.model), *consistency);
+    o.inflate = consistent->white;
+    o.inflate_walk = consistent->factor;
+    o.inflation_reason = consistent->reason;
+  }
   const io::ExportResult r = io::render_export(columns, o, source);
 
   // Everything is computed: write the file (and its sidecar), then the JSON.
@@ -268,10 +334,28 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   if (r.sidecar) common.outputs->stage(a.output + ".txt", *r.sidecar);
   for (const auto& w : r.warnings) warn(w);
   io::Json doc = result_json(o, r, a.output, source);
+  doc["consistent_for"] = nullptr;
+  if (consistent)
+    doc["consistent_for"] = {{"update_rate", io::json_number(consistency->update_rate)},
+                             {"horizon", io::json_number(consistency->horizon)},
+                             {"fix_sigma", io::json_number(consistency->fix_sigma)},
+                             {"white_factor", io::json_number(consistent->white)},
+                             {"walk_factor", io::json_number(consistent->factor)},
+                             {"verdict", nav::to_string(consistent->verdict)},
+                             {"nees_inside", io::json_number(consistent->nees_inside)},
+                             {"smaller_factor", io::json_number(consistent->smaller)},
+                             {"smaller_factor_above_band", io::json_number(consistent->smaller_above)},
+                             {"reason", consistent->reason}};
   write_json(common, doc, {.threads = 0, .seconds = {}, .argv = {}});
   commit_outputs(common);
   if (common.show_table() && a.output != "-") {
     print_text(terminal_report(o, r, a.output));
+    if (consistent)
+      print_text("inflation N x" + fmt(consistent->white, 3) + ", K x" + fmt(consistent->factor, 3) +
+                 ": the smallest keeping the filter from being optimistic (" +
+                 fmt(consistency->update_rate) + " Hz updates, " + fmt(consistency->horizon) +
+                 " s on the IMU alone); NEES in band " + fmt(100.0 * consistent->nees_inside, 3) + "% (" +
+                 nav::to_string(consistent->verdict) + ")\n");
   }
   return 0;
 }
@@ -312,6 +396,11 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
       ->type_name("X")
       ->transform(decimal_number("a positive factor"))
       ->capture_default_str();
+  sub->add_option("--consistent-for", args->consistent_for,
+                  "RATE,HORIZON[,SIGMA]: inflate N and K by the smallest factor that keeps a WN + RW filter updated at "
+                  "RATE Hz (an update's error SIGMA m, default 0.05) and HORIZON s on the IMU alone from being "
+                  "optimistic against the full fitted model (docs/nav.md)")
+      ->type_name("RATE,HORIZON");
   sub->add_option_function<double>(
          "--rate", [a = args.get()](const double& r) { a->rate = r; },
          "The IMU rate for update-rate fields and per-sample values (default: the data's rate; needed when a "

@@ -20,7 +20,7 @@ struct NavArgs {
   std::string truth;
   std::vector<std::string> filters;
   std::string trajectory = "static";
-  double horizon = 600.0, fix_rate = 1.0, fix_sigma = 1.0, output_interval = 1.0;
+  double horizon = 600.0, fix_rate = 1.0, fix_sigma = 1.0, output_interval = 1.0, judge_from = 0.0;
   std::vector<std::string> outages;
   std::optional<double> imu_rate, rate;
   std::string units;
@@ -54,6 +54,7 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   o.scenario.fix_rate = args.fix_rate;
   o.scenario.fix_sigma = args.fix_sigma;
   o.scenario.output_interval = args.output_interval;
+  o.scenario.judge_from = args.judge_from;
   if (args.imu_rate) o.scenario.imu_rate = *args.imu_rate;
   for (const std::string& t : args.outages) o.scenario.outages.push_back(parse_outage(t));
   o.truth = pipeline::parse_nav_source(args.truth);
@@ -109,6 +110,11 @@ Command add_nav_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--outage", args->outages, "No fix in START:END seconds (repeatable)")->type_name("START:END");
   sub->add_option("--output-interval", args->output_interval, "Seconds between output times")
       ->transform(decimal_number([](double x) { return x > 0.0; }, "a positive duration in seconds"))
+      ->capture_default_str();
+  sub->add_option("--judge-from", args->judge_from,
+                  "The NEES verdict counts the output times from S seconds on (a warm-up before is shown, not judged)")
+      ->type_name("S")
+      ->transform(decimal_number([](double x) { return x >= 0.0; }, "a time in seconds, 0 or more"))
       ->capture_default_str();
   sub->add_option("--imu-rate", args->imu_rate, "The IMU's rate, Hz (default: the truth's)")->transform(sampling_rate_number());
   sub->add_option("--rate", args->rate,

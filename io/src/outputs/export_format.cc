@@ -66,6 +66,8 @@ std::string ExportOptions::Validate() const {
   if (!(inflate > 0.0) || !std::isfinite(inflate))
     return "--inflate " + export_detail::num(inflate) +
            ": expected a positive factor (it multiplies the noise densities and standard deviations; 1 = as fitted)";
+  if (inflate_walk && (!(*inflate_walk > 0.0) || !std::isfinite(*inflate_walk)))
+    return "the random walks' inflation " + export_detail::num(*inflate_walk) + ": expected a positive factor";
   if (rate)
     if (std::string why = sampling_rate_problem(*rate, "--rate"); !why.empty()) return why;
   if (aggregation == Aggregation::kPerAxis && !has_per_axis_fields(format))

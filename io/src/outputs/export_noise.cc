@@ -58,7 +58,7 @@ WrittenNoise written(const AxisNoise& a, const ExportOptions& o, std::vector<std
                       num(g.sigma) + " " + si.value + "): " + why);
   };
   if (!export_detail::simulates_bias(o.format)) {
-    w.random_walk = a.walk * x;
+    w.random_walk = a.walk * o.inflate_walk.value_or(x);
     for (const auto& g : a.gauss_markov)
       gm_line(g, "a Gauss-Markov bias; the format models the bias as a random walk only");
   } else if (!a.gauss_markov.empty()) {
@@ -327,12 +327,19 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
       agg += "; " + std::string(to_string(k.kind)) + ": " + list;
     }
   h.push_back(agg);
+  if (o.inflate_walk && *o.inflate_walk != o.inflate)
+    h.push_back("Inflation: x" + num(o.inflate) + " on the noise densities N, x" + num(*o.inflate_walk) +
+                " on the random walks K (variances x" + num(o.inflate * o.inflate) + " and x" +
+                num(*o.inflate_walk * *o.inflate_walk) + ")" +
+                (o.inflation_reason.empty() ? std::string() : "; " + o.inflation_reason));
+  else
   h.push_back(o.inflate == 1.0
                   ? "Inflation: x1 (the fitted figures as they are)"
                   : "Inflation: x" + num(o.inflate) +
                         " on every noise figure written (noise densities, random walks, standard deviations and bias "
                         "driving densities; not on variances, which grow x" +
-                        num(o.inflate * o.inflate) + "); correlation times unchanged");
+                        num(o.inflate * o.inflate) + "); correlation times unchanged" +
+                        (o.inflation_reason.empty() ? std::string() : "; " + o.inflation_reason));
   h.push_back(units_line(r.columns));
   h.push_back(o.rate && (!same_rate || std::abs(*o.rate - f0) > 1e-9 * f0)
                   ? "Rate: " + num(r.rate) + " Hz (as given; the data: " + rates + ")"

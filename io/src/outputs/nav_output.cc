@@ -34,6 +34,7 @@ std::string scenario_line(const pipeline::NavStudy& s, double imu_rate) {
   } else {
     out += "no position fix (free inertial)";
   }
+  if (c.judge_from > 0.0) out += "; NEES judged from " + g(c.judge_from) + " s";
   return out;
 }
 
@@ -49,7 +50,8 @@ Json scenario_json(const nav::Scenario& c, double imu_rate) {
           {"gravity", json_number(c.gravity)},
           {"initial", {{"position", json_number(c.initial_position)}, {"velocity", json_number(c.initial_velocity)},
                        {"attitude", json_number(c.initial_attitude)}}},
-          {"output_interval", json_number(c.output_interval)}};
+          {"output_interval", json_number(c.output_interval)},
+          {"judge_from", json_number(c.judge_from)}};
 }
 
 Json numbers(const std::vector<double>& v, double scale = 1.0) {
@@ -89,6 +91,7 @@ Json nav_document(const pipeline::NavStudy& study) {
               {"notes", f.notes},
               {"verdict", nav::to_string(f.verdict)},
               {"nees_inside", json_number(f.nees_inside)},
+              {"nees_above", json_number(f.nees_above)},
               {"nees_band", {json_number(f.nees_low), json_number(f.nees_high)}}};
     j["summary"] = {{"time", json_number(f.time[k])},
                     {"position_rms", json_number(f.position_rms[k])},

@@ -59,6 +59,12 @@ struct ExportOptions {
   /// driving densities), NOT the variances: a factor x on the figures is x^2 on the
   /// variances. Correlation times are not changed. > 0; 1 writes the fitted values.
   double inflate = 1.0;
+  /// The random walks' factor in the WN + RW formats when it differs from `inflate`
+  /// (export --consistent-for may inflate K alone: a WN + RW filter lacks the bias's
+  /// dynamics, not its white noise). > 0.
+  std::optional<double> inflate_walk;
+  /// Why the inflation is what it is, for the header (empty: given by the user).
+  std::string inflation_reason;
   /// The IMU rate written in update-rate fields (and at which per-sample values are
   /// given: VINS, gz-sensors stddev). Default: the data's rate.
   std::optional<double> rate;

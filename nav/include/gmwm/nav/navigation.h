@@ -97,6 +97,9 @@ struct Scenario {
   double gravity = 9.80665;     ///< m/s^2
   /// Initial 1-sigma errors per axis: position (m), velocity (m/s), attitude (rad).
   double initial_position = 1.0, initial_velocity = 0.1, initial_attitude = 1e-3;
+  /// The NEES verdict counts the output times from this one on (s): a warm-up before it
+  /// (a filter started without priors on its bias states) is shown but not judged.
+  double judge_from = 0.0;
   /// Output every this many seconds (a multiple of the IMU period and of the fix period).
   double output_interval = 1.0;
   /// Empty when valid, else one line naming the field.
@@ -123,10 +126,11 @@ struct FilterErrors {
   /// filter is right), and the band of a mean over kNeesRuns runs.
   std::vector<double> nees;
   double nees_low = 0.0, nees_high = 0.0;
-  /// Share of output times whose expected NEES lies inside the band; verdict: consistent
-  /// when at least 95% do, else optimistic (the filter claims less error than it makes:
+  /// Share of the judged output times (Scenario::judge_from) whose expected NEES lies
+  /// inside the band; verdict: consistent when at least 95% do, else optimistic (the filter claims less error than it makes:
   /// NEES above the band more often than below) or pessimistic.
   double nees_inside = 0.0;
+  double nees_above = 0.0;  ///< share of the judged output times above the band
   Verdict verdict = Verdict::kConsistent;
   std::vector<std::string> notes;  ///< what the models left out (QN)
 };

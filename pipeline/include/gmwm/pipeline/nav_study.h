@@ -29,6 +29,7 @@
 #include <variant>
 #include <vector>
 
+#include "gmwm/io/export.h"
 #include "gmwm/io/units.h"
 #include "gmwm/nav/navigation.h"
 
@@ -99,8 +100,50 @@ NavStudy study_nav(const NavStudyOptions& options);
 /// for `export --consistent-for` and tests.
 NavModelInfo read_nav_model(const NavSource& source, const NavStudyOptions& options, const NavModelInfo* truth);
 
+/// The IMU model of fitted columns (a fit/select result's, or an export's): each kind's
+/// columns per axis (their names' x, y, z), or its one column on the three axes; `who`
+/// names the source in messages. Throws InputError when a kind is missing or an axis is
+/// ambiguous.
+NavModelInfo imu_model_of(const std::vector<io::ExportColumn>& columns, const std::string& who);
+
 /// The WN + RW projection of a model, axis by axis: N and K of each axis' model read off
 /// its Allan deviation (IEEE 952), as the WN + RW export formats write them.
 nav::ImuModel wn_rw_projection(const nav::ImuModel& model, const std::string& label);
+
+/// The setting a WN + RW filter runs in, for `export --consistent-for RATE,HORIZON`: aiding
+/// (a position fix of `fix_sigma` per axis) at `update_rate` Hz, and once a stretch of
+/// `horizon` seconds on the IMU alone (a camera dropout, a window's span): the run is
+/// aided [0, H), on the IMU alone [H, 2H), aided again [2H, 3H).
+struct ConsistencyOptions {
+  double update_rate = 20.0;  ///< Hz
+  double horizon = 60.0;      ///< s
+  double fix_sigma = 0.05;    ///< m: a visual or GNSS-RTK update's error per axis
+  /// The search stops when the factor is known to this relative precision.
+  double precision = 0.01;
+  nav::Progress progress;
+  std::string Validate() const;
+};
+
+/// The smallest inflation of a WN + RW filter model that keeps it from being optimistic
+/// against the truth: the expected NEES above its 95% band (nav::kNeesRuns-run mean) at no
+/// more than 5% of the judged output times. First the random walks K alone (N as fitted:
+/// what a WN + RW filter lacks is the bias's dynamics, a Gauss-Markov or flicker term, not
+/// its white noise); when that leaves the filter inconsistent (NEES below the band: too
+/// cautious somewhere), N and K together. Each by bisection on log x (the NEES falls as x
+/// grows): `factor` holds and `factor / (1 + precision)` does not.
+struct ConsistentInflation {
+  double white = 1.0;   ///< the factor on N
+  double factor = 1.0;  ///< the factor found: on K alone when white == 1, else on both
+  nav::Verdict verdict = nav::Verdict::kConsistent;  ///< at `factor`
+  double nees_inside = 0.0;                           ///< share in band at `factor`
+  double smaller = 0.0;                  ///< factor / (1 + precision) (0 when factor is 1)
+  double smaller_above = 0.0;            ///< its share of output times above the band
+  std::string reason;                    ///< one line for the file's header
+};
+
+/// Throws InputError for invalid options or models, or when no factor up to 1000 keeps
+/// the filter from being optimistic.
+ConsistentInflation consistent_inflation(const nav::ImuModel& truth, const nav::ImuModel& filter,
+                                         const ConsistencyOptions& options);
 
 }  // namespace gmwm::pipeline
