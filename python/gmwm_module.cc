@@ -37,6 +37,8 @@
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/nav_study.h"
+#include "gmwm/io/nav_output.h"
 #include "gmwm/pipeline/select_study.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
@@ -391,6 +393,41 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
   return to_python(out);
 }
 
+// The navigation study (gmwm::pipeline::study_nav, as `gmwm nav`): the document gmwm nav
+// --json writes (without "run"). Sources as the CLI's --truth / --filter.
+py::object py_nav(const std::string& truth, const std::vector<std::string>& filters, const std::string& trajectory,
+                  double horizon, double fix_rate, double fix_sigma, const std::vector<std::pair<double, double>>& outages,
+                  double judge_from, double output_interval, std::optional<double> imu_rate, std::optional<double> rate,
+                  const std::string& units, int monte_carlo, std::uint64_t seed) {
+  gmwm::pipeline::NavStudyOptions o;
+  const auto t = gmwm::nav::parse_trajectory(trajectory);
+  if (!t) throw gmwm::InputError("trajectory '" + trajectory + "': expected static, constant-velocity or manoeuvre");
+  o.scenario.trajectory = *t;
+  o.scenario.horizon = horizon;
+  o.scenario.fix_rate = fix_rate;
+  o.scenario.fix_sigma = fix_sigma;
+  o.scenario.judge_from = judge_from;
+  o.scenario.output_interval = output_interval;
+  if (imu_rate) o.scenario.imu_rate = *imu_rate;
+  for (const auto& [a, b] : outages) o.scenario.outages.push_back({a, b});
+  o.truth = gmwm::pipeline::parse_nav_source(truth);
+  for (const std::string& f : filters) o.filters.push_back(gmwm::pipeline::parse_nav_source(f));
+  o.rate = rate;
+  if (!units.empty()) o.units = gmwm::io::parse_declared_units(units);
+  o.monte_carlo_runs = monte_carlo;
+  o.seed = seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("nav: " + why);
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::NavStudyOptions oc = o;
+    oc.progress = [progress](double) {
+      progress(0, 0);  // throws gmwm::Cancelled on Ctrl-C
+      return true;
+    };
+    return gmwm::io::nav_document(gmwm::pipeline::study_nav(oc));
+  });
+  return to_python(out);
+}
+
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
                              std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
@@ -464,6 +501,13 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("alpha") = 0.05, py::arg("levels") = 0, py::arg("unit_check") = true,
         "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each column's WV, "
         "which effect explains it and by how much: the document gmwm gap --json writes");
+  m.def("nav", &py_nav, py::arg("truth"), py::arg("filters") = std::vector<std::string>{}, py::kw_only(),
+        py::arg("trajectory") = "static", py::arg("horizon") = 600.0, py::arg("fix_rate") = 1.0, py::arg("fix_sigma") = 1.0,
+        py::arg("outages") = std::vector<std::pair<double, double>>{}, py::arg("judge_from") = 0.0,
+        py::arg("output_interval") = 1.0, py::arg("imu_rate") = py::none(), py::arg("rate") = py::none(),
+        py::arg("units") = "", py::arg("monte_carlo") = 0, py::arg("seed") = gmwm::kDefaultSeed,
+        "What a noise model costs a navigation filter: each filter model's errors and NEES against the truth "
+        "(sources as gmwm nav's --truth/--filter): the document gmwm nav --json writes");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

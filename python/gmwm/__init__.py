@@ -11,9 +11,11 @@ The functions take numpy arrays and return the plain-Python form of the JSON col
     a = gmwm.allan(x, freq=100, unit="rad/s")      # a["allan"], a["noise_figures"] (N, K, B)
     g = gmwm.gap(np.column_stack([x]), freq=100, names=["gyro_x"], kalibr="imu.yaml")
                                                    # g["columns"][0]["headline"], ...
+    n = gmwm.nav("select.json", ["truth", "wnrw", "imu.yaml*2"], outages=[(300, 360)])
+                                                   # n["filters"][k]["verdict"], ["curves"] ...
 
 Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
 """
-from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, select, simulate, wv
+from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, nav, select, simulate, wv
 
-__all__ = ["wv", "allan", "fit", "select", "gap", "simulate", "InputError", "DEFAULT_SEED", "__version__"]
+__all__ = ["wv", "allan", "fit", "select", "gap", "nav", "simulate", "InputError", "DEFAULT_SEED", "__version__"]

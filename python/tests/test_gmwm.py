@@ -219,3 +219,23 @@ def test_computations_release_the_gil(example):
     counter.join()
     assert results == [expected, expected]
     assert ticks[0] > 1000
+
+
+def test_nav_equals_the_cli_json_bit_for_bit(tmp_path):
+    sel = tmp_path / "sel.json"
+    subprocess.run([CLI, "select", EXAMPLE, "--model", "AR1+WN+RW", "--units", "gyro=rad/s,accel=m/s^2", "--json",
+                    str(sel), "--quiet"], check=True)
+    kalibr = os.path.join(SOURCE, "data", "adis16405_imu.yaml")
+    doc = cli_json(tmp_path, "nav", "--truth", str(sel), "--filter", "truth", "--filter", "wnrw*2", "--filter", kalibr,
+                   "--outage", "120:180", "--horizon", "240", "--monte-carlo", "20")
+    doc.pop("run")
+    mine = gmwm.nav(str(sel), ["truth", "wnrw*2", kalibr], outages=[(120.0, 180.0)], horizon=240.0, monte_carlo=20)
+    assert mine == doc
+    assert mine["filters"][0]["verdict"] == "consistent"
+
+
+def test_nav_refuses_a_bad_trajectory_and_source_with_the_clis_message(tmp_path):
+    with pytest.raises(gmwm.InputError, match="^trajectory 'maneuver': expected static, constant-velocity or manoeuvre"):
+        gmwm.nav("gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-4)", trajectory="maneuver", rate=100.0)
+    with pytest.raises(gmwm.InputError, match=r"the inflation after '\*' must be a positive number"):
+        gmwm.nav("gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-4)", ["truth*0"], rate=100.0)
