@@ -38,6 +38,8 @@
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/nav_study.h"
+#include "gmwm/pipeline/plan_study.h"
+#include "gmwm/io/plan_output.h"
 #include "gmwm/io/nav_output.h"
 #include "gmwm/pipeline/select_study.h"
 #include "gmwm/robust/robust_wv.h"
@@ -428,6 +430,28 @@ py::object py_nav(const std::string& truth, const std::vector<std::string>& filt
   return to_python(out);
 }
 
+// The record-length plan (gmwm::pipeline::study_plan, as `gmwm plan`): the document gmwm
+// plan --json writes (without "run"), from a result's path or a model with values at freq.
+py::object py_plan(const std::optional<std::string>& result, const std::optional<std::string>& model,
+                   std::optional<double> freq, const std::string& unit, double precision, double confidence,
+                   const std::vector<std::string>& targets, std::optional<double> have,
+                   const std::vector<std::string>& columns) {
+  gmwm::pipeline::PlanStudyOptions o;
+  o.result = result.value_or("");
+  o.model = model.value_or("");
+  o.freq = freq;
+  o.unit = unit;
+  o.columns = columns;
+  o.plan.precision = precision;
+  o.plan.confidence = confidence;
+  o.plan.targets = targets;
+  o.plan.record_seconds = have.value_or(0.0);
+  const Json out = run_cancellable([&](const std::function<void(int, int)>&) {
+    return gmwm::io::plan_document(gmwm::pipeline::study_plan(o), o.plan);
+  });
+  return to_python(out);
+}
+
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
                              std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
@@ -508,6 +532,12 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("units") = "", py::arg("monte_carlo") = 0, py::arg("seed") = gmwm::kDefaultSeed,
         "What a noise model costs a navigation filter: each filter model's errors and NEES against the truth "
         "(sources as gmwm nav's --truth/--filter): the document gmwm nav --json writes");
+  m.def("plan", &py_plan, py::arg("result") = py::none(), py::kw_only(), py::arg("model") = py::none(),
+        py::arg("freq") = py::none(), py::arg("unit") = "", py::arg("precision") = 0.1, py::arg("confidence") = 0.95,
+        py::arg("targets") = std::vector<std::string>{}, py::arg("have") = py::none(),
+        py::arg("columns") = std::vector<std::string>{},
+        "How long to record: per column of a fit/select result (or for model= at freq=), the record length at which "
+        "N, K, B or a parameter reach a precision: the document gmwm plan --json writes");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

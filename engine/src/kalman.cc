@@ -44,6 +44,16 @@ std::optional<ContinuousForm> Process::continuous_form_impl(std::span<const doub
   return std::nullopt;
 }
 
+ContinuousForm stateless_form(double white) {
+  ContinuousForm c;
+  c.F.resize(0, 0);
+  c.Qc.resize(0, 0);
+  c.P0.resize(0, 0);
+  c.H.resize(0);
+  c.white = white;
+  return c;
+}
+
 ContinuousForm gauss_markov_form(double T, double s2, double dt) {
   ContinuousForm c;
   // coth(L/2) - 2/L = L/6 - L^3/360 + ...: the series below L = 1e-3, where the difference

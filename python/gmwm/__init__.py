@@ -13,9 +13,11 @@ The functions take numpy arrays and return the plain-Python form of the JSON col
                                                    # g["columns"][0]["headline"], ...
     n = gmwm.nav("select.json", ["truth", "wnrw", "imu.yaml*2"], outages=[(300, 360)])
                                                    # n["filters"][k]["verdict"], ["curves"] ...
+    p = gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100, unit="rad/s")
+                                                   # p["columns"][0]["targets"][k]["seconds"]
 
 Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
 """
-from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, nav, select, simulate, wv
+from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, nav, plan, select, simulate, wv
 
-__all__ = ["wv", "allan", "fit", "select", "gap", "nav", "simulate", "InputError", "DEFAULT_SEED", "__version__"]
+__all__ = ["wv", "allan", "fit", "select", "gap", "nav", "plan", "simulate", "InputError", "DEFAULT_SEED", "__version__"]

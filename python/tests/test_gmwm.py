@@ -239,3 +239,13 @@ def test_nav_refuses_a_bad_trajectory_and_source_with_the_clis_message(tmp_path)
         gmwm.nav("gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-4)", trajectory="maneuver", rate=100.0)
     with pytest.raises(gmwm.InputError, match=r"the inflation after '\*' must be a positive number"):
         gmwm.nav("gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-4)", ["truth*0"], rate=100.0)
+
+
+def test_plan_equals_the_cli_json_bit_for_bit(tmp_path):
+    doc = cli_json(tmp_path, "plan", "--model", "WN(sigma2=1e-8)+RW(gamma2=1e-14)", "--freq", "100", "--unit", "rad/s",
+                   "--targets", "N,K", "--have", "3600")
+    doc.pop("run")
+    mine = gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100.0, unit="rad/s", targets=["N", "K"], have=3600.0)
+    assert mine == doc
+    with pytest.raises(gmwm.InputError, match="has no random walk term"):
+        gmwm.plan(model="WN(sigma2=1e-8)", freq=100.0, targets=["K"])

@@ -15,8 +15,9 @@
 namespace gmwm::cli {
 // `gmwm export` (export_command.cc).
 Command add_export_command(CLI::App& app, CommonOptions& common);
-// `gmwm nav` (nav_command.cc).
+// `gmwm nav` (nav_command.cc), `gmwm plan` (plan_command.cc).
 Command add_nav_command(CLI::App& app, CommonOptions& common);
+Command add_plan_command(CLI::App& app, CommonOptions& common);
 // `gmwm completion bash`, `gmwm man` (docs_command.cc): generated from the options above.
 Command add_completion_command(CLI::App& app);
 Command add_man_command(CLI::App& app);
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
                               add_select_command(app, common), add_gap_command(app, common),
                               add_gap_check_command(app, common),
                               add_simulate_command(app, common), add_export_command(app, common),
-                              add_nav_command(app, common),
+                              add_nav_command(app, common), add_plan_command(app, common),
                               add_completion_command(app), add_man_command(app)};
   // A first word that names no command: say so, listing them (CLI11 would only say that a
   // command is required).

@@ -71,11 +71,7 @@ class QuantizationNoise final : public Process {
   // component is the difference of two roundings (sd sqrt(2) Q at most), never growing:
   // nothing that accumulates, no state.
   std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
-    ContinuousForm c;
-    c.F.resize(0, 0);
-    c.Qc.resize(0, 0);
-    c.P0.resize(0, 0);
-    c.H.resize(0);
+    ContinuousForm c = stateless_form(0.0);
     char buf[200];
     std::snprintf(buf, sizeof buf,
                   "QN (Q = %.3g U*s) left out: the rounding of the integrated output telescopes, an error of at "

@@ -57,13 +57,7 @@ class WhiteNoise final : public Process {
   }
   // White noise of density N^2 = sigma2 / f: no state.
   std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
-    ContinuousForm c;
-    c.F.resize(0, 0);
-    c.Qc.resize(0, 0);
-    c.P0.resize(0, 0);
-    c.H.resize(0);
-    c.white = theta[0] / freq;
-    return c;
+    return stateless_form(theta[0] / freq);
   }
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
                                               double freq) const override {

@@ -155,12 +155,22 @@ ResultColumns read_result_columns(const std::string& path, const std::string& te
       throw InputError(at + "no sampling rate (\"freq\" is null); give --rate HZ, the rate its data were sampled at");
     }
     if (!(e.freq > 0.0)) throw InputError(at + "\"freq\" is not a positive rate in Hz");
-    try {
-      e.kind = o.sensor ? *o.sensor : sensor_kind_of_column(name);
-    } catch (const InputError& err) {
-      throw InputError(path + ": " + err.what());
+    if (o.unit_free) {
+      // The kind and unit only label the figures: what the column says, as written.
+      try {
+        e.kind = sensor_kind_of_column(name);
+      } catch (const InputError&) {
+        e.kind = SensorKind::kGyro;
+      }
+      e.unit = Unit{c.contains("unit") && c["unit"].is_string() ? c["unit"].get<std::string>() : std::string(), 1.0};
+    } else {
+      try {
+        e.kind = o.sensor ? *o.sensor : sensor_kind_of_column(name);
+      } catch (const InputError& err) {
+        throw InputError(path + ": " + err.what());
+      }
+      e.unit = result_unit(c, e.kind, o, at);
     }
-    e.unit = result_unit(c, e.kind, o, at);
     const std::string spec = c[model_field].get<std::string>();
     try {
       e.model = parse_model(spec, ProcessContext{e.freq, true});

@@ -105,6 +105,9 @@ struct ContinuousForm {
   int states() const { return static_cast<int>(F.rows()); }
 };
 
+/// A form without states: a white part of density `white` alone (WN; QN with 0 and a note).
+ContinuousForm stateless_form(double white);
+
 /// A first-order Gauss-Markov state of correlation time T (s) and stationary variance s2:
 /// F = -1/T, Qc = 2 s2 / T, P0 = s2, H = 1 (AR1 and GM's continuous form), sampled every
 /// dt seconds. What a navigation system integrates is the samples (dt sum x_k), whose

@@ -189,6 +189,10 @@ struct ResultReadOptions {
   /// A column without either is refused (never taken as SI), and so is a declared unit
   /// contradicting the column's own.
   std::optional<std::map<SensorKind, Unit>> units;
+  /// Read the models as they are, in the data's unit, whatever it is (a record-length plan
+  /// needs no unit): the column's "unit" is kept as its name only (per_si 1, "" when
+  /// absent), and a name that tells no sensor kind is read as a gyroscope's.
+  bool unit_free = false;
 };
 
 struct ResultColumns {

@@ -1,0 +1,371 @@
+// How long to record: the GMWM's asymptotic covariance at a record length, carried to the
+// noise figures by the delta method, and a bisection on the length (record_plan.h).
+#include "gmwm/engine/record_plan.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/normal.hpp>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/engine/wv_covariance.h"
+
+namespace gmwm {
+
+std::string RecordPlanOptions::Validate() const {
+  auto num = [](double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x);
+    return std::string(buf);
+  };
+  if (!(precision > 0.0 && precision < 1.0))
+    return "record plan: precision must be in (0, 1) (a relative half-width, 0.1 = +-10%), got " + num(precision);
+  if (!(confidence > 0.0 && confidence < 1.0))
+    return "record plan: confidence must be in (0, 1), got " + num(confidence);
+  if (!(record_seconds >= 0.0 && std::isfinite(record_seconds)))
+    return "record plan: record_seconds must be non-negative and finite (0: not asked), got " + num(record_seconds);
+  if (max_samples < kMinSeriesLength || max_samples > kMaxPlannedSamples)
+    return "record plan: max_samples must be in [" + std::to_string(kMinSeriesLength) + ", 2^34], got " +
+           std::to_string(max_samples);
+  for (const auto& t : targets)
+    if (t.empty()) return "record plan: a target is empty (N, K, B or a parameter label such as WN[1].sigma2)";
+  return {};
+}
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// N and K are the figures of the model's own white-noise and random-walk terms
+// (Process::physical: WN's sqrt(sigma2 / f), RW's sqrt(gamma2 f)), differentiated by
+// central differences in the unconstrained parameters u (log of a variance), step
+// kFigureStep * max(1, |u_k|): truncation error ~ step^2 (<= 1e-5 relative for
+// |u| <= 30), rounding ~ 1e-16 / step, both far below the ~1% at which an se matters
+// to a length.
+constexpr double kFigureStep = 1e-4;
+// The bisection stops when hi <= lo (1 + kLengthResolution): 1% in length is 0.5% in the
+// se of an n^-1/2 estimate, below the Monte Carlo error of any check of it (a coverage
+// over 200 records has a binomial se of 1.5 points).
+constexpr double kLengthResolution = 0.01;
+// H scaled to unit diagonal: an eigenvalue below this fraction of the largest is a flat
+// direction, the parameters are not identified (the fit's own threshold, kFlatCurvature
+// in engine/src/inference.cc).
+constexpr double kFlatCurvature = 1e-10;
+
+// A plan is never shorter than the model's resolution: the length at which the fit's
+// intervals at the plan's confidence are all two-sided, every parameter's z se within its
+// distance to the edge of its domain (a variance to 0, phi to +-1: the fit's own rule for
+// a one-sided interval, docs/statistics.md section 5). Shorter, the estimate reaches where
+// components vanish or merge (an AR1 of phi ~ 0 standing in for the white noise, one of
+// phi ~ 1 for the random walk), which the sandwich at the model does not describe. 200
+// fits each of AR1(0.99, 1e-4) + WN(1) + RW(1e-6) at 100 Hz: the WN term's N has a
+// simulated sd 21x the planned se at 1000 samples, 9.6x at 10^4, 1.05x at 3 10^4; fits
+// of a gyroscope's WN + RW + AR1(T = 10 s) put the AR1 in the white noise's place in 7%
+// of records at 1.5 10^5 samples (the AR1's sigma2 one se from 0), and moved the walk
+// into an AR1 of phi -> 1 (K more than 20% low) in 16% at 9.6 10^5 (1 - phi 1.6 se
+// from 0) (tools/bench/bench_record_plan's truths).
+double distance_to_edge(Transform t, double x) {
+  switch (t) {
+    case Transform::kLog: return std::abs(x);
+    case Transform::kAtanh: return 1.0 - std::abs(x);
+    case Transform::kLogitHalf: return std::min(x, 0.5 - x);
+    case Transform::kIdentity: break;
+  }
+  return kInf;
+}
+
+enum class Kind { kN, kK, kB, kParameter };
+
+struct Target {
+  std::string name;
+  Kind kind = Kind::kParameter;
+  int parameter = -1;
+};
+
+bool shows(const Readoff& r) { return r.available() && r.status != ReadoffStatus::kBound; }
+PhysicalKind term_kind(Kind kind) { return kind == Kind::kN ? PhysicalKind::kNoiseDensity : PhysicalKind::kRandomWalk; }
+
+// The root sum of squares of the figure of `kind` over the components that state one
+// (there is at most one WN and one RW: docs/statistics.md section 4); NaN when none does.
+double term_figure(const Model& model, const Eigen::VectorXd& theta, double freq, PhysicalKind kind) {
+  double sum = 0.0;
+  bool any = false;
+  for (int c = 0; c < model.num_components(); ++c) {
+    const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
+    const double q = quantity_of_kind(
+        p.physical({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, freq), kind);
+    if (std::isfinite(q)) sum += q * q, any = true;
+  }
+  return any ? std::sqrt(sum) : std::numeric_limits<double>::quiet_NaN();
+}
+
+int levels_of(std::int64_t n) { return static_cast<int>(std::bit_width(static_cast<std::uint64_t>(n))) - 1; }
+
+Target resolve(const Model& model, const std::string& name) {
+  if (name == "N") return {name, Kind::kN, -1};
+  if (name == "K") return {name, Kind::kK, -1};
+  if (name == "B") return {name, Kind::kB, -1};
+  std::string labels;
+  for (int k = 0; k < model.num_parameters(); ++k) {
+    if (model.parameter_label(k) == name) return {name, Kind::kParameter, k};
+    labels += (k ? ", " : "") + model.parameter_label(k);
+  }
+  throw InputError("record plan: the model " + model.to_string() + " has no target '" + name +
+                   "' (expected N, K, B or one of its parameters: " + labels + ")");
+}
+
+// The GMWM's covariance at the model for a record of n samples (natural parameters), or
+// nullopt when the levels do not identify the parameters.
+std::optional<Eigen::MatrixXd> sandwich(const Model& model, const Eigen::VectorXd& theta, std::int64_t n) {
+  const int J = levels_of(n), p = model.num_parameters();
+  if (J < p) return std::nullopt;
+  std::vector<double> tau(static_cast<std::size_t>(J));
+  for (int j = 0; j < J; ++j) tau[static_cast<std::size_t>(j)] = std::ldexp(1.0, j + 1);
+  const Eigen::MatrixXd V = model_wv_covariance(model, theta, n, J);
+  Eigen::VectorXd w(J);  // fit.cc's OmegaKind::kModel: diag(1 / V_jj), a level without a positive V_jj weighs 0
+  for (int j = 0; j < J; ++j) w(j) = V(j, j) > 0.0 && std::isfinite(V(j, j)) ? 1.0 / V(j, j) : 0.0;
+  // Relative parameters (columns times |theta_k|): H on the scale of relative changes.
+  Eigen::VectorXd s = theta.cwiseAbs();
+  for (int k = 0; k < p; ++k)
+    if (!(s(k) > 0.0)) s(k) = 1.0;
+  const Eigen::MatrixXd A = model.jacobian(theta, tau) * s.asDiagonal();
+  const Eigen::MatrixXd WA = w.asDiagonal() * A;
+  const Eigen::MatrixXd H = A.transpose() * WA;
+  const Eigen::VectorXd d = H.diagonal();
+  if (!(d.minCoeff() > 0.0) || !d.allFinite()) return std::nullopt;
+  const Eigen::VectorXd di = d.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd Hn = di.asDiagonal() * H * di.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hn, Eigen::EigenvaluesOnly);
+  if (!(es.eigenvalues()(0) > kFlatCurvature * es.eigenvalues()(p - 1))) return std::nullopt;
+  const Eigen::MatrixXd Hinv = di.asDiagonal() * Hn.ldlt().solve(Eigen::MatrixXd::Identity(p, p)) * di.asDiagonal();
+  const Eigen::MatrixXd G = Hinv * WA.transpose();  // d theta_hat / d nuhat (relative)
+  const Eigen::MatrixXd C = G * V * G.transpose();
+  return Eigen::MatrixXd(s.asDiagonal() * C * s.asDiagonal());
+}
+
+struct Point {
+  std::vector<double> rse;
+  std::vector<std::string> note;
+  double worst = kInf;      // the largest se / distance to the edge of the domain
+  std::string worst_label;  // its label
+};
+
+Point evaluate(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
+               const std::vector<Target>& targets) {
+  const std::size_t T = targets.size();
+  const int J = levels_of(n), p = model.num_parameters();
+  Point pt;
+  pt.rse.assign(T, kInf);
+  pt.note.assign(T, "");
+  const auto cov = n >= kMinSeriesLength ? sandwich(model, theta, n) : std::nullopt;
+  if (!cov) {
+    const std::string why = J < p || n < kMinSeriesLength
+                                ? "too short: " + std::to_string(J) + " levels for " + std::to_string(p) + " parameters"
+                                : "the parameters are not identified over " + std::to_string(J) + " levels";
+    std::fill(pt.note.begin(), pt.note.end(), why);
+    return pt;
+  }
+  pt.worst = 0.0;
+  for (int k = 0; k < p; ++k) {
+    const double r = std::sqrt(std::max((*cov)(k, k), 0.0)) / distance_to_edge(model.spec_of(k).transform, theta(k));
+    if (!(r <= pt.worst)) pt.worst = r, pt.worst_label = model.parameter_label(k);
+  }
+  const std::string basis = "GMWM sandwich covariance at n = " + std::to_string(n) + " (" + std::to_string(J) +
+                            " levels, model-based diagonal weights)";
+  const bool minimum = std::any_of(targets.begin(), targets.end(), [](const Target& t) { return t.kind == Kind::kB; });
+  const ChosenFigures at = minimum ? model_only_figures(model, theta, freq, n) : ChosenFigures{};
+  for (std::size_t i = 0; i < T; ++i) {
+    const Target& t = targets[i];
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(p);
+    double value = 0.0;
+    std::string how;
+    if (t.kind == Kind::kParameter) {
+      g(t.parameter) = 1.0;
+      value = theta(t.parameter);
+    } else if (t.kind == Kind::kB) {
+      const Readoff& r = at.instability.figure;
+      if (!shows(r)) {
+        pt.note[i] = "B is not read at n = " + std::to_string(n) + ": " + r.how;
+        continue;
+      }
+      // B = sigma(m) / 0.664 at the read point m, sigma^2 = 2 nu^2(2m): dB = (d nu^2(2m) / sigma(m)) / 0.664.
+      value = r.value;
+      const double tau2[1] = {2.0 * std::round(r.tau * freq)};
+      g = model.jacobian(theta, tau2).row(0).transpose() / (r.value * kBiasInstabilityFactor * kBiasInstabilityFactor);
+      how = "; B " + r.how + " (delta method at the read point)";
+    } else {
+      const PhysicalKind kind = term_kind(t.kind);
+      value = term_figure(model, theta, freq, kind);
+      const Eigen::VectorXd u = model.to_unconstrained(theta), dtheta = model.dtheta_du(u);
+      for (int k = 0; k < p; ++k) {
+        const double h = kFigureStep * std::max(1.0, std::abs(u(k)));
+        Eigen::VectorXd v = u;
+        v(k) = u(k) + h;
+        const double up = term_figure(model, model.from_unconstrained(v), freq, kind);
+        v(k) = u(k) - h;
+        const double down = term_figure(model, model.from_unconstrained(v), freq, kind);
+        g(k) = dtheta(k) != 0.0 ? (up - down) / (2.0 * h) / dtheta(k) : 0.0;
+      }
+      how = t.kind == Kind::kN ? "; N = sqrt(sigma2 / f) of the white noise (delta method)"
+                               : "; K = sqrt(gamma2 f) of the random walk (delta method)";
+    }
+    const double var = g.dot(*cov * g);
+    pt.rse[i] = var >= 0.0 && value != 0.0 ? std::sqrt(var) / std::abs(value) : kInf;
+    pt.note[i] = basis + how;
+  }
+  return pt;
+}
+
+std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta, double freq,
+                                const RecordPlanOptions& options) {
+  std::vector<Target> out;
+  const bool defaults = options.targets.empty();
+  const std::vector<std::string> names = defaults ? std::vector<std::string>{"N", "K", "B"} : options.targets;
+  std::optional<ChosenFigures> top;
+  for (const auto& name : names) {
+    Target t = resolve(model, name);
+    if (t.kind == Kind::kN || t.kind == Kind::kK) {
+      if (!std::isfinite(term_figure(model, theta, freq, term_kind(t.kind)))) {
+        if (defaults) continue;
+        throw InputError("record plan: the model " + model.to_string(theta) + " has no " +
+                         (t.kind == Kind::kN ? "white noise term (WN) for the noise density N"
+                                             : "random walk term (RW) for the random walk K"));
+      }
+    } else if (t.kind == Kind::kB) {
+      if (!top) top = model_only_figures(model, theta, freq, options.max_samples);
+      if (!shows(top->instability.figure)) {
+        if (defaults) continue;
+        throw InputError("record plan: the model " + model.to_string(theta) +
+                         " has no bias instability B: its Allan deviation shows no minimum over " +
+                         std::to_string(options.max_samples) + " samples (" + top->instability.figure.how + ")");
+      }
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
+void check_input(const Model& model, const Eigen::VectorXd& theta, double freq) {
+  if (!(freq > 0.0) || !std::isfinite(freq)) throw InputError("record plan: the sampling rate must be positive and finite");
+  if (theta.size() != model.num_parameters())
+    throw InputError("record plan: theta has " + std::to_string(theta.size()) + " values, the model " +
+                     model.to_string() + " has " + std::to_string(model.num_parameters()) + " parameters");
+  if (const std::string why = model.validate(theta); !why.empty()) throw InputError("record plan: " + why);
+}
+
+std::string percent(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "+-%.3g%%", 100.0 * x);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<double> record_target_values(const Model& model, const Eigen::VectorXd& theta, double freq,
+                                         std::int64_t n, const std::vector<std::string>& targets) {
+  check_input(model, theta, freq);
+  if (n < kMinSeriesLength)
+    throw InputError("record plan: a record of " + std::to_string(n) + " samples has no wavelet variance (at least " +
+                     std::to_string(kMinSeriesLength) + ")");
+  std::vector<double> out;
+  std::optional<ChosenFigures> figures;
+  for (const auto& name : targets) {
+    const Target t = resolve(model, name);
+    if (t.kind == Kind::kB && !figures) figures = model_only_figures(model, theta, freq, n);
+    out.push_back(t.kind == Kind::kParameter ? theta(t.parameter)
+                  : t.kind == Kind::kB       ? figures->instability.figure.value
+                                             : term_figure(model, theta, freq, term_kind(t.kind)));
+  }
+  return out;
+}
+
+std::vector<double> record_relative_se(const Model& model, const Eigen::VectorXd& theta, double freq,
+                                       std::int64_t n, const std::vector<std::string>& targets) {
+  check_input(model, theta, freq);
+  std::vector<Target> ts;
+  for (const auto& name : targets) ts.push_back(resolve(model, name));
+  return evaluate(model, theta, freq, n, ts).rse;
+}
+
+RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, double freq,
+                              const RecordPlanOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  check_input(model, theta, freq);
+  const std::vector<Target> targets = resolve_all(model, theta, freq, options);
+  RecordPlan plan;
+  plan.freq = freq;
+  plan.z = boost::math::quantile(boost::math::normal(), 0.5 * (1.0 + options.confidence));
+  std::map<std::int64_t, Point> cache;
+  auto at = [&](std::int64_t n) -> const Point& {
+    auto it = cache.find(n);
+    if (it == cache.end()) it = cache.emplace(n, evaluate(model, theta, freq, n, targets)).first;
+    return it->second;
+  };
+  // The shortest record with a level per parameter (and the WV's own minimum).
+  const int p = model.num_parameters();
+  const std::int64_t shortest =
+      std::min(options.max_samples, std::max<std::int64_t>(kMinSeriesLength, p < 62 ? std::int64_t{1} << p : options.max_samples));
+  const std::int64_t cap = options.max_samples;
+  // The smallest n in [shortest, cap] where ok(n) holds, by bisection on log2 n (ok is
+  // taken to hold from some length on); nullopt when it fails at the cap.
+  auto first_passing = [&](const auto& ok) -> std::optional<std::int64_t> {
+    if (!ok(cap)) return std::nullopt;
+    std::int64_t lo = shortest, hi = cap;
+    if (ok(lo)) return lo;
+    while (static_cast<double>(hi) > static_cast<double>(lo) * (1.0 + kLengthResolution)) {
+      const auto mid = static_cast<std::int64_t>(std::llround(std::sqrt(static_cast<double>(lo) * static_cast<double>(hi))));
+      if (mid <= lo || mid >= hi) break;
+      (ok(mid) ? hi : lo) = mid;
+    }
+    return hi;
+  };
+  const auto resolved = first_passing([&](std::int64_t n) { return plan.z * at(n).worst <= 1.0; });
+  plan.resolved_samples = resolved.value_or(cap);
+  plan.resolved_seconds = static_cast<double>(plan.resolved_samples) / freq;
+  plan.resolved_by = at(plan.resolved_samples).worst_label;
+  const double record_n = std::floor(std::min(options.record_seconds * freq, static_cast<double>(kMaxPlannedSamples)));
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    RecordTarget r;
+    r.name = targets[i].name;
+    const auto own = first_passing([&](std::int64_t n) { return plan.z * at(n).rse[i] <= options.precision; });
+    // B is a figure of the whole curve, whichever components make it up: no floor.
+    const bool whole_curve = targets[i].kind == Kind::kB;
+    const std::int64_t floor = whole_curve ? shortest : resolved.value_or(cap);
+    r.own_samples = own.value_or(0);
+    r.reachable = own && (resolved || whole_curve);
+    r.samples = r.reachable ? std::max(*own, floor) : cap;
+    r.seconds = static_cast<double>(r.samples) / freq;
+    r.relative_se = at(r.samples).rse[i];
+    const std::string within = "unreachable within " + std::to_string(cap) + " samples (" + std::to_string(cap / freq) + " s): ";
+    if (!resolved && !whole_curve)
+      r.basis = within + "the model is not resolved there (" + plan.resolved_by + ": z se is " +
+                percent(plan.z * at(cap).worst).substr(2) + " of its distance to the edge of its domain)";
+    else if (!own)
+      r.basis = within + (std::isfinite(r.relative_se) ? percent(plan.z * r.relative_se) + " there; " : "") + at(cap).note[i];
+    else
+      r.basis = at(r.samples).note[i] +
+                (floor > *own ? "; set by the model's resolution (" + plan.resolved_by + "'s interval inside its domain): " +
+                                        percent(options.precision) + " already at n = " + std::to_string(*own)
+                                  : "");
+    r.precision_at_record = std::numeric_limits<double>::quiet_NaN();
+    if (options.record_seconds > 0.0) {
+      const bool fits = record_n >= static_cast<double>(std::max(kMinSeriesLength, floor)) && (resolved || whole_curve);
+      r.precision_at_record = fits ? plan.z * at(static_cast<std::int64_t>(record_n)).rse[i] : kInf;
+    }
+    plan.targets.push_back(std::move(r));
+  }
+  // Values under the model (B at its planned length: its read point moves with it).
+  for (std::size_t i = 0; i < targets.size(); ++i)
+    plan.targets[i].value = record_target_values(model, theta, freq, plan.targets[i].samples, {targets[i].name})[0];
+  return plan;
+}
+
+}  // namespace gmwm

@@ -1,0 +1,45 @@
+#include "gmwm/pipeline/plan_study.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/export.h"
+
+namespace gmwm::pipeline {
+
+std::string PlanStudyOptions::Validate() const {
+  if (result.empty() == model.empty()) return "give either a fit/select result or a model with values";
+  if (!model.empty() && !freq) return "a model's values need its sampling rate (freq, Hz)";
+  if (freq && (!(*freq > 0.0) || !std::isfinite(*freq))) return "freq must be positive (Hz)";
+  if (!model.empty() && !columns.empty()) return "columns pick a result's columns, not a model's";
+  return plan.Validate();
+}
+
+PlanStudy study_plan(const PlanStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("plan: " + why);
+  PlanStudy out;
+  if (!options.model.empty()) {
+    const Model m = parse_model(options.model, ProcessContext{*options.freq, true});
+    if (!m.fully_specified())
+      throw InputError("model '" + options.model + "': give every parameter's value, e.g. WN(sigma2=1e-6)+RW(gamma2=1e-12)");
+    const Eigen::VectorXd theta = m.given_values();
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%g", *options.freq);
+    out.source = "model " + m.to_string(theta) + " at " + rate + " Hz";
+    out.columns.push_back({"model", options.unit, m.to_string(theta), plan_record_length(m, theta, *options.freq, options.plan)});
+    return out;
+  }
+  io::ResultReadOptions ro;
+  ro.columns = options.columns;
+  ro.rate = options.freq;
+  ro.unit_free = true;  // a plan needs no unit: a column's own (when it says it) labels its figures
+  const io::ResultColumns r = io::read_result_columns(options.result, ro);
+  out.source = "gmwm " + r.command + " result " + options.result;
+  for (const io::ExportColumn& c : r.columns)
+    out.columns.push_back({c.name, c.unit.name, c.model.to_string(c.theta), plan_record_length(c.model, c.theta, c.freq, options.plan)});
+  return out;
+}
+
+}  // namespace gmwm::pipeline

@@ -1,0 +1,65 @@
+// `gmwm plan` end to end: a model's plan (the numbers of engine/record_plan.h, tested there
+// against theory and simulation), a result's columns, the terminal's width, and bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::expect_bad_input;
+using gmwm::test::lines_of;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+class GmwmPlan : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = gmwm::test::temp_dir("cli_plan"); }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(GmwmPlan, GivesEachFiguresRecordLengthAndThePrecisionAGivenRecordReaches) {
+  const auto r = run_gmwm({"plan", "--model", "WN(sigma2=1e-8)+RW(gamma2=1e-14)", "--freq", "100", "--unit", "rad/s",
+                           "--targets", "N,K", "--have", "3600", "--json", "plan.json"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string& line : lines_of(r.out)) EXPECT_LE(line.size(), 100u) << line;
+  const json doc = read_json(dir_ / "plan.json");
+  ASSERT_EQ(doc.at("columns").size(), 1u);
+  const json& t = doc.at("columns")[0].at("targets");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].at("name"), "N");
+  EXPECT_EQ(t[0].at("unit"), "rad/s/sqrt(Hz)");
+  EXPECT_NEAR(t[0].at("value").get<double>(), 1e-5, 1e-15);  // sqrt(sigma2 / f)
+  // K's plan at +-10%: its own se, z rse <= 0.1 (1.96 x 0.0509), 2.6 h (bench_record_plan checks it by simulation).
+  EXPECT_TRUE(t[1].at("reachable").get<bool>());
+  EXPECT_LE(1.959963984540054 * t[1].at("relative_se").get<double>(), 0.1 + 1e-12);
+  EXPECT_NEAR(t[1].at("seconds").get<double>() / 3600.0, 2.6, 0.1);
+  // A one-hour record gives K to worse than +-10%, N far better.
+  EXPECT_GT(t[1].at("precision_at_record").get<double>(), 0.1);
+  EXPECT_LT(t[0].at("precision_at_record").get<double>(), 0.01);
+}
+
+TEST_F(GmwmPlan, RefusesATargetTheModelLacksAndBadOptionsInOneLine) {
+  const fs::path out = dir_ / "bad.json";
+  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--targets", "K", "--json", "bad.json"},
+                            dir_),
+                   {"WN(sigma2=1e-08)", "random walk"}, out);
+  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--json", "bad.json"}, dir_), {"freq"}, out);
+  expect_bad_input(run_gmwm({"plan", "--model", "WN", "--freq", "100", "--json", "bad.json"}, dir_),
+                   {"give every parameter's value"}, out);
+  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--precision", "2", "--json", "bad.json"},
+                            dir_),
+                   {"--precision", "(0, 1)"}, out);
+  expect_bad_input(run_gmwm({"plan", "missing.json", "--json", "bad.json"}, dir_), {"missing.json"}, out);
+}
+
+}  // namespace
