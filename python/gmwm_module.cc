@@ -397,7 +397,8 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
 
 // The navigation study (gmwm::pipeline::study_nav, as `gmwm nav`): the document gmwm nav
 // --json writes (without "run"). Sources as the CLI's --truth / --filter.
-py::object py_nav(const std::string& truth, const std::vector<std::string>& filters, const std::string& trajectory,
+py::object py_nav(const std::string& truth, const std::vector<std::string>& filters, const std::vector<std::string>& labels,
+                  const std::string& trajectory,
                   double horizon, double fix_rate, double fix_sigma, const std::vector<std::pair<double, double>>& outages,
                   double judge_from, double output_interval, std::optional<double> imu_rate, std::optional<double> rate,
                   const std::string& units, int monte_carlo, std::uint64_t seed) {
@@ -414,6 +415,7 @@ py::object py_nav(const std::string& truth, const std::vector<std::string>& filt
   for (const auto& [a, b] : outages) o.scenario.outages.push_back({a, b});
   o.truth = gmwm::pipeline::parse_nav_source(truth);
   for (const std::string& f : filters) o.filters.push_back(gmwm::pipeline::parse_nav_source(f));
+  o.labels = labels;
   o.rate = rate;
   if (!units.empty()) o.units = gmwm::io::parse_declared_units(units);
   o.monte_carlo_runs = monte_carlo;
@@ -526,6 +528,7 @@ PYBIND11_MODULE(_gmwm, m) {
         "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each column's WV, "
         "which effect explains it and by how much: the document gmwm gap --json writes");
   m.def("nav", &py_nav, py::arg("truth"), py::arg("filters") = std::vector<std::string>{}, py::kw_only(),
+        py::arg("labels") = std::vector<std::string>{},
         py::arg("trajectory") = "static", py::arg("horizon") = 600.0, py::arg("fix_rate") = 1.0, py::arg("fix_sigma") = 1.0,
         py::arg("outages") = std::vector<std::pair<double, double>>{}, py::arg("judge_from") = 0.0,
         py::arg("output_interval") = 1.0, py::arg("imu_rate") = py::none(), py::arg("rate") = py::none(),

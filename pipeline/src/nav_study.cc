@@ -101,6 +101,10 @@ std::string NavStudyOptions::Validate() const {
   if (const std::string why = scenario.Validate(); !why.empty()) return "scenario: " + why;
   if (rate && (!(*rate > 0.0) || !std::isfinite(*rate))) return "rate: must be positive (Hz)";
   if (monte_carlo_runs < 0 || monte_carlo_runs == 1) return "Monte-Carlo runs: 0 (none) or at least 2";
+  if (labels.size() > std::max<std::size_t>(filters.size(), 2))
+    return "labels: " + std::to_string(labels.size()) + " given for " + std::to_string(filters.size()) + " filter models";
+  for (const std::string& l : labels)
+    if (l.empty()) return "labels: an empty label";
   return {};
 }
 
@@ -327,8 +331,9 @@ NavStudy study_nav(const NavStudyOptions& options) {
   std::vector<NavSource> filters = options.filters;
   if (filters.empty()) filters = {parse_nav_source("truth"), parse_nav_source("wnrw")};
   std::vector<nav::ImuModel> models;
-  for (const NavSource& f : filters) {
-    out.filters.push_back(read_nav_model(f, options, &out.truth));
+  for (std::size_t i = 0; i < filters.size(); ++i) {
+    out.filters.push_back(read_nav_model(filters[i], options, &out.truth));
+    if (i < options.labels.size()) out.filters.back().model.label = options.labels[i];
     models.push_back(out.filters.back().model);
   }
   // Stage 2: the covariance analysis; stage 3: its Monte-Carlo check.

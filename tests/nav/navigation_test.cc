@@ -1,6 +1,7 @@
 // The navigation-error analysis (nav/navigation.h) against closed forms, against its own
 // Monte Carlo, and its refusals (issue 28).
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -265,6 +266,23 @@ TEST(NavigationErrors, AModelGivenAtAnotherRateMeansTheSameThroughItsContinuousF
   const Analysis a = analyse(truth, {fast}, Scenario{});
   for (double v : a.filters.front().nees) EXPECT_NEAR(v, 9.0, 1e-6);
   EXPECT_EQ(a.imu_rate, kRate);
+}
+
+TEST(NavigationErrors, TheMonteCarloIsTheSameWhateverTheThreadCount) {
+  // A stream per run, the runs' sums in run order: one thread and all of them agree to the bit.
+  Scenario s;
+  s.horizon = 60.0;
+  s.outages = {{20.0, 40.0}};
+  const ImuModel truth = ImuModel::isotropic("truth", sensor("AR1(phi=0.999,sigma2=1e-12)+WN(sigma2=1e-8)"),
+                                             sensor("RW(gamma2=1e-10)+WN(sigma2=1e-5)"));
+  const Analysis all = monte_carlo(truth, {truth}, s, 64, 99);
+  Analysis one;
+  {
+    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+    one = monte_carlo(truth, {truth}, s, 64, 99);
+  }
+  EXPECT_EQ(all.filters[0].position_rms, one.filters[0].position_rms);
+  EXPECT_EQ(all.filters[0].nees, one.filters[0].nees);
 }
 
 TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingTheField) {

@@ -25,7 +25,7 @@ import tempfile
 import time
 
 GMWM = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else "build/gmwm")
-DATA = os.environ.get("GMWM_SHARED_DATA", os.path.join(os.path.dirname(__file__), "../../../shared/data"))
+DATA = os.environ.get("GMWM_SHARED_DATA")
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../..")
 DATASHEET = os.path.join(ROOT, "data", "adis16405_datasheet.yaml")
 SETTING = ["--fix-rate", "20", "--fix-sigma", "0.05", "--horizon", "720", "--outage", "600:660", "--judge-from", "540"]
@@ -39,6 +39,9 @@ def run(args, cwd):
 
 
 def main():
+    if not DATA or not os.path.isdir(DATA):
+        print("nav_real: set GMWM_SHARED_DATA to the folder with the ADIS16405 recordings", file=sys.stderr)
+        return 2
     ok = True
     rows, factors = [], []
     with tempfile.TemporaryDirectory() as d:

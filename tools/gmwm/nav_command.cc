@@ -18,7 +18,7 @@ namespace {
 
 struct NavArgs {
   std::string truth;
-  std::vector<std::string> filters;
+  std::vector<std::string> filters, labels;
   std::string trajectory = "static";
   double horizon = 600.0, fix_rate = 1.0, fix_sigma = 1.0, output_interval = 1.0, judge_from = 0.0;
   std::vector<std::string> outages;
@@ -59,6 +59,7 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   for (const std::string& t : args.outages) o.scenario.outages.push_back(parse_outage(t));
   o.truth = pipeline::parse_nav_source(args.truth);
   for (const std::string& f : args.filters) o.filters.push_back(pipeline::parse_nav_source(f));
+  o.labels = args.labels;
   o.rate = args.rate;
   if (!args.units.empty()) o.units = io::parse_declared_units(args.units);
   o.monte_carlo_runs = args.monte_carlo;
@@ -97,6 +98,8 @@ Command add_nav_command(CLI::App& app, CommonOptions& common) {
                   "A model the filter assumes (repeatable): the same kinds, 'truth', 'wnrw' (the truth's white noise and "
                   "random walk alone), each optionally '*X' (noise figures times X). Default: truth and wnrw")
       ->type_name("SOURCE");
+  sub->add_option("--label", args->labels, "A name for each --filter, in order (repeatable; default: its SOURCE)")
+      ->type_name("NAME");
   sub->add_option("--trajectory", args->trajectory, "static, constant-velocity or manoeuvre")->capture_default_str();
   sub->add_option("--horizon", args->horizon, "Seconds analysed")
       ->transform(decimal_number([](double x) { return x > 0.0 && x <= 1e7; }, "a duration in seconds up to 1e7"))

@@ -60,6 +60,8 @@ struct NavStudyOptions {
   NavSource truth;
   /// Empty: the truth and its WN + RW projection.
   std::vector<NavSource> filters;
+  /// The filters' labels, in order (missing ones: the source's text); at most one each.
+  std::vector<std::string> labels;
   /// Hz at which model strings' and configuration files' values are given (default: the
   /// truth's rate when it comes from a result; required otherwise).
   std::optional<double> rate;
