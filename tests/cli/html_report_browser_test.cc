@@ -310,3 +310,27 @@ TEST(HtmlReportInBrowser, SelectReportOnTheSixAxisAdisRecordingStaysUnderFiveMeg
 }
 
 }  // namespace
+
+// gmwm nav: the position, velocity, attitude and NEES plots with the Monte Carlo's points.
+TEST(HtmlReportInBrowser, NavReportRendersItsFourCurvePlotsWithoutScriptErrors) {
+  REQUIRE_BROWSER(exe);
+  const fs::path dir = artefact_dir();
+  const fs::path page = dir / "report_nav.html";
+  const fs::path log = dir / "report_nav.chromium.log";
+  fs::remove(log);
+  const auto r = run_gmwm({"nav", "--truth", "gyro=AR1(phi=0.9999,sigma2=1e-12)+WN(sigma2=1e-8);accel=AR1(phi=0.9999,sigma2=1e-8)+WN(sigma2=1e-5)",
+                           "--filter", "truth", "--filter", "wnrw", "--label", "the truth", "--rate", "100", "--horizon", "300",
+                           "--outage", "120:180", "--monte-carlo", "20", "--report", page.string(), "--quiet"},
+                          dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Browser browser(*exe);
+  const std::string dom = browser.dump_dom(page, log);
+  ASSERT_FALSE(dom.empty()) << "empty DOM dump, see " << log;
+  expect_rendered(dom, {{"nav-position", 1}, {"nav-velocity", 1}, {"nav-attitude", 1}, {"nav-nees", 1}});
+  EXPECT_NE(dom.find("aria-label=\"X-axis titled 'time [s]'"), std::string::npos);
+  EXPECT_NE(dom.find("the truth"), std::string::npos);
+  const fs::path png = dir / "report_nav.png";
+  fs::remove(png);
+  browser.screenshot(page, png, log);
+  expect_screenshot(png);
+}

@@ -180,7 +180,6 @@ Json curve_spec(const std::string& title, const std::string& y_title, const Json
                {"width", 760},
                {"height", 300},
                {"padding", 5},
-               {"autosize", {{"type", "fit-x"}, {"contains", "padding"}}},
                {"title", {{"text", title}, {"anchor", "start"}, {"fontSize", 13}}}};
   spec["data"] = {{{"name", "rows"}, {"values", rows}},
                   {{"name", "lines"}, {"source", "rows"}, {"transform", {{{"type", "filter"}, {"expr", "datum.kind != 'Monte Carlo'"}}}}},
@@ -188,7 +187,9 @@ Json curve_spec(const std::string& title, const std::string& y_title, const Json
   spec["scales"] = {{{"name", "x"}, {"type", "linear"}, {"domain", {{"data", "rows"}, {"field", "t"}}}, {"range", "width"}, {"zero", false}},
                     {{"name", "y"}, {"type", "log"}, {"domain", {{"data", "rows"}, {"field", "v"}}}, {"range", "height"}, {"nice", true}},
                     {{"name", "color"}, {"type", "ordinal"}, {"domain", filters}, {"range", range}},
-                    {{"name", "dash"}, {"type", "ordinal"}, {"domain", {"RMS", "3-sigma claimed", "NEES"}}, {"range", {{1, 0}, {6, 4}, {1, 0}}}}};
+                    {{"name", "dash"}, {"type", "ordinal"},
+                     {"domain", band ? Json{"NEES"} : Json{"RMS", "3-sigma claimed"}},
+                     {"range", band ? Json{Json{1, 0}} : Json{Json{1, 0}, Json{6, 4}}}}};
   spec["axes"] = {{{"orient", "bottom"}, {"scale", "x"}, {"title", "time [s]"}, {"grid", true}, {"gridOpacity", 0.35}},
                   {{"orient", "left"}, {"scale", "y"}, {"title", y_title}, {"grid", true}, {"gridOpacity", 0.35}, {"format", ".2~e"}}};
   spec["legends"] = {{{"stroke", "color"}, {"title", "filter model"}, {"orient", "right"}, {"symbolType", "stroke"}, {"labelLimit", 260}},
@@ -209,15 +210,18 @@ Json curve_spec(const std::string& title, const std::string& y_title, const Json
                    {"marks", {{{"type", "line"}, {"from", {{"data", "series"}}}, {"sort", {{"field", "datum.t"}}},
                                {"encode", {{"update", line}}}}}}});
   Json hover = {{"x", {{"scale", "x"}, {"field", "t"}}}, {"y", {{"scale", "y"}, {"field", "v"}}},
-                {"fill", {{"scale", "color"}, {"field", "filter"}}}, {"size", {{"value", 12}}}, {"tooltip", {{"signal", tip}}}};
+                {"fill", {{"scale", "color"}, {"field", "filter"}}}, {"fillOpacity", {{"value", 0}}},
+                {"size", {{"value", 40}}}, {"tooltip", {{"signal", tip}}}};  // invisible: the curve's hover targets
   marks.push_back({{"type", "symbol"}, {"from", {{"data", "lines"}}}, {"encode", {{"update", hover}}}});
   Json mc = {{"x", {{"scale", "x"}, {"field", "t"}}}, {"y", {{"scale", "y"}, {"field", "v"}}},
-             {"stroke", {{"scale", "color"}, {"field", "filter"}}}, {"shape", {{"value", "circle"}}}, {"size", {{"value", 30}}},
+             {"stroke", {{"scale", "color"}, {"field", "filter"}}}, {"shape", {{"value", "circle"}}}, {"size", {{"value", 24}}},
              {"tooltip", {{"signal", tip}}}};
   marks.push_back({{"type", "symbol"}, {"from", {{"data", "points"}}}, {"encode", {{"update", mc}}}});
   spec["marks"] = std::move(marks);
   return spec;
 }
+
+constexpr std::size_t kMonteCarloPoints = 60;
 
 // Rows {filter, kind, t, v} of one quantity (positive values only: a log axis).
 Json quantity_rows(const pipeline::NavStudy& s, const std::vector<double> nav::FilterErrors::*rms,
@@ -235,7 +239,17 @@ Json quantity_rows(const pipeline::NavStudy& s, const std::vector<double> nav::F
     } else {
       add(f.label, "NEES", f.time, f.*rms, 1.0);
     }
-    if (s.sampled) add(f.label, "Monte Carlo", s.sampled->filters[i].time, s.sampled->filters[i].*rms, 1.0);
+    if (s.sampled) {
+      // About kMonteCarloPoints points per curve: every output time would hide the curves.
+      const nav::FilterErrors& m = s.sampled->filters[i];
+      const std::size_t every = std::max<std::size_t>(1, m.time.size() / kMonteCarloPoints);
+      std::vector<double> t, v;
+      for (std::size_t k = 0; k < m.time.size(); k += every) {
+        t.push_back(m.time[k]);
+        v.push_back((m.*rms)[k]);
+      }
+      add(f.label, "Monte Carlo", t, v, 1.0);
+    }
   }
   return rows;
 }
