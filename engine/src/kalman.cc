@@ -55,6 +55,11 @@ ContinuousForm stateless_form(double white) {
 }
 
 ContinuousForm gauss_markov_form(double T, double s2, double dt) {
+  // A state that forgets within a sample (e^-L < 1e-13) is white to that precision; as a
+  // state its exact step would need exp(+L) of the Van Loan block, which overflows past
+  // L ~ 700 (an AR1 with phi < 1e-304): its samples' density s2 dt coth(L/2) alone.
+  constexpr double kWhiteBeyondL = 30.0;
+  if (dt / T > kWhiteBeyondL) return stateless_form(s2 * dt / std::tanh(0.5 * dt / T));
   ContinuousForm c;
   // coth(L/2) - 2/L = L/6 - L^3/360 + ...: the series below L = 1e-3, where the difference
   // of the two would lose all its digits (its third term is then below 1e-13 relative).

@@ -136,6 +136,11 @@ Pose pose_at(Trajectory trajectory, std::int64_t second, double gravity) {
 
 namespace {
 
+// Limits of a scenario's grid: 1e6 fix periods (14 h at 20 Hz, 11 days at 1 Hz; a gain of
+// ~1 kB each) and 2e5 output times (56 h at 1 s; 0.65 kB each).
+constexpr std::int64_t kMaxBlocks = 1000000;
+constexpr std::int64_t kMaxOutputs = 200000;
+
 // The analysis' time grid: blocks of `block` IMU steps (the largest that divides the fix
 // period, the output interval and, for the manoeuvre, the second its pose is held for),
 // a fix (where one is due) at the end of a block, an output every `per_output` blocks,
@@ -184,6 +189,13 @@ Grid grid_of(const Scenario& s, double freq) {
   g.blocks = static_cast<std::int64_t>(std::floor(s.horizon / (static_cast<double>(g.block) * g.dt) + 1e-9));
   g.blocks -= g.blocks % g.per_output;  // end on an output
   if (g.blocks < 1) throw InputError("the horizon is shorter than one output interval");
+  // Memory: a filter gain per block (states x 3 doubles) and a 9 x 9 covariance per output.
+  if (g.blocks > kMaxBlocks)
+    throw InputError("the scenario has " + std::to_string(g.blocks) + " steps between fixes, more than " +
+                     std::to_string(kMaxBlocks) + ": shorten the horizon or lower the fix rate");
+  if (g.blocks / g.per_output > kMaxOutputs)
+    throw InputError("the scenario has " + std::to_string(g.blocks / g.per_output) + " output times, more than " +
+                     std::to_string(kMaxOutputs) + ": lengthen the output interval");
   g.pose_of_block.resize(static_cast<std::size_t>(g.blocks));
   for (std::int64_t b = 0; b < g.blocks; ++b) {
     const Pose p = pose_at(s.trajectory, second > 0 ? b * g.block / second : 0, s.gravity);

@@ -285,6 +285,16 @@ TEST(NavigationErrors, TheMonteCarloIsTheSameWhateverTheThreadCount) {
   EXPECT_EQ(all.filters[0].nees, one.filters[0].nees);
 }
 
+TEST(NavigationErrors, AnAr1ThatForgetsWithinASampleIsItsWhiteNoise) {
+  // phi = 1e-300 (L = 691, e^L near the largest double): the form is the samples' white
+  // density alone, the analysis finite, and equal to WN(sigma2) to rounding.
+  const ImuModel ar = ImuModel::isotropic("ar", sensor("AR1(phi=1e-300,sigma2=1e-6)"), quiet());
+  const ImuModel wn = ImuModel::isotropic("wn", sensor("WN(sigma2=1e-6)"), quiet());
+  const FilterErrors a = only(analyse(ar, {ar}, free_inertial(60.0)));
+  const FilterErrors w = only(analyse(wn, {wn}, free_inertial(60.0)));
+  EXPECT_NEAR(a.attitude_rms.back(), w.attitude_rms.back(), 1e-12 * w.attitude_rms.back());
+}
+
 TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingTheField) {
   const ImuModel ok = ImuModel::isotropic("ok", sensor("WN(sigma2=1e-6)"), sensor("WN(sigma2=1e-4)"));
   const ImuModel sin = ImuModel::isotropic("sin", sensor("SIN(A2=1e-6,f=0.1)"), sensor("WN(sigma2=1e-4)"));
@@ -318,6 +328,15 @@ TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingT
     EXPECT_NE(std::string(e.what()).find("must be a whole number of Hz"), std::string::npos) << e.what();
   }
   EXPECT_THROW(analyse(ok, {}, Scenario{}), InputError);
+  s = Scenario{};
+  s.horizon = 1e7;
+  s.fix_rate = 100.0;  // 1e9 fix periods: refused before any memory is taken
+  try {
+    analyse(ok, {ok}, s);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("shorten the horizon or lower the fix rate"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(monte_carlo(ok, {ok}, Scenario{}, 1, 1), InputError);
 }
 
