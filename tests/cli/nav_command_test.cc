@@ -77,6 +77,15 @@ TEST_F(GmwmNav, TakesModelStringsAtARateAndWritesAReportWithFourPlots) {
   EXPECT_NE(html.find("wnrw*2"), std::string::npos);
 }
 
+TEST_F(GmwmNav, PrintsALabelsControlBytesEscapedOnOneLine) {
+  const auto r = run_gmwm({"nav", "--truth", "fit.json", "--filter", "truth", "--label", "evil\nname\x1b[31m", "--horizon",
+                           "20"},
+                          *dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
+  EXPECT_NE(r.out.find("evil name\\x1B[31m"), std::string::npos) << r.out;
+}
+
 TEST_F(GmwmNav, RefusesBadSourcesAndScenariosInOneLineWritingNothing) {
   const fs::path out = *dir_ / "bad.json";
   expect_bad_input(run_gmwm({"nav", "--truth", "fit.json", "--filter", "wnrw*0", "--json", "bad.json"}, *dir_),

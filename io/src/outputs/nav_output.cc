@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "gmwm/engine/error.h"
 #include "html_report_detail.h"
 
 namespace gmwm::io {
@@ -131,7 +132,8 @@ Json nav_document(const pipeline::NavStudy& study) {
 
 std::string nav_terminal(const pipeline::NavStudy& study) {
   std::ostringstream os;
-  auto line = [&](const std::string& s) { os << s.substr(0, kTerminalWidth) << '\n'; };
+  // Labels, paths and notes come from the user or from files: printable, one line each.
+  auto line = [&](const std::string& s) { os << printable_line(s).substr(0, kTerminalWidth) << '\n'; };
   line("truth: " + study.truth.source);
   line("scenario: " + scenario_line(study, study.exact.imu_rate));
   if (study.exact.filters.empty()) return os.str();
@@ -143,7 +145,7 @@ std::string nav_terminal(const pipeline::NavStudy& study) {
   std::vector<std::string> long_labels;
   for (const nav::FilterErrors& f : study.exact.filters) {
     const std::size_t k = summary_index(study, f);
-    std::string label = f.label;
+    std::string label = printable_line(f.label);
     if (label.size() > kLabelWidth) {
       long_labels.push_back(label);
       label = "[" + std::to_string(long_labels.size()) + "] " + label.substr(0, kLabelWidth - 8) + "...";

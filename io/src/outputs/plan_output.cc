@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "gmwm/engine/error.h"
+
 namespace gmwm::io {
 
 namespace {
@@ -81,7 +83,7 @@ std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOpti
   std::ostringstream os;
   const bool have = options.record_seconds > 0.0;
   os << "record length for +-" << g(100.0 * options.precision, 3) << "% at " << g(100.0 * options.confidence, 3)
-     << "% confidence (" << study.source.substr(0, 50) << ")\n";
+     << "% confidence (" << printable_line(study.source).substr(0, 50) << ")\n";
   char line[200];
   std::snprintf(line, sizeof line, "%-12s %-13s %-22s %10s %10s %8s %s", "column", "target", "value", "samples",
                 "duration", "rel. se", have ? ("+-% with " + duration(options.record_seconds)).c_str() : "");
@@ -89,7 +91,8 @@ std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOpti
   std::vector<std::string> notes;
   for (const pipeline::PlanColumn& c : study.columns) {
     for (const RecordTarget& t : c.plan.targets) {
-      const std::string name = c.name.size() > 12 ? c.name.substr(0, 11) + "~" : c.name;
+      const std::string printable = printable_line(c.name);
+      const std::string name = printable.size() > 12 ? printable.substr(0, 11) + "~" : printable;
       const std::string u = unit_of(t.name, c.unit);
       std::snprintf(line, sizeof line, "%-12s %-13s %-22s %10s %10s %8s %s", name.c_str(), t.name.substr(0, 13).c_str(),
                     (g(t.value, 4) + (u.empty() ? "" : " " + u)).substr(0, 22).c_str(), t.reachable ? std::to_string(t.samples).c_str() : "unreachable",
@@ -103,7 +106,8 @@ std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOpti
                     duration(c.plan.resolved_seconds) + "; last " + c.plan.resolved_by + ")");
   }
   os << "samples and duration: the record needed; rel. se: the estimate's relative standard error there\n";
-  for (const std::string& n : notes) {
+  for (const std::string& raw : notes) {
+    const std::string n = printable_line(raw);
     // Notes wrap at 100 columns, continuation lines indented by two.
     os << n.substr(0, kWidth) << '\n';
     for (std::size_t at = kWidth; at < n.size(); at += kWidth - 2) os << "  " << n.substr(at, kWidth - 2) << '\n';
