@@ -175,7 +175,7 @@ constexpr std::array<const char*, 10> kColours = {"#1f77b4", "#ff7f0e", "#2ca02c
                                                   "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
 
 Json curve_spec(const std::string& title, const std::string& y_title, const Json& rows, const Json& filters, bool band,
-                const std::array<double, 2>& nees_band) {
+                const std::array<double, 2>& nees_band, double judge_from) {
   Json range = Json::array();
   for (std::size_t i = 0; i < filters.size(); ++i) range.push_back(kColours[i % kColours.size()]);
   Json spec = {{"$schema", "https://vega.github.io/schema/vega/v5.json"},
@@ -202,6 +202,12 @@ Json curve_spec(const std::string& title, const std::string& y_title, const Json
                 {"y", {{"scale", "y"}, {"value", nees_band[1]}}}, {"y2", {{"scale", "y"}, {"value", nees_band[0]}}},
                 {"fill", {{"value", "#9a9a9a"}}}, {"fillOpacity", {{"value", 0.3}}}};
     marks.push_back({{"type", "rect"}, {"encode", {{"update", enc}}}});
+  }
+  if (judge_from > 0.0) {  // where the NEES starts to be judged: a dotted rule
+    Json enc = {{"x", {{"scale", "x"}, {"value", judge_from}}}, {"y", {{"value", 0}}}, {"y2", {{"signal", "height"}}},
+                {"stroke", {{"value", "#57606a"}}}, {"strokeDash", {{"value", {2, 3}}}},
+                {"tooltip", {{"value", "NEES judged from here"}}}};
+    marks.push_back({{"type", "rule"}, {"encode", {{"update", enc}}}});
   }
   const std::string tip = "{'filter': datum.filter, 'curve': datum.kind, 't [s]': format(datum.t, '.4~g'), 'value': format(datum.v, '.4~e')}";
   Json line = {{"x", {{"scale", "x"}, {"field", "t"}}}, {"y", {{"scale", "y"}, {"field", "v"}}},
@@ -287,20 +293,21 @@ std::string render_nav_html(const pipeline::NavStudy& study) {
   body << plots.add("plot-nav-position", "nav-position",
                     curve_spec("position error", "position error [m]",
                                quantity_rows(study, &nav::FilterErrors::position_rms, &nav::FilterErrors::position_claimed, 1.0),
-                               labels, false, band));
+                               labels, false, band, study.scenario.judge_from));
   body << plots.add("plot-nav-velocity", "nav-velocity",
                     curve_spec("velocity error", "velocity error [m/s]",
                                quantity_rows(study, &nav::FilterErrors::velocity_rms, &nav::FilterErrors::velocity_claimed, 1.0),
-                               labels, false, band));
+                               labels, false, band, study.scenario.judge_from));
   constexpr double kDegreesPerRadian = 57.29577951308232;
   body << plots.add("plot-nav-attitude", "nav-attitude",
                     curve_spec("attitude error", "attitude error [deg]",
                                quantity_rows(study, &nav::FilterErrors::attitude_rms, &nav::FilterErrors::attitude_claimed,
                                              kDegreesPerRadian),
-                               labels, false, band));
+                               labels, false, band, study.scenario.judge_from));
   body << plots.add("plot-nav-nees", "nav-nees",
                     curve_spec("NEES (9 states; grey: the 95% band of a mean over " + std::to_string(nav::kNeesRuns) + " runs)",
-                               "expected NEES", quantity_rows(study, &nav::FilterErrors::nees, nullptr, 1.0), labels, true, band));
+                               "expected NEES", quantity_rows(study, &nav::FilterErrors::nees, nullptr, 1.0), labels, true, band,
+                               study.scenario.judge_from));
   body << "</section>\n<section class=\"column\" id=\"nav-models\">\n<h2>models</h2>\n<h3>truth: "
        << html_escape(study.truth.source) << "</h3>\n<ul>";
   for (const auto& l : study.truth.lines) body << "<li><code>" << html_escape(l) << "</code></li>";
