@@ -191,8 +191,9 @@ Grid grid_of(const Scenario& s, double freq) {
   if (g.blocks < 1) throw InputError("the horizon is shorter than one output interval");
   // Memory: a filter gain per block (states x 3 doubles) and a 9 x 9 covariance per output.
   if (g.blocks > kMaxBlocks)
-    throw InputError("the scenario has " + std::to_string(g.blocks) + " steps between fixes, more than " +
-                     std::to_string(kMaxBlocks) + ": shorten the horizon or lower the fix rate");
+    throw InputError("the scenario has " + std::to_string(g.blocks) + " analysis steps (one per fix period or output "
+                     "interval), more than " + std::to_string(kMaxBlocks) +
+                     ": shorten the horizon or lower the fix rate");
   if (g.blocks / g.per_output > kMaxOutputs)
     throw InputError("the scenario has " + std::to_string(g.blocks / g.per_output) + " output times, more than " +
                      std::to_string(kMaxOutputs) + ": lengthen the output interval");
