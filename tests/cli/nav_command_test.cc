@@ -100,6 +100,14 @@ TEST_F(GmwmNav, RefusesBadSourcesAndScenariosInOneLineWritingNothing) {
                    {"gyro=WN", "give every parameter's value"}, out);
   expect_bad_input(run_gmwm({"nav", "--truth", "gyro=WN(sigma2=1e-6)", "--json", "bad.json"}, *dir_),
                    {"give both sensors"}, out);
+  // An output that is one of the model files is refused, the file untouched.
+  const std::string before = gmwm::test::read_text(*dir_ / "fit.json");
+  const auto same = run_gmwm({"nav", "--truth", "fit.json", "--json", "fit.json"}, *dir_);
+  EXPECT_EQ(same.exit_code, 2) << same.err;
+  EXPECT_NE(same.err.find("fit.json"), std::string::npos) << same.err;
+  EXPECT_EQ(gmwm::test::read_text(*dir_ / "fit.json"), before);
+  const auto report = run_gmwm({"nav", "--truth", "fit.json", "--filter", "imu.csv*2", "--report", "imu.csv"}, *dir_);
+  EXPECT_EQ(report.exit_code, 2) << report.err;
 }
 
 TEST_F(GmwmNav, ExportsTheSmallestInflationThatKeepsAWnRwFilterFromBeingOptimistic) {

@@ -6,6 +6,7 @@
 // model, by covariance analysis (and Monte Carlo). Parses, runs pipeline::study_nav,
 // renders with io/nav_output.h, commits.
 #include <iostream>
+#include <variant>
 
 #include "common.h"
 #include "gmwm/engine/error.h"
@@ -39,6 +40,13 @@ nav::Outage parse_outage(const std::string& text) {
 int run_nav(const NavArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
+  // The files the models are read from: no output may be one of them.
+  std::vector<std::string> sources = args.filters;
+  sources.push_back(args.truth);
+  for (const std::string& text : sources) {
+    const pipeline::NavSource source = pipeline::parse_nav_source(text);
+    if (const auto* file = std::get_if<pipeline::ModelFile>(&source.what)) declare_input(common, file->path);
+  }
   declare_output(common, "--json", common.json);
   if (!common.report.empty()) {
     if (common.report == "-") throw InputError("--report '-': expected a file path (the report is a file)");
