@@ -13,6 +13,11 @@ namespace gmwm::nav::detail {
 
 namespace {
 
+// The largest error system: 9 navigation states and 3 x 2 sensor axes of up to ~30 states
+// each (a FLICKER is 14). Each block step costs ~n^3 and the exact step's exponential of a
+// 2n x 2n matrix; 240 keeps both well under a second, where 6 x 200 states took minutes.
+constexpr int kMaxStates = 240;
+
 // One sensor's forms, component by component (SensorModel::Validate has checked them),
 // scaled from the model's unit to SI: the states (and the output) by to_si, so F is
 // unchanged and Qc, P0 and the white density scale by to_si^2.
@@ -72,6 +77,10 @@ ErrorSystem error_system(const ImuModel& model, const Scenario& scenario) {
     accel[a] = forms_of(model.accel[a]);
     n += states_of(gyro[a]) + states_of(accel[a]);
   }
+  if (n > kMaxStates)
+    throw InputError((model.label.empty() ? std::string("a model") : model.label) + ": its error system has " +
+                     std::to_string(n) + " states, more than " + std::to_string(kMaxStates) +
+                     " (each AR1, GM or RW is a state per axis, a DR two, a FLICKER 14)");
   ErrorSystem sys;
   sys.F = Eigen::MatrixXd::Zero(n, n);
   sys.Qc = Eigen::MatrixXd::Zero(n, n);

@@ -100,6 +100,11 @@ TEST_F(GmwmNav, RefusesBadSourcesAndScenariosInOneLineWritingNothing) {
                    {"gyro=WN", "give every parameter's value"}, out);
   expect_bad_input(run_gmwm({"nav", "--truth", "gyro=WN(sigma2=1e-6)", "--json", "bad.json"}, *dir_),
                    {"give both sensors"}, out);
+  // A model with more states than the analysis takes (FLICKER 14 + 32 AR1/GM per axis).
+  const std::string big = "16*AR1(phi=0.5,sigma2=1e-6)+16*GM(beta=1,sigma2_gm=1e-6)+FLICKER(B2=1e-8)";
+  expect_bad_input(run_gmwm({"nav", "--truth", "gyro=" + big + ";accel=" + big, "--rate", "100", "--json", "bad.json"},
+                            *dir_),
+                   {"states, more than 240"}, out);
   // An output that is one of the model files is refused, the file untouched.
   const std::string before = gmwm::test::read_text(*dir_ / "fit.json");
   const auto same = run_gmwm({"nav", "--truth", "fit.json", "--json", "fit.json"}, *dir_);
