@@ -251,8 +251,10 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
 
 // The data's Allan deviation and the noise figures read off it: the 'allan' and
 // 'noise_figures' fields `gmwm wv --adev` gives a column (the same engine and io functions).
-py::object py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& unit) {
+py::object py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& units,
+                    const std::string& name) {
   const std::vector<double> x = series_of(data, "data");
+  const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   gmwm::AllanOptions allan;
   allan.points_per_octave = points_per_octave;
@@ -277,8 +279,9 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
 py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
                bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
-               const std::string& unit) {
+               const std::string& units) {
   const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
+  const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   gmwm::pipeline::FitStudyOptions o;
   o.model = model_spec;
   o.fit.omega = omega_kind(omega);
@@ -306,12 +309,12 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
                   const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
                   double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
                   std::optional<double> eff, const std::optional<std::string>& estimator,
-                  const std::vector<std::string>& units) {
+                  const std::string& units_spec) {
   std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
-  if (!units.empty() && units.size() != cols.size())
-    throw gmwm::InputError("units: " + std::to_string(units.size()) + " units for " + std::to_string(cols.size()) +
-                           " columns");
+  const gmwm::io::UnitsSpec spec = gmwm::io::parse_units_spec(units_spec);
+  std::vector<std::string> units;
+  for (const std::string& label : labels) units.push_back(gmwm::io::unit_of_column(spec, label));
   const gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
   namespace sel = gmwm::selection;
   gmwm::pipeline::SelectStudyOptions o;
@@ -501,21 +504,22 @@ PYBIND11_MODULE(_gmwm, m) {
   m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("omega") = "model", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1", py::arg("robust") = false,
-        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("unit") = "",
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
-        "(with continuous parameters, Kalman terms, Allan deviations and noise figures in `unit`)");
+        "(with continuous parameters, Kalman terms, Allan deviations and noise figures in the column's unit; `units` "
+        "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`)");
   m.def("select", &py_select, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{},
         py::arg("robust") = false, py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
-        py::arg("units") = std::vector<std::string>{},
+        py::arg("units") = "",
         "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns "
-        "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` one "
-        "per column)");
+        "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "
+        "the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with each column's kind from its name)");
   m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq"),
         py::arg("points_per_octave") = gmwm::AllanOptions{}.points_per_octave, py::arg("alpha") = 0.05,
-        py::arg("unit") = "",
+        py::arg("units") = "", py::arg("name") = "x1",
         "Overlapping Allan deviation with chi-square intervals and the noise figures read off it (N, K, B): "
         "the 'allan' and 'noise_figures' fields of gmwm wv --adev");
   m.def("gap", &py_gap, py::arg("data"), py::kw_only(), py::arg("freq"), py::arg("model") = py::none(),

@@ -14,6 +14,11 @@ std::string PlanStudyOptions::Validate() const {
   if (!model.empty() && !freq) return "a model's values need its sampling rate (freq, Hz)";
   if (freq && (!(*freq > 0.0) || !std::isfinite(*freq))) return "freq must be positive (Hz)";
   if (!model.empty() && !columns.empty()) return "columns pick a result's columns, not a model's";
+  if (!unit.empty()) try {
+      io::parse_any_unit(unit);  // a typo is refused, never taken as a label
+    } catch (const InputError& e) {
+      return e.what();
+    }
   return plan.Validate();
 }
 
@@ -28,7 +33,8 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
     char rate[32];
     std::snprintf(rate, sizeof rate, "%g", *options.freq);
     out.source = "model " + m.to_string(theta) + " at " + rate + " Hz";
-    out.columns.push_back({"model", options.unit, m.to_string(theta), plan_record_length(m, theta, *options.freq, options.plan)});
+    const std::string unit = options.unit.empty() ? std::string() : io::parse_any_unit(options.unit).second.name;
+    out.columns.push_back({"model", unit, m.to_string(theta), plan_record_length(m, theta, *options.freq, options.plan)});
     return out;
   }
   io::ResultReadOptions ro;

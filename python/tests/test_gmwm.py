@@ -51,7 +51,7 @@ def test_wv_equals_the_cli_json_bit_for_bit(tmp_path, example):
 def test_allan_equals_the_cli_adev_json_bit_for_bit(tmp_path, example):
     doc = cli_json(tmp_path, "wv", EXAMPLE, "--columns", "gyro_y", "--adev", "--units", "gyro=rad/s")
     col = doc["columns"][0]
-    mine = gmwm.allan(example["gyro_y"], freq=col["freq"], unit="rad/s")
+    mine = gmwm.allan(example["gyro_y"], freq=col["freq"], units="gyro=rad/s", name="gyro_y")
     assert col["allan"] and col["noise_figures"]
     for key in ("unit", "allan", "noise_figures"):
         assert mine[key] == col[key], key
@@ -106,7 +106,7 @@ def test_select_equals_the_cli_json_bit_for_bit_on_two_columns(tmp_path, example
                    "--units", "gyro=rad/s,accel=m/s^2")
     data = np.column_stack([example["gyro_z"], example["accel_x"]])
     mine = gmwm.select(data, "AR1+WN+RW", freq=doc["columns"][0]["freq"], names=["gyro_z", "accel_x"],
-                       units=["rad/s", "m/s^2"])
+                       units="gyro=rad/s,accel=m/s^2")
     assert len(mine) == 2
     for m, c in zip(mine, doc["columns"]):
         assert m["name"] == c["name"]
@@ -177,6 +177,31 @@ def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
         gmwm.select(1.0, "WN+RW")
     with pytest.raises(gmwm.InputError, match="^freq: found 0, expected a sampling rate in Hz"):
         gmwm.simulate("WN(sigma2=1)", 100, freq=0)
+
+
+def test_a_units_typo_is_refused_by_every_function_with_the_clis_message(tmp_path, example):
+    """One units convention (the CLI's --units), validated: a typo is never taken as a label."""
+    x = example["gyro_x"]
+    freq = 100.0
+    bad = subprocess.run([CLI, "wv", EXAMPLE, "--adev", "--units", "dge/s", "--quiet"], capture_output=True, text=True)
+    assert bad.returncode == 2
+    cli_message = bad.stderr.strip().splitlines()[-1]
+    assert "--units 'dge/s': expected one unit" in cli_message
+    calls = [lambda: gmwm.allan(x, freq=freq, units="dge/s"),
+             lambda: gmwm.fit(x, "WN+RW", freq=freq, units="dge/s"),
+             lambda: gmwm.select(x, "WN+RW", freq=freq, units="dge/s"),
+             lambda: gmwm.gap(x, freq=freq, model="WN(sigma2=1e-6)", units="dge/s", names=["gyro_x"]),
+             lambda: gmwm.nav("truth", [], units="dge/s")]
+    for call in calls:
+        with pytest.raises(gmwm.InputError) as e:
+            call()
+        assert str(e.value) in cli_message
+    with pytest.raises(gmwm.InputError, match="unit 'dge/s': expected rad/s, deg/s, deg/h"):
+        gmwm.plan(model="WN(sigma2=1e-8)", freq=100.0, unit="dge/s")
+    # A bare unit labels every column whose name tells no kind, as the CLI's --units does.
+    assert gmwm.fit(x, "WN+RW", freq=freq, units="deg/s")["unit"] == "deg/s"
+    assert gmwm.fit(x, "WN+RW", freq=freq, units="gyro=deg/s", name="gyro_x")["unit"] == "deg/s"
+    assert gmwm.fit(x, "WN+RW", freq=freq, units="accel=g", name="gyro_x")["unit"] == "rad/s"
 
 
 def test_a_constant_or_underflowing_series_is_refused_naming_it(example):

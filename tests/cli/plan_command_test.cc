@@ -60,6 +60,10 @@ TEST_F(GmwmPlan, RefusesATargetTheModelLacksAndBadOptionsInOneLine) {
                             dir_),
                    {"--precision", "(0, 1)"}, out);
   expect_bad_input(run_gmwm({"plan", "missing.json", "--json", "bad.json"}, dir_), {"missing.json"}, out);
+  // A unit typo is refused, never written as the figures' label.
+  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--unit", "dge/s", "--json", "bad.json"},
+                            dir_),
+                   {"unit 'dge/s'", "expected rad/s, deg/s, deg/h"}, out);
 }
 
 }  // namespace

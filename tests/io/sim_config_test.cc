@@ -192,7 +192,25 @@ TEST(Units, ParsesEachKindsUnitsAndRejectsOthersWithOneLine) {
   };
   EXPECT_NE(message("gyro=g").find("unit 'g' for gyro: expected rad/s, deg/s or deg/h"), std::string::npos);
   EXPECT_NE(message("mag=uT").find("unknown sensor kind 'mag'"), std::string::npos);
-  EXPECT_NE(message("gyro").find("expected kind=unit pairs"), std::string::npos);
+  EXPECT_NE(message("gyro").find("kind=unit pairs such as gyro=deg/s"), std::string::npos);
+  EXPECT_NE(message("dge/s").find("--units 'dge/s': expected one unit (rad/s, deg/s, deg/h, m/s^2, g, mg)"),
+            std::string::npos);
+}
+
+TEST(Units, OneUnitNameDeclaresItsKindAndLabelsColumnsWhoseNameTellsNone) {
+  const UnitsSpec bare = parse_units_spec("deg/s");
+  EXPECT_EQ(bare.declared.at(SensorKind::kGyro).name, "deg/s");
+  EXPECT_EQ(unit_of_column(bare, "x1"), "deg/s");
+  EXPECT_EQ(unit_of_column(bare, "gyro_x"), "deg/s");
+  EXPECT_EQ(unit_of_column(bare, "accel_x"), "m/s^2");  // its kind is not declared: SI
+  const UnitsSpec pairs = parse_units_spec("gyro=deg/h,accel=mg");
+  EXPECT_EQ(unit_of_column(pairs, "accel_y"), "mg");
+  EXPECT_EQ(unit_of_column(pairs, "x1"), "");  // no kind from the name, none given for it
+  EXPECT_EQ(unit_of_column(parse_units_spec(""), "gyro_x"), "");
+  EXPECT_EQ(parse_any_unit("M/S2").second.name, "m/s^2");
+  EXPECT_EQ(parse_any_unit("mg").first, SensorKind::kAccel);
+  EXPECT_THROW(parse_any_unit("dge/s"), InputError);
+  EXPECT_THROW(parse_units_spec("deg/s,"), InputError);
 }
 
 TEST(Units, TellsTheSensorKindFromTheColumnName) {

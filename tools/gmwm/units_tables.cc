@@ -26,8 +26,7 @@ void add_units_options(CLI::App& sub, UnitsOptions& o) {
 }
 
 std::string column_unit(const UnitsOptions& o, const std::string& column) {
-  if (o.units.empty()) return {};
-  return io::unit_of_column(io::parse_units(o.units), std::nullopt, column);
+  return io::unit_of_column(io::parse_units_spec(o.units), column);
 }
 
 double filter_rate(const UnitsOptions& o, const io::SignalSet& set) {

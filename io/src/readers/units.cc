@@ -57,10 +57,30 @@ std::map<SensorKind, Unit> parse_units(const std::string& spec) {
   return out;
 }
 
-std::map<SensorKind, Unit> parse_declared_units(const std::string& spec) {
-  std::map<SensorKind, Unit> out;
+std::pair<SensorKind, Unit> parse_any_unit(const std::string& name) {
+  for (const SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel})
+    for (const Unit& u : units_of(kind))
+      if (lower(name) == lower(u.name) || (kind == SensorKind::kAccel && lower(name) == "m/s2")) return {kind, u};
+  throw InputError("unit '" + name + "': expected rad/s, deg/s, deg/h (gyro) or m/s^2, g, mg (accel)");
+}
+
+UnitsSpec parse_units_spec(const std::string& spec) {
+  UnitsSpec out;
+  if (spec.empty()) return out;
+  if (spec.find('=') == std::string::npos && spec.find(',') == std::string::npos) {
+    // One unit name: its kind declared, and the label of the columns whose name tells no kind.
+    try {
+      auto [kind, unit] = parse_any_unit(spec);
+      out.declared[kind] = unit;
+      out.plain = unit;
+      return out;
+    } catch (const InputError&) {
+      throw InputError("--units '" + spec + "': expected one unit (rad/s, deg/s, deg/h, m/s^2, g, mg) or kind=unit "
+                       "pairs such as gyro=deg/s,accel=g");
+    }
+  }
   std::size_t start = 0;
-  while (start <= spec.size() && !spec.empty()) {
+  while (start <= spec.size()) {
     const std::size_t comma = std::min(spec.find(',', start), spec.size());
     const std::string item = spec.substr(start, comma - start);
     const std::size_t eq = item.find('=');
@@ -72,13 +92,26 @@ std::map<SensorKind, Unit> parse_declared_units(const std::string& spec) {
     else if (key == "accel") kind = SensorKind::kAccel;
     else throw InputError("--units '" + spec + "': unknown sensor kind '" + item.substr(0, eq) + "' (expected gyro or accel)");
     try {
-      out[kind] = parse_unit(item.substr(eq + 1), kind);
+      out.declared[kind] = parse_unit(item.substr(eq + 1), kind);
     } catch (const InputError& e) {
       throw InputError("--units '" + spec + "': " + e.what());
     }
     start = comma + 1;
   }
   return out;
+}
+
+std::map<SensorKind, Unit> parse_declared_units(const std::string& spec) { return parse_units_spec(spec).declared; }
+
+std::string unit_of_column(const UnitsSpec& spec, const std::string& column) {
+  if (spec.empty()) return {};
+  std::optional<SensorKind> kind;
+  try {
+    kind = sensor_kind_of_column(column);
+  } catch (const InputError&) {
+    return spec.plain ? spec.plain->name : std::string();
+  }
+  return spec.declared.count(*kind) ? spec.declared.at(*kind).name : si_unit(*kind).name;
 }
 
 std::vector<Unit> units_of(SensorKind kind) {

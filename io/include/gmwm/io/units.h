@@ -4,6 +4,7 @@
 // --units gyro=deg/s,accel=g; SI by default.
 #include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 #include <string>
 
@@ -25,6 +26,27 @@ struct Unit {
 /// A unit name: rad/s, deg/s, deg/h (gyro); m/s^2 (or m/s2), g, mg (accel); InputError
 /// otherwise or when it does not belong to `kind`.
 Unit parse_unit(const std::string& name, SensorKind kind);
+
+/// A unit of either kind by its name (rad/s, deg/s, deg/h, m/s^2, g, mg) with its kind;
+/// InputError naming the six otherwise (a typo is never taken as a label).
+std::pair<SensorKind, Unit> parse_any_unit(const std::string& name);
+
+/// The one units convention of the CLI's --units and Python's `units=`: kind=unit pairs
+/// ("gyro=deg/s,accel=g"; a column's kind from its name) or one unit name ("deg/s"), which
+/// declares its kind and also labels the columns whose name tells no kind.
+struct UnitsSpec {
+  std::map<SensorKind, Unit> declared;  ///< the kinds the spec names
+  std::optional<Unit> plain;            ///< the one unit of a bare spec ("deg/s")
+  bool empty() const { return declared.empty(); }
+};
+
+/// Parses a units spec ("" gives an empty one); InputError with the option's message.
+UnitsSpec parse_units_spec(const std::string& spec);
+
+/// The unit of a column under `spec`: "" for an empty spec; the declared unit of the kind its
+/// name tells (SI where that kind is not declared); a bare spec's unit where the name tells no
+/// kind; "" otherwise.
+std::string unit_of_column(const UnitsSpec& spec, const std::string& column);
 
 /// "--units gyro=deg/s,accel=g": the units per sensor kind (SI where not given).
 std::map<SensorKind, Unit> parse_units(const std::string& spec);
