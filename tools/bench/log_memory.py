@@ -3,7 +3,8 @@
 for each of a PX4 ULog, a ROS 1 bag and an MCAP file of --n messages (written by
 tools/bench/imu_logs.py into --dir, deleted afterwards unless --keep), the peak RSS and wall
 time of `gmwm wv FILE` in memory and with `--memory 50`, measured with /usr/bin/time -v, and
-whether the two WVs are equal to the last bit. Prints a markdown table (tools/bench/RESULTS.md).
+whether the two WVs are equal to the last bit. Prints a markdown table (the 2026-11-26 run:
+tools/bench/results/2026-11-26-binary-log-memory.md; new runs go into a new dated file there).
 
     /usr/bin/python3 tools/bench/log_memory.py [--n 2e7] [--memory 50] [--dir /tmp/gmwm-logmem]
                                                [--formats ulog,ros1,mcap] [--keep]

@@ -1,16 +1,20 @@
 #!/usr/bin/env bash
 # Runs every benchmark on the shared IMU recordings (the folder named by $GMWM_SHARED_DATA; a default folder beside the clone when unset) and writes their
-# output into tools/bench/RESULTS.md. Needs a built tree (bash tools/setup.sh).
+# output into a dated detail file, tools/bench/results/<date>-run-all.md (tools/bench/RESULTS.md is the
+# one-page summary that links to the detail files; add the new figures there by hand). Needs a built
+# tree (bash tools/setup.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 build=${GMWM_BUILD_DIR:-build}
 data=${GMWM_SHARED_DATA:-$(pwd)/../shared/data}
 export GMWM_SHARED_DATA=$data
-out=tools/bench/RESULTS.md
+out=tools/bench/results/$(date -u +%Y-%m-%d)-run-all.md
 {
   echo "# Benchmark results"
   echo
   echo "Machine: $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GB; $(date -u +%Y-%m-%d). Reference times: R GMWM 3.0.0 on this machine kind (quoted per section)."
+  echo
+  echo "[Back to the summary](../RESULTS.md)"
   echo
   echo "## End-to-end \`gmwm wv\` on adis_16405_imu1.csv.gz (6 x 1,000,000, gzip)"
   echo
