@@ -527,7 +527,7 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("gazebo") = py::none(), py::arg("datasheet") = py::none(), py::arg("names") = std::vector<std::string>{},
         py::arg("units") = "",
         py::arg("sensor") = py::none(), py::arg("temperature") = py::none(),
-        py::arg("replicates") = gmwm::selection::GapOptions{}.replicates, py::arg("seed") = gmwm::kDefaultSeed,
+        py::arg("replicates") = gmwm::gap::GapOptions{}.replicates, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("alpha") = 0.05, py::arg("levels") = 0, py::arg("unit_check") = true,
         "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each column's WV, "
         "which effect explains it and by how much: the document gmwm gap --json writes");

@@ -191,11 +191,11 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
   }
 }
 
-// Stage 5: each column diagnosed against its baseline (selection::diagnose_gap), column k
+// Stage 5: each column diagnosed against its baseline (gap::diagnose_gap), column k
 // on its own reference streams (seed + k).
 void diagnose_columns(const io::SignalSet& set, const std::vector<double>& temperature, const GapStudyOptions& o,
                       const ProcessContext& ctx, GapStudy& study) {
-  selection::GapOptions g;
+  gap::GapOptions g;
   g.replicates = o.replicates;
   g.alpha = o.alpha;
   g.refit_baseline = std::holds_alternative<FitBaseline>(o.baseline);
@@ -203,7 +203,7 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
   const std::size_t K = study.columns.size();
   const double per_column = 2.0 * o.replicates;  // the reference replicates, then the attribution
   for (std::size_t k = 0; k < K; ++k) {
-    selection::GapOptions gk = g;
+    gap::GapOptions gk = g;
     gk.seed = o.seed + k;
     if (o.progress)
       gk.progress = [&, k](int done, int) { o.progress(static_cast<double>(k) * per_column + done, K * per_column); };
@@ -212,7 +212,7 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
     // The time-domain stage reads the series as a vector: a series in a file is copied.
     const Samples& x = set.signals[k].values;
     const std::vector<double> copy = x.vector() ? std::vector<double>() : x.to_vector();
-    c.result = selection::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, x.vector() ? x.vector() : &copy,
+    c.result = gap::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, x.vector() ? x.vector() : &copy,
                                        temperature.empty() ? nullptr : &temperature);
     if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
   }
@@ -231,7 +231,7 @@ std::optional<ColumnBaseline> config_baseline(const io::SimConfig& config, io::S
 }
 
 std::string GapStudyOptions::Validate() const {
-  selection::GapOptions g;
+  gap::GapOptions g;
   g.replicates = replicates;
   g.alpha = alpha;
   if (std::string why = g.Validate(); !why.empty()) return why;
@@ -278,7 +278,7 @@ GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.
   std::vector<std::span<const double>> spans;
   for (const auto& s : set.signals) spans.emplace_back(s.values);
-  study.cross_axis = selection::cross_axis_correlation(spans, options.wv.levels, options.alpha);
+  study.cross_axis = gap::cross_axis_correlation(spans, options.wv.levels, options.alpha);
   return study;
 }
 

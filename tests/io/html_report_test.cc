@@ -244,11 +244,11 @@ TEST(HtmlReport, DrawsTheGapMapsAndCurvesOfEveryDiagnosedColumn) {
   d.columns.resize(2);
   for (auto& c : d.columns) {
     c.fit.reset();
-    gmwm::selection::GapResult g;
+    gmwm::gap::GapResult g;
     g.baseline = gmwm::parse_model("WN", gmwm::ProcessContext{100.0, true});
     g.baseline_theta = Eigen::VectorXd::Constant(1, 1.0);
     for (std::size_t j = 0; j < c.wvs[0].tau.size(); ++j) {
-      gmwm::selection::GapLevel l;
+      gmwm::gap::GapLevel l;
       l.tau = c.wvs[0].tau[j];
       l.ratio = 1.0 + 0.1 * static_cast<double>(j);
       l.z = 0.5 * static_cast<double>(j);

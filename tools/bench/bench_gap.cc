@@ -3,7 +3,7 @@
 // three ADIS units, a Kalibr imu.yaml and a gz-sensors SDF as the baseline, and the speed
 // of `gap` on six axes of 1e6 samples.
 // Seeds fixed below (evaluation data and calibration draws from different families,
-// see selection/gap_check.h). Exit 0 when every acceptance check passes.
+// see gap/gap_check.h). Exit 0 when every acceptance check passes.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,8 +23,8 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/robust/robust_wv.h"
-#include "gmwm/selection/gap.h"
-#include "gmwm/selection/gap_check.h"
+#include "gmwm/gap/gap.h"
+#include "gmwm/gap/gap_check.h"
 
 using namespace gmwm;
 
@@ -46,11 +46,11 @@ std::string pct(int k, int n) {
 }
 
 bool check_section() {
-  selection::GapCheckOptions o;
+  gap::GapCheckOptions o;
   o.cases = 100;
   o.seed = kCheckSeed;
   bench::Stopwatch clock;
-  const auto r = selection::run_gap_check(o);
+  const auto r = gap::run_gap_check(o);
   std::printf("### 1. gap-check: 100 cases per withheld effect, N = 2^18 at 100 Hz, base WN+RW, strengths 2, 4, 8; "
               "null side 500 base-only and 200 with the base off by +-20%% (%.0f s)\n\n", clock.seconds());
   std::printf("| truth | cases | top-1 correct | detected | band located | median S | SIN f within 5%% / AR1, TRANSIENT T "
@@ -59,7 +59,7 @@ bool check_section() {
   for (const auto& [t, f] : r.families) {
     int param_ok = 0, param_n = 0;
     for (const auto& c : r.cases)
-      if (selection::to_string(c.truth) == t && std::isfinite(c.parameter_error)) {
+      if (gap::to_string(c.truth) == t && std::isfinite(c.parameter_error)) {
         ++param_n;
         param_ok += t == "SIN" ? c.parameter_error <= 0.05 : c.parameter_error <= 1.0;
       }
@@ -103,7 +103,7 @@ bool check_section() {
   return ok;
 }
 
-// The gap-check's base (selection/src/gap_check.cc) and length, for DR's oracle bound.
+// The gap-check's base (gap/src/gap_check.cc) and length, for DR's oracle bound.
 constexpr double kBaseSigma2 = 1e-4, kBaseGamma2 = 1e-10;
 constexpr std::int64_t kCheckN = std::int64_t{1} << 18;
 
@@ -145,12 +145,12 @@ double two_sided_power(double z, double alpha) {
 }
 
 void power_section() {
-  selection::GapCheckOptions o;
+  gap::GapCheckOptions o;
   o.cases = 30;
   o.strengths = {0.25, 0.5, 1.0};
   o.null_side = false;
   o.seed = kPowerSeed;
-  const auto r = selection::run_gap_check(o);
+  const auto r = gap::run_gap_check(o);
   std::printf("### 2. Power below strength 2 (10 cases per family and strength, N = 2^18)\n\n"
               "| truth | 0.25 | 0.5 | 1 |\n|---|---|---|---|\n");
   for (const auto& [t, f] : r.families) {
@@ -160,10 +160,10 @@ void power_section() {
   }
   // DR's strength is its WV ratio at the coarsest level (one coefficient, where the
   // base's own spread is widest): it shows only well above strength 8.
-  selection::GapCheckOptions d = o;
-  d.families = {selection::GapEffect::kDR};
+  gap::GapCheckOptions d = o;
+  d.families = {gap::GapEffect::kDR};
   d.strengths = {16.0, 64.0, 256.0};
-  const auto rd = selection::run_gap_check(d);
+  const auto rd = gap::run_gap_check(d);
   std::printf("\nDR above strength 8 (10 cases per strength):\n\n| truth | 16 | 64 | 256 |\n|---|---|---|---|\n| DR |");
   for (double s : d.strengths)
     std::printf(" %.0f%% |", rd.families.count("DR") && rd.families.at("DR").power.count(s) ? 100 * rd.families.at("DR").power.at(s) : 0.0);
@@ -209,15 +209,15 @@ FitResult fit_family(const WaveletVariance& wv) {
   return fit_gmwm(wv, parse_model(kRealFamily, ProcessContext{kFreq, true}), fo);
 }
 
-selection::GapResult diagnose(const Column& c, const FitResult& base, std::uint64_t seed) {
-  selection::GapOptions o;
+gap::GapResult diagnose(const Column& c, const FitResult& base, std::uint64_t seed) {
+  gap::GapOptions o;
   o.replicates = kRealReplicates;
   o.seed = seed;
   o.context = ProcessContext{kFreq, true};
-  return selection::diagnose_gap(c.wv, base.model, base.theta, o, &c.robust, &c.x);
+  return gap::diagnose_gap(c.wv, base.model, base.theta, o, &c.robust, &c.x);
 }
 
-std::string bands_text(const selection::GapResult& g) {
+std::string bands_text(const gap::GapResult& g) {
   std::string s;
   for (const auto& b : g.bands) {
     char buf[96];
@@ -244,10 +244,10 @@ bool real_controls() {
   for (const auto& [a, b] : pairs)
     for (std::size_t k = 0; k < C; ++k) {
       const auto g = diagnose(units[b][k], fits[a][k], kRealSeed + 10 * k + a);
-      outliers += g.effect == selection::GapEffect::kOutliers;
+      outliers += g.effect == gap::GapEffect::kOutliers;
       ++total;
       std::printf("| %d -> %d | %s | %s (%.3g) | %s | %s |\n", a + 1, b + 1, units[b][k].name.c_str(),
-                  g.detected ? "yes" : "no", g.p_value, bands_text(g).c_str(), selection::to_string(g.effect));
+                  g.detected ? "yes" : "no", g.p_value, bands_text(g).c_str(), gap::to_string(g.effect));
     }
   std::printf("\n#### (b) Split halves (fitted on the first half, diagnosing the second)\n\n"
               "| unit | column | detected (p) | bands | attributed |\n|---|---|---|---|---|\n");
@@ -256,10 +256,10 @@ bool real_controls() {
     for (std::size_t k = 0; k < C; ++k) {
       const FitResult f = fit_family(first[k].wv);
       const auto g = diagnose(second[k], f, kRealSeed + 100 + 10 * k + u);
-      outliers += g.effect == selection::GapEffect::kOutliers;
+      outliers += g.effect == gap::GapEffect::kOutliers;
       ++total;
       std::printf("| %d | %s | %s (%.3g) | %s | %s |\n", u + 1, second[k].name.c_str(), g.detected ? "yes" : "no",
-                  g.p_value, bands_text(g).c_str(), selection::to_string(g.effect));
+                  g.p_value, bands_text(g).c_str(), gap::to_string(g.effect));
     }
   }
   std::printf("\nClean recordings diagnosed as OUTLIERS: %d of %d (must be 0): %s\n\n", outliers, total,
@@ -297,7 +297,7 @@ bool real_controls() {
           if (std::isnan(fhat) || std::abs(fc / f_hz - 1.0) < std::abs(fhat / f_hz - 1.0)) fhat = fc;
         }
       std::string effects;
-      for (auto e : g.steps) effects += (effects.empty() ? "" : " + ") + std::string(selection::to_string(e));
+      for (auto e : g.steps) effects += (effects.empty() ? "" : " + ") + std::string(gap::to_string(e));
       const bool pass = std::isfinite(fhat) && std::abs(fhat / f_hz - 1.0) <= 0.05;
       sin_ok += pass;
       ++sin_n;
@@ -319,9 +319,9 @@ bool real_controls() {
     c.wv = classical_wv(c.x.data(), static_cast<std::int64_t>(c.x.size()));
     c.robust = robust::robust_wv(c.x.data(), static_cast<std::int64_t>(c.x.size()));
     const auto g = diagnose(c, fits[0][k], kRealSeed + 300 + k);
-    const bool pass = g.effect == selection::GapEffect::kOutliers;
+    const bool pass = g.effect == gap::GapEffect::kOutliers;
     spike_ok += pass;
-    std::printf("| %s | %s | %s |\n", c.name.c_str(), selection::to_string(g.effect), pass ? "pass" : "FAIL");
+    std::printf("| %s | %s | %s |\n", c.name.c_str(), gap::to_string(g.effect), pass ? "pass" : "FAIL");
   }
   ok &= spike_ok == static_cast<int>(C);
   std::printf("\nReal-data controls: %s\n\n", ok ? "pass" : "FAIL");
@@ -354,13 +354,13 @@ bool kalibr_and_speed() {
               "|---|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < cols.size(); ++k) {
     const Model& base = cfg.models.at(io::sensor_kind_of_column(cols[k].name));
-    selection::GapOptions o;
+    gap::GapOptions o;
     o.replicates = 200;
     o.seed = kRealSeed + 400 + k;
     o.context = ProcessContext{kFreq, true};
-    const auto g = selection::diagnose_gap(cols[k].wv, base, base.given_values(), o, &cols[k].robust, &cols[k].x);
+    const auto g = gap::diagnose_gap(cols[k].wv, base, base.given_values(), o, &cols[k].robust, &cols[k].x);
     std::printf("| %s | %s | %s | %s | %s | %s | %.3f |\n", cols[k].name.c_str(), base.to_string(base.given_values()).c_str(),
-                g.detected ? "yes" : "no", bands_text(g).c_str(), selection::to_string(g.effect),
+                g.detected ? "yes" : "no", bands_text(g).c_str(), gap::to_string(g.effect),
                 g.final_model.to_string(g.final_theta).c_str(), g.shrinkage.excess_removed);
   }
   const double secs = clock.seconds();
@@ -383,13 +383,13 @@ void sdf_section(const std::vector<Column>& cols, const std::map<io::SensorKind,
   for (std::size_t k = 0; k < cols.size(); ++k) {
     const auto b = io::baseline_for_column(cfg, io::sensor_kind_of_column(cols[k].name), cols[k].name);
     if (!b) continue;
-    selection::GapOptions o;
+    gap::GapOptions o;
     o.replicates = 200;
     o.seed = kRealSeed + 500 + k;
     o.context = ProcessContext{kFreq, true};
-    const auto g = selection::diagnose_gap(cols[k].wv, b->model, b->model.given_values(), o, &cols[k].robust, &cols[k].x);
+    const auto g = gap::diagnose_gap(cols[k].wv, b->model, b->model.given_values(), o, &cols[k].robust, &cols[k].x);
     std::string steps;
-    for (auto e : g.steps) steps += (steps.empty() ? "" : " + ") + std::string(selection::to_string(e));
+    for (auto e : g.steps) steps += (steps.empty() ? "" : " + ") + std::string(gap::to_string(e));
     std::printf("| %s | %s | %s | %s | %s | %.3f |\n", cols[k].name.c_str(), g.detected ? "yes" : "no",
                 bands_text(g).c_str(), steps.empty() ? "none" : steps.c_str(),
                 g.final_model.to_string(g.final_theta).c_str(), g.shrinkage.excess_removed);

@@ -9,7 +9,7 @@
 
 #include "common.h"
 #include "gmwm/engine/error.h"
-#include "gmwm/selection/gap_check.h"
+#include "gmwm/gap/gap_check.h"
 
 namespace gmwm::cli {
 namespace {
@@ -23,12 +23,12 @@ struct GapCheckArgs {
   bool no_null = false;
 };
 
-std::vector<selection::GapEffect> parse_families(const std::string& s) {
-  std::vector<selection::GapEffect> out;
+std::vector<gap::GapEffect> parse_families(const std::string& s) {
+  std::vector<gap::GapEffect> out;
   std::stringstream in(s);
   std::string item;
   while (std::getline(in, item, ',')) {
-    const auto e = selection::parse_gap_effect(item);
+    const auto e = gap::parse_gap_effect(item);
     if (!e) throw InputError("--families '" + s + "': unknown effect '" + item + "' (QN, DR, AR1, FLICKER, SIN, OUTLIERS, STEP, TRANSIENT)");
     out.push_back(*e);
   }
@@ -51,7 +51,7 @@ std::vector<double> parse_strengths(const std::string& s) {
   return out;
 }
 
-std::string report(const selection::GapCheckResult& r) {
+std::string report(const gap::GapCheckResult& r) {
   std::ostringstream os;
   std::vector<std::string> reported;
   for (const auto& [t, row] : r.confusion)
@@ -77,7 +77,7 @@ std::string report(const selection::GapCheckResult& r) {
     std::string power;
     for (const auto& [s, p] : f.power) power += (power.empty() ? "" : ", ") + fmt(s, 3) + ": " + fmt(100 * p, 3) + "%";
     const bool effect = !f.power.empty();
-    const std::string prefix = f.crossing == selection::Crossing::kAtMost ? "<= " : f.crossing == selection::Crossing::kBeyond ? "> " : "";
+    const std::string prefix = f.crossing == gap::Crossing::kAtMost ? "<= " : f.crossing == gap::Crossing::kBeyond ? "> " : "";
     fam.add({t, std::to_string(f.cases), fmt(100.0 * f.correct / f.cases, 3) + "%",
              fmt(100.0 * f.detected / f.cases, 3) + "%", fmt(100.0 * f.located / f.cases, 3) + "%",
              fmt(f.median_excess_removed, 3), power.empty() ? "-" : power,
@@ -99,7 +99,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
   declare_output(common, "--json", common.json);
-  selection::GapCheckOptions o;
+  gap::GapCheckOptions o;
   o.cases = args.cases;
   o.n = args.n;
   o.replicates = args.replicates;
@@ -110,7 +110,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("gap-check: " + why);
   ProgressBar bar("gap-check: cases", common);
   if (bar.enabled()) o.progress = [&](int done, int all) { bar.update(done, all); };
-  const selection::GapCheckResult r = selection::run_gap_check(o);
+  const gap::GapCheckResult r = gap::run_gap_check(o);
   io::Json doc = io::gap_check_document(o, r);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);

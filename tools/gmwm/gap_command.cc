@@ -20,8 +20,8 @@
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/engine/physical.h"
-#include "gmwm/selection/cross_axis.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/cross_axis.h"
+#include "gmwm/gap/gap.h"
 #include "gmwm/pipeline/gap_study.h"
 
 namespace gmwm::cli {
@@ -37,7 +37,7 @@ struct GapArgs {
   std::string units;   ///< --units gyro=deg/s,accel=g
   std::string sensor;  ///< --sensor gyro|accel (all columns)
   std::string temperature;  ///< --temperature COLUMN
-  int replicates = selection::GapOptions{}.replicates;
+  int replicates = gap::GapOptions{}.replicates;
   bool no_unit_check = false;  ///< --no-unit-check
   std::string corrected;       ///< --corrected PATH
 };
@@ -46,11 +46,11 @@ std::string seconds_text(double tau, const io::SignalSet& set) {
   return set.freq_known ? fmt(tau / set.freq, 3) + " s" : fmt(tau, 6) + " samples";
 }
 
-std::string summary_line(const std::string& name, const selection::GapResult& g) { return name + ": " + g.headline; }
+std::string summary_line(const std::string& name, const gap::GapResult& g) { return name + ": " + g.headline; }
 
 // The first added effect's parameters with their bootstrap intervals, discrete and in
 // the continuous units a navigation engineer uses.
-std::string effect_table(const selection::GapResult& g, const io::SignalSet& set, const std::string& unit) {
+std::string effect_table(const gap::GapResult& g, const io::SignalSet& set, const std::string& unit) {
   const FitResult& f = g.final_fit;
   if (f.status == FitStatus::kFailed || f.theta.size() != f.model.num_parameters() || f.theta.size() == 0) return {};
   Table t({"effect parameter", "value", "95% interval (bootstrap)", "unit"}, 1);
@@ -73,7 +73,7 @@ std::string effect_table(const selection::GapResult& g, const io::SignalSet& set
   return t.str();
 }
 
-std::string terminal_report(const std::string& name, const selection::GapResult& g, const io::SignalSet& set,
+std::string terminal_report(const std::string& name, const gap::GapResult& g, const io::SignalSet& set,
                             const std::vector<std::string>& conversions, const std::string& unit) {
   std::ostringstream os;
   os << summary_line(name, g) << '\n';
@@ -87,7 +87,7 @@ std::string terminal_report(const std::string& name, const selection::GapResult&
   if (!g.candidates.empty()) {
     Table cand({"candidate", "improvement", "threshold", "2 x optimism (WVIC)", "cleared", "fit"}, 1);
     for (const auto& c : g.candidates)
-      cand.add({selection::to_string(c.effect), fmt(c.improvement, 5), fmt(c.threshold, 4), fmt(2.0 * c.optimism, 4),
+      cand.add({gap::to_string(c.effect), fmt(c.improvement, 5), fmt(c.threshold, 4), fmt(2.0 * c.optimism, 4),
                 c.cleared ? "yes" : "", c.model});
     os << cand.str();
   }
@@ -157,8 +157,8 @@ std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set,
 }
 
 // One line per correlated pair: the scales where its cross-axis correlation is significant.
-std::string cross_axis_text(const std::vector<selection::CrossAxisPair>& pairs, const io::SignalSet& set) {
-  std::map<std::pair<int, int>, std::vector<const selection::CrossAxisPair*>> by_pair;
+std::string cross_axis_text(const std::vector<gap::CrossAxisPair>& pairs, const io::SignalSet& set) {
+  std::map<std::pair<int, int>, std::vector<const gap::CrossAxisPair*>> by_pair;
   for (const auto& p : pairs)
     if (p.significant) by_pair[{p.a, p.b}].push_back(&p);
   std::string out;

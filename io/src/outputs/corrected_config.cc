@@ -219,13 +219,13 @@ void keep_undiagnosed_kinds(const SimConfig& input, ExportResult& r) {
   }
 }
 
-std::string effects_text(const selection::GapResult& g) {
+std::string effects_text(const gap::GapResult& g) {
   std::string s;
   for (const auto& d : g.step_details) s += (s.empty() ? "" : " + ") + d;
   return s.empty() ? "no effect added" : s;
 }
 
-std::string outside_text(const selection::GapAssessment& a) {
+std::string outside_text(const gap::GapAssessment& a) {
   return std::to_string(a.levels_outside) + " levels outside";
 }
 
@@ -254,7 +254,7 @@ std::vector<std::string> header_lines(const CorrectedConfig& c, const pipeline::
   if (changed == 0) h.push_back("changed: nothing (every figure within " + num(kUnchangedRelative * 100.0, 2) + "% of the input)");
   for (std::size_t k = 0; k < c.columns.size(); ++k) {
     const CorrectedColumn& col = c.columns[k];
-    const selection::GapResult& g = study.columns[k].result;
+    const gap::GapResult& g = study.columns[k].result;
     h.push_back("why, " + col.name + ": " + effects_text(g) + "; full model " + col.full.to_string(col.full_theta));
     for (const std::string& x : col.not_expressible)
       h.push_back("cannot express, " + col.name + ": " + x);

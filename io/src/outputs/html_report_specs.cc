@@ -350,7 +350,7 @@ Json gap_curves_spec(const ReportColumn& c) {
   p.x_title = tau_axis_title(c);
   p.tau_unit = tau_unit(c);
   p.y_title = wv_axis_title(c);
-  const selection::GapResult& g = *c.gap;
+  const gap::GapResult& g = *c.gap;
   const double scale = tau_scale(c);
   if (!c.wvs.empty()) p.estimates.push_back(wv_series(c.wvs.front(), c));
   p.reference_name = "baseline reference band";
@@ -428,7 +428,7 @@ Json gap_levels_spec(const ReportData& d) {
 }
 
 Json gap_windows_spec(const ReportColumn& c) {
-  const selection::GapResult& g = *c.gap;
+  const gap::GapResult& g = *c.gap;
   const double scale = tau_scale(c);
   Json cells = Json::array();
   std::vector<double> z;

@@ -167,7 +167,7 @@ std::string noise_figures_table(const ReportColumn& c) {
 }
 
 std::string gap_tables(const ReportColumn& c) {
-  const selection::GapResult& g = *c.gap;
+  const gap::GapResult& g = *c.gap;
   const double scale = tau_scale(c);
   const std::string unit = tau_unit(c);
   std::ostringstream os;
@@ -203,11 +203,11 @@ std::string gap_tables(const ReportColumn& c) {
   const char* per = seconds ? " per s" : " per sample";
   if (g.event) {
     const auto& e = *g.event;
-    os << "<li>" << selection::to_string(e.effect);
-    if (e.effect == selection::GapEffect::kOutliers) os << " (a burst of " << e.length << " samples)";
+    os << "<li>" << gap::to_string(e.effect);
+    if (e.effect == gap::GapEffect::kOutliers) os << " (a burst of " << e.length << " samples)";
     os << " at " << (seconds ? num(static_cast<double>(e.sample) / rate, 6) + " s" : "sample " + std::to_string(e.sample))
-       << ", " << (e.effect == selection::GapEffect::kOutliers ? "peak departure " : "size ") << num(e.size, 4);
-    if (e.effect == selection::GapEffect::kTransient)
+       << ", " << (e.effect == gap::GapEffect::kOutliers ? "peak departure " : "size ") << num(e.size, 4);
+    if (e.effect == gap::GapEffect::kTransient)
       os << ", time constant " << num(e.time_constant / rate, 4) << (seconds ? " s" : " samples");
     os << "</li>\n";
   }
@@ -222,7 +222,7 @@ std::string gap_tables(const ReportColumn& c) {
     os << "<table class=\"candidates\">\n<caption>candidate effects (first step)</caption>\n"
        << th_row({"effect", "improvement", "threshold", "2 x optimism (WVIC)", "cleared", "fit"});
     for (const auto& cand : g.candidates)
-      os << "<tr" << (cand.cleared ? " class=\"chosen\"" : "") << ">" << td(selection::to_string(cand.effect))
+      os << "<tr" << (cand.cleared ? " class=\"chosen\"" : "") << ">" << td(gap::to_string(cand.effect))
          << td(num(cand.improvement, 5), "num") << td(num(cand.threshold, 4), "num") << td(num(2.0 * cand.optimism, 4), "num")
          << td(cand.cleared ? "yes" : "") << td(cand.model, "note") << "</tr>\n";
     os << "</table>\n";

@@ -53,7 +53,7 @@ json effect_physical(const FitResult& fit, const ColumnInfo& c) {
 }
 
 // The flagged (window, level) cells; null when the series was too short for a map.
-json windows_json(const selection::GapResult& g, const ColumnInfo& c) {
+json windows_json(const gap::GapResult& g, const ColumnInfo& c) {
   if (!g.windows_checked) return nullptr;
   json out = json::array();
   for (const auto& w : g.windows)
@@ -68,28 +68,28 @@ json windows_json(const selection::GapResult& g, const ColumnInfo& c) {
   return out;
 }
 
-json split_half_json(const selection::GapResult& g, const ColumnInfo& c) {
+json split_half_json(const gap::GapResult& g, const ColumnInfo& c) {
   json out = json::array();
   for (const auto& h : g.split_half)
     out.push_back({{"tau", h.tau}, {"tau_seconds", seconds(h.tau, c)}, {"ratio", json_number(h.ratio)}, {"disjoint", h.disjoint}});
   return out;
 }
 
-json event_json(const selection::GapResult& g, const ColumnInfo& c) {
+json event_json(const gap::GapResult& g, const ColumnInfo& c) {
   if (!g.event) return nullptr;
   const auto& e = *g.event;
-  return {{"effect", selection::to_string(e.effect)},
+  return {{"effect", gap::to_string(e.effect)},
           {"sample", e.sample},
           {"time_seconds", seconds(static_cast<double>(e.sample), c)},
           {"size", json_number(e.size)},
           {"time_constant", json_number(e.time_constant)},
-          {"time_constant_seconds", e.effect == selection::GapEffect::kTransient ? seconds(e.time_constant, c) : json(nullptr)},
+          {"time_constant_seconds", e.effect == gap::GapEffect::kTransient ? seconds(e.time_constant, c) : json(nullptr)},
           {"level", e.level},
           {"statistic", json_number(e.statistic)},
           {"threshold", json_number(e.threshold)}};
 }
 
-json trend_json(const selection::GapResult& g) {
+json trend_json(const gap::GapResult& g) {
   if (!g.trend) return nullptr;
   const auto& t = *g.trend;
   return {{"omega", json_number(t.omega)},
@@ -100,7 +100,7 @@ json trend_json(const selection::GapResult& g) {
           {"significant", t.significant}};
 }
 
-json temperature_json(const selection::GapResult& g) {
+json temperature_json(const gap::GapResult& g) {
   if (!g.temperature) return nullptr;
   const auto& t = *g.temperature;
   return {{"coupling", json_number(t.k)},
@@ -111,7 +111,7 @@ json temperature_json(const selection::GapResult& g) {
           {"significant", t.significant}};
 }
 
-json bands_json(const std::vector<selection::GapBand>& v, const ColumnInfo& column) {
+json bands_json(const std::vector<gap::GapBand>& v, const ColumnInfo& column) {
   json bands = json::array();
   for (const auto& b : v)
     bands.push_back({{"tau_from_seconds", seconds(b.tau_from, column)},
@@ -125,7 +125,7 @@ json bands_json(const std::vector<selection::GapBand>& v, const ColumnInfo& colu
 
 }  // namespace
 
-Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, const std::vector<std::string>& conversions) {
+Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const std::vector<std::string>& conversions) {
   json c = column_json(column);
   c["baseline_model"] = g.baseline.to_string(g.baseline_theta);
   json bands = bands_json(g.bands, column);
@@ -151,7 +151,7 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                                                           : json(nullptr)}};
   json candidates = json::array();
   for (const auto& k : g.candidates)
-    candidates.push_back({{"effect", selection::to_string(k.effect)},
+    candidates.push_back({{"effect", gap::to_string(k.effect)},
                           {"improvement", json_number(k.improvement)},
                           {"threshold", json_number(k.threshold)},
                           {"optimism", json_number(k.optimism)},
@@ -159,8 +159,8 @@ Json gap_column_json(const ColumnInfo& column, const selection::GapResult& g, co
                           {"cleared", k.cleared},
                           {"model", k.model}});
   json steps = json::array();
-  for (auto e : g.steps) steps.push_back(selection::to_string(e));
-  c["attribution"] = {{"effect", selection::to_string(g.effect)},
+  for (auto e : g.steps) steps.push_back(gap::to_string(e));
+  c["attribution"] = {{"effect", gap::to_string(g.effect)},
                       {"steps", std::move(steps)},
                       {"model", g.final_model.to_string(g.final_theta)},
                       {"parameters", parameters_json(g.final_fit)},
@@ -240,7 +240,7 @@ Json gap_document(const SignalSet& set, const pipeline::GapStudy& study) {
   return doc;
 }
 
-Json gap_check_document(const selection::GapCheckOptions& options, const selection::GapCheckResult& r) {
+Json gap_check_document(const gap::GapCheckOptions& options, const gap::GapCheckResult& r) {
   Json doc = json_document("gap-check");
   doc["n"] = options.n;
   doc["replicates"] = options.replicates;
@@ -261,7 +261,7 @@ Json gap_check_document(const selection::GapCheckOptions& options, const selecti
                    {"located", f.located},
                    {"median_excess_removed", json_number(f.median_excess_removed)},
                    {"strength_90", json_number(f.strength_90)},
-                   {"strength_90_crossing", f.power.empty() ? "" : selection::to_string(f.crossing)},
+                   {"strength_90_crossing", f.power.empty() ? "" : gap::to_string(f.crossing)},
                    {"oracle_strength_90", json_number(f.oracle_strength_90)},
                    {"oracle_ratio", json_number(f.oracle_ratio)}};
   }
@@ -269,10 +269,10 @@ Json gap_check_document(const selection::GapCheckOptions& options, const selecti
   doc["families"] = families;
   Json list = Json::array();
   for (const auto& c : r.cases)
-    list.push_back({{"truth", selection::to_string(c.truth)},
+    list.push_back({{"truth", gap::to_string(c.truth)},
                     {"strength", c.strength},
                     {"injected", c.injected},
-                    {"reported", selection::to_string(c.reported)},
+                    {"reported", gap::to_string(c.reported)},
                     {"detected", c.detected},
                     {"located", c.located},
                     {"correct", c.correct},
@@ -288,7 +288,7 @@ Json corrected_config_json(const CorrectedConfig& c, double freq) {
   ColumnInfo info;
   info.freq = freq;
   info.freq_known = freq > 0.0;
-  const auto assessment = [&](const selection::GapAssessment& a) {
+  const auto assessment = [&](const gap::GapAssessment& a) {
     return json{{"objective", json_number(a.objective)},
                 {"null_mean", json_number(a.null_mean)},
                 {"levels_outside", a.levels_outside},

@@ -24,7 +24,7 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/gap_study.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
 namespace gmwm::io {
 
@@ -50,7 +50,7 @@ struct CorrectedColumn {
   Model full;                        ///< the diagnosis' final model
   Eigen::VectorXd full_theta;
   /// On the diagnosis' yardstick: the input baseline, the corrected file, the full model.
-  selection::GapAssessment before, with_config, with_full;
+  gap::GapAssessment before, with_config, with_full;
   /// Components of the full model the format holds no field for (e.g. "QN(Q2=...)").
   std::vector<std::string> not_expressible;
 };

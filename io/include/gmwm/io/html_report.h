@@ -60,7 +60,7 @@
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 #include "gmwm/selection/replicate_select.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/io/corrected_config.h"
@@ -102,7 +102,7 @@ struct ReportColumn {
   /// 952 guide lines (-1/2 through N, +1/2 through K, the flat 0.664 B), then the table.
   std::optional<FigureReport> allan;
   /// `gap`: the diagnosis and how the baseline was converted to this column.
-  std::optional<selection::GapResult> gap;
+  std::optional<gap::GapResult> gap;
   /// `fit --joint`, `select --joint`: the replicates, their test and selection.
   std::optional<ReplicateReport> replicates;
   std::vector<std::string> conversions;

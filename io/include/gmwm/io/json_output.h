@@ -25,8 +25,8 @@
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/noise_figures.h"
-#include "gmwm/selection/gap.h"
-#include "gmwm/selection/gap_check.h"
+#include "gmwm/gap/gap.h"
+#include "gmwm/gap/gap_check.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -142,7 +142,7 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// "conversions" and "notes". The effect's parameters carry their bootstrap CIs and
 /// "physical" quantities (engine/physical.h) in the column's unit ("U" when undeclared);
 /// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.
-Json gap_column_json(const ColumnInfo& column, const selection::GapResult& gap,
+Json gap_column_json(const ColumnInfo& column, const gap::GapResult& gap,
                      const std::vector<std::string>& conversions);
 
 /// The WV study's document (json_document("wv") filled): "input", "timing" and "columns":
@@ -191,7 +191,7 @@ Json joint_select_document(const SignalSet& set, const std::vector<pipeline::Rep
 /// The gap diagnosis's self-check document (json_document("gap-check") filled): the
 /// settings, the confusion matrix, power per family and strength, each family's
 /// detection/location and oracle comparison, and the case list (docs/gap.md).
-Json gap_check_document(const selection::GapCheckOptions& options, const selection::GapCheckResult& result);
+Json gap_check_document(const gap::GapCheckOptions& options, const gap::GapCheckResult& result);
 
 /// The gap study's document (json_document("gap") filled): "input", "baseline_source",
 /// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant

@@ -1,7 +1,7 @@
 #pragma once
 // The gap study of a signal set (docs/gap.md): each column's baseline (a fully given model,
 // a simulator's configuration or a fitted family), its WVs, the unit check, the diagnosis
-// (selection/gap.h) and the cross-axis correlations. What `gmwm gap` and Python's
+// (gap/gap.h) and the cross-axis correlations. What `gmwm gap` and Python's
 // gmwm.gap both run; they differ only in how they write the result.
 //
 //   gmwm::pipeline::GapStudyOptions o;
@@ -25,8 +25,8 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
-#include "gmwm/selection/cross_axis.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/cross_axis.h"
+#include "gmwm/gap/gap.h"
 
 namespace gmwm::pipeline {
 
@@ -60,8 +60,8 @@ struct GapStudyOptions {
   std::string temperature_column;
   /// Off: diagnose even when a column's finest scales sit at a unit factor from the baseline.
   bool unit_check = true;
-  /// Reference replicates, seed (column k uses seed + k) and test level (selection::GapOptions).
-  int replicates = selection::GapOptions{}.replicates;
+  /// Reference replicates, seed (column k uses seed + k) and test level (gap::GapOptions).
+  int replicates = gap::GapOptions{}.replicates;
   std::uint64_t seed = 0;
   double alpha = 0.05;
   /// Called with (steps done, steps in all) while the columns are diagnosed.
@@ -81,13 +81,13 @@ struct GapColumnStudy {
   /// How the baseline was obtained (a simulator's figures converted, a bias taken as RW, a fit).
   std::vector<std::string> conversions;
   WaveletVariance wv, robust_wv;
-  selection::GapResult result;
+  gap::GapResult result;
 };
 
 struct GapStudy {
   std::vector<GapColumnStudy> columns;
   /// Pairs of columns tested for cross-axis wavelet correlation (significant ones flagged).
-  std::vector<selection::CrossAxisPair> cross_axis;
+  std::vector<gap::CrossAxisPair> cross_axis;
   /// "model", "fit SPEC", or the simulator configuration's source.
   std::string baseline_source;
   std::string temperature_column;

@@ -1,4 +1,4 @@
-// Cross-axis wavelet correlation (selection/src/cross_axis.cc): independent axes show none,
+// Cross-axis wavelet correlation (gap/src/cross_axis.cc): independent axes show none,
 // a shared component shows at its scales with the correlation its variance share implies.
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
-#include "gmwm/selection/cross_axis.h"
+#include "gmwm/gap/cross_axis.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 namespace {
 
 constexpr std::int64_t kN = 1 << 15;
@@ -68,4 +68,4 @@ TEST(CrossAxisCorrelation, RejectsSignalsOfDifferentLengths) {
 }
 
 }  // namespace
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

@@ -10,7 +10,7 @@
 #include "gmwm/engine/integrated_error.h"
 #include "gmwm/engine/model_syntax.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 // The drift found in the time domain as a one-parameter fit (DR omega with its interval).
 FitResult drift_fit(const GapTrend& t, const GapOptions& o) {
@@ -222,4 +222,4 @@ std::string headline(const GapResult& g, const ProcessContext& ctx, double alpha
   return os.str();
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

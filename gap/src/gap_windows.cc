@@ -9,7 +9,7 @@
 #include "gap_reference.h"
 #include "gmwm/engine/classical_wv.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 namespace {
 
 // docs/gap.md, method note 2: "window at least 16 x the largest scale of interest".
@@ -83,4 +83,4 @@ void split_halves(const std::vector<double>& x, double alpha, GapResult& result)
   }
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

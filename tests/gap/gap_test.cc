@@ -1,4 +1,4 @@
-// Sim-to-real gap diagnosis (selection/src/gap.cc) on simulated data whose effect is known:
+// Sim-to-real gap diagnosis (gap/src/gap.cc) on simulated data whose effect is known:
 // nothing added, a sinusoid, an AR1 (bias instability band), a mis-set white noise, spikes.
 #include <gtest/gtest.h>
 
@@ -17,9 +17,9 @@
 
 #include <boost/random/normal_distribution.hpp>
 #include "gmwm/robust/robust_wv.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 namespace {
 
 constexpr std::int64_t kN = 1 << 16;
@@ -283,4 +283,4 @@ TEST(DiagnoseGap, ReachesTheTruthFromADatasheetFarBelowTheDataAtCoarseScales) {
 }
 
 }  // namespace
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

@@ -8,7 +8,7 @@
 
 #include "gmwm/engine/haar_modwt.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 namespace {
 
 // Euler-Mascheroni constant: the mean of the standard Gumbel law (its variance is
@@ -472,4 +472,4 @@ std::vector<double> apply_time_effects(const std::vector<double>& x, const std::
   return out;
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

@@ -7,7 +7,7 @@
 
 #include "gmwm/engine/classical_wv.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_threshold, double min_effect) {
   std::vector<GapBand> bands;
@@ -73,4 +73,4 @@ double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, co
   return n ? std::sqrt(s / n) : 0.0;
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

@@ -5,9 +5,9 @@
 #include <Eigen/Core>
 
 #include "gap_reference.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 /// Runs of levels with |z| above z_threshold and |ratio - 1| above min_effect, of one sign.
 std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_threshold, double min_effect);
@@ -20,4 +20,4 @@ std::vector<GapLevel> map_levels(const WaveletVariance& wv, const Eigen::VectorX
 /// RMS of log(nuhat_j / nu_j) over the bands' levels (0 without bands).
 double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, const std::vector<GapBand>& bands);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 
 struct GapCheckOptions {
   /// Cases per effect family; the null side has 5x as many base-only cases and 2x as
@@ -99,4 +99,4 @@ struct GapCheckResult {
 /// Runs the self-check. Throws InputError on invalid options.
 GapCheckResult run_gap_check(const GapCheckOptions& options);
 
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

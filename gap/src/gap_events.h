@@ -29,9 +29,9 @@
 
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 /// Event levels: from kEventMinLevel (coarser than the finest levels where spikes show,
 /// docs/gap.md, method note 3: robust/classical ratio at tau = 2..8) to the deepest level with at least
@@ -146,4 +146,4 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
 std::vector<double> apply_time_effects(const std::vector<double>& x, const std::vector<double>* temperature,
                                        const TimeFindings& f, GapResult& g, const GapEvent* event = nullptr);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

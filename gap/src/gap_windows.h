@@ -2,9 +2,9 @@
 // Sliding-window map of the gap diagnosis (docs/gap.md, method note 2), internal to gap.cc.
 #include <vector>
 
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 /// Non-overlapping windows of length L (a power of two, at least kMinWindows of them);
 /// their classical WV at levels with tau <= L / kWindowScaleRatio (docs/gap.md, method note 2: the window is
@@ -19,4 +19,4 @@ void map_windows(const std::vector<double>& x, const Model& baseline, const Eige
 /// compared through their 1 - alpha chi-square CIs. Fills result.split_half.
 void split_halves(const std::vector<double>& x, double alpha, GapResult& result);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

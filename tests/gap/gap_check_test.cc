@@ -7,9 +7,9 @@
 #include <Eigen/Cholesky>
 
 #include "gmwm/engine/error.h"
-#include "gmwm/selection/gap_check.h"
+#include "gmwm/gap/gap_check.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 namespace {
 
 // z_0.95 + z_0.90: a one-sided 5% test of a normal mean has 90% power when the mean is
@@ -86,4 +86,4 @@ TEST(GapCheck, TheNullSideHasNoOracleFigure) {
 }
 
 }  // namespace
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

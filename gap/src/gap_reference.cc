@@ -10,7 +10,7 @@
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/simulate.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 namespace {
 
 // Fewer finite replicates than this cannot give a spread, let alone a covariance.
@@ -97,4 +97,4 @@ double p_value(const Reference& ref, double d) {
   return (1.0 + static_cast<double>(above)) / (1.0 + static_cast<double>(ref.null_distance.size()));
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

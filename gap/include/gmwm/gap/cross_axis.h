@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 
 /// Practical size of a cross-axis correlation worth reporting (a shared component with at
 /// least ~30% of each axis' variance at that scale).
@@ -38,4 +38,4 @@ struct CrossAxisPair {
 std::vector<CrossAxisPair> cross_axis_correlation(const std::vector<std::span<const double>>& signals, int levels,
                                                   double alpha);
 
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

@@ -1,4 +1,4 @@
-#include "gmwm/selection/cross_axis.h"
+#include "gmwm/gap/cross_axis.h"
 
 #include <cmath>
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/parallel.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 
 std::vector<CrossAxisPair> cross_axis_correlation(const std::vector<std::span<const double>>& signals, int levels,
                                                   double alpha) {
@@ -63,4 +63,4 @@ std::vector<CrossAxisPair> cross_axis_correlation(const std::vector<std::span<co
   return out;
 }
 
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

@@ -1,4 +1,4 @@
-// Time-domain effects of the gap diagnosis (selection/src/gap_events.cc): a bias step, a
+// Time-domain effects of the gap diagnosis (gap/src/gap_events.cc): a bias step, a
 // warm-up transient and a temperature coupling added to a WN+RW series whose baseline is
 // the WN+RW alone; and the same tests on the baseline's own data, where nothing is found.
 #include <gtest/gtest.h>
@@ -16,9 +16,9 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/robust/robust_wv.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 namespace {
 
 constexpr std::int64_t kN = 1 << 16;
@@ -210,4 +210,4 @@ TEST(GapTimeEffects, RejectATemperatureChannelOfAnotherLength) {
 }
 
 }  // namespace
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

@@ -8,9 +8,9 @@
 
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 /// The finest levels where outliers show first (docs/gap.md, method note 3: robust/classical
 /// ratio at tau = 2..8).
@@ -60,4 +60,4 @@ FitResult refit_family(const Base& base, const Eigen::VectorXd& target, const Wa
 /// The added effect's component of a refitted augmented model (base family + effect).
 FitResult effect_part(const FitResult& augmented, const Base& base);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

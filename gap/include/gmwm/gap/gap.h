@@ -3,8 +3,8 @@
 // configuration or a fitted model) departs from a real signal's WV, which unmodelled
 // effect explains the departure, and how much of it that effect removes.
 //
-//   gmwm::selection::GapOptions o;                       // 200-replicate reference
-//   auto g = gmwm::selection::diagnose_gap(wv, baseline, theta, o);
+//   gmwm::gap::GapOptions o;                       // 200-replicate reference
+//   auto g = gmwm::gap::diagnose_gap(wv, baseline, theta, o);
 //   g.detected, g.bands, g.effect, g.shrinkage.excess_removed
 //
 // Locate (docs/gap.md, method note 2): B series simulated from the baseline at the data's length, their
@@ -42,7 +42,7 @@
 #include "gmwm/engine/model.h"
 #include "gmwm/engine/wavelet_variance.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 
 /// The effects a gap can be attributed to (docs/cli.md, JSON "attribution.effect").
 enum class GapEffect {
@@ -310,4 +310,4 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
                        const GapOptions& options, const WaveletVariance* robust = nullptr,
                        const std::vector<double>* x = nullptr, const std::vector<double>* temperature = nullptr);
 
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

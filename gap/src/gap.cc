@@ -1,4 +1,4 @@
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,7 +23,7 @@
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 using namespace detail;
 
 const char* to_string(GapEffect e) {
@@ -584,4 +584,4 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   return g;
 }
 
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap

@@ -11,9 +11,9 @@
 
 #include "gap_reference.h"
 #include "gmwm/engine/wavelet_variance.h"
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 // What every stage after the reference shares.
 struct Context {
@@ -73,4 +73,4 @@ double bonferroni_z(const GapOptions& o, int levels);
 /// diagnosis compared last.
 std::shared_ptr<GapAssessor> make_assessor(const Context& c, Eigen::VectorXd data);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

@@ -10,7 +10,7 @@
 #include "gmwm/engine/model.h"
 #include "gmwm/engine/wavelet_variance.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 /// Shrinkage of the log-WV covariance towards its diagonal before inversion (B ~ 100
 /// replicates for J ~ 20 levels leave the sample covariance noisy; Ledoit & Wolf 2004
@@ -49,4 +49,4 @@ double distance(const Reference& ref, const Eigen::VectorXd& nuhat, const Eigen:
 /// Monte-Carlo p-value of a distance against half B: (1 + #{null >= d}) / (1 + B/2).
 double p_value(const Reference& ref, double d);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "gmwm/selection/gap.h"
+#include "gmwm/gap/gap.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 /// The drift found in the time domain as a one-parameter fit (DR omega with its interval).
 FitResult drift_fit(const GapTrend& t, const GapOptions& o);
@@ -46,4 +46,4 @@ inline constexpr double kExplainedShare = 0.10;
 /// excess removed.
 std::string headline(const GapResult& g, const ProcessContext& ctx, double alpha);
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

@@ -9,7 +9,7 @@
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/model_syntax.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 // Local optimisations per candidate fit: the effects have one or two parameters, whose
 // shape-based starts (engine/src/starting_values.cc) place scale-bearing ones on a grid.
@@ -309,4 +309,4 @@ FitResult effect_part(const FitResult& augmented, const Base& base) {
   return out;
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

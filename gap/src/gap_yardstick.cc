@@ -12,7 +12,7 @@
 #include "gap_summary.h"
 #include "gmwm/engine/error.h"
 
-namespace gmwm::selection::detail {
+namespace gmwm::gap::detail {
 
 // Whether a level carries enough independent coefficients to decide anything alone.
 bool decides(const WaveletVariance& wv, double tau, const GapOptions& o) {
@@ -152,4 +152,4 @@ std::shared_ptr<GapAssessor> make_assessor(const Context& c, Eigen::VectorXd dat
   return std::make_shared<Assessor>(c, std::move(data));
 }
 
-}  // namespace gmwm::selection::detail
+}  // namespace gmwm::gap::detail

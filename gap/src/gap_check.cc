@@ -1,4 +1,4 @@
-#include "gmwm/selection/gap_check.h"
+#include "gmwm/gap/gap_check.h"
 
 #include <algorithm>
 #include <atomic>
@@ -19,7 +19,7 @@
 #include "gmwm/engine/wv_covariance.h"
 #include "gmwm/robust/robust_wv.h"
 
-namespace gmwm::selection {
+namespace gmwm::gap {
 namespace {
 
 // The base of the check (docs/gap.md, method note 5: "base model WN+RW"): white noise and random walk
@@ -418,4 +418,4 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
   return out;
 }
 
-}  // namespace gmwm::selection
+}  // namespace gmwm::gap
