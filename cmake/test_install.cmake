@@ -15,7 +15,7 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-foreach(f include/gmwm/version.h include/gmwm/engine/fit.h include/gmwm/io/html_report.h
+foreach(f include/gmwm/version.h include/gmwm/engine/fit.h include/gmwm/report/html_report.h include/gmwm/gap/gap.h
           lib/cmake/gmwm/gmwmConfig.cmake lib/cmake/gmwm/gmwmConfigVersion.cmake lib/cmake/gmwm/gmwmTargets.cmake
           lib/pkgconfig/gmwm.pc bin/gmwm share/doc/gmwm/LICENSE share/man/man1/gmwm.1
           share/bash-completion/completions/gmwm)

@@ -31,7 +31,7 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
@@ -39,8 +39,8 @@
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/nav_study.h"
 #include "gmwm/pipeline/plan_study.h"
-#include "gmwm/io/plan_output.h"
-#include "gmwm/io/nav_output.h"
+#include "gmwm/report/plan_output.h"
+#include "gmwm/report/nav_output.h"
 #include "gmwm/pipeline/select_study.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
@@ -51,7 +51,7 @@ namespace py = pybind11;
 
 namespace {
 
-using gmwm::io::Json;
+using gmwm::report::Json;
 
 // A JSON document as Python objects, through Python's own json module: floats written
 // with 17 significant digits read back to the same double.
@@ -168,7 +168,7 @@ std::vector<std::vector<double>> columns_of(const py::handle& obj) {
   return out;
 }
 
-gmwm::io::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
+gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
                           const std::string& unit) {
   if (freq)
     if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty()) throw gmwm::InputError(why);
@@ -189,7 +189,7 @@ std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>
 // The columns as the signal set a file would give ("<array>", the rate when known).
 gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const std::vector<std::string>& labels,
                                   std::optional<double> freq) {
-  const gmwm::io::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
+  const gmwm::report::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
   gmwm::io::SignalSet set;
   set.path = "<array>";
   set.freq = first.freq;
@@ -231,7 +231,7 @@ gmwm::OmegaKind omega_kind(const std::string& s) {
 
 py::object py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels, const std::string& name) {
   const std::vector<double> x = series_of(data, "data");
-  const gmwm::io::ColumnInfo column = info(name, x.size(), freq, "");
+  const gmwm::report::ColumnInfo column = info(name, x.size(), freq, "");
   gmwm::WvOptions o;
   o.alpha = alpha;
   o.levels = levels;
@@ -244,7 +244,7 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
     const std::vector<std::span<const double>> series{std::span<const double>(x)};
     const gmwm::WaveletVariance wv = gmwm::classical_wv(series, o).front();
     check_wv_range(name, wv, x);
-    out = gmwm::io::wv_column_json(column, wv);
+    out = gmwm::report::wv_column_json(column, wv);
   }
   return to_python(out);
 }
@@ -268,8 +268,8 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
     check_wv_range("data", gmwm::classical_wv(std::vector<std::span<const double>>{std::span<const double>(x)}, {}).front(), x);
     const gmwm::FigureReport r = gmwm::data_figure_report(x, freq, allan, readoff);
     out["unit"] = unit.empty() ? Json(nullptr) : Json(unit);
-    out["allan"] = gmwm::io::allan_json(r.adev, {});
-    out["noise_figures"] = gmwm::io::noise_figures_json(r.chosen, unit);
+    out["allan"] = gmwm::report::allan_json(r.adev, {});
+    out["noise_figures"] = gmwm::report::noise_figures_json(r.chosen, unit);
   }
   return to_python(out);
 }
@@ -297,7 +297,7 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
     oc.fit.progress = progress;  // the bootstrap Omega's draws
     if (oc.robust) oc.robust->progress = progress;
     const gmwm::pipeline::FitStudy study = gmwm::pipeline::study_fit(set, oc);
-    return Json(gmwm::io::fit_document(set, study, {unit}, set.freq_known ? set.freq : 0.0)["columns"][0]);
+    return Json(gmwm::report::fit_document(set, study, {unit}, set.freq_known ? set.freq : 0.0)["columns"][0]);
   });
   return to_python(out);
 }
@@ -339,7 +339,7 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
     oc.select.progress = progress;  // every fit and bootstrap draw
     if (oc.robust) oc.robust->progress = progress;
     const gmwm::pipeline::SelectStudy study = gmwm::pipeline::study_select(set, oc);
-    return Json(gmwm::io::select_document(set, study, units, set.freq_known ? set.freq : 0.0)["columns"]);
+    return Json(gmwm::report::select_document(set, study, units, set.freq_known ? set.freq : 0.0)["columns"]);
   });
   return to_python(out);
 }
@@ -389,10 +389,10 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
     gmwm::pipeline::GapStudyOptions oc = o;
     oc.progress = [progress](double, double) { progress(0, 0); };  // every replicate and attribution fit
     const gmwm::pipeline::GapStudy study = gmwm::pipeline::study_gap(set, oc);
-    Json doc = gmwm::io::gap_document(set, study);
+    Json doc = gmwm::report::gap_document(set, study);
     // The corrected configuration, as `gmwm gap` writes it (its "content" is the file's text).
-    doc["corrected"] = gmwm::io::corrected_config_json(
-        gmwm::io::corrected_config(set, study, oc, {o.units, o.sensor, baseline_file}), freq);
+    doc["corrected"] = gmwm::report::corrected_config_json(
+        gmwm::pipeline::corrected_config(set, study, oc, {o.units, o.sensor, baseline_file}), freq);
     return doc;
   });
   return to_python(out);
@@ -430,7 +430,7 @@ py::object py_nav(const std::string& truth, const std::vector<std::string>& filt
       progress(0, 0);  // throws gmwm::Cancelled on Ctrl-C
       return true;
     };
-    return gmwm::io::nav_document(gmwm::pipeline::study_nav(oc));
+    return gmwm::report::nav_document(gmwm::pipeline::study_nav(oc));
   });
   return to_python(out);
 }
@@ -452,7 +452,7 @@ py::object py_plan(const std::optional<std::string>& result, const std::optional
   o.plan.targets = targets;
   o.plan.record_seconds = have.value_or(0.0);
   const Json out = run_cancellable([&](const std::function<void(int, int)>&) {
-    return gmwm::io::plan_document(gmwm::pipeline::study_plan(o), o.plan);
+    return gmwm::report::plan_document(gmwm::pipeline::study_plan(o), o.plan);
   });
   return to_python(out);
 }

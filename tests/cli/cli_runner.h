@@ -37,6 +37,10 @@ CliRun run_gmwm(const std::vector<std::string>& args, const std::filesystem::pat
 /// Files in `dir` left by an interrupted or failed write (gmwm's ".NAME.gmwm-XXXXXX").
 std::vector<std::string> staged_leftovers(const std::filesystem::path& dir);
 
+/// A terminal text as one line: every run of whitespace (a wrapped line's newline and hanging
+/// indent included) one space, so that a sentence is found wherever the width wrapped it.
+std::string flowed(const std::string& text);
+
 /// Non-empty lines of a text.
 std::vector<std::string> lines_of(const std::string& text);
 

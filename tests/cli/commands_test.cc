@@ -166,7 +166,7 @@ TEST_F(GmwmCli, SimulateWritesWhatItSaysAndIsReproducibleFromTheSeed) {
 
 TEST_F(GmwmCli, SimulateThenFitRecoversTheModel) {
   simulate(1 << 16, 1);
-  auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN+RW", "--json", "fit.json"}, dir_);
+  auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN+RW", "--verbose", "--json", "fit.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* word : {"model:", "process", "component", "se", "objective", "status"})
     EXPECT_NE(r.out.find(word), std::string::npos) << word;

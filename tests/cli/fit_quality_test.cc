@@ -34,7 +34,7 @@ class GmwmFitQuality : public ::testing::Test {
 TEST_F(GmwmFitQuality, SaysWhenEveryCandidateIsRejectedAndWhereTheChosenOneMisses) {
   // A tone at 12.5 Hz (period 8 samples) that no sub-model of AR1+WN+RW can follow.
   simulate("WN(sigma2=1)+SIN(A2=2,f=12.5)+RW(gamma2=1e-6)");
-  const auto r = run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN+RW", "--json", "s.json"}, dir_);
+  const auto r = run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN+RW", "--verbose", "--json", "s.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("fit quality: every candidate is rejected at 5%: no sub-model of AR1+WN+RW describes these data"),
             std::string::npos)
@@ -52,7 +52,7 @@ TEST_F(GmwmFitQuality, SaysWhenEveryCandidateIsRejectedAndWhereTheChosenOneMisse
 TEST_F(GmwmFitQuality, AnAr1AtItsBoundGetsAOneSidedIntervalNotTheWholeDomain) {
   // A random walk fitted as an AR1: phi goes to its bound near 1.
   simulate("WN(sigma2=1)+RW(gamma2=1e-4)", 131072);
-  const auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--json", "f.json"}, dir_);
+  const auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--verbose", "--json", "f.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "f.json");
   const json& params = doc.at("columns").at(0).at("parameters");
@@ -68,7 +68,7 @@ TEST_F(GmwmFitQuality, AnAr1AtItsBoundGetsAOneSidedIntervalNotTheWholeDomain) {
 TEST_F(GmwmFitQuality, CountsCandidatesThatStoppedBeforeConvergingOnTheTerminal) {
   simulate("AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=1)");
   const auto r =
-      run_gmwm({"select", "sim.csv.gz", "--model", "3*AR1+WN+RW", "--max-evaluations", "10", "--json", "s.json"}, dir_);
+      run_gmwm({"select", "sim.csv.gz", "--model", "3*AR1+WN+RW", "--max-evaluations", "10", "--verbose", "--json", "s.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json col = read_json(dir_ / "s.json").at("columns").at(0);
   const int not_converged = col.at("not_converged").get<int>();
@@ -79,7 +79,7 @@ TEST_F(GmwmFitQuality, CountsCandidatesThatStoppedBeforeConvergingOnTheTerminal)
 
 TEST_F(GmwmFitQuality, NamesACollapsedComponentAsADegenerateFit) {
   simulate("AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=1)", 131072);
-  const auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN+QN", "--json", "f.json"}, dir_);
+  const auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN+QN", "--verbose", "--json", "f.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "f.json");
   const json& q = doc.at("columns").at(0).at("quality");

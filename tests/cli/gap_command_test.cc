@@ -18,6 +18,7 @@
 namespace fs = std::filesystem;
 using gmwm::test::expect_bad_input;
 using gmwm::test::read_json;
+using gmwm::test::flowed;
 using gmwm::test::run_gmwm;
 using nlohmann::json;
 
@@ -99,10 +100,10 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   // The terminal summary reads in one line.
   auto t = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "60"}, dir_);
   ASSERT_EQ(t.exit_code, 0) << t.err;
-  EXPECT_NE(t.out.find("gyro_x: excess at"), std::string::npos) << t.out;
-  EXPECT_NE(t.out.find("explained by SIN at 2"), std::string::npos) << t.out;
-  EXPECT_NE(t.out.find("excess removed"), std::string::npos) << t.out;
-  EXPECT_NE(t.out.find("levels outside "), std::string::npos) << t.out;
+  EXPECT_NE(flowed(t.out).find("gyro_x: excess at"), std::string::npos) << t.out;
+  EXPECT_NE(flowed(t.out).find("explained by SIN at 2"), std::string::npos) << t.out;
+  EXPECT_NE(flowed(t.out).find("excess removed"), std::string::npos) << t.out;
+  EXPECT_NE(flowed(t.out).find("levels outside "), std::string::npos) << t.out;
 }
 
 TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
@@ -166,7 +167,7 @@ TEST_F(GmwmGap, TakesAKalibrImuYamlAndPrintsItsConversions) {
                                       "update_rate: 100.0\n";
   auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "imu.yaml", "--replicates", "40", "--json", "g.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("conversion: gyroscope_noise_density = 0.001 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 0.0001 "
+  EXPECT_NE(flowed(r.out).find("conversion: gyroscope_noise_density = 0.001 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 0.0001 "
                        "(rad/s)^2 per sample at f = 100 Hz"),
             std::string::npos)
       << r.out;
@@ -182,12 +183,12 @@ TEST_F(GmwmGap, TakesTheShippedGazeboSdfAndPrintsItsConversions) {
   const std::string sdf = std::string(GMWM_SOURCE_DIR) + "/data/adis16405_gz.sdf";
   auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", sdf, "--replicates", "40", "--json", "g.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("conversion: angular_velocity stddev = 0.00873 rad/s per sample (not a density) -> WN sigma2 = "
+  EXPECT_NE(flowed(r.out).find("conversion: angular_velocity stddev = 0.00873 rad/s per sample (not a density) -> WN sigma2 = "
                        "(s)^2 = 7.62129e-05 (rad/s)^2 per sample"),
             std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("valid once the noise spans a few LSBs"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("summary:\n  gyro_x: "), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("valid once the noise spans a few LSBs"), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("summary: gyro_x: "), std::string::npos) << r.out;
   const json doc = read_json(dir_ / "g.json");
   EXPECT_EQ(doc.at("baseline_source"), "gz-sensors SDF <noise> blocks (" + sdf + ")");
   // AR1: phi = exp(-1/(f x 1000 s)) ~ 0.99999 (T = 1000 s, under 10 records of 655 s: kept
@@ -304,7 +305,7 @@ TEST_F(GmwmGap, DrawsNoProgressBarWhenStandardErrorIsNotATerminal) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("left"), std::string::npos) << r.err;
-  EXPECT_NE(r.out.find("summary:"), std::string::npos);
+  EXPECT_NE(flowed(r.out).find("summary:"), std::string::npos);
 }
 
 TEST_F(GmwmGap, HeadlineIsTheSameInTheTerminalAndTheJson) {
@@ -312,7 +313,7 @@ TEST_F(GmwmGap, HeadlineIsTheSameInTheTerminalAndTheJson) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json c = read_json(dir_ / "g.json")["columns"][0];
   const std::string h = c["headline"];
-  EXPECT_NE(r.out.find("  gyro_x: " + h), std::string::npos) << r.out << "\n" << h;
+  EXPECT_NE(flowed(r.out).find("gyro_x: " + flowed(h)), std::string::npos) << r.out << "\n" << h;
   EXPECT_NE(h.find("levels outside "), std::string::npos) << h;
   const double s = c["shrinkage"]["excess_removed"];
   EXPECT_GE(s, 0.0);
@@ -359,7 +360,7 @@ TEST(GmwmGapCheck, ScoresEveryFamilyAndTheNullSideInTheContractFields) {
   EXPECT_TRUE(doc.at("power").contains("SIN"));
   EXPECT_TRUE(doc["power"]["SIN"].contains("8"));
   EXPECT_EQ(doc.at("case_list").size(), 15u);
-  EXPECT_NE(r.out.find("confusion matrix"), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("confusion matrix"), std::string::npos) << r.out;
   expect_bad_input(run_gmwm({"gap-check", "--strengths", "2,x", "--json", "x.json"}, dir), {"--strengths"},
                    dir / "x.json");
   expect_bad_input(run_gmwm({"gap-check", "--replicates", "3", "--json", "x.json"}, dir), {"--replicates"},

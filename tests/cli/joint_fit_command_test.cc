@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "cli_runner.h"
-#include "gmwm/io/html_report.h"
+#include "gmwm/report/html_report.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
 using gmwm::test::expect_bad_input;
+using gmwm::test::flowed;
 using gmwm::test::run_gmwm;
 
 namespace {
@@ -178,8 +179,8 @@ TEST_F(GmwmCliJointFit, SelectWithOptimismAllGivesTheThreeWvicsSideBySide) {
                            "--optimism", "all", "--replicates", "20", "--json", "out.json"},
                           dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("bootstrap WVIC"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("smallest bootstrap WVIC"), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("bootstrap WVIC"), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("smallest bootstrap WVIC"), std::string::npos) << r.out;
   const auto doc = gmwm::test::read_json(json());
   EXPECT_EQ(doc["optimism"], "all");
   const auto& col = doc["columns"][0];
@@ -201,7 +202,7 @@ TEST_F(GmwmCliJointFit, RejectsTheBootstrapOptimismAloneWithReplicates) {
 }
 
 TEST_F(GmwmCliJointFit, FitAndSelectWriteAReportOfTheReplicates) {
-  if (!gmwm::io::vega_missing_reason().empty()) GTEST_SKIP() << gmwm::io::vega_missing_reason();
+  if (!gmwm::report::vega_missing_reason().empty()) GTEST_SKIP() << gmwm::report::vega_missing_reason();
   auto r = fit({"--joint", "r2.csv", "r3.csv", "--columns", "gx", "--report", "fit.html"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::string html = gmwm::test::read_text(dir_ / "fit.html");
@@ -260,8 +261,8 @@ TEST_F(GmwmCliJointFit, SelectGivesTheRecommendedModelFittedJointlyWithItsUnitFo
                      "gyro=deg/s", "--json", "out.json"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("recommended, fitted jointly: "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("deg/s/sqrt(Hz)"), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("recommended, fitted jointly: "), std::string::npos) << r.out;
+  EXPECT_NE(flowed(r.out).find("deg/s/sqrt(Hz)"), std::string::npos) << r.out;
   const auto doc = gmwm::test::read_json(json());
   const auto& col = doc["columns"][0];
   EXPECT_EQ(col["unit"], "deg/s");

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "cli_runner.h"
-#include "gmwm/io/html_report.h"
+#include "gmwm/report/html_report.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -71,7 +71,7 @@ TEST_F(GmwmOutputNames, TheCsvQuotesEveryNameAndDisarmsFormulas) {
 }
 
 TEST_F(GmwmOutputNames, TheReportHoldsTheNamesAsEscapedText) {
-  if (!gmwm::io::vega_missing_reason().empty()) GTEST_SKIP() << gmwm::io::vega_missing_reason();
+  if (!gmwm::report::vega_missing_reason().empty()) GTEST_SKIP() << gmwm::report::vega_missing_reason();
   const auto r = run_gmwm({"wv", "names.csv", "--report", "r.html", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string html = read_text(dir_ / "r.html");

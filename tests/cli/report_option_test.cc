@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cli_runner.h"
-#include "gmwm/io/html_report.h"
+#include "gmwm/report/html_report.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -51,7 +51,7 @@ TEST_F(ReportOption, RefusesStandardOutputAsTheReportsPath) {
 }
 
 TEST_F(ReportOption, WritesTheReportAndItsSvgForEveryCommand) {
-  if (const std::string why = gmwm::io::vega_missing_reason(); !why.empty()) {
+  if (const std::string why = gmwm::report::vega_missing_reason(); !why.empty()) {
     const char* req = std::getenv("GMWM_REQUIRE_BROWSER");
     if (req && std::string(req) == "1") FAIL() << "Vega is required (CI): " << why;
     GTEST_SKIP() << "Vega (Debian libjs-vega) not available: " << why;

@@ -35,7 +35,7 @@ class GmwmSelect : public ::testing::Test {
 };
 
 TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
-  auto r = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--json", "s.json"}, dir_);
+  auto r = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--verbose", "--json", "s.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "s.json");
   EXPECT_EQ(doc.at("command"), "select");

@@ -42,7 +42,7 @@ const json* find(const json& rows, const std::string& process, const std::string
 }
 
 TEST_F(GmwmUnits, FitGivesTheNoiseDensityInTheDeclaredUnitAndTheFilterTerms) {
-  auto r = run_gmwm({"fit", "g.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--json", "f.json"}, dir_);
+  auto r = run_gmwm({"fit", "g.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--verbose", "--json", "f.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json c = read_json(dir_ / "f.json").at("columns").at(0);
   EXPECT_EQ(c.at("unit"), "rad/s");
@@ -80,7 +80,7 @@ TEST_F(GmwmUnits, FitGivesTheNoiseDensityInTheDeclaredUnitAndTheFilterTerms) {
 }
 
 TEST_F(GmwmUnits, DegreesPerSecondDataGiveDensitiesInDegreesAndSelectReportsTheBestModelsTerms) {
-  auto r = run_gmwm({"select", "g.csv", "--model", "WN+RW", "--units", "gyro=deg/s", "--json", "s.json"}, dir_);
+  auto r = run_gmwm({"select", "g.csv", "--model", "WN+RW", "--units", "gyro=deg/s", "--verbose", "--json", "s.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json c = read_json(dir_ / "s.json").at("columns").at(0);
   EXPECT_EQ(c.at("unit"), "deg/s");

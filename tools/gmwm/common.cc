@@ -83,6 +83,9 @@ void add_common_options(CLI::App& sub, CommonOptions& common) {
       ->capture_default_str();
   sub.add_flag("--quiet,-q", common.quiet,
                "No result table on the terminal (errors and warnings still go to stderr)");
+  sub.add_flag("--verbose,-v", common.verbose,
+               "Every table on the terminal (fit, select: the ranking, continuous parameters, noise figures and "
+               "Kalman terms after the per-axis summary)");
   sub.add_option("--log-level", common.log_level,
                  "Library log level on stderr (the command reports fit statuses itself)")
       ->type_name("LEVEL")
@@ -219,17 +222,17 @@ void check_report_option(const CommonOptions& common) {
   if (common.report == "-")
     throw InputError("--report '-': expected a file path (the report is a file, with PATH.svg beside it)");
   declare_output(common, "--report", common.report);
-  declare_output(common, "--report", io::report_svg_path(common.report));
-  if (const std::string why = io::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
+  declare_output(common, "--report", report::report_svg_path(common.report));
+  if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
 }
 
-io::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec) {
-  io::ReportData r;
+report::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec) {
+  report::ReportData r;
   r.command = command;
   r.input = set.path;
   r.model_spec = model_spec;
   for (const auto& s : set.signals) {
-    io::ReportColumn c;
+    report::ReportColumn c;
     c.name = s.name;
     c.n = static_cast<std::int64_t>(s.values.size());
     c.freq = set.freq;
@@ -240,9 +243,9 @@ io::ReportData report_data(const std::string& command, const io::SignalSet& set,
   return r;
 }
 
-void write_report(const CommonOptions& common, const io::ReportData& data) {
+void write_report(const CommonOptions& common, const report::ReportData& data) {
   if (common.report.empty()) return;
-  io::stage_html_report(*common.outputs, common.report, data);
+  report::stage_html_report(*common.outputs, common.report, data);
 }
 
 std::vector<std::string> split_list(const std::string& s) {
@@ -310,7 +313,7 @@ std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
   return robust::robust_wv(series, options);
 }
 
-io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {
+report::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {
   const auto& s = set.signals[k];
   return {s.name, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known, {}};
 }
@@ -320,12 +323,12 @@ int active_threads() {
       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
-void write_json(const CommonOptions& common, io::Json& doc, io::RunInfo run) {
+void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo run) {
   if (common.json.empty()) return;
   run.threads = active_threads();
   run.argv = common.argv;
-  io::add_run_info(doc, run);
-  common.outputs->stage(common.json, io::dump_json(doc));
+  report::add_run_info(doc, run);
+  common.outputs->stage(common.json, report::dump_json(doc));
 }
 
 std::string fmt(double x, int digits) {
@@ -335,41 +338,9 @@ std::string fmt(double x, int digits) {
   return buf;
 }
 
-Table::Table(std::vector<std::string> header, int left) : left_(left) {
-  rows_.push_back(std::move(header));
-}
-
-void Table::add(std::vector<std::string> row) {
-  // One printable line a cell (names from files may hold control bytes): the widths then
-  // count what the terminal shows.
-  for (std::string& cell : row) cell = printable_line(cell);
-  rows_.push_back(std::move(row));
-}
-
-std::string Table::str() const {
-  std::vector<std::size_t> width;
-  for (const auto& r : rows_)
-    for (std::size_t c = 0; c < r.size(); ++c) {
-      if (width.size() <= c) width.push_back(0);
-      width[c] = std::max(width[c], r[c].size());
-    }
-  std::ostringstream os;
-  for (const auto& r : rows_) {
-    std::string line;
-    for (std::size_t c = 0; c < r.size(); ++c) {
-      const std::string pad(width[c] - r[c].size(), ' ');
-      if (c) line += "  ";
-      line += static_cast<int>(c) < left_ ? r[c] + pad : pad + r[c];
-    }
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    os << line << '\n';
-  }
-  return os.str();
-}
-
 void warn(const std::string& message) { std::cerr << "gmwm: warning: " << printable_line(message) << '\n'; }
 
-void print_text(const std::string& text) { std::cout << printable_text(text) << std::flush; }
+void print_text(const std::string& text) { std::cout << report::wrap_to_width(printable_text(text)) << std::flush; }
 
 void warn_about_timing(const io::SignalSet& set) {
   if (!set.timing) return;

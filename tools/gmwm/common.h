@@ -16,8 +16,9 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/random.h"
-#include "gmwm/io/html_report.h"
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/html_report.h"
+#include "gmwm/report/json_output.h"
+#include "gmwm/report/terminal.h"
 #include "gmwm/io/output_set.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
@@ -30,6 +31,7 @@ struct CommonOptions {
   int threads = 0;                  ///< --threads N; 0: all cores
   std::uint64_t seed = kDefaultSeed;
   bool quiet = false;
+  bool verbose = false;             ///< --verbose: the detail tables after the summary
   std::string log_level = "error";
   std::vector<std::string> argv;    ///< the command line, for the JSON "run" object
   std::string report;               ///< --report PATH (wv, fit, select, gap); empty: none
@@ -40,6 +42,10 @@ struct CommonOptions {
   /// True when the terminal table goes to stdout (not --quiet, not --json -).
   bool show_table() const { return !quiet && json != "-"; }
 };
+
+/// The last line of a summary-only terminal (fit, select): where the details are.
+inline constexpr const char* kDetailsHint =
+    "(--verbose: the ranking, parameters, read-offs and Kalman terms; --json, --report: everything)\n";
 
 /// The largest --levels: J levels need 2^J samples, and no record reaches 2^62.
 inline constexpr int kMaxLevelsOption = 62;
@@ -131,9 +137,9 @@ void add_report_option(CLI::App& sub, CommonOptions& common);
 /// folder (not '-') and the Vega modules the page inlines can be read.
 void check_report_option(const CommonOptions& common);
 /// The report's skeleton: one column per signal (name, n, rate, unit), no results yet.
-io::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec = {});
+report::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec = {});
 /// Stages the report and its SVG when --report was given.
-void write_report(const CommonOptions& common, const io::ReportData& data);
+void write_report(const CommonOptions& common, const report::ReportData& data);
 
 /// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown.
 io::SignalSet read_input(const InputOptions& input);
@@ -147,28 +153,20 @@ std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOption
 std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
                                                const robust::RobustWvOptions& options);
 
-io::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
+report::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
 
 /// TBB's current parallelism limit.
 int active_threads();
 
 /// Fills RunInfo and stages the JSON document when --json was given.
-void write_json(const CommonOptions& common, io::Json& doc, io::RunInfo run);
+void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo run);
 
 /// A number for tables: %.6g, "-" when not finite.
 std::string fmt(double x, int digits = 6);
 
 /// A plain text table: columns right-aligned except the first `left` ones.
-class Table {
- public:
-  explicit Table(std::vector<std::string> header, int left = 0);
-  void add(std::vector<std::string> row);
-  std::string str() const;
-
- private:
-  std::vector<std::vector<std::string>> rows_;
-  int left_;
-};
+/// The terminal's tables (report/terminal.h): they fit report::kTerminalWidth columns.
+using Table = report::TextTable;
 
 /// Wall-clock seconds since construction.
 class Stopwatch {

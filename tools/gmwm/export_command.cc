@@ -199,42 +199,42 @@ nav::ImuModel written_model(const io::ExportResult& r, const nav::ImuModel& trut
   return m;
 }
 
-io::Json written_json(const io::WrittenNoise& w) {
-  return {{"noise_density", io::json_number(w.noise_density)},
-          {"random_walk", io::json_number(w.random_walk)},
-          {"bias_drive", io::json_number(w.bias_drive)},
-          {"bias_correlation_time", io::json_number(w.bias_correlation_time)},
+report::Json written_json(const io::WrittenNoise& w) {
+  return {{"noise_density", report::json_number(w.noise_density)},
+          {"random_walk", report::json_number(w.random_walk)},
+          {"bias_drive", report::json_number(w.bias_drive)},
+          {"bias_correlation_time", report::json_number(w.bias_correlation_time)},
           {"bias_from_random_walk", w.bias_from_random_walk}};
 }
 
-io::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, const std::string& output,
+report::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, const std::string& output,
                      const std::string& source) {
-  io::Json doc = io::json_document("export");
+  report::Json doc = report::json_document("export");
   doc["format"] = io::to_string(o.format);
   doc["output"] = output;
-  doc["sidecar"] = r.sidecar ? io::Json(output + ".txt") : io::Json(nullptr);
+  doc["sidecar"] = r.sidecar ? report::Json(output + ".txt") : report::Json(nullptr);
   doc["source"] = source;
   doc["aggregation"] = io::to_string(o.aggregation);
-  doc["inflate"] = io::json_number(o.inflate);
-  doc["inflate_walk"] = io::json_number(o.inflate_walk.value_or(o.inflate));
-  doc["rate"] = io::json_number(r.rate);
+  doc["inflate"] = report::json_number(o.inflate);
+  doc["inflate_walk"] = report::json_number(o.inflate_walk.value_or(o.inflate));
+  doc["rate"] = report::json_number(r.rate);
   for (const auto& a : r.columns) {
-    io::Json c = {{"name", a.column}, {"freq", io::json_number(a.freq)}, {"kind", io::to_string(a.kind)},
+    report::Json c = {{"name", a.column}, {"freq", report::json_number(a.freq)}, {"kind", io::to_string(a.kind)},
                   {"unit", a.unit.name}, {"model", a.model},
-                  {"noise_density", io::json_number(a.white)}, {"random_walk", io::json_number(a.walk)}};
-    io::Json gm = io::Json::array();
+                  {"noise_density", report::json_number(a.white)}, {"random_walk", report::json_number(a.walk)}};
+    report::Json gm = report::Json::array();
     for (const auto& g : a.gauss_markov)
-      gm.push_back({{"correlation_time", io::json_number(g.correlation_time)},
-                    {"sigma", io::json_number(g.sigma)},
-                    {"drive", io::json_number(g.drive)}});
+      gm.push_back({{"correlation_time", report::json_number(g.correlation_time)},
+                    {"sigma", report::json_number(g.sigma)},
+                    {"drive", report::json_number(g.drive)}});
     c["gauss_markov"] = std::move(gm);
     c["others"] = a.others;
     doc["columns"].push_back(std::move(c));
   }
-  io::Json kinds = io::Json::object();
+  report::Json kinds = report::Json::object();
   for (const auto& k : r.kinds) {
     if (k.columns.empty()) continue;
-    io::Json e = {{"columns", k.columns}, {"per_axis", k.per_axis}, {"combined", written_json(k.combined)}};
+    report::Json e = {{"columns", k.columns}, {"per_axis", k.per_axis}, {"combined", written_json(k.combined)}};
     if (k.per_axis) e["axes"] = {{"x", written_json(k.axes[0])}, {"y", written_json(k.axes[1])}, {"z", written_json(k.axes[2])}};
     kinds[io::to_string(k.kind)] = std::move(e);
   }
@@ -333,18 +333,18 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
   common.outputs->stage(a.output, r.content);
   if (r.sidecar) common.outputs->stage(a.output + ".txt", *r.sidecar);
   for (const auto& w : r.warnings) warn(w);
-  io::Json doc = result_json(o, r, a.output, source);
+  report::Json doc = result_json(o, r, a.output, source);
   doc["consistent_for"] = nullptr;
   if (consistent)
-    doc["consistent_for"] = {{"update_rate", io::json_number(consistency->update_rate)},
-                             {"horizon", io::json_number(consistency->horizon)},
-                             {"fix_sigma", io::json_number(consistency->fix_sigma)},
-                             {"white_factor", io::json_number(consistent->white)},
-                             {"walk_factor", io::json_number(consistent->factor)},
+    doc["consistent_for"] = {{"update_rate", report::json_number(consistency->update_rate)},
+                             {"horizon", report::json_number(consistency->horizon)},
+                             {"fix_sigma", report::json_number(consistency->fix_sigma)},
+                             {"white_factor", report::json_number(consistent->white)},
+                             {"walk_factor", report::json_number(consistent->factor)},
                              {"verdict", nav::to_string(consistent->verdict)},
-                             {"nees_inside", io::json_number(consistent->nees_inside)},
-                             {"smaller_factor", io::json_number(consistent->smaller)},
-                             {"smaller_factor_above_band", io::json_number(consistent->smaller_above)},
+                             {"nees_inside", report::json_number(consistent->nees_inside)},
+                             {"smaller_factor", report::json_number(consistent->smaller)},
+                             {"smaller_factor_above_band", report::json_number(consistent->smaller_above)},
                              {"reason", consistent->reason}};
   write_json(common, doc, {.threads = 0, .seconds = {}, .argv = {}});
   commit_outputs(common);

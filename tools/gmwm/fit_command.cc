@@ -47,7 +47,7 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const Wavel
   os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
   if (has_theta) {
     Table t({"process", "component", "name", "value", "se", "CI low", "CI high", "interval"}, 1);
-    for (const io::ParameterRow& p : io::parameter_rows(r))
+    for (const report::ParameterRow& p : report::parameter_rows(r))
       t.add({p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
              fmt(p.ci_low), fmt(p.ci_high), p.interval == "two-sided" ? "" : p.interval});
     os << t.str();
@@ -87,11 +87,11 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
     for (std::size_t k = 0; k < r.singles.size(); ++k) header.push_back("replicate " + std::to_string(k + 1));
     Table t(header, 1);
     // Every column in display units (SIN f in Hz ...), as parameter_rows gives them.
-    const auto rows = io::parameter_rows(j);
-    const auto agmwm = io::parameter_rows(io::agmwm_as_fit(r));
-    const auto boot_rows = boot ? io::parameter_rows(io::replicate_bootstrap_as_fit(r, *boot)) : std::vector<io::ParameterRow>{};
-    std::vector<std::vector<io::ParameterRow>> own;
-    for (const auto& s : r.singles) own.push_back(io::parameter_rows(s));
+    const auto rows = report::parameter_rows(j);
+    const auto agmwm = report::parameter_rows(report::agmwm_as_fit(r));
+    const auto boot_rows = boot ? report::parameter_rows(report::replicate_bootstrap_as_fit(r, *boot)) : std::vector<report::ParameterRow>{};
+    std::vector<std::vector<report::ParameterRow>> own;
+    for (const auto& s : r.singles) own.push_back(report::parameter_rows(s));
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const auto& p = rows[i];
       std::vector<std::string> row = {p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
@@ -148,9 +148,9 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   const pipeline::JointFitStudy study = pipeline::study_joint_fit(groups, ProcessContext{set.freq, set.freq_known}, o);
   bar.finish();
 
-  io::Json doc = io::joint_fit_document(set, groups, study, units, filter);
+  report::Json doc = report::joint_fit_document(set, groups, study, units, filter);
   const std::string estimator = replicate_estimator_text(robust);
-  std::string report;
+  std::string report = report::axis_summary(doc) + "\n";
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const JointAnalysis& a = study.groups[i].analysis;
     report += (i ? "\n" : "") + joint_report(groups[i], a.fit, a.test ? &*a.test : nullptr,
@@ -159,7 +159,7 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {
-    io::ReportData rep = report_data("fit", set, args.model);
+    report::ReportData rep = report_data("fit", set, args.model);
     for (std::size_t i = 0; i < groups.size(); ++i)
       fill_joint_report_column(rep.columns[i], groups[i], study.groups[i].wvs, study.groups[i].analysis, estimator);
     write_report(common, rep);
@@ -215,18 +215,20 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
 
   // Everything is computed: build the outputs, then write them.
-  io::Json doc = io::fit_document(set, study, units, filter_rate(args.units, set));
+  report::Json doc = report::fit_document(set, study, units, filter_rate(args.units, set));
   const double filter = filter_rate(args.units, set);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
-    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    report += report::axis_summary(doc);
+    for (std::size_t k = 0; common.verbose && k < study.columns.size(); ++k) {
       const pipeline::FitColumnStudy& c = study.columns[k];
-      const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
+      const report::ColumnInfo info = with_unit(column_info(set, k), args.units);
       const ChosenFigures* chosen = c.figures ? &c.figures->chosen : nullptr;
-      report += (k ? "\n" : "") + terminal_report(set, k, c.wv, c.fit, options.omega) + continuous_table(c.fit, info) +
+      report += "\n" + terminal_report(set, k, c.wv, c.fit, options.omega) + continuous_table(c.fit, info) +
                 (chosen ? noise_figures_table(*chosen, units[k]) : "") + kalman_table(c.fit, info, filter, chosen);
     }
+    if (!common.verbose) report += kDetailsHint;
   }
 
   warn_about_timing(set);
@@ -248,7 +250,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
                           {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty() && usable > 0) {
-    io::ReportData rep = report_data("fit", set, args.model);
+    report::ReportData rep = report_data("fit", set, args.model);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::FitColumnStudy& c = study.columns[k];
       rep.columns[k].wvs = {c.wv};

@@ -111,7 +111,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   ProgressBar bar("gap-check: cases", common);
   if (bar.enabled()) o.progress = [&](int done, int all) { bar.update(done, all); };
   const gap::GapCheckResult r = gap::run_gap_check(o);
-  io::Json doc = io::gap_check_document(o, r);
+  report::Json doc = report::gap_check_document(o, r);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
   if (common.show_table()) print_text(report(r));

@@ -16,7 +16,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
-#include "gmwm/io/corrected_config.h"
+#include "gmwm/pipeline/corrected_config.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/engine/physical.h"
@@ -54,7 +54,7 @@ std::string effect_table(const gap::GapResult& g, const io::SignalSet& set, cons
   const FitResult& f = g.final_fit;
   if (f.status == FitStatus::kFailed || f.theta.size() != f.model.num_parameters() || f.theta.size() == 0) return {};
   Table t({"effect parameter", "value", "95% interval (bootstrap)", "unit"}, 1);
-  for (const auto& r : io::parameter_rows(f))
+  for (const auto& r : report::parameter_rows(f))
     t.add({r.process + " " + r.name, fmt(r.value, 5), fmt(r.ci_low, 4) + " - " + fmt(r.ci_high, 4), "discrete"});
   if (set.freq_known && f.ci_low.size() == f.theta.size())
     for (int k = 0; k < f.model.num_components(); ++k) {
@@ -121,7 +121,7 @@ std::string terminal_report(const std::string& name, const gap::GapResult& g, co
 
 // What to change: the corrected configuration's fields (input -> corrected) and, per
 // column, the gap left with the input, with the corrected file and with the full model.
-std::string changes_text(const io::CorrectedConfig& c, const io::SignalSet& set, const pipeline::GapStudy& study) {
+std::string changes_text(const pipeline::CorrectedConfig& c, const io::SignalSet& set, const pipeline::GapStudy& study) {
   std::ostringstream os;
   os << "\nwhat to change (" << c.format << ", --corrected writes it):\n";
   if (c.format != "model") {
@@ -253,11 +253,11 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   const pipeline::GapStudy study = pipeline::study_gap(set, options);
 
   // The corrected configuration (docs/gap.md): in the JSON and the table always, in a file with --corrected.
-  std::optional<io::CorrectedConfig> corrected =
-      io::corrected_config(set, study, options, {options.units, options.sensor, baseline_file});
+  std::optional<pipeline::CorrectedConfig> corrected =
+      pipeline::corrected_config(set, study, options, {options.units, options.sensor, baseline_file});
   if (!args.corrected.empty()) common.outputs->stage(args.corrected, corrected->content);
-  io::Json doc = io::gap_document(set, study);
-  if (corrected) doc["corrected"] = io::corrected_config_json(*corrected, set.freq_known ? set.freq : 0.0);
+  report::Json doc = report::gap_document(set, study);
+  if (corrected) doc["corrected"] = report::corrected_config_json(*corrected, set.freq_known ? set.freq : 0.0);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
@@ -279,7 +279,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
                           {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
-    io::ReportData rep = report_data("gap", set,
+    report::ReportData rep = report_data("gap", set,
                                      !args.model.empty() ? args.model
                                      : !args.fit.empty() ? "fit " + args.fit
                                                          : baseline_file);

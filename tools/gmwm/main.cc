@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   CLI::App app{"gmwm: wavelet variance and GMWM models of the stochastic errors of inertial "
                "sensors and other long, autocorrelated signals",
                "gmwm"};
-  app.set_version_flag("--version", gmwm::io::version());
+  app.set_version_flag("--version", gmwm::report::version());
   app.require_subcommand(1);
 
   // Past a file-size limit (ulimit -f) write(2) must fail with EFBIG, so that the staged

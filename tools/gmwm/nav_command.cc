@@ -10,7 +10,7 @@
 
 #include "common.h"
 #include "gmwm/engine/error.h"
-#include "gmwm/io/nav_output.h"
+#include "gmwm/report/nav_output.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/nav_study.h"
 
@@ -51,7 +51,7 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   if (!common.report.empty()) {
     if (common.report == "-") throw InputError("--report '-': expected a file path (the report is a file)");
     declare_output(common, "--report", common.report);
-    if (const std::string why = io::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
+    if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
   }
   pipeline::NavStudyOptions o;
   const auto trajectory = nav::parse_trajectory(args.trajectory);
@@ -80,14 +80,14 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
     };
   const pipeline::NavStudy study = pipeline::study_nav(o);
   bar.finish();
-  io::Json doc = io::nav_document(study);
+  report::Json doc = report::nav_document(study);
   write_json(common, doc,
              {.threads = active_threads(),
               .seconds = {{"analysis", study.seconds_exact}, {"monte_carlo", study.seconds_sampled}, {"total", total.seconds()}},
               .argv = {}});
-  if (!common.report.empty()) common.outputs->stage(common.report, io::render_nav_html(study));
+  if (!common.report.empty()) common.outputs->stage(common.report, report::render_nav_html(study));
   commit_outputs(common);
-  if (common.show_table()) print_text(io::nav_terminal(study));
+  if (common.show_table()) print_text(report::nav_terminal(study));
   return 0;
 }
 

@@ -5,7 +5,7 @@
 // runs pipeline::study_plan, renders with io/plan_output.h, commits.
 #include "common.h"
 #include "gmwm/engine/error.h"
-#include "gmwm/io/plan_output.h"
+#include "gmwm/report/plan_output.h"
 #include "gmwm/pipeline/plan_study.h"
 
 namespace gmwm::cli {
@@ -33,10 +33,10 @@ int run_plan(const PlanArgs& a, const CommonOptions& common) {
   o.plan.record_seconds = a.have;
   if (!o.result.empty()) declare_input(common, o.result);
   const pipeline::PlanStudy study = pipeline::study_plan(o);
-  io::Json doc = io::plan_document(study, o.plan);
+  report::Json doc = report::plan_document(study, o.plan);
   write_json(common, doc, {.threads = active_threads(), .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
-  if (common.show_table()) print_text(io::plan_terminal(study, o.plan));
+  if (common.show_table()) print_text(report::plan_terminal(study, o.plan));
   return 0;
 }
 

@@ -78,8 +78,8 @@ std::string replicate_estimator_text(const robust::RobustWvOptions* robust) {
   return robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
 }
 
-io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator) {
-  io::ReplicateReport r;
+report::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator) {
+  report::ReplicateReport r;
   r.sources = group.sources;
   for (const auto& s : group.series) r.n.push_back(static_cast<std::int64_t>(s.size()));
   r.estimator = estimator;
@@ -89,7 +89,7 @@ io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::str
 std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalSet& set, const FitResult& joint,
                                   const std::optional<ChosenFigures>& figures, const UnitsOptions& units,
                                   double filter_rate) {
-  const io::ColumnInfo info = with_unit(
+  const report::ColumnInfo info = with_unit(
       {group.axis, group.series.empty() ? 0 : static_cast<std::int64_t>(group.series.front().size()), set.freq,
        set.freq_known, ""},
       units);
@@ -97,7 +97,7 @@ std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalS
          kalman_table(joint, info, filter_rate, figures ? &*figures : nullptr);
 }
 
-void fill_joint_report_column(io::ReportColumn& column, const ReplicateGroup& group,
+void fill_joint_report_column(report::ReportColumn& column, const ReplicateGroup& group,
                               const std::vector<WaveletVariance>& wvs, const JointAnalysis& analysis,
                               const std::string& estimator) {
   column.wvs = wvs;

@@ -12,7 +12,7 @@
 #include "units_tables.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model.h"
-#include "gmwm/io/html_report.h"
+#include "gmwm/report/html_report.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/pipeline/replicate_study.h"
 #include "gmwm/robust/robust_wv.h"
@@ -37,7 +37,7 @@ std::string replicate_estimator_text(const robust::RobustWvOptions* robust);
 
 /// The report's replicate block of a group (sources, lengths, estimator); the caller adds
 /// the joint fit, test and selection.
-io::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator);
+report::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator);
 
 /// The joint model's tables in the data's units, as a single fit shows them: continuous
 /// parameters, noise figures (when given) and the Kalman terms at `filter_rate` Hz.
@@ -47,7 +47,7 @@ std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalS
 
 /// A report column of a group's joint analysis: its replicates' WVs, the joint fit, the
 /// replicate block with the joint fit, test and bootstrap.
-void fill_joint_report_column(io::ReportColumn& column, const ReplicateGroup& group,
+void fill_joint_report_column(report::ReportColumn& column, const ReplicateGroup& group,
                               const std::vector<WaveletVariance>& wvs, const JointAnalysis& analysis,
                               const std::string& estimator);
 

@@ -175,8 +175,8 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
       pipeline::study_joint_select(groups, ProcessContext{set.freq, set.freq_known}, o);
   bar.finish();
   const std::string estimator = replicate_estimator_text(robust);
-  io::Json doc = io::joint_select_document(set, groups, study, units, filter);
-  std::string report;
+  report::Json doc = report::joint_select_document(set, groups, study, units, filter);
+  std::string report = report::axis_summary(doc) + "\n";
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const FitResult& best = study.recommended[i].fit.joint;
     report += (i ? "\n" : "") + joint_select_report(groups[i], study.results[i], estimator);
@@ -186,7 +186,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   if (!common.report.empty()) {
-    io::ReportData rep = report_data("select", set, args.model);
+    report::ReportData rep = report_data("select", set, args.model);
     for (std::size_t i = 0; i < groups.size(); ++i) {
       fill_joint_report_column(rep.columns[i], groups[i], study.wvs[i], study.recommended[i], estimator);
       rep.columns[i].replicates->selection = study.results[i];
@@ -263,18 +263,20 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   std::vector<std::string> units;
   for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
   const double filter = filter_rate(args.units, set);
-  io::Json doc = io::select_document(set, study, units, filter);
+  report::Json doc = report::select_document(set, study, units, filter);
   std::string report;
   if (common.show_table()) {
     if (set.timing) report += set.timing->summary() + "\n";
-    for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    report += report::axis_summary(doc);
+    for (std::size_t k = 0; common.verbose && k < study.columns.size(); ++k) {
       const pipeline::SelectColumnStudy& c = study.columns[k];
-      const io::ColumnInfo info = with_unit(column_info(set, k), args.units);
+      const report::ColumnInfo info = with_unit(column_info(set, k), args.units);
       const ChosenFigures* chosen = c.figures ? &c.figures->chosen : nullptr;
-      report += (k ? "\n" : "") + terminal_report(set, k, c.selection) + continuous_table(c.selection.best_fit, info) +
+      report += "\n" + terminal_report(set, k, c.selection) + continuous_table(c.selection.best_fit, info) +
                 (chosen ? noise_figures_table(*chosen, info.unit) : "") +
                 kalman_table(c.selection.best_fit, info, filter, chosen);
     }
+    if (!common.verbose) report += kDetailsHint;
   }
   warn_about_timing(set);
   for (const pipeline::SelectColumnStudy& c : study.columns)
@@ -289,7 +291,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
                           {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
-    io::ReportData rep = report_data("select", set, specs.empty() ? args.model : args.models);
+    report::ReportData rep = report_data("select", set, specs.empty() ? args.model : args.models);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::SelectColumnStudy& c = study.columns[k];
       rep.columns[k].wvs = {c.wv};

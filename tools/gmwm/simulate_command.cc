@@ -132,13 +132,13 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
     signals[k].values = std::move(series[k]);
   }
 
-  io::Json doc = io::json_document("simulate");
+  report::Json doc = report::json_document("simulate");
   doc["model"] = model.to_string(theta);
   doc["seed"] = common.seed;
   doc["output"] = args.output;
-  doc["quantum"] = args.quantum ? io::json_number(*args.quantum) : io::Json(nullptr);
+  doc["quantum"] = args.quantum ? report::json_number(*args.quantum) : report::Json(nullptr);
   for (std::size_t k = 0; k < signals.size(); ++k)
-    doc["columns"].push_back(io::column_json(
+    doc["columns"].push_back(report::column_json(
         {signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
 
   Stopwatch write_clock;

@@ -34,30 +34,30 @@ double filter_rate(const UnitsOptions& o, const io::SignalSet& set) {
   return set.freq_known ? set.freq : 0.0;
 }
 
-io::ColumnInfo with_unit(io::ColumnInfo info, const UnitsOptions& o) {
+report::ColumnInfo with_unit(report::ColumnInfo info, const UnitsOptions& o) {
   info.unit = column_unit(o, info.name);
   return info;
 }
 
-std::string continuous_table(const FitResult& fit, const io::ColumnInfo& column) {
-  const io::Json rows = io::continuous_json(fit, column);
+std::string continuous_table(const FitResult& fit, const report::ColumnInfo& column) {
+  const report::Json rows = report::continuous_json(fit, column);
   if (rows.empty()) return {};
   Table t({"continuous", "value", "CI low", "CI high", "unit"}, 1);
   for (const auto& r : rows) {
     if (r.at("unit").get<std::string>().empty()) continue;  // no physical counterpart (MA1, ARMA)
-    auto num = [](const io::Json& v) { return v.is_number() ? fmt(v.get<double>(), 5) : std::string("-"); };
+    auto num = [](const report::Json& v) { return v.is_number() ? fmt(v.get<double>(), 5) : std::string("-"); };
     t.add({r.at("process").get<std::string>() + " " + r.at("name").get<std::string>(), num(r.at("value")),
            num(r.at("ci_low")), num(r.at("ci_high")), r.at("unit").get<std::string>()});
   }
   return t.str();
 }
 
-std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate,
+std::string kalman_table(const FitResult& fit, const report::ColumnInfo& column, double filter_rate,
                          const ChosenFigures* figures) {
-  const io::Json k = io::kalman_json(fit, column, filter_rate, figures);
+  const report::Json k = report::kalman_json(fit, column, filter_rate, figures);
   if (k.at("terms").empty()) return {};
   Table t({"Kalman filter at " + fmt(filter_rate, 6) + " Hz", "role", "q (continuous)", "F", "R or Q_d", "note"}, 2);
-  auto num = [](const io::Json& v, const io::Json& unit) {
+  auto num = [](const report::Json& v, const report::Json& unit) {
     if (!v.is_number()) return std::string("-");
     return fmt(v.get<double>(), 5) + (unit.is_string() ? " " + unit.get<std::string>() : "");
   };
@@ -68,7 +68,7 @@ std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, dou
 }
 
 std::string noise_figures_table(const ChosenFigures& figures, const std::string& unit) {
-  const io::FigureUnits units = io::figure_units(unit);
+  const report::FigureUnits units = report::figure_units(unit);
   Table t({"noise figure (IEEE 952)", "value", "CI low", "CI high", "unit", "source", "model's", "data's", "read"}, 1);
   auto status = [](const Readoff& r) {
     if (!r.available()) return std::string("-");

@@ -11,7 +11,7 @@
 
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/noise_figures.h"
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
 
@@ -34,13 +34,13 @@ std::string column_unit(const UnitsOptions& o, const std::string& column);
 /// The filter rate: --kf-rate, else the data's rate (0 when unknown).
 double filter_rate(const UnitsOptions& o, const io::SignalSet& set);
 
-/// The column's info with its unit, for io::continuous_json / kalman_json.
-io::ColumnInfo with_unit(io::ColumnInfo info, const UnitsOptions& o);
+/// The column's info with its unit, for report::continuous_json / kalman_json.
+report::ColumnInfo with_unit(report::ColumnInfo info, const UnitsOptions& o);
 
 /// Text tables: the parameters in continuous units with their intervals, and the Kalman
 /// filter terms (empty strings when the rate is unknown or the fit unusable).
-std::string continuous_table(const FitResult& fit, const io::ColumnInfo& column);
-std::string kalman_table(const FitResult& fit, const io::ColumnInfo& column, double filter_rate,
+std::string continuous_table(const FitResult& fit, const report::ColumnInfo& column);
+std::string kalman_table(const FitResult& fit, const report::ColumnInfo& column, double filter_rate,
                          const ChosenFigures* figures = nullptr);
 
 /// The noise figures N, K, B (IEEE 952 read-offs): the value to use with its source,

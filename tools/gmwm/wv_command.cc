@@ -179,7 +179,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   // Everything is computed: build the outputs, then write them.
   std::vector<std::string> units;
   for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
-  io::Json doc = io::wv_document(set, study, units);
+  report::Json doc = report::wv_document(set, study, units);
   const std::string csv = args.csv.empty() ? std::string() : csv_table(set, study);
   const std::string table = common.show_table() ? terminal_table(set, study) : std::string();
 
@@ -194,7 +194,7 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
                           {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) {
-    io::ReportData rep = report_data("wv", set);
+    report::ReportData rep = report_data("wv", set);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::WvColumnStudy& c = study.columns[k];
       rep.columns[k].wvs = c.robust ? std::vector<WaveletVariance>{c.robust->classical, c.wv} : std::vector<WaveletVariance>{c.wv};

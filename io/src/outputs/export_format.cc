@@ -86,7 +86,7 @@ std::string ExportOptions::Validate() const {
   return "";
 }
 
-namespace export_detail {
+namespace export_text {
 
 std::string real(double x) {
   if (!std::isfinite(x)) return x != x ? ".nan" : x > 0 ? ".inf" : "-.inf";
@@ -135,15 +135,19 @@ std::string xml_comment(const std::vector<std::string>& lines, const std::string
   return out + indent + "-->\n";
 }
 
-SiNames si_names(SensorKind kind) {
-  return kind == SensorKind::kGyro ? SiNames{"rad/s", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)"}
-                                   : SiNames{"m/s^2", "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)"};
-}
-
 const KindExport* find_kind(const ExportResult& r, SensorKind kind) {
   for (const auto& k : r.kinds)
     if (k.kind == kind && !k.columns.empty()) return &k;
   return nullptr;
+}
+
+}  // namespace export_text
+
+namespace export_detail {
+
+SiNames si_names(SensorKind kind) {
+  return kind == SensorKind::kGyro ? SiNames{"rad/s", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)"}
+                                   : SiNames{"m/s^2", "m/s^2/sqrt(Hz)", "m/s^3/sqrt(Hz)"};
 }
 
 WrittenNoise combined_or_zero(const ExportResult& r, SensorKind kind) {

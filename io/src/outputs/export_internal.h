@@ -9,26 +9,17 @@
 #include <vector>
 
 #include "gmwm/io/export.h"
+#include "gmwm/io/export_text.h"
 
 namespace gmwm::io::export_detail {
 
-/// A real number as every consumer reads it back exactly: the shortest text that round-trips
-/// (std::to_chars), always with a '.' in the mantissa and a signed exponent, e.g. "0.00016968",
-/// "2.0e-05", "200.0". PyYAML (Kalibr) reads a YAML 1.1 float only with a dot (and a signed
-/// exponent), and ORB-SLAM3's Settings::readParameter<float> rejects a value OpenCV's
-/// FileStorage parses as an integer ("IMU.Frequency: 200" aborts it; "200.0" does not).
-std::string real(double x);
-
-/// %.*g, for comments.
-std::string num(double x, int digits = 6);
-
-/// Lines as comments: "<prefix><line>" each, "#" alone for empty lines.
-std::string yaml_comments(const std::vector<std::string>& lines);
-/// Lines inside one XML comment <!-- ... -->; "--" (not allowed in XML comments) becomes "- -".
-std::string xml_comment(const std::vector<std::string>& lines, const std::string& indent = "");
-/// `text` as the content of one XML comment: one printable line (printable_line) without
-/// "--", not ending with '-'; whatever a name holds, it cannot close the comment.
-std::string xml_comment_text(std::string_view text);
+// The text helpers (gmwm/io/export_text.h), by their short names here.
+using export_text::find_kind;
+using export_text::num;
+using export_text::real;
+using export_text::xml_comment;
+using export_text::xml_comment_text;
+using export_text::yaml_comments;
 
 /// SI unit names of a sensor kind.
 struct SiNames {
@@ -38,8 +29,6 @@ struct SiNames {
 };
 SiNames si_names(SensorKind kind);
 
-/// The exported figures of `kind` (nullptr when the source has no column of that kind).
-const KindExport* find_kind(const ExportResult& r, SensorKind kind);
 /// The figures of `kind` to write in a one-value-per-sensor field: the aggregate, or zeros
 /// when the kind is absent.
 WrittenNoise combined_or_zero(const ExportResult& r, SensorKind kind);

@@ -2,7 +2,7 @@
 // The fit study of a signal set: one model fitted by GMWM to the (classical or robust) WV of
 // every column, drifts oriented by the series' slope, and the noise figures (N, K, B) read
 // off the data's and the model's Allan deviations. What `gmwm fit` and Python's gmwm.fit
-// both run; io::fit_document writes it.
+// both run; report::fit_document writes it.
 //
 //   gmwm::pipeline::FitStudyOptions o;
 //   o.model = "AR1+WN+RW";

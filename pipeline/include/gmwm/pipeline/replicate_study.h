@@ -2,8 +2,8 @@
 // Studies over replicates (several recordings of one sensor): the joint fit of one model per
 // axis (MGMWM with the shared-theta test and replicate-t intervals) and the selection over
 // replicates (cross-validated WVIC, with the joint fit's analytic and bootstrap WVIC beside
-// it). What `gmwm fit --joint` and `gmwm select --joint` run; io::joint_fit_document and
-// io::joint_select_document write them.
+// it). What `gmwm fit --joint` and `gmwm select --joint` run; report::joint_fit_document and
+// report::joint_select_document write them.
 
 #include <cstdint>
 #include <functional>

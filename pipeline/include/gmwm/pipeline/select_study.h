@@ -3,7 +3,7 @@
 // a list, fitted under their common supermodel's Omega) ranked by WVIC or BIC on each
 // column's (classical or robust) WV, the best fit's drift oriented by the series' slope,
 // and its noise figures. What `gmwm select` and Python's gmwm.select both run;
-// io::select_document writes it.
+// report::select_document writes it.
 //
 //   gmwm::pipeline::SelectStudyOptions o;
 //   o.models = {"3*AR1+WN+RW+QN+DR"};

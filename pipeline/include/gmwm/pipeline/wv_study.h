@@ -2,7 +2,7 @@
 // The wavelet-variance study of a signal set: each column's classical WV, or its robust WV
 // with the classical one beside it, the rounding (quantization) check and the per-level
 // contamination diagnostic; optionally the overlapping Allan deviation and the noise
-// figures read off it. What `gmwm wv` runs; io::wv_document writes it.
+// figures read off it. What `gmwm wv` runs; report::wv_document writes it.
 
 #include <optional>
 #include <string>

@@ -10,11 +10,11 @@
 //   "monte_carlo": {"runs", "seed"} | null, "run": {...}}.
 #include <string>
 
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 #include "gmwm/io/output_set.h"
 #include "gmwm/pipeline/nav_study.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 /// The output time a summary reads the errors at: the last before the end of the last
 /// outage inside the horizon (the worst of a fix-aided run), else the horizon's.
@@ -33,4 +33,4 @@ std::string nav_terminal(const pipeline::NavStudy& study);
 /// band, the models and the verdicts. Throws InputError when Vega cannot be read.
 std::string render_nav_html(const pipeline::NavStudy& study);
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

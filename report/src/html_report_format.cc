@@ -8,7 +8,7 @@
 
 #include "html_report_detail.h"
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 std::string html_escape(std::string_view s) {
   std::string out;
@@ -187,4 +187,4 @@ std::string html_page(const std::string& title, const std::string& body, const P
   return page.str();
 }
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail

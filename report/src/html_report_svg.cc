@@ -12,11 +12,11 @@
 
 #include "html_report_detail.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 namespace {
 
-using report_detail::html_escape;
+using detail::html_escape;
 
 constexpr std::array<const char*, 10> kPalette = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
                                                   "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
@@ -65,12 +65,12 @@ std::string decade_label(int e) {
 }  // namespace
 
 std::string render_wv_svg(const ReportColumn& c) {
-  std::vector<report_detail::WvSeries> est;
-  for (const auto& w : c.wvs) est.push_back(report_detail::wv_series(w, c));
-  std::vector<report_detail::Curve> curves;
+  std::vector<detail::WvSeries> est;
+  for (const auto& w : c.wvs) est.push_back(detail::wv_series(w, c));
+  std::vector<detail::Curve> curves;
   std::string title = c.name + ": wavelet variance";
-  if (const FitResult* f = report_detail::shown_model(c); f && !c.wvs.empty()) {
-    curves = report_detail::model_curves(f->model, f->theta, report_detail::model_tau(c), report_detail::tau_scale(c),
+  if (const FitResult* f = detail::shown_model(c); f && !c.wvs.empty()) {
+    curves = detail::model_curves(f->model, f->theta, detail::model_tau(c), detail::tau_scale(c),
                                   "model " + f->model.to_string(), true);
     title += " and " + std::string(c.selection ? "chosen model " : "fitted model ") + f->model.to_string();
   }
@@ -108,9 +108,9 @@ std::string render_wv_svg(const ReportColumn& c) {
     os << "<text x=\"" << kLeft - 6 << "\" y=\"" << f2(y.px(std::pow(10.0, e)) + 4) << "\" text-anchor=\"end\">"
        << decade_label(e) << "</text>\n";
   os << "<text x=\"" << f2((kLeft + kWidth - kRight) / 2) << "\" y=\"" << kHeight - 14
-     << "\" text-anchor=\"middle\">tau [" << html_escape(report_detail::tau_unit(c)) << "]</text>\n"
+     << "\" text-anchor=\"middle\">tau [" << html_escape(detail::tau_unit(c)) << "]</text>\n"
      << "<text transform=\"translate(20," << f2((kTop + kHeight - kBottom) / 2)
-     << ") rotate(-90)\" text-anchor=\"middle\">wavelet variance nu^2 [(" << html_escape(report_detail::data_unit(c))
+     << ") rotate(-90)\" text-anchor=\"middle\">wavelet variance nu^2 [(" << html_escape(detail::data_unit(c))
      << ")^2]</text>\n</g>\n";
   os << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kWidth - kRight - kLeft << "\" height=\""
      << kHeight - kBottom - kTop << "\" fill=\"none\" stroke=\"#888888\"/>\n";
@@ -154,9 +154,9 @@ std::string render_wv_svg(const ReportColumn& c) {
   }
   if (!c.wvs.empty())
     os << "<text x=\"" << lx << "\" y=\"" << f2(ly + 10) << "\" fill=\"#57606a\" font-size=\"11\">bands: "
-       << report_detail::num(100.0 * (1.0 - c.wvs.front().alpha), 3) << "% CI</text>\n";
+       << detail::num(100.0 * (1.0 - c.wvs.front().alpha), 3) << "% CI</text>\n";
   os << "</g>\n</svg>\n";
   return os.str();
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

@@ -3,12 +3,12 @@
 // one file that opens offline, with interactive Vega 5 plots (zoom, pan, hover values)
 // and the tables a reader needs beside them.
 //
-//   gmwm::io::ReportData r;                       // filled by the command
+//   gmwm::report::ReportData r;                       // filled by the command
 //   r.command = "select"; r.input = set.path;
-//   gmwm::io::ReportColumn c; c.name = "gyro_x"; c.freq = 100; c.freq_known = true; c.wvs = {wv};
+//   gmwm::report::ReportColumn c; c.name = "gyro_x"; c.freq = 100; c.freq_known = true; c.wvs = {wv};
 //   r.columns.push_back(c);
 //   r.columns.back().selection = result[0];
-//   gmwm::io::write_html_report("report.html", r);  // report.html and report.html.svg
+//   gmwm::report::write_html_report("report.html", r);  // report.html and report.html.svg
 //
 // What the page holds, per column: the log-log WV against tau in seconds with its CI band
 // (every WV given, e.g. classical and robust overlaid), the model's implied WV and each
@@ -63,10 +63,10 @@
 #include "gmwm/gap/gap.h"
 #include "gmwm/selection/replicate_select.h"
 #include "gmwm/selection/select.h"
-#include "gmwm/io/corrected_config.h"
+#include "gmwm/pipeline/corrected_config.h"
 #include "gmwm/io/output_set.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 /// `fit --joint` / `select --joint`: an axis fitted over replicates. The column's `wvs`
 /// are the replicates' WVs (in this order, overlaid and labelled by their sources) and its
@@ -116,7 +116,7 @@ struct ReportData {
   std::vector<std::string> notes;  ///< free lines shown under the header
   std::vector<ReportColumn> columns;
   /// `gap`: the corrected configuration ("what to change"), shown after the overview.
-  std::optional<CorrectedConfig> corrected;
+  std::optional<pipeline::CorrectedConfig> corrected;
 };
 
 /// Empty when the Vega modules can be read, else why not (one line, naming the folder).
@@ -135,9 +135,9 @@ void write_html_report(const std::string& path, const ReportData& data);
 
 /// As write_html_report(), staged in `outputs` with the run's other files (PATH.svg is
 /// declared there as "--report"'s companion, so it too may not be an input).
-void stage_html_report(OutputSet& outputs, const std::string& path, const ReportData& data);
+void stage_html_report(io::OutputSet& outputs, const std::string& path, const ReportData& data);
 
 /// The companion SVG's path for a report at `path`.
 std::string report_svg_path(const std::string& path);
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

@@ -2,24 +2,24 @@
 // each axis and the selection over replicates.
 #include <cmath>
 
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 namespace {
 
 // A group's column head: its name, the primary recording's length, the rate, the declared unit.
-ColumnInfo group_info(const pipeline::ReplicateGroup& g, const SignalSet& set, const std::vector<std::string>& units,
+ColumnInfo group_info(const pipeline::ReplicateGroup& g, const io::SignalSet& set, const std::vector<std::string>& units,
                       std::size_t i) {
   return {g.axis, g.series.empty() ? 0 : static_cast<std::int64_t>(g.series.front().size()), set.freq, set.freq_known,
           i < units.size() ? units[i] : std::string()};
 }
 
-double kalman_rate(const SignalSet& set, double filter_rate) {
+double kalman_rate(const io::SignalSet& set, double filter_rate) {
   return filter_rate > 0.0 ? filter_rate : set.freq_known ? set.freq : 0.0;
 }
 
 Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
-                       const ReplicateBootstrap* boot, const SignalSet& set) {
+                       const ReplicateBootstrap* boot, const io::SignalSet& set) {
   Json col;
   col["name"] = g.axis;
   col["freq"] = set.freq;
@@ -91,7 +91,7 @@ FitResult replicate_bootstrap_as_fit(const JointFitResult& r, const ReplicateBoo
   return f;
 }
 
-Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+Json joint_fit_document(const io::SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
                         const pipeline::JointFitStudy& study, const std::vector<std::string>& units,
                         double filter_rate) {
   Json doc = json_document("fit");
@@ -111,7 +111,7 @@ Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::Replic
   return doc;
 }
 
-Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+Json joint_select_document(const io::SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
                            const pipeline::JointSelectStudy& study, const std::vector<std::string>& units,
                            double filter_rate) {
   Json doc = json_document("select");
@@ -172,4 +172,4 @@ Json joint_select_document(const SignalSet& set, const std::vector<pipeline::Rep
   return doc;
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

@@ -8,7 +8,7 @@
 // exactly as `gap --kalibr/--gazebo` would read it and assessed on the diagnosis' own
 // yardstick (the gap left with the expressible config and with the full model).
 //
-//   const gmwm::io::CorrectedConfig c = gmwm::io::corrected_config(set, study, options);
+//   const gmwm::pipeline::CorrectedConfig c = gmwm::pipeline::corrected_config(set, study, options);
 //   write_file_atomically(path, c.content);   // c.changes, c.columns[k].expressible ...
 
 #include <cstdint>
@@ -21,12 +21,12 @@
 #include <Eigen/Core>
 
 #include "gmwm/engine/model.h"
+#include "gmwm/gap/gap.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/gap_study.h"
-#include "gmwm/gap/gap.h"
 
-namespace gmwm::io {
+namespace gmwm::pipeline {
 
 /// One field of the configuration, in the format's own unit.
 struct ConfigChange {
@@ -64,8 +64,8 @@ struct CorrectedConfig {
 };
 
 struct CorrectedConfigOptions {
-  std::map<SensorKind, Unit> units;     ///< the data's units (SI where absent)
-  std::optional<SensorKind> sensor;     ///< every column is this sensor
+  std::map<io::SensorKind, io::Unit> units;     ///< the data's units (SI where absent)
+  std::optional<io::SensorKind> sensor;     ///< every column is this sensor
   std::string baseline_path;            ///< the input configuration's path, for the header
 };
 
@@ -73,7 +73,7 @@ struct CorrectedConfigOptions {
 /// Allan deviation). Throws InputError when the study's rate is unknown and the baseline is
 /// a simulator's configuration (its figures are densities), or when the export of the
 /// final models fails (one line).
-CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy& study,
-                                 const pipeline::GapStudyOptions& options, const CorrectedConfigOptions& o);
+CorrectedConfig corrected_config(const io::SignalSet& set, const GapStudy& study, const GapStudyOptions& options,
+                                 const CorrectedConfigOptions& o);
 
-}  // namespace gmwm::io
+}  // namespace gmwm::pipeline

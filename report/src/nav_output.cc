@@ -1,5 +1,5 @@
 // The navigation study's JSON, terminal summary and HTML report (nav_output.h).
-#include "gmwm/io/nav_output.h"
+#include "gmwm/report/nav_output.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,11 +9,11 @@
 #include "gmwm/engine/error.h"
 #include "html_report_detail.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 namespace {
 
-using report_detail::html_escape;
+using detail::html_escape;
 
 // The terminal's width (docs: every table fits 100 columns) and the label column's share.
 constexpr std::size_t kTerminalWidth = 100;
@@ -265,9 +265,9 @@ Json quantity_rows(const pipeline::NavStudy& s, const std::vector<double> nav::F
 }  // namespace
 
 std::string render_nav_html(const pipeline::NavStudy& study) {
-  const std::string vega = report_detail::vega_script();
+  const std::string vega = detail::vega_script();
   const std::string title = "gmwm nav: " + study.truth.source;
-  report_detail::Plots plots;
+  detail::Plots plots;
   Json labels = Json::array();
   for (const auto& f : study.exact.filters) labels.push_back(f.label);
   std::ostringstream body;
@@ -278,7 +278,7 @@ std::string render_nav_html(const pipeline::NavStudy& study) {
        << (study.sampled ? " (points: " + std::to_string(study.monte_carlo_runs) + " Monte-Carlo runs)" : std::string())
        << ". RMS = root of the trace over the three axes; 3-sigma = the filter's own claim.</p>\n</header>\n<main>\n"
        << "<div id=\"gmwm-errors\" class=\"errors\" hidden></div>\n<div id=\"gmwm-warnings\" class=\"warnings\" hidden></div>\n"
-       << report_detail::kErrorCapture;
+       << detail::kErrorCapture;
   body << "<section class=\"column\" id=\"nav-summary\">\n<h2>verdicts</h2>\n<table><tr><th>filter model</th><th>position RMS at "
        << html_escape(g(study.exact.filters.front().time[summary_index(study, study.exact.filters.front())]))
        << " s [m]</th><th>its 3-sigma [m]</th><th>largest position RMS [m]</th><th>NEES in band</th><th>verdict</th></tr>\n";
@@ -319,7 +319,7 @@ std::string render_nav_html(const pipeline::NavStudy& study) {
     body << "</ul>\n";
   }
   body << "</section>\n</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network.</footer>\n";
-  return report_detail::html_page(title, body.str(), plots, vega);
+  return detail::html_page(title, body.str(), plots, vega);
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

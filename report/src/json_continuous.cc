@@ -4,9 +4,9 @@
 
 #include "gmwm/engine/kalman.h"
 #include "gmwm/engine/physical.h"
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 namespace {
 
 std::string unit_of(const ColumnInfo& c) { return c.unit.empty() ? "U" : c.unit; }
@@ -75,4 +75,4 @@ Json kalman_json(const FitResult& fit, const ColumnInfo& c, double filter_rate, 
   return out;
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

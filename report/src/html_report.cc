@@ -1,7 +1,7 @@
 // The HTML report's page: header, per-column sections with their plots and tables, the
 // embedded specs and the inlined Vega (html_report.h); and its atomic writer.
 
-#include "gmwm/io/html_report.h"
+#include "gmwm/report/html_report.h"
 
 #include <filesystem>
 #include <sstream>
@@ -13,18 +13,18 @@
 #include "gmwm/io/output_set.h"
 #include "html_report_detail.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 namespace {
 
-using report_detail::html_escape;
-using report_detail::kErrorCapture;
-using report_detail::Plots;
+using detail::html_escape;
+using detail::kErrorCapture;
+using detail::Plots;
 
 std::string column_facts(const ReportColumn& c) {
   std::ostringstream os;
   os << "N = " << c.n;
-  if (c.freq_known) os << ", " << html_escape(report_detail::num(c.freq, 6)) << " Hz (" << html_escape(report_detail::num(static_cast<double>(c.n) / c.freq, 4)) << " s)";
+  if (c.freq_known) os << ", " << html_escape(detail::num(c.freq, 6)) << " Hz (" << html_escape(detail::num(static_cast<double>(c.n) / c.freq, 4)) << " s)";
   else os << ", sampling rate unknown (tau in samples)";
   os << ", data unit " << (c.unit.empty() ? "not declared (U)" : html_escape(c.unit));
   if (c.replicates) {
@@ -32,7 +32,7 @@ std::string column_facts(const ReportColumn& c) {
        << "), N and levels per replicate below";
     return os.str();
   }
-  for (const auto& w : c.wvs) os << "; " << html_escape(report_detail::wv_label(w)) << ", " << w.levels() << " levels";
+  for (const auto& w : c.wvs) os << "; " << html_escape(detail::wv_label(w)) << ", " << w.levels() << " levels";
   return os.str();
 }
 
@@ -61,30 +61,30 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   std::ostringstream os;
   os << "<section class=\"column\" id=\"col-" << idx << "\">\n<h2>" << html_escape(c.name) << "</h2>\n<p class=\"facts\">"
      << column_facts(c) << "</p>\n";
-  if (!c.wvs.empty()) os << plots.add("plot-" + idx + "-wv", "wv", report_detail::wv_plot_spec(c));
+  if (!c.wvs.empty()) os << plots.add("plot-" + idx + "-wv", "wv", detail::wv_plot_spec(c));
   if (c.fit) {
     os << "<h3>" << (c.replicates ? (c.replicates->selection ? "recommended model, fitted jointly over the replicates"
                                                                : "joint fit over the replicates")
                                   : "fit")
-       << "</h3>\n<p class=\"facts\">objective " << html_escape(report_detail::num(c.fit->objective, 6))
-       << ", goodness of fit: statistic " << html_escape(report_detail::num(c.fit->gof.statistic)) << ", df "
-       << html_escape(report_detail::num(c.fit->gof.df)) << ", p-value " << html_escape(report_detail::num(c.fit->gof.p_value, 4))
+       << "</h3>\n<p class=\"facts\">objective " << html_escape(detail::num(c.fit->objective, 6))
+       << ", goodness of fit: statistic " << html_escape(detail::num(c.fit->gof.statistic)) << ", df "
+       << html_escape(detail::num(c.fit->gof.df)) << ", p-value " << html_escape(detail::num(c.fit->gof.p_value, 4))
        << ", status " << html_escape(gmwm::to_string(c.fit->status))
        << (c.fit->message.empty() ? "" : " (" + html_escape(c.fit->message) + ")") << "</p>\n";
-    os << report_detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
+    os << detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
     for (const auto& n : c.fit->notes) os << "<p class=\"facts\">note: " << html_escape(n) << "</p>\n";
     os << quality_lines(*c.fit, c, false, "");
   }
-  os << report_detail::replicate_tables(c);
+  os << detail::replicate_tables(c);
   if (c.allan) {
     os << "<h3>Allan deviation and noise figures</h3>\n"
-       << plots.add("plot-" + idx + "-adev", "adev", report_detail::adev_plot_spec(c))
-       << report_detail::noise_figures_table(c);
+       << plots.add("plot-" + idx + "-adev", "adev", detail::adev_plot_spec(c))
+       << detail::noise_figures_table(c);
   }
   if (c.selection) {
-    os << "<h3>model selection</h3>\n" << report_detail::ranking_table(*c.selection);
-    if (const FitResult* f = report_detail::shown_model(c)) {
-      os << report_detail::parameter_tables(*f, c, "chosen model " + f->model.to_string() + " (refitted with inference)");
+    os << "<h3>model selection</h3>\n" << detail::ranking_table(*c.selection);
+    if (const FitResult* f = detail::shown_model(c)) {
+      os << detail::parameter_tables(*f, c, "chosen model " + f->model.to_string() + " (refitted with inference)");
       os << quality_lines(*f, c, c.selection->all_rejected, c.selection->full_model);
     }
     for (const auto& r : c.selection->ranking)
@@ -95,14 +95,14 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   }
   if (c.gap) {
     os << "<h3>sim-to-real gap</h3>\n";
-    os << plots.add("plot-" + idx + "-gap-curves", "gap-curves", report_detail::gap_curves_spec(c));
+    os << plots.add("plot-" + idx + "-gap-curves", "gap-curves", detail::gap_curves_spec(c));
     if (c.gap->windows_checked)
-      os << plots.add("plot-" + idx + "-gap-windows", "gap-windows", report_detail::gap_windows_spec(c));
+      os << plots.add("plot-" + idx + "-gap-windows", "gap-windows", detail::gap_windows_spec(c));
     else
       os << "<p class=\"facts\">window x scale map: the series is too short for enough windows.</p>\n";
-    os << report_detail::gap_tables(c);
+    os << detail::gap_tables(c);
   }
-  os << report_detail::wv_table(c) << "</section>\n";
+  os << detail::wv_table(c) << "</section>\n";
   return os.str();
 }
 
@@ -110,7 +110,7 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
 
 std::string vega_missing_reason() {
   try {
-    (void)report_detail::vega_script();
+    (void)detail::vega_script();
     return {};
   } catch (const std::exception& e) {
     return e.what();
@@ -118,7 +118,7 @@ std::string vega_missing_reason() {
 }
 
 std::string render_html_report(const ReportData& data) {
-  const std::string vega = report_detail::vega_script();  // first: fails before any work
+  const std::string vega = detail::vega_script();  // first: fails before any work
   const std::string title = data.title.empty() ? "gmwm " + data.command + ": " + data.input : data.title;
   Plots plots;
   std::ostringstream body;
@@ -144,31 +144,31 @@ std::string render_html_report(const ReportData& data) {
   for (const auto& c : data.columns) any_gap = any_gap || c.gap.has_value();
   if (any_gap)
     body << "<section class=\"column\" id=\"gap-overview\">\n<h2>gap overview</h2>\n"
-         << plots.add("plot-gap-levels", "gap-levels", report_detail::gap_levels_spec(data)) << "</section>\n";
-  if (data.corrected) body << report_detail::corrected_section(*data.corrected, data);
+         << plots.add("plot-gap-levels", "gap-levels", detail::gap_levels_spec(data)) << "</section>\n";
+  if (data.corrected) body << detail::corrected_section(*data.corrected, data);
   for (std::size_t k = 0; k < data.columns.size(); ++k) body << column_section(data.columns[k], k, plots);
   body << "</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network. Drag to pan, wheel "
           "to zoom, double-click to reset, hover a point for its values; SVG/PNG under each plot saves it.</footer>\n";
 
-  std::string page = report_detail::html_page(title, body.str(), plots, vega);
+  std::string page = detail::html_page(title, body.str(), plots, vega);
   spdlog::debug("HTML report: {} plot(s), {} bytes", plots.specs.size(), page.size());
   return page;
 }
 
 std::string report_svg_path(const std::string& path) { return path + ".svg"; }
 
-void stage_html_report(OutputSet& outputs, const std::string& path, const ReportData& data) {
+void stage_html_report(io::OutputSet& outputs, const std::string& path, const ReportData& data) {
   const std::string html = render_html_report(data);
   outputs.stage(path, html);
   if (!data.columns.empty()) outputs.stage(report_svg_path(path), render_wv_svg(data.columns.front()));
 }
 
 void write_html_report(const std::string& path, const ReportData& data) {
-  OutputSet outputs;
+  io::OutputSet outputs;
   outputs.declare("--report", path);
   outputs.declare("--report", report_svg_path(path));
   stage_html_report(outputs, path, data);
   outputs.commit();
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

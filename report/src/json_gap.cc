@@ -2,13 +2,13 @@
 #include <cmath>
 #include <cstdio>
 
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 
 #include <span>
 
 #include "gmwm/engine/physical.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 namespace {
 
 // A strength as an object key: %.6g, as the table prints it.
@@ -213,7 +213,7 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const st
   return c;
 }
 
-Json gap_document(const SignalSet& set, const pipeline::GapStudy& study) {
+Json gap_document(const io::SignalSet& set, const pipeline::GapStudy& study) {
   Json doc = json_document("gap");
   doc["input"] = set.path;
   doc["baseline_source"] = study.baseline_source;
@@ -284,7 +284,7 @@ Json gap_check_document(const gap::GapCheckOptions& options, const gap::GapCheck
   return doc;
 }
 
-Json corrected_config_json(const CorrectedConfig& c, double freq) {
+Json corrected_config_json(const pipeline::CorrectedConfig& c, double freq) {
   ColumnInfo info;
   info.freq = freq;
   info.freq_known = freq > 0.0;
@@ -317,4 +317,4 @@ Json corrected_config_json(const CorrectedConfig& c, double freq) {
   return {{"format", c.format}, {"content", c.content}, {"header", c.header}, {"changes", changes}, {"columns", columns}};
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

@@ -9,10 +9,10 @@
 //   "run": {...}}.
 #include <string>
 
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 #include "gmwm/pipeline/plan_study.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 /// The document (without "run": add_run_info).
 Json plan_document(const pipeline::PlanStudy& study, const RecordPlanOptions& options);
@@ -22,4 +22,4 @@ Json plan_document(const pipeline::PlanStudy& study, const RecordPlanOptions& op
 /// 100 columns, the basis of each figure below the table.
 std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOptions& options);
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

@@ -1,5 +1,5 @@
 // The record-length plan's JSON and terminal table (plan_output.h).
-#include "gmwm/io/plan_output.h"
+#include "gmwm/report/plan_output.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,7 +7,7 @@
 
 #include "gmwm/engine/error.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 namespace {
 
@@ -115,4 +115,4 @@ std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOpti
   return os.str();
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

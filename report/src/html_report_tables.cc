@@ -9,7 +9,7 @@
 #include "gmwm/engine/physical.h"
 #include "html_report_detail.h"
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 std::string td(const std::string& text, const char* cls) {
   return std::string("<td") + (cls ? std::string(" class=\"") + cls + "\"" : "") + ">" + html_escape(text) + "</td>";
@@ -261,9 +261,9 @@ std::string wv_table(const ReportColumn& c) {
   return os.str();
 }
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 namespace {
 
@@ -374,4 +374,4 @@ std::string replicate_tables(const ReportColumn& c) {
   return os.str();
 }
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail

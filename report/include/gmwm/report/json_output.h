@@ -10,9 +10,9 @@
 // as null. Nothing here writes files: callers build the whole document first, then write
 // it with write_file_atomically (no partial output on failure).
 //
-//   auto doc = gmwm::io::json_document("wv");
-//   doc["columns"].push_back(gmwm::io::wv_column_json(column, wv));
-//   gmwm::io::write_file_atomically(path, gmwm::io::dump_json(doc));
+//   auto doc = gmwm::report::json_document("wv");
+//   doc["columns"].push_back(gmwm::report::wv_column_json(column, wv));
+//   gmwm::io::write_file_atomically(path, gmwm::report::dump_json(doc));
 
 #include <cstdint>
 #include <map>
@@ -30,7 +30,7 @@
 #include "gmwm/selection/select.h"
 #include "gmwm/robust/contamination.h"
 #include "gmwm/engine/wavelet_variance.h"
-#include "gmwm/io/corrected_config.h"
+#include "gmwm/pipeline/corrected_config.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
@@ -38,7 +38,7 @@
 #include "gmwm/pipeline/select_study.h"
 #include "gmwm/pipeline/wv_study.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 /// JSON objects keep their insertion order ("tool", "version", "command", ... first).
 using Json = nlohmann::ordered_json;
@@ -74,7 +74,7 @@ void add_run_info(Json& doc, const RunInfo& run);
 /// What the timestamp column says: {"column", "unit", "unit_source", "samples",
 /// "median_step_seconds", "estimated_freq", "gaps", "largest_gap_seconds", "disorder",
 /// "given_freq"}.
-Json timing_json(const TimingReport& timing);
+Json timing_json(const io::TimingReport& timing);
 
 /// {"name", "n", "freq"}.
 Json column_json(const ColumnInfo& column);
@@ -148,20 +148,20 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& gap,
 /// The WV study's document (json_document("wv") filled): "input", "timing" and "columns":
 /// wv_column_json (robust_wv_column_json for a robust study), with "unit", "allan" and
 /// "noise_figures" when the study has the Allan deviation; `units` as fit_document's.
-Json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units);
+Json wv_document(const io::SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units);
 
 /// The fit study's document (json_document("fit") filled): "input", "model_spec", "seed",
 /// "timing" and "columns": fit_column_json with "unit", "continuous", "kalman" (at
 /// `filter_rate`, 0: the data's rate), "allan" and "noise_figures". `units[k]` is column
 /// k's declared unit ("" when none; empty vector: none declared).
-Json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
+Json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
                   double filter_rate);
 
 /// The selection study's document (json_document("select") filled): "input", "model_spec"
 /// (the models joined by ';'), "mode" ("sub-models" or "listed"), "optimism", "omega",
 /// "seed", "timing" and "columns": select_column_json with "unit", "best_continuous",
 /// "best_kalman" (at `filter_rate`), "allan" and "noise_figures"; `units` as fit_document's.
-Json select_document(const SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
+Json select_document(const io::SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
                      double filter_rate);
 
 /// AGMWM (the replicates' own estimates averaged) as a fit of the joint model, and the
@@ -174,7 +174,7 @@ FitResult replicate_bootstrap_as_fit(const JointFitResult& r, const ReplicateBoo
 /// parameters, AGMWM, the replicate-t interval and the shared-theta test, and the physical
 /// fields of the joint model (add_physical_fields: "unit" from `units[k]` for group k,
 /// "continuous", "kalman" at `filter_rate` (0: the data's rate), "noise_figures") (docs/cli.md).
-Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+Json joint_fit_document(const io::SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
                         const pipeline::JointFitStudy& study, const std::vector<std::string>& units = {},
                         double filter_rate = 0.0);
 
@@ -184,7 +184,7 @@ Json joint_fit_document(const SignalSet& set, const std::vector<pipeline::Replic
 /// "best_model" (with values), "best_fit" {status, objective, gof}, and its physical fields
 /// ("unit", "best_continuous", "best_kalman", "noise_figures"); `units`, `filter_rate` as
 /// joint_fit_document's.
-Json joint_select_document(const SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
+Json joint_select_document(const io::SignalSet& set, const std::vector<pipeline::ReplicateGroup>& groups,
                            const pipeline::JointSelectStudy& study, const std::vector<std::string>& units = {},
                            double filter_rate = 0.0);
 
@@ -197,14 +197,14 @@ Json gap_check_document(const gap::GapCheckOptions& options, const gap::GapCheck
 /// "replicates", "seed", "timing", "temperature_column", "cross_axis" {tested, significant
 /// [{a, b, tau, tau_seconds, rho, z}]} and "columns" (gap_column_json). `set` is the set
 /// the study ran on.
-Json gap_document(const SignalSet& set, const pipeline::GapStudy& study);
+Json gap_document(const io::SignalSet& set, const pipeline::GapStudy& study);
 
 /// The corrected configuration (io/corrected_config.h) as the gap document's "corrected":
 /// {format, content, header [..], changes [{field, input, corrected, unit, changed}],
 /// columns [{name, expressible, full, not_expressible [..], gap_left {input, config, full:
 /// {objective, null_mean, levels_outside, p_value, navigation_rms, remaining [bands]}}}]}.
 /// Band times in seconds when `freq` > 0.
-Json corrected_config_json(const CorrectedConfig& c, double freq);
+Json corrected_config_json(const pipeline::CorrectedConfig& c, double freq);
 
 /// The data's Allan deviation and the model's on the same grid: {"points_per_octave"?,
 /// "alpha", "tau" [s], "m", "adev", "ci_low", "ci_high", "edf", "model" (null entries
@@ -251,4 +251,4 @@ void add_physical_fields(Json& col, const FitResult& fit, const ColumnInfo& info
 /// The document as text: pretty-printed (2 spaces), ending with a newline.
 std::string dump_json(const Json& doc);
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

@@ -11,7 +11,7 @@
 
 #include "html_report_detail.h"
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 namespace {
 
@@ -492,4 +492,4 @@ Json gap_windows_spec(const ReportColumn& c) {
   return spec;
 }
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail

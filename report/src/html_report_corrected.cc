@@ -7,7 +7,7 @@
 #include "gmwm/engine/physical.h"
 #include "html_report_detail.h"
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 namespace {
 
@@ -24,7 +24,7 @@ std::string unit_of(const ReportData& data, const std::string& name) {
 
 }  // namespace
 
-std::string corrected_section(const CorrectedConfig& c, const ReportData& data) {
+std::string corrected_section(const pipeline::CorrectedConfig& c, const ReportData& data) {
   std::ostringstream os;
   os << "<section class=\"column\" id=\"what-to-change\">\n<h2>what to change (" << html_escape(c.format)
      << ")</h2>\n<p class=\"facts\">The baseline's own format with every figure the diagnosis' final model gives it; "
@@ -32,7 +32,7 @@ std::string corrected_section(const CorrectedConfig& c, const ReportData& data) 
   if (c.format != "model") {
     os << "<table class=\"changes\">\n<caption>fields, in the format's own units</caption>\n"
        << th_row({"field", "input", "corrected", "unit", "changed"});
-    for (const ConfigChange& ch : c.changes)
+    for (const pipeline::ConfigChange& ch : c.changes)
       os << "<tr>" << td(ch.field) << td(std::isfinite(ch.input) ? num(ch.input, 4) : "-", "num")
          << td(std::isfinite(ch.corrected) ? num(ch.corrected, 4) : "-", "num") << td(ch.unit)
          << td(ch.changed ? "yes" : "") << "</tr>\n";
@@ -44,7 +44,7 @@ std::string corrected_section(const CorrectedConfig& c, const ReportData& data) 
   os << "<table class=\"gap-left\">\n<caption>the gap left with the input, with the corrected file and with the full "
         "model</caption>\n"
      << th_row(head);
-  for (const CorrectedColumn& col : c.columns) {
+  for (const pipeline::CorrectedColumn& col : c.columns) {
     os << "<tr>" << td(col.name)
        << td(arrow3(std::to_string(col.before.levels_outside), std::to_string(col.with_config.levels_outside),
                     std::to_string(col.with_full.levels_outside)),
@@ -60,7 +60,7 @@ std::string corrected_section(const CorrectedConfig& c, const ReportData& data) 
   }
   os << "</table>\n";
   bool any = false;
-  for (const CorrectedColumn& col : c.columns)
+  for (const pipeline::CorrectedColumn& col : c.columns)
     for (const std::string& x : col.not_expressible) {
       if (!any) os << "<ul class=\"facts\">\n";
       any = true;
@@ -72,4 +72,4 @@ std::string corrected_section(const CorrectedConfig& c, const ReportData& data) 
   return os.str();
 }
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail

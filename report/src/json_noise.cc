@@ -2,9 +2,9 @@
 #include <string>
 
 #include "gmwm/engine/physical.h"
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 namespace {
 
@@ -68,4 +68,4 @@ Json noise_figures_json(const ChosenFigures& figures, const std::string& unit) {
   return j;
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report

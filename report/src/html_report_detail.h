@@ -13,10 +13,10 @@
 
 #include <Eigen/Core>
 
-#include "gmwm/io/html_report.h"
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/html_report.h"
+#include "gmwm/report/json_output.h"
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 // ---- html_report_format.cc ----
 
@@ -124,7 +124,7 @@ std::string wv_table(const ReportColumn& c);
 /// `gap`'s corrected configuration: the fields changed (input, corrected, unit), each
 /// column's gap left (input -> file -> full model: levels outside, objective, integrated
 /// error), what the format cannot express, and the file's text (collapsed).
-std::string corrected_section(const CorrectedConfig& c, const ReportData& data);
+std::string corrected_section(const pipeline::CorrectedConfig& c, const ReportData& data);
 
 // ---- html_report_vega.cc ----
 
@@ -137,4 +137,4 @@ std::string page_script();
 /// The page's style sheet.
 std::string page_style();
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail

@@ -23,7 +23,7 @@
 #define GMWM_VEGA_DIR ""
 #endif
 
-namespace gmwm::io::report_detail {
+namespace gmwm::report::detail {
 
 namespace {
 
@@ -239,4 +239,4 @@ footer { color: #57606a; font-size: 12px; padding: 0 28px 24px 28px; }
 )CSS";
 }
 
-}  // namespace gmwm::io::report_detail
+}  // namespace gmwm::report::detail

@@ -2,22 +2,23 @@
 //   export_columns (final models + their figures against the data's Allan deviation)
 //   -> render (the baseline's format, via render_export) -> read_back (the reader gap
 //   uses) -> changes (input vs corrected fields) -> assess (gap left) -> header.
-#include "gmwm/io/corrected_config.h"
+#include "gmwm/pipeline/corrected_config.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "export_internal.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/io/export.h"
+#include "gmwm/io/export_text.h"
 #include "gmwm/io/sim_config.h"
 
-namespace gmwm::io {
+namespace gmwm::pipeline {
+using namespace io;  // the readers and writers this stage joins (signals, units, exports, configs)
 namespace {
 
-using export_detail::num;
+using export_text::num;
 
 SensorKind kind_of(const std::string& column, const CorrectedConfigOptions& o) {
   return o.sensor ? *o.sensor : sensor_kind_of_column(column);
@@ -30,7 +31,7 @@ Unit unit_of(SensorKind kind, const CorrectedConfigOptions& o) {
 
 // Stage 1: every column's final model with the figures `export` would write for it: N, K
 // and B read off the model's Allan deviation where it matches the data's, else the data's.
-std::vector<ExportColumn> export_columns(const SignalSet& set, const pipeline::GapStudy& study,
+std::vector<ExportColumn> export_columns(const SignalSet& set, const GapStudy& study,
                                          const CorrectedConfigOptions& o) {
   std::vector<ExportColumn> cols;
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
@@ -84,7 +85,7 @@ void keep_constant_offsets(const SimConfig& input, ExportResult& r, std::vector<
     if (at == std::string::npos || at >= to) return false;
     const std::size_t v = at + open.size(), end = r.content.find(close, v);
     if (end == std::string::npos) return false;
-    r.content.replace(v, end - v, export_detail::real(value));
+    r.content.replace(v, end - v, export_text::real(value));
     return true;
   };
   for (const ConfigField& f : input.fields) {
@@ -95,7 +96,7 @@ void keep_constant_offsets(const SimConfig& input, ExportResult& r, std::vector<
       continue;
     }
     if (leaf == "precision" && f.value != 0.0) {
-      notes.push_back(f.name + " " + export_detail::real(f.value) + " " + f.unit +
+      notes.push_back(f.name + " " + export_text::real(f.value) + " " + f.unit +
                       " not written: the output's rounding noise is part of the data's white noise, which the "
                       "corrected stddev holds");
       continue;
@@ -200,7 +201,7 @@ std::vector<ConfigChange> changes(const SimConfig& input, const SimConfig& corre
 // figures (the export writes 0 for it): its lines are rewritten with the input's values.
 void keep_undiagnosed_kinds(const SimConfig& input, ExportResult& r) {
   for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
-    const KindExport* k = export_detail::find_kind(r, kind);
+    const KindExport* k = export_text::find_kind(r, kind);
     if (k && !k->columns.empty()) continue;
     const std::string prefix = kind == SensorKind::kGyro ? "gyroscope_" : "accelerometer_";
     for (const ConfigField& f : input.fields) {
@@ -208,7 +209,7 @@ void keep_undiagnosed_kinds(const SimConfig& input, ExportResult& r) {
       const std::size_t at = r.content.find("\n" + f.name + ": ");
       if (at == std::string::npos) continue;
       const std::size_t from = at + 1 + f.name.size() + 2, to = r.content.find_first_of(" \n", from);
-      r.content.replace(from, to - from, export_detail::real(f.value));
+      r.content.replace(from, to - from, export_text::real(f.value));
     }
     // The export's header line "No ... column in the source: ... written as 0" no longer holds.
     const std::string word = kind == SensorKind::kGyro ? "gyroscope" : "accelerometer";
@@ -230,7 +231,7 @@ std::string outside_text(const gap::GapAssessment& a) {
 }
 
 // Stage 6: the header: what changed and why, what the format cannot hold, the gap left.
-std::vector<std::string> header_lines(const CorrectedConfig& c, const pipeline::GapStudy& study,
+std::vector<std::string> header_lines(const CorrectedConfig& c, const GapStudy& study,
                                       const SignalSet& set, const CorrectedConfigOptions& o) {
   std::vector<std::string> h;
   h.push_back("gmwm gap: the corrected " + c.format + " configuration for " + set.path + " (baseline: " +
@@ -269,7 +270,7 @@ std::vector<std::string> header_lines(const CorrectedConfig& c, const pipeline::
 std::string with_header(const std::string& format, const std::string& body, const std::vector<std::string>& h) {
   if (format == "gz-sdf" || format == "rotors") {
     std::string comment = "<!--\n";
-    for (const auto& l : h) comment += "  " + export_detail::xml_comment_text(l) + "\n";
+    for (const auto& l : h) comment += "  " + export_text::xml_comment_text(l) + "\n";
     comment += "-->\n";
     // After an XML declaration, which must come first.
     if (body.rfind("<?xml", 0) == 0) {
@@ -278,10 +279,10 @@ std::string with_header(const std::string& format, const std::string& body, cons
     }
     return comment + body;
   }
-  return export_detail::yaml_comments(h) + body;
+  return export_text::yaml_comments(h) + body;
 }
 
-CorrectedConfig model_config(const SignalSet& set, const pipeline::GapStudy& study, const CorrectedConfigOptions& o) {
+CorrectedConfig model_config(const SignalSet& set, const GapStudy& study, const CorrectedConfigOptions& o) {
   CorrectedConfig c;
   c.format = "model";
   std::string body;
@@ -307,8 +308,8 @@ CorrectedConfig model_config(const SignalSet& set, const pipeline::GapStudy& stu
 
 }  // namespace
 
-CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy& study,
-                                 const pipeline::GapStudyOptions& options, const CorrectedConfigOptions& o) {
+CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study,
+                                 const GapStudyOptions& options, const CorrectedConfigOptions& o) {
   const auto* config = std::get_if<pipeline::ConfigBaseline>(&options.baseline);
   if (!config) return model_config(set, study, o);
   if (!set.freq_known)
@@ -397,4 +398,4 @@ CorrectedConfig corrected_config(const SignalSet& set, const pipeline::GapStudy&
   return c;
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::pipeline

@@ -21,12 +21,12 @@
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/selection/replicate_select.h"
-#include "gmwm/io/html_report.h"
+#include "gmwm/report/html_report.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
-using gmwm::io::ReportColumn;
-using gmwm::io::ReportData;
+using gmwm::report::ReportColumn;
+using gmwm::report::ReportData;
 
 namespace {
 
@@ -34,7 +34,7 @@ namespace {
 // checks are required (CI), like the browser test.
 #define REQUIRE_VEGA()                                                                         \
   do {                                                                                         \
-    if (const std::string why = gmwm::io::vega_missing_reason(); !why.empty()) {               \
+    if (const std::string why = gmwm::report::vega_missing_reason(); !why.empty()) {               \
       const char* req = std::getenv("GMWM_REQUIRE_BROWSER");                                   \
       if (req && std::string(req) == "1") FAIL() << "Vega is required (CI): " << why;         \
       GTEST_SKIP() << "Vega (Debian libjs-vega) not available: " << why;                      \
@@ -108,7 +108,7 @@ nlohmann::json specs_of(const std::string& html) {
 
 TEST(HtmlReport, InlinesVegaAndHoldsOneSpecPerPlotContainer) {
   REQUIRE_VEGA();
-  const std::string html = gmwm::io::render_html_report(six_columns());
+  const std::string html = gmwm::report::render_html_report(six_columns());
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
   // Vega itself is in the page (no external script, no CDN).
   EXPECT_NE(html.find("/* vega-view (Debian libjs-vega) */"), std::string::npos);
@@ -138,7 +138,7 @@ TEST(HtmlReport, InlinesVegaAndHoldsOneSpecPerPlotContainer) {
 
 TEST(HtmlReport, EscapesColumnNamesAndPathsInTextAttributesAndScripts) {
   REQUIRE_VEGA();
-  const std::string html = gmwm::io::render_html_report(six_columns());
+  const std::string html = gmwm::report::render_html_report(six_columns());
   // The raw string never appears; its HTML-escaped form heads its section.
   EXPECT_EQ(html.find(kNastyName), std::string::npos);
   EXPECT_EQ(html.find("<script>alert(1)"), std::string::npos);
@@ -156,12 +156,12 @@ TEST(HtmlReport, EscapesColumnNamesAndPathsInTextAttributesAndScripts) {
 TEST(HtmlReport, ShowsWhatToChangeWithEveryFieldColumnAndTheFileEscaped) {
   REQUIRE_VEGA();
   ReportData d = six_columns();
-  gmwm::io::CorrectedConfig c;
+  gmwm::pipeline::CorrectedConfig c;
   c.format = "datasheet";
   c.content = "gyroscope:\n  noise_density: 0.0404 deg/s/sqrt(Hz)  # </pre><script>alert(1)</script>\n";
   c.changes.push_back({"gyroscope/noise_density", 0.05, 0.0404, "deg/s/sqrt(Hz)", true});
   c.changes.push_back({"gyroscope/rate_random_walk", NAN, 65.5, "deg/h/sqrt(h)", true});
-  gmwm::io::CorrectedColumn col;
+  gmwm::pipeline::CorrectedColumn col;
   col.name = kNastyName;
   col.before.levels_outside = 14;
   col.with_config.levels_outside = 6;
@@ -172,7 +172,7 @@ TEST(HtmlReport, ShowsWhatToChangeWithEveryFieldColumnAndTheFileEscaped) {
   col.not_expressible.push_back("SIN(A2=1,f=16) <b>");
   c.columns.push_back(col);
   d.corrected = c;
-  const std::string html = gmwm::io::render_html_report(d);
+  const std::string html = gmwm::report::render_html_report(d);
   const std::size_t at = html.find("<section class=\"column\" id=\"what-to-change\">");
   ASSERT_NE(at, std::string::npos);
   const std::string section = html.substr(at, html.find("</section>", at) - at);
@@ -191,14 +191,14 @@ TEST(HtmlReport, ShowsWhatToChangeWithEveryFieldColumnAndTheFileEscaped) {
 
 TEST(HtmlReport, StaysUnderFiveMegabytesForSixColumns) {
   REQUIRE_VEGA();
-  const std::string html = gmwm::io::render_html_report(six_columns());
+  const std::string html = gmwm::report::render_html_report(six_columns());
   EXPECT_LT(html.size(), 5u * 1024u * 1024u);
   EXPECT_GT(html.size(), 300u * 1024u);  // Vega's modules are in it
 }
 
 TEST(HtmlReport, ShowsParametersInDiscreteAndContinuousUnits) {
   REQUIRE_VEGA();
-  const std::string html = gmwm::io::render_html_report(six_columns());
+  const std::string html = gmwm::report::render_html_report(six_columns());
   EXPECT_EQ(count(html, "<table class=\"discrete\">"), 6);
   EXPECT_EQ(count(html, "<table class=\"continuous\">"), 6);
   // WN sigma2 = 1 at 100 Hz: noise density sqrt(1 / 100) = 0.1 deg/s/sqrt(Hz).
@@ -231,7 +231,7 @@ TEST(HtmlReport, HighlightsTheChosenModelOfASelection) {
     sel.ranking.push_back(m);
   }
   c.selection = sel;
-  const std::string html = gmwm::io::render_html_report(d);
+  const std::string html = gmwm::report::render_html_report(d);
   EXPECT_EQ(count(html, "<tr class=\"chosen\">"), 1);
   EXPECT_NE(html.find("AR1+WN <span class=\"badge\">chosen</span>"), std::string::npos);
   EXPECT_NE(html.find("chosen model AR1+WN"), std::string::npos);
@@ -262,7 +262,7 @@ TEST(HtmlReport, DrawsTheGapMapsAndCurvesOfEveryDiagnosedColumn) {
     g.windows.push_back({0, 4095, 64.0, 3.0, 5.0});
     c.gap = g;
   }
-  const std::string html = gmwm::io::render_html_report(d);
+  const std::string html = gmwm::report::render_html_report(d);
   const nlohmann::json specs = specs_of(html);
   std::map<std::string, int> kinds;
   for (const auto& s : specs) ++kinds[s.at("kind").get<std::string>()];
@@ -290,7 +290,7 @@ TEST(HtmlReport, OverlaysTheReplicatesWithTheJointModelAndTabulatesTheTestAndThe
   gmwm::selection::ReplicateSelectOptions so;
   so.select.optimism = gmwm::selection::OptimismMethod::kBoth;
   so.select.bootstrap_replicates = 10;
-  gmwm::io::ReplicateReport rep;
+  gmwm::report::ReplicateReport rep;
   rep.sources = {"a/r1.csv:gx", "b/r2.csv:gx", kNastyName};
   rep.n = {1 << 12, 1 << 13, 1 << 15};
   rep.estimator = "classical WV";
@@ -308,7 +308,7 @@ TEST(HtmlReport, OverlaysTheReplicatesWithTheJointModelAndTabulatesTheTestAndThe
   c.fit = rep.joint->joint;
   c.replicates = rep;
   d.columns.push_back(c);
-  const std::string html = gmwm::io::render_html_report(d);
+  const std::string html = gmwm::report::render_html_report(d);
   // The legend names each replicate by its file; the table by its full source, escaped.
   const nlohmann::json specs = specs_of(html);
   ASSERT_EQ(specs.size(), 1u);
@@ -341,7 +341,7 @@ TEST(HtmlReport, OverlaysTheReplicatesWithTheJointModelAndTabulatesTheTestAndThe
 
 TEST(HtmlReport, StaticSvgDrawsTheFirstColumnsWvModelAndComponents) {
   ReportData d = six_columns();
-  const std::string svg = gmwm::io::render_wv_svg(d.columns[5]);
+  const std::string svg = gmwm::report::render_wv_svg(d.columns[5]);
   EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\"", 0), 0u);
   EXPECT_EQ(svg.find(kNastyName), std::string::npos);
   EXPECT_NE(svg.find("gyro&lt;x&gt;&amp;"), std::string::npos);
@@ -355,13 +355,13 @@ TEST(HtmlReport, WritesThePageAndItsSvgAtomically) {
   REQUIRE_VEGA();
   const fs::path dir = gmwm::test::temp_dir("html_report");
   const fs::path path = dir / "report.html";
-  gmwm::io::write_html_report(path.string(), six_columns());
+  gmwm::report::write_html_report(path.string(), six_columns());
   EXPECT_TRUE(fs::exists(path));
   EXPECT_TRUE(fs::exists(dir / "report.html.svg"));
   int files = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 2);  // no temporary left behind
-  EXPECT_THROW(gmwm::io::write_html_report((dir / "missing" / "r.html").string(), six_columns()), gmwm::InputError);
+  EXPECT_THROW(gmwm::report::write_html_report((dir / "missing" / "r.html").string(), six_columns()), gmwm::InputError);
   EXPECT_FALSE(fs::exists(dir / "missing"));
   fs::remove_all(dir);
 }

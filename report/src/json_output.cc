@@ -1,4 +1,4 @@
-#include "gmwm/io/json_output.h"
+#include "gmwm/report/json_output.h"
 
 #include <cmath>
 #include <ctime>
@@ -7,7 +7,7 @@
 
 #include "gmwm/version.h"
 
-namespace gmwm::io {
+namespace gmwm::report {
 
 using json = Json;
 
@@ -101,7 +101,7 @@ void add_run_info(json& doc, const RunInfo& run) {
   doc["run"] = std::move(r);
 }
 
-json timing_json(const TimingReport& t) {
+json timing_json(const io::TimingReport& t) {
   return {{"column", t.column},
           {"unit", t.unit},
           {"unit_source", t.unit_source},
@@ -334,7 +334,7 @@ std::string dump_json(const json& doc) {
 namespace {
 
 // Column k of a study on `set`: its name, length and rate, and its declared unit.
-ColumnInfo study_column(const SignalSet& set, std::size_t k, const std::string& name,
+ColumnInfo study_column(const io::SignalSet& set, std::size_t k, const std::string& name,
                         const std::vector<std::string>& units) {
   return {name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known,
           k < units.size() ? units[k] : std::string()};
@@ -359,7 +359,7 @@ void add_physical_fields(Json& col, const FitResult& fit, const ColumnInfo& info
   col["noise_figures"] = figures ? noise_figures_json(*figures, info.unit) : json(nullptr);
 }
 
-json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
+json wv_document(const io::SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
   json doc = json_document("wv");
   doc["input"] = set.path;
   if (set.timing) doc["timing"] = timing_json(*set.timing);
@@ -378,7 +378,7 @@ json wv_document(const SignalSet& set, const pipeline::WvStudy& study, const std
   return doc;
 }
 
-json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
+json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, const std::vector<std::string>& units,
                   double filter_rate) {
   json doc = json_document("fit");
   doc["input"] = set.path;
@@ -395,7 +395,7 @@ json fit_document(const SignalSet& set, const pipeline::FitStudy& study, const s
   return doc;
 }
 
-json select_document(const SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
+json select_document(const io::SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
                      double filter_rate) {
   json doc = json_document("select");
   doc["input"] = set.path;
@@ -417,4 +417,4 @@ json select_document(const SignalSet& set, const pipeline::SelectStudy& study, c
   return doc;
 }
 
-}  // namespace gmwm::io
+}  // namespace gmwm::report
