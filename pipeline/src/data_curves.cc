@@ -41,6 +41,7 @@ DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
     DataCurves out;
     out.wvs = robust::robust_wv(series, *robust);
     out.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.classical = classical_wv(series, wv);
     return out;
   }
   std::optional<AllanOptions> allan;

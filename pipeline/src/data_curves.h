@@ -17,6 +17,9 @@ namespace gmwm::pipeline::detail {
 
 struct DataCurves {
   std::vector<WaveletVariance> wvs;
+  /// With the robust WVs: the classical ones beside them, for the report's comparison (the
+  /// fits use `wvs`); else empty.
+  std::vector<WaveletVariance> classical;
   /// Per column when asked, else empty.
   std::vector<AllanDeviation> allan;
   double wv_seconds = 0.0, allan_seconds = 0.0;

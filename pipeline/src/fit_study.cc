@@ -85,7 +85,8 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   for (const auto& f : fits) ptrs.push_back(&f);
   std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, ptrs, wvs, curves.allan, options.fit.alpha);
   for (std::size_t k = 0; k < fits.size(); ++k)
-    study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(fits[k]), std::move(figures[k])});
+    study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(fits[k]), std::move(figures[k]),
+                             k < curves.classical.size() ? std::optional(curves.classical[k]) : std::nullopt});
   return study;
 }
 

@@ -7,6 +7,7 @@
 //   html_report_svg.cc     the static SVG of the main plot
 //   html_report_vega.cc    the inlined Vega modules, the page's script and style
 
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,8 +24,13 @@ namespace gmwm::report::detail {
 /// The page's plots: each a container and its spec's entry in the page's spec list.
 struct Plots {
   Json specs = Json::array();
-  /// The container of a plot and its spec's entry. `id` is built from indices only.
+  /// The container of a plot and its spec's entry. `id` is built from indices only. The
+  /// spec is made as wide as the page (a fixed "width" becomes the container's width, the
+  /// legend inside it), and its "color" scale's series take the page's colours: a series
+  /// name keeps one colour in every plot of the page (series_colours).
   std::string add(const std::string& id, const std::string& kind, Json spec);
+  /// Series name -> colour, in the order the page's plots first name them.
+  std::map<std::string, std::string> series_colours;
 };
 
 /// A script that catches the errors of every later script (Vega's modules included) into

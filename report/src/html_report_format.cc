@@ -1,5 +1,7 @@
 // Escaping, numbers and the series the report's plots draw (html_report_detail.h).
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <span>
@@ -141,7 +143,66 @@ std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta
 }
 
 
+namespace {
+
+// The page's series colours (Tableau 10, the plots' palette): a name's colour is the first of
+// these no other name of the page has taken, so that one series keeps its colour across plots.
+constexpr std::array<const char*, 10> kSeriesPalette = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                                        "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
+
+bool in_palette(const Json& colour) {
+  return colour.is_string() &&
+         std::find(kSeriesPalette.begin(), kSeriesPalette.end(), colour.get<std::string>()) != kSeriesPalette.end();
+}
+
+// A plot's narrowest width: below it, a plot's axes and legend crowd its curves.
+constexpr int kMinPlotWidth = 360;
+
+// The spec as wide as its container (Vega-Lite's width "container"): the width a signal of the
+// container's width, resized with the window, the legend and axes inside it.
+void fill_width(Json& spec) {
+  if (!spec.contains("width") || !spec["width"].is_number()) return;
+  const int fixed = spec["width"].get<int>();
+  spec.erase("width");
+  spec["autosize"] = {{"type", "fit-x"}, {"contains", "padding"}, {"resize", true}};
+  const std::string w = "isFinite(containerSize()[0]) && containerSize()[0] > " + std::to_string(kMinPlotWidth) +
+                        " ? containerSize()[0] : " + std::to_string(std::max(fixed, kMinPlotWidth));
+  if (!spec.contains("signals")) spec["signals"] = Json::array();
+  spec["signals"].insert(spec["signals"].begin(),
+                         Json{{"name", "width"}, {"init", w}, {"on", {{{"events", "window:resize"}, {"update", w}}}}});
+}
+
+}  // namespace
+
 std::string Plots::add(const std::string& id, const std::string& kind, Json spec) {
+  fill_width(spec);
+  if (spec.contains("scales"))
+    for (Json& scale : spec["scales"]) {
+      if (scale.value("name", "") != "color" || scale.value("type", "") != "ordinal") continue;
+      Json& domain = scale["domain"];
+      Json& range = scale["range"];
+      if (!domain.is_array() || !range.is_array()) continue;
+      for (std::size_t i = 0; i < domain.size() && i < range.size(); ++i) {
+        if (!domain[i].is_string() || !in_palette(range[i])) continue;  // a fixed colour (the truth, a reference) stays
+        // The fitted model is one series whatever its plot calls it ("model", "model AR1+WN").
+        std::string name = domain[i].get<std::string>();
+        if (name.rfind("model", 0) == 0) name = "model";
+        auto it = series_colours.find(name);
+        if (it == series_colours.end()) {
+          const char* free = kSeriesPalette[series_colours.size() % kSeriesPalette.size()];
+          for (const char* c : kSeriesPalette) {
+            bool taken = false;
+            for (const auto& [n, col] : series_colours) taken = taken || col == c;
+            if (!taken) {
+              free = c;
+              break;
+            }
+          }
+          it = series_colours.emplace(name, free).first;
+        }
+        range[i] = it->second;
+      }
+    }
   specs.push_back({{"id", id}, {"kind", kind}, {"spec", std::move(spec)}});
   // The log-log plots (wv, gap-curves) zoom and pan; the maps show values on hover, and
   // the navigation curves at each output time.

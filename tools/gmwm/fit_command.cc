@@ -253,7 +253,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     report::ReportData rep = report_data("fit", set, args.model);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::FitColumnStudy& c = study.columns[k];
-      rep.columns[k].wvs = {c.wv};
+      rep.columns[k].wvs = c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
       rep.columns[k].fit = c.fit;
       rep.columns[k].allan = c.figures;
       rep.columns[k].filter_rate = filter;

@@ -294,7 +294,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     report::ReportData rep = report_data("select", set, specs.empty() ? args.model : args.models);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::SelectColumnStudy& c = study.columns[k];
-      rep.columns[k].wvs = {c.wv};
+      rep.columns[k].wvs = c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
       rep.columns[k].selection = c.selection;
       rep.columns[k].allan = c.figures;
       rep.columns[k].filter_rate = filter;

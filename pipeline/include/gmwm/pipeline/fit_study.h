@@ -46,6 +46,8 @@ struct FitColumnStudy {
   /// The data's and the model's Allan deviations and the figures chosen from them; absent
   /// without a known rate or a usable fit.
   std::optional<FigureReport> figures;
+  /// With a robust `wv`: the classical WV of the same series, for comparison (not fitted).
+  std::optional<WaveletVariance> classical;
 };
 
 struct FitStudy {

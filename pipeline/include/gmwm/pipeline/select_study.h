@@ -46,6 +46,8 @@ struct SelectColumnStudy {
   selection::Selection selection;
   /// The best fit's noise figures; absent without a known rate or a usable fit.
   std::optional<FigureReport> figures;
+  /// With a robust `wv`: the classical WV of the same series, for comparison (not fitted).
+  std::optional<WaveletVariance> classical;
 };
 
 struct SelectStudy {
