@@ -36,6 +36,7 @@
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/fit_study.h"
+#include "gmwm/gap/gap_check.h"
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/nav_study.h"
 #include "gmwm/pipeline/plan_study.h"
@@ -457,6 +458,28 @@ py::object py_plan(const std::optional<std::string>& result, const std::optional
   return to_python(out);
 }
 
+// The diagnosis' self-check on simulated cases (gmwm::gap::run_gap_check, as `gmwm
+// gap-check`): the document gmwm gap-check --json writes. Families and strengths are the
+// CLI's comma-separated lists, parsed by the same library functions (the same refusals).
+py::object py_gap_check(int cases, std::int64_t n, int replicates, const std::string& strengths,
+                        const std::string& families, bool null_side, std::uint64_t seed) {
+  gmwm::gap::GapCheckOptions o;
+  o.cases = cases;
+  o.n = n;
+  o.replicates = replicates;
+  o.strengths = gmwm::gap::parse_gap_strengths(strengths);
+  if (!families.empty()) o.families = gmwm::gap::parse_gap_families(families);
+  o.null_side = null_side;
+  o.seed = seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("gap-check: " + why);
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::gap::GapCheckOptions oc = o;
+    oc.progress = progress;
+    return gmwm::report::gap_check_document(o, gmwm::gap::run_gap_check(oc));
+  });
+  return to_python(out);
+}
+
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
                              std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
@@ -545,6 +568,11 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("columns") = std::vector<std::string>{},
         "How long to record: per column of a fit/select result (or for model= at freq=), the record length at which "
         "N, K, B or a parameter reach a precision: the document gmwm plan --json writes");
+  m.def("gap_check", &py_gap_check, py::kw_only(), py::arg("cases") = 3, py::arg("n") = std::int64_t{1} << 18,
+        py::arg("replicates") = 100, py::arg("strengths") = "2,4,8", py::arg("families") = "", py::arg("null") = true,
+        py::arg("seed") = gmwm::kDefaultSeed,
+        "The gap diagnosis' self-check on simulated cases with a withheld effect (families 'QN,DR,...', strengths "
+        "'2,4,8'): the document gmwm gap-check --json writes");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
+#include <charconv>
+#include <string_view>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -415,6 +418,39 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
     f.oracle_strength_90 = oracle_strength(nc[t], series[t]);
     f.oracle_ratio = f.strength_90 / f.oracle_strength_90;
   }
+  return out;
+}
+
+std::vector<GapEffect> parse_gap_families(const std::string& list) {
+  std::string known;
+  for (const GapEffect e : GapCheckOptions{}.families) known += (known.empty() ? "" : ", ") + std::string(to_string(e));
+  std::vector<GapEffect> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    const auto e = parse_gap_effect(item);
+    if (!e) throw InputError("--families '" + list + "': unknown effect '" + item + "' (" + known + ")");
+    out.push_back(*e);
+  }
+  if (out.empty()) throw InputError("--families: at least one family is needed");
+  return out;
+}
+
+std::vector<double> parse_gap_strengths(const std::string& list) {
+  std::vector<double> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    // Decimal only: from_chars takes no '+', and "inf", "nan" are refused (std::stod took "inf").
+    std::string_view t(item);
+    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+    double v = 0.0;
+    const bool starts = !t.empty() && (std::isdigit(static_cast<unsigned char>(t.front())) || t.front() == '.');
+    const auto [end, ec] = starts ? std::from_chars(t.data(), t.data() + t.size(), v, std::chars_format::general)
+                                  : std::from_chars_result{t.data(), std::errc::invalid_argument};
+    if (!starts || ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v) || !(v > 0.0))
+      throw InputError("--strengths '" + list + "': expected positive numbers separated by commas, found '" + item + "'");
+    out.push_back(v);
+  }
+  if (out.empty()) throw InputError("--strengths: at least one strength is needed");
   return out;
 }
 

@@ -13,6 +13,7 @@ The functions take numpy arrays and return the plain-Python form of the JSON col
                                                    # g["columns"][0]["headline"], ...
     n = gmwm.nav("select.json", ["truth", "wnrw", "imu.yaml*2"], outages=[(300, 360)])
                                                    # n["filters"][k]["verdict"], ["curves"] ...
+    c = gmwm.gap_check(cases=3, n=2**14, families="STEP,DR")   # c["families"], c["confusion"]
     p = gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100, unit="rad/s")
                                                    # p["columns"][0]["targets"][k]["seconds"]
 
@@ -22,6 +23,6 @@ CLI's --unit (one unit name, validated too).
 
 Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
 """
-from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, nav, plan, select, simulate, wv
+from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, gap_check, nav, plan, select, simulate, wv
 
-__all__ = ["wv", "allan", "fit", "select", "gap", "nav", "plan", "simulate", "InputError", "DEFAULT_SEED", "__version__"]
+__all__ = ["wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "InputError", "DEFAULT_SEED", "__version__"]

@@ -274,3 +274,20 @@ def test_plan_equals_the_cli_json_bit_for_bit(tmp_path):
     assert mine == doc
     with pytest.raises(gmwm.InputError, match="has no random walk term"):
         gmwm.plan(model="WN(sigma2=1e-8)", freq=100.0, targets=["K"])
+
+
+def test_gap_check_equals_the_cli_json_bit_for_bit_and_refuses_as_it_does(tmp_path):
+    args = ["--cases", "1", "--n", "4096", "--replicates", "20", "--families", "STEP,DR", "--strengths", "8",
+            "--no-null"]
+    doc = cli_json(tmp_path, "gap-check", *args)
+    mine = gmwm.gap_check(cases=1, n=4096, replicates=20, families="STEP,DR", strengths="8", null=False)
+    doc.pop("run", None)
+    mine.pop("run", None)
+    assert mine == doc
+    bad = subprocess.run([CLI, "gap-check", "--families", "STEP,XX", "--quiet"], capture_output=True, text=True)
+    assert bad.returncode == 2
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.gap_check(families="STEP,XX")
+    assert str(e.value) in bad.stderr
+    with pytest.raises(gmwm.InputError, match="--strengths 'inf'"):
+        gmwm.gap_check(strengths="inf")

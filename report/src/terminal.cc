@@ -15,6 +15,10 @@ namespace {
 // numbers, and a table of numbers split into notes would be harder to read than a wide one.
 constexpr std::size_t kMinNoteColumn = 12;
 
+// A wrapped line's continuations are indented this much more than the line itself: the
+// terminal indents a line's own items by 2, so 4 reads as "the same sentence".
+constexpr std::size_t kWrapHang = 4;
+
 // Datasheet conversions (exact): 1 h = 3600 s, so 1/sqrt(s) = 60/sqrt(h); 1 g = 9.80665 m/s^2
 // (CGPM 1901).
 constexpr double kDegreesPerRadian = 57.295779513082320877;
@@ -185,7 +189,8 @@ std::string wrap_to_width(const std::string& text, std::size_t width) {
       line.erase(0, lead - width / 2);
     }
     const std::size_t indent = std::min(line.find_first_not_of(' '), width / 2);
-    const std::string hang(std::min(indent + 2, width / 2), ' ');
+    // Continuations indented 4 past the line: clear of the 2-space items under a line.
+    const std::string hang(std::min(indent + kWrapHang, width / 2), ' ');
     while (width_of(line) > width) {
       // Cut at the last space within the width that follows some text of this line (so that
       // every cut moves on), else within the word at the width.

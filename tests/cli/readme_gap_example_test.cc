@@ -46,7 +46,7 @@ Example readme_gap_example() {
       for (std::string w; words >> w;) ex.args.push_back(w);
       continue;
     }
-    ex.headline += (ex.headline.empty() ? "" : " ") + line;
+    ex.headline += (ex.headline.empty() ? "" : "\n") + line;
   }
   return ex;
 }
@@ -59,13 +59,17 @@ TEST(ReadmeGapExample, PrintsTheHeadlineTheReadmeShows) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // The column's headline line (the first line that starts with the column's name and a colon).
   const std::string column = ex.headline.substr(0, ex.headline.find(':') + 1);
+  // It wraps at the terminal's width: its continuation lines are indented 4 (items under it, 2).
   std::istringstream out(r.out);
   std::string printed;
-  for (std::string line; std::getline(out, line);)
-    if (line.rfind(column, 0) == 0) {
+  for (std::string line; std::getline(out, line);) {
+    if (printed.empty() && line.rfind(column, 0) == 0) {
       printed = line;
-      break;
+    } else if (!printed.empty()) {
+      if (line.rfind("    ", 0) != 0) break;
+      printed += "\n" + line;
     }
+  }
   EXPECT_EQ(printed, ex.headline) << "update README.md's gap example to what the command prints";
 }
 

@@ -57,7 +57,7 @@ TEST(WrapToWidth, WrapsEveryLongLineAtSpacesWithAHangingIndentAndKeepsEveryWord)
   std::string expected;
   while (a >> w) expected += w + " ";
   EXPECT_EQ(joined, expected + "short ");
-  EXPECT_NE(s.find("\n    "), std::string::npos);  // continuation: the line's indent + 2
+  EXPECT_NE(s.find("\n      "), std::string::npos);  // continuation: the line's indent + 4
   EXPECT_EQ(wrap_to_width("no newline at the end", 100), "no newline at the end");
 }
 

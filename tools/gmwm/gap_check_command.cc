@@ -23,33 +23,6 @@ struct GapCheckArgs {
   bool no_null = false;
 };
 
-std::vector<gap::GapEffect> parse_families(const std::string& s) {
-  std::vector<gap::GapEffect> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const auto e = gap::parse_gap_effect(item);
-    if (!e) throw InputError("--families '" + s + "': unknown effect '" + item + "' (QN, DR, AR1, FLICKER, SIN, OUTLIERS, STEP, TRANSIENT)");
-    out.push_back(*e);
-  }
-  if (out.empty()) throw InputError("--families: at least one family is needed");
-  return out;
-}
-
-std::vector<double> parse_strengths(const std::string& s) {
-  std::vector<double> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    // parse_decimal: no hex floats, "inf" or "nan" (std::stod took "inf" as a strength).
-    const std::optional<double> v = parse_decimal(item);
-    if (!v || !(*v > 0.0))
-      throw InputError("--strengths '" + s + "': expected positive numbers separated by commas, found '" + item + "'");
-    out.push_back(*v);
-  }
-  if (out.empty()) throw InputError("--strengths: at least one strength is needed");
-  return out;
-}
 
 std::string report(const gap::GapCheckResult& r) {
   std::ostringstream os;
@@ -103,8 +76,8 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   o.cases = args.cases;
   o.n = args.n;
   o.replicates = args.replicates;
-  o.strengths = parse_strengths(args.strengths);
-  if (!args.families.empty()) o.families = parse_families(args.families);
+  o.strengths = gap::parse_gap_strengths(args.strengths);
+  if (!args.families.empty()) o.families = gap::parse_gap_families(args.families);
   o.null_side = !args.no_null;
   o.seed = common.seed;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("gap-check: " + why);

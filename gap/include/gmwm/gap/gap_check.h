@@ -99,4 +99,12 @@ struct GapCheckResult {
 /// Runs the self-check. Throws InputError on invalid options.
 GapCheckResult run_gap_check(const GapCheckOptions& options);
 
+/// The withheld families of a comma-separated list ("QN,STEP", as `gap-check --families` and
+/// Python's gap_check take it); InputError naming the unknown one and the known ones.
+std::vector<GapEffect> parse_gap_families(const std::string& list);
+
+/// The strengths of a comma-separated list ("2,4,8"): positive decimal numbers (no "inf", no
+/// hex); InputError naming the bad one.
+std::vector<double> parse_gap_strengths(const std::string& list);
+
 }  // namespace gmwm::gap

@@ -40,7 +40,7 @@ class TextTable {
 };
 
 /// `text` with every line longer than `width` wrapped at spaces, the continuation lines
-/// indented two more than the line's own indent (a word longer than the room is cut).
+/// indented four more than the line's own indent (a word longer than the room is cut).
 std::string wrap_to_width(const std::string& text, std::size_t width = kTerminalWidth);
 
 /// A noise figure in a datasheet's unit: N in deg/sqrt(h) (gyro) or ug/sqrt(Hz) (accel), K in
