@@ -26,8 +26,8 @@ int main() {
     const Eigen::VectorXd t = truth.given_values();
     for (Eigen::Index i = 0; i < t.size(); ++i)
       if (!(std::abs(fit.theta(i) - t(i)) <= 5.0 * fit.se(i))) {
-        std::fprintf(stderr, "fit_example: parameter %ld is %g, truth %g, se %g\n", static_cast<long>(i),
-                     fit.theta(i), t(i), fit.se(i));
+        std::fprintf(stderr, "fit_example: parameter %ld is %g, truth %g, se %g\n", static_cast<long>(i), fit.theta(i),
+                     t(i), fit.se(i));
         return 1;
       }
 

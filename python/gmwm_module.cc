@@ -120,7 +120,8 @@ std::vector<double> series_of(const py::handle& obj, const char* what) {
                            " dimensions");
   if (a.size() < gmwm::io::kMinSamples)
     throw gmwm::InputError(std::string(what) + ": found " + std::to_string(a.size()) + " samples, expected at least " +
-                           std::to_string(gmwm::io::kMinSamples) + " (the wavelet variance needs 4 levels, 2^4 samples)");
+                           std::to_string(gmwm::io::kMinSamples) +
+                           " (the wavelet variance needs 4 levels, 2^4 samples)");
   std::vector<double> x(a.data(), a.data() + a.size());
   for (std::size_t i = 0; i < x.size(); ++i)
     if (!std::isfinite(x[i]))
@@ -164,15 +165,17 @@ std::vector<std::vector<double>> columns_of(const py::handle& obj) {
     throw gmwm::InputError("data: expected an array (samples, or samples x columns) or a list of 1-D arrays");
   std::vector<std::vector<double>> out;
   std::size_t k = 0;
-  for (const auto& item : py::cast<py::sequence>(obj)) out.push_back(series_of(item, ("column " + std::to_string(++k)).c_str()));
+  for (const auto& item : py::cast<py::sequence>(obj))
+    out.push_back(series_of(item, ("column " + std::to_string(++k)).c_str()));
   if (out.empty()) throw gmwm::InputError("data: found no column, expected samples x columns");
   return out;
 }
 
 gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
-                          const std::string& unit) {
+                              const std::string& unit) {
   if (freq)
-    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty()) throw gmwm::InputError(why);
+    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty())
+      throw gmwm::InputError(why);
   return {name, static_cast<std::int64_t>(n), freq.value_or(1.0), freq.has_value(), unit};
 }
 
@@ -201,8 +204,7 @@ gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const s
 
 // The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust.
 std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::optional<double> eff,
-                                                            const std::optional<std::string>& estimator,
-                                                            double alpha) {
+                                                            const std::optional<std::string>& estimator, double alpha) {
   if (!robust) {
     if (eff) throw gmwm::InputError("eff: only meaningful with robust=True");
     if (estimator) throw gmwm::InputError("estimator: only meaningful with robust=True");
@@ -218,7 +220,8 @@ std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::op
   }
   if (estimator) {
     const auto kind = gmwm::robust::parse_robust_kind(*estimator);
-    if (!kind) throw gmwm::InputError("estimator: unknown robust estimator '" + *estimator + "'; expected huber or bisquare");
+    if (!kind)
+      throw gmwm::InputError("estimator: unknown robust estimator '" + *estimator + "'; expected huber or bisquare");
     o.estimator = *kind;
   }
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("robust: " + why);
@@ -230,14 +233,16 @@ gmwm::OmegaKind omega_kind(const std::string& s) {
   throw gmwm::InputError("omega: expected model, diag, full or bootstrap, got '" + s + "'");
 }
 
-py::object py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels, const std::string& name) {
+py::object py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels,
+                 const std::string& name) {
   const std::vector<double> x = series_of(data, "data");
   const gmwm::report::ColumnInfo column = info(name, x.size(), freq, "");
   gmwm::WvOptions o;
   o.alpha = alpha;
   o.levels = levels;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
-  if (const std::string why = gmwm::io::levels_problem(levels, static_cast<std::int64_t>(x.size()), "levels"); !why.empty())
+  if (const std::string why = gmwm::io::levels_problem(levels, static_cast<std::int64_t>(x.size()), "levels");
+      !why.empty())
     throw gmwm::InputError(why);
   Json out;
   {
@@ -266,7 +271,8 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
     py::gil_scoped_release release;
     gmwm::ReadoffOptions readoff;
     readoff.alpha = alpha;
-    check_wv_range("data", gmwm::classical_wv(std::vector<std::span<const double>>{std::span<const double>(x)}, {}).front(), x);
+    check_wv_range("data",
+                   gmwm::classical_wv(std::vector<std::span<const double>>{std::span<const double>(x)}, {}).front(), x);
     const gmwm::FigureReport r = gmwm::data_figure_report(x, freq, allan, readoff);
     out["unit"] = unit.empty() ? Json(nullptr) : Json(unit);
     out["allan"] = gmwm::report::allan_json(r.adev, {});
@@ -278,9 +284,9 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
 // The fit study (gmwm::pipeline::study_fit, as `gmwm fit`): the 'fit' JSON column with its
 // continuous parameters, Kalman terms, Allan deviations and noise figures.
 py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
-               const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
-               bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
-               const std::string& units) {
+                  const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
+                  bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
+                  const std::string& units) {
   const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   gmwm::pipeline::FitStudyOptions o;
@@ -307,10 +313,10 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
 // 'select' JSON columns with the best fit's continuous parameters, Kalman terms, Allan
 // deviations and noise figures.
 py::object py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
-                  const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
-                  double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
-                  std::optional<double> eff, const std::optional<std::string>& estimator,
-                  const std::string& units_spec) {
+                     const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
+                     double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
+                     std::optional<double> eff, const std::optional<std::string>& estimator,
+                     const std::string& units_spec) {
   std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
   const gmwm::io::UnitsSpec spec = gmwm::io::parse_units_spec(units_spec);
@@ -321,12 +327,18 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
   gmwm::pipeline::SelectStudyOptions o;
   o.models = {model_spec};
   sel::SelectOptions& so = o.select;
-  if (const auto m = sel::parse_optimism_method(optimism)) so.optimism = *m;
-  else throw gmwm::InputError("optimism: expected analytic, bootstrap or both, got '" + optimism + "'");
-  if (const auto w = sel::parse_omega_source(omega)) so.omega = *w;
-  else throw gmwm::InputError("omega: expected model, full or data, got '" + omega + "'");
-  if (const auto p = sel::parse_penalty(penalty)) so.penalty = *p;
-  else throw gmwm::InputError("penalty: expected wvic or bic, got '" + penalty + "'");
+  if (const auto m = sel::parse_optimism_method(optimism))
+    so.optimism = *m;
+  else
+    throw gmwm::InputError("optimism: expected analytic, bootstrap or both, got '" + optimism + "'");
+  if (const auto w = sel::parse_omega_source(omega))
+    so.omega = *w;
+  else
+    throw gmwm::InputError("omega: expected model, full or data, got '" + omega + "'");
+  if (const auto p = sel::parse_penalty(penalty))
+    so.penalty = *p;
+  else
+    throw gmwm::InputError("penalty: expected wvic or bic, got '" + penalty + "'");
   so.bootstrap_replicates = replicates;
   so.seed = seed;
   so.fit.alpha = alpha;
@@ -350,28 +362,32 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
 py::object py_gap(const py::object& data, double freq, const std::optional<std::string>& model,
                   const std::optional<std::string>& fit, const std::optional<std::string>& kalibr,
                   const std::string& kalibr_imu, const std::optional<std::string>& gazebo,
-                  const std::optional<std::string>& datasheet, const std::vector<std::string>& names, const std::string& units, const std::optional<std::string>& sensor,
+                  const std::optional<std::string>& datasheet, const std::vector<std::string>& names,
+                  const std::string& units, const std::optional<std::string>& sensor,
                   const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
                   int levels, bool unit_check) {
   if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   const int given =
       model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value() + datasheet.has_value();
   if (given != 1)
-    throw gmwm::InputError("gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf, "
-                           "datasheet=FILE.yaml or fit=SPEC");
+    throw gmwm::InputError(
+        "gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf, "
+        "datasheet=FILE.yaml or fit=SPEC");
   std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
   gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
   gmwm::pipeline::GapStudyOptions o;
   o.wv.alpha = alpha;
   o.wv.levels = levels;
-  if (const std::string why = gmwm::io::levels_problem(levels, static_cast<std::int64_t>(set.signals.front().values.size()), "levels");
+  if (const std::string why =
+          gmwm::io::levels_problem(levels, static_cast<std::int64_t>(set.signals.front().values.size()), "levels");
       !why.empty())
     throw gmwm::InputError(why);
   o.units = gmwm::io::parse_units(units);
   o.units_declared = !units.empty();
   if (sensor) {
-    if (*sensor != "gyro" && *sensor != "accel") throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
+    if (*sensor != "gyro" && *sensor != "accel")
+      throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
     o.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
   }
   o.temperature_column = temperature.value_or("");
@@ -381,7 +397,9 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
   o.alpha = alpha;
   if (model) o.baseline = gmwm::pipeline::ModelBaseline{*model};
   if (fit) o.baseline = gmwm::pipeline::FitBaseline{*fit};
-  if (kalibr) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_kalibr_imu_yaml(*kalibr, freq, o.units, kalibr_imu), *kalibr};
+  if (kalibr)
+    o.baseline =
+        gmwm::pipeline::ConfigBaseline{gmwm::io::read_kalibr_imu_yaml(*kalibr, freq, o.units, kalibr_imu), *kalibr};
   if (gazebo) o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_gazebo_sdf(*gazebo, freq, o.units), *gazebo};
   if (datasheet)
     o.baseline = gmwm::pipeline::ConfigBaseline{gmwm::io::read_datasheet_yaml(*datasheet, freq, o.units), *datasheet};
@@ -401,9 +419,9 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
 
 // The navigation study (gmwm::pipeline::study_nav, as `gmwm nav`): the document gmwm nav
 // --json writes (without "run"). Sources as the CLI's --truth / --filter.
-py::object py_nav(const std::string& truth, const std::vector<std::string>& filters, const std::vector<std::string>& labels,
-                  const std::string& trajectory,
-                  double horizon, double fix_rate, double fix_sigma, const std::vector<std::pair<double, double>>& outages,
+py::object py_nav(const std::string& truth, const std::vector<std::string>& filters,
+                  const std::vector<std::string>& labels, const std::string& trajectory, double horizon,
+                  double fix_rate, double fix_sigma, const std::vector<std::pair<double, double>>& outages,
                   double judge_from, double output_interval, std::optional<double> imu_rate, std::optional<double> rate,
                   const std::string& units, int monte_carlo, std::uint64_t seed) {
   gmwm::pipeline::NavStudyOptions o;
@@ -481,13 +499,13 @@ py::object py_gap_check(int cases, std::int64_t n, int replicates, const std::st
 }
 
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
-                             std::optional<double> freq) {
+                                std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
   if (signals < 1) throw gmwm::InputError("signals: expected at least 1, got " + std::to_string(signals));
   if (freq)
-    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty()) throw gmwm::InputError(why);
-  const gmwm::Model model =
-      gmwm::parse_model(model_spec, gmwm::ProcessContext{freq.value_or(1.0), freq.has_value()});
+    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty())
+      throw gmwm::InputError(why);
+  const gmwm::Model model = gmwm::parse_model(model_spec, gmwm::ProcessContext{freq.value_or(1.0), freq.has_value()});
   if (!model.fully_specified())
     throw gmwm::InputError("model '" + model_spec + "': give every parameter a value to simulate");
   const Eigen::VectorXd theta = model.given_values();
@@ -518,25 +536,26 @@ PYBIND11_MODULE(_gmwm, m) {
     } catch (const gmwm::InputError& e) {
       input_error(gmwm::printable_line(e.what()).c_str());
     } catch (const gmwm::InvalidArgument& e) {
-      input_error(gmwm::capped_line(gmwm::printable_line(e.what())).c_str());  // the library's argument checks: bad input too, as the CLI's exit 2
+      input_error(gmwm::capped_line(gmwm::printable_line(e.what()))
+                      .c_str());  // the library's argument checks: bad input too, as the CLI's exit 2
     }
   });
   m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,
         py::arg("levels") = 0, py::arg("name") = "x1",
         "Classical Haar wavelet variance with its chi-square intervals: the 'wv' JSON column");
   m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
-        py::arg("omega") = "model", py::arg("alpha") = 0.05, py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates,
-        py::arg("seed") = gmwm::kDefaultSeed, py::arg("name") = "x1", py::arg("robust") = false,
-        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
+        py::arg("omega") = "model", py::arg("alpha") = 0.05,
+        py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates, py::arg("seed") = gmwm::kDefaultSeed,
+        py::arg("name") = "x1", py::arg("robust") = false, py::arg("eff") = py::none(),
+        py::arg("estimator") = py::none(), py::arg("units") = "",
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
         "(with continuous parameters, Kalman terms, Allan deviations and noise figures in the column's unit; `units` "
         "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`)");
   m.def("select", &py_select, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
-        py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{},
-        py::arg("robust") = false, py::arg("eff") = py::none(), py::arg("estimator") = py::none(),
-        py::arg("units") = "",
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
         "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns "
         "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "
         "the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with each column's kind from its name)");
@@ -547,16 +566,17 @@ PYBIND11_MODULE(_gmwm, m) {
         "the 'allan' and 'noise_figures' fields of gmwm wv --adev");
   m.def("gap", &py_gap, py::arg("data"), py::kw_only(), py::arg("freq"), py::arg("model") = py::none(),
         py::arg("fit") = py::none(), py::arg("kalibr") = py::none(), py::arg("kalibr_imu") = "",
-        py::arg("gazebo") = py::none(), py::arg("datasheet") = py::none(), py::arg("names") = std::vector<std::string>{},
-        py::arg("units") = "",
-        py::arg("sensor") = py::none(), py::arg("temperature") = py::none(),
-        py::arg("replicates") = gmwm::gap::GapOptions{}.replicates, py::arg("seed") = gmwm::kDefaultSeed,
-        py::arg("alpha") = 0.05, py::arg("levels") = 0, py::arg("unit_check") = true,
-        "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each column's WV, "
+        py::arg("gazebo") = py::none(), py::arg("datasheet") = py::none(),
+        py::arg("names") = std::vector<std::string>{}, py::arg("units") = "", py::arg("sensor") = py::none(),
+        py::arg("temperature") = py::none(), py::arg("replicates") = gmwm::gap::GapOptions{}.replicates,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("alpha") = 0.05, py::arg("levels") = 0,
+        py::arg("unit_check") = true,
+        "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each "
+        "column's WV, "
         "which effect explains it and by how much: the document gmwm gap --json writes");
   m.def("nav", &py_nav, py::arg("truth"), py::arg("filters") = std::vector<std::string>{}, py::kw_only(),
-        py::arg("labels") = std::vector<std::string>{},
-        py::arg("trajectory") = "static", py::arg("horizon") = 600.0, py::arg("fix_rate") = 1.0, py::arg("fix_sigma") = 1.0,
+        py::arg("labels") = std::vector<std::string>{}, py::arg("trajectory") = "static", py::arg("horizon") = 600.0,
+        py::arg("fix_rate") = 1.0, py::arg("fix_sigma") = 1.0,
         py::arg("outages") = std::vector<std::pair<double, double>>{}, py::arg("judge_from") = 0.0,
         py::arg("output_interval") = 1.0, py::arg("imu_rate") = py::none(), py::arg("rate") = py::none(),
         py::arg("units") = "", py::arg("monte_carlo") = 0, py::arg("seed") = gmwm::kDefaultSeed,

@@ -14,15 +14,16 @@ namespace gmwm {
 
 std::string WvOptions::Validate() const {
   std::ostringstream os;
-  if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
-  else if (alpha < kMinAlpha) os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
-  else if (levels < 0) os << "levels must be positive (or 0 for all), got " << levels;
+  if (!(alpha > 0.0 && alpha < 1.0))
+    os << "alpha must be in (0, 1), got " << alpha;
+  else if (alpha < kMinAlpha)
+    os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
+  else if (levels < 0)
+    os << "levels must be positive (or 0 for all), got " << levels;
   return os.str();
 }
 
-double wv_eta(std::int64_t coefficients, double tau) {
-  return std::max(static_cast<double>(coefficients) / tau, 1.0);
-}
+double wv_eta(std::int64_t coefficients, double tau) { return std::max(static_cast<double>(coefficients) / tau, 1.0); }
 
 std::pair<double, double> chi_square_ci(double wv, double eta, double alpha) {
   check_positive("chi_square_ci", "eta", eta);
@@ -37,8 +38,7 @@ namespace {
 
 void check_series(const char* fn, std::int64_t n, const WvOptions& options) {
   if (n < kMinSeriesLength)
-    detail::throw_check(fn, "series length", static_cast<double>(n),
-                        "at least " + std::to_string(kMinSeriesLength));
+    detail::throw_check(fn, "series length", static_cast<double>(n), "at least " + std::to_string(kMinSeriesLength));
   const std::string why = options.Validate();
   if (!why.empty()) throw InvalidArgument(std::string(fn) + ": " + why);
 }
@@ -48,8 +48,14 @@ WaveletVariance empty_wv(std::int64_t n, int J, double alpha) {
   w.n = n;
   w.alpha = alpha;
   const auto sz = static_cast<std::size_t>(J);
-  w.tau.resize(sz); w.wv.resize(sz); w.ci_low.resize(sz); w.ci_high.resize(sz);
-  w.variance.resize(sz); w.eta.resize(sz); w.coefficients.resize(sz); w.notes.resize(sz);
+  w.tau.resize(sz);
+  w.wv.resize(sz);
+  w.ci_low.resize(sz);
+  w.ci_high.resize(sz);
+  w.variance.resize(sz);
+  w.eta.resize(sz);
+  w.coefficients.resize(sz);
+  w.notes.resize(sz);
   return w;
 }
 
@@ -109,7 +115,8 @@ std::vector<WaveletVariance> classical_wv(const std::vector<std::unique_ptr<Haar
     for (int j = 1; j <= out[c].levels(); ++j) half_widths[c].push_back(std::int64_t{1} << (j - 1));
   sums = sums_of_squares_half_width(transforms, half_widths);
   for (std::size_t c = 0; c < transforms.size(); ++c)
-    for (int j = 1; j <= out[c].levels(); ++j) fill_level(*transforms[c], j, sums[c][static_cast<std::size_t>(j - 1)], out[c]);
+    for (int j = 1; j <= out[c].levels(); ++j)
+      fill_level(*transforms[c], j, sums[c][static_cast<std::size_t>(j - 1)], out[c]);
   if (level_sums) *level_sums = std::move(sums);
   return out;
 }
@@ -120,8 +127,7 @@ std::vector<std::pair<double, double>> allan_variance(const WaveletVariance& wv)
   return out;
 }
 
-WaveletVariance ClassicalWvEstimator::compute(const double* x, std::int64_t n, int levels,
-                                              double alpha) const {
+WaveletVariance ClassicalWvEstimator::compute(const double* x, std::int64_t n, int levels, double alpha) const {
   WvOptions o;
   o.levels = levels;
   o.alpha = alpha;
@@ -131,8 +137,8 @@ WaveletVariance ClassicalWvEstimator::compute(const double* x, std::int64_t n, i
 WaveletVariance ClassicalWvEstimator::compute(const HaarModwt& modwt, const double* x, std::int64_t n, int levels,
                                               double alpha) const {
   static_cast<void>(x);
-  check_size_match("ClassicalWvEstimator", "transform length", static_cast<std::size_t>(modwt.size()),
-                   "series length", static_cast<std::size_t>(n));
+  check_size_match("ClassicalWvEstimator", "transform length", static_cast<std::size_t>(modwt.size()), "series length",
+                   static_cast<std::size_t>(n));
   WvOptions o;
   o.levels = levels;
   o.alpha = alpha;

@@ -93,8 +93,8 @@ struct Candidate {
   std::string text;
   double statistic = 0.0, p_value = 0.0;
   int removed = 0;
-  bool carried = false;  ///< the reduced component(s) carried a share of the WV
-  int df = 0;            ///< degrees of freedom of the test: parameters removed that carried a share
+  bool carried = false;    ///< the reduced component(s) carried a share of the WV
+  int df = 0;              ///< degrees of freedom of the test: parameters removed that carried a share
   Eigen::VectorXd metric;  ///< W^1/2 of the reduced model the test measured with
 };
 
@@ -223,9 +223,11 @@ class ReductionTest {
       const Eigen::Index count = std::min<Eigen::Index>(kSequentialBatch, kCalibrationDraws - drawn);
       hits += (null_draws(dirs, drawn, count).array() >= s).count();
       drawn += count;
-      if (hits >= kSequentialHits && static_cast<double>(hits) >= kSequentialMargin * alpha * static_cast<double>(drawn))
+      if (hits >= kSequentialHits &&
+          static_cast<double>(hits) >= kSequentialMargin * alpha * static_cast<double>(drawn))
         return static_cast<double>(hits) / static_cast<double>(drawn);
-      if (drawn >= kSequentialMinDraws && static_cast<double>(hits) <= kSequentialFloor * alpha * static_cast<double>(drawn))
+      if (drawn >= kSequentialMinDraws &&
+          static_cast<double>(hits) <= kSequentialFloor * alpha * static_cast<double>(drawn))
         break;  // clearly below alpha
     }
     return static_cast<double>(hits + 1) / static_cast<double>(drawn + 1);
@@ -238,7 +240,8 @@ class ReductionTest {
     if (dirs.empty()) return kNoShare;
     const Eigen::VectorXd draws = null_draws(dirs, 0, kCalibrationDraws);
     std::vector<double> v(draws.data(), draws.data() + draws.size());
-    const auto k = std::min(static_cast<std::size_t>(std::floor((1.0 - alpha) * static_cast<double>(v.size()))), v.size() - 1);
+    const auto k =
+        std::min(static_cast<std::size_t>(std::floor((1.0 - alpha) * static_cast<double>(v.size()))), v.size() - 1);
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
     return v[k];
   }
@@ -355,7 +358,8 @@ class ReductionTest {
 Eigen::MatrixXd shapes_of(const Part& p, std::span<const double> tau) {
   const auto family = p.process->shape_family(p.theta, tau);
   Eigen::MatrixXd out(static_cast<Eigen::Index>(tau.size()), static_cast<Eigen::Index>(family.size()));
-  for (std::size_t k = 0; k < family.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = part_wv({p.process, family[k], ""}, tau);
+  for (std::size_t k = 0; k < family.size(); ++k)
+    out.col(static_cast<Eigen::Index>(k)) = part_wv({p.process, family[k], ""}, tau);
   return out;
 }
 
@@ -371,9 +375,10 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   State st;
   for (int c = 0; c < model.num_components(); ++c) {
     const auto& comp = model.components()[static_cast<std::size_t>(c)];
-    st.parts.push_back({comp.process,
-                        std::vector<double>(theta.data() + model.offset(c), theta.data() + model.offset(c) + comp.process->size()),
-                        ""});
+    st.parts.push_back(
+        {comp.process,
+         std::vector<double>(theta.data() + model.offset(c), theta.data() + model.offset(c) + comp.process->size()),
+         ""});
   }
   const int original_parameters = parameters_of(st.parts);
   const Eigen::VectorXd nu_fit = total_wv(st.parts, tau);
@@ -387,7 +392,8 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   Eigen::MatrixXd v = Eigen::MatrixXd::Zero(J, J);
   const double inflation = 1.0 / wv.efficiency.value_or(1.0);
   for (Eigen::Index j = 0; j < J; ++j) {
-    const double level = nu_fit(j) > 0.0 && std::isfinite(nu_fit(j)) ? nu_fit(j) : std::abs(wv.wv[static_cast<std::size_t>(j)]);
+    const double level =
+        nu_fit(j) > 0.0 && std::isfinite(nu_fit(j)) ? nu_fit(j) : std::abs(wv.wv[static_cast<std::size_t>(j)]);
     v(j, j) = level * level * 2.0 / wv.eta[static_cast<std::size_t>(j)] * inflation;
   }
   if (options.covariance) {
@@ -395,7 +401,8 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
     if (given.rows() != J || given.cols() != J)
       throw InvalidArgument("effective_model: the covariance is " + std::to_string(given.rows()) + " x " +
                             std::to_string(given.cols()) + ", the WV has " + std::to_string(J) + " levels");
-    if (given.allFinite() && (given.diagonal().array() > 0.0).all()) v = given;
+    if (given.allFinite() && (given.diagonal().array() > 0.0).all())
+      v = given;
     else
       for (Eigen::Index j = 0; j < J; ++j)
         if (given(j, j) > 0.0 && std::isfinite(given(j, j))) v(j, j) = given(j, j);
@@ -412,8 +419,7 @@ EffectiveModel effective_model(const WaveletVariance& wv, const Model& model, co
   // of nuhat_j below its mean), so its V there was 3-100x below the truth's, and a slow AR1
   // that only follows those lows was tested as if it stood out from a random walk (issue 27:
   // a WN+QN+RW truth read as AR1+WN+QN in 27 of 100 series).
-  const Eigen::VectorXd* nu_at = options.covariance && options.covariance_wv &&
-                                         options.covariance_wv->size() == J
+  const Eigen::VectorXd* nu_at = options.covariance && options.covariance_wv && options.covariance_wv->size() == J
                                      ? &*options.covariance_wv
                                      : nullptr;
   auto metric_of = [&](const std::vector<Part>& parts) -> Eigen::VectorXd {

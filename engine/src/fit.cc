@@ -24,10 +24,14 @@ namespace gmwm {
 
 const char* to_string(OmegaKind k) {
   switch (k) {
-    case OmegaKind::kDiag: return "diag";
-    case OmegaKind::kFull: return "full";
-    case OmegaKind::kBootstrap: return "bootstrap";
-    case OmegaKind::kModel: return "model";
+    case OmegaKind::kDiag:
+      return "diag";
+    case OmegaKind::kFull:
+      return "full";
+    case OmegaKind::kBootstrap:
+      return "bootstrap";
+    case OmegaKind::kModel:
+      return "model";
   }
   return "?";
 }
@@ -40,20 +44,28 @@ std::optional<OmegaKind> parse_omega_kind(const std::string& name) {
 
 const char* to_string(FitStatus s) {
   switch (s) {
-    case FitStatus::kConverged: return "converged";
-    case FitStatus::kNotConverged: return "not_converged";
-    case FitStatus::kFailed: return "failed";
+    case FitStatus::kConverged:
+      return "converged";
+    case FitStatus::kNotConverged:
+      return "not_converged";
+    case FitStatus::kFailed:
+      return "failed";
   }
   return "?";
 }
 
 std::string FitOptions::Validate() const {
   std::ostringstream os;
-  if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
-  else if (alpha < kMinAlpha) os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
-  else if (multistarts < 1) os << "multistarts must be at least 1, got " << multistarts;
-  else if (max_evaluations < 10) os << "max_evaluations must be at least 10, got " << max_evaluations;
-  else if (nested_depth < 1) os << "nested_depth must be at least 1, got " << nested_depth;
+  if (!(alpha > 0.0 && alpha < 1.0))
+    os << "alpha must be in (0, 1), got " << alpha;
+  else if (alpha < kMinAlpha)
+    os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
+  else if (multistarts < 1)
+    os << "multistarts must be at least 1, got " << multistarts;
+  else if (max_evaluations < 10)
+    os << "max_evaluations must be at least 10, got " << max_evaluations;
+  else if (nested_depth < 1)
+    os << "nested_depth must be at least 1, got " << nested_depth;
   else if (!(relative_tolerance > 0.0 && relative_tolerance < 1.0))
     os << "relative_tolerance must be in (0, 1), got " << relative_tolerance;
   else if (omega == OmegaKind::kBootstrap && bootstrap_replicates < 10)
@@ -111,10 +123,14 @@ constexpr double kRevivalGain = 1e-9;
 
 double bound_of(Transform t) {
   switch (t) {
-    case Transform::kLog: return kLogBound;
-    case Transform::kAtanh: return kAtanhBound;
-    case Transform::kLogitHalf: return kLogitBound;
-    case Transform::kIdentity: return kIdentityBound;
+    case Transform::kLog:
+      return kLogBound;
+    case Transform::kAtanh:
+      return kAtanhBound;
+    case Transform::kLogitHalf:
+      return kLogitBound;
+    case Transform::kIdentity:
+      return kIdentityBound;
   }
   return kIdentityBound;
 }
@@ -247,7 +263,8 @@ void newton_polish(Problem& P, LocalResult& best) {
     Eigen::VectorXd gf(m), scale(m);
     for (Eigen::Index a = 0; a < m; ++a) {
       gf(a) = g(fr[static_cast<std::size_t>(a)]);
-      for (Eigen::Index b = 0; b < m; ++b) Hf(a, b) = H(fr[static_cast<std::size_t>(a)], fr[static_cast<std::size_t>(b)]);
+      for (Eigen::Index b = 0; b < m; ++b)
+        Hf(a, b) = H(fr[static_cast<std::size_t>(a)], fr[static_cast<std::size_t>(b)]);
     }
     const double hmax = std::max(Hf.diagonal().cwiseAbs().maxCoeff(), 1e-300);
     for (Eigen::Index a = 0; a < m; ++a) scale(a) = std::max(std::abs(Hf(a, a)), 1e-12 * hmax);
@@ -257,7 +274,10 @@ void newton_polish(Problem& P, LocalResult& best) {
       Eigen::MatrixXd K = Hf;
       K.diagonal() += lambda * scale;
       Eigen::LDLT<Eigen::MatrixXd> ldlt(K);
-      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) { lambda *= 10.0; continue; }
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) {
+        lambda *= 10.0;
+        continue;
+      }
       const Eigen::VectorXd step = ldlt.solve(-gf);
       Eigen::VectorXd trial = u;
       for (Eigen::Index a = 0; a < m; ++a) {
@@ -289,14 +309,16 @@ void newton_polish(Problem& P, LocalResult& best) {
 // objective (kRoundoffGradient, i.e. a relative change below 1e-6 per unit step).
 constexpr double kRoundoffGradient = 1e-6;
 
-FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, double value,
-                    std::string& message) {
+FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, double value, std::string& message) {
   switch (code) {
-    case NLOPT_SUCCESS: case NLOPT_STOPVAL_REACHED: case NLOPT_FTOL_REACHED:
+    case NLOPT_SUCCESS:
+    case NLOPT_STOPVAL_REACHED:
+    case NLOPT_FTOL_REACHED:
     case NLOPT_XTOL_REACHED:
       message = "converged (NLopt code " + std::to_string(code) + ")";
       return FitStatus::kConverged;
-    case NLOPT_MAXEVAL_REACHED: case NLOPT_MAXTIME_REACHED:
+    case NLOPT_MAXEVAL_REACHED:
+    case NLOPT_MAXTIME_REACHED:
       message = "stopped at the evaluation limit before converging";
       return FitStatus::kNotConverged;
     case NLOPT_ROUNDOFF_LIMITED:
@@ -327,8 +349,8 @@ FitStatus status_of(nlopt_result code, Problem& P, const Eigen::VectorXd& u, dou
 
 }  // namespace
 
-std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model,
-                                           const Eigen::MatrixXd& omega, const FitOptions& options) {
+std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
+                                           const FitOptions& options) {
   std::vector<Eigen::VectorXd> out;
   FitOptions sub_options = options;
   sub_options.omega_matrix = omega;
@@ -376,8 +398,9 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   if (model_in.num_components() == 0) throw InputError("fit: the model has no component");
   for (int j = 0; j < wv.levels(); ++j)
     if (!std::isfinite(wv.wv[static_cast<std::size_t>(j)]))
-      throw InputError("fit: the wavelet variance at level " + std::to_string(j + 1) +
-                       " is undefined (" + (wv.notes[static_cast<std::size_t>(j)].empty() ? "no value" : wv.notes[static_cast<std::size_t>(j)]) + ")");
+      throw InputError(
+          "fit: the wavelet variance at level " + std::to_string(j + 1) + " is undefined (" +
+          (wv.notes[static_cast<std::size_t>(j)].empty() ? "no value" : wv.notes[static_cast<std::size_t>(j)]) + ")");
 
   Problem P;
   P.wv = &wv;
@@ -430,9 +453,8 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
     } else {
       ClassicalWvEstimator classical;
       const WvEstimator& est = options.estimator ? *options.estimator : classical;
-      v_for_omega = bootstrap_wv_covariance(model_in, pilot, wv.n, wv.levels(),
-                                            options.bootstrap_replicates, options.seed, est, wv.alpha,
-                                            options.progress);
+      v_for_omega = bootstrap_wv_covariance(model_in, pilot, wv.n, wv.levels(), options.bootstrap_replicates,
+                                            options.seed, est, wv.alpha, options.progress);
     }
     if (options.omega == OmegaKind::kModel) {
       // diag(1 / V_jj); a level whose V_jj is not positive and finite keeps the data's weight.
@@ -469,7 +491,10 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
     if (!model_in.spec_of(k).signed_magnitude) continue;
     double sign = 0.0;
     for (const auto& s : options.starts)
-      if (s.size() == theta.size() && std::isfinite(s(k)) && s(k) != 0.0) { sign = s(k); break; }
+      if (s.size() == theta.size() && std::isfinite(s(k)) && s(k) != 0.0) {
+        sign = s(k);
+        break;
+      }
     if (sign == 0.0) {
       const Eigen::VectorXd given = model_in.given_values();
       if (std::isfinite(given(k)) && given(k) != 0.0) sign = given(k);
@@ -524,8 +549,10 @@ std::string rejection_summary(const FitResult& fit, double freq, bool freq_known
         }
         first += replicate_levels[k];
       }
-      if (freq_known) os << m.tau / freq << " s";
-      else os << "tau = " << m.tau;
+      if (freq_known)
+        os << m.tau / freq << " s";
+      else
+        os << "tau = " << m.tau;
       os << " (data/model " << m.ratio << ", z = " << m.z << ")";
     }
   }
@@ -539,8 +566,9 @@ std::string degeneracy_summary(const FitResult& fit) {
     const IntervalKind kind = fit.interval[static_cast<std::size_t>(k)];
     const int c = fit.model.component_of(k);
     if (kind == IntervalKind::kBoundary && k == fit.model.offset(c))
-      collapsed += (collapsed.empty() ? "" : ", ") + fit.model.components()[static_cast<std::size_t>(c)].process->name() +
-                   "[" + std::to_string(c + 1) + "]";
+      collapsed += (collapsed.empty() ? "" : ", ") +
+                   fit.model.components()[static_cast<std::size_t>(c)].process->name() + "[" + std::to_string(c + 1) +
+                   "]";
     if (kind == IntervalKind::kNotIdentified) flat += (flat.empty() ? "" : ", ") + fit.model.parameter_label(k);
   }
   std::string out = "degenerate fit:";
@@ -560,7 +588,9 @@ std::string FitResult::Report() const {
     if (se.size() == theta.size()) os << "  (se " << se(k) << ", CI [" << ci_low(k) << ", " << ci_high(k) << "])";
     os << "\n";
   }
-  if (gof.df > 0) os << "  goodness of fit: statistic " << gof.statistic << ", df " << gof.df << ", p-value " << gof.p_value << " (" << gof.method << ")\n";
+  if (gof.df > 0)
+    os << "  goodness of fit: statistic " << gof.statistic << ", df " << gof.df << ", p-value " << gof.p_value << " ("
+       << gof.method << ")\n";
   for (const auto& n : notes) os << "  note: " << n << "\n";
   os << "  time: optimisation " << seconds_optimise << " s, inference " << seconds_inference << " s\n";
   return os.str();

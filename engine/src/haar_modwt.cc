@@ -108,8 +108,7 @@ double HaarModwt::noise_floor(int level) const {
   // combines four of them (weights 1, -2, 1) and divides by tau.
   constexpr double kCombinedWeights = 4.0;
   constexpr double kSafety = 4.0;
-  return kSafety * kCombinedWeights * std::numeric_limits<double>::epsilon() * max_abs_prefix_ /
-         std::ldexp(1.0, level);
+  return kSafety * kCombinedWeights * std::numeric_limits<double>::epsilon() * max_abs_prefix_ / std::ldexp(1.0, level);
 }
 
 int HaarModwt::max_levels() const {
@@ -118,18 +117,16 @@ int HaarModwt::max_levels() const {
   return j;
 }
 
-std::int64_t HaarModwt::count(int level) const {
-  return n_ - (std::int64_t{1} << level) + 1;
-}
+std::int64_t HaarModwt::count(int level) const { return n_ - (std::int64_t{1} << level) + 1; }
 
 void HaarModwt::coefficients(int level, std::vector<double>& out) const {
   const std::int64_t tau = std::int64_t{1} << level, m = tau / 2;
   const std::int64_t M = count(level);
   out.resize(static_cast<std::size_t>(M > 0 ? M : 0));
   const double inv = 1.0 / static_cast<double>(tau);
-  const double* a = p_ + tau;   // S_{t+1} for t = tau-1
-  const double* b = p_ + m;     // S_{t+1-m}
-  const double* c = p_;         // S_{t+1-tau}
+  const double* a = p_ + tau;  // S_{t+1} for t = tau-1
+  const double* b = p_ + m;    // S_{t+1-m}
+  const double* c = p_;        // S_{t+1-tau}
   for (std::int64_t k = 0; k < M; ++k) out[static_cast<std::size_t>(k)] = (a[k] - 2.0 * b[k] + c[k]) * inv;
 }
 
@@ -183,9 +180,15 @@ inline void add_squares(const double* a, const double* b, const double* c, std::
     const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
     const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
     const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-    t0 += d0 * d0; t1 += d1 * d1; t2 += d2 * d2; t3 += d3 * d3;
+    t0 += d0 * d0;
+    t1 += d1 * d1;
+    t2 += d2 * d2;
+    t3 += d3 * d3;
   }
-  lane[0] = t0; lane[1] = t1; lane[2] = t2; lane[3] = t3;
+  lane[0] = t0;
+  lane[1] = t1;
+  lane[2] = t2;
+  lane[3] = t3;
 }
 
 }  // namespace
@@ -251,7 +254,10 @@ HaarModwt::Squares HaarModwt::squares(std::int64_t m, bool with_peak) const {
         const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
         const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
         const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-        t0 += d0 * d0; t1 += d1 * d1; t2 += d2 * d2; t3 += d3 * d3;
+        t0 += d0 * d0;
+        t1 += d1 * d1;
+        t2 += d2 * d2;
+        t3 += d3 * d3;
       }
     } else {
       double q0 = peak, q1 = peak, q2 = peak, q3 = peak;
@@ -261,12 +267,21 @@ HaarModwt::Squares HaarModwt::squares(std::int64_t m, bool with_peak) const {
         const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
         const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
         const double e0 = d0 * d0, e1 = d1 * d1, e2 = d2 * d2, e3 = d3 * d3;
-        t0 += e0; t1 += e1; t2 += e2; t3 += e3;
-        q0 = std::max(q0, e0); q1 = std::max(q1, e1); q2 = std::max(q2, e2); q3 = std::max(q3, e3);
+        t0 += e0;
+        t1 += e1;
+        t2 += e2;
+        t3 += e3;
+        q0 = std::max(q0, e0);
+        q1 = std::max(q1, e1);
+        q2 = std::max(q2, e2);
+        q3 = std::max(q3, e3);
       }
       peak = std::max(std::max(q0, q1), std::max(q2, q3));
     }
-    s0 = t0; s1 = t1; s2 = t2; s3 = t3;
+    s0 = t0;
+    s1 = t1;
+    s2 = t2;
+    s3 = t3;
   };
   const std::int64_t whole = M - M % 4;  // the four-wide part; the rest goes to s0
   if (!file_) {

@@ -27,10 +27,14 @@ constexpr double kFlatLoading = 0.3;
 /// The closure of a parameter's natural domain.
 std::pair<double, double> domain_of(Transform t) {
   switch (t) {
-    case Transform::kLog: return {0.0, std::numeric_limits<double>::infinity()};
-    case Transform::kAtanh: return {-1.0, 1.0};
-    case Transform::kLogitHalf: return {0.0, 0.5};
-    case Transform::kIdentity: break;
+    case Transform::kLog:
+      return {0.0, std::numeric_limits<double>::infinity()};
+    case Transform::kAtanh:
+      return {-1.0, 1.0};
+    case Transform::kLogitHalf:
+      return {0.0, 0.5};
+    case Transform::kIdentity:
+      break;
   }
   return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
 }
@@ -42,8 +46,8 @@ constexpr double kBoundaryShare = 1e-8;
 
 }  // namespace
 
-void run_inference(const WaveletVariance& wv, const FitOptions& options, bool omega_is_v_inverse,
-                   FitResult& r, const Eigen::MatrixXd* parameter_v) {
+void run_inference(const WaveletVariance& wv, const FitOptions& options, bool omega_is_v_inverse, FitResult& r,
+                   const Eigen::MatrixXd* parameter_v) {
   const Model& model = r.model;
   const int p = model.num_parameters();
   const int J = wv.levels();
@@ -53,8 +57,8 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
   // V: the one behind Omega when there is one, else model-based at theta_hat.
   // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
   if (r.wv_covariance.size() == 0)
-    r.wv_covariance = wv.covariance ? *wv.covariance
-                                    : model_wv_covariance(model, r.theta, wv.n, J) / wv.efficiency.value_or(1.0);
+    r.wv_covariance =
+        wv.covariance ? *wv.covariance : model_wv_covariance(model, r.theta, wv.n, J) / wv.efficiency.value_or(1.0);
   const Eigen::MatrixXd& V = r.wv_covariance;
 
   // Active parameters (components not on the boundary).
@@ -64,7 +68,8 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
     std::vector<double> part(static_cast<std::size_t>(J));
     proc.wv({r.theta.data() + model.offset(c), static_cast<std::size_t>(proc.size())}, wv.tau, part);
     double share = 0.0;
-    for (int j = 0; j < J; ++j) share = std::max(share, std::abs(part[static_cast<std::size_t>(j)]) / std::max(std::abs(nu(j)), 1e-300));
+    for (int j = 0; j < J; ++j)
+      share = std::max(share, std::abs(part[static_cast<std::size_t>(j)]) / std::max(std::abs(nu(j)), 1e-300));
     if (share < kBoundaryShare) {
       r.notes.push_back("component " + std::to_string(c + 1) + " (" + proc.name() +
                         ") is at the boundary (negligible at every scale): dropped from the "
@@ -82,7 +87,9 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
   for (int j = 0; j < J; ++j)
     for (int a = 0; a < q; ++a)
       for (int b = 0; b < q; ++b)
-        D(a, b) += hess[static_cast<std::size_t>(j)](active[static_cast<std::size_t>(a)], active[static_cast<std::size_t>(b)]) * resid(j);
+        D(a, b) += hess[static_cast<std::size_t>(j)](active[static_cast<std::size_t>(a)],
+                                                     active[static_cast<std::size_t>(b)]) *
+                   resid(j);
   const Eigen::MatrixXd B = A.transpose() * omega * A;
   const Eigen::MatrixXd H = B + D;
   // Directions along which the objective is flat (relative curvature below
@@ -118,8 +125,10 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
     if (any_flat) {
       std::string names;
       for (int a = 0; a < q; ++a)
-        if (flat[static_cast<std::size_t>(a)]) names += (names.empty() ? "" : ", ") + model.parameter_label(active[static_cast<std::size_t>(a)]);
-      r.notes.push_back("the objective is flat along " + (names.empty() ? std::string("a combination of parameters") : names) +
+        if (flat[static_cast<std::size_t>(a)])
+          names += (names.empty() ? "" : ", ") + model.parameter_label(active[static_cast<std::size_t>(a)]);
+      r.notes.push_back("the objective is flat along " +
+                        (names.empty() ? std::string("a combination of parameters") : names) +
                         " (its Hessian is singular there): not identified, no interval");
     }
   }
@@ -180,12 +189,12 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
       r.interval[static_cast<std::size_t>(k)] = IntervalKind::kOneSided;
       continue;
     }
-    if (std::isfinite(se_u)) set_interval(from_unconstrained(t, u(k) - z * se_u), from_unconstrained(t, u(k) + z * se_u));
+    if (std::isfinite(se_u))
+      set_interval(from_unconstrained(t, u(k) - z * se_u), from_unconstrained(t, u(k) + z * se_u));
     r.interval[static_cast<std::size_t>(k)] = IntervalKind::kTwoSided;
   }
   for (int k = 0; k < p; ++k)
-    if (r.interval[static_cast<std::size_t>(k)] == IntervalKind::kOneSided)
-    {
+    if (r.interval[static_cast<std::size_t>(k)] == IntervalKind::kOneSided) {
       char buf[160];
       std::snprintf(buf, sizeof buf, " is at the edge of its domain: one-sided interval [%.6g, %.6g]", r.ci_low(k),
                     r.ci_high(k));
@@ -212,10 +221,14 @@ namespace gmwm {
 
 const char* to_string(IntervalKind k) {
   switch (k) {
-    case IntervalKind::kTwoSided: return "two-sided";
-    case IntervalKind::kOneSided: return "one-sided";
-    case IntervalKind::kNotIdentified: return "not identified";
-    case IntervalKind::kBoundary: return "boundary";
+    case IntervalKind::kTwoSided:
+      return "two-sided";
+    case IntervalKind::kOneSided:
+      return "one-sided";
+    case IntervalKind::kNotIdentified:
+      return "not identified";
+    case IntervalKind::kBoundary:
+      return "boundary";
   }
   return "?";
 }
@@ -224,7 +237,8 @@ std::vector<LevelMisfit> FitResult::worst_levels(int count) const {
   std::vector<LevelMisfit> v;
   for (const auto& m : misfits)
     if (std::isfinite(m.z)) v.push_back(m);
-  std::sort(v.begin(), v.end(), [](const LevelMisfit& a, const LevelMisfit& b) { return std::abs(a.z) > std::abs(b.z); });
+  std::sort(v.begin(), v.end(),
+            [](const LevelMisfit& a, const LevelMisfit& b) { return std::abs(a.z) > std::abs(b.z); });
   if (static_cast<int>(v.size()) > count) v.resize(static_cast<std::size_t>(count));
   return v;
 }
@@ -266,7 +280,8 @@ GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double
     return g;
   }
   const double scale = t2 / t1, dof = t1 * t1 / t2;
-  g.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(objective, 0.0) / scale));
+  g.p_value =
+      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(objective, 0.0) / scale));
   g.method = "satterthwaite";
   return g;
 }

@@ -56,8 +56,7 @@ void check_model(const Model& model, const Eigen::VectorXd& theta, double freq) 
     if (ctx.freq_known && std::fabs(ctx.freq - freq) > kRateTolerance * ctx.freq) {
       std::ostringstream req;
       req.precision(17);
-      req << "the rate component " << c + 1 << " (" << p.name() << ") was built with, "
-          << ctx.freq << " Hz";
+      req << "the rate component " << c + 1 << " (" << p.name() << ") was built with, " << ctx.freq << " Hz";
       detail::throw_check("integrated_error", "freq", freq, req.str());
     }
   }
@@ -69,8 +68,7 @@ std::vector<SumMoments> Process::sum_moments(std::span<const double> theta,
                                              std::span<const std::int64_t> counts) const {
   std::vector<SumMoments> out(counts.size());
   if (counts.empty()) return out;
-  for (std::int64_t k : counts)
-    check_at_least("Process::sum_moments", "K", static_cast<double>(k), 1.0);
+  for (std::int64_t k : counts) check_at_least("Process::sum_moments", "K", static_cast<double>(k), 1.0);
   // Counts in increasing order, walked through once.
   std::vector<std::size_t> order(counts.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
@@ -92,8 +90,7 @@ std::vector<SumMoments> Process::sum_moments(std::span<const double> theta,
   return out;
 }
 
-std::vector<IntegratedError> integrated_error(const Model& model, const Eigen::VectorXd& theta,
-                                              double freq,
+std::vector<IntegratedError> integrated_error(const Model& model, const Eigen::VectorXd& theta, double freq,
                                               std::span<const double> horizons_seconds) {
   const std::vector<std::int64_t> counts = sample_counts(freq, horizons_seconds);
   check_model(model, theta, freq);
@@ -132,8 +129,7 @@ IntegratedError integrated_error(const Model& model, const Eigen::VectorXd& thet
   return integrated_error(model, theta, freq, std::span<const double>(&horizon_seconds, 1)).front();
 }
 
-double integrated_error_sd(const Model& model, const Eigen::VectorXd& theta, double freq,
-                           double horizon_seconds) {
+double integrated_error_sd(const Model& model, const Eigen::VectorXd& theta, double freq, double horizon_seconds) {
   return integrated_error(model, theta, freq, horizon_seconds).sd_random;
 }
 

@@ -70,8 +70,7 @@ Eigen::MatrixXd inverse(const Eigen::MatrixXd& v) {
 std::vector<FitResult> single_fits(std::span<const WaveletVariance> wvs, const Model& model,
                                    const FitOptions& options) {
   std::vector<FitResult> singles(wvs.size());
-  gmwm::parallel_for(std::size_t{0}, wvs.size(),
-                            [&](std::size_t k) { singles[k] = fit_gmwm(wvs[k], model, options); });
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { singles[k] = fit_gmwm(wvs[k], model, options); });
   return singles;
 }
 
@@ -180,7 +179,8 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
         continue;
       }
       Eigen::MatrixXd d = Eigen::MatrixXd::Zero(vk.rows(), vk.cols());
-      for (Eigen::Index j = 0; j < vk.rows(); ++j) d(j, j) = vk(j, j) > 0.0 && std::isfinite(vk(j, j)) ? 1.0 / vk(j, j) : 0.0;
+      for (Eigen::Index j = 0; j < vk.rows(); ++j)
+        d(j, j) = vk(j, j) > 0.0 && std::isfinite(vk(j, j)) ? 1.0 / vk(j, j) : 0.0;
       omegas.push_back(std::move(d));
     }
     starts.push_back(joint.theta);
@@ -214,7 +214,8 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
 }
 
 std::string ReplicateTestOptions::Validate() const {
-  if (bootstrap < 19) return "bootstrap must be at least 19 (a p-value of 0.05 needs 19 draws), got " + std::to_string(bootstrap);
+  if (bootstrap < 19)
+    return "bootstrap must be at least 19 (a p-value of 0.05 needs 19 draws), got " + std::to_string(bootstrap);
   return fit.Validate();
 }
 
@@ -300,8 +301,8 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
   gmwm::parallel_for(0, options.bootstrap, [&](int b) {
     std::vector<WaveletVariance> sim;
     for (std::size_t k = 0; k < wvs.size(); ++k) {
-      const std::vector<double> x = simulate(model, theta, wvs[k].n, options.seed,
-                                             static_cast<std::uint64_t>(b) * wvs.size() + k);
+      const std::vector<double> x =
+          simulate(model, theta, wvs[k].n, options.seed, static_cast<std::uint64_t>(b) * wvs.size() + k);
       sim.push_back(estimator.compute(x.data(), wvs[k].n, wvs[k].levels(), wvs[k].alpha));
     }
     bool finite = true;
@@ -367,7 +368,8 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
   if (j.status == FitStatus::kFailed || !j.theta.allFinite() || wvs.size() != joint.levels.size())
     throw InputError("replicate bootstrap: the joint fit has no usable estimate");
   if (!(alpha > 0.0 && alpha < 1.0)) throw InputError("replicate bootstrap: alpha must be in (0, 1)");
-  if (max_draws < 10) throw InputError("replicate bootstrap: max_draws must be at least 10, got " + std::to_string(max_draws));
+  if (max_draws < 10)
+    throw InputError("replicate bootstrap: max_draws must be at least 10, got " + std::to_string(max_draws));
   const int K = static_cast<int>(wvs.size());
   if (K < 2) throw InputError("replicate bootstrap: needs at least 2 replicates, got " + std::to_string(K));
   // Each replicate's block of the joint Omega.
@@ -426,7 +428,8 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
     thetas[b] = f.theta;
     // The WV cannot see a signed parameter's sign: the joint estimate's is kept.
     for (int k = 0; k < j.model.num_parameters(); ++k)
-      if (j.model.spec_of(k).signed_magnitude && (j.theta(k) < 0.0) != (thetas[b](k) < 0.0)) thetas[b](k) = -thetas[b](k);
+      if (j.model.spec_of(k).signed_magnitude && (j.theta(k) < 0.0) != (thetas[b](k) < 0.0))
+        thetas[b](k) = -thetas[b](k);
     ok[b] = 1;
   });
   const Eigen::Index p = j.theta.size();
@@ -515,7 +518,8 @@ JointAnalysis analyse_replicates(std::span<const WaveletVariance> wvs, std::span
   t.fit = options.fit;
   t.fit.inference = false;
   out.test = replicate_test(wvs, out.fit, t);
-  out.bootstrap = replicate_bootstrap(wvs, out.fit, options.fit.alpha, options.bootstrap_draws, options.test.seed, t.fit);
+  out.bootstrap =
+      replicate_bootstrap(wvs, out.fit, options.fit.alpha, options.bootstrap_draws, options.test.seed, t.fit);
   return out;
 }
 

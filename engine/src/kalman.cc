@@ -29,8 +29,9 @@ std::vector<KalmanTerm> Process::kalman(std::span<const double> theta, double fr
 std::vector<KalmanTerm> Process::kalman_impl(std::span<const double>, double, double) const {
   KalmanTerm k;
   k.role = "no finite Gauss-Markov state";
-  k.note = name() + " has no state with white driving noise of the usual form; model it from its fitted "
-                    "autocovariance or approximate it with Gauss-Markov states";
+  k.note = name() +
+           " has no state with white driving noise of the usual form; model it from its fitted "
+           "autocovariance or approximate it with Gauss-Markov states";
   return {k};
 }
 

@@ -16,8 +16,7 @@ Model::Model(std::vector<Component> components) : components_(std::move(componen
   for (auto& c : components_) {
     offsets_.push_back(num_parameters_);
     if (c.given.empty())
-      c.given.assign(static_cast<std::size_t>(c.process->size()),
-                     std::numeric_limits<double>::quiet_NaN());
+      c.given.assign(static_cast<std::size_t>(c.process->size()), std::numeric_limits<double>::quiet_NaN());
     num_parameters_ += c.process->size();
   }
 }
@@ -45,13 +44,11 @@ std::span<const double> slice(const Eigen::VectorXd& theta, int off, int len) {
 
 std::string Model::validate(const Eigen::VectorXd& theta) const {
   if (theta.size() != num_parameters_)
-    return "model takes " + std::to_string(num_parameters_) + " parameters, got " +
-           std::to_string(theta.size());
+    return "model takes " + std::to_string(num_parameters_) + " parameters, got " + std::to_string(theta.size());
   for (int c = 0; c < num_components(); ++c) {
     const auto& p = *components_[c].process;
     std::string why = p.validate(slice(theta, offset(c), p.size()));
-    if (!why.empty())
-      return "component " + std::to_string(c + 1) + " (" + p.name() + "): " + why;
+    if (!why.empty()) return "component " + std::to_string(c + 1) + " (" + p.name() + "): " + why;
   }
   return {};
 }
@@ -79,8 +76,7 @@ Eigen::MatrixXd Model::jacobian(const Eigen::VectorXd& theta, std::span<const do
   return jac;
 }
 
-std::vector<Eigen::MatrixXd> Model::hessians(const Eigen::VectorXd& theta,
-                                             std::span<const double> tau) const {
+std::vector<Eigen::MatrixXd> Model::hessians(const Eigen::VectorXd& theta, std::span<const double> tau) const {
   const auto J = static_cast<Eigen::Index>(tau.size());
   std::vector<Eigen::MatrixXd> out(tau.size(), Eigen::MatrixXd::Zero(num_parameters_, num_parameters_));
   for (int c = 0; c < num_components(); ++c) {
@@ -123,8 +119,10 @@ Model Model::canonical(Eigen::VectorXd* theta, std::vector<int>* permutation) co
     const auto& p = *components_[c].process;
     double sk = 0.0;
     if (p.sort_key() >= 0) {
-      if (theta) sk = (*theta)(offset(c) + p.sort_key());
-      else sk = components_[c].given[static_cast<std::size_t>(p.sort_key())];
+      if (theta)
+        sk = (*theta)(offset(c) + p.sort_key());
+      else
+        sk = components_[c].given[static_cast<std::size_t>(p.sort_key())];
       if (std::isnan(sk)) sk = std::numeric_limits<double>::infinity();
     }
     return std::make_tuple(p.canonical_rank(), p.structure(), sk);
@@ -181,7 +179,10 @@ std::string Model::to_string(const Eigen::VectorXd& theta) const {
     if (c) os << "+";
     os << p.name() << "(";
     bool first = true;
-    if (!p.structure().empty()) { os << p.structure(); first = false; }
+    if (!p.structure().empty()) {
+      os << p.structure();
+      first = false;
+    }
     for (int k = 0; k < p.size(); ++k) {
       os << (first ? "" : ",") << p.parameters()[static_cast<std::size_t>(k)].name << "="
          << p.to_display(k, theta(offset(c) + k));

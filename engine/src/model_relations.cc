@@ -5,7 +5,6 @@
 #include <set>
 #include <string>
 
-
 namespace gmwm {
 namespace {
 
@@ -23,10 +22,18 @@ std::vector<double> typical_theta(const Process& p) {
   std::vector<double> t;
   for (const auto& s : p.parameters()) {
     switch (s.transform) {
-      case Transform::kLog: t.push_back(1.0); break;
-      case Transform::kAtanh: t.push_back(0.5); break;
-      case Transform::kLogitHalf: t.push_back(0.1); break;
-      case Transform::kIdentity: t.push_back(0.5); break;
+      case Transform::kLog:
+        t.push_back(1.0);
+        break;
+      case Transform::kAtanh:
+        t.push_back(0.5);
+        break;
+      case Transform::kLogitHalf:
+        t.push_back(0.1);
+        break;
+      case Transform::kIdentity:
+        t.push_back(0.5);
+        break;
     }
   }
   return t;
@@ -134,13 +141,11 @@ std::vector<Model> representation_neighbours(const Model& model) {
     for (const SimplerForm& f : p.simpler_forms(typical_theta(p))) {
       if (!p.represent(*f.process, f.theta)) continue;
       // Two of a linear process (WN, QN, RW) are one: that neighbour is the removal above.
-      const bool duplicate = std::any_of(comps.begin(), comps.end(), [&](const Component& other) {
-        return same_process(*other.process, *f.process);
-      });
+      const bool duplicate = std::any_of(
+          comps.begin(), comps.end(), [&](const Component& other) { return same_process(*other.process, *f.process); });
       if (duplicate && f.process->linear()) continue;
       std::vector<Component> kept;
-      for (std::size_t k = 0; k < comps.size(); ++k)
-        kept.push_back(k == c ? Component{f.process, {}} : comps[k]);
+      for (std::size_t k = 0; k < comps.size(); ++k) kept.push_back(k == c ? Component{f.process, {}} : comps[k]);
       add(kept);
     }
   }
@@ -152,7 +157,8 @@ std::vector<std::vector<bool>> representation_matrix(const std::vector<Model>& m
   std::vector<std::vector<bool>> rep(K, std::vector<bool>(K, false));
   for (std::size_t i = 0; i < K; ++i)
     for (std::size_t k = 0; k < K; ++k)
-      rep[i][k] = i != k && models[i].num_components() >= models[k].num_components() && represents(models[i], models[k]);
+      rep[i][k] =
+          i != k && models[i].num_components() >= models[k].num_components() && represents(models[i], models[k]);
   // Strict: two equally expressive models (the same multiset listed twice) order nothing.
   for (std::size_t i = 0; i < K; ++i)
     for (std::size_t k = 0; k < i; ++k)

@@ -43,19 +43,18 @@ class Parser {
  private:
   [[noreturn]] void fail(const std::string& what, const std::string& expected) const {
     std::ostringstream os;
-    os << "model '" << s_ << "', column " << (pos_ + 1) << ": found " << what << ", expected "
-       << expected;
+    os << "model '" << s_ << "', column " << (pos_ + 1) << ": found " << what << ", expected " << expected;
     throw InputError(os.str());
   }
-  [[noreturn]] void fail_msg(const std::string& msg) const {
-    throw InputError("model '" + s_ + "': " + msg);
-  }
+  [[noreturn]] void fail_msg(const std::string& msg) const { throw InputError("model '" + s_ + "': " + msg); }
   std::string found() const {
     if (at_end()) return "the end of the model";
     return std::string("'") + s_[pos_] + "'";
   }
   bool at_end() const { return pos_ >= s_.size(); }
-  void skip() { while (!at_end() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_; }
+  void skip() {
+    while (!at_end() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
   std::string ident() {
     const std::size_t b = pos_;
     while (!at_end() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_')) ++pos_;
@@ -105,8 +104,7 @@ class Parser {
       pos_ = name_pos;
       std::string known;
       for (const auto& n : ProcessRegistry::instance().names()) known += (known.empty() ? "" : ", ") + n;
-      fail_msg("unknown process '" + name + "' at column " + std::to_string(name_pos + 1) +
-               " (known: " + known + ")");
+      fail_msg("unknown process '" + name + "' at column " + std::to_string(name_pos + 1) + " (known: " + known + ")");
     }
     // Arguments.
     std::vector<std::pair<std::string, double>> args;
@@ -129,8 +127,14 @@ class Parser {
           args.emplace_back(key, number());
           skip();
           if (at_end()) fail(found(), "',' or ')'");
-          if (s_[pos_] == ',') { ++pos_; continue; }
-          if (s_[pos_] == ')') { ++pos_; break; }
+          if (s_[pos_] == ',') {
+            ++pos_;
+            continue;
+          }
+          if (s_[pos_] == ')') {
+            ++pos_;
+            break;
+          }
           fail(found(), "',' or ')'");
         }
       }
@@ -186,10 +190,18 @@ class Parser {
           // Fill the other slots with a value valid for their transform.
           for (std::size_t k = 0; k < one.size(); ++k) {
             switch (proc->parameters()[k].transform) {
-              case Transform::kLog: one[k] = 1.0; break;
-              case Transform::kAtanh: one[k] = 0.0; break;
-              case Transform::kIdentity: one[k] = 0.0; break;
-              case Transform::kLogitHalf: one[k] = 0.25; break;
+              case Transform::kLog:
+                one[k] = 1.0;
+                break;
+              case Transform::kAtanh:
+                one[k] = 0.0;
+                break;
+              case Transform::kIdentity:
+                one[k] = 0.0;
+                break;
+              case Transform::kLogitHalf:
+                one[k] = 0.25;
+                break;
             }
           }
           one[i] = probe[i];
@@ -215,8 +227,7 @@ Model parse_model(const std::string& spec, const ProcessContext& context) {
     const Process& p = *c.process;
     if (p.linear() || p.deterministic()) {
       if (++count[p.name()] > 1)
-        throw InputError("model '" + spec + "': " + p.name() +
-                         " appears more than once; sums of " + p.name() +
+        throw InputError("model '" + spec + "': " + p.name() + " appears more than once; sums of " + p.name() +
                          " processes are not identifiable from a wavelet variance (use one)");
     }
   }
@@ -225,10 +236,10 @@ Model parse_model(const std::string& spec, const ProcessContext& context) {
 
 void check_model_fits_levels(const Model& model, int levels) {
   if (model.num_parameters() > levels)
-    throw InputError("model '" + model.to_string() + "' has " +
-                     std::to_string(model.num_parameters()) + " parameters but the wavelet "
-                     "variance has only " + std::to_string(levels) +
-                     " levels: use a smaller model or a longer series");
+    throw InputError("model '" + model.to_string() + "' has " + std::to_string(model.num_parameters()) +
+                     " parameters but the wavelet "
+                     "variance has only " +
+                     std::to_string(levels) + " levels: use a smaller model or a longer series");
 }
 
 }  // namespace gmwm

@@ -15,9 +15,12 @@ namespace gmwm {
 
 const char* to_string(ReadoffStatus s) {
   switch (s) {
-    case ReadoffStatus::kRead: return "read";
-    case ReadoffStatus::kExtrapolated: return "extrapolated";
-    case ReadoffStatus::kBound: return "bound";
+    case ReadoffStatus::kRead:
+      return "read";
+    case ReadoffStatus::kExtrapolated:
+      return "extrapolated";
+    case ReadoffStatus::kBound:
+      return "bound";
   }
   return "?";
 }
@@ -128,7 +131,8 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
     const bool holds = out.region_from <= ieee_tau && ieee_tau <= out.region_to;
     out.status = holds ? ReadoffStatus::kRead : ReadoffStatus::kExtrapolated;
     out.how = std::string("on the ") + slope_name + " slope over " + fmt(out.region_from) + "-" + fmt(out.region_to) +
-              " s, " + (holds ? "at " + fmt(out.tau) + " s" : "extended from " + fmt(out.tau) + " s to " + fmt(ieee_tau) + " s");
+              " s, " +
+              (holds ? "at " + fmt(out.tau) + " s" : "extended from " + fmt(out.tau) + " s to " + fmt(ieee_tau) + " s");
     return out;
   }
   // No slope: the curve bounds the figure from above.
@@ -142,8 +146,8 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
   }
   out.status = ReadoffStatus::kBound;
   out.high = out.value;
-  out.how = std::string("no ") + slope_name + " slope: an upper bound, the " + slope_name + " line touching the curve at " +
-            fmt(out.tau) + " s";
+  out.how = std::string("no ") + slope_name + " slope: an upper bound, the " + slope_name +
+            " line touching the curve at " + fmt(out.tau) + " s";
   return out;
 }
 
@@ -192,9 +196,10 @@ Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const In
     out.tau = c.tau[lowest];
     out.status = ReadoffStatus::kBound;
     out.high = out.value;
-    out.how = lowest == last ? "no flat part or minimum: an upper bound, the curve still falls at its last usable point (" +
-                                   fmt(out.tau) + " s)"
-                             : "no flat part or minimum: an upper bound, the curve rises from its first point";
+    out.how = lowest == last
+                  ? "no flat part or minimum: an upper bound, the curve still falls at its last usable point (" +
+                        fmt(out.tau) + " s)"
+                  : "no flat part or minimum: an upper bound, the curve rises from its first point";
     return out;
   }
   std::size_t at = best_at != K ? best_at : lowest, a = at, b = at;
@@ -211,8 +216,8 @@ Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const In
   out.region_from = c.tau[a];
   out.region_to = c.tau[b];
   out.status = ReadoffStatus::kRead;
-  out.how = (best_at != K ? "on the flat part over " + fmt(out.region_from) + "-" + fmt(out.region_to) + " s, lowest at " +
-                                fmt(out.tau) + " s"
+  out.how = (best_at != K ? "on the flat part over " + fmt(out.region_from) + "-" + fmt(out.region_to) +
+                                " s, lowest at " + fmt(out.tau) + " s"
                           : "at the minimum, " + fmt(out.tau) + " s") +
             ", divided by 0.664";
   return out;
@@ -226,8 +231,8 @@ void separate_white_and_walk(NoiseFigures& f) {
   auto shows = [](const Readoff& r) { return r.available() && r.status != ReadoffStatus::kBound; };
   if (!shows(f.white) || !shows(f.walk) || !(f.walk.tau > f.white.tau)) return;
   const double tn = f.white.tau, tk = f.walk.tau;
-  const double sn2 = f.white.value * f.white.value / tn;             // AVAR at tn
-  const double sk2 = f.walk.value * f.walk.value * tk / kWalkTau;    // AVAR at tk
+  const double sn2 = f.white.value * f.white.value / tn;           // AVAR at tn
+  const double sk2 = f.walk.value * f.walk.value * tk / kWalkTau;  // AVAR at tk
   const double det = (tk / tn - tn / tk) / 3.0;
   const double n2 = (sn2 * tk / 3.0 - sk2 * tn / 3.0) / det;
   const double k2 = (sk2 / tn - sn2 / tk) / det;
@@ -242,8 +247,10 @@ void separate_white_and_walk(NoiseFigures& f) {
 NoiseFigures read_all(const Curve& c, const IntervalFn& interval, const ReadoffOptions& o) {
   const std::vector<double> slopes = local_slopes(c);
   NoiseFigures f;
-  f.white = read_slope(c, slopes, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval, "-1/2", o);
-  f.walk = read_slope(c, slopes, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); }, interval, "+1/2", o);
+  f.white = read_slope(
+      c, slopes, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval, "-1/2", o);
+  f.walk = read_slope(
+      c, slopes, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); }, interval, "+1/2", o);
   f.instability = read_minimum(c, slopes, interval, o);
   return f;
 }
@@ -366,10 +373,11 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
   };
   NoiseFigures f;
   const std::vector<double> slopes_e = local_slopes(ce);
-  f.white = read_slope(ce, slopes_e, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval_on(ce, ext.m),
-                       "-1/2", options);
-  f.walk = read_slope(ce, slopes_e, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); },
-                      interval_on(ce, ext.m), "+1/2", options);
+  f.white = read_slope(
+      ce, slopes_e, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval_on(ce, ext.m), "-1/2", options);
+  f.walk = read_slope(
+      ce, slopes_e, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); }, interval_on(ce, ext.m), "+1/2",
+      options);
   f.instability = read_minimum(cd, local_slopes(cd), interval_on(cd, grid.m), options);
   refine_from_components(model, theta, ext, f.white, -0.5, PhysicalKind::kNoiseDensity);
   refine_from_components(model, theta, ext, f.walk, 0.5, PhysicalKind::kRandomWalk);
@@ -398,9 +406,12 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
 
 const char* to_string(FigureSource s) {
   switch (s) {
-    case FigureSource::kModel: return "model";
-    case FigureSource::kData: return "data";
-    case FigureSource::kBound: return "bound";
+    case FigureSource::kModel:
+      return "model";
+    case FigureSource::kData:
+      return "data";
+    case FigureSource::kBound:
+      return "bound";
   }
   return "?";
 }
@@ -434,8 +445,8 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
       c.note = std::string(name) + " from the data's Allan deviation: the model's shows no " + feature;
     else
       c.note = std::string(name) + " from the data's Allan deviation: the model misses it at " + fmt(data.tau) +
-               " s (model/data " + fmt(mv / adev.adev[at]) + ", outside the data's " +
-               fmt(100.0 * (1.0 - adev.alpha)) + "% interval); the model's own value is " + fmt(model.value);
+               " s (model/data " + fmt(mv / adev.adev[at]) + ", outside the data's " + fmt(100.0 * (1.0 - adev.alpha)) +
+               "% interval); the model's own value is " + fmt(model.value);
     return c;
   }
   if (model_shows) {
@@ -455,9 +466,10 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
   c.figure.low = NAN;
   c.figure.high = c.figure.value;
   c.source = FigureSource::kBound;
-  const std::string where = std::isfinite(c.figure.tau) ? " (the line touching the " + std::string(use_data ? "data's" : "model's") +
-                                                               " curve at " + fmt(c.figure.tau) + " s)"
-                                                         : std::string();
+  const std::string where = std::isfinite(c.figure.tau)
+                                ? " (the line touching the " + std::string(use_data ? "data's" : "model's") +
+                                      " curve at " + fmt(c.figure.tau) + " s)"
+                                : std::string();
   c.note = std::string(name) + " not read: " +
            (model_shows ? "the data show no " + std::string(feature) + " and the model's value " + fmt(model.value) +
                               " exceeds their upper bound"
@@ -607,8 +619,10 @@ std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter
     const double sigma = kBiasInstabilityFactor * B.value / kGaussMarkovPeakAdev;
     KalmanTerm t = gauss_markov_term(B.tau / kGaussMarkovPeakTau, sigma * sigma, filter_rate);
     t.role = "bias instability as a Gauss-Markov state (from B)";
-    t.note = "T = tau_B / 1.8926, sigma = 0.664 B / 0.6174: its Allan deviation peaks at the flat minimum "
-             "(an approximation of a flicker floor); " + t.note;
+    t.note =
+        "T = tau_B / 1.8926, sigma = 0.664 B / 0.6174: its Allan deviation peaks at the flat minimum "
+        "(an approximation of a flicker floor); " +
+        t.note;
     out.push_back(t);
   }
   return out;

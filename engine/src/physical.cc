@@ -115,8 +115,7 @@ std::string render_unit(const std::string& pattern, const std::string& data_unit
 }
 
 std::vector<PhysicalQuantity> Process::physical(std::span<const double> theta, double freq) const {
-  check_size_match("Process::physical", "theta", theta.size(), "parameters of " + name(),
-                   parameters().size());
+  check_size_match("Process::physical", "theta", theta.size(), "parameters of " + name(), parameters().size());
   check_positive("Process::physical", "freq", freq);
   return physical_impl(theta, freq);
 }
@@ -126,15 +125,13 @@ std::vector<PhysicalQuantity> Process::physical_impl(std::span<const double> the
   const auto& specs = parameters();
   for (std::size_t k = 0; k < specs.size(); ++k)
     out.push_back({specs[k].name, theta[k], "",
-                   "discrete (per-sample) parameter, no standard physical counterpart: " +
-                       specs[k].meaning});
+                   "discrete (per-sample) parameter, no standard physical counterpart: " + specs[k].meaning});
   return out;
 }
 
-std::vector<PhysicalInterval> physical_interval(const Process& process,
-                                                std::span<const double> theta,
-                                                std::span<const double> ci_low,
-                                                std::span<const double> ci_high, double freq) {
+std::vector<PhysicalInterval> physical_interval(const Process& process, std::span<const double> theta,
+                                                std::span<const double> ci_low, std::span<const double> ci_high,
+                                                double freq) {
   constexpr const char* kFn = "physical_interval";
   check_size_match(kFn, "ci_low", ci_low.size(), "theta", theta.size());
   check_size_match(kFn, "ci_high", ci_high.size(), "theta", theta.size());
@@ -184,8 +181,7 @@ std::vector<PhysicalInterval> physical_interval(const Process& process,
     const auto& dep = depends[i];
     if (dep.size() > kMaxJointParameters)
       detail::throw_check(kFn, "the number of parameters of quantity '" + base[i].name + "'",
-                          static_cast<double>(dep.size()),
-                          "at most " + std::to_string(kMaxJointParameters));
+                          static_cast<double>(dep.size()), "at most " + std::to_string(kMaxJointParameters));
     bool unknown = false;
     for (std::size_t k : dep)
       for (double c : candidates[k]) unknown = unknown || std::isnan(c);

@@ -9,29 +9,44 @@ namespace gmwm {
 
 double to_unconstrained(Transform t, double x) {
   switch (t) {
-    case Transform::kLog: return std::log(x);
-    case Transform::kAtanh: return std::atanh(x);
-    case Transform::kIdentity: return x;
-    case Transform::kLogitHalf: { const double p = 2.0 * x; return std::log(p / (1.0 - p)); }
+    case Transform::kLog:
+      return std::log(x);
+    case Transform::kAtanh:
+      return std::atanh(x);
+    case Transform::kIdentity:
+      return x;
+    case Transform::kLogitHalf: {
+      const double p = 2.0 * x;
+      return std::log(p / (1.0 - p));
+    }
   }
   return x;
 }
 
 double from_unconstrained(Transform t, double u) {
   switch (t) {
-    case Transform::kLog: return std::exp(u);
-    case Transform::kAtanh: return std::tanh(u);
-    case Transform::kIdentity: return u;
-    case Transform::kLogitHalf: return 0.5 / (1.0 + std::exp(-u));
+    case Transform::kLog:
+      return std::exp(u);
+    case Transform::kAtanh:
+      return std::tanh(u);
+    case Transform::kIdentity:
+      return u;
+    case Transform::kLogitHalf:
+      return 0.5 / (1.0 + std::exp(-u));
   }
   return u;
 }
 
 double dnatural_du(Transform t, double u) {
   switch (t) {
-    case Transform::kLog: return std::exp(u);
-    case Transform::kAtanh: { const double c = std::cosh(u); return 1.0 / (c * c); }
-    case Transform::kIdentity: return 1.0;
+    case Transform::kLog:
+      return std::exp(u);
+    case Transform::kAtanh: {
+      const double c = std::cosh(u);
+      return 1.0 / (c * c);
+    }
+    case Transform::kIdentity:
+      return 1.0;
     case Transform::kLogitHalf: {
       const double s = 1.0 / (1.0 + std::exp(-u));
       return 0.5 * s * (1.0 - s);
@@ -42,9 +57,14 @@ double dnatural_du(Transform t, double u) {
 
 double d2natural_du2(Transform t, double u) {
   switch (t) {
-    case Transform::kLog: return std::exp(u);
-    case Transform::kAtanh: { const double th = std::tanh(u); return -2.0 * th * (1.0 - th * th); }
-    case Transform::kIdentity: return 0.0;
+    case Transform::kLog:
+      return std::exp(u);
+    case Transform::kAtanh: {
+      const double th = std::tanh(u);
+      return -2.0 * th * (1.0 - th * th);
+    }
+    case Transform::kIdentity:
+      return 0.0;
     case Transform::kLogitHalf: {
       const double s = 1.0 / (1.0 + std::exp(-u));
       return 0.5 * s * (1.0 - s) * (1.0 - 2.0 * s);
@@ -71,26 +91,35 @@ std::string Process::validate(std::span<const double> theta) const {
     switch (specs[k].transform) {
       case Transform::kLog:
         if (specs[k].signed_magnitude) {
-          if (x == 0.0) { os << specs[k].name << " must be non-zero (got 0)"; return os.str(); }
+          if (x == 0.0) {
+            os << specs[k].name << " must be non-zero (got 0)";
+            return os.str();
+          }
         } else if (!(x > 0.0)) {
           os << specs[k].name << " must be positive (got " << x << ")";
           return os.str();
         }
         break;
       case Transform::kAtanh:
-        if (!(x > -1.0 && x < 1.0)) { os << specs[k].name << " must be in (-1, 1) (got " << x << ")"; return os.str(); }
+        if (!(x > -1.0 && x < 1.0)) {
+          os << specs[k].name << " must be in (-1, 1) (got " << x << ")";
+          return os.str();
+        }
         break;
       case Transform::kLogitHalf:
-        if (!(x > 0.0 && x < 0.5)) { os << specs[k].name << " must be in (0, 0.5) cycles/sample (got " << x << ")"; return os.str(); }
+        if (!(x > 0.0 && x < 0.5)) {
+          os << specs[k].name << " must be in (0, 0.5) cycles/sample (got " << x << ")";
+          return os.str();
+        }
         break;
-      case Transform::kIdentity: break;
+      case Transform::kIdentity:
+        break;
     }
   }
   return {};
 }
 
-std::optional<std::vector<double>> Process::represent(const Process& other,
-                                                      std::span<const double> other_theta) const {
+std::optional<std::vector<double>> Process::represent(const Process& other, std::span<const double> other_theta) const {
   if (!same_process(*this, other)) return std::nullopt;
   return std::vector<double>(other_theta.begin(), other_theta.end());
 }
@@ -101,7 +130,7 @@ std::vector<SimplerForm> Process::simpler_forms(std::span<const double> theta) c
 }
 
 std::vector<std::vector<double>> Process::shape_family(std::span<const double> theta,
-                                                      std::span<const double> tau) const {
+                                                       std::span<const double> tau) const {
   (void)tau;
   return {std::vector<double>(theta.begin(), theta.end())};
 }
@@ -118,8 +147,6 @@ ProcessPtr make_process(const std::string& name, const ProcessContext& context) 
   return ProcessRegistry::instance().create(name, args);
 }
 
-bool same_process(const Process& a, const Process& b) {
-  return a.name() == b.name() && a.structure() == b.structure();
-}
+bool same_process(const Process& a, const Process& b) { return a.name() == b.name() && a.structure() == b.structure(); }
 
 }  // namespace gmwm

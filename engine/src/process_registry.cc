@@ -48,14 +48,16 @@ std::vector<std::string> ProcessRegistry::names() const {
   return out;
 }
 
-std::unique_ptr<Process> ProcessRegistry::create(const std::string& name,
-                                                 const ProcessArgs& args) const {
+std::unique_ptr<Process> ProcessRegistry::create(const std::string& name, const ProcessArgs& args) const {
   const ProcessEntry* e = find(name);
   if (!e) {
     std::ostringstream os;
     os << "unknown process '" << name << "' (known: ";
     bool first = true;
-    for (const auto& n : names()) { os << (first ? "" : ", ") << n; first = false; }
+    for (const auto& n : names()) {
+      os << (first ? "" : ", ") << n;
+      first = false;
+    }
     os << ")";
     throw InputError(os.str());
   }

@@ -74,10 +74,14 @@ constexpr double kFlatCurvature = 1e-10;
 // from 0) (tools/bench/bench_record_plan's truths).
 double distance_to_edge(Transform t, double x) {
   switch (t) {
-    case Transform::kLog: return std::abs(x);
-    case Transform::kAtanh: return 1.0 - std::abs(x);
-    case Transform::kLogitHalf: return std::min(x, 0.5 - x);
-    case Transform::kIdentity: break;
+    case Transform::kLog:
+      return std::abs(x);
+    case Transform::kAtanh:
+      return 1.0 - std::abs(x);
+    case Transform::kLogitHalf:
+      return std::min(x, 0.5 - x);
+    case Transform::kIdentity:
+      break;
   }
   return kInf;
 }
@@ -100,8 +104,8 @@ double term_figure(const Model& model, const Eigen::VectorXd& theta, double freq
   bool any = false;
   for (int c = 0; c < model.num_components(); ++c) {
     const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
-    const double q = quantity_of_kind(
-        p.physical({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, freq), kind);
+    const double q =
+        quantity_of_kind(p.physical({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, freq), kind);
     if (std::isfinite(q)) sum += q * q, any = true;
   }
   return any ? std::sqrt(sum) : std::numeric_limits<double>::quiet_NaN();
@@ -254,7 +258,8 @@ std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta
 }
 
 void check_input(const Model& model, const Eigen::VectorXd& theta, double freq) {
-  if (!(freq > 0.0) || !std::isfinite(freq)) throw InputError("record plan: the sampling rate must be positive and finite");
+  if (!(freq > 0.0) || !std::isfinite(freq))
+    throw InputError("record plan: the sampling rate must be positive and finite");
   if (theta.size() != model.num_parameters())
     throw InputError("record plan: theta has " + std::to_string(theta.size()) + " values, the model " +
                      model.to_string() + " has " + std::to_string(model.num_parameters()) + " parameters");
@@ -269,8 +274,8 @@ std::string percent(double x) {
 
 }  // namespace
 
-std::vector<double> record_target_values(const Model& model, const Eigen::VectorXd& theta, double freq,
-                                         std::int64_t n, const std::vector<std::string>& targets) {
+std::vector<double> record_target_values(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
+                                         const std::vector<std::string>& targets) {
   check_input(model, theta, freq);
   if (n < kMinSeriesLength)
     throw InputError("record plan: a record of " + std::to_string(n) + " samples has no wavelet variance (at least " +
@@ -287,8 +292,8 @@ std::vector<double> record_target_values(const Model& model, const Eigen::Vector
   return out;
 }
 
-std::vector<double> record_relative_se(const Model& model, const Eigen::VectorXd& theta, double freq,
-                                       std::int64_t n, const std::vector<std::string>& targets) {
+std::vector<double> record_relative_se(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
+                                       const std::vector<std::string>& targets) {
   check_input(model, theta, freq);
   std::vector<Target> ts;
   for (const auto& name : targets) ts.push_back(resolve(model, name));
@@ -312,7 +317,8 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
   // The shortest record with a level per parameter (and the WV's own minimum).
   const int p = model.num_parameters();
   const std::int64_t shortest =
-      std::min(options.max_samples, std::max<std::int64_t>(kMinSeriesLength, p < 62 ? std::int64_t{1} << p : options.max_samples));
+      std::min(options.max_samples,
+               std::max<std::int64_t>(kMinSeriesLength, p < 62 ? std::int64_t{1} << p : options.max_samples));
   const std::int64_t cap = options.max_samples;
   // The smallest n in [shortest, cap] where ok(n) holds, by bisection on log2 n (ok is
   // taken to hold from some length on); nullopt when it fails at the cap.
@@ -321,7 +327,8 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
     std::int64_t lo = shortest, hi = cap;
     if (ok(lo)) return lo;
     while (static_cast<double>(hi) > static_cast<double>(lo) * (1.0 + kLengthResolution)) {
-      const auto mid = static_cast<std::int64_t>(std::llround(std::sqrt(static_cast<double>(lo) * static_cast<double>(hi))));
+      const auto mid =
+          static_cast<std::int64_t>(std::llround(std::sqrt(static_cast<double>(lo) * static_cast<double>(hi))));
       if (mid <= lo || mid >= hi) break;
       (ok(mid) ? hi : lo) = mid;
     }
@@ -344,17 +351,20 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
     r.samples = r.reachable ? std::max(*own, floor) : cap;
     r.seconds = static_cast<double>(r.samples) / freq;
     r.relative_se = at(r.samples).rse[i];
-    const std::string within = "unreachable within " + std::to_string(cap) + " samples (" + std::to_string(cap / freq) + " s): ";
+    const std::string within =
+        "unreachable within " + std::to_string(cap) + " samples (" + std::to_string(cap / freq) + " s): ";
     if (!resolved && !whole_curve)
       r.basis = within + "the model is not resolved there (" + plan.resolved_by + ": z se is " +
                 percent(plan.z * at(cap).worst).substr(2) + " of its distance to the edge of its domain)";
     else if (!own)
-      r.basis = within + (std::isfinite(r.relative_se) ? percent(plan.z * r.relative_se) + " there; " : "") + at(cap).note[i];
+      r.basis =
+          within + (std::isfinite(r.relative_se) ? percent(plan.z * r.relative_se) + " there; " : "") + at(cap).note[i];
     else
-      r.basis = at(r.samples).note[i] +
-                (floor > *own ? "; set by the model's resolution (" + plan.resolved_by + "'s interval inside its domain): " +
-                                        percent(options.precision) + " already at n = " + std::to_string(*own)
-                                  : "");
+      r.basis =
+          at(r.samples).note[i] + (floor > *own ? "; set by the model's resolution (" + plan.resolved_by +
+                                                      "'s interval inside its domain): " + percent(options.precision) +
+                                                      " already at n = " + std::to_string(*own)
+                                                : "");
     r.precision_at_record = std::numeric_limits<double>::quiet_NaN();
     if (options.record_seconds > 0.0) {
       const bool fits = record_n >= static_cast<double>(std::max(kMinSeriesLength, floor)) && (resolved || whole_curve);

@@ -6,8 +6,8 @@
 
 namespace gmwm {
 
-std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, std::int64_t n,
-                             std::uint64_t seed, std::uint64_t signal) {
+std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, std::uint64_t seed,
+                             std::uint64_t signal) {
   check_at_least("simulate", "n", static_cast<double>(n), 1.0);
   const std::string why = model.validate(theta);
   if (!why.empty()) throw InvalidArgument("simulate: " + why);
@@ -20,8 +20,8 @@ std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, s
   return x;
 }
 
-std::vector<std::vector<double>> simulate_many(const Model& model, const Eigen::VectorXd& theta,
-                                               std::int64_t n, int signals, std::uint64_t seed) {
+std::vector<std::vector<double>> simulate_many(const Model& model, const Eigen::VectorXd& theta, std::int64_t n,
+                                               int signals, std::uint64_t seed) {
   check_at_least("simulate_many", "signals", signals, 1.0);
   std::vector<std::vector<double>> out(static_cast<std::size_t>(signals));
   gmwm::parallel_for(0, signals, [&](int k) {

@@ -41,8 +41,7 @@ struct ScaleParam {
   bool squared = false;
 };
 
-ScaleParam find_scale_param(const Process& p, const std::vector<double>& theta,
-                            std::span<const double> tau) {
+ScaleParam find_scale_param(const Process& p, const std::vector<double>& theta, std::span<const double> tau) {
   std::vector<double> base(tau.size()), probe(tau.size());
   p.wv(theta, tau, base);
   for (int k = p.size() - 1; k >= 0; --k) {
@@ -85,7 +84,10 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& F, const Eigen::VectorXd& y, const E
     int worst = -1;
     double most_negative = 0.0;
     for (std::size_t a = 0; a < idx.size(); ++a)
-      if (sa(static_cast<Eigen::Index>(a)) < most_negative) { most_negative = sa(static_cast<Eigen::Index>(a)); worst = idx[a]; }
+      if (sa(static_cast<Eigen::Index>(a)) < most_negative) {
+        most_negative = sa(static_cast<Eigen::Index>(a));
+        worst = idx[a];
+      }
     if (worst < 0) {
       s.setZero();
       for (std::size_t a = 0; a < idx.size(); ++a) s(idx[a]) = sa(static_cast<Eigen::Index>(a));
@@ -100,7 +102,10 @@ void next_combination(std::vector<int>& c, int n, bool& done) {
   const int k = static_cast<int>(c.size());
   int i = k - 1;
   while (i >= 0 && c[static_cast<std::size_t>(i)] == n - k + i) --i;
-  if (i < 0) { done = true; return; }
+  if (i < 0) {
+    done = true;
+    return;
+  }
   ++c[static_cast<std::size_t>(i)];
   for (int j = i + 1; j < k; ++j) c[static_cast<std::size_t>(j)] = c[static_cast<std::size_t>(j - 1)] + 1;
 }
@@ -118,8 +123,8 @@ constexpr double kCollapsedShare = 1e-6;
 
 }  // namespace
 
-bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
-                 Eigen::VectorXd& theta, double& objective) {
+bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega, Eigen::VectorXd& theta,
+                 double& objective) {
   const int J = wv.levels();
   const int C = model.num_components();
   Eigen::VectorXd y = wv.values();
@@ -141,8 +146,13 @@ bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::Mat
   std::vector<int> cols;
   for (int c = 0; c < C; ++c) {
     const ScaleParam& s = sp[static_cast<std::size_t>(c)];
-    const bool given = s.index >= 0 && !std::isnan(model.components()[static_cast<std::size_t>(c)].given[static_cast<std::size_t>(s.index)]);
-    if (s.index < 0 || given) yy -= F.col(c); else cols.push_back(c);
+    const bool given =
+        s.index >= 0 &&
+        !std::isnan(model.components()[static_cast<std::size_t>(c)].given[static_cast<std::size_t>(s.index)]);
+    if (s.index < 0 || given)
+      yy -= F.col(c);
+    else
+      cols.push_back(c);
   }
   if (!cols.empty()) {
     Eigen::MatrixXd Fa(J, static_cast<Eigen::Index>(cols.size()));
@@ -169,15 +179,19 @@ namespace {
 std::vector<double> placement_grid(int J) {
   const int G = std::min(kGridPositions, std::max(J, 1));
   std::vector<double> grid(static_cast<std::size_t>(G));
-  for (int g = 0; g < G; ++g) grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? 1.0 + (J - 1.0) * g / (G - 1.0) : 1.0);
+  for (int g = 0; g < G; ++g)
+    grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? 1.0 + (J - 1.0) * g / (G - 1.0) : 1.0);
   return grid;
 }
 
 double hint_for(Placement pl, const WaveletVariance& wv, double spread_hint) {
   switch (pl) {
-    case Placement::kFinest: return wv.tau.front();
-    case Placement::kCoarsest: return wv.tau.back();
-    case Placement::kSpread: return spread_hint;
+    case Placement::kFinest:
+      return wv.tau.front();
+    case Placement::kCoarsest:
+      return wv.tau.back();
+    case Placement::kSpread:
+      return spread_hint;
   }
   return spread_hint;
 }
@@ -253,13 +267,15 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
     double q = 0.0;
     if (solve_sizes(wv, model, omega, theta, q)) scored.push_back({q, theta});
     ++evaluated;
-    if (!comb.empty()) next_combination(comb, G, done); else done = true;
+    if (!comb.empty())
+      next_combination(comb, G, done);
+    else
+      done = true;
   } while (!done && evaluated < kMaxPlacements);
   return best_of(std::move(scored), count);
 }
 
-std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& model,
-                                      const Eigen::VectorXd& theta) {
+std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta) {
   std::vector<int> out;
   const std::vector<double> target = positive_target(wv);
   for (int c = 0; c < model.num_components(); ++c) {
@@ -267,16 +283,14 @@ std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& mo
     std::vector<double> f(wv.tau.size());
     p.wv({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, wv.tau, f);
     bool collapsed = true;
-    for (std::size_t j = 0; j < f.size() && collapsed; ++j)
-      collapsed = !(std::abs(f[j]) > kCollapsedShare * target[j]);
+    for (std::size_t j = 0; j < f.size() && collapsed; ++j) collapsed = !(std::abs(f[j]) > kCollapsedShare * target[j]);
     if (collapsed) out.push_back(c);
   }
   return out;
 }
 
-std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Model& model,
-                                            const Eigen::VectorXd& theta, const Eigen::MatrixXd& omega,
-                                            int count) {
+std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
+                                            const Eigen::MatrixXd& omega, int count) {
   const std::vector<double> target = positive_target(wv);
   const std::vector<double> grid = placement_grid(wv.levels());
   std::vector<Scored> scored;

@@ -26,8 +26,8 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
 
 /// Keeps the shapes in theta and re-solves every free size by non-negative least squares;
 /// false when the result is invalid. objective: the GMWM objective at the result.
-bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
-                 Eigen::VectorXd& theta, double& objective);
+bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega, Eigen::VectorXd& theta,
+                 double& objective);
 
 /// Index of the parameter that scales p's WV linearly at theta (sigma2, gamma2, Q2, A2 ...;
 /// found numerically, no process names involved), or -1 when none does.
@@ -35,14 +35,12 @@ int linear_scale_parameter(const Process& p, const std::vector<double>& theta, s
 
 /// Components of theta whose WV is negligible at every level (below a tiny share of the
 /// data's WV): a local optimum the optimiser cannot leave by itself.
-std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& model,
-                                      const Eigen::VectorXd& theta);
+std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta);
 
 /// Escapes from such optima: each collapsed component of theta is placed again at every
 /// grid position (once at its anchor for WN, QN, RW, DR), the other components keep
 /// their shapes, all sizes are re-solved; up to `count` of these, best objective first.
-std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Model& model,
-                                            const Eigen::VectorXd& theta, const Eigen::MatrixXd& omega,
-                                            int count);
+std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
+                                            const Eigen::MatrixXd& omega, int count);
 
 }  // namespace gmwm::detail

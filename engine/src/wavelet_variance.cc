@@ -27,7 +27,8 @@ std::string wv_range_problem(const WaveletVariance& wv, std::span<const double> 
       return "found all " + std::to_string(x.size()) + " values equal to " + num(*lo) +
              ", expected a varying signal (a constant has a wavelet variance of zero)";
     return "the wavelet variance is zero at every level although the values vary: their squares underflow a double "
-           "(values of magnitude " + num(std::max(std::fabs(*lo), std::fabs(*hi))) + ")" + rescale;
+           "(values of magnitude " +
+           num(std::max(std::fabs(*lo), std::fabs(*hi))) + ")" + rescale;
   }
   const double low = for_fit ? kMinFittableWv : kMinRepresentableWv;
   const double high = for_fit ? kMaxFittableWv : kMaxRepresentableWv;
@@ -35,8 +36,9 @@ std::string wv_range_problem(const WaveletVariance& wv, std::span<const double> 
     const double w = wv.wv[static_cast<std::size_t>(j)];
     if (w < low || w > high)
       return "the wavelet variance at level " + std::to_string(j + 1) + " is " + num(w) + ", outside " + num(low) +
-             " .. " + num(high) + (for_fit ? ", the range a fit can take (its variances are exp(u), |u| <= 100)"
-                                           : ", the range doubles hold with the variance of the estimate") +
+             " .. " + num(high) +
+             (for_fit ? ", the range a fit can take (its variances are exp(u), |u| <= 100)"
+                      : ", the range doubles hold with the variance of the estimate") +
              rescale;
   }
   return {};

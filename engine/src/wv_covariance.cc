@@ -63,12 +63,12 @@ constexpr std::int64_t kBreakpointMargin = 3;
 // cost 72 MB and half the selection's time at N = 1e6). Components that never decay
 // (SIN) are tabulated to the full reach.
 struct ComponentTable {
-  std::vector<long double> V;     // V(0 .. T), T = V.size() - 1
-  long double G_prev = 0.0L;      // G(T - 1) = sum_{|k| <= T-1} (g(k) - g0)
-  long double delta = 0.0L;       // g(T - 1) - g0
-  long double beta = 0.0L;        // g(k) = g(T - 1) + beta (k - T + 1) for k >= T
-  std::int64_t support = 0;  // lags beyond which the component's c_ij(h) vanishes
-  bool oscillating = false;  // no decay found (SIN): sum lag by lag
+  std::vector<long double> V;  // V(0 .. T), T = V.size() - 1
+  long double G_prev = 0.0L;   // G(T - 1) = sum_{|k| <= T-1} (g(k) - g0)
+  long double delta = 0.0L;    // g(T - 1) - g0
+  long double beta = 0.0L;     // g(k) = g(T - 1) + beta (k - T + 1) for k >= T
+  std::int64_t support = 0;    // lags beyond which the component's c_ij(h) vanishes
+  bool oscillating = false;    // no decay found (SIN): sum lag by lag
 
   long double at(std::int64_t d) const {
     const auto T = static_cast<std::int64_t>(V.size()) - 1;
@@ -102,7 +102,8 @@ ComponentTable make_table(const Process& p, std::span<const double> theta, std::
   t.support = last + 1;
   t.oscillating = t.support >= max_lag - 1;
   // The exact part: up to the support plus the margin cross_cov reads around it.
-  const std::int64_t T = t.oscillating ? max_lag : std::min<std::int64_t>(window, t.support + 2 * kBreakpointMargin + 2);
+  const std::int64_t T =
+      t.oscillating ? max_lag : std::min<std::int64_t>(window, t.support + 2 * kBreakpointMargin + 2);
   const double g0 = g[0];
   t.V.assign(static_cast<std::size_t>(T) + 1, 0.0L);
   long double G = 0.0L;  // sum_{|k|<=d} (g(k) - g0)
@@ -113,16 +114,25 @@ ComponentTable make_table(const Process& p, std::span<const double> theta, std::
   // G now holds G(T - 1).
   t.G_prev = G;
   t.delta = static_cast<long double>(g[static_cast<std::size_t>(T) - 1]) - g0;
-  t.beta = static_cast<long double>(g[static_cast<std::size_t>(T) - 1]) - static_cast<long double>(g[static_cast<std::size_t>(T) - 2]);
+  t.beta = static_cast<long double>(g[static_cast<std::size_t>(T) - 1]) -
+           static_cast<long double>(g[static_cast<std::size_t>(T) - 2]);
   return t;
 }
 
 // Running sums of n(h) c(h)^2 and n(h) c(h) over lags.
 struct Sums {
   long double squares = 0.0L, linear = 0.0L;
-  Sums& operator+=(const Sums& o) { squares += o.squares; linear += o.linear; return *this; }
+  Sums& operator+=(const Sums& o) {
+    squares += o.squares;
+    linear += o.linear;
+    return *this;
+  }
   friend Sums operator+(Sums x, const Sums& y) { return x += y; }
-  friend Sums operator*(long double w, Sums x) { x.squares *= w; x.linear *= w; return x; }
+  friend Sums operator*(long double w, Sums x) {
+    x.squares *= w;
+    x.linear *= w;
+    return x;
+  }
 };
 
 struct Level {
@@ -196,8 +206,7 @@ Sums sum_smooth(const F& f, std::int64_t u, std::int64_t v, double max_step) {
 
 }  // namespace
 
-Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
-                                    std::int64_t n, int levels) {
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels) {
   check_at_least("model_wv_covariance", "n", static_cast<double>(n), 2.0);
   check_at_least("model_wv_covariance", "levels", levels, 1.0);
   std::vector<Level> lv;
@@ -208,7 +217,8 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   }
   const std::int64_t max_lag = 3 * n + 4;
   std::vector<double> taus(static_cast<std::size_t>(levels));
-  for (int j = 0; j < levels; ++j) taus[static_cast<std::size_t>(j)] = static_cast<double>(lv[static_cast<std::size_t>(j)].tau);
+  for (int j = 0; j < levels; ++j)
+    taus[static_cast<std::size_t>(j)] = static_cast<double>(lv[static_cast<std::size_t>(j)].tau);
   std::vector<std::vector<double>> parts;
   std::vector<double> total(static_cast<std::size_t>(levels), 0.0);
   std::vector<int> candidates;
@@ -225,7 +235,8 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     bool visible = false;
     for (int j = 0; j < levels && !visible; ++j)
-      visible = !(std::abs(parts[k][static_cast<std::size_t>(j)]) < kNegligibleShare * total[static_cast<std::size_t>(j)]);
+      visible =
+          !(std::abs(parts[k][static_cast<std::size_t>(j)]) < kNegligibleShare * total[static_cast<std::size_t>(j)]);
     if (visible) stochastic.push_back(candidates[k]);
   }
   // The deterministic components' Haar coefficient at each level (constant in time).
@@ -235,7 +246,8 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
     if (!p.deterministic()) continue;
     const std::span<const double> th{theta.data() + model.offset(c), static_cast<std::size_t>(p.size())};
     for (int j = 0; j < levels; ++j)
-      det[static_cast<std::size_t>(j)] += p.deterministic_coefficient(th, static_cast<double>(lv[static_cast<std::size_t>(j)].tau));
+      det[static_cast<std::size_t>(j)] +=
+          p.deterministic_coefficient(th, static_cast<double>(lv[static_cast<std::size_t>(j)].tau));
   }
   std::vector<ComponentTable> tables(stochastic.size());
   gmwm::parallel_for(std::size_t{0}, stochastic.size(), [&](std::size_t k) {
@@ -291,11 +303,18 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
     for (auto c : base) {
       for (std::int64_t d = -margin; d <= margin; ++d) pts.push_back(c + d);
       for (const auto& t : tables)
-        if (t.support > kPolynomialSupport) { cuts.push_back(c - t.support); cuts.push_back(c + t.support + 1); }
+        if (t.support > kPolynomialSupport) {
+          cuts.push_back(c - t.support);
+          cuts.push_back(c + t.support + 1);
+        }
     }
-    for (const auto& t : tables) { cuts.push_back(-(a.tau + t.support)); cuts.push_back(b.tau + t.support + 1); }
+    for (const auto& t : tables) {
+      cuts.push_back(-(a.tau + t.support));
+      cuts.push_back(b.tau + t.support + 1);
+    }
     pts.insert(pts.end(), cuts.begin(), cuts.end());
-    pts.erase(std::remove_if(pts.begin(), pts.end(), [&](std::int64_t x) { return x < h_lo || x > h_hi + 1; }), pts.end());
+    pts.erase(std::remove_if(pts.begin(), pts.end(), [&](std::int64_t x) { return x < h_lo || x > h_hi + 1; }),
+              pts.end());
     std::sort(pts.begin(), pts.end());
     pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
     // Variation scale of c(h) on a stretch: the decay scale of the components whose
@@ -334,10 +353,9 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   return V;
 }
 
-Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
-                                        std::int64_t n, int levels, int replicates,
-                                        std::uint64_t seed, const WvEstimator& estimator,
-                                        double alpha, const std::function<void(int, int)>& progress) {
+Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
+                                        int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
+                                        const std::function<void(int, int)>& progress) {
   check_at_least("bootstrap_wv_covariance", "replicates", replicates, 2.0);
   Eigen::MatrixXd W(replicates, levels);
   std::atomic<int> done{0};

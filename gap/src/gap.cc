@@ -28,19 +28,32 @@ using namespace detail;
 
 const char* to_string(GapEffect e) {
   switch (e) {
-    case GapEffect::kNone: return "none";
-    case GapEffect::kWN: return "WN";
-    case GapEffect::kQN: return "QN";
-    case GapEffect::kRW: return "RW";
-    case GapEffect::kDR: return "DR";
-    case GapEffect::kAR1: return "AR1";
-    case GapEffect::kFlicker: return "FLICKER";
-    case GapEffect::kSin: return "SIN";
-    case GapEffect::kOutliers: return "OUTLIERS";
-    case GapEffect::kStep: return "STEP";
-    case GapEffect::kTransient: return "TRANSIENT";
-    case GapEffect::kTemperature: return "TEMPERATURE";
-    case GapEffect::kReparameterise: return "REPARAMETERISE";
+    case GapEffect::kNone:
+      return "none";
+    case GapEffect::kWN:
+      return "WN";
+    case GapEffect::kQN:
+      return "QN";
+    case GapEffect::kRW:
+      return "RW";
+    case GapEffect::kDR:
+      return "DR";
+    case GapEffect::kAR1:
+      return "AR1";
+    case GapEffect::kFlicker:
+      return "FLICKER";
+    case GapEffect::kSin:
+      return "SIN";
+    case GapEffect::kOutliers:
+      return "OUTLIERS";
+    case GapEffect::kStep:
+      return "STEP";
+    case GapEffect::kTransient:
+      return "TRANSIENT";
+    case GapEffect::kTemperature:
+      return "TEMPERATURE";
+    case GapEffect::kReparameterise:
+      return "REPARAMETERISE";
   }
   return "none";
 }
@@ -53,10 +66,14 @@ std::optional<GapEffect> parse_gap_effect(const std::string& name) {
 
 std::string GapOptions::Validate() const {
   std::ostringstream os;
-  if (replicates < 20 || replicates > 100000) os << "replicates must be in [20, 100000], got " << replicates;
-  else if (!(alpha > 0.0 && alpha < 0.5)) os << "alpha must be in (0, 0.5), got " << alpha;
-  else if (!(min_effect >= 0.0)) os << "min_effect must be >= 0, got " << min_effect;
-  else if (max_steps < 0) os << "max_steps must be >= 0, got " << max_steps;
+  if (replicates < 20 || replicates > 100000)
+    os << "replicates must be in [20, 100000], got " << replicates;
+  else if (!(alpha > 0.0 && alpha < 0.5))
+    os << "alpha must be in (0, 0.5), got " << alpha;
+  else if (!(min_effect >= 0.0))
+    os << "min_effect must be >= 0, got " << min_effect;
+  else if (max_steps < 0)
+    os << "max_steps must be >= 0, got " << max_steps;
   return os.str();
 }
 
@@ -114,8 +131,8 @@ detail::TimeFindings time_events_stage(const Context& c, const Eigen::VectorXd& 
   if (!c.x) return time;
   const double K =
       static_cast<double>(candidates_for(g.baseline, c.options).size()) + 1.0 + (c.temperature ? 1.0 : 0.0);
-  time = detail::run_time_tests(*c.x, c.temperature, nu_base, c.ref.series_stats, c.options.alpha / K,
-                                c.options.alpha, g);
+  time =
+      detail::run_time_tests(*c.x, c.temperature, nu_base, c.ref.series_stats, c.options.alpha / K, c.options.alpha, g);
   const bool found = time.event || time.coupling || time.trend;
   if (found && !g.detected) {
     g.detected = true;
@@ -148,8 +165,8 @@ void outliers_stage(const Context& c, GapResult& g, Attribution& a) {
   const robust::Tuning tuning =
       robust::tune(robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber),
                    c.robust->efficiency.value_or(robust::kDefaultEfficiency));
-  const auto diag = robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), *c.robust, c.wv,
-                                                     q, tuning);
+  const auto diag =
+      robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), *c.robust, c.wv, q, tuning);
   const int J = c.wv.levels();
   g.contamination_screened = true;
   for (int j = 0; j < static_cast<int>(diag.size()); ++j)
@@ -255,7 +272,7 @@ void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapR
   Trial best = trial(nullptr);
   const GapEvent* chosen_event = nullptr;
   std::optional<GapEvent> alternative;  // the burst (or no event) taken instead of a step
-  std::string persistence;  // why a located step was not taken as one
+  std::string persistence;              // why a located step was not taken as one
   if (best.g.event && best.g.event->effect == GapEffect::kStep) {
     // The series the event was located on: the temperature coupling removed first.
     std::vector<double> series = *c.x;
@@ -418,9 +435,9 @@ void stepwise_stage(const Context& c, GapResult& g, Attribution& a) {
         effect_intervals(specs[static_cast<std::size_t>(pick)], a.base, reps_next, c.wv, a.omega, a.step_options,
                          chosen.fit, a.added.front());
       g.steps.push_back(chosen.effect);
-      g.step_details.push_back(effect ? detail::effect_step_text(chosen.effect, a.added.back(), c.options.context,
-                                                                         c.options.unit)
-                                      : std::string("REPARAMETERISE"));
+      g.step_details.push_back(
+          effect ? detail::effect_step_text(chosen.effect, a.added.back(), c.options.context, c.options.unit)
+                 : std::string("REPARAMETERISE"));
       g.step_drops.push_back(a.now.objective - f.objective);
       g.step_excess.push_back(f.excess());
       a.reps = reps_next;
@@ -435,8 +452,9 @@ void stepwise_stage(const Context& c, GapResult& g, Attribution& a) {
       break;
     }
     if (!took) {
-      g.notes.push_back("no candidate that clears its threshold lowers the objective's excess over its null mean: the "
-                        "search stops");
+      g.notes.push_back(
+          "no candidate that clears its threshold lowers the objective's excess over its null mean: the "
+          "search stops");
       break;
     }
   }
@@ -461,16 +479,17 @@ GapEffect top_effect(const GapResult& g) {
 void shrinkage_stage(const Context& c, const Attribution& a, GapResult& g) {
   g.effect = top_effect(g);
   if (g.steps.empty() && g.detected)
-    g.notes.push_back("no candidate effect clears its calibrated threshold and improves the fit: no unmodelled "
-                      "effect found");
+    g.notes.push_back(
+        "no candidate effect clears its calibrated threshold and improves the fit: no unmodelled "
+        "effect found");
   {
     Eigen::VectorXd th = a.base.theta;
     g.final_model = a.base.model.canonical(&th);
     g.final_theta = th;
   }
   if (!a.added.empty()) g.final_fit = a.added.front();
-  const bool drift = std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR) != g.steps.end() && g.trend &&
-                     g.trend->significant;
+  const bool drift =
+      std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR) != g.steps.end() && g.trend && g.trend->significant;
   if (drift && (g.effect == GapEffect::kDR || a.added.empty())) g.final_fit = detail::drift_fit(*g.trend, c.options);
 
   GapShrinkage& s = g.shrinkage;

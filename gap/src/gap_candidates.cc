@@ -34,9 +34,10 @@ void checkpoint(const GapOptions& o) {
 }
 
 constexpr CandidateSpec kCatalogue[] = {
-    {GapEffect::kWN, "WN"},          {GapEffect::kQN, "QN"},   {GapEffect::kRW, "RW"},
-    {GapEffect::kDR, "DR"},          {GapEffect::kAR1, "AR1"}, {GapEffect::kFlicker, "FLICKER"},
-    {GapEffect::kSin, "SIN"},        {GapEffect::kReparameterise, nullptr},
+    {GapEffect::kWN, "WN"},   {GapEffect::kQN, "QN"},
+    {GapEffect::kRW, "RW"},   {GapEffect::kDR, "DR"},
+    {GapEffect::kAR1, "AR1"}, {GapEffect::kFlicker, "FLICKER"},
+    {GapEffect::kSin, "SIN"}, {GapEffect::kReparameterise, nullptr},
 };
 
 bool has_process(const Model& m, const std::string& name) {
@@ -97,8 +98,8 @@ static Model family_of(const Model& m) {
 // residual; refit: the family and the effect together, started from the base's values)
 // and the fit behind it. REPARAMETERISE: the base's family with free values.
 static double fit_candidate(const CandidateSpec& spec, const Base& base, const Eigen::VectorXd& target,
-                     const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o, FitResult* out,
-                     const FitResult* warm = nullptr) {
+                            const WaveletVariance& like, const Eigen::MatrixXd& omega, const GapOptions& o,
+                            FitResult* out, const FitResult* warm = nullptr) {
   FitOptions fo = candidate_fit_options(o, omega);
   FitResult r;
   // Calibration refits of --fit mode (family + effect on each replicate) start from the
@@ -137,7 +138,7 @@ FitResult refit_family(const Base& base, const Eigen::VectorXd& target, const Wa
 
 // The objective of the base itself on `target`: fixed, or refitted (--fit mode).
 static double base_objective(const Base& base, const Eigen::VectorXd& target, const WaveletVariance& like,
-                      const Eigen::MatrixXd& omega, const GapOptions& o) {
+                             const Eigen::MatrixXd& omega, const GapOptions& o) {
   if (!o.refit_baseline) return objective(target, base.nu, omega);
   FitOptions fo = candidate_fit_options(o, omega);
   fo.multistarts = kRefitCalibrationStarts;
@@ -194,7 +195,9 @@ void effect_intervals(const CandidateSpec& spec, const Base& base, const Eigen::
     mean /= static_cast<double>(v.size());
     for (double x : v) var += (x - mean) * (x - mean);
     fit.se(k) = std::sqrt(var / static_cast<double>(v.size() - 1));
-    auto q = [&](double level) { return v[static_cast<std::size_t>(std::lround(level * static_cast<double>(v.size() - 1)))]; };
+    auto q = [&](double level) {
+      return v[static_cast<std::size_t>(std::lround(level * static_cast<double>(v.size() - 1)))];
+    };
     fit.ci_low(k) = q(o.alpha / 2.0);
     fit.ci_high(k) = q(1.0 - o.alpha / 2.0);
   }
@@ -216,8 +219,7 @@ Step score_step(const std::vector<CandidateSpec>& specs, const Base& base, const
   std::vector<double> g_base(static_cast<std::size_t>(R));
   gmwm::parallel_for(0, R, [&](int b) {
     checkpoint(o);
-    g_base[static_cast<std::size_t>(b)] =
-        base_objective(base, reps.row(b).transpose(), like, omega, o);
+    g_base[static_cast<std::size_t>(b)] = base_objective(base, reps.row(b).transpose(), like, omega, o);
   });
   // The data's fits first (the replicates' refits start from them).
   gmwm::parallel_for(std::size_t{0}, K, [&](std::size_t c) {

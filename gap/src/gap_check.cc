@@ -65,10 +65,10 @@ std::vector<double> dyadic(int J) {
 }
 
 struct Injection {
-  Model model;             // the effect (empty for OUTLIERS, STEP, TRANSIENT and the null side)
+  Model model;  // the effect (empty for OUTLIERS, STEP, TRANSIENT and the null side)
   Eigen::VectorXd theta;
-  std::vector<double> signal;  // STEP, TRANSIENT: the deterministic signal added
-  std::vector<int> dominant;  // 0-based levels
+  std::vector<double> signal;    // STEP, TRANSIENT: the deterministic signal added
+  std::vector<int> dominant;     // 0-based levels
   double truth_parameter = 0.0;  // SIN f, AR1 or TRANSIENT T (samples), STEP time (sample)
 };
 
@@ -97,9 +97,18 @@ Injection make_injection(GapEffect family, double strength, const Model& base, c
   std::string spec;
   Eigen::VectorXd unit;
   switch (family) {
-    case GapEffect::kQN: spec = "QN"; unit = Eigen::VectorXd::Ones(1); break;
-    case GapEffect::kDR: spec = "DR"; unit = Eigen::VectorXd::Ones(1); break;
-    case GapEffect::kFlicker: spec = "FLICKER"; unit = Eigen::VectorXd::Ones(1); break;
+    case GapEffect::kQN:
+      spec = "QN";
+      unit = Eigen::VectorXd::Ones(1);
+      break;
+    case GapEffect::kDR:
+      spec = "DR";
+      unit = Eigen::VectorXd::Ones(1);
+      break;
+    case GapEffect::kFlicker:
+      spec = "FLICKER";
+      unit = Eigen::VectorXd::Ones(1);
+      break;
     case GapEffect::kAR1: {
       const double hi = std::log2(static_cast<double>(n) * kAr1RecordShare);
       const double T = std::exp2(kAr1MinLog2T + u(rng) * (hi - kAr1MinLog2T));
@@ -132,7 +141,8 @@ Injection make_injection(GapEffect family, double strength, const Model& base, c
       scale_signal(in, strength, base, base_theta);
       return in;
     }
-    default: return in;
+    default:
+      return in;
   }
   in.model = parse_model(spec, ctx);
   const Eigen::VectorXd nu_base = base.wv(base_theta, tau), nu_unit = in.model.wv(unit, tau);
@@ -238,27 +248,34 @@ std::pair<double, Crossing> our_strength(const std::map<double, double>& power) 
 
 const char* to_string(Crossing c) {
   switch (c) {
-    case Crossing::kInterpolated: return "interpolated";
-    case Crossing::kAtMost: return "at most";
-    case Crossing::kBeyond: return "beyond";
+    case Crossing::kInterpolated:
+      return "interpolated";
+    case Crossing::kAtMost:
+      return "at most";
+    case Crossing::kBeyond:
+      return "beyond";
   }
   return "?";
 }
 
 std::string GapCheckOptions::Validate() const {
   std::ostringstream os;
-  if (cases < 1) os << "cases must be at least 1, got " << cases;
-  else if (strengths.empty()) os << "at least one strength is needed";
-  else if (n < 256) os << "n must be at least 256, got " << n;
-  else if (!(freq > 0.0)) os << "freq must be positive, got " << freq;
-  else if (replicates < 20) os << "replicates must be at least 20, got " << replicates;
+  if (cases < 1)
+    os << "cases must be at least 1, got " << cases;
+  else if (strengths.empty())
+    os << "at least one strength is needed";
+  else if (n < 256)
+    os << "n must be at least 256, got " << n;
+  else if (!(freq > 0.0))
+    os << "freq must be positive, got " << freq;
+  else if (replicates < 20)
+    os << "replicates must be at least 20, got " << replicates;
   for (double s : strengths)
     if (!(s > 0.0) && os.tellp() == 0) os << "strengths must be positive, got " << s;
   for (GapEffect f : families)
     if (f == GapEffect::kNone || f == GapEffect::kReparameterise || f == GapEffect::kTemperature ||
         f == GapEffect::kWN || f == GapEffect::kRW)
-      if (os.tellp() == 0)
-        os << "family " << to_string(f) << " cannot be withheld from a WN+RW base by this check";
+      if (os.tellp() == 0) os << "family " << to_string(f) << " cannot be withheld from a WN+RW base by this check";
   return os.str();
 }
 
@@ -363,20 +380,23 @@ GapCheckResult run_gap_check(const GapCheckOptions& options) {
     c.located = overlaps(g, in.dominant);
     c.excess_removed = g.shrinkage.excess_removed;
     c.parameter_error = std::numeric_limits<double>::quiet_NaN();
-    if (p.truth == GapEffect::kNone) c.correct = g.effect == GapEffect::kNone;
+    if (p.truth == GapEffect::kNone)
+      c.correct = g.effect == GapEffect::kNone;
     else if (p.truth == GapEffect::kReparameterise)
       c.correct = g.effect == GapEffect::kNone || g.effect == GapEffect::kReparameterise;
-    else c.correct = g.effect == p.truth;
+    else
+      c.correct = g.effect == p.truth;
     if (c.correct && g.final_fit.status != FitStatus::kFailed && g.final_fit.theta.size() == 2) {
       if (p.truth == GapEffect::kSin) c.parameter_error = std::abs(g.final_fit.theta(1) / in.truth_parameter - 1.0);
       if (p.truth == GapEffect::kAR1)
-        c.parameter_error = std::abs(std::log(-1.0 / std::log(g.final_fit.theta(0)) / in.truth_parameter)) / std::log(2.0);
+        c.parameter_error =
+            std::abs(std::log(-1.0 / std::log(g.final_fit.theta(0)) / in.truth_parameter)) / std::log(2.0);
     }
     // STEP: the time error in windows of the sliding map (<= 1: within one window);
     // TRANSIENT: |log(T_hat / T)| / log 2 (<= 1: within a factor 2).
     if (c.correct && g.event && p.truth == GapEffect::kStep && g.window_length > 0)
-      c.parameter_error = std::abs(static_cast<double>(g.event->sample) - in.truth_parameter) /
-                          static_cast<double>(g.window_length);
+      c.parameter_error =
+          std::abs(static_cast<double>(g.event->sample) - in.truth_parameter) / static_cast<double>(g.window_length);
     if (c.correct && g.event && p.truth == GapEffect::kTransient)
       c.parameter_error = std::abs(std::log(g.event->time_constant / in.truth_parameter)) / std::log(2.0);
     const int d = ++done;
@@ -447,7 +467,8 @@ std::vector<double> parse_gap_strengths(const std::string& list) {
     const auto [end, ec] = starts ? std::from_chars(t.data(), t.data() + t.size(), v, std::chars_format::general)
                                   : std::from_chars_result{t.data(), std::errc::invalid_argument};
     if (!starts || ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v) || !(v > 0.0))
-      throw InputError("--strengths '" + list + "': expected positive numbers separated by commas, found '" + item + "'");
+      throw InputError("--strengths '" + list + "': expected positive numbers separated by commas, found '" + item +
+                       "'");
     out.push_back(v);
   }
   if (out.empty()) throw InputError("--strengths: at least one strength is needed");

@@ -42,8 +42,12 @@ struct Prefix {
       s2[i + 1] = s2[i] + x[i] * x[i];
     }
   }
-  double sum(std::int64_t a, std::int64_t b) const { return s[static_cast<std::size_t>(b)] - s[static_cast<std::size_t>(a)]; }
-  double sum2(std::int64_t a, std::int64_t b) const { return s2[static_cast<std::size_t>(b)] - s2[static_cast<std::size_t>(a)]; }
+  double sum(std::int64_t a, std::int64_t b) const {
+    return s[static_cast<std::size_t>(b)] - s[static_cast<std::size_t>(a)];
+  }
+  double sum2(std::int64_t a, std::int64_t b) const {
+    return s2[static_cast<std::size_t>(b)] - s2[static_cast<std::size_t>(a)];
+  }
   // Residual sum of squares of x[a, b) about its mean.
   double rss(std::int64_t a, std::int64_t b) const {
     const double m = static_cast<double>(b - a);
@@ -123,8 +127,8 @@ double trend_slope_sd(const Model& m, const Eigen::VectorXd& theta, std::int64_t
   for (int k = 0; k < m.num_components(); ++k) {
     const Process& p = *m.components()[static_cast<std::size_t>(k)].process;
     std::fill(part.begin(), part.end(), 0.0);
-    p.generalized_autocovariance(std::span<const double>(theta.data() + m.offset(k), static_cast<std::size_t>(p.size())),
-                                 part);
+    p.generalized_autocovariance(
+        std::span<const double>(theta.data() + m.offset(k), static_cast<std::size_t>(p.size())), part);
     for (std::size_t h = 0; h < g.size(); ++h) g[h] += part[h];
   }
   // Var(sum_tail - sum_head) = 2 [L g(0) + 2 sum_{h<L} (L - h) g(h)] - 2 sum_d c(d) g(d),
@@ -325,7 +329,8 @@ void remove_event(std::vector<double>& x, const GapEvent& e) {
     const auto from = static_cast<std::size_t>(std::max<std::int64_t>(0, e.sample));
     for (std::size_t t = from; t < std::min(x.size(), from + static_cast<std::size_t>(e.length)); ++t) x[t] = e.fill;
   } else if (e.effect == GapEffect::kStep) {
-    for (std::size_t t = static_cast<std::size_t>(std::max<std::int64_t>(0, e.sample)); t < x.size(); ++t) x[t] -= e.size;
+    for (std::size_t t = static_cast<std::size_t>(std::max<std::int64_t>(0, e.sample)); t < x.size(); ++t)
+      x[t] -= e.size;
   } else if (e.effect == GapEffect::kTransient && e.time_constant > 0.0) {
     for (std::size_t t = 0; t < x.size(); ++t) {
       const double v = e.size * std::exp(-static_cast<double>(t) / e.time_constant);
@@ -341,9 +346,9 @@ TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<doub
   TimeFindings f;
   if (reps.rows() < 2) return f;
   HaarModwt transform(x.data(), static_cast<std::int64_t>(x.size()));
-  const Eigen::VectorXd stats =
-      series_statistics(x, transform, temperature, nu_base);
-  const TimeEffectTests t = test_time_effects(stats, reps, static_cast<std::int64_t>(x.size()), temperature != nullptr, level);
+  const Eigen::VectorXd stats = series_statistics(x, transform, temperature, nu_base);
+  const TimeEffectTests t =
+      test_time_effects(stats, reps, static_cast<std::int64_t>(x.size()), temperature != nullptr, level);
   g.event_tested = t.event_tested;
   if (t.event_tested) {
     g.event_statistic = t.event_statistic;
@@ -444,13 +449,12 @@ std::vector<double> apply_time_effects(const std::vector<double>& x, const std::
     remove_event(out, e);
     g.steps.push_back(e.effect);
     g.event = e;
-    const char* what = e.effect == GapEffect::kStep        ? "a bias step"
+    const char* what = e.effect == GapEffect::kStep       ? "a bias step"
                        : e.effect == GapEffect::kOutliers ? "a burst (a short excursion that returns)"
                                                           : "a warm-up transient";
-    g.notes.push_back(std::string(what) +
-                      " concentrates the coarse-level coefficients (statistic " + std::to_string(e.statistic) +
-                      " > threshold " + std::to_string(e.threshold) + " at level " + std::to_string(e.level) +
-                      "): it is removed before the WV is compared");
+    g.notes.push_back(std::string(what) + " concentrates the coarse-level coefficients (statistic " +
+                      std::to_string(e.statistic) + " > threshold " + std::to_string(e.threshold) + " at level " +
+                      std::to_string(e.level) + "): it is removed before the WV is compared");
   }
   if (f.trend && g.trend && f.trend_null_sd > 0.0) {
     GapTrend& tr = *g.trend;

@@ -63,8 +63,8 @@ struct TimeEffectTests {
   // Event.
   bool event_tested = false;
   double event_statistic = 0.0, event_threshold = 0.0;
-  int event_level = 0;                   ///< 1-based, the most concentrated level
-  std::vector<double> event_z;           ///< per event level
+  int event_level = 0;          ///< 1-based, the most concentrated level
+  std::vector<double> event_z;  ///< per event level
   int first_event_level = 0;
   // Trend (DR).
   double trend = 0.0, trend_mean = 0.0, trend_sd = 0.0, trend_z = 0.0, trend_threshold = 0.0;

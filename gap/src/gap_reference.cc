@@ -20,8 +20,8 @@ Eigen::VectorXd column_mean(const Eigen::MatrixXd& m) { return m.colwise().mean(
 
 }  // namespace
 
-Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
-                          int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
+Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
+                          std::uint64_t seed, const WvEstimator& estimator, double alpha,
                           const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic) {
   std::vector<Eigen::VectorXd> rows(static_cast<std::size_t>(replicates)), stats(static_cast<std::size_t>(replicates));
   std::vector<char> ok(static_cast<std::size_t>(replicates), 0);
@@ -82,7 +82,8 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(cov);
   ref.precision_a = ldlt.solve(Eigen::MatrixXd::Identity(levels, levels));
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(levels);
-  for (int b = 0; b < Bb; ++b) ref.null_distance.push_back(distance(ref, Lb.row(b).array().exp().matrix().transpose(), zero));
+  for (int b = 0; b < Bb; ++b)
+    ref.null_distance.push_back(distance(ref, Lb.row(b).array().exp().matrix().transpose(), zero));
   std::sort(ref.null_distance.begin(), ref.null_distance.end());
   return ref;
 }

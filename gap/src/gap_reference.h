@@ -18,10 +18,10 @@ namespace gmwm::gap::detail {
 inline constexpr double kCovarianceShrinkage = 0.2;
 
 struct Reference {
-  Eigen::MatrixXd wv;        ///< B x J: the replicates' WV
-  Eigen::VectorXd nu;        ///< the baseline's theoretical WV
+  Eigen::MatrixXd wv;                ///< B x J: the replicates' WV
+  Eigen::VectorXd nu;                ///< the baseline's theoretical WV
   Eigen::VectorXd mean_log, sd_log;  ///< per level, over all replicates
-  Eigen::VectorXd var;       ///< per level variance of nuhat (raw scale), over all replicates
+  Eigen::VectorXd var;               ///< per level variance of nuhat (raw scale), over all replicates
   // The global test uses two halves: its mean and (shrunk) covariance from half A, the
   // null distribution of the distance from half B (exchangeable with the data).
   Eigen::VectorXd mean_log_a;
@@ -39,8 +39,8 @@ using SeriesStatistic = std::function<Eigen::VectorXd(const std::vector<double>&
 /// Simulates `replicates` series of length n from (model, theta) with streams
 /// (seed, stream_base + b), computes their WV with `estimator` (J levels), and
 /// summarises them. Throws InputError if fewer than 8 replicates give a finite WV.
-Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
-                          int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
+Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
+                          std::uint64_t seed, const WvEstimator& estimator, double alpha,
                           const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic = {});
 
 /// Mahalanobis distance of log(nuhat) - shift from the half-A reference.

@@ -39,7 +39,8 @@ std::vector<GapBand> drift_band(double omega, const WaveletVariance& wv, const E
   while (b.first_level > 1 && ratio(b.first_level - 2) >= 0.5 * peak) --b.first_level;
   b.tau_from = levels[static_cast<std::size_t>(b.first_level - 1)].tau;
   b.tau_to = levels.back().tau;
-  for (int j = b.first_level; j <= b.last_level; ++j) b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
+  for (int j = b.first_level; j <= b.last_level; ++j)
+    b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
   return {b};
 }
 
@@ -143,8 +144,7 @@ std::string effects_text(const GapResult& g) {
     return out;
   }
   std::string resized, explained, minor;
-  const bool any_resize =
-      std::find(g.steps.begin(), g.steps.end(), GapEffect::kReparameterise) != g.steps.end();
+  const bool any_resize = std::find(g.steps.begin(), g.steps.end(), GapEffect::kReparameterise) != g.steps.end();
   bool first = true;
   for (std::size_t k = 0; k < g.steps.size(); ++k) {
     const double share = share_of(k);
@@ -171,9 +171,9 @@ std::string effects_text(const GapResult& g) {
   }
   if (!resized.empty() && explained.empty() && minor.empty()) return "explained by " + resized;
   std::string out = resized.empty() ? std::string() : resized + "; ";
-  out += explained.empty() ? "no effect removes " + g3(100.0 * kExplainedShare) + "% of the " +
-                                 (any_resize ? "rest" : "excess")
-                           : "explained by " + explained;
+  out += explained.empty()
+             ? "no effect removes " + g3(100.0 * kExplainedShare) + "% of the " + (any_resize ? "rest" : "excess")
+             : "explained by " + explained;
   if (!minor.empty()) out += "; minor: " + minor;
   return out;
 }

@@ -31,14 +31,16 @@ bool decides(const WaveletVariance& wv, double tau, const GapOptions& o) {
 // on AR1 and 10 on SIN, tools/bench/RESULTS.md). Where a level has too few coefficients to
 // decide (decides()), its own nuhat_j can sit 100x below its mean, so r_j is taken from
 // the coarsest deciding level instead.
-Eigen::MatrixXd objective_weights(const WaveletVariance& wv, const Eigen::VectorXd& nuhat,
-                                  const detail::Reference& ref, const Eigen::VectorXd& nu, const GapOptions& o) {
+Eigen::MatrixXd objective_weights(const WaveletVariance& wv, const Eigen::VectorXd& nuhat, const detail::Reference& ref,
+                                  const Eigen::VectorXd& nu, const GapOptions& o) {
   const Eigen::Index J = nuhat.size();
   Eigen::VectorXd r = (nuhat.array() / nu.array()).matrix();
   double last = 1.0;
   for (Eigen::Index j = 0; j < J; ++j) {
-    if (decides(wv, wv.tau[static_cast<std::size_t>(j)], o)) last = r(j);
-    else r(j) = last;
+    if (decides(wv, wv.tau[static_cast<std::size_t>(j)], o))
+      last = r(j);
+    else
+      r(j) = last;
   }
   const Eigen::ArrayXd scale = (nu.array() / ref.nu.array()) * r.array().min(1.0);
   return (ref.var.array() * scale.square()).cwiseInverse().matrix().asDiagonal();
@@ -54,7 +56,6 @@ double null_mean(const Context& c, const Eigen::VectorXd& nu) {
   }
   return e;
 }
-
 
 Eigen::VectorXd log_shift(const Context& c, const Eigen::VectorXd& nu) {
   return (nu.array() / c.ref.nu.array()).log().matrix();
@@ -90,9 +91,8 @@ std::string refusal(const std::string& what, const Fitness& before, const Fitnes
   std::ostringstream os;
   os.precision(4);
   os << what << " (objective " << before.objective << " -> " << after.objective << ", its null mean "
-     << before.null_mean << " -> " << after.null_mean << ", levels outside "
-     << before.outside << " -> " << after.outside << ", global statistic " << before.distance << " -> "
-     << after.distance << ")";
+     << before.null_mean << " -> " << after.null_mean << ", levels outside " << before.outside << " -> "
+     << after.outside << ", global statistic " << before.distance << " -> " << after.distance << ")";
   return os.str();
 }
 

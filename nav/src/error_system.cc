@@ -26,7 +26,8 @@ std::vector<ContinuousForm> forms_of(const SensorModel& s) {
   const double k2 = s.to_si * s.to_si;
   for (int c = 0; c < s.model.num_components(); ++c) {
     const Process& p = *s.model.components()[static_cast<std::size_t>(c)].process;
-    ContinuousForm f = *p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq);
+    ContinuousForm f =
+        *p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq);
     f.Qc *= k2;
     f.P0 *= k2;
     f.white *= k2;
@@ -105,7 +106,8 @@ ErrorSystem error_system(const ImuModel& model, const Scenario& scenario) {
     for (const auto* forms : {&gyro[a], &accel[a]})
       for (const ContinuousForm& f : *forms)
         for (const std::string& note : f.notes)
-          sys.notes.push_back(std::string(forms == &gyro[a] ? "gyroscope " : "accelerometer ") + kAxis[a] + ": " + note);
+          sys.notes.push_back(std::string(forms == &gyro[a] ? "gyroscope " : "accelerometer ") + kAxis[a] + ": " +
+                              note);
   return sys;
 }
 

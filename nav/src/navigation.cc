@@ -26,16 +26,21 @@ using detail::kVelocity;
 
 const char* to_string(Verdict v) {
   switch (v) {
-    case Verdict::kConsistent: return "consistent";
-    case Verdict::kOptimistic: return "optimistic";
-    case Verdict::kPessimistic: return "pessimistic";
+    case Verdict::kConsistent:
+      return "consistent";
+    case Verdict::kOptimistic:
+      return "optimistic";
+    case Verdict::kPessimistic:
+      return "pessimistic";
   }
   return "?";
 }
 
 std::string SensorModel::Validate() const {
-  if (!(freq > 0.0) || !std::isfinite(freq)) return "the sampling rate must be positive (got " + std::to_string(freq) + ")";
-  if (!(to_si > 0.0) || !std::isfinite(to_si)) return "the unit's factor to SI must be positive (got " + std::to_string(to_si) + ")";
+  if (!(freq > 0.0) || !std::isfinite(freq))
+    return "the sampling rate must be positive (got " + std::to_string(freq) + ")";
+  if (!(to_si > 0.0) || !std::isfinite(to_si))
+    return "the unit's factor to SI must be positive (got " + std::to_string(to_si) + ")";
   if (theta.size() != model.num_parameters())
     return "the model " + model.to_string() + " has " + std::to_string(model.num_parameters()) + " parameters, " +
            std::to_string(theta.size()) + " values given";
@@ -90,9 +95,12 @@ std::string Scenario::Validate() const {
 
 const char* to_string(Trajectory t) {
   switch (t) {
-    case Trajectory::kStatic: return "static";
-    case Trajectory::kConstantVelocity: return "constant-velocity";
-    case Trajectory::kManoeuvre: return "manoeuvre";
+    case Trajectory::kStatic:
+      return "static";
+    case Trajectory::kConstantVelocity:
+      return "constant-velocity";
+    case Trajectory::kManoeuvre:
+      return "manoeuvre";
   }
   return "?";
 }
@@ -159,7 +167,9 @@ std::int64_t whole_steps(double duration, double dt) {
   return std::abs(k - r) <= 1e-6 * std::max(1.0, r) && r >= 1.0 ? static_cast<std::int64_t>(r) : -1;
 }
 
-double imu_rate_of(const Scenario& s, const ImuModel& truth) { return s.imu_rate > 0.0 ? s.imu_rate : truth.gyro[0].freq; }
+double imu_rate_of(const Scenario& s, const ImuModel& truth) {
+  return s.imu_rate > 0.0 ? s.imu_rate : truth.gyro[0].freq;
+}
 
 Grid grid_of(const Scenario& s, double freq) {
   Grid g;
@@ -191,9 +201,10 @@ Grid grid_of(const Scenario& s, double freq) {
   if (g.blocks < 1) throw InputError("the horizon is shorter than one output interval");
   // Memory: a filter gain per block (states x 3 doubles) and a 9 x 9 covariance per output.
   if (g.blocks > kMaxBlocks)
-    throw InputError("the scenario has " + std::to_string(g.blocks) + " analysis steps (one per fix period or output "
-                     "interval), more than " + std::to_string(kMaxBlocks) +
-                     ": shorten the horizon or lower the fix rate");
+    throw InputError("the scenario has " + std::to_string(g.blocks) +
+                     " analysis steps (one per fix period or output "
+                     "interval), more than " +
+                     std::to_string(kMaxBlocks) + ": shorten the horizon or lower the fix rate");
   if (g.blocks / g.per_output > kMaxOutputs)
     throw InputError("the scenario has " + std::to_string(g.blocks / g.per_output) + " output times, more than " +
                      std::to_string(kMaxOutputs) + ": lengthen the output interval");
@@ -201,7 +212,8 @@ Grid grid_of(const Scenario& s, double freq) {
   for (std::int64_t b = 0; b < g.blocks; ++b) {
     const Pose p = pose_at(s.trajectory, second > 0 ? b * g.block / second : 0, s.gravity);
     std::size_t k = 0;
-    while (k < g.poses.size() && !(g.poses[k].heading == p.heading && g.poses[k].specific_force == p.specific_force)) ++k;
+    while (k < g.poses.size() && !(g.poses[k].heading == p.heading && g.poses[k].specific_force == p.specific_force))
+      ++k;
     if (k == g.poses.size()) g.poses.push_back(p);
     g.pose_of_block[static_cast<std::size_t>(b)] = static_cast<int>(k);
   }
@@ -258,14 +270,19 @@ void finish_verdict(FilterErrors& f, double judge_from) {
   for (std::size_t k = 0; k < f.nees.size(); ++k) {
     if (f.time[k] < judge_from - 1e-9) continue;
     const double v = f.nees[k];
-    if (v > f.nees_high) ++above;
-    else if (v < f.nees_low) ++below;
-    else ++inside;
+    if (v > f.nees_high)
+      ++above;
+    else if (v < f.nees_low)
+      ++below;
+    else
+      ++inside;
   }
   const int judged = inside + above + below;
   f.nees_inside = judged == 0 ? 0.0 : static_cast<double>(inside) / static_cast<double>(judged);
   f.nees_above = judged == 0 ? 0.0 : static_cast<double>(above) / static_cast<double>(judged);
-  f.verdict = f.nees_inside >= 0.95 ? Verdict::kConsistent : above >= below ? Verdict::kOptimistic : Verdict::kPessimistic;
+  f.verdict = f.nees_inside >= 0.95 ? Verdict::kConsistent
+              : above >= below      ? Verdict::kOptimistic
+                                    : Verdict::kPessimistic;
 }
 
 // What the covariance analysis and the Monte Carlo share for one filter: its system's
@@ -493,7 +510,8 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
       }
     });
     report(progress, static_cast<double>(fi + 1) / static_cast<double>(filters.size()));
-    Eigen::Matrix<double, 4, Eigen::Dynamic> sum = Eigen::Matrix<double, 4, Eigen::Dynamic>::Zero(4, static_cast<Eigen::Index>(outputs));
+    Eigen::Matrix<double, 4, Eigen::Dynamic> sum =
+        Eigen::Matrix<double, 4, Eigen::Dynamic>::Zero(4, static_cast<Eigen::Index>(outputs));
     for (const auto& a : per_run) sum += a;
     sum /= static_cast<double>(runs);
     FilterErrors fe;

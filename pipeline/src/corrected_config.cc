@@ -31,8 +31,7 @@ Unit unit_of(SensorKind kind, const CorrectedConfigOptions& o) {
 
 // Stage 1: every column's final model with the figures `export` would write for it: N, K
 // and B read off the model's Allan deviation where it matches the data's, else the data's.
-std::vector<ExportColumn> export_columns(const SignalSet& set, const GapStudy& study,
-                                         const CorrectedConfigOptions& o) {
+std::vector<ExportColumn> export_columns(const SignalSet& set, const GapStudy& study, const CorrectedConfigOptions& o) {
   std::vector<ExportColumn> cols;
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::GapColumnStudy& c = study.columns[k];
@@ -53,10 +52,14 @@ std::vector<ExportColumn> export_columns(const SignalSet& set, const GapStudy& s
 
 ExportFormat export_format(SimFormat f) {
   switch (f) {
-    case SimFormat::kKalibr: return ExportFormat::kKalibr;
-    case SimFormat::kGzSensors: return ExportFormat::kGzSdf;
-    case SimFormat::kRotors: return ExportFormat::kRotors;
-    case SimFormat::kDatasheet: break;  // Kalibr's N and K, then the datasheet's own text (corrected_config)
+    case SimFormat::kKalibr:
+      return ExportFormat::kKalibr;
+    case SimFormat::kGzSensors:
+      return ExportFormat::kGzSdf;
+    case SimFormat::kRotors:
+      return ExportFormat::kRotors;
+    case SimFormat::kDatasheet:
+      break;  // Kalibr's N and K, then the datasheet's own text (corrected_config)
   }
   return ExportFormat::kKalibr;
 }
@@ -144,7 +147,8 @@ std::map<SensorKind, DatasheetFigures> datasheet_figures(const ExportResult& r) 
 }
 
 bool writes_correlation_time(const SimConfig& back, SensorKind kind) {
-  const std::string name = std::string(kind == SensorKind::kGyro ? "gyroscope" : "accelerometer") + "/bias_correlation_time";
+  const std::string name =
+      std::string(kind == SensorKind::kGyro ? "gyroscope" : "accelerometer") + "/bias_correlation_time";
   return std::any_of(back.fields.begin(), back.fields.end(), [&](const ConfigField& f) { return f.name == name; });
 }
 
@@ -173,8 +177,10 @@ void add_undiagnosed_kinds(const SimConfig& config, const SignalSet& set, std::v
     const auto alike = config.models.find(kind);
     for (const char axis : {'x', 'y', 'z'}) {
       const std::string name = std::string(to_string(kind)) + "_" + axis;
-      if (alike != config.models.end()) add(name, alike->second);
-      else if (const auto it = config.axis_models.find(name); it != config.axis_models.end()) add(name, it->second);
+      if (alike != config.models.end())
+        add(name, alike->second);
+      else if (const auto it = config.axis_models.find(name); it != config.axis_models.end())
+        add(name, it->second);
     }
   }
 }
@@ -186,13 +192,16 @@ std::vector<ConfigChange> changes(const SimConfig& input, const SimConfig& corre
   for (const ConfigField& f : input.fields) out.push_back({f.name, f.value, std::nan(""), f.unit, false});
   for (const ConfigField& f : corrected.fields) {
     auto it = std::find_if(out.begin(), out.end(), [&](const ConfigChange& c) { return c.field == f.name; });
-    if (it == out.end()) out.push_back({f.name, std::nan(""), f.value, f.unit, false});
-    else it->corrected = f.value;
+    if (it == out.end())
+      out.push_back({f.name, std::nan(""), f.value, f.unit, false});
+    else
+      it->corrected = f.value;
   }
   for (ConfigChange& c : out) {
     const bool both = std::isfinite(c.input) && std::isfinite(c.corrected);
     c.changed = !both ? std::isfinite(c.input) != std::isfinite(c.corrected)
-                      : std::abs(c.corrected - c.input) > kUnchangedRelative * std::max(std::abs(c.input), std::abs(c.corrected));
+                      : std::abs(c.corrected - c.input) >
+                            kUnchangedRelative * std::max(std::abs(c.input), std::abs(c.corrected));
   }
   return out;
 }
@@ -215,8 +224,10 @@ void keep_undiagnosed_kinds(const SimConfig& input, ExportResult& r) {
     const std::string word = kind == SensorKind::kGyro ? "gyroscope" : "accelerometer";
     const std::size_t line = r.content.find("# No " + word + " column in the source");
     const std::string kept = "# No " + word + " column diagnosed: its figures are the input's\n";
-    if (line != std::string::npos) r.content.replace(line, r.content.find('\n', line) + 1 - line, kept);
-    else r.content += kept;
+    if (line != std::string::npos)
+      r.content.replace(line, r.content.find('\n', line) + 1 - line, kept);
+    else
+      r.content += kept;
   }
 }
 
@@ -226,16 +237,14 @@ std::string effects_text(const gap::GapResult& g) {
   return s.empty() ? "no effect added" : s;
 }
 
-std::string outside_text(const gap::GapAssessment& a) {
-  return std::to_string(a.levels_outside) + " levels outside";
-}
+std::string outside_text(const gap::GapAssessment& a) { return std::to_string(a.levels_outside) + " levels outside"; }
 
 // Stage 6: the header: what changed and why, what the format cannot hold, the gap left.
-std::vector<std::string> header_lines(const CorrectedConfig& c, const GapStudy& study,
-                                      const SignalSet& set, const CorrectedConfigOptions& o) {
+std::vector<std::string> header_lines(const CorrectedConfig& c, const GapStudy& study, const SignalSet& set,
+                                      const CorrectedConfigOptions& o) {
   std::vector<std::string> h;
-  h.push_back("gmwm gap: the corrected " + c.format + " configuration for " + set.path + " (baseline: " +
-              (o.baseline_path.empty() ? study.baseline_source : o.baseline_path) + ")");
+  h.push_back("gmwm gap: the corrected " + c.format + " configuration for " + set.path +
+              " (baseline: " + (o.baseline_path.empty() ? study.baseline_source : o.baseline_path) + ")");
   h.push_back(c.format == "model"
                   ? "Each column's line is the diagnosis' final model with its values (discrete, per sample, in the "
                     "data's unit): give it to 'gmwm gap --model' or 'gmwm export INPUT --model' for a simulator's file."
@@ -250,19 +259,20 @@ std::vector<std::string> header_lines(const CorrectedConfig& c, const GapStudy& 
       continue;
     }
     h.push_back("changed: " + ch.field + " " + (std::isfinite(ch.input) ? num(ch.input, 4) : std::string("(absent)")) +
-                " -> " + (std::isfinite(ch.corrected) ? num(ch.corrected, 4) : std::string("(dropped)")) + " " + ch.unit);
+                " -> " + (std::isfinite(ch.corrected) ? num(ch.corrected, 4) : std::string("(dropped)")) + " " +
+                ch.unit);
   }
-  if (changed == 0) h.push_back("changed: nothing (every figure within " + num(kUnchangedRelative * 100.0, 2) + "% of the input)");
+  if (changed == 0)
+    h.push_back("changed: nothing (every figure within " + num(kUnchangedRelative * 100.0, 2) + "% of the input)");
   for (std::size_t k = 0; k < c.columns.size(); ++k) {
     const CorrectedColumn& col = c.columns[k];
     const gap::GapResult& g = study.columns[k].result;
     h.push_back("why, " + col.name + ": " + effects_text(g) + "; full model " + col.full.to_string(col.full_theta));
-    for (const std::string& x : col.not_expressible)
-      h.push_back("cannot express, " + col.name + ": " + x);
+    for (const std::string& x : col.not_expressible) h.push_back("cannot express, " + col.name + ": " + x);
     h.push_back("gap left, " + col.name + ": input " + outside_text(col.before) + " (objective " +
                 num(col.before.objective, 4) + ") -> this file " + outside_text(col.with_config) + " (objective " +
-                num(col.with_config.objective, 4) + ") -> full model " + outside_text(col.with_full) +
-                " (objective " + num(col.with_full.objective, 4) + ")");
+                num(col.with_config.objective, 4) + ") -> full model " + outside_text(col.with_full) + " (objective " +
+                num(col.with_full.objective, 4) + ")");
   }
   return h;
 }
@@ -308,8 +318,8 @@ CorrectedConfig model_config(const SignalSet& set, const GapStudy& study, const 
 
 }  // namespace
 
-CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study,
-                                 const GapStudyOptions& options, const CorrectedConfigOptions& o) {
+CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, const GapStudyOptions& options,
+                                 const CorrectedConfigOptions& o) {
   const auto* config = std::get_if<pipeline::ConfigBaseline>(&options.baseline);
   if (!config) return model_config(set, study, o);
   if (!set.freq_known)
@@ -335,18 +345,23 @@ CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study,
     // Not every axis of a sensor has a column: one figure per sensor, said in the header.
     eo.aggregation = Aggregation::kMean;
     r = render_export(cols, eo, "gmwm gap of " + set.path);
-    notes.push_back("not every axis of a sensor was diagnosed: the diagnosed columns' mean is written for all three "
-                    "axes");
+    notes.push_back(
+        "not every axis of a sensor was diagnosed: the diagnosed columns' mean is written for all three "
+        "axes");
   }
   const bool datasheet = config->config.format == SimFormat::kDatasheet;
-  if (datasheet) r.content = write_datasheet_yaml(config->config, datasheet_figures(r), set.freq);
-  else if (eo.format == ExportFormat::kKalibr) keep_undiagnosed_kinds(config->config, r);
-  else keep_constant_offsets(config->config, r, notes);
+  if (datasheet)
+    r.content = write_datasheet_yaml(config->config, datasheet_figures(r), set.freq);
+  else if (eo.format == ExportFormat::kKalibr)
+    keep_undiagnosed_kinds(config->config, r);
+  else
+    keep_constant_offsets(config->config, r, notes);
   // Stage 3: read back exactly as gap reads a baseline.
   const std::string name = "the corrected configuration";
-  const SimConfig back = datasheet                           ? parse_datasheet_yaml(r.content, name, set.freq, o.units)
-                         : eo.format == ExportFormat::kKalibr ? parse_kalibr_imu_yaml(r.content, name, set.freq, o.units)
-                                                              : parse_gazebo_sdf(r.content, name, set.freq, o.units);
+  const SimConfig back = datasheet ? parse_datasheet_yaml(r.content, name, set.freq, o.units)
+                         : eo.format == ExportFormat::kKalibr
+                             ? parse_kalibr_imu_yaml(r.content, name, set.freq, o.units)
+                             : parse_gazebo_sdf(r.content, name, set.freq, o.units);
   c.changes = changes(config->config, back);
   // Stage 5: each column's gap left with the corrected file and with the full model.
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
@@ -365,19 +380,21 @@ CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study,
       for (std::size_t i = 0; i < a.gauss_markov.size(); ++i) {
         const bool written = i + 1 == a.gauss_markov.size() && writes_correlation_time(back, a.kind);
         if (!written)
-          col.not_expressible.push_back(a.gauss_markov[i].text + " (a Gauss-Markov bias, correlation time " +
-                                        num(a.gauss_markov[i].correlation_time, 3) +
-                                        " s: the datasheet holds one bias figure, " +
-                                        (i + 1 == a.gauss_markov.size() ? std::string("here a flicker floor")
-                                                                        : std::string("the slowest")) + ")");
+          col.not_expressible.push_back(
+              a.gauss_markov[i].text + " (a Gauss-Markov bias, correlation time " +
+              num(a.gauss_markov[i].correlation_time, 3) + " s: the datasheet holds one bias figure, " +
+              (i + 1 == a.gauss_markov.size() ? std::string("here a flicker floor") : std::string("the slowest")) +
+              ")");
       }
     else if (eo.format == ExportFormat::kKalibr)
       for (const GaussMarkovNoise& gm : a.gauss_markov)
-        col.not_expressible.push_back(gm.text + " (a Gauss-Markov bias, correlation time " + num(gm.correlation_time, 3) +
+        col.not_expressible.push_back(gm.text + " (a Gauss-Markov bias, correlation time " +
+                                      num(gm.correlation_time, 3) +
                                       " s: Kalibr holds white noise and a random walk only)");
     else if (a.gauss_markov.size() > 1)
       for (std::size_t i = 0; i + 1 < a.gauss_markov.size(); ++i)
-        col.not_expressible.push_back(a.gauss_markov[i].text + " (the simulator holds one Gauss-Markov bias: the "
+        col.not_expressible.push_back(a.gauss_markov[i].text +
+                                      " (the simulator holds one Gauss-Markov bias: the "
                                       "slowest is written)");
     for (const std::string& x : a.absorbed) col.not_expressible.push_back(x + ": counted in the white noise density");
     const auto expressible = pipeline::config_baseline(back, kind_of(s.name, o), s.name, s.wv.n);

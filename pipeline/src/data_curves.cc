@@ -9,8 +9,8 @@
 
 namespace gmwm::pipeline::detail {
 
-DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv,
-                            double freq, const std::optional<AllanOptions>& allan) {
+DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
+                            const std::optional<AllanOptions>& allan) {
   using Clock = std::chrono::steady_clock;
   DataCurves out;
   const auto wv_start = Clock::now();

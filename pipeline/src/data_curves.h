@@ -27,8 +27,8 @@ struct DataCurves {
 
 /// The classical WVs of `series` and, when `allan` is given, their Allan deviations at
 /// `freq` Hz.
-DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv,
-                            double freq, const std::optional<AllanOptions>& allan);
+DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
+                            const std::optional<AllanOptions>& allan);
 
 /// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
 /// figures then read the robust WV itself), else the classical ones with the Allan

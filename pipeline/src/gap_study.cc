@@ -84,7 +84,8 @@ Baselines resolve_baselines(const io::SignalSet& set, const GapStudyOptions& o, 
   if (!fit) {
     const Eigen::VectorXd v = m.given_values();
     if (const std::string why = m.validate(v); !why.empty() || !v.allFinite())
-      throw InputError("--model '" + spec + "': give every parameter's value (SPEC_WITH_VALUES), e.g. "
+      throw InputError("--model '" + spec +
+                       "': give every parameter's value (SPEC_WITH_VALUES), e.g. "
                        "WN(sigma2=2.5e-5)+RW(gamma2=1e-12)");
   }
   b.source = fit ? "fit " + spec : "model";
@@ -152,7 +153,8 @@ void check_units(const std::string& path, const std::string& column, const Wavel
   }
   const Eigen::VectorXd nu = base.wv(theta, wv.tau);
   std::vector<double> r;
-  for (int j = 0; j < std::min(kUnitCheckLevels, wv.levels()); ++j) r.push_back(wv.wv[static_cast<std::size_t>(j)] / nu(j));
+  for (int j = 0; j < std::min(kUnitCheckLevels, wv.levels()); ++j)
+    r.push_back(wv.wv[static_cast<std::size_t>(j)] / nu(j));
   if (r.empty()) return;
   std::sort(r.begin(), r.end());
   const double ratio = r[r.size() / 2];
@@ -162,7 +164,8 @@ void check_units(const std::string& path, const std::string& column, const Wavel
   throw InputError(path + ": column '" + column + "': its WV at the finest scales is " + num(ratio, 3) +
                    " x the baseline's, near (" + s->unit.name + " per " + declared.name + ")^2 = " + num(s->factor, 4) +
                    ": the data look like " + s->unit.name + ", not " + declared.name + "; give --units " +
-                   io::to_string(kind) + "=" + s->unit.name + " (or --no-unit-check if the sensor really is that far "
+                   io::to_string(kind) + "=" + s->unit.name +
+                   " (or --no-unit-check if the sensor really is that far "
                    "from the baseline)");
 }
 
@@ -213,7 +216,7 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
     const Samples& x = set.signals[k].values;
     const std::vector<double> copy = x.vector() ? std::vector<double>() : x.to_vector();
     c.result = gap::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, x.vector() ? x.vector() : &copy,
-                                       temperature.empty() ? nullptr : &temperature);
+                                 temperature.empty() ? nullptr : &temperature);
     if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
   }
 }

@@ -66,7 +66,8 @@ NavSource parse_nav_source(const std::string& given) {
     const std::string factor = trim(body.substr(star + 1));
     const auto x = number_of(factor);
     if (!x || !(*x > 0.0))
-      throw InputError("model source '" + given + "': the inflation after '*' must be a positive number, got '" + factor + "'");
+      throw InputError("model source '" + given + "': the inflation after '*' must be a positive number, got '" +
+                       factor + "'");
     src.inflate = *x;
     body = trim(body.substr(0, star));
   }
@@ -102,7 +103,8 @@ std::string NavStudyOptions::Validate() const {
   if (rate && (!(*rate > 0.0) || !std::isfinite(*rate))) return "rate: must be positive (Hz)";
   if (monte_carlo_runs < 0 || monte_carlo_runs == 1) return "Monte-Carlo runs: 0 (none) or at least 2";
   if (labels.size() > std::max<std::size_t>(filters.size(), 2))
-    return "labels: " + std::to_string(labels.size()) + " given for " + std::to_string(filters.size()) + " filter models";
+    return "labels: " + std::to_string(labels.size()) + " given for " + std::to_string(filters.size()) +
+           " filter models";
   for (const std::string& l : labels)
     if (l.empty()) return "labels: an empty label";
   return {};
@@ -131,10 +133,13 @@ nav::SensorModel sensor_of(const Model& m, const Eigen::VectorXd& theta, double 
 std::array<nav::SensorModel, 3> three_axes(const KindModels& k, const std::string& what, const std::string& who) {
   std::array<nav::SensorModel, 3> out;
   for (std::size_t a = 0; a < 3; ++a) {
-    if (k.axes[a]) out[a] = *k.axes[a];
-    else if (k.all) out[a] = *k.all;
+    if (k.axes[a])
+      out[a] = *k.axes[a];
+    else if (k.all)
+      out[a] = *k.all;
     else
-      throw InputError(who + ": no " + what + " model for the " + kAxes[a] + " axis (give a column or term per axis, or one for all)");
+      throw InputError(who + ": no " + what + " model for the " + kAxes[a] +
+                       " axis (give a column or term per axis, or one for all)");
   }
   return out;
 }
@@ -185,7 +190,8 @@ NavModelInfo from_config(const std::string& path, const NavStudyOptions& o, cons
     if (const auto it = c.models.find(kind); it != c.models.end())
       k.all = sensor_of(it->second, it->second.given_values(), f, 1.0);
     for (std::size_t a = 0; a < 3; ++a)
-      if (const auto it = c.axis_models.find(std::string(io::to_string(kind)) + "_" + kAxes[a]); it != c.axis_models.end())
+      if (const auto it = c.axis_models.find(std::string(io::to_string(kind)) + "_" + kAxes[a]);
+          it != c.axis_models.end())
         k.axes[a] = sensor_of(it->second, it->second.given_values(), f, 1.0);
     const bool gyro = kind == io::SensorKind::kGyro;
     (gyro ? info.model.gyro : info.model.accel) = three_axes(k, gyro ? "gyroscope" : "accelerometer", path);
@@ -196,7 +202,8 @@ NavModelInfo from_config(const std::string& path, const NavStudyOptions& o, cons
   return info;
 }
 
-NavModelInfo from_strings(const ModelStrings& m, const NavStudyOptions& o, const NavModelInfo* truth, const std::string& text) {
+NavModelInfo from_strings(const ModelStrings& m, const NavStudyOptions& o, const NavModelInfo* truth,
+                          const std::string& text) {
   const double f = rate_for(o, truth, "model source '" + text + "'");
   NavModelInfo info;
   info.source = "models " + text;
@@ -226,7 +233,7 @@ nav::SensorModel projected(const nav::SensorModel& s) {
   const double f = s.freq;
   const Model m = parse_model(k > 0.0 ? "WN+RW" : "WN", ProcessContext{f, true});
   Eigen::VectorXd theta(m.num_parameters());
-  theta(0) = n * n * f;  // sigma2 = N^2 f
+  theta(0) = n * n * f;               // sigma2 = N^2 f
   if (k > 0.0) theta(1) = k * k / f;  // gamma2 = K^2 / f
   return sensor_of(m, theta, f, 1.0);
 }
@@ -265,8 +272,8 @@ NavModelInfo imu_model_of(const std::vector<io::ExportColumn>& columns, const st
     if (count[c.kind == io::SensorKind::kGyro ? 0 : 1] == 1) {
       k.all = s;  // one column of the kind stands for its three axes
     } else if (axis == 0) {
-      throw InputError(who + ": column '" + c.name + "' names no axis (x, y or z) among several " + io::to_string(c.kind) +
-                       " columns");
+      throw InputError(who + ": column '" + c.name + "' names no axis (x, y or z) among several " +
+                       io::to_string(c.kind) + " columns");
     } else {
       k.axes[static_cast<std::size_t>(std::tolower(axis) - 'x')] = s;
     }
@@ -276,7 +283,8 @@ NavModelInfo imu_model_of(const std::vector<io::ExportColumn>& columns, const st
   info.model.gyro = three_axes(gyro, "gyroscope", who);
   info.model.accel = three_axes(accel, "accelerometer", who);
   for (const char* kind : {"gyroscope", "accelerometer"})
-    if ((kind[0] == 'g' ? gyro : accel).all) info.lines.push_back(std::string(kind) + ": one column for the three axes");
+    if ((kind[0] == 'g' ? gyro : accel).all)
+      info.lines.push_back(std::string(kind) + ": one column for the three axes");
   return info;
 }
 
@@ -303,7 +311,8 @@ NavModelInfo read_nav_model(const NavSource& source, const NavStudyOptions& opti
     }
     info.lines.clear();
   } else if (const auto* file = std::get_if<ModelFile>(&source.what)) {
-    info = has_extension(file->path, {".json"}) ? from_result(file->path, options) : from_config(file->path, options, truth);
+    info = has_extension(file->path, {".json"}) ? from_result(file->path, options)
+                                                : from_config(file->path, options, truth);
   } else {
     info = from_strings(std::get<ModelStrings>(source.what), options, truth, source.text);
   }
@@ -313,7 +322,8 @@ NavModelInfo read_nav_model(const NavSource& source, const NavStudyOptions& opti
       for (nav::SensorModel& s : *kind) s.to_si *= source.inflate;
     info.source += ", every noise figure x " + std::to_string(source.inflate);
   }
-  if (const std::string why = info.model.Validate(); !why.empty()) throw InputError("model source '" + source.text + "': " + why);
+  if (const std::string why = info.model.Validate(); !why.empty())
+    throw InputError("model source '" + source.text + "': " + why);
   const auto lines = model_lines(info.model);
   info.lines.insert(info.lines.begin(), lines.begin(), lines.end());
   return info;
@@ -369,8 +379,6 @@ constexpr double kLargestFactor = 1000.0;
 constexpr double kWarmUpSeconds = 600.0;
 constexpr double kWarmUpHorizons = 5.0;
 
-
-
 nav::ImuModel inflated(nav::ImuModel m, double x) {
   for (auto* kind : {&m.gyro, &m.accel})
     for (nav::SensorModel& s : *kind) s.to_si *= x;
@@ -382,7 +390,8 @@ nav::ImuModel walk_inflated(nav::ImuModel m, double x) {
   for (auto* kind : {&m.gyro, &m.accel})
     for (nav::SensorModel& s : *kind)
       for (int c = 0; c < s.model.num_components(); ++c)
-        if (s.model.components()[static_cast<std::size_t>(c)].process->name() == "RW") s.theta(s.model.offset(c)) *= x * x;
+        if (s.model.components()[static_cast<std::size_t>(c)].process->name() == "RW")
+          s.theta(s.model.offset(c)) *= x * x;
   return m;
 }
 
@@ -456,17 +465,19 @@ ConsistentInflation consistent_inflation(const nav::ImuModel& truth, const nav::
   out.verdict = found.at.verdict;
   out.nees_inside = found.at.nees_inside;
   char text[600];
-  std::snprintf(text, sizeof text,
-                "the smallest factor (to %.0f%%, %s) with which a filter assuming these WN + RW figures is not optimistic "
-                "(expected NEES above its 95%% band at <= 5%% of times) against the full fitted model, updates at %g Hz "
-                "(%g m), after %g s aided, %g s on the IMU alone; there its NEES is in band %.0f%% of the time (%s)",
-                100.0 * options.precision, out.white == 1.0 ? "on K alone" : "on N and K", options.update_rate,
-                options.fix_sigma, warm_up, options.horizon, 100.0 * out.nees_inside, nav::to_string(out.verdict));
+  std::snprintf(
+      text, sizeof text,
+      "the smallest factor (to %.0f%%, %s) with which a filter assuming these WN + RW figures is not optimistic "
+      "(expected NEES above its 95%% band at <= 5%% of times) against the full fitted model, updates at %g Hz "
+      "(%g m), after %g s aided, %g s on the IMU alone; there its NEES is in band %.0f%% of the time (%s)",
+      100.0 * options.precision, out.white == 1.0 ? "on K alone" : "on N and K", options.update_rate, options.fix_sigma,
+      warm_up, options.horizon, 100.0 * out.nees_inside, nav::to_string(out.verdict));
   std::string reason = text;
   if (out.verdict != nav::Verdict::kConsistent)
-    reason += ": no inflation of N and K makes a WN + RW filter consistent here; it stays conservative (NEES below "
-              "the band) where it is not inside; what it lacks: " + lacking(truth) +
-              " (a filter with a Gauss-Markov bias state, or gmwm nav, shows the difference)";
+    reason +=
+        ": no inflation of N and K makes a WN + RW filter consistent here; it stays conservative (NEES below "
+        "the band) where it is not inside; what it lacks: " +
+        lacking(truth) + " (a filter with a Gauss-Markov bias state, or gmwm nav, shows the difference)";
   out.reason = reason;
   return out;
 }
@@ -480,7 +491,8 @@ static std::string lacking(const nav::ImuModel& truth) {
       for (int c = 0; c < s.model.num_components(); ++c) {
         const Process& p = *s.model.components()[static_cast<std::size_t>(c)].process;
         if (p.name() == "WN" || p.name() == "RW" || p.name() == "QN") continue;
-        const auto form = p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq);
+        const auto form =
+            p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq);
         const double T = form && form->states() == 1 && form->F(0, 0) < 0.0 ? -1.0 / form->F(0, 0) : NAN;
         auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& e) { return e.first == p.name(); });
         if (it == seen.end()) {

@@ -28,13 +28,15 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
   if (!options.model.empty()) {
     const Model m = parse_model(options.model, ProcessContext{*options.freq, true});
     if (!m.fully_specified())
-      throw InputError("model '" + options.model + "': give every parameter's value, e.g. WN(sigma2=1e-6)+RW(gamma2=1e-12)");
+      throw InputError("model '" + options.model +
+                       "': give every parameter's value, e.g. WN(sigma2=1e-6)+RW(gamma2=1e-12)");
     const Eigen::VectorXd theta = m.given_values();
     char rate[32];
     std::snprintf(rate, sizeof rate, "%g", *options.freq);
     out.source = "model " + m.to_string(theta) + " at " + rate + " Hz";
     const std::string unit = options.unit.empty() ? std::string() : io::parse_any_unit(options.unit).second.name;
-    out.columns.push_back({"model", unit, m.to_string(theta), plan_record_length(m, theta, *options.freq, options.plan)});
+    out.columns.push_back(
+        {"model", unit, m.to_string(theta), plan_record_length(m, theta, *options.freq, options.plan)});
     return out;
   }
   io::ResultReadOptions ro;
@@ -44,7 +46,8 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
   const io::ResultColumns r = io::read_result_columns(options.result, ro);
   out.source = "gmwm " + r.command + " result " + options.result;
   for (const io::ExportColumn& c : r.columns)
-    out.columns.push_back({c.name, c.unit.name, c.model.to_string(c.theta), plan_record_length(c.model, c.theta, c.freq, options.plan)});
+    out.columns.push_back(
+        {c.name, c.unit.name, c.model.to_string(c.theta), plan_record_length(c.model, c.theta, c.freq, options.plan)});
   return out;
 }
 

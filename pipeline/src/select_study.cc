@@ -71,7 +71,8 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
 
   std::vector<const FitResult*> best;
   for (const auto& s : result) best.push_back(&s.best_fit);
-  std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, best, wvs, curves.allan, options.select.fit.alpha);
+  std::vector<std::optional<FigureReport>> figures =
+      noise_figures_of(set, best, wvs, curves.allan, options.select.fit.alpha);
   for (std::size_t k = 0; k < result.size(); ++k)
     study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(result[k]), std::move(figures[k]),
                              k < curves.classical.size() ? std::optional(curves.classical[k]) : std::nullopt});

@@ -24,8 +24,11 @@ using detail::Plots;
 std::string column_facts(const ReportColumn& c) {
   std::ostringstream os;
   os << "N = " << c.n;
-  if (c.freq_known) os << ", " << html_escape(detail::num(c.freq, 6)) << " Hz (" << html_escape(detail::num(static_cast<double>(c.n) / c.freq, 4)) << " s)";
-  else os << ", sampling rate unknown (tau in samples)";
+  if (c.freq_known)
+    os << ", " << html_escape(detail::num(c.freq, 6)) << " Hz ("
+       << html_escape(detail::num(static_cast<double>(c.n) / c.freq, 4)) << " s)";
+  else
+    os << ", sampling rate unknown (tau in samples)";
   os << ", data unit " << (c.unit.empty() ? "not declared (U)" : html_escape(c.unit));
   if (c.replicates) {
     os << "; " << c.wvs.size() << " replicates (" << html_escape(c.replicates->estimator)
@@ -48,24 +51,27 @@ std::string quality_lines(const FitResult& f, const ReportColumn& c, bool all_re
   const std::string why = rejection_summary(f, c.freq, c.freq_known, kRejectionLevel, stacked);
   if (all_rejected)
     os << "<p class=\"quality\"><b>every candidate is rejected at 5%</b>: no sub-model of " << html_escape(full_model)
-       << " describes these data" << (why.empty() ? "" : "; the chosen " + html_escape(f.model.to_string()) + " is " + html_escape(why))
+       << " describes these data"
+       << (why.empty() ? "" : "; the chosen " + html_escape(f.model.to_string()) + " is " + html_escape(why))
        << "</p>\n";
   else if (!why.empty())
     os << "<p class=\"quality\"><b>" << html_escape(f.model.to_string()) << " is " << html_escape(why) << "</b></p>\n";
-  if (const std::string d = degeneracy_summary(f); !d.empty()) os << "<p class=\"quality\">" << html_escape(d) << "</p>\n";
+  if (const std::string d = degeneracy_summary(f); !d.empty())
+    os << "<p class=\"quality\">" << html_escape(d) << "</p>\n";
   return os.str();
 }
 
 std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   const std::string idx = std::to_string(k + 1);
   std::ostringstream os;
-  os << "<section class=\"column\" id=\"col-" << idx << "\">\n<h2>" << html_escape(c.name) << "</h2>\n<p class=\"facts\">"
-     << column_facts(c) << "</p>\n";
+  os << "<section class=\"column\" id=\"col-" << idx << "\">\n<h2>" << html_escape(c.name)
+     << "</h2>\n<p class=\"facts\">" << column_facts(c) << "</p>\n";
   if (!c.wvs.empty()) os << plots.add("plot-" + idx + "-wv", "wv", detail::wv_plot_spec(c));
   if (c.fit) {
-    os << "<h3>" << (c.replicates ? (c.replicates->selection ? "recommended model, fitted jointly over the replicates"
-                                                               : "joint fit over the replicates")
-                                  : "fit")
+    os << "<h3>"
+       << (c.replicates ? (c.replicates->selection ? "recommended model, fitted jointly over the replicates"
+                                                   : "joint fit over the replicates")
+                        : "fit")
        << "</h3>\n<p class=\"facts\">objective " << html_escape(detail::num(c.fit->objective, 6))
        << ", goodness of fit: statistic " << html_escape(detail::num(c.fit->gof.statistic)) << ", df "
        << html_escape(detail::num(c.fit->gof.df)) << ", p-value " << html_escape(detail::num(c.fit->gof.p_value, 4))
@@ -78,8 +84,7 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   os << detail::replicate_tables(c);
   if (c.allan) {
     os << "<h3>Allan deviation and noise figures</h3>\n"
-       << plots.add("plot-" + idx + "-adev", "adev", detail::adev_plot_spec(c))
-       << detail::noise_figures_table(c);
+       << plots.add("plot-" + idx + "-adev", "adev", detail::adev_plot_spec(c)) << detail::noise_figures_table(c);
   }
   if (c.selection) {
     os << "<h3>model selection</h3>\n" << detail::ranking_table(*c.selection);
@@ -122,8 +127,9 @@ std::string render_html_report(const ReportData& data) {
   const std::string title = data.title.empty() ? "gmwm " + data.command + ": " + data.input : data.title;
   Plots plots;
   std::ostringstream body;
-  body << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version()) << " &middot; command <code>"
-       << html_escape(data.command) << "</code> &middot; input <code>" << html_escape(data.input) << "</code>";
+  body << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version())
+       << " &middot; command <code>" << html_escape(data.command) << "</code> &middot; input <code>"
+       << html_escape(data.input) << "</code>";
   // gap's "model" is its baseline: a model with values, "fit SPEC", or the simulator's or datasheet's file.
   if (!data.model_spec.empty())
     body << " &middot; " << (data.command == "gap" ? "baseline" : "model") << " <code>" << html_escape(data.model_spec)

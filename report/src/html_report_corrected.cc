@@ -39,7 +39,8 @@ std::string corrected_section(const pipeline::CorrectedConfig& c, const ReportDa
     os << "</table>\n";
   }
   const bool nav = !data.columns.empty() && data.columns.front().freq_known;
-  std::vector<std::string> head{"column", "levels outside (input -> file -> full)", "objective (input -> file -> full)"};
+  std::vector<std::string> head{"column", "levels outside (input -> file -> full)",
+                                "objective (input -> file -> full)"};
   if (nav) head.push_back("integrated error after 60 s (input -> file -> full)");
   os << "<table class=\"gap-left\">\n<caption>the gap left with the input, with the corrected file and with the full "
         "model</caption>\n"

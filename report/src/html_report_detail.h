@@ -87,8 +87,8 @@ bool has_theta(const FitResult& f);
 /// The model's WV at the scales `tau_samples` ("<label>") and, when `components`, each
 /// component's WV ("<k>: <NAME>", dashed). Non-positive values are left out.
 std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta,
-                                const std::vector<double>& tau_samples, double scale,
-                                const std::string& label, bool components);
+                                const std::vector<double>& tau_samples, double scale, const std::string& label,
+                                bool components);
 
 // ---- html_report_specs.cc ----
 

@@ -17,11 +17,21 @@ std::string html_escape(std::string_view s) {
   out.reserve(s.size() + 16);
   for (const char ch : s) {
     switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
       default:
         // Control bytes (from a name in a file) as the replacement character: a page
         // carries no escape sequence to whoever prints it.
@@ -41,10 +51,17 @@ std::string script_json(const Json& j) {
   out.reserve(text.size() + 64);
   for (const char ch : text) {
     switch (ch) {
-      case '<': out += "\\u003c"; break;
-      case '>': out += "\\u003e"; break;
-      case '&': out += "\\u0026"; break;
-      default: out += ch;
+      case '<':
+        out += "\\u003c";
+        break;
+      case '>':
+        out += "\\u003e";
+        break;
+      case '&':
+        out += "\\u0026";
+        break;
+      default:
+        out += ch;
     }
   }
   return out;
@@ -80,15 +97,15 @@ WvSeries wv_series(const WaveletVariance& wv, const ReportColumn& c) {
   };
   for (std::size_t j = 0; j < wv.wv.size() && j < wv.tau.size(); ++j) {
     if (!(std::isfinite(wv.wv[j]) && wv.wv[j] > 0.0)) continue;
-    s.points.push_back({static_cast<int>(j) + 1, wv.tau[j] * scale, wv.wv[j], positive(wv.ci_low, j),
-                        positive(wv.ci_high, j)});
+    s.points.push_back(
+        {static_cast<int>(j) + 1, wv.tau[j] * scale, wv.wv[j], positive(wv.ci_low, j), positive(wv.ci_high, j)});
   }
   return s;
 }
 
 bool has_theta(const FitResult& f) {
-  return f.status != FitStatus::kFailed && f.model.num_parameters() > 0 &&
-         f.theta.size() == f.model.num_parameters() && f.theta.allFinite();
+  return f.status != FitStatus::kFailed && f.model.num_parameters() > 0 && f.theta.size() == f.model.num_parameters() &&
+         f.theta.allFinite();
 }
 
 const std::vector<double>& model_tau(const ReportColumn& c) {
@@ -112,8 +129,8 @@ const FitResult* shown_model(const ReportColumn& c) {
 constexpr double kNegligibleShare = 1e-6;
 
 std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta,
-                                const std::vector<double>& tau_samples, double scale,
-                                const std::string& label, bool components) {
+                                const std::vector<double>& tau_samples, double scale, const std::string& label,
+                                bool components) {
   std::vector<Curve> out;
   if (tau_samples.empty() || theta.size() != model.num_parameters() || !theta.allFinite()) return out;
   auto keep = [&](Curve c, const double* v) {
@@ -135,13 +152,13 @@ std::vector<Curve> model_curves(const Model& model, const Eigen::VectorXd& theta
     // A collapsed component (its share of the model below kNegligibleShare at every scale)
     // would only stretch the axis by ten decades: its table row says where it went.
     bool visible = false;
-    for (std::size_t j = 0; j < v.size(); ++j) visible = visible || v[j] > kNegligibleShare * total(static_cast<Eigen::Index>(j));
+    for (std::size_t j = 0; j < v.size(); ++j)
+      visible = visible || v[j] > kNegligibleShare * total(static_cast<Eigen::Index>(j));
     if (!visible) continue;
     keep({std::to_string(k + 1) + ": " + p.name(), true, {}, {}}, v.data());
   }
   return out;
 }
-
 
 namespace {
 
@@ -208,7 +225,8 @@ std::string Plots::add(const std::string& id, const std::string& kind, Json spec
   // the navigation curves at each output time.
   const bool zooms = kind == "wv" || kind == "gap-curves";
   const bool curves = kind.rfind("nav-", 0) == 0;
-  return "<div class=\"gmwm-plot\" data-plot=\"" + kind + "\" id=\"" + id + "\"><div class=\"view\"></div><div class=\"hint\">" +
+  return "<div class=\"gmwm-plot\" data-plot=\"" + kind + "\" id=\"" + id +
+         "\"><div class=\"view\"></div><div class=\"hint\">" +
          (zooms    ? "drag to pan, wheel to zoom, double-click to reset; hover a point for its values"
           : curves ? "hover a curve for its value at each output time"
                    : "hover a cell for its values") +
@@ -238,7 +256,8 @@ const char* const kErrorCapture = R"JS(<script>
 std::string html_page(const std::string& title, const std::string& body, const Plots& plots, const std::string& vega) {
   std::ostringstream page;
   page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" content=\"gmwm "
+       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<meta name=\"generator\" "
+          "content=\"gmwm "
        << html_escape(version()) << "\">\n<title>" << html_escape(title) << "</title>\n<style>\n"
        << page_style() << "</style>\n</head>\n<body>\n"
        << body << "<script type=\"application/json\" id=\"gmwm-specs\">" << script_json(plots.specs)

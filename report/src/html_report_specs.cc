@@ -37,8 +37,8 @@ struct LogLog {
   std::string value_name = "WV";  ///< the y quantity in tooltips
   std::vector<WvSeries> estimates;
   std::vector<Curve> curves;
-  std::string reference_name;                     ///< empty: no reference band
-  std::vector<std::array<double, 3>> reference;   ///< tau, low, high
+  std::string reference_name;                    ///< empty: no reference band
+  std::vector<std::array<double, 3>> reference;  ///< tau, low, high
 };
 
 // log10 of the range of everything drawn, padded by 5% of its span on each side.
@@ -60,28 +60,36 @@ std::array<double, 2> padded_log_range(std::vector<double> v) {
 Json zoom_signals(const std::array<double, 2>& x, const std::array<double, 2>& y) {
   const Json x0 = {x[0], x[1]}, y0 = {y[0], y[1]};
   Json s = Json::array();
-  s.push_back({{"name", "down"},
-               {"value", nullptr},
-               {"on", {{{"events", "touchend"}, {"update", "null"}}, {{"events", "mousedown, touchstart"}, {"update", "xy()"}}}}});
-  s.push_back({{"name", "xcur"}, {"value", nullptr}, {"on", {{{"events", "mousedown, touchstart, touchend"}, {"update", "slice(xl)"}}}}});
-  s.push_back({{"name", "ycur"}, {"value", nullptr}, {"on", {{{"events", "mousedown, touchstart, touchend"}, {"update", "slice(yl)"}}}}});
   s.push_back(
-      {{"name", "delta"},
-       {"value", {0, 0}},
+      {{"name", "down"},
+       {"value", nullptr},
        {"on",
-        {{{"events",
-           {{{"source", "window"},
-             {"type", "mousemove"},
-             {"consume", true},
-             {"between", {{{"type", "mousedown"}}, {{"source", "window"}, {"type", "mouseup"}}}}},
-            {{"type", "touchmove"}, {"consume", true}, {"filter", "event.touches.length === 1"}}}},
-          {"update", "down ? [down[0] - x(), y() - down[1]] : [0, 0]"}}}}});
-  s.push_back({{"name", "anchor"},
+        {{{"events", "touchend"}, {"update", "null"}}, {{"events", "mousedown, touchstart"}, {"update", "xy()"}}}}});
+  s.push_back({{"name", "xcur"},
+               {"value", nullptr},
+               {"on", {{{"events", "mousedown, touchstart, touchend"}, {"update", "slice(xl)"}}}}});
+  s.push_back({{"name", "ycur"},
+               {"value", nullptr},
+               {"on", {{{"events", "mousedown, touchstart, touchend"}, {"update", "slice(yl)"}}}}});
+  s.push_back({{"name", "delta"},
                {"value", {0, 0}},
-               {"on", {{{"events", "wheel"}, {"update", "[log(invert('x', x())) / LN10, log(invert('y', y())) / LN10]"}}}}});
-  s.push_back({{"name", "zoom"},
-               {"value", 1},
-               {"on", {{{"events", "wheel!"}, {"force", true}, {"update", "pow(1.001, event.deltaY * pow(16, event.deltaMode))"}}}}});
+               {"on",
+                {{{"events",
+                   {{{"source", "window"},
+                     {"type", "mousemove"},
+                     {"consume", true},
+                     {"between", {{{"type", "mousedown"}}, {{"source", "window"}, {"type", "mouseup"}}}}},
+                    {{"type", "touchmove"}, {"consume", true}, {"filter", "event.touches.length === 1"}}}},
+                  {"update", "down ? [down[0] - x(), y() - down[1]] : [0, 0]"}}}}});
+  s.push_back(
+      {{"name", "anchor"},
+       {"value", {0, 0}},
+       {"on", {{{"events", "wheel"}, {"update", "[log(invert('x', x())) / LN10, log(invert('y', y())) / LN10]"}}}}});
+  s.push_back(
+      {{"name", "zoom"},
+       {"value", 1},
+       {"on",
+        {{{"events", "wheel!"}, {"force", true}, {"update", "pow(1.001, event.deltaY * pow(16, event.deltaMode))"}}}}});
   s.push_back({{"name", "xl"},
                {"value", x0},
                {"on",
@@ -126,7 +134,11 @@ Json loglog_spec(const LogLog& p) {
   for (const auto& s : p.estimates) {
     add_series(s.name);
     for (const auto& q : s.points) {
-      points.push_back({{"series", s.name}, {"level", q.level}, {"tau", q.tau}, {"wv", q.wv}, {"lo", number(q.lo)},
+      points.push_back({{"series", s.name},
+                        {"level", q.level},
+                        {"tau", q.tau},
+                        {"wv", q.wv},
+                        {"lo", number(q.lo)},
                         {"hi", number(q.hi)}});
       xs.push_back(q.tau);
       ys.insert(ys.end(), {q.wv, q.lo, q.hi});
@@ -172,38 +184,51 @@ Json loglog_spec(const LogLog& p) {
                    {"transform", {{{"type", "filter"}, {"expr", "datum.lo > 0 && datum.hi > 0"}}}}},
                   {{"name", "curves"}, {"values", std::move(curves)}},
                   {{"name", "reference"}, {"values", std::move(reference)}}};
-  spec["scales"] = {{{"name", "x"},
-                     {"type", "log"},
-                     {"domain", {{"signal", "[pow(10, xl[0]), pow(10, xl[1])]"}}},
-                     {"range", "width"},
-                     {"zero", false}},
-                    {{"name", "y"},
-                     {"type", "log"},
-                     {"domain", {{"signal", "[pow(10, yl[0]), pow(10, yl[1])]"}}},
-                     {"range", "height"},
-                     {"zero", false}},
-                    {{"name", "color"}, {"type", "ordinal"}, {"domain", std::move(domain)}, {"range", std::move(range)}}};
-  spec["axes"] = {{{"orient", "bottom"}, {"scale", "x"}, {"title", p.x_title}, {"grid", true}, {"gridOpacity", 0.35},
+  spec["scales"] = {
+      {{"name", "x"},
+       {"type", "log"},
+       {"domain", {{"signal", "[pow(10, xl[0]), pow(10, xl[1])]"}}},
+       {"range", "width"},
+       {"zero", false}},
+      {{"name", "y"},
+       {"type", "log"},
+       {"domain", {{"signal", "[pow(10, yl[0]), pow(10, yl[1])]"}}},
+       {"range", "height"},
+       {"zero", false}},
+      {{"name", "color"}, {"type", "ordinal"}, {"domain", std::move(domain)}, {"range", std::move(range)}}};
+  spec["axes"] = {{{"orient", "bottom"},
+                   {"scale", "x"},
+                   {"title", p.x_title},
+                   {"grid", true},
+                   {"gridOpacity", 0.35},
                    {"labelOverlap", true}},
-                  {{"orient", "left"}, {"scale", "y"}, {"title", p.y_title}, {"grid", true}, {"gridOpacity", 0.35},
-                   {"format", ".1e"}, {"labelOverlap", true}}};
-  spec["legends"] = {{{"stroke", "color"}, {"title", "series"}, {"orient", "right"}, {"symbolType", "stroke"},
-                      {"labelLimit", 260}}};
+                  {{"orient", "left"},
+                   {"scale", "y"},
+                   {"title", p.y_title},
+                   {"grid", true},
+                   {"gridOpacity", 0.35},
+                   {"format", ".1e"},
+                   {"labelOverlap", true}}};
+  spec["legends"] = {
+      {{"stroke", "color"}, {"title", "series"}, {"orient", "right"}, {"symbolType", "stroke"}, {"labelLimit", 260}}};
 
-  const std::string tip_point =
-      "{'series': datum.series, 'level': datum.level, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), 'WV': format(datum.wv, '.4~e'), 'CI': (datum.lo > 0 ? format(datum.lo, '.3~e') + ' to ' + "
-      "format(datum.hi, '.3~e') : 'n/a')}";
-  const std::string tip_curve =
-      "{'series': datum.series, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), '" + p.value_name +
-      "': format(datum.v, '.4~e')}";
+  const std::string tip_point = "{'series': datum.series, 'level': datum.level, 'tau [" + p.tau_unit +
+                                "]': format(datum.tau, '.4~g'), 'WV': format(datum.wv, '.4~e'), 'CI': (datum.lo > 0 ? "
+                                "format(datum.lo, '.3~e') + ' to ' + "
+                                "format(datum.hi, '.3~e') : 'n/a')}";
+  const std::string tip_curve = "{'series': datum.series, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), '" +
+                                p.value_name + "': format(datum.v, '.4~e')}";
   Json marks = Json::array();
   if (!p.reference_name.empty()) {
     Json enc = xy("tau", "lo");
     enc["y2"] = {{"scale", "y"}, {"field", "hi"}};
     enc["fill"] = {{"value", kReferenceColour}};
     enc["fillOpacity"] = {{"value", 0.3}};
-    marks.push_back({{"type", "area"}, {"from", {{"data", "reference"}}}, {"clip", true},
-                     {"sort", {{"field", "datum.tau"}}}, {"encode", {{"update", enc}}}});
+    marks.push_back({{"type", "area"},
+                     {"from", {{"data", "reference"}}},
+                     {"clip", true},
+                     {"sort", {{"field", "datum.tau"}}},
+                     {"encode", {{"update", enc}}}});
   }
   {
     Json enc = xy("tau", "lo");
@@ -211,8 +236,11 @@ Json loglog_spec(const LogLog& p) {
     enc["fill"] = {{"scale", "color"}, {"field", "series"}};
     enc["fillOpacity"] = {{"signal", "show_ci ? 0.18 : 0"}};
     marks.push_back(facet_group("band_facet", "bands",
-                                {{{"type", "area"}, {"from", {{"data", "band_facet"}}}, {"clip", true},
-                                  {"sort", {{"field", "datum.tau"}}}, {"encode", {{"update", enc}}}}}));
+                                {{{"type", "area"},
+                                  {"from", {{"data", "band_facet"}}},
+                                  {"clip", true},
+                                  {"sort", {{"field", "datum.tau"}}},
+                                  {"encode", {{"update", enc}}}}}));
   }
   {
     Json line = xy("tau", "wv");
@@ -222,12 +250,16 @@ Json loglog_spec(const LogLog& p) {
     sym["fill"] = {{"scale", "color"}, {"field", "series"}};
     sym["size"] = {{"value", 30}};
     sym["tooltip"] = {{"signal", tip_point}};
-    marks.push_back(facet_group(
-        "point_facet", "points",
-        {{{"type", "line"}, {"from", {{"data", "point_facet"}}}, {"clip", true}, {"sort", {{"field", "datum.tau"}}},
-          {"encode", {{"update", line}}}},
-         {{"type", "symbol"}, {"from", {{"data", "point_facet"}}}, {"clip", true},
-          {"encode", {{"update", sym}, {"hover", {{"size", {{"value", 110}}}}}}}}}));
+    marks.push_back(facet_group("point_facet", "points",
+                                {{{"type", "line"},
+                                  {"from", {{"data", "point_facet"}}},
+                                  {"clip", true},
+                                  {"sort", {{"field", "datum.tau"}}},
+                                  {"encode", {{"update", line}}}},
+                                 {{"type", "symbol"},
+                                  {"from", {{"data", "point_facet"}}},
+                                  {"clip", true},
+                                  {"encode", {{"update", sym}, {"hover", {{"size", {{"value", 110}}}}}}}}}));
   }
   {
     Json line = xy("tau", "v");
@@ -240,20 +272,22 @@ Json loglog_spec(const LogLog& p) {
     sym["size"] = {{"value", 14}};
     sym["opacity"] = {{"signal", "datum.dashed && !show_components ? 0 : 1"}};
     sym["tooltip"] = {{"signal", tip_curve}};
-    marks.push_back(facet_group(
-        "curve_facet", "curves",
-        {{{"type", "line"}, {"from", {{"data", "curve_facet"}}}, {"clip", true}, {"sort", {{"field", "datum.tau"}}},
-          {"encode", {{"update", line}}}},
-         {{"type", "symbol"}, {"from", {{"data", "curve_facet"}}}, {"clip", true},
-          {"encode", {{"update", sym}, {"hover", {{"size", {{"value", 80}}}}}}}}}));
+    marks.push_back(facet_group("curve_facet", "curves",
+                                {{{"type", "line"},
+                                  {"from", {{"data", "curve_facet"}}},
+                                  {"clip", true},
+                                  {"sort", {{"field", "datum.tau"}}},
+                                  {"encode", {{"update", line}}}},
+                                 {{"type", "symbol"},
+                                  {"from", {{"data", "curve_facet"}}},
+                                  {"clip", true},
+                                  {"encode", {{"update", sym}, {"hover", {{"size", {{"value", 80}}}}}}}}}));
   }
   spec["marks"] = std::move(marks);
   return spec;
 }
 
-std::string wv_axis_title(const ReportColumn& c) {
-  return "wavelet variance nu^2 [(" + data_unit(c) + ")^2]";
-}
+std::string wv_axis_title(const ReportColumn& c) { return "wavelet variance nu^2 [(" + data_unit(c) + ")^2]"; }
 
 std::string tau_axis_title(const ReportColumn& c) { return "tau [" + tau_unit(c) + "]"; }
 
@@ -282,7 +316,7 @@ Json wv_plot_spec(const ReportColumn& c) {
     p.curves = model_curves(f->model, f->theta, model_tau(c), tau_scale(c),
                             (c.replicates ? "joint model " : "model ") + f->model.to_string(), true);
     title += " and " +
-             std::string(c.replicates ? (c.replicates->selection ? "recommended joint model " : "joint model ")
+             std::string(c.replicates  ? (c.replicates->selection ? "recommended joint model " : "joint model ")
                          : c.selection ? "chosen model "
                                        : "fitted model ") +
              f->model.to_string();
@@ -303,7 +337,8 @@ Json adev_plot_spec(const ReportColumn& c) {
   data.name = "data (overlapping ADEV)";
   for (std::size_t i = 0; i < f.adev.size(); ++i) {
     if (!(f.adev.adev[i] > 0.0)) continue;
-    const double lo = f.adev.ci_low[i] > 0.0 ? f.adev.ci_low[i] : NAN, hi = f.adev.ci_high[i] > 0.0 ? f.adev.ci_high[i] : NAN;
+    const double lo = f.adev.ci_low[i] > 0.0 ? f.adev.ci_low[i] : NAN,
+                 hi = f.adev.ci_high[i] > 0.0 ? f.adev.ci_high[i] : NAN;
     data.points.push_back({static_cast<int>(f.adev.m[i]), f.adev.tau[i], f.adev.adev[i], lo, hi});
   }
   p.estimates.push_back(std::move(data));
@@ -335,8 +370,7 @@ Json adev_plot_spec(const ReportColumn& c) {
     }
     if (!g.tau.empty()) p.curves.push_back(std::move(g));
   };
-  const double N = f.chosen.white.figure.value, K = f.chosen.walk.figure.value,
-               B = f.chosen.instability.figure.value;
+  const double N = f.chosen.white.figure.value, K = f.chosen.walk.figure.value, B = f.chosen.instability.figure.value;
   if (N > 0.0) guide("N = " + num(N, 4) + " (-1/2 slope)", [N](double t) { return N / std::sqrt(t); });
   if (K > 0.0) guide("K = " + num(K, 4) + " (+1/2 slope)", [K](double t) { return K * std::sqrt(t / 3.0); });
   if (B > 0.0) guide("0.664 B, B = " + num(B, 4), [B](double) { return kBiasInstabilityFactor * B; });
@@ -383,9 +417,15 @@ Json gap_levels_spec(const ReportData& d) {
       ++level;
       const double lr = l.ratio > 0.0 ? std::log2(l.ratio) : std::nan("");
       const double t = l.tau * scale;
-      cells.push_back({{"column", c.name}, {"level", level}, {"tau", t}, {"x0", t / std::sqrt(2.0)},
-                       {"x1", t * std::sqrt(2.0)}, {"log2ratio", number(lr)}, {"ratio", number(l.ratio)},
-                       {"z", number(l.z)}, {"outside", l.outside}});
+      cells.push_back({{"column", c.name},
+                       {"level", level},
+                       {"tau", t},
+                       {"x0", t / std::sqrt(2.0)},
+                       {"x1", t * std::sqrt(2.0)},
+                       {"log2ratio", number(lr)},
+                       {"ratio", number(l.ratio)},
+                       {"z", number(l.z)},
+                       {"outside", l.outside}});
       logs.push_back(lr);
       x.insert(x.end(), {t / std::sqrt(2.0), t * std::sqrt(2.0)});
     }
@@ -402,27 +442,34 @@ Json gap_levels_spec(const ReportData& d) {
                  {"anchor", "start"},
                  {"fontSize", 13}}}};
   spec["data"] = {{{"name", "cells"}, {"values", std::move(cells)}}};
-  spec["scales"] = {{{"name", "x"}, {"type", "log"}, {"domain", {std::pow(10.0, xr[0]), std::pow(10.0, xr[1])}},
-                     {"range", "width"}, {"zero", false}},
-                    {{"name", "y"}, {"type", "band"}, {"domain", std::move(columns)}, {"range", "height"},
-                     {"padding", 0.08}},
-                    {{"name", "color"}, {"type", "linear"}, {"domain", {-m, 0.0, m}},
-                     {"range", {"#2166ac", "#f7f7f7", "#b2182b"}}, {"clamp", true}}};
+  spec["scales"] = {
+      {{"name", "x"},
+       {"type", "log"},
+       {"domain", {std::pow(10.0, xr[0]), std::pow(10.0, xr[1])}},
+       {"range", "width"},
+       {"zero", false}},
+      {{"name", "y"}, {"type", "band"}, {"domain", std::move(columns)}, {"range", "height"}, {"padding", 0.08}},
+      {{"name", "color"},
+       {"type", "linear"},
+       {"domain", {-m, 0.0, m}},
+       {"range", {"#2166ac", "#f7f7f7", "#b2182b"}},
+       {"clamp", true}}};
   spec["axes"] = {{{"orient", "bottom"}, {"scale", "x"}, {"title", "tau [" + unit + "]"}},
                   {{"orient", "left"}, {"scale", "y"}, {"title", "axis"}}};
   spec["legends"] = {{{"fill", "color"}, {"type", "gradient"}, {"title", "log2 ratio"}, {"orient", "right"}}};
-  Json enc = {{"x", {{"scale", "x"}, {"field", "x0"}}},
-              {"x2", {{"scale", "x"}, {"field", "x1"}}},
-              {"y", {{"scale", "y"}, {"field", "column"}}},
-              {"height", {{"scale", "y"}, {"band", 1}}},
-              {"fill", {{"signal", "isValid(datum.log2ratio) ? scale('color', datum.log2ratio) : '#dddddd'"}}},
-              {"stroke", {{"signal", "datum.outside ? '#000000' : '#ffffff'"}}},
-              {"strokeWidth", {{"signal", "datum.outside ? 1.5 : 0.5"}}},
-              {"tooltip",
-               {{"signal",
-                 "{'axis': datum.column, 'level': datum.level, 'tau [" + unit +
-                     "]': format(datum.tau, '.4~g'), 'ratio': format(datum.ratio, '.4~g'), 'z': format(datum.z, '.3~g'), "
-                     "'outside the band': datum.outside ? 'yes' : 'no'}"}}}};
+  Json enc = {
+      {"x", {{"scale", "x"}, {"field", "x0"}}},
+      {"x2", {{"scale", "x"}, {"field", "x1"}}},
+      {"y", {{"scale", "y"}, {"field", "column"}}},
+      {"height", {{"scale", "y"}, {"band", 1}}},
+      {"fill", {{"signal", "isValid(datum.log2ratio) ? scale('color', datum.log2ratio) : '#dddddd'"}}},
+      {"stroke", {{"signal", "datum.outside ? '#000000' : '#ffffff'"}}},
+      {"strokeWidth", {{"signal", "datum.outside ? 1.5 : 0.5"}}},
+      {"tooltip",
+       {{"signal",
+         "{'axis': datum.column, 'level': datum.level, 'tau [" + unit +
+             "]': format(datum.tau, '.4~g'), 'ratio': format(datum.ratio, '.4~g'), 'z': format(datum.z, '.3~g'), "
+             "'outside the band': datum.outside ? 'yes' : 'no'}"}}}};
   spec["marks"] = {{{"type", "rect"}, {"from", {{"data", "cells"}}}, {"encode", {{"update", enc}}}}};
   return spec;
 }
@@ -450,44 +497,52 @@ Json gap_windows_spec(const ReportColumn& c) {
   const double m = max_abs(z, 3.0);
   const double duration = static_cast<double>(std::max<std::int64_t>(c.n, 1)) * scale;
   const std::string unit = tau_unit(c);
-  Json spec = {{"$schema", "https://vega.github.io/schema/vega/v5.json"},
-               {"width", kPlotWidth},
-               {"height", 220},
-               {"padding", 5},
-               {"title",
-                {{"text", c.name + ": window x scale map (windows of " + num(static_cast<double>(g.window_length) * scale, 4) +
-                              " " + unit + "; only cells beyond the threshold)"},
-                 {"anchor", "start"},
-                 {"fontSize", 13}}}};
+  Json spec = {
+      {"$schema", "https://vega.github.io/schema/vega/v5.json"},
+      {"width", kPlotWidth},
+      {"height", 220},
+      {"padding", 5},
+      {"title",
+       {{"text", c.name + ": window x scale map (windows of " + num(static_cast<double>(g.window_length) * scale, 4) +
+                     " " + unit + "; only cells beyond the threshold)"},
+        {"anchor", "start"},
+        {"fontSize", 13}}}};
   spec["data"] = {{{"name", "cells"}, {"values", std::move(cells)}}};
-  spec["scales"] = {{{"name", "x"}, {"type", "linear"}, {"domain", {0.0, duration}}, {"range", "width"}, {"zero", false}},
-                    {{"name", "y"}, {"type", "log"}, {"domain", {tau_lo, tau_hi}}, {"range", "height"}, {"zero", false}},
-                    {{"name", "color"}, {"type", "linear"}, {"domain", {-m, 0.0, m}},
-                     {"range", {"#2166ac", "#f7f7f7", "#b2182b"}}, {"clamp", true}}};
+  spec["scales"] = {
+      {{"name", "x"}, {"type", "linear"}, {"domain", {0.0, duration}}, {"range", "width"}, {"zero", false}},
+      {{"name", "y"}, {"type", "log"}, {"domain", {tau_lo, tau_hi}}, {"range", "height"}, {"zero", false}},
+      {{"name", "color"},
+       {"type", "linear"},
+       {"domain", {-m, 0.0, m}},
+       {"range", {"#2166ac", "#f7f7f7", "#b2182b"}},
+       {"clamp", true}}};
   spec["axes"] = {{{"orient", "bottom"}, {"scale", "x"}, {"title", "time [" + unit + "]"}},
                   {{"orient", "left"}, {"scale", "y"}, {"title", "tau [" + unit + "]"}}};
   spec["legends"] = {{{"fill", "color"}, {"type", "gradient"}, {"title", "z"}, {"orient", "right"}}};
-  Json enc = {{"x", {{"scale", "x"}, {"field", "t0"}}},
-              {"x2", {{"scale", "x"}, {"field", "t1"}}},
-              {"y", {{"scale", "y"}, {"field", "y0"}}},
-              {"y2", {{"scale", "y"}, {"field", "y1"}}},
-              {"fill", {{"scale", "color"}, {"field", "z"}}},
-              {"stroke", {{"value", "#333333"}}},
-              {"strokeWidth", {{"value", 0.5}}},
-              {"tooltip",
-               {{"signal", "{'time [" + unit + "]': format(datum.t0, '.4~g') + ' to ' + format(datum.t1, '.4~g'), 'tau [" +
-                               unit + "]': format(datum.tau, '.4~g'), 'ratio': format(datum.ratio, '.3~g'), 'z': format(datum.z, '.3~g')}"}}}};
+  Json enc = {
+      {"x", {{"scale", "x"}, {"field", "t0"}}},
+      {"x2", {{"scale", "x"}, {"field", "t1"}}},
+      {"y", {{"scale", "y"}, {"field", "y0"}}},
+      {"y2", {{"scale", "y"}, {"field", "y1"}}},
+      {"fill", {{"scale", "color"}, {"field", "z"}}},
+      {"stroke", {{"value", "#333333"}}},
+      {"strokeWidth", {{"value", 0.5}}},
+      {"tooltip",
+       {{"signal",
+         "{'time [" + unit + "]': format(datum.t0, '.4~g') + ' to ' + format(datum.t1, '.4~g'), 'tau [" + unit +
+             "]': format(datum.tau, '.4~g'), 'ratio': format(datum.ratio, '.3~g'), 'z': format(datum.z, '.3~g')}"}}}};
   Json marks = Json::array();
   marks.push_back({{"type", "rect"}, {"from", {{"data", "cells"}}}, {"encode", {{"update", enc}}}});
   if (g.windows.empty())
-    marks.push_back({{"type", "text"},
-                     {"encode",
-                      {{"enter",
-                        {{"x", {{"signal", "width / 2"}}},
-                         {"y", {{"signal", "height / 2"}}},
-                         {"align", {{"value", "center"}}},
-                         {"fill", {{"value", "#555555"}}},
-                         {"text", {{"value", "no (window, scale) cell departs from the record's typical window"}}}}}}}});
+    marks.push_back(
+        {{"type", "text"},
+         {"encode",
+          {{"enter",
+            {{"x", {{"signal", "width / 2"}}},
+             {"y", {{"signal", "height / 2"}}},
+             {"align", {{"value", "center"}}},
+             {"fill", {{"value", "#555555"}}},
+             {"text", {{"value", "no (window, scale) cell departs from the record's typical window"}}}}}}}});
   spec["marks"] = std::move(marks);
   return spec;
 }

@@ -89,21 +89,23 @@ std::string render_wv_svg(const ReportColumn& c) {
 
   std::ostringstream os;
   os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
-     << "\" viewBox=\"0 0 " << kWidth << " " << kHeight << "\" font-family=\"Helvetica, Arial, sans-serif\" font-size=\"12\">\n"
+     << "\" viewBox=\"0 0 " << kWidth << " " << kHeight
+     << "\" font-family=\"Helvetica, Arial, sans-serif\" font-size=\"12\">\n"
      << "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n"
-     << "<text x=\"" << kLeft << "\" y=\"22\" font-size=\"14\" font-weight=\"bold\">" << html_escape(title) << "</text>\n";
+     << "<text x=\"" << kLeft << "\" y=\"22\" font-size=\"14\" font-weight=\"bold\">" << html_escape(title)
+     << "</text>\n";
   // Grid and decade ticks.
   os << "<g stroke=\"#e3e3e3\" stroke-width=\"1\">\n";
   for (int e = static_cast<int>(std::ceil(x.lo)); e <= static_cast<int>(std::floor(x.hi)); ++e)
-    os << "<line x1=\"" << f2(x.px(std::pow(10.0, e))) << "\" y1=\"" << kTop << "\" x2=\"" << f2(x.px(std::pow(10.0, e)))
-       << "\" y2=\"" << kHeight - kBottom << "\"/>\n";
+    os << "<line x1=\"" << f2(x.px(std::pow(10.0, e))) << "\" y1=\"" << kTop << "\" x2=\""
+       << f2(x.px(std::pow(10.0, e))) << "\" y2=\"" << kHeight - kBottom << "\"/>\n";
   for (int e = static_cast<int>(std::ceil(y.lo)); e <= static_cast<int>(std::floor(y.hi)); ++e)
-    os << "<line x1=\"" << kLeft << "\" y1=\"" << f2(y.px(std::pow(10.0, e))) << "\" x2=\"" << kWidth - kRight << "\" y2=\""
-       << f2(y.px(std::pow(10.0, e))) << "\"/>\n";
+    os << "<line x1=\"" << kLeft << "\" y1=\"" << f2(y.px(std::pow(10.0, e))) << "\" x2=\"" << kWidth - kRight
+       << "\" y2=\"" << f2(y.px(std::pow(10.0, e))) << "\"/>\n";
   os << "</g>\n<g fill=\"#333333\">\n";
   for (int e = static_cast<int>(std::ceil(x.lo)); e <= static_cast<int>(std::floor(x.hi)); ++e)
-    os << "<text x=\"" << f2(x.px(std::pow(10.0, e))) << "\" y=\"" << kHeight - kBottom + 16 << "\" text-anchor=\"middle\">"
-       << decade_label(e) << "</text>\n";
+    os << "<text x=\"" << f2(x.px(std::pow(10.0, e))) << "\" y=\"" << kHeight - kBottom + 16
+       << "\" text-anchor=\"middle\">" << decade_label(e) << "</text>\n";
   for (int e = static_cast<int>(std::ceil(y.lo)); e <= static_cast<int>(std::floor(y.hi)); ++e)
     os << "<text x=\"" << kLeft - 6 << "\" y=\"" << f2(y.px(std::pow(10.0, e)) + 4) << "\" text-anchor=\"end\">"
        << decade_label(e) << "</text>\n";
@@ -128,12 +130,14 @@ std::string render_wv_svg(const ReportColumn& c) {
         lower = f2(x.px(p.tau)) + "," + f2(y.px(p.lo)) + " " + lower;
       }
     if (!upper.empty())
-      os << "<polygon points=\"" << upper << lower << "\" fill=\"" << col << "\" fill-opacity=\"0.18\" stroke=\"none\"/>\n";
+      os << "<polygon points=\"" << upper << lower << "\" fill=\"" << col
+         << "\" fill-opacity=\"0.18\" stroke=\"none\"/>\n";
     std::string line;
     for (const auto& p : s.points) line += f2(x.px(p.tau)) + "," + f2(y.px(p.wv)) + " ";
     os << "<polyline points=\"" << line << "\" stroke=\"" << col << "\" stroke-width=\"2\"/>\n";
     for (const auto& p : s.points)
-      os << "<circle cx=\"" << f2(x.px(p.tau)) << "\" cy=\"" << f2(y.px(p.wv)) << "\" r=\"2.6\" fill=\"" << col << "\"/>\n";
+      os << "<circle cx=\"" << f2(x.px(p.tau)) << "\" cy=\"" << f2(y.px(p.wv)) << "\" r=\"2.6\" fill=\"" << col
+         << "\"/>\n";
   }
   for (const auto& cv : curves) {
     const char* col = kPalette[colour++ % kPalette.size()];
@@ -153,8 +157,9 @@ std::string render_wv_svg(const ReportColumn& c) {
     ly += 18;
   }
   if (!c.wvs.empty())
-    os << "<text x=\"" << lx << "\" y=\"" << f2(ly + 10) << "\" fill=\"#57606a\" font-size=\"11\">bands: "
-       << detail::num(100.0 * (1.0 - c.wvs.front().alpha), 3) << "% CI</text>\n";
+    os << "<text x=\"" << lx << "\" y=\"" << f2(ly + 10)
+       << "\" fill=\"#57606a\" font-size=\"11\">bands: " << detail::num(100.0 * (1.0 - c.wvs.front().alpha), 3)
+       << "% CI</text>\n";
   os << "</g>\n</svg>\n";
   return os.str();
 }

@@ -37,8 +37,9 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
   os << "<p class=\"model\">" << html_escape(fit.model.to_string(fit.theta)) << "</p>\n";
   os << "<table class=\"discrete\">\n<caption>discrete (per sample) parameters, as estimated</caption>\n"
      << th_row({"component", "process", "parameter", "value", "se",
-               c.wvs.empty() ? std::string("interval") : "interval (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "%)",
-               "meaning"});
+                c.wvs.empty() ? std::string("interval")
+                              : "interval (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "%)",
+                "meaning"});
   for (const ParameterRow& r : parameter_rows(fit)) {
     std::string meaning;
     for (int k = 0; k < fit.model.num_parameters(); ++k)
@@ -89,10 +90,10 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
       };
       for (const auto& t : k.at("terms"))
         os << "<tr>" << td(t.at("component").is_number() ? std::to_string(t.at("component").get<int>()) : "-")
-           << td(t.at("process").get<std::string>())
-           << td(t.at("role").get<std::string>()) << td(cell(t.at("q"), t.at("q_unit")), "num")
-           << td(cell(t.at("transition"), nullptr), "num") << td(cell(t.at("discrete"), t.at("discrete_unit")), "num")
-           << td(t.at("note").get<std::string>(), "note") << "</tr>\n";
+           << td(t.at("process").get<std::string>()) << td(t.at("role").get<std::string>())
+           << td(cell(t.at("q"), t.at("q_unit")), "num") << td(cell(t.at("transition"), nullptr), "num")
+           << td(cell(t.at("discrete"), t.at("discrete_unit")), "num") << td(t.at("note").get<std::string>(), "note")
+           << "</tr>\n";
       os << "</table>\n";
     }
   }
@@ -103,8 +104,8 @@ std::string parameter_tables(const FitResult& fit, const ReportColumn& c, const 
 std::string ranking_table(const selection::Selection& sel) {
   std::ostringstream os;
   const bool boot = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap.has_value();
-  os << "<div class=\"ranking\">\n<h4>model ranking: " << sel.models << " models ("
-     << html_escape(sel.full_model) << "), representation violations " << sel.representation_violations << "</h4>\n"
+  os << "<div class=\"ranking\">\n<h4>model ranking: " << sel.models << " models (" << html_escape(sel.full_model)
+     << "), representation violations " << sel.representation_violations << "</h4>\n"
      << "<table class=\"ranking\">\n";
   std::vector<std::string> head = {"rank", "model (effective)", "parameters", "objective", "optimism", "criterion"};
   if (boot) head.insert(head.end(), {"bootstrap optimism (se)", "rank a/b"});
@@ -114,13 +115,14 @@ std::string ranking_table(const selection::Selection& sel) {
   for (std::size_t i = 0; i < sel.ranking.size(); ++i) {
     const auto& r = sel.ranking[i];
     const bool chosen = i == 0;
-    os << "<tr" << (chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num")
-       << "<td>" << html_escape(r.model) << (chosen ? " <span class=\"badge\">chosen</span>" : "") << "</td>"
+    os << "<tr" << (chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num") << "<td>"
+       << html_escape(r.model) << (chosen ? " <span class=\"badge\">chosen</span>" : "") << "</td>"
        << td(std::to_string(r.parameters), "num") << td(num(r.objective, 6), "num") << td(num(r.optimism, 4), "num")
        << td(num(r.criterion, 6), "num");
     if (boot)
-      os << td(r.optimism_bootstrap ? num(*r.optimism_bootstrap, 4) + " (" + num(r.optimism_bootstrap_se.value_or(NAN), 2) + ")"
-                                    : "-",
+      os << td(r.optimism_bootstrap
+                   ? num(*r.optimism_bootstrap, 4) + " (" + num(r.optimism_bootstrap_se.value_or(NAN), 2) + ")"
+                   : "-",
                "num")
          << td((r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +
                    (r.rank_bootstrap ? std::to_string(*r.rank_bootstrap) : "-"),
@@ -155,9 +157,10 @@ std::string noise_figures_table(const ReportColumn& c) {
     std::string comps;
     for (const auto& [component, share] : x.model.sources)
       comps += (comps.empty() ? "" : ", ") + component + " " + num(100.0 * share, 3) + "%";
-    notes += "<p class=\"facts\">" + html_escape(std::string(name) + ": " + x.note +
-                                                  (comps.empty() ? "" : "; the model's curve there: " + comps)) +
-             "</p>\n";
+    notes +=
+        "<p class=\"facts\">" +
+        html_escape(std::string(name) + ": " + x.note + (comps.empty() ? "" : "; the model's curve there: " + comps)) +
+        "</p>\n";
   };
   row("N white noise", f.white, units.white);
   row("K random walk", f.walk, units.walk);
@@ -171,8 +174,8 @@ std::string gap_tables(const ReportColumn& c) {
   const double scale = tau_scale(c);
   const std::string unit = tau_unit(c);
   std::ostringstream os;
-  os << "<div class=\"gap\">\n<p class=\"summary\"><b>" << (g.detected ? "gap detected" : "no gap") << "</b>: "
-     << html_escape(g.headline) << " (global test statistic " << html_escape(num(g.statistic, 4)) << ")";
+  os << "<div class=\"gap\">\n<p class=\"summary\"><b>" << (g.detected ? "gap detected" : "no gap")
+     << "</b>: " << html_escape(g.headline) << " (global test statistic " << html_escape(num(g.statistic, 4)) << ")";
   os << "</p>\n<ul class=\"facts\">\n<li>baseline: <code>" << html_escape(g.baseline.to_string(g.baseline_theta))
      << "</code></li>\n";
   if (!g.steps.empty())
@@ -190,13 +193,13 @@ std::string gap_tables(const ReportColumn& c) {
   }
   const auto& s = g.shrinkage;
   os << "<li>objective " << num(s.objective_before) << " &rarr; " << num(s.objective_after) << " (null mean "
-     << num(s.null_mean, 4) << " &rarr; " << num(s.null_mean_after, 4) << "), levels outside the band " << s.levels_outside_before << " &rarr; "
-     << s.levels_outside_after << ", global p " << num(s.p_value_before, 3) << " &rarr; " << num(s.p_value_after, 3)
-     << "</li>\n";
+     << num(s.null_mean, 4) << " &rarr; " << num(s.null_mean_after, 4) << "), levels outside the band "
+     << s.levels_outside_before << " &rarr; " << s.levels_outside_after << ", global p " << num(s.p_value_before, 3)
+     << " &rarr; " << num(s.p_value_after, 3) << "</li>\n";
   if (std::isfinite(g.navigation.rms_without))
-    os << "<li>integrated error after " << num(g.navigation.horizon_seconds, 3) << " s: " << num(g.navigation.rms_without, 3)
-       << " &rarr; " << num(g.navigation.rms_with, 3) << " " << html_escape(render_unit("U*s", data_unit(c)))
-       << " RMS (baseline &rarr; with the effects)</li>\n";
+    os << "<li>integrated error after " << num(g.navigation.horizon_seconds, 3)
+       << " s: " << num(g.navigation.rms_without, 3) << " &rarr; " << num(g.navigation.rms_with, 3) << " "
+       << html_escape(render_unit("U*s", data_unit(c))) << " RMS (baseline &rarr; with the effects)</li>\n";
   // Times and rates in seconds when the sampling rate is known (issue 14, item 6).
   const bool seconds = c.freq_known && c.freq > 0.0;
   const double rate = seconds ? c.freq : 1.0;
@@ -205,8 +208,9 @@ std::string gap_tables(const ReportColumn& c) {
     const auto& e = *g.event;
     os << "<li>" << gap::to_string(e.effect);
     if (e.effect == gap::GapEffect::kOutliers) os << " (a burst of " << e.length << " samples)";
-    os << " at " << (seconds ? num(static_cast<double>(e.sample) / rate, 6) + " s" : "sample " + std::to_string(e.sample))
-       << ", " << (e.effect == gap::GapEffect::kOutliers ? "peak departure " : "size ") << num(e.size, 4);
+    os << " at "
+       << (seconds ? num(static_cast<double>(e.sample) / rate, 6) + " s" : "sample " + std::to_string(e.sample)) << ", "
+       << (e.effect == gap::GapEffect::kOutliers ? "peak departure " : "size ") << num(e.size, 4);
     if (e.effect == gap::GapEffect::kTransient)
       os << ", time constant " << num(e.time_constant / rate, 4) << (seconds ? " s" : " samples");
     os << "</li>\n";
@@ -214,8 +218,9 @@ std::string gap_tables(const ReportColumn& c) {
   if (g.trend && g.trend->significant)
     os << "<li>drift (end-segment trend): " << num(g.trend->omega * rate, 4) << per << "</li>\n";
   if (g.temperature)
-    os << "<li>temperature coupling " << num(g.temperature->k, 4) << " (" << interval(g.temperature->ci_low, g.temperature->ci_high)
-       << ")" << (g.temperature->significant ? ", significant" : "") << "</li>\n";
+    os << "<li>temperature coupling " << num(g.temperature->k, 4) << " ("
+       << interval(g.temperature->ci_low, g.temperature->ci_high) << ")"
+       << (g.temperature->significant ? ", significant" : "") << "</li>\n";
   for (const auto& n : g.notes) os << "<li>note: " << html_escape(n) << "</li>\n";
   os << "</ul>\n";
   if (!g.candidates.empty()) {
@@ -223,12 +228,14 @@ std::string gap_tables(const ReportColumn& c) {
        << th_row({"effect", "improvement", "threshold", "2 x optimism (WVIC)", "cleared", "fit"});
     for (const auto& cand : g.candidates)
       os << "<tr" << (cand.cleared ? " class=\"chosen\"" : "") << ">" << td(gap::to_string(cand.effect))
-         << td(num(cand.improvement, 5), "num") << td(num(cand.threshold, 4), "num") << td(num(2.0 * cand.optimism, 4), "num")
-         << td(cand.cleared ? "yes" : "") << td(cand.model, "note") << "</tr>\n";
+         << td(num(cand.improvement, 5), "num") << td(num(cand.threshold, 4), "num")
+         << td(num(2.0 * cand.optimism, 4), "num") << td(cand.cleared ? "yes" : "") << td(cand.model, "note")
+         << "</tr>\n";
     os << "</table>\n";
   }
   os << "<details><summary>levels against the baseline's reference</summary>\n<table class=\"levels\">\n"
-     << th_row({"level", "tau [" + unit + "]", "ratio", "z", "reference band (bootstrap)", "closed-form band", "outside"});
+     << th_row(
+            {"level", "tau [" + unit + "]", "ratio", "z", "reference band (bootstrap)", "closed-form band", "outside"});
   int level = 0;
   for (const auto& l : g.levels)
     os << "<tr" << (l.outside ? " class=\"outside\"" : "") << ">" << td(std::to_string(++level), "num")
@@ -246,14 +253,16 @@ std::string wv_table(const ReportColumn& c) {
   const double scale = tau_scale(c);
   for (std::size_t k = 0; k < c.wvs.size(); ++k) {
     const WaveletVariance& w = c.wvs[k];
-    const std::string label = c.replicates && k < c.replicates->sources.size()
-                                  ? "replicate " + std::to_string(k + 1) + " (" + c.replicates->sources[k] + "): " + wv_label(w)
-                                  : wv_label(w);
+    const std::string label =
+        c.replicates && k < c.replicates->sources.size()
+            ? "replicate " + std::to_string(k + 1) + " (" + c.replicates->sources[k] + "): " + wv_label(w)
+            : wv_label(w);
     os << "<details><summary>" << html_escape(label) << " by level</summary>\n<table class=\"levels\">\n"
        << th_row({"level", "tau [samples]", "tau [" + tau_unit(c) + "]", "WV", "CI low", "CI high", "M_j"});
     for (std::size_t j = 0; j < w.wv.size(); ++j)
-      os << "<tr>" << td(std::to_string(j + 1), "num") << td(num(w.tau[j], 10), "num") << td(num(w.tau[j] * scale, 5), "num")
-         << td(num(w.wv[j]), "num") << td(num(j < w.ci_low.size() ? w.ci_low[j] : NAN), "num")
+      os << "<tr>" << td(std::to_string(j + 1), "num") << td(num(w.tau[j], 10), "num")
+         << td(num(w.tau[j] * scale, 5), "num") << td(num(w.wv[j]), "num")
+         << td(num(j < w.ci_low.size() ? w.ci_low[j] : NAN), "num")
          << td(num(j < w.ci_high.size() ? w.ci_high[j] : NAN), "num")
          << td(j < w.coefficients.size() ? std::to_string(w.coefficients[j]) : "-", "num") << "</tr>\n";
     os << "</table>\n</details>\n";
@@ -271,8 +280,9 @@ namespace {
 std::string replicate_test_line(const ReplicateTest& t) {
   const bool rejects = t.rejects();
   std::ostringstream os;
-  os << "<p class=\"" << (rejects ? "quality" : "facts") << "\">shared theta? heterogeneity H = "
-     << html_escape(num(t.heterogeneity, 4)) << ", bootstrap p " << html_escape(num(t.heterogeneity_p, 3)) << ": "
+  os << "<p class=\"" << (rejects ? "quality" : "facts")
+     << "\">shared theta? heterogeneity H = " << html_escape(num(t.heterogeneity, 4)) << ", bootstrap p "
+     << html_escape(num(t.heterogeneity_p, 3)) << ": "
      << (rejects ? "<b>the replicates do not share one theta</b> (compare their own estimates below)"
                  : "one theta fits them all")
      << "; joint misfit T = " << html_escape(num(t.statistic, 4)) << ", bootstrap p " << html_escape(num(t.p_value, 3))
@@ -305,8 +315,7 @@ std::string side_by_side(const ReplicateReport& r, const ReportColumn& c) {
     if (r.bootstrap) os << td(boot ? interval(r.bootstrap->ci_low(k), r.bootstrap->ci_high(k)) : "-", "num");
     os << td(k < j.agmwm.size() ? num(j.agmwm(k), 6) : "-", "num")
        << td(k < j.agmwm_se.size() ? num(j.agmwm_se(k), 3) : "-", "num");
-    for (const auto& s : j.singles)
-      os << td(has_theta(s) && k < s.theta.size() ? num(s.theta(k), 6) : "-", "num");
+    for (const auto& s : j.singles) os << td(has_theta(s) && k < s.theta.size() ? num(s.theta(k), 6) : "-", "num");
     os << "</tr>\n";
   }
   os << "</table>\n</div>\n";
@@ -331,7 +340,8 @@ std::string replicate_ranking(const selection::ReplicateSelection& s) {
     if (r.model == s.recommended) badges += " <span class=\"badge\">recommended</span>";
     os << "<tr" << (chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num") << "<td>"
        << html_escape(r.model) << badges << "</td>" << td(std::to_string(r.parameters), "num")
-       << td(num(r.cv_wvic, 6), "num") << td(num(r.analytic_wvic, 6), "num") << td(std::to_string(r.rank_analytic), "num");
+       << td(num(r.cv_wvic, 6), "num") << td(num(r.analytic_wvic, 6), "num")
+       << td(std::to_string(r.rank_analytic), "num");
     if (boot)
       os << td(num(r.bootstrap_wvic, 6) + " (" + num(r.bootstrap_se, 2) + ")", "num")
          << td(r.rank_bootstrap ? std::to_string(r.rank_bootstrap) : "-", "num");

@@ -29,11 +29,11 @@ namespace {
 
 // In dependency order. vega-functions requires "vega-selections", which Debian installs
 // as vega-selection.min.js (the loader maps the name).
-constexpr const char* kModules[] = {
-    "vega-util",       "vega-canvas",     "vega-time",     "vega-format",      "vega-loader",
-    "vega-dataflow",   "vega-scale",      "vega-scenegraph", "vega-expression", "vega-selection",
-    "vega-statistics", "vega-event-selector", "vega-functions", "vega-runtime",  "vega-parser",
-    "vega-view",       "vega-transforms", "vega-view-transforms", "vega-encode"};
+constexpr const char* kModules[] = {"vega-util",       "vega-canvas",          "vega-time",       "vega-format",
+                                    "vega-loader",     "vega-dataflow",        "vega-scale",      "vega-scenegraph",
+                                    "vega-expression", "vega-selection",       "vega-statistics", "vega-event-selector",
+                                    "vega-functions",  "vega-runtime",         "vega-parser",     "vega-view",
+                                    "vega-transforms", "vega-view-transforms", "vega-encode"};
 
 bool read_file(const std::string& path, std::string* out) {
   std::ifstream in(path, std::ios::binary);
@@ -85,8 +85,9 @@ std::string vega_dir() {
 std::string vega_script() {
   const std::string dir = vega_dir();
   if (dir.empty())
-    throw InputError("HTML report: gmwm was configured without Vega; install Debian's libjs-vega and re-run cmake "
-                     "(or set GMWM_VEGA_DIR to the folder with vega-view.min.js)");
+    throw InputError(
+        "HTML report: gmwm was configured without Vega; install Debian's libjs-vega and re-run cmake "
+        "(or set GMWM_VEGA_DIR to the folder with vega-view.min.js)");
   std::string s =
       "var __gmwmModules = {};\n"
       "function __gmwmRequire(name) {\n"

@@ -24,7 +24,8 @@ Json kalman_unit(const std::string& pattern, const ColumnInfo& c) {
 }
 
 std::span<const double> part(const Eigen::VectorXd& v, const Model& m, int k) {
-  return {v.data() + m.offset(k), static_cast<std::size_t>(m.components()[static_cast<std::size_t>(k)].process->size())};
+  return {v.data() + m.offset(k),
+          static_cast<std::size_t>(m.components()[static_cast<std::size_t>(k)].process->size())};
 }
 
 }  // namespace

@@ -26,7 +26,6 @@ json seconds(double tau_samples, const ColumnInfo& c) {
 
 std::string data_unit(const ColumnInfo& c) { return c.unit.empty() ? "U" : c.unit; }
 
-
 // The effect's continuous quantities with their intervals (the bootstrap bounds mapped).
 json effect_physical(const FitResult& fit, const ColumnInfo& c) {
   json out = json::array();
@@ -38,8 +37,9 @@ json effect_physical(const FitResult& fit, const ColumnInfo& c) {
     const auto q = p.physical(th, c.freq);
     std::vector<PhysicalInterval> iv;
     if (fit.ci_low.size() == fit.theta.size())
-      iv = physical_interval(p, th, std::span<const double>(fit.ci_low.data() + off, static_cast<std::size_t>(p.size())),
-                             std::span<const double>(fit.ci_high.data() + off, static_cast<std::size_t>(p.size())), c.freq);
+      iv = physical_interval(
+          p, th, std::span<const double>(fit.ci_low.data() + off, static_cast<std::size_t>(p.size())),
+          std::span<const double>(fit.ci_high.data() + off, static_cast<std::size_t>(p.size())), c.freq);
     for (std::size_t i = 0; i < q.size(); ++i)
       out.push_back({{"process", p.name()},
                      {"name", q[i].name},
@@ -71,44 +71,40 @@ json windows_json(const gap::GapResult& g, const ColumnInfo& c) {
 json split_half_json(const gap::GapResult& g, const ColumnInfo& c) {
   json out = json::array();
   for (const auto& h : g.split_half)
-    out.push_back({{"tau", h.tau}, {"tau_seconds", seconds(h.tau, c)}, {"ratio", json_number(h.ratio)}, {"disjoint", h.disjoint}});
+    out.push_back({{"tau", h.tau},
+                   {"tau_seconds", seconds(h.tau, c)},
+                   {"ratio", json_number(h.ratio)},
+                   {"disjoint", h.disjoint}});
   return out;
 }
 
 json event_json(const gap::GapResult& g, const ColumnInfo& c) {
   if (!g.event) return nullptr;
   const auto& e = *g.event;
-  return {{"effect", gap::to_string(e.effect)},
-          {"sample", e.sample},
-          {"time_seconds", seconds(static_cast<double>(e.sample), c)},
-          {"size", json_number(e.size)},
-          {"time_constant", json_number(e.time_constant)},
-          {"time_constant_seconds", e.effect == gap::GapEffect::kTransient ? seconds(e.time_constant, c) : json(nullptr)},
-          {"level", e.level},
-          {"statistic", json_number(e.statistic)},
-          {"threshold", json_number(e.threshold)}};
+  return {
+      {"effect", gap::to_string(e.effect)},
+      {"sample", e.sample},
+      {"time_seconds", seconds(static_cast<double>(e.sample), c)},
+      {"size", json_number(e.size)},
+      {"time_constant", json_number(e.time_constant)},
+      {"time_constant_seconds", e.effect == gap::GapEffect::kTransient ? seconds(e.time_constant, c) : json(nullptr)},
+      {"level", e.level},
+      {"statistic", json_number(e.statistic)},
+      {"threshold", json_number(e.threshold)}};
 }
 
 json trend_json(const gap::GapResult& g) {
   if (!g.trend) return nullptr;
   const auto& t = *g.trend;
-  return {{"omega", json_number(t.omega)},
-          {"ci_low", json_number(t.ci_low)},
-          {"ci_high", json_number(t.ci_high)},
-          {"z", json_number(t.z)},
-          {"threshold", json_number(t.threshold)},
-          {"significant", t.significant}};
+  return {{"omega", json_number(t.omega)}, {"ci_low", json_number(t.ci_low)},       {"ci_high", json_number(t.ci_high)},
+          {"z", json_number(t.z)},         {"threshold", json_number(t.threshold)}, {"significant", t.significant}};
 }
 
 json temperature_json(const gap::GapResult& g) {
   if (!g.temperature) return nullptr;
   const auto& t = *g.temperature;
-  return {{"coupling", json_number(t.k)},
-          {"ci_low", json_number(t.ci_low)},
-          {"ci_high", json_number(t.ci_high)},
-          {"z", json_number(t.z)},
-          {"threshold", json_number(t.threshold)},
-          {"significant", t.significant}};
+  return {{"coupling", json_number(t.k)}, {"ci_low", json_number(t.ci_low)},       {"ci_high", json_number(t.ci_high)},
+          {"z", json_number(t.z)},        {"threshold", json_number(t.threshold)}, {"significant", t.significant}};
 }
 
 json bands_json(const std::vector<gap::GapBand>& v, const ColumnInfo& column) {
@@ -147,8 +143,8 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const st
               {"levels", std::move(levels)},
               {"windows", windows_json(g, column)},
               {"split_half", split_half_json(g, column)},
-              {"window_length_seconds", g.windows_checked ? seconds(static_cast<double>(g.window_length), column)
-                                                          : json(nullptr)}};
+              {"window_length_seconds",
+               g.windows_checked ? seconds(static_cast<double>(g.window_length), column) : json(nullptr)}};
   json candidates = json::array();
   for (const auto& k : g.candidates)
     candidates.push_back({{"effect", gap::to_string(k.effect)},
@@ -168,11 +164,12 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const st
                       {"event", event_json(g, column)},
                       {"event_test", g.event_tested ? json{{"statistic", json_number(g.event_statistic)},
                                                            {"threshold", json_number(g.event_threshold)}}
-                                                     : json(nullptr)},
+                                                    : json(nullptr)},
                       {"temperature", temperature_json(g)},
                       {"drift", trend_json(g)},
                       {"step_drops", g.step_drops},
-                      {"step_shares", [&] {
+                      {"step_shares",
+                       [&] {
                          json a = json::array();
                          for (double x : g.step_shares) a.push_back(json_number(x));  // NaN -> null
                          return a;
@@ -185,9 +182,8 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const st
   c["contamination"] = {{"screened", g.contamination_screened}, {"levels", g.contaminated_levels}};
   int outside_after = 0;
   for (const auto& l : g.levels_after) outside_after += l.outside;
-  c["remaining"] = {{"closed", g.closed},
-                    {"bands", bands_json(g.remaining, column)},
-                    {"levels_outside", outside_after}};
+  c["remaining"] = {
+      {"closed", g.closed}, {"bands", bands_json(g.remaining, column)}, {"levels_outside", outside_after}};
   c["shrinkage"] = {{"objective_before", json_number(s.objective_before)},
                     {"objective_after", json_number(s.objective_after)},
                     {"null_mean", json_number(s.null_mean)},
@@ -305,16 +301,18 @@ Json corrected_config_json(const pipeline::CorrectedConfig& c, double freq) {
                        {"changed", ch.changed}});
   json columns = json::array();
   for (const auto& col : c.columns)
-    columns.push_back({{"name", col.name},
-                       {"expressible", col.expressible.num_components() ? json(col.expressible.to_string(col.expressible_theta))
-                                                                        : json(nullptr)},
-                       {"full", col.full.to_string(col.full_theta)},
-                       {"not_expressible", col.not_expressible},
-                       {"gap_left",
-                        {{"input", assessment(col.before)},
-                         {"config", assessment(col.with_config)},
-                         {"full", assessment(col.with_full)}}}});
-  return {{"format", c.format}, {"content", c.content}, {"header", c.header}, {"changes", changes}, {"columns", columns}};
+    columns.push_back(
+        {{"name", col.name},
+         {"expressible",
+          col.expressible.num_components() ? json(col.expressible.to_string(col.expressible_theta)) : json(nullptr)},
+         {"full", col.full.to_string(col.full_theta)},
+         {"not_expressible", col.not_expressible},
+         {"gap_left",
+          {{"input", assessment(col.before)},
+           {"config", assessment(col.with_config)},
+           {"full", assessment(col.with_full)}}}});
+  return {
+      {"format", c.format}, {"content", c.content}, {"header", c.header}, {"changes", changes}, {"columns", columns}};
 }
 
 }  // namespace gmwm::report

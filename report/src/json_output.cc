@@ -44,21 +44,22 @@ std::string utc_now() {
 // The contract's spellings (docs/cli.md), independent of the engine's own to_string.
 const char* status_name(FitStatus s) {
   switch (s) {
-    case FitStatus::kConverged: return "converged";
-    case FitStatus::kNotConverged: return "not_converged";
-    case FitStatus::kFailed: return "failed";
+    case FitStatus::kConverged:
+      return "converged";
+    case FitStatus::kNotConverged:
+      return "not_converged";
+    case FitStatus::kFailed:
+      return "failed";
   }
   return "failed";
 }
-
-
 
 }  // namespace
 
 Json parameters_json(const FitResult& fit) {
   json params = json::array();
-  const bool has_theta = fit.theta.size() == fit.model.num_parameters() && fit.model.num_parameters() > 0 &&
-                         fit.theta.allFinite();
+  const bool has_theta =
+      fit.theta.size() == fit.model.num_parameters() && fit.model.num_parameters() > 0 && fit.theta.allFinite();
   if (!has_theta) return params;
   for (const ParameterRow& r : parameter_rows(fit))
     params.push_back({{"process", r.process},
@@ -203,24 +204,22 @@ std::vector<ParameterRow> parameter_rows(const FitResult& fit) {
     // Display units are an affine change of unit at most: map the interval ends and
     // scale the standard error by the same factor.
     const double se = at(fit.se, k);
-    r.se = std::isfinite(se) && std::isfinite(value)
-               ? std::abs(p.to_display(local, value + se) - r.value)
-               : se;
+    r.se = std::isfinite(se) && std::isfinite(value) ? std::abs(p.to_display(local, value + se) - r.value) : se;
     const double lo = at(fit.ci_low, k), hi = at(fit.ci_high, k);
     r.ci_low = std::isfinite(lo) ? p.to_display(local, lo) : lo;
     r.ci_high = std::isfinite(hi) ? p.to_display(local, hi) : hi;
     if (r.ci_low > r.ci_high) std::swap(r.ci_low, r.ci_high);
-    if (static_cast<std::size_t>(k) < fit.interval.size()) r.interval = to_string(fit.interval[static_cast<std::size_t>(k)]);
+    if (static_cast<std::size_t>(k) < fit.interval.size())
+      r.interval = to_string(fit.interval[static_cast<std::size_t>(k)]);
     rows.push_back(std::move(r));
   }
   return rows;
 }
 
-json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const FitResult& fit,
-                     OmegaKind omega) {
+json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const FitResult& fit, OmegaKind omega) {
   json c = column_json(column);
-  const bool has_theta = fit.theta.size() == fit.model.num_parameters() &&
-                         fit.model.num_parameters() > 0 && fit.theta.allFinite();
+  const bool has_theta =
+      fit.theta.size() == fit.model.num_parameters() && fit.model.num_parameters() > 0 && fit.theta.allFinite();
   c["model"] = has_theta ? json(fit.model.to_string(fit.theta)) : json(nullptr);
   c["model_structure"] = fit.model.to_string();
   c["parameters"] = parameters_json(fit);
@@ -236,13 +235,11 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
   c["evaluations"] = fit.evaluations;
   c["omega"] = to_string(omega);  // the library's one spelling
   json implied = json::array();
-  for (Eigen::Index j = 0; j < fit.implied_wv.size(); ++j)
-    implied.push_back(json_number(fit.implied_wv(j)));
+  for (Eigen::Index j = 0; j < fit.implied_wv.size(); ++j) implied.push_back(json_number(fit.implied_wv(j)));
   c["implied_wv"] = std::move(implied);
   add_wv_fields(c, column, wv);
   return c;
 }
-
 
 namespace {
 
@@ -272,30 +269,31 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
   c["best"] = sel.ranking.empty() ? json(nullptr) : json(sel.ranking.front().model);
   const FitResult& b = sel.best_fit;
   c["best_model"] = b.theta.size() == b.model.num_parameters() && b.theta.allFinite() ? json(b.model.to_string(b.theta))
-                                                                                       : json(nullptr);
+                                                                                      : json(nullptr);
   c["penalty"] = selection::to_string(penalty);
   c["omega"] = selection::to_string(sel.omega_source);
   c["models"] = sel.models;
   c["representation_violations"] = sel.representation_violations;
   json ranking = json::array();
   for (const auto& r : sel.ranking) {
-    json e = {{"rank", r.rank},
-              {"model", r.model},
-              {"objective", json_number(r.objective)},
-              {"optimism", json_number(r.optimism)},
-              {"criterion", json_number(r.criterion)},
-              {"optimism_analytic", r.optimism_analytic ? json_number(*r.optimism_analytic) : json(nullptr)},
-              {"optimism_bootstrap", r.optimism_bootstrap ? json_number(*r.optimism_bootstrap) : json(nullptr)},
-              {"optimism_bootstrap_se", r.optimism_bootstrap_se ? json_number(*r.optimism_bootstrap_se) : json(nullptr)},
-              {"rank_analytic", r.rank_analytic ? json(*r.rank_analytic) : json(nullptr)},
-              {"rank_bootstrap", r.rank_bootstrap ? json(*r.rank_bootstrap) : json(nullptr)},
-              {"gof_p_value", json_number(r.gof.p_value)},
-              {"status", status_name(r.fit.status)},
-              {"effective_parameters", r.parameters},
-              {"members", r.members},
-              {"member_objectives", member_objectives(r)},
-              {"reductions", r.effective.reductions},
-              {"parameters", parameters_json(r.rank == 1 ? b : effective_fit(r))}};
+    json e = {
+        {"rank", r.rank},
+        {"model", r.model},
+        {"objective", json_number(r.objective)},
+        {"optimism", json_number(r.optimism)},
+        {"criterion", json_number(r.criterion)},
+        {"optimism_analytic", r.optimism_analytic ? json_number(*r.optimism_analytic) : json(nullptr)},
+        {"optimism_bootstrap", r.optimism_bootstrap ? json_number(*r.optimism_bootstrap) : json(nullptr)},
+        {"optimism_bootstrap_se", r.optimism_bootstrap_se ? json_number(*r.optimism_bootstrap_se) : json(nullptr)},
+        {"rank_analytic", r.rank_analytic ? json(*r.rank_analytic) : json(nullptr)},
+        {"rank_bootstrap", r.rank_bootstrap ? json(*r.rank_bootstrap) : json(nullptr)},
+        {"gof_p_value", json_number(r.gof.p_value)},
+        {"status", status_name(r.fit.status)},
+        {"effective_parameters", r.parameters},
+        {"members", r.members},
+        {"member_objectives", member_objectives(r)},
+        {"reductions", r.effective.reductions},
+        {"parameters", parameters_json(r.rank == 1 ? b : effective_fit(r))}};
     if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;
     if (r.optimism_bootstrap && r.optimism_analytic)
       e["optimism_difference"] = json_number(*r.optimism_bootstrap - *r.optimism_analytic);
@@ -316,10 +314,11 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
   c["failed"] = sel.failed;
   c["best_fit"] = {{"objective", json_number(b.objective)},
                    {"status", status_name(b.status)},
-                   {"gof", {{"statistic", json_number(b.gof.statistic)},
-                            {"df", json_number(b.gof.df)},
-                            {"p_value", json_number(b.gof.p_value)},
-                            {"method", b.gof.method}}},
+                   {"gof",
+                    {{"statistic", json_number(b.gof.statistic)},
+                     {"df", json_number(b.gof.df)},
+                     {"p_value", json_number(b.gof.p_value)},
+                     {"method", b.gof.method}}},
                    {"notes", b.notes},
                    {"quality", fit_quality_json(b, column.freq, column.freq_known)}};
   c["all_rejected"] = sel.all_rejected;
@@ -327,9 +326,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
   return c;
 }
 
-std::string dump_json(const json& doc) {
-  return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
-}
+std::string dump_json(const json& doc) { return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n"; }
 
 namespace {
 
@@ -395,8 +392,8 @@ json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, con
   return doc;
 }
 
-json select_document(const io::SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
-                     double filter_rate) {
+json select_document(const io::SignalSet& set, const pipeline::SelectStudy& study,
+                     const std::vector<std::string>& units, double filter_rate) {
   json doc = json_document("select");
   doc["input"] = set.path;
   std::string spec;

@@ -8,8 +8,8 @@ namespace gmwm::report {
 namespace {
 
 // A group's column head: its name, the primary recording's length, the rate, the declared unit.
-ColumnInfo group_info(const pipeline::ReplicateGroup& g, const io::SignalSet& set, const std::vector<std::string>& units,
-                      std::size_t i) {
+ColumnInfo group_info(const pipeline::ReplicateGroup& g, const io::SignalSet& set,
+                      const std::vector<std::string>& units, std::size_t i) {
   return {g.axis, g.series.empty() ? 0 : static_cast<std::int64_t>(g.series.front().size()), set.freq, set.freq_known,
           i < units.size() ? units[i] : std::string()};
 }
@@ -30,10 +30,11 @@ Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& 
                     {"n", g.series[k].size()},
                     {"levels", r.levels[k]},
                     {"objective_share", json_number(k < r.objective_share.size() ? r.objective_share[k] : NAN)},
-                    {"fit", {{"model", s.theta.allFinite() ? s.model.to_string(s.theta) : s.model.to_string()},
-                             {"status", to_string(s.status)},
-                             {"objective", json_number(s.objective)},
-                             {"parameters", parameters_json(s)}}}});
+                    {"fit",
+                     {{"model", s.theta.allFinite() ? s.model.to_string(s.theta) : s.model.to_string()},
+                      {"status", to_string(s.status)},
+                      {"objective", json_number(s.objective)},
+                      {"parameters", parameters_json(s)}}}});
   }
   col["replicates"] = reps;
   const FitResult& j = r.joint;
@@ -58,16 +59,20 @@ Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& 
       lo.push_back(json_number(p.ci_low));
       hi.push_back(json_number(p.ci_high));
     }
-    col["replicate_bootstrap"] = {{"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi}, {"draws", boot->draws}, {"exhaustive", boot->exhaustive}};
+    col["replicate_bootstrap"] = {{"method", "replicate-t"},
+                                  {"ci_low", lo},
+                                  {"ci_high", hi},
+                                  {"draws", boot->draws},
+                                  {"exhaustive", boot->exhaustive}};
   } else {
     col["replicate_bootstrap"] = nullptr;
   }
   col["replicate_test"] = test ? Json{{"heterogeneity", json_number(test->heterogeneity)},
-                                          {"heterogeneity_p_value", json_number(test->heterogeneity_p)},
-                                          {"statistic", json_number(test->statistic)},
-                                          {"p_value", json_number(test->p_value)},
-                                          {"own_minimum", test->own_minimum},
-                                          {"draws", test->draws}}
+                                      {"heterogeneity_p_value", json_number(test->heterogeneity_p)},
+                                      {"statistic", json_number(test->statistic)},
+                                      {"p_value", json_number(test->p_value)},
+                                      {"own_minimum", test->own_minimum},
+                                      {"draws", test->draws}}
                                : Json(nullptr);
   return col;
 }
@@ -102,7 +107,8 @@ Json joint_fit_document(const io::SignalSet& set, const std::vector<pipeline::Re
   doc["estimator"] = study.robust ? "robust" : "classical";
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const JointAnalysis& a = study.groups[i].analysis;
-    Json col = joint_column_json(groups[i], a.fit, a.test ? &*a.test : nullptr, a.bootstrap ? &*a.bootstrap : nullptr, set);
+    Json col =
+        joint_column_json(groups[i], a.fit, a.test ? &*a.test : nullptr, a.bootstrap ? &*a.bootstrap : nullptr, set);
     const auto& figures = study.groups[i].figures;
     add_physical_fields(col, a.fit.joint, group_info(groups[i], set, units, i), kalman_rate(set, filter_rate),
                         figures ? &*figures : nullptr, Json(nullptr), "continuous", "kalman");
@@ -154,15 +160,17 @@ Json joint_select_document(const io::SignalSet& set, const std::vector<pipeline:
     // The recommended model fitted jointly on all replicates: the values a consumer takes.
     if (i < study.recommended.size()) {
       const FitResult& b = study.recommended[i].fit.joint;
-      const bool usable = b.status != FitStatus::kFailed && b.theta.size() == b.model.num_parameters() && b.theta.allFinite();
+      const bool usable =
+          b.status != FitStatus::kFailed && b.theta.size() == b.model.num_parameters() && b.theta.allFinite();
       col["best_model"] = usable ? Json(b.model.to_string(b.theta)) : Json(nullptr);
       col["best_fit"] = {{"model", r.recommended},
                          {"status", to_string(b.status)},
                          {"objective", json_number(b.objective)},
-                         {"gof", {{"statistic", json_number(b.gof.statistic)},
-                                  {"df", b.gof.df},
-                                  {"p_value", json_number(b.gof.p_value)},
-                                  {"method", b.gof.method}}}};
+                         {"gof",
+                          {{"statistic", json_number(b.gof.statistic)},
+                           {"df", b.gof.df},
+                           {"p_value", json_number(b.gof.p_value)},
+                           {"method", b.gof.method}}}};
       const auto& figures = study.figures[i];
       add_physical_fields(col, b, group_info(groups[i], set, units, i), kalman_rate(set, filter_rate),
                           figures ? &*figures : nullptr, Json(nullptr), "best_continuous", "best_kalman");

@@ -49,8 +49,10 @@ Json scenario_json(const nav::Scenario& c, double imu_rate) {
           {"fix_sigma", json_number(c.fix_sigma)},
           {"outages", outages},
           {"gravity", json_number(c.gravity)},
-          {"initial", {{"position", json_number(c.initial_position)}, {"velocity", json_number(c.initial_velocity)},
-                       {"attitude", json_number(c.initial_attitude)}}},
+          {"initial",
+           {{"position", json_number(c.initial_position)},
+            {"velocity", json_number(c.initial_velocity)},
+            {"attitude", json_number(c.initial_attitude)}}},
           {"output_interval", json_number(c.output_interval)},
           {"judge_from", json_number(c.judge_from)}};
 }
@@ -152,8 +154,8 @@ std::string nav_terminal(const pipeline::NavStudy& study) {
     }
     char row[200];
     std::snprintf(row, sizeof row, "%-*s %10s m %10s m %8s m %8s%%  %s", static_cast<int>(kLabelWidth), label.c_str(),
-                  g(f.position_rms[k]).c_str(), g(3.0 * f.position_claimed[k]).c_str(), g(largest(f.position_rms)).c_str(),
-                  g(100.0 * f.nees_inside, 3).c_str(), nav::to_string(f.verdict));
+                  g(f.position_rms[k]).c_str(), g(3.0 * f.position_claimed[k]).c_str(),
+                  g(largest(f.position_rms)).c_str(), g(100.0 * f.nees_inside, 3).c_str(), nav::to_string(f.verdict));
     line(row);
   }
   for (std::size_t i = 0; i < long_labels.size(); ++i) line("[" + std::to_string(i + 1) + "] " + long_labels[i]);
@@ -184,45 +186,86 @@ Json curve_spec(const std::string& title, const std::string& y_title, const Json
                {"padding", 5},
                {"title", {{"text", title}, {"anchor", "start"}, {"fontSize", 13}}}};
   spec["data"] = {{{"name", "rows"}, {"values", rows}},
-                  {{"name", "lines"}, {"source", "rows"}, {"transform", {{{"type", "filter"}, {"expr", "datum.kind != 'Monte Carlo'"}}}}},
-                  {{"name", "points"}, {"source", "rows"}, {"transform", {{{"type", "filter"}, {"expr", "datum.kind == 'Monte Carlo'"}}}}}};
-  spec["scales"] = {{{"name", "x"}, {"type", "linear"}, {"domain", {{"data", "rows"}, {"field", "t"}}}, {"range", "width"}, {"zero", false}},
-                    {{"name", "y"}, {"type", "log"}, {"domain", {{"data", "rows"}, {"field", "v"}}}, {"range", "height"}, {"nice", true}},
+                  {{"name", "lines"},
+                   {"source", "rows"},
+                   {"transform", {{{"type", "filter"}, {"expr", "datum.kind != 'Monte Carlo'"}}}}},
+                  {{"name", "points"},
+                   {"source", "rows"},
+                   {"transform", {{{"type", "filter"}, {"expr", "datum.kind == 'Monte Carlo'"}}}}}};
+  spec["scales"] = {{{"name", "x"},
+                     {"type", "linear"},
+                     {"domain", {{"data", "rows"}, {"field", "t"}}},
+                     {"range", "width"},
+                     {"zero", false}},
+                    {{"name", "y"},
+                     {"type", "log"},
+                     {"domain", {{"data", "rows"}, {"field", "v"}}},
+                     {"range", "height"},
+                     {"nice", true}},
                     {{"name", "color"}, {"type", "ordinal"}, {"domain", filters}, {"range", range}},
-                    {{"name", "dash"}, {"type", "ordinal"},
+                    {{"name", "dash"},
+                     {"type", "ordinal"},
                      {"domain", band ? Json{"NEES"} : Json{"RMS", "3-sigma claimed"}},
                      {"range", band ? Json{Json{1, 0}} : Json{Json{1, 0}, Json{6, 4}}}}};
   spec["axes"] = {{{"orient", "bottom"}, {"scale", "x"}, {"title", "time [s]"}, {"grid", true}, {"gridOpacity", 0.35}},
-                  {{"orient", "left"}, {"scale", "y"}, {"title", y_title}, {"grid", true}, {"gridOpacity", 0.35}, {"format", ".2~e"}}};
-  spec["legends"] = {{{"stroke", "color"}, {"title", "filter model"}, {"orient", "right"}, {"symbolType", "stroke"}, {"labelLimit", 260}},
+                  {{"orient", "left"},
+                   {"scale", "y"},
+                   {"title", y_title},
+                   {"grid", true},
+                   {"gridOpacity", 0.35},
+                   {"format", ".2~e"}}};
+  spec["legends"] = {{{"stroke", "color"},
+                      {"title", "filter model"},
+                      {"orient", "right"},
+                      {"symbolType", "stroke"},
+                      {"labelLimit", 260}},
                      {{"strokeDash", "dash"}, {"title", "curve"}, {"orient", "right"}, {"symbolType", "stroke"}}};
   Json marks = Json::array();
   if (band) {
-    Json enc = {{"x", {{"value", 0}}}, {"x2", {{"signal", "width"}}},
-                {"y", {{"scale", "y"}, {"value", nees_band[1]}}}, {"y2", {{"scale", "y"}, {"value", nees_band[0]}}},
-                {"fill", {{"value", "#9a9a9a"}}}, {"fillOpacity", {{"value", 0.3}}}};
+    Json enc = {{"x", {{"value", 0}}},
+                {"x2", {{"signal", "width"}}},
+                {"y", {{"scale", "y"}, {"value", nees_band[1]}}},
+                {"y2", {{"scale", "y"}, {"value", nees_band[0]}}},
+                {"fill", {{"value", "#9a9a9a"}}},
+                {"fillOpacity", {{"value", 0.3}}}};
     marks.push_back({{"type", "rect"}, {"encode", {{"update", enc}}}});
   }
   if (judge_from > 0.0) {  // where the NEES starts to be judged: a dotted rule
-    Json enc = {{"x", {{"scale", "x"}, {"value", judge_from}}}, {"y", {{"value", 0}}}, {"y2", {{"signal", "height"}}},
-                {"stroke", {{"value", "#57606a"}}}, {"strokeDash", {{"value", {2, 3}}}},
+    Json enc = {{"x", {{"scale", "x"}, {"value", judge_from}}},
+                {"y", {{"value", 0}}},
+                {"y2", {{"signal", "height"}}},
+                {"stroke", {{"value", "#57606a"}}},
+                {"strokeDash", {{"value", {2, 3}}}},
                 {"tooltip", {{"value", "NEES judged from here"}}}};
     marks.push_back({{"type", "rule"}, {"encode", {{"update", enc}}}});
   }
-  const std::string tip = "{'filter': datum.filter, 'curve': datum.kind, 't [s]': format(datum.t, '.4~g'), 'value': format(datum.v, '.4~e')}";
-  Json line = {{"x", {{"scale", "x"}, {"field", "t"}}}, {"y", {{"scale", "y"}, {"field", "v"}}},
-               {"stroke", {{"scale", "color"}, {"field", "filter"}}}, {"strokeDash", {{"scale", "dash"}, {"field", "kind"}}},
+  const std::string tip =
+      "{'filter': datum.filter, 'curve': datum.kind, 't [s]': format(datum.t, '.4~g'), 'value': format(datum.v, "
+      "'.4~e')}";
+  Json line = {{"x", {{"scale", "x"}, {"field", "t"}}},
+               {"y", {{"scale", "y"}, {"field", "v"}}},
+               {"stroke", {{"scale", "color"}, {"field", "filter"}}},
+               {"strokeDash", {{"scale", "dash"}, {"field", "kind"}}},
                {"strokeWidth", {{"value", 2}}}};
   marks.push_back({{"type", "group"},
                    {"from", {{"facet", {{"name", "series"}, {"data", "lines"}, {"groupby", {"filter", "kind"}}}}}},
-                   {"marks", {{{"type", "line"}, {"from", {{"data", "series"}}}, {"sort", {{"field", "datum.t"}}},
-                               {"encode", {{"update", line}}}}}}});
-  Json hover = {{"x", {{"scale", "x"}, {"field", "t"}}}, {"y", {{"scale", "y"}, {"field", "v"}}},
-                {"fill", {{"scale", "color"}, {"field", "filter"}}}, {"fillOpacity", {{"value", 0}}},
-                {"size", {{"value", 40}}}, {"tooltip", {{"signal", tip}}}};  // invisible: the curve's hover targets
+                   {"marks",
+                    {{{"type", "line"},
+                      {"from", {{"data", "series"}}},
+                      {"sort", {{"field", "datum.t"}}},
+                      {"encode", {{"update", line}}}}}}});
+  Json hover = {{"x", {{"scale", "x"}, {"field", "t"}}},
+                {"y", {{"scale", "y"}, {"field", "v"}}},
+                {"fill", {{"scale", "color"}, {"field", "filter"}}},
+                {"fillOpacity", {{"value", 0}}},
+                {"size", {{"value", 40}}},
+                {"tooltip", {{"signal", tip}}}};  // invisible: the curve's hover targets
   marks.push_back({{"type", "symbol"}, {"from", {{"data", "lines"}}}, {"encode", {{"update", hover}}}});
-  Json mc = {{"x", {{"scale", "x"}, {"field", "t"}}}, {"y", {{"scale", "y"}, {"field", "v"}}},
-             {"stroke", {{"scale", "color"}, {"field", "filter"}}}, {"shape", {{"value", "circle"}}}, {"size", {{"value", 24}}},
+  Json mc = {{"x", {{"scale", "x"}, {"field", "t"}}},
+             {"y", {{"scale", "y"}, {"field", "v"}}},
+             {"stroke", {{"scale", "color"}, {"field", "filter"}}},
+             {"shape", {{"value", "circle"}}},
+             {"size", {{"value", 24}}},
              {"tooltip", {{"signal", tip}}}};
   marks.push_back({{"type", "symbol"}, {"from", {{"data", "points"}}}, {"encode", {{"update", mc}}}});
   spec["marks"] = std::move(marks);
@@ -235,9 +278,11 @@ constexpr std::size_t kMonteCarloPoints = 60;
 Json quantity_rows(const pipeline::NavStudy& s, const std::vector<double> nav::FilterErrors::*rms,
                    const std::vector<double> nav::FilterErrors::*claimed, double scale) {
   Json rows = Json::array();
-  auto add = [&](const std::string& filter, const char* kind, const std::vector<double>& t, const std::vector<double>& v, double k) {
+  auto add = [&](const std::string& filter, const char* kind, const std::vector<double>& t,
+                 const std::vector<double>& v, double k) {
     for (std::size_t i = 0; i < t.size() && i < v.size(); ++i)
-      if (v[i] * k > 0.0 && std::isfinite(v[i])) rows.push_back({{"filter", filter}, {"kind", kind}, {"t", t[i]}, {"v", v[i] * k * scale}});
+      if (v[i] * k > 0.0 && std::isfinite(v[i]))
+        rows.push_back({{"filter", filter}, {"kind", kind}, {"t", t[i]}, {"v", v[i] * k * scale}});
   };
   for (std::size_t i = 0; i < s.exact.filters.size(); ++i) {
     const nav::FilterErrors& f = s.exact.filters[i];
@@ -271,54 +316,64 @@ std::string render_nav_html(const pipeline::NavStudy& study) {
   Json labels = Json::array();
   for (const auto& f : study.exact.filters) labels.push_back(f.label);
   std::ostringstream body;
-  body << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version())
-       << " &middot; command <code>nav</code> &middot; " << html_escape(scenario_line(study, study.exact.imu_rate))
-       << "</p>\n<p>Errors of an INS aided by position fixes on a flat, non-rotating Earth when the IMU's errors follow "
-          "the truth model and the filter assumes each filter model: exact covariance analysis of the mismatched filter"
-       << (study.sampled ? " (points: " + std::to_string(study.monte_carlo_runs) + " Monte-Carlo runs)" : std::string())
-       << ". RMS = root of the trace over the three axes; 3-sigma = the filter's own claim.</p>\n</header>\n<main>\n"
-       << "<div id=\"gmwm-errors\" class=\"errors\" hidden></div>\n<div id=\"gmwm-warnings\" class=\"warnings\" hidden></div>\n"
-       << detail::kErrorCapture;
-  body << "<section class=\"column\" id=\"nav-summary\">\n<h2>verdicts</h2>\n<table><tr><th>filter model</th><th>position RMS at "
+  body
+      << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version())
+      << " &middot; command <code>nav</code> &middot; " << html_escape(scenario_line(study, study.exact.imu_rate))
+      << "</p>\n<p>Errors of an INS aided by position fixes on a flat, non-rotating Earth when the IMU's errors follow "
+         "the truth model and the filter assumes each filter model: exact covariance analysis of the mismatched filter"
+      << (study.sampled ? " (points: " + std::to_string(study.monte_carlo_runs) + " Monte-Carlo runs)" : std::string())
+      << ". RMS = root of the trace over the three axes; 3-sigma = the filter's own claim.</p>\n</header>\n<main>\n"
+      << "<div id=\"gmwm-errors\" class=\"errors\" hidden></div>\n<div id=\"gmwm-warnings\" class=\"warnings\" "
+         "hidden></div>\n"
+      << detail::kErrorCapture;
+  body << "<section class=\"column\" id=\"nav-summary\">\n<h2>verdicts</h2>\n<table><tr><th>filter "
+          "model</th><th>position RMS at "
        << html_escape(g(study.exact.filters.front().time[summary_index(study, study.exact.filters.front())]))
-       << " s [m]</th><th>its 3-sigma [m]</th><th>largest position RMS [m]</th><th>NEES in band</th><th>verdict</th></tr>\n";
+       << " s [m]</th><th>its 3-sigma [m]</th><th>largest position RMS [m]</th><th>NEES in "
+          "band</th><th>verdict</th></tr>\n";
   for (const nav::FilterErrors& f : study.exact.filters) {
     const std::size_t k = summary_index(study, f);
-    body << "<tr><td>" << html_escape(f.label) << "</td><td class=\"num\">" << g(f.position_rms[k]) << "</td><td class=\"num\">"
-         << g(3.0 * f.position_claimed[k]) << "</td><td class=\"num\">" << g(largest(f.position_rms)) << "</td><td class=\"num\">"
-         << g(100.0 * f.nees_inside, 3) << "%</td><td>" << nav::to_string(f.verdict) << "</td></tr>\n";
+    body << "<tr><td>" << html_escape(f.label) << "</td><td class=\"num\">" << g(f.position_rms[k])
+         << "</td><td class=\"num\">" << g(3.0 * f.position_claimed[k]) << "</td><td class=\"num\">"
+         << g(largest(f.position_rms)) << "</td><td class=\"num\">" << g(100.0 * f.nees_inside, 3) << "%</td><td>"
+         << nav::to_string(f.verdict) << "</td></tr>\n";
   }
   body << "</table>\n</section>\n<section class=\"column\" id=\"nav-curves\">\n<h2>errors against time</h2>\n";
   const std::array<double, 2> band = {study.exact.filters.front().nees_low, study.exact.filters.front().nees_high};
-  body << plots.add("plot-nav-position", "nav-position",
-                    curve_spec("position error", "position error [m]",
-                               quantity_rows(study, &nav::FilterErrors::position_rms, &nav::FilterErrors::position_claimed, 1.0),
-                               labels, false, band, study.scenario.judge_from));
-  body << plots.add("plot-nav-velocity", "nav-velocity",
-                    curve_spec("velocity error", "velocity error [m/s]",
-                               quantity_rows(study, &nav::FilterErrors::velocity_rms, &nav::FilterErrors::velocity_claimed, 1.0),
-                               labels, false, band, study.scenario.judge_from));
+  body << plots.add(
+      "plot-nav-position", "nav-position",
+      curve_spec("position error", "position error [m]",
+                 quantity_rows(study, &nav::FilterErrors::position_rms, &nav::FilterErrors::position_claimed, 1.0),
+                 labels, false, band, study.scenario.judge_from));
+  body << plots.add(
+      "plot-nav-velocity", "nav-velocity",
+      curve_spec("velocity error", "velocity error [m/s]",
+                 quantity_rows(study, &nav::FilterErrors::velocity_rms, &nav::FilterErrors::velocity_claimed, 1.0),
+                 labels, false, band, study.scenario.judge_from));
   constexpr double kDegreesPerRadian = 57.29577951308232;
   body << plots.add("plot-nav-attitude", "nav-attitude",
                     curve_spec("attitude error", "attitude error [deg]",
-                               quantity_rows(study, &nav::FilterErrors::attitude_rms, &nav::FilterErrors::attitude_claimed,
-                                             kDegreesPerRadian),
+                               quantity_rows(study, &nav::FilterErrors::attitude_rms,
+                                             &nav::FilterErrors::attitude_claimed, kDegreesPerRadian),
                                labels, false, band, study.scenario.judge_from));
-  body << plots.add("plot-nav-nees", "nav-nees",
-                    curve_spec("NEES (9 states; grey: the 95% band of a mean over " + std::to_string(nav::kNeesRuns) + " runs)",
-                               "expected NEES", quantity_rows(study, &nav::FilterErrors::nees, nullptr, 1.0), labels, true, band,
-                               study.scenario.judge_from));
+  body << plots.add(
+      "plot-nav-nees", "nav-nees",
+      curve_spec("NEES (9 states; grey: the 95% band of a mean over " + std::to_string(nav::kNeesRuns) + " runs)",
+                 "expected NEES", quantity_rows(study, &nav::FilterErrors::nees, nullptr, 1.0), labels, true, band,
+                 study.scenario.judge_from));
   body << "</section>\n<section class=\"column\" id=\"nav-models\">\n<h2>models</h2>\n<h3>truth: "
        << html_escape(study.truth.source) << "</h3>\n<ul>";
   for (const auto& l : study.truth.lines) body << "<li><code>" << html_escape(l) << "</code></li>";
   body << "</ul>\n";
   for (std::size_t i = 0; i < study.filters.size(); ++i) {
-    body << "<h3>" << html_escape(study.exact.filters[i].label) << ": " << html_escape(study.filters[i].source) << "</h3>\n<ul>";
+    body << "<h3>" << html_escape(study.exact.filters[i].label) << ": " << html_escape(study.filters[i].source)
+         << "</h3>\n<ul>";
     for (const auto& l : study.filters[i].lines) body << "<li><code>" << html_escape(l) << "</code></li>";
     for (const auto& n : study.exact.filters[i].notes) body << "<li>" << html_escape(n) << "</li>";
     body << "</ul>\n";
   }
-  body << "</section>\n</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network.</footer>\n";
+  body << "</section>\n</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no "
+          "network.</footer>\n";
   return detail::html_page(title, body.str(), plots, vega);
 }
 

@@ -56,16 +56,17 @@ Json plan_document(const pipeline::PlanStudy& study, const RecordPlanOptions& op
   for (const pipeline::PlanColumn& c : study.columns) {
     Json targets = Json::array();
     for (const RecordTarget& t : c.plan.targets)
-      targets.push_back({{"name", t.name},
-                         {"value", json_number(t.value)},
-                         {"unit", unit_of(t.name, c.unit)},
-                         {"reachable", t.reachable},
-                         {"samples", t.samples},
-                         {"seconds", json_number(t.seconds)},
-                         {"own_samples", t.own_samples},
-                         {"relative_se", json_number(t.relative_se)},
-                         {"precision_at_record", options.record_seconds > 0.0 ? json_number(t.precision_at_record) : Json(nullptr)},
-                         {"basis", t.basis}});
+      targets.push_back(
+          {{"name", t.name},
+           {"value", json_number(t.value)},
+           {"unit", unit_of(t.name, c.unit)},
+           {"reachable", t.reachable},
+           {"samples", t.samples},
+           {"seconds", json_number(t.seconds)},
+           {"own_samples", t.own_samples},
+           {"relative_se", json_number(t.relative_se)},
+           {"precision_at_record", options.record_seconds > 0.0 ? json_number(t.precision_at_record) : Json(nullptr)},
+           {"basis", t.basis}});
     doc["columns"].push_back({{"name", c.name},
                               {"unit", c.unit.empty() ? Json(nullptr) : Json(c.unit)},
                               {"model", c.model},
@@ -94,11 +95,13 @@ std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOpti
       const std::string printable = printable_line(c.name);
       const std::string name = printable.size() > 12 ? printable.substr(0, 11) + "~" : printable;
       const std::string u = unit_of(t.name, c.unit);
-      std::snprintf(line, sizeof line, "%-12s %-13s %-22s %10s %10s %8s %s", name.c_str(), t.name.substr(0, 13).c_str(),
-                    (g(t.value, 4) + (u.empty() ? "" : " " + u)).substr(0, 22).c_str(), t.reachable ? std::to_string(t.samples).c_str() : "unreachable",
-                    t.reachable ? duration(t.seconds).c_str() : "-", g(t.relative_se, 3).c_str(),
-                    have ? (g(100.0 * t.precision_at_record, 3) + (std::isfinite(t.precision_at_record) ? "%" : "")).c_str()
-                         : "");
+      std::snprintf(
+          line, sizeof line, "%-12s %-13s %-22s %10s %10s %8s %s", name.c_str(), t.name.substr(0, 13).c_str(),
+          (g(t.value, 4) + (u.empty() ? "" : " " + u)).substr(0, 22).c_str(),
+          t.reachable ? std::to_string(t.samples).c_str() : "unreachable",
+          t.reachable ? duration(t.seconds).c_str() : "-", g(t.relative_se, 3).c_str(),
+          have ? (g(100.0 * t.precision_at_record, 3) + (std::isfinite(t.precision_at_record) ? "%" : "")).c_str()
+               : "");
       os << trimmed(line) << '\n';
     }
     notes.push_back(c.name + ": model " + c.model);

@@ -37,8 +37,7 @@ std::string fmt(double x, int digits) {
   return buf;
 }
 
-std::string render(const std::vector<std::vector<std::string>>& rows, const std::vector<std::size_t>& cols,
-                   int left) {
+std::string render(const std::vector<std::vector<std::string>>& rows, const std::vector<std::size_t>& cols, int left) {
   std::vector<std::size_t> width(cols.size(), 0);
   for (const auto& r : rows)
     for (std::size_t i = 0; i < cols.size(); ++i)
@@ -122,11 +121,12 @@ void add_figure(TextTable& t, const char* label, char letter, const Json& f, con
   } else {
     const bool bound = text_or(f, "status") == "bound";
     const double lo = number_or_nan(f, "low"), hi = number_or_nan(f, "high");
-    const std::string ci = bound ? "upper bound"
+    const std::string ci = bound                                    ? "upper bound"
                            : std::isfinite(lo) && std::isfinite(hi) ? fmt(lo, 3) + " .. " + fmt(hi, 3)
                                                                     : std::string();
     row = {label, (bound ? "< " : "") + fmt(v, 4), ci, text_or(f, "unit")};
-    if (const auto d = datasheet_value(letter, v, data_unit)) row.push_back((bound ? "< " : "") + fmt(d->value, 4) + " " + d->unit);
+    if (const auto d = datasheet_value(letter, v, data_unit))
+      row.push_back((bound ? "< " : "") + fmt(d->value, 4) + " " + d->unit);
   }
   if (!data_unit.empty() && row.size() == 4) row.push_back("");
   t.add(std::move(row));
@@ -237,7 +237,8 @@ std::optional<DatasheetValue> datasheet_value(char figure, double value, const s
     case 'B':
       return gyro ? DatasheetValue{si * kDegreesPerRadian * kSecondsPerHour, "deg/h"}
                   : DatasheetValue{si / kStandardGravity * 1e3, "mg"};
-    default: return std::nullopt;
+    default:
+      return std::nullopt;
   }
 }
 
@@ -257,8 +258,8 @@ std::string axis_summary(const Json& doc, std::size_t width) {
       out += "  no noise figures (the rate is unknown: give --freq)\n";
       continue;
     }
-    std::vector<std::string> head = {"  figure (IEEE 952)", "value",
-                                     fmt(100.0 * (1.0 - alpha), 3) + "% interval", "unit"};
+    std::vector<std::string> head = {"  figure (IEEE 952)", "value", fmt(100.0 * (1.0 - alpha), 3) + "% interval",
+                                     "unit"};
     if (!unit.empty()) head.push_back("datasheet unit");
     unit_missing = unit_missing || unit.empty();
     TextTable t(head, 1);

@@ -51,7 +51,7 @@ std::vector<double> lattice_pmf(double sigma, double tau, int& kmax) {
     auto f = [&](double y) { return boost::math::pdf(N, y); };
     auto G = [&](double y, double a) { return -sigma * sigma * f(y) - a * F(y); };  // antiderivative of (y - a) phi
     for (int k = -kmax; k <= kmax; ++k) {
-      const double left = G(k, k - 1.0) - G(k - 1.0, k - 1.0);   // int (y - (k-1)) phi over [k-1, k]
+      const double left = G(k, k - 1.0) - G(k - 1.0, k - 1.0);      // int (y - (k-1)) phi over [k-1, k]
       const double right = -(G(k + 1.0, k + 1.0) - G(k, k + 1.0));  // int ((k+1) - y) phi over [k, k+1]
       p[static_cast<std::size_t>(k + kmax)] = std::max(0.0, left + right);
     }
@@ -76,7 +76,8 @@ double second_moment(const std::vector<double>& p, int kmax) {
 double lattice_scale(const Tuning& t, const std::vector<double>& p, int kmax, double start) {
   auto g = [&](double s) {
     double v = 0.0;
-    for (int k = -kmax; k <= kmax; ++k) v += p[static_cast<std::size_t>(k + kmax)] * chi(t.kind, t.c, k * double(k) / s);
+    for (int k = -kmax; k <= kmax; ++k)
+      v += p[static_cast<std::size_t>(k + kmax)] * chi(t.kind, t.c, k * double(k) / s);
     return v - t.a;
   };
   double hi = start;
@@ -84,10 +85,13 @@ double lattice_scale(const Tuning& t, const std::vector<double>& p, int kmax, do
   while (g(hi) >= 0.0 && guard++ < 200) hi *= 2.0;
   double lo = hi;
   guard = 0;
-  do { lo *= 0.5; } while (g(lo) <= 0.0 && guard++ < 200);
+  do {
+    lo *= 0.5;
+  } while (g(lo) <= 0.0 && guard++ < 200);
   if (!(g(lo) > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   std::uintmax_t it = 200;
-  const auto r = boost::math::tools::toms748_solve(g, lo, lo * 2.0 > hi ? hi : lo * 2.0, boost::math::tools::eps_tolerance<double>(40), it);
+  const auto r = boost::math::tools::toms748_solve(g, lo, lo * 2.0 > hi ? hi : lo * 2.0,
+                                                   boost::math::tools::eps_tolerance<double>(40), it);
   return 0.5 * (r.first + r.second);
 }
 
@@ -121,7 +125,10 @@ double rounding_ratio(const Tuning& t, double classical_wv, double tau, double q
   if (std::sqrt(target) > kNegligibleLatticeSd) return 1.0;
   // sigma of the continuous part so that E[K^2] = target (E[K^2] increases with sigma).
   int kmax = 0;
-  auto moment = [&](double sigma) { const auto p = lattice_pmf(sigma, tau, kmax); return second_moment(p, kmax) - target; };
+  auto moment = [&](double sigma) {
+    const auto p = lattice_pmf(sigma, tau, kmax);
+    return second_moment(p, kmax) - target;
+  };
   const double kernel_var = tau <= 2.0 ? 1.0 / 6.0 : tau / 12.0;
   if (moment(1e-9) >= 0.0) return 1.0;  // no room for a continuous part: model does not apply
   double hi = std::sqrt(std::max(target, kernel_var)) + 1.0;
@@ -142,7 +149,8 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int6
                    classical.wv.size());
   std::vector<LevelDiagnostic> out(robust.wv.size());
   const HaarModwt modwt(x, n);
-  const double gaussian_tail = 2.0 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), kTailSd));
+  const double gaussian_tail =
+      2.0 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), kTailSd));
   gmwm::parallel_for(std::size_t{0}, out.size(), [&](std::size_t j) {
     if (!(robust.wv[j] > 0.0)) return;
     std::vector<double> w;
@@ -158,9 +166,8 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int6
     d.robust_to_classical = robust.wv[j] / classical.wv[j];
     if (!std::isfinite(robust.wv[j])) continue;
     d.ci_disjoint = robust.ci_high[j] < classical.ci_low[j] || robust.ci_low[j] > classical.ci_high[j];
-    d.expected_ratio = quantization.detected
-                           ? rounding_ratio(tuning, classical.wv[j], classical.tau[j], quantization.quantum)
-                           : 1.0;
+    d.expected_ratio =
+        quantization.detected ? rounding_ratio(tuning, classical.wv[j], classical.tau[j], quantization.quantum) : 1.0;
     const double slack = (d.expected_ratio != 1.0) ? kRoundingModelTolerance : 0.0;
     const double classical_eta = classical.eta[j];
     const bool tails = d.tail_share > std::max(kTailExcess * gaussian_tail, kTailWindows / classical_eta);

@@ -121,7 +121,10 @@ ScaleSolution solve(std::span<const double> w, const Tuning& t, double start, co
   for (int k = 0; k < kMaxPasses + kMaxBracketSteps; ++k) {
     const Eval e = evaluate(w, t, std::exp(l));
     ++out.passes;
-    if (e.g == 0.0) { sign_change = true; break; }
+    if (e.g == 0.0) {
+      sign_change = true;
+      break;
+    }
     double next;
     bool newton = false;
     if (e.g > 0.0) {
@@ -159,7 +162,8 @@ ScaleSolution solve(std::span<const double> w, const Tuning& t, double start, co
       newton = false;
       if (std::isfinite(lo) && std::isfinite(hi))
         next = g_lo > 0.0 ? lo + (hi - lo) * g_lo / (g_lo - g_hi) : 0.5 * (lo + hi);
-      else next = std::isfinite(lo) ? lo + ln2 : hi - ln2;
+      else
+        next = std::isfinite(lo) ? lo + ln2 : hi - ln2;
     }
     if ((newton && std::abs(next - l) < kLogTolerance) || (hi - lo) < kLogTolerance) {
       sign_change = sign_change || newton;  // a vanishing Newton step sits on the root
@@ -246,9 +250,8 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
   p.w.replaced = std::move(screen.ranges);
   p.w.screening = std::move(screen.note);
   std::ostringstream os;
-  os << "second-order bias correction at levels with " << kRobustMinEta << " <= eta <= "
-     << internal::kSmallSampleMaxEta << " (long-run covariances by overlapping batch means); classical estimate below eta = "
-     << kRobustMinEta;
+  os << "second-order bias correction at levels with " << kRobustMinEta << " <= eta <= " << internal::kSmallSampleMaxEta
+     << " (long-run covariances by overlapping batch means); classical estimate below eta = " << kRobustMinEta;
   p.w.small_sample = os.str();
   return p;
 }
@@ -315,9 +318,12 @@ std::string RobustWvOptions::Validate() const {
   std::ostringstream os;
   if (!(efficiency > 0.0 && efficiency < 1.0))
     os << "efficiency must be in (0, 1) (exclusive), got " << efficiency;
-  else if (!(alpha > 0.0 && alpha < 1.0)) os << "alpha must be in (0, 1), got " << alpha;
-  else if (alpha < kMinAlpha) os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
-  else if (levels < 0) os << "levels must be positive (or 0 for all), got " << levels;
+  else if (!(alpha > 0.0 && alpha < 1.0))
+    os << "alpha must be in (0, 1), got " << alpha;
+  else if (alpha < kMinAlpha)
+    os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
+  else if (levels < 0)
+    os << "levels must be positive (or 0 for all), got " << levels;
   return os.str();
 }
 

@@ -31,8 +31,8 @@ double small_sample_bias(std::span<const double> coefficients, const Tuning& t, 
   tau /= static_cast<double>(stride);  // in subsample steps
   if (M < 8 || !(scale > 0.0)) return 0.0;
   const double c2 = t.c * t.c, inv_s = 1.0 / scale;
-  const auto b = static_cast<std::size_t>(
-      std::clamp(std::min(kBatchScales * tau, static_cast<double>(M) / kMinBatches), 1.0, static_cast<double>(M) / 2.0));
+  const auto b = static_cast<std::size_t>(std::clamp(std::min(kBatchScales * tau, static_cast<double>(M) / kMinBatches),
+                                                     1.0, static_cast<double>(M) / 2.0));
   // Overlapping batch means (Meketon & Schmeiser 1984) of p and q, by a sliding window:
   // K = M - b + 1 windows. Sums are of values centred at their Gaussian means (a and
   // slope), so the final centring at the sample means does not cancel digits.

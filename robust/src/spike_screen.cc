@@ -4,7 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-
 namespace gmwm::robust {
 
 std::vector<double> level_one_jumps(const double* x, std::int64_t n) {
@@ -28,8 +27,10 @@ SpikeScreen screen_spikes(const double* x, std::int64_t n, double level_one_scal
   auto close_cluster = [&] {
     if (count >= 2) out.ranges.emplace_back(first, last - 1);
     // A lone jump next to an end is a spike or glitch cut by the record's boundary.
-    else if (count == 1 && first <= kSpikeMaxGap) out.ranges.emplace_back(0, first - 1);
-    else if (count == 1 && first >= n - kSpikeMaxGap) out.ranges.emplace_back(first, n - 1);
+    else if (count == 1 && first <= kSpikeMaxGap)
+      out.ranges.emplace_back(0, first - 1);
+    else if (count == 1 && first >= n - kSpikeMaxGap)
+      out.ranges.emplace_back(first, n - 1);
   };
   for (std::int64_t t = 1; t < n; ++t) {
     if (!(std::abs(w[static_cast<std::size_t>(t - 1)]) > cut)) continue;
@@ -46,8 +47,9 @@ SpikeScreen screen_spikes(const double* x, std::int64_t n, double level_one_scal
   for (const auto& [a, b] : out.ranges) out.samples += b - a + 1;
   std::ostringstream os;
   os << "spike screen: " << out.samples << " sample" << (out.samples == 1 ? "" : "s") << " in " << out.ranges.size()
-     << " range" << (out.ranges.size() == 1 ? "" : "s") << " replaced by interpolation (clusters of level-1 jumps beyond "
-     << kSpikeThreshold << " robust sd, at most " << kSpikeMaxGap << " samples apart)";
+     << " range" << (out.ranges.size() == 1 ? "" : "s")
+     << " replaced by interpolation (clusters of level-1 jumps beyond " << kSpikeThreshold << " robust sd, at most "
+     << kSpikeMaxGap << " samples apart)";
   out.note = os.str();
   return out;
 }

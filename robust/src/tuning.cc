@@ -38,14 +38,23 @@ double bisquare_chi_of_z(double c, double z) {
   const double u = 1.0 - z * z / (c * c);
   return z * z * u * u * u * u;
 }
-double bisquare_a(double c) { return gaussian_integral_0c([&](double z) { return bisquare_chi_of_z(c, z); }, c); }
+double bisquare_a(double c) {
+  return gaussian_integral_0c([&](double z) { return bisquare_chi_of_z(c, z); }, c);
+}
 double bisquare_eff(double c) {
   // Z chi'(Z) = 2 Z^2 (1 - u)^3 (1 - 5u), u = Z^2 / c^2.
-  const double d = gaussian_integral_0c([&](double z) {
-    const double u = z * z / (c * c);
-    return 2.0 * z * z * std::pow(1.0 - u, 3) * (1.0 - 5.0 * u);
-  }, c);
-  const double m2 = gaussian_integral_0c([&](double z) { const double x = bisquare_chi_of_z(c, z); return x * x; }, c);
+  const double d = gaussian_integral_0c(
+      [&](double z) {
+        const double u = z * z / (c * c);
+        return 2.0 * z * z * std::pow(1.0 - u, 3) * (1.0 - 5.0 * u);
+      },
+      c);
+  const double m2 = gaussian_integral_0c(
+      [&](double z) {
+        const double x = bisquare_chi_of_z(c, z);
+        return x * x;
+      },
+      c);
   const double a = bisquare_a(c);
   return d * d / (2.0 * (m2 - a * a));
 }
@@ -53,16 +62,21 @@ double bisquare_eff(double c) {
 // Bisquare's second-order constants (tuning.h): with v = u / c^2 on u < c^2,
 // chi'(u) u = u (1 - v)^3 (1 - 5v) and chi''(u) u^2 = -u^2 (1 - v)^2 (8 - 20v) / c^2.
 double bisquare_slope(double c) {
-  return gaussian_integral_0c([&](double z) {
-    const double u = z * z, v = u / (c * c);
-    return u * std::pow(1.0 - v, 3) * (1.0 - 5.0 * v);
-  }, c);
+  return gaussian_integral_0c(
+      [&](double z) {
+        const double u = z * z, v = u / (c * c);
+        return u * std::pow(1.0 - v, 3) * (1.0 - 5.0 * v);
+      },
+      c);
 }
 double bisquare_curvature(double c) {
-  return gaussian_integral_0c([&](double z) {
-    const double u = z * z, v = u / (c * c);
-    return 2.0 * u * std::pow(1.0 - v, 3) * (1.0 - 5.0 * v) - u * u * (1.0 - v) * (1.0 - v) * (8.0 - 20.0 * v) / (c * c);
-  }, c);
+  return gaussian_integral_0c(
+      [&](double z) {
+        const double u = z * z, v = u / (c * c);
+        return 2.0 * u * std::pow(1.0 - v, 3) * (1.0 - 5.0 * v) -
+               u * u * (1.0 - v) * (1.0 - v) * (8.0 - 20.0 * v) / (c * c);
+      },
+      c);
 }
 
 // Search interval for c: efficiency is increasing in c for both estimators; at these
@@ -109,8 +123,8 @@ Tuning tune(RobustKind kind, double target) {
     detail::throw_check("tune", "efficiency", target,
                         std::string("reachable by the ") + to_string(kind) + " estimator");
   std::uintmax_t iters = 200;
-  const auto [c1, c2] = boost::math::tools::toms748_solve(
-      f, lo, hi, flo, fhi, boost::math::tools::eps_tolerance<double>(52), iters);
+  const auto [c1, c2] =
+      boost::math::tools::toms748_solve(f, lo, hi, flo, fhi, boost::math::tools::eps_tolerance<double>(52), iters);
   Tuning t;
   t.kind = kind;
   t.efficiency = target;

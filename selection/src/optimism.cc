@@ -60,7 +60,8 @@ Optimism analytic_optimism(const Model& model, const Eigen::VectorXd& theta, std
   for (Eigen::Index j = 0; j < J; ++j)
     for (Eigen::Index a = 0; a < K; ++a)
       for (Eigen::Index b = 0; b < K; ++b)
-        D(a, b) += H[static_cast<std::size_t>(j)](keep[static_cast<std::size_t>(a)], keep[static_cast<std::size_t>(b)]) * r(j);
+        D(a, b) +=
+            H[static_cast<std::size_t>(j)](keep[static_cast<std::size_t>(a)], keep[static_cast<std::size_t>(b)]) * r(j);
   const Eigen::MatrixXd M = A.transpose() * omega * A + D;
   const Eigen::MatrixXd G = A.transpose() * (omega * v * omega) * A;  // K x K
   // tr(A M^-1 A' W) = tr(M^-1 A' W A). Scale M to unit diagonal for the condition check

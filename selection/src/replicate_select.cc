@@ -49,8 +49,8 @@ Weights pilot_weights(std::span<const WaveletVariance> wvs, const Model& maximal
   Weights w;
   const bool full = o.select.omega == OmegaSource::kModelFull;
   for (const auto& wv : wvs) {
-    Eigen::MatrixXd v = model_wv_covariance(pilot.joint.model, pilot.joint.theta, wv.n, wv.levels()) /
-                        wv.efficiency.value_or(1.0);
+    Eigen::MatrixXd v =
+        model_wv_covariance(pilot.joint.model, pilot.joint.theta, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
     Eigen::MatrixXd omega = diagonal_omega(wv);
     if (o.select.omega == OmegaSource::kData) {
       // the data's own weights
@@ -195,8 +195,10 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
     throw InputError("select by replicates: the replicate-based optimism needs at least 2 replicates, got " +
                      std::to_string(K));
   if (K > kMaxReplicates)
-    throw InputError("select by replicates: at most " + std::to_string(kMaxReplicates) + " replicates (C(K, K/2) "
-                     "training splits, each a full selection), got " + std::to_string(K));
+    throw InputError("select by replicates: at most " + std::to_string(kMaxReplicates) +
+                     " replicates (C(K, K/2) "
+                     "training splits, each a full selection), got " +
+                     std::to_string(K));
   for (int k = 0; k < K; ++k) {
     try {
       check_model_fits_levels(maximal, wvs[static_cast<std::size_t>(k)].levels());
@@ -283,7 +285,8 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
   equivalence(out.ranking, options);
   const CvCandidate* rec = &out.ranking.front();
   for (const auto& r : out.ranking)
-    if (r.equivalent && (r.parameters < rec->parameters || (r.parameters == rec->parameters && r.cv_wvic < rec->cv_wvic)))
+    if (r.equivalent &&
+        (r.parameters < rec->parameters || (r.parameters == rec->parameters && r.cv_wvic < rec->cv_wvic)))
       rec = &r;
   out.recommended = rec->model;
   return out;

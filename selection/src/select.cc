@@ -113,7 +113,8 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
   std::vector<double> terms;
   for (int b = 0; b < B; ++b)
     if (ok[static_cast<std::size_t>(b)])
-      terms.push_back(2.0 * (implied[static_cast<std::size_t>(b)] - mi).dot(omega * (empirical[static_cast<std::size_t>(b)] - me)));
+      terms.push_back(
+          2.0 * (implied[static_cast<std::size_t>(b)] - mi).dot(omega * (empirical[static_cast<std::size_t>(b)] - me)));
   double sum = 0.0, sum2 = 0.0;
   for (double t : terms) sum += t;
   const double mean = sum / n;
@@ -154,7 +155,8 @@ RowBootstrap row_bootstrap(const SignalWork& w, std::size_t signal, std::size_t 
                            const SelectOptions& options) {
   if (options.optimism == OptimismMethod::kAnalytic) return {};
   return [&w, signal, signals, K, &options](const FitResult& f, std::size_t row) -> std::optional<BootstrapResult> {
-    const auto base = static_cast<std::uint64_t>(signals * K + signal * K + row) * static_cast<std::uint64_t>(kMaxReplicates);
+    const auto base =
+        static_cast<std::uint64_t>(signals * K + signal * K + row) * static_cast<std::uint64_t>(kMaxReplicates);
     return bootstrap_optimism(*w.wv, f, w.omega, options, base, [] {});
   };
 }
@@ -193,10 +195,11 @@ std::vector<SignalWork> make_work(const std::vector<WaveletVariance>& wvs, std::
         return;
       }
       const bool full = options.omega == OmegaSource::kModelFull;
-      w.omega = options.omega == OmegaSource::kData ? diagonal_omega(wvs[s]) : model_omega(w.v, diagonal_omega(wvs[s]), full);
+      w.omega =
+          options.omega == OmegaSource::kData ? diagonal_omega(wvs[s]) : model_omega(w.v, diagonal_omega(wvs[s]), full);
       w.omega_source = options.omega == OmegaSource::kData ? OmegaSource::kData
-                       : full && !w.omega.isDiagonal(0.0) ? OmegaSource::kModelFull
-                                                          : OmegaSource::kModel;
+                       : full && !w.omega.isDiagonal(0.0)  ? OmegaSource::kModelFull
+                                                           : OmegaSource::kModel;
       return;
     }
     if (options.fit.omega_matrix) {
@@ -317,7 +320,8 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
                      .value_or(std::numeric_limits<double>::quiet_NaN());
   else
     r.optimism = r.parameters * std::log(static_cast<double>(wv.n));
-  r.criterion = c.fit.status == FitStatus::kFailed ? std::numeric_limits<double>::quiet_NaN() : r.objective + r.optimism;
+  r.criterion =
+      c.fit.status == FitStatus::kFailed ? std::numeric_limits<double>::quiet_NaN() : r.objective + r.optimism;
   return r;
 }
 
@@ -327,7 +331,8 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
 // "AR1+WN" showed the objective and GoF of the 3*AR1+WN+QN+RW+DR it had been reduced from
 // (issue 27).
 FitResult own_fit(const WaveletVariance& wv, const Eigen::MatrixXd& omega, const Model& model,
-                  const std::vector<const CandidateFit*>& members, const FitResult* exact, const SelectOptions& options) {
+                  const std::vector<const CandidateFit*>& members, const FitResult* exact,
+                  const SelectOptions& options) {
   FitOptions fo = options.fit;
   fo.omega_matrix = omega;
   fo.nested_starts = false;
@@ -431,9 +436,8 @@ std::vector<RankedModel> ranking_rows(const WaveletVariance& wv, const Eigen::Ma
 // the best with inference. v: Cov(nuhat), model-based at the maximal model's fit.
 void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::MatrixXd& omega, Eigen::MatrixXd v,
                     const std::optional<Eigen::VectorXd>& v_at, const std::vector<FitResult>& fits,
-                    const std::vector<std::string>& names,
-                    const std::vector<const BootstrapResult*>& boot, bool group, const SelectOptions& options,
-                    const RowBootstrap& row_bootstrap) {
+                    const std::vector<std::string>& names, const std::vector<const BootstrapResult*>& boot, bool group,
+                    const SelectOptions& options, const RowBootstrap& row_bootstrap) {
   const std::size_t K = fits.size();
   sel.models = static_cast<int>(K);
   sel.omega = omega;
@@ -449,7 +453,7 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
     } else {
       if (fits[i].status == FitStatus::kNotConverged) ++sel.not_converged;
       EffectiveOptions eo;
-      eo.covariance = sel.v;  // the exact Cov(nuhat) the optimism and GoF use
+      eo.covariance = sel.v;    // the exact Cov(nuhat) the optimism and GoF use
       eo.covariance_wv = v_at;  // ... at this WV: each reduction is tested at its own levels
       c.effective = effective_model(wv, fits[i].model, fits[i].theta, eo);
     }
@@ -510,8 +514,8 @@ int count_representation_violations(const std::vector<std::vector<bool>>& rep, c
 /// does not depend on the thread count. `with_own_starts`: each fit also starts from its
 /// own representation neighbours (the non-nested mode, where they are not in the list).
 void fit_along_representation(std::vector<SignalWork>& work, const std::vector<Model>& models,
-                              const std::vector<std::vector<int>>& covers, const Model* maximal,
-                              bool with_own_starts, const SelectOptions& options, int total, std::atomic<int>& done) {
+                              const std::vector<std::vector<int>>& covers, const Model* maximal, bool with_own_starts,
+                              const SelectOptions& options, int total, std::atomic<int>& done) {
   const std::size_t K = models.size();
   // One fit: signal s, model i, started from the fits of the models it covers.
   auto fit_one = [&](std::size_t s, std::size_t i) {
@@ -527,7 +531,8 @@ void fit_along_representation(std::vector<SignalWork>& work, const std::vector<M
       if (auto start = represent_start(m, kf.model, kf.theta, *w.wv)) fo.starts.push_back(std::move(*start));
     }
     if (w.pilot && maximal && m.to_string() == maximal->to_string())
-      if (auto start = represent_start(m, w.pilot->model, w.pilot->theta, *w.wv)) fo.starts.push_back(std::move(*start));
+      if (auto start = represent_start(m, w.pilot->model, w.pilot->theta, *w.wv))
+        fo.starts.push_back(std::move(*start));
     w.fits[i] = fit_gmwm(*w.wv, m, fo);
     const int d = ++done;
     if (options.progress) options.progress(d, total);
@@ -573,18 +578,24 @@ const char* to_string(Penalty p) { return p == Penalty::kWvic ? "wvic" : "bic"; 
 
 const char* to_string(OmegaSource o) {
   switch (o) {
-    case OmegaSource::kData: return "data";
-    case OmegaSource::kModel: return "model";
-    case OmegaSource::kModelFull: return "full";
+    case OmegaSource::kData:
+      return "data";
+    case OmegaSource::kModel:
+      return "model";
+    case OmegaSource::kModelFull:
+      return "full";
   }
   return "model";
 }
 
 const char* to_string(OptimismMethod m) {
   switch (m) {
-    case OptimismMethod::kAnalytic: return "analytic";
-    case OptimismMethod::kBootstrap: return "bootstrap";
-    case OptimismMethod::kBoth: return "both";
+    case OptimismMethod::kAnalytic:
+      return "analytic";
+    case OptimismMethod::kBootstrap:
+      return "bootstrap";
+    case OptimismMethod::kBoth:
+      return "both";
   }
   return "analytic";
 }
@@ -661,8 +672,7 @@ std::vector<Selection> select_models(const std::vector<WaveletVariance>& wvs, co
     sel.full_model = set.models.back().model.to_string();
     sel.omega_source = w.omega_source;
     score_and_rank(sel, *w.wv, w.omega, w.covariance(w.fits.back()), w.covariance_wv(w.fits.back()), w.fits, names, b,
-                   true, options,
-                   row_bootstrap(w, s, wvs.size(), K, options));
+                   true, options, row_bootstrap(w, s, wvs.size(), K, options));
     sel.representation_violations = count_representation_violations(rep, w.fits);
   });
   return out;
@@ -717,8 +727,7 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
     sel.full_model = super.to_string();
     sel.omega_source = work[s].omega_source;
     score_and_rank(sel, *work[s].wv, work[s].omega, work[s].covariance(full[s]), work[s].covariance_wv(full[s]),
-                   work[s].fits, names, b, false, options,
-                   {});
+                   work[s].fits, names, b, false, options, {});
     sel.representation_violations = count_representation_violations(rep, work[s].fits);
   });
   return out;

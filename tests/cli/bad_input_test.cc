@@ -33,8 +33,7 @@ class GmwmCliBadInput : public ::testing::Test {
   /// `gmwm fit noise.csv --freq 100 --model SPEC --json out.json`.
   gmwm::test::CliRun fit_with_model(const std::string& spec) {
     gmwm::test::write_noise_csv(dir_ / "noise.csv", 256);
-    return run_gmwm({"fit", "noise.csv", "--freq", "100", "--model", spec, "--json", "out.json"},
-                    dir_);
+    return run_gmwm({"fit", "noise.csv", "--freq", "100", "--model", spec, "--json", "out.json"}, dir_);
   }
   fs::path json() const { return dir_ / "out.json"; }
 
@@ -65,8 +64,7 @@ TEST_F(GmwmCliBadInput, RejectsAHeaderOnlyFileWithExitCode2AndNoOutput) {
 TEST_F(GmwmCliBadInput, RejectsANonNumericCellNamingLineAndColumn) {
   std::string content = rows(40);
   content += "1,oops\n";
-  expect_bad_input(wv_on("text.csv", content), {"text.csv:42:2", "oops", "expected a number"},
-                   json());
+  expect_bad_input(wv_on("text.csv", content), {"text.csv:42:2", "oops", "expected a number"}, json());
 }
 
 TEST_F(GmwmCliBadInput, RejectsANaNCellNamingLineAndColumn) {
@@ -120,8 +118,7 @@ TEST_F(GmwmCliBadInput, RejectsAMissingFreqWhenThereIsNoTimestampColumn) {
 
 TEST_F(GmwmCliBadInput, RejectsAnUnknownColumnName) {
   gmwm::test::write_noise_csv(dir_ / "noise.csv", 64);
-  auto r = run_gmwm({"wv", "noise.csv", "--freq", "100", "--columns", "zz", "--json", "out.json"},
-                    dir_);
+  auto r = run_gmwm({"wv", "noise.csv", "--freq", "100", "--columns", "zz", "--json", "out.json"}, dir_);
   expect_bad_input(r, {"noise.csv", "zz", "expected"}, json());
 }
 
@@ -140,15 +137,13 @@ TEST_F(GmwmCliBadInput, RejectsAMalformedModelStringNamingTheColumn) {
 }
 
 TEST_F(GmwmCliBadInput, RejectsANegativeVarianceGivenAsAStartingValue) {
-  expect_bad_input(fit_with_model("AR1+WN(sigma2=-1)"), {"WN(sigma2=-1)", "sigma2", "positive"},
-                   json());
+  expect_bad_input(fit_with_model("AR1+WN(sigma2=-1)"), {"WN(sigma2=-1)", "sigma2", "positive"}, json());
 }
 
 TEST_F(GmwmCliBadInput, RejectsAModelWithMoreParametersThanLevels) {
   gmwm::test::write_noise_csv(dir_ / "noise.csv", 256);
-  auto r = run_gmwm({"fit", "noise.csv", "--freq", "100", "--levels", "3", "--model",
-                     "AR1+WN+RW", "--json", "out.json"},
-                    dir_);
+  auto r = run_gmwm(
+      {"fit", "noise.csv", "--freq", "100", "--levels", "3", "--model", "AR1+WN+RW", "--json", "out.json"}, dir_);
   expect_bad_input(r, {"AR1+WN+RW", "levels"}, json());
 }
 
@@ -181,40 +176,29 @@ TEST_F(GmwmCliBadInput, RejectsBadRobustOptionsWithOneLine) {
 
 TEST_F(GmwmCliBadInput, RejectsBadOptionValuesWithOneLine) {
   gmwm::test::write_noise_csv(dir_ / "noise.csv", 64);
-  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "-5", "--json", "out.json"}, dir_),
-                   {"--freq"}, json());
-  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "100", "--alpha", "1.5", "--json",
-                             "out.json"},
-                            dir_),
+  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "-5", "--json", "out.json"}, dir_), {"--freq"}, json());
+  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "100", "--alpha", "1.5", "--json", "out.json"}, dir_),
                    {"--alpha"}, json());
-  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "100", "--threads", "0", "--json",
-                             "out.json"},
-                            dir_),
+  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "100", "--threads", "0", "--json", "out.json"}, dir_),
                    {"--threads"}, json());
-  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "100", "--no-such-option", "--json",
-                             "out.json"},
-                            dir_),
+  expect_bad_input(run_gmwm({"wv", "noise.csv", "--freq", "100", "--no-such-option", "--json", "out.json"}, dir_),
                    {"--no-such-option"}, json());
-  expect_bad_input(run_gmwm({"fit", "noise.csv", "--freq", "100", "--json", "out.json"}, dir_),
-                   {"--model"}, json());
-  expect_bad_input(run_gmwm({"fit", "noise.csv", "--freq", "100", "--model", "WN", "--omega",
-                             "weird", "--json", "out.json"},
-                            dir_),
-                   {"--omega"}, json());
+  expect_bad_input(run_gmwm({"fit", "noise.csv", "--freq", "100", "--json", "out.json"}, dir_), {"--model"}, json());
+  expect_bad_input(
+      run_gmwm({"fit", "noise.csv", "--freq", "100", "--model", "WN", "--omega", "weird", "--json", "out.json"}, dir_),
+      {"--omega"}, json());
 }
 
 TEST_F(GmwmCliBadInput, RejectsAnOutputPathInAMissingFolderBeforeAnyWork) {
   gmwm::test::write_noise_csv(dir_ / "noise.csv", 64);
-  auto r = run_gmwm({"wv", "noise.csv", "--freq", "100", "--json", "out.json", "--csv",
-                     "nowhere/wv.csv"},
-                    dir_);
+  auto r = run_gmwm({"wv", "noise.csv", "--freq", "100", "--json", "out.json", "--csv", "nowhere/wv.csv"}, dir_);
   expect_bad_input(r, {"nowhere", "--csv"}, json());
 }
 
 TEST_F(GmwmCliBadInput, RejectsASimulationModelWithoutEveryValue) {
-  auto r = run_gmwm({"simulate", "--model", "AR1(phi=0.9)+WN(sigma2=1)", "--n", "100",
-                     "--output", "sim.csv", "--json", "out.json"},
-                    dir_);
+  auto r = run_gmwm(
+      {"simulate", "--model", "AR1(phi=0.9)+WN(sigma2=1)", "--n", "100", "--output", "sim.csv", "--json", "out.json"},
+      dir_);
   expect_bad_input(r, {"AR1(phi=0.9)+WN(sigma2=1)", "sigma2", "expected"}, json());
   EXPECT_FALSE(fs::exists(dir_ / "sim.csv"));
 }

@@ -14,8 +14,10 @@ namespace {
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
+    if (c == '\'')
+      q += "'\\''";
+    else
+      q += c;
   }
   return q + "'";
 }
@@ -97,9 +99,7 @@ std::string read_text(const std::filesystem::path& path) {
   return os.str();
 }
 
-nlohmann::json read_json(const std::filesystem::path& path) {
-  return nlohmann::json::parse(read_text(path));
-}
+nlohmann::json read_json(const std::filesystem::path& path) { return nlohmann::json::parse(read_text(path)); }
 
 void write_noise_csv(const std::filesystem::path& path, int n, const std::string& name) {
   std::mt19937_64 rng(42);
@@ -123,17 +123,16 @@ void expect_bad_input(const CliRun& run, const std::vector<std::string>& mention
   ASSERT_EQ(err_lines.size(), 1u) << "expected exactly one line on stderr, got:\n" << run.err;
   EXPECT_EQ(err_lines[0].rfind("gmwm: error: ", 0), 0u) << err_lines[0];
   for (const auto& m : mentions)
-    EXPECT_NE(err_lines[0].find(m), std::string::npos)
-        << "the message should mention '" << m << "': " << err_lines[0];
+    EXPECT_NE(err_lines[0].find(m), std::string::npos) << "the message should mention '" << m << "': " << err_lines[0];
   EXPECT_TRUE(run.out.empty()) << "nothing should go to stdout, got:\n" << run.out;
   EXPECT_FALSE(std::filesystem::exists(json_path)) << json_path << " should not be written";
 }
 
 void write_adis_gyro_fit(const std::filesystem::path& dir, int n) {
-  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=5.75826048e-06)+RW(gamma2=1.880442245e-12)", "--n",
-                     std::to_string(n), "--freq", "200", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z",
-                     "--output", "sim.csv", "--quiet"},
-                    dir);
+  auto r =
+      run_gmwm({"simulate", "--model", "WN(sigma2=5.75826048e-06)+RW(gamma2=1.880442245e-12)", "--n", std::to_string(n),
+                "--freq", "200", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z", "--output", "sim.csv", "--quiet"},
+               dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--json", "fit.json", "--quiet"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -18,10 +18,10 @@ struct CliRun {
 
 /// How run_gmwm() starts the program (shell fragments, not quoted: the test writes them).
 struct RunOptions {
-  std::string before;                  ///< run first in the same shell, e.g. "ulimit -f 64;"
+  std::string before;                    ///< run first in the same shell, e.g. "ulimit -f 64;"
   std::string stdin_from = "/dev/null";  ///< stdin redirection target, or a pipe source with stdin_pipe
-  bool stdin_pipe = false;             ///< `stdin_from | gmwm ...` instead of `< stdin_from`
-  std::string stdout_to;               ///< stdout to this path instead of the captured file (out stays empty)
+  bool stdin_pipe = false;               ///< `stdin_from | gmwm ...` instead of `< stdin_from`
+  std::string stdout_to;                 ///< stdout to this path instead of the captured file (out stays empty)
 };
 
 /// The `gmwm` program the tests run: $GMWM_CLI when set (tools/sanitize.sh points it at

@@ -33,9 +33,8 @@ class GmwmCli : public ::testing::Test {
 
   /// Simulates `signals` series of kTruth at 100 Hz into sim.csv.gz.
   void simulate(int n, int signals) {
-    auto r = run_gmwm({"simulate", "--model", kTruth, "--n", std::to_string(n), "--freq", "100",
-                       "--signals", std::to_string(signals), "--output", "sim.csv.gz", "--json",
-                       "sim.json", "--quiet"},
+    auto r = run_gmwm({"simulate", "--model", kTruth, "--n", std::to_string(n), "--freq", "100", "--signals",
+                       std::to_string(signals), "--output", "sim.csv.gz", "--json", "sim.json", "--quiet"},
                       dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
@@ -52,8 +51,7 @@ void expect_common_top_level(const json& doc, const std::string& command) {
   EXPECT_TRUE(doc.at("run").contains("threads"));
 }
 
-void expect_levels_equal_library(const json& levels, const gmwm::WaveletVariance& wv,
-                                 double freq) {
+void expect_levels_equal_library(const json& levels, const gmwm::WaveletVariance& wv, double freq) {
   ASSERT_EQ(levels.size(), static_cast<std::size_t>(wv.levels()));
   for (int j = 0; j < wv.levels(); ++j) {
     const auto k = static_cast<std::size_t>(j);
@@ -87,9 +85,7 @@ TEST_F(GmwmCli, WvJsonHasTheContractFieldsAndTheLibrarysValues) {
   signals[1].values = std::move(b);
   gmwm::io::write_signals((dir_ / "in.csv").string(), signals, std::nullopt);
 
-  auto r = run_gmwm({"wv", "in.csv", "--freq", "50", "--alpha", "0.1", "--json", "wv.json",
-                     "--csv", "wv.csv"},
-                    dir_);
+  auto r = run_gmwm({"wv", "in.csv", "--freq", "50", "--alpha", "0.1", "--json", "wv.json", "--csv", "wv.csv"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
   // The terminal table.
@@ -150,18 +146,16 @@ TEST_F(GmwmCli, SimulateWritesWhatItSaysAndIsReproducibleFromTheSeed) {
   EXPECT_NE(set.signals[0].values, set.signals[1].values);
 
   // The same seed gives the same data; another seed different data.
-  auto again = run_gmwm({"simulate", "--model", kTruth, "--n", "4096", "--freq", "100",
-                         "--signals", "3", "--output", "again.csv.gz", "--quiet"},
+  auto again = run_gmwm({"simulate", "--model", kTruth, "--n", "4096", "--freq", "100", "--signals", "3", "--output",
+                         "again.csv.gz", "--quiet"},
                         dir_);
   ASSERT_EQ(again.exit_code, 0) << again.err;
-  EXPECT_EQ(gmwm::io::read_signals((dir_ / "again.csv.gz").string(), {}).signals[2].values,
-            set.signals[2].values);
-  auto other = run_gmwm({"simulate", "--model", kTruth, "--n", "4096", "--freq", "100",
-                         "--signals", "3", "--output", "other.csv.gz", "--seed", "7", "--quiet"},
+  EXPECT_EQ(gmwm::io::read_signals((dir_ / "again.csv.gz").string(), {}).signals[2].values, set.signals[2].values);
+  auto other = run_gmwm({"simulate", "--model", kTruth, "--n", "4096", "--freq", "100", "--signals", "3", "--output",
+                         "other.csv.gz", "--seed", "7", "--quiet"},
                         dir_);
   ASSERT_EQ(other.exit_code, 0) << other.err;
-  EXPECT_NE(gmwm::io::read_signals((dir_ / "other.csv.gz").string(), {}).signals[2].values,
-            set.signals[2].values);
+  EXPECT_NE(gmwm::io::read_signals((dir_ / "other.csv.gz").string(), {}).signals[2].values, set.signals[2].values);
 }
 
 TEST_F(GmwmCli, SimulateThenFitRecoversTheModel) {
@@ -205,16 +199,15 @@ TEST_F(GmwmCli, SimulateThenFitRecoversTheModel) {
   EXPECT_GT(p[3]["value"].get<double>(), 0.0);
 
   // The fitted model string is usable as SPEC_WITH_VALUES.
-  auto again = run_gmwm({"simulate", "--model", c.at("model").get<std::string>(), "--n", "64",
-                         "--output", "refit.csv", "--quiet"},
-                        dir_);
+  auto again = run_gmwm(
+      {"simulate", "--model", c.at("model").get<std::string>(), "--n", "64", "--output", "refit.csv", "--quiet"}, dir_);
   EXPECT_EQ(again.exit_code, 0) << again.err;
 }
 
 TEST_F(GmwmCli, ANegativeDriftSurvivesSimulateFitAndItsInterval) {
   // The WV sees omega^2; the sign must come back from the series through fit.
-  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=1)+DR(omega=-1e-3)", "--n", "65536", "--freq", "100",
-                     "--names", "x", "--output", "dr.csv", "--quiet"},
+  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=1)+DR(omega=-1e-3)", "--n", "65536", "--freq", "100", "--names",
+                     "x", "--output", "dr.csv", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_gmwm({"fit", "dr.csv", "--model", "WN+DR", "--json", "f.json", "--quiet"}, dir_);
@@ -235,8 +228,8 @@ TEST_F(GmwmCli, ThreadCountDoesNotChangeTheWvOrFitJson) {
   for (const std::string cmd : {"wv", "fit"}) {
     std::vector<json> docs;
     for (const std::string threads : {"1", "2"}) {
-      std::vector<std::string> args = {cmd, "sim.csv.gz", "--threads", threads, "--json",
-                                       cmd + threads + ".json", "--quiet"};
+      std::vector<std::string> args = {cmd,      "sim.csv.gz", "--threads", threads, "--json", cmd + threads + ".json",
+                                       "--quiet"};
       if (cmd == "fit") {
         args.push_back("--model");
         args.push_back("AR1+WN+RW");
@@ -256,11 +249,10 @@ TEST_F(GmwmCli, FitSelectAndWvReportTheAllanDeviationAsAStageOfItsOwn) {
   // transforms, and run.seconds names its time; without a rate, or with the robust WV
   // (whose figures read the robust WV itself), there is none.
   simulate(20000, 1);
-  const std::vector<std::vector<std::string>> runs = {
-      {"fit", "sim.csv.gz", "--model", "WN+RW"},
-      {"select", "sim.csv.gz", "--model", "WN+RW"},
-      {"wv", "sim.csv.gz", "--adev"},
-      {"fit", "sim.csv.gz", "--model", "WN+RW", "--robust"}};
+  const std::vector<std::vector<std::string>> runs = {{"fit", "sim.csv.gz", "--model", "WN+RW"},
+                                                      {"select", "sim.csv.gz", "--model", "WN+RW"},
+                                                      {"wv", "sim.csv.gz", "--adev"},
+                                                      {"fit", "sim.csv.gz", "--model", "WN+RW", "--robust"}};
   for (std::size_t i = 0; i < runs.size(); ++i) {
     std::vector<std::string> args = runs[i];
     args.insert(args.end(), {"--quiet", "--json", "r.json"});
@@ -268,17 +260,18 @@ TEST_F(GmwmCli, FitSelectAndWvReportTheAllanDeviationAsAStageOfItsOwn) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json seconds = read_json(dir_ / "r.json").at("run").at("seconds");
     for (const char* stage : {"read", "wv", "allan", "total"}) EXPECT_TRUE(seconds.contains(stage)) << stage;
-    if (i < 3) EXPECT_GT(seconds.at("allan").get<double>(), 0.0) << args[0];
-    else EXPECT_EQ(seconds.at("allan").get<double>(), 0.0);
+    if (i < 3)
+      EXPECT_GT(seconds.at("allan").get<double>(), 0.0) << args[0];
+    else
+      EXPECT_EQ(seconds.at("allan").get<double>(), 0.0);
     EXPECT_LE(seconds.at("wv").get<double>() + seconds.at("allan").get<double>(), seconds.at("total").get<double>());
   }
 }
 
 TEST_F(GmwmCli, FitWithTheModelBasedOmegaReportsAStatusAndExits0) {
   simulate(1 << 13, 1);
-  auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json",
-                     "fit.json", "--quiet"},
-                    dir_);
+  auto r =
+      run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json", "fit.json", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "fit.json");
   const std::string status = doc["columns"][0].at("status");
@@ -291,8 +284,8 @@ TEST_F(GmwmCli, FitWithTheModelBasedOmegaReportsAStatusAndExits0) {
 
 TEST_F(GmwmCli, RobustWvJsonHasTheDiagnosticFieldsAndTheLibrarysValues) {
   simulate(1 << 12, 1);
-  auto r = run_gmwm({"wv", "sim.csv.gz", "--robust", "--eff", "0.8", "--estimator", "bisquare",
-                     "--json", "wv.json", "--csv", "wv.csv", "--quiet"},
+  auto r = run_gmwm({"wv", "sim.csv.gz", "--robust", "--eff", "0.8", "--estimator", "bisquare", "--json", "wv.json",
+                     "--csv", "wv.csv", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json col = read_json(dir_ / "wv.json")["columns"][0];
@@ -351,12 +344,10 @@ TEST_F(GmwmCli, RobustWvReportsTheReplacedSpikesAndCanKeepThem) {
 
 TEST_F(GmwmCli, RobustFitUsesTheRobustWvAndInflatesTheModelBasedOmega) {
   simulate(1 << 13, 1);
-  auto classical = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json",
-                             "c.json", "--quiet"},
-                            dir_);
-  auto robust = run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--robust",
-                          "--json", "r.json", "--quiet"},
-                         dir_);
+  auto classical =
+      run_gmwm({"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--json", "c.json", "--quiet"}, dir_);
+  auto robust = run_gmwm(
+      {"fit", "sim.csv.gz", "--model", "AR1+WN", "--omega", "full", "--robust", "--json", "r.json", "--quiet"}, dir_);
   ASSERT_EQ(classical.exit_code, 0) << classical.err;
   ASSERT_EQ(robust.exit_code, 0) << robust.err;
   const json c = read_json(dir_ / "c.json")["columns"][0];
@@ -381,9 +372,8 @@ TEST_F(GmwmCli, HelpAndVersionExit0) {
 TEST_F(GmwmCli, WvOfARealImuRecordingHasEveryLevel) {
   GMWM_REQUIRE_SHARED_DATA();
   const std::string file = gmwm::test::shared_data_file("adis_16405_imu1.csv.gz");
-  auto r = run_gmwm({"wv", file, "--freq", "100", "--columns", "gyro_x,accel_z", "--json",
-                     "adis.json", "--quiet"},
-                    dir_);
+  auto r =
+      run_gmwm({"wv", file, "--freq", "100", "--columns", "gyro_x,accel_z", "--json", "adis.json", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "adis.json");
   ASSERT_EQ(doc["columns"].size(), 2u);
@@ -397,31 +387,28 @@ TEST_F(GmwmCli, WvOfARealImuRecordingHasEveryLevel) {
 
 TEST_F(GmwmCli, ShippedExampleIsReproducedByItsDocumentedCommand) {
   // The command of data/README.md, with the output in a temporary folder.
-  auto r = run_gmwm({"simulate", "--model",
-                     "AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)", "--n",
-                     "65536", "--freq", "100", "--signals", "6", "--names",
-                     "gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z", "--quantum", "1e-6",
-                     "--seed", "20261121", "--output", "example.csv.gz", "--quiet"},
-                    dir_);
+  auto r =
+      run_gmwm({"simulate", "--model", "AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-5)+RW(gamma2=1e-10)", "--n", "65536",
+                "--freq", "100", "--signals", "6", "--names", "gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z",
+                "--quantum", "1e-6", "--seed", "20261121", "--output", "example.csv.gz", "--quiet"},
+               dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto shipped = gmwm::io::read_signals(
-      (fs::path(GMWM_SOURCE_DIR) / "data" / "example_imu6.csv.gz").string(), {});
+  const auto shipped =
+      gmwm::io::read_signals((fs::path(GMWM_SOURCE_DIR) / "data" / "example_imu6.csv.gz").string(), {});
   const auto again = gmwm::io::read_signals((dir_ / "example.csv.gz").string(), {});
   ASSERT_EQ(shipped.signals.size(), 6u);
   ASSERT_EQ(again.signals.size(), 6u);
   for (std::size_t k = 0; k < 6; ++k) {
     EXPECT_EQ(shipped.signals[k].name, again.signals[k].name);
     EXPECT_TRUE(shipped.signals[k].values == again.signals[k].values)
-        << "data/example_imu6.csv.gz no longer matches its documented command (column "
-        << shipped.signals[k].name
+        << "data/example_imu6.csv.gz no longer matches its documented command (column " << shipped.signals[k].name
         << "): if the simulation changed on purpose, regenerate it as data/README.md says";
   }
 }
 
 TEST_F(GmwmCli, FitThatStopsBeforeConvergingExits0WithAWarningAndItsStatus) {
-  auto r = run_gmwm({"fit", (fs::path(GMWM_SOURCE_DIR) / "data" / "example_imu6.csv.gz").string(),
-                     "--columns", "gyro_x", "--model", "AR1+WN+RW", "--max-evaluations", "10",
-                     "--json", "fit.json", "--quiet"},
+  auto r = run_gmwm({"fit", (fs::path(GMWM_SOURCE_DIR) / "data" / "example_imu6.csv.gz").string(), "--columns",
+                     "gyro_x", "--model", "AR1+WN+RW", "--max-evaluations", "10", "--json", "fit.json", "--quiet"},
                     dir_);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "fit.json");
@@ -438,10 +425,9 @@ TEST_F(GmwmCli, ARecordBeyondTheMemoryOptionGivesTheSameWvFitAndSelectionFromTem
   // 2^19 samples of two columns need 16 MB at 16 bytes a value; --memory 4 (MB) sends
   // them to temporary files from the first check past 4 MB. Every result is the same.
   simulate(1 << 19, 2);
-  const std::vector<std::vector<std::string>> runs = {
-      {"wv", "sim.csv.gz", "--adev"},
-      {"fit", "sim.csv.gz", "--model", "AR1+WN+RW"},
-      {"select", "sim.csv.gz", "--model", "2*AR1+WN+RW"}};
+  const std::vector<std::vector<std::string>> runs = {{"wv", "sim.csv.gz", "--adev"},
+                                                      {"fit", "sim.csv.gz", "--model", "AR1+WN+RW"},
+                                                      {"select", "sim.csv.gz", "--model", "2*AR1+WN+RW"}};
   for (const auto& args : runs) {
     auto in_memory = args, spilled = args;
     in_memory.insert(in_memory.end(), {"--json", "a.json", "--quiet"});

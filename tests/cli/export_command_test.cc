@@ -92,8 +92,8 @@ TEST_F(GmwmExport, WritesAKalibrYamlFromAFitResult) {
 TEST_F(GmwmExport, FitsADataFileFirstWhenGivenAModel) {
   // The same fit as `gmwm fit` (classical WV, its default model-based diagonal Omega): the
   // same figures.
-  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "orbslam3", "--output",
-                     "orb.yaml", "--quiet"},
+  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "orbslam3",
+                     "--output", "orb.yaml", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "orb.yaml");
@@ -110,8 +110,8 @@ TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
   // times smaller in rad/s.
   auto r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "plain.json", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_gmwm({"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml", "--quiet"},
-               dir_);
+  r = run_gmwm(
+      {"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "vins.yaml");
   const auto [n, k] = mean_n_k();
@@ -122,9 +122,9 @@ TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
 }
 
 TEST_F(GmwmExport, BasaltWritesItsHeaderToASidecarAndPerAxisVectors) {
-  auto r = run_gmwm({"export", "fit.json", "--format", "basalt", "--aggregate", "per-axis", "--output", "calib.json",
-                     "--quiet"},
-                    dir_);
+  auto r = run_gmwm(
+      {"export", "fit.json", "--format", "basalt", "--aggregate", "per-axis", "--output", "calib.json", "--quiet"},
+      dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json calib = read_json(dir_ / "calib.json");
   const json& cols = fit_.at("columns");
@@ -164,36 +164,37 @@ TEST_F(GmwmExport, RefusesAResultOrDataWithoutAUnitAndAUnitContradictingTheResul
                    {"plain.json: column 'gyro_x': the result does not say the data's unit", "--units gyro=UNIT"},
                    dir_ / "out.yaml");
   // --units naming the other sensor only does not say this one's.
-  expect_bad_input(run_gmwm({"export", "plain.json", "--format", "kalibr", "--units", "accel=g", "--output", "out.yaml"},
-                            dir_),
-                   {"column 'gyro_x'", "--units gyro=UNIT"}, dir_ / "out.yaml");
-  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "out.yaml"},
-                            dir_),
-                   {"--units says gyro=deg/s, but the result was fitted on rad/s data"}, dir_ / "out.yaml");
-  expect_bad_input(run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--format", "kalibr", "--output", "out.yaml"}, dir_),
-                   {"sim.csv: column 'gyro_x': the file does not say its unit; give --units gyro=UNIT"},
-                   dir_ / "out.yaml");
+  expect_bad_input(
+      run_gmwm({"export", "plain.json", "--format", "kalibr", "--units", "accel=g", "--output", "out.yaml"}, dir_),
+      {"column 'gyro_x'", "--units gyro=UNIT"}, dir_ / "out.yaml");
+  expect_bad_input(
+      run_gmwm({"export", "fit.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "out.yaml"}, dir_),
+      {"--units says gyro=deg/s, but the result was fitted on rad/s data"}, dir_ / "out.yaml");
+  expect_bad_input(
+      run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--format", "kalibr", "--output", "out.yaml"}, dir_),
+      {"sim.csv: column 'gyro_x': the file does not say its unit; give --units gyro=UNIT"}, dir_ / "out.yaml");
 }
 
 TEST_F(GmwmExport, RejectsBadInputWithOneLineAndNoFile) {
   const fs::path out = dir_ / "out.yaml";
-  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--inflate", "0", "--output", "out.yaml"}, dir_),
-                   {"--inflate 0", "expected a positive factor"}, out);
-  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--aggregate", "per-axis", "--output",
-                             "out.yaml"},
-                            dir_),
-                   {"--aggregate per-axis", "kalibr", "mean or worst"}, out);
+  expect_bad_input(
+      run_gmwm({"export", "fit.json", "--format", "kalibr", "--inflate", "0", "--output", "out.yaml"}, dir_),
+      {"--inflate 0", "expected a positive factor"}, out);
+  expect_bad_input(
+      run_gmwm({"export", "fit.json", "--format", "kalibr", "--aggregate", "per-axis", "--output", "out.yaml"}, dir_),
+      {"--aggregate per-axis", "kalibr", "mean or worst"}, out);
   expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr2", "--output", "out.yaml"}, dir_),
                    {"--format 'kalibr2'", "expected one of kalibr, openvins"}, out);
   expect_bad_input(run_gmwm({"export", "sim.csv", "--format", "kalibr", "--output", "out.yaml"}, dir_),
                    {"sim.csv", "give --model SPEC"}, out);
-  expect_bad_input(run_gmwm({"export", "fit.json", "--model", "WN", "--format", "kalibr", "--output", "out.yaml"}, dir_),
-                   {"--model", "only for a data file"}, out);
+  expect_bad_input(
+      run_gmwm({"export", "fit.json", "--model", "WN", "--format", "kalibr", "--output", "out.yaml"}, dir_),
+      {"--model", "only for a data file"}, out);
   expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--rate", "-1", "--output", "out.yaml"}, dir_),
                    {"--rate: found '-1', expected a sampling rate in Hz"}, out);
-  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--columns", "gyro_q", "--output", "out.yaml"},
-                            dir_),
-                   {"fit.json", "no column 'gyro_q'"}, out);
+  expect_bad_input(
+      run_gmwm({"export", "fit.json", "--format", "kalibr", "--columns", "gyro_q", "--output", "out.yaml"}, dir_),
+      {"fit.json", "no column 'gyro_q'"}, out);
   expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "no_such_dir/out.yaml"}, dir_),
                    {"--output", "no_such_dir"}, out);
   auto wv = run_gmwm({"wv", "sim.csv", "--columns", "gyro_x", "--json", "wv.json", "--quiet"}, dir_);

@@ -21,8 +21,8 @@ class GmwmFitQuality : public ::testing::Test {
   void SetUp() override { dir_ = gmwm::test::temp_dir("cli_quality"); }
   void TearDown() override { fs::remove_all(dir_); }
   void simulate(const std::string& model, int n = 65536) {
-    const auto r = run_gmwm({"simulate", "--model", model, "--n", std::to_string(n), "--freq", "100", "--names", "gyro_x",
-                             "--output", "sim.csv.gz", "--quiet"},
+    const auto r = run_gmwm({"simulate", "--model", model, "--n", std::to_string(n), "--freq", "100", "--names",
+                             "gyro_x", "--output", "sim.csv.gz", "--quiet"},
                             dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
@@ -36,8 +36,9 @@ TEST_F(GmwmFitQuality, SaysWhenEveryCandidateIsRejectedAndWhereTheChosenOneMisse
   simulate("WN(sigma2=1)+SIN(A2=2,f=12.5)+RW(gamma2=1e-6)");
   const auto r = run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN+RW", "--verbose", "--json", "s.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("fit quality: every candidate is rejected at 5%: no sub-model of AR1+WN+RW describes these data"),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find("fit quality: every candidate is rejected at 5%: no sub-model of AR1+WN+RW describes these data"),
+      std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("the data depart most at 0.08 s"), std::string::npos) << r.out;
   const json col = read_json(dir_ / "s.json").at("columns").at(0);
@@ -67,8 +68,9 @@ TEST_F(GmwmFitQuality, AnAr1AtItsBoundGetsAOneSidedIntervalNotTheWholeDomain) {
 
 TEST_F(GmwmFitQuality, CountsCandidatesThatStoppedBeforeConvergingOnTheTerminal) {
   simulate("AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=1)");
-  const auto r =
-      run_gmwm({"select", "sim.csv.gz", "--model", "3*AR1+WN+RW", "--max-evaluations", "10", "--verbose", "--json", "s.json"}, dir_);
+  const auto r = run_gmwm(
+      {"select", "sim.csv.gz", "--model", "3*AR1+WN+RW", "--max-evaluations", "10", "--verbose", "--json", "s.json"},
+      dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json col = read_json(dir_ / "s.json").at("columns").at(0);
   const int not_converged = col.at("not_converged").get<int>();

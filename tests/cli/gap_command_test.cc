@@ -17,8 +17,8 @@
 
 namespace fs = std::filesystem;
 using gmwm::test::expect_bad_input;
-using gmwm::test::read_json;
 using gmwm::test::flowed;
+using gmwm::test::read_json;
 using gmwm::test::run_gmwm;
 using nlohmann::json;
 
@@ -53,7 +53,8 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   EXPECT_TRUE(gap.at("detected").get<bool>());
   EXPECT_LT(gap.at("p_value").get<double>(), 0.05);
   ASSERT_FALSE(gap.at("bands").empty());
-  for (const char* f : {"tau_from_seconds", "tau_to_seconds", "direction"}) EXPECT_TRUE(gap["bands"][0].contains(f)) << f;
+  for (const char* f : {"tau_from_seconds", "tau_to_seconds", "direction"})
+    EXPECT_TRUE(gap["bands"][0].contains(f)) << f;
   EXPECT_EQ(gap["bands"][0]["direction"], "excess");
   ASSERT_EQ(gap.at("levels").size(), 16u);
   for (const char* f : {"tau_seconds", "ratio", "z"}) EXPECT_TRUE(gap["levels"][0].contains(f)) << f;
@@ -120,7 +121,7 @@ TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
   out.precision(17);
   double temp = 25.0;
   for (int i = 0; std::getline(in, line); ++i) {
-    temp += 0.01 * std::sin(1e-3 * i) + 0.002 * std::cos(0.37 * i);  // deterministic, slow
+    temp += 0.01 * std::sin(1e-3 * i) + 0.002 * std::cos(0.37 * i);   // deterministic, slow
     const double noise = std::stod(line.substr(line.find(',') + 1));  // "time,noise"
     out << noise + 2e-3 * temp << "," << temp << "\n";
   }
@@ -144,17 +145,17 @@ TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
 }
 
 TEST_F(GmwmGap, TakesTheNamedImuOfAKalibrChainAndRefusesAnAmbiguousOne) {
-  std::ofstream(dir_ / "chain.yaml") << "imu0:\n  accelerometer_noise_density: 2.0e-3\n  accelerometer_random_walk: 3.0e-3\n"
-                                        "  gyroscope_noise_density: 1.0e-3\n  gyroscope_random_walk: 1.0e-4\n"
-                                        "imu1:\n  accelerometer_noise_density: 2.0e-2\n  accelerometer_random_walk: 3.0e-2\n"
-                                        "  gyroscope_noise_density: 1.0e-2\n  gyroscope_random_walk: 1.0e-3\n";
+  std::ofstream(dir_ / "chain.yaml")
+      << "imu0:\n  accelerometer_noise_density: 2.0e-3\n  accelerometer_random_walk: 3.0e-3\n"
+         "  gyroscope_noise_density: 1.0e-3\n  gyroscope_random_walk: 1.0e-4\n"
+         "imu1:\n  accelerometer_noise_density: 2.0e-2\n  accelerometer_random_walk: 3.0e-2\n"
+         "  gyroscope_noise_density: 1.0e-2\n  gyroscope_random_walk: 1.0e-3\n";
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml", "--json", "g.json"}, dir_),
                    {"chain.yaml: an IMU chain with imu0, imu1", "chain.yaml:imu0"}, dir_ / "g.json");
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml:cam0", "--json", "g.json"}, dir_),
                    {"--kalibr chain.yaml:cam0", "FILE:imuN"}, dir_ / "g.json");
-  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml:imu1", "--replicates", "20", "--quiet", "--json",
-                     "g.json"},
-                    dir_);
+  auto r = run_gmwm(
+      {"gap", "sim.csv.gz", "--kalibr", "chain.yaml:imu1", "--replicates", "20", "--quiet", "--json", "g.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // imu1's gyro density 1e-2 rad/s/sqrt(Hz): sigma2 = 1e-4 x 100 = 1e-2 (imu0's would give 1e-4).
   const std::string base = read_json(dir_ / "g.json")["columns"][0]["baseline_model"];
@@ -167,9 +168,10 @@ TEST_F(GmwmGap, TakesAKalibrImuYamlAndPrintsItsConversions) {
                                       "update_rate: 100.0\n";
   auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "imu.yaml", "--replicates", "40", "--json", "g.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(flowed(r.out).find("conversion: gyroscope_noise_density = 0.001 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 0.0001 "
-                       "(rad/s)^2 per sample at f = 100 Hz"),
-            std::string::npos)
+  EXPECT_NE(
+      flowed(r.out).find("conversion: gyroscope_noise_density = 0.001 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 0.0001 "
+                         "(rad/s)^2 per sample at f = 100 Hz"),
+      std::string::npos)
       << r.out;
   const json doc = read_json(dir_ / "g.json");
   // sigma2 = (1e-3)^2 x 100, gamma2 = (1e-4)^2 / 100 (the rate estimated from the timestamps).
@@ -183,8 +185,9 @@ TEST_F(GmwmGap, TakesTheShippedGazeboSdfAndPrintsItsConversions) {
   const std::string sdf = std::string(GMWM_SOURCE_DIR) + "/data/adis16405_gz.sdf";
   auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", sdf, "--replicates", "40", "--json", "g.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(flowed(r.out).find("conversion: angular_velocity stddev = 0.00873 rad/s per sample (not a density) -> WN sigma2 = "
-                       "(s)^2 = 7.62129e-05 (rad/s)^2 per sample"),
+  EXPECT_NE(flowed(r.out).find(
+                "conversion: angular_velocity stddev = 0.00873 rad/s per sample (not a density) -> WN sigma2 = "
+                "(s)^2 = 7.62129e-05 (rad/s)^2 per sample"),
             std::string::npos)
       << r.out;
   EXPECT_NE(flowed(r.out).find("valid once the noise spans a few LSBs"), std::string::npos) << r.out;
@@ -233,8 +236,10 @@ TEST_F(GmwmGap, RejectsAGazeboFileWithoutImuNoiseWithOneLine) {
 }
 
 TEST_F(GmwmGap, WritesTheSameJsonWithOneAndTwoThreads) {
-  auto one = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "1", "--json", "1.json"}, dir_);
-  auto two = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "2", "--json", "2.json"}, dir_);
+  auto one = run_gmwm(
+      {"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "1", "--json", "1.json"}, dir_);
+  auto two = run_gmwm(
+      {"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "2", "--json", "2.json"}, dir_);
   ASSERT_EQ(one.exit_code, 0) << one.err;
   ASSERT_EQ(two.exit_code, 0) << two.err;
   json a = read_json(dir_ / "1.json"), b = read_json(dir_ / "2.json");
@@ -285,8 +290,8 @@ TEST_F(GmwmGap, AYamlAndARotorsFileWithTheSameFiguresGiveTheSameDiagnosis) {
   auto a = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "imu.yaml", "--replicates", "40", "--quiet", "--json", "a.json"},
                     dir_);
   ASSERT_EQ(a.exit_code, 0) << a.err;
-  auto b = run_gmwm({"gap", "sim.csv.gz", "--gazebo", "imu.sdf", "--replicates", "40", "--quiet", "--json", "b.json"},
-                    dir_);
+  auto b =
+      run_gmwm({"gap", "sim.csv.gz", "--gazebo", "imu.sdf", "--replicates", "40", "--quiet", "--json", "b.json"}, dir_);
   ASSERT_EQ(b.exit_code, 0) << b.err;
   const json ja = read_json(dir_ / "a.json")["columns"][0], jb = read_json(dir_ / "b.json")["columns"][0];
   // The RotorS bias reads as a random walk over this record, said in its conversions.
@@ -324,8 +329,8 @@ TEST_F(GmwmGap, HeadlineIsTheSameInTheTerminalAndTheJson) {
 TEST_F(GmwmGap, RejectsBadOptionsWithOneLine) {
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--json", "x.json"}, dir_),
                    {"--model", "--kalibr", "--gazebo", "--fit"}, dir_ / "x.json");
-  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", "WN+RW", "--json", "x.json"}, dir_),
-                   {"SPEC_WITH_VALUES"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", "WN+RW", "--json", "x.json"}, dir_), {"SPEC_WITH_VALUES"},
+                   dir_ / "x.json");
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--units", "gyro=g", "--json", "x.json"}, dir_),
                    {"unit 'g' for gyro"}, dir_ / "x.json");
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "5", "--json", "x.json"}, dir_),
@@ -340,9 +345,8 @@ namespace {
 
 TEST(GmwmGapCheck, ScoresEveryFamilyAndTheNullSideInTheContractFields) {
   const fs::path dir = gmwm::test::temp_dir("cli_gap_check");
-  auto r = run_gmwm({"gap-check", "--cases", "1", "--n", "16384", "--replicates", "30", "--strengths", "8", "--json",
-                     "c.json"},
-                    dir);
+  auto r = run_gmwm(
+      {"gap-check", "--cases", "1", "--n", "16384", "--replicates", "30", "--strengths", "8", "--json", "c.json"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir / "c.json");
   EXPECT_EQ(doc.at("command"), "gap-check");

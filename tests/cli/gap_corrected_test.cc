@@ -48,9 +48,10 @@ class GmwmGapCorrected : public ::testing::Test {
                       dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     // The datasheet: white noise 1.7x the sensor's, the random walk right, accelerometer figures of its own.
-    write_text(dir_ / "datasheet.yaml", "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
-                                        "gyroscope_noise_density: 1.7e-03\ngyroscope_random_walk: 1.0e-05\n"
-                                        "update_rate: 100.0\n");
+    write_text(dir_ / "datasheet.yaml",
+               "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: 3.0e-04\n"
+               "gyroscope_noise_density: 1.7e-03\ngyroscope_random_walk: 1.0e-05\n"
+               "update_rate: 100.0\n");
   }
   void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
@@ -97,9 +98,9 @@ TEST_F(GmwmGapCorrected, WritesAKalibrYamlWhoseWhiteNoiseIsTheSensorsAndSaysWhat
   }
 
   // The same data against the corrected file: nothing left to re-size.
-  r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "corrected.yaml", "--replicates", "60", "--json", "again.json",
-                "--quiet"},
-               dir_);
+  r = run_gmwm(
+      {"gap", "sim.csv.gz", "--kalibr", "corrected.yaml", "--replicates", "60", "--json", "again.json", "--quiet"},
+      dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const json& col : read_json(dir_ / "again.json").at("columns"))
     for (const json& step : col.at("attribution").at("steps"))
@@ -127,10 +128,10 @@ TEST_F(GmwmGapCorrected, RecoversNAndNamesQnAndTheAr1OfASensorWhoseDatasheetIsOf
   // whose N is 1.7x too high. The datasheet misses every fine level, so no effect helps
   // on the datasheet's own sizes: the baseline is re-sized and QN and the AR1 are found
   // with it (a veto on the count of levels outside stopped this search before).
-  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=1e-4)+QN(Q2=3e-5)+AR1(phi=0.999,sigma2=2e-9)+RW(gamma2=1e-12)",
-                     "--n", "262144", "--freq", "100", "--signals", "1", "--names", "gyro_x", "--output", "rt.csv.gz",
-                     "--quiet"},
-                    dir_);
+  auto r =
+      run_gmwm({"simulate", "--model", "WN(sigma2=1e-4)+QN(Q2=3e-5)+AR1(phi=0.999,sigma2=2e-9)+RW(gamma2=1e-12)", "--n",
+                "262144", "--freq", "100", "--signals", "1", "--names", "gyro_x", "--output", "rt.csv.gz", "--quiet"},
+               dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_gmwm({"gap", "rt.csv.gz", "--kalibr", "datasheet.yaml", "--replicates", "100", "--corrected", "rt.yaml",
                 "--json", "rt.json", "--quiet"},
@@ -154,8 +155,8 @@ TEST_F(GmwmGapCorrected, RecoversNAndNamesQnAndTheAr1OfASensorWhoseDatasheetIsOf
 
 TEST_F(GmwmGapCorrected, RefusesACorrectedPathThatIsTheBaselineItself) {
   const std::string before = read_text(dir_ / "datasheet.yaml");
-  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "datasheet.yaml", "--corrected", "datasheet.yaml", "--quiet"},
-                    dir_);
+  auto r =
+      run_gmwm({"gap", "sim.csv.gz", "--kalibr", "datasheet.yaml", "--corrected", "datasheet.yaml", "--quiet"}, dir_);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--corrected"), std::string::npos) << r.err;
   EXPECT_EQ(read_text(dir_ / "datasheet.yaml"), before);
@@ -173,7 +174,7 @@ TEST_F(GmwmGapCorrected, ADatasheetInItsOwnUnitsGetsACorrectedDatasheetWithTheSe
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // Every conversion is printed, from the datasheet's unit to SI to the per-sample term.
-  EXPECT_NE(r.out.find("conversion: angle_random_walk = " ), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("conversion: angle_random_walk = "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("deg/sqrt(h) = 0.0017 rad/s/sqrt(Hz) -> WN sigma2 = N^2 f"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("what to change (datasheet, --corrected writes it)"), std::string::npos) << r.out;
   const std::string yaml = read_text(dir_ / "corrected.yaml");
@@ -186,8 +187,9 @@ TEST_F(GmwmGapCorrected, ADatasheetInItsOwnUnitsGetsACorrectedDatasheetWithTheSe
   EXPECT_NE(yaml.find("# changed: gyroscope/angle_random_walk 5.844 -> "), std::string::npos) << yaml;
   EXPECT_EQ(read_json(dir_ / "g.json").at("corrected").at("format"), "datasheet");
   // Given back, the corrected datasheet is not re-sized in N again.
-  r = run_gmwm({"gap", "sim.csv.gz", "--datasheet", "corrected.yaml", "--replicates", "60", "--quiet", "--json", "h.json"},
-               dir_);
+  r = run_gmwm(
+      {"gap", "sim.csv.gz", "--datasheet", "corrected.yaml", "--replicates", "60", "--quiet", "--json", "h.json"},
+      dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const json& col : read_json(dir_ / "h.json").at("columns")) {
     const json& steps = col.at("attribution").at("steps");
@@ -197,7 +199,8 @@ TEST_F(GmwmGapCorrected, ADatasheetInItsOwnUnitsGetsACorrectedDatasheetWithTheSe
 
 TEST_F(GmwmGapCorrected, ADatasheetWithoutUnitsOrBesideAnotherBaselineIsRefusedWithOneLineAndNothingWritten) {
   write_text(dir_ / "bad.yaml", "gyroscope:\n  noise_density: 0.05\n");
-  auto r = run_gmwm({"gap", "sim.csv.gz", "--datasheet", "bad.yaml", "--corrected", "c.yaml", "--json", "g.json"}, dir_);
+  auto r =
+      run_gmwm({"gap", "sim.csv.gz", "--datasheet", "bad.yaml", "--corrected", "c.yaml", "--json", "g.json"}, dir_);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--datasheet bad.yaml:2: gyroscope.noise_density: found 0.05 without a unit"), std::string::npos)
       << r.err;
@@ -217,7 +220,8 @@ TEST_F(GmwmGapCorrected, ACorrectedSdfKeepsTheTurnOnBiasAndTheUndiagnosedAcceler
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string sdf = read_text(dir_ / "corrected.sdf");
-  const std::size_t gyro = sdf.find("<angular_velocity>", sdf.find("-->")), accel = sdf.find("<linear_acceleration>", gyro);
+  const std::size_t gyro = sdf.find("<angular_velocity>", sdf.find("-->")),
+                    accel = sdf.find("<linear_acceleration>", gyro);
   ASSERT_NE(gyro, std::string::npos) << sdf;
   ASSERT_NE(accel, std::string::npos) << "the accelerometer was dropped:\n" << sdf;
   // The gyroscope's turn-on bias sigma (5.24e-2 rad/s in the input), kept on each axis.

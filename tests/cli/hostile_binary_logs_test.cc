@@ -56,7 +56,8 @@ std::string ulog_wrapping_format() {
       "int32_t accelerometer_timestamp_relative;float[3] accelerometer_m_s2;uint32_t accelerometer_integral_dt;"
       "uint32_t flags;t3[65535] wrap1;t2[65280] wrap2;");
   u.subscribe(0, 0, "sensor_combined");
-  for (int i = 0; i < 32; ++i) u.data(0, LeBytes().put(std::uint64_t{1000} * static_cast<std::uint64_t>(i + 1)).b + std::string(40, '\1'));
+  for (int i = 0; i < 32; ++i)
+    u.data(0, LeBytes().put(std::uint64_t{1000} * static_cast<std::uint64_t>(i + 1)).b + std::string(40, '\1'));
   return u.bytes;
 }
 
@@ -64,75 +65,94 @@ std::vector<Case> corpus() {
   std::vector<Case> c;
   // --- PX4 ULog: formats and message sizes --------------------------------------------------
   {
-    c.push_back({"ULog format sizes that wrap around 2^64", {"wv", "wrap.ulg"},
+    c.push_back({"ULog format sizes that wrap around 2^64",
+                 {"wv", "wrap.ulg"},
                  {"wrap.ulg", "message 5 at byte", "format 't1'", "larger than 65533 bytes"},
                  file("wrap.ulg", ulog_wrapping_format())});
     gmwm::test::UlogBuilder self;
     self.format("loop:uint64_t timestamp;loop inner;").format("sensor_combined:uint64_t timestamp;loop l;");
     self.subscribe(0, 0, "sensor_combined");
-    c.push_back({"ULog format that contains itself", {"wv", "self.ulg"},
-                 {"self.ulg", "message 3 at byte", "format 'loop' nests deeper than 16"}, file("self.ulg", self.bytes)});
+    c.push_back({"ULog format that contains itself",
+                 {"wv", "self.ulg"},
+                 {"self.ulg", "message 3 at byte", "format 'loop' nests deeper than 16"},
+                 file("self.ulg", self.bytes)});
     gmwm::test::UlogBuilder array;
     array.format("sensor_combined:uint64_t timestamp;float[18446744073709551615] gyro_rad;");
     array.subscribe(0, 0, "sensor_combined");
-    c.push_back({"ULog array length of 2^64 - 1", {"wv", "array.ulg"},
+    c.push_back({"ULog array length of 2^64 - 1",
+                 {"wv", "array.ulg"},
                  {"array.ulg", "message 2 at byte", "bad array length, expected [1..999999]"},
                  file("array.ulg", array.bytes)});
     std::string cut = gmwm::test::ulog_sensor_combined(64);
     patch(cut, cut.size() - 53, std::uint16_t{0xffff});  // the last message (3 + 2 + 48 bytes) claims 65535
-    c.push_back({"ULog message size past the end", {"wv", "cut.ulg"},
+    c.push_back({"ULog message size past the end",
+                 {"wv", "cut.ulg"},
                  {"cut.ulg", "at byte " + std::to_string(cut.size() - 53), "a 'D' message of 65535 bytes with 50 left"},
                  file("cut.ulg", cut)});
     gmwm::test::UlogBuilder shortd;
     shortd.bytes = gmwm::test::ulog_sensor_combined(20);
     shortd.data(0, std::string(6, '\0'));
-    c.push_back({"ULog data shorter than its format", {"wv", "short.ulg"},
-                 {"short.ulg", "message 23 at byte", "data of 6 bytes, expected 48"}, file("short.ulg", shortd.bytes)});
+    c.push_back({"ULog data shorter than its format",
+                 {"wv", "short.ulg"},
+                 {"short.ulg", "message 23 at byte", "data of 6 bytes, expected 48"},
+                 file("short.ulg", shortd.bytes)});
     gmwm::test::UlogBuilder shorta;
     shorta.add('A', std::string(2, '\0'));
-    c.push_back({"ULog subscription shorter than its fields", {"wv", "a.ulg"},
-                 {"a.ulg", "message 1 at byte 16", "an 'A' message shorter than 4 bytes"}, file("a.ulg", shorta.bytes)});
+    c.push_back({"ULog subscription shorter than its fields",
+                 {"wv", "a.ulg"},
+                 {"a.ulg", "message 1 at byte 16", "an 'A' message shorter than 4 bytes"},
+                 file("a.ulg", shorta.bytes)});
   }
   // --- ROS 1 bags: record, header, index and chunk sizes ------------------------------------
   {
     const gmwm::test::Ros1Bag bag = gmwm::test::ros1_bag();
     std::string header_len = bag.bytes;
     patch(header_len, 13, std::uint32_t{0xffffffff});
-    c.push_back({"ROS bag record header length 2^32 - 1", {"wv", "h.bag"},
+    c.push_back({"ROS bag record header length 2^32 - 1",
+                 {"wv", "h.bag"},
                  {"h.bag", "record at byte 13", "header length 4294967295 runs past the end of the file"},
                  file("h.bag", header_len)});
     std::string data_len = bag.bytes;
     std::uint32_t h = 0;
     std::memcpy(&h, bag.bytes.data() + 13, 4);
     patch(data_len, 13 + 4 + h, std::uint32_t{0xfffffff0});
-    c.push_back({"ROS bag record data length 2^32 - 16", {"wv", "d.bag"},
+    c.push_back({"ROS bag record data length 2^32 - 16",
+                 {"wv", "d.bag"},
                  {"d.bag", "record at byte 13", "data of 4294967280 bytes runs past the end of the file"},
                  file("d.bag", data_len)});
     std::string index_pos = bag.bytes;
     patch(index_pos, field_value(bag.bytes, 13, "index_pos"), ~std::uint64_t{0});
-    c.push_back({"ROS bag index_pos 2^64 - 1", {"wv", "i.bag"},
-                 {"i.bag", "index_pos 18446744073709551615 is outside the file"}, file("i.bag", index_pos)});
+    c.push_back({"ROS bag index_pos 2^64 - 1",
+                 {"wv", "i.bag"},
+                 {"i.bag", "index_pos 18446744073709551615 is outside the file"},
+                 file("i.bag", index_pos)});
     std::string chunk_pos = bag.bytes;
     patch(chunk_pos, field_value(bag.bytes, bag.chunk_info_at[1], "chunk_pos"), std::uint64_t{1} << 63);
-    c.push_back({"ROS bag chunk_pos 2^63", {"wv", "c.bag"},
+    c.push_back({"ROS bag chunk_pos 2^63",
+                 {"wv", "c.bag"},
                  {"c.bag", "record at byte 9223372036854775808", "truncated (the file ends inside it)"},
                  file("c.bag", chunk_pos)});
     std::string count = bag.bytes;
     patch(count, field_value(bag.bytes, bag.chunk_info_at[0], "count"), std::uint32_t{0x20000000});
-    c.push_back({"ROS bag chunk info count 2^29", {"wv", "n.bag"},
-                 {"n.bag", "chunk info record at " + at(bag.chunk_info_at[0]), "is malformed"}, file("n.bag", count)});
+    c.push_back({"ROS bag chunk info count 2^29",
+                 {"wv", "n.bag"},
+                 {"n.bag", "chunk info record at " + at(bag.chunk_info_at[0]), "is malformed"},
+                 file("n.bag", count)});
     std::string inner = bag.bytes;
     const std::uint64_t records = record_data(bag.bytes, bag.chunk_pos[0]);
     patch(inner, records, std::uint32_t{0xfffffff0});
-    c.push_back({"ROS bag record inside a chunk with a header of 2^32 - 16 bytes", {"wv", "r.bag"},
+    c.push_back({"ROS bag record inside a chunk with a header of 2^32 - 16 bytes",
+                 {"wv", "r.bag"},
                  {"r.bag", "chunk at " + at(bag.chunk_pos[0]) + ", record at 0 of it",
                   "its header of 4294967280 bytes runs past the chunk's"},
                  file("r.bag", inner)});
     std::string frame = bag.bytes;
     patch(frame, records + bag.first_message_data_at + 12, std::uint32_t{0xffffffff});
-    c.push_back({"ROS bag message frame_id of 2^32 - 1 bytes", {"wv", "f.bag"},
-                 {"f.bag", "topic /imu message 1", "frame_id (a string of 4294967295 bytes at byte 16) runs past its end"},
-                 file("f.bag", frame)});
+    c.push_back(
+        {"ROS bag message frame_id of 2^32 - 1 bytes",
+         {"wv", "f.bag"},
+         {"f.bag", "topic /imu message 1", "frame_id (a string of 4294967295 bytes at byte 16) runs past its end"},
+         file("f.bag", frame)});
   }
   // --- MCAP: record lengths, chunk fields, strings, CDR ------------------------------------------
   {
@@ -141,34 +161,43 @@ std::vector<Case> corpus() {
     const gmwm::test::Mcap m = gmwm::test::mcap_file(o);
     std::string len = m.bytes;
     patch(len, 9, ~std::uint64_t{0});
-    c.push_back({"MCAP record length 2^64 - 1", {"wv", "l.mcap"},
+    c.push_back({"MCAP record length 2^64 - 1",
+                 {"wv", "l.mcap"},
                  {"l.mcap", "record at byte 8", "record of 18446744073709551615 bytes runs past the end of the file"},
                  file("l.mcap", len)});
     std::string records_len = m.bytes;
     patch(records_len, m.chunk_at[0] + 9 + 28 + 4, ~std::uint64_t{0});
-    c.push_back({"MCAP chunk records length 2^64 - 1", {"wv", "c.mcap"},
-                 {"c.mcap", "record at " + at(m.chunk_at[0]), "malformed chunk record: its records (18446744073709551615 bytes"},
+    c.push_back({"MCAP chunk records length 2^64 - 1",
+                 {"wv", "c.mcap"},
+                 {"c.mcap", "record at " + at(m.chunk_at[0]),
+                  "malformed chunk record: its records (18446744073709551615 bytes"},
                  file("c.mcap", records_len)});
     std::string compression = m.bytes;
     patch(compression, m.chunk_at[0] + 9 + 28, std::uint32_t{0xffffffff});
-    c.push_back({"MCAP chunk compression string of 2^32 - 1 bytes", {"wv", "s.mcap"},
+    c.push_back({"MCAP chunk compression string of 2^32 - 1 bytes",
+                 {"wv", "s.mcap"},
                  {"s.mcap", "record at " + at(m.chunk_at[0]), "its compression (a string of 4294967295 bytes"},
                  file("s.mcap", compression)});
     std::string inner = m.bytes;
     patch(inner, m.chunk_at[0] + 9 + 28 + 4 + 8 + 1, std::uint64_t{1} << 63);
-    c.push_back({"MCAP record inside a chunk of 2^63 bytes", {"wv", "i.mcap"},
+    c.push_back({"MCAP record inside a chunk of 2^63 bytes",
+                 {"wv", "i.mcap"},
                  {"i.mcap", "chunk at " + at(m.chunk_at[0]) + ", record at byte 0 of its records",
                   "record of 9223372036854775808 bytes runs past the end of the chunk"},
                  file("i.mcap", inner)});
     std::string topic = m.bytes;
     patch(topic, topic.find("/imu") - 4, std::uint32_t{0xfffffffe});
-    c.push_back({"MCAP channel topic of 2^32 - 2 bytes", {"wv", "t.mcap"},
-                 {"t.mcap", "malformed channel record: its topic (a string of 4294967294 bytes"}, file("t.mcap", topic)});
+    c.push_back({"MCAP channel topic of 2^32 - 2 bytes",
+                 {"wv", "t.mcap"},
+                 {"t.mcap", "malformed channel record: its topic (a string of 4294967294 bytes"},
+                 file("t.mcap", topic)});
     std::string cdr = m.bytes;
     patch(cdr, cdr.find(std::string("\x04\x00\x00\x00imu\x00", 8)), std::uint32_t{0xffffffff});
-    c.push_back({"MCAP CDR frame_id of 2^32 - 1 bytes", {"wv", "cdr.mcap"},
-                 {"cdr.mcap", "topic /imu message 1", "frame_id (a string of 4294967295 bytes at byte 16) runs past its end"},
-                 file("cdr.mcap", cdr)});
+    c.push_back(
+        {"MCAP CDR frame_id of 2^32 - 1 bytes",
+         {"wv", "cdr.mcap"},
+         {"cdr.mcap", "topic /imu message 1", "frame_id (a string of 4294967295 bytes at byte 16) runs past its end"},
+         file("cdr.mcap", cdr)});
     gmwm::test::McapOptions flat = o;
     flat.per_chunk = 0;
     flat.messages = 20;
@@ -179,17 +208,22 @@ std::vector<Case> corpus() {
     shortm.erase(first_message + 9 + 10, content - 10);
     std::string cut = m.bytes;
     cut.resize(m.chunk_at[1] + 100);
-    c.push_back({"MCAP cut inside a chunk", {"wv", "cut.mcap"},
+    c.push_back({"MCAP cut inside a chunk",
+                 {"wv", "cut.mcap"},
                  {"cut.mcap", "record at " + at(m.chunk_at[1]), "runs past the end of the file: truncated"},
                  file("cut.mcap", cut)});
-    std::string big_schema = std::string("\x89MCAP0\r\n", 8) +
-                             gmwm::test::mcap_record(0x03, LeBytes().put(std::uint16_t{1}).b + std::string(17u << 20, 's'));
-    c.push_back({"MCAP schema record of 17 MiB", {"wv", "schema.mcap"},
+    std::string big_schema =
+        std::string("\x89MCAP0\r\n", 8) +
+        gmwm::test::mcap_record(0x03, LeBytes().put(std::uint16_t{1}).b + std::string(17u << 20, 's'));
+    c.push_back({"MCAP schema record of 17 MiB",
+                 {"wv", "schema.mcap"},
                  {"schema.mcap", "record at byte 8", "a schema record of 17825794 bytes, above the limit of 16777216"},
                  file("schema.mcap", big_schema)});
-    c.push_back({"MCAP message shorter than its fields", {"wv", "m.mcap"},
-                 {"m.mcap", "record at " + at(first_message), "malformed message record: its log_time (8 bytes at byte 6"},
-                 file("m.mcap", shortm)});
+    c.push_back(
+        {"MCAP message shorter than its fields",
+         {"wv", "m.mcap"},
+         {"m.mcap", "record at " + at(first_message), "malformed message record: its log_time (8 bytes at byte 6"},
+         file("m.mcap", shortm)});
   }
   // --- chunks: the stated sizes and the inflation of every codec (none, bz2, lz4, zstd) ------
   {
@@ -205,62 +239,81 @@ std::vector<Case> corpus() {
       std::string four_gib = bag.bytes;
       patch(four_gib, bag.chunk_size_at[0], std::uint32_t{0xffffffff});
       const std::string name = std::string("g4.") + codec + ".bag";
-      c.push_back({std::string("ROS bag ") + codec + " chunk claiming 4 GiB", {"wv", name},
-                   {name, "chunk at " + at(bag.chunk_pos[0]), "uncompressed size 4294967295 bytes, above the limit of 1073741824"},
+      c.push_back({std::string("ROS bag ") + codec + " chunk claiming 4 GiB",
+                   {"wv", name},
+                   {name, "chunk at " + at(bag.chunk_pos[0]),
+                    "uncompressed size 4294967295 bytes, above the limit of 1073741824"},
                    file(name, four_gib)});
       std::string ratio = bag.bytes;
       patch(ratio, bag.chunk_size_at[0], std::uint32_t{(1u << 30) - 1});
       const std::string rname = std::string("r.") + codec + ".bag";
-      c.push_back({std::string("ROS bag ") + codec + " chunk claiming 1 GiB from a few kB", {"wv", rname},
-                   {rname, "chunk at " + at(bag.chunk_pos[0]), "more than 250 times their compressed size past 256 MiB"},
-                   file(rname, ratio)});
+      c.push_back(
+          {std::string("ROS bag ") + codec + " chunk claiming 1 GiB from a few kB",
+           {"wv", rname},
+           {rname, "chunk at " + at(bag.chunk_pos[0]), "more than 250 times their compressed size past 256 MiB"},
+           file(rname, ratio)});
       std::string together = bag.bytes;
       for (std::uint64_t size_at : bag.chunk_size_at) patch(together, size_at, std::uint32_t{100u << 20});
       const std::string tname = std::string("t.") + codec + ".bag";
-      c.push_back({std::string("ROS bag ") + codec + " chunks of 100 MiB each, past the limit together", {"wv", tname},
+      c.push_back({std::string("ROS bag ") + codec + " chunks of 100 MiB each, past the limit together",
+                   {"wv", tname},
                    {tname, "chunk at " + at(bag.chunk_pos[2]), "brings the file's chunks to 314572800 bytes"},
                    file(tname, together)});
     }
     const auto bag_bomb = [&](const char* codec, const std::string& stored) {
       const gmwm::test::Ros1Bag b = gmwm::test::ros1_bag_of_chunks({{codec, 4096, stored}});
       const std::string name = std::string("bomb.") + codec + ".bag";
-      return Case{std::string("ROS bag ") + codec + " chunk inflating past the size it states", {"wv", name},
-                  {name, "chunk at " + at(b.chunk_pos[0]), std::string(codec) + " data does not decompress to its 4096 bytes"},
-                  file(name, b.bytes)};
+      return Case{
+          std::string("ROS bag ") + codec + " chunk inflating past the size it states",
+          {"wv", name},
+          {name, "chunk at " + at(b.chunk_pos[0]), std::string(codec) + " data does not decompress to its 4096 bytes"},
+          file(name, b.bytes)};
     };
     c.push_back(bag_bomb("bz2", bz2_bomb));
     c.push_back(bag_bomb("lz4", lz4_bomb));
     const gmwm::test::Ros1Bag none = gmwm::test::ros1_bag_of_chunks({{"none", 8192, small}});
-    c.push_back({"ROS bag uncompressed chunk stating another size", {"wv", "none.bag"},
-                 {"none.bag", "chunk at " + at(none.chunk_pos[0]), "uncompressed data of 4096 bytes, its header says 8192 bytes"},
+    c.push_back({"ROS bag uncompressed chunk stating another size",
+                 {"wv", "none.bag"},
+                 {"none.bag", "chunk at " + at(none.chunk_pos[0]),
+                  "uncompressed data of 4096 bytes, its header says 8192 bytes"},
                  file("none.bag", none.bytes)});
-    c.push_back({"ROS bag shorter than its first line", {"wv", "short.bag"},
-                 {"short.bag", "found a ROS bag of version 'r', expected 2.0"}, file("short.bag", "#ROSBAG Vr")});
+    c.push_back({"ROS bag shorter than its first line",
+                 {"wv", "short.bag"},
+                 {"short.bag", "found a ROS bag of version 'r', expected 2.0"},
+                 file("short.bag", "#ROSBAG Vr")});
     const gmwm::test::Ros1Bag zlib = gmwm::test::ros1_bag_of_chunks({{"zlib", 4096, small}});
-    c.push_back({"ROS bag chunk of an unknown compression", {"wv", "zlib.bag"},
-                 {"zlib.bag", "chunk at " + at(zlib.chunk_pos[0]), "chunk compression 'zlib', expected none, bz2 or lz4"},
-                 file("zlib.bag", zlib.bytes)});
+    c.push_back(
+        {"ROS bag chunk of an unknown compression",
+         {"wv", "zlib.bag"},
+         {"zlib.bag", "chunk at " + at(zlib.chunk_pos[0]), "chunk compression 'zlib', expected none, bz2 or lz4"},
+         file("zlib.bag", zlib.bytes)});
 
     const gmwm::test::Mcap huge = gmwm::test::mcap_of_chunks({{"zstd", std::uint64_t{1} << 40, zstd_bomb}});
-    c.push_back({"MCAP zstd chunk claiming 1 TiB", {"wv", "huge.mcap"},
-                 {"huge.mcap", "chunk at " + at(huge.chunk_at[0]), "uncompressed size 1099511627776 bytes, above the limit"},
-                 file("huge.mcap", huge.bytes)});
+    c.push_back(
+        {"MCAP zstd chunk claiming 1 TiB",
+         {"wv", "huge.mcap"},
+         {"huge.mcap", "chunk at " + at(huge.chunk_at[0]), "uncompressed size 1099511627776 bytes, above the limit"},
+         file("huge.mcap", huge.bytes)});
     for (const char* codec : {"lz4", "zstd"}) {
       const gmwm::test::Mcap r = gmwm::test::mcap_of_chunks({{codec, (std::uint64_t{1} << 30) - 1, small}});
       const std::string name = std::string("r.") + codec + ".mcap";
-      c.push_back({std::string("MCAP ") + codec + " chunk claiming 1 GiB from 4 kB", {"wv", name},
+      c.push_back({std::string("MCAP ") + codec + " chunk claiming 1 GiB from 4 kB",
+                   {"wv", name},
                    {name, "chunk at " + at(r.chunk_at[0]), "more than 250 times their compressed size past 256 MiB"},
                    file(name, r.bytes)});
       const std::string& bomb = std::string(codec) == "lz4" ? lz4_bomb : zstd_bomb;
       const gmwm::test::Mcap b = gmwm::test::mcap_of_chunks({{codec, 4096, bomb}});
       const std::string bname = std::string("bomb.") + codec + ".mcap";
-      c.push_back({std::string("MCAP ") + codec + " chunk inflating past the size it states", {"wv", bname},
-                   {bname, "chunk at " + at(b.chunk_at[0]), std::string(codec) + " data does not decompress to its 4096 bytes"},
-                   file(bname, b.bytes)});
+      c.push_back(
+          {std::string("MCAP ") + codec + " chunk inflating past the size it states",
+           {"wv", bname},
+           {bname, "chunk at " + at(b.chunk_at[0]), std::string(codec) + " data does not decompress to its 4096 bytes"},
+           file(bname, b.bytes)});
     }
     // MCAP chunks are read one after the other: two real chunks of 100 MiB of zeros (empty
     // records of 9 bytes) inflate, the third brings the file past the rule before inflating.
-    c.push_back({"MCAP zstd chunks of 100 MiB each, past the limit together", {"wv", "t.mcap"},
+    c.push_back({"MCAP zstd chunks of 100 MiB each, past the limit together",
+                 {"wv", "t.mcap"},
                  {"t.mcap", "chunk at byte", "brings the file's chunks to 314572788 bytes", "more than 250 times"},
                  [](const fs::path& d) {
                    constexpr std::size_t kZeros = 104857596;  // 100 MiB - 4: whole empty records
@@ -269,11 +322,14 @@ std::vector<Case> corpus() {
                    gmwm::test::write_text(d / "t.mcap", gmwm::test::mcap_of_chunks(many).bytes);
                  }});
     const gmwm::test::Mcap none_m = gmwm::test::mcap_of_chunks({{"", 8192, small}});
-    c.push_back({"MCAP uncompressed chunk stating another size", {"wv", "none.mcap"},
-                 {"none.mcap", "chunk at " + at(none_m.chunk_at[0]), "uncompressed records of 4096 bytes, its header says 8192"},
+    c.push_back({"MCAP uncompressed chunk stating another size",
+                 {"wv", "none.mcap"},
+                 {"none.mcap", "chunk at " + at(none_m.chunk_at[0]),
+                  "uncompressed records of 4096 bytes, its header says 8192"},
                  file("none.mcap", none_m.bytes)});
     const gmwm::test::Mcap gz = gmwm::test::mcap_of_chunks({{"gzip", 4096, small}});
-    c.push_back({"MCAP chunk of an unknown compression", {"wv", "gz.mcap"},
+    c.push_back({"MCAP chunk of an unknown compression",
+                 {"wv", "gz.mcap"},
                  {"gz.mcap", "chunk at " + at(gz.chunk_at[0]), "compression 'gzip', expected '' (none), lz4 or zstd"},
                  file("gz.mcap", gz.bytes)});
   }
@@ -290,60 +346,78 @@ std::vector<Case> corpus() {
         "(SELECT 1 UNION ALL SELECT i + 1 FROM r) SELECT i, 'imu' || i, 'sensor_msgs/msg/Imu', 'cdr' FROM r";
     gmwm::test::Rosbag2Options o;
     o.messages_sql = recursive_messages;
-    c.push_back({"rosbag2 messages as a recursive view", {"wv", "v.db3"},
-                 {"v.db3", "'messages' is a view, expected the rosbag2 table"}, bag("v.db3", o)});
+    c.push_back({"rosbag2 messages as a recursive view",
+                 {"wv", "v.db3"},
+                 {"v.db3", "'messages' is a view, expected the rosbag2 table"},
+                 bag("v.db3", o)});
     o.wal = true;  // and nothing may appear beside it: no -shm, no -wal
-    c.push_back({"rosbag2 in WAL mode with messages as a recursive view", {"wv", "w.db3"},
-                 {"w.db3", "'messages' is a view"}, bag("w.db3", o)});
+    c.push_back({"rosbag2 in WAL mode with messages as a recursive view",
+                 {"wv", "w.db3"},
+                 {"w.db3", "'messages' is a view"},
+                 bag("w.db3", o)});
     gmwm::test::Rosbag2Options t;
     t.topics_sql = recursive_topics;
-    c.push_back({"rosbag2 topics as a recursive view", {"wv", "t.db3"},
-                 {"t.db3", "'topics' is a view, expected the rosbag2 table"}, bag("t.db3", t)});
+    c.push_back({"rosbag2 topics as a recursive view",
+                 {"wv", "t.db3"},
+                 {"t.db3", "'topics' is a view, expected the rosbag2 table"},
+                 bag("t.db3", t)});
     gmwm::test::Rosbag2Options fts;
     fts.messages_sql = "CREATE VIRTUAL TABLE messages USING fts5(id, topic_id, timestamp, data)";
-    c.push_back({"rosbag2 messages as a virtual table", {"wv", "fts.db3"},
-                 {"fts.db3", "'messages' is a virtual table, expected the rosbag2 table"}, bag("fts.db3", fts)});
+    c.push_back({"rosbag2 messages as a virtual table",
+                 {"wv", "fts.db3"},
+                 {"fts.db3", "'messages' is a virtual table, expected the rosbag2 table"},
+                 bag("fts.db3", fts)});
     gmwm::test::Rosbag2Options generated;
     generated.messages_sql =
         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
         "data BLOB GENERATED ALWAYS AS (zeroblob(1000000000)) VIRTUAL)";
-    c.push_back({"rosbag2 data as a generated column of 1 GB", {"wv", "g.db3"},
+    c.push_back({"rosbag2 data as a generated column of 1 GB",
+                 {"wv", "g.db3"},
                  {"g.db3", "column 'data' of table 'messages' is generated, expected a stored column"},
                  bag("g.db3", generated)});
     gmwm::test::Rosbag2Options nodata;
-    nodata.messages_sql = "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, blob BLOB)";
-    c.push_back({"rosbag2 messages without a data column", {"wv", "n.db3"},
-                 {"n.db3", "table 'messages' has no column 'data', expected rosbag2's columns"}, bag("n.db3", nodata)});
+    nodata.messages_sql =
+        "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, blob BLOB)";
+    c.push_back({"rosbag2 messages without a data column",
+                 {"wv", "n.db3"},
+                 {"n.db3", "table 'messages' has no column 'data', expected rosbag2's columns"},
+                 bag("n.db3", nodata)});
     gmwm::test::Rosbag2Options big;
     big.messages = 2;
     big.blob = [](int) { return std::string(20u << 20, '\1'); };
-    c.push_back({"rosbag2 message blob of 20 MiB", {"wv", "b.db3"},
-                 {"b.db3", "topic /imu message 1: cannot read it: string or blob too big"}, bag("b.db3", big)});
+    c.push_back({"rosbag2 message blob of 20 MiB",
+                 {"wv", "b.db3"},
+                 {"b.db3", "topic /imu message 1: cannot read it: string or blob too big"},
+                 bag("b.db3", big)});
     gmwm::test::Rosbag2Options frame;
     frame.blob = [](int i) {
       std::string m = gmwm::test::imu_cdr(i, 5000000);
       if (i == 4) patch(m, 12, std::uint32_t{0xffffffff});
       return m;
     };
-    c.push_back({"rosbag2 CDR frame_id of 2^32 - 1 bytes", {"wv", "f.db3"},
+    c.push_back({"rosbag2 CDR frame_id of 2^32 - 1 bytes",
+                 {"wv", "f.db3"},
                  {"f.db3", "topic /imu message 5: truncated: frame_id (a string of 4294967295 bytes"},
                  bag("f.db3", frame)});
-    c.push_back({"rosbag2 with a write-ahead log beside it", {"wv", "l.db3"},
-                 {"l.db3", "found ", "l.db3-wal beside it with changes not yet in the database", "PRAGMA wal_checkpoint"},
-                 [](const fs::path& d) {
-                   // The log of an open connection, copied beside a copy of its database.
-                   const fs::path live = d.parent_path() / (d.filename().string() + "-live.db3");
-                   sqlite3* db = nullptr;
-                   sqlite3_open(live.c_str(), &db);
-                   sqlite3_exec(db, "PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0;", nullptr, nullptr, nullptr);
-                   sqlite3_exec(db, "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);"
-                                    "INSERT INTO topics VALUES (1, '/imu', 'sensor_msgs/msg/Imu', 'cdr');",
-                                nullptr, nullptr, nullptr);
-                   fs::copy_file(live, d / "l.db3");
-                   fs::copy_file(live.string() + "-wal", d / "l.db3-wal");
-                   sqlite3_close(db);
-                   fs::remove(live);
-                 }});
+    c.push_back(
+        {"rosbag2 with a write-ahead log beside it",
+         {"wv", "l.db3"},
+         {"l.db3", "found ", "l.db3-wal beside it with changes not yet in the database", "PRAGMA wal_checkpoint"},
+         [](const fs::path& d) {
+           // The log of an open connection, copied beside a copy of its database.
+           const fs::path live = d.parent_path() / (d.filename().string() + "-live.db3");
+           sqlite3* db = nullptr;
+           sqlite3_open(live.c_str(), &db);
+           sqlite3_exec(db, "PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0;", nullptr, nullptr, nullptr);
+           sqlite3_exec(db,
+                        "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);"
+                        "INSERT INTO topics VALUES (1, '/imu', 'sensor_msgs/msg/Imu', 'cdr');",
+                        nullptr, nullptr, nullptr);
+           fs::copy_file(live, d / "l.db3");
+           fs::copy_file(live.string() + "-wal", d / "l.db3-wal");
+           sqlite3_close(db);
+           fs::remove(live);
+         }});
   }
   return c;
 }

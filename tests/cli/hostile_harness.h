@@ -65,10 +65,11 @@ std::string test_name(const std::string& name);
 }  // namespace gmwm::test::hostile
 
 /// A parameterised suite `Suite` over `cases` (a std::vector<Case>), one test per case.
-#define HOSTILE_CORPUS(Suite, cases)                                                                          \
-  class Suite : public ::testing::TestWithParam<::gmwm::test::hostile::Case> {};                              \
-  TEST_P(Suite, ExitsTwoWithOneLineNamingThePlaceAndLeavesEverythingAsItWas) {                               \
-    ::gmwm::test::hostile::expect_contract(GetParam());                                                       \
-  }                                                                                                           \
-  INSTANTIATE_TEST_SUITE_P(Corpus, Suite, ::testing::ValuesIn(cases),                                         \
-                           [](const auto& param_info) { return ::gmwm::test::hostile::test_name(param_info.param.name); })
+#define HOSTILE_CORPUS(Suite, cases)                                                               \
+  class Suite : public ::testing::TestWithParam<::gmwm::test::hostile::Case> {};                   \
+  TEST_P(Suite, ExitsTwoWithOneLineNamingThePlaceAndLeavesEverythingAsItWas) {                     \
+    ::gmwm::test::hostile::expect_contract(GetParam());                                            \
+  }                                                                                                \
+  INSTANTIATE_TEST_SUITE_P(Corpus, Suite, ::testing::ValuesIn(cases), [](const auto& param_info) { \
+    return ::gmwm::test::hostile::test_name(param_info.param.name);                                \
+  })

@@ -47,16 +47,16 @@ std::optional<std::string> find_chromium() {
   return std::nullopt;
 }
 
-#define REQUIRE_BROWSER(exe)                                                                         \
-  const std::optional<std::string> exe = find_chromium();                                           \
-  do {                                                                                               \
-    if (!exe) {                                                                                      \
-      const char* req = std::getenv("GMWM_REQUIRE_BROWSER");                                         \
-      if (req && std::string(req) == "1")                                                            \
-        FAIL() << "headless Chromium not found (GMWM_REQUIRE_BROWSER=1): apt-get install chromium";  \
+#define REQUIRE_BROWSER(exe)                                                                          \
+  const std::optional<std::string> exe = find_chromium();                                             \
+  do {                                                                                                \
+    if (!exe) {                                                                                       \
+      const char* req = std::getenv("GMWM_REQUIRE_BROWSER");                                          \
+      if (req && std::string(req) == "1")                                                             \
+        FAIL() << "headless Chromium not found (GMWM_REQUIRE_BROWSER=1): apt-get install chromium";   \
       GTEST_SKIP() << "headless Chromium not found: apt-get install chromium (or set GMWM_CHROMIUM) " \
-                      "to run the browser test";                                                     \
-    }                                                                                                \
+                      "to run the browser test";                                                      \
+    }                                                                                                 \
   } while (0)
 
 // Artefacts beside the build: <build>/test_artefacts (the gmwm binary's folder).
@@ -83,11 +83,13 @@ class Browser {
   }
   /// A 1400 x 3000 screenshot of the page.
   void screenshot(const fs::path& page, const fs::path& png, const fs::path& log) const {
-    run({"--hide-scrollbars", "--window-size=1400,3000", "--screenshot=" + png.string()}, page, profile_ / "stdout.txt", log);
+    run({"--hide-scrollbars", "--window-size=1400,3000", "--screenshot=" + png.string()}, page, profile_ / "stdout.txt",
+        log);
   }
 
  private:
-  void run(const std::vector<std::string>& extra, const fs::path& page, const fs::path& out, const fs::path& log) const {
+  void run(const std::vector<std::string>& extra, const fs::path& page, const fs::path& out,
+           const fs::path& log) const {
     std::vector<std::string> args = {"--headless",
                                      "--no-sandbox",
                                      "--disable-gpu",
@@ -143,7 +145,8 @@ void expect_rendered(const std::string& dom, const std::map<std::string, int>& k
   EXPECT_NE(dom.find("data-gmwm-rendered=\"" + std::to_string(total) + "\""), std::string::npos);
   // Each view's own <svg class="marks">, with marks in it.
   EXPECT_EQ(count_matches(dom, "<svg [^>]*class=\"marks\""), total);
-  const int wv_like = (kinds.count("wv") ? kinds.at("wv") : 0) + (kinds.count("gap-curves") ? kinds.at("gap-curves") : 0);
+  const int wv_like =
+      (kinds.count("wv") ? kinds.at("wv") : 0) + (kinds.count("gap-curves") ? kinds.at("gap-curves") : 0);
   const int adev = kinds.count("adev") ? kinds.at("adev") : 0;
   const int loglog = wv_like + adev;
   EXPECT_EQ(count_matches(dom, "aria-label=\"Y-axis titled 'wavelet variance nu\\^2"), wv_like);
@@ -256,9 +259,8 @@ TEST(HtmlReportInBrowser, AllanDeviationPlotRendersWithItsGuideLines) {
 TEST(HtmlReportInBrowser, WvPlotZoomsOnTheWheelAndShowsValuesOnHover) {
   REQUIRE_BROWSER(exe);
   const fs::path dir = gmwm::test::temp_dir("report_probe");
-  const auto r = run_gmwm({"select", example(), "--columns", "gyro_x", "--model", "AR1+WN+RW", "--report", "r.html",
-                           "--quiet"},
-                          dir);
+  const auto r = run_gmwm(
+      {"select", example(), "--columns", "gyro_x", "--model", "AR1+WN+RW", "--report", "r.html", "--quiet"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::string html = read_text(dir / "r.html");
   const std::string probe = R"JS(<script>
@@ -303,10 +305,10 @@ setTimeout(function () {
 TEST(HtmlReportInBrowser, SelectReportOnTheSixAxisAdisRecordingStaysUnderFiveMegabytes) {
   GMWM_REQUIRE_SHARED_DATA();
   REQUIRE_BROWSER(exe);
-  check_report(*exe, "report_select_adis",
-               {"select", gmwm::test::shared_data_file("adis_16405_imu1.csv.gz"), "--freq", "100", "--model",
-                "AR1+WN+RW"},
-               {{"wv", 6}, {"adev", 6}});
+  check_report(
+      *exe, "report_select_adis",
+      {"select", gmwm::test::shared_data_file("adis_16405_imu1.csv.gz"), "--freq", "100", "--model", "AR1+WN+RW"},
+      {{"wv", 6}, {"adev", 6}});
 }
 
 }  // namespace
@@ -318,10 +320,28 @@ TEST(HtmlReportInBrowser, NavReportRendersItsFourCurvePlotsWithoutScriptErrors) 
   const fs::path page = dir / "report_nav.html";
   const fs::path log = dir / "report_nav.chromium.log";
   fs::remove(log);
-  const auto r = run_gmwm({"nav", "--truth", "gyro=AR1(phi=0.9999,sigma2=1e-12)+WN(sigma2=1e-8);accel=AR1(phi=0.9999,sigma2=1e-8)+WN(sigma2=1e-5)",
-                           "--filter", "truth", "--filter", "wnrw", "--label", "the truth", "--rate", "100", "--horizon", "300",
-                           "--outage", "120:180", "--monte-carlo", "20", "--report", page.string(), "--quiet"},
-                          dir);
+  const auto r =
+      run_gmwm({"nav",
+                "--truth",
+                "gyro=AR1(phi=0.9999,sigma2=1e-12)+WN(sigma2=1e-8);accel=AR1(phi=0.9999,sigma2=1e-8)+WN(sigma2=1e-5)",
+                "--filter",
+                "truth",
+                "--filter",
+                "wnrw",
+                "--label",
+                "the truth",
+                "--rate",
+                "100",
+                "--horizon",
+                "300",
+                "--outage",
+                "120:180",
+                "--monte-carlo",
+                "20",
+                "--report",
+                page.string(),
+                "--quiet"},
+               dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Browser browser(*exe);
   const std::string dom = browser.dump_dom(page, log);

@@ -39,8 +39,7 @@ class GmwmCliJointFit : public ::testing::Test {
     for (int k = 1; k <= 3; ++k) simulate("r" + std::to_string(k) + ".csv", 1 << (11 + k), "100", k);
   }
   void TearDown() override { fs::remove_all(dir_); }
-  void simulate(const std::string& file, int n, const std::string& freq, int seed,
-                const std::string& names = "gx,gy") {
+  void simulate(const std::string& file, int n, const std::string& freq, int seed, const std::string& names = "gx,gy") {
     const auto r = run_gmwm({"simulate", "--model", kTruth, "--n", std::to_string(n), "--freq", freq, "--signals",
                              std::to_string(std::count(names.begin(), names.end(), ',') + 1), "--names", names,
                              "--seed", std::to_string(seed), "-o", file, "--quiet"},
@@ -113,9 +112,8 @@ TEST_F(GmwmCliJointFit, RejectsAReplicateAtAnotherRate) {
 
 TEST_F(GmwmCliJointFit, NeverWritesOverAReplicateNamedWithItsColumn) {
   const std::string before = gmwm::test::read_text(dir_ / "r2.csv");
-  const auto r = run_gmwm({"fit", "r1.csv", "--columns", "gx", "--joint", "r2.csv:gx", "--model", "WN+RW", "--json",
-                           "r2.csv"},
-                          dir_);
+  const auto r = run_gmwm(
+      {"fit", "r1.csv", "--columns", "gx", "--joint", "r2.csv:gx", "--model", "WN+RW", "--json", "r2.csv"}, dir_);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("r2.csv"), std::string::npos) << r.err;
   EXPECT_EQ(gmwm::test::read_text(dir_ / "r2.csv"), before);
@@ -220,7 +218,8 @@ TEST_F(GmwmCliJointFit, FitAndSelectWriteAReportOfTheReplicates) {
 }
 
 TEST_F(GmwmCliJointFit, RejectsTheReplicateOptimismWithoutReplicates) {
-  const auto r = run_gmwm({"select", "r1.csv", "--model", "WN+RW", "--optimism", "replicates", "--json", "out.json"}, dir_);
+  const auto r =
+      run_gmwm({"select", "r1.csv", "--model", "WN+RW", "--optimism", "replicates", "--json", "out.json"}, dir_);
   expect_bad_input(r, {"--optimism replicates", "--joint"}, json());
 }
 
@@ -257,8 +256,8 @@ TEST_F(GmwmCliJointFit, UnitsGiveTheJointModelItsUnitAndNoiseFiguresAndExportCon
 
 TEST_F(GmwmCliJointFit, SelectGivesTheRecommendedModelFittedJointlyWithItsUnitForExport) {
   for (int k = 1; k <= 3; ++k) simulate("g" + std::to_string(k) + ".csv", 1 << (11 + k), "100", 10 + k, "gyro_x");
-  auto r = run_gmwm({"select", "g1.csv", "--joint", "g2.csv", "g3.csv", "--model", "AR1+WN+RW", "--units",
-                     "gyro=deg/s", "--json", "out.json"},
+  auto r = run_gmwm({"select", "g1.csv", "--joint", "g2.csv", "g3.csv", "--model", "AR1+WN+RW", "--units", "gyro=deg/s",
+                     "--json", "out.json"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(flowed(r.out).find("recommended, fitted jointly: "), std::string::npos) << r.out;
@@ -280,7 +279,8 @@ TEST_F(GmwmCliJointFit, ExportRefusesAJointResultWhoseUnitItCannotTell) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(gmwm::test::read_json(json())["columns"][0]["unit"].is_null());
   r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml"}, dir_);
-  expect_bad_input(r, {"out.json", "column 'gyro_x'", "does not say the data's unit", "--units gyro="}, dir_ / "imu.yaml");
+  expect_bad_input(r, {"out.json", "column 'gyro_x'", "does not say the data's unit", "--units gyro="},
+                   dir_ / "imu.yaml");
   // Told the unit, it converts.
   r = run_gmwm({"export", "out.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "imu.yaml", "--quiet"},
                dir_);
@@ -306,15 +306,16 @@ class GmwmCliJointProgress : public GmwmCliJointFit {
     std::string cmd = std::string("'") + gmwm::test::gmwm_cli_path() + "'";
     for (const auto& a : args) cmd += " '" + a + "'";
     const fs::path log = dir_ / "tty.log";
-    const std::string shell = "cd '" + dir_.string() + "' && script -qec \"" + cmd + "\" /dev/null > '" + log.string() + "' 2>&1";
+    const std::string shell =
+        "cd '" + dir_.string() + "' && script -qec \"" + cmd + "\" /dev/null > '" + log.string() + "' 2>&1";
     EXPECT_EQ(std::system(shell.c_str()), 0) << shell;
     return gmwm::test::read_text(log);
   }
 };
 
 TEST_F(GmwmCliJointProgress, FitAndSelectJointShowProgressOnATerminalAndNotOffOne) {
-  const std::vector<std::string> fit_args = {"fit", "r1.csv", "--model", "AR1+WN+RW", "--joint", "r2.csv", "r3.csv",
-                                             "--replicates", "20"};
+  const std::vector<std::string> fit_args = {"fit",    "r1.csv", "--model",      "AR1+WN+RW", "--joint",
+                                             "r2.csv", "r3.csv", "--replicates", "20"};
   const std::vector<std::string> select_args = {"select", "r1.csv", "--model", "WN+RW", "--joint", "r2.csv", "r3.csv"};
   const std::string fit_tty = on_terminal(fit_args);
   if (fit_tty.empty()) GTEST_SKIP() << "script(1) (bsdutils) is not installed: no pseudo-terminal to test on";

@@ -78,9 +78,8 @@ TEST_F(GmwmNav, TakesModelStringsAtARateAndWritesAReportWithFourPlots) {
 }
 
 TEST_F(GmwmNav, PrintsALabelsControlBytesEscapedOnOneLine) {
-  const auto r = run_gmwm({"nav", "--truth", "fit.json", "--filter", "truth", "--label", "evil\nname\x1b[31m", "--horizon",
-                           "20"},
-                          *dir_);
+  const auto r = run_gmwm(
+      {"nav", "--truth", "fit.json", "--filter", "truth", "--label", "evil\nname\x1b[31m", "--horizon", "20"}, *dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
   EXPECT_NE(r.out.find("evil name\\x1B[31m"), std::string::npos) << r.out;
@@ -96,15 +95,16 @@ TEST_F(GmwmNav, RefusesBadSourcesAndScenariosInOneLineWritingNothing) {
   expect_bad_input(run_gmwm({"nav", "--truth", "missing.json", "--json", "bad.json"}, *dir_), {"missing.json"}, out);
   expect_bad_input(run_gmwm({"nav", "--truth", "fit.json", "--trajectory", "maneuver", "--json", "bad.json"}, *dir_),
                    {"--trajectory", "manoeuvre"}, out);
-  expect_bad_input(run_gmwm({"nav", "--truth", "fit.json", "--filter", "gyro=WN;accel=WN", "--json", "bad.json"}, *dir_),
-                   {"gyro=WN", "give every parameter's value"}, out);
+  expect_bad_input(
+      run_gmwm({"nav", "--truth", "fit.json", "--filter", "gyro=WN;accel=WN", "--json", "bad.json"}, *dir_),
+      {"gyro=WN", "give every parameter's value"}, out);
   expect_bad_input(run_gmwm({"nav", "--truth", "gyro=WN(sigma2=1e-6)", "--json", "bad.json"}, *dir_),
                    {"give both sensors"}, out);
   // A model with more states than the analysis takes (FLICKER 14 + 32 AR1/GM per axis).
   const std::string big = "16*AR1(phi=0.5,sigma2=1e-6)+16*GM(beta=1,sigma2_gm=1e-6)+FLICKER(B2=1e-8)";
-  expect_bad_input(run_gmwm({"nav", "--truth", "gyro=" + big + ";accel=" + big, "--rate", "100", "--json", "bad.json"},
-                            *dir_),
-                   {"states, more than 240"}, out);
+  expect_bad_input(
+      run_gmwm({"nav", "--truth", "gyro=" + big + ";accel=" + big, "--rate", "100", "--json", "bad.json"}, *dir_),
+      {"states, more than 240"}, out);
   // An output that is one of the model files is refused, the file untouched.
   const std::string before = gmwm::test::read_text(*dir_ / "fit.json");
   const auto same = run_gmwm({"nav", "--truth", "fit.json", "--json", "fit.json"}, *dir_);
@@ -134,22 +134,22 @@ TEST_F(GmwmNav, ExportsTheSmallestInflationThatKeepsAWnRwFilterFromBeingOptimist
   EXPECT_NE(yaml.find("the smallest factor"), std::string::npos);
   EXPECT_NE(yaml.find("what it lacks: AR1 (T "), std::string::npos);
   // The written filter, run through `gmwm nav` on the export's own setting, is not optimistic.
-  const auto n = run_gmwm({"nav", "--truth", "fit.json", "--filter", "imu.yaml", "--fix-rate", "20", "--fix-sigma", "0.05",
-                           "--horizon", "720", "--outage", "600:660", "--judge-from", "540", "--json", "check.json",
-                           "--quiet"},
-                          *dir_);
+  const auto n =
+      run_gmwm({"nav", "--truth", "fit.json", "--filter", "imu.yaml", "--fix-rate", "20", "--fix-sigma", "0.05",
+                "--horizon", "720", "--outage", "600:660", "--judge-from", "540", "--json", "check.json", "--quiet"},
+               *dir_);
   ASSERT_EQ(n.exit_code, 0) << n.err;
   EXPECT_LE(read_json(*dir_ / "check.json").at("filters")[0].at("nees_above").get<double>(), 0.05);
 }
 
 TEST_F(GmwmNav, ConsistentForRefusesInflateASimulatorFormatAndAGyroOnlySource) {
   const fs::path out = *dir_ / "bad.json";
-  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "x.yaml", "--consistent-for", "20,60",
-                             "--inflate", "2", "--json", "bad.json"},
+  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "x.yaml", "--consistent-for",
+                             "20,60", "--inflate", "2", "--json", "bad.json"},
                             *dir_),
                    {"--consistent-for", "--inflate"}, out);
-  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "gz-sdf", "--output", "x.sdf", "--consistent-for", "20,60",
-                             "--json", "bad.json"},
+  expect_bad_input(run_gmwm({"export", "fit.json", "--format", "gz-sdf", "--output", "x.sdf", "--consistent-for",
+                             "20,60", "--json", "bad.json"},
                             *dir_),
                    {"--consistent-for", "gz-sdf"}, out);
   expect_bad_input(run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "x.yaml", "--consistent-for", "20",

@@ -12,9 +12,9 @@
 
 namespace fs = std::filesystem;
 using gmwm::test::expect_bad_input;
+using gmwm::test::flowed;
 using gmwm::test::read_json;
 using gmwm::test::read_text;
-using gmwm::test::flowed;
 using gmwm::test::run_gmwm;
 using json = nlohmann::json;
 
@@ -46,9 +46,8 @@ double yaml_value(const std::string& text, const std::string& key) {
 TEST_F(GmwmNoiseFigures, WvAdevGivesTheAllanDeviationAndItsReadOffsInTheDeclaredUnit) {
   // N = sqrt(0.01 / 100) = 0.01 deg/s/sqrt(Hz), K = sqrt(1e-8 x 100) = 0.001 deg/s^2/sqrt(Hz).
   simulate("WN(sigma2=0.01)+RW(gamma2=1e-8)", "gyro_x");
-  const auto r = run_gmwm({"wv", "sim.csv.gz", "--adev", "--units", "gyro=deg/s", "--json", "wv.json", "--adev-csv",
-                           "adev.csv"},
-                          dir_);
+  const auto r = run_gmwm(
+      {"wv", "sim.csv.gz", "--adev", "--units", "gyro=deg/s", "--json", "wv.json", "--adev-csv", "adev.csv"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(flowed(r.out).find("overlapping Allan deviation"), std::string::npos) << r.out;
   EXPECT_NE(flowed(r.out).find("N white noise"), std::string::npos) << r.out;
@@ -87,10 +86,12 @@ TEST_F(GmwmNoiseFigures, WvAdevRejectsItsOptionsWithoutAdevAndBadPointsPerOctave
 TEST_F(GmwmNoiseFigures, AnExportFromAModelWithoutWhiteNoiseWritesTheDensityTheDataShow) {
   // Fast AR1 (phi = 0.16, the ADIS gyro filter) + slow AR1; N = sqrt(0.12 / 0.84^2 / 100).
   simulate("AR1(phi=0.16,sigma2=0.12)+AR1(phi=0.9999,sigma2=2e-8)", "gyro_x,gyro_y,gyro_z");
-  auto r = run_gmwm({"fit", "sim.csv.gz", "--model", "2*AR1", "--units", "gyro=deg/s", "--verbose", "--json", "fit.json"}, dir_);
+  auto r = run_gmwm(
+      {"fit", "sim.csv.gz", "--model", "2*AR1", "--units", "gyro=deg/s", "--verbose", "--json", "fit.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(flowed(r.out).find("N white noise"), std::string::npos) << r.out;
-  EXPECT_NE(flowed(r.out).find("white measurement noise R (from N)"), std::string::npos) << "the Kalman table's R from N";
+  EXPECT_NE(flowed(r.out).find("white measurement noise R (from N)"), std::string::npos)
+      << "the Kalman table's R from N";
   const double n_true = std::sqrt(0.12 / (0.84 * 0.84) / 100.0);
   const json doc = read_json(dir_ / "fit.json");  // a range over a temporary's member would dangle
   for (const json& c : doc.at("columns")) {

@@ -20,7 +20,9 @@ namespace {
 
 // An escape sequence that clears the screen and sets the window title, a C1 CSI, and a
 // spreadsheet formula.
-const std::string kEscapeName = "gyro\x1b[2J\x1b]0;pwned\x07\xC2\x9B" "31mx";
+const std::string kEscapeName =
+    "gyro\x1b[2J\x1b]0;pwned\x07\xC2\x9B"
+    "31mx";
 const std::string kFormulaName = "=HYPERLINK(\"http://evil\";\"click\")+0";
 const std::string kMarkupName = "</script><script>alert(1)</script>";
 
@@ -29,11 +31,11 @@ class GmwmOutputNames : public ::testing::Test {
   void SetUp() override {
     dir_ = gmwm::test::temp_dir("cli_names");
     // The header's quotes are the CSV's own: the names are the text between them.
-    std::string csv = "time,\"" + kEscapeName + "\",\"" + std::string("=HYPERLINK(\"\"http://evil\"\";\"\"click\"\")+0") +
-                      "\",\"" + kMarkupName + "\"\n";
+    std::string csv = "time,\"" + kEscapeName + "\",\"" +
+                      std::string("=HYPERLINK(\"\"http://evil\"\";\"\"click\"\")+0") + "\",\"" + kMarkupName + "\"\n";
     for (int i = 0; i < 4096; ++i)
-      csv += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i * 0.37)) + "," + std::to_string(std::cos(i * 0.1)) +
-             "," + std::to_string(std::sin(i * 0.05) + (i % 3) * 0.01) + "\n";
+      csv += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i * 0.37)) + "," +
+             std::to_string(std::cos(i * 0.1)) + "," + std::to_string(std::sin(i * 0.05) + (i % 3) * 0.01) + "\n";
     gmwm::test::write_text(dir_ / "names.csv", csv);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -64,7 +66,8 @@ TEST_F(GmwmOutputNames, TheCsvQuotesEveryNameAndDisarmsFormulas) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string csv = read_text(dir_ / "wv.csv");
   // The formula's cell is text to a spreadsheet: quoted, with a leading '.
-  EXPECT_NE(csv.find("\n\"'=HYPERLINK(\"\"http://evil\"\";\"\"click\"\")+0\",1,"), std::string::npos) << csv.substr(0, 600);
+  EXPECT_NE(csv.find("\n\"'=HYPERLINK(\"\"http://evil\"\";\"\"click\"\")+0\",1,"), std::string::npos)
+      << csv.substr(0, 600);
   // No line starts with a formula character.
   for (std::size_t p = csv.find('\n'); p != std::string::npos && p + 1 < csv.size(); p = csv.find('\n', p + 1))
     EXPECT_EQ(std::string("=+-@").find(csv[p + 1]), std::string::npos) << csv.substr(p + 1, 80);

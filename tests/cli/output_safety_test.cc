@@ -77,10 +77,9 @@ TEST_F(GmwmCliOutputSafety, RefusesAnExportOutputThatIsItsSourceResult) {
 }
 
 TEST_F(GmwmCliOutputSafety, RefusesTwoOutputsNamingTheSameFile) {
-  expect_refused(run_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--output", "x.csv", "--json",
-                           "x.csv"},
-                          dir_),
-                 {"--json 'x.csv': names the same file as --output 'x.csv'"}, {"x.csv"});
+  expect_refused(
+      run_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--output", "x.csv", "--json", "x.csv"}, dir_),
+      {"--json 'x.csv': names the same file as --output 'x.csv'"}, {"x.csv"});
   expect_refused(run_gmwm({"wv", "base.csv", "--freq", "100", "--csv", "-", "--json", "-"}, dir_),
                  {"already writes to standard output"});
 }
@@ -109,29 +108,29 @@ TEST_F(GmwmCliOutputSafety, RefusesADeviceTarget) {
 TEST_F(GmwmCliOutputSafety, WritesNoOutputWhenALaterOneFails) {
   expect_refused(run_gmwm({"wv", "base.csv", "--freq", "100", "--csv", "ok.csv", "--json", "/proc/x.json"}, dir_),
                  {"cannot write '/proc/x.json'"}, {"ok.csv"});
-  expect_refused(run_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--output", "ok.csv", "--json",
-                           "/proc/x.json"},
-                          dir_),
-                 {"cannot write '/proc/x.json'"}, {"ok.csv"});
+  expect_refused(
+      run_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "100", "--output", "ok.csv", "--json", "/proc/x.json"},
+               dir_),
+      {"cannot write '/proc/x.json'"}, {"ok.csv"});
 }
 
 TEST_F(GmwmCliOutputSafety, AFitWithAnUnwritableReportWritesNoJson) {
   if (!fs::exists("/usr/share/javascript/vega/vega-view.min.js") && !std::getenv("GMWM_VEGA_DIR"))
     GTEST_SKIP() << "libjs-vega not installed: --report is unavailable";
-  expect_refused(run_gmwm({"fit", "base.csv", "--freq", "100", "--model", "WN", "--json", "ok.json", "--report",
-                           "/proc/r.html"},
-                          dir_),
-                 {"cannot write '/proc/r.html"}, {"ok.json"});
+  expect_refused(
+      run_gmwm({"fit", "base.csv", "--freq", "100", "--model", "WN", "--json", "ok.json", "--report", "/proc/r.html"},
+               dir_),
+      {"cannot write '/proc/r.html"}, {"ok.json"});
 }
 
 TEST_F(GmwmCliOutputSafety, WritesNothingPastAFileSizeLimit) {
   // ulimit -f 64: at most 64 KiB per file. The simulated CSV is ~4 MB.
   gmwm::test::RunOptions how;
   how.before = "ulimit -f 64;";
-  expect_refused(run_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "200000", "--output", "big.csv", "--json",
-                           "s.json"},
-                          dir_, how),
-                 {"cannot write 'big.csv'", "File too large"}, {"big.csv", "s.json"});
+  expect_refused(
+      run_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "200000", "--output", "big.csv", "--json", "s.json"},
+               dir_, how),
+      {"cannot write 'big.csv'", "File too large"}, {"big.csv", "s.json"});
 }
 
 TEST_F(GmwmCliOutputSafety, ReportsAWriteErrorOnStandardOutput) {
@@ -194,9 +193,8 @@ TEST_F(GmwmCliOutputSafety, NoKillWhileAnOutputIsWrittenLeavesAnythingInItsFolde
   for (int sig : {SIGKILL, SIGQUIT, SIGALRM, SIGTERM, SIGINT}) {
     const fs::path out = dir_ / ("run" + std::to_string(sig));
     fs::create_directory(out);
-    const pid_t pid = start_gmwm({"simulate", "--model", "WN(sigma2=1)", "--n", "3000000", "--output", "big.csv",
-                                  "--json", "s.json"},
-                                 out);
+    const pid_t pid = start_gmwm(
+        {"simulate", "--model", "WN(sigma2=1)", "--n", "3000000", "--output", "big.csv", "--json", "s.json"}, out);
     const auto t0 = std::chrono::steady_clock::now();
     long long bytes = -1;
     while ((bytes = staged_bytes(pid, out)) < (1 << 20) &&

@@ -50,20 +50,20 @@ TEST_F(GmwmPlan, GivesEachFiguresRecordLengthAndThePrecisionAGivenRecordReaches)
 
 TEST_F(GmwmPlan, RefusesATargetTheModelLacksAndBadOptionsInOneLine) {
   const fs::path out = dir_ / "bad.json";
-  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--targets", "K", "--json", "bad.json"},
-                            dir_),
-                   {"WN(sigma2=1e-08)", "random walk"}, out);
+  expect_bad_input(
+      run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--targets", "K", "--json", "bad.json"}, dir_),
+      {"WN(sigma2=1e-08)", "random walk"}, out);
   expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--json", "bad.json"}, dir_), {"freq"}, out);
   expect_bad_input(run_gmwm({"plan", "--model", "WN", "--freq", "100", "--json", "bad.json"}, dir_),
                    {"give every parameter's value"}, out);
-  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--precision", "2", "--json", "bad.json"},
-                            dir_),
-                   {"--precision", "(0, 1)"}, out);
+  expect_bad_input(
+      run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--precision", "2", "--json", "bad.json"}, dir_),
+      {"--precision", "(0, 1)"}, out);
   expect_bad_input(run_gmwm({"plan", "missing.json", "--json", "bad.json"}, dir_), {"missing.json"}, out);
   // A unit typo is refused, never written as the figures' label.
-  expect_bad_input(run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--unit", "dge/s", "--json", "bad.json"},
-                            dir_),
-                   {"unit 'dge/s'", "expected rad/s, deg/s, deg/h"}, out);
+  expect_bad_input(
+      run_gmwm({"plan", "--model", "WN(sigma2=1e-8)", "--freq", "100", "--unit", "dge/s", "--json", "bad.json"}, dir_),
+      {"unit 'dge/s'", "expected rad/s, deg/s, deg/h"}, out);
 }
 
 }  // namespace

@@ -25,8 +25,8 @@ class GmwmSelect : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = gmwm::test::temp_dir("cli_select");
-    auto r = run_gmwm({"simulate", "--model", "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)", "--n", "16384", "--freq",
-                       "100", "--signals", "2", "--output", "sim.csv.gz", "--quiet"},
+    auto r = run_gmwm({"simulate", "--model", "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)", "--n", "16384", "--freq", "100",
+                       "--signals", "2", "--output", "sim.csv.gz", "--quiet"},
                       dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
@@ -91,11 +91,9 @@ TEST_F(GmwmSelect, RanksOnlyTheListedModelsInTheNonNestedMode) {
 }
 
 TEST_F(GmwmSelect, JsonIsIdenticalWithOneAndTwoThreadsApartFromTheRunObject) {
-  auto a = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "1", "--json", "a.json",
-                     "--quiet"},
+  auto a = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "1", "--json", "a.json", "--quiet"},
                     dir_);
-  auto b = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "2", "--json", "b.json",
-                     "--quiet"},
+  auto b = run_gmwm({"select", "sim.csv.gz", "--model", "2*AR1+WN+RW", "--threads", "2", "--json", "b.json", "--quiet"},
                     dir_);
   ASSERT_EQ(a.exit_code, 0) << a.err;
   ASSERT_EQ(b.exit_code, 0) << b.err;
@@ -103,11 +101,13 @@ TEST_F(GmwmSelect, JsonIsIdenticalWithOneAndTwoThreadsApartFromTheRunObject) {
 }
 
 TEST_F(GmwmSelect, RejectsBadOptionsWithOneLine) {
-  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model", "--models"}, dir_ / "x.json");
+  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--json", "x.json"}, dir_), {"--model", "--models"},
+                   dir_ / "x.json");
   expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--models", "AR1+WN;;WN", "--json", "x.json"}, dir_),
                    {"--models", "empty model"}, dir_ / "x.json");
-  expect_bad_input(run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--penalty", "aic", "--json", "x.json"}, dir_),
-                   {"--penalty"}, dir_ / "x.json");
+  expect_bad_input(
+      run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--penalty", "aic", "--json", "x.json"}, dir_),
+      {"--penalty"}, dir_ / "x.json");
   expect_bad_input(
       run_gmwm({"select", "sim.csv.gz", "--model", "AR1+WN", "--optimism", "jackknife", "--json", "x.json"}, dir_),
       {"--optimism"}, dir_ / "x.json");

@@ -56,19 +56,22 @@ TEST_F(GmwmSideFiles, AnExportReadsAFitResultPipedIntoItWhole) {
   RunOptions how;
   how.stdin_pipe = true;
   how.stdin_from = cli() + " fit sim.csv --model WN+RW --units gyro=rad/s --json - --quiet";
-  const auto r = run_gmwm({"export", "/dev/stdin", "--format", "kalibr", "--output", "pipe.yaml", "--quiet"}, dir_, how);
+  const auto r =
+      run_gmwm({"export", "/dev/stdin", "--format", "kalibr", "--output", "pipe.yaml", "--quiet"}, dir_, how);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(values_of(read_text(dir_ / "pipe.yaml")), values_of(from_file_));
 }
 
 TEST_F(GmwmSideFiles, AnExportReadsADataFilePipedIntoItWhole) {
-  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "kalibr", "--output", "data.yaml", "--quiet"},
+  auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "kalibr", "--output",
+                     "data.yaml", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   RunOptions how;
   how.stdin_pipe = true;
   how.stdin_from = "cat sim.csv";
-  r = run_gmwm({"export", "/dev/stdin", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "kalibr", "--output", "pipe.yaml", "--quiet"},
+  r = run_gmwm({"export", "/dev/stdin", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "kalibr", "--output",
+                "pipe.yaml", "--quiet"},
                dir_, how);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(values_of(read_text(dir_ / "pipe.yaml")), values_of(read_text(dir_ / "data.yaml")));

@@ -101,7 +101,8 @@ TEST_F(TerminalWidth, EveryLineOfTheReadmesExampleCommandsFitsOneHundredColumns)
       if (a.rfind("data/", 0) == 0) a = (data / a.substr(5)).string();
       // Recordings the README names but does not ship (a user's day1.csv.gz, flight.ulg ...).
       for (const char* ext : {".csv.gz", ".ulg", ".bag", ".db3", ".mcap"})
-        if (a.size() > std::string(ext).size() && a.compare(a.size() - std::string(ext).size(), std::string::npos, ext) == 0 &&
+        if (a.size() > std::string(ext).size() &&
+            a.compare(a.size() - std::string(ext).size(), std::string::npos, ext) == 0 &&
             !fs::exists(fs::path(a).is_absolute() ? fs::path(a) : dir_ / a))
           runnable = false;
     }

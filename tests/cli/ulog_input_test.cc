@@ -90,7 +90,8 @@ TEST(GmwmBinaryLogs, MemoryGivesTheSameWvToTheLastBitForEveryBinaryLog) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto a = read_json(dir / "memory.json"), b = read_json(dir / "files.json");
     ASSERT_EQ(a["columns"].size(), 6u) << log;
-    for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(a["columns"][k]["levels"], b["columns"][k]["levels"]) << log << " " << k;
+    for (std::size_t k = 0; k < 6; ++k)
+      EXPECT_EQ(a["columns"][k]["levels"], b["columns"][k]["levels"]) << log << " " << k;
   }
   fs::remove_all(dir);
 }

@@ -42,7 +42,8 @@ const json* find(const json& rows, const std::string& process, const std::string
 }
 
 TEST_F(GmwmUnits, FitGivesTheNoiseDensityInTheDeclaredUnitAndTheFilterTerms) {
-  auto r = run_gmwm({"fit", "g.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--verbose", "--json", "f.json"}, dir_);
+  auto r =
+      run_gmwm({"fit", "g.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--verbose", "--json", "f.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json c = read_json(dir_ / "f.json").at("columns").at(0);
   EXPECT_EQ(c.at("unit"), "rad/s");
@@ -66,9 +67,8 @@ TEST_F(GmwmUnits, FitGivesTheNoiseDensityInTheDeclaredUnitAndTheFilterTerms) {
   EXPECT_EQ(R->at("discrete_unit"), "(rad/s)^2");
   EXPECT_EQ(R->at("q_unit"), "(rad/s)^2/Hz");
   // A filter at 100 Hz: R halves (q f_k with q = sigma2 / 200).
-  auto half = run_gmwm({"fit", "g.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--kf-rate", "100", "--json",
-                        "h.json"},
-                       dir_);
+  auto half = run_gmwm(
+      {"fit", "g.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--kf-rate", "100", "--json", "h.json"}, dir_);
   ASSERT_EQ(half.exit_code, 0) << half.err;
   const json h = read_json(dir_ / "h.json");
   const json* R2 = find(h.at("columns").at(0).at("kalman").at("terms"), "WN", "measurement noise R");
@@ -80,7 +80,8 @@ TEST_F(GmwmUnits, FitGivesTheNoiseDensityInTheDeclaredUnitAndTheFilterTerms) {
 }
 
 TEST_F(GmwmUnits, DegreesPerSecondDataGiveDensitiesInDegreesAndSelectReportsTheBestModelsTerms) {
-  auto r = run_gmwm({"select", "g.csv", "--model", "WN+RW", "--units", "gyro=deg/s", "--verbose", "--json", "s.json"}, dir_);
+  auto r =
+      run_gmwm({"select", "g.csv", "--model", "WN+RW", "--units", "gyro=deg/s", "--verbose", "--json", "s.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json c = read_json(dir_ / "s.json").at("columns").at(0);
   EXPECT_EQ(c.at("unit"), "deg/s");

@@ -33,8 +33,7 @@ WaveletVariance wv_of_length(std::int64_t n) {
 
 bool has_slow_ar1(const EffectiveModel& e) {
   for (int k = 0; k < e.model.num_components(); ++k)
-    if (e.model.components()[static_cast<std::size_t>(k)].process->name() == "AR1" &&
-        e.theta(e.model.offset(k)) > 0.99)
+    if (e.model.components()[static_cast<std::size_t>(k)].process->name() == "AR1" && e.theta(e.model.offset(k)) > 0.99)
       return true;
   return false;
 }
@@ -72,7 +71,8 @@ TEST(EffectiveModel, TestsAnAr1OverEveryCorrelationTimeTheFitCouldHaveChosen) {
   o.covariance = diagonal_of(model_wv_covariance(m, m.given_values(), kN, wv.levels()));
   const EffectiveModel e = effective_model(wv, m, m.given_values(), o);
   ASSERT_EQ(e.model.to_string(), "AR1+WN") << e.model.to_string(e.theta);
-  const double bonferroni = std::pow(boost::math::quantile(boost::math::complement(boost::math::normal(), 0.05 / 100)), 2);
+  const double bonferroni =
+      std::pow(boost::math::quantile(boost::math::complement(boost::math::normal(), 0.05 / 100)), 2);
   EXPECT_GT(e.threshold, kOneSidedQuantile + 4.0 * kQuantileSe);
   EXPECT_LT(e.threshold, bonferroni);
 }
@@ -163,7 +163,8 @@ TEST(EffectiveModel, RejectsACovarianceOfTheWrongSize) {
     effective_model(wv, m, m.given_values(), o);
     FAIL() << "no error";
   } catch (const InvalidArgument& e) {
-    EXPECT_NE(std::string(e.what()).find("the covariance is 3 x 3, the WV has 10 levels"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the covariance is 3 x 3, the WV has 10 levels"), std::string::npos)
+        << e.what();
   }
 }
 

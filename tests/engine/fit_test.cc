@@ -160,10 +160,11 @@ TEST(GmwmFit, ARandomWalkSeenOnlyAtTheLastLevelsIsNotDraggedDownByALowSingleCoef
 
 TEST(GmwmFit, IndependentFitsAreNeverAboveTheirOneComponentSubModels) {
   // No warm starts from outside: each model fitted on its own, all under one Omega.
-  const char* truth = "AR1(phi=0.5,sigma2=0.2)+AR1(phi=0.999,sigma2=1e-4)+AR1(phi=0.99999,sigma2=1e-6)"
-                      "+WN(sigma2=1)+RW(gamma2=1e-9)+DR(omega=1e-6)";
-  const std::vector<std::string> subs = {"2*AR1+WN+RW+QN+DR", "3*AR1+RW+QN+DR", "3*AR1+WN+QN+DR",
-                                         "3*AR1+WN+RW+DR", "3*AR1+WN+RW+QN"};
+  const char* truth =
+      "AR1(phi=0.5,sigma2=0.2)+AR1(phi=0.999,sigma2=1e-4)+AR1(phi=0.99999,sigma2=1e-6)"
+      "+WN(sigma2=1)+RW(gamma2=1e-9)+DR(omega=1e-6)";
+  const std::vector<std::string> subs = {"2*AR1+WN+RW+QN+DR", "3*AR1+RW+QN+DR", "3*AR1+WN+QN+DR", "3*AR1+WN+RW+DR",
+                                         "3*AR1+WN+RW+QN"};
   for (std::uint64_t seed : {101u, 102u, 103u}) {
     const WaveletVariance w = wv_of(truth, 1 << 16, seed);
     FitOptions o;
@@ -213,7 +214,9 @@ TEST(GmwmFit, RejectsAModelWithMoreParametersThanLevels) {
     fit_gmwm(w, parse_model("3*AR1+WN"));
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("has 7 parameters but the wavelet variance has only 6 levels"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has 7 parameters but the wavelet variance has only 6 levels"),
+              std::string::npos)
+        << e.what();
   }
 }
 

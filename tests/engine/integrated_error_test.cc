@@ -47,8 +47,8 @@ double direct_sum_variance(const Model& m, const Eigen::VectorXd& theta, int K) 
 
 /// Monte-Carlo variance of S = (1/f) (x_1 + ... + x_K) over `paths` simulated series
 /// (mean known to be 0, so the mean of S^2).
-double monte_carlo_variance(const Model& m, const Eigen::VectorXd& theta, double freq, int K,
-                            int paths, std::uint64_t seed) {
+double monte_carlo_variance(const Model& m, const Eigen::VectorXd& theta, double freq, int K, int paths,
+                            std::uint64_t seed) {
   const auto series = simulate_many(m, theta, K, paths, seed);
   double sum2 = 0.0;
   for (const auto& x : series) {
@@ -99,8 +99,7 @@ TEST(IntegratedError, RandomWalkMatchesSimulatedPaths) {
   const double freq = 10.0;
   const int K = 40, paths = 2000;
   const double sd = integrated_error_sd(m, theta, freq, K / freq);
-  EXPECT_NEAR(monte_carlo_variance(m, theta, freq, K, paths, 17) / (sd * sd), 1.0,
-              4.0 * std::sqrt(2.0 / paths));
+  EXPECT_NEAR(monte_carlo_variance(m, theta, freq, K, paths, 17) / (sd * sd), 1.0, 4.0 * std::sqrt(2.0 / paths));
 }
 
 TEST(IntegratedError, Ar1MatchesTheDirectDoubleSum) {
@@ -109,8 +108,7 @@ TEST(IntegratedError, Ar1MatchesTheDirectDoubleSum) {
     const Eigen::VectorXd theta = vec({phi, 0.2});
     for (int K : {1, 2, 7, 30}) {
       const double sd = integrated_error_sd(m, theta, 4.0, K / 4.0);
-      EXPECT_NEAR(sd * sd * 16.0 / direct_sum_variance(m, theta, K), 1.0, 1e-12)
-          << "phi = " << phi << ", K = " << K;
+      EXPECT_NEAR(sd * sd * 16.0 / direct_sum_variance(m, theta, K), 1.0, 1e-12) << "phi = " << phi << ", K = " << K;
     }
   }
 }
@@ -123,8 +121,7 @@ TEST(IntegratedError, Ar1MatchesSimulatedPaths) {
   const double freq = 10.0;
   const int K = 50, paths = 2000;
   const double sd = integrated_error_sd(m, theta, freq, 5.0);
-  EXPECT_NEAR(monte_carlo_variance(m, theta, freq, K, paths, 2024) / (sd * sd), 1.0,
-              4.0 * std::sqrt(2.0 / paths));
+  EXPECT_NEAR(monte_carlo_variance(m, theta, freq, K, paths, 2024) / (sd * sd), 1.0, 4.0 * std::sqrt(2.0 / paths));
 }
 
 TEST(IntegratedError, DriftIsReportedAsADeterministicError) {
@@ -209,12 +206,18 @@ TEST(IntegratedError, RejectsBadArgumentsWithCheckMessages) {
             "least 0.500000");
   EXPECT_EQ(message_of([&] { integrated_error(m, theta, 1000.0, 1e6); }),
             "integrated_error: horizon_seconds * freq (samples) is 1000000000, but must be at most 67108864");
-  EXPECT_EQ(message_of([&] { integrated_error(m, vec({1.0, 1.5, 1.0}), 100.0, 60.0); }),
+  EXPECT_EQ(message_of([&] {
+              integrated_error(m, vec({1.0, 1.5, 1.0}), 100.0, 60.0);
+            }),
             "integrated_error: component 2 (AR1): phi must be in (-1, 1) (got 1.5)");
-  EXPECT_EQ(message_of([&] { integrated_error(m, vec({1.0, 0.5}), 100.0, 60.0); }),
+  EXPECT_EQ(message_of([&] {
+              integrated_error(m, vec({1.0, 0.5}), 100.0, 60.0);
+            }),
             "integrated_error: model takes 3 parameters, got 2");
   const Model gm = parse_model("GM", {100.0, true});
-  EXPECT_EQ(message_of([&] { integrated_error(gm, vec({1.0, 1.0}), 200.0, 60.0); }),
+  EXPECT_EQ(message_of([&] {
+              integrated_error(gm, vec({1.0, 1.0}), 200.0, 60.0);
+            }),
             "integrated_error: freq is 200, but must be the rate component 1 (GM) was built with, 100 Hz");
 }
 

@@ -31,7 +31,7 @@ TEST(KalmanTerms, WhiteNoiseIsAMeasurementNoiseWhoseVarianceScalesWithTheFilterR
   // q = N^2 = 5.7583e-06 / 200 = 2.87915e-08 (rad/s)^2/Hz (N = 1.6968e-04 rad/s/sqrt(Hz)).
   const KalmanTerm at_data_rate = only("WN", {5.7583e-06}, 200.0, 200.0);
   EXPECT_NEAR(at_data_rate.q, 2.87915e-08, 1e-13);
-  EXPECT_NEAR(at_data_rate.discrete, 5.7583e-06, 1e-15);  // R = sigma2 at the data rate
+  EXPECT_NEAR(at_data_rate.discrete, 5.7583e-06, 1e-15);                             // R = sigma2 at the data rate
   EXPECT_NEAR(only("WN", {5.7583e-06}, 200.0, 100.0).discrete, 2.87915e-06, 1e-15);  // q x 100 Hz
   EXPECT_EQ(at_data_rate.q_unit, "U^2/Hz");
 }

@@ -82,12 +82,12 @@ TEST(ModelRelations, NeighboursAreOneComponentRemovedOrReplacedBySomethingItCont
 }
 
 TEST(ModelRelations, CoversLinkEachModelToWhatItRepresentsDirectly) {
-  const std::vector<Model> models = {parse_model("AR1"), parse_model("WN"), parse_model("AR1+WN"),
-                                     parse_model("2*AR1"), parse_model("WN+RW")};
+  const std::vector<Model> models = {parse_model("AR1"), parse_model("WN"), parse_model("AR1+WN"), parse_model("2*AR1"),
+                                     parse_model("WN+RW")};
   const auto rep = representation_matrix(models);
-  EXPECT_TRUE(rep[3][4]);   // 2*AR1 represents WN+RW
-  EXPECT_TRUE(rep[3][2]);   // and AR1+WN
-  EXPECT_TRUE(rep[3][0]);   // and AR1, through AR1+WN
+  EXPECT_TRUE(rep[3][4]);  // 2*AR1 represents WN+RW
+  EXPECT_TRUE(rep[3][2]);  // and AR1+WN
+  EXPECT_TRUE(rep[3][0]);  // and AR1, through AR1+WN
   EXPECT_FALSE(rep[4][3]);
   EXPECT_TRUE(rep[2][4]) << "AR1+WN represents WN+RW too (its AR1 as the random walk)";
   const auto covers = representation_covers(rep);

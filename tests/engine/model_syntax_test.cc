@@ -60,7 +60,8 @@ TEST(ModelSyntax, RejectsAnUnknownParameterListingTheValidOnes) {
 }
 
 TEST(ModelSyntax, RejectsMalformedStringsSayingWhatWasExpected) {
-  EXPECT_EQ(error_of("WN+"), "model 'WN+', column 4: found the end of the model, expected a process name such as WN, AR1 or RW");
+  EXPECT_EQ(error_of("WN+"),
+            "model 'WN+', column 4: found the end of the model, expected a process name such as WN, AR1 or RW");
   EXPECT_EQ(error_of("WN(sigma2=)"), "model 'WN(sigma2=)', column 11: found ')', expected a finite number");
   EXPECT_EQ(error_of("WN RW"), "model 'WN RW', column 4: found 'R', expected '+' or the end of the model");
   EXPECT_EQ(error_of(""), "model '', column 1: found an empty model, expected a process name such as WN or 3*AR1");

@@ -4,9 +4,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/process_registry.h"
 
-TEST(ModelTest, WhiteNoiseIsRegistered) {
-  EXPECT_NE(gmwm::ProcessRegistry::instance().find("wn"), nullptr);
-}
+TEST(ModelTest, WhiteNoiseIsRegistered) { EXPECT_NE(gmwm::ProcessRegistry::instance().find("wn"), nullptr); }
 
 namespace gmwm {
 namespace {

@@ -160,8 +160,8 @@ TEST(NoiseFigures, KalmanTermsFollowTheFigures) {
   c.instability.figure.tau = 189.26;
   const auto t = kalman_terms(c, 200.0);
   ASSERT_EQ(t.size(), 3u);
-  EXPECT_NEAR(t[0].discrete, 0.01 * 0.01 * 200.0, 1e-15);   // R = N^2 f_k
-  EXPECT_NEAR(t[1].discrete, 1e-8 / 200.0, 1e-20);          // Q_d = K^2 / f_k
+  EXPECT_NEAR(t[0].discrete, 0.01 * 0.01 * 200.0, 1e-15);  // R = N^2 f_k
+  EXPECT_NEAR(t[1].discrete, 1e-8 / 200.0, 1e-20);         // Q_d = K^2 / f_k
   EXPECT_NE(t[1].note.find("upper bound"), std::string::npos);
   EXPECT_NEAR(t[2].transition, std::exp(-1.0 / (200.0 * 100.0)), 1e-12);  // T = 189.26 / 1.8926 = 100 s
   EXPECT_THROW(kalman_terms(c, 0.0), InvalidArgument);

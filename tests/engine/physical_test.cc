@@ -93,8 +93,8 @@ TEST(PhysicalQuantities, CarryAKindThatCodePicksThemByNotTheirDisplayName) {
       if (q[i].kind != PhysicalKind::kParameter) EXPECT_EQ(quantity_of_kind(q, q[i].kind), q[i].value) << c.process;
     }
   }
-  EXPECT_TRUE(std::isnan(quantity_of_kind(make("WN")->physical(std::vector<double>{1e-4}, 100.0),
-                                          PhysicalKind::kRandomWalk)));
+  EXPECT_TRUE(
+      std::isnan(quantity_of_kind(make("WN")->physical(std::vector<double>{1e-4}, 100.0), PhysicalKind::kRandomWalk)));
 }
 
 TEST(PhysicalQuantities, RejectAWrongSizeOrRateWithCheckMessages) {
@@ -103,15 +103,17 @@ TEST(PhysicalQuantities, RejectAWrongSizeOrRateWithCheckMessages) {
             "Process::physical: freq is 0, but must be positive and finite");
   EXPECT_EQ(message_of([&] { p->physical(std::vector<double>{1.0}, INFINITY); }),
             "Process::physical: freq is inf, but must be positive and finite");
-  EXPECT_EQ(message_of([&] { p->physical(std::vector<double>{1.0, 2.0}, 1.0); }),
+  EXPECT_EQ(message_of([&] {
+              p->physical(std::vector<double>{1.0, 2.0}, 1.0);
+            }),
             "Process::physical: size of theta (2) and size of parameters of WN (1) must match");
 }
 
 TEST(PhysicalInterval, MapsAOneParameterIntervalExactly) {
   // WN sigma2 in [4e-6, 9e-6] at 100 Hz: N in [sqrt(4e-8), sqrt(9e-8)] = [2e-4, 3e-4].
   const auto wn = make("WN");
-  const auto wi = physical_interval(*wn, std::vector<double>{6e-6}, std::vector<double>{4e-6},
-                                    std::vector<double>{9e-6}, 100.0);
+  const auto wi =
+      physical_interval(*wn, std::vector<double>{6e-6}, std::vector<double>{4e-6}, std::vector<double>{9e-6}, 100.0);
   ASSERT_EQ(wi.size(), 1u);
   EXPECT_NEAR(wi[0].low, 2e-4, 1e-16);
   EXPECT_NEAR(wi[0].high, 3e-4, 1e-16);

@@ -21,7 +21,9 @@ TEST(PrintableText, KeepsLineBreaksTabsAndUtf8AndShowsEveryOtherControlAsHex) {
   EXPECT_EQ(printable_text("bell\x07"), "bell\\x07");
   EXPECT_EQ(printable_text("del\x7f"), "del\\x7F");
   // C1 controls are valid UTF-8 but act as escapes (U+009B is CSI): shown as bytes.
-  EXPECT_EQ(printable_text("c1\xC2\x9B" "31m"), "c1\\xC2\\x9B31m");
+  EXPECT_EQ(printable_text("c1\xC2\x9B"
+                           "31m"),
+            "c1\\xC2\\x9B31m");
   EXPECT_EQ(printable_text("nbsp\xC2\xA0ok"), "nbsp\xC2\xA0ok");
   EXPECT_EQ(printable_text(std::string("nul\0x", 5)), "nul\\x00x");
   EXPECT_EQ(printable_text("bad\xFF"), "bad\\xFF");
@@ -34,7 +36,8 @@ TEST(PrintableLine, IsOneLineWithTheSameEscapes) {
 
 std::vector<double> series(double scale, std::size_t n = 4096) {
   std::vector<double> x(n);
-  for (std::size_t i = 0; i < n; ++i) x[i] = scale * (std::sin(0.37 * static_cast<double>(i)) + 0.1 * static_cast<double>(i % 7));
+  for (std::size_t i = 0; i < n; ++i)
+    x[i] = scale * (std::sin(0.37 * static_cast<double>(i)) + 0.1 * static_cast<double>(i % 7));
   return x;
 }
 

@@ -147,7 +147,8 @@ TEST(RecordPlan, HalvingThePrecisionQuadruplesTheLengthForWhiteNoiseButNotForASh
   const RecordPlan p = plan_record_length(wr, wr.given_values(), 100.0, o);
   const auto at = [&](double factor) {
     return kZ95 * record_relative_se(wr, wr.given_values(), 100.0,
-                                     static_cast<std::int64_t>(factor * static_cast<double>(p.targets[0].samples)), {"K"})[0];
+                                     static_cast<std::int64_t>(factor * static_cast<double>(p.targets[0].samples)),
+                                     {"K"})[0];
   };
   EXPECT_LE(at(1.0), 0.1);
   EXPECT_LT(at(2.0), at(1.0));

@@ -98,6 +98,9 @@ TEST(Samples, LeaveNoFileInTheTemporaryFolderWhileTheyLiveOrAfter) {
     EXPECT_TRUE(std::filesystem::is_empty(dir));  // unlinked at creation
   }
   EXPECT_TRUE(std::filesystem::is_empty(dir));
-  if (old) ::setenv("TMPDIR", saved.c_str(), 1); else ::unsetenv("TMPDIR");
+  if (old)
+    ::setenv("TMPDIR", saved.c_str(), 1);
+  else
+    ::unsetenv("TMPDIR");
   std::filesystem::remove_all(dir);
 }

@@ -23,8 +23,7 @@ ProcessContext one_hz() {
 }
 
 // V against the sample covariance of R simulated WVs (seed fixed by the caller).
-void expect_matches_monte_carlo(const Model& m, const Eigen::MatrixXd& V, std::int64_t n, int R,
-                                std::uint64_t seed) {
+void expect_matches_monte_carlo(const Model& m, const Eigen::MatrixXd& V, std::int64_t n, int R, std::uint64_t seed) {
   const int J = static_cast<int>(V.rows());
   ClassicalWvEstimator est;
   const Eigen::MatrixXd S = bootstrap_wv_covariance(m, m.given_values(), n, J, R, seed, est);
@@ -88,7 +87,8 @@ Eigen::MatrixXd lag_by_lag_covariance(const std::function<double(long)>& gamma, 
   Eigen::MatrixXd V(J, J);
   auto filter = [](long tau) {
     std::vector<double> h(static_cast<std::size_t>(tau));
-    for (long k = 0; k < tau; ++k) h[static_cast<std::size_t>(k)] = (k < tau / 2 ? 1.0 : -1.0) / static_cast<double>(tau);
+    for (long k = 0; k < tau; ++k)
+      h[static_cast<std::size_t>(k)] = (k < tau / 2 ? 1.0 : -1.0) / static_cast<double>(tau);
     return h;
   };
   for (int i = 0; i < J; ++i)
@@ -140,8 +140,8 @@ TEST(WvCovariance, AgreesWithTheLagByLagSumForAr1sOfShortAndLongMemory) {
     const auto gamma = [&](long k) {
       return 2.0 / (1.0 - phi * phi) * std::pow(phi, static_cast<double>(k)) + (k == 0 ? 0.1 : 0.0);
     };
-    const double err = worst_relative_error(model_wv_covariance(m, m.given_values(), n, J),
-                                            lag_by_lag_covariance(gamma, n, J));
+    const double err =
+        worst_relative_error(model_wv_covariance(m, m.given_values(), n, J), lag_by_lag_covariance(gamma, n, J));
     EXPECT_LT(err, kCovarianceAccuracy) << "phi " << phi;
   }
 }
@@ -154,8 +154,7 @@ TEST(WvCovariance, IgnoresACollapsedComponentBelowItsNegligibleShare) {
   const Eigen::MatrixXd a = model_wv_covariance(with, with.given_values(), 100000, 14);
   const Eigen::MatrixXd b = model_wv_covariance(without, without.given_values(), 100000, 14);
   for (int i = 0; i < 14; ++i)
-    for (int j = 0; j < 14; ++j)
-      EXPECT_NEAR(a(i, j) / b(i, j), 1.0, 1e-10) << i << "," << j;
+    for (int j = 0; j < 14; ++j) EXPECT_NEAR(a(i, j) / b(i, j), 1.0, 1e-10) << i << "," << j;
   // A visible WN is kept: it changes the finest level's variance by far more than that.
   const Model visible = parse_model("AR1(phi=0.999,sigma2=1e-3)+WN(sigma2=1e-3)", one_hz());
   EXPECT_GT(model_wv_covariance(visible, visible.given_values(), 100000, 14)(0, 0), 1.5 * b(0, 0));
@@ -164,7 +163,9 @@ TEST(WvCovariance, IgnoresACollapsedComponentBelowItsNegligibleShare) {
 TEST(WvCovariance, IsFastForAMillionSamples) {
   const Model m = parse_model("3*AR1(phi=0.99,sigma2=1e-6)+WN(sigma2=1e-4)+RW(gamma2=1e-10)+QN(Q2=1e-6)");
   Eigen::VectorXd theta = m.given_values();
-  theta(0) = 0.9; theta(2) = 0.999; theta(4) = 0.99999;
+  theta(0) = 0.9;
+  theta(2) = 0.999;
+  theta(4) = 0.99999;
   const Eigen::MatrixXd V = model_wv_covariance(m, theta, 1000000, 19);
   for (int j = 0; j < 19; ++j) EXPECT_GT(V(j, j), 0.0) << j;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(V);

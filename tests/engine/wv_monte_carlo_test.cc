@@ -43,7 +43,8 @@ Stats run(const std::string& spec, std::int64_t n, int replicates, std::uint64_t
       const double v = wr.wv[static_cast<std::size_t>(j)];
       sum += v;
       sum2 += v * v;
-      cover += (wr.ci_low[static_cast<std::size_t>(j)] <= nu(j) && nu(j) <= wr.ci_high[static_cast<std::size_t>(j)]) ? 1 : 0;
+      cover +=
+          (wr.ci_low[static_cast<std::size_t>(j)] <= nu(j) && nu(j) <= wr.ci_high[static_cast<std::size_t>(j)]) ? 1 : 0;
     }
     const double mean = sum / replicates;
     s.mean.push_back(mean);
@@ -80,7 +81,9 @@ TEST(WvMonteCarlo, MeanEmpiricalWvOfRandomWalkMatchesTheory) { expect_unbiased("
 TEST(WvMonteCarlo, MeanEmpiricalWvOfQuantizationNoiseMatchesTheory) { expect_unbiased("QN(Q2=0.5)", 104); }
 TEST(WvMonteCarlo, MeanEmpiricalWvOfMa1MatchesTheory) { expect_unbiased("MA1(theta=0.5,sigma2=1)", 105); }
 TEST(WvMonteCarlo, MeanEmpiricalWvOfASinusoidMatchesTheory) { expect_unbiased("SIN(A2=1,f=0.013)+WN(sigma2=1)", 106); }
-TEST(WvMonteCarlo, MeanEmpiricalWvOfASumMatchesTheory) { expect_unbiased("AR1(phi=0.99,sigma2=0.01)+WN(sigma2=1)+RW(gamma2=1e-4)", 107); }
+TEST(WvMonteCarlo, MeanEmpiricalWvOfASumMatchesTheory) {
+  expect_unbiased("AR1(phi=0.99,sigma2=0.01)+WN(sigma2=1)+RW(gamma2=1e-4)", 107);
+}
 
 TEST(WvMonteCarlo, DriftWvIsDeterministicAndMatchesItsFormula) {
   const Model m = parse_model("DR(omega=0.003)");

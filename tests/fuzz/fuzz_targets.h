@@ -44,10 +44,11 @@ void mcap(const std::uint8_t* data, std::size_t size);
 void cdr(const std::uint8_t* data, std::size_t size);
 
 inline constexpr Target kTargets[] = {
-    {"delimited", delimited},     {"model_syntax", model_syntax},   {"kalibr_yaml", kalibr_yaml},
-    {"gazebo_sdf", gazebo_sdf},   {"export_source", export_source}, {"binary_logs", binary_logs},
-    {"ulog", ulog, ulog_size_fields}, {"rosbag1", rosbag1, rosbag1_size_fields}, {"mcap", mcap, mcap_size_fields},
-    {"cdr", cdr, cdr_size_fields},
+    {"delimited", delimited},         {"model_syntax", model_syntax},
+    {"kalibr_yaml", kalibr_yaml},     {"gazebo_sdf", gazebo_sdf},
+    {"export_source", export_source}, {"binary_logs", binary_logs},
+    {"ulog", ulog, ulog_size_fields}, {"rosbag1", rosbag1, rosbag1_size_fields},
+    {"mcap", mcap, mcap_size_fields}, {"cdr", cdr, cdr_size_fields},
 };
 
 }  // namespace gmwm::fuzz

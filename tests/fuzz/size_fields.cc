@@ -19,7 +19,7 @@ bool fits(std::size_t at, std::uint64_t n, std::size_t size) { return at <= size
 // the values of the fields that state sizes, counts or offsets; recursing into a chunk's data
 // when it is stored uncompressed, and into messages (their frame_id length at byte 12).
 void ros1_records(const std::uint8_t* d, std::size_t begin, std::size_t end, std::vector<SizeField>& out, int depth) {
-  static const char* const kValues[][2] = {{"index_pos", "8"}, {"chunk_pos", "8"}, {"size", "4"},
+  static const char* const kValues[][2] = {{"index_pos", "8"}, {"chunk_pos", "8"},  {"size", "4"},
                                            {"count", "4"},     {"conn_count", "4"}, {"chunk_count", "4"}};
   std::size_t at = begin;
   while (fits(at, 4, end)) {
@@ -55,7 +55,8 @@ void ros1_records(const std::uint8_t* d, std::size_t begin, std::size_t end, std
 }
 
 // MCAP records in [begin, end); `in_chunk` records are a chunk's.
-void mcap_records(const std::uint8_t* d, std::size_t begin, std::size_t end, std::vector<SizeField>& out, bool in_chunk) {
+void mcap_records(const std::uint8_t* d, std::size_t begin, std::size_t end, std::vector<SizeField>& out,
+                  bool in_chunk) {
   std::size_t at = begin;
   while (fits(at, 9, end)) {
     const std::uint8_t op = d[at];
@@ -77,7 +78,7 @@ void mcap_records(const std::uint8_t* d, std::size_t begin, std::size_t end, std
     } else if (op == 0x05) {  // message: channel, sequence, times, then CDR (frame_id length at 12)
       if (fits(c + 22 + 12, 4, ce)) out.push_back({c + 22 + 12, 4});
     } else if (op == 0x06 && !in_chunk && fits(c, 28, ce)) {  // chunk
-      out.push_back({c + 16, 8});  // uncompressed_size
+      out.push_back({c + 16, 8});                             // uncompressed_size
       const std::size_t compression = c + 28;
       if (fits(compression, 4, ce)) {
         out.push_back({compression, 4});
@@ -86,7 +87,8 @@ void mcap_records(const std::uint8_t* d, std::size_t begin, std::size_t end, std
         if (fits(compression + 4, cl, ce) && fits(records, 8, ce)) {
           out.push_back({records, 8});
           const std::uint64_t rl = load<std::uint64_t>(d + records);
-          if (cl == 0 && fits(records + 8, rl, ce)) mcap_records(d, records + 8, records + 8 + static_cast<std::size_t>(rl), out, true);
+          if (cl == 0 && fits(records + 8, rl, ce))
+            mcap_records(d, records + 8, records + 8 + static_cast<std::size_t>(rl), out, true);
         }
       }
     }
@@ -147,10 +149,22 @@ bool drive_to_extreme(std::uint8_t* data, std::size_t size, const std::vector<Si
   std::uint64_t current = 0;
   std::memcpy(&current, data + f.offset, f.width);
   const std::uint64_t top = f.width == 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * f.width)) - 1;
-  const std::uint64_t extremes[] = {0,           1,           top,         top - 1,          top >> 1,
-                                    (top >> 1) + 1, current + 1, current - 1, current * 2,      current + 4096,
-                                    std::uint64_t{1} << 30,     std::uint64_t{1} << 32,      std::uint64_t{1} << 40,
-                                    std::uint64_t{1} << 63,     std::uint64_t{size},         std::uint64_t{size} + 1};
+  const std::uint64_t extremes[] = {0,
+                                    1,
+                                    top,
+                                    top - 1,
+                                    top >> 1,
+                                    (top >> 1) + 1,
+                                    current + 1,
+                                    current - 1,
+                                    current * 2,
+                                    current + 4096,
+                                    std::uint64_t{1} << 30,
+                                    std::uint64_t{1} << 32,
+                                    std::uint64_t{1} << 40,
+                                    std::uint64_t{1} << 63,
+                                    std::uint64_t{size},
+                                    std::uint64_t{size} + 1};
   const std::uint64_t v = extremes[seed % (sizeof extremes / sizeof *extremes)] & top;
   std::memcpy(data + f.offset, &v, f.width);
   return true;

@@ -55,7 +55,8 @@ TEST(GapCheck, TheDriftsOracleIsTheGlsTestOnTheSeriesWithTheBasesExactCovariance
   const Eigen::Index n = o.n;
   Eigen::MatrixXd S(n, n);
   for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = 0; j < n; ++j) S(i, j) = gamma2 * static_cast<double>(std::min(i, j) + 1) + (i == j ? sigma2 : 0.0);
+    for (Eigen::Index j = 0; j < n; ++j)
+      S(i, j) = gamma2 * static_cast<double>(std::min(i, j) + 1) + (i == j ? sigma2 : 0.0);
   Eigen::VectorXd m(n);
   for (Eigen::Index t = 0; t < n; ++t) m(t) = omega1 * static_cast<double>(t);
   const double dense = m.dot(S.ldlt().solve(m));

@@ -94,8 +94,8 @@ TEST(DatasheetYaml, ABiasInstabilityWithACorrelationTimeIsAGaussMarkovPeakingAtT
 TEST(DatasheetYaml, AnInRunStabilityIsTheMinimumOfTheWholeAllanDeviation) {
   // White noise + flicker: the Allan variance sigma2/m + 2 B2 ln2/pi falls to its least at
   // the search's longest time (1e5 s = 1e7 samples), where the flicker is flat.
-  const SimConfig c = parse("gyroscope:\n  noise_density: 0.05 deg/s/sqrt(Hz)\n  in_run_bias_stability: 0.007 deg/s\n",
-                            kDegG);
+  const SimConfig c =
+      parse("gyroscope:\n  noise_density: 0.05 deg/s/sqrt(Hz)\n  in_run_bias_stability: 0.007 deg/s\n", kDegG);
   const double s2 = value(c, SensorKind::kGyro, "WN"), b2 = value(c, SensorKind::kGyro, "FLICKER");
   const double m_max = 1e5 * kF;
   const double minimum = std::sqrt(s2 / m_max + 2.0 * b2 * std::numbers::ln2 / std::numbers::pi);
@@ -106,9 +106,10 @@ TEST(DatasheetYaml, AnInRunStabilityIsTheMinimumOfTheWholeAllanDeviation) {
 }
 
 TEST(DatasheetYaml, AStabilityBelowWhatTheWhiteNoiseAndWalkAllowGivesNoBiasAndSaysSo) {
-  const SimConfig c = parse("gyroscope:\n  noise_density: 1 deg/s/sqrt(Hz)\n  rate_random_walk: 1000 deg/h/sqrt(h)\n"
-                            "  in_run_bias_stability: 1e-6 deg/s\n",
-                            kDegG);
+  const SimConfig c = parse(
+      "gyroscope:\n  noise_density: 1 deg/s/sqrt(Hz)\n  rate_random_walk: 1000 deg/h/sqrt(h)\n"
+      "  in_run_bias_stability: 1e-6 deg/s\n",
+      kDegG);
   EXPECT_EQ(c.models.at(SensorKind::kGyro).num_components(), 2);
   bool said = false;
   for (const auto& l : c.conversions.at(SensorKind::kGyro)) said |= l.find("no bias term") != std::string::npos;
@@ -128,8 +129,9 @@ TEST(DatasheetYaml, EveryConversionIsWrittenOutWithItsUnits) {
 }
 
 TEST(DatasheetYaml, RefusesWhatItCannotReadNamingTheLineAndWhatWasExpected) {
-  EXPECT_NE(error_of("gyroscope:\n  noise_density: 0.05\n").find("sheet.yaml:2: gyroscope.noise_density: found 0.05 "
-                                                                 "without a unit"),
+  EXPECT_NE(error_of("gyroscope:\n  noise_density: 0.05\n")
+                .find("sheet.yaml:2: gyroscope.noise_density: found 0.05 "
+                      "without a unit"),
             std::string::npos);
   EXPECT_NE(error_of("gyroscope:\n  noise_density: 25 deg/h\n")
                 .find("sheet.yaml:2: gyroscope.noise_density: 'deg/h' is not a unit of a white noise density"),
@@ -141,8 +143,9 @@ TEST(DatasheetYaml, RefusesWhatItCannotReadNamingTheLineAndWhatWasExpected) {
                 .find("sheet.yaml:3: gyroscope.angle_random_walk and gyroscope.noise_density (sheet.yaml:2) give the "
                       "same figure twice"),
             std::string::npos);
-  EXPECT_NE(error_of("gyroscope:\n  bias_correlation_time: 100 s\n").find("sheet.yaml:2: gyroscope.bias_correlation_time "
-                                                                          "without a bias figure"),
+  EXPECT_NE(error_of("gyroscope:\n  bias_correlation_time: 100 s\n")
+                .find("sheet.yaml:2: gyroscope.bias_correlation_time "
+                      "without a bias figure"),
             std::string::npos);
   EXPECT_NE(error_of("accelerometer:\n  noise_density: -1 ug/sqrt(Hz)\n").find("expected a non-negative figure"),
             std::string::npos);
@@ -159,11 +162,12 @@ TEST(DatasheetYaml, RefusesWhatItCannotReadNamingTheLineAndWhatWasExpected) {
 }
 
 TEST(DatasheetYaml, ACorrectedDatasheetKeepsTheInputsKeysAndUnitsAndReadsBackToItsFigures) {
-  const SimConfig input = parse("gyroscope:\n  angle_random_walk: 3 deg/sqrt(h)\n  in_run_bias_stability: 0.007 deg/s\n"
-                                "accelerometer:\n  noise_density: 0.5 mg/sqrt(Hz)\n");
+  const SimConfig input = parse(
+      "gyroscope:\n  angle_random_walk: 3 deg/sqrt(h)\n  in_run_bias_stability: 0.007 deg/s\n"
+      "accelerometer:\n  noise_density: 0.5 mg/sqrt(Hz)\n");
   gmwm::io::DatasheetFigures gyro;
-  gyro.white = 0.03 * kDeg;          // rad/s/sqrt(Hz): 1.8 deg/sqrt(h)
-  gyro.instability = 0.006 * kDeg;   // rad/s
+  gyro.white = 0.03 * kDeg;                // rad/s/sqrt(Hz): 1.8 deg/sqrt(h)
+  gyro.instability = 0.006 * kDeg;         // rad/s
   gyro.walk = 5.0 * kDeg / 3600.0 / 60.0;  // 5 deg/h/sqrt(h), not in the input: added in that unit
   const std::string text = gmwm::io::write_datasheet_yaml(input, {{SensorKind::kGyro, gyro}}, kF);
   EXPECT_NE(text.find("  angle_random_walk: 1.8 deg/sqrt(h)\n"), std::string::npos) << text;

@@ -28,7 +28,8 @@ const std::vector<std::string> kHostileGyro = {
 };
 const std::vector<std::string> kHostileAccel = {
     "accel\": 1, \"evil\": {\"a\": \"x",
-    "accel]]>&amp;<![CDATA[ \xC2\x9B" "31m}{: [y",
+    "accel]]>&amp;<![CDATA[ \xC2\x9B"
+    "31m}{: [y",
     "accel\r\n%YAML:1.0\n---\nevil: z",
 };
 
@@ -47,8 +48,10 @@ ExportColumn column(const std::string& name, SensorKind kind, const std::string&
 
 std::vector<ExportColumn> columns(const std::vector<std::string>& gyro, const std::vector<std::string>& accel) {
   std::vector<ExportColumn> v;
-  for (const auto& n : gyro) v.push_back(column(n, SensorKind::kGyro, "WN(sigma2=5.8e-06)+RW(gamma2=1.9e-12)+AR1(phi=0.9999,sigma2=1e-9)"));
-  for (const auto& n : accel) v.push_back(column(n, SensorKind::kAccel, "WN(sigma2=8e-04)+RW(gamma2=4.5e-08)+SIN(A2=1e-6,f=0.05)"));
+  for (const auto& n : gyro)
+    v.push_back(column(n, SensorKind::kGyro, "WN(sigma2=5.8e-06)+RW(gamma2=1.9e-12)+AR1(phi=0.9999,sigma2=1e-9)"));
+  for (const auto& n : accel)
+    v.push_back(column(n, SensorKind::kAccel, "WN(sigma2=8e-04)+RW(gamma2=4.5e-08)+SIN(A2=1e-6,f=0.05)"));
   return v;
 }
 
@@ -57,7 +60,8 @@ std::vector<ExportColumn> columns(const std::vector<std::string>& gyro, const st
 std::multiset<std::string> yaml_structure(std::string text) {
   if (text.rfind("%YAML:", 0) == 0) text.erase(0, text.find('\n') + 1);  // OpenCV's directive line
   std::multiset<std::string> out;
-  const std::function<void(const YAML::Node&, const std::string&)> walk = [&](const YAML::Node& n, const std::string& at) {
+  const std::function<void(const YAML::Node&, const std::string&)> walk = [&](const YAML::Node& n,
+                                                                              const std::string& at) {
     if (n.IsMap()) {
       for (const auto& kv : n) walk(kv.second, at + "/" + kv.first.as<std::string>());
     } else if (n.IsSequence()) {
@@ -73,7 +77,7 @@ std::multiset<std::string> yaml_structure(std::string text) {
 std::multiset<std::string> json_structure(const std::string& text) {
   std::multiset<std::string> out;
   const std::function<void(const nlohmann::json&, const std::string&)> walk = [&](const nlohmann::json& j,
-                                                                                 const std::string& at) {
+                                                                                  const std::string& at) {
     if (j.is_object()) {
       for (const auto& [k, v] : j.items()) walk(v, at + "/" + k);
     } else if (j.is_array()) {
@@ -91,13 +95,14 @@ std::multiset<std::string> xml_structure(const std::string& text, std::vector<st
   EXPECT_EQ(doc.Parse(text.c_str(), text.size()), tinyxml2::XML_SUCCESS) << doc.ErrorStr() << "\n" << text;
   std::multiset<std::string> out;
   const std::function<void(const tinyxml2::XMLNode*, const std::string&)> walk = [&](const tinyxml2::XMLNode* n,
-                                                                                    const std::string& at) {
+                                                                                     const std::string& at) {
     for (; n; n = n->NextSibling()) {
       if (const auto* c = n->ToComment()) {
         comments->push_back(c->Value());
       } else if (const auto* e = n->ToElement()) {
         std::string path = at + "/" + e->Name();
-        for (const auto* a = e->FirstAttribute(); a; a = a->Next()) path += std::string("[@") + a->Name() + "=" + a->Value() + "]";
+        for (const auto* a = e->FirstAttribute(); a; a = a->Next())
+          path += std::string("[@") + a->Name() + "=" + a->Value() + "]";
         out.insert(path + (e->GetText() ? std::string("=") + e->GetText() : std::string()));
         walk(e->FirstChild(), path);
       } else if (const auto* t = n->ToText()) {
@@ -122,8 +127,8 @@ TEST_P(ExportHostileNames, ReadBackWithARealParserHaveTheStructureOfThePlainName
   ExportOptions o;
   o.format = fc.format;
   o.aggregation = fc.aggregation;
-  const ExportResult plain = render_export(columns({"gyro_x", "gyro_y", "gyro_z"}, {"accel_x", "accel_y", "accel_z"}), o,
-                                           "gmwm fit result fit.json (data imu.csv)");
+  const ExportResult plain = render_export(columns({"gyro_x", "gyro_y", "gyro_z"}, {"accel_x", "accel_y", "accel_z"}),
+                                           o, "gmwm fit result fit.json (data imu.csv)");
   const ExportResult hostile = render_export(columns(kHostileGyro, kHostileAccel), o,
                                              "gmwm fit result --><x/>\n: evil\x1b[31m.json (data </script>.csv)");
   switch (fc.format) {
@@ -154,7 +159,8 @@ TEST_P(ExportHostileNames, ReadBackWithARealParserHaveTheStructureOfThePlainName
   // No control byte but line breaks reaches any text of the export (ESC, CSI, CR).
   for (const std::string* text : {&hostile.content, hostile.sidecar ? &*hostile.sidecar : nullptr}) {
     if (!text) continue;
-    for (unsigned char ch : *text) EXPECT_TRUE(ch >= 0x20 || ch == '\n') << "control byte " << int(ch) << " in\n" << *text;
+    for (unsigned char ch : *text)
+      EXPECT_TRUE(ch >= 0x20 || ch == '\n') << "control byte " << int(ch) << " in\n" << *text;
     EXPECT_EQ(text->find("\xC2\x9B"), std::string::npos) << "CSI in\n" << *text;
   }
 }

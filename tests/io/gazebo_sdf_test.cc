@@ -37,10 +37,16 @@ std::string imu_sdf(const std::string& gx, const std::string& gy, const std::str
   return "<?xml version=\"1.0\"?>\n"
          "<sdf version=\"1.9\">\n"
          "<model name=\"m\"><link name=\"l\">\n"
-         "<sensor name=\"imu_sensor\" type=\"imu\">" + sensor_extra + "\n"
+         "<sensor name=\"imu_sensor\" type=\"imu\">" +
+         sensor_extra +
+         "\n"
          "<imu>\n"
-         "<angular_velocity>\n" + axis("x", gx) + axis("y", gy) + axis("z", gz) + "</angular_velocity>\n"
-         "<linear_acceleration>\n" + axis("x", ax) + axis("y", ay) + axis("z", az) + "</linear_acceleration>\n"
+         "<angular_velocity>\n" +
+         axis("x", gx) + axis("y", gy) + axis("z", gz) +
+         "</angular_velocity>\n"
+         "<linear_acceleration>\n" +
+         axis("x", ax) + axis("y", ay) + axis("z", az) +
+         "</linear_acceleration>\n"
          "</imu></sensor>\n"
          "</link></model></sdf>\n";
 }
@@ -109,8 +115,7 @@ const std::string kGyroNoise = noise(
 const std::string kAccelNoise = noise("<mean>0</mean><stddev>0.02</stddev>");
 
 TEST_F(GazeboSdf, ConvertsAlikeAxesOfAGzSensorsImuToOneModelPerKind) {
-  const SimConfig c =
-      read(imu_sdf(kGyroNoise, kGyroNoise, kGyroNoise, kAccelNoise, kAccelNoise, kAccelNoise), 100.0);
+  const SimConfig c = read(imu_sdf(kGyroNoise, kGyroNoise, kGyroNoise, kAccelNoise, kAccelNoise, kAccelNoise), 100.0);
   EXPECT_NE(c.source.find("gz-sensors SDF"), std::string::npos) << c.source;
   EXPECT_TRUE(c.axis_models.empty());
   const Model& gyro = c.models.at(SensorKind::kGyro);
@@ -130,27 +135,32 @@ TEST_F(GazeboSdf, ConvertsAlikeAxesOfAGzSensorsImuToOneModelPerKind) {
   const auto& lines = c.conversions.at(SensorKind::kGyro);
   const std::string all = joined(lines);
   EXPECT_TRUE(has_line(lines, "angular_velocity: the <x>, <y> and <z> noise blocks are alike")) << all;
-  EXPECT_TRUE(has_line(lines, "angular_velocity mean = 0.001 rad/s: a constant offset, invisible to the Haar WV: "
-                              "no term"))
+  EXPECT_TRUE(has_line(lines,
+                       "angular_velocity mean = 0.001 rad/s: a constant offset, invisible to the Haar WV: "
+                       "no term"))
       << all;
   EXPECT_TRUE(has_line(lines, "bias_mean = 0.002 rad/s")) << all;
   EXPECT_TRUE(has_line(lines, "bias_stddev = 0.003 rad/s")) << all;
   EXPECT_TRUE(has_line(lines, "it decays over T = 400 s")) << all;  // gz-sensors starts the bias there
-  EXPECT_TRUE(has_line(lines, "stddev = 0.009 rad/s per sample (not a density) -> WN sigma2 = (s)^2 = 8.1e-05 "
-                              "(rad/s)^2 per sample"))
+  EXPECT_TRUE(has_line(lines,
+                       "stddev = 0.009 rad/s per sample (not a density) -> WN sigma2 = (s)^2 = 8.1e-05 "
+                       "(rad/s)^2 per sample"))
       << all;
   EXPECT_TRUE(has_line(lines, "precision = 0.00025 rad/s")) << all;
-  EXPECT_TRUE(has_line(lines, "/ 12 = 5.20833e-09 (rad/s)^2 per sample, added to the WN: valid once the noise spans "
-                              "a few LSBs"))
+  EXPECT_TRUE(has_line(lines,
+                       "/ 12 = 5.20833e-09 (rad/s)^2 per sample, added to the WN: valid once the noise spans "
+                       "a few LSBs"))
       << all;
   EXPECT_TRUE(has_line(lines, "WN sigma2 = 8.1e-05 + 5.20833e-09 = 8.10052e-05 (rad/s)^2 per sample")) << all;
   // Both variances of the bias: innovation 4e-12, stationary sigma_b^2 T/2 = 4e-10 x 200 = 8e-8.
-  EXPECT_TRUE(has_line(lines, "dynamic_bias_stddev = 2e-05 rad/s^2/sqrt(Hz) (a driving density, not the stationary "
-                              "deviation) with dynamic_bias_correlation_time = 400 s"))
+  EXPECT_TRUE(has_line(lines,
+                       "dynamic_bias_stddev = 2e-05 rad/s^2/sqrt(Hz) (a driving density, not the stationary "
+                       "deviation) with dynamic_bias_correlation_time = 400 s"))
       << all;
   EXPECT_TRUE(has_line(lines, "AR1 phi = exp(-1/(f T)) = 0.9999750003")) << all;
-  EXPECT_TRUE(has_line(lines, "innovation variance (sigma_b)^2 (T/2)(1 - exp(-2/(f T))) = 3.9999e-12 (rad/s)^2 per "
-                              "sample, stationary variance (sigma_b)^2 T/2 = 8e-08 (rad/s)^2"))
+  EXPECT_TRUE(has_line(lines,
+                       "innovation variance (sigma_b)^2 (T/2)(1 - exp(-2/(f T))) = 3.9999e-12 (rad/s)^2 per "
+                       "sample, stationary variance (sigma_b)^2 T/2 = 8e-08 (rad/s)^2"))
       << all;
   EXPECT_TRUE(c.notes.empty());
 }
@@ -174,10 +184,10 @@ TEST_F(GazeboSdf, KeepsPerAxisModelsWhenTheAxesDiffer) {
   const SimConfig c = read(imu_sdf(noise("<stddev>0.01</stddev>"), noise("<stddev>0.02</stddev>"), "", kAccelNoise,
                                    kAccelNoise, kAccelNoise));
   EXPECT_FALSE(c.models.count(SensorKind::kGyro));
-  EXPECT_TRUE(c.models.count(SensorKind::kAccel));  // the accel axes are alike
+  EXPECT_TRUE(c.models.count(SensorKind::kAccel));                         // the accel axes are alike
   EXPECT_NEAR(c.axis_models.at("gyro_x").given_values()(0), 1e-4, 1e-19);  // 0.01^2
   EXPECT_NEAR(c.axis_models.at("gyro_y").given_values()(0), 4e-4, 1e-19);  // 0.02^2
-  EXPECT_FALSE(c.axis_models.count("gyro_z"));                            // no <noise> on z
+  EXPECT_FALSE(c.axis_models.count("gyro_z"));                             // no <noise> on z
   EXPECT_TRUE(has_line(c.axis_conversions.at("gyro_z"), "angular_velocity <z>: no <noise> block: no term"));
   EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kGyro), "noise blocks differ: one gyro model per axis"));
 
@@ -232,39 +242,44 @@ TEST_F(GazeboSdf, ConvertsTheRotorsImuPluginDefaults) {
   EXPECT_NEAR(a(1), 3.599880002666623e-07, 1e-19);
   EXPECT_NEAR(a(2), 1.6e-3, 1e-17);
   const auto& lines = c.conversions.at(SensorKind::kGyro);
-  EXPECT_TRUE(has_line(lines, "gyroscopeNoiseDensity = 0.0002 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 4e-06 "
-                              "(rad/s)^2 per sample at f = 100 Hz"))
+  EXPECT_TRUE(has_line(lines,
+                       "gyroscopeNoiseDensity = 0.0002 rad/s/sqrt(Hz) -> WN sigma2 = (N)^2 x f = 4e-06 "
+                       "(rad/s)^2 per sample at f = 100 Hz"))
       << joined(lines);
-  EXPECT_TRUE(has_line(lines, "gyroscopeRandomWalk = 2e-05 rad/s^2/sqrt(Hz) with gyroscopeBiasCorrelationTime = "
-                              "1000 s (the driving density of a Gauss-Markov bias, not a random walk)"))
+  EXPECT_TRUE(has_line(lines,
+                       "gyroscopeRandomWalk = 2e-05 rad/s^2/sqrt(Hz) with gyroscopeBiasCorrelationTime = "
+                       "1000 s (the driving density of a Gauss-Markov bias, not a random walk)"))
       << joined(lines);
   EXPECT_TRUE(has_line(lines, "stationary variance (K)^2 T/2 = 2e-07 (rad/s)^2"));  // 4e-10 x 500
-  EXPECT_TRUE(has_line(lines, "gyroscopeTurnOnBiasSigma = 0.0087 rad/s: a constant turn-on bias (drawn once), "
-                              "invisible to the Haar WV: no term"));
+  EXPECT_TRUE(has_line(lines,
+                       "gyroscopeTurnOnBiasSigma = 0.0087 rad/s: a constant turn-on bias (drawn once), "
+                       "invisible to the Haar WV: no term"));
   EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kAccel), "accelerometerNoiseDensity = 0.004 m/s^2/sqrt(Hz)"));
 }
 
 TEST_F(GazeboSdf, SaysWhichRotorsParametersAreNotGivenAndLeavesTheirTermsOut) {
-  const SimConfig c = read("<plugin name=\"imu\" filename=\"libgazebo_imu_plugin.so\">"
-                           "<gyroscopeNoiseDensity>1e-3</gyroscopeNoiseDensity>"
-                           "<accelerometerRandomWalk>0</accelerometerRandomWalk></plugin>");
+  const SimConfig c = read(
+      "<plugin name=\"imu\" filename=\"libgazebo_imu_plugin.so\">"
+      "<gyroscopeNoiseDensity>1e-3</gyroscopeNoiseDensity>"
+      "<accelerometerRandomWalk>0</accelerometerRandomWalk></plugin>");
   EXPECT_EQ(c.models.at(SensorKind::kGyro).to_string(), "WN");
   EXPECT_FALSE(c.models.count(SensorKind::kAccel));
-  EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kGyro), "gyroscopeRandomWalk not given (the plugin then uses its "
-                                                            "built-in default): no term here"));
+  EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kGyro),
+                       "gyroscopeRandomWalk not given (the plugin then uses its "
+                       "built-in default): no term here"));
   EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kAccel), "accelerometerRandomWalk = 0: no bias process"));
 }
 
 TEST_F(GazeboSdf, LeavesOutZeroFiguresNoneTypesAndPrecisionsGzSensorsIgnores) {
-  const SimConfig c = read(imu_sdf(noise("<stddev>0</stddev><precision>5e-7</precision>"),
-                                   noise("<stddev>0</stddev><precision>5e-7</precision>"),
-                                   noise("<stddev>0</stddev><precision>5e-7</precision>"),
-                                   noise("<stddev>0.1</stddev>", "none"), noise("<stddev>0.1</stddev>", "none"),
-                                   noise("<stddev>0.1</stddev>", "none")));
+  const SimConfig c = read(imu_sdf(
+      noise("<stddev>0</stddev><precision>5e-7</precision>"), noise("<stddev>0</stddev><precision>5e-7</precision>"),
+      noise("<stddev>0</stddev><precision>5e-7</precision>"), noise("<stddev>0.1</stddev>", "none"),
+      noise("<stddev>0.1</stddev>", "none"), noise("<stddev>0.1</stddev>", "none")));
   EXPECT_TRUE(c.models.empty());
   EXPECT_TRUE(c.axis_models.empty());
-  EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kGyro), "gz-sensors treats a precision within 1e-6 of zero as "
-                                                            "none"));
+  EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kGyro),
+                       "gz-sensors treats a precision within 1e-6 of zero as "
+                       "none"));
   EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kGyro), "no nonzero stddev, precision or dynamic bias: no term"));
   EXPECT_TRUE(has_line(c.conversions.at(SensorKind::kAccel), "<noise type=\"none\">: gz-sensors adds no noise"));
 }
@@ -320,15 +335,17 @@ TEST_F(GazeboSdf, RejectsBadFilesWithTheElementAndLine) {
     read_gazebo_sdf((dir_ / "absent.sdf").string(), 100.0, parse_units(""));
     ADD_FAILURE() << "no throw";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("absent.sdf: file not found, expected a Gazebo SDF file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("absent.sdf: file not found, expected a Gazebo SDF file"), std::string::npos)
+        << e.what();
   }
   // tinyxml2 gives the line of the element whose end tag does not match (<model>).
   expect_error("<sdf>\n<model>\n</sdf>\n", "imu.sdf:2: XML parse error (mismatched element)");
   expect_error("", "imu.sdf: XML parse error (empty document)");
   // A camera's <noise> is not an IMU's.
-  expect_error("<sdf><model><link><sensor type=\"camera\"><camera><noise type=\"gaussian\"><stddev>0.007</stddev>"
-               "</noise></camera></sensor></link></model></sdf>",
-               "imu.sdf: no IMU <noise> block or RotorS/PX4 IMU plugin parameters found");
+  expect_error(
+      "<sdf><model><link><sensor type=\"camera\"><camera><noise type=\"gaussian\"><stddev>0.007</stddev>"
+      "</noise></camera></sensor></link></model></sdf>",
+      "imu.sdf: no IMU <noise> block or RotorS/PX4 IMU plugin parameters found");
   expect_error(imu_sdf(noise("<stddev>-0.01</stddev>"), "", ""),
                "imu.sdf:7: angular_velocity/x/noise/stddev: found -0.01, expected a non-negative noise figure");
   expect_error(imu_sdf("", noise("\n<stddev>abc</stddev>"), ""),

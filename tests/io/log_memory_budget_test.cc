@@ -113,7 +113,8 @@ TEST_P(LogBudget, BeyondTheBudgetTheAxesGoToFilesAndReadTheSameToTheLastBit) {
   for (int i : {0, 65535, 65536, GetParam().messages - 1}) {
     const std::vector<double> v = gmwm::test::imu_values(i);
     for (std::size_t k = 0; k < 6; ++k) {
-      const double expected = std::string(GetParam().name) == "ulog" ? static_cast<double>(static_cast<float>(v[k])) : v[k];
+      const double expected =
+          std::string(GetParam().name) == "ulog" ? static_cast<double>(static_cast<float>(v[k])) : v[k];
       EXPECT_EQ(files.signals[k].values[static_cast<std::size_t>(i)], expected) << k << " " << i;
     }
   }

@@ -219,7 +219,8 @@ TEST_F(Mcap, ReadsTheTestWritersFileInEveryChunkCompression) {
     const auto set = read_signals(write(std::vector<char>(bytes.begin(), bytes.end())), {});
     ASSERT_EQ(set.signals.size(), 6u);
     for (std::size_t k = 0; k < 6; ++k)
-      for (int i = 0; i < 1000; i += 97) EXPECT_EQ(set.signals[k].values[static_cast<std::size_t>(i)], gmwm::test::imu_values(i)[k]);
+      for (int i = 0; i < 1000; i += 97)
+        EXPECT_EQ(set.signals[k].values[static_cast<std::size_t>(i)], gmwm::test::imu_values(i)[k]);
     EXPECT_DOUBLE_EQ(set.freq, 200.0) << compression;
   }
 }

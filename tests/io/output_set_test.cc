@@ -155,8 +155,7 @@ TEST_F(OutputSetTest, RefusesAFolder) {
   fs::create_directory(path("sub"));
   OutputSet out;
   EXPECT_NE(error_of([&] { out.declare("--json", path("sub")); }).find("is a folder"), std::string::npos);
-  EXPECT_NE(error_of([&] { out.declare("--json", path("missing/a.json")); }).find("does not exist"),
-            std::string::npos);
+  EXPECT_NE(error_of([&] { out.declare("--json", path("missing/a.json")); }).find("does not exist"), std::string::npos);
 }
 
 TEST_F(OutputSetTest, RefusesAnOutputThatIsAnInputUnderAnySpelling) {

@@ -57,8 +57,9 @@ TEST_F(RecordIntegrity, ARateChangeInsideARecordIsRefusedNamingBothRatesAndWhere
   steps.insert(steps.end(), 4096, 5000000);
   const std::string p = file(stamps_csv(steps));
   const std::string e = read_error(p);
-  EXPECT_TRUE(contains(e, "the sampling rate changes within the record, from about 100 Hz at its start to about 200 Hz "
-                          "from sample 4097"))
+  EXPECT_TRUE(contains(e,
+                       "the sampling rate changes within the record, from about 100 Hz at its start to about 200 Hz "
+                       "from sample 4097"))
       << e;
   EXPECT_TRUE(contains(e, "x.csv: timestamps 'timestamp [ns]'")) << e;
   EXPECT_TRUE(contains(e, "--freq")) << e;
@@ -86,7 +87,8 @@ TEST_F(RecordIntegrity, JitterRoundingAndGapsAreNotARateChange) {
   std::uint64_t state = 7;
   // Half a step of uniform jitter at 200 Hz over 300,000 samples.
   std::vector<std::int64_t> jitter;
-  for (int i = 0; i < 300000; ++i) jitter.push_back(5000000 + static_cast<std::int64_t>((uniform(state) - 0.5) * 5000000));
+  for (int i = 0; i < 300000; ++i)
+    jitter.push_back(5000000 + static_cast<std::int64_t>((uniform(state) - 0.5) * 5000000));
   // 400 Hz stamped in whole milliseconds: steps of 2 and 3 ms in turn.
   std::vector<std::int64_t> rounded;
   for (int i = 1; i <= 100000; ++i) rounded.push_back(((i * 5 + 1) / 2 - ((i - 1) * 5 + 1) / 2) * 1000000);
@@ -102,7 +104,8 @@ TEST_F(RecordIntegrity, JitterRoundingAndGapsAreNotARateChange) {
 
 TEST_F(RecordIntegrity, EveryMemberOfAConcatenatedGzipFileIsRead) {
   std::string first = "time,x\n", second;
-  for (int i = 0; i < 3000; ++i) (i < 1000 ? first : second) += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\n";
+  for (int i = 0; i < 3000; ++i)
+    (i < 1000 ? first : second) += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\n";
   const SignalSet s = read_signals(file(gzip_member(first) + gzip_member(second), "two.csv.gz"), {});
   ASSERT_EQ(s.signals.size(), 1u);
   EXPECT_EQ(s.signals[0].values.size(), 3000u);
@@ -117,15 +120,18 @@ TEST_F(RecordIntegrity, TextAppendedAfterAGzipStreamIsRefusedNotDropped) {
   for (int i = 100; i < 200; ++i) more += std::to_string(i * 0.01) + "," + std::to_string(std::sin(i)) + "\n";
   const std::string member = gzip_member(rows);
   const std::string e = read_error(file(member + more, "mixed.csv.gz"));
-  EXPECT_TRUE(contains(e, "mixed.csv.gz: found bytes that are not gzip data after the end of the gzip stream, at byte "
-                          "offset " + std::to_string(member.size())))
+  EXPECT_TRUE(contains(e,
+                       "mixed.csv.gz: found bytes that are not gzip data after the end of the gzip stream, at byte "
+                       "offset " +
+                           std::to_string(member.size())))
       << e;
 }
 
 TEST_F(RecordIntegrity, Utf16AndCrOnlyLineEndingsAreNamedAsSuch) {
   std::string utf16 = "\xFF\xFE";
   for (char c : std::string("time,x\n0,1\n0.01,2\n")) utf16 += std::string(1, c) + '\0';
-  EXPECT_TRUE(contains(read_error(file(utf16, "u.csv")), "u.csv:1: found a UTF-16 byte-order mark")) << read_error(file(utf16, "u.csv"));
+  EXPECT_TRUE(contains(read_error(file(utf16, "u.csv")), "u.csv:1: found a UTF-16 byte-order mark"))
+      << read_error(file(utf16, "u.csv"));
   std::string no_bom;
   for (char c : std::string("time,x\n0,1\n0.01,2\n")) no_bom += std::string(1, c) + '\0';
   EXPECT_TRUE(contains(read_error(file(no_bom, "n.csv")), "n.csv:1: found NUL bytes in the header line"));

@@ -63,21 +63,25 @@ TEST(SideFile, ThePeekOfAPipeLeavesItForAnotherReaderOfTheSamePath) {
 TEST(SideFile, RefusesMoreThanItsLimitFromAFileOrAPipe) {
   const fs::path dir = gmwm::test::temp_dir("side_file");
   std::ofstream(dir / "big.yaml") << std::string(2000, '#');
-  const std::string f = error_of([&] { gmwm::io::read_side_file((dir / "big.yaml").string(), "a Kalibr imu.yaml", 1024); });
+  const std::string f =
+      error_of([&] { gmwm::io::read_side_file((dir / "big.yaml").string(), "a Kalibr imu.yaml", 1024); });
   EXPECT_NE(f.find("big.yaml: holds more than 1024 bytes, expected a Kalibr imu.yaml"), std::string::npos) << f;
   FilledPipe p(std::string(2000, '#'));
   const std::string q = error_of([&] { gmwm::io::read_side_file(p.path(), "a Kalibr imu.yaml", 1024); });
   EXPECT_NE(q.find("holds more than 1024 bytes"), std::string::npos) << q;
-  EXPECT_EQ(gmwm::io::read_side_file((dir / "big.yaml").string(), "x", 2000).size(), 2000u);  // the limit itself is fine
+  EXPECT_EQ(gmwm::io::read_side_file((dir / "big.yaml").string(), "x", 2000).size(),
+            2000u);  // the limit itself is fine
   fs::remove_all(dir);
 }
 
 TEST(SideFile, RefusesDevicesFoldersAndMissingFilesByName) {
-  EXPECT_NE(error_of([] { SideFile("/dev/zero", "a Kalibr imu.yaml"); })
-                .find("/dev/zero: is a character device, expected a Kalibr imu.yaml (a regular file or a pipe)"),
+  EXPECT_NE(error_of([] {
+              SideFile("/dev/zero", "a Kalibr imu.yaml");
+            }).find("/dev/zero: is a character device, expected a Kalibr imu.yaml (a regular file or a pipe)"),
             std::string::npos);
   EXPECT_NE(error_of([] { SideFile("/", "a Gazebo SDF file"); }).find("/: is a folder"), std::string::npos);
-  EXPECT_NE(error_of([] { SideFile("/nonexistent/x.json", "a result"); })
-                .find("/nonexistent/x.json: file not found, expected a result"),
+  EXPECT_NE(error_of([] {
+              SideFile("/nonexistent/x.json", "a result");
+            }).find("/nonexistent/x.json: file not found, expected a result"),
             std::string::npos);
 }

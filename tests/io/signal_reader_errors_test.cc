@@ -55,8 +55,7 @@ TEST_F(SignalReaderErrors, RejectsAFileOfBlankLines) {
 
 TEST_F(SignalReaderErrors, RejectsAHeaderWithoutDataRows) {
   const std::string p = file("time,x,y\n\n");
-  EXPECT_EQ(read_error(p),
-            p + ":1: found a header but no data rows, expected at least 16 rows of samples");
+  EXPECT_EQ(read_error(p), p + ":1: found a header but no data rows, expected at least 16 rows of samples");
 }
 
 TEST_F(SignalReaderErrors, RejectsAFileWithoutAHeaderRowSayingSo) {
@@ -99,11 +98,13 @@ TEST_F(SignalReaderErrors, RejectsANumberOutsideTheRangeOfADouble) {
 
 TEST_F(SignalReaderErrors, RejectsARaggedRowNamingLineAndColumn) {
   const std::string few = file("time,x,y\n" + csv_rows(3) + "0.03,0.5\n" + csv_rows(20));
-  EXPECT_EQ(read_error(few), few + ":5:3: found 2 fields, expected 3 like the header (no value "
-                                   "for column 'y')");
+  EXPECT_EQ(read_error(few), few +
+                                 ":5:3: found 2 fields, expected 3 like the header (no value "
+                                 "for column 'y')");
   const std::string many = file("time,x,y\n" + csv_rows(3) + "0.03,0.5,1,9\n" + csv_rows(20));
-  EXPECT_EQ(read_error(many), many + ":5:4: found 4 fields, expected 3 like the header (extra "
-                                     "value '9')");
+  EXPECT_EQ(read_error(many), many +
+                                  ":5:4: found 4 fields, expected 3 like the header (extra "
+                                  "value '9')");
 }
 
 TEST_F(SignalReaderErrors, RejectsARaggedRowInAWhitespaceSeparatedFile) {
@@ -144,8 +145,7 @@ TEST_F(SignalReaderErrors, RejectsATruncatedGzipStream) {
   std::filesystem::resize_file(gz, size / 2);
   const std::string msg = read_error(gz);
   EXPECT_EQ(msg.rfind(gz + ": gzip stream ends early after ", 0), 0u) << msg;
-  EXPECT_TRUE(contains(msg, "bytes of text (truncated file?), expected a complete gzip stream"))
-      << msg;
+  EXPECT_TRUE(contains(msg, "bytes of text (truncated file?), expected a complete gzip stream")) << msg;
   // Cut inside the 8-byte trailer (CRC and length): the text is whole, the stream is not.
   gmwm::io::write_signals(gz, {{"x", std::vector<double>(5000, 0.0)}}, 100.0);
   std::filesystem::resize_file(gz, std::filesystem::file_size(gz) - 3);
@@ -186,8 +186,9 @@ TEST_F(SignalReaderErrors, RejectsAnUnknownColumnNameOrIndex) {
 TEST_F(SignalReaderErrors, RejectsAnEmptyColumnsEntry) {
   ReadOptions o;
   o.columns = {"x", " "};
-  EXPECT_EQ(o.Validate(), "--columns: found an empty entry, expected column names or 1-based "
-                          "indices separated by commas");
+  EXPECT_EQ(o.Validate(),
+            "--columns: found an empty entry, expected column names or 1-based "
+            "indices separated by commas");
   EXPECT_EQ(read_error(file("time,x,y\n" + csv_rows(20)), o), o.Validate());
 }
 

@@ -36,10 +36,9 @@ class SignalReader : public ::testing::Test {
 std::string euroc_rows(int rows, std::int64_t step_ns = 5000000) {
   std::string s;
   for (int i = 0; i < rows; ++i)
-    s += std::to_string(1403636579758555392LL + i * step_ns) + "," + std::to_string(0.01 * (i % 5)) +
-         "," + std::to_string(-0.02 * (i % 3)) + "," + std::to_string(0.03 * (i % 4)) + "," +
-         std::to_string(9.0 + 0.1 * (i % 3)) + "," + std::to_string(0.1 * (i % 6)) + "," +
-         std::to_string(i % 2) + "\n";
+    s += std::to_string(1403636579758555392LL + i * step_ns) + "," + std::to_string(0.01 * (i % 5)) + "," +
+         std::to_string(-0.02 * (i % 3)) + "," + std::to_string(0.03 * (i % 4)) + "," +
+         std::to_string(9.0 + 0.1 * (i % 3)) + "," + std::to_string(0.1 * (i % 6)) + "," + std::to_string(i % 2) + "\n";
   return s;
 }
 
@@ -77,12 +76,10 @@ TEST_F(SignalReader, DetectsTabSemicolonAndWhitespaceDelimiters) {
     EXPECT_EQ(s.signals[1].values[5], 5.0) << name;
   }
   // Runs of blanks, leading blanks and spaces after commas.
-  const SignalSet ws = read_signals(
-      file("  time   x  y\n  0.00   1.5\t 2\n" + drop_first_line(csv_rows(40, ' '))), {});
+  const SignalSet ws = read_signals(file("  time   x  y\n  0.00   1.5\t 2\n" + drop_first_line(csv_rows(40, ' '))), {});
   EXPECT_EQ(ws.delimiter, "whitespace");
   EXPECT_EQ(ws.signals[0].values[0], 1.5);
-  const SignalSet spaced =
-      read_signals(file("time, x, y\n0.00, 1.5 , +2\n" + drop_first_line(csv_rows(40))), {});
+  const SignalSet spaced = read_signals(file("time, x, y\n0.00, 1.5 , +2\n" + drop_first_line(csv_rows(40))), {});
   EXPECT_EQ(spaced.signals[0].name, "x");
   EXPECT_EQ(spaced.signals[1].values[0], 2.0);
 }
@@ -101,10 +98,10 @@ TEST_F(SignalReader, HandlesCrlfAByteOrderMarkAndTrailingBlankLines) {
 }
 
 TEST_F(SignalReader, RecognisesTheEurocLayoutAndRenamesItsColumns) {
-  const SignalSet s = read_signals(
-      file("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
-           "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n" + euroc_rows(200)),
-      {});
+  const SignalSet s = read_signals(file("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+                                        "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n" +
+                                        euroc_rows(200)),
+                                   {});
   EXPECT_EQ(s.preset, "euroc");
   ASSERT_EQ(s.signals.size(), 6u);
   const char* names[] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
@@ -128,8 +125,8 @@ TEST_F(SignalReader, RecognisesTheEurocLayoutAndRenamesItsColumns) {
 }
 
 TEST_F(SignalReader, RecognisesTheKalibrLayoutWithNanosecondTimestamps) {
-  const SignalSet s = read_signals(
-      file("timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z\n" + euroc_rows(100, 2500000)), {});
+  const SignalSet s =
+      read_signals(file("timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z\n" + euroc_rows(100, 2500000)), {});
   EXPECT_EQ(s.preset, "kalibr");
   EXPECT_EQ(s.signals[3].name, "accel_x");
   EXPECT_EQ(s.timing->unit, "ns");
@@ -149,7 +146,9 @@ TEST_F(SignalReader, TreatsEarlierHashLinesAsCommentsBeforeATextHeader) {
 TEST_F(SignalReader, PicksColumnsByNameOrIndexInTheGivenOrder) {
   const std::string p = file("time,x,y,z\n" + std::string("0,1,2,3\n0.01,2,3,5\n") + [] {
     std::string r;
-    for (int i = 2; i < 20; ++i) r += std::to_string(i * 0.01) + "," + std::to_string(i) + "," + std::to_string(i % 3) + "," + std::to_string(-i) + "\n";
+    for (int i = 2; i < 20; ++i)
+      r += std::to_string(i * 0.01) + "," + std::to_string(i) + "," + std::to_string(i % 3) + "," + std::to_string(-i) +
+           "\n";
     return r;
   }());
   ReadOptions o;
@@ -181,14 +180,18 @@ TEST_F(SignalReader, SplitsAUnitOffTheHeaderName) {
 }
 
 TEST_F(SignalReader, DecidesTheTimeUnitFromTheNameOrTheStep) {
-  struct Case { const char* header; double scale; double unit; };
+  struct Case {
+    const char* header;
+    double scale;
+    double unit;
+  };
   const Case cases[] = {
-      {"time_ms", 10.0, 1e-3},      // suffix
+      {"time_ms", 10.0, 1e-3},        // suffix
       {"Timestamp [us]", 1e4, 1e-6},  // bracket
-      {"stamp", 1e7, 1e-9},         // step 1e7: ns
-      {"t", 1e4, 1e-6},             // step 1e4: us
-      {"time", 10.0, 1e-3},         // step 10: ms
-      {"time", 0.01, 1.0},          // step 0.01: s
+      {"stamp", 1e7, 1e-9},           // step 1e7: ns
+      {"t", 1e4, 1e-6},               // step 1e4: us
+      {"time", 10.0, 1e-3},           // step 10: ms
+      {"time", 0.01, 1.0},            // step 0.01: s
   };
   for (const Case& c : cases) {
     std::string rows;
@@ -212,12 +215,11 @@ TEST_F(SignalReader, CountsGapsAndDisorderInTheTimestamps) {
   for (int i = 0; i < 20; ++i) rows += std::to_string(times[i] * 0.01) + "," + std::to_string(i % 3) + "\n";
   const SignalSet s = read_signals(file("time,x\n" + rows), {});
   ASSERT_TRUE(s.timing);
-  EXPECT_EQ(s.timing->gaps, 2);      // 3->5 and 12->16; 8.5->10 is 1.5 steps, not a gap
+  EXPECT_EQ(s.timing->gaps, 2);  // 3->5 and 12->16; 8.5->10 is 1.5 steps, not a gap
   EXPECT_NEAR(s.timing->largest_gap_seconds, 0.04, 1e-12);
   EXPECT_EQ(s.timing->disorder, 2);  // 7->7 and 9->8.5
   EXPECT_NEAR(s.freq, 100.0, 1e-9);
-  EXPECT_TRUE(contains(s.timing->summary(), "2 gaps (largest 40 ms), 2 out of order"))
-      << s.timing->summary();
+  EXPECT_TRUE(contains(s.timing->summary(), "2 gaps (largest 40 ms), 2 out of order")) << s.timing->summary();
 }
 
 TEST_F(SignalReader, LetsFreqOverrideTheTimestampsAndReportsADisagreement) {
@@ -228,8 +230,7 @@ TEST_F(SignalReader, LetsFreqOverrideTheTimestampsAndReportsADisagreement) {
   EXPECT_EQ(s.freq, 50.0);
   ASSERT_TRUE(s.timing);
   EXPECT_NEAR(s.timing->estimated_freq, 100.0, 1e-9);
-  EXPECT_TRUE(contains(s.timing->summary(), "--freq 50 Hz disagrees with them by 100%"))
-      << s.timing->summary();
+  EXPECT_TRUE(contains(s.timing->summary(), "--freq 50 Hz disagrees with them by 100%")) << s.timing->summary();
   o.freq = 100.5;  // within 1%: no remark
   EXPECT_FALSE(contains(read_signals(p, o).timing->summary(), "disagrees"));
 }
@@ -283,7 +284,10 @@ ListTiming timing_of_list(const std::vector<std::int64_t>& stamps) {
   ListTiming t;
   for (std::size_t i = 1; i < stamps.size(); ++i) {
     const double d = static_cast<double>(stamps[i] - stamps[0]) - static_cast<double>(stamps[i - 1] - stamps[0]);
-    if (d > 0) steps.push_back(d); else ++t.disorder;
+    if (d > 0)
+      steps.push_back(d);
+    else
+      ++t.disorder;
   }
   std::vector<double> sorted = steps;
   std::sort(sorted.begin(), sorted.end());
@@ -291,13 +295,17 @@ ListTiming timing_of_list(const std::vector<std::int64_t>& stamps) {
   const double median = sorted.size() % 2 ? sorted[mid] : 0.5 * (sorted[mid - 1] + sorted[mid]);
   t.median_step_s = median * 1e-9;
   for (double d : steps)
-    if (d > gmwm::io::TimingReport::kGapFactor * median) { ++t.gaps; t.largest_gap_s = std::max(t.largest_gap_s, d * 1e-9); }
+    if (d > gmwm::io::TimingReport::kGapFactor * median) {
+      ++t.gaps;
+      t.largest_gap_s = std::max(t.largest_gap_s, d * 1e-9);
+    }
   return t;
 }
 
 std::string ns_csv(const std::vector<std::int64_t>& stamps) {
   std::string s = "timestamp [ns],x\n";
-  for (std::size_t i = 0; i < stamps.size(); ++i) s += std::to_string(stamps[i]) + "," + std::to_string(std::sin(0.1 * static_cast<double>(i))) + "\n";
+  for (std::size_t i = 0; i < stamps.size(); ++i)
+    s += std::to_string(stamps[i]) + "," + std::to_string(std::sin(0.1 * static_cast<double>(i))) + "\n";
   return s;
 }
 

@@ -14,8 +14,7 @@
 namespace gmwm::test {
 
 /// Writes `content` to `dir/name` byte for byte and returns the path.
-inline std::string write_text(const std::filesystem::path& dir, const std::string& name,
-                              const std::string& content) {
+inline std::string write_text(const std::filesystem::path& dir, const std::string& name, const std::string& content) {
   const auto p = dir / name;
   std::ofstream(p, std::ios::binary) << content;
   return p.string();
@@ -45,8 +44,6 @@ inline std::string read_error(const std::string& path, const io::ReadOptions& op
   return "no error";
 }
 
-inline bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace gmwm::test

@@ -41,9 +41,15 @@ std::vector<Signal> awkward_signals(std::size_t n) {
     a[i] = x;
     b[i] = std::sin(static_cast<double>(i)) / 3.0 * std::pow(10.0, static_cast<double>(i % 40) - 20.0);
   }
-  const double specials[] = {0.1, 1.0 / 3.0, -0.0, std::numeric_limits<double>::denorm_min(),
-                             std::numeric_limits<double>::min(), std::numeric_limits<double>::max(),
-                             -std::numeric_limits<double>::max(), 1e-310, 123456789012345678.0};
+  const double specials[] = {0.1,
+                             1.0 / 3.0,
+                             -0.0,
+                             std::numeric_limits<double>::denorm_min(),
+                             std::numeric_limits<double>::min(),
+                             std::numeric_limits<double>::max(),
+                             -std::numeric_limits<double>::max(),
+                             1e-310,
+                             123456789012345678.0};
   for (std::size_t i = 0; i < std::size(specials); ++i) b[i] = specials[i];
   return {{"a", a}, {"b", b}};
 }
@@ -51,8 +57,7 @@ std::vector<Signal> awkward_signals(std::size_t n) {
 void expect_bitwise_equal(std::span<const double> got, std::span<const double> want) {
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i)
-    ASSERT_EQ(std::memcmp(&got[i], &want[i], sizeof(double)), 0)
-        << "row " << i << ": " << got[i] << " != " << want[i];
+    ASSERT_EQ(std::memcmp(&got[i], &want[i], sizeof(double)), 0) << "row " << i << ": " << got[i] << " != " << want[i];
 }
 
 }  // namespace
@@ -98,8 +103,7 @@ TEST_F(SignalWriter, WritesNoTimeColumnWithoutAFreq) {
 }
 
 TEST_F(SignalWriter, WritesTheTimeInSecondsFirst) {
-  EXPECT_EQ(gmwm::io::format_signals_csv({{"x", {1.0, 2.0, 4.0}}}, 4.0),
-            "time [s],x\n0,1\n0.25,2\n0.5,4\n");
+  EXPECT_EQ(gmwm::io::format_signals_csv({{"x", {1.0, 2.0, 4.0}}}, 4.0), "time [s],x\n0,1\n0.25,2\n0.5,4\n");
 }
 
 TEST_F(SignalWriter, QuotesNamesThatNeedIt) {
@@ -113,8 +117,7 @@ TEST_F(SignalWriter, QuotesNamesThatNeedIt) {
 }
 
 TEST_F(SignalWriter, RejectsSignalsOfDifferentLengths) {
-  EXPECT_THROW(write_signals((dir / "bad.csv").string(), {{"x", {1, 2}}, {"y", {1}}}, 1.0),
-               gmwm::InvalidArgument);
+  EXPECT_THROW(write_signals((dir / "bad.csv").string(), {{"x", {1, 2}}, {"y", {1}}}, 1.0), gmwm::InvalidArgument);
   EXPECT_THROW(write_signals((dir / "bad.csv").string(), {{"x", {1, 2}}}, 0.0), gmwm::InvalidArgument);
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.csv"));
 }

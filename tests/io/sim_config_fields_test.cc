@@ -49,7 +49,8 @@ TEST(SimConfigFields, AGzSensorsBlockGivesEveryFigureByItsPathAndUnit) {
     for (const char* axis : {"x", "y", "z"})
       xml += std::string("<") + axis +
              "><noise type=\"gaussian\"><stddev>0.01</stddev><dynamic_bias_stddev>2e-5</dynamic_bias_stddev>"
-             "<dynamic_bias_correlation_time>300</dynamic_bias_correlation_time></noise></" + axis + ">";
+             "<dynamic_bias_correlation_time>300</dynamic_bias_correlation_time></noise></" +
+             axis + ">";
     xml += std::string("</") + kind + ">";
   }
   xml += "</imu></sensor>";
@@ -67,7 +68,8 @@ TEST(SimConfigFields, AGzSensorsBlockGivesEveryFigureByItsPathAndUnit) {
 TEST(SimConfigFields, ARotorsPluginGivesItsParametersInTheirUnits) {
   const SimConfig c = gmwm::io::parse_gazebo_sdf(
       "<plugin name=\"imu\" filename=\"libgazebo_imu_plugin.so\"><gyroscopeNoiseDensity>0.0003</gyroscopeNoiseDensity>"
-      "<gyroscopeRandomWalk>3.8e-05</gyroscopeRandomWalk><gyroscopeBiasCorrelationTime>1000</gyroscopeBiasCorrelationTime>"
+      "<gyroscopeRandomWalk>3.8e-05</gyroscopeRandomWalk><gyroscopeBiasCorrelationTime>1000</"
+      "gyroscopeBiasCorrelationTime>"
       "<gyroscopeTurnOnBiasSigma>0.0087</gyroscopeTurnOnBiasSigma>"
       "<accelerometerNoiseDensity>0.004</accelerometerNoiseDensity></plugin>",
       "text.sdf", 100.0, {});

@@ -58,11 +58,11 @@ TEST_F(KalibrYaml, ConvertsTheEurocDensitiesToPerSampleVariancesAtTheDataRate) {
   EXPECT_NEAR(gyro.given_values()(0), 5.758260e-06, 1e-12);
   EXPECT_NEAR(gyro.given_values()(1), 1.880442e-12, 1e-17);
   const Model& accel = c.models.at(SensorKind::kAccel);
-  EXPECT_NEAR(accel.given_values()(0), 8.0e-4, 1e-15);   // (2e-3)^2 x 200
-  EXPECT_NEAR(accel.given_values()(1), 4.5e-8, 1e-20);   // (3e-3)^2 / 200
+  EXPECT_NEAR(accel.given_values()(0), 8.0e-4, 1e-15);  // (2e-3)^2 x 200
+  EXPECT_NEAR(accel.given_values()(1), 4.5e-8, 1e-20);  // (3e-3)^2 / 200
   ASSERT_EQ(c.conversions.at(SensorKind::kGyro).size(), 2u);
   EXPECT_NE(c.conversions.at(SensorKind::kGyro)[0].find("gyroscope_noise_density = 0.00016968 rad/s/sqrt(Hz) -> WN "
-                                                          "sigma2 = (N)^2 x f = 5.75826e-06 (rad/s)^2 per sample"),
+                                                        "sigma2 = (N)^2 x f = 5.75826e-06 (rad/s)^2 per sample"),
             std::string::npos)
       << c.conversions.at(SensorKind::kGyro)[0];
   EXPECT_TRUE(c.notes.empty());
@@ -90,19 +90,22 @@ TEST_F(KalibrYaml, LeavesOutAZeroFigure) {
 }
 
 TEST_F(KalibrYaml, RejectsMalformedNegativeOrMissingFiguresWithTheLine) {
-  EXPECT_NE(error_of("gyroscope_noise_density: abc\n").find("imu.yaml:1: gyroscope_noise_density: found 'abc', "
-                                                            "expected a number"),
+  EXPECT_NE(error_of("gyroscope_noise_density: abc\n")
+                .find("imu.yaml:1: gyroscope_noise_density: found 'abc', "
+                      "expected a number"),
             std::string::npos)
       << error_of("gyroscope_noise_density: abc\n");
-  EXPECT_NE(error_of("\ngyroscope_random_walk: -1e-5\n").find("imu.yaml:2: gyroscope_random_walk: found -1e-5, "
-                                                              "expected a non-negative noise figure"),
+  EXPECT_NE(error_of("\ngyroscope_random_walk: -1e-5\n")
+                .find("imu.yaml:2: gyroscope_random_walk: found -1e-5, "
+                      "expected a non-negative noise figure"),
             std::string::npos);
   EXPECT_NE(error_of("gyroscope_noise_density: 1e-4\n").find("missing accelerometer_noise_density"), std::string::npos);
   try {
     read_kalibr_imu_yaml((dir_ / "absent.yaml").string(), 100.0, parse_units(""));
     ADD_FAILURE() << "no throw";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("absent.yaml: file not found, expected a Kalibr imu.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("absent.yaml: file not found, expected a Kalibr imu.yaml"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -127,8 +130,8 @@ TEST_F(KalibrYaml, TakesTheNamedImuOfAChainAndRefusesToGuessBetweenSeveral) {
   const std::string path = write(kChain);
   const SimConfig c0 = read_kalibr_imu_yaml(path, 200.0, parse_units(""), "imu0");
   const SimConfig c1 = read_kalibr_imu_yaml(path, 200.0, parse_units(""), "imu1");
-  EXPECT_NEAR(c0.models.at(SensorKind::kGyro).given_values()(0), 1e-8 * 200.0, 1e-18);   // (1e-4)^2 x 200
-  EXPECT_NEAR(c1.models.at(SensorKind::kGyro).given_values()(0), 1e-6 * 200.0, 1e-16);   // (1e-3)^2 x 200
+  EXPECT_NEAR(c0.models.at(SensorKind::kGyro).given_values()(0), 1e-8 * 200.0, 1e-18);  // (1e-4)^2 x 200
+  EXPECT_NEAR(c1.models.at(SensorKind::kGyro).given_values()(0), 1e-6 * 200.0, 1e-16);  // (1e-3)^2 x 200
   EXPECT_NE(c1.source.find("imu1"), std::string::npos) << c1.source;
   const std::string why = error_of(kChain);
   EXPECT_NE(why.find("imu.yaml: an IMU chain with imu0, imu1: name the IMU, e.g. --kalibr "), std::string::npos) << why;
@@ -136,7 +139,8 @@ TEST_F(KalibrYaml, TakesTheNamedImuOfAChainAndRefusesToGuessBetweenSeveral) {
     read_kalibr_imu_yaml(path, 200.0, parse_units(""), "imu2");
     ADD_FAILURE() << "imu2 accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no IMU 'imu2' in this file (it has imu0, imu1)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no IMU 'imu2' in this file (it has imu0, imu1)"), std::string::npos)
+        << e.what();
   }
   // A chain of one IMU needs no name.
   const std::string one(kChain, std::string(kChain).find("imu1:"));
@@ -146,25 +150,29 @@ TEST_F(KalibrYaml, TakesTheNamedImuOfAChainAndRefusesToGuessBetweenSeveral) {
 
 TEST_F(KalibrYaml, RejectsDuplicateKeysHexFloatsBadYamlAndUnrepresentableFiguresWithTheLine) {
   std::string why = error_of(std::string(kEuroc) + "gyroscope_noise_density: 1e-3\n");
-  EXPECT_NE(why.find("imu.yaml:11: duplicate key 'gyroscope_noise_density' (first at line 6)"), std::string::npos) << why;
+  EXPECT_NE(why.find("imu.yaml:11: duplicate key 'gyroscope_noise_density' (first at line 6)"), std::string::npos)
+      << why;
   why = error_of("accelerometer_noise_density: 0x1p-9\n");
   EXPECT_NE(why.find("imu.yaml:1: accelerometer_noise_density: found '0x1p-9', expected a number"), std::string::npos)
       << why;
   why = error_of("gyroscope_noise_density: [1e-4\n");
   EXPECT_NE(why.find("imu.yaml:2:"), std::string::npos) << why;
   EXPECT_NE(why.find("not valid YAML"), std::string::npos) << why;
-  why = error_of("accelerometer_noise_density: 1e300\naccelerometer_random_walk: 1e-4\ngyroscope_noise_density: 1e-4\n"
-                 "gyroscope_random_walk: 1e-5\n");
+  why = error_of(
+      "accelerometer_noise_density: 1e300\naccelerometer_random_walk: 1e-4\ngyroscope_noise_density: 1e-4\n"
+      "gyroscope_random_walk: 1e-5\n");
   EXPECT_NE(why.find("imu.yaml:1: accelerometer_noise_density: 1e+300 gives WN sigma2 = inf per sample"),
             std::string::npos)
       << why;
-  why = error_of("accelerometer_noise_density: 1e-4\naccelerometer_random_walk: 1e-300\ngyroscope_noise_density: 1e-4\n"
-                 "gyroscope_random_walk: 1e-5\n");
+  why = error_of(
+      "accelerometer_noise_density: 1e-4\naccelerometer_random_walk: 1e-300\ngyroscope_noise_density: 1e-4\n"
+      "gyroscope_random_walk: 1e-5\n");
   EXPECT_NE(why.find("imu.yaml:2: accelerometer_random_walk: 1e-300 gives RW gamma2 = 0 per sample"), std::string::npos)
       << why;
   EXPECT_NE(error_of("- 1\n- 2\n").find("expected a Kalibr imu.yaml"), std::string::npos);
   why = error_of("accelerometer_noise_density: 1e-3\ngyroscope_noise_density:\ngyroscope_random_walk: 1e-5\n");
-  EXPECT_NE(why.find("imu.yaml:2: gyroscope_noise_density: found nothing, expected a number"), std::string::npos) << why;
+  EXPECT_NE(why.find("imu.yaml:2: gyroscope_noise_density: found nothing, expected a number"), std::string::npos)
+      << why;
   why = error_of("gyroscope_noise_density: 1e-400\n");
   EXPECT_NE(why.find("imu.yaml:1: gyroscope_noise_density: found 1e-400, beyond the range of a double"),
             std::string::npos)
@@ -179,7 +187,7 @@ TEST_F(KalibrYaml, RejectsDuplicateKeysHexFloatsBadYamlAndUnrepresentableFigures
 
 TEST(Units, ParsesEachKindsUnitsAndRejectsOthersWithOneLine) {
   const auto u = parse_units("gyro=deg/h,accel=mg");
-  EXPECT_NEAR(u.at(SensorKind::kGyro).per_si, 206264.80624709636, 1e-6);  // 180/pi x 3600
+  EXPECT_NEAR(u.at(SensorKind::kGyro).per_si, 206264.80624709636, 1e-6);    // 180/pi x 3600
   EXPECT_NEAR(u.at(SensorKind::kAccel).per_si, 101.97162129779282, 1e-10);  // 1000 / 9.80665
   EXPECT_EQ(parse_units("").at(SensorKind::kGyro).name, "rad/s");
   auto message = [](const std::string& spec) {

@@ -25,8 +25,8 @@ class Ulog : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::vector<unsigned char>& bytes, const std::string& name = "log.ulg") {
     const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                             static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(p, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     return p.string();
   }
   static std::string error_of(const std::string& path, const std::string& topic = {}) {
@@ -88,8 +88,9 @@ TEST_F(Ulog, RejectsATruncatedLogNamingTheMessage) {
 
 TEST_F(Ulog, RejectsAnAbsentTopicAnInstanceAndANonImuTopic) {
   const std::string path = write(gmwm::test::ulog_bytes());
-  EXPECT_NE(error_of(path, "sensor_accel").find("no topic sensor_accel in this log (it has sensor_combined, sensor_gyro)"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of(path, "sensor_accel").find("no topic sensor_accel in this log (it has sensor_combined, sensor_gyro)"),
+      std::string::npos)
       << error_of(path, "sensor_accel");
   EXPECT_NE(error_of(path, "sensor_gyro:2").find("no topic sensor_gyro instance 2"), std::string::npos);
   EXPECT_NE(error_of(path, "vehicle_status").find("--topic vehicle_status: expected an IMU topic"), std::string::npos);

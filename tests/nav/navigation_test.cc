@@ -102,7 +102,7 @@ TEST(NavigationErrors, ARightModelIsConsistentAndOneWithoutItsGaussMarkovBiasIsO
   s.horizon = 300.0;
   s.outages = {{120.0, 180.0}};
   const ImuModel truth = ImuModel::isotropic("truth", sensor("AR1(phi=0.9999,sigma2=1e-12)+WN(sigma2=1e-8)"),
-                       sensor("AR1(phi=0.9999,sigma2=1e-8)+WN(sigma2=1e-5)"));
+                                             sensor("AR1(phi=0.9999,sigma2=1e-8)+WN(sigma2=1e-5)"));
   const ImuModel without = ImuModel::isotropic("no GM", sensor("WN(sigma2=1e-8)"), sensor("WN(sigma2=1e-5)"));
   const Analysis a = analyse(truth, {truth, without}, s);
   const FilterErrors& right = a.filters[0];
@@ -135,8 +135,10 @@ TEST(NavigationErrors, TheMethodsOwnComparisonFindsTheFilterWithoutItsGaussMarko
     auto one = [&](double n, double sigma) {
       Model m = parse_model(beta > 0.0 ? "GM+WN" : "WN", ProcessContext{kRate, true});
       Eigen::VectorXd theta(m.num_parameters());
-      if (beta > 0.0) theta << beta, sigma * sigma, n * n * kRate;
-      else theta << n * n * kRate;
+      if (beta > 0.0)
+        theta << beta, sigma * sigma, n * n * kRate;
+      else
+        theta << n * n * kRate;
       return SensorModel{m, theta, kRate};
     };
     return ImuModel::isotropic("beta", one(30.0 * deg_h, 10.0 * deg_h), one(70e-6 * g, 50e-6 * g));
@@ -161,8 +163,9 @@ TEST(NavigationErrors, StaysExactOnALongRunWithFastUpdatesWhereTheRawInertialErr
   s.fix_sigma = 0.05;
   s.outages = {{1380.0, 1440.0}};
   s.output_interval = 10.0;
-  const ImuModel truth = ImuModel::isotropic("truth", sensor("AR1(phi=0.99996,sigma2=1e-13)+RW(gamma2=3e-15)+WN(sigma2=1e-5)"),
-                                             sensor("AR1(phi=0.96,sigma2=5e-6)+RW(gamma2=5e-9)+WN(sigma2=2e-3)"));
+  const ImuModel truth =
+      ImuModel::isotropic("truth", sensor("AR1(phi=0.99996,sigma2=1e-13)+RW(gamma2=3e-15)+WN(sigma2=1e-5)"),
+                          sensor("AR1(phi=0.96,sigma2=5e-6)+RW(gamma2=5e-9)+WN(sigma2=2e-3)"));
   const FilterErrors f = only(analyse(truth, {truth}, s));
   for (std::size_t k = 0; k < f.time.size(); ++k) EXPECT_NEAR(f.nees[k], 9.0, 1e-6) << "t = " << f.time[k];
 }
@@ -179,9 +182,11 @@ TEST(NavigationErrors, TheCovarianceAnalysisEqualsItsMonteCarloWithinTheMonteCar
   s.imu_rate = 10.0;
   s.outages = {{300.0, 360.0}};
   s.output_interval = 10.0;
-  const ImuModel truth = ImuModel::isotropic("truth", sensor("AR1(phi=0.9995,sigma2=1e-12)+RW(gamma2=1e-14)+WN(sigma2=1e-8)"),
-                       sensor("AR1(phi=0.999,sigma2=1e-9)+WN(sigma2=1e-5)"));
-  const ImuModel filter = ImuModel::isotropic("WN+RW", sensor("RW(gamma2=1e-13)+WN(sigma2=1e-8)"), sensor("RW(gamma2=1e-10)+WN(sigma2=1e-5)"));
+  const ImuModel truth =
+      ImuModel::isotropic("truth", sensor("AR1(phi=0.9995,sigma2=1e-12)+RW(gamma2=1e-14)+WN(sigma2=1e-8)"),
+                          sensor("AR1(phi=0.999,sigma2=1e-9)+WN(sigma2=1e-5)"));
+  const ImuModel filter = ImuModel::isotropic("WN+RW", sensor("RW(gamma2=1e-13)+WN(sigma2=1e-8)"),
+                                              sensor("RW(gamma2=1e-10)+WN(sigma2=1e-5)"));
   constexpr int kRuns = 1000;
   const Analysis exact = analyse(truth, {filter}, s);
   const Analysis mc = monte_carlo(truth, {filter}, s, kRuns, 2828);
@@ -234,7 +239,9 @@ TEST(NavigationErrors, TheManoeuvresPosesAreTheCircuitItDescribes) {
   const double pi = 3.14159265358979323846;
   EXPECT_NEAR(turning.heading, 4.5 * pi / 20.0, 1e-15);
   EXPECT_NEAR(turning.specific_force.head<2>().norm(), 10.0 * pi / 20.0, 1e-12);
-  EXPECT_NEAR(turning.specific_force.head<2>().dot(Eigen::Vector2d(std::cos(turning.heading), std::sin(turning.heading))), 0.0, 1e-12);
+  EXPECT_NEAR(
+      turning.specific_force.head<2>().dot(Eigen::Vector2d(std::cos(turning.heading), std::sin(turning.heading))), 0.0,
+      1e-12);
   const Pose again = pose_at(Trajectory::kManoeuvre, 5 + 20 + 4 + 120, g);
   EXPECT_EQ(again.heading, turning.heading);
   EXPECT_EQ(pose_at(Trajectory::kStatic, 29, g).specific_force, Eigen::Vector3d(0.0, 0.0, -g));
@@ -251,8 +258,10 @@ TEST(NavigationErrors, AModelInDegreesPerSecondMeansTheSameAsItsValuesInRadians)
   Eigen::VectorXd theta(2);
   theta << 1e-4 * k * k, 1e-10 * k * k;
   const SensorModel rad{m, theta, kRate};
-  const FilterErrors a = only(analyse(ImuModel::isotropic("deg", deg, quiet()), {ImuModel::isotropic("deg", deg, quiet())}, free_inertial(100.0)));
-  const FilterErrors b = only(analyse(ImuModel::isotropic("rad", rad, quiet()), {ImuModel::isotropic("rad", rad, quiet())}, free_inertial(100.0)));
+  const FilterErrors a = only(analyse(ImuModel::isotropic("deg", deg, quiet()),
+                                      {ImuModel::isotropic("deg", deg, quiet())}, free_inertial(100.0)));
+  const FilterErrors b = only(analyse(ImuModel::isotropic("rad", rad, quiet()),
+                                      {ImuModel::isotropic("rad", rad, quiet())}, free_inertial(100.0)));
   EXPECT_NEAR(a.attitude_rms.back(), b.attitude_rms.back(), 1e-12 * b.attitude_rms.back());
 }
 
@@ -302,7 +311,8 @@ TEST(NavigationErrors, RefusesAModelWithoutAContinuousFormAndABadScenarioNamingT
     analyse(sin, {ok}, Scenario{});
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("sin: gyroscope x: component 1 (SIN) has no continuous-time"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("sin: gyroscope x: component 1 (SIN) has no continuous-time"),
+              std::string::npos)
         << e.what();
   }
   Scenario s;

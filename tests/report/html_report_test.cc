@@ -32,13 +32,13 @@ namespace {
 
 // Vega is a listed dependency (tools/setup.sh); absent, the test skips unless the browser
 // checks are required (CI), like the browser test.
-#define REQUIRE_VEGA()                                                                         \
-  do {                                                                                         \
-    if (const std::string why = gmwm::report::vega_missing_reason(); !why.empty()) {               \
-      const char* req = std::getenv("GMWM_REQUIRE_BROWSER");                                   \
-      if (req && std::string(req) == "1") FAIL() << "Vega is required (CI): " << why;         \
-      GTEST_SKIP() << "Vega (Debian libjs-vega) not available: " << why;                      \
-    }                                                                                          \
+#define REQUIRE_VEGA()                                                                \
+  do {                                                                                \
+    if (const std::string why = gmwm::report::vega_missing_reason(); !why.empty()) {  \
+      const char* req = std::getenv("GMWM_REQUIRE_BROWSER");                          \
+      if (req && std::string(req) == "1") FAIL() << "Vega is required (CI): " << why; \
+      GTEST_SKIP() << "Vega (Debian libjs-vega) not available: " << why;              \
+    }                                                                                 \
   } while (0)
 
 constexpr const char* kNastyName = "gyro<x>&\"q'</script><script>alert(1)</script>";
@@ -345,8 +345,8 @@ TEST(HtmlReport, StaticSvgDrawsTheFirstColumnsWvModelAndComponents) {
   EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\"", 0), 0u);
   EXPECT_EQ(svg.find(kNastyName), std::string::npos);
   EXPECT_NE(svg.find("gyro&lt;x&gt;&amp;"), std::string::npos);
-  EXPECT_EQ(count(svg, "<polygon"), 1);                 // the CI band
-  EXPECT_EQ(count(svg, "<polyline"), 4);                // WV, model, 2 components
+  EXPECT_EQ(count(svg, "<polygon"), 1);                                         // the CI band
+  EXPECT_EQ(count(svg, "<polyline"), 4);                                        // WV, model, 2 components
   EXPECT_EQ(count(svg, "stroke-width=\"1.5\" stroke-dasharray=\"6,4\"/>"), 2);  // the components' lines
   EXPECT_NE(svg.find(">tau [s]</text>"), std::string::npos);
 }

@@ -117,11 +117,11 @@ TEST(AxisSummary, ShowsEachAxisModelVerdictAndTheJsonsFiguresInBothUnits) {
   EXPECT_LE(widest_line(s), kTerminalWidth);
   EXPECT_NE(s.find("gyro_x: AR1+WN; GoF p = 0.61: not rejected at 5%"), std::string::npos);
   EXPECT_NE(s.find("gyro_y: AR1+WN; GoF p = 0.001: rejected at 5%"), std::string::npos);
-  EXPECT_NE(s.find("0.0003163"), std::string::npos);              // N, 4 digits of the JSON's value
-  EXPECT_NE(s.find("0.01898 deg/sqrt(h)"), std::string::npos);    // 3.1634e-4 x 60
-  EXPECT_NE(s.find("< 0.0002537"), std::string::npos);            // K is an upper bound
+  EXPECT_NE(s.find("0.0003163"), std::string::npos);            // N, 4 digits of the JSON's value
+  EXPECT_NE(s.find("0.01898 deg/sqrt(h)"), std::string::npos);  // 3.1634e-4 x 60
+  EXPECT_NE(s.find("< 0.0002537"), std::string::npos);          // K is an upper bound
   EXPECT_NE(s.find("upper bound"), std::string::npos);
-  EXPECT_NE(s.find("3.195 deg/h"), std::string::npos);            // 8.875e-4 x 3600
+  EXPECT_NE(s.find("3.195 deg/h"), std::string::npos);  // 8.875e-4 x 3600
 }
 
 TEST(AxisSummary, SaysHowToGetDatasheetUnitsWhenTheDatasUnitIsUnknown) {

@@ -43,7 +43,8 @@ std::vector<double> rounded(std::vector<double> x, double q) {
 std::vector<double> with_spikes(std::vector<double> x, double size, std::uint64_t seed) {
   Rng g = make_stream(seed, {0});
   boost::random::uniform_int_distribution<int> where(10, 89), sign(0, 1);
-  for (std::size_t b = 0; b + 100 <= x.size(); b += 100) x[b + static_cast<std::size_t>(where(g))] += sign(g) ? size : -size;
+  for (std::size_t b = 0; b + 100 <= x.size(); b += 100)
+    x[b + static_cast<std::size_t>(where(g))] += sign(g) ? size : -size;
   return x;
 }
 
@@ -63,7 +64,8 @@ Diagnosis diagnose(const std::vector<double>& x, const RobustWvOptions& o = {}) 
   co.levels = o.levels;
   co.alpha = o.alpha;
   d.classical = classical_wv(x.data(), n, co);
-  d.levels = contamination_diagnostic(x.data(), n, d.robust, d.classical, d.quantization, tune(o.estimator, o.efficiency));
+  d.levels =
+      contamination_diagnostic(x.data(), n, d.robust, d.classical, d.quantization, tune(o.estimator, o.efficiency));
   return d;
 }
 

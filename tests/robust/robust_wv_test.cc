@@ -40,12 +40,12 @@ using namespace test_util;
 // Fisher consistency on Gaussian white noise.
 
 struct LevelSummary {
-  double truth = 0.0;          // sigma2 / tau_j
-  double eta = 0.0;            // classical eta_j = max(M_j / tau_j, 1)
-  double mean = 0.0, sd = 0.0; // of the robust estimate over replicates
-  double coverage = 0.0;       // share of robust CIs containing the truth
-  double var_ratio = 0.0;      // Var(classical) / Var(robust) over replicates
-  std::string note;            // of replicate 0
+  double truth = 0.0;           // sigma2 / tau_j
+  double eta = 0.0;             // classical eta_j = max(M_j / tau_j, 1)
+  double mean = 0.0, sd = 0.0;  // of the robust estimate over replicates
+  double coverage = 0.0;        // share of robust CIs containing the truth
+  double var_ratio = 0.0;       // Var(classical) / Var(robust) over replicates
+  std::string note;             // of replicate 0
 };
 
 // Replicates of the Gaussian model `spec` (with values): robust and classical WVs.
@@ -102,16 +102,16 @@ constexpr int kConsistencyReplicates = 2000;
 
 void print_study(const char* label, const std::vector<LevelSummary>& s) {
   for (std::size_t j = 0; j < s.size(); ++j)
-    std::printf("[ %s ] level %2zu eta %8.2f mean/truth - 1 %+.4f (%.2f MC se) var ratio %.3f coverage %.3f%s\n",
-                label, j + 1, s[j].eta, s[j].mean / s[j].truth - 1.0,
+    std::printf("[ %s ] level %2zu eta %8.2f mean/truth - 1 %+.4f (%.2f MC se) var ratio %.3f coverage %.3f%s\n", label,
+                j + 1, s[j].eta, s[j].mean / s[j].truth - 1.0,
                 (s[j].mean - s[j].truth) / (s[j].sd / std::sqrt(static_cast<double>(kConsistencyReplicates))),
-                s[j].var_ratio, s[j].coverage,
-                s[j].note.empty() ? "" : " (classical fallback)");
+                s[j].var_ratio, s[j].coverage, s[j].note.empty() ? "" : " (classical fallback)");
 }
 
 // The three tests on the Huber study share one run (1.6 s on 2 cores).
 const std::vector<LevelSummary>& huber_study() {
-  static const auto s = consistency_study("WN(sigma2=1)", RobustKind::kHuber, 0.6, kConsistencyN, kConsistencyReplicates, 3101);
+  static const auto s =
+      consistency_study("WN(sigma2=1)", RobustKind::kHuber, 0.6, kConsistencyN, kConsistencyReplicates, 3101);
   return s;
 }
 
@@ -127,8 +127,8 @@ void expect_fisher_consistent(const std::vector<LevelSummary>& s) {
     ++checked;
     const double se = s[j].sd / std::sqrt(static_cast<double>(kConsistencyReplicates));
     EXPECT_LE(std::abs(s[j].mean - s[j].truth), 3.0 * se)
-        << "level " << j + 1 << " (eta " << s[j].eta << "): mean/truth - 1 = " << s[j].mean / s[j].truth - 1.0
-        << ", " << (s[j].mean - s[j].truth) / se << " Monte-Carlo standard errors";
+        << "level " << j + 1 << " (eta " << s[j].eta << "): mean/truth - 1 = " << s[j].mean / s[j].truth - 1.0 << ", "
+        << (s[j].mean - s[j].truth) / se << " Monte-Carlo standard errors";
   }
   EXPECT_EQ(checked, 9);
 }
@@ -192,7 +192,8 @@ TEST(RobustWvConsistency, HuberCisCoverTheWhiteNoiseWvAtLeastAtTheNominalRate) {
 }
 
 TEST(RobustWvConsistency, BisquareMeanIsWithinThreeMonteCarloErrorsOfTheTruthAtEveryLevelWithEtaAtLeast30) {
-  const auto s = consistency_study("WN(sigma2=1)", RobustKind::kBisquare, 0.6, kConsistencyN, kConsistencyReplicates, 3102);
+  const auto s =
+      consistency_study("WN(sigma2=1)", RobustKind::kBisquare, 0.6, kConsistencyN, kConsistencyReplicates, 3102);
   print_study("bisquare 0.6", s);
   expect_fisher_consistent(s);
 }
@@ -291,10 +292,13 @@ TEST(RobustWv, HeavilyQuantizedSeriesGivesNoRootAtLevelOneNeverANumber) {
 double outlier_scale(const Tuning& t, double eps) {
   using GK = boost::math::quadrature::gauss_kronrod<double, 61>;
   auto lhs = [&](double s) {
-    auto f = [&](double z) { return 2.0 * chi(t.kind, t.c, z * z / s) * std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi); };
+    auto f = [&](double z) {
+      return 2.0 * chi(t.kind, t.c, z * z / s) * std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
+    };
     const double k = t.c * std::sqrt(s);
     const double tail = t.kind == RobustKind::kHuber ? t.c * t.c : 0.0;
-    return (1.0 - eps) * (GK::integrate(f, 0.0, k, 15, 1e-13) + GK::integrate(f, k, 40.0, 15, 1e-13)) + eps * tail - t.a;
+    return (1.0 - eps) * (GK::integrate(f, 0.0, k, 15, 1e-13) + GK::integrate(f, k, 40.0, 15, 1e-13)) + eps * tail -
+           t.a;
   };
   double lo = 0.3, hi = 3.0;  // lhs > 0 at lo, < 0 at hi for eps <= 10%
   for (int i = 0; i < 60; ++i) (lhs(0.5 * (lo + hi)) > 0.0 ? lo : hi) = 0.5 * (lo + hi);
@@ -329,7 +333,8 @@ TEST(RobustWv, IsolatedSpikesBarelyMoveTheRobustLevelOneWvEvenWithoutTheSpikeScr
     auto spiky = clean;
     Rng g = make_stream(5302, {static_cast<std::uint64_t>(r)});
     boost::random::uniform_int_distribution<int> where(10, 89), sign(0, 1);
-    for (std::int64_t b = 0; b + 100 <= n; b += 100) spiky[static_cast<std::size_t>(b + where(g))] += sign(g) ? 20.0 : -20.0;
+    for (std::int64_t b = 0; b + 100 <= n; b += 100)
+      spiky[static_cast<std::size_t>(b + where(g))] += sign(g) ? 20.0 : -20.0;
     const auto i = static_cast<std::size_t>(r);
     huber[i] = robust_wv(spiky.data(), n, hb).wv[0] / robust_wv(clean.data(), n, hb).wv[0];
     bisquare[i] = robust_wv(spiky.data(), n, bs).wv[0] / robust_wv(clean.data(), n, bs).wv[0];
@@ -337,8 +342,10 @@ TEST(RobustWv, IsolatedSpikesBarelyMoveTheRobustLevelOneWvEvenWithoutTheSpikeScr
   });
   const double ph = outlier_scale(tune(RobustKind::kHuber, 0.6), 0.02);
   const double pb = outlier_scale(tune(RobustKind::kBisquare, 0.6), 0.02);
-  std::printf("[ spikes ] level-1 spiky/clean medians: huber %.4f (predicted %.4f), bisquare %.4f (predicted %.4f), "
-              "classical %.3f\n", median(huber), ph, median(bisquare), pb, median(classical));
+  std::printf(
+      "[ spikes ] level-1 spiky/clean medians: huber %.4f (predicted %.4f), bisquare %.4f (predicted %.4f), "
+      "classical %.3f\n",
+      median(huber), ph, median(bisquare), pb, median(classical));
   EXPECT_NEAR(median(huber), 1.0, 0.10);
   EXPECT_NEAR(median(bisquare), 1.0, 0.10);
   EXPECT_GT(median(classical), 1.30);

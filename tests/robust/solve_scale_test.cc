@@ -163,6 +163,5 @@ TEST(SolveScale, RejectsEmptyInputAndNonPositiveStarts) {
   }
 }
 
-
 }  // namespace
 }  // namespace gmwm::robust

@@ -16,12 +16,13 @@
 namespace gmwm::robust {
 namespace {
 
-struct TableRow { double eff, c, a; };
+struct TableRow {
+  double eff, c, a;
+};
 // docs/statistics.md section 2, "Values": target efficiency, c, a(c) (10 decimals).
 const TableRow kSpecTable[] = {
-    {0.5, 1.0303349218, 0.5351519938},  {0.6, 1.2245090302, 0.6486092194},
-    {0.7, 1.4400500526, 0.7535145427},  {0.8, 1.6995410597, 0.8485514579},
-    {0.9, 2.0676770356, 0.9320957578},  {0.95, 2.3761316828, 0.9686157802},
+    {0.5, 1.0303349218, 0.5351519938},  {0.6, 1.2245090302, 0.6486092194}, {0.7, 1.4400500526, 0.7535145427},
+    {0.8, 1.6995410597, 0.8485514579},  {0.9, 2.0676770356, 0.9320957578}, {0.95, 2.3761316828, 0.9686157802},
     {0.99, 2.9619288304, 0.9943547785},
 };
 
@@ -121,7 +122,13 @@ TEST(RobustTuning, ExpansionConstantsAreTheDerivativesOfTheGaussianEstimatingEqu
   // slope^2 + curvature Var(chi) / (2 slope^3) = +0.976 / n, is the measured +0.96 / n.
   const Tuning h6 = tune(RobustKind::kHuber, 0.6);
   const double mu4 = gaussian_expectation([&](double z) { return z * z <= h6.c * h6.c ? z * z * z * z : 0.0; }, h6.c);
-  const double var = gaussian_expectation([&](double z) { const double x = chi(RobustKind::kHuber, h6.c, z * z); return x * x; }, h6.c) - h6.a * h6.a;
+  const double var = gaussian_expectation(
+                         [&](double z) {
+                           const double x = chi(RobustKind::kHuber, h6.c, z * z);
+                           return x * x;
+                         },
+                         h6.c) -
+                     h6.a * h6.a;
   const double cov = mu4 - h6.a * h6.slope;
   const double bias = -cov / (h6.slope * h6.slope) + h6.curvature * var / (2.0 * std::pow(h6.slope, 3));
   EXPECT_NEAR(bias, 0.9758, 1e-3);

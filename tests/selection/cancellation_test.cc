@@ -38,7 +38,8 @@ io::SignalSet signal_set(int columns = 1) {
   set.freq = 100.0;
   set.freq_known = true;
   for (int k = 0; k < columns; ++k)
-    set.signals.push_back({"gyro_x" + std::to_string(k), simulate(m, m.given_values(), kN, 7, static_cast<std::uint64_t>(k)), ""});
+    set.signals.push_back(
+        {"gyro_x" + std::to_string(k), simulate(m, m.given_values(), kN, 7, static_cast<std::uint64_t>(k)), ""});
   return set;
 }
 

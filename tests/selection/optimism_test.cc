@@ -102,8 +102,9 @@ TEST(AnalyticOptimism, RejectsInconsistentSizesNamingTheArgument) {
               analytic_optimism(c.model, c.theta, c.tau, c.nuhat, Eigen::MatrixXd::Identity(8, 8), c.v);
             }).find("Omega"),
             std::string::npos);
-  EXPECT_NE(message([&] { analytic_optimism(c.model, c.theta, c.tau, c.nuhat, c.omega, Eigen::MatrixXd()); }).find("V "),
-            std::string::npos);
+  EXPECT_NE(
+      message([&] { analytic_optimism(c.model, c.theta, c.tau, c.nuhat, c.omega, Eigen::MatrixXd()); }).find("V "),
+      std::string::npos);
 }
 
 }  // namespace

@@ -155,7 +155,7 @@ TEST(SelectModels, BicPenalisesEachParameterByTheLogLength) {
 TEST(SelectModels, RejectsAMaximalModelWithMoreParametersThanLevels) {
   const Model truth = parse_model(kTruth);
   const auto x = simulate(truth, truth.given_values(), 64, 7104, 0);
-  const std::vector<WaveletVariance> wvs = {classical_wv(x.data(), 64)};  // 6 levels
+  const std::vector<WaveletVariance> wvs = {classical_wv(x.data(), 64)};     // 6 levels
   EXPECT_THROW(select_models(wvs, parse_model("3*AR1+WN+RW")), InputError);  // 8 parameters
 }
 
@@ -189,7 +189,8 @@ TEST(SelectModels, BootstrapOptimismAgreesWithTheAnalyticOneForTheTrueModelAndIs
     found = true;
     std::printf("[ bootstrap ] AR1+WN optimism: analytic %.4f, bootstrap %.4f (se %.4f)\n", *r.optimism_analytic,
                 *r.optimism_bootstrap, *r.optimism_bootstrap_se);
-    EXPECT_NEAR(*r.optimism_bootstrap, *r.optimism_analytic, 4.0 * *r.optimism_bootstrap_se + 0.1 * *r.optimism_analytic);
+    EXPECT_NEAR(*r.optimism_bootstrap, *r.optimism_analytic,
+                4.0 * *r.optimism_bootstrap_se + 0.1 * *r.optimism_analytic);
     EXPECT_TRUE(*r.optimism_bootstrap_se > 0.0 && std::isfinite(*r.optimism_bootstrap_se));
   }
   EXPECT_TRUE(found);
@@ -255,7 +256,8 @@ TEST(SelectModels, ShowsEveryRankingRowWithItsOwnModelsFitAndItsMembersWithTheir
     fo.omega_matrix = sel.omega;
     fo.inference = false;
     const FitResult alone = fit_gmwm(wvs[0], m, fo);
-    EXPECT_GE(r.objective, alone.objective * (1.0 - 1e-6)) << r.model << ": the row's objective is below its own model's";
+    EXPECT_GE(r.objective, alone.objective * (1.0 - 1e-6))
+        << r.model << ": the row's objective is below its own model's";
     // ... and no higher than its own candidate fit, wherever that candidate's effective form
     // put it (an AR1+WN+RW whose RW collapsed is AR1+WN in effect).
     for (const CandidateFit& c : sel.candidates)

@@ -53,7 +53,7 @@ constexpr const char* kImuMd5 = "6a62c6daae103f4ff57a132d6f95cec2";
 std::vector<double> imu_values(int i) {
   const double x = static_cast<double>(i);
   return {std::sin(x * 0.1) * 1e-3, std::cos(x * 0.37) * 2e-3, (i % 11) * 1e-4,
-          9.81 + (i % 7) * 1e-3,   std::sin(x * 0.05) * 0.02,  -(i % 5) * 3e-3};
+          9.81 + (i % 7) * 1e-3,    std::sin(x * 0.05) * 0.02, -(i % 5) * 3e-3};
 }
 
 std::string bz2_compress(const std::string& in) {
@@ -112,9 +112,8 @@ Ros1Bag ros1_bag(const Ros1BagOptions& o) {
   const std::string conn_header = u32_string("topic=" + o.topic) + u32_string("type=sensor_msgs/Imu") +
                                   u32_string(std::string("md5sum=") + kImuMd5) +
                                   u32_string("message_definition=std_msgs/Header header\n...");
-  const std::string connection =
-      ros1_record({ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", std::uint32_t{0}), "topic=" + o.topic},
-                  conn_header);
+  const std::string connection = ros1_record(
+      {ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", std::uint32_t{0}), "topic=" + o.topic}, conn_header);
   // The bag header is padded to 4096 bytes, as rosbag writes it; its fields are patched at the end.
   std::string& out = bag.bytes;
   out = "#ROSBAG V2.0\n";
@@ -140,14 +139,12 @@ Ros1Bag ros1_bag(const Ros1BagOptions& o) {
       index.put(time).put(static_cast<std::uint32_t>(records.size()));
       const std::string data = imu_ros1(i, o.step_ns);
       if (i == 0) {
-        const std::string h = ros1_record({ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}),
-                                           ros1_field("time", time)},
-                                          "");
+        const std::string h = ros1_record(
+            {ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}), ros1_field("time", time)}, "");
         bag.first_message_data_at = records.size() + h.size();
       }
-      records += ros1_record({ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}),
-                              ros1_field("time", time)},
-                             data);
+      records += ros1_record(
+          {ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}), ros1_field("time", time)}, data);
     }
     const std::string stored = o.compression == "bz2"   ? bz2_compress(records)
                                : o.compression == "lz4" ? lz4_frame_compress(records)
@@ -159,18 +156,19 @@ Ros1Bag ros1_bag(const Ros1BagOptions& o) {
     // The 'size' value: after the header length (4) and the first two fields (4 + length each) and "size=".
     bag.chunk_size_at.push_back(chunk_pos + 4 + (4 + fields[0].size()) + (4 + fields[1].size()) + 4 + 5);
     out += ros1_record(fields, stored);
-    out += ros1_record({ros1_field("op", std::uint8_t{0x04}), ros1_field("ver", std::uint32_t{1}),
-                        ros1_field("conn", std::uint32_t{0}), ros1_field("count", static_cast<std::uint32_t>(last - first))},
-                       index.b);
+    out += ros1_record(
+        {ros1_field("op", std::uint8_t{0x04}), ros1_field("ver", std::uint32_t{1}),
+         ros1_field("conn", std::uint32_t{0}), ros1_field("count", static_cast<std::uint32_t>(last - first))},
+        index.b);
     const auto [s0, n0] = stamp(first, o.step_ns);
     const auto [s1, n1] = stamp(last - 1, o.step_ns);
     LeBytes per;
     per.put(std::uint32_t{0}).put(static_cast<std::uint32_t>(last - first));
-    infos.push_back(ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
-                                 ros1_field("chunk_pos", chunk_pos),
-                                 ros1_field("start_time", s0 | (std::uint64_t{n0} << 32)),
-                                 ros1_field("end_time", s1 | (std::uint64_t{n1} << 32)), ros1_field("count", std::uint32_t{1})},
-                                per.b));
+    infos.push_back(
+        ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
+                     ros1_field("chunk_pos", chunk_pos), ros1_field("start_time", s0 | (std::uint64_t{n0} << 32)),
+                     ros1_field("end_time", s1 | (std::uint64_t{n1} << 32)), ros1_field("count", std::uint32_t{1})},
+                    per.b));
   }
   append_index_section(bag, connection, infos);
   const std::string h = bag_header(bag.index_pos, static_cast<std::uint32_t>(bag.chunk_pos.size()));
@@ -250,10 +248,10 @@ Mcap mcap_file(const McapOptions& o) {
 Ros1Bag ros1_bag_of_chunks(const std::vector<Ros1StoredChunk>& chunks) {
   Ros1Bag bag;
   std::string& out = bag.bytes;
-  const std::string conn_header = u32_string("topic=/imu") + u32_string("type=sensor_msgs/Imu") +
-                                  u32_string(std::string("md5sum=") + kImuMd5);
-  const std::string connection =
-      ros1_record({ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", std::uint32_t{0}), "topic=/imu"}, conn_header);
+  const std::string conn_header =
+      u32_string("topic=/imu") + u32_string("type=sensor_msgs/Imu") + u32_string(std::string("md5sum=") + kImuMd5);
+  const std::string connection = ros1_record(
+      {ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", std::uint32_t{0}), "topic=/imu"}, conn_header);
   const auto bag_header = [&](std::uint64_t index_pos) {
     return ros1_record({ros1_field("op", std::uint8_t{0x03}), ros1_field("index_pos", index_pos),
                         ros1_field("conn_count", std::uint32_t{1}),
@@ -265,14 +263,15 @@ Ros1Bag ros1_bag_of_chunks(const std::vector<Ros1StoredChunk>& chunks) {
   for (const Ros1StoredChunk& c : chunks) {
     const std::uint64_t pos = out.size();
     bag.chunk_pos.push_back(pos);
-    out += ros1_record({ros1_field("op", std::uint8_t{0x05}), "compression=" + c.compression, ros1_field("size", c.size)},
-                       c.stored);
+    out += ros1_record(
+        {ros1_field("op", std::uint8_t{0x05}), "compression=" + c.compression, ros1_field("size", c.size)}, c.stored);
     LeBytes per;
     per.put(std::uint32_t{0}).put(std::uint32_t{1});
-    infos.push_back(ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
-                                 ros1_field("chunk_pos", pos), ros1_field("start_time", std::uint64_t{kFirstSec}),
-                                 ros1_field("end_time", std::uint64_t{kFirstSec}), ros1_field("count", std::uint32_t{1})},
-                                per.b));
+    infos.push_back(
+        ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
+                     ros1_field("chunk_pos", pos), ros1_field("start_time", std::uint64_t{kFirstSec}),
+                     ros1_field("end_time", std::uint64_t{kFirstSec}), ros1_field("count", std::uint32_t{1})},
+                    per.b));
   }
   append_index_section(bag, connection, infos);
   const std::string h = bag_header(bag.index_pos);

@@ -45,17 +45,17 @@ struct Ros1BagOptions {
   int per_chunk = 64;
   std::string compression = "none";  ///< "none", "bz2" or "lz4"
   std::string topic = "/imu";
-  std::uint64_t step_ns = 5000000;   ///< 200 Hz
+  std::uint64_t step_ns = 5000000;  ///< 200 Hz
 };
 
 struct Ros1Bag {
   std::string bytes;
-  std::uint64_t index_pos = 0;                ///< where the index section starts
-  std::vector<std::uint64_t> chunk_pos;       ///< the chunk records
-  std::vector<std::uint64_t> chunk_size_at;   ///< each chunk header's 'size' value (uint32)
-  std::vector<std::uint64_t> chunk_info_at;   ///< the chunk info records
-  std::uint64_t connection_at = 0;            ///< the connection record in the index
-  std::uint64_t first_message_data_at = 0;    ///< in the first chunk's uncompressed records
+  std::uint64_t index_pos = 0;               ///< where the index section starts
+  std::vector<std::uint64_t> chunk_pos;      ///< the chunk records
+  std::vector<std::uint64_t> chunk_size_at;  ///< each chunk header's 'size' value (uint32)
+  std::vector<std::uint64_t> chunk_info_at;  ///< the chunk info records
+  std::uint64_t connection_at = 0;           ///< the connection record in the index
+  std::uint64_t first_message_data_at = 0;   ///< in the first chunk's uncompressed records
 };
 
 /// A bag of one sensor_msgs/Imu topic; message i has stamp 1700000000 s + i * step_ns and
@@ -77,17 +77,17 @@ std::string ros1_field(const std::string& name, T v) {
 
 struct McapOptions {
   int messages = 256;
-  int per_chunk = 64;              ///< 0: messages outside chunks
-  std::string compression;         ///< "", "lz4" or "zstd"
+  int per_chunk = 64;       ///< 0: messages outside chunks
+  std::string compression;  ///< "", "lz4" or "zstd"
   std::string topic = "/imu";
   std::uint64_t step_ns = 5000000;
-  bool crc = true;                 ///< compute the chunks' CRC-32
+  bool crc = true;  ///< compute the chunks' CRC-32
 };
 
 struct Mcap {
   std::string bytes;
-  std::vector<std::uint64_t> chunk_at;   ///< the chunk records (their opcode byte)
-  std::uint64_t data_end_at = 0;         ///< the DataEnd record
+  std::vector<std::uint64_t> chunk_at;  ///< the chunk records (their opcode byte)
+  std::uint64_t data_end_at = 0;        ///< the DataEnd record
 };
 
 /// An MCAP file of one sensor_msgs/msg/Imu channel (CDR); message i as for ros1_bag.

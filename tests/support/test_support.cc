@@ -45,8 +45,7 @@ std::string gzip_member(const std::string& text) {
 
 std::filesystem::path temp_dir(const std::string& tag) {
   std::random_device rd;
-  auto p = std::filesystem::temp_directory_path() /
-           ("gmwm_test_" + tag + "_" + std::to_string(rd()));
+  auto p = std::filesystem::temp_directory_path() / ("gmwm_test_" + tag + "_" + std::to_string(rd()));
   std::filesystem::create_directories(p);
   return p;
 }
@@ -93,9 +92,9 @@ constexpr const char* kSensorGyro =
     "float temperature;uint32_t error_count;uint8_t[3] clip_counter;uint8_t samples;uint8_t[4] _padding0;";
 
 std::array<float, 6> combined(int i) {
-  return {static_cast<float>(i) / 1024.0f,          -static_cast<float>(i) / 1024.0f,
-          2.0f * static_cast<float>(i) / 1024.0f,   9.81f + static_cast<float>(i) / 4096.0f,
-          0.5f + static_cast<float>(i % 7) / 8.0f,  -static_cast<float>(i) / 2048.0f};
+  return {static_cast<float>(i) / 1024.0f,         -static_cast<float>(i) / 1024.0f,
+          2.0f * static_cast<float>(i) / 1024.0f,  9.81f + static_cast<float>(i) / 4096.0f,
+          0.5f + static_cast<float>(i % 7) / 8.0f, -static_cast<float>(i) / 2048.0f};
 }
 
 }  // namespace
@@ -103,9 +102,9 @@ std::array<float, 6> combined(int i) {
 std::vector<unsigned char> ulog_bytes(const UlogFixture& f) {
   Bytes out;
   for (int c : {0x55, 0x4C, 0x6F, 0x67, 0x01, 0x12, 0x35}) out.put(static_cast<std::uint8_t>(c));  // "ULog" 01 12 35
-  out.put(static_cast<std::uint8_t>(1));  // version
-  out.put(f.t0);                          // start time, us
-  Bytes flags;                            // 'B': compat[8], incompat[8], appended offsets[3]
+  out.put(static_cast<std::uint8_t>(1));                                                           // version
+  out.put(f.t0);                                                                                   // start time, us
+  Bytes flags;  // 'B': compat[8], incompat[8], appended offsets[3]
   for (int i = 0; i < 16; ++i) flags.put(static_cast<std::uint8_t>(0));
   for (int i = 0; i < 3; ++i) flags.put(static_cast<std::uint64_t>(0));
   out.message('B', flags);
@@ -128,7 +127,8 @@ std::vector<unsigned char> ulog_bytes(const UlogFixture& f) {
     out.message('A', b);
   };
   subscribe(0, 7, "sensor_combined");
-  for (int k = 0; k < f.gyro_instances; ++k) subscribe(static_cast<std::uint8_t>(k), static_cast<std::uint16_t>(20 + k), "sensor_gyro");
+  for (int k = 0; k < f.gyro_instances; ++k)
+    subscribe(static_cast<std::uint8_t>(k), static_cast<std::uint16_t>(20 + k), "sensor_gyro");
   std::uint16_t combined_id = 7;
   for (int i = 0; i < f.samples; ++i) {
     if (i == f.resubscribe_at) {
@@ -138,7 +138,8 @@ std::vector<unsigned char> ulog_bytes(const UlogFixture& f) {
       combined_id = 8;
       subscribe(0, combined_id, "sensor_combined");
     }
-    const std::uint64_t t = f.stamps.empty() ? f.t0 + static_cast<std::uint64_t>(i) * f.step_us : f.stamps[static_cast<std::size_t>(i)];
+    const std::uint64_t t =
+        f.stamps.empty() ? f.t0 + static_cast<std::uint64_t>(i) * f.step_us : f.stamps[static_cast<std::size_t>(i)];
     Bytes d;  // sensor_combined, 48 bytes
     d.put(combined_id);
     d.put(t);

@@ -56,13 +56,13 @@ std::vector<std::vector<double>> ulog_expected(const UlogFixture& f = {});
 
 /// Skips the current test with a clear message when the shared data folder is absent,
 /// or fails when GMWM_REQUIRE_SHARED_DATA=1.
-#define GMWM_REQUIRE_SHARED_DATA()                                                          \
-  do {                                                                                      \
-    if (!::gmwm::test::shared_data_dir()) {                                                 \
-      const char* req = std::getenv("GMWM_REQUIRE_SHARED_DATA");                            \
-      if (req && std::string(req) == "1")                                                   \
-        FAIL() << "shared data folder not found (set GMWM_SHARED_DATA); required in CI";    \
-      GTEST_SKIP() << "shared data folder not found: set GMWM_SHARED_DATA to the folder "  \
-                      "with adis_16405_imu1.csv.gz to run this test";                       \
-    }                                                                                       \
+#define GMWM_REQUIRE_SHARED_DATA()                                                        \
+  do {                                                                                    \
+    if (!::gmwm::test::shared_data_dir()) {                                               \
+      const char* req = std::getenv("GMWM_REQUIRE_SHARED_DATA");                          \
+      if (req && std::string(req) == "1")                                                 \
+        FAIL() << "shared data folder not found (set GMWM_SHARED_DATA); required in CI";  \
+      GTEST_SKIP() << "shared data folder not found: set GMWM_SHARED_DATA to the folder " \
+                      "with adis_16405_imu1.csv.gz to run this test";                     \
+    }                                                                                     \
   } while (0)

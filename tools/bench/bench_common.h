@@ -15,8 +15,10 @@ namespace gmwm::bench {
 /// message when the folder is absent (benchmarks need the real data).
 inline std::string shared_data_file(const std::string& name) {
   std::filesystem::path dir;
-  if (const char* env = std::getenv("GMWM_SHARED_DATA"); env && *env) dir = env;
-  else dir = std::filesystem::path(GMWM_SOURCE_DIR) / ".." / "shared" / "data";
+  if (const char* env = std::getenv("GMWM_SHARED_DATA"); env && *env)
+    dir = env;
+  else
+    dir = std::filesystem::path(GMWM_SOURCE_DIR) / ".." / "shared" / "data";
   const auto p = dir / name;
   if (!std::filesystem::exists(p)) {
     std::fprintf(stderr, "benchmark: %s not found (set GMWM_SHARED_DATA)\n", p.c_str());

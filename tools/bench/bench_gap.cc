@@ -51,10 +51,13 @@ bool check_section() {
   o.seed = kCheckSeed;
   bench::Stopwatch clock;
   const auto r = gap::run_gap_check(o);
-  std::printf("### 1. gap-check: 100 cases per withheld effect, N = 2^18 at 100 Hz, base WN+RW, strengths 2, 4, 8; "
-              "null side 500 base-only and 200 with the base off by +-20%% (%.0f s)\n\n", clock.seconds());
-  std::printf("| truth | cases | top-1 correct | detected | band located | median S | SIN f within 5%% / AR1, TRANSIENT T "
-              "within x2 / STEP time within one window | check |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "### 1. gap-check: 100 cases per withheld effect, N = 2^18 at 100 Hz, base WN+RW, strengths 2, 4, 8; "
+      "null side 500 base-only and 200 with the base off by +-20%% (%.0f s)\n\n",
+      clock.seconds());
+  std::printf(
+      "| truth | cases | top-1 correct | detected | band located | median S | SIN f within 5%% / AR1, TRANSIENT T "
+      "within x2 / STEP time within one window | check |\n|---|---|---|---|---|---|---|---|\n");
   bool ok = true;
   for (const auto& [t, f] : r.families) {
     int param_ok = 0, param_n = 0;
@@ -64,14 +67,14 @@ bool check_section() {
         param_ok += t == "SIN" ? c.parameter_error <= 0.05 : c.parameter_error <= 1.0;
       }
     const bool null_side = t == "none" || t == "REPARAMETERISE";
-    const bool pass = null_side ? f.correct >= 0.95 * f.cases
-                                : f.correct >= 0.9 * f.cases && f.located >= 0.9 * f.cases &&
-                                      f.median_excess_removed >= 0.8;
+    const bool pass = null_side
+                          ? f.correct >= 0.95 * f.cases
+                          : f.correct >= 0.9 * f.cases && f.located >= 0.9 * f.cases && f.median_excess_removed >= 0.8;
     ok &= pass;
-    std::printf("| %s | %d | %s | %s | %s | %.3f | %s | %s |\n", t.c_str(), f.cases, pct(f.correct, f.cases).c_str(),
-                pct(f.detected, f.cases).c_str(), null_side ? "-" : pct(f.located, f.cases).c_str(),
-                f.median_excess_removed, param_n ? (pct(param_ok, param_n) + " of " + std::to_string(param_n)).c_str() : "-",
-                pass ? "pass" : "FAIL");
+    std::printf(
+        "| %s | %d | %s | %s | %s | %.3f | %s | %s |\n", t.c_str(), f.cases, pct(f.correct, f.cases).c_str(),
+        pct(f.detected, f.cases).c_str(), null_side ? "-" : pct(f.located, f.cases).c_str(), f.median_excess_removed,
+        param_n ? (pct(param_ok, param_n) + " of " + std::to_string(param_n)).c_str() : "-", pass ? "pass" : "FAIL");
   }
   std::printf("\nConfusion matrix (rows: withheld effect; columns: reported):\n\n");
   std::vector<std::string> cols;
@@ -95,7 +98,9 @@ bool check_section() {
   for (const auto& [t, f] : r.families) {
     if (f.power.empty()) continue;
     std::printf("| %s |", t.c_str());
-    for (double s : {2.0, 4.0, 8.0}) std::printf(" %s |", f.power.count(s) ? pct(static_cast<int>(std::lround(100 * f.power.at(s))), 100).c_str() : "-");
+    for (double s : {2.0, 4.0, 8.0})
+      std::printf(" %s |",
+                  f.power.count(s) ? pct(static_cast<int>(std::lround(100 * f.power.at(s))), 100).c_str() : "-");
     std::printf("\n");
   }
   std::printf("\nSelf-check: %s\n\n", ok ? "pass" : "FAIL");
@@ -151,8 +156,9 @@ void power_section() {
   o.null_side = false;
   o.seed = kPowerSeed;
   const auto r = gap::run_gap_check(o);
-  std::printf("### 2. Power below strength 2 (10 cases per family and strength, N = 2^18)\n\n"
-              "| truth | 0.25 | 0.5 | 1 |\n|---|---|---|---|\n");
+  std::printf(
+      "### 2. Power below strength 2 (10 cases per family and strength, N = 2^18)\n\n"
+      "| truth | 0.25 | 0.5 | 1 |\n|---|---|---|---|\n");
   for (const auto& [t, f] : r.families) {
     std::printf("| %s |", t.c_str());
     for (double s : {0.25, 0.5, 1.0}) std::printf(" %.0f%% |", f.power.count(s) ? 100 * f.power.at(s) : 0.0);
@@ -166,12 +172,15 @@ void power_section() {
   const auto rd = gap::run_gap_check(d);
   std::printf("\nDR above strength 8 (10 cases per strength):\n\n| truth | 16 | 64 | 256 |\n|---|---|---|---|\n| DR |");
   for (double s : d.strengths)
-    std::printf(" %.0f%% |", rd.families.count("DR") && rd.families.at("DR").power.count(s) ? 100 * rd.families.at("DR").power.at(s) : 0.0);
-  std::printf("\n\nDR's oracle bound: the power of the most powerful test of a drift omega in this base when every other "
-              "parameter is known (GLS on the first differences, whose noise is gamma2 + the white noise's MA(1): "
-              "z = omega sqrt(1' Sigma^-1 1)), two-sided at 5%% and at the diagnosis' own level 5%% / 7 (Bonferroni "
-              "over the six WV candidates the WN+RW base admits and the time-domain tests). No diagnosis can beat it.\n\n"
-              "| strength | omega | oracle z | oracle power at 5%% | oracle power at 5%%/7 |\n|---|---|---|---|---|\n");
+    std::printf(" %.0f%% |", rd.families.count("DR") && rd.families.at("DR").power.count(s)
+                                 ? 100 * rd.families.at("DR").power.at(s)
+                                 : 0.0);
+  std::printf(
+      "\n\nDR's oracle bound: the power of the most powerful test of a drift omega in this base when every other "
+      "parameter is known (GLS on the first differences, whose noise is gamma2 + the white noise's MA(1): "
+      "z = omega sqrt(1' Sigma^-1 1)), two-sided at 5%% and at the diagnosis' own level 5%% / 7 (Bonferroni "
+      "over the six WV candidates the WN+RW base admits and the time-domain tests). No diagnosis can beat it.\n\n"
+      "| strength | omega | oracle z | oracle power at 5%% | oracle power at 5%%/7 |\n|---|---|---|---|---|\n");
   for (double s : {0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 64.0}) {
     const double omega = dr_omega_at_strength(s), z = omega * dr_information_sqrt();
     std::printf("| %g | %.3g | %.2f | %.0f%% | %.0f%% |\n", s, omega, z, 100.0 * two_sided_power(z, 0.05),
@@ -235,11 +244,14 @@ bool real_controls() {
   for (const char* f : files) units.push_back(load(f));
   const std::size_t C = units[0].size();
   std::vector<std::vector<FitResult>> fits(3, std::vector<FitResult>(C));
-  tbb::parallel_for(std::size_t{0}, 3 * C, [&](std::size_t k) { fits[k / C][k % C] = fit_family(units[k / C][k % C].wv); });
+  tbb::parallel_for(std::size_t{0}, 3 * C,
+                    [&](std::size_t k) { fits[k / C][k % C] = fit_family(units[k / C][k % C].wv); });
   bool ok = true;
   int outliers = 0, total = 0;
-  std::printf("#### (a) Each unit as the others' sim model (%s fitted on unit A, diagnosing unit B)\n\n"
-              "| A -> B | column | detected (p) | bands | attributed |\n|---|---|---|---|---|\n", kRealFamily);
+  std::printf(
+      "#### (a) Each unit as the others' sim model (%s fitted on unit A, diagnosing unit B)\n\n"
+      "| A -> B | column | detected (p) | bands | attributed |\n|---|---|---|---|---|\n",
+      kRealFamily);
   const std::pair<int, int> pairs[] = {{0, 1}, {0, 2}, {1, 2}};
   for (const auto& [a, b] : pairs)
     for (std::size_t k = 0; k < C; ++k) {
@@ -249,8 +261,9 @@ bool real_controls() {
       std::printf("| %d -> %d | %s | %s (%.3g) | %s | %s |\n", a + 1, b + 1, units[b][k].name.c_str(),
                   g.detected ? "yes" : "no", g.p_value, bands_text(g).c_str(), gap::to_string(g.effect));
     }
-  std::printf("\n#### (b) Split halves (fitted on the first half, diagnosing the second)\n\n"
-              "| unit | column | detected (p) | bands | attributed |\n|---|---|---|---|---|\n");
+  std::printf(
+      "\n#### (b) Split halves (fitted on the first half, diagnosing the second)\n\n"
+      "| unit | column | detected (p) | bands | attributed |\n|---|---|---|---|---|\n");
   for (int u = 0; u < 3; ++u) {
     const auto first = load(files[u], 0, 500000), second = load(files[u], 500000, 500000);
     for (std::size_t k = 0; k < C; ++k) {
@@ -267,9 +280,10 @@ bool real_controls() {
   ok &= outliers == 0;
 
   // (c) A sinusoid injected into real gyro columns of unit 1 (baseline: the clean fit).
-  std::printf("#### (c) Sinusoid injected into a real gyro column (baseline fitted on the clean column; amplitude "
-              "such that the SIN's WV is twice the column's at its peak level)\n\n"
-              "| column | f (Hz) | effects added | SIN found (Hz) | error | check |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "#### (c) Sinusoid injected into a real gyro column (baseline fitted on the clean column; amplitude "
+      "such that the SIN's WV is twice the column's at its peak level)\n\n"
+      "| column | f (Hz) | effects added | SIN found (Hz) | error | check |\n|---|---|---|---|---|---|\n");
   int sin_ok = 0, sin_n = 0;
   const double freqs[] = {0.3, 1.7, 6.1, 23.0};
   for (std::size_t k = 0; k < 3; ++k)
@@ -284,7 +298,8 @@ bool real_controls() {
       const double a2 = 2.0 * c.wv.wv[static_cast<std::size_t>(peak)] / su(peak);
       Rng rng = make_stream(kRealSeed, {k, static_cast<std::uint64_t>(f_hz * 1000)});
       const double phase = 6.283185307179586 * boost::random::uniform_01<double>()(rng);
-      for (std::size_t t = 0; t < c.x.size(); ++t) c.x[t] += std::sqrt(a2) * std::sin(6.283185307179586 * f * t + phase);
+      for (std::size_t t = 0; t < c.x.size(); ++t)
+        c.x[t] += std::sqrt(a2) * std::sin(6.283185307179586 * f * t + phase);
       c.wv = classical_wv(c.x.data(), static_cast<std::int64_t>(c.x.size()));
       c.robust = robust::robust_wv(c.x.data(), static_cast<std::int64_t>(c.x.size()));
       const auto g = diagnose(c, fits[0][k], kRealSeed + 200 + k);
@@ -301,13 +316,15 @@ bool real_controls() {
       const bool pass = std::isfinite(fhat) && std::abs(fhat / f_hz - 1.0) <= 0.05;
       sin_ok += pass;
       ++sin_n;
-      std::printf("| %s | %.3g | %s | %.4g | %.2f%% | %s |\n", c.name.c_str(), f_hz, effects.empty() ? "none" : effects.c_str(), fhat,
-                  100 * std::abs(fhat / f_hz - 1.0), pass ? "pass" : "FAIL");
+      std::printf("| %s | %.3g | %s | %.4g | %.2f%% | %s |\n", c.name.c_str(), f_hz,
+                  effects.empty() ? "none" : effects.c_str(), fhat, 100 * std::abs(fhat / f_hz - 1.0),
+                  pass ? "pass" : "FAIL");
     }
   ok &= sin_ok == sin_n;
   // (d) Spikes: 0.1% of the samples at 20 level-1 wavelet standard deviations.
-  std::printf("\n#### (d) Spikes injected into real columns (0.1%% of samples, 20 x the level-1 wavelet sd)\n\n"
-              "| column | attributed | check |\n|---|---|---|\n");
+  std::printf(
+      "\n#### (d) Spikes injected into real columns (0.1%% of samples, 20 x the level-1 wavelet sd)\n\n"
+      "| column | attributed | check |\n|---|---|---|\n");
   int spike_ok = 0;
   for (std::size_t k = 0; k < C; ++k) {
     Column c = units[0][k];
@@ -332,10 +349,12 @@ bool real_controls() {
 void sdf_section(const std::vector<Column>& cols, const std::map<io::SensorKind, io::Unit>& units);
 
 bool kalibr_and_speed() {
-  std::printf("### 4. Kalibr imu.yaml (data/adis16405_imu.yaml, datasheet densities) on adis_16405_imu1.csv.gz, "
-              "gyro deg/s, accel g, 200 reference replicates\n\n");
+  std::printf(
+      "### 4. Kalibr imu.yaml (data/adis16405_imu.yaml, datasheet densities) on adis_16405_imu1.csv.gz, "
+      "gyro deg/s, accel g, 200 reference replicates\n\n");
   const std::map<io::SensorKind, io::Unit> units = io::parse_units("gyro=deg/s,accel=g");
-  const io::SimConfig cfg = io::read_kalibr_imu_yaml(std::string(GMWM_SOURCE_DIR) + "/data/adis16405_imu.yaml", kFreq, units);
+  const io::SimConfig cfg =
+      io::read_kalibr_imu_yaml(std::string(GMWM_SOURCE_DIR) + "/data/adis16405_imu.yaml", kFreq, units);
   for (const auto& [kind, lines] : cfg.conversions)
     for (const auto& l : lines) std::printf("- %s: %s\n", io::to_string(kind), l.c_str());
   bench::Stopwatch clock;
@@ -350,8 +369,9 @@ bool kalibr_and_speed() {
     cols[k].wv = classical_wv(cols[k].x.data(), n);
     cols[k].robust = robust::robust_wv(cols[k].x.data(), n);
   });
-  std::printf("\n| column | baseline | detected | bands | attributed | final model | excess removed |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n| column | baseline | detected | bands | attributed | final model | excess removed |\n"
+      "|---|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < cols.size(); ++k) {
     const Model& base = cfg.models.at(io::sensor_kind_of_column(cols[k].name));
     gap::GapOptions o;
@@ -359,27 +379,32 @@ bool kalibr_and_speed() {
     o.seed = kRealSeed + 400 + k;
     o.context = ProcessContext{kFreq, true};
     const auto g = gap::diagnose_gap(cols[k].wv, base, base.given_values(), o, &cols[k].robust, &cols[k].x);
-    std::printf("| %s | %s | %s | %s | %s | %s | %.3f |\n", cols[k].name.c_str(), base.to_string(base.given_values()).c_str(),
-                g.detected ? "yes" : "no", bands_text(g).c_str(), gap::to_string(g.effect),
-                g.final_model.to_string(g.final_theta).c_str(), g.shrinkage.excess_removed);
+    std::printf("| %s | %s | %s | %s | %s | %s | %.3f |\n", cols[k].name.c_str(),
+                base.to_string(base.given_values()).c_str(), g.detected ? "yes" : "no", bands_text(g).c_str(),
+                gap::to_string(g.effect), g.final_model.to_string(g.final_theta).c_str(), g.shrinkage.excess_removed);
   }
   const double secs = clock.seconds();
   const bool fast = secs < 60.0;
-  std::printf("\nSpeed: gap on 6 x 1e6 samples with a 200-replicate reference, file parsing and both WVs included: "
-              "%.1f s wall (bar < 60 s): %s\n\n", secs, fast ? "pass" : "FAIL");
+  std::printf(
+      "\nSpeed: gap on 6 x 1e6 samples with a 200-replicate reference, file parsing and both WVs included: "
+      "%.1f s wall (bar < 60 s): %s\n\n",
+      secs, fast ? "pass" : "FAIL");
   std::fflush(stdout);
   sdf_section(cols, units);
   return fast;
 }
 
 void sdf_section(const std::vector<Column>& cols, const std::map<io::SensorKind, io::Unit>& units) {
-  std::printf("### 5. gz-sensors SDF (data/adis16405_gz.sdf: per-sample stddev, dynamic bias as a driving density with "
-              "its correlation time, precision, turn-on bias) on adis_16405_imu1.csv.gz, 200 reference replicates\n\n");
+  std::printf(
+      "### 5. gz-sensors SDF (data/adis16405_gz.sdf: per-sample stddev, dynamic bias as a driving density with "
+      "its correlation time, precision, turn-on bias) on adis_16405_imu1.csv.gz, 200 reference replicates\n\n");
   const io::SimConfig cfg = io::read_gazebo_sdf(std::string(GMWM_SOURCE_DIR) + "/data/adis16405_gz.sdf", kFreq, units);
   for (const auto& [kind, lines] : cfg.conversions)
     for (const auto& l : lines) std::printf("- %s: %s\n", io::to_string(kind), l.c_str());
   for (const auto& n : cfg.notes) std::printf("- note: %s\n", n.c_str());
-  std::printf("\n| column | detected | bands | attributed (steps) | final model | excess removed |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n| column | detected | bands | attributed (steps) | final model | excess removed "
+      "|\n|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < cols.size(); ++k) {
     const auto b = io::baseline_for_column(cfg, io::sensor_kind_of_column(cols[k].name), cols[k].name);
     if (!b) continue;

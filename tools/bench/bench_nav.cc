@@ -31,8 +31,8 @@ using namespace gmwm::nav;
 
 namespace {
 
-constexpr double kRate = 100.0;                // Hz
-constexpr double kG = 9.80665;                 // m/s^2 per g
+constexpr double kRate = 100.0;                                          // Hz
+constexpr double kG = 9.80665;                                           // m/s^2 per g
 constexpr double kDegPerHour = 3.14159265358979323846 / 180.0 / 3600.0;  // rad/s
 
 SensorModel sensor(const std::string& spec, double freq = kRate) {
@@ -54,7 +54,7 @@ SensorModel wn_gm(double n, double sigma, double beta) {
 }
 
 ImuModel comparison_model(const std::string& label, double beta) {
-  const double acc_wn = 70e-6 * kG, acc_gm = 50e-6 * kG;       // ug/sqrt(Hz), ug
+  const double acc_wn = 70e-6 * kG, acc_gm = 50e-6 * kG;                  // ug/sqrt(Hz), ug
   const double gyr_wn = 30.0 * kDegPerHour, gyr_gm = 10.0 * kDegPerHour;  // deg/h/sqrt(Hz), deg/h
   return ImuModel::isotropic(label, wn_gm(gyr_wn, gyr_gm, beta), wn_gm(acc_wn, acc_gm, beta));
 }
@@ -81,9 +81,10 @@ void comparison(int runs) {
     const Analysis mc = monte_carlo(truth, filters, s, runs, 2014);
     const double t_mc = w.seconds();
     std::printf("\n### %s, 600 s at 100 Hz, a fix (1 m) every second, outage 300-360 s\n\n", to_string(trajectory));
-    std::printf("| filter model | position RMS at 359 s (exact) | Monte Carlo (%d runs) | filter's 3-sigma | "
-                "largest NEES | NEES in its band | verdict |\n|---|---|---|---|---|---|---|\n",
-                runs);
+    std::printf(
+        "| filter model | position RMS at 359 s (exact) | Monte Carlo (%d runs) | filter's 3-sigma | "
+        "largest NEES | NEES in its band | verdict |\n|---|---|---|---|---|---|---|\n",
+        runs);
     for (std::size_t i = 0; i < filters.size(); ++i) {
       const FilterErrors& e = exact.filters[i];
       const FilterErrors& m = mc.filters[i];
@@ -130,8 +131,9 @@ void speed() {
   ten.outages = {{300.0, 360.0}};
   const double t_mc = median_seconds(3, [&] { (void)monte_carlo(truth, {filter}, ten, 100, 7); });
   std::printf("\n### Speed (median of 5 / 3 runs)\n\n| what | seconds | goal |\n|---|---|---|\n");
-  std::printf("| covariance analysis, 1 h at 200 Hz, fixes at 1 Hz, 15-state filter vs 27-state truth, static | %.3f | < 2 |\n",
-              t_hour);
+  std::printf(
+      "| covariance analysis, 1 h at 200 Hz, fixes at 1 Hz, 15-state filter vs 27-state truth, static | %.3f | < 2 |\n",
+      t_hour);
   std::printf("| the same on the manoeuvre (a pose per second: 45 distinct block steps) | %.3f | < 2 |\n", t_hour_m);
   std::printf("| Monte Carlo, 100 runs of 10 min at 200 Hz (every IMU step), same models | %.2f | < 20 |\n", t_mc);
   std::printf("\n%s\n", t_hour < 2.0 && t_hour_m < 2.0 && t_mc < 20.0 ? "speed: pass" : "speed: FAIL");

@@ -22,11 +22,13 @@ int main() {
   ro.freq = 100.0;
   const io::SignalSet set = io::read_signals(bench::shared_data_file("adis_16405_imu1.csv.gz"), ro);
   const std::string full = "3*AR1+WN+RW+QN+DR";
-  const std::vector<std::string> subs = {"2*AR1+WN+RW+QN+DR", "3*AR1+RW+QN+DR", "3*AR1+WN+QN+DR",
-                                         "3*AR1+WN+RW+DR", "3*AR1+WN+RW+QN"};
+  const std::vector<std::string> subs = {"2*AR1+WN+RW+QN+DR", "3*AR1+RW+QN+DR", "3*AR1+WN+QN+DR", "3*AR1+WN+RW+DR",
+                                         "3*AR1+WN+RW+QN"};
   int violations = 0, independent_violations = 0;
   bench::Stopwatch total;
-  std::printf("| column | model | objective | status | objective (independent fit of the full model) |\n|---|---|---|---|---|\n");
+  std::printf(
+      "| column | model | objective | status | objective (independent fit of the full model) "
+      "|\n|---|---|---|---|---|\n");
   for (const auto& sig : set.signals) {
     const WaveletVariance w = classical_wv(sig.values.data(), static_cast<std::int64_t>(sig.values.size()));
     FitOptions o;
@@ -51,9 +53,10 @@ int main() {
                   to_string(sub_fits[k].status), bad ? " VIOLATION" : "");
     }
   }
-  std::printf("\nnested violations (full model above a sub-model, rel. tol 1e-9): %d of %zu with warm starts; "
-              "%d of %zu for independent fits of the full model. Wall time %.2f s.\n",
-              violations, set.signals.size() * subs.size(), independent_violations,
-              set.signals.size() * subs.size(), total.seconds());
+  std::printf(
+      "\nnested violations (full model above a sub-model, rel. tol 1e-9): %d of %zu with warm starts; "
+      "%d of %zu for independent fits of the full model. Wall time %.2f s.\n",
+      violations, set.signals.size() * subs.size(), independent_violations, set.signals.size() * subs.size(),
+      total.seconds());
   return (violations == 0 && independent_violations == 0) ? 0 : 1;
 }

@@ -67,7 +67,8 @@ void compare(const char* unit, const std::string& column, const std::string& mod
     const bool ok = std::isfinite(rb) && rb >= 0.5 && rb <= 2.0;
     ++t.b_compared;
     t.b_ok += ok;
-    std::snprintf(buf, sizeof buf, "%.3g / %.3g = %.2f %s", m.instability.value, d.instability.value, rb, ok ? "ok" : "FAIL");
+    std::snprintf(buf, sizeof buf, "%.3g / %.3g = %.2f %s", m.instability.value, d.instability.value, rb,
+                  ok ? "ok" : "FAIL");
     b_cell = buf;
   } else {
     std::snprintf(buf, sizeof buf, "data %s; model %.3g", status_word(d.instability), m.instability.value);
@@ -88,7 +89,8 @@ int main() {
   Tally sel_tally, fit_tally;
   std::vector<std::string> sel_rows, fit_rows;
   const char* header =
-      "| unit | column | model | N written (source) | N data (status, tau) | ratio | model's own N / data | K written / data "
+      "| unit | column | model | N written (source) | N data (status, tau) | ratio | model's own N / data | K written "
+      "/ data "
       "(source) | B written / data (source) |\n"
       "|---|---|---|---|---|---|---|---|---|\n";
   std::string sel_out, fit_out;
@@ -104,16 +106,18 @@ int main() {
       const AllanDeviation adev = allan_deviation(cols[c], 100.0);
       const NoiseFigures d = read_noise_figures(adev);
       const FitResult& best = sel[c].best_fit;
-      if (c == 0 && std::string(unit) == "adis_16405_imu1.csv.gz") std::printf("### (a) select over 3*AR1+WN+RW+QN+DR\n\n%s", header);
+      if (c == 0 && std::string(unit) == "adis_16405_imu1.csv.gz")
+        std::printf("### (a) select over 3*AR1+WN+RW+QN+DR\n\n%s", header);
       const NoiseFigures m = model_noise_figures(best.model, best.theta, adev, &best.covariance);
       compare(unit, data.signals[c].name, best.model.to_string(), d,
               choose_noise_figures(m, d, adev, model_allan_deviation(best.model, best.theta, adev.m)), sel_tally);
     }
   }
-  std::printf("\n(a) N within 15%%: %d of %d axes, N = 0: %d; K within x2 where the data show +1/2: %d of %d; B within x2 "
-              "where the data show a minimum: %d of %d\n\n",
-              sel_tally.n_ok, sel_tally.axes, sel_tally.n_zero, sel_tally.k_ok, sel_tally.k_compared, sel_tally.b_ok,
-              sel_tally.b_compared);
+  std::printf(
+      "\n(a) N within 15%%: %d of %d axes, N = 0: %d; K within x2 where the data show +1/2: %d of %d; B within x2 "
+      "where the data show a minimum: %d of %d\n\n",
+      sel_tally.n_ok, sel_tally.axes, sel_tally.n_zero, sel_tally.k_ok, sel_tally.k_compared, sel_tally.b_ok,
+      sel_tally.b_compared);
   std::printf("### (b) fit AR1+WN+RW\n\n%s", header);
   for (const char* unit : {"adis_16405_imu1.csv.gz", "adis_16405_imu2.csv.gz", "adis_16405_imu3.csv.gz"}) {
     io::ReadOptions ro;
@@ -129,10 +133,11 @@ int main() {
               choose_noise_figures(m, d, adev, model_allan_deviation(f.model, f.theta, adev.m)), fit_tally);
     }
   }
-  std::printf("\n(b) N within 15%%: %d of %d axes, N = 0: %d; K within x2 where the data show +1/2: %d of %d; B within x2 "
-              "where the data show a minimum: %d of %d\n",
-              fit_tally.n_ok, fit_tally.axes, fit_tally.n_zero, fit_tally.k_ok, fit_tally.k_compared, fit_tally.b_ok,
-              fit_tally.b_compared);
+  std::printf(
+      "\n(b) N within 15%%: %d of %d axes, N = 0: %d; K within x2 where the data show +1/2: %d of %d; B within x2 "
+      "where the data show a minimum: %d of %d\n",
+      fit_tally.n_ok, fit_tally.axes, fit_tally.n_zero, fit_tally.k_ok, fit_tally.k_compared, fit_tally.b_ok,
+      fit_tally.b_compared);
   const bool pass = sel_tally.n_ok == sel_tally.axes && fit_tally.n_ok == fit_tally.axes && sel_tally.n_zero == 0 &&
                     fit_tally.n_zero == 0 && sel_tally.k_ok == sel_tally.k_compared &&
                     fit_tally.k_ok == fit_tally.k_compared && sel_tally.b_ok == sel_tally.b_compared &&

@@ -57,9 +57,12 @@ enum class OmegaMode { kData, kModel, kTruth };
 
 const char* describe(OmegaMode m) {
   switch (m) {
-    case OmegaMode::kData: return "Omega = the data's diag Omega (select --omega data)";
-    case OmegaMode::kModel: return "Omega = diag 1 / V_jj at the maximal model's pilot fit (select --omega model, the default)";
-    case OmegaMode::kTruth: return "Omega fixed at the truth (diag 1 / V0_jj)";
+    case OmegaMode::kData:
+      return "Omega = the data's diag Omega (select --omega data)";
+    case OmegaMode::kModel:
+      return "Omega = diag 1 / V_jj at the maximal model's pilot fit (select --omega model, the default)";
+    case OmegaMode::kTruth:
+      return "Omega fixed at the truth (diag 1 / V0_jj)";
   }
   return "";
 }
@@ -115,10 +118,11 @@ bool study(const char* label, const char* truth_spec, std::uint64_t seed, OmegaM
     }
   });
   std::printf("#### %s: %s, N = 2^16, %d pairs (bootstrap: first %d series, B = %d), %s\n\n", label, truth_spec, kPairs,
-              kBootstrapSeries, kReplicates,
-              describe(mode));
-  std::printf("| model | contains truth | MC truth (se) | truth (RB) (se) | analytic | analytic / truth (RB) | analytic with V0 "
-              "| bootstrap | bootstrap / truth (RB) | check |\n|---|---|---|---|---|---|---|---|---|---|\n");
+              kBootstrapSeries, kReplicates, describe(mode));
+  std::printf(
+      "| model | contains truth | MC truth (se) | truth (RB) (se) | analytic | analytic / truth (RB) | analytic with "
+      "V0 "
+      "| bootstrap | bootstrap / truth (RB) | check |\n|---|---|---|---|---|---|---|---|---|---|\n");
   bool ok = true;
   for (const auto& name : names) {
     Acc t;
@@ -173,7 +177,9 @@ int main(int argc, char** argv) {
   study("T2", t2, 4102, OmegaMode::kData);
   study("T1", t1, 4101, OmegaMode::kTruth);
   study("T2", t2, 4102, OmegaMode::kTruth);
-  std::printf("Analytic optimism within %.0f%% of the Monte-Carlo truth for the correctly and over-specified models "
-              "(Omega = model): T1 %s, T2 %s.\n", 100 * kBar, a ? "pass" : "FAIL", b ? "pass" : "FAIL");
+  std::printf(
+      "Analytic optimism within %.0f%% of the Monte-Carlo truth for the correctly and over-specified models "
+      "(Omega = model): T1 %s, T2 %s.\n",
+      100 * kBar, a ? "pass" : "FAIL", b ? "pass" : "FAIL");
   return a && b ? 0 : 1;
 }

@@ -86,10 +86,12 @@ bool study(const char* spec, std::uint64_t seed, int series) {
   const double coverage = covered / n;
   const bool detectable = nc >= kDetectableNc && refit_nc >= kDetectableNc;
   const bool pass = !detectable || (std::abs(median) <= kMedianGoal && coverage >= kCoverageGoal);
-  std::printf("| %s | %.3g / %.3g | %+.1f%% (skewness alone: %+.1f%%) | %+.1f%% | %.3f / %.3f | %.1f%% (%d below, %d above) | %s |\n",
-              spec, nc, refit_nc, 100 * median, -100 * sd * sd / 3.0, 100 * mean, sd, rse / std::max(rse_count, 1),
-              100 * coverage, below, series - covered - below,
-              detectable ? (pass ? "pass" : "FAIL") : "not detectable (not counted)");
+  std::printf(
+      "| %s | %.3g / %.3g | %+.1f%% (skewness alone: %+.1f%%) | %+.1f%% | %.3f / %.3f | %.1f%% (%d below, %d above) | "
+      "%s |\n",
+      spec, nc, refit_nc, 100 * median, -100 * sd * sd / 3.0, 100 * mean, sd, rse / std::max(rse_count, 1),
+      100 * coverage, below, series - covered - below,
+      detectable ? (pass ? "pass" : "FAIL") : "not detectable (not counted)");
   std::fflush(stdout);
   return pass;
 }
@@ -100,11 +102,14 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::err);
   const int series = argc > 1 ? std::max(10, std::atoi(argv[1])) : 400;
   bench::Stopwatch clock;
-  std::printf("%d series of N = 2^17 per truth, fitted as the true structure with `gmwm fit`'s defaults "
-              "(model-based diagonal weights, 95%% intervals).\n\n", series);
-  std::printf("| truth | RW nc / with the others re-estimated | median relative error of gamma2 | mean | "
-              "sd of the relative estimate / mean reported se (relative) | coverage of the 95%% interval | goal |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "%d series of N = 2^17 per truth, fitted as the true structure with `gmwm fit`'s defaults "
+      "(model-based diagonal weights, 95%% intervals).\n\n",
+      series);
+  std::printf(
+      "| truth | RW nc / with the others re-estimated | median relative error of gamma2 | mean | "
+      "sd of the relative estimate / mean reported se (relative) | coverage of the 95%% interval | goal |\n"
+      "|---|---|---|---|---|---|---|\n");
   const char* truths[] = {"AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1)+RW(gamma2=1e-6)",
                           "AR1(phi=0.99,sigma2=1e-3)+WN(sigma2=2)+RW(gamma2=1e-4)",
                           "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)+RW(gamma2=1e-5)",
@@ -116,8 +121,9 @@ int main(int argc, char** argv) {
   bool ok = true;
   std::uint64_t seed = 2701;
   for (const char* t : truths) ok &= study(t, seed++, series);
-  std::printf("\nGoal: |median relative error| <= %.0f%% and coverage >= %.0f%% for every truth whose RW has nc >= %.0f: "
-              "%s (%.0f s).\n", 100 * kMedianGoal, 100 * kCoverageGoal, kDetectableNc, ok ? "pass" : "FAIL",
-              clock.seconds());
+  std::printf(
+      "\nGoal: |median relative error| <= %.0f%% and coverage >= %.0f%% for every truth whose RW has nc >= %.0f: "
+      "%s (%.0f s).\n",
+      100 * kMedianGoal, 100 * kCoverageGoal, kDetectableNc, ok ? "pass" : "FAIL", clock.seconds());
   return ok ? 0 : 1;
 }

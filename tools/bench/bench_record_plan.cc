@@ -48,9 +48,12 @@ struct Row {
 
 std::string fmt_seconds(double s) {
   char buf[32];
-  if (s < 120.0) std::snprintf(buf, sizeof buf, "%.3g s", s);
-  else if (s < 7200.0) std::snprintf(buf, sizeof buf, "%.3g min", s / 60.0);
-  else std::snprintf(buf, sizeof buf, "%.3g h", s / 3600.0);
+  if (s < 120.0)
+    std::snprintf(buf, sizeof buf, "%.3g s", s);
+  else if (s < 7200.0)
+    std::snprintf(buf, sizeof buf, "%.3g min", s / 60.0);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g h", s / 3600.0);
   return buf;
 }
 
@@ -65,8 +68,8 @@ bool study(const Row& row, int records, std::uint64_t seed) {
   const RecordPlan plan = plan_record_length(truth, theta, row.freq, o);
   const RecordTarget& t = plan.targets[0];
   if (!t.reachable) {
-    std::printf("| %s | %s | +-%.0f%% | unreachable: %s | | | | | | FAIL |\n", row.label, row.target, 100 * row.precision,
-                t.basis.c_str());
+    std::printf("| %s | %s | +-%.0f%% | unreachable: %s | | | | | | FAIL |\n", row.label, row.target,
+                100 * row.precision, t.basis.c_str());
     return false;
   }
   const std::int64_t n = t.samples;
@@ -105,11 +108,12 @@ bool study(const Row& row, int records, std::uint64_t seed) {
   const bool floor = t.samples > t.own_samples;
   const bool pass = floor ? coverage >= kConfidence - kMonteCarloErrors * mc_se
                           : std::abs(coverage - kConfidence) <= kMonteCarloErrors * mc_se;
-  std::printf("| %s | %s | +-%g%% | %lld (%s) | %s | %.4f | %.1f%% | %.1f | +-%.2g%% | %+.2g%% | %d / %d | %s (%.0f s) |\n",
-              row.label, row.target, 100 * row.precision, static_cast<long long>(n), fmt_seconds(t.seconds).c_str(),
-              floor ? ("resolution (own: " + std::to_string(t.own_samples) + ")").c_str() : "its se", t.relative_se,
-              100 * coverage, 100 * mc_se, 100 * q95, 100 * sorted[sorted.size() / 2], nc, nb,
-              pass ? (floor ? "pass (>=)" : "pass") : "FAIL", clock.seconds());
+  std::printf(
+      "| %s | %s | +-%g%% | %lld (%s) | %s | %.4f | %.1f%% | %.1f | +-%.2g%% | %+.2g%% | %d / %d | %s (%.0f s) |\n",
+      row.label, row.target, 100 * row.precision, static_cast<long long>(n), fmt_seconds(t.seconds).c_str(),
+      floor ? ("resolution (own: " + std::to_string(t.own_samples) + ")").c_str() : "its se", t.relative_se,
+      100 * coverage, 100 * mc_se, 100 * q95, 100 * sorted[sorted.size() / 2], nc, nb,
+      pass ? (floor ? "pass (>=)" : "pass") : "FAIL", clock.seconds());
   std::fflush(stdout);
   return pass;
 }
@@ -146,16 +150,21 @@ int main(int argc, char** argv) {
       {"gyro WN+RW+AR1(T = 10 s)", gyro, 100.0, "K", 0.1},
       {"gyro WN+RW+AR1(T = 10 s)", gyro, 100.0, "B", 0.1},
   };
-  std::printf("%d records per row (100 Hz), each fitted as the true structure with `gmwm fit`'s defaults; the figure "
-              "taken from the fit as the plan defines it; coverage = share within the precision (goal 95%%, +-%.0f MC s.e.).\n\n",
-              records, kMonteCarloErrors);
-  std::printf("| truth | target | precision | planned length (samples) | set by | planned relative se | coverage | "
-              "MC s.e. (points) | 95th percentile of the error | median error | not converged / B only a bound | verdict |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "%d records per row (100 Hz), each fitted as the true structure with `gmwm fit`'s defaults; the figure "
+      "taken from the fit as the plan defines it; coverage = share within the precision (goal 95%%, +-%.0f MC "
+      "s.e.).\n\n",
+      records, kMonteCarloErrors);
+  std::printf(
+      "| truth | target | precision | planned length (samples) | set by | planned relative se | coverage | "
+      "MC s.e. (points) | 95th percentile of the error | median error | not converged / B only a bound | verdict |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   bool ok = true;
   std::uint64_t seed = 2805;
   for (const Row& r : rows) ok &= study(r, records, seed++);
-  std::printf("\nRecord-length plan checked by simulation (coverage within %.0f MC s.e. of 95%% on every row): %s "
-              "(%.0f s).\n", kMonteCarloErrors, ok ? "pass" : "FAIL", clock.seconds());
+  std::printf(
+      "\nRecord-length plan checked by simulation (coverage within %.0f MC s.e. of 95%% on every row): %s "
+      "(%.0f s).\n",
+      kMonteCarloErrors, ok ? "pass" : "FAIL", clock.seconds());
   return ok ? 0 : 1;
 }

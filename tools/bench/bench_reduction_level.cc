@@ -98,19 +98,23 @@ int main(int argc, char** argv) {
       // an AR1 standing for a white noise (phi -> 0) beside a real AR1: WN-like
       {"WN-like", "AR1(phi=0.9,sigma2=0.1)+WN(sigma2=1)", "2*AR1", kLevelSeed + 20},
   };
-  std::printf("Level of each kind of reduction: the reduced model is true, so the share of fits NOT reduced to it "
-              "is the test's rejection rate under its null; %d series of N = 2^17 each, nominal %.0f%%.\n\n",
-              series, 100 * kAlpha);
-  std::printf("| reduction | truth | fitted as | reduced for free (nothing tested) | tested | not reduced | "
-              "rejection rate under the null |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "Level of each kind of reduction: the reduced model is true, so the share of fits NOT reduced to it "
+      "is the test's rejection rate under its null; %d series of N = 2^17 each, nominal %.0f%%.\n\n",
+      series, 100 * kAlpha);
+  std::printf(
+      "| reduction | truth | fitted as | reduced for free (nothing tested) | tested | not reduced | "
+      "rejection rate under the null |\n|---|---|---|---|---|---|---|\n");
   for (const LevelCase& c : cases) {
     const auto lv = run(c.truth, c.fitted, c.seed, series);
     const std::string reduced = parse_model(c.truth).to_string();
     int tested = 0, rejected = 0, free_reduced = 0;
     for (const auto& o : lv) {
       if (o.effective == reduced) {
-        if (o.tested > 0) ++tested;
-        else ++free_reduced;
+        if (o.tested > 0)
+          ++tested;
+        else
+          ++free_reduced;
       } else {
         ++tested;
         ++rejected;
@@ -137,8 +141,7 @@ int main(int argc, char** argv) {
   // The slow AR1 is the truth's second component in canonical order (the larger phi).
   double nc_slow = 0.0;
   for (int c = 0; c < st.num_components(); ++c)
-    if (st.components()[static_cast<std::size_t>(c)].process->name() == "AR1" &&
-        st.given_values()(st.offset(c)) > 0.99)
+    if (st.components()[static_cast<std::size_t>(c)].process->name() == "AR1" && st.given_values()(st.offset(c)) > 0.99)
       nc_slow = refit[static_cast<std::size_t>(c)];
   const double power = static_cast<double>(kept) / series;
   std::printf("\nPower: truth %s fitted as itself, %d series (seed %llu).\n", slow_truth, series,

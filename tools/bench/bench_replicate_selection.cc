@@ -47,9 +47,10 @@ int main(int argc, char** argv) {
   std::printf("%d data sets per truth: %d replicates of 2^%d samples, or one series of %d x 2^%d; maximal %s.\n\n",
               sets, kK, kLog2n, kK, kLog2n, kMaximal);
   if (bootstrap) std::printf("Bootstrap WVIC: %d draws of every replicate per candidate.\n\n", kBootstrapDraws);
-  std::printf("| truth | replicates: CV-WVIC chosen | replicates: recommended | replicates: joint analytic WVIC | %s"
-              "one series: WVIC |\n|---|---|---|---|%s---|\n",
-              bootstrap ? "replicates: joint bootstrap WVIC | " : "", bootstrap ? "---|" : "");
+  std::printf(
+      "| truth | replicates: CV-WVIC chosen | replicates: recommended | replicates: joint analytic WVIC | %s"
+      "one series: WVIC |\n|---|---|---|---|%s---|\n",
+      bootstrap ? "replicates: joint bootstrap WVIC | " : "", bootstrap ? "---|" : "");
   bench::Stopwatch clock;
   std::vector<bool> run(4, argc <= 1 + static_cast<int>(bootstrap));
   for (int a = 1; a < argc; ++a) {
@@ -75,7 +76,8 @@ int main(int argc, char** argv) {
       const std::int64_t n = std::int64_t{1} << kLog2n;
       std::vector<WaveletVariance> wvs;
       for (int k = 0; k < kK; ++k) {
-        const auto x = simulate(m, m.given_values(), n, seed + static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(k));
+        const auto x =
+            simulate(m, m.given_values(), n, seed + static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(k));
         wvs.push_back(classical_wv(x.data(), n));
       }
       const auto long_x = simulate(m, m.given_values(), kK * n, seed + 100000 + static_cast<std::uint64_t>(i), 0);

@@ -77,7 +77,8 @@ bool estimation(const char* truth_spec, const std::vector<int>& log2n, std::uint
     agmwm[i] = r.agmwm;
     covered[i] = ((r.joint.ci_low.array() <= truth.array()) && (truth.array() <= r.joint.ci_high.array())).cast<int>();
     // Bootstrap over whole replicates: every distinct resample for K = 3, 50 drawn for K = 6.
-    const ReplicateBootstrap b = replicate_bootstrap(wvs, r, 0.05, kBootstrapDraws, seed0 + 5000 + static_cast<std::uint64_t>(i));
+    const ReplicateBootstrap b =
+        replicate_bootstrap(wvs, r, 0.05, kBootstrapDraws, seed0 + 5000 + static_cast<std::uint64_t>(i));
     boot_covered[i] = ((b.ci_low.array() <= truth.array()) && (truth.array() <= b.ci_high.array())).cast<int>();
     pct_covered[i] =
         ((b.percentile_low.array() <= truth.array()) && (truth.array() <= b.percentile_high.array())).cast<int>();
@@ -85,7 +86,8 @@ bool estimation(const char* truth_spec, const std::vector<int>& log2n, std::uint
   });
   int used = 0;
   Eigen::VectorXd se_joint = Eigen::VectorXd::Zero(p), se_agmwm = Eigen::VectorXd::Zero(p);
-  Eigen::VectorXi cover = Eigen::VectorXi::Zero(p), boot_cover = Eigen::VectorXi::Zero(p), pct_cover = Eigen::VectorXi::Zero(p);
+  Eigen::VectorXi cover = Eigen::VectorXi::Zero(p), boot_cover = Eigen::VectorXi::Zero(p),
+                  pct_cover = Eigen::VectorXi::Zero(p);
   for (int i = 0; i < kEstimationSets; ++i) {
     if (!ok[i]) continue;
     ++used;
@@ -95,15 +97,19 @@ bool estimation(const char* truth_spec, const std::vector<int>& log2n, std::uint
     boot_cover += boot_covered[i];
     pct_cover += pct_covered[i];
   }
-  std::printf("\n### K = %zu replicates (2^%d .. 2^%d), Omega %s, %d of %d data sets fitted, %.0f s\n\n",
-              log2n.size(), log2n.front(), log2n.back(), to_string(omega), used, kEstimationSets, clock.seconds());
-  std::printf("| parameter | truth | relative RMSE MGMWM | relative RMSE AGMWM | ratio MGMWM / AGMWM | 95%% sandwich coverage | 95%% replicate-t coverage | 95%% percentile coverage |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf("\n### K = %zu replicates (2^%d .. 2^%d), Omega %s, %d of %d data sets fitted, %.0f s\n\n", log2n.size(),
+              log2n.front(), log2n.back(), to_string(omega), used, kEstimationSets, clock.seconds());
+  std::printf(
+      "| parameter | truth | relative RMSE MGMWM | relative RMSE AGMWM | ratio MGMWM / AGMWM | 95%% sandwich coverage "
+      "| 95%% replicate-t coverage | 95%% percentile coverage |\n|---|---|---|---|---|---|---|---|\n");
   bool pass = used > 0;
   for (Eigen::Index k = 0; k < p; ++k) {
     const double rj = std::sqrt(se_joint(k) / used), ra = std::sqrt(se_agmwm(k) / used);
     const double c = static_cast<double>(cover(k)) / used;
     std::printf("| %s.%s | %g | %.4f | %.4f | %.3f | %.1f%% | %.1f%% | %.1f%% |\n",
-                truth_model.components()[static_cast<std::size_t>(truth_model.component_of(static_cast<int>(k)))].process->name().c_str(),
+                truth_model.components()[static_cast<std::size_t>(truth_model.component_of(static_cast<int>(k)))]
+                    .process->name()
+                    .c_str(),
                 truth_model.spec_of(static_cast<int>(k)).name.c_str(), truth(k), rj, ra, rj / ra, 100.0 * c,
                 100.0 * static_cast<double>(boot_cover(k)) / used, 100.0 * static_cast<double>(pct_cover(k)) / used);
     pass &= rj <= ra && c >= 0.9 && static_cast<double>(boot_cover(k)) / used >= 0.9;
@@ -159,10 +165,18 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\n## The shared-theta test: level and power (B = %d, H at 5%%)\n\n", kDraws);
-  std::printf("| replicates | replicate 1's WN sigma2 | data sets | H rejects | MC error (2 sd) | T rejects |\n|---|---|---|---|---|---|\n");
-  struct Case { std::vector<int> log2n; double factor; int sets; };
-  const std::vector<Case> cases = {{{14, 15, 16}, 1.0, kLevelSets}, {{14, 14, 15, 15, 16, 16}, 1.0, kLevelSets},
-                                   {{14, 15, 16}, 1.1, kPowerSets}, {{14, 15, 16}, 1.2, kPowerSets},
+  std::printf(
+      "| replicates | replicate 1's WN sigma2 | data sets | H rejects | MC error (2 sd) | T rejects "
+      "|\n|---|---|---|---|---|---|\n");
+  struct Case {
+    std::vector<int> log2n;
+    double factor;
+    int sets;
+  };
+  const std::vector<Case> cases = {{{14, 15, 16}, 1.0, kLevelSets},
+                                   {{14, 14, 15, 15, 16, 16}, 1.0, kLevelSets},
+                                   {{14, 15, 16}, 1.1, kPowerSets},
+                                   {{14, 15, 16}, 1.2, kPowerSets},
                                    {{14, 15, 16}, 1.5, kPowerSets}};
   std::uint64_t seed = 3000;
   for (const auto& c : cases) {

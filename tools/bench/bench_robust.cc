@@ -112,8 +112,9 @@ bool speed_section(const io::SignalSet& set, double parse_seconds) {
               kReferenceSix / huber, verdict(ok));
   std::printf("| robust WV bisquare eff 0.6, six columns | %.4f s | 14.1 s | %.1fx faster | %s (info) |\n", bisquare,
               kReferenceSix / bisquare, verdict(bisquare < kBarSeconds && kReferenceSix / bisquare >= 40.0));
-  std::printf("\nThe reference R timing is for the bisquare estimator; the acceptance bar applies to the Huber "
-              "estimator (the default), the bisquare row is the like-for-like comparison.\n\n");
+  std::printf(
+      "\nThe reference R timing is for the bisquare estimator; the acceptance bar applies to the Huber "
+      "estimator (the default), the bisquare row is the like-for-like comparison.\n\n");
   return ok;
 }
 
@@ -123,13 +124,13 @@ bool speed_section(const io::SignalSet& set, double parse_seconds) {
 
 constexpr std::int64_t kStudyLength = std::int64_t{1} << 17;
 constexpr int kReplicates = 50;
-constexpr std::uint64_t kSimSeed = 20240517;     // fixed before looking at results
-constexpr std::uint64_t kContamSeed = 77031;     // fixed before looking at results
+constexpr std::uint64_t kSimSeed = 20240517;  // fixed before looking at results
+constexpr std::uint64_t kContamSeed = 77031;  // fixed before looking at results
 constexpr double kSpikeProbability = 0.001;
 constexpr double kSpikeSize = 20.0;
 constexpr double kStretchShare = 0.005;
 constexpr double kStretchVarianceFactor = 100.0;
-constexpr double kShareLimit = 0.02;   // levels checked: contaminated windows < 2%
+constexpr double kShareLimit = 0.02;  // levels checked: contaminated windows < 2%
 constexpr double kRobustTolerance = 0.10;
 constexpr double kClassicalOff = 0.30;
 constexpr double kAr1RatioBar = 1.5;
@@ -198,9 +199,12 @@ void extract(const FitResult& f, double out[3]) {
   out[0] = out[1] = out[2] = kNaN;
   for (int k = 0; k < f.model.num_parameters(); ++k) {
     const std::string l = f.model.parameter_label(k);
-    if (l.rfind("AR1", 0) == 0 && l.size() >= 4 && l.substr(l.size() - 4) == ".phi") out[0] = f.theta(k);
-    else if (l.rfind("AR1", 0) == 0 && l.substr(l.size() - 7) == ".sigma2") out[1] = f.theta(k);
-    else if (l.rfind("WN", 0) == 0) out[2] = f.theta(k);
+    if (l.rfind("AR1", 0) == 0 && l.size() >= 4 && l.substr(l.size() - 4) == ".phi")
+      out[0] = f.theta(k);
+    else if (l.rfind("AR1", 0) == 0 && l.substr(l.size() - 7) == ".sigma2")
+      out[1] = f.theta(k);
+    else if (l.rfind("WN", 0) == 0)
+      out[2] = f.theta(k);
   }
 }
 
@@ -239,13 +243,14 @@ bool contamination_section() {
 
   std::printf("### 2. Contamination study: WN(sigma2=1) + AR1(phi=0.99, sigma2=1e-3), N = 2^17, %d replicates\n\n",
               kReplicates);
-  std::printf("Robust = Huber, eff 0.6. Clean = classical WV of the same replicate before contamination. "
-              "Share = mean over replicates of the share of the level's coefficient windows (tau_j = 2^j "
-              "samples) holding a contaminated sample. Checked levels: share < %.0f%%; robust median ratio in "
-              "[%.1f, %.1f]. Stretch: independent N(0, 99 var) noise, var = 1 + 1e-3 / (1 - 0.99^2) the "
-              "clean marginal variance, so the variance inside the stretch is exactly 100x and the added "
-              "noise does not depend on the replicate's values (a multiplied WN part would give 95x).\n\n",
-              100 * kShareLimit, 1 - kRobustTolerance, 1 + kRobustTolerance);
+  std::printf(
+      "Robust = Huber, eff 0.6. Clean = classical WV of the same replicate before contamination. "
+      "Share = mean over replicates of the share of the level's coefficient windows (tau_j = 2^j "
+      "samples) holding a contaminated sample. Checked levels: share < %.0f%%; robust median ratio in "
+      "[%.1f, %.1f]. Stretch: independent N(0, 99 var) noise, var = 1 + 1e-3 / (1 - 0.99^2) the "
+      "clean marginal variance, so the variance inside the stretch is exactly 100x and the added "
+      "noise does not depend on the replicate's values (a multiplied WN part would give 95x).\n\n",
+      100 * kShareLimit, 1 - kRobustTolerance, 1 + kRobustTolerance);
   bool all_ok = true;
   for (int kind : {kSpikes, kStretch}) {
     double mean_count = 0;
@@ -255,12 +260,15 @@ bool contamination_section() {
     // Per-sample variance the contamination adds on average: spikes p x 20^2; the stretch
     // (L / N) x 99 var. Both are white, so the classical WV's excess should be this / tau.
     const double stretch_len = static_cast<double>(std::llround(kStretchShare * static_cast<double>(kStudyLength)));
-    const double added = kind == kSpikes ? kSpikeProbability * kSpikeSize * kSpikeSize
-                                         : stretch_len / static_cast<double>(kStudyLength) * (kStretchVarianceFactor - 1.0) *
-                                               (kTrueWn + kTrueAr1 / (1.0 - kTruePhi * kTruePhi));
-    std::printf("| level | tau | share of windows contaminated | median robust/clean | median classical/clean "
-                "| median classical excess x tau / %.3g | checked | verdict |\n"
-                "|---|---|---|---|---|---|---|---|\n", added);
+    const double added = kind == kSpikes
+                             ? kSpikeProbability * kSpikeSize * kSpikeSize
+                             : stretch_len / static_cast<double>(kStudyLength) * (kStretchVarianceFactor - 1.0) *
+                                   (kTrueWn + kTrueAr1 / (1.0 - kTruePhi * kTruePhi));
+    std::printf(
+        "| level | tau | share of windows contaminated | median robust/clean | median classical/clean "
+        "| median classical excess x tau / %.3g | checked | verdict |\n"
+        "|---|---|---|---|---|---|---|---|\n",
+        added);
     bool level_ok = true, classical_l1_off = false;
     for (int j = 0; j < J; ++j) {
       std::vector<double> rr, cr, ex;
@@ -290,12 +298,14 @@ bool contamination_section() {
     double med_abs[2][3];
     int conv[2] = {0, 0};
     for (const auto& R : reps) conv[0] += R.robust_conv[kind], conv[1] += R.classical_conv[kind];
-    std::printf("GMWM of AR1+WN (diag Omega, no inference) on the contaminated series: relative error "
-                "(estimate / truth - 1) over %d replicates; converged: robust %d, classical %d.\n\n",
-                kReplicates, conv[0], conv[1]);
-    std::printf("| parameter | truth | robust median estimate | robust median rel. err | robust median abs rel. err "
-                "| classical median estimate | classical median rel. err | classical median abs rel. err |\n"
-                "|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "GMWM of AR1+WN (diag Omega, no inference) on the contaminated series: relative error "
+        "(estimate / truth - 1) over %d replicates; converged: robust %d, classical %d.\n\n",
+        kReplicates, conv[0], conv[1]);
+    std::printf(
+        "| parameter | truth | robust median estimate | robust median rel. err | robust median abs rel. err "
+        "| classical median estimate | classical median rel. err | classical median abs rel. err |\n"
+        "|---|---|---|---|---|---|---|---|\n");
     for (int k = 0; k < 3; ++k) {
       double med_signed[2], med_est[2];
       for (int t = 0; t < 2; ++t) {
@@ -327,8 +337,9 @@ bool contamination_section() {
                 kAr1RatioBar, med_abs[1][1], verdict(ar1_ok));
     all_ok &= wn_robust && wn_classical && phi_ok && ar1_ok;
   }
-  std::printf("Contamination study overall: %s (%.1f s wall, %d replicates x 2 contaminations, 2 WVs and 2 fits each)\n\n",
-              verdict(all_ok), secs, kReplicates);
+  std::printf(
+      "Contamination study overall: %s (%.1f s wall, %d replicates x 2 contaminations, 2 WVs and 2 fits each)\n\n",
+      verdict(all_ok), secs, kReplicates);
   return all_ok;
 }
 
@@ -341,7 +352,8 @@ constexpr double kInsideBar = 0.80;
 
 // Levels with classical eta >= 30, and how many of them have the implied WV inside the
 // robust CI.
-std::pair<int, int> inside_robust_ci(const FitResult& f, const WaveletVariance& robust, const WaveletVariance& classical) {
+std::pair<int, int> inside_robust_ci(const FitResult& f, const WaveletVariance& robust,
+                                     const WaveletVariance& classical) {
   int considered = 0, inside = 0;
   for (int j = 0; j < classical.levels(); ++j) {
     if (classical.eta[j] < kEtaCriterion) continue;
@@ -394,16 +406,19 @@ bool cont_imu_section() {
            c.robust.objective < chosen->robust.objective))
         chosen = &c;
     }
-    std::printf("Column %s, N = %lld; quantization %s (on-lattice share of differences %.3f). %s.\n\n", sig.name.c_str(),
-                static_cast<long long>(n), q.detected ? "detected" : "not detected", q.on_lattice_share,
-                rw.screening.c_str());
-    std::printf("Model family (diag Omega, with inference), the simplest whose robust fit is not rejected at %.0f%% is used:\n\n"
-                "| model | parameters | robust objective | robust GoF p | inside robust CI (eta >= 30) | classical objective "
-                "| classical GoF p |\n|---|---|---|---|---|---|---|\n", 100 * kGofLevel);
+    std::printf("Column %s, N = %lld; quantization %s (on-lattice share of differences %.3f). %s.\n\n",
+                sig.name.c_str(), static_cast<long long>(n), q.detected ? "detected" : "not detected",
+                q.on_lattice_share, rw.screening.c_str());
+    std::printf(
+        "Model family (diag Omega, with inference), the simplest whose robust fit is not rejected at %.0f%% is "
+        "used:\n\n"
+        "| model | parameters | robust objective | robust GoF p | inside robust CI (eta >= 30) | classical objective "
+        "| classical GoF p |\n|---|---|---|---|---|---|---|\n",
+        100 * kGofLevel);
     for (const auto& c : cands)
-      std::printf("| %s%s | %d | %.4g | %.3g | %d of %d | %.4g | %.3g |\n", c.spec.c_str(), &c == chosen ? " (chosen)" : "",
-                  c.robust.model.num_parameters(), c.robust.objective, c.robust.gof.p_value, c.inside, c.considered,
-                  c.classical.objective, c.classical.gof.p_value);
+      std::printf("| %s%s | %d | %.4g | %.3g | %d of %d | %.4g | %.3g |\n", c.spec.c_str(),
+                  &c == chosen ? " (chosen)" : "", c.robust.model.num_parameters(), c.robust.objective,
+                  c.robust.gof.p_value, c.inside, c.considered, c.classical.objective, c.classical.gof.p_value);
     if (!chosen) {
       std::printf("\nNo model of the family fits the robust WV: FAIL\n\n");
       all_ok = false;
@@ -411,26 +426,30 @@ bool cont_imu_section() {
     }
     const FitResult& fr = chosen->robust;
     const FitResult& fc = chosen->classical;
-    std::printf("\n| level | tau | eta (classical) | classical WV | classical CI | robust WV | robust CI | robust/classical "
-                "| expected (rounding) | tail share | CIs disjoint | contaminated | robust fit nu(theta) | implied/robust "
-                "| inside robust CI |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "\n| level | tau | eta (classical) | classical WV | classical CI | robust WV | robust CI | robust/classical "
+        "| expected (rounding) | tail share | CIs disjoint | contaminated | robust fit nu(theta) | implied/robust "
+        "| inside robust CI |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int flagged = 0;
     for (int j = 0; j < cw.levels(); ++j) {
       const auto& d = diag[static_cast<std::size_t>(j)];
       const double imp = fr.implied_wv(j);
       const bool in = imp >= rw.ci_low[j] && imp <= rw.ci_high[j];
       flagged += d.contaminated;
-      std::printf("| %d | %.0f | %.1f | %.4e | [%.4e, %.4e] | %.4e | [%.4e, %.4e] | %.4f | %.4f | %.2e | %s | %s | %.4e | %.4f | %s |\n",
-                  j + 1, cw.tau[j], cw.eta[j], cw.wv[j], cw.ci_low[j], cw.ci_high[j], rw.wv[j], rw.ci_low[j], rw.ci_high[j],
-                  d.robust_to_classical, d.expected_ratio, d.tail_share, d.ci_disjoint ? "yes" : "no",
-                  d.contaminated ? "**yes**" : "no", imp, imp / rw.wv[j],
-                  cw.eta[j] >= kEtaCriterion ? (in ? "yes" : "**no**") : "(eta < 30)");
+      std::printf(
+          "| %d | %.0f | %.1f | %.4e | [%.4e, %.4e] | %.4e | [%.4e, %.4e] | %.4f | %.4f | %.2e | %s | %s | %.4e | %.4f "
+          "| %s |\n",
+          j + 1, cw.tau[j], cw.eta[j], cw.wv[j], cw.ci_low[j], cw.ci_high[j], rw.wv[j], rw.ci_low[j], rw.ci_high[j],
+          d.robust_to_classical, d.expected_ratio, d.tail_share, d.ci_disjoint ? "yes" : "no",
+          d.contaminated ? "**yes**" : "no", imp, imp / rw.wv[j],
+          cw.eta[j] >= kEtaCriterion ? (in ? "yes" : "**no**") : "(eta < 30)");
     }
     for (int j = 0; j < rw.levels(); ++j)
       if (!rw.notes[j].empty()) std::printf("\nlevel %d (robust): %s", j + 1, rw.notes[j].c_str());
     std::printf("\n\nLevels flagged contaminated: %d of %d.\n\n", flagged, cw.levels());
-    std::printf("Fits of %s (diag Omega, with inference):\n\n| parameter | robust fit | classical fit |\n|---|---|---|\n",
-                chosen->spec.c_str());
+    std::printf(
+        "Fits of %s (diag Omega, with inference):\n\n| parameter | robust fit | classical fit |\n|---|---|---|\n",
+        chosen->spec.c_str());
     for (int k = 0; k < fr.model.num_parameters(); ++k)
       std::printf("| %s | %.6g | %.6g |\n", fr.model.parameter_label(k).c_str(), fr.theta(k),
                   k < fc.theta.size() ? fc.theta(k) : kNaN);
@@ -438,8 +457,9 @@ bool cont_imu_section() {
                 to_string(fr.status), to_string(fc.status), fr.objective, fc.objective, fr.gof.p_value, fc.gof.p_value);
     const double share = chosen->considered ? static_cast<double>(chosen->inside) / chosen->considered : 0.0;
     const bool ok = share >= kInsideBar;
-    std::printf("Robust fit's implied WV inside the robust CI at %d of %d levels with eta >= %.0f (%.0f%%; bar %.0f%%): %s\n\n",
-                chosen->inside, chosen->considered, kEtaCriterion, 100 * share, 100 * kInsideBar, verdict(ok));
+    std::printf(
+        "Robust fit's implied WV inside the robust CI at %d of %d levels with eta >= %.0f (%.0f%%; bar %.0f%%): %s\n\n",
+        chosen->inside, chosen->considered, kEtaCriterion, 100 * share, 100 * kInsideBar, verdict(ok));
     all_ok &= ok;
   }
   return all_ok;
@@ -452,9 +472,11 @@ bool cont_imu_section() {
 bool quantized_section(const std::vector<io::SignalSet>& sets) {
   const robust::Tuning tuning = robust::tune(robust::RobustKind::kHuber, 0.6);
   std::printf("### 4. Clean quantized recordings (adis_16405_imu{1,2,3}, Huber eff 0.6)\n\n");
-  std::printf("| file | column | quantum | levels flagged contaminated | no-root levels | zero level-1 coefficients "
-              "| robust/classical L1 | expected L1 | robust/classical L2 | expected L2 | max abs(observed/expected - 1), L1-2 |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| file | column | quantum | levels flagged contaminated | no-root levels | zero level-1 coefficients "
+      "| robust/classical L1 | expected L1 | robust/classical L2 | expected L2 | max abs(observed/expected - 1), L1-2 "
+      "|\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n");
   int total_flagged = 0, inconsistent_notes = 0;
   double worst = 0.0;
   for (const auto& set : sets) {
@@ -486,8 +508,10 @@ bool quantized_section(const std::vector<io::SignalSet>& sets) {
       for (double v : w1) zeros += std::abs(v) <= floor1;
       auto cell = [&](int j, char* buf, std::size_t len) {
         const auto& d = diag[static_cast<std::size_t>(j)];
-        if (std::isnan(rws[c].wv[j])) std::snprintf(buf, len, "no root");
-        else std::snprintf(buf, len, "%.4f", d.robust_to_classical);
+        if (std::isnan(rws[c].wv[j]))
+          std::snprintf(buf, len, "no root");
+        else
+          std::snprintf(buf, len, "%.4f", d.robust_to_classical);
       };
       char r1[32], r2[32];
       cell(0, r1, sizeof r1);
@@ -495,20 +519,23 @@ bool quantized_section(const std::vector<io::SignalSet>& sets) {
       double dev = 0.0;
       for (int j = 0; j < 2; ++j) {
         const auto& d = diag[static_cast<std::size_t>(j)];
-        if (std::isfinite(d.robust_to_classical)) dev = std::max(dev, std::abs(d.robust_to_classical / d.expected_ratio - 1));
+        if (std::isfinite(d.robust_to_classical))
+          dev = std::max(dev, std::abs(d.robust_to_classical / d.expected_ratio - 1));
       }
       worst = std::max(worst, dev);
       std::printf("| %s | %s | %s | %d | %s | %.1f%% | %s | %.4f | %s | %.4f | %.3f |\n", file.c_str(),
                   set.signals[c].name.c_str(), q.detected ? std::to_string(q.quantum).c_str() : "none", flagged,
-                  noroot.empty() ? "none" : noroot.c_str(), 100.0 * static_cast<double>(zeros) / static_cast<double>(w1.size()), r1,
-                  diag[0].expected_ratio, r2, diag[1].expected_ratio, dev);
+                  noroot.empty() ? "none" : noroot.c_str(),
+                  100.0 * static_cast<double>(zeros) / static_cast<double>(w1.size()), r1, diag[0].expected_ratio, r2,
+                  diag[1].expected_ratio, dev);
     }
   }
   const bool ok = total_flagged == 0 && inconsistent_notes == 0;
-  std::printf("\nLevels flagged contaminated on clean data: %d (must be 0): %s. Levels whose NaN robust WV and "
-              "\"no root\" note disagree: %d. Largest abs(observed/expected - 1) at levels 1-2: %.3f "
-              "(robust/classical against the rounding model's prediction; information).\n\n",
-              total_flagged, verdict(total_flagged == 0), inconsistent_notes, worst);
+  std::printf(
+      "\nLevels flagged contaminated on clean data: %d (must be 0): %s. Levels whose NaN robust WV and "
+      "\"no root\" note disagree: %d. Largest abs(observed/expected - 1) at levels 1-2: %.3f "
+      "(robust/classical against the rounding model's prediction; information).\n\n",
+      total_flagged, verdict(total_flagged == 0), inconsistent_notes, worst);
   return ok;
 }
 
@@ -522,9 +549,10 @@ int main() {
   bench::Stopwatch sw;
   adis.push_back(io::read_signals(bench::shared_data_file("adis_16405_imu1.csv.gz"), ro));
   const double parse = sw.seconds();
-  std::printf("Robust estimator: Huber's Proposal 2 at Gaussian efficiency 0.6 unless stated "
-              "(c = %.10f, a(c) = %.10f).\n\n",
-              robust::tune(robust::RobustKind::kHuber, 0.6).c, robust::tune(robust::RobustKind::kHuber, 0.6).a);
+  std::printf(
+      "Robust estimator: Huber's Proposal 2 at Gaussian efficiency 0.6 unless stated "
+      "(c = %.10f, a(c) = %.10f).\n\n",
+      robust::tune(robust::RobustKind::kHuber, 0.6).c, robust::tune(robust::RobustKind::kHuber, 0.6).a);
   bool ok1 = speed_section(adis[0], parse);
   std::fflush(stdout);
   bool ok2 = contamination_section();
@@ -534,8 +562,9 @@ int main() {
   adis.push_back(io::read_signals(bench::shared_data_file("adis_16405_imu2.csv.gz"), ro));
   adis.push_back(io::read_signals(bench::shared_data_file("adis_16405_imu3.csv.gz"), ro));
   bool ok4 = quantized_section(adis);
-  std::printf("Acceptance: speed %s, contamination study %s, cont_imu1 fit %s, clean quantized data %s. "
-              "Overall: %s (%.1f s wall).\n",
-              verdict(ok1), verdict(ok2), verdict(ok3), verdict(ok4), verdict(ok1 && ok2 && ok3 && ok4), total.seconds());
+  std::printf(
+      "Acceptance: speed %s, contamination study %s, cont_imu1 fit %s, clean quantized data %s. "
+      "Overall: %s (%.1f s wall).\n",
+      verdict(ok1), verdict(ok2), verdict(ok3), verdict(ok4), verdict(ok1 && ok2 && ok3 && ok4), total.seconds());
   return ok1 && ok2 && ok3 && ok4 ? 0 : 1;
 }

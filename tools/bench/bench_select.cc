@@ -55,8 +55,9 @@ int main() {
     for (const auto& s : set.signals) names.push_back(s.name);
   }
   int violations = 0, models = 0;
-  std::printf("| column | models | representation violations | best (WVIC, analytic) | criterion | second | criterion |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| column | models | representation violations | best (WVIC, analytic) | criterion | second | criterion |\n"
+      "|---|---|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < result.size(); ++k) {
     const auto& s = result[k];
     violations += s.representation_violations;
@@ -65,10 +66,12 @@ int main() {
                 s.ranking[0].model.c_str(), s.ranking[0].criterion, s.ranking[1].model.c_str(), s.ranking[1].criterion);
   }
   const bool fast = best < 3.0, clean = violations == 0;
-  std::printf("\nWall time, parsing included (best of 3): %.3f s, of which selection %.3f s; reference R 153 s for one "
-              "axis (~918 s for six): %.0fx faster. Bar < 3 s: %s.\n",
-              best, best_select, 918.0 / best, fast ? "pass" : "FAIL");
-  std::printf("Representation violations (nested or equivalent pairs) over %d models: %d (must be 0): %s.\n", models, violations, clean ? "pass" : "FAIL");
+  std::printf(
+      "\nWall time, parsing included (best of 3): %.3f s, of which selection %.3f s; reference R 153 s for one "
+      "axis (~918 s for six): %.0fx faster. Bar < 3 s: %s.\n",
+      best, best_select, 918.0 / best, fast ? "pass" : "FAIL");
+  std::printf("Representation violations (nested or equivalent pairs) over %d models: %d (must be 0): %s.\n", models,
+              violations, clean ? "pass" : "FAIL");
 
   // Bootstrap optimism on one axis.
   io::ReadOptions ro;
@@ -83,14 +86,15 @@ int main() {
   bo.seed = 2024;
   const auto boot = selection::select_models(one, parse_model("4*AR1+WN+RW"), bo).front();
   const double boot_seconds = boot_clock.seconds();
-  std::printf("\nBootstrap optimism, %s, 4*AR1+WN+RW (%d models), B = 50 (seed 2024):\n\n"
-              "| rank | model | objective | analytic optimism | bootstrap optimism (MC se) | rank analytic | rank bootstrap |\n"
-              "|---|---|---|---|---|---|---|\n",
-              set.signals[0].name.c_str(), boot.models);
+  std::printf(
+      "\nBootstrap optimism, %s, 4*AR1+WN+RW (%d models), B = 50 (seed 2024):\n\n"
+      "| rank | model | objective | analytic optimism | bootstrap optimism (MC se) | rank analytic | rank bootstrap |\n"
+      "|---|---|---|---|---|---|---|\n",
+      set.signals[0].name.c_str(), boot.models);
   for (const auto& r : boot.ranking)
     std::printf("| %d | %s | %.6g | %.4g | %.4g (%.2g) | %d | %d |\n", r.rank, r.model.c_str(), r.objective,
-                r.optimism_analytic.value_or(NAN), r.optimism_bootstrap.value_or(NAN), r.optimism_bootstrap_se.value_or(NAN),
-                r.rank_analytic.value_or(0), r.rank_bootstrap.value_or(0));
+                r.optimism_analytic.value_or(NAN), r.optimism_bootstrap.value_or(NAN),
+                r.optimism_bootstrap_se.value_or(NAN), r.rank_analytic.value_or(0), r.rank_bootstrap.value_or(0));
   const bool boot_fast = boot_seconds < 60.0;
   std::printf("\nWall time of the bootstrap selection (WV included): %.2f s. Bar < 60 s: %s.\n", boot_seconds,
               boot_fast ? "pass" : "FAIL");
@@ -110,19 +114,21 @@ int main() {
   ro_opts.estimator = &huber;
   const auto classical_sel = selection::select_models(cw, parse_model(cont_model), {}).front();
   const auto robust_sel = selection::select_models(rw, parse_model(cont_model), ro_opts).front();
-  std::printf("\ncont_imu1.csv.gz (gyro_x, 500,000 samples), every sub-model of %s (%d), WVIC analytic, top five:\n\n"
-              "| rank | classical model | criterion | GoF p | robust (Huber, eff 0.6) model | criterion | GoF p |\n"
-              "|---|---|---|---|---|---|---|\n",
-              cont_model, robust_sel.models);
+  std::printf(
+      "\ncont_imu1.csv.gz (gyro_x, 500,000 samples), every sub-model of %s (%d), WVIC analytic, top five:\n\n"
+      "| rank | classical model | criterion | GoF p | robust (Huber, eff 0.6) model | criterion | GoF p |\n"
+      "|---|---|---|---|---|---|---|\n",
+      cont_model, robust_sel.models);
   for (std::size_t k = 0; k < 5 && k < robust_sel.ranking.size(); ++k) {
     const auto& a = classical_sel.ranking[k];
     const auto& b = robust_sel.ranking[k];
     std::printf("| %zu | %s | %.6g | %.3g | %s | %.6g | %.3g |\n", k + 1, a.model.c_str(), a.criterion, a.gof.p_value,
                 b.model.c_str(), b.criterion, b.gof.p_value);
   }
-  std::printf("\nBest models with values: classical %s; robust %s. Representation violations: classical %d, robust %d.\n",
-              classical_sel.best_fit.model.to_string(classical_sel.best_fit.theta).c_str(),
-              robust_sel.best_fit.model.to_string(robust_sel.best_fit.theta).c_str(), classical_sel.representation_violations,
-              robust_sel.representation_violations);
+  std::printf(
+      "\nBest models with values: classical %s; robust %s. Representation violations: classical %d, robust %d.\n",
+      classical_sel.best_fit.model.to_string(classical_sel.best_fit.theta).c_str(),
+      robust_sel.best_fit.model.to_string(robust_sel.best_fit.theta).c_str(), classical_sel.representation_violations,
+      robust_sel.representation_violations);
   return fast && clean && boot_fast ? 0 : 1;
 }

@@ -102,7 +102,7 @@ std::string top_wrong(const Tally& t) {
 }
 
 struct Detectability {
-  std::string text;        // per component: nc and oracle power
+  std::string text;  // per component: nc and oracle power
   bool all_detectable = true;
 };
 
@@ -114,8 +114,9 @@ Detectability detectability(const Model& truth) {
     const auto& comp = truth.components()[static_cast<std::size_t>(c)];
     const double v = nc[static_cast<std::size_t>(c)], r = refit[static_cast<std::size_t>(c)];
     char buf[200];
-    std::snprintf(buf, sizeof buf, "%s%s nc %.3g (oracle power %.0f%%), with the others re-estimated %.3g (power %.0f%%)",
-                  c ? "; " : "", comp.process->name().c_str(), v, 100 * oracle_power(v), r, 100 * oracle_power(r));
+    std::snprintf(buf, sizeof buf,
+                  "%s%s nc %.3g (oracle power %.0f%%), with the others re-estimated %.3g (power %.0f%%)", c ? "; " : "",
+                  comp.process->name().c_str(), v, 100 * oracle_power(v), r, 100 * oracle_power(r));
     d.text += buf;
     d.all_detectable = d.all_detectable && v >= kDetectableNc && r >= kDetectableNc;
   }
@@ -130,7 +131,7 @@ struct Pick {
 
 int g_violations = 0, g_selections = 0;
 int g_rows = 0, g_rows_below = 0;  // rows refitted alone; refits ending below the row
-double g_worst_row = 0.0;           // largest relative amount a refit ended below its row
+double g_worst_row = 0.0;          // largest relative amount a refit ended below its row
 
 // Every row of `sel` refitted alone from the default starts under the selection's Omega.
 void check_rows(const WaveletVariance& wv, const selection::Selection& sel) {
@@ -193,8 +194,10 @@ bool study(const char* truth_spec, std::uint64_t seed, bool oracle, std::vector<
     Tally t;
     for (const auto& p : picks) {
       const Counts c = components(p.effective);
-      if (p.effective == want_name) ++t.first;
-      else ++t.wrong[difference(c, want)];
+      if (p.effective == want_name)
+        ++t.first;
+      else
+        ++t.wrong[difference(c, want)];
       if (p.fitted == want_name) ++t.as_fitted;
       if (contains(c, want)) ++t.contained;
       if (p.oracle_truth) ++t.oracle;
@@ -208,12 +211,14 @@ bool study(const char* truth_spec, std::uint64_t seed, bool oracle, std::vector<
   auto oracle_text = [&](const Tally& t) { return oracle ? std::to_string(t.oracle) + "%" : std::string("-"); };
   std::printf("| %s | WVIC | %.0f%% | %s | %.0f%% | %.0f%% | %s |\n", truth_spec, pct(w.first), oracle_text(w).c_str(),
               pct(w.as_fitted), pct(w.contained), top_wrong(w).c_str());
-  std::printf("| | BIC | %.0f%% | %s | %.0f%% | %.0f%% | %s |\n", pct(b.first), oracle_text(b).c_str(), pct(b.as_fitted),
-              pct(b.contained), top_wrong(b).c_str());
-  notes.push_back(std::string(truth_spec) + ": " + det.text + (det.all_detectable ? "." : " (a borderline component)."));
+  std::printf("| | BIC | %.0f%% | %s | %.0f%% | %.0f%% | %s |\n", pct(b.first), oracle_text(b).c_str(),
+              pct(b.as_fitted), pct(b.contained), top_wrong(b).c_str());
+  notes.push_back(std::string(truth_spec) + ": " + det.text +
+                  (det.all_detectable ? "." : " (a borderline component)."));
   std::fflush(stdout);
   if (oracle)
-    return std::abs(w.first - w.oracle) <= kOracleGap * kReplicates && std::abs(b.first - b.oracle) <= kOracleGap * kReplicates;
+    return std::abs(w.first - w.oracle) <= kOracleGap * kReplicates &&
+           std::abs(b.first - b.oracle) <= kOracleGap * kReplicates;
   return !det.all_detectable || (w.first >= kGoal * kReplicates && b.first >= kGoal * kReplicates);
 }
 
@@ -224,15 +229,18 @@ int main(int argc, char** argv) {
   // Optional arguments, for diagnostics: the Omega (data | model | full) and one truth (1-3).
   const std::string omega = argc > 1 ? argv[1] : "model";
   const int only = argc > 2 ? std::atoi(argv[2]) : 0;
-  g_omega = omega == "data" ? selection::OmegaSource::kData
-            : omega == "full" ? selection::OmegaSource::kModelFull : selection::OmegaSource::kModel;
+  g_omega = omega == "data"   ? selection::OmegaSource::kData
+            : omega == "full" ? selection::OmegaSource::kModelFull
+                              : selection::OmegaSource::kModel;
   bench::Stopwatch clock;
-  std::printf("%d series of N = 2^17 per true model, every sub-model of %s (63), Omega %s; "
-              "WVIC = objective + analytic optimism, BIC = objective + p log N.\n\n", kReplicates, kMaximal,
-              selection::to_string(g_omega));
-  std::printf("| true model | criterion | effective truth first | oracle (truth vs truth without its slow AR1) | "
-              "truth first as fitted | first contains the truth | "
-              "wrong picks: difference from the truth (count) |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "%d series of N = 2^17 per true model, every sub-model of %s (63), Omega %s; "
+      "WVIC = objective + analytic optimism, BIC = objective + p log N.\n\n",
+      kReplicates, kMaximal, selection::to_string(g_omega));
+  std::printf(
+      "| true model | criterion | effective truth first | oracle (truth vs truth without its slow AR1) | "
+      "truth first as fitted | first contains the truth | "
+      "wrong picks: difference from the truth (count) |\n|---|---|---|---|---|---|---|\n");
   bool ok = true;
   std::vector<std::string> notes;
   const char* truths[] = {"WN(sigma2=1)+QN(Q2=1)+RW(gamma2=3e-6)",
@@ -252,22 +260,26 @@ int main(int argc, char** argv) {
   }
   for (int t = 0; t < kTruths; ++t)
     if (!only || only == t + 1) ok &= study(truths[t], 5101 + static_cast<std::uint64_t>(t), t == kSlowAr1Truth, notes);
-  std::printf("\nDetectability of each true component at N = 2^17: non-centrality nc = d' V0^-1 d of its WV d under "
-              "the exact Cov(nuhat) at the truth, and the power of the oracle test of its absence (all other "
-              "parameters known; chi-square, 1 df, 5%%): an upper bound for any WV-based selection; and the same "
-              "with the other components re-estimated (the minimum over the model without it of the exact WV's "
-              "V0^-1 distance: what a test that knows the forms can see). Fully detectable = both >= %.0f for every "
-              "component.\n\n", kDetectableNc);
+  std::printf(
+      "\nDetectability of each true component at N = 2^17: non-centrality nc = d' V0^-1 d of its WV d under "
+      "the exact Cov(nuhat) at the truth, and the power of the oracle test of its absence (all other "
+      "parameters known; chi-square, 1 df, 5%%): an upper bound for any WV-based selection; and the same "
+      "with the other components re-estimated (the minimum over the model without it of the exact WV's "
+      "V0^-1 distance: what a test that knows the forms can see). Fully detectable = both >= %.0f for every "
+      "component.\n\n",
+      kDetectableNc);
   for (const auto& n : notes) std::printf("- %s\n", n.c_str());
   std::printf("\nRepresentation violations over the %d selections (63 candidates each): %d (bar 0).\n", g_selections,
               g_violations);
-  std::printf("\nRows refitted alone (every row of every WVIC selection, default starts, the selection's Omega): %d; "
-              "refits ending below their row by more than 1e-6 relative: %d (bar 0; largest %.2g).\n",
-              g_rows, g_rows_below, g_worst_row);
+  std::printf(
+      "\nRows refitted alone (every row of every WVIC selection, default starts, the selection's Omega): %d; "
+      "refits ending below their row by more than 1e-6 relative: %d (bar 0; largest %.2g).\n",
+      g_rows, g_rows_below, g_worst_row);
   ok = ok && g_violations == 0 && g_rows_below == 0;
-  std::printf("\nGoal: the effective truth first in at least %.0f%% of the series of each fully detectable truth, "
-              "within %.0f points of the oracle for the slow-AR1 truth, with WVIC and with BIC, no representation "
-              "violation and no row below its refit: %s (%.0f s).\n",
-              100 * kGoal, 100 * kOracleGap, ok ? "pass" : "FAIL", clock.seconds());
+  std::printf(
+      "\nGoal: the effective truth first in at least %.0f%% of the series of each fully detectable truth, "
+      "within %.0f points of the oracle for the slow-AR1 truth, with WVIC and with BIC, no representation "
+      "violation and no row below its refit: %s (%.0f s).\n",
+      100 * kGoal, 100 * kOracleGap, ok ? "pass" : "FAIL", clock.seconds());
   return ok ? 0 : 1;
 }

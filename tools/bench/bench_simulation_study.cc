@@ -92,8 +92,10 @@ Eigen::VectorXd run(OmegaKind omega_kind, int series, const Eigen::VectorXd& flo
   int conv = 0;
   for (int c : converged) conv += c;
   std::printf("\nOmega = %s, %d series\n\n", to_string(omega_kind), series);
-  std::printf("| parameter | truth | mean estimate | RMSE | relative RMSE | asymptotic floor (V^-1) | published GMWM | bar (1.2x) | verdict |\n"
-              "|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| parameter | truth | mean estimate | RMSE | relative RMSE | asymptotic floor (V^-1) | published GMWM | bar "
+      "(1.2x) | verdict |\n"
+      "|---|---|---|---|---|---|---|---|---|\n");
   Eigen::VectorXd rel(4);
   for (int k = 0; k < 4; ++k) {
     double se2 = 0, mean = 0;
@@ -117,8 +119,10 @@ Eigen::VectorXd run(OmegaKind omega_kind, int series, const Eigen::VectorXd& flo
 int main() {
   Eigen::VectorXd efficient, diag;
   asymptotic_floor(efficient, diag);
-  std::printf("Asymptotic relative standard errors at the truth (all 12 levels):\n\n"
-              "| parameter | Omega = V^-1 (efficient, the floor) | Omega = diag(1/V_jj) | bar (1.2 x published) |\n|---|---|---|---|\n");
+  std::printf(
+      "Asymptotic relative standard errors at the truth (all 12 levels):\n\n"
+      "| parameter | Omega = V^-1 (efficient, the floor) | Omega = diag(1/V_jj) | bar (1.2 x published) "
+      "|\n|---|---|---|---|\n");
   for (int k = 0; k < 4; ++k)
     std::printf("| %s | %.4f | %.4f | %.3f%s |\n", kNames[k], efficient(k), diag(k), kBarFactor * kPublished[k],
                 efficient(k) > kBarFactor * kPublished[k] ? " (below the floor: unattainable)" : "");

@@ -48,9 +48,11 @@ int main() {
   std::printf("| parse 6 x 1e6 gzip CSV | %.3f s | - | - |\n", parse);
   std::printf("| classical WV, six columns (19 levels) | %.4f s | 3.46 s | %.0fx faster |\n", wv_all, 3.46 / wv_all);
   std::printf("| wv total (parse + WV) | %.3f s | - | - |\n", parse + wv_all);
-  std::printf("| fit AR1+WN+RW+QN, one column (with inference) | %.4f s | 2.89 s | %.0fx faster |\n", fit_ar1wnrwqn, 2.89 / fit_ar1wnrwqn);
+  std::printf("| fit AR1+WN+RW+QN, one column (with inference) | %.4f s | 2.89 s | %.0fx faster |\n", fit_ar1wnrwqn,
+              2.89 / fit_ar1wnrwqn);
   std::printf("| fit 3*AR1+WN+RW+QN+DR, one column (with inference) | %.4f s | - | - |\n", fit_best);
   std::printf("\nfit 3*AR1+WN+RW+QN+DR on %s: status %s, objective %.6g, optimisation %.4f s, inference %.4f s\n",
-              set.signals[0].name.c_str(), to_string(fr.status), fr.objective, fr.seconds_optimise, fr.seconds_inference);
+              set.signals[0].name.c_str(), to_string(fr.status), fr.objective, fr.seconds_optimise,
+              fr.seconds_inference);
   return 0;
 }

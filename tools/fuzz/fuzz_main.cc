@@ -18,8 +18,7 @@ extern "C" std::size_t LLVMFuzzerMutate(std::uint8_t* data, std::size_t size, st
 extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size, std::size_t max_size,
                                                unsigned int seed) {
   const gmwm::fuzz::Target& t = gmwm::fuzz::kTargets[GMWM_FUZZ_TARGET];
-  if (t.size_fields && seed % 3 == 0 &&
-      gmwm::fuzz::drive_to_extreme(data, size, t.size_fields(data, size), seed / 3))
+  if (t.size_fields && seed % 3 == 0 && gmwm::fuzz::drive_to_extreme(data, size, t.size_fields(data, size), seed / 3))
     return size;
   return LLVMFuzzerMutate(data, size, max_size);
 }

@@ -23,8 +23,8 @@ std::optional<double> parse_decimal(std::string_view text) {
   if (text.empty()) return std::nullopt;
   // from_chars takes no '+'; it takes "inf" and "nan", refused below, and never hex.
   if (text.front() == '+') text.remove_prefix(1);
-  if (text.empty() || !(std::isdigit(static_cast<unsigned char>(text.front())) || text.front() == '.' ||
-                        text.front() == '-'))
+  if (text.empty() ||
+      !(std::isdigit(static_cast<unsigned char>(text.front())) || text.front() == '.' || text.front() == '-'))
     return std::nullopt;
   double v = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v, std::chars_format::general);
@@ -71,8 +71,7 @@ CLI::Validator sampling_rate_number() {
 }
 
 void add_common_options(CLI::App& sub, CommonOptions& common) {
-  sub.add_option("--json", common.json,
-                 "Write the machine-readable result to PATH ('-' for standard output)")
+  sub.add_option("--json", common.json, "Write the machine-readable result to PATH ('-' for standard output)")
       ->type_name("PATH");
   sub.add_option("--threads", common.threads, "Worker threads (default: all cores)")
       ->type_name("N")
@@ -81,8 +80,7 @@ void add_common_options(CLI::App& sub, CommonOptions& common) {
       ->type_name("S")
       ->transform(whole_number(0, std::numeric_limits<std::uint64_t>::max()))
       ->capture_default_str();
-  sub.add_flag("--quiet,-q", common.quiet,
-               "No result table on the terminal (errors and warnings still go to stderr)");
+  sub.add_flag("--quiet,-q", common.quiet, "No result table on the terminal (errors and warnings still go to stderr)");
   sub.add_flag("--verbose,-v", common.verbose,
                "Every table on the terminal (fit, select: the ranking, continuous parameters, noise figures and "
                "Kalman terms after the per-axis summary)");
@@ -115,10 +113,9 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
       ->transform(sampling_rate_number());
   sub.add_option("--alpha", input.alpha, "Confidence intervals at level 1 - alpha")
       ->transform(decimal_number([](double a) { return a >= kMinAlpha && a < 1.0; },
-                             "a number from 1e-10 to below 1 (the intervals' level is 1 - alpha)"))
+                                 "a number from 1e-10 to below 1 (the intervals' level is 1 - alpha)"))
       ->capture_default_str();
-  sub.add_option("--levels", input.levels,
-                 "Number of WV levels J (default: floor(log2 N))")
+  sub.add_option("--levels", input.levels, "Number of WV levels J (default: floor(log2 N))")
       ->type_name("J")
       ->transform(whole_number(1, kMaxLevelsOption));
   sub.add_option("--memory", input.memory_mb,
@@ -159,8 +156,7 @@ void add_max_evaluations_option(CLI::App& sub, int& max_evaluations) {
       ->capture_default_str();
 }
 
-std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
-                                                         const WvOptions& wv) {
+std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust, const WvOptions& wv) {
   if (!robust.robust) {
     if (robust.eff) throw InputError("--eff " + fmt(*robust.eff) + ": only meaningful with --robust");
     if (robust.estimator) throw InputError("--estimator " + *robust.estimator + ": only meaningful with --robust");
@@ -180,8 +176,7 @@ std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& ro
   if (robust.estimator) {
     const auto kind = robust::parse_robust_kind(*robust.estimator);
     if (!kind)
-      throw InputError("--estimator " + *robust.estimator +
-                       ": unknown robust estimator; expected huber or bisquare");
+      throw InputError("--estimator " + *robust.estimator + ": unknown robust estimator; expected huber or bisquare");
     o.estimator = *kind;
   }
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("--robust: " + why);
@@ -278,7 +273,8 @@ io::SignalSet read_input(const InputOptions& input) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   io::SignalSet set = io::read_signals(input.input, options);
   if (!set.signals.empty())
-    if (const std::string why = io::levels_problem(input.levels, static_cast<std::int64_t>(set.signals.front().values.size()), "--levels");
+    if (const std::string why =
+            io::levels_problem(input.levels, static_cast<std::int64_t>(set.signals.front().values.size()), "--levels");
         !why.empty())
       throw InputError(input.input + ": " + why);
   if (!set.freq_known)
@@ -295,8 +291,7 @@ WvOptions wv_options(const InputOptions& input) {
   if (!(input.alpha > 0.0 && input.alpha < 1.0))
     throw InputError("--alpha " + fmt(input.alpha) + ": expected a number in (0, 1)");
   if (input.levels < 0)
-    throw InputError("--levels " + std::to_string(input.levels) +
-                     ": expected a positive number of levels");
+    throw InputError("--levels " + std::to_string(input.levels) + ": expected a positive number of levels");
   return o;
 }
 
@@ -306,8 +301,7 @@ std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOption
   return classical_wv(series, options);
 }
 
-std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
-                                               const robust::RobustWvOptions& options) {
+std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set, const robust::RobustWvOptions& options) {
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
   return robust::robust_wv(series, options);
@@ -319,8 +313,7 @@ report::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {
 }
 
 int active_threads() {
-  return static_cast<int>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
 void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo run) {
@@ -347,18 +340,17 @@ void warn_about_timing(const io::SignalSet& set) {
   const io::TimingReport& t = *set.timing;
   if (t.gaps > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.gaps) +
-         " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) +
-         " s); the WV assumes regular sampling");
+         " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) + " s); the WV assumes regular sampling");
   if (t.disorder > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.disorder) +
          " repeated or backward timestamp(s)");
   if (t.rate_change)  // read only with --freq: the samples are taken as evenly spaced
-    warn(set.path + ": column '" + t.column + "': " + t.rate_change_text() + "; --freq takes the samples as evenly spaced");
+    warn(set.path + ": column '" + t.column + "': " + t.rate_change_text() +
+         "; --freq takes the samples as evenly spaced");
   if (t.given_freq && t.estimated_freq > 0 &&
-      std::abs(*t.given_freq - t.estimated_freq) >
-          io::TimingReport::kDisagreement * t.estimated_freq)
-    warn(set.path + ": --freq " + fmt(*t.given_freq) + " Hz disagrees with the " +
-         fmt(t.estimated_freq) + " Hz of column '" + t.column + "'; using --freq");
+      std::abs(*t.given_freq - t.estimated_freq) > io::TimingReport::kDisagreement * t.estimated_freq)
+    warn(set.path + ": --freq " + fmt(*t.given_freq) + " Hz disagrees with the " + fmt(t.estimated_freq) +
+         " Hz of column '" + t.column + "'; using --freq");
 }
 
 ProgressBar::ProgressBar(std::string label, const CommonOptions& common)
@@ -378,10 +370,13 @@ void ProgressBar::update(double done, double total) {
   const int filled = static_cast<int>(std::lround(f * kWidth));
   std::string line = "\r" + label_ + " [" + std::string(static_cast<std::size_t>(filled), '#') +
                      std::string(static_cast<std::size_t>(kWidth - filled), '-') + "] " +
-                     std::to_string(static_cast<long long>(done)) + " / " + std::to_string(static_cast<long long>(total)) +
-                     " (" + std::to_string(static_cast<int>(std::lround(100.0 * f))) + "%)";
-  if (complete) line += ", " + fmt(now, 3) + " s";
-  else if (f > 0.0) line += ", " + fmt(now * (1.0 - f) / f, 2) + " s left";
+                     std::to_string(static_cast<long long>(done)) + " / " +
+                     std::to_string(static_cast<long long>(total)) + " (" +
+                     std::to_string(static_cast<int>(std::lround(100.0 * f))) + "%)";
+  if (complete)
+    line += ", " + fmt(now, 3) + " s";
+  else if (f > 0.0)
+    line += ", " + fmt(now * (1.0 - f) / f, 2) + " s left";
   line += "    ";
   std::fputs(line.c_str(), stderr);
   std::fflush(stderr);

@@ -27,14 +27,14 @@ namespace gmwm::cli {
 
 /// Options every command accepts (docs/cli.md).
 struct CommonOptions {
-  std::string json;                 ///< --json PATH ('-' = stdout); empty: none
-  int threads = 0;                  ///< --threads N; 0: all cores
+  std::string json;  ///< --json PATH ('-' = stdout); empty: none
+  int threads = 0;   ///< --threads N; 0: all cores
   std::uint64_t seed = kDefaultSeed;
   bool quiet = false;
-  bool verbose = false;             ///< --verbose: the detail tables after the summary
+  bool verbose = false;  ///< --verbose: the detail tables after the summary
   std::string log_level = "error";
-  std::vector<std::string> argv;    ///< the command line, for the JSON "run" object
-  std::string report;               ///< --report PATH (wv, fit, select, gap); empty: none
+  std::vector<std::string> argv;  ///< the command line, for the JSON "run" object
+  std::string report;             ///< --report PATH (wv, fit, select, gap); empty: none
   /// Not an option: the files this run writes, all or none (declared before any work,
   /// staged as results come, committed by commit_outputs()).
   std::shared_ptr<io::OutputSet> outputs = std::make_shared<io::OutputSet>();
@@ -78,11 +78,11 @@ std::vector<std::string> split_list(const std::string& s);
 struct InputOptions {
   std::string input;
   std::optional<std::string> columns;  ///< --columns a,b,c (names or 1-based indices); given empty: refused
-  std::optional<double> freq;       ///< --freq HZ
-  std::string topic;                ///< --topic NAME[:INSTANCE] (PX4 ULog)
-  double alpha = 0.05;              ///< --alpha
-  int levels = 0;                   ///< --levels J (0: floor(log2 N))
-  std::optional<double> memory_mb;  ///< --memory MB (default: io::kMemoryShare of physical memory)
+  std::optional<double> freq;          ///< --freq HZ
+  std::string topic;                   ///< --topic NAME[:INSTANCE] (PX4 ULog)
+  double alpha = 0.05;                 ///< --alpha
+  int levels = 0;                      ///< --levels J (0: floor(log2 N))
+  std::optional<double> memory_mb;     ///< --memory MB (default: io::kMemoryShare of physical memory)
 };
 
 /// --robust, --eff, --estimator, --no-spike-screen.
@@ -114,8 +114,7 @@ void add_max_evaluations_option(CLI::App& sub, int& max_evaluations);
 
 /// The robust WV settings, or nullopt without --robust. Throws InputError (exit 2) for
 /// --eff outside (0, 1), an unknown --estimator, or any of them without --robust.
-std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust,
-                                                         const WvOptions& wv);
+std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust, const WvOptions& wv);
 
 /// Sets up logging (spdlog level, stderr) and returns the TBB parallelism limit to keep
 /// alive for the command's duration (nullptr when --threads was not given).
@@ -137,7 +136,8 @@ void add_report_option(CLI::App& sub, CommonOptions& common);
 /// folder (not '-') and the Vega modules the page inlines can be read.
 void check_report_option(const CommonOptions& common);
 /// The report's skeleton: one column per signal (name, n, rate, unit), no results yet.
-report::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec = {});
+report::ReportData report_data(const std::string& command, const io::SignalSet& set,
+                               const std::string& model_spec = {});
 /// Stages the report and its SVG when --report was given.
 void write_report(const CommonOptions& common, const report::ReportData& data);
 
@@ -150,8 +150,7 @@ WvOptions wv_options(const InputOptions& input);
 /// Classical WV of every signal, in parallel.
 std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOptions& options);
 /// The robust WV of every column (in parallel).
-std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set,
-                                               const robust::RobustWvOptions& options);
+std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set, const robust::RobustWvOptions& options);
 
 report::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
 
@@ -171,9 +170,7 @@ using Table = report::TextTable;
 /// Wall-clock seconds since construction.
 class Stopwatch {
  public:
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

@@ -33,9 +33,9 @@ struct ExportArgs {
   InputOptions input;
   std::string format;
   std::string output;
-  std::string model;       ///< --model SPEC: fit the data file first
-  std::string units;       ///< --units gyro=deg/s,accel=g
-  std::string sensor;      ///< --sensor gyro|accel
+  std::string model;   ///< --model SPEC: fit the data file first
+  std::string units;   ///< --units gyro=deg/s,accel=g
+  std::string sensor;  ///< --sensor gyro|accel
   std::string aggregate = "mean";
   double inflate = 1.0;
   std::string consistent_for;  ///< --consistent-for RATE,HORIZON[,SIGMA]
@@ -56,9 +56,11 @@ constexpr std::size_t kSniffBytes = 4096;
 bool is_json_result(io::SideFile& input, const std::string& path) {
   const std::string head = input.peek(kSniffBytes);
   std::string_view v(head);
-  if (v.starts_with("\xEF\xBB\xBF")) v.remove_prefix(3);
+  if (v.starts_with("\xEF\xBB\xBF"))
+    v.remove_prefix(3);
   else if (v.starts_with("\xFF\xFE") || v.starts_with("\xFE\xFF") || v.starts_with(std::string_view("\0\0\xFE\xFF", 4)))
-    throw InputError(path + ": starts with a UTF-16 or UTF-32 byte-order mark, expected UTF-8 text (the --json "
+    throw InputError(path +
+                     ": starts with a UTF-16 or UTF-32 byte-order mark, expected UTF-8 text (the --json "
                      "result of gmwm fit or gmwm select, or a data file)");
   const auto first = v.find_first_not_of(" \t\r\n");
   return first != std::string_view::npos && v[first] == '{';
@@ -96,7 +98,8 @@ std::vector<io::ExportColumn> from_result(const ExportArgs& a, io::SideFile& inp
 // Fits --model to every column of a data file, as `gmwm fit` does.
 std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions& common, std::string& source) {
   if (a.model.empty())
-    throw InputError(a.input.input + ": a data file; give --model SPEC to fit it first, or pass the --json result of "
+    throw InputError(a.input.input +
+                     ": a data file; give --model SPEC to fit it first, or pass the --json result of "
                      "gmwm fit or gmwm select");
   const WvOptions wv_opts = wv_options(a.input);
   if (a.input.freq) {
@@ -122,8 +125,8 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
       try {
         c.unit = io::parse_unit(s.unit, c.kind);
       } catch (const InputError& e) {
-        throw InputError(set.path + ": column '" + s.name + "': its header gives the unit '" + s.unit + "', which is not a " +
-                         io::to_string(c.kind) + " unit (" + e.what() + "); give --units");
+        throw InputError(set.path + ": column '" + s.name + "': its header gives the unit '" + s.unit +
+                         "', which is not a " + io::to_string(c.kind) + " unit (" + e.what() + "); give --units");
       }
     } else {
       throw InputError(set.path + ": column '" + s.name + "': the file does not say its unit; give --units " +
@@ -137,7 +140,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
   options.alpha = a.input.alpha;
   options.seed = common.seed;
   options.max_evaluations = a.max_evaluations;
-  options.inference = false;  // the export needs the estimates only
+  options.inference = false;          // the export needs the estimates only
   options.omega = OmegaKind::kModel;  // as `gmwm fit` weighs by default
   std::vector<FitResult> fits(wvs.size());
   gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], model, options); });
@@ -146,14 +149,14 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
     const FitResult& r = fits[k];
     if (r.status == FitStatus::kFailed || r.theta.size() != r.model.num_parameters() || !r.theta.allFinite())
       throw NoUsableResult("column '" + set.signals[k].name + "': the fit of " + a.model + " failed" +
-                               (r.message.empty() ? "" : ": " + r.message) + "; nothing written");
+                           (r.message.empty() ? "" : ": " + r.message) + "; nothing written");
     if (r.status == FitStatus::kNotConverged)
-      warn("column '" + set.signals[k].name + "': the fit did not converge" + (r.message.empty() ? "" : ": " + r.message));
+      warn("column '" + set.signals[k].name + "': the fit did not converge" +
+           (r.message.empty() ? "" : ": " + r.message));
     columns[k].model = r.model;
     columns[k].theta = r.theta;
     // N, K, B against the data's own Allan deviation (noise_figures.h).
-    const FigureReport figures =
-        noise_figure_report(set.signals[k].values, set.freq, r.model, r.theta, nullptr);
+    const FigureReport figures = noise_figure_report(set.signals[k].values, set.freq, r.model, r.theta, nullptr);
     columns[k].figures = io::export_figures(figures.chosen);
   }
   source = "data " + set.path + " fitted with " + a.model + " (as gmwm fit: classical WV, Omega diag)";
@@ -168,9 +171,10 @@ pipeline::ConsistencyOptions consistency_options(const std::string& text) {
   for (const std::string& p : parts)
     if (const auto x = parse_decimal(p); x && *x > 0.0) v.push_back(*x);
   if (v.size() != parts.size() || v.size() < 2 || v.size() > 3)
-    throw InputError("--consistent-for '" + text +
-                     "': expected RATE,HORIZON[,SIGMA]: the filter's update rate in Hz, the longest time on the IMU alone "
-                     "in s, and optionally an update's error in m (default 0.05), all positive, e.g. 20,60");
+    throw InputError(
+        "--consistent-for '" + text +
+        "': expected RATE,HORIZON[,SIGMA]: the filter's update rate in Hz, the longest time on the IMU alone "
+        "in s, and optionally an update's error in m (default 0.05), all positive, e.g. 20,60");
   c.update_rate = v[0];
   c.horizon = v[1];
   if (v.size() == 3) c.fix_sigma = v[2];
@@ -191,7 +195,7 @@ nav::ImuModel written_model(const io::ExportResult& r, const nav::ImuModel& trut
       const double f = axes[a].freq;
       const Model model = parse_model(w.random_walk > 0.0 ? "WN+RW" : "WN", ProcessContext{f, true});
       Eigen::VectorXd theta(model.num_parameters());
-      theta(0) = w.noise_density * w.noise_density * f;                        // sigma2 = N^2 f
+      theta(0) = w.noise_density * w.noise_density * f;                       // sigma2 = N^2 f
       if (w.random_walk > 0.0) theta(1) = w.random_walk * w.random_walk / f;  // gamma2 = K^2 / f
       (gyro ? m.gyro : m.accel)[a] = nav::SensorModel{model, theta, f, 1.0};
     }
@@ -208,7 +212,7 @@ report::Json written_json(const io::WrittenNoise& w) {
 }
 
 report::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, const std::string& output,
-                     const std::string& source) {
+                         const std::string& source) {
   report::Json doc = report::json_document("export");
   doc["format"] = io::to_string(o.format);
   doc["output"] = output;
@@ -219,9 +223,13 @@ report::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, 
   doc["inflate_walk"] = report::json_number(o.inflate_walk.value_or(o.inflate));
   doc["rate"] = report::json_number(r.rate);
   for (const auto& a : r.columns) {
-    report::Json c = {{"name", a.column}, {"freq", report::json_number(a.freq)}, {"kind", io::to_string(a.kind)},
-                  {"unit", a.unit.name}, {"model", a.model},
-                  {"noise_density", report::json_number(a.white)}, {"random_walk", report::json_number(a.walk)}};
+    report::Json c = {{"name", a.column},
+                      {"freq", report::json_number(a.freq)},
+                      {"kind", io::to_string(a.kind)},
+                      {"unit", a.unit.name},
+                      {"model", a.model},
+                      {"noise_density", report::json_number(a.white)},
+                      {"random_walk", report::json_number(a.walk)}};
     report::Json gm = report::Json::array();
     for (const auto& g : a.gauss_markov)
       gm.push_back({{"correlation_time", report::json_number(g.correlation_time)},
@@ -235,7 +243,8 @@ report::Json result_json(const io::ExportOptions& o, const io::ExportResult& r, 
   for (const auto& k : r.kinds) {
     if (k.columns.empty()) continue;
     report::Json e = {{"columns", k.columns}, {"per_axis", k.per_axis}, {"combined", written_json(k.combined)}};
-    if (k.per_axis) e["axes"] = {{"x", written_json(k.axes[0])}, {"y", written_json(k.axes[1])}, {"z", written_json(k.axes[2])}};
+    if (k.per_axis)
+      e["axes"] = {{"x", written_json(k.axes[0])}, {"y", written_json(k.axes[1])}, {"z", written_json(k.axes[2])}};
     kinds[io::to_string(k.kind)] = std::move(e);
   }
   doc["written"] = std::move(kinds);
@@ -279,8 +288,7 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
     throw InputError("--format '" + a.format + "': unknown format, expected one of " + io::export_format_names());
   o.format = *format;
   const auto aggregation = io::parse_aggregation(a.aggregate);
-  if (!aggregation)
-    throw InputError("--aggregate '" + a.aggregate + "': expected per-axis, mean or worst");
+  if (!aggregation) throw InputError("--aggregate '" + a.aggregate + "': expected per-axis, mean or worst");
   o.aggregation = *aggregation;
   o.inflate = a.inflate;
   o.rate = a.rate;
@@ -312,14 +320,14 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
     if (o.format == io::ExportFormat::kGzSdf || o.format == io::ExportFormat::kRotors)
       throw InputError("--consistent-for: for the WN + RW formats (kalibr, openvins, vins, orbslam3, basalt); " +
                        std::string(io::to_string(o.format)) + " writes the Gauss-Markov bias itself");
-    if (a.sub->count("--inflate") > 0)
-      throw InputError("--consistent-for derives the inflation; leave out --inflate");
+    if (a.sub->count("--inflate") > 0) throw InputError("--consistent-for derives the inflation; leave out --inflate");
     pipeline::NavModelInfo truth;
     try {
       truth = pipeline::imu_model_of(columns, a.input.input);
     } catch (const InputError& e) {
       throw InputError(std::string("--consistent-for needs the models of both sensors on every axis (gyroscope and "
-                                   "accelerometer columns): ") + e.what());
+                                   "accelerometer columns): ") +
+                       e.what());
     }
     const io::ExportResult plain = io::render_export(columns, o, source);
     consistent = pipeline::consistent_inflation(truth.model, written_model(plain, truth.model), *consistency);
@@ -352,10 +360,9 @@ int run_export(const ExportArgs& a, const CommonOptions& common) {
     print_text(terminal_report(o, r, a.output));
     if (consistent)
       print_text("inflation N x" + fmt(consistent->white, 3) + ", K x" + fmt(consistent->factor, 3) +
-                 ": the smallest keeping the filter from being optimistic (" +
-                 fmt(consistency->update_rate) + " Hz updates, " + fmt(consistency->horizon) +
-                 " s on the IMU alone); NEES in band " + fmt(100.0 * consistent->nees_inside, 3) + "% (" +
-                 nav::to_string(consistent->verdict) + ")\n");
+                 ": the smallest keeping the filter from being optimistic (" + fmt(consistency->update_rate) +
+                 " Hz updates, " + fmt(consistency->horizon) + " s on the IMU alone); NEES in band " +
+                 fmt(100.0 * consistent->nees_inside, 3) + "% (" + nav::to_string(consistent->verdict) + ")\n");
   }
   return 0;
 }
@@ -412,7 +419,9 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
       ->type_name("SPEC");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
       ->check(CLI::IsMember({"gyro", "accel"}));
-  sub->add_option("--rostopic", args->rostopic, "rostopic for kalibr and openvins")->type_name("TOPIC")->capture_default_str();
+  sub->add_option("--rostopic", args->rostopic, "rostopic for kalibr and openvins")
+      ->type_name("TOPIC")
+      ->capture_default_str();
   add_max_evaluations_option(*sub, args->max_evaluations);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_export(*args, common); }};

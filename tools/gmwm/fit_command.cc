@@ -33,34 +33,30 @@ struct FitArgs {
 
 OmegaKind omega_kind(const std::string& s) { return parse_omega_kind(s).value_or(OmegaKind::kModel); }
 
-std::string terminal_report(const io::SignalSet& set, std::size_t k, const WaveletVariance& w,
-                            const FitResult& r, OmegaKind omega) {
+std::string terminal_report(const io::SignalSet& set, std::size_t k, const WaveletVariance& w, const FitResult& r,
+                            OmegaKind omega) {
   std::ostringstream os;
   const auto& s = set.signals[k];
-  os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, Omega "
-     << to_string(omega);
+  os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, Omega " << to_string(omega);
   if (w.estimator != "classical")
     os << ", " << w.estimator << " WV (efficiency " << fmt(w.efficiency.value_or(1.0)) << ")";
   os << '\n';
-  const bool has_theta =
-      r.theta.size() == r.model.num_parameters() && r.theta.size() > 0 && r.theta.allFinite();
+  const bool has_theta = r.theta.size() == r.model.num_parameters() && r.theta.size() > 0 && r.theta.allFinite();
   os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
   if (has_theta) {
     Table t({"process", "component", "name", "value", "se", "CI low", "CI high", "interval"}, 1);
     for (const report::ParameterRow& p : report::parameter_rows(r))
-      t.add({p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
-             fmt(p.ci_low), fmt(p.ci_high), p.interval == "two-sided" ? "" : p.interval});
+      t.add({p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3), fmt(p.ci_low),
+             fmt(p.ci_high), p.interval == "two-sided" ? "" : p.interval});
     os << t.str();
   }
   os << "objective: " << fmt(r.objective, 8) << '\n';
-  os << "goodness of fit: statistic " << fmt(r.gof.statistic) << ", df " << fmt(r.gof.df)
-     << ", p-value " << fmt(r.gof.p_value, 4)
-     << (r.gof.method.empty() ? "" : " (" + r.gof.method + ")") << '\n';
+  os << "goodness of fit: statistic " << fmt(r.gof.statistic) << ", df " << fmt(r.gof.df) << ", p-value "
+     << fmt(r.gof.p_value, 4) << (r.gof.method.empty() ? "" : " (" + r.gof.method + ")") << '\n';
   const std::string status = to_string(r.status);
-  const bool repeats = r.message.rfind(status, 0) == 0 ||
-                       (r.status == FitStatus::kConverged && r.message.rfind("converged", 0) == 0);
-  os << "status: " << (r.message.empty() ? status : repeats ? r.message : status + " (" + r.message + ")")
-     << '\n';
+  const bool repeats =
+      r.message.rfind(status, 0) == 0 || (r.status == FitStatus::kConverged && r.message.rfind("converged", 0) == 0);
+  os << "status: " << (r.message.empty() ? status : repeats ? r.message : status + " (" + r.message + ")") << '\n';
   for (const auto& note : r.notes) os << "note: " << note << '\n';
   if (const std::string why = rejection_summary(r, set.freq, set.freq_known); !why.empty())
     os << "fit quality: " << r.model.to_string() << " is " << why << '\n';
@@ -74,30 +70,37 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
   os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << ", "
      << estimator << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
-    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", "
-       << r.levels[k] << " levels"
+    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", " << r.levels[k]
+       << " levels"
        << (k < r.objective_share.size() ? ", its share of the objective " + fmt(r.objective_share[k], 4) : "")
        << ", own fit " << to_string(r.singles[k].status) << '\n';
   const FitResult& j = r.joint;
   const bool ok = j.theta.size() == j.model.num_parameters() && j.theta.size() > 0 && j.theta.allFinite();
   os << "model: " << (ok ? j.model.to_string(j.theta) : j.model.to_string()) << '\n';
   if (ok) {
-    std::vector<std::string> header = {"process", "component", "name", "joint", "se", "CI low", "CI high",
-                                       "boot low", "boot high", "AGMWM", "AGMWM se"};
+    std::vector<std::string> header = {"process", "component", "name",      "joint", "se",      "CI low",
+                                       "CI high", "boot low",  "boot high", "AGMWM", "AGMWM se"};
     for (std::size_t k = 0; k < r.singles.size(); ++k) header.push_back("replicate " + std::to_string(k + 1));
     Table t(header, 1);
     // Every column in display units (SIN f in Hz ...), as parameter_rows gives them.
     const auto rows = report::parameter_rows(j);
     const auto agmwm = report::parameter_rows(report::agmwm_as_fit(r));
-    const auto boot_rows = boot ? report::parameter_rows(report::replicate_bootstrap_as_fit(r, *boot)) : std::vector<report::ParameterRow>{};
+    const auto boot_rows = boot ? report::parameter_rows(report::replicate_bootstrap_as_fit(r, *boot))
+                                : std::vector<report::ParameterRow>{};
     std::vector<std::vector<report::ParameterRow>> own;
     for (const auto& s : r.singles) own.push_back(report::parameter_rows(s));
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const auto& p = rows[i];
-      std::vector<std::string> row = {p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3),
-                                      fmt(p.ci_low), fmt(p.ci_high),
+      std::vector<std::string> row = {p.process,
+                                      std::to_string(p.component),
+                                      p.name,
+                                      fmt(p.value, 8),
+                                      fmt(p.se, 3),
+                                      fmt(p.ci_low),
+                                      fmt(p.ci_high),
                                       i < boot_rows.size() ? fmt(boot_rows[i].ci_low) : "-",
-                                      i < boot_rows.size() ? fmt(boot_rows[i].ci_high) : "-", fmt(agmwm[i].value),
+                                      i < boot_rows.size() ? fmt(boot_rows[i].ci_high) : "-",
+                                      fmt(agmwm[i].value),
                                       fmt(agmwm[i].se, 3)};
       for (const auto& o : own) row.push_back(i < o.size() ? fmt(o[i].value) : "-");
       t.add(row);
@@ -113,11 +116,11 @@ std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const
     os << "boot low / high: replicate-t interval (t at K - 1 df, bootstrap sd x sqrt(K / (K - 1)), log scale for "
           "variances) from the joint fit redone on "
        << boot->draws
-       << (boot->exhaustive ? " distinct resamples (all, weighted by their bootstrap probability)"
-                            : " resamples")
+       << (boot->exhaustive ? " distinct resamples (all, weighted by their bootstrap probability)" : " resamples")
        << " of the replicates drawn with replacement\n";
   if (test)
-    os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p " << fmt(test->heterogeneity_p, 3)
+    os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p "
+       << fmt(test->heterogeneity_p, 3)
        << (test->rejects() ? " (the replicates do not share one theta)" : " (one theta fits them all)")
        << "; joint misfit T = " << fmt(test->statistic, 4) << ", bootstrap p " << fmt(test->p_value, 3) << " ("
        << test->draws << " draws, Omega_k = V_k^-1 at the fixed-point estimate)\n";
@@ -153,8 +156,9 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   std::string report = report::axis_summary(doc) + "\n";
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const JointAnalysis& a = study.groups[i].analysis;
-    report += (i ? "\n" : "") + joint_report(groups[i], a.fit, a.test ? &*a.test : nullptr,
-                                             a.bootstrap ? &*a.bootstrap : nullptr, options.omega, estimator) +
+    report += (i ? "\n" : "") +
+              joint_report(groups[i], a.fit, a.test ? &*a.test : nullptr, a.bootstrap ? &*a.bootstrap : nullptr,
+                           options.omega, estimator) +
               joint_physical_tables(groups[i], set, a.fit.joint, study.groups[i].figures, args.units, filter);
   }
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
@@ -168,7 +172,8 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   if (common.show_table()) print_text(report);
   for (std::size_t i = 0; i < groups.size(); ++i)
     if (const FitResult& j = study.groups[i].analysis.fit.joint; j.status == FitStatus::kFailed) {
-      std::cerr << "gmwm: error: " << printable_line("the joint fit of '" + groups[i].axis + "' failed: " + j.message) << '\n';
+      std::cerr << "gmwm: error: " << printable_line("the joint fit of '" + groups[i].axis + "' failed: " + j.message)
+                << '\n';
       return 1;
     }
   return 0;
@@ -192,13 +197,15 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!args.joint.empty()) {
     if (options.omega == OmegaKind::kBootstrap)
-      throw InputError("--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
+      throw InputError(
+          "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
     return run_joint_fit(args, common, options, robust_options ? &*robust_options : nullptr);
   }
 
   // With --freq the model can be checked before reading a long file.
   if (args.input.freq) {
-    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty()) throw InputError(why);
+    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty())
+      throw InputError(why);
     parse_model(args.model, ProcessContext{*args.input.freq, true});
   }
 
@@ -253,7 +260,8 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
     report::ReportData rep = report_data("fit", set, args.model);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::FitColumnStudy& c = study.columns[k];
-      rep.columns[k].wvs = c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
+      rep.columns[k].wvs =
+          c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
       rep.columns[k].fit = c.fit;
       rep.columns[k].allan = c.figures;
       rep.columns[k].filter_rate = filter;
@@ -276,8 +284,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
 
 Command add_fit_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<FitArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "fit", "GMWM fit of a latent model (e.g. AR1+WN+RW) to the WV of each column");
+  CLI::App* sub = app.add_subcommand("fit", "GMWM fit of a latent model (e.g. AR1+WN+RW) to the WV of each column");
   add_input_options(*sub, args->input);
   sub->add_option("--model", args->model,
                   "Model, e.g. '2*AR1+WN+RW' or 'AR1(phi=0.99)+WN' (values are starting values)")

@@ -23,7 +23,6 @@ struct GapCheckArgs {
   bool no_null = false;
 };
 
-
 std::string report(const gap::GapCheckResult& r) {
   std::ostringstream os;
   std::vector<std::string> reported;
@@ -50,7 +49,9 @@ std::string report(const gap::GapCheckResult& r) {
     std::string power;
     for (const auto& [s, p] : f.power) power += (power.empty() ? "" : ", ") + fmt(s, 3) + ": " + fmt(100 * p, 3) + "%";
     const bool effect = !f.power.empty();
-    const std::string prefix = f.crossing == gap::Crossing::kAtMost ? "<= " : f.crossing == gap::Crossing::kBeyond ? "> " : "";
+    const std::string prefix = f.crossing == gap::Crossing::kAtMost   ? "<= "
+                               : f.crossing == gap::Crossing::kBeyond ? "> "
+                                                                      : "";
     fam.add({t, std::to_string(f.cases), fmt(100.0 * f.correct / f.cases, 3) + "%",
              fmt(100.0 * f.detected / f.cases, 3) + "%", fmt(100.0 * f.located / f.cases, 3) + "%",
              fmt(f.median_excess_removed, 3), power.empty() ? "-" : power,
@@ -99,11 +100,14 @@ Command add_gap_check_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--cases", args->cases, "Cases per withheld effect (the null side gets 5x and 2x as many)")
       ->transform(whole_number(1, 100000))
       ->capture_default_str();
-  sub->add_option("--n", args->n, "Samples per case")->transform(whole_number(256, std::uint64_t{1} << 26))->capture_default_str();
+  sub->add_option("--n", args->n, "Samples per case")
+      ->transform(whole_number(256, std::uint64_t{1} << 26))
+      ->capture_default_str();
   sub->add_option("--replicates", args->replicates, "Reference replicates per diagnosis")
       ->transform(whole_number(20, 100000))
       ->capture_default_str();
-  sub->add_option("--strengths", args->strengths, "Strengths, cycled through each family's cases")->capture_default_str();
+  sub->add_option("--strengths", args->strengths, "Strengths, cycled through each family's cases")
+      ->capture_default_str();
   sub->add_option("--families", args->families, "Withheld families, comma-separated (default: all of them)");
   sub->add_flag("--no-null", args->no_null, "Leave out the null side (base-only and off-by-20% cases)");
   add_common_options(*sub, common);

@@ -29,13 +29,13 @@ namespace {
 
 struct GapArgs {
   InputOptions input;
-  std::string model;   ///< --model SPEC_WITH_VALUES
-  std::string kalibr;  ///< --kalibr imu.yaml
-  std::string gazebo;  ///< --gazebo FILE.sdf (gz-sensors <noise> blocks or a RotorS/PX4 IMU plugin)
-  std::string fit;     ///< --fit SPEC
-  std::string datasheet;  ///< --datasheet FILE.yaml (figures in the datasheet's units)
-  std::string units;   ///< --units gyro=deg/s,accel=g
-  std::string sensor;  ///< --sensor gyro|accel (all columns)
+  std::string model;        ///< --model SPEC_WITH_VALUES
+  std::string kalibr;       ///< --kalibr imu.yaml
+  std::string gazebo;       ///< --gazebo FILE.sdf (gz-sensors <noise> blocks or a RotorS/PX4 IMU plugin)
+  std::string fit;          ///< --fit SPEC
+  std::string datasheet;    ///< --datasheet FILE.yaml (figures in the datasheet's units)
+  std::string units;        ///< --units gyro=deg/s,accel=g
+  std::string sensor;       ///< --sensor gyro|accel (all columns)
   std::string temperature;  ///< --temperature COLUMN
   int replicates = gap::GapOptions{}.replicates;
   bool no_unit_check = false;  ///< --no-unit-check
@@ -93,13 +93,14 @@ std::string terminal_report(const std::string& name, const gap::GapResult& g, co
   }
   const auto& s = g.shrinkage;
   os << "  objective " << fmt(s.objective_before) << " -> " << fmt(s.objective_after) << " (null mean "
-     << fmt(s.null_mean, 4) << " -> " << fmt(s.null_mean_after, 4) << "), levels outside " << s.levels_outside_before << " -> " << s.levels_outside_after
-     << ", global p " << fmt(s.p_value_before, 3) << " -> " << fmt(s.p_value_after, 3) << '\n';
+     << fmt(s.null_mean, 4) << " -> " << fmt(s.null_mean_after, 4) << "), levels outside " << s.levels_outside_before
+     << " -> " << s.levels_outside_after << ", global p " << fmt(s.p_value_before, 3) << " -> "
+     << fmt(s.p_value_after, 3) << '\n';
   int disjoint = 0;
   for (const auto& h : g.split_half) disjoint += h.disjoint;
   if (!g.split_half.empty())
-    os << "  split halves: " << disjoint << " of " << g.split_half.size()
-       << " levels disagree (95% CIs disjoint)" << (disjoint ? ": the record is not stationary" : "") << '\n';
+    os << "  split halves: " << disjoint << " of " << g.split_half.size() << " levels disagree (95% CIs disjoint)"
+       << (disjoint ? ": the record is not stationary" : "") << '\n';
   os << effect_table(g, set, unit);
   if (std::isfinite(g.navigation.rms_without))
     os << "  integrated error after " << fmt(g.navigation.horizon_seconds, 3)
@@ -121,18 +122,20 @@ std::string terminal_report(const std::string& name, const gap::GapResult& g, co
 
 // What to change: the corrected configuration's fields (input -> corrected) and, per
 // column, the gap left with the input, with the corrected file and with the full model.
-std::string changes_text(const pipeline::CorrectedConfig& c, const io::SignalSet& set, const pipeline::GapStudy& study) {
+std::string changes_text(const pipeline::CorrectedConfig& c, const io::SignalSet& set,
+                         const pipeline::GapStudy& study) {
   std::ostringstream os;
   os << "\nwhat to change (" << c.format << ", --corrected writes it):\n";
   if (c.format != "model") {
     Table t({"field", "input", "corrected", "unit", "changed"}, 1);
     for (const auto& ch : c.changes)
-      t.add({ch.field, std::isfinite(ch.input) ? fmt(ch.input, 4) : "-", std::isfinite(ch.corrected) ? fmt(ch.corrected, 4) : "-",
-             ch.unit, ch.changed ? "yes" : ""});
+      t.add({ch.field, std::isfinite(ch.input) ? fmt(ch.input, 4) : "-",
+             std::isfinite(ch.corrected) ? fmt(ch.corrected, 4) : "-", ch.unit, ch.changed ? "yes" : ""});
     os << t.str();
   }
   const bool nav = set.freq_known;
-  std::vector<std::string> head{"column", "levels outside (input -> file -> full)", "objective (input -> file -> full)"};
+  std::vector<std::string> head{"column", "levels outside (input -> file -> full)",
+                                "objective (input -> file -> full)"};
   if (nav) head.push_back("integrated error after 60 s (input -> file -> full)");
   Table g(head, 1);
   for (const auto& col : c.columns) {
@@ -167,9 +170,10 @@ std::string cross_axis_text(const std::vector<gap::CrossAxisPair>& pairs, const 
     for (const auto* p : v)
       if (std::abs(p->rho) > std::abs(peak)) peak = p->rho;
     out += "  cross-axis: " + set.signals[static_cast<std::size_t>(ab.first)].name + " & " +
-           set.signals[static_cast<std::size_t>(ab.second)].name + " correlated at " + seconds_text(v.front()->tau, set) +
-           (v.size() > 1 ? " - " + seconds_text(v.back()->tau, set) : "") + " (" + std::to_string(v.size()) +
-           (v.size() > 1 ? " levels" : " level") + ", rho up to " + fmt(peak, 3) + "): a shared effect\n";
+           set.signals[static_cast<std::size_t>(ab.second)].name + " correlated at " +
+           seconds_text(v.front()->tau, set) + (v.size() > 1 ? " - " + seconds_text(v.back()->tau, set) : "") + " (" +
+           std::to_string(v.size()) + (v.size() > 1 ? " levels" : " level") + ", rho up to " + fmt(peak, 3) +
+           "): a shared effect\n";
   }
   return out;
 }
@@ -202,11 +206,12 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   declare_output(common, "--json", common.json);
   declare_output(common, "--corrected", args.corrected);
   check_report_option(common);
-  const int given = !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty() +
-                    !args.datasheet.empty();
+  const int given =
+      !args.model.empty() + !args.kalibr.empty() + !args.gazebo.empty() + !args.fit.empty() + !args.datasheet.empty();
   if (given != 1)
-    throw InputError("gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf, "
-                     "--datasheet FILE.yaml or --fit SPEC");
+    throw InputError(
+        "gap: give exactly one baseline: --model SPEC_WITH_VALUES, --kalibr imu.yaml, --gazebo FILE.sdf, "
+        "--datasheet FILE.yaml or --fit SPEC");
   pipeline::GapStudyOptions options;
   options.wv = wv_opts;
   options.units = io::parse_units(args.units);
@@ -243,7 +248,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
         named("--datasheet", [&] { return io::read_datasheet_yaml(args.datasheet, set.freq, options.units); }),
         args.datasheet};
   // The file a baseline came from ("" for --model and --fit).
-  const std::string baseline_file = !args.kalibr.empty()  ? kalibr_path
+  const std::string baseline_file = !args.kalibr.empty()   ? kalibr_path
                                     : !args.gazebo.empty() ? args.gazebo
                                                            : args.datasheet;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
@@ -280,9 +285,9 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
               .argv = {}});
   if (!common.report.empty()) {
     report::ReportData rep = report_data("gap", set,
-                                     !args.model.empty() ? args.model
-                                     : !args.fit.empty() ? "fit " + args.fit
-                                                         : baseline_file);
+                                         !args.model.empty() ? args.model
+                                         : !args.fit.empty() ? "fit " + args.fit
+                                                             : baseline_file);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::GapColumnStudy& c = study.columns[k];
       rep.columns[k].wvs = {c.wv, c.robust_wv};
@@ -305,11 +310,14 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
 Command add_gap_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<GapArgs>();
   CLI::App* sub = app.add_subcommand(
-      "gap", "Where a simulator's or fitted noise model departs from each column, which effect explains it, and by how much");
+      "gap",
+      "Where a simulator's or fitted noise model departs from each column, which effect explains it, and by how much");
   add_input_options(*sub, args->input);
-  auto* m = sub->add_option("--model", args->model, "Baseline with every value, e.g. 'WN(sigma2=2.5e-5)+RW(gamma2=1e-12)'")
-                ->type_name("SPEC_WITH_VALUES");
-  auto* k = sub->add_option("--kalibr", args->kalibr, "Baseline from a Kalibr imu.yaml (noise densities and random walks); "
+  auto* m =
+      sub->add_option("--model", args->model, "Baseline with every value, e.g. 'WN(sigma2=2.5e-5)+RW(gamma2=1e-12)'")
+          ->type_name("SPEC_WITH_VALUES");
+  auto* k = sub->add_option("--kalibr", args->kalibr,
+                            "Baseline from a Kalibr imu.yaml (noise densities and random walks); "
                             "FILE:imuN takes one IMU of a chain (imu0, imu1, ...)")
                 ->type_name("imu.yaml[:imuN]");
   auto* z = sub->add_option("--gazebo", args->gazebo,
@@ -331,8 +339,9 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
       ->type_name("KIND=UNIT,...");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
       ->check(CLI::IsMember({"gyro", "accel"}));
-  sub->add_option("--temperature", args->temperature,
-                  "A temperature column: each signal's coupling to it is tested (TEMPERATURE); it is not diagnosed itself")
+  sub->add_option(
+         "--temperature", args->temperature,
+         "A temperature column: each signal's coupling to it is tested (TEMPERATURE); it is not diagnosed itself")
       ->type_name("COLUMN");
   sub->add_option("--replicates", args->replicates, "Reference replicates (parametric bootstrap of the baseline)")
       ->type_name("B")

@@ -36,9 +36,10 @@ int fail(int code, const std::string& message) {
 
 int main(int argc, char** argv) {
   using namespace gmwm::cli;
-  CLI::App app{"gmwm: wavelet variance and GMWM models of the stochastic errors of inertial "
-               "sensors and other long, autocorrelated signals",
-               "gmwm"};
+  CLI::App app{
+      "gmwm: wavelet variance and GMWM models of the stochastic errors of inertial "
+      "sensors and other long, autocorrelated signals",
+      "gmwm"};
   app.set_version_flag("--version", gmwm::report::version());
   app.require_subcommand(1);
 
@@ -53,12 +54,17 @@ int main(int argc, char** argv) {
 
   CommonOptions common;
   for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);
-  const Command commands[] = {add_wv_command(app, common), add_fit_command(app, common),
-                              add_select_command(app, common), add_gap_command(app, common),
+  const Command commands[] = {add_wv_command(app, common),
+                              add_fit_command(app, common),
+                              add_select_command(app, common),
+                              add_gap_command(app, common),
                               add_gap_check_command(app, common),
-                              add_simulate_command(app, common), add_export_command(app, common),
-                              add_nav_command(app, common), add_plan_command(app, common),
-                              add_completion_command(app), add_man_command(app)};
+                              add_simulate_command(app, common),
+                              add_export_command(app, common),
+                              add_nav_command(app, common),
+                              add_plan_command(app, common),
+                              add_completion_command(app),
+                              add_man_command(app)};
   // A first word that names no command: say so, listing them (CLI11 would only say that a
   // command is required).
   if (argc > 1 && argv[1][0] != '-') {

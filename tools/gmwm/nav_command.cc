@@ -74,7 +74,8 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   o.seed = common.seed;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("nav: " + why);
   ProgressBar bar("nav", common);
-  if (bar.enabled()) o.progress = [&](double share) {
+  if (bar.enabled())
+    o.progress = [&](double share) {
       bar.update(share, 1.0);
       return true;
     };
@@ -83,7 +84,9 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   report::Json doc = report::nav_document(study);
   write_json(common, doc,
              {.threads = active_threads(),
-              .seconds = {{"analysis", study.seconds_exact}, {"monte_carlo", study.seconds_sampled}, {"total", total.seconds()}},
+              .seconds = {{"analysis", study.seconds_exact},
+                          {"monte_carlo", study.seconds_sampled},
+                          {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty()) common.outputs->stage(common.report, report::render_nav_html(study));
   commit_outputs(common);
@@ -96,15 +99,18 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
 Command add_nav_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<NavArgs>();
   CLI::App* sub = app.add_subcommand(
-      "nav", "What a noise model costs a navigation filter: errors and consistency of each filter model against the truth");
-  sub->add_option("--truth", args->truth,
-                  "The IMU's noise: a gmwm fit/select --json result, a Kalibr or datasheet yaml, a gz-sensors/RotorS SDF, "
-                  "or gyro=SPEC;accel=SPEC with values")
+      "nav",
+      "What a noise model costs a navigation filter: errors and consistency of each filter model against the truth");
+  sub->add_option(
+         "--truth", args->truth,
+         "The IMU's noise: a gmwm fit/select --json result, a Kalibr or datasheet yaml, a gz-sensors/RotorS SDF, "
+         "or gyro=SPEC;accel=SPEC with values")
       ->required()
       ->type_name("SOURCE");
-  sub->add_option("--filter", args->filters,
-                  "A model the filter assumes (repeatable): the same kinds, 'truth', 'wnrw' (the truth's white noise and "
-                  "random walk alone), each optionally '*X' (noise figures times X). Default: truth and wnrw")
+  sub->add_option(
+         "--filter", args->filters,
+         "A model the filter assumes (repeatable): the same kinds, 'truth', 'wnrw' (the truth's white noise and "
+         "random walk alone), each optionally '*X' (noise figures times X). Default: truth and wnrw")
       ->type_name("SOURCE");
   sub->add_option("--label", args->labels, "A name for each --filter, in order (repeatable; default: its SOURCE)")
       ->type_name("NAME");
@@ -127,12 +133,14 @@ Command add_nav_command(CLI::App& app, CommonOptions& common) {
       ->type_name("S")
       ->transform(decimal_number([](double x) { return x >= 0.0; }, "a time in seconds, 0 or more"))
       ->capture_default_str();
-  sub->add_option("--imu-rate", args->imu_rate, "The IMU's rate, Hz (default: the truth's)")->transform(sampling_rate_number());
+  sub->add_option("--imu-rate", args->imu_rate, "The IMU's rate, Hz (default: the truth's)")
+      ->transform(sampling_rate_number());
   sub->add_option("--rate", args->rate,
                   "Hz at which model strings' and configuration files' values are given (default: the truth's rate)")
       ->transform(sampling_rate_number());
-  sub->add_option("--units", args->units,
-                  "Units of model strings and of results that do not say theirs, e.g. gyro=deg/s,accel=g (SI otherwise)");
+  sub->add_option(
+      "--units", args->units,
+      "Units of model strings and of results that do not say theirs, e.g. gyro=deg/s,accel=g (SI otherwise)");
   sub->add_option("--monte-carlo", args->monte_carlo, "Monte-Carlo runs as the analysis' check (0: none)")
       ->transform(whole_number(0, 100000))
       ->capture_default_str();

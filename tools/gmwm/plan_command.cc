@@ -57,8 +57,9 @@ Command add_plan_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--confidence", args->confidence, "The probability of landing within it")
       ->transform(decimal_number([](double x) { return x > 0.0 && x < 1.0; }, "a probability in (0, 1)"))
       ->capture_default_str();
-  sub->add_option("--targets", args->targets,
-                  "N, K, B or parameter labels (WN[1].sigma2, AR1[2].phi), comma-separated (default: N, K, B the model has)");
+  sub->add_option(
+      "--targets", args->targets,
+      "N, K, B or parameter labels (WN[1].sigma2, AR1[2].phi), comma-separated (default: N, K, B the model has)");
   sub->add_option("--have", args->have, "Also the precision a record of this many seconds reaches")
       ->type_name("SECONDS")
       ->transform(decimal_number([](double x) { return x > 0.0; }, "a positive duration in seconds"));

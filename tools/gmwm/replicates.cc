@@ -24,13 +24,15 @@ Entry parse_entry(const std::string& text) {
   const auto colon = text.rfind(':');
   std::error_code ec;  // a name the system cannot even look up is "not a file", not a crash
   if (colon != std::string::npos && colon > 0 && !fs::exists(text, ec) && fs::exists(text.substr(0, colon), ec)) {
-    if (colon + 1 == text.size()) throw InputError("--joint " + text + ": expected FILE or FILE:COLUMN, got an empty column");
+    if (colon + 1 == text.size())
+      throw InputError("--joint " + text + ": expected FILE or FILE:COLUMN, got an empty column");
     return {text.substr(0, colon), text.substr(colon + 1)};
   }
   return {text, ""};
 }
 
-io::SignalSet read_columns(const std::string& path, const std::vector<std::string>& columns, const InputOptions& options) {
+io::SignalSet read_columns(const std::string& path, const std::vector<std::string>& columns,
+                           const InputOptions& options) {
   InputOptions o = options;
   o.input = path;
   std::string list;
@@ -56,7 +58,8 @@ std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const st
     if (!e.column.empty() && groups.size() != 1)
       throw InputError("--joint " + text + ": names one column, but INPUT has " + std::to_string(groups.size()) +
                        " selected columns; select one with --columns");
-    const io::SignalSet set = read_columns(e.path, e.column.empty() ? names : std::vector<std::string>{e.column}, options);
+    const io::SignalSet set =
+        read_columns(e.path, e.column.empty() ? names : std::vector<std::string>{e.column}, options);
     if (std::abs(set.freq / input.freq - 1.0) > kRateTolerance)
       throw InputError("--joint " + text + ": sampled at " + fmt(set.freq) + " Hz, INPUT at " + fmt(input.freq) +
                        " Hz; replicates must share the rate");
@@ -89,10 +92,10 @@ report::ReplicateReport replicate_report(const ReplicateGroup& group, const std:
 std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalSet& set, const FitResult& joint,
                                   const std::optional<ChosenFigures>& figures, const UnitsOptions& units,
                                   double filter_rate) {
-  const report::ColumnInfo info = with_unit(
-      {group.axis, group.series.empty() ? 0 : static_cast<std::int64_t>(group.series.front().size()), set.freq,
-       set.freq_known, ""},
-      units);
+  const report::ColumnInfo info =
+      with_unit({group.axis, group.series.empty() ? 0 : static_cast<std::int64_t>(group.series.front().size()),
+                 set.freq, set.freq_known, ""},
+                units);
   return continuous_table(joint, info) + (figures ? noise_figures_table(*figures, info.unit) : "") +
          kalman_table(joint, info, filter_rate, figures ? &*figures : nullptr);
 }

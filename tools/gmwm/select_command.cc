@@ -65,17 +65,22 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
   const auto& s = set.signals[k];
   os << s.name << ": N = " << s.values.size() << ", " << sel.models << " sub-models of " << sel.full_model
      << ", representation violations " << sel.representation_violations << '\n';
-  const bool both = !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap && sel.ranking.front().optimism_analytic;
-  std::vector<std::string> head = {"rank", "model (effective)", "p", "objective", "optimism", "criterion", "GoF p-value",
-                                   "candidates that fell onto it (their own objective)"};
+  const bool both =
+      !sel.ranking.empty() && sel.ranking.front().optimism_bootstrap && sel.ranking.front().optimism_analytic;
+  std::vector<std::string> head = {
+      "rank",     "model (effective)", "p",           "objective",
+      "optimism", "criterion",         "GoF p-value", "candidates that fell onto it (their own objective)"};
   if (both) head.insert(head.end(), {"analytic", "bootstrap (se)", "rank a/b"});
   Table t(head, 2);
   auto opt = [](const std::optional<double>& v, int digits) { return v ? fmt(*v, digits) : std::string("-"); };
   for (const auto& r : sel.ranking) {
-    std::vector<std::string> row = {std::to_string(r.rank), r.model, std::to_string(r.parameters), fmt(r.objective, 6),
-                                    fmt(r.optimism, 4), fmt(r.criterion, 6), fmt(r.gof.p_value, 3), members_text(r)};
+    std::vector<std::string> row = {std::to_string(r.rank),       r.model,
+                                    std::to_string(r.parameters), fmt(r.objective, 6),
+                                    fmt(r.optimism, 4),           fmt(r.criterion, 6),
+                                    fmt(r.gof.p_value, 3),        members_text(r)};
     if (both)
-      row.insert(row.end(), {opt(r.optimism_analytic, 4), opt(r.optimism_bootstrap, 4) + " (" + opt(r.optimism_bootstrap_se, 2) + ")",
+      row.insert(row.end(), {opt(r.optimism_analytic, 4),
+                             opt(r.optimism_bootstrap, 4) + " (" + opt(r.optimism_bootstrap_se, 2) + ")",
                              (r.rank_analytic ? std::to_string(*r.rank_analytic) : "-") + "/" +
                                  (r.rank_bootstrap ? std::to_string(*r.rank_bootstrap) : "-")});
     t.add(row);
@@ -88,8 +93,8 @@ std::string terminal_report(const io::SignalSet& set, std::size_t k, const selec
     if (r.rank == 1)
       for (const auto& line : r.effective.reductions) os << "  " << r.reduced_member << ": " << line << '\n';
   if (sel.not_converged > 0 || sel.failed > 0)
-    os << "candidates: " << sel.candidates.size() << " fitted, " << sel.not_converged
-       << " stopped before converging, " << sel.failed << " failed (their fits are in the JSON \"candidates\")\n";
+    os << "candidates: " << sel.candidates.size() << " fitted, " << sel.not_converged << " stopped before converging, "
+       << sel.failed << " failed (their fits are in the JSON \"candidates\")\n";
   if (sel.all_rejected) {
     const std::string why = rejection_summary(b, set.freq, set.freq_known);
     os << "fit quality: every candidate is rejected at 5%: no sub-model of " << sel.full_model
@@ -121,10 +126,12 @@ std::string joint_select_report(const ReplicateGroup& g, const selection::Replic
   head.insert(head.end(), {"P(not worse)", "equivalent"});
   Table t(head, 1);
   for (const auto& c : r.ranking) {
-    std::vector<std::string> row = {std::to_string(c.rank), c.model, std::to_string(c.parameters), fmt(c.cv_wvic, 6),
-                                    fmt(c.analytic_wvic, 6), std::to_string(c.rank_analytic)};
+    std::vector<std::string> row = {std::to_string(c.rank),       c.model,
+                                    std::to_string(c.parameters), fmt(c.cv_wvic, 6),
+                                    fmt(c.analytic_wvic, 6),      std::to_string(c.rank_analytic)};
     if (boot)
-      row.insert(row.end(), {fmt(c.bootstrap_wvic, 6) + " (" + fmt(c.bootstrap_se, 2) + ")", std::to_string(c.rank_bootstrap)});
+      row.insert(row.end(),
+                 {fmt(c.bootstrap_wvic, 6) + " (" + fmt(c.bootstrap_se, 2) + ")", std::to_string(c.rank_bootstrap)});
     row.insert(row.end(), {fmt(c.p_not_worse, 3), c.equivalent ? "yes" : ""});
     t.add(row);
   }
@@ -144,7 +151,8 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   Stopwatch total;
   if (args.model.empty() || !args.models.empty())
     throw InputError("--joint: give the maximal model with --model SPEC (not --models)");
-  if (args.penalty == "bic") throw InputError("--joint with --penalty bic: the selection over replicates ranks by the cross-validated WVIC");
+  if (args.penalty == "bic")
+    throw InputError("--joint with --penalty bic: the selection over replicates ranks by the cross-validated WVIC");
   if (args.optimism == "bootstrap" || args.optimism == "both")
     throw InputError("--joint with --optimism " + args.optimism +
                      ": the selection over replicates ranks by the cross-validated WVIC; --optimism all gives the "
@@ -248,7 +256,8 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   study_options.wv = wv_opts;
   study_options.robust = robust_options;
   if (args.input.freq) {
-    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty()) throw InputError(why);
+    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty())
+      throw InputError(why);
     for (const std::string& m : study_options.models) parse_model(m, ProcessContext{*args.input.freq, true});
   }
 
@@ -257,7 +266,8 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const double read_seconds = read_clock.seconds();
   // Progress on a terminal: models done / total (bootstrap refits included), time left.
   ProgressBar bar("select: models", common);
-  if (bar.enabled()) study_options.select.progress = [&](int done, int total_models) { bar.update(done, total_models); };
+  if (bar.enabled())
+    study_options.select.progress = [&](int done, int total_models) { bar.update(done, total_models); };
   const pipeline::SelectStudy study = pipeline::study_select(set, study_options);
 
   std::vector<std::string> units;
@@ -294,7 +304,8 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
     report::ReportData rep = report_data("select", set, specs.empty() ? args.model : args.models);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::SelectColumnStudy& c = study.columns[k];
-      rep.columns[k].wvs = c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
+      rep.columns[k].wvs =
+          c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
       rep.columns[k].selection = c.selection;
       rep.columns[k].allan = c.figures;
       rep.columns[k].filter_rate = filter;
@@ -316,8 +327,9 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
   CLI::App* sub = app.add_subcommand(
       "select", "Fit every sub-model of a maximal model (e.g. 3*AR1+WN+RW+QN+DR) on each column and rank them");
   add_input_options(*sub, args->input);
-  auto* one = sub->add_option("--model", args->model, "Maximal model, e.g. '3*AR1+WN+RW+QN+DR': every sub-model is ranked")
-                  ->type_name("SPEC");
+  auto* one =
+      sub->add_option("--model", args->model, "Maximal model, e.g. '3*AR1+WN+RW+QN+DR': every sub-model is ranked")
+          ->type_name("SPEC");
   sub->add_option("--models", args->models,
                   "Non-nested mode: only these models, e.g. 'AR1+WN;2*AR1;WN+RW' (their common super-model gives V)")
       ->type_name("SPEC1;SPEC2;...")

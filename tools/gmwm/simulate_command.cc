@@ -42,33 +42,32 @@ void check_memory(const SimulateArgs& args) {
   if (needed > limit)
     throw InputError("--n " + std::to_string(args.n) + " x " + std::to_string(args.signals) + " signal(s): needs " +
                      fmt(needed / 1e9, 3) + " GB for the samples, more than " + fmt(100.0 * io::kMemoryShare, 3) +
-                     "% of this machine's " + fmt(limit / io::kMemoryShare / 1e9, 3) + " GB; expected a smaller --n (or fewer --signals)");
+                     "% of this machine's " + fmt(limit / io::kMemoryShare / 1e9, 3) +
+                     " GB; expected a smaller --n (or fewer --signals)");
 }
 
 std::vector<std::string> column_names(const SimulateArgs& args) {
   std::vector<std::string> names;
   if (args.names.empty()) {
-    for (int k = 0; k < args.signals; ++k)
-      names.push_back(args.signals == 1 ? "x" : "x" + std::to_string(k + 1));
+    for (int k = 0; k < args.signals; ++k) names.push_back(args.signals == 1 ? "x" : "x" + std::to_string(k + 1));
     return names;
   }
   std::istringstream is(args.names);
   std::string name;
   while (std::getline(is, name, ',')) names.push_back(name);
   if (static_cast<int>(names.size()) != args.signals)
-    throw InputError("--names '" + args.names + "': found " + std::to_string(names.size()) +
-                     " names, expected " + std::to_string(args.signals) +
-                     " (one per signal, comma-separated)");
+    throw InputError("--names '" + args.names + "': found " + std::to_string(names.size()) + " names, expected " +
+                     std::to_string(args.signals) + " (one per signal, comma-separated)");
   for (std::size_t k = 0; k < names.size(); ++k) {
     const std::string& nm = names[k];
-    const bool plain = !nm.empty() && std::all_of(nm.begin(), nm.end(), [](char c) {
-      return c > ' ' && c < 0x7f && c != '"' && c != '\'';
-    });
+    const bool plain = !nm.empty() && std::all_of(nm.begin(), nm.end(),
+                                                  [](char c) { return c > ' ' && c < 0x7f && c != '"' && c != '\''; });
     if (!plain)
       throw InputError("--names: name " + std::to_string(k + 1) +
                        " is empty or has a space, quote or control character, expected plain column names");
     if (io::is_timestamp_column_name(nm))
-      throw InputError("--names: '" + nm + "' is a timestamp column's name (gmwm would read it back as "
+      throw InputError("--names: '" + nm +
+                       "' is a timestamp column's name (gmwm would read it back as "
                        "times, not as a signal), expected another name");
     for (std::size_t j = 0; j < k; ++j)
       if (names[j] == nm) throw InputError("--names: '" + nm + "' is given twice, expected distinct names");
@@ -121,8 +120,7 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
 
   check_memory(args);
   Stopwatch sim_clock;
-  std::vector<std::vector<double>> series =
-      simulate_many(model, theta, args.n, args.signals, common.seed);
+  std::vector<std::vector<double>> series = simulate_many(model, theta, args.n, args.signals, common.seed);
   const double sim_seconds = sim_clock.seconds();
 
   std::vector<io::Signal> signals(series.size());
@@ -138,17 +136,15 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   doc["output"] = args.output;
   doc["quantum"] = args.quantum ? report::json_number(*args.quantum) : report::Json(nullptr);
   for (std::size_t k = 0; k < signals.size(); ++k)
-    doc["columns"].push_back(report::column_json(
-        {signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
+    doc["columns"].push_back(
+        report::column_json({signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
 
   Stopwatch write_clock;
   io::stage_signals(*common.outputs, args.output, signals, args.freq);
   const double write_seconds = write_clock.seconds();
   write_json(common, doc,
              {.threads = 0,
-              .seconds = {{"simulate", sim_seconds},
-                          {"write", write_seconds},
-                          {"total", total.seconds()}},
+              .seconds = {{"simulate", sim_seconds}, {"write", write_seconds}, {"total", total.seconds()}},
               .argv = {}});
   commit_outputs(common);
   if (common.show_table()) {
@@ -166,10 +162,8 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
 
 Command add_simulate_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<SimulateArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "simulate", "Simulate independent series of a fully specified model into a file");
-  sub->add_option("--model", args->model,
-                  "Model with every value, e.g. 'AR1(phi=0.99,sigma2=1e-6)+WN(sigma2=0.01)'")
+  CLI::App* sub = app.add_subcommand("simulate", "Simulate independent series of a fully specified model into a file");
+  sub->add_option("--model", args->model, "Model with every value, e.g. 'AR1(phi=0.99,sigma2=1e-6)+WN(sigma2=0.01)'")
       ->type_name("SPEC_WITH_VALUES")
       ->required();
   sub->add_option("--n", args->n, "Samples per signal")
@@ -185,17 +179,14 @@ Command add_simulate_command(CLI::App& app, CommonOptions& common) {
       ->type_name("K")
       ->transform(whole_number(1, 100000))
       ->capture_default_str();
-  sub->add_option("--names", args->names,
-                  "Column names, comma-separated (default x, or x1..xK)")
-      ->type_name("A,B,C");
+  sub->add_option("--names", args->names, "Column names, comma-separated (default x, or x1..xK)")->type_name("A,B,C");
   sub->add_option_function<double>(
          "--quantum", [args](const double& q) { args->quantum = q; },
          "Round every value to a multiple of Q, like an ADC's least significant bit (adds "
          "about Q^2/12 of white noise; keeps files small)")
       ->type_name("Q")
       ->transform(decimal_number("a positive step"));
-  sub->add_option("--output,-o", args->output,
-                  "Output file (CSV; gzip-compressed when PATH ends in .gz)")
+  sub->add_option("--output,-o", args->output, "Output file (CSV; gzip-compressed when PATH ends in .gz)")
       ->type_name("PATH")
       ->required();
   add_common_options(*sub, common);

@@ -17,7 +17,8 @@ void add_units_options(CLI::App& sub, UnitsOptions& o) {
   sub.add_option_function<double>(
          "--kf-rate",
          [&o](const double& f) {
-           if (const std::string why = io::sampling_rate_problem(f, "--kf-rate"); !why.empty()) throw CLI::ValidationError(why);
+           if (const std::string why = io::sampling_rate_problem(f, "--kf-rate"); !why.empty())
+             throw CLI::ValidationError(why);
            o.kf_rate = f;
          },
          "Rate of the Kalman filter for the Q/R table (default: the data's rate)")
@@ -63,7 +64,8 @@ std::string kalman_table(const FitResult& fit, const report::ColumnInfo& column,
   };
   for (const auto& r : k.at("terms"))
     t.add({r.at("process").get<std::string>(), r.at("role").get<std::string>(), num(r.at("q"), r.at("q_unit")),
-           num(r.at("transition"), nullptr), num(r.at("discrete"), r.at("discrete_unit")), r.at("note").get<std::string>()});
+           num(r.at("transition"), nullptr), num(r.at("discrete"), r.at("discrete_unit")),
+           r.at("note").get<std::string>()});
   return t.str();
 }
 

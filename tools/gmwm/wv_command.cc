@@ -33,8 +33,8 @@ struct WvArgs {
   InputOptions input;
   RobustOptions robust;
   std::string csv;
-  bool adev = false;         ///< --adev: the Allan deviation and its IEEE 952 read-offs
-  std::string adev_csv;      ///< --adev-csv PATH
+  bool adev = false;     ///< --adev: the Allan deviation and its IEEE 952 read-offs
+  std::string adev_csv;  ///< --adev-csv PATH
   int adev_points = AllanOptions{}.points_per_octave;
   UnitsOptions units;
 };
@@ -46,7 +46,8 @@ std::string adev_terminal(const io::SignalSet& set, const pipeline::WvStudy& stu
     if (!study.columns[k].allan) continue;
     const FigureReport& r = *study.columns[k].allan;
     const std::string unit = column_unit(units, set.signals[k].name);
-    os << '\n' << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
+    os << '\n'
+       << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
        << "% CI (chi-square, edf = (N - 2m + 1) / 2m)" << (unit.empty() ? "" : ", in " + unit) << '\n';
     Table t({"m", "tau [s]", "ADEV", "CI low", "CI high", "edf"});
     for (std::size_t i = 0; i < r.adev.size(); ++i)
@@ -124,9 +125,13 @@ std::string terminal_table(const io::SignalSet& set, const pipeline::WvStudy& st
     Table t(head);
     for (int j = 0; j < w.levels(); ++j) {
       const auto l = static_cast<std::size_t>(j);
-      std::vector<std::string> row = {std::to_string(j + 1), fmt(w.tau[l], 10), fmt(w.tau[l] / set.freq),
+      std::vector<std::string> row = {std::to_string(j + 1),
+                                      fmt(w.tau[l], 10),
+                                      fmt(w.tau[l] / set.freq),
                                       std::isfinite(w.wv[l]) ? fmt(w.wv[l]) : "no root",
-                                      fmt(w.ci_low[l]), fmt(w.ci_high[l]), std::to_string(w.coefficients[l])};
+                                      fmt(w.ci_low[l]),
+                                      fmt(w.ci_high[l]),
+                                      std::to_string(w.coefficients[l])};
       if (rv) {
         const auto& d = rv->diagnostic[l];
         row.insert(row.end(), {fmt(d.classical_wv), fmt(d.robust_to_classical, 4),
@@ -197,7 +202,8 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
     report::ReportData rep = report_data("wv", set);
     for (std::size_t k = 0; k < study.columns.size(); ++k) {
       const pipeline::WvColumnStudy& c = study.columns[k];
-      rep.columns[k].wvs = c.robust ? std::vector<WaveletVariance>{c.robust->classical, c.wv} : std::vector<WaveletVariance>{c.wv};
+      rep.columns[k].wvs =
+          c.robust ? std::vector<WaveletVariance>{c.robust->classical, c.wv} : std::vector<WaveletVariance>{c.wv};
       rep.columns[k].allan = c.allan;
       if (!units[k].empty()) rep.columns[k].unit = units[k];
     }
@@ -205,7 +211,8 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   }
   commit_outputs(common);
   if (common.show_table()) {
-    print_text((set.timing ? set.timing->summary() + "\n" : std::string()) + table + adev_terminal(set, study, args.units));
+    print_text((set.timing ? set.timing->summary() + "\n" : std::string()) + table +
+               adev_terminal(set, study, args.units));
   }
   return 0;
 }
@@ -218,8 +225,7 @@ Command add_wv_command(CLI::App& app, CommonOptions& common) {
       "wv", "Haar wavelet variance of each column (classical, or robust with --robust), with confidence intervals");
   add_input_options(*sub, args->input);
   add_robust_options(*sub, args->robust);
-  sub->add_option("--csv", args->csv, "Also write the WV as a CSV table to PATH")
-      ->type_name("PATH");
+  sub->add_option("--csv", args->csv, "Also write the WV as a CSV table to PATH")->type_name("PATH");
   sub->add_flag("--adev", args->adev,
                 "Also the overlapping Allan deviation with its CI and the IEEE 952 read-offs N (-1/2 slope at 1 s), "
                 "K (+1/2 slope at 3 s) and B (flat minimum / 0.664)");

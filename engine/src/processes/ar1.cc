@@ -26,26 +26,23 @@ class Ar1Process final : public Process {
   int canonical_rank() const override { return 10; }
   int sort_key() const override { return 0; }
   const std::vector<ParameterSpec>& parameters() const override {
-    static const std::vector<ParameterSpec> specs{
-        {"phi", Transform::kAtanh, "AR1 coefficient"},
-        {"sigma2", Transform::kLog, "AR1 innovation variance per sample"}};
+    static const std::vector<ParameterSpec> specs{{"phi", Transform::kAtanh, "AR1 coefficient"},
+                                                  {"sigma2", Transform::kLog, "AR1 innovation variance per sample"}};
     return specs;
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     const internal::Ar1UnitWv<double> unit(theta[0]);
     for (std::size_t k = 0; k < tau.size(); ++k)
       out[k] = theta[1] * unit.at(internal::haar_half_scale(tau[k], "AR1::wv"));
   }
-  void derivatives(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+  void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
+                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<2> phi = Jet<2>::variable(theta[0], 0);
     const Jet<2> s = Jet<2>::variable(theta[1], 1);
     const internal::Ar1UnitWv<Jet<2>> unit(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "AR1::wv");
-      internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k),
-                              jac, hess);
+      internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k), jac, hess);
     }
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
@@ -56,8 +53,7 @@ class Ar1Process final : public Process {
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
     derivatives(theta, tau, nullptr, &hess);
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     const double phi = theta[0];
     double c = theta[1] / ((1.0 - phi) * (1.0 + phi));
     for (double& v : out) {
@@ -80,8 +76,7 @@ class Ar1Process final : public Process {
   // The autocovariance decays as |phi|^h = exp(-h / (f T)): T = -1 / (f ln|phi|) seconds
   // (the envelope's when phi < 0; 0 at phi = 0, inf at |phi| = 1); the stationary sd is
   // sqrt(g(0)). ln|phi| = log1p(|phi| - 1) keeps its digits as |phi| -> 1.
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const override {
     const double a = std::fabs(theta[0]);
     if (theta[0] <= 0.0 || a >= 1.0) return Process::kalman_impl(theta, freq, filter_rate);
     const double T = 1.0 / (freq * -std::log(a));
@@ -94,8 +89,7 @@ class Ar1Process final : public Process {
     if (!(a > 0.0 && a < 1.0)) return std::nullopt;
     return gauss_markov_form(1.0 / (freq * -std::log(a)), theta[1] / ((1.0 - a) * (1.0 + a)), 1.0 / freq);
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double freq) const override {
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
     const double a = std::fabs(theta[0]);
     const double T = a >= 1.0 ? INFINITY : 1.0 / (freq * -std::log1p(a - 1.0));
     return {{"correlation time", T, "s",

@@ -57,8 +57,7 @@ const std::array<double, kHTerms>& h_coefficients() {
   static const auto c = [] {
     std::array<double, kHTerms> a{};
     for (int j = 0; j < kHTerms; ++j)
-      a[static_cast<std::size_t>(j)] =
-          ((j % 2) ? -1.0 : 1.0) * (std::ldexp(1.0, j + 4) - 8.0) / factorial(j + 3);
+      a[static_cast<std::size_t>(j)] = ((j % 2) ? -1.0 : 1.0) * (std::ldexp(1.0, j + 4) - 8.0) / factorial(j + 3);
     return a;
   }();
   return c;
@@ -68,8 +67,7 @@ const std::array<double, kHTerms>& h_coefficients() {
 const std::array<double, kE1Terms>& e1_coefficients() {
   static const auto c = [] {
     std::array<double, kE1Terms> a{};
-    for (int k = 0; k < kE1Terms; ++k)
-      a[static_cast<std::size_t>(k)] = ((k % 2) ? -1.0 : 1.0) / factorial(k + 1);
+    for (int k = 0; k < kE1Terms; ++k) a[static_cast<std::size_t>(k)] = ((k % 2) ? -1.0 : 1.0) / factorial(k + 1);
     return a;
   }();
   return c;
@@ -86,8 +84,7 @@ D2 sinhc_d2(double x) {
 D2 sinh_minus_x_over_x3_d2(double x) {
   if (std::fabs(x) <= kSeriesMaxArg) return power_series(s3_coefficients(), x);
   const double s = std::sinh(x) - x, c = std::cosh(x) - 1.0, x2 = x * x, x3 = x2 * x;
-  return {s / x3, c / x3 - 3.0 * s / (x3 * x),
-          (s + x) / x3 - 6.0 * c / (x3 * x) + 12.0 * s / (x3 * x2)};
+  return {s / x3, c / x3 - 3.0 * s / (x3 * x), (s + x) / x3 - 6.0 * c / (x3 * x) + 12.0 * s / (x3 * x2)};
 }
 
 D2 haar_h_over_y3_d2(double y) {
@@ -97,8 +94,7 @@ D2 haar_h_over_y3_d2(double y) {
   const double em = std::exp(-y), u = -std::expm1(-y);
   const double h = 4.0 * (y - u) - 2.0 * u * u, h1 = 4.0 * u * u, h2 = 8.0 * em * u;
   const double y3 = y * y * y;
-  return {h / y3, h1 / y3 - 3.0 * h / (y3 * y),
-          h2 / y3 - 6.0 * h1 / (y3 * y) + 12.0 * h / (y3 * y * y)};
+  return {h / y3, h1 / y3 - 3.0 * h / (y3 * y), h2 / y3 - 6.0 * h1 / (y3 * y) + 12.0 * h / (y3 * y * y)};
 }
 
 D2 one_minus_exp_over_y_d2(double y) {

@@ -56,15 +56,17 @@ inline constexpr double kLn2 = 0.69314718055994530942;
 /// is 0.34 from terms of size 9.6), and the series need ~30 terms.
 inline constexpr double kSeriesMaxArg = 1.0;
 
-D2 sinhc_d2(double x);                     ///< sinh(x)/x
-D2 sinh_minus_x_over_x3_d2(double x);      ///< (sinh x - x)/x^3
-D2 haar_h_over_y3_d2(double y);            ///< (4y - 6 + 8e^-y - 2e^-2y)/y^3, y >= 0
-D2 one_minus_exp_over_y_d2(double y);      ///< (1 - e^-y)/y, y >= 0
-D2 neg_log_d2(double phi);                 ///< -log(phi), phi in (0, 1]
-D2 one_minus_pow_d2(double phi, double m); ///< 1 - phi^m, m a positive integer when phi < 0
+D2 sinhc_d2(double x);                      ///< sinh(x)/x
+D2 sinh_minus_x_over_x3_d2(double x);       ///< (sinh x - x)/x^3
+D2 haar_h_over_y3_d2(double y);             ///< (4y - 6 + 8e^-y - 2e^-2y)/y^3, y >= 0
+D2 one_minus_exp_over_y_d2(double y);       ///< (1 - e^-y)/y, y >= 0
+D2 neg_log_d2(double phi);                  ///< -log(phi), phi in (0, 1]
+D2 one_minus_pow_d2(double phi, double m);  ///< 1 - phi^m, m a positive integer when phi < 0
 
 template <class T>
-T one_minus_pow(const T& phi, double m) { return lift(phi, one_minus_pow_d2(value(phi), m)); }
+T one_minus_pow(const T& phi, double m) {
+  return lift(phi, one_minus_pow_d2(value(phi), m));
+}
 
 /// nu^2/sigma2 of an AR1 with phi = exp(-L), L > 0, at tau = 2m, stable for all L:
 ///   e^L (4 s3(L) + m^2 H(mL)) / (8 m sinhc(L/2)^2 sinhc(L)).
@@ -100,8 +102,7 @@ T ar1_unit_wv_direct(const T& phi, double m) {
   const T om = one_minus_pow(phi, m);
   const T omp = 1.0 - phi;
   const T opp = 1.0 + phi;
-  return (omp * opp * (2.0 * m) - 2.0 * phi * om * (2.0 + om)) /
-         (omp * omp * omp * opp * (4.0 * m * m));
+  return (omp * opp * (2.0 * m) - 2.0 * phi * om * (2.0 + om)) / (omp * omp * omp * opp * (4.0 * m * m));
 }
 
 template <class T>
@@ -114,11 +115,15 @@ T Ar1LogForm<T>::at(double m) const {
 
 /// One level of Ar1LogForm (a WV over several levels should keep the form).
 template <class T>
-T ar1_unit_wv_log(const T& L, double m) { return Ar1LogForm<T>(L).at(m); }
+T ar1_unit_wv_log(const T& L, double m) {
+  return Ar1LogForm<T>(L).at(m);
+}
 
 /// -log(phi) for phi in (0, 1).
 template <class T>
-T neg_log(const T& phi) { return lift(phi, neg_log_d2(value(phi))); }
+T neg_log(const T& phi) {
+  return lift(phi, neg_log_d2(value(phi)));
+}
 
 /// (1 - x^m)/(1 - x) for x in (0, 1), without cancellation as x -> 1:
 /// m E1(m L)/E1(L) with L = -log x (E1(y) = (1 - e^-y)/y) above kAr1LogFormMinPhi.
@@ -127,17 +132,14 @@ T geometric_ratio(const T& x, double m) {
   if (value(x) > kAr1LogFormMinPhi) {
     const T L = neg_log(x);
     const T y = m * L;
-    return m * lift(y, one_minus_exp_over_y_d2(value(y))) /
-           lift(L, one_minus_exp_over_y_d2(value(L)));
+    return m * lift(y, one_minus_exp_over_y_d2(value(y))) / lift(L, one_minus_exp_over_y_d2(value(L)));
   }
   return one_minus_pow(x, m) / (1.0 - x);
 }
 
 /// True when phi is close enough to -1 that the factor (1 + phi) must be cancelled
 /// analytically: 1 - phi^m = (1 + phi) G(-phi) for even m, G = geometric_ratio.
-inline bool near_minus_one_even(double phi, double m) {
-  return phi < -kAr1LogFormMinPhi && std::fmod(m, 2.0) == 0.0;
-}
+inline bool near_minus_one_even(double phi, double m) { return phi < -kAr1LogFormMinPhi && std::fmod(m, 2.0) == 0.0; }
 
 /// nu^2/sigma2 of an AR1 at tau = 2m, phi in (-1, 1), for any number of levels: the
 /// log form's L-only factors are computed once. m = 1 is the exact 1/(2 (1 + phi))
@@ -169,7 +171,9 @@ class Ar1UnitWv {
 
 /// One level of Ar1UnitWv.
 template <class T>
-T ar1_unit_wv(const T& phi, double m) { return Ar1UnitWv<T>(phi).at(m); }
+T ar1_unit_wv(const T& phi, double m) {
+  return Ar1UnitWv<T>(phi).at(m);
+}
 
 /// K = (1 - phi^m)(3 - phi^m) / ((1 - phi^2) tau^2), the ARMA11 cross term.
 template <class T>
@@ -210,8 +214,7 @@ struct Ar1Guess {
 /// ctx.wv at the level nearest that scale.
 inline Ar1Guess ar1_initial_guess(const GuessContext& ctx, double phi_min) {
   const double tau_peak = guess_tau(ctx, 2.0 * kAr1PeakTauTimesOneMinusPhi);
-  const double phi =
-      std::clamp(1.0 - kAr1PeakTauTimesOneMinusPhi / tau_peak, phi_min, kAr1GuessPhiMax);
+  const double phi = std::clamp(1.0 - kAr1PeakTauTimesOneMinusPhi / tau_peak, phi_min, kAr1GuessPhiMax);
   double sigma2 = 1.0;
   const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());
   if (n > 0) {

@@ -32,14 +32,13 @@ long structural_order(const ProcessArgs& args, const char* key) {
   const auto it = args.structural.find(key);
   if (it == args.structural.end()) {
     std::ostringstream os;
-    os << "ARMA needs the structural arguments p and q, e.g. ARMA(p=2,q=1): " << key
-       << " is missing";
+    os << "ARMA needs the structural arguments p and q, e.g. ARMA(p=2,q=1): " << key << " is missing";
     throw InputError(os.str());
   }
   if (it->second < 0 || it->second > internal::kArmaMaxOrder) {
     std::ostringstream os;
-    os << "ARMA: " << key << " must be an integer between 0 and " << internal::kArmaMaxOrder
-       << " (got " << it->second << ")";
+    os << "ARMA: " << key << " must be an integer between 0 and " << internal::kArmaMaxOrder << " (got " << it->second
+       << ")";
     throw InputError(os.str());
   }
   return it->second;
@@ -55,17 +54,14 @@ class ArmaProcess final : public Process {
     q_ = static_cast<int>(structural_order(args, "q"));
     if (p_ + q_ == 0) throw InputError("ARMA(p=0,q=0) is a white noise: use WN instead");
     for (int i = 1; i <= p_; ++i)
-      specs_.push_back({"phi" + std::to_string(i), Transform::kIdentity,
-                        "AR coefficient at lag " + std::to_string(i)});
+      specs_.push_back({"phi" + std::to_string(i), Transform::kIdentity, "AR coefficient at lag " + std::to_string(i)});
     for (int j = 1; j <= q_; ++j)
-      specs_.push_back({"theta" + std::to_string(j), Transform::kIdentity,
-                        "MA coefficient at lag " + std::to_string(j)});
+      specs_.push_back(
+          {"theta" + std::to_string(j), Transform::kIdentity, "MA coefficient at lag " + std::to_string(j)});
     specs_.push_back({"sigma2", Transform::kLog, "innovation variance per sample"});
   }
   std::string name() const override { return "ARMA"; }
-  std::string structure() const override {
-    return "p=" + std::to_string(p_) + ",q=" + std::to_string(q_);
-  }
+  std::string structure() const override { return "p=" + std::to_string(p_) + ",q=" + std::to_string(q_); }
   int canonical_rank() const override { return 45; }
   const std::vector<ParameterSpec>& parameters() const override { return specs_; }
 
@@ -83,18 +79,16 @@ class ArmaProcess final : public Process {
       return polynomial_message("theta", q_, "non-invertible", "1 + theta1 z + ...");
     return {};
   }
-  std::string polynomial_message(const char* what, int order, const char* property,
-                                 const char* poly) const {
+  std::string polynomial_message(const char* what, int order, const char* property, const char* poly) const {
     std::ostringstream os;
     os << "ARMA(" << structure() << "): " << what << "1";
     if (order > 1) os << ".." << what << order;
-    os << " make the " << (what[0] == 'p' ? "AR" : "MA") << " polynomial " << property
-       << " (a root of " << poly << " lies on or inside the unit circle)";
+    os << " make the " << (what[0] == 'p' ? "AR" : "MA") << " polynomial " << property << " (a root of " << poly
+       << " lies on or inside the unit circle)";
     return os.str();
   }
 
-  void wv(std::span<const double> t, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> t, std::span<const double> tau, std::span<double> out) const override {
     const auto r = internal::arma_unit_wv(phi(t), theta(t), tau, 0);
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = t[static_cast<std::size_t>(p_ + q_)] * r[k].v;
   }
@@ -124,8 +118,7 @@ class ArmaProcess final : public Process {
       hess(row, n * np + n) = 0.0;
     }
   }
-  void generalized_autocovariance(std::span<const double> t,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> t, std::span<double> out) const override {
     internal::arma_unit_autocovariance(phi(t), theta(t), out);
     for (double& v : out) v *= t[static_cast<std::size_t>(p_ + q_)];
   }
@@ -142,11 +135,10 @@ class ArmaProcess final : public Process {
     for (int i = 0; i < p_; ++i)
       for (int j = 0; j < p_; ++j) cov(i, j) = s * gamma[static_cast<std::size_t>(std::abs(i - j))];
     for (int j = 0; j < q_; ++j) cov(p_ + j, p_ + j) = s;
-    for (int i = 0; i < p_; ++i)    // Cov(x_{-1-i}, e_{-1-j}) = sigma2 psi_{j-i}, j >= i
+    for (int i = 0; i < p_; ++i)  // Cov(x_{-1-i}, e_{-1-j}) = sigma2 psi_{j-i}, j >= i
       for (int j = i; j < q_; ++j) cov(i, p_ + j) = cov(p_ + j, i) = s * psi[static_cast<std::size_t>(j - i)];
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
-    const Eigen::MatrixXd root =
-        eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+    const Eigen::MatrixXd root = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
     boost::random::normal_distribution<double> z(0.0, 1.0);
     Eigen::VectorXd draw(d);
     for (int i = 0; i < d; ++i) draw(i) = z(rng);
@@ -194,8 +186,7 @@ class ArmaProcess final : public Process {
 
 }  // namespace
 
-GMWM_REGISTER_PROCESS(ArmaProcess, "ARMA",
-                      "ARMA(p,q): ARMA(p=.., q=..) with phi1..phip, theta1..thetaq, sigma2", "p",
+GMWM_REGISTER_PROCESS(ArmaProcess, "ARMA", "ARMA(p,q): ARMA(p=.., q=..) with phi1..phip, theta1..thetaq, sigma2", "p",
                       "q");
 
 }  // namespace gmwm

@@ -30,29 +30,26 @@ class Arma11Process final : public Process {
   std::string name() const override { return "ARMA11"; }
   int canonical_rank() const override { return 40; }
   const std::vector<ParameterSpec>& parameters() const override {
-    static const std::vector<ParameterSpec> specs{
-        {"phi", Transform::kAtanh, "AR coefficient"},
-        {"theta", Transform::kAtanh, "MA coefficient"},
-        {"sigma2", Transform::kLog, "innovation variance per sample"}};
+    static const std::vector<ParameterSpec> specs{{"phi", Transform::kAtanh, "AR coefficient"},
+                                                  {"theta", Transform::kAtanh, "MA coefficient"},
+                                                  {"sigma2", Transform::kLog, "innovation variance per sample"}};
     return specs;
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     const internal::Ar1UnitWv<double> ar1(theta[0]);
     for (std::size_t k = 0; k < tau.size(); ++k)
-      out[k] = theta[2] * internal::arma11_unit_wv(
-                              ar1, theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
+      out[k] =
+          theta[2] * internal::arma11_unit_wv(ar1, theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
   }
-  void derivatives(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+  void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
+                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<3> phi = Jet<3>::variable(theta[0], 0);
     const Jet<3> th = Jet<3>::variable(theta[1], 1);
     const Jet<3> s = Jet<3>::variable(theta[2], 2);
     const internal::Ar1UnitWv<Jet<3>> ar1(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "ARMA11::wv");
-      internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m),
-                              static_cast<Eigen::Index>(k), jac, hess);
+      internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m), static_cast<Eigen::Index>(k), jac, hess);
     }
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
@@ -63,8 +60,7 @@ class Arma11Process final : public Process {
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
     derivatives(theta, tau, nullptr, &hess);
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     if (out.empty()) return;
     const double phi = theta[0], th = theta[1], s = theta[2];
     const double d = (1.0 - phi) * (1.0 + phi);

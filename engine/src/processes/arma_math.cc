@@ -68,8 +68,7 @@ class JetOps {
   AJet div(const AJet& a, const AJet& b) const {
     AJet q = constant(a.v / b.v);
     if (order_ >= 1) q.g = (a.g - q.v * b.g) / b.v;
-    if (order_ >= 2)
-      q.h = (a.h - q.v * b.h - q.g * b.g.transpose() - b.g * q.g.transpose()) / b.v;
+    if (order_ >= 2) q.h = (a.h - q.v * b.h - q.g * b.g.transpose() - b.g * q.g.transpose()) / b.v;
     return q;
   }
 
@@ -79,16 +78,15 @@ class JetOps {
 };
 
 struct ArmaSetup {
-  std::vector<AJet> phi;    // phi_1..phi_p at [0..p-1]
-  std::vector<AJet> r;      // r_0..r_q
-  AJet u;                   // gamma(0) (1 - sum phi)
+  std::vector<AJet> phi;  // phi_1..phi_p at [0..p-1]
+  std::vector<AJet> r;    // r_0..r_q
+  AJet u;                 // gamma(0) (1 - sum phi)
   AJet gamma0;
   std::vector<AJet> v;      // v(0..p), v(0) = 0
   std::vector<AJet> gamma;  // gamma(0..p)
 };
 
-ArmaSetup solve_setup(const JetOps& ops, std::span<const double> phi,
-                      std::span<const double> theta) {
+ArmaSetup solve_setup(const JetOps& ops, std::span<const double> phi, std::span<const double> theta) {
   const int p = static_cast<int>(phi.size()), q = static_cast<int>(theta.size());
   ArmaSetup s;
   std::vector<AJet> th{ops.constant(1.0)};  // theta_0 = 1
@@ -99,8 +97,7 @@ ArmaSetup solve_setup(const JetOps& ops, std::span<const double> phi,
   for (int j = 1; j <= q; ++j) {
     AJet x = th[static_cast<std::size_t>(j)];
     for (int i = 1; i <= std::min(j, p); ++i)
-      ops.add_variable_times(x, phi[static_cast<std::size_t>(i - 1)], i - 1,
-                             psi[static_cast<std::size_t>(j - i)]);
+      ops.add_variable_times(x, phi[static_cast<std::size_t>(i - 1)], i - 1, psi[static_cast<std::size_t>(j - i)]);
     psi.push_back(x);
   }
   for (int k = 0; k <= q; ++k) {
@@ -116,11 +113,9 @@ ArmaSetup solve_setup(const JetOps& ops, std::span<const double> phi,
   // row k >= 1: u - v_k + sum_{i != k} phi_i v_|k-i| = r_k.
   const int n = p + 1;
   std::vector<std::vector<AJet>> a(static_cast<std::size_t>(n),
-                                  std::vector<AJet>(static_cast<std::size_t>(n), ops.constant(0.0)));
+                                   std::vector<AJet>(static_cast<std::size_t>(n), ops.constant(0.0)));
   std::vector<AJet> b;
-  auto at = [&](int row, int col) -> AJet& {
-    return a[static_cast<std::size_t>(row)][static_cast<std::size_t>(col)];
-  };
+  auto at = [&](int row, int col) -> AJet& { return a[static_cast<std::size_t>(row)][static_cast<std::size_t>(col)]; };
   for (int k = 0; k < n; ++k) {
     at(k, 0) = ops.constant(1.0);
     if (k >= 1) at(k, k).v -= 1.0;
@@ -141,15 +136,14 @@ ArmaSetup solve_setup(const JetOps& ops, std::span<const double> phi,
     for (int r = c + 1; r < n; ++r) {
       const AJet f = ops.div(at(r, c), at(c, c));
       for (int j = c + 1; j < n; ++j) at(r, j) = ops.sub(at(r, j), ops.mul(f, at(c, j)));
-      b[static_cast<std::size_t>(r)] = ops.sub(b[static_cast<std::size_t>(r)],
-                                               ops.mul(f, b[static_cast<std::size_t>(c)]));
+      b[static_cast<std::size_t>(r)] =
+          ops.sub(b[static_cast<std::size_t>(r)], ops.mul(f, b[static_cast<std::size_t>(c)]));
     }
   }
   std::vector<AJet> z(static_cast<std::size_t>(n));
   for (int c = n - 1; c >= 0; --c) {
     AJet x = b[static_cast<std::size_t>(c)];
-    for (int j = c + 1; j < n; ++j)
-      x = ops.sub(x, ops.mul(at(c, j), z[static_cast<std::size_t>(j)]));
+    for (int j = c + 1; j < n; ++j) x = ops.sub(x, ops.mul(at(c, j), z[static_cast<std::size_t>(j)]));
     z[static_cast<std::size_t>(c)] = ops.div(x, at(c, c));
   }
   s.u = z[0];
@@ -247,8 +241,7 @@ std::vector<ArmaJet> arma_unit_wv(std::span<const double> phi, std::span<const d
   return out;
 }
 
-void arma_unit_autocovariance(std::span<const double> phi, std::span<const double> theta,
-                              std::span<double> out) {
+void arma_unit_autocovariance(std::span<const double> phi, std::span<const double> theta, std::span<double> out) {
   if (out.empty()) return;
   const std::size_t p = phi.size(), q = theta.size();
   const ArmaSetup s = solve_setup(JetOps(static_cast<int>(p + q), 0), phi, theta);
@@ -263,8 +256,7 @@ void arma_unit_autocovariance(std::span<const double> phi, std::span<const doubl
   }
 }
 
-std::vector<double> arma_psi_weights(std::span<const double> phi, std::span<const double> theta,
-                                     std::size_t count) {
+std::vector<double> arma_psi_weights(std::span<const double> phi, std::span<const double> theta, std::size_t count) {
   std::vector<double> psi;
   for (std::size_t j = 0; j < count; ++j) {
     double x = j == 0 ? 1.0 : (j <= theta.size() ? theta[j - 1] : 0.0);

@@ -55,11 +55,9 @@ std::vector<ArmaJet> arma_unit_wv(std::span<const double> phi, std::span<const d
                                   std::span<const double> tau, int order);
 
 /// gamma(h) / sigma2 for h = 0..out.size()-1.
-void arma_unit_autocovariance(std::span<const double> phi, std::span<const double> theta,
-                              std::span<double> out);
+void arma_unit_autocovariance(std::span<const double> phi, std::span<const double> theta, std::span<double> out);
 
 /// psi_0..psi_{count-1} (the MA(infinity) weights; used only for short prefixes).
-std::vector<double> arma_psi_weights(std::span<const double> phi, std::span<const double> theta,
-                                     std::size_t count);
+std::vector<double> arma_psi_weights(std::span<const double> phi, std::span<const double> theta, std::size_t count);
 
 }  // namespace gmwm::internal

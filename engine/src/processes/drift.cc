@@ -32,11 +32,8 @@ class Drift final : public Process {
         {"omega", Transform::kLog, "drift slope per sample (signed; the WV sees only its magnitude)", true}};
     return specs;
   }
-  std::string validate(std::span<const double> theta) const override {
-    return Process::validate(theta);
-  }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  std::string validate(std::span<const double> theta) const override { return Process::validate(theta); }
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     const double w = theta[0];
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = w * w * tau[k] * tau[k] / 16.0;
   }
@@ -47,11 +44,9 @@ class Drift final : public Process {
   }
   void wv_hessian(std::span<const double>, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    for (std::size_t k = 0; k < tau.size(); ++k)
-      hess(static_cast<Eigen::Index>(k), 0) = tau[k] * tau[k] / 8.0;
+    for (std::size_t k = 0; k < tau.size(); ++k) hess(static_cast<Eigen::Index>(k), 0) = tau[k] * tau[k] / 8.0;
   }
-  void generalized_autocovariance(std::span<const double>,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double>, std::span<double> out) const override {
     std::fill(out.begin(), out.end(), 0.0);
   }
   // x_t = omega t for t = 1..K sums to omega K (K + 1) / 2, without randomness.
@@ -67,8 +62,7 @@ class Drift final : public Process {
   }
   // IEEE 952 rate ramp: AVAR(T) = R^2 T^2 / 2. Here AVAR(m) = 2 WV(2m) = omega^2 m^2 / 2
   // with m = T f samples: R = omega f.
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double) const override {
     KalmanTerm k;
     k.role = "deterministic drift: a rate state";
     k.q = 0.0;
@@ -92,8 +86,7 @@ class Drift final : public Process {
     c.H(0) = 1.0;
     return c;
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double freq) const override {
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
     return {{"drift rate", theta[0] * freq, "U/s",
              "R = omega f, signed (IEEE 952 rate ramp: AVAR = R^2 T^2 / 2 sees |R|; the sign is the series' slope)",
              PhysicalKind::kDriftRate}};

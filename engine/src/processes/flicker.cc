@@ -68,7 +68,8 @@ class Flicker final : public Process {
   /// The WV per unit B2 at scale tau (from the table at dyadic scales).
   double unit_wv(double tau) const {
     int e = 0;
-    if (std::frexp(tau, &e) == 0.5 && e - 1 >= 1 && e - 1 < kDyadicTable) return dyadic_[static_cast<std::size_t>(e - 1)];
+    if (std::frexp(tau, &e) == 0.5 && e - 1 >= 1 && e - 1 < kDyadicTable)
+      return dyadic_[static_cast<std::size_t>(e - 1)];
     return compute_unit_wv(tau);
   }
   double compute_unit_wv(double tau) const {
@@ -112,7 +113,7 @@ class Flicker final : public Process {
       const double L = std::ldexp(1.0, static_cast<int>(-k));
       const double phi = std::exp(-L);
       const double sd = std::sqrt(-s * std::expm1(-2.0 * L));  // innovation sd
-      double x = std::sqrt(s) * z(rng);                          // stationary start
+      double x = std::sqrt(s) * z(rng);                        // stationary start
       out[0] += x;
       for (std::size_t t = 1; t < out.size(); ++t) {
         x = phi * x + sd * z(rng);
@@ -123,12 +124,12 @@ class Flicker final : public Process {
   // Scale-free: B2 is the same per sample or per second. The WV plateau B2 ln2 / pi gives
   // the Allan variance floor 2 B2 ln2 / pi (AVAR = 2 WV), i.e. the Allan deviation floor
   // sqrt(2 ln2 / pi) B = 0.6643 B, the IEEE 952 value for a flicker PSD B^2 / (2 pi F).
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const override {
     KalmanTerm k = Process::kalman_impl(theta, freq, filter_rate).front();
     k.role = "flicker (1/f): no finite state";
-    k.note = "approximate it with 2-3 Gauss-Markov states over the band the filter cares about "
-             "(fit AR1 terms in its place, e.g. gmwm select with 3*AR1)";
+    k.note =
+        "approximate it with 2-3 Gauss-Markov states over the band the filter cares about "
+        "(fit AR1 terms in its place, e.g. gmwm select with 3*AR1)";
     return {k};
   }
   // Navigation-error analysis: one Gauss-Markov state per kOctavesPerState octaves, at the
@@ -158,14 +159,14 @@ class Flicker final : public Process {
                         std::to_string(kOctavesPerState) + " octaves of correlation time (its 1/f spectrum within 4%)");
     return out;
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double) const override {
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double) const override {
     const double b = std::sqrt(theta[0]);
-    return {{"flicker coefficient", b, "U", "B = sqrt(B2) (flicker PSD B^2 / (2 pi F))",
-             PhysicalKind::kFlickerCoefficient},
-            {"bias instability", kAdevFloorPerB * b, "U",
-             "bias instability = 0.664 * B (IEEE 952 convention: the Allan deviation floor of "
-             "flicker noise, sqrt(2 ln2 / pi) B)", PhysicalKind::kBiasInstability}};
+    return {
+        {"flicker coefficient", b, "U", "B = sqrt(B2) (flicker PSD B^2 / (2 pi F))", PhysicalKind::kFlickerCoefficient},
+        {"bias instability", kAdevFloorPerB * b, "U",
+         "bias instability = 0.664 * B (IEEE 952 convention: the Allan deviation floor of "
+         "flicker noise, sqrt(2 ln2 / pi) B)",
+         PhysicalKind::kBiasInstability}};
   }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // The plateau: the median of the WV this component should explain, per unit B2.

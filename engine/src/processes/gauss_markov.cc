@@ -56,12 +56,11 @@ class GaussMarkov final : public Process {
     for (std::size_t k = 0; k < tau.size(); ++k)
       store(k, stationary * unit.at(internal::haar_half_scale(tau[k], "GM::wv")));
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     wv_levels(theta[0], theta[1], tau, [&](std::size_t k, double v) { out[k] = v; });
   }
-  void derivatives(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+  void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
+                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<2> beta = Jet<2>::variable(theta[0], 0);
     const Jet<2> s = Jet<2>::variable(theta[1], 1);
     wv_levels(beta, s, tau, [&](std::size_t k, const Jet<2>& v) {
@@ -76,11 +75,9 @@ class GaussMarkov final : public Process {
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
     derivatives(theta, tau, nullptr, &hess);
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     const double L = theta[0] / rate();
-    for (std::size_t h = 0; h < out.size(); ++h)
-      out[h] = theta[1] * std::exp(-L * static_cast<double>(h));
+    for (std::size_t h = 0; h < out.size(); ++h) out[h] = theta[1] * std::exp(-L * static_cast<double>(h));
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     if (out.empty()) return;
@@ -97,19 +94,17 @@ class GaussMarkov final : public Process {
   }
   // beta and sigma2_gm are continuous already: T = 1 / beta (= -1 / (f ln phi) of the
   // equivalent AR1, phi = exp(-beta / f)), sigma = sqrt(sigma2_gm). freq is not needed.
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double, double filter_rate) const override {
     return {gauss_markov_term(1.0 / theta[0], theta[1], filter_rate)};
   }
   std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
     return gauss_markov_form(1.0 / theta[0], theta[1], 1.0 / freq);
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double) const override {
-    return {{"correlation time", 1.0 / theta[0], "s",
-             "T = 1 / beta (autocovariance sigma^2 exp(-|lag| / T))", PhysicalKind::kCorrelationTime},
-            {"stationary sigma", std::sqrt(theta[1]), "U",
-             "sigma = sqrt(sigma2_gm), the process's standard deviation", PhysicalKind::kStationarySigma}};
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double) const override {
+    return {{"correlation time", 1.0 / theta[0], "s", "T = 1 / beta (autocovariance sigma^2 exp(-|lag| / T))",
+             PhysicalKind::kCorrelationTime},
+            {"stationary sigma", std::sqrt(theta[1]), "U", "sigma = sqrt(sigma2_gm), the process's standard deviation",
+             PhysicalKind::kStationarySigma}};
   }
   // GM is AR1 through the rate: phi = exp(-beta / f), sigma2 = sigma2_gm (1 - phi^2).
   // A very short correlation time (beta / f = kGmWhiteL) is WN(sigma2_gm); a very long one
@@ -148,7 +143,6 @@ class GaussMarkov final : public Process {
 
 }  // namespace
 
-GMWM_REGISTER_PROCESS(GaussMarkov, "GM",
-                      "Gauss-Markov: GM(beta, sigma2_gm), an AR1 through the sampling rate");
+GMWM_REGISTER_PROCESS(GaussMarkov, "GM", "Gauss-Markov: GM(beta, sigma2_gm), an AR1 through the sampling rate");
 
 }  // namespace gmwm

@@ -44,7 +44,9 @@ struct Jet {
 
 inline double value(double x) { return x; }
 template <int N>
-double value(const Jet<N>& x) { return x.v; }
+double value(const Jet<N>& x) {
+  return x.v;
+}
 
 /// f(x) given f, f', f'' at x.v.
 template <int N>
@@ -57,7 +59,9 @@ Jet<N> chain(const Jet<N>& x, double f, double f1, double f2) {
 }
 inline double lift(double, const D2& d) { return d.f; }
 template <int N>
-Jet<N> lift(const Jet<N>& x, const D2& d) { return chain(x, d.f, d.f1, d.f2); }
+Jet<N> lift(const Jet<N>& x, const D2& d) {
+  return chain(x, d.f, d.f1, d.f2);
+}
 
 template <int N>
 Jet<N> operator-(const Jet<N>& a) {
@@ -76,7 +80,9 @@ Jet<N> operator+(const Jet<N>& a, const Jet<N>& b) {
   return r;
 }
 template <int N>
-Jet<N> operator-(const Jet<N>& a, const Jet<N>& b) { return a + (-b); }
+Jet<N> operator-(const Jet<N>& a, const Jet<N>& b) {
+  return a + (-b);
+}
 template <int N>
 Jet<N> operator*(const Jet<N>& a, const Jet<N>& b) {
   Jet<N> r;
@@ -97,13 +103,23 @@ Jet<N> operator/(const Jet<N>& a, const Jet<N>& b) {
 
 // Mixed Jet/double arithmetic.
 template <int N>
-Jet<N> operator+(const Jet<N>& a, double b) { Jet<N> r = a; r.v += b; return r; }
+Jet<N> operator+(const Jet<N>& a, double b) {
+  Jet<N> r = a;
+  r.v += b;
+  return r;
+}
 template <int N>
-Jet<N> operator+(double a, const Jet<N>& b) { return b + a; }
+Jet<N> operator+(double a, const Jet<N>& b) {
+  return b + a;
+}
 template <int N>
-Jet<N> operator-(const Jet<N>& a, double b) { return a + (-b); }
+Jet<N> operator-(const Jet<N>& a, double b) {
+  return a + (-b);
+}
 template <int N>
-Jet<N> operator-(double a, const Jet<N>& b) { return (-b) + a; }
+Jet<N> operator-(double a, const Jet<N>& b) {
+  return (-b) + a;
+}
 template <int N>
 Jet<N> operator*(const Jet<N>& a, double b) {
   Jet<N> r;
@@ -113,22 +129,33 @@ Jet<N> operator*(const Jet<N>& a, double b) {
   return r;
 }
 template <int N>
-Jet<N> operator*(double a, const Jet<N>& b) { return b * a; }
+Jet<N> operator*(double a, const Jet<N>& b) {
+  return b * a;
+}
 template <int N>
-Jet<N> operator/(const Jet<N>& a, double b) { return a * (1.0 / b); }
+Jet<N> operator/(const Jet<N>& a, double b) {
+  return a * (1.0 / b);
+}
 template <int N>
-Jet<N> operator/(double a, const Jet<N>& b) { return Jet<N>(a) / b; }
+Jet<N> operator/(double a, const Jet<N>& b) {
+  return Jet<N>(a) / b;
+}
 
 // Elementary functions (found by argument-dependent lookup next to std:: ones).
 template <int N>
-Jet<N> exp(const Jet<N>& x) { const double e = std::exp(x.v); return chain(x, e, e, e); }
+Jet<N> exp(const Jet<N>& x) {
+  const double e = std::exp(x.v);
+  return chain(x, e, e, e);
+}
 template <int N>
 Jet<N> expm1(const Jet<N>& x) {
   const double e = std::exp(x.v);
   return chain(x, std::expm1(x.v), e, e);
 }
 template <int N>
-Jet<N> log(const Jet<N>& x) { return chain(x, std::log(x.v), 1.0 / x.v, -1.0 / (x.v * x.v)); }
+Jet<N> log(const Jet<N>& x) {
+  return chain(x, std::log(x.v), 1.0 / x.v, -1.0 / (x.v * x.v));
+}
 template <int N>
 Jet<N> log1p(const Jet<N>& x) {
   const double d = 1.0 / (1.0 + x.v);

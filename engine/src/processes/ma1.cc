@@ -23,16 +23,14 @@ class Ma1Process final : public Process {
   std::string name() const override { return "MA1"; }
   int canonical_rank() const override { return 30; }
   const std::vector<ParameterSpec>& parameters() const override {
-    static const std::vector<ParameterSpec> specs{
-        {"theta", Transform::kAtanh, "MA1 coefficient"},
-        {"sigma2", Transform::kLog, "MA1 innovation variance per sample"}};
+    static const std::vector<ParameterSpec> specs{{"theta", Transform::kAtanh, "MA1 coefficient"},
+                                                  {"sigma2", Transform::kLog, "MA1 innovation variance per sample"}};
     return specs;
   }
   static double unit(double theta, double tau) {
     return ((1.0 + theta) * (1.0 + theta) * tau - 6.0 * theta) / (tau * tau);
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[1] * unit(theta[0], tau[k]);
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
@@ -56,8 +54,7 @@ class Ma1Process final : public Process {
       hess(r, 3) = 0.0;                 // (sigma2, sigma2)
     }
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     std::fill(out.begin(), out.end(), 0.0);
     if (out.size() > 0) out[0] = theta[1] * (1.0 + theta[0] * theta[0]);
     if (out.size() > 1) out[1] = theta[1] * theta[0];

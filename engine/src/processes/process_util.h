@@ -36,9 +36,7 @@ inline std::optional<std::vector<double>> summed_size(std::span<const double> a,
 inline double phi_at_bound() { return std::tanh(kAtanhBound); }
 
 /// x when it is finite and positive, else fallback (initial guesses must be valid).
-inline double positive_or(double x, double fallback) {
-  return (std::isfinite(x) && x > 0.0) ? x : fallback;
-}
+inline double positive_or(double x, double fallback) { return (std::isfinite(x) && x > 0.0) ? x : fallback; }
 
 /// The level a guess should match: the one nearest to ctx.tau_hint on a log scale, or,
 /// without a hint, the one where ctx.wv peaks. 0 when ctx is empty.
@@ -50,7 +48,10 @@ inline std::size_t guess_level(const GuessContext& ctx) {
     double dist = INFINITY;
     for (std::size_t k = 0; k < n; ++k) {
       const double d = std::fabs(std::log(ctx.tau[k] / ctx.tau_hint));
-      if (d < dist) { dist = d; best = k; }
+      if (d < dist) {
+        dist = d;
+        best = k;
+      }
     }
   } else {
     for (std::size_t k = 1; k < n; ++k)

@@ -24,21 +24,17 @@ class QuantizationNoise final : public Process {
         {"Q2", Transform::kLog, "quantization noise coefficient Q^2 per sample"}};
     return specs;
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = 6.0 * theta[0] / (tau[k] * tau[k]);
   }
   void wv_jacobian(std::span<const double>, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    for (std::size_t k = 0; k < tau.size(); ++k)
-      jac(static_cast<Eigen::Index>(k), 0) = 6.0 / (tau[k] * tau[k]);
+    for (std::size_t k = 0; k < tau.size(); ++k) jac(static_cast<Eigen::Index>(k), 0) = 6.0 / (tau[k] * tau[k]);
   }
-  void wv_hessian(std::span<const double>, std::span<const double>,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+  void wv_hessian(std::span<const double>, std::span<const double>, Eigen::Ref<Eigen::MatrixXd> hess) const override {
     hess.setZero();
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     std::fill(out.begin(), out.end(), 0.0);
     if (out.size() > 0) out[0] = 2.0 * theta[0];
     if (out.size() > 1) out[1] = -theta[0];
@@ -57,8 +53,7 @@ class QuantizationNoise final : public Process {
   // = 2 * 6 Q2 / (2m)^2 = 3 Q2 / m^2 with m = T f samples, = 3 (sqrt(Q2) / f)^2 / T^2,
   // so Q = sqrt(Q2) / f in U*s (for a rate in U: the angle/velocity quantization step
   // is sqrt(12) Q).
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const override {
     KalmanTerm k;
     const double Q = std::sqrt(theta[0]) / freq;
     k.role = "measurement noise R (quantization, approximate)";
@@ -75,12 +70,12 @@ class QuantizationNoise final : public Process {
     char buf[200];
     std::snprintf(buf, sizeof buf,
                   "QN (Q = %.3g U*s) left out: the rounding of the integrated output telescopes, an error of at "
-                  "most sqrt(2) Q that never accumulates", std::sqrt(theta[0]) / freq);
+                  "most sqrt(2) Q that never accumulates",
+                  std::sqrt(theta[0]) / freq);
     c.notes.push_back(buf);
     return c;
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double freq) const override {
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
     return {{"quantization", std::sqrt(theta[0]) / freq, "U*s",
              "Q = sqrt(Q2) / f (IEEE 952: AVAR = 3 Q^2 / T^2; step = sqrt(12) Q)", PhysicalKind::kQuantization}};
   }
@@ -89,9 +84,7 @@ class QuantizationNoise final : public Process {
   }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // QN dominates the finest scale: Q2 = tau_1^2 nu^2(tau_1) / 6.
-    const double q = ctx.tau.empty() || ctx.wv.empty()
-                         ? 1.0
-                         : ctx.tau[0] * ctx.tau[0] * ctx.wv[0] / 6.0;
+    const double q = ctx.tau.empty() || ctx.wv.empty() ? 1.0 : ctx.tau[0] * ctx.tau[0] * ctx.wv[0] / 6.0;
     return {internal::positive_or(q, 1.0)};
   }
 };

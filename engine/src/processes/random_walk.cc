@@ -23,20 +23,17 @@ class RandomWalk final : public Process {
     return specs;
   }
   static double unit(double tau) { return (tau * tau + 2.0) / (12.0 * tau); }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * unit(tau[k]);
   }
   void wv_jacobian(std::span<const double>, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
     for (std::size_t k = 0; k < tau.size(); ++k) jac(static_cast<Eigen::Index>(k), 0) = unit(tau[k]);
   }
-  void wv_hessian(std::span<const double>, std::span<const double>,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+  void wv_hessian(std::span<const double>, std::span<const double>, Eigen::Ref<Eigen::MatrixXd> hess) const override {
     hess.setZero();
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     for (std::size_t h = 0; h < out.size(); ++h) out[h] = -0.5 * theta[0] * static_cast<double>(h);
   }
   // Var(x_1 + ... + x_K) with x_t = e_1 + ... + e_t: e_s enters K - s + 1 of the terms,
@@ -53,8 +50,7 @@ class RandomWalk final : public Process {
   }
   // IEEE 952: AVAR(T) = K^2 T / 3. Here AVAR(m) = 2 WV(2m) = gamma2 (4 m^2 + 2) / (12 m)
   // ~ gamma2 m / 3 for large m, with m = T f samples: K^2 = gamma2 f.
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const override {
     KalmanTerm k;
     k.role = "bias random walk state";
     k.q = theta[0] * freq;
@@ -74,8 +70,7 @@ class RandomWalk final : public Process {
     c.H = Eigen::RowVectorXd::Ones(1);
     return c;
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double freq) const override {
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
     return {{"random walk", std::sqrt(theta[0] * freq), "U/s/sqrt(Hz)",
              "K = sqrt(gamma2 f) (IEEE 952 rate random walk: AVAR = K^2 T / 3)", PhysicalKind::kRandomWalk}};
   }

@@ -54,18 +54,15 @@ class Sinusoid final : public Process {
         {"f", Transform::kLogitHalf, "frequency (cycles/sample; Hz when the rate is known)"}};
     return specs;
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
-    for (std::size_t k = 0; k < tau.size(); ++k)
-      out[k] = theta[0] * sin_unit_wv(theta[1], 0.5 * tau[k]);
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * sin_unit_wv(theta[1], 0.5 * tau[k]);
   }
-  void derivatives(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd>* jac, Eigen::Ref<Eigen::MatrixXd>* hess) const {
+  void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
+                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
     const Jet<2> a2 = Jet<2>::variable(theta[0], 0);
     const Jet<2> f = Jet<2>::variable(theta[1], 1);
     for (std::size_t k = 0; k < tau.size(); ++k)
-      internal::store_jet_row(a2 * sin_unit_wv(f, 0.5 * tau[k]), static_cast<Eigen::Index>(k),
-                              jac, hess);
+      internal::store_jet_row(a2 * sin_unit_wv(f, 0.5 * tau[k]), static_cast<Eigen::Index>(k), jac, hess);
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
@@ -75,15 +72,13 @@ class Sinusoid final : public Process {
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
     derivatives(theta, tau, nullptr, &hess);
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     for (std::size_t h = 0; h < out.size(); ++h)
       out[h] = 0.5 * theta[0] * boost::math::cos_pi(2.0 * theta[1] * static_cast<double>(h));
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     // A sin(2 pi f t + U) = A [sin(2 pi f t) cos U + cos(2 pi f t) sin U].
-    boost::random::uniform_real_distribution<double> phase(
-        0.0, 2.0 * boost::math::constants::pi<double>());
+    boost::random::uniform_real_distribution<double> phase(0.0, 2.0 * boost::math::constants::pi<double>());
     const double u = phase(rng);
     const double amp = std::sqrt(theta[0]);
     const double cu = amp * std::cos(u), su = amp * std::sin(u);
@@ -107,8 +102,7 @@ class Sinusoid final : public Process {
   }
   // x_t = A sin(2 pi f t + U): amplitude sqrt(A2) in U, frequency f (cycles/sample) times
   // the rate in Hz.
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const override {
     KalmanTerm k;
     k.role = "deterministic harmonic: two states";
     k.q = 0.0;
@@ -116,14 +110,13 @@ class Sinusoid final : public Process {
     k.transition = std::cos(2.0 * M_PI * theta[1] * freq / filter_rate);
     k.discrete = 0.0;
     k.discrete_unit = "U^2";
-    k.note = "a rotation by 2 pi F dt of (a, b) with no process noise (the value shown is its cosine), "
-             "or a notch filter on the measurement";
+    k.note =
+        "a rotation by 2 pi F dt of (a, b) with no process noise (the value shown is its cosine), "
+        "or a notch filter on the measurement";
     return {k};
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double freq) const override {
-    return {{"amplitude", std::sqrt(theta[0]), "U", "A = sqrt(A2) (x = A sin(2 pi F t + U))",
-             PhysicalKind::kAmplitude},
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
+    return {{"amplitude", std::sqrt(theta[0]), "U", "A = sqrt(A2) (x = A sin(2 pi F t + U))", PhysicalKind::kAmplitude},
             {"frequency", theta[1] * freq, "Hz", "F = f_cycles_per_sample * f_rate", PhysicalKind::kFrequency}};
   }
   double to_display(int k, double natural) const override {

@@ -17,24 +17,20 @@ class WhiteNoise final : public Process {
   int canonical_rank() const override { return 50; }
   bool linear() const override { return true; }
   const std::vector<ParameterSpec>& parameters() const override {
-    static const std::vector<ParameterSpec> specs{
-        {"sigma2", Transform::kLog, "white-noise variance per sample"}};
+    static const std::vector<ParameterSpec> specs{{"sigma2", Transform::kLog, "white-noise variance per sample"}};
     return specs;
   }
-  void wv(std::span<const double> theta, std::span<const double> tau,
-          std::span<double> out) const override {
+  void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] / tau[k];
   }
   void wv_jacobian(std::span<const double>, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
     for (std::size_t k = 0; k < tau.size(); ++k) jac(static_cast<Eigen::Index>(k), 0) = 1.0 / tau[k];
   }
-  void wv_hessian(std::span<const double>, std::span<const double>,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
+  void wv_hessian(std::span<const double>, std::span<const double>, Eigen::Ref<Eigen::MatrixXd> hess) const override {
     hess.setZero();
   }
-  void generalized_autocovariance(std::span<const double> theta,
-                                  std::span<double> out) const override {
+  void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     std::fill(out.begin(), out.end(), 0.0);
     if (!out.empty()) out[0] = theta[0];
   }
@@ -44,8 +40,7 @@ class WhiteNoise final : public Process {
   }
   // IEEE 952: AVAR(T) = N^2 / T. Here AVAR(m) = 2 WV(2m) = sigma2 / m with m = T f samples,
   // so N^2 = sigma2 / f.
-  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                      double filter_rate) const override {
+  std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const override {
     KalmanTerm k;
     k.role = "measurement noise R";
     k.q = theta[0] / freq;
@@ -59,8 +54,7 @@ class WhiteNoise final : public Process {
   std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
     return stateless_form(theta[0] / freq);
   }
-  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                              double freq) const override {
+  std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
     return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",
              "N = sqrt(sigma2 / f) (IEEE 952: AVAR = N^2 / T; angle/velocity random walk)",
              PhysicalKind::kNoiseDensity}};

@@ -18,9 +18,9 @@ struct FormatName {
   ExportFormat format;
   const char* name;
 };
-constexpr FormatName kFormats[] = {{ExportFormat::kKalibr, "kalibr"},   {ExportFormat::kOpenVins, "openvins"},
-                                   {ExportFormat::kVins, "vins"},       {ExportFormat::kOrbSlam3, "orbslam3"},
-                                   {ExportFormat::kBasalt, "basalt"},   {ExportFormat::kGzSdf, "gz-sdf"},
+constexpr FormatName kFormats[] = {{ExportFormat::kKalibr, "kalibr"}, {ExportFormat::kOpenVins, "openvins"},
+                                   {ExportFormat::kVins, "vins"},     {ExportFormat::kOrbSlam3, "orbslam3"},
+                                   {ExportFormat::kBasalt, "basalt"}, {ExportFormat::kGzSdf, "gz-sdf"},
                                    {ExportFormat::kRotors, "rotors"}};
 
 }  // namespace
@@ -49,9 +49,12 @@ bool allows_comments(ExportFormat f) { return f != ExportFormat::kBasalt; }
 
 const char* to_string(Aggregation a) {
   switch (a) {
-    case Aggregation::kPerAxis: return "per-axis";
-    case Aggregation::kMean: return "mean";
-    case Aggregation::kWorst: return "worst";
+    case Aggregation::kPerAxis:
+      return "per-axis";
+    case Aggregation::kMean:
+      return "mean";
+    case Aggregation::kWorst:
+      return "worst";
   }
   return "?";
 }
@@ -78,8 +81,9 @@ std::string ExportOptions::Validate() const {
   // A ROS graph resource name (wiki.ros.org/Names): a letter, '/' or '~' first, then
   // letters, digits, '_' and '/'. Anything else could break out of the YAML value.
   const auto ros_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/'; };
-  const bool valid = (std::isalpha(static_cast<unsigned char>(rostopic[0])) || rostopic[0] == '/' || rostopic[0] == '~') &&
-                     std::all_of(rostopic.begin() + 1, rostopic.end(), ros_char);
+  const bool valid =
+      (std::isalpha(static_cast<unsigned char>(rostopic[0])) || rostopic[0] == '/' || rostopic[0] == '~') &&
+      std::all_of(rostopic.begin() + 1, rostopic.end(), ros_char);
   if (!valid)
     return "--rostopic '" + rostopic +
            "': expected a ROS topic name (a letter, '/' or '~' first, then letters, digits, '_' and '/')";
@@ -174,18 +178,30 @@ ExportResult render_export(const std::vector<ExportColumn>& columns, const Expor
   ExportResult r;
   export_detail::plan_export(columns, options, source, r);
   switch (options.format) {
-    case ExportFormat::kKalibr: r.content = export_detail::render_kalibr(options, r); break;
-    case ExportFormat::kOpenVins: r.content = export_detail::render_openvins(options, r); break;
-    case ExportFormat::kVins: r.content = export_detail::render_vins(options, r); break;
-    case ExportFormat::kOrbSlam3: r.content = export_detail::render_orbslam3(options, r); break;
+    case ExportFormat::kKalibr:
+      r.content = export_detail::render_kalibr(options, r);
+      break;
+    case ExportFormat::kOpenVins:
+      r.content = export_detail::render_openvins(options, r);
+      break;
+    case ExportFormat::kVins:
+      r.content = export_detail::render_vins(options, r);
+      break;
+    case ExportFormat::kOrbSlam3:
+      r.content = export_detail::render_orbslam3(options, r);
+      break;
     case ExportFormat::kBasalt: {
       std::string sidecar;
       r.content = export_detail::render_basalt(options, r, sidecar);
       r.sidecar = std::move(sidecar);
       break;
     }
-    case ExportFormat::kGzSdf: r.content = export_detail::render_gz_sdf(options, r); break;
-    case ExportFormat::kRotors: r.content = export_detail::render_rotors(options, r); break;
+    case ExportFormat::kGzSdf:
+      r.content = export_detail::render_gz_sdf(options, r);
+      break;
+    case ExportFormat::kRotors:
+      r.content = export_detail::render_rotors(options, r);
+      break;
   }
   return r;
 }

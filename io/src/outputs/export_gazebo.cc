@@ -51,8 +51,8 @@ std::string noise_block(const std::string& in, const WrittenNoise& w, SensorKind
   const std::string i2 = in + "  ";
   out += element(i2, "mean", "0.0", "constant offset: none");
   out += element(i2, "stddev", real(w.noise_density * std::sqrt(rate)),
-                 std::string("[") + si.value + "] per sample at " + num(rate) + " Hz: N sqrt(rate), N = " +
-                     num(w.noise_density) + " " + si.density);
+                 std::string("[") + si.value + "] per sample at " + num(rate) +
+                     " Hz: N sqrt(rate), N = " + num(w.noise_density) + " " + si.density);
   out += element(i2, "bias_mean", "0.0", "turn-on bias: a constant, not seen by a wavelet variance");
   out += element(i2, "bias_stddev", "0.0");
   if (w.bias_drive > 0.0) {
@@ -86,7 +86,8 @@ std::string render_gz_sdf(const ExportOptions& o, const ExportResult& r) {
     SensorKind kind;
     const char* element;
   };
-  for (const Block b : {Block{SensorKind::kGyro, "angular_velocity"}, Block{SensorKind::kAccel, "linear_acceleration"}}) {
+  for (const Block b :
+       {Block{SensorKind::kGyro, "angular_velocity"}, Block{SensorKind::kAccel, "linear_acceleration"}}) {
     const KindExport* k = find_kind(r, b.kind);
     if (!k) continue;
     out += std::string("    <") + b.element + ">\n";

@@ -34,13 +34,20 @@ std::string component_text(const Component& c, std::span<const double> th) {
 
 const char* title(ExportFormat f) {
   switch (f) {
-    case ExportFormat::kKalibr: return "Kalibr imu.yaml";
-    case ExportFormat::kOpenVins: return "OpenVINS kalibr_imu_chain.yaml";
-    case ExportFormat::kVins: return "VINS-Mono/VINS-Fusion config (acc_n, gyr_n, acc_w, gyr_w)";
-    case ExportFormat::kOrbSlam3: return "ORB-SLAM3 settings (IMU.NoiseGyro, ...)";
-    case ExportFormat::kBasalt: return "Basalt calib.json IMU noise fields";
-    case ExportFormat::kGzSdf: return "gz-sensors SDF IMU <noise> blocks";
-    case ExportFormat::kRotors: return "RotorS/PX4 IMU plugin parameters";
+    case ExportFormat::kKalibr:
+      return "Kalibr imu.yaml";
+    case ExportFormat::kOpenVins:
+      return "OpenVINS kalibr_imu_chain.yaml";
+    case ExportFormat::kVins:
+      return "VINS-Mono/VINS-Fusion config (acc_n, gyr_n, acc_w, gyr_w)";
+    case ExportFormat::kOrbSlam3:
+      return "ORB-SLAM3 settings (IMU.NoiseGyro, ...)";
+    case ExportFormat::kBasalt:
+      return "Basalt calib.json IMU noise fields";
+    case ExportFormat::kGzSdf:
+      return "gz-sensors SDF IMU <noise> blocks";
+    case ExportFormat::kRotors:
+      return "RotorS/PX4 IMU plugin parameters";
   }
   return "?";
 }
@@ -75,7 +82,7 @@ WrittenNoise written(const AxisNoise& a, const ExportOptions& o, std::vector<std
     // upper bound (no +1/2 slope) leaves the simulated bias off (said in the header).
     w.bias_drive = a.walk * x;
     w.bias_correlation_time = a.record_seconds > 0.0 ? export_detail::kRandomWalkTimeRecords * a.record_seconds
-                                                      : export_detail::kRandomWalkFallbackTime;
+                                                     : export_detail::kRandomWalkFallbackTime;
     w.bias_from_random_walk = true;
   }
   for (const auto& other : a.others) dropped.push_back(other + ": no such term in the format");
@@ -199,8 +206,10 @@ AxisNoise axis_noise(const ExportColumn& column) {
     if (std::isfinite(T) && T > 0.0 && std::isfinite(sigma) && g[1] > 0.0) {
       const double s = sigma / u;
       const GaussMarkovNoise gm{T, s, s * std::sqrt(2.0 / T), component_text(c, th)};
-      if (T >= kBiasMinCorrelationTime) a.gauss_markov.push_back(gm);
-      else a.absorbed.push_back(gm.text + " (correlation time " + num(T) + " s)");
+      if (T >= kBiasMinCorrelationTime)
+        a.gauss_markov.push_back(gm);
+      else
+        a.absorbed.push_back(gm.text + " (correlation time " + num(T) + " s)");
       continue;
     }
     std::string text = component_text(c, th);
@@ -211,8 +220,9 @@ AxisNoise axis_noise(const ExportColumn& column) {
                    render_unit(x.unit_pattern, column.unit.name);
     a.others.push_back(figures.empty() ? text : text + " (" + figures + ", " + column.unit.name + " data)");
   }
-  std::sort(a.gauss_markov.begin(), a.gauss_markov.end(),
-            [](const GaussMarkovNoise& x, const GaussMarkovNoise& y) { return x.correlation_time < y.correlation_time; });
+  std::sort(a.gauss_markov.begin(), a.gauss_markov.end(), [](const GaussMarkovNoise& x, const GaussMarkovNoise& y) {
+    return x.correlation_time < y.correlation_time;
+  });
   return a;
 }
 
@@ -264,8 +274,10 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
       ws.push_back(per_column[i]);
       const char axis = r.columns[i].axis;
       const int slot = axis ? axis - 'x' : -1;
-      if (slot < 0 || at[static_cast<std::size_t>(slot)] >= 0) axes_ok = false;
-      else at[static_cast<std::size_t>(slot)] = static_cast<int>(ws.size()) - 1;
+      if (slot < 0 || at[static_cast<std::size_t>(slot)] >= 0)
+        axes_ok = false;
+      else
+        at[static_cast<std::size_t>(slot)] = static_cast<int>(ws.size()) - 1;
     }
     if (k.columns.empty()) {
       missing.push_back(kind_word(kind));
@@ -305,9 +317,10 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
     h.push_back("  " + a.column + " (" + to_string(a.kind) + ", " + a.unit.name + " at " + num(a.freq) + " Hz" +
                 (a.record_seconds > 0.0 ? ", " + num(a.record_seconds) + " s record" : std::string()) +
                 "): " + a.model + " -> " + figures_text(a));
-  h.push_back("Noise figures: IEEE Std 952 read-offs of the Allan deviation of the model as a whole (N on the -1/2 "
-              "slope at 1 s, K on the +1/2 slope at 3 s, B = flat minimum / 0.664), or of the data where the model "
-              "misses them; a figure neither shows is its upper bound. Per column:");
+  h.push_back(
+      "Noise figures: IEEE Std 952 read-offs of the Allan deviation of the model as a whole (N on the -1/2 "
+      "slope at 1 s, K on the +1/2 slope at 3 s, B = flat minimum / 0.664), or of the data where the model "
+      "misses them; a figure neither shows is its upper bound. Per column:");
   for (const auto& a : r.columns) {
     for (const ExportFigure* f : {&a.figures.white, &a.figures.walk, &a.figures.instability})
       h.push_back("  " + a.column + " (" + a.unit.name + " data): " + f->note);
@@ -318,8 +331,9 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
          : o.aggregation == Aggregation::kMean  ? "the arithmetic mean of each figure over a sensor's columns"
                                                 : "the largest value of each figure over a sensor's columns";
   if (simulates_bias(o.format) && o.aggregation != Aggregation::kPerAxis)
-    agg += " (a bias correlation time over the columns with a fitted Gauss-Markov bias, else over those with a "
-           "random walk)";
+    agg +=
+        " (a bias correlation time over the columns with a fitted Gauss-Markov bias, else over those with a "
+        "random walk)";
   for (const auto& k : r.kinds)
     if (!k.columns.empty()) {
       std::string list;
@@ -333,13 +347,13 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
                 num(*o.inflate_walk * *o.inflate_walk) + ")" +
                 (o.inflation_reason.empty() ? std::string() : "; " + o.inflation_reason));
   else
-  h.push_back(o.inflate == 1.0
-                  ? "Inflation: x1 (the fitted figures as they are)"
-                  : "Inflation: x" + num(o.inflate) +
-                        " on every noise figure written (noise densities, random walks, standard deviations and bias "
-                        "driving densities; not on variances, which grow x" +
-                        num(o.inflate * o.inflate) + "); correlation times unchanged" +
-                        (o.inflation_reason.empty() ? std::string() : "; " + o.inflation_reason));
+    h.push_back(o.inflate == 1.0
+                    ? "Inflation: x1 (the fitted figures as they are)"
+                    : "Inflation: x" + num(o.inflate) +
+                          " on every noise figure written (noise densities, random walks, standard deviations and bias "
+                          "driving densities; not on variances, which grow x" +
+                          num(o.inflate * o.inflate) + "); correlation times unchanged" +
+                          (o.inflation_reason.empty() ? std::string() : "; " + o.inflation_reason));
   h.push_back(units_line(r.columns));
   h.push_back(o.rate && (!same_rate || std::abs(*o.rate - f0) > 1e-9 * f0)
                   ? "Rate: " + num(r.rate) + " Hz (as given; the data: " + rates + ")"
@@ -348,10 +362,11 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
   for (const auto& a : r.columns)
     walk_as_bias = walk_as_bias || (simulates_bias(o.format) && a.gauss_markov.empty() && a.walk > 0.0);
   if (walk_as_bias)
-    h.push_back("Random walk as a bias: no exact form in the simulator's Gauss-Markov bias; written as a bias driven "
-                "by K with a correlation time " + num(kRandomWalkTimeRecords) +
-                " x the record's length (" + num(kRandomWalkFallbackTime) +
-                " s when unknown): over the record it drifts like the random walk to within 0.05%");
+    h.push_back(
+        "Random walk as a bias: no exact form in the simulator's Gauss-Markov bias; written as a bias driven "
+        "by K with a correlation time " +
+        num(kRandomWalkTimeRecords) + " x the record's length (" + num(kRandomWalkFallbackTime) +
+        " s when unknown): over the record it drifts like the random walk to within 0.05%");
   if (not_representable.empty()) {
     h.push_back(std::string("Not representable in ") + title(o.format) + ": none");
   } else {

@@ -61,11 +61,12 @@ std::string render_openvins(const ExportOptions& o, const ExportResult& r) {
   const WrittenNoise g = combined_or_zero(r, SensorKind::kGyro);
   const WrittenNoise a = combined_or_zero(r, SensorKind::kAccel);
   std::string out = "%YAML:1.0 # OpenCV FileStorage needs the directive on the first line\n";
-  out += header(r, {"OpenVINS kalibr_imu_chain.yaml (rpng/open_vins config/*/kalibr_imu_chain.yaml): the imu0 densities",
-                    "are continuous time (ov_msckf NoiseManager: sigma_w, sigma_wb, sigma_a, sigma_ab), the same",
-                    "convention as Kalibr; OpenVINS discretises them at the IMU's own sample times",
-                    "(https://docs.openvins.com/propagation.html). T_i_b is the identity and time_offset 0:",
-                    "replace them with your calibration."});
+  out +=
+      header(r, {"OpenVINS kalibr_imu_chain.yaml (rpng/open_vins config/*/kalibr_imu_chain.yaml): the imu0 densities",
+                 "are continuous time (ov_msckf NoiseManager: sigma_w, sigma_wb, sigma_a, sigma_ab), the same",
+                 "convention as Kalibr; OpenVINS discretises them at the IMU's own sample times",
+                 "(https://docs.openvins.com/propagation.html). T_i_b is the identity and time_offset 0:",
+                 "replace them with your calibration."});
   out += "imu0:\n";
   out += "  T_i_b:\n";
   for (int i = 0; i < 4; ++i) {
@@ -101,26 +102,29 @@ std::string render_vins(const ExportOptions& o, const ExportResult& r) {
   const double s = std::sqrt(r.rate);
   std::string out = "%YAML:1.0 # OpenCV FileStorage; paste the four fields into your VINS config\n";
   out += header(
-      r, {"VINS-Mono/VINS-Fusion IMU noise (config/euroc/euroc_config.yaml: \"measurement noise standard deviation\",",
-          "\"bias random work noise standard deviation\"): discrete values at the IMU rate R = " + num(r.rate) +
-              " Hz, from the",
-          "pre-integration (vins_estimator/src/factor/integration_base.h, midPointIntegration): each measurement's",
-          "noise has standard deviation acc_n / gyr_n, and a bias steps by acc_w dt / gyr_w dt per sample dt = 1/R.",
-          "So acc_n = N_a sqrt(R), gyr_n = N_g sqrt(R) (Kalibr's per-sample sigma_d) and acc_w = K_a sqrt(R),",
-          "gyr_w = K_g sqrt(R) (a random walk of density K steps by K sqrt(dt) = gyr_w dt). VINS's own example",
-          "values are inflated well beyond an Allan analysis (its authors tune them); --inflate does that explicitly."});
-  out += field("", "acc_n", real(a.noise_density * s),
-               "[m/s^2] accelerometer measurement noise standard deviation, N_a sqrt(R) (N_a = " + num(a.noise_density) +
-                   " m/s^2/sqrt(Hz))");
+      r,
+      {"VINS-Mono/VINS-Fusion IMU noise (config/euroc/euroc_config.yaml: \"measurement noise standard deviation\",",
+       "\"bias random work noise standard deviation\"): discrete values at the IMU rate R = " + num(r.rate) +
+           " Hz, from the",
+       "pre-integration (vins_estimator/src/factor/integration_base.h, midPointIntegration): each measurement's",
+       "noise has standard deviation acc_n / gyr_n, and a bias steps by acc_w dt / gyr_w dt per sample dt = 1/R.",
+       "So acc_n = N_a sqrt(R), gyr_n = N_g sqrt(R) (Kalibr's per-sample sigma_d) and acc_w = K_a sqrt(R),",
+       "gyr_w = K_g sqrt(R) (a random walk of density K steps by K sqrt(dt) = gyr_w dt). VINS's own example",
+       "values are inflated well beyond an Allan analysis (its authors tune them); --inflate does that explicitly."});
+  out +=
+      field("", "acc_n", real(a.noise_density * s),
+            "[m/s^2] accelerometer measurement noise standard deviation, N_a sqrt(R) (N_a = " + num(a.noise_density) +
+                " m/s^2/sqrt(Hz))");
   out += field("", "gyr_n", real(g.noise_density * s),
                "[rad/s] gyroscope measurement noise standard deviation, N_g sqrt(R) (N_g = " + num(g.noise_density) +
                    " rad/s/sqrt(Hz))");
   out += field("", "acc_w", real(a.random_walk * s),
                "[m/s^3] accelerometer bias random walk noise standard deviation, K_a sqrt(R) (K_a = " +
                    num(a.random_walk) + " m/s^3/sqrt(Hz))");
-  out += field("", "gyr_w", real(g.random_walk * s),
-               "[rad/s^2] gyroscope bias random walk noise standard deviation, K_g sqrt(R) (K_g = " +
-                   num(g.random_walk) + " rad/s^2/sqrt(Hz))");
+  out +=
+      field("", "gyr_w", real(g.random_walk * s),
+            "[rad/s^2] gyroscope bias random walk noise standard deviation, K_g sqrt(R) (K_g = " + num(g.random_walk) +
+                " rad/s^2/sqrt(Hz))");
   return out;
 }
 

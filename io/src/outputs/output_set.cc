@@ -132,9 +132,7 @@ std::string random_staged_name(const fs::path& dir, const std::string& filename)
 
 /// An unnamed file in `dir` (O_TMPFILE), or -1 with errno set. errno EOPNOTSUPP, EISDIR
 /// or EINVAL: the filesystem or the kernel does not offer O_TMPFILE.
-int open_invisible(const fs::path& dir) {
-  return ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
-}
+int open_invisible(const fs::path& dir) { return ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600); }
 
 bool no_invisible_files(int err) { return err == EOPNOTSUPP || err == EISDIR || err == EINVAL; }
 
@@ -340,9 +338,7 @@ void GzipOutput::finish() {
   state_->finished = true;
 }
 
-bool gzip_by_name(const std::string& path) {
-  return path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0;
-}
+bool gzip_by_name(const std::string& path) { return path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0; }
 
 // --- OutputSet -------------------------------------------------------------------------
 
@@ -357,11 +353,11 @@ struct OutputSet::Impl {
     std::string canonical;
   };
   struct Staged {
-    std::string path;       // the target
-    int fd = -1;            // the unnamed (O_TMPFILE) file, until commit() names it
-    std::string tmp;        // the named temporary file beside the target ("" while unnamed, and for standard output)
-    std::string content;    // standard output's bytes
-    int slot = -1;          // cleanup registration of tmp
+    std::string path;     // the target
+    int fd = -1;          // the unnamed (O_TMPFILE) file, until commit() names it
+    std::string tmp;      // the named temporary file beside the target ("" while unnamed, and for standard output)
+    std::string content;  // standard output's bytes
+    int slot = -1;        // cleanup registration of tmp
     bool to_stdout() const { return path == "-"; }
   };
 
@@ -414,7 +410,8 @@ void OutputSet::declare(const std::string& option, const std::string& path) {
   if (path == "-") {
     for (const auto& d : impl_->declared)
       if (d.path == "-")
-        throw InputError(what + ": " + d.option + " already writes to standard output; expected at most one "
+        throw InputError(what + ": " + d.option +
+                         " already writes to standard output; expected at most one "
                          "output on '-'");
     impl_->declared.push_back({option, path, path});
     return;

@@ -44,8 +44,7 @@ constexpr std::size_t kRowBuffer = 1 << 20;
 void check_signals(const std::vector<Signal>& signals, std::optional<double> freq) {
   if (freq) check_positive("write_signals", "freq", *freq);
   const std::size_t n = signals.empty() ? 0 : signals.front().values.size();
-  for (const Signal& s : signals)
-    check_size_match("write_signals", signals.front().name, n, s.name, s.values.size());
+  for (const Signal& s : signals) check_size_match("write_signals", signals.front().name, n, s.name, s.values.size());
 }
 
 }  // namespace
@@ -126,8 +125,7 @@ void stage_signals(OutputSet& outputs, const std::string& path, const std::vecto
   });
 }
 
-void write_signals(const std::string& path, const std::vector<Signal>& signals,
-                   std::optional<double> freq) {
+void write_signals(const std::string& path, const std::vector<Signal>& signals, std::optional<double> freq) {
   OutputSet outputs;
   outputs.declare("output", path);
   stage_signals(outputs, path, signals, freq);

@@ -11,12 +11,15 @@ namespace gmwm::io::detail {
 
 ColumnSink::ColumnSink(std::string path, std::vector<std::vector<double>>& columns, const ReadOptions& options,
                        SinkNouns nouns, StepStatistics* steps)
-    : path_(std::move(path)), columns_(columns), options_(options), nouns_(nouns), steps_(steps),
+    : path_(std::move(path)),
+      columns_(columns),
+      options_(options),
+      nouns_(nouns),
+      steps_(steps),
       budget_(options.memory_budget > 0.0 ? options.memory_budget : memory_budget_bytes()),
       max_rows_(budget_ > 0.0
-                    ? static_cast<std::int64_t>(
-                          budget_ / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(
-                                                          columns.size() + (steps ? 1 : 0), 1))))
+                    ? static_cast<std::int64_t>(budget_ / (kBytesPerValue * static_cast<double>(std::max<std::size_t>(
+                                                                                columns.size() + (steps ? 1 : 0), 1))))
                     : std::numeric_limits<std::int64_t>::max()) {}
 
 ColumnSink::~ColumnSink() = default;
@@ -26,10 +29,11 @@ std::size_t ColumnSink::rows_to_reserve(std::uint64_t rows) const {
 }
 
 void ColumnSink::spill(const std::string& where) {
-  const std::string limit = "the memory budget of " + std::to_string(static_cast<long long>(budget_ / 1e6)) + " MB" +
-                            (options_.memory_budget > 0.0 ? std::string()
-                                                          : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) +
-                                                                "% of this machine's memory)");
+  const std::string limit =
+      "the memory budget of " + std::to_string(static_cast<long long>(budget_ / 1e6)) + " MB" +
+      (options_.memory_budget > 0.0
+           ? std::string()
+           : " (" + std::to_string(static_cast<int>(100 * kMemoryShare)) + "% of this machine's memory)");
   if (!options_.spill)
     throw InputError(where + "found more than " + std::to_string(max_rows_) + " " + nouns_.rows + " of " +
                      std::to_string(columns_.size()) + " " + nouns_.columns +

@@ -99,13 +99,30 @@ std::string canonical(const std::string& unit) {
   std::string s;
   for (std::size_t i = 0; i < unit.size();) {
     auto starts = [&](const char* u) { return unit.compare(i, std::char_traits<char>::length(u), u) == 0; };
-    if (starts("\xC2\xB0")) { s += "deg"; i += 2; }            // degree sign
-    else if (starts("\xC2\xB5") || starts("\xCE\xBC")) { s += "u"; i += 2; }  // micro sign, mu
-    else if (starts("\xE2\x88\x9A")) { s += "sqrt"; i += 3; }  // square root sign
-    else if (starts("\xC2\xB2")) { s += "^2"; i += 2; }
-    else if (starts("\xC2\xB3")) { s += "^3"; i += 2; }
-    else if (std::isspace(static_cast<unsigned char>(unit[i]))) ++i;
-    else { s += static_cast<char>(std::tolower(static_cast<unsigned char>(unit[i]))); ++i; }
+    if (starts("\xC2\xB0")) {
+      s += "deg";
+      i += 2;
+    }  // degree sign
+    else if (starts("\xC2\xB5") || starts("\xCE\xBC")) {
+      s += "u";
+      i += 2;
+    }  // micro sign, mu
+    else if (starts("\xE2\x88\x9A")) {
+      s += "sqrt";
+      i += 3;
+    }  // square root sign
+    else if (starts("\xC2\xB2")) {
+      s += "^2";
+      i += 2;
+    } else if (starts("\xC2\xB3")) {
+      s += "^3";
+      i += 2;
+    } else if (std::isspace(static_cast<unsigned char>(unit[i])))
+      ++i;
+    else {
+      s += static_cast<char>(std::tolower(static_cast<unsigned char>(unit[i])));
+      ++i;
+    }
   }
   return s;
 }
@@ -132,7 +149,8 @@ std::optional<Dimension> factor(std::string t) {
       return std::nullopt;
     }
     t.erase(caret);
-  } else if (t.size() >= 2 && (t.back() == '2' || t.back() == '3') && std::isalpha(static_cast<unsigned char>(t[t.size() - 2]))) {
+  } else if (t.size() >= 2 && (t.back() == '2' || t.back() == '3') &&
+             std::isalpha(static_cast<unsigned char>(t[t.size() - 2]))) {
     power = t.back() - '0';
     t.pop_back();
   }
@@ -182,8 +200,8 @@ enum class Role { kWhite, kBias, kTime, kWalk };
 struct Key {
   const char* name;
   Role role;
-  int half_time;             // the dimension a figure of this role must have (time power x 2)
-  const char* meaning;       // for conversions and messages
+  int half_time;        // the dimension a figure of this role must have (time power x 2)
+  const char* meaning;  // for conversions and messages
 };
 
 struct SensorSpec {
@@ -201,7 +219,10 @@ struct SensorSpec {
 // Gyroscope figures have an angle in the numerator, accelerometer figures a length (a
 // velocity or an acceleration); both powers of time below are those of the SI units.
 const SensorSpec kSensors[] = {
-    {SensorKind::kGyro, "gyroscope", "gyro", Base::kAngle,
+    {SensorKind::kGyro,
+     "gyroscope",
+     "gyro",
+     Base::kAngle,
      {{"noise_density", Role::kWhite, -1, "white noise density"},
       {"angle_random_walk", Role::kWhite, -1, "angle random walk"},
       {"bias_instability", Role::kBias, -2, "bias instability B (IEEE 952: Allan deviation floor 0.664 B)"},
@@ -211,8 +232,13 @@ const SensorSpec kSensors[] = {
       {"random_walk", Role::kWalk, -3, "rate random walk"}},
      "noise_density 0.05 deg/s/sqrt(Hz) or angle_random_walk 2 deg/sqrt(h); bias 0.007 deg/s or 25 deg/h; "
      "bias_correlation_time 100 s; rate_random_walk 10 deg/h/sqrt(h)",
-     "rad/s/sqrt(Hz)", "rad/s", "rad/s^2/sqrt(Hz)"},
-    {SensorKind::kAccel, "accelerometer", "accel", Base::kLength,
+     "rad/s/sqrt(Hz)",
+     "rad/s",
+     "rad/s^2/sqrt(Hz)"},
+    {SensorKind::kAccel,
+     "accelerometer",
+     "accel",
+     Base::kLength,
      {{"noise_density", Role::kWhite, -3, "white noise density"},
       {"velocity_random_walk", Role::kWhite, -3, "velocity random walk"},
       {"bias_instability", Role::kBias, -4, "bias instability B (IEEE 952: Allan deviation floor 0.664 B)"},
@@ -222,7 +248,9 @@ const SensorSpec kSensors[] = {
       {"random_walk", Role::kWalk, -5, "acceleration random walk"}},
      "noise_density 150 ug/sqrt(Hz) or velocity_random_walk 0.2 m/s/sqrt(h); bias 0.2 mg; "
      "bias_correlation_time 100 s; acceleration_random_walk 0.05 m/s^2/sqrt(h)",
-     "m/s^2/sqrt(Hz)", "m/s^2", "m/s^3/sqrt(Hz)"},
+     "m/s^2/sqrt(Hz)",
+     "m/s^2",
+     "m/s^3/sqrt(Hz)"},
 };
 
 struct Figure {
@@ -253,7 +281,8 @@ Figure read_figure(const YAML::Node& value, const Key& key, const SensorSpec& s,
   bool out_of_range = false;
   const std::optional<double> v = detail::decimal(number, out_of_range);
   if (out_of_range) throw InputError(where + ": " + name + ": found " + number + ", beyond the range of a double");
-  if (!v) throw InputError(where + ": " + name + ": found '" + text + "', expected a number and a unit (" + s.examples + ")");
+  if (!v)
+    throw InputError(where + ": " + name + ": found '" + text + "', expected a number and a unit (" + s.examples + ")");
   if (*v < 0.0 || (key.role == Role::kTime && *v == 0.0))
     throw InputError(where + ": " + name + ": found " + number + ", expected " +
                      (key.role == Role::kTime ? "a positive time" : "a non-negative figure"));
@@ -352,7 +381,7 @@ double scale_for_b(const BiasShape& shape, double B) {
 
 std::string bias_spec(const BiasShape& shape, double c) {
   return shape.gauss_markov ? "AR1(phi=" + exact(shape.unit_theta(0)) + ",sigma2=" + exact(c) + ")"
-             : "FLICKER(B2=" + exact(c) + ")";
+                            : "FLICKER(B2=" + exact(c) + ")";
 }
 
 struct SensorFigures {
@@ -375,12 +404,13 @@ SensorFigures read_sensor(const YAML::Node& node, const SensorSpec& s, const std
                                   : k->role == Role::kTime ? f.time
                                                            : f.walk;
     if (slot)
-      throw InputError(where + ": " + std::string(s.key) + "." + key + " and " + s.key + "." + slot->key +
-                       " (" + slot->where + ") give the same figure twice: keep one");
+      throw InputError(where + ": " + std::string(s.key) + "." + key + " and " + s.key + "." + slot->key + " (" +
+                       slot->where + ") give the same figure twice: keep one");
     slot = std::move(fig);
   }
   if (f.time && !f.bias)
-    throw InputError(f.time->where + ": " + s.key + ".bias_correlation_time without a bias figure (give "
+    throw InputError(f.time->where + ": " + s.key +
+                     ".bias_correlation_time without a bias figure (give "
                      "bias_instability or in_run_bias_stability)");
   return f;
 }
@@ -402,17 +432,18 @@ std::string sensor_model(const SensorFigures& fig, const SensorSpec& s, double f
   if (fig.white && fig.white->si > 0.0) {
     const double N = fig.white->si * u.per_si, sigma2 = N * N * f;
     check_representable(sigma2, *fig.white, s, "WN sigma2 per sample");
-    lines.push_back(written(*fig.white) + " = " + g(fig.white->si) + " " + s.density_si + " -> WN sigma2 = N^2 f = " +
-                    g(sigma2) + " (" + un + ")^2 per sample at f = " + g(f) + " Hz");
+    lines.push_back(written(*fig.white) + " = " + g(fig.white->si) + " " + s.density_si +
+                    " -> WN sigma2 = N^2 f = " + g(sigma2) + " (" + un + ")^2 per sample at f = " + g(f) + " Hz");
     spec_wn = "WN(sigma2=" + exact(sigma2) + ")";
   } else {
-    lines.push_back(fig.white ? written(*fig.white) + ": no white noise term" : "no white noise figure: no white noise term");
+    lines.push_back(fig.white ? written(*fig.white) + ": no white noise term"
+                              : "no white noise figure: no white noise term");
   }
   if (fig.walk && fig.walk->si > 0.0) {
     const double K = fig.walk->si * u.per_si, gamma2 = K * K / f;
     check_representable(gamma2, *fig.walk, s, "RW gamma2 per sample");
-    lines.push_back(written(*fig.walk) + " = " + g(fig.walk->si) + " " + s.walk_si + " -> RW gamma2 = K^2 / f = " +
-                    g(gamma2) + " (" + un + ")^2 per sample");
+    lines.push_back(written(*fig.walk) + " = " + g(fig.walk->si) + " " + s.walk_si +
+                    " -> RW gamma2 = K^2 / f = " + g(gamma2) + " (" + un + ")^2 per sample");
     spec_rw = "RW(gamma2=" + exact(gamma2) + ")";
   }
   std::string spec_bias;
@@ -442,20 +473,22 @@ std::string sensor_model(const SensorFigures& fig, const SensorSpec& s, double f
       how = "sized so that the whole Allan deviation (white noise + bias + random walk) has its minimum at " +
             g(fig.bias->value) + " " + fig.bias->unit;
       if (c == 0.0)
-        lines.push_back(written(*fig.bias) + ": the white noise and random walk alone never fall to this minimum "
+        lines.push_back(written(*fig.bias) +
+                        ": the white noise and random walk alone never fall to this minimum "
                         "(their Allan deviation stays above it): no bias term");
     } else {
       c = scale_for_b(shape, b);
-      how = fig.time ? "sized so that its Allan deviation peaks at 0.664 B = " + g(kFlickerFloorPerB * fig.bias->value) +
-                           " " + fig.bias->unit + " (IEEE 952's flicker floor for B)"
-                     : "B2 = B^2: Allan deviation floor 0.664 B = " + g(kFlickerFloorPerB * fig.bias->value) + " " +
-                           fig.bias->unit;
+      how = fig.time
+                ? "sized so that its Allan deviation peaks at 0.664 B = " + g(kFlickerFloorPerB * fig.bias->value) +
+                      " " + fig.bias->unit + " (IEEE 952's flicker floor for B)"
+                : "B2 = B^2: Allan deviation floor 0.664 B = " + g(kFlickerFloorPerB * fig.bias->value) + " " +
+                      fig.bias->unit;
     }
     if (c > 0.0) {
       check_representable(c, *fig.bias, s, "a bias variance");
       spec_bias = bias_spec(shape, c);
-      lines.push_back(written(*fig.bias) + (fig.time ? ", " + written(*fig.time) : std::string()) + " -> " + shape.text +
-                      (fig.time ? ", sigma2 = " : ", B2 = ") + g(c) + " (" + un + ")^2" +
+      lines.push_back(written(*fig.bias) + (fig.time ? ", " + written(*fig.time) : std::string()) + " -> " +
+                      shape.text + (fig.time ? ", sigma2 = " : ", B2 = ") + g(c) + " (" + un + ")^2" +
                       (fig.time ? " per sample " + rate : std::string()) + ", " + how);
     }
   }
@@ -475,10 +508,14 @@ std::string written_value(double x) { return g(x, kWrittenDigits); }
 const char* common_unit(Role role, SensorKind kind) {
   const bool gyro = kind == SensorKind::kGyro;
   switch (role) {
-    case Role::kWhite: return gyro ? "deg/s/sqrt(Hz)" : "ug/sqrt(Hz)";
-    case Role::kBias: return gyro ? "deg/h" : "mg";
-    case Role::kTime: return "s";
-    case Role::kWalk: return gyro ? "deg/h/sqrt(h)" : "m/s^2/sqrt(h)";
+    case Role::kWhite:
+      return gyro ? "deg/s/sqrt(Hz)" : "ug/sqrt(Hz)";
+    case Role::kBias:
+      return gyro ? "deg/h" : "mg";
+    case Role::kTime:
+      return "s";
+    case Role::kWalk:
+      return gyro ? "deg/h/sqrt(h)" : "m/s^2/sqrt(h)";
   }
   return "";
 }
@@ -493,7 +530,8 @@ SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path,
                                const std::map<SensorKind, Unit>& units) {
   const YAML::Node root = detail::load_yaml(text, path);
   if (!root.IsMap())
-    throw InputError(path + ": expected a datasheet yaml: 'gyroscope:' and/or 'accelerometer:' maps of figures "
+    throw InputError(path +
+                     ": expected a datasheet yaml: 'gyroscope:' and/or 'accelerometer:' maps of figures "
                      "such as 'noise_density: 0.05 deg/s/sqrt(Hz)'");
   detail::check_unique_keys(root, path);
   SimConfig c;
@@ -513,9 +551,9 @@ SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path,
     if (s == std::end(kSensors))
       throw InputError(where + ": unknown key '" + key + "' (expected gyroscope, accelerometer or name)");
     if (read.count(s->kind))
-      throw InputError(where + ": " + key + ": the " + s->key + " is given twice (" + s->key + " and " + s->alias + ")");
-    if (!kv.second.IsMap())
-      throw InputError(where + ": " + key + ": expected a map of figures (" + s->examples + ")");
+      throw InputError(where + ": " + key + ": the " + s->key + " is given twice (" + s->key + " and " + s->alias +
+                       ")");
+    if (!kv.second.IsMap()) throw InputError(where + ": " + key + ": expected a map of figures (" + s->examples + ")");
     read[s->kind] = read_sensor(kv.second, *s, path);
   }
   if (read.empty()) throw InputError(path + ": no gyroscope or accelerometer figures");
@@ -574,13 +612,21 @@ std::string write_datasheet_yaml(const SimConfig& input, const std::map<SensorKi
       const std::string unit = in ? in->unit : common_unit(role, s.kind);
       double si = 0.0;
       switch (role) {
-        case Role::kWhite: si = d.white; if (!in) key = "noise_density"; break;
+        case Role::kWhite:
+          si = d.white;
+          if (!in) key = "noise_density";
+          break;
         case Role::kBias:
           if (!in) key = "bias_instability";
           si = key == "in_run_bias_stability" ? in_run_stability(d, freq) : d.instability;
           break;
-        case Role::kTime: si = in && bias_written ? d.correlation_time : 0.0; break;
-        case Role::kWalk: si = d.walk; if (!in) key = s.kind == SensorKind::kGyro ? "rate_random_walk" : "acceleration_random_walk"; break;
+        case Role::kTime:
+          si = in && bias_written ? d.correlation_time : 0.0;
+          break;
+        case Role::kWalk:
+          si = d.walk;
+          if (!in) key = s.kind == SensorKind::kGyro ? "rate_random_walk" : "acceleration_random_walk";
+          break;
       }
       if (!(si > 0.0) && (!in || role == Role::kTime)) continue;
       const std::optional<Dimension> dim = dimension(unit);

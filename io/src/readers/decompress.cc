@@ -53,9 +53,10 @@ std::string ChunkBudget::add(std::uint64_t stored, std::uint64_t size) {
   if (inflation_exceeds(stored_, size_)) {
     char ratio[32];
     std::snprintf(ratio, sizeof ratio, "%.0f", kMaxInflationRatio);
-    return "claims " + size_text(size) + " uncompressed from " + size_text(stored) + ", which brings the file's chunks to " +
-           size_text(size_) + " from " + size_text(stored_) + ": more than " + ratio + " times their compressed size past " +
-           std::to_string(kInflationRatioFloorBytes >> 20) + " MiB (a decompression bomb?), expected compressed messages";
+    return "claims " + size_text(size) + " uncompressed from " + size_text(stored) +
+           ", which brings the file's chunks to " + size_text(size_) + " from " + size_text(stored_) + ": more than " +
+           ratio + " times their compressed size past " + std::to_string(kInflationRatioFloorBytes >> 20) +
+           " MiB (a decompression bomb?), expected compressed messages";
   }
   return {};
 }
@@ -75,10 +76,11 @@ ByteBuffer decompress(Compression c, const unsigned char* in, std::size_t n, std
   switch (c) {
     case Compression::kBz2: {
       auto dest = static_cast<unsigned int>(size);
-      const int rc = size > 0xffffffffull ? BZ_OUTBUFF_FULL
-                                          : BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &dest,
-                                                                       const_cast<char*>(reinterpret_cast<const char*>(in)),
-                                                                       static_cast<unsigned int>(n), 0, 0);
+      const int rc = size > 0xffffffffull
+                         ? BZ_OUTBUFF_FULL
+                         : BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &dest,
+                                                      const_cast<char*>(reinterpret_cast<const char*>(in)),
+                                                      static_cast<unsigned int>(n), 0, 0);
       ok = rc == BZ_OK && dest == size;
       if (!ok)
         error = "bz2 data does not decompress to its " + size_text(size) + " (libbz2 code " + std::to_string(rc) +

@@ -35,8 +35,10 @@ std::size_t count_unquoted(std::string_view s, char c) {
   std::size_t n = 0;
   bool in_quotes = false;
   for (char ch : s) {
-    if (ch == '"') in_quotes = !in_quotes;
-    else if (ch == c && !in_quotes) ++n;
+    if (ch == '"')
+      in_quotes = !in_quotes;
+    else if (ch == c && !in_quotes)
+      ++n;
   }
   return n;
 }
@@ -45,10 +47,14 @@ std::size_t count_unquoted(std::string_view s, char c) {
 
 std::string delimiter_name(Delimiter d) {
   switch (d) {
-    case Delimiter::kComma: return "comma";
-    case Delimiter::kTab: return "tab";
-    case Delimiter::kSemicolon: return "semicolon";
-    case Delimiter::kWhitespace: return "whitespace";
+    case Delimiter::kComma:
+      return "comma";
+    case Delimiter::kTab:
+      return "tab";
+    case Delimiter::kSemicolon:
+      return "semicolon";
+    case Delimiter::kWhitespace:
+      return "whitespace";
   }
   return "?";
 }
@@ -153,9 +159,12 @@ std::vector<std::string_view> split_fields(std::string_view line, Delimiter d) {
   }
 }
 
-RowParser::RowParser(std::string path, Delimiter d, std::vector<FieldPlan> plan,
-                     std::vector<std::string> names, int value_slots)
-    : path_(std::move(path)), delim_(d), plan_(std::move(plan)), names_(std::move(names)),
+RowParser::RowParser(std::string path, Delimiter d, std::vector<FieldPlan> plan, std::vector<std::string> names,
+                     int value_slots)
+    : path_(std::move(path)),
+      delim_(d),
+      plan_(std::move(plan)),
+      names_(std::move(names)),
       values_(static_cast<std::size_t>(value_slots)) {}
 
 void RowParser::reserve(std::size_t rows) {
@@ -166,10 +175,18 @@ void RowParser::parse(std::string_view line, std::int64_t line_number) {
   const char* p = line.data();
   const char* e = p + line.size();
   switch (delim_) {
-    case Delimiter::kComma: parse_delimited<','>(p, e, line_number); break;
-    case Delimiter::kTab: parse_delimited<'\t'>(p, e, line_number); break;
-    case Delimiter::kSemicolon: parse_delimited<';'>(p, e, line_number); break;
-    case Delimiter::kWhitespace: parse_whitespace(p, e, line_number); break;
+    case Delimiter::kComma:
+      parse_delimited<','>(p, e, line_number);
+      break;
+    case Delimiter::kTab:
+      parse_delimited<'\t'>(p, e, line_number);
+      break;
+    case Delimiter::kSemicolon:
+      parse_delimited<';'>(p, e, line_number);
+      break;
+    case Delimiter::kWhitespace:
+      parse_whitespace(p, e, line_number);
+      break;
   }
   ++rows_;
 }
@@ -238,8 +255,7 @@ void RowParser::parse_whitespace(const char* p, const char* e, std::int64_t line
   if (p != e) fail_count(line_number, n, true, std::string_view(p, static_cast<std::size_t>(e - p)));
 }
 
-void RowParser::store(const FieldPlan& f, const char* b, const char* e, std::int64_t line_number,
-                      std::size_t field) {
+void RowParser::store(const FieldPlan& f, const char* b, const char* e, std::int64_t line_number, std::size_t field) {
   if (f.kind == FieldPlan::kTime) {
     store_time(b, e, line_number, field);
     return;
@@ -251,8 +267,7 @@ void RowParser::store(const FieldPlan& f, const char* b, const char* e, std::int
   values_[static_cast<std::size_t>(f.slot)].push_back(v);
 }
 
-void RowParser::store_time(const char* b, const char* e, std::int64_t line_number,
-                           std::size_t field) {
+void RowParser::store_time(const char* b, const char* e, std::int64_t line_number, std::size_t field) {
   const std::string_view text = trim(std::string_view(b, static_cast<std::size_t>(e - b)));
   // Integer times first: nanoseconds since 1970 (~1.7e18) exceed a double's 2^53, but
   // their differences, taken in 64-bit integers, are exact.
@@ -279,8 +294,7 @@ void RowParser::store_time(const char* b, const char* e, std::int64_t line_numbe
 
 void RowParser::fail_cell(std::int64_t line_number, std::size_t field, std::string_view text,
                           NumberStatus status) const {
-  const std::string where = path_ + ":" + std::to_string(line_number) + ":" +
-                            std::to_string(field + 1) + ": ";
+  const std::string where = path_ + ":" + std::to_string(line_number) + ":" + std::to_string(field + 1) + ": ";
   const std::string col = " in column '" + names_[field] + "'";
   switch (status) {
     case NumberStatus::kEmpty:
@@ -289,19 +303,16 @@ void RowParser::fail_cell(std::int64_t line_number, std::size_t field, std::stri
       throw InputError(where + "found " + quoted(text) + col +
                        ", expected a finite number (NaN and Inf are not allowed)");
     case NumberStatus::kOutOfRange:
-      throw InputError(where + "found " + quoted(text) + col +
-                       ", expected a number within the range of a double");
+      throw InputError(where + "found " + quoted(text) + col + ", expected a number within the range of a double");
     default: {
-      const bool decimal_comma =
-          delim_ != Delimiter::kComma && text.find(',') != std::string_view::npos;
+      const bool decimal_comma = delim_ != Delimiter::kComma && text.find(',') != std::string_view::npos;
       throw InputError(where + "found " + quoted(text) + col + ", expected a number" +
                        (decimal_comma ? " (with '.' as the decimal separator)" : ""));
     }
   }
 }
 
-void RowParser::fail_count(std::int64_t line_number, std::size_t found, bool too_many,
-                           std::string_view extra) const {
+void RowParser::fail_count(std::int64_t line_number, std::size_t found, bool too_many, std::string_view extra) const {
   const std::size_t n = plan_.size();
   const std::string head = path_ + ":" + std::to_string(line_number) + ":";
   if (!too_many) {  // name the first missing column
@@ -310,9 +321,8 @@ void RowParser::fail_count(std::int64_t line_number, std::size_t found, bool too
                      " like the header (no value for column '" + names_[found] + "')");
   }
   const std::size_t total = n + split_fields(extra, delim_).size();
-  throw InputError(head + std::to_string(n + 1) + ": found " + std::to_string(total) +
-                   " fields, expected " + std::to_string(n) + " like the header (extra value " +
-                   quoted(trim(extra)) + ")");
+  throw InputError(head + std::to_string(n + 1) + ": found " + std::to_string(total) + " fields, expected " +
+                   std::to_string(n) + " like the header (extra value " + quoted(trim(extra)) + ")");
 }
 
 }  // namespace gmwm::io::detail

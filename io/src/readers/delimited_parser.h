@@ -45,8 +45,8 @@ struct FieldPlan {
 class RowParser {
  public:
   /// `names` are the header names (used in error messages); `plan` has one entry per field.
-  RowParser(std::string path, Delimiter d, std::vector<FieldPlan> plan,
-            std::vector<std::string> names, int value_slots);
+  RowParser(std::string path, Delimiter d, std::vector<FieldPlan> plan, std::vector<std::string> names,
+            int value_slots);
 
   /// Parses one data row; throws InputError naming the line and column on bad cells or a
   /// wrong number of fields.
@@ -69,8 +69,7 @@ class RowParser {
   template <char kDelim>
   void parse_delimited(const char* p, const char* e, std::int64_t line_number);
   void parse_whitespace(const char* p, const char* e, std::int64_t line_number);
-  void store(const FieldPlan& f, const char* b, const char* e, std::int64_t line_number,
-             std::size_t field);
+  void store(const FieldPlan& f, const char* b, const char* e, std::int64_t line_number, std::size_t field);
   void store_time(const char* b, const char* e, std::int64_t line_number, std::size_t field);
   [[noreturn]] void fail_cell(std::int64_t line_number, std::size_t field, std::string_view text,
                               NumberStatus status) const;

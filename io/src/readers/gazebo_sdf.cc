@@ -163,8 +163,7 @@ class Reader {
                             std::vector<std::string>& lines) const;
   void gz_kind(const XMLElement* imu, const Kind& k, SimConfig& c) const;
   void rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) const;
-  std::string gm_text(const GaussMarkov& gm, const std::string& symbol, const std::string& per,
-                      const Unit& u) const;
+  std::string gm_text(const GaussMarkov& gm, const std::string& symbol, const std::string& per, const Unit& u) const;
 
   std::string path_;
   double f_;
@@ -184,8 +183,7 @@ std::string field_unit(const std::string& where) {
   if (ends("correlation_time") || ends("CorrelationTime")) return "s";
   for (const Kind& k : kKinds) {
     if (where.rfind(k.sdf, 0) == 0) return ends("dynamic_bias_stddev") ? k.drive : k.si;
-    if (where.rfind(k.rotors, 0) == 0)
-      return ends("NoiseDensity") ? k.white : ends("RandomWalk") ? k.drive : k.si;
+    if (where.rfind(k.rotors, 0) == 0) return ends("NoiseDensity") ? k.white : ends("RandomWalk") ? k.drive : k.si;
   }
   return "";
 }
@@ -234,10 +232,10 @@ NoiseBlock Reader::noise_block(const XMLElement* noise, const std::string& where
 
 std::string Reader::gm_text(const GaussMarkov& gm, const std::string& symbol, const std::string& per,
                             const Unit& u) const {
-  return " -> first-order Gauss-Markov: AR1 phi = exp(-1/(f T)) = " + g(gm.phi, 10) +
-         ", innovation variance (" + symbol + per + ")^2 (T/2)(1 - exp(-2/(f T))) = " + g(gm.innovation) + " (" +
-         u.name + ")^2 per sample, stationary variance (" + symbol + per + ")^2 T/2 = " + g(gm.stationary) + " (" +
-         u.name + ")^2 (sd " + g(std::sqrt(gm.stationary)) + " " + u.name + ") at f = " + g(f_) + " Hz";
+  return " -> first-order Gauss-Markov: AR1 phi = exp(-1/(f T)) = " + g(gm.phi, 10) + ", innovation variance (" +
+         symbol + per + ")^2 (T/2)(1 - exp(-2/(f T))) = " + g(gm.innovation) + " (" + u.name +
+         ")^2 per sample, stationary variance (" + symbol + per + ")^2 T/2 = " + g(gm.stationary) + " (" + u.name +
+         ")^2 (sd " + g(std::sqrt(gm.stationary)) + " " + u.name + ") at f = " + g(f_) + " Hz";
 }
 
 // One line per figure of the block; returns the model spec ("" without any term).
@@ -255,13 +253,13 @@ std::string Reader::convert_noise(const NoiseBlock& b, const Kind& k, const std:
   if (sb > 0.0 && !(T > 0.0))
     throw InputError(at(b.dyn_stddev->line) + b.where + "/dynamic_bias_stddev = " + g(sb) +
                      " needs a positive dynamic_bias_correlation_time (the time constant T, in s, of the "
-                     "Gauss-Markov bias it drives), found " + (b.dyn_time ? "0" : "none") +
-                     " (gz-sensors would drop the dynamic bias silently)");
+                     "Gauss-Markov bias it drives), found " +
+                     (b.dyn_time ? "0" : "none") + " (gz-sensors would drop the dynamic bias silently)");
   const bool dynamic = sb > 0.0;
-  const std::string transient =
-      dynamic ? "; gz-sensors starts the dynamic bias from it, so it decays over T = " + g(T) +
-                    " s: a slow transient the stationary baseline leaves out"
-              : "";
+  const std::string transient = dynamic
+                                    ? "; gz-sensors starts the dynamic bias from it, so it decays over T = " + g(T) +
+                                          " s: a slow transient the stationary baseline leaves out"
+                                    : "";
   if (b.mean)
     lines.push_back(b.mean->value == 0.0 ? L + "mean = 0: no offset"
                                          : L + "mean = " + g(b.mean->value) + " " + k.si +
@@ -271,13 +269,15 @@ std::string Reader::convert_noise(const NoiseBlock& b, const Kind& k, const std:
                         ? L + "bias_mean = 0: no turn-on bias mean"
                         : L + "bias_mean = " + g(b.bias_mean->value) + " " + k.si +
                               ": the mean of the turn-on bias (drawn once, random sign), a constant, invisible to "
-                              "the Haar WV: no term" + transient);
+                              "the Haar WV: no term" +
+                              transient);
   if (b.bias_stddev)
     lines.push_back(b.bias_stddev->value == 0.0
                         ? L + "bias_stddev = 0: no turn-on bias spread"
                         : L + "bias_stddev = " + g(b.bias_stddev->value) + " " + k.si +
                               ": the spread of the turn-on bias (drawn once), a constant, invisible to the Haar "
-                              "WV: no term" + transient);
+                              "WV: no term" +
+                              transient);
   double white = 0.0, rounding = 0.0;
   const double s = value_or_zero(b.stddev);
   if (b.stddev) {
@@ -312,8 +312,8 @@ std::string Reader::convert_noise(const NoiseBlock& b, const Kind& k, const std:
   if (dynamic) {
     const GaussMarkov gm = gauss_markov(sb * u.per_si, T, f_);
     lines.push_back(L + "dynamic_bias_stddev = " + g(sb) + " " + k.drive +
-                    " (a driving density, not the stationary deviation) with dynamic_bias_correlation_time = " +
-                    g(T) + " s" + gm_text(gm, "sigma_b", per, u));
+                    " (a driving density, not the stationary deviation) with dynamic_bias_correlation_time = " + g(T) +
+                    " s" + gm_text(gm, "sigma_b", per, u));
     spec = "AR1(phi=" + exact(gm.phi) + ",sigma2=" + exact(gm.innovation) + ")";
   } else if (b.dyn_stddev) {
     lines.push_back(L + "dynamic_bias_stddev = 0: no dynamic bias" +
@@ -387,8 +387,8 @@ void Reader::rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) 
     lines.push_back(n_name + " = 0: no white noise term");
   } else {
     const double sigma2 = (N->value * u.per_si) * (N->value * u.per_si) * f_;
-    lines.push_back(n_name + " = " + g(N->value) + " " + k.white + " -> WN sigma2 = (N" + per + ")^2 x f = " +
-                    g(sigma2) + " (" + u.name + ")^2 per sample at f = " + g(f_) + " Hz");
+    lines.push_back(n_name + " = " + g(N->value) + " " + k.white + " -> WN sigma2 = (N" + per +
+                    ")^2 x f = " + g(sigma2) + " (" + u.name + ")^2 per sample at f = " + g(f_) + " Hz");
     wn = "WN(sigma2=" + exact(sigma2) + ")";
   }
   if (!K) {
@@ -449,8 +449,7 @@ SimConfig Reader::read() const {
     std::string others;
     for (std::size_t i = 1; i < sources.size(); ++i) others += (i > 1 ? ", " : "") + describe(sources[i]);
     c.notes.push_back("the file has " + std::to_string(sources.size()) +
-                      " IMU noise sources: the baseline is the first, " +
-                      describe(used) + "; not used: " + others);
+                      " IMU noise sources: the baseline is the first, " + describe(used) + "; not used: " + others);
   }
   c.fields = fields_;
   return c;
@@ -469,10 +468,14 @@ SimConfig parse_gazebo_sdf(const std::string& text, const std::string& name, dou
 
 const char* to_string(SimFormat f) {
   switch (f) {
-    case SimFormat::kKalibr: return "kalibr";
-    case SimFormat::kGzSensors: return "gz-sdf";
-    case SimFormat::kRotors: return "rotors";
-    case SimFormat::kDatasheet: return "datasheet";
+    case SimFormat::kKalibr:
+      return "kalibr";
+    case SimFormat::kGzSensors:
+      return "gz-sdf";
+    case SimFormat::kRotors:
+      return "rotors";
+    case SimFormat::kDatasheet:
+      return "datasheet";
   }
   return "kalibr";
 }

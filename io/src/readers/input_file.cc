@@ -50,12 +50,13 @@ void InputFile::read(std::uint64_t offset, void* out, std::size_t n) const {
     const ssize_t r = ::pread(fd_, p, left, static_cast<off_t>(at));
     if (r < 0 && errno == EINTR) continue;
     if (r < 0)
-      throw InputError(path_ + ": cannot read " + std::to_string(n) + " bytes at byte " + std::to_string(offset) + ": " +
-                       std::strerror(errno));
+      throw InputError(path_ + ": cannot read " + std::to_string(n) + " bytes at byte " + std::to_string(offset) +
+                       ": " + std::strerror(errno));
     if (r == 0) {
       // Nothing at `at`: the file ends there or before (fstat says where, now).
       struct stat st {};
-      const std::uint64_t now = ::fstat(fd_, &st) == 0 ? std::min<std::uint64_t>(static_cast<std::uint64_t>(st.st_size), at) : at;
+      const std::uint64_t now =
+          ::fstat(fd_, &st) == 0 ? std::min<std::uint64_t>(static_cast<std::uint64_t>(st.st_size), at) : at;
       throw InputError(path_ + ": the file ends at byte " + std::to_string(now) + ", expected " + std::to_string(n) +
                        " bytes at byte " + std::to_string(offset) + " (it was " + std::to_string(size_) +
                        " bytes when opened: it shrank while being read)");

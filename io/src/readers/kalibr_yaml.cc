@@ -62,12 +62,11 @@ YAML::Node imu_node(const YAML::Node& root, const std::string& path, const std::
   if (!imu.empty()) {
     if (std::find(chain.begin(), chain.end(), imu) == chain.end())
       throw InputError(path + ": no IMU '" + imu + "' in this file" +
-                       (chain.empty() ? std::string(" (a single imu.yaml: give the file alone)")
-                                      : " (it has " + [&] {
-                                          std::string l;
-                                          for (const auto& c : chain) l += (l.empty() ? "" : ", ") + c;
-                                          return l;
-                                        }() + ")"));
+                       (chain.empty() ? std::string(" (a single imu.yaml: give the file alone)") : " (it has " + [&] {
+                         std::string l;
+                         for (const auto& c : chain) l += (l.empty() ? "" : ", ") + c;
+                         return l;
+                       }() + ")"));
     return root[imu];
   }
   if (chain.empty()) return root;
@@ -112,18 +111,18 @@ SimConfig parse_kalibr_imu_yaml(const std::string& text_in, const std::string& p
     const std::string found = v.IsScalar() ? v.Scalar() : std::string(v.IsMap() ? "a map" : "a list");
     bool out_of_range = false;
     const std::optional<double> x = v.IsScalar() ? decimal(trim(found), out_of_range) : std::nullopt;
-    if (out_of_range)
-      throw InputError(where + ": " + key + ": found " + found + ", beyond the range of a double");
+    if (out_of_range) throw InputError(where + ": " + key + ": found " + found + ", beyond the range of a double");
     if (!x) throw InputError(where + ": " + key + ": found '" + found + "', expected a number");
     if (*x < 0.0 || (std::string(key) == "update_rate" && *x == 0.0))
       throw InputError(where + ": " + key + ": found " + found + ", expected " +
                        (std::string(key) == "update_rate" ? "a positive rate in Hz" : "a non-negative noise figure"));
     figures[key] = {*x, mark.line + 1};
   }
-  for (const char* k : {"accelerometer_noise_density", "accelerometer_random_walk", "gyroscope_noise_density",
-                        "gyroscope_random_walk"})
-    if (!figures.count(k)) throw InputError(path + (imu.empty() ? "" : ":" + imu) + ": missing " + std::string(k) +
-                                            " (a Kalibr imu.yaml gives the four noise figures and update_rate)");
+  for (const char* k :
+       {"accelerometer_noise_density", "accelerometer_random_walk", "gyroscope_noise_density", "gyroscope_random_walk"})
+    if (!figures.count(k))
+      throw InputError(path + (imu.empty() ? "" : ":" + imu) + ": missing " + std::string(k) +
+                       " (a Kalibr imu.yaml gives the four noise figures and update_rate)");
   SimConfig c;
   c.source = "Kalibr imu.yaml (" + path + (imu.empty() ? "" : ", " + imu) + ")";
   c.format = SimFormat::kKalibr;

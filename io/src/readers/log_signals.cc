@@ -30,8 +30,12 @@ std::vector<std::size_t> picked(const std::string& path, const std::string& what
 }  // namespace
 
 LogColumns::LogColumns(std::string path, std::string what, std::vector<LogAxis> axes, const ReadOptions& options)
-    : path_(std::move(path)), what_(std::move(what)), axes_(std::move(axes)), options_(options),
-      pick_(picked(path_, what_, axes_, options)), columns_(pick_.size()),
+    : path_(std::move(path)),
+      what_(std::move(what)),
+      axes_(std::move(axes)),
+      options_(options),
+      pick_(picked(path_, what_, axes_, options)),
+      columns_(pick_.size()),
       sink_(path_, columns_, options, SinkNouns{"messages", "axes", "read fewer axes with --columns"}, &steps_) {}
 
 void LogColumns::reserve(std::uint64_t messages) {

@@ -89,8 +89,8 @@ class Reader {
     const auto len = get<std::uint32_t>(what);
     if (!ok_) return {};
     if (!fits(pos_, len, n_)) {
-      fail(std::string("its ") + what + " (a string of " + std::to_string(len) + " bytes at byte " + std::to_string(pos_) +
-           " of it) runs past its " + std::to_string(n_) + " bytes");
+      fail(std::string("its ") + what + " (a string of " + std::to_string(len) + " bytes at byte " +
+           std::to_string(pos_) + " of it) runs past its " + std::to_string(n_) + " bytes");
       return {};
     }
     std::string s(reinterpret_cast<const char*>(p_ + pos_), len);
@@ -129,7 +129,7 @@ struct TopicState {
                                    // IMU topics and no --topic: the read will be refused)
   std::string error;
   std::string encoding;
-  std::int64_t messages = 0;       // gathered so far
+  std::int64_t messages = 0;  // gathered so far
 };
 
 class McapPass {
@@ -151,13 +151,20 @@ class McapPass {
       std::uint64_t len;
       std::memcpy(&len, data + at + 1, 8);
       if (len > n - at - kRecordHead)
-        throw InputError(path_ + ": " + place(offset, in_chunk) + "record of " + std::to_string(len) + " bytes runs past the end of the " +
-                         (in_chunk ? "chunk" : "file") + ": truncated" + recover_hint(in_chunk));
+        throw InputError(path_ + ": " + place(offset, in_chunk) + "record of " + std::to_string(len) +
+                         " bytes runs past the end of the " + (in_chunk ? "chunk" : "file") + ": truncated" +
+                         recover_hint(in_chunk));
       const unsigned char* content = data + at + kRecordHead;
       switch (op) {
-        case kSchema: schema(content, len, offset, in_chunk); break;
-        case kChannel: channel(content, len, offset, in_chunk); break;
-        case kMessage: message(content, len, offset, in_chunk); break;
+        case kSchema:
+          schema(content, len, offset, in_chunk);
+          break;
+        case kChannel:
+          channel(content, len, offset, in_chunk);
+          break;
+        case kMessage:
+          message(content, len, offset, in_chunk);
+          break;
         case kChunk:
           if (in_chunk) throw InputError(path_ + ": " + place(offset, true) + "a chunk inside a chunk");
           chunk(content, len, offset);
@@ -166,7 +173,8 @@ class McapPass {
         case kFooter:
           if (!in_chunk) return false;
           break;
-        default: break;  // other records (indexes, attachments, metadata, statistics): skipped
+        default:
+          break;  // other records (indexes, attachments, metadata, statistics): skipped
       }
       at += kRecordHead + len;
     }
@@ -198,12 +206,17 @@ class McapPass {
       const auto whole = [&](std::uint64_t limit, const char* what) {
         if (len > limit)
           throw InputError(path_ + ": " + place(at, false) + "a " + what + " record of " + std::to_string(len) +
-                           " bytes, above the limit of " + std::to_string(limit) + " (docs/cli.md \"Memory and limits\")");
+                           " bytes, above the limit of " + std::to_string(limit) +
+                           " (docs/cli.md \"Memory and limits\")");
         return window.view(content, static_cast<std::size_t>(len));
       };
       switch (op) {
-        case kSchema: schema(whole(kMaxRecordBytes, "schema"), len, at, false); break;
-        case kChannel: channel(whole(kMaxRecordBytes, "channel"), len, at, false); break;
+        case kSchema:
+          schema(whole(kMaxRecordBytes, "schema"), len, at, false);
+          break;
+        case kChannel:
+          channel(whole(kMaxRecordBytes, "channel"), len, at, false);
+          break;
         case kMessage:
           if (wanted(window.view(content, static_cast<std::size_t>(std::min<std::uint64_t>(len, 2))), len))
             message(whole(kMaxRecordBytes, "message"), len, at, false);
@@ -220,7 +233,8 @@ class McapPass {
         case kDataEnd:
         case kFooter:
           return false;
-        default: break;  // other records (indexes, attachments, metadata, statistics): skipped
+        default:
+          break;  // other records (indexes, attachments, metadata, statistics): skipped
       }
       at = content + len;
     }
@@ -242,7 +256,8 @@ class McapPass {
     }
     const auto t = topics_.find(topic);
     if (t == topics_.end())
-      throw InputError(path_ + ": no topic " + topic + " in this bag (it has " + (all.empty() ? std::string("no topic") : all) + ")");
+      throw InputError(path_ + ": no topic " + topic + " in this bag (it has " +
+                       (all.empty() ? std::string("no topic") : all) + ")");
     if (t->second != kImuSchema)
       throw InputError(path_ + ": topic " + topic + " is " + t->second + ", expected " + kImuSchema + " messages");
     TopicState& m = imu_[topic];
@@ -255,7 +270,8 @@ class McapPass {
 
  private:
   std::string place(std::uint64_t offset, bool in_chunk) const {
-    return in_chunk ? "chunk at byte " + std::to_string(chunk_) + ", record at byte " + std::to_string(offset) + " of its records: "
+    return in_chunk ? "chunk at byte " + std::to_string(chunk_) + ", record at byte " + std::to_string(offset) +
+                          " of its records: "
                     : "record at byte " + std::to_string(offset) + ": ";
   }
   static std::string recover_hint(bool in_chunk) {
@@ -283,7 +299,9 @@ class McapPass {
     c.encoding = r.string("message_encoding");
     if (!r.ok()) malformed("channel", r, offset, in_chunk);
     const auto s = schemas_.find(schema_id);
-    c.schema = schema_id == 0 ? "(no schema)" : s == schemas_.end() ? "(unknown schema " + std::to_string(schema_id) + ")" : s->second;
+    c.schema = schema_id == 0        ? "(no schema)"
+               : s == schemas_.end() ? "(unknown schema " + std::to_string(schema_id) + ")"
+                                     : s->second;
     topics_.emplace(c.topic, c.schema);
     if (c.schema == kImuSchema) {
       TopicState& t = imu_[c.topic];
@@ -372,8 +390,8 @@ class McapPass {
     uLong c = crc32_z(0L, Z_NULL, 0);
     c = crc32_z(c, p, static_cast<z_size_t>(n));
     if (static_cast<std::uint32_t>(c) != crc)
-      throw InputError(where + "CRC-32 of the records is " + std::to_string(c) + ", the chunk says " + std::to_string(crc) +
-                       ": a damaged file");
+      throw InputError(where + "CRC-32 of the records is " + std::to_string(c) + ", the chunk says " +
+                       std::to_string(crc) + ": a damaged file");
   }
 
   std::string path_;
@@ -381,8 +399,8 @@ class McapPass {
   ChunkBudget budget_;       // what the file's chunks state, against the limits
   std::map<std::uint16_t, std::string> schemas_;
   std::map<std::uint16_t, Channel> channels_;
-  std::map<std::string, std::string> topics_;       // topic -> schema name
-  std::map<std::string, TopicState> imu_;           // the IMU topics
+  std::map<std::string, std::string> topics_;  // topic -> schema name
+  std::map<std::string, TopicState> imu_;      // the IMU topics
   const ReadOptions& options_;
 };
 

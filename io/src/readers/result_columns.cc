@@ -44,8 +44,8 @@ std::optional<ExportFigures> figures_of(const json& c) {
   if (!c.contains("noise_figures") || !c["noise_figures"].is_object()) return std::nullopt;
   const json& nf = c["noise_figures"];
   ExportFigures out;
-  for (auto [key, f] : {std::pair{"white", &out.white}, std::pair{"walk", &out.walk},
-                        std::pair{"instability", &out.instability}}) {
+  for (auto [key, f] :
+       {std::pair{"white", &out.white}, std::pair{"walk", &out.walk}, std::pair{"instability", &out.instability}}) {
     if (!nf.contains(key) || !nf[key].is_object()) return std::nullopt;
     const json& x = nf[key];
     if (!x.contains("value") || !x["value"].is_number() || !(x["value"].get<double>() > 0.0)) return std::nullopt;
@@ -64,7 +64,8 @@ Unit result_unit(const json& c, SensorKind kind, const ResultReadOptions& o, con
   std::optional<Unit> declared;
   if (c.contains("unit") && !c["unit"].is_null()) {
     if (!c["unit"].is_string())
-      throw InputError(at + "found \"unit\": " + std::string(c["unit"].type_name()) + ", expected a unit name such as \"deg/s\"");
+      throw InputError(at + "found \"unit\": " + std::string(c["unit"].type_name()) +
+                       ", expected a unit name such as \"deg/s\"");
     try {
       declared = parse_unit(c["unit"].get<std::string>(), kind);
     } catch (const InputError& err) {
@@ -74,8 +75,9 @@ Unit result_unit(const json& c, SensorKind kind, const ResultReadOptions& o, con
   const auto given = o.units ? o.units->find(kind) : std::map<SensorKind, Unit>::const_iterator{};
   const bool has_given = o.units && given != o.units->end();
   if (declared && has_given && given->second.name != declared->name)
-    throw InputError(at + "--units says " + to_string(kind) + "=" + given->second.name + ", but the result was fitted on " +
-                     declared->name + " data (its \"unit\"); leave --units out or give " + to_string(kind) + "=" + declared->name);
+    throw InputError(at + "--units says " + to_string(kind) + "=" + given->second.name +
+                     ", but the result was fitted on " + declared->name +
+                     " data (its \"unit\"); leave --units out or give " + to_string(kind) + "=" + declared->name);
   if (declared) return *declared;
   if (has_given) return given->second;
   throw InputError(at + "the result does not say the data's unit (it was fitted without --units); give --units " +

@@ -11,9 +11,9 @@ namespace gmwm::io::detail {
 namespace {
 
 constexpr std::size_t kCdrEncapsulation = 4;
-constexpr int kImuDoubles = 37;         // 4 + 9 + 3 + 9 + 3 + 9
-constexpr int kGyroFirst = 13;          // after orientation (4) and its covariance (9)
-constexpr int kAccelFirst = 25;         // after angular_velocity (3) and its covariance (9)
+constexpr int kImuDoubles = 37;  // 4 + 9 + 3 + 9 + 3 + 9
+constexpr int kGyroFirst = 13;   // after orientation (4) and its covariance (9)
+constexpr int kAccelFirst = 25;  // after angular_velocity (3) and its covariance (9)
 
 // A bounds-checked little-endian cursor. `align` true: CDR, each primitive aligned to its
 // size; false: ROS 1, packed. Every position is checked before it is used (fits(): no sum
@@ -42,8 +42,8 @@ class Cursor {
     const auto len = get<std::uint32_t>(what);
     if (!ok_) return;
     if (!fits(pos_, len, n_)) {
-      fail(std::string(what) + " (a string of " + std::to_string(len) + " bytes at byte " + std::to_string(origin_ + pos_) +
-           ") runs past its end");
+      fail(std::string(what) + " (a string of " + std::to_string(len) + " bytes at byte " +
+           std::to_string(origin_ + pos_) + ") runs past its end");
       return;
     }
     pos_ += len;
@@ -66,7 +66,8 @@ std::optional<ImuMessage> decode_body(Cursor& c, ImuMessage m, std::size_t size,
   double v[kImuDoubles];
   for (double& x : v) x = c.get<double>("the orientation, angular_velocity and linear_acceleration fields");
   if (!c.ok()) {
-    error = "truncated: " + c.failure() + " (" + std::to_string(size) + " bytes), expected a whole sensor_msgs Imu message";
+    error =
+        "truncated: " + c.failure() + " (" + std::to_string(size) + " bytes), expected a whole sensor_msgs Imu message";
     return std::nullopt;
   }
   if (m.nanosec >= 1000000000u) {
@@ -109,10 +110,15 @@ std::optional<ImuMessage> decode_imu_ros1(const unsigned char* data, std::size_t
 }
 
 ImuTopic::ImuTopic(std::string path, std::string topic, const ReadOptions& options)
-    : path_(std::move(path)), topic_(std::move(topic)),
+    : path_(std::move(path)),
+      topic_(std::move(topic)),
       columns_(path_, "topic " + topic_,
-               {{"gyro_x", "rad/s"}, {"gyro_y", "rad/s"}, {"gyro_z", "rad/s"},
-                {"accel_x", "m/s^2"}, {"accel_y", "m/s^2"}, {"accel_z", "m/s^2"}},
+               {{"gyro_x", "rad/s"},
+                {"gyro_y", "rad/s"},
+                {"gyro_z", "rad/s"},
+                {"accel_x", "m/s^2"},
+                {"accel_y", "m/s^2"},
+                {"accel_z", "m/s^2"}},
                options) {}
 
 std::string ImuTopic::where(std::int64_t index) const {
@@ -125,7 +131,8 @@ void ImuTopic::add(const ImuMessage& m, std::int64_t index) {
   if (columns_.size() > 0 && t <= columns_.last()) {
     char stamp[48];
     std::snprintf(stamp, sizeof stamp, "%lld.%09u", static_cast<long long>(m.sec), static_cast<unsigned>(m.nanosec));
-    throw InputError(where(index) + "header stamp " + stamp + " s is not after the previous message's: unsorted stamps");
+    throw InputError(where(index) + "header stamp " + stamp +
+                     " s is not after the previous message's: unsorted stamps");
   }
   static const char* const kNames[] = {"gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"};
   const double values[6] = {m.gyro[0], m.gyro[1], m.gyro[2], m.accel[0], m.accel[1], m.accel[2]};

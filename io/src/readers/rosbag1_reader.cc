@@ -147,8 +147,8 @@ RecordHead read_head(const InputFile& f, std::uint64_t offset) {
 // The data of a record whose header was read; at most `max_data` bytes.
 std::vector<unsigned char> read_data(const InputFile& f, const RecordHead& r, std::uint64_t max_data) {
   if (r.data_len > max_data)
-    throw InputError(f.path() + ": record at byte " + std::to_string(r.offset) + ": data of " + std::to_string(r.data_len) +
-                     " bytes, above the limit of " + std::to_string(max_data));
+    throw InputError(f.path() + ": record at byte " + std::to_string(r.offset) + ": data of " +
+                     std::to_string(r.data_len) + " bytes, above the limit of " + std::to_string(max_data));
   std::vector<unsigned char> data(static_cast<std::size_t>(r.data_len));
   f.read(r.data_at, data.data(), data.size());
   return data;
@@ -172,7 +172,7 @@ struct ChunkInfo {
 // One chunk's messages of the chosen connections, or the first error met in it.
 struct ChunkMessages {
   std::vector<ImuMessage> messages;
-  std::string error;          // empty: none
+  std::string error;              // empty: none
   bool error_in_message = false;  // the error belongs to message (messages.size() + 1) of the chunk
 };
 
@@ -188,10 +188,11 @@ void check_chunk(const InputFile& f, ChunkInfo& c, ChunkBudget& budget) {
   const auto size = field<std::uint32_t>(c.head.header, "size");
   const auto compression = text_field(c.head.header, "compression");
   if (c.head.op != kChunk || !size || !compression)
-    throw InputError(f.path() + ": record at byte " + std::to_string(c.pos) + ": the index names a chunk there, found op " +
-                     std::to_string(c.head.op) + ": a damaged bag");
+    throw InputError(f.path() + ": record at byte " + std::to_string(c.pos) +
+                     ": the index names a chunk there, found op " + std::to_string(c.head.op) + ": a damaged bag");
   const Compression* kind = compression_named(kCompressions, *compression);
-  if (!kind) throw InputError(where + "chunk compression '" + *compression + "', expected " + compression_list(kCompressions));
+  if (!kind)
+    throw InputError(where + "chunk compression '" + *compression + "', expected " + compression_list(kCompressions));
   if (const std::string why = budget.add(c.head.data_len, *size); !why.empty()) throw InputError(where + why);
   c.compression = *kind;
   c.size = *size;
@@ -214,14 +215,17 @@ ChunkMessages read_chunk(const InputFile& f, const ChunkInfo& c, const std::set<
     std::size_t at = 0;
     while (at < body.size()) {
       const auto bad = [&](const std::string& what) {
-        out.error = path + ": chunk at byte " + std::to_string(pos) + ", record at " + std::to_string(at) + " of it: " + what;
+        out.error =
+            path + ": chunk at byte " + std::to_string(pos) + ", record at " + std::to_string(at) + " of it: " + what;
       };
       const std::string chunk_bytes = " the chunk's " + std::to_string(body.size()) + " bytes";
       std::uint32_t hl = 0, dl = 0;
       if (!fits(at, 4, body.size())) return bad("truncated: its header length runs past" + chunk_bytes), out;
       std::memcpy(&hl, body.data() + at, 4);
       if (!fits(at + 4, hl, body.size()))
-        return bad("its header of " + std::to_string(hl) + " bytes runs past" + chunk_bytes + ", expected a record inside the chunk"), out;
+        return bad("its header of " + std::to_string(hl) + " bytes runs past" + chunk_bytes +
+                   ", expected a record inside the chunk"),
+               out;
       Fields h;
       if (!parse_fields(body.data() + at + 4, hl, h))
         return bad("malformed record header (a field without '=' or overrunning the header)"), out;
@@ -229,7 +233,9 @@ ChunkMessages read_chunk(const InputFile& f, const ChunkInfo& c, const std::set<
       if (!fits(data_at, 4, body.size())) return bad("truncated: its data length runs past" + chunk_bytes), out;
       std::memcpy(&dl, body.data() + data_at, 4);
       if (!fits(data_at + 4, dl, body.size()))
-        return bad("its data of " + std::to_string(dl) + " bytes runs past" + chunk_bytes + ", expected a record inside the chunk"), out;
+        return bad("its data of " + std::to_string(dl) + " bytes runs past" + chunk_bytes +
+                   ", expected a record inside the chunk"),
+               out;
       const auto op = field<std::uint8_t>(h, "op");
       const auto conn = field<std::uint32_t>(h, "conn");
       if (op && *op == kMessage && conn && conns.count(*conn)) {
@@ -262,7 +268,8 @@ bool is_rosbag1(const std::string& path) {
 SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   const InputFile f(path, "ROS bag");
   char magic[kMagicSize] = {};
-  f.read(0, magic, static_cast<std::size_t>(std::min<std::uint64_t>(f.size(), kMagicSize)));  // a shorter file: its bytes
+  f.read(0, magic,
+         static_cast<std::size_t>(std::min<std::uint64_t>(f.size(), kMagicSize)));  // a shorter file: its bytes
   if (std::memcmp(magic, kMagic20, kMagicSize) != 0) {
     std::string line(magic, strnlen(magic, kMagicSize));
     if (!line.empty() && line.back() == '\n') line.pop_back();
@@ -279,7 +286,8 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   if (*index_pos == 0)
     throw InputError(path + ": the bag has no index (an interrupted recording): run 'rosbag reindex' on it first");
   if (*index_pos < header.end() || *index_pos > f.size())
-    throw InputError(path + ": the bag header's index_pos " + std::to_string(*index_pos) + " is outside the file: truncated");
+    throw InputError(path + ": the bag header's index_pos " + std::to_string(*index_pos) +
+                     " is outside the file: truncated");
 
   // The index section: connections, then chunk infos.
   std::vector<Connection> connections;
@@ -293,7 +301,8 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
       Fields c;
       if (!conn || !topic || !parse_fields(data.data(), data.size(), c))
         throw InputError(path + ": connection record at byte " + std::to_string(at) + " is malformed");
-      connections.push_back({*conn, *topic, text_field(c, "type").value_or("?"), text_field(c, "md5sum").value_or("?")});
+      connections.push_back(
+          {*conn, *topic, text_field(c, "type").value_or("?"), text_field(c, "md5sum").value_or("?")});
     } else if (r.op == kChunkInfo) {
       const auto pos = field<std::uint64_t>(r.header, "chunk_pos");
       const auto count = field<std::uint32_t>(r.header, "count");
@@ -313,8 +322,8 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   }
   if (connections.size() != *conn_count || chunks.size() != *chunk_count)
     throw InputError(path + ": the index holds " + std::to_string(connections.size()) + " connections and " +
-                     std::to_string(chunks.size()) + " chunk infos, the bag header says " + std::to_string(*conn_count) +
-                     " and " + std::to_string(*chunk_count) + ": a damaged bag");
+                     std::to_string(chunks.size()) + " chunk infos, the bag header says " +
+                     std::to_string(*conn_count) + " and " + std::to_string(*chunk_count) + ": a damaged bag");
 
   // The topic: named by --topic, or the only sensor_msgs/Imu one.
   std::string topic = options.topic, all_topics, imu_topics;
@@ -326,16 +335,18 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   }
   if (topic.empty()) {
     if (imu_topics.empty() || imu_topics.find(", ") != std::string::npos)
-      throw InputError(path + (imu_topics.empty() ? ": no " + std::string(kImuType) + " topic in this bag (it has " +
-                                                        (all_topics.empty() ? std::string("no topic") : all_topics) + ")"
-                                                  : ": several " + std::string(kImuType) + " topics (" + imu_topics +
-                                                        "): name one with --topic"));
+      throw InputError(
+          path + (imu_topics.empty()
+                      ? ": no " + std::string(kImuType) + " topic in this bag (it has " +
+                            (all_topics.empty() ? std::string("no topic") : all_topics) + ")"
+                      : ": several " + std::string(kImuType) + " topics (" + imu_topics + "): name one with --topic"));
     topic = imu_topics;
   }
   std::set<std::uint32_t> conns;
   for (const Connection& c : connections) {
     if (c.topic != topic) continue;
-    if (c.type != kImuType) throw InputError(path + ": topic " + topic + " is " + c.type + ", expected " + kImuType + " messages");
+    if (c.type != kImuType)
+      throw InputError(path + ": topic " + topic + " is " + c.type + ", expected " + kImuType + " messages");
     if (c.md5 != kImuMd5)
       throw InputError(path + ": topic " + topic + " has " + kImuType + " md5sum " + c.md5 + ", expected " + kImuMd5 +
                        " (another definition of the message)");
@@ -368,7 +379,8 @@ SignalSet read_rosbag1(const std::string& path, const ReadOptions& options) {
   for (std::size_t first = 0; first < wanted.size();) {
     std::size_t last = first + 1;
     std::uint64_t bytes = wanted[first].size;
-    while (last < wanted.size() && last - first < kChunksInFlight && wanted[last].size <= kBytesInFlight - std::min(bytes, kBytesInFlight))
+    while (last < wanted.size() && last - first < kChunksInFlight &&
+           wanted[last].size <= kBytesInFlight - std::min(bytes, kBytesInFlight))
       bytes += wanted[last++].size;
     std::vector<ChunkMessages> read(last - first);
     gmwm::parallel_for(first, last, [&](std::size_t k) { read[k - first] = read_chunk(f, wanted[k], conns); });

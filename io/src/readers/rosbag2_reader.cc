@@ -126,7 +126,8 @@ class Bag {
     sqlite3_bind_text(s.s, 1, table, -1, SQLITE_STATIC);
     const int rc = step(s, table);
     if (rc != SQLITE_ROW)
-      throw InputError(path_ + ": found an SQLite file without a rosbag2 '" + table + "' table, expected a rosbag2 .db3 bag");
+      throw InputError(path_ + ": found an SQLite file without a rosbag2 '" + table +
+                       "' table, expected a rosbag2 .db3 bag");
     const std::string type = text(s, 0), sql = text(s, 1);
     if (type != "table")
       throw InputError(path_ + ": '" + table + "' is a " + type + ", expected the rosbag2 table (a " + type +
@@ -218,9 +219,9 @@ SignalSet read_rosbag2_sqlite(const std::string& path, const ReadOptions& option
     }
   }
   if (topic_id < 0)
-    throw InputError(path + (options.topic.empty() ? ": no " + std::string(kImuType) + " topic"
-                                                   : ": no topic " + options.topic) +
-                     " in this bag (it has " + (all_topics.empty() ? std::string("no topic") : all_topics) + ")");
+    throw InputError(
+        path + (options.topic.empty() ? ": no " + std::string(kImuType) + " topic" : ": no topic " + options.topic) +
+        " in this bag (it has " + (all_topics.empty() ? std::string("no topic") : all_topics) + ")");
 
   Statement messages;
   bag.prepare(messages, "SELECT data FROM messages WHERE topic_id = ? ORDER BY timestamp, id", "messages");

@@ -40,8 +40,8 @@ const char* unreadable_kind(mode_t mode) {
 /// What tee_peek() saw at the head of a pipe.
 struct Peeked {
   std::string bytes;
-  bool eof = false;   // no writer and nothing more to come
-  int error = 0;      // errno when tee(2) failed for another reason than an empty pipe
+  bool eof = false;  // no writer and nothing more to come
+  int error = 0;     // errno when tee(2) failed for another reason than an empty pipe
 };
 
 /// Up to `n` bytes at the head of pipe `fd`, copied by tee(2) into a pipe of our own and

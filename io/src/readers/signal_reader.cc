@@ -39,9 +39,7 @@ std::string quoted(std::string_view s) {
   return out;
 }
 
-bool is_blank_line(std::string_view line) {
-  return line.find_first_not_of(" \t") == std::string_view::npos;
-}
+bool is_blank_line(std::string_view line) { return line.find_first_not_of(" \t") == std::string_view::npos; }
 
 bool iequals(std::string_view a, std::string_view b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](char x, char y) {
@@ -49,9 +47,7 @@ bool iequals(std::string_view a, std::string_view b) {
   });
 }
 
-std::string where(const std::string& path, std::int64_t line) {
-  return path + ":" + std::to_string(line) + ": ";
-}
+std::string where(const std::string& path, std::int64_t line) { return path + ":" + std::to_string(line) + ": "; }
 
 // Known layouts, recognised by their header names without units (case-insensitive).
 struct Preset {
@@ -79,8 +75,8 @@ struct Column {
   std::string base;    // without its bracketed unit
   std::string name;    // the signal's name (preset-renamed base)
   std::string unit;
-  bool numeric = false;     // its first data cell is a number
-  bool time_like = false;   // named like a timestamp
+  bool numeric = false;    // its first data cell is a number
+  bool time_like = false;  // named like a timestamp
 };
 
 const Preset* find_preset(const std::vector<Column>& cols) {
@@ -100,8 +96,7 @@ std::string column_list(const std::vector<Column>& cols) {
 }
 
 // The field index a --columns entry names (a 1-based index, or a name, exact match first).
-std::size_t resolve_column(const std::string& path, const std::string& raw_spec,
-                           const std::vector<Column>& cols) {
+std::size_t resolve_column(const std::string& path, const std::string& raw_spec, const std::vector<Column>& cols) {
   const std::size_t b = raw_spec.find_first_not_of(" \t");
   const std::string spec = raw_spec.substr(b, raw_spec.find_last_not_of(" \t") + 1 - b);
   const std::string prefix = path + ": --columns: ";
@@ -109,9 +104,8 @@ std::size_t resolve_column(const std::string& path, const std::string& raw_spec,
     std::size_t index = 0;
     const auto [ptr, ec] = std::from_chars(spec.data(), spec.data() + spec.size(), index);
     if (ec != std::errc() || index < 1 || index > cols.size())
-      throw InputError(prefix + "found index " + spec + ", expected 1.." +
-                       std::to_string(cols.size()) + " (the file has " +
-                       std::to_string(cols.size()) + " columns: " + column_list(cols) + ")");
+      throw InputError(prefix + "found index " + spec + ", expected 1.." + std::to_string(cols.size()) +
+                       " (the file has " + std::to_string(cols.size()) + " columns: " + column_list(cols) + ")");
     return index - 1;
   }
   for (const bool exact : {true, false}) {
@@ -126,13 +120,12 @@ std::size_t resolve_column(const std::string& path, const std::string& raw_spec,
       }
     }
     if (hits.size() > 1)
-      throw InputError(prefix + "found the name '" + spec + "' in columns " +
-                       std::to_string(hits[0] + 1) + " and " + std::to_string(hits[1] + 1) +
-                       ", expected a unique name (use the 1-based index instead)");
+      throw InputError(prefix + "found the name '" + spec + "' in columns " + std::to_string(hits[0] + 1) + " and " +
+                       std::to_string(hits[1] + 1) + ", expected a unique name (use the 1-based index instead)");
     if (hits.size() == 1) return hits[0];
   }
-  throw InputError(prefix + "found no column named '" + spec + "', expected one of: " +
-                   column_list(cols) + " (or a 1-based index)");
+  throw InputError(prefix + "found no column named '" + spec + "', expected one of: " + column_list(cols) +
+                   " (or a 1-based index)");
 }
 
 }  // namespace
@@ -173,7 +166,8 @@ std::string ReadOptions::Validate() const {
       return "--columns: found an empty entry, expected column names or 1-based indices "
              "separated by commas";
   if (!(memory_budget >= 0.0) || !std::isfinite(memory_budget))
-    return "memory_budget: found " + std::to_string(memory_budget) + ", expected a finite number of bytes >= 0 (0: the default)";
+    return "memory_budget: found " + std::to_string(memory_budget) +
+           ", expected a finite number of bytes >= 0 (0: the default)";
   return "";
 }
 
@@ -184,7 +178,8 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (detail::is_rosbag1(path)) return detail::read_rosbag1(path, options);
   if (detail::is_mcap(path)) return detail::read_mcap(path, options);
   if (!options.topic.empty())
-    throw InputError(path + ": --topic " + options.topic + ": the file is delimited text, which has no topics "
+    throw InputError(path + ": --topic " + options.topic +
+                     ": the file is delimited text, which has no topics "
                      "(--topic reads a PX4 ULog file or a ROS bag: .bag, .db3, .mcap)");
   detail::TextSource src(path);
   if (src.empty()) throw InputError(path + ": found an empty file, expected a header row and data rows");
@@ -220,8 +215,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (header_line == 0) {
     if (src.line_number() == 0)  // e.g. a gzip file holding no text
       throw InputError(path + ": found no text, expected a header row and data rows");
-    if (comment_line == 0)
-      throw InputError(path + ": found only blank lines, expected a header row and data rows");
+    if (comment_line == 0) throw InputError(path + ": found only blank lines, expected a header row and data rows");
     header = comment;
     header_line = comment_line;
   }
@@ -247,8 +241,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   };
   if (blank_line) fail_blank(blank_line);
 
-  if (!header.empty() && header.front() == '#')
-    header.erase(0, header.find_first_not_of("# \t"));
+  if (!header.empty() && header.front() == '#') header.erase(0, header.find_first_not_of("# \t"));
   const Delimiter delim = detail::detect_delimiter(header, first_row);
   std::vector<std::string> names = detail::split_header(header, delim);
   if (names.size() > kMaxColumns)
@@ -256,8 +249,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
                      " columns, expected at most " + std::to_string(kMaxColumns));
 
   // Rows with the wrong number of fields are reported by the row parser itself.
-  detail::RowParser(path, delim, std::vector<FieldPlan>(names.size()), names, 0)
-      .parse(first_row, first_row_line);
+  detail::RowParser(path, delim, std::vector<FieldPlan>(names.size()), names, 0).parse(first_row, first_row_line);
   const std::vector<std::string_view> first_fields = detail::split_fields(first_row, delim);
 
   std::vector<Column> cols(names.size());
@@ -289,9 +281,8 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (time_like != cols.end()) time_col = static_cast<std::size_t>(time_like - cols.begin());
   if (time_col && !cols[*time_col].numeric) {
     if (!options.freq)
-      throw InputError(path + ":" + std::to_string(first_row_line) + ":" +
-                       std::to_string(*time_col + 1) + ": found " + quoted(first_fields[*time_col]) + " in timestamp column '" +
-                       cols[*time_col].header +
+      throw InputError(path + ":" + std::to_string(first_row_line) + ":" + std::to_string(*time_col + 1) + ": found " +
+                       quoted(first_fields[*time_col]) + " in timestamp column '" + cols[*time_col].header +
                        "', expected a number; give the sampling rate with --freq HZ");
     time_col.reset();  // not usable for timing; --freq rules anyway
   }
@@ -304,23 +295,21 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     for (std::size_t k = 0; k < cols.size(); ++k)
       if (cols[k].numeric && !cols[k].time_like) selected.push_back(k);
     if (selected.empty())
-      throw InputError(where(path, header_line) + "found no numeric column besides timestamps (" +
-                       column_list(cols) + "), expected at least one signal column");
+      throw InputError(where(path, header_line) + "found no numeric column besides timestamps (" + column_list(cols) +
+                       "), expected at least one signal column");
   } else {
     for (const std::string& spec : options.columns) {
       const std::size_t k = resolve_column(path, spec, cols);
       if (time_col && k == *time_col)
-        throw InputError(path + ": --columns: found '" + spec + "', the timestamp column '" +
-                         cols[k].header + "', expected a signal column");
+        throw InputError(path + ": --columns: found '" + spec + "', the timestamp column '" + cols[k].header +
+                         "', expected a signal column");
       if (std::find(selected.begin(), selected.end(), k) != selected.end())
-        throw InputError(path + ": --columns: found column '" + cols[k].name +
-                         "' twice, expected each column once");
+        throw InputError(path + ": --columns: found column '" + cols[k].name + "' twice, expected each column once");
       selected.push_back(k);
     }
   }
   std::vector<FieldPlan> plan(cols.size());
-  for (std::size_t i = 0; i < selected.size(); ++i)
-    plan[selected[i]] = {FieldPlan::kValue, static_cast<int>(i)};
+  for (std::size_t i = 0; i < selected.size(); ++i) plan[selected[i]] = {FieldPlan::kValue, static_cast<int>(i)};
   if (time_col) plan[*time_col].kind = FieldPlan::kTime;
 
   detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
@@ -350,9 +339,8 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
     if (const std::optional<double> c = detail::constant_value(columns[i])) {
       char buf[64];
       *std::to_chars(buf, buf + sizeof buf - 1, *c).ptr = '\0';
-      throw InputError(path + ": column " + std::to_string(selected[i] + 1) + " '" +
-                       cols[selected[i]].header + "': found all " + std::to_string(rows) +
-                       " values equal to " + buf +
+      throw InputError(path + ": column " + std::to_string(selected[i] + 1) + " '" + cols[selected[i]].header +
+                       "': found all " + std::to_string(rows) + " values equal to " + buf +
                        ", expected a varying signal (a constant has a wavelet variance of zero)");
     }
   }
@@ -369,8 +357,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
       unit = preset->time_unit;
       source = std::string(preset->name) + " layout";
     }
-    set.timing = detail::analyse_timing(c.header, parser.time_steps(), parser.first_time(), unit,
-                                        source);
+    set.timing = detail::analyse_timing(c.header, parser.time_steps(), parser.first_time(), unit, source);
     set.timing->given_freq = options.freq;
     detail::check_one_rate(path, *set.timing, options);
   }

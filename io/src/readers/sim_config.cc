@@ -14,7 +14,7 @@ char column_axis(const std::string& column) {
   if (axis != 'x' && axis != 'y' && axis != 'z') return 0;
   if (column.size() == 1) return axis;
   const unsigned char before = static_cast<unsigned char>(column[column.size() - 2]);
-  if (!std::isalpha(before)) return axis;                  // gyro_x, acc.Z, gyro2x
+  if (!std::isalpha(before)) return axis;                       // gyro_x, acc.Z, gyro2x
   if (std::isupper(last) && std::islower(before)) return axis;  // gyroX
   return 0;
 }

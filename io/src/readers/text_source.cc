@@ -29,9 +29,7 @@ constexpr std::size_t kTextChunk = 1 << 18;
 // reserve memory for the columns; a wrong guess costs nothing but a reallocation.
 constexpr std::uint64_t kTypicalGzipRatio = 8;
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) {
-  throw InputError(path + ": " + what);
-}
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw InputError(path + ": " + what); }
 
 // A FIFO or pipe as a blocking stream, opened with the bounded wait every input gets
 // (io::detail::open_pipe_bounded, side_file.h: kPipeWriterWaitMs), so that a FIFO no writer
@@ -155,8 +153,7 @@ class GzipStream {
 
 TextSource::TextSource(const std::string& path) : path_(path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    fail(path, "is a folder, expected a data file");
+  if (std::filesystem::is_directory(path, ec)) fail(path, "is a folder, expected a data file");
   struct stat st {};
   const bool fifo = ::stat(path.c_str(), &st) == 0 && S_ISFIFO(st.st_mode);
   file_ = fifo ? open_fifo(path) : std::fopen(path.c_str(), "rb");
@@ -229,8 +226,9 @@ void TextSource::check_encoding(std::string_view first) const {
                                                                : std::string("NUL bytes in the header line")) +
                      ", expected UTF-8 or ASCII text (UTF-16 text? convert it: iconv -f UTF-16 -t UTF-8)");
   if (first.find('\r') != std::string_view::npos)
-    throw InputError(path_ + ":1: found carriage returns (CR) inside the first line, expected lines ending in LF or CR LF "
-                             "(a file with CR-only line endings? convert it: tr '\\r' '\\n')");
+    throw InputError(path_ +
+                     ":1: found carriage returns (CR) inside the first line, expected lines ending in LF or CR LF "
+                     "(a file with CR-only line endings? convert it: tr '\\r' '\\n')");
 }
 
 void TextSource::fail_long_line() const {

@@ -66,15 +66,11 @@ std::string format_hz(double hz) {
 
 std::optional<TimeUnit> parse_time_unit(std::string_view text) {
   const std::string t = lower(trim(text));
-  if (t == "s" || t == "sec" || t == "secs" || t == "second" || t == "seconds")
-    return TimeUnit{1.0, "s"};
-  if (t == "ms" || t == "msec" || t == "millisecond" || t == "milliseconds")
-    return TimeUnit{1e-3, "ms"};
-  if (t == "us" || t == "usec" || t == "\xC2\xB5s" || t == "\xCE\xBCs" || t == "microsecond" ||
-      t == "microseconds")
+  if (t == "s" || t == "sec" || t == "secs" || t == "second" || t == "seconds") return TimeUnit{1.0, "s"};
+  if (t == "ms" || t == "msec" || t == "millisecond" || t == "milliseconds") return TimeUnit{1e-3, "ms"};
+  if (t == "us" || t == "usec" || t == "\xC2\xB5s" || t == "\xCE\xBCs" || t == "microsecond" || t == "microseconds")
     return TimeUnit{1e-6, "us"};
-  if (t == "ns" || t == "nsec" || t == "nanosecond" || t == "nanoseconds")
-    return TimeUnit{1e-9, "ns"};
+  if (t == "ns" || t == "nsec" || t == "nanosecond" || t == "nanoseconds") return TimeUnit{1e-9, "ns"};
   if (t == "min" || t == "minute" || t == "minutes") return TimeUnit{60.0, "min"};
   if (t == "h" || t == "hour" || t == "hours") return TimeUnit{3600.0, "h"};
   return std::nullopt;
@@ -87,8 +83,7 @@ std::pair<std::string, std::string> split_unit(std::string_view name) {
   const char close = name[open] == '[' ? ']' : ')';
   const std::size_t end = name.find(close, open + 1);
   if (end == std::string_view::npos || end + 1 != name.size()) return {std::string(name), ""};
-  return {std::string(trim(name.substr(0, open))),
-          std::string(trim(name.substr(open + 1, end - open - 1)))};
+  return {std::string(trim(name.substr(0, open))), std::string(trim(name.substr(open + 1, end - open - 1)))};
 }
 
 std::optional<TimeUnit> timestamp_name(std::string_view name) {
@@ -97,18 +92,15 @@ std::optional<TimeUnit> timestamp_name(std::string_view name) {
   auto [base_raw, unit_text] = split_unit(name);
   std::string base = lower(base_raw);
   static constexpr std::array<std::string_view, 10> kNames = {
-      "timestamp", "time", "t", "stamp", "time_stamp", "timestamps",
-      "times", "header.stamp", "field.header.stamp", "time stamp"};
-  auto known = [](std::string_view b) {
-    return std::find(kNames.begin(), kNames.end(), b) != kNames.end();
-  };
+      "timestamp",          "time",      "t", "stamp", "time_stamp", "timestamps", "times", "header.stamp",
+      "field.header.stamp", "time stamp"};
+  auto known = [](std::string_view b) { return std::find(kNames.begin(), kNames.end(), b) != kNames.end(); };
   std::optional<TimeUnit> unit;
   if (!unit_text.empty()) unit = parse_time_unit(unit_text);
   if (!known(base)) {
     // Unit as a suffix: time_s, timestamp_ns, t_ms, "time s".
     const std::size_t sep = base.find_last_of("_ ");
-    if (sep == std::string::npos || !known(std::string_view(base).substr(0, sep)))
-      return std::nullopt;
+    if (sep == std::string::npos || !known(std::string_view(base).substr(0, sep))) return std::nullopt;
     unit = parse_time_unit(std::string_view(base).substr(sep + 1));
     if (!unit) return std::nullopt;
   }
@@ -322,17 +314,15 @@ void check_one_rate(const std::string& path, const TimingReport& timing, const R
                    "there, or give --freq HZ to take the samples as evenly spaced");
 }
 
-TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets,
-                            double first_time, const TimeUnit& unit,
-                            const std::string& unit_source) {
+TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,
+                            const TimeUnit& unit, const std::string& unit_source) {
   StepStatistics steps;
   for (double t : offsets) steps.add(t);
   return analyse_timing(column, steps, first_time, unit, unit_source);
 }
 
-TimingReport analyse_timing(const std::string& column, const StepStatistics& steps,
-                            double first_time, const TimeUnit& unit,
-                            const std::string& unit_source) {
+TimingReport analyse_timing(const std::string& column, const StepStatistics& steps, double first_time,
+                            const TimeUnit& unit, const std::string& unit_source) {
   TimingReport r;
   r.column = column;
   r.samples = steps.samples();
@@ -347,8 +337,7 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
     for (const TimeUnit& u : kUnits) {
       const double t = first_time * u.to_seconds;
       const double s = step * u.to_seconds;
-      if (t >= kUnixTimeLow && t < kUnixTimeHigh && s >= kPlausibleStepLow &&
-          s <= kPlausibleStepHigh) {
+      if (t >= kUnixTimeLow && t < kUnixTimeHigh && s >= kPlausibleStepLow && s <= kPlausibleStepHigh) {
         r.unit_to_seconds = u.to_seconds;
         r.unit = u.label;
         r.unit_source = "the first time looks like a Unix time";
@@ -387,9 +376,8 @@ std::string TimingReport::summary() const {
   using detail::format_hz;
   std::string s = "timestamps '" + column + "' in " + unit + " (" + unit_source + "): ";
   if (estimated_freq > 0.0) {
-    s += "median step " + format_duration(median_step_seconds) + " = " +
-         format_hz(estimated_freq) + ", " + std::to_string(gaps) +
-         (gaps == 1 ? " gap" : " gaps");
+    s += "median step " + format_duration(median_step_seconds) + " = " + format_hz(estimated_freq) + ", " +
+         std::to_string(gaps) + (gaps == 1 ? " gap" : " gaps");
     if (gaps > 0) s += " (largest " + format_duration(largest_gap_seconds) + ")";
   } else {
     s += "the times never increase";
@@ -401,8 +389,7 @@ std::string TimingReport::summary() const {
     if (rel > kDisagreement) {
       char pct[32];
       std::snprintf(pct, sizeof pct, "%.3g%%", 100.0 * rel);
-      s += "; --freq " + format_hz(*given_freq) + " disagrees with them by " + pct +
-           " (--freq is used)";
+      s += "; --freq " + format_hz(*given_freq) + " disagrees with them by " + pct + " (--freq is used)";
     }
   }
   return s;

@@ -33,7 +33,7 @@ std::pair<std::string, std::string> split_unit(std::string_view name);
 
 /// A sustained change of the sampling rate inside a record (rate_change()).
 struct RateChange {
-  double from_step = 0.0, to_step = 0.0;    ///< typical steps before and after, in the file's unit
+  double from_step = 0.0, to_step = 0.0;        ///< typical steps before and after, in the file's unit
   std::int64_t from_sample = 0, to_sample = 0;  ///< 0-based samples where each was seen
 };
 
@@ -110,16 +110,14 @@ class StepStatistics {
 /// Measures the sampling from the steps of the times (in the file's unit; `first_time` is
 /// the first raw time). `unit.to_seconds` 0: decided here from the first time (a Unix time
 /// in s/ms/us/ns) or from the median step.
-TimingReport analyse_timing(const std::string& column, const StepStatistics& steps,
-                            double first_time, const TimeUnit& unit,
-                            const std::string& unit_source);
+TimingReport analyse_timing(const std::string& column, const StepStatistics& steps, double first_time,
+                            const TimeUnit& unit, const std::string& unit_source);
 /// Refuses (InputError naming the file and the column) a record whose sampling rate
 /// changes within it, unless options.freq says to take the samples as evenly spaced.
 void check_one_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options);
 
 /// The same from times relative to the first one.
-TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets,
-                            double first_time, const TimeUnit& unit,
-                            const std::string& unit_source);
+TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,
+                            const TimeUnit& unit, const std::string& unit_source);
 
 }  // namespace gmwm::io::detail

@@ -63,8 +63,8 @@ struct Format {
 
 std::size_t basic_size(const std::string& t) {
   static const std::map<std::string, std::size_t> sizes = {
-      {"int8_t", 1},  {"uint8_t", 1},  {"bool", 1},     {"char", 1},     {"int16_t", 2}, {"uint16_t", 2},
-      {"int32_t", 4}, {"uint32_t", 4}, {"float", 4},    {"int64_t", 8},  {"uint64_t", 8}, {"double", 8}};
+      {"int8_t", 1},  {"uint8_t", 1},  {"bool", 1},  {"char", 1},    {"int16_t", 2},  {"uint16_t", 2},
+      {"int32_t", 4}, {"uint32_t", 4}, {"float", 4}, {"int64_t", 8}, {"uint64_t", 8}, {"double", 8}};
   const auto it = sizes.find(t);
   return it == sizes.end() ? 0 : it->second;
 }
@@ -99,9 +99,12 @@ struct Wanted {
 
 std::vector<Wanted> wanted_of(const std::string& topic) {
   if (topic == "sensor_combined")
-    return {{"gyro_x", "gyro_rad", "rad/s", 0},          {"gyro_y", "gyro_rad", "rad/s", 1},
-            {"gyro_z", "gyro_rad", "rad/s", 2},          {"accel_x", "accelerometer_m_s2", "m/s^2", 0},
-            {"accel_y", "accelerometer_m_s2", "m/s^2", 1}, {"accel_z", "accelerometer_m_s2", "m/s^2", 2}};
+    return {{"gyro_x", "gyro_rad", "rad/s", 0},
+            {"gyro_y", "gyro_rad", "rad/s", 1},
+            {"gyro_z", "gyro_rad", "rad/s", 2},
+            {"accel_x", "accelerometer_m_s2", "m/s^2", 0},
+            {"accel_y", "accelerometer_m_s2", "m/s^2", 1},
+            {"accel_z", "accelerometer_m_s2", "m/s^2", 2}};
   if (topic == "sensor_gyro")
     return {{"gyro_x", "x", "rad/s", 0}, {"gyro_y", "y", "rad/s", 0}, {"gyro_z", "z", "rad/s", 0}};
   if (topic == "sensor_accel")
@@ -165,8 +168,9 @@ class Parser {
     const auto raw = raw_formats_.find(name);
     if (raw == raw_formats_.end()) fail(at, index, "format '" + name + "' is used but never defined");
     if (depth > kMaxNesting)
-      fail(at, index, "format '" + name + "' nests deeper than " + std::to_string(kMaxNesting) +
-                          " levels (a format that contains itself?), expected at most " + std::to_string(kMaxNesting));
+      fail(at, index,
+           "format '" + name + "' nests deeper than " + std::to_string(kMaxNesting) +
+               " levels (a format that contains itself?), expected at most " + std::to_string(kMaxNesting));
     Format f;
     std::size_t start = 0;
     const std::string& s = raw->second;
@@ -194,8 +198,9 @@ class Parser {
       const auto bytes = checked_mul(fd.size, static_cast<std::uint64_t>(fd.count));
       const auto total = bytes ? checked_add(f.size, *bytes) : std::nullopt;
       if (!total || *total > kMaxPayloadBytes)
-        fail(at, index, "format '" + name + "': field '" + item + "' makes it larger than " +
-                            std::to_string(kMaxPayloadBytes) + " bytes, expected a format that fits in a data message");
+        fail(at, index,
+             "format '" + name + "': field '" + item + "' makes it larger than " + std::to_string(kMaxPayloadBytes) +
+                 " bytes, expected a format that fits in a data message");
       f.size = static_cast<std::size_t>(*total);
       f.fields.push_back(fd);
     }
@@ -220,8 +225,9 @@ class Parser {
       for (const Field& fd : f.fields)
         if (fd.name == w.field) found = &fd;
       if (!found || w.element >= found->count || basic_size(found->type) == 0)
-        fail(at, index, "topic " + topic + " has no numeric field " + w.field +
-                            (w.element ? "[" + std::to_string(w.element) + "]" : "") + ", expected IMU messages");
+        fail(at, index,
+             "topic " + topic + " has no numeric field " + w.field +
+                 (w.element ? "[" + std::to_string(w.element) + "]" : "") + ", expected IMU messages");
       s.fields.push_back(*found);
     }
     const Field* stamp = nullptr;
@@ -249,14 +255,16 @@ class Parser {
     std::vector<double> values(wanted.size());
     std::uint64_t previous_stamp = 0;
     for (std::size_t index = 1; at < end; ++index) {
-      if (end - at < 3) fail(at, index, "truncated message header (" + std::to_string(end - at) + " bytes left, expected 3)");
+      if (end - at < 3)
+        fail(at, index, "truncated message header (" + std::to_string(end - at) + " bytes left, expected 3)");
       const unsigned char* h = window.view(at, 3);
       const std::uint16_t size = load<std::uint16_t>(h);
       const char type = static_cast<char>(h[2]);
       const std::uint64_t body = at + 3;
       if (end - body < size)
-        fail(at, index, "truncated: a '" + std::string(1, type) + "' message of " + std::to_string(size) +
-                            " bytes with " + std::to_string(end - body) + " left");
+        fail(at, index,
+             "truncated: a '" + std::string(1, type) + "' message of " + std::to_string(size) + " bytes with " +
+                 std::to_string(end - body) + " left");
       if (type != 'F' && type != 'A' && type != 'R' && type != 'D') {
         at = body + size;  // other messages: skipped unread
         continue;
@@ -286,8 +294,8 @@ class Parser {
         if (sub != subscriptions.end()) {
           const Subscription& s = sub->second;
           if (static_cast<std::size_t>(size - 2) < s.payload_size)
-            fail(at, index, topic + " data of " + std::to_string(size - 2) + " bytes, expected " +
-                                std::to_string(s.payload_size));
+            fail(at, index,
+                 topic + " data of " + std::to_string(size - 2) + " bytes, expected " + std::to_string(s.payload_size));
           if (columns.size() == 0) columns.reserve((end - at) / (s.payload_size + 5));  // at most this many
           const unsigned char* d = window.view(body, size) + 2;
           // The stamp as read is named in messages: its double may round to 2^64, which no
@@ -295,8 +303,9 @@ class Parser {
           const std::uint64_t stamp = load<std::uint64_t>(d + s.stamp.offset);
           const double t = static_cast<double>(stamp);
           if (columns.size() > 0 && t <= columns.last())
-            fail(at, index, topic + " timestamp " + std::to_string(stamp) + " us is not after the previous one (" +
-                                std::to_string(previous_stamp) + " us): unsorted stamps");
+            fail(at, index,
+                 topic + " timestamp " + std::to_string(stamp) + " us is not after the previous one (" +
+                     std::to_string(previous_stamp) + " us): unsorted stamps");
           previous_stamp = stamp;
           for (std::size_t k = 0; k < s.fields.size(); ++k) {
             const Field& fd = s.fields[k];

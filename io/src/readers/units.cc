@@ -75,7 +75,8 @@ UnitsSpec parse_units_spec(const std::string& spec) {
       out.plain = unit;
       return out;
     } catch (const InputError&) {
-      throw InputError("--units '" + spec + "': expected one unit (rad/s, deg/s, deg/h, m/s^2, g, mg) or kind=unit "
+      throw InputError("--units '" + spec +
+                       "': expected one unit (rad/s, deg/s, deg/h, m/s^2, g, mg) or kind=unit "
                        "pairs such as gyro=deg/s,accel=g");
     }
   }
@@ -85,12 +86,17 @@ UnitsSpec parse_units_spec(const std::string& spec) {
     const std::string item = spec.substr(start, comma - start);
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos)
-      throw InputError("--units '" + spec + "': expected kind=unit pairs such as gyro=deg/s,accel=g, found '" + item + "'");
+      throw InputError("--units '" + spec + "': expected kind=unit pairs such as gyro=deg/s,accel=g, found '" + item +
+                       "'");
     const std::string key = lower(item.substr(0, eq));
     SensorKind kind;
-    if (key == "gyro") kind = SensorKind::kGyro;
-    else if (key == "accel") kind = SensorKind::kAccel;
-    else throw InputError("--units '" + spec + "': unknown sensor kind '" + item.substr(0, eq) + "' (expected gyro or accel)");
+    if (key == "gyro")
+      kind = SensorKind::kGyro;
+    else if (key == "accel")
+      kind = SensorKind::kAccel;
+    else
+      throw InputError("--units '" + spec + "': unknown sensor kind '" + item.substr(0, eq) +
+                       "' (expected gyro or accel)");
     try {
       out.declared[kind] = parse_unit(item.substr(eq + 1), kind);
     } catch (const InputError& e) {
@@ -115,7 +121,8 @@ std::string unit_of_column(const UnitsSpec& spec, const std::string& column) {
 }
 
 std::vector<Unit> units_of(SensorKind kind) {
-  if (kind == SensorKind::kGyro) return {parse_unit("rad/s", kind), parse_unit("deg/s", kind), parse_unit("deg/h", kind)};
+  if (kind == SensorKind::kGyro)
+    return {parse_unit("rad/s", kind), parse_unit("deg/s", kind), parse_unit("deg/h", kind)};
   return {parse_unit("m/s^2", kind), parse_unit("g", kind), parse_unit("mg", kind)};
 }
 

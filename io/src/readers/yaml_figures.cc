@@ -17,9 +17,9 @@ YAML::Node load_yaml(const std::string& text, const std::string& path) {
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw InputError((e.mark.is_null() ? path
-                                       : path + ":" + std::to_string(e.mark.line + 1) + ":" +
-                                             std::to_string(e.mark.column + 1)) +
+    throw InputError((e.mark.is_null()
+                          ? path
+                          : path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1)) +
                      ": not valid YAML: " + e.msg);
   }
 }

@@ -14,27 +14,26 @@ namespace {
 TEST(Ar1Process, MatchesReferenceWaveletVariance) {
   const auto p = make_process("AR1");
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_of(*p, std::vector<double>{0.9, 1.0}, tau),
-                             {0.26315789473684211, 0.3625, 0.5680840625, 0.83433445313871016,
-                              1.0034787352015113, 0.90012117108309364},
-                             1e-12, "AR1(0.9, 1)");
-  expect_all_relatively_near(wv_of(*p, std::vector<double>{0.5, 2.0}, tau),
-                             {0.66666666666666667, 0.625, 0.541015625, 0.37565040588378906,
-                              0.21875063578045228, 0.11718750000242532},
-                             1e-12, "AR1(0.5, 2)");
-  expect_all_relatively_near(wv_of(*p, std::vector<double>{-0.5, 1.0}, tau),
-                             {1, 0.1875, 0.0810546875, 0.034686088562011719,
-                              0.015624964678863762, 0.0073784722220874823},
-                             1e-12, "AR1(-0.5, 1)");
+  expect_all_relatively_near(
+      wv_of(*p, std::vector<double>{0.9, 1.0}, tau),
+      {0.26315789473684211, 0.3625, 0.5680840625, 0.83433445313871016, 1.0034787352015113, 0.90012117108309364}, 1e-12,
+      "AR1(0.9, 1)");
+  expect_all_relatively_near(
+      wv_of(*p, std::vector<double>{0.5, 2.0}, tau),
+      {0.66666666666666667, 0.625, 0.541015625, 0.37565040588378906, 0.21875063578045228, 0.11718750000242532}, 1e-12,
+      "AR1(0.5, 2)");
+  expect_all_relatively_near(
+      wv_of(*p, std::vector<double>{-0.5, 1.0}, tau),
+      {1, 0.1875, 0.0810546875, 0.034686088562011719, 0.015624964678863762, 0.0073784722220874823}, 1e-12,
+      "AR1(-0.5, 1)");
 }
 
 TEST(Ar1Process, MatchesHighPrecisionValuesNearTheUnitRoot) {
   const auto p = make_process("AR1");
   expect_all_relatively_near(
       wv_of(*p, std::vector<double>{0.999995, 1e-6}, dyadic_scales(10)),
-      {2.500006250015625e-7, 3.749993750000000e-7, 6.874934375312500e-7, 1.343716719221870e-6,
-       2.671728364198320e-6, 5.335324222771941e-6, 1.066546245309715e-5, 2.132385402619981e-5,
-       4.262626967189660e-5, 8.517027709134398e-5},
+      {2.500006250015625e-7, 3.749993750000000e-7, 6.874934375312500e-7, 1.343716719221870e-6, 2.671728364198320e-6,
+       5.335324222771941e-6, 1.066546245309715e-5, 2.132385402619981e-5, 4.262626967189660e-5, 8.517027709134398e-5},
       1e-10, "AR1(0.999995, 1e-6)");
 }
 
@@ -45,10 +44,8 @@ TEST(Ar1Process, MatchesReferenceDerivatives) {
   Eigen::MatrixXd jac(5, 2), hess(5, 4);
   p->wv_jacobian(theta, tau, jac);
   p->wv_hessian(theta, tau, hess);
-  const double dphi[] = {-0.13850415512465374, 0.125, 1.082265625, 3.8124777921469766,
-                         8.6751273840395974};
-  const double d2phi[] = {0.14579384749963552, 0.0, 2.113125, 20.824038226065938,
-                          96.940684814506211};
+  const double dphi[] = {-0.13850415512465374, 0.125, 1.082265625, 3.8124777921469766, 8.6751273840395974};
+  const double d2phi[] = {0.14579384749963552, 0.0, 2.113125, 20.824038226065938, 96.940684814506211};
   const auto wv = wv_of(*p, theta, tau);
   for (int k = 0; k < 5; ++k) {
     EXPECT_NEAR(jac(k, 0), dphi[k], 1e-12 * std::fabs(dphi[k])) << "tau = " << tau[k];
@@ -81,16 +78,14 @@ TEST(Ar1Process, IsAccurateWithDerivativesUpToPhiOneMinus1e9AtAllScales) {
   for (double d : {1e-9, 1e-7, 5e-6, 1e-4, 0.01, 0.3, 0.5, 0.7}) {
     const double phi = 1.0 - d;
     for (int j = 1; j <= 30; ++j)
-      expect_matches_reference(phi, ar1_reference(phi, j), std::ldexp(1.0, j),
-                               "phi = 1 - " + std::to_string(d));
+      expect_matches_reference(phi, ar1_reference(phi, j), std::ldexp(1.0, j), "phi = 1 - " + std::to_string(d));
   }
 }
 
 TEST(Ar1Process, IsAccurateWithDerivativesForNegativeAndSmallPhi) {
   for (double phi : {0.2, 0.0, -0.3, -0.5, -0.9, -0.999, -0.999999}) {
     for (int j = 1; j <= 30; ++j)
-      expect_matches_reference(phi, ar1_reference(phi, j), std::ldexp(1.0, j),
-                               "phi = " + std::to_string(phi));
+      expect_matches_reference(phi, ar1_reference(phi, j), std::ldexp(1.0, j), "phi = " + std::to_string(phi));
   }
 }
 
@@ -106,8 +101,8 @@ TEST(Ar1Process, AutocovarianceReproducesTheWaveletVariance) {
   const auto tau = dyadic_scales(6);
   for (double phi : {0.9, 0.4, -0.6}) {
     const std::vector<double> theta{phi, 0.5};
-    expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau),
-                               1e-10, "AR1 from g, phi = " + std::to_string(phi));
+    expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10,
+                               "AR1 from g, phi = " + std::to_string(phi));
   }
 }
 

@@ -14,10 +14,10 @@ TEST(Arma11Process, MatchesReferenceWaveletVarianceAndDerivatives) {
   const auto p = make_process("ARMA11");
   const std::vector<double> theta{0.6, 0.3, 1.0};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_of(*p, theta, tau),
-                             {0.303125, 0.45025, 0.5105906, 0.422504462113024,
-                              0.26933285375533497, 0.14984703225175818},
-                             1e-12, "ARMA11(0.6, 0.3, 1)");
+  expect_all_relatively_near(
+      wv_of(*p, theta, tau),
+      {0.303125, 0.45025, 0.5105906, 0.422504462113024, 0.26933285375533497, 0.14984703225175818}, 1e-12,
+      "ARMA11(0.6, 0.3, 1)");
   Eigen::MatrixXd jac(6, 3);
   p->wv_jacobian(theta, tau, jac);
   EXPECT_NEAR(jac(0, 0), -0.095703125, 1e-14);
@@ -45,8 +45,8 @@ TEST(Arma11Process, IsAccurateWithDerivativesNearTheUnitRoot) {
         Eigen::MatrixXd jac(1, 3), hess(1, 9);
         p->wv_jacobian(theta, t, jac);
         p->wv_hessian(theta, t, hess);
-        const std::string what = "phi = " + std::to_string(phi) + ", theta = " +
-                                 std::to_string(th) + ", j = " + std::to_string(j);
+        const std::string what =
+            "phi = " + std::to_string(phi) + ", theta = " + std::to_string(th) + ", j = " + std::to_string(j);
         for (int wrt = 0; wrt < 2; ++wrt) {
           const Reference ref = arma11_reference(phi, th, j, wrt);
           const double size1 = std::fabs(ref.d1) + std::fabs(ref.value);
@@ -73,8 +73,7 @@ TEST(Arma11Process, AutocovarianceReproducesTheWaveletVariance) {
   const auto tau = dyadic_scales(6);
   for (auto [phi, th] : {std::pair{0.6, 0.3}, {-0.7, 0.5}}) {
     const std::vector<double> theta{phi, th, 1.3};
-    expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau),
-                               1e-10, "ARMA11 from g");
+    expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10, "ARMA11 from g");
   }
 }
 

@@ -60,8 +60,7 @@ TEST(ArmaProcess, WithOrdersZeroOneEqualsMa1) {
   const auto ma1 = make_process("MA1");
   const auto tau = dyadic_scales(10);
   const std::vector<double> theta{-0.45, 0.8};
-  expect_all_relatively_near(wv_of(*generic, theta, tau), wv_of(*ma1, theta, tau), 1e-12,
-                             "ARMA(0,1) vs MA1");
+  expect_all_relatively_near(wv_of(*generic, theta, tau), wv_of(*ma1, theta, tau), 1e-12, "ARMA(0,1) vs MA1");
 }
 
 TEST(ArmaProcess, AutocovarianceMatchesALongMovingAverageSum) {
@@ -94,8 +93,7 @@ TEST(ArmaProcess, AutocovarianceReproducesTheWaveletVariance) {
 
 TEST(ArmaProcess, DerivativesMatchFiniteDifferences) {
   expect_derivatives_match_finite_differences(*arma(2, 1), {0.5, -0.3, 0.4, 1.3}, dyadic_scales(10));
-  expect_derivatives_match_finite_differences(*arma(2, 2), {1.2, -0.5, -0.6, 0.3, 0.5},
-                                              dyadic_scales(10));
+  expect_derivatives_match_finite_differences(*arma(2, 2), {1.2, -0.5, -0.6, 0.3, 0.5}, dyadic_scales(10));
   expect_derivatives_match_finite_differences(*arma(1, 2), {0.95, 0.3, -0.2, 1.0}, dyadic_scales(10));
   expect_derivatives_match_finite_differences(*arma(0, 3), {0.3, -0.2, 0.1, 1.0}, dyadic_scales(8));
 }

@@ -11,8 +11,8 @@ namespace {
 
 TEST(DriftProcess, MatchesReferenceWaveletVariance) {
   const auto p = make_process("DR");
-  expect_all_relatively_near(wv_of(*p, std::vector<double>{1.0}, dyadic_scales(6)),
-                             {0.25, 1, 4, 16, 64, 256}, 1e-15, "DR(1)");
+  expect_all_relatively_near(wv_of(*p, std::vector<double>{1.0}, dyadic_scales(6)), {0.25, 1, 4, 16, 64, 256}, 1e-15,
+                             "DR(1)");
 }
 
 TEST(DriftProcess, IsDeterministicWithZeroAutocovariance) {
@@ -47,8 +47,8 @@ TEST(DriftProcess, AcceptsANegativeOmegaAndRejectsZero) {
 
 TEST(DriftProcess, ANegativeDriftHasTheSameWaveletVarianceAndAFallingPath) {
   const auto p = make_process("DR");
-  expect_all_relatively_near(wv_of(*p, std::vector<double>{-1.0}, dyadic_scales(6)),
-                             {0.25, 1, 4, 16, 64, 256}, 1e-15, "DR(-1)");
+  expect_all_relatively_near(wv_of(*p, std::vector<double>{-1.0}, dyadic_scales(6)), {0.25, 1, 4, 16, 64, 256}, 1e-15,
+                             "DR(-1)");
   Rng rng = make_stream(1, {1});
   std::vector<double> x(10, 0.0);
   p->simulate(std::vector<double>{-0.25}, rng, x);

@@ -21,7 +21,7 @@ constexpr double kLn2OverPi = 0.69314718055994530942 / 3.14159265358979323846;
 TEST(FlickerProcess, MatchesAHighPrecisionSumOfOctaveAr1s) {
   const auto p = make_process("FLICKER", {{"kmin", 0}, {"kmax", 39}});
   const std::vector<double> tau = {2.0, 4.0, 32.0, 1024.0, std::ldexp(1.0, 20), std::ldexp(1.0, 30)};
-  const std::vector<double> expected = {0.7433669398597585, 0.76703191695959206, 0.95218240788698986,
+  const std::vector<double> expected = {0.7433669398597585,  0.76703191695959206, 0.95218240788698986,
                                         0.99837600503627839, 0.99999808969834774, 0.99967455706890806};
   // B2 = pi / ln2 makes each octave's stationary variance 1.
   expect_all_relatively_near(wv_of(*p, std::vector<double>{1.0 / kLn2OverPi}, tau), expected, 1e-10,
@@ -76,7 +76,8 @@ TEST(FlickerProcess, RejectsABadOctaveRangeOrAnUnknownKeyWithOneClearLine) {
   EXPECT_NE(message("FLICKER(kmin=9,kmax=3)").find("0 <= kmin <= kmax <= 62 (got kmin=9, kmax=3)"), std::string::npos)
       << message("FLICKER(kmin=9,kmax=3)");
   EXPECT_NE(message("FLICKER(kmax=70)").find("kmax=70"), std::string::npos);
-  EXPECT_NE(message("FLICKER(octaves=3)").find("FLICKER has no parameter 'octaves' (parameters: B2)"), std::string::npos)
+  EXPECT_NE(message("FLICKER(octaves=3)").find("FLICKER has no parameter 'octaves' (parameters: B2)"),
+            std::string::npos)
       << message("FLICKER(octaves=3)");
 }
 

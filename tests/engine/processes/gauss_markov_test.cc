@@ -18,8 +18,8 @@ TEST(GaussMarkovProcess, EqualsTheAr1WithTheReferenceConversionAt100Hz) {
   const auto ar1 = make_process("AR1");
   const auto tau = dyadic_scales(14);
   expect_all_relatively_near(wv_of(*gm, std::vector<double>{2.0, 3.0}, tau),
-                             wv_of(*ar1, std::vector<double>{0.9801986733067553, 0.11763168254303047}, tau),
-                             1e-12, "GM(2, 3) at 100 Hz vs AR1");
+                             wv_of(*ar1, std::vector<double>{0.9801986733067553, 0.11763168254303047}, tau), 1e-12,
+                             "GM(2, 3) at 100 Hz vs AR1");
 }
 
 TEST(GaussMarkovProcess, EqualsTheAr1WithTheReferenceConversionAt1Hz) {
@@ -27,8 +27,7 @@ TEST(GaussMarkovProcess, EqualsTheAr1WithTheReferenceConversionAt1Hz) {
   const auto ar1 = make_process("AR1");
   const auto tau = dyadic_scales(10);
   expect_all_relatively_near(wv_of(*gm, std::vector<double>{0.10536051565782628, 5.263157894736843}, tau),
-                             wv_of(*ar1, std::vector<double>{0.9, 1.0}, tau), 1e-12,
-                             "GM at 1 Hz vs AR1(0.9, 1)");
+                             wv_of(*ar1, std::vector<double>{0.9, 1.0}, tau), 1e-12, "GM at 1 Hz vs AR1(0.9, 1)");
 }
 
 TEST(GaussMarkovProcess, IsAccurateWithDerivativesForLongCorrelationTimes) {
@@ -65,8 +64,7 @@ TEST(GaussMarkovProcess, AutocovarianceReproducesTheWaveletVariance) {
   const auto p = make_process("GM", {}, at_rate(10.0));
   const std::vector<double> theta{1.5, 0.2};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10,
-                             "GM from g");
+  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10, "GM from g");
 }
 
 TEST(GaussMarkovProcess, SimulatedMomentsMatchTheAutocovariance) {
@@ -111,8 +109,7 @@ TEST(GaussMarkovProcess, PhysicalQuantitiesAreItsParametersAndMatchTheAr1s) {
   EXPECT_EQ(q[1].name, "stationary sigma");
   EXPECT_DOUBLE_EQ(q[1].value, 1.7320508075688772);
   // The equivalent AR1 (phi = exp(-0.02), sigma2 = 3 (1 - exp(-0.04))) reads the same.
-  const auto ar1 = make_process("AR1")->physical(
-      std::vector<double>{0.9801986733067553, 0.11763168254303047}, 100.0);
+  const auto ar1 = make_process("AR1")->physical(std::vector<double>{0.9801986733067553, 0.11763168254303047}, 100.0);
   EXPECT_NEAR(ar1[0].value, q[0].value, 1e-12);
   EXPECT_NEAR(ar1[1].value, q[1].value, 1e-12);
   EXPECT_EQ(ar1[0].unit_pattern, q[0].unit_pattern);

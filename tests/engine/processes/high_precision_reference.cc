@@ -28,8 +28,8 @@ Var ar1_closed_form(const Var& phi, int j) {
 Var arma11_closed_form(const Var& phi, const Var& theta, int j) {
   const Real tau = boost::multiprecision::ldexp(Real(1), j);
   const Var a = pow_two_to(phi, j - 1), b = pow_two_to(phi, j);
-  const Var num = (theta + phi) * (1 + theta * phi) * (3 - 4 * a + b) +
-                  (1 + theta) * (1 + theta) * (phi * phi - 1) * tau / 2;
+  const Var num =
+      (theta + phi) * (1 + theta * phi) * (3 - 4 * a + b) + (1 + theta) * (1 + theta) * (phi * phi - 1) * tau / 2;
   const Var d = phi - 1;
   return 2 * num / (d * d * d * (1 + phi) * tau * tau);
 }
@@ -41,9 +41,7 @@ Reference to_reference(const Var& y) {
 
 }  // namespace
 
-Reference ar1_reference(double phi, int j) {
-  return to_reference(ar1_closed_form(make_fvar<Real, 2>(Real(phi)), j));
-}
+Reference ar1_reference(double phi, int j) { return to_reference(ar1_closed_form(make_fvar<Real, 2>(Real(phi)), j)); }
 
 Reference gm_reference(double beta, double freq, double sigma2_gm, int j) {
   const Var b = make_fvar<Real, 2>(Real(beta));
@@ -54,8 +52,7 @@ Reference gm_reference(double beta, double freq, double sigma2_gm, int j) {
 }
 
 Reference arma11_reference(double phi, double theta, int j, int wrt) {
-  if (wrt == 0)
-    return to_reference(arma11_closed_form(make_fvar<Real, 2>(Real(phi)), Var(Real(theta)), j));
+  if (wrt == 0) return to_reference(arma11_closed_form(make_fvar<Real, 2>(Real(phi)), Var(Real(theta)), j));
   return to_reference(arma11_closed_form(Var(Real(phi)), make_fvar<Real, 2>(Real(theta)), j));
 }
 

@@ -12,8 +12,7 @@ TEST(Ma1Process, MatchesReferenceWaveletVarianceAndDerivative) {
   const auto p = make_process("MA1");
   const std::vector<double> theta{0.5, 1.0};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_of(*p, theta, tau),
-                             {0.375, 0.375, 0.234375, 0.12890625, 0.0673828125, 0.034423828125},
+  expect_all_relatively_near(wv_of(*p, theta, tau), {0.375, 0.375, 0.234375, 0.12890625, 0.0673828125, 0.034423828125},
                              1e-12, "MA1(0.5, 1)");
   Eigen::MatrixXd jac(6, 2);
   p->wv_jacobian(theta, tau, jac);
@@ -31,8 +30,7 @@ TEST(Ma1Process, AutocovarianceReproducesTheWaveletVariance) {
   const auto p = make_process("MA1");
   const std::vector<double> theta{-0.4, 2.0};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10,
-                             "MA1 from g");
+  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10, "MA1 from g");
 }
 
 TEST(Ma1Process, SimulatedMomentsMatchTheAutocovariance) {

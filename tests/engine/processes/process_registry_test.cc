@@ -15,8 +15,7 @@ TEST(ProcessRegistry, KnowsEveryProcessOfTheLibrary) {
   for (const char* n : {"WN", "QN", "RW", "DR", "AR1", "GM", "MA1", "ARMA11", "ARMA", "SIN"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
   EXPECT_NE(ProcessRegistry::instance().find("ar1"), nullptr);
-  EXPECT_EQ(ProcessRegistry::instance().find("ARMA")->structural_keys,
-            (std::vector<std::string>{"p", "q"}));
+  EXPECT_EQ(ProcessRegistry::instance().find("ARMA")->structural_keys, (std::vector<std::string>{"p", "q"}));
 }
 
 TEST(ProcessRegistry, IsBuiltExplicitlyWithExactlyTheBuiltInProcesses) {

@@ -31,8 +31,7 @@ double step_for(const ParameterSpec& spec, double x) {
 }
 
 // Flattened f(theta): the WV (derivative order 0) or the jacobian (order 1).
-Eigen::VectorXd evaluate(const Process& p, const std::vector<double>& theta,
-                         std::span<const double> tau, int order) {
+Eigen::VectorXd evaluate(const Process& p, const std::vector<double>& theta, std::span<const double> tau, int order) {
   const auto J = static_cast<Eigen::Index>(tau.size());
   if (order == 0) {
     Eigen::VectorXd v(J);
@@ -46,8 +45,7 @@ Eigen::VectorXd evaluate(const Process& p, const std::vector<double>& theta,
 
 }  // namespace
 
-std::unique_ptr<Process> make_process(const std::string& name,
-                                      const std::map<std::string, long>& structural,
+std::unique_ptr<Process> make_process(const std::string& name, const std::map<std::string, long>& structural,
                                       const ProcessContext& context) {
   ProcessArgs args;
   args.context = context;
@@ -61,8 +59,7 @@ std::vector<double> dyadic_scales(int j_max, int j_min) {
   return tau;
 }
 
-std::vector<double> wv_of(const Process& p, std::span<const double> theta,
-                          std::span<const double> tau) {
+std::vector<double> wv_of(const Process& p, std::span<const double> theta, std::span<const double> tau) {
   std::vector<double> out(tau.size());
   p.wv(theta, tau, out);
   return out;
@@ -86,8 +83,8 @@ std::vector<double> wv_from_autocovariance(const Process& p, std::span<const dou
   return out;
 }
 
-void expect_all_relatively_near(const std::vector<double>& actual, const std::vector<double>& expected,
-                                double rel, const std::string& what) {
+void expect_all_relatively_near(const std::vector<double>& actual, const std::vector<double>& expected, double rel,
+                                const std::string& what) {
   ASSERT_EQ(actual.size(), expected.size()) << what;
   for (std::size_t k = 0; k < actual.size(); ++k)
     EXPECT_NEAR(actual[k], expected[k], rel * std::fabs(expected[k]))
@@ -135,8 +132,8 @@ void expect_derivatives_match_finite_differences(const Process& p, std::vector<d
         const double rounding = kRoundingUlps * kEps * fmax2(i) / (0.5 * h);
         const double tol = truncation + rounding;
         std::ostringstream what;
-        what << p.name() << p.structure() << (order == 0 ? " jacobian" : " hessian")
-             << " entry " << i << " for parameter " << p.parameters()[static_cast<std::size_t>(l)].name
+        what << p.name() << p.structure() << (order == 0 ? " jacobian" : " hessian") << " entry " << i
+             << " for parameter " << p.parameters()[static_cast<std::size_t>(l)].name
              << " (theta_l = " << theta[static_cast<std::size_t>(l)] << ", step " << h << ")";
         EXPECT_NEAR(analytic(i), d2(i), tol) << what.str();
         EXPECT_LE(truncation, 1e-5 * (std::fabs(analytic(i)) + scale) + rounding)
@@ -148,8 +145,7 @@ void expect_derivatives_match_finite_differences(const Process& p, std::vector<d
   for (Eigen::Index k = 0; k < J; ++k)
     for (int l = 0; l < np; ++l)
       for (int m = 0; m < l; ++m)
-        EXPECT_NEAR(hess(k, l * np + m), hess(k, m * np + l),
-                    1e-12 * (std::fabs(hess(k, l * np + m)) + 1e-300))
+        EXPECT_NEAR(hess(k, l * np + m), hess(k, m * np + l), 1e-12 * (std::fabs(hess(k, l * np + m)) + 1e-300))
             << p.name() << " hessian symmetry";
 }
 
@@ -158,7 +154,11 @@ namespace {
 struct RunningMean {
   double sum = 0.0, sum2 = 0.0;
   int n = 0;
-  void add(double x) { sum += x; sum2 += x * x; ++n; }
+  void add(double x) {
+    sum += x;
+    sum2 += x * x;
+    ++n;
+  }
   double mean() const { return sum / n; }
   double se() const {
     const double m = mean();
@@ -174,8 +174,7 @@ void expect_within_3_se(const RunningMean& r, double target, const std::string& 
 
 }  // namespace
 
-void expect_simulated_moments_match(const Process& p, std::span<const double> theta,
-                                    const SimulationCheck& check) {
+void expect_simulated_moments_match(const Process& p, std::span<const double> theta, const SimulationCheck& check) {
   std::vector<double> g(3);
   p.generalized_autocovariance(theta, g);
   RunningMean dd, dd1, xx, xx1;
@@ -209,8 +208,8 @@ void expect_simulated_moments_match(const Process& p, std::span<const double> th
   }
 }
 
-void expect_first_sample_is_stationary(const Process& p, std::span<const double> theta,
-                                       int replicates, std::uint64_t seed) {
+void expect_first_sample_is_stationary(const Process& p, std::span<const double> theta, int replicates,
+                                       std::uint64_t seed) {
   std::vector<double> g(1);
   p.generalized_autocovariance(theta, g);
   RunningMean x0;

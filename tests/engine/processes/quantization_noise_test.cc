@@ -10,8 +10,7 @@ namespace {
 TEST(QuantizationNoiseProcess, MatchesReferenceWaveletVariance) {
   const auto p = make_process("QN");
   expect_all_relatively_near(wv_of(*p, std::vector<double>{1.0}, dyadic_scales(6)),
-                             {1.5, 0.375, 0.09375, 0.0234375, 0.005859375, 0.00146484375},
-                             1e-15, "QN(1)");
+                             {1.5, 0.375, 0.09375, 0.0234375, 0.005859375, 0.00146484375}, 1e-15, "QN(1)");
 }
 
 TEST(QuantizationNoiseProcess, IsLinearAndRanksAfterWhiteNoise) {
@@ -26,8 +25,7 @@ TEST(QuantizationNoiseProcess, AutocovarianceReproducesTheWaveletVariance) {
   const auto p = make_process("QN");
   const std::vector<double> theta{0.4};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10,
-                             "QN from g");
+  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10, "QN from g");
 }
 
 TEST(QuantizationNoiseProcess, DerivativesMatchFiniteDifferences) {

@@ -12,8 +12,7 @@ namespace {
 TEST(RandomWalkProcess, MatchesReferenceWaveletVariance) {
   const auto p = make_process("RW");
   expect_all_relatively_near(wv_of(*p, std::vector<double>{1.0}, dyadic_scales(6)),
-                             {0.25, 0.375, 0.6875, 1.34375, 2.671875, 5.3359375}, 1e-15,
-                             "RW(1)");
+                             {0.25, 0.375, 0.6875, 1.34375, 2.671875, 5.3359375}, 1e-15, "RW(1)");
 }
 
 TEST(RandomWalkProcess, IsLinearAndRanksAfterQuantizationNoise) {
@@ -27,8 +26,7 @@ TEST(RandomWalkProcess, GeneralizedAutocovarianceReproducesTheWaveletVariance) {
   const auto p = make_process("RW");
   const std::vector<double> theta{0.01};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10,
-                             "RW from g");
+  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10, "RW from g");
 }
 
 TEST(RandomWalkProcess, DerivativesMatchFiniteDifferences) {

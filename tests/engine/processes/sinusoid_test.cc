@@ -19,15 +19,13 @@ TEST(SinusoidProcess, MatchesTheClosedForm) {
   for (double f : {0.01, 0.1234, 0.3, 0.49}) {
     std::vector<double> expected;
     for (double t : tau) expected.push_back(direct_sin_wv(2.0, f, t));
-    expect_all_relatively_near(wv_of(*p, std::vector<double>{2.0, f}, tau), expected, 1e-10,
-                               "SIN(2, f)");
+    expect_all_relatively_near(wv_of(*p, std::vector<double>{2.0, f}, tau), expected, 1e-10, "SIN(2, f)");
   }
 }
 
 TEST(SinusoidProcess, DerivativesMatchFiniteDifferences) {
   const auto p = make_process("SIN");
-  for (double f : {0.01, 0.1234, 0.3})
-    expect_derivatives_match_finite_differences(*p, {0.7, f}, dyadic_scales(8));
+  for (double f : {0.01, 0.1234, 0.3}) expect_derivatives_match_finite_differences(*p, {0.7, f}, dyadic_scales(8));
 }
 
 TEST(SinusoidProcess, AutocovarianceReproducesTheWaveletVariance) {
@@ -35,8 +33,7 @@ TEST(SinusoidProcess, AutocovarianceReproducesTheWaveletVariance) {
   const auto tau = dyadic_scales(6);
   for (double f : {0.02, 0.17, 0.41}) {
     const std::vector<double> theta{1.5, f};
-    expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau),
-                               1e-10, "SIN from g");
+    expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-10, "SIN from g");
   }
 }
 

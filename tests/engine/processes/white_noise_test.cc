@@ -11,16 +11,15 @@ namespace {
 TEST(WhiteNoiseProcess, MatchesReferenceWaveletVariance) {
   const auto p = make_process("WN");
   const std::vector<double> theta{1.0};
-  expect_all_relatively_near(wv_of(*p, theta, dyadic_scales(6)),
-                             {0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625}, 1e-15, "WN(1)");
+  expect_all_relatively_near(wv_of(*p, theta, dyadic_scales(6)), {0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625}, 1e-15,
+                             "WN(1)");
 }
 
 TEST(WhiteNoiseProcess, AutocovarianceReproducesTheWaveletVariance) {
   const auto p = make_process("WN");
   const std::vector<double> theta{0.7};
   const auto tau = dyadic_scales(6);
-  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-12,
-                             "WN from g");
+  expect_all_relatively_near(wv_from_autocovariance(*p, theta, tau), wv_of(*p, theta, tau), 1e-12, "WN from g");
 }
 
 TEST(WhiteNoiseProcess, DerivativesMatchFiniteDifferences) {

@@ -37,11 +37,11 @@ struct AllanOptions {
 };
 
 struct AllanDeviation {
-  std::vector<std::int64_t> m;   ///< averaging factor in samples
-  std::vector<double> tau;       ///< m / freq in seconds
-  std::vector<double> adev;      ///< sqrt(AVAR), in the data's unit
+  std::vector<std::int64_t> m;  ///< averaging factor in samples
+  std::vector<double> tau;      ///< m / freq in seconds
+  std::vector<double> adev;     ///< sqrt(AVAR), in the data's unit
   std::vector<double> ci_low, ci_high;
-  std::vector<double> edf;       ///< equivalent degrees of freedom of the interval
+  std::vector<double> edf;  ///< equivalent degrees of freedom of the interval
   double freq = 1.0;
   std::int64_t n = 0;
   double alpha = 0.05;

@@ -33,20 +33,17 @@ inline void check_nonnegative(std::string_view function, std::string_view name, 
   if (!(x >= 0.0) || !std::isfinite(x)) detail::throw_check(function, name, x, "non-negative and finite");
 }
 /// Open interval (lo, hi).
-inline void check_open_interval(std::string_view function, std::string_view name, double x,
-                                double lo, double hi) {
+inline void check_open_interval(std::string_view function, std::string_view name, double x, double lo, double hi) {
   if (!(x > lo && x < hi))
-    detail::throw_check(function, name, x,
-                        "in (" + std::to_string(lo) + ", " + std::to_string(hi) + ")");
+    detail::throw_check(function, name, x, "in (" + std::to_string(lo) + ", " + std::to_string(hi) + ")");
 }
 inline void check_probability(std::string_view function, std::string_view name, double x) {
   if (!(x > 0.0 && x < 1.0)) detail::throw_check(function, name, x, "in (0, 1)");
 }
-inline void check_at_least(std::string_view function, std::string_view name, double x,
-                           double lo) {
+inline void check_at_least(std::string_view function, std::string_view name, double x, double lo) {
   if (!(x >= lo)) detail::throw_check(function, name, x, "at least " + std::to_string(lo));
 }
-void check_size_match(std::string_view function, std::string_view name_a, std::size_t a,
-                      std::string_view name_b, std::size_t b);
+void check_size_match(std::string_view function, std::string_view name_a, std::size_t a, std::string_view name_b,
+                      std::size_t b);
 
 }  // namespace gmwm

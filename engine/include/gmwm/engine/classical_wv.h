@@ -23,8 +23,8 @@ class HaarModwt;
 inline constexpr double kMinAlpha = 1e-10;
 
 struct WvOptions {
-  int levels = 0;        ///< number of levels; <= 0 means J = floor(log2 N)
-  double alpha = 0.05;   ///< CIs at level 1 - alpha (two-sided)
+  int levels = 0;       ///< number of levels; <= 0 means J = floor(log2 N)
+  double alpha = 0.05;  ///< CIs at level 1 - alpha (two-sided)
   /// Empty when valid, else a one-line message.
   std::string Validate() const;
 };
@@ -68,8 +68,7 @@ std::vector<std::pair<double, double>> allan_variance(const WaveletVariance& wv)
 /// The classical estimator as a strategy object (bootstrap, gap reference distributions).
 class ClassicalWvEstimator final : public WvEstimator {
  public:
-  WaveletVariance compute(const double* x, std::int64_t n, int levels,
-                          double alpha) const override;
+  WaveletVariance compute(const double* x, std::int64_t n, int levels, double alpha) const override;
   WaveletVariance compute(const HaarModwt& modwt, const double* x, std::int64_t n, int levels,
                           double alpha) const override;
   std::string name() const override { return "classical"; }

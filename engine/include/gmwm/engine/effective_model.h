@@ -62,8 +62,8 @@ struct EffectiveModel {
   /// Labels of the effective model's components that stand for another process
   /// ("WN-like" for a WN that was an AR1), per component, empty when it is as fitted.
   std::vector<std::string> labels;
-  double statistic = 0.0;   ///< S of the accepted reductions (0 when none)
-  double threshold = 0.0;   ///< its simulated 1 - alpha quantile (0 when none)
+  double statistic = 0.0;  ///< S of the accepted reductions (0 when none)
+  double threshold = 0.0;  ///< its simulated 1 - alpha quantile (0 when none)
   int removed_parameters = 0;
   /// Removed parameters of components that carried a share of the WV (tested; a collapsed
   /// term's are removed for free).

@@ -53,16 +53,16 @@ struct FitOptions {
   /// A weighting matrix given by the caller (e.g. common to all models of a selection);
   /// overrides `omega` when set.
   std::optional<Eigen::MatrixXd> omega_matrix;
-  double alpha = 0.05;                 ///< parameter CIs at level 1 - alpha
-  int multistarts = 4;                 ///< local optimisations from the best shape-based starts
-  int max_evaluations = 3000;          ///< per local optimisation
-  double relative_tolerance = 1e-12;   ///< NLopt ftol_rel
+  double alpha = 0.05;                ///< parameter CIs at level 1 - alpha
+  int multistarts = 4;                ///< local optimisations from the best shape-based starts
+  int max_evaluations = 3000;         ///< per local optimisation
+  double relative_tolerance = 1e-12;  ///< NLopt ftol_rel
   /// Additional starting points (natural space), e.g. warm starts from nested models.
   std::vector<Eigen::VectorXd> starts;
-  int bootstrap_replicates = 100;      ///< for OmegaKind::kBootstrap
-  std::uint64_t seed = 0;              ///< for the bootstrap streams
+  int bootstrap_replicates = 100;          ///< for OmegaKind::kBootstrap
+  std::uint64_t seed = 0;                  ///< for the bootstrap streams
   const WvEstimator* estimator = nullptr;  ///< WV of simulated series (default classical)
-  bool inference = true;               ///< compute covariance, CIs and GoF
+  bool inference = true;                   ///< compute covariance, CIs and GoF
   /// Log a warning when the optimiser does not converge (the status says so either way);
   /// callers that run many fits and summarise their statuses (bootstrap refits) turn it off.
   bool log_not_converged = true;
@@ -111,22 +111,22 @@ struct LevelMisfit {
 };
 
 struct FitResult {
-  Model model;                  ///< canonical order (AR1 by increasing phi)
-  Eigen::VectorXd theta;        ///< natural parameters, canonical order
+  Model model;            ///< canonical order (AR1 by increasing phi)
+  Eigen::VectorXd theta;  ///< natural parameters, canonical order
   double objective = 0.0;
   FitStatus status = FitStatus::kFailed;
   std::string message;
   int evaluations = 0;
-  Eigen::MatrixXd omega;        ///< the weighting matrix used
+  Eigen::MatrixXd omega;          ///< the weighting matrix used
   Eigen::MatrixXd wv_covariance;  ///< V used for inference
-  Eigen::VectorXd implied_wv;   ///< nu(theta_hat)
+  Eigen::VectorXd implied_wv;     ///< nu(theta_hat)
   // Inference (natural parameters).
   Eigen::MatrixXd covariance;
   Eigen::VectorXd se, ci_low, ci_high;
   GoodnessOfFit gof;
   std::vector<IntervalKind> interval;  ///< per parameter (inference only)
   std::vector<LevelMisfit> misfits;    ///< per level (inference only)
-  std::vector<std::string> notes;  ///< e.g. boundary parameters dropped from inference
+  std::vector<std::string> notes;      ///< e.g. boundary parameters dropped from inference
   double seconds_optimise = 0.0, seconds_inference = 0.0;
 
   /// The `count` levels where the data depart most from the fit (largest |z| first).
@@ -188,7 +188,7 @@ Eigen::VectorXd embed_start(const Model& sub, const Eigen::VectorXd& theta_sub, 
 
 /// Starting points for `model` from fits (under `omega`, no inference, no nested starts
 /// of their own) of each representation_neighbours() model, mapped by represent_start.
-std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model,
-                                           const Eigen::MatrixXd& omega, const FitOptions& options);
+std::vector<Eigen::VectorXd> nested_starts(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
+                                           const FitOptions& options);
 
 }  // namespace gmwm

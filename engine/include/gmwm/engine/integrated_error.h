@@ -24,10 +24,10 @@ namespace gmwm {
 
 struct IntegratedError {
   double horizon_seconds = 0.0;
-  std::int64_t samples = 0;          ///< K = round(horizon_seconds * freq)
-  double sd_random = 0.0;            ///< sd of S from the stochastic components
-  double deterministic = 0.0;        ///< |mean of S| (the drift's integral)
-  double total_rms = 0.0;            ///< sqrt(sd_random^2 + deterministic^2)
+  std::int64_t samples = 0;                         ///< K = round(horizon_seconds * freq)
+  double sd_random = 0.0;                           ///< sd of S from the stochastic components
+  double deterministic = 0.0;                       ///< |mean of S| (the drift's integral)
+  double total_rms = 0.0;                           ///< sqrt(sd_random^2 + deterministic^2)
   std::vector<double> per_component_sd;             ///< per component, model order
   std::vector<double> per_component_deterministic;  ///< per component (DR only non-zero)
 };
@@ -41,17 +41,14 @@ inline constexpr std::int64_t kMaxIntegratedSamples = std::int64_t{1} << 26;
 /// positive and finite, a horizon under half a sample or over kMaxIntegratedSamples
 /// samples, a theta invalid for the model ("integrated_error: component 1 (WN): ..."),
 /// or a freq differing from the rate a component was built with (when known).
-IntegratedError integrated_error(const Model& model, const Eigen::VectorXd& theta, double freq,
-                                 double horizon_seconds);
+IntegratedError integrated_error(const Model& model, const Eigen::VectorXd& theta, double freq, double horizon_seconds);
 
 /// The same at several horizons (any order; results in the order given), sharing one
 /// autocovariance per component: O(max K) in all.
-std::vector<IntegratedError> integrated_error(const Model& model, const Eigen::VectorXd& theta,
-                                              double freq,
+std::vector<IntegratedError> integrated_error(const Model& model, const Eigen::VectorXd& theta, double freq,
                                               std::span<const double> horizons_seconds);
 
 /// integrated_error(...).sd_random: the standard deviation of the random part of S.
-double integrated_error_sd(const Model& model, const Eigen::VectorXd& theta, double freq,
-                           double horizon_seconds);
+double integrated_error_sd(const Model& model, const Eigen::VectorXd& theta, double freq, double horizon_seconds);
 
 }  // namespace gmwm

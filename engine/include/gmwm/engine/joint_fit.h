@@ -64,8 +64,7 @@ Eigen::MatrixXd block_diagonal(std::span<const Eigen::MatrixXd> blocks);
 /// replicate has too few levels for the model or an undefined level (naming it by its
 /// 1-based index), for OmegaKind::kBootstrap or a caller-given omega_matrix (not supported
 /// for the joint fit), or for invalid options.
-JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model,
-                              const FitOptions& options = {});
+JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model, const FitOptions& options = {});
 
 /// Do the replicates share one theta? (the near-stationarity test of the multi-signal
 /// GMWM). Two statistics, both under Omega_k = V_k^-1, V_k the model-based covariance of
@@ -79,11 +78,11 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
 /// its own length and its WV recomputed with the same estimator; p = (1 + #{null >= obs}) /
 /// (1 + B). T also rejects a model that fits no replicate; H is the test of a shared theta.
 struct ReplicateTestOptions {
-  int bootstrap = 100;                      ///< B
-  std::uint64_t seed = 0;                   ///< bootstrap streams (seed, b, k)
-  const WvEstimator* estimator = nullptr;   ///< WV of simulated series (default classical)
-  FitOptions fit;                           ///< minimisation settings (Omega is set here)
-  std::function<void(int, int)> progress;   ///< (done, total) bootstrap draws
+  int bootstrap = 100;                     ///< B
+  std::uint64_t seed = 0;                  ///< bootstrap streams (seed, b, k)
+  const WvEstimator* estimator = nullptr;  ///< WV of simulated series (default classical)
+  FitOptions fit;                          ///< minimisation settings (Omega is set here)
+  std::function<void(int, int)> progress;  ///< (done, total) bootstrap draws
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
@@ -95,10 +94,10 @@ struct ReplicateTestOptions {
 inline constexpr double kReplicateTestLevel = 0.05;
 
 struct ReplicateTest {
-  double statistic = 0.0, p_value = 1.0;          ///< T and its bootstrap p
+  double statistic = 0.0, p_value = 1.0;              ///< T and its bootstrap p
   double heterogeneity = 0.0, heterogeneity_p = 1.0;  ///< H and its bootstrap p
-  std::vector<double> own_minimum;                ///< per replicate, its own minimum under Omega_k
-  int draws = 0;                                  ///< bootstrap draws that gave a finite statistic
+  std::vector<double> own_minimum;                    ///< per replicate, its own minimum under Omega_k
+  int draws = 0;                                      ///< bootstrap draws that gave a finite statistic
   /// The replicates do not share one theta: heterogeneity_p <= kReplicateTestLevel.
   bool rejects() const { return heterogeneity_p <= kReplicateTestLevel; }
 };
@@ -125,11 +124,12 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
 /// their spread says nothing of its uncertainty.
 /// Each resample's fit starts from the joint estimate and from its replicates' own fits.
 struct ReplicateBootstrap {
-  Eigen::VectorXd ci_low, ci_high;  ///< replicate-t interval (natural parameters, canonical order; NaN when no draw, collapsed or not identified)
+  Eigen::VectorXd ci_low,
+      ci_high;  ///< replicate-t interval (natural parameters, canonical order; NaN when no draw, collapsed or not identified)
   Eigen::VectorXd percentile_low, percentile_high;  ///< the plain percentile interval
-  Eigen::VectorXd se;               ///< sqrt(K / (K-1)) x the bootstrap sd (natural scale)
-  int draws = 0;                    ///< fits that did not fail
-  bool exhaustive = false;          ///< every distinct resample was fitted
+  Eigen::VectorXd se;                               ///< sqrt(K / (K-1)) x the bootstrap sd (natural scale)
+  int draws = 0;                                    ///< fits that did not fail
+  bool exhaustive = false;                          ///< every distinct resample was fitted
 };
 ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, const JointFitResult& joint,
                                        double alpha = 0.05, int max_draws = 200, std::uint64_t seed = 0,
@@ -145,16 +145,16 @@ double orient_by_replicates(JointFitResult& r, std::span<const std::span<const d
 /// and with two or more replicates and a usable joint estimate the shared-theta test
 /// (replicate_test) and the replicate-t intervals (replicate_bootstrap).
 struct JointAnalysisOptions {
-  FitOptions fit;                  ///< the joint fit's settings (alpha: the intervals' level)
-  ReplicateTestOptions test;       ///< its fit settings are the joint fit's, without inference
-  int bootstrap_draws = 200;       ///< max_draws of replicate_bootstrap (all distinct resamples up to K = 5)
+  FitOptions fit;             ///< the joint fit's settings (alpha: the intervals' level)
+  ReplicateTestOptions test;  ///< its fit settings are the joint fit's, without inference
+  int bootstrap_draws = 200;  ///< max_draws of replicate_bootstrap (all distinct resamples up to K = 5)
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
 struct JointAnalysis {
   JointFitResult fit;
-  double pooled_slope = 0.0;                   ///< the drift's slope pooled over the replicates
-  std::optional<ReplicateTest> test;           ///< none with one replicate or a failed fit
+  double pooled_slope = 0.0;                    ///< the drift's slope pooled over the replicates
+  std::optional<ReplicateTest> test;            ///< none with one replicate or a failed fit
   std::optional<ReplicateBootstrap> bootstrap;  ///< likewise
 };
 /// `series[k]` is replicate k (its WV is wvs[k]). Throws as the functions it calls.

@@ -24,13 +24,13 @@
 namespace gmwm {
 
 struct KalmanTerm {
-  std::string role;        ///< e.g. "measurement noise R", "bias random walk state"
-  double q = std::numeric_limits<double>::quiet_NaN();          ///< continuous density
-  std::string q_unit;      ///< pattern, e.g. "U^2/Hz"
-  double transition = std::numeric_limits<double>::quiet_NaN(); ///< F at the filter rate (states)
-  double discrete = std::numeric_limits<double>::quiet_NaN();   ///< R or Q_d at the filter rate
-  std::string discrete_unit;  ///< pattern, e.g. "U^2"
-  std::string note;        ///< the formula, or what to do when there is no such term
+  std::string role;                                     ///< e.g. "measurement noise R", "bias random walk state"
+  double q = std::numeric_limits<double>::quiet_NaN();  ///< continuous density
+  std::string q_unit;                                   ///< pattern, e.g. "U^2/Hz"
+  double transition = std::numeric_limits<double>::quiet_NaN();  ///< F at the filter rate (states)
+  double discrete = std::numeric_limits<double>::quiet_NaN();    ///< R or Q_d at the filter rate
+  std::string discrete_unit;                                     ///< pattern, e.g. "U^2"
+  std::string note;  ///< the formula, or what to do when there is no such term
 };
 
 /// A first-order Gauss-Markov state with correlation time T (s) and stationary variance

@@ -43,8 +43,7 @@ class Model {
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& theta, std::span<const double> tau) const;
   /// Per level, the p x p Hessian (block-diagonal across components), stored as
   /// hess[j](l, m).
-  std::vector<Eigen::MatrixXd> hessians(const Eigen::VectorXd& theta,
-                                        std::span<const double> tau) const;
+  std::vector<Eigen::MatrixXd> hessians(const Eigen::VectorXd& theta, std::span<const double> tau) const;
 
   /// Natural <-> unconstrained (component-wise transforms).
   Eigen::VectorXd to_unconstrained(const Eigen::VectorXd& theta) const;
@@ -81,6 +80,5 @@ std::string component_text(const Model& model, int c, const Eigen::VectorXd& the
 /// The sum of two models: a's components then b's (theta concatenates in that order,
 /// a's parameters first). Not canonical: call canonical() to sort.
 Model operator+(const Model& a, const Model& b);
-
 
 }  // namespace gmwm

@@ -25,8 +25,8 @@ namespace gmwm {
 /// component's parameters; nullopt when `super` cannot represent `sub` at `theta_sub`.
 /// Same-process assignments are preferred, so a nested model maps onto itself.
 struct Representation {
-  std::vector<int> slot;                    ///< per component of sub: a component of super
-  std::vector<std::vector<double>> theta;   ///< per component of sub: the slot's parameters
+  std::vector<int> slot;                   ///< per component of sub: a component of super
+  std::vector<std::vector<double>> theta;  ///< per component of sub: the slot's parameters
 };
 std::optional<Representation> representation(const Model& super, const Model& sub, const Eigen::VectorXd& theta_sub);
 

@@ -49,12 +49,12 @@ enum class ReadoffStatus {
 const char* to_string(ReadoffStatus s);
 
 struct Readoff {
-  double value = NAN;                ///< in the data's unit pattern (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U)
-  double low = NAN, high = NAN;      ///< interval at 1 - alpha (NaN when unknown; a bound has low NaN)
+  double value = NAN;            ///< in the data's unit pattern (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U)
+  double low = NAN, high = NAN;  ///< interval at 1 - alpha (NaN when unknown; a bound has low NaN)
   ReadoffStatus status = ReadoffStatus::kBound;
-  double tau = NAN;                  ///< where it was read, in seconds
+  double tau = NAN;                           ///< where it was read, in seconds
   double region_from = NAN, region_to = NAN;  ///< the slope region (flat region for B), seconds
-  std::string how;                   ///< one line, e.g. "on the -1/2 slope over 0.08-20 s, at 1 s"
+  std::string how;                            ///< one line, e.g. "on the -1/2 slope over 0.08-20 s, at 1 s"
   /// Model read-offs: the components making up the Allan variance at tau, with their share.
   std::vector<std::pair<std::string, double>> sources;
   bool available() const { return std::isfinite(value); }
@@ -100,10 +100,10 @@ enum class FigureSource {
 const char* to_string(FigureSource s);
 
 struct ChosenFigure {
-  Readoff figure;         ///< the value to use (and where it was read)
+  Readoff figure;  ///< the value to use (and where it was read)
   FigureSource source = FigureSource::kBound;
-  std::string note;       ///< one line: why this one
-  Readoff model, data;    ///< both read-offs, as they are
+  std::string note;     ///< one line: why this one
+  Readoff model, data;  ///< both read-offs, as they are
 };
 
 struct ChosenFigures {

@@ -36,7 +36,7 @@ enum class PhysicalKind {
 };
 
 struct PhysicalQuantity {
-  std::string name;          ///< for people: "noise density", "correlation time"
+  std::string name;  ///< for people: "noise density", "correlation time"
   double value = 0.0;
   std::string unit_pattern;  ///< "U" is the data unit: "U/sqrt(Hz)", "s", "U*s"; "" if none
   std::string convention;    ///< one line: the formula and its convention
@@ -76,9 +76,8 @@ struct PhysicalInterval {
 /// without inference) give NaN for the quantities depending on them. Throws
 /// InvalidArgument (check.h) for sizes that do not match theta, a non-positive freq,
 /// ci_low_k > ci_high_k, or a quantity depending jointly on more than 8 parameters.
-std::vector<PhysicalInterval> physical_interval(const Process& process,
-                                                std::span<const double> theta,
-                                                std::span<const double> ci_low,
-                                                std::span<const double> ci_high, double freq);
+std::vector<PhysicalInterval> physical_interval(const Process& process, std::span<const double> theta,
+                                                std::span<const double> ci_low, std::span<const double> ci_high,
+                                                double freq);
 
 }  // namespace gmwm

@@ -58,9 +58,9 @@ double dnatural_du(Transform t, double u);
 double d2natural_du2(Transform t, double u);
 
 struct ParameterSpec {
-  std::string name;       ///< as in the model syntax, e.g. "sigma2", "phi"
-  Transform transform;    ///< domain of the natural parameter
-  std::string meaning;    ///< one line for help texts and reports
+  std::string name;     ///< as in the model syntax, e.g. "sigma2", "phi"
+  Transform transform;  ///< domain of the natural parameter
+  std::string meaning;  ///< one line for help texts and reports
   /// The model depends on the parameter through its magnitude only (DR's omega: the WV
   /// sees omega^2). Its value may be negative; the optimiser works on |x| (the transform
   /// applies to |x|) and the sign is carried from the starting value, or set from the
@@ -70,8 +70,8 @@ struct ParameterSpec {
 
 /// What a process may need to know about the signal it models.
 struct ProcessContext {
-  double freq = 1.0;         ///< sampling rate in Hz (1 when unknown)
-  bool freq_known = false;   ///< whether freq came from the data or --freq
+  double freq = 1.0;        ///< sampling rate in Hz (1 when unknown)
+  bool freq_known = false;  ///< whether freq came from the data or --freq
 };
 
 /// Information for a starting-value guess (see Process::initial_guess).
@@ -122,9 +122,9 @@ using ProcessPtr = std::shared_ptr<const Process>;
 
 /// A simpler process that may stand for one component (Process::simpler_forms).
 struct SimplerForm {
-  ProcessPtr process;          ///< e.g. WN for an AR1 with phi near 0
-  std::vector<double> theta;   ///< its parameters reproducing the component where it can
-  std::string label;           ///< how the component reads then: "WN-like", "RW-like"
+  ProcessPtr process;         ///< e.g. WN for an AR1 with phi near 0
+  std::vector<double> theta;  ///< its parameters reproducing the component where it can
+  std::string label;          ///< how the component reads then: "WN-like", "RW-like"
 };
 
 class Process {
@@ -165,8 +165,7 @@ class Process {
   virtual std::string validate(std::span<const double> theta) const;
 
   /// Theoretical WV nu^2(tau_k) into out[k].
-  virtual void wv(std::span<const double> theta, std::span<const double> tau,
-                  std::span<double> out) const = 0;
+  virtual void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const = 0;
   /// jac(k, l) = d nu^2(tau_k) / d theta_l (natural parameters). jac is tau.size() x size().
   virtual void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                            Eigen::Ref<Eigen::MatrixXd> jac) const = 0;
@@ -178,8 +177,7 @@ class Process {
   /// zero sum, Cov(sum_k a_k x_{t-k}, sum_l b_l x_{s-l}) = sum_k sum_l a_k b_l g(|t-k-s+l|).
   /// Stationary processes: the autocovariance. RW: -gamma2 |h| / 2 (minus the
   /// semivariogram). Deterministic processes: zeros.
-  virtual void generalized_autocovariance(std::span<const double> theta,
-                                          std::span<double> out) const = 0;
+  virtual void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const = 0;
 
   /// Adds one simulated path of length out.size() to out, drawing only from rng.
   virtual void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const = 0;
@@ -190,8 +188,14 @@ class Process {
 
   /// Value shown to users for parameter k (SIN's f in Hz when the rate is known); the
   /// inverse is from_display. Default: identity.
-  virtual double to_display(int k, double natural) const { (void)k; return natural; }
-  virtual double from_display(int k, double shown) const { (void)k; return shown; }
+  virtual double to_display(int k, double natural) const {
+    (void)k;
+    return natural;
+  }
+  virtual double from_display(int k, double shown) const {
+    (void)k;
+    return shown;
+  }
 
   /// Physical (continuous-time) quantities of theta at the sampling rate freq in Hz, with
   /// unit patterns in the data unit "U" (physical.h), e.g. WN: noise density
@@ -233,8 +237,7 @@ class Process {
   /// MA1: WN, QN; ARMA11: AR1, MA1, WN, QN; GM: WN, RW, AR1). A model represents another
   /// when its components can take the other's components one each, the rest vanishing:
   /// its fit must then never end above the other's (model_relations.h).
-  virtual std::optional<std::vector<double>> represent(const Process& other,
-                                                       std::span<const double> other_theta) const;
+  virtual std::optional<std::vector<double>> represent(const Process& other, std::span<const double> other_theta) const;
 
   /// Simpler processes this component may be indistinguishable from, each with the
   /// parameters that match it where the simpler one can (AR1: WN with its long-run
@@ -261,12 +264,10 @@ class Process {
  protected:
   /// The conversion behind physical(), called with a theta of the right size and a
   /// positive freq. Default: the discrete parameters unchanged (see physical()).
-  virtual std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta,
-                                                      double freq) const;
+  virtual std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const;
   /// The terms behind kalman(), with a checked theta size and positive rates. Default: one
   /// term saying the process has no finite Gauss-Markov form.
-  virtual std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq,
-                                              double filter_rate) const;
+  virtual std::vector<KalmanTerm> kalman_impl(std::span<const double> theta, double freq, double filter_rate) const;
   /// The form behind continuous_form(), with a checked theta size and a positive rate.
   /// Default: nullopt (no finite Gauss-Markov form).
   virtual std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const;
@@ -274,7 +275,6 @@ class Process {
  private:
   ProcessContext context_;
 };
-
 
 /// A registered process by name (as in model strings), with the given context. Throws
 /// InputError for an unknown name; for processes with structural arguments use the

@@ -50,7 +50,6 @@ class ProcessRegistry {
   std::map<std::string, ProcessEntry> entries_;  // key: upper-case name
 };
 
-
 }  // namespace gmwm
 
 /// For the library's built-in processes only: defines `void register_process_<Type>(
@@ -58,15 +57,14 @@ class ProcessRegistry {
 /// (const ProcessArgs&), at namespace gmwm scope in the type's file; the registry calls it
 /// because builtin_processes.h lists the type. It registers nothing by itself: an
 /// application adds its own type with ProcessRegistry::instance().add(entry).
-#define GMWM_REGISTER_PROCESS(Type, Name, Summary, ...)                                    \
-  void register_process_##Type(::gmwm::ProcessRegistry& registry) {                        \
-    registry.add(::gmwm::ProcessEntry{                                                      \
-        Name, std::vector<std::string>{__VA_ARGS__},                                        \
-        [](const ::gmwm::ProcessArgs& a) -> std::unique_ptr<::gmwm::Process> {              \
-          auto p = std::make_unique<Type>(a);                                               \
-          p->set_context(a.context);                                                        \
-          return p;                                                                         \
-        },                                                                                  \
-        Summary});                                                                          \
-  }                                                                                         \
+#define GMWM_REGISTER_PROCESS(Type, Name, Summary, ...)                                                      \
+  void register_process_##Type(::gmwm::ProcessRegistry& registry) {                                          \
+    registry.add(::gmwm::ProcessEntry{Name, std::vector<std::string>{__VA_ARGS__},                           \
+                                      [](const ::gmwm::ProcessArgs& a) -> std::unique_ptr<::gmwm::Process> { \
+                                        auto p = std::make_unique<Type>(a);                                  \
+                                        p->set_context(a.context);                                           \
+                                        return p;                                                            \
+                                      },                                                                     \
+                                      Summary});                                                             \
+  }                                                                                                          \
   static_assert(true, "the caller's ';' ends this")

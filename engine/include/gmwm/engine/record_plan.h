@@ -67,16 +67,16 @@ struct RecordPlanOptions {
 };
 
 struct RecordTarget {
-  std::string name;         ///< as asked: "N", "K", "B" or a parameter label
-  double value = 0.0;       ///< under the model (figures in the data's unit pattern, noise_figures.h)
-  bool reachable = false;   ///< the precision is reached within max_samples
-  std::int64_t samples = 0; ///< the planned length (max_samples when unreachable)
+  std::string name;          ///< as asked: "N", "K", "B" or a parameter label
+  double value = 0.0;        ///< under the model (figures in the data's unit pattern, noise_figures.h)
+  bool reachable = false;    ///< the precision is reached within max_samples
+  std::int64_t samples = 0;  ///< the planned length (max_samples when unreachable)
   /// The length the target's own se asks for: `samples` is the larger of it and
   /// RecordPlan::resolved_samples (B: it alone; 0 when the precision is not reached within
   /// max_samples).
   std::int64_t own_samples = 0;
-  double seconds = 0.0;     ///< samples / freq
-  double relative_se = 0.0; ///< se / |value| at `samples` (z * relative_se <= precision when reachable)
+  double seconds = 0.0;      ///< samples / freq
+  double relative_se = 0.0;  ///< se / |value| at `samples` (z * relative_se <= precision when reachable)
   /// z * relative_se with a record of RecordPlanOptions::record_seconds (NaN when not
   /// asked; +inf when that record is shorter than the model's resolution, where no
   /// precision can be promised).
@@ -86,8 +86,8 @@ struct RecordTarget {
 };
 
 struct RecordPlan {
-  double z = 0.0;           ///< the normal quantile used
-  double freq = 0.0;        ///< Hz
+  double z = 0.0;     ///< the normal quantile used
+  double freq = 0.0;  ///< Hz
   /// The model's resolution: the shortest record at which the fit's intervals at the
   /// plan's confidence are all two-sided, every parameter's z se within its distance to
   /// the edge of its domain (a variance to 0, phi to +-1); max_samples when it is not
@@ -98,7 +98,7 @@ struct RecordPlan {
   /// fit splits it, has no such floor.
   std::int64_t resolved_samples = 0;
   double resolved_seconds = 0.0;
-  std::string resolved_by;  ///< the parameter resolved last ("RW[2].gamma2")
+  std::string resolved_by;            ///< the parameter resolved last ("RW[2].gamma2")
   std::vector<RecordTarget> targets;  ///< in the order asked
 };
 
@@ -114,14 +114,14 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
 /// NaN for a figure the model does not have (B: the read-off's bound when it shows no
 /// minimum). Throws InputError as plan_record_length, and for n < kMinSeriesLength
 /// (classical_wv.h).
-std::vector<double> record_target_values(const Model& model, const Eigen::VectorXd& theta, double freq,
-                                         std::int64_t n, const std::vector<std::string>& targets);
+std::vector<double> record_target_values(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
+                                         const std::vector<std::string>& targets);
 
 /// The relative standard error se / |value| of each target (names as in
 /// RecordPlanOptions::targets) with a record of n samples: the plan's basis. +inf where
 /// the record is too short (fewer levels than parameters, parameters not identified, or
 /// the figure not read from the model's Allan deviation at that length).
-std::vector<double> record_relative_se(const Model& model, const Eigen::VectorXd& theta, double freq,
-                                       std::int64_t n, const std::vector<std::string>& targets);
+std::vector<double> record_relative_se(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
+                                       const std::vector<std::string>& targets);
 
 }  // namespace gmwm

@@ -13,11 +13,11 @@
 namespace gmwm {
 
 /// One series of length n for signal index `signal`.
-std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, std::int64_t n,
-                             std::uint64_t seed, std::uint64_t signal = 0);
+std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, std::uint64_t seed,
+                             std::uint64_t signal = 0);
 
 /// `signals` series (in parallel), signal k equal to simulate(model, theta, n, seed, k).
-std::vector<std::vector<double>> simulate_many(const Model& model, const Eigen::VectorXd& theta,
-                                               std::int64_t n, int signals, std::uint64_t seed);
+std::vector<std::vector<double>> simulate_many(const Model& model, const Eigen::VectorXd& theta, std::int64_t n,
+                                               int signals, std::uint64_t seed);
 
 }  // namespace gmwm

@@ -28,10 +28,10 @@ struct WaveletVariance {
   /// estimators.
   std::optional<Eigen::MatrixXd> covariance;
   double alpha = 0.05;
-  std::int64_t n = 0;                      ///< series length
-  std::string estimator = "classical";     ///< "classical" | "huber" | "bisquare"
-  std::optional<double> efficiency;        ///< robust estimators only
-  std::vector<std::string> notes;          ///< per level, empty when nothing to say
+  std::int64_t n = 0;                   ///< series length
+  std::string estimator = "classical";  ///< "classical" | "huber" | "bisquare"
+  std::optional<double> efficiency;     ///< robust estimators only
+  std::vector<std::string> notes;       ///< per level, empty when nothing to say
   /// How the estimator treats levels with few effective coefficients (robust
   /// estimators: bias correction and fallback), empty for the classical one.
   std::string small_sample;
@@ -74,8 +74,7 @@ class WvEstimator {
  public:
   virtual ~WvEstimator() = default;
   /// WV of levels 1..levels (levels <= 0: J = floor(log2 N)) at CI level 1 - alpha.
-  virtual WaveletVariance compute(const double* x, std::int64_t n, int levels,
-                                  double alpha) const = 0;
+  virtual WaveletVariance compute(const double* x, std::int64_t n, int levels, double alpha) const = 0;
   /// The same WV when the caller already holds x's Haar transform (the gap reference
   /// builds one per replicate for its time-domain statistics too): estimators that work
   /// from the transform alone use it instead of building their own; the default ignores it.

@@ -20,16 +20,13 @@
 namespace gmwm {
 
 /// J x J covariance of the classical WV of levels 1..levels for a series of length n.
-Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
-                                    std::int64_t n, int levels);
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels);
 
 /// Sample covariance of the WV of `replicates` series simulated from (model, theta),
 /// with stream seeds derived from `seed`; deterministic whatever the thread count.
 /// `progress` (draws done, replicates) after each draw; it may throw gmwm::Cancelled.
-Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta,
-                                        std::int64_t n, int levels, int replicates,
-                                        std::uint64_t seed, const WvEstimator& estimator,
-                                        double alpha = 0.05,
-                                        const std::function<void(int, int)>& progress = {});
+Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
+                                        int replicates, std::uint64_t seed, const WvEstimator& estimator,
+                                        double alpha = 0.05, const std::function<void(int, int)>& progress = {});
 
 }  // namespace gmwm

@@ -24,11 +24,11 @@ inline constexpr double kCrossAxisMinRho = 0.3;
 inline constexpr double kCrossAxisMinEffective = 8.0;
 
 struct CrossAxisPair {
-  int level = 0;      ///< 1-based
-  double tau = 0.0;   ///< samples
-  int a = 0, b = 0;   ///< signal indices, a < b
+  int level = 0;     ///< 1-based
+  double tau = 0.0;  ///< samples
+  int a = 0, b = 0;  ///< signal indices, a < b
   double rho = 0.0;
-  double z = 0.0;     ///< atanh(rho) sqrt(n_eff - 3)
+  double z = 0.0;  ///< atanh(rho) sqrt(n_eff - 3)
   bool significant = false;
 };
 

@@ -46,7 +46,19 @@ namespace gmwm::gap {
 
 /// The effects a gap can be attributed to (docs/cli.md, JSON "attribution.effect").
 enum class GapEffect {
-  kNone, kWN, kQN, kRW, kDR, kAR1, kFlicker, kSin, kOutliers, kStep, kTransient, kTemperature, kReparameterise,
+  kNone,
+  kWN,
+  kQN,
+  kRW,
+  kDR,
+  kAR1,
+  kFlicker,
+  kSin,
+  kOutliers,
+  kStep,
+  kTransient,
+  kTemperature,
+  kReparameterise,
 };
 const char* to_string(GapEffect e);
 /// The effect named as to_string writes it ("STEP", "SIN", ...), or nullopt.
@@ -91,14 +103,14 @@ struct GapOptions {
 
 /// Per level: the data against the baseline's reference.
 struct GapLevel {
-  double tau = 0.0;          ///< samples
-  double ratio = 1.0;        ///< nuhat_j / nu_j(baseline), variances
-  double z = 0.0;            ///< (log nuhat_j - m_j) / s_j
+  double tau = 0.0;                      ///< samples
+  double ratio = 1.0;                    ///< nuhat_j / nu_j(baseline), variances
+  double z = 0.0;                        ///< (log nuhat_j - m_j) / s_j
   double ref_low = 0.0, ref_high = 0.0;  ///< pointwise 1 - alpha reference band of nuhat_j (bootstrap)
   /// The closed-form band: nu_j(baseline) q_{a/2, 1-a/2}(eta_j) / eta_j, eta_j = max(M_j / 2^j, 1)
   /// (the chi-square approximation of the WV's CIs; the bootstrap band is the one used).
   double analytic_low = 0.0, analytic_high = 0.0;
-  bool outside = false;      ///< nuhat_j outside [ref_low, ref_high]
+  bool outside = false;  ///< nuhat_j outside [ref_low, ref_high]
 };
 
 struct GapBand {
@@ -111,16 +123,16 @@ struct GapBand {
 /// One candidate's score at one forward step.
 struct GapCandidate {
   GapEffect effect = GapEffect::kNone;
-  std::string model;               ///< what was added (canonical, with values), or the refitted baseline
-  double improvement = 0.0;        ///< drop in G
-  double threshold = 0.0;          ///< calibrated (1 - alpha/K) null quantile of the drop
+  std::string model;         ///< what was added (canonical, with values), or the refitted baseline
+  double improvement = 0.0;  ///< drop in G
+  double threshold = 0.0;    ///< calibrated (1 - alpha/K) null quantile of the drop
   /// WVIC confirmation (docs/gap.md, method note 3): the candidate's optimism is its mean drop on data
   /// without it (the in-sample gain a parametric bootstrap of WVIC estimates), and WVIC
   /// prefers the augmented model when the drop exceeds twice that.
   double optimism = 0.0;
   bool wvic_confirmed = false;
-  bool cleared = false;            ///< drop > threshold and WVIC confirms
-  FitResult fit;                   ///< the augmented model's fit (no inference)
+  bool cleared = false;  ///< drop > threshold and WVIC confirms
+  FitResult fit;         ///< the augmented model's fit (no inference)
 };
 
 struct GapShrinkage {
@@ -150,8 +162,8 @@ struct GapShrinkage {
 /// non-stationarity such as warm-up, steps, bursts (docs/gap.md, method note 2).
 struct GapWindow {
   std::int64_t first_sample = 0, last_sample = 0;  ///< inclusive, 0-based
-  double tau = 0.0;                                 ///< samples
-  double ratio = 1.0;                               ///< window WV / the median window's at that level
+  double tau = 0.0;                                ///< samples
+  double ratio = 1.0;                              ///< window WV / the median window's at that level
   double z = 0.0;
 };
 
@@ -159,15 +171,15 @@ struct GapWindow {
 /// TRANSIENT when it sits at the record's start and a exp(-t/T) fits it better).
 struct GapEvent {
   GapEffect effect = GapEffect::kNone;
-  std::int64_t sample = 0;          ///< STEP: the first sample after the jump; TRANSIENT: 0
-  double size = 0.0;                ///< STEP: the jump; TRANSIENT: the amplitude a (data units)
-  double time_constant = 0.0;       ///< TRANSIENT: T in samples
+  std::int64_t sample = 0;     ///< STEP: the first sample after the jump; TRANSIENT: 0
+  double size = 0.0;           ///< STEP: the jump; TRANSIENT: the amplitude a (data units)
+  double time_constant = 0.0;  ///< TRANSIENT: T in samples
   /// OUTLIERS (a burst: a short excursion that returns to the level it left, e.g. a
   /// shock): `sample` is its first sample, `length` its samples, `size` its largest
   /// departure and `fill` the local level they are replaced by.
   std::int64_t length = 0;
   double fill = 0.0;
-  int level = 0;                    ///< the level where its coefficients concentrate most (1-based)
+  int level = 0;                            ///< the level where its coefficients concentrate most (1-based)
   double statistic = 0.0, threshold = 0.0;  ///< calibrated concentration test
 };
 
@@ -201,9 +213,9 @@ struct GapTrend {
 /// The split-half check (docs/gap.md, method note 2): the two halves' WVs per level; they must agree
 /// within their chi-square CIs on a stationary record.
 struct GapSplitHalf {
-  double tau = 0.0;          ///< samples
-  double ratio = 1.0;        ///< second half's WV / first half's
-  bool disjoint = false;     ///< the two halves' 1 - alpha CIs do not overlap
+  double tau = 0.0;       ///< samples
+  double ratio = 1.0;     ///< second half's WV / first half's
+  bool disjoint = false;  ///< the two halves' 1 - alpha CIs do not overlap
 };
 
 /// How a model with values fits the data the diagnosis ended on (the WV after OUTLIERS and
@@ -211,9 +223,9 @@ struct GapSplitHalf {
 /// reference shifted to the model.
 struct GapAssessment {
   double objective = 0.0;
-  double null_mean = 0.0;   ///< E_m[G] on data from the model itself
+  double null_mean = 0.0;  ///< E_m[G] on data from the model itself
   int levels_outside = 0;
-  double p_value = 1.0;     ///< global test
+  double p_value = 1.0;            ///< global test
   std::vector<GapBand> remaining;  ///< deciding runs of levels outside the model's band
   /// RMS of the integrated noise over kNavigationHorizonSeconds (NaN: rate unknown).
   double navigation_rms = std::numeric_limits<double>::quiet_NaN();
@@ -232,9 +244,9 @@ struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
   std::vector<GapLevel> levels;
-  double statistic = 0.0;          ///< Mahalanobis distance of log nuhat from the reference
-  double p_value = 1.0;            ///< global test
-  bool detected = false;           ///< p_value < alpha and at least one gap band
+  double statistic = 0.0;  ///< Mahalanobis distance of log nuhat from the reference
+  double p_value = 1.0;    ///< global test
+  bool detected = false;   ///< p_value < alpha and at least one gap band
   std::vector<GapBand> bands;
   /// Sliding-window map: only the (window, level) cells beyond the Bonferroni threshold
   /// over all cells and the effect size; empty when none, and when the series is too
@@ -244,13 +256,13 @@ struct GapResult {
   std::int64_t window_length = 0;
   /// The split-half check (empty without the series or when a half is too short).
   std::vector<GapSplitHalf> split_half;
-  GapEffect effect = GapEffect::kNone;      ///< the first step's attribution
-  std::vector<GapEffect> steps;             ///< every effect added, in order
+  GapEffect effect = GapEffect::kNone;  ///< the first step's attribution
+  std::vector<GapEffect> steps;         ///< every effect added, in order
   /// Each step in a few words, in the order of `steps`: "AR1 with correlation time 10.7 s",
   /// "DR of -2.7e-07 per s", "STEP of 0.012 at 7049 s" (seconds when the rate is known).
   std::vector<std::string> step_details;
-  std::vector<GapCandidate> candidates;     ///< the first step's scores
-  Model final_model;                        ///< baseline + the effects added (values)
+  std::vector<GapCandidate> candidates;  ///< the first step's scores
+  Model final_model;                     ///< baseline + the effects added (values)
   Eigen::VectorXd final_theta;
   /// The first added effect's fit; its se / ci_low / ci_high are parametric-bootstrap
   /// intervals (percentile, level 1 - alpha) from the reference replicates rescaled to the
@@ -274,7 +286,7 @@ struct GapResult {
   /// (X_before less REPARAMETERISE's drop; X_before when none was taken); NaN when that
   /// excess is 0. In the order of `steps`.
   std::vector<double> step_excess, step_shares;
-  std::vector<std::string> notes;           ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
+  std::vector<std::string> notes;  ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
   /// The contamination screen (with the robust WV and the series): the levels (1-based)
   /// whose robust WV sits below the classical one beyond what the data's rounding
   /// explains, with an excess of far outliers (robust/contamination.h); empty when clean

@@ -36,9 +36,8 @@ struct GapCheckOptions {
   int replicates = 100;
   std::uint64_t seed = 0;
   /// The withheld families (those the diagnosis implements).
-  std::vector<GapEffect> families = {GapEffect::kQN,      GapEffect::kDR,  GapEffect::kAR1,
-                                     GapEffect::kFlicker, GapEffect::kSin, GapEffect::kOutliers,
-                                     GapEffect::kStep,  GapEffect::kTransient};
+  std::vector<GapEffect> families = {GapEffect::kQN,  GapEffect::kDR,       GapEffect::kAR1,  GapEffect::kFlicker,
+                                     GapEffect::kSin, GapEffect::kOutliers, GapEffect::kStep, GapEffect::kTransient};
   bool null_side = true;
   /// Called with (cases done, total).
   std::function<void(int, int)> progress;
@@ -51,8 +50,8 @@ struct GapCheckCase {
   std::string injected;                ///< the effect with its values (or the altered base)
   GapEffect reported = GapEffect::kNone;
   bool detected = false;
-  bool located = false;                ///< a reported band overlaps the effect's dominant levels
-  bool correct = false;                ///< top-1 attribution (null side: none / REPARAMETERISE)
+  bool located = false;  ///< a reported band overlaps the effect's dominant levels
+  bool correct = false;  ///< top-1 attribution (null side: none / REPARAMETERISE)
   double excess_removed = 0.0;
   /// SIN: |f_hat / f - 1|; AR1, TRANSIENT: |log(T_hat / T)| / log 2 (<= 1: within a factor
   /// 2); STEP: |t_hat - t| / the window length (<= 1: within one window); NaN otherwise.
@@ -79,8 +78,8 @@ const char* to_string(Crossing c);
 
 struct GapCheckFamily {
   int cases = 0, correct = 0, located = 0, detected = 0;
-  double median_excess_removed = 0.0;      ///< over the correctly attributed cases
-  std::map<double, double> power;          ///< strength -> share correctly attributed
+  double median_excess_removed = 0.0;  ///< over the correctly attributed cases
+  std::map<double, double> power;      ///< strength -> share correctly attributed
   /// The strength at which the share correctly attributed reaches 90% (see `crossing`),
   /// the oracle's (mean of its power over this family's cases = 90%), and their ratio,
   /// the figure of merit (goal <= 1.5). NaN on the null side.

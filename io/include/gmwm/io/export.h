@@ -93,11 +93,11 @@ ExportFigures export_figures(const ChosenFigures& figures);
 struct ExportColumn {
   std::string name;
   SensorKind kind = SensorKind::kGyro;
-  double freq = 0.0;          ///< the data's sampling rate, Hz (> 0)
-  std::int64_t n = 0;         ///< samples in the record (0 when unknown)
-  Model model;                ///< canonical, with the fitted values in theta
-  Eigen::VectorXd theta;      ///< natural (discrete, per-sample) parameters
-  Unit unit;                  ///< the data's unit (per_si of it per SI unit)
+  double freq = 0.0;      ///< the data's sampling rate, Hz (> 0)
+  std::int64_t n = 0;     ///< samples in the record (0 when unknown)
+  Model model;            ///< canonical, with the fitted values in theta
+  Eigen::VectorXd theta;  ///< natural (discrete, per-sample) parameters
+  Unit unit;              ///< the data's unit (per_si of it per SI unit)
   /// N, K, B in the data's unit, as the fit/select result chose them against the data's
   /// Allan deviation; when absent they are read off the model's own Allan deviation.
   std::optional<ExportFigures> figures;
@@ -118,21 +118,21 @@ struct GaussMarkovNoise {
 struct AxisNoise {
   std::string column;
   SensorKind kind = SensorKind::kGyro;
-  char axis = 0;                 ///< column_axis(column): 'x', 'y', 'z' or 0
-  double freq = 0.0;             ///< the data's rate, Hz
-  double record_seconds = 0.0;   ///< n / freq (0 when unknown)
-  std::string model;             ///< the fitted model with its values (discrete, data unit)
-  Unit unit;                     ///< the data's unit
+  char axis = 0;                ///< column_axis(column): 'x', 'y', 'z' or 0
+  double freq = 0.0;            ///< the data's rate, Hz
+  double record_seconds = 0.0;  ///< n / freq (0 when unknown)
+  std::string model;            ///< the fitted model with its values (discrete, data unit)
+  Unit unit;                    ///< the data's unit
   /// White noise density N, SI/sqrt(Hz): the IEEE 952 read-off of the model as a whole
   /// (a fast AR1 adds to it), or of the data where the model misses them.
   double white = 0.0;
   /// Random walk K, SI/s/sqrt(Hz): its read-off, or an upper bound where no +1/2 slope shows.
   double walk = 0.0;
-  double instability = 0.0;      ///< bias instability B, SI (for the header)
-  ExportFigures figures;         ///< the three with their sources and notes (data unit)
+  double instability = 0.0;                    ///< bias instability B, SI (for the header)
+  ExportFigures figures;                       ///< the three with their sources and notes (data unit)
   std::vector<GaussMarkovNoise> gauss_markov;  ///< slow terms (T >= 1 s), by increasing correlation time
-  std::vector<std::string> absorbed;  ///< fast terms counted in N (T < 1 s), as text
-  std::vector<std::string> others;  ///< the remaining components (QN, DR, SIN, ...) as text
+  std::vector<std::string> absorbed;           ///< fast terms counted in N (T < 1 s), as text
+  std::vector<std::string> others;             ///< the remaining components (QN, DR, SIN, ...) as text
 };
 
 /// The figures of one column: N and K from its noise figures (ExportColumn::figures, else
@@ -143,8 +143,8 @@ AxisNoise axis_noise(const ExportColumn& column);
 
 /// What a file holds for one axis (or the aggregate of a sensor's axes): SI, inflated.
 struct WrittenNoise {
-  double noise_density = 0.0;          ///< N x inflate, SI/sqrt(Hz)
-  double random_walk = 0.0;            ///< K x inflate, SI/s/sqrt(Hz)
+  double noise_density = 0.0;  ///< N x inflate, SI/sqrt(Hz)
+  double random_walk = 0.0;    ///< K x inflate, SI/s/sqrt(Hz)
   /// Simulators (gz-sdf, rotors): the one Gauss-Markov bias they model, with its driving
   /// density (x inflate) and correlation time; from the AR1/GM with the longest correlation
   /// time, else from the random walk (see bias_from_random_walk).
@@ -182,9 +182,9 @@ ExportResult render_export(const std::vector<ExportColumn>& columns, const Expor
 
 /// How to read a fit/select result (read_result_columns).
 struct ResultReadOptions {
-  std::vector<std::string> columns;   ///< keep only these names, in this order (empty: all)
-  std::optional<double> rate;         ///< the data's rate for columns whose "freq" is null
-  std::optional<SensorKind> sensor;   ///< every column is this sensor (else told by its name)
+  std::vector<std::string> columns;  ///< keep only these names, in this order (empty: all)
+  std::optional<double> rate;        ///< the data's rate for columns whose "freq" is null
+  std::optional<SensorKind> sensor;  ///< every column is this sensor (else told by its name)
   /// Declared units (--units): the unit of a column whose "unit" field is null or absent.
   /// A column without either is refused (never taken as SI), and so is a declared unit
   /// contradicting the column's own.
@@ -196,8 +196,8 @@ struct ResultReadOptions {
 };
 
 struct ResultColumns {
-  std::string command;                ///< "fit" or "select"
-  std::string input;                  ///< the document's "input" (the data file), "" if absent
+  std::string command;  ///< "fit" or "select"
+  std::string input;    ///< the document's "input" (the data file), "" if absent
   std::vector<ExportColumn> columns;
   std::vector<std::string> statuses;  ///< per column: "converged", "not_converged", ...
 };

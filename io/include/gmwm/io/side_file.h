@@ -72,8 +72,7 @@ class SideFile {
 };
 
 /// SideFile(path, expected).read(limit).
-std::string read_side_file(const std::string& path, const std::string& expected,
-                           std::size_t limit = kMaxSideFileBytes);
+std::string read_side_file(const std::string& path, const std::string& expected, std::size_t limit = kMaxSideFileBytes);
 
 namespace detail {
 

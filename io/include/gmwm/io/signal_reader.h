@@ -114,17 +114,17 @@ struct ReadOptions {
 
 /// What the timestamp column says about the sampling (present when there is one).
 struct TimingReport {
-  std::string column;               ///< the timestamp column's header name
-  double unit_to_seconds = 1.0;     ///< e.g. 1e-9 for '#timestamp [ns]'
-  std::string unit;                 ///< "s", "ms", "us" or "ns"
-  std::string unit_source;          ///< how the unit was decided (header, preset, ...)
+  std::string column;            ///< the timestamp column's header name
+  double unit_to_seconds = 1.0;  ///< e.g. 1e-9 for '#timestamp [ns]'
+  std::string unit;              ///< "s", "ms", "us" or "ns"
+  std::string unit_source;       ///< how the unit was decided (header, preset, ...)
   std::int64_t samples = 0;
   double median_step_seconds = 0.0;
-  double estimated_freq = 0.0;      ///< 1 / median step; 0 when the times never increase
-  std::int64_t gaps = 0;            ///< steps > kGapFactor x median step
-  double largest_gap_seconds = 0.0; ///< largest step counted as a gap (0 when no gap)
-  std::int64_t disorder = 0;        ///< non-increasing steps (repeated or backwards times)
-  std::optional<double> given_freq; ///< --freq, when it was given as well
+  double estimated_freq = 0.0;       ///< 1 / median step; 0 when the times never increase
+  std::int64_t gaps = 0;             ///< steps > kGapFactor x median step
+  double largest_gap_seconds = 0.0;  ///< largest step counted as a gap (0 when no gap)
+  std::int64_t disorder = 0;         ///< non-increasing steps (repeated or backwards times)
+  std::optional<double> given_freq;  ///< --freq, when it was given as well
   /// A sustained change of the sampling rate inside the record (blocks of 1024 steps whose
   /// typical steps differ by more than 1.2x; gaps and jitter do not count): the rate at the
   /// start, the rate furthest from it and the 0-based sample where that block starts. The
@@ -161,7 +161,7 @@ struct Signal {
 struct SignalSet {
   std::string path;
   std::vector<Signal> signals;
-  double freq = 0.0;        ///< from --freq, else from the timestamp column
+  double freq = 0.0;  ///< from --freq, else from the timestamp column
   bool freq_known = false;
   std::optional<TimingReport> timing;
   /// True when the columns are held in temporary files (the record exceeded the budget).

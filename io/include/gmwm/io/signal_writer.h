@@ -19,8 +19,7 @@ namespace gmwm::io {
 /// file may be of any size (past 4 GB) without being held in memory. Throws InputError
 /// when the file cannot be written and gmwm::InvalidArgument when the signals differ in
 /// length or freq is not positive.
-void write_signals(const std::string& path, const std::vector<Signal>& signals,
-                   std::optional<double> freq);
+void write_signals(const std::string& path, const std::vector<Signal>& signals, std::optional<double> freq);
 
 /// As write_signals(), staged in `outputs` (committed with the run's other outputs).
 void stage_signals(OutputSet& outputs, const std::string& path, const std::vector<Signal>& signals,

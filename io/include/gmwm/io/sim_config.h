@@ -31,19 +31,19 @@ const char* to_string(SimFormat f);
 
 /// One numeric figure as the file gives it, in the file's own unit.
 struct ConfigField {
-  std::string name;   ///< Kalibr key, gz-sensors path ("angular_velocity/x/noise/stddev") or RotorS parameter
+  std::string name;  ///< Kalibr key, gz-sensors path ("angular_velocity/x/noise/stddev") or RotorS parameter
   double value = 0.0;
-  std::string unit;   ///< e.g. "rad/s/sqrt(Hz)", "s", "Hz"
+  std::string unit;  ///< e.g. "rad/s/sqrt(Hz)", "s", "Hz"
 };
 
 struct SimConfig {
-  std::string source;                                       ///< e.g. "Kalibr imu.yaml (path)"
+  std::string source;  ///< e.g. "Kalibr imu.yaml (path)"
   SimFormat format = SimFormat::kKalibr;
   /// Every numeric figure read, in file order (for what a corrected file changes).
   std::vector<ConfigField> fields;
-  std::map<SensorKind, Model> models;                       ///< with values (Model::given_values)
+  std::map<SensorKind, Model> models;                          ///< with values (Model::given_values)
   std::map<SensorKind, std::vector<std::string>> conversions;  ///< one line per figure, with units
-  std::vector<std::string> notes;                           ///< e.g. a rate mismatch
+  std::vector<std::string> notes;                              ///< e.g. a rate mismatch
   /// Per-axis models, for a simulator that configures the x, y and z axes of a sensor
   /// differently (gz-sensors <x>/<y>/<z> noise blocks), keyed to_string(kind) + "_" + axis
   /// ("gyro_x", "accel_z"). A kind is either in `models` (axes alike) or here (axes

@@ -68,8 +68,8 @@ std::vector<Unit> units_of(SensorKind kind);
 
 /// A unit mix-up seen in a variance ratio (data / baseline at the finest scales).
 struct UnitSuggestion {
-  Unit unit;           ///< the unit the data look like they are in
-  double factor = 1.0; ///< (unit.per_si / declared.per_si)^2, the ratio a mix-up gives
+  Unit unit;            ///< the unit the data look like they are in
+  double factor = 1.0;  ///< (unit.per_si / declared.per_si)^2, the ratio a mix-up gives
 };
 
 /// Data in `unit` read as `declared` make the data / baseline variance ratio

@@ -152,7 +152,7 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
 /// The same by Monte Carlo: `runs` seeded runs (a stream per run, so the result does not
 /// depend on the thread count); the *_rms are the runs' root-mean-square errors, the NEES
 /// the runs' mean NEES.
-Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario,
-                     int runs, std::uint64_t seed, const Progress& progress = {});
+Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters, const Scenario& scenario, int runs,
+                     std::uint64_t seed, const Progress& progress = {});
 
 }  // namespace gmwm::nav

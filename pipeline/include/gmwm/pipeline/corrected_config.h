@@ -45,9 +45,9 @@ inline constexpr double kUnchangedRelative = 1e-3;
 /// One column: its baseline as the corrected file gives it, and the gap left.
 struct CorrectedColumn {
   std::string name;
-  Model expressible;                 ///< the corrected file's model for this column (data units, per sample)
+  Model expressible;  ///< the corrected file's model for this column (data units, per sample)
   Eigen::VectorXd expressible_theta;
-  Model full;                        ///< the diagnosis' final model
+  Model full;  ///< the diagnosis' final model
   Eigen::VectorXd full_theta;
   /// On the diagnosis' yardstick: the input baseline, the corrected file, the full model.
   gap::GapAssessment before, with_config, with_full;
@@ -56,17 +56,17 @@ struct CorrectedColumn {
 };
 
 struct CorrectedConfig {
-  std::string format;   ///< "kalibr", "gz-sdf", "rotors" or "model"
-  std::string content;  ///< the file's text, header included
+  std::string format;               ///< "kalibr", "gz-sdf", "rotors" or "model"
+  std::string content;              ///< the file's text, header included
   std::vector<std::string> header;  ///< the header lines (without comment markers)
   std::vector<ConfigChange> changes;
   std::vector<CorrectedColumn> columns;
 };
 
 struct CorrectedConfigOptions {
-  std::map<io::SensorKind, io::Unit> units;     ///< the data's units (SI where absent)
-  std::optional<io::SensorKind> sensor;     ///< every column is this sensor
-  std::string baseline_path;            ///< the input configuration's path, for the header
+  std::map<io::SensorKind, io::Unit> units;  ///< the data's units (SI where absent)
+  std::optional<io::SensorKind> sensor;      ///< every column is this sensor
+  std::string baseline_path;                 ///< the input configuration's path, for the header
 };
 
 /// The corrected configuration of `study` (run on `set`, whose series it reads for the

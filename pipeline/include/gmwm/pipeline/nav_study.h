@@ -134,13 +134,13 @@ struct ConsistencyOptions {
 /// cautious somewhere), N and K together. Each by bisection on log x (the NEES falls as x
 /// grows): `factor` holds and `factor / (1 + precision)` does not.
 struct ConsistentInflation {
-  double white = 1.0;   ///< the factor on N
-  double factor = 1.0;  ///< the factor found: on K alone when white == 1, else on both
+  double white = 1.0;                                ///< the factor on N
+  double factor = 1.0;                               ///< the factor found: on K alone when white == 1, else on both
   nav::Verdict verdict = nav::Verdict::kConsistent;  ///< at `factor`
-  double nees_inside = 0.0;                           ///< share in band at `factor`
-  double smaller = 0.0;                  ///< factor / (1 + precision) (0 when factor is 1)
-  double smaller_above = 0.0;            ///< its share of output times above the band
-  std::string reason;                    ///< one line for the file's header
+  double nees_inside = 0.0;                          ///< share in band at `factor`
+  double smaller = 0.0;                              ///< factor / (1 + precision) (0 when factor is 1)
+  double smaller_above = 0.0;                        ///< its share of output times above the band
+  std::string reason;                                ///< one line for the file's header
 };
 
 /// Throws InputError for invalid options or models, or when no factor up to 1000 keeps

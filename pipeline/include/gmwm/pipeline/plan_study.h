@@ -19,11 +19,11 @@
 namespace gmwm::pipeline {
 
 struct PlanStudyOptions {
-  std::string result;               ///< a fit/select --json result (its columns' models), or
-  std::string model;                ///< a model with every value, at `freq`
-  std::optional<double> freq;       ///< Hz, for `model` (and results whose "freq" is null)
-  std::vector<std::string> columns; ///< of the result (empty: all)
-  std::string unit;                 ///< of `model`, for the figures' labels ("" when unknown)
+  std::string result;                ///< a fit/select --json result (its columns' models), or
+  std::string model;                 ///< a model with every value, at `freq`
+  std::optional<double> freq;        ///< Hz, for `model` (and results whose "freq" is null)
+  std::vector<std::string> columns;  ///< of the result (empty: all)
+  std::string unit;                  ///< of `model`, for the figures' labels ("" when unknown)
   RecordPlanOptions plan;
   /// "" when usable, else one line naming the field.
   std::string Validate() const;

@@ -24,9 +24,9 @@ namespace gmwm::pipeline {
 
 /// One axis and its replicates, the primary recording's column first.
 struct ReplicateGroup {
-  std::string axis;                         ///< the primary recording's column name
-  std::vector<std::string> sources;         ///< "FILE:COLUMN" per replicate
-  std::vector<Samples> series;  ///< per replicate (in memory or in temporary files, as read)
+  std::string axis;                  ///< the primary recording's column name
+  std::vector<std::string> sources;  ///< "FILE:COLUMN" per replicate
+  std::vector<Samples> series;       ///< per replicate (in memory or in temporary files, as read)
 };
 
 /// Resamples of the replicates for the replicate-t intervals when they are too many to fit
@@ -105,7 +105,7 @@ struct JointSelectStudy {
   std::uint64_t seed = 0;
   bool robust = false;
   bool all_optimisms = false;
-  std::vector<std::vector<WaveletVariance>> wvs;      ///< per group, per replicate
+  std::vector<std::vector<WaveletVariance>> wvs;       ///< per group, per replicate
   std::vector<selection::ReplicateSelection> results;  ///< per group
   /// Per group: the recommended model fitted jointly on all replicates, oriented; its
   /// shared-theta test and replicate-t intervals only when recommended_test_draws > 0.

@@ -72,13 +72,13 @@ namespace gmwm::report {
 /// are the replicates' WVs (in this order, overlaid and labelled by their sources) and its
 /// `fit` is the joint model drawn over them (for select: the recommended model's joint fit).
 struct ReplicateReport {
-  std::vector<std::string> sources;   ///< "FILE:COLUMN" per replicate
-  std::vector<std::int64_t> n;        ///< per replicate
-  std::string estimator;              ///< "classical WV", "robust WV (...)"
+  std::vector<std::string> sources;  ///< "FILE:COLUMN" per replicate
+  std::vector<std::int64_t> n;       ///< per replicate
+  std::string estimator;             ///< "classical WV", "robust WV (...)"
   /// The joint fit with each replicate's own fit and AGMWM (per-parameter view).
   std::optional<JointFitResult> joint;
-  std::optional<ReplicateTest> test;             ///< the shared-theta test
-  std::optional<ReplicateBootstrap> bootstrap;   ///< replicate-t intervals
+  std::optional<ReplicateTest> test;                       ///< the shared-theta test
+  std::optional<ReplicateBootstrap> bootstrap;             ///< replicate-t intervals
   std::optional<selection::ReplicateSelection> selection;  ///< CV / analytic / bootstrap WVIC table
 };
 
@@ -109,10 +109,10 @@ struct ReportColumn {
 };
 
 struct ReportData {
-  std::string title;         ///< empty: "gmwm COMMAND: INPUT"
-  std::string command;       ///< wv | fit | select | gap
-  std::string input;         ///< the input file's path, as given
-  std::string model_spec;    ///< the model option as given (may be empty)
+  std::string title;               ///< empty: "gmwm COMMAND: INPUT"
+  std::string command;             ///< wv | fit | select | gap
+  std::string input;               ///< the input file's path, as given
+  std::string model_spec;          ///< the model option as given (may be empty)
   std::vector<std::string> notes;  ///< free lines shown under the header
   std::vector<ReportColumn> columns;
   /// `gap`: the corrected configuration ("what to change"), shown after the overview.

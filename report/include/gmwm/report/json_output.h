@@ -53,16 +53,16 @@ Json json_number(double x);
 struct ColumnInfo {
   std::string name;
   std::int64_t n = 0;
-  double freq = 0.0;         ///< Hz
-  bool freq_known = false;   ///< "freq" is null when false
-  std::string unit;          ///< the data's unit ("deg/s") when declared, else empty
+  double freq = 0.0;        ///< Hz
+  bool freq_known = false;  ///< "freq" is null when false
+  std::string unit;         ///< the data's unit ("deg/s") when declared, else empty
 };
 
 /// The run-dependent facts, written under "run".
 struct RunInfo {
-  int threads = 0;                          ///< TBB's allowed parallelism
-  std::map<std::string, double> seconds;    ///< named timings, e.g. {"read", 0.12}
-  std::vector<std::string> argv;            ///< the command line
+  int threads = 0;                        ///< TBB's allowed parallelism
+  std::map<std::string, double> seconds;  ///< named timings, e.g. {"read", 0.12}
+  std::vector<std::string> argv;          ///< the command line
 };
 
 /// {"tool", "version", "command", "columns": []} (no "run": see add_run_info).
@@ -97,9 +97,9 @@ Json robust_wv_column_json(const ColumnInfo& column, const WaveletVariance& robu
 
 /// One row of the parameter table of a fit, in display units (SIN's f in Hz, ...).
 struct ParameterRow {
-  std::string process;   ///< "AR1"
-  int component = 0;     ///< 1-based position in the canonical model
-  std::string name;      ///< "phi"
+  std::string process;  ///< "AR1"
+  int component = 0;    ///< 1-based position in the canonical model
+  std::string name;     ///< "phi"
   double value = 0.0, se = 0.0, ci_low = 0.0, ci_high = 0.0;
   std::string interval;  ///< to_string(IntervalKind): "two-sided", "one-sided", ... ("" without inference)
 };
@@ -118,8 +118,7 @@ Json parameters_json(const FitResult& fit);
 
 /// A "fit" column: column_json + "model", "model_structure", "parameters", "objective",
 /// "gof", "status", "message", "notes", "evaluations", "omega", "implied_wv", "levels".
-Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv,
-                               const FitResult& fit, OmegaKind omega);
+Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const FitResult& fit, OmegaKind omega);
 
 /// A "select" column (docs/cli.md): column_json + "full_model", "best" (canonical, no values),
 /// "best_model" (with values), "penalty", "representation_violations", "ranking" (rank, model,
@@ -142,8 +141,7 @@ Json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
 /// "conversions" and "notes". The effect's parameters carry their bootstrap CIs and
 /// "physical" quantities (engine/physical.h) in the column's unit ("U" when undeclared);
 /// "navigation" {horizon_seconds, rms_without, rms_with, unit}: the noise's integral.
-Json gap_column_json(const ColumnInfo& column, const gap::GapResult& gap,
-                     const std::vector<std::string>& conversions);
+Json gap_column_json(const ColumnInfo& column, const gap::GapResult& gap, const std::vector<std::string>& conversions);
 
 /// The WV study's document (json_document("wv") filled): "input", "timing" and "columns":
 /// wv_column_json (robust_wv_column_json for a robust study), with "unit", "allan" and
@@ -161,8 +159,8 @@ Json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, con
 /// (the models joined by ';'), "mode" ("sub-models" or "listed"), "optimism", "omega",
 /// "seed", "timing" and "columns": select_column_json with "unit", "best_continuous",
 /// "best_kalman" (at `filter_rate`), "allan" and "noise_figures"; `units` as fit_document's.
-Json select_document(const io::SignalSet& set, const pipeline::SelectStudy& study, const std::vector<std::string>& units,
-                     double filter_rate);
+Json select_document(const io::SignalSet& set, const pipeline::SelectStudy& study,
+                     const std::vector<std::string>& units, double filter_rate);
 
 /// AGMWM (the replicates' own estimates averaged) as a fit of the joint model, and the
 /// replicate-t interval as the joint fit's intervals: for parameter_rows (display units).

@@ -32,8 +32,8 @@ namespace gmwm::robust {
 
 struct Quantization {
   bool detected = false;
-  double quantum = 0.0;            ///< the rounding step q (LSB), 0 when not detected
-  double on_lattice_share = 0.0;   ///< share of the differences that are multiples of q
+  double quantum = 0.0;           ///< the rounding step q (LSB), 0 when not detected
+  double on_lattice_share = 0.0;  ///< share of the differences that are multiples of q
 };
 
 /// The rounding step: the smallest non-zero |x_t - x_{t-1}|, accepted when at least
@@ -55,10 +55,8 @@ struct LevelDiagnostic {
 
 /// Per level of `robust` (its classical counterpart: `classical`, same levels), for the
 /// series x both were computed from.
-std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int64_t n,
-                                                      const WaveletVariance& robust,
+std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int64_t n, const WaveletVariance& robust,
                                                       const WaveletVariance& classical,
-                                                      const Quantization& quantization,
-                                                      const Tuning& tuning);
+                                                      const Quantization& quantization, const Tuning& tuning);
 
 }  // namespace gmwm::robust

@@ -53,7 +53,7 @@ struct RobustWvOptions {
 
 /// The root of mean chi(W_t^2 / s) = a(c) in s (the scale nu^2 of one level).
 struct ScaleSolution {
-  double scale = 0.0;          ///< NaN when there is no root
+  double scale = 0.0;  ///< NaN when there is no root
   bool has_root = false;
   double zero_fraction = 0.0;  ///< share of coefficients exactly 0 (quantized data)
   int passes = 0;              ///< passes over the coefficients

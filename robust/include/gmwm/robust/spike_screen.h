@@ -28,7 +28,6 @@
 #include <utility>
 #include <vector>
 
-
 namespace gmwm::robust {
 
 /// Flag threshold, in robust standard deviations of the level-1 coefficients: a spike
@@ -44,11 +43,11 @@ inline constexpr std::int64_t kSpikeMaxGap = 16;
 inline constexpr std::int64_t kAnchorSamples = 8;
 
 struct SpikeScreen {
-  bool applied = false;   ///< false when the level-1 robust scale is undefined
-  double scale = 0.0;     ///< robust variance of the level-1 coefficients
+  bool applied = false;                                       ///< false when the level-1 robust scale is undefined
+  double scale = 0.0;                                         ///< robust variance of the level-1 coefficients
   std::vector<std::pair<std::int64_t, std::int64_t>> ranges;  ///< replaced samples, [first, last]
-  std::int64_t samples = 0;  ///< total replaced
-  std::string note;          ///< one sentence for the output
+  std::int64_t samples = 0;                                   ///< total replaced
+  std::string note;                                           ///< one sentence for the output
 };
 
 /// The level-1 jumps W_t = (x_t - x_{t-1}) / 2, t = 1..n-1 (exactly 0 on repeated

@@ -39,15 +39,15 @@ struct ReplicateSelectOptions {
   /// this struct's `seed`, not select.seed); the splits
   /// are always scored by their held-out loss.
   SelectOptions select;
-  int split_bootstrap = 2000;      ///< resamples of the splits for the equivalence test
-  double equivalence_level = 0.05; ///< a model is equivalent unless its excess loss is significant at this level
+  int split_bootstrap = 2000;       ///< resamples of the splits for the equivalence test
+  double equivalence_level = 0.05;  ///< a model is equivalent unless its excess loss is significant at this level
   std::uint64_t seed = 0;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
 
 struct CvCandidate {
-  std::string model;               ///< the candidate (canonical, without values)
+  std::string model;  ///< the candidate (canonical, without values)
   int parameters = 0;
   double cv_wvic = 0.0;            ///< mean held-out loss over the splits
   std::vector<double> split_loss;  ///< per split, in ReplicateSelection::training order
@@ -57,9 +57,9 @@ struct CvCandidate {
   /// Monte-Carlo s.e. (NaN unless asked for)
   double bootstrap_wvic = std::numeric_limits<double>::quiet_NaN();
   double bootstrap_se = std::numeric_limits<double>::quiet_NaN();
-  int rank = 0;                    ///< by CV-WVIC (ties: fewer parameters)
-  int rank_analytic = 0;           ///< by the analytic WVIC
-  int rank_bootstrap = 0;          ///< by the bootstrap WVIC (0 unless asked for)
+  int rank = 0;            ///< by CV-WVIC (ties: fewer parameters)
+  int rank_analytic = 0;   ///< by the analytic WVIC
+  int rank_bootstrap = 0;  ///< by the bootstrap WVIC (0 unless asked for)
   /// Bootstrap probability (over the splits) that its mean loss is not above the chosen
   /// model's; equivalent when above equivalence_level. The splits share replicates, so
   /// their losses are not independent: with few replicates this probability is coarse

@@ -79,7 +79,7 @@ struct SelectOptions {
   /// `estimator`. The selection over replicates sets it to draw every replicate at its own
   /// length and stack their WVs.
   using BootstrapDraw = std::function<WaveletVariance(const WaveletVariance& wv, const Model& model,
-                                                     const Eigen::VectorXd& theta, std::uint64_t stream)>;
+                                                      const Eigen::VectorXd& theta, std::uint64_t stream)>;
   BootstrapDraw bootstrap_draw;
   /// Fit settings shared by every model (omega_matrix, inference, nested_starts and
   /// starts are set per signal/model by the selection).
@@ -93,9 +93,9 @@ struct SelectOptions {
 
 /// One candidate of a selection as fitted, and what it is in effect.
 struct CandidateFit {
-  std::string model;            ///< the candidate (canonical string, without values)
-  FitResult fit;                ///< no inference
-  EffectiveModel effective;     ///< its effective form (effective_model.h)
+  std::string model;         ///< the candidate (canonical string, without values)
+  FitResult fit;             ///< no inference
+  EffectiveModel effective;  ///< its effective form (effective_model.h)
 };
 
 /// One row of a ranking: a distinct effective model (select_models; e.g. 3*AR1, 2*AR1+WN
@@ -104,29 +104,29 @@ struct CandidateFit {
 /// effective parameters and its own candidate fit (the better of the two); the members are
 /// listed with their own objectives.
 struct RankedModel {
-  std::string model;            ///< the row's model (canonical string, without values)
+  std::string model;  ///< the row's model (canonical string, without values)
   /// Candidates that fell onto it: the model itself first when it is a candidate, then by
   /// their own objectives; member_objectives[k] is members[k]'s own objective (NaN: failed).
   std::vector<std::string> members;
   std::vector<double> member_objectives;
-  FitResult fit;                ///< the row model's own fit (no inference; see Selection::best_fit)
+  FitResult fit;  ///< the row model's own fit (no inference; see Selection::best_fit)
   /// The row model as fitted (model, theta); `reductions` are how `reduced_member` (its
   /// best-fitting member that was reduced) fell onto it, empty when none was.
   EffectiveModel effective;
   std::string reduced_member;
-  int parameters = 0;           ///< the row model's parameters
+  int parameters = 0;  ///< the row model's parameters
   double objective = 0.0;
-  double optimism = 0.0;        ///< the penalty added (analytic optimism or p log N)
-  double criterion = 0.0;       ///< objective + optimism
+  double optimism = 0.0;   ///< the penalty added (analytic optimism or p log N)
+  double criterion = 0.0;  ///< objective + optimism
   std::optional<double> optimism_analytic;
-  Optimism analytic;            ///< its status and dropped components
+  Optimism analytic;                                                ///< its status and dropped components
   std::optional<double> optimism_bootstrap, optimism_bootstrap_se;  ///< and its Monte-Carlo s.e.
-  int bootstrap_failed = 0;     ///< replicates whose refit failed (left out)
+  int bootstrap_failed = 0;                                         ///< replicates whose refit failed (left out)
   int bootstrap_not_converged = 0;  ///< replicates whose refit stopped before convergence (kept)
   /// Goodness of fit under the selection's shared Omega and V (Satterthwaite),
   /// boundary components left out of A as for the optimism.
   GoodnessOfFit gof;
-  int rank = 0;                 ///< 1-based, under `criterion`
+  int rank = 0;                                      ///< 1-based, under `criterion`
   std::optional<int> rank_analytic, rank_bootstrap;  ///< under each optimism (WVIC only)
 };
 
@@ -136,17 +136,18 @@ struct Selection {
   /// relative are tied, and ties go to the smaller effective model).
   std::vector<RankedModel> ranking;
   std::vector<CandidateFit> candidates;  ///< every candidate as fitted, in the enumeration order
-  int not_converged = 0;             ///< candidates whose fit stopped before converging
+  int not_converged = 0;                 ///< candidates whose fit stopped before converging
   /// True when every ranked model is rejected by its goodness-of-fit test at 5%: no
   /// candidate describes the data (best_fit.worst_levels() says where the chosen one misses).
   bool all_rejected = false;
-  int failed = 0;                    ///< candidates whose fit failed (ranked last, criterion NaN)
+  int failed = 0;  ///< candidates whose fit failed (ranked last, criterion NaN)
   /// The first-ranked effective model refitted with inference (from its effective
   /// parameters; and from its own candidate fit when it is a candidate).
   FitResult best_fit;
-  Eigen::MatrixXd omega;             ///< shared by all models
+  Eigen::MatrixXd omega;                          ///< shared by all models
   OmegaSource omega_source = OmegaSource::kData;  ///< how `omega` was formed (kData also when the caller gave it)
-  Eigen::MatrixXd v;                 ///< Cov(nuhat) for the optimism and GoF: model-based at the maximal model's fit (the pilot's with OmegaSource::kModel)
+  Eigen::MatrixXd
+      v;  ///< Cov(nuhat) for the optimism and GoF: model-based at the maximal model's fit (the pilot's with OmegaSource::kModel)
   int models = 0;
   /// Fit-quality check: pairs of candidates where one represents the other (nested, or
   /// through an equivalent form: model_relations.h) and still ends above it (relative
