@@ -219,6 +219,12 @@ TEST(Units, OneUnitNameDeclaresItsKindAndLabelsColumnsWhoseNameTellsNone) {
   EXPECT_EQ(parse_any_unit("mg").first, SensorKind::kAccel);
   EXPECT_THROW(parse_any_unit("dge/s"), InputError);
   EXPECT_THROW(parse_units_spec("deg/s,"), InputError);
+  try {  // a kind given twice is refused, not settled by the last one
+    parse_units_spec("gyro=deg/s,gyro=rad/s");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gyro given twice"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Units, TellsTheSensorKindFromTheColumnName) {

@@ -97,6 +97,8 @@ UnitsSpec parse_units_spec(const std::string& spec) {
     else
       throw InputError("--units '" + spec + "': unknown sensor kind '" + item.substr(0, eq) +
                        "' (expected gyro or accel)");
+    if (out.declared.count(kind))
+      throw InputError("--units '" + spec + "': " + to_string(kind) + " given twice (give each kind one unit)");
     try {
       out.declared[kind] = parse_unit(item.substr(eq + 1), kind);
     } catch (const InputError& e) {
