@@ -41,19 +41,6 @@ std::string utc_now() {
   return buf;
 }
 
-// The contract's spellings (docs/cli.md), independent of the engine's own to_string.
-const char* status_name(FitStatus s) {
-  switch (s) {
-    case FitStatus::kConverged:
-      return "converged";
-    case FitStatus::kNotConverged:
-      return "not_converged";
-    case FitStatus::kFailed:
-      return "failed";
-  }
-  return "failed";
-}
-
 }  // namespace
 
 Json parameters_json(const FitResult& fit) {
@@ -229,7 +216,7 @@ json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const 
               {"df", json_number(fit.gof.df)},
               {"p_value", json_number(fit.gof.p_value)},
               {"method", fit.gof.method}};
-  c["status"] = status_name(fit.status);
+  c["status"] = to_string(fit.status);
   c["message"] = fit.message;
   c["notes"] = fit.notes;
   c["evaluations"] = fit.evaluations;
@@ -288,7 +275,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
         {"rank_analytic", r.rank_analytic ? json(*r.rank_analytic) : json(nullptr)},
         {"rank_bootstrap", r.rank_bootstrap ? json(*r.rank_bootstrap) : json(nullptr)},
         {"gof_p_value", json_number(r.gof.p_value)},
-        {"status", status_name(r.fit.status)},
+        {"status", to_string(r.fit.status)},
         {"effective_parameters", r.parameters},
         {"members", r.members},
         {"member_objectives", member_objectives(r)},
@@ -306,14 +293,14 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
   for (const auto& cf : sel.candidates)
     candidates.push_back({{"model", cf.model},
                           {"objective", json_number(cf.fit.objective)},
-                          {"status", status_name(cf.fit.status)},
+                          {"status", to_string(cf.fit.status)},
                           {"effective", cf.effective.model.to_string()},
                           {"reductions", cf.effective.reductions}});
   c["candidates"] = std::move(candidates);
   c["not_converged"] = sel.not_converged;
   c["failed"] = sel.failed;
   c["best_fit"] = {{"objective", json_number(b.objective)},
-                   {"status", status_name(b.status)},
+                   {"status", to_string(b.status)},
                    {"gof",
                     {{"statistic", json_number(b.gof.statistic)},
                      {"df", json_number(b.gof.df)},
