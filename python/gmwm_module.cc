@@ -17,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <pybind11/numpy.h>
@@ -35,7 +36,11 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
+#include "gmwm/pipeline/export_study.h"
 #include "gmwm/pipeline/fit_study.h"
+#include "gmwm/pipeline/replicate_study.h"
+#include "gmwm/io/export.h"
+#include "gmwm/report/export_output.h"
 #include "gmwm/gap/gap_check.h"
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/nav_study.h"
@@ -54,13 +59,10 @@ namespace {
 
 using gmwm::report::Json;
 
-// A JSON document as Python objects, through Python's own json module: floats written
-// with 17 significant digits read back to the same double.
-py::object to_python(const Json& j) {
-  // Imported per call (a cached module lookup): a static py::object would be released
-  // after the interpreter has finalized.
-  return py::module_::import("json").attr("loads")(j.dump());
-}
+// A JSON document as the text the CLI writes (report::dump_json: the same renderer, floats
+// with 17 significant digits); the Python package builds its typed results from it and
+// keeps it for to_json().
+std::string to_python(const Json& j) { return gmwm::report::dump_json(j); }
 
 // How often the interpreter's main thread looks for a signal while the library computes
 // (Ctrl-C): often enough that KeyboardInterrupt comes well within a second, rarely enough
@@ -233,8 +235,8 @@ gmwm::OmegaKind omega_kind(const std::string& s) {
   throw gmwm::InputError("omega: expected model, diag, full or bootstrap, got '" + s + "'");
 }
 
-py::object py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels,
-                 const std::string& name) {
+std::string py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels,
+                  const std::string& name) {
   const std::vector<double> x = series_of(data, "data");
   const gmwm::report::ColumnInfo column = info(name, x.size(), freq, "");
   gmwm::WvOptions o;
@@ -257,8 +259,8 @@ py::object py_wv(const py::object& data, std::optional<double> freq, double alph
 
 // The data's Allan deviation and the noise figures read off it: the 'allan' and
 // 'noise_figures' fields `gmwm wv --adev` gives a column (the same engine and io functions).
-py::object py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& units,
-                    const std::string& name) {
+std::string py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& units,
+                     const std::string& name) {
   const std::vector<double> x = series_of(data, "data");
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
@@ -283,10 +285,10 @@ py::object py_allan(const py::object& data, double freq, int points_per_octave, 
 
 // The fit study (gmwm::pipeline::study_fit, as `gmwm fit`): the 'fit' JSON column with its
 // continuous parameters, Kalman terms, Allan deviations and noise figures.
-py::object py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
-                  const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
-                  bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
-                  const std::string& units) {
+std::string py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
+                   const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
+                   bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
+                   const std::string& units) {
   const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   gmwm::pipeline::FitStudyOptions o;
@@ -312,11 +314,11 @@ py::object py_fit(const py::object& data, const std::string& model_spec, std::op
 // The selection study (gmwm::pipeline::study_select, as `gmwm select --model`): a list of
 // 'select' JSON columns with the best fit's continuous parameters, Kalman terms, Allan
 // deviations and noise figures.
-py::object py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
-                     const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
-                     double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
-                     std::optional<double> eff, const std::optional<std::string>& estimator,
-                     const std::string& units_spec) {
+std::string py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
+                      const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
+                      double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
+                      std::optional<double> eff, const std::optional<std::string>& estimator,
+                      const std::string& units_spec) {
   std::vector<std::vector<double>> cols = columns_of(data);
   const std::vector<std::string> labels = names_for(cols.size(), names);
   const gmwm::io::UnitsSpec spec = gmwm::io::parse_units_spec(units_spec);
@@ -359,13 +361,13 @@ py::object py_select(const py::object& data, const std::string& model_spec, std:
 
 // The gap study (gmwm::pipeline::study_gap, as `gmwm gap`): the document gmwm gap --json
 // writes, its "input" being "<array>".
-py::object py_gap(const py::object& data, double freq, const std::optional<std::string>& model,
-                  const std::optional<std::string>& fit, const std::optional<std::string>& kalibr,
-                  const std::string& kalibr_imu, const std::optional<std::string>& gazebo,
-                  const std::optional<std::string>& datasheet, const std::vector<std::string>& names,
-                  const std::string& units, const std::optional<std::string>& sensor,
-                  const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
-                  int levels, bool unit_check) {
+std::string py_gap(const py::object& data, double freq, const std::optional<std::string>& model,
+                   const std::optional<std::string>& fit, const std::optional<std::string>& kalibr,
+                   const std::string& kalibr_imu, const std::optional<std::string>& gazebo,
+                   const std::optional<std::string>& datasheet, const std::vector<std::string>& names,
+                   const std::string& units, const std::optional<std::string>& sensor,
+                   const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
+                   int levels, bool unit_check, const std::string& effects, double min_effect, int max_steps) {
   if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
   const int given =
       model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value() + datasheet.has_value();
@@ -392,9 +394,12 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
   }
   o.temperature_column = temperature.value_or("");
   o.unit_check = unit_check;
-  o.replicates = replicates;
-  o.seed = seed;
-  o.alpha = alpha;
+  o.gap.replicates = replicates;
+  o.gap.seed = seed;
+  o.gap.alpha = alpha;
+  o.gap.min_effect = min_effect;
+  o.gap.max_steps = max_steps;
+  if (!effects.empty()) o.gap.candidates = gmwm::gap::parse_gap_candidates(effects, "effects");
   if (model) o.baseline = gmwm::pipeline::ModelBaseline{*model};
   if (fit) o.baseline = gmwm::pipeline::FitBaseline{*fit};
   if (kalibr)
@@ -419,11 +424,11 @@ py::object py_gap(const py::object& data, double freq, const std::optional<std::
 
 // The navigation study (gmwm::pipeline::study_nav, as `gmwm nav`): the document gmwm nav
 // --json writes (without "run"). Sources as the CLI's --truth / --filter.
-py::object py_nav(const std::string& truth, const std::vector<std::string>& filters,
-                  const std::vector<std::string>& labels, const std::string& trajectory, double horizon,
-                  double fix_rate, double fix_sigma, const std::vector<std::pair<double, double>>& outages,
-                  double judge_from, double output_interval, std::optional<double> imu_rate, std::optional<double> rate,
-                  const std::string& units, int monte_carlo, std::uint64_t seed) {
+std::string py_nav(const std::string& truth, const std::vector<std::string>& filters,
+                   const std::vector<std::string>& labels, const std::string& trajectory, double horizon,
+                   double fix_rate, double fix_sigma, const std::vector<std::pair<double, double>>& outages,
+                   double judge_from, double output_interval, std::optional<double> imu_rate,
+                   std::optional<double> rate, const std::string& units, int monte_carlo, std::uint64_t seed) {
   gmwm::pipeline::NavStudyOptions o;
   const auto t = gmwm::nav::parse_trajectory(trajectory);
   if (!t) throw gmwm::InputError("trajectory '" + trajectory + "': expected static, constant-velocity or manoeuvre");
@@ -456,10 +461,10 @@ py::object py_nav(const std::string& truth, const std::vector<std::string>& filt
 
 // The record-length plan (gmwm::pipeline::study_plan, as `gmwm plan`): the document gmwm
 // plan --json writes (without "run"), from a result's path or a model with values at freq.
-py::object py_plan(const std::optional<std::string>& result, const std::optional<std::string>& model,
-                   std::optional<double> freq, const std::string& unit, double precision, double confidence,
-                   const std::vector<std::string>& targets, std::optional<double> have,
-                   const std::vector<std::string>& columns) {
+std::string py_plan(const std::optional<std::string>& result, const std::optional<std::string>& model,
+                    std::optional<double> freq, const std::string& unit, double precision, double confidence,
+                    const std::vector<std::string>& targets, std::optional<double> have,
+                    const std::vector<std::string>& columns) {
   gmwm::pipeline::PlanStudyOptions o;
   o.result = result.value_or("");
   o.model = model.value_or("");
@@ -479,8 +484,8 @@ py::object py_plan(const std::optional<std::string>& result, const std::optional
 // The diagnosis' self-check on simulated cases (gmwm::gap::run_gap_check, as `gmwm
 // gap-check`): the document gmwm gap-check --json writes. Families and strengths are the
 // CLI's comma-separated lists, parsed by the same library functions (the same refusals).
-py::object py_gap_check(int cases, std::int64_t n, int replicates, const std::string& strengths,
-                        const std::string& families, bool null_side, std::uint64_t seed) {
+std::string py_gap_check(int cases, std::int64_t n, int replicates, const std::string& strengths,
+                         const std::string& families, bool null_side, std::uint64_t seed) {
   gmwm::gap::GapCheckOptions o;
   o.cases = cases;
   o.n = n;
@@ -496,6 +501,149 @@ py::object py_gap_check(int cases, std::int64_t n, int replicates, const std::st
     return gmwm::report::gap_check_document(o, gmwm::gap::run_gap_check(oc));
   });
   return to_python(out);
+}
+
+// Replicates given as arrays: each entry a recording (a 1-D array, a 2-D array samples x
+// columns, or a list of 1-D arrays) with the same columns as the first; named
+// "replicates[k]" in messages and sources ("replicates[1]:gyro_x").
+struct ReplicateArrays {
+  gmwm::io::SignalSet primary;
+  std::vector<gmwm::pipeline::ReplicateGroup> groups;
+};
+
+ReplicateArrays replicate_groups(const py::sequence& recordings, std::optional<double> freq,
+                                 const std::vector<std::string>& names) {
+  if (recordings.size() < 2)
+    throw gmwm::InputError("replicates: expected at least 2 recordings, got " + std::to_string(recordings.size()));
+  ReplicateArrays out;
+  std::vector<gmwm::pipeline::ReplicateRecording> rest;
+  for (std::size_t k = 0; k < recordings.size(); ++k) {
+    std::vector<std::vector<double>> cols = columns_of(recordings[k]);
+    const std::vector<std::string> labels = names_for(cols.size(), names);
+    gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
+    set.path = "replicates[" + std::to_string(k) + "]";
+    if (k == 0)
+      out.primary = std::move(set);
+    else
+      rest.push_back({set.path, std::move(set), false});
+  }
+  out.groups = gmwm::pipeline::group_replicates(out.primary, "replicates[0]", std::move(rest));
+  return out;
+}
+
+std::vector<std::string> units_of(const std::vector<gmwm::pipeline::ReplicateGroup>& groups,
+                                  const std::string& units_spec) {
+  const gmwm::io::UnitsSpec spec = gmwm::io::parse_units_spec(units_spec);
+  std::vector<std::string> units;
+  for (const auto& g : groups) units.push_back(gmwm::io::unit_of_column(spec, g.axis));
+  return units;
+}
+
+// The joint fit over replicates (gmwm::pipeline::study_joint_fit, as `gmwm fit --joint`):
+// the document gmwm fit --joint --json writes (without "run").
+std::string py_fit_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
+                         const std::string& omega, double alpha, int test_draws, std::uint64_t seed,
+                         const std::vector<std::string>& names, bool robust, std::optional<double> eff,
+                         const std::optional<std::string>& estimator, const std::string& units_spec) {
+  const ReplicateArrays r = replicate_groups(recordings, freq, names);
+  const std::vector<std::string> units = units_of(r.groups, units_spec);
+  gmwm::pipeline::JointFitStudyOptions o;
+  o.model = model_spec;
+  o.fit.omega = omega_kind(omega);
+  if (o.fit.omega == gmwm::OmegaKind::kModel) o.fit.omega = gmwm::OmegaKind::kDiag;  // the same there (fit --joint)
+  o.fit.alpha = alpha;
+  o.fit.seed = seed;
+  o.wv.alpha = alpha;
+  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.test_draws = test_draws;
+  o.seed = seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const gmwm::ProcessContext context{r.primary.freq, r.primary.freq_known};
+  gmwm::parse_model(model_spec, context);  // a bad model: InputError, GIL held
+  return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::JointFitStudyOptions oc = o;
+    oc.progress = progress;
+    const gmwm::pipeline::JointFitStudy study = gmwm::pipeline::study_joint_fit(r.groups, context, oc);
+    return gmwm::report::joint_fit_document(r.primary, r.groups, study, units, context.freq_known ? context.freq : 0.0);
+  }));
+}
+
+// The selection over replicates (gmwm::pipeline::study_joint_select, as `gmwm select
+// --joint`): the document gmwm select --joint --json writes (without "run").
+std::string py_select_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
+                            const std::string& optimism, double alpha, std::uint64_t seed,
+                            const std::vector<std::string>& names, bool robust, std::optional<double> eff,
+                            const std::optional<std::string>& estimator, const std::string& units_spec,
+                            int test_draws) {
+  const ReplicateArrays r = replicate_groups(recordings, freq, names);
+  const std::vector<std::string> units = units_of(r.groups, units_spec);
+  gmwm::pipeline::JointSelectStudyOptions o;
+  o.model = model_spec;
+  if (optimism != "replicates" && optimism != "all")
+    throw gmwm::InputError(
+        "optimism: expected replicates (the cross-validated WVIC) or all (with the joint fit's "
+        "analytic and bootstrap WVIC beside it), got '" +
+        optimism + "'");
+  o.select.select.optimism =
+      optimism == "all" ? gmwm::selection::OptimismMethod::kBoth : gmwm::selection::OptimismMethod::kAnalytic;
+  o.select.select.seed = seed;
+  o.select.select.fit.alpha = alpha;
+  o.select.select.fit.seed = seed;
+  o.select.seed = seed;
+  o.wv.alpha = alpha;
+  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.recommended_test_draws = test_draws;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const gmwm::ProcessContext context{r.primary.freq, r.primary.freq_known};
+  gmwm::parse_model(model_spec, context);
+  return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::JointSelectStudyOptions oc = o;
+    oc.select.select.progress = progress;
+    const gmwm::pipeline::JointSelectStudy study = gmwm::pipeline::study_joint_select(r.groups, context, oc);
+    return gmwm::report::joint_select_document(r.primary, r.groups, study, units,
+                                               context.freq_known ? context.freq : 0.0);
+  }));
+}
+
+// The export (gmwm::pipeline::study_export, as `gmwm export RESULT --format F --output
+// OUTPUT`) of a fit/select result's JSON text: (the document gmwm export --json writes
+// without "run", the file's text, the sidecar's text or None).
+std::tuple<std::string, std::string, std::optional<std::string>> py_export(
+    const std::string& result, const std::string& format, const std::string& output, const std::string& aggregate,
+    double inflate, std::optional<double> rate, const std::string& rostopic, const std::string& units,
+    const std::optional<std::string>& sensor, const std::vector<std::string>& columns,
+    const std::optional<std::tuple<double, double, double>>& consistent_for) {
+  gmwm::pipeline::ExportStudyOptions o;
+  const auto f = gmwm::io::parse_export_format(format);
+  if (!f)
+    throw gmwm::InputError("format '" + format + "': unknown format, expected one of " +
+                           gmwm::io::export_format_names());
+  o.format.format = *f;
+  const auto a = gmwm::io::parse_aggregation(aggregate);
+  if (!a) throw gmwm::InputError("aggregate '" + aggregate + "': expected per-axis, mean or worst");
+  o.format.aggregation = *a;
+  o.format.inflate = inflate;
+  o.format.rate = rate;
+  o.format.rostopic = rostopic;
+  if (consistent_for) {
+    gmwm::pipeline::ConsistencyOptions c;
+    std::tie(c.update_rate, c.horizon, c.fix_sigma) = *consistent_for;
+    o.consistent_for = c;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  gmwm::io::ResultReadOptions ro;
+  ro.columns = columns;
+  ro.rate = rate;
+  if (sensor) {
+    if (*sensor != "gyro" && *sensor != "accel")
+      throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
+    ro.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
+  }
+  if (!units.empty()) ro.units = gmwm::io::parse_declared_units(units);
+  gmwm::io::ResultColumns r = gmwm::io::read_result_columns("result", result, ro);
+  const std::string source = "gmwm " + r.command + " result" + (r.input.empty() ? "" : " (data " + r.input + ")");
+  const gmwm::pipeline::ExportStudy study = gmwm::pipeline::study_export(r.columns, source, "result", o);
+  return {to_python(gmwm::report::export_document(study, output)), study.result.content, study.result.sidecar};
 }
 
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
@@ -570,7 +718,9 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("names") = std::vector<std::string>{}, py::arg("units") = "", py::arg("sensor") = py::none(),
         py::arg("temperature") = py::none(), py::arg("replicates") = gmwm::gap::GapOptions{}.replicates,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("alpha") = 0.05, py::arg("levels") = 0,
-        py::arg("unit_check") = true,
+        py::arg("unit_check") = true, py::arg("effects") = "",
+        py::arg("min_effect") = gmwm::gap::GapOptions{}.min_effect,
+        py::arg("max_steps") = gmwm::gap::GapOptions{}.max_steps,
         "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each "
         "column's WV, "
         "which effect explains it and by how much: the document gmwm gap --json writes");
@@ -593,6 +743,27 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("seed") = gmwm::kDefaultSeed,
         "The gap diagnosis' self-check on simulated cases with a withheld effect (families 'QN,DR,...', strengths "
         "'2,4,8'): the document gmwm gap-check --json writes");
+  m.def("fit_joint", &py_fit_joint, py::arg("replicates"), py::arg("model"), py::kw_only(),
+        py::arg("freq") = py::none(), py::arg("omega") = "model", py::arg("alpha") = 0.05,
+        py::arg("test_draws") = gmwm::ReplicateTestOptions{}.bootstrap, py::arg("seed") = gmwm::kDefaultSeed,
+        py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false, py::arg("eff") = py::none(),
+        py::arg("estimator") = py::none(), py::arg("units") = "",
+        "Joint (multi-signal) GMWM fit of one model per axis over replicates (recordings of one sensor, each an "
+        "array with the same columns): the document gmwm fit --joint --json writes");
+  m.def("select_joint", &py_select_joint, py::arg("replicates"), py::arg("model"), py::kw_only(),
+        py::arg("freq") = py::none(), py::arg("optimism") = "replicates", py::arg("alpha") = 0.05,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
+        py::arg("test_draws") = 0,
+        "Selection over replicates (cross-validated WVIC; optimism='all' adds the joint fit's analytic and bootstrap "
+        "WVIC): the document gmwm select --joint --json writes");
+  m.def("export", &py_export, py::arg("result"), py::kw_only(), py::arg("format"), py::arg("output") = "",
+        py::arg("aggregate") = "mean", py::arg("inflate") = 1.0, py::arg("rate") = py::none(),
+        py::arg("rostopic") = "/imu0", py::arg("units") = "", py::arg("sensor") = py::none(),
+        py::arg("columns") = std::vector<std::string>{}, py::arg("consistent_for") = py::none(),
+        "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
+        "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
+        "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

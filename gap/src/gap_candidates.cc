@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include <boost/math/distributions/chi_squared.hpp>
 
+#include "gmwm/engine/error.h"
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/model_syntax.h"
 
@@ -39,6 +41,36 @@ constexpr CandidateSpec kCatalogue[] = {
     {GapEffect::kAR1, "AR1"}, {GapEffect::kFlicker, "FLICKER"},
     {GapEffect::kSin, "SIN"}, {GapEffect::kReparameterise, nullptr},
 };
+
+}  // namespace gmwm::gap::detail
+
+namespace gmwm::gap {
+
+std::vector<GapEffect> wv_candidate_effects() {
+  std::vector<GapEffect> out;
+  for (const auto& c : detail::kCatalogue) out.push_back(c.effect);
+  return out;
+}
+
+std::vector<GapEffect> parse_gap_candidates(const std::string& list, const std::string& option) {
+  const std::vector<GapEffect> all = wv_candidate_effects();
+  std::string known;
+  for (const GapEffect e : all) known += (known.empty() ? "" : ", ") + std::string(to_string(e));
+  std::vector<GapEffect> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    const auto e = parse_gap_effect(item);
+    if (!e || std::find(all.begin(), all.end(), *e) == all.end())
+      throw InputError(option + " '" + list + "': unknown effect '" + item + "', expected some of " + known);
+    out.push_back(*e);
+  }
+  if (out.empty()) throw InputError(option + ": at least one effect is needed (" + known + ")");
+  return out;
+}
+
+}  // namespace gmwm::gap
+
+namespace gmwm::gap::detail {
 
 bool has_process(const Model& m, const std::string& name) {
   for (const auto& c : m.components())

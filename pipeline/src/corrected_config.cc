@@ -316,6 +316,37 @@ CorrectedConfig model_config(const SignalSet& set, const GapStudy& study, const 
   return c;
 }
 
+// What a column's model holds that the corrected file cannot: the terms the format has no
+// field for (a datasheet holds one bias figure, Kalibr none, a simulator one Gauss-Markov
+// bias), each with why; terms counted in the white noise density.
+std::vector<std::string> not_expressible(const AxisNoise& a, const SimConfig& back, bool datasheet, bool kalibr) {
+  std::vector<std::string> out = a.others;
+  // A datasheet's bias figure without a correlation time is a flicker floor: the model's
+  // FLICKER is what it holds.
+  if (datasheet && !writes_correlation_time(back, a.kind))
+    std::erase_if(out, [](const std::string& x) { return x.rfind("FLICKER(", 0) == 0; });
+  if (datasheet)
+    for (std::size_t i = 0; i < a.gauss_markov.size(); ++i) {
+      const bool written = i + 1 == a.gauss_markov.size() && writes_correlation_time(back, a.kind);
+      if (!written)
+        out.push_back(
+            a.gauss_markov[i].text + " (a Gauss-Markov bias, correlation time " +
+            num(a.gauss_markov[i].correlation_time, 3) + " s: the datasheet holds one bias figure, " +
+            (i + 1 == a.gauss_markov.size() ? std::string("here a flicker floor") : std::string("the slowest")) + ")");
+    }
+  else if (kalibr)
+    for (const GaussMarkovNoise& gm : a.gauss_markov)
+      out.push_back(gm.text + " (a Gauss-Markov bias, correlation time " + num(gm.correlation_time, 3) +
+                    " s: Kalibr holds white noise and a random walk only)");
+  else if (a.gauss_markov.size() > 1)
+    for (std::size_t i = 0; i + 1 < a.gauss_markov.size(); ++i)
+      out.push_back(a.gauss_markov[i].text +
+                    " (the simulator holds one Gauss-Markov bias: the "
+                    "slowest is written)");
+  for (const std::string& x : a.absorbed) out.push_back(x + ": counted in the white noise density");
+  return out;
+}
+
 }  // namespace
 
 CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, const GapStudyOptions& options,
@@ -371,32 +402,7 @@ CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, co
     col.full = s.result.final_model;
     col.full_theta = s.result.final_theta;
     const AxisNoise& a = r.columns[k];
-    col.not_expressible = a.others;
-    // A datasheet's bias figure without a correlation time is a flicker floor: the model's
-    // FLICKER is what it holds.
-    if (datasheet && !writes_correlation_time(back, a.kind))
-      std::erase_if(col.not_expressible, [](const std::string& x) { return x.rfind("FLICKER(", 0) == 0; });
-    if (datasheet)
-      for (std::size_t i = 0; i < a.gauss_markov.size(); ++i) {
-        const bool written = i + 1 == a.gauss_markov.size() && writes_correlation_time(back, a.kind);
-        if (!written)
-          col.not_expressible.push_back(
-              a.gauss_markov[i].text + " (a Gauss-Markov bias, correlation time " +
-              num(a.gauss_markov[i].correlation_time, 3) + " s: the datasheet holds one bias figure, " +
-              (i + 1 == a.gauss_markov.size() ? std::string("here a flicker floor") : std::string("the slowest")) +
-              ")");
-      }
-    else if (eo.format == ExportFormat::kKalibr)
-      for (const GaussMarkovNoise& gm : a.gauss_markov)
-        col.not_expressible.push_back(gm.text + " (a Gauss-Markov bias, correlation time " +
-                                      num(gm.correlation_time, 3) +
-                                      " s: Kalibr holds white noise and a random walk only)");
-    else if (a.gauss_markov.size() > 1)
-      for (std::size_t i = 0; i + 1 < a.gauss_markov.size(); ++i)
-        col.not_expressible.push_back(a.gauss_markov[i].text +
-                                      " (the simulator holds one Gauss-Markov bias: the "
-                                      "slowest is written)");
-    for (const std::string& x : a.absorbed) col.not_expressible.push_back(x + ": counted in the white noise density");
+    col.not_expressible = not_expressible(a, back, datasheet, eo.format == ExportFormat::kKalibr);
     const auto expressible = pipeline::config_baseline(back, kind_of(s.name, o), s.name, s.wv.n);
     if (expressible) {
       col.expressible = expressible->model;

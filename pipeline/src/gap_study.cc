@@ -198,16 +198,14 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
 // on its own reference streams (seed + k).
 void diagnose_columns(const io::SignalSet& set, const std::vector<double>& temperature, const GapStudyOptions& o,
                       const ProcessContext& ctx, GapStudy& study) {
-  gap::GapOptions g;
-  g.replicates = o.replicates;
-  g.alpha = o.alpha;
+  gap::GapOptions g = o.gap;
   g.refit_baseline = std::holds_alternative<FitBaseline>(o.baseline);
   g.context = ctx;
   const std::size_t K = study.columns.size();
-  const double per_column = 2.0 * o.replicates;  // the reference replicates, then the attribution
+  const double per_column = 2.0 * o.gap.replicates;  // the reference replicates, then the attribution
   for (std::size_t k = 0; k < K; ++k) {
     gap::GapOptions gk = g;
-    gk.seed = o.seed + k;
+    gk.seed = o.gap.seed + k;
     if (o.progress)
       gk.progress = [&, k](int done, int) { o.progress(static_cast<double>(k) * per_column + done, K * per_column); };
     GapColumnStudy& c = study.columns[k];
@@ -234,10 +232,9 @@ std::optional<ColumnBaseline> config_baseline(const io::SimConfig& config, io::S
 }
 
 std::string GapStudyOptions::Validate() const {
-  gap::GapOptions g;
-  g.replicates = replicates;
-  g.alpha = alpha;
-  if (std::string why = g.Validate(); !why.empty()) return why;
+  if (std::string why = gap.Validate(); !why.empty()) return why;
+  if (gap.estimator || gap.refit_baseline || gap.progress || !gap.unit.empty() || gap.context.freq_known)
+    return "leave gap.estimator, refit_baseline, context, unit and progress unset: the study sets them per column";
   if (std::string why = wv.Validate(); !why.empty()) return why;
   const std::string* spec = std::holds_alternative<ModelBaseline>(baseline) ? &std::get<ModelBaseline>(baseline).spec
                             : std::holds_alternative<FitBaseline>(baseline) ? &std::get<FitBaseline>(baseline).spec
@@ -255,8 +252,8 @@ GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   GapStudy study;
   study.baseline_source = b.source;
   study.temperature_column = temperature.empty() ? std::string() : options.temperature_column;
-  study.replicates = options.replicates;
-  study.seed = options.seed;
+  study.replicates = options.gap.replicates;
+  study.seed = options.gap.seed;
   const auto wv_start = std::chrono::steady_clock::now();
   std::vector<WaveletVariance> wvs, robust_wvs;
   wavelet_variances(set, options.wv, wvs, robust_wvs);
@@ -281,7 +278,7 @@ GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.
   std::vector<std::span<const double>> spans;
   for (const auto& s : set.signals) spans.emplace_back(s.values);
-  study.cross_axis = gap::cross_axis_correlation(spans, options.wv.levels, options.alpha);
+  study.cross_axis = gap::cross_axis_correlation(spans, options.wv.levels, options.gap.alpha);
   return study;
 }
 

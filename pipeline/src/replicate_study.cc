@@ -3,6 +3,8 @@
 #include "gmwm/pipeline/replicate_study.h"
 #include "usable_wv.h"
 
+#include <cmath>
+#include <cstdio>
 #include <memory>
 #include <span>
 
@@ -18,7 +20,42 @@ std::unique_ptr<robust::RobustWvEstimator> estimator_for(const std::optional<rob
   return robust ? std::make_unique<robust::RobustWvEstimator>(*robust) : nullptr;
 }
 
+std::string rate_text(double hz) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", hz);
+  return buf;
+}
+
 }  // namespace
+
+std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const std::string& primary_label,
+                                             std::vector<ReplicateRecording> recordings) {
+  std::vector<ReplicateGroup> groups;
+  for (const auto& s : primary.signals) groups.push_back({s.name, {primary.path + ":" + s.name}, {s.values}});
+  for (ReplicateRecording& r : recordings) {
+    const std::size_t expected = r.one_column ? 1 : groups.size();
+    if (r.one_column && groups.size() != 1)
+      throw InputError(r.label + ": one column, a replicate of one column, but " + primary_label + " has " +
+                       std::to_string(groups.size()) + " columns");
+    if (r.set.signals.size() != expected)
+      throw InputError(r.label + ": has " + std::to_string(r.set.signals.size()) + " columns, expected " +
+                       std::to_string(expected) + " (those of " + primary_label + ")");
+    if (std::abs(r.set.freq / primary.freq - 1.0) > kReplicateRateTolerance)
+      throw InputError(r.label + ": sampled at " + rate_text(r.set.freq) + " Hz, " + primary_label + " at " +
+                       rate_text(primary.freq) + " Hz; replicates must share the rate");
+    for (std::size_t k = 0; k < r.set.signals.size(); ++k) {
+      ReplicateGroup& g = groups[r.one_column ? 0 : k];
+      const std::string source = r.set.path + ":" + r.set.signals[k].name;
+      for (std::size_t i = 0; i < g.series.size(); ++i)
+        if (g.series[i] == r.set.signals[k].values)
+          throw InputError(r.label + ": " + source + " is the same recording as " + g.sources[i] +
+                           " (a replicate given twice)");
+      g.sources.push_back(source);
+      g.series.push_back(std::move(r.set.signals[k].values));  // the recording's copy is not kept
+    }
+  }
+  return groups;
+}
 
 std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, const ReplicateGroup& group,
                                                  const ProcessContext& context, double alpha) {

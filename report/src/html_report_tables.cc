@@ -8,6 +8,7 @@
 
 #include "gmwm/engine/physical.h"
 #include "html_report_detail.h"
+#include "replicate_rows.h"
 
 namespace gmwm::report::detail {
 
@@ -109,7 +110,7 @@ std::string ranking_table(const selection::Selection& sel) {
      << "<table class=\"ranking\">\n";
   std::vector<std::string> head = {"rank", "model (effective)", "parameters", "objective", "optimism", "criterion"};
   if (boot) head.insert(head.end(), {"bootstrap optimism (se)", "rank a/b"});
-  head.push_back("GoF p-value");
+  head.push_back("GoF p (shared Omega)");
   head.push_back("candidates that fell onto it (their own objective)");
   os << th_row(head);
   for (std::size_t i = 0; i < sel.ranking.size(); ++i) {
@@ -134,7 +135,9 @@ std::string ranking_table(const selection::Selection& sel) {
                   (k < r.member_objectives.size() ? num(r.member_objectives[k], 4) : std::string("-")) + ")";
     os << td(num(r.gof.p_value, 3), "num") << td(others) << "</tr>\n";
   }
-  os << "</table>\n</div>\n";
+  os << "</table>\n<p class=\"facts\">GoF p (shared Omega): each candidate's test under the selection's shared "
+        "weights and covariance, comparable across rows; the chosen model's own test (refitted with its own Omega) "
+        "is the one in its parameter table.</p>\n</div>\n";
   return os.str();
 }
 
@@ -327,25 +330,30 @@ std::string replicate_ranking(const selection::ReplicateSelection& s) {
   const bool boot = !s.chosen_bootstrap.empty();
   std::ostringstream os;
   os << "<div class=\"ranking\">\n<h4>model selection over the replicates: " << s.ranking.size() << " sub-models of "
-     << html_escape(s.full_model) << ", " << s.training.size() << " training splits of "
-     << (s.training.empty() ? 0 : s.training.front().size()) << "</h4>\n<table class=\"ranking\">\n";
-  std::vector<std::string> head = {"rank (CV)", "model", "parameters", "CV-WVIC", "analytic WVIC", "rank (analytic)"};
+     << html_escape(s.full_model) << " (" << detail::fold_by_effective(s).size() << " distinct effective models), "
+     << s.training.size() << " training splits of " << (s.training.empty() ? 0 : s.training.front().size())
+     << "</h4>\n<table class=\"ranking\">\n";
+  std::vector<std::string> head = {"rank (CV)", "effective model", "parameters",
+                                   "CV-WVIC",   "analytic WVIC",   "rank (analytic)"};
   if (boot) head.insert(head.end(), {"bootstrap WVIC (s.e.)", "rank (bootstrap)"});
-  head.insert(head.end(), {"P(not worse)", "equivalent"});
+  head.insert(head.end(), {"P(not worse)", "equivalent", "other candidates that fell onto it (CV-WVIC)"});
   os << th_row(head);
-  for (const auto& r : s.ranking) {
-    const bool chosen = r.model == s.chosen;
+  for (const detail::FoldedRow& f : detail::fold_by_effective(s)) {
+    const selection::CvCandidate& r = *f.best;
     std::string badges;
-    if (chosen) badges += " <span class=\"badge\">chosen</span>";
-    if (r.model == s.recommended) badges += " <span class=\"badge\">recommended</span>";
-    os << "<tr" << (chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num") << "<td>"
-       << html_escape(r.model) << badges << "</td>" << td(std::to_string(r.parameters), "num")
+    if (f.chosen) badges += " <span class=\"badge\">chosen</span>";
+    if (f.recommended) badges += " <span class=\"badge\">recommended</span>";
+    std::string others;
+    for (const selection::CvCandidate* o : f.others)
+      others += (others.empty() ? "" : ", ") + o->model + " (" + num(o->cv_wvic, 4) + ")";
+    os << "<tr" << (f.chosen ? " class=\"chosen\"" : "") << ">" << td(std::to_string(r.rank), "num") << "<td>"
+       << html_escape(detail::folded_name(f)) << badges << "</td>" << td(std::to_string(r.parameters), "num")
        << td(num(r.cv_wvic, 6), "num") << td(num(r.analytic_wvic, 6), "num")
        << td(std::to_string(r.rank_analytic), "num");
     if (boot)
       os << td(num(r.bootstrap_wvic, 6) + " (" + num(r.bootstrap_se, 2) + ")", "num")
          << td(r.rank_bootstrap ? std::to_string(r.rank_bootstrap) : "-", "num");
-    os << td(num(r.p_not_worse, 3), "num") << td(r.equivalent ? "yes" : "") << "</tr>\n";
+    os << td(num(r.p_not_worse, 3), "num") << td(r.equivalent ? "yes" : "") << td(others, "note") << "</tr>\n";
   }
   os << "</table>\n<p class=\"facts\">chosen (smallest CV-WVIC): " << html_escape(s.chosen)
      << "; recommended (smallest equivalent model): " << html_escape(s.recommended)

@@ -145,6 +145,7 @@ Json joint_select_document(const io::SignalSet& set, const std::vector<pipeline:
     for (const auto& c : r.ranking)
       rows.push_back({{"rank", c.rank},
                       {"model", c.model},
+                      {"effective", c.effective},
                       {"parameters", c.parameters},
                       {"cv_wvic", json_number(c.cv_wvic)},
                       {"split_loss", c.split_loss},

@@ -31,12 +31,6 @@ std::size_t width_of(const std::string& s) {
   return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (c & 0xC0) != 0x80; }));
 }
 
-std::string fmt(double x, int digits) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
 std::string render(const std::vector<std::vector<std::string>>& rows, const std::vector<std::size_t>& cols, int left) {
   std::vector<std::size_t> width(cols.size(), 0);
   for (const auto& r : rows)
@@ -133,6 +127,13 @@ void add_figure(TextTable& t, const char* label, char letter, const Json& f, con
 }
 
 }  // namespace
+
+std::string fmt(double x, int digits) {
+  if (!std::isfinite(x)) return "-";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
 
 TextTable::TextTable(std::vector<std::string> header, int left) : left_(left) { rows_.push_back(std::move(header)); }
 

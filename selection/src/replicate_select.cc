@@ -241,6 +241,7 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
     CvCandidate r;
     r.model = c.model;
     r.parameters = c.fit.model.num_parameters();
+    r.effective = row_of.count(c.model) ? row_of[c.model]->model : c.model;
     r.objective = c.fit.objective;
     const RankedModel* row = row_of.count(c.model) ? row_of[c.model] : nullptr;
     r.analytic_wvic = row ? row->objective + row->optimism_analytic.value_or(nan) : nan;

@@ -131,7 +131,7 @@ TEST(Cancellation, StopsAGapDiagnosisInItsReferenceAndItsAttribution) {
   io::SignalSet set = signal_set();
   GapStudyOptions o;
   o.baseline = ModelBaseline{"WN(sigma2=1e-2)+RW(gamma2=1e-8)"};
-  o.replicates = 100;
+  o.gap.replicates = 100;
   for (int at : {10, 100 + 20}) {  // a reference replicate, then a fit of the attribution
     expect_cancelled(at, [&](const std::function<void(int, int)>& p) {
       GapStudyOptions oc = o;

@@ -16,6 +16,7 @@
 #include <tbb/global_control.h>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
 
 namespace gmwm::cli {
 
@@ -221,23 +222,6 @@ void check_report_option(const CommonOptions& common) {
   if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
 }
 
-report::ReportData report_data(const std::string& command, const io::SignalSet& set, const std::string& model_spec) {
-  report::ReportData r;
-  r.command = command;
-  r.input = set.path;
-  r.model_spec = model_spec;
-  for (const auto& s : set.signals) {
-    report::ReportColumn c;
-    c.name = s.name;
-    c.n = static_cast<std::int64_t>(s.values.size());
-    c.freq = set.freq;
-    c.freq_known = set.freq_known;
-    c.unit = s.unit;
-    r.columns.push_back(std::move(c));
-  }
-  return r;
-}
-
 void write_report(const CommonOptions& common, const report::ReportData& data) {
   if (common.report.empty()) return;
   report::stage_html_report(*common.outputs, common.report, data);
@@ -295,21 +279,10 @@ WvOptions wv_options(const InputOptions& input) {
   return o;
 }
 
-std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOptions& options) {
-  std::vector<std::span<const double>> series;
-  for (const auto& s : set.signals) series.emplace_back(s.values);
-  return classical_wv(series, options);
-}
-
-std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set, const robust::RobustWvOptions& options) {
-  std::vector<std::span<const double>> series;
-  for (const auto& s : set.signals) series.emplace_back(s.values);
-  return robust::robust_wv(series, options);
-}
-
-report::ColumnInfo column_info(const io::SignalSet& set, std::size_t k) {
-  const auto& s = set.signals[k];
-  return {s.name, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known, {}};
+void check_models_before_reading(const InputOptions& input, const std::vector<std::string>& models) {
+  if (!input.freq) return;
+  if (const std::string why = io::sampling_rate_problem(*input.freq, "--freq"); !why.empty()) throw InputError(why);
+  for (const std::string& m : models) parse_model(m, ProcessContext{*input.freq, true});
 }
 
 int active_threads() {
@@ -322,13 +295,6 @@ void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo 
   run.argv = common.argv;
   report::add_run_info(doc, run);
   common.outputs->stage(common.json, report::dump_json(doc));
-}
-
-std::string fmt(double x, int digits) {
-  if (!std::isfinite(x)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
 }
 
 void warn(const std::string& message) { std::cerr << "gmwm: warning: " << printable_line(message) << '\n'; }

@@ -18,6 +18,8 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/report/html_report.h"
 #include "gmwm/report/json_output.h"
+#include "gmwm/report/study_pages.h"
+#include "gmwm/report/study_text.h"
 #include "gmwm/report/terminal.h"
 #include "gmwm/io/output_set.h"
 #include "gmwm/io/signal_reader.h"
@@ -42,10 +44,6 @@ struct CommonOptions {
   /// True when the terminal table goes to stdout (not --quiet, not --json -).
   bool show_table() const { return !quiet && json != "-"; }
 };
-
-/// The last line of a summary-only terminal (fit, select): where the details are.
-inline constexpr const char* kDetailsHint =
-    "(--verbose: the ranking, parameters, read-offs and Kalman terms; --json, --report: everything)\n";
 
 /// The largest --levels: J levels need 2^J samples, and no record reaches 2^62.
 inline constexpr int kMaxLevelsOption = 62;
@@ -135,9 +133,6 @@ void add_report_option(CLI::App& sub, CommonOptions& common);
 /// Checked before any work (InputError, exit 2): --report names a file in an existing
 /// folder (not '-') and the Vega modules the page inlines can be read.
 void check_report_option(const CommonOptions& common);
-/// The report's skeleton: one column per signal (name, n, rate, unit), no results yet.
-report::ReportData report_data(const std::string& command, const io::SignalSet& set,
-                               const std::string& model_spec = {});
 /// Stages the report and its SVG when --report was given.
 void write_report(const CommonOptions& common, const report::ReportData& data);
 
@@ -147,12 +142,9 @@ io::SignalSet read_input(const InputOptions& input);
 /// WvOptions from --levels/--alpha (InputError naming the option when invalid).
 WvOptions wv_options(const InputOptions& input);
 
-/// Classical WV of every signal, in parallel.
-std::vector<WaveletVariance> compute_wv(const io::SignalSet& set, const WvOptions& options);
-/// The robust WV of every column (in parallel).
-std::vector<WaveletVariance> compute_robust_wv(const io::SignalSet& set, const robust::RobustWvOptions& options);
-
-report::ColumnInfo column_info(const io::SignalSet& set, std::size_t k);
+/// With --freq, every model is parsed before INPUT is read, so that a typo in a long
+/// file's command costs nothing (InputError; nothing without --freq: the rate is the file's).
+void check_models_before_reading(const InputOptions& input, const std::vector<std::string>& models);
 
 /// TBB's current parallelism limit.
 int active_threads();
@@ -160,8 +152,8 @@ int active_threads();
 /// Fills RunInfo and stages the JSON document when --json was given.
 void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo run);
 
-/// A number for tables: %.6g, "-" when not finite.
-std::string fmt(double x, int digits = 6);
+/// A number for tables: %.6g, "-" when not finite (report/terminal.h).
+using report::fmt;
 
 /// A plain text table: columns right-aligned except the first `left` ones.
 /// The terminal's tables (report/terminal.h): they fit report::kTerminalWidth columns.

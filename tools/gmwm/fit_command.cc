@@ -33,100 +33,6 @@ struct FitArgs {
 
 OmegaKind omega_kind(const std::string& s) { return parse_omega_kind(s).value_or(OmegaKind::kModel); }
 
-std::string terminal_report(const io::SignalSet& set, std::size_t k, const WaveletVariance& w, const FitResult& r,
-                            OmegaKind omega) {
-  std::ostringstream os;
-  const auto& s = set.signals[k];
-  os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, Omega " << to_string(omega);
-  if (w.estimator != "classical")
-    os << ", " << w.estimator << " WV (efficiency " << fmt(w.efficiency.value_or(1.0)) << ")";
-  os << '\n';
-  const bool has_theta = r.theta.size() == r.model.num_parameters() && r.theta.size() > 0 && r.theta.allFinite();
-  os << "model: " << (has_theta ? r.model.to_string(r.theta) : r.model.to_string()) << '\n';
-  if (has_theta) {
-    Table t({"process", "component", "name", "value", "se", "CI low", "CI high", "interval"}, 1);
-    for (const report::ParameterRow& p : report::parameter_rows(r))
-      t.add({p.process, std::to_string(p.component), p.name, fmt(p.value, 8), fmt(p.se, 3), fmt(p.ci_low),
-             fmt(p.ci_high), p.interval == "two-sided" ? "" : p.interval});
-    os << t.str();
-  }
-  os << "objective: " << fmt(r.objective, 8) << '\n';
-  os << "goodness of fit: statistic " << fmt(r.gof.statistic) << ", df " << fmt(r.gof.df) << ", p-value "
-     << fmt(r.gof.p_value, 4) << (r.gof.method.empty() ? "" : " (" + r.gof.method + ")") << '\n';
-  const std::string status = to_string(r.status);
-  const bool repeats =
-      r.message.rfind(status, 0) == 0 || (r.status == FitStatus::kConverged && r.message.rfind("converged", 0) == 0);
-  os << "status: " << (r.message.empty() ? status : repeats ? r.message : status + " (" + r.message + ")") << '\n';
-  for (const auto& note : r.notes) os << "note: " << note << '\n';
-  if (const std::string why = rejection_summary(r, set.freq, set.freq_known); !why.empty())
-    os << "fit quality: " << r.model.to_string() << " is " << why << '\n';
-  if (const std::string why = degeneracy_summary(r); !why.empty()) os << "fit quality: " << why << '\n';
-  return os.str();
-}
-
-std::string joint_report(const ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
-                         const ReplicateBootstrap* boot, OmegaKind omega, const std::string& estimator) {
-  std::ostringstream os;
-  os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << ", "
-     << estimator << '\n';
-  for (std::size_t k = 0; k < g.sources.size(); ++k)
-    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", " << r.levels[k]
-       << " levels"
-       << (k < r.objective_share.size() ? ", its share of the objective " + fmt(r.objective_share[k], 4) : "")
-       << ", own fit " << to_string(r.singles[k].status) << '\n';
-  const FitResult& j = r.joint;
-  const bool ok = j.theta.size() == j.model.num_parameters() && j.theta.size() > 0 && j.theta.allFinite();
-  os << "model: " << (ok ? j.model.to_string(j.theta) : j.model.to_string()) << '\n';
-  if (ok) {
-    std::vector<std::string> header = {"process", "component", "name",      "joint", "se",      "CI low",
-                                       "CI high", "boot low",  "boot high", "AGMWM", "AGMWM se"};
-    for (std::size_t k = 0; k < r.singles.size(); ++k) header.push_back("replicate " + std::to_string(k + 1));
-    Table t(header, 1);
-    // Every column in display units (SIN f in Hz ...), as parameter_rows gives them.
-    const auto rows = report::parameter_rows(j);
-    const auto agmwm = report::parameter_rows(report::agmwm_as_fit(r));
-    const auto boot_rows = boot ? report::parameter_rows(report::replicate_bootstrap_as_fit(r, *boot))
-                                : std::vector<report::ParameterRow>{};
-    std::vector<std::vector<report::ParameterRow>> own;
-    for (const auto& s : r.singles) own.push_back(report::parameter_rows(s));
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const auto& p = rows[i];
-      std::vector<std::string> row = {p.process,
-                                      std::to_string(p.component),
-                                      p.name,
-                                      fmt(p.value, 8),
-                                      fmt(p.se, 3),
-                                      fmt(p.ci_low),
-                                      fmt(p.ci_high),
-                                      i < boot_rows.size() ? fmt(boot_rows[i].ci_low) : "-",
-                                      i < boot_rows.size() ? fmt(boot_rows[i].ci_high) : "-",
-                                      fmt(agmwm[i].value),
-                                      fmt(agmwm[i].se, 3)};
-      for (const auto& o : own) row.push_back(i < o.size() ? fmt(o[i].value) : "-");
-      t.add(row);
-    }
-    os << t.str();
-  }
-  os << "objective: " << fmt(j.objective, 8) << " (the sum over the replicates)\n";
-  os << "goodness of fit: statistic " << fmt(j.gof.statistic) << ", df " << fmt(j.gof.df) << ", p-value "
-     << fmt(j.gof.p_value, 4) << (j.gof.method.empty() ? "" : " (" + j.gof.method + ")") << '\n';
-  os << "status: " << (j.message.empty() ? to_string(j.status) : j.message) << '\n';
-  for (const auto& note : j.notes) os << "note: " << note << '\n';
-  if (boot)
-    os << "boot low / high: replicate-t interval (t at K - 1 df, bootstrap sd x sqrt(K / (K - 1)), log scale for "
-          "variances) from the joint fit redone on "
-       << boot->draws
-       << (boot->exhaustive ? " distinct resamples (all, weighted by their bootstrap probability)" : " resamples")
-       << " of the replicates drawn with replacement\n";
-  if (test)
-    os << "shared theta? heterogeneity H = " << fmt(test->heterogeneity, 4) << ", bootstrap p "
-       << fmt(test->heterogeneity_p, 3)
-       << (test->rejects() ? " (the replicates do not share one theta)" : " (one theta fits them all)")
-       << "; joint misfit T = " << fmt(test->statistic, 4) << ", bootstrap p " << fmt(test->p_value, 3) << " ("
-       << test->draws << " draws, Omega_k = V_k^-1 at the fixed-point estimate)\n";
-  return os.str();
-}
-
 int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOptions& options,
                   const robust::RobustWvOptions* robust) {
   Stopwatch total;
@@ -152,24 +58,12 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   bar.finish();
 
   report::Json doc = report::joint_fit_document(set, groups, study, units, filter);
-  const std::string estimator = replicate_estimator_text(robust);
-  std::string report = report::axis_summary(doc) + "\n";
-  for (std::size_t i = 0; i < groups.size(); ++i) {
-    const JointAnalysis& a = study.groups[i].analysis;
-    report += (i ? "\n" : "") +
-              joint_report(groups[i], a.fit, a.test ? &*a.test : nullptr, a.bootstrap ? &*a.bootstrap : nullptr,
-                           options.omega, estimator) +
-              joint_physical_tables(groups[i], set, a.fit.joint, study.groups[i].figures, args.units, filter);
-  }
+  const std::string estimator = report::replicate_estimator_text(o.robust);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
-  if (!common.report.empty()) {
-    report::ReportData rep = report_data("fit", set, args.model);
-    for (std::size_t i = 0; i < groups.size(); ++i)
-      fill_joint_report_column(rep.columns[i], groups[i], study.groups[i].wvs, study.groups[i].analysis, estimator);
-    write_report(common, rep);
-  }
+  if (!common.report.empty()) write_report(common, report::joint_fit_report_data(set, groups, study, estimator));
   commit_outputs(common);
-  if (common.show_table()) print_text(report);
+  if (common.show_table())
+    print_text(report::joint_fit_text(doc, set, groups, study, estimator, {units, filter, common.verbose}));
   for (std::size_t i = 0; i < groups.size(); ++i)
     if (const FitResult& j = study.groups[i].analysis.fit.joint; j.status == FitStatus::kFailed) {
       std::cerr << "gmwm: error: " << printable_line("the joint fit of '" + groups[i].axis + "' failed: " + j.message)
@@ -179,15 +73,8 @@ int run_joint_fit(const FitArgs& args, const CommonOptions& common, const FitOpt
   return 0;
 }
 
-int run_fit(const FitArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  const WvOptions wv_opts = wv_options(args.input);
-  const auto robust_options = robust_wv_options(args.robust, wv_opts);
-  declare_input(common, args.input.input);
-  declare_output(common, "--json", common.json);
-  check_report_option(common);
-
+// The fit's settings from the options (InputError naming the option when invalid).
+FitOptions fit_options(const FitArgs& args, const CommonOptions& common) {
   FitOptions options;
   options.omega = omega_kind(args.omega);
   options.alpha = args.input.alpha;
@@ -195,50 +82,11 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   options.seed = common.seed;
   options.max_evaluations = args.max_evaluations;
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  if (!args.joint.empty()) {
-    if (options.omega == OmegaKind::kBootstrap)
-      throw InputError(
-          "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
-    return run_joint_fit(args, common, options, robust_options ? &*robust_options : nullptr);
-  }
+  return options;
+}
 
-  // With --freq the model can be checked before reading a long file.
-  if (args.input.freq) {
-    if (const std::string why = io::sampling_rate_problem(*args.input.freq, "--freq"); !why.empty())
-      throw InputError(why);
-    parse_model(args.model, ProcessContext{*args.input.freq, true});
-  }
-
-  Stopwatch read_clock;
-  const io::SignalSet set = read_input(args.input);
-  const double read_seconds = read_clock.seconds();
-  pipeline::FitStudyOptions study_options;
-  study_options.model = args.model;
-  study_options.fit = options;
-  study_options.wv = wv_opts;
-  study_options.robust = robust_options;
-  const pipeline::FitStudy study = pipeline::study_fit(set, study_options);
-  std::vector<std::string> units;
-  for (const auto& s : set.signals) units.push_back(column_unit(args.units, s.name));
-
-  // Everything is computed: build the outputs, then write them.
-  report::Json doc = report::fit_document(set, study, units, filter_rate(args.units, set));
-  const double filter = filter_rate(args.units, set);
-  std::string report;
-  if (common.show_table()) {
-    if (set.timing) report += set.timing->summary() + "\n";
-    report += report::axis_summary(doc);
-    for (std::size_t k = 0; common.verbose && k < study.columns.size(); ++k) {
-      const pipeline::FitColumnStudy& c = study.columns[k];
-      const report::ColumnInfo info = with_unit(column_info(set, k), args.units);
-      const ChosenFigures* chosen = c.figures ? &c.figures->chosen : nullptr;
-      report += "\n" + terminal_report(set, k, c.wv, c.fit, options.omega) + continuous_table(c.fit, info) +
-                (chosen ? noise_figures_table(*chosen, units[k]) : "") + kalman_table(c.fit, info, filter, chosen);
-    }
-    if (!common.verbose) report += kDetailsHint;
-  }
-
-  warn_about_timing(set);
+// Warns about every column whose fit did not converge or failed; the number usable.
+int warn_about_fits(const pipeline::FitStudy& study) {
   int usable = 0;
   for (const pipeline::FitColumnStudy& c : study.columns) {
     const FitResult& r = c.fit;
@@ -248,6 +96,39 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
       warn("column '" + c.name + "': the fit failed" + (r.message.empty() ? "" : ": " + r.message));
     if (r.status != FitStatus::kFailed) ++usable;
   }
+  return usable;
+}
+
+int run_fit(const FitArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  pipeline::FitStudyOptions study_options;
+  study_options.model = args.model;
+  study_options.wv = wv_options(args.input);
+  study_options.robust = robust_wv_options(args.robust, study_options.wv);
+  declare_input(common, args.input.input);
+  declare_output(common, "--json", common.json);
+  check_report_option(common);
+  study_options.fit = fit_options(args, common);
+  if (!args.joint.empty()) {
+    if (study_options.fit.omega == OmegaKind::kBootstrap)
+      throw InputError(
+          "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
+    return run_joint_fit(args, common, study_options.fit, study_options.robust ? &*study_options.robust : nullptr);
+  }
+  check_models_before_reading(args.input, {args.model});
+
+  Stopwatch read_clock;
+  const io::SignalSet set = read_input(args.input);
+  const double read_seconds = read_clock.seconds();
+  const pipeline::FitStudy study = pipeline::study_fit(set, study_options);
+
+  // Everything is computed: build the outputs, then write them.
+  const std::vector<std::string> units = column_units(args.units, set);
+  const double filter = filter_rate(args.units, set);
+  report::Json doc = report::fit_document(set, study, units, filter);
+  warn_about_timing(set);
+  const int usable = warn_about_fits(study);
   write_json(common, doc,
              {.threads = 0,
               .seconds = {{"read", read_seconds},
@@ -256,23 +137,10 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
                           {"fit", study.fit_seconds},
                           {"total", total.seconds()}},
               .argv = {}});
-  if (!common.report.empty() && usable > 0) {
-    report::ReportData rep = report_data("fit", set, args.model);
-    for (std::size_t k = 0; k < study.columns.size(); ++k) {
-      const pipeline::FitColumnStudy& c = study.columns[k];
-      rep.columns[k].wvs =
-          c.classical ? std::vector<WaveletVariance>{c.wv, *c.classical} : std::vector<WaveletVariance>{c.wv};
-      rep.columns[k].fit = c.fit;
-      rep.columns[k].allan = c.figures;
-      rep.columns[k].filter_rate = filter;
-      if (!units[k].empty()) rep.columns[k].unit = units[k];
-    }
-    write_report(common, rep);
-  }
+  if (!common.report.empty() && usable > 0)
+    write_report(common, report::fit_report_data(set, study, args.model, units, filter));
   commit_outputs(common);
-  if (common.show_table()) {
-    print_text(report);
-  }
+  if (common.show_table()) print_text(report::fit_text(doc, set, study, {units, filter, common.verbose}));
   if (usable == 0) {
     std::cerr << "gmwm: error: no usable fit (every column failed)\n";
     return 1;

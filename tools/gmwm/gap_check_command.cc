@@ -23,52 +23,6 @@ struct GapCheckArgs {
   bool no_null = false;
 };
 
-std::string report(const gap::GapCheckResult& r) {
-  std::ostringstream os;
-  std::vector<std::string> reported;
-  for (const auto& [t, row] : r.confusion)
-    for (const auto& [rep, n] : row)
-      if (std::find(reported.begin(), reported.end(), rep) == reported.end()) reported.push_back(rep);
-  std::vector<std::string> head = {"truth \\ reported"};
-  head.insert(head.end(), reported.begin(), reported.end());
-  Table conf(head, 1);
-  for (const auto& [t, row] : r.confusion) {
-    std::vector<std::string> line = {t};
-    for (const auto& rep : reported) {
-      const auto it = row.find(rep);
-      line.push_back(it == row.end() ? "" : std::to_string(it->second));
-    }
-    conf.add(line);
-  }
-  os << "confusion matrix (rows: withheld effect; none = base only, REPARAMETERISE = base off by +-20%)\n"
-     << conf.str();
-  Table fam({"truth", "cases", "top-1 correct", "detected", "band located", "median S", "power by strength",
-             "90% power at", "oracle's", "ratio"},
-            1);
-  for (const auto& [t, f] : r.families) {
-    std::string power;
-    for (const auto& [s, p] : f.power) power += (power.empty() ? "" : ", ") + fmt(s, 3) + ": " + fmt(100 * p, 3) + "%";
-    const bool effect = !f.power.empty();
-    const std::string prefix = f.crossing == gap::Crossing::kAtMost   ? "<= "
-                               : f.crossing == gap::Crossing::kBeyond ? "> "
-                                                                      : "";
-    fam.add({t, std::to_string(f.cases), fmt(100.0 * f.correct / f.cases, 3) + "%",
-             fmt(100.0 * f.detected / f.cases, 3) + "%", fmt(100.0 * f.located / f.cases, 3) + "%",
-             fmt(f.median_excess_removed, 3), power.empty() ? "-" : power,
-             effect ? prefix + fmt(f.strength_90, 3) : "-", effect ? fmt(f.oracle_strength_90, 3) : "-",
-             effect ? prefix + fmt(f.oracle_ratio, 3) : "-"});
-  }
-  os << fam.str();
-  os << "90% power at: the strength where the share correctly attributed reaches 90% (\"<=\": already at the "
-        "grid's smallest, \">\": not within the grid); oracle's: where a one-sided test that knows the base, the "
-        "effect's form and everything but its amplitude reaches 90% on average over the same cases (exact "
-        "Cov(nuhat) of the base, Gaussian WV; DR: the GLS test on the series itself, its most powerful test); ratio: "
-        "ours / oracle's (goal <= 1.5)\n";
-  os << "correct " << r.correct << " of " << r.cases.size() << ", false alarms on the null side " << r.false_alarms
-     << '\n';
-  return os.str();
-}
-
 int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
@@ -88,7 +42,7 @@ int run_gap_check(const GapCheckArgs& args, const CommonOptions& common) {
   report::Json doc = report::gap_check_document(o, r);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
-  if (common.show_table()) print_text(report(r));
+  if (common.show_table()) print_text(report::gap_check_text(r));
   return 0;
 }
 

@@ -32,6 +32,22 @@ int fail(int code, const std::string& message) {
   return code;
 }
 
+// Runs the chosen command. The table (or page) on standard output comes after the files:
+// a closed pipe or a full disk there is still an error to report, not a silent exit 0.
+int run_command(const gmwm::cli::Command& c) {
+  const int code = c.run();
+  std::cout.flush();
+  if (!std::cout) {
+    // errno still holds the failed write's reason unless something ran since.
+    const int err = errno;
+    const bool write_error = err == EPIPE || err == ENOSPC || err == EIO || err == EFBIG || err == EDQUOT;
+    return fail(2, std::string("cannot write to standard output: ") +
+                       (write_error ? std::strerror(err) : "write error") +
+                       (err == EPIPE ? " (its reader closed it)" : ""));
+  }
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -90,21 +106,7 @@ int main(int argc, char** argv) {
 
   try {
     for (const Command& c : commands)
-      if (c.app->parsed()) {
-        const int code = c.run();
-        // The table (or page) on standard output after the files: a closed pipe or a full
-        // disk there is still an error to report, not a silent exit 0.
-        std::cout.flush();
-        if (!std::cout) {
-          // errno still holds the failed write's reason unless something ran since.
-          const int err = errno;
-          const bool write_error = err == EPIPE || err == ENOSPC || err == EIO || err == EFBIG || err == EDQUOT;
-          return fail(2, std::string("cannot write to standard output: ") +
-                             (write_error ? std::strerror(err) : "write error") +
-                             (err == EPIPE ? " (its reader closed it)" : ""));
-        }
-        return code;
-      }
+      if (c.app->parsed()) return run_command(c);
     return fail(2, "expected a command (gmwm --help lists them)");
   } catch (const gmwm::InputError& e) {
     return fail(2, e.what());

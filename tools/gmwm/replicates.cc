@@ -1,6 +1,5 @@
 #include "replicates.h"
 
-#include <cmath>
 #include <filesystem>
 
 #include "gmwm/engine/error.h"
@@ -8,9 +7,6 @@
 
 namespace gmwm::cli {
 namespace {
-
-// Rates that differ by less than this (relative) are the same rate (timestamps jitter).
-constexpr double kRateTolerance = 1e-6;
 
 struct Entry {
   std::string path;
@@ -47,68 +43,19 @@ std::string replicate_path(const std::string& entry) { return parse_entry(entry)
 
 std::vector<ReplicateGroup> read_replicates(const io::SignalSet& input, const std::vector<std::string>& entries,
                                             const InputOptions& options) {
-  std::vector<ReplicateGroup> groups;
   std::vector<std::string> names;
-  for (const auto& s : input.signals) {
-    groups.push_back({s.name, {input.path + ":" + s.name}, {s.values}});
-    names.push_back(s.name);
-  }
+  for (const auto& s : input.signals) names.push_back(s.name);
+  std::vector<pipeline::ReplicateRecording> recordings;
   for (const std::string& text : entries) {
     const Entry e = parse_entry(text);
-    if (!e.column.empty() && groups.size() != 1)
-      throw InputError("--joint " + text + ": names one column, but INPUT has " + std::to_string(groups.size()) +
+    if (!e.column.empty() && names.size() != 1)
+      throw InputError("--joint " + text + ": names one column, but INPUT has " + std::to_string(names.size()) +
                        " selected columns; select one with --columns");
-    const io::SignalSet set =
-        read_columns(e.path, e.column.empty() ? names : std::vector<std::string>{e.column}, options);
-    if (std::abs(set.freq / input.freq - 1.0) > kRateTolerance)
-      throw InputError("--joint " + text + ": sampled at " + fmt(set.freq) + " Hz, INPUT at " + fmt(input.freq) +
-                       " Hz; replicates must share the rate");
-    for (std::size_t k = 0; k < set.signals.size(); ++k) {
-      ReplicateGroup& g = groups[e.column.empty() ? k : 0];
-      const std::string source = e.path + ":" + set.signals[k].name;
-      for (std::size_t r = 0; r < g.series.size(); ++r)
-        if (g.series[r] == set.signals[k].values)
-          throw InputError("--joint " + text + ": " + source + " is the same recording as " + g.sources[r] +
-                           " (a replicate given twice)");
-      g.sources.push_back(source);
-      g.series.push_back(set.signals[k].values);
-    }
+    recordings.push_back({"--joint " + text,
+                          read_columns(e.path, e.column.empty() ? names : std::vector<std::string>{e.column}, options),
+                          !e.column.empty()});
   }
-  return groups;
-}
-
-std::string replicate_estimator_text(const robust::RobustWvOptions* robust) {
-  return robust ? "robust WV (Gaussian efficiency " + fmt(robust->efficiency) + ")" : std::string("classical WV");
-}
-
-report::ReplicateReport replicate_report(const ReplicateGroup& group, const std::string& estimator) {
-  report::ReplicateReport r;
-  r.sources = group.sources;
-  for (const auto& s : group.series) r.n.push_back(static_cast<std::int64_t>(s.size()));
-  r.estimator = estimator;
-  return r;
-}
-
-std::string joint_physical_tables(const ReplicateGroup& group, const io::SignalSet& set, const FitResult& joint,
-                                  const std::optional<ChosenFigures>& figures, const UnitsOptions& units,
-                                  double filter_rate) {
-  const report::ColumnInfo info =
-      with_unit({group.axis, group.series.empty() ? 0 : static_cast<std::int64_t>(group.series.front().size()),
-                 set.freq, set.freq_known, ""},
-                units);
-  return continuous_table(joint, info) + (figures ? noise_figures_table(*figures, info.unit) : "") +
-         kalman_table(joint, info, filter_rate, figures ? &*figures : nullptr);
-}
-
-void fill_joint_report_column(report::ReportColumn& column, const ReplicateGroup& group,
-                              const std::vector<WaveletVariance>& wvs, const JointAnalysis& analysis,
-                              const std::string& estimator) {
-  column.wvs = wvs;
-  column.fit = analysis.fit.joint;
-  column.replicates = replicate_report(group, estimator);
-  column.replicates->joint = analysis.fit;
-  column.replicates->test = analysis.test;
-  column.replicates->bootstrap = analysis.bootstrap;
+  return pipeline::group_replicates(input, "INPUT", std::move(recordings));
 }
 
 }  // namespace gmwm::cli

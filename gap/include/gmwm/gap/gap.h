@@ -64,6 +64,14 @@ const char* to_string(GapEffect e);
 /// The effect named as to_string writes it ("STEP", "SIN", ...), or nullopt.
 std::optional<GapEffect> parse_gap_effect(const std::string& name);
 
+/// The effects the WV attribution can add (GapOptions::candidates), in the order tried:
+/// WN, QN, RW, DR, AR1, FLICKER, SIN, REPARAMETERISE.
+std::vector<GapEffect> wv_candidate_effects();
+/// The candidates of a comma-separated list ("DR,AR1", as `gap --effects` and Python's
+/// gap(effects=) take it); InputError "<option> '<list>': unknown effect ..." naming the
+/// bad entry and the known ones.
+std::vector<GapEffect> parse_gap_candidates(const std::string& list, const std::string& option);
+
 struct GapOptions {
   /// Reference replicates (docs/gap.md, method note 2; issue 5 asks for 200).
   int replicates = 200;

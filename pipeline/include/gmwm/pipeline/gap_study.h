@@ -60,10 +60,12 @@ struct GapStudyOptions {
   std::string temperature_column;
   /// Off: diagnose even when a column's finest scales sit at a unit factor from the baseline.
   bool unit_check = true;
-  /// Reference replicates, seed (column k uses seed + k) and test level (gap::GapOptions).
-  int replicates = gap::GapOptions{}.replicates;
-  std::uint64_t seed = 0;
-  double alpha = 0.05;
+  /// The diagnosis' settings, handed down to every column: reference replicates, seed
+  /// (column k uses seed + k), test level (also the cross-axis test's), practical effect
+  /// size, the candidate effects, the stepwise limit, the deciding coefficients and the
+  /// candidates' fit settings. Its estimator, refit_baseline, context, unit and progress
+  /// are the study's to set (per column) and must be left as default-constructed.
+  gap::GapOptions gap;
   /// Called with (steps done, steps in all) while the columns are diagnosed.
   std::function<void(double, double)> progress;
 

@@ -17,6 +17,7 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/samples.h"
 #include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/replicate_select.h"
 
@@ -28,6 +29,27 @@ struct ReplicateGroup {
   std::vector<std::string> sources;  ///< "FILE:COLUMN" per replicate
   std::vector<Samples> series;       ///< per replicate (in memory or in temporary files, as read)
 };
+
+/// A recording of the same sensor given as replicates: `set`'s columns are replicates of
+/// the primary recording's columns of the same names, in order (`one_column` false), or its
+/// single column is a replicate of the primary's single column (`one_column` true).
+/// `label` names it in messages ("--joint run2.csv", "replicates[1]").
+struct ReplicateRecording {
+  std::string label;
+  io::SignalSet set;
+  bool one_column = false;
+};
+
+/// Rates that differ by less than this (relative) are the same rate: timestamps jitter,
+/// and two recordings' estimated rates differ in their last digits (io's rate estimate).
+inline constexpr double kReplicateRateTolerance = 1e-6;
+
+/// The groups: per column of `primary` (named `primary_label` in messages), its series
+/// then each recording's column, sources "PATH:COLUMN". Throws InputError (one line naming
+/// the recording) when a recording's rate differs from the primary's, its column count
+/// does not match, or a series is given twice (the same samples as another replicate).
+std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const std::string& primary_label,
+                                             std::vector<ReplicateRecording> recordings);
 
 /// Resamples of the replicates for the replicate-t intervals when they are too many to fit
 /// every distinct one (C(2K-1, K) > 200 from K = 6 on).

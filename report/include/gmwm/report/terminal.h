@@ -24,6 +24,9 @@ namespace gmwm::report {
 /// tables, wrapped, never as a column.
 inline constexpr std::size_t kTerminalWidth = 100;
 
+/// A number for tables and text: %.<digits>g, "-" when not finite.
+std::string fmt(double x, int digits = 6);
+
 /// A table of text: the first `left` columns left-aligned, the rest right-aligned. When the
 /// table is wider than `width`, its widest columns (other than the first, the row's name)
 /// leave the grid one by one until it fits: their cells follow the table as notes

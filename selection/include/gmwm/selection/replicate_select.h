@@ -48,6 +48,10 @@ struct ReplicateSelectOptions {
 
 struct CvCandidate {
   std::string model;  ///< the candidate (canonical, without values)
+  /// The effective model its fit on all replicates falls onto (select.h's ranking rows: a
+  /// 2*AR1+WN whose second AR1 vanished is AR1+WN); the candidate itself when nothing reduces.
+  /// A report lists each effective model once, with the candidates that fell onto it.
+  std::string effective;
   int parameters = 0;
   double cv_wvic = 0.0;            ///< mean held-out loss over the splits
   std::vector<double> split_loss;  ///< per split, in ReplicateSelection::training order
