@@ -549,8 +549,7 @@ std::string py_fit_joint(const py::sequence& recordings, const std::string& mode
   const std::vector<std::string> units = units_of(r.groups, units_spec);
   gmwm::pipeline::JointFitStudyOptions o;
   o.model = model_spec;
-  o.fit.omega = omega_kind(omega);
-  if (o.fit.omega == gmwm::OmegaKind::kModel) o.fit.omega = gmwm::OmegaKind::kDiag;  // the same there (fit --joint)
+  o.fit.omega = omega_kind(omega);  // as fit --joint --omega: model (the default), diag or full
   o.fit.alpha = alpha;
   o.fit.seed = seed;
   o.wv.alpha = alpha;
@@ -612,7 +611,7 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
     const std::string& result, const std::string& format, const std::string& output, const std::string& aggregate,
     double inflate, std::optional<double> rate, const std::string& rostopic, const std::string& units,
     const std::optional<std::string>& sensor, const std::vector<std::string>& columns,
-    const std::optional<std::tuple<double, double, double>>& consistent_for) {
+    const std::optional<std::tuple<double, double, double>>& consistent_for, const std::string& source_name) {
   gmwm::pipeline::ExportStudyOptions o;
   const auto f = gmwm::io::parse_export_format(format);
   if (!f)
@@ -640,9 +639,12 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
     ro.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
   }
   if (!units.empty()) ro.units = gmwm::io::parse_declared_units(units);
-  gmwm::io::ResultColumns r = gmwm::io::read_result_columns("result", result, ro);
-  const std::string source = "gmwm " + r.command + " result" + (r.input.empty() ? "" : " (data " + r.input + ")");
-  const gmwm::pipeline::ExportStudy study = gmwm::pipeline::study_export(r.columns, source, "result", o);
+  // As the CLI names its INPUT: the result file's path when the result came from one.
+  const std::string name = source_name.empty() ? std::string("result") : source_name;
+  gmwm::io::ResultColumns r = gmwm::io::read_result_columns(name, result, ro);
+  const std::string source = "gmwm " + r.command + " result" + (source_name.empty() ? "" : " " + source_name) +
+                             (r.input.empty() ? "" : " (data " + r.input + ")");
+  const gmwm::pipeline::ExportStudy study = gmwm::pipeline::study_export(r.columns, source, name, o);
   return {to_python(gmwm::report::export_document(study, output)), study.result.content, study.result.sidecar};
 }
 
@@ -761,6 +763,7 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("aggregate") = "mean", py::arg("inflate") = 1.0, py::arg("rate") = py::none(),
         py::arg("rostopic") = "/imu0", py::arg("units") = "", py::arg("sensor") = py::none(),
         py::arg("columns") = std::vector<std::string>{}, py::arg("consistent_for") = py::none(),
+        py::arg("source_name") = "",
         "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
         "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
         "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");

@@ -1,21 +1,34 @@
 """gmwm: the Generalized Method of Wavelet Moments for inertial sensor noise.
 
-The functions take numpy arrays and return the plain-Python form of the JSON columns the
-`gmwm` command writes for the same data and options (docs/cli.md, "JSON"):
+The functions take numpy arrays and return typed results (frozen dataclasses with numpy
+float64 arrays) built from the JSON the `gmwm` command writes for the same data and options
+(docs/cli.md, "JSON"; docs/python.md walks through them):
 
     import numpy as np, gmwm
-    x = gmwm.simulate("WN(sigma2=1e-4)+RW(gamma2=1e-9)", 2**17, freq=100)
-    w = gmwm.wv(x, freq=100)                       # w["levels"][j]["wv"], ["ci_low"], ...
-    f = gmwm.fit(x, "WN+RW", freq=100)             # f["parameters"], f["gof"], ...
-    s = gmwm.select(np.column_stack([x, x]), "AR1+WN+RW", freq=100)   # one entry per column
-    a = gmwm.allan(x, freq=100, units="rad/s")     # a["allan"], a["noise_figures"] (N, K, B)
+    x = gmwm.simulate("WN(sigma2=1e-4)+RW(gamma2=1e-9)", 2**17, freq=100)   # numpy array
+    w = gmwm.wv(x, freq=100)                       # w.tau, w.tau_seconds, w.wv, w.ci_low, w.ci_high
+    f = gmwm.fit(x, "WN+RW", freq=100, units="rad/s")
+    f.parameters[0].value, f.parameter("gamma2").ci_high, f.gof.p_value, f.implied_wv
+    f.noise_figures.N.value, f.noise_figures.N.unit   # N, K, B with intervals and read-offs
+    s = gmwm.select(np.column_stack([x, x]), "AR1+WN+RW", freq=100)   # s[0].best, s[0].ranking
+    a = gmwm.allan(x, freq=100, units="rad/s")     # a.tau, a.adev, a.noise_figures.B
     g = gmwm.gap(np.column_stack([x]), freq=100, names=["gyro_x"], kalibr="imu.yaml")
-                                                   # g["columns"][0]["headline"], ...
+                                                   # g.columns[0].headline, g.corrected.content
     n = gmwm.nav("select.json", ["truth", "wnrw", "imu.yaml*2"], outages=[(300, 360)])
-                                                   # n["filters"][k]["verdict"], ["curves"] ...
-    c = gmwm.gap_check(cases=3, n=2**14, families="STEP,DR")   # c["families"], c["confusion"]
+                                                   # n.filters[k].verdict, n.filters[k].curves.nees
+    c = gmwm.gap_check(cases=3, n=2**14, families="STEP,DR")   # c.confusion, c.power
     p = gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100, unit="rad/s")
-                                                   # p["columns"][0]["targets"][k]["seconds"]
+                                                   # p.columns[0].targets[k].seconds
+    f.to_json()                                    # the command's JSON text, unchanged
+    f.document                                     # the same, parsed (every field)
+
+    j = gmwm.fit_joint([x1, x2, x3], "AR1+WN+RW", freq=100)   # replicates: one joint model per axis
+    j.columns[0].parameters, j.columns[0].replicate_test.p_value
+    k = gmwm.select_joint([x1, x2, x3], "2*AR1+WN+RW", freq=100)   # k.columns[0].ranking, .recommended
+    e = gmwm.export(f, format="kalibr", sensor="gyro")   # e.content: the imu.yaml text; e.written
+
+Results of the command line load the same way: every class has from_json(text) (e.g.
+JointFitResult for `gmwm fit --joint --json`, ExportResult for `gmwm export --json`).
 
 `units` is the CLI's --units everywhere: one unit ("deg/s") or kind=unit pairs
 ("gyro=deg/s,accel=g", each column's kind from its name); a typo is refused. plan() takes the
@@ -23,6 +36,142 @@ CLI's --unit (one unit name, validated too).
 
 Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
 """
-from ._gmwm import DEFAULT_SEED, InputError, __version__, allan, fit, gap, gap_check, nav, plan, select, simulate, wv
+from __future__ import annotations
 
-__all__ = ["wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "InputError", "DEFAULT_SEED", "__version__"]
+import ast
+import dataclasses
+import functools
+import inspect
+import os
+from typing import Any, Callable
+
+from . import _gmwm
+from ._common import (AllanDeviation, ContinuousParameter, FigureComponent, FitQuality, GoodnessOfFit, JsonResult,
+                      Kalman, KalmanTerm, NoiseFigure, NoiseFigures, Parameter, Readoff, WorstLevel)
+from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, CorrectedConfig, CrossAxis,
+                   CrossAxisPair, GapAssessment, GapBand, GapCandidate, GapCheckCase, GapCheckFamily, GapCheckResult,
+                   GapColumn, GapEvent, GapEventTest, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
+                   GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
+from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
+from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, GaussMarkov, NavCurves, NavFilter,
+                   NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
+                   WrittenNoise)
+from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
+                          JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
+from ._results import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
+                       WvResult)
+
+
+def _signature(doc: str, returns: str) -> inspect.Signature | None:
+    """The signature in the first line of a pybind11 docstring, returning `returns`."""
+    head = doc.split("\n", 1)[0]
+    empty = inspect.Parameter.empty
+
+    def parameter(a: ast.arg, kind: Any, default: ast.expr | None) -> inspect.Parameter:
+        return inspect.Parameter(a.arg, kind, default=empty if default is None else ast.literal_eval(default),
+                                 annotation=ast.unparse(a.annotation) if a.annotation else empty)
+
+    try:
+        params = head[head.index("(") + 1:head.rindex(") -> ")]
+        args = ast.parse(f"def f({params}): pass").body[0].args  # type: ignore[attr-defined]
+        positional = args.posonlyargs + args.args
+        defaults = [None] * (len(positional) - len(args.defaults)) + list(args.defaults)
+        out = [parameter(a, inspect.Parameter.POSITIONAL_OR_KEYWORD, d) for a, d in zip(positional, defaults)]
+        out += [parameter(a, inspect.Parameter.KEYWORD_ONLY, d) for a, d in zip(args.kwonlyargs, args.kw_defaults)]
+        return inspect.Signature(out, return_annotation=returns)
+    except (ValueError, SyntaxError):
+        return None
+
+
+def _typed(raw: Callable[..., str], result: type[JsonResult]) -> Callable[..., Any]:
+    """`raw` (returning the library's JSON text) returning `result` built from that text."""
+
+    @functools.wraps(raw)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        return result.from_json(raw(*args, **kwargs))
+
+    doc = raw.__doc__ or ""
+    name = result.__name__
+    call.__doc__ = doc.replace(") -> str\n", f") -> gmwm.{name}\n", 1) + (
+        f"\nReturns a gmwm.{name} (typed fields; .document the parsed JSON, .to_json() its text).\n")
+    call.__module__ = __name__
+    signature = _signature(doc, f"gmwm.{name}")
+    if signature is not None:
+        call.__signature__ = signature  # type: ignore[attr-defined]
+    return call
+
+
+wv = _typed(_gmwm.wv, WvResult)
+allan = _typed(_gmwm.allan, AllanResult)
+fit = _typed(_gmwm.fit, FitResult)
+select = _typed(_gmwm.select, SelectResult)
+gap = _typed(_gmwm.gap, GapResult)
+gap_check = _typed(_gmwm.gap_check, GapCheckResult)
+nav = _typed(_gmwm.nav, NavResult)
+plan = _typed(_gmwm.plan, PlanResult)
+fit_joint = _typed(_gmwm.fit_joint, JointFitResult)
+select_joint = _typed(_gmwm.select_joint, JointSelectResult)
+
+
+def _result_document(result: Any) -> tuple[str, str]:
+    """The fit/select document gmwm export reads and the file it came from ("" when none): a
+    FitResult or SelectResult (wrapped as the command's document), a result's JSON text, or
+    the path of a result file."""
+    if isinstance(result, FitResult):
+        return '{"tool": "gmwm", "command": "fit", "columns": [' + result.to_json() + ']}', ""
+    if isinstance(result, SelectResult):
+        return '{"tool": "gmwm", "command": "select", "columns": ' + result.to_json() + '}', ""
+    if isinstance(result, str) and result.lstrip().startswith("{"):
+        return result, ""
+    if isinstance(result, (str, os.PathLike)):
+        try:
+            with open(result, encoding="utf-8") as f:
+                return f.read(), os.fspath(result)
+        except OSError as e:
+            raise InputError(f"{os.fspath(result)}: {e.strerror}, expected the --json result of gmwm fit or "
+                             "gmwm select") from None
+    raise InputError("result: expected a gmwm.FitResult, a gmwm.SelectResult, a result's JSON text or its path, "
+                     f"got {type(result).__name__}")
+
+
+def export(result: Any, *, format: str, output: str = "", **options: Any) -> ExportResult:
+    """A fit/select result's noise parameters in a consumer's format, as `gmwm export
+    RESULT --format FORMAT --output OUTPUT` writes them (nothing is written here).
+
+    `result` is a gmwm.FitResult or gmwm.SelectResult, a result's JSON text, or the path of
+    a `gmwm fit/select --json` file. `format`: kalibr, openvins, vins, orbslam3, basalt,
+    gz-sdf or rotors; `output` only names the file in the document. Options as the CLI's:
+    aggregate ('mean', 'worst', 'per-axis'), inflate, rate (Hz), rostopic, units, sensor
+    ('gyro' or 'accel'), columns (names), consistent_for ((update rate Hz, horizon s, update
+    sigma m): derives the inflation that keeps a WN + RW filter consistent).
+
+    Returns a gmwm.ExportResult: the document (to_json() equals the CLI's --json without
+    "run"), `content` the file's text and `sidecar_content` basalt's header (else None).
+    """
+    document, source_name = _result_document(result)
+    text, content, sidecar = _gmwm.export(document, format=format, output=output, source_name=source_name,
+                                          **options)
+    return dataclasses.replace(ExportResult.from_json(text), content=content, sidecar_content=sidecar)
+
+
+__all__ = [
+    "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
+    "export", "InputError", "DEFAULT_SEED",
+    "__version__",
+    # results of the functions
+    "WvResult", "AllanResult", "FitResult", "SelectResult", "GapResult", "GapCheckResult", "NavResult", "PlanResult",
+    # documents of the command line
+    "JointFitResult", "JointSelectResult", "ExportResult",
+    # their parts
+    "JsonResult", "WvLevels", "Parameter", "ContinuousParameter", "GoodnessOfFit", "FitQuality", "WorstLevel",
+    "Kalman", "KalmanTerm", "AllanDeviation", "Readoff", "FigureComponent", "NoiseFigure", "NoiseFigures",
+    "RankingRow", "Candidate", "BestFit", "SelectColumn",
+    "GapColumn", "GapTest", "GapBand", "GapLevels", "GapWindow", "GapSplitHalf", "Attribution", "GapStep",
+    "GapCandidate", "GapEvent", "GapEventTest", "GapTrend", "GapTemperature", "Remaining", "Shrinkage",
+    "GapNavigation", "Contamination", "CorrectedConfig", "CorrectedColumn", "ConfigChange", "GapAssessment",
+    "CrossAxis", "CrossAxisPair", "GapCheckFamily", "GapCheckCase",
+    "NavScenario", "NavFilter", "NavSummary", "NavCurves", "NavMonteCarlo", "PlanColumn", "PlanResolved", "PlanTarget",
+    "JointFitColumn", "ReplicateFit", "ReplicateOwnFit", "Agmwm", "ReplicateBootstrap", "ReplicateTest",
+    "JointSelectColumn", "JointRankingRow",
+    "ExportColumn", "ExportWritten", "WrittenNoise", "GaussMarkov", "ConsistentFor",
+]

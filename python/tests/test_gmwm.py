@@ -1,7 +1,10 @@
 """The Python module against the command-line program: same data, same options, the same
-JSON numbers to the last bit; and its error path (gmwm.InputError, the CLI's message)."""
+JSON to the last bit (to_json() is the command's text), typed fields holding the document's
+values; and its error path (gmwm.InputError, the CLI's message)."""
 import csv
+import dataclasses
 import gzip
+import inspect
 import json
 import os
 import subprocess
@@ -11,9 +14,13 @@ import numpy as np
 import pytest
 
 import gmwm
+from gmwm._json_text import item_texts, member_text
+from typed_checks import (assert_fields, assert_floats, assert_text_is_the_document, check_allan,
+                          check_continuous, check_fit_column, check_noise_figures, check_parameters,
+                          check_select_column, check_wv_levels)
 
 SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-CLI = os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm"))
+CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
 EXAMPLE = os.path.join(SOURCE, "data", "example_imu6.csv.gz")
 
 
@@ -25,10 +32,20 @@ def read_example():
     return {name: np.array([float(r[i]) for r in body]) for i, name in enumerate(header)}
 
 
-def cli_json(tmp_path, *args):
+def cli_text(tmp_path, *args):
+    """The JSON text the command writes."""
     out = tmp_path / "out.json"
     subprocess.run([CLI, *args, "--json", str(out), "--quiet"], check=True)
-    return json.loads(out.read_text())
+    return out.read_text()
+
+
+def cli_json(tmp_path, *args):
+    return json.loads(cli_text(tmp_path, *args))
+
+
+def cli_column_texts(text):
+    """The command's "columns", each as the library renders it alone (the same bytes)."""
+    return item_texts(member_text(text, "columns"))
 
 
 @pytest.fixture(scope="module")
@@ -40,21 +57,52 @@ def test_the_module_reports_the_library_version():
     assert gmwm.__version__.count(".") == 2
 
 
-def test_wv_equals_the_cli_json_bit_for_bit(tmp_path, example):
-    doc = cli_json(tmp_path, "wv", EXAMPLE, "--columns", "gyro_x")
-    col = doc["columns"][0]
+def test_wv_equals_the_cli_json_bit_for_bit_and_types_its_levels(tmp_path, example):
+    text = cli_text(tmp_path, "wv", EXAMPLE, "--columns", "gyro_x")
+    col = json.loads(text)["columns"][0]
     mine = gmwm.wv(example["gyro_x"], freq=col["freq"], name="gyro_x")
-    assert mine["levels"] == col["levels"]
-    assert mine["n"] == col["n"]
+    assert isinstance(mine, gmwm.WvResult)
+    assert_text_is_the_document(mine, col)
+    assert mine.to_json() == cli_column_texts(text)[0]
+    assert_fields(mine, col, ("name", "n", "freq", "estimator", "efficiency", "alpha"))
+    check_wv_levels(mine.levels, col["levels"])
+    assert_floats(mine.tau, [lv["tau"] for lv in col["levels"]], "tau")
+    assert_floats(mine.wv, [lv["wv"] for lv in col["levels"]], "wv")
+    assert mine.allan is None and mine.noise_figures is None and mine.unit is None
+    # The CLI's --adev column loads the same way, with its Allan deviation and figures.
+    text = cli_text(tmp_path, "wv", EXAMPLE, "--columns", "gyro_x", "--adev", "--units", "gyro=deg/s")
+    col = json.loads(text)["columns"][0]
+    typed = gmwm.WvResult.from_json(cli_column_texts(text)[0])
+    assert typed.unit == "deg/s"
+    check_allan(typed.allan, col["allan"])
+    check_noise_figures(typed.noise_figures, col["noise_figures"])
 
 
-def test_allan_equals_the_cli_adev_json_bit_for_bit(tmp_path, example):
+def test_a_robust_wv_column_types_its_diagnostics(tmp_path):
+    text = cli_text(tmp_path, "wv", EXAMPLE, "--columns", "accel_y", "--robust")
+    col = json.loads(text)["columns"][0]
+    typed = gmwm.WvResult.from_json(cli_column_texts(text)[0])
+    assert_text_is_the_document(typed, col)
+    assert typed.estimator == "huber" and typed.efficiency == col["efficiency"]
+    check_wv_levels(typed.levels, col["levels"])
+    assert typed.levels.contaminated.dtype == bool
+    assert typed.small_sample == col["small_sample"] and typed.quantization == col["quantization"]
+
+
+def test_allan_equals_the_cli_adev_json_bit_for_bit_and_types_n_k_b(tmp_path, example):
     doc = cli_json(tmp_path, "wv", EXAMPLE, "--columns", "gyro_y", "--adev", "--units", "gyro=rad/s")
     col = doc["columns"][0]
     mine = gmwm.allan(example["gyro_y"], freq=col["freq"], units="gyro=rad/s", name="gyro_y")
     assert col["allan"] and col["noise_figures"]
-    for key in ("unit", "allan", "noise_figures"):
-        assert mine[key] == col[key], key
+    assert_text_is_the_document(mine, {key: col[key] for key in ("unit", "allan", "noise_figures")})
+    assert mine.unit == "rad/s"
+    check_allan(mine.allan, col["allan"])
+    assert mine.tau is mine.allan.tau and mine.adev is mine.allan.adev
+    check_noise_figures(mine.noise_figures, col["noise_figures"])
+    assert (mine.noise_figures.N.unit, mine.noise_figures.K.unit, mine.noise_figures.B.unit) == (
+        col["noise_figures"]["white"]["unit"], col["noise_figures"]["walk"]["unit"],
+        col["noise_figures"]["instability"]["unit"])
+    assert mine.noise_figures.N.how == col["noise_figures"]["white"]["how"]
 
 
 def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
@@ -64,24 +112,60 @@ def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):
         gmwm.allan(example["gyro_y"], freq=100.0, points_per_octave=0)
 
 
+
+
 @pytest.mark.parametrize("baseline", [
     ["--model", "WN(sigma2=1e-6)+RW(gamma2=1e-12)"],
     ["--kalibr", os.path.join(SOURCE, "data", "adis16405_imu.yaml"), "--no-unit-check"],
     ["--datasheet", os.path.join(SOURCE, "data", "adis16405_datasheet.yaml"), "--no-unit-check"],
     ["--fit", "WN+RW"],
 ])
-def test_gap_equals_the_cli_json_bit_for_bit(tmp_path, example, baseline):
+def test_gap_equals_the_cli_json_bit_for_bit_and_types_each_column(tmp_path, example, baseline):
     doc = cli_json(tmp_path, "gap", EXAMPLE, "--columns", "gyro_x,accel_y", "--replicates", "40", *baseline)
     kwargs = {"model": baseline[1]} if baseline[0] == "--model" else \
         {baseline[0][2:]: baseline[1], "unit_check": False} if "--no-unit-check" in baseline else {"fit": baseline[1]}
     mine = gmwm.gap(np.column_stack([example["gyro_x"], example["accel_y"]]), freq=doc["columns"][0]["freq"],
                     names=["gyro_x", "accel_y"], replicates=40, **kwargs)
+    assert isinstance(mine, gmwm.GapResult)
     assert [c["headline"] for c in doc["columns"]]
+    mine_doc = json.loads(mine.to_json())
+    assert mine.document == mine_doc
     for key in ("baseline_source", "replicates", "seed", "cross_axis", "columns"):
-        assert mine[key] == doc[key], key
+        assert mine_doc[key] == doc[key], key
     # The corrected configuration: the same fields and gap left (its text names the input).
     for key in ("format", "changes", "columns"):
-        assert mine["corrected"][key] == doc["corrected"][key], key
+        assert mine_doc["corrected"][key] == doc["corrected"][key], key
+    assert_fields(mine, doc, ("baseline_source", "replicates", "seed"))
+    assert mine.cross_axis.tested == doc["cross_axis"]["tested"]
+    for typed, c in zip(mine.columns, doc["columns"], strict=True):
+        assert json.loads(typed.to_json()) == c
+        assert_fields(typed, c, ("name", "n", "freq", "baseline_model", "headline"))
+        g = c["gap"]
+        assert_fields(typed.gap, g, ("detected", "p_value", "statistic", "window_length_seconds"))
+        for key in ("tau", "tau_seconds", "ratio", "z", "ref_low", "ref_high", "analytic_low", "analytic_high"):
+            assert_floats(getattr(typed.gap.levels, key), [lv[key] for lv in g["levels"]], key)
+        assert typed.gap.levels.outside.tolist() == [lv["outside"] for lv in g["levels"]]
+        assert [(b.direction, b.tau_from_seconds, b.tau_to_seconds, b.peak_ratio) for b in typed.gap.bands] == \
+            [(b["direction"], b["tau_from_seconds"], b["tau_to_seconds"], b["peak_ratio"]) for b in g["bands"]]
+        a = c["attribution"]
+        assert typed.effect == a["effect"] and typed.attribution.model == a["model"]
+        assert [s.effect for s in typed.attribution.steps] == a["steps"]
+        assert [s.detail for s in typed.attribution.steps] == a["step_details"]
+        assert_floats(np.array([s.share for s in typed.attribution.steps]), a["step_shares"], "step_shares")
+        check_parameters(typed.attribution.parameters, a["parameters"])
+        check_continuous(typed.attribution.physical, a["physical"])
+        assert [k.effect for k in typed.attribution.candidates] == [k["effect"] for k in a["candidates"]]
+        assert typed.closed == c["remaining"]["closed"]
+        assert_fields(typed.shrinkage, c["shrinkage"], [f.name for f in dataclasses.fields(typed.shrinkage)])
+        assert_fields(typed.navigation, c["navigation"], ("horizon_seconds", "rms_without", "rms_with", "unit"))
+    corrected = mine.corrected
+    assert corrected.format == doc["corrected"]["format"]
+    for typed, c in zip(corrected.changes, doc["corrected"]["changes"], strict=True):
+        assert_fields(typed, c, ("field", "input", "corrected", "unit", "changed"))
+    for typed, c in zip(corrected.columns, doc["corrected"]["columns"], strict=True):
+        assert (typed.name, typed.expressible, typed.full) == (c["name"], c["expressible"], c["full"])
+        for which, assessment in typed.gap_left.items():
+            assert_fields(assessment, c["gap_left"][which], ("objective", "levels_outside", "p_value"))
 
 
 def test_gap_refuses_two_baselines_and_a_bad_sensor_with_one_line(example):
@@ -92,43 +176,61 @@ def test_gap_refuses_two_baselines_and_a_bad_sensor_with_one_line(example):
         gmwm.gap(x, freq=100.0, model="WN(sigma2=1)", sensor="mag")
 
 
-def test_fit_equals_the_cli_json_bit_for_bit(tmp_path, example):
-    doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "accel_y", "--model", "AR1+WN+RW")
-    col = doc["columns"][0]
-    mine = gmwm.fit(example["accel_y"], "AR1+WN+RW", freq=col["freq"], name="accel_y")
-    for key in ("model", "parameters", "objective", "gof", "status", "implied_wv", "levels", "unit", "continuous",
-                "kalman", "allan", "noise_figures"):
-        assert mine[key] == col[key], key
 
 
-def test_select_equals_the_cli_json_bit_for_bit_on_two_columns(tmp_path, example):
-    doc = cli_json(tmp_path, "select", EXAMPLE, "--columns", "gyro_z,accel_x", "--model", "AR1+WN+RW",
-                   "--units", "gyro=rad/s,accel=m/s^2")
+def test_fit_equals_the_cli_json_bit_for_bit_and_types_every_field(tmp_path, example):
+    text = cli_text(tmp_path, "fit", EXAMPLE, "--columns", "accel_y", "--model", "AR1+WN+RW", "--units", "accel=g")
+    col = json.loads(text)["columns"][0]
+    mine = gmwm.fit(example["accel_y"], "AR1+WN+RW", freq=col["freq"], name="accel_y", units="accel=g")
+    assert isinstance(mine, gmwm.FitResult)
+    assert_text_is_the_document(mine, col)
+    assert mine.to_json() == cli_column_texts(text)[0]
+    check_fit_column(mine, col)
+    assert mine.unit == "g"
+    assert [p.unit for p in mine.continuous] == [p["unit"] for p in col["continuous"]]
+    assert mine.noise_figures.N.unit == col["noise_figures"]["white"]["unit"] == "g/sqrt(Hz)"
+    rw = mine.parameter("gamma2", "RW")
+    assert (rw.value, rw.ci_low, rw.ci_high, rw.interval) == next(
+        (p["value"], p["ci_low"], p["ci_high"], p["interval"]) for p in col["parameters"] if p["process"] == "RW")
+    with pytest.raises(KeyError):
+        mine.parameter("sigma2")  # AR1's and WN's: name the process
+    # The CLI's column loads as the same typed result.
+    assert gmwm.FitResult.from_json(cli_column_texts(text)[0]).to_json() == mine.to_json()
+
+
+def test_select_equals_the_cli_json_bit_for_bit_on_two_columns_and_types_the_ranking(tmp_path, example):
+    text = cli_text(tmp_path, "select", EXAMPLE, "--columns", "gyro_z,accel_x", "--model", "AR1+WN+RW",
+                    "--units", "gyro=rad/s,accel=m/s^2")
+    doc = json.loads(text)
     data = np.column_stack([example["gyro_z"], example["accel_x"]])
     mine = gmwm.select(data, "AR1+WN+RW", freq=doc["columns"][0]["freq"], names=["gyro_z", "accel_x"],
                        units="gyro=rad/s,accel=m/s^2")
-    assert len(mine) == 2
-    for m, c in zip(mine, doc["columns"]):
-        assert m["name"] == c["name"]
+    assert isinstance(mine, gmwm.SelectResult) and len(mine) == 2
+    assert_text_is_the_document(mine, doc["columns"])
+    assert mine.to_json() == member_text(text, "columns")
+    for m, c, cli_col in zip(mine, doc["columns"], cli_column_texts(text), strict=True):
         assert c["noise_figures"] and c["best_kalman"]
-        for key in ("best", "best_model", "ranking", "best_fit", "unit", "best_continuous", "best_kalman", "allan",
-                    "noise_figures"):
-            assert m[key] == c[key], key
+        assert_text_is_the_document(m, c)
+        assert m.to_json() == cli_col
+        check_select_column(m, c)
+    assert [m.unit for m in mine] == ["rad/s", "m/s^2"]
+    assert mine[0].best_fit.noise_figures.K.unit == "rad/s^2/sqrt(Hz)"
 
 
 def test_robust_fit_and_select_equal_the_cli_json_bit_for_bit(tmp_path, example):
     doc = cli_json(tmp_path, "fit", EXAMPLE, "--columns", "gyro_y", "--model", "AR1+WN+RW", "--robust", "--eff", "0.8")
     col = doc["columns"][0]
     mine = gmwm.fit(example["gyro_y"], "AR1+WN+RW", freq=col["freq"], name="gyro_y", robust=True, eff=0.8)
-    for key in ("model", "parameters", "objective", "gof", "levels"):
-        assert mine[key] == col[key], key
+    assert_text_is_the_document(mine, col)
+    check_fit_column(mine, col)
+    assert mine.estimator == "huber" and mine.efficiency == 0.8
     doc = cli_json(tmp_path, "select", EXAMPLE, "--columns", "accel_z", "--model", "AR1+WN+RW", "--robust",
                    "--estimator", "bisquare")
     col = doc["columns"][0]
     mine = gmwm.select(example["accel_z"], "AR1+WN+RW", freq=col["freq"], names=["accel_z"], robust=True,
                        estimator="bisquare")[0]
-    for key in ("best_model", "ranking", "levels"):
-        assert mine[key] == col[key], key
+    assert_text_is_the_document(mine, col)
+    check_select_column(mine, col)
     with pytest.raises(gmwm.InputError, match="eff: only meaningful with robust=True"):
         gmwm.fit(example["gyro_y"], "WN", eff=0.6)
     with pytest.raises(gmwm.InputError, match="unknown robust estimator 'tukey'"):
@@ -199,9 +301,9 @@ def test_a_units_typo_is_refused_by_every_function_with_the_clis_message(tmp_pat
     with pytest.raises(gmwm.InputError, match="unit 'dge/s': expected rad/s, deg/s, deg/h"):
         gmwm.plan(model="WN(sigma2=1e-8)", freq=100.0, unit="dge/s")
     # A bare unit labels every column whose name tells no kind, as the CLI's --units does.
-    assert gmwm.fit(x, "WN+RW", freq=freq, units="deg/s")["unit"] == "deg/s"
-    assert gmwm.fit(x, "WN+RW", freq=freq, units="gyro=deg/s", name="gyro_x")["unit"] == "deg/s"
-    assert gmwm.fit(x, "WN+RW", freq=freq, units="accel=g", name="gyro_x")["unit"] == "rad/s"
+    assert gmwm.fit(x, "WN+RW", freq=freq, units="deg/s").unit == "deg/s"
+    assert gmwm.fit(x, "WN+RW", freq=freq, units="gyro=deg/s", name="gyro_x").unit == "deg/s"
+    assert gmwm.fit(x, "WN+RW", freq=freq, units="accel=g", name="gyro_x").unit == "rad/s"
 
 
 def test_a_constant_or_underflowing_series_is_refused_naming_it(example):
@@ -223,11 +325,11 @@ def test_computations_release_the_gil(example):
     # Two selections in threads finish with the same results as one after the other; while
     # they run, the interpreter keeps executing Python (a counter advances).
     data = example["gyro_x"]
-    expected = gmwm.select(data, "2*AR1+WN+RW")[0]["ranking"]
+    expected = gmwm.select(data, "2*AR1+WN+RW").to_json()
     results, ticks, done = [], [0], threading.Event()
 
     def work():
-        results.append(gmwm.select(data, "2*AR1+WN+RW")[0]["ranking"])
+        results.append(gmwm.select(data, "2*AR1+WN+RW").to_json())
 
     def count():
         while not done.is_set():
@@ -246,7 +348,7 @@ def test_computations_release_the_gil(example):
     assert ticks[0] > 1000
 
 
-def test_nav_equals_the_cli_json_bit_for_bit(tmp_path):
+def test_nav_equals_the_cli_json_bit_for_bit_and_types_each_filter(tmp_path):
     sel = tmp_path / "sel.json"
     subprocess.run([CLI, "select", EXAMPLE, "--model", "AR1+WN+RW", "--units", "gyro=rad/s,accel=m/s^2", "--json",
                     str(sel), "--quiet"], check=True)
@@ -255,8 +357,21 @@ def test_nav_equals_the_cli_json_bit_for_bit(tmp_path):
                    "--outage", "120:180", "--horizon", "240", "--monte-carlo", "20")
     doc.pop("run")
     mine = gmwm.nav(str(sel), ["truth", "wnrw*2", kalibr], outages=[(120.0, 180.0)], horizon=240.0, monte_carlo=20)
-    assert mine == doc
-    assert mine["filters"][0]["verdict"] == "consistent"
+    assert isinstance(mine, gmwm.NavResult)
+    assert_text_is_the_document(mine, doc)
+    assert mine.filters[0].verdict == "consistent"
+    assert mine.scenario.outages == ((120.0, 180.0),) and mine.scenario.horizon == 240.0
+    assert mine.truth_source == doc["truth"]["source"] and list(mine.truth_models) == doc["truth"]["models"]
+    assert mine.units == doc["units"] and mine.monte_carlo == doc["monte_carlo"]
+    for typed, f in zip(mine.filters, doc["filters"], strict=True):
+        assert_fields(typed, f, ("label", "source", "verdict", "nees_inside", "nees_above"))
+        assert typed.nees_band == tuple(f["nees_band"])
+        for key in f["curves"]:
+            assert_floats(getattr(typed.curves, key), f["curves"][key], key)
+        assert_fields(typed.summary, f["summary"], list(f["summary"]))
+        assert typed.monte_carlo.verdict == f["monte_carlo"]["verdict"]
+        assert_floats(typed.monte_carlo.nees, f["monte_carlo"]["nees"], "monte_carlo.nees")
+    assert mine.filter("truth") is mine.filters[0]
 
 
 def test_nav_refuses_a_bad_trajectory_and_source_with_the_clis_message(tmp_path):
@@ -266,12 +381,21 @@ def test_nav_refuses_a_bad_trajectory_and_source_with_the_clis_message(tmp_path)
         gmwm.nav("gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-4)", ["truth*0"], rate=100.0)
 
 
-def test_plan_equals_the_cli_json_bit_for_bit(tmp_path):
+def test_plan_equals_the_cli_json_bit_for_bit_and_types_the_targets(tmp_path):
     doc = cli_json(tmp_path, "plan", "--model", "WN(sigma2=1e-8)+RW(gamma2=1e-14)", "--freq", "100", "--unit", "rad/s",
                    "--targets", "N,K", "--have", "3600")
     doc.pop("run")
     mine = gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100.0, unit="rad/s", targets=["N", "K"], have=3600.0)
-    assert mine == doc
+    assert isinstance(mine, gmwm.PlanResult)
+    assert_text_is_the_document(mine, doc)
+    assert_fields(mine, doc, ("source", "precision", "confidence", "record_seconds"))
+    for typed, c in zip(mine.columns, doc["columns"], strict=True):
+        assert_fields(typed, c, ("name", "unit", "model", "freq"))
+        assert (typed.resolved.samples, typed.resolved.seconds, typed.resolved.by) == tuple(c["resolved"].values())
+        for t, j in zip(typed.targets, c["targets"], strict=True):
+            assert_fields(t, j, ("name", "value", "unit", "reachable", "samples", "seconds", "own_samples",
+                                 "relative_se", "precision_at_record", "basis"))
+    assert mine.columns[0].target("N").seconds == doc["columns"][0]["targets"][0]["seconds"]
     with pytest.raises(gmwm.InputError, match="has no random walk term"):
         gmwm.plan(model="WN(sigma2=1e-8)", freq=100.0, targets=["K"])
 
@@ -282,8 +406,16 @@ def test_gap_check_equals_the_cli_json_bit_for_bit_and_refuses_as_it_does(tmp_pa
     doc = cli_json(tmp_path, "gap-check", *args)
     mine = gmwm.gap_check(cases=1, n=4096, replicates=20, families="STEP,DR", strengths="8", null=False)
     doc.pop("run", None)
-    mine.pop("run", None)
-    assert mine == doc
+    assert isinstance(mine, gmwm.GapCheckResult)
+    assert_text_is_the_document(mine, doc)
+    assert_fields(mine, doc, ("n", "replicates", "seed", "cases", "correct", "false_alarms"))
+    assert_floats(mine.strengths, doc["strengths"], "strengths")
+    assert mine.confusion == doc["confusion"]
+    assert mine.power == {t: {float(s): v for s, v in row.items()} for t, row in doc["power"].items()}
+    for name, fam in mine.families.items():
+        assert_fields(fam, doc["families"][name], [f.name for f in dataclasses.fields(fam)])
+    for case, j in zip(mine.case_list, doc["case_list"], strict=True):
+        assert_fields(case, j, [f.name for f in dataclasses.fields(case)])
     bad = subprocess.run([CLI, "gap-check", "--families", "STEP,XX", "--quiet"], capture_output=True, text=True)
     assert bad.returncode == 2
     with pytest.raises(gmwm.InputError) as e:
@@ -291,3 +423,35 @@ def test_gap_check_equals_the_cli_json_bit_for_bit_and_refuses_as_it_does(tmp_pa
     assert str(e.value) in bad.stderr
     with pytest.raises(gmwm.InputError, match="--strengths 'inf'"):
         gmwm.gap_check(strengths="inf")
+
+
+def test_every_result_is_frozen_with_read_only_arrays_and_a_one_line_repr(example):
+    x = example["gyro_x"][:8192]
+    results = [gmwm.wv(x, freq=100.0), gmwm.allan(x, freq=100.0, units="rad/s"),
+               gmwm.fit(x, "AR1+WN+RW", freq=100.0, units="rad/s"), gmwm.select(x, "AR1+WN+RW", freq=100.0),
+               gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100.0, unit="rad/s")]
+    results += [results[2].parameters[0], results[2].noise_figures, results[2].noise_figures.N, results[2].levels,
+                results[2].allan, results[2].kalman, results[3][0], results[3][0].ranking[0], results[3][0].best_fit]
+    for r in results:
+        text = repr(r)
+        assert "\n" not in text and len(text) < 200, text
+    f = results[2]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        f.model = "WN"
+    with pytest.raises(ValueError):
+        f.implied_wv[0] = 0.0  # read-only: the document's numbers
+    assert "AR1+WN+RW" in repr(f) and f.status in repr(f)
+
+
+def test_the_functions_keep_their_signature_and_document_the_typed_return():
+    signature = inspect.signature(gmwm.fit)
+    assert list(signature.parameters)[:2] == ["data", "model"]
+    assert signature.parameters["freq"].kind is inspect.Parameter.KEYWORD_ONLY
+    assert signature.parameters["omega"].default == "model"
+    assert signature.return_annotation == "gmwm.FitResult"
+    assert gmwm.fit.__doc__.startswith("fit(data: object, model: str, *, freq: Optional[float] = None")
+    assert "GMWM fit of a model" in gmwm.fit.__doc__ and "gmwm.FitResult" in gmwm.fit.__doc__
+    for name in ("wv", "allan", "select", "gap", "gap_check", "nav", "plan"):
+        function = getattr(gmwm, name)
+        assert function.__name__ == name and function.__doc__.startswith(name + "(")
+        assert inspect.signature(function).return_annotation.startswith("gmwm.")

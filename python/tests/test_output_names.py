@@ -11,7 +11,7 @@ from html.parser import HTMLParser
 import pytest
 
 SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-CLI = os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm"))
+CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
 
 HOSTILE = [
     "gyro\x1b[2J\x1b]0;pwned\x07x",

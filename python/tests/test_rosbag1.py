@@ -15,7 +15,7 @@ from genpy import Time
 from sensor_msgs.msg import Imu, Temperature
 
 SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-CLI = os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm"))
+CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
 RATE = 200
 STEP_NS = 1_000_000_000 // RATE
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-CLI = os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm"))
+CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
 
 # rosbag2's sqlite3 schema (rosbag2_storage_default_plugins).
 SCHEMA = """

@@ -40,11 +40,10 @@ std::string effect_table(const gap::GapResult& g, const io::SignalSet& set, cons
 }
 
 std::string gap_column_text(const std::string& name, const gap::GapResult& g, const io::SignalSet& set,
-                            const std::vector<std::string>& conversions, const std::string& unit) {
+                            const std::string& unit) {
   std::ostringstream os;
   os << name << ": " << g.headline << '\n';
   os << "  baseline: " << g.baseline.to_string(g.baseline_theta) << '\n';
-  for (const auto& c : conversions) os << "  conversion: " << c << '\n';
   TextTable levels({"tau", "ratio", "z", "reference band", "outside"});
   for (const auto& l : g.levels)
     levels.add({seconds_text(l.tau, set), fmt(l.ratio, 4), fmt(l.z, 3), fmt(l.ref_low, 3) + " - " + fmt(l.ref_high, 3),
@@ -149,12 +148,14 @@ std::string cross_axis_text(const std::vector<gap::CrossAxisPair>& pairs, const 
 std::string gap_text(const io::SignalSet& set, const pipeline::GapStudy& study,
                      const std::optional<pipeline::CorrectedConfig>& corrected, bool verbose) {
   std::string text = set.timing ? set.timing->summary() + "\n" : std::string();
-  for (const pipeline::GapColumnStudy& c : study.columns) text += c.name + ": " + c.result.headline + "\n";
+  for (const pipeline::GapColumnStudy& c : study.columns) {
+    text += c.name + ": " + c.result.headline + "\n";
+    for (const auto& conversion : c.conversions) text += "  conversion: " + conversion + "\n";
+  }
   text += cross_axis_text(study.cross_axis, set);
   if (corrected) text += changes_text(*corrected, set, study);
   if (!verbose) return text + kGapDetailsHint;
-  for (const pipeline::GapColumnStudy& c : study.columns)
-    text += "\n" + gap_column_text(c.name, c.result, set, c.conversions, c.unit);
+  for (const pipeline::GapColumnStudy& c : study.columns) text += "\n" + gap_column_text(c.name, c.result, set, c.unit);
   return text;
 }
 

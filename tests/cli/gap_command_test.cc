@@ -107,6 +107,38 @@ TEST_F(GmwmGap, LocatesAndNamesAWithheldSinusoidInTheContractFields) {
   EXPECT_NE(flowed(t.out).find("levels outside "), std::string::npos) << t.out;
 }
 
+TEST_F(GmwmGap, PrintsEachColumnsHeadlineFirstAndItsDetailsOnlyWithVerbose) {
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The headline comes first (after the timing note), what to change after it, the hint last.
+  const auto headline = r.out.find("\ngyro_x: ");
+  ASSERT_NE(headline, std::string::npos) << r.out;
+  EXPECT_LT(headline, r.out.find("what to change")) << r.out;
+  EXPECT_NE(r.out.find("(--verbose: per column the levels against the reference band"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("  baseline: "), std::string::npos) << r.out;
+  auto v = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40", "--verbose"}, dir_);
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.out.find("  baseline: "), std::string::npos) << v.out;
+  EXPECT_EQ(v.out.find("(--verbose:"), std::string::npos) << v.out;
+  // The same summary in both, first.
+  EXPECT_EQ(v.out.rfind(r.out.substr(0, r.out.find("(--verbose:")), 0), 0u) << v.out;
+}
+
+TEST_F(GmwmGap, AddsOnlyTheEffectsGivenAndRefusesAnUnknownOneNamingTheKnownOnes) {
+  // The sinusoid withheld, SIN not allowed: the attribution is not SIN.
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40", "--effects", "DR,AR1", "--max-steps",
+                     "1", "--json", "g.json"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "g.json");
+  const json& a = doc["columns"][0]["attribution"];
+  ASSERT_FALSE(a.at("candidates").empty());
+  for (const json& c : a["candidates"]) EXPECT_TRUE(c.at("effect") == "DR" || c.at("effect") == "AR1") << c.dump();
+  EXPECT_NE(a.at("effect"), "SIN");
+  auto bad = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--effects", "DR,OUTLIERS", "--json", "x.json"}, dir_);
+  expect_bad_input(bad, {"--effects 'DR,OUTLIERS': unknown effect 'OUTLIERS'", "REPARAMETERISE"}, dir_ / "x.json");
+}
+
 TEST_F(GmwmGap, NamesATemperatureCouplingGivenATemperatureColumn) {
   // gyro_x = the baseline's noise + 2e-3 x a slowly wandering temperature.
   auto r = run_gmwm({"simulate", "--model", std::string(kBase), "--n", "65536", "--freq", "100", "--names", "noise",
@@ -191,7 +223,7 @@ TEST_F(GmwmGap, TakesTheShippedGazeboSdfAndPrintsItsConversions) {
             std::string::npos)
       << r.out;
   EXPECT_NE(flowed(r.out).find("valid once the noise spans a few LSBs"), std::string::npos) << r.out;
-  EXPECT_NE(flowed(r.out).find("summary: gyro_x: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\ngyro_x: "), std::string::npos) << r.out;
   const json doc = read_json(dir_ / "g.json");
   EXPECT_EQ(doc.at("baseline_source"), "gz-sensors SDF <noise> blocks (" + sdf + ")");
   // AR1: phi = exp(-1/(f x 1000 s)) ~ 0.99999 (T = 1000 s, under 10 records of 655 s: kept
@@ -310,7 +342,7 @@ TEST_F(GmwmGap, DrawsNoProgressBarWhenStandardErrorIsNotATerminal) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("left"), std::string::npos) << r.err;
-  EXPECT_NE(flowed(r.out).find("summary:"), std::string::npos);
+  EXPECT_NE(r.out.find("\ngyro_x: "), std::string::npos) << r.out;
 }
 
 TEST_F(GmwmGap, HeadlineIsTheSameInTheTerminalAndTheJson) {

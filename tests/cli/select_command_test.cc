@@ -71,7 +71,7 @@ TEST_F(GmwmSelect, WritesTheRankingOfEverySubModelWithTheContractFields) {
   }
   // The terminal table: header and one row per model.
   EXPECT_NE(r.out.find("rank"), std::string::npos);
-  EXPECT_NE(r.out.find("GoF p-value"), std::string::npos);
+  EXPECT_NE(r.out.find("GoF p (shared)"), std::string::npos);
   EXPECT_NE(r.out.find("best: "), std::string::npos);
 }
 

@@ -109,8 +109,8 @@ inline constexpr const char* kGapDetailsHint =
     "(--verbose: per column the levels against the reference band, the candidate effects, the shrinkage and "
     "the effect's parameters; --json, --report: everything)\n";
 
-/// `gmwm gap`'s text: the summary first (each column's headline, the cross-axis lines and,
-/// when given, what to change in the configuration); with `verbose` then per column its
+/// `gmwm gap`'s text: the summary first (each column's headline and how its baseline was
+/// converted, the cross-axis lines and, when given, what to change in the configuration); with `verbose` then per column its
 /// baseline, levels against the reference band, the candidate effects, the shrinkage and
 /// the effect's parameters (else kGapDetailsHint).
 std::string gap_text(const io::SignalSet& set, const pipeline::GapStudy& study,

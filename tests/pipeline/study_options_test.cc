@@ -1,0 +1,80 @@
+// The studies' Options refuse what they own or cannot do, with one line naming the setting:
+// the gap study sets GapOptions' per-column fields itself; the export derives its inflation
+// with consistent_for, and only for the WN + RW formats.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/gap/gap.h"
+#include "gmwm/pipeline/export_study.h"
+#include "gmwm/pipeline/gap_study.h"
+
+namespace gmwm::pipeline {
+namespace {
+
+TEST(GapStudyOptions, HandsDownTheDiagnosisSettingsAndRefusesTheStudysOwnFields) {
+  GapStudyOptions o;
+  o.baseline = ModelBaseline{"WN(sigma2=1)"};
+  o.gap.max_steps = 1;
+  o.gap.min_effect = 0.2;
+  o.gap.candidates = {gap::GapEffect::kDR};
+  EXPECT_EQ(o.Validate(), "");
+  o.gap.unit = "deg/s";
+  EXPECT_NE(o.Validate().find("leave gap.estimator, refit_baseline, context, unit and progress unset"),
+            std::string::npos);
+  o.gap.unit.clear();
+  o.gap.replicates = 5;
+  EXPECT_EQ(o.Validate(), "replicates must be in [20, 100000], got 5");
+}
+
+TEST(GapCandidates, ParseTheWvEffectsAndRefuseTheSeriesOnesNamingTheKnownOnes) {
+  EXPECT_EQ(gap::parse_gap_candidates("DR,AR1", "--effects"),
+            (std::vector<gap::GapEffect>{gap::GapEffect::kDR, gap::GapEffect::kAR1}));
+  try {
+    gap::parse_gap_candidates("DR,OUTLIERS", "--effects");
+    FAIL() << "OUTLIERS is tested on the series, not a WV candidate";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--effects 'DR,OUTLIERS': unknown effect 'OUTLIERS', expected some of WN, QN, RW, DR, AR1, FLICKER, "
+              "SIN, REPARAMETERISE");
+  }
+  EXPECT_THROW(gap::parse_gap_candidates("", "effects"), InputError);
+}
+
+TEST(ExportStudyOptions, RefusesConsistentForWithAnInflationOrAGaussMarkovFormat) {
+  ExportStudyOptions o;
+  o.consistent_for = ConsistencyOptions{};
+  EXPECT_EQ(o.Validate(), "");
+  o.format.inflate = 2.0;
+  EXPECT_EQ(o.Validate(), "--consistent-for derives the inflation; leave out --inflate");
+  o.format.inflate = 1.0;
+  o.format.format = io::ExportFormat::kGzSdf;
+  EXPECT_NE(o.Validate().find("for the WN + RW formats"), std::string::npos);
+}
+
+TEST(ExportFit, RefusesAColumnWhoseUnitNobodySaidNamingIt) {
+  io::SignalSet set;
+  set.path = "run.csv";
+  set.freq = 100.0;
+  set.freq_known = true;
+  std::vector<double> x(4096);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.37 * static_cast<double>(i * i));
+  set.signals.push_back({"gyro_x", x, ""});
+  ExportFitOptions o;
+  o.model = "WN";
+  std::vector<std::string> warnings;
+  try {
+    fitted_export_columns(set, o, warnings);
+    FAIL() << "a unit was assumed";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "run.csv: column 'gyro_x': the file does not say its unit; give --units gyro=UNIT (rad/s, deg/s or "
+              "deg/h)");
+  }
+}
+
+}  // namespace
+}  // namespace gmwm::pipeline
