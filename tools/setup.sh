@@ -21,10 +21,11 @@ packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlo
 # What the tests, the benchmarks and the Python module need besides.
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
 # browser test (tests/cli/html_report_browser_test.cc); python3-rosbag and
-# python3-sensor-msgs: ROS's own writer of the ROS 1 test bags.
+# python3-sensor-msgs: ROS's own writer of the ROS 1 test bags; python3-matplotlib: the
+# plots of docs/python.md, whose cells the suite runs (python/tests/test_docs_python.py).
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
-             python3-rosbag python3-sensor-msgs libjs-vega chromium)
+             python3-rosbag python3-sensor-msgs python3-matplotlib libjs-vega chromium)
 fi
 
 missing=()
