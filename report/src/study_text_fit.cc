@@ -114,19 +114,24 @@ std::string joint_select_detail(const pipeline::ReplicateGroup& g, const selecti
     os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << '\n';
   const std::vector<detail::FoldedRow> folded = detail::fold_by_effective(r);
   os << "  " << r.ranking.size() << " candidates, " << folded.size()
-     << " distinct effective models (each listed once, at its best candidate)\n";
-  std::vector<std::string> head = {"rank", "effective model", "p", "CV-WVIC", "analytic WVIC", "rank (analytic)"};
+     << " distinct effective models (each listed once with the numbers of its best candidate; p: that candidate's "
+        "parameters)\n";
+  // The model first: a table too wide for the terminal moves its widest columns below it
+  // as notes, never the first.
+  std::vector<std::string> head = {"effective model", "rank", "p", "CV-WVIC", "analytic WVIC", "rank (analytic)"};
   if (boot) head.insert(head.end(), {"bootstrap WVIC (s.e.)", "rank (bootstrap)"});
-  head.insert(head.end(), {"P(not worse)", "equivalent", "candidates that fell onto it"});
+  head.insert(head.end(), {"P(not worse)", "equivalent", "its best candidate", "candidates that fell onto it"});
   TextTable t(head, 1);
   for (const detail::FoldedRow& f : folded) {
     const selection::CvCandidate& c = *f.best;
-    std::vector<std::string> row = {std::to_string(c.rank), detail::folded_name(f),  std::to_string(c.parameters),
-                                    fmt(c.cv_wvic, 6),      fmt(c.analytic_wvic, 6), std::to_string(c.rank_analytic)};
+    const std::string& effective = c.effective.empty() ? c.model : c.effective;
+    std::vector<std::string> row = {effective,         std::to_string(c.rank),  std::to_string(c.parameters),
+                                    fmt(c.cv_wvic, 6), fmt(c.analytic_wvic, 6), std::to_string(c.rank_analytic)};
     if (boot)
       row.insert(row.end(),
                  {fmt(c.bootstrap_wvic, 6) + " (" + fmt(c.bootstrap_se, 2) + ")", std::to_string(c.rank_bootstrap)});
-    row.insert(row.end(), {fmt(c.p_not_worse, 3), c.equivalent ? "yes" : "", members_of(f)});
+    row.insert(row.end(),
+               {fmt(c.p_not_worse, 3), c.equivalent ? "yes" : "", effective == c.model ? "" : c.model, members_of(f)});
     t.add(row);
   }
   os << t.str();
