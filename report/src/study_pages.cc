@@ -12,6 +12,17 @@ void set_unit(ReportColumn& column, const std::vector<std::string>& units, std::
   if (k < units.size() && !units[k].empty()) column.unit = units[k];
 }
 
+// What a fitted column (fit, select) draws beside its model: the WVs, the Allan deviation
+// with its noise figures, the Kalman table's rate, the unit.
+template <class ColumnStudy>
+void fill_fitted(ReportColumn& column, const ColumnStudy& c, const std::vector<std::string>& units, std::size_t k,
+                 double filter_rate) {
+  column.wvs = drawn_wvs(c.wv, c.classical);
+  column.allan = c.figures;
+  column.filter_rate = filter_rate;
+  set_unit(column, units, k);
+}
+
 // A group's joint analysis in its column: the replicates' WVs, the joint fit, the replicate
 // block with the joint fit, test and bootstrap.
 void fill_joint_column(ReportColumn& column, const pipeline::ReplicateGroup& group,
@@ -65,12 +76,8 @@ ReportData fit_report_data(const io::SignalSet& set, const pipeline::FitStudy& s
                            const std::vector<std::string>& units, double filter_rate) {
   ReportData rep = report_skeleton("fit", set, model_spec);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
-    const pipeline::FitColumnStudy& c = study.columns[k];
-    rep.columns[k].wvs = drawn_wvs(c.wv, c.classical);
-    rep.columns[k].fit = c.fit;
-    rep.columns[k].allan = c.figures;
-    rep.columns[k].filter_rate = filter_rate;
-    set_unit(rep.columns[k], units, k);
+    fill_fitted(rep.columns[k], study.columns[k], units, k, filter_rate);
+    rep.columns[k].fit = study.columns[k].fit;
   }
   return rep;
 }
@@ -80,12 +87,8 @@ ReportData select_report_data(const io::SignalSet& set, const pipeline::SelectSt
                               double filter_rate) {
   ReportData rep = report_skeleton("select", set, model_spec);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
-    const pipeline::SelectColumnStudy& c = study.columns[k];
-    rep.columns[k].wvs = drawn_wvs(c.wv, c.classical);
-    rep.columns[k].selection = c.selection;
-    rep.columns[k].allan = c.figures;
-    rep.columns[k].filter_rate = filter_rate;
-    set_unit(rep.columns[k], units, k);
+    fill_fitted(rep.columns[k], study.columns[k], units, k, filter_rate);
+    rep.columns[k].selection = study.columns[k].selection;
   }
   return rep;
 }

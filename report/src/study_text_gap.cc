@@ -148,9 +148,16 @@ std::string cross_axis_text(const std::vector<gap::CrossAxisPair>& pairs, const 
 std::string gap_text(const io::SignalSet& set, const pipeline::GapStudy& study,
                      const std::optional<pipeline::CorrectedConfig>& corrected, bool verbose) {
   std::string text = set.timing ? set.timing->summary() + "\n" : std::string();
-  for (const pipeline::GapColumnStudy& c : study.columns) {
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::GapColumnStudy& c = study.columns[k];
     text += c.name + ": " + c.result.headline + "\n";
-    for (const auto& conversion : c.conversions) text += "  conversion: " + conversion + "\n";
+    // A baseline converted as an earlier column's (one gyro model for every axis) is said once.
+    const auto same = std::find_if(study.columns.begin(), study.columns.begin() + static_cast<std::ptrdiff_t>(k),
+                                   [&](const pipeline::GapColumnStudy& o) { return o.conversions == c.conversions; });
+    if (!c.conversions.empty() && same != study.columns.begin() + static_cast<std::ptrdiff_t>(k))
+      text += "  conversion: as " + same->name + "'s\n";
+    else
+      for (const auto& conversion : c.conversions) text += "  conversion: " + conversion + "\n";
   }
   text += cross_axis_text(study.cross_axis, set);
   if (corrected) text += changes_text(*corrected, set, study);
