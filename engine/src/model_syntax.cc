@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/process_registry.h"
@@ -23,7 +24,10 @@ constexpr double kMaxStructuralValue = 1000.0;
 
 class Parser {
  public:
-  Parser(const std::string& spec, const ProcessContext& ctx) : s_(spec), ctx_(ctx) {}
+  // `values`: false checks the text alone (names, structure, no value converted or checked:
+  // their display units may need the rate).
+  Parser(const std::string& spec, const ProcessContext& ctx, bool values = true)
+      : s_(spec), ctx_(ctx), values_(values) {}
 
   Model parse() {
     std::vector<Component> comps;
@@ -172,7 +176,11 @@ class Parser {
       }
       if (!std::isnan(given[static_cast<std::size_t>(k)]))
         fail_msg(proc->name() + ": parameter '" + key + "' given twice");
-      given[static_cast<std::size_t>(k)] = proc->from_display(k, v);
+      given[static_cast<std::size_t>(k)] = values_ ? proc->from_display(k, v) : v;
+    }
+    if (!values_) {
+      for (long r = 0; r < repeat; ++r) comps.push_back(Component{proc, given});
+      return;
     }
     // Check the given values one by one (a negative variance, |phi| >= 1, ...).
     {
@@ -215,13 +223,12 @@ class Parser {
 
   const std::string& s_;
   ProcessContext ctx_;
+  bool values_ = true;
   std::size_t pos_ = 0;
 };
 
-}  // namespace
-
-Model parse_model(const std::string& spec, const ProcessContext& context) {
-  Model model = Parser(spec, context).parse();
+// At most one each of the linear and deterministic processes (WN, QN, RW, DR).
+void check_identifiable(const Model& model, const std::string& spec) {
   std::map<std::string, int> count;
   for (const auto& c : model.components()) {
     const Process& p = *c.process;
@@ -231,8 +238,23 @@ Model parse_model(const std::string& spec, const ProcessContext& context) {
                          " processes are not identifiable from a wavelet variance (use one)");
     }
   }
+}
+
+}  // namespace
+
+Model parse_model(const std::string& spec, const ProcessContext& context) {
+  Model model = Parser(spec, context).parse();
+  check_identifiable(model, spec);
   return model;
 }
+
+ModelSpec::ModelSpec(std::string text) : text_(std::move(text)) {
+  if (!text_.empty()) check_identifiable(Parser(text_, ProcessContext{}, false).parse(), text_);
+}
+
+ModelSpec::ModelSpec(const char* text) : ModelSpec(std::string(text)) {}
+
+Model ModelSpec::bind(const ProcessContext& context) const { return parse_model(text_, context); }
 
 void check_model_fits_levels(const Model& model, int levels) {
   if (model.num_parameters() > levels)

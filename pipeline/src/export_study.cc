@@ -61,7 +61,7 @@ std::string ExportFitOptions::Validate() const {
 std::vector<io::ExportColumn> fitted_export_columns(const io::SignalSet& set, const ExportFitOptions& options,
                                                     std::vector<std::string>& warnings) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  const Model model = parse_model(options.model, ProcessContext{set.freq, set.freq_known});
+  const Model model = options.model.bind(ProcessContext{set.freq, set.freq_known});
   std::vector<io::ExportColumn> columns(set.signals.size());
   for (std::size_t k = 0; k < set.signals.size(); ++k) {
     const io::Signal& s = set.signals[k];
@@ -85,7 +85,7 @@ std::vector<io::ExportColumn> fitted_export_columns(const io::SignalSet& set, co
   for (std::size_t k = 0; k < fits.size(); ++k) {
     const FitResult& r = fits[k];
     if (r.status == FitStatus::kFailed || r.theta.size() != r.model.num_parameters() || !r.theta.allFinite())
-      throw UnusableFit("column '" + set.signals[k].name + "': the fit of " + options.model + " failed" +
+      throw UnusableFit("column '" + set.signals[k].name + "': the fit of " + options.model.text() + " failed" +
                         (r.message.empty() ? "" : ": " + r.message) + "; nothing written");
     if (r.status == FitStatus::kNotConverged)
       warnings.push_back("column '" + set.signals[k].name + "': the fit did not converge" +

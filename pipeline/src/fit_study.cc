@@ -54,10 +54,10 @@ std::vector<std::optional<FigureReport>> noise_figures_of(const io::SignalSet& s
 FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   FitStudy study;
-  study.model_spec = options.model;
+  study.model_spec = options.model.text();
   study.seed = options.fit.seed;
   study.omega = options.fit.omega;
-  study.model = parse_model(options.model, ProcessContext{set.freq, set.freq_known});
+  study.model = options.model.bind(ProcessContext{set.freq, set.freq_known});
 
   detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.fit.alpha);
   std::vector<WaveletVariance>& wvs = curves.wvs;

@@ -79,8 +79,9 @@ Baselines resolve_baselines(const io::SignalSet& set, const GapStudyOptions& o, 
     return b;
   }
   const bool fit = std::holds_alternative<FitBaseline>(o.baseline);
-  const std::string& spec = fit ? std::get<FitBaseline>(o.baseline).spec : std::get<ModelBaseline>(o.baseline).spec;
-  const Model m = parse_model(spec, ctx);
+  const ModelSpec& given = fit ? std::get<FitBaseline>(o.baseline).spec : std::get<ModelBaseline>(o.baseline).spec;
+  const std::string& spec = given.text();
+  const Model m = given.bind(ctx);
   if (!fit) {
     const Eigen::VectorXd v = m.given_values();
     if (const std::string why = m.validate(v); !why.empty() || !v.allFinite())
@@ -182,7 +183,7 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
       fo.omega = OmegaKind::kModel;  // as `gmwm fit` weighs by default
       const FitResult r = fit_gmwm(c.wv, c.baseline, fo);
       if (r.status == FitStatus::kFailed)
-        throw InputError("--fit '" + f->spec + "': the fit failed on column '" + c.name + "'");
+        throw InputError("--fit '" + f->spec.text() + "': the fit failed on column '" + c.name + "'");
       c.baseline = r.model;
       c.theta = r.theta;
       c.conversions.push_back("baseline fitted on the column: " + r.model.to_string(r.theta));
@@ -236,9 +237,9 @@ std::string GapStudyOptions::Validate() const {
   if (gap.estimator || gap.refit_baseline || gap.progress || !gap.unit.empty() || gap.context.freq_known)
     return "leave gap.estimator, refit_baseline, context, unit and progress unset: the study sets them per column";
   if (std::string why = wv.Validate(); !why.empty()) return why;
-  const std::string* spec = std::holds_alternative<ModelBaseline>(baseline) ? &std::get<ModelBaseline>(baseline).spec
-                            : std::holds_alternative<FitBaseline>(baseline) ? &std::get<FitBaseline>(baseline).spec
-                                                                            : nullptr;
+  const ModelSpec* spec = std::holds_alternative<ModelBaseline>(baseline) ? &std::get<ModelBaseline>(baseline).spec
+                          : std::holds_alternative<FitBaseline>(baseline) ? &std::get<FitBaseline>(baseline).spec
+                                                                          : nullptr;
   if (spec && spec->empty()) return "the baseline's model is empty";
   return {};
 }

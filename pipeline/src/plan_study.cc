@@ -26,9 +26,9 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("plan: " + why);
   PlanStudy out;
   if (!options.model.empty()) {
-    const Model m = parse_model(options.model, ProcessContext{*options.freq, true});
+    const Model m = options.model.bind(ProcessContext{*options.freq, true});
     if (!m.fully_specified())
-      throw InputError("model '" + options.model +
+      throw InputError("model '" + options.model.text() +
                        "': give every parameter's value, e.g. WN(sigma2=1e-6)+RW(gamma2=1e-12)");
     const Eigen::VectorXd theta = m.given_values();
     char rate[32];

@@ -100,7 +100,7 @@ std::string JointFitStudyOptions::Validate() const {
 JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const ProcessContext& context,
                               const JointFitStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  const Model model = parse_model(options.model, context);
+  const Model model = options.model.bind(context);
   // The joint fit's bootstrap and the test's draws get the data's WV estimator.
   const auto estimator = estimator_for(options.robust);
   JointAnalysisOptions ao;
@@ -111,7 +111,7 @@ JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const P
   ao.test.estimator = estimator.get();
   ao.test.progress = options.progress;
   ao.bootstrap_draws = kReplicateBootstrapDraws;
-  JointFitStudy study{options.model, options.seed, options.robust.has_value(), options.fit.omega, {}};
+  JointFitStudy study{options.model.text(), options.seed, options.robust.has_value(), options.fit.omega, {}};
   for (const ReplicateGroup& g : groups) {
     JointFitGroupStudy s;
     s.wvs = replicate_wvs(g, model, options.wv, options.robust);
@@ -138,12 +138,12 @@ std::string JointSelectStudyOptions::Validate() const {
 JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, const ProcessContext& context,
                                     const JointSelectStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  const Model maximal = parse_model(options.model, context);
+  const Model maximal = options.model.bind(context);
   const auto estimator = estimator_for(options.robust);
   selection::ReplicateSelectOptions ro = options.select;
   ro.select.estimator = estimator.get();
   JointSelectStudy study;
-  study.model_spec = options.model;
+  study.model_spec = options.model.text();
   study.seed = options.select.seed;
   study.robust = options.robust.has_value();
   study.all_optimisms = options.select.select.optimism == selection::OptimismMethod::kBoth;

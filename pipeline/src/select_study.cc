@@ -26,8 +26,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 std::string SelectStudyOptions::Validate() const {
   if (models.empty()) return "no model given";
   if (!listed && models.size() != 1) return "give one maximal model (or set listed for a list of models)";
-  for (const std::string& m : models)
-    if (m.find_first_not_of(" \t") == std::string::npos) return "an empty model";
+  for (const ModelSpec& m : models)
+    if (m.text().find_first_not_of(" \t") == std::string::npos) return "an empty model";
   if (select.estimator) return "leave SelectOptions::estimator null: the study sets it";
   if (std::string why = select.Validate(); !why.empty()) return why;
   return wv.Validate();
@@ -44,7 +44,7 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   // The models at the data's rate; a list is fitted under its common supermodel's Omega.
   const ProcessContext ctx{set.freq, set.freq_known};
   std::vector<Model> models;
-  for (const std::string& m : options.models) models.push_back(parse_model(m, ctx));
+  for (const ModelSpec& m : options.models) models.push_back(m.bind(ctx));
   const Model maximal = !study.listed ? models.front() : selection::common_supermodel(models);
 
   detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.select.fit.alpha);

@@ -384,7 +384,7 @@ json select_document(const io::SignalSet& set, const pipeline::SelectStudy& stud
   json doc = json_document("select");
   doc["input"] = set.path;
   std::string spec;
-  for (const std::string& m : study.models) spec += (spec.empty() ? "" : ";") + m;
+  for (const ModelSpec& m : study.models) spec += (spec.empty() ? "" : ";") + m.text();
   doc["model_spec"] = spec;
   doc["mode"] = study.listed ? "listed" : "sub-models";
   doc["optimism"] = selection::to_string(study.options.optimism);

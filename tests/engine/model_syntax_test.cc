@@ -86,3 +86,50 @@ TEST(ModelSyntax, RejectsMoreParametersThanLevels) {
 
 }  // namespace
 }  // namespace gmwm
+
+namespace gmwm {
+namespace {
+
+std::string spec_error(const std::string& text) {
+  try {
+    ModelSpec{text};
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ModelSpec, ChecksTheTextWithoutTheRateAndTheValuesWhenBound) {
+  // SIN's f in Hz: 2 Hz is a valid frequency at 100 Hz, not 2 cycles per sample.
+  const ModelSpec sin("SIN(A2=1e-4,f=2)+WN");
+  EXPECT_EQ(sin.text(), "SIN(A2=1e-4,f=2)+WN");
+  const Model at_100 = sin.bind(ProcessContext{100.0, true});
+  EXPECT_DOUBLE_EQ(at_100.given_values()(1), 0.02);  // cycles per sample
+  EXPECT_THROW(sin.bind(ProcessContext{}), InputError);
+  // A value out of range is the binding's to refuse, as parse_model does.
+  const ModelSpec phi("AR1(phi=2)");
+  try {
+    phi.bind(ProcessContext{});
+    FAIL() << "phi = 2 bound";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("phi"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ModelSpec, RefusesWhatNoRateCouldMendWithParseModelsMessage) {
+  EXPECT_EQ(spec_error("2*AR1+FOO"), error_of("2*AR1+FOO"));
+  EXPECT_EQ(spec_error("WN+WN"), error_of("WN+WN"));
+  EXPECT_EQ(spec_error("AR1(rho=0.5)"), error_of("AR1(rho=0.5)"));
+  EXPECT_EQ(spec_error("WN(sigma2=1,sigma2=2)"), error_of("WN(sigma2=1,sigma2=2)"));
+  EXPECT_EQ(spec_error("3*"), error_of("3*"));
+}
+
+TEST(ModelSpec, AnEmptyTextIsAnEmptySpecThatDoesNotBind) {
+  const ModelSpec none("");
+  EXPECT_TRUE(none.empty());
+  EXPECT_TRUE(ModelSpec().empty());
+  EXPECT_THROW(none.bind(ProcessContext{}), InputError);
+}
+
+}  // namespace
+}  // namespace gmwm

@@ -279,10 +279,10 @@ WvOptions wv_options(const InputOptions& input) {
   return o;
 }
 
-void check_models_before_reading(const InputOptions& input, const std::vector<std::string>& models) {
+void check_models_before_reading(const InputOptions& input, const std::vector<ModelSpec>& models) {
   if (!input.freq) return;
   if (const std::string why = io::sampling_rate_problem(*input.freq, "--freq"); !why.empty()) throw InputError(why);
-  for (const std::string& m : models) parse_model(m, ProcessContext{*input.freq, true});
+  for (const ModelSpec& m : models) m.bind(ProcessContext{*input.freq, true});
 }
 
 int active_threads() {

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/report/html_report.h"
 #include "gmwm/report/json_output.h"
@@ -142,9 +143,10 @@ io::SignalSet read_input(const InputOptions& input);
 /// WvOptions from --levels/--alpha (InputError naming the option when invalid).
 WvOptions wv_options(const InputOptions& input);
 
-/// With --freq, every model is parsed before INPUT is read, so that a typo in a long
-/// file's command costs nothing (InputError; nothing without --freq: the rate is the file's).
-void check_models_before_reading(const InputOptions& input, const std::vector<std::string>& models);
+/// With --freq, every model is bound at that rate before INPUT is read, so that a bad value
+/// in a long file's command costs nothing (InputError; the text itself was checked when the
+/// ModelSpec was made; without --freq the values wait for the file's rate).
+void check_models_before_reading(const InputOptions& input, const std::vector<ModelSpec>& models);
 
 /// TBB's current parallelism limit.
 int active_threads();

@@ -103,7 +103,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
   o.fit.max_evaluations = a.max_evaluations;
   if (!a.units.empty()) o.units = io::parse_declared_units(a.units);
   o.sensor = sensor_of(a.sensor);
-  check_models_before_reading(a.input, {a.model});
+  check_models_before_reading(a.input, {o.model});
   const io::SignalSet set = read_input(a.input);
   std::vector<std::string> warnings;
   std::vector<io::ExportColumn> columns = pipeline::fitted_export_columns(set, o, warnings);

@@ -116,7 +116,7 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
           "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
     return run_joint_fit(args, common, study_options.fit, study_options.robust ? &*study_options.robust : nullptr);
   }
-  check_models_before_reading(args.input, {args.model});
+  check_models_before_reading(args.input, {study_options.model});
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);

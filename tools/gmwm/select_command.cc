@@ -119,11 +119,11 @@ selection::SelectOptions select_options(const SelectArgs& args, const CommonOpti
 
 // The models to rank: --model's sub-models, or the listed models of --models split at ';'
 // (an empty entry is refused).
-std::vector<std::string> candidate_specs(const SelectArgs& args) {
+std::vector<ModelSpec> candidate_specs(const SelectArgs& args) {
   if (args.model.empty() == args.models.empty())
     throw InputError("select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
   if (args.models.empty()) return {args.model};
-  std::vector<std::string> specs;
+  std::vector<ModelSpec> specs;
   std::string cur;
   for (char ch : args.models + ";") {
     if (ch != ';') {

@@ -13,6 +13,7 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/export.h"
 #include "gmwm/io/signal_reader.h"
@@ -30,7 +31,7 @@ class UnusableFit : public std::runtime_error {
 /// How a data set is fitted before its export: as `gmwm fit` weighs by default (classical
 /// WV, Omega from the model), estimates only (no inference).
 struct ExportFitOptions {
-  std::string model;  ///< e.g. "WN+RW"
+  ModelSpec model;  ///< e.g. "WN+RW" (checked when assigned)
   WvOptions wv;
   /// max_evaluations, alpha and seed are used; omega and inference are the study's.
   FitOptions fit;

@@ -17,6 +17,7 @@
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
@@ -25,8 +26,8 @@
 namespace gmwm::pipeline {
 
 struct FitStudyOptions {
-  /// The model ("AR1+WN+RW"), parsed at the data's rate.
-  std::string model;
+  /// The model ("AR1+WN+RW": checked when assigned), bound at the data's rate.
+  ModelSpec model;
   /// Omega, alpha, bootstrap replicates, seed, evaluation budget. Its `estimator` is set by
   /// the study (the robust WV's, for the bootstrap Omega) and must be left null.
   FitOptions fit;

@@ -20,6 +20,7 @@
 #include <Eigen/Dense>
 
 #include "gmwm/engine/model.h"
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
@@ -32,7 +33,7 @@ namespace gmwm::pipeline {
 
 /// A model with every value given ("WN(sigma2=2.5e-5)+RW(gamma2=1e-12)").
 struct ModelBaseline {
-  std::string spec;
+  ModelSpec spec;
 };
 /// A simulator's noise configuration (a Kalibr imu.yaml, an SDF) already read; `path` names
 /// it in messages.
@@ -42,7 +43,7 @@ struct ConfigBaseline {
 };
 /// A family fitted on each column first ("AR1+WN+RW"): the study says what it lacks.
 struct FitBaseline {
-  std::string spec;
+  ModelSpec spec;
 };
 using GapBaselineSource = std::variant<ModelBaseline, ConfigBaseline, FitBaseline>;
 

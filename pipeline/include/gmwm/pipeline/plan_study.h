@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/record_plan.h"
 #include "gmwm/io/units.h"
 
@@ -20,7 +21,7 @@ namespace gmwm::pipeline {
 
 struct PlanStudyOptions {
   std::string result;                ///< a fit/select --json result (its columns' models), or
-  std::string model;                 ///< a model with every value, at `freq`
+  ModelSpec model;                   ///< a model with every value, at `freq` (checked when assigned)
   std::optional<double> freq;        ///< Hz, for `model` (and results whose "freq" is null)
   std::vector<std::string> columns;  ///< of the result (empty: all)
   std::string unit;                  ///< of `model`, for the figures' labels ("" when unknown)

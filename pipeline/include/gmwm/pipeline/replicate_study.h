@@ -14,6 +14,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/samples.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -62,7 +63,7 @@ std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Mo
                                            const std::optional<robust::RobustWvOptions>& robust);
 
 struct JointFitStudyOptions {
-  std::string model;
+  ModelSpec model;
   /// The joint fit's settings (Omega diag or full, alpha, seed ...); `estimator` is set by
   /// the study and must be left null.
   FitOptions fit;
@@ -108,7 +109,7 @@ JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const P
 
 struct JointSelectStudyOptions {
   /// The maximal model: every sub-model is ranked.
-  std::string model;
+  ModelSpec model;
   /// The selection's settings; select.optimism kBoth adds the joint fit's bootstrap WVIC
   /// ("all"), kAnalytic gives the cross-validated and the analytic WVIC. select.estimator
   /// is set by the study and must be left null.

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
@@ -26,7 +27,7 @@ namespace gmwm::pipeline {
 struct SelectStudyOptions {
   /// One maximal model (every sub-model is ranked), or, `listed`, the models to rank as
   /// given.
-  std::vector<std::string> models;
+  std::vector<ModelSpec> models;
   bool listed = false;
   /// Optimism, Omega, penalty, replicates, seed, the fits' options, progress. Its
   /// `estimator` is set by the study (the robust WV's) and must be left null.
@@ -53,7 +54,7 @@ struct SelectColumnStudy {
 struct SelectStudy {
   /// False when every sub-model of models[0] was ranked; true for a list.
   bool listed = false;
-  std::vector<std::string> models;
+  std::vector<ModelSpec> models;
   selection::SelectOptions options;  // as run (without the estimator and progress)
   std::vector<SelectColumnStudy> columns;
   /// Stage times: the WV, the data's Allan deviation from the same transforms (0 without a
