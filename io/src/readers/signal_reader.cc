@@ -171,12 +171,36 @@ std::string ReadOptions::Validate() const {
   return "";
 }
 
+namespace {
+
+bool is_log(const std::string& path) {
+  return detail::is_ulog(path) || detail::is_rosbag2_sqlite(path) || detail::is_rosbag1(path) || detail::is_mcap(path);
+}
+
+// A delimited text file's signals; `header_only`: the header, the timestamp and the columns
+// checked as read_signals checks them, no data row read past the first (the set has no values).
+SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only);
+
+}  // namespace
+
+void check_signals(const std::string& path, const ReadOptions& options) {
+  if (const std::string msg = options.Validate(); !msg.empty()) throw InputError(msg);
+  if (is_log(path)) return;  // its topics and fields are read with the data
+  read_delimited(path, options, true);
+}
+
 SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   if (const std::string msg = options.Validate(); !msg.empty()) throw InputError(msg);
   if (detail::is_ulog(path)) return detail::read_ulog(path, options);
   if (detail::is_rosbag2_sqlite(path)) return detail::read_rosbag2_sqlite(path, options);
   if (detail::is_rosbag1(path)) return detail::read_rosbag1(path, options);
   if (detail::is_mcap(path)) return detail::read_mcap(path, options);
+  return read_delimited(path, options, false);
+}
+
+namespace {
+
+SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only) {
   if (!options.topic.empty())
     throw InputError(path + ": --topic " + options.topic +
                      ": the file is delimited text, which has no topics "
@@ -308,6 +332,10 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
       selected.push_back(k);
     }
   }
+  if (header_only) {
+    for (const std::size_t k : selected) set.signals.push_back({cols[k].name, {}, cols[k].unit});
+    return set;
+  }
   std::vector<FieldPlan> plan(cols.size());
   for (std::size_t i = 0; i < selected.size(); ++i) plan[selected[i]] = {FieldPlan::kValue, static_cast<int>(i)};
   if (time_col) plan[*time_col].kind = FieldPlan::kTime;
@@ -374,5 +402,7 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
   }
   return set;
 }
+
+}  // namespace
 
 }  // namespace gmwm::io

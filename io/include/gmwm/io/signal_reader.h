@@ -174,4 +174,10 @@ struct SignalSet {
 /// Reads the selected columns of `path`. Throws gmwm::InputError on bad input (see above).
 SignalSet read_signals(const std::string& path, const ReadOptions& options);
 
+/// What read_signals would refuse, checked before the data are read: the options; for
+/// delimited text the file's header, its timestamp (or --freq) and --columns (names or
+/// indices), with read_signals' messages; a log or bag is only told apart (its topics and
+/// fields are read with the data). For a run over many files that refuses bad ones up front.
+void check_signals(const std::string& path, const ReadOptions& options);
+
 }  // namespace gmwm::io

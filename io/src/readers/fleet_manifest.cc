@@ -1,0 +1,235 @@
+// A fleet's manifest (fleet_manifest.h): CSV (RFC 4180 quoting) or YAML rows, read and
+// checked before any recording is analysed.
+#include "gmwm/io/fleet_manifest.h"
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "config_text.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/io/side_file.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/units.h"
+#include "yaml_figures.h"
+
+namespace gmwm::io {
+namespace {
+
+namespace fs = std::filesystem;
+using detail::trim;
+
+// The fields a row may have, in the order a CSV header lists them in the docs.
+const char* const kFields[] = {"path", "unit", "model", "topic", "columns", "units", "rate", "group"};
+
+std::string known_fields() {
+  std::string out;
+  for (const char* f : kFields) out += (out.empty() ? "" : ", ") + std::string(f);
+  return out;
+}
+
+bool is_field(const std::string& name) {
+  for (const char* f : kFields)
+    if (name == f) return true;
+  return false;
+}
+
+std::string at(const std::string& path, int line) { return path + ":" + std::to_string(line) + ": "; }
+
+// The fields of one CSV line (RFC 4180: a field in double quotes may hold commas, a doubled
+// quote is a quote). Throws InputError for an unterminated quote or text after a closing one.
+std::vector<std::string> csv_fields(const std::string& line, const std::string& where) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::size_t i = 0;
+  while (true) {
+    cur.clear();
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    if (i < line.size() && line[i] == '"') {
+      ++i;
+      while (true) {
+        if (i >= line.size()) throw InputError(where + "found an unterminated quoted field, expected a closing '\"'");
+        if (line[i] == '"') {
+          if (i + 1 < line.size() && line[i + 1] == '"') {
+            cur += '"';
+            i += 2;
+            continue;
+          }
+          ++i;
+          break;
+        }
+        cur += line[i++];
+      }
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+      if (i < line.size() && line[i] != ',')
+        throw InputError(where + "found text after a quoted field, expected ',' or the end of the line");
+    } else {
+      while (i < line.size() && line[i] != ',') cur += line[i++];
+      cur = trim(cur);
+    }
+    out.push_back(cur);
+    if (i >= line.size()) break;
+    ++i;  // the comma
+  }
+  return out;
+}
+
+// A row's fields by name into a recording (rate parsed; the rest as text).
+FleetRecording recording_of(const std::map<std::string, std::string>& f, int row, const std::string& where) {
+  FleetRecording r;
+  r.row = row;
+  auto get = [&](const char* k) {
+    const auto it = f.find(k);
+    return it == f.end() ? std::string() : it->second;
+  };
+  r.path = get("path");
+  r.unit = get("unit");
+  r.model = get("model");
+  r.topic = get("topic");
+  r.columns = get("columns");
+  r.units = get("units");
+  r.group = get("group");
+  if (const std::string rate = get("rate"); !rate.empty()) {
+    bool out_of_range = false;
+    const auto v = detail::decimal(rate, out_of_range);
+    if (!v) throw InputError(where + "rate: found '" + rate + "', expected a sampling rate in Hz (a decimal number)");
+    r.rate = *v;
+  }
+  return r;
+}
+
+std::vector<FleetRecording> read_csv(const std::string& path, const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> header;
+  std::vector<FleetRecording> out;
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string t = trim(line);
+    if (t.empty() || t.front() == '#') continue;
+    const std::string where = at(path, line_no);
+    std::vector<std::string> fields = csv_fields(line, where);
+    if (header.empty()) {
+      for (const std::string& h : fields) {
+        if (!is_field(h))
+          throw InputError(where + "found the header field '" + h + "', expected some of " + known_fields());
+        for (const std::string& seen : header)
+          if (seen == h) throw InputError(where + "found the header field '" + h + "' twice");
+        header.push_back(h);
+      }
+      for (const char* required : {"path", "unit", "model"})
+        if (std::find(header.begin(), header.end(), required) == header.end())
+          throw InputError(where + "found a header without '" + required + "', expected at least path, unit, model");
+      continue;
+    }
+    if (fields.size() != header.size())
+      throw InputError(where + "found " + std::to_string(fields.size()) + " fields, expected " +
+                       std::to_string(header.size()) + " (as the header)");
+    std::map<std::string, std::string> f;
+    for (std::size_t k = 0; k < header.size(); ++k) f[header[k]] = fields[k];
+    out.push_back(recording_of(f, line_no, where));
+  }
+  if (header.empty())
+    throw InputError(path + ": found no header, expected 'path,unit,model[,...]' and one row per recording");
+  return out;
+}
+
+std::vector<FleetRecording> read_yaml(const std::string& path, const std::string& text) {
+  const YAML::Node root = detail::load_yaml(text, path);
+  YAML::Node list = root;
+  if (root.IsMap()) {
+    detail::check_unique_keys(root, path);
+    if (!root["recordings"])
+      throw InputError(path + ": found a map without 'recordings', expected a list of recordings");
+    list = root["recordings"];
+  }
+  if (!list.IsSequence())
+    throw InputError(detail::yaml_at(path, list.Mark()) + ": expected a list of recordings (path, unit, model, ...)");
+  std::vector<FleetRecording> out;
+  for (const YAML::Node& item : list) {
+    const int line = item.Mark().line + 1;
+    const std::string where = at(path, line);
+    if (!item.IsMap()) throw InputError(where + "expected a recording: a map with path, unit, model, ...");
+    detail::check_unique_keys(item, path);
+    std::map<std::string, std::string> f;
+    for (const auto& kv : item) {
+      const std::string key = kv.first.as<std::string>();
+      if (!is_field(key)) throw InputError(where + "found the field '" + key + "', expected some of " + known_fields());
+      if (!kv.second.IsScalar()) throw InputError(where + key + ": expected a single value");
+      f[key] = trim(kv.second.as<std::string>());
+    }
+    out.push_back(recording_of(f, line, where));
+  }
+  return out;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::vector<std::string> split_columns(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  for (std::string c; std::getline(in, c, ',');) out.push_back(trim(c));
+  return out;
+}
+
+}  // namespace
+
+FleetManifest read_fleet_manifest(const std::string& path) {
+  const std::string text = read_side_file(path, "a fleet manifest (CSV or YAML)", kMaxManifestBytes);
+  FleetManifest m;
+  m.path = path;
+  m.recordings = ends_with(path, ".yaml") || ends_with(path, ".yml") ? read_yaml(path, text) : read_csv(path, text);
+  if (m.recordings.empty()) throw InputError(path + ": found no recording, expected one row per recording");
+  const fs::path folder = fs::path(path).parent_path();
+  for (FleetRecording& r : m.recordings) {
+    if (!r.path.empty() && fs::path(r.path).is_relative() && !folder.empty()) r.path = (folder / r.path).string();
+    if (r.group.empty()) r.group = r.model;
+  }
+  return m;
+}
+
+std::vector<std::string> fleet_manifest_problems(const FleetManifest& manifest) {
+  std::vector<std::string> problems;
+  std::map<std::string, int> first_row;
+  for (const FleetRecording& r : manifest.recordings) {
+    const std::string where = at(manifest.path, r.row);
+    std::string why;
+    for (const auto& [name, value] :
+         {std::pair<const char*, const std::string*>{"path", &r.path}, {"unit", &r.unit}, {"model", &r.model}})
+      if (why.empty() && value->empty()) why = std::string(name) + ": empty, expected a value";
+    if (why.empty())
+      if (const auto [it, fresh] = first_row.emplace(r.unit, r.row); !fresh)
+        why = "unit '" + r.unit + "' given twice (first at row " + std::to_string(it->second) + ")";
+    if (why.empty() && r.rate) why = sampling_rate_problem(*r.rate, "rate");
+    if (why.empty() && !r.units.empty()) {
+      try {
+        parse_units_spec(r.units);
+      } catch (const InputError& e) {
+        why = std::string("units: ") + e.what();
+      }
+    }
+    if (why.empty()) {
+      ReadOptions o;
+      if (!r.columns.empty()) o.columns = split_columns(r.columns);
+      o.freq = r.rate;
+      o.topic = r.topic;
+      try {
+        check_signals(r.path, o);
+      } catch (const InputError& e) {
+        why = e.what();
+        // The reader names the CLI's option; a manifest's row says it in its rate field.
+        if (why.find("--freq") != std::string::npos) why += " (a manifest row: its rate field)";
+      }
+    }
+    if (!why.empty()) problems.push_back(where + why);
+  }
+  return problems;
+}
+
+}  // namespace gmwm::io

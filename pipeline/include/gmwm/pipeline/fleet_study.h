@@ -1,0 +1,70 @@
+#pragma once
+// The fleet study (what `gmwm fleet MANIFEST` runs): every recording of a manifest analysed
+// the same way (the selection over a maximal model with its noise figures, as `gmwm select`),
+// one row per unit x axis: N, K, B with their intervals, the chosen model and its goodness of
+// fit. A recording that cannot be read or analysed is a row with its one-line reason, never
+// a stopped run. report::fleet_document / fleet_csv write it.
+//
+//   const io::FleetManifest m = io::read_fleet_manifest("fleet.csv");
+//   gmwm::pipeline::FleetStudyOptions o;
+//   o.model = "2*AR1+WN+RW";
+//   const gmwm::pipeline::FleetStudy s = gmwm::pipeline::study_fleet(m, o);
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/io/fleet_manifest.h"
+#include "gmwm/pipeline/select_study.h"
+
+namespace gmwm::pipeline {
+
+struct FleetStudyOptions {
+  /// The maximal model every axis's selection ranks the sub-models of.
+  ModelSpec model;
+  /// The selection's settings (optimism, Omega, penalty, seed, fits), as `gmwm select`'s.
+  selection::SelectOptions select;
+  /// Levels and alpha of the WV.
+  WvOptions wv;
+  /// Bytes a recording's samples may take in memory (io::ReadOptions); 0: the default.
+  double memory_budget = 0.0;
+  /// (recordings done, recordings): after each recording; may throw gmwm::Cancelled.
+  std::function<void(int, int)> progress;
+
+  std::string Validate() const;
+};
+
+/// One axis of one unit (or, for a recording that failed, the recording: axis empty).
+struct FleetRow {
+  std::string unit, model, group, path;
+  std::string axis;       ///< the column's name
+  std::string data_unit;  ///< the column's unit from the manifest's units ("" when not declared)
+  /// "ok", or why the recording or the axis has no result (one line).
+  std::string status = "ok";
+  std::string chosen;            ///< the chosen model with its values
+  std::string chosen_structure;  ///< the chosen model without values ("AR1+WN")
+  double gof_p = NAN;            ///< the chosen model's own goodness-of-fit p-value
+  double freq = NAN;             ///< Hz
+  std::int64_t n = 0;            ///< samples
+  /// N, K, B as the filter should take them (noise_figures.h), in the data's unit.
+  ChosenFigures figures;
+  bool figures_known = false;
+  double seconds = 0.0;  ///< the recording's wall time (read and select), on each of its rows
+};
+
+struct FleetStudy {
+  std::string manifest;
+  std::string model_spec;
+  std::vector<FleetRow> rows;  ///< by recording in manifest order, then by axis
+  int recordings = 0, failed = 0;
+  double seconds = 0.0;
+};
+
+/// Runs the study on every recording of `manifest` (checked first: fleet_manifest_problems
+/// is the caller's to report). Throws InputError only for invalid options; each recording's
+/// failure is its row.
+FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options);
+
+}  // namespace gmwm::pipeline

@@ -1,0 +1,121 @@
+// The fleet study: per recording (in manifest order) read -> select over the maximal model
+// -> one row per axis; a failure becomes the recording's row (fleet_study.h).
+#include "gmwm/pipeline/fleet_study.h"
+
+#include <chrono>
+#include <exception>
+#include <sstream>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/io/units.h"
+
+namespace gmwm::pipeline {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::vector<std::string> split_columns(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  for (std::string c; std::getline(in, c, ',');) {
+    const auto a = c.find_first_not_of(" \t");
+    const auto b = c.find_last_not_of(" \t");
+    out.push_back(a == std::string::npos ? std::string() : c.substr(a, b - a + 1));
+  }
+  return out;
+}
+
+// Stage 1: the recording's signals, as the manifest row says to read them.
+io::SignalSet read_recording(const io::FleetRecording& r, const FleetStudyOptions& o) {
+  io::ReadOptions read;
+  if (!r.columns.empty()) read.columns = split_columns(r.columns);
+  read.freq = r.rate;
+  read.topic = r.topic;
+  read.memory_budget = o.memory_budget;
+  io::SignalSet set = io::read_signals(r.path, read);
+  if (!set.freq_known) throw InputError(r.path + ": found no timestamp column, expected one or the row's rate");
+  return set;
+}
+
+// Stage 2: each axis's row from the selection study.
+std::vector<FleetRow> axis_rows(const io::FleetRecording& r, const io::SignalSet& set, const SelectStudy& study,
+                                const FleetRow& base) {
+  const io::UnitsSpec units = io::parse_units_spec(r.units);
+  std::vector<FleetRow> rows;
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const SelectColumnStudy& c = study.columns[k];
+    FleetRow row = base;
+    row.axis = c.name;
+    row.data_unit = r.units.empty() ? set.signals[k].unit : io::unit_of_column(units, c.name);
+    row.n = static_cast<std::int64_t>(set.signals[k].values.size());
+    const FitResult& b = c.selection.best_fit;
+    if (b.status == FitStatus::kFailed || b.theta.size() != b.model.num_parameters() || !b.theta.allFinite()) {
+      row.status = "the chosen model's fit failed" + (b.message.empty() ? std::string() : ": " + b.message);
+    } else {
+      row.chosen = b.model.to_string(b.theta);
+      row.chosen_structure = b.model.to_string();
+      row.gof_p = b.gof.p_value;
+    }
+    if (c.figures) {
+      row.figures = c.figures->chosen;
+      row.figures_known = true;
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::string FleetStudyOptions::Validate() const {
+  if (model.empty()) return "the maximal model is empty";
+  if (select.estimator) return "leave select.estimator null: the study sets it";
+  if (std::string why = select.Validate(); !why.empty()) return why;
+  if (std::string why = wv.Validate(); !why.empty()) return why;
+  if (!(memory_budget >= 0.0)) return "memory_budget must be >= 0";
+  return {};
+}
+
+FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("fleet: " + why);
+  const auto start = std::chrono::steady_clock::now();
+  FleetStudy study;
+  study.manifest = manifest.path;
+  study.model_spec = options.model.text();
+  study.recordings = static_cast<int>(manifest.recordings.size());
+  SelectStudyOptions so;
+  so.models = {options.model};
+  so.select = options.select;
+  so.wv = options.wv;
+  for (std::size_t i = 0; i < manifest.recordings.size(); ++i) {
+    const io::FleetRecording& r = manifest.recordings[i];
+    const auto t = std::chrono::steady_clock::now();
+    FleetRow base;
+    base.unit = r.unit;
+    base.model = r.model;
+    base.group = r.group;
+    base.path = r.path;
+    try {
+      const io::SignalSet set = read_recording(r, options);
+      base.freq = set.freq;
+      const SelectStudy s = study_select(set, so);
+      std::vector<FleetRow> rows = axis_rows(r, set, s, base);
+      for (FleetRow& row : rows) row.seconds = seconds_since(t);
+      study.rows.insert(study.rows.end(), rows.begin(), rows.end());
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      base.status = printable_line(e.what());
+      base.seconds = seconds_since(t);
+      study.rows.push_back(std::move(base));
+      ++study.failed;
+    }
+    if (options.progress) options.progress(static_cast<int>(i + 1), study.recordings);
+  }
+  study.seconds = seconds_since(start);
+  return study;
+}
+
+}  // namespace gmwm::pipeline

@@ -1,0 +1,108 @@
+// The fleet study's JSON, CSV and terminal table (fleet_output.h).
+#include "gmwm/report/fleet_output.h"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "gmwm/io/signal_writer.h"
+#include "gmwm/report/terminal.h"
+
+namespace gmwm::report {
+namespace {
+
+Json figure_json(const ChosenFigure& f) {
+  return {{"value", json_number(f.figure.value)},
+          {"low", json_number(f.figure.low)},
+          {"high", json_number(f.figure.high)},
+          {"source", to_string(f.source)}};
+}
+
+// Shortest text that reads back to the same double; empty when not finite.
+std::string exact(double x) {
+  if (!std::isfinite(x)) return {};
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+const ChosenFigure* figure_of(const pipeline::FleetRow& r, int k) {
+  if (!r.figures_known) return nullptr;
+  return k == 0 ? &r.figures.white : k == 1 ? &r.figures.walk : &r.figures.instability;
+}
+
+}  // namespace
+
+Json fleet_document(const pipeline::FleetStudy& study) {
+  Json doc = json_document("fleet");
+  doc["manifest"] = study.manifest;
+  doc["model_spec"] = study.model_spec;
+  doc["recordings"] = study.recordings;
+  doc["failed"] = study.failed;
+  Json rows = Json::array();
+  for (const pipeline::FleetRow& r : study.rows) {
+    Json row = {{"unit", r.unit},
+                {"model", r.model},
+                {"group", r.group},
+                {"path", r.path},
+                {"axis", r.axis},
+                {"unit_of_data", r.data_unit},
+                {"status", r.status},
+                {"chosen", r.chosen.empty() ? Json(nullptr) : Json(r.chosen)},
+                {"chosen_structure", r.chosen_structure.empty() ? Json(nullptr) : Json(r.chosen_structure)},
+                {"gof_p_value", json_number(r.gof_p)},
+                {"freq", json_number(r.freq)},
+                {"n", r.n}};
+    const char* names[] = {"N", "K", "B"};
+    for (int k = 0; k < 3; ++k) row[names[k]] = figure_of(r, k) ? figure_json(*figure_of(r, k)) : Json(nullptr);
+    row["seconds"] = json_number(r.seconds);
+    rows.push_back(std::move(row));
+  }
+  doc["rows"] = std::move(rows);
+  return doc;
+}
+
+std::string fleet_csv(const pipeline::FleetStudy& study) {
+  std::ostringstream os;
+  os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,"
+        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds\n";
+  for (const pipeline::FleetRow& r : study.rows) {
+    os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
+       << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
+       << io::csv_field(r.status) << ',' << io::csv_field(r.chosen) << ',' << exact(r.gof_p) << ',' << exact(r.freq)
+       << ',' << (r.n ? std::to_string(r.n) : std::string());
+    for (int k = 0; k < 3; ++k) {
+      const ChosenFigure* f = figure_of(r, k);
+      os << ',' << (f ? exact(f->figure.value) : "") << ',' << (f ? exact(f->figure.low) : "") << ','
+         << (f ? exact(f->figure.high) : "");
+    }
+    os << ',' << exact(r.seconds) << '\n';
+  }
+  return os.str();
+}
+
+std::string fleet_text(const pipeline::FleetStudy& study) {
+  TextTable t({"unit", "axis", "N", "K", "B", "unit of data", "GoF p", "chosen"}, 2);
+  std::string failures;
+  for (const pipeline::FleetRow& r : study.rows) {
+    if (r.axis.empty()) {
+      failures += "  " + r.unit + ": " + r.status + "\n";
+      continue;
+    }
+    auto fig = [&](int k) {
+      const ChosenFigure* f = figure_of(r, k);
+      if (!f) return std::string("-");
+      return (f->figure.status == ReadoffStatus::kBound ? "< " : "") + fmt(f->figure.value, 4);
+    };
+    t.add({r.unit, r.axis, fig(0), fig(1), fig(2), r.data_unit.empty() ? "U" : r.data_unit, fmt(r.gof_p, 2),
+           r.status == "ok" ? r.chosen_structure : r.status});
+  }
+  std::ostringstream os;
+  os << study.recordings << " recordings of " << study.manifest << ", each selected over " << study.model_spec
+     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U; U the data's unit): " << study.failed << " failed\n"
+     << t.str();
+  if (!failures.empty()) os << "failed:\n" << failures;
+  return os.str();
+}
+
+}  // namespace gmwm::report

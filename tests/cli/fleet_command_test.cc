@@ -1,0 +1,124 @@
+// gmwm fleet (issue 30): every recording of a manifest analysed as `gmwm select` would, one
+// row per unit x axis; the manifest's bad rows refused up front, one line each; a recording
+// that fails is a row with its reason, never a stopped run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kTruth = "WN(sigma2=1e-4)+RW(gamma2=1e-10)";
+
+class GmwmFleet : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("cli_fleet");
+    for (int k = 1; k <= 3; ++k) {
+      auto r = run_gmwm(
+          {"simulate", "--model", kTruth, "--n", "16384", "--freq", "100", "--signals", "2", "--names", "gyro_x,gyro_y",
+           "--seed", std::to_string(k), "--output", "unit" + std::to_string(k) + ".csv", "--quiet"},
+          dir_);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
+  fs::path dir_;
+};
+
+TEST_F(GmwmFleet, GivesEachUnitAndAxisTheNumbersSelectGivesItsRecording) {
+  write("fleet.csv",
+        "path,unit,model,units\n"
+        "unit1.csv,SN1,IMU-X,\"gyro=rad/s\"\n"
+        "unit2.csv,SN2,IMU-X,\"gyro=rad/s\"\n"
+        "unit3.csv,SN3,IMU-X,\"gyro=rad/s\"\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "AR1+WN+RW", "--csv", "table.csv", "--json", "fleet.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "fleet.json");
+  EXPECT_EQ(doc.at("command"), "fleet");
+  EXPECT_EQ(doc.at("failed"), 0);
+  ASSERT_EQ(doc.at("rows").size(), 6u);  // 3 units x 2 axes
+  for (int k = 1; k <= 3; ++k) {
+    const std::string unit = "unit" + std::to_string(k) + ".csv";
+    auto s = run_gmwm({"select", unit, "--model", "AR1+WN+RW", "--units", "gyro=rad/s", "--json", "s.json", "--quiet"},
+                      dir_);
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const json sel = read_json(dir_ / "s.json");
+    for (int a = 0; a < 2; ++a) {
+      const json& row = doc["rows"][static_cast<std::size_t>(2 * (k - 1) + a)];
+      const json& col = sel["columns"][static_cast<std::size_t>(a)];
+      EXPECT_EQ(row.at("unit"), "SN" + std::to_string(k));
+      EXPECT_EQ(row.at("axis"), col.at("name"));
+      EXPECT_EQ(row.at("unit_of_data"), "rad/s");
+      EXPECT_EQ(row.at("status"), "ok");
+      EXPECT_EQ(row.at("chosen"), col.at("best_model"));
+      for (const auto& [figure, key] : {std::pair{"N", "white"}, {"K", "walk"}, {"B", "instability"}})
+        EXPECT_EQ(row.at(figure).at("value"), col.at("noise_figures").at(key).at("value")) << figure;
+      EXPECT_EQ(row.at("gof_p_value"), col.at("best_fit").at("gof").at("p_value"));
+    }
+  }
+  // The table: a header and one line per row.
+  const std::string table = gmwm::test::read_text(dir_ / "table.csv");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 7);
+  EXPECT_EQ(table.rfind("unit,model,group,path,axis,unit_of_data,status,chosen,", 0), 0u);
+}
+
+TEST_F(GmwmFleet, RefusesTheManifestsBadRowsUpFrontOneLineEachNamingTheRow) {
+  write("fleet.csv",
+        "path,unit,model,columns,units\n"
+        "unit1.csv,SN1,IMU-X,,\n"
+        "missing.csv,SN2,IMU-X,,\n"
+        "unit2.csv,SN3,IMU-X,gyro_q,\n"
+        "unit3.csv,SN4,IMU-X,,gyro=dge/s\n"
+        "unit3.csv,SN1,IMU-X,,\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "fleet.json"}, dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "fleet.json"));
+  for (const char* line :
+       {"fleet.csv:3: ", "fleet.csv:4: ", "fleet.csv:5: units: ", "fleet.csv:6: unit 'SN1' given twice"})
+    EXPECT_NE(r.err.find(std::string("gmwm: error: ") + line), std::string::npos) << line << "\n" << r.err;
+  EXPECT_NE(r.err.find("gyro_q"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("fleet.csv:2: "), std::string::npos) << r.err;  // the good row is not named
+  EXPECT_NE(r.err.find("4 row(s) of the manifest refused; nothing analysed"), std::string::npos) << r.err;
+}
+
+TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn) {
+  // A data row far into the file is not a number: the header is fine, the read fails.
+  std::string text = gmwm::test::read_text(dir_ / "unit2.csv");
+  const auto at = text.find('\n', text.size() / 2);
+  text.insert(at + 1, "0.5,abc,0.1\n");
+  write("unit2.csv", text);
+  write("fleet.yaml",
+        "recordings:\n"
+        "  - {path: unit1.csv, unit: SN1, model: IMU-X}\n"
+        "  - {path: unit2.csv, unit: SN2, model: IMU-X}\n"
+        "  - {path: unit3.csv, unit: SN3, model: IMU-X}\n");
+  auto r = run_gmwm({"fleet", "fleet.yaml", "--model", "WN+RW", "--json", "fleet.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "fleet.json");
+  EXPECT_EQ(doc.at("failed"), 1);
+  ASSERT_EQ(doc.at("rows").size(), 5u);  // 2 + the failed recording's one + 2
+  const json& failed = doc["rows"][2];
+  EXPECT_EQ(failed.at("unit"), "SN2");
+  EXPECT_EQ(failed.at("axis"), "");
+  EXPECT_NE(failed.at("status").get<std::string>().find("abc"), std::string::npos) << failed.dump();
+  EXPECT_EQ(doc["rows"][3].at("status"), "ok");
+  EXPECT_NE(r.err.find("gmwm: warning: unit 'SN2': "), std::string::npos) << r.err;
+}
+
+}  // namespace

@@ -1,0 +1,96 @@
+// gmwm fleet MANIFEST --model SPEC [--csv PATH] [--json PATH]
+// Every recording of a manifest analysed the same way (the selection over SPEC with its
+// noise figures, as gmwm select), one results table (docs/cli.md, "fleet"). Parses, checks
+// every row of the manifest before any work, runs pipeline::study_fleet, renders with
+// report/fleet_output.h, commits.
+#include <iostream>
+
+#include "common.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/io/fleet_manifest.h"
+#include "gmwm/pipeline/fleet_study.h"
+#include "gmwm/report/fleet_output.h"
+
+namespace gmwm::cli {
+namespace {
+
+struct FleetArgs {
+  std::string manifest;
+  std::string model;
+  std::string csv;
+  double alpha = 0.05;
+  int max_evaluations = FitOptions{}.max_evaluations;
+  std::optional<double> memory_mb;
+};
+
+// The manifest's bad rows, one line each on stderr, before any work (exit 2).
+int refuse_rows(const std::vector<std::string>& problems) {
+  for (const std::string& p : problems) std::cerr << "gmwm: error: " << capped_line(printable_line(p)) << '\n';
+  std::cerr << "gmwm: error: " << problems.size() << " row(s) of the manifest refused; nothing analysed\n";
+  return 2;
+}
+
+int run_fleet(const FleetArgs& a, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  pipeline::FleetStudyOptions o;
+  o.model = a.model;
+  o.wv.alpha = a.alpha;
+  o.select.fit.alpha = a.alpha;
+  o.select.fit.seed = common.seed;
+  o.select.fit.max_evaluations = a.max_evaluations;
+  o.select.seed = common.seed;
+  if (a.memory_mb) o.memory_budget = *a.memory_mb * 1e6;
+  if (const std::string why = o.Validate(); !why.empty()) throw InputError("fleet: " + why);
+  declare_input(common, a.manifest);
+  declare_output(common, "--csv", a.csv);
+  declare_output(common, "--json", common.json);
+  const io::FleetManifest manifest = io::read_fleet_manifest(a.manifest);
+  for (const io::FleetRecording& r : manifest.recordings) declare_input(common, r.path);
+  if (const std::vector<std::string> problems = io::fleet_manifest_problems(manifest); !problems.empty())
+    return refuse_rows(problems);
+
+  ProgressBar bar("fleet: recordings", common);
+  if (bar.enabled()) o.progress = [&bar](int done, int all) { bar.update(done, all); };
+  const pipeline::FleetStudy study = pipeline::study_fleet(manifest, o);
+  bar.finish();
+
+  report::Json doc = report::fleet_document(study);
+  if (!a.csv.empty()) common.outputs->stage(a.csv, report::fleet_csv(study));
+  write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
+  commit_outputs(common);
+  if (common.show_table()) print_text(report::fleet_text(study));
+  for (const pipeline::FleetRow& r : study.rows)
+    if (r.status != "ok")
+      warn("unit '" + r.unit + "'" + (r.axis.empty() ? "" : ", axis '" + r.axis + "'") + ": " + r.status);
+  return 0;
+}
+
+}  // namespace
+
+Command add_fleet_command(CLI::App& app, CommonOptions& common) {
+  auto args = std::make_shared<FleetArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "fleet",
+      "Every recording of a manifest (one row per unit) analysed the same way: one table of N, K, B and models");
+  sub->add_option("MANIFEST", args->manifest,
+                  "CSV (header path,unit,model[,topic,columns,units,rate,group]) or YAML list of the recordings")
+      ->required();
+  sub->add_option("--model", args->model, "The maximal model each axis's selection ranks the sub-models of")
+      ->type_name("SPEC")
+      ->required();
+  sub->add_option("--csv", args->csv, "The results table: one row per unit x axis")->type_name("PATH");
+  sub->add_option("--alpha", args->alpha, "1 - the intervals' level")
+      ->transform(decimal_number([](double x) { return x > 0.0 && x < 1.0; }, "a number in (0, 1)"))
+      ->capture_default_str();
+  sub->add_option_function<double>(
+         "--memory", [a = args.get()](const double& mb) { a->memory_mb = mb; },
+         "Memory for one recording's samples, MB (beyond it they go on in temporary files)")
+      ->type_name("MB")
+      ->transform(decimal_number([](double x) { return x > 0.0; }, "a positive number of megabytes"));
+  add_max_evaluations_option(*sub, args->max_evaluations);
+  add_common_options(*sub, common);
+  return {sub, [args, &common] { return run_fleet(*args, common); }};
+}
+
+}  // namespace gmwm::cli
