@@ -2,7 +2,10 @@
 // -> one row per axis; a failure becomes the recording's row (fleet_study.h).
 #include "gmwm/pipeline/fleet_study.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <exception>
 #include <sstream>
 
@@ -67,7 +70,59 @@ std::vector<FleetRow> axis_rows(const io::FleetRecording& r, const io::SignalSet
   return rows;
 }
 
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string g4(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
 }  // namespace
+
+std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows) {
+  // Groups and axes in the order they first appear.
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (const FleetRow& r : rows)
+    if (!r.axis.empty() && std::find(keys.begin(), keys.end(), std::pair{r.group, r.axis}) == keys.end())
+      keys.emplace_back(r.group, r.axis);
+  std::vector<FleetFigureSummary> out;
+  for (const auto& [group, axis] : keys)
+    for (int k = 0; k < 3; ++k) {
+      FleetFigureSummary s{group, axis, "NKB"[k]};
+      std::vector<FleetRow*> members;
+      std::vector<double> logs;
+      for (FleetRow& r : rows) {
+        if (r.group != group || r.axis != axis || !r.figures_known) continue;
+        const ChosenFigure& f = k == 0 ? r.figures.white : k == 1 ? r.figures.walk : r.figures.instability;
+        if (f.figure.status == ReadoffStatus::kBound || !(f.figure.value > 0.0)) continue;
+        members.push_back(&r);
+        logs.push_back(std::log(f.figure.value));
+      }
+      s.units = static_cast<int>(logs.size());
+      if (!logs.empty()) {
+        const double m = median_of(logs);
+        std::vector<double> dev;
+        for (double x : logs) dev.push_back(std::abs(x - m));
+        const double mad = median_of(dev);
+        s.median = std::exp(m);
+        s.spread = std::exp(mad / kMadToSigma);
+        for (std::size_t i = 0; s.units >= kMinUnitsForFlags && mad > 0.0 && i < logs.size(); ++i) {
+          const double z = kMadToSigma * (logs[i] - m) / mad;
+          if (std::abs(z) <= kFleetOutlierZ) continue;
+          s.flagged.push_back(members[i]->unit);
+          members[i]->flags.push_back(std::string(1, s.figure) + ": " + g4(std::exp(logs[i] - m)) +
+                                      "x the fleet's median (robust z " + g4(z) + ")");
+        }
+      }
+      out.push_back(std::move(s));
+    }
+  return out;
+}
 
 std::string FleetStudyOptions::Validate() const {
   if (model.empty()) return "the maximal model is empty";
@@ -114,6 +169,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
     }
     if (options.progress) options.progress(static_cast<int>(i + 1), study.recordings);
   }
+  study.summary = fleet_summary(study.rows);
   study.seconds = seconds_since(start);
   return study;
 }

@@ -56,16 +56,28 @@ Json fleet_document(const pipeline::FleetStudy& study) {
     const char* names[] = {"N", "K", "B"};
     for (int k = 0; k < 3; ++k) row[names[k]] = figure_of(r, k) ? figure_json(*figure_of(r, k)) : Json(nullptr);
     row["seconds"] = json_number(r.seconds);
+    row["flags"] = r.flags;
     rows.push_back(std::move(row));
   }
   doc["rows"] = std::move(rows);
+  Json summary = Json::array();
+  for (const pipeline::FleetFigureSummary& s : study.summary)
+    summary.push_back({{"group", s.group},
+                       {"axis", s.axis},
+                       {"figure", std::string(1, s.figure)},
+                       {"units", s.units},
+                       {"median", json_number(s.median)},
+                       {"spread", json_number(s.spread)},
+                       {"flagged", s.flagged}});
+  doc["summary"] = std::move(summary);
+  doc["outlier_rule"] = {{"robust_z", pipeline::kFleetOutlierZ}, {"min_units", pipeline::kMinUnitsForFlags}};
   return doc;
 }
 
 std::string fleet_csv(const pipeline::FleetStudy& study) {
   std::ostringstream os;
   os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,"
-        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds\n";
+        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,flags\n";
   for (const pipeline::FleetRow& r : study.rows) {
     os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
        << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
@@ -76,7 +88,9 @@ std::string fleet_csv(const pipeline::FleetStudy& study) {
       os << ',' << (f ? exact(f->figure.value) : "") << ',' << (f ? exact(f->figure.low) : "") << ','
          << (f ? exact(f->figure.high) : "");
     }
-    os << ',' << exact(r.seconds) << '\n';
+    std::string flags;
+    for (const std::string& f : r.flags) flags += (flags.empty() ? "" : "; ") + f;
+    os << ',' << exact(r.seconds) << ',' << io::csv_field(flags) << '\n';
   }
   return os.str();
 }
@@ -102,6 +116,23 @@ std::string fleet_text(const pipeline::FleetStudy& study) {
      << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U; U the data's unit): " << study.failed << " failed\n"
      << t.str();
   if (!failures.empty()) os << "failed:\n" << failures;
+  // Each group's axes: the median of each figure, its spread, the units that stand out.
+  TextTable s({"group", "axis", "units", "N median (spread)", "K median (spread)", "B median (spread)"}, 2);
+  std::string flagged;
+  for (std::size_t i = 0; i + 2 < study.summary.size(); i += 3) {
+    std::vector<std::string> row = {study.summary[i].group, study.summary[i].axis,
+                                    std::to_string(study.summary[i].units)};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const pipeline::FleetFigureSummary& f = study.summary[i + k];
+      row.push_back(f.units ? fmt(f.median, 4) + " (x" + fmt(f.spread, 3) + ")" : "-");
+    }
+    s.add(row);
+  }
+  for (const pipeline::FleetRow& r : study.rows)
+    for (const std::string& f : r.flags) flagged += "  " + r.unit + ", " + r.axis + ": " + f + "\n";
+  os << "\nper group and axis (median of the units' read-offs; spread: exp(MAD of the logs / 0.6745)):\n" << s.str();
+  os << (flagged.empty() ? "no unit stands out from its group (robust z beyond 3.5; groups of 5 units or more)\n"
+                         : "stand out from their group (robust z beyond 3.5):\n" + flagged);
   return os.str();
 }
 

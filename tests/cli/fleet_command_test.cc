@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -119,6 +120,43 @@ TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn)
   EXPECT_NE(failed.at("status").get<std::string>().find("abc"), std::string::npos) << failed.dump();
   EXPECT_EQ(doc["rows"][3].at("status"), "ok");
   EXPECT_NE(r.err.find("gmwm: warning: unit 'SN2': "), std::string::npos) << r.err;
+}
+
+TEST_F(GmwmFleet, FlagsTheUnitWhoseWhiteNoiseIsTwiceTheFleetsAndNoOtherUnit) {
+  // Seven units of one model, one of them with 4x the white-noise variance (N twice the others').
+  std::string manifest = "path,unit,model\n";
+  for (int k = 1; k <= 7; ++k) {
+    const std::string spec = k == 5 ? "WN(sigma2=4e-4)+RW(gamma2=1e-10)" : kTruth;
+    auto r = run_gmwm({"simulate", "--model", spec, "--n", "16384", "--freq", "100", "--names", "gyro_x", "--seed",
+                       std::to_string(10 + k), "--output", "u" + std::to_string(k) + ".csv", "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    manifest += "u" + std::to_string(k) + ".csv,SN" + std::to_string(k) + ",IMU-X\n";
+  }
+  write("fleet.csv", manifest);
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "fleet.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "fleet.json");
+  for (const json& row : doc.at("rows")) {
+    if (row.at("unit") == "SN5") {
+      // N twice the fleet's; B too (a WN+RW model's Allan minimum rises with its N), not K.
+      ASSERT_FALSE(row.at("flags").empty()) << row.dump();
+      EXPECT_EQ(row["flags"][0].get<std::string>().rfind("N: 2", 0), 0u) << row.dump();  // 2.0x the median
+      for (const json& f : row["flags"]) EXPECT_NE(f.get<std::string>().rfind("K: ", 0), 0u) << row.dump();
+    } else {
+      EXPECT_TRUE(row.at("flags").empty()) << row.dump();
+    }
+  }
+  bool n_summary = false;
+  for (const json& s : doc.at("summary"))
+    if (s.at("figure") == "N") {
+      n_summary = true;
+      EXPECT_EQ(s.at("units"), 7);
+      EXPECT_EQ(s.at("flagged"), json::array({"SN5"}));
+      EXPECT_NEAR(s.at("median").get<double>(), std::sqrt(1e-4 / 100.0), 0.02 * std::sqrt(1e-4 / 100.0));
+    }
+  EXPECT_TRUE(n_summary);
+  EXPECT_NE(r.out.find("SN5, gyro_x: N: 2"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -52,12 +52,37 @@ struct FleetRow {
   ChosenFigures figures;
   bool figures_known = false;
   double seconds = 0.0;  ///< the recording's wall time (read and select), on each of its rows
+  /// Where this axis stands out from its group's (fleet_summary): "N: 4.2x the fleet's
+  /// median (robust z 9.1)", one per figure flagged; empty when it does not.
+  std::vector<std::string> flags;
+};
+
+/// The modified z-score beyond which a unit stands out from its group (Iglewicz and
+/// Hoaglin 1993, "How to Detect and Handle Outliers": |M| > 3.5, M = 0.6745 (x - median) / MAD),
+/// taken on log N, log K, log B (the figures are scale quantities: a unit twice as noisy and
+/// one half as noisy are as far from the fleet).
+inline constexpr double kFleetOutlierZ = 3.5;
+/// 0.6745 = the standard normal's 75% quantile: MAD / 0.6745 estimates the standard deviation.
+inline constexpr double kMadToSigma = 0.6745;
+/// Fewer units in a group than this: no flags (the median and MAD of four values are no yardstick).
+inline constexpr int kMinUnitsForFlags = 5;
+
+/// One figure of one axis over a group's units.
+struct FleetFigureSummary {
+  std::string group, axis;
+  char figure = 'N';  ///< 'N', 'K' or 'B'
+  int units = 0;      ///< units with a read-off (bounds left out)
+  double median = NAN;
+  /// The spread as a factor: exp(MAD of the logs / 0.6745), e.g. 1.08 = +-8% one sigma.
+  double spread = NAN;
+  std::vector<std::string> flagged;  ///< the units flagged on it
 };
 
 struct FleetStudy {
   std::string manifest;
   std::string model_spec;
-  std::vector<FleetRow> rows;  ///< by recording in manifest order, then by axis
+  std::vector<FleetRow> rows;               ///< by recording in manifest order, then by axis
+  std::vector<FleetFigureSummary> summary;  ///< per group, axis and figure (fleet_summary)
   int recordings = 0, failed = 0;
   double seconds = 0.0;
 };
@@ -66,5 +91,10 @@ struct FleetStudy {
 /// is the caller's to report). Throws InputError only for invalid options; each recording's
 /// failure is its row.
 FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options);
+
+/// The distribution of N, K, B per group and axis over the rows that have them (read-offs,
+/// not bounds), and the units beyond kFleetOutlierZ (their rows' `flags` set). Called by
+/// study_fleet; deterministic (the rows' order does not matter).
+std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows);
 
 }  // namespace gmwm::pipeline

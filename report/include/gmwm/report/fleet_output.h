@@ -12,7 +12,8 @@ namespace gmwm::report {
 /// json_document("fleet"): "manifest", "model_spec", "recordings", "failed", and "rows"
 /// (per unit x axis: "unit", "model", "group", "path", "axis", "unit_of_data", "status",
 /// "chosen" (with values), "chosen_structure", "gof_p_value", "freq", "n", "N", "K", "B" each {"value", "low", "high",
-/// "source"}, "seconds").
+/// "source"}, "seconds", "flags"), "summary" (per group, axis and figure: "units", "median",
+/// "spread", "flagged") and "outlier_rule".
 Json fleet_document(const pipeline::FleetStudy& study);
 
 /// The results table: a header, then one line per row of the study (fields as the JSON's,
