@@ -36,7 +36,10 @@
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
+#include "gmwm/io/fleet_manifest.h"
 #include "gmwm/pipeline/export_study.h"
+#include "gmwm/pipeline/fleet_study.h"
+#include "gmwm/report/fleet_output.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/replicate_study.h"
 #include "gmwm/io/export.h"
@@ -648,6 +651,36 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
   return {to_python(gmwm::report::export_document(study, output)), study.result.content, study.result.sidecar};
 }
 
+// The fleet study (gmwm::pipeline::study_fleet, as `gmwm fleet MANIFEST --model SPEC`): the
+// document gmwm fleet --json writes (without "run"). The manifest's bad rows are refused up
+// front, all of them in one gmwm.InputError (a line each, as the CLI prints them).
+std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
+                     std::optional<double> memory_mb) {
+  gmwm::pipeline::FleetStudyOptions o;
+  o.model = model_spec;
+  o.wv.alpha = alpha;
+  o.select.fit.alpha = alpha;
+  o.select.fit.seed = seed;
+  o.select.seed = seed;
+  if (memory_mb) o.memory_budget = *memory_mb * 1e6;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("fleet: " + why);
+  const gmwm::io::FleetManifest manifest = gmwm::io::read_fleet_manifest(manifest_path);
+  if (const std::vector<std::string> problems = gmwm::io::fleet_manifest_problems(manifest); !problems.empty()) {
+    std::string all;
+    for (const std::string& p : problems) all += (all.empty() ? "" : "\n") + p;
+    // Raised as gmwm.InputError directly: the translator would squeeze the lines into one.
+    const py::object input_error = py::module_::import("gmwm._gmwm").attr("InputError");
+    PyErr_SetString(input_error.ptr(), all.c_str());
+    throw py::error_already_set();
+  }
+  return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::FleetStudyOptions oc = o;
+    oc.progress = progress;  // after each recording
+    oc.select.progress = progress;
+    return gmwm::report::fleet_document(gmwm::pipeline::study_fleet(manifest, oc));
+  }));
+}
+
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
                                 std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
@@ -767,6 +800,11 @@ PYBIND11_MODULE(_gmwm, m) {
         "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
         "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
         "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");
+  m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(),
+        "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
+        "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
+        "the units that stand out: the document gmwm fleet --json writes");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

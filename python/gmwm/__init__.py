@@ -25,6 +25,7 @@ float64 arrays) built from the JSON the `gmwm` command writes for the same data 
     j = gmwm.fit_joint([x1, x2, x3], "AR1+WN+RW", freq=100)   # replicates: one joint model per axis
     j.columns[0].parameters, j.columns[0].replicate_test.p_value
     k = gmwm.select_joint([x1, x2, x3], "2*AR1+WN+RW", freq=100)   # k.columns[0].ranking, .recommended
+    t = gmwm.fleet("fleet.csv", model="AR1+WN+RW")   # t.rows[k].N.value, t.summary, t.to_dataframe()
     e = gmwm.export(f, format="kalibr", sensor="gyro")   # e.content: the imu.yaml text; e.written
 
 Results of the command line load the same way: every class has from_json(text) (e.g.
@@ -53,7 +54,8 @@ from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, Co
                    GapColumn, GapEvent, GapEventTest, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
                    GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
 from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
-from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, GaussMarkov, NavCurves, NavFilter,
+from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
+                   FleetResult, FleetRow, GaussMarkov, NavCurves, NavFilter,
                    NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
                    WrittenNoise)
 from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
@@ -111,6 +113,7 @@ nav = _typed(_gmwm.nav, NavResult)
 plan = _typed(_gmwm.plan, PlanResult)
 fit_joint = _typed(_gmwm.fit_joint, JointFitResult)
 select_joint = _typed(_gmwm.select_joint, JointSelectResult)
+fleet = _typed(_gmwm.fleet, FleetResult)
 
 
 def _result_document(result: Any) -> tuple[str, str]:
@@ -156,7 +159,7 @@ def export(result: Any, *, format: str, output: str = "", **options: Any) -> Exp
 
 __all__ = [
     "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
-    "export", "InputError", "DEFAULT_SEED",
+    "export", "fleet", "InputError", "DEFAULT_SEED",
     "__version__",
     # results of the functions
     "WvResult", "AllanResult", "FitResult", "SelectResult", "GapResult", "GapCheckResult", "NavResult", "PlanResult",
@@ -174,4 +177,5 @@ __all__ = [
     "JointFitColumn", "ReplicateFit", "ReplicateOwnFit", "Agmwm", "ReplicateBootstrap", "ReplicateTest",
     "JointSelectColumn", "JointRankingRow",
     "ExportColumn", "ExportWritten", "WrittenNoise", "GaussMarkov", "ConsistentFor",
+    "FleetResult", "FleetRow", "FleetFigure", "FleetFigureSummary",
 ]

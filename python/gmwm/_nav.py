@@ -342,3 +342,105 @@ class ExportResult(JsonResult):
         kinds = ", ".join(f"{k} N={g(w.combined.noise_density)} K={g(w.combined.random_walk)}"
                           for k, w in self.written.items())
         return f"ExportResult({self.format} -> {self.output}: {kinds}, inflation x{g(self.inflate)})"
+
+
+@dataclass(frozen=True)
+class FleetFigure:
+    """N, K or B of one unit's axis: `value` with its interval [`low`, `high`] (low NaN for a
+    bound) in the data's unit, and its `source` (model, data or bound)."""
+
+    value: float
+    low: float
+    high: float
+    source: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any] | None) -> "FleetFigure | None":
+        return None if d is None else cls(num(d["value"]), num(d["low"]), num(d["high"]), d["source"])
+
+
+@dataclass(frozen=True)
+class FleetRow:
+    """One unit x axis of a fleet (or a recording that failed: `axis` empty, `status` why)."""
+
+    unit: str
+    model: str
+    group: str
+    path: str
+    axis: str
+    unit_of_data: str
+    status: str
+    chosen: str | None
+    chosen_structure: str | None
+    gof_p_value: float
+    freq: float
+    n: int
+    N: FleetFigure | None
+    K: FleetFigure | None
+    B: FleetFigure | None
+    seconds: float
+    flags: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class FleetFigureSummary:
+    """One figure ('N', 'K' or 'B') of one axis over a group's units: its median, its
+    spread as a factor (exp(MAD of the logs / 0.6745)) and the units flagged on it."""
+
+    group: str
+    axis: str
+    figure: str
+    units: int
+    median: float
+    spread: float
+    flagged: tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class FleetResult(JsonResult):
+    """The document `gmwm fleet MANIFEST --json` writes (gmwm.fleet): `rows` (one per unit x
+    axis), `summary` (per group, axis and figure), `failed` recordings."""
+
+    manifest: str
+    model_spec: str
+    recordings: int
+    failed: int
+    rows: tuple[FleetRow, ...]
+    summary: tuple[FleetFigureSummary, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "FleetResult":
+        rows = tuple(
+            FleetRow(r["unit"], r["model"], r["group"], r["path"], r["axis"], r["unit_of_data"], r["status"],
+                     r["chosen"], r["chosen_structure"], num(r["gof_p_value"]), num(r["freq"]), int(r["n"]),
+                     FleetFigure.from_dict(r["N"]), FleetFigure.from_dict(r["K"]), FleetFigure.from_dict(r["B"]),
+                     num(r["seconds"]), strings(r["flags"]))
+            for r in d["rows"])
+        summary = tuple(
+            FleetFigureSummary(s["group"], s["axis"], s["figure"], int(s["units"]), num(s["median"]),
+                               num(s["spread"]), strings(s["flagged"]))
+            for s in d["summary"])
+        return cls(d, text, d["manifest"], d["model_spec"], int(d["recordings"]), int(d["failed"]), rows, summary)
+
+    def to_dataframe(self) -> Any:
+        """The rows as a pandas DataFrame (N, K, B as value columns with _low and _high);
+        ImportError when pandas is not installed (Debian: python3-pandas)."""
+        import pandas  # optional: only this method needs it
+
+        records = []
+        for r in self.rows:
+            rec = {k: getattr(r, k) for k in ("unit", "model", "group", "path", "axis", "unit_of_data", "status",
+                                              "chosen_structure", "gof_p_value", "freq", "n", "seconds")}
+            for name in ("N", "K", "B"):
+                f = getattr(r, name)
+                rec[name] = f.value if f else np.nan
+                rec[name + "_low"] = f.low if f else np.nan
+                rec[name + "_high"] = f.high if f else np.nan
+            rec["flags"] = "; ".join(r.flags)
+            records.append(rec)
+        return pandas.DataFrame.from_records(records)
+
+    def __repr__(self) -> str:
+        flagged = sorted({r.unit for r in self.rows if r.flags})
+        return (f"FleetResult({self.recordings} recordings over {self.model_spec}, {len(self.rows)} rows, "
+                f"{self.failed} failed, flagged: {', '.join(flagged) if flagged else 'none'})")

@@ -1,0 +1,82 @@
+"""gmwm.fleet against `gmwm fleet`: the same manifest gives the command's JSON to the last
+bit, typed rows; the manifest's bad rows are refused with one line each."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import gmwm
+
+SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
+TRUTH = "WN(sigma2=1e-4)+RW(gamma2=1e-10)"
+
+
+def run(cwd, *args, check=True):
+    done = subprocess.run([CLI, *args], cwd=cwd, capture_output=True, text=True)
+    if check:
+        assert done.returncode == 0, done.stderr
+    return done
+
+
+@pytest.fixture(scope="module")
+def fleet_dir(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fleet")
+    rows = ["path,unit,model,units"]
+    for k in range(1, 6):
+        spec = "WN(sigma2=4e-4)+RW(gamma2=1e-10)" if k == 3 else TRUTH
+        run(folder, "simulate", "--model", spec, "--n", "16384", "--freq", "100", "--signals", "2", "--names",
+            "gyro_x,gyro_y", "--seed", str(k), "--output", f"u{k}.csv", "--quiet")
+        rows.append(f'u{k}.csv,SN{k},IMU-X,"gyro=rad/s"')
+    (folder / "fleet.csv").write_text("\n".join(rows) + "\n")
+    return folder
+
+
+def test_fleet_equals_the_clis_fleet_document_bit_for_bit_with_typed_rows(fleet_dir, monkeypatch):
+    run(fleet_dir, "fleet", "fleet.csv", "--model", "WN+RW", "--json", "fleet.json", "--quiet")
+    cli = json.loads((fleet_dir / "fleet.json").read_text())
+    cli.pop("run")
+    monkeypatch.chdir(fleet_dir)  # the manifest named as the command names it
+    mine = gmwm.fleet("fleet.csv", model="WN+RW")
+    doc = json.loads(mine.to_json())
+    # The rows' wall times differ between two runs; everything else is the command's.
+    for d in (cli, doc):
+        for r in d["rows"]:
+            r.pop("seconds")
+    assert doc == cli
+    assert isinstance(mine, gmwm.FleetResult)
+    assert len(mine.rows) == 10 and mine.failed == 0
+    row = mine.rows[0]
+    assert (row.unit, row.axis, row.unit_of_data, row.status) == ("SN1", "gyro_x", "rad/s", "ok")
+    assert row.N.value == cli["rows"][0]["N"]["value"]
+    assert row.N.low < row.N.value < row.N.high
+    flagged = {r.unit for r in mine.rows if r.flags}
+    assert flagged == {"SN3"}, [r.flags for r in mine.rows]
+    summary_n = [s for s in mine.summary if s.figure == "N" and s.axis == "gyro_x"][0]
+    assert summary_n.units == 5 and summary_n.flagged == ("SN3",)
+    assert summary_n.median == pytest.approx(np.sqrt(1e-4 / 100), rel=0.02)
+
+
+def test_fleet_to_dataframe_has_a_row_per_unit_and_axis_when_pandas_is_there(fleet_dir, monkeypatch):
+    pytest.importorskip("pandas", reason="python3-pandas is not installed: to_dataframe() needs it")
+    monkeypatch.chdir(fleet_dir)
+    frame = gmwm.fleet("fleet.csv", model="WN+RW").to_dataframe()
+    assert list(frame["unit"]) == [f"SN{k}" for k in range(1, 6) for _ in range(2)]
+    assert {"N", "N_low", "N_high", "K", "B", "flags"} <= set(frame.columns)
+
+
+def test_fleet_refuses_the_manifests_bad_rows_with_the_clis_lines(fleet_dir):
+    bad = fleet_dir / "bad.csv"
+    bad.write_text("path,unit,model\nu1.csv,SN1,IMU-X\nmissing.csv,SN2,IMU-X\nu2.csv,SN1,IMU-X\n")
+    cli = run(fleet_dir, "fleet", "bad.csv", "--model", "WN+RW", check=False)
+    assert cli.returncode == 2
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.fleet(str(bad), model="WN+RW")
+    lines = str(e.value).split("\n")
+    assert len(lines) == 2
+    assert lines[0].startswith(str(bad) + ":3: ") and "missing.csv" in lines[0]
+    assert lines[1] == str(bad) + ":4: unit 'SN1' given twice (first at row 2)"
+    # The command says the same, a line each (its paths relative to where it ran).
+    assert "bad.csv:4: unit 'SN1' given twice (first at row 2)" in cli.stderr
