@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <sstream>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/io/units.h"
@@ -19,21 +18,10 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-std::vector<std::string> split_columns(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream in(list);
-  for (std::string c; std::getline(in, c, ',');) {
-    const auto a = c.find_first_not_of(" \t");
-    const auto b = c.find_last_not_of(" \t");
-    out.push_back(a == std::string::npos ? std::string() : c.substr(a, b - a + 1));
-  }
-  return out;
-}
-
 // Stage 1: the recording's signals, as the manifest row says to read them.
 io::SignalSet read_recording(const io::FleetRecording& r, const FleetStudyOptions& o) {
   io::ReadOptions read;
-  if (!r.columns.empty()) read.columns = split_columns(r.columns);
+  if (!r.columns.empty()) read.columns = io::manifest_columns(r.columns);
   read.freq = r.rate;
   read.topic = r.topic;
   read.memory_budget = o.memory_budget;

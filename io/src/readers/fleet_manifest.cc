@@ -171,14 +171,14 @@ bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-std::vector<std::string> split_columns(const std::string& list) {
+}  // namespace
+
+std::vector<std::string> manifest_columns(const std::string& columns) {
   std::vector<std::string> out;
-  std::stringstream in(list);
+  std::stringstream in(columns);
   for (std::string c; std::getline(in, c, ',');) out.push_back(trim(c));
   return out;
 }
-
-}  // namespace
 
 FleetManifest read_fleet_manifest(const std::string& path) {
   const std::string text = read_side_file(path, "a fleet manifest (CSV or YAML)", kMaxManifestBytes);
@@ -216,7 +216,7 @@ std::vector<std::string> fleet_manifest_problems(const FleetManifest& manifest) 
     }
     if (why.empty()) {
       ReadOptions o;
-      if (!r.columns.empty()) o.columns = split_columns(r.columns);
+      if (!r.columns.empty()) o.columns = manifest_columns(r.columns);
       o.freq = r.rate;
       o.topic = r.topic;
       try {

@@ -37,6 +37,9 @@ struct FleetManifest {
 /// The largest manifest read (a fleet of ~10^5 recordings' rows).
 inline constexpr std::size_t kMaxManifestBytes = std::size_t{16} << 20;
 
+/// A row's `columns` as io::ReadOptions::columns takes them: split at commas, each trimmed.
+std::vector<std::string> manifest_columns(const std::string& columns);
+
 /// Reads a manifest (YAML when it ends in .yaml or .yml, else CSV). Throws InputError
 /// naming "MANIFEST:LINE" for what makes the file unreadable as a whole: no header or an
 /// unknown field in it, a malformed row, an empty manifest.
