@@ -159,4 +159,37 @@ TEST_F(GmwmFleet, FlagsTheUnitWhoseWhiteNoiseIsTwiceTheFleetsAndNoOtherUnit) {
   EXPECT_NE(r.out.find("SN5, gyro_x: N: 2"), std::string::npos) << r.out;
 }
 
+// Issue 30's acceptance on real units: the three ADIS16405 recordings as a fleet of three give
+// the table `gmwm select` gives each of them.
+TEST_F(GmwmFleet, TheThreeAdisUnitsAsAFleetGiveWhatSelectGivesEachUnit) {
+  GMWM_REQUIRE_SHARED_DATA();
+  std::string manifest = "path,unit,model,units,rate\n";
+  std::vector<std::string> files;
+  for (int k = 1; k <= 3; ++k) {
+    files.push_back(gmwm::test::shared_data_file("adis_16405_imu" + std::to_string(k) + ".csv.gz"));
+    manifest += files.back() + ",imu" + std::to_string(k) + ",ADIS16405,\"gyro=deg/s,accel=g\",100\n";
+  }
+  write("adis.csv", manifest);
+  auto r = run_gmwm({"fleet", "adis.csv", "--model", "AR1+WN+RW", "--json", "fleet.json", "--quiet"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "fleet.json");
+  ASSERT_EQ(doc.at("rows").size(), 18u);  // 3 units x 6 axes
+  for (int k = 0; k < 3; ++k) {
+    auto s = run_gmwm({"select", files[static_cast<std::size_t>(k)], "--freq", "100", "--model", "AR1+WN+RW", "--units",
+                       "gyro=deg/s,accel=g", "--json", "s.json", "--quiet"},
+                      dir_);
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const json sel = read_json(dir_ / "s.json");
+    for (std::size_t a = 0; a < 6; ++a) {
+      const json& row = doc["rows"][static_cast<std::size_t>(6 * k) + a];
+      const json& col = sel["columns"][a];
+      EXPECT_EQ(row.at("axis"), col.at("name"));
+      EXPECT_EQ(row.at("chosen"), col.at("best_model"));
+      for (const auto& [figure, key] : {std::pair{"N", "white"}, {"K", "walk"}, {"B", "instability"}})
+        for (const char* part : {"value", "low", "high"})
+          EXPECT_EQ(row.at(figure).at(part), col.at("noise_figures").at(key).at(part)) << figure << " " << part;
+    }
+  }
+}
+
 }  // namespace
