@@ -17,9 +17,12 @@ COMPUTE_BEFORE_INTERRUPT_S = 1.5
 
 CHILD = textwrap.dedent(
     """
-    import sys, time
+    import signal, sys, time
     import numpy as np
     import gmwm
+    # A runner that ignores SIGINT (a background CI job) passes that on; Python then keeps it
+    # ignored instead of raising KeyboardInterrupt: the test restores Python's own handler.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     x = gmwm.simulate("AR1(phi=0.999,sigma2=1e-6)+WN(sigma2=1e-2)+RW(gamma2=1e-10)", 1 << 20, seed=3)
     print("start", flush=True)
     t0 = time.monotonic()
