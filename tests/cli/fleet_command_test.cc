@@ -98,6 +98,28 @@ TEST_F(GmwmFleet, RefusesTheManifestsBadRowsUpFrontOneLineEachNamingTheRow) {
   EXPECT_NE(r.err.find("4 row(s) of the manifest refused; nothing analysed"), std::string::npos) << r.err;
 }
 
+TEST_F(GmwmFleet, SaysAtMostAHundredBadRowsAndHowManyMore) {
+  std::string manifest = "path,unit,model\n";
+  for (int k = 0; k < 151; ++k) manifest += "unit1.csv,SN1,IMU-X\n";  // 150 copies of the first unit
+  write("fleet.csv", manifest);
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW"}, dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 102) << r.err;
+  EXPECT_NE(r.err.find("gmwm: error: ... and 50 more bad row(s)\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("150 row(s) of the manifest refused"), std::string::npos) << r.err;
+}
+
+TEST_F(GmwmFleet, RefusesAUnitNameWithAControlByteBeforeItReachesAnOutput) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,\"SN\x1b[31m1\",IMU-X\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--csv", "t.csv"}, dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("fleet.csv:2: unit: found a control character in 'SN\\x1B[31m1', expected printable text"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "t.csv"));
+}
+
 TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn) {
   // A data row far into the file is not a number: the header is fine, the read fails.
   std::string text = gmwm::test::read_text(dir_ / "unit2.csv");

@@ -23,9 +23,16 @@ struct FleetArgs {
   std::optional<double> memory_mb;
 };
 
+// The bad rows said at most (a manifest of a hundred thousand copied rows would otherwise
+// bury the terminal); the count of all of them follows.
+constexpr std::size_t kMaxRowsSaid = 100;
+
 // The manifest's bad rows, one line each on stderr, before any work (exit 2).
 int refuse_rows(const std::vector<std::string>& problems) {
-  for (const std::string& p : problems) std::cerr << "gmwm: error: " << capped_line(printable_line(p)) << '\n';
+  for (std::size_t i = 0; i < problems.size() && i < kMaxRowsSaid; ++i)
+    std::cerr << "gmwm: error: " << capped_line(printable_line(problems[i])) << '\n';
+  if (problems.size() > kMaxRowsSaid)
+    std::cerr << "gmwm: error: ... and " << problems.size() - kMaxRowsSaid << " more bad row(s)\n";
   std::cerr << "gmwm: error: " << problems.size() << " row(s) of the manifest refused; nothing analysed\n";
   return 2;
 }

@@ -2,6 +2,7 @@
 // checked before any recording is analysed.
 #include "gmwm/io/fleet_manifest.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -203,6 +204,13 @@ std::vector<std::string> fleet_manifest_problems(const FleetManifest& manifest) 
     for (const auto& [name, value] :
          {std::pair<const char*, const std::string*>{"path", &r.path}, {"unit", &r.unit}, {"model", &r.model}})
       if (why.empty() && value->empty()) why = std::string(name) + ": empty, expected a value";
+    // Names reach the table, the JSON and the terminal: printable text only.
+    for (const auto& [name, value] :
+         {std::pair<const char*, const std::string*>{"unit", &r.unit}, {"model", &r.model}, {"group", &r.group}})
+      if (why.empty() && std::any_of(value->begin(), value->end(),
+                                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+        why = std::string(name) + ": found a control character in '" + printable_line(*value) +
+              "', expected printable text";
     if (why.empty())
       if (const auto [it, fresh] = first_row.emplace(r.unit, r.row); !fresh)
         why = "unit '" + r.unit + "' given twice (first at row " + std::to_string(it->second) + ")";
