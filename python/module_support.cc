@@ -1,0 +1,142 @@
+// The Python module's shared helpers (module_support.h).
+#include "module_support.h"
+
+#include <cstdint>
+
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/report/json_output.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/robust/tuning.h"
+
+namespace gmwm::python {
+
+std::string to_python(const Json& j) { return gmwm::report::dump_json(j); }
+
+// A 1-D float64 view of one series (copied when not contiguous float64).
+std::vector<double> series_of(const py::handle& obj, const char* what) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a) {
+    PyErr_Clear();  // ensure() leaves the conversion's error set
+    throw gmwm::InputError(std::string(what) + ": expected a 1-D array of numbers");
+  }
+  if (a.ndim() != 1)
+    throw gmwm::InputError(std::string(what) + ": expected a 1-D array, got " + std::to_string(a.ndim()) +
+                           " dimensions");
+  if (a.size() < gmwm::io::kMinSamples)
+    throw gmwm::InputError(std::string(what) + ": found " + std::to_string(a.size()) + " samples, expected at least " +
+                           std::to_string(gmwm::io::kMinSamples) +
+                           " (the wavelet variance needs 4 levels, 2^4 samples)");
+  std::vector<double> x(a.data(), a.data() + a.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!std::isfinite(x[i]))
+      throw gmwm::InputError(std::string(what) + ": sample " + std::to_string(i) + " is not a finite number");
+  // As the CLI's reader: a constant has a wavelet variance of zero, nothing to fit.
+  if (std::all_of(x.begin(), x.end(), [&](double v) { return v == x.front(); })) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", x.front());
+    throw gmwm::InputError(std::string(what) + ": found all " + std::to_string(x.size()) + " values equal to " + buf +
+                           ", expected a varying signal (a constant has a wavelet variance of zero)");
+  }
+  return x;
+}
+
+// The library's check that a WV can be used (underflow, overflow), naming the column.
+void check_wv_range(const std::string& name, const gmwm::WaveletVariance& wv, std::span<const double> x) {
+  if (const std::string why = gmwm::wv_range_problem(wv, x, false); !why.empty())
+    throw gmwm::InputError("column '" + name + "': " + why);
+}
+
+// Columns: a 1-D array (one column), a 2-D array (samples x columns, as a file's columns)
+// or a sequence of 1-D arrays.
+std::vector<std::vector<double>> columns_of(const py::handle& obj) {
+  if (py::isinstance<py::array>(obj) && py::cast<py::array>(obj).ndim() == 2) {
+    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+    if (!a) {
+      PyErr_Clear();
+      throw gmwm::InputError("data: expected a 2-D array of numbers (samples x columns)");
+    }
+    if (a.shape(1) == 0) throw gmwm::InputError("data: found no column, expected samples x columns");
+    std::vector<std::vector<double>> out(static_cast<std::size_t>(a.shape(1)));
+    for (py::ssize_t c = 0; c < a.shape(1); ++c) {
+      py::object col = py::reinterpret_steal<py::object>(
+          PyObject_GetItem(a.ptr(), py::make_tuple(py::slice(py::none(), py::none(), py::none()), c).ptr()));
+      out[static_cast<std::size_t>(c)] = series_of(col, ("column " + std::to_string(c + 1)).c_str());
+    }
+    return out;
+  }
+  if (py::isinstance<py::array>(obj)) return {series_of(obj, "data")};
+  if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj))
+    throw gmwm::InputError("data: expected an array (samples, or samples x columns) or a list of 1-D arrays");
+  std::vector<std::vector<double>> out;
+  std::size_t k = 0;
+  for (const auto& item : py::cast<py::sequence>(obj))
+    out.push_back(series_of(item, ("column " + std::to_string(++k)).c_str()));
+  if (out.empty()) throw gmwm::InputError("data: found no column, expected samples x columns");
+  return out;
+}
+
+gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
+                              const std::string& unit) {
+  if (freq)
+    if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty())
+      throw gmwm::InputError(why);
+  return {name, static_cast<std::int64_t>(n), freq.value_or(1.0), freq.has_value(), unit};
+}
+
+std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names) {
+  if (names.empty()) {
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < k; ++i) out.push_back("x" + std::to_string(i + 1));
+    return out;
+  }
+  if (names.size() != k)
+    throw gmwm::InputError("names: " + std::to_string(names.size()) + " names for " + std::to_string(k) + " columns");
+  return names;
+}
+
+// The columns as the signal set a file would give ("<array>", the rate when known).
+gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const std::vector<std::string>& labels,
+                                  std::optional<double> freq) {
+  const gmwm::report::ColumnInfo first = info(labels.front(), cols.front().size(), freq, "");
+  gmwm::io::SignalSet set;
+  set.path = "<array>";
+  set.freq = first.freq;
+  set.freq_known = first.freq_known;
+  for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
+  return set;
+}
+
+// The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust.
+std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::optional<double> eff,
+                                                            const std::optional<std::string>& estimator, double alpha) {
+  if (!robust) {
+    if (eff) throw gmwm::InputError("eff: only meaningful with robust=True");
+    if (estimator) throw gmwm::InputError("estimator: only meaningful with robust=True");
+    return std::nullopt;
+  }
+  gmwm::robust::RobustWvOptions o;
+  o.alpha = alpha;
+  if (eff) {
+    if (!(*eff > 0.0 && *eff < 1.0))
+      throw gmwm::InputError("eff: expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6), got " +
+                             std::to_string(*eff));
+    o.efficiency = *eff;
+  }
+  if (estimator) {
+    const auto kind = gmwm::robust::parse_robust_kind(*estimator);
+    if (!kind)
+      throw gmwm::InputError("estimator: unknown robust estimator '" + *estimator + "'; expected huber or bisquare");
+    o.estimator = *kind;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("robust: " + why);
+  return o;
+}
+
+gmwm::OmegaKind omega_kind(const std::string& s) {
+  if (const auto k = gmwm::parse_omega_kind(s)) return *k;
+  throw gmwm::InputError("omega: expected model, diag, full or bootstrap, got '" + s + "'");
+}
+
+}  // namespace gmwm::python

@@ -1,0 +1,265 @@
+// The Python module's functions over several recordings or a result: the joint fit and
+// selection over replicates, the export of a fit/select result and the fleet study (each the
+// command's study and document, as python/gmwm_module.cc's single-signal functions are).
+#include "module_support.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <tuple>
+#include <vector>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include "gmwm/engine/check.h"
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/noise_figures.h"
+#include "gmwm/engine/random.h"
+#include "gmwm/engine/simulate.h"
+#include "gmwm/report/json_output.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/sim_config.h"
+#include "gmwm/io/units.h"
+#include "gmwm/io/fleet_manifest.h"
+#include "gmwm/pipeline/export_study.h"
+#include "gmwm/pipeline/fleet_study.h"
+#include "gmwm/report/fleet_output.h"
+#include "gmwm/pipeline/fit_study.h"
+#include "gmwm/pipeline/replicate_study.h"
+#include "gmwm/io/export.h"
+#include "gmwm/report/export_output.h"
+#include "gmwm/gap/gap_check.h"
+#include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/nav_study.h"
+#include "gmwm/pipeline/plan_study.h"
+#include "gmwm/report/plan_output.h"
+#include "gmwm/report/nav_output.h"
+#include "gmwm/pipeline/select_study.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/robust/tuning.h"
+#include "gmwm/selection/select.h"
+#include "gmwm/version.h"
+
+namespace gmwm::python {
+namespace {
+
+// Replicates given as arrays: each entry a recording (a 1-D array, a 2-D array samples x
+// columns, or a list of 1-D arrays) with the same columns as the first; named
+// "replicates[k]" in messages and sources ("replicates[1]:gyro_x").
+struct ReplicateArrays {
+  gmwm::io::SignalSet primary;
+  std::vector<gmwm::pipeline::ReplicateGroup> groups;
+};
+
+ReplicateArrays replicate_groups(const py::sequence& recordings, std::optional<double> freq,
+                                 const std::vector<std::string>& names) {
+  if (recordings.size() < 2)
+    throw gmwm::InputError("replicates: expected at least 2 recordings, got " + std::to_string(recordings.size()));
+  ReplicateArrays out;
+  std::vector<gmwm::pipeline::ReplicateRecording> rest;
+  for (std::size_t k = 0; k < recordings.size(); ++k) {
+    std::vector<std::vector<double>> cols = columns_of(recordings[k]);
+    const std::vector<std::string> labels = names_for(cols.size(), names);
+    gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
+    set.path = "replicates[" + std::to_string(k) + "]";
+    if (k == 0)
+      out.primary = std::move(set);
+    else
+      rest.push_back({set.path, std::move(set), false});
+  }
+  out.groups = gmwm::pipeline::group_replicates(out.primary, "replicates[0]", std::move(rest));
+  return out;
+}
+
+std::vector<std::string> units_of(const std::vector<gmwm::pipeline::ReplicateGroup>& groups,
+                                  const std::string& units_spec) {
+  const gmwm::io::UnitsSpec spec = gmwm::io::parse_units_spec(units_spec);
+  std::vector<std::string> units;
+  for (const auto& g : groups) units.push_back(gmwm::io::unit_of_column(spec, g.axis));
+  return units;
+}
+
+// The joint fit over replicates (gmwm::pipeline::study_joint_fit, as `gmwm fit --joint`):
+// the document gmwm fit --joint --json writes (without "run").
+std::string py_fit_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
+                         const std::string& omega, double alpha, int test_draws, std::uint64_t seed,
+                         const std::vector<std::string>& names, bool robust, std::optional<double> eff,
+                         const std::optional<std::string>& estimator, const std::string& units_spec) {
+  const ReplicateArrays r = replicate_groups(recordings, freq, names);
+  const std::vector<std::string> units = units_of(r.groups, units_spec);
+  gmwm::pipeline::JointFitStudyOptions o;
+  o.model = model_spec;
+  o.fit.omega = omega_kind(omega);  // as fit --joint --omega: model (the default), diag or full
+  o.fit.alpha = alpha;
+  o.fit.seed = seed;
+  o.wv.alpha = alpha;
+  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.test_draws = test_draws;
+  o.seed = seed;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const gmwm::ProcessContext context{r.primary.freq, r.primary.freq_known};
+  gmwm::parse_model(model_spec, context);  // a bad model: InputError, GIL held
+  return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::JointFitStudyOptions oc = o;
+    oc.progress = progress;
+    const gmwm::pipeline::JointFitStudy study = gmwm::pipeline::study_joint_fit(r.groups, context, oc);
+    return gmwm::report::joint_fit_document(r.primary, r.groups, study, units, context.freq_known ? context.freq : 0.0);
+  }));
+}
+
+// The selection over replicates (gmwm::pipeline::study_joint_select, as `gmwm select
+// --joint`): the document gmwm select --joint --json writes (without "run").
+std::string py_select_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
+                            const std::string& optimism, double alpha, std::uint64_t seed,
+                            const std::vector<std::string>& names, bool robust, std::optional<double> eff,
+                            const std::optional<std::string>& estimator, const std::string& units_spec,
+                            int test_draws) {
+  const ReplicateArrays r = replicate_groups(recordings, freq, names);
+  const std::vector<std::string> units = units_of(r.groups, units_spec);
+  gmwm::pipeline::JointSelectStudyOptions o;
+  o.model = model_spec;
+  if (optimism != "replicates" && optimism != "all")
+    throw gmwm::InputError(
+        "optimism: expected replicates (the cross-validated WVIC) or all (with the joint fit's "
+        "analytic and bootstrap WVIC beside it), got '" +
+        optimism + "'");
+  o.select.select.optimism =
+      optimism == "all" ? gmwm::selection::OptimismMethod::kBoth : gmwm::selection::OptimismMethod::kAnalytic;
+  o.select.select.seed = seed;
+  o.select.select.fit.alpha = alpha;
+  o.select.select.fit.seed = seed;
+  o.select.seed = seed;
+  o.wv.alpha = alpha;
+  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.recommended_test_draws = test_draws;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const gmwm::ProcessContext context{r.primary.freq, r.primary.freq_known};
+  gmwm::parse_model(model_spec, context);
+  return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::JointSelectStudyOptions oc = o;
+    oc.select.select.progress = progress;
+    const gmwm::pipeline::JointSelectStudy study = gmwm::pipeline::study_joint_select(r.groups, context, oc);
+    return gmwm::report::joint_select_document(r.primary, r.groups, study, units,
+                                               context.freq_known ? context.freq : 0.0);
+  }));
+}
+
+// The export (gmwm::pipeline::study_export, as `gmwm export RESULT --format F --output
+// OUTPUT`) of a fit/select result's JSON text: (the document gmwm export --json writes
+// without "run", the file's text, the sidecar's text or None).
+std::tuple<std::string, std::string, std::optional<std::string>> py_export(
+    const std::string& result, const std::string& format, const std::string& output, const std::string& aggregate,
+    double inflate, std::optional<double> rate, const std::string& rostopic, const std::string& units,
+    const std::optional<std::string>& sensor, const std::vector<std::string>& columns,
+    const std::optional<std::tuple<double, double, double>>& consistent_for, const std::string& source_name) {
+  gmwm::pipeline::ExportStudyOptions o;
+  const auto f = gmwm::io::parse_export_format(format);
+  if (!f)
+    throw gmwm::InputError("format '" + format + "': unknown format, expected one of " +
+                           gmwm::io::export_format_names());
+  o.format.format = *f;
+  const auto a = gmwm::io::parse_aggregation(aggregate);
+  if (!a) throw gmwm::InputError("aggregate '" + aggregate + "': expected per-axis, mean or worst");
+  o.format.aggregation = *a;
+  o.format.inflate = inflate;
+  o.format.rate = rate;
+  o.format.rostopic = rostopic;
+  if (consistent_for) {
+    gmwm::pipeline::ConsistencyOptions c;
+    std::tie(c.update_rate, c.horizon, c.fix_sigma) = *consistent_for;
+    o.consistent_for = c;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  gmwm::io::ResultReadOptions ro;
+  ro.columns = columns;
+  ro.rate = rate;
+  if (sensor) {
+    if (*sensor != "gyro" && *sensor != "accel")
+      throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
+    ro.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
+  }
+  if (!units.empty()) ro.units = gmwm::io::parse_declared_units(units);
+  // As the CLI names its INPUT: the result file's path when the result came from one.
+  const std::string name = source_name.empty() ? std::string("result") : source_name;
+  gmwm::io::ResultColumns r = gmwm::io::read_result_columns(name, result, ro);
+  const std::string source = "gmwm " + r.command + " result" + (source_name.empty() ? "" : " " + source_name) +
+                             (r.input.empty() ? "" : " (data " + r.input + ")");
+  const gmwm::pipeline::ExportStudy study = gmwm::pipeline::study_export(r.columns, source, name, o);
+  return {to_python(gmwm::report::export_document(study, output)), study.result.content, study.result.sidecar};
+}
+
+// The fleet study (gmwm::pipeline::study_fleet, as `gmwm fleet MANIFEST --model SPEC`): the
+// document gmwm fleet --json writes (without "run"). The manifest's bad rows are refused up
+// front, all of them in one gmwm.InputError (a line each, as the CLI prints them).
+std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
+                     std::optional<double> memory_mb) {
+  gmwm::pipeline::FleetStudyOptions o;
+  o.model = model_spec;
+  o.wv.alpha = alpha;
+  o.select.fit.alpha = alpha;
+  o.select.fit.seed = seed;
+  o.select.seed = seed;
+  if (memory_mb) o.memory_budget = *memory_mb * 1e6;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("fleet: " + why);
+  const gmwm::io::FleetManifest manifest = gmwm::io::read_fleet_manifest(manifest_path);
+  if (const std::vector<std::string> problems = gmwm::io::fleet_manifest_problems(manifest); !problems.empty()) {
+    std::string all;
+    for (const std::string& p : problems) all += (all.empty() ? "" : "\n") + p;
+    // Raised as gmwm.InputError directly: the translator would squeeze the lines into one.
+    const py::object input_error = py::module_::import("gmwm._gmwm").attr("InputError");
+    PyErr_SetString(input_error.ptr(), all.c_str());
+    throw py::error_already_set();
+  }
+  return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::FleetStudyOptions oc = o;
+    oc.progress = progress;  // after each recording
+    oc.select.progress = progress;
+    return gmwm::report::fleet_document(gmwm::pipeline::study_fleet(manifest, oc));
+  }));
+}
+
+}  // namespace
+
+void add_multi_signal_functions(py::module_& m) {
+  m.def("fit_joint", &py_fit_joint, py::arg("replicates"), py::arg("model"), py::kw_only(),
+        py::arg("freq") = py::none(), py::arg("omega") = "model", py::arg("alpha") = 0.05,
+        py::arg("test_draws") = gmwm::ReplicateTestOptions{}.bootstrap, py::arg("seed") = gmwm::kDefaultSeed,
+        py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false, py::arg("eff") = py::none(),
+        py::arg("estimator") = py::none(), py::arg("units") = "",
+        "Joint (multi-signal) GMWM fit of one model per axis over replicates (recordings of one sensor, each an "
+        "array with the same columns): the document gmwm fit --joint --json writes");
+  m.def("select_joint", &py_select_joint, py::arg("replicates"), py::arg("model"), py::kw_only(),
+        py::arg("freq") = py::none(), py::arg("optimism") = "replicates", py::arg("alpha") = 0.05,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
+        py::arg("test_draws") = 0,
+        "Selection over replicates (cross-validated WVIC; optimism='all' adds the joint fit's analytic and bootstrap "
+        "WVIC): the document gmwm select --joint --json writes");
+  m.def("export", &py_export, py::arg("result"), py::kw_only(), py::arg("format"), py::arg("output") = "",
+        py::arg("aggregate") = "mean", py::arg("inflate") = 1.0, py::arg("rate") = py::none(),
+        py::arg("rostopic") = "/imu0", py::arg("units") = "", py::arg("sensor") = py::none(),
+        py::arg("columns") = std::vector<std::string>{}, py::arg("consistent_for") = py::none(),
+        py::arg("source_name") = "",
+        "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
+        "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
+        "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");
+  m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(),
+        "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
+        "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
+        "the units that stand out: the document gmwm fleet --json writes");
+}
+
+}  // namespace gmwm::python
