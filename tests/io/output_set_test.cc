@@ -289,8 +289,16 @@ int in_child(F&& child) {
     const rlimit none{0, 0};
     ::setrlimit(RLIMIT_CORE, &none);
     // A runner that ignores these (nohup, a CI job in the background) passes that on to its
-    // children; the library rightly leaves an ignored signal alone, so the test resets them.
-    for (const int sig : {SIGHUP, SIGINT, SIGQUIT, SIGTERM}) std::signal(sig, SIG_DFL);
+    // children; the library rightly leaves an ignored signal alone, so the test restores the
+    // default of an ignored one. Only an ignored one: a handler the library installed in this
+    // process before the fork (an earlier test of the same run) must stay, as the library
+    // installs its handlers once per process.
+    for (const int sig : {SIGHUP, SIGINT, SIGQUIT, SIGTERM}) {
+      struct sigaction current {};
+      if (::sigaction(sig, nullptr, &current) == 0 && !(current.sa_flags & SA_SIGINFO) &&
+          current.sa_handler == SIG_IGN)
+        std::signal(sig, SIG_DFL);
+    }
     child();
     ::_exit(0);
   }
