@@ -9,7 +9,8 @@
 #   nav -> engine
 #   io (readers and writers) -> engine  (file formats in both directions)
 #   pipeline -> io, selection, gap, nav, robust, engine
-#   report -> pipeline and below        (JSON, HTML, terminal: every rendering)
+#   fleet -> pipeline and below         (many recordings of many units: tasks, records, cache)
+#   report -> fleet and below           (JSON, HTML, terminal: every rendering)
 #   tools/gmwm, python -> anything      (the faces)
 cmake_minimum_required(VERSION 3.22)
 if(NOT SOURCE_DIR)
@@ -23,8 +24,9 @@ set(_allowed_gap engine robust gap)
 set(_allowed_nav engine nav)
 set(_allowed_io engine io)
 set(_allowed_pipeline engine robust selection gap nav io pipeline)
-set(_allowed_report engine robust selection gap nav io pipeline report)
-set(_modules engine robust selection gap nav io pipeline report)
+set(_allowed_fleet engine robust selection gap nav io pipeline fleet)
+set(_allowed_report engine robust selection gap nav io pipeline fleet report)
+set(_modules engine robust selection gap nav io pipeline fleet report)
 
 set(_violations "")
 set(_checked 0)

@@ -39,7 +39,7 @@
 #include "gmwm/io/units.h"
 #include "gmwm/io/fleet_manifest.h"
 #include "gmwm/pipeline/export_study.h"
-#include "gmwm/pipeline/fleet_study.h"
+#include "gmwm/fleet/fleet_study.h"
 #include "gmwm/report/fleet_output.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/replicate_study.h"

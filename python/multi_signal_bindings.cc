@@ -34,7 +34,9 @@
 #include "gmwm/io/units.h"
 #include "gmwm/io/fleet_manifest.h"
 #include "gmwm/pipeline/export_study.h"
-#include "gmwm/pipeline/fleet_study.h"
+#include "gmwm/fleet/fleet_cache.h"
+#include "gmwm/fleet/fleet_record.h"
+#include "gmwm/fleet/fleet_study.h"
 #include "gmwm/report/fleet_output.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/replicate_study.h"
@@ -200,33 +202,66 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
   return {to_python(gmwm::report::export_document(study, output)), study.result.content, study.result.sidecar};
 }
 
-// The fleet study (gmwm::pipeline::study_fleet, as `gmwm fleet MANIFEST --model SPEC`): the
-// document gmwm fleet --json writes (without "run"). The manifest's bad rows are refused up
-// front, all of them in one gmwm.InputError (a line each, as the CLI prints them).
+// A Python runner (gmwm._fleet_dask.runner) as the study's FleetRunner: called with the
+// tasks as (index, text) pairs and a done(k, record_text) callable, under the GIL (the study
+// itself runs without it).
+gmwm::fleet::FleetRunner python_runner(py::object runner) {
+  auto shared = std::make_shared<py::object>(std::move(runner));
+  return [shared](const std::vector<gmwm::fleet::FleetTask>& tasks,
+                  const std::function<void(std::size_t, const std::string&)>& done) {
+    py::gil_scoped_acquire gil;
+    py::list items;
+    for (const gmwm::fleet::FleetTask& t : tasks) items.append(py::make_tuple(t.index, t.text));
+    const py::cpp_function hand_back([&done](std::size_t k, const std::string& record) {
+      py::gil_scoped_release release;  // the record is parsed and cached without the GIL
+      done(k, record);
+    });
+    (*shared)(items, hand_back);
+  };
+}
+
+// The manifest's bad rows, all in one gmwm.InputError (a line each, as the CLI prints them).
+void refuse_manifest_rows(const std::vector<std::string>& problems) {
+  std::string all;
+  for (const std::string& p : problems) all += (all.empty() ? "" : "\n") + p;
+  // Raised as gmwm.InputError directly: the translator would squeeze the lines into one.
+  const py::object input_error = py::module_::import("gmwm._gmwm").attr("InputError");
+  PyErr_SetString(input_error.ptr(), all.c_str());
+  throw py::error_already_set();
+}
+
+// The fleet study (gmwm::fleet::study_fleet, as `gmwm fleet MANIFEST --model SPEC`): the
+// document gmwm fleet --json writes (without "run"). `cache`: a folder, "" for the CLI's
+// default beside the manifest, None for no cache. `runner`: None (here) or a Python runner.
 std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
-                     std::optional<double> memory_mb) {
-  gmwm::pipeline::FleetStudyOptions o;
+                     std::optional<double> memory_mb, std::optional<std::string> cache, py::object runner) {
+  gmwm::fleet::FleetStudyOptions o;
   o.model = model_spec;
   o.wv.alpha = alpha;
   o.select.fit.alpha = alpha;
   o.select.fit.seed = seed;
   o.select.seed = seed;
   if (memory_mb) o.memory_budget = *memory_mb * 1e6;
+  if (cache) o.cache_dir = cache->empty() ? gmwm::fleet::default_fleet_cache_dir(manifest_path) : *cache;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("fleet: " + why);
   const gmwm::io::FleetManifest manifest = gmwm::io::read_fleet_manifest(manifest_path);
-  if (const std::vector<std::string> problems = gmwm::io::fleet_manifest_problems(manifest); !problems.empty()) {
-    std::string all;
-    for (const std::string& p : problems) all += (all.empty() ? "" : "\n") + p;
-    // Raised as gmwm.InputError directly: the translator would squeeze the lines into one.
-    const py::object input_error = py::module_::import("gmwm._gmwm").attr("InputError");
-    PyErr_SetString(input_error.ptr(), all.c_str());
-    throw py::error_already_set();
+  if (const std::vector<std::string> problems = gmwm::io::fleet_manifest_problems(manifest); !problems.empty())
+    refuse_manifest_rows(problems);
+  if (!runner.is_none()) {
+    // The runner is Python, on this thread: Ctrl-C reaches it as KeyboardInterrupt.
+    o.runner = python_runner(std::move(runner));
+    gmwm::fleet::FleetStudy study;
+    {
+      py::gil_scoped_release release;
+      study = gmwm::fleet::study_fleet(manifest, o);
+    }
+    return to_python(gmwm::report::fleet_document(study));
   }
   return to_python(run_cancellable([&](const std::function<void(int, int)>& progress) {
-    gmwm::pipeline::FleetStudyOptions oc = o;
+    gmwm::fleet::FleetStudyOptions oc = o;
     oc.progress = progress;  // after each recording
     oc.select.progress = progress;
-    return gmwm::report::fleet_document(gmwm::pipeline::study_fleet(manifest, oc));
+    return gmwm::report::fleet_document(gmwm::fleet::study_fleet(manifest, oc));
   }));
 }
 
@@ -255,8 +290,14 @@ void add_multi_signal_functions(py::module_& m) {
         "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
         "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
         "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");
+  m.def("fleet_task", [](const std::string& task) { return gmwm::fleet::run_fleet_task(task); }, py::arg("task"),
+        py::call_guard<py::gil_scoped_release>(),
+        "Runs one recording's task text (what a Dask worker runs for gmwm fleet --scheduler): its record's text");
+  m.def("fleet_failed_record", &gmwm::fleet::failed_record_text, py::arg("why"),
+        "The record of a recording whose task failed, saying why (what a runner hands back for it)");
   m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
-        py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(),
+        py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(), py::arg("cache") = "",
+        py::arg("runner") = py::none(),
         "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
         "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
         "the units that stand out: the document gmwm fleet --json writes");

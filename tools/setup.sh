@@ -15,17 +15,20 @@ if [[ ${1:-} == --demo ]]; then demo=1; fi
 
 # What building the program needs.
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
-          libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev zlib1g-dev libcli11-dev
+          libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev zlib1g-dev libssl-dev libcli11-dev
           nlohmann-json3-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev libbz2-dev liblz4-dev
           libzstd-dev pkg-config)
 # What the tests, the benchmarks and the Python module need besides.
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
 # browser test (tests/cli/html_report_browser_test.cc); python3-rosbag and
 # python3-sensor-msgs: ROS's own writer of the ROS 1 test bags; python3-matplotlib: the
-# plots of docs/python.md, whose cells the suite runs (python/tests/test_docs_python.py).
+# plots of docs/python.md, whose cells the suite runs (python/tests/test_docs_python.py);
+# python3-distributed: the fleet's Dask runner and its LocalCluster test
+# (python/tests/test_fleet_dask.py); python3-pandas: FleetResult.to_dataframe().
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
-             python3-rosbag python3-sensor-msgs python3-matplotlib libjs-vega chromium)
+             python3-rosbag python3-sensor-msgs python3-matplotlib python3-distributed python3-pandas libjs-vega
+             chromium)
 fi
 
 missing=()

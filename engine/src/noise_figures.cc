@@ -25,6 +25,12 @@ const char* to_string(ReadoffStatus s) {
   return "?";
 }
 
+std::optional<ReadoffStatus> parse_readoff_status(const std::string& name) {
+  for (ReadoffStatus s : {ReadoffStatus::kRead, ReadoffStatus::kExtrapolated, ReadoffStatus::kBound})
+    if (name == to_string(s)) return s;
+  return std::nullopt;
+}
+
 std::string ReadoffOptions::Validate() const {
   if (!(slope_tolerance > 0.0 && slope_tolerance < 0.5))
     return "noise figures: slope tolerance must be in (0, 0.5), got " + std::to_string(slope_tolerance);
@@ -414,6 +420,12 @@ const char* to_string(FigureSource s) {
       return "bound";
   }
   return "?";
+}
+
+std::optional<FigureSource> parse_figure_source(const std::string& name) {
+  for (FigureSource s : {FigureSource::kModel, FigureSource::kData, FigureSource::kBound})
+    if (name == to_string(s)) return s;
+  return std::nullopt;
 }
 
 namespace {

@@ -113,7 +113,25 @@ nav = _typed(_gmwm.nav, NavResult)
 plan = _typed(_gmwm.plan, PlanResult)
 fit_joint = _typed(_gmwm.fit_joint, JointFitResult)
 select_joint = _typed(_gmwm.select_joint, JointSelectResult)
-fleet = _typed(_gmwm.fleet, FleetResult)
+_fleet_raw = _typed(_gmwm.fleet, FleetResult)
+
+
+def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, seed: int = DEFAULT_SEED,
+          memory: float | None = None, cache: str | os.PathLike[str] | None = "",
+          scheduler: Any = None) -> FleetResult:
+    """Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate,
+    group]) selected over `model` as gmwm select does: one row per unit x axis with N, K, B, the
+    fleet's summary and the units that stand out (the document gmwm fleet --json writes).
+
+    cache: the folder of records already computed (by content and options); "" (default) the
+    CLI's .gmwm-cache beside the manifest, None no cache. scheduler: None runs here; a Dask
+    scheduler's address ("tcp://host:8786"), a distributed.Client or a LocalCluster runs each
+    recording as a task there (python3-distributed; the workers need gmwm and the files)."""
+    from . import _fleet_dask
+
+    runner = None if scheduler is None else _fleet_dask.runner(scheduler)
+    return _fleet_raw(os.fspath(manifest), model=model, alpha=alpha, seed=seed, memory=memory,
+                      cache=None if cache is None else os.fspath(cache), runner=runner)
 
 
 def _result_document(result: Any) -> tuple[str, str]:

@@ -26,21 +26,23 @@ std::string exact(double x) {
   return std::string(buf, r.ptr);
 }
 
-const ChosenFigure* figure_of(const pipeline::FleetRow& r, int k) {
+const ChosenFigure* figure_of(const fleet::FleetRow& r, int k) {
   if (!r.figures_known) return nullptr;
   return k == 0 ? &r.figures.white : k == 1 ? &r.figures.walk : &r.figures.instability;
 }
 
 }  // namespace
 
-Json fleet_document(const pipeline::FleetStudy& study) {
+Json fleet_document(const fleet::FleetStudy& study) {
   Json doc = json_document("fleet");
   doc["manifest"] = study.manifest;
   doc["model_spec"] = study.model_spec;
   doc["recordings"] = study.recordings;
   doc["failed"] = study.failed;
+  doc["cached"] = study.cached;
+  doc["cache"] = study.cache_dir.empty() ? Json(nullptr) : Json(study.cache_dir);
   Json rows = Json::array();
-  for (const pipeline::FleetRow& r : study.rows) {
+  for (const fleet::FleetRow& r : study.rows) {
     Json row = {{"unit", r.unit},
                 {"model", r.model},
                 {"group", r.group},
@@ -56,12 +58,13 @@ Json fleet_document(const pipeline::FleetStudy& study) {
     const char* names[] = {"N", "K", "B"};
     for (int k = 0; k < 3; ++k) row[names[k]] = figure_of(r, k) ? figure_json(*figure_of(r, k)) : Json(nullptr);
     row["seconds"] = json_number(r.seconds);
+    row["cached"] = r.cached;
     row["flags"] = r.flags;
     rows.push_back(std::move(row));
   }
   doc["rows"] = std::move(rows);
   Json summary = Json::array();
-  for (const pipeline::FleetFigureSummary& s : study.summary)
+  for (const fleet::FleetFigureSummary& s : study.summary)
     summary.push_back({{"group", s.group},
                        {"axis", s.axis},
                        {"figure", std::string(1, s.figure)},
@@ -70,15 +73,15 @@ Json fleet_document(const pipeline::FleetStudy& study) {
                        {"spread", json_number(s.spread)},
                        {"flagged", s.flagged}});
   doc["summary"] = std::move(summary);
-  doc["outlier_rule"] = {{"robust_z", pipeline::kFleetOutlierZ}, {"min_units", pipeline::kMinUnitsForFlags}};
+  doc["outlier_rule"] = {{"robust_z", fleet::kFleetOutlierZ}, {"min_units", fleet::kMinUnitsForFlags}};
   return doc;
 }
 
-std::string fleet_csv(const pipeline::FleetStudy& study) {
+std::string fleet_csv(const fleet::FleetStudy& study) {
   std::ostringstream os;
   os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,"
-        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,flags\n";
-  for (const pipeline::FleetRow& r : study.rows) {
+        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,flags\n";
+  for (const fleet::FleetRow& r : study.rows) {
     os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
        << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
        << io::csv_field(r.status) << ',' << io::csv_field(r.chosen) << ',' << exact(r.gof_p) << ',' << exact(r.freq)
@@ -90,15 +93,15 @@ std::string fleet_csv(const pipeline::FleetStudy& study) {
     }
     std::string flags;
     for (const std::string& f : r.flags) flags += (flags.empty() ? "" : "; ") + f;
-    os << ',' << exact(r.seconds) << ',' << io::csv_field(flags) << '\n';
+    os << ',' << exact(r.seconds) << ',' << (r.cached ? "true" : "false") << ',' << io::csv_field(flags) << '\n';
   }
   return os.str();
 }
 
-std::string fleet_text(const pipeline::FleetStudy& study) {
+std::string fleet_text(const fleet::FleetStudy& study) {
   TextTable t({"unit", "axis", "N", "K", "B", "unit of data", "GoF p", "chosen"}, 2);
   std::string failures;
-  for (const pipeline::FleetRow& r : study.rows) {
+  for (const fleet::FleetRow& r : study.rows) {
     if (r.axis.empty()) {
       failures += "  " + r.unit + ": " + r.status + "\n";
       continue;
@@ -113,7 +116,10 @@ std::string fleet_text(const pipeline::FleetStudy& study) {
   }
   std::ostringstream os;
   os << study.recordings << " recordings of " << study.manifest << ", each selected over " << study.model_spec
-     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U; U the data's unit): " << study.failed << " failed\n"
+     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U; U the data's unit): " << study.failed << " failed"
+     << (study.cache_dir.empty() ? std::string()
+                                 : ", " + std::to_string(study.cached) + " from the cache " + study.cache_dir)
+     << "\n"
      << t.str();
   if (!failures.empty()) os << "failed:\n" << failures;
   // Each group's axes: the median of each figure, its spread, the units that stand out.
@@ -123,12 +129,12 @@ std::string fleet_text(const pipeline::FleetStudy& study) {
     std::vector<std::string> row = {study.summary[i].group, study.summary[i].axis,
                                     std::to_string(study.summary[i].units)};
     for (std::size_t k = 0; k < 3; ++k) {
-      const pipeline::FleetFigureSummary& f = study.summary[i + k];
+      const fleet::FleetFigureSummary& f = study.summary[i + k];
       row.push_back(f.units ? fmt(f.median, 4) + " (x" + fmt(f.spread, 3) + ")" : "-");
     }
     s.add(row);
   }
-  for (const pipeline::FleetRow& r : study.rows)
+  for (const fleet::FleetRow& r : study.rows)
     for (const std::string& f : r.flags) flagged += "  " + r.unit + ", " + r.axis + ": " + f + "\n";
   os << "\nper group and axis (median of the units' read-offs; spread: exp(MAD of the logs / 0.6745)):\n" << s.str();
   os << (flagged.empty() ? "no unit stands out from its group (robust z beyond 3.5; groups of 5 units or more)\n"

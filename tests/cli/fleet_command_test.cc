@@ -4,11 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -179,6 +187,140 @@ TEST_F(GmwmFleet, FlagsTheUnitWhoseWhiteNoiseIsTwiceTheFleetsAndNoOtherUnit) {
     }
   EXPECT_TRUE(n_summary);
   EXPECT_NE(r.out.find("SN5, gyro_x: N: 2"), std::string::npos) << r.out;
+}
+
+// --- The cache: a re-run computes only what is missing or changed -------------------------
+
+// The table without its wall times and cache flags (the only columns a cached row may change).
+std::string table_without_timings(const std::string& csv) {
+  std::string out;
+  std::istringstream in(csv);
+  for (std::string line; std::getline(in, line);) {
+    // seconds and cached are the 2nd- and 3rd-last fields; flags (last) may be quoted.
+    std::vector<std::size_t> commas;
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      if (line[i] == '"') quoted = !quoted;
+      if (line[i] == ',' && !quoted) commas.push_back(i);
+    }
+    if (commas.size() < 3) return "malformed line: " + line;
+    const std::size_t from = commas[commas.size() - 3], to = commas[commas.size() - 1];
+    out += line.substr(0, from) + line.substr(to) + "\n";
+  }
+  return out;
+}
+
+std::vector<fs::path> cache_entries(const fs::path& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".json") out.push_back(e.path());
+  return out;
+}
+
+TEST_F(GmwmFleet, AReRunTakesEveryRecordingFromTheCacheAndGivesTheSameTable) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN2,IMU-X\nunit3.csv,SN3,IMU-X\n");
+  auto first = run_gmwm({"fleet", "fleet.csv", "--model", "AR1+WN+RW", "--csv", "a.csv", "--json", "a.json"}, dir_);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(read_json(dir_ / "a.json").at("cached"), 0);
+  EXPECT_EQ(cache_entries(dir_ / ".gmwm-cache").size(), 3u);
+  auto again = run_gmwm({"fleet", "fleet.csv", "--model", "AR1+WN+RW", "--csv", "b.csv", "--json", "b.json"}, dir_);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const json b = read_json(dir_ / "b.json");
+  EXPECT_EQ(b.at("cached"), 3);
+  for (const json& row : b.at("rows")) EXPECT_TRUE(row.at("cached").get<bool>()) << row.dump();
+  EXPECT_NE(again.out.find("3 from the cache"), std::string::npos) << again.out;
+  // Every figure, model and p-value as computed, to the last digit (the wall times are the first run's).
+  json a = gmwm::test::without_run(read_json(dir_ / "a.json")), bb = gmwm::test::without_run(b);
+  for (json* d : {&a, &bb}) {
+    (*d)["cached"] = 0;
+    for (json& row : (*d)["rows"]) row["cached"] = false;
+  }
+  EXPECT_EQ(a, bb);
+  EXPECT_EQ(table_without_timings(gmwm::test::read_text(dir_ / "a.csv")),
+            table_without_timings(gmwm::test::read_text(dir_ / "b.csv")));
+  // Another seed is another key: nothing taken from the cache.
+  auto seeded = run_gmwm({"fleet", "fleet.csv", "--model", "AR1+WN+RW", "--seed", "9", "--json", "c.json"}, dir_);
+  ASSERT_EQ(seeded.exit_code, 0) << seeded.err;
+  EXPECT_EQ(read_json(dir_ / "c.json").at("cached"), 0);
+}
+
+TEST_F(GmwmFleet, AChangedOrDamagedEntryIsComputedAgainAndNoCacheLeavesNoFolder) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN2,IMU-X\n");
+  auto nocache = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--no-cache", "--quiet"}, dir_);
+  ASSERT_EQ(nocache.exit_code, 0) << nocache.err;
+  EXPECT_FALSE(fs::exists(dir_ / ".gmwm-cache"));
+  auto first = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--cache", "c", "--quiet"}, dir_);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  ASSERT_EQ(cache_entries(dir_ / "c").size(), 2u);
+  // One entry damaged (cut in half), one recording changed (another unit's bytes).
+  const fs::path victim = cache_entries(dir_ / "c").front();
+  const std::string text = gmwm::test::read_text(victim);
+  write("c/" + victim.filename().string(), text.substr(0, text.size() / 2));
+  fs::copy_file(dir_ / "unit3.csv", dir_ / "unit2.csv", fs::copy_options::overwrite_existing);
+  auto again = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--cache", "c", "--json", "d.json"}, dir_);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const json d = read_json(dir_ / "d.json");
+  // The damaged entry's recording and the changed one computed again: at most one from the cache.
+  int from_cache = d.at("cached").get<int>();
+  EXPECT_LE(from_cache, 1);
+  EXPECT_EQ(d.at("failed"), 0);
+  for (const json& row : d.at("rows")) EXPECT_EQ(row.at("status"), "ok");
+}
+
+// A killed run resumes: the recordings finished before the kill are cached (each entry
+// whole), and the re-run computes only the others, giving the table of an uninterrupted run.
+TEST_F(GmwmFleet, AKilledRunResumesAndComputesOnlyTheMissingRecordings) {
+  std::string manifest = "path,unit,model\n";
+  for (int k = 1; k <= 8; ++k) {
+    auto r = run_gmwm({"simulate", "--model", "AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-4)+RW(gamma2=1e-10)", "--n",
+                       "65536", "--freq", "100", "--signals", "3", "--names", "gyro_x,gyro_y,gyro_z", "--seed",
+                       std::to_string(20 + k), "--output", "k" + std::to_string(k) + ".csv", "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    manifest += "k" + std::to_string(k) + ".csv,SN" + std::to_string(k) + ",IMU-X\n";
+  }
+  write("fleet.csv", manifest);
+  const std::vector<std::string> args = {"fleet", "fleet.csv", "--model", "2*AR1+WN+RW", "--threads", "1", "--quiet"};
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (::chdir(dir_.c_str()) != 0) ::_exit(126);
+    const int null = ::open("/dev/null", O_RDWR);
+    ::dup2(null, 0), ::dup2(null, 1), ::dup2(null, 2);
+    std::vector<char*> argv = {const_cast<char*>(gmwm::test::gmwm_cli_path())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  // Killed (SIGKILL: nothing of its own runs) once two recordings are cached.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+  while (cache_entries(dir_ / ".gmwm-cache").size() < 2 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed";
+  const std::size_t done_before = cache_entries(dir_ / ".gmwm-cache").size();
+  ASSERT_GE(done_before, 2u);
+  ASSERT_LT(done_before, 8u);
+  // Every entry left is whole: it reads back (the re-run takes each of them).
+  std::vector<std::string> resumed_args = args;
+  resumed_args.insert(resumed_args.end(), {"--json", "resumed.json", "--csv", "resumed.csv"});
+  auto resumed = run_gmwm(resumed_args, dir_);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const json doc = read_json(dir_ / "resumed.json");
+  EXPECT_EQ(doc.at("cached").get<std::size_t>(), done_before);
+  EXPECT_EQ(doc.at("rows").size(), 24u);
+  EXPECT_EQ(cache_entries(dir_ / ".gmwm-cache").size(), 8u);
+  // The same table as a run that was never interrupted.
+  std::vector<std::string> whole_args = args;
+  whole_args.insert(whole_args.end(), {"--no-cache", "--csv", "whole.csv"});
+  auto whole = run_gmwm(whole_args, dir_);
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  EXPECT_EQ(table_without_timings(gmwm::test::read_text(dir_ / "resumed.csv")),
+            table_without_timings(gmwm::test::read_text(dir_ / "whole.csv")));
 }
 
 // Issue 30's acceptance on real units: the three ADIS16405 recordings as a fleet of three give

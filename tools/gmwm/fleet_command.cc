@@ -1,14 +1,16 @@
 // gmwm fleet MANIFEST --model SPEC [--csv PATH] [--json PATH]
 // Every recording of a manifest analysed the same way (the selection over SPEC with its
 // noise figures, as gmwm select), one results table (docs/cli.md, "fleet"). Parses, checks
-// every row of the manifest before any work, runs pipeline::study_fleet, renders with
+// every row of the manifest before any work, runs fleet::study_fleet, renders with
 // report/fleet_output.h, commits.
 #include <iostream>
 
 #include "common.h"
+#include "fleet_dask.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/fleet/fleet_cache.h"
+#include "gmwm/fleet/fleet_study.h"
 #include "gmwm/io/fleet_manifest.h"
-#include "gmwm/pipeline/fleet_study.h"
 #include "gmwm/report/fleet_output.h"
 
 namespace gmwm::cli {
@@ -21,6 +23,9 @@ struct FleetArgs {
   double alpha = 0.05;
   int max_evaluations = FitOptions{}.max_evaluations;
   std::optional<double> memory_mb;
+  std::optional<std::string> cache;  ///< --cache DIR; default: default_fleet_cache_dir
+  bool no_cache = false;
+  std::string scheduler;  ///< --scheduler ADDRESS: a Dask cluster; empty: this machine
 };
 
 // The bad rows said at most (a manifest of a hundred thousand copied rows would otherwise
@@ -40,7 +45,7 @@ int refuse_rows(const std::vector<std::string>& problems) {
 int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
-  pipeline::FleetStudyOptions o;
+  fleet::FleetStudyOptions o;
   o.model = a.model;
   o.wv.alpha = a.alpha;
   o.select.fit.alpha = a.alpha;
@@ -48,6 +53,11 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   o.select.fit.max_evaluations = a.max_evaluations;
   o.select.seed = common.seed;
   if (a.memory_mb) o.memory_budget = *a.memory_mb * 1e6;
+  if (!a.no_cache) o.cache_dir = a.cache ? *a.cache : fleet::default_fleet_cache_dir(a.manifest);
+  if (!a.scheduler.empty()) {
+    check_scheduler_address(a.scheduler);
+    o.runner = dask_runner(a.scheduler);
+  }
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("fleet: " + why);
   declare_input(common, a.manifest);
   declare_output(common, "--csv", a.csv);
@@ -59,7 +69,7 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
 
   ProgressBar bar("fleet: recordings", common);
   if (bar.enabled()) o.progress = [&bar](int done, int all) { bar.update(done, all); };
-  const pipeline::FleetStudy study = pipeline::study_fleet(manifest, o);
+  const fleet::FleetStudy study = fleet::study_fleet(manifest, o);
   bar.finish();
 
   report::Json doc = report::fleet_document(study);
@@ -67,7 +77,7 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
   if (common.show_table()) print_text(report::fleet_text(study));
-  for (const pipeline::FleetRow& r : study.rows)
+  for (const fleet::FleetRow& r : study.rows)
     if (r.status != "ok")
       warn("unit '" + r.unit + "'" + (r.axis.empty() ? "" : ", axis '" + r.axis + "'") + ": " + r.status);
   return 0;
@@ -95,6 +105,16 @@ Command add_fleet_command(CLI::App& app, CommonOptions& common) {
          "Memory for one recording's samples, MB (beyond it they go on in temporary files)")
       ->type_name("MB")
       ->transform(decimal_number([](double x) { return x > 0.0; }, "a positive number of megabytes"));
+  sub->add_option_function<std::string>(
+         "--cache", [a = args.get()](const std::string& dir) { a->cache = dir; },
+         "Folder of the records already computed, by content and options (default: .gmwm-cache beside the "
+         "manifest): a re-run computes only what is missing or changed")
+      ->type_name("DIR");
+  sub->add_flag("--no-cache", args->no_cache, "Neither read nor write cached records")->excludes("--cache");
+  sub->add_option("--scheduler", args->scheduler,
+                  "A Dask scheduler's address (tcp://HOST:8786): the recordings run as tasks on its workers, "
+                  "through the gmwm Python module (docs/cli.md, \"fleet\")")
+      ->type_name("ADDRESS");
   add_max_evaluations_option(*sub, args->max_evaluations);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_fleet(*args, common); }};

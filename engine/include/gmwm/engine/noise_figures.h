@@ -27,6 +27,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -47,6 +48,8 @@ enum class ReadoffStatus {
   kBound,         ///< no such slope (or no minimum): an upper bound from the curve
 };
 const char* to_string(ReadoffStatus s);
+/// The inverse of to_string (nullopt for any other name).
+std::optional<ReadoffStatus> parse_readoff_status(const std::string& name);
 
 struct Readoff {
   double value = NAN;            ///< in the data's unit pattern (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U)
@@ -98,6 +101,8 @@ enum class FigureSource {
   kBound,  ///< neither shows the slope: the smaller upper bound
 };
 const char* to_string(FigureSource s);
+/// The inverse of to_string (nullopt for any other name).
+std::optional<FigureSource> parse_figure_source(const std::string& name);
 
 struct ChosenFigure {
   Readoff figure;  ///< the value to use (and where it was read)

@@ -1,10 +1,10 @@
 #pragma once
-// The fleet study's renderings (pipeline/fleet_study.h): its JSON document, its table as CSV
+// The fleet study's renderings (fleet/fleet_study.h): its JSON document, its table as CSV
 // (one row per unit x axis: the fleet's results table) and the terminal's table.
 
 #include <string>
 
-#include "gmwm/pipeline/fleet_study.h"
+#include "gmwm/fleet/fleet_study.h"
 #include "gmwm/report/json_output.h"
 
 namespace gmwm::report {
@@ -14,14 +14,14 @@ namespace gmwm::report {
 /// "chosen" (with values), "chosen_structure", "gof_p_value", "freq", "n", "N", "K", "B" each {"value", "low", "high",
 /// "source"}, "seconds", "flags"), "summary" (per group, axis and figure: "units", "median",
 /// "spread", "flagged") and "outlier_rule".
-Json fleet_document(const pipeline::FleetStudy& study);
+Json fleet_document(const fleet::FleetStudy& study);
 
 /// The results table: a header, then one line per row of the study (fields as the JSON's,
 /// N, K, B as value, low, high; numbers in their shortest exact form, empty when unknown).
-std::string fleet_csv(const pipeline::FleetStudy& study);
+std::string fleet_csv(const fleet::FleetStudy& study);
 
 /// The terminal's table: unit, axis, chosen model, N, K, B in the data's unit and the GoF
 /// p-value; a failed recording's row says why.
-std::string fleet_text(const pipeline::FleetStudy& study);
+std::string fleet_text(const fleet::FleetStudy& study);
 
 }  // namespace gmwm::report

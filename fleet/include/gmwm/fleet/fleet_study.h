@@ -3,34 +3,73 @@
 // the same way (the selection over a maximal model with its noise figures, as `gmwm select`),
 // one row per unit x axis: N, K, B with their intervals, the chosen model and its goodness of
 // fit. A recording that cannot be read or analysed is a row with its one-line reason, never
-// a stopped run. report::fleet_document / fleet_csv write it.
+// a stopped run. report::fleet_document / fleet_csv / fleet_text write it.
+//
+// The study is a pipeline of named stages (fleet_study.cc):
+//   plan      each recording's cache key (fleet_cache.h: its content's hash, how it is read,
+//             the options) and its record when the cache holds one;
+//   run       the other recordings as tasks (fleet_record.h), here one after another or by
+//             the caller's runner (a Dask cluster through the Python module), each record
+//             stored in the cache as soon as it is done: an interrupted run loses at most the
+//             recordings in flight, and a re-run computes only what is missing or changed;
+//   assemble  the rows, labelled from the manifest;
+//   summarise the distribution of N, K, B per group and axis and the units that stand out
+//             (fleet_summary.h).
 //
 //   const io::FleetManifest m = io::read_fleet_manifest("fleet.csv");
-//   gmwm::pipeline::FleetStudyOptions o;
+//   gmwm::fleet::FleetStudyOptions o;
 //   o.model = "2*AR1+WN+RW";
-//   const gmwm::pipeline::FleetStudy s = gmwm::pipeline::study_fleet(m, o);
+//   o.cache_dir = ".gmwm-cache";
+//   const gmwm::fleet::FleetStudy s = gmwm::fleet::study_fleet(m, o);
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/allan.h"
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
+#include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/fleet_manifest.h"
-#include "gmwm/pipeline/select_study.h"
+#include "gmwm/selection/select.h"
 
-namespace gmwm::pipeline {
+namespace gmwm::fleet {
+
+/// One recording to analyse: its index in the manifest and the task's text (fleet_task_text:
+/// how to read it and the options), what a worker elsewhere needs to run it (run_fleet_task).
+struct FleetTask {
+  std::size_t index = 0;
+  std::string text;
+};
+
+/// Runs `tasks` and hands each one's record text (run_fleet_task's) to `done(k, text)`, k
+/// the task's position in `tasks`, in any order, from the thread that called the runner.
+/// A task that throws is the runner's to turn into a record (failed_record_text); a runner
+/// that cannot go on (its cluster is gone) throws, and the records handed over so far stay
+/// cached. May throw gmwm::Cancelled.
+using FleetRunner = std::function<void(const std::vector<FleetTask>& tasks,
+                                       const std::function<void(std::size_t, const std::string&)>& done)>;
 
 struct FleetStudyOptions {
   /// The maximal model every axis's selection ranks the sub-models of.
   ModelSpec model;
   /// The selection's settings (optimism, Omega, penalty, seed, fits), as `gmwm select`'s.
+  /// Its callbacks, estimator, bootstrap draw and the fits' caller-given starts and Omega
+  /// must be left empty: a task carries the settings as text to wherever it runs.
   selection::SelectOptions select;
   /// Levels and alpha of the WV.
   WvOptions wv;
   /// Bytes a recording's samples may take in memory (io::ReadOptions); 0: the default.
   double memory_budget = 0.0;
-  /// (recordings done, recordings): after each recording; may throw gmwm::Cancelled.
+  /// The folder of cached records (fleet_cache.h); empty: no cache.
+  std::string cache_dir;
+  /// Where the recordings that are not cached run; empty: here, one after another (each
+  /// selection parallel inside).
+  FleetRunner runner;
+  /// (recordings done, recordings): after each recording (cached ones at once); may throw
+  /// gmwm::Cancelled.
   std::function<void(int, int)> progress;
 
   std::string Validate() const;
@@ -51,10 +90,21 @@ struct FleetRow {
   /// N, K, B as the filter should take them (noise_figures.h), in the data's unit.
   ChosenFigures figures;
   bool figures_known = false;
-  double seconds = 0.0;  ///< the recording's wall time (read and select), on each of its rows
+  /// The recording's wall time (read and select) when it was computed, on each of its rows
+  /// (a cached row keeps the time it took then).
+  double seconds = 0.0;
+  bool cached = false;  ///< the row came from the cache
   /// Where this axis stands out from its group's (fleet_summary): "N: 4.2x the fleet's
   /// median (robust z 9.1)", one per figure flagged; empty when it does not.
   std::vector<std::string> flags;
+};
+
+/// What an axis leaves besides its row: the curves the report draws and the group's joint
+/// model is fitted to.
+struct FleetCurves {
+  WaveletVariance wv;         ///< the classical WV the selection ran on
+  AllanDeviation adev;        ///< the data's Allan deviation (empty without a rate)
+  std::vector<double> model;  ///< the chosen model's Allan deviation on adev's grid (may be empty)
 };
 
 /// The modified z-score beyond which a unit stands out from its group (Iglewicz and
@@ -82,8 +132,11 @@ struct FleetStudy {
   std::string manifest;
   std::string model_spec;
   std::vector<FleetRow> rows;               ///< by recording in manifest order, then by axis
+  std::vector<FleetCurves> curves;          ///< per row (empty curves for a failed row)
   std::vector<FleetFigureSummary> summary;  ///< per group, axis and figure (fleet_summary)
   int recordings = 0, failed = 0;
+  int cached = 0;  ///< recordings whose record came from the cache
+  std::string cache_dir;
   double seconds = 0.0;
 };
 
@@ -97,4 +150,4 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
 /// study_fleet; deterministic (the rows' order does not matter).
 std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows);
 
-}  // namespace gmwm::pipeline
+}  // namespace gmwm::fleet

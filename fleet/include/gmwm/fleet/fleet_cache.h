@@ -1,0 +1,65 @@
+#pragma once
+// The fleet's cache of records: one file per recording's result, named by the SHA-256 of
+// what decides that result (the recording's content, how it is read, the study's options and
+// the library's version: fleet_result_key_text), holding the record's text (fleet_record.h).
+// A re-run finds the recordings it has already done under the same key, whatever their path
+// or unit id; a changed file or option is a new key. Each entry is written whole (a temporary
+// file renamed over it), so a kill never leaves half an entry; an entry that cannot be read
+// back (another version, damaged) is computed again.
+//
+//   FleetCache cache(".gmwm-cache");
+//   const std::string key = cache.key(recording, options);
+//   if (auto text = cache.load(key)) ...; else cache.store(key, run_fleet_task(task));
+
+#include <optional>
+#include <string>
+
+#include "gmwm/fleet/fleet_study.h"
+#include "gmwm/io/fleet_manifest.h"
+
+namespace gmwm::fleet {
+
+/// The SHA-256 of a file's bytes, as 64 lower-case hex digits. Throws InputError naming the
+/// file when it cannot be read.
+std::string file_sha256(const std::string& path);
+
+/// The SHA-256 of a text, as 64 lower-case hex digits.
+std::string text_sha256(const std::string& text);
+
+/// The cache a manifest's run uses unless told otherwise: ".gmwm-cache" in the manifest's
+/// folder (shared by the manifests there: entries are keyed by content, not by path).
+std::string default_fleet_cache_dir(const std::string& manifest_path);
+
+/// Largest cache entry read (a record of a recording with hundreds of columns is ~10 MB).
+inline constexpr std::size_t kMaxCacheEntryBytes = std::size_t{64} << 20;
+
+class FleetCache {
+ public:
+  /// `dir` is made (with its parents) at the first store; empty: a cache that holds nothing.
+  explicit FleetCache(std::string dir);
+
+  bool enabled() const { return !dir_.empty(); }
+  const std::string& dir() const { return dir_; }
+
+  /// The key of `recording` under `options`: the hash of its content and of
+  /// fleet_result_key_text. Throws InputError when the recording cannot be read.
+  std::string key(const io::FleetRecording& recording, const FleetStudyOptions& options) const;
+
+  /// The entry's text, or nullopt when there is none (or it is not a regular file, or
+  /// larger than kMaxCacheEntryBytes).
+  std::optional<std::string> load(const std::string& key) const;
+
+  /// Writes the entry whole. A failure (a read-only folder, a full disk) is logged once and
+  /// the run goes on without caching: it costs a re-run, not this run.
+  void store(const std::string& key, const std::string& text) const;
+
+  /// Removes an entry that could not be read back (logged by the caller).
+  void forget(const std::string& key) const;
+
+ private:
+  std::string path_of(const std::string& key) const;
+  std::string dir_;
+  mutable bool store_failed_ = false;
+};
+
+}  // namespace gmwm::fleet

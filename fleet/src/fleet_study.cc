@@ -1,0 +1,219 @@
+// The fleet study: plan (cache keys and cached records) -> run (the rest, as tasks, each
+// record cached when done) -> assemble (rows labelled from the manifest) -> summarise
+// (fleet_study.h).
+#include "gmwm/fleet/fleet_study.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <optional>
+
+#include <spdlog/spdlog.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/fleet/fleet_cache.h"
+#include "gmwm/fleet/fleet_record.h"
+
+namespace gmwm::fleet {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Stage 1's result: per recording its cache key ("" when it has none) and its record when
+// the cache held one; the tasks of the others.
+struct Plan {
+  std::vector<std::string> keys;
+  std::vector<std::optional<FleetRecord>> records;
+  std::vector<FleetTask> tasks;
+  int cached = 0;
+};
+
+// Stage 1: the keys, and what the cache already holds.
+Plan plan(const io::FleetManifest& manifest, const FleetStudyOptions& o, const FleetCache& cache) {
+  Plan p;
+  const std::size_t n = manifest.recordings.size();
+  p.keys.resize(n);
+  p.records.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const io::FleetRecording& r = manifest.recordings[i];
+    if (cache.enabled()) {
+      try {
+        p.keys[i] = cache.key(r, o);
+      } catch (const InputError&) {
+        // Unreadable now: the task says why, as its row.
+      }
+    }
+    if (!p.keys[i].empty()) {
+      if (const std::optional<std::string> text = cache.load(p.keys[i])) {
+        try {
+          p.records[i] = parse_fleet_record(*text, "fleet cache entry " + p.keys[i]);
+          ++p.cached;
+          continue;
+        } catch (const InputError& e) {
+          spdlog::warn("{}; computing it again", e.what());
+          cache.forget(p.keys[i]);
+        }
+      }
+    }
+    p.tasks.push_back({i, fleet_task_text(r, o)});
+  }
+  return p;
+}
+
+// The runner of a study that has none: the tasks here, one after another, through the same
+// texts a worker elsewhere runs (with the selection's progress, the cancellation point).
+void run_here(const std::vector<FleetTask>& tasks, const std::function<void(std::size_t, const std::string&)>& done,
+              const std::function<void(int, int)>& select_progress) {
+  for (std::size_t k = 0; k < tasks.size(); ++k) done(k, run_fleet_task(tasks[k].text, select_progress));
+}
+
+// Stage 2: the tasks, by the options' runner or here; each record cached as it arrives.
+void run(Plan& p, const FleetStudyOptions& o, const FleetCache& cache) {
+  const int all = static_cast<int>(p.records.size());
+  int finished = p.cached;
+  if (o.progress && p.cached > 0) o.progress(finished, all);
+  const auto done = [&](std::size_t k, const std::string& text) {
+    if (k >= p.tasks.size()) throw std::out_of_range("fleet: a runner handed back a task it was not given");
+    const std::size_t i = p.tasks[k].index;
+    if (p.records[i]) return;  // handed back twice (a retried task): the first stands
+    try {
+      p.records[i] = parse_fleet_record(text, "the record of recording " + std::to_string(i + 1));
+    } catch (const InputError& e) {
+      p.records[i] = parse_fleet_record(failed_record_text(e.what()), "a failed task's record");
+    }
+    if (!p.keys[i].empty() && p.records[i]->status == "ok") cache.store(p.keys[i], text);
+    if (o.progress) o.progress(++finished, all);
+  };
+  if (o.runner)
+    o.runner(p.tasks, done);
+  else
+    run_here(p.tasks, done, o.select.progress);
+  for (const FleetTask& t : p.tasks)
+    if (!p.records[t.index])
+      p.records[t.index] = parse_fleet_record(failed_record_text("the runner gave no record for it"), "runner");
+}
+
+// Stage 3: the rows (and their curves), labelled from the manifest.
+void assemble(const io::FleetManifest& manifest, std::vector<std::optional<FleetRecord>>& records,
+              const std::vector<bool>& from_cache, FleetStudy& study) {
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const io::FleetRecording& r = manifest.recordings[i];
+    FleetRecord& rec = *records[i];
+    const auto label = [&](FleetRow& row) {
+      row.unit = r.unit;
+      row.model = r.model;
+      row.group = r.group;
+      row.path = r.path;
+      row.cached = from_cache[i];
+    };
+    if (rec.status != "ok") {
+      FleetRow row;
+      label(row);
+      row.status = rec.status;
+      row.freq = rec.freq;
+      row.seconds = rec.seconds;
+      study.rows.push_back(std::move(row));
+      study.curves.emplace_back();
+      ++study.failed;
+      continue;
+    }
+    for (std::size_t k = 0; k < rec.axes.size(); ++k) {
+      label(rec.axes[k]);
+      study.rows.push_back(std::move(rec.axes[k]));
+      study.curves.push_back(std::move(rec.curves[k]));
+    }
+  }
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string g4(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows) {
+  // Groups and axes in the order they first appear.
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (const FleetRow& r : rows)
+    if (!r.axis.empty() && std::find(keys.begin(), keys.end(), std::pair{r.group, r.axis}) == keys.end())
+      keys.emplace_back(r.group, r.axis);
+  std::vector<FleetFigureSummary> out;
+  for (const auto& [group, axis] : keys)
+    for (int k = 0; k < 3; ++k) {
+      FleetFigureSummary s{group, axis, "NKB"[k]};
+      std::vector<FleetRow*> members;
+      std::vector<double> logs;
+      for (FleetRow& r : rows) {
+        if (r.group != group || r.axis != axis || !r.figures_known) continue;
+        const ChosenFigure& f = k == 0 ? r.figures.white : k == 1 ? r.figures.walk : r.figures.instability;
+        if (f.figure.status == ReadoffStatus::kBound || !(f.figure.value > 0.0)) continue;
+        members.push_back(&r);
+        logs.push_back(std::log(f.figure.value));
+      }
+      s.units = static_cast<int>(logs.size());
+      if (!logs.empty()) {
+        const double m = median_of(logs);
+        std::vector<double> dev;
+        for (double x : logs) dev.push_back(std::abs(x - m));
+        const double mad = median_of(dev);
+        s.median = std::exp(m);
+        s.spread = std::exp(mad / kMadToSigma);
+        for (std::size_t i = 0; s.units >= kMinUnitsForFlags && mad > 0.0 && i < logs.size(); ++i) {
+          const double z = kMadToSigma * (logs[i] - m) / mad;
+          if (std::abs(z) <= kFleetOutlierZ) continue;
+          s.flagged.push_back(members[i]->unit);
+          members[i]->flags.push_back(std::string(1, s.figure) + ": " + g4(std::exp(logs[i] - m)) +
+                                      "x the fleet's median (robust z " + g4(z) + ")");
+        }
+      }
+      out.push_back(std::move(s));
+    }
+  return out;
+}
+
+std::string FleetStudyOptions::Validate() const {
+  if (model.empty()) return "the maximal model is empty";
+  if (select.estimator) return "leave select.estimator null: the study sets it";
+  if (select.bootstrap_draw) return "leave select.bootstrap_draw empty: a task carries its settings as text";
+  if (select.fit.omega_matrix || !select.fit.starts.empty() || select.fit.estimator)
+    return "leave select.fit's omega_matrix, starts and estimator empty: the selection sets them per model";
+  if (std::string why = select.Validate(); !why.empty()) return why;
+  if (std::string why = wv.Validate(); !why.empty()) return why;
+  if (!(memory_budget >= 0.0)) return "memory_budget must be >= 0";
+  return {};
+}
+
+FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("fleet: " + why);
+  const auto start = std::chrono::steady_clock::now();
+  const FleetCache cache(options.cache_dir);
+  FleetStudy study;
+  study.manifest = manifest.path;
+  study.model_spec = options.model.text();
+  study.recordings = static_cast<int>(manifest.recordings.size());
+  study.cache_dir = options.cache_dir;
+
+  Plan p = plan(manifest, options, cache);
+  std::vector<bool> from_cache(p.records.size());
+  for (std::size_t i = 0; i < p.records.size(); ++i) from_cache[i] = p.records[i].has_value();
+  study.cached = p.cached;
+  run(p, options, cache);
+  assemble(manifest, p.records, from_cache, study);
+  study.summary = fleet_summary(study.rows);
+  study.seconds = seconds_since(start);
+  return study;
+}
+
+}  // namespace gmwm::fleet

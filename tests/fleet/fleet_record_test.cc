@@ -1,0 +1,214 @@
+// The fleet's unit of work (fleet/fleet_record.h) and its cache (fleet/fleet_cache.h): a
+// record read back gives the computed values to the last bit, a task run from its text gives
+// the record of the study here, the cache key follows what decides the result and nothing
+// else, and a text that is not a record is refused naming what it lacks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
+#include "gmwm/fleet/fleet_cache.h"
+#include "gmwm/fleet/fleet_record.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using namespace gmwm;
+using namespace gmwm::fleet;
+
+namespace {
+
+// Bitwise equality of doubles (NaN equal to NaN of the same bits).
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expect_same(const std::vector<double>& a, const std::vector<double>& b, const char* what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(same_bits(a[i], b[i])) << what << "[" << i << "]";
+}
+
+void expect_same(const Readoff& a, const Readoff& b) {
+  for (auto [x, y] : {std::pair{a.value, b.value}, {a.low, b.low}, {a.high, b.high}, {a.tau, b.tau},
+                      {a.region_from, b.region_from}, {a.region_to, b.region_to}})
+    EXPECT_TRUE(same_bits(x, y));
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.how, b.how);
+  ASSERT_EQ(a.sources.size(), b.sources.size());
+  for (std::size_t i = 0; i < a.sources.size(); ++i) {
+    EXPECT_EQ(a.sources[i].first, b.sources[i].first);
+    EXPECT_TRUE(same_bits(a.sources[i].second, b.sources[i].second));
+  }
+}
+
+class FleetRecordTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("fleet_record");
+    write_recording("unit.csv", 1);
+    recording_.path = (dir_ / "unit.csv").string();
+    recording_.unit = "SN1";
+    recording_.model = "IMU-X";
+    recording_.units = "gyro=rad/s";
+    options_.model = "AR1+WN+RW";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Two gyro axes of WN + RW + a slow AR1 at 100 Hz, 2^14 samples, with a time column.
+  void write_recording(const std::string& name, std::uint64_t seed) {
+    const Model m = parse_model("WN(sigma2=1e-4)+RW(gamma2=1e-10)+AR1(phi=0.999,sigma2=1e-8)");
+    const std::int64_t n = 1 << 14;
+    const auto x = simulate(m, m.given_values(), n, seed, 0);
+    const auto y = simulate(m, m.given_values(), n, seed, 1);
+    std::ofstream out(dir_ / name);
+    out.precision(17);
+    out << "time,gyro_x,gyro_y\n";
+    for (std::int64_t i = 0; i < n; ++i)
+      out << static_cast<double>(i) / 100.0 << ',' << x[static_cast<std::size_t>(i)] << ','
+          << y[static_cast<std::size_t>(i)] << '\n';
+  }
+
+  fs::path dir_;
+  io::FleetRecording recording_;
+  FleetStudyOptions options_;
+};
+
+TEST_F(FleetRecordTest, ARecordReadBackGivesEveryComputedValueToTheLastBit) {
+  const FleetRecord r = study_fleet_recording(recording_, options_);
+  ASSERT_EQ(r.status, "ok");
+  ASSERT_EQ(r.axes.size(), 2u);
+  const std::string text = fleet_record_text(r);
+  const FleetRecord back = parse_fleet_record(text, "test");
+  EXPECT_EQ(fleet_record_text(back), text);
+  ASSERT_EQ(back.axes.size(), r.axes.size());
+  for (std::size_t k = 0; k < r.axes.size(); ++k) {
+    const FleetRow &a = r.axes[k], &b = back.axes[k];
+    EXPECT_EQ(a.axis, b.axis);
+    EXPECT_EQ(a.data_unit, "rad/s");
+    EXPECT_EQ(a.chosen, b.chosen);
+    EXPECT_EQ(a.chosen_structure, b.chosen_structure);
+    EXPECT_TRUE(same_bits(a.gof_p, b.gof_p));
+    EXPECT_EQ(a.n, b.n);
+    ASSERT_TRUE(a.figures_known && b.figures_known);
+    for (auto [fa, fb] : {std::pair{&a.figures.white, &b.figures.white}, {&a.figures.walk, &b.figures.walk},
+                          {&a.figures.instability, &b.figures.instability}}) {
+      expect_same(fa->figure, fb->figure);
+      expect_same(fa->model, fb->model);
+      expect_same(fa->data, fb->data);
+      EXPECT_EQ(fa->source, fb->source);
+      EXPECT_EQ(fa->note, fb->note);
+    }
+    const FleetCurves &ca = r.curves[k], &cb = back.curves[k];
+    expect_same(ca.wv.wv, cb.wv.wv, "wv");
+    expect_same(ca.wv.variance, cb.wv.variance, "variance");
+    expect_same(ca.wv.ci_low, cb.wv.ci_low, "ci_low");
+    EXPECT_EQ(ca.wv.coefficients, cb.wv.coefficients);
+    EXPECT_EQ(ca.wv.n, cb.wv.n);
+    expect_same(ca.adev.adev, cb.adev.adev, "adev");
+    expect_same(ca.adev.edf, cb.adev.edf, "edf");
+    EXPECT_EQ(ca.adev.m, cb.adev.m);
+    expect_same(ca.model, cb.model, "model adev");
+    EXPECT_FALSE(ca.adev.adev.empty());
+  }
+}
+
+TEST_F(FleetRecordTest, ATaskRunFromItsTextGivesTheRecordOfTheStudyHere) {
+  FleetRecord here = study_fleet_recording(recording_, options_);
+  FleetRecord there = parse_fleet_record(run_fleet_task(fleet_task_text(recording_, options_)), "task");
+  here.seconds = there.seconds = 0.0;  // wall times differ; nothing else may
+  for (auto* r : {&here, &there})
+    for (FleetRow& row : r->axes) row.seconds = 0.0;
+  EXPECT_EQ(fleet_record_text(there), fleet_record_text(here));
+}
+
+TEST_F(FleetRecordTest, ARecordingThatCannotBeReadIsARecordWithItsReason) {
+  std::ofstream(dir_ / "bad.csv") << "time,gyro_x\n0,1\n0.01,oops\n";
+  io::FleetRecording bad = recording_;
+  bad.path = (dir_ / "bad.csv").string();
+  const FleetRecord r = parse_fleet_record(run_fleet_task(fleet_task_text(bad, options_)), "task");
+  EXPECT_TRUE(r.axes.empty());
+  EXPECT_NE(r.status.find("bad.csv"), std::string::npos) << r.status;
+  EXPECT_NE(r.status, "ok");
+}
+
+TEST_F(FleetRecordTest, OptionsThatATaskCannotCarryAreRefusedBeforeAnyWork) {
+  FleetStudyOptions o = options_;
+  o.select.fit.omega_matrix = Eigen::MatrixXd::Identity(3, 3);
+  try {
+    fleet_task_text(recording_, o);
+    FAIL() << "a caller-given Omega was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("omega_matrix"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(FleetRecordTest, ATextThatIsNotARecordIsRefusedNamingTheFieldItLacks) {
+  const std::string text = fleet_record_text(study_fleet_recording(recording_, options_));
+  for (const auto& [broken, mention] :
+       std::vector<std::pair<std::string, std::string>>{{"{not json", "not JSON"},
+                                                        {R"({"version": 1, "status": "ok"})", "'freq'"},
+                                                        {R"({"version": 99})", "'version'"},
+                                                        {text.substr(0, text.size() / 2), "not JSON"}}) {
+    try {
+      parse_fleet_record(broken, "entry.json");
+      FAIL() << "took " << broken.substr(0, 40);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("entry.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST_F(FleetRecordTest, TheCacheKeyFollowsTheContentTheReadingAndTheOptionsButNotThePathOrTheUnitId) {
+  const FleetCache cache((dir_ / "cache").string());
+  const std::string key = cache.key(recording_, options_);
+  EXPECT_EQ(key.size(), 64u);
+  // The same bytes elsewhere, under another unit id: the same key.
+  fs::copy_file(dir_ / "unit.csv", dir_ / "copy.csv");
+  io::FleetRecording moved = recording_;
+  moved.path = (dir_ / "copy.csv").string();
+  moved.unit = "SN-other";
+  EXPECT_EQ(cache.key(moved, options_), key);
+  // Another content, another reading, other options: other keys.
+  write_recording("other.csv", 2);
+  io::FleetRecording other = recording_;
+  other.path = (dir_ / "other.csv").string();
+  EXPECT_NE(cache.key(other, options_), key);
+  io::FleetRecording deg = recording_;
+  deg.units = "gyro=deg/s";
+  EXPECT_NE(cache.key(deg, options_), key);
+  FleetStudyOptions seeded = options_;
+  seeded.select.seed = 7;
+  EXPECT_NE(cache.key(recording_, seeded), key);
+  FleetStudyOptions more_memory = options_;
+  more_memory.memory_budget = 1e6;  // how, not what, is computed
+  EXPECT_EQ(cache.key(recording_, more_memory), key);
+}
+
+TEST_F(FleetRecordTest, TheCacheHoldsAnEntryWholeAndForgetsIt) {
+  const FleetCache cache((dir_ / "a" / "b").string());
+  EXPECT_FALSE(cache.load("0123").has_value());
+  cache.store("0123", "{\"x\": 1}");
+  ASSERT_TRUE(cache.load("0123").has_value());
+  EXPECT_EQ(*cache.load("0123"), "{\"x\": 1}");
+  cache.forget("0123");
+  EXPECT_FALSE(cache.load("0123").has_value());
+  EXPECT_FALSE(FleetCache("").load("0123").has_value());
+}
+
+TEST(FleetCacheHash, IsTheSha256OfTheBytes) {
+  // FIPS 180-2 test vectors.
+  EXPECT_EQ(text_sha256("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(text_sha256(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  const fs::path dir = gmwm::test::temp_dir("fleet_hash");
+  std::ofstream(dir / "abc") << "abc";
+  EXPECT_EQ(file_sha256((dir / "abc").string()), text_sha256("abc"));
+  EXPECT_THROW(file_sha256((dir / "missing").string()), InputError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
