@@ -33,6 +33,7 @@
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/io/fleet_manifest.h"
+#include "gmwm/io/fleet_spec.h"
 #include "gmwm/pipeline/export_study.h"
 #include "gmwm/fleet/fleet_cache.h"
 #include "gmwm/fleet/fleet_record.h"
@@ -234,7 +235,8 @@ void refuse_manifest_rows(const std::vector<std::string>& problems) {
 // document gmwm fleet --json writes (without "run"). `cache`: a folder, "" for the CLI's
 // default beside the manifest, None for no cache. `runner`: None (here) or a Python runner.
 std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
-                     std::optional<double> memory_mb, std::optional<std::string> cache, py::object runner) {
+                     std::optional<double> memory_mb, std::optional<std::string> cache, py::object runner,
+                     const std::string& spec) {
   gmwm::fleet::FleetStudyOptions o;
   o.model = model_spec;
   o.wv.alpha = alpha;
@@ -243,6 +245,7 @@ std::string py_fleet(const std::string& manifest_path, const std::string& model_
   o.select.seed = seed;
   if (memory_mb) o.memory_budget = *memory_mb * 1e6;
   if (cache) o.cache_dir = cache->empty() ? gmwm::fleet::default_fleet_cache_dir(manifest_path) : *cache;
+  if (!spec.empty()) o.spec = gmwm::io::read_fleet_spec(spec);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("fleet: " + why);
   const gmwm::io::FleetManifest manifest = gmwm::io::read_fleet_manifest(manifest_path);
   if (const std::vector<std::string> problems = gmwm::io::fleet_manifest_problems(manifest); !problems.empty())
@@ -297,7 +300,7 @@ void add_multi_signal_functions(py::module_& m) {
         "The record of a recording whose task failed, saying why (what a runner hands back for it)");
   m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(), py::arg("cache") = "",
-        py::arg("runner") = py::none(),
+        py::arg("runner") = py::none(), py::arg("spec") = "",
         "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
         "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
         "the units that stand out: the document gmwm fleet --json writes");

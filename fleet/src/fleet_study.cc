@@ -15,6 +15,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/fleet/fleet_cache.h"
 #include "gmwm/fleet/fleet_record.h"
+#include "gmwm/io/units.h"
 
 namespace gmwm::fleet {
 namespace {
@@ -143,6 +144,87 @@ std::string g4(double x) {
 
 }  // namespace
 
+namespace {
+
+// The unit a group's axis is summarised in: the data unit its rows share, else (units
+// declared differently, e.g. one unit recorded in deg/s and another in rad/s) the SI unit
+// of the kind, every figure converted to it. Per row the factor to that unit.
+struct SummaryUnit {
+  std::string unit;
+  std::vector<double> factor;  // per member row: figure x factor = figure in `unit`
+};
+
+double per_si_of(const FleetRow& r) {
+  if (r.data_unit.empty()) return 1.0;  // undeclared: SI, the convention of --units
+  try {
+    return io::parse_any_unit(r.data_unit).second.per_si;
+  } catch (const std::exception&) {
+    return 1.0;
+  }
+}
+
+SummaryUnit summary_unit(const std::vector<FleetRow*>& members) {
+  SummaryUnit u;
+  bool same = true;
+  for (const FleetRow* r : members) same = same && r->data_unit == members.front()->data_unit;
+  if (same) {
+    u.unit = members.empty() ? std::string() : members.front()->data_unit;
+    u.factor.assign(members.size(), 1.0);
+    return u;
+  }
+  try {
+    u.unit = io::si_unit(io::sensor_kind_of_column(members.front()->axis)).name;
+  } catch (const std::exception&) {
+    u.unit = "SI";
+  }
+  for (const FleetRow* r : members) u.factor.push_back(1.0 / per_si_of(*r));
+  return u;
+}
+
+const ChosenFigure& figure_of(const FleetRow& r, int k) {
+  return k == 0 ? r.figures.white : k == 1 ? r.figures.walk : r.figures.instability;
+}
+
+// One figure of one group's axis: the median and spread of the logs, the units beyond the
+// outlier rule (their rows flagged), the units above the spec.
+FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::string& group, const std::string& axis,
+                                    int k) {
+  FleetFigureSummary s{group, axis, "NKB"[k]};
+  std::vector<FleetRow*> all, members;
+  for (FleetRow& r : rows)
+    if (r.group == group && r.axis == axis) all.push_back(&r);
+  for (FleetRow* r : all) {
+    for (const SpecCheck& c : r->spec)
+      if (c.figure == s.figure && c.verdict == SpecVerdict::kFail) s.out_of_spec.push_back(r->unit);
+    if (!r->figures_known) continue;
+    const ChosenFigure& f = figure_of(*r, k);
+    if (f.figure.status != ReadoffStatus::kBound && f.figure.value > 0.0) members.push_back(r);
+  }
+  const SummaryUnit u = summary_unit(members);
+  s.unit = members.empty() ? summary_unit(all).unit : u.unit;
+  std::vector<double> logs;
+  for (std::size_t i = 0; i < members.size(); ++i)
+    logs.push_back(std::log(figure_of(*members[i], k).figure.value * u.factor[i]));
+  s.units = static_cast<int>(logs.size());
+  if (logs.empty()) return s;
+  const double m = median_of(logs);
+  std::vector<double> dev;
+  for (double x : logs) dev.push_back(std::abs(x - m));
+  const double mad = median_of(dev);
+  s.median = std::exp(m);
+  s.spread = std::exp(mad / kMadToSigma);
+  for (std::size_t i = 0; s.units >= kMinUnitsForFlags && mad > 0.0 && i < logs.size(); ++i) {
+    const double z = kMadToSigma * (logs[i] - m) / mad;
+    if (std::abs(z) <= kFleetOutlierZ) continue;
+    s.flagged.push_back(members[i]->unit);
+    members[i]->flags.push_back(std::string(1, s.figure) + ": " + g4(std::exp(logs[i] - m)) +
+                                "x the fleet's median (robust z " + g4(z) + ")");
+  }
+  return s;
+}
+
+}  // namespace
+
 std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows) {
   // Groups and axes in the order they first appear.
   std::vector<std::pair<std::string, std::string>> keys;
@@ -151,35 +233,7 @@ std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows) {
       keys.emplace_back(r.group, r.axis);
   std::vector<FleetFigureSummary> out;
   for (const auto& [group, axis] : keys)
-    for (int k = 0; k < 3; ++k) {
-      FleetFigureSummary s{group, axis, "NKB"[k]};
-      std::vector<FleetRow*> members;
-      std::vector<double> logs;
-      for (FleetRow& r : rows) {
-        if (r.group != group || r.axis != axis || !r.figures_known) continue;
-        const ChosenFigure& f = k == 0 ? r.figures.white : k == 1 ? r.figures.walk : r.figures.instability;
-        if (f.figure.status == ReadoffStatus::kBound || !(f.figure.value > 0.0)) continue;
-        members.push_back(&r);
-        logs.push_back(std::log(f.figure.value));
-      }
-      s.units = static_cast<int>(logs.size());
-      if (!logs.empty()) {
-        const double m = median_of(logs);
-        std::vector<double> dev;
-        for (double x : logs) dev.push_back(std::abs(x - m));
-        const double mad = median_of(dev);
-        s.median = std::exp(m);
-        s.spread = std::exp(mad / kMadToSigma);
-        for (std::size_t i = 0; s.units >= kMinUnitsForFlags && mad > 0.0 && i < logs.size(); ++i) {
-          const double z = kMadToSigma * (logs[i] - m) / mad;
-          if (std::abs(z) <= kFleetOutlierZ) continue;
-          s.flagged.push_back(members[i]->unit);
-          members[i]->flags.push_back(std::string(1, s.figure) + ": " + g4(std::exp(logs[i] - m)) +
-                                      "x the fleet's median (robust z " + g4(z) + ")");
-        }
-      }
-      out.push_back(std::move(s));
-    }
+    for (int k = 0; k < 3; ++k) out.push_back(summarise_figure(rows, group, axis, k));
   return out;
 }
 
@@ -204,6 +258,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   study.model_spec = options.model.text();
   study.recordings = static_cast<int>(manifest.recordings.size());
   study.cache_dir = options.cache_dir;
+  if (options.spec) study.spec_path = options.spec->path;
 
   Plan p = plan(manifest, options, cache);
   std::vector<bool> from_cache(p.records.size());
@@ -211,6 +266,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   study.cached = p.cached;
   run(p, options, cache);
   assemble(manifest, p.records, from_cache, study);
+  if (options.spec) check_spec(study.rows, *options.spec);
   study.summary = fleet_summary(study.rows);
   study.seconds = seconds_since(start);
   return study;

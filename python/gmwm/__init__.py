@@ -55,7 +55,7 @@ from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, Co
                    GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
 from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
 from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
-                   FleetResult, FleetRow, GaussMarkov, NavCurves, NavFilter,
+                   FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,
                    NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
                    WrittenNoise)
 from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
@@ -118,7 +118,7 @@ _fleet_raw = _typed(_gmwm.fleet, FleetResult)
 
 def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, seed: int = DEFAULT_SEED,
           memory: float | None = None, cache: str | os.PathLike[str] | None = "",
-          scheduler: Any = None) -> FleetResult:
+          scheduler: Any = None, spec: str | os.PathLike[str] | None = None) -> FleetResult:
     """Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate,
     group]) selected over `model` as gmwm select does: one row per unit x axis with N, K, B, the
     fleet's summary and the units that stand out (the document gmwm fleet --json writes).
@@ -126,12 +126,15 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
     cache: the folder of records already computed (by content and options); "" (default) the
     CLI's .gmwm-cache beside the manifest, None no cache. scheduler: None runs here; a Dask
     scheduler's address ("tcp://host:8786"), a distributed.Client or a LocalCluster runs each
-    recording as a task there (python3-distributed; the workers need gmwm and the files)."""
+    recording as a task there (python3-distributed; the workers need gmwm and the files).
+    spec: a yaml of datasheet limits per sensor model (the CLI's --spec): each unit's N, K, B
+    checked against them (rows' "spec", "spec_verdict"; the summary's "out_of_spec")."""
     from . import _fleet_dask
 
     runner = None if scheduler is None else _fleet_dask.runner(scheduler)
     return _fleet_raw(os.fspath(manifest), model=model, alpha=alpha, seed=seed, memory=memory,
-                      cache=None if cache is None else os.fspath(cache), runner=runner)
+                      cache=None if cache is None else os.fspath(cache), runner=runner,
+                      spec="" if spec is None else os.fspath(spec))
 
 
 def _result_document(result: Any) -> tuple[str, str]:
@@ -195,5 +198,5 @@ __all__ = [
     "JointFitColumn", "ReplicateFit", "ReplicateOwnFit", "Agmwm", "ReplicateBootstrap", "ReplicateTest",
     "JointSelectColumn", "JointRankingRow",
     "ExportColumn", "ExportWritten", "WrittenNoise", "GaussMarkov", "ConsistentFor",
-    "FleetResult", "FleetRow", "FleetFigure", "FleetFigureSummary",
+    "FleetResult", "FleetRow", "FleetFigure", "FleetFigureSummary", "FleetSpecCheck",
 ]

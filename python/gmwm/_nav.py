@@ -360,6 +360,29 @@ class FleetFigure:
 
 
 @dataclass(frozen=True)
+class FleetSpecCheck:
+    """One figure of a unit's axis against its spec limit (`gmwm fleet --spec`): `value` with
+    its interval [`low`, `high`] in the limit's unit (B as the Allan minimum 0.664 B when the
+    limit is an in-run bias stability), the `verdict` ('pass', 'fail', 'unknown') and a `note`."""
+
+    figure: str
+    limit: float
+    limit_unit: str
+    limit_key: str
+    limit_where: str
+    value: float
+    low: float
+    high: float
+    verdict: str
+    note: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "FleetSpecCheck":
+        return cls(d["figure"], num(d["limit"]), d["limit_unit"], d["limit_key"], d["limit_where"], num(d["value"]),
+                   num(d["low"]), num(d["high"]), d["verdict"], d["note"])
+
+
+@dataclass(frozen=True)
 class FleetRow:
     """One unit x axis of a fleet (or a recording that failed: `axis` empty, `status` why)."""
 
@@ -380,6 +403,10 @@ class FleetRow:
     B: FleetFigure | None
     seconds: float
     flags: tuple[str, ...]
+    cached: bool = False
+    spec: tuple[FleetSpecCheck, ...] = ()
+    spec_verdict: str = ""
+    spec_note: str = ""
 
 
 @dataclass(frozen=True)
@@ -394,6 +421,8 @@ class FleetFigureSummary:
     median: float
     spread: float
     flagged: tuple[str, ...]
+    unit: str = ""
+    out_of_spec: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -407,6 +436,9 @@ class FleetResult(JsonResult):
     failed: int
     rows: tuple[FleetRow, ...]
     summary: tuple[FleetFigureSummary, ...]
+    cached: int = 0
+    cache: str | None = None
+    spec: str | None = None
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "FleetResult":
@@ -414,13 +446,17 @@ class FleetResult(JsonResult):
             FleetRow(r["unit"], r["model"], r["group"], r["path"], r["axis"], r["unit_of_data"], r["status"],
                      r["chosen"], r["chosen_structure"], num(r["gof_p_value"]), num(r["freq"]), int(r["n"]),
                      FleetFigure.from_dict(r["N"]), FleetFigure.from_dict(r["K"]), FleetFigure.from_dict(r["B"]),
-                     num(r["seconds"]), strings(r["flags"]))
+                     num(r["seconds"]), strings(r["flags"]), bool(r.get("cached", False)),
+                     tuple(FleetSpecCheck.from_dict(c) for c in r.get("spec", ())), r.get("spec_verdict", ""),
+                     r.get("spec_note", ""))
             for r in d["rows"])
         summary = tuple(
             FleetFigureSummary(s["group"], s["axis"], s["figure"], int(s["units"]), num(s["median"]),
-                               num(s["spread"]), strings(s["flagged"]))
+                               num(s["spread"]), strings(s["flagged"]), s.get("unit", ""),
+                               strings(s.get("out_of_spec", [])))
             for s in d["summary"])
-        return cls(d, text, d["manifest"], d["model_spec"], int(d["recordings"]), int(d["failed"]), rows, summary)
+        return cls(d, text, d["manifest"], d["model_spec"], int(d["recordings"]), int(d["failed"]), rows, summary,
+                   int(d.get("cached", 0)), d.get("cache"), d.get("spec"))
 
     def to_dataframe(self) -> Any:
         """The rows as a pandas DataFrame (N, K, B as value columns with _low and _high);
@@ -437,6 +473,8 @@ class FleetResult(JsonResult):
                 rec[name + "_low"] = f.low if f else np.nan
                 rec[name + "_high"] = f.high if f else np.nan
             rec["flags"] = "; ".join(r.flags)
+            rec["cached"] = r.cached
+            rec["spec"] = r.spec_verdict
             records.append(rec)
         return pandas.DataFrame.from_records(records)
 

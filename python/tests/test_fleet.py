@@ -83,3 +83,19 @@ def test_fleet_refuses_the_manifests_bad_rows_with_the_clis_lines(fleet_dir):
     assert lines[1] == str(bad) + ":4: unit 'SN1' given twice (first at row 2)"
     # The command says the same, a line each (its paths relative to where it ran).
     assert "bad.csv:4: unit 'SN1' given twice (first at row 2)" in cli.stderr
+
+
+def test_fleet_checks_the_units_against_a_spec_with_typed_verdicts(fleet_dir, monkeypatch):
+    monkeypatch.chdir(fleet_dir)
+    (fleet_dir / "spec.yaml").write_text("IMU-X:\n  gyroscope:\n    angle_random_walk: 5 deg/sqrt(h)\n")
+    t = gmwm.fleet("fleet.csv", model="WN+RW", spec="spec.yaml")
+    assert t.spec == "spec.yaml"
+    verdicts = {(r.unit, r.axis): r.spec_verdict for r in t.rows}
+    # SN3 has 4x the white-noise variance: N 6.9 deg/sqrt(h) against the limit 5; the others 3.4.
+    assert {k for k, v in verdicts.items() if v == "fail (N)"} == {("SN3", "gyro_x"), ("SN3", "gyro_y")}
+    check = t.rows[0].spec[0]
+    assert isinstance(check, gmwm.FleetSpecCheck)
+    assert (check.figure, check.limit, check.limit_unit, check.verdict) == ("N", 5.0, "deg/sqrt(h)", "pass")
+    assert check.value == pytest.approx(1e-2 / 10 * 180 / np.pi * 60, rel=0.05)
+    n_summary = [s for s in t.summary if s.figure == "N" and s.axis == "gyro_x"][0]
+    assert n_summary.out_of_spec == ("SN3",) and n_summary.unit == "rad/s"

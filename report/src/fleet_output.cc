@@ -1,8 +1,10 @@
 // The fleet study's JSON, CSV and terminal table (fleet_output.h).
 #include "gmwm/report/fleet_output.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "gmwm/io/signal_writer.h"
@@ -31,6 +33,34 @@ const ChosenFigure* figure_of(const fleet::FleetRow& r, int k) {
   return k == 0 ? &r.figures.white : k == 1 ? &r.figures.walk : &r.figures.instability;
 }
 
+Json spec_json(const fleet::FleetRow& r) {
+  Json checks = Json::array();
+  for (const fleet::SpecCheck& c : r.spec)
+    checks.push_back({{"figure", std::string(1, c.figure)},
+                      {"limit", c.limit.value},
+                      {"limit_unit", c.limit.unit},
+                      {"limit_key", c.limit.key},
+                      {"limit_where", c.limit.where},
+                      {"value", json_number(c.value)},
+                      {"low", json_number(c.low)},
+                      {"high", json_number(c.high)},
+                      {"verdict", to_string(c.verdict)},
+                      {"note", c.note}});
+  return checks;
+}
+
+// A row's spec verdict in one word: "fail (N, B)", "pass", "unknown (K)", "" without checks.
+std::string spec_word(const fleet::FleetRow& r) {
+  if (r.spec.empty()) return {};
+  std::string fail, unknown;
+  for (const fleet::SpecCheck& c : r.spec) {
+    std::string& list = c.verdict == fleet::SpecVerdict::kFail ? fail : unknown;
+    if (c.verdict != fleet::SpecVerdict::kPass) list += (list.empty() ? "" : ", ") + std::string(1, c.figure);
+  }
+  if (!fail.empty()) return "fail (" + fail + ")";
+  return unknown.empty() ? "pass" : "unknown (" + unknown + ")";
+}
+
 }  // namespace
 
 Json fleet_document(const fleet::FleetStudy& study) {
@@ -41,6 +71,7 @@ Json fleet_document(const fleet::FleetStudy& study) {
   doc["failed"] = study.failed;
   doc["cached"] = study.cached;
   doc["cache"] = study.cache_dir.empty() ? Json(nullptr) : Json(study.cache_dir);
+  doc["spec"] = study.spec_path.empty() ? Json(nullptr) : Json(study.spec_path);
   Json rows = Json::array();
   for (const fleet::FleetRow& r : study.rows) {
     Json row = {{"unit", r.unit},
@@ -60,6 +91,11 @@ Json fleet_document(const fleet::FleetStudy& study) {
     row["seconds"] = json_number(r.seconds);
     row["cached"] = r.cached;
     row["flags"] = r.flags;
+    if (!study.spec_path.empty()) {
+      row["spec"] = spec_json(r);
+      row["spec_verdict"] = spec_word(r);
+      row["spec_note"] = r.spec_note;
+    }
     rows.push_back(std::move(row));
   }
   doc["rows"] = std::move(rows);
@@ -69,9 +105,11 @@ Json fleet_document(const fleet::FleetStudy& study) {
                        {"axis", s.axis},
                        {"figure", std::string(1, s.figure)},
                        {"units", s.units},
+                       {"unit", s.unit},
                        {"median", json_number(s.median)},
                        {"spread", json_number(s.spread)},
-                       {"flagged", s.flagged}});
+                       {"flagged", s.flagged},
+                       {"out_of_spec", s.out_of_spec}});
   doc["summary"] = std::move(summary);
   doc["outlier_rule"] = {{"robust_z", fleet::kFleetOutlierZ}, {"min_units", fleet::kMinUnitsForFlags}};
   return doc;
@@ -80,7 +118,7 @@ Json fleet_document(const fleet::FleetStudy& study) {
 std::string fleet_csv(const fleet::FleetStudy& study) {
   std::ostringstream os;
   os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,"
-        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,flags\n";
+        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,spec,flags\n";
   for (const fleet::FleetRow& r : study.rows) {
     os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
        << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
@@ -93,53 +131,119 @@ std::string fleet_csv(const fleet::FleetStudy& study) {
     }
     std::string flags;
     for (const std::string& f : r.flags) flags += (flags.empty() ? "" : "; ") + f;
-    os << ',' << exact(r.seconds) << ',' << (r.cached ? "true" : "false") << ',' << io::csv_field(flags) << '\n';
+    os << ',' << exact(r.seconds) << ',' << (r.cached ? "true" : "false") << ',' << io::csv_field(spec_word(r)) << ','
+       << io::csv_field(flags) << '\n';
   }
   return os.str();
 }
 
-std::string fleet_text(const fleet::FleetStudy& study) {
-  TextTable t({"unit", "axis", "N", "K", "B", "unit of data", "GoF p", "chosen"}, 2);
-  std::string failures;
-  for (const fleet::FleetRow& r : study.rows) {
-    if (r.axis.empty()) {
-      failures += "  " + r.unit + ": " + r.status + "\n";
-      continue;
-    }
-    auto fig = [&](int k) {
-      const ChosenFigure* f = figure_of(r, k);
-      if (!f) return std::string("-");
-      return (f->figure.status == ReadoffStatus::kBound ? "< " : "") + fmt(f->figure.value, 4);
-    };
-    t.add({r.unit, r.axis, fig(0), fig(1), fig(2), r.data_unit.empty() ? "U" : r.data_unit, fmt(r.gof_p, 2),
-           r.status == "ok" ? r.chosen_structure : r.status});
-  }
-  std::ostringstream os;
-  os << study.recordings << " recordings of " << study.manifest << ", each selected over " << study.model_spec
-     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U; U the data's unit): " << study.failed << " failed"
-     << (study.cache_dir.empty() ? std::string()
-                                 : ", " + std::to_string(study.cached) + " from the cache " + study.cache_dir)
-     << "\n"
-     << t.str();
-  if (!failures.empty()) os << "failed:\n" << failures;
-  // Each group's axes: the median of each figure, its spread, the units that stand out.
-  TextTable s({"group", "axis", "units", "N median (spread)", "K median (spread)", "B median (spread)"}, 2);
-  std::string flagged;
+namespace {
+
+// A median in the datasheet's unit when the data's unit is known ("0.297 deg/sqrt(h)"), else
+// in the data's unit pattern.
+std::string figure_text(char figure, double value, const std::string& unit, double spread) {
+  if (!std::isfinite(value)) return "-";
+  const std::string x = spread > 0.0 ? " x" + fmt(spread, 3) : std::string();
+  if (const std::optional<DatasheetValue> d = datasheet_value(figure, value, unit))
+    return fmt(d->value, 3) + " " + d->unit + x;
+  const std::string u = unit.empty() ? "U" : unit;
+  const char* per = figure == 'N' ? "/sqrt(Hz)" : figure == 'K' ? "/s/sqrt(Hz)" : "";
+  return fmt(value, 3) + " " + u + per + x;
+}
+
+std::string summary_table(const fleet::FleetStudy& study) {
+  TextTable s({"group", "axis", "units", "N", "K", "B"}, 2);
   for (std::size_t i = 0; i + 2 < study.summary.size(); i += 3) {
     std::vector<std::string> row = {study.summary[i].group, study.summary[i].axis,
                                     std::to_string(study.summary[i].units)};
     for (std::size_t k = 0; k < 3; ++k) {
       const fleet::FleetFigureSummary& f = study.summary[i + k];
-      row.push_back(f.units ? fmt(f.median, 4) + " (x" + fmt(f.spread, 3) + ")" : "-");
+      row.push_back(f.units ? figure_text(f.figure, f.median, f.unit, f.spread) : "-");
     }
     s.add(row);
   }
+  return s.str();
+}
+
+// Per group, axis and figure checked: the limit and how many units are above it (surely:
+// their interval wholly above), within it, or undecided.
+std::string spec_table(const fleet::FleetStudy& study) {
+  struct Count {
+    std::string group, axis, limit;
+    char figure;
+    int above = 0, surely = 0, within = 0, unknown = 0;
+  };
+  std::vector<Count> counts;
   for (const fleet::FleetRow& r : study.rows)
+    for (const fleet::SpecCheck& c : r.spec) {
+      auto it = std::find_if(counts.begin(), counts.end(), [&](const Count& x) {
+        return x.group == r.group && x.axis == r.axis && x.figure == c.figure && x.limit == c.limit.written;
+      });
+      if (it == counts.end()) it = counts.insert(counts.end(), Count{r.group, r.axis, c.limit.written, c.figure});
+      if (c.verdict == fleet::SpecVerdict::kFail) {
+        ++it->above;
+        it->surely += c.low > c.limit.value;
+      }
+      it->within += c.verdict == fleet::SpecVerdict::kPass;
+      it->unknown += c.verdict == fleet::SpecVerdict::kUnknown;
+    }
+  TextTable t({"group", "axis", "figure", "limit", "above", "surely", "within", "undecided"}, 4);
+  for (const Count& c : counts)
+    t.add({c.group, c.axis, std::string(1, c.figure), c.limit, std::to_string(c.above), std::to_string(c.surely),
+           std::to_string(c.within), std::to_string(c.unknown)});
+  return t.str();
+}
+
+std::string unit_table(const fleet::FleetStudy& study) {
+  TextTable t({"unit", "axis", "N", "K", "B", "GoF p", "chosen"}, 2);
+  for (const fleet::FleetRow& r : study.rows) {
+    if (r.axis.empty()) continue;
+    auto fig = [&](int k) {
+      const ChosenFigure* f = figure_of(r, k);
+      if (!f) return std::string("-");
+      return (f->figure.status == ReadoffStatus::kBound ? "< " : "") +
+             figure_text("NKB"[k], f->figure.value, r.data_unit, 0.0);
+    };
+    t.add({r.unit, r.axis, fig(0), fig(1), fig(2), fmt(r.gof_p, 2), r.status == "ok" ? r.chosen_structure : r.status});
+  }
+  return t.str();
+}
+
+}  // namespace
+
+std::string fleet_text(const fleet::FleetStudy& study, bool verbose) {
+  std::ostringstream os;
+  os << study.manifest << ": " << study.recordings << " recordings, " << study.failed << " failed"
+     << (study.cache_dir.empty() ? std::string()
+                                 : ", " + std::to_string(study.cached) + " from the cache " + study.cache_dir)
+     << "; each selected over " << study.model_spec << "\n";
+  os << "\nper group and axis: the median of the units' figures, xS their spread (one robust sigma as a factor, "
+        "exp(MAD of the logs / 0.6745)):\n"
+     << summary_table(study);
+  std::string flagged, checks, failures;
+  for (const fleet::FleetRow& r : study.rows) {
+    if (r.axis.empty()) failures += "  " + r.unit + ": " + r.status + "\n";
     for (const std::string& f : r.flags) flagged += "  " + r.unit + ", " + r.axis + ": " + f + "\n";
-  os << "\nper group and axis (median of the units' read-offs; spread: exp(MAD of the logs / 0.6745)):\n" << s.str();
-  os << (flagged.empty() ? "no unit stands out from its group (robust z beyond 3.5; groups of 5 units or more)\n"
+    for (const fleet::SpecCheck& c : r.spec)
+      if (c.verdict != fleet::SpecVerdict::kPass) checks += "  " + r.unit + ", " + r.axis + ": " + c.note + "\n";
+  }
+  os << "\n"
+     << (flagged.empty() ? "no unit stands out from its group (robust z beyond 3.5; groups of 5 units or more)\n"
                          : "stand out from their group (robust z beyond 3.5):\n" + flagged);
-  return os.str();
+  if (!study.spec_path.empty()) {
+    os << "\nagainst the spec " << study.spec_path
+       << " (units above each limit; surely: their interval wholly above it; undecided: no read-off, or only a "
+          "bound above the limit):\n"
+       << spec_table(study);
+    if (verbose && !checks.empty()) os << "each figure above its limit or undecided:\n" << checks;
+  }
+  if (!failures.empty()) os << "failed:\n" << failures;
+  const std::size_t axes = study.rows.size() - static_cast<std::size_t>(study.failed);
+  if (verbose || axes <= kFleetTerminalRows)
+    os << "\nper unit and axis (figures in datasheet units where the data's unit is declared):\n" << unit_table(study);
+  else
+    os << "\n" << axes << " unit x axis rows: --verbose prints them, --csv and --json write them\n";
+  return wrap_to_width(os.str());
 }
 
 }  // namespace gmwm::report

@@ -191,21 +191,32 @@ TEST_F(GmwmFleet, FlagsTheUnitWhoseWhiteNoiseIsTwiceTheFleetsAndNoOtherUnit) {
 
 // --- The cache: a re-run computes only what is missing or changed -------------------------
 
-// The table without its wall times and cache flags (the only columns a cached row may change).
+// The table without its wall times and cache flags (the only columns a cached row may change),
+// found by the header's names.
 std::string table_without_timings(const std::string& csv) {
-  std::string out;
-  std::istringstream in(csv);
-  for (std::string line; std::getline(in, line);) {
-    // seconds and cached are the 2nd- and 3rd-last fields; flags (last) may be quoted.
-    std::vector<std::size_t> commas;
+  const auto fields = [](const std::string& line) {
+    std::vector<std::string> out(1);
     bool quoted = false;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-      if (line[i] == '"') quoted = !quoted;
-      if (line[i] == ',' && !quoted) commas.push_back(i);
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      if (c == ',' && !quoted)
+        out.emplace_back();
+      else
+        out.back() += c;
     }
-    if (commas.size() < 3) return "malformed line: " + line;
-    const std::size_t from = commas[commas.size() - 3], to = commas[commas.size() - 1];
-    out += line.substr(0, from) + line.substr(to) + "\n";
+    return out;
+  };
+  std::istringstream in(csv);
+  std::string line, out;
+  std::vector<bool> keep;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = fields(line);
+    if (keep.empty())
+      for (const std::string& name : f) keep.push_back(name != "seconds" && name != "cached");
+    if (f.size() != keep.size()) return "malformed line: " + line;
+    for (std::size_t i = 0; i < f.size(); ++i)
+      if (keep[i]) out += f[i] + ",";
+    out += "\n";
   }
   return out;
 }
@@ -321,6 +332,49 @@ TEST_F(GmwmFleet, AKilledRunResumesAndComputesOnlyTheMissingRecordings) {
   ASSERT_EQ(whole.exit_code, 0) << whole.err;
   EXPECT_EQ(table_without_timings(gmwm::test::read_text(dir_ / "resumed.csv")),
             table_without_timings(gmwm::test::read_text(dir_ / "whole.csv")));
+}
+
+// --spec: each unit's figures against the datasheet limits of its model, in the limit's unit.
+TEST_F(GmwmFleet, ChecksEachUnitAgainstTheSpecAndNamesTheOneAboveIt) {
+  // N of the truth: sqrt(1e-4 / 100) = 1e-3 rad/s/sqrt(Hz) = 3.44 deg/sqrt(h); the unit with
+  // 4x the white-noise variance has twice that. The limit 5 deg/sqrt(h) lies between.
+  auto r = run_gmwm({"simulate", "--model", "WN(sigma2=4e-4)+RW(gamma2=1e-10)", "--n", "16384", "--freq", "100",
+                     "--signals", "2", "--names", "gyro_x,gyro_y", "--seed", "4", "--output", "unit4.csv", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  write("fleet.csv",
+        "path,unit,model,units\nunit1.csv,SN1,IMU-X,gyro=rad/s\nunit2.csv,SN2,IMU-X,gyro=rad/s\n"
+        "unit3.csv,SN3,IMU-X,gyro=rad/s\nunit4.csv,SN4,IMU-X,gyro=rad/s\n");
+  write("spec.yaml", "IMU-X:\n  gyroscope:\n    angle_random_walk: 5 deg/sqrt(h)\n");
+  auto f = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--spec", "spec.yaml", "--json", "f.json", "--csv",
+                     "f.csv"},
+                    dir_);
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const json doc = read_json(dir_ / "f.json");
+  EXPECT_EQ(doc.at("spec"), "spec.yaml");
+  for (const json& row : doc.at("rows")) {
+    ASSERT_EQ(row.at("spec").size(), 1u) << row.dump();
+    const json& c = row["spec"][0];
+    EXPECT_EQ(c.at("figure"), "N");
+    EXPECT_EQ(c.at("limit"), 5.0);
+    EXPECT_EQ(c.at("limit_unit"), "deg/sqrt(h)");
+    const double expected = (row.at("unit") == "SN4" ? 2.0 : 1.0) * 1e-3 * 180.0 / M_PI * 60.0;
+    EXPECT_NEAR(c.at("value").get<double>(), expected, 0.05 * expected) << row.dump();
+    EXPECT_EQ(c.at("verdict"), row.at("unit") == "SN4" ? "fail" : "pass") << row.dump();
+    EXPECT_EQ(row.at("spec_verdict"), row.at("unit") == "SN4" ? "fail (N)" : "pass");
+  }
+  for (const json& s : doc.at("summary"))
+    EXPECT_EQ(s.at("out_of_spec"), s.at("figure") == "N" ? json::array({"SN4"}) : json::array()) << s.dump();
+  EXPECT_NE(f.out.find("against the spec spec.yaml"), std::string::npos) << f.out;
+  EXPECT_NE(gmwm::test::read_text(dir_ / "f.csv").find(",fail (N),"), std::string::npos);
+}
+
+TEST_F(GmwmFleet, RefusesASpecThatIsNotOneNamingTheFileAndLineBeforeAnyWork) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\n");
+  write("spec.yaml", "IMU-X:\n  gyroscope:\n    angle_random_walk: 5 deg/h\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--spec", "spec.yaml", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(r, {"spec.yaml:3", "angle_random_walk", "deg/h"}, dir_ / "f.json");
+  EXPECT_FALSE(fs::exists(dir_ / ".gmwm-cache"));
 }
 
 // Issue 30's acceptance on real units: the three ADIS16405 recordings as a fleet of three give

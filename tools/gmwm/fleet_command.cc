@@ -11,6 +11,7 @@
 #include "gmwm/fleet/fleet_cache.h"
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/io/fleet_manifest.h"
+#include "gmwm/io/fleet_spec.h"
 #include "gmwm/report/fleet_output.h"
 
 namespace gmwm::cli {
@@ -26,6 +27,7 @@ struct FleetArgs {
   std::optional<std::string> cache;  ///< --cache DIR; default: default_fleet_cache_dir
   bool no_cache = false;
   std::string scheduler;  ///< --scheduler ADDRESS: a Dask cluster; empty: this machine
+  std::string spec;       ///< --spec FILE: the datasheet limits per sensor model
 };
 
 // The bad rows said at most (a manifest of a hundred thousand copied rows would otherwise
@@ -62,6 +64,10 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   declare_input(common, a.manifest);
   declare_output(common, "--csv", a.csv);
   declare_output(common, "--json", common.json);
+  if (!a.spec.empty()) {
+    declare_input(common, a.spec);
+    o.spec = io::read_fleet_spec(a.spec);
+  }
   const io::FleetManifest manifest = io::read_fleet_manifest(a.manifest);
   for (const io::FleetRecording& r : manifest.recordings) declare_input(common, r.path);
   if (const std::vector<std::string> problems = io::fleet_manifest_problems(manifest); !problems.empty())
@@ -76,7 +82,7 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   if (!a.csv.empty()) common.outputs->stage(a.csv, report::fleet_csv(study));
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
-  if (common.show_table()) print_text(report::fleet_text(study));
+  if (common.show_table()) print_text(report::fleet_text(study, common.verbose));
   for (const fleet::FleetRow& r : study.rows)
     if (r.status != "ok")
       warn("unit '" + r.unit + "'" + (r.axis.empty() ? "" : ", axis '" + r.axis + "'") + ": " + r.status);
@@ -110,6 +116,10 @@ Command add_fleet_command(CLI::App& app, CommonOptions& common) {
          "Folder of the records already computed, by content and options (default: .gmwm-cache beside the "
          "manifest): a re-run computes only what is missing or changed")
       ->type_name("DIR");
+  sub->add_option("--spec", args->spec,
+                  "Datasheet limits per sensor model (a datasheet yaml per model, or one for all): each unit's N, K, B "
+                  "checked against them (docs/fleet.md)")
+      ->type_name("FILE");
   sub->add_flag("--no-cache", args->no_cache, "Neither read nor write cached records")->excludes("--cache");
   sub->add_option("--scheduler", args->scheduler,
                   "A Dask scheduler's address (tcp://HOST:8786): the recordings run as tasks on its workers, "

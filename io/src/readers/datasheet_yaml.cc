@@ -22,6 +22,7 @@
 #include "gmwm/io/side_file.h"
 #include "gmwm/io/sim_config.h"
 #include "config_text.h"
+#include "datasheet_limits.h"
 #include "yaml_figures.h"
 
 namespace gmwm::io {
@@ -526,24 +527,23 @@ SimConfig read_datasheet_yaml(const std::string& path, double data_freq, const s
   return parse_datasheet_yaml(read_side_file(path, "a datasheet yaml", kMaxKalibrYamlBytes), path, data_freq, units);
 }
 
-SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path, double data_freq,
-                               const std::map<SensorKind, Unit>& units) {
-  const YAML::Node root = detail::load_yaml(text, path);
+namespace {
+
+// Every sensor's figures of a datasheet map (gyroscope / accelerometer, an optional name);
+// `source` gets the part's name when the map gives one.
+std::map<SensorKind, SensorFigures> read_sensors(const YAML::Node& root, const std::string& path, std::string* source) {
   if (!root.IsMap())
     throw InputError(path +
                      ": expected a datasheet yaml: 'gyroscope:' and/or 'accelerometer:' maps of figures "
                      "such as 'noise_density: 0.05 deg/s/sqrt(Hz)'");
   detail::check_unique_keys(root, path);
-  SimConfig c;
-  c.source = "datasheet (" + path + ")";
-  c.format = SimFormat::kDatasheet;
   std::map<SensorKind, SensorFigures> read;
   for (const auto& kv : root) {
     const std::string key = kv.first.Scalar();
     const std::string where = detail::yaml_at(path, kv.first.Mark());
     if (key == "name" || key == "part") {
       if (!kv.second.IsScalar()) throw InputError(where + ": " + key + ": expected the part's name as text");
-      c.source = "datasheet of " + kv.second.Scalar() + " (" + path + ")";
+      if (source) *source = "datasheet of " + kv.second.Scalar() + " (" + path + ")";
       continue;
     }
     const auto s = std::find_if(std::begin(kSensors), std::end(kSensors),
@@ -557,6 +557,42 @@ SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path,
     read[s->kind] = read_sensor(kv.second, *s, path);
   }
   if (read.empty()) throw InputError(path + ": no gyroscope or accelerometer figures");
+  return read;
+}
+
+std::optional<SpecLimit> limit_of(const std::optional<Figure>& f) {
+  if (!f) return std::nullopt;
+  return SpecLimit{f->si, f->value, f->unit, g(f->value) + " " + f->unit, f->where, f->key};
+}
+
+}  // namespace
+
+bool is_datasheet_key(const std::string& key) {
+  if (key == "name" || key == "part") return true;
+  return std::any_of(std::begin(kSensors), std::end(kSensors),
+                     [&](const SensorSpec& x) { return key == x.key || key == x.alias; });
+}
+
+std::map<SensorKind, SensorLimits> datasheet_limits(const YAML::Node& root, const std::string& path) {
+  std::map<SensorKind, SensorLimits> out;
+  for (const auto& [kind, fig] : read_sensors(root, path, nullptr)) {
+    SensorLimits l;
+    l.white = limit_of(fig.white);
+    l.walk = limit_of(fig.walk);
+    l.instability = limit_of(fig.bias);
+    l.instability_is_minimum = fig.bias && fig.bias->key == "in_run_bias_stability";
+    out.emplace(kind, std::move(l));
+  }
+  return out;
+}
+
+SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path, double data_freq,
+                               const std::map<SensorKind, Unit>& units) {
+  const YAML::Node root = detail::load_yaml(text, path);
+  SimConfig c;
+  c.source = "datasheet (" + path + ")";
+  c.format = SimFormat::kDatasheet;
+  const std::map<SensorKind, SensorFigures> read = read_sensors(root, path, &c.source);
   for (const SensorSpec& s : kSensors) {
     const auto it = read.find(s.kind);
     if (it == read.end()) continue;

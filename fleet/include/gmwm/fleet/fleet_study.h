@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/fleet_manifest.h"
+#include "gmwm/io/fleet_spec.h"
 #include "gmwm/selection/select.h"
 
 namespace gmwm::fleet {
@@ -63,6 +65,9 @@ struct FleetStudyOptions {
   WvOptions wv;
   /// Bytes a recording's samples may take in memory (io::ReadOptions); 0: the default.
   double memory_budget = 0.0;
+  /// The datasheet limits each unit is checked against (`--spec FILE`; fleet_spec.h): a
+  /// check of the assembled rows, not part of any record or cache key.
+  std::optional<io::FleetSpec> spec;
   /// The folder of cached records (fleet_cache.h); empty: no cache.
   std::string cache_dir;
   /// Where the recordings that are not cached run; empty: here, one after another (each
@@ -73,6 +78,24 @@ struct FleetStudyOptions {
   std::function<void(int, int)> progress;
 
   std::string Validate() const;
+};
+
+/// A figure of a unit's axis against its spec limit.
+enum class SpecVerdict {
+  kPass,     ///< at or below the limit
+  kFail,     ///< above it
+  kUnknown,  ///< no read-off, or only an upper bound that lies above the limit
+};
+const char* to_string(SpecVerdict v);
+
+struct SpecCheck {
+  char figure = 'N';      ///< 'N', 'K' or 'B'
+  io::SpecLimit limit;    ///< as the spec gives it
+  /// The unit's figure in the limit's unit (B as 0.664 B, the Allan minimum, when the limit
+  /// is an in-run bias stability), with its interval (NaN when unknown).
+  double value = NAN, low = NAN, high = NAN;
+  SpecVerdict verdict = SpecVerdict::kUnknown;
+  std::string note;  ///< one line: the comparison and what the interval says
 };
 
 /// One axis of one unit (or, for a recording that failed, the recording: axis empty).
@@ -97,6 +120,10 @@ struct FleetRow {
   /// Where this axis stands out from its group's (fleet_summary): "N: 4.2x the fleet's
   /// median (robust z 9.1)", one per figure flagged; empty when it does not.
   std::vector<std::string> flags;
+  /// Its figures against the spec of its sensor model and kind (`--spec`; empty without one).
+  std::vector<SpecCheck> spec;
+  /// Why the spec says nothing of this axis ("no limits for model X's gyroscope"), or empty.
+  std::string spec_note;
 };
 
 /// What an axis leaves besides its row: the curves the report draws and the group's joint
@@ -122,10 +149,14 @@ struct FleetFigureSummary {
   std::string group, axis;
   char figure = 'N';  ///< 'N', 'K' or 'B'
   int units = 0;      ///< units with a read-off (bounds left out)
+  /// The unit of `median` (N per sqrt(Hz), K per s per sqrt(Hz)): the data unit the group's
+  /// rows share, else the SI unit (rows declared in different units are converted to it).
+  std::string unit;
   double median = NAN;
   /// The spread as a factor: exp(MAD of the logs / 0.6745), e.g. 1.08 = +-8% one sigma.
   double spread = NAN;
   std::vector<std::string> flagged;  ///< the units flagged on it
+  std::vector<std::string> out_of_spec;  ///< the units above its spec limit (`--spec`)
 };
 
 struct FleetStudy {
@@ -137,6 +168,7 @@ struct FleetStudy {
   int recordings = 0, failed = 0;
   int cached = 0;  ///< recordings whose record came from the cache
   std::string cache_dir;
+  std::string spec_path;  ///< the spec mask's file (empty: none)
   double seconds = 0.0;
 };
 
@@ -144,6 +176,11 @@ struct FleetStudy {
 /// is the caller's to report). Throws InputError only for invalid options; each recording's
 /// failure is its row.
 FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options);
+
+/// Each row's figures against `spec` (the limits of its sensor model and of the kind its
+/// unit or column name tells); sets FleetRow::spec and spec_note. Called by study_fleet when
+/// a spec is given, before fleet_summary.
+void check_spec(std::vector<FleetRow>& rows, const io::FleetSpec& spec);
 
 /// The distribution of N, K, B per group and axis over the rows that have them (read-offs,
 /// not bounds), and the units beyond kFleetOutlierZ (their rows' `flags` set). Called by

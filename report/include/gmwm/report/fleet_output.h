@@ -2,6 +2,7 @@
 // The fleet study's renderings (fleet/fleet_study.h): its JSON document, its table as CSV
 // (one row per unit x axis: the fleet's results table) and the terminal's table.
 
+#include <cstddef>
 #include <string>
 
 #include "gmwm/fleet/fleet_study.h"
@@ -9,19 +10,28 @@
 
 namespace gmwm::report {
 
-/// json_document("fleet"): "manifest", "model_spec", "recordings", "failed", and "rows"
-/// (per unit x axis: "unit", "model", "group", "path", "axis", "unit_of_data", "status",
-/// "chosen" (with values), "chosen_structure", "gof_p_value", "freq", "n", "N", "K", "B" each {"value", "low", "high",
-/// "source"}, "seconds", "flags"), "summary" (per group, axis and figure: "units", "median",
-/// "spread", "flagged") and "outlier_rule".
+/// json_document("fleet"): "manifest", "model_spec", "recordings", "failed", "cached",
+/// "cache", "spec", and "rows" (per unit x axis: "unit", "model", "group", "path", "axis",
+/// "unit_of_data", "status", "chosen" (with values), "chosen_structure", "gof_p_value", "freq",
+/// "n", "N", "K", "B" each {"value", "low", "high", "source"}, "seconds", "cached", "flags";
+/// with a spec "spec" (per figure checked: "figure", "limit", "limit_unit", "limit_key",
+/// "limit_where", "value", "low", "high" in the limit's unit, "verdict", "note"),
+/// "spec_verdict" and "spec_note"), "summary" (per group, axis and figure: "units", "unit",
+/// "median", "spread", "flagged", "out_of_spec") and "outlier_rule".
 Json fleet_document(const fleet::FleetStudy& study);
 
 /// The results table: a header, then one line per row of the study (fields as the JSON's,
 /// N, K, B as value, low, high; numbers in their shortest exact form, empty when unknown).
 std::string fleet_csv(const fleet::FleetStudy& study);
 
-/// The terminal's table: unit, axis, chosen model, N, K, B in the data's unit and the GoF
-/// p-value; a failed recording's row says why.
-std::string fleet_text(const fleet::FleetStudy& study);
+/// The most unit x axis rows the terminal lists without --verbose (a fleet of hundreds of
+/// units is read in its summary; the table is the CSV's).
+inline constexpr std::size_t kFleetTerminalRows = 60;
+
+/// The terminal's text, at most 100 columns: the headline, each group's axes (median and
+/// spread of N, K, B in datasheet units), the units that stand out, the spec's verdicts,
+/// the failed recordings; then the per-unit table (N, K, B, GoF p, chosen model) when
+/// `verbose` or at most kFleetTerminalRows rows.
+std::string fleet_text(const fleet::FleetStudy& study, bool verbose = false);
 
 }  // namespace gmwm::report
