@@ -64,12 +64,28 @@ std::optional<GapEffect> parse_gap_effect(const std::string& name) {
   return std::nullopt;
 }
 
+std::int64_t min_gap_replicates(double alpha) {
+  // The global test's null sample is half the replicates (gap_reference.cc), so its smallest
+  // p-value is 1 / (1 + replicates / 2): below alpha only when replicates / 2 > 1 / alpha - 1.
+  if (!(alpha > 0.0) || 1.0 / alpha > 1e15) return std::numeric_limits<std::int64_t>::max();
+  auto held = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(1.0 / alpha - 1.0)));
+  while (held > 1 && 1.0 / (1.0 + static_cast<double>(held - 1)) < alpha) --held;  // the floor may be one ulp high
+  while (1.0 / (1.0 + static_cast<double>(held)) >= alpha) ++held;
+  return std::max<std::int64_t>(kMinGapReplicates, 2 * held);
+}
+
 std::string GapOptions::Validate() const {
   std::ostringstream os;
-  if (replicates < 20 || replicates > 100000)
-    os << "replicates must be in [20, 100000], got " << replicates;
-  else if (!(alpha > 0.0 && alpha < 0.5))
+  if (!(alpha > 0.0 && alpha < 0.5))
     os << "alpha must be in (0, 0.5), got " << alpha;
+  else if (replicates < kMinGapReplicates || replicates > kMaxGapReplicates)
+    os << "replicates must be in [" << kMinGapReplicates << ", " << kMaxGapReplicates << "], got " << replicates;
+  else if (min_gap_replicates(alpha) > kMaxGapReplicates)
+    os << "alpha " << alpha << " is below what the global test can reach with " << kMaxGapReplicates
+       << " replicates (its smallest p-value is 1 / (1 + replicates / 2))";
+  else if (replicates < min_gap_replicates(alpha))
+    os << "replicates must be at least " << min_gap_replicates(alpha) << " for the global test to reject at alpha "
+       << alpha << " (its smallest p-value is 1 / (1 + replicates / 2)), got " << replicates;
   else if (!(min_effect >= 0.0))
     os << "min_effect must be >= 0, got " << min_effect;
   else if (max_steps < 0)

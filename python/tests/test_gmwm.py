@@ -401,10 +401,10 @@ def test_plan_equals_the_cli_json_bit_for_bit_and_types_the_targets(tmp_path):
 
 
 def test_gap_check_equals_the_cli_json_bit_for_bit_and_refuses_as_it_does(tmp_path):
-    args = ["--cases", "1", "--n", "4096", "--replicates", "20", "--families", "STEP,DR", "--strengths", "8",
+    args = ["--cases", "1", "--n", "4096", "--replicates", "40", "--families", "STEP,DR", "--strengths", "8",
             "--no-null"]
     doc = cli_json(tmp_path, "gap-check", *args)
-    mine = gmwm.gap_check(cases=1, n=4096, replicates=20, families="STEP,DR", strengths="8", null=False)
+    mine = gmwm.gap_check(cases=1, n=4096, replicates=40, families="STEP,DR", strengths="8", null=False)
     doc.pop("run", None)
     assert isinstance(mine, gmwm.GapCheckResult)
     assert_text_is_the_document(mine, doc)

@@ -143,7 +143,7 @@ TEST_F(GmwmExport, WritesAGazeboSdfThatTheGapCommandReads) {
   const std::string sdf = read_text(dir_ / "imu.sdf");
   EXPECT_NE(sdf.find("<sensor name=\"imu\" type=\"imu\">"), std::string::npos);
   EXPECT_EQ(sdf.find("<linear_acceleration>", sdf.find("-->")), std::string::npos);
-  r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--gazebo", "imu.sdf", "--replicates", "20", "--json",
+  r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--gazebo", "imu.sdf", "--replicates", "40", "--json",
                 "g.json", "--quiet"},
                dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;

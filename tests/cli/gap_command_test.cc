@@ -187,7 +187,7 @@ TEST_F(GmwmGap, TakesTheNamedImuOfAKalibrChainAndRefusesAnAmbiguousOne) {
   expect_bad_input(run_gmwm({"gap", "sim.csv.gz", "--kalibr", "chain.yaml:cam0", "--json", "g.json"}, dir_),
                    {"--kalibr chain.yaml:cam0", "FILE:imuN"}, dir_ / "g.json");
   auto r = run_gmwm(
-      {"gap", "sim.csv.gz", "--kalibr", "chain.yaml:imu1", "--replicates", "20", "--quiet", "--json", "g.json"}, dir_);
+      {"gap", "sim.csv.gz", "--kalibr", "chain.yaml:imu1", "--replicates", "40", "--quiet", "--json", "g.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // imu1's gyro density 1e-2 rad/s/sqrt(Hz): sigma2 = 1e-4 x 100 = 1e-2 (imu0's would give 1e-4).
   const std::string base = read_json(dir_ / "g.json")["columns"][0]["baseline_model"];
@@ -243,7 +243,7 @@ TEST_F(GmwmGap, TakesTheColumnsAxisFromAGazeboSdfWhoseAxesDiffer) {
                                       "<sensor name=\"imu\" type=\"imu\"><imu><angular_velocity>"
                                    << axis("x", "0.01") << axis("y", "0.02") << axis("z", "0.03")
                                    << "</angular_velocity></imu></sensor></link></model></sdf>\n";
-  auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", "axes.sdf", "--replicates", "20", "--json", "g.json", "--quiet"},
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--gazebo", "axes.sdf", "--replicates", "40", "--json", "g.json", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "g.json");
@@ -269,9 +269,9 @@ TEST_F(GmwmGap, RejectsAGazeboFileWithoutImuNoiseWithOneLine) {
 
 TEST_F(GmwmGap, WritesTheSameJsonWithOneAndTwoThreads) {
   auto one = run_gmwm(
-      {"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "1", "--json", "1.json"}, dir_);
+      {"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40", "--threads", "1", "--json", "1.json"}, dir_);
   auto two = run_gmwm(
-      {"gap", "sim.csv.gz", "--model", kBase, "--replicates", "30", "--threads", "2", "--json", "2.json"}, dir_);
+      {"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40", "--threads", "2", "--json", "2.json"}, dir_);
   ASSERT_EQ(one.exit_code, 0) << one.err;
   ASSERT_EQ(two.exit_code, 0) << two.err;
   json a = read_json(dir_ / "1.json"), b = read_json(dir_ / "2.json");
@@ -290,14 +290,14 @@ TEST_F(GmwmGap, StopsOnAUnitMixUpNamingTheUnitsThatFit) {
                      "--names", "gyro_x", "--output", "deg.csv", "--quiet"},
                     dir_);
   ASSERT_EQ(s.exit_code, 0) << s.err;
-  expect_bad_input(run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--replicates", "20", "--json", "x.json"}, dir_),
+  expect_bad_input(run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--replicates", "40", "--json", "x.json"}, dir_),
                    {"deg.csv", "gyro_x", "--units gyro=deg/s", "(deg/s per rad/s)^2 = 3283"}, dir_ / "x.json");
   // Declared, it runs; and --no-unit-check lets the user diagnose anyway.
-  auto r = run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--units", "gyro=deg/s", "--replicates", "20", "--quiet",
+  auto r = run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--units", "gyro=deg/s", "--replicates", "40", "--quiet",
                      "--json", "ok.json"},
                     dir_);
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  r = run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--no-unit-check", "--replicates", "20", "--quiet"}, dir_);
+  r = run_gmwm({"gap", "deg.csv", "--kalibr", "imu.yaml", "--no-unit-check", "--replicates", "40", "--quiet"}, dir_);
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
@@ -338,7 +338,7 @@ TEST_F(GmwmGap, AYamlAndARotorsFileWithTheSameFiguresGiveTheSameDiagnosis) {
 
 TEST_F(GmwmGap, DrawsNoProgressBarWhenStandardErrorIsNotATerminal) {
   // The test runner's standard error is a pipe: the table is shown, the bar is not.
-  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "20"}, dir_);
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--model", kBase, "--replicates", "40"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("left"), std::string::npos) << r.err;
@@ -378,7 +378,7 @@ namespace {
 TEST(GmwmGapCheck, ScoresEveryFamilyAndTheNullSideInTheContractFields) {
   const fs::path dir = gmwm::test::temp_dir("cli_gap_check");
   auto r = run_gmwm(
-      {"gap-check", "--cases", "1", "--n", "16384", "--replicates", "30", "--strengths", "8", "--json", "c.json"}, dir);
+      {"gap-check", "--cases", "1", "--n", "16384", "--replicates", "40", "--strengths", "8", "--json", "c.json"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir / "c.json");
   EXPECT_EQ(doc.at("command"), "gap-check");

@@ -334,7 +334,7 @@ TEST_F(GmwmCliJointProgress, FitAndSelectJointShowProgressOnATerminalAndNotOffOn
 }
 
 TEST_F(GmwmCliJointProgress, GapShowsProgressOnATerminalAndNotOffOneOrWithQuiet) {
-  const std::vector<std::string> gap_args = {"gap", "r3.csv", "--model", "WN(sigma2=1e-4)", "--replicates", "20"};
+  const std::vector<std::string> gap_args = {"gap", "r3.csv", "--model", "WN(sigma2=1e-4)", "--replicates", "40"};
   const std::string tty = on_terminal(gap_args);
   if (tty.empty()) GTEST_SKIP() << "script(1) (bsdutils) is not installed: no pseudo-terminal to test on";
   EXPECT_NE(tty.find("gap: columns x steps"), std::string::npos) << tty;

@@ -30,7 +30,7 @@ class ReportOption : public ::testing::Test {
     return {{"wv", example(), "--columns", "gyro_x"},
             {"fit", example(), "--columns", "gyro_x", "--model", "AR1+WN"},
             {"select", example(), "--columns", "gyro_x", "--model", "AR1+WN"},
-            {"gap", example(), "--columns", "gyro_x", "--fit", "WN+RW", "--replicates", "20"}};
+            {"gap", example(), "--columns", "gyro_x", "--fit", "WN+RW", "--replicates", "40"}};
   }
   fs::path dir_;
 };

@@ -98,14 +98,14 @@ TEST_F(GmwmSideFiles, GapReadsAKalibrFilePipedIntoIt) {
   write_text(dir_ / "imu.yaml",
              "gyroscope_noise_density: 1.6968e-04\ngyroscope_random_walk: 1.9393e-05\n"
              "accelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\nupdate_rate: 200.0\n");
-  auto r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--kalibr", "imu.yaml", "--replicates", "20", "--json",
+  auto r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--kalibr", "imu.yaml", "--replicates", "40", "--json",
                      "file.json", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   RunOptions how;
   how.stdin_pipe = true;
   how.stdin_from = "cat imu.yaml";
-  r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--kalibr", "/dev/stdin", "--replicates", "20", "--json",
+  r = run_gmwm({"gap", "sim.csv", "--columns", "gyro_x", "--kalibr", "/dev/stdin", "--replicates", "40", "--json",
                 "pipe.json", "--quiet"},
                dir_, how);
   ASSERT_EQ(r.exit_code, 0) << r.err;

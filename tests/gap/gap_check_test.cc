@@ -22,7 +22,7 @@ GapCheckOptions one_case(GapEffect family, double strength) {
   o.strengths = {strength};
   o.families = {family};
   o.n = std::int64_t{1} << 12;
-  o.replicates = 20;
+  o.replicates = 40;
   o.null_side = false;
   o.seed = 11;
   return o;

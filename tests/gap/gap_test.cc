@@ -153,6 +153,28 @@ TEST(DiagnoseGap, NamesSpikesOutliers) {
   EXPECT_EQ(g.effect, GapEffect::kOutliers);
 }
 
+// Half the replicates are the global test's null sample: its smallest p-value is
+// 1 / (1 + replicates / 2), so 38 replicates (p >= 1/20) could never reject at 5% and every
+// departure, however plain, read "no gap".
+TEST(DiagnoseGap, RefusesTooFewReplicatesForTheGlobalTestToRejectAtItsLevel) {
+  EXPECT_EQ(min_gap_replicates(0.05), 40);
+  EXPECT_EQ(min_gap_replicates(0.1), 20);
+  EXPECT_EQ(min_gap_replicates(0.01), 200);
+  for (double alpha : {0.05, 0.1, 0.01, 0.2, 0.003})
+    EXPECT_LT(1.0 / (1.0 + static_cast<double>(min_gap_replicates(alpha) / 2)), alpha) << alpha;
+  for (double alpha : {0.05, 0.01, 0.003})
+    EXPECT_GE(1.0 / (1.0 + static_cast<double>(min_gap_replicates(alpha) / 2 - 1)), alpha) << alpha;
+  GapOptions o;
+  o.replicates = 38;
+  EXPECT_EQ(o.Validate(),
+            "replicates must be at least 40 for the global test to reject at alpha 0.05 (its smallest p-value is "
+            "1 / (1 + replicates / 2)), got 38");
+  o.replicates = 40;
+  EXPECT_EQ(o.Validate(), "");
+  o.alpha = 1e-9;
+  EXPECT_NE(o.Validate().find("below what the global test can reach with 100000 replicates"), std::string::npos);
+}
+
 TEST(DiagnoseGap, RejectsBadOptionsAndABaselineWithoutValues) {
   const Case c = simulate_case(kBase, 8106);
   const Model base = parse_model(kBase);

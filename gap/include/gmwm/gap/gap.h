@@ -72,6 +72,16 @@ std::vector<GapEffect> wv_candidate_effects();
 /// bad entry and the known ones.
 std::vector<GapEffect> parse_gap_candidates(const std::string& list, const std::string& option);
 
+/// The range of GapOptions::replicates: fewer than 20 leave each level's band too coarse; the
+/// upper bound keeps the reference's memory (replicates x levels) bounded.
+inline constexpr int kMinGapReplicates = 20;
+inline constexpr int kMaxGapReplicates = 100000;
+
+/// The fewest replicates whose global test can reject at `alpha`: half of them are its null
+/// sample, so its smallest p-value is 1 / (1 + replicates / 2) (40 at alpha = 0.05). Fewer
+/// would say "no gap" whatever the data (alpha in (0, 0.5)).
+std::int64_t min_gap_replicates(double alpha);
+
 struct GapOptions {
   /// Reference replicates (docs/gap.md, method note 2; issue 5 asks for 200).
   int replicates = 200;
