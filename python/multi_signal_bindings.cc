@@ -236,7 +236,8 @@ void refuse_manifest_rows(const std::vector<std::string>& problems) {
 // default beside the manifest, None for no cache. `runner`: None (here) or a Python runner.
 std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
                      std::optional<double> memory_mb, std::optional<std::string> cache, py::object runner,
-                     const std::string& spec) {
+                     const std::string& spec, const std::string& gap_format, const std::string& gap_path,
+                     const std::string& gap_imu, int gap_replicates) {
   gmwm::fleet::FleetStudyOptions o;
   o.model = model_spec;
   o.wv.alpha = alpha;
@@ -246,6 +247,11 @@ std::string py_fleet(const std::string& manifest_path, const std::string& model_
   if (memory_mb) o.memory_budget = *memory_mb * 1e6;
   if (cache) o.cache_dir = cache->empty() ? gmwm::fleet::default_fleet_cache_dir(manifest_path) : *cache;
   if (!spec.empty()) o.spec = gmwm::io::read_fleet_spec(spec);
+  if (!gap_path.empty()) {
+    const std::optional<gmwm::io::SimFormat> format = gmwm::io::parse_sim_format(gap_format);
+    if (!format) throw gmwm::InputError("fleet: gap format '" + gap_format + "': expected kalibr, gz-sdf or datasheet");
+    o.gap = gmwm::fleet::read_gap_baseline(*format, gap_path, gap_imu, gap_replicates, 100.0);
+  }
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("fleet: " + why);
   const gmwm::io::FleetManifest manifest = gmwm::io::read_fleet_manifest(manifest_path);
   if (const std::vector<std::string> problems = gmwm::io::fleet_manifest_problems(manifest); !problems.empty())
@@ -300,7 +306,9 @@ void add_multi_signal_functions(py::module_& m) {
         "The record of a recording whose task failed, saying why (what a runner hands back for it)");
   m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(), py::arg("cache") = "",
-        py::arg("runner") = py::none(), py::arg("spec") = "",
+        py::arg("runner") = py::none(), py::arg("spec") = "", py::arg("gap_format") = "kalibr",
+        py::arg("gap_path") = "", py::arg("gap_imu") = "",
+        py::arg("gap_replicates") = gmwm::fleet::FleetGapBaseline{}.replicates,
         "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
         "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
         "the units that stand out: the document gmwm fleet --json writes");

@@ -11,8 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/io/side_file.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
+#include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/select_study.h"
 #include "gmwm/version.h"
 
@@ -143,9 +146,30 @@ FitOptions read_fit(const Reader& r, const Json& j) {
 }
 
 // Everything of the options that decides the result, with the library's version.
+Json gap_json(const std::optional<FleetGapBaseline>& g) {
+  if (!g) return nullptr;
+  return {{"format", to_string(g->format)},
+          {"name", g->name},
+          {"text", g->text},
+          {"imu", g->imu},
+          {"replicates", g->replicates}};
+}
+
+std::optional<FleetGapBaseline> read_gap(const Reader& r, const Json& j) {
+  if (j.is_null()) return std::nullopt;
+  FleetGapBaseline g;
+  g.format = r.named<io::SimFormat>(j, "format", &io::parse_sim_format);
+  g.name = r.text(j, "name");
+  g.text = r.text(j, "text");
+  g.imu = r.text(j, "imu");
+  g.replicates = static_cast<int>(r.integer(j, "replicates"));
+  return g;
+}
+
 Json result_options_json(const FleetStudyOptions& o) {
   const selection::SelectOptions& s = o.select;
   return {{"library", library_version()},
+          {"gap", gap_json(o.gap)},
           {"model", o.model.text()},
           {"wv", {{"levels", o.wv.levels}, {"alpha", num(o.wv.alpha)}}},
           {"select",
@@ -172,6 +196,7 @@ FleetStudyOptions read_options(const Reader& r, const Json& j) {
   if (!seed.is_number_unsigned() && !seed.is_number_integer()) malformed(r.what, "seed", "an unsigned integer");
   o.select.seed = seed.get<std::uint64_t>();
   o.select.fit = read_fit(r, r.at(s, "fit"));
+  o.gap = read_gap(r, r.at(j, "gap"));
   return o;
 }
 
@@ -326,6 +351,10 @@ Json axis_json(const FleetRow& row, const FleetCurves& c) {
           {"gof_p", num(row.gof_p)},
           {"n", row.n},
           {"figures", std::move(figures)},
+          {"gap", row.gap_verdict.empty() ? Json(nullptr)
+                                          : Json{{"verdict", row.gap_verdict},
+                                                 {"headline", row.gap_headline},
+                                                 {"p_value", num(row.gap_p)}}},
           {"wv", wv_json(c.wv)},
           {"adev", adev_json(c.adev)},
           {"model_adev", numbers_json(c.model)}};
@@ -345,6 +374,11 @@ void read_axis(const Reader& r, const Json& j, FleetRow& row, FleetCurves& c) {
     row.figures.walk = read_chosen(r, r.at(f, "K"));
     row.figures.instability = read_chosen(r, r.at(f, "B"));
     row.figures_known = true;
+  }
+  if (const Json& gap = r.at(j, "gap"); !gap.is_null()) {
+    row.gap_verdict = r.text(gap, "verdict");
+    row.gap_headline = r.text(gap, "headline");
+    row.gap_p = r.number(gap, "p_value");
   }
   c.wv = read_wv(r, r.at(j, "wv"));
   c.adev = read_adev(r, r.at(j, "adev"));
@@ -402,13 +436,75 @@ void add_axes(const io::FleetRecording& r, const io::SignalSet& set, pipeline::S
 
 std::string task_what() { return "fleet task"; }
 
+// The baseline's configuration at the recording's rate and units.
+io::SimConfig gap_config(const FleetGapBaseline& g, double freq, const std::map<io::SensorKind, io::Unit>& units) {
+  switch (g.format) {
+    case io::SimFormat::kDatasheet:
+      return io::parse_datasheet_yaml(g.text, g.name, freq, units);
+    case io::SimFormat::kGzSensors:
+    case io::SimFormat::kRotors:
+      return io::parse_gazebo_sdf(g.text, g.name, freq, units);
+    case io::SimFormat::kKalibr:
+      break;
+  }
+  return io::parse_kalibr_imu_yaml(g.text, g.name, freq, units, g.imu);
+}
+
+// The diagnosis' verdict in a word, as FleetRow::gap_verdict says.
+std::string gap_verdict(const gap::GapResult& r) {
+  if (!r.detected) return "none";
+  return r.closed ? "closed" : "remains";
+}
+
+// Stage 3 (with a baseline): each axis's gap diagnosis, as `gmwm gap` gives it; a recording
+// the diagnosis refuses (a unit mix-up, no figure for its sensor) keeps its selection, every
+// axis saying why it was not diagnosed.
+void add_gap(const io::FleetRecording& r, io::SignalSet& set, const FleetStudyOptions& o, FleetRecord& out) {
+  try {
+    pipeline::GapStudyOptions go;
+    go.units = io::parse_units(r.units);
+    go.units_declared = !r.units.empty();
+    go.baseline = pipeline::ConfigBaseline{gap_config(*o.gap, set.freq, go.units), o.gap->name};
+    go.wv = o.wv;
+    go.gap.replicates = o.gap->replicates;
+    go.gap.seed = o.select.seed;
+    const pipeline::GapStudy g = pipeline::study_gap(set, go);
+    for (FleetRow& row : out.axes)
+      for (const pipeline::GapColumnStudy& c : g.columns)
+        if (c.name == row.axis) {
+          row.gap_verdict = gap_verdict(c.result);
+          row.gap_headline = printable_line(c.result.headline);
+          row.gap_p = c.result.p_value;
+        }
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const std::exception& e) {
+    for (FleetRow& row : out.axes) {
+      row.gap_verdict = "not diagnosed";
+      row.gap_headline = printable_line(e.what());
+    }
+  }
+}
+
 }  // namespace
+
+FleetGapBaseline read_gap_baseline(io::SimFormat format, const std::string& path, const std::string& imu,
+                                   int replicates, double nominal_freq) {
+  FleetGapBaseline g;
+  g.format = format == io::SimFormat::kRotors ? io::SimFormat::kGzSensors : format;
+  g.name = path;
+  g.imu = imu;
+  g.replicates = replicates;
+  g.text = io::read_side_file(path, "a gap baseline (" + std::string(io::to_string(g.format)) + ")");
+  gap_config(g, nominal_freq, {});  // refuses a file that is not one, naming its line
+  return g;
+}
 
 FleetRecord study_fleet_recording(const io::FleetRecording& recording, const FleetStudyOptions& options) {
   const auto t = std::chrono::steady_clock::now();
   FleetRecord out;
   try {
-    const io::SignalSet set = read_recording(recording, options);
+    io::SignalSet set = read_recording(recording, options);
     out.freq = set.freq;
     pipeline::SelectStudyOptions so;
     so.models = {options.model};
@@ -416,6 +512,7 @@ FleetRecord study_fleet_recording(const io::FleetRecording& recording, const Fle
     so.wv = options.wv;
     pipeline::SelectStudy s = pipeline::study_select(set, so);
     add_axes(recording, set, s, out);
+    if (options.gap) add_gap(recording, set, options, out);
   } catch (const Cancelled&) {
     throw;
   } catch (const std::exception& e) {

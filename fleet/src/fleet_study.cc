@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/gap/gap.h"
 #include "gmwm/fleet/fleet_cache.h"
 #include "gmwm/fleet/fleet_record.h"
 #include "gmwm/io/units.h"
@@ -246,6 +247,12 @@ std::string FleetStudyOptions::Validate() const {
   if (std::string why = select.Validate(); !why.empty()) return why;
   if (std::string why = wv.Validate(); !why.empty()) return why;
   if (!(memory_budget >= 0.0)) return "memory_budget must be >= 0";
+  if (gap) {
+    gap::GapOptions g;
+    g.replicates = gap->replicates;
+    if (std::string why = g.Validate(); !why.empty()) return "gap " + why;
+    if (gap->format == io::SimFormat::kRotors) return "gap: a RotorS baseline is read as gz-sdf (format gz-sdf)";
+  }
   return {};
 }
 
@@ -259,6 +266,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   study.recordings = static_cast<int>(manifest.recordings.size());
   study.cache_dir = options.cache_dir;
   if (options.spec) study.spec_path = options.spec->path;
+  if (options.gap) study.gap_baseline = options.gap->name;
 
   Plan p = plan(manifest, options, cache);
   std::vector<bool> from_cache(p.records.size());

@@ -118,7 +118,10 @@ _fleet_raw = _typed(_gmwm.fleet, FleetResult)
 
 def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, seed: int = DEFAULT_SEED,
           memory: float | None = None, cache: str | os.PathLike[str] | None = "",
-          scheduler: Any = None, spec: str | os.PathLike[str] | None = None) -> FleetResult:
+          scheduler: Any = None, spec: str | os.PathLike[str] | None = None,
+          gap_kalibr: str | os.PathLike[str] | None = None, gap_gazebo: str | os.PathLike[str] | None = None,
+          gap_datasheet: str | os.PathLike[str] | None = None, gap_imu: str = "",
+          gap_replicates: int = 200) -> FleetResult:
     """Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate,
     group]) selected over `model` as gmwm select does: one row per unit x axis with N, K, B, the
     fleet's summary and the units that stand out (the document gmwm fleet --json writes).
@@ -128,13 +131,22 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
     scheduler's address ("tcp://host:8786"), a distributed.Client or a LocalCluster runs each
     recording as a task there (python3-distributed; the workers need gmwm and the files).
     spec: a yaml of datasheet limits per sensor model (the CLI's --spec): each unit's N, K, B
-    checked against them (rows' "spec", "spec_verdict"; the summary's "out_of_spec")."""
+    checked against them (rows' "spec", "spec_verdict"; the summary's "out_of_spec").
+    gap_kalibr / gap_gazebo / gap_datasheet (at most one): each recording's gap diagnosis
+    against that baseline, as gmwm gap gives it (rows' "gap": verdict, headline, p_value);
+    gap_imu names a Kalibr chain's IMU, gap_replicates the reference replicates."""
     from . import _fleet_dask
 
     runner = None if scheduler is None else _fleet_dask.runner(scheduler)
+    gaps = [(f, p) for f, p in (("kalibr", gap_kalibr), ("gz-sdf", gap_gazebo), ("datasheet", gap_datasheet))
+            if p is not None]
+    if len(gaps) > 1:
+        raise InputError("fleet: give one gap baseline: gap_kalibr, gap_gazebo or gap_datasheet")
+    gap_format, gap_path = gaps[0] if gaps else ("kalibr", "")
     return _fleet_raw(os.fspath(manifest), model=model, alpha=alpha, seed=seed, memory=memory,
                       cache=None if cache is None else os.fspath(cache), runner=runner,
-                      spec="" if spec is None else os.fspath(spec))
+                      spec="" if spec is None else os.fspath(spec), gap_format=gap_format,
+                      gap_path=os.fspath(gap_path), gap_imu=gap_imu, gap_replicates=gap_replicates)
 
 
 def _result_document(result: Any) -> tuple[str, str]:

@@ -407,6 +407,9 @@ class FleetRow:
     spec: tuple[FleetSpecCheck, ...] = ()
     spec_verdict: str = ""
     spec_note: str = ""
+    gap_verdict: str = ""
+    gap_headline: str = ""
+    gap_p_value: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -439,6 +442,7 @@ class FleetResult(JsonResult):
     cached: int = 0
     cache: str | None = None
     spec: str | None = None
+    gap_baseline: str | None = None
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "FleetResult":
@@ -448,7 +452,8 @@ class FleetResult(JsonResult):
                      FleetFigure.from_dict(r["N"]), FleetFigure.from_dict(r["K"]), FleetFigure.from_dict(r["B"]),
                      num(r["seconds"]), strings(r["flags"]), bool(r.get("cached", False)),
                      tuple(FleetSpecCheck.from_dict(c) for c in r.get("spec", ())), r.get("spec_verdict", ""),
-                     r.get("spec_note", ""))
+                     r.get("spec_note", ""), (r.get("gap") or {}).get("verdict", ""),
+                     (r.get("gap") or {}).get("headline", ""), num((r.get("gap") or {}).get("p_value")))
             for r in d["rows"])
         summary = tuple(
             FleetFigureSummary(s["group"], s["axis"], s["figure"], int(s["units"]), num(s["median"]),
@@ -456,7 +461,7 @@ class FleetResult(JsonResult):
                                strings(s.get("out_of_spec", [])))
             for s in d["summary"])
         return cls(d, text, d["manifest"], d["model_spec"], int(d["recordings"]), int(d["failed"]), rows, summary,
-                   int(d.get("cached", 0)), d.get("cache"), d.get("spec"))
+                   int(d.get("cached", 0)), d.get("cache"), d.get("spec"), d.get("gap_baseline"))
 
     def to_dataframe(self) -> Any:
         """The rows as a pandas DataFrame (N, K, B as value columns with _low and _high);
@@ -475,6 +480,7 @@ class FleetResult(JsonResult):
             rec["flags"] = "; ".join(r.flags)
             rec["cached"] = r.cached
             rec["spec"] = r.spec_verdict
+            rec["gap"] = r.gap_verdict
             records.append(rec)
         return pandas.DataFrame.from_records(records)
 

@@ -99,3 +99,19 @@ def test_fleet_checks_the_units_against_a_spec_with_typed_verdicts(fleet_dir, mo
     assert check.value == pytest.approx(1e-2 / 10 * 180 / np.pi * 60, rel=0.05)
     n_summary = [s for s in t.summary if s.figure == "N" and s.axis == "gyro_x"][0]
     assert n_summary.out_of_spec == ("SN3",) and n_summary.unit == "rad/s"
+
+
+def test_fleet_diagnoses_each_units_gap_against_a_datasheet_as_gap_does(fleet_dir, monkeypatch):
+    monkeypatch.chdir(fleet_dir)
+    (fleet_dir / "sheet.yaml").write_text(
+        "gyroscope:\n  noise_density: 0.001 rad/s/sqrt(Hz)\n  rate_random_walk: 0.0001 rad/s^2/sqrt(Hz)\n")
+    t = gmwm.fleet("fleet.csv", model="WN+RW", gap_datasheet="sheet.yaml", gap_replicates=40, cache=None)
+    assert t.gap_baseline == "sheet.yaml"
+    assert all(r.gap_verdict in ("none", "closed", "remains") for r in t.rows)
+    # SN3's white noise is twice the datasheet's: a gap at the fine scales.
+    sn3 = [r for r in t.rows if r.unit == "SN3"]
+    assert all(r.gap_verdict != "none" and r.gap_p_value < 0.05 for r in sn3), [r.gap_headline for r in sn3]
+    gap = run(fleet_dir, "gap", "u3.csv", "--datasheet", "sheet.yaml", "--replicates", "40", "--json", "-")
+    assert json.loads(gap.stdout)["columns"][0]["headline"] == sn3[0].gap_headline
+    with pytest.raises(gmwm.InputError, match="give one gap baseline"):
+        gmwm.fleet("fleet.csv", model="WN+RW", gap_datasheet="sheet.yaml", gap_kalibr="sheet.yaml")

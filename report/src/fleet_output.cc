@@ -72,6 +72,7 @@ Json fleet_document(const fleet::FleetStudy& study) {
   doc["cached"] = study.cached;
   doc["cache"] = study.cache_dir.empty() ? Json(nullptr) : Json(study.cache_dir);
   doc["spec"] = study.spec_path.empty() ? Json(nullptr) : Json(study.spec_path);
+  doc["gap_baseline"] = study.gap_baseline.empty() ? Json(nullptr) : Json(study.gap_baseline);
   Json rows = Json::array();
   for (const fleet::FleetRow& r : study.rows) {
     Json row = {{"unit", r.unit},
@@ -91,6 +92,11 @@ Json fleet_document(const fleet::FleetStudy& study) {
     row["seconds"] = json_number(r.seconds);
     row["cached"] = r.cached;
     row["flags"] = r.flags;
+    if (!study.gap_baseline.empty())
+      row["gap"] = r.gap_verdict.empty() ? Json(nullptr)
+                                         : Json{{"verdict", r.gap_verdict},
+                                                {"headline", r.gap_headline},
+                                                {"p_value", json_number(r.gap_p)}};
     if (!study.spec_path.empty()) {
       row["spec"] = spec_json(r);
       row["spec_verdict"] = spec_word(r);
@@ -118,7 +124,7 @@ Json fleet_document(const fleet::FleetStudy& study) {
 std::string fleet_csv(const fleet::FleetStudy& study) {
   std::ostringstream os;
   os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,"
-        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,spec,flags\n";
+        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,spec,gap,flags\n";
   for (const fleet::FleetRow& r : study.rows) {
     os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
        << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
@@ -132,7 +138,7 @@ std::string fleet_csv(const fleet::FleetStudy& study) {
     std::string flags;
     for (const std::string& f : r.flags) flags += (flags.empty() ? "" : "; ") + f;
     os << ',' << exact(r.seconds) << ',' << (r.cached ? "true" : "false") << ',' << io::csv_field(spec_word(r)) << ','
-       << io::csv_field(flags) << '\n';
+       << io::csv_field(r.gap_verdict) << ',' << io::csv_field(flags) << '\n';
   }
   return os.str();
 }
@@ -194,6 +200,31 @@ std::string spec_table(const fleet::FleetStudy& study) {
   return t.str();
 }
 
+// Per group and axis: how many units have no gap against the baseline, a gap the named
+// effects close, a gap that remains, or were not diagnosed.
+std::string gap_table(const fleet::FleetStudy& study) {
+  struct Count {
+    std::string group, axis;
+    int none = 0, closed = 0, remains = 0, not_diagnosed = 0;
+  };
+  std::vector<Count> counts;
+  for (const fleet::FleetRow& r : study.rows) {
+    if (r.gap_verdict.empty()) continue;
+    auto it = std::find_if(counts.begin(), counts.end(),
+                           [&](const Count& c) { return c.group == r.group && c.axis == r.axis; });
+    if (it == counts.end()) it = counts.insert(counts.end(), Count{r.group, r.axis});
+    it->none += r.gap_verdict == "none";
+    it->closed += r.gap_verdict == "closed";
+    it->remains += r.gap_verdict == "remains";
+    it->not_diagnosed += r.gap_verdict == "not diagnosed";
+  }
+  TextTable t({"group", "axis", "no gap", "closed", "remains", "not diagnosed"}, 2);
+  for (const Count& c : counts)
+    t.add({c.group, c.axis, std::to_string(c.none), std::to_string(c.closed), std::to_string(c.remains),
+           std::to_string(c.not_diagnosed)});
+  return t.str();
+}
+
 std::string unit_table(const fleet::FleetStudy& study) {
   TextTable t({"unit", "axis", "N", "K", "B", "GoF p", "chosen"}, 2);
   for (const fleet::FleetRow& r : study.rows) {
@@ -236,6 +267,16 @@ std::string fleet_text(const fleet::FleetStudy& study, bool verbose) {
           "bound above the limit):\n"
        << spec_table(study);
     if (verbose && !checks.empty()) os << "each figure above its limit or undecided:\n" << checks;
+  }
+  if (!study.gap_baseline.empty()) {
+    os << "\nthe gap against " << study.gap_baseline
+       << " (gmwm gap's diagnosis; closed: the effects its headline names close it):\n"
+       << gap_table(study);
+    std::string headlines;
+    for (const fleet::FleetRow& r : study.rows)
+      if (!r.gap_verdict.empty() && (verbose || r.gap_verdict == "not diagnosed"))
+        headlines += "  " + r.unit + ", " + r.axis + ": " + r.gap_verdict + ": " + r.gap_headline + "\n";
+    os << headlines;
   }
   if (!failures.empty()) os << "failed:\n" << failures;
   const std::size_t axes = study.rows.size() - static_cast<std::size_t>(study.failed);

@@ -377,6 +377,46 @@ TEST_F(GmwmFleet, RefusesASpecThatIsNotOneNamingTheFileAndLineBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir_ / ".gmwm-cache"));
 }
 
+// --gap-datasheet: each recording diagnosed against the baseline as `gmwm gap` would; a unit
+// whose noise is the baseline's has no gap, one with an unmodelled Gauss-Markov bias has one.
+TEST_F(GmwmFleet, DiagnosesEachUnitsGapAgainstTheBaselineAsGapDoes) {
+  for (const auto& [name, spec] : {std::pair{"plain.csv", "WN(sigma2=1e-4)+RW(gamma2=1e-10)"},
+                                   {"biased.csv", "WN(sigma2=1e-4)+RW(gamma2=1e-10)+AR1(phi=0.999,sigma2=4e-7)"}}) {
+    auto r = run_gmwm({"simulate", "--model", spec, "--n", "65536", "--freq", "100", "--names", "gyro_x", "--seed",
+                       "5", "--output", name, "--quiet"},
+                      dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  // The baseline: N = sqrt(1e-4 / 100) = 1e-3 rad/s/sqrt(Hz), K = sqrt(1e-10 * 100) = 1e-4 rad/s^2/sqrt(Hz).
+  write("sheet.yaml", "gyroscope:\n  noise_density: 0.001 rad/s/sqrt(Hz)\n  rate_random_walk: 0.0001 rad/s^2/sqrt(Hz)\n");
+  write("fleet.csv", "path,unit,model\nplain.csv,P,IMU-X\nbiased.csv,B,IMU-X\n");
+  auto f = run_gmwm({"fleet", "fleet.csv", "--model", "AR1+WN+RW", "--gap-datasheet", "sheet.yaml", "--gap-replicates",
+                     "50", "--json", "f.json", "--csv", "f.csv"},
+                    dir_);
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const json doc = read_json(dir_ / "f.json");
+  EXPECT_EQ(doc.at("gap_baseline"), "sheet.yaml");
+  ASSERT_EQ(doc.at("rows").size(), 2u);
+  const json& plain = doc["rows"][0];
+  const json& biased = doc["rows"][1];
+  EXPECT_EQ(plain.at("gap").at("verdict"), "none") << plain.dump();
+  EXPECT_NE(biased.at("gap").at("verdict"), "none") << biased.dump();
+  EXPECT_NE(biased.at("gap").at("headline").get<std::string>().find("AR1"), std::string::npos) << biased.dump();
+  EXPECT_LT(biased.at("gap").at("p_value").get<double>(), 0.05);
+  EXPECT_NE(f.out.find("the gap against sheet.yaml"), std::string::npos) << f.out;
+  // The same as gmwm gap gives the recording.
+  auto g = run_gmwm({"gap", "biased.csv", "--datasheet", "sheet.yaml", "--replicates", "50", "--json", "g.json",
+                     "--quiet"},
+                    dir_);
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_EQ(read_json(dir_ / "g.json")["columns"][0].at("headline"), biased.at("gap").at("headline"));
+  // A baseline that is not one: refused before any work, naming its option, file and line.
+  write("bad.yaml", "gyroscope:\n  noise_density: 0.001\n");
+  auto bad = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--gap-datasheet", "bad.yaml", "--json", "b.json"},
+                      dir_);
+  gmwm::test::expect_bad_input(bad, {"--gap-datasheet", "bad.yaml:2", "without a unit"}, dir_ / "b.json");
+}
+
 // Issue 30's acceptance on real units: the three ADIS16405 recordings as a fleet of three give
 // the table `gmwm select` gives each of them.
 TEST_F(GmwmFleet, TheThreeAdisUnitsAsAFleetGiveWhatSelectGivesEachUnit) {

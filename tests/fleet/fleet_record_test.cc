@@ -211,4 +211,38 @@ TEST(FleetCacheHash, IsTheSha256OfTheBytes) {
   fs::remove_all(dir);
 }
 
+TEST_F(FleetRecordTest, AGapBaselineTravelsInTheTaskAndItsVerdictInTheRecord) {
+  FleetStudyOptions o = options_;
+  FleetGapBaseline g;
+  g.format = io::SimFormat::kDatasheet;
+  g.name = "sheet.yaml";  // never read: the text travels
+  g.text = "gyroscope:\n  noise_density: 0.001 rad/s/sqrt(Hz)\n  rate_random_walk: 0.0001 rad/s^2/sqrt(Hz)\n";
+  g.replicates = 40;
+  o.gap = g;
+  const std::string task = fleet_task_text(recording_, o);
+  const FleetRecord r = parse_fleet_record(run_fleet_task(task), "task");
+  ASSERT_EQ(r.axes.size(), 2u);
+  for (const FleetRow& row : r.axes) {
+    EXPECT_FALSE(row.gap_verdict.empty());
+    EXPECT_FALSE(row.gap_headline.empty());
+    EXPECT_TRUE(std::isfinite(row.gap_p));
+  }
+  EXPECT_EQ(fleet_record_text(parse_fleet_record(fleet_record_text(r), "back")), fleet_record_text(r));
+  // The baseline's text is part of the cache key; its file name is not read.
+  const FleetCache cache((dir_ / "c").string());
+  FleetStudyOptions other = o;
+  other.gap->text += "  bias_instability: 0.001 rad/s\n";
+  EXPECT_NE(cache.key(recording_, other), cache.key(recording_, o));
+  EXPECT_NE(cache.key(recording_, o), cache.key(recording_, options_));
+  // A unit mix-up or a missing sensor is each axis's "not diagnosed", the selection kept.
+  FleetStudyOptions accel_only = o;
+  accel_only.gap->text = "accelerometer:\n  noise_density: 0.001 m/s^2/sqrt(Hz)\n";
+  const FleetRecord n = parse_fleet_record(run_fleet_task(fleet_task_text(recording_, accel_only)), "task");
+  ASSERT_EQ(n.status, "ok");
+  for (const FleetRow& row : n.axes) {
+    EXPECT_EQ(row.gap_verdict, "not diagnosed");
+    EXPECT_FALSE(row.chosen.empty());
+  }
+}
+
 }  // namespace

@@ -359,4 +359,20 @@ void ProgressBar::finish() {
   finished_ = true;
 }
 
+// --kalibr FILE[:imuN] (declared in common.h): the file, and the IMU of a chain (empty: the file is one IMU).
+// Split at the last ':' only when the whole text is not a file, its head is, and its
+// tail names an IMU (a file name may contain ':').
+std::pair<std::string, std::string> kalibr_source(const std::string& option, const std::string& text) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || fs::exists(text, ec)) return {text, ""};
+  const std::string imu = text.substr(colon + 1);
+  const bool names_imu =
+      imu.size() > 3 && imu.rfind("imu", 0) == 0 && imu.find_first_not_of("0123456789", 3) == std::string::npos;
+  if (names_imu) return {text.substr(0, colon), imu};  // a missing FILE is then reported by its own name
+  if (!fs::exists(text.substr(0, colon), ec)) return {text, ""};
+  throw InputError(option + " " + text + ": expected FILE or FILE:imuN (e.g. imu_chain.yaml:imu1), got '" + imu + "'");
+}
+
 }  // namespace gmwm::cli

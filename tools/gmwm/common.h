@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -208,5 +209,10 @@ void warn(const std::string& message);
 /// shown as \xNN (printable_text): names from files reach the terminal as text, never as
 /// escape sequences.
 void print_text(const std::string& text);
+
+/// A Kalibr file option's FILE[:imuN]: the file, and the IMU of a chain (empty: the file is
+/// one IMU). Split at the last ':' only when the whole text is not a file, its head is, and
+/// its tail names an IMU; InputError naming `option` for a tail that names none.
+std::pair<std::string, std::string> kalibr_source(const std::string& option, const std::string& text);
 
 }  // namespace gmwm::cli

@@ -1,9 +1,11 @@
-// gmwm fleet MANIFEST --model SPEC [--csv PATH] [--json PATH]
+// gmwm fleet MANIFEST --model SPEC [--csv PATH] [--json PATH] [--report PATH]
 // Every recording of a manifest analysed the same way (the selection over SPEC with its
 // noise figures, as gmwm select), one results table (docs/cli.md, "fleet"). Parses, checks
 // every row of the manifest before any work, runs fleet::study_fleet, renders with
 // report/fleet_output.h, commits.
 #include <iostream>
+#include <optional>
+#include <utility>
 
 #include "common.h"
 #include "fleet_dask.h"
@@ -12,7 +14,9 @@
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/io/fleet_manifest.h"
 #include "gmwm/io/fleet_spec.h"
+#include "gmwm/io/sim_config.h"
 #include "gmwm/report/fleet_output.h"
+#include "gmwm/report/fleet_page.h"
 
 namespace gmwm::cli {
 namespace {
@@ -28,7 +32,37 @@ struct FleetArgs {
   bool no_cache = false;
   std::string scheduler;  ///< --scheduler ADDRESS: a Dask cluster; empty: this machine
   std::string spec;       ///< --spec FILE: the datasheet limits per sensor model
+  std::string gap_kalibr, gap_gazebo, gap_datasheet;  ///< --gap-kalibr FILE[:imuN], --gap-gazebo, --gap-datasheet
+  int gap_replicates = fleet::FleetGapBaseline{}.replicates;
 };
+
+// The rate a gap baseline is checked at before any work when the manifest's first row gives
+// none (the recordings' own rates are known only once read): any rate parses the same file.
+constexpr double kNominalGapCheckRate = 100.0;
+
+// The gap baseline of --gap-kalibr / --gap-gazebo / --gap-datasheet (at most one), read
+// whole before any work and checked at the first recording's rate (or 100 Hz).
+std::optional<fleet::FleetGapBaseline> gap_baseline(const FleetArgs& a, const io::FleetManifest& manifest,
+                                                     const CommonOptions& common) {
+  const int given = !a.gap_kalibr.empty() + !a.gap_gazebo.empty() + !a.gap_datasheet.empty();
+  if (given == 0) return std::nullopt;
+  if (given > 1) throw InputError("fleet: give one gap baseline: --gap-kalibr, --gap-gazebo or --gap-datasheet");
+  const auto [option, format] = !a.gap_kalibr.empty()   ? std::pair{"--gap-kalibr", io::SimFormat::kKalibr}
+                                : !a.gap_gazebo.empty() ? std::pair{"--gap-gazebo", io::SimFormat::kGzSensors}
+                                                        : std::pair{"--gap-datasheet", io::SimFormat::kDatasheet};
+  const auto [path, imu] = !a.gap_kalibr.empty() ? kalibr_source(option, a.gap_kalibr)
+                                                 : std::pair{!a.gap_gazebo.empty() ? a.gap_gazebo : a.gap_datasheet,
+                                                             std::string()};
+  declare_input(common, path);
+  const double freq = manifest.recordings.empty() || !manifest.recordings.front().rate
+                          ? kNominalGapCheckRate
+                          : *manifest.recordings.front().rate;
+  try {
+    return fleet::read_gap_baseline(format, path, imu, a.gap_replicates, freq);
+  } catch (const InputError& e) {
+    throw InputError(std::string(option) + " " + e.what());
+  }
+}
 
 // The bad rows said at most (a manifest of a hundred thousand copied rows would otherwise
 // bury the terminal); the count of all of them follows.
@@ -64,12 +98,14 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   declare_input(common, a.manifest);
   declare_output(common, "--csv", a.csv);
   declare_output(common, "--json", common.json);
+  check_report_option(common);
   if (!a.spec.empty()) {
     declare_input(common, a.spec);
     o.spec = io::read_fleet_spec(a.spec);
   }
   const io::FleetManifest manifest = io::read_fleet_manifest(a.manifest);
   for (const io::FleetRecording& r : manifest.recordings) declare_input(common, r.path);
+  o.gap = gap_baseline(a, manifest, common);
   if (const std::vector<std::string> problems = io::fleet_manifest_problems(manifest); !problems.empty())
     return refuse_rows(problems);
 
@@ -80,6 +116,7 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
 
   report::Json doc = report::fleet_document(study);
   if (!a.csv.empty()) common.outputs->stage(a.csv, report::fleet_csv(study));
+  if (!common.report.empty()) report::stage_fleet_report(*common.outputs, common.report, study);
   write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
   commit_outputs(common);
   if (common.show_table()) print_text(report::fleet_text(study, common.verbose));
@@ -120,12 +157,25 @@ Command add_fleet_command(CLI::App& app, CommonOptions& common) {
                   "Datasheet limits per sensor model (a datasheet yaml per model, or one for all): each unit's N, K, B "
                   "checked against them (docs/fleet.md)")
       ->type_name("FILE");
+  sub->add_option("--gap-kalibr", args->gap_kalibr,
+                  "Diagnose each recording's gap against a simulator's Kalibr imu.yaml (FILE or FILE:imuN), as gmwm "
+                  "gap does")
+      ->type_name("FILE");
+  sub->add_option("--gap-gazebo", args->gap_gazebo, "Diagnose each recording's gap against a Gazebo SDF's IMU noise")
+      ->type_name("FILE");
+  sub->add_option("--gap-datasheet", args->gap_datasheet, "Diagnose each recording's gap against a datasheet yaml")
+      ->type_name("FILE");
+  sub->add_option("--gap-replicates", args->gap_replicates,
+                  "Reference replicates of each column's gap diagnosis (fewer: faster, coarser)")
+      ->transform(whole_number(20, 100000))
+      ->capture_default_str();
   sub->add_flag("--no-cache", args->no_cache, "Neither read nor write cached records")->excludes("--cache");
   sub->add_option("--scheduler", args->scheduler,
                   "A Dask scheduler's address (tcp://HOST:8786): the recordings run as tasks on its workers, "
                   "through the gmwm Python module (docs/cli.md, \"fleet\")")
       ->type_name("ADDRESS");
   add_max_evaluations_option(*sub, args->max_evaluations);
+  add_report_option(*sub, common);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_fleet(*args, common); }};
 }

@@ -45,22 +45,6 @@ struct GapArgs {
   std::string corrected;       ///< --corrected PATH
 };
 
-// --kalibr FILE[:imuN]: the file, and the IMU of a chain (empty: the file is one IMU).
-// Split at the last ':' only when the whole text is not a file, its head is, and its
-// tail names an IMU (a file name may contain ':').
-std::pair<std::string, std::string> kalibr_source(const std::string& text) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const auto colon = text.rfind(':');
-  if (colon == std::string::npos || colon == 0 || fs::exists(text, ec)) return {text, ""};
-  const std::string imu = text.substr(colon + 1);
-  const bool names_imu =
-      imu.size() > 3 && imu.rfind("imu", 0) == 0 && imu.find_first_not_of("0123456789", 3) == std::string::npos;
-  if (names_imu) return {text.substr(0, colon), imu};  // a missing FILE is then reported by its own name
-  if (!fs::exists(text.substr(0, colon), ec)) return {text, ""};
-  throw InputError("--kalibr " + text + ": expected FILE or FILE:imuN (e.g. imu_chain.yaml:imu1), got '" + imu + "'");
-}
-
 // The study's settings but the baseline (InputError naming the option when invalid).
 pipeline::GapStudyOptions gap_study_options(const GapArgs& args, const CommonOptions& common) {
   const int given =
@@ -98,7 +82,7 @@ void read_baseline_file(const GapArgs& args, const io::SignalSet& set, pipeline:
     }
   };
   if (!args.kalibr.empty()) {
-    const auto [path, imu] = kalibr_source(args.kalibr);
+    const auto [path, imu] = kalibr_source("--kalibr", args.kalibr);
     options.baseline = pipeline::ConfigBaseline{
         named("--kalibr", [&] { return io::read_kalibr_imu_yaml(path, set.freq, options.units, imu); }), path};
   }
@@ -115,7 +99,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
   declare_input(common, args.input.input);
-  const std::string kalibr_path = kalibr_source(args.kalibr).first;
+  const std::string kalibr_path = kalibr_source("--kalibr", args.kalibr).first;
   declare_input(common, kalibr_path);
   declare_input(common, args.gazebo);
   declare_input(common, args.datasheet);

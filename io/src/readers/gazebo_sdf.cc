@@ -480,4 +480,10 @@ const char* to_string(SimFormat f) {
   return "kalibr";
 }
 
+std::optional<SimFormat> parse_sim_format(const std::string& name) {
+  for (SimFormat f : {SimFormat::kKalibr, SimFormat::kGzSensors, SimFormat::kRotors, SimFormat::kDatasheet})
+    if (name == to_string(f)) return f;
+  return std::nullopt;
+}
+
 }  // namespace gmwm::io

@@ -35,6 +35,7 @@
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/fleet_manifest.h"
 #include "gmwm/io/fleet_spec.h"
+#include "gmwm/io/sim_config.h"
 #include "gmwm/selection/select.h"
 
 namespace gmwm::fleet {
@@ -54,6 +55,25 @@ struct FleetTask {
 using FleetRunner = std::function<void(const std::vector<FleetTask>& tasks,
                                        const std::function<void(std::size_t, const std::string&)>& done)>;
 
+/// A baseline every unit's recording is diagnosed against (`gmwm gap`'s diagnosis, docs/gap.md):
+/// a simulator's configuration (Kalibr imu.yaml, Gazebo SDF) or a datasheet yaml, as text so
+/// that a task carries it to wherever it runs, read at each recording's rate and units.
+struct FleetGapBaseline {
+  io::SimFormat format = io::SimFormat::kKalibr;  ///< kKalibr, kGzSensors or kDatasheet
+  std::string name;  ///< the file's path, in messages
+  std::string text;  ///< the file's content
+  std::string imu;   ///< a Kalibr chain's IMU ("imu1"), or empty
+  /// Reference replicates per column (gap's default 200: the level's band and the global
+  /// test's held-out replicates; fewer are faster and coarser).
+  int replicates = 200;
+};
+
+/// The baseline file at `path` read whole (io::read_side_file) and parsed once at
+/// `nominal_freq` Hz, so that a file that is not one is refused before any work (InputError
+/// naming its line); `imu` names a Kalibr chain's IMU.
+FleetGapBaseline read_gap_baseline(io::SimFormat format, const std::string& path, const std::string& imu,
+                                   int replicates, double nominal_freq);
+
 struct FleetStudyOptions {
   /// The maximal model every axis's selection ranks the sub-models of.
   ModelSpec model;
@@ -68,6 +88,9 @@ struct FleetStudyOptions {
   /// The datasheet limits each unit is checked against (`--spec FILE`; fleet_spec.h): a
   /// check of the assembled rows, not part of any record or cache key.
   std::optional<io::FleetSpec> spec;
+  /// Each recording's gap diagnosis against this baseline (none: no diagnosis). Part of the
+  /// tasks and of the cache key.
+  std::optional<FleetGapBaseline> gap;
   /// The folder of cached records (fleet_cache.h); empty: no cache.
   std::string cache_dir;
   /// Where the recordings that are not cached run; empty: here, one after another (each
@@ -117,6 +140,11 @@ struct FleetRow {
   /// (a cached row keeps the time it took then).
   double seconds = 0.0;
   bool cached = false;  ///< the row came from the cache
+  /// The gap diagnosis against FleetStudyOptions::gap (empty verdict: none asked): "none"
+  /// (no gap), "closed" (the effects named in the headline close it), "remains", or
+  /// "not diagnosed" (the headline says why: a unit mix-up, a baseline without this sensor).
+  std::string gap_verdict, gap_headline;
+  double gap_p = NAN;  ///< the global test's p-value against the baseline
   /// Where this axis stands out from its group's (fleet_summary): "N: 4.2x the fleet's
   /// median (robust z 9.1)", one per figure flagged; empty when it does not.
   std::vector<std::string> flags;
@@ -169,6 +197,7 @@ struct FleetStudy {
   int cached = 0;  ///< recordings whose record came from the cache
   std::string cache_dir;
   std::string spec_path;  ///< the spec mask's file (empty: none)
+  std::string gap_baseline;  ///< the gap baseline's file (empty: no diagnosis)
   double seconds = 0.0;
 };
 

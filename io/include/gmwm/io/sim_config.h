@@ -28,6 +28,8 @@ namespace gmwm::io {
 enum class SimFormat { kKalibr, kGzSensors, kRotors, kDatasheet };
 /// "kalibr", "gz-sdf", "rotors" (the export format names that write each), "datasheet".
 const char* to_string(SimFormat f);
+/// The inverse of to_string (nullopt for any other name).
+std::optional<SimFormat> parse_sim_format(const std::string& name);
 
 /// One numeric figure as the file gives it, in the file's own unit.
 struct ConfigField {

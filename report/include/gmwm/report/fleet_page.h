@@ -1,0 +1,148 @@
+#pragma once
+// The HTML report of `gmwm fleet MANIFEST --report PATH` (issue 30, item 2): one
+// self-contained page a production engineer reads to decide which units to pull.
+//
+//   const gmwm::fleet::FleetStudy s = gmwm::fleet::study_fleet(manifest, options);
+//   gmwm::io::OutputSet out;
+//   out.declare("--report", "fleet.html");
+//   out.declare("--report", gmwm::report::report_svg_path("fleet.html"));
+//   gmwm::report::stage_fleet_report(out, "fleet.html", s);   // fleet.html and fleet.html.svg
+//   out.commit();
+//
+// What the page holds, per group (the manifest's `group`, by default the sensor model):
+//   - a headline: its units, the recordings that failed, the units flagged and on which
+//     figure of which axis, each with its value, the group's median and its robust z;
+//   - the flagged units (FleetRow::flags) and the failures (FleetRow::status), as tables;
+//   - per axis, the distribution of N, K and B over the units (data-plot="fleet-figures"):
+//     one log-scale strip per figure, a dot per unit with its interval as a rule, the
+//     group's median and the band of robust z within 3.5 (median x spread^(+-3.5), spread =
+//     exp(MAD of the logs / 0.6745), as fleet_summary computes it) drawn; a flagged unit red
+//     and labelled by its id; a unit with only an upper bound an open triangle (the summary
+//     leaves bounds out); hovering a dot shows unit, value, interval, read-off source, robust
+//     z and the recording;
+//   - per axis, the fleet's band of Allan deviation curves (data-plot="adev"): per averaging
+//     time the median, the min-max and (from kFleetPercentileUnits units on) the 5-95%
+//     envelopes of the ADEVs of the units not flagged on the axis, and every flagged unit's
+//     ADEV with its interval band over it, in its own colour (one colour per unit across the
+//     page) and labelled; when the units' tau grids differ (other rates or lengths) each ADEV
+//     is interpolated in log-log onto a common grid, and the page says so;
+//   - the summary table: per axis and figure the units, the median (in the data's unit and
+//     the datasheet's), the spread, the band, the units flagged and the bounds.
+// Figures are drawn in the datasheet's unit where the data's unit is declared (N in
+// deg/sqrt(h) or ug/sqrt(Hz), K in deg/h/sqrt(h) or m/s^2/sqrt(h), B in deg/h or mg: as the
+// terminal prints them), else in the data unit's pattern (U/sqrt(Hz), U/s/sqrt(Hz), U). A
+// group whose units were recorded in different units is drawn in the SI unit its summary
+// uses, every unit's figures and curves converted.
+//
+// DOM contract, Vega and escaping: as html_report.h (the same page frame, script and
+// style; tests/cli/html_report_browser_test.cc checks it): plots of kind "fleet-figures"
+// and "adev" (an Allan deviation plot: tau [s], "Allan deviation [UNIT]"), every user
+// string (unit ids, axes, paths, groups, models, reasons) HTML-escaped in text and
+// attributes and embedded as JSON with '<', '>', '&' escaped.
+//
+// PATH.svg: the static Allan deviation band plot of the first axis with a flagged unit (the
+// first axis when none is), drawn as plain SVG as html_report.h's PATH.svg is.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "gmwm/fleet/fleet_study.h"
+#include "gmwm/report/html_report.h"
+#include "gmwm/io/output_set.h"
+
+namespace gmwm::report {
+
+/// The fewest units of a band for its 5-95% envelope: with fewer, the 5% and 95% quantiles
+/// lie between the two lowest and the two highest units (1 / 0.05 = 20 units put one unit
+/// beyond each end), so the band shows the min-max envelope and the median only.
+inline constexpr int kFleetPercentileUnits = 20;
+
+/// One unit's figure as its strip draws it (in the panel's unit).
+struct FleetDot {
+  std::string unit, path;
+  int index = 0;  ///< the unit's place in its group: its height on every strip
+  double value = 0.0;
+  double low = 0.0, high = 0.0;  ///< NaN when unknown (a bound has no low)
+  std::string source;            ///< "model", "data" or "bound" (FigureSource)
+  bool bound = false;            ///< only an upper bound: left out of the median and the flags
+  bool flagged = false;          ///< flagged on this figure of this axis
+  /// Flagged, and its interval lies wholly outside the band (not only its value): the
+  /// surest flags, listed first.
+  bool beyond = false;
+  double z = 0.0;    ///< robust z against the group's median (NaN when not defined)
+  std::string flag;  ///< the flag's reason ("N: 4.2x the fleet's median (robust z 9.1)")
+};
+
+/// One figure of one axis over a group's units.
+struct FleetFigurePanel {
+  char figure = 'N';
+  std::string unit;       ///< the panel's unit ("deg/sqrt(h)", "g/sqrt(Hz)")
+  std::string data_unit;  ///< the summary's unit pattern ("deg/s/sqrt(Hz)")
+  double to_panel = 1.0;  ///< the summary's value x to_panel = the panel's value
+  int units = 0;          ///< read-offs in the summary (bounds left out)
+  /// The group's median, spread factor and band median x spread^(-+3.5), in the panel's
+  /// unit (NaN when no unit has a read-off).
+  double median = 0.0, spread = 0.0, band_low = 0.0, band_high = 0.0;
+  bool can_flag = false;  ///< at least fleet::kMinUnitsForFlags read-offs
+  std::vector<FleetDot> dots;
+};
+
+/// A unit's Allan deviation drawn over the band (in the axis's unit).
+struct FleetUnitCurve {
+  std::string unit, path;
+  std::vector<double> tau, adev, low, high;  ///< low/high NaN where unknown
+  std::vector<std::string> flags;            ///< its row's flags
+};
+
+/// The fleet's band of Allan deviations of one axis, per averaging time.
+struct FleetAdevBand {
+  std::vector<double> tau;  ///< seconds
+  std::vector<double> min, p05, median, p95, max;
+  std::vector<int> count;     ///< units reaching each tau
+  int units = 0;              ///< units in the band (with a curve, not flagged on the axis)
+  bool percentiles = false;   ///< p05/p95 hold the 5-95% envelope (units >= kFleetPercentileUnits)
+  bool interpolated = false;  ///< the units' tau grids differ: each interpolated in log-log
+};
+
+struct FleetAxisView {
+  std::string axis;
+  std::string unit;  ///< the unit of its figures' data pattern and of the ADEVs ("" undeclared: "U")
+  std::array<FleetFigurePanel, 3> figures;  ///< N, K, B
+  FleetAdevBand band;
+  std::vector<FleetUnitCurve> flagged;  ///< the units flagged on this axis, in manifest order
+  std::vector<std::string> notes;       ///< what the reader must know to read its plots
+};
+
+struct FleetGroupView {
+  std::string name;
+  int units = 0;                      ///< distinct unit ids
+  int failed = 0;                     ///< recordings of the group that failed
+  std::vector<std::string> headline;  ///< sentences, every number in them from the study
+  std::vector<FleetAxisView> axes;
+  std::vector<std::size_t> flagged_rows;  ///< rows (FleetStudy::rows) with a flag
+  std::vector<std::size_t> failed_rows;   ///< rows whose recording or axis failed
+};
+
+/// What the page shows, computed from the study (tested as data; rendered by render_fleet_page).
+struct FleetPageData {
+  std::string title;
+  std::vector<FleetGroupView> groups;
+};
+
+/// The page's data: groups in the order the manifest first names them, axes in the
+/// summary's order, units in manifest order.
+FleetPageData fleet_page_data(const fleet::FleetStudy& study);
+
+/// The whole page. Throws InputError when Vega cannot be read (vega_missing_reason).
+std::string render_fleet_page(const fleet::FleetStudy& study);
+
+/// The static SVG of the first axis with a flagged unit (the first axis when none is): the
+/// band, the median and the flagged units' curves. Empty when the study has no axis.
+std::string render_fleet_svg(const FleetPageData& data);
+
+/// Stages the page at `path` and, when the study has an axis, its SVG at
+/// report_svg_path(path) in `outputs` (declared there as "--report"'s).
+void stage_fleet_report(io::OutputSet& outputs, const std::string& path, const fleet::FleetStudy& study);
+
+}  // namespace gmwm::report
