@@ -302,8 +302,6 @@ void add_multi_signal_functions(py::module_& m) {
   m.def("fleet_task", [](const std::string& task) { return gmwm::fleet::run_fleet_task(task); }, py::arg("task"),
         py::call_guard<py::gil_scoped_release>(),
         "Runs one recording's task text (what a Dask worker runs for gmwm fleet --scheduler): its record's text");
-  m.def("fleet_failed_record", &gmwm::fleet::failed_record_text, py::arg("why"),
-        "The record of a recording whose task failed, saying why (what a runner hands back for it)");
   m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(), py::arg("cache") = "",
         py::arg("runner") = py::none(), py::arg("spec") = "", py::arg("gap_format") = "kalibr",

@@ -10,6 +10,7 @@
 #include <exception>
 #include <optional>
 
+#include <boost/math/distributions/normal.hpp>
 #include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
@@ -189,7 +190,7 @@ const ChosenFigure& figure_of(const FleetRow& r, int k) {
 // One figure of one group's axis: the median and spread of the logs, the units beyond the
 // outlier rule (their rows flagged), the units above the spec.
 FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::string& group, const std::string& axis,
-                                    int k) {
+                                    int k, double z_half) {
   FleetFigureSummary s{group, axis, "NKB"[k]};
   std::vector<FleetRow*> all, members;
   for (FleetRow& r : rows)
@@ -203,19 +204,30 @@ FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::stri
   }
   const SummaryUnit u = summary_unit(members);
   s.unit = members.empty() ? summary_unit(all).unit : u.unit;
-  std::vector<double> logs;
-  for (std::size_t i = 0; i < members.size(); ++i)
-    logs.push_back(std::log(figure_of(*members[i], k).figure.value * u.factor[i]));
+  std::vector<double> logs, se2;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const Readoff& f = figure_of(*members[i], k).figure;
+    logs.push_back(std::log(f.value * u.factor[i]));
+    // The unit's own standard error on the log scale, from its interval (0 when it has none).
+    const double se = f.low > 0.0 && f.high > f.low ? std::log(f.high / f.low) / (2.0 * z_half) : 0.0;
+    se2.push_back(std::isfinite(se) ? se * se : 0.0);
+  }
   s.units = static_cast<int>(logs.size());
   if (logs.empty()) return s;
   const double m = median_of(logs);
   std::vector<double> dev;
   for (double x : logs) dev.push_back(std::abs(x - m));
   const double mad = median_of(dev);
+  const double total = mad / kMadToSigma;
+  // The spread between units net of the read-offs' own noise (the random-effects split of
+  // the total: a unit's deviation is the fleet's spread plus its own estimation error).
+  const double between2 = std::max(0.0, total * total - median_of(se2));
   s.median = std::exp(m);
-  s.spread = std::exp(mad / kMadToSigma);
+  s.spread = std::exp(total);
+  s.unit_spread = std::exp(std::sqrt(between2));
   for (std::size_t i = 0; s.units >= kMinUnitsForFlags && mad > 0.0 && i < logs.size(); ++i) {
-    const double z = kMadToSigma * (logs[i] - m) / mad;
+    const double scale = std::sqrt(between2 + se2[i]);
+    const double z = scale > 0.0 ? (logs[i] - m) / scale : 0.0;
     if (std::abs(z) <= kFleetOutlierZ) continue;
     s.flagged.push_back(members[i]->unit);
     members[i]->flags.push_back(std::string(1, s.figure) + ": " + g4(std::exp(logs[i] - m)) +
@@ -226,7 +238,8 @@ FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::stri
 
 }  // namespace
 
-std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows) {
+std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows, double alpha) {
+  const double z_half = boost::math::quantile(boost::math::normal(), 1.0 - alpha / 2.0);
   // Groups and axes in the order they first appear.
   std::vector<std::pair<std::string, std::string>> keys;
   for (const FleetRow& r : rows)
@@ -234,7 +247,7 @@ std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows) {
       keys.emplace_back(r.group, r.axis);
   std::vector<FleetFigureSummary> out;
   for (const auto& [group, axis] : keys)
-    for (int k = 0; k < 3; ++k) out.push_back(summarise_figure(rows, group, axis, k));
+    for (int k = 0; k < 3; ++k) out.push_back(summarise_figure(rows, group, axis, k, z_half));
   return out;
 }
 
@@ -275,7 +288,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   run(p, options, cache);
   assemble(manifest, p.records, from_cache, study);
   if (options.spec) check_spec(study.rows, *options.spec);
-  study.summary = fleet_summary(study.rows);
+  study.summary = fleet_summary(study.rows, options.wv.alpha);
   study.seconds = seconds_since(start);
   return study;
 }

@@ -11,8 +11,9 @@ Two faces:
   python -m gmwm._fleet_dask ADDRESS
                        the bridge `gmwm fleet --scheduler ADDRESS` starts: every task line
                        ({"k": k, "task": text}) read from standard input first, then one line
-                       per finished task on standard output ({"k": k, "record": text} or
-                       {"k": k, "error": why}), as they finish.
+                       per finished task on standard output ({"k": k, "record": text}), as
+                       they finish; a task that raises on a worker (the worker cannot run
+                       gmwm) ends it with one line on standard error and exit 3.
 """
 from __future__ import annotations
 
@@ -47,23 +48,32 @@ def _run_task(text: str) -> str:
     return _gmwm.fleet_task(text)
 
 
-def run_tasks(client: Any, tasks: Iterable[tuple[int, str]],
-              done: Callable[[int, str], None], failed: Callable[[int, str], None]) -> None:
-    """Submits every (k, text) and hands each result back as it finishes: done(k, record) or
-    failed(k, why) for a task that raised. A lost cluster raises (what was handed back stays)."""
+class WorkerError(RuntimeError):
+    """A task raised on a worker: the worker cannot run gmwm (not installed there, another
+    version), since a recording's own faults are its record, never an exception."""
+
+
+def run_tasks(client: Any, tasks: Iterable[tuple[int, str]], done: Callable[[int, str], None]) -> None:
+    """Submits every (k, text) and hands each record back as it finishes: done(k, record).
+    A task that raises ends the run with WorkerError (the rest cancelled); a lost cluster
+    raises too. What was handed back by then stays handed back (the client has cached it)."""
     import distributed
 
     futures = {}
     for k, text in tasks:
         # pure=False: two recordings with the same text (the same file listed twice) are two tasks.
         futures[client.submit(_run_task, text, pure=False)] = k
-    for future in distributed.as_completed(list(futures)):
-        k = futures.pop(future)
-        if future.status == "finished":
+    try:
+        for future in distributed.as_completed(list(futures)):
+            k = futures.pop(future)
+            if future.status != "finished":
+                exc = future.exception()
+                raise WorkerError(f"a worker could not run recording {k + 1}'s task: {type(exc).__name__}: {exc} "
+                                  "(every worker needs the gmwm Python module of this version and the recordings "
+                                  "at the same paths)".replace("\n", " "))
             done(k, future.result())
-        else:
-            exc = future.exception()
-            failed(k, f"the Dask task failed: {type(exc).__name__}: {exc}".replace("\n", " "))
+    finally:
+        client.cancel(list(futures))
 
 
 def runner(scheduler: Any) -> Callable[[list[tuple[int, str]], Callable[[int, str], None]], None]:
@@ -73,12 +83,7 @@ def runner(scheduler: Any) -> Callable[[list[tuple[int, str]], Callable[[int, st
     def run(items: list[tuple[int, str]], done: Callable[[int, str], None]) -> None:
         client, own = _client(scheduler)
         try:
-            from gmwm import _gmwm
-
-            def failed(k: int, why: str) -> None:
-                done(k, _gmwm.fleet_failed_record(why))
-
-            run_tasks(client, ((k, text) for k, (_index, text) in enumerate(items)), done, failed)
+            run_tasks(client, ((k, text) for k, (_index, text) in enumerate(items)), done)
         finally:
             if own:
                 client.close()
@@ -108,7 +113,10 @@ def main(argv: list[str]) -> int:
               f"{e}".replace("\n", " "), file=sys.stderr)
         return 3
     try:
-        run_tasks(client, tasks, lambda k, r: emit({"k": k, "record": r}), lambda k, w: emit({"k": k, "error": w}))
+        run_tasks(client, tasks, lambda k, r: emit({"k": k, "record": r}))
+    except WorkerError as e:
+        print(f"gmwm fleet --scheduler {argv[0]}: {e}", file=sys.stderr)
+        return 3
     except Exception as e:  # noqa: BLE001 - the cluster went away mid-run
         print(f"gmwm fleet --scheduler {argv[0]}: the cluster stopped: {type(e).__name__}: "
               f"{e}".replace("\n", " "), file=sys.stderr)

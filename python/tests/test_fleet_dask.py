@@ -98,3 +98,14 @@ def test_a_scheduler_address_that_is_not_one_is_refused_before_any_work(fleet_di
     done = run(fleet_dir, "fleet", "fleet.csv", "--model", "WN+RW", "--scheduler", "tcp://host;rm -rf /", check=False)
     assert done.returncode == 2
     assert done.stderr.startswith("gmwm: error: --scheduler: found 'tcp://host;rm -rf /', expected a Dask")
+
+
+def test_a_worker_that_cannot_run_gmwm_ends_the_run_saying_so_instead_of_failing_every_row(fleet_dir, cluster):
+    with distributed.Client(cluster) as client:
+        # Every worker loses the gmwm module (as a worker set up without it would be).
+        client.run(lambda: __import__("sys").modules.__setitem__("gmwm", None))
+        try:
+            with pytest.raises(Exception, match="a worker could not run recording .* needs the gmwm Python module"):
+                gmwm.fleet(str(fleet_dir / "fleet.csv"), model="WN+RW", cache=None, scheduler=client)
+        finally:
+            client.run(lambda: __import__("sys").modules.pop("gmwm", None))

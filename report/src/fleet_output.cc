@@ -114,6 +114,7 @@ Json fleet_document(const fleet::FleetStudy& study) {
                        {"unit", s.unit},
                        {"median", json_number(s.median)},
                        {"spread", json_number(s.spread)},
+                       {"unit_spread", json_number(s.unit_spread)},
                        {"flagged", s.flagged},
                        {"out_of_spec", s.out_of_spec}});
   doc["summary"] = std::move(summary);

@@ -162,10 +162,14 @@ struct FleetCurves {
   std::vector<double> model;  ///< the chosen model's Allan deviation on adev's grid (may be empty)
 };
 
-/// The modified z-score beyond which a unit stands out from its group (Iglewicz and
-/// Hoaglin 1993, "How to Detect and Handle Outliers": |M| > 3.5, M = 0.6745 (x - median) / MAD),
-/// taken on log N, log K, log B (the figures are scale quantities: a unit twice as noisy and
-/// one half as noisy are as far from the fleet).
+/// The z-score beyond which a unit stands out from its group, on log N, log K, log B (the
+/// figures are scale quantities: a unit twice as noisy and one half as noisy are as far from
+/// the fleet): z = (log x - median) / sqrt(tau^2 + se^2), tau^2 = (MAD / 0.6745)^2 - median(se^2)
+/// the spread between units net of the read-offs' own noise, se the unit's own standard error
+/// (from its interval). With equal se it is Iglewicz and Hoaglin's modified z-score (1993, "How
+/// to Detect and Handle Outliers": |M| > 3.5, M = 0.6745 (x - median) / MAD); a read-off far
+/// less precise than the fleet's (a short record, a bias read at few degrees of freedom) needs
+/// a larger departure, the random-effects view of an outlier (DerSimonian and Laird 1986).
 inline constexpr double kFleetOutlierZ = 3.5;
 /// 0.6745 = the standard normal's 75% quantile: MAD / 0.6745 estimates the standard deviation.
 inline constexpr double kMadToSigma = 0.6745;
@@ -183,6 +187,9 @@ struct FleetFigureSummary {
   double median = NAN;
   /// The spread as a factor: exp(MAD of the logs / 0.6745), e.g. 1.08 = +-8% one sigma.
   double spread = NAN;
+  /// The spread between the units themselves, net of the read-offs' noise: exp(tau)
+  /// (kFleetOutlierZ); 1 when the read-offs' noise explains all of `spread`.
+  double unit_spread = NAN;
   std::vector<std::string> flagged;  ///< the units flagged on it
   std::vector<std::string> out_of_spec;  ///< the units above its spec limit (`--spec`)
 };
@@ -212,8 +219,9 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
 void check_spec(std::vector<FleetRow>& rows, const io::FleetSpec& spec);
 
 /// The distribution of N, K, B per group and axis over the rows that have them (read-offs,
-/// not bounds), and the units beyond kFleetOutlierZ (their rows' `flags` set). Called by
-/// study_fleet; deterministic (the rows' order does not matter).
-std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows);
+/// not bounds), and the units beyond kFleetOutlierZ (their rows' `flags` set); `alpha` is the
+/// level of the figures' intervals (their standard errors). Called by study_fleet;
+/// deterministic (the rows' order does not matter).
+std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows, double alpha = 0.05);
 
 }  // namespace gmwm::fleet
