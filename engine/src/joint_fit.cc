@@ -7,6 +7,7 @@
 #include <string>
 
 #include <Eigen/Dense>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
 
@@ -52,18 +53,51 @@ void check_inputs(std::span<const WaveletVariance> wvs, const Model& model, cons
   }
 }
 
-// V_k^-1 (pseudo-inverse, symmetrised) for every replicate at theta.
+// Replicates of one length, levels and efficiency share their model-based V_k (and its
+// inverse): computed once per such group (a fleet's units are mostly of one length, and
+// one V costs ~20 ms at 2^18 samples). group[k] is the first replicate of k's group.
+std::vector<std::size_t> covariance_groups(std::span<const WaveletVariance> wvs) {
+  std::vector<std::size_t> group(wvs.size());
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    group[k] = k;
+    for (std::size_t i = 0; i < k; ++i)
+      if (group[i] == i && wvs[i].n == wvs[k].n && wvs[i].levels() == wvs[k].levels() &&
+          wvs[i].efficiency.value_or(1.0) == wvs[k].efficiency.value_or(1.0)) {
+        group[k] = i;
+        break;
+      }
+  }
+  return group;
+}
+
+// V_k for every replicate at theta (in parallel over the distinct groups).
 std::vector<Eigen::MatrixXd> model_covariances(std::span<const WaveletVariance> wvs, const Model& model,
                                                const Eigen::VectorXd& theta) {
-  std::vector<Eigen::MatrixXd> v(wvs.size());
+  const std::vector<std::size_t> group = covariance_groups(wvs);
+  std::vector<std::size_t> heads;
   for (std::size_t k = 0; k < wvs.size(); ++k)
-    v[k] = model_wv_covariance(model, theta, wvs[k].n, wvs[k].levels()) / wvs[k].efficiency.value_or(1.0);
+    if (group[k] == k) heads.push_back(k);
+  std::vector<Eigen::MatrixXd> v(wvs.size());
+  gmwm::parallel_for(std::size_t{0}, heads.size(), [&](std::size_t h) {
+    const WaveletVariance& w = wvs[heads[h]];
+    v[heads[h]] = model_wv_covariance(model, theta, w.n, w.levels()) / w.efficiency.value_or(1.0);
+  });
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    if (group[k] != k) v[k] = v[group[k]];
   return v;
 }
 
 Eigen::MatrixXd inverse(const Eigen::MatrixXd& v) {
   Eigen::MatrixXd w = v.completeOrthogonalDecomposition().pseudoInverse();
   return 0.5 * (w + w.transpose());
+}
+
+// V_k^-1 (pseudo-inverse, symmetrised) for every replicate, once per group of equal V_k.
+std::vector<Eigen::MatrixXd> inverses(std::span<const WaveletVariance> wvs, const std::vector<Eigen::MatrixXd>& v) {
+  const std::vector<std::size_t> group = covariance_groups(wvs);
+  std::vector<Eigen::MatrixXd> out(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) out[k] = group[k] == k ? inverse(v[k]) : out[group[k]];
+  return out;
 }
 
 // Stage 1: the single-signal fits (in parallel; each is deterministic on its own).
@@ -92,16 +126,114 @@ void average_estimates(const std::vector<FitResult>& singles, int p, JointFitRes
   out.agmwm_se = (ss / static_cast<double>(ok.size() - 1) / static_cast<double>(ok.size())).cwiseSqrt();
 }
 
-// Stage 3: the joint minimisation of the stacked objective under `omega`, from `starts`.
-FitResult minimise(const WaveletVariance& stacked, const Model& model, const Eigen::MatrixXd& omega,
-                   const std::vector<Eigen::VectorXd>& starts, const FitOptions& options) {
+// A minimisation of one WV's objective under a fixed `omega`, from `starts`.
+FitResult minimise_one(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
+                       const std::vector<Eigen::VectorXd>& starts, const FitOptions& options) {
   FitOptions o = options;
   o.omega_matrix = omega;
   o.starts = starts;
   o.nested_starts = false;  // the replicates' own fits already carry their nested starts
   o.multistarts = 1;
   o.inference = false;
-  return fit_gmwm(stacked, model, o);
+  return fit_gmwm(wv, model, o);
+}
+
+// Stage 3: the joint minimisation of the stacked objective, on its reduction, from
+// `starts`. The objective returned is the stacked one (the reduced one plus C).
+FitResult minimise(const ReducedReplicates& reduced, const Model& model, const std::vector<Eigen::VectorXd>& starts,
+                   const FitOptions& options) {
+  FitResult f = minimise_one(reduced.wv, model, reduced.weight, starts, options);
+  if (f.status != FitStatus::kFailed) f.objective += reduced.within;
+  return f;
+}
+
+// The inference's boundary rule (engine/src/inference.cc, kBoundaryShare): a component
+// whose share of the implied WV is below 1e-8 at every level is left out of A.
+constexpr double kInferenceBoundaryShare = 1e-8;
+
+// The Jacobian at tau without the parameters of components on the boundary (as the
+// inference leaves them out), for the stacked goodness of fit.
+Eigen::MatrixXd active_jacobian(const Model& model, const Eigen::VectorXd& theta, std::span<const double> tau) {
+  const Eigen::VectorXd nu = model.wv(theta, tau);
+  const Eigen::MatrixXd full = model.jacobian(theta, tau);
+  std::vector<Eigen::Index> keep;
+  for (int c = 0; c < model.num_components(); ++c) {
+    const Process& proc = *model.components()[static_cast<std::size_t>(c)].process;
+    std::vector<double> part(tau.size());
+    proc.wv({theta.data() + model.offset(c), static_cast<std::size_t>(proc.size())}, tau, part);
+    double share = 0.0;
+    for (std::size_t j = 0; j < tau.size(); ++j)
+      share = std::max(share, std::abs(part[j]) / std::max(std::abs(nu(static_cast<Eigen::Index>(j))), 1e-300));
+    if (share < kInferenceBoundaryShare) continue;
+    for (int i = 0; i < proc.size(); ++i) keep.push_back(model.offset(c) + i);
+  }
+  Eigen::MatrixXd A(full.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (Eigen::Index a = 0; a < A.cols(); ++a) A.col(a) = full.col(keep[static_cast<std::size_t>(a)]);
+  return A;
+}
+
+// The stacked levels' misfits (replicate 1's levels, then replicate 2's, ...): z under
+// each replicate's own V_k, as the inference of the stacked problem gave them.
+std::vector<LevelMisfit> stacked_misfits(std::span<const WaveletVariance> wvs, const FitResult& fit,
+                                         const std::vector<Eigen::MatrixXd>& v) {
+  std::vector<LevelMisfit> out;
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    const Eigen::VectorXd nu = fit.model.wv(fit.theta, wvs[k].tau);
+    for (int j = 0; j < wvs[k].levels(); ++j) {
+      LevelMisfit m;
+      m.level = static_cast<int>(out.size()) + 1;
+      m.tau = wvs[k].tau[static_cast<std::size_t>(j)];
+      m.ratio = wvs[k].wv[static_cast<std::size_t>(j)] / nu(j);
+      const double sd = std::sqrt(v[k](j, j));
+      m.z = sd > 0.0 ? (wvs[k].wv[static_cast<std::size_t>(j)] - nu(j)) / sd : std::numeric_limits<double>::quiet_NaN();
+      out.push_back(m);
+    }
+  }
+  return out;
+}
+
+// The model-based weights of the joint fit from V_k: diag(1 / V_k,jj) (kDiag, kModel) or
+// V_k^-1 (kFull).
+std::vector<Eigen::MatrixXd> model_weights(std::span<const WaveletVariance> wvs, const std::vector<Eigen::MatrixXd>& v,
+                                           OmegaKind kind) {
+  if (kind == OmegaKind::kFull) return inverses(wvs, v);
+  std::vector<Eigen::MatrixXd> omegas;
+  for (const auto& vk : v) {
+    Eigen::MatrixXd d = Eigen::MatrixXd::Zero(vk.rows(), vk.cols());
+    for (Eigen::Index j = 0; j < vk.rows(); ++j)
+      d(j, j) = vk(j, j) > 0.0 && std::isfinite(vk(j, j)) ? 1.0 / vk(j, j) : 0.0;
+    omegas.push_back(std::move(d));
+  }
+  return omegas;
+}
+
+// Stage 4: the joint fit's objective terms and, with options.inference, its inference:
+// the sandwich of the reduced problem (the stacked one's), then the goodness of fit and
+// the per-level misfits of the stacked problem. `v`: the V_k the weights were formed from.
+void finish_joint(std::span<const WaveletVariance> wvs, const FitOptions& options, bool omega_is_v_inverse,
+                  std::vector<Eigen::MatrixXd> v, JointFitResult& out, FitResult& joint) {
+  double total = 0.0;
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    const Eigen::VectorXd r = wvs[k].values() - joint.model.wv(joint.theta, wvs[k].tau);
+    out.objective_share.push_back(r.dot(out.omegas[k] * r));
+    total += out.objective_share.back();
+  }
+  joint.objective = total;
+  if (!options.inference) return;
+  // The parameters' covariance with V at the final estimate (fit.cc says why); under
+  // V^-1 weights the goodness of fit keeps the pilot's V they were formed from.
+  const std::vector<Eigen::MatrixXd> v_final = model_covariances(wvs, joint.model, joint.theta);
+  if (!omega_is_v_inverse || v.size() != wvs.size()) v = v_final;
+  const ReducedReplicates gof = reduce_replicates(wvs, out.omegas, v);
+  const ReducedReplicates par = reduce_replicates(wvs, out.omegas, v_final);
+  joint.omega = gof.weight;
+  joint.wv_covariance = *gof.wv.covariance;
+  joint.implied_wv = joint.model.wv(joint.theta, gof.wv.tau);
+  detail::run_inference(gof.wv, options, omega_is_v_inverse, joint, &*par.wv.covariance);
+  const int p = joint.model.num_parameters();
+  joint.gof = stacked_goodness_of_fit(gof, active_jacobian(joint.model, joint.theta, gof.wv.tau), total,
+                                      static_cast<double>(gof.stacked_levels - p), omega_is_v_inverse);
+  joint.misfits = stacked_misfits(wvs, joint, v);
 }
 
 }  // namespace
@@ -140,6 +272,177 @@ WaveletVariance stack_wv(std::span<const WaveletVariance> wvs) {
   return s;
 }
 
+namespace {
+
+// A level's tau agrees across replicates to this relative tolerance (2^j written by each
+// estimator: equal bit for bit in practice).
+constexpr double kTauTolerance = 1e-12;
+
+// The common levels: the longest replicate's taus; every replicate's must be a prefix.
+const WaveletVariance& longest_of(std::span<const WaveletVariance> wvs) {
+  const WaveletVariance* longest = &wvs.front();
+  for (const auto& w : wvs)
+    if (w.levels() > longest->levels()) longest = &w;
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    for (int j = 0; j < wvs[k].levels(); ++j) {
+      const double a = wvs[k].tau[static_cast<std::size_t>(j)], b = longest->tau[static_cast<std::size_t>(j)];
+      if (!(std::abs(a - b) <= kTauTolerance * std::abs(b)))
+        throw InvalidArgument("reduce_replicates: replicate " + std::to_string(k + 1) + "'s level " +
+                              std::to_string(j + 1) + " is at tau " + std::to_string(a) + ", the others' at " +
+                              std::to_string(b));
+    }
+  return *longest;
+}
+
+// x restricted to the kept levels.
+Eigen::MatrixXd kept_block(const Eigen::MatrixXd& x, const std::vector<int>& kept) {
+  const auto m = static_cast<Eigen::Index>(kept.size());
+  Eigen::MatrixXd out(m, m);
+  for (Eigen::Index a = 0; a < m; ++a)
+    for (Eigen::Index b = 0; b < m; ++b)
+      out(a, b) = x(kept[static_cast<std::size_t>(a)], kept[static_cast<std::size_t>(b)]);
+  return out;
+}
+
+// Solves W X = B for PSD W: Cholesky of W scaled to a unit diagonal (the levels' weights
+// span many orders of magnitude; scaled, W is as well conditioned as the levels'
+// correlation), else its pseudo-inverse (B lies in W's range).
+Eigen::MatrixXd solve_weight(const Eigen::MatrixXd& w, const Eigen::MatrixXd& b) {
+  const Eigen::VectorXd s = w.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd ws = s.asDiagonal() * w * s.asDiagonal();
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (ws + ws.transpose()));
+  if (llt.info() == Eigen::Success) {
+    Eigen::MatrixXd x = s.asDiagonal() * llt.solve(s.asDiagonal() * b);
+    if (x.allFinite()) return x;
+  }
+  return s.asDiagonal() * (ws.completeOrthogonalDecomposition().pseudoInverse() * (s.asDiagonal() * b));
+}
+
+// The V_k terms of a reduction: U, U2 and the traces of the stacked goodness of fit, and
+// Var(nutilde) = W^-1 U W^-1 as the reduced WV's covariance (and its diagonal as its variance).
+void add_covariance_terms(std::span<const WaveletVariance> wvs, std::span<const Eigen::MatrixXd> omegas,
+                          std::span<const Eigen::MatrixXd> covariances, Eigen::Index J, ReducedReplicates& r) {
+  WaveletVariance& w = r.wv;
+  const auto m = static_cast<Eigen::Index>(r.kept.size());
+  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(J, J), U2 = Eigen::MatrixXd::Zero(J, J);
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    const Eigen::Index Jk = wvs[k].levels();
+    const Eigen::MatrixXd ov = omegas[k] * covariances[k];
+    const Eigen::MatrixXd ovo = ov * omegas[k];
+    U.topLeftCorner(Jk, Jk) += ovo;
+    U2.topLeftCorner(Jk, Jk) += ov * ovo;
+    r.trace_ov += ov.trace();
+    r.trace_ov2 += (ov * ov).trace();
+  }
+  r.meat = kept_block(0.5 * (U + U.transpose()), r.kept);
+  r.meat2 = kept_block(0.5 * (U2 + U2.transpose()), r.kept);
+  const Eigen::MatrixXd wu = solve_weight(r.weight, r.meat);     // W^-1 U
+  Eigen::MatrixXd cov = solve_weight(r.weight, wu.transpose());  // W^-1 U W^-1
+  cov = 0.5 * (cov + cov.transpose());
+  for (Eigen::Index a = 0; a < m; ++a) w.variance[static_cast<std::size_t>(a)] = cov(a, a);
+  w.covariance = std::move(cov);
+}
+
+}  // namespace
+
+ReducedReplicates reduce_replicates(std::span<const WaveletVariance> wvs, std::span<const Eigen::MatrixXd> omegas,
+                                    std::span<const Eigen::MatrixXd> covariances) {
+  if (wvs.empty()) throw InvalidArgument("reduce_replicates: no replicate given");
+  check_size_match("reduce_replicates", "omegas", omegas.size(), "replicates", wvs.size());
+  if (!covariances.empty())
+    check_size_match("reduce_replicates", "covariances", covariances.size(), "replicates", wvs.size());
+  const WaveletVariance& longest = longest_of(wvs);
+  const Eigen::Index J = longest.levels();
+  ReducedReplicates r;
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(J, J);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(J), eta = Eigen::VectorXd::Zero(J);
+  std::vector<std::int64_t> coefficients(static_cast<std::size_t>(J), 0);
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    const Eigen::Index Jk = wvs[k].levels();
+    if (omegas[k].rows() != Jk || omegas[k].cols() != Jk ||
+        (!covariances.empty() && (covariances[k].rows() != Jk || covariances[k].cols() != Jk)))
+      throw InvalidArgument("reduce_replicates: replicate " + std::to_string(k + 1) + " has " + std::to_string(Jk) +
+                            " levels, its Omega or V another size");
+    W.topLeftCorner(Jk, Jk) += omegas[k];
+    b.head(Jk) += omegas[k] * wvs[k].values();
+    for (Eigen::Index j = 0; j < Jk; ++j) {
+      eta(j) += wvs[k].eta.size() == static_cast<std::size_t>(Jk) ? wvs[k].eta[static_cast<std::size_t>(j)] : 0.0;
+      if (wvs[k].coefficients.size() == static_cast<std::size_t>(Jk))
+        coefficients[static_cast<std::size_t>(j)] += wvs[k].coefficients[static_cast<std::size_t>(j)];
+    }
+    r.stacked_levels += static_cast<int>(Jk);
+  }
+  for (Eigen::Index j = 0; j < J; ++j)
+    if (W(j, j) > 0.0) r.kept.push_back(static_cast<int>(j));
+  if (r.kept.empty()) throw InvalidArgument("reduce_replicates: no level has a positive weight");
+  const auto m = static_cast<Eigen::Index>(r.kept.size());
+  r.weight = kept_block(W, r.kept);
+  r.weight = 0.5 * (r.weight + r.weight.transpose());
+  Eigen::VectorXd bk(m);
+  for (Eigen::Index a = 0; a < m; ++a) bk(a) = b(r.kept[static_cast<std::size_t>(a)]);
+  const Eigen::VectorXd nutilde = solve_weight(r.weight, bk);
+
+  // C = sum_k (nuhat_k - nutilde)' Omega_k (nuhat_k - nutilde), each term >= 0.
+  Eigen::VectorXd full_nutilde = Eigen::VectorXd::Zero(J);
+  for (Eigen::Index a = 0; a < m; ++a) full_nutilde(r.kept[static_cast<std::size_t>(a)]) = nutilde(a);
+  for (std::size_t k = 0; k < wvs.size(); ++k) {
+    const Eigen::Index Jk = wvs[k].levels();
+    const Eigen::VectorXd d = wvs[k].values() - full_nutilde.head(Jk);
+    r.within += d.dot(omegas[k] * d);
+  }
+
+  WaveletVariance& w = r.wv;
+  w.alpha = wvs.front().alpha;
+  w.estimator = wvs.front().estimator;
+  w.efficiency = wvs.front().efficiency;
+  w.n = longest.n;
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const auto j = static_cast<std::size_t>(r.kept[static_cast<std::size_t>(a)]);
+    w.tau.push_back(longest.tau[j]);
+    w.wv.push_back(nutilde(a));
+    w.eta.push_back(eta(static_cast<Eigen::Index>(j)));
+    w.coefficients.push_back(coefficients[j]);
+    const double e = eta(static_cast<Eigen::Index>(j));
+    const auto ci = e > 0.0 && nutilde(a) > 0.0
+                        ? chi_square_ci(nutilde(a), e, w.alpha)
+                        : std::pair{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+    w.ci_low.push_back(ci.first);
+    w.ci_high.push_back(ci.second);
+    w.variance.push_back(e > 0.0 ? 2.0 * nutilde(a) * nutilde(a) / e : std::numeric_limits<double>::quiet_NaN());
+  }
+  w.notes.resize(static_cast<std::size_t>(m));
+  if (covariances.empty()) return r;
+
+  add_covariance_terms(wvs, omegas, covariances, static_cast<Eigen::Index>(longest.levels()), r);
+  return r;
+}
+
+GoodnessOfFit stacked_goodness_of_fit(const ReducedReplicates& r, const Eigen::MatrixXd& A, double objective, double df,
+                                      bool omega_is_v_inverse) {
+  if (omega_is_v_inverse || df <= 0)  // the chi-square, or no test: neither reads V
+    return goodness_of_fit(A, objective, df, r.weight, r.weight, omega_is_v_inverse);
+  if (r.meat.size() == 0)
+    throw InvalidArgument("stacked_goodness_of_fit: the reduction was made without the replicates' covariances");
+  GoodnessOfFit g;
+  g.statistic = objective;
+  g.df = df;
+  const Eigen::MatrixXd B = A.transpose() * r.weight * A;
+  const Eigen::MatrixXd Binv = B.completeOrthogonalDecomposition().pseudoInverse();
+  const Eigen::MatrixXd BU = Binv * (A.transpose() * r.meat * A);
+  const double t1 = r.trace_ov - BU.trace();
+  const double t2 = r.trace_ov2 - 2.0 * (Binv * (A.transpose() * r.meat2 * A)).trace() + (BU * BU).trace();
+  if (!(t1 > 0.0 && t2 > 0.0)) {
+    g.p_value = std::numeric_limits<double>::quiet_NaN();
+    g.method = "satterthwaite (degenerate)";
+    return g;
+  }
+  const double scale = t2 / t1, dof = t1 * t1 / t2;
+  g.p_value =
+      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(objective, 0.0) / scale));
+  g.method = "satterthwaite";
+  return g;
+}
+
 JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model& model_in, const FitOptions& options) {
   check_inputs(wvs, model_in, options);
   // Canonical from the start, so that every replicate's estimate lines up with the others.
@@ -157,10 +460,8 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
   if (out.agmwm.allFinite()) starts.push_back(out.agmwm);
   for (const auto& s : options.starts) starts.push_back(s);
 
-  const WaveletVariance stacked = stack_wv(wvs);
-  std::vector<Eigen::MatrixXd> omegas;
-  for (const auto& w : wvs) omegas.push_back(diagonal_omega(w));
-  FitResult joint = minimise(stacked, model, block_diagonal(omegas), starts, options);
+  for (const auto& w : wvs) out.omegas.push_back(diagonal_omega(w));
+  FitResult joint = minimise(reduce_replicates(wvs, out.omegas), model, starts, options);
 
   bool omega_is_v_inverse = false;
   std::vector<Eigen::MatrixXd> v;
@@ -172,80 +473,54 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
     // The weights are therefore model-based: V_k at the pilot, the same for every
     // replicate at a given scale and length; diag(1 / V_k,jj) (kDiag) or V_k^-1 (kFull).
     v = model_covariances(wvs, joint.model, joint.theta);
-    omegas.clear();
-    for (const auto& vk : v) {
-      if (options.omega == OmegaKind::kFull) {
-        omegas.push_back(inverse(vk));
-        continue;
-      }
-      Eigen::MatrixXd d = Eigen::MatrixXd::Zero(vk.rows(), vk.cols());
-      for (Eigen::Index j = 0; j < vk.rows(); ++j)
-        d(j, j) = vk(j, j) > 0.0 && std::isfinite(vk(j, j)) ? 1.0 / vk(j, j) : 0.0;
-      omegas.push_back(std::move(d));
-    }
+    std::vector<Eigen::MatrixXd> omegas = model_weights(wvs, v, options.omega);
     starts.push_back(joint.theta);
-    FitResult refit = minimise(stacked, model, block_diagonal(omegas), starts, options);
+    FitResult refit = minimise(reduce_replicates(wvs, omegas), model, starts, options);
     if (refit.status != FitStatus::kFailed) {
       joint = std::move(refit);
+      out.omegas = std::move(omegas);
       omega_is_v_inverse = options.omega == OmegaKind::kFull;
+    } else {
+      v.clear();
     }
   }
-  if (joint.status != FitStatus::kFailed) {
-    // The objective's terms, replicate by replicate.
-    Eigen::Index at = 0;
-    for (std::size_t k = 0; k < wvs.size(); ++k) {
-      const Eigen::Index J = wvs[k].levels();
-      const Eigen::VectorXd r = wvs[k].values() - joint.implied_wv.segment(at, J);
-      out.objective_share.push_back(r.dot(joint.omega.block(at, at, J, J) * r));
-      at += J;
-    }
-    if (options.inference) {
-      // The parameters' covariance with V at the final estimate (fit.cc says why); under
-      // V^-1 weights the goodness of fit keeps the pilot's V they were formed from.
-      const std::vector<Eigen::MatrixXd> v_final = model_covariances(wvs, joint.model, joint.theta);
-      if (!omega_is_v_inverse) v = v_final;
-      joint.wv_covariance = block_diagonal(v);
-      const Eigen::MatrixXd parameter_v = block_diagonal(v_final);
-      detail::run_inference(stacked, options, omega_is_v_inverse, joint, &parameter_v);
-    }
-  }
+  if (joint.status != FitStatus::kFailed) finish_joint(wvs, options, omega_is_v_inverse, std::move(v), out, joint);
   out.joint = std::move(joint);
   return out;
 }
 
+const char* to_string(ReplicateCalibration c) {
+  return c == ReplicateCalibration::kChiSquare ? "chi-square" : "bootstrap";
+}
+
 std::string ReplicateTestOptions::Validate() const {
-  if (bootstrap < 19)
+  if (calibration == ReplicateCalibration::kBootstrap && bootstrap < 19)
     return "bootstrap must be at least 19 (a p-value of 0.05 needs 19 draws), got " + std::to_string(bootstrap);
   return fit.Validate();
 }
 
 namespace {
 
-// min over theta of the stacked objective under a fixed Omega, from `starts`.
-double minimum(const WaveletVariance& stacked, const Model& model, const Eigen::MatrixXd& omega,
-               const std::vector<Eigen::VectorXd>& starts, const FitOptions& options) {
-  const FitResult f = minimise(stacked, model, omega, starts, options);
-  return f.status == FitStatus::kFailed ? std::numeric_limits<double>::quiet_NaN() : f.objective;
-}
-
 // T and H of a set of WVs under the per-replicate Omega_k, every minimisation started
-// from `starts` (and, for replicate k's own minimum, `own_starts[k]` when given).
+// from `starts`; the replicates' own minimisations in parallel (each writes its slot).
 struct Statistics {
   double t = 0.0, h = 0.0;
   std::vector<double> own;
 };
 Statistics statistics(std::span<const WaveletVariance> wvs, const Model& model,
                       const std::vector<Eigen::MatrixXd>& omegas, const std::vector<Eigen::VectorXd>& starts,
-                      const std::vector<Eigen::VectorXd>& own_starts, const FitOptions& options) {
+                      const FitOptions& options) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   Statistics s;
-  s.t = minimum(stack_wv(wvs), model, block_diagonal(omegas), starts, options);
+  const FitResult joint = minimise(reduce_replicates(wvs, omegas), model, starts, options);
+  s.t = joint.status == FitStatus::kFailed ? nan : joint.objective;
+  s.own.assign(wvs.size(), nan);
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) {
+    const FitResult f = minimise_one(wvs[k], model, omegas[k], starts, options);
+    if (f.status != FitStatus::kFailed) s.own[k] = f.objective;
+  });
   double sum = 0.0;
-  for (std::size_t k = 0; k < wvs.size(); ++k) {
-    std::vector<Eigen::VectorXd> st = starts;
-    if (k < own_starts.size()) st.push_back(own_starts[k]);
-    s.own.push_back(minimum(wvs[k], model, omegas[k], st, options));
-    sum += s.own.back();
-  }
+  for (double o : s.own) sum += o;
   // A replicate's own minimum cannot exceed the joint's share at the joint optimum: the
   // difference is >= 0 up to the optimiser's tolerance.
   s.h = std::max(0.0, s.t - sum);
@@ -258,6 +533,45 @@ double upper_p(const std::vector<double>& null, double observed) {
   return (1.0 + above) / (1.0 + static_cast<double>(null.size()));
 }
 
+// The bootstrap's theta and the Omega_k it shares with the data: iterated to a fixed
+// point theta = argmin under V_k(theta)^-1. (A diag-Omega estimate puts the random walk
+// low (weights 1 / nuhat_j^2 favour low draws at the coarse levels); V_k there is then
+// too small for the data's coarse levels but right for draws from it, and the test
+// rejected a shared theta in 25% of data sets at 5%.) Returns theta; `omegas` are its V_k^-1.
+Eigen::VectorXd efficient_point(std::span<const WaveletVariance> wvs, const FitResult& j, const FitOptions& fit,
+                                std::vector<Eigen::MatrixXd>& omegas) {
+  Eigen::VectorXd theta = j.theta;
+  for (int it = 0; it < kOmegaUpdates; ++it) {
+    omegas = inverses(wvs, model_covariances(wvs, j.model, theta));
+    const FitResult f = minimise(reduce_replicates(wvs, omegas), j.model, {theta, j.theta}, fit);
+    if (f.status == FitStatus::kFailed) break;
+    const bool settled = ((f.theta - theta).array().abs() <= kOmegaSettled * theta.array().abs()).all();
+    theta = f.theta;
+    if (settled) break;
+  }
+  omegas = inverses(wvs, model_covariances(wvs, j.model, theta));
+  return theta;
+}
+
+// The chi-square calibration: H ~ chi2((K - 1) q), T ~ chi2(sum_k J_k - q), q the
+// parameters off the boundary at theta (the inference's rule).
+void chi_square_p(std::span<const WaveletVariance> wvs, const Model& model, const Eigen::VectorXd& theta,
+                  ReplicateTest& out) {
+  int stacked_levels = 0;
+  for (const auto& w : wvs) stacked_levels += w.levels();
+  const auto q = static_cast<double>(active_jacobian(model, theta, longest_of(wvs).tau).cols());
+  const auto K = static_cast<double>(wvs.size());
+  out.calibration = ReplicateCalibration::kChiSquare;
+  out.df_heterogeneity = (K - 1.0) * q;
+  out.df_statistic = static_cast<double>(stacked_levels) - q;
+  const auto upper = [](double x, double df) {
+    if (!(df > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    return boost::math::cdf(boost::math::complement(boost::math::chi_squared(df), std::max(x, 0.0)));
+  };
+  out.heterogeneity_p = upper(out.heterogeneity, out.df_heterogeneity);
+  out.p_value = upper(out.statistic, out.df_statistic);
+}
+
 }  // namespace
 
 ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFitResult& joint,
@@ -267,35 +581,24 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
   if (j.status == FitStatus::kFailed || !j.theta.allFinite() || wvs.size() != joint.singles.size())
     throw InputError("replicate test: the joint fit has no usable estimate");
   const Model& model = j.model;
-  // The bootstrap's theta and the Omega_k it shares with the data: iterated to a fixed
-  // point theta = argmin under V_k(theta)^-1. (A diag-Omega estimate puts the random walk
-  // low (weights 1 / nuhat_j^2 favour low draws at the coarse levels); V_k there is then
-  // too small for the data's coarse levels but right for draws from it, and the test
-  // rejected a shared theta in 25% of data sets at 5%.)
-  const WaveletVariance stacked = stack_wv(wvs);
-  Eigen::VectorXd theta = j.theta;
   std::vector<Eigen::MatrixXd> omegas;
-  for (int it = 0; it < kOmegaUpdates; ++it) {
-    omegas.clear();
-    for (const auto& v : model_covariances(wvs, model, theta)) omegas.push_back(inverse(v));
-    const FitResult f = minimise(stacked, model, block_diagonal(omegas), {theta, j.theta}, options.fit);
-    if (f.status == FitStatus::kFailed) break;
-    const bool settled = ((f.theta - theta).array().abs() <= kOmegaSettled * theta.array().abs()).all();
-    theta = f.theta;
-    if (settled) break;
-  }
-  omegas.clear();
-  for (const auto& v : model_covariances(wvs, model, theta)) omegas.push_back(inverse(v));
+  const Eigen::VectorXd theta = efficient_point(wvs, j, options.fit, omegas);
 
   // The data and every draw alike: each minimisation starts from theta (and the WV's shape).
-  const Statistics data = statistics(wvs, model, omegas, {theta}, {}, options.fit);
+  const Statistics data = statistics(wvs, model, omegas, {theta}, options.fit);
   ReplicateTest out;
   out.statistic = data.t;
   out.heterogeneity = data.h;
   out.own_minimum = data.own;
+  if (options.calibration == ReplicateCalibration::kChiSquare) {
+    chi_square_p(wvs, model, theta, out);
+    return out;
+  }
 
   const ClassicalWvEstimator classical;
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
+  FitOptions draw_fit = options.fit;
+  draw_fit.log_not_converged = false;  // K + 1 minimisations per draw: their statuses are not the data's
   std::vector<double> t(static_cast<std::size_t>(options.bootstrap)), h(t.size());
   std::atomic<int> done{0};
   gmwm::parallel_for(0, options.bootstrap, [&](int b) {
@@ -307,7 +610,7 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
     }
     bool finite = true;
     for (const auto& w : sim) finite &= w.values().allFinite();
-    const Statistics s = finite ? statistics(sim, model, omegas, {theta}, {}, options.fit) : Statistics{NAN, NAN, {}};
+    const Statistics s = finite ? statistics(sim, model, omegas, {theta}, draw_fit) : Statistics{NAN, NAN, {}};
     t[static_cast<std::size_t>(b)] = s.t;
     h[static_cast<std::size_t>(b)] = s.h;
     const int d = ++done;
@@ -373,13 +676,9 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
   const int K = static_cast<int>(wvs.size());
   if (K < 2) throw InputError("replicate bootstrap: needs at least 2 replicates, got " + std::to_string(K));
   // Each replicate's block of the joint Omega.
-  std::vector<Eigen::MatrixXd> blocks;
-  Eigen::Index at = 0;
-  for (const auto& w : wvs) {
-    const Eigen::Index J = w.levels();
-    blocks.push_back(j.omega.block(at, at, J, J));
-    at += J;
-  }
+  if (joint.omegas.size() != wvs.size())
+    throw InputError("replicate bootstrap: the joint fit has no weights for every replicate");
+  const std::vector<Eigen::MatrixXd>& blocks = joint.omegas;
   // The resamples: all distinct ones with their probabilities, or max_draws drawn.
   std::vector<std::vector<int>> counts;
   std::vector<double> weight;
@@ -423,7 +722,7 @@ ReplicateBootstrap replicate_bootstrap(std::span<const WaveletVariance> wvs, con
           own.theta.size() == j.theta.size())
         starts.push_back(own.theta);
     }
-    const FitResult f = minimise(stack_wv(part), j.model, block_diagonal(omega), starts, fit);
+    const FitResult f = minimise(reduce_replicates(part, omega), j.model, starts, fit);
     if (f.status == FitStatus::kFailed || !f.theta.allFinite()) return;
     thetas[b] = f.theta;
     // The WV cannot see a signed parameter's sign: the joint estimate's is kept.

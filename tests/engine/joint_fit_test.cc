@@ -47,26 +47,26 @@ TEST(JointFit, ItsObjectiveIsTheSumOfTheReplicatesTermsAndNoStartBeatsIt) {
   const JointFitResult r = fit_gmwm_joint(wvs, model);
   ASSERT_NE(r.joint.status, FitStatus::kFailed);
   ASSERT_EQ(r.objective_share.size(), 2u);
-  // Each term recomputed from its own WV and its own (diagonal, model-based) block of Omega.
+  // Each term recomputed from its own WV and its own (diagonal, model-based) Omega_k.
+  ASSERT_EQ(r.omegas.size(), 2u);
   double sum = 0.0;
-  Eigen::Index at = 0;
   for (std::size_t k = 0; k < wvs.size(); ++k) {
-    const Eigen::Index J = wvs[k].levels();
-    const Eigen::MatrixXd block = r.joint.omega.block(at, at, J, J);
+    const Eigen::MatrixXd& block = r.omegas[k];
+    ASSERT_EQ(block.rows(), wvs[k].levels());
     EXPECT_TRUE(block.isDiagonal()) << k;
     EXPECT_GT(block.diagonal().minCoeff(), 0.0) << k;
     const double term = gmwm_objective(wvs[k], r.joint.model, r.joint.theta, block);
     EXPECT_NEAR(r.objective_share[k] / term, 1.0, 1e-10);
     sum += term;
-    at += J;
   }
   EXPECT_NEAR(r.joint.objective / sum, 1.0, 1e-10);
   // The joint minimum is at or below the joint objective at AGMWM and at every single
   // estimate (it starts from all of them).
   const WaveletVariance stacked = stack_wv(wvs);
-  EXPECT_LE(r.joint.objective, gmwm_objective(stacked, r.joint.model, r.agmwm, r.joint.omega) * (1 + 1e-12));
+  const Eigen::MatrixXd omega = block_diagonal(r.omegas);
+  EXPECT_LE(r.joint.objective, gmwm_objective(stacked, r.joint.model, r.agmwm, omega) * (1 + 1e-12));
   for (const auto& s : r.singles)
-    EXPECT_LE(r.joint.objective, gmwm_objective(stacked, r.joint.model, s.theta, r.joint.omega) * (1 + 1e-12));
+    EXPECT_LE(r.joint.objective, gmwm_objective(stacked, r.joint.model, s.theta, omega) * (1 + 1e-12));
 }
 
 TEST(JointFit, AgmwmIsTheMeanOfTheSingleEstimatesWithItsStandardError) {
@@ -123,9 +123,15 @@ TEST(JointFit, TheModelBasedOmegaWeighsEachReplicateByItsOwnCovariance) {
   const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"), o);
   ASSERT_NE(r.joint.status, FitStatus::kFailed) << r.joint.message;
   EXPECT_EQ(r.joint.gof.method, "chi-square");
-  // Block-diagonal: no weight between the replicates' levels.
-  EXPECT_EQ(r.joint.omega.block(0, 13, 13, 15).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_EQ(r.joint.wv_covariance.block(0, 13, 13, 15).cwiseAbs().maxCoeff(), 0.0);
+  // Each replicate its own V_k^-1 (full: the levels' correlation weighed), nothing between
+  // the replicates' levels: the reduced problem's weight is their sum on the common levels.
+  ASSERT_EQ(r.omegas.size(), 2u);
+  ASSERT_EQ(r.omegas[0].rows(), 13);
+  ASSERT_EQ(r.omegas[1].rows(), 15);
+  EXPECT_FALSE(r.omegas[0].isDiagonal(1e-6));
+  Eigen::MatrixXd w = r.omegas[1];
+  w.topLeftCorner(13, 13) += r.omegas[0];
+  EXPECT_TRUE(r.joint.omega.isApprox(w, 1e-12));
 }
 
 TEST(JointFit, RejectsNoReplicateABootstrapOmegaAndAReplicateTooShortForTheModel) {
