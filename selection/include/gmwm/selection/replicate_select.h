@@ -1,18 +1,24 @@
 #pragma once
 // Model selection over replicates of a sensor (the multi-signal GMWM's cross-validation):
 // every sub-model of a maximal model is fitted jointly on each training subset S of
-// s = ceil(K/2) replicates (all C(K, s) of them) and scored by its loss on the held-out
-// replicates,
+// s = ceil(K/2) replicates and scored by its loss on the held-out replicates,
 //
 //   loss(m, S) = sum_{k not in S} (nuhat_k - nu_m(theta_hat_S; tau_k))' Omega_k (...),
 //   CV-WVIC(m) = mean over S of loss(m, S),
 //
 // with each replicate's Omega_k fixed for every model and split (model-based at a pilot
-// joint fit of the maximal model, as in single-signal selection). Beside it: the analytic
-// WVIC of the joint fit on all replicates (the stacked WV with V = blockdiag(V_k)). The
-// model with the smallest CV-WVIC is chosen; the models whose paired loss difference to
-// it over the splits is not significantly positive (bootstrap over the splits) are
-// "equivalent", and the smallest equivalent model is recommended.
+// joint fit of the maximal model, as in single-signal selection). The training subsets are
+// all C(K, s) of them up to K = 12 (924 for K = 12); beyond, 924 distinct ones drawn at
+// random from the seed (repeated random sub-sampling, "Monte Carlo cross-validation":
+// Shao 1993, JASA 88:486; Xu & Liang 2001, Chemometr. Intell. Lab. 56:1), so a fleet of
+// any size costs what 12 replicates did. Each split's selection runs on the exact
+// reduction of its stacked WV to one WV on the common levels (joint_fit.h,
+// reduce_replicates): O(K J^2) to set up, then a single signal's cost per fit. Beside it:
+// the analytic WVIC of the joint fit on all replicates (the stacked problem with
+// V = blockdiag(V_k), through the same reduction). The model with the smallest CV-WVIC is
+// chosen; the models whose paired loss difference to it over the splits is not
+// significantly positive (bootstrap over the splits) are "equivalent", and the smallest
+// equivalent model is recommended.
 //
 //   gmwm::selection::ReplicateSelectOptions o;
 //   auto r = gmwm::selection::select_by_replicates(wvs, gmwm::parse_model("3*AR1+WN+RW"), o);
@@ -41,6 +47,8 @@ struct ReplicateSelectOptions {
   SelectOptions select;
   int split_bootstrap = 2000;       ///< resamples of the splits for the equivalence test
   double equivalence_level = 0.05;  ///< a model is equivalent unless its excess loss is significant at this level
+  /// Streams of the random splits (beyond 12 replicates), of the equivalence test's
+  /// resamples and of the bootstrap WVIC's draws.
   std::uint64_t seed = 0;
   /// Empty when valid, else one line.
   std::string Validate() const;
@@ -74,7 +82,7 @@ struct CvCandidate {
 
 struct ReplicateSelection {
   std::string full_model;
-  std::vector<std::vector<int>> training;  ///< each split's training replicates (0-based)
+  std::vector<std::vector<int>> training;  ///< each split's training replicates (0-based, sorted)
   std::vector<CvCandidate> ranking;        ///< by CV-WVIC
   std::string chosen;                      ///< smallest CV-WVIC
   std::string recommended;                 ///< smallest equivalent model (ties: lower CV-WVIC)
@@ -85,10 +93,12 @@ struct ReplicateSelection {
   bool all_rejected = false;
 };
 
-/// Throws InputError for fewer than 2 or more than 12 replicates, invalid options, or a replicate with
-/// fewer levels than the maximal model has parameters (naming it, 1-based).
-/// The C(K, s) split selections and the one on all replicates run as one parallel loop;
-/// the result does not depend on the thread count.
+/// Throws InputError for fewer than 2 replicates, invalid options, or a replicate with
+/// fewer levels than the maximal model has parameters (naming it, 1-based). Any K beyond:
+/// memory grows as K J^2 (the replicates' Omega_k and V_k; 97 MB in all for 495 units of
+/// 2^18 samples) and time as K only in the pilot's single fits and the reductions.
+/// The split selections and the one on all replicates run as one parallel loop; the
+/// splits are drawn before it, so the result does not depend on the thread count.
 ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, const Model& maximal,
                                         const ReplicateSelectOptions& options = {});
 
