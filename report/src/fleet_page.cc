@@ -13,6 +13,7 @@
 #include <optional>
 #include <sstream>
 
+#include <boost/math/distributions/normal.hpp>
 #include <spdlog/spdlog.h>
 
 #include "gmwm/io/units.h"
@@ -96,8 +97,52 @@ std::string flag_of(const FleetRow& r, char figure) {
   return {};
 }
 
+// The median as fleet_summary takes it (of the squared standard errors: the mean of the
+// middle two for an even count).
+double plain_median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A read-off's standard error on the log scale from its interval at level 1 - alpha, as
+// fleet_summary takes it (0 when it has none).
+double log_se(const FleetDot& d, double z_half) {
+  const double se = d.low > 0.0 && d.high > d.low ? std::log(d.high / d.low) / (2.0 * z_half) : 0.0;
+  return std::isfinite(se) ? se : 0.0;
+}
+
+// The outlier rule of fleet_summary (fleet_study.h, kFleetOutlierZ) on the panel's dots:
+// z = log(x / median) / sqrt(tau^2 + se^2), tau^2 = log(spread)^2 - median(se^2) floored at 0;
+// each dot's own limits median x exp(+-3.5 sqrt(tau^2 + se^2)); the band those of a read-off
+// of the fleet's median precision (median x spread^(+-3.5) when tau^2 > 0).
+void judge(FleetFigurePanel& p, double alpha) {
+  if (!(std::isfinite(p.median) && std::isfinite(p.spread))) return;
+  const double z_half = boost::math::quantile(boost::math::normal(), 1.0 - alpha / 2.0);
+  std::vector<double> se2;
+  for (const FleetDot& d : p.dots)
+    if (!d.bound) se2.push_back(std::pow(log_se(d, z_half), 2));
+  const double total = std::log(p.spread), typical_se2 = plain_median(se2);
+  const double between2 = std::max(0.0, total * total - typical_se2);
+  p.unit_spread = std::exp(std::sqrt(between2));
+  const double reach = std::exp(fleet::kFleetOutlierZ * std::sqrt(between2 + typical_se2));
+  p.band_low = p.median / reach;
+  p.band_high = p.median * reach;
+  for (FleetDot& d : p.dots) {
+    if (d.bound) continue;
+    const double scale = std::sqrt(between2 + std::pow(log_se(d, z_half), 2));
+    const double own = std::exp(fleet::kFleetOutlierZ * scale);
+    d.limit_low = p.median / own;
+    d.limit_high = p.median * own;
+    d.z = scale > 0.0 ? std::log(d.value / p.median) / scale : kNaN;
+    d.beyond =
+        d.flagged && std::isfinite(d.low) && std::isfinite(d.high) && (d.low > d.limit_high || d.high < d.limit_low);
+  }
+}
+
 FleetFigurePanel figure_panel(const FleetStudy& s, const fleet::FleetFigureSummary& sum,
-                              const std::vector<std::size_t>& rows, const std::vector<std::string>& units) {
+                              const std::vector<std::size_t>& rows, const std::vector<std::string>& units,
+                              double alpha) {
   FleetFigurePanel p;
   p.figure = sum.figure;
   p.data_unit = pattern(sum.figure, sum.unit);
@@ -112,9 +157,6 @@ FleetFigurePanel figure_panel(const FleetStudy& s, const fleet::FleetFigureSumma
   const bool summarised = sum.units > 0 && std::isfinite(sum.median) && std::isfinite(sum.spread);
   p.median = summarised ? sum.median * p.to_panel : kNaN;
   p.spread = summarised ? sum.spread : kNaN;
-  const double reach = std::pow(sum.spread, fleet::kFleetOutlierZ);
-  p.band_low = summarised ? p.median / reach : kNaN;
-  p.band_high = summarised ? p.median * reach : kNaN;
   const int k = sum.figure == 'N' ? 0 : sum.figure == 'K' ? 1 : 2;
   for (const std::size_t i : rows) {
     const FleetRow& r = s.rows[i];
@@ -132,13 +174,10 @@ FleetFigurePanel figure_panel(const FleetStudy& s, const fleet::FleetFigureSumma
     d.bound = f.figure.status == ReadoffStatus::kBound;
     d.flag = flag_of(r, sum.figure);
     d.flagged = !d.flag.empty();
-    // z = 0.6745 (log x - log median) / MAD = log(x / median) / log(spread).
-    d.beyond =
-        d.flagged && std::isfinite(d.low) && std::isfinite(d.high) && (d.low > p.band_high || d.high < p.band_low);
-    d.z = !d.bound && summarised && sum.spread > 1.0 ? std::log(d.value / p.median) / std::log(sum.spread) : kNaN;
     d.index = static_cast<int>(std::find(units.begin(), units.end(), r.unit) - units.begin());
     p.dots.push_back(std::move(d));
   }
+  judge(p, alpha);
   return p;
 }
 
@@ -221,14 +260,14 @@ FleetAdevBand adev_band(const std::vector<Series>& units) {
   b.percentiles = b.units >= kFleetPercentileUnits;
   if (units.empty()) return b;
   for (const double t : common_grid(units, b.interpolated)) {
-    std::vector<double> logs;
+    std::vector<double> values, logs;
     for (const Series& s : units)
-      if (const double v = loglog_at(s, t); v > 0.0) logs.push_back(std::log(v));
+      if (const double v = loglog_at(s, t); v > 0.0) values.push_back(v), logs.push_back(std::log(v));
     if (logs.empty()) continue;
     std::sort(logs.begin(), logs.end());
     b.tau.push_back(t);
-    b.min.push_back(std::exp(logs.front()));
-    b.max.push_back(std::exp(logs.back()));
+    b.min.push_back(*std::min_element(values.begin(), values.end()));  // the units' own values, not exp(log)
+    b.max.push_back(*std::max_element(values.begin(), values.end()));
     b.median.push_back(std::exp(quantile(logs, 0.5)));
     b.p05.push_back(b.percentiles ? std::exp(quantile(logs, 0.05)) : kNaN);
     b.p95.push_back(b.percentiles ? std::exp(quantile(logs, 0.95)) : kNaN);
@@ -293,6 +332,26 @@ void axis_notes(FleetAxisView& a, double level) {
                       num(100.0 * (1.0 - level), 3) + "% interval.");
 }
 
+// The level of the figures' intervals (1 - alpha): the curves' (the study's WV alpha); 0.05
+// without a curve.
+double interval_alpha(const FleetStudy& s) {
+  for (const fleet::FleetCurves& c : s.curves)
+    if (!c.adev.tau.empty() && c.adev.alpha > 0.0 && c.adev.alpha < 1.0) return c.adev.alpha;
+  return 0.05;
+}
+
+// Where the row's worst flagged figure (largest |robust z|) was read, in seconds (NaN: unknown).
+double worst_flag_tau(const FleetRow& r, const FleetAxisView& a) {
+  double worst = -1.0, tau = kNaN;
+  for (std::size_t k = 0; k < 3; ++k)
+    for (const FleetDot& d : a.figures[k].dots)
+      if (d.unit == r.unit && d.flagged && std::abs(d.z) > worst) {
+        worst = std::abs(d.z);
+        tau = figure_of(r, static_cast<int>(k)).figure.tau;
+      }
+  return tau;
+}
+
 FleetAxisView axis_view(const FleetStudy& s, const std::string& group, const std::string& axis,
                         const std::vector<std::size_t>& group_rows, const std::vector<std::string>& units) {
   FleetAxisView a;
@@ -302,7 +361,7 @@ FleetAxisView axis_view(const FleetStudy& s, const std::string& group, const std
     if (s.rows[i].axis == axis) rows.push_back(i);
   for (int k = 0; k < 3; ++k)
     if (const fleet::FleetFigureSummary* sum = summary_of(s, group, axis, "NKB"[k])) {
-      a.figures[static_cast<std::size_t>(k)] = figure_panel(s, *sum, rows, units);
+      a.figures[static_cast<std::size_t>(k)] = figure_panel(s, *sum, rows, units, interval_alpha(s));
       a.unit = sum->unit;
     } else {
       a.figures[static_cast<std::size_t>(k)].figure = "NKB"[k];
@@ -314,9 +373,10 @@ FleetAxisView axis_view(const FleetStudy& s, const std::string& group, const std
     if (r.status != "ok" || i >= s.curves.size() || s.curves[i].adev.tau.empty()) continue;
     const double factor = to_summary_unit(r, a.unit);
     level = s.curves[i].adev.alpha;
-    if (!r.flags.empty())
+    if (!r.flags.empty()) {
       a.flagged.push_back(unit_curve(r, s.curves[i], factor));
-    else if (Series ser = positive_series(s.curves[i].adev, factor); !ser.tau.empty())
+      a.flagged.back().label_tau = worst_flag_tau(r, a);
+    } else if (Series ser = positive_series(s.curves[i].adev, factor); !ser.tau.empty())
       band.push_back(std::move(ser));
   }
   a.band = adev_band(band);
@@ -325,7 +385,7 @@ FleetAxisView axis_view(const FleetStudy& s, const std::string& group, const std
 }
 
 // A unit's flags in the group ranked: first whether one of them is beyond (its interval
-// wholly outside the band), then the worst |robust z|.
+// wholly outside its flag limits), then the worst |robust z|.
 std::pair<bool, double> severity(const FleetGroupView& g, const std::string& unit) {
   bool beyond = false;
   double worst = 0.0;
@@ -356,16 +416,16 @@ std::vector<std::string> flagged_units(const FleetGroupView& g, const std::vecto
 constexpr std::size_t kHeadlineUnits = 10;
 
 // "N on gyro_x 0.114 [0.113, 0.116] deg/sqrt(h), 1.86x the median 0.0614 (robust z 9.44;
-// band 0.0487-0.0774: interval wholly above it)"
+// flag limits 0.0487-0.0774: interval wholly above them)"
 std::string flag_clause(const FleetAxisView& a, const FleetFigurePanel& p, const FleetDot& d) {
   const bool interval = std::isfinite(d.low) && std::isfinite(d.high);
   std::string out = std::string(1, p.figure) + " on " + a.axis + " " + num(d.value, 3) +
                     (interval ? " [" + num(d.low, 3) + ", " + num(d.high, 3) + "]" : std::string()) + " " + p.unit +
                     ", " + num(d.value / p.median, 3) + "x the median " + num(p.median, 3) + " (robust z " +
-                    num(d.z, 3) + "; band " + num(p.band_low, 3) + "-" + num(p.band_high, 3) + ": ";
+                    num(d.z, 3) + "; flag limits " + num(d.limit_low, 3) + "-" + num(d.limit_high, 3) + ": ";
   if (!interval) return out + "no interval)";
-  if (d.beyond) return out + "interval wholly " + (d.value > p.median ? "above" : "below") + " it)";
-  return out + "interval reaching into it)";
+  if (d.beyond) return out + "interval wholly " + (d.value > p.median ? "above" : "below") + " them)";
+  return out + "interval reaching within them)";
 }
 
 std::string unit_sentence(const FleetGroupView& g, const std::string& unit) {
@@ -385,12 +445,27 @@ std::string unit_sentence(const FleetGroupView& g, const std::string& unit) {
 std::string not_judged(const FleetGroupView& g) {
   std::string out;
   for (const char f : {'N', 'K', 'B'}) {
-    std::string axes;
+    // Axes by their count of read-offs, in order: "0 on gyro_x, gyro_y, 2 on accel_x".
+    std::vector<std::pair<int, std::string>> counts;
+    std::size_t axes = 0, short_axes = 0;
     for (const FleetAxisView& a : g.axes)
-      for (const FleetFigurePanel& p : a.figures)
-        if (p.figure == f && !p.can_flag)
-          axes += (axes.empty() ? "" : ", ") + a.axis + " (" + std::to_string(p.units) + ")";
-    if (!axes.empty()) out += (out.empty() ? "" : "; ") + std::string(1, f) + " on " + axes;
+      for (const FleetFigurePanel& p : a.figures) {
+        if (p.figure != f) continue;
+        ++axes;
+        if (p.can_flag) continue;
+        ++short_axes;
+        auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == p.units; });
+        if (it == counts.end())
+          counts.emplace_back(p.units, a.axis);
+        else
+          it->second += ", " + a.axis;
+      }
+    if (counts.empty()) continue;
+    std::string line;
+    for (const auto& [n, list] : counts)
+      line += (line.empty() ? "" : ", ") + std::to_string(n) + " on " +
+              (counts.size() == 1 && short_axes == axes ? std::string("each axis") : list);
+    out += (out.empty() ? "" : "; ") + std::string(1, f) + ": " + line;
   }
   return out;
 }
@@ -412,12 +487,12 @@ void flag_headline(FleetGroupView& g, const std::vector<std::string>& flagged) {
   std::string line = std::to_string(flagged.size()) + " unit(s) flagged (robust z of log N, K or B beyond " +
                      num(fleet::kFleetOutlierZ, 2) + "; units per figure: " + per_figure + "). ";
   if (n_beyond == 0)
-    line += "None has an interval wholly outside its band: each flagged figure's interval reaches into the band.";
+    line += "None has an interval wholly outside its flag limits: each flagged figure's interval reaches within them.";
   else
-    line += std::to_string(n_beyond) + " with a figure whose interval lies wholly outside the band: " + beyond +
+    line += std::to_string(n_beyond) + " with a figure whose interval lies wholly outside its flag limits: " + beyond +
             (static_cast<std::size_t>(n_beyond) < flagged.size()
                  ? "; the other " + std::to_string(flagged.size() - static_cast<std::size_t>(n_beyond)) +
-                       " only with intervals reaching into it."
+                       " only with intervals reaching within them."
                  : ".");
   g.headline.push_back(line + " The surest first:");
   for (std::size_t i = 0; i < flagged.size() && i < kHeadlineUnits; ++i)
@@ -444,8 +519,8 @@ void headline(FleetGroupView& g, const std::vector<std::string>& units) {
   }
   const std::vector<std::string> flagged = flagged_units(g, units);
   if (flagged.empty())
-    g.headline.push_back("No unit flagged: every read-off judged lies within its axis's band median x spread^(+-" +
-                         num(fleet::kFleetOutlierZ, 2) + ") (robust z within " + num(fleet::kFleetOutlierZ, 2) + ").");
+    g.headline.push_back("No unit flagged: every read-off judged lies within its flag limits (robust z within +-" +
+                         num(fleet::kFleetOutlierZ, 2) + ").");
   else
     flag_headline(g, flagged);
   if (!few.empty())
@@ -492,10 +567,12 @@ constexpr int kPlotWidth = 560;
 constexpr int kStripHeight = 84, kStripGap = 64, kStripTop = 26;
 constexpr int kBandHeight = 340;
 // Fixed colours (not the page's series palette, so Plots::add leaves them): a unit's dot,
-// a flagged unit's, the robust-z band, the median, the ADEV band's envelopes.
+// a flagged unit's, the flag band, the median, the ADEV band's envelopes.
 constexpr const char* kDotColour = "#1f77b4";
 constexpr const char* kFlagColour = "#d62728";
 constexpr const char* kZoneColour = "#dbe9f6";
+// The band of a figure with too few units to flag, lighter: drawn, not a verdict.
+constexpr double kUnjudgedZoneOpacity = 0.4;
 constexpr const char* kMedianColour = "#303030";
 constexpr const char* kInnerColour = "#a3a3a3";
 constexpr const char* kOuterColour = "#d4d4d4";
@@ -510,9 +587,6 @@ constexpr double kIntervalRoom = 10.0;
 // The same for the flagged units' ADEV intervals past the band and the curves (the last
 // averaging times' intervals span decades: they would flatten the curves).
 constexpr double kCurveIntervalRoom = 3.0;
-// The smallest interval half-width (in log) a label's placement divides by: a point with no
-// interval counts as one known to 1%.
-constexpr double kLabelFloor = 0.01;
 
 // Rounded for the page (the tables and JSON keep every digit): 6 significant digits.
 Json short_number(double x) { return std::isfinite(x) ? Json(std::stod(num(x, 6))) : Json(nullptr); }
@@ -537,46 +611,36 @@ std::array<double, 2> log_domain(const std::vector<double>& core, const std::vec
 Json dot_rows(const FleetFigurePanel& p) {
   Json rows = Json::array();
   for (const FleetDot& d : p.dots)
-    rows.push_back({{"unit", d.unit},
-                    {"fig", std::string(1, p.figure)},
-                    {"lane", short_number(lane_of(static_cast<std::size_t>(d.index)))},
-                    {"v", short_number(d.value)},
-                    {"lo", short_number(d.low)},
-                    {"hi", short_number(d.high)},
-                    {"u", p.unit},
-                    {"src", d.bound ? "upper bound only (left out of the median)" : d.source + " read-off"},
-                    {"z", short_number(d.z)},
-                    {"flag", d.flag},
-                    {"rec", d.path},
-                    {"bound", d.bound}});
+    rows.push_back(
+        {{"unit", d.unit},
+         {"fig", std::string(1, p.figure)},
+         {"lane", short_number(lane_of(static_cast<std::size_t>(d.index)))},
+         {"v", short_number(d.value)},
+         {"lo", short_number(d.low)},
+         {"hi", short_number(d.high)},
+         {"u", p.unit},
+         {"src", d.bound ? "upper bound only (left out of the median)" : d.source + " read-off"},
+         {"z", short_number(d.z)},
+         {"lim", p.can_flag && std::isfinite(d.limit_low) ? num(d.limit_low, 3) + " to " + num(d.limit_high, 3)
+                                                          : std::string("none (not judged)")},
+         {"llo", short_number(d.limit_low)},
+         {"lhi", short_number(d.limit_high)},
+         // Beyond the band yet not flagged: its own, wider limits are drawn as ticks.
+         {"wide", p.can_flag && !d.flagged && !d.bound && std::isfinite(d.limit_low) &&
+                      (d.value > p.band_high || d.value < p.band_low)},
+         {"flag", d.flag},
+         {"rec", d.path},
+         {"bound", d.bound}});
   return rows;
 }
 
-// The strip of one figure: the robust-z band, the median, each unit's interval and dot, the
-// flagged units' labels.
-Json strip_group(const FleetFigurePanel& p, int y) {
-  std::vector<double> core = {p.median, p.band_low, p.band_high}, extra;
-  for (const FleetDot& d : p.dots) {
-    core.push_back(d.value);
-    extra.insert(extra.end(), {d.low, d.high});
-  }
-  const auto dom = log_domain(core, extra);
-  const std::string data = std::string("dots_") + p.figure;
-  std::string title = std::string(1, p.figure) + ", " + figure_name(p.figure) + ": ";
-  if (p.units == 0)
-    title += "no read-off (upper bounds only)";
-  else
-    title += std::to_string(p.units) + " read-off(s), median " + with_unit(p.median, p.unit) + ", spread x" +
-             num(p.spread, 3) + (p.can_flag ? "" : "; too few units to flag");
-  const std::string tip =
-      "{'unit': datum.unit, 'figure': datum.fig, 'value': format(datum.v, '.4~g') + ' ' + datum.u, 'interval': "
-      "isValid(datum.lo) && isValid(datum.hi) ? format(datum.lo, '.3~g') + ' to ' + format(datum.hi, '.3~g') : "
-      "'n/a', 'source': datum.src, 'robust z': isValid(datum.z) ? format(datum.z, '.3~g') : 'n/a', 'flag': "
-      "datum.flag ? datum.flag : 'none', 'recording': datum.rec}";
-  Json marks = Json::array();
+// A strip's flag band, median and their labels (nothing without a median).
+void zone_marks(const FleetFigurePanel& p, const std::string& data, Json& marks) {
   if (std::isfinite(p.band_low)) {
-    const std::string zone = "robust z within +-" + num(fleet::kFleetOutlierZ, 2) + ": " +
-                             with_unit(p.band_low, p.unit) + " to " + with_unit(p.band_high, p.unit);
+    const std::string zone = "flag band of a read-off of the fleet's typical precision (robust z within +-" +
+                             num(fleet::kFleetOutlierZ, 2) + "): " + with_unit(p.band_low, p.unit) + " to " +
+                             with_unit(p.band_high, p.unit) +
+                             (p.can_flag ? std::string() : " (too few units to flag: not judged)");
     marks.push_back({{"type", "rect"},
                      {"encode",
                       {{"update",
@@ -585,6 +649,7 @@ Json strip_group(const FleetFigurePanel& p, int y) {
                          {"y", {{"value", 0}}},
                          {"y2", {{"value", kStripHeight}}},
                          {"fill", {{"value", kZoneColour}}},
+                         {"fillOpacity", {{"value", p.can_flag ? 1.0 : kUnjudgedZoneOpacity}}},
                          {"tooltip", {{"value", zone}}}}}}}});
     marks.push_back({{"type", "rule"},
                      {"encode",
@@ -607,6 +672,16 @@ Json strip_group(const FleetFigurePanel& p, int y) {
                          {"fontSize", {{"value", 10}}},
                          {"fill", {{"value", "#57606a"}}}}}}}});
   }
+}
+
+// A strip's units: each one's interval and dot, the own limits of a unit beyond the band but
+// not flagged, the flagged units' labels.
+void unit_marks(const std::string& data, Json& marks) {
+  const std::string tip =
+      "{'unit': datum.unit, 'figure': datum.fig, 'value': format(datum.v, '.4~g') + ' ' + datum.u, 'interval': "
+      "isValid(datum.lo) && isValid(datum.hi) ? format(datum.lo, '.3~g') + ' to ' + format(datum.hi, '.3~g') : "
+      "'n/a', 'source': datum.src, 'robust z': isValid(datum.z) ? format(datum.z, '.3~g') : 'n/a', 'its flag "
+      "limits': datum.lim, 'flag': datum.flag ? datum.flag : 'none', 'recording': datum.rec}";
   marks.push_back(
       {{"type", "rule"},
        {"from", {{"data", data + "_iv"}}},
@@ -637,6 +712,18 @@ Json strip_group(const FleetFigurePanel& p, int y) {
            {"size", {{"signal", "datum.flag ? 130 : 55"}}},
            {"tooltip", {{"signal", tip}}}}},
          {"hover", {{"size", {{"value", 220}}}}}}}});
+  for (const char* edge : {"llo", "lhi"})  // a unit beyond the band but within its own, wider limits
+    marks.push_back({{"type", "rule"},
+                     {"from", {{"data", data + "_wide"}}},
+                     {"clip", true},
+                     {"encode",
+                      {{"update",
+                        {{"x", {{"scale", "x"}, {"field", edge}}},
+                         {"y", {{"scale", "y"}, {"field", "lane"}, {"offset", -7}}},
+                         {"y2", {{"scale", "y"}, {"field", "lane"}, {"offset", 7}}},
+                         {"stroke", {{"value", kMedianColour}}},
+                         {"strokeWidth", {{"value", 1.5}}},
+                         {"tooltip", {{"signal", "'flag limits of ' + datum.unit + ': ' + datum.lim"}}}}}}}});
   marks.push_back({{"type", "text"},
                    {"from", {{"data", data + "_flagged"}}},
                    {"encode",
@@ -649,6 +736,26 @@ Json strip_group(const FleetFigurePanel& p, int y) {
                        {"fill", {{"value", kFlagColour}}},
                        {"fontWeight", {{"value", "bold"}}},
                        {"fontSize", {{"value", 11}}}}}}}});
+}
+
+// The strip of one figure at height y: its scales, axis, title and marks.
+Json strip_group(const FleetFigurePanel& p, int y) {
+  std::vector<double> core = {p.median, p.band_low, p.band_high}, extra;
+  for (const FleetDot& d : p.dots) {
+    core.push_back(d.value);
+    extra.insert(extra.end(), {d.low, d.high});
+  }
+  const auto dom = log_domain(core, extra);
+  const std::string data = std::string("dots_") + p.figure;
+  std::string title = std::string(1, p.figure) + ", " + figure_name(p.figure) + ": ";
+  if (p.units == 0)
+    title += "no read-off (upper bounds only)";
+  else
+    title += std::to_string(p.units) + " read-off(s), median " + with_unit(p.median, p.unit) + ", spread x" +
+             num(p.spread, 3) + (p.can_flag ? "" : "; too few units to flag");
+  Json marks = Json::array();
+  zone_marks(p, data, marks);
+  unit_marks(data, marks);
   return {{"type", "group"},
           {"name", std::string("strip_") + p.figure},
           {"title", {{"text", title}, {"anchor", "start"}, {"fontSize", 12}, {"fontWeight", "normal"}, {"offset", 6}}},
@@ -691,23 +798,27 @@ Json strip_data(const FleetFigurePanel& p) {
         {"source", name},
         {"transform", {{{"type", "filter"}, {"expr", "isValid(datum.lo) && isValid(datum.hi)"}}}}},
        {{"name", name + "_flagged"}, {"source", name}, {"transform", {{{"type", "filter"}, {"expr", "datum.flag"}}}}},
+       {{"name", name + "_wide"}, {"source", name}, {"transform", {{{"type", "filter"}, {"expr", "datum.wide"}}}}},
        {{"name", name + "_marks"}, {"values", std::move(marks)}}});
 }
 
 Json strips_spec(const FleetAxisView& a, const std::string& group) {
   const std::string z = num(fleet::kFleetOutlierZ, 2);
-  Json spec = {{"$schema", "https://vega.github.io/schema/vega/v5.json"},
-               {"width", kPlotWidth},
-               {"height", 3 * kStripHeight + 2 * kStripGap + kStripTop},
-               {"padding", 5},
-               {"title",
-                {{"text", group + ", " + a.axis + ": N, K and B of each unit"},
-                 {"subtitle",
-                  "dot: a unit's figure, rule: its interval; line: the group's median; shaded: median x "
-                  "spread^(+-" +
-                      z + "), robust z within +-" + z + "; red: flagged"},
-                 {"anchor", "start"},
-                 {"fontSize", 13}}}};
+  Json spec = {
+      {"$schema", "https://vega.github.io/schema/vega/v5.json"},
+      {"width", kPlotWidth},
+      {"height", 3 * kStripHeight + 2 * kStripGap + kStripTop},
+      {"padding", 5},
+      {"title",
+       {{"text", group + ", " + a.axis + ": N, K and B of each unit"},
+        {"subtitle",
+         "dot: a unit's figure, rule: its interval; line: the group's median; shaded: the flag band, robust "
+         "z within +-" +
+             z +
+             " for a read-off of the fleet's typical precision (ticks: a less precise unit's own, wider limits); red: "
+             "flagged"},
+        {"anchor", "start"},
+        {"fontSize", 13}}}};
   Json data = Json::array();
   Json marks = Json::array();
   for (std::size_t k = 0; k < 3; ++k) {
@@ -744,8 +855,8 @@ Json xy(const char* x, const char* y) {
   return {{"x", {{"scale", "x"}, {"field", x}}}, {"y", {{"scale", "y"}, {"field", y}}}};
 }
 
-Json band_marks(bool percentiles) {
-  Json marks = Json::array();
+// The band's envelopes, their edges and the median with its hover points.
+void envelope_marks(bool percentiles, Json& marks) {
   auto envelope = [&](const char* lo, const char* hi, const char* colour) {
     Json enc = xy("tau", lo);
     enc["y2"] = {{"scale", "y"}, {"field", hi}};
@@ -785,6 +896,10 @@ Json band_marks(bool percentiles) {
                    {"from", {{"data", "band"}}},
                    {"clip", true},
                    {"encode", {{"update", med}, {"hover", {{"size", {{"value", 90}}}}}}}});
+}
+
+// The flagged units' interval bands, curves with their hover points, and labels.
+void flagged_marks(Json& marks) {
   Json ci = xy("tau", "lo");
   ci["y2"] = {{"scale", "y"}, {"field", "hi"}};
   ci["fill"] = {{"scale", "color"}, {"field", "series"}};
@@ -825,25 +940,82 @@ Json band_marks(bool percentiles) {
   label["fontWeight"] = {{"value", "bold"}};
   label["fontSize"] = {{"value", 12}};
   marks.push_back({{"type", "text"}, {"from", {{"data", "labels"}}}, {"encode", {{"update", label}}}});
+}
+
+Json band_marks(bool percentiles) {
+  Json marks = Json::array();
+  envelope_marks(percentiles, marks);
+  flagged_marks(marks);
   return marks;
 }
 
-// Where a flagged unit's label goes: the point of its curve that stands out most from the
-// band's median, in log distance over its own interval's log half-width (the long averaging
-// times' few samples put a curve far from the median with an interval as wide); its last
-// point when the band is empty.
-std::size_t label_point(const FleetUnitCurve& c, const FleetAdevBand& b) {
-  const Series median{b.tau, b.median};
+// Where a flagged unit's label goes: the point of its curve nearest (in log) the averaging
+// time its worst flagged figure was read at, where the curve shows why it is flagged; its
+// last point when that is unknown.
+std::size_t label_point(const FleetUnitCurve& c) {
   std::size_t at = c.tau.empty() ? 0 : c.tau.size() - 1;
-  double best = -1.0;
-  for (std::size_t i = 0; i < c.tau.size(); ++i) {
-    const double m = loglog_at(median, c.tau[i]);
-    if (!(m > 0.0)) continue;
-    const double half = c.low[i] > 0.0 && c.high[i] > 0.0 ? 0.5 * std::log(c.high[i] / c.low[i]) : 0.0;
-    const double score = std::abs(std::log(c.adev[i] / m)) / std::max(half, kLabelFloor);
-    if (score > best) best = score, at = i;
-  }
+  if (!(c.label_tau > 0.0)) return at;
+  double best = INFINITY;
+  for (std::size_t i = 0; i < c.tau.size(); ++i)
+    if (const double d = std::abs(std::log(c.tau[i] / c.label_tau)); d < best) best = d, at = i;
   return at;
+}
+
+// What a band plot draws: its rows, the flagged units' points and labels, the series and
+// their colours, and the values its axes must hold.
+struct BandData {
+  Json rows = Json::array(), curves = Json::array(), labels = Json::array();
+  Json domain = Json::array(), range = Json::array();
+  std::vector<double> xs, ys, extra;
+};
+
+BandData band_data(const FleetAxisView& a) {
+  const FleetAdevBand& b = a.band;
+  BandData d;
+  for (std::size_t i = 0; i < b.tau.size(); ++i) {
+    d.rows.push_back({{"tau", short_number(b.tau[i])},
+                      {"min", short_number(b.min[i])},
+                      {"p05", short_number(b.p05[i])},
+                      {"med", short_number(b.median[i])},
+                      {"p95", short_number(b.p95[i])},
+                      {"max", short_number(b.max[i])},
+                      {"n", b.count[i]}});
+    d.xs.push_back(b.tau[i]);
+    d.ys.insert(d.ys.end(), {b.min[i], b.max[i]});
+  }
+  d.domain.push_back("fleet median");
+  d.range.push_back(kMedianColour);
+  if (b.percentiles) d.domain.push_back("fleet 5-95%"), d.range.push_back(kInnerColour);
+  d.domain.push_back("fleet min-max");
+  d.range.push_back(kOuterColour);
+  for (std::size_t k = 0; k < a.flagged.size(); ++k) {
+    const FleetUnitCurve& c = a.flagged[k];
+    const std::string series = "unit " + c.unit;
+    d.domain.push_back(series);
+    d.range.push_back(kPalette[k % kPalette.size()]);
+    std::string flags;
+    for (const std::string& f : c.flags) flags += (flags.empty() ? "" : "; ") + f;
+    for (std::size_t i = 0; i < c.tau.size(); ++i) {
+      d.curves.push_back({{"series", series},
+                          {"unit", c.unit},
+                          {"tau", short_number(c.tau[i])},
+                          {"v", short_number(c.adev[i])},
+                          {"lo", short_number(c.low[i])},
+                          {"hi", short_number(c.high[i])},
+                          {"flags", flags}});
+      d.xs.push_back(c.tau[i]);
+      d.ys.push_back(c.adev[i]);
+      d.extra.insert(d.extra.end(), {c.low[i], c.high[i]});
+    }
+    if (const std::size_t at = label_point(c); at < c.tau.size())
+      d.labels.push_back({{"series", series},
+                          {"unit", c.unit},
+                          {"tau", short_number(c.tau[at])},
+                          {"v", short_number(c.adev[at])},
+                          {"right", 2 * at > c.tau.size()},
+                          {"k", static_cast<int>(k)}});
+  }
+  return d;
 }
 
 // The band of one axis: its envelopes and median, each flagged unit's ADEV with its
@@ -851,51 +1023,8 @@ std::size_t label_point(const FleetUnitCurve& c, const FleetAdevBand& b) {
 Json band_spec(const FleetAxisView& a, const std::string& group) {
   const FleetAdevBand& b = a.band;
   const std::string unit = a.unit.empty() ? "U" : a.unit;
-  Json rows = Json::array(), curves = Json::array(), labels = Json::array();
-  std::vector<double> xs, ys, extra;
-  for (std::size_t i = 0; i < b.tau.size(); ++i) {
-    rows.push_back({{"tau", short_number(b.tau[i])},
-                    {"min", short_number(b.min[i])},
-                    {"p05", short_number(b.p05[i])},
-                    {"med", short_number(b.median[i])},
-                    {"p95", short_number(b.p95[i])},
-                    {"max", short_number(b.max[i])},
-                    {"n", b.count[i]}});
-    xs.push_back(b.tau[i]);
-    ys.insert(ys.end(), {b.min[i], b.max[i]});
-  }
-  Json domain = {"fleet median"}, range = {kMedianColour};
-  if (b.percentiles) domain.push_back("fleet 5-95%"), range.push_back(kInnerColour);
-  domain.push_back("fleet min-max");
-  range.push_back(kOuterColour);
-  for (std::size_t k = 0; k < a.flagged.size(); ++k) {
-    const FleetUnitCurve& c = a.flagged[k];
-    const std::string series = "unit " + c.unit;
-    domain.push_back(series);
-    range.push_back(kPalette[k % kPalette.size()]);
-    std::string flags;
-    for (const std::string& f : c.flags) flags += (flags.empty() ? "" : "; ") + f;
-    for (std::size_t i = 0; i < c.tau.size(); ++i) {
-      curves.push_back({{"series", series},
-                        {"unit", c.unit},
-                        {"tau", short_number(c.tau[i])},
-                        {"v", short_number(c.adev[i])},
-                        {"lo", short_number(c.low[i])},
-                        {"hi", short_number(c.high[i])},
-                        {"flags", flags}});
-      xs.push_back(c.tau[i]);
-      ys.push_back(c.adev[i]);
-      extra.insert(extra.end(), {c.low[i], c.high[i]});
-    }
-    if (const std::size_t at = label_point(c, b); at < c.tau.size())
-      labels.push_back({{"series", series},
-                        {"unit", c.unit},
-                        {"tau", short_number(c.tau[at])},
-                        {"v", short_number(c.adev[at])},
-                        {"right", 2 * at > c.tau.size()},
-                        {"k", static_cast<int>(k)}});
-  }
-  const auto xd = log_domain(xs, {}), yd = log_domain(ys, extra, kCurveIntervalRoom);
+  BandData d = band_data(a);
+  const auto xd = log_domain(d.xs, {}), yd = log_domain(d.ys, d.extra, kCurveIntervalRoom);
   std::string title = group + ", " + a.axis + ": Allan deviation of the " + std::to_string(b.units) +
                       " unflagged unit(s) per tau (median, min-max" + (b.percentiles ? ", 5-95%" : "") + ")";
   title += a.flagged.empty() ? "; no unit flagged on " + a.axis
@@ -907,16 +1036,16 @@ Json band_spec(const FleetAxisView& a, const std::string& group) {
                {"title", {{"text", title}, {"anchor", "start"}, {"fontSize", 13}}}};
   if (b.interpolated)
     spec["title"]["subtitle"] = "the units' tau grids differ: each ADEV interpolated in log-log onto a common grid";
-  spec["data"] = {{{"name", "band"}, {"values", std::move(rows)}},
-                  {{"name", "units"}, {"values", std::move(curves)}},
+  spec["data"] = {{{"name", "band"}, {"values", std::move(d.rows)}},
+                  {{"name", "units"}, {"values", std::move(d.curves)}},
                   {{"name", "unit_bands"},
                    {"source", "units"},
                    {"transform", {{{"type", "filter"}, {"expr", "isValid(datum.lo) && isValid(datum.hi)"}}}}},
-                  {{"name", "labels"}, {"values", std::move(labels)}}};
+                  {{"name", "labels"}, {"values", std::move(d.labels)}}};
   spec["scales"] = {
       {{"name", "x"}, {"type", "log"}, {"domain", {xd[0], xd[1]}}, {"range", "width"}, {"zero", false}},
       {{"name", "y"}, {"type", "log"}, {"domain", {yd[0], yd[1]}}, {"range", "height"}, {"zero", false}},
-      {{"name", "color"}, {"type", "ordinal"}, {"domain", std::move(domain)}, {"range", std::move(range)}}};
+      {{"name", "color"}, {"type", "ordinal"}, {"domain", std::move(d.domain)}, {"range", std::move(d.range)}}};
   spec["axes"] = {{{"orient", "bottom"},
                    {"scale", "x"},
                    {"title", "tau [s]"},
@@ -980,7 +1109,8 @@ std::string figure_cell(const FleetRow& r, const FleetAxisView* a, int k) {
   return td("-", "num");
 }
 
-// "N: wholly above; B: reaching in": where each flagged figure's interval lies against the band.
+// "N: wholly above; B: reaching within": where each flagged figure's interval lies against its
+// own flag limits.
 std::string against_band(const FleetRow& r, const FleetAxisView* a) {
   std::string out;
   if (!a) return out;
@@ -990,7 +1120,7 @@ std::string against_band(const FleetRow& r, const FleetAxisView* a) {
         out += (out.empty() ? "" : "; ") + std::string(1, p.figure) + ": " +
                (!(std::isfinite(d.low) && std::isfinite(d.high)) ? "no interval"
                 : d.beyond ? std::string("wholly ") + (d.value > p.median ? "above" : "below")
-                           : std::string("reaching into it"));
+                           : std::string("reaching within them"));
   return out;
 }
 
@@ -1006,9 +1136,11 @@ std::string flagged_table(const FleetStudy& s, const FleetGroupView& g) {
   os << "<h3>flagged units</h3>\n<table class=\"fleet-flagged\">\n<caption>each unit x axis with a figure beyond "
         "robust z "
      << num(fleet::kFleetOutlierZ, 2)
-     << ", the worst unit first; figures with their intervals, in the strips' units</caption>\n"
-     << head_row({"unit", "axis", "why flagged", "interval against the band", "N", "K", "B", "chosen model", "GoF p",
-                  "recording"});
+     << ", the surest unit first (a figure whose interval lies wholly outside its flag limits, then the largest robust "
+        "z); "
+        "figures with their intervals, in the strips' units</caption>\n"
+     << head_row({"unit", "axis", "why flagged", "interval against its flag limits", "N", "K", "B", "chosen model",
+                  "GoF p", "recording"});
   for (const std::size_t i : g.flagged_rows) {
     const FleetRow& r = s.rows[i];
     std::string why;
@@ -1048,12 +1180,12 @@ std::string summary_table(const FleetStudy& s, const FleetGroupView& g) {
   std::ostringstream os;
   const bool spec = !s.spec_path.empty();
   os << "<h3>summary</h3>\n<table class=\"fleet-summary\">\n<caption>per axis and figure: the median of the "
-        "units' read-offs (upper bounds left out), the spread exp(MAD of the logs / 0.6745) as a factor, and the "
-        "band median x spread^(+-"
-     << num(fleet::kFleetOutlierZ, 2) << ") beyond which a unit is flagged (groups of " << fleet::kMinUnitsForFlags
-     << " units or more)</caption>\n";
-  std::vector<std::string> head = {"axis",   "figure",    "read-offs", "median",
-                                   "spread", "flag band", "flagged",   "upper bounds"};
+        "units' read-offs (upper bounds left out); their spread exp(MAD of the logs / 0.6745) as a factor and the "
+        "units' own spread, net of the read-offs' noise; the flag band, beyond which a read-off of the fleet's "
+        "typical precision is flagged (robust z beyond "
+     << num(fleet::kFleetOutlierZ, 2) << "; groups of " << fleet::kMinUnitsForFlags << " units or more)</caption>\n";
+  std::vector<std::string> head = {"axis",      "figure",  "read-offs",   "median", "spread", "units' own spread",
+                                   "flag band", "flagged", "upper bounds"};
   if (spec) head.push_back("above spec");
   os << head_row(head);
   for (const FleetAxisView& a : g.axes)
@@ -1070,7 +1202,8 @@ std::string summary_table(const FleetStudy& s, const FleetGroupView& g) {
                                    : std::string(p.units ? "- (too few units to flag)" : "-");
       os << "<tr>" << td(a.axis) << td(std::string(1, p.figure) + " " + figure_name(p.figure))
          << td(std::to_string(p.units), "num") << td(median_text(p), "num")
-         << td(std::isfinite(p.spread) ? "x" + num(p.spread, 4) : "-", "num") << td(band, "num")
+         << td(std::isfinite(p.spread) ? "x" + num(p.spread, 4) : "-", "num")
+         << td(std::isfinite(p.unit_spread) ? "x" + num(p.unit_spread, 4) : "-", "num") << td(band, "num")
          << td(flagged.empty() ? "none" : flagged) << td(bounds, "num");
       if (spec) {
         std::string above;
@@ -1128,8 +1261,10 @@ std::string page_header(const FleetStudy& s, const FleetPageData& d) {
      << " group(s). Each unit x axis selected over the model; N white noise density, K random walk, B bias "
         "instability (IEEE 952). A unit is flagged when log N, K or B lies more than "
      << num(fleet::kFleetOutlierZ, 2)
-     << " robust standard deviations from its group's median (modified z of Iglewicz and Hoaglin; groups of "
-     << fleet::kMinUnitsForFlags << " units or more).</p>\n</header>\n";
+     << " standard deviations from its group's median, the deviation of the units between them (robust: MAD) "
+        "and of its own read-off (its interval) together: robust z = log(x / median) / sqrt(tau^2 + se^2), "
+        "Iglewicz and Hoaglin's modified z when the read-offs are equally precise; groups of "
+     << fleet::kMinUnitsForFlags << " units or more.</p>\n</header>\n";
   return os.str();
 }
 

@@ -311,6 +311,66 @@ TEST(HtmlReportInBrowser, SelectReportOnTheSixAxisAdisRecordingStaysUnderFiveMeg
       {{"wv", 6}, {"adev", 6}});
 }
 
+// gmwm fleet --report: eight simulated units of two axes (SN5 with 4x the white-noise
+// variance: twice the fleet's N) and a recording that cannot be read. Per axis the strips of
+// N, K, B and the Allan deviation band render; SN5 is flagged, labelled and drawn over the
+// band; the failure is listed with its reason.
+TEST(HtmlReportInBrowser, FleetReportRendersEachAxisStripsAndBandWithTheFlaggedUnitAndTheFailure) {
+  REQUIRE_BROWSER(exe);
+  const fs::path dir = artefact_dir() / "fleet_units";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string manifest = "path,unit,model,units,rate\n";
+  for (int k = 1; k <= 8; ++k) {
+    const std::string spec = k == 5 ? "WN(sigma2=4e-4)+RW(gamma2=1e-10)" : "WN(sigma2=1e-4)+RW(gamma2=1e-10)";
+    const auto r = run_gmwm(
+        {"simulate", "--model", spec, "--n", "16384", "--freq", "100", "--signals", "2", "--names", "gyro_x,gyro_y",
+         "--seed", std::to_string(20 + k), "--output", "u" + std::to_string(k) + ".csv", "--quiet"},
+        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    manifest += "u" + std::to_string(k) + ".csv,SN" + std::to_string(k) + ",IMU-X,gyro=deg/s,100\n";
+  }
+  // SN9's recording: its header reads, a row far into it does not.
+  std::string text = read_text(dir / "u1.csv");
+  text.insert(text.find('\n', text.size() / 2) + 1, "0.5,abc\n");
+  gmwm::test::write_text(dir / "u9.csv", text);
+  manifest += "u9.csv,SN9,IMU-X,gyro=deg/s,100\n";
+  gmwm::test::write_text(dir / "fleet.csv", manifest);
+  check_report(*exe, "report_fleet", {"fleet", (dir / "fleet.csv").string(), "--model", "WN+RW", "--no-cache"},
+               {{"fleet-figures", 2}, {"adev", 2}});
+  const std::string html = read_text(artefact_dir() / "report_fleet.html");
+  EXPECT_NE(html.find("<h2>group IMU-X</h2>"), std::string::npos);
+  EXPECT_NE(html.find("9 unit(s); 1 recording(s) failed"), std::string::npos);
+  EXPECT_EQ(count_matches(html, "<tr class=\"outside\" data-unit=\"SN5\""), 2) << "SN5 flagged on both axes";
+  EXPECT_EQ(count_matches(html, "<tr class=\"outside\""), 2) << "no other unit flagged";
+  EXPECT_NE(html.find("<li>SN5: N on gyro_x "), std::string::npos);
+  EXPECT_NE(html.find("<td>SN9</td><td>(the recording)</td><td class=\"note\">"), std::string::npos);
+  const std::string dom = Browser(*exe).dump_dom(artefact_dir() / "report_fleet.html", artefact_dir() / "fleet.log");
+  // The flagged unit labelled on its strips and over the bands (Vega's SVG text).
+  EXPECT_GE(count_matches(dom, "<text[^>]*>SN5</text>"), 4) << "SN5's labels: N on each axis and each band";
+  EXPECT_GE(count_matches(dom, "aria-label=\"X-axis titled 'N \\[deg/sqrt\\(h\\)\\]'"), 2);
+  fs::remove_all(dir);
+}
+
+// The three ADIS16405 units as a fleet: six axes, each with its strips and band; three
+// units are too few to flag, and the page says so.
+TEST(HtmlReportInBrowser, FleetReportOfTheThreeAdisUnitsRendersEveryAxis) {
+  GMWM_REQUIRE_SHARED_DATA();
+  REQUIRE_BROWSER(exe);
+  const fs::path dir = artefact_dir();
+  std::string manifest = "path,unit,model,units,rate\n";
+  for (int k = 1; k <= 3; ++k)
+    manifest += gmwm::test::shared_data_file("adis_16405_imu" + std::to_string(k) + ".csv.gz") + ",IMU" +
+                std::to_string(k) + ",ADIS16405,\"gyro=deg/s,accel=g\",100\n";
+  gmwm::test::write_text(dir / "fleet_adis.csv", manifest);
+  check_report(*exe, "report_fleet_adis",
+               {"fleet", (dir / "fleet_adis.csv").string(), "--model", "AR1+WN+RW", "--no-cache"},
+               {{"fleet-figures", 6}, {"adev", 6}});
+  const std::string html = read_text(dir / "report_fleet_adis.html");
+  EXPECT_NE(html.find("No unit can be flagged: flags need 5 or more units"), std::string::npos);
+  EXPECT_EQ(count_matches(html, "<tr class=\"outside\""), 0);
+}
+
 }  // namespace
 
 // gmwm nav: the position, velocity, attitude and NEES plots with the Monte Carlo's points.

@@ -11,15 +11,21 @@
 //
 // What the page holds, per group (the manifest's `group`, by default the sensor model):
 //   - a headline: its units, the recordings that failed, the units flagged and on which
-//     figure of which axis, each with its value, the group's median and its robust z;
+//     figure of which axis, each with its value and interval, the group's median, its z and
+//     its flag limits (the units whose interval lies wholly outside their limits first);
 //   - the flagged units (FleetRow::flags) and the failures (FleetRow::status), as tables;
 //   - per axis, the distribution of N, K and B over the units (data-plot="fleet-figures"):
 //     one log-scale strip per figure, a dot per unit with its interval as a rule, the
-//     group's median and the band of robust z within 3.5 (median x spread^(+-3.5), spread =
-//     exp(MAD of the logs / 0.6745), as fleet_summary computes it) drawn; a flagged unit red
-//     and labelled by its id; a unit with only an upper bound an open triangle (the summary
-//     leaves bounds out); hovering a dot shows unit, value, interval, read-off source, robust
-//     z and the recording;
+//     group's median and the flag band drawn; a flagged unit red and labelled by its id; a
+//     unit with only an upper bound an open triangle (the summary leaves bounds out);
+//     hovering a dot shows unit, value, interval, read-off source, z, its own flag limits and
+//     the recording. The rule is fleet_summary's (fleet_study.h, kFleetOutlierZ): z =
+//     log(x / median) / sqrt(tau^2 + se^2) beyond 3.5, se the unit's own standard error, tau
+//     the spread between units net of the read-offs' noise; the band drawn is the limits of
+//     a read-off of the fleet's median precision, median x exp(+-3.5 sqrt(tau^2 + median
+//     se^2)) (median x spread^(+-3.5), spread = exp(MAD of the logs / 0.6745), whenever the
+//     units differ more than their read-offs' noise); a less precise read-off's own limits
+//     are wider (its tooltip says them);
 //   - per axis, the fleet's band of Allan deviation curves (data-plot="adev"): per averaging
 //     time the median, the min-max and (from kFleetPercentileUnits units on) the 5-95%
 //     envelopes of the ADEVs of the units not flagged on the axis, and every flagged unit's
@@ -27,7 +33,8 @@
 //     page) and labelled; when the units' tau grids differ (other rates or lengths) each ADEV
 //     is interpolated in log-log onto a common grid, and the page says so;
 //   - the summary table: per axis and figure the units, the median (in the data's unit and
-//     the datasheet's), the spread, the band, the units flagged and the bounds.
+//     the datasheet's), the spread and the units' own spread, the band, the units flagged
+//     and the bounds.
 // Figures are drawn in the datasheet's unit where the data's unit is declared (N in
 // deg/sqrt(h) or ug/sqrt(Hz), K in deg/h/sqrt(h) or m/s^2/sqrt(h), B in deg/h or mg: as the
 // terminal prints them), else in the data unit's pattern (U/sqrt(Hz), U/s/sqrt(Hz), U). A
@@ -44,6 +51,7 @@
 // first axis when none is), drawn as plain SVG as html_report.h's PATH.svg is.
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -63,15 +71,20 @@ struct FleetDot {
   std::string unit, path;
   int index = 0;  ///< the unit's place in its group: its height on every strip
   double value = 0.0;
-  double low = 0.0, high = 0.0;  ///< NaN when unknown (a bound has no low)
+  double low = NAN, high = NAN;  ///< NaN when unknown (a bound has no low)
   std::string source;            ///< "model", "data" or "bound" (FigureSource)
   bool bound = false;            ///< only an upper bound: left out of the median and the flags
-  bool flagged = false;          ///< flagged on this figure of this axis
-  /// Flagged, and its interval lies wholly outside the band (not only its value): the
+  bool flagged = false;          ///< flagged on this figure of this axis (its row's flag)
+  std::string flag;              ///< the flag's reason ("N: 4.2x the fleet's median (robust z 9.1)")
+  /// Its z against the group's median as fleet_summary takes it: log(x / median) /
+  /// sqrt(tau^2 + se^2), se its own standard error (NaN for a bound or no spread).
+  double z = NAN;
+  /// Its own flag limits, median x exp(-+3.5 sqrt(tau^2 + se^2)) (NaN for a bound): a
+  /// read-off less precise than the fleet's must lie farther out to be flagged.
+  double limit_low = NAN, limit_high = NAN;
+  /// Flagged, and its interval lies wholly outside its limits (not only its value): the
   /// surest flags, listed first.
   bool beyond = false;
-  double z = 0.0;    ///< robust z against the group's median (NaN when not defined)
-  std::string flag;  ///< the flag's reason ("N: 4.2x the fleet's median (robust z 9.1)")
 };
 
 /// One figure of one axis over a group's units.
@@ -81,9 +94,13 @@ struct FleetFigurePanel {
   std::string data_unit;  ///< the summary's unit pattern ("deg/s/sqrt(Hz)")
   double to_panel = 1.0;  ///< the summary's value x to_panel = the panel's value
   int units = 0;          ///< read-offs in the summary (bounds left out)
-  /// The group's median, spread factor and band median x spread^(-+3.5), in the panel's
-  /// unit (NaN when no unit has a read-off).
-  double median = 0.0, spread = 0.0, band_low = 0.0, band_high = 0.0;
+  /// The group's median and spread exp(MAD of the logs / 0.6745) (NaN when no unit has a
+  /// read-off); unit_spread = exp(tau), the spread between units net of the read-offs' own
+  /// noise (fleet_study.h, kFleetOutlierZ).
+  double median = NAN, spread = NAN, unit_spread = NAN;
+  /// The flag band of a read-off of the fleet's median precision, median x exp(-+3.5
+  /// sqrt(tau^2 + median se^2)): median x spread^(-+3.5) when tau > 0. Panel's unit.
+  double band_low = NAN, band_high = NAN;
   bool can_flag = false;  ///< at least fleet::kMinUnitsForFlags read-offs
   std::vector<FleetDot> dots;
 };
@@ -93,6 +110,7 @@ struct FleetUnitCurve {
   std::string unit, path;
   std::vector<double> tau, adev, low, high;  ///< low/high NaN where unknown
   std::vector<std::string> flags;            ///< its row's flags
+  double label_tau = NAN;                    ///< where its worst flagged figure was read (s): its label's place
 };
 
 /// The fleet's band of Allan deviations of one axis, per averaging time.
