@@ -349,6 +349,32 @@ TEST(HtmlReportInBrowser, FleetReportRendersEachAxisStripsAndBandWithTheFlaggedU
   // The flagged unit labelled on its strips and over the bands (Vega's SVG text).
   EXPECT_GE(count_matches(dom, "<text[^>]*>SN5</text>"), 4) << "SN5's labels: N on each axis and each band";
   EXPECT_GE(count_matches(dom, "aria-label=\"X-axis titled 'N \\[deg/sqrt\\(h\\)\\]'"), 2);
+  // Hovering a unit's dot shows its unit, value, interval, read-off source, z and recording.
+  std::string probe = html;
+  const auto at = probe.rfind("</body>");
+  ASSERT_NE(at, std::string::npos);
+  probe.replace(at, 7, R"JS(<script>
+setTimeout(function () {
+  var dot = document.querySelector('#group-1-axis-1-figures .mark-symbol.role-mark path');
+  var box = dot.getBoundingClientRect();
+  dot.dispatchEvent(new MouseEvent('mousemove', {clientX: box.left + box.width / 2, clientY: box.top + box.height / 2,
+                                                 bubbles: true}));
+  setTimeout(function () {
+    document.body.setAttribute('data-tooltip',
+                               document.querySelector('#group-1-axis-1-figures .view').getAttribute('title') || '');
+  }, 300);
+}, 1500);
+</script>
+</body>)JS");
+  gmwm::test::write_text(artefact_dir() / "report_fleet_probe.html", probe);
+  const std::string hovered =
+      Browser(*exe).dump_dom(artefact_dir() / "report_fleet_probe.html", artefact_dir() / "fleet.log");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(hovered, m, std::regex("data-tooltip=\"([^\"]*)\""))) << "no tooltip probe";
+  for (const char* key : {"unit: SN", "value: ", " deg/sqrt(h)", "interval: ", "source: ", " read-off",
+                          "robust z: ", "its flag limits: ", "recording: "})
+    EXPECT_NE(m[1].str().find(key), std::string::npos) << key << " in " << m[1];
+  fs::remove(artefact_dir() / "report_fleet_probe.html");
   fs::remove_all(dir);
 }
 
