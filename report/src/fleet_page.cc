@@ -296,19 +296,19 @@ FleetUnitCurve unit_curve(const FleetRow& r, const fleet::FleetCurves& c, double
 
 void axis_notes(FleetAxisView& a, double level) {
   const std::string unit = a.unit.empty() ? "U" : a.unit;
+  std::string few;  // "N 3 read-offs; K none, 3 only an upper bound"
   for (const FleetFigurePanel& p : a.figures) {
+    if (p.can_flag) continue;
     int bounds = 0;
     for (const FleetDot& d : p.dots) bounds += d.bound;
-    if (p.units == 0)
-      a.notes.push_back(std::string(1, p.figure) + ": no unit shows a read-off" +
-                        (bounds ? " (" + std::to_string(bounds) + " only an upper bound)" : std::string()) +
-                        ": no median, nothing flagged.");
-    else if (!p.can_flag)
-      a.notes.push_back(std::string(1, p.figure) + ": " + std::to_string(p.units) + " read-off(s)" +
-                        (bounds ? ", " + std::to_string(bounds) + " only an upper bound" : std::string()) +
-                        ": flags need " + std::to_string(fleet::kMinUnitsForFlags) +
-                        " or more (the median and MAD of fewer are no yardstick); the band is drawn, not judged.");
+    few += (few.empty() ? "" : "; ") + std::string(1, p.figure) + " " +
+           (p.units ? std::to_string(p.units) : std::string("no")) + " read-off(s)" +
+           (bounds ? ", " + std::to_string(bounds) + " only an upper bound" : std::string());
   }
+  if (!few.empty())
+    a.notes.push_back("Not judged: " + few + ". Flags need " + std::to_string(fleet::kMinUnitsForFlags) +
+                      " read-offs or more (the median and MAD of fewer are no yardstick); their bands are drawn "
+                      "lighter.");
   const FleetAdevBand& b = a.band;
   if (b.units == 0) {
     a.notes.push_back("Allan deviation: no unit of this axis has a curve to draw.");

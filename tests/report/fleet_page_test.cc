@@ -375,8 +375,9 @@ TEST(FleetPage, AGroupOfFewerThanFiveUnitsIsDrawnButNotJudged) {
   EXPECT_FALSE(panel(d, 'N').can_flag);
   EXPECT_TRUE(std::isfinite(panel(d, 'N').median));
   EXPECT_TRUE(g.axes.at(0).flagged.empty());
-  EXPECT_TRUE(contains(g.axes.at(0).notes, "N: 3 read-off(s), 3 only an upper bound") ||
-              contains(g.axes.at(0).notes, "N: 3 read-off(s): flags need 5 or more"))
+  EXPECT_TRUE(contains(g.axes.at(0).notes,
+                       "Not judged: N 3 read-off(s); K no read-off(s), 3 only an upper bound; B 3 "
+                       "read-off(s). Flags need 5 read-offs or more"))
       << joined(g.axes.at(0).notes);
 }
 
