@@ -65,19 +65,59 @@ constexpr std::int64_t kBreakpointMargin = 3;
 struct ComponentTable {
   std::vector<long double> V;  // V(0 .. T), T = V.size() - 1
   long double G_prev = 0.0L;   // G(T - 1) = sum_{|k| <= T-1} (g(k) - g0)
-  long double delta = 0.0L;    // g(T - 1) - g0
-  long double beta = 0.0L;     // g(k) = g(T - 1) + beta (k - T + 1) for k >= T
-  std::int64_t support = 0;    // lags beyond which the component's c_ij(h) vanishes
-  bool oscillating = false;    // no decay found (SIN): sum lag by lag
+  // Beyond the table, g(T - 1 + i) - g0 = A + beta i + C rho^i (i >= 0): a line (WN, QN,
+  // RW, MA1: C = 0) plus the geometric tail of a decaying component (AR1: its remaining
+  // decay towards its asymptote A + beta i, found from the last second differences).
+  long double A = 0.0L;
+  long double beta = 0.0L;
+  long double C = 0.0L;
+  long double rho = 0.0L;
+  std::int64_t support = 0;  // lags beyond which the component's c_ij(h) vanishes
+  bool oscillating = false;  // no decay found (SIN): sum lag by lag
 
   long double at(std::int64_t d) const {
     const auto T = static_cast<std::int64_t>(V.size()) - 1;
     if (d <= T) return V[static_cast<std::size_t>(d)];
-    // V(d) = V(T) + sum_{i=1}^{n} [G(T-1) + 2 i delta + beta i (i + 1)], n = d - T.
+    // V(T + n) = V(T) + sum_{i=1}^{n} G(T - 1 + i), G(T - 1 + i) = G(T - 1) + 2 sum_{l=1}^{i}
+    // (A + beta l + C rho^l) = G(T - 1) + 2 A i + beta i (i + 1) + 2 C rho (1 - rho^i) / (1 - rho).
     const long double n = static_cast<long double>(d - T);
-    return V.back() + n * G_prev + delta * n * (n + 1.0L) + beta * n * (n + 1.0L) * (n + 2.0L) / 3.0L;
+    long double v = V.back() + n * G_prev + A * n * (n + 1.0L) + beta * n * (n + 1.0L) * (n + 2.0L) / 3.0L;
+    if (C != 0.0L) {
+      const long double q = 1.0L - rho;
+      v += 2.0L * C * rho / q * (n - rho * (1.0L - std::pow(rho, n)) / q);
+    }
+    return v;
   }
 };
+
+// The tail of g beyond the last tabulated lags, g(T - 1 + i) = g0 + A + beta i + C rho^i:
+// when the last three first differences decay geometrically (ratio rho in (0, 1), the
+// AR1's phi), their limit is the slope and the rest is the geometric part still to come;
+// otherwise (second differences zero: WN, QN, RW, MA1) the line through the last two.
+// Continuing the last slope instead (the line alone) carried an AR1's residual slope
+// |Delta g(T)| ~ 1e-6 of its curvature over every lag to the record's length: at the
+// coarsest levels of a 2^18 record V_JJ came out 3e3 (phi 0.5) to 3e5 (phi 0.9) times the
+// exact 2 nu_J^2 of a single coefficient.
+void fit_tail(ComponentTable& t, const std::vector<double>& g, std::int64_t T) {
+  const auto at = [&](std::int64_t k) { return static_cast<long double>(g[static_cast<std::size_t>(k)]); };
+  const long double g0 = at(0);
+  t.A = at(T - 1) - g0;
+  t.beta = at(T - 1) - at(T - 2);
+  if (T < 4) return;
+  const long double d1 = at(T - 3) - at(T - 4), d2 = at(T - 2) - at(T - 3), d3 = at(T - 1) - at(T - 2);
+  const long double s1 = d2 - d1, s2 = d3 - d2;
+  if (s1 == 0.0L || s2 == 0.0L || (s1 > 0.0L) != (s2 > 0.0L)) return;
+  const long double rho = s2 / s1;
+  if (!(rho > 0.0L && rho < 1.0L)) return;
+  // Delta g(T - 2 + i) = beta + E rho^i with s2 = E (rho - 1) / rho ... solved on d2, d3:
+  // beta = d3 - s2 rho / (rho - 1); g(T - 1 + i) - g0 = A + beta i + C rho^i with
+  // C = s2 rho^2 / (rho - 1)^2 and A = g(T - 1) - g0 - C.
+  const long double q = rho - 1.0L;
+  t.rho = rho;
+  t.beta = d3 - s2 * rho / q;
+  t.C = s2 * rho * rho / (q * q);
+  t.A = at(T - 1) - g0 - t.C;
+}
 
 // First lag window over which the support is searched; doubled until the significant
 // second differences end in its first half (or the reach is covered).
@@ -113,9 +153,7 @@ ComponentTable make_table(const Process& p, std::span<const double> theta, std::
   }
   // G now holds G(T - 1).
   t.G_prev = G;
-  t.delta = static_cast<long double>(g[static_cast<std::size_t>(T) - 1]) - g0;
-  t.beta = static_cast<long double>(g[static_cast<std::size_t>(T) - 1]) -
-           static_cast<long double>(g[static_cast<std::size_t>(T) - 2]);
+  fit_tail(t, g, T);
   return t;
 }
 

@@ -129,9 +129,9 @@ double worst_relative_error(const Eigen::MatrixXd& V, const Eigen::MatrixXd& ref
 TEST(WvCovariance, AgreesWithTheLagByLagSumForAr1sOfShortAndLongMemory) {
   // Supports from ~20 to ~1400 lags: long stretches of lags go through the corrected
   // Simpson rule (alone within 1e-8 of the lag-by-lag sum over the same tables). The
-  // bound is set by the tables' tail cut (kTailTolerance = 1e-6 on |Delta^2 g|, whose
-  // linear continuation leaves a slope of that order): measured 5.9e-7 (phi 0.5),
-  // 4.3e-7 (0.9), 1.5e-7 (0.99).
+  // bound is set by the tables' tail cut (kTailTolerance = 1e-6 on |Delta^2 g|): with the
+  // last slope continued as a line it was 5.9e-7 (phi 0.5), 4.3e-7 (0.9), 1.5e-7 (0.99);
+  // with the AR1's geometric remainder continued too, the rule's own error is left.
   constexpr double kCovarianceAccuracy = 1e-6;
   const long n = 4096;
   const int J = 6;
@@ -143,6 +143,66 @@ TEST(WvCovariance, AgreesWithTheLagByLagSumForAr1sOfShortAndLongMemory) {
     const double err =
         worst_relative_error(model_wv_covariance(m, m.given_values(), n, J), lag_by_lag_covariance(gamma, n, J));
     EXPECT_LT(err, kCovarianceAccuracy) << "phi " << phi;
+  }
+}
+
+// The exact variance of level j's WV from the lag-by-lag sum, for the diagonal alone (the
+// coarse levels of a long record, where the full matrix would cost minutes).
+long double lag_by_lag_variance(const std::function<double(long)>& gamma, long n, int j) {
+  const long t = 2L << j, M = n - t + 1;
+  std::vector<double> h(static_cast<std::size_t>(t));
+  for (long k = 0; k < t; ++k) h[static_cast<std::size_t>(k)] = (k < t / 2 ? 1.0 : -1.0) / static_cast<double>(t);
+  const long lo = -(M - 1) - t, hi = M - 1;
+  std::vector<long double> a(static_cast<std::size_t>(hi - lo + 1));
+  for (long m = lo; m <= hi; ++m) {
+    long double s = 0.0L;
+    for (long k = 0; k < t; ++k) s += h[static_cast<std::size_t>(k)] * gamma(std::labs(m + k));
+    a[static_cast<std::size_t>(m - lo)] = s;
+  }
+  long double sum = 0.0L;
+  for (long d = -(M - 1); d <= M - 1; ++d) {
+    const long count = std::min(n - 1, n - 1 - d) - std::max(t - 1, t - 1 - d) + 1;
+    if (count <= 0) continue;
+    long double c = 0.0L;
+    for (long l = 0; l < t; ++l) c += h[static_cast<std::size_t>(l)] * a[static_cast<std::size_t>(d - l - lo)];
+    sum += static_cast<long double>(count) * c * c;
+  }
+  return 2.0L * sum / (static_cast<long double>(M) * static_cast<long double>(M));
+}
+
+TEST(WvCovariance, TheCoarsestLevelOfAnAr1HasTheExactVarianceOfItsSingleCoefficient) {
+  // One Haar coefficient at the last level of 2^J samples: Var(nuhat_J) = 2 nu_J^2 exactly.
+  // The tables' tail once continued an AR1's residual slope over the whole record: V_JJ came
+  // out 3351 (phi 0.5), 3.1e5 (0.9), 1.2e4 (0.99) and 155 (0.999) times that at 2^18. Now
+  // within 4e-9 (phi <= 0.99) and 1.5e-6 (0.999: the remainder's ratio rho = phi is read off
+  // second differences of ~1e-9 g(0), and (1 - rho)^2 scales its error), the 1e-6 order of
+  // the tables' tail cut (kTailTolerance).
+  constexpr double kSingleCoefficientAccuracy = 1e-5;
+  const std::int64_t n = std::int64_t{1} << 18;
+  for (const double phi : {0.5, 0.9, 0.99, 0.999}) {
+    const Model m = parse_model("AR1(phi=" + std::to_string(phi) + ",sigma2=1)", one_hz());
+    const Eigen::MatrixXd V = model_wv_covariance(m, m.given_values(), n, 18);
+    const double nu = m.wv(m.given_values(), std::vector<double>{std::ldexp(1.0, 18)})(0);
+    EXPECT_NEAR(V(17, 17) / (2.0 * nu * nu), 1.0, kSingleCoefficientAccuracy) << "phi " << phi;
+  }
+}
+
+TEST(WvCovariance, AgreesWithTheLagByLagSumAtTheCoarsestLevelsOfARecord) {
+  // Levels 10-12 of 2^12 samples, where the lags reach the record's length: the tables' tail
+  // (a line plus the AR1's geometric remainder) against the exact sum. Measured <= 2.9e-8.
+  constexpr double kCoarseAccuracy = 1e-7;
+  const long n = 4096;
+  for (const double phi : {0.5, 0.9, 0.99, 0.999}) {
+    const Model m = parse_model("AR1(phi=" + std::to_string(phi) + ",sigma2=2)+WN(sigma2=0.1)", one_hz());
+    const auto gamma = [&](long k) {
+      return 2.0 / (1.0 - phi * phi) * std::pow(phi, static_cast<double>(k)) + (k == 0 ? 0.1 : 0.0);
+    };
+    const Eigen::MatrixXd V = model_wv_covariance(m, m.given_values(), n, 12);
+    for (int j = 9; j < 12; ++j) {
+      const long double exact = lag_by_lag_variance(gamma, n, j);
+      EXPECT_LT(std::abs(static_cast<double>((V(j, j) - exact) / exact)), kCoarseAccuracy)
+          << "phi " << phi << ", level " << j + 1;
+    }
   }
 }
 
