@@ -237,7 +237,7 @@ void refuse_manifest_rows(const std::vector<std::string>& problems) {
 std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
                      std::optional<double> memory_mb, std::optional<std::string> cache, py::object runner,
                      const std::string& spec, const std::string& gap_format, const std::string& gap_path,
-                     const std::string& gap_imu, int gap_replicates) {
+                     const std::string& gap_imu, int gap_replicates, bool joint, int joint_draws) {
   gmwm::fleet::FleetStudyOptions o;
   o.model = model_spec;
   o.wv.alpha = alpha;
@@ -247,6 +247,8 @@ std::string py_fleet(const std::string& manifest_path, const std::string& model_
   if (memory_mb) o.memory_budget = *memory_mb * 1e6;
   if (cache) o.cache_dir = cache->empty() ? gmwm::fleet::default_fleet_cache_dir(manifest_path) : *cache;
   if (!spec.empty()) o.spec = gmwm::io::read_fleet_spec(spec);
+  o.joint.enabled = joint;
+  o.joint.test_draws = joint_draws;
   if (!gap_path.empty()) {
     const std::optional<gmwm::io::SimFormat> format = gmwm::io::parse_sim_format(gap_format);
     if (!format) throw gmwm::InputError("fleet: gap format '" + gap_format + "': expected kalibr, gz-sdf or datasheet");
@@ -306,7 +308,8 @@ void add_multi_signal_functions(py::module_& m) {
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(), py::arg("cache") = "",
         py::arg("runner") = py::none(), py::arg("spec") = "", py::arg("gap_format") = "kalibr",
         py::arg("gap_path") = "", py::arg("gap_imu") = "",
-        py::arg("gap_replicates") = gmwm::fleet::FleetGapBaseline{}.replicates,
+        py::arg("gap_replicates") = gmwm::fleet::FleetGapBaseline{}.replicates, py::arg("joint") = false,
+        py::arg("joint_draws") = gmwm::fleet::FleetStudyOptions::Joint{}.test_draws,
         "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
         "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
         "the units that stand out: the document gmwm fleet --json writes");

@@ -16,6 +16,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/gap/gap.h"
 #include "gmwm/fleet/fleet_cache.h"
+#include "gmwm/fleet/fleet_joint.h"
 #include "gmwm/fleet/fleet_record.h"
 #include "gmwm/io/units.h"
 
@@ -260,6 +261,11 @@ std::string FleetStudyOptions::Validate() const {
   if (std::string why = select.Validate(); !why.empty()) return why;
   if (std::string why = wv.Validate(); !why.empty()) return why;
   if (!(memory_budget >= 0.0)) return "memory_budget must be >= 0";
+  if (joint.enabled) {
+    ReplicateTestOptions t;
+    t.bootstrap = joint.test_draws;
+    if (std::string why = t.Validate(); !why.empty()) return "joint test " + why;
+  }
   if (gap) {
     gap::GapOptions g;
     g.replicates = gap->replicates;
@@ -289,6 +295,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   assemble(manifest, p.records, from_cache, study);
   if (options.spec) check_spec(study.rows, *options.spec);
   study.summary = fleet_summary(study.rows, options.wv.alpha);
+  if (options.joint.enabled) study.joint = fleet_joint_models(study, options);
   study.seconds = seconds_since(start);
   return study;
 }

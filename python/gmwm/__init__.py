@@ -55,7 +55,7 @@ from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, Co
                    GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
 from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
 from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
-                   FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,
+                   FleetJointModel, FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,
                    NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
                    WrittenNoise)
 from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
@@ -121,7 +121,7 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
           scheduler: Any = None, spec: str | os.PathLike[str] | None = None,
           gap_kalibr: str | os.PathLike[str] | None = None, gap_gazebo: str | os.PathLike[str] | None = None,
           gap_datasheet: str | os.PathLike[str] | None = None, gap_imu: str = "",
-          gap_replicates: int = 200) -> FleetResult:
+          gap_replicates: int = 200, joint: bool = False, joint_draws: int = 100) -> FleetResult:
     """Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate,
     group]) selected over `model` as gmwm select does: one row per unit x axis with N, K, B, the
     fleet's summary and the units that stand out (the document gmwm fleet --json writes).
@@ -134,7 +134,9 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
     checked against them (rows' "spec", "spec_verdict"; the summary's "out_of_spec").
     gap_kalibr / gap_gazebo / gap_datasheet (at most one): each recording's gap diagnosis
     against that baseline, as gmwm gap gives it (rows' "gap": verdict, headline, p_value);
-    gap_imu names a Kalibr chain's IMU, gap_replicates the reference replicates."""
+    gap_imu names a Kalibr chain's IMU, gap_replicates the reference replicates.
+    joint: each group's joint model per axis (its units as replicates; result.joint), the
+    shared-theta test by bootstrap (joint_draws) up to 12 units, by its chi-square beyond."""
     from . import _fleet_dask
 
     runner = None if scheduler is None else _fleet_dask.runner(scheduler)
@@ -146,7 +148,8 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
     return _fleet_raw(os.fspath(manifest), model=model, alpha=alpha, seed=seed, memory=memory,
                       cache=None if cache is None else os.fspath(cache), runner=runner,
                       spec="" if spec is None else os.fspath(spec), gap_format=gap_format,
-                      gap_path=os.fspath(gap_path), gap_imu=gap_imu, gap_replicates=gap_replicates)
+                      gap_path=os.fspath(gap_path), gap_imu=gap_imu, gap_replicates=gap_replicates, joint=joint,
+                      joint_draws=joint_draws)
 
 
 def _result_document(result: Any) -> tuple[str, str]:
@@ -210,5 +213,5 @@ __all__ = [
     "JointFitColumn", "ReplicateFit", "ReplicateOwnFit", "Agmwm", "ReplicateBootstrap", "ReplicateTest",
     "JointSelectColumn", "JointRankingRow",
     "ExportColumn", "ExportWritten", "WrittenNoise", "GaussMarkov", "ConsistentFor",
-    "FleetResult", "FleetRow", "FleetFigure", "FleetFigureSummary", "FleetSpecCheck",
+    "FleetResult", "FleetRow", "FleetFigure", "FleetFigureSummary", "FleetSpecCheck", "FleetJointModel",
 ]

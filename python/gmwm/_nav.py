@@ -428,6 +428,40 @@ class FleetFigureSummary:
     out_of_spec: tuple[str, ...] = ()
 
 
+@dataclass(frozen=True)
+class FleetJointModel:
+    """The joint model of a group's axis (`gmwm fleet --joint`): its units as replicates (the
+    ones that stand out `left_out`), the selection's `recommended` model and its `model` with
+    values, the typical unit's N, K, B, and the shared-theta test (`shared`: the units share
+    one theta at 5%; `heterogeneity_p`, `calibration` 'bootstrap' or 'chi-square'). `status`
+    says why there is none."""
+
+    group: str
+    axis: str
+    units: int
+    left_out: tuple[str, ...]
+    status: str
+    unit: str
+    recommended: str | None
+    model: str | None
+    N: FleetFigure | None
+    K: FleetFigure | None
+    B: FleetFigure | None
+    heterogeneity: float
+    heterogeneity_p: float
+    calibration: str | None
+    shared: bool | None
+    seconds: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "FleetJointModel":
+        t = d.get("replicate_test") or {}
+        return cls(d["group"], d["axis"], int(d["units"]), strings(d.get("left_out", [])), d["status"], d["unit"],
+                   d.get("recommended"), d.get("model"), FleetFigure.from_dict(d.get("N")),
+                   FleetFigure.from_dict(d.get("K")), FleetFigure.from_dict(d.get("B")), num(t.get("heterogeneity")),
+                   num(t.get("heterogeneity_p_value")), t.get("calibration"), t.get("shared"), num(d["seconds"]))
+
+
 @dataclass(frozen=True, eq=False)
 class FleetResult(JsonResult):
     """The document `gmwm fleet MANIFEST --json` writes (gmwm.fleet): `rows` (one per unit x
@@ -443,6 +477,7 @@ class FleetResult(JsonResult):
     cache: str | None = None
     spec: str | None = None
     gap_baseline: str | None = None
+    joint: tuple[FleetJointModel, ...] = ()
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "FleetResult":
@@ -461,7 +496,8 @@ class FleetResult(JsonResult):
                                strings(s.get("out_of_spec", [])))
             for s in d["summary"])
         return cls(d, text, d["manifest"], d["model_spec"], int(d["recordings"]), int(d["failed"]), rows, summary,
-                   int(d.get("cached", 0)), d.get("cache"), d.get("spec"), d.get("gap_baseline"))
+                   int(d.get("cached", 0)), d.get("cache"), d.get("spec"), d.get("gap_baseline"),
+                   tuple(FleetJointModel.from_dict(j) for j in d.get("joint", [])))
 
     def to_dataframe(self) -> Any:
         """The rows as a pandas DataFrame (N, K, B as value columns with _low and _high);

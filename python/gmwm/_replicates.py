@@ -70,7 +70,8 @@ class ReplicateBootstrap:
 
 @dataclass(frozen=True, eq=False)
 class ReplicateTest:
-    """The bootstrap test of whether the recordings share one theta."""
+    """The test of whether the recordings share one theta (parametric bootstrap, or its
+    chi-square calibration)."""
 
     heterogeneity: float
     heterogeneity_p_value: float
@@ -78,6 +79,9 @@ class ReplicateTest:
     p_value: float
     own_minimum: np.ndarray
     draws: int
+    calibration: str = "bootstrap"  #: 'bootstrap' or 'chi-square' (docs/multi-signal.md)
+    df_heterogeneity: float = float("nan")  #: the chi-square's degrees of freedom (NaN: bootstrap)
+    df_statistic: float = float("nan")
 
     def __repr__(self) -> str:
         return f"ReplicateTest(p={g(self.p_value, 3)}, heterogeneity p={g(self.heterogeneity_p_value, 3)})"
@@ -120,7 +124,8 @@ class JointFitColumn(JsonResult, HasParameters):
                                                          int(b["draws"]), bool(b["exhaustive"]))
         test = None if t is None else ReplicateTest(num(t["heterogeneity"]), num(t["heterogeneity_p_value"]),
                                                     num(t["statistic"]), num(t["p_value"]), floats(t["own_minimum"]),
-                                                    int(t["draws"]))
+                                                    int(t["draws"]), t.get("calibration", "bootstrap"),
+                                                    num(t.get("df_heterogeneity")), num(t.get("df_statistic")))
         return cls(d, text, d["name"], num(d["freq"]), reps, d["model"], d["model_structure"],
                    parameters(d["parameters"]),
                    Agmwm(floats([a["value"] for a in d["agmwm"]]), floats([a["se"] for a in d["agmwm"]])),

@@ -115,3 +115,15 @@ def test_fleet_diagnoses_each_units_gap_against_a_datasheet_as_gap_does(fleet_di
     assert json.loads(gap.stdout)["columns"][0]["headline"] == sn3[0].gap_headline
     with pytest.raises(gmwm.InputError, match="give one gap baseline"):
         gmwm.fleet("fleet.csv", model="WN+RW", gap_datasheet="sheet.yaml", gap_kalibr="sheet.yaml")
+
+
+def test_fleet_joint_gives_each_groups_axis_its_typical_units_model_typed(fleet_dir, monkeypatch):
+    monkeypatch.chdir(fleet_dir)
+    t = gmwm.fleet("fleet.csv", model="WN+RW", joint=True, joint_draws=39, cache=None)
+    assert len(t.joint) == 2
+    for j in t.joint:
+        assert isinstance(j, gmwm.FleetJointModel)
+        # SN3 stands out on N: left out of the typical unit's model.
+        assert (j.status, j.units, j.left_out, j.calibration) == ("ok", 4, ("SN3",), "bootstrap"), j
+        assert j.N.value == pytest.approx(1e-3, rel=0.03)
+        assert isinstance(j.shared, bool) and 0.0 < j.heterogeneity_p <= 1.0

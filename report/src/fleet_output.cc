@@ -61,6 +61,54 @@ std::string spec_word(const fleet::FleetRow& r) {
   return unknown.empty() ? "pass" : "unknown (" + unknown + ")";
 }
 
+Json replicate_test_json(const ReplicateTest& t) {
+  return {{"heterogeneity", json_number(t.heterogeneity)},
+          {"heterogeneity_p_value", json_number(t.heterogeneity_p)},
+          {"statistic", json_number(t.statistic)},
+          {"p_value", json_number(t.p_value)},
+          {"calibration", to_string(t.calibration)},
+          {"df_heterogeneity", json_number(t.df_heterogeneity)},
+          {"df_statistic", json_number(t.df_statistic)},
+          {"draws", t.draws},
+          {"shared", !t.rejects()}};
+}
+
+Json joint_json(const fleet::FleetJointModel& m) {
+  Json j = {{"group", m.group},     {"axis", m.axis},          {"units", m.units}, {"left_out", m.left_out},
+            {"status", m.status},   {"unit", m.unit},          {"freq", json_number(m.freq)},
+            {"n", m.n},             {"seconds", json_number(m.seconds)}};
+  if (m.status != "ok") return j;
+  const FitResult& f = m.fit.joint;
+  j["recommended"] = m.recommended;
+  j["chosen"] = m.chosen;
+  j["model"] = f.model.to_string(f.theta);
+  j["parameters"] = parameters_json(f);
+  if (m.intervals) {
+    Json lo = Json::array(), hi = Json::array();
+    for (const auto& p : parameter_rows(replicate_bootstrap_as_fit(m.fit, *m.intervals))) {
+      lo.push_back(json_number(p.ci_low));
+      hi.push_back(json_number(p.ci_high));
+    }
+    j["replicate_bootstrap"] = {{"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi},
+                                {"draws", m.intervals->draws}};
+  }
+  j["gof"] = {{"statistic", json_number(f.gof.statistic)},
+              {"df", f.gof.df},
+              {"p_value", json_number(f.gof.p_value)},
+              {"method", f.gof.method}};
+  j["replicate_test"] = m.test ? replicate_test_json(*m.test) : Json(nullptr);
+  const char* names[] = {"N", "K", "B"};
+  for (int k = 0; k < 3; ++k) {
+    if (!m.figures) {
+      j[names[k]] = nullptr;
+      continue;
+    }
+    const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
+    j[names[k]] = figure_json(c);
+  }
+  return j;
+}
+
 }  // namespace
 
 Json fleet_document(const fleet::FleetStudy& study) {
@@ -118,6 +166,9 @@ Json fleet_document(const fleet::FleetStudy& study) {
                        {"flagged", s.flagged},
                        {"out_of_spec", s.out_of_spec}});
   doc["summary"] = std::move(summary);
+  Json joint = Json::array();
+  for (const fleet::FleetJointModel& m : study.joint) joint.push_back(joint_json(m));
+  doc["joint"] = std::move(joint);
   doc["outlier_rule"] = {{"robust_z", fleet::kFleetOutlierZ}, {"min_units", fleet::kMinUnitsForFlags}};
   return doc;
 }
@@ -153,9 +204,10 @@ std::string figure_text(char figure, double value, const std::string& unit, doub
   const std::string x = spread > 0.0 ? " x" + fmt(spread, 3) : std::string();
   if (const std::optional<DatasheetValue> d = datasheet_value(figure, value, unit))
     return fmt(d->value, 3) + " " + d->unit + x;
-  const std::string u = unit.empty() ? "U" : unit;
+  // The data's unit unknown: the number alone (the headings say N in U/sqrt(Hz), ...).
+  if (unit.empty()) return fmt(value, 3) + x;
   const char* per = figure == 'N' ? "/sqrt(Hz)" : figure == 'K' ? "/s/sqrt(Hz)" : "";
-  return fmt(value, 3) + " " + u + per + x;
+  return fmt(value, 3) + " " + unit + per + x;
 }
 
 std::string summary_table(const fleet::FleetStudy& study) {
@@ -226,6 +278,34 @@ std::string gap_table(const fleet::FleetStudy& study) {
   return t.str();
 }
 
+// Each group's axis: the joint model's structure, N, K, B (datasheet units) and whether its
+// units share one theta; a model that could not be had says why.
+std::string joint_text(const fleet::FleetStudy& study) {
+  TextTable t({"group", "axis", "units", "joint model", "N", "K", "B", "shared?"}, 3);
+  std::string why;
+  for (const fleet::FleetJointModel& m : study.joint) {
+    if (m.status != "ok") {
+      why += "  " + m.group + ", " + m.axis + ": " + m.status + "\n";
+      continue;
+    }
+    auto fig = [&](int k) {
+      if (!m.figures) return std::string("-");
+      const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
+      return (c.figure.status == ReadoffStatus::kBound ? "< " : "") + figure_text("NKB"[k], c.figure.value, m.unit, 0.0);
+    };
+    std::string shared = "-";
+    if (m.test)
+      shared = std::string(m.test->rejects() ? "no" : "yes") + " p " + fmt(m.test->heterogeneity_p, 2) +
+               (m.test->calibration == ReplicateCalibration::kChiSquare ? " chi2" : "");
+    t.add({m.group, m.axis, std::to_string(m.units) + (m.left_out.empty() ? "" : "+" + std::to_string(m.left_out.size())),
+           m.recommended, fig(0), fig(1), fig(2), shared});
+  }
+  return "the joint model of each group's axis: its units as replicates (the selection over them; +k: the units that "
+         "stand out, left out), N, K, B of the group's typical unit, and whether the units share one theta (the "
+         "shared-theta test's p, chi2 where calibrated by its chi-square beyond 12 units):\n" +
+         t.str() + why;
+}
+
 std::string unit_table(const fleet::FleetStudy& study) {
   TextTable t({"unit", "axis", "N", "K", "B", "GoF p", "chosen"}, 2);
   for (const fleet::FleetRow& r : study.rows) {
@@ -248,7 +328,8 @@ std::string fleet_text(const fleet::FleetStudy& study, bool verbose) {
   os << study.manifest << ": " << study.recordings << " recordings, " << study.failed << " failed"
      << (study.cache_dir.empty() ? std::string()
                                  : ", " + std::to_string(study.cached) + " from the cache " + study.cache_dir)
-     << "; each selected over " << study.model_spec << "\n";
+     << "; each selected over " << study.model_spec
+     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U, U the data's unit, unless in datasheet units)\n";
   os << "\nper group and axis: the median of the units' figures, xS their spread (one robust sigma as a factor, "
         "exp(MAD of the logs / 0.6745)):\n"
      << summary_table(study);
@@ -279,6 +360,7 @@ std::string fleet_text(const fleet::FleetStudy& study, bool verbose) {
         headlines += "  " + r.unit + ", " + r.axis + ": " + r.gap_verdict + ": " + r.gap_headline + "\n";
     os << headlines;
   }
+  if (!study.joint.empty()) os << "\n" << joint_text(study);
   if (!failures.empty()) os << "failed:\n" << failures;
   const std::size_t axes = study.rows.size() - static_cast<std::size_t>(study.failed);
   if (verbose || axes <= kFleetTerminalRows)

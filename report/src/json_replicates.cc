@@ -72,7 +72,10 @@ Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& 
                                       {"statistic", json_number(test->statistic)},
                                       {"p_value", json_number(test->p_value)},
                                       {"own_minimum", test->own_minimum},
-                                      {"draws", test->draws}}
+                                      {"draws", test->draws},
+                                      {"calibration", to_string(test->calibration)},
+                                      {"df_heterogeneity", json_number(test->df_heterogeneity)},
+                                      {"df_statistic", json_number(test->df_statistic)}}
                                : Json(nullptr);
   return col;
 }

@@ -417,6 +417,35 @@ TEST_F(GmwmFleet, DiagnosesEachUnitsGapAgainstTheBaselineAsGapDoes) {
   gmwm::test::expect_bad_input(bad, {"--gap-datasheet", "bad.yaml:2", "without a unit"}, dir_ / "b.json");
 }
 
+// --joint: each group's axis's joint model (its units as replicates) with the shared-theta test.
+TEST_F(GmwmFleet, GivesEachGroupsAxisItsJointModelWithTheSharedThetaTest) {
+  write("fleet.csv", "path,unit,model,units\nunit1.csv,SN1,IMU-X,gyro=rad/s\nunit2.csv,SN2,IMU-X,gyro=rad/s\n"
+                     "unit3.csv,SN3,IMU-X,gyro=rad/s\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--joint", "--joint-draws", "39", "--json", "f.json"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "f.json");
+  ASSERT_EQ(doc.at("joint").size(), 2u);  // gyro_x, gyro_y
+  for (const json& j : doc.at("joint")) {
+    EXPECT_EQ(j.at("status"), "ok") << j.dump();
+    EXPECT_EQ(j.at("units"), 3);
+    EXPECT_EQ(j.at("unit"), "rad/s");
+    // The three units share the truth WN(sigma2=1e-4)+RW(gamma2=1e-10): N = 1e-3 rad/s/sqrt(Hz),
+    // and the test (bootstrap, 3 units) does not reject. (164 s of each do not always show the
+    // random walk: the smallest equivalent model may be WN alone.)
+    EXPECT_TRUE(j.at("recommended") == "WN+RW" || j.at("recommended") == "WN") << j.dump();
+    EXPECT_NEAR(j.at("N").at("value").get<double>(), 1e-3, 0.02e-3) << j.dump();
+    EXPECT_EQ(j.at("replicate_test").at("calibration"), "bootstrap");
+    EXPECT_EQ(j.at("replicate_test").at("draws"), 39);
+    EXPECT_TRUE(j.at("replicate_test").at("shared").get<bool>()) << j.dump();
+  }
+  EXPECT_NE(r.out.find("the joint model of each group's axis"), std::string::npos) << r.out;
+  // Without --joint: none.
+  auto plain = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "p.json", "--quiet"}, dir_);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_TRUE(read_json(dir_ / "p.json").at("joint").empty());
+}
+
 // Issue 30's acceptance on real units: the three ADIS16405 recordings as a fleet of three give
 // the table `gmwm select` gives each of them.
 TEST_F(GmwmFleet, TheThreeAdisUnitsAsAFleetGiveWhatSelectGivesEachUnit) {

@@ -34,6 +34,8 @@ struct FleetArgs {
   std::string spec;       ///< --spec FILE: the datasheet limits per sensor model
   std::string gap_kalibr, gap_gazebo, gap_datasheet;  ///< --gap-kalibr FILE[:imuN], --gap-gazebo, --gap-datasheet
   int gap_replicates = fleet::FleetGapBaseline{}.replicates;
+  bool joint = false;  ///< --joint: each group's axis's joint model
+  int joint_draws = fleet::FleetStudyOptions::Joint{}.test_draws;
 };
 
 // The rate a gap baseline is checked at before any work when the manifest's first row gives
@@ -89,6 +91,8 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   o.select.fit.max_evaluations = a.max_evaluations;
   o.select.seed = common.seed;
   if (a.memory_mb) o.memory_budget = *a.memory_mb * 1e6;
+  o.joint.enabled = a.joint;
+  o.joint.test_draws = a.joint_draws;
   if (!a.no_cache) o.cache_dir = a.cache ? *a.cache : fleet::default_fleet_cache_dir(a.manifest);
   if (!a.scheduler.empty()) {
     check_scheduler_address(a.scheduler);
@@ -168,6 +172,13 @@ Command add_fleet_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--gap-replicates", args->gap_replicates,
                   "Reference replicates of each column's gap diagnosis (fewer: faster, coarser)")
       ->transform(whole_number(20, 100000))
+      ->capture_default_str();
+  sub->add_flag("--joint", args->joint,
+                "Also each group's joint model per axis (its units as replicates): the selection over them, the "
+                "shared-theta test, the typical unit's N, K, B");
+  sub->add_option("--joint-draws", args->joint_draws,
+                  "Bootstrap draws of the shared-theta test for groups of up to 12 units (beyond: chi-square)")
+      ->transform(whole_number(19, 100000))
       ->capture_default_str();
   sub->add_flag("--no-cache", args->no_cache, "Neither read nor write cached records")->excludes("--cache");
   sub->add_option("--scheduler", args->scheduler,

@@ -30,6 +30,7 @@
 
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -91,6 +92,14 @@ struct FleetStudyOptions {
   /// Each recording's gap diagnosis against this baseline (none: no diagnosis). Part of the
   /// tasks and of the cache key.
   std::optional<FleetGapBaseline> gap;
+  /// The joint model of each group's axis (fleet_joint.h): off by default (it costs a
+  /// selection over the group's units per axis: ~20 s for 495 units of 2^18 samples).
+  struct Joint {
+    bool enabled = false;
+    /// Draws of the shared-theta test's bootstrap for groups of at most
+    /// kMaxBootstrapTestUnits units (beyond: its chi-square calibration).
+    int test_draws = 100;
+  } joint;
   /// The folder of cached records (fleet_cache.h); empty: no cache.
   std::string cache_dir;
   /// Where the recordings that are not cached run; empty: here, one after another (each
@@ -162,6 +171,38 @@ struct FleetCurves {
   std::vector<double> model;  ///< the chosen model's Allan deviation on adev's grid (may be empty)
 };
 
+/// The most units whose shared-theta test is calibrated by its parametric bootstrap (K x B
+/// simulated records: 3.7 s for 12 units of 2^18 samples at B = 100); beyond, by its
+/// asymptotic chi-square (Newey and West 1987; its level measured at 0-5% where the
+/// bootstrap holds 4-5%, tools/bench/results/2026-11-28-joint-scaling.md), as a 495-unit
+/// bootstrap takes 213 s per axis.
+inline constexpr int kMaxBootstrapTestUnits = 12;
+
+/// Resamples of the units for the replicate-t intervals (every distinct one up to 5 units).
+inline constexpr int kJointIntervalDraws = 200;
+
+struct FleetJointModel {
+  std::string group, axis;
+  int units = 0;              ///< units taken as replicates (their rows "ok", one rate)
+  /// The units that stand out from the group on this axis (their rows' flags), left out:
+  /// the joint model is the typical unit's, which a few outliers would pull (it pools the
+  /// units' variances, a mean, not a median).
+  std::vector<std::string> left_out;
+  std::string status = "ok";  ///< "ok", or why the group's axis has no joint model (one line)
+  /// The unit of the values and figures: the data unit the units share, else the SI unit
+  /// (units recorded in different units are converted to it).
+  std::string unit;
+  double freq = NAN;
+  std::int64_t n = 0;        ///< the longest unit's samples (the figures' averaging factors)
+  std::string recommended;   ///< the selection's recommended model (without values)
+  std::string chosen;        ///< its smallest CV-WVIC (may be larger than the recommended)
+  JointFitResult fit;        ///< the recommended model fitted jointly (fit.joint)
+  std::optional<ReplicateTest> test;            ///< the shared-theta test
+  std::optional<ReplicateBootstrap> intervals;  ///< replicate-t intervals
+  std::optional<ChosenFigures> figures;         ///< N, K, B of the joint model
+  double seconds = 0.0;
+};
+
 /// The z-score beyond which a unit stands out from its group, on log N, log K, log B (the
 /// figures are scale quantities: a unit twice as noisy and one half as noisy are as far from
 /// the fleet): z = (log x - median) / sqrt(tau^2 + se^2), tau^2 = (MAD / 0.6745)^2 - median(se^2)
@@ -200,6 +241,7 @@ struct FleetStudy {
   std::vector<FleetRow> rows;               ///< by recording in manifest order, then by axis
   std::vector<FleetCurves> curves;          ///< per row (empty curves for a failed row)
   std::vector<FleetFigureSummary> summary;  ///< per group, axis and figure (fleet_summary)
+  std::vector<FleetJointModel> joint;       ///< per group and axis, with options.joint (fleet_joint.h)
   int recordings = 0, failed = 0;
   int cached = 0;  ///< recordings whose record came from the cache
   std::string cache_dir;
