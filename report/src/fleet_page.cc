@@ -1216,6 +1216,50 @@ std::string summary_table(const FleetStudy& s, const FleetGroupView& g) {
   return os.str() + "</table>\n";
 }
 
+// The group's joint model per axis (`--joint`): its units as replicates, the typical unit's
+// N, K, B, and whether the units share one theta.
+std::string joint_table(const FleetStudy& s, const FleetGroupView& g) {
+  std::ostringstream os;
+  bool any = false;
+  for (const fleet::FleetJointModel& m : s.joint) any = any || m.group == g.name;
+  if (!any) return {};
+  os << "<h3>joint model</h3>\n<table class=\"fleet-joint\">\n<caption>per axis, the units as replicates of one "
+        "sensor: the selection over them recommends a model, fitted jointly (the units that stand out left out); "
+        "its N, K, B are the group's typical unit's, with replicate-t intervals from the units resampled; the "
+        "shared-theta test says whether the units differ beyond their own noise (bootstrap up to 12 units, "
+        "chi-square beyond)</caption>\n";
+  os << head_row({"axis", "units", "left out", "model", "N", "K", "B", "shared theta?"});
+  for (const fleet::FleetJointModel& m : s.joint) {
+    if (m.group != g.name) continue;
+    std::string left;
+    for (const std::string& u : m.left_out) left += (left.empty() ? "" : ", ") + u;
+    os << "<tr>" << td(m.axis) << td(std::to_string(m.units), "num") << td(left.empty() ? "none" : left);
+    if (m.status != "ok") {
+      os << "<td colspan=\"5\">" << html_escape(m.status) << "</td></tr>\n";
+      continue;
+    }
+    os << td(m.fit.joint.model.to_string(m.fit.joint.theta));
+    for (int k = 0; k < 3; ++k) {
+      if (!m.figures) {
+        os << td("-");
+        continue;
+      }
+      const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
+      const Readoff& f = c.figure;
+      const std::string unit = pattern("NKB"[k], m.unit);
+      std::string text = (f.status == ReadoffStatus::kBound ? "< " : "") + with_unit(f.value, unit);
+      if (std::isfinite(f.low) && std::isfinite(f.high)) text += " [" + num(f.low, 3) + ", " + num(f.high, 3) + "]";
+      os << td(text, "num");
+    }
+    std::string shared = "-";
+    if (m.test)
+      shared = std::string(m.test->rejects() ? "no" : "yes") + " (H = " + num(m.test->heterogeneity, 4) + ", p " +
+               num(m.test->heterogeneity_p, 2) + ", " + to_string(m.test->calibration) + ")";
+    os << td(shared) << "</tr>\n";
+  }
+  return os.str() + "</table>\n";
+}
+
 std::string axis_section(const FleetAxisView& a, const std::string& group, const std::string& id,
                          detail::Plots& plots) {
   std::ostringstream os;
@@ -1247,7 +1291,7 @@ std::string group_section(const FleetStudy& s, const FleetGroupView& g, std::siz
   os << flagged_table(s, g) << failure_table(s, g);
   for (std::size_t a = 0; a < g.axes.size(); ++a)
     os << axis_section(g.axes[a], g.name, id + "-axis-" + std::to_string(a + 1), plots);
-  if (!g.axes.empty()) os << summary_table(s, g);
+  if (!g.axes.empty()) os << summary_table(s, g) << joint_table(s, g);
   os << "</section>\n";
   return os.str();
 }

@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gmwm/engine/model_syntax.h"
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/io/output_set.h"
 #include "gmwm/report/fleet_page.h"
@@ -533,6 +534,44 @@ TEST(FleetPage, AStudyWithoutRecordingsIsAPageThatSaysSo) {
   EXPECT_TRUE(fleet_page_data(s).groups.empty());
   EXPECT_NE(gmwm::report::render_fleet_page(s).find("The manifest has no recording."), std::string::npos);
   EXPECT_EQ(gmwm::report::render_fleet_svg(fleet_page_data(s)), "");
+}
+
+TEST(FleetPage, ListsEachAxissJointModelWithTheUnitsLeftOutAndWhyAnAxisHasNone) {
+  REQUIRE_VEGA();
+  FleetStudy s = fleet_of(8, 5, 2.0, "gyro_x", kHostileUnit);
+  gmwm::fleet::FleetJointModel m;
+  m.group = s.rows.front().group;
+  m.axis = "gyro_x";
+  m.units = 7;
+  m.left_out = {kHostileUnit};
+  m.unit = "rad/s";
+  m.fit.joint.model = gmwm::parse_model("WN");
+  m.fit.joint.theta = Eigen::VectorXd::Constant(1, 1e-4);
+  gmwm::ChosenFigures f;
+  f.white.figure = readoff(1e-3, 1.0);
+  f.white.figure.low = 0.98e-3;
+  f.white.figure.high = 1.02e-3;
+  m.figures = f;
+  gmwm::ReplicateTest t;
+  t.heterogeneity = 120.0;
+  t.heterogeneity_p = 0.001;
+  t.calibration = gmwm::ReplicateCalibration::kChiSquare;
+  m.test = t;
+  s.joint.push_back(m);
+  gmwm::fleet::FleetJointModel none;
+  none.group = m.group;
+  none.axis = "gyro_y";
+  none.status = "a joint model needs 2 units or more with a result, found 1";
+  s.joint.push_back(none);
+  const std::string page = gmwm::report::render_fleet_page(s);
+  EXPECT_NE(page.find("<h3>joint model</h3>"), std::string::npos);
+  EXPECT_NE(page.find("<td>&lt;/script&gt;&lt;img src=x onerror=alert(1)&gt;</td>"), std::string::npos);
+  EXPECT_EQ(page.find(kHostileUnit), std::string::npos);
+  EXPECT_NE(page.find("1 rad/s/sqrt(Hz)"), std::string::npos) << "N in the data's unit pattern";
+  EXPECT_NE(page.find("no (H = 120, p 0.001, chi-square)"), std::string::npos);
+  EXPECT_NE(page.find("a joint model needs 2 units or more with a result, found 1"), std::string::npos);
+  // Without --joint the table is absent.
+  EXPECT_EQ(gmwm::report::render_fleet_page(fleet_of(8)).find("<h3>joint model</h3>"), std::string::npos);
 }
 
 }  // namespace
