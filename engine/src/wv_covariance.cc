@@ -62,6 +62,13 @@ constexpr std::int64_t kBreakpointMargin = 3;
 // component's memory, not the record's length (a table of 3N long doubles per component
 // cost 72 MB and half the selection's time at N = 1e6). Components that never decay
 // (SIN) are tabulated to the full reach.
+// exp(-60) = 9e-27: a geometric remainder rho^n below it is 0 at long-double precision
+// (the reach of the remainder when V(T) gives no scale to compare it with).
+constexpr double kNegligibleExponent = 60.0;
+// The remainder's term is dropped once below this share of |V(T)|: long double's epsilon
+// is 5.4e-20, and V beyond T only grows.
+constexpr double kRemainderPrecision = 1e-21;
+
 struct ComponentTable {
   std::vector<long double> V;  // V(0 .. T), T = V.size() - 1
   long double G_prev = 0.0L;   // G(T - 1) = sum_{|k| <= T-1} (g(k) - g0)
@@ -72,6 +79,13 @@ struct ComponentTable {
   long double beta = 0.0L;
   long double C = 0.0L;
   long double rho = 0.0L;
+  double log_rho = 0.0;  // ln(rho): rho^n as exp(n ln rho) (powl in the lag loop cost 4x the whole sum)
+  // 2 C rho / (1 - rho) and rho / (1 - rho), once per table (long-double divisions in the
+  // lag loop cost a third of the sum).
+  long double geometric_scale = 0.0L, geometric_shift = 0.0L;
+  // Lags beyond the table past which geometric_scale geometric_shift rho^n is below
+  // kRemainderPrecision |V(T)| (V only grows beyond T).
+  long double geometric_reach = 0.0L;
   std::int64_t support = 0;  // lags beyond which the component's c_ij(h) vanishes
   bool oscillating = false;  // no decay found (SIN): sum lag by lag
 
@@ -83,8 +97,12 @@ struct ComponentTable {
     const long double n = static_cast<long double>(d - T);
     long double v = V.back() + n * G_prev + A * n * (n + 1.0L) + beta * n * (n + 1.0L) * (n + 2.0L) / 3.0L;
     if (C != 0.0L) {
-      const long double q = 1.0L - rho;
-      v += 2.0L * C * rho / q * (n - rho * (1.0L - std::pow(rho, n)) / q);
+      // rho^n in single precision (it scales the remainder's own correction, itself ~1e-6
+      // of the curvature, kTailTolerance), and only up to geometric_reach: beyond, its term is
+      // below long-double precision of V.
+      long double rn = 0.0L;
+      if (n < geometric_reach) rn = static_cast<long double>(std::exp(static_cast<float>(static_cast<double>(n) * log_rho)));
+      v += geometric_scale * (n - geometric_shift * (1.0L - rn));
     }
     return v;
   }
@@ -114,9 +132,17 @@ void fit_tail(ComponentTable& t, const std::vector<double>& g, std::int64_t T) {
   // C = s2 rho^2 / (rho - 1)^2 and A = g(T - 1) - g0 - C.
   const long double q = rho - 1.0L;
   t.rho = rho;
+  t.log_rho = std::log(static_cast<double>(rho));
   t.beta = d3 - s2 * rho / q;
   t.C = s2 * rho * rho / (q * q);
   t.A = at(T - 1) - g0 - t.C;
+  t.geometric_scale = 2.0L * t.C * rho / (1.0L - rho);
+  t.geometric_shift = rho / (1.0L - rho);
+  const double amplitude = std::abs(static_cast<double>(t.geometric_scale * t.geometric_shift));
+  const double floor = kRemainderPrecision * std::abs(static_cast<double>(t.V.empty() ? 0.0L : t.V.back()));
+  t.geometric_reach = amplitude > 0.0 && floor > 0.0 && floor < amplitude
+                          ? static_cast<long double>(std::log(floor / amplitude) / t.log_rho)
+                          : static_cast<long double>(kNegligibleExponent / -t.log_rho);
 }
 
 // First lag window over which the support is searched; doubled until the significant
