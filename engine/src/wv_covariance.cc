@@ -97,11 +97,11 @@ struct ComponentTable {
     const long double n = static_cast<long double>(d - T);
     long double v = V.back() + n * G_prev + A * n * (n + 1.0L) + beta * n * (n + 1.0L) * (n + 2.0L) / 3.0L;
     if (C != 0.0L) {
-      // rho^n in single precision (it scales the remainder's own correction, itself ~1e-6
-      // of the curvature, kTailTolerance), and only up to geometric_reach: beyond, its term is
-      // below long-double precision of V.
+      // rho^n in double (single precision broke V's positive definiteness at phi 0.99999,
+      // whose remainder is large), and only up to geometric_reach: beyond, its term is below
+      // long-double precision of V.
       long double rn = 0.0L;
-      if (n < geometric_reach) rn = static_cast<long double>(std::exp(static_cast<float>(static_cast<double>(n) * log_rho)));
+      if (n < geometric_reach) rn = static_cast<long double>(std::exp(static_cast<double>(n) * log_rho));
       v += geometric_scale * (n - geometric_shift * (1.0L - rn));
     }
     return v;
