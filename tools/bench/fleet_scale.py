@@ -120,7 +120,7 @@ def score_flags(doc: dict, planted: dict[str, str]) -> dict:
     }
 
 
-def dask_run(build: str, work: str, workers: int) -> float:
+def dask_run(build: str, work: str, workers: int, extra: list[str]) -> float:
     import distributed
 
     # The workers import gmwm: the build tree's package first on their path (they inherit it).
@@ -130,7 +130,7 @@ def dask_run(build: str, work: str, workers: int) -> float:
 
     with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                   dashboard_address=None) as cluster:
-        return run_fleet(build, work, "dask", ["--scheduler", cluster.scheduler_address])
+        return run_fleet(build, work, "dask", ["--scheduler", cluster.scheduler_address, *extra])
 
 
 def main() -> int:
@@ -150,9 +150,11 @@ def main() -> int:
     local_s = run_fleet(a.build, a.workdir, "local", extra)
     local = without_timings(os.path.join(a.workdir, "local.json"))
     s = score_flags(local, planted)
+    joint_s = sum(j["seconds"] for j in local.get("joint", []))
     lines = [f"# Fleet of {a.units} simulated units x 6 axes x 2^{a.log2n} samples ({a.workdir})", "",
-             f"- local (this machine, {os.cpu_count()} cores): {local_s:.1f} s, "
-             f"{a.units / local_s * 60:.0f} units/min, failed {local['failed']}",
+             f"- local (this machine, {os.cpu_count()} cores): {local_s:.1f} s in all, of which the recordings "
+             f"{local_s - joint_s:.1f} s ({a.units / (local_s - joint_s) * 60:.0f} units/min) and the joint models "
+             f"{joint_s:.1f} s; failed {local['failed']}",
              f"- planted outliers flagged on their figure: {len(s['planted_found'])} of {len(planted)} "
              f"({', '.join(f'{u} ({planted[u]})' for u in s['planted_found'])}); missed: {s['planted_missed'] or 'none'}",
              f"- false flags: {len(s['false_units'])} of {s['normal_units']} normal units "
@@ -160,13 +162,23 @@ def main() -> int:
              f"{s['false_tests']} of {s['tests']} unit x axis x figure tests "
              f"({100 * s['false_tests'] / max(1, s['tests']):.3f}%)"]
     if a.dask:
-        dask_s = dask_run(a.build, a.workdir, 2)
-        same = without_timings(os.path.join(a.workdir, "dask.json")) == local
-        lines.append(f"- Dask LocalCluster, 2 worker processes x 1 thread: {dask_s:.1f} s, "
-                     f"{a.units / dask_s * 60:.0f} units/min; table {'identical' if same else 'DIFFERENT'} to the local "
-                     "one (wall times aside)")
-    for g in local.get("groups", []):
-        lines.append(f"- joint model of group {g.get('group')} axis {g.get('axis')}: {json.dumps(g)[:400]}")
+        dask_s = dask_run(a.build, a.workdir, 2, extra)
+        remote = without_timings(os.path.join(a.workdir, "dask.json"))
+        for doc in (remote, local):
+            for j in doc.get("joint", []):
+                j.pop("seconds", None)
+        same = remote == local
+        lines.append(f"- Dask LocalCluster, 2 worker processes x 1 thread: {dask_s:.1f} s in all, the recordings "
+                     f"{dask_s - joint_s:.1f} s ({a.units / (dask_s - joint_s) * 60:.0f} units/min; the joint models run "
+                     f"on the client as locally); table {'identical' if same else 'DIFFERENT'} to the local one (wall "
+                     "times aside)")
+    for j in local.get("joint", []):
+        t = j.get("replicate_test") or {}
+        fig = {k: (j.get(k) or {}).get("value") for k in ("N", "K", "B")}
+        lines.append(f"- joint model, {j['axis']}: {j['units']} units ({len(j['left_out'])} that stand out left out), "
+                     f"{j.get('recommended')}: N {fig['N']:.4g}, K {fig['K']:.4g}, B {fig['B']:.4g} U; shared-theta "
+                     f"H = {t.get('heterogeneity', float('nan')):.4g} on {t.get('df_heterogeneity')} df "
+                     f"({t.get('calibration')}), p = {t.get('heterogeneity_p_value')}")
     text = "\n".join(lines) + "\n"
     print(text)
     if a.report:
