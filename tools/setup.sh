@@ -17,18 +17,20 @@ if [[ ${1:-} == --demo ]]; then demo=1; fi
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
           libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev zlib1g-dev libssl-dev libcli11-dev
           nlohmann-json3-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev libbz2-dev liblz4-dev
-          libzstd-dev pkg-config)
+          libzstd-dev libcpp-httplib-dev pkg-config)
 # What the tests, the benchmarks and the Python module need besides.
 # libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
 # browser test (tests/cli/html_report_browser_test.cc); python3-rosbag and
 # python3-sensor-msgs: ROS's own writer of the ROS 1 test bags; python3-matplotlib: the
 # plots of docs/python.md, whose cells the suite runs (python/tests/test_docs_python.py);
 # python3-distributed: the fleet's Dask runner and its LocalCluster test
-# (python/tests/test_fleet_dask.py); python3-pandas: FleetResult.to_dataframe().
+# (python/tests/test_fleet_dask.py); python3-pandas: FleetResult.to_dataframe(); nodejs and
+# npm: the web app's browser test (tests/browser: puppeteer-core from the npm registry, pinned
+# by its package-lock.json, driving Debian's chromium).
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
              python3-rosbag python3-sensor-msgs python3-matplotlib python3-distributed python3-pandas libjs-vega
-             chromium)
+             chromium nodejs npm)
 fi
 
 missing=()
@@ -71,6 +73,12 @@ fi
 cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type" \
       -DGMWM_BUILD_TESTS=ON -DGMWM_BUILD_BENCHMARKS=ON -DGMWM_BUILD_PYTHON=ON
 cmake --build "$build_dir" --parallel "$jobs"
+
+# The web app's browser test (tests/browser): puppeteer-core from the npm registry at the
+# versions its package-lock.json pins, into tests/browser/node_modules (not tracked).
+if [[ -f tests/browser/package-lock.json ]] && command -v npm >/dev/null 2>&1 && [[ ! -d tests/browser/node_modules/puppeteer-core ]]; then
+  npm ci --prefix tests/browser --no-audit --no-fund --loglevel=error
+fi
 
 # `import gmwm` from the system Python (Debian's python3, which has python3-numpy): a .pth
 # file naming the build tree's python folder (python/CMakeLists.txt puts the module there).
