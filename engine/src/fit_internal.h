@@ -15,4 +15,10 @@ namespace gmwm::detail {
 void run_inference(const WaveletVariance& wv, const FitOptions& options, bool omega_is_v_inverse, FitResult& r,
                    const Eigen::MatrixXd* parameter_v = nullptr);
 
+/// The Satterthwaite (1946) match of Q ~ sum_k lambda_k chi2_1 (lambda = eig(M V)) to a
+/// scaled chi-square a chi2_b from t1 = tr(M V) and t2 = tr((M V)^2): a = t2 / t1,
+/// b = t1^2 / t2; sets g's p-value and method ("satterthwaite", or "satterthwaite
+/// (degenerate)" with a NaN p when a trace is not positive). g.statistic is the objective.
+void satterthwaite_match(GoodnessOfFit& g, double t1, double t2);
+
 }  // namespace gmwm::detail

@@ -273,17 +273,20 @@ GoodnessOfFit goodness_of_fit(const Eigen::MatrixXd& A, double objective, double
   const Eigen::MatrixXd Binv = B.completeOrthogonalDecomposition().pseudoInverse();
   const Eigen::MatrixXd Pm = Eigen::MatrixXd::Identity(J, J) - A * Binv * A.transpose() * omega;
   const Eigen::MatrixXd MV = Pm.transpose() * omega * Pm * V;
-  const double t1 = MV.trace(), t2 = (MV * MV).trace();
+  detail::satterthwaite_match(g, MV.trace(), (MV * MV).trace());
+  return g;
+}
+
+void detail::satterthwaite_match(GoodnessOfFit& g, double t1, double t2) {
   if (!(t1 > 0.0 && t2 > 0.0)) {
-    g.p_value = nan;
+    g.p_value = std::numeric_limits<double>::quiet_NaN();
     g.method = "satterthwaite (degenerate)";
-    return g;
+    return;
   }
   const double scale = t2 / t1, dof = t1 * t1 / t2;
   g.p_value =
-      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(objective, 0.0) / scale));
+      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(g.statistic, 0.0) / scale));
   g.method = "satterthwaite";
-  return g;
 }
 
 }  // namespace gmwm

@@ -431,15 +431,7 @@ GoodnessOfFit stacked_goodness_of_fit(const ReducedReplicates& r, const Eigen::M
   const Eigen::MatrixXd BU = Binv * (A.transpose() * r.meat * A);
   const double t1 = r.trace_ov - BU.trace();
   const double t2 = r.trace_ov2 - 2.0 * (Binv * (A.transpose() * r.meat2 * A)).trace() + (BU * BU).trace();
-  if (!(t1 > 0.0 && t2 > 0.0)) {
-    g.p_value = std::numeric_limits<double>::quiet_NaN();
-    g.method = "satterthwaite (degenerate)";
-    return g;
-  }
-  const double scale = t2 / t1, dof = t1 * t1 / t2;
-  g.p_value =
-      boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), std::max(objective, 0.0) / scale));
-  g.method = "satterthwaite";
+  detail::satterthwaite_match(g, t1, t2);
   return g;
 }
 

@@ -436,6 +436,18 @@ void add_axes(const io::FleetRecording& r, const io::SignalSet& set, pipeline::S
 
 std::string task_what() { return "fleet task"; }
 
+// A task's or record's JSON of this version; InputError naming r.what otherwise.
+Json parse_versioned(const std::string& text, const Reader& r) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::exception& e) {
+    throw InputError(r.what + ": not JSON (" + e.what() + ")");
+  }
+  if (r.integer(j, "version") != kFleetRecordVersion) malformed(r.what, "version", std::to_string(kFleetRecordVersion));
+  return j;
+}
+
 // The baseline's configuration at the recording's rate and units.
 io::SimConfig gap_config(const FleetGapBaseline& g, double freq, const std::map<io::SensorKind, io::Unit>& units) {
   switch (g.format) {
@@ -548,14 +560,7 @@ std::string fleet_result_key_text(const io::FleetRecording& recording, const Fle
 
 std::string run_fleet_task(const std::string& task_text, const std::function<void(int, int)>& select_progress) {
   const Reader r{task_what()};
-  Json task;
-  try {
-    task = Json::parse(task_text);
-  } catch (const Json::exception& e) {
-    throw InputError(task_what() + ": not JSON (" + e.what() + ")");
-  }
-  if (r.integer(task, "version") != kFleetRecordVersion)
-    malformed(task_what(), "version", std::to_string(kFleetRecordVersion));
+  const Json task = parse_versioned(task_text, r);
   io::FleetRecording rec = read_reading(r, r.at(task, "reading"));
   rec.path = r.text(task, "path");
   FleetStudyOptions o = read_options(r, r.at(task, "options"));
@@ -584,14 +589,7 @@ std::string failed_record_text(const std::string& why) {
 
 FleetRecord parse_fleet_record(const std::string& text, const std::string& source) {
   const Reader r{source};
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::exception& e) {
-    throw InputError(source + ": not JSON (" + e.what() + ")");
-  }
-  if (r.integer(j, "version") != kFleetRecordVersion)
-    malformed(source, "version", std::to_string(kFleetRecordVersion));
+  const Json j = parse_versioned(text, r);
   FleetRecord out;
   out.status = r.text(j, "status");
   out.freq = r.number(j, "freq");

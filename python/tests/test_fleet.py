@@ -2,23 +2,15 @@
 bit, typed rows; the manifest's bad rows are refused with one line each."""
 import json
 import os
-import subprocess
 
 import numpy as np
 import pytest
 
 import gmwm
 
-SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
+from cli_support import run
+
 TRUTH = "WN(sigma2=1e-4)+RW(gamma2=1e-10)"
-
-
-def run(cwd, *args, check=True):
-    done = subprocess.run([CLI, *args], cwd=cwd, capture_output=True, text=True)
-    if check:
-        assert done.returncode == 0, done.stderr
-    return done
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,6 @@ Python (scheduler=) and from the command line (--scheduler ADDRESS); a recording
 a worker is a row with its reason; an address nobody answers is one line, exit 2."""
 import json
 import os
-import subprocess
 
 import pytest
 
@@ -12,16 +11,9 @@ import gmwm
 
 distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed")
 
-SOURCE = os.environ.get("GMWM_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-CLI = os.path.abspath(os.environ.get("GMWM_CLI_PATH", os.path.join(SOURCE, "build", "gmwm")))
+from cli_support import run
+
 TRUTH = "AR1(phi=0.999,sigma2=1e-8)+WN(sigma2=1e-4)+RW(gamma2=1e-10)"
-
-
-def run(cwd, *args, check=True):
-    done = subprocess.run([CLI, *args], cwd=cwd, capture_output=True, text=True)
-    if check:
-        assert done.returncode == 0, done.stderr
-    return done
 
 
 @pytest.fixture(scope="module")

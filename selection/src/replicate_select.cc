@@ -11,6 +11,7 @@
 #include <Eigen/Cholesky>
 #include <boost/random/uniform_int_distribution.hpp>
 
+#include "active_jacobian.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/joint_fit.h"
@@ -181,21 +182,6 @@ SelectOptions::BootstrapDraw reduced_draw(const Part& part, const ReplicateSelec
   };
 }
 
-// The Jacobian at tau without the parameters of the listed components (select.cc's rule
-// for the goodness of fit: the optimism's boundary components left out).
-Eigen::MatrixXd active_jacobian(const Model& model, const Eigen::VectorXd& theta, std::span<const double> tau,
-                                const std::vector<int>& dropped) {
-  const Eigen::MatrixXd full = model.jacobian(theta, tau);
-  std::vector<Eigen::Index> keep;
-  for (int c = 0; c < model.num_components(); ++c) {
-    if (std::find(dropped.begin(), dropped.end(), c) != dropped.end()) continue;
-    for (int k = 0; k < model.components()[static_cast<std::size_t>(c)].process->size(); ++k)
-      keep.push_back(model.offset(c) + k);
-  }
-  Eigen::MatrixXd A(full.rows(), static_cast<Eigen::Index>(keep.size()));
-  for (Eigen::Index a = 0; a < A.cols(); ++a) A.col(a) = full.col(keep[static_cast<std::size_t>(a)]);
-  return A;
-}
 
 // The selection on the reduced WV as the stacked problem's: every objective plus C, and
 // each row's goodness of fit (and so all_rejected) with the stacked degrees of freedom and
@@ -212,7 +198,7 @@ void as_stacked(Selection& sel, const ReducedReplicates& r) {
     row.criterion += r.within;
     const Model& m = row.effective.model;
     row.gof =
-        stacked_goodness_of_fit(r, active_jacobian(m, row.effective.theta, r.wv.tau, row.analytic.boundary_components),
+        stacked_goodness_of_fit(r, detail::active_jacobian(m, row.effective.theta, r.wv.tau, row.analytic.boundary_components),
                                 row.objective, static_cast<double>(r.stacked_levels - row.parameters), false);
   }
   sel.all_rejected = std::all_of(sel.ranking.begin(), sel.ranking.end(), [](const RankedModel& row) {

@@ -13,6 +13,7 @@
 #include <oneapi/tbb/flow_graph.h>
 #include <spdlog/spdlog.h>
 
+#include "active_jacobian.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/model_relations.h"
@@ -246,20 +247,6 @@ std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, 
   return boot;
 }
 
-// The Jacobian of nu at theta without the parameters of the listed components.
-Eigen::MatrixXd active_jacobian(const Model& model, const Eigen::VectorXd& theta, std::span<const double> tau,
-                                const std::vector<int>& dropped) {
-  const Eigen::MatrixXd full = model.jacobian(theta, tau);
-  std::vector<Eigen::Index> keep;
-  for (int c = 0; c < model.num_components(); ++c) {
-    if (std::find(dropped.begin(), dropped.end(), c) != dropped.end()) continue;
-    for (int k = 0; k < model.components()[static_cast<std::size_t>(c)].process->size(); ++k)
-      keep.push_back(model.offset(c) + k);
-  }
-  Eigen::MatrixXd A(full.rows(), static_cast<Eigen::Index>(keep.size()));
-  for (Eigen::Index a = 0; a < A.cols(); ++a) A.col(a) = full.col(keep[static_cast<std::size_t>(a)]);
-  return A;
-}
 
 // Indices of `ranking` sorted by crit (NaN last); criteria within kTieTolerance
 // (relative) of a run's first are ordered by fewer parameters.
@@ -304,7 +291,7 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
     const Model& m = c.effective.model;
     r.analytic = analytic_optimism(m, c.effective.theta, wv.tau, wv.values(), omega, v);
     if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
-    r.gof = goodness_of_fit(active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components), r.objective,
+    r.gof = goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components), r.objective,
                             static_cast<double>(wv.levels() - r.parameters), omega, v, omega_is_v_inverse);
   }
   if (boot) {

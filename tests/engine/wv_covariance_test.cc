@@ -83,37 +83,41 @@ TEST(WvCovariance, IncludesTheDriftTimesNoiseTermAndAgreesWithMonteCarlo) {
 // Cov(nuhat_i, nuhat_j) = 2 sum_h n_ij(h) c_ij(h)^2 / (M_i M_j) for a zero-mean stationary
 // Gaussian series with autocovariance gamma, summed lag by lag: c_ij(h) = sum_k sum_l
 // h_i(k) h_j(l) gamma(h - l + k) with the Haar MODWT filters h_j(k) = +-1/tau_j.
-Eigen::MatrixXd lag_by_lag_covariance(const std::function<double(long)>& gamma, long n, int J) {
-  Eigen::MatrixXd V(J, J);
+// One entry (levels i, j; 0-based) of that covariance: the coarse levels of a long record
+// alone, where the whole matrix would cost minutes.
+long double lag_by_lag_entry(const std::function<double(long)>& gamma, long n, int i, int j) {
   auto filter = [](long tau) {
     std::vector<double> h(static_cast<std::size_t>(tau));
     for (long k = 0; k < tau; ++k)
       h[static_cast<std::size_t>(k)] = (k < tau / 2 ? 1.0 : -1.0) / static_cast<double>(tau);
     return h;
   };
+  const long ti = 2L << i, tj = 2L << j, Mi = n - ti + 1, Mj = n - tj + 1;
+  const auto hi = filter(ti), hj = filter(tj);
+  // a(m) = sum_k h_i(k) gamma(m + k) for the m that c(h) reads: m = h - l.
+  const long lo = -(Mj - 1) - tj, hi_m = Mi - 1;
+  std::vector<long double> a(static_cast<std::size_t>(hi_m - lo + 1));
+  for (long m = lo; m <= hi_m; ++m) {
+    long double s = 0.0L;
+    for (long k = 0; k < ti; ++k) s += hi[static_cast<std::size_t>(k)] * gamma(std::labs(m + k));
+    a[static_cast<std::size_t>(m - lo)] = s;
+  }
+  long double sum = 0.0L;
+  for (long h = -(Mj - 1); h <= Mi - 1; ++h) {
+    // t in [ti - 1, n - 1] and t + h in [tj - 1, n - 1].
+    const long count = std::min(n - 1, n - 1 - h) - std::max(ti - 1, tj - 1 - h) + 1;
+    if (count <= 0) continue;
+    long double c = 0.0L;
+    for (long l = 0; l < tj; ++l) c += hj[static_cast<std::size_t>(l)] * a[static_cast<std::size_t>(h - l - lo)];
+    sum += static_cast<long double>(count) * c * c;
+  }
+  return 2.0L * sum / (static_cast<long double>(Mi) * static_cast<long double>(Mj));
+}
+
+Eigen::MatrixXd lag_by_lag_covariance(const std::function<double(long)>& gamma, long n, int J) {
+  Eigen::MatrixXd V(J, J);
   for (int i = 0; i < J; ++i)
-    for (int j = 0; j < J; ++j) {
-      const long ti = 2L << i, tj = 2L << j, Mi = n - ti + 1, Mj = n - tj + 1;
-      const auto hi = filter(ti), hj = filter(tj);
-      // a(m) = sum_k h_i(k) gamma(m + k) for the m that c(h) reads: m = h - l.
-      const long lo = -(Mj - 1) - tj, hi_m = Mi - 1;
-      std::vector<long double> a(static_cast<std::size_t>(hi_m - lo + 1));
-      for (long m = lo; m <= hi_m; ++m) {
-        long double s = 0.0L;
-        for (long k = 0; k < ti; ++k) s += hi[static_cast<std::size_t>(k)] * gamma(std::labs(m + k));
-        a[static_cast<std::size_t>(m - lo)] = s;
-      }
-      long double sum = 0.0L;
-      for (long h = -(Mj - 1); h <= Mi - 1; ++h) {
-        // t in [ti - 1, n - 1] and t + h in [tj - 1, n - 1].
-        const long count = std::min(n - 1, n - 1 - h) - std::max(ti - 1, tj - 1 - h) + 1;
-        if (count <= 0) continue;
-        long double c = 0.0L;
-        for (long l = 0; l < tj; ++l) c += hj[static_cast<std::size_t>(l)] * a[static_cast<std::size_t>(h - l - lo)];
-        sum += static_cast<long double>(count) * c * c;
-      }
-      V(i, j) = static_cast<double>(2.0L * sum / (static_cast<long double>(Mi) * static_cast<long double>(Mj)));
-    }
+    for (int j = 0; j < J; ++j) V(i, j) = static_cast<double>(lag_by_lag_entry(gamma, n, i, j));
   return V;
 }
 
@@ -146,30 +150,6 @@ TEST(WvCovariance, AgreesWithTheLagByLagSumForAr1sOfShortAndLongMemory) {
   }
 }
 
-// The exact variance of level j's WV from the lag-by-lag sum, for the diagonal alone (the
-// coarse levels of a long record, where the full matrix would cost minutes).
-long double lag_by_lag_variance(const std::function<double(long)>& gamma, long n, int j) {
-  const long t = 2L << j, M = n - t + 1;
-  std::vector<double> h(static_cast<std::size_t>(t));
-  for (long k = 0; k < t; ++k) h[static_cast<std::size_t>(k)] = (k < t / 2 ? 1.0 : -1.0) / static_cast<double>(t);
-  const long lo = -(M - 1) - t, hi = M - 1;
-  std::vector<long double> a(static_cast<std::size_t>(hi - lo + 1));
-  for (long m = lo; m <= hi; ++m) {
-    long double s = 0.0L;
-    for (long k = 0; k < t; ++k) s += h[static_cast<std::size_t>(k)] * gamma(std::labs(m + k));
-    a[static_cast<std::size_t>(m - lo)] = s;
-  }
-  long double sum = 0.0L;
-  for (long d = -(M - 1); d <= M - 1; ++d) {
-    const long count = std::min(n - 1, n - 1 - d) - std::max(t - 1, t - 1 - d) + 1;
-    if (count <= 0) continue;
-    long double c = 0.0L;
-    for (long l = 0; l < t; ++l) c += h[static_cast<std::size_t>(l)] * a[static_cast<std::size_t>(d - l - lo)];
-    sum += static_cast<long double>(count) * c * c;
-  }
-  return 2.0L * sum / (static_cast<long double>(M) * static_cast<long double>(M));
-}
-
 TEST(WvCovariance, TheCoarsestLevelOfAnAr1HasTheExactVarianceOfItsSingleCoefficient) {
   // One Haar coefficient at the last level of 2^J samples: Var(nuhat_J) = 2 nu_J^2 exactly.
   // The tables' tail once continued an AR1's residual slope over the whole record: V_JJ came
@@ -199,7 +179,7 @@ TEST(WvCovariance, AgreesWithTheLagByLagSumAtTheCoarsestLevelsOfARecord) {
     };
     const Eigen::MatrixXd V = model_wv_covariance(m, m.given_values(), n, 12);
     for (int j = 9; j < 12; ++j) {
-      const long double exact = lag_by_lag_variance(gamma, n, j);
+      const long double exact = lag_by_lag_entry(gamma, n, j, j);
       EXPECT_LT(std::abs(static_cast<double>((V(j, j) - exact) / exact)), kCoarseAccuracy)
           << "phi " << phi << ", level " << j + 1;
     }
