@@ -33,8 +33,16 @@ if ((!demo)); then
              chromium nodejs npm)
 fi
 
+# A package whose program another distribution already installed counts as present:
+# NodeSource's nodejs ships its own npm and conflicts with Debian's npm package (apt-get then
+# stops on "held broken packages"), so nodejs and npm are checked by their commands.
+declare -A provided_by_command=([nodejs]=node [npm]=npm)
+
 missing=()
 for p in "${packages[@]}"; do
+  if [[ -n ${provided_by_command[$p]:-} ]] && command -v "${provided_by_command[$p]}" >/dev/null 2>&1; then
+    continue
+  fi
   if ! dpkg -s "$p" >/dev/null 2>&1 || \
      ! dpkg -s "$p" 2>/dev/null | grep -q '^Status: install ok installed'; then
     missing+=("$p")
