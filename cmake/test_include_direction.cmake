@@ -11,6 +11,7 @@
 #   pipeline -> io, selection, gap, nav, robust, engine
 #   fleet -> pipeline and below         (many recordings of many units: tasks, records, cache)
 #   report -> fleet and below           (JSON, HTML, terminal: every rendering)
+#   serve -> report and below           (the web app: an HTTP face over the studies and renderings)
 #   tools/gmwm, python -> anything      (the faces)
 cmake_minimum_required(VERSION 3.22)
 if(NOT SOURCE_DIR)
@@ -26,7 +27,8 @@ set(_allowed_io engine io)
 set(_allowed_pipeline engine robust selection gap nav io pipeline)
 set(_allowed_fleet engine robust selection gap nav io pipeline fleet)
 set(_allowed_report engine robust selection gap nav io pipeline fleet report)
-set(_modules engine robust selection gap nav io pipeline fleet report)
+set(_allowed_serve engine robust selection gap nav io pipeline fleet report serve)
+set(_modules engine robust selection gap nav io pipeline fleet report serve)
 
 set(_violations "")
 set(_checked 0)

@@ -2,6 +2,7 @@
 // embedded specs and the inlined Vega (html_report.h); and its atomic writer.
 
 #include "gmwm/report/html_report.h"
+#include "gmwm/report/html_fragment.h"
 
 #include <filesystem>
 #include <sstream>
@@ -160,6 +161,21 @@ std::string render_html_report(const ReportData& data) {
   spdlog::debug("HTML report: {} plot(s), {} bytes", plots.specs.size(), page.size());
   return page;
 }
+
+HtmlFragment render_column_fragment(const ReportData& data, std::size_t column) {
+  const ReportColumn& c = data.columns.at(column);
+  Plots plots;
+  HtmlFragment f;
+  f.html = column_section(c, column, plots);
+  for (const Json& entry : plots.specs) f.plots.push_back(entry);
+  return f;
+}
+
+std::string report_style_sheet() { return detail::page_style(); }
+
+std::string vega_inline_script() { return detail::vega_script(); }
+
+std::string script_safe_json(const Json& j) { return detail::script_json(j); }
 
 std::string report_svg_path(const std::string& path) { return path + ".svg"; }
 

@@ -321,7 +321,14 @@ Json wv_plot_spec(const ReportColumn& c) {
                                        : "fitted model ") +
              f->model.to_string();
   }
-  if (!c.wvs.empty()) title += " (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "% CI)";
+  if (!c.wvs.empty()) {
+    for (const ReportColumn::Reference& r : c.references) {
+      std::vector<Curve> curve = model_curves(r.model, r.theta, model_tau(c), tau_scale(c), r.name, false);
+      p.curves.insert(p.curves.end(), curve.begin(), curve.end());
+    }
+    if (!c.references.empty()) title += c.references.size() == 1 ? ", a reference model" : ", reference models";
+    title += " (" + num(100.0 * (1.0 - c.wvs.front().alpha), 3) + "% CI)";
+  }
   p.title = title;
   return loglog_spec(p);
 }

@@ -20,6 +20,7 @@ Command add_nav_command(CLI::App& app, CommonOptions& common);
 Command add_plan_command(CLI::App& app, CommonOptions& common);
 // `gmwm fleet` (fleet_command.cc).
 Command add_fleet_command(CLI::App& app, CommonOptions& common);
+Command add_serve_command(CLI::App& app, CommonOptions& common);
 // `gmwm completion bash`, `gmwm man` (docs_command.cc): generated from the options above.
 Command add_completion_command(CLI::App& app);
 Command add_man_command(CLI::App& app);
@@ -76,7 +77,8 @@ int main(int argc, char** argv) {
       add_wv_command(app, common),     add_fit_command(app, common),       add_select_command(app, common),
       add_gap_command(app, common),    add_gap_check_command(app, common), add_simulate_command(app, common),
       add_export_command(app, common), add_nav_command(app, common),       add_plan_command(app, common),
-      add_fleet_command(app, common),  add_completion_command(app),        add_man_command(app)};
+      add_fleet_command(app, common),  add_serve_command(app, common),     add_completion_command(app),
+      add_man_command(app)};
   // A first word that names no command: say so, listing them (CLI11 would only say that a
   // command is required).
   if (argc > 1 && argv[1][0] != '-') {

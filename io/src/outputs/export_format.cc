@@ -17,11 +17,18 @@ namespace {
 struct FormatName {
   ExportFormat format;
   const char* name;
+  const char* filename;  ///< the file name each consumer's documentation uses
 };
-constexpr FormatName kFormats[] = {{ExportFormat::kKalibr, "kalibr"}, {ExportFormat::kOpenVins, "openvins"},
-                                   {ExportFormat::kVins, "vins"},     {ExportFormat::kOrbSlam3, "orbslam3"},
-                                   {ExportFormat::kBasalt, "basalt"}, {ExportFormat::kGzSdf, "gz-sdf"},
-                                   {ExportFormat::kRotors, "rotors"}};
+// File names: Kalibr's imu.yaml, OpenVINS's kalibr_imu_chain.yaml, VINS-Fusion's and
+// ORB-SLAM3's settings YAML, Basalt's calib.json, a gz-sensors SDF fragment and the RotorS
+// IMU plugin's parameters (as their READMEs and examples name them).
+constexpr FormatName kFormats[] = {{ExportFormat::kKalibr, "kalibr", "imu.yaml"},
+                                   {ExportFormat::kOpenVins, "openvins", "kalibr_imu_chain.yaml"},
+                                   {ExportFormat::kVins, "vins", "vins_imu.yaml"},
+                                   {ExportFormat::kOrbSlam3, "orbslam3", "orbslam3_imu.yaml"},
+                                   {ExportFormat::kBasalt, "basalt", "calib.json"},
+                                   {ExportFormat::kGzSdf, "gz-sdf", "imu_noise.sdf"},
+                                   {ExportFormat::kRotors, "rotors", "rotors_imu.xml"}};
 
 }  // namespace
 
@@ -29,6 +36,12 @@ const char* to_string(ExportFormat f) {
   for (const auto& n : kFormats)
     if (n.format == f) return n.name;
   return "?";
+}
+
+const char* default_export_filename(ExportFormat f) {
+  for (const auto& n : kFormats)
+    if (n.format == f) return n.filename;
+  return "imu_noise.txt";
 }
 
 std::optional<ExportFormat> parse_export_format(const std::string& name) {

@@ -38,6 +38,9 @@ const char* to_string(ExportFormat f);
 std::optional<ExportFormat> parse_export_format(const std::string& name);
 /// "kalibr, openvins, vins, orbslam3, basalt, gz-sdf, rotors" (for messages and --help).
 std::string export_format_names();
+/// The file name a consumer expects ("imu.yaml" for Kalibr, "calib.json" for Basalt, ...),
+/// for a download that has no path of its own (gmwm serve).
+const char* default_export_filename(ExportFormat f);
 /// True for the formats with a field per axis (Basalt 3-vectors, gz-sensors <x>/<y>/<z>).
 bool has_per_axis_fields(ExportFormat f);
 /// False for the formats without comments (Basalt's JSON): the header goes to a sidecar.

@@ -1,0 +1,108 @@
+#pragma once
+// gmwm serve's web app (docs/serve.md): the HTTP API of a local page on which an engineer
+// builds a noise model by hand, over the same library calls as the command line. App is
+// the API without sockets (a request in, a response out; what the tests drive); Server
+// (server.h) puts it on a loopback port with cpp-httplib.
+//
+//   gmwm::serve::ServeOptions o;
+//   o.folder = "recordings";
+//   gmwm::serve::App app(o);                       // InputError for a folder that is not one
+//   auto r = app.handle({.method = "GET", .path = "/api/files"});
+//   // r.status == 200, r.body == {"folder": "recordings", "files": [...]}
+//
+// Floor: above report/ (it renders through the report's documents, texts and fragments),
+// beside the CLI; nothing below includes it.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "gmwm/engine/random.h"
+
+namespace gmwm::serve {
+
+/// The request body limit of the JSON endpoints: the largest JSON a page sends is an
+/// export's fit/select document (a few tens of kB for six axes) or an overlay's file text;
+/// 1 MB holds forty times that and bounds what a request can make the server hold.
+inline constexpr std::int64_t kMaxJsonBytes = 1'000'000;
+/// The default upload limit (--max-upload): a 1 kHz six-axis CSV of a day is ~0.5 GB.
+inline constexpr std::int64_t kDefaultMaxUploadBytes = 512'000'000;
+/// Datasets kept open at once (least recently used dropped beyond), and their bytes.
+inline constexpr std::size_t kDefaultMaxDatasets = 8;
+inline constexpr double kDefaultMaxDatasetBytes = 4e9;
+/// A job nobody polled for this long is cancelled and forgotten (a tab that was closed).
+inline constexpr double kDefaultJobIdleSeconds = 600.0;
+/// Jobs run at once; the others queue. Each job's study is itself parallel (TBB), so two
+/// are enough for two tabs to progress side by side without oversubscribing the cores.
+inline constexpr int kDefaultJobWorkers = 2;
+/// Recordings listed at most, and how deep the listing goes under FOLDER.
+inline constexpr std::size_t kMaxListedFiles = 10'000;
+inline constexpr int kMaxListedDepth = 10;
+
+struct ServeOptions {
+  std::string folder = ".";          ///< the recordings offered; nothing outside it is read
+  std::string host = "127.0.0.1";    ///< the address listened on (Server)
+  int port = 8080;                   ///< 0: a free port (Server::port() tells which)
+  std::int64_t max_upload_bytes = kDefaultMaxUploadBytes;
+  std::int64_t max_json_bytes = kMaxJsonBytes;
+  int job_workers = kDefaultJobWorkers;
+  std::size_t max_datasets = kDefaultMaxDatasets;
+  double max_dataset_bytes = kDefaultMaxDatasetBytes;
+  double job_idle_seconds = kDefaultJobIdleSeconds;
+  /// Bytes a recording's values may take in memory before they go to temporary files
+  /// (io::ReadOptions::memory_budget); 0: the reader's default share of physical memory.
+  double memory_budget = 0.0;
+  std::uint64_t seed = kDefaultSeed;  ///< every study's seed, as the CLI's --seed
+  /// Where uploads are kept while the app runs (a fresh folder under it, removed at the
+  /// end); empty: the system's temporary folder.
+  std::string upload_root;
+
+  /// Empty when valid, else one line naming the field.
+  std::string Validate() const;
+};
+
+struct HttpRequest {
+  std::string method;                         ///< GET, POST, DELETE
+  std::string path;                           ///< decoded path, no query
+  std::map<std::string, std::string> query;   ///< decoded query parameters
+  std::string body;
+};
+
+struct HttpResponse {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+};
+
+/// The app: its folder, its open datasets, uploads and jobs. Thread-safe: handle() is
+/// called from the server's threads at once. Every failure is an HTTP answer with
+/// {"error": "one line"}; handle() never throws.
+class App {
+ public:
+  /// Throws InputError when the options do not validate or FOLDER is not a readable folder.
+  explicit App(ServeOptions options);
+  /// Cancels the running jobs, waits for them, removes the uploads.
+  ~App();
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
+
+  HttpResponse handle(const HttpRequest& request);
+
+  /// An upload's bytes arrive in pieces (the server streams them to a file): begin() names
+  /// it and returns its id, or an error response (limit already exceeded, bad name);
+  /// append() false once the limit is passed (the partial file is then removed);
+  /// finish() the answer to the request.
+  struct Upload;
+  std::shared_ptr<Upload> begin_upload(const std::string& name, std::int64_t declared_bytes, HttpResponse& refusal);
+  bool append_upload(Upload& upload, const char* data, std::size_t size);
+  HttpResponse finish_upload(const std::shared_ptr<Upload>& upload);
+
+  const ServeOptions& options() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace gmwm::serve

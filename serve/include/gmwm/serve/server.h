@@ -1,0 +1,55 @@
+#pragma once
+// gmwm serve's HTTP server: an App (app.h) on a TCP port with cpp-httplib (Debian's
+// libcpp-httplib-dev). Loopback by default; request bodies bounded before they are read
+// (a JSON body beyond ServeOptions::max_json_bytes and an upload beyond max_upload_bytes
+// are answered 413 from their Content-Length, and an upload is also counted as it streams
+// to its file); the page's requests are served by a pool of threads while the analyses run
+// on the App's job workers, so a slow job never holds a request.
+//
+//   gmwm::serve::Server server(options);   // InputError: bad options or folder
+//   const int port = server.bind();        // InputError: the address cannot be bound
+//   std::thread t([&] { server.run(); });  // until stop()
+//   ...; server.stop(); t.join();
+
+#include <memory>
+#include <string>
+
+#include "gmwm/serve/app.h"
+
+namespace gmwm::serve {
+
+/// HTTP threads: a browser keeps up to 6 connections per host open (keep-alive), so two
+/// tabs and a script fit in 16 without one waiting for another's idle connection.
+inline constexpr int kHttpThreads = 16;
+/// An idle keep-alive connection is closed after this many seconds (frees its thread).
+inline constexpr int kKeepAliveSeconds = 2;
+/// A request that stalls (a client gone mid-body) is dropped after this many seconds.
+inline constexpr int kReadTimeoutSeconds = 30;
+
+class Server {
+ public:
+  /// Throws InputError for invalid options or a folder that is not one.
+  explicit Server(ServeOptions options);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// Binds the address and port (port 0: a free one); the port bound. InputError when it
+  /// cannot be bound (in use, not an address of this machine).
+  int bind();
+  /// Serves until stop(); call after bind().
+  void run();
+  /// True while run() serves.
+  bool running() const;
+  /// Stops run() once it serves (thread-safe; from a signal-waiting thread).
+  void stop();
+  /// "http://HOST:PORT/" once bound.
+  std::string url() const;
+  App& app();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace gmwm::serve

@@ -1,0 +1,356 @@
+// The app's routes (docs/serve.md): the page and its files, the folder's listing, uploads,
+// opening a recording, the analysis jobs, the overlay and the export. Every refusal is an
+// HttpError turned into {"error": "one line"}; nothing a request sends stops the app.
+
+#include "gmwm/serve/app.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <system_error>
+
+#include <spdlog/spdlog.h>
+
+#include "datasets.h"
+#include "folder.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/units.h"
+#include "gmwm/report/html_fragment.h"
+#include "gmwm/report/json_output.h"
+#include "jobs.h"
+#include "request.h"
+#include "studies.h"
+#include "web_assets.h"
+
+namespace gmwm::serve {
+
+namespace fs = std::filesystem;
+using detail::Body;
+using detail::HttpError;
+using detail::Json;
+
+// The longest upload name kept (a file name; the bytes beyond are cut).
+constexpr std::size_t kMaxUploadNameBytes = 255;
+
+std::string ServeOptions::Validate() const {
+  if (folder.empty()) return "folder: expected a folder of recordings";
+  if (host.empty()) return "host: expected an address to listen on (127.0.0.1 by default)";
+  if (port < 0 || port > 65535) return "port: found " + std::to_string(port) + ", expected 0 (any free port) to 65535";
+  if (max_upload_bytes < 1) return "max_upload_bytes: expected at least 1 byte";
+  if (max_json_bytes < 1) return "max_json_bytes: expected at least 1 byte";
+  if (job_workers < 1) return "job_workers: expected at least 1";
+  if (max_datasets < 1) return "max_datasets: expected at least 1";
+  if (!(max_dataset_bytes > 0.0)) return "max_dataset_bytes: expected a positive size";
+  if (!(job_idle_seconds > 0.0)) return "job_idle_seconds: expected a positive time";
+  if (memory_budget < 0.0) return "memory_budget: expected 0 (the reader's default) or a positive size";
+  return {};
+}
+
+struct App::Upload {
+  std::string id, name;
+  fs::path path;
+  std::ofstream out;
+  std::int64_t size = 0, limit = 0;
+  bool too_large = false;
+  bool kept = false;  ///< finished and listed; otherwise the partial file goes with it
+  ~Upload() {
+    if (kept || path.empty()) return;
+    out.close();
+    std::error_code ec;
+    fs::remove(path, ec);
+  }
+};
+
+struct App::State {
+  State(ServeOptions o)
+      : options(std::move(o)),
+        folder(options.folder),
+        datasets(options.max_datasets, options.max_dataset_bytes),
+        jobs(options.job_workers, options.job_idle_seconds) {}
+
+  ServeOptions options;
+  detail::Folder folder;
+  detail::Datasets datasets;
+  std::mutex mutex;  // uploads and the upload folder
+  struct Stored {
+    std::string name;
+    fs::path path;
+    std::int64_t size = 0;
+  };
+  std::map<std::string, Stored> uploads;
+  fs::path upload_dir;
+  std::string page;
+  detail::Jobs jobs;  // last: destroyed first, so no job outlives what it uses
+
+  fs::path uploads_folder();
+  std::string render_page() const;
+  Json files() const;
+  Json open(const Body& b);
+  HttpResponse route(const HttpRequest& r);
+};
+
+namespace {
+
+HttpResponse json_response(const Json& j, int status = 200) { return {status, "application/json", report::dump_json(j)}; }
+
+HttpResponse error_response(int status, const std::string& message) {
+  return json_response({{"error", printable_line(message)}}, status);
+}
+
+// The reader's options as the CLI names them in its messages, and the request's fields
+// that set them.
+constexpr std::pair<const char*, const char*> kOptionFields[] = {
+    {"--freq HZ", "\"freq\" (Hz)"}, {"--freq", "\"freq\""}, {"--columns", "\"columns\""}, {"--topic", "\"topic\""}};
+
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (std::size_t p = s.find(from); !from.empty() && p != std::string::npos; p = s.find(from, p + to.size()))
+    s.replace(p, from.size(), to);
+  return s;
+}
+
+// The error of a reader whose message names the resolved path and the CLI's options: the
+// page reads the name it sent (never the machine's folders) and the fields it can set.
+std::string renamed(std::string message, const std::string& path, const std::string& name) {
+  message = replace_all(std::move(message), path, name);
+  for (const auto& [option, field] : kOptionFields) message = replace_all(std::move(message), option, field);
+  return message;
+}
+
+std::string kind_of(const std::string& column) {
+  try {
+    return io::to_string(io::sensor_kind_of_column(column));
+  } catch (const InputError&) {
+    return "";
+  }
+}
+
+}  // namespace
+
+fs::path App::State::uploads_folder() {
+  if (!upload_dir.empty()) return upload_dir;
+  std::error_code ec;
+  const fs::path root = options.upload_root.empty() ? fs::temp_directory_path(ec) : fs::path(options.upload_root);
+  std::string pattern = (root / "gmwm-serve-uploads-XXXXXX").string();
+  if (ec || !mkdtemp(pattern.data()))
+    throw HttpError(500, "uploads: cannot make a folder under " + root.string() + " to keep them");
+  upload_dir = pattern;
+  return upload_dir;
+}
+
+std::string App::State::render_page() const {
+  std::string page(detail::web_asset("index.html"));
+  const auto replace = [&page](const std::string& placeholder, const std::string& with) {
+    if (const auto p = page.find(placeholder); p != std::string::npos) page.replace(p, placeholder.size(), with);
+  };
+  replace("<!--GMWM_REPORT_STYLE-->", "<style>\n" + report::report_style_sheet() + "\n</style>");
+  std::string vega;
+  try {
+    vega = "<script>\n" + report::vega_inline_script() + "\n</script>";
+  } catch (const std::exception& e) {
+    // The page still works (tables, numbers, exports); it says why it has no plots.
+    vega = "<script>window.gmwmVegaMissing = " + report::script_safe_json(Json(e.what())) + ";</script>";
+  }
+  replace("<!--GMWM_VEGA-->", vega);
+  return page;
+}
+
+Json App::State::files() const {
+  const detail::Folder::Listing l = folder.list();
+  const auto rows = [](const std::vector<detail::Folder::Entry>& v) {
+    Json a = Json::array();
+    for (const auto& e : v) a.push_back({{"path", e.path}, {"size", e.size}});
+    return a;
+  };
+  return {{"folder", folder.name()},
+          {"files", rows(l.recordings)},
+          {"configs", rows(l.configs)},
+          {"truncated", l.truncated},
+          {"max_upload", options.max_upload_bytes}};
+}
+
+Json App::State::open(const Body& b) {
+  fs::path path;
+  std::string name;
+  if (b.has("file")) {
+    name = b.text("file");
+    const auto p = folder.resolve(name);
+    if (!p) throw HttpError(404, "/api/open: no recording '" + name + "' in " + folder.name());
+    path = *p;
+  } else if (b.has("upload")) {
+    const std::string id = b.text("upload");
+    std::lock_guard lock(mutex);
+    const auto it = uploads.find(id);
+    if (it == uploads.end()) throw HttpError(404, "/api/open: unknown upload '" + id + "'");
+    path = it->second.path;
+    name = it->second.name;
+  } else {
+    b.fail("file", "missing, expected a recording's path in the folder (or \"upload\": an upload's id)");
+  }
+  io::ReadOptions ro;
+  ro.columns = b.list("columns");
+  ro.freq = b.number("freq");
+  ro.topic = b.text("topic");
+  ro.memory_budget = options.memory_budget;
+  if (const std::string why = ro.Validate(); !why.empty()) throw HttpError(400, "/api/open: " + why);
+  detail::Dataset d;
+  d.name = name;
+  try {
+    d.set = io::read_signals(path.string(), ro);
+  } catch (const InputError& e) {
+    throw HttpError(400, renamed(e.what(), path.string(), name));
+  }
+  d.set.path = name;  // the documents name the recording as the page does
+  if (!d.set.freq_known)
+    throw HttpError(400, name + ": found no timestamp column, expected one or the sampling rate (\"freq\" in Hz)");
+  Json columns = Json::array();
+  std::int64_t n = 0;
+  for (const io::Signal& s : d.set.signals) {
+    n = static_cast<std::int64_t>(s.values.size());
+    d.bytes += 8.0 * static_cast<double>(s.values.size());
+    columns.push_back({{"name", s.name}, {"kind", kind_of(s.name)}, {"unit", s.unit}, {"n", n}});
+  }
+  const auto kept = datasets.add(std::move(d));
+  Json out = {{"dataset", kept->id},       {"name", kept->name},   {"freq", kept->set.freq},
+              {"freq_known", kept->set.freq_known}, {"n", n}, {"columns", columns},
+              {"spilled", kept->set.spilled}};
+  if (kept->set.timing) out["timing"] = kept->set.timing->summary();
+  return out;
+}
+
+HttpResponse App::State::route(const HttpRequest& r) {
+  const std::string& p = r.path;
+  if (r.method == "GET") {
+    if (p == "/" || p == "/index.html") return {200, "text/html; charset=utf-8", page};
+    if (p == "/app.js") return {200, "text/javascript; charset=utf-8", std::string(detail::web_asset("app.js"))};
+    if (p == "/app.css") return {200, "text/css; charset=utf-8", std::string(detail::web_asset("app.css"))};
+    if (p == "/api/files") return json_response(files());
+    if (p.starts_with("/api/jobs/")) {
+      const auto s = jobs.status(p.substr(10));
+      if (!s) throw HttpError(404, "unknown job '" + p.substr(10) + "' (finished jobs are kept 10 minutes)");
+      return json_response(*s);
+    }
+    throw HttpError(404, "GET " + p + ": no such page");
+  }
+  if (r.method == "DELETE" && p.starts_with("/api/jobs/")) {
+    if (!jobs.cancel(p.substr(10))) throw HttpError(404, "unknown job '" + p.substr(10) + "'");
+    return json_response(*jobs.status(p.substr(10)));
+  }
+  if (r.method != "POST") throw HttpError(405, r.method + " " + p + ": not allowed here");
+  const Body body(r.body, p, options.max_json_bytes);
+  detail::StudyContext context{options, folder, datasets};
+  if (p == "/api/open") return json_response(open(body));
+  if (p == "/api/wv") return json_response({{"job", jobs.submit("wv", detail::wv_work(body, context))}});
+  if (p == "/api/fit") return json_response({{"job", jobs.submit("fit", detail::fit_work(body, context))}});
+  if (p == "/api/select") return json_response({{"job", jobs.submit("select", detail::select_work(body, context))}});
+  if (p == "/api/overlay") return json_response(detail::overlay(body, context));
+  if (p == "/api/export") return json_response(detail::export_model(body));
+  throw HttpError(404, "POST " + p + ": no such endpoint");
+}
+
+App::App(ServeOptions options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError("serve: " + why);
+  state_ = std::make_unique<State>(std::move(options));
+  state_->page = state_->render_page();
+}
+
+App::~App() {
+  if (!state_) return;
+  const fs::path dir = state_->upload_dir;
+  state_.reset();  // the jobs end first
+  std::error_code ec;
+  if (!dir.empty()) fs::remove_all(dir, ec);
+}
+
+const ServeOptions& App::options() const { return state_->options; }
+
+HttpResponse App::handle(const HttpRequest& request) {
+  try {
+    if (request.method == "POST" && request.path == "/api/upload") {
+      HttpResponse refusal;
+      auto u = begin_upload(request.query.count("name") ? request.query.at("name") : "",
+                            static_cast<std::int64_t>(request.body.size()), refusal);
+      if (!u) return refusal;
+      append_upload(*u, request.body.data(), request.body.size());
+      return finish_upload(u);
+    }
+    return state_->route(request);
+  } catch (const HttpError& e) {
+    return error_response(e.status(), e.what());
+  } catch (const InputError& e) {
+    return error_response(400, e.what());
+  } catch (const std::exception& e) {
+    spdlog::error("serve: {} {}: {}", request.method, request.path, e.what());
+    return error_response(500, request.path + ": " + e.what());
+  }
+}
+
+std::shared_ptr<App::Upload> App::begin_upload(const std::string& name, std::int64_t declared_bytes,
+                                               HttpResponse& refusal) {
+  const std::int64_t limit = state_->options.max_upload_bytes;
+  if (declared_bytes > limit) {
+    refusal = error_response(413, "/api/upload: the file has " + std::to_string(declared_bytes) +
+                                      " bytes, more than the limit of " + std::to_string(limit) + " (--max-upload)");
+    return nullptr;
+  }
+  // Only the base name is kept, and only to name the file (its ending tells the reader the
+  // format): the upload is stored under its random id, never under a name the client chose.
+  std::string base = fs::path(name).filename().string();
+  if (base.empty() || base == "." || base == ".." || base.find('\0') != std::string::npos) {
+    refusal = error_response(400, "/api/upload: query 'name': expected the file's name (e.g. imu.csv.gz)");
+    return nullptr;
+  }
+  if (base.size() > kMaxUploadNameBytes) base = base.substr(base.size() - kMaxUploadNameBytes);
+  auto u = std::make_shared<Upload>();
+  u->id = detail::random_id("u");
+  u->name = base;
+  u->limit = limit;
+  try {
+    std::lock_guard lock(state_->mutex);
+    u->path = state_->uploads_folder() / (u->id + "-" + base);
+  } catch (const HttpError& e) {
+    refusal = error_response(e.status(), e.what());
+    return nullptr;
+  }
+  u->out.open(u->path, std::ios::binary | std::ios::trunc);
+  if (!u->out) {
+    refusal = error_response(500, "/api/upload: cannot write the upload to the temporary folder");
+    return nullptr;
+  }
+  return u;
+}
+
+bool App::append_upload(Upload& u, const char* data, std::size_t size) {
+  if (u.too_large) return false;
+  u.size += static_cast<std::int64_t>(size);
+  if (u.size > u.limit) {
+    u.too_large = true;
+    u.out.close();
+    std::error_code ec;
+    fs::remove(u.path, ec);
+    return false;
+  }
+  u.out.write(data, static_cast<std::streamsize>(size));
+  return static_cast<bool>(u.out);
+}
+
+HttpResponse App::finish_upload(const std::shared_ptr<Upload>& u) {
+  std::error_code ec;
+  if (u->too_large) {
+    fs::remove(u->path, ec);
+    return error_response(413, "/api/upload: the file exceeds the limit of " + std::to_string(u->limit) +
+                                   " bytes (--max-upload)");
+  }
+  u->out.close();
+  if (!u->out) {
+    fs::remove(u->path, ec);
+    return error_response(500, "/api/upload: the upload could not be written (is the temporary folder full?)");
+  }
+  std::lock_guard lock(state_->mutex);
+  state_->uploads[u->id] = {u->name, u->path, u->size};
+  u->kept = true;
+  return json_response({{"upload", u->id}, {"name", u->name}, {"size", u->size}});
+}
+
+}  // namespace gmwm::serve

@@ -1,0 +1,95 @@
+#include "folder.h"
+
+#include <algorithm>
+#include <system_error>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/serve/app.h"
+
+namespace gmwm::serve::detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The endings of what io::read_signals reads (delimited text, gzip of it, PX4 ULog, ROS 1
+// bags, rosbag2's sqlite3 and MCAP), and of the baselines gap and the overlay read.
+constexpr const char* kRecordingEndings[] = {".csv", ".txt", ".tsv", ".dat", ".gz", ".ulg", ".bag", ".db3", ".mcap"};
+constexpr const char* kConfigEndings[] = {".yaml", ".yml", ".sdf", ".xml"};
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+template <std::size_t N>
+bool ends_with_any(const std::string& name, const char* const (&endings)[N]) {
+  const std::string l = lower(name);
+  for (const char* e : endings)
+    if (l.ends_with(e)) return true;
+  return false;
+}
+
+}  // namespace
+
+bool is_inside(const fs::path& root, const fs::path& resolved) {
+  auto r = root.begin();
+  auto p = resolved.begin();
+  for (; r != root.end(); ++r, ++p) {
+    if (r->empty()) continue;  // a trailing separator of the root
+    if (p == resolved.end() || *p != *r) return false;
+  }
+  return true;
+}
+
+Folder::Folder(const std::string& path) : name_(path) {
+  std::error_code ec;
+  root_ = fs::canonical(path, ec);
+  if (ec || !fs::is_directory(root_, ec))
+    throw InputError("FOLDER '" + path + "': " + (ec ? ec.message() : std::string("not a folder")) +
+                     ", expected the folder of recordings to offer");
+}
+
+std::optional<fs::path> Folder::resolve(const std::string& relative) const {
+  if (relative.empty() || relative.find('\0') != std::string::npos) return std::nullopt;
+  const fs::path rel(relative);
+  if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory()) return std::nullopt;
+  std::error_code ec;
+  const fs::path resolved = fs::canonical(root_ / rel, ec);  // every link followed
+  if (ec || !is_inside(root_, resolved) || resolved == root_) return std::nullopt;
+  if (!fs::is_regular_file(resolved, ec) || ec) return std::nullopt;
+  return resolved;
+}
+
+Folder::Listing Folder::list() const {
+  Listing out;
+  std::error_code ec;
+  fs::recursive_directory_iterator it(root_, fs::directory_options::skip_permission_denied, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    if (it.depth() >= kMaxListedDepth) {
+      it.disable_recursion_pending();
+      out.truncated = true;
+    }
+    const fs::directory_entry& e = *it;
+    std::error_code e2;
+    const fs::path resolved = fs::canonical(e.path(), e2);
+    if (e2 || !is_inside(root_, resolved)) continue;  // a link out of the folder is not offered
+    if (!fs::is_regular_file(resolved, e2)) continue;
+    const std::string name = e.path().filename().string();
+    const bool recording = ends_with_any(name, kRecordingEndings);
+    const bool config = !recording && ends_with_any(name, kConfigEndings);
+    if (!recording && !config) continue;
+    if (out.recordings.size() + out.configs.size() >= kMaxListedFiles) {
+      out.truncated = true;
+      break;
+    }
+    Entry entry{e.path().lexically_relative(root_).generic_string(), fs::file_size(resolved, e2)};
+    (recording ? out.recordings : out.configs).push_back(std::move(entry));
+  }
+  const auto by_path = [](const Entry& a, const Entry& b) { return a.path < b.path; };
+  std::sort(out.recordings.begin(), out.recordings.end(), by_path);
+  std::sort(out.configs.begin(), out.configs.end(), by_path);
+  return out;
+}
+
+}  // namespace gmwm::serve::detail

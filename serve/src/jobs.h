@@ -1,0 +1,77 @@
+#pragma once
+// The app's jobs: long work (a WV, a fit, a selection) run on a few worker threads while
+// the page polls. A job reports progress through its context, which is also where it is
+// cancelled (the library's progress callbacks call JobContext::progress, which throws
+// gmwm::Cancelled once the job is cancelled). A job nobody polled for `idle_seconds` is
+// cancelled and forgotten; a finished one is forgotten after the same time.
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace gmwm::serve::detail {
+
+using Json = nlohmann::ordered_json;
+
+/// A random identifier ("<prefix>-" and 32 hex digits from the system's entropy): nobody
+/// can guess another tab's dataset or job.
+std::string random_id(const std::string& prefix);
+
+class JobContext {
+ public:
+  /// Work done out of total; throws gmwm::Cancelled once the job was cancelled.
+  void progress(double done, double total);
+  /// Throws gmwm::Cancelled once the job was cancelled (between stages).
+  void check() const;
+
+ private:
+  friend class Jobs;
+  struct Job* job_ = nullptr;
+};
+
+class Jobs {
+ public:
+  using Work = std::function<Json(JobContext&)>;
+
+  Jobs(int workers, double idle_seconds);
+  /// Cancels every job and waits for the workers.
+  ~Jobs();
+  Jobs(const Jobs&) = delete;
+  Jobs& operator=(const Jobs&) = delete;
+
+  /// Queues `work`; its id.
+  std::string submit(const std::string& kind, Work work);
+  /// {"job", "kind", "state": queued|running|done|failed|cancelled, "progress": [done, total],
+  /// "result" | "error", "seconds"}; nullopt for an unknown (or forgotten) id. Counts as a poll.
+  std::optional<Json> status(const std::string& id);
+  /// Cancels a queued or running job (a finished one stays as it is); false when unknown.
+  bool cancel(const std::string& id);
+  /// Jobs known (queued, running or finished and not yet forgotten).
+  std::size_t size() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void worker();
+  void reap_locked(Clock::time_point now);
+
+  double idle_seconds_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::map<std::string, std::shared_ptr<struct Job>> jobs_;
+  std::deque<std::shared_ptr<struct Job>> queue_;
+  std::vector<std::thread> workers_;
+};
+
+}  // namespace gmwm::serve::detail

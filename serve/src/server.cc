@@ -1,0 +1,133 @@
+#include "gmwm/serve/server.h"
+
+#include <httplib.h>
+
+#include <nlohmann/json.hpp>
+
+#include <spdlog/spdlog.h>
+
+#include "gmwm/engine/error.h"
+
+namespace gmwm::serve {
+
+struct Server::Impl {
+  explicit Impl(ServeOptions o) : app(std::move(o)) {}
+  App app;
+  httplib::Server http;
+  int port = 0;
+};
+
+namespace {
+
+HttpRequest request_of(const httplib::Request& req) {
+  HttpRequest r;
+  r.method = req.method;
+  r.path = req.path;
+  for (const auto& [k, v] : req.params) r.query[k] = v;
+  r.body = req.body;
+  return r;
+}
+
+void answer(httplib::Response& res, const HttpResponse& a) {
+  res.status = a.status;
+  res.set_content(a.body, a.content_type.c_str());
+  // The page is the program's own: it never changes while the server runs, but a rebuilt
+  // program must not be shadowed by a cached page.
+  res.set_header("Cache-Control", "no-store");
+  res.set_header("X-Content-Type-Options", "nosniff");
+}
+
+std::int64_t content_length(const httplib::Request& req) {
+  if (!req.has_header("Content-Length")) return -1;
+  try {
+    return std::stoll(req.get_header_value("Content-Length"));
+  } catch (const std::exception&) {
+    return -1;
+  }
+}
+
+}  // namespace
+
+Server::Server(ServeOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
+  httplib::Server& http = impl_->http;
+  App& app = impl_->app;
+  const ServeOptions& o = app.options();
+  http.new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
+  http.set_keep_alive_timeout(kKeepAliveSeconds);
+  http.set_read_timeout(kReadTimeoutSeconds, 0);
+  http.set_payload_max_length(static_cast<std::size_t>(std::max(o.max_upload_bytes, o.max_json_bytes)));
+  // Bodies beyond their endpoint's limit are refused from their declared length, before a
+  // byte of them is read; the connection is then closed (the unread body cannot be skipped).
+  http.set_pre_routing_handler([&o](const httplib::Request& req, httplib::Response& res) {
+    const std::int64_t length = content_length(req);
+    const bool upload = req.path == "/api/upload";
+    const std::int64_t limit = upload ? o.max_upload_bytes : o.max_json_bytes;
+    if (length <= limit) return httplib::Server::HandlerResponse::Unhandled;
+    const nlohmann::ordered_json error = {{"error", printable_line(req.path + ": the request body has " + std::to_string(length) +
+                                                           " bytes, expected at most " + std::to_string(limit) +
+                                                           (upload ? " (--max-upload)" : ""))}};
+    answer(res, {413, "application/json", error.dump()});
+    res.set_header("Connection", "close");
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  http.Post("/api/upload", [&app](const httplib::Request& req, httplib::Response& res,
+                                  const httplib::ContentReader& read) {
+    HttpResponse refusal;
+    auto u = app.begin_upload(req.has_param("name") ? req.get_param_value("name") : "", content_length(req), refusal);
+    if (!u) {
+      answer(res, refusal);
+      res.set_header("Connection", "close");
+      return;
+    }
+    read([&](const char* data, std::size_t size) { return app.append_upload(*u, data, size); });
+    answer(res, app.finish_upload(u));
+  });
+  const auto handler = [&app](const httplib::Request& req, httplib::Response& res) {
+    answer(res, app.handle(request_of(req)));
+  };
+  http.Get(".*", handler);
+  http.Post(".*", handler);
+  http.Delete(".*", handler);
+  http.Put(".*", handler);
+  http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "unknown error";
+    try {
+      if (ep) std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    spdlog::error("serve: {} {}: {}", req.method, req.path, what);
+    answer(res, {500, "application/json", "{\"error\":\"internal error\"}"});
+  });
+}
+
+Server::~Server() { stop(); }
+
+int Server::bind() {
+  const ServeOptions& o = impl_->app.options();
+  const int port = o.port == 0 ? impl_->http.bind_to_any_port(o.host) : (impl_->http.bind_to_port(o.host, o.port) ? o.port : -1);
+  if (port <= 0)
+    throw InputError("serve: cannot listen on " + o.host + ":" + std::to_string(o.port) +
+                     " (in use, or not an address of this machine); choose another --port or --host");
+  impl_->port = port;
+  return port;
+}
+
+void Server::run() { impl_->http.listen_after_bind(); }
+
+bool Server::running() const { return impl_->http.is_running(); }
+
+void Server::stop() {
+  if (impl_->http.is_running()) impl_->http.stop();
+}
+
+std::string Server::url() const {
+  const std::string& host = impl_->app.options().host;
+  const bool v6 = host.find(':') != std::string::npos;
+  return "http://" + (v6 ? "[" + host + "]" : host) + ":" + std::to_string(impl_->port) + "/";
+}
+
+App& Server::app() { return impl_->app; }
+
+}  // namespace gmwm::serve

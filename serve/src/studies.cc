@@ -1,0 +1,332 @@
+#include "studies.h"
+
+#include <optional>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/io/export.h"
+#include "gmwm/io/sim_config.h"
+#include "gmwm/io/units.h"
+#include "gmwm/pipeline/export_study.h"
+#include "gmwm/pipeline/fit_study.h"
+#include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/select_study.h"
+#include "gmwm/pipeline/wv_study.h"
+#include "gmwm/report/export_output.h"
+#include "gmwm/report/html_fragment.h"
+#include "gmwm/report/json_output.h"
+#include "gmwm/report/study_pages.h"
+#include "gmwm/report/study_text.h"
+#include "gmwm/robust/robust_wv.h"
+#include "gmwm/selection/select.h"
+
+namespace gmwm::serve::detail {
+
+namespace {
+
+// The most levels a request may ask for: J levels need 2^J samples (the CLI's --levels).
+constexpr std::int64_t kMaxLevels = 62;
+// The bootstrap's draws a request may ask for (Omega or optimism): the CLI takes any, but a
+// page's request is bounded so that one click cannot occupy the machine for hours.
+constexpr std::int64_t kMaxReplicates = 10'000;
+
+// An InputError of the library (a bad model, a unit that does not fit) as the page's 400.
+template <class F>
+auto as_bad_request(const std::string& where, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw HttpError(400, where + ": " + e.what());
+  }
+}
+
+// What every column study takes: the dataset's one column, its unit and filter rate, the
+// WV's settings and an optional reference model drawn into the plots.
+struct ColumnInput {
+  std::shared_ptr<const Dataset> dataset;
+  io::SignalSet set;
+  std::string unit;
+  double filter_rate = 0.0;
+  WvOptions wv;
+  std::optional<robust::RobustWvOptions> robust;
+  std::optional<report::ReportColumn::Reference> reference;
+};
+
+std::shared_ptr<const Dataset> find_dataset(const Body& b, Datasets& datasets) {
+  const std::string id = b.required_text("dataset", "the id /api/open answered");
+  auto d = datasets.find(id);
+  if (!d)
+    throw HttpError(404, b.where() + ": unknown dataset '" + id +
+                             "' (datasets are kept while in use: open the recording again)");
+  return d;
+}
+
+std::optional<robust::RobustWvOptions> robust_options(const Body& b, const WvOptions& wv) {
+  if (!b.flag("robust", false)) {
+    for (const char* k : {"eff", "estimator"})
+      if (b.has(k)) b.fail(k, "only meaningful with \"robust\": true");
+    return std::nullopt;
+  }
+  robust::RobustWvOptions o;
+  o.levels = wv.levels;
+  o.alpha = wv.alpha;
+  if (const auto eff = b.number("eff")) {
+    if (!(*eff > 0.0 && *eff < 1.0)) b.fail("eff", "expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)");
+    o.efficiency = *eff;
+  }
+  if (b.has("estimator")) {
+    const auto kind = robust::parse_robust_kind(b.text("estimator"));
+    if (!kind) b.fail("estimator", "expected huber or bisquare");
+    o.estimator = *kind;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) b.fail("robust", why);
+  return o;
+}
+
+// A simulator's or a datasheet's model of `column` from a file's text (the page's overlay).
+struct Baseline {
+  Model model;
+  Eigen::VectorXd theta;
+  std::vector<std::string> conversions;
+  std::string name;
+};
+
+Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& set, const std::string& units) {
+  const std::string format_name = o.required_text("format", "datasheet, kalibr, gz-sdf or rotors");
+  const auto format = io::parse_sim_format(format_name);
+  if (!format) o.fail("format", "found '" + format_name + "', expected datasheet, kalibr, gz-sdf or rotors");
+  std::string text, name;
+  if (o.has("file")) {
+    name = o.text("file");
+    const auto path = c.folder.resolve(name);
+    if (!path) throw HttpError(404, o.where() + ": no file '" + name + "' in " + c.folder.name());
+    text = path->string();
+  } else {
+    text = o.required_text("text", "the file's text (or \"file\": a path in the folder)");
+    name = o.text("name", "the pasted " + format_name + " file");
+  }
+  if (!set.freq_known) o.fail("format", "the recording's sampling rate is unknown; a baseline needs it");
+  const io::Signal& column = set.signals.front();
+  const std::map<io::SensorKind, io::Unit> unit_map = io::parse_units(units);
+  const std::string where = o.where();
+  return as_bad_request(where, [&] {
+    io::SimConfig config;
+    const bool from_file = o.has("file");
+    switch (*format) {
+      case io::SimFormat::kKalibr:
+        config = from_file ? io::read_kalibr_imu_yaml(text, set.freq, unit_map)
+                           : io::parse_kalibr_imu_yaml(text, name, set.freq, unit_map);
+        break;
+      case io::SimFormat::kDatasheet:
+        config = from_file ? io::read_datasheet_yaml(text, set.freq, unit_map)
+                           : io::parse_datasheet_yaml(text, name, set.freq, unit_map);
+        break;
+      case io::SimFormat::kGzSensors:
+      case io::SimFormat::kRotors:
+        config = from_file ? io::read_gazebo_sdf(text, set.freq, unit_map)
+                           : io::parse_gazebo_sdf(text, name, set.freq, unit_map);
+        break;
+    }
+    const io::SensorKind kind = io::sensor_kind_of_column(column.name);
+    const auto b = pipeline::config_baseline(config, kind, column.name, static_cast<std::int64_t>(column.values.size()));
+    if (!b)
+      throw InputError(name + ": has no " + std::string(io::to_string(kind)) + " figures for column '" + column.name + "'");
+    return Baseline{b->model, b->theta, b->conversions, format_name + " " + name + ": " + b->model.to_string()};
+  });
+}
+
+ColumnInput column_input(const Body& b, StudyContext& c) {
+  ColumnInput in;
+  in.dataset = find_dataset(b, c.datasets);
+  in.set = column_set(*in.dataset, b.required_text("column", "a column name /api/open listed"), b.where());
+  const std::string units = b.text("units");
+  as_bad_request(b.where() + ": field 'units'", [&] {
+    in.unit = io::unit_of_column(io::parse_units_spec(units), in.set.signals.front().name);
+    return 0;
+  });
+  in.filter_rate = in.set.freq_known ? in.set.freq : 0.0;
+  if (const auto kf = b.number("kf_rate")) {
+    if (!(*kf > 0.0)) b.fail("kf_rate", "expected the filter's rate in Hz, above 0");
+    in.filter_rate = *kf;
+  }
+  if (const auto alpha = b.number("alpha")) {
+    if (!(*alpha > 0.0 && *alpha < 1.0)) b.fail("alpha", "expected a number in (0, 1)");
+    in.wv.alpha = *alpha;
+  }
+  if (const auto levels = b.whole("levels", 0, kMaxLevels)) {
+    in.wv.levels = static_cast<int>(*levels);
+    const auto n = static_cast<std::int64_t>(in.set.signals.front().values.size());
+    if (const std::string why = io::levels_problem(in.wv.levels, n, "levels"); !why.empty()) b.fail("levels", why);
+  }
+  in.robust = robust_options(b, in.wv);
+  if (const auto o = b.object("overlay")) {
+    Baseline base = baseline_of(*o, c, in.set, units);
+    in.reference = report::ReportColumn::Reference{base.name, base.model, base.theta};
+  }
+  return in;
+}
+
+std::vector<std::string> units_of(const ColumnInput& in) { return {in.unit}; }
+
+// A job's result: the CLI's document and text, the report's section and its plots.
+Json job_result(Json document, const std::string& text, report::ReportData data, const ColumnInput& in) {
+  if (in.reference && !data.columns.empty()) data.columns.front().references.push_back(*in.reference);
+  const report::HtmlFragment f = report::render_column_fragment(data, 0);
+  return {{"document", std::move(document)}, {"text", text}, {"html", f.html}, {"plots", f.plots}};
+}
+
+// A model text of the request, parsed (its values checked) and bound at the data's rate.
+ModelSpec model_of(const Body& b, const char* key, const ColumnInput& in) {
+  const std::string text = b.required_text(key, "a model such as AR1+WN+RW");
+  return as_bad_request(b.where() + ": field '" + key + "'", [&] {
+    ModelSpec spec(text);
+    spec.bind(ProcessContext{in.set.freq, in.set.freq_known});
+    return spec;
+  });
+}
+
+}  // namespace
+
+Jobs::Work wv_work(const Body& body, StudyContext& c) {
+  ColumnInput in = column_input(body, c);
+  pipeline::WvStudyOptions o;
+  o.wv = in.wv;
+  o.robust = in.robust;
+  if (in.set.freq_known) {
+    AllanOptions allan;
+    allan.alpha = in.wv.alpha;
+    o.allan = allan;
+  }
+  if (const std::string why = o.Validate(); !why.empty()) throw HttpError(400, body.where() + ": " + why);
+  return [in = std::move(in), o](JobContext& job) {
+    job.progress(0, 1);
+    const pipeline::WvStudy study = pipeline::study_wv(in.set, o);
+    job.check();
+    const std::vector<std::string> units = units_of(in);
+    Json doc = report::wv_document(in.set, study, units);
+    const std::string text = (in.set.timing ? in.set.timing->summary() + "\n" : std::string()) +
+                             report::wv_text(in.set, study) + report::adev_text(in.set, study, units);
+    job.progress(1, 1);
+    return job_result(std::move(doc), text, report::wv_report_data(in.set, study, units), in);
+  };
+}
+
+Jobs::Work fit_work(const Body& body, StudyContext& c) {
+  ColumnInput in = column_input(body, c);
+  pipeline::FitStudyOptions o;
+  o.model = model_of(body, "model", in);
+  o.wv = in.wv;
+  o.robust = in.robust;
+  const std::string omega = body.text("omega", "model");
+  const auto kind = parse_omega_kind(omega);
+  if (!kind) body.fail("omega", "found '" + omega + "', expected model, diag, full or bootstrap");
+  o.fit.omega = *kind;
+  o.fit.alpha = in.wv.alpha;
+  o.fit.seed = c.options.seed;
+  if (const auto r = body.whole("replicates", 1, kMaxReplicates)) o.fit.bootstrap_replicates = static_cast<int>(*r);
+  if (const std::string why = o.fit.Validate(); !why.empty()) throw HttpError(400, body.where() + ": " + why);
+  const std::string model_text = body.text("model");
+  return [in = std::move(in), o, model_text](JobContext& job) mutable {
+    o.fit.progress = [&job](int done, int total) { job.progress(done, total); };
+    const pipeline::FitStudy study = pipeline::study_fit(in.set, o);
+    job.check();
+    const std::vector<std::string> units = units_of(in);
+    Json doc = report::fit_document(in.set, study, units, in.filter_rate);
+    const std::string text = report::fit_text(doc, in.set, study, {units, in.filter_rate, false});
+    return job_result(std::move(doc), text, report::fit_report_data(in.set, study, model_text, units, in.filter_rate),
+                      in);
+  };
+}
+
+Jobs::Work select_work(const Body& body, StudyContext& c) {
+  ColumnInput in = column_input(body, c);
+  pipeline::SelectStudyOptions o;
+  o.models = {model_of(body, "model", in)};
+  o.wv = in.wv;
+  o.robust = in.robust;
+  selection::SelectOptions& s = o.select;
+  const auto parse = [&](const char* key, const char* fallback, auto parser, const char* expected) {
+    const std::string text = body.text(key, fallback);
+    const auto v = parser(text);
+    if (!v) body.fail(key, "found '" + text + "', expected " + expected);
+    return *v;
+  };
+  s.optimism = parse("optimism", "analytic", selection::parse_optimism_method, "analytic, bootstrap or all");
+  s.omega = parse("omega", "model", selection::parse_omega_source, "model or full");
+  s.penalty = parse("penalty", "wvic", selection::parse_penalty, "wvic or bic");
+  if (const auto r = body.whole("replicates", 1, kMaxReplicates)) s.bootstrap_replicates = static_cast<int>(*r);
+  s.seed = c.options.seed;
+  s.fit.alpha = in.wv.alpha;
+  s.fit.seed = c.options.seed;
+  if (const std::string why = s.Validate(); !why.empty()) throw HttpError(400, body.where() + ": " + why);
+  const std::string model_text = body.text("model");
+  return [in = std::move(in), o, model_text](JobContext& job) mutable {
+    o.select.progress = [&job](int done, int total) { job.progress(done, total); };
+    const pipeline::SelectStudy study = pipeline::study_select(in.set, o);
+    job.check();
+    const std::vector<std::string> units = units_of(in);
+    Json doc = report::select_document(in.set, study, units, in.filter_rate);
+    const std::string text = report::select_text(doc, in.set, study, {units, in.filter_rate, false});
+    return job_result(std::move(doc), text,
+                      report::select_report_data(in.set, study, model_text, units, in.filter_rate), in);
+  };
+}
+
+Json overlay(const Body& body, StudyContext& c) {
+  std::shared_ptr<const Dataset> d = find_dataset(body, c.datasets);
+  const io::SignalSet set = column_set(*d, body.required_text("column", "a column name /api/open listed"), body.where());
+  const Baseline b = baseline_of(body, c, set, body.text("units"));
+  // The model's WV at the data's dyadic scales (tau_j = 2^j samples, in seconds).
+  const auto n = static_cast<std::int64_t>(set.signals.front().values.size());
+  std::vector<double> tau_samples;
+  for (double t = 2.0; 2.0 * t <= static_cast<double>(n); t *= 2.0) tau_samples.push_back(t);
+  const Eigen::VectorXd wv = b.model.wv(b.theta, tau_samples);
+  Json tau = Json::array(), values = Json::array();
+  for (std::size_t j = 0; j < tau_samples.size(); ++j) {
+    tau.push_back(tau_samples[j] / set.freq);
+    values.push_back(report::json_number(wv(static_cast<Eigen::Index>(j))));
+  }
+  return {{"model", b.model.to_string(b.theta)},
+          {"name", b.name},
+          {"conversions", b.conversions},
+          {"tau", tau},
+          {"wv", values}};
+}
+
+Json export_model(const Body& body) {
+  const auto result = body.object("result");
+  if (!result) body.fail("result", "missing, expected the document of a fit or select job");
+  pipeline::ExportStudyOptions o;
+  const std::string format = body.required_text("format", io::export_format_names());
+  const auto f = io::parse_export_format(format);
+  if (!f) body.fail("format", "found '" + format + "', expected one of " + io::export_format_names());
+  o.format.format = *f;
+  const std::string aggregate = body.text("aggregate", "mean");
+  const auto a = io::parse_aggregation(aggregate);
+  if (!a) body.fail("aggregate", "found '" + aggregate + "', expected per-axis, mean or worst");
+  o.format.aggregation = *a;
+  if (const auto inflate = body.number("inflate")) o.format.inflate = *inflate;
+  o.format.rate = body.number("rate");
+  o.format.rostopic = body.text("rostopic", o.format.rostopic);
+  io::ResultReadOptions r;
+  r.rate = o.format.rate;
+  const std::string units = body.text("units");
+  const std::string where = body.where();
+  return as_bad_request(where, [&] {
+    if (const std::string why = o.format.Validate(); !why.empty()) throw InputError(why);
+    if (!units.empty()) r.units = io::parse_declared_units(units);
+    const io::ResultColumns columns = io::read_result_columns("the page's result", result->json().dump(), r);
+    const pipeline::ExportStudy study =
+        pipeline::study_export(columns.columns, "gmwm " + columns.command + " result (gmwm serve)", "the result", o);
+    const std::string filename = io::default_export_filename(*f);
+    Json out = {{"filename", filename},
+                {"content", study.result.content},
+                {"document", report::export_document(study, filename)},
+                {"text", report::export_text(study, filename)},
+                {"warnings", study.result.warnings}};
+    if (study.result.sidecar) out["sidecar"] = {{"filename", filename + ".txt"}, {"content", *study.result.sidecar}};
+    return out;
+  });
+}
+
+}  // namespace gmwm::serve::detail

@@ -1,0 +1,39 @@
+#pragma once
+// What the app's analysis endpoints run: the request body read into the same study options
+// the CLI builds from its flags, the study run as a job, and its result rendered by the
+// report module (the CLI's JSON document and terminal text, the HTML report's section with
+// its Vega specs). Options are read and checked before a job is queued, so that a bad field
+// is a 400 at once and a job fails only on what the data say.
+
+#include <memory>
+#include <string>
+
+#include "datasets.h"
+#include "folder.h"
+#include "jobs.h"
+#include "request.h"
+#include "gmwm/serve/app.h"
+
+namespace gmwm::serve::detail {
+
+/// What the study endpoints share: the options and the open datasets.
+struct StudyContext {
+  const ServeOptions& options;
+  const Folder& folder;
+  Datasets& datasets;
+};
+
+/// POST /api/wv, /api/fit, /api/select: the job's work (HttpError for a bad request).
+Jobs::Work wv_work(const Body& body, StudyContext& context);
+Jobs::Work fit_work(const Body& body, StudyContext& context);
+Jobs::Work select_work(const Body& body, StudyContext& context);
+
+/// POST /api/overlay: a simulator's or datasheet's model for a column, its conversions and
+/// its WV at the column's scales.
+Json overlay(const Body& body, StudyContext& context);
+
+/// POST /api/export: the file `gmwm export RESULT --format F` writes from a fit or select
+/// document.
+Json export_model(const Body& body);
+
+}  // namespace gmwm::serve::detail
