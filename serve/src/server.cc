@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/socket.h>
+
 #include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
@@ -15,6 +17,7 @@ struct Server::Impl {
   App app;
   httplib::Server http;
   int port = 0;
+  int socket = -1;  ///< the listening socket (set_socket_options sees it before bind)
 };
 
 namespace {
@@ -53,6 +56,15 @@ Server::Server(ServeOptions options) : impl_(std::make_unique<Impl>(std::move(op
   App& app = impl_->app;
   const ServeOptions& o = app.options();
   http.new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
+  // SO_REUSEADDR only: httplib's default also sets SO_REUSEPORT, with which a second
+  // server on the same port binds without error and the kernel splits the connections
+  // between the two.
+  // The socket is kept to raise its listen backlog once bound (bind()).
+  http.set_socket_options([impl = impl_.get()](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, reinterpret_cast<const void*>(&yes), sizeof yes);
+    impl->socket = sock;
+  });
   http.set_keep_alive_timeout(kKeepAliveSeconds);
   http.set_read_timeout(kReadTimeoutSeconds, 0);
   http.set_payload_max_length(static_cast<std::size_t>(std::max(o.max_upload_bytes, o.max_json_bytes)));
@@ -110,6 +122,10 @@ int Server::bind() {
   if (port <= 0)
     throw InputError("serve: cannot listen on " + o.host + ":" + std::to_string(o.port) +
                      " (in use, or not an address of this machine); choose another --port or --host");
+  // httplib 0.11 listens with a backlog of 5: a burst of connections beyond it (a page
+  // loading, two tabs, a script) has its handshakes dropped and some requests fail with
+  // a reset. listen() again on the bound socket raises the backlog (Linux keeps the socket).
+  if (impl_->socket >= 0) ::listen(impl_->socket, kListenBacklog);
   impl_->port = port;
   return port;
 }

@@ -23,6 +23,9 @@ namespace gmwm::serve {
 inline constexpr int kHttpThreads = 16;
 /// An idle keep-alive connection is closed after this many seconds (frees its thread).
 inline constexpr int kKeepAliveSeconds = 2;
+/// Connections waiting to be accepted (the kernel caps it at net.core.somaxconn): a
+/// hundred clients connecting at once all get through.
+inline constexpr int kListenBacklog = 512;
 /// A request that stalls (a client gone mid-body) is dropped after this many seconds.
 inline constexpr int kReadTimeoutSeconds = 30;
 

@@ -1,0 +1,187 @@
+// The web app on a real loopback socket (serve/server.h): what a hostile or careless client
+// can send (raw traversal in the URL, an oversized body, a hundred requests at once, a
+// connection dropped mid-request) and that the server keeps serving through all of it.
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/serve/server.h"
+#include "serve_fixture.h"
+// Last: <resolv.h>, which it includes, defines a macro `_res` that breaks Eigen's headers.
+#include <httplib.h>
+
+namespace gmwm::test {
+namespace {
+
+// A server on a free loopback port, serving on its own thread for the test's duration.
+class ServeServerTest : public ServeAppTest {
+ protected:
+  void start(serve::ServeOptions o = {}) {
+    o.folder = folder_.string();
+    o.upload_root = dir_.string();
+    o.port = 0;
+    server_ = std::make_unique<serve::Server>(o);
+    port_ = server_->bind();
+    thread_ = std::thread([this] { server_->run(); });
+    for (int i = 0; i < 500 && !server_->running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ASSERT_TRUE(server_->running());
+  }
+  void TearDown() override {
+    if (server_) server_->stop();
+    if (thread_.joinable()) thread_.join();
+    server_.reset();
+    ServeAppTest::TearDown();
+  }
+  httplib::Client client() const {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_read_timeout(60, 0);
+    return c;
+  }
+  // Sends raw bytes on a fresh connection; what the server answered (until it closes or
+  // `read_answer` is false).
+  std::string raw(const std::string& bytes, bool read_answer = true) const {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port_));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    EXPECT_EQ(::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL), static_cast<ssize_t>(bytes.size()));
+    std::string answer;
+    if (read_answer) {
+      timeval tv{10, 0};
+      ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+      char buf[4096];
+      for (ssize_t k; (k = ::recv(fd, buf, sizeof buf, 0)) > 0;) answer.append(buf, static_cast<std::size_t>(k));
+    }
+    ::close(fd);
+    return answer;
+  }
+  std::unique_ptr<serve::Server> server_;
+  std::thread thread_;
+  int port_ = 0;
+};
+
+TEST_F(ServeServerTest, ListensOnLoopbackByDefaultAndRefusesAPortInUseWithOneLine) {
+  start();
+  EXPECT_EQ(server_->url(), "http://127.0.0.1:" + std::to_string(port_) + "/");
+  serve::ServeOptions o;
+  o.folder = folder_.string();
+  o.port = port_;
+  serve::Server second(o);
+  try {
+    second.bind();
+    ADD_FAILURE() << "the port is in use";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen on 127.0.0.1:" + std::to_string(port_)), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(ServeServerTest, RawTraversalInTheUrlOrTheBodyReadsNothingOutsideTheFolder) {
+  start();
+  for (const std::string path : {"/../secret.csv", "/%2e%2e/secret.csv", "/%2E%2E%2Fsecret.csv", "/..%2fsecret.csv",
+                                 "/api/../../secret.csv", "//etc/passwd"}) {
+    const std::string a = raw("GET " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    EXPECT_EQ(a.find("0.01,2"), std::string::npos) << path << " read the file outside: " << a;
+    EXPECT_TRUE(a.rfind("HTTP/1.1 404", 0) == 0 || a.rfind("HTTP/1.1 400", 0) == 0) << path << ": " << a.substr(0, 40);
+  }
+  auto c = client();
+  const auto r = c.Post("/api/open", R"({"file": "..%2Fsecret.csv"})", "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 404);
+  EXPECT_EQ(c.Get("/api/files")->status, 200);
+}
+
+TEST_F(ServeServerTest, AnOversizedBodyIsRefusedFromItsLengthWithoutBeingRead) {
+  serve::ServeOptions o;
+  o.max_upload_bytes = 1'000'000;
+  start(o);
+  // The headers alone claim 2 GB: the answer comes at once, and no byte of the body is sent.
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string a = raw(
+      "POST /api/upload?name=big.csv HTTP/1.1\r\nHost: x\r\nContent-Type: application/octet-stream\r\n"
+      "Content-Length: 2000000000\r\n\r\n");
+  EXPECT_EQ(a.rfind("HTTP/1.1 413", 0), 0u) << a.substr(0, 200);
+  EXPECT_NE(a.find("more than the limit") == std::string::npos ? a.find("expected at most 1000000") : 0,
+            std::string::npos)
+      << a;
+  const std::string j = raw("POST /api/fit HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                            "Content-Length: 5000000\r\n\r\n{");
+  EXPECT_EQ(j.rfind("HTTP/1.1 413", 0), 0u) << j.substr(0, 200);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  // An upload within the limit goes through the socket and opens.
+  auto c = client();
+  const std::string bytes = read_text(folder_ / "imu.csv");
+  const auto u = c.Post("/api/upload?name=imu.csv", bytes, "application/octet-stream");
+  ASSERT_TRUE(u);
+  ASSERT_EQ(u->status, 200) << u->body;
+  const std::string id = OJson::parse(u->body).at("upload");
+  const auto o2 = c.Post("/api/open", OJson{{"upload", id}}.dump(), "application/json");
+  ASSERT_TRUE(o2);
+  EXPECT_EQ(o2->status, 200) << o2->body;
+}
+
+TEST_F(ServeServerTest, KeepsServingAHundredConcurrentRequestsAndAClientThatDropsMidRequest) {
+  start();
+  auto c = client();
+  const auto o = c.Post("/api/open", R"({"file": "imu.csv"})", "application/json");
+  ASSERT_TRUE(o);
+  const std::string d = OJson::parse(o->body).at("dataset");
+  // Clients that go away: mid-body, mid-headers, and right after submitting a long job.
+  raw("POST /api/fit HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 500\r\n\r\n{\"data",
+      false);
+  raw("GET /api/fi", false);
+  raw("POST /api/select HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: " +
+          std::to_string(OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "3*AR1+WN+RW+QN+DR"}}.dump().size()) +
+          "\r\n\r\n" + OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "3*AR1+WN+RW+QN+DR"}}.dump(),
+      false);
+  std::atomic<int> ok{0}, failed{0};
+  std::mutex m;
+  std::vector<std::string> why;
+  std::vector<std::thread> clients;
+  for (int k = 0; k < 100; ++k)
+    clients.emplace_back([&, k] {
+      httplib::Client cl("127.0.0.1", port_);
+      cl.set_read_timeout(60, 0);
+      httplib::Result r = k % 4 == 0   ? cl.Get("/api/files")
+                          : k % 4 == 1 ? cl.Get("/")
+                          : k % 4 == 2 ? cl.Post("/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN+RW"}}.dump(),
+                                                 "application/json")
+                                       : cl.Post("/api/fit", "{broken", "application/json");
+      if (r && (r->status == 200 || (k % 4 == 3 && r->status == 400))) {
+        ++ok;
+      } else {
+        ++failed;
+        std::lock_guard lock(m);
+        why.push_back(std::to_string(k) + ": " + (r ? std::to_string(r->status) + " " + r->body : httplib::to_string(r.error())));
+      }
+    });
+  for (auto& t : clients) t.join();
+  EXPECT_EQ(ok.load(), 100);
+  for (const std::string& w : why) ADD_FAILURE() << w;
+  // Every job submitted through it finishes.
+  const auto f = c.Post("/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN+RW"}}.dump(),
+                        "application/json");
+  ASSERT_TRUE(f);
+  const std::string job = OJson::parse(f->body).at("job");
+  for (int i = 0; i < 3000; ++i) {
+    const auto s = c.Get("/api/jobs/" + job);
+    ASSERT_TRUE(s);
+    if (OJson::parse(s->body).at("state") == "done") return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ADD_FAILURE() << "the fit after the storm did not finish";
+}
+
+}  // namespace
+}  // namespace gmwm::test
