@@ -30,7 +30,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan
 export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 if [[ $mode == quick ]]; then
   main_build=${GMWM_BUILD_DIR:-build}
-  targets=(gmwm test_engine test_io test_fuzz)
+  targets=(gmwm test_engine test_io test_fuzz test_serve)
   cli_tests=$main_build/test_cli
   if [[ ! -x $cli_tests ]]; then
     targets+=(test_cli)
@@ -42,7 +42,11 @@ if [[ $mode == quick ]]; then
     "$dir/$t" --gtest_brief=1 || rc=1
   done
   GMWM_CLI=$(pwd)/$dir/gmwm "$cli_tests" --gtest_brief=1 --gtest_filter='Corpus/Hostile.*:GmwmCliOutputSafety.*' || rc=1
-  echo "gmwm sanitizer pass (ASan+UBSan: engine, readers, fuzz corpus, hostile inputs, output safety): $([[ $rc == 0 ]] && echo clean || echo FAILED)"
+  # The web app's hostile requests (traversal, limits, malformed bodies, a hundred clients,
+  # dropped connections, cancellation), served by the sanitized library.
+  GMWM_CLI=$(pwd)/$dir/gmwm "$dir/test_serve" --gtest_brief=1 \
+    --gtest_filter='ServeServerTest.*:ServeAppTest.Refuses*:ServeAppTest.AJsonBody*:ServeAppTest.AnUpload*:ServeAppTest.TwoTabs*:ServeAppTest.Cancelling*' || rc=1
+  echo "gmwm sanitizer pass (ASan+UBSan: engine, readers, fuzz corpus, hostile inputs, output safety, web app): $([[ $rc == 0 ]] && echo clean || echo FAILED)"
   exit $rc
 fi
 cmake --build "$dir" --parallel "$jobs"
