@@ -238,15 +238,19 @@ json member_objectives(const selection::RankedModel& r) {
   return a;
 }
 
-FitResult effective_fit(const selection::RankedModel& r) {
+}  // namespace
+
+FitResult ranking_row_fit(const selection::Selection& sel, const selection::RankedModel& r) {
+  if (r.rank == 1) return sel.best_fit;
   FitResult f;
   f.model = r.effective.model;
   f.theta = r.effective.theta;
   f.status = r.fit.status;
+  f.message = r.fit.message;
+  f.objective = r.objective;
+  f.gof = r.gof;
   return f;
 }
-
-}  // namespace
 
 json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, const selection::Selection& sel,
                         selection::Penalty penalty) {
@@ -280,7 +284,7 @@ json select_column_json(const ColumnInfo& column, const WaveletVariance& wv, con
         {"members", r.members},
         {"member_objectives", member_objectives(r)},
         {"reductions", r.effective.reductions},
-        {"parameters", parameters_json(r.rank == 1 ? b : effective_fit(r))}};
+        {"parameters", parameters_json(ranking_row_fit(sel, r))}};
     if (!r.analytic.message.empty()) e["optimism_note"] = r.analytic.message;
     if (r.optimism_bootstrap && r.optimism_analytic)
       e["optimism_difference"] = json_number(*r.optimism_bootstrap - *r.optimism_analytic);

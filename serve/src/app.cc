@@ -226,6 +226,11 @@ HttpResponse App::State::route(const HttpRequest& r) {
     if (p == "/app.js") return {200, "text/javascript; charset=utf-8", std::string(detail::web_asset("app.js"))};
     if (p == "/app.css") return {200, "text/css; charset=utf-8", std::string(detail::web_asset("app.css"))};
     if (p == "/api/files") return json_response(files());
+    if (p.starts_with("/api/jobs/") && p.find("/ranking/") != std::string::npos) {
+      const std::string id = p.substr(10, p.find("/ranking/") - 10);
+      const std::string row = p.substr(p.find("/ranking/") + 9);
+      return json_response(detail::ranking_row(jobs.attachment(id), id, row));
+    }
     if (p.starts_with("/api/jobs/")) {
       const auto s = jobs.status(p.substr(10));
       if (!s) throw HttpError(404, "unknown job '" + p.substr(10) + "' (finished jobs are kept 10 minutes)");

@@ -18,6 +18,7 @@ struct Job {
   // Guarded by the Jobs' mutex:
   std::string state = "queued";
   Json result;
+  std::shared_ptr<const void> attached;
   std::string error;
   std::chrono::steady_clock::time_point polled, started, ended;
 };
@@ -46,6 +47,8 @@ void JobContext::progress(double done, double total) {
   job_->total = total;
   job_->done = done;
 }
+
+void JobContext::attach(std::shared_ptr<const void> what) { attached_ = std::move(what); }
 
 Jobs::Jobs(int workers, double idle_seconds) : idle_seconds_(idle_seconds) {
   for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { worker(); });
@@ -108,6 +111,14 @@ bool Jobs::cancel(const std::string& id) {
   return true;
 }
 
+std::shared_ptr<const void> Jobs::attachment(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end() || it->second->state != "done") return nullptr;
+  it->second->polled = Clock::now();
+  return it->second->attached;
+}
+
 std::size_t Jobs::size() const {
   std::lock_guard lock(mutex_);
   return jobs_.size();
@@ -164,6 +175,7 @@ void Jobs::worker() {
     std::lock_guard lock(mutex_);
     job->state = state;
     job->result = std::move(result);
+    if (state == "done") job->attached = std::move(context.attached_);
     job->error = error;
     job->ended = Clock::now();
     job->work = nullptr;  // what it captured (a dataset) is released now

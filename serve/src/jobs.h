@@ -34,10 +34,14 @@ class JobContext {
   void progress(double done, double total);
   /// Throws gmwm::Cancelled once the job was cancelled (between stages).
   void check() const;
+  /// Keeps `what` with the job's result, for later requests about it (a selection's study,
+  /// to render any of its ranked models: Jobs::attachment).
+  void attach(std::shared_ptr<const void> what);
 
  private:
   friend class Jobs;
   struct Job* job_ = nullptr;
+  std::shared_ptr<const void> attached_;
 };
 
 class Jobs {
@@ -57,6 +61,9 @@ class Jobs {
   std::optional<Json> status(const std::string& id);
   /// Cancels a queued or running job (a finished one stays as it is); false when unknown.
   bool cancel(const std::string& id);
+  /// What a finished job attached (JobContext::attach); nullptr when unknown, not done or
+  /// nothing was attached. Counts as a poll.
+  std::shared_ptr<const void> attachment(const std::string& id);
   /// Jobs known (queued, running or finished and not yet forgotten).
   std::size_t size() const;
 

@@ -185,6 +185,13 @@ ModelSpec model_of(const Body& b, const char* key, const ColumnInput& in) {
   });
 }
 
+// What a finished selection keeps for its ranking rows (ranking_row).
+struct SelectionKept {
+  ColumnInput in;
+  pipeline::SelectStudy study;
+  std::string model_text;
+};
+
 }  // namespace
 
 Jobs::Work wv_work(const Body& body, StudyContext& c) {
@@ -267,9 +274,43 @@ Jobs::Work select_work(const Body& body, StudyContext& c) {
     const std::vector<std::string> units = units_of(in);
     Json doc = report::select_document(in.set, study, units, in.filter_rate);
     const std::string text = report::select_text(doc, in.set, study, {units, in.filter_rate, false});
-    return job_result(std::move(doc), text,
-                      report::select_report_data(in.set, study, model_text, units, in.filter_rate), in);
+    Json result = job_result(std::move(doc), text,
+                             report::select_report_data(in.set, study, model_text, units, in.filter_rate), in);
+    job.attach(std::make_shared<const SelectionKept>(SelectionKept{in, study, model_text}));
+    return result;
   };
+}
+
+Json ranking_row(const std::shared_ptr<const void>& attachment, const std::string& job, const std::string& row) {
+  if (!attachment) throw HttpError(404, "job '" + job + "' is not a finished selection");
+  const auto& kept = *static_cast<const SelectionKept*>(attachment.get());
+  const selection::Selection& sel = kept.study.columns.front().selection;
+  std::size_t k = 0;
+  const bool digits = !row.empty() && row.size() < 7 && row.find_first_not_of("0123456789") == std::string::npos;
+  if (digits) k = std::stoul(row);
+  if (k < 1 || k > sel.ranking.size())
+    throw HttpError(404, "job '" + job + "': no ranking row '" + row + "', expected 1 to " +
+                             std::to_string(sel.ranking.size()));
+  const selection::RankedModel& r = sel.ranking[k - 1];
+  const ColumnInput& in = kept.in;
+  const std::vector<std::string> units = units_of(in);
+  report::ReportData data = report::select_report_data(in.set, kept.study, kept.model_text, units, in.filter_rate);
+  report::ReportColumn& c = data.columns.front();
+  c.selection.reset();
+  c.fit = report::ranking_row_fit(sel, r);
+  c.allan = pipeline::noise_figures_of(in.set, {&*c.fit}, {kept.study.columns.front().wv}, {}, in.wv.alpha).front();
+  const Json parameters = report::parameters_json(*c.fit);
+  Json out = job_result(Json::object(), "", std::move(data), in);
+  out.erase("document");
+  out.erase("text");
+  out["row"] = k;
+  out["rows"] = sel.ranking.size();
+  out["rank"] = r.rank;
+  out["model"] = r.model;
+  out["objective"] = report::json_number(r.objective);
+  out["criterion"] = report::json_number(r.criterion);
+  out["parameters"] = parameters;
+  return out;
 }
 
 Json overlay(const Body& body, StudyContext& c) {

@@ -28,6 +28,12 @@ Jobs::Work wv_work(const Body& body, StudyContext& context);
 Jobs::Work fit_work(const Body& body, StudyContext& context);
 Jobs::Work select_work(const Body& body, StudyContext& context);
 
+/// GET /api/jobs/ID/ranking/ROW: row ROW (1-based, in ranking order) of a finished
+/// selection, as the selection fitted it (its own theta under the selection's shared Omega,
+/// no intervals): the model, its criterion and parameters, the report's section for that
+/// fit with its noise figures. HttpError 404 for an unknown job or row.
+Json ranking_row(const std::shared_ptr<const void>& attachment, const std::string& job, const std::string& row);
+
 /// POST /api/overlay: a simulator's or datasheet's model for a column, its conversions and
 /// its WV at the column's scales.
 Json overlay(const Body& body, StudyContext& context);

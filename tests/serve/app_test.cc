@@ -99,6 +99,33 @@ TEST_F(ServeAppTest, SelectsAndWvAnswerTheCliDocuments) {
   EXPECT_EQ(w.at("document"), cli_document({"wv", "imu.csv", "--columns", "gyro_x", "--adev"}, folder_));
 }
 
+TEST_F(ServeAppTest, StepsThroughTheRankingShowingEachRowsOwnFit) {
+  const std::string d = open_imu();
+  const OJson j = body_of(post("/api/select", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "2*AR1+WN+RW"}}));
+  const std::string id = j.at("job");
+  const OJson s = wait_job(id);
+  const OJson& ranking = s.at("result").at("document").at("columns")[0].at("ranking");
+  ASSERT_GE(ranking.size(), 3u);
+  for (std::size_t k = 1; k <= ranking.size(); ++k) {
+    const OJson r = body_of(get("/api/jobs/" + id + "/ranking/" + std::to_string(k)));
+    const OJson& row = ranking[k - 1];
+    EXPECT_EQ(r.at("model"), row.at("model"));
+    EXPECT_EQ(r.at("rank"), row.at("rank"));
+    EXPECT_EQ(r.at("criterion"), row.at("criterion"));
+    // The row's own estimates, not the first model's: what the document lists for that row.
+    EXPECT_EQ(r.at("parameters"), row.at("parameters")) << row.at("model");
+    EXPECT_NE(r.at("html").get<std::string>().find("parameters of " + row.at("model").get<std::string>()),
+              std::string::npos);
+    EXPECT_EQ(r.at("plots")[0].at("kind"), "wv");
+  }
+  EXPECT_EQ(get("/api/jobs/" + id + "/ranking/0").status, 404);
+  EXPECT_EQ(get("/api/jobs/" + id + "/ranking/" + std::to_string(ranking.size() + 1)).status, 404);
+  EXPECT_EQ(get("/api/jobs/" + id + "/ranking/x1").status, 404);
+  const OJson fit = body_of(post("/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN"}}));
+  (void)wait_job(fit.at("job"));
+  EXPECT_EQ(get("/api/jobs/" + fit.at("job").get<std::string>() + "/ranking/1").status, 404) << "a fit has no ranking";
+}
+
 TEST_F(ServeAppTest, RefusesMalformedRequestsWithOneLineNamingTheFieldAndKeepsServing) {
   const std::string d = open_imu();
   struct Case {

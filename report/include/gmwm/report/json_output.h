@@ -120,6 +120,12 @@ Json parameters_json(const FitResult& fit);
 /// "gof", "status", "message", "notes", "evaluations", "omega", "implied_wv", "levels".
 Json fit_column_json(const ColumnInfo& column, const WaveletVariance& wv, const FitResult& fit, OmegaKind omega);
 
+/// The fit a selection's ranking row stands for, as select_column_json lists it: the
+/// first-ranked row's refit with inference (Selection::best_fit), any other row's effective
+/// model with its own estimates, objective and goodness of fit (no intervals). One
+/// definition, so that no page shows a row's model with another row's fit.
+FitResult ranking_row_fit(const selection::Selection& sel, const selection::RankedModel& r);
+
 /// A "select" column (docs/cli.md): column_json + "full_model", "best" (canonical, no values),
 /// "best_model" (with values), "penalty", "representation_violations", "ranking" (rank, model,
 /// objective, optimism, criterion, optimism_analytic, optimism_bootstrap,
