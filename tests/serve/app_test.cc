@@ -41,7 +41,9 @@ TEST_F(ServeAppTest, RefusesEveryPathThatLeavesTheFolderWith404AndReadsNothing) 
     const serve::HttpResponse r = post("/api/open", OJson{{"file", bad}});
     EXPECT_TRUE(r.status == 404 || r.status == 400) << bad << ": " << r.status << " " << r.body;
     EXPECT_EQ(r.body.find("\"dataset\""), std::string::npos) << bad;
-    if (r.status == 404) EXPECT_NE(error_of(r).find("no recording"), std::string::npos) << r.body;
+    if (r.status == 404) {
+      EXPECT_NE(error_of(r).find("no recording"), std::string::npos) << r.body;
+    }
   }
   // A link that stays inside is followed.
   fs::create_symlink(folder_ / "imu.csv", folder_ / "link_in.csv");
@@ -208,14 +210,19 @@ TEST_F(ServeAppTest, AnUploadIsOpenedLikeAFileAndOneBeyondTheLimitIs413AndLeaves
   EXPECT_EQ(kept, 1u) << "only the finished upload";
 }
 
+// A selection that runs for minutes: the bootstrap optimism refits every candidate of a
+// 63-candidate maximal model on 200 simulated series. The submitted job's answer.
+OJson submit_slow_selection(ServeAppTest& t, const std::string& dataset) {
+  return t.body_of(t.post("/api/select", OJson{{"dataset", dataset},
+                                               {"column", "gyro_x"},
+                                               {"model", "3*AR1+WN+RW+QN+DR"},
+                                               {"optimism", "bootstrap"},
+                                               {"replicates", 200}}));
+}
+
 TEST_F(ServeAppTest, CancellingASlowSelectionEndsItCancelledWithinASecond) {
   const std::string d = open_imu();
-  // The bootstrap optimism refits every candidate on 200 simulated series: minutes.
-  const OJson j = body_of(post("/api/select", OJson{{"dataset", d},
-                                                    {"column", "gyro_x"},
-                                                    {"model", "3*AR1+WN+RW+QN+DR"},
-                                                    {"optimism", "bootstrap"},
-                                                    {"replicates", 200}}));
+  const OJson j = submit_slow_selection(*this, d);
   const std::string id = j.at("job");
   // Wait until it runs and has reported progress.
   for (int i = 0; i < 500; ++i) {
@@ -260,11 +267,7 @@ TEST_F(ServeAppTest, AJobNobodyPollsIsCancelledAndForgotten) {
   o.job_idle_seconds = 0.3;
   app(o);
   const std::string d = open_imu();
-  const OJson j = body_of(post("/api/select", OJson{{"dataset", d},
-                                                    {"column", "gyro_x"},
-                                                    {"model", "3*AR1+WN+RW+QN+DR"},
-                                                    {"optimism", "bootstrap"},
-                                                    {"replicates", 200}}));
+  const OJson j = submit_slow_selection(*this, d);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   // The first request after the idle time cancels it; once it has ended it is forgotten.
   (void)get("/api/files");

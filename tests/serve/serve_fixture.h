@@ -24,7 +24,7 @@ using OJson = nlohmann::ordered_json;
 inline constexpr const char* kServeTruth = "AR1(phi=0.99,sigma2=1e-6)+WN(sigma2=1e-4)+RW(gamma2=1e-10)";
 
 class ServeAppTest : public ::testing::Test {
- protected:
+ public:  // the tests' helpers call post() and body_of() too
   void SetUp() override {
     dir_ = temp_dir("serve_app");
     folder_ = dir_ / "recordings";
