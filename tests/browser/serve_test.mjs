@@ -1,0 +1,301 @@
+// The web app in a real browser (issue 31's acceptance): `gmwm serve` on a folder holding a
+// real ADIS16405 recording, driven in Debian's headless Chromium by playwright-core as a user
+// would: open the recording, tick AR1 + WN + RW, fit, read the parameter table, run Select,
+// step to another ranking row, export Kalibr; every number compared with the command line's
+// own run (`gmwm fit`, `gmwm select`, `gmwm export`) on the same file. Also: an error is a
+// message on the page, a long job is cancelled from the page, two tabs fit at once, and the
+// page's first paint is timed (the bar: under 1 s from loopback).
+//
+//   GMWM_CLI=build/gmwm GMWM_SOURCE_DIR=. GMWM_SHARED_DATA=../shared/data node tests/browser/serve_test.mjs
+//
+// Exits 0 when every check holds, 1 naming the first that fails, 77 (ctest's skip) when
+// Chromium, playwright-core or the recordings are missing, unless GMWM_REQUIRE_BROWSER=1 or
+// GMWM_REQUIRE_SHARED_DATA=1 (.ci/run sets both) makes the absence a failure. Screenshots go
+// to $GMWM_SCREENSHOT_DIR (default: browser-screenshots in the current folder).
+
+import { spawn, spawnSync } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, copyFileSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import assert from 'node:assert/strict';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const CHROMIUM = process.env.GMWM_CHROMIUM || '/usr/bin/chromium';
+const RECORDING = 'adis_16405_imu1.csv.gz';  // 1e6 samples x 6 axes at 100 Hz (the shared data's README)
+// The page's first paint from loopback, and how long any one step may wait.
+const FIRST_PAINT_BAR_MS = 1000;
+const STEP_TIMEOUT_MS = 60000;
+
+function skipOrFail(why, requiredBy) {
+  if (process.env[requiredBy] === '1') {
+    console.error(`FAIL: ${why} (${requiredBy}=1)`);
+    process.exit(1);
+  }
+  console.log(`SKIP: ${why} (set ${requiredBy}=1 to make this a failure)`);
+  process.exit(77);
+}
+
+const cli = process.env.GMWM_CLI;
+if (!cli || !existsSync(cli)) skipOrFail(`no gmwm program (GMWM_CLI=${cli})`, 'GMWM_REQUIRE_BROWSER');
+if (!existsSync(CHROMIUM)) skipOrFail(`no Chromium at ${CHROMIUM} (Debian package chromium)`, 'GMWM_REQUIRE_BROWSER');
+let chromium;
+try {
+  ({ chromium } = await import(join(here, 'node_modules', 'playwright-core', 'index.mjs')));
+} catch (e) {
+  skipOrFail('playwright-core is not installed (npm ci --prefix tests/browser; tools/setup.sh does it)',
+             'GMWM_REQUIRE_BROWSER');
+}
+const source = process.env.GMWM_SOURCE_DIR || join(here, '..', '..');
+// The recordings: $GMWM_SHARED_DATA, else the folder beside the source tree (as the C++ tests).
+const data = process.env.GMWM_SHARED_DATA || join(source, '..', 'shared', 'data');
+if (!existsSync(join(data, RECORDING)))
+  skipOrFail(`the shared recordings are not at GMWM_SHARED_DATA=${data}`, 'GMWM_REQUIRE_SHARED_DATA');
+const shots = process.env.GMWM_SCREENSHOT_DIR || join(process.cwd(), 'browser-screenshots');
+mkdirSync(shots, { recursive: true });
+
+// The folder the app serves: a copy of the recording (a link out of the folder would be
+// refused, by design) and the shipped datasheet for the overlay.
+const folder = mkdtempSync(join(tmpdir(), 'gmwm-browser-'));
+copyFileSync(join(data, RECORDING), join(folder, RECORDING));
+copyFileSync(join(source, 'data', 'adis16405_datasheet.yaml'), join(folder, 'adis16405_datasheet.yaml'));
+
+// The command line's JSON document of `args` run in the folder ("run" removed).
+function cliDocument(args) {
+  const r = spawnSync(cli, [...args, '--json', '-', '--quiet'], { cwd: folder, encoding: 'utf8', maxBuffer: 1 << 28 });
+  assert.equal(r.status, 0, `gmwm ${args.join(' ')}: ${r.stderr}`);
+  const doc = JSON.parse(r.stdout);
+  delete doc.run;
+  return doc;
+}
+
+// %.6g, as the report's tables print numbers (report/src/html_report_format.cc, num()).
+function g6(x) {
+  if (x === null || !Number.isFinite(x)) return '-';
+  let s = x.toPrecision(6);
+  if (s.includes('e')) {
+    let [m, e] = s.split('e');
+    if (m.includes('.')) m = m.replace(/0+$/, '').replace(/\.$/, '');
+    const n = parseInt(e, 10);
+    return `${m}e${n < 0 ? '-' : '+'}${String(Math.abs(n)).padStart(2, '0')}`;
+  }
+  if (s.includes('.')) s = s.replace(/0+$/, '').replace(/\.$/, '');
+  return s;
+}
+
+const server = spawn(cli, ['serve', folder, '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+const url = await new Promise((resolve, reject) => {
+  let out = '';
+  server.stdout.on('data', (d) => {
+    out += d;
+    const m = /http:\/\/127\.0\.0\.1:\d+\//.exec(out);
+    if (m) resolve(m[0]);
+  });
+  server.on('exit', (code) => reject(new Error(`gmwm serve exited with ${code}`)));
+  setTimeout(() => reject(new Error('gmwm serve printed no address in 10 s')), 10000);
+});
+
+const browser = await chromium.launch({ executablePath: CHROMIUM, args: ['--no-sandbox'] });
+const results = [];
+let failed = false;
+async function check(name, f) {
+  const t0 = Date.now();
+  try {
+    await f();
+    results.push(`ok   ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    failed = true;
+    results.push(`FAIL ${name}: ${e.stack || e}`);
+  }
+}
+
+// A page, with its script errors kept.
+async function newPage(context) {
+  const page = await context.newPage();
+  page.setDefaultTimeout(STEP_TIMEOUT_MS);
+  page.errors = [];
+  page.on('pageerror', (e) => page.errors.push(e.message));
+  return page;
+}
+
+// The last job the page finished (its id is on <body data-gmwm-job>), fetched from the
+// server as the page received it; it must be of `kind`.
+async function lastJob(page, kind) {
+  const id = await page.getAttribute('body', 'data-gmwm-job');
+  const j = await (await fetch(url + 'api/jobs/' + id)).json();
+  assert.equal(j.kind, kind, `the page's last job ${id} is a ${j.kind}, expected a ${kind}`);
+  assert.equal(j.state, 'done');
+  return j;
+}
+
+async function waitStatus(page, text) {
+  await page.waitForFunction((t) => document.getElementById('status').textContent.includes(t), text);
+}
+
+// The values of the discrete parameter table under "parameters of MODEL".
+async function parameterValues(page) {
+  return page.$$eval('#result table', (tables) => {
+    const t = tables.find((x) => /discrete/.test(x.previousElementSibling ? x.previousElementSibling.textContent : '') ||
+                                 /discrete/.test(x.caption ? x.caption.textContent : ''));
+    const table = t || tables[0];
+    const head = [...table.querySelectorAll('tr')][0];
+    const col = [...head.children].findIndex((c) => c.textContent.trim() === 'value');
+    return [...table.querySelectorAll('tr')].slice(1).map((r) => r.children[col].textContent.trim());
+  });
+}
+
+const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, acceptDownloads: true });
+const page = await newPage(context);
+let firstPaint = NaN;
+
+await check('the page paints within 1 s from loopback', async () => {
+  await page.goto(url, { waitUntil: 'load' });
+  // The first paint entry, waited for: Chromium records it once the frame is presented.
+  firstPaint = await page.evaluate(() => new Promise((resolve) => {
+    const seen = () => performance.getEntriesByType('paint').find((e) => e.name === 'first-contentful-paint') ||
+                       performance.getEntriesByType('paint')[0];
+    if (seen()) return resolve(seen().startTime);
+    new PerformanceObserver(() => { if (seen()) resolve(seen().startTime); }).observe({ type: 'paint', buffered: true });
+    setTimeout(() => resolve(NaN), 5000);
+  }));
+  assert.ok(firstPaint < FIRST_PAINT_BAR_MS, `first paint at ${firstPaint} ms`);
+  results.push(`     first paint ${firstPaint.toFixed(0)} ms after navigation`);
+  await waitStatus(page, 'ready');
+});
+
+await check('opening the recording shows its WV and Allan deviation as gmwm wv --adev', async () => {
+  await page.selectOption('#file', RECORDING);
+  await page.fill('#freq', '100');
+  await page.click('#open');
+  await waitStatus(page, 'WV of gyro_x: done');
+  await page.waitForSelector('#result .gmwm-plot[data-plot=adev][data-rendered=svg]');
+  await page.screenshot({ path: join(shots, 'serve-1-wv.png') });
+  const doc = (await lastJob(page, 'wv')).result.document;
+  assert.deepEqual(doc, cliDocument(['wv', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--adev']));
+});
+
+let fitDoc;
+await check('ticking AR1 + WN + RW and Fit gives gmwm fit\'s document and its parameter table', async () => {
+  await page.selectOption('#ar1', '1');
+  for (const c of ['WN', 'RW']) await page.check(`#components input[value=${c}]`);
+  for (const c of ['QN', 'DR', 'SIN', 'FLICKER']) await page.uncheck(`#components input[value=${c}]`);
+  assert.equal(await page.inputValue('#model'), 'AR1+WN+RW');
+  await page.click('#fit');
+  await waitStatus(page, 'fit of AR1+WN+RW: done');
+  await page.waitForSelector('#result .gmwm-plot[data-plot=wv][data-rendered=svg]');
+  fitDoc = (await lastJob(page, 'fit')).result.document;
+  const cliFit = cliDocument(['fit', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model', 'AR1+WN+RW']);
+  assert.deepEqual(fitDoc, cliFit);
+  const shown = await parameterValues(page);
+  const expected = cliFit.columns[0].parameters.map((p) => g6(p.value));
+  assert.deepEqual(shown, expected, 'the table shows the CLI\'s estimates');
+  await page.screenshot({ path: join(shots, 'serve-2-fit.png'), fullPage: true });
+});
+
+let selectDoc;
+await check('Select ranks the sub-models as gmwm select, and a ranking row shows its own fit', async () => {
+  await page.fill('#maximal', '3*AR1+WN+RW+QN+DR');
+  await page.click('#select');
+  await waitStatus(page, 'selection over 3*AR1+WN+RW+QN+DR: done');
+  selectDoc = (await lastJob(page, 'select')).result.document;
+  assert.deepEqual(selectDoc,
+                   cliDocument(['select', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model', '3*AR1+WN+RW+QN+DR']));
+  const rows = await page.$$eval('#ranking li code', (c) => c.map((x) => x.textContent));
+  assert.deepEqual(rows, selectDoc.columns[0].ranking.map((r) => r.model));
+  await page.screenshot({ path: join(shots, 'serve-3-select.png') });
+  await page.click('#ranking li[data-row="2"]');
+  await waitStatus(page, 'ranking row 2');
+  const second = selectDoc.columns[0].ranking[1];
+  await page.waitForFunction((m) => document.getElementById('result').textContent.includes('parameters of ' + m),
+                              second.model);
+  assert.deepEqual(await parameterValues(page), second.parameters.map((p) => g6(p.value)));
+  await page.screenshot({ path: join(shots, 'serve-4-ranking-row.png') });
+});
+
+await check('Export Kalibr downloads the file gmwm export writes from the same result', async () => {
+  // The recording's units (the shared data's README): an export needs them, never assumes SI.
+  await page.fill('#units', 'gyro=deg/s,accel=g');
+  await page.selectOption('#export-format', 'kalibr');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  assert.equal(download.suggestedFilename(), 'imu.yaml');
+  const file = join(folder, 'page-imu.yaml');
+  await download.saveAs(file);
+  writeFileSync(join(folder, 'select.json'), JSON.stringify(selectDoc));
+  const r = spawnSync(cli, ['export', 'select.json', '--format', 'kalibr', '--output', 'cli-imu.yaml', '--units',
+                            'gyro=deg/s,accel=g', '--quiet'],
+                      { cwd: folder, encoding: 'utf8' });
+  assert.equal(r.status, 0, r.stderr);
+  const body = (t) => t.split('\n').filter((l) => !l.includes('Source:')).join('\n');
+  assert.equal(body(readFileSync(file, 'utf8')), body(readFileSync(join(folder, 'cli-imu.yaml'), 'utf8')));
+  await page.screenshot({ path: join(shots, 'serve-5-export.png') });
+});
+
+await check('the datasheet overlay is drawn into the plot', async () => {
+  await page.selectOption('#overlay-format', 'datasheet');
+  await page.selectOption('#overlay-file', 'adis16405_datasheet.yaml');
+  await page.click('#overlay');
+  await page.waitForFunction(() => document.getElementById('overlay-model').textContent.includes('WN('));
+  await waitStatus(page, ': done');
+  await page.waitForSelector('#result .gmwm-plot[data-plot=wv][data-rendered=svg]');
+  const legend = await page.$eval('#result .gmwm-plot[data-plot=wv]', (e) => e.textContent);
+  assert.ok(legend.includes('datasheet adis16405_datasheet.yaml'), 'the overlay is in the legend');
+  await page.screenshot({ path: join(shots, 'serve-6-overlay.png') });
+  await page.click('#overlay-clear');
+  await waitStatus(page, ': done');
+});
+
+await check('a model that does not parse is a message on the page', async () => {
+  await page.fill('#model', 'WN+ZZ');
+  await page.click('#fit');
+  await page.waitForSelector('#message:not([hidden])');
+  const m = await page.textContent('#message');
+  assert.ok(m.includes("field 'model'"), m);
+  await page.screenshot({ path: join(shots, 'serve-7-error.png') });
+});
+
+await check('a long job shows progress and Cancel ends it', async () => {
+  await page.fill('#model', 'AR1+WN+RW');
+  await page.selectOption('#omega', 'bootstrap');
+  await page.click('#fit');
+  await page.waitForSelector('#cancel:not([hidden])');
+  // "k of B" bootstrap draws, as the job reports them.
+  await page.waitForFunction(() => /: \d+ of \d+, /.test(document.getElementById('status').textContent));
+  await page.screenshot({ path: join(shots, 'serve-8-progress.png') });
+  await page.click('#cancel');
+  await waitStatus(page, 'cancelled');
+  await page.selectOption('#omega', 'model');
+});
+
+await check('two tabs fitting at once each get their own model', async () => {
+  const other = await newPage(context);
+  await other.goto(url);
+  await waitStatus(other, 'ready');
+  await other.selectOption('#file', RECORDING);
+  await other.fill('#freq', '100');
+  await other.click('#open');
+  await waitStatus(other, 'WV of gyro_x: done');
+  await other.selectOption('#column', 'gyro_y');
+  await waitStatus(other, 'WV of gyro_y: done');
+  await other.fill('#model', 'WN+RW');
+  await page.fill('#model', 'AR1+WN');
+  await Promise.all([other.click('#fit'), page.click('#fit')]);
+  await Promise.all([waitStatus(other, 'fit of WN+RW: done'), waitStatus(page, 'fit of AR1+WN: done')]);
+  // The first tab declared the units for its export; the second did not.
+  assert.deepEqual((await lastJob(page, 'fit')).result.document,
+                   cliDocument(['fit', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model', 'AR1+WN', '--units',
+                                'gyro=deg/s,accel=g']));
+  assert.deepEqual((await lastJob(other, 'fit')).result.document,
+                   cliDocument(['fit', RECORDING, '--freq', '100', '--columns', 'gyro_y', '--model', 'WN+RW']));
+  await other.close();
+});
+
+await check('no script error on the page', async () => {
+  assert.deepEqual(page.errors, []);
+});
+
+await browser.close();
+server.kill('SIGTERM');
+rmSync(folder, { recursive: true, force: true });
+for (const r of results) console.log(r);
+console.log(`first paint ${firstPaint.toFixed(0)} ms; screenshots in ${shots}`);
+process.exit(failed ? 1 : 0);
