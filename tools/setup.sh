@@ -25,7 +25,7 @@ packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlo
 # plots of docs/python.md, whose cells the suite runs (python/tests/test_docs_python.py);
 # python3-distributed: the fleet's Dask runner and its LocalCluster test
 # (python/tests/test_fleet_dask.py); python3-pandas: FleetResult.to_dataframe(); nodejs and
-# npm: the web app's browser test (tests/browser: puppeteer-core from the npm registry, pinned
+# npm: the web app's browser test (tests/browser: playwright-core from the npm registry, pinned
 # by its package-lock.json, driving Debian's chromium).
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
@@ -82,9 +82,15 @@ cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE="$build_type" \
       -DGMWM_BUILD_TESTS=ON -DGMWM_BUILD_BENCHMARKS=ON -DGMWM_BUILD_PYTHON=ON
 cmake --build "$build_dir" --parallel "$jobs"
 
-# The web app's browser test (tests/browser): puppeteer-core from the npm registry at the
+# The web app's browser test (tests/browser): playwright-core from the npm registry at the
 # versions its package-lock.json pins, into tests/browser/node_modules (not tracked).
-if [[ -f tests/browser/package-lock.json ]] && command -v npm >/dev/null 2>&1 && [[ ! -d tests/browser/node_modules/puppeteer-core ]]; then
+# Installed again when the installed version is not the pinned one.
+browser_pinned() {
+  node -e 'const l = require("./tests/browser/package-lock.json").packages["node_modules/playwright-core"];
+           const i = require("./tests/browser/node_modules/playwright-core/package.json");
+           process.exit(l && i.version === l.version ? 0 : 1)' 2>/dev/null
+}
+if [[ -f tests/browser/package-lock.json ]] && command -v npm >/dev/null 2>&1 && ! browser_pinned; then
   npm ci --prefix tests/browser --no-audit --no-fund --loglevel=error
 fi
 
