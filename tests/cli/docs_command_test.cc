@@ -14,7 +14,7 @@ using gmwm::test::run_gmwm;
 
 namespace {
 
-constexpr const char* kCommands[] = {"wv", "fit", "select", "gap", "gap-check", "simulate", "export"};
+constexpr const char* kCommands[] = {"wv", "fit", "select", "gap", "gap-check", "simulate", "export", "serve"};
 
 class GmwmDocs : public ::testing::Test {
  protected:
@@ -38,7 +38,8 @@ TEST_F(GmwmDocs, TheCompletionScriptIsValidBashAndCompletesCommandsOptionsAndFil
   gmwm::test::write_text(dir_ / "completion.bash", r.out);
   ASSERT_EQ(std::system(("bash -n '" + (dir_ / "completion.bash").string() + "'").c_str()), 0);
   for (const char* c : kCommands) EXPECT_NE(r.out.find(std::string("    ") + c + ") opts=\""), std::string::npos) << c;
-  EXPECT_EQ(complete("gmwm se"), "select");
+  EXPECT_EQ(complete("gmwm se"), "select serve");
+  EXPECT_EQ(complete("gmwm ser"), "serve");
   EXPECT_EQ(complete("gmwm fit --jo"), "--joint");
   EXPECT_EQ(complete("gmwm gap --kal"), "--kalibr");
   // After an option that takes a file, files are offered.

@@ -106,7 +106,8 @@ TEST_F(TerminalWidth, EveryLineOfTheReadmesExampleCommandsFitsOneHundredColumns)
             !fs::exists(fs::path(a).is_absolute() ? fs::path(a) : dir_ / a))
           runnable = false;
     }
-    if (!runnable) continue;
+    // `serve` runs until it is stopped: its own test starts and stops it (serve_command_test.cc).
+    if (!runnable || args.front() == "serve") continue;
     const auto r = run_gmwm(args, dir_);
     ++ran;
     EXPECT_EQ(r.exit_code, 0) << command << "\n" << r.err;

@@ -19,7 +19,7 @@ import time
 import urllib.request
 from pathlib import Path
 
-RECORDING = "adis_16405_imu1.csv.gz"  # 1,000,000 rows x 6 axes at 100 Hz (../shared/data README)
+RECORDING = "adis_16405_imu1.csv.gz"  # 1,000,000 rows x 6 axes at 100 Hz (the recordings' README)
 
 
 def request(url, body=None, method=None):
