@@ -294,7 +294,16 @@ await check('no script error on the page', async () => {
 });
 
 await browser.close();
-server.kill('SIGTERM');
+// The server stops on SIGTERM with exit 0 (nothing left running).
+const exitCode = await new Promise((resolve) => {
+  server.on('exit', (code) => resolve(code));
+  server.kill('SIGTERM');
+  setTimeout(() => resolve('still running 10 s after SIGTERM'), 10000);
+});
+if (exitCode !== 0) {
+  failed = true;
+  results.push(`FAIL gmwm serve ended with ${exitCode} on SIGTERM`);
+}
 rmSync(folder, { recursive: true, force: true });
 for (const r of results) console.log(r);
 console.log(`first paint ${firstPaint.toFixed(0)} ms; screenshots in ${shots}`);

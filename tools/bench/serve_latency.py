@@ -66,6 +66,7 @@ def main():
     try:
         url = server.stdout.readline().split()[2]
         page = timed(lambda: request(url), a.runs)
+        vega = timed(lambda: request(url + "vega.js"), a.runs)
         opened = []
         dataset = None
 
@@ -87,7 +88,8 @@ def main():
         shutil.rmtree(folder, ignore_errors=True)
     print(f"gmwm serve on loopback, {RECORDING} (1e6 samples per axis), model {a.model}\n")
     print("| request | median ms | min | max | runs |\n|---|---|---|---|---|")
-    print(row("GET / (the page, Vega inlined)", page))
+    print(row("GET / (the page)", page))
+    print(row("GET /vega.js (Vega's modules, deferred)", vega))
     print(row("POST /api/open (read the 6-axis gzip CSV)", opened))
     print(row("fit of one axis: POST /api/fit to its result (5 ms polls)", fits))
     print(row("gmwm fit --columns gyro_x (the CLI, reading included)", cli))
