@@ -93,6 +93,7 @@ Server::Server(ServeOptions options) : impl_(std::make_unique<Impl>(std::move(op
     }
     read([&](const char* data, std::size_t size) { return app.append_upload(*u, data, size); });
     answer(res, app.finish_upload(u));
+    if (res.status != 200) res.set_header("Connection", "close");  // the rest of the body is not read
   });
   const auto handler = [&app](const httplib::Request& req, httplib::Response& res) {
     answer(res, app.handle(request_of(req)));
