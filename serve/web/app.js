@@ -6,25 +6,45 @@
 (function () {
   'use strict';
 
-  // How often a running job is polled, and how long a request may take before the page
-  // says so (the server answers every request at once; jobs report their progress).
+  // How often a running job is polled.
   var POLL_MS = 150;
 
   var $ = function (id) { return document.getElementById(id); };
   var state = {
     dataset: null,     // /api/open's answer
-    job: null,         // the running job's id
+    maxUpload: 0,      // the server's upload limit in bytes (/api/files)
+    busy: false,       // a request or job is under way (the buttons are disabled)
+    job: null,         // the running job's id (what Cancel cancels)
     document: null,    // the last fit or select document (what Export exports)
-    selectJob: null,   // the last finished selection's job id (its ranking rows)
-    lastRequest: null, // {endpoint, body}: re-run when an overlay is set or cleared
-    overlay: null,     // {format, file | text}
+    lastRequest: null, // {endpoint, body, label, done}: run again when an overlay is set or cleared
+    overlay: null,     // {format, file | text}: sent with every study while set
+    overlayName: null, // the name of the file last loaded into the overlay's text box
     views: []          // the Vega views shown, finalized when replaced
   };
 
-  // ---- messages and progress ----
+  // ---- numbers, messages and progress ----
 
-  function status(text) { $('status').textContent = text; }
+  // x with `digits` significant digits as C's %g prints it (the report's tables use %.6g).
+  function fmtG(x, digits) {
+    if (x === null || x === undefined || !isFinite(x)) return '-';
+    if (x === 0) return '0';
+    var e = Math.floor(Math.log10(Math.abs(x)));
+    var s;
+    if (e < -4 || e >= digits) {
+      var parts = x.toExponential(digits - 1).split('e');
+      var n = parseInt(parts[1], 10);
+      s = parts[0].replace(/(\.\d*?)0+$/, '$1').replace(/\.$/, '') + 'e' + (n < 0 ? '-' : '+') +
+        (Math.abs(n) < 10 ? '0' : '') + Math.abs(n);
+    } else {
+      s = x.toPrecision(digits);
+      if (s.indexOf('.') >= 0) s = s.replace(/0+$/, '').replace(/\.$/, '');
+    }
+    return s;
+  }
 
+  function status(text) { $('status').textContent = text; $('status').title = text; }
+
+  // The error box above the results (empty text hides it).
   function showError(text) {
     var box = $('message');
     box.textContent = text;
@@ -48,25 +68,43 @@
         if (!r.ok) throw new Error(j.error || (r.status + ' ' + r.statusText));
         return j;
       });
+    }, function () {
+      throw new Error('no answer from the server at ' + location.host + ' (has gmwm serve stopped?)');
     });
   }
 
+  // Enables what can be done now: nothing but Cancel while busy; the studies once a recording
+  // is open; Export once there is a fit or a selection; Clear while an overlay is set.
   function setBusy(busy) {
-    ['open', 'wv', 'fit', 'select', 'overlay', 'overlay-clear', 'export'].forEach(function (id) {
-      $(id).disabled = busy || (id !== 'open' && !state.dataset) || (id === 'export' && !state.document) ||
-        (id === 'overlay-clear' && !state.overlay);
-    });
+    state.busy = busy;
+    var open = !!state.dataset;
+    var enabled = {
+      open: true, upload: true, column: open, wv: open, fit: open, select: open, overlay: open,
+      'overlay-clear': !!state.overlay, export: !!state.document
+    };
+    Object.keys(enabled).forEach(function (id) { $(id).disabled = busy || !enabled[id]; });
+    document.querySelector('.controls').classList.toggle('busy', busy);
     $('cancel').hidden = !busy || !state.job;
     $('progress').hidden = !busy;
   }
 
-  // Submits a job and polls it; `done(result)` when it ends "done".
+  // A refused request: the page says what and why, and is usable again.
+  function refused(what) {
+    return function (e) {
+      setBusy(false);
+      status(what + ': refused');
+      showError(e.message);
+    };
+  }
+
+  // Submits a job and polls it until it ends; `done(result, jobId)` when it ends "done".
   function runJob(endpoint, body, label, done) {
     showError('');
     state.lastRequest = { endpoint: endpoint, body: body, label: label, done: done };
     var b = Object.assign({}, body);
     if (state.overlay) b.overlay = state.overlay;
     var started = performance.now();
+    var elapsed = function () { return ((performance.now() - started) / 1000).toFixed(1) + ' s'; };
     state.job = null;
     setBusy(true);
     status(label + ': submitting');
@@ -81,22 +119,20 @@
               var p = s.progress || [0, 0];
               if (p[1] > 0) { $('progress').max = p[1]; $('progress').value = p[0]; }
               status(label + ': ' + (s.state === 'queued' ? 'waiting for a worker' :
-                p[1] > 0 ? p[0] + ' of ' + p[1] : 'running') + ', ' +
-                ((performance.now() - started) / 1000).toFixed(1) + ' s');
+                p[1] > 0 ? p[0] + ' of ' + p[1] : 'running') + ', ' + elapsed());
               setTimeout(poll, POLL_MS);
               return;
             }
             state.job = null;
             setBusy(false);
-            var seconds = ((performance.now() - started) / 1000).toFixed(2);
             // The last finished job, for a script driving the page (tests/browser).
             document.body.setAttribute('data-gmwm-job', j.job);
             document.body.setAttribute('data-gmwm-job-state', s.state);
             if (s.state === 'done') {
-              status(label + ': done in ' + seconds + ' s');
+              status(label + ': done in ' + elapsed());
               done(s.result, j.job);
             } else if (s.state === 'cancelled') {
-              status(label + ': cancelled after ' + seconds + ' s');
+              status(label + ': cancelled after ' + elapsed());
             } else {
               status(label + ': failed');
               showError(s.error || 'the job failed');
@@ -104,29 +140,29 @@
             resolve(s);
           }).catch(function (e) {
             state.job = null;
-            setBusy(false);
-            status(label + ': lost contact with the server');
-            showError(e.message);
+            refused(label)(e);
             resolve(null);
           });
         })();
       });
-    }).catch(function (e) {
-      setBusy(false);
-      status(label + ': refused');
-      showError(e.message);
-    });
+    }).catch(refused(label));
   }
 
   // ---- results ----
 
-  // Shows a result: the report's section (already escaped by the server) and its plots.
+  // Shows a result: the report's section (already escaped by the server) and its plots, and
+  // brings its top into view when the window was scrolled below it.
   function showResult(result) {
     state.views.forEach(function (v) { v.finalize(); });
     state.views = [];
     var box = $('result');
     box.innerHTML = result.html || '';
+    box.querySelectorAll('td.num').forEach(function (td) {
+      if (!/\s/.test(td.textContent.trim())) td.classList.add('atom');
+    });
     $('text').textContent = result.text || '';
+    if (box.getBoundingClientRect().top < document.querySelector('header.app-bar').getBoundingClientRect().bottom)
+      box.scrollIntoView({ block: 'start' });
     if (typeof vega === 'undefined') {
       showError('Plots unavailable: ' + (window.gmwmVegaMissing || 'Vega did not load'));
       return;
@@ -150,8 +186,10 @@
   // The settings every study takes: the dataset, the column, the units and the WV estimator.
   function baseBody() {
     var b = { dataset: state.dataset.dataset, column: column(), units: $('units').value.trim() };
-    if (document.querySelector('input[name=estimator]:checked').value === 'robust') {
+    var estimator = document.querySelector('input[name=estimator]:checked').value;
+    if (estimator !== 'classical') {
       b.robust = true;
+      b.estimator = estimator;
       b.eff = parseFloat($('eff').value);
     }
     return b;
@@ -159,7 +197,8 @@
 
   // ---- the model: components <-> text ----
 
-  var ORDER = ['WN', 'QN', 'RW', 'DR', 'SIN', 'FLICKER'];
+  // The order the boxes write a model in (the CLI's own order of the processes).
+  var ORDER = ['AR1', 'WN', 'QN', 'RW', 'DR', 'SIN', 'FLICKER'];
 
   function modelFromComponents() {
     var parts = [];
@@ -168,9 +207,8 @@
     document.querySelectorAll('#components input[type=checkbox]').forEach(function (c) {
       if (c.checked) parts.push(c.value);
     });
-    parts.sort(function (a, b) {
-      return (a.indexOf('AR1') >= 0 ? -1 : ORDER.indexOf(a)) - (b.indexOf('AR1') >= 0 ? -1 : ORDER.indexOf(b));
-    });
+    var rank = function (t) { return ORDER.indexOf(t.replace(/^\d+\*/, '')); };
+    parts.sort(function (a, b) { return rank(a) - rank(b); });
     $('model').value = parts.join('+');
   }
 
@@ -179,42 +217,37 @@
   function componentsFromModel() {
     var counts = {};
     $('model').value.split('+').forEach(function (t) {
-      var m = /^\s*(?:(\d+)\s*\*\s*)?([A-Z0-9]+)\s*$/.exec(t);
-      if (m) counts[m[2]] = (counts[m[2]] || 0) + (m[1] ? parseInt(m[1], 10) : 1);
+      var m = /^\s*(?:(\d+)\s*\*\s*)?([A-Za-z0-9]+)\s*$/.exec(t);
+      if (m) counts[m[2].toUpperCase()] = (counts[m[2].toUpperCase()] || 0) + (m[1] ? parseInt(m[1], 10) : 1);
     });
-    var ar1 = Math.min(counts.AR1 || 0, 5);
-    $('ar1').value = String(ar1);
+    $('ar1').value = String(Math.min(counts.AR1 || counts.GM || 0, 5));
     document.querySelectorAll('#components input[type=checkbox]').forEach(function (c) {
       c.checked = !!counts[c.value];
     });
   }
 
-  // ---- actions ----
+  // ---- the recording ----
+
+  function option(value, text) {
+    var o = document.createElement('option');
+    o.value = value;
+    o.textContent = text;
+    return o;
+  }
+
+  function megabytes(bytes) { return (bytes / 1e6).toFixed(bytes < 1e7 ? 1 : 0) + ' MB'; }
 
   function loadFiles() {
     return api('GET', '/api/files').then(function (f) {
       $('folder-name').textContent = f.folder;
+      state.maxUpload = f.max_upload || 0;
+      if (state.maxUpload) $('upload-limit').textContent = '(up to ' + megabytes(state.maxUpload) + ')';
       var sel = $('file');
       sel.textContent = '';
-      f.files.forEach(function (e) {
-        var o = document.createElement('option');
-        o.value = e.path;
-        o.textContent = e.path + ' (' + (e.size / 1e6).toFixed(1) + ' MB)';
-        sel.appendChild(o);
-      });
-      if (!f.files.length) {
-        var none = document.createElement('option');
-        none.value = '';
-        none.textContent = '(no recording in this folder: upload one)';
-        sel.appendChild(none);
-      }
-      var cfg = $('overlay-file');
-      f.configs.forEach(function (e) {
-        var o = document.createElement('option');
-        o.value = e.path;
-        o.textContent = e.path;
-        cfg.appendChild(o);
-      });
+      f.files.forEach(function (e) { sel.appendChild(option(e.path, e.path + ' (' + megabytes(e.size) + ')')); });
+      if (!f.files.length) sel.appendChild(option('', '(no recording in this folder: upload one)'));
+      if (f.truncated) sel.appendChild(option('', '(the listing stops at its limit: the folder holds more)'));
+      f.configs.forEach(function (e) { $('overlay-file').appendChild(option(e.path, e.path)); });
       status('ready');
     }).catch(function (e) { status('the server did not answer'); showError(e.message); });
   }
@@ -222,147 +255,189 @@
   function opened(d) {
     state.dataset = d;
     state.document = null;
+    $('ranking').hidden = true;
+    $('ranking-note').textContent = '';
     var sel = $('column');
     sel.textContent = '';
     d.columns.forEach(function (c) {
-      var o = document.createElement('option');
-      o.value = c.name;
-      o.textContent = c.name + (c.kind ? ' (' + c.kind + ')' : '');
-      sel.appendChild(o);
+      var facts = [c.kind, c.unit].filter(function (x) { return x; }).join(', ');
+      sel.appendChild(option(c.name, c.name + (facts ? ' (' + facts + ')' : '')));
     });
-    sel.disabled = false;
-    $('dataset-facts').textContent = d.name + ': ' + d.n.toLocaleString('en') + ' samples at ' +
-      d.freq.toPrecision(6) + ' Hz (' + (d.n / d.freq / 3600).toFixed(2) + ' h), ' + d.columns.length + ' column(s)' +
-      (d.timing ? '. ' + d.timing : '');
+    var hours = d.n / d.freq / 3600;
+    $('dataset-facts').textContent = d.name + ': ' + d.n.toLocaleString('en') + ' samples at ' + fmtG(d.freq, 6) +
+      ' Hz' + (d.freq_known ? '' : ' (as given)') + ', ' +
+      (hours >= 1 ? hours.toFixed(2) + ' h' : (hours * 3600).toFixed(1) + ' s') + ', ' + d.columns.length +
+      ' column' + (d.columns.length === 1 ? '' : 's') + (d.timing ? '. ' + d.timing : '');
+    $('export-note').textContent = 'Exports the last fit, or the selection\u2019s chosen model.';
     setBusy(false);
     runWv();
   }
 
-  function openBody(extra) {
-    var b = extra;
+  // /api/open's body: the recording (`which`) and the sampling rate when one is typed.
+  function openBody(which) {
     var f = parseFloat($('freq').value);
-    if (f > 0) b.freq = f;
-    return b;
+    if (f > 0) which.freq = f;
+    return which;
   }
 
   function openFile() {
     var file = $('file').value;
     if (!file) { showError('Choose a recording, or upload one.'); return; }
     showError('');
-    status('reading ' + file + '…');
+    status('reading ' + file + '\u2026');
     setBusy(true);
-    api('POST', '/api/open', openBody({ file: file })).then(opened).catch(function (e) {
-      setBusy(false);
-      status('not opened');
-      showError(e.message);
-    });
+    api('POST', '/api/open', openBody({ file: file })).then(opened).catch(refused('opening ' + file));
   }
 
   function uploadFile() {
     var f = $('upload').files[0];
     if (!f) return;
+    if (state.maxUpload && f.size > state.maxUpload) {
+      showError(f.name + ' is ' + megabytes(f.size) + ': more than the server takes (' + megabytes(state.maxUpload) +
+        ', gmwm serve --max-upload); put it in the served folder instead.');
+      $('upload').value = '';
+      return;
+    }
     showError('');
-    status('uploading ' + f.name + ' (' + (f.size / 1e6).toFixed(1) + ' MB)…');
+    status('uploading ' + f.name + ' (' + megabytes(f.size) + ')\u2026');
     setBusy(true);
     api('POST', '/api/upload?name=' + encodeURIComponent(f.name), undefined, f).then(function (u) {
-      status('reading ' + u.name + '…');
+      status('reading ' + u.name + '\u2026');
       return api('POST', '/api/open', openBody({ upload: u.upload }));
-    }).then(opened).catch(function (e) {
-      setBusy(false);
-      status('not opened');
-      showError(e.message);
-    });
+    }).then(opened).catch(refused('uploading ' + f.name));
   }
+
+  // ---- the studies ----
 
   function runWv() {
-    runJob('/api/wv', baseBody(), 'WV of ' + column(), function (r) {
-      showResult(r);
-    });
+    runJob('/api/wv', baseBody(), 'WV of ' + column(), showResult);
   }
 
-  function runFit(model) {
+  function runFit() {
     var body = baseBody();
-    body.model = model || $('model').value.trim();
+    body.model = $('model').value.trim();
     body.omega = $('omega').value;
     runJob('/api/fit', body, 'fit of ' + body.model, function (r) {
       state.document = r.document;
-      $('export-note').textContent = 'Exports the fit of ' + body.model + ' on ' + column() + '.';
+      $('export-note').textContent = 'Exports the fit of ' + body.model + ' on ' + body.column + '.';
+      document.querySelectorAll('#ranking tr.active').forEach(function (x) { x.classList.remove('active'); });
       showResult(r);
       setBusy(false);
     });
-  }
-
-  // The ranking as a list: each row shows its model's fit when clicked.
-  function showRanking(doc, job) {
-    var list = $('ranking');
-    list.textContent = '';
-    var rows = doc.columns[0].ranking;
-    rows.forEach(function (r, i) {
-      var li = document.createElement('li');
-      li.tabIndex = 0;
-      li.setAttribute('data-row', String(i + 1));
-      var name = document.createElement('code');
-      name.textContent = r.model;
-      var facts = document.createElement('span');
-      facts.className = 'facts';
-      facts.textContent = ' WVIC ' + Number(r.criterion).toPrecision(5) +
-        (r.gof_p_value !== null && r.gof_p_value !== undefined ? ', GoF p ' + Number(r.gof_p_value).toPrecision(2) : '');
-      li.appendChild(name);
-      li.appendChild(facts);
-      if (i === 0) li.classList.add('active');
-      var show = function () { showRow(job, i + 1, rows.length, li); };
-      li.addEventListener('click', show);
-      li.addEventListener('keydown', function (e) { if (e.key === 'Enter') show(); });
-      list.appendChild(li);
-    });
-  }
-
-  function showRow(job, row, rows, li) {
-    showError('');
-    status('row ' + row + ' of ' + rows + '…');
-    api('GET', '/api/jobs/' + job + '/ranking/' + row).then(function (r) {
-      document.querySelectorAll('#ranking li').forEach(function (x) { x.classList.remove('active'); });
-      li.classList.add('active');
-      showResult(r);
-      status('ranking row ' + row + ' of ' + rows + ': ' + r.model +
-        (row > 1 ? ' (as the selection fitted it, under its shared Omega; Fit it for intervals)' : ''));
-      $('model').value = r.model;
-      componentsFromModel();
-    }).catch(function (e) { showError(e.message); });
   }
 
   function runSelect() {
     var body = baseBody();
     body.model = $('maximal').value.trim();
-    $('ranking').textContent = '';
+    $('ranking').hidden = true;
+    $('ranking-note').textContent = '';
     runJob('/api/select', body, 'selection over ' + body.model, function (r, job) {
       state.document = r.document;
-      state.selectJob = job;
       var best = r.document.columns[0].best;
-      $('export-note').textContent = 'Exports the selection\u2019s chosen model' + (best ? ' ' + best : '') + '.';
+      $('export-note').textContent = 'Exports the selection\u2019s chosen model' + (best ? ' ' + best : '') + ' on ' +
+        body.column + '.';
       showResult(r);
-      showRanking(r.document, job);
+      showRanking(r.document.columns[0], job);
       setBusy(false);
     });
   }
 
+  // The ranking as a table: each row shows its model's fit when clicked (or Enter).
+  function showRanking(col, job) {
+    var tbody = $('ranking').querySelector('tbody');
+    tbody.textContent = '';
+    col.ranking.forEach(function (r, i) {
+      var tr = document.createElement('tr');
+      tr.tabIndex = 0;
+      tr.setAttribute('data-row', String(i + 1));
+      [String(r.rank), r.model, fmtG(r.criterion, 6), fmtG(r.gof_p_value, 2)].forEach(function (text, k) {
+        var td = document.createElement('td');
+        td.textContent = text;
+        if (k === 1) td.className = 'model';
+        tr.appendChild(td);
+      });
+      tr.title = r.effective_parameters + ' parameters, objective ' + fmtG(r.objective, 6) + ', optimism ' +
+        fmtG(r.optimism, 4) + (r.members && r.members.length > 1 ? '; ' + (r.members.length - 1) +
+        ' other candidate(s) fell onto it' : '');
+      if (i === 0) tr.classList.add('active');
+      var show = function () { showRow(job, i + 1, col.ranking.length, tr); };
+      tr.addEventListener('click', show);
+      tr.addEventListener('keydown', function (e) { if (e.key === 'Enter') show(); });
+      tbody.appendChild(tr);
+    });
+    $('ranking').hidden = false;
+    $('ranking-note').textContent = col.ranking.length + ' distinct models of ' + col.models +
+      ' candidates; click a row to see its fit (the first refitted with intervals, the others as the ' +
+      'selection fitted them, under its shared Omega).';
+  }
+
+  function showRow(job, row, rows, tr) {
+    if (state.busy) return;
+    showError('');
+    status('ranking row ' + row + ' of ' + rows + '\u2026');
+    api('GET', '/api/jobs/' + job + '/ranking/' + row).then(function (r) {
+      document.querySelectorAll('#ranking tr.active').forEach(function (x) { x.classList.remove('active'); });
+      tr.classList.add('active');
+      showResult(r);
+      status('ranking row ' + row + ' of ' + rows + ': ' + r.model +
+        (row > 1 ? ' (as the selection fitted it; Fit it for its intervals)' : ''));
+      $('model').value = r.model;
+      componentsFromModel();
+    }).catch(function (e) { status('ranking row ' + row + ': refused'); showError(e.message); });
+  }
+
+  // ---- the overlay ----
+
+  // The overlay's source: a file in the folder, else the text box (named after the file it was
+  // loaded from, if any).
   function overlayBody() {
     var o = { format: $('overlay-format').value };
-    if ($('overlay-file').value) o.file = $('overlay-file').value;
-    else o.text = $('overlay-text').value;
+    if ($('overlay-file').value) {
+      o.file = $('overlay-file').value;
+    } else {
+      o.text = $('overlay-text').value;
+      if (state.overlayName) o.name = state.overlayName;
+    }
     return o;
+  }
+
+  // The baseline as the server read it: its name, its model and how each figure was converted.
+  function showOverlay(r) {
+    var box = $('overlay-model');
+    box.textContent = '';
+    var head = document.createElement('div');
+    var name = document.createElement('strong');
+    name.textContent = r.name;
+    var model = document.createElement('code');
+    model.textContent = r.model;
+    head.appendChild(name);
+    head.appendChild(document.createTextNode(' = '));
+    head.appendChild(model);
+    box.appendChild(head);
+    var list = document.createElement('ul');
+    list.className = 'facts';
+    (r.conversions || []).forEach(function (c) {
+      var li = document.createElement('li');
+      li.textContent = c;
+      list.appendChild(li);
+    });
+    box.appendChild(list);
   }
 
   function applyOverlay() {
     var o = overlayBody();
+    if (o.text !== undefined && !o.text.trim()) {
+      showError('Overlay: choose a file in the folder, or paste or load its text.');
+      return;
+    }
     var b = Object.assign({ dataset: state.dataset.dataset, column: column(), units: $('units').value.trim() }, o);
     showError('');
     api('POST', '/api/overlay', b).then(function (r) {
       state.overlay = o;
-      $('overlay-model').textContent = r.name + ' = ' + r.model + '. ' + (r.conversions || []).join('; ');
+      showOverlay(r);
       setBusy(false);
       rerun();
-    }).catch(function (e) { showError(e.message); });
+    }).catch(function (e) { status('overlay: refused'); showError(e.message); });
   }
 
   function clearOverlay() {
@@ -372,37 +447,82 @@
     rerun();
   }
 
-  // Runs the last request again (an overlay changes every plot).
+  // Runs the last study again (an overlay changes every plot).
   function rerun() {
     var r = state.lastRequest;
     if (r) runJob(r.endpoint, r.body, r.label, r.done);
   }
 
+  // A file's text read into the overlay's text box (the folder's file choice then cleared).
+  function loadOverlayFile() {
+    var f = $('overlay-load').files[0];
+    if (!f) return;
+    f.text().then(function (text) {
+      $('overlay-text').value = text;
+      $('overlay-file').value = '';
+      state.overlayName = f.name;
+    }, function (e) { showError(f.name + ': ' + e.message); });
+  }
+
+  // ---- the export ----
+
+  // Offers `content` as a download named `filename`.
+  function download(filename, content) {
+    var a = document.createElement('a');
+    a.href = URL.createObjectURL(new Blob([content], { type: 'text/plain' }));
+    a.download = filename;
+    document.body.appendChild(a);
+    a.click();
+    a.remove();
+    setTimeout(function () { URL.revokeObjectURL(a.href); }, 1000);
+  }
+
   function exportModel() {
     if (!state.document) return;
-    var body = { result: state.document, format: $('export-format').value, units: $('units').value.trim() };
+    var format = $('export-format');
+    var body = { result: state.document, format: format.value, units: $('units').value.trim() };
+    var rate = parseFloat($('export-rate').value);
+    if (rate > 0) body.rate = rate;
+    var inflate = parseFloat($('export-inflate').value);
+    if (inflate > 0) body.inflate = inflate;
     showError('');
     api('POST', '/api/export', body).then(function (e) {
+      download(e.filename, e.content);
+      var warnings = e.warnings || [];
+      // The format's name without the file name its option adds in brackets.
+      $('export-summary').textContent = e.filename + ', for ' + format.selectedOptions[0].textContent.replace(/ \(.*\)$/, '');
+      var list = $('export-warnings');
+      list.textContent = '';
+      warnings.forEach(function (w) {
+        var li = document.createElement('li');
+        li.textContent = w;
+        list.appendChild(li);
+      });
+      list.hidden = !warnings.length;
+      $('export-text').textContent = e.text || '';
       $('export-preview').textContent = e.content;
-      $('export-summary').textContent = e.filename + ' (' + $('export-format').value + ')';
-      $('export-details').hidden = false;
-      $('export-details').open = true;
-      var blob = new Blob([e.content], { type: 'text/plain' });
-      var a = document.createElement('a');
-      a.href = URL.createObjectURL(blob);
-      a.download = e.filename;
-      document.body.appendChild(a);
-      a.click();
-      a.remove();
-      setTimeout(function () { URL.revokeObjectURL(a.href); }, 1000);
-      status('exported ' + e.filename + ((e.warnings || []).length ? ' (' + e.warnings.length + ' warning(s) in its header)' : ''));
-    }).catch(function (e) { showError(e.message); });
+      var side = $('export-sidecar');
+      side.textContent = '';
+      side.hidden = !e.sidecar;
+      if (e.sidecar) {
+        var a = document.createElement('a');
+        a.href = '#';
+        a.textContent = e.sidecar.filename;
+        a.addEventListener('click', function (ev) { ev.preventDefault(); download(e.sidecar.filename, e.sidecar.content); });
+        side.appendChild(document.createTextNode('Its header, as a separate file (the format has no comments): '));
+        side.appendChild(a);
+      }
+      $('export-box').hidden = false;
+      $('export-box').scrollIntoView({ block: 'nearest' });
+      status('exported ' + e.filename + (warnings.length ? ' (' + warnings.length + ' warning' +
+        (warnings.length === 1 ? '' : 's') + ', shown with it)' : ''));
+    }).catch(function (e) { status('export: refused'); showError(e.message); });
   }
 
   function cancelJob() {
     if (!state.job) return;
     api('DELETE', '/api/jobs/' + state.job).catch(function (e) { showError(e.message); });
-    status('cancelling…');
+    status('cancelling\u2026');
   }
 
   // ---- wiring ----
@@ -411,17 +531,25 @@
   $('upload').addEventListener('change', uploadFile);
   $('column').addEventListener('change', runWv);
   $('wv').addEventListener('click', runWv);
-  $('fit').addEventListener('click', function () { runFit(); });
+  $('fit').addEventListener('click', runFit);
   $('select').addEventListener('click', runSelect);
   $('overlay').addEventListener('click', applyOverlay);
   $('overlay-clear').addEventListener('click', clearOverlay);
+  $('overlay-load').addEventListener('change', loadOverlayFile);
+  $('overlay-text').addEventListener('input', function () { state.overlayName = null; });
   $('export').addEventListener('click', exportModel);
   $('cancel').addEventListener('click', cancelJob);
+  document.querySelectorAll('input[name=estimator]').forEach(function (r) {
+    r.addEventListener('change', function () { $('eff').disabled = r.value === 'classical'; });
+  });
   document.querySelectorAll('#components input, #ar1').forEach(function (c) {
     c.addEventListener('change', modelFromComponents);
   });
   $('model').addEventListener('input', componentsFromModel);
-  $('model').addEventListener('keydown', function (e) { if (e.key === 'Enter' && state.dataset) runFit(); });
+  // Enter in a model field runs it, as its button would.
+  [['model', 'fit'], ['maximal', 'select']].forEach(function (p) {
+    $(p[0]).addEventListener('keydown', function (e) { if (e.key === 'Enter' && !$(p[1]).disabled) $(p[1]).click(); });
+  });
   setBusy(false);
   loadFiles();
 })();

@@ -1,10 +1,11 @@
 // The web app in a real browser (issue 31's acceptance): `gmwm serve` on a folder holding a
 // real ADIS16405 recording, driven in Debian's headless Chromium by playwright-core as a user
-// would: open the recording, tick AR1 + WN + RW, fit, read the parameter table, run Select,
-// step to another ranking row, export Kalibr; every number compared with the command line's
-// own run (`gmwm fit`, `gmwm select`, `gmwm export`) on the same file. Also: an error is a
-// message on the page, a long job is cancelled from the page, two tabs fit at once, and the
-// page's first paint is timed (the bar: under 1 s from loopback).
+// would: open the recording, tick AR1 + WN + RW, fit, read the parameter table, export Kalibr,
+// run Select, step to another ranking row, export the selection; every number compared with
+// the command line's own run (`gmwm wv`, `fit`, `select`, `export`) on the same file. Also: the
+// robust WV, an upload, a datasheet and a pasted Kalibr overlay, an error as a message on the
+// page, a long job cancelled from the page, two tabs fitting at once (one at 1920x1080, the
+// other at 1280x800), and the page's first paint (the bar: under 1 s from loopback).
 //
 //   GMWM_CLI=build/gmwm GMWM_SOURCE_DIR=. GMWM_SHARED_DATA=../shared/data node tests/browser/serve_test.mjs
 //
@@ -23,6 +24,7 @@ import assert from 'node:assert/strict';
 const here = dirname(fileURLToPath(import.meta.url));
 const CHROMIUM = process.env.GMWM_CHROMIUM || '/usr/bin/chromium';
 const RECORDING = 'adis_16405_imu1.csv.gz';  // 1e6 samples x 6 axes at 100 Hz (the shared data's README)
+const UNITS = 'gyro=deg/s,accel=g';          // its units (the same README)
 // The page's first paint from loopback, and how long any one step may wait.
 const FIRST_PAINT_BAR_MS = 1000;
 const STEP_TIMEOUT_MS = 60000;
@@ -144,7 +146,7 @@ async function parameterValues(page) {
   });
 }
 
-const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, acceptDownloads: true });
+const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
 const page = await newPage(context);
 let firstPaint = NaN;
 
@@ -174,6 +176,26 @@ await check('opening the recording shows its WV and Allan deviation as gmwm wv -
   assert.deepEqual(doc, cliDocument(['wv', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--adev']));
 });
 
+// Downloads the page's export in `format` and writes `doc` (the document the page exported)
+// for `gmwm export`; both files must be the same but for the "Source:" line, which names
+// where the result came from (the server, or the JSON file).
+async function exportEqualsCli(doc, format, stem) {
+  await page.selectOption('#export-format', format);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  const name = download.suggestedFilename();
+  const file = join(folder, `${stem}-page-${name}`);
+  await download.saveAs(file);
+  writeFileSync(join(folder, `${stem}.json`), JSON.stringify(doc));
+  const r = spawnSync(cli, ['export', `${stem}.json`, '--format', format, '--output', `${stem}-cli-${name}`, '--units',
+                            UNITS, '--quiet'], { cwd: folder, encoding: 'utf8' });
+  assert.equal(r.status, 0, r.stderr);
+  const body = (t) => t.split('\n').filter((l) => !l.includes('Source:')).join('\n');
+  const content = readFileSync(file, 'utf8');
+  assert.equal(body(content), body(readFileSync(join(folder, `${stem}-cli-${name}`), 'utf8')));
+  assert.equal(await page.textContent('#export-preview'), content, 'the page shows the file it downloads');
+  return { name, content };
+}
+
 let fitDoc;
 await check('ticking AR1 + WN + RW and Fit gives gmwm fit\'s document and its parameter table', async () => {
   await page.selectOption('#ar1', '1');
@@ -189,7 +211,31 @@ await check('ticking AR1 + WN + RW and Fit gives gmwm fit\'s document and its pa
   const shown = await parameterValues(page);
   const expected = cliFit.columns[0].parameters.map((p) => g6(p.value));
   assert.deepEqual(shown, expected, 'the table shows the CLI\'s estimates');
-  await page.screenshot({ path: join(shots, 'serve-2-fit.png'), fullPage: true });
+  await page.screenshot({ path: join(shots, 'serve-2-fit.png') });
+  await page.screenshot({ path: join(shots, 'serve-2-fit-full.png'), fullPage: true });
+});
+
+let kalibr;
+await check('Export Kalibr of the fit downloads the file gmwm export writes from gmwm fit\'s JSON', async () => {
+  // The recording's units (the shared data's README): an export needs them, never assumes SI.
+  await page.fill('#units', UNITS);
+  kalibr = await exportEqualsCli(fitDoc, 'kalibr', 'fit');
+  assert.equal(kalibr.name, 'imu.yaml');
+  await page.locator('#export-box').scrollIntoViewIfNeeded();
+  await page.screenshot({ path: join(shots, 'serve-3-export.png') });
+});
+
+await check('the robust WV (Huber, efficiency 0.6) fits as gmwm fit --robust', async () => {
+  await page.check('input[name=estimator][value=huber]');
+  assert.equal(await page.isEnabled('#eff'), true, 'the efficiency is editable for a robust WV');
+  await page.fill('#eff', '0.6');
+  await page.click('#fit');
+  await waitStatus(page, 'fit of AR1+WN+RW: done');
+  assert.deepEqual((await lastJob(page, 'fit')).result.document,
+                   cliDocument(['fit', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model', 'AR1+WN+RW',
+                                '--units', UNITS, '--robust', '--eff', '0.6']));
+  await page.check('input[name=estimator][value=classical]');
+  assert.equal(await page.isEnabled('#eff'), false, 'the efficiency is off for the classical WV');
 });
 
 let selectDoc;
@@ -198,58 +244,63 @@ await check('Select ranks the sub-models as gmwm select, and a ranking row shows
   await page.click('#select');
   await waitStatus(page, 'selection over 3*AR1+WN+RW+QN+DR: done');
   selectDoc = (await lastJob(page, 'select')).result.document;
-  assert.deepEqual(selectDoc,
-                   cliDocument(['select', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model', '3*AR1+WN+RW+QN+DR']));
-  const rows = await page.$$eval('#ranking li code', (c) => c.map((x) => x.textContent));
-  assert.deepEqual(rows, selectDoc.columns[0].ranking.map((r) => r.model));
-  await page.screenshot({ path: join(shots, 'serve-3-select.png') });
-  await page.click('#ranking li[data-row="2"]');
+  assert.deepEqual(selectDoc, cliDocument(['select', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model',
+                                           '3*AR1+WN+RW+QN+DR', '--units', UNITS]));
+  const ranking = selectDoc.columns[0].ranking;
+  const rows = await page.$$eval('#ranking tbody tr', (trs) => trs.map((tr) => [...tr.children].map((td) => td.textContent)));
+  assert.deepEqual(rows.map((r) => r[1]), ranking.map((r) => r.model), 'the ranking\'s models in order');
+  assert.deepEqual(rows.map((r) => r[2]), ranking.map((r) => g6(r.criterion)), 'each row\'s WVIC');
+  assert.ok((await page.textContent('#result')).includes('chosen model ' + selectDoc.columns[0].best),
+            'the selection shows its chosen model');
+  await page.screenshot({ path: join(shots, 'serve-4-select.png') });
+  await page.click('#ranking tr[data-row="2"]');
   await waitStatus(page, 'ranking row 2');
-  const second = selectDoc.columns[0].ranking[1];
+  const second = ranking[1];
   await page.waitForFunction((m) => document.getElementById('result').textContent.includes('parameters of ' + m),
                               second.model);
+  await page.waitForSelector('#result .gmwm-plot[data-plot=wv][data-rendered=svg]');
   assert.deepEqual(await parameterValues(page), second.parameters.map((p) => g6(p.value)));
-  await page.screenshot({ path: join(shots, 'serve-4-ranking-row.png') });
+  assert.equal(await page.inputValue('#model'), second.model, 'the row\'s model is put in the model field');
+  await page.screenshot({ path: join(shots, 'serve-5-ranking-row.png') });
 });
 
-await check('Export Kalibr downloads the file gmwm export writes from the same result', async () => {
-  // The recording's units (the shared data's README): an export needs them, never assumes SI.
-  await page.fill('#units', 'gyro=deg/s,accel=g');
-  await page.selectOption('#export-format', 'kalibr');
-  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
-  assert.equal(download.suggestedFilename(), 'imu.yaml');
-  const file = join(folder, 'page-imu.yaml');
-  await download.saveAs(file);
-  writeFileSync(join(folder, 'select.json'), JSON.stringify(selectDoc));
-  const r = spawnSync(cli, ['export', 'select.json', '--format', 'kalibr', '--output', 'cli-imu.yaml', '--units',
-                            'gyro=deg/s,accel=g', '--quiet'],
-                      { cwd: folder, encoding: 'utf8' });
-  assert.equal(r.status, 0, r.stderr);
-  const body = (t) => t.split('\n').filter((l) => !l.includes('Source:')).join('\n');
-  assert.equal(body(readFileSync(file, 'utf8')), body(readFileSync(join(folder, 'cli-imu.yaml'), 'utf8')));
-  await page.screenshot({ path: join(shots, 'serve-5-export.png') });
+await check('Export Kalibr of the selection downloads the file gmwm export writes from gmwm select\'s JSON', async () => {
+  await exportEqualsCli(selectDoc, 'kalibr', 'select');
 });
 
-await check('the datasheet overlay is drawn into the plot', async () => {
+await check('the datasheet overlay, and the exported Kalibr file pasted as one, are drawn into the plot', async () => {
   await page.selectOption('#overlay-format', 'datasheet');
   await page.selectOption('#overlay-file', 'adis16405_datasheet.yaml');
   await page.click('#overlay');
   await page.waitForFunction(() => document.getElementById('overlay-model').textContent.includes('WN('));
   await waitStatus(page, ': done');
   await page.waitForSelector('#result .gmwm-plot[data-plot=wv][data-rendered=svg]');
-  const legend = await page.$eval('#result .gmwm-plot[data-plot=wv]', (e) => e.textContent);
-  assert.ok(legend.includes('datasheet adis16405_datasheet.yaml'), 'the overlay is in the legend');
+  let legend = await page.$eval('#result .gmwm-plot[data-plot=wv]', (e) => e.textContent);
+  assert.ok(legend.includes('datasheet adis16405_datasheet.yaml'), 'the datasheet is in the legend');
   await page.screenshot({ path: join(shots, 'serve-6-overlay.png') });
+  // The fit's own Kalibr file back as a baseline: its WN + RW, converted back to deg/s.
+  await page.selectOption('#overlay-format', 'kalibr');
+  await page.selectOption('#overlay-file', '');
+  await page.fill('#overlay-text', kalibr.content);
+  await page.click('#overlay');
+  await page.waitForFunction(() => /kalibr.*= WN\(/.test(document.getElementById('overlay-model').textContent));
+  await waitStatus(page, ': done');
+  await page.waitForSelector('#result .gmwm-plot[data-plot=wv][data-rendered=svg]');
+  legend = await page.$eval('#result .gmwm-plot[data-plot=wv]', (e) => e.textContent);
+  assert.ok(/kalibr/.test(legend), 'the pasted Kalibr file is in the legend');
   await page.click('#overlay-clear');
   await waitStatus(page, ': done');
 });
 
-await check('a model that does not parse is a message on the page', async () => {
+await check('a model that does not parse is a message on the page, in view', async () => {
+  await page.evaluate(() => window.scrollTo(0, document.body.scrollHeight));
   await page.fill('#model', 'WN+ZZ');
   await page.click('#fit');
   await page.waitForSelector('#message:not([hidden])');
   const m = await page.textContent('#message');
   assert.ok(m.includes("field 'model'"), m);
+  const box = await page.$eval('#message', (e) => { const r = e.getBoundingClientRect(); return [r.top, r.bottom]; });
+  assert.ok(box[0] >= 0 && box[1] <= 800, `the message is inside the window (${box})`);
   await page.screenshot({ path: join(shots, 'serve-7-error.png') });
 });
 
@@ -263,16 +314,18 @@ await check('a long job shows progress and Cancel ends it', async () => {
   await page.screenshot({ path: join(shots, 'serve-8-progress.png') });
   await page.click('#cancel');
   await waitStatus(page, 'cancelled');
+  assert.equal(await page.getAttribute('body', 'data-gmwm-job-state'), 'cancelled');
+  assert.equal(await page.isEnabled('#fit'), true, 'the page is usable again');
   await page.selectOption('#omega', 'model');
 });
 
-await check('two tabs fitting at once each get their own model', async () => {
+await check('an upload in a second tab (1920x1080), and two tabs fitting at once, each get their own model', async () => {
   const other = await newPage(context);
+  await other.setViewportSize({ width: 1920, height: 1080 });
   await other.goto(url);
   await waitStatus(other, 'ready');
-  await other.selectOption('#file', RECORDING);
   await other.fill('#freq', '100');
-  await other.click('#open');
+  await other.setInputFiles('#upload', join(folder, RECORDING));
   await waitStatus(other, 'WV of gyro_x: done');
   await other.selectOption('#column', 'gyro_y');
   await waitStatus(other, 'WV of gyro_y: done');
@@ -283,9 +336,12 @@ await check('two tabs fitting at once each get their own model', async () => {
   // The first tab declared the units for its export; the second did not.
   assert.deepEqual((await lastJob(page, 'fit')).result.document,
                    cliDocument(['fit', RECORDING, '--freq', '100', '--columns', 'gyro_x', '--model', 'AR1+WN', '--units',
-                                'gyro=deg/s,accel=g']));
+                                UNITS]));
   assert.deepEqual((await lastJob(other, 'fit')).result.document,
                    cliDocument(['fit', RECORDING, '--freq', '100', '--columns', 'gyro_y', '--model', 'WN+RW']));
+  await other.waitForSelector('#result .gmwm-plot[data-plot=adev][data-rendered=svg]');
+  await other.screenshot({ path: join(shots, 'serve-9-upload-1920.png') });
+  assert.deepEqual(other.errors, [], 'no script error in the second tab');
   await other.close();
 });
 
