@@ -183,6 +183,14 @@
 
   function column() { return $('column').value; }
 
+  // The document Export exports (null: none), said under its button; an export shown for the
+  // previous one is put away.
+  function setDocument(doc, note) {
+    state.document = doc;
+    $('export-note').textContent = note;
+    $('export-box').hidden = true;
+  }
+
   // The settings every study takes: the dataset, the column, the units and the WV estimator.
   function baseBody() {
     var b = { dataset: state.dataset.dataset, column: column(), units: $('units').value.trim() };
@@ -254,7 +262,7 @@
 
   function opened(d) {
     state.dataset = d;
-    state.document = null;
+    setDocument(null, 'Exports the last fit, or the selection\u2019s chosen model.');
     $('ranking').hidden = true;
     $('ranking-note').textContent = '';
     var sel = $('column');
@@ -268,7 +276,6 @@
       ' Hz' + (d.freq_known ? '' : ' (as given)') + ', ' +
       (hours >= 1 ? hours.toFixed(2) + ' h' : (hours * 3600).toFixed(1) + ' s') + ', ' + d.columns.length +
       ' column' + (d.columns.length === 1 ? '' : 's') + (d.timing ? '. ' + d.timing : '');
-    $('export-note').textContent = 'Exports the last fit, or the selection\u2019s chosen model.';
     setBusy(false);
     runWv();
   }
@@ -318,8 +325,7 @@
     body.model = $('model').value.trim();
     body.omega = $('omega').value;
     runJob('/api/fit', body, 'fit of ' + body.model, function (r) {
-      state.document = r.document;
-      $('export-note').textContent = 'Exports the fit of ' + body.model + ' on ' + body.column + '.';
+      setDocument(r.document, 'Exports the fit of ' + body.model + ' on ' + body.column + '.');
       document.querySelectorAll('#ranking tr.active').forEach(function (x) { x.classList.remove('active'); });
       showResult(r);
       setBusy(false);
@@ -332,10 +338,9 @@
     $('ranking').hidden = true;
     $('ranking-note').textContent = '';
     runJob('/api/select', body, 'selection over ' + body.model, function (r, job) {
-      state.document = r.document;
       var best = r.document.columns[0].best;
-      $('export-note').textContent = 'Exports the selection\u2019s chosen model' + (best ? ' ' + best : '') + ' on ' +
-        body.column + '.';
+      setDocument(r.document, 'Exports the selection\u2019s chosen model' + (best ? ' ' + best : '') + ' on ' +
+        body.column + '.');
       showResult(r);
       showRanking(r.document.columns[0], job);
       setBusy(false);

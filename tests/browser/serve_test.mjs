@@ -86,6 +86,11 @@ function g6(x) {
 }
 
 const server = spawn(cli, ['serve', folder, '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+// Whatever way the script ends (a step that throws outside a check too), nothing is left behind.
+process.on('exit', () => {
+  if (server.exitCode === null && server.signalCode === null) server.kill('SIGKILL');
+  rmSync(folder, { recursive: true, force: true });
+});
 const url = await new Promise((resolve, reject) => {
   let out = '';
   server.stdout.on('data', (d) => {
@@ -329,6 +334,9 @@ await check('an upload in a second tab (1920x1080), and two tabs fitting at once
   await waitStatus(other, 'WV of gyro_x: done');
   await other.selectOption('#column', 'gyro_y');
   await waitStatus(other, 'WV of gyro_y: done');
+  assert.deepEqual((await lastJob(other, 'wv')).result.document,
+                   cliDocument(['wv', RECORDING, '--freq', '100', '--columns', 'gyro_y', '--adev']),
+                   'the uploaded recording\'s WV is the CLI\'s on the same file');
   await other.fill('#model', 'WN+RW');
   await page.fill('#model', 'AR1+WN');
   await Promise.all([other.click('#fit'), page.click('#fit')]);
@@ -360,7 +368,6 @@ if (exitCode !== 0) {
   failed = true;
   results.push(`FAIL gmwm serve ended with ${exitCode} on SIGTERM`);
 }
-rmSync(folder, { recursive: true, force: true });
 for (const r of results) console.log(r);
 console.log(`first paint ${firstPaint.toFixed(0)} ms; screenshots in ${shots}`);
 process.exit(failed ? 1 : 0);
