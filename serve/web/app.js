@@ -312,6 +312,9 @@
       status('reading ' + u.name + '\u2026');
       return api('POST', '/api/open', openBody({ upload: u.upload }));
     }).then(opened).catch(refused('uploading ' + f.name));
+    // Cleared, so that choosing the same file again (say with a sampling rate typed since)
+    // uploads it again.
+    $('upload').value = '';
   }
 
   // ---- the studies ----

@@ -329,6 +329,11 @@ await check('an upload in a second tab (1920x1080), and two tabs fitting at once
   await other.setViewportSize({ width: 1920, height: 1080 });
   await other.goto(url);
   await waitStatus(other, 'ready');
+  // Without its sampling rate (the file has no timestamps) the upload is refused, on the page;
+  // with it, the same file chosen again is uploaded again.
+  await other.setInputFiles('#upload', join(folder, RECORDING));
+  await other.waitForSelector('#message:not([hidden])');
+  assert.match(await other.textContent('#message'), /sampling rate/);
   await other.fill('#freq', '100');
   await other.setInputFiles('#upload', join(folder, RECORDING));
   await waitStatus(other, 'WV of gyro_x: done');
