@@ -19,8 +19,13 @@
     lastRequest: null, // {endpoint, body, label, done}: run again when an overlay is set or cleared
     overlay: null,     // {format, file | text}: sent with every study while set
     overlayName: null, // the name of the file last loaded into the overlay's text box
-    views: []          // the Vega views shown, finalized when replaced
+    views: [],         // the Vega views shown, finalized when replaced
+    shown: 0           // how many results were shown (a result's plots are drawn only while it is)
   };
+
+  // Vega is the deferred script after this one: every deferred script has run when
+  // DOMContentLoaded fires (this one runs before it does).
+  var vegaLoaded = new Promise(function (resolve) { document.addEventListener('DOMContentLoaded', resolve); });
 
   // ---- numbers, messages and progress ----
 
@@ -155,6 +160,7 @@
   function showResult(result) {
     state.views.forEach(function (v) { v.finalize(); });
     state.views = [];
+    var shown = ++state.shown;
     var box = $('result');
     box.innerHTML = result.html || '';
     box.querySelectorAll('td.num').forEach(function (td) {
@@ -163,11 +169,18 @@
     $('text').textContent = result.text || '';
     if (box.getBoundingClientRect().top < document.querySelector('header.app-bar').getBoundingClientRect().bottom)
       box.scrollIntoView({ block: 'start' });
+    vegaLoaded.then(function () {
+      if (shown === state.shown) drawPlots(result.plots || []);
+    });
+  }
+
+  // Draws each plot into its container in the report's section.
+  function drawPlots(plots) {
     if (typeof vega === 'undefined') {
       showError('Plots unavailable: ' + (window.gmwmVegaMissing || 'Vega did not load'));
       return;
     }
-    (result.plots || []).forEach(function (p) {
+    plots.forEach(function (p) {
       var el = document.getElementById(p.id);
       if (!el) return;
       try {
@@ -257,6 +270,7 @@
       if (f.truncated) sel.appendChild(option('', '(the listing stops at its limit: the folder holds more)'));
       f.configs.forEach(function (e) { $('overlay-file').appendChild(option(e.path, e.path)); });
       status('ready');
+      performance.mark('gmwm-ready');  // the page is usable (timed by tests/browser)
     }).catch(function (e) { status('the server did not answer'); showError(e.message); });
   }
 

@@ -166,8 +166,12 @@ await check('the page paints within 1 s from loopback', async () => {
     setTimeout(() => resolve(NaN), 5000);
   }));
   assert.ok(firstPaint < FIRST_PAINT_BAR_MS, `first paint at ${firstPaint} ms`);
-  results.push(`     first paint ${firstPaint.toFixed(0)} ms after navigation`);
   await waitStatus(page, 'ready');
+  // For the log: when the recordings were listed (the page usable) and when Vega had loaded.
+  const [ready, vega] = await page.evaluate(() => [performance.getEntriesByName('gmwm-ready')[0].startTime,
+    performance.getEntriesByType('navigation')[0].domContentLoadedEventEnd]);
+  results.push(`     first paint ${firstPaint.toFixed(0)} ms after navigation, recordings listed at ${ready.toFixed(0)} ms, ` +
+               `Vega loaded at ${vega.toFixed(0)} ms`);
 });
 
 await check('opening the recording shows its WV and Allan deviation as gmwm wv --adev', async () => {
