@@ -352,8 +352,6 @@
   function runSelect() {
     var body = baseBody();
     body.model = $('maximal').value.trim();
-    $('ranking').hidden = true;
-    $('ranking-note').textContent = '';
     runJob('/api/select', body, 'selection over ' + body.model, function (r, job) {
       var best = r.document.columns[0].best;
       setDocument(r.document, 'Exports the selection\u2019s chosen model' + (best ? ' ' + best : '') + ' on ' +
