@@ -360,6 +360,19 @@ Json adev_plot_spec(const ReportColumn& c) {
       }
     p.curves.push_back(std::move(m));
   }
+  // Reference models (html_report.h, ReportColumn::references): their Allan deviation at the
+  // data's averaging times, as in the WV plot.
+  for (const ReportColumn::Reference& r : c.references) {
+    const std::vector<double> adev = model_allan_deviation(r.model, r.theta, f.adev.m);
+    Curve ref;
+    ref.name = r.name;
+    for (std::size_t i = 0; i < tau.size() && i < adev.size(); ++i)
+      if (adev[i] > 0.0 && std::isfinite(adev[i])) {
+        ref.tau.push_back(tau[i]);
+        ref.value.push_back(adev[i]);
+      }
+    if (!ref.tau.empty()) p.curves.push_back(std::move(ref));
+  }
   // The IEEE 952 guides through the figures used, dashed, over the data's range.
   // Guides stay within a decade of the data's range, so they do not stretch the axis.
   double lo = INFINITY, hi = 0.0;

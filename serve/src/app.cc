@@ -100,23 +100,13 @@ HttpResponse error_response(int status, const std::string& message) {
   return json_response({{"error", printable_line(message)}}, status);
 }
 
-// The reader's options as the CLI names them in its messages, and the request's fields
-// that set them.
-constexpr std::pair<const char*, const char*> kOptionFields[] = {
-    {"--freq HZ", "\"freq\" (Hz)"}, {"--freq", "\"freq\""}, {"--columns", "\"columns\""}, {"--topic", "\"topic\""}};
-
-std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (std::size_t p = s.find(from); !from.empty() && p != std::string::npos; p = s.find(from, p + to.size()))
-    s.replace(p, from.size(), to);
-  return s;
-}
-
-// The error of a reader whose message names the resolved path and the CLI's options: the
-// page reads the name it sent (never the machine's folders) and the fields it can set.
+// A reader's message names the resolved path: the page reads the name it sent (never the
+// machine's folders), and the fields it can set instead of the CLI's options.
 std::string renamed(std::string message, const std::string& path, const std::string& name) {
-  message = replace_all(std::move(message), path, name);
-  for (const auto& [option, field] : kOptionFields) message = replace_all(std::move(message), option, field);
-  return message;
+  for (std::size_t p = message.find(path); !path.empty() && p != std::string::npos;
+       p = message.find(path, p + name.size()))
+    message.replace(p, path.size(), name);
+  return detail::api_wording(std::move(message));
 }
 
 std::string kind_of(const std::string& column) {
@@ -147,7 +137,8 @@ std::string App::State::render_page() const {
   };
   replace("<!--GMWM_REPORT_STYLE-->", "<style>\n" + report::report_style_sheet() + "\n</style>");
   // Vega is its own deferred script (/vega.js, 1 MB): inlined, its parsing held the first
-  // paint back by ~0.9 s; deferred, the page paints at once and the app runs after Vega.
+  // paint back by ~0.9 s; deferred, the page paints at once (the page loads its own script
+  // first and draws the plots once Vega is there).
   replace("<!--GMWM_VEGA-->", vega_script.empty()
                                   ? "<script>window.gmwmVegaMissing = " + report::script_safe_json(Json(vega_missing)) +
                                         ";</script>"

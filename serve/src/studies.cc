@@ -36,7 +36,7 @@ auto as_bad_request(const std::string& where, F&& f) {
   try {
     return f();
   } catch (const InputError& e) {
-    throw HttpError(400, where + ": " + e.what());
+    throw HttpError(400, api_wording(where + ": " + e.what()));
   }
 }
 
@@ -88,7 +88,8 @@ struct Baseline {
   Model model;
   Eigen::VectorXd theta;
   std::vector<std::string> conversions;
-  std::string name;
+  std::string source;  ///< the file, or "the pasted <format> file"
+  std::string name;    ///< "datasheet: WN+FLICKER", the curve's name
 };
 
 Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& set, const std::string& units) {
@@ -131,7 +132,9 @@ Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& 
     const auto b = pipeline::config_baseline(config, kind, column.name, static_cast<std::int64_t>(column.values.size()));
     if (!b)
       throw InputError(name + ": has no " + std::string(io::to_string(kind)) + " figures for column '" + column.name + "'");
-    return Baseline{b->model, b->theta, b->conversions, format_name + " " + name + ": " + b->model.to_string()};
+    // Named in the plots by its kind and model (the file is named in the overlay's answer):
+    // a file name in the legend would squeeze the plot.
+    return Baseline{b->model, b->theta, b->conversions, name, format_name + ": " + b->model.to_string()};
   });
 }
 
@@ -329,6 +332,7 @@ Json overlay(const Body& body, StudyContext& c) {
   }
   return {{"model", b.model.to_string(b.theta)},
           {"name", b.name},
+          {"source", b.source},
           {"conversions", b.conversions},
           {"tau", tau},
           {"wv", values}};

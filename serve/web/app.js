@@ -427,7 +427,7 @@
     box.textContent = '';
     var head = document.createElement('div');
     var name = document.createElement('strong');
-    name.textContent = r.name;
+    name.textContent = r.name.split(':')[0] + (r.source ? ' (' + r.source + ')' : '');
     var model = document.createElement('code');
     model.textContent = r.model;
     head.appendChild(name);

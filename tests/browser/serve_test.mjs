@@ -285,7 +285,9 @@ await check('the datasheet overlay, and the exported Kalibr file pasted as one, 
   await waitStatus(page, ': done');
   await page.waitForSelector('#result .gmwm-plot[data-plot=wv][data-rendered=svg]');
   let legend = await page.$eval('#result .gmwm-plot[data-plot=wv]', (e) => e.textContent);
-  assert.ok(legend.includes('datasheet adis16405_datasheet.yaml'), 'the datasheet is in the legend');
+  assert.ok(legend.includes('datasheet: WN+FLICKER'), 'the datasheet is in the legend');
+  const adev = await page.$eval('#result .gmwm-plot[data-plot=adev]', (e) => e.textContent);
+  assert.ok(adev.includes('datasheet: WN+FLICKER'), 'and in the Allan deviation plot');
   await page.screenshot({ path: join(shots, 'serve-6-overlay.png') });
   // The fit's own Kalibr file back as a baseline: its WN + RW, converted back to deg/s.
   await page.selectOption('#overlay-format', 'kalibr');

@@ -306,7 +306,9 @@ TEST_F(ServeAppTest, OverlaysADatasheetsModelAndDrawsItIntoTheFitsPlot) {
                                        {"model", "WN+RW"},
                                        {"overlay", {{"format", "datasheet"}, {"file", "sheet.yaml"}}}});
   const std::string spec = r.at("plots")[0].at("spec").dump();
-  EXPECT_NE(spec.find("datasheet sheet.yaml: WN+RW"), std::string::npos) << "the overlay is a curve of the WV plot";
+  EXPECT_NE(spec.find("datasheet: WN+RW"), std::string::npos) << "the overlay is a curve of the WV plot";
+  EXPECT_NE(r.at("plots")[1].at("spec").dump().find("datasheet: WN+RW"), std::string::npos)
+      << "and of the Allan deviation plot";
   // The document is the fit's alone.
   EXPECT_EQ(r.at("document"), cli_document({"fit", "imu.csv", "--columns", "gyro_x", "--model", "WN+RW"}, folder_));
   EXPECT_EQ(post("/api/overlay", OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "datasheet"}, {"file", "../x"}})

@@ -106,9 +106,9 @@ struct ReportColumn {
   /// `fit --joint`, `select --joint`: the replicates, their test and selection.
   std::optional<ReplicateReport> replicates;
   std::vector<std::string> conversions;
-  /// Reference models drawn into the WV plot beside the data's (a datasheet's or a
-  /// simulator's model, as gmwm serve overlays them): each one's implied WV at the column's
-  /// scales, one solid curve named `name`.
+  /// Reference models drawn beside the data's (a datasheet's or a simulator's model, as gmwm
+  /// serve overlays them): each one's implied WV at the column's scales in the WV plot and
+  /// its Allan deviation in the ADEV plot, one solid curve named `name`.
   struct Reference {
     std::string name;  ///< "datasheet adis16405.yaml: WN+FLICKER+RW"
     Model model;
