@@ -15,6 +15,7 @@
 #include "datasets.h"
 #include "folder.h"
 #include "gmwm/engine/error.h"
+#include "guard.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
 #include "gmwm/report/html_fragment.h"
@@ -67,11 +68,13 @@ struct App::State {
   State(ServeOptions o)
       : options(std::move(o)),
         folder(options.folder),
+        guard(options),
         datasets(options.max_datasets, options.max_dataset_bytes),
         jobs(options.job_workers, options.job_idle_seconds) {}
 
   ServeOptions options;
   detail::Folder folder;
+  detail::Guard guard;
   detail::Datasets datasets;
   std::mutex mutex;  // uploads and the upload folder
   struct Stored {
@@ -268,7 +271,16 @@ App::~App() {
 
 const ServeOptions& App::options() const { return state_->options; }
 
+std::optional<HttpResponse> App::screen(const HttpRequest& request) const { return state_->guard.screen(request); }
+
+void App::set_port(int port) { state_->guard.set_port(port); }
+
 HttpResponse App::handle(const HttpRequest& request) {
+  return detail::Guard::stamped(answer(request));
+}
+
+HttpResponse App::answer(const HttpRequest& request) {
+  if (auto refused = screen(request)) return *refused;
   try {
     if (request.method == "POST" && request.path == "/api/upload") {
       HttpResponse refusal;

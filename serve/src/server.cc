@@ -2,6 +2,9 @@
 
 #include <httplib.h>
 
+#include <algorithm>
+#include <cctype>
+
 #include <nlohmann/json.hpp>
 
 #include <sys/socket.h>
@@ -9,6 +12,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
+#include "guard.h"
 
 namespace gmwm::serve {
 
@@ -22,22 +26,43 @@ struct Server::Impl {
 
 namespace {
 
+// The request as the App reads it: headers by lower-case name, a header sent twice as its
+// values joined by ", " (as HTTP combines them: a second Host then names no server).
 HttpRequest request_of(const httplib::Request& req) {
   HttpRequest r;
   r.method = req.method;
   r.path = req.path;
   for (const auto& [k, v] : req.params) r.query[k] = v;
   r.body = req.body;
+  for (const auto& [k, v] : req.headers) {
+    std::string name = k;
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    auto [it, added] = r.headers.emplace(name, v);
+    if (!added) it->second += ", " + v;
+  }
   return r;
 }
 
 void answer(httplib::Response& res, const HttpResponse& a) {
   res.status = a.status;
   res.set_content(a.body, a.content_type.c_str());
-  // The page is the program's own: it never changes while the server runs, but a rebuilt
-  // program must not be shadowed by a cached page.
-  res.set_header("Cache-Control", "no-store");
-  res.set_header("X-Content-Type-Options", "nosniff");
+  for (const auto& [k, v] : a.headers) res.set_header(k.c_str(), v);
+}
+
+// An answer after which the connection is closed, whatever the request asked: the rest of a
+// refused body is never read. (cpp-httplib keeps a connection open unless the request said
+// "Connection: close"; a response whose content provider reports failure after writing the
+// whole answer ends the connection.)
+void answer_and_close(httplib::Response& res, const HttpResponse& a) {
+  answer(res, a);
+  res.set_header("Connection", "close");
+  const auto body = std::make_shared<std::string>(std::move(res.body));
+  res.body.clear();
+  res.set_content_provider(body->size(), a.content_type.c_str(),
+                           [body](std::size_t offset, std::size_t, httplib::DataSink& sink) {
+                             sink.write(body->data() + offset, body->size() - offset);
+                             return false;
+                           });
 }
 
 std::int64_t content_length(const httplib::Request& req) {
@@ -70,7 +95,15 @@ Server::Server(ServeOptions options) : impl_(std::make_unique<Impl>(std::move(op
   http.set_payload_max_length(static_cast<std::size_t>(std::max(o.max_upload_bytes, o.max_json_bytes)));
   // Bodies beyond their endpoint's limit are refused from their declared length, before a
   // byte of them is read; the connection is then closed (the unread body cannot be skipped).
-  http.set_pre_routing_handler([&o](const httplib::Request& req, httplib::Response& res) {
+  http.set_pre_routing_handler([&o, &app](const httplib::Request& req, httplib::Response& res) {
+    // The rules every request passes (guard.h), on its headers alone: a refused request's
+    // body is never read.
+    HttpRequest headers_only = request_of(req);
+    headers_only.body.clear();
+    if (auto refused = app.screen(headers_only)) {
+      answer_and_close(res, detail::Guard::stamped(*refused));
+      return httplib::Server::HandlerResponse::Handled;
+    }
     const std::int64_t length = content_length(req);
     const bool upload = req.path == "/api/upload";
     const std::int64_t limit = upload ? o.max_upload_bytes : o.max_json_bytes;
@@ -78,22 +111,18 @@ Server::Server(ServeOptions options) : impl_(std::make_unique<Impl>(std::move(op
     const nlohmann::ordered_json error = {{"error", printable_line(req.path + ": the request body has " + std::to_string(length) +
                                                            " bytes, expected at most " + std::to_string(limit) +
                                                            (upload ? " (--max-upload)" : ""))}};
-    answer(res, {413, "application/json", error.dump()});
-    res.set_header("Connection", "close");
+    answer_and_close(res, detail::Guard::stamped({413, "application/json", error.dump()}));
     return httplib::Server::HandlerResponse::Handled;
   });
   http.Post("/api/upload", [&app](const httplib::Request& req, httplib::Response& res,
                                   const httplib::ContentReader& read) {
     HttpResponse refusal;
     auto u = app.begin_upload(req.has_param("name") ? req.get_param_value("name") : "", content_length(req), refusal);
-    if (!u) {
-      answer(res, refusal);
-      res.set_header("Connection", "close");
-      return;
-    }
+    if (!u) return answer_and_close(res, detail::Guard::stamped(refusal));
     read([&](const char* data, std::size_t size) { return app.append_upload(*u, data, size); });
-    answer(res, app.finish_upload(u));
-    if (res.status != 200) res.set_header("Connection", "close");  // the rest of the body is not read
+    const HttpResponse a = detail::Guard::stamped(app.finish_upload(u));
+    if (a.status != 200) return answer_and_close(res, a);  // the rest of the body is not read
+    answer(res, a);
   });
   const auto handler = [&app](const httplib::Request& req, httplib::Response& res) {
     answer(res, app.handle(request_of(req)));
@@ -111,7 +140,7 @@ Server::Server(ServeOptions options) : impl_(std::make_unique<Impl>(std::move(op
     } catch (...) {
     }
     spdlog::error("serve: {} {}: {}", req.method, req.path, what);
-    answer(res, {500, "application/json", "{\"error\":\"internal error\"}"});
+    answer(res, detail::Guard::stamped({500, "application/json", "{\"error\":\"internal error\"}"}));
   });
 }
 
@@ -128,6 +157,7 @@ int Server::bind() {
   // a reset. listen() again on the bound socket raises the backlog (Linux keeps the socket).
   if (impl_->socket >= 0) ::listen(impl_->socket, kListenBacklog);
   impl_->port = port;
+  impl_->app.set_port(port);
   return port;
 }
 

@@ -165,7 +165,7 @@ TEST_F(ServeAppTest, RefusesMalformedRequestsWithOneLineNamingTheFieldAndKeepsSe
     EXPECT_NE(e.find(c.says), std::string::npos) << c.body << " -> " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << "one line: " << e;
   }
-  EXPECT_EQ(app().handle({"PATCH", "/api/fit", {}, "{}"}).status, 405);
+  EXPECT_EQ(request("PATCH", "/api/fit", {}, "{}").status, 405);
   EXPECT_EQ(get("/api/jobs/j-unknown").status, 404);
   EXPECT_EQ(get("/nothing").status, 404);
   // Still serving.
@@ -187,7 +187,7 @@ TEST_F(ServeAppTest, AnUploadIsOpenedLikeAFileAndOneBeyondTheLimitIs413AndLeaves
   app(o);
   const std::string bytes = read_text(folder_ / "imu.csv");
   ASSERT_LT(bytes.size(), 2'000'000u);
-  const OJson u = body_of(app().handle({"POST", "/api/upload", {{"name", "../../evil name.csv"}}, bytes}));
+  const OJson u = body_of(request("POST", "/api/upload", {{"name", "../../evil name.csv"}}, bytes));
   EXPECT_EQ(u.at("name"), "evil name.csv") << "only the base name is kept";
   EXPECT_EQ(u.at("size"), bytes.size());
   const OJson opened = body_of(post("/api/open", OJson{{"upload", u.at("upload")}}));
@@ -231,7 +231,7 @@ TEST_F(ServeAppTest, CancellingASlowSelectionEndsItCancelledWithinASecond) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_EQ(app().handle({"DELETE", "/api/jobs/" + id, {}, {}}).status, 200);
+  EXPECT_EQ(request("DELETE", "/api/jobs/" + id).status, 200);
   const OJson s = wait_job(id, std::chrono::seconds(30));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(s.at("state"), "cancelled") << s.dump();

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <thread>
@@ -50,10 +51,15 @@ class ServeAppTest : public ::testing::Test {
     return *app_;
   }
 
-  serve::HttpResponse get(const std::string& path) { return app().handle({"GET", path, {}, {}}); }
-  serve::HttpResponse post(const std::string& path, const std::string& body) {
-    return app().handle({"POST", path, {}, body});
+  /// The headers the page's own requests carry (a Host naming the app).
+  std::map<std::string, std::string> page_headers() const { return {{"host", "127.0.0.1:8080"}}; }
+  /// A request as the page sends it.
+  serve::HttpResponse request(const std::string& method, const std::string& path,
+                              const std::map<std::string, std::string>& query = {}, const std::string& body = {}) {
+    return app().handle({method, path, query, body, page_headers()});
   }
+  serve::HttpResponse get(const std::string& path) { return request("GET", path); }
+  serve::HttpResponse post(const std::string& path, const std::string& body) { return request("POST", path, {}, body); }
   serve::HttpResponse post(const std::string& path, const OJson& body) { return post(path, body.dump()); }
 
   /// The body of an answer expected to be `status`.

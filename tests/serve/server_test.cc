@@ -46,6 +46,8 @@ class ServeServerTest : public ServeAppTest {
     c.set_read_timeout(60, 0);
     return c;
   }
+  // The Host line of a request that names the server.
+  std::string host_line() const { return "Host: 127.0.0.1:" + std::to_string(port_) + "\r\n"; }
   // Sends raw bytes on a fresh connection; what the server answered (until it closes or
   // `read_answer` is false).
   std::string raw(const std::string& bytes, bool read_answer = true) const {
@@ -91,7 +93,7 @@ TEST_F(ServeServerTest, RawTraversalInTheUrlOrTheBodyReadsNothingOutsideTheFolde
   start();
   for (const std::string path : {"/../secret.csv", "/%2e%2e/secret.csv", "/%2E%2E%2Fsecret.csv", "/..%2fsecret.csv",
                                  "/api/../../secret.csv", "//etc/passwd"}) {
-    const std::string a = raw("GET " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    const std::string a = raw("GET " + path + " HTTP/1.1\r\n" + host_line() + "Connection: close\r\n\r\n");
     EXPECT_EQ(a.find("0.01,2"), std::string::npos) << path << " read the file outside: " << a;
     EXPECT_TRUE(a.rfind("HTTP/1.1 404", 0) == 0 || a.rfind("HTTP/1.1 400", 0) == 0) << path << ": " << a.substr(0, 40);
   }
@@ -102,6 +104,27 @@ TEST_F(ServeServerTest, RawTraversalInTheUrlOrTheBodyReadsNothingOutsideTheFolde
   EXPECT_EQ(c.Get("/api/files")->status, 200);
 }
 
+TEST_F(ServeServerTest, ARebindingHostIsRefusedOnItsHeadersAndTheConnectionClosedWithItsBodyUnread) {
+  start();
+  // A body that would be valid, sent after the headers: the answer comes from the headers and
+  // the connection is closed (the server does not read on into the body as further requests).
+  const std::string body = OJson{{"file", "imu.csv"}}.dump();
+  const std::string a = raw("POST /api/open HTTP/1.1\r\nHost: evil.example:" + std::to_string(port_) +
+                            "\r\nContent-Type: application/json\r\nContent-Length: " + std::to_string(body.size() + 100) +
+                            "\r\n\r\n" + body);
+  EXPECT_EQ(a.rfind("HTTP/1.1 403", 0), 0u) << a;
+  EXPECT_NE(a.find("is not this server"), std::string::npos) << a;
+  EXPECT_EQ(a.find("dataset"), std::string::npos) << a;
+  EXPECT_EQ(a.find("HTTP/1.1", 10), std::string::npos) << "one answer, then the connection closed: " << a;
+  // The same through a client that keeps its connection: refused, and the listing unread.
+  httplib::Client evil("127.0.0.1", port_);
+  evil.set_default_headers({{"Host", "evil.example"}});
+  const auto r = evil.Get("/api/files");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 403);
+  EXPECT_EQ(r->body.find("imu.csv"), std::string::npos) << r->body;
+}
+
 TEST_F(ServeServerTest, AnOversizedBodyIsRefusedFromItsLengthWithoutBeingRead) {
   serve::ServeOptions o;
   o.max_upload_bytes = 1'000'000;
@@ -109,13 +132,13 @@ TEST_F(ServeServerTest, AnOversizedBodyIsRefusedFromItsLengthWithoutBeingRead) {
   // The headers alone claim 2 GB: the answer comes at once, and no byte of the body is sent.
   const auto t0 = std::chrono::steady_clock::now();
   const std::string a = raw(
-      "POST /api/upload?name=big.csv HTTP/1.1\r\nHost: x\r\nContent-Type: application/octet-stream\r\n"
+      "POST /api/upload?name=big.csv HTTP/1.1\r\n" + host_line() + "Content-Type: application/octet-stream\r\n"
       "Content-Length: 2000000000\r\n\r\n");
   EXPECT_EQ(a.rfind("HTTP/1.1 413", 0), 0u) << a.substr(0, 200);
   EXPECT_NE(a.find("more than the limit") == std::string::npos ? a.find("expected at most 1000000") : 0,
             std::string::npos)
       << a;
-  const std::string j = raw("POST /api/fit HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+  const std::string j = raw("POST /api/fit HTTP/1.1\r\n" + host_line() + "Content-Type: application/json\r\n"
                             "Content-Length: 5000000\r\n\r\n{");
   EXPECT_EQ(j.rfind("HTTP/1.1 413", 0), 0u) << j.substr(0, 200);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
@@ -138,10 +161,10 @@ TEST_F(ServeServerTest, KeepsServingAHundredConcurrentRequestsAndAClientThatDrop
   ASSERT_TRUE(o);
   const std::string d = OJson::parse(o->body).at("dataset");
   // Clients that go away: mid-body, mid-headers, and right after submitting a long job.
-  raw("POST /api/fit HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 500\r\n\r\n{\"data",
+  raw("POST /api/fit HTTP/1.1\r\n" + host_line() + "Content-Type: application/json\r\nContent-Length: 500\r\n\r\n{\"data",
       false);
   raw("GET /api/fi", false);
-  raw("POST /api/select HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: " +
+  raw("POST /api/select HTTP/1.1\r\n" + host_line() + "Content-Type: application/json\r\nContent-Length: " +
           std::to_string(OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "3*AR1+WN+RW+QN+DR"}}.dump().size()) +
           "\r\n\r\n" + OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "3*AR1+WN+RW+QN+DR"}}.dump(),
       false);

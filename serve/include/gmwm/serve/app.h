@@ -16,7 +16,10 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gmwm/engine/random.h"
 
@@ -57,6 +60,11 @@ struct ServeOptions {
   /// Where uploads are kept while the app runs (a fresh folder under it, removed at the
   /// end); empty: the system's temporary folder.
   std::string upload_root;
+  /// Names besides the loopback ones (localhost, 127.0.0.1, [::1]) and `host` under which
+  /// the app may be reached: a request's Host must be one of them with the port
+  /// (docs/serve.md, "Threat model"). A machine's name or address when serving beyond
+  /// loopback.
+  std::vector<std::string> allowed_hosts;
 
   /// Empty when valid, else one line naming the field.
   std::string Validate() const;
@@ -67,12 +75,14 @@ struct HttpRequest {
   std::string path;                           ///< decoded path, no query
   std::map<std::string, std::string> query;   ///< decoded query parameters
   std::string body;
+  std::map<std::string, std::string> headers = {};  ///< by lower-case name (Host, Origin, ...)
 };
 
 struct HttpResponse {
   int status = 200;
   std::string content_type = "application/json";
   std::string body;
+  std::vector<std::pair<std::string, std::string>> headers = {};  ///< beyond the content type
 };
 
 /// The app: its folder, its open datasets, uploads and jobs. Thread-safe: handle() is
@@ -87,7 +97,18 @@ class App {
   App(const App&) = delete;
   App& operator=(const App&) = delete;
 
+  /// The answer to `request`: a refusal when it fails the rules every request passes
+  /// (screen()), else its route's answer. Every answer carries answer_headers().
   HttpResponse handle(const HttpRequest& request);
+
+  /// The rules every request passes before it is routed (docs/serve.md, "Threat model"):
+  /// the answer to give instead, or nullopt when it may go on. The server calls it on a
+  /// request's headers before reading its body.
+  std::optional<HttpResponse> screen(const HttpRequest& request) const;
+
+  /// The port requests must name in their Host (the server's, once bound; the options'
+  /// until then).
+  void set_port(int port);
 
   /// An upload's bytes arrive in pieces (the server streams them to a file): begin() names
   /// it and returns its id, or an error response (limit already exceeded, bad name);
@@ -101,6 +122,7 @@ class App {
   const ServeOptions& options() const;
 
  private:
+  HttpResponse answer(const HttpRequest& request);
   struct State;
   std::unique_ptr<State> state_;
 };
