@@ -177,6 +177,8 @@ std::string vega_inline_script() { return detail::vega_script(); }
 
 std::string script_safe_json(const Json& j) { return detail::script_json(j); }
 
+std::string html_text(std::string_view s) { return detail::html_escape(s); }
+
 std::string report_svg_path(const std::string& path) { return path + ".svg"; }
 
 void stage_html_report(io::OutputSet& outputs, const std::string& path, const ReportData& data) {

@@ -46,6 +46,14 @@ std::string ServeOptions::Validate() const {
   if (!(max_dataset_bytes > 0.0)) return "max_dataset_bytes: expected a positive size";
   if (!(job_idle_seconds > 0.0)) return "job_idle_seconds: expected a positive time";
   if (memory_budget < 0.0) return "memory_budget: expected 0 (the reader's default) or a positive size";
+  if (!token.empty() && (token.size() < kMinTokenChars ||
+                         token.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_") !=
+                             std::string::npos))
+    return "token: expected at least " + std::to_string(kMinTokenChars) + " letters, digits, '-' or '_'";
+  for (const std::string& h : allowed_hosts)
+    if (h.empty() || h.find_first_of(" /:?#@,\t") != std::string::npos)
+      if (!(h.size() > 2 && h.front() == '[' && h.back() == ']'))
+        return "allowed_hosts: found '" + h + "', expected a host name or address without port";
   return {};
 }
 
@@ -142,9 +150,9 @@ std::string App::State::render_page() const {
   // Vega is its own deferred script (/vega.js, 1 MB): inlined, its parsing held the first
   // paint back by ~0.9 s; deferred, the page paints at once (the page loads its own script
   // first and draws the plots once Vega is there).
+  // Without Vega the page says why in a meta element (the page's policy runs no inline script).
   replace("<!--GMWM_VEGA-->", vega_script.empty()
-                                  ? "<script>window.gmwmVegaMissing = " + report::script_safe_json(Json(vega_missing)) +
-                                        ";</script>"
+                                  ? "<meta name=\"gmwm-vega-missing\" content=\"" + report::html_text(vega_missing) + "\">"
                                   : "<script src=\"/vega.js\" defer></script>");
   return page;
 }
@@ -274,6 +282,8 @@ const ServeOptions& App::options() const { return state_->options; }
 std::optional<HttpResponse> App::screen(const HttpRequest& request) const { return state_->guard.screen(request); }
 
 void App::set_port(int port) { state_->guard.set_port(port); }
+
+const std::string& App::token() const { return state_->guard.token(); }
 
 HttpResponse App::handle(const HttpRequest& request) {
   return detail::Guard::stamped(answer(request));

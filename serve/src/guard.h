@@ -33,14 +33,24 @@
 
 namespace gmwm::serve::detail {
 
+/// The header a script sends the token in (the page's requests carry the cookie).
+inline constexpr const char* kTokenHeader = "X-Gmwm-Token";
+/// The token's length when the app draws it: 32 hex digits, 128 random bits.
+inline constexpr std::size_t kTokenHexDigits = 32;
+
 class Guard {
  public:
+  /// The token is the options' one, or a fresh random one.
   explicit Guard(const ServeOptions& options);
 
   /// The port the server listens on (the Host and Origin must name it); the options' port
   /// until the server has bound one.
   void set_port(int port) { port_ = port; }
   int port() const { return port_; }
+  const std::string& token() const { return token_; }
+  /// The cookie that carries the token, one per port (cookies do not tell ports apart, and
+  /// two servers on one machine must not overwrite each other's).
+  std::string cookie_name() const;
 
   /// The answer to give instead of routing `r`: a refusal (403, 401, 415) or, for
   /// GET /?token=TOKEN, the redirect to / that keeps the token in a cookie; nullopt when
@@ -55,12 +65,22 @@ class Guard {
 
  private:
   bool names_this_server(const std::string& authority) const;
+  std::optional<HttpResponse> screen_origin(const HttpRequest& r, const std::string& where) const;
+  std::optional<HttpResponse> screen_token(const HttpRequest& r, const std::string& where) const;
+  bool carries_token(const HttpRequest& r) const;
 
+  std::string token_;
   std::vector<std::string> names_;  ///< lower case, IPv6 without brackets
   int port_ = 0;
 };
 
 /// A header of `r` by its lower-case name; empty when absent.
 std::string header_of(const HttpRequest& r, const std::string& lower_name);
+
+/// True when `a` and `b` are equal, in a time that does not tell where they differ.
+bool same_secret(const std::string& a, const std::string& b);
+
+/// A fresh token: kTokenHexDigits hex digits from the system's entropy.
+std::string random_token();
 
 }  // namespace gmwm::serve::detail

@@ -169,11 +169,17 @@ void Server::stop() {
   if (impl_->http.is_running()) impl_->http.stop();
 }
 
-std::string Server::url() const {
-  const std::string& host = impl_->app.options().host;
-  const bool v6 = host.find(':') != std::string::npos;
+std::string Server::address() const {
+  std::string host = impl_->app.options().host;
+  // Listening on every interface: the address to open is loopback's (a wildcard address is
+  // no name a request may carry).
+  if (host == "0.0.0.0") host = "127.0.0.1";
+  if (host == "::" || host == "[::]") host = "::1";
+  const bool v6 = host.find(':') != std::string::npos && host.front() != '[';
   return "http://" + (v6 ? "[" + host + "]" : host) + ":" + std::to_string(impl_->port) + "/";
 }
+
+std::string Server::url() const { return address() + "?token=" + impl_->app.token(); }
 
 App& Server::app() { return impl_->app; }
 

@@ -177,7 +177,8 @@
   // Draws each plot into its container in the report's section.
   function drawPlots(plots) {
     if (typeof vega === 'undefined') {
-      showError('Plots unavailable: ' + (window.gmwmVegaMissing || 'Vega did not load'));
+      var missing = document.querySelector('meta[name="gmwm-vega-missing"]');
+      showError('Plots unavailable: ' + (missing ? missing.content : 'Vega did not load'));
       return;
     }
     plots.forEach(function (p) {

@@ -91,16 +91,20 @@ process.on('exit', () => {
   if (server.exitCode === null && server.signalCode === null) server.kill('SIGKILL');
   rmSync(folder, { recursive: true, force: true });
 });
-const url = await new Promise((resolve, reject) => {
+// The server's address and its access token (the start-up line: http://127.0.0.1:PORT/?token=T);
+// the page is opened at `start` (the token then lives in a cookie), the test's own requests
+// carry the token in a header.
+const { base: url, token } = await new Promise((resolve, reject) => {
   let out = '';
   server.stdout.on('data', (d) => {
     out += d;
-    const m = /http:\/\/127\.0\.0\.1:\d+\//.exec(out);
-    if (m) resolve(m[0]);
+    const m = /(http:\/\/127\.0\.0\.1:\d+\/)\?token=([0-9a-f]+)\s/.exec(out);
+    if (m) resolve({ base: m[1], token: m[2] });
   });
   server.on('exit', (code) => reject(new Error(`gmwm serve exited with ${code}`)));
   setTimeout(() => reject(new Error('gmwm serve printed no address in 10 s')), 10000);
 });
+const start = url + '?token=' + token;
 
 const browser = await chromium.launch({ executablePath: CHROMIUM, args: ['--no-sandbox'] });
 const results = [];
@@ -129,7 +133,7 @@ async function newPage(context) {
 // server as the page received it; it must be of `kind`.
 async function lastJob(page, kind) {
   const id = await page.getAttribute('body', 'data-gmwm-job');
-  const j = await (await fetch(url + 'api/jobs/' + id)).json();
+  const j = await (await fetch(url + 'api/jobs/' + id, { headers: { 'X-Gmwm-Token': token } })).json();
   assert.equal(j.kind, kind, `the page's last job ${id} is a ${j.kind}, expected a ${kind}`);
   assert.equal(j.state, 'done');
   return j;
@@ -156,7 +160,7 @@ const page = await newPage(context);
 let firstPaint = NaN;
 
 await check('the page paints within 1 s from loopback', async () => {
-  await page.goto(url, { waitUntil: 'load' });
+  await page.goto(start, { waitUntil: 'load' });
   // The first paint entry, waited for: Chromium records it once the frame is presented.
   firstPaint = await page.evaluate(() => new Promise((resolve) => {
     const seen = () => performance.getEntriesByType('paint').find((e) => e.name === 'first-contentful-paint') ||
@@ -333,7 +337,7 @@ await check('a long job shows progress and Cancel ends it', async () => {
 await check('an upload in a second tab (1920x1080), and two tabs fitting at once, each get their own model', async () => {
   const other = await newPage(context);
   await other.setViewportSize({ width: 1920, height: 1080 });
-  await other.goto(url);
+  await other.goto(start);
   await waitStatus(other, 'ready');
   // Without its sampling rate (the file has no timestamps) the upload is refused, on the page;
   // with it, the same file chosen again is uploaded again.

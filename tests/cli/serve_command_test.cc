@@ -25,8 +25,8 @@ namespace {
 namespace fs = std::filesystem;
 using gmwm::test::run_gmwm;
 
-// GET `path` on 127.0.0.1:port with one connection; the whole answer.
-std::string http_get(int port, const std::string& path) {
+// GET `path` on 127.0.0.1:port with one connection and the given header lines; the whole answer.
+std::string http_get(int port, const std::string& path, const std::string& headers) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
@@ -34,7 +34,7 @@ std::string http_get(int port, const std::string& path) {
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   std::string answer;
   if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
-    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\nConnection: close\r\n\r\n";
+    const std::string request = "GET " + path + " HTTP/1.1\r\n" + headers + "Connection: close\r\n\r\n";
     if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(request.size())) {
       char buf[4096];
       for (ssize_t k; (k = ::recv(fd, buf, sizeof buf, 0)) > 0;) answer.append(buf, static_cast<std::size_t>(k));
@@ -72,11 +72,22 @@ TEST_F(GmwmServe, PrintsItsLoopbackAddressAnswersThereAndStopsOnSigterm) {
   while (::read(out[0], &c, 1) == 1 && c != '\n') line += c;
   ASSERT_EQ(line.rfind("gmwm serve: http://127.0.0.1:", 0), 0u) << line;
   const std::string url = line.substr(12, line.find(' ', 12) - 12);
-  // The folder's listing answers at that address.
+  // http://127.0.0.1:PORT/?token=T: a fresh 128-bit token.
   const int port = std::stoi(url.substr(url.rfind(':') + 1));
-  const std::string answer = http_get(port, "/api/files");
+  const std::string token = url.substr(url.find("?token=") + 7);
+  EXPECT_EQ(url, "http://127.0.0.1:" + std::to_string(port) + "/?token=" + token);
+  EXPECT_EQ(token.size(), 32u) << url;
+  const std::string host = "Host: 127.0.0.1:" + std::to_string(port) + "\r\n";
+  // The folder's listing answers at that address, to a request with the token.
+  const std::string answer = http_get(port, "/api/files", host + "X-Gmwm-Token: " + token + "\r\n");
   EXPECT_EQ(answer.rfind("HTTP/1.1 200", 0), 0u) << answer;
   EXPECT_NE(answer.find("\"path\": \"x.csv\""), std::string::npos) << answer;
+  // Without it, or through another name, nothing of the folder.
+  for (const std::string& headers : {host, "Host: evil.example:" + std::to_string(port) + "\r\nX-Gmwm-Token: " + token + "\r\n"}) {
+    const std::string refused = http_get(port, "/api/files", headers);
+    EXPECT_TRUE(refused.rfind("HTTP/1.1 401", 0) == 0 || refused.rfind("HTTP/1.1 403", 0) == 0) << refused;
+    EXPECT_EQ(refused.find("x.csv"), std::string::npos) << refused;
+  }
   ::kill(pid, SIGTERM);
   int status = 0;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
@@ -97,8 +108,16 @@ TEST_F(GmwmServe, RefusesAFolderThatIsNotOneAndABadPortWithOneLine) {
   EXPECT_NE(r.err.find("--port"), std::string::npos) << r.err;
   r = run_gmwm({"serve", ".", "--port", "0", "--host", "203.0.113.7"}, dir_);
   EXPECT_EQ(r.exit_code, 2) << "an address of no interface here cannot be bound";
-  EXPECT_NE(r.err.find("no authentication"), std::string::npos) << "warned first: " << r.err;
+  EXPECT_NE(r.err.find("has the token"), std::string::npos) << "warned first: " << r.err;
   EXPECT_NE(r.err.find("cannot listen on 203.0.113.7"), std::string::npos) << r.err;
+  // A token chosen by a script must be one nobody guesses.
+  r = run_gmwm({"serve", ".", "--port", "0"}, dir_, {.before = "GMWM_SERVE_TOKEN=abc"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("GMWM_SERVE_TOKEN: expected at least 16"), std::string::npos) << r.err;
+  EXPECT_EQ(gmwm::test::lines_of(r.err).size(), 1u) << r.err;
+  r = run_gmwm({"serve", ".", "--port", "0", "--allow-host", "a b"}, dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--allow-host: found 'a b'"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -352,8 +352,10 @@ TEST_F(ServeAppTest, ServesThePageWithItsStyleAndVegaInlinedOrSaysWhyNot) {
   EXPECT_EQ(r.body.find("<!--GMWM_VEGA-->"), std::string::npos);
   EXPECT_EQ(r.body.find("<!--GMWM_REPORT_STYLE-->"), std::string::npos);
   const bool vega = r.body.find("<script src=\"/vega.js\" defer></script>") != std::string::npos;
-  EXPECT_TRUE(vega || r.body.find("gmwmVegaMissing") != std::string::npos);
-  if (vega) EXPECT_NE(get("/vega.js").body.find("var vega ="), std::string::npos);
+  EXPECT_TRUE(vega || r.body.find("<meta name=\"gmwm-vega-missing\" content=\"") != std::string::npos);
+  if (vega) {
+    EXPECT_NE(get("/vega.js").body.find("var vega ="), std::string::npos);
+  }
   EXPECT_EQ(get("/app.js").content_type, "text/javascript; charset=utf-8");
 }
 

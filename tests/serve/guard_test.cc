@@ -4,6 +4,8 @@
 
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -19,7 +21,7 @@ class ServeGuardTest : public ServeAppTest {
   // A request as the page sends it, with `changes` to its headers (an empty value removes one).
   serve::HttpResponse send(const std::string& method, const std::string& path,
                            const std::map<std::string, std::string>& changes, const std::string& body = {}) {
-    std::map<std::string, std::string> h = page_headers();
+    std::map<std::string, std::string> h = page_headers(method, path);
     for (const auto& [k, v] : changes) {
       if (v.empty())
         h.erase(k);
@@ -63,13 +65,139 @@ TEST_F(ServeGuardTest, TheLoopbackNamesWithThePortAndTheAllowedHostsAreThisServe
   EXPECT_EQ(send("GET", "/api/files", {{"host", "localhost:8080"}}).status, 403);
 }
 
-TEST_F(ServeGuardTest, EveryAnswerRefusalsIncludedForbidsCachingAndSniffing) {
+TEST_F(ServeGuardTest, ARequestFromAnotherPageIsRefusedByItsOriginOrFetchSite) {
+  const std::string open = OJson{{"file", "imu.csv"}}.dump();
+  // Another site, another port of localhost (the same site, not the same origin), a sandboxed
+  // frame or a file, https on the app's port.
+  for (const std::string origin : {"http://evil.example", "http://127.0.0.1:9999", "null", "https://127.0.0.1:8080",
+                                   "http://127.0.0.1:8080/x", "http://evil.example:8080"}) {
+    for (const std::string& method : {std::string("GET"), std::string("POST")}) {
+      const std::string path = method == "GET" ? "/api/files" : "/api/open";
+      const serve::HttpResponse r = send(method, path, {{"origin", origin}}, open);
+      EXPECT_EQ(r.status, 403) << origin << " " << method << ": " << r.body;
+      EXPECT_EQ(r.body.find("imu.csv"), std::string::npos) << r.body;
+      EXPECT_NE(error_of(r).find("is refused (only this server's own page"), std::string::npos) << r.body;
+    }
+  }
+  for (const std::string site : {"same-site", "cross-site"}) {
+    const serve::HttpResponse r = send("POST", "/api/open", {{"sec-fetch-site", site}, {"origin", ""}}, open);
+    EXPECT_EQ(r.status, 403) << site << ": " << r.body;
+    EXPECT_NE(error_of(r).find("Sec-Fetch-Site: " + site), std::string::npos) << r.body;
+  }
+  // The page's own origin, under each of its names.
+  EXPECT_EQ(send("POST", "/api/open", {{"origin", "http://localhost:8080"}, {"host", "localhost:8080"}}, open).status,
+            200);
+  EXPECT_EQ(send("POST", "/api/open", {}, open).status, 200);
+}
+
+TEST_F(ServeGuardTest, AFormThatAnyPageCanPostWithoutAskingIsRefusedAndOpensNothing) {
+  // What <form enctype=...> sends, and no type at all; the body would be valid JSON.
+  const std::string open = OJson{{"file", "imu.csv"}}.dump();
+  for (const std::string type : {"text/plain", "text/plain;charset=UTF-8", "application/x-www-form-urlencoded",
+                                 "multipart/form-data; boundary=x", "none"}) {
+    const serve::HttpResponse r = send("POST", "/api/open", {{"content-type", type == "none" ? "" : type}}, open);
+    EXPECT_EQ(r.status, 415) << type << ": " << r.body;
+    EXPECT_EQ(r.body.find("dataset"), std::string::npos) << r.body;
+    EXPECT_NE(error_of(r).find("expected application/json"), std::string::npos) << r.body;
+  }
+  EXPECT_EQ(send("POST", "/api/open", {{"content-type", "Application/JSON; charset=utf-8"}}, open).status, 200);
+  // An upload sent as a form is refused too, and nothing is kept.
+  const serve::HttpResponse u =
+      app().handle({"POST", "/api/upload", {{"name", "x.csv"}}, "timestamp,gyro_x\n0,1\n", [&] {
+                      auto h = page_headers("POST", "/api/upload");
+                      h["content-type"] = "text/plain";
+                      return h;
+                    }()});
+  EXPECT_EQ(u.status, 415) << u.body;
+  EXPECT_NE(error_of(u).find("expected application/octet-stream"), std::string::npos) << u.body;
+  // A compressed body would expand beyond every limit before it is counted.
+  const serve::HttpResponse z = send("POST", "/api/open", {{"content-encoding", "gzip"}}, open);
+  EXPECT_EQ(z.status, 415) << z.body;
+  EXPECT_EQ(send("POST", "/api/open", {{"transfer-encoding", "gzip, chunked"}}, open).status, 400);
+}
+
+TEST_F(ServeGuardTest, EveryRequestButThePagesStaticFilesNeedsTheLaunchsToken) {
+  const std::string open = OJson{{"file", "imu.csv"}}.dump();
+  // Another local user, or a script that never saw the start-up line.
+  for (const auto& [method, path] : std::vector<std::pair<std::string, std::string>>{{"GET", "/api/files"},
+                                                                                     {"POST", "/api/open"},
+                                                                                     {"GET", "/api/jobs/j-0"},
+                                                                                     {"DELETE", "/api/jobs/j-0"},
+                                                                                     {"POST", "/api/upload"},
+                                                                                     {"GET", "/api/nothing"}}) {
+    for (const auto& wrong :
+         std::vector<std::map<std::string, std::string>>{{{"cookie", ""}},
+                                                         {{"cookie", "gmwm_serve_8080=" + std::string(32, '0')}},
+                                                         {{"cookie", "gmwm_serve_9090=" + app().token()}},
+                                                         {{"cookie", "gmwm_serve_8080=" + app().token() + "x"}},
+                                                         {{"cookie", ""}, {"x-gmwm-token", app().token().substr(1)}}}) {
+      const serve::HttpResponse r = send(method, path, wrong, open);
+      EXPECT_EQ(r.status, 401) << method << " " << path << ": " << r.body;
+      EXPECT_NE(error_of(r).find("needs its access token"), std::string::npos) << r.body;
+    }
+  }
+  // A script's header, or a bearer token, instead of the cookie.
+  EXPECT_EQ(send("GET", "/api/files", {{"cookie", ""}, {"x-gmwm-token", app().token()}}).status, 200);
+  EXPECT_EQ(send("GET", "/api/files", {{"cookie", ""}, {"authorization", "Bearer " + app().token()}}).status, 200);
+  // The page: without the token it says which address to open; with the start-up address's
+  // token it keeps the token in a cookie of this port and leaves the address bar.
+  const serve::HttpResponse bare = send("GET", "/", {{"cookie", ""}});
+  EXPECT_EQ(bare.status, 401);
+  EXPECT_EQ(bare.content_type, "text/html; charset=utf-8");
+  EXPECT_NE(bare.body.find("?token="), std::string::npos) << bare.body;
+  EXPECT_EQ(bare.body.find(app().token()), std::string::npos) << "the page never shows the token";
+  auto h = page_headers();
+  h.erase("cookie");
+  const serve::HttpResponse in = app().handle({"GET", "/", {{"token", app().token()}}, {}, h});
+  EXPECT_EQ(in.status, 303);
+  std::map<std::string, std::string> ih(in.headers.begin(), in.headers.end());
+  EXPECT_EQ(ih["Location"], "/");
+  EXPECT_EQ(ih["Set-Cookie"], "gmwm_serve_8080=" + app().token() + "; Path=/; HttpOnly; SameSite=Strict");
+  EXPECT_EQ(app().handle({"GET", "/", {{"token", "0" + app().token().substr(1)}}, {}, h}).status, 401);
+  // The page's static files carry nothing of the user's.
+  for (const std::string f : {"/app.js", "/app.css", "/favicon.ico"})
+    EXPECT_LT(send("GET", f, {{"cookie", ""}}).status, 300) << f;
+  // A drawn token: 128 bits as hex, a fresh one each launch.
+  EXPECT_EQ(app().token().size(), 32u);
+  EXPECT_EQ(app().token().find_first_not_of("0123456789abcdef"), std::string::npos);
+  EXPECT_NE(serve::App(app().options()).token(), app().token());
+}
+
+TEST_F(ServeGuardTest, AChosenTokenIsUsedAndAWeakOneRefusedByTheOptions) {
+  serve::ServeOptions o;
+  o.folder = folder_.string();
+  o.token = "short";
+  EXPECT_NE(o.Validate().find("token: expected at least 16"), std::string::npos) << o.Validate();
+  o.token = "sixteen-chars-ok";
+  EXPECT_EQ(o.Validate(), "");
+  o.token = "sixteen chars no";
+  EXPECT_NE(o.Validate(), "");
+  o.token = "a-script's-own-token-0123";
+  EXPECT_NE(o.Validate(), "");
+  o.token = "a_scripts_own_token_0123";
+  app(o);
+  EXPECT_EQ(app().token(), "a_scripts_own_token_0123");
+  EXPECT_EQ(send("GET", "/api/files", {{"cookie", ""}, {"x-gmwm-token", "a_scripts_own_token_0123"}}).status, 200);
+}
+
+TEST_F(ServeGuardTest, EveryAnswerRefusalsIncludedForbidsCachingSniffingFramingAndForeignScripts) {
   for (const serve::HttpResponse& r : {send("GET", "/api/files", {}), send("GET", "/api/files", {{"host", "evil"}}),
                                        send("GET", "/", {}), send("POST", "/api/open", {}, "{")}) {
     std::map<std::string, std::string> h(r.headers.begin(), r.headers.end());
     EXPECT_EQ(h["Cache-Control"], "no-store") << r.status;
     EXPECT_EQ(h["X-Content-Type-Options"], "nosniff") << r.status;
+    EXPECT_EQ(h["X-Frame-Options"], "DENY") << r.status;
+    EXPECT_EQ(h["Cross-Origin-Resource-Policy"], "same-origin") << r.status;
+    EXPECT_EQ(h["Referrer-Policy"], "no-referrer") << r.status;
+    const std::string csp = h["Content-Security-Policy"];
+    EXPECT_NE(csp.find("frame-ancestors 'none'"), std::string::npos) << csp;
+    EXPECT_NE(csp.find("script-src 'self' 'unsafe-eval';"), std::string::npos) << "no inline script: " << csp;
+    EXPECT_NE(csp.find("connect-src 'self'"), std::string::npos) << csp;
   }
+  // The page holds no inline script the policy would block.
+  const std::string page = send("GET", "/", {}).body;
+  for (std::size_t p = page.find("<script"); p != std::string::npos; p = page.find("<script", p + 1))
+    EXPECT_EQ(page.compare(p, 13, "<script src=\""), 0) << page.substr(p, 80);
 }
 
 }  // namespace

@@ -51,12 +51,22 @@ class ServeAppTest : public ::testing::Test {
     return *app_;
   }
 
-  /// The headers the page's own requests carry (a Host naming the app).
-  std::map<std::string, std::string> page_headers() const { return {{"host", "127.0.0.1:8080"}}; }
+  /// The headers the page's own requests carry: a Host naming the app, the page's Origin, the
+  /// cookie with the access token, and for a POST its body's type (JSON, or an upload's bytes).
+  std::map<std::string, std::string> page_headers(const std::string& method = "GET", const std::string& path = "/") {
+    std::map<std::string, std::string> h = {{"host", "127.0.0.1:8080"},
+                                            {"cookie", "gmwm_serve_8080=" + app().token()},
+                                            {"sec-fetch-site", "same-origin"}};
+    if (method == "POST") {
+      h["origin"] = "http://127.0.0.1:8080";
+      h["content-type"] = path == "/api/upload" ? "application/octet-stream" : "application/json";
+    }
+    return h;
+  }
   /// A request as the page sends it.
   serve::HttpResponse request(const std::string& method, const std::string& path,
                               const std::map<std::string, std::string>& query = {}, const std::string& body = {}) {
-    return app().handle({method, path, query, body, page_headers()});
+    return app().handle({method, path, query, body, page_headers(method, path)});
   }
   serve::HttpResponse get(const std::string& path) { return request("GET", path); }
   serve::HttpResponse post(const std::string& path, const std::string& body) { return request("POST", path, {}, body); }

@@ -41,13 +41,17 @@ class ServeServerTest : public ServeAppTest {
     server_.reset();
     ServeAppTest::TearDown();
   }
+  // A client that sends the access token, as a script does.
   httplib::Client client() const {
     httplib::Client c("127.0.0.1", port_);
     c.set_read_timeout(60, 0);
+    c.set_default_headers({{"X-Gmwm-Token", server_->app().token()}});
     return c;
   }
-  // The Host line of a request that names the server.
-  std::string host_line() const { return "Host: 127.0.0.1:" + std::to_string(port_) + "\r\n"; }
+  // The header lines of a request the app takes: a Host naming the server, its access token.
+  std::string host_line() const {
+    return "Host: 127.0.0.1:" + std::to_string(port_) + "\r\nX-Gmwm-Token: " + server_->app().token() + "\r\n";
+  }
   // Sends raw bytes on a fresh connection; what the server answered (until it closes or
   // `read_answer` is false).
   std::string raw(const std::string& bytes, bool read_answer = true) const {
@@ -75,7 +79,8 @@ class ServeServerTest : public ServeAppTest {
 
 TEST_F(ServeServerTest, ListensOnLoopbackByDefaultAndRefusesAPortInUseWithOneLine) {
   start();
-  EXPECT_EQ(server_->url(), "http://127.0.0.1:" + std::to_string(port_) + "/");
+  EXPECT_EQ(server_->address(), "http://127.0.0.1:" + std::to_string(port_) + "/");
+  EXPECT_EQ(server_->url(), server_->address() + "?token=" + server_->app().token());
   serve::ServeOptions o;
   o.folder = folder_.string();
   o.port = port_;
@@ -123,6 +128,34 @@ TEST_F(ServeServerTest, ARebindingHostIsRefusedOnItsHeadersAndTheConnectionClose
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 403);
   EXPECT_EQ(r->body.find("imu.csv"), std::string::npos) << r->body;
+}
+
+TEST_F(ServeServerTest, AFormPostedByAnotherPageIsRefusedOnItsHeadersAndStartsNothing) {
+  start();
+  // What a page elsewhere makes the browser send: the app's cookie goes along (cookies do not
+  // tell ports apart), with the page's Origin and a form's type.
+  const std::string cookie = "Cookie: gmwm_serve_" + std::to_string(port_) + "=" + server_->app().token() + "\r\n";
+  const std::string host = "Host: 127.0.0.1:" + std::to_string(port_) + "\r\n";
+  const std::string body = OJson{{"file", "imu.csv"}}.dump();
+  for (const std::string& headers :
+       {host + cookie + "Origin: http://evil.example\r\nContent-Type: text/plain\r\n",
+        host + cookie + "Origin: http://127.0.0.1:1\r\nSec-Fetch-Site: same-site\r\nContent-Type: application/json\r\n",
+        host + cookie + "Content-Type: application/x-www-form-urlencoded\r\n"}) {
+    const std::string a = raw("POST /api/open HTTP/1.1\r\n" + headers + "Content-Length: " + std::to_string(body.size()) +
+                              "\r\n\r\n" + body);
+    EXPECT_TRUE(a.rfind("HTTP/1.1 403", 0) == 0 || a.rfind("HTTP/1.1 415", 0) == 0) << a;
+    EXPECT_EQ(a.find("dataset"), std::string::npos) << a;
+  }
+  // An upload without the token, chunked: refused on its headers, its body never read.
+  const std::string u = raw("POST /api/upload?name=x.csv HTTP/1.1\r\n" + host +
+                            "Content-Type: application/octet-stream\r\nTransfer-Encoding: chunked\r\n\r\n"
+                            "10\r\ntimestamp,gyro_x\n\r\n");
+  EXPECT_EQ(u.rfind("HTTP/1.1 401", 0), 0u) << u;
+  EXPECT_EQ(u.find("\"upload\""), std::string::npos) << u;
+  std::size_t kept = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir_))
+    kept += e.path().filename().string().find("x.csv") != std::string::npos;
+  EXPECT_EQ(kept, 0u) << "no upload was stored";
 }
 
 TEST_F(ServeServerTest, AnOversizedBodyIsRefusedFromItsLengthWithoutBeingRead) {
@@ -174,8 +207,7 @@ TEST_F(ServeServerTest, KeepsServingAHundredConcurrentRequestsAndAClientThatDrop
   std::vector<std::thread> clients;
   for (int k = 0; k < 100; ++k)
     clients.emplace_back([&, k] {
-      httplib::Client cl("127.0.0.1", port_);
-      cl.set_read_timeout(60, 0);
+      httplib::Client cl = client();
       httplib::Result r = k % 4 == 0   ? cl.Get("/api/files")
                           : k % 4 == 1 ? cl.Get("/")
                           : k % 4 == 2 ? cl.Post("/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN+RW"}}.dump(),

@@ -22,10 +22,13 @@ from pathlib import Path
 RECORDING = "adis_16405_imu1.csv.gz"  # 1,000,000 rows x 6 axes at 100 Hz (the recordings' README)
 
 
+TOKEN = ""  # the server's access token, from the address it prints
+
+
 def request(url, body=None, method=None):
     data = None if body is None else json.dumps(body).encode()
     req = urllib.request.Request(url, data=data, method=method or ("POST" if data else "GET"),
-                                 headers={"Content-Type": "application/json"})
+                                 headers={"Content-Type": "application/json", "X-Gmwm-Token": TOKEN})
     with urllib.request.urlopen(req, timeout=120) as r:
         return r.read()
 
@@ -64,7 +67,8 @@ def main():
     shutil.copy(Path(a.data) / RECORDING, folder / RECORDING)
     server = subprocess.Popen([a.gmwm, "serve", str(folder), "--port", "0"], stdout=subprocess.PIPE, text=True)
     try:
-        url = server.stdout.readline().split()[2]
+        global TOKEN
+        url, TOKEN = server.stdout.readline().split()[2].split("?token=")
         page = timed(lambda: request(url), a.runs)
         vega = timed(lambda: request(url + "vega.js"), a.runs)
         opened = []

@@ -3,6 +3,7 @@
 // calls as the other commands. Parses, starts serve::Server, prints its address, serves
 // until Ctrl-C or SIGTERM.
 #include <csignal>
+#include <cstdlib>
 #include <iostream>
 #include <thread>
 
@@ -21,11 +22,26 @@ struct ServeArgs {
   int port = 8080;
   double max_upload_mb = static_cast<double>(serve::kDefaultMaxUploadBytes) / 1e6;
   std::optional<double> memory_mb;
+  std::vector<std::string> allowed_hosts;
 };
+
+// The environment variable a script sets to choose the access token (a command-line option
+// would show it to every user of the machine in the process list).
+constexpr const char* kTokenVariable = "GMWM_SERVE_TOKEN";
 
 // The addresses that reach only this machine.
 bool is_loopback(const std::string& host) {
   return host == "127.0.0.1" || host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+// A ServeOptions message as the user set the field: the option or variable that sets it.
+std::string as_option(const std::string& why) {
+  constexpr std::pair<const char*, const char*> kFieldOptions[] = {
+      {"token:", kTokenVariable}, {"allowed_hosts:", "--allow-host"}, {"max_upload_bytes:", "--max-upload"},
+      {"port:", "--port"}, {"host:", "--host"}, {"folder:", "FOLDER"}};
+  for (const auto& [field, option] : kFieldOptions)
+    if (why.rfind(field, 0) == 0) return option + why.substr(std::string(field).size() - 1);
+  return why;
 }
 
 int run_serve(const ServeArgs& args, const CommonOptions& common) {
@@ -37,10 +53,12 @@ int run_serve(const ServeArgs& args, const CommonOptions& common) {
   o.max_upload_bytes = static_cast<std::int64_t>(args.max_upload_mb * 1e6);
   o.seed = common.seed;
   if (args.memory_mb) o.memory_budget = *args.memory_mb * 1e6;
-  if (const std::string why = o.Validate(); !why.empty()) throw InputError("serve: " + why);
+  o.allowed_hosts = args.allowed_hosts;
+  if (const char* t = std::getenv(kTokenVariable); t && *t) o.token = t;
+  if (const std::string why = o.Validate(); !why.empty()) throw InputError("serve: " + as_option(why));
   if (!is_loopback(o.host))
-    warn("serving on " + o.host + ": anyone who can reach this address can read the recordings under " + o.folder +
-         " and run analyses (the app has no authentication)");
+    warn("serving on " + o.host + ": anyone who can reach this address and has the token in the address below can " +
+         "read the recordings under " + o.folder + " and run analyses; the connection is not encrypted");
 
   // SIGINT and SIGTERM are taken by one thread that stops the server: blocked here, before
   // the server's threads start, so that they inherit the mask and never take them.
@@ -80,9 +98,13 @@ Command add_serve_command(CLI::App& app, CommonOptions& common) {
       ->transform(whole_number(0, 65535))
       ->capture_default_str();
   sub->add_option("--host", args->host,
-                  "Address to listen on; anything but loopback lets other machines in (no authentication)")
+                  "Address to listen on; anything but loopback lets other machines in (with the token)")
       ->type_name("ADDRESS")
       ->capture_default_str();
+  sub->add_option("--allow-host", args->allowed_hosts,
+                  "Another name this server may be reached by (its Host), besides localhost, 127.0.0.1, [::1] and "
+                  "--host; repeatable")
+      ->type_name("NAME");
   sub->add_option("--max-upload", args->max_upload_mb, "Largest upload in MB (413 beyond)")
       ->type_name("MB")
       ->transform(decimal_number([](double x) { return x >= 1e-6 && x <= 1e9; }, "a size in MB from 1e-06 to 1e+09"))

@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 #include "gmwm/report/html_report.h"
 #include "gmwm/report/json_output.h"
@@ -38,5 +39,8 @@ std::string vega_inline_script();
 
 /// JSON text safe inside a <script> element ('<', '>', '&' escaped as \u003c, \u003e, \u0026).
 std::string script_safe_json(const Json& j);
+
+/// Text safe in HTML text and attribute values (& < > " ' escaped), as the report writes it.
+std::string html_text(std::string_view s);
 
 }  // namespace gmwm::report

@@ -39,6 +39,8 @@ inline constexpr double kDefaultJobIdleSeconds = 600.0;
 /// Jobs run at once; the others queue. Each job's study is itself parallel (TBB), so two
 /// are enough for two tabs to progress side by side without oversubscribing the cores.
 inline constexpr int kDefaultJobWorkers = 2;
+/// The shortest token a user may choose: 16 characters of 64 kinds, 96 bits.
+inline constexpr std::size_t kMinTokenChars = 16;
 /// Recordings listed at most, and how deep the listing goes under FOLDER.
 inline constexpr std::size_t kMaxListedFiles = 10'000;
 inline constexpr int kMaxListedDepth = 10;
@@ -65,6 +67,10 @@ struct ServeOptions {
   /// (docs/serve.md, "Threat model"). A machine's name or address when serving beyond
   /// loopback.
   std::vector<std::string> allowed_hosts;
+  /// The access token every request carries (docs/serve.md, "Threat model"): empty, a
+  /// fresh random one (128 bits) each launch; else at least kMinTokenChars letters, digits,
+  /// '-' or '_' (a script's own, e.g. from GMWM_SERVE_TOKEN).
+  std::string token;
 
   /// Empty when valid, else one line naming the field.
   std::string Validate() const;
@@ -109,6 +115,8 @@ class App {
   /// The port requests must name in their Host (the server's, once bound; the options'
   /// until then).
   void set_port(int port);
+  /// The access token requests must carry (the start-up address's ?token=).
+  const std::string& token() const;
 
   /// An upload's bytes arrive in pieces (the server streams them to a file): begin() names
   /// it and returns its id, or an error response (limit already exceeded, bad name);

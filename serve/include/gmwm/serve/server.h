@@ -46,7 +46,10 @@ class Server {
   bool running() const;
   /// Stops run() once it serves (thread-safe; from a signal-waiting thread).
   void stop();
-  /// "http://HOST:PORT/" once bound.
+  /// "http://HOST:PORT/" once bound (loopback's address when listening on every interface).
+  std::string address() const;
+  /// The address to open: address() with the access token, "http://HOST:PORT/?token=T"
+  /// (opening it keeps the token in a cookie; docs/serve.md, "Threat model").
   std::string url() const;
   App& app();
 
