@@ -78,7 +78,7 @@ struct App::State {
         folder(options.folder),
         guard(options),
         datasets(options.max_datasets, options.max_dataset_bytes),
-        jobs(options.job_workers, options.job_idle_seconds) {}
+        jobs(options.job_workers, options.job_idle_seconds, [this](const std::string& m) { return public_text(m); }) {}
 
   ServeOptions options;
   detail::Folder folder;
@@ -97,6 +97,9 @@ struct App::State {
   detail::Jobs jobs;  // last: destroyed first, so no job outlives what it uses
 
   fs::path uploads_folder();
+  /// `message` with no path of the machine in it (docs/serve.md, "Threat model"): the
+  /// folder's as its name, the uploads' and the temporary folder's by what they are.
+  std::string public_text(std::string message);
   std::string render_page() const;
   Json files() const;
   Json open(const Body& b);
@@ -129,6 +132,24 @@ std::string kind_of(const std::string& column) {
 }
 
 }  // namespace
+
+std::string App::State::public_text(std::string message) {
+  std::vector<std::pair<std::string, std::string>> paths;
+  {
+    std::lock_guard lock(mutex);
+    if (!upload_dir.empty()) paths.emplace_back(upload_dir.string(), "the uploads");
+  }
+  paths.emplace_back(folder.root().string(), folder.name());
+  std::error_code ec;
+  if (const fs::path t = fs::temp_directory_path(ec); !ec && !t.empty()) paths.emplace_back(t.string(), "the temporary folder");
+  if (const fs::path given = options.folder; given.is_absolute()) paths.emplace_back(given.string(), folder.name());
+  for (const auto& [path, said] : paths) {
+    if (path.size() < 2) continue;  // "/" is every path's start, not a place
+    for (std::size_t p = message.find(path); p != std::string::npos; p = message.find(path, p + said.size()))
+      message.replace(p, path.size(), said);
+  }
+  return message;
+}
 
 fs::path App::State::uploads_folder() {
   if (!upload_dir.empty()) return upload_dir;
@@ -176,8 +197,11 @@ Json App::State::open(const Body& b) {
   std::string name;
   if (b.has("file")) {
     name = b.text("file");
-    const auto p = folder.resolve(name);
-    if (!p) throw HttpError(404, "/api/open: no recording '" + name + "' in " + folder.name());
+    const auto p = folder.resolve(name, detail::FileKind::kRecording);
+    if (!p)
+      throw HttpError(404, "/api/open: no recording '" + name + "' in " + folder.name() +
+                               " (a recording is a csv, txt, tsv, dat, gz, ulg, bag, db3 or mcap file, not hidden, "
+                               "inside the folder)");
     path = *p;
   } else if (b.has("upload")) {
     const std::string id = b.text("upload");
@@ -302,12 +326,12 @@ HttpResponse App::answer(const HttpRequest& request) {
     }
     return state_->route(request);
   } catch (const HttpError& e) {
-    return error_response(e.status(), e.what());
+    return error_response(e.status(), state_->public_text(e.what()));
   } catch (const InputError& e) {
-    return error_response(400, e.what());
+    return error_response(400, state_->public_text(e.what()));
   } catch (const std::exception& e) {
     spdlog::error("serve: {} {}: {}", request.method, request.path, e.what());
-    return error_response(500, request.path + ": " + e.what());
+    return error_response(500, state_->public_text(request.path + ": " + e.what()));
   }
 }
 

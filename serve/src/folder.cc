@@ -42,21 +42,37 @@ bool is_inside(const fs::path& root, const fs::path& resolved) {
   return true;
 }
 
-Folder::Folder(const std::string& path) : name_(path) {
+std::optional<FileKind> offered_kind(const fs::path& relative) {
+  if (relative.empty() || relative.is_absolute() || relative.has_root_name()) return std::nullopt;
+  for (const fs::path& part : relative) {
+    const std::string s = part.string();
+    if (s.empty() || s.front() == '.') return std::nullopt;  // hidden, ".", ".."
+  }
+  const std::string name = relative.filename().string();
+  if (ends_with_any(name, kRecordingEndings)) return FileKind::kRecording;
+  if (ends_with_any(name, kConfigEndings)) return FileKind::kConfig;
+  return std::nullopt;
+}
+
+Folder::Folder(const std::string& path) {
   std::error_code ec;
   root_ = fs::canonical(path, ec);
   if (ec || !fs::is_directory(root_, ec))
     throw InputError("FOLDER '" + path + "': " + (ec ? ec.message() : std::string("not a folder")) +
                      ", expected the folder of recordings to offer");
+  name_ = root_.filename().string();
+  if (name_.empty()) name_ = "/";
 }
 
-std::optional<fs::path> Folder::resolve(const std::string& relative) const {
+std::optional<fs::path> Folder::resolve(const std::string& relative, FileKind kind) const {
   if (relative.empty() || relative.find('\0') != std::string::npos) return std::nullopt;
   const fs::path rel(relative);
-  if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory()) return std::nullopt;
+  if (offered_kind(rel) != kind) return std::nullopt;
   std::error_code ec;
   const fs::path resolved = fs::canonical(root_ / rel, ec);  // every link followed
   if (ec || !is_inside(root_, resolved) || resolved == root_) return std::nullopt;
+  // A link is offered only when what it points to is (a data.csv pointing at .env is not).
+  if (offered_kind(resolved.lexically_relative(root_)) != kind) return std::nullopt;
   if (!fs::is_regular_file(resolved, ec) || ec) return std::nullopt;
   return resolved;
 }
@@ -66,25 +82,34 @@ Folder::Listing Folder::list() const {
   std::error_code ec;
   fs::recursive_directory_iterator it(root_, fs::directory_options::skip_permission_denied, ec), end;
   for (; !ec && it != end; it.increment(ec)) {
+    const fs::directory_entry& e = *it;
+    const std::string name = e.path().filename().string();
+    if (!name.empty() && name.front() == '.') {  // hidden: neither listed nor walked
+      it.disable_recursion_pending();
+      continue;
+    }
     if (it.depth() >= kMaxListedDepth) {
       it.disable_recursion_pending();
       out.truncated = true;
     }
-    const fs::directory_entry& e = *it;
+    const fs::path relative = e.path().lexically_relative(root_);
+    const auto kind = offered_kind(relative);
+    if (!kind) continue;
+    // A path the walk reached without a link is its own resolved path (the walk starts at
+    // the resolved root and does not follow links to folders); a link is resolved.
     std::error_code e2;
-    const fs::path resolved = fs::canonical(e.path(), e2);
-    if (e2 || !is_inside(root_, resolved)) continue;  // a link out of the folder is not offered
-    if (!fs::is_regular_file(resolved, e2)) continue;
-    const std::string name = e.path().filename().string();
-    const bool recording = ends_with_any(name, kRecordingEndings);
-    const bool config = !recording && ends_with_any(name, kConfigEndings);
-    if (!recording && !config) continue;
+    std::optional<fs::path> resolved;
+    if (e.is_symlink(e2))
+      resolved = resolve(relative.string(), *kind);  // nullopt: it leaves the folder, or points at what is not offered
+    else if (e.is_regular_file(e2))
+      resolved = e.path();
+    if (!resolved) continue;
     if (out.recordings.size() + out.configs.size() >= kMaxListedFiles) {
       out.truncated = true;
       break;
     }
-    Entry entry{e.path().lexically_relative(root_).generic_string(), fs::file_size(resolved, e2)};
-    (recording ? out.recordings : out.configs).push_back(std::move(entry));
+    Entry entry{relative.generic_string(), fs::file_size(*resolved, e2)};
+    (*kind == FileKind::kRecording ? out.recordings : out.configs).push_back(std::move(entry));
   }
   const auto by_path = [](const Entry& a, const Entry& b) { return a.path < b.path; };
   std::sort(out.recordings.begin(), out.recordings.end(), by_path);

@@ -1,9 +1,12 @@
 #pragma once
 // The folder `gmwm serve` offers: its recordings and simulator files listed, and a relative
 // path resolved to a file inside it, or refused. The rule (docs/serve.md, "Limits and
-// safety"): a path is resolved with every symbolic link followed and taken only when the
-// result stays inside the folder's own resolved path; absolute paths, ".." that leaves it,
-// links that point out of it, and anything but a regular file are refused.
+// safety"), one for the listing and for every read: a file is offered when its path and the
+// path it resolves to (every symbolic link followed) both lie inside the folder's own
+// resolved path, have no hidden part (a name starting with '.': .git, .env, .ssh), and end
+// as the kind asked for does (a recording: what io::read_signals reads; a config: yaml, yml,
+// sdf, xml); absolute paths, ".." that leaves it, links that point out of it, and anything
+// but a regular file are refused. Nothing else under the folder is ever opened.
 
 #include <cstdint>
 #include <filesystem>
@@ -13,18 +16,22 @@
 
 namespace gmwm::serve::detail {
 
+/// What a file is offered as.
+enum class FileKind { kRecording, kConfig };
+
 class Folder {
  public:
   /// Throws InputError when `path` is not a readable folder.
   explicit Folder(const std::string& path);
 
-  /// The folder's name as given on the command line (shown on the page).
+  /// The folder's own name (its last part, shown on the page: never the machine's path).
   const std::string& name() const { return name_; }
   /// Its resolved path.
   const std::filesystem::path& root() const { return root_; }
 
-  /// The regular file `relative` names inside the folder, resolved; nullopt when refused.
-  std::optional<std::filesystem::path> resolve(const std::string& relative) const;
+  /// The regular file `relative` names inside the folder, resolved, when it is offered as
+  /// `kind`; nullopt when refused.
+  std::optional<std::filesystem::path> resolve(const std::string& relative, FileKind kind) const;
 
   struct Entry {
     std::string path;  ///< relative to the folder, '/'-separated
@@ -45,5 +52,9 @@ class Folder {
 
 /// True when `resolved` is `root` or lies under it (both already resolved).
 bool is_inside(const std::filesystem::path& root, const std::filesystem::path& resolved);
+
+/// The kind a file of this name is offered as (by its ending; nullopt: not offered), when
+/// no part of the relative path is hidden.
+std::optional<FileKind> offered_kind(const std::filesystem::path& relative);
 
 }  // namespace gmwm::serve::detail

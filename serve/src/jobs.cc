@@ -50,7 +50,8 @@ void JobContext::progress(double done, double total) {
 
 void JobContext::attach(std::shared_ptr<const void> what) { attached_ = std::move(what); }
 
-Jobs::Jobs(int workers, double idle_seconds) : idle_seconds_(idle_seconds) {
+Jobs::Jobs(int workers, double idle_seconds, std::function<std::string(const std::string&)> public_text)
+    : idle_seconds_(idle_seconds), public_text_(std::move(public_text)) {
   for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { worker(); });
 }
 
@@ -167,7 +168,7 @@ void Jobs::worker() {
       state = "cancelled";
     } catch (const std::exception& e) {
       state = "failed";
-      error = e.what();
+      error = public_text_ ? public_text_(e.what()) : e.what();
     } catch (...) {
       state = "failed";
       error = "the job failed with an unknown error";

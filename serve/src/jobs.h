@@ -48,7 +48,9 @@ class Jobs {
  public:
   using Work = std::function<Json(JobContext&)>;
 
-  Jobs(int workers, double idle_seconds);
+  /// `public_text`: what a failed job's message becomes before anyone reads it (no path of
+  /// the machine).
+  Jobs(int workers, double idle_seconds, std::function<std::string(const std::string&)> public_text);
   /// Cancels every job and waits for the workers.
   ~Jobs();
   Jobs(const Jobs&) = delete;
@@ -73,6 +75,7 @@ class Jobs {
   void reap_locked(Clock::time_point now);
 
   double idle_seconds_;
+  std::function<std::string(const std::string&)> public_text_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;

@@ -99,7 +99,7 @@ Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& 
   std::string text, name;
   if (o.has("file")) {
     name = o.text("file");
-    const auto path = c.folder.resolve(name);
+    const auto path = c.folder.resolve(name, FileKind::kConfig);
     if (!path) throw HttpError(404, o.where() + ": no file '" + name + "' in " + c.folder.name());
     text = path->string();
   } else {

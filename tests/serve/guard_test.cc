@@ -2,6 +2,7 @@
 // model"): what a hostile page in the user's browser, a rebound domain or another local
 // user can send, and that none of it reads a file or starts a job.
 
+#include <filesystem>
 #include <map>
 #include <string>
 #include <utility>
@@ -178,6 +179,57 @@ TEST_F(ServeGuardTest, AChosenTokenIsUsedAndAWeakOneRefusedByTheOptions) {
   app(o);
   EXPECT_EQ(app().token(), "a_scripts_own_token_0123");
   EXPECT_EQ(send("GET", "/api/files", {{"cookie", ""}, {"x-gmwm-token", "a_scripts_own_token_0123"}}).status, 200);
+}
+
+TEST_F(ServeGuardTest, OnlyRecordingsAndConfigsThatAreNotHiddenAreListedOrOpened) {
+  namespace fs = std::filesystem;
+  write_text(folder_ / ".env", "API_KEY=sk-live-1234\n");
+  fs::create_directories(folder_ / ".git");
+  write_text(folder_ / ".git" / "config", "[remote \"origin\"]\n\turl = git@secret.example:x.git\n");
+  write_text(folder_ / ".git" / "log.csv", "API_KEY,1\n");
+  fs::create_directories(folder_ / ".hidden");
+  fs::copy_file(folder_ / "imu.csv", folder_ / ".hidden" / "imu.csv");
+  write_text(folder_ / "notes.md", "API_KEY=in-notes\n");
+  write_text(folder_ / "id_rsa", "API_KEY=key\n");
+  fs::create_symlink(folder_ / ".env", folder_ / "env.csv");  // a recording's name, a hidden file's bytes
+  fs::create_symlink(folder_ / "notes.md", folder_ / "notes.yaml");
+  const OJson listing = body_of(get("/api/files"));
+  EXPECT_EQ(listing.dump().find("env"), std::string::npos) << listing.dump();
+  EXPECT_EQ(listing.dump().find("hidden"), std::string::npos) << listing.dump();
+  EXPECT_EQ(listing.dump().find("notes"), std::string::npos) << listing.dump();
+  EXPECT_EQ(listing.at("folder"), "recordings") << "the folder's own name, not the machine's path";
+  for (const std::string name : {".env", ".git/config", ".git/log.csv", ".hidden/imu.csv", "notes.md", "id_rsa",
+                                 "env.csv", "./.env", "sub/../.env"}) {
+    const serve::HttpResponse r = post("/api/open", OJson{{"file", name}, {"freq", 100}});
+    EXPECT_EQ(r.status, 404) << name << ": " << r.body;
+    EXPECT_EQ(r.body.find("API_KEY"), std::string::npos) << name << " was read: " << r.body;
+    EXPECT_EQ(r.body.find("secret.example"), std::string::npos) << name << " was read: " << r.body;
+  }
+  const std::string d = open_imu();
+  for (const std::string name : {".env", ".git/config", "notes.yaml", "notes.md"}) {
+    const serve::HttpResponse r = post("/api/overlay", OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", name}});
+    EXPECT_EQ(r.status, 404) << name << ": " << r.body;
+    EXPECT_EQ(r.body.find("API_KEY"), std::string::npos) << r.body;
+  }
+}
+
+TEST_F(ServeGuardTest, NoAnswerNamesAPathOfTheMachine) {
+  write_text(folder_ / "broken.yaml", "accelerometer_noise_density: [\n");
+  write_text(folder_ / "text.csv", "timestamp,gyro_x\n0,abc\n");
+  const std::string d = open_imu();
+  const std::vector<serve::HttpResponse> answers = {
+      post("/api/overlay", OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", "broken.yaml"}}),
+      post("/api/open", OJson{{"file", "text.csv"}, {"freq", 100}}),
+      post("/api/open", OJson{{"file", "sub/../../recordings/imu.csv/x"}}),
+      get("/api/files")};
+  for (const serve::HttpResponse& r : answers) {
+    EXPECT_EQ(r.body.find(dir_.string()), std::string::npos) << r.body;
+    EXPECT_EQ(r.body.find(std::filesystem::canonical(dir_).string()), std::string::npos) << r.body;
+  }
+  EXPECT_EQ(answers[0].status, 400) << answers[0].body;
+  EXPECT_NE(error_of(answers[0]).find("broken.yaml"), std::string::npos) << "named as the page names it: " << answers[0].body;
+  EXPECT_EQ(answers[1].status, 400) << answers[1].body;
+  EXPECT_NE(error_of(answers[1]).find("text.csv"), std::string::npos) << answers[1].body;
 }
 
 TEST_F(ServeGuardTest, EveryAnswerRefusalsIncludedForbidsCachingSniffingFramingAndForeignScripts) {
