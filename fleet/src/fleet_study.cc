@@ -11,7 +11,6 @@
 #include <optional>
 
 #include <boost/math/distributions/normal.hpp>
-#include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/gap/gap.h"
@@ -34,6 +33,7 @@ struct Plan {
   std::vector<std::optional<FleetRecord>> records;
   std::vector<FleetTask> tasks;
   int cached = 0;
+  std::vector<std::string> problems;  // entries there but not used, one line each
 };
 
 // Stage 1: the keys, and what the cache already holds.
@@ -52,15 +52,19 @@ Plan plan(const io::FleetManifest& manifest, const FleetStudyOptions& o, const F
       }
     }
     if (!p.keys[i].empty()) {
-      if (const std::optional<std::string> text = cache.load(p.keys[i])) {
+      std::string why;
+      if (const std::optional<std::string> text = cache.load(p.keys[i], &why)) {
         try {
-          p.records[i] = parse_fleet_record(*text, "fleet cache entry " + p.keys[i]);
+          p.records[i] = parse_fleet_record(*text, cache.path_of(p.keys[i]));
           ++p.cached;
           continue;
         } catch (const InputError& e) {
-          spdlog::warn("{}; computing it again", e.what());
-          cache.forget(p.keys[i]);
+          why = e.what();
         }
+      }
+      if (!why.empty()) {
+        p.problems.push_back(why + "; not used: unit '" + r.unit + "' computed again");
+        cache.forget(p.keys[i]);
       }
     }
     p.tasks.push_back({i, fleet_task_text(r, o)});
@@ -291,6 +295,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   std::vector<bool> from_cache(p.records.size());
   for (std::size_t i = 0; i < p.records.size(); ++i) from_cache[i] = p.records[i].has_value();
   study.cached = p.cached;
+  study.cache_problems = std::move(p.problems);
   run(p, options, cache);
   assemble(manifest, p.records, from_cache, study);
   if (options.spec) check_spec(study.rows, *options.spec);

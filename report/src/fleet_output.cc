@@ -74,9 +74,15 @@ Json replicate_test_json(const ReplicateTest& t) {
 }
 
 Json joint_json(const fleet::FleetJointModel& m) {
-  Json j = {{"group", m.group},     {"axis", m.axis},          {"units", m.units}, {"left_out", m.left_out},
-            {"status", m.status},   {"unit", m.unit},          {"freq", json_number(m.freq)},
-            {"n", m.n},             {"seconds", json_number(m.seconds)}};
+  Json j = {{"group", m.group},
+            {"axis", m.axis},
+            {"units", m.units},
+            {"left_out", m.left_out},
+            {"status", m.status},
+            {"unit", m.unit},
+            {"freq", json_number(m.freq)},
+            {"n", m.n},
+            {"seconds", json_number(m.seconds)}};
   if (m.status != "ok") return j;
   const FitResult& f = m.fit.joint;
   j["recommended"] = m.recommended;
@@ -89,8 +95,8 @@ Json joint_json(const fleet::FleetJointModel& m) {
       lo.push_back(json_number(p.ci_low));
       hi.push_back(json_number(p.ci_high));
     }
-    j["replicate_bootstrap"] = {{"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi},
-                                {"draws", m.intervals->draws}};
+    j["replicate_bootstrap"] = {
+        {"method", "replicate-t"}, {"ci_low", lo}, {"ci_high", hi}, {"draws", m.intervals->draws}};
   }
   j["gof"] = {{"statistic", json_number(f.gof.statistic)},
               {"df", f.gof.df},
@@ -119,6 +125,7 @@ Json fleet_document(const fleet::FleetStudy& study) {
   doc["failed"] = study.failed;
   doc["cached"] = study.cached;
   doc["cache"] = study.cache_dir.empty() ? Json(nullptr) : Json(study.cache_dir);
+  doc["cache_problems"] = study.cache_problems;
   doc["spec"] = study.spec_path.empty() ? Json(nullptr) : Json(study.spec_path);
   doc["gap_baseline"] = study.gap_baseline.empty() ? Json(nullptr) : Json(study.gap_baseline);
   Json rows = Json::array();
@@ -141,10 +148,10 @@ Json fleet_document(const fleet::FleetStudy& study) {
     row["cached"] = r.cached;
     row["flags"] = r.flags;
     if (!study.gap_baseline.empty())
-      row["gap"] = r.gap_verdict.empty() ? Json(nullptr)
-                                         : Json{{"verdict", r.gap_verdict},
-                                                {"headline", r.gap_headline},
-                                                {"p_value", json_number(r.gap_p)}};
+      row["gap"] =
+          r.gap_verdict.empty()
+              ? Json(nullptr)
+              : Json{{"verdict", r.gap_verdict}, {"headline", r.gap_headline}, {"p_value", json_number(r.gap_p)}};
     if (!study.spec_path.empty()) {
       row["spec"] = spec_json(r);
       row["spec_verdict"] = spec_word(r);
@@ -291,14 +298,16 @@ std::string joint_text(const fleet::FleetStudy& study) {
     auto fig = [&](int k) {
       if (!m.figures) return std::string("-");
       const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
-      return (c.figure.status == ReadoffStatus::kBound ? "< " : "") + figure_text("NKB"[k], c.figure.value, m.unit, 0.0);
+      return (c.figure.status == ReadoffStatus::kBound ? "< " : "") +
+             figure_text("NKB"[k], c.figure.value, m.unit, 0.0);
     };
     std::string shared = "-";
     if (m.test)
       shared = std::string(m.test->rejects() ? "no" : "yes") + " p " + fmt(m.test->heterogeneity_p, 2) +
                (m.test->calibration == ReplicateCalibration::kChiSquare ? " chi2" : "");
-    t.add({m.group, m.axis, std::to_string(m.units) + (m.left_out.empty() ? "" : "+" + std::to_string(m.left_out.size())),
-           m.recommended, fig(0), fig(1), fig(2), shared});
+    t.add({m.group, m.axis,
+           std::to_string(m.units) + (m.left_out.empty() ? "" : "+" + std::to_string(m.left_out.size())), m.recommended,
+           fig(0), fig(1), fig(2), shared});
   }
   return "the joint model of each group's axis: its units as replicates (the selection over them; +k: the units that "
          "stand out, left out), N, K, B of the group's typical unit, and whether the units share one theta (the "
@@ -314,7 +323,7 @@ std::string unit_table(const fleet::FleetStudy& study) {
       const ChosenFigure* f = figure_of(r, k);
       if (!f) return std::string("-");
       return (f->figure.status == ReadoffStatus::kBound ? "< " : "") +
-             figure_text("NKB"[k], f->figure.value, r.data_unit, 0.0);
+             figure_text("NKB"[k], f -> figure.value, r.data_unit, 0.0);
     };
     t.add({r.unit, r.axis, fig(0), fig(1), fig(2), fmt(r.gof_p, 2), r.status == "ok" ? r.chosen_structure : r.status});
   }

@@ -279,6 +279,75 @@ TEST_F(GmwmFleet, AChangedOrDamagedEntryIsComputedAgainAndNoCacheLeavesNoFolder)
   for (const json& row : d.at("rows")) EXPECT_EQ(row.at("status"), "ok");
 }
 
+// The rows of a fleet document without what a recomputed row may change (its wall time and
+// cache flag).
+json rows_without_timings(json doc) {
+  json rows = doc.at("rows");
+  for (json& row : rows) row.erase("seconds"), row.erase("cached");
+  return rows;
+}
+
+// A cache entry's record edited by hand as issue 42 found it done: every axis's B x1000. The
+// record's JSON is found in the entry whatever precedes it (its sorted keys start with "axes").
+void multiply_b_by_1000(const fs::path& entry) {
+  const std::string text = gmwm::test::read_text(entry);
+  const auto at = text.find("{\"axes\"");
+  ASSERT_NE(at, std::string::npos) << text.substr(0, 200);
+  json record = json::parse(text.substr(at));
+  for (json& axis : record.at("axes"))
+    if (!axis.at("figures").is_null()) {
+      json& b = axis["figures"]["B"]["figure"]["value"];
+      b = b.get<double>() * 1000.0;
+    }
+  gmwm::test::write_text(entry, text.substr(0, at) + record.dump());
+}
+
+TEST_F(GmwmFleet, AnEditedSwappedOrCutCacheEntryIsComputedAgainAndSaidSoNamingItsFile) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN2,IMU-X\nunit3.csv,SN3,IMU-X\n");
+  auto first = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "a.json", "--quiet"}, dir_);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const json fresh = rows_without_timings(read_json(dir_ / "a.json"));
+  std::vector<fs::path> entries = cache_entries(dir_ / ".gmwm-cache");
+  ASSERT_EQ(entries.size(), 3u);
+  std::sort(entries.begin(), entries.end());
+  // One entry's B x1000; the other two swapped.
+  multiply_b_by_1000(entries[0]);
+  const std::string one = gmwm::test::read_text(entries[1]), two = gmwm::test::read_text(entries[2]);
+  gmwm::test::write_text(entries[1], two);
+  gmwm::test::write_text(entries[2], one);
+  auto again = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "b.json", "--quiet"}, dir_);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const json b = read_json(dir_ / "b.json");
+  EXPECT_EQ(b.at("cached"), 0);
+  for (const json& row : b.at("rows")) EXPECT_FALSE(row.at("cached").get<bool>()) << row.dump();
+  EXPECT_EQ(rows_without_timings(b), fresh);  // every figure as computed: no B x1000, no unit's numbers swapped
+  // One warning at the default log level per entry not used, naming its file and what is wrong.
+  const std::vector<std::string> lines = gmwm::test::lines_of(again.err);
+  ASSERT_EQ(lines.size(), 3u) << again.err;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::string name = (fs::path(".gmwm-cache") / entries[k].filename()).string();
+    const auto line = std::find_if(lines.begin(), lines.end(),
+                                   [&](const std::string& l) { return l.find(name) != std::string::npos; });
+    ASSERT_NE(line, lines.end()) << name << "\n" << again.err;
+    EXPECT_EQ(line->rfind("gmwm: warning: fleet cache: ", 0), 0u) << *line;
+    EXPECT_NE(line->find(k == 0 ? "edited)" : "found the record of another key"), std::string::npos) << *line;
+    EXPECT_NE(line->find("computed again"), std::string::npos) << *line;
+  }
+  EXPECT_EQ(b.at("cache_problems").size(), 3u);
+  // The entries were written again: one cut short is the only one computed.
+  ASSERT_EQ(cache_entries(dir_ / ".gmwm-cache").size(), 3u);
+  const std::string whole = gmwm::test::read_text(entries[1]);
+  gmwm::test::write_text(entries[1], whole.substr(0, whole.size() / 2));
+  auto cut = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "c.json", "--quiet"}, dir_);
+  ASSERT_EQ(cut.exit_code, 0) << cut.err;
+  const json c = read_json(dir_ / "c.json");
+  EXPECT_EQ(c.at("cached"), 2);
+  EXPECT_EQ(rows_without_timings(c), fresh);
+  ASSERT_EQ(gmwm::test::lines_of(cut.err).size(), 1u) << cut.err;
+  EXPECT_NE(cut.err.find(entries[1].filename().string()), std::string::npos) << cut.err;
+  EXPECT_NE(cut.err.find("cut short"), std::string::npos) << cut.err;
+}
+
 // A killed run resumes: the recordings finished before the kill are cached (each entry
 // whole), and the re-run computes only the others, giving the table of an uninterrupted run.
 TEST_F(GmwmFleet, AKilledRunResumesAndComputesOnlyTheMissingRecordings) {
@@ -346,9 +415,8 @@ TEST_F(GmwmFleet, ChecksEachUnitAgainstTheSpecAndNamesTheOneAboveIt) {
         "path,unit,model,units\nunit1.csv,SN1,IMU-X,gyro=rad/s\nunit2.csv,SN2,IMU-X,gyro=rad/s\n"
         "unit3.csv,SN3,IMU-X,gyro=rad/s\nunit4.csv,SN4,IMU-X,gyro=rad/s\n");
   write("spec.yaml", "IMU-X:\n  gyroscope:\n    angle_random_walk: 5 deg/sqrt(h)\n");
-  auto f = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--spec", "spec.yaml", "--json", "f.json", "--csv",
-                     "f.csv"},
-                    dir_);
+  auto f = run_gmwm(
+      {"fleet", "fleet.csv", "--model", "WN+RW", "--spec", "spec.yaml", "--json", "f.json", "--csv", "f.csv"}, dir_);
   ASSERT_EQ(f.exit_code, 0) << f.err;
   const json doc = read_json(dir_ / "f.json");
   EXPECT_EQ(doc.at("spec"), "spec.yaml");
@@ -382,13 +450,14 @@ TEST_F(GmwmFleet, RefusesASpecThatIsNotOneNamingTheFileAndLineBeforeAnyWork) {
 TEST_F(GmwmFleet, DiagnosesEachUnitsGapAgainstTheBaselineAsGapDoes) {
   for (const auto& [name, spec] : {std::pair{"plain.csv", "WN(sigma2=1e-4)+RW(gamma2=1e-10)"},
                                    {"biased.csv", "WN(sigma2=1e-4)+RW(gamma2=1e-10)+AR1(phi=0.999,sigma2=4e-7)"}}) {
-    auto r = run_gmwm({"simulate", "--model", spec, "--n", "65536", "--freq", "100", "--names", "gyro_x", "--seed",
-                       "5", "--output", name, "--quiet"},
+    auto r = run_gmwm({"simulate", "--model", spec, "--n", "65536", "--freq", "100", "--names", "gyro_x", "--seed", "5",
+                       "--output", name, "--quiet"},
                       dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   // The baseline: N = sqrt(1e-4 / 100) = 1e-3 rad/s/sqrt(Hz), K = sqrt(1e-10 * 100) = 1e-4 rad/s^2/sqrt(Hz).
-  write("sheet.yaml", "gyroscope:\n  noise_density: 0.001 rad/s/sqrt(Hz)\n  rate_random_walk: 0.0001 rad/s^2/sqrt(Hz)\n");
+  write("sheet.yaml",
+        "gyroscope:\n  noise_density: 0.001 rad/s/sqrt(Hz)\n  rate_random_walk: 0.0001 rad/s^2/sqrt(Hz)\n");
   write("fleet.csv", "path,unit,model\nplain.csv,P,IMU-X\nbiased.csv,B,IMU-X\n");
   auto f = run_gmwm({"fleet", "fleet.csv", "--model", "AR1+WN+RW", "--gap-datasheet", "sheet.yaml", "--gap-replicates",
                      "50", "--json", "f.json", "--csv", "f.csv"},
@@ -405,24 +474,24 @@ TEST_F(GmwmFleet, DiagnosesEachUnitsGapAgainstTheBaselineAsGapDoes) {
   EXPECT_LT(biased.at("gap").at("p_value").get<double>(), 0.05);
   EXPECT_NE(f.out.find("the gap against sheet.yaml"), std::string::npos) << f.out;
   // The same as gmwm gap gives the recording.
-  auto g = run_gmwm({"gap", "biased.csv", "--datasheet", "sheet.yaml", "--replicates", "50", "--json", "g.json",
-                     "--quiet"},
-                    dir_);
+  auto g = run_gmwm(
+      {"gap", "biased.csv", "--datasheet", "sheet.yaml", "--replicates", "50", "--json", "g.json", "--quiet"}, dir_);
   ASSERT_EQ(g.exit_code, 0) << g.err;
   EXPECT_EQ(read_json(dir_ / "g.json")["columns"][0].at("headline"), biased.at("gap").at("headline"));
   // A baseline that is not one: refused before any work, naming its option, file and line.
   write("bad.yaml", "gyroscope:\n  noise_density: 0.001\n");
-  auto bad = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--gap-datasheet", "bad.yaml", "--json", "b.json"},
-                      dir_);
+  auto bad =
+      run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--gap-datasheet", "bad.yaml", "--json", "b.json"}, dir_);
   gmwm::test::expect_bad_input(bad, {"--gap-datasheet", "bad.yaml:2", "without a unit"}, dir_ / "b.json");
 }
 
 // --joint: each group's axis's joint model (its units as replicates) with the shared-theta test.
 TEST_F(GmwmFleet, GivesEachGroupsAxisItsJointModelWithTheSharedThetaTest) {
-  write("fleet.csv", "path,unit,model,units\nunit1.csv,SN1,IMU-X,gyro=rad/s\nunit2.csv,SN2,IMU-X,gyro=rad/s\n"
-                     "unit3.csv,SN3,IMU-X,gyro=rad/s\n");
-  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--joint", "--joint-draws", "39", "--json", "f.json"},
-                    dir_);
+  write("fleet.csv",
+        "path,unit,model,units\nunit1.csv,SN1,IMU-X,gyro=rad/s\nunit2.csv,SN2,IMU-X,gyro=rad/s\n"
+        "unit3.csv,SN3,IMU-X,gyro=rad/s\n");
+  auto r =
+      run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--joint", "--joint-draws", "39", "--json", "f.json"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "f.json");
   ASSERT_EQ(doc.at("joint").size(), 2u);  // gyro_x, gyro_y

@@ -30,8 +30,8 @@ struct FleetArgs {
   std::optional<double> memory_mb;
   std::optional<std::string> cache;  ///< --cache DIR; default: default_fleet_cache_dir
   bool no_cache = false;
-  std::string scheduler;  ///< --scheduler ADDRESS: a Dask cluster; empty: this machine
-  std::string spec;       ///< --spec FILE: the datasheet limits per sensor model
+  std::string scheduler;                              ///< --scheduler ADDRESS: a Dask cluster; empty: this machine
+  std::string spec;                                   ///< --spec FILE: the datasheet limits per sensor model
   std::string gap_kalibr, gap_gazebo, gap_datasheet;  ///< --gap-kalibr FILE[:imuN], --gap-gazebo, --gap-datasheet
   int gap_replicates = fleet::FleetGapBaseline{}.replicates;
   bool joint = false;  ///< --joint: each group's axis's joint model
@@ -45,16 +45,16 @@ constexpr double kNominalGapCheckRate = 100.0;
 // The gap baseline of --gap-kalibr / --gap-gazebo / --gap-datasheet (at most one), read
 // whole before any work and checked at the first recording's rate (or 100 Hz).
 std::optional<fleet::FleetGapBaseline> gap_baseline(const FleetArgs& a, const io::FleetManifest& manifest,
-                                                     const CommonOptions& common) {
+                                                    const CommonOptions& common) {
   const int given = !a.gap_kalibr.empty() + !a.gap_gazebo.empty() + !a.gap_datasheet.empty();
   if (given == 0) return std::nullopt;
   if (given > 1) throw InputError("fleet: give one gap baseline: --gap-kalibr, --gap-gazebo or --gap-datasheet");
   const auto [option, format] = !a.gap_kalibr.empty()   ? std::pair{"--gap-kalibr", io::SimFormat::kKalibr}
                                 : !a.gap_gazebo.empty() ? std::pair{"--gap-gazebo", io::SimFormat::kGzSensors}
                                                         : std::pair{"--gap-datasheet", io::SimFormat::kDatasheet};
-  const auto [path, imu] = !a.gap_kalibr.empty() ? kalibr_source(option, a.gap_kalibr)
-                                                 : std::pair{!a.gap_gazebo.empty() ? a.gap_gazebo : a.gap_datasheet,
-                                                             std::string()};
+  const auto [path, imu] = !a.gap_kalibr.empty()
+                               ? kalibr_source(option, a.gap_kalibr)
+                               : std::pair{!a.gap_gazebo.empty() ? a.gap_gazebo : a.gap_datasheet, std::string()};
   declare_input(common, path);
   const double freq = manifest.recordings.empty() || !manifest.recordings.front().rate
                           ? kNominalGapCheckRate
@@ -127,6 +127,12 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   for (const fleet::FleetRow& r : study.rows)
     if (r.status != "ok")
       warn("unit '" + r.unit + "'" + (r.axis.empty() ? "" : ", axis '" + r.axis + "'") + ": " + r.status);
+  // The cache's entries not used and its failures, as many as the bad rows said at most.
+  for (std::size_t i = 0; i < study.cache_problems.size() && i < kMaxRowsSaid; ++i)
+    warn("fleet cache: " + capped_line(study.cache_problems[i]));
+  if (study.cache_problems.size() > kMaxRowsSaid)
+    warn("fleet cache: ... and " + std::to_string(study.cache_problems.size() - kMaxRowsSaid) +
+         " more entries not used (the JSON's \"cache_problems\" lists them)");
   return 0;
 }
 

@@ -4,12 +4,25 @@
 // the library's version: fleet_result_key_text), holding the record's text (fleet_record.h).
 // A re-run finds the recordings it has already done under the same key, whatever their path
 // or unit id; a changed file or option is a new key. Each entry is written whole (a temporary
-// file renamed over it), so a kill never leaves half an entry; an entry that cannot be read
-// back (another version, damaged) is computed again.
+// file renamed over it), so a kill never leaves half an entry.
+//
+// Each entry verifies itself: a header line records the format, the key the entry was
+// written under, the record's length and the SHA-256 of the key and the record together,
+// then the record's text follows as it was computed:
+//
+//   {"bytes":52311,"gmwm_fleet_cache":1,"key":"9f2c...","sha256":"41d0..."}
+//   {"axes":[...],"freq":100.0,...,"version":1}
+//
+// An entry that does not verify (edited by hand, cut short, copied under another key's
+// name, of another format, not a regular file) is not used: its recording is computed again
+// and `load` says why, naming the entry's file (the study reports it: FleetStudy::cache_problems).
+// The digest catches changes, not forgeries: whoever can write the folder can write an entry
+// that verifies (keep a cache where only you can write, as with any file you run on).
 //
 //   FleetCache cache(".gmwm-cache");
 //   const std::string key = cache.key(recording, options);
-//   if (auto text = cache.load(key)) ...; else cache.store(key, run_fleet_task(task));
+//   std::string why;
+//   if (auto text = cache.load(key, &why)) ...; else cache.store(key, run_fleet_task(task));
 
 #include <optional>
 #include <string>
@@ -33,6 +46,10 @@ std::string default_fleet_cache_dir(const std::string& manifest_path);
 /// Largest cache entry read (a record of a recording with hundreds of columns is ~10 MB).
 inline constexpr std::size_t kMaxCacheEntryBytes = std::size_t{64} << 20;
 
+/// The format of an entry's header line (fleet_cache.h): an entry of another format is
+/// computed again.
+inline constexpr int kFleetCacheFormat = 1;
+
 class FleetCache {
  public:
   /// `dir` is made (with its parents) at the first store; empty: a cache that holds nothing.
@@ -45,19 +62,24 @@ class FleetCache {
   /// fleet_result_key_text. Throws InputError when the recording cannot be read.
   std::string key(const io::FleetRecording& recording, const FleetStudyOptions& options) const;
 
-  /// The entry's text, or nullopt when there is none (or it is not a regular file, or
-  /// larger than kMaxCacheEntryBytes).
-  std::optional<std::string> load(const std::string& key) const;
+  /// The record's text stored under `key` when its entry verifies; nullopt when there is no
+  /// entry, or when the entry does not verify (not a regular file, larger than
+  /// kMaxCacheEntryBytes, no header of this format, another key, cut short, changed): then
+  /// `why`, when given, is set to one line naming the entry's file and what is wrong with it.
+  std::optional<std::string> load(const std::string& key, std::string* why = nullptr) const;
 
-  /// Writes the entry whole. A failure (a read-only folder, a full disk) is logged once and
-  /// the run goes on without caching: it costs a re-run, not this run.
+  /// Writes the entry whole (its header line, then `text`). A failure (a read-only folder, a
+  /// full disk) is logged once and the run goes on without caching: it costs a re-run, not
+  /// this run.
   void store(const std::string& key, const std::string& text) const;
 
-  /// Removes an entry that could not be read back (logged by the caller).
+  /// Removes an entry that could not be read back (reported by the caller).
   void forget(const std::string& key) const;
 
- private:
+  /// The file of `key`'s entry (DIR/KEY.json).
   std::string path_of(const std::string& key) const;
+
+ private:
   std::string dir_;
   mutable bool store_failed_ = false;
 };

@@ -61,9 +61,9 @@ using FleetRunner = std::function<void(const std::vector<FleetTask>& tasks,
 /// that a task carries it to wherever it runs, read at each recording's rate and units.
 struct FleetGapBaseline {
   io::SimFormat format = io::SimFormat::kKalibr;  ///< kKalibr, kGzSensors or kDatasheet
-  std::string name;  ///< the file's path, in messages
-  std::string text;  ///< the file's content
-  std::string imu;   ///< a Kalibr chain's IMU ("imu1"), or empty
+  std::string name;                               ///< the file's path, in messages
+  std::string text;                               ///< the file's content
+  std::string imu;                                ///< a Kalibr chain's IMU ("imu1"), or empty
   /// Reference replicates per column (gap's default 200: the level's band and the global
   /// test's held-out replicates; fewer are faster and coarser).
   int replicates = 200;
@@ -121,8 +121,8 @@ enum class SpecVerdict {
 const char* to_string(SpecVerdict v);
 
 struct SpecCheck {
-  char figure = 'N';      ///< 'N', 'K' or 'B'
-  io::SpecLimit limit;    ///< as the spec gives it
+  char figure = 'N';    ///< 'N', 'K' or 'B'
+  io::SpecLimit limit;  ///< as the spec gives it
   /// The unit's figure in the limit's unit (B as 0.664 B, the Allan minimum, when the limit
   /// is an in-run bias stability), with its interval (NaN when unknown).
   double value = NAN, low = NAN, high = NAN;
@@ -183,7 +183,7 @@ inline constexpr int kJointIntervalDraws = 200;
 
 struct FleetJointModel {
   std::string group, axis;
-  int units = 0;              ///< units taken as replicates (their rows "ok", one rate)
+  int units = 0;  ///< units taken as replicates (their rows "ok", one rate)
   /// The units that stand out from the group on this axis (their rows' flags), left out:
   /// the joint model is the typical unit's, which a few outliers would pull (it pools the
   /// units' variances, a mean, not a median).
@@ -193,10 +193,10 @@ struct FleetJointModel {
   /// (units recorded in different units are converted to it).
   std::string unit;
   double freq = NAN;
-  std::int64_t n = 0;        ///< the longest unit's samples (the figures' averaging factors)
-  std::string recommended;   ///< the selection's recommended model (without values)
-  std::string chosen;        ///< its smallest CV-WVIC (may be larger than the recommended)
-  JointFitResult fit;        ///< the recommended model fitted jointly (fit.joint)
+  std::int64_t n = 0;                           ///< the longest unit's samples (the figures' averaging factors)
+  std::string recommended;                      ///< the selection's recommended model (without values)
+  std::string chosen;                           ///< its smallest CV-WVIC (may be larger than the recommended)
+  JointFitResult fit;                           ///< the recommended model fitted jointly (fit.joint)
   std::optional<ReplicateTest> test;            ///< the shared-theta test
   std::optional<ReplicateBootstrap> intervals;  ///< replicate-t intervals
   std::optional<ChosenFigures> figures;         ///< N, K, B of the joint model
@@ -231,7 +231,7 @@ struct FleetFigureSummary {
   /// The spread between the units themselves, net of the read-offs' noise: exp(tau)
   /// (kFleetOutlierZ); 1 when the read-offs' noise explains all of `spread`.
   double unit_spread = NAN;
-  std::vector<std::string> flagged;  ///< the units flagged on it
+  std::vector<std::string> flagged;      ///< the units flagged on it
   std::vector<std::string> out_of_spec;  ///< the units above its spec limit (`--spec`)
 };
 
@@ -245,7 +245,11 @@ struct FleetStudy {
   int recordings = 0, failed = 0;
   int cached = 0;  ///< recordings whose record came from the cache
   std::string cache_dir;
-  std::string spec_path;  ///< the spec mask's file (empty: none)
+  /// The cache's entries that were there but did not verify (edited, cut short, swapped, of
+  /// another format: fleet_cache.h), one line each naming the file: their recordings were
+  /// computed again. For the caller to say (the CLI warns each).
+  std::vector<std::string> cache_problems;
+  std::string spec_path;     ///< the spec mask's file (empty: none)
   std::string gap_baseline;  ///< the gap baseline's file (empty: no diagnosis)
   double seconds = 0.0;
 };
