@@ -15,7 +15,6 @@
 
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
-#include <spdlog/spdlog.h>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/fleet/fleet_record.h"
@@ -139,6 +138,31 @@ std::string verify_entry(const std::string& key, const std::string& text, std::s
 
 }  // namespace
 
+void check_fleet_cache_dir(const std::string& dir) {
+  if (dir.empty()) return;
+  std::error_code ec;
+  // The path itself, then (when it is not there yet) the nearest folder above it that is.
+  fs::path p = dir;
+  bool itself = true;
+  while (!p.empty()) {
+    const fs::file_status st = fs::symlink_status(p, ec);
+    if (st.type() == fs::file_type::not_found) {
+      const fs::path parent = p.parent_path();
+      if (parent == p) return;
+      p = parent;
+      itself = false;
+      continue;
+    }
+    if (ec) throw InputError(dir + ": cannot look at the cache folder: " + ec.message());
+    const std::string what = itself ? dir : dir + "'s parent " + p.string();
+    if (fs::is_symlink(st) && !fs::exists(p, ec))
+      throw InputError(what + ": found a link to nothing, expected the folder of the fleet's cached records");
+    if (fs::is_directory(p, ec)) return;
+    throw InputError(what + ": found " + (fs::is_regular_file(p, ec) ? "a file" : "a special file") +
+                     ", expected the folder of the fleet's cached records");
+  }
+}
+
 std::string file_sha256(const std::string& path) {
   Sha256 h;
   std::error_code ec;
@@ -206,15 +230,14 @@ std::optional<std::string> FleetCache::load(const std::string& key, std::string*
 }
 
 void FleetCache::store(const std::string& key, const std::string& text) const {
-  if (!enabled() || store_failed_) return;
+  if (!enabled() || !store_problem_.empty()) return;
   try {
     std::error_code ec;
     fs::create_directories(dir_, ec);
     if (ec) throw InputError(dir_ + ": cannot make the cache folder: " + ec.message());
     io::write_file_atomically(path_of(key), entry_header(key, text) + "\n" + text);
   } catch (const std::exception& e) {
-    store_failed_ = true;
-    spdlog::warn("fleet cache: {}; this run goes on without caching its records", printable_line(e.what()));
+    store_problem_ = printable_line(e.what());
   }
 }
 

@@ -281,6 +281,7 @@ std::string FleetStudyOptions::Validate() const {
 
 FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("fleet: " + why);
+  check_fleet_cache_dir(options.cache_dir);
   const auto start = std::chrono::steady_clock::now();
   const FleetCache cache(options.cache_dir);
   FleetStudy study;
@@ -297,6 +298,8 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
   study.cached = p.cached;
   study.cache_problems = std::move(p.problems);
   run(p, options, cache);
+  if (!cache.store_problem().empty())
+    study.cache_problems.push_back(cache.store_problem() + "; the records of this run from then on were not cached");
   assemble(manifest, p.records, from_cache, study);
   if (options.spec) check_spec(study.rows, *options.spec);
   study.summary = fleet_summary(study.rows, options.wv.alpha);

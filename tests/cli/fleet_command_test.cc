@@ -348,6 +348,47 @@ TEST_F(GmwmFleet, AnEditedSwappedOrCutCacheEntryIsComputedAgainAndSaidSoNamingIt
   EXPECT_NE(cut.err.find("cut short"), std::string::npos) << cut.err;
 }
 
+// Issue 42 item 15: a cache that cannot be one was dropped in silence (the warning was below
+// the default log level) and the run lost its resumability; it is refused before any work.
+TEST_F(GmwmFleet, RefusesACacheThatIsAFileOrBelowOneOrALinkToNothingBeforeAnyWork) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\n");
+  write(".gmwm-cache", "my notes\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(
+      r,
+      {"the default cache .gmwm-cache: found a file, expected the folder of the fleet's cached records", "--no-cache"},
+      dir_ / "f.json");
+  EXPECT_EQ(gmwm::test::read_text(dir_ / ".gmwm-cache"), "my notes\n");
+  write("notes.txt", "mine\n");
+  auto given = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--cache", "notes.txt", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(given, {"--cache notes.txt: found a file, expected the folder"}, dir_ / "f.json");
+  auto below = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--cache", "notes.txt/c", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(below, {"--cache notes.txt/c's parent notes.txt: found a file"}, dir_ / "f.json");
+  fs::create_symlink(dir_ / "gone", dir_ / "link");
+  auto dangling = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--cache", "link", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(dangling, {"--cache link: found a link to nothing"}, dir_ / "f.json");
+  EXPECT_EQ(gmwm::test::read_text(dir_ / "notes.txt"), "mine\n");
+  EXPECT_FALSE(fs::exists(dir_ / "gone"));
+}
+
+// A cache whose entries cannot be written (here each entry's name taken by a folder that is
+// not empty) is said at the default log level: the run goes on, its records not cached.
+TEST_F(GmwmFleet, ACacheThatCannotBeWrittenIsSaidAndTheRunGoesOn) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN2,IMU-X\n");
+  auto first = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--quiet"}, dir_);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  for (const fs::path& e : cache_entries(dir_ / ".gmwm-cache")) {
+    fs::remove(e);
+    fs::create_directory(e);
+    write((e / "kept").lexically_relative(dir_).string(), "a file: the folder is not removed\n");
+  }
+  auto again = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json", "--quiet"}, dir_);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(read_json(dir_ / "f.json").at("failed"), 0);
+  EXPECT_NE(again.err.find("gmwm: warning: fleet cache: "), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("the records of this run from then on were not cached"), std::string::npos) << again.err;
+}
+
 // A killed run resumes: the recordings finished before the kill are cached (each entry
 // whole), and the re-run computes only the others, giving the table of an uninterrupted run.
 TEST_F(GmwmFleet, AKilledRunResumesAndComputesOnlyTheMissingRecordings) {

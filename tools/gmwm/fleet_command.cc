@@ -94,6 +94,14 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   o.joint.enabled = a.joint;
   o.joint.test_draws = a.joint_draws;
   if (!a.no_cache) o.cache_dir = a.cache ? *a.cache : fleet::default_fleet_cache_dir(a.manifest);
+  // A cache that cannot be one is refused before any work (a run that would have lost its
+  // resumability in silence: the study's warning was below the default log level).
+  try {
+    fleet::check_fleet_cache_dir(o.cache_dir);
+  } catch (const InputError& e) {
+    throw InputError(std::string(a.cache ? "--cache " : "the default cache ") + e.what() +
+                     (a.cache ? "" : "; give --cache DIR or --no-cache"));
+  }
   if (!a.scheduler.empty()) {
     check_scheduler_address(a.scheduler);
     o.runner = dask_runner(a.scheduler);

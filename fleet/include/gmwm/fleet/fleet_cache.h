@@ -50,6 +50,11 @@ inline constexpr std::size_t kMaxCacheEntryBytes = std::size_t{64} << 20;
 /// computed again.
 inline constexpr int kFleetCacheFormat = 1;
 
+/// Refuses (InputError naming it) a cache folder that cannot be one: a path that is a file,
+/// a special file or a link to nothing, or below a file. A folder that does not exist yet
+/// is fine (the first store makes it). Empty: no cache, fine.
+void check_fleet_cache_dir(const std::string& dir);
+
 class FleetCache {
  public:
   /// `dir` is made (with its parents) at the first store; empty: a cache that holds nothing.
@@ -69,9 +74,12 @@ class FleetCache {
   std::optional<std::string> load(const std::string& key, std::string* why = nullptr) const;
 
   /// Writes the entry whole (its header line, then `text`). A failure (a read-only folder, a
-  /// full disk) is logged once and the run goes on without caching: it costs a re-run, not
-  /// this run.
+  /// full disk) ends the caching of this run, which goes on: it costs a re-run, not this
+  /// run; store_problem() then says why.
   void store(const std::string& key, const std::string& text) const;
+
+  /// Why the cache could not be written (one line naming the file), or empty.
+  const std::string& store_problem() const { return store_problem_; }
 
   /// Removes an entry that could not be read back (reported by the caller).
   void forget(const std::string& key) const;
@@ -81,7 +89,7 @@ class FleetCache {
 
  private:
   std::string dir_;
-  mutable bool store_failed_ = false;
+  mutable std::string store_problem_;
 };
 
 }  // namespace gmwm::fleet

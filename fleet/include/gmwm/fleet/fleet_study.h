@@ -245,9 +245,10 @@ struct FleetStudy {
   int recordings = 0, failed = 0;
   int cached = 0;  ///< recordings whose record came from the cache
   std::string cache_dir;
-  /// The cache's entries that were there but did not verify (edited, cut short, swapped, of
-  /// another format: fleet_cache.h), one line each naming the file: their recordings were
-  /// computed again. For the caller to say (the CLI warns each).
+  /// What went wrong with the cache, one line each naming the file: an entry that was there
+  /// but did not verify (edited, cut short, swapped, of another format: fleet_cache.h; its
+  /// recording was computed again), or the folder that could not be written (the records
+  /// from then on not cached). For the caller to say (the CLI warns each).
   std::vector<std::string> cache_problems;
   std::string spec_path;     ///< the spec mask's file (empty: none)
   std::string gap_baseline;  ///< the gap baseline's file (empty: no diagnosis)
@@ -255,8 +256,8 @@ struct FleetStudy {
 };
 
 /// Runs the study on every recording of `manifest` (checked first: fleet_manifest_problems
-/// is the caller's to report). Throws InputError only for invalid options; each recording's
-/// failure is its row.
+/// is the caller's to report). Throws InputError only for invalid options and a cache folder
+/// that cannot be one (check_fleet_cache_dir); each recording's failure is its row.
 FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOptions& options);
 
 /// Each row's figures against `spec` (the limits of its sensor model and of the kind its
