@@ -97,6 +97,11 @@ ErrorSystem error_system(const ImuModel& model, const Scenario& scenario) {
   int at = kNavStates;
   add_sensor(gyro, sys.gyro_rows, sys.gyro_white, at, sys);
   add_sensor(accel, sys.accel_rows, sys.accel_white, at, sys);
+  // The densities in SI squared (to_si^2 Qc): an inflation of 1e160 overflows them.
+  if (!sys.Qc.allFinite() || !sys.P0.allFinite() || !sys.gyro_white.allFinite() || !sys.accel_white.allFinite())
+    throw InputError((model.label.empty() ? std::string("a model") : model.label) +
+                     ": its noise densities in SI units overflow a double when squared (beyond 1.8e308): expected "
+                     "smaller noise figures");
   Eigen::MatrixXd F, Qc;
   at_pose(sys, Pose{0.0, Eigen::Vector3d(0.0, 0.0, -scenario.gravity)}, F, Qc);
   sys.F = F;
@@ -125,14 +130,25 @@ void at_pose(const ErrorSystem& sys, const Pose& pose, Eigen::MatrixXd& F, Eigen
 
 Step discretise(const Eigen::MatrixXd& F, const Eigen::MatrixXd& Qc, double dt) {
   const Eigen::Index n = F.rows();
+  // The exponential's top-right block is linear in Qc (the matrix is block upper
+  // triangular), so Qc enters scaled to F's size by a power of two (exact) and Q is scaled
+  // back. Unscaled, the exponential's scaling and squaring took its number of squarings
+  // from the whole matrix's norm: a Qc dt of 1e20 beside an F dt of 0.1 (a gyroscope white
+  // noise of sigma2 = 1e22 at 100 Hz) had it square 2^-66 F dt, which vanishes beside the
+  // identity: Phi came out as I, the position no longer followed the velocity, and the
+  // analysis reported errors of 0 m.
+  const double f_norm = (F * dt).cwiseAbs().colwise().sum().maxCoeff();
+  const double q_norm = (Qc * dt).cwiseAbs().colwise().sum().maxCoeff();
+  int scale = 0;  // Q = 2^scale Q(Qc 2^-scale)
+  if (q_norm > 0.0 && std::isfinite(q_norm)) std::frexp(q_norm / std::max(f_norm, 1.0), &scale);
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   m.topLeftCorner(n, n) = -F * dt;
-  m.topRightCorner(n, n) = Qc * dt;
+  m.topRightCorner(n, n) = (Qc * dt).unaryExpr([scale](double x) { return std::ldexp(x, -scale); });
   m.bottomRightCorner(n, n) = F.transpose() * dt;
   const Eigen::MatrixXd e = m.exp();
   Step s;
   s.Phi = e.bottomRightCorner(n, n).transpose();
-  s.Q = s.Phi * e.topRightCorner(n, n);
+  s.Q = (s.Phi * e.topRightCorner(n, n)).unaryExpr([scale](double x) { return std::ldexp(x, scale); });
   s.Q = 0.5 * (s.Q + s.Q.transpose());
   return s;
 }

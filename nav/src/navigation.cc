@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <sstream>
 
@@ -245,6 +246,10 @@ Propagation propagation(const ImuModel& model, const Scenario& s, const Grid& g)
   for (const Pose& pose : g.poses) {
     detail::at_pose(p.sys, pose, F, Qc);
     p.steps.push_back(detail::repeat(detail::discretise(F, Qc, g.dt), g.block));
+    if (!p.steps.back().Phi.allFinite() || !p.steps.back().Q.allFinite())
+      throw InputError((model.label.empty() ? std::string("a model") : model.label) +
+                       ": the errors its noise adds over one step (" + std::to_string(g.block) +
+                       " IMU periods) overflow a double (beyond 1.8e308): expected smaller noise figures");
   }
   return p;
 }
@@ -291,6 +296,7 @@ void finish_verdict(FilterErrors& f, double judge_from) {
 struct FilterPlan {
   Propagation prop;
   std::vector<Eigen::MatrixXd> gain;            // per block (empty where no fix)
+  std::vector<Eigen::Matrix3d> kept;            // per block with a fix: I - K_p = R S^-1
   std::vector<Eigen::MatrixXd> nav_covariance;  // per output: the filter's own 9 x 9
 };
 
@@ -303,15 +309,24 @@ FilterPlan plan_filter(const ImuModel& model, const Scenario& s, const Grid& g) 
   Eigen::MatrixXd P = f.prop.sys.P0;
   f.nav_covariance.push_back(P.topLeftCorner(kNavStates, kNavStates));
   f.gain.resize(static_cast<std::size_t>(g.blocks));
+  f.kept.resize(static_cast<std::size_t>(g.blocks));
   for (std::int64_t b = 0; b < g.blocks; ++b) {
     const detail::Step& step = f.prop.at(g, b);
     P = step.Phi * P * step.Phi.transpose() + step.Q;
     if (fix_at(s, g, b)) {
       const Eigen::MatrixXd S = H * P * H.transpose() + R;
-      const Eigen::MatrixXd K = P * H.transpose() * S.ldlt().solve(Eigen::MatrixXd::Identity(3, 3));
-      const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
+      const Eigen::MatrixXd S_inv = S.ldlt().solve(Eigen::MatrixXd::Identity(3, 3));
+      const Eigen::MatrixXd K = P * H.transpose() * S_inv;
+      // The share of the position error a fix keeps, I - K_p = I - P_pp S^-1 = R S^-1
+      // (S = P_pp + R), taken in the second form: as a difference it kept rounding's
+      // eps * sqrt(P_pp) of it, 1.5e8 m of a position known to 1 m where the process noise
+      // of one fix period is 1e48 m^2 (an accelerometer white noise of sigma2 = 1e50).
+      const Eigen::Matrix3d kept = R * S_inv;
+      Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
+      I_KH.topLeftCorner(3, 3) = kept;
       P = I_KH * P * I_KH.transpose() + K * R * K.transpose();  // Joseph form
       f.gain[static_cast<std::size_t>(b)] = K;
+      f.kept[static_cast<std::size_t>(b)] = kept;
     }
     P = 0.5 * (P + P.transpose());
     if ((b + 1) % g.per_output == 0) f.nav_covariance.push_back(P.topLeftCorner(kNavStates, kNavStates));
@@ -331,6 +346,23 @@ Grid checked_grid(const ImuModel& truth, const std::vector<ImuModel>& filters, c
 
 void report(const Progress& progress, double share) {
   if (progress && !progress(share)) throw InputError("cancelled");
+}
+
+// A double holds variances up to 1.8e308 (m^2, (m/s)^2, rad^2): past it the propagation
+// overflows to inf, then NaN (inf - inf), which the verdict's comparisons counted inside
+// the NEES band and the table printed as '-' under "consistent". `whose` says whether the
+// model's errors are the truth's ("it makes") or what a filter claims ("it claims").
+void check_representable(double value, const std::string& label, const char* whose, double t, double horizon) {
+  if (std::isfinite(value)) return;
+  auto num = [](double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return std::string(buf);
+  };
+  throw InputError((label.empty() ? std::string("a model") : label) + ": the navigation errors " + whose +
+                   " overflow a double (beyond 1.8e308) by t = " + num(t) +
+                   " s: expected noise figures whose errors a double holds over the " + num(horizon) +
+                   " s horizon (smaller ones, or a shorter horizon)");
 }
 
 }  // namespace
@@ -406,6 +438,9 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
       fe.velocity_claimed.push_back(root_trace(claimed, kVelocity));
       fe.attitude_claimed.push_back(root_trace(claimed, kAttitude));
       fe.nees.push_back(claimed.ldlt().solve(actual).trace());
+      check_representable(actual.trace(), truth.label, "it makes", t, scenario.horizon);
+      check_representable(claimed.trace(), fe.label, "it claims", t, scenario.horizon);
+      check_representable(fe.nees.back(), fe.label, "it claims", t, scenario.horizon);
     };
     record(0.0, 0);
     std::size_t output = 0;
@@ -416,7 +451,9 @@ Analysis analyse(const ImuModel& truth, const std::vector<ImuModel>& filters, co
       if (K.size() > 0) {
         const Eigen::MatrixXd G = cl.correction(K);
         Eigen::MatrixXd M = Eigen::MatrixXd::Identity(ny, ny);
-        M.leftCols(3) += G;  // H selects e's position: y + G H y
+        // H selects e's position: y + G H y, with I - K_p as the plan keeps it (R S^-1).
+        M.leftCols(3) += G;
+        M.topLeftCorner(3, 3) = fp.kept[static_cast<std::size_t>(b)];
         A = M * A * M.transpose() + r * G * G.transpose();
       }
       A = 0.5 * (A + A.transpose());
@@ -503,8 +540,12 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
         }
         const Eigen::MatrixXd& K = fp.gain[static_cast<std::size_t>(b)];
         if (K.size() > 0) {
-          const Eigen::Vector3d innovation = y.head(3) + r * normals(3);  // the fix minus the corrected solution
+          const Eigen::Vector3d noise = r * normals(3);
+          const Eigen::Vector3d innovation = y.head(3) + noise;  // the fix minus the corrected solution
+          // The position error left, (I - K_p) e_p - K_p v, with I - K_p as the plan keeps it.
+          const Eigen::Vector3d position = fp.kept[static_cast<std::size_t>(b)] * y.head(3) - K.topRows(3) * noise;
           y += cl.correction(K) * innovation;
+          y.head(3) = position;
         }
         if ((b + 1) % g.per_output == 0) record(++o);
       }
@@ -522,6 +563,9 @@ Analysis monte_carlo(const ImuModel& truth, const std::vector<ImuModel>& filters
     for (std::size_t k = 0; k < outputs; ++k) {
       const auto c = static_cast<Eigen::Index>(k);
       fe.time.push_back(static_cast<double>(static_cast<std::int64_t>(k) * g.per_output * g.block) / out.imu_rate);
+      check_representable(sum.col(c).head(3).sum(), truth.label, "it makes", fe.time.back(), scenario.horizon);
+      check_representable(fp.nav_covariance[k].trace(), fe.label, "it claims", fe.time.back(), scenario.horizon);
+      check_representable(sum(3, c), fe.label, "it claims", fe.time.back(), scenario.horizon);
       fe.position_rms.push_back(std::sqrt(sum(0, c)));
       fe.velocity_rms.push_back(std::sqrt(sum(1, c)));
       fe.attitude_rms.push_back(std::sqrt(sum(2, c)));

@@ -224,6 +224,15 @@ std::vector<Case> corpus() {
        {"simulate", "--model", "WN(sigma2=1)", "--n", "1000000000000", "--output", "s.csv"},
        {"--n 1000000000000", "GB"}},
       {"zero samples", {"simulate", "--model", "WN(sigma2=1)", "--n", "0"}, {"--n"}},
+      // --- nav -------------------------------------------------------------------------
+      {"nav errors beyond a double",
+       {"nav", "--truth", "gyro=WN(sigma2=1e300);accel=WN(sigma2=1e-6)", "--rate", "100", "--fix-rate", "0", "--json",
+        "n.json"},
+       {"truth", "overflow a double", "horizon"}},
+      {"nav filter whose densities overflow once squared",
+       {"nav", "--truth", "gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-6)", "--filter", "wnrw*1e160", "--rate", "100",
+        "--json", "n.json"},
+       {"wnrw*1e160", "overflow a double"}},
       // --- gap and simulator configurations --------------------------------------------
       {"two baselines", {"gap", "base.csv", "--model", "WN(sigma2=1)", "--fit", "WN"}, {"--"}, base},
       {"too few replicates",

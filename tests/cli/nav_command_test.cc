@@ -115,6 +115,33 @@ TEST_F(GmwmNav, RefusesBadSourcesAndScenariosInOneLineWritingNothing) {
   EXPECT_EQ(report.exit_code, 2) << report.err;
 }
 
+TEST(GmwmNavNumbers, GivesAHugeGyroNoiseTheFixLimitedErrorItMakesAndRefusesErrorsBeyondADouble) {
+  // Issue 42 item 9: a gyroscope white noise of sigma2 = 1e25 printed 0 m and
+  // "pessimistic". Once the gyro's noise dwarfs a 1 m fix (the position's process noise
+  // between fixes >= 1e12 m^2 here), the horizontal errors are the fixes' own and the
+  // vertical the accelerometer's: the answer is the same as at sigma2 = 1e15 to the share
+  // R / P < 1e-12 of the fix the prior still carries.
+  const fs::path dir = gmwm::test::temp_dir("cli_nav_numbers");
+  auto position = [&](const std::string& sigma2) {
+    const auto r = run_gmwm({"nav", "--truth", "gyro=WN(sigma2=" + sigma2 + ")+RW(gamma2=1e-14);accel=WN(sigma2=1e-6)",
+                             "--rate", "100", "--json", "n.json", "--quiet"},
+                            dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const json doc = read_json(dir / "n.json");
+    EXPECT_EQ(doc.at("filters")[0].at("verdict"), "consistent");
+    return doc.at("filters")[0].at("curves").at("position_rms").back().get<double>();
+  };
+  const double moderate = position("1e15"), huge = position("1e25");
+  EXPECT_GT(huge, 1.0);  // two horizontal axes at ~1 m each
+  EXPECT_NEAR(huge, moderate, 1e-6 * moderate);
+  // Free inertial, the position's variance passes 1.8e308 m^2 at 72 s: refused, not '-'.
+  expect_bad_input(run_gmwm({"nav", "--truth", "gyro=WN(sigma2=1e300);accel=WN(sigma2=1e-6)", "--rate", "100",
+                             "--fix-rate", "0", "--json", "bad.json"},
+                            dir),
+                   {"truth", "overflow a double", "t = 72 s", "horizon"}, dir / "bad.json");
+  fs::remove_all(dir);
+}
+
 TEST_F(GmwmNav, ExportsTheSmallestInflationThatKeepsAWnRwFilterFromBeingOptimistic) {
   const auto r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "imu.yaml", "--consistent-for",
                            "20,60", "--json", "export.json", "--quiet"},

@@ -94,6 +94,86 @@ TEST(NavigationErrors, AWhiteAccelerometerGivesAVelocityRandomWalkAndNTToTheThre
   }
 }
 
+TEST(NavigationErrors, AWhiteGyroOfAnyMagnitudeTiltsTheVelocityAndPositionAsItsClosedForms) {
+  // At rest a tilt psi_x makes dv_y = -g psi_x (f x psi, f = (0, 0, -g)), likewise psi_y
+  // dv_x: from a white gyro (N^2 = sigma2 / f) Var(dv) = g^2 N^2 t^3 / 3 and Var(dp) =
+  // g^2 N^2 t^5 / 20 on each horizontal axis. The same within 1e-9 relative (the exact
+  // step's rounding, as above) at every magnitude a double holds over the horizon: the
+  // step's exponential once squared F dt away beside a Qc dt of 1e20 (sigma2 = 1e22 at
+  // 100 Hz), leaving Phi = I and no velocity at all.
+  const double g = 9.80665;
+  for (double sigma2 : {1e-6, 1e22, 1e100, 1e250}) {
+    const Model m = parse_model("WN");
+    Eigen::VectorXd theta(1);
+    theta << sigma2;
+    const ImuModel model = ImuModel::isotropic("wn", SensorModel{m, theta, kRate}, quiet());
+    const FilterErrors f = only(analyse(model, {model}, free_inertial(600.0)));
+    const double n2 = sigma2 / kRate;
+    for (std::size_t k = 1; k < f.time.size(); k += 97) {
+      const double t = f.time[k];
+      const double v = g * std::sqrt(2.0 * n2 * t * t * t / 3.0), p = g * std::sqrt(2.0 * n2 * std::pow(t, 5) / 20.0);
+      EXPECT_NEAR(f.velocity_rms[k], v, 1e-9 * v) << "sigma2 = " << sigma2 << ", t = " << t;
+      EXPECT_NEAR(f.position_rms[k], p, 1e-9 * p) << "sigma2 = " << sigma2 << ", t = " << t;
+    }
+  }
+}
+
+TEST(NavigationErrors, AFixHoldsThePositionErrorToItsOwnHoweverLargeTheAccelerometersNoise) {
+  // Fixes every second (1 m per axis) on an accelerometer whose white noise puts P >= N^2
+  // / 3 >= 3e17 m^2 into the position between two fixes: after each fix the position's
+  // variance is P R / (P + R) = R (1 - R / P), so the error is sqrt(3) m to 3e-18 relative,
+  // and what the right filter claims is the same (NEES 9). Taken as I - K_p the fix's
+  // complement kept eps sqrt(P) of the prior: 1.5e8 m at sigma2 = 1e50, and 0 m where the
+  // step's exponential had lost the dynamics.
+  for (double sigma2 : {1e20, 1e50, 1e100, 1e300}) {
+    const Model m = parse_model("WN");
+    Eigen::VectorXd theta(1);
+    theta << sigma2;
+    const ImuModel model = ImuModel::isotropic("acc", quiet(), SensorModel{m, theta, kRate});
+    Scenario s;
+    s.horizon = 120.0;
+    const FilterErrors f = only(analyse(model, {model}, s));
+    for (std::size_t k = 1; k < f.time.size(); ++k) {
+      EXPECT_NEAR(f.position_rms[k], std::sqrt(3.0), 1e-9) << "sigma2 = " << sigma2 << ", t = " << f.time[k];
+      EXPECT_NEAR(f.position_claimed[k], std::sqrt(3.0), 1e-9) << "sigma2 = " << sigma2 << ", t = " << f.time[k];
+      EXPECT_NEAR(f.nees[k], 9.0, 1e-6) << "sigma2 = " << sigma2 << ", t = " << f.time[k];
+    }
+    EXPECT_EQ(f.verdict, Verdict::kConsistent);
+  }
+}
+
+TEST(NavigationErrors, RefusesErrorsBeyondADoubleNamingTheModelInsteadOfCallingThemConsistent) {
+  // Free inertial, a white gyro of sigma2 = 1e300 at 100 Hz: the position's variance
+  // g^2 N^2 t^5 / 20 passes 1.8e308 m^2 at t = 72 s. It was inf, then NaN, a NEES the
+  // verdict counted inside its band: "consistent", errors printed as '-'.
+  const Model m = parse_model("WN");
+  Eigen::VectorXd theta(1);
+  theta << 1e300;
+  const ImuModel huge = ImuModel::isotropic("truth", SensorModel{m, theta, kRate}, quiet());
+  try {
+    analyse(huge, {huge}, free_inertial(600.0));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("truth: the navigation errors it makes overflow a double"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("by t = 72 s"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(monte_carlo(huge, {huge}, free_inertial(600.0), 2, 1), InputError);
+  // A filter model whose densities overflow once squared in SI (an inflation of 1e160).
+  const ImuModel ok = ImuModel::isotropic("ok", sensor("WN(sigma2=1e-6)"), sensor("WN(sigma2=1e-4)"));
+  ImuModel inflated = ok;
+  inflated.label = "ok*1e160";
+  for (auto& s : inflated.gyro) s.to_si = 1e160;
+  try {
+    analyse(ok, {inflated}, Scenario{});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ok*1e160: its noise densities in SI units overflow a double"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(NavigationErrors, ARightModelIsConsistentAndOneWithoutItsGaussMarkovBiasIsOptimistic) {
   // Position fixes every second (1 m) and a 60 s outage: the filter that knows the truth's
   // Gauss-Markov bias claims what it makes (NEES = 9 at every time: consistent); the one
