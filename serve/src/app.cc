@@ -4,6 +4,7 @@
 
 #include "gmwm/serve/app.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +24,7 @@
 #include "jobs.h"
 #include "request.h"
 #include "studies.h"
+#include "uploads.h"
 #include "web_assets.h"
 
 namespace gmwm::serve {
@@ -32,14 +34,17 @@ using detail::Body;
 using detail::HttpError;
 using detail::Json;
 
-// The longest upload name kept (a file name; the bytes beyond are cut).
-constexpr std::size_t kMaxUploadNameBytes = 255;
-
 std::string ServeOptions::Validate() const {
   if (folder.empty()) return "folder: expected a folder of recordings";
   if (host.empty()) return "host: expected an address to listen on (127.0.0.1 by default)";
   if (port < 0 || port > 65535) return "port: found " + std::to_string(port) + ", expected 0 (any free port) to 65535";
   if (max_upload_bytes < 1) return "max_upload_bytes: expected at least 1 byte";
+  if (max_upload_total_bytes < max_upload_bytes)
+    return "max_upload_total_bytes: found " + std::to_string(max_upload_total_bytes) +
+           ", expected at least max_upload_bytes (" + std::to_string(max_upload_bytes) + ")";
+  if (max_queued_jobs < 1) return "max_queued_jobs: expected at least 1";
+  if (max_walked_entries < 1) return "max_walked_entries: expected at least 1";
+  if (!(listing_seconds >= 0.0)) return "listing_seconds: expected 0 or more seconds";
   if (max_json_bytes < 1) return "max_json_bytes: expected at least 1 byte";
   if (job_workers < 1) return "job_workers: expected at least 1";
   if (max_datasets < 1) return "max_datasets: expected at least 1";
@@ -58,57 +63,46 @@ std::string ServeOptions::Validate() const {
 }
 
 struct App::Upload {
-  std::string id, name;
-  fs::path path;
-  std::ofstream out;
-  std::int64_t size = 0, limit = 0;
-  bool too_large = false;
-  bool kept = false;  ///< finished and listed; otherwise the partial file goes with it
-  ~Upload() {
-    if (kept || path.empty()) return;
-    out.close();
-    std::error_code ec;
-    fs::remove(path, ec);
-  }
+  std::shared_ptr<detail::Uploads::Upload> arriving;
 };
 
 struct App::State {
   State(ServeOptions o)
       : options(std::move(o)),
-        folder(options.folder),
+        folder(options.folder, options.max_walked_entries),
         guard(options),
         datasets(options.max_datasets, options.max_dataset_bytes),
-        jobs(options.job_workers, options.job_idle_seconds, [this](const std::string& m) { return public_text(m); }) {}
+        uploads(options.upload_root, options.max_upload_bytes, options.max_upload_total_bytes),
+        jobs(options.job_workers, options.job_idle_seconds, options.max_queued_jobs,
+             [this](const std::string& m) { return public_text(m); }) {}
 
   ServeOptions options;
   detail::Folder folder;
   detail::Guard guard;
   detail::Datasets datasets;
-  std::mutex mutex;  // uploads and the upload folder
-  struct Stored {
-    std::string name;
-    fs::path path;
-    std::int64_t size = 0;
-  };
-  std::map<std::string, Stored> uploads;
-  fs::path upload_dir;
+  detail::Uploads uploads;
   std::string page;
   std::string vega_script, vega_missing;  ///< Vega's modules as one script, or why they are missing
-  detail::Jobs jobs;  // last: destroyed first, so no job outlives what it uses
+  detail::Jobs jobs;                      // last: destroyed first, so no job outlives what it uses
 
-  fs::path uploads_folder();
   /// `message` with no path of the machine in it (docs/serve.md, "Threat model"): the
   /// folder's as its name, the uploads' and the temporary folder's by what they are.
   std::string public_text(std::string message);
   std::string render_page() const;
-  Json files() const;
+  Json files();
+  // The last listing and when it was walked (kListingSeconds), one walk at a time.
+  std::mutex listing_mutex;
+  std::optional<detail::Folder::Listing> listing;
+  std::chrono::steady_clock::time_point listed_at;
   Json open(const Body& b);
   HttpResponse route(const HttpRequest& r);
 };
 
 namespace {
 
-HttpResponse json_response(const Json& j, int status = 200) { return {status, "application/json", report::dump_json(j)}; }
+HttpResponse json_response(const Json& j, int status = 200) {
+  return {status, "application/json", report::dump_json(j)};
+}
 
 HttpResponse error_response(int status, const std::string& message) {
   return json_response({{"error", printable_line(message)}}, status);
@@ -135,13 +129,11 @@ std::string kind_of(const std::string& column) {
 
 std::string App::State::public_text(std::string message) {
   std::vector<std::pair<std::string, std::string>> paths;
-  {
-    std::lock_guard lock(mutex);
-    if (!upload_dir.empty()) paths.emplace_back(upload_dir.string(), "the uploads");
-  }
+  if (const fs::path u = uploads.folder(); !u.empty()) paths.emplace_back(u.string(), "the uploads");
   paths.emplace_back(folder.root().string(), folder.name());
   std::error_code ec;
-  if (const fs::path t = fs::temp_directory_path(ec); !ec && !t.empty()) paths.emplace_back(t.string(), "the temporary folder");
+  if (const fs::path t = fs::temp_directory_path(ec); !ec && !t.empty())
+    paths.emplace_back(t.string(), "the temporary folder");
   if (const fs::path given = options.folder; given.is_absolute()) paths.emplace_back(given.string(), folder.name());
   for (const auto& [path, said] : paths) {
     if (path.size() < 2) continue;  // "/" is every path's start, not a place
@@ -151,35 +143,34 @@ std::string App::State::public_text(std::string message) {
   return message;
 }
 
-fs::path App::State::uploads_folder() {
-  if (!upload_dir.empty()) return upload_dir;
-  std::error_code ec;
-  const fs::path root = options.upload_root.empty() ? fs::temp_directory_path(ec) : fs::path(options.upload_root);
-  std::string pattern = (root / "gmwm-serve-uploads-XXXXXX").string();
-  if (ec || !mkdtemp(pattern.data()))
-    throw HttpError(500, "uploads: cannot make a folder under " + root.string() + " to keep them");
-  upload_dir = pattern;
-  return upload_dir;
-}
-
 std::string App::State::render_page() const {
-  std::string page(detail::web_asset("index.html"));
-  const auto replace = [&page](const std::string& placeholder, const std::string& with) {
-    if (const auto p = page.find(placeholder); p != std::string::npos) page.replace(p, placeholder.size(), with);
+  std::string html(detail::web_asset("index.html"));
+  const auto replace = [&html](const std::string& placeholder, const std::string& with) {
+    if (const auto p = html.find(placeholder); p != std::string::npos) html.replace(p, placeholder.size(), with);
   };
   replace("<!--GMWM_REPORT_STYLE-->", "<style>\n" + report::report_style_sheet() + "\n</style>");
   // Vega is its own deferred script (/vega.js, 1 MB): inlined, its parsing held the first
   // paint back by ~0.9 s; deferred, the page paints at once (the page loads its own script
   // first and draws the plots once Vega is there).
   // Without Vega the page says why in a meta element (the page's policy runs no inline script).
-  replace("<!--GMWM_VEGA-->", vega_script.empty()
-                                  ? "<meta name=\"gmwm-vega-missing\" content=\"" + report::html_text(vega_missing) + "\">"
-                                  : "<script src=\"/vega.js\" defer></script>");
-  return page;
+  replace("<!--GMWM_VEGA-->",
+          vega_script.empty() ? "<meta name=\"gmwm-vega-missing\" content=\"" + report::html_text(vega_missing) + "\">"
+                              : "<script src=\"/vega.js\" defer></script>");
+  return html;
 }
 
-Json App::State::files() const {
-  const detail::Folder::Listing l = folder.list();
+Json App::State::files() {
+  detail::Folder::Listing l;
+  {
+    // Pages that ask while a walk runs wait for it and share it.
+    std::lock_guard lock(listing_mutex);
+    const auto now = std::chrono::steady_clock::now();
+    if (!listing || std::chrono::duration<double>(now - listed_at).count() >= options.listing_seconds) {
+      listing = folder.list();
+      listed_at = std::chrono::steady_clock::now();
+    }
+    l = *listing;
+  }
   const auto rows = [](const std::vector<detail::Folder::Entry>& v) {
     Json a = Json::array();
     for (const auto& e : v) a.push_back({{"path", e.path}, {"size", e.size}});
@@ -205,11 +196,13 @@ Json App::State::open(const Body& b) {
     path = *p;
   } else if (b.has("upload")) {
     const std::string id = b.text("upload");
-    std::lock_guard lock(mutex);
-    const auto it = uploads.find(id);
-    if (it == uploads.end()) throw HttpError(404, "/api/open: unknown upload '" + id + "'");
-    path = it->second.path;
-    name = it->second.name;
+    const auto u = uploads.find(id);
+    if (!u)
+      throw HttpError(404, "/api/open: unknown upload '" + id + "' (uploads are kept while the app runs, up to " +
+                               std::to_string(uploads.max_total_bytes()) +
+                               " bytes in all: the oldest are removed to make room; upload it again)");
+    path = u->path;
+    name = u->name;
   } else {
     b.fail("file", "missing, expected a recording's path in the folder (or \"upload\": an upload's id)");
   }
@@ -237,8 +230,12 @@ Json App::State::open(const Body& b) {
     columns.push_back({{"name", s.name}, {"kind", kind_of(s.name)}, {"unit", s.unit}, {"n", n}});
   }
   const auto kept = datasets.add(std::move(d));
-  Json out = {{"dataset", kept->id},       {"name", kept->name},   {"freq", kept->set.freq},
-              {"freq_known", kept->set.freq_known}, {"n", n}, {"columns", columns},
+  Json out = {{"dataset", kept->id},
+              {"name", kept->name},
+              {"freq", kept->set.freq},
+              {"freq_known", kept->set.freq_known},
+              {"n", n},
+              {"columns", columns},
               {"spilled", kept->set.spilled}};
   if (kept->set.timing) out["timing"] = kept->set.timing->summary();
   return out;
@@ -293,13 +290,7 @@ App::App(ServeOptions options) {
   state_->page = state_->render_page();
 }
 
-App::~App() {
-  if (!state_) return;
-  const fs::path dir = state_->upload_dir;
-  state_.reset();  // the jobs end first
-  std::error_code ec;
-  if (!dir.empty()) fs::remove_all(dir, ec);
-}
+App::~App() = default;  // the jobs end first (State's last member), then the uploads go
 
 const ServeOptions& App::options() const { return state_->options; }
 
@@ -309,9 +300,7 @@ void App::set_port(int port) { state_->guard.set_port(port); }
 
 const std::string& App::token() const { return state_->guard.token(); }
 
-HttpResponse App::handle(const HttpRequest& request) {
-  return detail::Guard::stamped(answer(request));
-}
+HttpResponse App::handle(const HttpRequest& request) { return detail::Guard::stamped(answer(request)); }
 
 HttpResponse App::answer(const HttpRequest& request) {
   if (auto refused = screen(request)) return *refused;
@@ -322,11 +311,13 @@ HttpResponse App::answer(const HttpRequest& request) {
                             static_cast<std::int64_t>(request.body.size()), refusal);
       if (!u) return refusal;
       append_upload(*u, request.body.data(), request.body.size());
-      return finish_upload(u);
+      return finish_upload(u, true);
     }
     return state_->route(request);
   } catch (const HttpError& e) {
-    return error_response(e.status(), state_->public_text(e.what()));
+    HttpResponse a = error_response(e.status(), state_->public_text(e.what()));
+    if (e.retry_after_seconds() > 0) a.headers.emplace_back("Retry-After", std::to_string(e.retry_after_seconds()));
+    return a;
   } catch (const InputError& e) {
     return error_response(400, state_->public_text(e.what()));
   } catch (const std::exception& e) {
@@ -337,69 +328,27 @@ HttpResponse App::answer(const HttpRequest& request) {
 
 std::shared_ptr<App::Upload> App::begin_upload(const std::string& name, std::int64_t declared_bytes,
                                                HttpResponse& refusal) {
-  const std::int64_t limit = state_->options.max_upload_bytes;
-  if (declared_bytes > limit) {
-    refusal = error_response(413, "/api/upload: the file has " + std::to_string(declared_bytes) +
-                                      " bytes, more than the limit of " + std::to_string(limit) + " (--max-upload)");
-    return nullptr;
-  }
-  // Only the base name is kept, and only to name the file (its ending tells the reader the
-  // format): the upload is stored under its random id, never under a name the client chose.
-  std::string base = fs::path(name).filename().string();
-  if (base.empty() || base == "." || base == ".." || base.find('\0') != std::string::npos) {
-    refusal = error_response(400, "/api/upload: query 'name': expected the file's name (e.g. imu.csv.gz)");
-    return nullptr;
-  }
-  if (base.size() > kMaxUploadNameBytes) base = base.substr(base.size() - kMaxUploadNameBytes);
-  auto u = std::make_shared<Upload>();
-  u->id = detail::random_id("u");
-  u->name = base;
-  u->limit = limit;
   try {
-    std::lock_guard lock(state_->mutex);
-    u->path = state_->uploads_folder() / (u->id + "-" + base);
+    return std::make_shared<Upload>(Upload{state_->uploads.begin(name, declared_bytes)});
   } catch (const HttpError& e) {
-    refusal = error_response(e.status(), e.what());
+    refusal = error_response(e.status(), state_->public_text(e.what()));
     return nullptr;
   }
-  u->out.open(u->path, std::ios::binary | std::ios::trunc);
-  if (!u->out) {
-    refusal = error_response(500, "/api/upload: cannot write the upload to the temporary folder");
-    return nullptr;
-  }
-  return u;
 }
 
 bool App::append_upload(Upload& u, const char* data, std::size_t size) {
-  if (u.too_large) return false;
-  u.size += static_cast<std::int64_t>(size);
-  if (u.size > u.limit) {
-    u.too_large = true;
-    u.out.close();
-    std::error_code ec;
-    fs::remove(u.path, ec);
-    return false;
-  }
-  u.out.write(data, static_cast<std::streamsize>(size));
-  return static_cast<bool>(u.out);
+  return state_->uploads.append(*u.arriving, data, size);
 }
 
-HttpResponse App::finish_upload(const std::shared_ptr<Upload>& u) {
-  std::error_code ec;
-  if (u->too_large) {
-    fs::remove(u->path, ec);
-    return error_response(413, "/api/upload: the file exceeds the limit of " + std::to_string(u->limit) +
-                                   " bytes (--max-upload)");
+HttpResponse App::finish_upload(const std::shared_ptr<Upload>& u, bool complete) {
+  try {
+    Json answer = state_->uploads.finish(u->arriving, complete);
+    u->arriving.reset();
+    return json_response(answer);
+  } catch (const HttpError& e) {
+    u->arriving.reset();  // the partial file goes now
+    return error_response(e.status(), state_->public_text(e.what()));
   }
-  u->out.close();
-  if (!u->out) {
-    fs::remove(u->path, ec);
-    return error_response(500, "/api/upload: the upload could not be written (is the temporary folder full?)");
-  }
-  std::lock_guard lock(state_->mutex);
-  state_->uploads[u->id] = {u->name, u->path, u->size};
-  u->kept = true;
-  return json_response({{"upload", u->id}, {"name", u->name}, {"size", u->size}});
 }
 
 }  // namespace gmwm::serve

@@ -54,7 +54,7 @@ std::optional<FileKind> offered_kind(const fs::path& relative) {
   return std::nullopt;
 }
 
-Folder::Folder(const std::string& path) {
+Folder::Folder(const std::string& path, std::size_t max_walked) : max_walked_(max_walked) {
   std::error_code ec;
   root_ = fs::canonical(path, ec);
   if (ec || !fs::is_directory(root_, ec))
@@ -81,7 +81,12 @@ Folder::Listing Folder::list() const {
   Listing out;
   std::error_code ec;
   fs::recursive_directory_iterator it(root_, fs::directory_options::skip_permission_denied, ec), end;
+  std::size_t walked = 0;
   for (; !ec && it != end; it.increment(ec)) {
+    if (++walked > max_walked_) {
+      out.truncated = true;
+      break;
+    }
     const fs::directory_entry& e = *it;
     const std::string name = e.path().filename().string();
     if (!name.empty() && name.front() == '.') {  // hidden: neither listed nor walked

@@ -21,8 +21,9 @@ enum class FileKind { kRecording, kConfig };
 
 class Folder {
  public:
-  /// Throws InputError when `path` is not a readable folder.
-  explicit Folder(const std::string& path);
+  /// Throws InputError when `path` is not a readable folder. The listing walks at most
+  /// `max_walked` entries.
+  Folder(const std::string& path, std::size_t max_walked);
 
   /// The folder's own name (its last part, shown on the page: never the machine's path).
   const std::string& name() const { return name_; }
@@ -40,7 +41,7 @@ class Folder {
   struct Listing {
     std::vector<Entry> recordings;  ///< what io::read_signals reads (by extension)
     std::vector<Entry> configs;     ///< simulator and datasheet files (yaml, sdf, xml)
-    bool truncated = false;         ///< more than kMaxListedFiles, or deeper than kMaxListedDepth
+    bool truncated = false;  ///< more than kMaxListedFiles, deeper than kMaxListedDepth, or max_walked walked
   };
   /// The files under the folder (links followed only when they stay inside), sorted.
   Listing list() const;
@@ -48,6 +49,7 @@ class Folder {
  private:
   std::string name_;
   std::filesystem::path root_;
+  std::size_t max_walked_;
 };
 
 /// True when `resolved` is `root` or lies under it (both already resolved).

@@ -66,6 +66,9 @@ constexpr const char* kPublicFiles[] = {"/app.js", "/app.css", "/vega.js", "/fav
 // The page itself, where the start-up address's ?token= is exchanged for the cookie.
 bool is_page(const std::string& path) { return path == "/" || path == "/index.html"; }
 
+// The methods the app answers.
+constexpr const char* kMethods[] = {"GET", "HEAD", "POST", "DELETE"};
+
 // What a browser's Sec-Fetch-Site says of a request the page itself made (or one the user
 // typed): anything else (same-site: another port of localhost; cross-site) came from
 // another page.
@@ -201,6 +204,13 @@ std::optional<HttpResponse> Guard::screen(const HttpRequest& r) const {
                             std::to_string(port_) + ", 127.0.0.1:" + std::to_string(port_) +
                             " or a name given with --allow-host); a page whose domain points here is refused");
   if (auto refused = screen_origin(r, where)) return refused;
+  // Only what the app answers; only a POST has a body (cpp-httplib would read one of a PUT,
+  // PATCH or DELETE whole into memory).
+  if (std::find(std::begin(kMethods), std::end(kMethods), r.method) == std::end(kMethods))
+    return refusal(405, where + ": not allowed here (the app answers GET, POST and DELETE)");
+  const std::string length = header_of(r, "content-length");
+  if (r.method != "POST" && ((!length.empty() && length != "0") || r.headers.count("transfer-encoding")))
+    return refusal(400, where + ": a " + r.method + " request has no body here");
   // A compressed body would be expanded beyond every limit before it is counted; only
   // chunks are a transfer encoding cpp-httplib reads as one (it would read any other to
   // the connection's end).

@@ -50,14 +50,18 @@ class Jobs {
 
   /// `public_text`: what a failed job's message becomes before anyone reads it (no path of
   /// the machine).
-  Jobs(int workers, double idle_seconds, std::function<std::string(const std::string&)> public_text);
+  Jobs(int workers, double idle_seconds, std::size_t max_queued,
+       std::function<std::string(const std::string&)> public_text);
   /// Cancels every job and waits for the workers.
   ~Jobs();
   Jobs(const Jobs&) = delete;
   Jobs& operator=(const Jobs&) = delete;
 
-  /// Queues `work`; its id.
+  /// Queues `work`; its id. HttpError 429 (with a Retry-After) when `max_queued` jobs are
+  /// already waiting for a worker.
   std::string submit(const std::string& kind, Work work);
+  /// Jobs waiting for a worker.
+  std::size_t queued() const;
   /// {"job", "kind", "state": queued|running|done|failed|cancelled, "progress": [done, total],
   /// "result" | "error", "seconds"}; nullopt for an unknown (or forgotten) id. Counts as a poll.
   std::optional<Json> status(const std::string& id);
@@ -73,8 +77,10 @@ class Jobs {
   using Clock = std::chrono::steady_clock;
   void worker();
   void reap_locked(Clock::time_point now);
+  std::size_t queued_locked() const;
 
   double idle_seconds_;
+  std::size_t max_queued_;
   std::function<std::string(const std::string&)> public_text_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;

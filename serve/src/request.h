@@ -17,11 +17,15 @@ using Json = nlohmann::ordered_json;
 /// An answer other than 200: its status and one line for the page.
 class HttpError : public std::runtime_error {
  public:
-  HttpError(int status, const std::string& message) : std::runtime_error(message), status_(status) {}
+  /// `retry_after_seconds` > 0: when to try again (a 429's Retry-After header).
+  HttpError(int status, const std::string& message, int retry_after_seconds = 0)
+      : std::runtime_error(message), status_(status), retry_after_(retry_after_seconds) {}
   int status() const { return status_; }
+  int retry_after_seconds() const { return retry_after_; }
 
  private:
   int status_;
+  int retry_after_;
 };
 
 /// A library message as the page's user reads it: the CLI's option names (--freq HZ,

@@ -200,7 +200,7 @@ TEST_F(ServeAppTest, AnUploadIsOpenedLikeAFileAndOneBeyondTheLimitIs413AndLeaves
   EXPECT_TRUE(app().append_upload(*up, piece.data(), piece.size()));
   EXPECT_TRUE(app().append_upload(*up, piece.data(), piece.size()));
   EXPECT_FALSE(app().append_upload(*up, piece.data(), piece.size()));
-  EXPECT_EQ(app().finish_upload(up).status, 413);
+  EXPECT_EQ(app().finish_upload(up, true).status, 413);
   // Declared too large: refused before a byte is kept.
   EXPECT_FALSE(app().begin_upload("big.csv", 3'000'000, refusal));
   EXPECT_EQ(refusal.status, 413);

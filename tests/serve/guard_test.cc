@@ -62,8 +62,9 @@ TEST_F(ServeGuardTest, TheLoopbackNamesWithThePortAndTheAllowedHostsAreThisServe
   EXPECT_EQ(send("GET", "/api/files", {{"host", "workstation.lab:8081"}}).status, 403) << "another port";
   // Once the server has bound another port, that port is the one named.
   app().set_port(43210);
-  EXPECT_EQ(send("GET", "/api/files", {{"host", "localhost:43210"}}).status, 200);
-  EXPECT_EQ(send("GET", "/api/files", {{"host", "localhost:8080"}}).status, 403);
+  const std::string token = app().token();
+  EXPECT_EQ(send("GET", "/api/files", {{"host", "localhost:43210"}, {"x-gmwm-token", token}}).status, 200);
+  EXPECT_EQ(send("GET", "/api/files", {{"host", "localhost:8080"}, {"x-gmwm-token", token}}).status, 403);
 }
 
 TEST_F(ServeGuardTest, ARequestFromAnotherPageIsRefusedByItsOriginOrFetchSite) {

@@ -2,6 +2,7 @@
 // The web app (docs/serve.md): builds a model by hand in a browser, over the same library
 // calls as the other commands. Parses, starts serve::Server, prints its address, serves
 // until Ctrl-C or SIGTERM.
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
@@ -21,6 +22,7 @@ struct ServeArgs {
   std::string host = "127.0.0.1";
   int port = 8080;
   double max_upload_mb = static_cast<double>(serve::kDefaultMaxUploadBytes) / 1e6;
+  std::optional<double> max_upload_total_mb;
   std::optional<double> memory_mb;
   std::vector<std::string> allowed_hosts;
 };
@@ -38,6 +40,7 @@ bool is_loopback(const std::string& host) {
 std::string as_option(const std::string& why) {
   constexpr std::pair<const char*, const char*> kFieldOptions[] = {
       {"token:", kTokenVariable}, {"allowed_hosts:", "--allow-host"}, {"max_upload_bytes:", "--max-upload"},
+      {"max_upload_total_bytes:", "--max-upload-total"},
       {"port:", "--port"}, {"host:", "--host"}, {"folder:", "FOLDER"}};
   for (const auto& [field, option] : kFieldOptions)
     if (why.rfind(field, 0) == 0) return option + why.substr(std::string(field).size() - 1);
@@ -51,6 +54,9 @@ int run_serve(const ServeArgs& args, const CommonOptions& common) {
   o.host = args.host;
   o.port = args.port;
   o.max_upload_bytes = static_cast<std::int64_t>(args.max_upload_mb * 1e6);
+  // The total holds at least one upload of the largest size.
+  o.max_upload_total_bytes = args.max_upload_total_mb ? static_cast<std::int64_t>(*args.max_upload_total_mb * 1e6)
+                                                      : std::max(serve::kDefaultMaxUploadTotalBytes, o.max_upload_bytes);
   o.seed = common.seed;
   if (args.memory_mb) o.memory_budget = *args.memory_mb * 1e6;
   o.allowed_hosts = args.allowed_hosts;
@@ -109,6 +115,11 @@ Command add_serve_command(CLI::App& app, CommonOptions& common) {
       ->type_name("MB")
       ->transform(decimal_number([](double x) { return x >= 1e-6 && x <= 1e9; }, "a size in MB from 1e-06 to 1e+09"))
       ->capture_default_str();
+  sub->add_option("--max-upload-total", args->max_upload_total_mb,
+                  "MB all uploads may hold on disk at once (the oldest are removed to make room; default 2048, or "
+                  "--max-upload if larger)")
+      ->type_name("MB")
+      ->transform(decimal_number([](double x) { return x >= 1e-6 && x <= 1e9; }, "a size in MB from 1e-06 to 1e+09"));
   sub->add_option("--memory", args->memory_mb,
                   "MB a recording's values may take in memory before they go to temporary files")
       ->type_name("MB")

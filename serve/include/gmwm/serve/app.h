@@ -31,6 +31,12 @@ namespace gmwm::serve {
 inline constexpr std::int64_t kMaxJsonBytes = 1'000'000;
 /// The default upload limit (--max-upload): a 1 kHz six-axis CSV of a day is ~0.5 GB.
 inline constexpr std::int64_t kDefaultMaxUploadBytes = 512'000'000;
+/// What all uploads may hold at once, on disk (--max-upload-total): four of the largest; the
+/// oldest finished ones are removed to make room for a new one.
+inline constexpr std::int64_t kDefaultMaxUploadTotalBytes = 4 * kDefaultMaxUploadBytes;
+/// Analyses waiting for a worker at once (beyond: 429 with a Retry-After): two tabs never
+/// queue more than a few; a script that queues hundreds would hold the machine for hours.
+inline constexpr std::size_t kDefaultMaxQueuedJobs = 16;
 /// Datasets kept open at once (least recently used dropped beyond), and their bytes.
 inline constexpr std::size_t kDefaultMaxDatasets = 8;
 inline constexpr double kDefaultMaxDatasetBytes = 4e9;
@@ -44,12 +50,23 @@ inline constexpr std::size_t kMinTokenChars = 16;
 /// Recordings listed at most, and how deep the listing goes under FOLDER.
 inline constexpr std::size_t kMaxListedFiles = 10'000;
 inline constexpr int kMaxListedDepth = 10;
+/// Entries (files and folders of any kind) the listing walks at most by default: a folder
+/// holding a build tree or a dataset of millions of small files is listed in a bounded time
+/// and said to be truncated.
+inline constexpr std::size_t kDefaultMaxWalkedEntries = 100'000;
+/// A listing is walked at most once in this many seconds by default, however many pages ask
+/// (the others get the last one, at most this old).
+inline constexpr double kDefaultListingSeconds = 2.0;
 
 struct ServeOptions {
   std::string folder = ".";          ///< the recordings offered; nothing outside it is read
   std::string host = "127.0.0.1";    ///< the address listened on (Server)
   int port = 8080;                   ///< 0: a free port (Server::port() tells which)
   std::int64_t max_upload_bytes = kDefaultMaxUploadBytes;
+  std::int64_t max_upload_total_bytes = kDefaultMaxUploadTotalBytes;  ///< at least max_upload_bytes
+  std::size_t max_queued_jobs = kDefaultMaxQueuedJobs;
+  std::size_t max_walked_entries = kDefaultMaxWalkedEntries;  ///< the listing's walk
+  double listing_seconds = kDefaultListingSeconds;            ///< a listing's age at most
   std::int64_t max_json_bytes = kMaxJsonBytes;
   int job_workers = kDefaultJobWorkers;
   std::size_t max_datasets = kDefaultMaxDatasets;
@@ -119,13 +136,14 @@ class App {
   const std::string& token() const;
 
   /// An upload's bytes arrive in pieces (the server streams them to a file): begin() names
-  /// it and returns its id, or an error response (limit already exceeded, bad name);
-  /// append() false once the limit is passed (the partial file is then removed);
-  /// finish() the answer to the request.
+  /// it, or sets an error response (limit already exceeded, bad name) and returns nullptr;
+  /// append() false once a limit is passed (the partial file is then removed);
+  /// finish() the answer to the request: `complete` when the body arrived whole (an upload
+  /// cut short is removed, never kept).
   struct Upload;
   std::shared_ptr<Upload> begin_upload(const std::string& name, std::int64_t declared_bytes, HttpResponse& refusal);
   bool append_upload(Upload& upload, const char* data, std::size_t size);
-  HttpResponse finish_upload(const std::shared_ptr<Upload>& upload);
+  HttpResponse finish_upload(const std::shared_ptr<Upload>& upload, bool complete);
 
   const ServeOptions& options() const;
 

@@ -11,6 +11,7 @@
 //   std::thread t([&] { server.run(); });  // until stop()
 //   ...; server.stop(); t.join();
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -18,16 +19,19 @@
 
 namespace gmwm::serve {
 
-/// HTTP threads: a browser keeps up to 6 connections per host open (keep-alive), so two
-/// tabs and a script fit in 16 without one waiting for another's idle connection.
-inline constexpr int kHttpThreads = 16;
+/// Connections served at once, a thread each (made as needed, kept for the next ones;
+/// beyond, a connection waits for one to end): a browser keeps up to 6 connections per host,
+/// so this holds two tabs, scripts and hundreds of slow or hostile clients beside them, and
+/// stays below the 1024 descriptors select() can watch.
+inline constexpr std::size_t kMaxConnectionThreads = 512;
 /// An idle keep-alive connection is closed after this many seconds (frees its thread).
 inline constexpr int kKeepAliveSeconds = 2;
 /// Connections waiting to be accepted (the kernel caps it at net.core.somaxconn): a
 /// hundred clients connecting at once all get through.
 inline constexpr int kListenBacklog = 512;
-/// A request that stalls (a client gone mid-body) is dropped after this many seconds.
-inline constexpr int kReadTimeoutSeconds = 30;
+/// A connection on which nothing arrives for this many seconds mid-request (a client gone
+/// mid-body or mid-headers) is dropped: a page on loopback never pauses that long.
+inline constexpr int kReadTimeoutSeconds = 10;
 
 class Server {
  public:
