@@ -40,6 +40,12 @@ Body::Body(const std::string& text, const std::string& where, std::int64_t max_b
     std::string what = e.what();
     if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
     throw HttpError(400, printable_line(where + ": the request body is not JSON: " + what));
+  } catch (const Json::exception& e) {
+    // A number beyond a double (1e999) is nlohmann's out_of_range: the client's error too.
+    std::string what = e.what();
+    if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    throw HttpError(400, printable_line(where + ": the request body holds a value beyond what a double can hold (" + what +
+                                        ")"));
   }
   if (!j_.is_object()) throw HttpError(400, where + ": expected a JSON object as the request body");
 }

@@ -125,5 +125,26 @@ TEST_F(ServeLimitsTest, TheListingWalksABoundedNumberOfEntriesAndIsSharedWhileFr
   EXPECT_TRUE(later.at("truncated").get<bool>());
 }
 
+TEST_F(ServeLimitsTest, ANumberBeyondDoubleAndAnUploadNameOfThousandsOfBytesAreTheClientsErrorsNot500) {
+  const serve::HttpResponse huge = post("/api/open", std::string(R"({"file": "imu.csv", "freq": 1e999})"));
+  EXPECT_EQ(huge.status, 400) << huge.body;
+  EXPECT_NE(error_of(huge).find("/api/open"), std::string::npos) << huge.body;
+  EXPECT_EQ(post("/api/open", std::string(R"({"file": "imu.csv", "freq": -1e999})")).status, 400);
+  EXPECT_EQ(post("/api/fit", std::string(R"({"dataset": "d", "levels": 1e400})")).status, 400);
+  const std::string name = std::string(5000, 'n') + ".csv";
+  const OJson u = body_of(upload(name, read_text(folder_ / "imu.csv")));
+  const std::string kept = u.at("name");
+  EXPECT_LE(kept.size(), 200u);
+  EXPECT_TRUE(kept.ends_with("nnn.csv")) << kept;
+  EXPECT_EQ(post("/api/open", OJson{{"upload", u.at("upload")}}).status, 200) << "the ending still tells the format";
+  // A name of control characters and a multi-byte character cut at the limit.
+  std::string utf8;
+  for (int k = 0; k < 150; ++k) utf8 += "\xc3\xa9";  // 300 bytes of 'é'
+  const OJson v = body_of(upload("a\nb\x01" + utf8 + ".csv", "timestamp,gyro_x\n0,1\n"));
+  const std::string n = v.at("name");
+  EXPECT_EQ(n.find('\n'), std::string::npos) << n;
+  EXPECT_NE(static_cast<unsigned char>(n.front()) & 0xC0, 0x80) << "not cut inside a character";
+}
+
 }  // namespace
 }  // namespace gmwm::test
