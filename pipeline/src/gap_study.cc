@@ -141,14 +141,17 @@ void random_walk_like(Model& base, Eigen::VectorXd& theta, std::int64_t n, std::
   theta = t;
 }
 
+}  // namespace
+
 // A data / baseline ratio at the finest levels near a unit factor ((180/pi)^2 for deg/s
 // read as rad/s, 9.80665^2 for m/s^2 read as g, ...) is a unit mix-up, not a gap: stop
 // with one line naming the --units that fits.
-void check_units(const std::string& path, const std::string& column, const WaveletVariance& wv, const Model& base,
-                 const Eigen::VectorXd& theta, const GapStudyOptions& o) {
+void check_baseline_units(const std::string& path, const std::string& column, const WaveletVariance& wv,
+                          const Model& base, const Eigen::VectorXd& theta, std::optional<io::SensorKind> sensor,
+                          const std::map<io::SensorKind, io::Unit>& units) {
   io::SensorKind kind;
   try {
-    kind = o.sensor ? *o.sensor : io::sensor_kind_of_column(column);
+    kind = sensor ? *sensor : io::sensor_kind_of_column(column);
   } catch (const InputError&) {
     return;  // neither a gyro nor an accelerometer: no unit to suggest
   }
@@ -159,7 +162,7 @@ void check_units(const std::string& path, const std::string& column, const Wavel
   if (r.empty()) return;
   std::sort(r.begin(), r.end());
   const double ratio = r[r.size() / 2];
-  const io::Unit declared = o.units.count(kind) ? o.units.at(kind) : io::si_unit(kind);
+  const io::Unit declared = units.count(kind) ? units.at(kind) : io::si_unit(kind);
   const auto s = io::suggest_unit(ratio, kind, declared);
   if (!s) return;
   throw InputError(path + ": column '" + column + "': its WV at the finest scales is " + num(ratio, 3) +
@@ -169,6 +172,8 @@ void check_units(const std::string& path, const std::string& column, const Wavel
                    " (or --no-unit-check if the sensor really is that far "
                    "from the baseline)");
 }
+
+namespace {
 
 // Stage 4: the baseline's values on each column: as given (a simulator's long biases as
 // RW, then the unit check), or fitted.
@@ -191,7 +196,7 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
     }
     c.theta = c.baseline.given_values();
     if (config) random_walk_like(c.baseline, c.theta, c.wv.n, c.conversions);
-    if (o.unit_check) check_units(set.path, c.name, c.wv, c.baseline, c.theta, o);
+    if (o.unit_check) check_baseline_units(set.path, c.name, c.wv, c.baseline, c.theta, o.sensor, o.units);
   }
 }
 

@@ -14,7 +14,8 @@ constexpr std::pair<const char*, const char*> kOptionFields[] = {{"--freq HZ", "
                                                                  {"--freq", "\"freq\""},
                                                                  {"--columns", "\"columns\""},
                                                                  {"--topic", "\"topic\""},
-                                                                 {"--units", "\"units\""}};
+                                                                 {"--units", "\"units\""},
+                                                                 {"--no-unit-check", "\"unit_check\": false"}};
 
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
   for (std::size_t p = s.find(from); !from.empty() && p != std::string::npos; p = s.find(from, p + to.size()))

@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/export.h"
@@ -109,6 +110,7 @@ Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& 
   if (!set.freq_known) o.fail("format", "the recording's sampling rate is unknown; a baseline needs it");
   const io::Signal& column = set.signals.front();
   const std::map<io::SensorKind, io::Unit> unit_map = io::parse_units(units);
+  const bool unit_check = o.flag("unit_check", true);
   const std::string where = o.where();
   return as_bad_request(where, [&] {
     io::SimConfig config;
@@ -132,6 +134,13 @@ Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& 
     const auto b = pipeline::config_baseline(config, kind, column.name, static_cast<std::int64_t>(column.values.size()));
     if (!b)
       throw InputError(name + ": has no " + std::string(io::to_string(kind)) + " figures for column '" + column.name + "'");
+    // gap's unit guard: data in deg/s drawn against a baseline read as rad/s would sit
+    // (180/pi)^2 above it and look like a gap; the same refusal, naming the units that fit.
+    if (unit_check) {
+      const std::vector<std::span<const double>> series = {std::span<const double>(column.values)};
+      pipeline::check_baseline_units(set.path, column.name, classical_wv(series, WvOptions{}).front(), b->model, b->theta,
+                                     std::nullopt, unit_map);
+    }
     // Named in the plots by its kind and model (the file is named in the overlay's answer):
     // a file name in the legend would squeeze the plot.
     return Baseline{b->model, b->theta, b->conversions, name, format_name + ": " + b->model.to_string()};

@@ -319,6 +319,37 @@ TEST_F(ServeAppTest, OverlaysADatasheetsModelAndDrawsItIntoTheFitsPlot) {
   EXPECT_EQ(bad.status, 400) << bad.body;
 }
 
+TEST_F(ServeAppTest, AnOverlayWhoseUnitsDoNotFitTheDataIsRefusedAsGapRefusesIt) {
+  // A Kalibr file whose gyroscope figures are the data's in rad/s divided by 180/pi: drawn
+  // against the data as given (rad/s), its curve would sit (180/pi)^2 = 3283 x too low.
+  const std::string yaml =
+      "gyroscope_noise_density: 1.745e-5\ngyroscope_random_walk: 1.745e-8\naccelerometer_noise_density: 1e-3\n"
+      "accelerometer_random_walk: 1e-4\nupdate_rate: 100.0\n";
+  write_text(folder_ / "k.yaml", yaml);
+  const std::string d = open_imu();
+  const CliRun gap = run_gmwm({"gap", "imu.csv", "--columns", "gyro_x", "--kalibr", "k.yaml"}, folder_);
+  ASSERT_EQ(gap.exit_code, 2) << gap.err;
+  ASSERT_NE(gap.err.find("give --units gyro=deg/s"), std::string::npos) << gap.err;
+  const OJson overlay = {{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", "k.yaml"}};
+  for (const OJson& body : {overlay, OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"text", yaml}}}) {
+    const serve::HttpResponse r = post("/api/overlay", body);
+    EXPECT_EQ(r.status, 400) << r.body;
+    EXPECT_NE(r.body.find("the data look like deg/s, not rad/s; give \\\"units\\\" gyro=deg/s"), std::string::npos)
+        << r.body;
+  }
+  // Drawn into a fit's plot: the same refusal before a job is queued.
+  const serve::HttpResponse fit =
+      post("/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN+RW"}, {"overlay", overlay}});
+  EXPECT_EQ(fit.status, 400) << fit.body;
+  // With the units that fit, or the check turned off as gap's --no-unit-check, it is drawn.
+  OJson with_units = overlay;
+  with_units["units"] = "gyro=deg/s";
+  EXPECT_EQ(post("/api/overlay", with_units).status, 200);
+  OJson unchecked = overlay;
+  unchecked["unit_check"] = false;
+  EXPECT_EQ(post("/api/overlay", unchecked).status, 200);
+}
+
 TEST_F(ServeAppTest, ExportsTheFileTheCliWritesFromTheSameResult) {
   const std::string d = open_imu();
   const OJson fit = run_job("/api/fit", {{"dataset", d}, {"column", "gyro_x"}, {"model", "WN+RW"}});

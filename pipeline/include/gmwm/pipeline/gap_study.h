@@ -112,6 +112,17 @@ struct ColumnBaseline {
 std::optional<ColumnBaseline> config_baseline(const io::SimConfig& config, io::SensorKind kind,
                                               const std::string& column, std::int64_t n);
 
+/// The unit guard every face applies before it compares data with a baseline (gap, the web
+/// app's overlay): when the data's WV at the finest scales is near a unit factor times the
+/// baseline's ((180/pi)^2 for deg/s read as rad/s, 9.80665^2 for m/s^2 read as g, ...), the
+/// data are in another unit than `units` says (SI where the kind is absent): throws
+/// InputError "PATH: column 'C': ... give --units KIND=UNIT (or --no-unit-check ...)".
+/// Nothing for a column that is neither a gyro nor an accelerometer (`sensor` unset and its
+/// name tells neither).
+void check_baseline_units(const std::string& path, const std::string& column, const WaveletVariance& wv,
+                          const Model& baseline, const Eigen::VectorXd& theta, std::optional<io::SensorKind> sensor,
+                          const std::map<io::SensorKind, io::Unit>& units);
+
 /// Runs the study on `set` (the temperature column, when named, is taken out of it).
 /// Throws InputError for invalid options, a baseline without values, a simulator file
 /// with no figure for a column's sensor, a unit mix-up (unless unit_check is off), a failed
