@@ -166,7 +166,8 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
     const std::string& result, const std::string& format, const std::string& output, const std::string& aggregate,
     double inflate, std::optional<double> rate, const std::string& rostopic, const std::string& units,
     const std::optional<std::string>& sensor, const std::vector<std::string>& columns,
-    const std::optional<std::tuple<double, double, double>>& consistent_for, const std::string& source_name) {
+    const std::optional<std::tuple<double, double, double>>& consistent_for, const std::string& source_name,
+    bool partial) {
   gmwm::pipeline::ExportStudyOptions o;
   const auto f = gmwm::io::parse_export_format(format);
   if (!f)
@@ -179,6 +180,7 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
   o.format.inflate = inflate;
   o.format.rate = rate;
   o.format.rostopic = rostopic;
+  o.format.missing = partial ? gmwm::io::MissingSensor::kLeaveOut : gmwm::io::MissingSensor::kRefuse;
   if (consistent_for) {
     gmwm::pipeline::ConsistencyOptions c;
     std::tie(c.update_rate, c.horizon, c.fix_sigma) = *consistent_for;
@@ -297,7 +299,7 @@ void add_multi_signal_functions(py::module_& m) {
         py::arg("aggregate") = "mean", py::arg("inflate") = 1.0, py::arg("rate") = py::none(),
         py::arg("rostopic") = "/imu0", py::arg("units") = "", py::arg("sensor") = py::none(),
         py::arg("columns") = std::vector<std::string>{}, py::arg("consistent_for") = py::none(),
-        py::arg("source_name") = "",
+        py::arg("source_name") = "", py::arg("partial") = false,
         "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
         "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
         "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");

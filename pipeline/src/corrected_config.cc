@@ -364,6 +364,9 @@ CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, co
   ExportOptions eo;
   eo.format = export_format(config->config.format);
   eo.aggregation = eo.format == ExportFormat::kGzSdf ? Aggregation::kPerAxis : Aggregation::kMean;
+  // A sensor without a diagnosed column keeps the input's figures (keep_undiagnosed_kinds and
+  // add_undiagnosed_kinds): the export's zeros are placeholders replaced below.
+  eo.missing = MissingSensor::kZero;
   std::vector<ExportColumn> cols = export_columns(set, study, o);
   if (config->config.format == SimFormat::kGzSensors || config->config.format == SimFormat::kRotors)
     add_undiagnosed_kinds(config->config, set, cols, o);

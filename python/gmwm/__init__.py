@@ -182,7 +182,9 @@ def export(result: Any, *, format: str, output: str = "", **options: Any) -> Exp
     gz-sdf or rotors; `output` only names the file in the document. Options as the CLI's:
     aggregate ('mean', 'worst', 'per-axis'), inflate, rate (Hz), rostopic, units, sensor
     ('gyro' or 'accel'), columns (names), consistent_for ((update rate Hz, horizon s, update
-    sigma m): derives the inflation that keeps a WN + RW filter consistent).
+    sigma m): derives the inflation that keeps a WN + RW filter consistent), partial (True:
+    a sensor without columns has its fields left out; else such a result is refused: a 0
+    would be read as a perfect sensor).
 
     Returns a gmwm.ExportResult: the document (to_json() equals the CLI's --json without
     "run"), `content` the file's text and `sidecar_content` basalt's header (else None).

@@ -78,8 +78,8 @@ def test_export_equals_the_clis_export_file_and_document(recordings, tmp_path, m
     for fmt, extra in (("kalibr", []), ("basalt", ["--aggregate", "worst"])):
         out = tmp_path / f"out_{fmt}"
         run(folder, "export", "fit.json", "--format", fmt, "--output", str(out), "--json", str(tmp_path / "e.json"),
-            *extra)
-        options = {"aggregate": "worst"} if extra else {}
+            "--partial", *extra)
+        options = {"aggregate": "worst", "partial": True} if extra else {"partial": True}
         mine = gmwm.export("fit.json", format=fmt, output=str(out), **options)
         assert json.loads(mine.to_json()) == cli_document(tmp_path, "e.json")
         assert mine.content == out.read_text()
@@ -90,13 +90,18 @@ def test_export_equals_the_clis_export_file_and_document(recordings, tmp_path, m
 def test_export_takes_a_typed_fit_and_derives_a_consistent_inflation(recordings):
     _, arrays = recordings
     f = gmwm.fit(arrays[0][:, 0], "WN+RW", freq=100, units="rad/s", name="gyro_x")
-    e = gmwm.export(f, format="kalibr")
+    # A gyroscope's model alone: refused for a file with accelerometer fields (a 0 would read as
+    # a perfect accelerometer), written with partial=True (the accelerometer's fields left out).
+    with pytest.raises(gmwm.InputError, match="no accelerometer column in the source"):
+        gmwm.export(f, format="kalibr")
+    e = gmwm.export(f, format="kalibr", partial=True)
     assert "gyroscope_noise_density" in e.content
+    assert "accelerometer_noise_density" not in e.content
     assert e.written["gyro"].combined.noise_density == pytest.approx(f.noise_figures.N.value, rel=1e-12)
     with pytest.raises(gmwm.InputError, match="needs the models of both sensors"):
-        gmwm.export(f, format="kalibr", consistent_for=(20.0, 60.0, 0.05))
+        gmwm.export(f, format="kalibr", consistent_for=(20.0, 60.0, 0.05), partial=True)
     with pytest.raises(gmwm.InputError, match="leave out --inflate"):
-        gmwm.export(f, format="kalibr", inflate=2.0, consistent_for=(20.0, 60.0, 0.05))
+        gmwm.export(f, format="kalibr", inflate=2.0, consistent_for=(20.0, 60.0, 0.05), partial=True)
 
 
 def test_replicates_that_do_not_match_are_refused_naming_the_recording(recordings):

@@ -15,7 +15,8 @@ constexpr std::pair<const char*, const char*> kOptionFields[] = {{"--freq HZ", "
                                                                  {"--columns", "\"columns\""},
                                                                  {"--topic", "\"topic\""},
                                                                  {"--units", "\"units\""},
-                                                                 {"--no-unit-check", "\"unit_check\": false"}};
+                                                                 {"--no-unit-check", "\"unit_check\": false"},
+                                                                 {"--partial", "\"partial\": true"}};
 
 std::string replace_all(std::string s, const std::string& from, const std::string& to) {
   for (std::size_t p = s.find(from); !from.empty() && p != std::string::npos; p = s.find(from, p + to.size()))

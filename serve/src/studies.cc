@@ -362,6 +362,8 @@ Json export_model(const Body& body) {
   if (const auto inflate = body.number("inflate")) o.format.inflate = *inflate;
   o.format.rate = body.number("rate");
   o.format.rostopic = body.text("rostopic", o.format.rostopic);
+  // As export's --partial: a sensor the result has no column of is refused, never a 0.
+  o.format.missing = body.flag("partial", false) ? io::MissingSensor::kLeaveOut : io::MissingSensor::kRefuse;
   io::ResultReadOptions r;
   r.rate = o.format.rate;
   const std::string units = body.text("units");

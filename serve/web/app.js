@@ -506,6 +506,7 @@
     if (rate > 0) body.rate = rate;
     var inflate = parseFloat($('export-inflate').value);
     if (inflate > 0) body.inflate = inflate;
+    if ($('export-partial').checked) body.partial = true;
     showError('');
     api('POST', '/api/export', body).then(function (e) {
       download(e.filename, e.content);

@@ -192,15 +192,18 @@ await check('opening the recording shows its WV and Allan deviation as gmwm wv -
 // Downloads the page's export in `format` and writes `doc` (the document the page exported)
 // for `gmwm export`; both files must be the same but for the "Source:" line, which names
 // where the result came from (the server, or the JSON file).
+// The fit is of a gyroscope column alone: the export writes the gyroscope's fields only
+// (--partial; without it the export is refused, never a 0 for the accelerometer).
 async function exportEqualsCli(doc, format, stem) {
   await page.selectOption('#export-format', format);
+  await page.check('#export-partial');
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
   const name = download.suggestedFilename();
   const file = join(folder, `${stem}-page-${name}`);
   await download.saveAs(file);
   writeFileSync(join(folder, `${stem}.json`), JSON.stringify(doc));
   const r = spawnSync(cli, ['export', `${stem}.json`, '--format', format, '--output', `${stem}-cli-${name}`, '--units',
-                            UNITS, '--quiet'], { cwd: folder, encoding: 'utf8' });
+                            UNITS, '--partial', '--quiet'], { cwd: folder, encoding: 'utf8' });
   assert.equal(r.status, 0, r.stderr);
   const body = (t) => t.split('\n').filter((l) => !l.includes('Source:')).join('\n');
   const content = readFileSync(file, 'utf8');
@@ -232,7 +235,15 @@ let kalibr;
 await check('Export Kalibr of the fit downloads the file gmwm export writes from gmwm fit\'s JSON', async () => {
   // The recording's units (the shared data's README): an export needs them, never assumes SI.
   await page.fill('#units', UNITS);
+  // A gyroscope's model alone, for a file with accelerometer fields: refused on the page as
+  // `gmwm export` refuses it, never written with a 0 for the accelerometer.
+  await page.selectOption('#export-format', 'kalibr');
+  await page.uncheck('#export-partial');
+  await page.click('#export');
+  await page.waitForSelector('#message:not([hidden])');
+  assert.match(await page.textContent('#message'), /no accelerometer column.*"partial": true/);
   kalibr = await exportEqualsCli(fitDoc, 'kalibr', 'fit');
+  assert.ok(!/accelerometer_noise_density/.test(kalibr.content), 'no accelerometer figure is invented');
   assert.equal(kalibr.name, 'imu.yaml');
   await page.locator('#export-box').scrollIntoViewIfNeeded();
   await page.screenshot({ path: join(shots, 'serve-3-export.png') });

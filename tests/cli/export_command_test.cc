@@ -68,8 +68,33 @@ class GmwmExport : public ::testing::Test {
   json fit_;
 };
 
+TEST_F(GmwmExport, RefusesAGyroscopeOnlyResultForAFileWithAccelerometerFieldsUnlessPartial) {
+  // A 0 for the accelerometer (or its fields left out, which VINS's FileStorage reads as 0)
+  // would be a perfect accelerometer: refused, nothing written, naming --partial.
+  for (const std::string format : {"kalibr", "openvins", "vins", "orbslam3", "basalt", "gz-sdf", "rotors"}) {
+    const auto r = run_gmwm({"export", "fit.json", "--format", format, "--output", "out"}, dir_);
+    EXPECT_EQ(r.exit_code, 2) << format << ": " << r.err;
+    EXPECT_EQ(gmwm::test::lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("no accelerometer column in the source"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("give --partial"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << format;
+    // With --partial: the gyroscope's fields, none of the accelerometer's.
+    const auto p = run_gmwm({"export", "fit.json", "--format", format, "--output", "out", "--partial"}, dir_);
+    ASSERT_EQ(p.exit_code, 0) << format << ": " << p.err;
+    const std::string text = read_text(dir_ / "out");
+    for (const std::string accel : {"accelerometer_noise_density:", "acc_n:", "acc_w:", "IMU.NoiseAcc:",
+                                    "\"accel_noise_std\"", "<linear_acceleration>", "<accelerometerNoiseDensity>"})
+      EXPECT_EQ(text.find(accel), std::string::npos) << format << ": " << accel;
+    EXPECT_NE(p.err.find("gmwm: warning: No accelerometer column in the source (--partial)"), std::string::npos)
+        << p.err;
+    fs::remove(dir_ / "out");
+    fs::remove(dir_ / "out.txt");
+  }
+}
+
 TEST_F(GmwmExport, WritesAKalibrYamlFromAFitResult) {
-  auto r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "imu.yaml", "--json", "e.json"}, dir_);
+  auto r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "imu.yaml", "--json", "e.json", "--partial"},
+                    dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "imu.yaml");
   const auto [n, k] = mean_n_k();
@@ -79,9 +104,9 @@ TEST_F(GmwmExport, WritesAKalibrYamlFromAFitResult) {
   EXPECT_NEAR(n, 1.6968e-4, 0.05 * 1.6968e-4);
   EXPECT_EQ(yaml_value(yaml, "update_rate"), 200.0);
   EXPECT_NE(yaml.find("# Source: gmwm fit result fit.json (data sim.csv)"), std::string::npos) << yaml;
-  // No accelerometer column: warned on stderr, zeros in the file.
+  // No accelerometer column: warned on stderr, its fields left out (--partial).
   EXPECT_NE(r.err.find("gmwm: warning: No accelerometer column"), std::string::npos) << r.err;
-  EXPECT_EQ(yaml_value(yaml, "accelerometer_noise_density"), 0.0);
+  EXPECT_EQ(yaml.find("accelerometer_noise_density:"), std::string::npos) << yaml;
   EXPECT_NE(r.out.find("wrote kalibr noise parameters to imu.yaml"), std::string::npos) << r.out;
   const json e = read_json(dir_ / "e.json");
   EXPECT_EQ(e.at("command"), "export");
@@ -93,7 +118,7 @@ TEST_F(GmwmExport, FitsADataFileFirstWhenGivenAModel) {
   // The same fit as `gmwm fit` (classical WV, its default model-based diagonal Omega): the
   // same figures.
   auto r = run_gmwm({"export", "sim.csv", "--model", "WN+RW", "--units", "gyro=rad/s", "--format", "orbslam3",
-                     "--output", "orb.yaml", "--quiet"},
+                     "--output", "orb.yaml", "--partial", "--quiet"},
                     dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "orb.yaml");
@@ -111,7 +136,7 @@ TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
   auto r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "plain.json", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_gmwm(
-      {"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml", "--quiet"}, dir_);
+      {"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml", "--partial", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "vins.yaml");
   const auto [n, k] = mean_n_k();
@@ -123,7 +148,7 @@ TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
 
 TEST_F(GmwmExport, BasaltWritesItsHeaderToASidecarAndPerAxisVectors) {
   auto r = run_gmwm(
-      {"export", "fit.json", "--format", "basalt", "--aggregate", "per-axis", "--output", "calib.json", "--quiet"},
+      {"export", "fit.json", "--format", "basalt", "--aggregate", "per-axis", "--output", "calib.json", "--partial", "--quiet"},
       dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json calib = read_json(dir_ / "calib.json");
@@ -138,7 +163,7 @@ TEST_F(GmwmExport, BasaltWritesItsHeaderToASidecarAndPerAxisVectors) {
 }
 
 TEST_F(GmwmExport, WritesAGazeboSdfThatTheGapCommandReads) {
-  auto r = run_gmwm({"export", "fit.json", "--format", "gz-sdf", "--output", "imu.sdf", "--quiet"}, dir_);
+  auto r = run_gmwm({"export", "fit.json", "--format", "gz-sdf", "--output", "imu.sdf", "--partial", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string sdf = read_text(dir_ / "imu.sdf");
   EXPECT_NE(sdf.find("<sensor name=\"imu\" type=\"imu\">"), std::string::npos);

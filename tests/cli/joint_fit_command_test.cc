@@ -243,7 +243,7 @@ TEST_F(GmwmCliJointFit, UnitsGiveTheJointModelItsUnitAndNoiseFiguresAndExportCon
   EXPECT_FALSE(col["continuous"].empty());
   EXPECT_FALSE(col["kalman"]["terms"].empty());
 
-  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml", "--quiet"}, dir_);
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml", "--partial", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = gmwm::test::read_text(dir_ / "imu.yaml");
   const auto at = yaml.find("gyroscope_noise_density:");
@@ -268,7 +268,7 @@ TEST_F(GmwmCliJointFit, SelectGivesTheRecommendedModelFittedJointlyWithItsUnitFo
   ASSERT_TRUE(col["best_model"].is_string()) << col.dump();
   EXPECT_EQ(col["best_fit"]["model"], col["recommended"]);
   EXPECT_TRUE(col["noise_figures"].is_object());
-  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml", "--quiet"}, dir_);
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--output", "imu.yaml", "--partial", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(gmwm::test::read_text(dir_ / "imu.yaml").find("deg/s"), std::string::npos);
 }
@@ -282,7 +282,7 @@ TEST_F(GmwmCliJointFit, ExportRefusesAJointResultWhoseUnitItCannotTell) {
   expect_bad_input(r, {"out.json", "column 'gyro_x'", "does not say the data's unit", "--units gyro="},
                    dir_ / "imu.yaml");
   // Told the unit, it converts.
-  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "imu.yaml", "--quiet"},
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "imu.yaml", "--partial", "--quiet"},
                dir_);
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }

@@ -63,9 +63,12 @@ std::vector<ExportColumn> euroc_six_axes() {
   return v;
 }
 
+// The options of format f; a source with one sensor writes that sensor's fields alone
+// (--partial: the refusal without it has its own test).
 ExportOptions options(ExportFormat f) {
   ExportOptions o;
   o.format = f;
+  o.missing = MissingSensor::kLeaveOut;
   return o;
 }
 
@@ -244,12 +247,31 @@ TEST_F(Export, ComponentsKalibrCannotExpressAreListedInTheHeaderAndWarned) {
   EXPECT_TRUE(warned);
 }
 
-TEST_F(Export, AMissingSensorIsWrittenAsZeroAndWarned) {
-  const ExportResult r = render_export({column("gyro_x", kGyroEuroc)}, options(ExportFormat::kOrbSlam3), "t");
-  EXPECT_EQ(raw(r.content, "IMU.NoiseAcc"), "0.0");
+TEST_F(Export, AMissingSensorIsRefusedLeftOutOnRequestOrZeroForACallerThatReplacesIt) {
+  // Refused by default: a 0 would read as a perfect accelerometer.
+  ExportOptions o = options(ExportFormat::kOrbSlam3);
+  o.missing = ExportOptions{}.missing;
+  EXPECT_EQ(o.missing, MissingSensor::kRefuse);
+  try {
+    render_export({column("gyro_x", kGyroEuroc)}, o, "t");
+    ADD_FAILURE() << "a gyroscope alone was exported to a file with accelerometer fields";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no accelerometer column in the source"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--partial"), std::string::npos) << e.what();
+  }
+  // --partial: the accelerometer's fields left out, warned, said in the header.
+  o.missing = MissingSensor::kLeaveOut;
+  ExportResult r = render_export({column("gyro_x", kGyroEuroc)}, o, "t");
+  EXPECT_EQ(r.content.find("IMU.NoiseAcc"), std::string::npos) << r.content;
+  EXPECT_EQ(r.content.find("IMU.AccWalk"), std::string::npos) << r.content;
+  EXPECT_NE(r.content.find("IMU.NoiseGyro"), std::string::npos) << r.content;
   bool warned = false;
-  for (const auto& w : r.warnings) warned = warned || w.find("No accelerometer column") == 0;
+  for (const auto& w : r.warnings) warned = warned || w.find("No accelerometer column in the source (--partial)") == 0;
   EXPECT_TRUE(warned);
+  // Zeros, for gap --corrected, which writes the input's values there.
+  o.missing = MissingSensor::kZero;
+  r = render_export({column("gyro_x", kGyroEuroc)}, o, "t");
+  EXPECT_EQ(raw(r.content, "IMU.NoiseAcc"), "0.0");
 }
 
 // --- OpenVINS, VINS, ORB-SLAM3 ----------------------------------------------------------
@@ -318,8 +340,8 @@ TEST_F(Export, BasaltWritesPerAxisVectorsAndItsHeaderToASidecar) {
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(f.at("gyro_noise_std")[i].get<double>(), 1e-4 * (i + 1), 1e-16);
     EXPECT_NEAR(f.at("gyro_bias_std")[i].get<double>(), 1e-5 * (i + 1), 1e-17);
-    EXPECT_EQ(f.at("accel_noise_std")[i].get<double>(), 0.0);  // no accel column
   }
+  EXPECT_FALSE(f.contains("accel_noise_std")) << "no accel column: its fields left out (--partial), never 0";
   ASSERT_TRUE(r.sidecar.has_value());
   EXPECT_NE(r.sidecar->find("All noise parameters are continous time"), std::string::npos);
   EXPECT_NE(r.sidecar->find("Aggregation: per-axis"), std::string::npos);
@@ -542,7 +564,13 @@ TEST(ExportKalibrRoundTrip, FitExportImportSimulateAndRefitAgreeWithinTheConfide
   c.model = fit1.model;
   c.theta = fit1.theta;
   c.unit = si_unit(SensorKind::kGyro);
-  const ExportResult r = render_export({c}, ExportOptions{}, "round trip");
+  // Kalibr's file holds both sensors (its reader, like Kalibr's, needs all four figures): the
+  // same fitted model as the accelerometer's too.
+  ExportColumn a = c;
+  a.name = "accel_x";
+  a.kind = SensorKind::kAccel;
+  a.unit = si_unit(SensorKind::kAccel);
+  const ExportResult r = render_export({c, a}, ExportOptions{}, "round trip");
   const fs::path dir = gmwm::test::temp_dir("export_round_trip");
   const std::string path = write_file(dir, "imu.yaml", r.content);
   const SimConfig imported = read_kalibr_imu_yaml(path, f, parse_units(""));

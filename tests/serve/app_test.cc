@@ -354,12 +354,25 @@ TEST_F(ServeAppTest, ExportsTheFileTheCliWritesFromTheSameResult) {
   const std::string d = open_imu();
   const OJson fit = run_job("/api/fit", {{"dataset", d}, {"column", "gyro_x"}, {"model", "WN+RW"}});
   write_text(folder_ / "fit.json", fit.at("document").dump());
+  // A gyroscope's model alone: refused as the CLI refuses it (a 0 for the accelerometer
+  // would read as a perfect one), unless the gyroscope's fields alone are asked for.
+  const serve::HttpResponse refused =
+      post("/api/export", OJson{{"result", fit.at("document")}, {"format", "kalibr"}, {"units", "gyro=deg/s"}});
+  EXPECT_EQ(refused.status, 400) << refused.body;
+  EXPECT_NE(refused.body.find("no accelerometer column"), std::string::npos) << refused.body;
+  EXPECT_NE(refused.body.find("give \\\"partial\\\": true"), std::string::npos) << refused.body;
+  const CliRun cli_refused =
+      run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "out", "--units", "gyro=deg/s"}, folder_);
+  EXPECT_EQ(cli_refused.exit_code, 2) << cli_refused.err;
+  EXPECT_FALSE(std::filesystem::exists(folder_ / "out"));
   for (const std::string format : {"kalibr", "openvins", "basalt", "gz-sdf"}) {  // NOLINT(performance-for-range-copy)
     const OJson e = body_of(post("/api/export", OJson{{"result", fit.at("document")},
                                                       {"format", format},
-                                                      {"units", "gyro=deg/s"}}));
+                                                      {"units", "gyro=deg/s"},
+                                                      {"partial", true}}));
+    EXPECT_EQ(e.at("content").get<std::string>().find("accelerometer_noise"), std::string::npos) << "none invented";
     const CliRun r = run_gmwm({"export", "fit.json", "--format", format, "--output", "out", "--units", "gyro=deg/s",
-                               "--quiet"},
+                               "--partial", "--quiet"},
                               folder_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::string cli = read_text(folder_ / "out");

@@ -35,6 +35,7 @@ struct ExportArgs {
   std::string consistent_for;  ///< --consistent-for RATE,HORIZON[,SIGMA]
   std::optional<double> rate;
   std::string rostopic = "/imu0";
+  bool partial = false;  ///< --partial: a sensor with no column is left out, not refused
   int max_evaluations = FitOptions{}.max_evaluations;
   CLI::App* sub = nullptr;  ///< to tell which options were given
 };
@@ -145,6 +146,7 @@ pipeline::ExportStudyOptions export_options(const ExportArgs& a) {
   o.format.inflate = a.inflate;
   o.format.rate = a.rate;
   o.format.rostopic = a.rostopic;
+  o.format.missing = a.partial ? io::MissingSensor::kLeaveOut : io::MissingSensor::kRefuse;
   if (const std::string why = o.format.Validate(); !why.empty()) throw InputError(why);
   if (a.output == "-" && !io::allows_comments(o.format.format))
     throw InputError("--output -: the " + std::string(io::to_string(o.format.format)) +
@@ -221,6 +223,9 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
                   "(the largest value of each figure)")
       ->type_name("HOW")
       ->capture_default_str();
+  sub->add_flag("--partial", args->partial,
+               "Write only the sensors the source has columns of (the other's fields left out, to paste into a file "
+               "that has them); without it, a source without gyroscope or accelerometer columns is refused");
   sub->add_option("--inflate", args->inflate,
                   "Multiplies every noise figure written (densities and standard deviations, not variances)")
       ->type_name("X")

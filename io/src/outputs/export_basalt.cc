@@ -33,13 +33,13 @@ Json vec3(const ExportResult& r, SensorKind kind, double WrittenNoise::*figure) 
 }  // namespace
 
 std::string render_basalt(const ExportOptions& o, const ExportResult& r, std::string& sidecar) {
-  (void)o;
   Json fields = Json::object();
   fields["imu_update_rate"] = r.rate;
-  fields["accel_noise_std"] = vec3(r, SensorKind::kAccel, &WrittenNoise::noise_density);
-  fields["gyro_noise_std"] = vec3(r, SensorKind::kGyro, &WrittenNoise::noise_density);
-  fields["accel_bias_std"] = vec3(r, SensorKind::kAccel, &WrittenNoise::random_walk);
-  fields["gyro_bias_std"] = vec3(r, SensorKind::kGyro, &WrittenNoise::random_walk);
+  const bool accel = writes_kind(o, r, SensorKind::kAccel), gyro = writes_kind(o, r, SensorKind::kGyro);
+  if (accel) fields["accel_noise_std"] = vec3(r, SensorKind::kAccel, &WrittenNoise::noise_density);
+  if (gyro) fields["gyro_noise_std"] = vec3(r, SensorKind::kGyro, &WrittenNoise::noise_density);
+  if (accel) fields["accel_bias_std"] = vec3(r, SensorKind::kAccel, &WrittenNoise::random_walk);
+  if (gyro) fields["gyro_bias_std"] = vec3(r, SensorKind::kGyro, &WrittenNoise::random_walk);
   Json doc = Json::object();
   doc["value0"] = std::move(fields);
 

@@ -172,6 +172,10 @@ WrittenNoise combined_or_zero(const ExportResult& r, SensorKind kind) {
   return k ? k->combined : WrittenNoise{};
 }
 
+bool writes_kind(const ExportOptions& o, const ExportResult& r, SensorKind kind) {
+  return export_text::find_kind(r, kind) != nullptr || o.missing == MissingSensor::kZero;
+}
+
 bool simulates_bias(ExportFormat f) { return f == ExportFormat::kGzSdf || f == ExportFormat::kRotors; }
 
 }  // namespace export_detail

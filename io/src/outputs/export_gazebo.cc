@@ -111,7 +111,6 @@ std::string render_gz_sdf(const ExportOptions& o, const ExportResult& r) {
 }
 
 std::string render_rotors(const ExportOptions& o, const ExportResult& r) {
-  (void)o;
   std::vector<std::string> lines = r.header;
   lines.push_back("");
   for (const char* l :
@@ -131,6 +130,7 @@ std::string render_rotors(const ExportOptions& o, const ExportResult& r) {
   };
   for (const Kind k : {Kind{SensorKind::kGyro, "gyroscope", kRotorsGyroCorrelationTime},
                        Kind{SensorKind::kAccel, "accelerometer", kRotorsAccelCorrelationTime}}) {
+    if (!writes_kind(o, r, k.kind)) continue;  // --partial: this sensor's elements left out
     const SiNames si = si_names(k.kind);
     const WrittenNoise w = combined_or_zero(r, k.kind);
     const std::string p = k.prefix;

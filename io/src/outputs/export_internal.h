@@ -32,6 +32,9 @@ SiNames si_names(SensorKind kind);
 /// The figures of `kind` to write in a one-value-per-sensor field: the aggregate, or zeros
 /// when the kind is absent.
 WrittenNoise combined_or_zero(const ExportResult& r, SensorKind kind);
+/// True when a sensor kind's fields are written: the source has its columns, or the options
+/// ask for zeros in their place (MissingSensor::kZero); false: left out (--partial).
+bool writes_kind(const ExportOptions& o, const ExportResult& r, SensorKind kind);
 
 /// True for the simulators (gz-sdf, rotors), which model one Gauss-Markov bias per axis
 /// instead of a random walk.

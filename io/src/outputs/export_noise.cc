@@ -306,6 +306,14 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
                            kind_word(kind) + " noise density is written as 0 (check the fit)");
     r.kinds.push_back(k);
   }
+  if (!missing.empty() && o.missing == MissingSensor::kRefuse) {
+    const std::string word = missing.front(), other = word == "gyroscope" ? "accelerometer" : "gyroscope";
+    throw InputError("export: no " + word + " column in the source, and a " + std::string(to_string(o.format)) +
+                     " file has " + word + " fields: a 0 (or a field left out, which some readers take as 0) " +
+                     "would be read as a perfect " + word + "; export a result that has " + word +
+                     " columns too, or give --partial to write the " + other +
+                     "'s fields alone (to paste into a file that has the " + word + "'s)");
+  }
 
   // The header.
   auto& h = r.header;
@@ -375,12 +383,10 @@ void plan_export(const std::vector<ExportColumn>& columns, const ExportOptions& 
   }
   for (const auto& word : missing) {
     const std::string line =
-        o.format == ExportFormat::kGzSdf
-            ? std::string("No ") + word + " column in the source: no " +
-                  (word == std::string("gyroscope") ? "<angular_velocity>" : "<linear_acceleration>") +
-                  " noise is written"
-            : std::string("No ") + word + " column in the source: the " + word +
-                  " figures are written as 0 (replace them)";
+        o.missing == MissingSensor::kZero
+            ? std::string("No ") + word + " column in the source: the " + word + " figures are written as 0"
+            : std::string("No ") + word + " column in the source (--partial): the " + word +
+                  " fields are left out; add your own before using the file";
     h.push_back(line);
     r.warnings.push_back(line);
   }

@@ -38,14 +38,18 @@ std::string render_kalibr(const ExportOptions& o, const ExportResult& r) {
       r, {"Kalibr imu.yaml (https://github.com/ethz-asl/kalibr/wiki/IMU-Noise-Model): continuous-time densities,",
           "one value per sensor for its three axes. Kalibr discretises them at update_rate: white noise",
           "sigma_d = N sqrt(update_rate), bias random walk sigma_bd = K / sqrt(update_rate)."});
-  out += field("", "accelerometer_noise_density", real(a.noise_density),
-               "[m/s^2/sqrt(Hz)] accelerometer white noise density N (continuous time)");
-  out += field("", "accelerometer_random_walk", real(a.random_walk),
-               "[m/s^3/sqrt(Hz)] accelerometer bias random walk density K (continuous time)");
-  out += field("", "gyroscope_noise_density", real(g.noise_density),
-               "[rad/s/sqrt(Hz)] gyroscope white noise density N (continuous time)");
-  out += field("", "gyroscope_random_walk", real(g.random_walk),
-               "[rad/s^2/sqrt(Hz)] gyroscope bias random walk density K (continuous time)");
+  if (writes_kind(o, r, SensorKind::kAccel)) {
+    out += field("", "accelerometer_noise_density", real(a.noise_density),
+                 "[m/s^2/sqrt(Hz)] accelerometer white noise density N (continuous time)");
+    out += field("", "accelerometer_random_walk", real(a.random_walk),
+                 "[m/s^3/sqrt(Hz)] accelerometer bias random walk density K (continuous time)");
+  }
+  if (writes_kind(o, r, SensorKind::kGyro)) {
+    out += field("", "gyroscope_noise_density", real(g.noise_density),
+                 "[rad/s/sqrt(Hz)] gyroscope white noise density N (continuous time)");
+    out += field("", "gyroscope_random_walk", real(g.random_walk),
+                 "[rad/s^2/sqrt(Hz)] gyroscope bias random walk density K (continuous time)");
+  }
   out += field("", "rostopic", o.rostopic, "the IMU topic in the bag");
   out += field("", "update_rate", real(r.rate), "[Hz] the IMU rate Kalibr discretises the densities at");
   return out;
@@ -74,10 +78,14 @@ std::string render_openvins(const ExportOptions& o, const ExportResult& r) {
     for (int j = 0; j < 4; ++j) out += std::string(j ? ", " : "") + (i == j ? "1.0" : "0.0");
     out += "]\n";
   }
-  out += field("  ", "accelerometer_noise_density", real(a.noise_density), "[ m / s^2 / sqrt(Hz) ] accel white noise");
-  out += field("  ", "accelerometer_random_walk", real(a.random_walk), "[ m / s^3 / sqrt(Hz) ] accel bias diffusion");
-  out += field("  ", "gyroscope_noise_density", real(g.noise_density), "[ rad / s / sqrt(Hz) ] gyro white noise");
-  out += field("  ", "gyroscope_random_walk", real(g.random_walk), "[ rad / s^2 / sqrt(Hz) ] gyro bias diffusion");
+  if (writes_kind(o, r, SensorKind::kAccel)) {
+    out += field("  ", "accelerometer_noise_density", real(a.noise_density), "[ m / s^2 / sqrt(Hz) ] accel white noise");
+    out += field("  ", "accelerometer_random_walk", real(a.random_walk), "[ m / s^3 / sqrt(Hz) ] accel bias diffusion");
+  }
+  if (writes_kind(o, r, SensorKind::kGyro)) {
+    out += field("  ", "gyroscope_noise_density", real(g.noise_density), "[ rad / s / sqrt(Hz) ] gyro white noise");
+    out += field("  ", "gyroscope_random_walk", real(g.random_walk), "[ rad / s^2 / sqrt(Hz) ] gyro bias diffusion");
+  }
   out += field("  ", "model", "\"kalibr\"", "IMU intrinsic model: kalibr, calibrated or rpng");
   out += field("  ", "rostopic", o.rostopic);
   out += field("  ", "time_offset", "0.0", "[s] camera-IMU time offset: from your calibration");
@@ -96,7 +104,6 @@ std::string render_openvins(const ExportOptions& o, const ExportResult& r) {
 // sigma_gd), and gyr_w the standard deviation of the bias rate per sample: a random walk
 // of density K steps by K sqrt(dt) = gyr_w dt, gyr_w = K sqrt(R). Likewise acc_n, acc_w.
 std::string render_vins(const ExportOptions& o, const ExportResult& r) {
-  (void)o;
   const WrittenNoise g = combined_or_zero(r, SensorKind::kGyro);
   const WrittenNoise a = combined_or_zero(r, SensorKind::kAccel);
   const double s = std::sqrt(r.rate);
@@ -111,20 +118,23 @@ std::string render_vins(const ExportOptions& o, const ExportResult& r) {
        "So acc_n = N_a sqrt(R), gyr_n = N_g sqrt(R) (Kalibr's per-sample sigma_d) and acc_w = K_a sqrt(R),",
        "gyr_w = K_g sqrt(R) (a random walk of density K steps by K sqrt(dt) = gyr_w dt). VINS's own example",
        "values are inflated well beyond an Allan analysis (its authors tune them); --inflate does that explicitly."});
-  out +=
-      field("", "acc_n", real(a.noise_density * s),
-            "[m/s^2] accelerometer measurement noise standard deviation, N_a sqrt(R) (N_a = " + num(a.noise_density) +
-                " m/s^2/sqrt(Hz))");
-  out += field("", "gyr_n", real(g.noise_density * s),
-               "[rad/s] gyroscope measurement noise standard deviation, N_g sqrt(R) (N_g = " + num(g.noise_density) +
-                   " rad/s/sqrt(Hz))");
-  out += field("", "acc_w", real(a.random_walk * s),
-               "[m/s^3] accelerometer bias random walk noise standard deviation, K_a sqrt(R) (K_a = " +
-                   num(a.random_walk) + " m/s^3/sqrt(Hz))");
-  out +=
-      field("", "gyr_w", real(g.random_walk * s),
-            "[rad/s^2] gyroscope bias random walk noise standard deviation, K_g sqrt(R) (K_g = " + num(g.random_walk) +
-                " rad/s^2/sqrt(Hz))");
+  const bool acc = writes_kind(o, r, SensorKind::kAccel), gyr = writes_kind(o, r, SensorKind::kGyro);
+  if (acc)
+    out += field("", "acc_n", real(a.noise_density * s),
+                 "[m/s^2] accelerometer measurement noise standard deviation, N_a sqrt(R) (N_a = " +
+                     num(a.noise_density) + " m/s^2/sqrt(Hz))");
+  if (gyr)
+    out += field("", "gyr_n", real(g.noise_density * s),
+                 "[rad/s] gyroscope measurement noise standard deviation, N_g sqrt(R) (N_g = " + num(g.noise_density) +
+                     " rad/s/sqrt(Hz))");
+  if (acc)
+    out += field("", "acc_w", real(a.random_walk * s),
+                 "[m/s^3] accelerometer bias random walk noise standard deviation, K_a sqrt(R) (K_a = " +
+                     num(a.random_walk) + " m/s^3/sqrt(Hz))");
+  if (gyr)
+    out += field("", "gyr_w", real(g.random_walk * s),
+                 "[rad/s^2] gyroscope bias random walk noise standard deviation, K_g sqrt(R) (K_g = " +
+                     num(g.random_walk) + " rad/s^2/sqrt(Hz))");
   return out;
 }
 
@@ -135,17 +145,17 @@ std::string render_vins(const ExportOptions& o, const ExportResult& r) {
 // Continuous densities, then, as Kalibr's. Settings::readParameter<float> aborts on a value
 // FileStorage reads as an integer, hence export_detail::real.
 std::string render_orbslam3(const ExportOptions& o, const ExportResult& r) {
-  (void)o;
   const WrittenNoise g = combined_or_zero(r, SensorKind::kGyro);
   const WrittenNoise a = combined_or_zero(r, SensorKind::kAccel);
   std::string out = "%YAML:1.0 # OpenCV FileStorage; paste the IMU fields into your ORB-SLAM3 settings\n";
   out += header(r, {"ORB-SLAM3 IMU settings: continuous-time densities (Tracking::ParseIMUParamFile prints their",
                     "units and discretises them itself: IMU::Calib(Tbc, Ng*sf, Na*sf, Ngw/sf, Naw/sf),",
                     "sf = sqrt(IMU.Frequency)), the same convention as Kalibr."});
-  out += field("", "IMU.NoiseGyro", real(g.noise_density), "[rad/s/sqrt(Hz)] gyroscope white noise density");
-  out += field("", "IMU.NoiseAcc", real(a.noise_density), "[m/s^2/sqrt(Hz)] accelerometer white noise density");
-  out += field("", "IMU.GyroWalk", real(g.random_walk), "[rad/s^2/sqrt(Hz)] gyroscope bias random walk density");
-  out += field("", "IMU.AccWalk", real(a.random_walk), "[m/s^3/sqrt(Hz)] accelerometer bias random walk density");
+  const bool acc = writes_kind(o, r, SensorKind::kAccel), gyr = writes_kind(o, r, SensorKind::kGyro);
+  if (gyr) out += field("", "IMU.NoiseGyro", real(g.noise_density), "[rad/s/sqrt(Hz)] gyroscope white noise density");
+  if (acc) out += field("", "IMU.NoiseAcc", real(a.noise_density), "[m/s^2/sqrt(Hz)] accelerometer white noise density");
+  if (gyr) out += field("", "IMU.GyroWalk", real(g.random_walk), "[rad/s^2/sqrt(Hz)] gyroscope bias random walk density");
+  if (acc) out += field("", "IMU.AccWalk", real(a.random_walk), "[m/s^3/sqrt(Hz)] accelerometer bias random walk density");
   out += field("", "IMU.Frequency", real(r.rate), "[Hz]");
   return out;
 }

@@ -55,8 +55,24 @@ enum class Aggregation {
 const char* to_string(Aggregation a);  ///< "per-axis", "mean", "worst"
 std::optional<Aggregation> parse_aggregation(const std::string& name);
 
+/// What an export does for a sensor kind the source has no column of (a gyroscope-only fit
+/// exported to a format with accelerometer fields).
+enum class MissingSensor {
+  /// Refused, naming --partial: a 0 would be read as a perfect sensor, and so would a field
+  /// left out by the readers that default it (OpenCV's FileStorage in VINS reads a missing
+  /// acc_n as 0; gz-sensors simulates an <imu> without <noise> noise-free).
+  kRefuse,
+  /// Its fields left out, and the header says so (--partial: one sensor's lines to paste
+  /// into a file that has the other's).
+  kLeaveOut,
+  /// Written as 0, for a caller that writes its own values in their place (gap --corrected
+  /// writes the input configuration's).
+  kZero,
+};
+
 struct ExportOptions {
   ExportFormat format = ExportFormat::kKalibr;
+  MissingSensor missing = MissingSensor::kRefuse;
   Aggregation aggregation = Aggregation::kMean;
   /// Multiplies every noise figure written (densities, standard deviations, the bias
   /// driving densities), NOT the variances: a factor x on the figures is x^2 on the
