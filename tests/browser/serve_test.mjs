@@ -304,10 +304,12 @@ await check('the datasheet overlay, and the exported Kalibr file pasted as one, 
   const adev = await page.$eval('#result .gmwm-plot[data-plot=adev]', (e) => e.textContent);
   assert.ok(adev.includes('datasheet: WN+FLICKER'), 'and in the Allan deviation plot');
   await page.screenshot({ path: join(shots, 'serve-6-overlay.png') });
-  // The fit's own Kalibr file back as a baseline: its WN + RW, converted back to deg/s.
+  // The fit's own Kalibr lines (the gyroscope's, --partial) pasted into a file that has the
+  // accelerometer's, back as a baseline: its WN + RW, converted back to deg/s.
   await page.selectOption('#overlay-format', 'kalibr');
   await page.selectOption('#overlay-file', '');
-  await page.fill('#overlay-text', kalibr.content);
+  await page.fill('#overlay-text', kalibr.content +
+                  '\naccelerometer_noise_density: 2.0e-3\naccelerometer_random_walk: 3.0e-3\n');
   await page.click('#overlay');
   await page.waitForFunction(() => /kalibr.*= WN\(/.test(document.getElementById('overlay-model').textContent));
   await waitStatus(page, ': done');
