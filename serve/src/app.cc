@@ -247,7 +247,10 @@ HttpResponse App::State::route(const HttpRequest& r) {
     if (p == "/" || p == "/index.html") return {200, "text/html; charset=utf-8", page};
     if (p == "/app.js") return {200, "text/javascript; charset=utf-8", std::string(detail::web_asset("app.js"))};
     if (p == "/app.css") return {200, "text/css; charset=utf-8", std::string(detail::web_asset("app.css"))};
-    if (p == "/vega.js" && !vega_script.empty()) return {200, "text/javascript; charset=utf-8", vega_script};
+    if (p == "/vega.js") {
+      if (vega_script.empty()) throw HttpError(404, "/vega.js: this gmwm was built without Vega: " + vega_missing);
+      return {200, "text/javascript; charset=utf-8", vega_script};
+    }
     if (p == "/favicon.ico") return {204, "image/x-icon", ""};  // none: the browser asks anyway
     if (p == "/api/files") return json_response(files());
     if (p.starts_with("/api/jobs/") && p.find("/ranking/") != std::string::npos) {
@@ -299,6 +302,8 @@ std::optional<HttpResponse> App::screen(const HttpRequest& request) const { retu
 void App::set_port(int port) { state_->guard.set_port(port); }
 
 const std::string& App::token() const { return state_->guard.token(); }
+
+const std::string& App::plots_unavailable() const { return state_->vega_missing; }
 
 HttpResponse App::handle(const HttpRequest& request) { return detail::Guard::stamped(answer(request)); }
 

@@ -276,6 +276,10 @@ await check('Select ranks the sub-models as gmwm select, and a ranking row shows
   assert.deepEqual(rows.map((r) => r[2]), ranking.map((r) => g6(r.criterion)), 'each row\'s WVIC');
   assert.ok((await page.textContent('#result')).includes('chosen model ' + selectDoc.columns[0].best),
             'the selection shows its chosen model');
+  // The report's ranking table (its candidate lists) wraps inside the results: the page was
+  // 4748 px wide at 1280 px when the controls' table style reached it.
+  const width = await page.evaluate(() => [document.documentElement.scrollWidth, window.innerWidth]);
+  assert.ok(width[0] <= width[1], `the page is ${width[0]} px wide in a ${width[1]} px window`);
   await page.screenshot({ path: join(shots, 'serve-4-select.png') });
   await page.click('#ranking tr[data-row="2"]');
   await waitStatus(page, 'ranking row 2');

@@ -98,6 +98,44 @@ TEST_F(GmwmServe, PrintsItsLoopbackAddressAnswersThereAndStopsOnSigterm) {
   ::close(out[0]);
 }
 
+TEST_F(GmwmServe, SaysAtStartThatThePageWillShowNoPlotsWhenVegaCannotBeRead) {
+  // stdout and stderr to one pipe; Vega's folder pointed at one that does not exist.
+  int out[2];
+  ASSERT_EQ(::pipe(out), 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(out[1], 1), ::dup2(out[1], 2);
+    ::close(out[0]);
+    ::setenv("GMWM_VEGA_DIR", "/nonexistent-vega-folder", 1);
+    ::execl(gmwm::test::gmwm_cli_path(), gmwm::test::gmwm_cli_path(), "serve", dir_.c_str(), "--port", "0",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  ::close(out[1]);
+  std::string text;
+  char c;
+  while (text.find("no plots") == std::string::npos || text.back() != '\n') {
+    if (::read(out[0], &c, 1) != 1) break;
+    text += c;
+  }
+  EXPECT_NE(text.find("gmwm: warning: the page will show no plots (its tables, numbers and exports work)"),
+            std::string::npos)
+      << text;
+  const auto at = text.find("http://127.0.0.1:");
+  ASSERT_NE(at, std::string::npos) << text;
+  const std::string url = text.substr(at, text.find(' ', at) - at);
+  const int port = std::stoi(url.substr(url.rfind(':') + 1));
+  const std::string token = url.substr(url.find("?token=") + 7);
+  const std::string vega = http_get(port, "/vega.js", "Host: 127.0.0.1:" + std::to_string(port) + "\r\n");
+  EXPECT_EQ(vega.rfind("HTTP/1.1 404", 0), 0u) << vega;
+  EXPECT_NE(vega.find("built without Vega"), std::string::npos) << vega;
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ::close(out[0]);
+}
+
 TEST_F(GmwmServe, RefusesAFolderThatIsNotOneAndABadPortWithOneLine) {
   auto r = run_gmwm({"serve", "no-such-folder", "--port", "0"}, dir_);
   EXPECT_EQ(r.exit_code, 2);

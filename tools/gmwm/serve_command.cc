@@ -78,6 +78,8 @@ int run_serve(const ServeArgs& args, const CommonOptions& common) {
   server.bind();
   std::cout << "gmwm serve: " << server.url() << " (folder " << printable_line(o.folder)
             << "); Ctrl-C stops it" << std::endl;
+  if (const std::string& why = server.app().plots_unavailable(); !why.empty())
+    warn("the page will show no plots (its tables, numbers and exports work): " + why);
   std::thread waiter([&] {
     int signal = 0;
     sigwait(&stop_signals, &signal);

@@ -134,6 +134,9 @@ class App {
   void set_port(int port);
   /// The access token requests must carry (the start-up address's ?token=).
   const std::string& token() const;
+  /// Why the page has no plots (Vega could not be read; its tables and numbers still work);
+  /// empty when it has them.
+  const std::string& plots_unavailable() const;
 
   /// An upload's bytes arrive in pieces (the server streams them to a file): begin() names
   /// it, or sets an error response (limit already exceeded, bad name) and returns nullptr;
