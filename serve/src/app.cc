@@ -253,6 +253,12 @@ HttpResponse App::State::route(const HttpRequest& r) {
     }
     if (p == "/favicon.ico") return {204, "image/x-icon", ""};  // none: the browser asks anyway
     if (p == "/api/files") return json_response(files());
+    if (p == "/api/status")
+      return json_response({{"datasets", datasets.size()},
+                            {"uploads", uploads.count()},
+                            {"upload_bytes", uploads.held_bytes()},
+                            {"jobs", jobs.size()},
+                            {"queued", jobs.queued()}});
     if (p.starts_with("/api/jobs/") && p.find("/ranking/") != std::string::npos) {
       const std::string id = p.substr(10, p.find("/ranking/") - 10);
       const std::string row = p.substr(p.find("/ranking/") + 9);
