@@ -45,6 +45,12 @@ std::vector<Case> corpus() {
   for (int i = 4096; i < 4200; ++i) more_rows += std::to_string(i * 0.01) + ",0.001,9.81\n";
   std::string utf16 = "\xFF\xFE";
   for (char c : base_csv().substr(0, 2000)) utf16 += std::string(1, c) + '\0';
+  std::string ten_ghz = "time,gyro_x\n";  // stamps 0.1 ns apart
+  char stamp[64];
+  for (int i = 0; i < 4096; ++i) {
+    std::snprintf(stamp, sizeof stamp, "%.17g,%.6f\n", i * 1e-10, std::sin(i * 0.37));
+    ten_ghz += stamp;
+  }
   std::string cr_only = base_csv();
   for (char& c : cr_only)
     if (c == '\n') c = '\r';
@@ -93,6 +99,10 @@ std::vector<Case> corpus() {
        {"fit", "rc.csv.gz", "--model", "WN"},
        {"rc.csv.gz", "100 Hz", "200 Hz"},
        file("rc.csv.gz", gzip_member(rate_change))},
+      {"timestamps beyond the largest sampling rate",
+       {"wv", "g.csv"},
+       {"g.csv: timestamps 'time' in s", "= 1e+10 Hz, expected a sampling rate in Hz from 1e-09 to 1e+09", "--freq"},
+       file("g.csv", ten_ghz)},
       {"plain rows after a gzip member",
        {"wv", "m.csv.gz"},
        {"m.csv.gz: found bytes that are not gzip data after the end of the gzip stream, at byte offset"},

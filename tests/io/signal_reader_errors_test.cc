@@ -235,6 +235,33 @@ TEST_F(SignalReaderErrors, RejectsTimestampsThatNeverIncreaseWhenNoFreqIsGiven) 
   EXPECT_EQ(read_error(p, o), "no error");
 }
 
+TEST_F(SignalReaderErrors, RejectsTimestampsWhoseRateIsBeyondTheRateEveryOptionAccepts) {
+  // The same rule as --freq (sampling_rate_problem): stamps 0.1 ns apart give 10 GHz.
+  std::string rows;
+  char buf[64];
+  for (int i = 0; i < 20; ++i) {
+    std::snprintf(buf, sizeof buf, "%.17g,%d\n", i * 1e-10, i % 4);
+    rows += buf;
+  }
+  const std::string p = file("time [s],x\n" + rows);
+  EXPECT_EQ(read_error(p), p + ": timestamps 'time [s]' in s (stated in the header): median step 0.0001 us = "
+                               "1e+10 Hz, expected a sampling rate in Hz from 1e-09 to 1e+09; give --freq HZ to set "
+                               "the rate");
+  ReadOptions o;
+  o.freq = 1e9;  // the rate given: the stamps are not used for it
+  EXPECT_EQ(read_error(p, o), "no error");
+  // 1e10 s apart (one sample in 317 years) is as far below the slowest rate.
+  rows.clear();
+  for (int i = 0; i < 20; ++i) rows += std::to_string(i) + "e10," + std::to_string(i % 4) + "\n";
+  const std::string slow = read_error(file("time [s],x\n" + rows));
+  EXPECT_TRUE(contains(slow, "x.csv: timestamps 'time [s]' in s")) << slow;
+  EXPECT_TRUE(contains(slow, "= 1e-10 Hz, expected a sampling rate in Hz from 1e-09 to 1e+09")) << slow;
+  // The largest rate itself, integer nanoseconds one apart, is read.
+  rows.clear();
+  for (int i = 0; i < 20; ++i) rows += std::to_string(i) + "," + std::to_string(i % 4) + "\n";
+  EXPECT_DOUBLE_EQ(gmwm::io::read_signals(file("time [ns],x\n" + rows), {}).freq, 1e9);
+}
+
 TEST_F(SignalReaderErrors, RejectsATextTimestampColumnWhenNoFreqIsGiven) {
   std::string rows;
   for (int i = 0; i < 20; ++i) rows += "12:00:" + std::to_string(10 + i) + "," + std::to_string(i % 4) + "\n";

@@ -62,7 +62,7 @@ SignalSet LogColumns::finish(const std::string& preset, const TimeUnit& unit, co
   }
   set.timing = analyse_timing("stamp", steps_, first_, unit, unit_source);
   set.timing->given_freq = options_.freq;
-  check_one_rate(path_, *set.timing, options_);
+  check_timestamp_rate(path_, *set.timing, options_);
   if (options_.freq) {
     set.freq = *options_.freq;
     set.freq_known = true;

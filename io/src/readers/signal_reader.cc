@@ -130,11 +130,17 @@ std::size_t resolve_column(const std::string& path, const std::string& raw_spec,
 
 }  // namespace
 
+std::string sampling_rate_expected() {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "a sampling rate in Hz from %g to %g", kMinFreq, kMaxFreq);
+  return buf;
+}
+
 std::string sampling_rate_problem(double freq, const std::string& option) {
   if (freq >= kMinFreq && freq <= kMaxFreq) return {};
-  char buf[96];
-  std::snprintf(buf, sizeof buf, ": found %g, expected a sampling rate in Hz from %g to %g", freq, kMinFreq, kMaxFreq);
-  return option + buf;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, ": found %g", freq);
+  return option + buf + ", expected " + sampling_rate_expected();
 }
 
 std::string levels_problem(int levels, std::int64_t n, const std::string& option) {
@@ -387,7 +393,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
     }
     set.timing = detail::analyse_timing(c.header, parser.time_steps(), parser.first_time(), unit, source);
     set.timing->given_freq = options.freq;
-    detail::check_one_rate(path, *set.timing, options);
+    detail::check_timestamp_rate(path, *set.timing, options);
   }
   if (options.freq) {
     set.freq = *options.freq;

@@ -307,8 +307,14 @@ std::pair<std::int64_t, double> StepStatistics::above(double limit) const {
   return {n, largest};
 }
 
-void check_one_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options) {
-  if (!timing.rate_change || options.freq) return;
+void check_timestamp_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options) {
+  if (options.freq) return;
+  if (timing.estimated_freq > 0.0 && !sampling_rate_problem(timing.estimated_freq, "").empty())
+    throw InputError(path + ": timestamps '" + timing.column + "' in " + timing.unit + " (" + timing.unit_source +
+                     "): median step " + format_duration(timing.median_step_seconds) + " = " +
+                     format_hz(timing.estimated_freq) + ", expected " + sampling_rate_expected() +
+                     "; give --freq HZ to set the rate");
+  if (!timing.rate_change) return;
   throw InputError(path + ": timestamps '" + timing.column + "': " + timing.rate_change_text() +
                    ", expected one rate (a wavelet variance's scales are counted in samples): split the record "
                    "there, or give --freq HZ to take the samples as evenly spaced");

@@ -112,9 +112,11 @@ class StepStatistics {
 /// in s/ms/us/ns) or from the median step.
 TimingReport analyse_timing(const std::string& column, const StepStatistics& steps, double first_time,
                             const TimeUnit& unit, const std::string& unit_source);
-/// Refuses (InputError naming the file and the column) a record whose sampling rate
-/// changes within it, unless options.freq says to take the samples as evenly spaced.
-void check_one_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options);
+/// Refuses (InputError naming the file and the column) a rate the stamps give that cannot
+/// be used: one outside sampling_rate_problem's range (the rule every rate option follows),
+/// or one that changes within the record. Nothing is refused when options.freq gives the
+/// rate (and says to take the samples as evenly spaced).
+void check_timestamp_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options);
 
 /// The same from times relative to the first one.
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,

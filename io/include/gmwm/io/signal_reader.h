@@ -79,8 +79,12 @@ inline constexpr double kMinFreq = 1e-9;
 inline constexpr double kMaxFreq = 1e9;
 
 /// "" when `freq` is within [kMinFreq, kMaxFreq], else "OPTION: found F, expected a
-/// sampling rate in Hz from 1e-09 to 1e+09" with `option` naming where it came from.
+/// sampling rate in Hz from 1e-09 to 1e+09" with `option` naming where it came from. The
+/// one rule for every rate: the options (--freq, --rate, ...), a manifest's, and the rate
+/// a timestamp column gives (read_signals refuses stamps beyond it).
 std::string sampling_rate_problem(double freq, const std::string& option);
+/// "a sampling rate in Hz from 1e-09 to 1e+09": what sampling_rate_problem expects.
+std::string sampling_rate_expected();
 
 /// "" when `levels` (0: all) is at most J = floor(log2 n), the deepest level a series of
 /// n samples has; else "OPTION LEVELS: the signals have N samples, which give at most J
