@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string_view>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/io/units.h"
@@ -26,7 +27,7 @@ constexpr double kSecondsPerHour = 3600.0;
 constexpr double kSqrtSecondsPerHour = 60.0;
 constexpr double kStandardGravity = 9.80665;
 
-std::size_t width_of(const std::string& s) {
+std::size_t width_of(std::string_view s) {
   // UTF-8 continuation bytes take no column.
   return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (c & 0xC0) != 0x80; }));
 }
@@ -177,42 +178,63 @@ std::string TextTable::str(std::size_t width) const {
 }
 
 std::string wrap_to_width(const std::string& text, std::size_t width) {
+  // Linear in the text: a long line is consumed from its front through a view, each cut
+  // looking at the next `width` columns only (the line used to be copied whole at each cut:
+  // a 2 MB name took 28.6 s, issue 42).
   std::string out;
+  std::string piece;
   std::size_t start = 0;
   while (start < text.size()) {
     const std::size_t nl = text.find('\n', start);
     const std::size_t end = nl == std::string::npos ? text.size() : nl;
-    std::string line = text.substr(start, end - start);
+    std::string_view line(text.data() + start, end - start);
+    std::size_t cols = width_of(line);
     // An indent past half the width is cut to half (a line of spaces alone, to nothing).
-    if (const std::size_t lead = line.find_first_not_of(' '); lead == std::string::npos) {
-      if (width_of(line) > width) line.clear();
-    } else if (lead > width / 2 && width_of(line) > width) {
-      line.erase(0, lead - width / 2);
+    if (const std::size_t lead = line.find_first_not_of(' '); lead == std::string_view::npos) {
+      if (cols > width) {
+        line = {};
+        cols = 0;
+      }
+    } else if (lead > width / 2 && cols > width) {
+      line.remove_prefix(lead - width / 2);
+      cols -= lead - width / 2;
     }
     const std::size_t indent = std::min(line.find_first_not_of(' '), width / 2);
     // Continuations indented 4 past the line: clear of the 2-space items under a line.
     const std::string hang(std::min(indent + kWrapHang, width / 2), ' ');
-    while (width_of(line) > width) {
+    std::string_view prefix;  // what precedes the line's rest: nothing, then the hang
+    while (prefix.size() + cols > width) {
+      // The head the cut looks at: the prefix and the rest up to its (width + 1)-th column.
+      std::size_t bytes = 0, seen = prefix.size();
+      for (; bytes < line.size(); ++bytes)
+        if ((static_cast<unsigned char>(line[bytes]) & 0xC0) != 0x80 && seen++ == width + 1) break;
+      piece.assign(prefix);
+      piece.append(line.substr(0, bytes));
       // Cut at the last space within the width that follows some text of this line (so that
       // every cut moves on), else within the word at the width.
-      const std::size_t text_from = std::min(line.find_first_not_of(' '), line.size());
-      std::size_t cut = std::string::npos, hard = 0, cols = 0;
-      for (std::size_t i = 0; i < line.size(); ++i) {
-        if ((static_cast<unsigned char>(line[i]) & 0xC0) != 0x80 && ++cols > width) break;
+      const std::size_t text_from = std::min(piece.find_first_not_of(' '), piece.size());
+      std::size_t cut = std::string::npos, hard = 0, used = 0;
+      for (std::size_t i = 0; i < piece.size(); ++i) {
+        if ((static_cast<unsigned char>(piece[i]) & 0xC0) != 0x80 && ++used > width) break;
         hard = i + 1;
-        if (line[i] == ' ' && i > text_from) cut = i;
+        if (piece[i] == ' ' && i > text_from) cut = i;
       }
       const bool at_space = cut != std::string::npos;
-      const std::size_t take = std::min(at_space ? cut : std::max<std::size_t>(hard, text_from + 1), line.size());
-      std::string head = line.substr(0, take);
-      while (!head.empty() && head.back() == ' ') head.pop_back();
-      out += head + "\n";
-      std::string rest = line.substr(at_space ? take + 1 : take);
-      rest.erase(0, std::min(rest.find_first_not_of(' '), rest.size()));
-      line = hang + rest;
+      const std::size_t take = std::min(at_space ? cut : std::max<std::size_t>(hard, text_from + 1), piece.size());
+      std::size_t head = take;
+      while (head > 0 && piece[head - 1] == ' ') --head;
+      out.append(piece, 0, head);
+      out += '\n';
+      // The rest: after the cut (and its space), without the spaces that lead it.
+      std::size_t consumed = take - prefix.size() + (at_space ? 1 : 0);
+      while (consumed < line.size() && line[consumed] == ' ') ++consumed;
+      cols -= width_of(line.substr(0, consumed));
+      line.remove_prefix(consumed);
+      prefix = hang;
     }
-    out += line;
-    if (nl != std::string::npos) out += "\n";
+    out.append(prefix);
+    out.append(line);
+    if (nl != std::string::npos) out += '\n';
     start = end + 1;
   }
   return out;

@@ -128,6 +128,27 @@ TEST_F(GmwmFleet, RefusesAUnitNameWithAControlByteBeforeItReachesAnOutput) {
   EXPECT_FALSE(fs::exists(dir_ / "t.csv"));
 }
 
+// Issue 42 item 14: a field of 2 MB made the terminal table take 28.6 s. A field is at most
+// io::kMaxManifestFieldBytes (4096, a path's longest), a longer one refused up front in one
+// line naming its row and field, in CSV and in YAML.
+TEST_F(GmwmFleet, RefusesAManifestFieldLongerThanAPathInOneLineNamingTheRowAndField) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN" + std::string(2 << 20, '2') + ",IMU-X\n");
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json"}, dir_);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  gmwm::test::expect_bad_input(r, {"fleet.csv:3: unit: found 2097154 bytes, expected at most 4096"}, dir_ / "f.json");
+  EXPECT_LT(seconds, 2.0);  // read and refused: no analysis, no table
+  write("fleet.yaml",
+        "recordings:\n  - {path: unit1.csv, unit: SN1, model: IMU-X, group: " + std::string(4097, 'g') + "}\n");
+  auto y = run_gmwm({"fleet", "fleet.yaml", "--model", "WN+RW", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(y, {"fleet.yaml:2: group: found 4097 bytes, expected at most 4096"}, dir_ / "f.json");
+  // At the cap: analysed, the name whole in the JSON.
+  write("fleet.csv", "path,unit,model,group\nunit1.csv,SN1,IMU-X," + std::string(4096, 'g') + "\n");
+  auto ok = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json", "--no-cache"}, dir_);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(read_json(dir_ / "f.json")["rows"][0].at("group"), std::string(4096, 'g'));
+}
+
 TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn) {
   // A data row far into the file is not a number: the header is fine, the read fails.
   std::string text = gmwm::test::read_text(dir_ / "unit2.csv");

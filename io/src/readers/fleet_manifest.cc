@@ -86,6 +86,10 @@ FleetRecording recording_of(const std::map<std::string, std::string>& f, int row
     const auto it = f.find(k);
     return it == f.end() ? std::string() : it->second;
   };
+  for (const auto& [name, value] : f)
+    if (value.size() > kMaxManifestFieldBytes)
+      throw InputError(where + name + ": found " + std::to_string(value.size()) + " bytes, expected at most " +
+                       std::to_string(kMaxManifestFieldBytes) + " (a path's longest, PATH_MAX)");
   r.path = get("path");
   r.unit = get("unit");
   r.model = get("model");

@@ -37,12 +37,19 @@ struct FleetManifest {
 /// The largest manifest read (a fleet of ~10^5 recordings' rows).
 inline constexpr std::size_t kMaxManifestBytes = std::size_t{16} << 20;
 
+/// The longest field of a row, bytes: Linux's PATH_MAX (4096, <linux/limits.h>), the longest
+/// path a row can name; a unit id, sensor model, topic, column list, units spec, rate or group
+/// is far shorter. A longer field is refused with the manifest (one line naming its row and
+/// field) before anything reads it: every name reaches the table, the JSON and the terminal.
+inline constexpr std::size_t kMaxManifestFieldBytes = 4096;
+
 /// A row's `columns` as io::ReadOptions::columns takes them: split at commas, each trimmed.
 std::vector<std::string> manifest_columns(const std::string& columns);
 
 /// Reads a manifest (YAML when it ends in .yaml or .yml, else CSV). Throws InputError
 /// naming "MANIFEST:LINE" for what makes the file unreadable as a whole: no header or an
-/// unknown field in it, a malformed row, an empty manifest.
+/// unknown field in it, a malformed row, a field longer than kMaxManifestFieldBytes, an
+/// empty manifest.
 FleetManifest read_fleet_manifest(const std::string& path);
 
 /// Every recording's problems checked before any work, one line each naming
