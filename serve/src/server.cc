@@ -66,6 +66,7 @@ void answer_and_close(httplib::Response& res, const HttpResponse& a) {
   res.set_header("Connection", "close");
   const auto body = std::make_shared<std::string>(std::move(res.body));
   res.body.clear();
+  res.headers.erase("Content-Type");  // set again by the provider
   res.set_content_provider(body->size(), a.content_type.c_str(),
                            [body](std::size_t offset, std::size_t, httplib::DataSink& sink) {
                              sink.write(body->data() + offset, body->size() - offset);
