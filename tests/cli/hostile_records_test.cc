@@ -51,6 +51,11 @@ std::vector<Case> corpus() {
     std::snprintf(stamp, sizeof stamp, "%.17g,%.6f\n", i * 1e-10, std::sin(i * 0.37));
     ten_ghz += stamp;
   }
+  std::string epoch_ghz = "time,gyro_x\n";  // 1 GHz on seconds since 1970, held to 0.24 us
+  for (int i = 0; i < 4096; ++i) {
+    std::snprintf(stamp, sizeof stamp, "1700000000.%09d,%.6f\n", i, std::sin(i * 0.37));
+    epoch_ghz += stamp;
+  }
   std::string cr_only = base_csv();
   for (char& c : cr_only)
     if (c == '\n') c = '\r';
@@ -103,6 +108,11 @@ std::vector<Case> corpus() {
        {"wv", "g.csv"},
        {"g.csv: timestamps 'time' in s", "= 1e+10 Hz, expected a sampling rate in Hz from 1e-09 to 1e+09", "--freq"},
        file("g.csv", ten_ghz)},
+      {"stamps finer than a double holds at their magnitude",
+       {"wv", "e.csv"},
+       {"e.csv: timestamps 'time'", "doubles hold stamps near 1.7e+09 s only to 0.2384 us",
+        "too coarse to resolve the sampling rate", "--freq"},
+       file("e.csv", epoch_ghz)},
       {"plain rows after a gzip member",
        {"wv", "m.csv.gz"},
        {"m.csv.gz: found bytes that are not gzip data after the end of the gzip stream, at byte offset"},

@@ -262,6 +262,45 @@ TEST_F(SignalReaderErrors, RejectsTimestampsWhoseRateIsBeyondTheRateEveryOptionA
   EXPECT_DOUBLE_EQ(gmwm::io::read_signals(file("time [ns],x\n" + rows), {}).freq, 1e9);
 }
 
+namespace {
+
+// Stamps in seconds since 1970 written to the nanosecond, `step_ns` apart.
+std::string epoch_rows(int rows, std::int64_t step_ns) {
+  std::string s;
+  char buf[64];
+  for (int i = 0; i < rows; ++i) {
+    const std::int64_t ns = i * step_ns;
+    std::snprintf(buf, sizeof buf, "%lld.%09lld,%d\n", 1700000000LL + static_cast<long long>(ns / 1000000000),
+                  static_cast<long long>(ns % 1000000000), i % 4);
+    s += buf;
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_F(SignalReaderErrors, RejectsStampsTooCoarseAsDoublesToResolveTheirRate) {
+  // 1 GHz on an epoch in seconds: a double holds 1.7e9 only to 2^-22 s = 0.2384 us, so the
+  // stamps repeat or jump by that much and gave 4.1943 MHz.
+  const std::string p = file("time,x\n" + epoch_rows(4096, 1));
+  EXPECT_EQ(read_error(p), p + ": timestamps 'time' in s (guessed from the median step; state it in the header, e.g. "
+                               "'time [s]'): median step 0.2384 us = 4.1943e+06 Hz, but doubles hold stamps near "
+                               "1.7e+09 s only to 0.2384 us, too coarse to resolve the sampling rate (to 1% it needs "
+                               "steps of at least 23.84 us); give --freq HZ, or write the stamps relative to the start "
+                               "or as integer nanoseconds");
+  // 1 MHz: steps of 4 or 5 units in the last place, a rate up to 25% wrong.
+  EXPECT_TRUE(contains(read_error(file("time,x\n" + epoch_rows(64, 1000))), "too coarse to resolve the sampling rate"));
+  ReadOptions o;
+  o.freq = 1e6;  // the rate given: the stamps are not used for it
+  EXPECT_EQ(read_error(p, o), "no error");
+  // 1 kHz on the same epoch (4194 units in the last place a step), and 1 GHz as integer
+  // nanoseconds (subtracted exactly), are read.
+  EXPECT_NEAR(gmwm::io::read_signals(file("time,x\n" + epoch_rows(64, 1000000)), {}).freq, 1000.0, 1000.0 * 1e-3);
+  std::string ns;
+  for (int i = 0; i < 64; ++i) ns += std::to_string(1700000000000000000LL + i) + "," + std::to_string(i % 4) + "\n";
+  EXPECT_DOUBLE_EQ(gmwm::io::read_signals(file("time [ns],x\n" + ns), {}).freq, 1e9);
+}
+
 TEST_F(SignalReaderErrors, RejectsATextTimestampColumnWhenNoFreqIsGiven) {
   std::string rows;
   for (int i = 0; i < 20; ++i) rows += "12:00:" + std::to_string(10 + i) + "," + std::to_string(i % 4) + "\n";

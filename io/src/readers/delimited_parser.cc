@@ -289,7 +289,7 @@ void RowParser::store_time(const char* b, const char* e, std::int64_t line_numbe
   if (is_int && first_time_is_int_ && !__builtin_sub_overflow(i, first_time_int_, &diff))
     time_steps_.add(static_cast<double>(diff));
   else
-    time_steps_.add(v - first_time_);
+    time_steps_.add(v - first_time_, std::max(std::fabs(v), std::fabs(first_time_)));
 }
 
 void RowParser::fail_cell(std::int64_t line_number, std::size_t field, std::string_view text,

@@ -5,6 +5,8 @@
 // to their steps as they come (StepStatistics), and at the end the checks of a signal set
 // (enough messages, no constant axis) and the timing report.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -37,7 +39,7 @@ class LogColumns {
   template <class Where>
   void add(double stamp, const double* values, Where&& where) {
     if (count_ == 0) first_ = stamp;
-    steps_.add(stamp - first_);
+    steps_.add(stamp - first_, std::max(std::fabs(stamp), std::fabs(first_)));
     last_ = stamp;
     for (std::size_t k = 0; k < pick_.size(); ++k) columns_[k].push_back(values[pick_[k]]);
     sink_.after_row(++count_, where);

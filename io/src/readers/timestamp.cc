@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <span>
 
 namespace gmwm::io::detail {
@@ -180,7 +181,8 @@ StepStatistics::~StepStatistics() = default;
 StepStatistics::StepStatistics(StepStatistics&&) noexcept = default;
 StepStatistics& StepStatistics::operator=(StepStatistics&&) noexcept = default;
 
-void StepStatistics::add(double offset) {
+void StepStatistics::add(double offset, double magnitude) {
+  magnitude_ = std::max(magnitude_, magnitude);
   if (samples_++ == 0) {
     previous_ = offset;
     return;
@@ -309,6 +311,18 @@ std::pair<std::int64_t, double> StepStatistics::above(double limit) const {
 
 void check_timestamp_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options) {
   if (options.freq) return;
+  if (timing.estimated_freq > 0.0 &&
+      timing.resolution_seconds > TimingReport::kDisagreement * timing.median_step_seconds) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%g%%", 100.0 * TimingReport::kDisagreement);
+    throw InputError(
+        path + ": timestamps '" + timing.column + "' in " + timing.unit + " (" + timing.unit_source +
+        "): median step " + format_duration(timing.median_step_seconds) + " = " + format_hz(timing.estimated_freq) +
+        ", but doubles hold stamps near " + format_duration(timing.largest_stamp_seconds) + " only to " +
+        format_duration(timing.resolution_seconds) + ", too coarse to resolve the sampling rate (to " + share +
+        " it needs steps of at least " + format_duration(timing.resolution_seconds / TimingReport::kDisagreement) +
+        "); give --freq HZ, or write the stamps relative to the start or as integer nanoseconds");
+  }
   if (timing.estimated_freq > 0.0 && !sampling_rate_problem(timing.estimated_freq, "").empty())
     throw InputError(path + ": timestamps '" + timing.column + "' in " + timing.unit + " (" + timing.unit_source +
                      "): median step " + format_duration(timing.median_step_seconds) + " = " +
@@ -360,6 +374,10 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
     }
   }
   r.median_step_seconds = step * r.unit_to_seconds;
+  if (const double m = steps.largest_magnitude(); m > 0.0) {
+    r.largest_stamp_seconds = m * r.unit_to_seconds;
+    r.resolution_seconds = (std::nextafter(m, std::numeric_limits<double>::infinity()) - m) * r.unit_to_seconds;
+  }
   r.estimated_freq = step > 0.0 ? 1.0 / r.median_step_seconds : 0.0;
   if (const std::optional<RateChange> c = steps.rate_change()) {
     r.rate_change = TimingReport::RateChange{1.0 / (c->from_step * r.unit_to_seconds),

@@ -65,9 +65,14 @@ class StepStatistics {
   StepStatistics(StepStatistics&&) noexcept;
   StepStatistics& operator=(StepStatistics&&) noexcept;
 
-  /// The next time, relative to the first one (the first call passes 0).
-  void add(double offset);
+  /// The next time, relative to the first one (the first call passes 0). `magnitude`: the
+  /// largest |time| the offset was computed from when those times were held as doubles,
+  /// whose spacing there bounds what the steps can show; 0 when the offset is exact
+  /// (integer times subtracted as integers).
+  void add(double offset, double magnitude = 0.0);
   std::int64_t samples() const { return samples_; }
+  /// The largest `magnitude` added (0: every step exact).
+  double largest_magnitude() const { return magnitude_; }
   /// Steps that are not increasing (zero or negative).
   std::int64_t disorder() const { return disorder_; }
   /// Median of the increasing steps (the mean of the two middle ones for an even count);
@@ -92,6 +97,7 @@ class StepStatistics {
   std::int64_t samples_ = 0;
   std::int64_t disorder_ = 0;
   double previous_ = 0.0;
+  double magnitude_ = 0.0;
   // The current run of equal steps, counted before it is added to the table (consecutive
   // steps of a uniform log are mostly equal: one comparison instead of a hash lookup).
   mutable double run_step_ = 0.0;

@@ -128,6 +128,14 @@ struct TimingReport {
   std::int64_t gaps = 0;             ///< steps > kGapFactor x median step
   double largest_gap_seconds = 0.0;  ///< largest step counted as a gap (0 when no gap)
   std::int64_t disorder = 0;         ///< non-increasing steps (repeated or backwards times)
+  /// Stamps read as decimals are held as doubles: the spacing of doubles (one unit in the
+  /// last place) at the largest stamp, in seconds, and that stamp. A step between two such
+  /// stamps is off by up to about that spacing, so the readers refuse (without --freq) a
+  /// median step less than 1 / kDisagreement times it: 1.7e9 s since 1970 are held to
+  /// 0.24 us, too coarse for steps under 24 us. 0 when the steps are exact (integer stamps,
+  /// subtracted as integers).
+  double resolution_seconds = 0.0;
+  double largest_stamp_seconds = 0.0;
   std::optional<double> given_freq;  ///< --freq, when it was given as well
   /// A sustained change of the sampling rate inside the record (blocks of 1024 steps whose
   /// typical steps differ by more than 1.2x; gaps and jitter do not count): the rate at the
