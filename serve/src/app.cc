@@ -90,8 +90,9 @@ struct App::State {
   std::string public_text(std::string message);
   std::string render_page() const;
   Json files();
-  // The last listing and when it was walked (kListingSeconds), one walk at a time.
-  std::mutex listing_mutex;
+  detail::Folder::Listing current_listing();
+  // The last listing and when it was walked (listing_seconds), one walk at a time.
+  std::mutex listing_mutex, walk_mutex;
   std::optional<detail::Folder::Listing> listing;
   std::chrono::steady_clock::time_point listed_at;
   Json open(const Body& b);
@@ -159,18 +160,37 @@ std::string App::State::render_page() const {
   return html;
 }
 
-Json App::State::files() {
-  detail::Folder::Listing l;
+detail::Folder::Listing App::State::current_listing() {
+  const auto fresh = [this] {
+    return listing && std::chrono::duration<double>(std::chrono::steady_clock::now() - listed_at).count() <
+                          options.listing_seconds;
+  };
+  std::optional<detail::Folder::Listing> last;
   {
-    // Pages that ask while a walk runs wait for it and share it.
     std::lock_guard lock(listing_mutex);
-    const auto now = std::chrono::steady_clock::now();
-    if (!listing || std::chrono::duration<double>(now - listed_at).count() >= options.listing_seconds) {
-      listing = folder.list();
-      listed_at = std::chrono::steady_clock::now();
-    }
-    l = *listing;
+    if (fresh()) return *listing;
+    last = listing;
   }
+  // One walk at a time: a page that asks while another walks gets the last listing at once;
+  // only the very first listing is waited for.
+  std::unique_lock walk(walk_mutex, std::try_to_lock);
+  if (!walk.owns_lock()) {
+    if (last) return *last;
+    walk.lock();
+  }
+  {
+    std::lock_guard lock(listing_mutex);
+    if (fresh()) return *listing;  // walked while this one waited
+  }
+  detail::Folder::Listing walked = folder.list();
+  std::lock_guard lock(listing_mutex);
+  listing = walked;
+  listed_at = std::chrono::steady_clock::now();
+  return walked;
+}
+
+Json App::State::files() {
+  const detail::Folder::Listing l = current_listing();
   const auto rows = [](const std::vector<detail::Folder::Entry>& v) {
     Json a = Json::array();
     for (const auto& e : v) a.push_back({{"path", e.path}, {"size", e.size}});

@@ -1,6 +1,7 @@
 #include "folder.h"
 
 #include <algorithm>
+#include <deque>
 #include <system_error>
 
 #include "gmwm/engine/error.h"
@@ -78,43 +79,53 @@ std::optional<fs::path> Folder::resolve(const std::string& relative, FileKind ki
 }
 
 Folder::Listing Folder::list() const {
+  // Breadth first: a folder's own files before its subfolders' (a subfolder of a million
+  // files that are not recordings, walked first, would hide the recordings beside it once
+  // the walk's bound is reached).
   Listing out;
-  std::error_code ec;
-  fs::recursive_directory_iterator it(root_, fs::directory_options::skip_permission_denied, ec), end;
+  std::deque<std::pair<fs::path, int>> folders = {{root_, 0}};
   std::size_t walked = 0;
-  for (; !ec && it != end; it.increment(ec)) {
-    if (++walked > max_walked_) {
-      out.truncated = true;
-      break;
+  while (!folders.empty() && !out.truncated) {
+    const auto [dir, depth] = folders.front();
+    folders.pop_front();
+    std::error_code ec;
+    fs::directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+      if (++walked > max_walked_) {
+        out.truncated = true;
+        break;
+      }
+      const fs::directory_entry& e = *it;
+      const std::string name = e.path().filename().string();
+      if (!name.empty() && name.front() == '.') continue;  // hidden: neither listed nor walked
+      std::error_code e2;
+      // Links to folders are not followed (a link would make a cycle, or leave the folder).
+      if (e.is_directory(e2) && !e.is_symlink(e2)) {
+        if (depth + 1 < kMaxListedDepth)
+          folders.emplace_back(e.path(), depth + 1);
+        else
+          out.truncated = true;
+        continue;
+      }
+      const fs::path relative = e.path().lexically_relative(root_);
+      const auto kind = offered_kind(relative);
+      if (!kind) continue;
+      // A path the walk reached without a link is its own resolved path (the walk starts at
+      // the resolved root and follows no link); a link is resolved.
+      std::optional<fs::path> resolved;
+      if (e.is_symlink(e2))
+        resolved =
+            resolve(relative.string(), *kind);  // nullopt: it leaves the folder, or points at what is not offered
+      else if (e.is_regular_file(e2))
+        resolved = e.path();
+      if (!resolved) continue;
+      if (out.recordings.size() + out.configs.size() >= kMaxListedFiles) {
+        out.truncated = true;
+        break;
+      }
+      Entry entry{relative.generic_string(), fs::file_size(*resolved, e2)};
+      (*kind == FileKind::kRecording ? out.recordings : out.configs).push_back(std::move(entry));
     }
-    const fs::directory_entry& e = *it;
-    const std::string name = e.path().filename().string();
-    if (!name.empty() && name.front() == '.') {  // hidden: neither listed nor walked
-      it.disable_recursion_pending();
-      continue;
-    }
-    if (it.depth() >= kMaxListedDepth) {
-      it.disable_recursion_pending();
-      out.truncated = true;
-    }
-    const fs::path relative = e.path().lexically_relative(root_);
-    const auto kind = offered_kind(relative);
-    if (!kind) continue;
-    // A path the walk reached without a link is its own resolved path (the walk starts at
-    // the resolved root and does not follow links to folders); a link is resolved.
-    std::error_code e2;
-    std::optional<fs::path> resolved;
-    if (e.is_symlink(e2))
-      resolved = resolve(relative.string(), *kind);  // nullopt: it leaves the folder, or points at what is not offered
-    else if (e.is_regular_file(e2))
-      resolved = e.path();
-    if (!resolved) continue;
-    if (out.recordings.size() + out.configs.size() >= kMaxListedFiles) {
-      out.truncated = true;
-      break;
-    }
-    Entry entry{relative.generic_string(), fs::file_size(*resolved, e2)};
-    (*kind == FileKind::kRecording ? out.recordings : out.configs).push_back(std::move(entry));
   }
   const auto by_path = [](const Entry& a, const Entry& b) { return a.path < b.path; };
   std::sort(out.recordings.begin(), out.recordings.end(), by_path);

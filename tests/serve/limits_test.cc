@@ -116,6 +116,10 @@ TEST_F(ServeLimitsTest, TheListingWalksABoundedNumberOfEntriesAndIsSharedWhileFr
   for (int k = 0; k < 200; ++k) write_text(folder_ / "a_many" / ("note" + std::to_string(k) + ".log"), "");
   const OJson first = body_of(get("/api/files"));
   EXPECT_TRUE(first.at("truncated").get<bool>()) << "50 entries walked of 200+";
+  // Breadth first: the recordings beside the big folder are listed before its contents are
+  // walked (depth first, the walk's bound was reached inside it and imu.csv was missing).
+  ASSERT_FALSE(first.at("files").empty()) << first.dump();
+  EXPECT_EQ(first.at("files")[0].at("path"), "imu.csv") << first.dump();
   // While fresh, the same listing is answered (nothing walked again).
   write_text(folder_ / "new.csv", "timestamp,gyro_x\n0,1\n");
   EXPECT_EQ(body_of(get("/api/files")), first);
