@@ -43,9 +43,10 @@ if [[ $mode == quick ]]; then
   done
   GMWM_CLI=$(pwd)/$dir/gmwm "$cli_tests" --gtest_brief=1 --gtest_filter='Corpus/Hostile.*:GmwmCliOutputSafety.*' || rc=1
   # The web app's hostile requests (traversal, limits, malformed bodies, a hundred clients,
-  # dropped connections, cancellation), served by the sanitized library.
+  # dropped connections, cancellation, the guard's rules, the bounds, the hostile corpus of
+  # crafted requests), served by the sanitized library.
   GMWM_CLI=$(pwd)/$dir/gmwm "$dir/test_serve" --gtest_brief=1 \
-    --gtest_filter='ServeServerTest.*:ServeAppTest.Refuses*:ServeAppTest.AJsonBody*:ServeAppTest.AnUpload*:ServeAppTest.TwoTabs*:ServeAppTest.Cancelling*' || rc=1
+    --gtest_filter='ServeServerTest.*:ServeGuardTest.*:ServeLimitsTest.*:Corpus/ServeHostileRequests.*:ServeAppTest.Refuses*:ServeAppTest.AJsonBody*:ServeAppTest.AnUpload*:ServeAppTest.TwoTabs*:ServeAppTest.Cancelling*' || rc=1
   echo "gmwm sanitizer pass (ASan+UBSan: engine, readers, fuzz corpus, hostile inputs, output safety, web app): $([[ $rc == 0 ]] && echo clean || echo FAILED)"
   exit $rc
 fi
