@@ -24,6 +24,13 @@ const std::string kYamlWithoutGyroDensity =
     "gyroscope_random_walk: 2.0e-05\nupdate_rate: 100.0\n";
 const std::string kYaml = kYamlWithoutGyroDensity + "gyroscope_noise_density: 8.73e-04\n";
 
+// A gz-sensors IMU whose gyro x noise block (line 5) holds `figures`.
+std::string gz_sdf(const std::string& figures) {
+  return "<sdf version=\"1.9\">\n<sensor name=\"imu\" type=\"imu\">\n<imu>\n<angular_velocity>\n"
+         "<x><noise type=\"gaussian\">" +
+         figures + "</noise></x>\n</angular_velocity>\n</imu>\n</sensor>\n</sdf>\n";
+}
+
 std::vector<Case> corpus() {
   const std::string rows = base_csv();
   const auto base = file("base.csv", rows);
@@ -270,6 +277,51 @@ std::vector<Case> corpus() {
        {"gap", "base.csv", "--datasheet", "d.yaml"},
        {"d.yaml"},
        both(base, file("d.yaml", "gyroscope:\n  in_run_bias_stability: 1e300 deg/s\n"))},
+      {"SDF stddev whose variance overflows",
+       {"gap", "base.csv", "--gazebo", "s.sdf"},
+       {"--gazebo s.sdf:5: angular_velocity/x/noise/stddev: 1e+308 rad/s gives WN sigma2 = inf per sample",
+        "expected a figure near the sensor's"},
+       both(base, file("s.sdf", gz_sdf("<stddev>1e308</stddev>")))},
+      {"SDF stddev whose variance underflows",
+       {"gap", "base.csv", "--gazebo", "s.sdf"},
+       {"s.sdf:5: angular_velocity/x/noise/stddev: 1e-170 rad/s gives WN sigma2 = 0 per sample"},
+       both(base, file("s.sdf", gz_sdf("<stddev>1e-170</stddev>")))},
+      {"SDF stddev below a double's normal numbers",
+       {"gap", "base.csv", "--gazebo", "s.sdf"},
+       {"s.sdf:5: angular_velocity/x/noise/stddev: found 1e-320, beyond the range of a double"},
+       both(base, file("s.sdf", gz_sdf("<stddev>1e-320</stddev>")))},
+      {"SDF precision whose rounding variance overflows",
+       {"gap", "base.csv", "--gazebo", "s.sdf"},
+       {"s.sdf:5: angular_velocity/x/noise/precision: 1e+200 rad/s gives a rounding variance"},
+       both(base, file("s.sdf", gz_sdf("<stddev>0.01</stddev><precision>1e200</precision>")))},
+      {"SDF dynamic bias a double cannot tell from a random walk",
+       {"gap", "base.csv", "--gazebo", "s.sdf"},
+       {"s.sdf:5: angular_velocity/x/noise/dynamic_bias_correlation_time: 1e+308 s", "rounds to 1"},
+       both(base, file("s.sdf", gz_sdf("<dynamic_bias_stddev>2e-5</dynamic_bias_stddev>"
+                                       "<dynamic_bias_correlation_time>1e308</dynamic_bias_correlation_time>")))},
+      {"RotorS noise density whose variance overflows",
+       {"gap", "base.csv", "--gazebo", "r.sdf"},
+       {"r.sdf:2: gyroscopeNoiseDensity: 1e+308 rad/s/sqrt(Hz) gives WN sigma2 = inf per sample"},
+       both(base, file("r.sdf",
+                       "<plugin name=\"imu\">\n<gyroscopeNoiseDensity>1e308</gyroscopeNoiseDensity>\n"
+                       "</plugin>\n"))},
+      {"nav truth from an SDF whose variance overflows",
+       {"nav", "--truth", "s.sdf", "--rate", "100", "--json", "n.json"},
+       {"s.sdf:5: angular_velocity/x/noise/stddev", "outside the range of a double"},
+       file("s.sdf", gz_sdf("<stddev>1e308</stddev>"))},
+      {"Kalibr figure below a double's normal numbers",
+       {"gap", "base.csv", "--kalibr", "k.yaml"},
+       {"k.yaml:1: gyroscope_noise_density", "WN sigma2 = 0 per sample", "outside the range of a double"},
+       both(base, file("k.yaml", "gyroscope_noise_density: 1e-320\n" + kYamlWithoutGyroDensity))},
+      {"datasheet figure that underflows in SI units",
+       {"gap", "base.csv", "--datasheet", "d.yaml"},
+       {"d.yaml:3: gyroscope.bias_instability: found 1e-320 deg/h, which is 0 in SI units (rad/s)"},
+       both(base,
+            file("d.yaml", "gyroscope:\n  noise_density: 1e-3 rad/s/sqrt(Hz)\n  bias_instability: 1e-320 deg/h\n"))},
+      {"datasheet figure beyond a double in SI units",
+       {"gap", "base.csv", "--datasheet", "d.yaml"},
+       {"d.yaml:2: accelerometer.bias_instability: found 1e308 g, which is inf in SI units (m/s^2)"},
+       both(base, file("d.yaml", "accelerometer:\n  bias_instability: 1e308 g\n"))},
       {"bad units",
        {"gap", "base.csv", "--model", "WN(sigma2=1)", "--units", "gyro=furlong"},
        {"--units", "furlong"},

@@ -161,6 +161,29 @@ TEST(DatasheetYaml, RefusesWhatItCannotReadNamingTheLineAndWhatWasExpected) {
   EXPECT_NE(error_of("gyroscope:\n  noise_density: [0.05\n").find("sheet.yaml:"), std::string::npos);
 }
 
+TEST(DatasheetYaml, RefusesAFigureThatLeavesTheRangeOfADoubleInSiUnitsInsteadOfDroppingIt) {
+  // 1e-320 deg/h is 4.8e-326 rad/s: it underflowed to 0 and the bias term was left out
+  // without a word; 1e-320 ug/sqrt(Hz) the same for the white noise.
+  auto expect_error = [](const std::string& text, const std::string& part) {
+    const std::string e = error_of(text);
+    EXPECT_NE(e.find(part), std::string::npos) << "expected '" << part << "' in: " << e;
+  };
+  expect_error("gyroscope:\n  noise_density: 1e-3 rad/s/sqrt(Hz)\n  bias_instability: 1e-320 deg/h\n",
+               "sheet.yaml:3: gyroscope.bias_instability: found 1e-320 deg/h, which is 0 in SI units (rad/s), outside "
+               "the range of a double (expected a figure near the sensor's)");
+  expect_error("accelerometer:\n  noise_density: 1e-320 ug/sqrt(Hz)\n",
+               "sheet.yaml:2: accelerometer.noise_density: found 1e-320 ug/sqrt(Hz), which is 0 in SI units "
+               "(m/s^2/sqrt(Hz))");
+  expect_error("gyroscope:\n  noise_density: 1e-3 rad/s/sqrt(Hz)\n  rate_random_walk: 1e-320 deg/h/sqrt(h)\n",
+               "sheet.yaml:3: gyroscope.rate_random_walk: found 1e-320 deg/h/sqrt(h), which is 0 in SI units");
+  // A subnormal figure has lost its precision: 1e-320 s as a correlation time.
+  expect_error("gyroscope:\n  bias_instability: 10 deg/h\n  bias_correlation_time: 1e-320 s\n",
+               "sheet.yaml:3: gyroscope.bias_correlation_time: found 1e-320 s, which is 9.99989e-321 in SI units (s)");
+  // 1e308 g is 9.8e308 m/s^2, beyond a double.
+  expect_error("accelerometer:\n  bias_instability: 1e308 g\n",
+               "sheet.yaml:2: accelerometer.bias_instability: found 1e308 g, which is inf in SI units (m/s^2)");
+}
+
 TEST(DatasheetYaml, ACorrectedDatasheetKeepsTheInputsKeysAndUnitsAndReadsBackToItsFigures) {
   const SimConfig input = parse(
       "gyroscope:\n  angle_random_walk: 3 deg/sqrt(h)\n  in_run_bias_stability: 0.007 deg/s\n"

@@ -372,5 +372,59 @@ TEST_F(GazeboSdf, RejectsBadFilesWithTheElementAndLine) {
   expect_error(imu_sdf(noise("<mean>-0.5</mean><bias_mean>-1</bias_mean>"), "", ""), "no error");
 }
 
+TEST_F(GazeboSdf, RefusesFiguresADoubleCannotHoldOrSquareNamingTheFileLineAndElement) {
+  auto expect_error = [&](const std::string& text, const std::string& part) {
+    const std::string e = error_of(text);
+    EXPECT_NE(e.find(part), std::string::npos) << "expected '" << part << "' in: " << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_EQ(e.find("model '"), std::string::npos) << e;  // never the internal model string
+  };
+  // A figure whose variance overflows or underflows: the figure's place, not 'WN(sigma2=inf)'.
+  expect_error(imu_sdf(noise("<stddev>1e308</stddev>"), "", ""),
+               "imu.sdf:7: angular_velocity/x/noise/stddev: 1e+308 rad/s gives WN sigma2 = inf per sample, outside "
+               "the range of a double (expected a figure near the sensor's)");
+  expect_error(imu_sdf("", "", "", noise("<stddev>1e-170</stddev>")),
+               "imu.sdf:12: linear_acceleration/x/noise/stddev: 1e-170 m/s^2 gives WN sigma2 = 0 per sample");
+  expect_error(imu_sdf(noise("<precision>1e200</precision>"), "", ""),
+               "imu.sdf:7: angular_velocity/x/noise/precision: 1e+200 rad/s gives a rounding variance p^2 / 12 = inf");
+  expect_error(imu_sdf(noise("<dynamic_bias_stddev>1e200</dynamic_bias_stddev>"
+                             "<dynamic_bias_correlation_time>400</dynamic_bias_correlation_time>"),
+                       "", ""),
+               "imu.sdf:7: angular_velocity/x/noise/dynamic_bias_stddev: 1e+200 rad/s^2/sqrt(Hz) gives AR1 sigma2 "
+               "(with dynamic_bias_correlation_time 400 s) = inf per sample");
+  expect_error(imu_sdf(noise("<dynamic_bias_stddev>2e-5</dynamic_bias_stddev>"
+                             "<dynamic_bias_correlation_time>1e308</dynamic_bias_correlation_time>"),
+                       "", ""),
+               "imu.sdf:7: angular_velocity/x/noise/dynamic_bias_correlation_time: 1e+308 s is beyond what a double "
+               "tells from a random walk at 100 Hz (phi = exp(-1/(f T)) rounds to 1)");
+  // A figure beyond a double's normal numbers, huge or tiny.
+  expect_error(imu_sdf(noise("<stddev>1e400</stddev>"), "", ""),
+               "imu.sdf:7: angular_velocity/x/noise/stddev: found 1e400, beyond the range of a double");
+  expect_error(imu_sdf(noise("<stddev>1e-320</stddev>"), "", ""),
+               "imu.sdf:7: angular_velocity/x/noise/stddev: found 1e-320, beyond the range of a double");
+  // RotorS parameters the same way.
+  expect_error("<plugin name=\"imu\">\n<gyroscopeNoiseDensity>1e308</gyroscopeNoiseDensity>\n</plugin>",
+               "imu.sdf:2: gyroscopeNoiseDensity: 1e+308 rad/s/sqrt(Hz) gives WN sigma2 = inf per sample");
+  expect_error(
+      "<plugin name=\"imu\">\n<accelerometerRandomWalk>1e200</accelerometerRandomWalk>\n"
+      "<accelerometerBiasCorrelationTime>300</accelerometerBiasCorrelationTime>\n</plugin>",
+      "imu.sdf:2: accelerometerRandomWalk: 1e+200 m/s^3/sqrt(Hz) gives AR1 sigma2 (with "
+      "accelerometerBiasCorrelationTime 300 s) = inf per sample");
+  expect_error(
+      "<plugin name=\"imu\">\n<gyroscopeRandomWalk>2e-5</gyroscopeRandomWalk>\n"
+      "<gyroscopeBiasCorrelationTime>1e308</gyroscopeBiasCorrelationTime>\n</plugin>",
+      "imu.sdf:3: gyroscopeBiasCorrelationTime: 1e+308 s is beyond what a double tells from a random walk");
+  // In the data's units: 1e154 rad/s squares to 1e308, but as 5.7e155 deg/s its square overflows.
+  try {
+    read(imu_sdf(noise("<stddev>1e154</stddev>"), "", ""), 100.0, "gyro=deg/s");
+    ADD_FAILURE() << "no throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("imu.sdf:7: angular_velocity/x/noise/stddev: 1e+154 rad/s gives WN sigma2 = "
+                                         "inf per sample"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace gmwm::io

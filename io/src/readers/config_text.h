@@ -1,7 +1,9 @@
 #pragma once
 // Text helpers shared by the simulator-configuration readers (Kalibr yaml, Gazebo SDF,
 // datasheet yaml): trimming and the two ways they print a figure.
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 namespace gmwm::io::detail {
@@ -23,5 +25,10 @@ inline std::string g(double x, int digits = 6) {
 
 /// A figure that reads back to the same double (a model string's value).
 inline std::string exact(double x) { return g(x, 17); }
+
+/// True for a nonzero figure or a variance derived from one that a model can take: finite
+/// and at least the smallest normal double (below it a value has lost its precision or
+/// underflowed to 0). The readers refuse anything else naming the figure's line.
+inline bool within_double(double v) { return std::isfinite(v) && std::fabs(v) >= std::numeric_limits<double>::min(); }
 
 }  // namespace gmwm::io::detail

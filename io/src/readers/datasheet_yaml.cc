@@ -268,6 +268,21 @@ std::string allowed_keys(const SensorSpec& s) {
   return out;
 }
 
+// The SI unit of a figure of this role.
+const char* role_si_unit(Role role, const SensorSpec& s) {
+  switch (role) {
+    case Role::kWhite:
+      return s.density_si;
+    case Role::kBias:
+      return s.bias_si;
+    case Role::kTime:
+      return "s";
+    case Role::kWalk:
+      return s.walk_si;
+  }
+  return "";
+}
+
 // "<number> <unit>" with the unit's dimension that of the key.
 Figure read_figure(const YAML::Node& value, const Key& key, const SensorSpec& s, const std::string& where) {
   const std::string name = std::string(s.key) + "." + key.name;
@@ -295,7 +310,12 @@ Figure read_figure(const YAML::Node& value, const Key& key, const SensorSpec& s,
   if (!d || d->base != want || d->half_time != key.half_time)
     throw InputError(where + ": " + name + ": '" + unit + "' is not a unit of a " + key.meaning + " (" + s.examples +
                      ")");
-  return {key.name, *v, unit, *v * d->si, where};
+  const double si = *v * d->si;
+  if (*v != 0.0 && !detail::within_double(si))
+    throw InputError(where + ": " + name + ": found " + number + " " + unit + ", which is " + g(si) + " in SI units (" +
+                     role_si_unit(key.role, s) +
+                     "), outside the range of a double (expected a figure near the sensor's)");
+  return {key.name, *v, unit, si, where};
 }
 
 // The Allan variance of `model` at averaging times of m samples, m = 2^(k / points) rounded
@@ -420,7 +440,7 @@ std::string written(const Figure& f) { return f.key + " = " + g(f.value) + " " +
 
 // A per-sample variance from a figure must be a normal positive double.
 void check_representable(double v, const Figure& f, const SensorSpec& s, const std::string& what) {
-  if (std::isfinite(v) && v >= std::numeric_limits<double>::min()) return;
+  if (v > 0.0 && detail::within_double(v)) return;
   throw InputError(f.where + ": " + s.key + "." + f.key + ": " + g(f.value) + " " + f.unit + " gives " + what + " = " +
                    g(v) + ", outside the range of a double (expected a figure near the sensor's)");
 }

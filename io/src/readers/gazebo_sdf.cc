@@ -12,8 +12,10 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include <tinyxml2.h>
 
@@ -164,6 +166,9 @@ class Reader {
   void gz_kind(const XMLElement* imu, const Kind& k, SimConfig& c) const;
   void rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) const;
   std::string gm_text(const GaussMarkov& gm, const std::string& symbol, const std::string& per, const Unit& u) const;
+  void check_variance(double v, const Figure& from, const std::string& where, const std::string& unit,
+                      const std::string& what) const;
+  void check_time_constant(const GaussMarkov& gm, const Figure& T, const std::string& where) const;
 
   std::string path_;
   double f_;
@@ -195,16 +200,40 @@ Figure Reader::number(const XMLElement* e, const std::string& where, bool signed
   if (text.empty()) throw InputError(place + ": found an empty element, expected a number");
   std::size_t used = 0;
   double v = 0.0;
+  bool out_of_range = false;
   try {
     v = std::stod(text, &used);
+  } catch (const std::out_of_range&) {  // beyond 1.8e308, or below 2.2e-308 (subnormal or 0)
+    out_of_range = true;
   } catch (const std::exception&) {
     used = 0;
   }
+  if (out_of_range)
+    throw InputError(place + ": found " + text + ", beyond the range of a double (magnitudes " +
+                     g(std::numeric_limits<double>::min()) + " to " + g(std::numeric_limits<double>::max()) +
+                     ", or 0)");
   if (used == 0 || used != text.size() || !std::isfinite(v))
     throw InputError(place + ": found '" + text + "', expected a number");
   if (v < 0.0 && !signed_ok) throw InputError(place + ": found " + text + ", expected a non-negative noise figure");
   fields_.push_back({where, v, field_unit(where)});
   return {v, e->GetLineNum()};
+}
+
+// A variance derived from a figure (in the data's unit) must be a normal positive double:
+// refused otherwise with the figure's line and element, never as a model string.
+void Reader::check_variance(double v, const Figure& from, const std::string& where, const std::string& unit,
+                            const std::string& what) const {
+  if (v > 0.0 && detail::within_double(v)) return;
+  throw InputError(at(from.line) + where + ": " + g(from.value) + " " + unit + " gives " + what + " = " + g(v) +
+                   " per sample, outside the range of a double (expected a figure near the sensor's)");
+}
+
+// A Gauss-Markov time constant so long that phi = exp(-1/(f T)) rounds to 1 is a random walk
+// a double cannot tell from it.
+void Reader::check_time_constant(const GaussMarkov& gm, const Figure& T, const std::string& where) const {
+  if (gm.phi < 1.0) return;
+  throw InputError(at(T.line) + where + ": " + g(T.value) + " s is beyond what a double tells from a random walk at " +
+                   g(f_) + " Hz (phi = exp(-1/(f T)) rounds to 1), expected a shorter time constant");
 }
 
 NoiseBlock Reader::noise_block(const XMLElement* noise, const std::string& where) const {
@@ -282,6 +311,7 @@ std::string Reader::convert_noise(const NoiseBlock& b, const Kind& k, const std:
   const double s = value_or_zero(b.stddev);
   if (b.stddev) {
     white = (s * u.per_si) * (s * u.per_si);
+    if (s > 0.0) check_variance(white, *b.stddev, b.where + "/stddev", k.si, "WN sigma2");
     lines.push_back(s == 0.0 ? L + "stddev = 0: no white noise from it"
                              : L + "stddev = " + g(s) + " " + k.si + " per sample (not a density) -> WN sigma2 = (s" +
                                    per + ")^2 = " + g(white) + sq + " per sample");
@@ -295,6 +325,7 @@ std::string Reader::convert_noise(const NoiseBlock& b, const Kind& k, const std:
                       ": gz-sensors treats a precision within 1e-6 of zero as none: no rounding, no term");
     } else {
       rounding = (p * u.per_si) * (p * u.per_si) / 12.0;
+      check_variance(rounding, *b.precision, b.where + "/precision", k.si, "a rounding variance p^2 / 12");
       std::string line = L + "precision = " + g(p) + " " + k.si + " (the output rounded to multiples of it) -> " +
                          "white noise (p" + per + ")^2 / 12 = " + g(rounding) + sq +
                          " per sample, added to the WN: valid once the noise spans a few LSBs (not QN, which "
@@ -305,12 +336,17 @@ std::string Reader::convert_noise(const NoiseBlock& b, const Kind& k, const std:
       lines.push_back(line);
     }
   }
-  if (white > 0.0 && rounding > 0.0)
+  if (white > 0.0 && rounding > 0.0) {
+    check_variance(white + rounding, *b.stddev, b.where + "/stddev", k.si, "WN sigma2 with the precision's rounding");
     lines.push_back(L + "white noise: WN sigma2 = " + g(white) + " + " + g(rounding) + " = " + g(white + rounding) +
                     sq + " per sample");
+  }
   std::string spec;
   if (dynamic) {
     const GaussMarkov gm = gauss_markov(sb * u.per_si, T, f_);
+    check_time_constant(gm, *b.dyn_time, b.where + "/dynamic_bias_correlation_time");
+    check_variance(gm.innovation, *b.dyn_stddev, b.where + "/dynamic_bias_stddev", k.drive,
+                   "AR1 sigma2 (with dynamic_bias_correlation_time " + g(T) + " s)");
     lines.push_back(L + "dynamic_bias_stddev = " + g(sb) + " " + k.drive +
                     " (a driving density, not the stationary deviation) with dynamic_bias_correlation_time = " + g(T) +
                     " s" + gm_text(gm, "sigma_b", per, u));
@@ -387,6 +423,7 @@ void Reader::rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) 
     lines.push_back(n_name + " = 0: no white noise term");
   } else {
     const double sigma2 = (N->value * u.per_si) * (N->value * u.per_si) * f_;
+    check_variance(sigma2, *N, n_name, k.white, "WN sigma2");
     lines.push_back(n_name + " = " + g(N->value) + " " + k.white + " -> WN sigma2 = (N" + per +
                     ")^2 x f = " + g(sigma2) + " (" + u.name + ")^2 per sample at f = " + g(f_) + " Hz");
     wn = "WN(sigma2=" + exact(sigma2) + ")";
@@ -397,6 +434,8 @@ void Reader::rotors_kind(const XMLElement* plugin, const Kind& k, SimConfig& c) 
     lines.push_back(k_name + " = 0: no bias process" + (T ? " (" + t_name + " " + g(t_value) + " s unused)" : ""));
   } else {
     const GaussMarkov gm = gauss_markov(k_value * u.per_si, t_value, f_);
+    check_time_constant(gm, *T, t_name);
+    check_variance(gm.innovation, *K, k_name, k.drive, "AR1 sigma2 (with " + t_name + " " + g(t_value) + " s)");
     lines.push_back(k_name + " = " + g(k_value) + " " + k.drive + " with " + t_name + " = " + g(t_value) +
                     " s (the driving density of a Gauss-Markov bias, not a random walk)" + gm_text(gm, "K", per, u));
     ar1 = "AR1(phi=" + exact(gm.phi) + ",sigma2=" + exact(gm.innovation) + ")";

@@ -79,7 +79,7 @@ YAML::Node imu_node(const YAML::Node& root, const std::string& path, const std::
 
 // A per-sample variance from a figure must be a normal positive double.
 void check_representable(double v, const std::string& path, const Figure& from, const char* key, const char* what) {
-  if (std::isfinite(v) && v >= std::numeric_limits<double>::min()) return;
+  if (v > 0.0 && detail::within_double(v)) return;
   throw InputError(path + ":" + std::to_string(from.line) + ": " + key + ": " + g(from.value) + " gives " + what +
                    " = " + g(v) + " per sample, outside the range of a double (expected a figure near the sensor's)");
 }
