@@ -100,6 +100,16 @@ Eigen::VectorXd Model::to_unconstrained(const Eigen::VectorXd& theta) const {
   return u;
 }
 
+Eigen::VectorXd Model::scaled(const Eigen::VectorXd& theta, double c) const {
+  Eigen::VectorXd out = theta;
+  for (int j = 0; j < num_components(); ++j) {
+    const Process& p = *components()[static_cast<std::size_t>(j)].process;
+    const std::vector<double> s = p.scaled({theta.data() + offset(j), static_cast<std::size_t>(p.size())}, c);
+    for (int k = 0; k < p.size(); ++k) out(offset(j) + k) = s[static_cast<std::size_t>(k)];
+  }
+  return out;
+}
+
 Eigen::VectorXd Model::from_unconstrained(const Eigen::VectorXd& u) const {
   Eigen::VectorXd theta(u.size());
   for (int k = 0; k < num_parameters_; ++k) theta(k) = gmwm::from_unconstrained(spec_of(k).transform, u(k));

@@ -141,6 +141,14 @@ std::optional<std::vector<double>> Process::merged(std::span<const double> a, st
   return std::nullopt;
 }
 
+std::vector<double> Process::scaled(std::span<const double> theta, double c) const {
+  std::vector<double> out(theta.begin(), theta.end());
+  const auto& specs = parameters();
+  for (std::size_t k = 0; k < out.size() && k < specs.size(); ++k)
+    if (specs[k].transform == Transform::kLog) out[k] *= c;
+  return out;
+}
+
 ProcessPtr make_process(const std::string& name, const ProcessContext& context) {
   ProcessArgs args;
   args.context = context;

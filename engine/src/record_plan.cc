@@ -99,16 +99,17 @@ PhysicalKind term_kind(Kind kind) { return kind == Kind::kN ? PhysicalKind::kNoi
 
 // The root sum of squares of the figure of `kind` over the components that state one
 // (there is at most one WN and one RW: docs/statistics.md section 4); NaN when none does.
+// By hypot: a figure's square leaves the doubles where the figure does not (K = 3e154).
 double term_figure(const Model& model, const Eigen::VectorXd& theta, double freq, PhysicalKind kind) {
-  double sum = 0.0;
+  double root = 0.0;
   bool any = false;
   for (int c = 0; c < model.num_components(); ++c) {
     const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
     const double q =
         quantity_of_kind(p.physical({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, freq), kind);
-    if (std::isfinite(q)) sum += q * q, any = true;
+    if (std::isfinite(q)) root = std::hypot(root, q), any = true;
   }
-  return any ? std::sqrt(sum) : std::numeric_limits<double>::quiet_NaN();
+  return any ? root : std::numeric_limits<double>::quiet_NaN();
 }
 
 int levels_of(std::int64_t n) { return static_cast<int>(std::bit_width(static_cast<std::uint64_t>(n))) - 1; }
@@ -228,8 +229,58 @@ Point evaluate(const Model& model, const Eigen::VectorXd& theta, double freq, st
   return pt;
 }
 
-std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta, double freq,
-                                const RecordPlanOptions& options) {
+// The plan depends on ratios of the parameters only: data times sqrt(c) have c times the
+// WV, c^2 times its covariance, and the same relative standard errors, resolution and
+// read points. So it is computed at the model's unit scale, the WV of its first level in
+// [1, 4) (c a power of 4: sqrt(c) is a power of 2 and the scaling exact), the values
+// shown at the model's own. At the given scale the WV's covariance (~ nu^2 / M) left the
+// normal doubles where the WV is below ~1e-145 or above ~1e150 (at the 2^34-sample cap its
+// levels underflowed to 0 or overflowed to inf: every target "unreachable" for
+// WN(sigma2=1e-150)+RW(gamma2=1e-150), 1038/1512/293 samples at 1e-140), and the figures'
+// difference steps (kFigureStep max(1, |log theta|)) grew with the scale's logarithm.
+// A first level beyond the doubles (subnormal, or inf for variances near 1.8e308) is
+// brought in by a first factor of at most 4^kMaxScaleStep, then scaled to unit. A model
+// whose terms cannot share one scale (a variance would underflow to 0 or overflow) is
+// refused: no double computation of its plan exists.
+constexpr int kMaxScaleStep = 500;  // 4^500 = 2^1000: a factor a double holds
+
+// theta for the model's data times 2^-exponent: a figure (in the data's unit) computed at
+// it, times 2^exponent, is the model's own.
+struct UnitScale {
+  Eigen::VectorXd theta;
+  int exponent = 0;
+};
+
+UnitScale at_unit_scale(const Model& model, const Eigen::VectorXd& theta) {
+  const double first[1] = {2.0};
+  UnitScale x{theta, 0};
+  for (int pass = 0; pass < 3; ++pass) {
+    const double nu = model.wv(x.theta, first)(0);
+    if (nu >= 1.0 && nu < 4.0) return x;
+    if (!(nu > 0.0)) return {theta, 0};  // no first level to scale by (or NaN): as given
+    int k = kMaxScaleStep / 2;           // nu = inf: 4^-250 first
+    if (std::isfinite(nu)) {
+      int e = 0;
+      std::frexp(nu, &e);  // nu in [2^(e-1), 2^e)
+      k = std::clamp(static_cast<int>(std::floor(0.5 * (e - 1))), -kMaxScaleStep, kMaxScaleStep);
+    }
+    const Eigen::VectorXd y = model.scaled(x.theta, std::ldexp(1.0, -2 * k));
+    for (int j = 0; j < y.size(); ++j)
+      if (theta(j) != 0.0 && !(y(j) != 0.0 && std::isfinite(y(j))))
+        throw InputError("record plan: the model " + model.to_string(theta) +
+                         " spans more scales than a double holds (" + model.parameter_label(j) +
+                         " leaves the doubles when its first level's wavelet variance is brought to 1): expected "
+                         "values whose ratios a double holds");
+    x.theta = y;
+    x.exponent += k;
+  }
+  return model.validate(x.theta).empty() ? x : UnitScale{theta, 0};
+}
+
+// The targets asked (or the defaults the model has), their existence judged at the
+// model's unit scale (`unit`; a figure's is scale-free), named with theta in messages.
+std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta, const Eigen::VectorXd& unit,
+                                double freq, const RecordPlanOptions& options) {
   std::vector<Target> out;
   const bool defaults = options.targets.empty();
   const std::vector<std::string> names = defaults ? std::vector<std::string>{"N", "K", "B"} : options.targets;
@@ -237,14 +288,14 @@ std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta
   for (const auto& name : names) {
     Target t = resolve(model, name);
     if (t.kind == Kind::kN || t.kind == Kind::kK) {
-      if (!std::isfinite(term_figure(model, theta, freq, term_kind(t.kind)))) {
+      if (!std::isfinite(term_figure(model, unit, freq, term_kind(t.kind)))) {
         if (defaults) continue;
         throw InputError("record plan: the model " + model.to_string(theta) + " has no " +
                          (t.kind == Kind::kN ? "white noise term (WN) for the noise density N"
                                              : "random walk term (RW) for the random walk K"));
       }
     } else if (t.kind == Kind::kB) {
-      if (!top) top = model_only_figures(model, theta, freq, options.max_samples);
+      if (!top) top = model_only_figures(model, unit, freq, options.max_samples);
       if (!shows(top->instability.figure)) {
         if (defaults) continue;
         throw InputError("record plan: the model " + model.to_string(theta) +
@@ -280,14 +331,19 @@ std::vector<double> record_target_values(const Model& model, const Eigen::Vector
   if (n < kMinSeriesLength)
     throw InputError("record plan: a record of " + std::to_string(n) + " samples has no wavelet variance (at least " +
                      std::to_string(kMinSeriesLength) + ")");
+  // The figures at the unit scale, brought back by 2^exponent: the model's own Allan
+  // variance overflows where its variances are near 1.8e308 (B then missing).
+  const UnitScale unit = at_unit_scale(model, theta);
   std::vector<double> out;
   std::optional<ChosenFigures> figures;
   for (const auto& name : targets) {
     const Target t = resolve(model, name);
-    if (t.kind == Kind::kB && !figures) figures = model_only_figures(model, theta, freq, n);
-    out.push_back(t.kind == Kind::kParameter ? theta(t.parameter)
-                  : t.kind == Kind::kB       ? figures->instability.figure.value
-                                             : term_figure(model, theta, freq, term_kind(t.kind)));
+    if (t.kind == Kind::kB && !figures) figures = model_only_figures(model, unit.theta, freq, n);
+    out.push_back(t.kind == Kind::kParameter
+                      ? theta(t.parameter)
+                      : std::ldexp(t.kind == Kind::kB ? figures->instability.figure.value
+                                                      : term_figure(model, unit.theta, freq, term_kind(t.kind)),
+                                   unit.exponent));
   }
   return out;
 }
@@ -297,21 +353,22 @@ std::vector<double> record_relative_se(const Model& model, const Eigen::VectorXd
   check_input(model, theta, freq);
   std::vector<Target> ts;
   for (const auto& name : targets) ts.push_back(resolve(model, name));
-  return evaluate(model, theta, freq, n, ts).rse;
+  return evaluate(model, at_unit_scale(model, theta).theta, freq, n, ts).rse;
 }
 
 RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, double freq,
                               const RecordPlanOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   check_input(model, theta, freq);
-  const std::vector<Target> targets = resolve_all(model, theta, freq, options);
+  const UnitScale unit = at_unit_scale(model, theta);
+  const std::vector<Target> targets = resolve_all(model, theta, unit.theta, freq, options);
   RecordPlan plan;
   plan.freq = freq;
   plan.z = boost::math::quantile(boost::math::normal(), 0.5 * (1.0 + options.confidence));
   std::map<std::int64_t, Point> cache;
   auto at = [&](std::int64_t n) -> const Point& {
     auto it = cache.find(n);
-    if (it == cache.end()) it = cache.emplace(n, evaluate(model, theta, freq, n, targets)).first;
+    if (it == cache.end()) it = cache.emplace(n, evaluate(model, unit.theta, freq, n, targets)).first;
     return it->second;
   };
   // The shortest record with a level per parameter (and the WV's own minimum).

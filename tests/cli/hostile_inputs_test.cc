@@ -240,6 +240,10 @@ std::vector<Case> corpus() {
        {"nav", "--truth", "gyro=WN(sigma2=1e-6);accel=WN(sigma2=1e-6)", "--filter", "wnrw*1e160", "--rate", "100",
         "--json", "n.json"},
        {"wnrw*1e160", "overflow a double"}},
+      // --- plan ------------------------------------------------------------------------
+      {"plan of terms no double scale holds",
+       {"plan", "--model", "WN(sigma2=1e-300)+RW(gamma2=1e300)", "--freq", "100", "--json", "p.json"},
+       {"WN(sigma2=1e-300)", "spans more scales than a double holds"}},
       // --- gap and simulator configurations --------------------------------------------
       {"two baselines", {"gap", "base.csv", "--model", "WN(sigma2=1)", "--fit", "WN"}, {"--"}, base},
       {"too few replicates",

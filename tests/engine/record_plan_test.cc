@@ -155,6 +155,60 @@ TEST(RecordPlan, HalvingThePrecisionQuadruplesTheLengthForWhiteNoiseButNotForASh
   EXPECT_GT(at(0.9), 0.1);
 }
 
+TEST(RecordPlan, GivesTheSameLengthsAtEveryScaleADoubleHolds) {
+  // The plan depends on ratios of the parameters only (data times sqrt(c): c times the WV,
+  // c^2 times its covariance, the same relative se). WN + RW with sigma2 = gamma2 = c needed
+  // 1038 / 1512 / 293 samples for N / K / B from c = 1e-140 to 1e100 and was "unreachable"
+  // at 1e-150 and 1e150 (the WV's covariance underflowed or overflowed at the 2^34-sample
+  // cap), K dropped at 1e307 (gamma2 f overflowed) and B at 1.7e308 (the model's Allan
+  // variance did). Now the same lengths at every scale, subnormal variances included, and
+  // the figures at the model's own scale: N = sqrt(sigma2 / f) within rounding.
+  const Model model = parse_model("WN+RW");
+  auto plan_at = [&](double c) {
+    Eigen::VectorXd theta(2);
+    theta << c, c;
+    return plan_record_length(model, theta, 100.0);
+  };
+  const RecordPlan base = plan_at(1.0);
+  ASSERT_EQ(base.targets.size(), 3u);
+  for (double c : {1e-320, 1e-300, 1e-150, 1e-50, 1e50, 1e150, 1e300, 1e307, 1.7e308}) {
+    const RecordPlan p = plan_at(c);
+    ASSERT_EQ(p.targets.size(), 3u) << "c = " << c;
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_TRUE(p.targets[i].reachable) << p.targets[i].name << ", c = " << c;
+      EXPECT_EQ(p.targets[i].samples, base.targets[i].samples) << p.targets[i].name << ", c = " << c;
+      // Figures scale as sqrt(c), of c as stored (a subnormal keeps fewer digits).
+      const double root = std::sqrt(c);
+      EXPECT_NEAR(p.targets[i].value, base.targets[i].value * root, 1e-12 * base.targets[i].value * root)
+          << p.targets[i].name << ", c = " << c;
+    }
+    EXPECT_EQ(p.resolved_samples, base.resolved_samples) << "c = " << c;
+  }
+  // A drift (omega scales as sqrt(c)) and a Gauss-Markov bias (beta as it is) likewise.
+  const Model gm = parse_model("GM+WN+DR", ProcessContext{100.0, true});
+  auto gm_at = [&](double c) {
+    Eigen::VectorXd theta(4);
+    theta << 0.5, c, c, 1e-3 * std::sqrt(c);
+    return plan_record_length(gm, theta, 100.0);
+  };
+  const RecordPlan gm_base = gm_at(1.0);
+  for (double c : {1e-250, 1e250}) {
+    const RecordPlan p = gm_at(c);
+    ASSERT_EQ(p.targets.size(), gm_base.targets.size()) << "c = " << c;
+    for (std::size_t i = 0; i < p.targets.size(); ++i)
+      EXPECT_EQ(p.targets[i].samples, gm_base.targets[i].samples) << p.targets[i].name << ", c = " << c;
+  }
+  // Terms no one scale holds (a ratio of 1e600) are refused, not planned as unreachable.
+  Eigen::VectorXd apart(2);
+  apart << 1e-300, 1e300;
+  try {
+    plan_record_length(model, apart, 100.0);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("spans more scales than a double holds"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RecordPlan, SaysWhatPrecisionAGivenRecordReaches) {
   const Model wr = parse_model("WN(sigma2=1e-6)+RW(gamma2=1e-12)");
   RecordPlanOptions o;

@@ -97,6 +97,10 @@ class Drift final : public Process {
   std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
     return internal::summed_size(a, b);
   }
+  // The data times sqrt(c): the slope times sqrt(c), the WV (omega^2) times c.
+  std::vector<double> scaled(std::span<const double> theta, double c) const override {
+    return {theta[0] * std::sqrt(c)};
+  }
   std::vector<double> initial_guess(const GuessContext& ctx) const override {
     // DR dominates the coarsest scale: |omega| = 4 sqrt(nu^2(tau_J)) / tau_J.
     const std::size_t n = std::min(ctx.tau.size(), ctx.wv.size());

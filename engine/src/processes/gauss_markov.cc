@@ -45,6 +45,10 @@ class GaussMarkov final : public Process {
     return specs;
   }
   double rate() const { return context().freq; }
+  // The data times sqrt(c): the stationary variance times c, the correlation time as it is.
+  std::vector<double> scaled(std::span<const double> theta, double c) const override {
+    return {theta[0], theta[1] * c};
+  }
 
   /// nu^2 at every tau: sigma2_gm (1 - phi^2) x the AR1 unit WV, phi = exp(-beta / rate).
   template <class T, class Store>

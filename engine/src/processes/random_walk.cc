@@ -2,6 +2,7 @@
 // (docs/statistics.md section 3). Not stationary: its generalised autocovariance is minus the
 // semivariogram, g(h) = -gamma2 |h| / 2, valid for zero-sum filters (process.h).
 #include <cmath>
+#include <limits>
 
 #include <boost/random/normal_distribution.hpp>
 
@@ -70,9 +71,15 @@ class RandomWalk final : public Process {
     c.H = Eigen::RowVectorXd::Ones(1);
     return c;
   }
+  // gamma2 f leaves the doubles for gamma2 near their ends (1e307 at 100 Hz: K inf, the
+  // plan's K dropped as if the model had no walk): there the roots are taken apart.
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
-    return {{"random walk", std::sqrt(theta[0] * freq), "U/s/sqrt(Hz)",
-             "K = sqrt(gamma2 f) (IEEE 952 rate random walk: AVAR = K^2 T / 3)", PhysicalKind::kRandomWalk}};
+    const double k2 = theta[0] * freq;
+    const double K = k2 >= std::numeric_limits<double>::min() && std::isfinite(k2)
+                         ? std::sqrt(k2)
+                         : std::sqrt(theta[0]) * std::sqrt(freq);
+    return {{"random walk", K, "U/s/sqrt(Hz)", "K = sqrt(gamma2 f) (IEEE 952 rate random walk: AVAR = K^2 T / 3)",
+             PhysicalKind::kRandomWalk}};
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     // x_t = e_0 + ... + e_t: the path starts with its first increment.

@@ -1,6 +1,7 @@
 // WN: white noise with variance sigma2. nu^2(tau) = sigma2 / tau (docs/statistics.md section 3).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <boost/random/normal_distribution.hpp>
 
@@ -54,8 +55,14 @@ class WhiteNoise final : public Process {
   std::optional<ContinuousForm> continuous_form_impl(std::span<const double> theta, double freq) const override {
     return stateless_form(theta[0] / freq);
   }
+  // sigma2 / f leaves the normal doubles for sigma2 near their ends (1e-307 at 100 Hz):
+  // there the roots are taken apart.
   std::vector<PhysicalQuantity> physical_impl(std::span<const double> theta, double freq) const override {
-    return {{"noise density", std::sqrt(theta[0] / freq), "U/sqrt(Hz)",
+    const double n2 = theta[0] / freq;
+    const double N = n2 >= std::numeric_limits<double>::min() && std::isfinite(n2)
+                         ? std::sqrt(n2)
+                         : std::sqrt(theta[0]) / std::sqrt(freq);
+    return {{"noise density", N, "U/sqrt(Hz)",
              "N = sqrt(sigma2 / f) (IEEE 952: AVAR = N^2 / T; angle/velocity random walk)",
              PhysicalKind::kNoiseDensity}};
   }

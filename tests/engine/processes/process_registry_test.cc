@@ -1,5 +1,7 @@
 #include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -66,6 +68,34 @@ TEST(ProcessRegistry, EveryProcessGuessesAValidStartFromAnEmptyContext) {
     if (n == "FLICKER") continue;  // not part of this library's files
     const auto p = n == "ARMA" ? make_process(n, {{"p", 2}, {"q", 1}}) : make_process(n);
     EXPECT_EQ(p->validate(p->initial_guess({})), "") << n;
+  }
+}
+
+TEST(ProcessRegistry, EveryProcessScaledByCHasCTimesItsWaveletVariance) {
+  // Process::scaled: the parameters for the data times sqrt(c), whose WV is c times theta's
+  // at every scale (what a plan computed at the model's unit scale rests on, record_plan.h).
+  // Multiplying by a power of 4 is exact, so the WV is too but for its own roundings: 1e-13
+  // relative; 1e-100 and 1e100 check that no parameter is left out or scaled twice.
+  std::vector<double> tau;
+  for (int j = 1; j <= 12; ++j) tau.push_back(std::ldexp(1.0, j));
+  for (const auto& n : ProcessRegistry::instance().names()) {
+    const auto p = n == "ARMA" ? make_process(n, {{"p", 2}, {"q", 1}}) : make_process(n);
+    GuessContext guess;
+    const std::vector<double> wv(tau.size(), 1.0);
+    guess.tau = tau;
+    guess.wv = wv;
+    const std::vector<double> theta = p->initial_guess(guess);
+    ASSERT_EQ(p->validate(theta), "") << n;
+    std::vector<double> base(tau.size()), scaled(tau.size());
+    p->wv(theta, tau, base);
+    for (double c : {0.25, 1024.0, 1e-100, 1e100}) {
+      const std::vector<double> s = p->scaled(theta, c);
+      ASSERT_EQ(s.size(), theta.size()) << n;
+      EXPECT_EQ(p->validate(s), "") << n << " x " << c;
+      p->wv(s, tau, scaled);
+      for (std::size_t k = 0; k < tau.size(); ++k)
+        EXPECT_NEAR(scaled[k], c * base[k], 1e-13 * c * base[k]) << n << " x " << c << ", tau = " << tau[k];
+    }
   }
 }
 

@@ -50,6 +50,9 @@ class Model {
   Eigen::VectorXd from_unconstrained(const Eigen::VectorXd& u) const;
   /// d theta / d u (diagonal), at u.
   Eigen::VectorXd dtheta_du(const Eigen::VectorXd& u) const;
+  /// theta for the data multiplied by sqrt(c) (c > 0), component by component
+  /// (Process::scaled): the WV is c times theta's.
+  Eigen::VectorXd scaled(const Eigen::VectorXd& theta, double c) const;
 
   /// Components sorted canonically (docs/cli.md order; repeated components by their sort
   /// key, e.g. AR1 by increasing phi). Returns the permutation of components applied

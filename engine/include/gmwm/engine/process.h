@@ -258,6 +258,15 @@ class Process {
   /// nullopt. WN, QN, RW add their sizes; AR1 merges at a common phi.
   virtual std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const;
 
+  /// The parameters of this component for its data multiplied by sqrt(c) (c > 0): its WV
+  /// is then c times theta's at every scale. Default: every parameter with a log transform
+  /// (a variance: sigma2, gamma2, Q2, A2, B2, sigma2_gm) times c, the others (phi, theta,
+  /// f) as they are; a process with a log-transformed parameter that is no variance
+  /// overrides it (DR: omega times sqrt(c); GM: beta as it is). What lets a computation
+  /// whose answer depends on ratios of the parameters run at the model's unit scale
+  /// (record_plan.h); a test holds every registered process to the WV's factor c.
+  virtual std::vector<double> scaled(std::span<const double> theta, double c) const;
+
   const ProcessContext& context() const { return context_; }
   void set_context(const ProcessContext& c) { context_ = c; }
 
