@@ -6,6 +6,7 @@
 #include "usable_wv.h"
 
 #include <chrono>
+#include <map>
 #include <memory>
 #include <span>
 
@@ -41,10 +42,26 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   study.options = options.select;
   study.options.progress = nullptr;
 
-  // The models at the data's rate; a list is fitted under its common supermodel's Omega.
+  // The models at the data's rate, a list's each once (a repeated model was fitted again,
+  // each copy warm-started from every copy of the models it covers: 900 entries of six
+  // models took 4.5 s, 1800 took 17 s); a list is fitted under its common supermodel's Omega.
   const ProcessContext ctx{set.freq, set.freq_known};
   std::vector<Model> models;
-  for (const ModelSpec& m : options.models) models.push_back(m.bind(ctx));
+  study.models.clear();
+  std::map<std::string, std::size_t> first;  // a model's canonical form -> its first entry
+  for (std::size_t i = 0; i < options.models.size(); ++i) {
+    Model m = options.models[i].bind(ctx);
+    if (study.listed) {
+      const auto [at, fresh] = first.emplace(m.canonical().to_string(), i);
+      if (!fresh) {
+        study.duplicates.push_back("entry " + std::to_string(i + 1) + " '" + options.models[i].text() + "' is entry " +
+                                   std::to_string(at->second + 1) + " '" + options.models[at->second].text() + "'");
+        continue;
+      }
+    }
+    models.push_back(std::move(m));
+    study.models.push_back(options.models[i]);
+  }
   const Model maximal = !study.listed ? models.front() : selection::common_supermodel(models);
 
   detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.select.fit.alpha);

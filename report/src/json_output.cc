@@ -391,6 +391,7 @@ json select_document(const io::SignalSet& set, const pipeline::SelectStudy& stud
   for (const ModelSpec& m : study.models) spec += (spec.empty() ? "" : ";") + m.text();
   doc["model_spec"] = spec;
   doc["mode"] = study.listed ? "listed" : "sub-models";
+  if (study.listed) doc["duplicate_models"] = study.duplicates;
   doc["optimism"] = selection::to_string(study.options.optimism);
   doc["omega"] = selection::to_string(study.options.omega);
   doc["seed"] = study.options.seed;

@@ -247,7 +247,6 @@ std::vector<BootstrapResult> bootstrap_all(const std::vector<SignalWork>& work, 
   return boot;
 }
 
-
 // Indices of `ranking` sorted by crit (NaN last); criteria within kTieTolerance
 // (relative) of a run's first are ordered by fewer parameters.
 template <class Crit>
@@ -291,8 +290,8 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
     const Model& m = c.effective.model;
     r.analytic = analytic_optimism(m, c.effective.theta, wv.tau, wv.values(), omega, v);
     if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
-    r.gof = goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components), r.objective,
-                            static_cast<double>(wv.levels() - r.parameters), omega, v, omega_is_v_inverse);
+    r.gof = goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components),
+                            r.objective, static_cast<double>(wv.levels() - r.parameters), omega, v, omega_is_v_inverse);
   }
   if (boot) {
     if (std::isfinite(boot->value)) {
@@ -669,6 +668,9 @@ std::vector<Selection> select_among(const std::vector<WaveletVariance>& wvs, con
                                     const SelectOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("select: " + why);
   if (models.empty()) throw InputError("select: no models given");
+  if (models.size() > kMaxListedModels)
+    throw InputError("select: found a list of " + std::to_string(models.size()) + " models, expected at most " +
+                     std::to_string(kMaxListedModels) + " (a maximal model ranks its sub-models without a list)");
   const Model super = common_supermodel(models);
   std::vector<std::string> names;
   for (const Model& m : models) names.push_back(m.canonical().to_string());

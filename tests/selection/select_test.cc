@@ -229,6 +229,18 @@ TEST(SelectAmong, RanksOnlyTheListedModelsWithTheirCommonSuperModelForTheOptimis
   EXPECT_THROW(select_among(wvs, {}), InputError);
 }
 
+TEST(SelectAmong, RefusesAListLongerThanItsCapBeforeAnyFit) {
+  const auto wvs = simulated_wvs(1, 7108);
+  const std::vector<Model> listed(kMaxListedModels + 1, parse_model("WN"));
+  try {
+    select_among(wvs, listed);
+    ADD_FAILURE() << "a list of " << listed.size() << " models was fitted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("found a list of 1001 models, expected at most 1000"), std::string::npos)
+        << e.what();
+  }
+}
+
 // The objective of `model` at `theta` under the selection's Omega, computed here.
 double objective_at(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
                     const Eigen::MatrixXd& omega) {

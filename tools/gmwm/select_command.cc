@@ -168,6 +168,18 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   const double filter = filter_rate(args.units, set);
   report::Json doc = report::select_document(set, study, units, filter);
   warn_about_timing(set);
+  if (!study.duplicates.empty()) {
+    // One line: a list of thousands of copies would otherwise bury the terminal.
+    constexpr std::size_t kSaid = 3;  // the entries named; the count says the rest
+    std::string which;
+    for (std::size_t i = 0; i < study.duplicates.size() && i < kSaid; ++i)
+      which += (i ? "; " : "") + study.duplicates[i];
+    if (study.duplicates.size() > kSaid) which += "; and " + std::to_string(study.duplicates.size() - kSaid) + " more";
+    warn(capped_line("--models: " + std::to_string(study.duplicates.size()) + " entr" +
+                     (study.duplicates.size() == 1 ? "y repeats" : "ies repeat") + " an earlier entry's model and " +
+                     (study.duplicates.size() == 1 ? "was" : "were") +
+                     " dropped (each model is ranked once): " + which));
+  }
   for (const pipeline::SelectColumnStudy& c : study.columns)
     if (c.selection.best_fit.status == FitStatus::kFailed)
       warn("column '" + c.name + "': the best model's fit with inference failed");

@@ -54,7 +54,13 @@ struct SelectColumnStudy {
 struct SelectStudy {
   /// False when every sub-model of models[0] was ranked; true for a list.
   bool listed = false;
+  /// The models ranked: the maximal model, or the list's models each once (in the list's
+  /// order, the first entry of each model kept).
   std::vector<ModelSpec> models;
+  /// A list's entries that repeat an earlier entry's model (the same components in any
+  /// order: "RW+WN" is "WN+RW") and were dropped, one line each ("entry 7 'RW+WN' is entry 1
+  /// 'WN+RW'"); for the caller to say. Each model is fitted and ranked once.
+  std::vector<std::string> duplicates;
   selection::SelectOptions options;  // as run (without the estimator and progress)
   std::vector<SelectColumnStudy> columns;
   /// Stage times: the WV, the data's Allan deviation from the same transforms (0 without a
@@ -63,7 +69,8 @@ struct SelectStudy {
 };
 
 /// Runs the study on every column of `set`. Throws InputError for invalid options, a model
-/// that does not parse, or a maximal model with more parameters than a column's WV has levels.
+/// that does not parse, a list of more than selection::kMaxListedModels distinct models, or
+/// a maximal model with more parameters than a column's WV has levels.
 SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& options);
 
 }  // namespace gmwm::pipeline
