@@ -36,6 +36,26 @@ TEST_F(SignalReaderErrors, RejectsAFolderGivenAsTheFile) {
   EXPECT_EQ(read_error(dir.string()), dir.string() + ": is a folder, expected a data file");
 }
 
+TEST_F(SignalReaderErrors, ReportsAMissingFileOrAFolderAsSuchBeforeAnyFormatsCheck) {
+  // --topic reads a log: a missing flight.ulg was told it is delimited text without topics.
+  ReadOptions o;
+  o.topic = "sensor_combined";
+  for (const std::string name : {"flight.ulg", "run.bag", "x.csv"}) {
+    const std::string p = (dir / name).string();
+    EXPECT_EQ(read_error(p, o), p + ": file not found, expected an existing data file");
+    try {
+      gmwm::io::check_signals(p, o);
+      ADD_FAILURE() << "no throw for " << p;
+    } catch (const gmwm::InputError& e) {
+      EXPECT_EQ(std::string(e.what()), p + ": file not found, expected an existing data file");
+    }
+  }
+  EXPECT_EQ(read_error(dir.string(), o), dir.string() + ": is a folder, expected a data file");
+  // An existing text file is still told it has no topics.
+  EXPECT_TRUE(
+      contains(read_error(file("time,x\n" + csv_rows(20)), o), "the file is delimited text, which has no topics"));
+}
+
 TEST_F(SignalReaderErrors, RejectsAnEmptyFile) {
   const std::string p = file("");
   EXPECT_EQ(read_error(p), p + ": found an empty file, expected a header row and data rows");

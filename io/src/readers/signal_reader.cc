@@ -207,11 +207,13 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
 namespace {
 
 SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only) {
+  // Opened first: a path the format sniffers found no log at may be missing, a folder or
+  // unreadable, which is said as such before anything about its format.
+  detail::TextSource src(path);
   if (!options.topic.empty())
     throw InputError(path + ": --topic " + options.topic +
                      ": the file is delimited text, which has no topics "
                      "(--topic reads a PX4 ULog file or a ROS bag: .bag, .db3, .mcap)");
-  detail::TextSource src(path);
   if (src.empty()) throw InputError(path + ": found an empty file, expected a header row and data rows");
 
   // Header: the first line with a non-numeric token; or the last '#' line when the next
