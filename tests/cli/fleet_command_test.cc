@@ -106,6 +106,13 @@ TEST_F(GmwmFleet, RefusesTheManifestsBadRowsUpFrontOneLineEachNamingTheRow) {
   EXPECT_NE(r.err.find("4 row(s) of the manifest refused; nothing analysed"), std::string::npos) << r.err;
 }
 
+TEST_F(GmwmFleet, RefusesAManifestWithOneBadRowInOneLine) {
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN1,IMU-X\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(r, {"fleet.csv:3: unit 'SN1' given twice (first at row 2); nothing analysed"},
+                               dir_ / "f.json");
+}
+
 TEST_F(GmwmFleet, SaysAtMostAHundredBadRowsAndHowManyMore) {
   std::string manifest = "path,unit,model\n";
   for (int k = 0; k < 151; ++k) manifest += "unit1.csv,SN1,IMU-X\n";  // 150 copies of the first unit

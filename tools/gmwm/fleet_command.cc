@@ -70,8 +70,10 @@ std::optional<fleet::FleetGapBaseline> gap_baseline(const FleetArgs& a, const io
 // bury the terminal); the count of all of them follows.
 constexpr std::size_t kMaxRowsSaid = 100;
 
-// The manifest's bad rows, one line each on stderr, before any work (exit 2).
+// The manifest's bad rows, one line each on stderr, before any work (exit 2); one bad row
+// is one line, as every refusal (it was followed by a line counting it).
 int refuse_rows(const std::vector<std::string>& problems) {
+  if (problems.size() == 1) throw InputError(problems.front() + "; nothing analysed");
   for (std::size_t i = 0; i < problems.size() && i < kMaxRowsSaid; ++i)
     std::cerr << "gmwm: error: " << capped_line(printable_line(problems[i])) << '\n';
   if (problems.size() > kMaxRowsSaid)
