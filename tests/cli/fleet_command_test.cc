@@ -156,6 +156,35 @@ TEST_F(GmwmFleet, RefusesAManifestFieldLongerThanAPathInOneLineNamingTheRowAndFi
   EXPECT_EQ(read_json(dir_ / "f.json")["rows"][0].at("group"), std::string(4096, 'g'));
 }
 
+// Names reach the JSON as UTF-8: bytes that are not UTF-8 were replaced there (U+FFFD) and
+// kept raw in the CSV, so two units "SN\xFF1" and "SN\xFE1" were one unit in the JSON.
+TEST_F(GmwmFleet, RefusesANameThatIsNotUtf8BeforeItReachesAnOutput) {
+  write("fleet.csv",
+        "path,unit,model\nunit1.csv,SN\xFF"
+        "1,IMU-X\nunit2.csv,SN\xFE"
+        "1,IMU-X\n");
+  auto r = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json", "--csv", "f.csv"}, dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("gmwm: error: fleet.csv:2: unit: found bytes that are not UTF-8 in 'SN\\xFF1', expected UTF-8 "
+                       "text"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("gmwm: error: fleet.csv:3: unit: found bytes that are not UTF-8 in 'SN\\xFE1'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "f.json"));
+  EXPECT_FALSE(fs::exists(dir_ / "f.csv"));
+  // A model or group cut inside a character (a lead byte without its continuation).
+  write("fleet.csv", "path,unit,model,group\nunit1.csv,SN1,IMU-X,line-\xC3\n");
+  auto g = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(g, {"fleet.csv:2: group: found bytes that are not UTF-8"}, dir_ / "f.json");
+  // UTF-8 names are names: kept whole in every output.
+  write("fleet.csv", "path,unit,model\nunit1.csv,SN-\xC3\xA9\xE2\x82\xAC,IMU-X\n");
+  auto ok = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json", "--no-cache"}, dir_);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_EQ(read_json(dir_ / "f.json")["rows"][0].at("unit"), "SN-\xC3\xA9\xE2\x82\xAC");
+}
+
 TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn) {
   // A data row far into the file is not a number: the header is fine, the read fails.
   std::string text = gmwm::test::read_text(dir_ / "unit2.csv");

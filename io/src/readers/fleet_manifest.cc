@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include <yaml-cpp/yaml.h>
 
@@ -39,6 +40,31 @@ bool is_field(const std::string& name) {
 }
 
 std::string at(const std::string& path, int line) { return path + ":" + std::to_string(line) + ": "; }
+
+// Whether `s` is UTF-8 (RFC 3629: no overlong forms, no surrogates, at most U+10FFFF).
+bool is_utf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const int c = static_cast<unsigned char>(s[i]);
+    // The sequence's length and its second byte's range (the Unicode Standard, table 3-7).
+    const auto [n, lo, hi] = c < 0x80    ? std::tuple{1, 0x80, 0xBF}
+                             : c < 0xC2  ? std::tuple{0, 0, 0}
+                             : c < 0xE0  ? std::tuple{2, 0x80, 0xBF}
+                             : c == 0xE0 ? std::tuple{3, 0xA0, 0xBF}
+                             : c == 0xED ? std::tuple{3, 0x80, 0x9F}
+                             : c < 0xF0  ? std::tuple{3, 0x80, 0xBF}
+                             : c == 0xF0 ? std::tuple{4, 0x90, 0xBF}
+                             : c < 0xF4  ? std::tuple{4, 0x80, 0xBF}
+                             : c == 0xF4 ? std::tuple{4, 0x80, 0x8F}
+                                         : std::tuple{0, 0, 0};
+    if (n == 0 || i + static_cast<std::size_t>(n) > s.size()) return false;
+    for (int k = 1; k < n; ++k) {
+      const int b = static_cast<unsigned char>(s[i + static_cast<std::size_t>(k)]);
+      if (b < (k == 1 ? lo : 0x80) || b > (k == 1 ? hi : 0xBF)) return false;
+    }
+    i += static_cast<std::size_t>(n);
+  }
+  return true;
+}
 
 // The fields of one CSV line (RFC 4180: a field in double quotes may hold commas, a doubled
 // quote is a quote). Throws InputError for an unterminated quote or text after a closing one.
@@ -215,6 +241,13 @@ std::vector<std::string> fleet_manifest_problems(const FleetManifest& manifest) 
                                      [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
         why = std::string(name) + ": found a control character in '" + printable_line(*value) +
               "', expected printable text";
+    // ... and UTF-8, as the JSON holds them: other bytes were replaced there (U+FFFD) and kept
+    // raw in the CSV, so that two units could be one in the JSON.
+    for (const auto& [name, value] :
+         {std::pair<const char*, const std::string*>{"unit", &r.unit}, {"model", &r.model}, {"group", &r.group}})
+      if (why.empty() && !is_utf8(*value))
+        why = std::string(name) + ": found bytes that are not UTF-8 in '" + printable_line(*value) +
+              "', expected UTF-8 text";
     if (why.empty())
       if (const auto [it, fresh] = first_row.emplace(r.unit, r.row); !fresh)
         why = "unit '" + r.unit + "' given twice (first at row " + std::to_string(it->second) + ")";
