@@ -185,6 +185,27 @@ TEST_F(GmwmFleet, RefusesANameThatIsNotUtf8BeforeItReachesAnOutput) {
   EXPECT_EQ(read_json(dir_ / "f.json")["rows"][0].at("unit"), "SN-\xC3\xA9\xE2\x82\xAC");
 }
 
+// A manifest saved by a spreadsheet as "CSV UTF-8" begins with a byte-order mark: read as
+// the text after it (it was refused with the mark unseen in the header's first name). One
+// saved as UTF-16 is refused naming its encoding.
+TEST_F(GmwmFleet, ReadsAManifestWithAByteOrderMarkAndRefusesUtf16NamingTheEncoding) {
+  write("fleet.csv", "\xEF\xBB\xBFpath,unit,model\nunit1.csv,SN1,IMU-X\n");
+  auto csv = run_gmwm({"fleet", "fleet.csv", "--model", "WN+RW", "--json", "f.json", "--quiet"}, dir_);
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_EQ(read_json(dir_ / "f.json").at("rows").size(), 2u);
+  write("fleet.yaml", "\xEF\xBB\xBFrecordings:\n  - {path: unit1.csv, unit: SN1, model: IMU-X}\n");
+  auto yaml = run_gmwm({"fleet", "fleet.yaml", "--model", "WN+RW", "--json", "y.json", "--quiet"}, dir_);
+  ASSERT_EQ(yaml.exit_code, 0) << yaml.err;
+  std::string utf16 = "\xFF\xFE";
+  for (char c : std::string("path,unit,model\nunit1.csv,SN1,IMU-X\n")) utf16 += std::string(1, c) + '\0';
+  write("wide.csv", utf16);
+  auto wide = run_gmwm({"fleet", "wide.csv", "--model", "WN+RW", "--json", "w.json"}, dir_);
+  gmwm::test::expect_bad_input(wide, {"wide.csv:1: found UTF-16 text", "expected UTF-8"}, dir_ / "w.json");
+  write("nul.csv", std::string("path,unit,model\nunit1.csv,SN1,IMU-X\nunit2.csv,SN") + '\0' + "2,IMU-X\n");
+  auto nul = run_gmwm({"fleet", "nul.csv", "--model", "WN+RW", "--json", "w.json"}, dir_);
+  gmwm::test::expect_bad_input(nul, {"nul.csv:3: found a NUL byte, expected text"}, dir_ / "w.json");
+}
+
 TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn) {
   // A data row far into the file is not a number: the header is fine, the read fails.
   std::string text = gmwm::test::read_text(dir_ / "unit2.csv");

@@ -198,6 +198,21 @@ std::vector<FleetRecording> read_yaml(const std::string& path, const std::string
   return out;
 }
 
+// The manifest's text as UTF-8: a byte-order mark (a spreadsheet's "CSV UTF-8") skipped,
+// UTF-16 and NUL bytes refused naming the encoding (the header was refused as an unknown
+// field, the mark unseen in the message, or a NUL quoted as its first name).
+std::string utf8_text(const std::string& path, std::string text) {
+  if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
+    throw InputError(path + ":1: found UTF-16 text (its byte-order mark " + (text[0] == '\xFF' ? "FF FE" : "FE FF") +
+                     "), expected UTF-8 (save the manifest as UTF-8)");
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
+    throw InputError(at(path, static_cast<int>(line)) + "found a NUL byte, expected text (UTF-8)");
+  }
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+  return text;
+}
+
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
@@ -212,7 +227,7 @@ std::vector<std::string> manifest_columns(const std::string& columns) {
 }
 
 FleetManifest read_fleet_manifest(const std::string& path) {
-  const std::string text = read_side_file(path, "a fleet manifest (CSV or YAML)", kMaxManifestBytes);
+  const std::string text = utf8_text(path, read_side_file(path, "a fleet manifest (CSV or YAML)", kMaxManifestBytes));
   FleetManifest m;
   m.path = path;
   m.recordings = ends_with(path, ".yaml") || ends_with(path, ".yml") ? read_yaml(path, text) : read_csv(path, text);

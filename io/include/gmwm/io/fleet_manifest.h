@@ -46,8 +46,9 @@ inline constexpr std::size_t kMaxManifestFieldBytes = 4096;
 /// A row's `columns` as io::ReadOptions::columns takes them: split at commas, each trimmed.
 std::vector<std::string> manifest_columns(const std::string& columns);
 
-/// Reads a manifest (YAML when it ends in .yaml or .yml, else CSV). Throws InputError
-/// naming "MANIFEST:LINE" for what makes the file unreadable as a whole: no header or an
+/// Reads a manifest (YAML when it ends in .yaml or .yml, else CSV), UTF-8 text (a
+/// byte-order mark skipped). Throws InputError naming "MANIFEST:LINE" for what makes the
+/// file unreadable as a whole: UTF-16 or a NUL byte, no header or an
 /// unknown field in it, a malformed row, a field longer than kMaxManifestFieldBytes, an
 /// empty manifest.
 FleetManifest read_fleet_manifest(const std::string& path);
