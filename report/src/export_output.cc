@@ -69,6 +69,7 @@ Json export_document(const pipeline::ExportStudy& study, const std::string& outp
                              {"nees_inside", json_number(c.nees_inside)},
                              {"smaller_factor", json_number(c.smaller)},
                              {"smaller_factor_above_band", json_number(c.smaller_above)},
+                             {"smaller_factor_verdict", c.smaller == 0.0 ? Json(nullptr) : Json(nav::to_string(c.smaller_verdict))},
                              {"reason", c.reason}};
   }
   return doc;
@@ -103,7 +104,7 @@ std::string export_text(const pipeline::ExportStudy& study, const std::string& o
   os << t.str();
   if (const auto& c = study.consistent)
     os << "inflation N x" << fmt(c->white, 3) << ", K x" << fmt(c->factor, 3)
-       << ": the smallest keeping the filter from being optimistic (" << fmt(study.consistency->update_rate)
+       << ": the smallest with which the filter is not optimistic (" << fmt(study.consistency->update_rate)
        << " Hz updates, " << fmt(study.consistency->horizon) << " s on the IMU alone); NEES in band "
        << fmt(100.0 * c->nees_inside, 3) << "% (" << nav::to_string(c->verdict) << ")\n";
   return os.str();

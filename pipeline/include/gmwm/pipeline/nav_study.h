@@ -140,6 +140,7 @@ struct ConsistentInflation {
   double nees_inside = 0.0;                          ///< share in band at `factor`
   double smaller = 0.0;                              ///< factor / (1 + precision) (0 when factor is 1)
   double smaller_above = 0.0;                        ///< its share of output times above the band
+  nav::Verdict smaller_verdict = nav::Verdict::kOptimistic;  ///< its verdict (optimistic unless factor is 1)
   std::string reason;                                ///< one line for the file's header
 };
 
