@@ -206,6 +206,16 @@ TEST_F(GmwmFleet, ReadsAManifestWithAByteOrderMarkAndRefusesUtf16NamingTheEncodi
   gmwm::test::expect_bad_input(nul, {"nul.csv:3: found a NUL byte, expected text"}, dir_ / "w.json");
 }
 
+TEST_F(GmwmFleet, RefusesAManifestWithCrOnlyLineEndsNamingThem) {
+  write("mac.csv", "path,unit,model\runit1.csv,SN1,IMU-X\r");
+  auto r = run_gmwm({"fleet", "mac.csv", "--model", "WN+RW", "--json", "f.json"}, dir_);
+  gmwm::test::expect_bad_input(r, {"mac.csv:1: found carriage returns (CR) as line ends", "expected LF or CRLF"},
+                               dir_ / "f.json");
+  write("dos.csv", "path,unit,model\r\nunit1.csv,SN1,IMU-X\r\n");  // CRLF: read
+  auto dos = run_gmwm({"fleet", "dos.csv", "--model", "WN+RW", "--json", "f.json", "--quiet"}, dir_);
+  EXPECT_EQ(dos.exit_code, 0) << dos.err;
+}
+
 TEST_F(GmwmFleet, ARecordingThatCannotBeReadIsARowWithItsReasonAndTheOthersGoOn) {
   // A data row far into the file is not a number: the header is fine, the read fails.
   std::string text = gmwm::test::read_text(dir_ / "unit2.csv");

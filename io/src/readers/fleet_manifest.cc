@@ -198,9 +198,10 @@ std::vector<FleetRecording> read_yaml(const std::string& path, const std::string
   return out;
 }
 
-// The manifest's text as UTF-8: a byte-order mark (a spreadsheet's "CSV UTF-8") skipped,
-// UTF-16 and NUL bytes refused naming the encoding (the header was refused as an unknown
-// field, the mark unseen in the message, or a NUL quoted as its first name).
+// The manifest's text as UTF-8 lines: a byte-order mark (a spreadsheet's "CSV UTF-8")
+// skipped, UTF-16, NUL bytes and CR-only line ends refused naming them (the header was
+// refused as an unknown field, the mark unseen in the message, or a NUL quoted as its first
+// name).
 std::string utf8_text(const std::string& path, std::string text) {
   if (text.starts_with("\xFF\xFE") || text.starts_with("\xFE\xFF"))
     throw InputError(path + ":1: found UTF-16 text (its byte-order mark " + (text[0] == '\xFF' ? "FF FE" : "FE FF") +
@@ -209,6 +210,12 @@ std::string utf8_text(const std::string& path, std::string text) {
     const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
     throw InputError(at(path, static_cast<int>(line)) + "found a NUL byte, expected text (UTF-8)");
   }
+  // Line ends of CR alone (a classic Mac file) made the file one line: its header took the
+  // first row's fields for names ("found the header field 'model base.csv'").
+  if (text.find('\n') == std::string::npos && text.find('\r') != std::string::npos)
+    throw InputError(path +
+                     ":1: found carriage returns (CR) as line ends and no line feed, expected LF or CRLF "
+                     "line ends (convert it: tr '\\r' '\\n')");
   if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
   return text;
 }
