@@ -1,6 +1,12 @@
 #include "gmwm/engine/simulate.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/error.h"
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
 
@@ -16,6 +22,17 @@ std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, s
     const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
     Rng rng = make_stream(seed, {signal, static_cast<std::uint64_t>(c)});
     p.simulate({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, rng, x);
+    // A value a double cannot hold is never returned: a drift's omega t passes 1.8e308
+    // (DR(omega=1e305) after 1800 samples), or a sum of components does. The processes
+    // keep their own intermediates in range for any valid theta (stochastic values stay
+    // below ~1e163), so the component that crossed is named.
+    const auto bad = std::find_if(x.begin(), x.end(), [](double v) { return !std::isfinite(v); });
+    if (bad != x.end()) {
+      char at[96];
+      std::snprintf(at, sizeof at, "%lld of %lld", static_cast<long long>(bad - x.begin()), static_cast<long long>(n));
+      throw InputError("component " + std::to_string(c + 1) + " (" + p.name() +
+                       ") takes the simulated series beyond the largest double (1.8e308) at sample " + at);
+    }
   }
   return x;
 }

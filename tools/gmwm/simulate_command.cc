@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "common.h"
@@ -75,15 +76,27 @@ std::vector<std::string> column_names(const SimulateArgs& args) {
   return names;
 }
 
-/// Rounds to multiples of q. When 1/q is an integer (q = 1e-6, 0.05, ...) the result is
-/// k / (1/q), the double nearest to the decimal k q, so that files show short numbers.
+/// Rounds to multiples of q (a normal double). When 1/q is an integer (q = 1e-6, 0.05, ...)
+/// the result is k / (1/q), the double nearest to the decimal k q, so that files show short
+/// numbers. A value whose quotient by q reaches 2^53 is kept: q is then below its spacing
+/// ulp(v) > |v| 2^-53, so the nearest multiple of q rounds to v itself (dividing 1e300 by
+/// q = 1e-10 overflowed to inf, and an inf row was written).
 void quantize(std::vector<double>& values, double q) {
+  constexpr double kIntegral = 9007199254740992.0;  // 2^53: every double from here on is an integer
   const double inv = std::round(1.0 / q);
   if (inv >= 1.0 && std::abs(inv * q - 1.0) < 1e-12) {
-    for (double& v : values) v = std::nearbyint(v * inv) / inv;
+    for (double& v : values)
+      if (std::abs(v * inv) < kIntegral) v = std::nearbyint(v * inv) / inv;
   } else {
-    for (double& v : values) v = std::nearbyint(v / q) * q;
+    for (double& v : values)
+      if (std::abs(v / q) < kIntegral) v = std::nearbyint(v / q) * q;
   }
+}
+
+/// The first sample of `values` a double does not hold, or -1.
+std::int64_t first_non_finite(const std::vector<double>& values) {
+  const auto it = std::find_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); });
+  return it == values.end() ? -1 : static_cast<std::int64_t>(it - values.begin());
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -101,6 +114,11 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
     if (const std::string why = io::sampling_rate_problem(*args.freq, "--freq"); !why.empty()) throw InputError(why);
   if (args.quantum && !(*args.quantum > 0.0 && std::isfinite(*args.quantum)))
     throw InputError("--quantum " + fmt(*args.quantum) + ": expected a positive step");
+  // A subnormal step divides ordinary values to inf (1 / 1e-320 overflows) and carries
+  // fewer than 15 digits of its own.
+  if (args.quantum && *args.quantum < std::numeric_limits<double>::min())
+    throw InputError("--quantum " + fmt(*args.quantum) +
+                     ": expected a step of at least 2.2e-308 (the smallest normal double)");
   const std::vector<std::string> names = column_names(args);
 
   const ProcessContext context{args.freq.value_or(1.0), args.freq.has_value()};
@@ -120,13 +138,26 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
 
   check_memory(args);
   Stopwatch sim_clock;
-  std::vector<std::vector<double>> series = simulate_many(model, theta, args.n, args.signals, common.seed);
+  std::vector<std::vector<double>> series;
+  try {
+    series = simulate_many(model, theta, args.n, args.signals, common.seed);
+  } catch (const InputError& e) {  // a value beyond a double (simulate.h): nothing is written
+    throw InputError("--model '" + args.model + "' with --n " + std::to_string(args.n) + ": " + e.what() +
+                     "; expected values a double holds over --n samples (a drift's |omega| (n - 1) <= 1.8e308)");
+  }
   const double sim_seconds = sim_clock.seconds();
 
   std::vector<io::Signal> signals(series.size());
   for (std::size_t k = 0; k < series.size(); ++k) {
     signals[k].name = names[k];
-    if (args.quantum) quantize(series[k], *args.quantum);
+    if (args.quantum) {
+      quantize(series[k], *args.quantum);
+      // Rounding up to a multiple past 1.8e308 (a step near the largest double).
+      if (const std::int64_t at = first_non_finite(series[k]); at >= 0)
+        throw InputError("--quantum " + fmt(*args.quantum) + ": rounding signal '" + names[k] +
+                         "' to its multiples takes sample " + std::to_string(at) +
+                         " beyond the largest double (1.8e308); expected a smaller step");
+    }
     signals[k].values = std::move(series[k]);
   }
 

@@ -131,14 +131,18 @@ class ArmaProcess final : public Process {
     std::vector<double> gamma(static_cast<std::size_t>(std::max(p_, 1)));
     internal::arma_unit_autocovariance(ph, th, gamma);
     const auto psi = internal::arma_psi_weights(ph, th, static_cast<std::size_t>(std::max(q_, 1)));
+    // Per unit sigma2, its root times sqrt(sigma2): sigma2 times the unit covariance (1e3
+    // for phi1 = 0.999) overflowed for sigma2 near 1e308, and the eigen solver's NaN
+    // became every sample.
     Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(d, d);
     for (int i = 0; i < p_; ++i)
-      for (int j = 0; j < p_; ++j) cov(i, j) = s * gamma[static_cast<std::size_t>(std::abs(i - j))];
-    for (int j = 0; j < q_; ++j) cov(p_ + j, p_ + j) = s;
+      for (int j = 0; j < p_; ++j) cov(i, j) = gamma[static_cast<std::size_t>(std::abs(i - j))];
+    for (int j = 0; j < q_; ++j) cov(p_ + j, p_ + j) = 1.0;
     for (int i = 0; i < p_; ++i)  // Cov(x_{-1-i}, e_{-1-j}) = sigma2 psi_{j-i}, j >= i
-      for (int j = i; j < q_; ++j) cov(i, p_ + j) = cov(p_ + j, i) = s * psi[static_cast<std::size_t>(j - i)];
+      for (int j = i; j < q_; ++j) cov(i, p_ + j) = cov(p_ + j, i) = psi[static_cast<std::size_t>(j - i)];
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
-    const Eigen::MatrixXd root = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+    const Eigen::MatrixXd root =
+        std::sqrt(s) * eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
     boost::random::normal_distribution<double> z(0.0, 1.0);
     Eigen::VectorXd draw(d);
     for (int i = 0; i < d; ++i) draw(i) = z(rng);

@@ -41,7 +41,7 @@ class QuantizationNoise final : public Process {
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     boost::random::uniform_real_distribution<double> u(0.0, 1.0);
-    const double scale = std::sqrt(12.0 * theta[0]);
+    const double scale = std::sqrt(12.0) * std::sqrt(theta[0]);  // 12 Q2 overflows for Q2 > 1.5e307
     double prev = u(rng);
     for (double& v : out) {
       const double cur = u(rng);

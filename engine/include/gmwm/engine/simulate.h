@@ -12,7 +12,9 @@
 
 namespace gmwm {
 
-/// One series of length n for signal index `signal`.
+/// One series of length n for signal index `signal`. Throws InputError naming the
+/// component when a value would leave the doubles (a drift whose omega (n - 1) passes
+/// 1.8e308): no returned value is inf or NaN.
 std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, std::uint64_t seed,
                              std::uint64_t signal = 0);
 
