@@ -317,6 +317,17 @@ void check_input(const Model& model, const Eigen::VectorXd& theta, double freq) 
   if (const std::string why = model.validate(theta); !why.empty()) throw InputError("record plan: " + why);
 }
 
+std::string seconds_text(double s) {
+  char buf[48];
+  if (s < 120.0)
+    std::snprintf(buf, sizeof buf, "%.3g s", s);
+  else if (s < 7200.0)
+    std::snprintf(buf, sizeof buf, "%.3g min", s / 60.0);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g h", s / 3600.0);
+  return buf;
+}
+
 std::string percent(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "+-%.3g%%", 100.0 * x);
@@ -426,6 +437,17 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
     if (options.record_seconds > 0.0) {
       const bool fits = record_n >= static_cast<double>(std::max(kMinSeriesLength, floor)) && (resolved || whole_curve);
       r.precision_at_record = fits ? plan.z * at(static_cast<std::int64_t>(record_n)).rse[i] : kInf;
+      // Why a record of that length promises no precision.
+      if (!fits && record_n < static_cast<double>(kMinSeriesLength))
+        r.record_basis = "a record of " + std::to_string(static_cast<std::int64_t>(record_n)) +
+                         " samples has no wavelet variance (at least " + std::to_string(kMinSeriesLength) + ")";
+      else if (!fits)
+        r.record_basis = "the model is resolved only from " + std::to_string(floor) + " samples (" +
+                         seconds_text(static_cast<double>(floor) / freq) + "; last " + plan.resolved_by +
+                         "): a shorter record's fit may trade components, and no precision of a term's figure can be "
+                         "promised";
+      else if (!std::isfinite(r.precision_at_record))
+        r.record_basis = at(static_cast<std::int64_t>(record_n)).note[i];
     }
     plan.targets.push_back(std::move(r));
   }

@@ -66,6 +66,7 @@ Json plan_document(const pipeline::PlanStudy& study, const RecordPlanOptions& op
            {"own_samples", t.own_samples},
            {"relative_se", json_number(t.relative_se)},
            {"precision_at_record", options.record_seconds > 0.0 ? json_number(t.precision_at_record) : Json(nullptr)},
+           {"precision_at_record_basis", t.record_basis.empty() ? Json(nullptr) : Json(t.record_basis)},
            {"basis", t.basis}});
     doc["columns"].push_back({{"name", c.name},
                               {"unit", c.unit.empty() ? Json(nullptr) : Json(c.unit)},
@@ -80,41 +81,62 @@ Json plan_document(const pipeline::PlanStudy& study, const RecordPlanOptions& op
   return doc;
 }
 
+// A note wrapped at kWidth columns, continuation lines indented by two, broken after a '+',
+// ',' or ' ' where one is near (a model's text is broken between its components, not inside
+// a number).
+void wrap_note(std::ostringstream& os, const std::string& note) {
+  std::string rest = note;
+  std::size_t width = kWidth;
+  std::string indent;
+  while (rest.size() > width) {
+    std::size_t cut = rest.find_last_of("+, ", width - 1);
+    cut = cut == std::string::npos || cut < width / 2 ? width : cut + 1;
+    os << indent << trimmed(rest.substr(0, cut)) << '\n';
+    rest = rest.substr(cut);
+    indent = "  ";
+    width = kWidth - indent.size();
+  }
+  os << indent << rest << '\n';
+}
+
 std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOptions& options) {
   std::ostringstream os;
   const bool have = options.record_seconds > 0.0;
   os << "record length for +-" << g(100.0 * options.precision, 3) << "% at " << g(100.0 * options.confidence, 3)
      << "% confidence (" << printable_line(study.source).substr(0, 50) << ")\n";
-  char line[200];
-  std::snprintf(line, sizeof line, "%-12s %-13s %-22s %10s %10s %8s %s", "column", "target", "value", "samples",
-                "duration", "rel. se", have ? ("+-% with " + duration(options.record_seconds)).c_str() : "");
+  char line[240];
+  // Value and unit in columns of their own: a figure's unit is never cut (the longest,
+  // deg/s/s/sqrt(Hz), deg/h/s/sqrt(Hz), m/s^2/s/sqrt(Hz), is 16).
+  std::snprintf(line, sizeof line, "%-12s %-13s %-10s %-16s %10s %8s %8s %s", "column", "target", "value", "unit",
+                "samples", "duration", "rel. se", have ? ("+-% with " + duration(options.record_seconds)).c_str() : "");
   os << trimmed(line) << '\n';
   std::vector<std::string> notes;
   for (const pipeline::PlanColumn& c : study.columns) {
     for (const RecordTarget& t : c.plan.targets) {
       const std::string printable = printable_line(c.name);
       const std::string name = printable.size() > 12 ? printable.substr(0, 11) + "~" : printable;
-      const std::string u = unit_of(t.name, c.unit);
-      std::snprintf(
-          line, sizeof line, "%-12s %-13s %-22s %10s %10s %8s %s", name.c_str(), t.name.substr(0, 13).c_str(),
-          (g(t.value, 4) + (u.empty() ? "" : " " + u)).substr(0, 22).c_str(),
-          t.reachable ? std::to_string(t.samples).c_str() : "unreachable",
-          t.reachable ? duration(t.seconds).c_str() : "-", g(t.relative_se, 3).c_str(),
-          have ? (g(100.0 * t.precision_at_record, 3) + (std::isfinite(t.precision_at_record) ? "%" : "")).c_str()
-               : "");
+      const std::string u = printable_line(unit_of(t.name, c.unit));
+      std::snprintf(line, sizeof line, "%-12s %-13s %-10s %-16s %10s %8s %8s %s", name.c_str(),
+                    t.name.substr(0, 13).c_str(), g(t.value, 4).c_str(),
+                    (u.size() > 16 ? u.substr(0, 15) + "~" : u).c_str(),
+                    t.reachable ? std::to_string(t.samples).c_str() : "unreachable",
+                    t.reachable ? duration(t.seconds).c_str() : "-", g(t.relative_se, 3).c_str(),
+                    have ? (std::isfinite(t.precision_at_record) ? g(100.0 * t.precision_at_record, 3) + "%"
+                            : std::isinf(t.precision_at_record)  ? std::string("n/a (note)")
+                                                                 : std::string("-"))
+                               .c_str()
+                         : "");
       os << trimmed(line) << '\n';
+      if (have && !t.record_basis.empty())
+        notes.push_back(c.name + " " + t.name + ": no precision with " + duration(options.record_seconds) + ": " +
+                        t.record_basis);
     }
     notes.push_back(c.name + ": model " + c.model);
     notes.push_back(c.name + ": resolved from " + std::to_string(c.plan.resolved_samples) + " samples (" +
                     duration(c.plan.resolved_seconds) + "; last " + c.plan.resolved_by + ")");
   }
   os << "samples and duration: the record needed; rel. se: the estimate's relative standard error there\n";
-  for (const std::string& raw : notes) {
-    const std::string n = printable_line(raw);
-    // Notes wrap at 100 columns, continuation lines indented by two.
-    os << n.substr(0, kWidth) << '\n';
-    for (std::size_t at = kWidth; at < n.size(); at += kWidth - 2) os << "  " << n.substr(at, kWidth - 2) << '\n';
-  }
+  for (const std::string& raw : notes) wrap_note(os, printable_line(raw));
   return os.str();
 }
 

@@ -2,6 +2,7 @@
 // against theory and simulation), a result's columns, the terminal's width, and bad input.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <cstdint>
 #include <string>
@@ -75,6 +76,39 @@ TEST_F(GmwmPlan, GivesTheSameLengthsForAModelAtAnyScale) {
   expect_bad_input(
       run_gmwm({"plan", "--model", "WN(sigma2=1e-300)+RW(gamma2=1e300)", "--freq", "100", "--json", "bad.json"}, dir_),
       {"WN(sigma2=1e-300)", "spans more scales than a double holds"}, dir_ / "bad.json");
+}
+
+TEST_F(GmwmPlan, SaysWhyARecordPromisesNoPrecisionAndNeverCutsAUnit) {
+  // A one-minute record of a model resolved only from 63762 samples (10.6 min) promises no
+  // precision of N or K: the table said "none" without saying why, and cut K's unit to
+  // "deg/s/s/sqrt(".
+  const auto r = run_gmwm({"plan", "--model", "AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1)+RW(gamma2=1e-6)", "--freq", "100",
+                           "--unit", "deg/s", "--targets", "N,K", "--have", "60", "--json", "plan.json"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string& line : lines_of(r.out)) EXPECT_LE(line.size(), 100u) << line;
+  EXPECT_NE(r.out.find(" deg/s/s/sqrt(Hz) "), std::string::npos) << r.out;
+  const json t = read_json(dir_ / "plan.json").at("columns")[0].at("targets");
+  ASSERT_EQ(t.size(), 2u);
+  for (const json& x : t) {
+    EXPECT_TRUE(x.at("precision_at_record").is_null()) << "none promised (JSON has no infinity): " << x.dump();
+    EXPECT_NE(x.at("precision_at_record_basis").get<std::string>().find("the model is resolved only from 63762"),
+              std::string::npos)
+        << x.dump();
+  }
+  EXPECT_NE(gmwm::test::flowed(r.out).find("K: no precision with 60 s: the model is resolved only from 63762 samples"),
+            std::string::npos)
+      << r.out;
+  // A note is broken between words or a model's components, never inside a number.
+  const std::vector<std::string> lines = lines_of(r.out);
+  for (std::size_t k = 1; k < lines.size(); ++k)
+    if (lines[k].rfind("  ", 0) == 0 && lines[k].size() > 2 && !lines[k - 1].empty()) {
+      const char before = lines[k - 1].back(), after = lines[k][2];
+      EXPECT_FALSE(std::isdigit(static_cast<unsigned char>(before)) &&
+                   (std::isdigit(static_cast<unsigned char>(after)) || after == '.' || after == 'e'))
+          << lines[k - 1] << "\n"
+          << lines[k];
+    }
 }
 
 TEST_F(GmwmPlan, RefusesATargetTheModelLacksAndBadOptionsInOneLine) {

@@ -83,6 +83,9 @@ struct RecordTarget {
   double precision_at_record = 0.0;
   /// One line: how the se was obtained, or why the precision is out of reach.
   std::string basis;
+  /// Why precision_at_record is +inf (the record shorter than the model's resolution, or
+  /// the figure not read from the model's Allan deviation over it); empty otherwise.
+  std::string record_basis;
 };
 
 struct RecordPlan {
