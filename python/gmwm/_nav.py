@@ -157,6 +157,8 @@ class PlanTarget:
     relative_se: float
     precision_at_record: float
     basis: str
+    #: Why a record of record_seconds promises no precision (None when it does).
+    precision_at_record_basis: str | None = None
 
     def __repr__(self) -> str:
         need = f"{g(self.seconds)} s" if self.reachable else "unreachable"
@@ -210,7 +212,8 @@ class PlanResult(JsonResult):
                        PlanResolved(int(c["resolved"]["samples"]), num(c["resolved"]["seconds"]), c["resolved"]["by"]),
                        tuple(PlanTarget(t["name"], num(t["value"]), t["unit"], bool(t["reachable"]), int(t["samples"]),
                                         num(t["seconds"]), int(t["own_samples"]), num(t["relative_se"]),
-                                        num(t["precision_at_record"]), t["basis"]) for t in c["targets"]))
+                                        num(t["precision_at_record"]), t["basis"],
+                                        t.get("precision_at_record_basis")) for t in c["targets"]))
             for c in d["columns"])
         return cls(d, text, d["source"], num(d["precision"]), num(d["confidence"]), num(d["record_seconds"]), columns)
 
@@ -293,6 +296,8 @@ class ConsistentFor:
     smaller_factor: float
     smaller_factor_above_band: float
     reason: str
+    #: The next smaller factor's verdict (optimistic), None when no inflation was needed.
+    smaller_factor_verdict: str | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -334,7 +339,7 @@ class ExportResult(JsonResult):
         consistent = None if c is None else ConsistentFor(
             num(c["update_rate"]), num(c["horizon"]), num(c["fix_sigma"]), num(c["white_factor"]),
             num(c["walk_factor"]), c["verdict"], num(c["nees_inside"]), num(c["smaller_factor"]),
-            num(c["smaller_factor_above_band"]), c["reason"])
+            num(c["smaller_factor_above_band"]), c["reason"], c.get("smaller_factor_verdict"))
         return cls(d, text, d["format"], d["output"], d["sidecar"], d["source"], d["aggregation"], num(d["inflate"]),
                    num(d["inflate_walk"]), num(d["rate"]), columns, written, strings(d["warnings"]), consistent)
 
