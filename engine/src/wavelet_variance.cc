@@ -17,10 +17,20 @@ std::string num(double x) {
 
 std::string wv_range_problem(const WaveletVariance& wv, std::span<const double> x, bool for_fit) {
   const std::string rescale = "; rescale the values (another unit) so that they are of ordinary size";
-  for (int j = 0; j < wv.levels(); ++j)
-    if (!std::isfinite(wv.wv[static_cast<std::size_t>(j)]))
-      return "the wavelet variance at level " + std::to_string(j + 1) +
-             " is not a finite number (sums of squares of values this large overflow a double)" + rescale;
+  for (int j = 0; j < wv.levels(); ++j) {
+    const auto l = static_cast<std::size_t>(j);
+    if (std::isfinite(wv.wv[l])) continue;
+    // An estimator that says why it has no value (a robust equation without a root: many
+    // coefficients exactly zero) is not an overflow: say what happened and what works.
+    if (l < wv.notes.size() && !wv.notes[l].empty())
+      return "the " + wv.estimator + " wavelet variance has no value at level " + std::to_string(j + 1) + " (" +
+             wv.notes[l] + ")" +
+             (for_fit ? "; a fit needs every level: the Huber estimator (--estimator huber), whose equation has a root "
+                        "whenever the coefficients vary, or the classical WV (without --robust)"
+                      : "");
+    return "the wavelet variance at level " + std::to_string(j + 1) +
+           " is not a finite number (sums of squares of values this large overflow a double)" + rescale;
+  }
   if (std::all_of(wv.wv.begin(), wv.wv.end(), [](double w) { return w == 0.0; })) {
     const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
     if (lo != x.end() && *lo == *hi)

@@ -3,7 +3,9 @@
 
 #include "gmwm/report/html_report.h"
 #include "gmwm/report/html_fragment.h"
+#include "gmwm/report/study_text.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 #include <system_error>
@@ -62,12 +64,45 @@ std::string quality_lines(const FitResult& f, const ReportColumn& c, bool all_re
   return os.str();
 }
 
+// Where a robust WV's spike screen replaced samples: a strip over the record with a mark at
+// each range (hover: its samples and time), under the summary the terminal prints.
+std::string screening_strip(const ReportColumn& c, const WaveletVariance& w) {
+  const std::string summary = screening_summary(w, c.n, c.freq, c.freq_known);
+  if (summary.empty()) return {};
+  constexpr double kWidth = 1000.0, kHeight = 18.0;
+  std::ostringstream os;
+  std::string lines = html_escape(summary);
+  for (std::size_t p = lines.find('\n'); p != std::string::npos && p + 1 < lines.size(); p = lines.find('\n', p + 5))
+    lines.replace(p, 1, "<br>");
+  const std::string end =
+      c.freq_known ? detail::num(static_cast<double>(c.n) / c.freq, 6) + " s" : std::to_string(c.n) + " samples";
+  os << "<div class=\"screening\"><p class=\"facts\">" << lines << "</p>\n"
+     << "<svg class=\"screening-strip\" viewBox=\"0 0 " << kWidth << " " << kHeight
+     << "\" preserveAspectRatio=\"none\" width=\"100%\" height=\"" << kHeight
+     << "\" role=\"img\" aria-label=\"replaced samples over the record\">"
+     << "<rect x=\"0\" y=\"0\" width=\"" << kWidth << "\" height=\"" << kHeight << "\" fill=\"#f6f8fa\"/>";
+  const double n = static_cast<double>(std::max<std::int64_t>(c.n, 1));
+  for (const auto& [a, b] : w.replaced) {
+    const double x = kWidth * static_cast<double>(a) / n;
+    const double width = std::max(1.0, kWidth * static_cast<double>(b - a + 1) / n);
+    const std::string at =
+        c.freq_known ? detail::num(static_cast<double>(a) / c.freq, 6) + " s" : "sample " + std::to_string(a);
+    os << "<rect x=\"" << detail::num(x, 6) << "\" y=\"0\" width=\"" << detail::num(width, 4) << "\" height=\""
+       << kHeight << "\" fill=\"#cf222e\"><title>" << (b - a + 1) << " sample(s) at " << html_escape(at)
+       << "</title></rect>";
+  }
+  os << "</svg><p class=\"facts\" style=\"display:flex;justify-content:space-between;margin:0\"><span>0</span><span>"
+     << html_escape(end) << "</span></p></div>\n";
+  return os.str();
+}
+
 std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
   const std::string idx = std::to_string(k + 1);
   std::ostringstream os;
   os << "<section class=\"column\" id=\"col-" << idx << "\">\n<h2>" << html_escape(c.name)
      << "</h2>\n<p class=\"facts\">" << column_facts(c) << "</p>\n";
   if (!c.wvs.empty()) os << plots.add("plot-" + idx + "-wv", "wv", detail::wv_plot_spec(c));
+  for (const WaveletVariance& w : c.wvs) os << screening_strip(c, w);
   if (c.fit) {
     os << "<h3>"
        << (c.replicates ? (c.replicates->selection ? "recommended model, fitted jointly over the replicates"

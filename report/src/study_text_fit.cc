@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "gmwm/engine/error.h"
 #include "gmwm/report/study_text.h"
 #include "replicate_rows.h"
 
@@ -311,9 +312,21 @@ std::string select_detail(const ColumnInfo& column, const selection::Selection& 
   return os.str();
 }
 
+// Each robust column's spike screen, named by its column (screening_summary).
+template <class Columns>
+std::string screening_lines(const io::SignalSet& set, const Columns& columns) {
+  std::string out;
+  for (std::size_t k = 0; k < columns.size() && k < set.signals.size(); ++k) {
+    const std::string s = screening_summary(columns[k].wv, static_cast<std::int64_t>(set.signals[k].values.size()),
+                                            set.freq, set.freq_known);
+    if (!s.empty()) out += printable_line(set.signals[k].name) + ": " + s;
+  }
+  return out;
+}
+
 std::string fit_text(const Json& doc, const io::SignalSet& set, const pipeline::FitStudy& study,
                      const TextOptions& options) {
-  std::string text = text_head(doc, set);
+  std::string text = text_head(doc, set) + screening_lines(set, study.columns);
   for (std::size_t k = 0; options.verbose && k < study.columns.size(); ++k) {
     const pipeline::FitColumnStudy& c = study.columns[k];
     const ColumnInfo info = column_of(set, k, options);
@@ -325,7 +338,7 @@ std::string fit_text(const Json& doc, const io::SignalSet& set, const pipeline::
 
 std::string select_text(const Json& doc, const io::SignalSet& set, const pipeline::SelectStudy& study,
                         const TextOptions& options) {
-  std::string text = text_head(doc, set);
+  std::string text = text_head(doc, set) + screening_lines(set, study.columns);
   for (std::size_t k = 0; options.verbose && k < study.columns.size(); ++k) {
     const pipeline::SelectColumnStudy& c = study.columns[k];
     const ColumnInfo info = column_of(set, k, options);

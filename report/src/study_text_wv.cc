@@ -1,4 +1,6 @@
 // The terminal and CSV tables of `gmwm wv` (and --adev) (study_text.h).
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -17,7 +19,35 @@ std::ostream& num(std::ostream& o, double x) {
   return o.write(buf, r.ptr - buf);
 }
 
+// The record's tenths a screen's histogram counts in.
+constexpr int kScreeningBins = 10;
+
 }  // namespace
+
+std::string screening_summary(const WaveletVariance& wv, std::int64_t n, double freq, bool freq_known) {
+  if (wv.replaced.empty() || n <= 0) return {};
+  std::int64_t samples = 0, longest = 0, longest_at = 0;
+  std::array<std::int64_t, kScreeningBins> bins{};
+  for (const auto& [a, b] : wv.replaced) {
+    samples += b - a + 1;
+    if (b - a + 1 > longest) longest = b - a + 1, longest_at = a;
+    const auto bin = std::min<std::int64_t>(kScreeningBins - 1, a * kScreeningBins / n);
+    ++bins[static_cast<std::size_t>(bin)];
+  }
+  const auto when = [&](std::int64_t i) {
+    return freq_known ? fmt(static_cast<double>(i) / freq, 6) + " s" : "sample " + std::to_string(i);
+  };
+  std::ostringstream os;
+  os << "spike screen: " << samples << " sample" << (samples == 1 ? "" : "s") << " in " << wv.replaced.size()
+     << " range" << (wv.replaced.size() == 1 ? "" : "s") << " replaced by interpolation ("
+     << fmt(100.0 * static_cast<double>(samples) / static_cast<double>(n), 3) << "% of the record), from "
+     << when(wv.replaced.front().first) << " to " << when(wv.replaced.back().second) << "; the longest " << longest
+     << " sample" << (longest == 1 ? "" : "s") << " at " << when(longest_at) << "\n";
+  os << "  ranges in each tenth of the record:";
+  for (const std::int64_t b : bins) os << ' ' << b;
+  os << " (the JSON's screening.replaced_ranges lists them all)\n";
+  return os.str();
+}
 
 std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
   std::ostringstream os;
@@ -59,6 +89,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
       int flagged = 0;
       for (const auto& d : rv->diagnostic) flagged += d.contaminated;
       if (flagged) os << flagged << " level(s) flagged as contaminated: there the robust WV is the one to trust\n";
+      os << screening_summary(w, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known);
       for (int j = 0; j < w.levels(); ++j)
         if (!w.notes[static_cast<std::size_t>(j)].empty() && !std::isfinite(w.wv[static_cast<std::size_t>(j)]))
           os << "level " << j + 1 << ": " << w.notes[static_cast<std::size_t>(j)] << '\n';
