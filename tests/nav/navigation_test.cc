@@ -36,7 +36,9 @@ Scenario free_inertial(double horizon) {
 }
 
 // The last output's attitude / velocity / position root-mean-square over the three axes.
-const FilterErrors& only(const Analysis& a) { return a.filters.front(); }
+// By value: the tests bind it to a reference to a temporary Analysis, whose life ends with the
+// statement (a reference into it dangled).
+FilterErrors only(const Analysis& a) { return a.filters.front(); }
 
 TEST(NavigationErrors, AWhiteGyroGivesAnAttitudeErrorOfNRootT) {
   // sigma2 = 1e-6 (rad/s)^2 per sample at 100 Hz: N^2 = 1e-8 rad^2/s. Per axis
