@@ -92,6 +92,29 @@ std::vector<double> local_slopes(const Curve& c) {
   return out;
 }
 
+/// The upper bound a curve puts on a figure: a white noise's (or a random walk's) Allan
+/// deviation never exceeds the total, so the figure is at most min sigma(tau) scale(tau)
+/// over the points bounds may come from; `why` starts the line.
+Readoff bound_of(const Curve& c, const std::function<double(double)>& scale, const std::string& why,
+                 const char* slope_name) {
+  Readoff out;
+  for (std::size_t i = 0; i < c.tau.size(); ++i) {
+    if (!c.bounds_from(i) || !(c.sigma[i] > 0.0)) continue;
+    const double v = c.sigma[i] * scale(c.tau[i]);
+    if (!(v >= out.value)) {
+      out.value = v;
+      out.tau = c.tau[i];
+    }
+  }
+  out.status = ReadoffStatus::kBound;
+  out.high = out.value;
+  out.how = why + ": an upper bound, the " + slope_name + " line touching the curve at " + fmt(out.tau) + " s";
+  return out;
+}
+
+double white_scale(double tau) { return std::sqrt(tau); }
+double walk_scale(double tau) { return std::sqrt(kWalkTau / tau); }
+
 /// The line of slope `target` (N: -1/2, K: +1/2): value = sigma(tau_i) * scale(tau_i).
 Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double target, double ieee_tau,
                    const std::function<double(double)>& scale, const IntervalFn& interval, const char* slope_name,
@@ -141,32 +164,24 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
               (holds ? "at " + fmt(out.tau) + " s" : "extended from " + fmt(out.tau) + " s to " + fmt(ieee_tau) + " s");
     return out;
   }
-  // No slope: the curve bounds the figure from above.
-  for (std::size_t i = 0; i < K; ++i) {
-    if (!c.bounds_from(i) || !(c.sigma[i] > 0.0)) continue;
-    const double v = c.sigma[i] * scale(c.tau[i]);
-    if (!(v >= out.value)) {
-      out.value = v;
-      out.tau = c.tau[i];
-    }
-  }
-  out.status = ReadoffStatus::kBound;
-  out.high = out.value;
-  out.how = std::string("no ") + slope_name + " slope: an upper bound, the " + slope_name +
-            " line touching the curve at " + fmt(out.tau) + " s";
-  return out;
+  return bound_of(c, scale, std::string("no ") + slope_name + " slope", slope_name);
 }
 
-// B: the lowest flat stretch (slope within the tolerance of 0 over at least two points),
-// else an interior minimum of the curve, else a bound.
+// B: the minimum of the curve (IEEE 952: the bias instability is the floor of the flat
+// part). Candidates are the interior local minima (below both usable neighbours) and the
+// lowest point of each flat stretch (slope within the tolerance of 0 over at least two
+// points); the lowest candidate wins. A flat stretch above a lower minimum is not the
+// floor: preferring any flat stretch to a sharper minimum read a model's B at a plateau
+// over 463-927 s, 2.4x the minimum at 17.2 s (issue 43, item 1). Without a candidate the
+// curve only bounds B.
 Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const IntervalFn& interval,
                      const ReadoffOptions& o) {
   const std::size_t K = c.tau.size();
-  std::size_t first = K, last = K, lowest = K;
+  std::vector<std::size_t> points;  // usable, positive
+  std::size_t lowest = K;
   for (std::size_t i = 0; i < K; ++i) {
     if (!c.usable[i] || !(c.sigma[i] > 0.0)) continue;
-    if (first == K) first = i;
-    last = i;
+    points.push_back(i);
     if (lowest == K || c.sigma[i] < c.sigma[lowest]) lowest = i;
   }
   Readoff out;
@@ -178,53 +193,45 @@ Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const In
   auto flat = [&](std::size_t i) {
     return c.usable[i] && c.sigma[i] > 0.0 && std::isfinite(slopes[i]) && std::abs(slopes[i]) <= o.slope_tolerance;
   };
-  // Flat stretches; the one holding the lowest point wins.
-  std::size_t best_from = K, best_to = K, best_at = K;
-  for (std::size_t i = first; i <= last; ++i) {
-    if (!flat(i)) continue;
-    std::size_t j = i;
-    while (j + 1 <= last && flat(j + 1)) ++j;
-    if (j > i) {
-      std::size_t at = i;
-      for (std::size_t k = i; k <= j; ++k)
-        if (c.sigma[k] < c.sigma[at]) at = k;
-      if (best_at == K || c.sigma[at] < c.sigma[best_at]) {
-        best_from = i;
-        best_to = j;
-        best_at = at;
-      }
-    }
-    i = j;
+  // The flat stretch around point i (itself when it is not flat).
+  auto stretch = [&](std::size_t p) {
+    std::size_t a = p, b = p;
+    while (a > 0 && flat(points[a - 1]) && flat(points[a])) --a;
+    while (b + 1 < points.size() && flat(points[b + 1]) && flat(points[b])) ++b;
+    return std::make_pair(a, b);
+  };
+  std::size_t best = points.size();  // index into points
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const double v = c.sigma[points[p]];
+    const bool local_minimum =
+        p > 0 && p + 1 < points.size() && v < c.sigma[points[p - 1]] && v < c.sigma[points[p + 1]];
+    const auto [a, b] = stretch(p);
+    bool flat_floor = b > a;  // the lowest point of a flat stretch of at least two points
+    for (std::size_t q = a; flat_floor && q <= b; ++q) flat_floor = !(c.sigma[points[q]] < v);
+    if ((local_minimum || flat_floor) && (best == points.size() || v < c.sigma[points[best]])) best = p;
   }
-  const bool interior = lowest != first && lowest != last;
-  if (best_at == K && !interior) {
+  if (best == points.size()) {
     out.value = c.sigma[lowest] * s;
     out.tau = c.tau[lowest];
     out.status = ReadoffStatus::kBound;
     out.high = out.value;
-    out.how = lowest == last
+    out.how = lowest == points.back()
                   ? "no flat part or minimum: an upper bound, the curve still falls at its last usable point (" +
                         fmt(out.tau) + " s)"
                   : "no flat part or minimum: an upper bound, the curve rises from its first point";
     return out;
   }
-  std::size_t at = best_at != K ? best_at : lowest, a = at, b = at;
-  if (best_at != K) {
-    a = best_from;
-    b = best_to;
-  } else {
-    while (a > first && flat(a - 1)) --a;
-    while (b < last && flat(b + 1)) ++b;
-  }
+  const std::size_t at = points[best];
+  const auto [a, b] = stretch(best);
   out.value = c.sigma[at] * s;
   std::tie(out.low, out.high) = interval(at, s);
   out.tau = c.tau[at];
-  out.region_from = c.tau[a];
-  out.region_to = c.tau[b];
+  out.region_from = c.tau[points[a]];
+  out.region_to = c.tau[points[b]];
   out.status = ReadoffStatus::kRead;
-  out.how = (best_at != K ? "on the flat part over " + fmt(out.region_from) + "-" + fmt(out.region_to) +
-                                " s, lowest at " + fmt(out.tau) + " s"
-                          : "at the minimum, " + fmt(out.tau) + " s") +
+  out.how = (b > a ? "on the flat part over " + fmt(out.region_from) + "-" + fmt(out.region_to) + " s, lowest at " +
+                         fmt(out.tau) + " s"
+                   : "at the minimum, " + fmt(out.tau) + " s") +
             ", divided by 0.664";
   return out;
 }
@@ -284,42 +291,61 @@ bool nearest_canonical(double slope, double target) {
   return best == target;
 }
 
-// A model's N (or K), once the line is found on its total curve at tau*: only the
-// components whose own slope at tau* is nearest that slope among the canonical ones count
-// (the others' share at tau* is not white noise, or not random walk), each with its exact continuous figure when it
-// states one (WN's noise density, RW's random walk: engine/physical.h) and otherwise its
-// Allan variance at tau* on the line (a fast AR1's long-run white level, a slow one's
-// early random walk). So a WN + RW model gives back sqrt(sigma2 / f) and
-// sqrt(gamma2 f) exactly, and the white-and-walk separation is not needed.
-void refine_from_components(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid, Readoff& r,
-                            double target, PhysicalKind kind) {
-  if (!r.available() || r.status == ReadoffStatus::kBound) return;
-  std::size_t at = 0;
-  for (std::size_t i = 1; i < grid.size(); ++i)
-    if (std::abs(grid.tau[i] - r.tau) < std::abs(grid.tau[at] - r.tau)) at = i;
-  const std::size_t lo = at > 0 ? at - 1 : at, hi = at + 1 < grid.size() ? at + 1 : at;
-  if (lo == hi) return;
-  const auto here = component_allan_variances(model, theta, grid.m[at]);
+// Each component's own log-log Allan deviation slope at grid point i (least squares
+// through its neighbours); NaN where it has no positive Allan variance there.
+std::vector<double> component_slopes(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
+                                     std::size_t i) {
+  std::vector<double> out(static_cast<std::size_t>(model.num_components()), NAN);
+  const std::size_t lo = i > 0 ? i - 1 : i, hi = i + 1 < grid.size() ? i + 1 : i;
+  if (lo == hi) return out;
   const auto left = component_allan_variances(model, theta, grid.m[lo]);
   const auto right = component_allan_variances(model, theta, grid.m[hi]);
   const double span = std::log(grid.tau[hi] / grid.tau[lo]);
-  const double scale2 = target < 0.0 ? r.tau : kWalkTau / r.tau;  // value^2 = AVAR * scale2
+  for (std::size_t c = 0; c < out.size(); ++c)
+    if (left[c] > 0.0 && right[c] > 0.0) out[c] = 0.5 * std::log(right[c] / left[c]) / span;
+  return out;
+}
+
+// A model's N (or K) at grid point `at` of its curve: only the components whose own slope
+// there is nearest that slope among the canonical ones count (the others' share is not
+// white noise, or not random walk), each with its exact continuous figure when it states
+// one (WN's noise density, RW's random walk: engine/physical.h) and otherwise its Allan
+// variance there on the line (a fast AR1's long-run white level, a slow one's early
+// random walk). So a WN + RW model gives back sqrt(sigma2 / f) and sqrt(gamma2 f) exactly,
+// and the white-and-walk separation is not needed.
+//
+// False when no component is on the slope there (r unchanged).
+bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
+                            std::size_t at, Readoff& r, double target, PhysicalKind kind) {
+  if (!r.available() || r.status == ReadoffStatus::kBound) return false;
+  if (grid.size() < 2) return false;
+  const auto here = component_allan_variances(model, theta, grid.m[at]);
+  const std::vector<double> slopes = component_slopes(model, theta, grid, at);
+  const double scale2 = target < 0.0 ? grid.tau[at] : kWalkTau / grid.tau[at];  // value^2 = AVAR * scale2
   double sum = 0.0;
   for (int k = 0; k < model.num_components(); ++k) {
     const auto c = static_cast<std::size_t>(k);
-    if (!(left[c] > 0.0) || !(right[c] > 0.0)) continue;
-    const double slope = 0.5 * std::log(right[c] / left[c]) / span;
-    if (!nearest_canonical(slope, target)) continue;
+    if (!std::isfinite(slopes[c]) || !nearest_canonical(slopes[c], target)) continue;
     const Process& p = *model.components()[c].process;
     const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
     const double exact = quantity_of_kind(p.physical(th, grid.freq), kind);
     sum += std::isfinite(exact) ? exact * exact : here[c] * scale2;
   }
-  if (!(sum > 0.0)) return;
+  if (!(sum > 0.0)) return false;
   const double ratio = std::sqrt(sum) / r.value;
   r.value *= ratio, r.low *= ratio, r.high *= ratio;
-  r.how += "; the components on this slope at " + fmt(r.tau) + " s only";
+  r.how += "; the components on this slope at " + fmt(grid.tau[at]) + " s only";
+  return true;
 }
+
+std::size_t nearest_index(const std::vector<double>& tau, double t) {
+  std::size_t at = 0;
+  for (std::size_t i = 1; i < tau.size(); ++i)
+    if (std::abs(tau[i] - t) < std::abs(tau[at] - t)) at = i;
+  return at;
+}
+
+bool shows(const Readoff& r) { return r.available() && r.status != ReadoffStatus::kBound; }
 
 }  // namespace
 
@@ -333,7 +359,8 @@ NoiseFigures read_noise_figures(const AllanDeviation& adev, const ReadoffOptions
 }
 
 NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
-                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options) {
+                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options,
+                                 const NoiseFigures* at) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   check_size_match("model_noise_figures", "theta", static_cast<std::size_t>(theta.size()), "parameters",
                    static_cast<std::size_t>(model.num_parameters()));
@@ -379,23 +406,51 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
   };
   NoiseFigures f;
   const std::vector<double> slopes_e = local_slopes(ce);
-  f.white = read_slope(
-      ce, slopes_e, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval_on(ce, ext.m), "-1/2", options);
-  f.walk = read_slope(
-      ce, slopes_e, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); }, interval_on(ce, ext.m), "+1/2",
-      options);
+  f.white = read_slope(ce, slopes_e, -0.5, kWhiteTau, white_scale, interval_on(ce, ext.m), "-1/2", options);
+  f.walk = read_slope(ce, slopes_e, 0.5, kWalkTau, walk_scale, interval_on(ce, ext.m), "+1/2", options);
   f.instability = read_minimum(cd, local_slopes(cd), interval_on(cd, grid.m), options);
-  refine_from_components(model, theta, ext, f.white, -0.5, PhysicalKind::kNoiseDensity);
-  refine_from_components(model, theta, ext, f.walk, 0.5, PhysicalKind::kRandomWalk);
+  // N and K of the components on their slope where the figure is read.
+  auto components_only = [&](Readoff& r, double target, PhysicalKind kind) {
+    if (shows(r)) refine_from_components(model, theta, ext, nearest_index(ext.tau, r.tau), r, target, kind);
+  };
+  components_only(f.white, -0.5, PhysicalKind::kNoiseDensity);
+  components_only(f.walk, 0.5, PhysicalKind::kRandomWalk);
+  if (at) {
+    // The one rule (issue 43): a figure the data show is read where they show it, on the
+    // model's curve too, so that the model's value and the check of the model against the
+    // data (choose_noise_figures) are about the same tau. (The model's own read-offs were
+    // taken at its own taus: B at a plateau of the model's curve over 463-927 s was
+    // accepted because the model matched the data at their minimum, 17.2 s.) N and K
+    // count the components on their slope there only; B is the curve itself.
+    auto at_data = [&](const Readoff& d, Readoff& r, double (*scale)(double), const char* slope_name) {
+      if (!shows(d)) return false;
+      const std::size_t i = nearest_index(grid.tau, d.tau);
+      const double sc = scale(grid.tau[i]);
+      Readoff x;
+      x.value = cd.sigma[i] * sc;
+      std::tie(x.low, x.high) = interval_on(cd, grid.m)(i, sc);
+      x.tau = grid.tau[i];
+      x.region_from = d.region_from;
+      x.region_to = d.region_to;
+      x.status = d.status;
+      x.how = std::string("the model's curve where the data's figure is read, ") + fmt(x.tau) + " s" +
+              (slope_name ? std::string(" (on the data's ") + slope_name + " slope)" : std::string());
+      r = x;
+      return true;
+    };
+    if (at_data(at->white, f.white, white_scale, "-1/2")) components_only(f.white, -0.5, PhysicalKind::kNoiseDensity);
+    if (at_data(at->walk, f.walk, walk_scale, "+1/2")) components_only(f.walk, 0.5, PhysicalKind::kRandomWalk);
+    // B: where the model's own curve has a floor (a white noise alone has none: its value at
+    // the data's minimum is no bias instability of the model's).
+    if (shows(f.instability))
+      at_data(
+          at->instability, f.instability, [](double) { return 1.0 / kBiasInstabilityFactor; }, nullptr);
+  }
   // The components behind each figure: their shares of the Allan variance where it was read.
   constexpr double kShownShare = 0.01;
   for (Readoff* r : {&f.white, &f.walk, &f.instability}) {
     if (!std::isfinite(r->tau)) continue;
-    const auto at = static_cast<std::size_t>(
-        std::min_element(ext.tau.begin(), ext.tau.end(),
-                         [&](double a, double b) { return std::abs(a - r->tau) < std::abs(b - r->tau); }) -
-        ext.tau.begin());
-    const auto parts = component_allan_variances(model, theta, ext.m[at]);
+    const auto parts = component_allan_variances(model, theta, ext.m[nearest_index(ext.tau, r->tau)]);
     double total = 0.0;
     for (double v : parts) total += std::max(v, 0.0);
     if (!(total > 0.0)) continue;
@@ -447,8 +502,8 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
     if (model_shows && inside) {
       c.figure = model;
       c.source = FigureSource::kModel;
-      c.note = std::string(name) + " from the model: its Allan deviation is inside the data's interval at " +
-               fmt(data.tau) + " s";
+      c.note = std::string(name) + " from the model, read where the data show the " + feature +
+               ": its Allan deviation is inside the data's interval there (" + fmt(data.tau) + " s)";
       return c;
     }
     c.figure = data;
@@ -458,7 +513,7 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
     else
       c.note = std::string(name) + " from the data's Allan deviation: the model misses it at " + fmt(data.tau) +
                " s (model/data " + fmt(mv / adev.adev[at]) + ", outside the data's " + fmt(100.0 * (1.0 - adev.alpha)) +
-               "% interval); the model's own value is " + fmt(model.value);
+               "% interval); the model's value there is " + fmt(model.value);
     return c;
   }
   if (model_shows) {
@@ -533,7 +588,7 @@ FigureReport noise_figure_report(AllanDeviation adev, const Model& model, const 
   r.data = read_noise_figures(r.adev, readoff);
   r.model_adev = model_allan_deviation(model, theta, r.adev.m);
   const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
-  r.model = model_noise_figures(model, theta, r.adev, cov, readoff);
+  r.model = model_noise_figures(model, theta, r.adev, cov, readoff, &r.data);
   r.chosen = choose_noise_figures(r.model, r.data, r.adev, r.model_adev);
   return r;
 }
@@ -561,7 +616,7 @@ FigureReport noise_figure_report_from_wv(const WaveletVariance& wv, double freq,
   r.data = read_noise_figures(a, readoff);
   r.model_adev = model_allan_deviation(model, theta, a.m);
   const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
-  r.model = model_noise_figures(model, theta, a, cov, readoff);
+  r.model = model_noise_figures(model, theta, a, cov, readoff, &r.data);
   r.chosen = choose_noise_figures(r.model, r.data, a, r.model_adev);
   return r;
 }

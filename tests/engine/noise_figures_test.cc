@@ -3,6 +3,7 @@
 // intervals of the estimates.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <string>
@@ -148,6 +149,45 @@ TEST(NoiseFigures, TheModelsFigureIsUsedOnlyWhereItMatchesTheData) {
   EXPECT_NE(bad.chosen.white.note.find("the model misses it"), std::string::npos) << bad.chosen.white.note;
   EXPECT_DOUBLE_EQ(bad.chosen.white.figure.value, bad.data.white.value);
   EXPECT_NEAR(bad.chosen.white.model.value / bad.data.white.value, 1.2, 0.05);
+}
+
+TEST(NoiseFigures, BIsReadAtTheCurvesMinimumNotAtAPlateauAboveItAndTheModelIsCheckedWhereItIsRead) {
+  // Issue 43, item 1. GM (T = 2 s at 100 Hz) + DR: the Allan deviation rises to the GM's
+  // plateau (0.617 sigma near 3.8 s), falls along its -1/2 tail and meets the drift's +1 at
+  // its minimum near 100 s, 2.4x lower. B is that minimum / 0.664 (IEEE 952), on the data's
+  // curve and on the model's; the model's value is the one checked against the data, at the
+  // same tau. (The curve's first point is lower still, but a curve rising from its first
+  // point has no floor there.)
+  const double f = 100.0;
+  const Model m = parse_model("GM(beta=0.005,sigma2_gm=1)+DR(omega=2e-5)");
+  const auto x = simulate(m, m.given_values(), 1 << 18, 5, 0);
+  const FigureReport r = noise_figure_report(x, f, m, m.given_values(), nullptr);
+  // The lowest usable point beyond the plateau, a local minimum of the curve.
+  constexpr double kBeyondThePlateau = 10.0;  // s
+  std::size_t lowest = r.adev.size();
+  for (std::size_t i = 0; i < r.adev.size(); ++i)
+    if (r.adev.tau[i] > kBeyondThePlateau && r.adev.edf[i] >= ReadoffOptions{}.min_edf &&
+        (lowest == r.adev.size() || r.adev.adev[i] < r.adev.adev[lowest]))
+      lowest = i;
+  ASSERT_LT(lowest + 1, r.adev.size());
+  ASSERT_LT(r.adev.adev[lowest], r.adev.adev[lowest + 1]);
+  ASSERT_LT(r.adev.adev[lowest], r.adev.adev[lowest - 1]);
+  EXPECT_EQ(r.data.instability.tau, r.adev.tau[lowest]) << r.data.instability.how;
+  EXPECT_NEAR(r.data.instability.value * kBiasInstabilityFactor / r.adev.adev[lowest], 1.0, 1e-12);
+  // The chosen figure is read where it was checked: the model's curve at the data's minimum.
+  const ChosenFigure& b = r.chosen.instability;
+  EXPECT_EQ(b.figure.tau, b.data.tau) << b.note;
+  EXPECT_NEAR(b.figure.value * kBiasInstabilityFactor / r.model_adev[lowest], 1.0, 1e-12) << b.note;
+  EXPECT_GE(b.figure.value * kBiasInstabilityFactor, r.adev.ci_low[lowest]) << b.note;
+  EXPECT_LE(b.figure.value * kBiasInstabilityFactor, r.adev.ci_high[lowest]) << b.note;
+  // The model alone: the minimum of its own curve over the record.
+  const ChosenFigures own = model_only_figures(m, m.given_values(), f, 1 << 18);
+  double model_lowest = INFINITY;
+  for (std::size_t i = 0; i < r.adev.size(); ++i)
+    if (r.adev.tau[i] > kBeyondThePlateau && r.adev.edf[i] >= ReadoffOptions{}.min_edf)
+      model_lowest = std::min(model_lowest, r.model_adev[i]);
+  EXPECT_NEAR(own.instability.figure.value * kBiasInstabilityFactor / model_lowest, 1.0, 1e-12)
+      << own.instability.figure.how;
 }
 
 TEST(NoiseFigures, KalmanTermsFollowTheFigures) {

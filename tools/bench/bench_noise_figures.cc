@@ -36,9 +36,9 @@ const char* status_word(const Readoff& r) { return r.available() ? to_string(r.s
 
 bool shows(const Readoff& data) { return data.available() && data.status != ReadoffStatus::kBound; }
 
-// The figures as written (choose_noise_figures: the model's where it matches the data's
-// Allan deviation, else the data's), against the data's read-offs; the model's own N
-// ratio is printed beside.
+// The figures as written (noise_figure_report: the model's where it matches the data's
+// Allan deviation where the figure is read, else the data's), against the data's
+// read-offs; the model's N there is printed beside.
 void compare(const char* unit, const std::string& column, const std::string& model, const NoiseFigures& d,
              const ChosenFigures& chosen, Tally& t) {
   ++t.axes;
@@ -108,9 +108,8 @@ int main() {
       const FitResult& best = sel[c].best_fit;
       if (c == 0 && std::string(unit) == "adis_16405_imu1.csv.gz")
         std::printf("### (a) select over 3*AR1+WN+RW+QN+DR\n\n%s", header);
-      const NoiseFigures m = model_noise_figures(best.model, best.theta, adev, &best.covariance);
       compare(unit, data.signals[c].name, best.model.to_string(), d,
-              choose_noise_figures(m, d, adev, model_allan_deviation(best.model, best.theta, adev.m)), sel_tally);
+              noise_figure_report(adev, best.model, best.theta, &best.covariance).chosen, sel_tally);
     }
   }
   std::printf(
@@ -128,9 +127,8 @@ int main() {
       const FitResult f = fit_gmwm(wv, three);
       const AllanDeviation adev = allan_deviation(s.values, 100.0);
       const NoiseFigures d = read_noise_figures(adev);
-      const NoiseFigures m = model_noise_figures(f.model, f.theta, adev, &f.covariance);
-      compare(unit, s.name, f.model.to_string(), d,
-              choose_noise_figures(m, d, adev, model_allan_deviation(f.model, f.theta, adev.m)), fit_tally);
+      compare(unit, s.name, f.model.to_string(), d, noise_figure_report(adev, f.model, f.theta, &f.covariance).chosen,
+              fit_tally);
     }
   }
   std::printf(

@@ -20,7 +20,9 @@
 // For a model the read-offs use its implied curve on the data's grid (so that both read
 // at the same taus); a fast AR1 then adds to N and a slow one to B, whatever the
 // components are called. `sources` names the components making up the curve where each
-// figure was read.
+// figure was read. One rule for every command (docs/noise-figures.md): a figure is read
+// where the data show it, and the model's value there is used only where its Allan
+// deviation agrees with the data's at that same tau (noise_figure_report).
 //
 //   const auto data = gmwm::read_noise_figures(gmwm::allan_deviation(x, f));
 //   const auto model = gmwm::model_noise_figures(fit.model, fit.theta, adev, &fit.covariance);
@@ -90,9 +92,13 @@ NoiseFigures read_noise_figures(const AllanDeviation& adev, const ReadoffOptions
 
 /// The read-offs of the model's Allan deviation on `grid`'s averaging factors and usable
 /// points; intervals by the delta method when `covariance` (of theta) is given and finite;
-/// `sources` per figure. Throws InputError for invalid options.
+/// `sources` per figure. With `at` (the data's read-offs on the same grid), each figure the
+/// data show is read on the model's curve at the data's read point instead (a figure is
+/// read where the data show it); the others on the model's own curve. Throws InputError
+/// for invalid options.
 NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
-                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options = {});
+                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options = {},
+                                 const NoiseFigures* at = nullptr);
 
 /// Where a figure to use comes from (choose_noise_figures).
 enum class FigureSource {
@@ -119,7 +125,9 @@ struct ChosenFigures {
 /// lies inside the data's interval at the tau the data's figure is read (or the data show
 /// no such slope, and the model's figure stays below the data's bound); else the data's
 /// read-off, saying by how much the model misses. A figure neither curve shows is the
-/// smaller of the two upper bounds. model_adev: the model's curve on data_adev's grid.
+/// smaller of the two upper bounds. model_adev: the model's curve on data_adev's grid;
+/// `model` read at the data's read points (model_noise_figures with `at` = &data), so that
+/// the model's value is the one checked.
 ChosenFigures choose_noise_figures(const NoiseFigures& model, const NoiseFigures& data, const AllanDeviation& data_adev,
                                    std::span<const double> model_adev);
 
