@@ -398,6 +398,48 @@ nav::ImuModel walk_inflated(nav::ImuModel m, double x) {
   return m;
 }
 
+// The smallest x of `inflate` keeping the filter from being optimistic (nav's verdict), the
+// errors there, and the next smaller factor's verdict (the search's precision below it).
+struct Found {
+  double x = 1.0, smaller = 0.0, smaller_above = 0.0;
+  nav::Verdict smaller_verdict = nav::Verdict::kOptimistic;
+  nav::FilterErrors at;
+};
+
+Found smallest_factor(const std::function<nav::FilterErrors(const nav::ImuModel&)>& run,
+                      const std::function<nav::ImuModel(double)>& inflate, const ConsistencyOptions& options) {
+  Found f;
+  f.at = run(inflate(1.0));
+  if (!optimistic(f.at)) return f;
+  double lo = 1.0, hi = 2.0;
+  while (true) {  // grow until not optimistic
+    f.at = run(inflate(hi));
+    if (!optimistic(f.at)) break;
+    lo = hi;
+    hi *= 2.0;
+    if (hi > kLargestFactor)
+      throw InputError("--consistent-for: no inflation up to x" + std::to_string(static_cast<int>(kLargestFactor)) +
+                       " keeps the WN + RW filter from being optimistic against the fitted model");
+    if (options.progress && !options.progress(0.3)) throw InputError("cancelled");
+  }
+  while (hi / lo > 1.0 + options.precision) {  // then bisect on log x
+    const double mid = std::sqrt(lo * hi);
+    nav::FilterErrors m = run(inflate(mid));
+    if (!optimistic(m)) {
+      hi = mid;
+      f.at = std::move(m);
+    } else {
+      lo = mid;
+    }
+  }
+  f.x = hi;
+  f.smaller = hi / (1.0 + options.precision);
+  const nav::FilterErrors below = run(inflate(f.smaller));
+  f.smaller_above = below.nees_above;
+  f.smaller_verdict = below.verdict;
+  return f;
+}
+
 }  // namespace
 
 static std::string lacking(const nav::ImuModel& truth);
@@ -417,49 +459,11 @@ ConsistentInflation consistent_inflation(const nav::ImuModel& truth, const nav::
   // Outputs about every second, a whole number of update periods.
   s.output_interval = std::max(1.0, std::round(options.update_rate)) / options.update_rate;
   s.judge_from = warm_up - options.horizon;
-  auto run = [&](const nav::ImuModel& model) { return nav::analyse(truth, {model}, s).filters.front(); };
-  // The smallest x of `inflate` keeping the filter from being optimistic, and the errors there.
-  struct Found {
-    double x = 1.0, smaller = 0.0, smaller_above = 0.0;
-    nav::Verdict smaller_verdict = nav::Verdict::kOptimistic;
-    nav::FilterErrors at;
-  };
-  auto smallest = [&](const std::function<nav::ImuModel(double)>& inflate) {
-    Found f;
-    f.at = run(inflate(1.0));
-    if (!optimistic(f.at)) return f;
-    double lo = 1.0, hi = 2.0;
-    while (true) {  // grow until not optimistic
-      f.at = run(inflate(hi));
-      if (!optimistic(f.at)) break;
-      lo = hi;
-      hi *= 2.0;
-      if (hi > kLargestFactor)
-        throw InputError("--consistent-for: no inflation up to x" + std::to_string(static_cast<int>(kLargestFactor)) +
-                         " keeps the WN + RW filter from being optimistic against the fitted model");
-      if (options.progress && !options.progress(0.3)) throw InputError("cancelled");
-    }
-    while (hi / lo > 1.0 + options.precision) {  // then bisect on log x
-      const double mid = std::sqrt(lo * hi);
-      nav::FilterErrors m = run(inflate(mid));
-      if (!optimistic(m)) {
-        hi = mid;
-        f.at = std::move(m);
-      } else {
-        lo = mid;
-      }
-    }
-    f.x = hi;
-    f.smaller = hi / (1.0 + options.precision);
-    const nav::FilterErrors below = run(inflate(f.smaller));
-    f.smaller_above = below.nees_above;
-    f.smaller_verdict = below.verdict;
-    return f;
-  };
+  const auto run = [&](const nav::ImuModel& model) { return nav::analyse(truth, {model}, s).filters.front(); };
   ConsistentInflation out;
-  Found found = smallest([&](double x) { return walk_inflated(filter, x); });
+  Found found = smallest_factor(run, [&](double x) { return walk_inflated(filter, x); }, options);
   if (found.at.verdict != nav::Verdict::kConsistent) {
-    const Found both = smallest([&](double x) { return inflated(filter, x); });
+    const Found both = smallest_factor(run, [&](double x) { return inflated(filter, x); }, options);
     if (both.at.verdict == nav::Verdict::kConsistent || both.at.nees_inside > found.at.nees_inside) {
       found = both;
       out.white = both.x;

@@ -105,11 +105,8 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
-int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  declare_output(common, "--output", args.output);
-  declare_output(common, "--json", common.json);
+// The arguments' own checks, before anything is simulated.
+void check_arguments(const SimulateArgs& args) {
   if (args.freq)
     if (const std::string why = io::sampling_rate_problem(*args.freq, "--freq"); !why.empty()) throw InputError(why);
   if (args.quantum && !(*args.quantum > 0.0 && std::isfinite(*args.quantum)))
@@ -119,8 +116,10 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
   if (args.quantum && *args.quantum < std::numeric_limits<double>::min())
     throw InputError("--quantum " + fmt(*args.quantum) +
                      ": expected a step of at least 2.2e-308 (the smallest normal double)");
-  const std::vector<std::string> names = column_names(args);
+}
 
+// The model, with a value for every parameter that its processes accept.
+Model fully_specified_model(const SimulateArgs& args) {
   const ProcessContext context{args.freq.value_or(1.0), args.freq.has_value()};
   const Model model = parse_model(args.model, context);
   if (!model.fully_specified()) {
@@ -132,9 +131,21 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
                      ", expected a value for every parameter, e.g. "
                      "'AR1(phi=0.99,sigma2=1e-6)+WN(sigma2=0.01)'");
   }
-  const Eigen::VectorXd theta = model.given_values();
-  if (const std::string why = model.validate(theta); !why.empty())
+  if (const std::string why = model.validate(model.given_values()); !why.empty())
     throw InputError("--model '" + args.model + "': " + why);
+  return model;
+}
+
+int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  declare_output(common, "--output", args.output);
+  declare_output(common, "--json", common.json);
+  check_arguments(args);
+  const std::vector<std::string> names = column_names(args);
+
+  const Model model = fully_specified_model(args);
+  const Eigen::VectorXd theta = model.given_values();
 
   check_memory(args);
   Stopwatch sim_clock;
