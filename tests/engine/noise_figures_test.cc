@@ -13,6 +13,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/fit.h"
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
@@ -188,6 +189,54 @@ TEST(NoiseFigures, BIsReadAtTheCurvesMinimumNotAtAPlateauAboveItAndTheModelIsChe
       model_lowest = std::min(model_lowest, r.model_adev[i]);
   EXPECT_NEAR(own.instability.figure.value * kBiasInstabilityFactor / model_lowest, 1.0, 1e-12)
       << own.instability.figure.how;
+}
+
+TEST(NoiseFigures, AGaussMarkovWhiteNoiseAndDriftFitReportsNoRandomWalkInAtLeast95PercentOfSeries) {
+  // Issue 43, item 2: `simulate GM(beta=0.6,sigma2_gm=0.1)+WN(sigma2=1)+DR(omega=5e-5) --n
+  // 100000`, then `fit GM+WN+DR`. The curve's +1/2 stretch near 1200 s is the white noise
+  // crossing into the drift (DR ~63%, WN ~27% of the Allan variance there) and the GM
+  // (T = 1.7 s) is long white by then: no component is a random walk, so K is absent or an
+  // upper bound, never a figure "from the model". 40 series (fixed seeds) keep the test
+  // near a second; tools/bench/bench_k_without_random_walk.cc runs 1000 (RESULTS.md).
+  const Model truth = parse_model("GM(beta=0.6,sigma2_gm=0.1)+WN(sigma2=1)+DR(omega=5e-5)");
+  const Model shape = parse_model("GM+WN+DR");
+  constexpr int kSeries = 40;
+  constexpr std::int64_t kSamples = 100000;
+  int absent = 0;
+  std::string read;
+  for (int s = 0; s < kSeries; ++s) {
+    const auto x = simulate(truth, truth.given_values(), kSamples, 43, static_cast<std::uint64_t>(s));
+    const FitResult fit = fit_gmwm(classical_wv(x.data(), kSamples), shape);
+    const FigureReport r = noise_figure_report(x, 1.0, fit.model, fit.theta, &fit.covariance);
+    const ChosenFigure& k = r.chosen.walk;
+    if (!k.figure.available() || k.source == FigureSource::kBound)
+      ++absent;
+    else if (read.empty())
+      read = "series " + std::to_string(s) + ": " + k.note;
+  }
+  // At least 95% (the issue's bar): 38 of 40.
+  EXPECT_GE(absent, 38) << "first read K: " << read;
+}
+
+TEST(NoiseFigures, NIsTheWhiteFloorAndATonesBumpNearOneSecondIsNamedNotCounted) {
+  // Issue 43, item 3: the ADIS accelerometers' 0.46-0.53 Hz tone bends the curve over
+  // 0.3-2 s. Here WN (N = sqrt(1 / 100) = 0.1) and a 0.5 Hz tone of squared amplitude 0.02,
+  // whose Allan variance A2 sin^4(pi f tau) / (pi f tau)^2 lifts the curve 33% above the
+  // white line at 0.74 s. N must be the white floor's within 5% (the read-off's own
+  // scatter at 2^20 samples is under 1%), the bump said, and the model's note names SIN.
+  const double f = 100.0, N = 0.1;
+  const Model m = parse_model("WN(sigma2=1)+SIN(A2=0.02,f=0.005)");
+  const auto x = simulate(m, m.given_values(), 1 << 20, 4303, 0);
+  const NoiseFigures data = read_noise_figures(allan_deviation(x, f));
+  EXPECT_NEAR(data.white.value / N, 1.0, 0.05) << data.white.how;
+  EXPECT_NE(data.white.bends.find("a bump over"), std::string::npos) << data.white.how;
+  const FigureReport r = noise_figure_report(x, f, m, m.given_values(), nullptr);
+  EXPECT_NEAR(r.chosen.white.figure.value / N, 1.0, 0.05) << r.chosen.white.note;
+  EXPECT_NE(r.chosen.white.note.find("the model's SIN("), std::string::npos) << r.chosen.white.note;
+  EXPECT_NE(r.chosen.white.note.find("not counted in N"), std::string::npos) << r.chosen.white.note;
+  // White noise alone: no bump.
+  const auto w = simulated("WN(sigma2=1)", 1 << 20, 4304);
+  EXPECT_EQ(read_noise_figures(allan_deviation(w, f)).white.bends, "");
 }
 
 TEST(NoiseFigures, KalmanTermsFollowTheFigures) {

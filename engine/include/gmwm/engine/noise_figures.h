@@ -62,6 +62,10 @@ struct Readoff {
   std::string how;                            ///< one line, e.g. "on the -1/2 slope over 0.08-20 s, at 1 s"
   /// Model read-offs: the components making up the Allan variance at tau, with their share.
   std::vector<std::pair<std::string, double>> sources;
+  /// N only: a bump (a tone, a fast correlated term) that lifts the curve above the white
+  /// floor's -1/2 line near the IEEE tau, one line ("" when none); a model's names the
+  /// component making it. It is not counted in N, and the figure's note says so.
+  std::string bends;
   bool available() const { return std::isfinite(value); }
 };
 
@@ -129,7 +133,7 @@ struct ChosenFigures {
 /// `model` read at the data's read points (model_noise_figures with `at` = &data), so that
 /// the model's value is the one checked.
 ChosenFigures choose_noise_figures(const NoiseFigures& model, const NoiseFigures& data, const AllanDeviation& data_adev,
-                                   std::span<const double> model_adev);
+                                   std::span<const double> model_adev, const ReadoffOptions& options = {});
 
 /// A first-order Gauss-Markov process's Allan deviation peaks at 0.6174 sigma at
 /// tau = 1.8926 T (the maximum of (2x - 3 + 4e^-x - e^-2x) / x^2, x = tau / T; IEEE 952
