@@ -13,6 +13,7 @@
 #include "gmwm/io/export.h"
 #include "gmwm/io/export_text.h"
 #include "gmwm/io/sim_config.h"
+#include "config_edit.h"
 
 namespace gmwm::pipeline {
 using namespace io;  // the readers and writers this stage joins (signals, units, exports, configs)
@@ -64,59 +65,6 @@ ExportFormat export_format(SimFormat f) {
   return ExportFormat::kKalibr;
 }
 
-// The input's constant offsets in a simulator's file, kept: gz-sensors <mean>, <bias_mean>,
-// <bias_stddev> and RotorS *TurnOnBiasSigma are constants within a run, invisible to a
-// wavelet variance, so the diagnosis has nothing to say about them and the export's 0 must
-// not replace the user's value. A field is the input's path ("angular_velocity/x/noise/
-// bias_mean") or RotorS parameter; its element in the export's text gets the input's value.
-// <precision> is not kept: its rounding noise is part of the data's white noise, which the
-// corrected <stddev> already holds (keeping both would count it twice); a note says so.
-void keep_constant_offsets(const SimConfig& input, ExportResult& r, std::vector<std::string>& notes) {
-  auto leaf_of = [](const std::string& name) { return name.substr(name.rfind('/') + 1); };
-  // The first `tag` at or after `from` outside an XML comment (the export's comments name
-  // elements too).
-  auto find_tag = [&](const std::string& tag, std::size_t from) {
-    for (std::size_t at = r.content.find(tag, from); at != std::string::npos; at = r.content.find(tag, at + 1)) {
-      const std::size_t open = r.content.rfind("<!--", at), close = r.content.rfind("-->", at);
-      if (open == std::string::npos || (close != std::string::npos && close > open)) return at;
-    }
-    return std::string::npos;
-  };
-  auto set_value = [&](std::size_t from, std::size_t to, const std::string& leaf, double value) {
-    const std::string open = "<" + leaf + ">", close = "</" + leaf + ">";
-    const std::size_t at = find_tag(open, from);
-    if (at == std::string::npos || at >= to) return false;
-    const std::size_t v = at + open.size(), end = r.content.find(close, v);
-    if (end == std::string::npos) return false;
-    r.content.replace(v, end - v, export_text::real(value));
-    return true;
-  };
-  for (const ConfigField& f : input.fields) {
-    const std::string leaf = leaf_of(f.name);
-    if (input.format == SimFormat::kRotors) {
-      if (f.name.size() >= 15 && f.name.compare(f.name.size() - 15, 15, "TurnOnBiasSigma") == 0)
-        set_value(0, r.content.size(), f.name, f.value);
-      continue;
-    }
-    if (leaf == "precision" && f.value != 0.0) {
-      notes.push_back(f.name + " " + export_text::real(f.value) + " " + f.unit +
-                      " not written: the output's rounding noise is part of the data's white noise, which the "
-                      "corrected stddev holds");
-      continue;
-    }
-    if (leaf != "mean" && leaf != "bias_mean" && leaf != "bias_stddev") continue;
-    // "angular_velocity/x/noise/bias_mean": the block of that sensor and axis.
-    const std::size_t slash1 = f.name.find('/'), slash2 = f.name.find('/', slash1 + 1);
-    if (slash1 == std::string::npos || slash2 == std::string::npos) continue;
-    const std::size_t block = find_tag("<" + f.name.substr(0, slash1) + ">", 0);
-    if (block == std::string::npos) continue;
-    const std::size_t axis = find_tag("<" + f.name.substr(slash1 + 1, slash2 - slash1 - 1) + ">", block);
-    if (axis == std::string::npos) continue;
-    const std::size_t noise = find_tag("<noise", axis), end = find_tag("</noise>", noise);
-    if (noise != std::string::npos && end != std::string::npos) set_value(noise, end, leaf, f.value);
-  }
-}
-
 // A datasheet's figures of each diagnosed sensor (SI): N and K as the Kalibr export
 // combines them over the sensor's columns (their mean), B as the columns' mean, and the slowest Gauss-Markov bias's correlation time when
 // every column of the sensor has one.
@@ -152,39 +100,6 @@ bool writes_correlation_time(const SimConfig& back, SensorKind kind) {
   return std::any_of(back.fields.begin(), back.fields.end(), [&](const ConfigField& f) { return f.name == name; });
 }
 
-// A simulator's file holds both sensors: a sensor with no column in the study keeps the
-// input's noise, written from the input's own model of it (per axis when the input's axes
-// differ), its figures read off that model's Allan deviation over the record's length.
-// Appended after the study's columns, so their indices stay those of the study.
-void add_undiagnosed_kinds(const SimConfig& config, const SignalSet& set, std::vector<ExportColumn>& cols,
-                           const CorrectedConfigOptions& o) {
-  const std::int64_t n = cols.empty() ? 0 : cols.front().n;
-  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
-    if (std::any_of(cols.begin(), cols.end(), [&](const ExportColumn& c) { return c.kind == kind; })) continue;
-    auto add = [&](const std::string& name, const Model& m) {
-      ExportColumn e;
-      e.name = name;
-      e.kind = kind;
-      e.freq = set.freq;
-      e.n = n;
-      e.model = m;
-      e.theta = m.given_values();
-      e.unit = unit_of(kind, o);
-      cols.push_back(std::move(e));
-    };
-    // One column per axis (a per-axis file needs x, y and z), the kind's model on each when
-    // the input's axes are alike.
-    const auto alike = config.models.find(kind);
-    for (const char axis : {'x', 'y', 'z'}) {
-      const std::string name = std::string(to_string(kind)) + "_" + axis;
-      if (alike != config.models.end())
-        add(name, alike->second);
-      else if (const auto it = config.axis_models.find(name); it != config.axis_models.end())
-        add(name, it->second);
-    }
-  }
-}
-
 // Stage 4: the fields of the input and of the corrected file, joined by name (input order,
 // then fields only the corrected file has).
 std::vector<ConfigChange> changes(const SimConfig& input, const SimConfig& corrected) {
@@ -204,31 +119,6 @@ std::vector<ConfigChange> changes(const SimConfig& input, const SimConfig& corre
                             kUnchangedRelative * std::max(std::abs(c.input), std::abs(c.corrected));
   }
   return out;
-}
-
-// A Kalibr file holds both sensors; a sensor with no column in the study keeps the input's
-// figures (the export writes 0 for it): its lines are rewritten with the input's values.
-void keep_undiagnosed_kinds(const SimConfig& input, ExportResult& r) {
-  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
-    const KindExport* k = export_text::find_kind(r, kind);
-    if (k && !k->columns.empty()) continue;
-    const std::string prefix = kind == SensorKind::kGyro ? "gyroscope_" : "accelerometer_";
-    for (const ConfigField& f : input.fields) {
-      if (f.name.rfind(prefix, 0) != 0) continue;
-      const std::size_t at = r.content.find("\n" + f.name + ": ");
-      if (at == std::string::npos) continue;
-      const std::size_t from = at + 1 + f.name.size() + 2, to = r.content.find_first_of(" \n", from);
-      r.content.replace(from, to - from, export_text::real(f.value));
-    }
-    // The export's header line "No ... column in the source: ... written as 0" no longer holds.
-    const std::string word = kind == SensorKind::kGyro ? "gyroscope" : "accelerometer";
-    const std::size_t line = r.content.find("# No " + word + " column in the source");
-    const std::string kept = "# No " + word + " column diagnosed: its figures are the input's\n";
-    if (line != std::string::npos)
-      r.content.replace(line, r.content.find('\n', line) + 1 - line, kept);
-    else
-      r.content += kept;
-  }
 }
 
 std::string effects_text(const gap::GapResult& g) {
@@ -269,6 +159,7 @@ std::vector<std::string> header_lines(const CorrectedConfig& c, const GapStudy& 
     const gap::GapResult& g = study.columns[k].result;
     h.push_back("why, " + col.name + ": " + effects_text(g) + "; full model " + col.full.to_string(col.full_theta));
     for (const std::string& x : col.not_expressible) h.push_back("cannot express, " + col.name + ": " + x);
+    for (const std::string& x : col.warnings) h.push_back("warning, " + col.name + ": " + x);
     h.push_back("gap left, " + col.name + ": input " + outside_text(col.before) + " (objective " +
                 num(col.before.objective, 4) + ") -> this file " + outside_text(col.with_config) + " (objective " +
                 num(col.with_config.objective, 4) + ") -> full model " + outside_text(col.with_full) + " (objective " +
@@ -288,6 +179,11 @@ std::string with_header(const std::string& format, const std::string& body, cons
       return body.substr(0, eol + 1) + comment + body.substr(eol + 1);
     }
     return comment + body;
+  }
+  // After an OpenCV-style "%YAML:1.0" first line (OpenVINS, VINS), which must come first.
+  if (body.rfind("%YAML", 0) == 0) {
+    const std::size_t eol = body.find('\n');
+    return body.substr(0, eol + 1) + export_text::yaml_comments(h) + body.substr(eol + 1);
   }
   return export_text::yaml_comments(h) + body;
 }
@@ -347,7 +243,375 @@ std::vector<std::string> not_expressible(const AxisNoise& a, const SimConfig& ba
   return out;
 }
 
+// The names a format gives a sensor's figures.
+const char* sensor_word(SensorKind k) { return k == SensorKind::kGyro ? "gyroscope" : "accelerometer"; }
+const char* sdf_element(SensorKind k) { return k == SensorKind::kGyro ? "angular_velocity" : "linear_acceleration"; }
+
+// A part of the corrected file written as one: an axis of a gz-sensors sensor (its <noise>
+// block), else a sensor's figures (Kalibr, RotorS and a datasheet hold one per sensor, and
+// so does gz-sensors when a column has no axis letter to place it).
+struct FileUnit {
+  SensorKind kind = SensorKind::kGyro;
+  char axis = 0;                     ///< 'x', 'y', 'z': a gz-sensors axis; 0: the sensor's figures
+  std::vector<std::size_t> columns;  ///< the study's columns it holds
+  CorrectedVerdict verdict = CorrectedVerdict::kWritten;
+  std::string why;
+  std::vector<detail::ConfigEdit> edits;
+  std::vector<std::string> notes;  ///< figures it no longer writes, and why
+};
+
+// The figures of `u` the diagnosis sizes, by name: noise only, never a constant offset
+// (gz-sensors mean, bias_mean, bias_stddev, RotorS *TurnOnBiasSigma: invisible to a
+// wavelet variance, the input's are kept) nor the rate. gz-sensors' precision is one: the
+// output's rounding noise is part of the data's white noise, which the corrected stddev
+// holds (keeping both would count it twice), so a written axis drops it.
+bool holds(const FileUnit& u, SimFormat format, const std::string& name) {
+  const std::string sensor = sensor_word(u.kind);
+  switch (format) {
+    case SimFormat::kKalibr:
+      return name == sensor + "_noise_density" || name == sensor + "_random_walk";
+    case SimFormat::kRotors:
+      return name == sensor + "NoiseDensity" || name == sensor + "RandomWalk" || name == sensor + "BiasCorrelationTime";
+    case SimFormat::kDatasheet:
+      return name.rfind(sensor + "/", 0) == 0;
+    case SimFormat::kGzSensors:
+      break;
+  }
+  const std::string element = std::string(sdf_element(u.kind)) + "/";
+  if (name.rfind(element, 0) != 0 || name.size() < element.size() + 8) return false;
+  const char axis = name[element.size()];
+  if ((u.axis && axis != u.axis) || name.compare(element.size() + 1, 7, "/noise/") != 0) return false;
+  const std::string leaf = name.substr(element.size() + 8);
+  return leaf == "stddev" || leaf == "dynamic_bias_stddev" || leaf == "dynamic_bias_correlation_time" ||
+         leaf == "precision";
+}
+
+// The block a figure new to the file joins (its siblings' prefix): a gz-sensors axis's
+// <noise>, a datasheet's sensor; RotorS' plugin and Kalibr's map as a whole.
+std::string block_of(SimFormat format, const std::string& name) {
+  if (format == SimFormat::kGzSensors || format == SimFormat::kDatasheet) return name.substr(0, name.rfind('/') + 1);
+  return "";
+}
+
+bool differs(double a, double b) { return std::abs(a - b) > kUnchangedRelative * std::max(std::abs(a), std::abs(b)); }
+
+const ConfigField* field_named(const SimConfig& c, const std::string& name) {
+  const auto it = std::find_if(c.fields.begin(), c.fields.end(), [&](const ConfigField& f) { return f.name == name; });
+  return it == c.fields.end() ? nullptr : &*it;
+}
+
+std::string names_of(const GapStudy& study, const std::vector<std::size_t>& columns) {
+  std::string s;
+  for (std::size_t k : columns) s += (s.empty() ? "" : ", ") + study.columns[k].name;
+  return s;
+}
+
+// Stage 1b: the parts of the file the study's columns hold. A figure that holds a sensor's
+// three axes is written only when the run took all three, or took the record's every column
+// (--columns not given): otherwise it would hand a left-out axis another axis's figure.
+std::vector<FileUnit> file_units(const GapStudy& study, SimFormat format, const CorrectedConfigOptions& o) {
+  std::vector<FileUnit> units;
+  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
+    std::vector<std::size_t> columns;
+    std::string axes;
+    for (std::size_t k = 0; k < study.columns.size(); ++k)
+      if (kind_of(study.columns[k].name, o) == kind) {
+        columns.push_back(k);
+        axes += column_axis(study.columns[k].name);
+      }
+    if (columns.empty()) continue;
+    std::string sorted = axes;
+    std::sort(sorted.begin(), sorted.end());
+    const bool distinct =
+        sorted.find('\0') == std::string::npos && std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+    if (format == SimFormat::kGzSensors && distinct) {
+      for (std::size_t i = 0; i < columns.size(); ++i) {
+        FileUnit u;
+        u.kind = kind;
+        u.axis = axes[i];
+        u.columns = {columns[i]};
+        units.push_back(std::move(u));
+      }
+      continue;
+    }
+    FileUnit u;
+    u.kind = kind;
+    u.columns = columns;
+    if (o.columns_chosen && sorted != "xyz") {
+      u.verdict = CorrectedVerdict::kKeptSubset;
+      u.why = std::string("the ") + sensor_word(kind) + "'s figures hold its three axes and --columns diagnosed " +
+              names_of(study, columns) + " only: the input's are kept (diagnose the three axes to change them)";
+    }
+    units.push_back(std::move(u));
+  }
+  return units;
+}
+
+// Stage 2: the export's figures for the diagnosed columns, in the input's format, read back
+// with the reader gap uses: per `aggregation` (a figure per axis, or the sensor's mean).
+struct Proposed {
+  SimConfig config;
+  std::vector<AxisNoise> noise;  ///< per exported column
+};
+
+const AxisNoise* noise_of(const Proposed& p, const std::string& column) {
+  for (const AxisNoise& a : p.noise)
+    if (a.column == column) return &a;
+  return nullptr;
+}
+
+Proposed propose(const SignalSet& set, const SimConfig& input, const std::vector<ExportColumn>& cols,
+                 Aggregation aggregation, const CorrectedConfigOptions& o) {
+  ExportOptions eo;
+  eo.format = export_format(input.format);
+  eo.aggregation = aggregation;
+  eo.missing = MissingSensor::kZero;  // a sensor without a column is not written from it
+  const ExportResult r = render_export(cols, eo, "gmwm gap of " + set.path);
+  const std::string name = "the corrected configuration";
+  Proposed p{
+      input.format == SimFormat::kDatasheet
+          ? parse_datasheet_yaml(write_datasheet_yaml(input, datasheet_figures(r), set.freq), name, set.freq, o.units)
+      : input.format == SimFormat::kKalibr ? parse_kalibr_imu_yaml(r.content, name, set.freq, o.units)
+                                           : parse_gazebo_sdf(r.content, name, set.freq, o.units),
+      r.columns};
+  return p;
+}
+
+// gz-sensors' export per axis needs the three axes of a sensor: the axes the study has no
+// column for get the input's own model of them (their figures are not written).
+std::vector<ExportColumn> with_every_axis(std::vector<ExportColumn> cols, const SimConfig& input) {
+  const std::size_t diagnosed = cols.size();
+  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel}) {
+    const auto first = std::find_if(cols.begin(), cols.begin() + static_cast<std::ptrdiff_t>(diagnosed),
+                                    [&](const ExportColumn& c) { return c.kind == kind; });
+    if (first == cols.begin() + static_cast<std::ptrdiff_t>(diagnosed)) continue;
+    const ExportColumn like = *first;
+    for (const char axis : {'x', 'y', 'z'}) {
+      if (std::any_of(cols.begin(), cols.end(),
+                      [&](const ExportColumn& c) { return c.kind == kind && column_axis(c.name) == axis; }))
+        continue;
+      ExportColumn e = like;
+      e.name = std::string(to_string(kind)) + "_" + axis;
+      const auto alike = input.models.find(kind);
+      const auto own = input.axis_models.find(e.name);
+      if (alike != input.models.end() || own != input.axis_models.end()) {
+        e.model = alike != input.models.end() ? alike->second : own->second;
+        e.theta = e.model.given_values();
+        e.figures.reset();
+      }
+      cols.push_back(std::move(e));
+    }
+  }
+  return cols;
+}
+
+// Stage 3: the edits that write unit `u`'s figures from `proposed` into the input's text:
+// a figure both hold and that differs is replaced where the input wrote it, one only the
+// proposal has is added after its block's last line, one only the input has is removed.
+bool unit_edits(const SimConfig& input, const SimConfig& proposed, FileUnit& u) {
+  const SimFormat format = input.format;
+  for (const ConfigField& p : proposed.fields) {
+    if (!holds(u, format, p.name)) continue;
+    if (const ConfigField* in = field_named(input, p.name)) {
+      if (differs(in->value, p.value)) u.edits.push_back({detail::ConfigEdit::kSet, in, "", p.text});
+      continue;
+    }
+    const std::string block = block_of(format, p.name);
+    const ConfigField* anchor = nullptr;
+    for (const ConfigField& f : input.fields)
+      if (f.name.rfind(block, 0) == 0 && f.line > 0 && (!anchor || f.line > anchor->line) &&
+          (format != SimFormat::kKalibr || f.name != "update_rate"))
+        anchor = &f;
+    if (!anchor) return false;
+    u.edits.push_back({detail::ConfigEdit::kInsert, anchor, detail::config_key(p.name), p.text});
+  }
+  for (const ConfigField& in : input.fields) {
+    if (!holds(u, format, in.name) || field_named(proposed, in.name)) continue;
+    u.edits.push_back({detail::ConfigEdit::kRemove, &in, "", ""});
+    if (detail::config_key(in.name) == "precision" && in.value != 0.0)
+      u.notes.push_back(in.name + " " + export_text::real(in.value) + " " + in.unit +
+                        " not written: the output's rounding noise is part of the data's white noise, which the "
+                        "corrected stddev holds");
+  }
+  return true;
+}
+
+detail::ConfigSyntax syntax_of(SimFormat f) {
+  return f == SimFormat::kGzSensors || f == SimFormat::kRotors ? detail::ConfigSyntax::kXml
+                                                               : detail::ConfigSyntax::kYaml;
+}
+
+// The units' edits, each checked alone against the input's text (a unit whose figures are
+// not where the input says keeps the input's).
+void plan_edits(const SimConfig& input, const std::vector<const SimConfig*>& proposed, std::vector<FileUnit>& units) {
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    FileUnit& u = units[i];
+    if (u.verdict != CorrectedVerdict::kWritten) continue;
+    if (!unit_edits(input, *proposed[i], u) ||
+        !detail::apply_config_edits(input.text, syntax_of(input.format), u.edits)) {
+      u.edits.clear();
+      u.notes.clear();
+      u.verdict = CorrectedVerdict::kKeptUnplaced;
+      u.why = "its figures are not where the input's text has them (a flow-style map?): the input's are kept";
+    } else if (u.edits.empty()) {
+      u.verdict = CorrectedVerdict::kUnchanged;
+    }
+  }
+}
+
+// The input's text with the edits of every unit written.
+std::string edited_text(const SimConfig& input, const std::vector<FileUnit>& units) {
+  std::vector<detail::ConfigEdit> all;
+  for (const FileUnit& u : units)
+    if (u.verdict == CorrectedVerdict::kWritten) all.insert(all.end(), u.edits.begin(), u.edits.end());
+  const std::optional<std::string> text = detail::apply_config_edits(input.text, syntax_of(input.format), all);
+  if (!text) throw InputError("--corrected: the corrected figures could not be placed in the input's text");
+  return *text;
+}
+
+// A header an earlier `gap --corrected` wrote at the top (the input is a corrected file):
+// taken out, so that the new header replaces it rather than stacking on it.
+std::string without_previous_header(const std::string& text, detail::ConfigSyntax syntax) {
+  const std::string mark = "gmwm gap: the corrected ";
+  std::size_t at = 0;
+  if (text.rfind("<?xml", 0) == 0 || text.rfind("%YAML", 0) == 0) at = text.find('\n') + 1;
+  if (at == 0 && text.rfind("<?xml", 0) == 0) return text;
+  if (syntax == detail::ConfigSyntax::kYaml) {
+    if (text.compare(at, 2 + mark.size(), "# " + mark) != 0) return text;
+    std::size_t end = at;
+    while (end < text.size() && text[end] == '#')
+      end = text.find('\n', end) == std::string::npos ? text.size() : text.find('\n', end) + 1;
+    return text.substr(0, at) + text.substr(end);
+  }
+  if (text.compare(at, 4, "<!--") != 0) return text;
+  const std::size_t first = text.find_first_not_of(" \t\r\n", at + 4), close = text.find("-->", at);
+  if (first == std::string::npos || close == std::string::npos || text.compare(first, mark.size(), mark) != 0)
+    return text;
+  const std::size_t end = text.find('\n', close);
+  return text.substr(0, at) + text.substr(end == std::string::npos ? text.size() : end + 1);
+}
+
 }  // namespace
+
+const char* to_string(CorrectedVerdict v) {
+  switch (v) {
+    case CorrectedVerdict::kWritten:
+      return "written";
+    case CorrectedVerdict::kUnchanged:
+      return "unchanged";
+    case CorrectedVerdict::kKeptSubset:
+      return "kept: holds axes not diagnosed";
+    case CorrectedVerdict::kKeptUnplaced:
+      return "kept: not found in the input's text";
+  }
+  return "written";
+}
+
+namespace {
+
+// Stage 2 for every unit: the proposal its figures come from. gz-sensors' axes get their own
+// figures (real units' axes differ: the ADIS16405 accelerometers' N spans 1.5x - 1.7x
+// between axes, so one figure for three cannot be within 15% of each); a sensor's figures
+// are the mean over its diagnosed columns.
+struct Proposals {
+  Proposed mean;
+  std::optional<Proposed> per_axis;
+  std::vector<const SimConfig*> of_unit;  ///< per unit
+  const AxisNoise& noise(const std::vector<FileUnit>& units, std::size_t k, const std::string& column) const {
+    for (std::size_t i = 0; i < units.size(); ++i)
+      if (std::find(units[i].columns.begin(), units[i].columns.end(), k) != units[i].columns.end() && units[i].axis &&
+          per_axis)
+        if (const AxisNoise* a = noise_of(*per_axis, column)) return *a;
+    return *noise_of(mean, column);
+  }
+};
+
+Proposals proposals(const SignalSet& set, const SimConfig& input, const std::vector<ExportColumn>& cols,
+                    const std::vector<FileUnit>& units, const CorrectedConfigOptions& o) {
+  Proposals p{propose(set, input, cols, Aggregation::kMean, o), std::nullopt, {}};
+  std::vector<ExportColumn> axis_cols;
+  for (const FileUnit& u : units)
+    if (u.axis)
+      for (std::size_t k : u.columns) axis_cols.push_back(cols[k]);
+  if (!axis_cols.empty()) p.per_axis = propose(set, input, with_every_axis(axis_cols, input), Aggregation::kPerAxis, o);
+  for (const FileUnit& u : units) p.of_unit.push_back(u.axis ? &p.per_axis->config : &p.mean.config);
+  return p;
+}
+
+// Stage 5: a column's gap left with the input, with the corrected file and with the full
+// model, on the diagnosis' own yardstick.
+CorrectedColumn assess_column(const GapColumnStudy& s, const SimConfig& back, const AxisNoise& a, const FileUnit& unit,
+                              const CorrectedConfigOptions& o) {
+  CorrectedColumn col;
+  col.name = s.name;
+  col.full = s.result.final_model;
+  col.full_theta = s.result.final_theta;
+  col.not_expressible =
+      not_expressible(a, back, back.format == SimFormat::kDatasheet, back.format == SimFormat::kKalibr);
+  col.verdict = unit.verdict;
+  col.why = unit.why;
+  const auto expressible = config_baseline(back, kind_of(s.name, o), s.name, s.wv.n);
+  if (expressible) {
+    col.expressible = expressible->model;
+    col.expressible_theta = expressible->theta;
+  }
+  if (s.result.assessor) {
+    col.before = s.result.assessor->assess(s.baseline, s.theta);
+    col.with_full = s.result.assessor->assess(col.full, col.full_theta);
+    if (expressible) col.with_config = s.result.assessor->assess(col.expressible, col.expressible_theta);
+    col.warnings = corrected_column_warnings(col);
+  }
+  return col;
+}
+
+// What the header says of the parts of the file left as the input wrote them.
+std::vector<std::string> kept_lines(const GapStudy& study, const std::vector<FileUnit>& units, SimFormat format) {
+  std::vector<std::string> out;
+  for (const FileUnit& u : units) {
+    for (const std::string& n : u.notes) out.push_back(n);
+    if (!u.why.empty()) out.push_back("kept, " + names_of(study, u.columns) + ": " + u.why);
+  }
+  std::string untouched;
+  for (SensorKind kind : {SensorKind::kGyro, SensorKind::kAccel})
+    for (const char axis : {'x', 'y', 'z'}) {
+      const bool written = std::any_of(
+          units.begin(), units.end(), [&](const FileUnit& u) { return u.kind == kind && (!u.axis || u.axis == axis); });
+      if (written) continue;
+      const std::string part = format == SimFormat::kGzSensors ? std::string(sdf_element(kind)) + "/" + axis
+                                                               : std::string(sensor_word(kind));
+      if (untouched.find(part) == std::string::npos) untouched += (untouched.empty() ? "" : ", ") + part;
+    }
+  if (!untouched.empty()) out.push_back("not diagnosed, as the input wrote it: " + untouched);
+  return out;
+}
+
+}  // namespace
+
+// A column the file makes worse than its input, or more optimistic than the data's model:
+// never silently (issue 43, item 6).
+std::vector<std::string> corrected_column_warnings(const CorrectedColumn& col) {
+  std::vector<std::string> w;
+  if (col.expressible.num_components() == 0 || col.verdict != CorrectedVerdict::kWritten) return w;
+  const gap::GapAssessment &in = col.before, &file = col.with_config, &full = col.with_full;
+  if (file.objective > in.objective * (1.0 + kWorseThanInputTolerance) || file.levels_outside > in.levels_outside)
+    w.push_back("this file is worse than its input here: levels outside " + std::to_string(in.levels_outside) + " -> " +
+                std::to_string(file.levels_outside) + ", objective " + num(in.objective, 4) + " -> " +
+                num(file.objective, 4) + " (full model " + num(full.objective, 4) + ")" +
+                (col.not_expressible.empty()
+                     ? std::string()
+                     : "; the format cannot hold what the data's model needs (" +
+                           std::to_string(col.not_expressible.size()) + " term(s) not expressible, below)") +
+                ": keep the input's figures, or simulate the full model");
+  if (std::isfinite(file.navigation_rms) && std::isfinite(full.navigation_rms) && full.navigation_rms > 0.0 &&
+      file.navigation_rms < (1.0 - kOptimisticShare) * full.navigation_rms)
+    w.push_back(
+        "this file is more optimistic than the data's model: its integrated error after the navigation "
+        "horizon is " +
+        num(file.navigation_rms, 3) + " against the full model's " + num(full.navigation_rms, 3) + " (" +
+        num(full.navigation_rms / file.navigation_rms, 3) +
+        "x smaller): a filter tuned from it trusts the IMU too far");
+  return w;
+}
 
 CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, const GapStudyOptions& options,
                                  const CorrectedConfigOptions& o) {
@@ -355,72 +619,33 @@ CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, co
   if (!config) return model_config(set, study, o);
   if (!set.freq_known)
     throw InputError("--corrected: the data's sampling rate is needed to write noise densities (give --freq)");
+  const SimConfig& input = config->config;
   CorrectedConfig c;
-  c.format = to_string(config->config.format);
-  // Stages 1-2: the final models in the baseline's format. gz-sensors holds a block per
-  // axis: each axis gets its own figures when every axis of the sensor was diagnosed (real
-  // units' axes differ: the ADIS16405 accelerometers' N spans 1.5x - 1.7x between axes, so
-  // one figure for three cannot be within 15% of each); else the sensor's mean.
-  ExportOptions eo;
-  eo.format = export_format(config->config.format);
-  eo.aggregation = eo.format == ExportFormat::kGzSdf ? Aggregation::kPerAxis : Aggregation::kMean;
-  // A sensor without a diagnosed column keeps the input's figures (keep_undiagnosed_kinds and
-  // add_undiagnosed_kinds): the export's zeros are placeholders replaced below.
-  eo.missing = MissingSensor::kZero;
-  std::vector<ExportColumn> cols = export_columns(set, study, o);
-  if (config->config.format == SimFormat::kGzSensors || config->config.format == SimFormat::kRotors)
-    add_undiagnosed_kinds(config->config, set, cols, o);
-  ExportResult r;
-  std::vector<std::string> notes;
-  try {
-    r = render_export(cols, eo, "gmwm gap of " + set.path);
-  } catch (const InputError&) {
-    if (eo.aggregation != Aggregation::kPerAxis) throw;
-    // Not every axis of a sensor has a column: one figure per sensor, said in the header.
-    eo.aggregation = Aggregation::kMean;
-    r = render_export(cols, eo, "gmwm gap of " + set.path);
-    notes.push_back(
-        "not every axis of a sensor was diagnosed: the diagnosed columns' mean is written for all three "
-        "axes");
-  }
-  const bool datasheet = config->config.format == SimFormat::kDatasheet;
-  if (datasheet)
-    r.content = write_datasheet_yaml(config->config, datasheet_figures(r), set.freq);
-  else if (eo.format == ExportFormat::kKalibr)
-    keep_undiagnosed_kinds(config->config, r);
-  else
-    keep_constant_offsets(config->config, r, notes);
-  // Stage 3: read back exactly as gap reads a baseline.
+  c.format = to_string(input.format);
+  // Stages 1-3: the final models' figures in the input's format, and where each goes.
+  std::vector<FileUnit> units = file_units(study, input.format, o);
+  const Proposals p = proposals(set, input, export_columns(set, study, o), units, o);
+  plan_edits(input, p.of_unit, units);
+  // Stage 4: the input's text with the figures written, read back exactly as gap reads a baseline.
+  const detail::ConfigSyntax syntax = syntax_of(input.format);
+  const std::string body = without_previous_header(edited_text(input, units), syntax);
   const std::string name = "the corrected configuration";
-  const SimConfig back = datasheet ? parse_datasheet_yaml(r.content, name, set.freq, o.units)
-                         : eo.format == ExportFormat::kKalibr
-                             ? parse_kalibr_imu_yaml(r.content, name, set.freq, o.units)
-                             : parse_gazebo_sdf(r.content, name, set.freq, o.units);
-  c.changes = changes(config->config, back);
+  const SimConfig back = input.format == SimFormat::kDatasheet ? parse_datasheet_yaml(body, name, set.freq, o.units)
+                         : input.format == SimFormat::kKalibr
+                             ? parse_kalibr_imu_yaml(body, name, set.freq, o.units, input.imu)
+                             : parse_gazebo_sdf(body, name, set.freq, o.units);
+  c.changes = changes(input, back);
   // Stage 5: each column's gap left with the corrected file and with the full model.
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
-    const pipeline::GapColumnStudy& s = study.columns[k];
-    CorrectedColumn col;
-    col.name = s.name;
-    col.full = s.result.final_model;
-    col.full_theta = s.result.final_theta;
-    const AxisNoise& a = r.columns[k];
-    col.not_expressible = not_expressible(a, back, datasheet, eo.format == ExportFormat::kKalibr);
-    const auto expressible = pipeline::config_baseline(back, kind_of(s.name, o), s.name, s.wv.n);
-    if (expressible) {
-      col.expressible = expressible->model;
-      col.expressible_theta = expressible->theta;
-    }
-    if (s.result.assessor) {
-      col.before = s.result.assessor->assess(s.baseline, s.theta);
-      col.with_full = s.result.assessor->assess(col.full, col.full_theta);
-      if (expressible) col.with_config = s.result.assessor->assess(col.expressible, col.expressible_theta);
-    }
-    c.columns.push_back(std::move(col));
+    const auto u = std::find_if(units.begin(), units.end(), [&](const FileUnit& x) {
+      return std::find(x.columns.begin(), x.columns.end(), k) != x.columns.end();
+    });
+    c.columns.push_back(assess_column(study.columns[k], back, p.noise(units, k, study.columns[k].name), *u, o));
   }
   c.header = header_lines(c, study, set, o);
-  c.header.insert(c.header.begin() + 2, notes.begin(), notes.end());
-  c.content = with_header(c.format, r.content, c.header);
+  const std::vector<std::string> kept = kept_lines(study, units, input.format);
+  c.header.insert(c.header.begin() + 2, kept.begin(), kept.end());
+  c.content = with_header(c.format, body, c.header);
   return c;
 }
 

@@ -380,6 +380,9 @@ class CorrectedColumn:
     full: str
     not_expressible: tuple[str, ...]
     gap_left: dict[str, GapAssessment]
+    verdict: str = "written"  # what the file does with the column's figures (written, kept: ...)
+    why: str = ""  # why the input's figures are kept
+    warnings: tuple[str, ...] = ()  # worse than the input, or more optimistic than the data's model
 
     def __repr__(self) -> str:
         return f"CorrectedColumn({self.name}: {self.expressible}, {len(self.not_expressible)} not expressible)"
@@ -402,7 +405,8 @@ class CorrectedConfig:
         changes = tuple(ConfigChange(x["field"], num(x["input"]), num(x["corrected"]), x["unit"], bool(x["changed"]))
                         for x in c["changes"])
         columns = tuple(CorrectedColumn(x["name"], x["expressible"], x["full"], strings(x["not_expressible"]),
-                                        {k: GapAssessment.from_dict(v) for k, v in x["gap_left"].items()})
+                                        {k: GapAssessment.from_dict(v) for k, v in x["gap_left"].items()},
+                                        x.get("verdict", "written"), x.get("why", ""), strings(x.get("warnings", [])))
                         for x in c["columns"])
         return cls(c["format"], c["content"], strings(c["header"]), changes, columns)
 

@@ -62,6 +62,18 @@ std::string corrected_section(const pipeline::CorrectedConfig& c, const ReportDa
   os << "</table>\n";
   bool any = false;
   for (const pipeline::CorrectedColumn& col : c.columns)
+    for (const std::string& x : col.warnings) {
+      if (!any) os << "<ul class=\"facts\">\n";
+      any = true;
+      os << "<li class=\"warn\">warning, " << html_escape(col.name) << ": " << html_escape(x) << "</li>\n";
+    }
+  for (const pipeline::CorrectedColumn& col : c.columns)
+    if (!col.why.empty()) {
+      if (!any) os << "<ul class=\"facts\">\n";
+      any = true;
+      os << "<li>kept, " << html_escape(col.name) << ": " << html_escape(col.why) << "</li>\n";
+    }
+  for (const pipeline::CorrectedColumn& col : c.columns)
     for (const std::string& x : col.not_expressible) {
       if (!any) os << "<ul class=\"facts\">\n";
       any = true;

@@ -217,6 +217,7 @@ section.column h2 { margin: 4px 0 6px 0; font-size: 18px; }
 h3 { font-size: 15px; margin: 14px 0 6px 0; }
 h4 { font-size: 14px; margin: 12px 0 4px 0; }
 .facts { color: #57606a; margin: 4px 0; }
+.facts li.warn { color: #9a6700; }
 .quality { color: #8a1c1c; background: #fff4f4; border-left: 3px solid #d62728; padding: 4px 8px; margin: 6px 0; }
 .gmwm-plot { margin: 10px 0; }
 .gmwm-plot .hint { color: #57606a; font-size: 12px; }

@@ -120,6 +120,10 @@ std::string changes_text(const pipeline::CorrectedConfig& c, const io::SignalSet
   }
   os << g.str();
   for (const auto& col : c.columns)
+    if (!col.why.empty()) os << "  kept, " << col.name << ": " << col.why << '\n';
+  for (const auto& col : c.columns)
+    for (const auto& x : col.warnings) os << "  warning, " << col.name << ": " << x << '\n';
+  for (const auto& col : c.columns)
     for (const auto& x : col.not_expressible) os << "  cannot express, " << col.name << ": " << x << '\n';
   return os.str();
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -37,6 +38,31 @@ double yaml_figure(const std::string& text, const std::string& key) {
     if (line.rfind(key + ":", 0) == 0) return std::stod(line.substr(key.size() + 1));
   ADD_FAILURE() << "no " << key;
   return NAN;
+}
+
+// Never silently worse (issue 43, item 6): on every column whose figures the file writes,
+// the warning is there exactly when the file is worse than its input on the diagnosis'
+// yardstick (objective beyond 1%, or more levels outside) or more optimistic than the full
+// model (integrated error below 80% of its).
+void expect_never_silently_worse(const json& corrected) {
+  for (const json& col : corrected.at("columns")) {
+    const json& in = col.at("gap_left").at("input");
+    const json& file = col.at("gap_left").at("config");
+    const json& full = col.at("gap_left").at("full");
+    std::string warnings;
+    for (const json& w : col.at("warnings")) warnings += w.get<std::string>() + "\n";
+    if (col.at("verdict") != "written") {
+      EXPECT_EQ(warnings, "") << col.at("name");
+      continue;
+    }
+    const bool worse = file.at("objective").get<double>() > 1.01 * in.at("objective").get<double>() ||
+                       file.at("levels_outside").get<int>() > in.at("levels_outside").get<int>();
+    EXPECT_EQ(worse, warnings.find("worse than its input") != std::string::npos) << col.dump(1);
+    if (file.at("navigation_rms").is_number() && full.at("navigation_rms").is_number()) {
+      const bool optimistic = file.at("navigation_rms").get<double>() < 0.8 * full.at("navigation_rms").get<double>();
+      EXPECT_EQ(optimistic, warnings.find("more optimistic") != std::string::npos) << col.dump(1);
+    }
+  }
 }
 
 class GmwmGapCorrected : public ::testing::Test {
@@ -76,6 +102,7 @@ TEST_F(GmwmGapCorrected, WritesAKalibrYamlWhoseWhiteNoiseIsTheSensorsAndSaysWhat
   const json doc = read_json(dir_ / "g.json");
   const json& c = doc.at("corrected");
   EXPECT_EQ(c.at("format"), "kalibr");
+  expect_never_silently_worse(c);
   EXPECT_EQ(c.at("content").get<std::string>(), yaml);
   bool density_changed = false;
   for (const json& ch : c.at("changes")) {
@@ -186,6 +213,7 @@ TEST_F(GmwmGapCorrected, ADatasheetInItsOwnUnitsGetsACorrectedDatasheetWithTheSe
   EXPECT_NEAR(corrected, kN * 60.0 * 180.0 / M_PI, 0.05 * kN * 60.0 * 180.0 / M_PI) << yaml;
   EXPECT_NE(yaml.find("# changed: gyroscope/angle_random_walk 5.844 -> "), std::string::npos) << yaml;
   EXPECT_EQ(read_json(dir_ / "g.json").at("corrected").at("format"), "datasheet");
+  expect_never_silently_worse(read_json(dir_ / "g.json").at("corrected"));
   // Given back, the corrected datasheet is not re-sized in N again.
   r = run_gmwm(
       {"gap", "sim.csv.gz", "--datasheet", "corrected.yaml", "--replicates", "60", "--quiet", "--json", "h.json"},
@@ -224,11 +252,11 @@ TEST_F(GmwmGapCorrected, ACorrectedSdfKeepsTheTurnOnBiasAndTheUndiagnosedAcceler
                     accel = sdf.find("<linear_acceleration>", gyro);
   ASSERT_NE(gyro, std::string::npos) << sdf;
   ASSERT_NE(accel, std::string::npos) << "the accelerometer was dropped:\n" << sdf;
-  // The gyroscope's turn-on bias sigma (5.24e-2 rad/s in the input), kept on each axis.
+  // The gyroscope's turn-on bias sigma (5.24e-2 rad/s in the input), kept on each axis as written.
   const std::string gyro_block = sdf.substr(gyro, accel - gyro);
   std::size_t kept = 0;
-  for (std::size_t at = gyro_block.find("<bias_stddev>0.0524</bias_stddev>"); at != std::string::npos;
-       at = gyro_block.find("<bias_stddev>0.0524</bias_stddev>", at + 1))
+  for (std::size_t at = gyro_block.find("<bias_stddev>5.24e-2</bias_stddev>"); at != std::string::npos;
+       at = gyro_block.find("<bias_stddev>5.24e-2</bias_stddev>", at + 1))
     ++kept;
   EXPECT_EQ(kept, 3u) << gyro_block;
   // Every gyroscope axis was diagnosed: each axis gets its own white noise (real units' axes
@@ -250,6 +278,69 @@ TEST_F(GmwmGapCorrected, ACorrectedSdfKeepsTheTurnOnBiasAndTheUndiagnosedAcceler
   EXPECT_NEAR(element("dynamic_bias_correlation_time"), 300.0, 1e-9) << accel_block;
   EXPECT_EQ(sdf.find("changed: linear_acceleration/x/noise/dynamic_bias_stddev"), std::string::npos) << sdf;
   EXPECT_NE(sdf.find("precision 0.000873 rad/s not written"), std::string::npos) << sdf;
+}
+
+// A run on some columns (--columns) changes only what those columns hold (issue 43, item
+// 6): a gz-sensors axis not diagnosed, the sensor without columns, the comments and the
+// model around the sensor stay exactly as the input wrote them (values and text); in a
+// format with one figure per sensor, a figure that also holds a left-out axis is kept,
+// said in the header, the terminal and the JSON.
+TEST_F(GmwmGapCorrected, ASubsetRunLeavesEveryAxisItDidNotDiagnoseExactlyAsTheInputWroteIt) {
+  const std::string input_sdf = read_text(fs::path(GMWM_SOURCE_DIR) / "data" / "adis16405_gz.sdf");
+  auto r = run_gmwm(
+      {"gap", "sim.csv.gz", "--columns", "gyro_x", "--gazebo", std::string(GMWM_SOURCE_DIR) + "/data/adis16405_gz.sdf",
+       "--replicates", "40", "--corrected", "x.sdf", "--json", "x.json", "--quiet", "--no-unit-check"},
+      dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string sdf = read_text(dir_ / "x.sdf");
+  // The header comment follows the XML declaration; without it, the file is the input but
+  // for gyro_x's <noise> block (the <x> of <angular_velocity>).
+  const std::size_t header = sdf.find("<!--"), header_end = sdf.find("-->\n", header);
+  ASSERT_NE(header_end, std::string::npos) << sdf;
+  EXPECT_NE(sdf.substr(header, header_end - header).find("gmwm gap: the corrected"), std::string::npos) << sdf;
+  sdf.erase(header, header_end + 4 - header);
+  const auto x_block = [](const std::string& text) {
+    const std::size_t gyro = text.find("<angular_velocity>"), x = text.find("<x>", gyro);
+    return std::make_pair(x, text.find("</x>", x));
+  };
+  const auto [in_x, in_x_end] = x_block(input_sdf);
+  const auto [out_x, out_x_end] = x_block(sdf);
+  ASSERT_NE(out_x_end, std::string::npos) << sdf;
+  EXPECT_EQ(sdf.substr(0, out_x), input_sdf.substr(0, in_x));
+  EXPECT_EQ(sdf.substr(out_x_end), input_sdf.substr(in_x_end)) << "gyro_y, gyro_z and the accelerometer changed";
+  EXPECT_NE(sdf.substr(out_x, out_x_end - out_x), input_sdf.substr(in_x, in_x_end - in_x)) << "gyro_x not written";
+
+  // Kalibr holds one gyroscope figure for three axes: gyro_x alone does not change it.
+  const std::string input_yaml = read_text(dir_ / "datasheet.yaml");
+  r = run_gmwm({"gap", "sim.csv.gz", "--columns", "gyro_x", "--kalibr", "datasheet.yaml", "--replicates", "40",
+                "--corrected", "x.yaml", "--json", "k.json"},
+               dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string yaml = read_text(dir_ / "x.yaml");
+  std::string body;
+  std::istringstream is(yaml);
+  for (std::string line; std::getline(is, line);)
+    if (line.rfind("#", 0) != 0) body += line + "\n";
+  EXPECT_EQ(body, input_yaml);
+  const std::string kept =
+      "kept, gyro_x: the gyroscope's figures hold its three axes and --columns diagnosed gyro_x only: the input's "
+      "are kept";
+  EXPECT_NE(yaml.find("# " + kept), std::string::npos) << yaml;
+  // The terminal wraps its lines (continuations indented): compared with the runs of
+  // white space made one.
+  const auto one_line = [](const std::string& t) {
+    std::string o;
+    for (char ch : t)
+      if (!std::isspace(static_cast<unsigned char>(ch)) || (!o.empty() && o.back() != ' '))
+        o += std::isspace(static_cast<unsigned char>(ch)) ? ' ' : ch;
+    return o;
+  };
+  EXPECT_NE(one_line(r.out).find(" " + kept), std::string::npos) << r.out;
+  expect_never_silently_worse(read_json(dir_ / "k.json").at("corrected"));
+  expect_never_silently_worse(read_json(dir_ / "x.json").at("corrected"));
+  const json col = read_json(dir_ / "k.json").at("corrected").at("columns").at(0);
+  EXPECT_EQ(col.at("verdict"), "kept: holds axes not diagnosed");
+  EXPECT_EQ(col.at("gap_left").at("config").at("objective"), col.at("gap_left").at("input").at("objective"));
 }
 
 }  // namespace

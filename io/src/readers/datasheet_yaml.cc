@@ -260,6 +260,8 @@ struct Figure {
   std::string unit;    // as written
   double si = 0.0;     // in SI (rad, m, s)
   std::string where;   // "<path>:<line>"
+  int line = 0;        // the key's 1-based line
+  std::string text;    // the scalar as written ("0.05 deg/s/sqrt(Hz)")
 };
 
 std::string allowed_keys(const SensorSpec& s) {
@@ -420,6 +422,8 @@ SensorFigures read_sensor(const YAML::Node& node, const SensorSpec& s, const std
       throw InputError(where + ": unknown figure '" + std::string(s.key) + "." + key + "' (expected one of " +
                        allowed_keys(s) + ")");
     Figure fig = read_figure(kv.second, *k, s, where);
+    fig.line = kv.first.Mark().line + 1;
+    fig.text = kv.second.IsScalar() ? kv.second.Scalar() : std::string();
     std::optional<Figure>& slot = k->role == Role::kWhite  ? f.white
                                   : k->role == Role::kBias ? f.bias
                                   : k->role == Role::kTime ? f.time
@@ -612,12 +616,13 @@ SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path,
   SimConfig c;
   c.source = "datasheet (" + path + ")";
   c.format = SimFormat::kDatasheet;
+  c.text = text;
   const std::map<SensorKind, SensorFigures> read = read_sensors(root, path, &c.source);
   for (const SensorSpec& s : kSensors) {
     const auto it = read.find(s.kind);
     if (it == read.end()) continue;
     for (const std::optional<Figure>* f : {&it->second.white, &it->second.bias, &it->second.time, &it->second.walk})
-      if (*f) c.fields.push_back({std::string(s.key) + "/" + (*f)->key, (*f)->value, (*f)->unit});
+      if (*f) c.fields.push_back({std::string(s.key) + "/" + (*f)->key, (*f)->value, (*f)->unit, (*f)->line, (*f)->text});
     const auto uit = units.find(s.kind);
     const Unit u = uit != units.end() ? uit->second : si_unit(s.kind);
     std::vector<std::string>& lines = c.conversions[s.kind];

@@ -215,7 +215,7 @@ Figure Reader::number(const XMLElement* e, const std::string& where, bool signed
   if (used == 0 || used != text.size() || !std::isfinite(v))
     throw InputError(place + ": found '" + text + "', expected a number");
   if (v < 0.0 && !signed_ok) throw InputError(place + ": found " + text + ", expected a non-negative noise figure");
-  fields_.push_back({where, v, field_unit(where)});
+  fields_.push_back({where, v, field_unit(where), e->GetLineNum(), text});
   return {v, e->GetLineNum()};
 }
 
@@ -491,6 +491,7 @@ SimConfig Reader::read() const {
                       " IMU noise sources: the baseline is the first, " + describe(used) + "; not used: " + others);
   }
   c.fields = fields_;
+  c.text = xml;
   return c;
 }
 

@@ -30,6 +30,7 @@ using detail::trim;
 struct Figure {
   double value = 0.0;
   int line = 0;
+  std::string text;  // as written
 };
 
 constexpr const char* kNumericKeys[] = {"accelerometer_noise_density", "accelerometer_random_walk",
@@ -116,7 +117,7 @@ SimConfig parse_kalibr_imu_yaml(const std::string& text_in, const std::string& p
     if (*x < 0.0 || (std::string(key) == "update_rate" && *x == 0.0))
       throw InputError(where + ": " + key + ": found " + found + ", expected " +
                        (std::string(key) == "update_rate" ? "a positive rate in Hz" : "a non-negative noise figure"));
-    figures[key] = {*x, mark.line + 1};
+    figures[key] = {*x, mark.line + 1, trim(found)};
   }
   for (const char* k :
        {"accelerometer_noise_density", "accelerometer_random_walk", "gyroscope_noise_density", "gyroscope_random_walk"})
@@ -126,8 +127,11 @@ SimConfig parse_kalibr_imu_yaml(const std::string& text_in, const std::string& p
   SimConfig c;
   c.source = "Kalibr imu.yaml (" + path + (imu.empty() ? "" : ", " + imu) + ")";
   c.format = SimFormat::kKalibr;
+  c.text = text_in;
+  c.imu = imu;
   for (const char* key : kNumericKeys)
-    if (auto it = figures.find(key); it != figures.end()) c.fields.push_back({key, it->second.value, kalibr_unit(key)});
+    if (auto it = figures.find(key); it != figures.end())
+      c.fields.push_back({key, it->second.value, kalibr_unit(key), it->second.line, it->second.text});
   const double f = data_freq;
   if (auto it = figures.find("update_rate"); it != figures.end() && std::abs(it->second.value - f) > 1e-9 * f)
     c.notes.push_back("update_rate " + g(it->second.value) + " Hz differs from the data's " + g(f) +

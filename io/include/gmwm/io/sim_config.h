@@ -36,11 +36,22 @@ struct ConfigField {
   std::string name;  ///< Kalibr key, gz-sensors path ("angular_velocity/x/noise/stddev") or RotorS parameter
   double value = 0.0;
   std::string unit;  ///< e.g. "rad/s/sqrt(Hz)", "s", "Hz"
+  /// Where the figure is in SimConfig::text: its 1-based line (the key's or the element's
+  /// start tag's; 0 when not known) and the figure as written there (an element's text, a
+  /// YAML scalar: "8.73e-3", "0.05 deg/s/sqrt(Hz)"). A corrected file edits it in place.
+  int line = 0;
+  std::string text;
 };
 
 struct SimConfig {
   std::string source;  ///< e.g. "Kalibr imu.yaml (path)"
   SimFormat format = SimFormat::kKalibr;
+  /// The file's text as read: a corrected file is this text with the figures it changes
+  /// edited in place (everything else as the user wrote it).
+  std::string text;
+  /// Kalibr: the IMU of a chain the figures came from ("imu1"; empty for a single imu.yaml
+  /// or a one-IMU chain), so that a corrected file is read back from the same one.
+  std::string imu;
   /// Every numeric figure read, in file order (for what a corrected file changes).
   std::vector<ConfigField> fields;
   std::map<SensorKind, Model> models;                          ///< with values (Model::given_values)

@@ -205,7 +205,8 @@ Json gap_document(const io::SignalSet& set, const pipeline::GapStudy& study);
 
 /// The corrected configuration (io/corrected_config.h) as the gap document's "corrected":
 /// {format, content, header [..], changes [{field, input, corrected, unit, changed}],
-/// columns [{name, expressible, full, not_expressible [..], gap_left {input, config, full:
+/// columns [{name, expressible, full, not_expressible [..], verdict (pipeline::to_string of
+/// CorrectedVerdict), why, warnings [..], gap_left {input, config, full:
 /// {objective, null_mean, levels_outside, p_value, navigation_rms, remaining [bands]}}}]}.
 /// Band times in seconds when `freq` > 0.
 Json corrected_config_json(const pipeline::CorrectedConfig& c, double freq);
