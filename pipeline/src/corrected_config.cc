@@ -593,15 +593,21 @@ std::vector<std::string> corrected_column_warnings(const CorrectedColumn& col) {
   std::vector<std::string> w;
   if (col.expressible.num_components() == 0 || col.verdict != CorrectedVerdict::kWritten) return w;
   const gap::GapAssessment &in = col.before, &file = col.with_config, &full = col.with_full;
-  if (file.objective > in.objective * (1.0 + kWorseThanInputTolerance) || file.levels_outside > in.levels_outside)
-    w.push_back("this file is worse than its input here: levels outside " + std::to_string(in.levels_outside) + " -> " +
-                std::to_string(file.levels_outside) + ", objective " + num(in.objective, 4) + " -> " +
-                num(file.objective, 4) + " (full model " + num(full.objective, 4) + ")" +
+  const bool objective_worse = file.objective > in.objective * (1.0 + kWorseThanInputTolerance);
+  if (objective_worse || file.levels_outside > in.levels_outside) {
+    const std::string levels =
+        "levels outside " + std::to_string(in.levels_outside) + " -> " + std::to_string(file.levels_outside);
+    const std::string objective = "objective " + num(in.objective, 4) + " -> " + num(file.objective, 4) +
+                                  " (full model " + num(full.objective, 4) + ")";
+    w.push_back((objective_worse ? "this file is worse than its input here: " + objective + ", " + levels
+                                 : "this file leaves more levels outside the model's band than its input here: " +
+                                       levels + ", though its " + objective) +
                 (col.not_expressible.empty()
                      ? std::string()
                      : "; the format cannot hold what the data's model needs (" +
                            std::to_string(col.not_expressible.size()) + " term(s) not expressible, below)") +
                 ": keep the input's figures, or simulate the full model");
+  }
   if (std::isfinite(file.navigation_rms) && std::isfinite(full.navigation_rms) && full.navigation_rms > 0.0 &&
       file.navigation_rms < (1.0 - kOptimisticShare) * full.navigation_rms)
     w.push_back(

@@ -57,7 +57,7 @@ void expect_never_silently_worse(const json& corrected) {
     }
     const bool worse = file.at("objective").get<double>() > 1.01 * in.at("objective").get<double>() ||
                        file.at("levels_outside").get<int>() > in.at("levels_outside").get<int>();
-    EXPECT_EQ(worse, warnings.find("worse than its input") != std::string::npos) << col.dump(1);
+    EXPECT_EQ(worse, warnings.find("than its input here") != std::string::npos) << col.dump(1);
     if (file.at("navigation_rms").is_number() && full.at("navigation_rms").is_number()) {
       const bool optimistic = file.at("navigation_rms").get<double>() < 0.8 * full.at("navigation_rms").get<double>();
       EXPECT_EQ(optimistic, warnings.find("more optimistic") != std::string::npos) << col.dump(1);
