@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -104,14 +105,15 @@ namespace {
 // Stage 1: the baseline's reference distribution (simulated replicates).
 detail::Reference reference_stage(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
                                   const GapOptions& options, const std::vector<double>* x,
-                                  const std::vector<double>* temperature) {
+                                  const std::vector<double>* temperature,
+                                  const std::shared_ptr<const detail::StepScan>& scan) {
   const ClassicalWvEstimator classical;
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
   const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
   detail::SeriesStatistic series_statistic;
   if (x)
-    series_statistic = [temperature, nu_base](const std::vector<double>& s, HaarModwt& transform) {
-      return detail::series_statistics(s, transform, temperature, nu_base);
+    series_statistic = [temperature, nu_base, scan](const std::vector<double>& s, HaarModwt& transform) {
+      return detail::series_statistics(s, transform, temperature, nu_base, *scan);
     };
   return detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
                                  wv.alpha, options.progress, series_statistic);
@@ -140,15 +142,16 @@ void locate_stage(const Context& c, const Eigen::VectorXd& nuhat, GapResult& g) 
 }
 
 // Stage 3: time-domain events (step, transient, drift, temperature coupling), tested
-// with Bonferroni over them and the WV candidates. They support a detection only when
-// the global WV test rejects: a baseline the WV does not reject gets no effect named.
-detail::TimeFindings time_events_stage(const Context& c, const Eigen::VectorXd& nu_base, GapResult& g) {
+// with Bonferroni over them and the WV candidates: K counts the candidates, the
+// concentration test, the step scan and (with a channel) the coupling.
+detail::TimeFindings time_events_stage(const Context& c, const Eigen::VectorXd& nu_base,
+                                       const std::shared_ptr<const detail::StepScan>& scan, GapResult& g) {
   detail::TimeFindings time;
   if (!c.x) return time;
   const double K =
-      static_cast<double>(candidates_for(g.baseline, c.options).size()) + 1.0 + (c.temperature ? 1.0 : 0.0);
-  time =
-      detail::run_time_tests(*c.x, c.temperature, nu_base, c.ref.series_stats, c.options.alpha / K, c.options.alpha, g);
+      static_cast<double>(candidates_for(g.baseline, c.options).size()) + 2.0 + (c.temperature ? 1.0 : 0.0);
+  time = detail::run_time_tests(*c.x, c.temperature, nu_base, scan, c.ref.series_stats, c.options.alpha / K,
+                                c.options.alpha, g);
   const bool found = time.event || time.coupling || time.trend;
   if (found && !g.detected) {
     g.detected = true;
@@ -313,20 +316,52 @@ void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapR
     findings.trend = false;
     best = trial(chosen_event);
   }
-  std::string what;
-  for (std::size_t k = steps; k < best.g.steps.size(); ++k)
+  std::string what, rest;  // rest: the time effects other than a located STEP
+  for (std::size_t k = steps; k < best.g.steps.size(); ++k) {
     what += (k > steps ? " + " : "") + std::string(to_string(best.g.steps[k]));
+    if (best.g.steps[k] != GapEffect::kStep)
+      rest += (rest.empty() ? "" : " + ") + std::string(to_string(best.g.steps[k]));
+  }
   if (what.empty() || !best.usable || !lowers(best.f, a.now)) {
+    // The keep rule (docs/gap.md, "The keep/remove rule of a STEP"): a located step is
+    // decided by its own calibrated test, not by the WV. Its WV signature is a/2 in a few
+    // coarse coefficients, within the WV's noise for every step its time-domain test can
+    // just detect, so "its removal lowers the WV's excess" is a coin toss there and would
+    // refuse half of them (issue 43, item 5). The step is kept and named; the WV is then
+    // compared on the record as recorded (its share of the WV's excess is 0), so the
+    // excess never grows and S stays in [0, 1]. The other time effects keep the guard.
+    const std::optional<GapEvent> step =
+        best.g.event && best.g.event->effect == GapEffect::kStep ? best.g.event : std::nullopt;
+    const std::vector<GapBand> step_bands = best.g.bands;
     g = snapshot;
-    if (best.usable && !what.empty()) g.refused.push_back(refusal(what, a.now, best.f));
+    if (best.usable && !rest.empty()) g.refused.push_back(refusal(what, a.now, best.f));
     g.steps.resize(steps);
     g.notes.resize(notes);
-    if (!what.empty())
-      g.notes.push_back(what + " found in the time domain, but removing it does not make the fit better: not added");
+    if (!rest.empty())
+      g.notes.push_back(rest + " found in the time domain, but removing " + (step ? "it with the step" : "it") +
+                        " does not make the fit better: not added");
     if (!persistence.empty()) g.notes.push_back(persistence);
     if (!walk.empty()) {
       g.notes.push_back(walk);
       if (g.trend) g.trend->significant = false;
+    }
+    if (step) {
+      g.steps.push_back(GapEffect::kStep);
+      g.event = *step;
+      g.bands = step_bands;
+      g.step_drops.push_back(0.0);
+      g.step_excess.push_back(a.now.excess());
+      g.step_details.push_back(detail::time_step_text(GapEffect::kStep, g, c.options.context, c.options.unit) +
+                               " (found by its time-domain test; below what the WV resolves)");
+      std::ostringstream os;
+      os.precision(4);
+      os << "a bias step found by its own calibrated test (statistic " << step->statistic << " > threshold "
+         << step->threshold << ") is kept";
+      if (best.usable)
+        os << "; removing it does not bring the WV nearer the baseline (objective " << a.now.objective << " -> "
+           << best.f.objective << ", its null mean " << a.now.null_mean << " -> " << best.f.null_mean
+           << "): the step is below what the WV resolves, so the WV is compared on the record as recorded";
+      g.notes.push_back(os.str());
     }
     return;
   }
@@ -576,7 +611,10 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
     throw InputError("gap: the temperature channel has " + std::to_string(temperature->size()) +
                      " samples, the signal " + std::to_string(x ? x->size() : 0));
 
-  const detail::Reference ref = reference_stage(wv, baseline, theta, options, x, temperature);
+  // The step scan's weights, shared by the data and every replicate (the baseline's).
+  const auto scan =
+      std::make_shared<const detail::StepScan>(x ? detail::make_step_scan(baseline, theta, wv.n) : detail::StepScan{});
+  const detail::Reference ref = reference_stage(wv, baseline, theta, options, x, temperature, scan);
   Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, ref.nu, options)};
 
   GapResult g;
@@ -584,7 +622,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   g.baseline_theta = theta;
   locate_stage(c, nuhat, g);
   const bool wv_detected = g.detected;
-  const detail::TimeFindings time = time_events_stage(c, ref.nu, g);
+  const detail::TimeFindings time = time_events_stage(c, ref.nu, scan, g);
 
   Attribution a{nuhat, Base{baseline, theta, ref.nu}, ref.wv, {}, false, fitness(c, nuhat, ref.nu), options, c.omega};
   GapShrinkage& s = g.shrinkage;

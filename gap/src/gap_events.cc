@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <boost/math/distributions/normal.hpp>
+#include <Eigen/Cholesky>
 
 #include "gmwm/engine/haar_modwt.h"
 
@@ -119,11 +120,11 @@ double trend_slope(const std::vector<double>& x) {
   return (tail - head) / static_cast<double>(L) / static_cast<double>(n - L);
 }
 
-double trend_slope_sd(const Model& m, const Eigen::VectorXd& theta, std::int64_t n) {
-  const std::int64_t L = std::max<std::int64_t>(1, n / kTrendSegments);
-  if (n < 2 * L) return 0.0;
-  // g(h), h = 0..n-1, summed over the components.
-  std::vector<double> g(static_cast<std::size_t>(n), 0.0), part(static_cast<std::size_t>(n));
+namespace {
+
+// g(h), h = 0..size-1: the model's generalised autocovariance, summed over its components.
+std::vector<double> autocovariance(const Model& m, const Eigen::VectorXd& theta, std::size_t size) {
+  std::vector<double> g(size, 0.0), part(size);
   for (int k = 0; k < m.num_components(); ++k) {
     const Process& p = *m.components()[static_cast<std::size_t>(k)].process;
     std::fill(part.begin(), part.end(), 0.0);
@@ -131,6 +132,15 @@ double trend_slope_sd(const Model& m, const Eigen::VectorXd& theta, std::int64_t
         std::span<const double>(theta.data() + m.offset(k), static_cast<std::size_t>(p.size())), part);
     for (std::size_t h = 0; h < g.size(); ++h) g[h] += part[h];
   }
+  return g;
+}
+
+}  // namespace
+
+double trend_slope_sd(const Model& m, const Eigen::VectorXd& theta, std::int64_t n) {
+  const std::int64_t L = std::max<std::int64_t>(1, n / kTrendSegments);
+  if (n < 2 * L) return 0.0;
+  const std::vector<double> g = autocovariance(m, theta, static_cast<std::size_t>(n));
   // Var(sum_tail - sum_head) = 2 [L g(0) + 2 sum_{h<L} (L - h) g(h)] - 2 sum_d c(d) g(d),
   // d = l - k over head k and tail l: from n - 2L + 1 to n - 1, c(d) = L - |d - (n - L)|.
   double within = static_cast<double>(L) * g[0];
@@ -149,13 +159,180 @@ std::pair<int, int> event_levels(std::int64_t n) {
   return {kEventMinLevel, last};
 }
 
+StepScan make_step_scan(const Model& m, const Eigen::VectorXd& theta, std::int64_t n) {
+  StepScan scan;
+  const auto [first, last] = event_levels(n);
+  if (last < first) return scan;
+  const int L = last - first + 1;
+  // g(h), h = 0..H, summed over the components: the arguments below reach m_j + m_k + 1
+  // <= 2 m_last + 1.
+  const std::int64_t H = (std::int64_t{1} << last) + 2;
+  const std::vector<double> g = autocovariance(m, theta, static_cast<std::size_t>(H + 1));
+  // Sums of g over rectangles by second differences: with D1(x + 1) - D1(x) = g(|x|) and
+  // D2(x + 1) - D2(x) = D1(x) (both 0 at 0, long double: they grow as H^2 g and H^3 g),
+  // sum_{s in [p, q)} sum_{t in [r, u)} g(|s - t|) = D2(q - r + 1) - D2(p - r + 1) -
+  // D2(q - u + 1) + D2(p - u + 1). The sums are formal (a random walk's g is not a
+  // covariance) but every Haar filter sums to zero, so their combinations are covariances.
+  const std::int64_t R = H + 1;  // x in [-R, R]
+  std::vector<long double> d1(static_cast<std::size_t>(2 * R + 1), 0.0L), d2(d1.size(), 0.0L);
+  const auto at = [R](std::int64_t x) { return static_cast<std::size_t>(x + R); };
+  const auto gx = [&g](std::int64_t x) { return static_cast<long double>(g[static_cast<std::size_t>(std::abs(x))]); };
+  for (std::int64_t x = 0; x < R; ++x) d1[at(x + 1)] = d1[at(x)] + gx(x);
+  for (std::int64_t x = 0; x > -R; --x) d1[at(x - 1)] = d1[at(x)] - gx(x - 1);
+  for (std::int64_t x = 0; x < R; ++x) d2[at(x + 1)] = d2[at(x)] + d1[at(x)];
+  for (std::int64_t x = 0; x > -R; --x) d2[at(x - 1)] = d2[at(x)] - d1[at(x - 1)];
+  const auto rect = [&](std::int64_t p, std::int64_t q, std::int64_t r, std::int64_t u) {
+    return d2[at(q - r + 1)] - d2[at(p - r + 1)] - d2[at(q - u + 1)] + d2[at(p - u + 1)];
+  };
+  // Cov(W_j(t0), W_k(t0)), W_j(t0) = (sum x[t0, t0 + m_j) - sum x[t0 - m_j, t0)) / (2 m_j).
+  Eigen::MatrixXd sigma(L, L);
+  for (int a = 0; a < L; ++a)
+    for (int b = 0; b < L; ++b) {
+      const std::int64_t mj = std::int64_t{1} << (first + a - 1), mk = std::int64_t{1} << (first + b - 1);
+      const long double c = rect(0, mj, 0, mk) - rect(0, mj, -mk, 0) - rect(-mj, 0, 0, mk) + rect(-mj, 0, -mk, 0);
+      sigma(a, b) = static_cast<double>(c / (4.0L * static_cast<long double>(mj) * static_cast<long double>(mk)));
+    }
+  if (!sigma.allFinite()) return scan;
+  for (int k = 1; k <= L; ++k) {
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(sigma.topLeftCorner(k, k));
+    const Eigen::VectorXd s = Eigen::VectorXd::Constant(k, 0.5);
+    const Eigen::VectorXd u = ldlt.solve(s);
+    const double nc = s.dot(u);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(nc > 0.0) || !std::isfinite(nc) || !u.allFinite())
+      return scan;
+    scan.weight.emplace_back(u.data(), u.data() + k);
+    for (double& w : scan.weight.back()) w /= std::sqrt(nc);
+    scan.size_per_z.push_back(1.0 / std::sqrt(nc));
+  }
+  scan.first = first;
+  scan.last = last;
+  return scan;
+}
+
+StepScanResult scan_step(const std::vector<double>& x, const StepScan& scan) {
+  StepScanResult r;
+  const auto n = static_cast<std::int64_t>(x.size());
+  if (!scan.usable()) return r;
+  const int L = scan.last - scan.first + 1;
+  std::vector<std::int64_t> half(static_cast<std::size_t>(L));
+  for (int j = 0; j < L; ++j) half[static_cast<std::size_t>(j)] = std::int64_t{1} << (scan.first + j - 1);
+  const std::int64_t m0 = half.front(), mL = half.back();
+  if (n < 4 * mL) return r;
+  // Prefix sums of the centred series: W_j(t0) = (S[t0 + m] - 2 S[t0] + S[t0 - m]) / (2 m).
+  double mean = 0.0;
+  for (double v : x) mean += v;
+  mean /= static_cast<double>(n);
+  std::vector<double> S(static_cast<std::size_t>(n + 1));
+  S[0] = 0.0;
+  for (std::int64_t i = 0; i < n; ++i)
+    S[static_cast<std::size_t>(i + 1)] = S[static_cast<std::size_t>(i)] + (x[static_cast<std::size_t>(i)] - mean);
+  // Each level's mean coefficient over its M_j = n - 2m + 1 positions t0 = m .. n - m:
+  // sum_t0 2m W_j(t0) = 2 H(m) - H(2m) + 2 T(m) - T(2m), H(a) the sum of S[0, a), T(c) of
+  // S(n - c, n] (the interior sums cancel).
+  std::vector<double> level_mean(static_cast<std::size_t>(L));
+  {
+    const auto head = [&](std::int64_t a) {
+      double h = 0.0;
+      for (std::int64_t u = 0; u < a; ++u) h += S[static_cast<std::size_t>(u)];
+      return h;
+    };
+    const auto tail = [&](std::int64_t c) {
+      double t = 0.0;
+      for (std::int64_t u = n - c + 1; u <= n; ++u) t += S[static_cast<std::size_t>(u)];
+      return t;
+    };
+    for (int j = 0; j < L; ++j) {
+      const std::int64_t m = half[static_cast<std::size_t>(j)];
+      const double sum = 2.0 * head(m) - head(2 * m) + 2.0 * tail(m) - tail(2 * m);
+      level_mean[static_cast<std::size_t>(j)] =
+          sum / (2.0 * static_cast<double>(m)) / static_cast<double>(n - 2 * m + 1);
+    }
+  }
+  // z(t0) for t0 in [m0, n - m0], k(t0) the levels whose filter fits (m_j <= min(t0, n - t0)):
+  // z = sum_j a_j (S[t0 + m_j] + S[t0 - m_j]) - 2 (sum_j a_j) S[t0] - sum_j w_j Wbar_j, with
+  // a_j = w_j / (2 m_j). Runs of t0 with the same k, in blocks that stay in cache.
+  std::vector<double> z(static_cast<std::size_t>(n + 1), 0.0);
+  constexpr std::int64_t kBlock = 512;
+  const auto run = [&](std::int64_t lo, std::int64_t hi, int k) {  // t0 in [lo, hi)
+    const std::vector<double>& w = scan.weight[static_cast<std::size_t>(k - 1)];
+    std::vector<double> a(static_cast<std::size_t>(k));
+    double centre = 0.0, self = 0.0;
+    for (int j = 0; j < k; ++j) {
+      a[static_cast<std::size_t>(j)] =
+          w[static_cast<std::size_t>(j)] / (2.0 * static_cast<double>(half[static_cast<std::size_t>(j)]));
+      self += 2.0 * a[static_cast<std::size_t>(j)];
+      centre += w[static_cast<std::size_t>(j)] * level_mean[static_cast<std::size_t>(j)];
+    }
+    for (std::int64_t b = lo; b < hi; b += kBlock) {
+      const std::int64_t e = std::min(hi, b + kBlock);
+      double* zt = z.data();
+      const double* st = S.data();
+      for (std::int64_t t = b; t < e; ++t) zt[t] = -centre - self * st[t];
+      for (int j = 0; j < k; ++j) {
+        const double aj = a[static_cast<std::size_t>(j)];
+        const std::int64_t m = half[static_cast<std::size_t>(j)];
+        for (std::int64_t t = b; t < e; ++t) zt[t] += aj * (st[t + m] + st[t - m]);
+      }
+    }
+  };
+  for (int k = 1; k < L; ++k) {
+    run(half[static_cast<std::size_t>(k - 1)], half[static_cast<std::size_t>(k)], k);
+    run(n - half[static_cast<std::size_t>(k)] + 1, n - half[static_cast<std::size_t>(k - 1)] + 1, k);
+  }
+  run(mL, n - mL + 1, L);
+  std::int64_t peak = m0;
+  for (std::int64_t t = m0; t <= n - m0; ++t)
+    if (std::abs(z[static_cast<std::size_t>(t)]) > std::abs(z[static_cast<std::size_t>(peak)])) peak = t;
+  // The RMS away from the peak: a step's own signature in z spans the coarsest filter.
+  double ss = 0.0;
+  std::int64_t count = 0;
+  for (std::int64_t t = m0; t <= n - m0; ++t) {
+    if (std::abs(t - peak) < mL) continue;
+    ss += z[static_cast<std::size_t>(t)] * z[static_cast<std::size_t>(t)];
+    ++count;
+  }
+  const double rms = count > 0 ? std::sqrt(ss / static_cast<double>(count)) : 0.0;
+  const double zp = z[static_cast<std::size_t>(peak)];
+  r.statistic = rms > 0.0 ? std::abs(zp) / rms : 0.0;
+  r.sample = peak;
+  int k = 0;
+  while (k < L && half[static_cast<std::size_t>(k)] <= std::min(peak, n - peak)) ++k;
+  r.size = zp * scan.size_per_z[static_cast<std::size_t>(k - 1)];
+  // Each level's part of z at the peak, signed toward it.
+  r.share.assign(static_cast<std::size_t>(L), 0.0);
+  double largest = 0.0;
+  for (int j = 0; j < k; ++j) {
+    const std::int64_t m = half[static_cast<std::size_t>(j)];
+    const double wj = (S[static_cast<std::size_t>(peak + m)] - 2.0 * S[static_cast<std::size_t>(peak)] +
+                       S[static_cast<std::size_t>(peak - m)]) /
+                          (2.0 * static_cast<double>(m)) -
+                      level_mean[static_cast<std::size_t>(j)];
+    const double part =
+        scan.weight[static_cast<std::size_t>(k - 1)][static_cast<std::size_t>(j)] * wj * (zp < 0.0 ? -1.0 : 1.0);
+    r.share[static_cast<std::size_t>(j)] = part;
+    if (part > largest) {
+      largest = part;
+      r.level = scan.first + j;
+    }
+  }
+  if (r.level == 0) r.level = scan.first + k - 1;
+  for (double& v : r.share) v = largest > 0.0 ? v / largest : 0.0;
+  return r;
+}
+
 Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt,
-                                  const std::vector<double>* temperature, const Eigen::VectorXd& nu_base) {
+                                  const std::vector<double>* temperature, const Eigen::VectorXd& nu_base,
+                                  const StepScan& scan, StepScanResult* details) {
   const auto n = static_cast<std::int64_t>(x.size());
   const auto [first, last] = event_levels(n);
   const int L = std::max(0, last - first + 1);
-  Eigen::VectorXd out(L + 1 + (temperature ? 1 : 0));
-  out(L) = trend_slope(x);
+  Eigen::VectorXd out(L + 2 + (temperature ? 1 : 0));
+  {
+    StepScanResult r = scan_step(x, scan);
+    out(L) = r.statistic;
+    if (details) *details = std::move(r);
+  }
+  out(L + 1) = trend_slope(x);
   std::vector<double> w, wt;
   modwt.keep_squares(first, last);
   for (int j = first; j <= last; ++j) {
@@ -179,7 +356,7 @@ Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt
       num += c / m / nu_base(j - 1);
       den += v / m / nu_base(j - 1);
     }
-    out(L + 1) = den > 0.0 ? num / den : 0.0;
+    out(L + 2) = den > 0.0 ? num / den : 0.0;
   }
   return out;
 }
@@ -212,9 +389,14 @@ TimeEffectTests test_time_effects(const Eigen::VectorXd& data_stats, const Eigen
     }
     t.event_threshold = gumbel_quantile(null_max, level);
   }
+  if (L > 0 && B >= 2 && reps.col(L).maxCoeff() > 0.0) {
+    t.step_tested = true;
+    t.step_statistic = data_stats(L);
+    t.step_threshold = gumbel_quantile(reps.col(L), level);
+  }
   if (B >= 2) {
-    const Eigen::VectorXd w = reps.col(L);
-    t.trend = data_stats(L);
+    const Eigen::VectorXd w = reps.col(L + 1);
+    t.trend = data_stats(L + 1);
     t.trend_sd = sd_of(w);
     t.trend_mean = mean_of(w);
     t.trend_z = t.trend_sd > 0.0 ? (t.trend - t.trend_mean) / t.trend_sd : 0.0;
@@ -222,14 +404,36 @@ TimeEffectTests test_time_effects(const Eigen::VectorXd& data_stats, const Eigen
   }
   if (with_temperature && B >= 2) {
     t.coupling_tested = true;
-    const Eigen::VectorXd k = reps.col(L + 1);
-    t.coupling = data_stats(L + 1);
+    const Eigen::VectorXd k = reps.col(L + 2);
+    t.coupling = data_stats(L + 2);
     t.coupling_sd = sd_of(k);
     t.coupling_z = t.coupling_sd > 0.0 ? (t.coupling - mean_of(k)) / t.coupling_sd : 0.0;
     t.coupling_threshold = boost::math::quantile(boost::math::complement(boost::math::normal(), level / 2.0));
   }
   return t;
 }
+
+namespace {
+
+// An event located within one filter length of the record's start (t0 <= tau): a step
+// there and a decay from t = 0 compete on the start segment, with the same number of
+// parameters (level, jump, time / amplitude, T); the decay wins as a TRANSIENT.
+void transient_or_step(const std::vector<double>& x, const Prefix& p, GapEvent& e) {
+  const auto n = static_cast<std::int64_t>(x.size());
+  const std::int64_t tau = std::int64_t{1} << e.level;
+  if (e.sample > tau) return;
+  const std::int64_t seg = std::min(n, kTransientSegmentBlocks * tau);
+  const Split start = best_split(p, 0, seg, 1, seg - 1);
+  const Decay d = best_decay(x, seg);
+  if (d.rss < start.rss) {
+    e.effect = GapEffect::kTransient;
+    e.sample = 0;
+    e.size = d.amplitude;
+    e.time_constant = d.T;
+  }
+}
+
+}  // namespace
 
 GapEvent locate_event(const std::vector<double>& x, int level) {
   const auto n = static_cast<std::int64_t>(x.size());
@@ -251,19 +455,23 @@ GapEvent locate_event(const std::vector<double>& x, int level) {
   e.level = level;
   e.sample = split.at;
   e.size = split.jump;
-  if (static_cast<std::int64_t>(peak) <= half) {
-    // At the record's start: a step there and a decay from t = 0 compete on the start
-    // segment, with the same number of parameters (level, jump, time / amplitude, T).
-    const std::int64_t seg = std::min(n, kTransientSegmentBlocks * tau);
-    const Split start = best_split(p, 0, seg, 1, seg - 1);
-    const Decay d = best_decay(x, seg);
-    if (d.rss < start.rss) {
-      e.effect = GapEffect::kTransient;
-      e.sample = 0;
-      e.size = d.amplitude;
-      e.time_constant = d.T;
-    }
+  if (t0 <= tau) {
+    GapEvent start = e;
+    start.sample = t0;
+    transient_or_step(x, p, start);
+    if (start.effect == GapEffect::kTransient) e = start;
   }
+  return e;
+}
+
+GapEvent locate_event(const std::vector<double>& x, const StepScan& scan) {
+  const StepScanResult r = scan_step(x, scan);
+  GapEvent e;
+  e.effect = GapEffect::kStep;
+  e.level = r.level;
+  e.sample = r.sample;
+  e.size = r.size;
+  if (r.level > 0) transient_or_step(x, Prefix(x), e);
   return e;
 }
 
@@ -341,12 +549,12 @@ void remove_event(std::vector<double>& x, const GapEvent& e) {
 }
 
 TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<double>* temperature,
-                            const Eigen::VectorXd& nu_base, const Eigen::MatrixXd& reps, double level, double alpha,
-                            GapResult& g) {
+                            const Eigen::VectorXd& nu_base, std::shared_ptr<const StepScan> scan,
+                            const Eigen::MatrixXd& reps, double level, double alpha, GapResult& g) {
   TimeFindings f;
-  if (reps.rows() < 2) return f;
+  if (reps.rows() < 2 || !scan) return f;
   HaarModwt transform(x.data(), static_cast<std::int64_t>(x.size()));
-  const Eigen::VectorXd stats = series_statistics(x, transform, temperature, nu_base);
+  const Eigen::VectorXd stats = series_statistics(x, transform, temperature, nu_base, *scan, &f.step_scan);
   const TimeEffectTests t =
       test_time_effects(stats, reps, static_cast<std::int64_t>(x.size()), temperature != nullptr, level);
   g.event_tested = t.event_tested;
@@ -359,6 +567,22 @@ TimeFindings run_time_tests(const std::vector<double>& x, const std::vector<doub
     f.event_threshold = t.event_threshold;
     f.event_z = t.event_z;
     f.first_event_level = t.first_event_level;
+  }
+  g.step_scan_tested = t.step_tested;
+  if (t.step_tested) {
+    g.step_scan_statistic = t.step_statistic;
+    g.step_scan_threshold = t.step_threshold;
+    g.step_scan_sample = f.step_scan.sample;
+    if (t.step_statistic > t.step_threshold && f.step_scan.level > 0) {
+      // The scan locates the event (a step's evidence spread over the levels): it decides.
+      f.step = true;
+      f.event = true;
+      f.scan = std::move(scan);
+      f.event_level = f.step_scan.level;
+      f.event_statistic = t.step_statistic;
+      f.event_threshold = t.step_threshold;
+      f.first_event_level = t.first_event_level;
+    }
   }
   f.trend = std::abs(t.trend_z) > t.trend_threshold;
   f.trend_null_mean = t.trend_mean;
@@ -393,9 +617,11 @@ std::vector<GapBand> event_bands(const TimeFindings& f, const std::vector<GapLev
   if (!f.event) return {};
   const int peak = f.event_level - f.first_event_level;
   int lo = peak, hi = peak;
-  const int L = static_cast<int>(f.event_z.size());
-  while (lo > 0 && f.event_z[static_cast<std::size_t>(lo - 1)] > f.event_threshold) --lo;
-  while (hi + 1 < L && f.event_z[static_cast<std::size_t>(hi + 1)] > f.event_threshold) ++hi;
+  const std::vector<double>& z = f.step ? f.step_scan.share : f.event_z;
+  const double bar = f.step ? kStepBandShare : f.event_threshold;
+  const int L = static_cast<int>(z.size());
+  while (lo > 0 && z[static_cast<std::size_t>(lo - 1)] >= bar) --lo;
+  while (hi + 1 < L && z[static_cast<std::size_t>(hi + 1)] >= bar) ++hi;
   GapBand b;
   b.first_level = f.first_event_level + lo;
   b.last_level = f.first_event_level + hi;
@@ -443,7 +669,7 @@ std::vector<double> apply_time_effects(const std::vector<double>& x, const std::
                       " against the baseline's replicates): the coupled part is removed before the WV is compared");
   }
   if (f.event && !(event && event->effect == GapEffect::kNone)) {
-    GapEvent e = event ? *event : locate_event(out, f.event_level);
+    GapEvent e = event ? *event : f.step ? locate_event(out, *f.scan) : locate_event(out, f.event_level);
     e.statistic = f.event_statistic;
     e.threshold = f.event_threshold;
     remove_event(out, e);
@@ -452,9 +678,14 @@ std::vector<double> apply_time_effects(const std::vector<double>& x, const std::
     const char* what = e.effect == GapEffect::kStep       ? "a bias step"
                        : e.effect == GapEffect::kOutliers ? "a burst (a short excursion that returns)"
                                                           : "a warm-up transient";
-    g.notes.push_back(std::string(what) + " concentrates the coarse-level coefficients (statistic " +
-                      std::to_string(e.statistic) + " > threshold " + std::to_string(e.threshold) + " at level " +
-                      std::to_string(e.level) + "): it is removed before the WV is compared");
+    if (f.step)
+      g.notes.push_back(std::string(what) + " found by the step scan (statistic " + std::to_string(e.statistic) +
+                        " > threshold " + std::to_string(e.threshold) + ", mostly from level " +
+                        std::to_string(e.level) + "): it is removed before the WV is compared");
+    else
+      g.notes.push_back(std::string(what) + " concentrates the coarse-level coefficients (statistic " +
+                        std::to_string(e.statistic) + " > threshold " + std::to_string(e.threshold) + " at level " +
+                        std::to_string(e.level) + "): it is removed before the WV is compared");
   }
   if (f.trend && g.trend && f.trend_null_sd > 0.0) {
     GapTrend& tr = *g.trend;

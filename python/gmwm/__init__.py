@@ -51,7 +51,7 @@ from ._common import (AllanDeviation, ContinuousParameter, FigureComponent, FitQ
                       Kalman, KalmanTerm, NoiseFigure, NoiseFigures, Parameter, Readoff, WorstLevel)
 from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, CorrectedConfig, CrossAxis,
                    CrossAxisPair, GapAssessment, GapBand, GapCandidate, GapCheckCase, GapCheckFamily, GapCheckResult,
-                   GapColumn, GapEvent, GapEventTest, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
+                   GapColumn, GapEvent, GapEventTest, GapStepScan, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
                    GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
 from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
 from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
@@ -208,7 +208,7 @@ __all__ = [
     "Kalman", "KalmanTerm", "AllanDeviation", "Readoff", "FigureComponent", "NoiseFigure", "NoiseFigures",
     "RankingRow", "Candidate", "BestFit", "SelectColumn",
     "GapColumn", "GapTest", "GapBand", "GapLevels", "GapWindow", "GapSplitHalf", "Attribution", "GapStep",
-    "GapCandidate", "GapEvent", "GapEventTest", "GapTrend", "GapTemperature", "Remaining", "Shrinkage",
+    "GapCandidate", "GapEvent", "GapEventTest", "GapStepScan", "GapTrend", "GapTemperature", "Remaining", "Shrinkage",
     "GapNavigation", "Contamination", "CorrectedConfig", "CorrectedColumn", "ConfigChange", "GapAssessment",
     "CrossAxis", "CrossAxisPair", "GapCheckFamily", "GapCheckCase",
     "NavScenario", "NavFilter", "NavSummary", "NavCurves", "NavMonteCarlo", "PlanColumn", "PlanResolved", "PlanTarget",

@@ -173,6 +173,16 @@ class GapEventTest:
 
 
 @dataclass(frozen=True)
+class GapStepScan:
+    """The step scan (docs/gap.md, "The step scan"): max |z| / RMS against its calibrated
+    threshold, and the sample where |z| peaks."""
+
+    statistic: float
+    threshold: float
+    sample: int
+
+
+@dataclass(frozen=True)
 class GapTrend:
     """The drift test on the record's end segments (`omega` per sample, signed)."""
 
@@ -200,8 +210,8 @@ class GapTemperature:
 class Attribution(HasParameters):
     """Which effects explain the gap: the first `effect`, the `steps` taken (each with its
     share of the excess), the final `model` with its `parameters` and `physical` quantities,
-    the time-domain tests (`event`, `event_test`, `drift`, `temperature`; None when not
-    run), the `refused` moves and every scored candidate."""
+    the time-domain tests (`event`, `event_test`, `drift`, `temperature`, `step_scan`; None
+    when not run), the `refused` moves and every scored candidate."""
 
     effect: str
     steps: tuple[GapStep, ...]
@@ -214,6 +224,7 @@ class Attribution(HasParameters):
     drift: GapTrend | None
     refused: tuple[Any, ...]
     candidates: tuple[GapCandidate, ...]
+    step_scan: GapStepScan | None = None
 
     @classmethod
     def from_dict(cls, a: Mapping[str, Any]) -> "Attribution":
@@ -233,7 +244,10 @@ class Attribution(HasParameters):
                                              num(dr["threshold"]), bool(dr["significant"])),
             tuple(a["refused"]),
             tuple(GapCandidate(c["effect"], num(c["improvement"]), num(c["threshold"]), num(c["optimism"]),
-                               bool(c["wvic_confirmed"]), bool(c["cleared"]), c["model"]) for c in a["candidates"]))
+                               bool(c["wvic_confirmed"]), bool(c["cleared"]), c["model"]) for c in a["candidates"]),
+            None if a.get("step_scan") is None else GapStepScan(num(a["step_scan"]["statistic"]),
+                                                                num(a["step_scan"]["threshold"]),
+                                                                int(a["step_scan"]["sample"])))
 
     def __repr__(self) -> str:
         return f"Attribution({' -> '.join(s.effect for s in self.steps) or self.effect}: {self.model})"

@@ -165,6 +165,10 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const st
                       {"event_test", g.event_tested ? json{{"statistic", json_number(g.event_statistic)},
                                                            {"threshold", json_number(g.event_threshold)}}
                                                     : json(nullptr)},
+                      {"step_scan", g.step_scan_tested ? json{{"statistic", json_number(g.step_scan_statistic)},
+                                                              {"threshold", json_number(g.step_scan_threshold)},
+                                                              {"sample", g.step_scan_sample}}
+                                                       : json(nullptr)},
                       {"temperature", temperature_json(g)},
                       {"drift", trend_json(g)},
                       {"step_drops", g.step_drops},

@@ -292,6 +292,11 @@ struct GapResult {
   /// when it is significant, and the temperature coupling when a channel was given.
   bool event_tested = false;
   double event_statistic = 0.0, event_threshold = 0.0;
+  /// The step scan (docs/gap.md, "The step scan"): max_t |z(t)| / RMS against its threshold
+  /// (the baseline's replicates at the event's level), and the sample where |z| peaks.
+  bool step_scan_tested = false;
+  double step_scan_statistic = 0.0, step_scan_threshold = 0.0;
+  std::int64_t step_scan_sample = 0;
   std::optional<GapEvent> event;
   std::optional<GapCoupling> temperature;
   std::optional<GapTrend> trend;
