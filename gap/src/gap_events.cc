@@ -167,7 +167,8 @@ StepScan make_step_scan(const Model& m, const Eigen::VectorXd& theta, std::int64
   // g(h), h = 0..H, summed over the components: the arguments below reach m_j + m_k + 1
   // <= 2 m_last + 1.
   const std::int64_t H = (std::int64_t{1} << last) + 2;
-  const std::vector<double> g = autocovariance(m, theta, static_cast<std::size_t>(H + 1));
+  // g up to |x| = R = H + 1: the first differences below are taken over x in [-R, R].
+  const std::vector<double> g = autocovariance(m, theta, static_cast<std::size_t>(H + 2));
   // Sums of g over rectangles by second differences: with D1(x + 1) - D1(x) = g(|x|) and
   // D2(x + 1) - D2(x) = D1(x) (both 0 at 0, long double: they grow as H^2 g and H^3 g),
   // sum_{s in [p, q)} sum_{t in [r, u)} g(|s - t|) = D2(q - r + 1) - D2(p - r + 1) -
