@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "gmwm/engine/error.h"
@@ -441,18 +442,45 @@ detail::ConfigSyntax syntax_of(SimFormat f) {
                                                                : detail::ConfigSyntax::kYaml;
 }
 
-// The units' edits, each checked alone against the input's text (a unit whose figures are
-// not where the input says keeps the input's).
-void plan_edits(const SimConfig& input, const std::vector<const SimConfig*>& proposed, std::vector<FileUnit>& units) {
+// The input's figure a unit's edits moved though the unit does not hold it ("" when none):
+// a YAML anchor written on one figure and aliased by another (`gyroscope_random_walk: &a
+// 1e-5`, `accelerometer_noise_density: *a`) would carry a gyroscope's correction into an
+// accelerometer nobody diagnosed. An edited text that no longer reads is such a move too.
+std::string moved_elsewhere(const SimConfig& input, const FileUnit& u, const std::string& text,
+                            const std::function<SimConfig(const std::string&)>& read_back) {
+  SimConfig back;
+  try {
+    back = read_back(text);
+  } catch (const InputError&) {
+    return "the file as a whole (it no longer reads)";
+  }
+  for (const ConfigField& in : input.fields) {
+    if (holds(u, input.format, in.name)) continue;
+    const ConfigField* b = field_named(back, in.name);
+    if (!b || differs(in.value, b->value)) return in.name;
+  }
+  return "";
+}
+
+// The units' edits, each checked alone against the input's text: a unit whose figures are
+// not where the input says, or whose edits would move a figure it does not hold, keeps the
+// input's.
+void plan_edits(const SimConfig& input, const std::vector<const SimConfig*>& proposed, std::vector<FileUnit>& units,
+                const std::function<SimConfig(const std::string&)>& read_back) {
   for (std::size_t i = 0; i < units.size(); ++i) {
     FileUnit& u = units[i];
     if (u.verdict != CorrectedVerdict::kWritten) continue;
-    if (!unit_edits(input, *proposed[i], u) ||
-        !detail::apply_config_edits(input.text, syntax_of(input.format), u.edits)) {
+    const bool placed = unit_edits(input, *proposed[i], u);
+    const std::optional<std::string> text =
+        placed ? detail::apply_config_edits(input.text, syntax_of(input.format), u.edits) : std::nullopt;
+    const std::string moved = text && !u.edits.empty() ? moved_elsewhere(input, u, *text, read_back) : "";
+    if (!text || !moved.empty()) {
       u.edits.clear();
       u.notes.clear();
       u.verdict = CorrectedVerdict::kKeptUnplaced;
-      u.why = "its figures are not where the input's text has them (a flow-style map?): the input's are kept";
+      u.why = text ? "writing its figures would change " + moved +
+                         " too (the input's text shares them: a YAML anchor and alias?): the input's are kept"
+                   : "its figures are not where the input's text has them (a flow-style map?): the input's are kept";
     } else if (u.edits.empty()) {
       u.verdict = CorrectedVerdict::kUnchanged;
     }
@@ -631,15 +659,18 @@ CorrectedConfig corrected_config(const SignalSet& set, const GapStudy& study, co
   // Stages 1-3: the final models' figures in the input's format, and where each goes.
   std::vector<FileUnit> units = file_units(study, input.format, o);
   const Proposals p = proposals(set, input, export_columns(set, study, o), units, o);
-  plan_edits(input, p.of_unit, units);
-  // Stage 4: the input's text with the figures written, read back exactly as gap reads a baseline.
+  // A corrected text read back exactly as gap reads a baseline.
+  const std::string name = "the corrected configuration";
+  const auto read_back = [&](const std::string& text) {
+    return input.format == SimFormat::kDatasheet ? parse_datasheet_yaml(text, name, set.freq, o.units)
+           : input.format == SimFormat::kKalibr  ? parse_kalibr_imu_yaml(text, name, set.freq, o.units, input.imu)
+                                                 : parse_gazebo_sdf(text, name, set.freq, o.units);
+  };
+  plan_edits(input, p.of_unit, units, read_back);
+  // Stage 4: the input's text with the figures written, read back.
   const detail::ConfigSyntax syntax = syntax_of(input.format);
   const std::string body = without_previous_header(edited_text(input, units), syntax);
-  const std::string name = "the corrected configuration";
-  const SimConfig back = input.format == SimFormat::kDatasheet ? parse_datasheet_yaml(body, name, set.freq, o.units)
-                         : input.format == SimFormat::kKalibr
-                             ? parse_kalibr_imu_yaml(body, name, set.freq, o.units, input.imu)
-                             : parse_gazebo_sdf(body, name, set.freq, o.units);
+  const SimConfig back = read_back(body);
   c.changes = changes(input, back);
   // Stage 5: each column's gap left with the corrected file and with the full model.
   for (std::size_t k = 0; k < study.columns.size(); ++k) {

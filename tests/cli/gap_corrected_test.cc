@@ -343,4 +343,27 @@ TEST_F(GmwmGapCorrected, ASubsetRunLeavesEveryAxisItDidNotDiagnoseExactlyAsTheIn
   EXPECT_EQ(col.at("gap_left").at("config").at("objective"), col.at("gap_left").at("input").at("objective"));
 }
 
+// A figure the input's text shares with another one (a YAML anchor and alias) is never
+// written through: the accelerometer nobody diagnosed would take the gyroscope's correction
+// (found by trying a hostile input: issue 43, item 6).
+TEST_F(GmwmGapCorrected, AFigureAliasedByAnUndiagnosedOneKeepsTheInputsAndSaysWhy) {
+  write_text(dir_ / "alias.yaml",
+             "gyroscope_noise_density: 1.7e-03\ngyroscope_random_walk: &walk 1.0e-05\n"
+             "accelerometer_noise_density: 4.9e-03\naccelerometer_random_walk: *walk\nupdate_rate: 100.0\n");
+  const std::string input = read_text(dir_ / "alias.yaml");
+  auto r = run_gmwm({"gap", "sim.csv.gz", "--kalibr", "alias.yaml", "--replicates", "40", "--corrected", "a.yaml",
+                     "--json", "a.json", "--quiet"},
+                    dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string yaml = read_text(dir_ / "a.yaml");
+  std::string body;  // the file but for its header: the input as it was
+  std::istringstream is(yaml);
+  for (std::string line; std::getline(is, line);)
+    if (line.rfind("#", 0) != 0) body += line + "\n";
+  EXPECT_EQ(body, input);
+  EXPECT_NE(yaml.find("would change accelerometer_random_walk too"), std::string::npos) << yaml;
+  for (const json& col : read_json(dir_ / "a.json").at("corrected").at("columns"))
+    EXPECT_EQ(col.at("verdict"), "kept: not found in the input's text") << col.dump(1);
+}
+
 }  // namespace
