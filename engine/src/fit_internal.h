@@ -9,11 +9,12 @@ namespace gmwm::detail {
 
 /// Sandwich covariance, CIs and goodness of fit for a finished fit (fills r.covariance,
 /// r.se, r.ci_low, r.ci_high, r.gof, r.wv_covariance unless already set, r.notes).
-/// `parameter_v`, when given, is the Cov(nuhat) the parameters' covariance is measured
-/// with (Cov(nuhat) at the final estimate where r.wv_covariance, which the goodness of fit
-/// is calibrated with, is the pilot's that formed Omega); else r.wv_covariance.
+/// `v_at_estimate`, when given, is Cov(nuhat) at the final estimate, where r.wv_covariance
+/// is the pilot's that formed Omega: the parameters' covariance, the misfit z-scores and
+/// the goodness of fit are all measured with it (Satterthwaite, Omega being the pilot's
+/// weights); else with r.wv_covariance.
 void run_inference(const WaveletVariance& wv, const FitOptions& options, bool omega_is_v_inverse, FitResult& r,
-                   const Eigen::MatrixXd* parameter_v = nullptr);
+                   const Eigen::MatrixXd* v_at_estimate = nullptr);
 
 /// The Satterthwaite (1946) match of Q ~ sum_k lambda_k chi2_1 (lambda = eig(M V)) to a
 /// scaled chi-square a chi2_b from t1 = tr(M V) and t2 = tr((M V)^2): a = t2 / t1,

@@ -435,4 +435,9 @@ Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorX
   return centred.transpose() * centred / static_cast<double>(replicates - 1);
 }
 
+Eigen::MatrixXd wv_covariance_at(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta) {
+  if (wv.covariance) return *wv.covariance;
+  return model_wv_covariance(model, theta, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
+}
+
 }  // namespace gmwm

@@ -290,8 +290,13 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
     const Model& m = c.effective.model;
     r.analytic = analytic_optimism(m, c.effective.theta, wv.tau, wv.values(), omega, v);
     if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
+    // The GoF is measured with Cov(nuhat) at the row's own estimate, as fit measures its
+    // own (one rule): with the maximal pilot's V, a true WN+QN+RW was rejected in 25% of
+    // series at 5% (issue 43, item 4; tools/bench/bench_gof_level). The shared Omega is
+    // not that V's inverse, so the test is Satterthwaite's unless the WV carries its own V.
     r.gof = goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components),
-                            r.objective, static_cast<double>(wv.levels() - r.parameters), omega, v, omega_is_v_inverse);
+                            r.objective, static_cast<double>(wv.levels() - r.parameters), omega,
+                            wv_covariance_at(wv, m, c.effective.theta), omega_is_v_inverse && wv.covariance.has_value());
   }
   if (boot) {
     if (std::isfinite(boot->value)) {
@@ -477,6 +482,10 @@ void score_and_rank(Selection& sel, const WaveletVariance& wv, const Eigen::Matr
   fo.inference = true;
   fo.starts = {top.effective.theta};
   sel.best_fit = fit_gmwm(wv, top.effective.model, fo);
+  // One verdict: the first row's test is its refit's, the GoF every face prints beside the
+  // chosen model (the same rule, at the same Omega; the refit's estimate is the final one).
+  if (sel.best_fit.status != FitStatus::kFailed && std::isfinite(sel.best_fit.gof.p_value))
+    sel.ranking.front().gof = sel.best_fit.gof;
   sel.all_rejected = std::all_of(sel.ranking.begin(), sel.ranking.end(), [](const RankedModel& r) {
     return !std::isfinite(r.gof.p_value) || r.gof.p_value < kRejectionLevel;
   });

@@ -22,6 +22,12 @@ namespace gmwm {
 /// J x J covariance of the classical WV of levels 1..levels for a series of length n.
 Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels);
 
+/// Cov(nuhat) of `wv` under (model, theta): the WV's own covariance when it carries one
+/// (stacked replicates, a bootstrap), else model_wv_covariance inflated by 1 / efficiency
+/// for a robust WV (spec s.2). The V a goodness of fit of (model, theta) is measured with,
+/// by fit and by every row of a selection alike (issue 43, item 4).
+Eigen::MatrixXd wv_covariance_at(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta);
+
 /// Sample covariance of the WV of `replicates` series simulated from (model, theta),
 /// with stream seeds derived from `seed`; deterministic whatever the thread count.
 /// `progress` (draws done, replicates) after each draw; it may throw gmwm::Cancelled.
