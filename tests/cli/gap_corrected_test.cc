@@ -111,7 +111,9 @@ TEST_F(GmwmGapCorrected, WritesAKalibrYamlWhoseWhiteNoiseIsTheSensorsAndSaysWhat
       EXPECT_DOUBLE_EQ(ch.at("input").get<double>(), 1.7e-3);
       EXPECT_EQ(ch.at("unit"), "rad/s/sqrt(Hz)");
     }
-    if (ch.at("field").get<std::string>().rfind("accelerometer", 0) == 0) EXPECT_FALSE(ch.at("changed").get<bool>());
+    if (ch.at("field").get<std::string>().rfind("accelerometer", 0) == 0) {
+      EXPECT_FALSE(ch.at("changed").get<bool>());
+    }
   }
   EXPECT_TRUE(density_changed);
   ASSERT_EQ(c.at("columns").size(), 3u);
