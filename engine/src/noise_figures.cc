@@ -428,9 +428,17 @@ std::vector<double> component_slopes(const Model& model, const Eigen::VectorXd& 
 // drift is no random walk at all: GM + WN + DR fits read K = 0.0027 +- 0.7% there, "from
 // the model", in 20 of 20 series (issue 43, item 2).
 //
+// Its interval, with `cov` (of theta; NaN-free), is the delta method on the counted
+// components alone: value^2 = sum_c value_c^2, d value_c^2 = 2 scale2 d nu_c^2(2m) (the
+// Jacobian's columns of c at the read point m), so that a slow term the curve carries there
+// but the figure does not count adds nothing to its uncertainty (the whole curve's interval
+// made a 2*AR1 model's N twice as uncertain as its simulated spread, and so the record
+// planned for it 4x too long: tools/bench/bench_record_plan, issue 43 item 8).
+//
 // False when no component is on the slope there (r unchanged).
 bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
-                            std::size_t at, Readoff& r, double target, PhysicalKind kind, std::size_t record_end) {
+                            std::size_t at, Readoff& r, double target, PhysicalKind kind, std::size_t record_end,
+                            const Eigen::MatrixXd* cov, double z) {
   if (!r.available() || r.status == ReadoffStatus::kBound) return false;
   if (grid.size() < 2) return false;
   const auto here = component_allan_variances(model, theta, grid.m[at]);
@@ -439,6 +447,9 @@ bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, co
       target > 0.0 ? component_slopes(model, theta, grid, record_end) : std::vector<double>();
   const double scale2 = target < 0.0 ? grid.tau[at] : kWalkTau / grid.tau[at];  // value^2 = AVAR * scale2
   double sum = 0.0;
+  const double tau2[1] = {2.0 * static_cast<double>(grid.m[at])};
+  const Eigen::RowVectorXd jac = cov ? Eigen::RowVectorXd(model.jacobian(theta, tau2).row(0)) : Eigen::RowVectorXd();
+  Eigen::RowVectorXd g = Eigen::RowVectorXd::Zero(theta.size());  // d value^2 / d theta
   for (int k = 0; k < model.num_components(); ++k) {
     const auto c = static_cast<std::size_t>(k);
     if (!std::isfinite(slopes[c]) || !nearest_canonical(slopes[c], target)) continue;
@@ -447,10 +458,19 @@ bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, co
     const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
     const double exact = quantity_of_kind(p.physical(th, grid.freq), kind);
     sum += std::isfinite(exact) ? exact * exact : here[c] * scale2;
+    if (cov) g.segment(model.offset(k), p.size()) = 2.0 * scale2 * jac.segment(model.offset(k), p.size());
   }
   if (!(sum > 0.0)) return false;
   const double ratio = std::sqrt(sum) / r.value;
-  r.value *= ratio, r.low *= ratio, r.high *= ratio;
+  r.value *= ratio;
+  r.low = r.high = std::numeric_limits<double>::quiet_NaN();
+  if (cov) {
+    const double var = (g * *cov * g.transpose())(0, 0);  // of value^2
+    if (var >= 0.0 && std::isfinite(var)) {
+      const double rel = z * std::sqrt(var) / (2.0 * sum);  // of value
+      r.low = r.value * std::exp(-rel), r.high = r.value * std::exp(rel);
+    }
+  }
   r.how += target < 0.0 ? "; the components on this slope at " + fmt(grid.tau[at]) + " s only"
                         : "; the components random-walk-like over the record at " + fmt(grid.tau[at]) + " s only";
   return true;
@@ -560,7 +580,8 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
                                  const char* slope_name) {
     if (!shows(r)) return;
     const std::size_t i = nearest_index(ext.tau, r.tau);
-    if (refine_from_components(model, theta, ext, i, r, target, kind, record_end)) return;
+    if (refine_from_components(model, theta, ext, i, r, target, kind, record_end, with_cov ? &cov : nullptr, z))
+      return;
     const std::string what =
         target < 0.0 ? "no white noise" : "no random walk (no RW, nor an AR1/GM random-walk-like over the record)";
     Readoff b =

@@ -112,6 +112,13 @@ double term_figure(const Model& model, const Eigen::VectorXd& theta, double freq
   return any ? root : std::numeric_limits<double>::quiet_NaN();
 }
 
+// N without a WN term (the white noise carried by a fast AR1, as select often chooses):
+// N as the model's Allan deviation shows it (model_only_figures, the rule every face reads
+// N by), sized by the delta method at its read point (issue 43, item 8).
+bool white_on_curve(const Model& model, const Eigen::VectorXd& theta, double freq, Kind kind) {
+  return kind == Kind::kN && !std::isfinite(term_figure(model, theta, freq, PhysicalKind::kNoiseDensity));
+}
+
 int levels_of(std::int64_t n) { return static_cast<int>(std::bit_width(static_cast<std::uint64_t>(n))) - 1; }
 
 Target resolve(const Model& model, const std::string& name) {
@@ -186,7 +193,10 @@ Point evaluate(const Model& model, const Eigen::VectorXd& theta, double freq, st
   const std::string basis = "GMWM sandwich covariance at n = " + std::to_string(n) + " (" + std::to_string(J) +
                             " levels, model-based diagonal weights)";
   const bool minimum = std::any_of(targets.begin(), targets.end(), [](const Target& t) { return t.kind == Kind::kB; });
-  const ChosenFigures at = minimum ? model_only_figures(model, theta, freq, n) : ChosenFigures{};
+  const bool n_on_curve = std::any_of(targets.begin(), targets.end(),
+                                      [&](const Target& t) { return white_on_curve(model, theta, freq, t.kind); });
+  // With the covariance, the read-offs carry the delta method's interval at their read point.
+  const ChosenFigures at = minimum || n_on_curve ? model_only_figures(model, theta, freq, n, {}, &*cov) : ChosenFigures{};
   for (std::size_t i = 0; i < T; ++i) {
     const Target& t = targets[i];
     Eigen::VectorXd g = Eigen::VectorXd::Zero(p);
@@ -206,6 +216,18 @@ Point evaluate(const Model& model, const Eigen::VectorXd& theta, double freq, st
       const double tau2[1] = {2.0 * std::round(r.tau * freq)};
       g = model.jacobian(theta, tau2).row(0).transpose() / (r.value * kBiasInstabilityFactor * kBiasInstabilityFactor);
       how = "; B " + r.how + " (delta method at the read point)";
+    } else if (white_on_curve(model, theta, freq, t.kind)) {
+      // The read-off's own delta method on log N at its read point m (fixed): its 1 - alpha
+      // interval is N exp(+-z se_rel), se_rel = sqrt(g' C g), g = J(2m) / AVAR(m).
+      const Readoff& r = at.white.figure;
+      if (!shows(r) || !(r.low > 0.0 && r.high > r.low)) {
+        pt.note[i] = "N is not read at n = " + std::to_string(n) + ": " + r.how;
+        continue;
+      }
+      const double z = boost::math::quantile(boost::math::normal(), 1.0 - ReadoffOptions{}.alpha / 2.0);
+      pt.rse[i] = std::log(r.high / r.low) / (2.0 * z);
+      pt.note[i] = basis + "; no white noise term: N " + r.how + " (delta method at the read point)";
+      continue;
     } else {
       const PhysicalKind kind = term_kind(t.kind);
       value = term_figure(model, theta, freq, kind);
@@ -289,10 +311,20 @@ std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta
     Target t = resolve(model, name);
     if (t.kind == Kind::kN || t.kind == Kind::kK) {
       if (!std::isfinite(term_figure(model, unit, freq, term_kind(t.kind)))) {
+        // N without a WN term: read on the model's curve when it shows a -1/2 slope.
+        if (t.kind == Kind::kN) {
+          if (!top) top = model_only_figures(model, unit, freq, options.max_samples);
+          if (shows(top->white.figure)) {
+            out.push_back(t);
+            continue;
+          }
+        }
         if (defaults) continue;
         throw InputError("record plan: the model " + model.to_string(theta) + " has no " +
-                         (t.kind == Kind::kN ? "white noise term (WN) for the noise density N"
-                                             : "random walk term (RW) for the random walk K"));
+                         (t.kind == Kind::kN ? "white noise term (WN) and no -1/2 slope on its Allan deviation over " +
+                                                   std::to_string(options.max_samples) +
+                                                   " samples for the noise density N"
+                                             : std::string("random walk term (RW) for the random walk K")));
       }
     } else if (t.kind == Kind::kB) {
       if (!top) top = model_only_figures(model, unit, freq, options.max_samples);
@@ -349,12 +381,19 @@ std::vector<double> record_target_values(const Model& model, const Eigen::Vector
   std::optional<ChosenFigures> figures;
   for (const auto& name : targets) {
     const Target t = resolve(model, name);
-    if (t.kind == Kind::kB && !figures) figures = model_only_figures(model, unit.theta, freq, n);
-    out.push_back(t.kind == Kind::kParameter
-                      ? theta(t.parameter)
-                      : std::ldexp(t.kind == Kind::kB ? figures->instability.figure.value
-                                                      : term_figure(model, unit.theta, freq, term_kind(t.kind)),
-                                   unit.exponent));
+    const bool curve = white_on_curve(model, unit.theta, freq, t.kind);
+    if ((t.kind == Kind::kB || curve) && !figures) figures = model_only_figures(model, unit.theta, freq, n);
+    double v = 0.0;
+    if (t.kind == Kind::kParameter)
+      v = theta(t.parameter);
+    else if (t.kind == Kind::kB)
+      v = std::ldexp(figures->instability.figure.value, unit.exponent);
+    else if (curve)  // N on the model's curve: its read-off, NaN where it only bounds N
+      v = shows(figures->white.figure) ? std::ldexp(figures->white.figure.value, unit.exponent)
+                                       : std::numeric_limits<double>::quiet_NaN();
+    else
+      v = std::ldexp(term_figure(model, unit.theta, freq, term_kind(t.kind)), unit.exponent);
+    out.push_back(v);
   }
   return out;
 }

@@ -305,6 +305,41 @@ TEST(RecordPlan, RefusesBadOptionsAndTargetsTheModelHasNoTermForNamingThem) {
   }
 }
 
+TEST(RecordPlan, PlansTheNoiseDensityWhereAFastAr1CarriesTheWhiteNoise) {
+  // select often carries the white noise by an AR1 of small phi (no WN term): N is then read
+  // on the model's Allan deviation, as every face reads it, and planned by the delta method
+  // at its read point. AR1(phi = 0.2, sigma2 = 1) at 100 Hz is white beyond a few samples
+  // with the long-run variance sigma2 / (1 - phi)^2: N = sqrt(1 / 0.64 / 100) = 0.125
+  // (its Allan variance at 1 s is below the white line by O(1 / m), m = 100 samples).
+  const Model m = parse_model("AR1(phi=0.2,sigma2=1)+RW(gamma2=1e-6)");
+  RecordPlanOptions o;
+  o.targets = {"N"};
+  const RecordPlan plan = plan_record_length(m, m.given_values(), 100.0, o);
+  ASSERT_EQ(plan.targets.size(), 1u);
+  const RecordTarget& t = plan.targets[0];
+  EXPECT_TRUE(t.reachable) << t.basis;
+  EXPECT_NEAR(t.value, 0.125, 0.02 * 0.125);
+  EXPECT_NE(t.basis.find("no white noise term: N"), std::string::npos) << t.basis;
+  EXPECT_NE(t.basis.find("delta method at the read point"), std::string::npos) << t.basis;
+  EXPECT_GT(t.relative_se, 0.0);
+  // The default targets include it now.
+  const RecordPlan all = plan_record_length(m, m.given_values(), 100.0);
+  EXPECT_EQ(all.targets.front().name, "N");
+  // Halving the precision quadruples the length of a white floor's figure (within the
+  // bisection's 1% and the read-off's grid), when the resolution does not set it.
+  o.precision = 0.01;
+  const RecordTarget a = plan_record_length(m, m.given_values(), 100.0, o).targets[0];
+  o.precision = 0.005;
+  const RecordTarget b = plan_record_length(m, m.given_values(), 100.0, o).targets[0];
+  EXPECT_NEAR(static_cast<double>(b.own_samples) / static_cast<double>(a.own_samples), 4.0, 0.4);
+  // A model without any -1/2 slope has no N to plan: refused, naming the model and why.
+  const Model rw = parse_model("RW(gamma2=1e-6)");
+  o.precision = 0.1;
+  const std::string no_n = input_error([&] { plan_record_length(rw, rw.given_values(), 100.0, o); });
+  EXPECT_NE(no_n.find("no white noise term (WN) and no -1/2 slope"), std::string::npos) << no_n;
+  EXPECT_NE(no_n.find("the model RW(gamma2="), std::string::npos) << no_n;
+}
+
 TEST(RecordPlan, ThePlannedLengthReachesThePrecisionInTheStatedShareOfSimulatedRecords) {
   // WN at 100 Hz, N to +-10% at 95%: R seeded records of the planned length, each fitted
   // with fit_gmwm's defaults and N taken from the fit as the plan defines it. The share

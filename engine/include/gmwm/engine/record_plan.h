@@ -3,7 +3,9 @@
 // the record length at which the GMWM estimate of a noise figure or of a model parameter
 // reaches a relative precision at a confidence level, and the precision a given record
 // length reaches. The figures: N, the noise density of the model's white noise term
-// (sqrt(sigma2 / f)); K, the random walk of its random walk term (sqrt(gamma2 f); both
+// (sqrt(sigma2 / f)), or, for a model without one (the white noise carried by a fast AR1,
+// as select often chooses), N as the model's Allan deviation shows it (model_only_figures)
+// with the delta method at its read point; K, the random walk of its random walk term (sqrt(gamma2 f); both
 // Process::physical, physical.h); B, the bias instability read at the minimum of the
 // model's Allan deviation over the record (noise_figures.h, model_only_figures). For a
 // WN + RW model N and K are what the Allan read-off gives; where an AR1 bends the curve
@@ -106,7 +108,8 @@ struct RecordPlan {
 };
 
 /// The plan for (model, theta) sampled at freq Hz. Throws InputError for invalid options,
-/// freq or theta, and for a target the model has no term for (N without a WN term, K
+/// freq or theta, and for a target the model has no term for (N without a WN term nor a
+/// -1/2 slope on its Allan deviation, K
 /// without an RW term, B without a minimum of the Allan deviation over max_samples, a
 /// parameter label it does not have), naming it and the model.
 RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, double freq,
