@@ -11,6 +11,7 @@
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
+#include "noise_figures_internal.h"
 
 namespace gmwm {
 
@@ -42,19 +43,19 @@ std::string ReadoffOptions::Validate() const {
 
 namespace {
 
-// The IEEE 952 read-off taus (seconds).
-constexpr double kWhiteTau = 1.0;  // N = ADEV(1 s) on the -1/2 line
-constexpr double kWalkTau = 3.0;   // K = ADEV(3 s) on the +1/2 line
+using figures::fmt;
+using figures::kWalkTau;
+using figures::kWhiteTau;
+using figures::shows;
+using figures::walk_scale;
+using figures::white_scale;
+
 // Points in a slope region at least (one alone could be a wiggle of the curve).
 constexpr std::size_t kMinRegionPoints = 2;
 // How far beyond the record a model's curve is searched for its -1/2 and +1/2 slopes.
 constexpr double kModelReachRecords = 100.0;
 // Local slopes are least-squares fits over points within half an octave on each side.
 constexpr double kSlopeHalfWindowOctaves = 0.5;
-// B from the model only where its curve is within this share of the data's at their minimum
-// (besides inside their interval): a minimum sits where the interval is widest, and an
-// engineer reads a floor to about this (issue 43's acceptance bar for B is 25%).
-constexpr double kFloorAgreement = 0.2;
 // Two slope stretches are as long as each other within this (octaves): rounding.
 constexpr double kSameOctaves = 1e-9;
 
@@ -68,11 +69,6 @@ struct Curve {
 /// (low, high) of sigma_i times `scale` at 1 - alpha.
 using IntervalFn = std::function<std::pair<double, double>(std::size_t i, double scale)>;
 
-std::string fmt(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
 
 std::vector<double> local_slopes(const Curve& c) {
   const std::size_t K = c.tau.size();
@@ -119,8 +115,6 @@ Readoff bound_of(const Curve& c, const std::function<double(double)>& scale, con
   return out;
 }
 
-double white_scale(double tau) { return std::sqrt(tau); }
-double walk_scale(double tau) { return std::sqrt(kWalkTau / tau); }
 
 // A bump near the IEEE tau above the white floor's -1/2 line: how far past the floor it is
 // sought (the ADIS accelerometers' 0.46-0.53 Hz tone bends their curves over 0.3-2 s) and
@@ -483,7 +477,6 @@ std::size_t nearest_index(const std::vector<double>& tau, double t) {
   return at;
 }
 
-bool shows(const Readoff& r) { return r.available() && r.status != ReadoffStatus::kBound; }
 
 // The model's component making a bump: the one with the largest Allan variance at the bump's
 // peak beyond what a white noise with its Allan variance at the floor's read point `floor`
@@ -651,288 +644,6 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
       f.white.bends = bump_text(*b, bump_maker(model, theta, ext, nearest_index(ext.tau, own_white.tau), b->peak_tau));
   }
   return f;
-}
-
-const char* to_string(FigureSource s) {
-  switch (s) {
-    case FigureSource::kModel:
-      return "model";
-    case FigureSource::kData:
-      return "data";
-    case FigureSource::kBound:
-      return "bound";
-  }
-  return "?";
-}
-
-std::optional<FigureSource> parse_figure_source(const std::string& name) {
-  for (FigureSource s : {FigureSource::kModel, FigureSource::kData, FigureSource::kBound})
-    if (name == to_string(s)) return s;
-  return std::nullopt;
-}
-
-namespace {
-
-ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviation& adev,
-                    std::span<const double> model_adev, const char* name, const char* feature, double (*scale)(double),
-                    const ReadoffOptions& o) {
-  ChosenFigure c;
-  c.model = model;
-  c.data = data;
-  const bool data_shows = data.available() && data.status != ReadoffStatus::kBound;
-  const bool model_shows = model.available() && model.status != ReadoffStatus::kBound;
-  if (data_shows) {
-    // Where the data's figure is read: is the model's curve inside the data's interval?
-    std::size_t at = 0;
-    for (std::size_t i = 1; i < adev.size(); ++i)
-      if (std::abs(adev.tau[i] - data.tau) < std::abs(adev.tau[at] - data.tau)) at = i;
-    const double mv = at < model_adev.size() ? model_adev[at] : NAN;
-    const bool inside = std::isfinite(mv) && mv >= adev.ci_low[at] && mv <= adev.ci_high[at];
-    // B is the curve's level at its minimum, where the record holds the fewest averages and
-    // the interval is widest (imu3 gyro_x: a model 35% above the data's minimum at 390 s
-    // was inside it): the model's value must also be within kFloorAgreement of the data's.
-    const bool floor_agrees = scale || std::abs(mv / adev.adev[at] - 1.0) <= kFloorAgreement;
-    if (model_shows && inside && !floor_agrees) {
-      c.figure = data;
-      c.source = FigureSource::kData;
-      c.note = std::string(name) + " from the data's Allan deviation: the model's curve at " + fmt(data.tau) +
-               " s is inside the data's interval but " + fmt(100.0 * std::abs(mv / adev.adev[at] - 1.0)) +
-               "% off their minimum (more than " + fmt(100.0 * kFloorAgreement) + "%); the model's value there is " +
-               fmt(model.value);
-      return c;
-    }
-    if (model_shows && inside) {
-      c.figure = model;
-      c.source = FigureSource::kModel;
-      c.note = std::string(name) + " from the model, read where the data show the " + feature +
-               ": its Allan deviation is inside the data's interval there (" + fmt(data.tau) + " s)";
-      return c;
-    }
-    if (inside && scale && model.available() && model.status == ReadoffStatus::kBound) {
-      // The model follows the data where they show the slope, and says what makes it: no
-      // term of that kind (a white noise crossing into a drift is no random walk). The
-      // figure is then only bounded, by the smaller of the data's and the model's bounds.
-      Readoff b;
-      for (std::size_t i = 0; i < adev.size(); ++i) {
-        if (!(adev.edf[i] >= o.min_edf) || !(adev.adev[i] > 0.0)) continue;
-        const double v = adev.adev[i] * scale(adev.tau[i]);
-        if (!(v >= b.value)) b.value = v, b.tau = adev.tau[i];
-      }
-      const bool use_data = b.available() && !(model.value < b.value);
-      c.figure = use_data ? b : model;
-      c.figure.status = ReadoffStatus::kBound;
-      c.figure.low = NAN;
-      c.figure.high = c.figure.value;
-      c.source = FigureSource::kBound;
-      std::string shares;
-      for (const auto& [component, share] : model.sources)
-        shares += (shares.empty() ? "" : ", ") + component + " " + fmt(100.0 * share) + "%";
-      c.note = std::string(name) + " not read: the data's " + feature + " at " + fmt(data.tau) +
-               " s follows the model's curve (inside the data's interval there), and " +
-               model.how.substr(0, model.how.find(": an upper bound")) +
-               (shares.empty() ? std::string() : ": other terms crossing (" + shares + ")") +
-               "; written as the upper bound " + fmt(c.figure.value) + " (the line touching the " +
-               (use_data ? "data's" : "model's") + " curve at " + fmt(c.figure.tau) + " s)";
-      return c;
-    }
-    c.figure = data;
-    c.source = FigureSource::kData;
-    if (!model_shows)
-      c.note = std::string(name) + " from the data's Allan deviation: the model's shows no " + feature;
-    else
-      c.note = std::string(name) + " from the data's Allan deviation: the model misses it at " + fmt(data.tau) +
-               " s (model/data " + fmt(mv / adev.adev[at]) + ", outside the data's " + fmt(100.0 * (1.0 - adev.alpha)) +
-               "% interval); the model's value there is " + fmt(model.value);
-    return c;
-  }
-  if (model_shows) {
-    const bool below = !data.available() || model.value <= data.value;
-    if (below) {
-      c.figure = model;
-      c.source = FigureSource::kModel;
-      c.note = std::string(name) + " from the model (the data alone show no " + feature +
-               (data.available() ? ", only a bound of " + fmt(data.value) : std::string()) + ")";
-      return c;
-    }
-  }
-  // A bound: the smaller of what either curve allows.
-  const bool use_data = data.available() && (!model.available() || data.value <= model.value);
-  c.figure = use_data ? data : model;
-  c.figure.status = ReadoffStatus::kBound;
-  c.figure.low = NAN;
-  c.figure.high = c.figure.value;
-  c.source = FigureSource::kBound;
-  const std::string where = std::isfinite(c.figure.tau)
-                                ? " (the line touching the " + std::string(use_data ? "data's" : "model's") +
-                                      " curve at " + fmt(c.figure.tau) + " s)"
-                                : std::string();
-  // A model bound with a region: its curve shows the slope, but no term of that kind makes it.
-  const bool model_crossing = model.available() && !model_shows && std::isfinite(model.region_from);
-  c.note = std::string(name) + " not read: " +
-           (model_shows ? "the data show no " + std::string(feature) + " and the model's value " + fmt(model.value) +
-                              " exceeds their upper bound"
-            : model_crossing ? "the data show no " + std::string(feature) + ", and " + model.how
-                             : "neither the data's nor the model's Allan deviation shows a " + std::string(feature)) +
-           "; written as the upper bound " + fmt(c.figure.value) + where;
-  return c;
-}
-
-}  // namespace
-
-ChosenFigures choose_noise_figures(const NoiseFigures& model, const NoiseFigures& data, const AllanDeviation& data_adev,
-                                   std::span<const double> model_adev, const ReadoffOptions& options) {
-  ChosenFigures out;
-  out.white = choose(model.white, data.white, data_adev, model_adev, "N", "-1/2 slope", white_scale, options);
-  // A bump bending the curve near 1 s is said with N (the export header carries the note):
-  // the model's names its component; the data's where the model has none.
-  const std::string& bends = !model.white.bends.empty() ? model.white.bends : data.white.bends;
-  if (!bends.empty()) {
-    out.white.note += "; " + bends;
-    out.white.figure.bends = bends;
-  }
-  out.walk = choose(model.walk, data.walk, data_adev, model_adev, "K", "+1/2 slope", walk_scale, options);
-  out.instability =
-      choose(model.instability, data.instability, data_adev, model_adev, "B", "minimum", nullptr, options);
-  return out;
-}
-
-namespace {
-
-// The figures when only one curve is at hand: each its read-off (source `shown`) or its
-// bound, and the read-offs recorded on that side.
-ChosenFigures one_sided_choice(const NoiseFigures& f, FigureSource shown, const std::string& curve) {
-  auto take = [&](const Readoff& r, const char* name) {
-    ChosenFigure c;
-    c.figure = r;
-    (shown == FigureSource::kData ? c.data : c.model) = r;
-    const bool shows = r.available() && r.status != ReadoffStatus::kBound;
-    c.source = shows ? shown : FigureSource::kBound;
-    c.note = std::string(name) + (shows ? " from " + curve : " not read in " + curve + ": " + r.how);
-    return c;
-  };
-  return {take(f.white, "N"), take(f.walk, "K"), take(f.instability, "B")};
-}
-
-}  // namespace
-
-FigureReport noise_figure_report(std::span<const double> x, double freq, const Model& model,
-                                 const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
-                                 const AllanOptions& allan, const ReadoffOptions& readoff) {
-  return noise_figure_report(allan_deviation(x, freq, allan), model, theta, covariance, readoff);
-}
-
-FigureReport noise_figure_report(AllanDeviation adev, const Model& model, const Eigen::VectorXd& theta,
-                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& readoff) {
-  FigureReport r;
-  r.adev = std::move(adev);
-  r.data = read_noise_figures(r.adev, readoff);
-  r.model_adev = model_allan_deviation(model, theta, r.adev.m);
-  const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
-  r.model = model_noise_figures(model, theta, r.adev, cov, readoff, &r.data);
-  r.chosen = choose_noise_figures(r.model, r.data, r.adev, r.model_adev, readoff);
-  return r;
-}
-
-FigureReport noise_figure_report_from_wv(const WaveletVariance& wv, double freq, const Model& model,
-                                         const Eigen::VectorXd& theta, const Eigen::MatrixXd* covariance,
-                                         const ReadoffOptions& readoff) {
-  check_positive("noise_figure_report_from_wv", "freq", freq);
-  FigureReport r;
-  AllanDeviation& a = r.adev;
-  a.freq = freq;
-  a.n = wv.n;
-  a.alpha = wv.alpha;
-  const double eff = wv.efficiency.value_or(1.0);
-  for (int j = 0; j < wv.levels(); ++j) {
-    const auto i = static_cast<std::size_t>(j);
-    if (!(wv.wv[i] > 0.0)) continue;
-    a.m.push_back(static_cast<std::int64_t>(wv.tau[i] / 2.0));
-    a.tau.push_back(wv.tau[i] / 2.0 / freq);
-    a.adev.push_back(std::sqrt(2.0 * wv.wv[i]));
-    a.ci_low.push_back(std::sqrt(2.0 * std::max(wv.ci_low[i], 0.0)));
-    a.ci_high.push_back(std::sqrt(2.0 * wv.ci_high[i]));
-    a.edf.push_back(wv.eta[i] * eff);
-  }
-  r.data = read_noise_figures(a, readoff);
-  r.model_adev = model_allan_deviation(model, theta, a.m);
-  const Eigen::MatrixXd* cov = covariance && covariance->size() > 0 ? covariance : nullptr;
-  r.model = model_noise_figures(model, theta, a, cov, readoff, &r.data);
-  r.chosen = choose_noise_figures(r.model, r.data, a, r.model_adev, readoff);
-  return r;
-}
-
-FigureReport data_figure_report(std::span<const double> x, double freq, const AllanOptions& allan,
-                                const ReadoffOptions& readoff) {
-  return data_figure_report(allan_deviation(x, freq, allan), readoff);
-}
-
-FigureReport data_figure_report(AllanDeviation adev, const ReadoffOptions& readoff) {
-  FigureReport r;
-  r.adev = std::move(adev);
-  r.data = read_noise_figures(r.adev, readoff);
-  r.chosen = one_sided_choice(r.data, FigureSource::kData, "the data's Allan deviation");
-  return r;
-}
-
-ChosenFigures model_only_figures(const Model& model, const Eigen::VectorXd& theta, double freq, std::int64_t n,
-                                 const ReadoffOptions& readoff, const Eigen::MatrixXd* covariance,
-                                 const std::string& why) {
-  check_positive("model_only_figures", "freq", freq);
-  check_at_least("model_only_figures", "n", static_cast<double>(n), 4.0);
-  AllanDeviation grid;
-  grid.freq = freq;
-  grid.n = n;
-  grid.alpha = readoff.alpha;
-  grid.m = allan_factors(n, AllanOptions{}.points_per_octave);
-  for (std::int64_t m : grid.m) {
-    grid.tau.push_back(static_cast<double>(m) / freq);
-    grid.edf.push_back(std::max(static_cast<double>(n - 2 * m + 1) / static_cast<double>(2 * m), 1.0));
-  }
-  grid.adev = model_allan_deviation(model, theta, grid.m);
-  grid.ci_low = grid.ci_high = grid.adev;
-  const NoiseFigures f = model_noise_figures(model, theta, grid, covariance, readoff);
-  return one_sided_choice(f, FigureSource::kModel, why);
-}
-
-std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter_rate) {
-  check_positive("kalman_terms", "filter_rate", filter_rate);
-  std::vector<KalmanTerm> out;
-  const double N = figures.white.figure.value, K = figures.walk.figure.value;
-  if (std::isfinite(N)) {
-    KalmanTerm t;
-    t.role = "white measurement noise R (from N)";
-    t.q = N * N;
-    t.q_unit = "U^2/Hz";
-    t.discrete = N * N * filter_rate;
-    t.discrete_unit = "U^2";
-    t.note = "R = N^2 f_k: every white-looking term at 1 s, fast AR1s included (N: " +
-             std::string(to_string(figures.white.source)) + ")";
-    out.push_back(t);
-  }
-  if (std::isfinite(K)) {
-    KalmanTerm t;
-    t.role = "bias random walk state (from K)";
-    t.q = K * K;
-    t.q_unit = "U^2/s";
-    t.transition = 1.0;
-    t.discrete = K * K / filter_rate;
-    t.discrete_unit = "U^2";
-    t.note = std::string("F = 1, Q_d = K^2 / f_k") +
-             (figures.walk.source == FigureSource::kBound ? " (K is an upper bound: no +1/2 slope)" : "");
-    out.push_back(t);
-  }
-  const Readoff& B = figures.instability.figure;
-  if (B.available() && B.status != ReadoffStatus::kBound && std::isfinite(B.tau)) {
-    const double sigma = kBiasInstabilityFactor * B.value / kGaussMarkovPeakAdev;
-    KalmanTerm t = gauss_markov_term(B.tau / kGaussMarkovPeakTau, sigma * sigma, filter_rate);
-    t.role = "bias instability as a Gauss-Markov state (from B)";
-    t.note =
-        "T = tau_B / 1.8926, sigma = 0.664 B / 0.6174: its Allan deviation peaks at the flat minimum "
-        "(an approximation of a flicker floor); " +
-        t.note;
-    out.push_back(t);
-  }
-  return out;
 }
 
 }  // namespace gmwm
