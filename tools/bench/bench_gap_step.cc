@@ -24,10 +24,11 @@
 // base (kNullCases series) or, with the base's values off by +-20% (kOffCases), any effect
 // but REPARAMETERISE.
 //
-// Usage: bench_gap_step [CASES_PER_SIZE [NULL_CASES]] (defaults 100 and 300: 200 base-only,
-// 100 off). Exit 0 when every acceptance check passes: top-1 within 10 points of the
+// Usage: bench_gap_step [CASES_PER_SIZE [NULL_CASES [oracle-only]]] (defaults 100 and 300:
+// 200 base-only, 100 off; oracle-only: the oracle's power at 1%, 0.5% and 0.25% alone). Exit 0 when every acceptance check passes: top-1 within 10 points of the
 // oracle's power at each size, false alarms <= 2%.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -122,6 +123,95 @@ gap::GapResult diagnose(const std::vector<double>& x, const Model& base, const E
   return gap::diagnose_gap(wv, base, theta, o, &robust, &x);
 }
 
+// How well a threshold at level alpha / K (0.625%: gmwm's scan share with this base's 8
+// tests) is found from 200 replicates, as gmwm finds it: 500 subsets of 200 of the oracle's
+// null maxima (the scan statistics are both max |z| of a standardised scan, and track each
+// other), each giving a threshold by (a) a Gumbel law matched to the mean and variance,
+// (b) the law of the maximum of m independent |N(0, 1)|, (2 Phi(b) - 1)^m, m by maximum
+// likelihood, (c) the same fitted to the upper half only (censored below the median); each
+// threshold's exceedance is counted on all the null maxima.
+// The (1 - level) quantile of F(b) = exp(-C b^a phi(b)) (a scan's maximum: the expected
+// number of its upcrossings of b), C and a by maximum likelihood on `sample`.
+double rice_quantile(const std::vector<double>& sample, double level) {
+  const auto B = static_cast<double>(sample.size());
+  auto phi = [](double b) { return std::exp(-0.5 * b * b) / std::sqrt(2.0 * M_PI); };
+  double best = -INFINITY, best_a = 0.0, best_c = 0.0;
+  for (double a = 0.0; a <= 6.0; a += 0.01) {
+    double sh = 0.0, rest = 0.0;
+    bool ok = true;
+    for (double b : sample) {
+      if (!(b * b > a)) { ok = false; break; }
+      sh += std::pow(b, a) * phi(b);
+      rest += std::log(std::pow(b, a - 1.0) * phi(b) * (b * b - a));
+    }
+    if (!ok) continue;
+    const double c = B / sh, ll = -c * sh + B * std::log(c) + rest;
+    if (ll > best) best = ll, best_a = a, best_c = c;
+  }
+  const double target = -std::log1p(-level);
+  double lo = std::sqrt(best_a) + 1e-9, hi = 20.0;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (best_c * std::pow(mid, best_a) * phi(mid) > target ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+int calibration_study(const std::vector<double>& sorted_null) {
+  const double level = 0.05 / 8.0;
+  const auto B = static_cast<Eigen::Index>(sorted_null.size());
+  const double target = sorted_null[static_cast<std::size_t>(std::ceil((1.0 - level) * static_cast<double>(B))) - 1];
+  const boost::math::normal nd;
+  auto log_g = [&](double b) { return std::log(std::max(1e-300, 2.0 * boost::math::cdf(nd, b) - 1.0)); };
+  auto m_law_quantile = [&](double m) {  // (2 Phi(b) - 1)^m = 1 - level
+    const double g = std::exp(std::log1p(-level) / m);
+    return boost::math::quantile(nd, 0.5 * (1.0 + g));
+  };
+  constexpr int kSubsets = 500, kSize = 200;
+  std::vector<double> thr[4];
+  Rng rng = make_stream(kOracleSeed, {77});
+  boost::random::uniform_01<double> u;
+  std::vector<double> sub(kSize);
+  for (int s = 0; s < kSubsets; ++s) {
+    std::vector<double> pool = sorted_null;
+    for (int i = 0; i < kSize; ++i) {  // without replacement
+      const auto j = static_cast<std::size_t>(i) +
+                     static_cast<std::size_t>(u(rng) * static_cast<double>(pool.size() - static_cast<std::size_t>(i)));
+      std::swap(pool[static_cast<std::size_t>(i)], pool[std::min(j, pool.size() - 1)]);
+      sub[static_cast<std::size_t>(i)] = pool[static_cast<std::size_t>(i)];
+    }
+    const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(sub.data(), kSize);
+    const double mean = v.mean(), sd = std::sqrt((v.array() - mean).square().sum() / (kSize - 1));
+    const double beta = sd * std::sqrt(6.0) / M_PI, mu = mean - 0.5772156649015329 * beta;
+    thr[0].push_back(mu - beta * std::log(-std::log1p(-level)));
+    double sum = 0.0;
+    for (double b : sub) sum += log_g(b);
+    thr[1].push_back(m_law_quantile(-kSize / sum));
+    std::sort(sub.begin(), sub.end());
+    const int k = kSize / 2;
+    const double c = sub[static_cast<std::size_t>(kSize - k - 1)];
+    double top = 0.0;
+    for (int i = kSize - k; i < kSize; ++i) top += log_g(sub[static_cast<std::size_t>(i)]);
+    thr[2].push_back(m_law_quantile(-k / (top + (kSize - k) * log_g(c))));
+    thr[3].push_back(rice_quantile(sub, level));
+  }
+  std::printf("Threshold at %.3f%% from %d replicates (%d subsets of the %lld oracle null maxima); the empirical "
+              "quantile over all of them: %.3f\n\n| method | mean threshold | sd | mean exceedance |\n|---|---|---|---|\n",
+              100 * level, kSize, kSubsets, static_cast<long long>(B), target);
+  const char* names[4] = {"Gumbel, moments (gmwm before)", "max of m |N(0,1)|, m by ML",
+                          "the same, upper half (censored ML)", "exp(-C b^a phi(b)), C and a by ML"};
+  for (int k = 0; k < 4; ++k) {
+    double m = 0, m2 = 0, ex = 0;
+    for (double t : thr[k]) {
+      m += t / kSubsets, m2 += t * t / kSubsets;
+      ex += static_cast<double>(sorted_null.end() - std::upper_bound(sorted_null.begin(), sorted_null.end(), t)) /
+            static_cast<double>(B) / kSubsets;
+    }
+    std::printf("| %s | %.3f | %.3f | %.3f%% |\n", names[k], m, std::sqrt(std::max(0.0, m2 - m * m)), 100 * ex);
+  }
+  return 0;
+}
+
 std::string pct(double share) {
   char b[32];
   std::snprintf(b, sizeof b, "%.0f%%", 100.0 * share);
@@ -134,10 +224,28 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::err);
   const int cases = argc > 1 ? std::atoi(argv[1]) : 100;
   const int null_cases = argc > 2 ? std::atoi(argv[2]) : 300;
+  // "oracle-only": the oracle's power at its level and at smaller ones (the share of the
+  // level gmwm's scan gets), without running gmwm.
+  const bool oracle_only = argc > 3 && std::string(argv[3]) == "oracle-only";
   const ProcessContext ctx{kFreq, true};
   const Model base = parse_model(kBase, ctx);
   const Eigen::VectorXd theta = base.given_values();
   bench::Stopwatch clock;
+
+  // "thresholds": gmwm's step-scan threshold and statistic beside the oracle's on
+  // NULL_CASES base-only series (what the scan is tested against, case by case).
+  if (argc > 3 && std::string(argv[3]) == "thresholds") {
+    std::vector<std::array<double, 3>> rows(static_cast<std::size_t>(null_cases));
+    gmwm::parallel_for(0, null_cases, [&](int i) {
+      const std::vector<double> x = simulate(base, theta, kN, kNullSeed, static_cast<std::uint64_t>(i));
+      const gap::GapResult g = diagnose(x, base, theta, kCalibrationSeed + 1000000 + static_cast<std::uint64_t>(i));
+      rows[static_cast<std::size_t>(i)] = {g.step_scan_threshold, g.step_scan_statistic, oracle_scan(x)};
+    });
+    std::printf("| series | gmwm's scan threshold | gmwm's scan statistic | oracle's statistic |\n|---|---|---|---|\n");
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      std::printf("| %zu | %.3f | %.3f | %.3f |\n", i, rows[i][0], rows[i][1], rows[i][2]);
+    return 0;
+  }
 
   // The oracle's null distribution at the record's length.
   std::vector<double> null_max(kOracleNullSeries);
@@ -146,6 +254,7 @@ int main(int argc, char** argv) {
         oracle_scan(simulate(base, theta, kN, kOracleSeed, static_cast<std::uint64_t>(b)));
   });
   std::sort(null_max.begin(), null_max.end());
+  if (argc > 3 && std::string(argv[3]) == "calibration") return calibration_study(null_max);
   const double q99 = null_max[static_cast<std::size_t>(std::ceil((1.0 - kOracleLevel) * kOracleNullSeries)) - 1];
   double per_unit = 0.0;
   oracle_scan(simulate(base, theta, kN, kOracleSeed, 0), nullptr, &per_unit);
@@ -173,6 +282,7 @@ int main(int argc, char** argv) {
     for (auto t = static_cast<std::size_t>(c.t0); t < x.size(); ++t) x[t] += sign * c.size;
     c.oracle_z = oracle_scan(x);
     c.oracle = c.oracle_z > q99;
+    if (oracle_only) return;
     const gap::GapResult g = diagnose(x, base, theta, kCalibrationSeed + static_cast<std::uint64_t>(i));
     c.reported = g.effect;
     c.step_named = std::find(g.steps.begin(), g.steps.end(), gap::GapEffect::kStep) != g.steps.end();
@@ -181,6 +291,25 @@ int main(int argc, char** argv) {
     const int d = ++done;
     if (d % 25 == 0) std::fprintf(stderr, "step cases %d of %d (%.0f s)\n", d, sizes * cases, clock.seconds());
   });
+
+  // The oracle's power at its level and at the smaller shares a test among several gets
+  // (gmwm's step scan is tested at alpha / K, K = its candidates + 2: ~0.5%).
+  std::printf("| size / oracle's 90%% size | oracle power at 1%% | at 0.5%% | at 0.25%% |\n|---|---|---|---|\n");
+  auto null_quantile = [&](double level) {
+    return null_max[static_cast<std::size_t>(std::ceil((1.0 - level) * kOracleNullSeries)) - 1];
+  };
+  for (int s = 0; s < sizes; ++s) {
+    std::printf("| %.2f |", kSizeFactors[s]);
+    for (const double level : {0.01, 0.005, 0.0025}) {
+      const double q = null_quantile(level);
+      int hit = 0;
+      for (int k = 0; k < cases; ++k) hit += out[static_cast<std::size_t>(s * cases + k)].oracle_z > q;
+      std::printf(" %s (q %.3f) |", pct(static_cast<double>(hit) / cases).c_str(), q);
+    }
+    std::printf("\n");
+  }
+  std::printf("\n");
+  if (oracle_only) return 0;
 
   // The null side: base-only, then the base's values off by +-20%.
   const int off_cases = null_cases / 3, base_cases = null_cases - off_cases;
