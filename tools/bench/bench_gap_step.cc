@@ -315,6 +315,7 @@ int main(int argc, char** argv) {
   const int off_cases = null_cases / 3, base_cases = null_cases - off_cases;
   std::vector<gap::GapEffect> null_reported(static_cast<std::size_t>(null_cases));
   std::vector<char> null_step(static_cast<std::size_t>(null_cases), 0);
+  std::vector<std::string> null_detail(static_cast<std::size_t>(null_cases));
   gmwm::parallel_for(0, null_cases, [&](int i) {
     Eigen::VectorXd truth = theta;
     if (i >= base_cases) {
@@ -325,6 +326,11 @@ int main(int argc, char** argv) {
     const std::vector<double> x = simulate(base, truth, kN, kNullSeed, static_cast<std::uint64_t>(i));
     const gap::GapResult g = diagnose(x, base, theta, kCalibrationSeed + 1000000 + static_cast<std::uint64_t>(i));
     null_reported[static_cast<std::size_t>(i)] = g.effect;
+    char line[320];
+    std::snprintf(line, sizeof line, "| %d | %s | %s | %s | %.3f / %.3f | %.3f / %.3f |", i, i < base_cases ? "base" : "off",
+                  gap::to_string(g.effect), g.detected ? "yes" : "no", g.step_scan_statistic, g.step_scan_threshold,
+                  g.event_statistic, g.event_threshold);
+    null_detail[static_cast<std::size_t>(i)] = line;
     null_step[static_cast<std::size_t>(i)] =
         std::find(g.steps.begin(), g.steps.end(), gap::GapEffect::kStep) != g.steps.end();
     const int d = ++done;
@@ -365,6 +371,14 @@ int main(int argc, char** argv) {
     steps_null += null_step[static_cast<std::size_t>(i)];
   }
   const double fa = static_cast<double>(fa_base + fa_off) / std::max(null_cases, 1);
+  std::printf("\nThe null cases that named an effect (or a STEP):\n\n| case | data | effect | detected | step scan "
+              "statistic / threshold | event statistic / threshold |\n|---|---|---|---|---|---|\n");
+  for (int i = 0; i < null_cases; ++i) {
+    const gap::GapEffect e = null_reported[static_cast<std::size_t>(i)];
+    if ((e != gap::GapEffect::kNone && e != gap::GapEffect::kReparameterise) || (i < base_cases && e != gap::GapEffect::kNone) ||
+        null_step[static_cast<std::size_t>(i)])
+      std::printf("%s\n", null_detail[static_cast<std::size_t>(i)].c_str());
+  }
   ok &= fa <= kMaxFalseAlarms;
   std::printf(
       "\nFalse alarms: %d of %d base-only, %d of %d with the base off by +-20%%: %d of %d = %.1f%% (bar <= 2%%); a "
