@@ -291,9 +291,14 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
     r.analytic = analytic_optimism(m, c.effective.theta, wv.tau, wv.values(), omega, v);
     if (r.analytic.status != OptimismStatus::kFailed) r.optimism_analytic = r.analytic.value;
     // The GoF is measured with Cov(nuhat) at the row's own estimate, as fit measures its
-    // own (one rule): with the maximal pilot's V, a true WN+QN+RW was rejected in 25% of
+    // own (one rule): with the maximal pilot's V, a true WN+QN+RW was rejected in 22.5% of
     // series at 5% (issue 43, item 4; tools/bench/bench_gof_level). The shared Omega is
     // not that V's inverse, so the test is Satterthwaite's unless the WV carries its own V.
+    // The pilot's V rescaled to the row's WV (D V D, D = nu_row / nu_pilot) would cost
+    // nothing but is not calibrated (9.0% and 10.1% on the first two truths): the
+    // correlation of a level's coefficients depends on the row's spectral shape. The exact
+    // V costs select 1.33x (6 x 63 models on adis_16405_imu1: 3.27 s against 2.48 s), to be
+    // won back in model_wv_covariance itself (issue 44).
     r.gof = goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components),
                             r.objective, static_cast<double>(wv.levels() - r.parameters), omega,
                             wv_covariance_at(wv, m, c.effective.theta), omega_is_v_inverse && wv.covariance.has_value());
