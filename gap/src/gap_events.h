@@ -27,9 +27,9 @@
 // GLR's on the whole series (the local-level filter's: z per unit step 2224.6 against
 // 2236.1). Each level's coefficients are centred first (a drift's are a constant), and z is
 // divided by its own RMS over the record away from its maximum, so that a baseline off in
-// scale does not move the statistic max_t |z(t)| / RMS; it is calibrated on the baseline's
-// replicates at the record's length by the law of a scan's maximum, exp(-C b^a phi(b)),
-// fitted to their maxima (gap_events.cc, scan_max_quantile).
+// scale does not move the statistic max_t |z(t)| / RMS; it is calibrated like the
+// concentration, on the baseline's replicates at the record's length (a Gumbel law matched
+// to their moments).
 //
 // TEMPERATURE: with a temperature channel, the coupling k of the signal to it, pooled
 // over levels from the wavelet covariances (weights 1 / nu_j(baseline)):

@@ -24,8 +24,11 @@
 // base (kNullCases series) or, with the base's values off by +-20% (kOffCases), any effect
 // but REPARAMETERISE.
 //
-// Usage: bench_gap_step [CASES_PER_SIZE [NULL_CASES [oracle-only]]] (defaults 100 and 300:
-// 200 base-only, 100 off; oracle-only: the oracle's power at 1%, 0.5% and 0.25% alone). Exit 0 when every acceptance check passes: top-1 within 10 points of the
+// Usage: bench_gap_step [CASES_PER_SIZE [NULL_CASES [MODE]]] (defaults 100 and 300: 200
+// base-only, 100 off). MODE: oracle-only (the oracle's power at 1%, 0.5% and 0.25% alone),
+// thresholds (gmwm's scan threshold and statistic beside the oracle's on NULL_CASES series),
+// calibration / gmwm-calibration (how well each law finds the 0.625% threshold from 200
+// replicates, on the oracle's null maxima / on gmwm's own scan statistic). Exit 0 when every acceptance check passes: top-1 within 10 points of the
 // oracle's power at each size, false alarms <= 2%.
 #include <algorithm>
 #include <array>
@@ -48,6 +51,8 @@
 #include "gmwm/engine/simulate.h"
 #include "gmwm/gap/gap.h"
 #include "gmwm/robust/robust_wv.h"
+// gap's own scan (its internal header), for the calibration study on gmwm's statistic.
+#include "../../gap/src/gap_events.h"
 
 using namespace gmwm;
 
@@ -132,20 +137,29 @@ gap::GapResult diagnose(const std::vector<double>& x, const Model& base, const E
 // threshold's exceedance is counted on all the null maxima.
 // The (1 - level) quantile of F(b) = exp(-C b^a phi(b)) (a scan's maximum: the expected
 // number of its upcrossings of b), C and a by maximum likelihood on `sample`.
-double rice_quantile(const std::vector<double>& sample, double level) {
+// upper < 1: fitted to the largest share `upper` of the sample only, the rest censored at
+// the smallest of those (its likelihood F(c)^(B - k)).
+double rice_quantile(std::vector<double> sample, double level, double upper = 1.0) {
+  std::sort(sample.begin(), sample.end());
   const auto B = static_cast<double>(sample.size());
+  const auto k = static_cast<std::size_t>(std::ceil(upper * B));
+  const std::size_t first = sample.size() - k;
+  const double cut = sample[first];
   auto phi = [](double b) { return std::exp(-0.5 * b * b) / std::sqrt(2.0 * M_PI); };
   double best = -INFINITY, best_a = 0.0, best_c = 0.0;
   for (double a = 0.0; a <= 6.0; a += 0.01) {
     double sh = 0.0, rest = 0.0;
     bool ok = true;
-    for (double b : sample) {
+    for (std::size_t i = first; i < sample.size(); ++i) {
+      const double b = sample[i];
       if (!(b * b > a)) { ok = false; break; }
       sh += std::pow(b, a) * phi(b);
       rest += std::log(std::pow(b, a - 1.0) * phi(b) * (b * b - a));
     }
     if (!ok) continue;
-    const double c = B / sh, ll = -c * sh + B * std::log(c) + rest;
+    const double hc = first > 0 ? (B - static_cast<double>(k)) * std::pow(cut, a) * phi(cut) : 0.0;
+    const double c = static_cast<double>(k) / (sh + hc);
+    const double ll = -c * (sh + hc) + static_cast<double>(k) * std::log(c) + rest;
     if (ll > best) best = ll, best_a = a, best_c = c;
   }
   const double target = -std::log1p(-level);
@@ -168,7 +182,7 @@ int calibration_study(const std::vector<double>& sorted_null) {
     return boost::math::quantile(nd, 0.5 * (1.0 + g));
   };
   constexpr int kSubsets = 500, kSize = 200;
-  std::vector<double> thr[4];
+  std::vector<double> thr[5];
   Rng rng = make_stream(kOracleSeed, {77});
   boost::random::uniform_01<double> u;
   std::vector<double> sub(kSize);
@@ -194,13 +208,15 @@ int calibration_study(const std::vector<double>& sorted_null) {
     for (int i = kSize - k; i < kSize; ++i) top += log_g(sub[static_cast<std::size_t>(i)]);
     thr[2].push_back(m_law_quantile(-k / (top + (kSize - k) * log_g(c))));
     thr[3].push_back(rice_quantile(sub, level));
+    thr[4].push_back(rice_quantile(sub, level, 0.5));
   }
   std::printf("Threshold at %.3f%% from %d replicates (%d subsets of the %lld oracle null maxima); the empirical "
               "quantile over all of them: %.3f\n\n| method | mean threshold | sd | mean exceedance |\n|---|---|---|---|\n",
               100 * level, kSize, kSubsets, static_cast<long long>(B), target);
-  const char* names[4] = {"Gumbel, moments (gmwm before)", "max of m |N(0,1)|, m by ML",
-                          "the same, upper half (censored ML)", "exp(-C b^a phi(b)), C and a by ML"};
-  for (int k = 0; k < 4; ++k) {
+  const char* names[5] = {"Gumbel, moments (gmwm before)", "max of m |N(0,1)|, m by ML",
+                          "the same, upper half (censored ML)", "exp(-C b^a phi(b)), C and a by ML",
+                          "the same, upper half (censored ML)"};
+  for (int k = 0; k < 5; ++k) {
     double m = 0, m2 = 0, ex = 0;
     for (double t : thr[k]) {
       m += t / kSubsets, m2 += t * t / kSubsets;
@@ -245,6 +261,20 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < rows.size(); ++i)
       std::printf("| %zu | %.3f | %.3f | %.3f |\n", i, rows[i][0], rows[i][1], rows[i][2]);
     return 0;
+  }
+
+  // "gmwm-calibration": the same study on gmwm's own scan statistic (gap's scan_step on
+  // series of the base), 2000 of them.
+  if (argc > 3 && std::string(argv[3]) == "gmwm-calibration") {
+    const gap::detail::StepScan scan = gap::detail::make_step_scan(base, theta, kN);
+    std::vector<double> stats(kOracleNullSeries);
+    gmwm::parallel_for(0, kOracleNullSeries, [&](int b) {
+      stats[static_cast<std::size_t>(b)] =
+          gap::detail::scan_step(simulate(base, theta, kN, kOracleSeed + 7, static_cast<std::uint64_t>(b)), scan)
+              .statistic;
+    });
+    std::sort(stats.begin(), stats.end());
+    return calibration_study(stats);
   }
 
   // The oracle's null distribution at the record's length.
