@@ -300,6 +300,7 @@ StepScanResult scan_step(const std::vector<double>& x, const StepScan& scan) {
   const double rms = count > 0 ? std::sqrt(ss / static_cast<double>(count)) : 0.0;
   const double zp = z[static_cast<std::size_t>(peak)];
   r.statistic = rms > 0.0 ? std::abs(zp) / rms : 0.0;
+  r.rms = rms;
   r.sample = peak;
   int k = 0;
   while (k < L && half[static_cast<std::size_t>(k)] <= std::min(peak, n - peak)) ++k;
