@@ -195,8 +195,12 @@ Point evaluate(const Model& model, const Eigen::VectorXd& theta, double freq, st
   const bool minimum = std::any_of(targets.begin(), targets.end(), [](const Target& t) { return t.kind == Kind::kB; });
   const bool n_on_curve = std::any_of(targets.begin(), targets.end(),
                                       [&](const Target& t) { return white_on_curve(model, theta, freq, t.kind); });
-  // With the covariance, the read-offs carry the delta method's interval at their read point.
-  const ChosenFigures at = minimum || n_on_curve ? model_only_figures(model, theta, freq, n, {}, &*cov) : ChosenFigures{};
+  // N on the curve takes the read-off's delta-method interval at its read point (the
+  // covariance is passed only then: B's gradient is formed below, and the plan's bisection
+  // evaluates this at every length it tries).
+  const ChosenFigures at = minimum || n_on_curve
+                               ? model_only_figures(model, theta, freq, n, {}, n_on_curve ? &*cov : nullptr)
+                               : ChosenFigures{};
   for (std::size_t i = 0; i < T; ++i) {
     const Target& t = targets[i];
     Eigen::VectorXd g = Eigen::VectorXd::Zero(p);
