@@ -144,10 +144,14 @@ std::optional<Eigen::MatrixXd> sandwich(const Model& model, const Eigen::VectorX
   const Eigen::MatrixXd V = model_wv_covariance(model, theta, n, J);
   Eigen::VectorXd w(J);  // fit.cc's OmegaKind::kModel: diag(1 / V_jj), a level without a positive V_jj weighs 0
   for (int j = 0; j < J; ++j) w(j) = V(j, j) > 0.0 && std::isfinite(V(j, j)) ? 1.0 / V(j, j) : 0.0;
-  // Relative parameters (columns times |theta_k|): H on the scale of relative changes.
-  Eigen::VectorXd s = theta.cwiseAbs();
+  // Relative variances (columns times |theta_k| for a log-transformed parameter, as the fit's
+  // inference scales them): H on the scale of relative changes. A bounded parameter keeps
+  // its own scale: phi = 1e-300 scaled by itself took H's diagonal below the doubles, and
+  // the plan said "not resolved (: z se is inf%)" for a white AR1 (the normalised H below
+  // does not depend on this scaling, only its range does).
+  Eigen::VectorXd s = Eigen::VectorXd::Ones(p);
   for (int k = 0; k < p; ++k)
-    if (!(s(k) > 0.0)) s(k) = 1.0;
+    if (model.spec_of(k).transform == Transform::kLog && std::abs(theta(k)) > 0.0) s(k) = std::abs(theta(k));
   const Eigen::MatrixXd A = model.jacobian(theta, tau) * s.asDiagonal();
   const Eigen::MatrixXd WA = w.asDiagonal() * A;
   const Eigen::MatrixXd H = A.transpose() * WA;

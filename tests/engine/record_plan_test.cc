@@ -332,6 +332,12 @@ TEST(RecordPlan, PlansTheNoiseDensityWhereAFastAr1CarriesTheWhiteNoise) {
   o.precision = 0.005;
   const RecordTarget b = plan_record_length(m, m.given_values(), 100.0, o).targets[0];
   EXPECT_NEAR(static_cast<double>(b.own_samples) / static_cast<double>(a.own_samples), 4.0, 0.4);
+  // An AR1 of phi 1e-300 is a white noise: planned (its phi scaled by itself once took the
+  // sandwich below the doubles: "not resolved (: z se is inf%)").
+  const Model white_ar1 = parse_model("AR1(phi=1e-300,sigma2=1)");
+  const RecordTarget w = plan_record_length(white_ar1, white_ar1.given_values(), 100.0, o).targets[0];
+  EXPECT_TRUE(w.reachable) << w.basis;
+  EXPECT_NEAR(w.value, 0.1, 1e-3);
   // A model without any -1/2 slope has no N to plan: refused, naming the model and why.
   const Model rw = parse_model("RW(gamma2=1e-6)");
   o.precision = 0.1;
