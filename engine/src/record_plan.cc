@@ -467,10 +467,13 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
     r.seconds = static_cast<double>(r.samples) / freq;
     r.relative_se = at(r.samples).rse[i];
     const std::string within =
-        "unreachable within " + std::to_string(cap) + " samples (" + std::to_string(cap / freq) + " s): ";
+        "unreachable within " + std::to_string(cap) + " samples (" + seconds_text(static_cast<double>(cap) / freq) + "): ";
     if (!resolved && !whole_curve)
-      r.basis = within + "the model is not resolved there (" + plan.resolved_by + ": z se is " +
-                percent(plan.z * at(cap).worst).substr(2) + " of its distance to the edge of its domain)";
+      r.basis = within + (plan.resolved_by.empty()  // no covariance at all there: the note says why
+                              ? at(cap).note[i]
+                              : "the model is not resolved there (" + plan.resolved_by + ": z se is " +
+                                    percent(plan.z * at(cap).worst).substr(2) +
+                                    " of its distance to the edge of its domain)");
     else if (!own)
       r.basis =
           within + (std::isfinite(r.relative_se) ? percent(plan.z * r.relative_se) + " there; " : "") + at(cap).note[i];
@@ -488,6 +491,10 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
       if (!fits && record_n < static_cast<double>(kMinSeriesLength))
         r.record_basis = "a record of " + std::to_string(static_cast<std::int64_t>(record_n)) +
                          " samples has no wavelet variance (at least " + std::to_string(kMinSeriesLength) + ")";
+      else if (!fits && !resolved)
+        r.record_basis = "the model is not resolved within " + std::to_string(cap) + " samples: " +
+                         (plan.resolved_by.empty() ? at(cap).note[i]
+                                                   : plan.resolved_by + "'s interval reaches the edge of its domain");
       else if (!fits)
         r.record_basis = "the model is resolved only from " + std::to_string(floor) + " samples (" +
                          seconds_text(static_cast<double>(floor) / freq) + "; last " + plan.resolved_by +

@@ -9,6 +9,17 @@
 
 namespace gmwm::pipeline {
 
+namespace {
+
+// The model with its values at the terminal's precision (component_text, 4 digits).
+std::string display_text(const Model& m, const Eigen::VectorXd& theta) {
+  std::string out;
+  for (int c = 0; c < m.num_components(); ++c) out += (c ? "+" : "") + component_text(m, c, theta);
+  return out;
+}
+
+}  // namespace
+
 std::string PlanStudyOptions::Validate() const {
   if (result.empty() == model.empty()) return "give either a fit/select result or a model with values";
   if (!model.empty() && !freq) return "a model's values need its sampling rate (freq, Hz)";
@@ -33,10 +44,10 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
     const Eigen::VectorXd theta = m.given_values();
     char rate[32];
     std::snprintf(rate, sizeof rate, "%g", *options.freq);
-    out.source = "model " + m.to_string(theta) + " at " + rate + " Hz";
+    out.source = "model " + display_text(m, theta) + " at " + rate + " Hz";
     const std::string unit = options.unit.empty() ? std::string() : io::parse_any_unit(options.unit).second.name;
-    out.columns.push_back(
-        {"model", unit, m.to_string(theta), plan_record_length(m, theta, *options.freq, options.plan)});
+    out.columns.push_back({"model", unit, m.to_string(theta), display_text(m, theta),
+                           plan_record_length(m, theta, *options.freq, options.plan)});
     return out;
   }
   io::ResultReadOptions ro;
@@ -46,8 +57,8 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
   const io::ResultColumns r = io::read_result_columns(options.result, ro);
   out.source = "gmwm " + r.command + " result " + options.result;
   for (const io::ExportColumn& c : r.columns)
-    out.columns.push_back(
-        {c.name, c.unit.name, c.model.to_string(c.theta), plan_record_length(c.model, c.theta, c.freq, options.plan)});
+    out.columns.push_back({c.name, c.unit.name, c.model.to_string(c.theta), display_text(c.model, c.theta),
+                           plan_record_length(c.model, c.theta, c.freq, options.plan)});
   return out;
 }
 

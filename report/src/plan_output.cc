@@ -102,8 +102,10 @@ void wrap_note(std::ostringstream& os, const std::string& note) {
 std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOptions& options) {
   std::ostringstream os;
   const bool have = options.record_seconds > 0.0;
-  os << "record length for +-" << g(100.0 * options.precision, 3) << "% at " << g(100.0 * options.confidence, 3)
-     << "% confidence (" << printable_line(study.source).substr(0, 50) << ")\n";
+  std::ostringstream head;
+  head << "record length for +-" << g(100.0 * options.precision, 3) << "% at " << g(100.0 * options.confidence, 3)
+       << "% confidence (" << study.source << ")";
+  wrap_note(os, printable_line(head.str()));
   char line[240];
   // Value and unit in columns of their own: a figure's unit is never cut (the longest,
   // deg/s/s/sqrt(Hz), deg/h/s/sqrt(Hz), m/s^2/s/sqrt(Hz), is 16).
@@ -131,9 +133,14 @@ std::string plan_terminal(const pipeline::PlanStudy& study, const RecordPlanOpti
         notes.push_back(c.name + " " + t.name + ": no precision with " + duration(options.record_seconds) + ": " +
                         t.record_basis);
     }
-    notes.push_back(c.name + ": model " + c.model);
-    notes.push_back(c.name + ": resolved from " + std::to_string(c.plan.resolved_samples) + " samples (" +
-                    duration(c.plan.resolved_seconds) + "; last " + c.plan.resolved_by + ")");
+    notes.push_back(c.name + ": model " + c.display_model);
+    if (c.plan.resolved_samples < options.max_samples)
+      notes.push_back(c.name + ": resolved from " + std::to_string(c.plan.resolved_samples) + " samples (" +
+                      duration(c.plan.resolved_seconds) + "; last " + c.plan.resolved_by + ")");
+    else
+      notes.push_back(c.name + ": not resolved within " + std::to_string(options.max_samples) + " samples (" +
+                      duration(static_cast<double>(options.max_samples) / c.plan.freq) + ")" +
+                      (c.plan.resolved_by.empty() ? std::string() : "; least resolved " + c.plan.resolved_by));
   }
   os << "samples and duration: the record needed; rel. se: the estimate's relative standard error there\n";
   for (const std::string& raw : notes) wrap_note(os, printable_line(raw));

@@ -111,6 +111,36 @@ TEST_F(GmwmPlan, SaysWhyARecordPromisesNoPrecisionAndNeverCutsAUnit) {
     }
 }
 
+TEST_F(GmwmPlan, ShowsTheWholeModelAtTheTerminalsPrecisionAndSaysWhenItIsNeverResolved) {
+  // The header was cut at 50 characters mid-model ("(model AR1(phi=0.97999999999999998,
+  // sigma2=0.001)+WN)") and printed every digit; the JSON keeps every digit (a model with
+  // values to paste), the terminal 4.
+  const auto r = run_gmwm({"plan", "--model", "AR1(phi=0.98,sigma2=1e-3)+WN(sigma2=2.3e-5)+RW(gamma2=1.234567891e-11)",
+                           "--freq", "100", "--unit", "deg/s", "--json", "plan.json"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string packed = r.out;  // the header wraps between the model's components
+  std::erase_if(packed, [](char c) { return c == ' ' || c == '\n'; });
+  EXPECT_NE(packed.find("(modelAR1(phi=0.98,sigma2=0.001)+WN(sigma2=2.3e-05)+RW(gamma2=1.235e-11)at100Hz)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("0.9799999"), std::string::npos) << r.out;
+  for (const std::string& line : lines_of(r.out)) EXPECT_LE(line.size(), 100u) << line;
+  EXPECT_NE(read_json(dir_ / "plan.json").at("columns")[0].at("model").get<std::string>().find("phi=0.97999999999999998"),
+            std::string::npos);
+  // A white noise 1e-314 of a random walk's step is not identified at any length: the note
+  // said "resolved from 17179869184 samples (...; last )".
+  const auto u = run_gmwm({"plan", "--model", "WN(sigma2=5e-324)+RW(gamma2=1e-10)", "--freq", "100", "--have", "100"},
+                          dir_);
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  const std::string uf = gmwm::test::flowed(u.out);
+  EXPECT_EQ(uf.find("resolved from"), std::string::npos) << u.out;
+  EXPECT_NE(uf.find("model: not resolved within 17179869184 samples"), std::string::npos) << u.out;
+  EXPECT_NE(uf.find("the model is not resolved within 17179869184 samples: the parameters are not identified"),
+            std::string::npos)
+      << u.out;
+}
+
 TEST_F(GmwmPlan, RefusesATargetTheModelLacksAndBadOptionsInOneLine) {
   const fs::path out = dir_ / "bad.json";
   expect_bad_input(
