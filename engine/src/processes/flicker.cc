@@ -17,12 +17,17 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <mutex>
 #include <sstream>
+#include <vector>
+
+#include <Eigen/Cholesky>
 
 #include <boost/math/constants/constants.hpp>
 #include <boost/random/normal_distribution.hpp>
 
 #include "ar1_math.h"
+#include "flicker_simulation.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
@@ -105,21 +110,13 @@ class Flicker final : public Process {
       }
     }
   }
+  // Exact in law (flicker_simulation.h): the block bridge, its constants once per process.
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     if (out.empty()) return;
-    boost::random::normal_distribution<double> z(0.0, 1.0);
     const double s = theta[0] * kStationaryPerB2;
-    for (long k = kmin_; k <= kmax_; ++k) {
-      const double L = std::ldexp(1.0, static_cast<int>(-k));
-      const double phi = std::exp(-L);
-      const double sd = std::sqrt(-s * std::expm1(-2.0 * L));  // innovation sd
-      double x = std::sqrt(s) * z(rng);                        // stationary start
-      out[0] += x;
-      for (std::size_t t = 1; t < out.size(); ++t) {
-        x = phi * x + sd * z(rng);
-        out[t] += x;
-      }
-    }
+    std::call_once(bridge_once_, [this] { bridge_ = internal::make_flicker_bridge(kmin_, kmax_); });
+    if (bridge_.usable()) return internal::simulate_flicker_bridge(bridge_, s, rng, out);
+    internal::simulate_flicker_octaves(kmin_, kmax_, s, rng, out);
   }
   // Scale-free: B2 is the same per sample or per second. The WV plateau B2 ln2 / pi gives
   // the Allan variance floor 2 B2 ln2 / pi (AVAR = 2 WV), i.e. the Allan deviation floor
@@ -185,6 +182,8 @@ class Flicker final : public Process {
   long kmin_ = kFlickerDefaultKmin;
   long kmax_ = kFlickerDefaultKmax;
   std::array<double, kDyadicTable> dyadic_{};
+  mutable std::once_flag bridge_once_;
+  mutable internal::FlickerBridge bridge_;
 };
 
 }  // namespace
@@ -193,5 +192,82 @@ GMWM_REGISTER_PROCESS(Flicker, "FLICKER",
                       "1/f noise as one AR1 per octave: FLICKER(B2), plateau B2 ln2/pi; FLICKER(kmin=..,kmax=..) "
                       "sets the octaves 2^kmin..2^kmax samples",
                       "kmin", "kmax");
+
+
+namespace internal {
+
+void simulate_flicker_octaves(long kmin, long kmax, double s, Rng& rng, std::span<double> out) {
+  boost::random::normal_distribution<double> z(0.0, 1.0);
+  for (long k = kmin; k <= kmax; ++k) {
+    const double L = std::ldexp(1.0, static_cast<int>(-k));
+    const double phi = std::exp(-L);
+    const double sd = std::sqrt(-s * std::expm1(-2.0 * L));  // innovation sd
+    double x = std::sqrt(s) * z(rng);                        // stationary start
+    out[0] += x;
+    for (std::size_t t = 1; t < out.size(); ++t) {
+      x = phi * x + sd * z(rng);
+      out[t] += x;
+    }
+  }
+}
+
+FlickerBridge make_flicker_bridge(long kmin, long kmax, int block) {
+  const auto K = static_cast<Eigen::Index>(kmax - kmin + 1);
+  const int D = block;
+  FlickerBridge b;
+  b.decay.resize(K), b.step_sd.resize(K), b.phi.resize(K), b.sd.resize(K);
+  b.ends.resize(D - 1, 2 * K);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(D - 1, D - 1);
+  for (Eigen::Index k = 0; k < K; ++k) {
+    const double L = std::ldexp(1.0, -static_cast<int>(kmin + k));
+    const auto pw = [L](double m) { return std::exp(-m * L); };            // phi^m
+    const auto one_minus = [L](double m) { return -std::expm1(-m * L); };  // 1 - phi^m
+    b.phi(k) = pw(1.0), b.sd(k) = std::sqrt(one_minus(2.0));
+    b.decay(k) = pw(D), b.step_sd(k) = std::sqrt(one_minus(2.0 * D));
+    const double whole = one_minus(2.0 * D);
+    for (int t = 1; t < D; ++t) {
+      b.ends(t - 1, k) = pw(t) * one_minus(2.0 * (D - t)) / whole;
+      b.ends(t - 1, K + k) = pw(D - t) * one_minus(2.0 * t) / whole;
+      for (int j = t; j < D; ++j)
+        cov(j - 1, t - 1) += pw(j - t) * one_minus(2.0 * t) * one_minus(2.0 * (D - j)) / whole;
+    }
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(cov.selfadjointView<Eigen::Lower>());
+  if (llt.info() != Eigen::Success) return {};
+  b.chol = llt.matrixL();
+  b.block = D;
+  return b;
+}
+
+void simulate_flicker_bridge(const FlickerBridge& b, double s, Rng& rng, std::span<double> out) {
+  boost::random::normal_distribution<double> z(0.0, 1.0);
+  const Eigen::Index K = b.decay.size();
+  const int D = b.block;
+  const double scale = std::sqrt(s);
+  Eigen::VectorXd states(2 * K), interior(D - 1), e(D - 1);
+  for (Eigen::Index k = 0; k < K; ++k) states(k) = z(rng);  // stationary start
+  out[0] += scale * states.head(K).sum();
+  const std::size_t n = out.size();
+  std::size_t t = 0;
+  for (; t + static_cast<std::size_t>(D) < n; t += static_cast<std::size_t>(D)) {
+    for (Eigen::Index k = 0; k < K; ++k) states(K + k) = b.decay(k) * states(k) + b.step_sd(k) * z(rng);
+    for (int i = 0; i < D - 1; ++i) e(i) = z(rng);
+    interior.noalias() = b.ends * states;
+    interior.noalias() += b.chol.triangularView<Eigen::Lower>() * e;
+    for (int i = 0; i < D - 1; ++i) out[t + 1 + static_cast<std::size_t>(i)] += scale * interior(i);
+    out[t + static_cast<std::size_t>(D)] += scale * states.tail(K).sum();
+    states.head(K) = states.tail(K);
+  }
+  // The samples after the last whole block: the recursion from the states there.
+  for (Eigen::Index k = 0; k < K; ++k) {
+    double x = states(k);
+    for (std::size_t u = t + 1; u < n; ++u) {
+      x = b.phi(k) * x + b.sd(k) * z(rng);
+      out[u] += scale * x;
+    }
+  }
+}
+
+}  // namespace internal
 
 }  // namespace gmwm

@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include "../../../engine/src/processes/flicker_simulation.h"
+#include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/random.h"
+#include "gmwm/engine/simulate.h"
 #include "process_test_support.h"
 
 namespace gmwm::test {
@@ -56,6 +60,69 @@ TEST(FlickerProcess, AutocovarianceReproducesTheWaveletVariance) {
 TEST(FlickerProcess, SimulatedMomentsMatchTheAutocovariance) {
   const auto p = make_process("FLICKER", {{"kmin", 0}, {"kmax", 10}});
   expect_simulated_moments_match(*p, std::vector<double>{1.3}, {.length = 128, .replicates = 2000, .seed = 901});
+}
+
+TEST(FlickerProcess, TheBlockBridgeAndTheOctaveRecursionDrawTheSameAutocovariance) {
+  // Octaves 2^0..2^12 samples on records of 256 (the slow octaves far beyond the record):
+  // the mean lag-h product over 4000 draws of each against s sum_k phi_k^h, within 4 of
+  // its Monte-Carlo standard errors (from the draws' own spread).
+  constexpr long kKmin = 0, kKmax = 12;
+  constexpr std::size_t kN = 256;
+  constexpr int kDraws = 4000;
+  constexpr double kS = 0.7;
+  // Blocks of 64 and of 7 (256 = 36 x 7 + 4: a tail after the last whole block).
+  const internal::FlickerBridge wide = internal::make_flicker_bridge(kKmin, kKmax),
+                                narrow = internal::make_flicker_bridge(kKmin, kKmax, 7);
+  ASSERT_TRUE(wide.usable() && narrow.usable());
+  const std::size_t lags[] = {0, 1, 16, 128, 255};
+  for (const int way : {0, 1, 2}) {
+    const char* name = way == 0 ? "bridge, blocks of 64" : way == 1 ? "bridge, blocks of 7" : "octaves";
+    double sum[5] = {}, sum2[5] = {};
+    for (int d = 0; d < kDraws; ++d) {
+      Rng rng = make_stream(4401, {static_cast<std::uint64_t>(d), static_cast<std::uint64_t>(way)});
+      std::vector<double> x(kN, 0.0);
+      if (way == 2)
+        internal::simulate_flicker_octaves(kKmin, kKmax, kS, rng, x);
+      else
+        internal::simulate_flicker_bridge(way == 0 ? wide : narrow, kS, rng, x);
+      for (int i = 0; i < 5; ++i) {
+        const std::size_t h = lags[i];
+        double a = 0.0;
+        for (std::size_t t = 0; t + h < kN; ++t) a += x[t] * x[t + h];
+        a /= static_cast<double>(kN - h);
+        sum[i] += a, sum2[i] += a * a;
+      }
+    }
+    for (int i = 0; i < 5; ++i) {
+      double truth = 0.0;
+      for (long k = kKmin; k <= kKmax; ++k)
+        truth += kS * std::pow(std::exp(-std::ldexp(1.0, static_cast<int>(-k))), static_cast<double>(lags[i]));
+      const double mean = sum[i] / kDraws, se = std::sqrt((sum2[i] / kDraws - mean * mean) / kDraws);
+      EXPECT_NEAR(mean, truth, 4.0 * se) << name << ", lag " << lags[i];
+    }
+  }
+}
+
+TEST(FlickerProcess, SimulatedRecordsHaveThePlateauAtEveryScaleOfTheRecord) {
+  // The default 41 octaves (to 2^40 samples) on records of 2^15: the mean classical WV of 200
+  // draws against the model's at levels 1..12, within 4 Monte-Carlo standard errors.
+  const Model m = parse_model("FLICKER(B2=2e-6)");
+  const Eigen::VectorXd theta = m.given_values();
+  constexpr std::int64_t kN = std::int64_t{1} << 15;
+  constexpr int kDraws = 200, kLevels = 12;
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(kLevels), sum2 = Eigen::VectorXd::Zero(kLevels);
+  for (int d = 0; d < kDraws; ++d) {
+    const std::vector<double> x = simulate(m, theta, kN, 4402, static_cast<std::uint64_t>(d));
+    const Eigen::VectorXd nu = classical_wv(x.data(), kN, WvOptions{.levels = kLevels}).values();
+    sum += nu, sum2 += nu.cwiseProduct(nu);
+  }
+  std::vector<double> tau;
+  for (int j = 1; j <= kLevels; ++j) tau.push_back(std::ldexp(1.0, j));
+  const Eigen::VectorXd model_wv = m.wv(theta, tau);
+  for (int j = 0; j < kLevels; ++j) {
+    const double mean = sum(j) / kDraws, se = std::sqrt((sum2(j) / kDraws - mean * mean) / kDraws);
+    EXPECT_NEAR(mean, model_wv(j), 4.0 * se) << "level " << j + 1;
+  }
 }
 
 TEST(FlickerProcess, WritesItsOctaveRangeOnlyWhenNotTheDefault) {
