@@ -9,11 +9,14 @@ one thread are what a slowdown changes, and they hold under a loaded machine bet
 wall time), each run RUNS times in turn with the floor, its CPU time the least of them.
 The least, because this machine kind is bimodal: the same select run took 1.03 s in 11 of
 15 runs and 1.34-1.49 s in 4 (the floor unmoved), so one slow run says nothing and five
-slow runs in a row (0.27^5 = 0.1%) are the gate's false alarm. The floor is `gmwm wv` of the same column: reading the gzip'd CSV and the
-classical WV, the work every task does before its own. A task's ratio is its CPU time over
+slow runs in a row are the gate's false alarm (0.27^5 = 0.1% if runs were independent; a
+slow phase can last minutes, hence the second measurement below). The floor is `gmwm wv` of
+the same column: reading the gzip'd CSV and the classical WV, the work every task does
+before its own. A task's ratio is its CPU time over
 the floor's: a faster or slower machine moves both. The gate fails when a ratio exceeds
 its committed budget by more than its margin (speed_gate.json: "margin", 20% unless a task
-says otherwise), and names the task; a planted 30% slowdown of select fails it
+says otherwise) twice in a row (a task over it is measured again, five more runs, before
+the gate fails), and names the task; a planted 30% slowdown of select fails it
 (tools/bench/RESULTS.md, "The speed gate").
 
 Usage: GMWM_SHARED_DATA=DIR python3 tools/bench/speed_gate.py build/gmwm [--record]
@@ -82,7 +85,6 @@ def main():
         print("speed gate: %s: set GMWM_SHARED_DATA to the folder with the ADIS16405 recordings (%s)"
               % ("no recording" if not data else path + " is missing", "required" if required else "skipped"))
         return 2 if required else SKIP
-    best = None
     with tempfile.TemporaryDirectory() as tmp:
         short = os.path.join(tmp, "imu1_first.csv.gz")
         with gzip.open(path, "rt") as src, gzip.open(short, "wt", compresslevel=1) as dst:
@@ -95,31 +97,44 @@ def main():
         for _ in range(RUNS):
             for i, (_, argv) in enumerate(plan):
                 best[i] = min(best[i], cpu_seconds(gmwm, argv, tmp))
-    floor = best[0]
-    committed = {}
-    if os.path.isfile(BUDGETS):
-        with open(BUDGETS) as f:
-            committed = json.load(f)["tasks"]
-    ok = True
-    print("| task | CPU s (least of %d) | / floor | budget | margin | verdict |" % RUNS)
-    print("|---|---|---|---|---|---|")
-    print("| %s | %.3f | 1 | - | - | - |" % (plan[0][0], floor))
-    measured = {}
-    for (name, _), cpu in zip(plan[1:], best[1:]):
-        ratio = cpu / floor
-        measured[name] = ratio
-        budget = committed.get(name)
-        if budget is None:
-            verdict, shown = ("no budget: run with --record", "-") if not record else ("recorded", "-")
-            ok = ok and record
-            print("| %s | %.3f | %.2f | %s | - | %s |" % (name, cpu, ratio, shown, verdict))
-            continue
-        margin = budget.get("margin", DEFAULT_MARGIN)
-        within = ratio <= budget["ratio"] * (1.0 + margin)
-        ok = ok and (within or record)
-        print("| %s | %.3f | %.2f | %.2f | %d%% | %s |" % (
-            name, cpu, ratio, budget["ratio"], round(100 * margin),
-            "within" if within else "**slower by %.0f%%**" % (100 * (ratio / budget["ratio"] - 1.0))))
+        floor = best[0]
+        committed = {}
+        if os.path.isfile(BUDGETS):
+            with open(BUDGETS) as f:
+                committed = json.load(f)["tasks"]
+        ok = True
+        print("| task | CPU s (least of %d) | / floor | budget | margin | verdict |" % RUNS)
+        print("|---|---|---|---|---|---|")
+        print("| %s | %.3f | 1 | - | - | - |" % (plan[0][0], floor))
+        measured = {}
+        for i, ((name, argv), cpu) in enumerate(zip(plan[1:], best[1:]), start=1):
+            ratio = cpu / floor
+            measured[name] = ratio
+            budget = committed.get(name)
+            if budget is None:
+                verdict, shown = ("no budget: run with --record", "-") if not record else ("recorded", "-")
+                ok = ok and record
+                print("| %s | %.3f | %.2f | %s | - | %s |" % (name, cpu, ratio, shown, verdict))
+                continue
+            margin = budget.get("margin", DEFAULT_MARGIN)
+            within = ratio <= budget["ratio"] * (1.0 + margin)
+            again = ""
+            if not within and not record:
+                # A slow phase of the machine can outlast five runs: the task and the floor
+                # measured again (RUNS more of each, in turn) before the gate fails. A real
+                # slowdown stays; a phase passes.
+                task_floor = floor
+                for _ in range(RUNS):
+                    task_floor = min(task_floor, cpu_seconds(gmwm, plan[0][1], tmp))
+                    cpu = min(cpu, cpu_seconds(gmwm, argv, tmp))
+                ratio = cpu / task_floor
+                measured[name] = ratio
+                within = ratio <= budget["ratio"] * (1.0 + margin)
+                again = " (least of %d)" % (2 * RUNS)
+            ok = ok and (within or record)
+            print("| %s | %.3f%s | %.2f | %.2f | %d%% | %s |" % (
+                name, cpu, again, ratio, budget["ratio"], round(100 * margin),
+                "within" if within else "**slower by %.0f%%**" % (100 * (ratio / budget["ratio"] - 1.0))))
     if record:
         doc = {"about": "CPU-time ratios of each task to the floor (gmwm wv of the same column), "
                         "recorded by tools/bench/speed_gate.py --record; the gate fails beyond ratio x (1 + margin)",
