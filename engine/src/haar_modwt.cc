@@ -141,26 +141,6 @@ const HaarModwt::Squares* HaarModwt::kept(int level) const {
   return level >= 1 && i < kept_valid_.size() && kept_valid_[i] ? &kept_[i] : nullptr;
 }
 
-void HaarModwt::keep_squares(int first, int last) {
-  first = std::max(first, 1);
-  last = std::min(last, max_levels());
-  if (last < first) return;
-  kept_.resize(static_cast<std::size_t>(std::max<std::size_t>(kept_.size(), static_cast<std::size_t>(last))));
-  kept_valid_.resize(kept_.size(), 0);
-  for (int j = first; j <= last; ++j) {
-    kept_[static_cast<std::size_t>(j - 1)] = squares(std::int64_t{1} << (j - 1), true);
-    kept_valid_[static_cast<std::size_t>(j - 1)] = 1;
-  }
-}
-
-double HaarModwt::sum_of_squares_half_width(std::int64_t m) const { return squares(m, false).sum; }
-
-HaarModwt::Squares HaarModwt::squares_of_level(int level) const {
-  if (level < 1 || level > max_levels()) return {};  // no coefficient
-  if (const Squares* k = kept(level)) return *k;
-  return squares(std::int64_t{1} << (level - 1), true);
-}
-
 namespace {
 
 // Values of t per block of the several-half-widths pass: 2^17 doubles (1 MiB) of S_t stay
@@ -191,7 +171,95 @@ inline void add_squares(const double* a, const double* b, const double* c, std::
   lane[3] = t3;
 }
 
+// The same with each lane's largest square (squares() with its peak).
+inline void add_squares_and_peaks(const double* a, const double* b, const double* c, std::int64_t from,
+                                  std::int64_t to, double* lane, double* peak) {
+  double t0 = lane[0], t1 = lane[1], t2 = lane[2], t3 = lane[3];
+  double q0 = peak[0], q1 = peak[1], q2 = peak[2], q3 = peak[3];
+  for (std::int64_t k = from; k < to; k += 4) {
+    const double d0 = a[k] - 2.0 * b[k] + c[k];
+    const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
+    const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
+    const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
+    const double e0 = d0 * d0, e1 = d1 * d1, e2 = d2 * d2, e3 = d3 * d3;
+    t0 += e0;
+    t1 += e1;
+    t2 += e2;
+    t3 += e3;
+    q0 = std::max(q0, e0);
+    q1 = std::max(q1, e1);
+    q2 = std::max(q2, e2);
+    q3 = std::max(q3, e3);
+  }
+  lane[0] = t0, lane[1] = t1, lane[2] = t2, lane[3] = t3;
+  peak[0] = q0, peak[1] = q1, peak[2] = q2, peak[3] = q3;
+}
+
 }  // namespace
+
+void HaarModwt::keep_squares(int first, int last) {
+  first = std::max(first, 1);
+  last = std::min(last, max_levels());
+  if (last < first) return;
+  kept_.resize(static_cast<std::size_t>(std::max<std::size_t>(kept_.size(), static_cast<std::size_t>(last))));
+  kept_valid_.resize(kept_.size(), 0);
+  if (file_) {  // a file's pages are released pass by pass (squares): one pass per level there
+    for (int j = first; j <= last; ++j) {
+      kept_[static_cast<std::size_t>(j - 1)] = squares(std::int64_t{1} << (j - 1), true);
+      kept_valid_[static_cast<std::size_t>(j - 1)] = 1;
+    }
+    return;
+  }
+  // In memory, the levels share blocked passes (kSharedPassBlock, as
+  // sums_of_squares_half_width): each level's four lanes see its values in the order of
+  // its own pass, so the sums are squares()'s to the bit and the peaks (maxima) the same.
+  // A gap run keeps 10-14 event levels of every reference replicate: one pass each was 17%
+  // of its CPU (issue 44).
+  const auto L = static_cast<std::size_t>(last - first + 1);
+  std::vector<std::array<double, 4>> lanes(L, {0.0, 0.0, 0.0, 0.0}), peaks(L, {0.0, 0.0, 0.0, 0.0});
+  std::vector<std::int64_t> half(L), whole(L, 0);
+  std::int64_t longest = 0;
+  for (std::size_t i = 0; i < L; ++i) {
+    half[i] = std::int64_t{1} << (first - 1 + static_cast<int>(i));
+    const std::int64_t M = n_ - 2 * half[i] + 1;
+    if (M < 1) continue;
+    whole[i] = M - M % 4;
+    longest = std::max(longest, whole[i]);
+  }
+  for (std::int64_t from = 0; from < longest; from += kSharedPassBlock) {
+    const std::int64_t to = std::min(longest, from + kSharedPassBlock);
+    for (std::size_t i = 0; i < L; ++i) {
+      const std::int64_t end = std::min(to, whole[i]);
+      if (end > from) add_squares_and_peaks(p_ + 2 * half[i], p_ + half[i], p_, from, end, lanes[i].data(), peaks[i].data());
+    }
+  }
+  for (std::size_t i = 0; i < L; ++i) {
+    const std::int64_t m = half[i], tau = 2 * m, M = n_ - tau + 1;
+    Squares sq;
+    if (M >= 1) {
+      double s0 = lanes[i][0];
+      double peak = std::max(std::max(peaks[i][0], peaks[i][1]), std::max(peaks[i][2], peaks[i][3]));
+      for (std::int64_t k = whole[i]; k < M; ++k) {
+        const double d = p_[k + tau] - 2.0 * p_[k + m] + p_[k];
+        s0 += d * d;
+        peak = std::max(peak, d * d);
+      }
+      const double inv = 1.0 / static_cast<double>(tau);
+      sq = {(s0 + lanes[i][1] + lanes[i][2] + lanes[i][3]) * inv * inv, peak * inv * inv};
+    }
+    kept_[static_cast<std::size_t>(first - 1) + i] = sq;
+    kept_valid_[static_cast<std::size_t>(first - 1) + i] = 1;
+  }
+}
+
+double HaarModwt::sum_of_squares_half_width(std::int64_t m) const { return squares(m, false).sum; }
+
+HaarModwt::Squares HaarModwt::squares_of_level(int level) const {
+  if (level < 1 || level > max_levels()) return {};  // no coefficient
+  if (const Squares* k = kept(level)) return *k;
+  return squares(std::int64_t{1} << (level - 1), true);
+}
+
 
 std::vector<double> HaarModwt::sums_of_squares_half_width(std::span<const std::int64_t> m) const {
   std::vector<double> out(m.size(), 0.0);

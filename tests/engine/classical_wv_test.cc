@@ -131,6 +131,21 @@ TEST(ClassicalWv, KeptSquaresChangeNoWvAndATransformGivenToTheEstimatorGivesTheS
   EXPECT_THROW(ClassicalWvEstimator().compute(modwt, x.data(), 1000, 0, 0.05), InvalidArgument);
 }
 
+TEST(HaarModwt, KeptSquaresFromSharedPassesEqualEachLevelsOwnPassBitForBit) {
+  // keep_squares passes over the levels together in blocks of 2^17: three blocks and a tail
+  // that is not a multiple of four, every level of the transform, sums and peaks exactly.
+  const int n = 3 * (1 << 17) + 5;
+  const auto x = lcg_series(n);
+  HaarModwt kept(x.data(), n);
+  const HaarModwt fresh(x.data(), n);
+  kept.keep_squares(1, kept.max_levels());
+  for (int j = 1; j <= kept.max_levels(); ++j) {
+    const HaarModwt::Squares a = kept.squares_of_level(j), b = fresh.squares_of_level(j);
+    EXPECT_EQ(a.sum, b.sum) << "level " << j;
+    EXPECT_EQ(a.peak, b.peak) << "level " << j;
+  }
+}
+
 TEST(HaarModwt, SharedPassesGiveEverySumBitForBitAsOnePassEach) {
   // Three blocks of the shared pass (2^17 values each) and a tail that is not a multiple of
   // four; half-widths from 1 to past half the series (no term: 0) and an invalid 0.
