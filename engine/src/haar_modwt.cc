@@ -151,31 +151,15 @@ namespace {
 // accumulators see the values in the order of its own pass.
 constexpr std::int64_t kSharedPassBlock = 131072;
 
-// sum over k in [from, to) (multiples of 4) of (a_k - 2 b_k + c_k)^2 into four lanes.
-inline void add_squares(const double* a, const double* b, const double* c, std::int64_t from, std::int64_t to,
-                        double* lane) {
+// sum over k in [from, to) (multiples of 4) of (a_k - 2 b_k + c_k)^2 into four lanes, and
+// with kPeaks each lane's largest square (squares() with its peak); without, the loop is
+// the plain sum's vectorised kernel.
+template <bool kPeaks>
+inline void add_lanes(const double* a, const double* b, const double* c, std::int64_t from, std::int64_t to,
+                      double* lane, double* peak) {
   double t0 = lane[0], t1 = lane[1], t2 = lane[2], t3 = lane[3];
-  for (std::int64_t k = from; k < to; k += 4) {
-    const double d0 = a[k] - 2.0 * b[k] + c[k];
-    const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
-    const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
-    const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-    t0 += d0 * d0;
-    t1 += d1 * d1;
-    t2 += d2 * d2;
-    t3 += d3 * d3;
-  }
-  lane[0] = t0;
-  lane[1] = t1;
-  lane[2] = t2;
-  lane[3] = t3;
-}
-
-// The same with each lane's largest square (squares() with its peak).
-inline void add_squares_and_peaks(const double* a, const double* b, const double* c, std::int64_t from,
-                                  std::int64_t to, double* lane, double* peak) {
-  double t0 = lane[0], t1 = lane[1], t2 = lane[2], t3 = lane[3];
-  double q0 = peak[0], q1 = peak[1], q2 = peak[2], q3 = peak[3];
+  double q0 = 0.0, q1 = 0.0, q2 = 0.0, q3 = 0.0;
+  if constexpr (kPeaks) q0 = peak[0], q1 = peak[1], q2 = peak[2], q3 = peak[3];
   for (std::int64_t k = from; k < to; k += 4) {
     const double d0 = a[k] - 2.0 * b[k] + c[k];
     const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
@@ -186,13 +170,23 @@ inline void add_squares_and_peaks(const double* a, const double* b, const double
     t1 += e1;
     t2 += e2;
     t3 += e3;
-    q0 = std::max(q0, e0);
-    q1 = std::max(q1, e1);
-    q2 = std::max(q2, e2);
-    q3 = std::max(q3, e3);
+    if constexpr (kPeaks) {
+      q0 = std::max(q0, e0);
+      q1 = std::max(q1, e1);
+      q2 = std::max(q2, e2);
+      q3 = std::max(q3, e3);
+    }
   }
   lane[0] = t0, lane[1] = t1, lane[2] = t2, lane[3] = t3;
-  peak[0] = q0, peak[1] = q1, peak[2] = q2, peak[3] = q3;
+  if constexpr (kPeaks) peak[0] = q0, peak[1] = q1, peak[2] = q2, peak[3] = q3;
+}
+inline void add_squares(const double* a, const double* b, const double* c, std::int64_t from, std::int64_t to,
+                        double* lane) {
+  add_lanes<false>(a, b, c, from, to, lane, nullptr);
+}
+inline void add_squares_and_peaks(const double* a, const double* b, const double* c, std::int64_t from,
+                                  std::int64_t to, double* lane, double* peak) {
+  add_lanes<true>(a, b, c, from, to, lane, peak);
 }
 
 }  // namespace
@@ -313,43 +307,12 @@ HaarModwt::Squares HaarModwt::squares(std::int64_t m, bool with_peak) const {
   // pointers between blocks (they are tau apart: up to half the series at the coarsest
   // level; the pages between them are read again from the file's page cache). The peak
   // has its own loop shape so the plain sum keeps its vectorised kernel.
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0, peak = 0.0;
+  double lane[4] = {0.0, 0.0, 0.0, 0.0}, peaks[4] = {0.0, 0.0, 0.0, 0.0};
   auto kernel = [&](std::int64_t from, std::int64_t to) {  // k in [from, to), multiples of 4
-    double t0 = s0, t1 = s1, t2 = s2, t3 = s3;
-    if (!with_peak) {
-      for (std::int64_t k = from; k < to; k += 4) {
-        const double d0 = a[k] - 2.0 * b[k] + c[k];
-        const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
-        const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
-        const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-        t0 += d0 * d0;
-        t1 += d1 * d1;
-        t2 += d2 * d2;
-        t3 += d3 * d3;
-      }
-    } else {
-      double q0 = peak, q1 = peak, q2 = peak, q3 = peak;
-      for (std::int64_t k = from; k < to; k += 4) {
-        const double d0 = a[k] - 2.0 * b[k] + c[k];
-        const double d1 = a[k + 1] - 2.0 * b[k + 1] + c[k + 1];
-        const double d2 = a[k + 2] - 2.0 * b[k + 2] + c[k + 2];
-        const double d3 = a[k + 3] - 2.0 * b[k + 3] + c[k + 3];
-        const double e0 = d0 * d0, e1 = d1 * d1, e2 = d2 * d2, e3 = d3 * d3;
-        t0 += e0;
-        t1 += e1;
-        t2 += e2;
-        t3 += e3;
-        q0 = std::max(q0, e0);
-        q1 = std::max(q1, e1);
-        q2 = std::max(q2, e2);
-        q3 = std::max(q3, e3);
-      }
-      peak = std::max(std::max(q0, q1), std::max(q2, q3));
-    }
-    s0 = t0;
-    s1 = t1;
-    s2 = t2;
-    s3 = t3;
+    if (with_peak)
+      add_squares_and_peaks(a, b, c, from, to, lane, peaks);
+    else
+      add_squares(a, b, c, from, to, lane);
   };
   const std::int64_t whole = M - M % 4;  // the four-wide part; the rest goes to s0
   if (!file_) {
@@ -363,14 +326,14 @@ HaarModwt::Squares HaarModwt::squares(std::int64_t m, bool with_peak) const {
       detail::release_file_pages(a + from, a + to);
     }
   }
-  std::int64_t k = whole;
-  for (; k < M; ++k) {
+  double s0 = lane[0], peak = std::max(std::max(peaks[0], peaks[1]), std::max(peaks[2], peaks[3]));
+  for (std::int64_t k = whole; k < M; ++k) {
     const double d = a[k] - 2.0 * b[k] + c[k];
     s0 += d * d;
     peak = std::max(peak, d * d);
   }
   const double inv = 1.0 / static_cast<double>(tau);
-  return {(s0 + s1 + s2 + s3) * inv * inv, peak * inv * inv};
+  return {(s0 + lane[1] + lane[2] + lane[3]) * inv * inv, peak * inv * inv};
 }
 
 std::vector<std::unique_ptr<HaarModwt>> haar_transforms(const std::vector<std::span<const double>>& series) {
