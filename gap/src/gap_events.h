@@ -72,6 +72,9 @@ double trend_slope(const std::vector<double>& x);
 /// or first > last when the series is too short.
 std::pair<int, int> event_levels(std::int64_t n);
 
+/// g(h), h = 0..size-1: the model's generalised autocovariance, summed over its components.
+std::vector<double> autocovariance(const Model& m, const Eigen::VectorXd& theta, std::size_t size);
+
 /// The step scan's weights for the baseline at a record length (see the header comment).
 /// For k = 1..L, the first k event levels (those whose filters fit around t0: near the
 /// record's ends the coarse ones do not): the weight of each level's centred coefficient
@@ -90,6 +93,14 @@ StepScan make_step_scan(const Model& m, const Eigen::VectorXd& theta, std::int64
 /// baseline, so its RMS is 1 when the baseline is right; only a larger one (data noisier than
 /// the baseline) rescales the statistic (see the header comment).
 inline constexpr double kStepScaleFloor = 1.0;
+
+/// The (1 - level) quantile of a Gumbel law matched to the sample's mean and variance (the
+/// concentration's null maximum over the replicates).
+double gumbel_quantile(const Eigen::VectorXd& sample, double level);
+/// The (1 - level) quantile of the law of a scan's maximum, exp(-C b^a phi(b)), fitted to
+/// the replicates' maxima by maximum likelihood (gap_step_scan.cc; the Gumbel law when the
+/// fit has no finite likelihood).
+double scan_max_quantile(const Eigen::VectorXd& sample, double level);
 
 /// The scan of one series.
 struct StepScanResult {
