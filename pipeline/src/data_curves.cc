@@ -21,7 +21,8 @@ DataCurves classical_curves(const std::vector<std::span<const double>>& series, 
                                 "at least " + std::to_string(kMinSeriesLength));
   if (const std::string why = wv.Validate(); !why.empty()) throw InvalidArgument("classical_wv: " + why);
   std::vector<std::vector<double>> level_sums;
-  const std::vector<std::unique_ptr<HaarModwt>> transforms = haar_transforms(series);
+  out.transforms = haar_transforms(series);
+  const auto& transforms = out.transforms;
   out.wvs = classical_wv(transforms, wv, &level_sums);
   out.wv_seconds = std::chrono::duration<double>(Clock::now() - wv_start).count();
   if (allan) {
@@ -39,9 +40,12 @@ DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
   if (robust) {
     const auto start = std::chrono::steady_clock::now();
     DataCurves out;
-    out.wvs = robust::robust_wv(series, *robust);
+    // One transform per column for both estimates (the robust one reuses it where its
+    // spike screen replaces nothing).
+    out.transforms = haar_transforms(series);
+    out.wvs = robust::robust_wv(series, *robust, out.transforms);
     out.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.classical = classical_wv(series, wv);
+    out.classical = classical_wv(out.transforms, wv);
     return out;
   }
   std::optional<AllanOptions> allan;

@@ -3,12 +3,14 @@
 // overlapping Allan deviation from the same Haar transforms (one set of prefix sums per
 // column instead of two; the deviation's octave points are the WV's own level sums), each
 // stage timed. What `fit`, `select` and `wv --adev` share.
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
 
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
@@ -23,6 +25,9 @@ struct DataCurves {
   /// Per column when asked, else empty.
   std::vector<AllanDeviation> allan;
   double wv_seconds = 0.0, allan_seconds = 0.0;
+  /// The columns' Haar transforms the classical WVs came from (classical_curves), for the
+  /// robust WV and its diagnostic to reuse instead of transforming each column again.
+  std::vector<std::unique_ptr<HaarModwt>> transforms;
 };
 
 /// The classical WVs of `series` and, when `allan` is given, their Allan deviations at

@@ -33,15 +33,15 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   std::vector<WaveletVariance>& classical = curves.wvs;
   detail::check_usable_wvs(set, classical, false);
   if (options.robust) {
-    std::vector<WaveletVariance> robust_wvs = robust::robust_wv(series, *options.robust);
+    std::vector<WaveletVariance> robust_wvs = robust::robust_wv(series, *options.robust, curves.transforms);
     const robust::Tuning tuning = robust::tune(options.robust->estimator, options.robust->efficiency);
     for (std::size_t k = 0; k < set.signals.size(); ++k) {
       const auto& x = set.signals[k].values;
       const auto n = static_cast<std::int64_t>(x.size());
       RobustWvView view;
       view.quantization = robust::detect_quantization(x.data(), n);
-      view.diagnostic =
-          robust::contamination_diagnostic(x.data(), n, robust_wvs[k], classical[k], view.quantization, tuning);
+      view.diagnostic = robust::contamination_diagnostic(*curves.transforms[k], robust_wvs[k], classical[k],
+                                                         view.quantization, tuning);
       view.classical = std::move(classical[k]);
       study.columns.push_back({set.signals[k].name, std::move(robust_wvs[k]), std::move(view), std::nullopt});
     }

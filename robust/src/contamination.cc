@@ -147,13 +147,22 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int6
                                                       const Quantization& quantization, const Tuning& tuning) {
   check_size_match("contamination_diagnostic", "robust levels", robust.wv.size(), "classical levels",
                    classical.wv.size());
+  return contamination_diagnostic(HaarModwt(x, n), robust, classical, quantization, tuning);
+}
+
+std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& modwt, const WaveletVariance& robust,
+                                                      const WaveletVariance& classical,
+                                                      const Quantization& quantization, const Tuning& tuning) {
+  check_size_match("contamination_diagnostic", "robust levels", robust.wv.size(), "classical levels",
+                   classical.wv.size());
   std::vector<LevelDiagnostic> out(robust.wv.size());
-  const HaarModwt modwt(x, n);
   const double gaussian_tail =
       2.0 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), kTailSd));
   gmwm::parallel_for(std::size_t{0}, out.size(), [&](std::size_t j) {
     if (!(robust.wv[j] > 0.0)) return;
-    std::vector<double> w;
+    // One buffer per thread across levels: a fresh 8 MB vector per level was mostly page
+    // faults and zeroing (issue 44).
+    thread_local std::vector<double> w;
     modwt.coefficients(static_cast<int>(j) + 1, w);
     const double cut = kTailSd * kTailSd * robust.wv[j];
     std::size_t far = 0;

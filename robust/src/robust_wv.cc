@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
@@ -36,33 +37,69 @@ struct Eval {
   double dg = 0.0;  // d g / d log s
 };
 
+// The passes' sums run in kLanes independent partial sums (combined at the end): one
+// running sum is a chain of dependent additions that neither vectorises nor pipelines
+// (x86's 4-cycle add latency per coefficient), and it was 17% of `wv --robust` (issue 44).
+constexpr std::size_t kLanes = 4;
+
+// Huber's sums: sum min(W^2, cut) and sum of the W^2 below the cut.
+std::pair<double, double> huber_sums(std::span<const double> w, double cut) {
+  double a[kLanes] = {}, b[kLanes] = {};
+  const double* x = w.data();
+  const std::size_t whole = w.size() - w.size() % kLanes;
+  for (std::size_t k = 0; k < whole; k += kLanes)
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const double r2 = x[k + l] * x[k + l];
+      // min(r2, cut) as below + above (each select alone): GCC vectorises two selects
+      // of one value, not a min beside a select on the same comparison.
+      const double below = r2 < cut ? r2 : 0.0, above = r2 < cut ? 0.0 : cut;
+      a[l] += below + above;
+      b[l] += below;
+    }
+  for (std::size_t k = whole; k < w.size(); ++k) {
+    const double r2 = x[k] * x[k];
+    a[0] += std::min(r2, cut);
+    b[0] += r2 < cut ? r2 : 0.0;
+  }
+  return {(a[0] + a[1]) + (a[2] + a[3]), (b[0] + b[1]) + (b[2] + b[3])};
+}
+
+// Bisquare's sums in units of c^2: sum v u^4 and sum v u^3 (u - 4 v), v = W^2 k = r^2/c^2,
+// u = max(0, 1 - v): 0 beyond c, where both terms vanish (branch-free).
+std::pair<double, double> bisquare_sums(std::span<const double> w, double k) {
+  double a[kLanes] = {}, b[kLanes] = {};
+  const double* x = w.data();
+  const std::size_t whole = w.size() - w.size() % kLanes;
+  for (std::size_t i = 0; i < whole; i += kLanes)
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      const double v = x[i + l] * x[i + l] * k;
+      const double r = 1.0 - v;
+      const double u = r > 0.0 ? r : 0.0;
+      const double vu3 = v * u * u * u;
+      a[l] += vu3 * u;
+      b[l] += vu3 * (u - 4.0 * v);
+    }
+  for (std::size_t i = whole; i < w.size(); ++i) {
+    const double v = x[i] * x[i] * k;
+    const double r = 1.0 - v;
+    const double u = r > 0.0 ? r : 0.0;
+    const double vu3 = v * u * u * u;
+    a[0] += vu3 * u;
+    b[0] += vu3 * (u - 4.0 * v);
+  }
+  return {(a[0] + a[1]) + (a[2] + a[3]), (b[0] + b[1]) + (b[2] + b[3])};
+}
+
 Eval evaluate(std::span<const double> w, const Tuning& t, double s) {
   const double c2 = t.c * t.c;
   const double inv_s = 1.0 / s;
   double sum = 0.0, dsum = 0.0;
   if (t.kind == RobustKind::kHuber) {
-    // sum min(W^2, c^2 s) and the part below the cut, branch-free (vectorises).
-    const double cut = c2 * s;
-    double clipped = 0.0, below = 0.0;
-    for (double x : w) {
-      const double r2 = x * x;
-      clipped += std::min(r2, cut);
-      below += r2 < cut ? r2 : 0.0;
-    }
+    const auto [clipped, below] = huber_sums(w, c2 * s);
     sum = clipped * inv_s;
     dsum = -below * inv_s;
   } else {
-    // Branch-free (vectorises): u = max(0, 1 - r^2/c^2) is 0 beyond c, where both
-    // terms vanish.
-    const double k = inv_s / c2;  // r^2 / c^2 = W^2 k
-    double s4 = 0.0, d4 = 0.0;    // in units of c^2: sum v u^4, sum v u^3 (u - 4 v), v = r^2/c^2
-    for (double x : w) {
-      const double v = x * x * k;
-      const double u = std::max(0.0, 1.0 - v);
-      const double u3 = u * u * u;
-      s4 += v * u3 * u;
-      d4 += v * u3 * (u - 4.0 * v);
-    }
+    const auto [s4, d4] = bisquare_sums(w, inv_s / c2);
     sum = c2 * s4;
     dsum = -c2 * d4;
   }
@@ -197,8 +234,9 @@ void check_series(const char* fn, std::int64_t n, const RobustWvOptions& o) {
 }
 
 struct Prepared {
-  std::unique_ptr<HaarModwt> modwt;
-  WaveletVariance w;  // the classical WV, overwritten level by level
+  std::unique_ptr<HaarModwt> owned;  // the screened series' own transform, when it needs one
+  const HaarModwt* modwt = nullptr;  // owned, or the caller's transform of the unscreened series
+  WaveletVariance w;                 // the classical WV, overwritten level by level
 };
 
 // The root of a long level: started from the root on an evenly strided subsample.
@@ -214,7 +252,9 @@ ScaleSolution solve_level(std::span<const double> coef, const Tuning& t, double 
   return solve(coef, t, start, stats);
 }
 
-Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, const Tuning& t) {
+// `shared`: the caller's transform of x (or null), used when the screen replaces nothing.
+Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, const Tuning& t,
+                 const HaarModwt* shared = nullptr) {
   Prepared p;
   WvOptions co;
   co.levels = o.levels;
@@ -243,7 +283,12 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
   } else {
     screen.note = "spike screen off";
   }
-  p.modwt = std::make_unique<HaarModwt>(data, n);
+  if (shared && data == x) {
+    p.modwt = shared;
+  } else {
+    p.owned = std::make_unique<HaarModwt>(data, n);
+    p.modwt = p.owned.get();
+  }
   p.w = classical_wv(*p.modwt, co);
   p.w.estimator = to_string(t.kind);
   p.w.efficiency = t.efficiency;
@@ -341,6 +386,14 @@ WaveletVariance robust_wv(const double* x, std::int64_t n, const RobustWvOptions
 
 std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
                                        const RobustWvOptions& options) {
+  return robust_wv(series, options, {});
+}
+
+std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
+                                       const RobustWvOptions& options,
+                                       const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
+  if (!transforms.empty())
+    check_size_match("robust_wv", "transforms", transforms.size(), "series", series.size());
   for (const auto& s : series) check_series("robust_wv", static_cast<std::int64_t>(s.size()), options);
   const Tuning t = tune(options.estimator, options.efficiency);
   std::vector<Prepared> p(series.size());
@@ -353,7 +406,10 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
     if (options.progress) options.progress(d, total.load());
   };
   gmwm::parallel_for(std::size_t{0}, series.size(), [&](std::size_t c) {
-    p[c] = prepare(series[c].data(), static_cast<std::int64_t>(series[c].size()), options, t);
+    const HaarModwt* shared = transforms.empty() ? nullptr : transforms[c].get();
+    if (shared && shared->size() != static_cast<std::int64_t>(series[c].size()))
+      throw InvalidArgument("robust_wv: transform " + std::to_string(c) + " is not of its series' length");
+    p[c] = prepare(series[c].data(), static_cast<std::int64_t>(series[c].size()), options, t, shared);
     tick();
   });
   // All levels of all series as one flat range (the fine levels cost the same as the

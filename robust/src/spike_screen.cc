@@ -18,7 +18,6 @@ SpikeScreen screen_spikes(const double* x, std::int64_t n, double level_one_scal
     out.note = "spike screen not applied: the level-1 robust scale is undefined";
     return out;
   }
-  const std::vector<double> w = level_one_jumps(x, n);
   const double s_scale = level_one_scale;
   out.applied = true;
   out.scale = s_scale;
@@ -33,7 +32,9 @@ SpikeScreen screen_spikes(const double* x, std::int64_t n, double level_one_scal
       out.ranges.emplace_back(first, n - 1);
   };
   for (std::int64_t t = 1; t < n; ++t) {
-    if (!(std::abs(w[static_cast<std::size_t>(t - 1)]) > cut)) continue;
+    // The level-one jump of level_one_jumps, computed in place (a second 8 MB vector of
+    // them cost page faults and zeroing: issue 44).
+    if (!(std::abs(0.5 * (x[t] - x[t - 1])) > cut)) continue;
     if (count > 0 && t - last <= kSpikeMaxGap) {
       last = t;
       ++count;

@@ -16,6 +16,7 @@
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
@@ -188,6 +189,21 @@ TEST(ContaminationDiagnostic, FlagsLevelOneOfSpikyWhiteNoise) {
     EXPECT_LT(d.levels[0].robust_to_classical, 0.5);
     EXPECT_GT(d.levels[0].tail_share, 0.01);  // 2% of the coefficients are spikes
   }
+}
+
+TEST(ContaminationDiagnostic, FromTheClassicalTransformGivesWhatTheSeriesGives) {
+  // The WV study passes the classical WV's transform instead of the series (issue 44).
+  const auto x = with_spikes(white_noise(1 << 14, 1.0, 6311, 0), 20.0, 6312);
+  const Diagnosis d = diagnose(x);
+  const HaarModwt transform(x.data(), static_cast<std::int64_t>(x.size()));
+  const auto from_transform =
+      contamination_diagnostic(transform, d.robust, d.classical, d.quantization, tune(RobustKind::kHuber, kDefaultEfficiency));
+  ASSERT_EQ(from_transform.size(), d.levels.size());
+  for (std::size_t j = 0; j < d.levels.size(); ++j) {
+    EXPECT_EQ(from_transform[j].tail_share, d.levels[j].tail_share) << j;
+    EXPECT_EQ(from_transform[j].contaminated, d.levels[j].contaminated) << j;
+  }
+  EXPECT_TRUE(from_transform[0].contaminated);
 }
 
 TEST(ContaminationDiagnostic, FlagsNothingOnCleanWhiteNoiseRoundedOrNot) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <span>
 #include <string>
@@ -23,6 +24,7 @@
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
@@ -471,6 +473,38 @@ TEST(RobustWv, ManySeriesGiveTheSameAsOneAtATime) {
     const auto one = robust_wv(xs[k].data(), static_cast<std::int64_t>(xs[k].size()), o);
     EXPECT_EQ(many[k].wv, one.wv) << k;
     EXPECT_EQ(many[k].notes, one.notes) << k;
+  }
+}
+
+TEST(RobustWv, ReusingTheClassicalTransformsGivesTheSameNumbersAndScreenedSeriesGetTheirOwn) {
+  // The studies hand the classical WV's transforms to the robust WV (issue 44): a series
+  // whose screen replaces nothing is read from them, a screened one (spikes) is transformed
+  // again from its cleaned copy; both give what the transforming form gives, to the bit.
+  std::vector<std::vector<double>> xs;
+  for (std::uint64_t k = 0; k < 2; ++k) xs.push_back(white_noise(4096, 5611, k));
+  for (std::size_t t = 1000; t < 4000; t += 700) xs[1][t] += 500.0;  // isolated spikes: screened
+  RobustWvOptions o;
+  o.estimator = RobustKind::kBisquare;
+  const std::vector<std::span<const double>> spans(xs.begin(), xs.end());
+  const auto transforms = haar_transforms(spans);
+  const auto reused = robust_wv(spans, o, transforms);
+  const auto own = robust_wv(spans, o);
+  ASSERT_EQ(reused.size(), 2u);
+  EXPECT_TRUE(reused[0].replaced.empty());
+  EXPECT_FALSE(reused[1].replaced.empty()) << "the spikes were not screened: the test lost its second case";
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(reused[k].wv, own[k].wv) << k;
+    EXPECT_EQ(reused[k].ci_low, own[k].ci_low) << k;
+    EXPECT_EQ(reused[k].replaced, own[k].replaced) << k;
+  }
+  // One transform per series, each of its series' length.
+  std::vector<std::unique_ptr<HaarModwt>> one;
+  one.push_back(std::make_unique<HaarModwt>(xs[0].data(), static_cast<std::int64_t>(xs[0].size())));
+  try {
+    (void)robust_wv(spans, o, one);
+    ADD_FAILURE() << "no throw";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("transforms"), std::string::npos) << e.what();
   }
 }
 

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/robust/tuning.h"
 
@@ -56,6 +57,10 @@ struct LevelDiagnostic {
 /// Per level of `robust` (its classical counterpart: `classical`, same levels), for the
 /// series x both were computed from.
 std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int64_t n, const WaveletVariance& robust,
+                                                      const WaveletVariance& classical,
+                                                      const Quantization& quantization, const Tuning& tuning);
+/// The same from x's Haar transform (the classical WV's, which the caller already holds).
+std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& transform, const WaveletVariance& robust,
                                                       const WaveletVariance& classical,
                                                       const Quantization& quantization, const Tuning& tuning);
 

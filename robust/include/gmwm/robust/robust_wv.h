@@ -22,10 +22,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/robust/tuning.h"
 
@@ -72,6 +74,13 @@ WaveletVariance robust_wv(const double* x, std::int64_t n, const RobustWvOptions
 /// Robust WV of several series, in parallel (TBB) over series x levels.
 std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
                                        const RobustWvOptions& options = {});
+
+/// The same, reusing `transforms` (haar_transforms(series): the classical WV's, one per
+/// series) for every series whose spike screen replaces nothing, instead of transforming it
+/// again; a screened series gets its own transform. The results are those of the form above.
+std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
+                                       const RobustWvOptions& options,
+                                       const std::vector<std::unique_ptr<HaarModwt>>& transforms);
 
 /// The robust estimator as a strategy object (bootstrap Omega, gap reference
 /// distributions recompute "the same WV" on simulated series).
