@@ -1,21 +1,23 @@
-// The program's allocation functions: malloc and free, as the standard library's own,
-// plus a request for transparent huge pages on every large block (a signal, its prefix
-// sums, a level's coefficients, a replicate's buffers: megabytes each).
+// The program's memory policy, in its allocation functions (malloc and free, as the
+// standard library's own) and two malloc settings: large blocks on transparent huge pages,
+// and freed memory kept for the next block. Results are unchanged (json_identity: every
+// command identical); only where the memory comes from differs.
 //
 // Why: each fresh 4 KiB page costs a page fault on first touch, and under a hypervisor a
-// fault is several microseconds. `gmwm wv --robust` on 1e6 samples took 11,300 faults
-// (45 MB first touched); with 2 MiB pages its CPU time fell to 0.77 of that (farm-bench,
-// n = 9, issue 44; the same effect as glibc's GLIBC_TUNABLES=glibc.malloc.hugetlb=1, which
-// a user would have to set before starting the program). Results are unchanged: only the
-// page size of the memory differs. Where the kernel's THP mode is "never" the advice is
-// ignored; in "madvise" mode (Debian's default) it is what turns them on for these blocks.
+// fault costs microseconds. `gmwm wv --robust` on 1e6 samples took 11,300 faults (45 MB
+// first touched), a bootstrap selection 138,000 for ten draws per model. Measured on imu1
+// gyro_x (farm-bench, issue 44): wv --robust bisquare CPU A/B 0.76 with huge pages alone,
+// select --optimism bootstrap --replicates 10 A/B 0.81 with both (tools/bench/RESULTS.md).
+// Where the kernel's THP mode is "never" the advice is ignored; in "madvise" mode (Debian's
+// default) it is what turns huge pages on for these blocks.
 //
 // Replacing the global allocation functions is the standard's own hook (replaceable
 // allocation functions, [new.delete]); the libraries of this program allocate through them,
 // a Python process is not affected. Under AddressSanitizer or ThreadSanitizer the
-// sanitizer's own replacements stay in place (its new/delete checks).
+// sanitizer's own allocator stays in place.
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 
+#include <malloc.h>
 #include <sys/mman.h>
 
 #include <cstdint>
@@ -37,6 +39,26 @@ void advise_huge_pages(void* p, std::size_t size) {
   // Advice only: a refusal (an old kernel, THP compiled out) leaves 4 KiB pages.
   if (last > first) (void)madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
 }
+
+// Freed memory is kept for the next block instead of going back to the kernel: a
+// bootstrap or gap replicate frees its series, prefix sums and coefficients (8 MB each at
+// 1e6 samples) and allocates them again for the next draw; glibc returned them (blocks
+// from its dynamic mmap threshold on were unmapped, the top of a thread's heap trimmed),
+// so every draw faulted its pages in again. Blocks up to kHeapBlocksUpTo come from the
+// heap (its largest allowed threshold: half glibc's 64 MiB thread heap), and the heap is
+// never trimmed (138,000 -> 4,800 page faults for the bootstrap above). The cost: the
+// process keeps its peak heap until it exits (a `serve` session too; its studies are
+// bounded by the request limits).
+constexpr int kHeapBlocksUpTo = 32 << 20;
+constexpr int kNeverTrim = -1;  // M_TRIM_THRESHOLD -1: no trimming (mallopt(3))
+
+struct KeepFreedMemory {
+  KeepFreedMemory() {
+    (void)mallopt(M_MMAP_THRESHOLD, kHeapBlocksUpTo);
+    (void)mallopt(M_TRIM_THRESHOLD, kNeverTrim);
+  }
+};
+const KeepFreedMemory keep_freed_memory;
 
 void* allocate(std::size_t size) {
   if (size == 0) size = 1;
