@@ -22,23 +22,26 @@ namespace {
 // long-double rounding of V at the last lag kept dominates (1e-9 broke N = 1e6 with
 // 1 - phi = 1e-4; see the comment in ComponentTable).
 constexpr double kTailTolerance = 1e-6;
-// Between breakpoints, n_ij(h) c_ij(h)^2 is a polynomial in h for WN, QN and RW (their
-// structure functions are polynomials away from d = 0, 1) and a smooth function for
-// decaying stationary components; sums over long stretches use the corrected Simpson rule
-// of sum_smooth (error O(s^6 f^(6))) with at least kSimpsonPointsPerStretch panels and
-// kPointsPerDecayScale per decay scale of the slowest stationary component, whose support
-// spans about kDecayScalesInSupport e-folds (1e-6 = e^-13.8). Measured against the
-// lag-by-lag sum at N = 1e6, 19 levels (WN+RW+QN; 2-4 AR1s with phi up to 1 - 1e-6 beside
-// WN/RW/QN): |dV_ij| <= 1e-7 sqrt(V_ii V_jj), where plain Simpson with 64 panels and 8 per
-// decay scale (no end corrections) reached 1.7e-5 at 2-4 times the cost; halving the
-// panels to 16 raises the polynomial case's error to 5e-7 (the s^6 law).
-constexpr double kSimpsonPointsPerStretch = 32.0;
+// Between breakpoints, n_ij(h) c_ij(h)^2 is a polynomial in h of degree at most 7 for WN,
+// QN, RW and DR (their structure functions are at most cubic away from d = 0, 1; n_ij(h) is
+// linear) and a smooth function for decaying stationary components; sums over long
+// stretches use the corrected Simpson rule of sum_smooth, exact for degree 7 (error
+// O(s^8 f^(8))), with at least kSimpsonPointsPerStretch panels and kPointsPerDecayScale
+// per decay scale of the slowest stationary component, whose support spans about
+// kDecayScalesInSupport e-folds (1e-6 = e^-13.8). Measured against the lag-by-lag sum at
+// N = 1e6, 19 levels: polynomial models (RW; WN+RW; AR1(0.16)+RW) within 1e-12
+// sqrt(V_ii V_jj) (the earlier rule, of O(s^6) error, with 32 panels and 4 per decay
+// scale: 9.4e-9); models with slow AR1s (2 AR1 with phi 0.9999; 3 AR1 + WN + QN + RW;
+// AR1(1 - 1e-6) + WN + RW) within 2.6e-8 (was 1.8e-7), in 0.78 of the time (issue 44).
+// With 16 panels those reached 1.2e-7, with 8 panels 7.9e-6: beyond its support an AR1's
+// geometric tail is close to, not exactly, a polynomial.
+constexpr double kSimpsonPointsPerStretch = 24.0;
 constexpr double kDecayScalesInSupport = 14.0;
-constexpr double kPointsPerDecayScale = 4.0;
+constexpr double kPointsPerDecayScale = 3.0;
 // Stretches shorter than this are summed lag by lag; the rule needs at least kMinPanels
-// panels (five points for each end's differences).
+// panels (eight points for each end's differences).
 constexpr std::int64_t kExactStretch = 24;
-constexpr std::int64_t kMinPanels = 4;
+constexpr std::int64_t kMinPanels = 8;
 // A stochastic component whose WV is below this share of the model's at every level is
 // left out: its coefficients' covariances are at most that share of the model's
 // (|c_ij(h)| <= sqrt(nu_i nu_j) by Cauchy-Schwarz), so it moves V by less than about
@@ -276,12 +279,14 @@ long double cross_cov(const Table& t, const Level& a, const Level& b, std::int64
 // sum_{h=u}^{v} f(h) for f smooth on [u, v] (no breakpoint inside), sampled every
 // `max_step` lags at most: composite Simpson on the grid u + q s plus the Euler-Maclaurin
 // terms that turn an integral into a sum over the integers,
-//   sum = integral + (f(u) + f(B))/2 + (f'(B) - f'(u))/12 - (f'''(B) - f'''(u))/720,
-// with Simpson's own leading error removed (Simpson = integral + s^4/180 (f'''(B) - f'''(u))); f' and f'''
-// at the ends come from five-point one-sided differences on the same grid (step s), so
-// the rule costs no extra evaluation and its error is O(s^6 f^(6)). The part of the
-// stretch the grid leaves over (shorter than its number of panels) is summed the same
-// way, or lag by lag when short.
+//   sum = integral + (f(u) + f(B))/2 + [f']/12 - [f''']/720 + [f^(5)]/30240
+// ([g] = g(B) - g(u)), with Simpson's own error removed up to s^6 (Simpson = integral +
+// s^4/180 [f'''] - s^6/1512 [f^(5)] + O(s^8)); f', f''' and f^(5) at the ends come from
+// eight-point one-sided differences on the same grid (step s), exact for degree 7, so the
+// rule costs no extra evaluation and is exact for the polynomials of degree 7 that
+// n(h) c(h)^2 is between breakpoints of WN, QN, RW and DR (checked in exact rationals);
+// its error is O(s^8 f^(8)). The part of the stretch the grid leaves over (shorter than its
+// number of panels) is summed the same way, or lag by lag when short.
 template <class F>
 Sums sum_smooth(const F& f, std::int64_t u, std::int64_t v, double max_step) {
   Sums total;
@@ -303,20 +308,29 @@ Sums sum_smooth(const F& f, std::int64_t u, std::int64_t v, double max_step) {
     const long double h = static_cast<long double>(s);
     Sums simpson = y.front() + y.back();
     for (std::int64_t q = 1; q < panels; ++q) simpson += ((q % 2) ? 4.0L : 2.0L) * y[static_cast<std::size_t>(q)];
-    // Five-point one-sided differences at the left end (forward, y[0..4]); at the right
+    // Eight-point one-sided differences at the left end (forward, y[0..7]; the weights solve
+    // the Vandermonde system of the points 0..7 for the k-th derivative at 0); at the right
     // end the same stencil on y[P], y[P-1], ... gives the odd derivatives with flipped sign.
     const std::size_t P = static_cast<std::size_t>(panels);
-    auto stencil = [&](const long double c[5], bool right) {
+    auto stencil = [&](const long double c[8], bool right) {
       Sums r;
-      for (std::size_t k = 0; k < 5; ++k) r += c[k] * (right ? y[P - k] : y[k]);
+      for (std::size_t k = 0; k < 8; ++k) r += c[k] * (right ? y[P - k] : y[k]);
       return right ? (-1.0L) * r : r;
     };
-    static constexpr long double kD1[5] = {-25.0L / 12.0L, 4.0L, -3.0L, 4.0L / 3.0L, -0.25L};
-    static constexpr long double kD3[5] = {-2.5L, 9.0L, -12.0L, 7.0L, -1.5L};
+    static constexpr long double kD1[8] = {-363.0L / 140.0L, 7.0L,         -21.0L / 2.0L, 35.0L / 3.0L,
+                                           -35.0L / 4.0L,    21.0L / 5.0L, -7.0L / 6.0L,  1.0L / 7.0L};
+    static constexpr long double kD3[8] = {-967.0L / 120.0L, 638.0L / 15.0L, -3929.0L / 40.0L,  389.0L / 3.0L,
+                                           -2545.0L / 24.0L, 268.0L / 5.0L,  -1849.0L / 120.0L, 29.0L / 15.0L};
+    static constexpr long double kD5[8] = {-23.0L / 3.0L,  295.0L / 6.0L, -135.0L,       1235.0L / 6.0L,
+                                           -565.0L / 3.0L, 207.0L / 2.0L, -95.0L / 3.0L, 25.0L / 6.0L};
+    const long double h2 = h * h, h4 = h2 * h2;
     const Sums d1_diff = (1.0L / h) * (stencil(kD1, true) + (-1.0L) * stencil(kD1, false));
-    const Sums d3_diff = (1.0L / (h * h * h)) * (stencil(kD3, true) + (-1.0L) * stencil(kD3, false));
-    const long double c3 = -h * h * h * h / 180.0L - 1.0L / 720.0L;
-    total += (h / 3.0L) * simpson + 0.5L * (y.front() + y.back()) + (1.0L / 12.0L) * d1_diff + c3 * d3_diff;
+    const Sums d3_diff = (1.0L / (h2 * h)) * (stencil(kD3, true) + (-1.0L) * stencil(kD3, false));
+    const Sums d5_diff = (1.0L / (h4 * h)) * (stencil(kD5, true) + (-1.0L) * stencil(kD5, false));
+    const long double c3 = -h4 / 180.0L - 1.0L / 720.0L;
+    const long double c5 = h4 * h2 / 1512.0L + 1.0L / 30240.0L;
+    total += (h / 3.0L) * simpson + 0.5L * (y.front() + y.back()) + (1.0L / 12.0L) * d1_diff + c3 * d3_diff +
+             c5 * d5_diff;
     if (B == v) return total;
     u = B + 1;
     max_step = std::min(max_step, static_cast<double>(v - u) / static_cast<double>(kMinPanels));
