@@ -46,6 +46,7 @@ DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
     out.wvs = robust::robust_wv(series, *robust, out.transforms);
     out.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.classical = classical_wv(out.transforms, wv);
+    out.transforms.clear();  // the fits do not read them: 16 bytes a sample, freed now
     return out;
   }
   std::optional<AllanOptions> allan;
@@ -53,7 +54,9 @@ DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
     allan.emplace();
     allan->alpha = alpha;
   }
-  return classical_curves(series, wv, set.freq, allan);
+  DataCurves out = classical_curves(series, wv, set.freq, allan);
+  out.transforms.clear();  // the fits do not read them: 16 bytes a sample, freed now
+  return out;
 }
 
 }  // namespace gmwm::pipeline::detail

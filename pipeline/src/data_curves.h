@@ -26,7 +26,8 @@ struct DataCurves {
   std::vector<AllanDeviation> allan;
   double wv_seconds = 0.0, allan_seconds = 0.0;
   /// The columns' Haar transforms the classical WVs came from (classical_curves), for the
-  /// robust WV and its diagnostic to reuse instead of transforming each column again.
+  /// robust WV and its diagnostic to reuse instead of transforming each column again;
+  /// empty after fit_curves (the fits do not read them).
   std::vector<std::unique_ptr<HaarModwt>> transforms;
 };
 
