@@ -8,11 +8,16 @@ GMWM_SHARED_DATA names the folder with them, on the three ADIS16405 units and co
 compares the JSON documents without their "run" object (timings, host, argv). Prints one
 line per command and data set, and every differing path for the first few differences.
 
-Usage: [GMWM_SHARED_DATA=DIR] python3 tools/bench/json_identity.py BEFORE/gmwm AFTER/gmwm
-Exit 0 when every document is identical.
+Usage: [GMWM_SHARED_DATA=DIR] python3 tools/bench/json_identity.py [--rtol X] [--only LABEL,...]
+       BEFORE/gmwm AFTER/gmwm
+Exit 0 when every document is identical, or with --rtol X when every number (also the numbers
+inside strings) is within X of the other side relative to the larger magnitude; each document
+then reports its largest relative difference. --only runs the commands whose labels start with
+one of the given prefixes (e.g. --only gap).
 """
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -44,6 +49,7 @@ def commands(path, read):
         ("fit", ["fit", path, "--model", "AR1+WN+RW"] + read),
         ("select", ["select", path, "--model", "2*AR1+WN+RW"] + read),
         ("gap --datasheet", ["gap", path, "--datasheet", DATASHEET, "--replicates", "40"] + read),
+        ("gap --kalibr", ["gap", path, "--kalibr", KALIBR, "--replicates", "40"] + read),
         # The output path relative: each side runs in a folder of its own.
         ("export kalibr", ["export", "{sel}", "--format", "kalibr", "--output", "imu.yaml"]),
         ("plan", ["plan", "{sel}"]),
@@ -61,33 +67,73 @@ def run(gmwm, args, out, cwd):
     return doc, ""
 
 
-def differences(a, b, path="", out=None, limit=5):
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+class Tolerance:
+    """Numbers within rtol of each other (relative to the larger magnitude) count as equal;
+    `largest` keeps the largest relative difference seen."""
+
+    def __init__(self, rtol):
+        self.rtol, self.largest = rtol, 0.0
+
+    def close(self, a, b):
+        if a == b:
+            return True
+        scale = max(abs(a), abs(b))
+        rel = abs(a - b) / scale if scale > 0 else 0.0
+        if rel == rel:  # not NaN
+            self.largest = max(self.largest, rel)
+        return rel <= self.rtol
+
+    def strings(self, a, b):
+        if NUMBER.sub("#", a) != NUMBER.sub("#", b):
+            return False
+        return all(self.close(float(x), float(y)) for x, y in zip(NUMBER.findall(a), NUMBER.findall(b)))
+
+
+def differences(a, b, path="", out=None, limit=5, tol=None):
     out = [] if out is None else out
     if len(out) >= limit:
         return out
-    if type(a) is not type(b):
+    numeric = (int, float)
+    if tol and isinstance(a, numeric) and isinstance(b, numeric) and not isinstance(a, bool) and not isinstance(b, bool):
+        if not tol.close(float(a), float(b)):
+            out.append("%s: %r vs %r" % (path or "/", a, b))
+    elif type(a) is not type(b):
         out.append("%s: %r vs %r" % (path or "/", a, b))
     elif isinstance(a, dict):
         for k in sorted(set(a) | set(b)):
             if k not in a or k not in b:
                 out.append("%s/%s: only in %s" % (path, k, "before" if k in a else "after"))
             else:
-                differences(a[k], b[k], path + "/" + k, out, limit)
+                differences(a[k], b[k], path + "/" + k, out, limit, tol)
     elif isinstance(a, list):
         if len(a) != len(b):
             out.append("%s: %d vs %d items" % (path or "/", len(a), len(b)))
         for i, (x, y) in enumerate(zip(a, b)):
-            differences(x, y, "%s[%d]" % (path, i), out, limit)
+            differences(x, y, "%s[%d]" % (path, i), out, limit, tol)
+    elif isinstance(a, str) and tol:
+        if not tol.strings(a, b):
+            out.append("%s: %r vs %r" % (path or "/", a, b))
     elif a != b:
         out.append("%s: %r vs %r" % (path or "/", a, b))
     return out
 
 
 def main():
-    if len(sys.argv) != 3:
+    args, rtol, only = sys.argv[1:], None, None
+    while args and args[0].startswith("--"):
+        if args[0] == "--rtol" and len(args) > 1:
+            rtol, args = float(args[1]), args[2:]
+        elif args[0] == "--only" and len(args) > 1:
+            only, args = args[1].split(","), args[2:]
+        else:
+            break
+    if len(args) != 2:
         print(__doc__, file=sys.stderr)
         return 2
-    before, after = (os.path.abspath(p) for p in sys.argv[1:])
+    before, after = (os.path.abspath(p) for p in args)
     ok = True
     for name, path, read in data_sets():
         with tempfile.TemporaryDirectory() as d:
@@ -95,6 +141,8 @@ def main():
             # One select result (the before program's) that both sides' export, plan and nav read.
             run(before, ["select", path, "--model", "2*AR1+WN+RW"] + read, sel, d)
             for label, args in commands(path, read):
+                if only and not any(label.startswith(o) for o in only):
+                    continue
                 docs = []
                 for side, gmwm in (("before", before), ("after", after)):
                     sub = os.path.join(d, side)
@@ -108,10 +156,14 @@ def main():
                     why = "before: %s; after: %s" % (ex or "ok", ey or "ok")
                     note = " (both refused the same way: %s)" % ex[:80] if same else ""
                 else:
-                    diff = differences(x, y)
+                    tol = Tolerance(rtol) if rtol is not None else None
+                    diff = differences(x, y, tol=tol)
                     same, why = not diff, "; ".join(diff)
+                    if tol and tol.largest > 0.0:
+                        note = " (largest relative difference %.2g)" % tol.largest
                 ok = ok and same
-                print("%-10s %-16s %s%s" % (name, label, "identical" + note if same else "DIFFERENT", "" if same else ": " + why))
+                verdict = ("within %g" % rtol if rtol is not None and note else "identical") + note
+                print("%-10s %-16s %s%s" % (name, label, verdict if same else "DIFFERENT", "" if same else ": " + why))
     print("json_identity: %s" % ("pass" if ok else "FAIL"))
     return 0 if ok else 1
 
