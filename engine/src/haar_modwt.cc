@@ -8,6 +8,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/samples.h"
+#include "gmwm/engine/vector_clones.h"
 
 namespace gmwm {
 
@@ -51,6 +52,12 @@ struct CompensatedSum {
   }
   peak = pk;
   return {s, c};
+}
+
+// One level's coefficients (a_k - 2 b_k + c_k) / tau, k in [0, M).
+GMWM_VECTOR_CLONES void haar_coefficients(const double* a, const double* b, const double* c, double inv,
+                                          std::int64_t M, double* out) {
+  for (std::int64_t k = 0; k < M; ++k) out[k] = (a[k] - 2.0 * b[k] + c[k]) * inv;
 }
 
 }  // namespace
@@ -127,7 +134,7 @@ void HaarModwt::coefficients(int level, std::vector<double>& out) const {
   const double* a = p_ + tau;  // S_{t+1} for t = tau-1
   const double* b = p_ + m;    // S_{t+1-m}
   const double* c = p_;        // S_{t+1-tau}
-  for (std::int64_t k = 0; k < M; ++k) out[static_cast<std::size_t>(k)] = (a[k] - 2.0 * b[k] + c[k]) * inv;
+  haar_coefficients(a, b, c, inv, M, out.data());
 }
 
 double HaarModwt::sum_of_squares(int level) const {
@@ -180,14 +187,17 @@ inline void add_lanes(const double* a, const double* b, const double* c, std::in
   lane[0] = t0, lane[1] = t1, lane[2] = t2, lane[3] = t3;
   if constexpr (kPeaks) peak[0] = q0, peak[1] = q1, peak[2] = q2, peak[3] = q3;
 }
-inline void add_squares(const double* a, const double* b, const double* c, std::int64_t from, std::int64_t to,
-                        double* lane) {
+// The two kernels, each in an AVX2 and a baseline clone (vector_clones.h: the same sums
+// bit for bit): they are most of every WV, Allan deviation and gap replicate's level passes.
+GMWM_VECTOR_CLONES void add_squares(const double* a, const double* b, const double* c, std::int64_t from,
+                                    std::int64_t to, double* lane) {
   add_lanes<false>(a, b, c, from, to, lane, nullptr);
 }
-inline void add_squares_and_peaks(const double* a, const double* b, const double* c, std::int64_t from,
-                                  std::int64_t to, double* lane, double* peak) {
+GMWM_VECTOR_CLONES void add_squares_and_peaks(const double* a, const double* b, const double* c, std::int64_t from,
+                                              std::int64_t to, double* lane, double* peak) {
   add_lanes<true>(a, b, c, from, to, lane, peak);
 }
+
 
 }  // namespace
 

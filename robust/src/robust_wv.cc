@@ -12,6 +12,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/parallel.h"
+#include "gmwm/engine/vector_clones.h"
 #include "gmwm/robust/spike_screen.h"
 #include "small_sample.h"
 
@@ -40,11 +41,12 @@ struct Eval {
 // The passes' sums run in kLanes independent partial sums (combined at the end): one
 // running sum is a chain of dependent additions that neither vectorises nor pipelines
 // (x86's 4-cycle add latency per coefficient). The solver was 17% of `wv --robust`, now
-// 15%: at 1e6 coefficients a pass is bound by reading them from memory (issue 44).
+// 15%: at 1e6 coefficients a pass is bound by reading them from memory (issue 44). The
+// kernels have AVX2 clones (vector_clones.h: the same sums bit for bit).
 constexpr std::size_t kLanes = 4;
 
 // Huber's sums: sum min(W^2, cut) and sum of the W^2 below the cut.
-std::pair<double, double> huber_sums(std::span<const double> w, double cut) {
+GMWM_VECTOR_CLONES std::pair<double, double> huber_sums(std::span<const double> w, double cut) {
   double a[kLanes] = {}, b[kLanes] = {};
   const double* x = w.data();
   const std::size_t whole = w.size() - w.size() % kLanes;
@@ -67,7 +69,7 @@ std::pair<double, double> huber_sums(std::span<const double> w, double cut) {
 
 // Bisquare's sums in units of c^2: sum v u^4 and sum v u^3 (u - 4 v), v = W^2 k = r^2/c^2,
 // u = max(0, 1 - v): 0 beyond c, where both terms vanish (branch-free).
-std::pair<double, double> bisquare_sums(std::span<const double> w, double k) {
+GMWM_VECTOR_CLONES std::pair<double, double> bisquare_sums(std::span<const double> w, double k) {
   double a[kLanes] = {}, b[kLanes] = {};
   const double* x = w.data();
   const std::size_t whole = w.size() - w.size() % kLanes;
@@ -115,7 +117,7 @@ struct ValueStats {
   double min_w2 = std::numeric_limits<double>::infinity();
 };
 
-ValueStats value_stats(std::span<const double> w) {
+GMWM_VECTOR_CLONES ValueStats value_stats(std::span<const double> w) {
   ValueStats v;
   for (double x : w) {
     v.zeros += (x == 0.0);
