@@ -164,7 +164,7 @@ Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt
   const int L = std::max(0, last - first + 1);
   Eigen::VectorXd out(L + 2 + (temperature ? 1 : 0));
   {
-    StepScanResult r = scan_step(x, scan);
+    StepScanResult r = scan_step(modwt, scan);
     out(L) = r.statistic;
     if (details) *details = std::move(r);
   }

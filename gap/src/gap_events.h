@@ -111,6 +111,9 @@ struct StepScanResult {
   int level = 0;              ///< the level contributing most to z there (1-based)
   std::vector<double> share;  ///< per event level: its contribution to z there / the largest one
 };
+/// The scan of the series whose transform is `modwt` (it reads the transform's prefix sums).
+StepScanResult scan_step(const HaarModwt& modwt, const StepScan& scan);
+/// The same of a series without its transform (one is built).
 StepScanResult scan_step(const std::vector<double>& x, const StepScan& scan);
 
 /// An event band from the step scan: the run of event levels around the one contributing

@@ -129,28 +129,29 @@ StepScan make_step_scan(const Model& m, const Eigen::VectorXd& theta, std::int64
 }
 
 StepScanResult scan_step(const std::vector<double>& x, const StepScan& scan) {
+  if (x.size() < 2) return {};
+  return scan_step(HaarModwt(x.data(), static_cast<std::int64_t>(x.size())), scan);
+}
+
+StepScanResult scan_step(const HaarModwt& modwt, const StepScan& scan) {
   StepScanResult r;
-  const auto n = static_cast<std::int64_t>(x.size());
+  const std::int64_t n = modwt.size();
   if (!scan.usable()) return r;
   const int L = scan.last - scan.first + 1;
   std::vector<std::int64_t> half(static_cast<std::size_t>(L));
   for (int j = 0; j < L; ++j) half[static_cast<std::size_t>(j)] = std::int64_t{1} << (scan.first + j - 1);
   const std::int64_t m0 = half.front(), mL = half.back();
   if (n < 4 * mL) return r;
-  // Prefix sums of the centred series: W_j(t0) = (S[t0 + m] - 2 S[t0] + S[t0 - m]) / (2 m).
-  double mean = 0.0;
-  for (double v : x) mean += v;
-  mean /= static_cast<double>(n);
-  // The prefix sums and z in buffers kept per thread: every replicate scans a series of the
-  // record's length, and two fresh vectors of n doubles each (zeroed, then page-faulted in)
-  // cost more than the scan itself (perf: memset and page faults 55% of a gap run).
-  // Every entry read is written first, so what a buffer held before does not matter.
-  thread_local std::vector<double> S, z;
-  if (S.size() < static_cast<std::size_t>(n + 1)) S.resize(static_cast<std::size_t>(n + 1));
+  // The transform's prefix sums of the centred series: W_j(t0) = (S[t0 + m] - 2 S[t0] +
+  // S[t0 - m]) / (2 m). (The scan built its own, with a pass for the mean and one for the
+  // sums, on every reference replicate whose transform was already there; issue 44.)
+  const double* S = modwt.prefix_sums().data();
+  // z in a buffer kept per thread: every replicate scans a series of the record's length,
+  // and a fresh vector of n doubles (zeroed, then page-faulted in) cost more than the scan
+  // itself (perf: memset and page faults 55% of a gap run). Every entry read is written
+  // first, so what the buffer held before does not matter.
+  thread_local std::vector<double> z;
   if (z.size() < static_cast<std::size_t>(n + 1)) z.resize(static_cast<std::size_t>(n + 1));
-  S[0] = 0.0;
-  for (std::int64_t i = 0; i < n; ++i)
-    S[static_cast<std::size_t>(i + 1)] = S[static_cast<std::size_t>(i)] + (x[static_cast<std::size_t>(i)] - mean);
   // Each level's mean coefficient over its M_j = n - 2m + 1 positions t0 = m .. n - m:
   // sum_t0 2m W_j(t0) = 2 H(m) - H(2m) + 2 T(m) - T(2m), H(a) the sum of S[0, a), T(c) of
   // S(n - c, n] (the interior sums cancel).
@@ -188,7 +189,7 @@ StepScanResult scan_step(const std::vector<double>& x, const StepScan& scan) {
       centre += w[static_cast<std::size_t>(j)] * level_mean[static_cast<std::size_t>(j)];
     }
     for (std::int64_t b = lo; b < hi; b += kBlock)
-      scan_block(z.data(), S.data(), a.data(), half.data(), k, centre, self, b, std::min(hi, b + kBlock));
+      scan_block(z.data(), S, a.data(), half.data(), k, centre, self, b, std::min(hi, b + kBlock));
   };
   for (int k = 1; k < L; ++k) {
     run(half[static_cast<std::size_t>(k - 1)], half[static_cast<std::size_t>(k)], k);

@@ -54,6 +54,10 @@ class HaarModwt {
   /// of squares_of_level and sum_of_squares on those levels return the kept values (the
   /// same numbers, one pass instead of two when a caller wants the peaks and the WV).
   void keep_squares(int first, int last);
+  /// The prefix sums S_0 .. S_n of the mean-centred series (S_0 = 0), which every level's
+  /// coefficients combine: for other filters over the same series (the gap's step scan).
+  /// Valid while the transform lives; in a temporary file for a series held in one.
+  std::span<const double> prefix_sums() const { return {p_, static_cast<std::size_t>(n_) + 1}; }
   /// Bound on the round-off of a coefficient of this level: a coefficient of a
   /// quantized series that is exactly 0 comes out below it (the mean-centred prefix
   /// sums are not on the data's lattice). Robust estimators count such values as zeros.
