@@ -17,9 +17,10 @@
 // the Schur complement of the AR1's covariance on the block's ends (each factor 1 - phi^m
 // formed as -expm1(-m L): no cancellation for octaves far beyond the record). One normal
 // per interior sample (through the Cholesky factor of sum_k C_k) and K per block: 1 + K/D
-// normals and about 2K + D/2 multiply-adds per sample in place of K normals (the mean map
-// factored to its numerical rank r, r (2K + D - 1) / D: 18 of 82 by default; blocks in
-// batches of kFlickerBatch, as matrix-matrix products). The samples after
+// normals in place of K, and D/2 multiply-adds per sample for the Cholesky product plus
+// r (2K + D - 1) / D for the mean, its map factored to its numerical rank r (18 of 82 by
+// default; unfactored, 2K (D - 1) / D), the blocks in batches of kFlickerBatch as
+// matrix-matrix products. The samples after
 // the last whole block take the recursion from the states there. The scale is applied last
 // (sqrt(s) times the unit draw), so a variance scaled by 4^k scales the series by exactly
 // 2^k, as every process's draw does.
