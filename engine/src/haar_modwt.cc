@@ -60,6 +60,18 @@ GMWM_VECTOR_CLONES void haar_coefficients(const double* a, const double* b, cons
   for (std::int64_t k = 0; k < M; ++k) out[k] = (a[k] - 2.0 * b[k] + c[k]) * inv;
 }
 
+// Coefficients k in [from, to) whose square exceeds cut, each formed as haar_coefficients
+// forms it.
+GMWM_VECTOR_CLONES std::int64_t count_squares_above(const double* a, const double* b, const double* c, double inv,
+                                                    double cut, std::int64_t from, std::int64_t to) {
+  std::int64_t count = 0;
+  for (std::int64_t k = from; k < to; ++k) {
+    const double w = (a[k] - 2.0 * b[k] + c[k]) * inv;
+    count += w * w > cut ? 1 : 0;
+  }
+  return count;
+}
+
 }  // namespace
 
 HaarModwt::HaarModwt(const double* x, std::int64_t n) : n_(n) {
@@ -135,6 +147,27 @@ void HaarModwt::coefficients(int level, std::vector<double>& out) const {
   const double* b = p_ + m;    // S_{t+1-m}
   const double* c = p_;        // S_{t+1-tau}
   haar_coefficients(a, b, c, inv, M, out.data());
+}
+
+std::int64_t HaarModwt::count_above(int level, double cut) const {
+  if (level < 1 || level > max_levels()) return 0;
+  const std::int64_t tau = std::int64_t{1} << level, m = tau / 2;
+  const std::int64_t M = count(level);
+  const double inv = 1.0 / static_cast<double>(tau);
+  const double* a = p_ + tau;
+  const double* b = p_ + m;
+  const double* c = p_;
+  if (!file_) return count_squares_above(a, b, c, inv, cut, 0, M);
+  // A file's pages are released behind each block, as in squares().
+  std::int64_t total = 0;
+  for (std::int64_t from = 0; from < M; from += kPassBlock) {
+    const std::int64_t to = std::min(M, from + kPassBlock);
+    total += count_squares_above(a, b, c, inv, cut, from, to);
+    detail::release_file_pages(p_, c + to);
+    detail::release_file_pages(b + from, b + to);
+    detail::release_file_pages(a + from, a + to);
+  }
+  return total;
 }
 
 double HaarModwt::sum_of_squares(int level) const {

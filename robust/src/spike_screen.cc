@@ -6,9 +6,14 @@
 
 namespace gmwm::robust {
 
+void level_one_jumps(const double* x, std::int64_t n, std::vector<double>& out) {
+  out.resize(static_cast<std::size_t>(std::max<std::int64_t>(n - 1, 0)));
+  for (std::int64_t t = 1; t < n; ++t) out[static_cast<std::size_t>(t - 1)] = 0.5 * (x[t] - x[t - 1]);
+}
+
 std::vector<double> level_one_jumps(const double* x, std::int64_t n) {
-  std::vector<double> w(static_cast<std::size_t>(std::max<std::int64_t>(n - 1, 0)));
-  for (std::int64_t t = 1; t < n; ++t) w[static_cast<std::size_t>(t - 1)] = 0.5 * (x[t] - x[t - 1]);
+  std::vector<double> w;
+  level_one_jumps(x, n, w);
   return w;
 }
 

@@ -146,6 +146,30 @@ TEST(HaarModwt, KeptSquaresFromSharedPassesEqualEachLevelsOwnPassBitForBit) {
   }
 }
 
+TEST(HaarModwt, CountAboveCountsTheMaterialisedCoefficientsBeyondTheCutExactly) {
+  // Cuts at quantiles of each level's squares (ties and the boundary itself included:
+  // "above" is strict), no cut, every cut; levels outside the transform count nothing.
+  const int n = 70001;
+  const auto x = lcg_series(n);
+  const HaarModwt modwt(x.data(), n);
+  std::vector<double> w;
+  for (int j = 1; j <= modwt.max_levels(); ++j) {
+    modwt.coefficients(j, w);
+    std::vector<double> sq(w.size());
+    for (std::size_t k = 0; k < w.size(); ++k) sq[k] = w[k] * w[k];
+    std::vector<double> sorted = sq;
+    std::sort(sorted.begin(), sorted.end());
+    for (double q : {0.0, 0.5, 0.9, 0.999, 1.0}) {
+      const double cut = sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+      const auto expected = std::count_if(sq.begin(), sq.end(), [&](double v) { return v > cut; });
+      EXPECT_EQ(modwt.count_above(j, cut), expected) << "level " << j << ", quantile " << q;
+    }
+    EXPECT_EQ(modwt.count_above(j, -1.0), modwt.count(j)) << "level " << j;
+  }
+  EXPECT_EQ(modwt.count_above(0, -1.0), 0);
+  EXPECT_EQ(modwt.count_above(modwt.max_levels() + 1, -1.0), 0);
+}
+
 TEST(HaarModwt, SharedPassesGiveEverySumBitForBitAsOnePassEach) {
   // Three blocks of the shared pass (2^17 values each) and a tail that is not a multiple of
   // four; half-widths from 1 to past half the series (no term: 0) and an invalid 0.

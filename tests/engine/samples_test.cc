@@ -79,6 +79,10 @@ TEST(Samples, TheTransformOfASeriesInAFileGivesTheSameWvToTheLastBit) {
   mem.coefficients(5, a);
   file.coefficients(5, b);
   EXPECT_EQ(a, b);
+  double mean_square = 0.0;
+  for (double v : a) mean_square += v * v / static_cast<double>(a.size());
+  EXPECT_EQ(mem.count_above(5, 1.5 * mean_square), file.count_above(5, 1.5 * mean_square));
+  EXPECT_GT(file.count_above(5, 1.5 * mean_square), 0);
   EXPECT_EQ(gmwm::classical_wv(x.data(), n).wv, gmwm::classical_wv(s.data(), n).wv);
 }
 

@@ -163,5 +163,47 @@ TEST(SolveScale, RejectsEmptyInputAndNonPositiveStarts) {
   }
 }
 
+// The equation is summed once per window of log s (power sums of the coefficients away
+// from the cut, the ones near it kept): from a start within that window (the subsample's
+// root, within ~1%) the root costs one pass over the level, and it is the root of the
+// directly summed equation (estimating_equation, the oracle).
+TEST(SolveScale, FromAStartWithinOnePercentOnePassFindsTheRootOfTheDirectSum) {
+  const auto w = gaussian_sample(200000, 1.5, 5106);
+  for (RobustKind kind : {RobustKind::kHuber, RobustKind::kBisquare}) {
+    const Tuning t = tune(kind, 0.6);
+    const ScaleSolution far = solve_scale(w, t, 1e3 * mean_of_squares(w));
+    ASSERT_TRUE(far.has_root) << to_string(kind);
+    for (double f : {0.99, 1.0, 1.01}) {
+      const ScaleSolution s = solve_scale(w, t, f * far.scale);
+      ASSERT_TRUE(s.has_root) << to_string(kind) << " " << f;
+      EXPECT_EQ(s.passes, 1) << to_string(kind) << " " << f;
+      // Both stop at a relative step of 1e-10 in s.
+      EXPECT_NEAR(s.scale / far.scale, 1.0, 1e-9) << to_string(kind) << " " << f;
+      EXPECT_NEAR(estimating_equation(w, t, s.scale), 0.0, 1e-9) << to_string(kind) << " " << f;
+    }
+  }
+}
+
+// A fifth of the coefficients placed within 5% of the cut c^2 s of the clean root: the
+// ones near the cut enter one by one, and the root still solves the direct sum.
+TEST(SolveScale, CoefficientsCrowdedAtTheCutStillGiveTheRootOfTheDirectSum) {
+  for (RobustKind kind : {RobustKind::kHuber, RobustKind::kBisquare}) {
+    const Tuning t = tune(kind, 0.6);
+    auto w = gaussian_sample(50000, 1.0, 5107);
+    const ScaleSolution clean = solve_scale(w, t, mean_of_squares(w));
+    ASSERT_TRUE(clean.has_root);
+    const double edge = t.c * std::sqrt(clean.scale);
+    for (std::size_t k = 0; k < w.size(); k += 5) {
+      const double spread = 0.95 + 0.1 * static_cast<double>(k % 1000) / 1000.0;
+      w[k] = (k % 2 ? -1.0 : 1.0) * edge * spread;
+    }
+    const ScaleSolution s = solve_scale(w, t, clean.scale);
+    ASSERT_TRUE(s.has_root) << to_string(kind);
+    EXPECT_NEAR(estimating_equation(w, t, s.scale), 0.0, 1e-9) << to_string(kind);
+    EXPECT_GT(estimating_equation(w, t, s.scale * (1 - 1e-3)), 0.0) << to_string(kind);
+    EXPECT_LT(estimating_equation(w, t, s.scale * (1 + 1e-3)), 0.0) << to_string(kind);
+  }
+}
+
 }  // namespace
 }  // namespace gmwm::robust

@@ -46,6 +46,7 @@ def commands(path, read):
         ("wv", ["wv", path] + read),
         ("wv --adev", ["wv", path, "--adev"] + read),
         ("wv --robust", ["wv", path, "--robust"] + read),
+        ("wv --robust bisquare", ["wv", path, "--robust", "--estimator", "bisquare"] + read),
         ("fit", ["fit", path, "--model", "AR1+WN+RW"] + read),
         ("select", ["select", path, "--model", "2*AR1+WN+RW"] + read),
         ("gap --datasheet", ["gap", path, "--datasheet", DATASHEET, "--replicates", "40"] + read),

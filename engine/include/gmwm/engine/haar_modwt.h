@@ -35,6 +35,9 @@ class HaarModwt {
   void coefficients(int level, std::vector<double>& out) const;
   /// sum_t W_{j,t}^2 without materialising the coefficients.
   double sum_of_squares(int level) const;
+  /// How many coefficients of a level have W_{j,t}^2 > cut, without materialising them
+  /// (the same values as `coefficients`, bit for bit); 0 outside 1..max_levels().
+  std::int64_t count_above(int level, double cut) const;
   /// The same for a Haar filter of any half-width m (width 2m, not only 2^(j-1)): the
   /// sum over t of ((S_{t+2m} - 2 S_{t+m} + S_t) / 2m)^2, N - 2m + 1 terms; 0 when there
   /// are none. The overlapping Allan variance at averaging factor m is twice its mean.

@@ -53,6 +53,9 @@ struct SpikeScreen {
 /// The level-1 jumps W_t = (x_t - x_{t-1}) / 2, t = 1..n-1 (exactly 0 on repeated
 /// values of quantized data).
 std::vector<double> level_one_jumps(const double* x, std::int64_t n);
+/// The same into `out` (resized to n - 1): a buffer the caller reuses, whose pages are
+/// already there (a fresh 8 MB vector is mostly page faults and zeroing).
+void level_one_jumps(const double* x, std::int64_t n, std::vector<double>& out);
 
 /// Finds the spike ranges of x (n >= 2), given the robust variance of its level-1 jumps
 /// (NaN or <= 0: not applied, with a note saying so).
