@@ -18,23 +18,34 @@ std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, s
   const std::string why = model.validate(theta);
   if (!why.empty()) throw InvalidArgument("simulate: " + why);
   std::vector<double> x(static_cast<std::size_t>(n), 0.0);
-  for (int c = 0; c < model.num_components(); ++c) {
+  auto add = [&](int c) {
     const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
     Rng rng = make_stream(seed, {signal, static_cast<std::uint64_t>(c)});
     p.simulate({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, rng, x);
-    // A value a double cannot hold is never returned: a drift's omega t passes 1.8e308
-    // (DR(omega=1e305) after 1800 samples), or a sum of components does. The processes
-    // keep their own intermediates in range for any valid theta (stochastic values stay
-    // below ~1e163), so the component that crossed is named.
-    const auto bad = std::find_if(x.begin(), x.end(), [](double v) { return !std::isfinite(v); });
-    if (bad != x.end()) {
-      char at[96];
-      std::snprintf(at, sizeof at, "%lld of %lld", static_cast<long long>(bad - x.begin()), static_cast<long long>(n));
-      throw InputError("component " + std::to_string(c + 1) + " (" + p.name() +
-                       ") takes the simulated series beyond the largest double (1.8e308) at sample " + at);
-    }
+  };
+  for (int c = 0; c < model.num_components(); ++c) add(c);
+  // A value a double cannot hold is never returned: a drift's omega t passes 1.8e308
+  // (DR(omega=1e305) after 1800 samples), or a sum of components does. The processes
+  // keep their own intermediates in range for any valid theta (stochastic values stay
+  // below ~1e163), so the component that crossed is named. Each component adds its path
+  // (Process::simulate), and a sum that is not finite stays so, so one check of the total
+  // finds any crossing; only then are the components added again one at a time, from the
+  // same streams, to name the first that crossed (a check after each component was a pass
+  // over the series per component: 3-8% of a bootstrap draw, issue 44).
+  auto not_finite = [&] { return std::find_if(x.begin(), x.end(), [](double v) { return !std::isfinite(v); }); };
+  if (not_finite() == x.end()) return x;
+  std::fill(x.begin(), x.end(), 0.0);
+  for (int c = 0; c < model.num_components(); ++c) {
+    add(c);
+    const auto bad = not_finite();
+    if (bad == x.end()) continue;
+    const auto& p = *model.components()[static_cast<std::size_t>(c)].process;
+    char at[96];
+    std::snprintf(at, sizeof at, "%lld of %lld", static_cast<long long>(bad - x.begin()), static_cast<long long>(n));
+    throw InputError("component " + std::to_string(c + 1) + " (" + p.name() +
+                     ") takes the simulated series beyond the largest double (1.8e308) at sample " + at);
   }
-  return x;
+  throw InputError("simulate: the simulated series is not finite");  // the streams are fixed: not reached
 }
 
 std::vector<std::vector<double>> simulate_many(const Model& model, const Eigen::VectorXd& theta, std::int64_t n,
