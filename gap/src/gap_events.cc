@@ -170,7 +170,10 @@ Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt
   }
   out(L + 1) = trend_slope(x);
   std::vector<double> w, wt;
-  modwt.keep_squares(first, last);
+  // Every level, not only the event levels: the WV that follows on every reference
+  // replicate then reads its sums from this one blocked pass (the same sums, bit for bit)
+  // instead of a pass over the prefix sums per remaining level (5% of a gap run; issue 44).
+  modwt.keep_squares(1, modwt.max_levels());
   for (int j = first; j <= last; ++j) {
     const HaarModwt::Squares s = modwt.squares_of_level(j);
     const double mean = s.sum / static_cast<double>(modwt.count(j));

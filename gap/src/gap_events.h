@@ -123,9 +123,10 @@ inline constexpr double kStepBandShare = 0.5;
 
 /// Per-series statistics shared by the data and every reference replicate: the event
 /// levels' concentrations c_j, the step scan's statistic, the trend slope, then (with a
-/// temperature channel) the coupling k. `modwt` is x's Haar transform; it keeps the event
-/// levels' squares (HaarModwt::keep_squares), so a WV computed from it afterwards reuses
-/// them. `details`, when given, gets the whole scan.
+/// temperature channel) the coupling k. `modwt` is x's Haar transform; it keeps every
+/// level's squares (HaarModwt::keep_squares, one shared pass), so a WV computed from it
+/// afterwards reads them instead of a pass per level. `details`, when given, gets the
+/// whole scan.
 Eigen::VectorXd series_statistics(const std::vector<double>& x, HaarModwt& modwt,
                                   const std::vector<double>* temperature, const Eigen::VectorXd& nu_base,
                                   const StepScan& scan, StepScanResult* details = nullptr);
