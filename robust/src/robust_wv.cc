@@ -70,7 +70,6 @@ constexpr std::size_t kSummaryBlock = 256;
 struct PowerSums {
   double p[5][kLanes] = {};  // sum v0^(m+1) over the coefficients below the cut at every l of the window
   double above[kLanes] = {};  // how many lie above it at every l (Huber's clipped ones)
-  double near[kLanes] = {};   // how many lie near the cut (collected one by one)
 };
 
 // Adds a block's power sums; returns whether it holds a coefficient near the cut. The
@@ -121,7 +120,6 @@ GMWM_VECTOR_CLONES bool add_power_sums(const double* x, std::size_t n, double k0
     sums.p[3][l] = p3[l];
     sums.p[4][l] = p4[l];
     sums.above[l] = above[l];
-    sums.near[l] += near[l];
   }
   return (near[0] + near[1]) + (near[2] + near[3]) > 0.0;
 }
