@@ -10,7 +10,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <boost/math/distributions/normal.hpp>
-#include <boost/random/normal_distribution.hpp>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
@@ -271,10 +270,9 @@ class ReductionTest {
       l = v_.diagonal().cwiseMax(0.0).cwiseSqrt().asDiagonal();
     }
     Rng rng = make_stream(kCalibrationSeed, {static_cast<std::uint64_t>(J)});
-    boost::random::normal_distribution<double> z(0.0, 1.0);
-    Eigen::MatrixXd e(J, kCalibrationDraws);
-    for (Eigen::Index b = 0; b < e.cols(); ++b)
-      for (Eigen::Index j = 0; j < J; ++j) e(j, b) = z(rng);
+    Eigen::MatrixXd e(J, kCalibrationDraws);  // column by column, as normal_distribution(0, 1) draws them
+    rng.unit_normals(e.data(), static_cast<std::size_t>(e.size()));
+    for (Eigen::Index i = 0; i < e.size(); ++i) e.data()[i] = scaled_normal(e.data()[i], 1.0);
     u_ = sqrt_w_.asDiagonal() * (l * e);
     return u_;
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -300,9 +301,18 @@ HaarModwt::Squares HaarModwt::squares_of_level(int level) const {
 
 std::vector<double> HaarModwt::sums_of_squares_half_width(std::span<const std::int64_t> m) const {
   std::vector<double> out(m.size(), 0.0);
+  // A half-width whose level's squares are kept (keep_squares) is read, not passed over.
+  std::vector<char> read(m.size(), 0);
+  for (std::size_t i = 0; i < m.size(); ++i)
+    if (m[i] >= 1 && std::has_single_bit(static_cast<std::uint64_t>(m[i])))
+      if (const Squares* k = kept(std::countr_zero(static_cast<std::uint64_t>(m[i])) + 1)) {
+        out[i] = k->sum;
+        read[i] = 1;
+      }
   // A file's pages are released pass by pass (squares): one pass per half-width there.
   if (file_) {
-    for (std::size_t i = 0; i < m.size(); ++i) out[i] = sum_of_squares_half_width(m[i]);
+    for (std::size_t i = 0; i < m.size(); ++i)
+      if (!read[i]) out[i] = sum_of_squares_half_width(m[i]);
     return out;
   }
   std::vector<std::array<double, 4>> lanes(m.size(), {0.0, 0.0, 0.0, 0.0});
@@ -310,7 +320,7 @@ std::vector<double> HaarModwt::sums_of_squares_half_width(std::span<const std::i
   std::int64_t longest = 0;
   for (std::size_t i = 0; i < m.size(); ++i) {
     const std::int64_t M = n_ - 2 * m[i] + 1;
-    if (m[i] < 1 || M < 1) continue;
+    if (read[i] || m[i] < 1 || M < 1) continue;
     whole[i] = M - M % 4;
     longest = std::max(longest, whole[i]);
   }
@@ -323,7 +333,7 @@ std::vector<double> HaarModwt::sums_of_squares_half_width(std::span<const std::i
   }
   for (std::size_t i = 0; i < m.size(); ++i) {
     const std::int64_t tau = 2 * m[i], M = n_ - tau + 1;
-    if (m[i] < 1 || M < 1) continue;  // no term: 0, as squares()
+    if (read[i] || m[i] < 1 || M < 1) continue;  // kept, or no term: 0, as squares()
     const double* a = p_ + tau;
     const double* b = p_ + m[i];
     double s0 = lanes[i][0];

@@ -5,7 +5,6 @@
 // stationary distribution x_0 ~ N(0, sigma2 / (1 - phi^2)) (docs/statistics.md section 7).
 #include <cmath>
 
-#include <boost/random/normal_distribution.hpp>
 
 #include "ar1_math.h"
 #include "gmwm/engine/process_registry.h"
@@ -64,14 +63,8 @@ class Ar1Process final : public Process {
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     if (out.empty()) return;
     const double phi = theta[0];
-    boost::random::normal_distribution<double> z(0.0, 1.0);
     const double sd = std::sqrt(theta[1]);
-    double x = sd / std::sqrt((1.0 - phi) * (1.0 + phi)) * z(rng);
-    out[0] += x;
-    for (std::size_t t = 1; t < out.size(); ++t) {
-      x = phi * x + sd * z(rng);
-      out[t] += x;
-    }
+    internal::simulate_ar1_path(phi, sd, sd / std::sqrt((1.0 - phi) * (1.0 + phi)), rng, out);
   }
   // The autocovariance decays as |phi|^h = exp(-h / (f T)): T = -1 / (f ln|phi|) seconds
   // (the envelope's when phi < 0; 0 at phi = 0, inf at |phi| = 1); the stationary sd is

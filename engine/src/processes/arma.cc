@@ -14,7 +14,6 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
-#include <boost/random/normal_distribution.hpp>
 
 #include "ar1_math.h"
 #include "arma_math.h"
@@ -143,29 +142,32 @@ class ArmaProcess final : public Process {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
     const Eigen::MatrixXd root =
         std::sqrt(s) * eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
-    boost::random::normal_distribution<double> z(0.0, 1.0);
     Eigen::VectorXd draw(d);
-    for (int i = 0; i < d; ++i) draw(i) = z(rng);
+    rng.unit_normals(draw.data(), static_cast<std::size_t>(d));
+    for (int i = 0; i < d; ++i) draw(i) = scaled_normal(draw(i), 1.0);
     const Eigen::VectorXd state = root * draw;
     // x_hist[i] = x_{t-1-i}, e_hist[j] = e_{t-1-j}.
     std::vector<double> x_hist(state.data(), state.data() + p_);
     std::vector<double> e_hist(state.data() + p_, state.data() + d);
     const double sd = std::sqrt(s);
-    for (double& v : out) {
-      const double e = sd * z(rng);
-      double x = e;
-      for (int i = 0; i < p_; ++i) x += ph[static_cast<std::size_t>(i)] * x_hist[static_cast<std::size_t>(i)];
-      for (int j = 0; j < q_; ++j) x += th[static_cast<std::size_t>(j)] * e_hist[static_cast<std::size_t>(j)];
-      v += x;
-      if (p_ > 0) {
-        std::rotate(x_hist.rbegin(), x_hist.rbegin() + 1, x_hist.rend());
-        x_hist[0] = x;
+    double* o = out.data();
+    for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t0, std::size_t m) {
+      for (std::size_t k = 0; k < m; ++k) {
+        const double e = sd * scaled_normal(z[k], 1.0);
+        double x = e;
+        for (int i = 0; i < p_; ++i) x += ph[static_cast<std::size_t>(i)] * x_hist[static_cast<std::size_t>(i)];
+        for (int j = 0; j < q_; ++j) x += th[static_cast<std::size_t>(j)] * e_hist[static_cast<std::size_t>(j)];
+        o[t0 + k] += x;
+        if (p_ > 0) {
+          std::rotate(x_hist.rbegin(), x_hist.rbegin() + 1, x_hist.rend());
+          x_hist[0] = x;
+        }
+        if (q_ > 0) {
+          std::rotate(e_hist.rbegin(), e_hist.rbegin() + 1, e_hist.rend());
+          e_hist[0] = e;
+        }
       }
-      if (q_ > 0) {
-        std::rotate(e_hist.rbegin(), e_hist.rbegin() + 1, e_hist.rend());
-        e_hist[0] = e;
-      }
-    }
+    });
   }
 
   std::vector<double> initial_guess(const GuessContext& ctx) const override {

@@ -10,7 +10,6 @@
 // (1 - phi^2). That is the limit of an infinitely long burn-in, so none is needed.
 #include <cmath>
 
-#include <boost/random/normal_distribution.hpp>
 
 #include "ar1_math.h"
 #include "gmwm/engine/process_registry.h"
@@ -74,16 +73,22 @@ class Arma11Process final : public Process {
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     const double phi = theta[0], th = theta[1];
     const double sd = std::sqrt(theta[2]);
-    boost::random::normal_distribution<double> z(0.0, 1.0);
-    double e_prev = sd * z(rng);
-    double x_prev = e_prev + sd * std::fabs(phi + th) / std::sqrt((1.0 - phi) * (1.0 + phi)) * z(rng);
-    for (double& v : out) {
-      const double e = sd * z(rng);
-      const double x = phi * x_prev + e + th * e_prev;
-      v += x;
-      x_prev = x;
-      e_prev = e;
-    }
+    double start[2];
+    rng.unit_normals(start, 2);
+    double e_prev = sd * scaled_normal(start[0], 1.0);
+    double x_prev = e_prev + sd * std::fabs(phi + th) / std::sqrt((1.0 - phi) * (1.0 + phi)) * scaled_normal(start[1], 1.0);
+    double* o = out.data();
+    for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t, std::size_t m) {
+      double xp = x_prev, ep = e_prev;  // locals: captured ones might alias o[]
+      for (std::size_t k = 0; k < m; ++k) {
+        const double e = sd * scaled_normal(z[k], 1.0);
+        const double x = phi * xp + e + th * ep;
+        o[t + k] += x;
+        xp = x;
+        ep = e;
+      }
+      x_prev = xp, e_prev = ep;
+    });
   }
   // ARMA11(phi, 0) is AR1(phi); ARMA11(0, theta) is MA1(theta), hence WN and QN too.
   std::optional<std::vector<double>> represent(const Process& other,

@@ -198,17 +198,11 @@ GMWM_REGISTER_PROCESS(Flicker, "FLICKER",
 namespace internal {
 
 void simulate_flicker_octaves(long kmin, long kmax, double s, Rng& rng, std::span<double> out) {
-  boost::random::normal_distribution<double> z(0.0, 1.0);
   for (long k = kmin; k <= kmax; ++k) {
     const double L = std::ldexp(1.0, static_cast<int>(-k));
     const double phi = std::exp(-L);
-    const double sd = std::sqrt(-s * std::expm1(-2.0 * L));  // innovation sd
-    double x = std::sqrt(s) * z(rng);                        // stationary start
-    out[0] += x;
-    for (std::size_t t = 1; t < out.size(); ++t) {
-      x = phi * x + sd * z(rng);
-      out[t] += x;
-    }
+    const double sd = std::sqrt(-s * std::expm1(-2.0 * L));         // innovation sd
+    simulate_ar1_path(phi, sd, std::sqrt(s), rng, out);              // stationary start
   }
 }
 
@@ -252,7 +246,6 @@ FlickerBridge make_flicker_bridge(long kmin, long kmax, int block) {
 }
 
 void simulate_flicker_bridge(const FlickerBridge& b, double s, Rng& rng, std::span<double> out) {
-  boost::random::normal_distribution<double> z(0.0, 1.0);
   const Eigen::Index K = b.decay.size();
   const int D = b.block;
   const double scale = std::sqrt(s);
@@ -266,8 +259,13 @@ void simulate_flicker_bridge(const FlickerBridge& b, double s, Rng& rng, std::sp
   const Eigen::Index rows = 2 * K + (D - 1);
   thread_local Eigen::MatrixXd draws, interior, coords;
   draws.resize(rows, kFlickerBatch);
+  // Every normal_distribution<double>(0, 1) draw below is scaled_normal(unit, 1.0) of
+  // Rng::unit_normals' draws, taken in the same order.
   Eigen::VectorXd start(K);
-  for (Eigen::Index k = 0; k < K; ++k) start(k) = z(rng);  // stationary start
+  rng.unit_normals(start.data(), static_cast<std::size_t>(K));
+  for (Eigen::Index k = 0; k < K; ++k) start(k) = scaled_normal(start(k), 1.0);  // stationary start
+  thread_local std::vector<double> unit;
+  unit.resize(static_cast<std::size_t>(K + D - 1));
   out[0] += scale * start.sum();
   const std::size_t n = out.size();
   std::size_t t = 0;
@@ -278,11 +276,12 @@ void simulate_flicker_bridge(const FlickerBridge& b, double s, Rng& rng, std::sp
     for (Eigen::Index c = 0; c < nb; ++c) {
       double* col = draws.col(c).data();
       const double* from = c == 0 ? start.data() : draws.col(c - 1).data() + K;
+      rng.unit_normals(unit.data(), unit.size());  // the block's K end draws, then its D - 1 interior ones
       for (Eigen::Index k = 0; k < K; ++k) {
         col[k] = from[k];
-        col[K + k] = b.decay(k) * from[k] + b.step_sd(k) * z(rng);
+        col[K + k] = b.decay(k) * from[k] + b.step_sd(k) * scaled_normal(unit[static_cast<std::size_t>(k)], 1.0);
       }
-      for (int i = 0; i < D - 1; ++i) col[2 * K + i] = z(rng);
+      for (int i = 0; i < D - 1; ++i) col[2 * K + i] = scaled_normal(unit[static_cast<std::size_t>(K + i)], 1.0);
     }
     coords.noalias() = b.mean_of * draws.topLeftCorner(2 * K, nb);
     interior.noalias() = b.mean_from * coords;
@@ -299,10 +298,17 @@ void simulate_flicker_bridge(const FlickerBridge& b, double s, Rng& rng, std::sp
   // The samples after the last whole block: the recursion from the states there.
   for (Eigen::Index k = 0; k < K; ++k) {
     double x = start(k);
-    for (std::size_t u = t + 1; u < n; ++u) {
-      x = b.phi(k) * x + b.sd(k) * z(rng);
-      out[u] += scale * x;
-    }
+    const double phi = b.phi(k), sd = b.sd(k);
+    if (t + 1 < n)
+      for_unit_normals(rng, n - t - 1, [&](const double* z, std::size_t u0, std::size_t m) {
+        double y = x;  // a local: a captured one might alias out[]
+        double* o = out.data() + t + 1 + u0;
+        for (std::size_t i = 0; i < m; ++i) {
+          y = phi * y + sd * scaled_normal(z[i], 1.0);
+          o[i] += scale * y;
+        }
+        x = y;
+      });
   }
 }
 

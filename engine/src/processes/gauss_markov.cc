@@ -6,7 +6,6 @@
 #include <cmath>
 #include <sstream>
 
-#include <boost/random/normal_distribution.hpp>
 
 #include "ar1_math.h"
 #include "gmwm/engine/error.h"
@@ -88,13 +87,7 @@ class GaussMarkov final : public Process {
     const double L = theta[0] / rate();
     const double phi = std::exp(-L);
     const double sd = std::sqrt(theta[1] * -std::expm1(-2.0 * L));
-    boost::random::normal_distribution<double> z(0.0, 1.0);
-    double x = std::sqrt(theta[1]) * z(rng);  // stationary start
-    out[0] += x;
-    for (std::size_t t = 1; t < out.size(); ++t) {
-      x = phi * x + sd * z(rng);
-      out[t] += x;
-    }
+    internal::simulate_ar1_path(phi, sd, std::sqrt(theta[1]), rng, out);  // stationary start
   }
   // beta and sigma2_gm are continuous already: T = 1 / beta (= -1 / (f ln phi) of the
   // equivalent AR1, phi = exp(-beta / f)), sigma = sqrt(sigma2_gm). freq is not needed.

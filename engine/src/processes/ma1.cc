@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <boost/random/normal_distribution.hpp>
 
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
@@ -60,13 +59,21 @@ class Ma1Process final : public Process {
     if (out.size() > 1) out[1] = theta[1] * theta[0];
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
-    boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[1]));
-    double prev = z(rng);  // e_{-1}
-    for (double& v : out) {
-      const double e = z(rng);
-      v += e + theta[0] * prev;
-      prev = e;
-    }
+    const double s = std::sqrt(theta[1]);
+    double prev = 0.0;
+    rng.unit_normals(&prev, 1);
+    prev = scaled_normal(prev, s);  // e_{-1}
+    double* o = out.data();
+    for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t, std::size_t m) {
+      double p = prev;  // a local: a captured one might alias o[]
+      const double th = theta[0];
+      for (std::size_t k = 0; k < m; ++k) {
+        const double e = scaled_normal(z[k], s);
+        o[t + k] += e + th * p;
+        p = e;
+      }
+      prev = p;
+    });
   }
   // MA1(theta = 0) is WN(sigma2); MA1(theta -> -1) is QN(Q2 = sigma2): its WV is
   // sigma2 (1 + theta)^2 / tau + 6 (-theta sigma2) / tau^2, i.e. WN + QN for theta <= 0.

@@ -14,6 +14,7 @@
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/process.h"
+#include "gmwm/engine/random.h"
 #include "jet.h"
 
 namespace gmwm::internal {
@@ -84,6 +85,30 @@ void store_jet_row(const Jet<N>& r, Eigen::Index k, Eigen::Ref<Eigen::MatrixXd>*
     if (hess)
       for (int m = 0; m < N; ++m) (*hess)(k, l * N + m) = r.h(l, m);
   }
+}
+
+/// An AR1 path added into out: x_0 = start_sd z_0, x_t = phi x_{t-1} + sd z_t, z the
+/// normal_distribution<double>(0, 1) draws of rng in order (AR1, GM and each FLICKER
+/// octave: the same numbers they drew one call at a time).
+inline void simulate_ar1_path(double phi, double sd, double start_sd, Rng& rng, std::span<double> out) {
+  // The state is a local of each run (a captured one might alias o[] and go through memory
+  // on the recursion's critical path).
+  double state = 0.0;
+  double* o = out.data();
+  for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t, std::size_t m) {
+    double x = state;
+    std::size_t k = 0;
+    if (t == 0) {
+      x = start_sd * scaled_normal(z[0], 1.0);
+      o[0] += x;
+      k = 1;
+    }
+    for (; k < m; ++k) {
+      x = phi * x + sd * scaled_normal(z[k], 1.0);
+      o[t + k] += x;
+    }
+    state = x;
+  });
 }
 
 }  // namespace gmwm::internal

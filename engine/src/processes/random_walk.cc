@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/random/normal_distribution.hpp>
 
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
@@ -83,12 +82,17 @@ class RandomWalk final : public Process {
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     // x_t = e_0 + ... + e_t: the path starts with its first increment.
-    boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[0]));
-    double x = 0.0;
-    for (double& v : out) {
-      x += z(rng);
-      v += x;
-    }
+    const double s = std::sqrt(theta[0]);
+    double state = 0.0;
+    double* o = out.data();
+    for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t, std::size_t m) {
+      double x = state;  // a local: a captured one might alias o[] and go through memory
+      for (std::size_t k = 0; k < m; ++k) {
+        x += scaled_normal(z[k], s);
+        o[t + k] += x;
+      }
+      state = x;
+    });
   }
   std::optional<std::vector<double>> merged(std::span<const double> a, std::span<const double> b) const override {
     return internal::summed_size(a, b);

@@ -36,8 +36,12 @@ class WhiteNoise final : public Process {
     if (!out.empty()) out[0] = theta[0];
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
-    boost::random::normal_distribution<double> z(0.0, std::sqrt(theta[0]));
-    for (double& v : out) v += z(rng);
+    // normal_distribution<double>(0, sqrt(sigma2)) per sample, a run of draws at a time.
+    const double s = std::sqrt(theta[0]);
+    double* o = out.data();
+    for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t, std::size_t m) {
+      for (std::size_t k = 0; k < m; ++k) o[t + k] += scaled_normal(z[k], s);
+    });
   }
   // IEEE 952: AVAR(T) = N^2 / T. Here AVAR(m) = 2 WV(2m) = sigma2 / m with m = T f samples,
   // so N^2 = sigma2 / f.

@@ -30,12 +30,39 @@ class Rng {
     return out_[next_++];
   }
 
+  /// n draws of Boost.Random's standard normal into out: the numbers of n calls of
+  /// boost::random::normal_distribution<double>(0, 1) on this engine, and the words they
+  /// consume, exactly (its ziggurat's first try is a function of one word: it is taken for a
+  /// run of words in one vectorised pass, and Boost itself draws the ~1.2% of normals whose
+  /// first try fails). normal_distribution<double>(0, s) is unit * s + 0.0 of these.
+  void unit_normals(double* out, std::size_t n);
+
  private:
   void refill();
   result_type state_[kStateWords];
   result_type out_[kStateWords];
   std::size_t next_ = kStateWords;
+  std::uint64_t refills_ = 0;  // blocks generated so far (unit_normals' candidates are per block)
 };
+
+/// Calls f(z, t, m) for consecutive runs z[0, m) of the standard normals of samples
+/// [t, t + m), t from 0 to n: the draws of n calls of normal_distribution<double>(0, 1) on
+/// rng, in order, a run at a time on the stack (Rng::unit_normals). A process's simulate
+/// draws its innovations this way: one call per sample was the simulations' largest cost.
+template <class F>
+void for_unit_normals(Rng& rng, std::size_t n, F&& f) {
+  constexpr std::size_t kRun = 512;  // 4 KiB of draws: in L1 while the process reads them
+  double z[kRun];
+  for (std::size_t t = 0; t < n; t += kRun) {
+    const std::size_t m = n - t < kRun ? n - t : kRun;
+    rng.unit_normals(z, m);
+    f(static_cast<const double*>(z), t, m);
+  }
+}
+
+/// normal_distribution<double>(0, s)'s value from the unit draw z, as Boost forms it
+/// (z * s + mean, the mean 0: a -0 draw gives +0).
+inline double scaled_normal(double z, double s) { return z * s + 0.0; }
 
 /// SplitMix64 finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mixer used to
 /// derive independent-looking seeds from (seed, id, id, ...).
