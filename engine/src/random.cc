@@ -123,7 +123,10 @@ using FirstTries = void (*)(const std::uint64_t*, std::size_t, std::size_t, doub
 
 FirstTries first_tries() {
 #ifdef GMWM_FIRST_TRIES_AVX2
-  static const FirstTries chosen = __builtin_cpu_supports("avx2") ? first_tries_avx2 : first_tries_portable;
+  static const FirstTries chosen = [] {
+    __builtin_cpu_init();  // a draw may come from a static initialiser, before libgcc's own
+    return __builtin_cpu_supports("avx2") ? first_tries_avx2 : first_tries_portable;
+  }();
   return chosen;
 #else
   return first_tries_portable;
