@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
+#include "processes/process_util.h"
 
 namespace gmwm {
 
@@ -23,7 +25,26 @@ std::vector<double> simulate(const Model& model, const Eigen::VectorXd& theta, s
     Rng rng = make_stream(seed, {signal, static_cast<std::uint64_t>(c)});
     p.simulate({theta.data() + model.offset(c), static_cast<std::size_t>(p.size())}, rng, x);
   };
-  for (int c = 0; c < model.num_components(); ++c) add(c);
+  // Consecutive components that are AR1 paths (AR1, GM) are added in one interleaved pass:
+  // each sample gets their values in component order, as one pass each would add them.
+  for (int c = 0; c < model.num_components();) {
+    std::vector<internal::Ar1Path> paths;
+    std::vector<Rng> streams;
+    int e = c;
+    for (; e < model.num_components(); ++e) {
+      const auto& p = *model.components()[static_cast<std::size_t>(e)].process;
+      const auto* source = dynamic_cast<const internal::Ar1PathSource*>(&p);
+      if (!source) break;
+      paths.push_back(source->ar1_path({theta.data() + model.offset(e), static_cast<std::size_t>(p.size())}));
+      streams.push_back(make_stream(seed, {signal, static_cast<std::uint64_t>(e)}));
+    }
+    if (e - c >= 2) {
+      internal::simulate_ar1_paths(paths, streams, x);
+      c = e;
+    } else {
+      add(c++);
+    }
+  }
   // A value a double cannot hold is never returned: a drift's omega t passes 1.8e308
   // (DR(omega=1e305) after 1800 samples), or a sum of components does. The processes
   // keep their own intermediates in range for any valid theta (stochastic values stay

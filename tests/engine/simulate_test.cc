@@ -3,12 +3,15 @@
 // refused naming the component, never returned (issue 42 item 12).
 #include <gtest/gtest.h>
 
+#include <boost/random/normal_distribution.hpp>
+
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
 
 namespace gmwm {
@@ -41,6 +44,42 @@ TEST(Simulate, ScalesEveryProcessesValuesExactlyUpToTheLargestVariances) {
       const auto i = static_cast<std::size_t>(k);
       ASSERT_EQ(b[i], std::ldexp(a[i], 511)) << spec << ", sample " << k;
     }
+  }
+}
+
+TEST(Simulate, AddsInterleavedAr1PathsAsEachComponentAddingItsOwnPathInOrder) {
+  // Runs of consecutive AR1 / GM components are simulated in one interleaved pass (four
+  // recursions at a time): the series must be, bit for bit, the components' own simulate
+  // from their streams added one after another in model order. Five AR1-like components in
+  // a row (a run of four and one more), a WN between, one alone, a length not a multiple
+  // of the runs of draws (512).
+  const Model m = parse_model(
+      "AR1(phi=0.9,sigma2=1)+AR1(phi=-0.5,sigma2=2)+GM(beta=3,sigma2_gm=0.5)+AR1(phi=0.999,sigma2=1e-3)+"
+      "AR1(phi=0.1,sigma2=4)+WN(sigma2=1)+AR1(phi=0.5,sigma2=1)+RW(gamma2=1e-4)",
+      ProcessContext{100.0, true});
+  const Eigen::VectorXd theta = m.given_values();
+  for (const std::int64_t n : {std::int64_t{1}, std::int64_t{513}, std::int64_t{5000}}) {
+    const std::vector<double> x = simulate(m, theta, n, 7, 3);
+    std::vector<double> y(static_cast<std::size_t>(n), 0.0);
+    for (int c = 0; c < m.num_components(); ++c) {
+      const auto& p = *m.components()[static_cast<std::size_t>(c)].process;
+      Rng rng = make_stream(7, {3, static_cast<std::uint64_t>(c)});
+      const double* th = theta.data() + m.offset(c);
+      if (p.name() != "AR1") {
+        p.simulate({th, static_cast<std::size_t>(p.size())}, rng, y);
+        continue;
+      }
+      // The AR1 by its definition, one Boost normal call per sample.
+      boost::random::normal_distribution<double> z(0.0, 1.0);
+      const double phi = th[0], sd = std::sqrt(th[1]);
+      double v = sd / std::sqrt((1.0 - phi) * (1.0 + phi)) * z(rng);
+      y[0] += v;
+      for (std::size_t t = 1; t < y.size(); ++t) {
+        v = phi * v + sd * z(rng);
+        y[t] += v;
+      }
+    }
+    for (std::size_t k = 0; k < y.size(); ++k) ASSERT_EQ(x[k], y[k]) << "n " << n << ", sample " << k;
   }
 }
 

@@ -18,7 +18,7 @@ using internal::Jet;
 /// Lowest phi an initial guess proposes (a WV peaking at the finest scale).
 constexpr double kAr1GuessPhiMin = -0.9;
 
-class Ar1Process final : public Process {
+class Ar1Process final : public Process, public internal::Ar1PathSource {
  public:
   explicit Ar1Process(const ProcessArgs&) {}
   std::string name() const override { return "AR1"; }
@@ -62,9 +62,14 @@ class Ar1Process final : public Process {
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     if (out.empty()) return;
+    const internal::Ar1Path p = ar1_path(theta);
+    internal::simulate_ar1_path(p.phi, p.sd, p.start_sd, rng, out);
+  }
+  // x_0 from the stationary sd sigma / sqrt(1 - phi^2), then phi x + sigma z.
+  internal::Ar1Path ar1_path(std::span<const double> theta) const override {
     const double phi = theta[0];
     const double sd = std::sqrt(theta[1]);
-    internal::simulate_ar1_path(phi, sd, sd / std::sqrt((1.0 - phi) * (1.0 + phi)), rng, out);
+    return {phi, sd, sd / std::sqrt((1.0 - phi) * (1.0 + phi))};
   }
   // The autocovariance decays as |phi|^h = exp(-h / (f T)): T = -1 / (f ln|phi|) seconds
   // (the envelope's when phi < 0; 0 at phi = 0, inf at |phi| = 1); the stationary sd is

@@ -25,7 +25,7 @@ constexpr double kGmWalkL = 1e-15;
 /// Lowest phi = exp(-beta/f) an initial guess proposes (beta = 3 f).
 constexpr double kGmGuessPhiMin = 0.05;
 
-class GaussMarkov final : public Process {
+class GaussMarkov final : public Process, public internal::Ar1PathSource {
  public:
   explicit GaussMarkov(const ProcessArgs& args) {
     const double f = args.context.freq;
@@ -84,10 +84,13 @@ class GaussMarkov final : public Process {
   }
   void simulate(std::span<const double> theta, Rng& rng, std::span<double> out) const override {
     if (out.empty()) return;
+    const internal::Ar1Path p = ar1_path(theta);
+    internal::simulate_ar1_path(p.phi, p.sd, p.start_sd, rng, out);
+  }
+  // phi = exp(-beta / f), innovation sd sqrt(sigma2_gm (1 - phi^2)), a stationary start.
+  internal::Ar1Path ar1_path(std::span<const double> theta) const override {
     const double L = theta[0] / rate();
-    const double phi = std::exp(-L);
-    const double sd = std::sqrt(theta[1] * -std::expm1(-2.0 * L));
-    internal::simulate_ar1_path(phi, sd, std::sqrt(theta[1]), rng, out);  // stationary start
+    return {std::exp(-L), std::sqrt(theta[1] * -std::expm1(-2.0 * L)), std::sqrt(theta[1])};
   }
   // beta and sigma2_gm are continuous already: T = 1 / beta (= -1 / (f ln phi) of the
   // equivalent AR1, phi = exp(-beta / f)), sigma = sqrt(sigma2_gm). freq is not needed.
