@@ -139,6 +139,36 @@ TEST_F(SignalReaderErrors, RejectsABlankLineBetweenDataRows) {
                                "allowed only at the end of the file)");
 }
 
+TEST_F(SignalReaderErrors, NamesTheFirstOfARunOfBlankLinesOfEveryFormBeforeAnotherRow) {
+  // Spaces, tabs, CR LF: each form a blank line; the rows after them are refused at the first.
+  const std::string p = file("time,x,y\n" + csv_rows(3) + "\n  \n\t\r\n \r\n" + csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":5: found an empty line, expected a data row (blank lines are "
+                               "allowed only at the end of the file)");
+  // A line of a space and a lone CR before text is not blank: it is the row after the blank.
+  const std::string q = file("time,x,y\n" + csv_rows(3) + "\n \rx\n");
+  EXPECT_EQ(read_error(q), q + ":5: found an empty line, expected a data row (blank lines are "
+                               "allowed only at the end of the file)");
+}
+
+TEST_F(SignalReaderErrors, CountsTheBlankLinesBeforeTheHeaderInTheLineItNames) {
+  const std::string p = file("\n \t\n\r\ntime,x,y\n" + csv_rows(3) + "0.03,abc,1\n" + csv_rows(20));
+  EXPECT_EQ(read_error(p), p + ":8:2: found 'abc' in column 'x', expected a number");
+}
+
+TEST_F(SignalReaderErrors, NamesTheFirstBlankLineOfARunLongerThanTheReadersBuffer) {
+  // 300 000 blank lines of three bytes (0.9 MB) cross the 256 KiB text chunks at every offset
+  // of a line, its CR included.
+  std::string blanks;
+  for (int i = 0; i < 300000; ++i) blanks += " \r\n";
+  const std::string p = file("time,x,y\n" + csv_rows(20) + blanks + "0.2,1,2\n");
+  EXPECT_EQ(read_error(p), p + ":22: found an empty line, expected a data row (blank lines are "
+                               "allowed only at the end of the file)");
+  const std::string q = file("time,x,y\n" + csv_rows(20) + blanks + " \t");
+  EXPECT_EQ(read_error(q), "no error");
+  const std::string h = file(blanks + "time,x,y\n" + csv_rows(3) + "0.03,abc,1\n" + csv_rows(20));
+  EXPECT_EQ(read_error(h), h + ":300005:2: found 'abc' in column 'x', expected a number");
+}
+
 TEST_F(SignalReaderErrors, RejectsFewerThanSixteenSamples) {
   static_assert(gmwm::io::kMinSamples == 16);
   const std::string p = file("time,x,y\n" + csv_rows(15));

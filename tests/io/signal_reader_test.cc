@@ -95,6 +95,11 @@ TEST_F(SignalReader, HandlesCrlfAByteOrderMarkAndTrailingBlankLines) {
   const SignalSet t = read_signals(file("time,x,y\n" + rows + "0.30,1,2"), {});
   EXPECT_EQ(t.signals[1].values.size(), 31u);
   EXPECT_EQ(t.signals[1].values.back(), 2.0);
+  // Blank last lines of every form, the very last without a line break (a lone CR, spaces).
+  for (const std::string tail : {"\n \t\n\r\n\r", "\n\n  ", "\r\n\t\r\n"}) {
+    const SignalSet u = read_signals(file("time,x,y\n" + rows + tail), {});
+    EXPECT_EQ(u.signals[1].values.size(), 30u) << tail;
+  }
 }
 
 TEST_F(SignalReader, RecognisesTheEurocLayoutAndRenamesItsColumns) {

@@ -222,7 +222,10 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
   std::int64_t header_line = 0, comment_line = 0, first_row_line = 0;
   std::string_view line;
   while (src.next_line(line)) {
-    if (is_blank_line(line)) continue;
+    if (is_blank_line(line)) {
+      src.skip_blank_lines();
+      continue;
+    }
     const std::string_view t = line.substr(line.find_first_not_of(" \t"));
     if (t.front() == '#') {
       comment.assign(t);
@@ -256,6 +259,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
     while (src.next_line(line)) {
       if (is_blank_line(line)) {
         if (!blank_line) blank_line = src.line_number();
+        src.skip_blank_lines();
         continue;
       }
       first_row.assign(line);
@@ -357,6 +361,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
   while (src.next_line(line)) {
     if (line.empty() || is_blank_line(line)) {
       if (!blank_line) blank_line = src.line_number();
+      src.skip_blank_lines();  // a run of them at the cost of its bytes (a bomb's padding)
       continue;
     }
     if (blank_line) fail_blank(blank_line);

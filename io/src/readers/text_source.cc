@@ -269,4 +269,31 @@ bool TextSource::next_line(std::string_view& line) {
   }
 }
 
+std::int64_t TextSource::skip_blank_lines() {
+  std::int64_t skipped = 0;
+  for (;;) {
+    const char* b = buf_.get() + pos_;
+    const std::size_t avail = end_ - pos_;
+    std::size_t i = 0;
+    while (i < avail && (b[i] == ' ' || b[i] == '\t')) ++i;
+    if (i < avail && b[i] == '\r' && i + 1 < avail && b[i + 1] == '\n') ++i;
+    if (i < avail && b[i] == '\n') {  // a blank line: past it
+      pos_ += i + 1;
+      ++line_;
+      ++skipped;
+      continue;
+    }
+    if (i < avail && !(b[i] == '\r' && i + 1 == avail)) return skipped;  // a line with text
+    // The buffer ends inside what may still be a blank line (or on a lone '\r').
+    if (eof_) {
+      if (avail == 0) return skipped;
+      if (i + 1 < avail || (i < avail && b[i] != '\r')) return skipped;
+      pos_ = end_;  // the last line, blank and without "\n"
+      ++line_;
+      return skipped + 1;
+    }
+    refill();
+  }
+}
+
 }  // namespace gmwm::io::detail

@@ -27,6 +27,13 @@ class TextSource {
   /// valid until the next call. Throws InputError on a truncated or corrupt gzip stream.
   bool next_line(std::string_view& line);
 
+  /// Skips the blank lines ahead (only spaces and tabs before "\n" or "\r\n", or before the
+  /// end of the file), as next_line() would return them and the caller drop them one by one,
+  /// but a byte at a time instead of a call a line: a run of millions of blank lines (a
+  /// decompression bomb's padding) costs what its bytes cost. Returns how many were skipped;
+  /// line_number() counts them. Only after the first line (whose encoding next_line checks).
+  std::int64_t skip_blank_lines();
+
   /// 1-based number of the line last returned by next_line().
   std::int64_t line_number() const { return line_; }
   bool compressed() const { return gzip_ != nullptr; }
