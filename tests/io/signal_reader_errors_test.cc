@@ -167,6 +167,15 @@ TEST_F(SignalReaderErrors, NamesTheFirstBlankLineOfARunLongerThanTheReadersBuffe
   EXPECT_EQ(read_error(q), "no error");
   const std::string h = file(blanks + "time,x,y\n" + csv_rows(3) + "0.03,abc,1\n" + csv_rows(20));
   EXPECT_EQ(read_error(h), h + ":300005:2: found 'abc' in column 'x', expected a number");
+  // Bare line breaks (read eight at a time) across the chunks, an odd count of them, then a
+  // row: the line numbers after them are still exact.
+  const std::string bare(300001, '\n');
+  const std::string r = file("time,x,y\n" + csv_rows(20) + bare + "0.2,abc,2\n");
+  EXPECT_EQ(read_error(r), r + ":22: found an empty line, expected a data row (blank lines are "
+                               "allowed only at the end of the file)");
+  const std::string e = file(bare + "time,x,y\n" + csv_rows(3) + "0.03,abc,1\n" + csv_rows(20));
+  EXPECT_EQ(read_error(e), e + ":300006:2: found 'abc' in column 'x', expected a number");
+  EXPECT_EQ(read_error(file("time,x,y\n" + csv_rows(20) + bare)), "no error");
 }
 
 TEST_F(SignalReaderErrors, RejectsFewerThanSixteenSamples) {
