@@ -19,6 +19,15 @@ says otherwise) twice in a row (a task over it is measured again, five more runs
 the gate fails), and names the task; a planted 30% slowdown of select fails it
 (tools/bench/RESULTS.md, "The speed gate").
 
+The ratios hold across loads and clock speeds of one processor, not across processors: the
+floor reads and parses text while the tasks are floating-point work, and the two scale
+differently from one design to another (the same commit gave select 3.94 and gap 9.65 on
+the machine that recorded the first budgets, 5.07 and 12.71 on an AMD EPYC, the floor
+0.123 s there). So the budgets are kept per processor model (/proc/cpuinfo's "model
+name"), under "processors" in speed_gate.json; a processor without its own budgets is held
+to the first ones ("tasks") and the gate says so. --record writes the budgets of the
+processor it runs on.
+
 Usage: GMWM_SHARED_DATA=DIR python3 tools/bench/speed_gate.py build/gmwm [--record]
   --record  write the measured ratios into speed_gate.json as the new budgets (after a
             change that is meant to move them; say why in the commit).
@@ -28,9 +37,11 @@ is absent (2 with GMWM_REQUIRE_SHARED_DATA=1).
 import gzip
 import json
 import os
+import platform
 import subprocess
 import sys
 import tempfile
+import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "../..")
@@ -60,6 +71,18 @@ def tasks(path, short):
          ["gap"] + first + ["--datasheet", os.path.join(ROOT, "data", "adis16405_datasheet.yaml"),
                              "--replicates", "40"]),
     ]
+
+
+def processor():
+    """The processor model the budgets are kept for (/proc/cpuinfo's "model name")."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine() or "unknown"
 
 
 def cpu_seconds(gmwm, args, cwd):
@@ -98,10 +121,15 @@ def main():
             for i, (_, argv) in enumerate(plan):
                 best[i] = min(best[i], cpu_seconds(gmwm, argv, tmp))
         floor = best[0]
-        committed = {}
+        doc = {"tasks": {}}
         if os.path.isfile(BUDGETS):
             with open(BUDGETS) as f:
-                committed = json.load(f)["tasks"]
+                doc = json.load(f)
+        model = processor()
+        own = doc.get("processors", {}).get(model)
+        committed = own["tasks"] if own else doc["tasks"]
+        print("speed gate on %s: %s\n" % (model, "its own budgets (recorded %s)" % own.get("recorded", "?") if own else
+                                          "no budgets of its own, held to the first ones (record them with --record)"))
         ok = True
         print("| task | CPU s (least of %d) | / floor | budget | margin | verdict |" % RUNS)
         print("|---|---|---|---|---|---|")
@@ -136,11 +164,16 @@ def main():
                 name, cpu, again, ratio, budget["ratio"], round(100 * margin),
                 "within" if within else "**slower by %.0f%%**" % (100 * (ratio / budget["ratio"] - 1.0))))
     if record:
-        doc = {"about": "CPU-time ratios of each task to the floor (gmwm wv of the same column), "
-                        "recorded by tools/bench/speed_gate.py --record; the gate fails beyond ratio x (1 + margin)",
-               "tasks": {name: {"ratio": round(r, 3), **({"margin": committed[name]["margin"]}
-                                                        if name in committed and "margin" in committed[name] else {})}
-                         for name, r in measured.items()}}
+        tasks_now = {name: {"ratio": round(r, 3), **({"margin": committed[name]["margin"]}
+                                                     if name in committed and "margin" in committed[name] else {})}
+                     for name, r in measured.items()}
+        doc["about"] = ("CPU-time ratios of each task to the floor (gmwm wv of the same column), recorded by "
+                        "tools/bench/speed_gate.py --record; the gate fails beyond ratio x (1 + margin). 'processors': "
+                        "the budgets of each processor model recorded on; 'tasks': those of any other")
+        if not doc.get("tasks"):
+            doc["tasks"] = tasks_now
+        else:
+            doc.setdefault("processors", {})[model] = {"recorded": time.strftime("%Y-%m-%d"), "tasks": tasks_now}
         with open(BUDGETS, "w") as f:
             json.dump(doc, f, indent=2)
             f.write("\n")
