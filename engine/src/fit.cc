@@ -173,6 +173,18 @@ struct LocalResult {
   nlopt_result code = NLOPT_FAILURE;
 };
 
+// The L-BFGS memory (correction pairs kept). NLopt's default (vector_storage 0) keeps
+// min(1310720 / n, maxeval) pairs, i.e. every pair of a run of up to max_evaluations
+// (3000) steps: each step then costs O(steps so far) (luksan's two-loop recursion and the
+// shift of its stored pairs), quadratic in a run's length, and 2 x 3000 x n doubles are
+// cleared per call. Measured (issue 44, AMD EPYC, one thread, imu1 gyro_x): luksan's
+// vector routines were 25% of `gap --kalibr`'s CPU. With 20 pairs, gap --replicates 40
+// 4.66 s -> 3.27 s, select with bootstrap optimism (B = 50) 24.3 s -> 21.9 s, select one
+// axis 0.67 s -> 0.61 s; 6 and 50 pairs were slower (4.73 s, 3.70 s), 12-25 within 5%.
+// Nocedal & Wright (2006, section 7.2) give 3-20 as the usual range. The minimum found
+// is the same (the Newton polish below finishes every run).
+constexpr unsigned kLbfgsMemory = 20;
+
 LocalResult local_optimise(Problem& P, const Eigen::VectorXd& u0, const FitOptions& o) {
   const unsigned n = static_cast<unsigned>(u0.size());
   LocalResult best;
@@ -194,6 +206,7 @@ LocalResult local_optimise(Problem& P, const Eigen::VectorXd& u0, const FitOptio
     nlopt_set_upper_bounds(opt, ub.data());
     nlopt_set_ftol_rel(opt, o.relative_tolerance);
     nlopt_set_maxeval(opt, o.max_evaluations);
+    nlopt_set_vector_storage(opt, kLbfgsMemory);
     double f = 0.0;
     const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
     nlopt_destroy(opt);
@@ -223,6 +236,19 @@ constexpr int kPolishIterations = 60;
 constexpr double kPolishDampingStart = 1e-3;
 constexpr double kPolishDampingMax = 1e12;
 constexpr double kPolishRelativeDecrease = 1e-15;
+// Below a few ulps two objective values cannot be ranked (the objective sums J rounded
+// squared misfits), so a flat valley's minimum is resolved by the value only to ~the
+// square root of the round-off in its flat direction: 1e-8 of theta there, which moved
+// the objective of a fit weighed at it (a model-based Omega) by 1e-8 (issue 44,
+// JointReduction tests). The gradient resolves it far better: a near-Newton step
+// (damping at most kPolishNewtonDamping) whose value stays within kPolishRoundoff
+// (relative) is taken when it lowers the gradient's norm, at most kPolishFlatSteps in a
+// row; the polish is done once no free coordinate moves by more than kPolishStepSettled
+// (unconstrained units: log-variances and the like, so relative in theta).
+constexpr double kPolishRoundoff = 64.0 * std::numeric_limits<double>::epsilon();
+constexpr double kPolishNewtonDamping = 1e-2;
+constexpr int kPolishFlatSteps = 4;
+constexpr double kPolishStepSettled = 1e-11;
 
 void newton_polish(Problem& P, LocalResult& best) {
   const Model& model = *P.model;
@@ -230,6 +256,7 @@ void newton_polish(Problem& P, LocalResult& best) {
   Eigen::VectorXd u = best.u;
   double f = best.value;
   double lambda = kPolishDampingStart;
+  int flat_steps = 0;
   std::vector<double> lb(static_cast<std::size_t>(n)), ub(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const double b = bound_of(model.spec_of(k).transform);
@@ -269,7 +296,7 @@ void newton_polish(Problem& P, LocalResult& best) {
     const double hmax = std::max(Hf.diagonal().cwiseAbs().maxCoeff(), 1e-300);
     for (Eigen::Index a = 0; a < m; ++a) scale(a) = std::max(std::abs(Hf(a, a)), 1e-12 * hmax);
     bool accepted = false;
-    double gain = 0.0;
+    double gain = 0.0, moved = 0.0;
     while (lambda <= kPolishDampingMax) {
       Eigen::MatrixXd K = Hf;
       K.diagonal() += lambda * scale;
@@ -285,19 +312,31 @@ void newton_polish(Problem& P, LocalResult& best) {
         trial(k) = std::clamp(u(k) + step(a), lb[static_cast<std::size_t>(k)], ub[static_cast<std::size_t>(k)]);
       }
       const double ft = objective_u(static_cast<unsigned>(n), trial.data(), nullptr, &P);
-      if (std::isfinite(ft) && ft < f) {
+      bool flat = false;  // taken on the gradient's word (kPolishRoundoff)
+      if (std::isfinite(ft) && ft >= f && ft <= f + kPolishRoundoff * std::abs(f) &&
+          lambda <= kPolishNewtonDamping && flat_steps < kPolishFlatSteps) {
+        std::vector<double> gt(static_cast<std::size_t>(n));
+        objective_u(static_cast<unsigned>(n), trial.data(), gt.data(), &P);
+        double norm_t = 0.0;
+        for (int k : fr) norm_t += gt[static_cast<std::size_t>(k)] * gt[static_cast<std::size_t>(k)];
+        flat = norm_t < gf.squaredNorm();
+      }
+      if (std::isfinite(ft) && (ft < f || flat)) {
         gain = f - ft;
+        moved = (trial - u).cwiseAbs().maxCoeff();
         u = trial;
         f = ft;
+        flat_steps = flat ? flat_steps + 1 : 0;
         lambda = std::max(lambda / 10.0, 1e-12);
         accepted = true;
         break;
       }
       lambda *= 10.0;
     }
-    if (!accepted || gain <= kPolishRelativeDecrease * f) break;
+    if (!accepted || moved <= kPolishStepSettled) break;
+    if (gain > 0.0 && gain <= kPolishRelativeDecrease * f && lambda > kPolishNewtonDamping) break;
   }
-  if (f < best.value) {
+  if (f <= best.value + kPolishRoundoff * std::abs(best.value)) {
     best.u = u;
     best.value = f;
   }
