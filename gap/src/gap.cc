@@ -6,6 +6,8 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <string>
+#include <string_view>
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/normal.hpp>
@@ -102,21 +104,37 @@ namespace {
 //   WV stepwise) -> shrinkage -> summary.
 // ---------------------------------------------------------------------------------------
 
-// Stage 1: the baseline's reference distribution (simulated replicates).
-detail::Reference reference_stage(const WaveletVariance& wv, const Model& baseline, const Eigen::VectorXd& theta,
-                                  const GapOptions& options, const std::vector<double>* x,
-                                  const std::vector<double>* temperature,
-                                  const std::shared_ptr<const detail::StepScan>& scan) {
+// Stage 1: the baseline's reference distribution (simulated replicates), or the one
+// another diagnosis sharing options.references drew under the same key.
+std::shared_ptr<const detail::Reference> reference_stage(const WaveletVariance& wv, const Model& baseline,
+                                                         const Eigen::VectorXd& theta, const GapOptions& options,
+                                                         const std::vector<double>* x,
+                                                         const std::vector<double>* temperature,
+                                                         const std::shared_ptr<const detail::StepScan>& scan) {
   const ClassicalWvEstimator classical;
   const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
   const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
   detail::SeriesStatistic series_statistic;
-  if (x)
+  std::string statistic;  // what the series statistic reads besides the baseline and n
+  if (x) {
     series_statistic = [temperature, nu_base, scan](const std::vector<double>& s, HaarModwt& transform) {
       return detail::series_statistics(s, transform, temperature, nu_base, *scan);
     };
-  return detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
-                                 wv.alpha, options.progress, series_statistic);
+    statistic = "series|tau:";
+    statistic.append(reinterpret_cast<const char*>(wv.tau.data()), wv.tau.size() * sizeof(double));
+    if (temperature) {
+      const std::string_view bytes(reinterpret_cast<const char*>(temperature->data()),
+                                   temperature->size() * sizeof(double));
+      statistic += "|temperature:" + std::to_string(temperature->size()) + ":" +
+                   std::to_string(std::hash<std::string_view>{}(bytes));
+    }
+  }
+  const std::string key = detail::reference_key(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed,
+                                                options.estimator, wv.alpha, statistic);
+  return detail::cached_reference(options.references.get(), key, [&] {
+    return detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
+                                   wv.alpha, options.progress, series_statistic);
+  });
 }
 
 // Stage 2: where the data depart from the reference (levels, bands, global test, time
@@ -614,7 +632,8 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   // The step scan's weights, shared by the data and every replicate (the baseline's).
   const auto scan =
       std::make_shared<const detail::StepScan>(x ? detail::make_step_scan(baseline, theta, wv.n) : detail::StepScan{});
-  const detail::Reference ref = reference_stage(wv, baseline, theta, options, x, temperature, scan);
+  const std::shared_ptr<const detail::Reference> kept = reference_stage(wv, baseline, theta, options, x, temperature, scan);
+  const detail::Reference& ref = *kept;
   Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, ref.nu, options)};
 
   GapResult g;

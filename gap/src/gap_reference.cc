@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string_view>
 
 #include <Eigen/Cholesky>
 
@@ -88,6 +90,35 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
   return ref;
 }
 
+std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
+                          std::uint64_t seed, const WvEstimator* estimator, double alpha, const std::string& statistic) {
+  // The values as their bits (to_string's 17 digits name the model; the bits make equal
+  // keys mean equal draws whatever the display).
+  std::string key = model.to_string(theta) + "|";
+  key.append(reinterpret_cast<const char*>(theta.data()), static_cast<std::size_t>(theta.size()) * sizeof(double));
+  char numbers[160];
+  std::snprintf(numbers, sizeof numbers, "|n=%lld|J=%d|B=%d|seed=%llu|alpha=%a|", static_cast<long long>(n), levels,
+                replicates, static_cast<unsigned long long>(seed), alpha);
+  // A caller's own estimator by its identity (its settings are not all in its name).
+  const std::string by = estimator ? estimator->name() + "@" + std::to_string(reinterpret_cast<std::uintptr_t>(estimator))
+                                   : std::string("classical");
+  return key + numbers + by + "|" + statistic;
+}
+
+std::shared_ptr<const Reference> cached_reference(ReferenceCache* cache, const std::string& key,
+                                                  const std::function<Reference()>& build) {
+  if (!cache) return std::make_shared<const Reference>(build());
+  {
+    const std::lock_guard<std::mutex> lock(cache->mutex);
+    if (const auto it = cache->kept.find(key); it != cache->kept.end()) return it->second;
+  }
+  // Built outside the lock (its replicates run in parallel); two threads asking for the
+  // same key at once both build it, and the same draws give the same reference.
+  auto built = std::make_shared<const Reference>(build());
+  const std::lock_guard<std::mutex> lock(cache->mutex);
+  return cache->kept.emplace(key, std::move(built)).first->second;
+}
+
 double distance(const Reference& ref, const Eigen::VectorXd& nuhat, const Eigen::VectorXd& log_shift) {
   const Eigen::VectorXd d = nuhat.array().log().matrix() - ref.mean_log_a - log_shift;
   return d.dot(ref.precision_a * d);
@@ -99,3 +130,14 @@ double p_value(const Reference& ref, double d) {
 }
 
 }  // namespace gmwm::gap::detail
+
+namespace gmwm::gap {
+
+std::shared_ptr<ReferenceCache> make_reference_cache() { return std::make_shared<ReferenceCache>(); }
+
+std::size_t cached_references(const ReferenceCache& cache) {
+  const std::lock_guard<std::mutex> lock(cache.mutex);
+  return cache.kept.size();
+}
+
+}  // namespace gmwm::gap

@@ -2,6 +2,10 @@
 // The baseline's reference distribution of the WV (docs/gap.md, method note 2), internal to gap.cc.
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -9,6 +13,7 @@
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/engine/wavelet_variance.h"
+#include "gmwm/gap/gap.h"
 
 namespace gmwm::gap::detail {
 
@@ -43,6 +48,18 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
                           std::uint64_t seed, const WvEstimator& estimator, double alpha,
                           const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic = {});
 
+/// What makes two references the same draw: the model and its values (bit for bit), the
+/// record length, levels, replicates, seed (stream family included), the replicate
+/// estimator (nullptr: the classical one; another by its identity), the WV's CI level and
+/// what the series statistic reads (`statistic`: a description of its inputs, empty when
+/// there is none).
+std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
+                          std::uint64_t seed, const WvEstimator* estimator, double alpha, const std::string& statistic);
+
+/// The reference under `key` from `cache`, built by `build` the first time (no cache: built).
+std::shared_ptr<const Reference> cached_reference(ReferenceCache* cache, const std::string& key,
+                                                  const std::function<Reference()>& build);
+
 /// Mahalanobis distance of log(nuhat) - shift from the half-A reference.
 double distance(const Reference& ref, const Eigen::VectorXd& nuhat, const Eigen::VectorXd& log_shift);
 
@@ -50,3 +67,11 @@ double distance(const Reference& ref, const Eigen::VectorXd& nuhat, const Eigen:
 double p_value(const Reference& ref, double d);
 
 }  // namespace gmwm::gap::detail
+
+namespace gmwm::gap {
+class ReferenceCache {
+ public:
+  mutable std::mutex mutex;
+  std::map<std::string, std::shared_ptr<const detail::Reference>> kept;
+};
+}  // namespace gmwm::gap

@@ -34,8 +34,13 @@ void map_windows(const std::vector<double>& x, const Model& baseline, const Eige
   if (levels < kMinWindowLevels) return;
   const ClassicalWvEstimator classical;
   const WvEstimator& est = options.estimator ? *options.estimator : classical;
-  const Reference ref = build_reference(baseline, theta, L, levels, options.replicates,
-                                        options.seed + kWindowSeedOffset, est, 0.05, nullptr);
+  const std::string key = reference_key(baseline, theta, L, levels, options.replicates,
+                                        options.seed + kWindowSeedOffset, options.estimator, 0.05, "windows");
+  const std::shared_ptr<const Reference> kept = cached_reference(options.references.get(), key, [&] {
+    return build_reference(baseline, theta, L, levels, options.replicates, options.seed + kWindowSeedOffset, est, 0.05,
+                           nullptr);
+  });
+  const Reference& ref = *kept;
   const std::int64_t W = n / L;
   const double cells = static_cast<double>(W) * levels;
   const double z_threshold =

@@ -200,18 +200,20 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
   }
 }
 
-// Stage 5: each column diagnosed against its baseline (gap::diagnose_gap), column k
-// on its own reference streams (seed + k).
+// Stage 5: each column diagnosed against its baseline (gap::diagnose_gap). Every column
+// draws its reference from the same streams (the seed): a column's diagnosis is the one
+// it gets alone, whichever columns come with it, and columns with the same baseline and
+// length (a config's three axes of a kind) share one reference, simulated once.
 void diagnose_columns(const io::SignalSet& set, const std::vector<double>& temperature, const GapStudyOptions& o,
                       const ProcessContext& ctx, GapStudy& study) {
   gap::GapOptions g = o.gap;
   g.refit_baseline = std::holds_alternative<FitBaseline>(o.baseline);
   g.context = ctx;
+  if (!g.references) g.references = gap::make_reference_cache();
   const std::size_t K = study.columns.size();
   const double per_column = 2.0 * o.gap.replicates;  // the reference replicates, then the attribution
   for (std::size_t k = 0; k < K; ++k) {
     gap::GapOptions gk = g;
-    gk.seed = o.gap.seed + k;
     if (o.progress)
       gk.progress = [&, k](int done, int) { o.progress(static_cast<double>(k) * per_column + done, K * per_column); };
     GapColumnStudy& c = study.columns[k];

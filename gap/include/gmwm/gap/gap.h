@@ -82,6 +82,18 @@ inline constexpr int kMaxGapReplicates = 100000;
 /// would say "no gap" whatever the data (alpha in (0, 0.5)).
 std::int64_t min_gap_replicates(double alpha);
 
+/// Reference distributions kept for reuse by several diagnoses (opaque). Diagnoses handed
+/// the same cache draw one reference for each distinct (baseline and its values, record
+/// length, levels, replicates, seed, replicate estimator, temperature channel) instead of
+/// one each: `gmwm gap` shares one across the columns of a file, so the three axes of a
+/// sensor kind under a config's baseline simulate their reference once. The cached
+/// reference is the one the diagnosis would have drawn: results are unchanged by it.
+/// Safe to share between threads.
+class ReferenceCache;
+std::shared_ptr<ReferenceCache> make_reference_cache();
+/// How many references `cache` holds (each simulated once).
+std::size_t cached_references(const ReferenceCache& cache);
+
 struct GapOptions {
   /// Reference replicates (docs/gap.md, method note 2; issue 5 asks for 200).
   int replicates = 200;
@@ -115,6 +127,9 @@ struct GapOptions {
   /// with (total, total) before each fit of the attribution; may throw gmwm::Cancelled to
   /// stop the diagnosis (error.h).
   std::function<void(int, int)> progress;
+  /// Where references are kept for other diagnoses (make_reference_cache); null: each
+  /// diagnosis simulates its own.
+  std::shared_ptr<ReferenceCache> references;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };

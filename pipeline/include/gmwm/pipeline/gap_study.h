@@ -62,7 +62,8 @@ struct GapStudyOptions {
   /// Off: diagnose even when a column's finest scales sit at a unit factor from the baseline.
   bool unit_check = true;
   /// The diagnosis' settings, handed down to every column: reference replicates, seed
-  /// (column k uses seed + k), test level (also the cross-axis test's), practical effect
+  /// (every column's: a column's diagnosis does not depend on the others listed, and
+  /// columns with one baseline share its reference), test level (also the cross-axis test's), practical effect
   /// size, the candidate effects, the stepwise limit, the deciding coefficients and the
   /// candidates' fit settings. Its estimator, refit_baseline, context, unit and progress
   /// are the study's to set (per column) and must be left as default-constructed.
