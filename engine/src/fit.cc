@@ -60,8 +60,8 @@ std::string FitOptions::Validate() const {
     os << "alpha must be in (0, 1), got " << alpha;
   else if (alpha < kMinAlpha)
     os << "alpha must be at least 1e-10 (the level 1 - alpha/2 rounds to 1 below ~1e-16), got " << alpha;
-  else if (multistarts < 1)
-    os << "multistarts must be at least 1, got " << multistarts;
+  else if (multistarts < 0)
+    os << "multistarts must be at least 0 (0: only the given starts), got " << multistarts;
   else if (max_evaluations < 10)
     os << "max_evaluations must be at least 10, got " << max_evaluations;
   else if (nested_depth < 1)
@@ -456,7 +456,9 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
     std::vector<Eigen::VectorXd> starts;
     for (auto& s : extra)
       if (model_in.validate(s).empty()) starts.push_back(s);
-    for (auto& c : detail::candidate_starts(wv, model_in, P.omega, options.multistarts)) starts.push_back(c);
+    const int placements = starts.empty() ? std::max(options.multistarts, 1) : options.multistarts;
+    if (placements > 0)
+      for (auto& c : detail::candidate_starts(wv, model_in, P.omega, placements)) starts.push_back(c);
     LocalResult best;
     for (const auto& s : starts) {
       LocalResult r = local_optimise(P, model_in.to_unconstrained(s), options);

@@ -80,7 +80,7 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
     fo.omega_matrix = omega;
     fo.nested_starts = false;
     fo.inference = false;
-    fo.multistarts = 1;
+    fo.multistarts = 0;  // from the fit alone: bench_bootstrap_refit_starts
     fo.starts = {fit.theta};
     fo.log_not_converged = false;  // counted and reported once per model below
     const FitResult r = fit_gmwm(w, fit.model, fo);

@@ -258,6 +258,47 @@ TEST(GmwmFit, RejectsInvalidOptionsWithAClearMessage) {
   EXPECT_THROW(fit_gmwm(w, parse_model("WN"), o), InputError);
 }
 
+TEST(GmwmFit, RejectsANegativeNumberOfMultistartsNamingTheMeaningOfZero) {
+  FitOptions o;
+  o.multistarts = -1;
+  EXPECT_EQ(o.Validate(), "multistarts must be at least 0 (0: only the given starts), got -1");
+}
+
+// A bootstrap refit (selection/src/select.cc) starts from the fit it was simulated from
+// alone: tools/bench/bench_bootstrap_refit_starts.cc measures what the placements would add.
+TEST(GmwmFit, WithNoMultistartsStartsFromTheGivenPointsAlone) {
+  const WaveletVariance w = wv_of("AR1(phi=0.9,sigma2=0.1)+AR1(phi=0.999,sigma2=1e-3)+WN(sigma2=1)", 1 << 16, 71);
+  const Model m = parse_model("2*AR1+WN");
+  FitOptions o;
+  o.inference = false;
+  const FitResult searched = fit_gmwm(w, m, o);
+  ASSERT_EQ(searched.status, FitStatus::kConverged) << searched.message;
+  o.multistarts = 0;
+  o.starts = {searched.theta};
+  const FitResult warm = fit_gmwm(w, m, o);
+  ASSERT_EQ(warm.status, FitStatus::kConverged) << warm.message;
+  // From the minimum itself: the same minimum (the optimiser's relative tolerance 1e-12,
+  // with room for the polish), in fewer evaluations than the search from every start.
+  EXPECT_LE(std::abs(warm.objective - searched.objective), 1e-9 * searched.objective);
+  EXPECT_LT(warm.evaluations, searched.evaluations);
+}
+
+TEST(GmwmFit, WithNoMultistartsAndNoValidStartPlacesTheComponentsOnce) {
+  const WaveletVariance w = wv_of("WN(sigma2=2)+RW(gamma2=1e-3)", 1 << 14, 73);
+  const Model m = parse_model("WN+RW");
+  FitOptions o;
+  o.inference = false;
+  o.multistarts = 0;
+  o.starts = {Eigen::Vector2d(-1.0, 1e-3)};  // a negative variance: no valid point
+  const FitResult alone = fit_gmwm(w, m, o);
+  o.multistarts = 1;
+  o.starts.clear();
+  const FitResult placed = fit_gmwm(w, m, o);
+  ASSERT_EQ(alone.status, FitStatus::kConverged) << alone.message;
+  EXPECT_EQ(alone.objective, placed.objective);
+  EXPECT_EQ(alone.theta, placed.theta);
+}
+
 TEST(GmwmFit, ReportNamesStatusParametersAndGoodnessOfFit) {
   const WaveletVariance w = wv_of("WN(sigma2=2)+RW(gamma2=1e-3)", 4096, 61);
   const std::string rep = fit_gmwm(w, parse_model("WN+RW")).Report();

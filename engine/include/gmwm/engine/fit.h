@@ -54,7 +54,10 @@ struct FitOptions {
   /// overrides `omega` when set.
   std::optional<Eigen::MatrixXd> omega_matrix;
   double alpha = 0.05;                ///< parameter CIs at level 1 - alpha
-  int multistarts = 4;                ///< local optimisations from the best shape-based starts
+  /// Local optimisations from the best shape-based starts (placements of the components
+  /// on the WV); 0: only from `starts` (and the nested starts), with one placement only when
+  /// none of those is a valid point (a bootstrap refit warm-started from the fit).
+  int multistarts = 4;
   int max_evaluations = 3000;         ///< per local optimisation
   double relative_tolerance = 1e-12;  ///< NLopt ftol_rel
   /// Additional starting points (natural space), e.g. warm starts from nested models.
