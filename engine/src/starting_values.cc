@@ -41,8 +41,12 @@ struct ScaleParam {
   bool squared = false;
 };
 
-ScaleParam find_scale_param(const Process& p, const std::vector<double>& theta, std::span<const double> tau) {
-  std::vector<double> base(tau.size()), probe(tau.size());
+// `base` receives p's WV at theta (the reference the probes are compared with; solve_sizes
+// uses it as its column instead of evaluating it again).
+ScaleParam find_scale_param(const Process& p, const std::vector<double>& theta, std::span<const double> tau,
+                            std::vector<double>& base) {
+  base.resize(tau.size());
+  std::vector<double> probe(tau.size());
   p.wv(theta, tau, base);
   for (int k = p.size() - 1; k >= 0; --k) {
     if (p.parameters()[static_cast<std::size_t>(k)].transform != Transform::kLog) continue;
@@ -136,9 +140,8 @@ bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::Mat
   for (int c = 0; c < C; ++c) {
     const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
     std::vector<double> g(theta.data() + model.offset(c), theta.data() + model.offset(c) + p.size());
-    sp[static_cast<std::size_t>(c)] = find_scale_param(p, g, wv.tau);
-    std::vector<double> f(static_cast<std::size_t>(J));
-    p.wv(g, wv.tau, f);
+    std::vector<double> f;
+    sp[static_cast<std::size_t>(c)] = find_scale_param(p, g, wv.tau, f);
     F.col(c) = Eigen::Map<Eigen::VectorXd>(f.data(), J);
   }
   // Components without a free scale parameter keep their size: move them to y.
@@ -308,7 +311,8 @@ std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Mod
 }
 
 int linear_scale_parameter(const Process& p, const std::vector<double>& theta, std::span<const double> tau) {
-  const ScaleParam sp = find_scale_param(p, theta, tau);
+  std::vector<double> base;
+  const ScaleParam sp = find_scale_param(p, theta, tau, base);
   return sp.squared ? -1 : sp.index;
 }
 

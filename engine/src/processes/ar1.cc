@@ -34,11 +34,14 @@ class Ar1Process final : public Process, public internal::Ar1PathSource {
     for (std::size_t k = 0; k < tau.size(); ++k)
       out[k] = theta[1] * unit.at(internal::haar_half_scale(tau[k], "AR1::wv"));
   }
+  using JetGradient = Jet<2, 1>;
+  using JetHessian = Jet<2>;
+  template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess) const {
-    const Jet<2> phi = Jet<2>::variable(theta[0], 0);
-    const Jet<2> s = Jet<2>::variable(theta[1], 1);
-    const internal::Ar1UnitWv<Jet<2>> unit(phi);
+    const J phi = J::variable(theta[0], 0);
+    const J s = J::variable(theta[1], 1);
+    const internal::Ar1UnitWv<J> unit(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "AR1::wv");
       internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k), jac, hess);
@@ -46,11 +49,11 @@ class Ar1Process final : public Process, public internal::Ar1PathSource {
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives(theta, tau, &jac, nullptr);
+    derivatives<JetGradient>(theta, tau, &jac, nullptr);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives(theta, tau, nullptr, &hess);
+    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     const double phi = theta[0];

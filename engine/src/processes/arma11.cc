@@ -40,12 +40,15 @@ class Arma11Process final : public Process {
       out[k] =
           theta[2] * internal::arma11_unit_wv(ar1, theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
   }
+  using JetGradient = Jet<3, 1>;
+  using JetHessian = Jet<3>;
+  template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess) const {
-    const Jet<3> phi = Jet<3>::variable(theta[0], 0);
-    const Jet<3> th = Jet<3>::variable(theta[1], 1);
-    const Jet<3> s = Jet<3>::variable(theta[2], 2);
-    const internal::Ar1UnitWv<Jet<3>> ar1(phi);
+    const J phi = J::variable(theta[0], 0);
+    const J th = J::variable(theta[1], 1);
+    const J s = J::variable(theta[2], 2);
+    const internal::Ar1UnitWv<J> ar1(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "ARMA11::wv");
       internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m), static_cast<Eigen::Index>(k), jac, hess);
@@ -53,11 +56,11 @@ class Arma11Process final : public Process {
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives(theta, tau, &jac, nullptr);
+    derivatives<JetGradient>(theta, tau, &jac, nullptr);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives(theta, tau, nullptr, &hess);
+    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     if (out.empty()) return;

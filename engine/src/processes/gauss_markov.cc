@@ -62,21 +62,24 @@ class GaussMarkov final : public Process, public internal::Ar1PathSource {
   void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     wv_levels(theta[0], theta[1], tau, [&](std::size_t k, double v) { out[k] = v; });
   }
+  using JetGradient = Jet<2, 1>;
+  using JetHessian = Jet<2>;
+  template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess) const {
-    const Jet<2> beta = Jet<2>::variable(theta[0], 0);
-    const Jet<2> s = Jet<2>::variable(theta[1], 1);
-    wv_levels(beta, s, tau, [&](std::size_t k, const Jet<2>& v) {
+    const J beta = J::variable(theta[0], 0);
+    const J s = J::variable(theta[1], 1);
+    wv_levels(beta, s, tau, [&](std::size_t k, const J& v) {
       internal::store_jet_row(v, static_cast<Eigen::Index>(k), jac, hess);
     });
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives(theta, tau, &jac, nullptr);
+    derivatives<JetGradient>(theta, tau, &jac, nullptr);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives(theta, tau, nullptr, &hess);
+    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     const double L = theta[0] / rate();

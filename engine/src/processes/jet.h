@@ -12,6 +12,7 @@
 // (f, f', f'') evaluated at the value.
 
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -27,13 +28,22 @@ struct D2 {
 // The arithmetic below is always inlined: as calls, Jet<2>'s products and quotients (seven
 // doubles each) were 13% of a fit's CPU, in call overhead and copies (issue 44). The same
 // operations in the same order either way.
-template <int N>
+/// No Hessian: a Jet of order 1 carries none (zero bytes in the Jet).
+struct NoHessian {};
+
+/// Order 2: value, gradient and Hessian; order 1: value and gradient only, for callers that
+/// want no Hessian (an optimiser's gradient: Process::derivatives with hess == nullptr).
+/// The gradient is formed by the same operations in the same order either way, so it is
+/// the same to the bit (JetTest.GivesTheSameGradientWithOrWithoutTheHessian).
+template <int N, int Order = 2>
 struct Jet {
+  static_assert(Order == 1 || Order == 2, "a Jet carries first or first and second derivatives");
+  static constexpr bool kHessian = Order == 2;
   using Vec = Eigen::Matrix<double, N, 1>;
-  using Mat = Eigen::Matrix<double, N, N>;
+  using Mat = std::conditional_t<kHessian, Eigen::Matrix<double, N, N>, NoHessian>;
   double v = 0.0;
   Vec g = Vec::Zero();
-  Mat h = Mat::Zero();
+  [[no_unique_address]] Mat h = zero_hessian();
 
   Jet() = default;
   Jet(double value) : v(value) {}  // NOLINT: constants convert implicitly
@@ -43,129 +53,137 @@ struct Jet {
     j.g(i) = 1.0;
     return j;
   }
+
+ private:
+  static Mat zero_hessian() {
+    if constexpr (kHessian)
+      return Mat::Zero();
+    else
+      return {};
+  }
 };
 
 inline double value(double x) { return x; }
-template <int N>
-double value(const Jet<N>& x) {
+template <int N, int O>
+double value(const Jet<N, O>& x) {
   return x.v;
 }
 
 /// f(x) given f, f', f'' at x.v.
-template <int N>
-[[gnu::always_inline]] inline Jet<N> chain(const Jet<N>& x, double f, double f1, double f2) {
-  Jet<N> r;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> chain(const Jet<N, O>& x, double f, double f1, double f2) {
+  Jet<N, O> r;
   r.v = f;
   r.g = f1 * x.g;
-  r.h = f1 * x.h + f2 * x.g * x.g.transpose();
+  if constexpr (O == 2) r.h = f1 * x.h + f2 * x.g * x.g.transpose();
   return r;
 }
 inline double lift(double, const D2& d) { return d.f; }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> lift(const Jet<N>& x, const D2& d) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> lift(const Jet<N, O>& x, const D2& d) {
   return chain(x, d.f, d.f1, d.f2);
 }
 
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator-(const Jet<N>& a) {
-  Jet<N> r;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator-(const Jet<N, O>& a) {
+  Jet<N, O> r;
   r.v = -a.v;
   r.g = -a.g;
-  r.h = -a.h;
+  if constexpr (O == 2) r.h = -a.h;
   return r;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator+(const Jet<N>& a, const Jet<N>& b) {
-  Jet<N> r;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator+(const Jet<N, O>& a, const Jet<N, O>& b) {
+  Jet<N, O> r;
   r.v = a.v + b.v;
   r.g = a.g + b.g;
-  r.h = a.h + b.h;
+  if constexpr (O == 2) r.h = a.h + b.h;
   return r;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator-(const Jet<N>& a, const Jet<N>& b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator-(const Jet<N, O>& a, const Jet<N, O>& b) {
   return a + (-b);
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator*(const Jet<N>& a, const Jet<N>& b) {
-  Jet<N> r;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator*(const Jet<N, O>& a, const Jet<N, O>& b) {
+  Jet<N, O> r;
   r.v = a.v * b.v;
   r.g = a.v * b.g + b.v * a.g;
-  r.h = a.v * b.h + b.v * a.h + a.g * b.g.transpose() + b.g * a.g.transpose();
+  if constexpr (O == 2) r.h = a.v * b.h + b.v * a.h + a.g * b.g.transpose() + b.g * a.g.transpose();
   return r;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator/(const Jet<N>& a, const Jet<N>& b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator/(const Jet<N, O>& a, const Jet<N, O>& b) {
   // q = a / b  =>  a = q b, differentiated twice and solved for q', q''.
-  Jet<N> q;
+  Jet<N, O> q;
   q.v = a.v / b.v;
   q.g = (a.g - q.v * b.g) / b.v;
-  q.h = (a.h - q.v * b.h - q.g * b.g.transpose() - b.g * q.g.transpose()) / b.v;
+  if constexpr (O == 2) q.h = (a.h - q.v * b.h - q.g * b.g.transpose() - b.g * q.g.transpose()) / b.v;
   return q;
 }
 
 // Mixed Jet/double arithmetic.
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator+(const Jet<N>& a, double b) {
-  Jet<N> r = a;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator+(const Jet<N, O>& a, double b) {
+  Jet<N, O> r = a;
   r.v += b;
   return r;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator+(double a, const Jet<N>& b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator+(double a, const Jet<N, O>& b) {
   return b + a;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator-(const Jet<N>& a, double b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator-(const Jet<N, O>& a, double b) {
   return a + (-b);
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator-(double a, const Jet<N>& b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator-(double a, const Jet<N, O>& b) {
   return (-b) + a;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator*(const Jet<N>& a, double b) {
-  Jet<N> r;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator*(const Jet<N, O>& a, double b) {
+  Jet<N, O> r;
   r.v = a.v * b;
   r.g = a.g * b;
-  r.h = a.h * b;
+  if constexpr (O == 2) r.h = a.h * b;
   return r;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator*(double a, const Jet<N>& b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator*(double a, const Jet<N, O>& b) {
   return b * a;
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator/(const Jet<N>& a, double b) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator/(const Jet<N, O>& a, double b) {
   return a * (1.0 / b);
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> operator/(double a, const Jet<N>& b) {
-  return Jet<N>(a) / b;
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> operator/(double a, const Jet<N, O>& b) {
+  return Jet<N, O>(a) / b;
 }
 
 // Elementary functions (found by argument-dependent lookup next to std:: ones).
-template <int N>
-[[gnu::always_inline]] inline Jet<N> exp(const Jet<N>& x) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> exp(const Jet<N, O>& x) {
   const double e = std::exp(x.v);
   return chain(x, e, e, e);
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> expm1(const Jet<N>& x) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> expm1(const Jet<N, O>& x) {
   const double e = std::exp(x.v);
   return chain(x, std::expm1(x.v), e, e);
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> log(const Jet<N>& x) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> log(const Jet<N, O>& x) {
   return chain(x, std::log(x.v), 1.0 / x.v, -1.0 / (x.v * x.v));
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> log1p(const Jet<N>& x) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> log1p(const Jet<N, O>& x) {
   const double d = 1.0 / (1.0 + x.v);
   return chain(x, std::log1p(x.v), d, -d * d);
 }
-template <int N>
-[[gnu::always_inline]] inline Jet<N> sqrt(const Jet<N>& x) {
+template <int N, int O>
+[[gnu::always_inline]] inline Jet<N, O> sqrt(const Jet<N, O>& x) {
   const double s = std::sqrt(x.v);
   return chain(x, s, 0.5 / s, -0.25 / (s * x.v));
 }

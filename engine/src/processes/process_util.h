@@ -2,6 +2,7 @@
 // Helpers shared by the process implementations (internal to engine/src/processes).
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -77,13 +78,18 @@ inline double guess_tau(const GuessContext& ctx, double fallback) {
 
 /// Writes a Jet's gradient into jac row k and its Hessian into hess row k
 /// (hess(k, l * p + m) = d^2 / d theta_l d theta_m), p = N.
-template <int N>
-void store_jet_row(const Jet<N>& r, Eigen::Index k, Eigen::Ref<Eigen::MatrixXd>* jac,
+/// A Jet without a Hessian (order 1) is only for a call without `hess`.
+template <int N, int O>
+void store_jet_row(const Jet<N, O>& r, Eigen::Index k, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess) {
   for (int l = 0; l < N; ++l) {
     if (jac) (*jac)(k, l) = r.g(l);
-    if (hess)
-      for (int m = 0; m < N; ++m) (*hess)(k, l * N + m) = r.h(l, m);
+    if constexpr (O == 2) {
+      if (hess)
+        for (int m = 0; m < N; ++m) (*hess)(k, l * N + m) = r.h(l, m);
+    } else {
+      assert(hess == nullptr);
+    }
   }
 }
 

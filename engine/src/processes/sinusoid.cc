@@ -6,6 +6,7 @@
 // the sampling rate is known (to_display/from_display).
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <boost/math/constants/constants.hpp>
 #include <boost/math/special_functions/cos_pi.hpp>
@@ -41,14 +42,19 @@ template <class T>
 T sin_pi_t(const T& x) {
   constexpr double pi = boost::math::constants::pi<double>();
   const double v = internal::value(x);
-  const double s = sin_pi(v), c = cos_pi(v);
-  return internal::lift(x, internal::D2{s, pi * c, -pi * pi * s});
+  if constexpr (std::is_same_v<T, double>) {
+    return sin_pi(v);  // a value alone: no cosine (lift would drop it)
+  } else {
+    const double s = sin_pi(v), c = cos_pi(v);
+    return internal::lift(x, internal::D2{s, pi * c, -pi * pi * s});
+  }
 }
 
+// The unit WV at half-scale m, given b = sin_pi_t(f) (the same at every level: formed once
+// per evaluation by the callers, each level's value as it was when formed per level).
 template <class T>
-T sin_unit_wv(const T& f, double m) {
+T sin_unit_wv(const T& f, const T& b, double m) {
   const T a = sin_pi_t(T(f * m));
-  const T b = sin_pi_t(f);
   const T a2 = a * a;
   return 0.5 * a2 * a2 / ((m * m) * b * b);
 }
@@ -65,22 +71,27 @@ class Sinusoid final : public Process {
     return specs;
   }
   void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
-    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * sin_unit_wv(theta[1], 0.5 * tau[k]);
+    const double b = sin_pi_t(theta[1]);
+    for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * sin_unit_wv(theta[1], b, 0.5 * tau[k]);
   }
+  using JetGradient = Jet<2, 1>;
+  using JetHessian = Jet<2>;
+  template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess) const {
-    const Jet<2> a2 = Jet<2>::variable(theta[0], 0);
-    const Jet<2> f = Jet<2>::variable(theta[1], 1);
+    const J a2 = J::variable(theta[0], 0);
+    const J f = J::variable(theta[1], 1);
+    const J b = sin_pi_t(f);
     for (std::size_t k = 0; k < tau.size(); ++k)
-      internal::store_jet_row(a2 * sin_unit_wv(f, 0.5 * tau[k]), static_cast<Eigen::Index>(k), jac, hess);
+      internal::store_jet_row(a2 * sin_unit_wv(f, b, 0.5 * tau[k]), static_cast<Eigen::Index>(k), jac, hess);
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives(theta, tau, &jac, nullptr);
+    derivatives<JetGradient>(theta, tau, &jac, nullptr);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives(theta, tau, nullptr, &hess);
+    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     for (std::size_t h = 0; h < out.size(); ++h)
@@ -105,7 +116,7 @@ class Sinusoid final : public Process {
       const std::size_t k = internal::guess_level(ctx);
       // Fallback when the WV of this f vanishes at that level (f tau/2 an integer):
       // the SIN WV at its peak (f tau/2 = 1/2) is about (A2/2)(4/pi^2) ~ A2/5.
-      a2 = internal::positive_or(ctx.wv[k] / sin_unit_wv(f, 0.5 * ctx.tau[k]),
+      a2 = internal::positive_or(ctx.wv[k] / sin_unit_wv(f, sin_pi_t(f), 0.5 * ctx.tau[k]),
                                  internal::positive_or(5.0 * ctx.wv[k], 1.0));
     }
     return {a2, f};
