@@ -148,7 +148,13 @@ double objective_u(unsigned n, const double* u, double* grad, void* data) {
   ++P->evaluations;
   Eigen::Map<const Eigen::VectorXd> uu(u, n);
   const Eigen::VectorXd theta = P->model->from_unconstrained(uu);
-  const Eigen::VectorXd nu = P->model->wv(theta, P->wv->tau);
+  // With a gradient, the WV and its jacobian in one pass (the same values as apart).
+  Eigen::VectorXd nu;
+  Eigen::MatrixXd A;
+  if (grad)
+    P->model->wv_and_jacobian(theta, P->wv->tau, nu, A);
+  else
+    nu = P->model->wv(theta, P->wv->tau);
   const Eigen::VectorXd r = P->nuhat - nu;
   const Eigen::VectorXd wr = P->omega * r;
   const double q = r.dot(wr);
@@ -157,7 +163,6 @@ double objective_u(unsigned n, const double* u, double* grad, void* data) {
     return std::numeric_limits<double>::max();
   }
   if (grad) {
-    const Eigen::MatrixXd A = P->model->jacobian(theta, P->wv->tau);
     const Eigen::VectorXd d = P->model->dtheta_du(uu);
     Eigen::Map<Eigen::VectorXd> g(grad, n);
     g = -2.0 * (A.transpose() * wr).cwiseProduct(d);
@@ -266,9 +271,11 @@ void newton_polish(Problem& P, LocalResult& best) {
   }
   for (int it = 0; it < kPolishIterations; ++it) {
     const Eigen::VectorXd theta = model.from_unconstrained(u);
-    const Eigen::VectorXd r = P.nuhat - model.wv(theta, P.wv->tau);
+    Eigen::VectorXd nu;
+    Eigen::MatrixXd A;
+    model.wv_and_jacobian(theta, P.wv->tau, nu, A);
+    const Eigen::VectorXd r = P.nuhat - nu;
     const Eigen::VectorXd wr = P.omega * r;
-    const Eigen::MatrixXd A = model.jacobian(theta, P.wv->tau);
     const auto hess = model.hessians(theta, P.wv->tau);
     const Eigen::VectorXd g_theta = -2.0 * A.transpose() * wr;
     Eigen::MatrixXd H_theta = 2.0 * A.transpose() * P.omega * A;

@@ -76,6 +76,23 @@ Eigen::MatrixXd Model::jacobian(const Eigen::VectorXd& theta, std::span<const do
   return jac;
 }
 
+void Model::wv_and_jacobian(const Eigen::VectorXd& theta, std::span<const double> tau, Eigen::VectorXd& nu,
+                            Eigen::MatrixXd& jac) const {
+  check_size_match("Model::wv_and_jacobian", "theta", static_cast<std::size_t>(theta.size()), "parameters",
+                   static_cast<std::size_t>(num_parameters_));
+  const auto J = static_cast<Eigen::Index>(tau.size());
+  // The components' WVs summed in wv()'s order, from zero: the same sum to the bit.
+  nu = Eigen::VectorXd::Zero(J);
+  jac.resize(J, num_parameters_);
+  Eigen::VectorXd part(J);
+  for (int c = 0; c < num_components(); ++c) {
+    const auto& p = *components_[c].process;
+    p.wv_and_jacobian(slice(theta, offset(c), p.size()), tau, {part.data(), tau.size()},
+                      jac.middleCols(offset(c), p.size()));
+    nu += part;
+  }
+}
+
 std::vector<Eigen::MatrixXd> Model::hessians(const Eigen::VectorXd& theta, std::span<const double> tau) const {
   const auto J = static_cast<Eigen::Index>(tau.size());
   std::vector<Eigen::MatrixXd> out(tau.size(), Eigen::MatrixXd::Zero(num_parameters_, num_parameters_));

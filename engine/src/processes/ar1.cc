@@ -38,18 +38,22 @@ class Ar1Process final : public Process, public internal::Ar1PathSource {
   using JetHessian = Jet<2>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
-                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
+                   Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
     const J phi = J::variable(theta[0], 0);
     const J s = J::variable(theta[1], 1);
     const internal::Ar1UnitWv<J> unit(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "AR1::wv");
-      internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k), jac, hess);
+      internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k), jac, hess, value);
     }
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
     derivatives<JetGradient>(theta, tau, &jac, nullptr);
+  }
+  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
+                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {

@@ -44,19 +44,24 @@ class Arma11Process final : public Process {
   using JetHessian = Jet<3>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
-                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
+                   Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
     const J phi = J::variable(theta[0], 0);
     const J th = J::variable(theta[1], 1);
     const J s = J::variable(theta[2], 2);
     const internal::Ar1UnitWv<J> ar1(phi);
     for (std::size_t k = 0; k < tau.size(); ++k) {
       const double m = internal::haar_half_scale(tau[k], "ARMA11::wv");
-      internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m), static_cast<Eigen::Index>(k), jac, hess);
+      internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m), static_cast<Eigen::Index>(k), jac, hess,
+                              value);
     }
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
     derivatives<JetGradient>(theta, tau, &jac, nullptr);
+  }
+  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
+                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {

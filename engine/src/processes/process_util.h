@@ -79,9 +79,11 @@ inline double guess_tau(const GuessContext& ctx, double fallback) {
 /// Writes a Jet's gradient into jac row k and its Hessian into hess row k
 /// (hess(k, l * p + m) = d^2 / d theta_l d theta_m), p = N.
 /// A Jet without a Hessian (order 1) is only for a call without `hess`.
+/// With `value`, its element k receives the Jet's value.
 template <int N, int O>
 void store_jet_row(const Jet<N, O>& r, Eigen::Index k, Eigen::Ref<Eigen::MatrixXd>* jac,
-                   Eigen::Ref<Eigen::MatrixXd>* hess) {
+                   Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) {
+  if (value) (*value)[static_cast<std::size_t>(k)] = r.v;
   for (int l = 0; l < N; ++l) {
     if (jac) (*jac)(k, l) = r.g(l);
     if constexpr (O == 2) {

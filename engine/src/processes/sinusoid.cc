@@ -78,16 +78,20 @@ class Sinusoid final : public Process {
   using JetHessian = Jet<2>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
-                   Eigen::Ref<Eigen::MatrixXd>* hess) const {
+                   Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
     const J a2 = J::variable(theta[0], 0);
     const J f = J::variable(theta[1], 1);
     const J b = sin_pi_t(f);
     for (std::size_t k = 0; k < tau.size(); ++k)
-      internal::store_jet_row(a2 * sin_unit_wv(f, b, 0.5 * tau[k]), static_cast<Eigen::Index>(k), jac, hess);
+      internal::store_jet_row(a2 * sin_unit_wv(f, b, 0.5 * tau[k]), static_cast<Eigen::Index>(k), jac, hess, value);
   }
   void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                    Eigen::Ref<Eigen::MatrixXd> jac) const override {
     derivatives<JetGradient>(theta, tau, &jac, nullptr);
+  }
+  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
+                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
+    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
   }
   void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                   Eigen::Ref<Eigen::MatrixXd> hess) const override {

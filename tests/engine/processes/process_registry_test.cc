@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -95,6 +97,43 @@ TEST(ProcessRegistry, EveryProcessScaledByCHasCTimesItsWaveletVariance) {
       p->wv(s, tau, scaled);
       for (std::size_t k = 0; k < tau.size(); ++k)
         EXPECT_NEAR(scaled[k], c * base[k], 1e-13 * c * base[k]) << n << " x " << c << ", tau = " << tau[k];
+    }
+  }
+}
+
+TEST(ProcessRegistry, EveryProcessGivesItsWvAndJacobianTogetherAsItGivesThemApart) {
+  // Process::wv_and_jacobian (an optimiser's every step) must be wv and wv_jacobian to the
+  // bit: a fit's path, and so every figure, would otherwise depend on which was called.
+  // Starts guessed around every third level of 12 and of 20.
+  for (const double top : {12.0, 20.0}) {
+    std::vector<double> tau;
+    for (int j = 1; j <= static_cast<int>(top); ++j) tau.push_back(std::ldexp(1.0, j));
+    std::vector<double> wv(tau.size());
+    for (std::size_t k = 0; k < tau.size(); ++k) wv[k] = 1.0 / tau[k] + 1e-3 * tau[k];
+    for (const auto& n : ProcessRegistry::instance().names()) {
+      const auto p = n == "ARMA" ? make_process(n, {{"p", 2}, {"q", 1}}) : make_process(n);
+      for (std::size_t h = 0; h < tau.size(); h += 3) {
+        GuessContext guess;
+        guess.tau = tau;
+        guess.wv = wv;
+        guess.tau_hint = tau[h];
+        const std::vector<double> theta = p->initial_guess(guess);
+        ASSERT_EQ(p->validate(theta), "") << n;
+        const auto J = static_cast<Eigen::Index>(tau.size());
+        std::vector<double> apart(tau.size()), together(tau.size());
+        Eigen::MatrixXd jac_apart(J, p->size()), jac_together(J, p->size());
+        p->wv(theta, tau, apart);
+        p->wv_jacobian(theta, tau, jac_apart);
+        p->wv_and_jacobian(theta, tau, together, jac_together);
+        for (std::size_t k = 0; k < tau.size(); ++k) {
+          EXPECT_EQ(std::bit_cast<std::uint64_t>(together[k]), std::bit_cast<std::uint64_t>(apart[k]))
+              << n << " at tau = " << tau[k] << ": " << together[k] << " vs " << apart[k];
+          for (int l = 0; l < p->size(); ++l)
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(jac_together(static_cast<Eigen::Index>(k), l)),
+                      std::bit_cast<std::uint64_t>(jac_apart(static_cast<Eigen::Index>(k), l)))
+                << n << " parameter " << l << " at tau = " << tau[k];
+        }
+      }
     }
   }
 }

@@ -41,6 +41,9 @@ class Model {
   Eigen::VectorXd wv(const Eigen::VectorXd& theta, std::span<const double> tau) const;
   /// J x p Jacobian in natural parameters.
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& theta, std::span<const double> tau) const;
+  /// wv and jacobian at one point, the same to the bit as each apart (Process::wv_and_jacobian).
+  void wv_and_jacobian(const Eigen::VectorXd& theta, std::span<const double> tau, Eigen::VectorXd& nu,
+                       Eigen::MatrixXd& jac) const;
   /// Per level, the p x p Hessian (block-diagonal across components), stored as
   /// hess[j](l, m).
   std::vector<Eigen::MatrixXd> hessians(const Eigen::VectorXd& theta, std::span<const double> tau) const;

@@ -169,6 +169,15 @@ class Process {
   /// jac(k, l) = d nu^2(tau_k) / d theta_l (natural parameters). jac is tau.size() x size().
   virtual void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
                            Eigen::Ref<Eigen::MatrixXd> jac) const = 0;
+  /// wv and wv_jacobian at one point, with the same values to the bit (test
+  /// ProcessRegistry.EveryProcessGivesItsWvAndJacobianTogetherAsItGivesThemApart): what an
+  /// optimiser asks at every step. The processes whose derivatives carry the value (Jet)
+  /// form both in one pass.
+  virtual void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
+                               Eigen::Ref<Eigen::MatrixXd> jac) const {
+    wv(theta, tau, out);
+    wv_jacobian(theta, tau, jac);
+  }
   /// hess(k, l * p + m) = d^2 nu^2(tau_k) / d theta_l d theta_m. hess is tau.size() x p^2.
   virtual void wv_hessian(std::span<const double> theta, std::span<const double> tau,
                           Eigen::Ref<Eigen::MatrixXd> hess) const = 0;
