@@ -48,6 +48,10 @@ out=tools/bench/results/$(date -u +%Y-%m-%d)-run-all.md
   echo
   "$build/bench_optimism" || true
   echo
+  echo "## Bootstrap refits: from the fit alone against an added placement start (bench_bootstrap_refit_starts)"
+  echo
+  "$build/bench_bootstrap_refit_starts" || true
+  echo
   echo "## Representability on real data (bench_representation)"
   echo
   "$build/bench_representation" || true
