@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 
 #include <Eigen/Dense>
@@ -127,44 +128,54 @@ constexpr double kCollapsedShare = 1e-6;
 
 }  // namespace
 
-bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega, Eigen::VectorXd& theta,
-                 double& objective) {
+namespace {
+
+// One component's shape as solve_sizes sees it: the parameter that scales its WV and its
+// WV at the shape (the column of the least-squares problem).
+struct SizeColumn {
+  ScaleParam sp;
+  std::vector<double> f;
+};
+
+SizeColumn size_column(const WaveletVariance& wv, const Model& model, int c, const Eigen::VectorXd& theta) {
+  const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
+  std::vector<double> g(theta.data() + model.offset(c), theta.data() + model.offset(c) + p.size());
+  SizeColumn col;
+  col.sp = find_scale_param(p, g, wv.tau, col.f);
+  return col;
+}
+
+// solve_sizes on the components' columns at theta's shapes (columns[c] for component c).
+bool solve_sizes_on(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega,
+                    const std::vector<const SizeColumn*>& columns, Eigen::VectorXd& theta, double& objective) {
   const int J = wv.levels();
   const int C = model.num_components();
   Eigen::VectorXd y = wv.values();
   for (int j = 0; j < J; ++j)
     if (!(y(j) > 0.0) || !std::isfinite(y(j))) y(j) = 0.0;
   const double level = std::max(y.maxCoeff(), 1e-300);
-  Eigen::MatrixXd F(J, C);
-  std::vector<ScaleParam> sp(static_cast<std::size_t>(C));
-  for (int c = 0; c < C; ++c) {
-    const Process& p = *model.components()[static_cast<std::size_t>(c)].process;
-    std::vector<double> g(theta.data() + model.offset(c), theta.data() + model.offset(c) + p.size());
-    std::vector<double> f;
-    sp[static_cast<std::size_t>(c)] = find_scale_param(p, g, wv.tau, f);
-    F.col(c) = Eigen::Map<Eigen::VectorXd>(f.data(), J);
-  }
+  auto column = [&](int c) { return Eigen::Map<const Eigen::VectorXd>(columns[static_cast<std::size_t>(c)]->f.data(), J); };
   // Components without a free scale parameter keep their size: move them to y.
   Eigen::VectorXd yy = y;
   std::vector<int> cols;
   for (int c = 0; c < C; ++c) {
-    const ScaleParam& s = sp[static_cast<std::size_t>(c)];
+    const ScaleParam& s = columns[static_cast<std::size_t>(c)]->sp;
     const bool given =
         s.index >= 0 &&
         !std::isnan(model.components()[static_cast<std::size_t>(c)].given[static_cast<std::size_t>(s.index)]);
     if (s.index < 0 || given)
-      yy -= F.col(c);
+      yy -= column(c);
     else
       cols.push_back(c);
   }
   if (!cols.empty()) {
     Eigen::MatrixXd Fa(J, static_cast<Eigen::Index>(cols.size()));
-    for (std::size_t a = 0; a < cols.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(cols[a]);
+    for (std::size_t a = 0; a < cols.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = column(cols[a]);
     const Eigen::VectorXd s = nnls(Fa, yy, omega);
     for (std::size_t a = 0; a < cols.size(); ++a) {
       const int c = cols[a];
-      const ScaleParam& spc = sp[static_cast<std::size_t>(c)];
-      const double fmax = std::max(F.col(c).cwiseAbs().maxCoeff(), 1e-300);
+      const ScaleParam& spc = columns[static_cast<std::size_t>(c)]->sp;
+      const double fmax = std::max(column(c).cwiseAbs().maxCoeff(), 1e-300);
       const double factor = std::max(s(static_cast<Eigen::Index>(a)), kSizeFloor * level / fmax);
       double& v = theta(model.offset(c) + spc.index);
       v *= spc.squared ? std::sqrt(factor) : factor;
@@ -174,6 +185,18 @@ bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::Mat
   const Eigen::VectorXd r = wv.values() - model.wv(theta, wv.tau);
   objective = r.dot(omega * r);
   return std::isfinite(objective);
+}
+
+}  // namespace
+
+bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::MatrixXd& omega, Eigen::VectorXd& theta,
+                 double& objective) {
+  const int C = model.num_components();
+  std::vector<SizeColumn> owned;
+  owned.reserve(static_cast<std::size_t>(C));
+  std::vector<const SizeColumn*> columns;
+  for (int c = 0; c < C; ++c) columns.push_back(&owned.emplace_back(size_column(wv, model, c, theta)));
+  return solve_sizes_on(wv, model, omega, columns, theta, objective);
 }
 
 namespace {
@@ -255,6 +278,16 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
   bool done = k > G;
   if (done) comb.clear();  // more placed components than grid points: spread them evenly
   int evaluated = 0;
+  // A component placed at a hint has the same shape and WV column in every combination
+  // that places it there (a spread component takes at most G hints, the others one): each
+  // is formed once, not once per combination (the columns' WV probes were 40% of
+  // candidate_starts; issue 44).
+  struct Placed {
+    Eigen::VectorXd shape;
+    SizeColumn column;
+  };
+  std::map<std::pair<int, double>, Placed> placed;
+  std::vector<const SizeColumn*> columns(static_cast<std::size_t>(C));
   do {
     Eigen::VectorXd theta(model.num_parameters());
     int si = 0;
@@ -265,10 +298,19 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
                                    : grid[static_cast<std::size_t>(comb[static_cast<std::size_t>(si)])];
         ++si;
       }
-      place_component(wv, model, c, hint_for(place[static_cast<std::size_t>(c)], wv, spread_hint), target, theta);
+      const double hint = hint_for(place[static_cast<std::size_t>(c)], wv, spread_hint);
+      auto [it, fresh] = placed.try_emplace({c, hint});
+      if (fresh) {
+        Eigen::VectorXd t(model.num_parameters());
+        place_component(wv, model, c, hint, target, t);
+        it->second.shape = t.segment(model.offset(c), model.components()[static_cast<std::size_t>(c)].process->size());
+        it->second.column = size_column(wv, model, c, t);
+      }
+      theta.segment(model.offset(c), it->second.shape.size()) = it->second.shape;
+      columns[static_cast<std::size_t>(c)] = &it->second.column;
     }
     double q = 0.0;
-    if (solve_sizes(wv, model, omega, theta, q)) scored.push_back({q, theta});
+    if (solve_sizes_on(wv, model, omega, columns, theta, q)) scored.push_back({q, theta});
     ++evaluated;
     if (!comb.empty())
       next_combination(comb, G, done);
