@@ -82,23 +82,14 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& F, const Eigen::VectorXd& y, const E
     for (int k = 0; k < p; ++k)
       if (free[static_cast<std::size_t>(k)]) idx.push_back(k);
     if (idx.empty()) break;
-    Eigen::VectorXd sa(static_cast<Eigen::Index>(idx.size()));
-    if (idx.size() == 1) {
-      // One column: s = F'Wy / F'WF, or none when the column is null (what the rank-revealing
-      // solve below gives, without its factorisation: every shape-based start of a
-      // one-component fit, e.g. each effect refit of `gap`, solves this).
-      const double g = G_all(idx[0], idx[0]);
-      sa(0) = g > 0.0 ? b_all(idx[0]) / g : 0.0;
-    } else {
-      // Jacobi scaling: the components' WVs differ by many decades (a WN's 1/tau against a
-      // random walk's tau/6 at tau = 2^16, under weights of 1e15), and the rank-revealing
-      // solve would otherwise read the small column as null and drop it.
-      const Eigen::MatrixXd G = G_all(idx, idx);
-      const Eigen::VectorXd d = G.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-      const Eigen::MatrixXd Gs = d.asDiagonal() * G * d.asDiagonal();
-      const Eigen::VectorXd b = b_all(idx);
-      sa = d.cwiseProduct(Gs.completeOrthogonalDecomposition().solve(d.cwiseProduct(b)));
-    }
+    // Jacobi scaling: the components' WVs differ by many decades (a WN's 1/tau against a
+    // random walk's tau/6 at tau = 2^16, under weights of 1e15), and the rank-revealing
+    // solve would otherwise read the small column as null and drop it.
+    const Eigen::MatrixXd G = G_all(idx, idx);
+    const Eigen::VectorXd d = G.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd Gs = d.asDiagonal() * G * d.asDiagonal();
+    const Eigen::VectorXd b = b_all(idx);
+    const Eigen::VectorXd sa = d.cwiseProduct(Gs.completeOrthogonalDecomposition().solve(d.cwiseProduct(b)));
     int worst = -1;
     double most_negative = 0.0;
     for (std::size_t a = 0; a < idx.size(); ++a)
