@@ -71,25 +71,21 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& F, const Eigen::VectorXd& y, const E
   const int p = static_cast<int>(F.cols());
   std::vector<bool> free(static_cast<std::size_t>(p), true);
   Eigen::VectorXd s = Eigen::VectorXd::Zero(p);
-  // The normal equations of every column once; each active set reads its rows and columns
-  // (forming F_a' W F_a and F_a' W y per active set, J x J products, was two thirds of the
-  // solve; issue 44).
-  const Eigen::MatrixXd WF = W * F;
-  const Eigen::MatrixXd G_all = F.transpose() * WF;
-  const Eigen::VectorXd b_all = WF.transpose() * y;
   for (int iter = 0; iter < 3 * p + 3; ++iter) {
     std::vector<int> idx;
     for (int k = 0; k < p; ++k)
       if (free[static_cast<std::size_t>(k)]) idx.push_back(k);
     if (idx.empty()) break;
+    Eigen::MatrixXd Fa(F.rows(), static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t a = 0; a < idx.size(); ++a) Fa.col(static_cast<Eigen::Index>(a)) = F.col(idx[a]);
     // Jacobi scaling: the components' WVs differ by many decades (a WN's 1/tau against a
     // random walk's tau/6 at tau = 2^16, under weights of 1e15), and the rank-revealing
     // solve would otherwise read the small column as null and drop it.
-    const Eigen::MatrixXd G = G_all(idx, idx);
+    const Eigen::MatrixXd G = Fa.transpose() * W * Fa;
     const Eigen::VectorXd d = G.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
     const Eigen::MatrixXd Gs = d.asDiagonal() * G * d.asDiagonal();
-    const Eigen::VectorXd b = b_all(idx);
-    const Eigen::VectorXd sa = d.cwiseProduct(Gs.completeOrthogonalDecomposition().solve(d.cwiseProduct(b)));
+    const Eigen::VectorXd sa =
+        d.cwiseProduct(Gs.completeOrthogonalDecomposition().solve(d.cwiseProduct(Fa.transpose() * W * y)));
     int worst = -1;
     double most_negative = 0.0;
     for (std::size_t a = 0; a < idx.size(); ++a)
