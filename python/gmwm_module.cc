@@ -28,6 +28,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/io/option_wording.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
@@ -369,10 +370,12 @@ PYBIND11_MODULE(_gmwm, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const gmwm::InputError& e) {
-      input_error(gmwm::printable_line(e.what()).c_str());
+      // In Python's words: the keyword arguments that set what the message names as CLI options.
+      input_error(gmwm::io::option_wording(gmwm::printable_line(e.what()), gmwm::io::Face::kPython).c_str());
     } catch (const gmwm::InvalidArgument& e) {
-      input_error(gmwm::capped_line(gmwm::printable_line(e.what()))
-                      .c_str());  // the library's argument checks: bad input too, as the CLI's exit 2
+      // The library's argument checks: bad input too, as the CLI's exit 2.
+      input_error(
+          gmwm::io::option_wording(gmwm::capped_line(gmwm::printable_line(e.what())), gmwm::io::Face::kPython).c_str());
     }
   });
   m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,

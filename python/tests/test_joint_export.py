@@ -100,7 +100,7 @@ def test_export_takes_a_typed_fit_and_derives_a_consistent_inflation(recordings)
     assert e.written["gyro"].combined.noise_density == pytest.approx(f.noise_figures.N.value, rel=1e-12)
     with pytest.raises(gmwm.InputError, match="needs the models of both sensors"):
         gmwm.export(f, format="kalibr", consistent_for=(20.0, 60.0, 0.05), partial=True)
-    with pytest.raises(gmwm.InputError, match="leave out --inflate"):
+    with pytest.raises(gmwm.InputError, match="consistent_for derives the inflation; leave out inflate"):
         gmwm.export(f, format="kalibr", inflate=2.0, consistent_for=(20.0, 60.0, 0.05), partial=True)
 
 

@@ -14,3 +14,17 @@ def test_a_subnormal_alpha_is_refused_with_the_valid_range(call):
     x = gmwm.simulate("WN(sigma2=1)", 4096)
     with pytest.raises(gmwm.InputError, match="alpha must be at least 1e-10"):
         call(x)
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda x: gmwm.fit(x, "WN", freq=100, units="furlong"), "units 'furlong'"),
+    (lambda x: gmwm.allan(x, freq=100, units="gyro=furlong"), "units 'gyro=furlong'"),
+    (lambda x: gmwm.select(x, "WN+RW", freq=100, units="parsec"), "units 'parsec'"),
+])
+def test_a_refusal_names_the_keyword_argument_not_the_command_lines_option(call, field):
+    # One table of options and fields for every face (issue 45): Python said "--units".
+    x = gmwm.simulate("WN(sigma2=1)", 4096)
+    with pytest.raises(gmwm.InputError) as e:
+        call(x)
+    assert str(e.value).startswith(field), str(e.value)
+    assert "--" not in str(e.value), str(e.value)

@@ -17,6 +17,7 @@
 #include "folder.h"
 #include "gmwm/engine/error.h"
 #include "guard.h"
+#include "gmwm/io/option_wording.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
 #include "gmwm/report/html_fragment.h"
@@ -115,7 +116,7 @@ std::string renamed(std::string message, const std::string& path, const std::str
   for (std::size_t p = message.find(path); !path.empty() && p != std::string::npos;
        p = message.find(path, p + name.size()))
     message.replace(p, path.size(), name);
-  return detail::api_wording(std::move(message));
+  return io::option_wording(std::move(message), io::Face::kWeb);
 }
 
 std::string kind_of(const std::string& column) {

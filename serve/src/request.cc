@@ -7,30 +7,6 @@
 
 namespace gmwm::serve::detail {
 
-namespace {
-
-// The CLI's options in the library's messages, and the request fields that set them.
-constexpr std::pair<const char*, const char*> kOptionFields[] = {{"--freq HZ", "\"freq\" (Hz)"},
-                                                                 {"--freq", "\"freq\""},
-                                                                 {"--columns", "\"columns\""},
-                                                                 {"--topic", "\"topic\""},
-                                                                 {"--units", "\"units\""},
-                                                                 {"--no-unit-check", "\"unit_check\": false"},
-                                                                 {"--partial", "\"partial\": true"}};
-
-std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (std::size_t p = s.find(from); !from.empty() && p != std::string::npos; p = s.find(from, p + to.size()))
-    s.replace(p, from.size(), to);
-  return s;
-}
-
-}  // namespace
-
-std::string api_wording(std::string message) {
-  for (const auto& [option, field] : kOptionFields) message = replace_all(std::move(message), option, field);
-  return message;
-}
-
 Body::Body(const std::string& text, const std::string& where, std::int64_t max_bytes) : where_(where) {
   if (static_cast<std::int64_t>(text.size()) > max_bytes)
     throw HttpError(413, where + ": the request body has " + std::to_string(text.size()) + " bytes, expected at most " +

@@ -28,10 +28,6 @@ class HttpError : public std::runtime_error {
   int retry_after_;
 };
 
-/// A library message as the page's user reads it: the CLI's option names (--freq HZ,
-/// --columns, --topic, --units) as the request's fields that set them.
-std::string api_wording(std::string message);
-
 /// A request's JSON object. Throws HttpError 400 naming the endpoint and field.
 class Body {
  public:

@@ -6,6 +6,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/export.h"
+#include "gmwm/io/option_wording.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/export_study.h"
@@ -37,7 +38,7 @@ auto as_bad_request(const std::string& where, F&& f) {
   try {
     return f();
   } catch (const InputError& e) {
-    throw HttpError(400, api_wording(where + ": " + e.what()));
+    throw HttpError(400, io::option_wording(where + ": " + e.what(), io::Face::kWeb));
   }
 }
 
