@@ -150,8 +150,9 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
                       double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
                       std::optional<double> eff, const std::optional<std::string>& estimator,
                       const std::string& units_spec) {
-  std::vector<std::vector<double>> cols = columns_of(data);
-  const std::vector<std::string> labels = names_for(cols.size(), names);
+  std::vector<std::string> found;
+  std::vector<std::vector<double>> cols = columns_of(data, &found);
+  const std::vector<std::string> labels = names_for(cols.size(), names, found);
   const gmwm::io::UnitsSpec spec = gmwm::io::parse_units_spec(units_spec);
   std::vector<std::string> units;
   for (const std::string& label : labels) units.push_back(gmwm::io::unit_of_column(spec, label));
@@ -206,8 +207,9 @@ std::string py_gap(const py::object& data, double freq, const std::optional<std:
     throw gmwm::InputError(
         "gap: give exactly one baseline: model=SPEC_WITH_VALUES, kalibr=imu.yaml, gazebo=FILE.sdf, "
         "datasheet=FILE.yaml or fit=SPEC");
-  std::vector<std::vector<double>> cols = columns_of(data);
-  const std::vector<std::string> labels = names_for(cols.size(), names);
+  std::vector<std::string> found;
+  std::vector<std::vector<double>> cols = columns_of(data, &found);
+  const std::vector<std::string> labels = names_for(cols.size(), names, found);
   gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
   gmwm::pipeline::GapStudyOptions o;
   o.wv.alpha = alpha;

@@ -14,8 +14,34 @@ namespace gmwm::python {
 
 std::string to_python(const Json& j) { return gmwm::report::dump_json(j); }
 
+namespace {
+
+// A pandas DataFrame (duck-typed: pandas is not a dependency of the module).
+bool is_data_frame(const py::handle& obj) {
+  return !py::isinstance<py::array>(obj) && py::hasattr(obj, "columns") && py::hasattr(obj, "iloc") &&
+         py::hasattr(obj, "to_numpy");
+}
+
+// A DataFrame's column labels as text (str() of each: pandas allows any hashable).
+std::vector<std::string> frame_labels(const py::handle& frame) {
+  std::vector<std::string> out;
+  for (const auto& label : frame.attr("columns")) out.push_back(py::str(label).cast<std::string>());
+  return out;
+}
+
+}  // namespace
+
 // A 1-D float64 view of one series (copied when not contiguous float64).
 std::vector<double> series_of(const py::handle& obj, const char* what) {
+  if (is_data_frame(obj)) {
+    // One series: a DataFrame of one column is that column; of more, the message says which
+    // functions take them all (a 2-D array said "2 dimensions", a DataFrame gave KeyError: 0).
+    const std::vector<std::string> labels = frame_labels(obj);
+    if (labels.size() == 1) return series_of(obj.attr("iloc")[py::make_tuple(py::slice(py::none(), py::none(), py::none()), 0)], what);
+    throw gmwm::InputError(std::string(what) + ": found a DataFrame of " + std::to_string(labels.size()) +
+                           " columns, expected one series (e.g. data['" + (labels.empty() ? "x" : labels.front()) +
+                           "']); select, gap and the joint functions take every column of a DataFrame");
+  }
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a) {
     PyErr_Clear();  // ensure() leaves the conversion's error set
@@ -50,7 +76,18 @@ void check_wv_range(const std::string& name, const gmwm::WaveletVariance& wv, st
 
 // Columns: a 1-D array (one column), a 2-D array (samples x columns, as a file's columns)
 // or a sequence of 1-D arrays.
-std::vector<std::vector<double>> columns_of(const py::handle& obj) {
+std::vector<std::vector<double>> columns_of(const py::handle& obj, std::vector<std::string>* labels) {
+  if (is_data_frame(obj)) {
+    // A DataFrame: its columns, named by their labels (as a file's header names them).
+    const std::vector<std::string> found = frame_labels(obj);
+    if (found.empty()) throw gmwm::InputError("data: found a DataFrame with no column, expected samples x columns");
+    std::vector<std::vector<double>> out;
+    for (std::size_t c = 0; c < found.size(); ++c)
+      out.push_back(series_of(obj.attr("iloc")[py::make_tuple(py::slice(py::none(), py::none(), py::none()), c)],
+                              ("column '" + found[c] + "'").c_str()));
+    if (labels) *labels = found;
+    return out;
+  }
   if (py::isinstance<py::array>(obj) && py::cast<py::array>(obj).ndim() == 2) {
     auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
     if (!a) {
@@ -85,7 +122,9 @@ gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optio
   return {name, static_cast<std::int64_t>(n), freq.value_or(1.0), freq.has_value(), unit};
 }
 
-std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names) {
+std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names,
+                                   const std::vector<std::string>& found) {
+  if (names.empty() && found.size() == k) return found;
   if (names.empty()) {
     std::vector<std::string> out;
     for (std::size_t i = 0; i < k; ++i) out.push_back("x" + std::to_string(i + 1));

@@ -84,14 +84,17 @@ std::vector<double> series_of(const py::handle& obj, const char* what);
 // The library's check that a WV can be used (underflow, overflow), naming the column.
 void check_wv_range(const std::string& name, const gmwm::WaveletVariance& wv, std::span<const double> x);
 
-// Columns: a 1-D array (one column), a 2-D array (samples x columns, as a file's columns)
-// or a sequence of 1-D arrays.
-std::vector<std::vector<double>> columns_of(const py::handle& obj);
+// Columns: a 1-D array (one column), a 2-D array (samples x columns, as a file's columns),
+// a pandas DataFrame (its columns; `labels` receives their labels) or a sequence of 1-D arrays.
+std::vector<std::vector<double>> columns_of(const py::handle& obj, std::vector<std::string>* labels = nullptr);
 
 gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
                               const std::string& unit);
 
-std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names);
+// The columns' names: `names` when given, else the labels the data carried (`found`, a
+// DataFrame's), else x1, x2, ...
+std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names,
+                                   const std::vector<std::string>& found = {});
 
 // The columns as the signal set a file would give ("<array>", the rate when known).
 gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const std::vector<std::string>& labels,

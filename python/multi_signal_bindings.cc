@@ -73,8 +73,9 @@ ReplicateArrays replicate_groups(const py::sequence& recordings, std::optional<d
   ReplicateArrays out;
   std::vector<gmwm::pipeline::ReplicateRecording> rest;
   for (std::size_t k = 0; k < recordings.size(); ++k) {
-    std::vector<std::vector<double>> cols = columns_of(recordings[k]);
-    const std::vector<std::string> labels = names_for(cols.size(), names);
+    std::vector<std::string> found;
+    std::vector<std::vector<double>> cols = columns_of(recordings[k], &found);
+    const std::vector<std::string> labels = names_for(cols.size(), names, found);
     gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
     set.path = "replicates[" + std::to_string(k) + "]";
     if (k == 0)
