@@ -35,7 +35,11 @@ JointFitResult for `gmwm fit --joint --json`, ExportResult for `gmwm export --js
 ("gyro=deg/s,accel=g", each column's kind from its name); a typo is refused. plan() takes the
 CLI's --unit (one unit name, validated too).
 
-Bad input raises gmwm.InputError (a ValueError) with the command's one-line message.
+`freq` (Hz) is needed by every function that takes data: an array carries no timestamps, as
+the CLI refuses a file without a time column and no --freq (freq=1 reads tau in samples).
+
+Bad input raises gmwm.InputError (a ValueError) with the command's one-line message, the
+keyword argument to change named where the command names its option.
 """
 from __future__ import annotations
 

@@ -244,9 +244,9 @@ def test_robust_fit_and_select_equal_the_cli_json_bit_for_bit(tmp_path, example)
     assert_text_is_the_document(mine, col)
     check_select_column(mine, col)
     with pytest.raises(gmwm.InputError, match="eff: only meaningful with robust=True"):
-        gmwm.fit(example["gyro_y"], "WN", eff=0.6)
+        gmwm.fit(example["gyro_y"], "WN", freq=100.0, eff=0.6)
     with pytest.raises(gmwm.InputError, match="unknown robust estimator 'tukey'"):
-        gmwm.fit(example["gyro_y"], "WN", robust=True, estimator="tukey")
+        gmwm.fit(example["gyro_y"], "WN", freq=100.0, robust=True, estimator="tukey")
 
 
 def test_simulate_equals_the_cli_series(tmp_path):
@@ -264,12 +264,12 @@ def test_simulate_equals_the_cli_series(tmp_path):
     np.testing.assert_array_equal(mine[:, 0], cli[:, first])
     np.testing.assert_array_equal(mine[:, 1], cli[:, first + 1])
     # ... and select() reads them as two columns.
-    assert len(gmwm.select(mine, "WN+RW")) == 2
+    assert len(gmwm.select(mine, "WN+RW", freq=1.0)) == 2
 
 
 def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
     with pytest.raises(gmwm.InputError) as e:
-        gmwm.fit(example["gyro_x"], "AR1+FOO")
+        gmwm.fit(example["gyro_x"], "AR1+FOO", freq=100.0)
     cli = subprocess.run([CLI, "fit", EXAMPLE, "--columns", "gyro_x", "--model", "AR1+FOO"], capture_output=True,
                          text=True)
     assert cli.returncode == 2
@@ -291,6 +291,24 @@ def test_bad_input_raises_input_error_with_the_cli_message(tmp_path, example):
         gmwm.select(1.0, "WN+RW")
     with pytest.raises(gmwm.InputError, match="^freq: found 0, expected a sampling rate in Hz"):
         gmwm.simulate("WN(sigma2=1)", 100, freq=0)
+
+
+def test_an_array_without_freq_is_refused_as_a_file_without_timestamps(tmp_path, example):
+    """One rule (issue 45): the command line refuses a file without a timestamp column and no
+    --freq; an array carries no timing either, and Python took a missing freq silently (its
+    result had no figure in seconds and said nothing)."""
+    no_time = tmp_path / "no_time.csv"
+    no_time.write_text("gyro_x\n" + "\n".join(repr(v) for v in example["gyro_x"][:4096]) + "\n")
+    cli = subprocess.run([CLI, "fit", str(no_time), "--model", "WN"], capture_output=True, text=True)
+    assert cli.returncode == 2
+    assert cli.stderr.strip().endswith("no timestamp column found; give the sampling rate with --freq HZ")
+    x = example["gyro_x"]
+    for call in (lambda: gmwm.wv(x), lambda: gmwm.fit(x, "WN"), lambda: gmwm.select(x, "WN+RW"),
+                 lambda: gmwm.fit_joint([x, x * 1.1], "WN"), lambda: gmwm.select_joint([x, x * 1.1], "WN+RW")):
+        with pytest.raises(gmwm.InputError) as e:
+            call()
+        assert str(e.value) == "data: an array carries no timestamps; give the sampling rate with freq (Hz)"
+    assert gmwm.fit(x, "WN", freq=1.0).freq == 1.0  # tau in samples, said so
 
 
 def test_a_units_typo_is_refused_by_every_function_with_the_clis_message(tmp_path, example):
@@ -325,23 +343,24 @@ def test_a_constant_or_underflowing_series_is_refused_naming_it(example):
     with pytest.raises(gmwm.InputError, match="found all 1000 values equal to 0"):
         gmwm.select(np.zeros(1000), "WN+RW")
     tiny = example["gyro_x"] * 1e-300
-    for call in (lambda: gmwm.wv(tiny, name="gyro_x"), lambda: gmwm.fit(tiny, "WN+RW", name="gyro_x"),
+    for call in (lambda: gmwm.wv(tiny, freq=100.0, name="gyro_x"),
+                 lambda: gmwm.fit(tiny, "WN+RW", freq=100.0, name="gyro_x"),
                  lambda: gmwm.allan(tiny, freq=100.0)):
         with pytest.raises(gmwm.InputError, match="zero at every level although the values vary"):
             call()
     with pytest.raises(gmwm.InputError, match="column 'gyro_x': the wavelet variance at level"):
-        gmwm.fit(example["gyro_x"] * 1e160, "WN+RW", name="gyro_x")
+        gmwm.fit(example["gyro_x"] * 1e160, "WN+RW", freq=100.0, name="gyro_x")
 
 
 def test_computations_release_the_gil(example):
     # Two selections in threads finish with the same results as one after the other; while
     # they run, the interpreter keeps executing Python (a counter advances).
     data = example["gyro_x"]
-    expected = gmwm.select(data, "2*AR1+WN+RW").to_json()
+    expected = gmwm.select(data, "2*AR1+WN+RW", freq=100.0).to_json()
     results, ticks, done = [], [0], threading.Event()
 
     def work():
-        results.append(gmwm.select(data, "2*AR1+WN+RW").to_json())
+        results.append(gmwm.select(data, "2*AR1+WN+RW", freq=100.0).to_json())
 
     def count():
         while not done.is_set():

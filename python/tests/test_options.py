@@ -6,9 +6,9 @@ import gmwm
 
 
 @pytest.mark.parametrize("call", [
-    lambda x: gmwm.wv(x, alpha=1e-320),
-    lambda x: gmwm.fit(x, "WN", alpha=1e-320),
-    lambda x: gmwm.select(x, "WN+RW", alpha=1e-17),
+    lambda x: gmwm.wv(x, freq=1.0, alpha=1e-320),
+    lambda x: gmwm.fit(x, "WN", freq=1.0, alpha=1e-320),
+    lambda x: gmwm.select(x, "WN+RW", freq=1.0, alpha=1e-17),
 ])
 def test_a_subnormal_alpha_is_refused_with_the_valid_range(call):
     x = gmwm.simulate("WN(sigma2=1)", 4096)

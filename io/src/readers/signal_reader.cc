@@ -136,6 +136,10 @@ std::string sampling_rate_expected() {
   return buf;
 }
 
+std::string missing_rate_problem(const std::string& source, const std::string& why) {
+  return source + ": " + why + "; give the sampling rate with --freq HZ";
+}
+
 std::string sampling_rate_problem(double freq, const std::string& option) {
   if (freq >= kMinFreq && freq <= kMaxFreq) return {};
   char buf[32];
@@ -323,7 +327,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
     time_col.reset();  // not usable for timing; --freq rules anyway
   }
   if (!time_col && !options.freq)
-    throw InputError(path + ": no timestamp column found; give the sampling rate with --freq HZ");
+    throw InputError(missing_rate_problem(path, "no timestamp column found"));
 
   // Which fields become signals, in which order.
   std::vector<std::size_t> selected;

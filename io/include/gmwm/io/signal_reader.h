@@ -85,6 +85,11 @@ inline constexpr double kMaxFreq = 1e9;
 std::string sampling_rate_problem(double freq, const std::string& option);
 /// "a sampling rate in Hz from 1e-09 to 1e+09": what sampling_rate_problem expects.
 std::string sampling_rate_expected();
+/// The refusal of data that carry no timing when no rate was given: "SOURCE: WHY; give the
+/// sampling rate with --freq HZ". The one rule for every face: a file without a timestamp
+/// column (read_signals), an array given to Python (each face says --freq in its own words,
+/// io::option_wording). No face guesses a rate: every figure in seconds would rest on it.
+std::string missing_rate_problem(const std::string& source, const std::string& why);
 
 /// "" when `levels` (0: all) is at most J = floor(log2 n), the deepest level a series of
 /// n samples has; else "OPTION LEVELS: the signals have N samples, which give at most J
