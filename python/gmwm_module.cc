@@ -149,7 +149,7 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
                       const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
                       double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
                       std::optional<double> eff, const std::optional<std::string>& estimator,
-                      const std::string& units_spec) {
+                      const std::string& units_spec, const std::string& models) {
   std::vector<std::string> found;
   std::vector<std::vector<double>> cols = columns_of(data, &found);
   const std::vector<std::string> labels = names_for(cols.size(), names, found);
@@ -159,7 +159,7 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   const gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
   namespace sel = gmwm::selection;
   gmwm::pipeline::SelectStudyOptions o;
-  o.models = {model_spec};
+  gmwm::pipeline::set_select_models(o, model_spec, models);
   sel::SelectOptions& so = o.select;
   if (const auto m = sel::parse_optimism_method(optimism))
     so.optimism = *m;
@@ -180,7 +180,8 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   o.wv.alpha = alpha;
   o.robust = robust_options(robust, eff, estimator, alpha);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
-  gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
+  for (const gmwm::ModelSpec& spec : o.models)  // a bad model: InputError, GIL held
+    spec.bind(gmwm::ProcessContext{set.freq, set.freq_known});
   const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
     gmwm::pipeline::SelectStudyOptions oc = o;
     oc.select.progress = progress;  // every fit and bootstrap draw
@@ -391,12 +392,13 @@ PYBIND11_MODULE(_gmwm, m) {
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
         "(with continuous parameters, Kalman terms, Allan deviations and noise figures in the column's unit; `units` "
         "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`)");
-  m.def("select", &py_select, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
+  m.def("select", &py_select, py::arg("data"), py::arg("model") = "", py::kw_only(), py::arg("freq") = py::none(),
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
-        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
-        "Every sub-model of a maximal model ranked by WVIC (or BIC), per column: a list of 'select' JSON columns "
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "", py::arg("models") = "",
+        "Every sub-model of a maximal model (or, models='SPEC1;SPEC2;...', the listed models) ranked by WVIC (or "
+        "BIC), per column: a list of 'select' JSON columns "
         "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "
         "the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with each column's kind from its name)");
   m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq"),

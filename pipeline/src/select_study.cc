@@ -24,6 +24,28 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+void set_select_models(SelectStudyOptions& options, const std::string& model, const std::string& models) {
+  const auto blank = [](const std::string& t) { return t.find_first_not_of(" \t") == std::string::npos; };
+  if (blank(model) == blank(models))
+    throw InputError("select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
+  options.models.clear();
+  options.listed = !blank(models);
+  if (!options.listed) {
+    options.models.emplace_back(model);
+    return;
+  }
+  std::string cur;
+  for (char ch : models + ";") {
+    if (ch != ';') {
+      cur += ch;
+      continue;
+    }
+    if (blank(cur)) throw InputError("--models \"" + models + "\": empty model in the list");
+    options.models.emplace_back(cur);
+    cur.clear();
+  }
+}
+
 std::string SelectStudyOptions::Validate() const {
   if (models.empty()) return "no model given";
   if (!listed && models.size() != 1) return "give one maximal model (or set listed for a list of models)";

@@ -28,3 +28,25 @@ def test_a_refusal_names_the_keyword_argument_not_the_command_lines_option(call,
         call(x)
     assert str(e.value).startswith(field), str(e.value)
     assert "--" not in str(e.value), str(e.value)
+
+
+def test_select_ranks_listed_models_as_the_cli_does_and_refuses_a_bad_list_in_its_words(tmp_path):
+    # The ';' list was the CLI's alone (issue 45); one rule now (pipeline::set_select_models).
+    import json
+    import subprocess
+
+    from cli_support import CLI
+    x = gmwm.simulate("WN(sigma2=1e-4)+RW(gamma2=1e-9)", 2**14, freq=100, seed=5)
+    path = tmp_path / "x.csv"
+    path.write_text("gyro_x\n" + "\n".join(repr(float(v)) for v in x) + "\n")
+    cli = subprocess.run([CLI, "select", str(path), "--freq", "100", "--models", "WN+RW;AR1+WN;WN", "--json", "-",
+                          "--quiet"], capture_output=True, text=True, check=True)
+    mine = gmwm.select(x, models="WN+RW;AR1+WN;WN", freq=100, names=["gyro_x"])
+    assert json.loads(mine.to_json()) == json.loads(cli.stdout)["columns"]
+    bad = subprocess.run([CLI, "select", str(path), "--freq", "100", "--models", "WN;;RW"], capture_output=True,
+                         text=True)
+    assert bad.stderr.strip().endswith('--models "WN;;RW": empty model in the list')
+    with pytest.raises(gmwm.InputError, match='^models "WN;;RW": empty model in the list$'):
+        gmwm.select(x, models="WN;;RW", freq=100)
+    with pytest.raises(gmwm.InputError, match="^select: give either model SPEC"):
+        gmwm.select(x, "WN", models="WN;RW", freq=100)

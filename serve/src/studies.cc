@@ -261,7 +261,12 @@ Jobs::Work fit_work(const Body& body, StudyContext& c) {
 Jobs::Work select_work(const Body& body, StudyContext& c) {
   ColumnInput in = column_input(body, c);
   pipeline::SelectStudyOptions o;
-  o.models = {model_of(body, "model", in)};
+  // "model" (every sub-model) or "models" ("SPEC1;SPEC2;..."), the rule every face uses.
+  as_bad_request(body.where(), [&] {
+    pipeline::set_select_models(o, body.text("model"), body.text("models"));
+    for (const ModelSpec& spec : o.models) spec.bind(ProcessContext{in.set.freq, in.set.freq_known});
+    return 0;
+  });
   o.wv = in.wv;
   o.robust = in.robust;
   selection::SelectOptions& s = o.select;
@@ -279,7 +284,7 @@ Jobs::Work select_work(const Body& body, StudyContext& c) {
   s.fit.alpha = in.wv.alpha;
   s.fit.seed = c.options.seed;
   if (const std::string why = s.Validate(); !why.empty()) throw HttpError(400, body.where() + ": " + why);
-  const std::string model_text = body.text("model");
+  const std::string model_text = o.listed ? body.text("models") : body.text("model");
   return [in = std::move(in), o, model_text](JobContext& job) mutable {
     o.select.progress = [&job](int done, int total) { job.progress(done, total); };
     const pipeline::SelectStudy study = pipeline::study_select(in.set, o);

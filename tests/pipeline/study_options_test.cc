@@ -11,6 +11,7 @@
 #include "gmwm/gap/gap.h"
 #include "gmwm/pipeline/export_study.h"
 #include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/select_study.h"
 
 namespace gmwm::pipeline {
 namespace {
@@ -74,6 +75,43 @@ TEST(ExportFit, RefusesAColumnWhoseUnitNobodySaidNamingIt) {
               "run.csv: column 'gyro_x': the file does not say its unit; give --units gyro=UNIT (rad/s, deg/s or "
               "deg/h)");
   }
+}
+
+}  // namespace
+}  // namespace gmwm::pipeline
+
+namespace gmwm::pipeline {
+namespace {
+
+std::string select_models_error(const std::string& model, const std::string& models) {
+  SelectStudyOptions o;
+  try {
+    set_select_models(o, model, models);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SelectModels, TakesAMaximalModelOrSplitsAListAtItsSemicolons) {
+  SelectStudyOptions o;
+  set_select_models(o, "3*AR1+WN", "");
+  ASSERT_EQ(o.models.size(), 1u);
+  EXPECT_EQ(o.models[0].text(), "3*AR1+WN");
+  EXPECT_FALSE(o.listed);
+  set_select_models(o, "", "WN+RW; AR1+WN ;QN");
+  ASSERT_EQ(o.models.size(), 3u);
+  EXPECT_TRUE(o.listed);
+  EXPECT_EQ(o.models[1].text(), " AR1+WN ");
+}
+
+TEST(SelectModels, RefusesNeitherOrBothAndAnEmptyEntryNamingTheList) {
+  EXPECT_EQ(select_models_error("", ""),
+            "select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
+  EXPECT_EQ(select_models_error("WN", "WN;RW"), select_models_error("", ""));
+  EXPECT_EQ(select_models_error(" ", " \t"), select_models_error("", ""));
+  EXPECT_EQ(select_models_error("", "WN;;RW"), "--models \"WN;;RW\": empty model in the list");
+  EXPECT_EQ(select_models_error("", "WN;RW;"), "--models \"WN;RW;\": empty model in the list");
 }
 
 }  // namespace

@@ -101,6 +101,14 @@ TEST_F(ServeAppTest, SelectsAndWvAnswerTheCliDocuments) {
   EXPECT_EQ(w.at("document"), cli_document({"wv", "imu.csv", "--columns", "gyro_x", "--adev"}, folder_));
 }
 
+TEST_F(ServeAppTest, SelectsOverListedModelsAsTheCliDoes) {
+  // The ';' list was the CLI's alone (issue 45): the same rule now fills every face's request.
+  const std::string d = open_imu();
+  const OJson s = run_job("/api/select", {{"dataset", d}, {"column", "gyro_x"}, {"models", "WN+RW;AR1+WN;WN"}});
+  EXPECT_EQ(s.at("document"),
+            cli_document({"select", "imu.csv", "--columns", "gyro_x", "--models", "WN+RW;AR1+WN;WN"}, folder_));
+}
+
 TEST_F(ServeAppTest, StepsThroughTheRankingShowingEachRowsOwnFit) {
   const std::string d = open_imu();
   const OJson j = body_of(post("/api/select", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "2*AR1+WN+RW"}}));
@@ -154,6 +162,11 @@ TEST_F(ServeAppTest, RefusesMalformedRequestsWithOneLineNamingTheFieldAndKeepsSe
        "field 'units'"},
       {"/api/select", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN"}, {"replicates", -3}}.dump(), 400,
        "field 'replicates'"},
+      {"/api/select", OJson{{"dataset", d}, {"column", "gyro_x"}, {"models", "WN;;RW"}}.dump(), 400,
+       "/api/select: \"models\" \"WN;;RW\": empty model in the list"},
+      {"/api/select", OJson{{"dataset", d}, {"column", "gyro_x"}}.dump(), 400,
+       "select: give either \"model\" SPEC (every sub-model) or \"models\" \"SPEC1;SPEC2;...\""},
+      {"/api/select", OJson{{"dataset", d}, {"column", "gyro_x"}, {"models", "WN;WN+ZZ"}}.dump(), 400, "ZZ"},
       {"/api/nope", "{}", 404, "POST /api/nope: no such endpoint"},
       {"/api/export", R"({"result": {"command": "wv"}, "format": "kalibr"})", 400, "/api/export"},
       {"/api/export", R"({"result": {}, "format": "klibr"})", 400, "found 'klibr', expected one of kalibr"},

@@ -117,27 +117,6 @@ selection::SelectOptions select_options(const SelectArgs& args, const CommonOpti
   return options;
 }
 
-// The models to rank: --model's sub-models, or the listed models of --models split at ';'
-// (an empty entry is refused).
-std::vector<ModelSpec> candidate_specs(const SelectArgs& args) {
-  if (args.model.empty() == args.models.empty())
-    throw InputError("select: give either --model SPEC (every sub-model) or --models \"SPEC1;SPEC2;...\"");
-  if (args.models.empty()) return {args.model};
-  std::vector<ModelSpec> specs;
-  std::string cur;
-  for (char ch : args.models + ";") {
-    if (ch != ';') {
-      cur += ch;
-      continue;
-    }
-    if (cur.find_first_not_of(" \t") == std::string::npos)
-      throw InputError("--models \"" + args.models + "\": empty model in the list");
-    specs.push_back(cur);
-    cur.clear();
-  }
-  return specs;
-}
-
 int run_select(const SelectArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
@@ -151,8 +130,7 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   if (!args.joint.empty())
     return run_joint_select(args, common, study_options.select,
                             study_options.robust ? &*study_options.robust : nullptr);
-  study_options.models = candidate_specs(args);
-  study_options.listed = !args.models.empty();
+  pipeline::set_select_models(study_options, args.model, args.models);
   check_models_before_reading(args.input, study_options.models);
 
   Stopwatch read_clock;

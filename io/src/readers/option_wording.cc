@@ -29,6 +29,8 @@ constexpr OptionField kOptionFields[] = {
     {"--temperature", "temperature"},
     {"--inflate", "inflate"},
     {"--replicates", "replicates"},
+    {"--model", "model"},
+    {"--models", "models"},
 };
 
 bool option_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_'; }

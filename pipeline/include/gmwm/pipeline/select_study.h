@@ -68,6 +68,13 @@ struct SelectStudy {
   double wv_seconds = 0.0, allan_seconds = 0.0, select_seconds = 0.0;
 };
 
+/// The models a request names, the one rule of every face (issue 45: the ';' split was the
+/// CLI's alone): `model`, whose every sub-model is ranked, or `models`, a list "SPEC1;SPEC2;..."
+/// split at ';' and ranked as given; exactly one of the two. Sets options.models and
+/// options.listed. Throws InputError naming --model / --models (each face says them in its
+/// own words, io::option_wording) for neither or both, or an empty entry of the list.
+void set_select_models(SelectStudyOptions& options, const std::string& model, const std::string& models);
+
 /// Runs the study on every column of `set`. Throws InputError for invalid options, a model
 /// that does not parse, a list of more than selection::kMaxListedModels distinct models, or
 /// a maximal model with more parameters than a column's WV has levels.
