@@ -37,7 +37,8 @@ std::vector<double> series_of(const py::handle& obj, const char* what) {
     // One series: a DataFrame of one column is that column; of more, the message says which
     // functions take them all (a 2-D array said "2 dimensions", a DataFrame gave KeyError: 0).
     const std::vector<std::string> labels = frame_labels(obj);
-    if (labels.size() == 1) return series_of(obj.attr("iloc")[py::make_tuple(py::slice(py::none(), py::none(), py::none()), 0)], what);
+    if (labels.size() == 1)
+      return series_of(obj.attr("iloc")[py::make_tuple(py::slice(py::none(), py::none(), py::none()), 0)], what);
     throw gmwm::InputError(std::string(what) + ": found a DataFrame of " + std::to_string(labels.size()) +
                            " columns, expected one series (e.g. data['" + (labels.empty() ? "x" : labels.front()) +
                            "']); select, gap and the joint functions take every column of a DataFrame");

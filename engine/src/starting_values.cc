@@ -154,7 +154,9 @@ bool solve_sizes_on(const WaveletVariance& wv, const Model& model, const Eigen::
   for (int j = 0; j < J; ++j)
     if (!(y(j) > 0.0) || !std::isfinite(y(j))) y(j) = 0.0;
   const double level = std::max(y.maxCoeff(), 1e-300);
-  auto column = [&](int c) { return Eigen::Map<const Eigen::VectorXd>(columns[static_cast<std::size_t>(c)]->f.data(), J); };
+  auto column = [&](int c) {
+    return Eigen::Map<const Eigen::VectorXd>(columns[static_cast<std::size_t>(c)]->f.data(), J);
+  };
   // Components without a free scale parameter keep their size: move them to y.
   Eigen::VectorXd yy = y;
   std::vector<int> cols;

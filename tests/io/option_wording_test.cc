@@ -24,8 +24,9 @@ TEST(OptionWording, NamesTheWebRequestsFieldsWhereTheLibrarySaysAnOption) {
 TEST(OptionWording, NamesPythonsKeywordArgumentsWhereTheLibrarySaysAnOption) {
   EXPECT_EQ(option_wording("--units 'furlong': expected one unit (rad/s, deg/s)", Face::kPython),
             "units 'furlong': expected one unit (rad/s, deg/s)");
-  EXPECT_EQ(option_wording("give the rate with --freq HZ, or --no-unit-check; --partial to leave it out", Face::kPython),
-            "give the rate with freq (Hz), or unit_check=False; partial=True to leave it out");
+  EXPECT_EQ(
+      option_wording("give the rate with --freq HZ, or --no-unit-check; --partial to leave it out", Face::kPython),
+      "give the rate with freq (Hz), or unit_check=False; partial=True to leave it out");
   EXPECT_EQ(option_wording("--consistent-for: needs both sensors; leave out --inflate", Face::kPython),
             "consistent_for: needs both sensors; leave out inflate");
   EXPECT_EQ(option_wording("--temperature 'T': no such column; --replicates: at least 2", Face::kPython),

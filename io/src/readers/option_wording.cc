@@ -59,7 +59,8 @@ std::string option_wording(std::string message, Face face) {
     for (std::size_t p = message.find(f.option); p != std::string::npos;) {
       const std::size_t end = p + f.option.size();
       // Whole options: not the tail of a longer option, nor its head.
-      const bool whole = (p == 0 || !option_char(message[p - 1])) && (end == message.size() || !option_char(message[end]));
+      const bool whole =
+          (p == 0 || !option_char(message[p - 1])) && (end == message.size() || !option_char(message[end]));
       if (!whole) {
         p = message.find(f.option, end);
         continue;

@@ -326,8 +326,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
                        "', expected a number; give the sampling rate with --freq HZ");
     time_col.reset();  // not usable for timing; --freq rules anyway
   }
-  if (!time_col && !options.freq)
-    throw InputError(missing_rate_problem(path, "no timestamp column found"));
+  if (!time_col && !options.freq) throw InputError(missing_rate_problem(path, "no timestamp column found"));
 
   // Which fields become signals, in which order.
   std::vector<std::size_t> selected;
