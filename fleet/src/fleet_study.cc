@@ -209,13 +209,13 @@ FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::stri
   }
   const SummaryUnit u = summary_unit(members);
   s.unit = members.empty() ? summary_unit(all).unit : u.unit;
-  std::vector<double> logs, se2;
+  std::vector<double> logs, se, se2;
   for (std::size_t i = 0; i < members.size(); ++i) {
     const Readoff& f = figure_of(*members[i], k).figure;
     logs.push_back(std::log(f.value * u.factor[i]));
     // The unit's own standard error on the log scale, from its interval (0 when it has none).
-    const double se = f.low > 0.0 && f.high > f.low ? std::log(f.high / f.low) / (2.0 * z_half) : 0.0;
-    se2.push_back(std::isfinite(se) ? se * se : 0.0);
+    se.push_back(log_standard_error(f.low, f.high, z_half));
+    se2.push_back(se.back() * se.back());
   }
   s.units = static_cast<int>(logs.size());
   if (logs.empty()) return s;
@@ -226,12 +226,13 @@ FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::stri
   const double total = mad / kMadToSigma;
   // The spread between units net of the read-offs' own noise (the random-effects split of
   // the total: a unit's deviation is the fleet's spread plus its own estimation error).
-  const double between2 = std::max(0.0, total * total - median_of(se2));
+  s.yardstick.typical_se2 = median_of(se2);
+  s.yardstick.between2 = std::max(0.0, total * total - s.yardstick.typical_se2);
   s.median = std::exp(m);
   s.spread = std::exp(total);
-  s.unit_spread = std::exp(std::sqrt(between2));
+  s.unit_spread = std::exp(std::sqrt(s.yardstick.between2));
   for (std::size_t i = 0; s.units >= kMinUnitsForFlags && mad > 0.0 && i < logs.size(); ++i) {
-    const double scale = std::sqrt(between2 + se2[i]);
+    const double scale = s.yardstick.scale(se[i]);
     const double z = scale > 0.0 ? (logs[i] - m) / scale : 0.0;
     if (std::abs(z) <= kFleetOutlierZ) continue;
     s.flagged.push_back(members[i]->unit);
@@ -242,6 +243,15 @@ FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::stri
 }
 
 }  // namespace
+
+double OutlierYardstick::scale(double se) const { return std::sqrt(between2 + se * se); }
+
+double OutlierYardstick::reach(double se) const { return std::exp(kFleetOutlierZ * scale(se)); }
+
+double log_standard_error(double low, double high, double z_half) {
+  const double se = low > 0.0 && high > low ? std::log(high / low) / (2.0 * z_half) : 0.0;
+  return std::isfinite(se) ? se : 0.0;
+}
 
 std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows, double alpha) {
   const double z_half = boost::math::quantile(boost::math::normal(), 1.0 - alpha / 2.0);

@@ -97,41 +97,20 @@ std::string flag_of(const FleetRow& r, char figure) {
   return {};
 }
 
-// The median as fleet_summary takes it (of the squared standard errors: the mean of the
-// middle two for an even count).
-double plain_median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// A read-off's standard error on the log scale from its interval at level 1 - alpha, as
-// fleet_summary takes it (0 when it has none).
-double log_se(const FleetDot& d, double z_half) {
-  const double se = d.low > 0.0 && d.high > d.low ? std::log(d.high / d.low) / (2.0 * z_half) : 0.0;
-  return std::isfinite(se) ? se : 0.0;
-}
-
-// The outlier rule of fleet_summary (fleet_study.h, kFleetOutlierZ) on the panel's dots:
-// z = log(x / median) / sqrt(tau^2 + se^2), tau^2 = log(spread)^2 - median(se^2) floored at 0;
-// each dot's own limits median x exp(+-3.5 sqrt(tau^2 + se^2)); the band those of a read-off
-// of the fleet's median precision (median x spread^(+-3.5) when tau^2 > 0).
-void judge(FleetFigurePanel& p, double alpha) {
+// The panel's limits from the summary's outlier rule (fleet::OutlierYardstick, the one the
+// units were flagged by): each dot's own limits median x reach(se)^(+-1), z = log(x /
+// median) / scale(se); the band those of a read-off of the group's typical precision.
+void judge(FleetFigurePanel& p, const fleet::OutlierYardstick& rule, double alpha) {
   if (!(std::isfinite(p.median) && std::isfinite(p.spread))) return;
   const double z_half = boost::math::quantile(boost::math::normal(), 1.0 - alpha / 2.0);
-  std::vector<double> se2;
-  for (const FleetDot& d : p.dots)
-    if (!d.bound) se2.push_back(std::pow(log_se(d, z_half), 2));
-  const double total = std::log(p.spread), typical_se2 = plain_median(se2);
-  const double between2 = std::max(0.0, total * total - typical_se2);
-  p.unit_spread = std::exp(std::sqrt(between2));
-  const double reach = std::exp(fleet::kFleetOutlierZ * std::sqrt(between2 + typical_se2));
+  p.unit_spread = std::exp(std::sqrt(rule.between2));
+  const double reach = rule.reach(std::sqrt(rule.typical_se2));
   p.band_low = p.median / reach;
   p.band_high = p.median * reach;
   for (FleetDot& d : p.dots) {
     if (d.bound) continue;
-    const double scale = std::sqrt(between2 + std::pow(log_se(d, z_half), 2));
-    const double own = std::exp(fleet::kFleetOutlierZ * scale);
+    const double se = fleet::log_standard_error(d.low, d.high, z_half);
+    const double scale = rule.scale(se), own = rule.reach(se);
     d.limit_low = p.median / own;
     d.limit_high = p.median * own;
     d.z = scale > 0.0 ? std::log(d.value / p.median) / scale : kNaN;
@@ -177,7 +156,7 @@ FleetFigurePanel figure_panel(const FleetStudy& s, const fleet::FleetFigureSumma
     d.index = static_cast<int>(std::find(units.begin(), units.end(), r.unit) - units.begin());
     p.dots.push_back(std::move(d));
   }
-  judge(p, alpha);
+  judge(p, sum.yardstick, alpha);
   return p;
 }
 

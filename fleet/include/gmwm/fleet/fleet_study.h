@@ -217,6 +217,24 @@ inline constexpr double kMadToSigma = 0.6745;
 /// Fewer units in a group than this: no flags (the median and MAD of four values are no yardstick).
 inline constexpr int kMinUnitsForFlags = 5;
 
+/// The outlier rule (kFleetOutlierZ) of one figure over a group, the one yardstick the
+/// summary flags units by and the fleet page draws (issue 45: the page re-derived it).
+struct OutlierYardstick {
+  /// tau^2: the spread between units on the log scale, net of the read-offs' own noise.
+  double between2 = 0.0;
+  /// median(se^2) over the group's read-offs: a read-off of the group's typical precision.
+  double typical_se2 = 0.0;
+  /// sqrt(tau^2 + se^2): the z-score's scale for a read-off of standard error `se`.
+  double scale(double se) const;
+  /// How far from the median a read-off of standard error `se` may lie before it stands out:
+  /// exp(kFleetOutlierZ scale(se)), a factor (its limits are median / reach, median x reach).
+  double reach(double se) const;
+};
+
+/// A read-off's standard error on the log scale from its interval [low, high] at level
+/// 1 - alpha (`z_half` its normal quantile): log(high / low) / (2 z_half), 0 without one.
+double log_standard_error(double low, double high, double z_half);
+
 /// One figure of one axis over a group's units.
 struct FleetFigureSummary {
   std::string group, axis;
@@ -231,6 +249,8 @@ struct FleetFigureSummary {
   /// The spread between the units themselves, net of the read-offs' noise: exp(tau)
   /// (kFleetOutlierZ); 1 when the read-offs' noise explains all of `spread`.
   double unit_spread = NAN;
+  /// The outlier rule's yardstick the units were judged by (tau^2, median se^2).
+  OutlierYardstick yardstick;
   std::vector<std::string> flagged;      ///< the units flagged on it
   std::vector<std::string> out_of_spec;  ///< the units above its spec limit (`--spec`)
 };
