@@ -304,9 +304,10 @@ void add_multi_signal_functions(py::module_& m) {
         "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
         "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
         "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");
-  m.def("fleet_task", [](const std::string& task) { return gmwm::fleet::run_fleet_task(task); }, py::arg("task"),
-        py::call_guard<py::gil_scoped_release>(),
-        "Runs one recording's task text (what a Dask worker runs for gmwm fleet --scheduler): its record's text");
+  m.def(
+      "fleet_task", [](const std::string& task) { return gmwm::fleet::run_fleet_task(task); }, py::arg("task"),
+      py::call_guard<py::gil_scoped_release>(),
+      "Runs one recording's task text (what a Dask worker runs for gmwm fleet --scheduler): its record's text");
   m.def("fleet", &py_fleet, py::arg("manifest"), py::kw_only(), py::arg("model"), py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("memory") = py::none(), py::arg("cache") = "",
         py::arg("runner") = py::none(), py::arg("spec") = "", py::arg("gap_format") = "kalibr",

@@ -321,8 +321,8 @@ void newton_polish(Problem& P, LocalResult& best) {
       }
       const double ft = objective_u(static_cast<unsigned>(n), trial.data(), nullptr, &P);
       bool flat = false;  // taken on the gradient's word (kPolishRoundoff)
-      if (std::isfinite(ft) && ft >= f && ft <= f + kPolishRoundoff * std::abs(f) &&
-          lambda <= kPolishNewtonDamping && flat_steps < kPolishFlatSteps) {
+      if (std::isfinite(ft) && ft >= f && ft <= f + kPolishRoundoff * std::abs(f) && lambda <= kPolishNewtonDamping &&
+          flat_steps < kPolishFlatSteps) {
         std::vector<double> gt(static_cast<std::size_t>(n));
         objective_u(static_cast<unsigned>(n), trial.data(), gt.data(), &P);
         double norm_t = 0.0;

@@ -56,8 +56,8 @@ struct CompensatedSum {
 }
 
 // One level's coefficients (a_k - 2 b_k + c_k) / tau, k in [0, M).
-GMWM_VECTOR_CLONES void haar_coefficients(const double* a, const double* b, const double* c, double inv,
-                                          std::int64_t M, double* out) {
+GMWM_VECTOR_CLONES void haar_coefficients(const double* a, const double* b, const double* c, double inv, std::int64_t M,
+                                          double* out) {
   for (std::int64_t k = 0; k < M; ++k) out[k] = (a[k] - 2.0 * b[k] + c[k]) * inv;
 }
 
@@ -232,7 +232,6 @@ GMWM_VECTOR_CLONES void add_squares_and_peaks(const double* a, const double* b, 
   add_lanes<true>(a, b, c, from, to, lane, peak);
 }
 
-
 }  // namespace
 
 void HaarModwt::keep_squares(int first, int last) {
@@ -268,7 +267,8 @@ void HaarModwt::keep_squares(int first, int last) {
     const std::int64_t to = std::min(longest, from + kSharedPassBlock);
     for (std::size_t i = 0; i < L; ++i) {
       const std::int64_t end = std::min(to, whole[i]);
-      if (end > from) add_squares_and_peaks(p_ + 2 * half[i], p_ + half[i], p_, from, end, lanes[i].data(), peaks[i].data());
+      if (end > from)
+        add_squares_and_peaks(p_ + 2 * half[i], p_ + half[i], p_, from, end, lanes[i].data(), peaks[i].data());
     }
   }
   for (std::size_t i = 0; i < L; ++i) {
@@ -297,7 +297,6 @@ HaarModwt::Squares HaarModwt::squares_of_level(int level) const {
   if (const Squares* k = kept(level)) return *k;
   return squares(std::int64_t{1} << (level - 1), true);
 }
-
 
 std::vector<double> HaarModwt::sums_of_squares_half_width(std::span<const std::int64_t> m) const {
   std::vector<double> out(m.size(), 0.0);

@@ -56,9 +56,7 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
 
   // V: the one behind Omega when there is one, else model-based at theta_hat.
   // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
-  if (r.wv_covariance.size() == 0)
-    r.wv_covariance =
-        wv_covariance_at(wv, model, r.theta);
+  if (r.wv_covariance.size() == 0) r.wv_covariance = wv_covariance_at(wv, model, r.theta);
   const Eigen::MatrixXd& V = r.wv_covariance;
 
   // Active parameters (components not on the boundary).

@@ -69,7 +69,6 @@ struct Curve {
 /// (low, high) of sigma_i times `scale` at 1 - alpha.
 using IntervalFn = std::function<std::pair<double, double>(std::size_t i, double scale)>;
 
-
 std::vector<double> local_slopes(const Curve& c) {
   const std::size_t K = c.tau.size();
   std::vector<double> out(K, std::numeric_limits<double>::quiet_NaN());
@@ -115,7 +114,6 @@ Readoff bound_of(const Curve& c, const std::function<double(double)>& scale, con
   return out;
 }
 
-
 // A bump near the IEEE tau above the white floor's -1/2 line: how far past the floor it is
 // sought (the ADIS accelerometers' 0.46-0.53 Hz tone bends their curves over 0.3-2 s) and
 // how far above the line the curve must rise to be one (twice the 95% half-width of an
@@ -159,8 +157,7 @@ std::optional<Bump> find_bump(const Curve& c, const std::vector<double>& slopes,
   };
   for (std::size_t i = 1; usable(i) && c.tau[i] <= kBumpReachTau; ++i) {
     if (first <= i && i <= last) continue;
-    if (!(usable(i - 1) && usable(i + 1) && ratio(i) >= ratio(i - 1) && ratio(i) > ratio(i + 1) && above(i)))
-      continue;
+    if (!(usable(i - 1) && usable(i + 1) && ratio(i) >= ratio(i - 1) && ratio(i) > ratio(i + 1) && above(i))) continue;
     // It falls back by half the excess bar (a wiggle of a rising curve does not).
     for (std::size_t j = i + 1; usable(j); ++j)
       if (ratio(j) < ratio(i) - kBumpExcess / 2.0) return bump_around(i, true);
@@ -174,8 +171,8 @@ std::optional<Bump> find_bump(const Curve& c, const std::vector<double>& slopes,
 std::string bump_text(const Bump& b, const std::string& what) {
   const std::string range = fmt(b.from) + "-" + fmt(b.to) + " s";
   return "a bump over " + range + " lifts the curve above the white floor's -1/2 line (+" + fmt(100.0 * b.excess) +
-         "% at " + fmt(b.peak_tau) + " s" + (b.returns ? "" : ", then a raised -1/2 stretch") + "): " +
-         (what.empty() ? "a tone or a fast correlated term" : what) + ", not white noise and not counted in N";
+         "% at " + fmt(b.peak_tau) + " s" + (b.returns ? "" : ", then a raised -1/2 stretch") +
+         "): " + (what.empty() ? "a tone or a fast correlated term" : what) + ", not white noise and not counted in N";
 }
 
 /// The line of slope `target` (N: -1/2, K: +1/2): value = sigma(tau_i) * scale(tau_i).
@@ -212,12 +209,14 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
       return std::log2(c.tau[last] / c.tau[r.first]);
     };
     for (const auto& r : regions)
-      if (r.count >= kMinRegionPoints && c.bounds_from(r.first) && (!best || octaves(r) > octaves(*best) + kSameOctaves))
+      if (r.count >= kMinRegionPoints && c.bounds_from(r.first) &&
+          (!best || octaves(r) > octaves(*best) + kSameOctaves))
         best = &r;
     if (!best)  // a model whose white noise shows beyond the record only: the nearest stretch
       for (const auto& r : regions)
-        if (r.count >= kMinRegionPoints && (!best || std::log(c.tau[r.first] / ieee_tau) <
-                                                         std::log(c.tau[best->first] / ieee_tau))) best = &r;
+        if (r.count >= kMinRegionPoints &&
+            (!best || std::log(c.tau[r.first] / ieee_tau) < std::log(c.tau[best->first] / ieee_tau)))
+          best = &r;
   } else {
     // K: the region holding the IEEE tau, else the one nearest to it.
     auto distance = [&](const Region& r) {
@@ -477,13 +476,12 @@ std::size_t nearest_index(const std::vector<double>& tau, double t) {
   return at;
 }
 
-
 // The model's component making a bump: the one with the largest Allan variance at the bump's
 // peak beyond what a white noise with its Allan variance at the floor's read point `floor`
 // would have there (AVAR_c(peak) - AVAR_c(floor) tau_floor / tau_peak: 0 for WN), with its
 // share of the Allan variance at the peak.
-std::string bump_maker(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
-                       std::size_t floor, double peak_tau) {
+std::string bump_maker(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid, std::size_t floor,
+                       double peak_tau) {
   const std::size_t peak = nearest_index(grid.tau, peak_tau);
   const auto at_peak = component_allan_variances(model, theta, grid.m[peak]);
   const auto at_floor = component_allan_variances(model, theta, grid.m[floor]);
@@ -573,8 +571,7 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
                                  const char* slope_name) {
     if (!shows(r)) return;
     const std::size_t i = nearest_index(ext.tau, r.tau);
-    if (refine_from_components(model, theta, ext, i, r, target, kind, record_end, with_cov ? &cov : nullptr, z))
-      return;
+    if (refine_from_components(model, theta, ext, i, r, target, kind, record_end, with_cov ? &cov : nullptr, z)) return;
     const std::string what =
         target < 0.0 ? "no white noise" : "no random walk (no RW, nor an AR1/GM random-walk-like over the record)";
     Readoff b =

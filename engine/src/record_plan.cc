@@ -329,10 +329,10 @@ std::vector<Target> resolve_all(const Model& model, const Eigen::VectorXd& theta
         }
         if (defaults) continue;
         throw InputError("record plan: the model " + model.to_string(theta) + " has no " +
-                         (t.kind == Kind::kN ? "white noise term (WN) and no -1/2 slope on its Allan deviation over " +
-                                                   std::to_string(options.max_samples) +
-                                                   " samples for the noise density N"
-                                             : std::string("random walk term (RW) for the random walk K")));
+                         (t.kind == Kind::kN
+                              ? "white noise term (WN) and no -1/2 slope on its Allan deviation over " +
+                                    std::to_string(options.max_samples) + " samples for the noise density N"
+                              : std::string("random walk term (RW) for the random walk K")));
       }
     } else if (t.kind == Kind::kB) {
       if (!top) top = model_only_figures(model, unit, freq, options.max_samples);
@@ -466,14 +466,14 @@ RecordPlan plan_record_length(const Model& model, const Eigen::VectorXd& theta, 
     r.samples = r.reachable ? std::max(*own, floor) : cap;
     r.seconds = static_cast<double>(r.samples) / freq;
     r.relative_se = at(r.samples).rse[i];
-    const std::string within =
-        "unreachable within " + std::to_string(cap) + " samples (" + seconds_text(static_cast<double>(cap) / freq) + "): ";
+    const std::string within = "unreachable within " + std::to_string(cap) + " samples (" +
+                               seconds_text(static_cast<double>(cap) / freq) + "): ";
     if (!resolved && !whole_curve)
-      r.basis = within + (plan.resolved_by.empty()  // no covariance at all there: the note says why
-                              ? at(cap).note[i]
-                              : "the model is not resolved there (" + plan.resolved_by + ": z se is " +
-                                    percent(plan.z * at(cap).worst).substr(2) +
-                                    " of its distance to the edge of its domain)");
+      r.basis = within +
+                (plan.resolved_by.empty()  // no covariance at all there: the note says why
+                     ? at(cap).note[i]
+                     : "the model is not resolved there (" + plan.resolved_by + ": z se is " +
+                           percent(plan.z * at(cap).worst).substr(2) + " of its distance to the edge of its domain)");
     else if (!own)
       r.basis =
           within + (std::isfinite(r.relative_se) ? percent(plan.z * r.relative_se) + " there; " : "") + at(cap).note[i];

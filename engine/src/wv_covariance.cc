@@ -194,7 +194,7 @@ ComponentTable make_table(const Process& p, std::span<const double> theta, std::
 // (ComponentTable::at), so the sum is one cubic in n = d - T (each table's re-expanded about
 // T: x = n + s with s = T - T_t) plus the remainders of the components still decaying.
 struct CombinedTable {
-  std::vector<long double> V;                // sum of the tables' V(0 .. T)
+  std::vector<long double> V;                              // sum of the tables' V(0 .. T)
   long double c0 = 0.0L, c1 = 0.0L, c2 = 0.0L, c3 = 0.0L;  // the cubic in n beyond T
   struct Remainder {
     long double scale = 0.0L;  // geometric_scale * geometric_shift
@@ -335,8 +335,8 @@ Sums sum_smooth(const F& f, std::int64_t u, std::int64_t v, double max_step) {
     const Sums d5_diff = (1.0L / (h4 * h)) * (stencil(kD5, true) + (-1.0L) * stencil(kD5, false));
     const long double c3 = -h4 / 180.0L - 1.0L / 720.0L;
     const long double c5 = h4 * h2 / 1512.0L + 1.0L / 30240.0L;
-    total += (h / 3.0L) * simpson + 0.5L * (y.front() + y.back()) + (1.0L / 12.0L) * d1_diff + c3 * d3_diff +
-             c5 * d5_diff;
+    total +=
+        (h / 3.0L) * simpson + 0.5L * (y.front() + y.back()) + (1.0L / 12.0L) * d1_diff + c3 * d3_diff + c5 * d5_diff;
     if (B == v) return total;
     u = B + 1;
     max_step = std::min(max_step, static_cast<double>(v - u) / static_cast<double>(kMinPanels));

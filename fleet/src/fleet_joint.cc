@@ -118,8 +118,8 @@ void analyse(FleetJointModel& out, const Members& m, const FleetStudyOptions& o)
   to.fit = fo;
   to.fit.inference = false;
   to.bootstrap = o.joint.test_draws;
-  to.calibration = out.units <= kMaxBootstrapTestUnits ? ReplicateCalibration::kBootstrap
-                                                       : ReplicateCalibration::kChiSquare;
+  to.calibration =
+      out.units <= kMaxBootstrapTestUnits ? ReplicateCalibration::kBootstrap : ReplicateCalibration::kChiSquare;
   out.test = replicate_test(m.wvs, out.fit, to);
   out.intervals = replicate_bootstrap(m.wvs, out.fit, fo.alpha, kJointIntervalDraws, o.select.seed, to.fit);
   // Stage 5: the joint model's figures, on the averaging factors of the longest unit.

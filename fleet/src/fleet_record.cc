@@ -220,11 +220,9 @@ io::FleetRecording read_reading(const Reader& r, const Json& j) {
 Json readoff_json(const Readoff& f) {
   Json sources = Json::array();
   for (const auto& [name, share] : f.sources) sources.push_back({{"component", name}, {"share", num(share)}});
-  return {{"value", num(f.value)},           {"low", num(f.low)},
-          {"high", num(f.high)},             {"status", to_string(f.status)},
-          {"tau", num(f.tau)},               {"region_from", num(f.region_from)},
-          {"region_to", num(f.region_to)},   {"how", f.how},
-          {"sources", std::move(sources)}};
+  return {{"value", num(f.value)},         {"low", num(f.low)}, {"high", num(f.high)},
+          {"status", to_string(f.status)}, {"tau", num(f.tau)}, {"region_from", num(f.region_from)},
+          {"region_to", num(f.region_to)}, {"how", f.how},      {"sources", std::move(sources)}};
 }
 
 Readoff read_readoff(const Reader& r, const Json& j) {
@@ -343,21 +341,21 @@ Json axis_json(const FleetRow& row, const FleetCurves& c) {
     figures = {{"N", chosen_json(row.figures.white)},
                {"K", chosen_json(row.figures.walk)},
                {"B", chosen_json(row.figures.instability)}};
-  return {{"axis", row.axis},
-          {"data_unit", row.data_unit},
-          {"status", row.status},
-          {"chosen", row.chosen},
-          {"chosen_structure", row.chosen_structure},
-          {"gof_p", num(row.gof_p)},
-          {"n", row.n},
-          {"figures", std::move(figures)},
-          {"gap", row.gap_verdict.empty() ? Json(nullptr)
-                                          : Json{{"verdict", row.gap_verdict},
-                                                 {"headline", row.gap_headline},
-                                                 {"p_value", num(row.gap_p)}}},
-          {"wv", wv_json(c.wv)},
-          {"adev", adev_json(c.adev)},
-          {"model_adev", numbers_json(c.model)}};
+  return {
+      {"axis", row.axis},
+      {"data_unit", row.data_unit},
+      {"status", row.status},
+      {"chosen", row.chosen},
+      {"chosen_structure", row.chosen_structure},
+      {"gof_p", num(row.gof_p)},
+      {"n", row.n},
+      {"figures", std::move(figures)},
+      {"gap", row.gap_verdict.empty()
+                  ? Json(nullptr)
+                  : Json{{"verdict", row.gap_verdict}, {"headline", row.gap_headline}, {"p_value", num(row.gap_p)}}},
+      {"wv", wv_json(c.wv)},
+      {"adev", adev_json(c.adev)},
+      {"model_adev", numbers_json(c.model)}};
 }
 
 void read_axis(const Reader& r, const Json& j, FleetRow& row, FleetCurves& c) {
@@ -414,7 +412,8 @@ void add_axes(const io::FleetRecording& r, const io::SignalSet& set, pipeline::S
     row.freq = set.freq;
     const FitResult& b = c.selection.best_fit;
     if (b.status == FitStatus::kFailed || b.theta.size() != b.model.num_parameters() || !b.theta.allFinite()) {
-      row.status = "the chosen model's fit failed" + (b.message.empty() ? std::string() : ": " + printable_line(b.message));
+      row.status =
+          "the chosen model's fit failed" + (b.message.empty() ? std::string() : ": " + printable_line(b.message));
     } else {
       row.chosen = b.model.to_string(b.theta);
       row.chosen_structure = b.model.to_string();

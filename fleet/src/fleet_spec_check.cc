@@ -99,8 +99,9 @@ void check_spec(std::vector<FleetRow>& rows, const io::FleetSpec& spec) {
     if (r.axis.empty()) continue;  // a failed recording
     const std::optional<RowUnit> u = row_unit(r);
     if (!u) {
-      r.spec_note = "the spec cannot be applied: neither the unit nor the column's name tells a gyroscope or an "
-                    "accelerometer";
+      r.spec_note =
+          "the spec cannot be applied: neither the unit nor the column's name tells a gyroscope or an "
+          "accelerometer";
       continue;
     }
     const io::SensorLimits* l = spec.limits(r.model, u->kind);

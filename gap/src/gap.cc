@@ -632,7 +632,8 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   // The step scan's weights, shared by the data and every replicate (the baseline's).
   const auto scan =
       std::make_shared<const detail::StepScan>(x ? detail::make_step_scan(baseline, theta, wv.n) : detail::StepScan{});
-  const std::shared_ptr<const detail::Reference> kept = reference_stage(wv, baseline, theta, options, x, temperature, scan);
+  const std::shared_ptr<const detail::Reference> kept =
+      reference_stage(wv, baseline, theta, options, x, temperature, scan);
   const detail::Reference& ref = *kept;
   Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, ref.nu, options)};
 

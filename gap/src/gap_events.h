@@ -104,8 +104,9 @@ double scan_max_quantile(const Eigen::VectorXd& sample, double level);
 
 /// The scan of one series.
 struct StepScanResult {
-  double statistic = 0.0;     ///< max_t |z(t)| / max(kStepScaleFloor, the RMS of z more than half the coarsest filter away)
-  double rms = 0.0;           ///< that RMS (z is N(0, 1) at each t under the baseline)
+  double statistic =
+      0.0;           ///< max_t |z(t)| / max(kStepScaleFloor, the RMS of z more than half the coarsest filter away)
+  double rms = 0.0;  ///< that RMS (z is N(0, 1) at each t under the baseline)
   std::int64_t sample = 0;    ///< where |z| peaks: the first sample after the jump
   double size = 0.0;          ///< the jump there (data units)
   int level = 0;              ///< the level contributing most to z there (1-based)

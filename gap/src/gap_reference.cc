@@ -91,7 +91,8 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
 }
 
 std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
-                          std::uint64_t seed, const WvEstimator* estimator, double alpha, const std::string& statistic) {
+                          std::uint64_t seed, const WvEstimator* estimator, double alpha,
+                          const std::string& statistic) {
   // The values as their bits (to_string's 17 digits name the model; the bits make equal
   // keys mean equal draws whatever the display).
   std::string key = model.to_string(theta) + "|";
@@ -100,8 +101,9 @@ std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std:
   std::snprintf(numbers, sizeof numbers, "|n=%lld|J=%d|B=%d|seed=%llu|alpha=%a|", static_cast<long long>(n), levels,
                 replicates, static_cast<unsigned long long>(seed), alpha);
   // A caller's own estimator by its identity (its settings are not all in its name).
-  const std::string by = estimator ? estimator->name() + "@" + std::to_string(reinterpret_cast<std::uintptr_t>(estimator))
-                                   : std::string("classical");
+  const std::string by = estimator
+                             ? estimator->name() + "@" + std::to_string(reinterpret_cast<std::uintptr_t>(estimator))
+                             : std::string("classical");
   return key + numbers + by + "|" + statistic;
 }
 

@@ -27,7 +27,7 @@ namespace {
 // study gives 4.816 +- 0.031, exceeded 0.605% for 0.625% (its empirical quantile 4.795);
 // divided by the RMS always, its tail was a t's rather than a normal's and this law was
 // anti-conservative there (0.95%), "gmwm-calibration" mode.
-constexpr double kScanExponentMax = 6.0;   // a's grid: [0, 6] (beyond the Brownian 3)
+constexpr double kScanExponentMax = 6.0;  // a's grid: [0, 6] (beyond the Brownian 3)
 constexpr double kScanExponentStep = 0.01;
 
 // z[t] = -centre - self S[t] + sum_{j < k} a_j (S[t + m_j] + S[t - m_j]) for t in [b, e),

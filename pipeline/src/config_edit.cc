@@ -146,7 +146,8 @@ std::optional<Splice> insertion(const std::string& text, const Lines& lines, Con
   } else if (yaml_value(text, from, lines.next(from), config_key(f.name)) == std::string::npos) {
     return std::nullopt;
   }
-  const std::string line = syntax == ConfigSyntax::kXml ? "<" + key + ">" + value + "</" + key + ">" : key + ": " + value;
+  const std::string line =
+      syntax == ConfigSyntax::kXml ? "<" + key + ">" + value + "</" + key + ">" : key + ": " + value;
   const std::size_t at = lines.next(last);
   // The last line of a file without a final newline gets one first.
   const std::string before = at == text.size() && (text.empty() || text.back() != '\n') ? lines.eol(from) : "";
@@ -180,9 +181,8 @@ std::optional<std::string> apply_config_edits(const std::string& text, ConfigSyn
   }
   // Last first, so that every offset still points into the input's text; overlapping
   // edits (a figure set and removed) are refused.
-  std::stable_sort(splices.begin(), splices.end(), [](const Splice& a, const Splice& b) {
-    return a.at != b.at ? a.at > b.at : a.length > b.length;
-  });
+  std::stable_sort(splices.begin(), splices.end(),
+                   [](const Splice& a, const Splice& b) { return a.at != b.at ? a.at > b.at : a.length > b.length; });
   std::string out = text;
   std::size_t limit = std::string::npos;
   for (const Splice& s : splices) {

@@ -461,9 +461,11 @@ ConsistentInflation consistent_inflation(const nav::ImuModel& truth, const nav::
   s.judge_from = warm_up - options.horizon;
   const auto run = [&](const nav::ImuModel& model) { return nav::analyse(truth, {model}, s).filters.front(); };
   ConsistentInflation out;
-  Found found = smallest_factor(run, [&](double x) { return walk_inflated(filter, x); }, options);
+  Found found = smallest_factor(
+      run, [&](double x) { return walk_inflated(filter, x); }, options);
   if (found.at.verdict != nav::Verdict::kConsistent) {
-    const Found both = smallest_factor(run, [&](double x) { return inflated(filter, x); }, options);
+    const Found both = smallest_factor(
+        run, [&](double x) { return inflated(filter, x); }, options);
     if (both.at.verdict == nav::Verdict::kConsistent || both.at.nees_inside > found.at.nees_inside) {
       found = both;
       out.white = both.x;

@@ -60,17 +60,18 @@ Json export_document(const pipeline::ExportStudy& study, const std::string& outp
   doc["consistent_for"] = nullptr;
   if (study.consistent) {
     const pipeline::ConsistentInflation& c = *study.consistent;
-    doc["consistent_for"] = {{"update_rate", json_number(study.consistency->update_rate)},
-                             {"horizon", json_number(study.consistency->horizon)},
-                             {"fix_sigma", json_number(study.consistency->fix_sigma)},
-                             {"white_factor", json_number(c.white)},
-                             {"walk_factor", json_number(c.factor)},
-                             {"verdict", nav::to_string(c.verdict)},
-                             {"nees_inside", json_number(c.nees_inside)},
-                             {"smaller_factor", json_number(c.smaller)},
-                             {"smaller_factor_above_band", json_number(c.smaller_above)},
-                             {"smaller_factor_verdict", c.smaller == 0.0 ? Json(nullptr) : Json(nav::to_string(c.smaller_verdict))},
-                             {"reason", c.reason}};
+    doc["consistent_for"] = {
+        {"update_rate", json_number(study.consistency->update_rate)},
+        {"horizon", json_number(study.consistency->horizon)},
+        {"fix_sigma", json_number(study.consistency->fix_sigma)},
+        {"white_factor", json_number(c.white)},
+        {"walk_factor", json_number(c.factor)},
+        {"verdict", nav::to_string(c.verdict)},
+        {"nees_inside", json_number(c.nees_inside)},
+        {"smaller_factor", json_number(c.smaller)},
+        {"smaller_factor_above_band", json_number(c.smaller_above)},
+        {"smaller_factor_verdict", c.smaller == 0.0 ? Json(nullptr) : Json(nav::to_string(c.smaller_verdict))},
+        {"reason", c.reason}};
   }
   return doc;
 }

@@ -68,7 +68,7 @@ constexpr double kMemberHalfWidth = 0.1;
 constexpr std::size_t kSummaryBlock = 256;
 
 struct PowerSums {
-  double p[5][kLanes] = {};  // sum v0^(m+1) over the coefficients below the cut at every l of the window
+  double p[5][kLanes] = {};   // sum v0^(m+1) over the coefficients below the cut at every l of the window
   double above[kLanes] = {};  // how many lie above it at every l (Huber's clipped ones)
 };
 
@@ -490,8 +490,7 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
 std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
                                        const RobustWvOptions& options,
                                        const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
-  if (!transforms.empty())
-    check_size_match("robust_wv", "transforms", transforms.size(), "series", series.size());
+  if (!transforms.empty()) check_size_match("robust_wv", "transforms", transforms.size(), "series", series.size());
   for (const auto& s : series) check_series("robust_wv", static_cast<std::int64_t>(s.size()), options);
   const Tuning t = tune(options.estimator, options.efficiency);
   std::vector<Prepared> p(series.size());

@@ -182,7 +182,6 @@ SelectOptions::BootstrapDraw reduced_draw(const Part& part, const ReplicateSelec
   };
 }
 
-
 // The selection on the reduced WV as the stacked problem's: every objective plus C, and
 // each row's goodness of fit (and so all_rejected) with the stacked degrees of freedom and
 // Satterthwaite traces (the stacked selection's Omega was the caller's, not V^-1).
@@ -197,9 +196,9 @@ void as_stacked(Selection& sel, const ReducedReplicates& r) {
     row.objective += r.within;
     row.criterion += r.within;
     const Model& m = row.effective.model;
-    row.gof =
-        stacked_goodness_of_fit(r, detail::active_jacobian(m, row.effective.theta, r.wv.tau, row.analytic.boundary_components),
-                                row.objective, static_cast<double>(r.stacked_levels - row.parameters), false);
+    row.gof = stacked_goodness_of_fit(
+        r, detail::active_jacobian(m, row.effective.theta, r.wv.tau, row.analytic.boundary_components), row.objective,
+        static_cast<double>(r.stacked_levels - row.parameters), false);
   }
   sel.all_rejected = std::all_of(sel.ranking.begin(), sel.ranking.end(), [](const RankedModel& row) {
     return !std::isfinite(row.gof.p_value) || row.gof.p_value < kRejectionLevel;

@@ -299,9 +299,10 @@ RankedModel score_candidate(const WaveletVariance& wv, const Eigen::MatrixXd& om
     // correlation of a level's coefficients depends on the row's spectral shape. The exact
     // V costs select 1.33x (6 x 63 models on adis_16405_imu1: 3.27 s against 2.48 s), to be
     // won back in model_wv_covariance itself (issue 44).
-    r.gof = goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components),
-                            r.objective, static_cast<double>(wv.levels() - r.parameters), omega,
-                            wv_covariance_at(wv, m, c.effective.theta), omega_is_v_inverse && wv.covariance.has_value());
+    r.gof =
+        goodness_of_fit(detail::active_jacobian(m, c.effective.theta, wv.tau, r.analytic.boundary_components),
+                        r.objective, static_cast<double>(wv.levels() - r.parameters), omega,
+                        wv_covariance_at(wv, m, c.effective.theta), omega_is_v_inverse && wv.covariance.has_value());
   }
   if (boot) {
     if (std::isfinite(boot->value)) {

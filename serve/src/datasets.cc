@@ -41,11 +41,13 @@ std::size_t Datasets::size() const {
 
 io::SignalSet column_set(const Dataset& d, const std::string& column, const std::string& where) {
   io::SignalSet s = d.set;  // the samples are shared, not copied
-  const auto it = std::find_if(s.signals.begin(), s.signals.end(), [&](const io::Signal& x) { return x.name == column; });
+  const auto it =
+      std::find_if(s.signals.begin(), s.signals.end(), [&](const io::Signal& x) { return x.name == column; });
   if (it == s.signals.end()) {
     std::string names;
     for (const io::Signal& x : d.set.signals) names += (names.empty() ? "" : ", ") + x.name;
-    throw HttpError(400, where + ": field 'column': '" + column + "' is not a column of " + d.name + " (" + names + ")");
+    throw HttpError(400,
+                    where + ": field 'column': '" + column + "' is not a column of " + d.name + " (" + names + ")");
   }
   io::Signal kept = *it;
   s.signals.assign(1, std::move(kept));

@@ -41,7 +41,7 @@ class Folder {
   struct Listing {
     std::vector<Entry> recordings;  ///< what io::read_signals reads (by extension)
     std::vector<Entry> configs;     ///< simulator and datasheet files (yaml, sdf, xml)
-    bool truncated = false;  ///< more than kMaxListedFiles, deeper than kMaxListedDepth, or max_walked walked
+    bool truncated = false;         ///< more than kMaxListedFiles, deeper than kMaxListedDepth, or max_walked walked
   };
   /// The files under the folder (links followed only when they stay inside), sorted.
   Listing list() const;

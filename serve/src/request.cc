@@ -22,8 +22,8 @@ Body::Body(const std::string& text, const std::string& where, std::int64_t max_b
     // A number beyond a double (1e999) is nlohmann's out_of_range: the client's error too.
     std::string what = e.what();
     if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-    throw HttpError(400, printable_line(where + ": the request body holds a value beyond what a double can hold (" + what +
-                                        ")"));
+    throw HttpError(
+        400, printable_line(where + ": the request body holds a value beyond what a double can hold (" + what + ")"));
   }
   if (!j_.is_object()) throw HttpError(400, where + ": expected a JSON object as the request body");
 }
@@ -65,11 +65,14 @@ std::optional<double> Body::number(const char* key) const {
 std::optional<std::int64_t> Body::whole(const char* key, std::int64_t lo, std::int64_t hi) const {
   const Json* v = find(key);
   if (!v) return std::nullopt;
-  if (!v->is_number_integer()) fail(key, "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+  if (!v->is_number_integer())
+    fail(key, "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
   const std::int64_t x = v->is_number_unsigned() && v->get<std::uint64_t>() > static_cast<std::uint64_t>(hi)
                              ? hi + 1
                              : v->get<std::int64_t>();
-  if (x < lo || x > hi) fail(key, "found " + v->dump() + ", expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+  if (x < lo || x > hi)
+    fail(key,
+         "found " + v->dump() + ", expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
   return x;
 }
 

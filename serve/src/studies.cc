@@ -58,8 +58,8 @@ std::shared_ptr<const Dataset> find_dataset(const Body& b, Datasets& datasets) {
   const std::string id = b.required_text("dataset", "the id /api/open answered");
   auto d = datasets.find(id);
   if (!d)
-    throw HttpError(404, b.where() + ": unknown dataset '" + id +
-                             "' (datasets are kept while in use: open the recording again)");
+    throw HttpError(
+        404, b.where() + ": unknown dataset '" + id + "' (datasets are kept while in use: open the recording again)");
   return d;
 }
 
@@ -73,7 +73,8 @@ std::optional<robust::RobustWvOptions> robust_options(const Body& b, const WvOpt
   o.levels = wv.levels;
   o.alpha = wv.alpha;
   if (const auto eff = b.number("eff")) {
-    if (!(*eff > 0.0 && *eff < 1.0)) b.fail("eff", "expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)");
+    if (!(*eff > 0.0 && *eff < 1.0))
+      b.fail("eff", "expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)");
     o.efficiency = *eff;
   }
   if (b.has("estimator")) {
@@ -132,15 +133,17 @@ Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& 
         break;
     }
     const io::SensorKind kind = io::sensor_kind_of_column(column.name);
-    const auto b = pipeline::config_baseline(config, kind, column.name, static_cast<std::int64_t>(column.values.size()));
+    const auto b =
+        pipeline::config_baseline(config, kind, column.name, static_cast<std::int64_t>(column.values.size()));
     if (!b)
-      throw InputError(name + ": has no " + std::string(io::to_string(kind)) + " figures for column '" + column.name + "'");
+      throw InputError(name + ": has no " + std::string(io::to_string(kind)) + " figures for column '" + column.name +
+                       "'");
     // gap's unit guard: data in deg/s drawn against a baseline read as rad/s would sit
     // (180/pi)^2 above it and look like a gap; the same refusal, naming the units that fit.
     if (unit_check) {
       const std::vector<std::span<const double>> series = {std::span<const double>(column.values)};
-      pipeline::check_baseline_units(set.path, column.name, classical_wv(series, WvOptions{}).front(), b->model, b->theta,
-                                     std::nullopt, unit_map);
+      pipeline::check_baseline_units(set.path, column.name, classical_wv(series, WvOptions{}).front(), b->model,
+                                     b->theta, std::nullopt, unit_map);
     }
     // Named in the plots by its kind and model (the file is named in the overlay's answer):
     // a file name in the legend would squeeze the plot.
@@ -307,8 +310,8 @@ Json ranking_row(const std::shared_ptr<const void>& attachment, const std::strin
   const bool digits = !row.empty() && row.size() < 7 && row.find_first_not_of("0123456789") == std::string::npos;
   if (digits) k = std::stoul(row);
   if (k < 1 || k > sel.ranking.size())
-    throw HttpError(404, "job '" + job + "': no ranking row '" + row + "', expected 1 to " +
-                             std::to_string(sel.ranking.size()));
+    throw HttpError(
+        404, "job '" + job + "': no ranking row '" + row + "', expected 1 to " + std::to_string(sel.ranking.size()));
   const selection::RankedModel& r = sel.ranking[k - 1];
   const ColumnInput& in = kept.in;
   const std::vector<std::string> units = units_of(in);
@@ -333,7 +336,8 @@ Json ranking_row(const std::shared_ptr<const void>& attachment, const std::strin
 
 Json overlay(const Body& body, StudyContext& c) {
   std::shared_ptr<const Dataset> d = find_dataset(body, c.datasets);
-  const io::SignalSet set = column_set(*d, body.required_text("column", "a column name /api/open listed"), body.where());
+  const io::SignalSet set =
+      column_set(*d, body.required_text("column", "a column name /api/open listed"), body.where());
   const Baseline b = baseline_of(body, c, set, body.text("units"));
   // The model's WV at the data's dyadic scales (tau_j = 2^j samples, in seconds).
   const auto n = static_cast<std::int64_t>(set.signals.front().values.size());
@@ -345,12 +349,8 @@ Json overlay(const Body& body, StudyContext& c) {
     tau.push_back(tau_samples[j] / set.freq);
     values.push_back(report::json_number(wv(static_cast<Eigen::Index>(j))));
   }
-  return {{"model", b.model.to_string(b.theta)},
-          {"name", b.name},
-          {"source", b.source},
-          {"conversions", b.conversions},
-          {"tau", tau},
-          {"wv", values}};
+  return {{"model", b.model.to_string(b.theta)}, {"name", b.name}, {"source", b.source},
+          {"conversions", b.conversions},        {"tau", tau},     {"wv", values}};
 }
 
 Json export_model(const Body& body) {

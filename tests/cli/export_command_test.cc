@@ -93,8 +93,8 @@ TEST_F(GmwmExport, RefusesAGyroscopeOnlyResultForAFileWithAccelerometerFieldsUnl
 }
 
 TEST_F(GmwmExport, WritesAKalibrYamlFromAFitResult) {
-  auto r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "imu.yaml", "--json", "e.json", "--partial"},
-                    dir_);
+  auto r = run_gmwm(
+      {"export", "fit.json", "--format", "kalibr", "--output", "imu.yaml", "--json", "e.json", "--partial"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "imu.yaml");
   const auto [n, k] = mean_n_k();
@@ -135,8 +135,9 @@ TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
   // times smaller in rad/s.
   auto r = run_gmwm({"fit", "sim.csv", "--model", "WN+RW", "--json", "plain.json", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_gmwm(
-      {"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml", "--partial", "--quiet"}, dir_);
+  r = run_gmwm({"export", "plain.json", "--format", "vins", "--units", "gyro=deg/s", "--output", "vins.yaml",
+                "--partial", "--quiet"},
+               dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string yaml = read_text(dir_ / "vins.yaml");
   const auto [n, k] = mean_n_k();
@@ -147,9 +148,9 @@ TEST_F(GmwmExport, ConvertsDeclaredDegreesPerSecondToRadians) {
 }
 
 TEST_F(GmwmExport, BasaltWritesItsHeaderToASidecarAndPerAxisVectors) {
-  auto r = run_gmwm(
-      {"export", "fit.json", "--format", "basalt", "--aggregate", "per-axis", "--output", "calib.json", "--partial", "--quiet"},
-      dir_);
+  auto r = run_gmwm({"export", "fit.json", "--format", "basalt", "--aggregate", "per-axis", "--output", "calib.json",
+                     "--partial", "--quiet"},
+                    dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json calib = read_json(dir_ / "calib.json");
   const json& cols = fit_.at("columns");

@@ -282,7 +282,8 @@ TEST_F(GmwmCliJointFit, ExportRefusesAJointResultWhoseUnitItCannotTell) {
   expect_bad_input(r, {"out.json", "column 'gyro_x'", "does not say the data's unit", "--units gyro="},
                    dir_ / "imu.yaml");
   // Told the unit, it converts.
-  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "imu.yaml", "--partial", "--quiet"},
+  r = run_gmwm({"export", "out.json", "--format", "kalibr", "--units", "gyro=deg/s", "--output", "imu.yaml",
+                "--partial", "--quiet"},
                dir_);
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }

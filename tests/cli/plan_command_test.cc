@@ -126,12 +126,13 @@ TEST_F(GmwmPlan, ShowsTheWholeModelAtTheTerminalsPrecisionAndSaysWhenItIsNeverRe
       << r.out;
   EXPECT_EQ(r.out.find("0.9799999"), std::string::npos) << r.out;
   for (const std::string& line : lines_of(r.out)) EXPECT_LE(line.size(), 100u) << line;
-  EXPECT_NE(read_json(dir_ / "plan.json").at("columns")[0].at("model").get<std::string>().find("phi=0.97999999999999998"),
-            std::string::npos);
+  EXPECT_NE(
+      read_json(dir_ / "plan.json").at("columns")[0].at("model").get<std::string>().find("phi=0.97999999999999998"),
+      std::string::npos);
   // A white noise 1e-314 of a random walk's step is not identified at any length: the note
   // said "resolved from 17179869184 samples (...; last )".
-  const auto u = run_gmwm({"plan", "--model", "WN(sigma2=5e-324)+RW(gamma2=1e-10)", "--freq", "100", "--have", "100"},
-                          dir_);
+  const auto u =
+      run_gmwm({"plan", "--model", "WN(sigma2=5e-324)+RW(gamma2=1e-10)", "--freq", "100", "--have", "100"}, dir_);
   ASSERT_EQ(u.exit_code, 0) << u.err;
   const std::string uf = gmwm::test::flowed(u.out);
   EXPECT_EQ(uf.find("resolved from"), std::string::npos) << u.out;

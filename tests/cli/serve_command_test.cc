@@ -83,7 +83,8 @@ TEST_F(GmwmServe, PrintsItsLoopbackAddressAnswersThereAndStopsOnSigterm) {
   EXPECT_EQ(answer.rfind("HTTP/1.1 200", 0), 0u) << answer;
   EXPECT_NE(answer.find("\"path\": \"x.csv\""), std::string::npos) << answer;
   // Without it, or through another name, nothing of the folder.
-  for (const std::string& headers : {host, "Host: evil.example:" + std::to_string(port) + "\r\nX-Gmwm-Token: " + token + "\r\n"}) {
+  for (const std::string& headers :
+       {host, "Host: evil.example:" + std::to_string(port) + "\r\nX-Gmwm-Token: " + token + "\r\n"}) {
     const std::string refused = http_get(port, "/api/files", headers);
     EXPECT_TRUE(refused.rfind("HTTP/1.1 401", 0) == 0 || refused.rfind("HTTP/1.1 403", 0) == 0) << refused;
     EXPECT_EQ(refused.find("x.csv"), std::string::npos) << refused;

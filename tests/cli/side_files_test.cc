@@ -23,7 +23,8 @@ class GmwmSideFiles : public ::testing::Test {
   void SetUp() override {
     dir_ = gmwm::test::temp_dir("cli_side_files");
     ASSERT_NO_FATAL_FAILURE(gmwm::test::write_adis_gyro_fit(dir_, 16384));
-    auto r = run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "file.yaml", "--partial", "--quiet"}, dir_);
+    auto r =
+        run_gmwm({"export", "fit.json", "--format", "kalibr", "--output", "file.yaml", "--partial", "--quiet"}, dir_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     from_file_ = read_text(dir_ / "file.yaml");
   }
@@ -56,8 +57,8 @@ TEST_F(GmwmSideFiles, AnExportReadsAFitResultPipedIntoItWhole) {
   RunOptions how;
   how.stdin_pipe = true;
   how.stdin_from = cli() + " fit sim.csv --model WN+RW --units gyro=rad/s --json - --quiet";
-  const auto r =
-      run_gmwm({"export", "/dev/stdin", "--format", "kalibr", "--output", "pipe.yaml", "--partial", "--quiet"}, dir_, how);
+  const auto r = run_gmwm(
+      {"export", "/dev/stdin", "--format", "kalibr", "--output", "pipe.yaml", "--partial", "--quiet"}, dir_, how);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(values_of(read_text(dir_ / "pipe.yaml")), values_of(from_file_));
 }
@@ -81,7 +82,8 @@ TEST_F(GmwmSideFiles, AnExportReadsAResultFromAFifo) {
   // The sniff peeks at the FIFO (tee), the JSON reader then takes every byte.
   RunOptions how;
   how.before = "mkfifo r.fifo && (cat fit.json > r.fifo &);";
-  const auto r = run_gmwm({"export", "r.fifo", "--format", "kalibr", "--output", "fifo.yaml", "--partial", "--quiet"}, dir_, how);
+  const auto r =
+      run_gmwm({"export", "r.fifo", "--format", "kalibr", "--output", "fifo.yaml", "--partial", "--quiet"}, dir_, how);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(values_of(read_text(dir_ / "fifo.yaml")), values_of(from_file_));
 }
@@ -89,7 +91,8 @@ TEST_F(GmwmSideFiles, AnExportReadsAResultFromAFifo) {
 TEST_F(GmwmSideFiles, AnExportAcceptsAUtf8ByteOrderMark) {
   // RFC 8259 lets a reader ignore it; it was taken for a data file ("give --model").
   write_text(dir_ / "bom.json", "\xEF\xBB\xBF" + read_text(dir_ / "fit.json"));
-  const auto r = run_gmwm({"export", "bom.json", "--format", "kalibr", "--output", "bom.yaml", "--partial", "--quiet"}, dir_);
+  const auto r =
+      run_gmwm({"export", "bom.json", "--format", "kalibr", "--output", "bom.yaml", "--partial", "--quiet"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(values_of(read_text(dir_ / "bom.yaml")), values_of(from_file_));
 }

@@ -130,8 +130,9 @@ TEST(GmwmFit, MeasuresItsGoodnessOfFitWithTheCovarianceAtTheFinalEstimateNotTheP
     EXPECT_EQ(f.gof.method, "satterthwaite");
     // The misfits' z-scores use the same V.
     for (const LevelMisfit& m : f.misfits)
-      EXPECT_NEAR(m.z, (w.wv[static_cast<std::size_t>(m.level - 1)] - f.implied_wv(m.level - 1)) /
-                           std::sqrt(v(m.level - 1, m.level - 1)),
+      EXPECT_NEAR(m.z,
+                  (w.wv[static_cast<std::size_t>(m.level - 1)] - f.implied_wv(m.level - 1)) /
+                      std::sqrt(v(m.level - 1, m.level - 1)),
                   1e-9 * std::abs(m.z) + 1e-12);
   }
   // A WV that carries its own covariance (replicates, a bootstrap) is tested with it.

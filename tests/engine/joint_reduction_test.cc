@@ -42,9 +42,9 @@ constexpr double kIdentity = 1e-12;  // round-off of the reordered sums
 // (fit.cc, kPolishStepSettled); the worst over K = 2..12 was 2.5e-13 (issue 44; 9e-10 before
 // the polish converged on the gradient).
 constexpr double kObjective = 1e-10;
-constexpr double kTheta = 0.01;      // in standard errors
-constexpr double kSe = 1e-3;         // relative
-constexpr double kPValue = 1e-6;     // absolute
+constexpr double kTheta = 0.01;   // in standard errors
+constexpr double kSe = 1e-3;      // relative
+constexpr double kPValue = 1e-6;  // absolute
 
 // K replicates of 2^12, 2^13, 2^14, 2^12, ... samples.
 std::vector<WaveletVariance> replicates(int K, std::uint64_t seed) {

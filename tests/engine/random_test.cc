@@ -47,7 +47,8 @@ TEST(Rng, BoostsNormalDistributionDrawsTheSameNumbersFromItAsFromBoostsEngine) {
   // draws over a long stretch show the streams stay aligned.
   Rng g = make_stream(20261121, {3, 1});
   std::uint64_t h = splitmix64(20261121);
-  for (std::uint64_t id : {std::uint64_t{3}, std::uint64_t{1}}) h = splitmix64(h ^ splitmix64(id + 0x632BE59BD9B4E019ULL));
+  for (std::uint64_t id : {std::uint64_t{3}, std::uint64_t{1}})
+    h = splitmix64(h ^ splitmix64(id + 0x632BE59BD9B4E019ULL));
   boost::random::mt19937_64 b(h);
   boost::random::normal_distribution<double> z(0.0, 2.5), zb(0.0, 2.5);
   for (int k = 0; k < 200000; ++k) ASSERT_EQ(z(g), zb(b)) << "draw " << k;

@@ -90,7 +90,8 @@ TEST(FleetJoint, AFleetWhoseUnitsDifferIsToldApartByTheChiSquareBeyondTwelveUnit
 
 TEST(FleetJoint, LeavesOutTheUnitsThatStandOutOfTheTypicalUnitsModel) {
   std::vector<std::string> specs(6, kTruth);
-  specs[2] = "AR1(phi=0.999000499833375,sigma2=1.999e-9)+WN(sigma2=9e-4)+RW(gamma2=1e-10)";  // N three times the others'
+  specs[2] =
+      "AR1(phi=0.999000499833375,sigma2=1.999e-9)+WN(sigma2=9e-4)+RW(gamma2=1e-10)";  // N three times the others'
   FleetStudy s = fleet_of(specs, 9);
   s.rows[2].flags = {"N: 3x the fleet's median"};
   const FleetJointModel m = fleet_joint_models(s, options()).front();

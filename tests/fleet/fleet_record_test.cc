@@ -33,8 +33,12 @@ void expect_same(const std::vector<double>& a, const std::vector<double>& b, con
 }
 
 void expect_same(const Readoff& a, const Readoff& b) {
-  for (auto [x, y] : {std::pair{a.value, b.value}, {a.low, b.low}, {a.high, b.high}, {a.tau, b.tau},
-                      {a.region_from, b.region_from}, {a.region_to, b.region_to}})
+  for (auto [x, y] : {std::pair{a.value, b.value},
+                      {a.low, b.low},
+                      {a.high, b.high},
+                      {a.tau, b.tau},
+                      {a.region_from, b.region_from},
+                      {a.region_to, b.region_to}})
     EXPECT_TRUE(same_bits(x, y));
   EXPECT_EQ(a.status, b.status);
   EXPECT_EQ(a.how, b.how);
@@ -94,7 +98,8 @@ TEST_F(FleetRecordTest, ARecordReadBackGivesEveryComputedValueToTheLastBit) {
     EXPECT_TRUE(same_bits(a.gof_p, b.gof_p));
     EXPECT_EQ(a.n, b.n);
     ASSERT_TRUE(a.figures_known && b.figures_known);
-    for (auto [fa, fb] : {std::pair{&a.figures.white, &b.figures.white}, {&a.figures.walk, &b.figures.walk},
+    for (auto [fa, fb] : {std::pair{&a.figures.white, &b.figures.white},
+                          {&a.figures.walk, &b.figures.walk},
                           {&a.figures.instability, &b.figures.instability}}) {
       expect_same(fa->figure, fb->figure);
       expect_same(fa->model, fb->model);

@@ -101,9 +101,9 @@ TEST(FleetSummary, RowsRecordedInDifferentUnitsAreSummarisedInSi) {
   // Six units of one N, three recorded in deg/s and three in rad/s; a seventh at 3x in deg/s.
   std::vector<FleetRow> rows;
   for (int k = 0; k < 6; ++k)
-    rows.push_back(k % 2 ? gyro_row("u" + std::to_string(k), "deg/s", 1e-3 * (1.0 + 0.01 * k), 1e-3)
-                         : gyro_row("u" + std::to_string(k), "rad/s", 1e-3 * (1.0 + 0.01 * k) / kDegPerRad,
-                                    1e-3 / kDegPerRad));
+    rows.push_back(
+        k % 2 ? gyro_row("u" + std::to_string(k), "deg/s", 1e-3 * (1.0 + 0.01 * k), 1e-3)
+              : gyro_row("u" + std::to_string(k), "rad/s", 1e-3 * (1.0 + 0.01 * k) / kDegPerRad, 1e-3 / kDegPerRad));
   rows.push_back(gyro_row("odd", "deg/s", 3e-3, 1e-3));
   const std::vector<FleetFigureSummary> s = fleet_summary(rows);
   ASSERT_EQ(s.size(), 3u);

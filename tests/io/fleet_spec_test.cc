@@ -61,8 +61,10 @@ TEST(FleetSpec, OneDatasheetAppliesToEveryModel) {
 
 TEST(FleetSpec, RefusesWhatADatasheetRefusesNamingTheFileAndLine) {
   for (const auto& [text, mention] : std::vector<std::pair<std::string, std::string>>{
-           {"ADIS16405:\n  gyroscope:\n    angle_random_walk: 2\n", "spec.yaml:3: gyroscope.angle_random_walk: found 2 without a unit"},
-           {"ADIS16405:\n  gyroscope:\n    angle_random_walk: 2 deg/h\n", "spec.yaml:3: gyroscope.angle_random_walk: 'deg/h' is not a unit"},
+           {"ADIS16405:\n  gyroscope:\n    angle_random_walk: 2\n",
+            "spec.yaml:3: gyroscope.angle_random_walk: found 2 without a unit"},
+           {"ADIS16405:\n  gyroscope:\n    angle_random_walk: 2 deg/h\n",
+            "spec.yaml:3: gyroscope.angle_random_walk: 'deg/h' is not a unit"},
            {"ADIS16405:\n  gyroscope:\n    noise: 2 deg/sqrt(h)\n", "spec.yaml:3: unknown figure 'gyroscope.noise'"},
            {"ADIS16405: 3\n", "spec.yaml:1: ADIS16405: expected the model's datasheet map"},
            {"ADIS16405:\n  gyro: {noise_density: 1 deg/s/sqrt(Hz)}\nADIS16405:\n  gyro: {}\n", "spec.yaml:3"},

@@ -295,8 +295,7 @@ int in_child(F&& child) {
     // installs its handlers once per process.
     for (const int sig : {SIGHUP, SIGINT, SIGQUIT, SIGTERM}) {
       struct sigaction current {};
-      if (::sigaction(sig, nullptr, &current) == 0 && !(current.sa_flags & SA_SIGINFO) &&
-          current.sa_handler == SIG_IGN)
+      if (::sigaction(sig, nullptr, &current) == 0 && !(current.sa_flags & SA_SIGINFO) && current.sa_handler == SIG_IGN)
         std::signal(sig, SIG_DFL);
     }
     child();

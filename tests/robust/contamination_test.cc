@@ -196,8 +196,8 @@ TEST(ContaminationDiagnostic, FromTheClassicalTransformGivesWhatTheSeriesGives) 
   const auto x = with_spikes(white_noise(1 << 14, 1.0, 6311, 0), 20.0, 6312);
   const Diagnosis d = diagnose(x);
   const HaarModwt transform(x.data(), static_cast<std::int64_t>(x.size()));
-  const auto from_transform =
-      contamination_diagnostic(transform, d.robust, d.classical, d.quantization, tune(RobustKind::kHuber, kDefaultEfficiency));
+  const auto from_transform = contamination_diagnostic(transform, d.robust, d.classical, d.quantization,
+                                                       tune(RobustKind::kHuber, kDefaultEfficiency));
   ASSERT_EQ(from_transform.size(), d.levels.size());
   for (std::size_t j = 0; j < d.levels.size(); ++j) {
     EXPECT_EQ(from_transform[j].tail_share, d.levels[j].tail_share) << j;

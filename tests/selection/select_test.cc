@@ -116,9 +116,9 @@ TEST(SelectModels, MeasuresEachRowsGoodnessOfFitWithTheCovarianceAtItsOwnEstimat
     const RankedModel& r = sel.ranking[k];
     if (r.fit.status == FitStatus::kFailed || !r.analytic.boundary_components.empty()) continue;
     const Model& m = r.effective.model;
-    const GoodnessOfFit g = goodness_of_fit(m.jacobian(r.effective.theta, wv.tau), r.objective,
-                                            wv.levels() - r.parameters, sel.omega,
-                                            wv_covariance_at(wv, m, r.effective.theta), false);
+    const GoodnessOfFit g =
+        goodness_of_fit(m.jacobian(r.effective.theta, wv.tau), r.objective, wv.levels() - r.parameters, sel.omega,
+                        wv_covariance_at(wv, m, r.effective.theta), false);
     EXPECT_NEAR(r.gof.p_value, g.p_value, 1e-9) << r.model;
     EXPECT_EQ(r.gof.method, "satterthwaite") << r.model;
   }

@@ -35,9 +35,9 @@ TEST_F(ServeAppTest, ListsTheFoldersRecordingsAndConfigsButNoLinkThatLeavesIt) {
 TEST_F(ServeAppTest, RefusesEveryPathThatLeavesTheFolderWith404AndReadsNothing) {
   fs::create_symlink(dir_ / "secret.csv", folder_ / "link_out.csv");
   fs::create_directory_symlink(dir_, folder_ / "dir_out");
-  for (const std::string& bad : std::vector<std::string>{"../secret.csv", "/etc/passwd", (dir_ / "secret.csv").string(), "sub/../../secret.csv",
-                                "link_out.csv", "dir_out/secret.csv", "sub", ".", "", "imu.csv/..", "%2e%2e/secret.csv",
-                                std::string("imu.csv\0x", 9)}) {
+  for (const std::string& bad : std::vector<std::string>{
+           "../secret.csv", "/etc/passwd", (dir_ / "secret.csv").string(), "sub/../../secret.csv", "link_out.csv",
+           "dir_out/secret.csv", "sub", ".", "", "imu.csv/..", "%2e%2e/secret.csv", std::string("imu.csv\0x", 9)}) {
     const serve::HttpResponse r = post("/api/open", OJson{{"file", bad}});
     EXPECT_TRUE(r.status == 404 || r.status == 400) << bad << ": " << r.status << " " << r.body;
     EXPECT_EQ(r.body.find("\"dataset\""), std::string::npos) << bad;
@@ -65,8 +65,7 @@ TEST_F(ServeAppTest, OpensARecordingAndListsItsColumnsWithTheirSensorKinds) {
 TEST_F(ServeAppTest, FitsAColumnAndAnswersTheCliDocumentAndTheReportsSection) {
   const std::string d = open_imu();
   const OJson r = run_job("/api/fit", {{"dataset", d}, {"column", "gyro_y"}, {"model", "AR1+WN+RW"}});
-  EXPECT_EQ(r.at("document"),
-            cli_document({"fit", "imu.csv", "--columns", "gyro_y", "--model", "AR1+WN+RW"}, folder_));
+  EXPECT_EQ(r.at("document"), cli_document({"fit", "imu.csv", "--columns", "gyro_y", "--model", "AR1+WN+RW"}, folder_));
   EXPECT_NE(r.at("text").get<std::string>().find("gyro_y: AR1+WN+RW"), std::string::npos) << r.at("text");
   const std::string html = r.at("html");
   EXPECT_NE(html.find("<section class=\"column\""), std::string::npos);
@@ -344,7 +343,8 @@ TEST_F(ServeAppTest, AnOverlayWhoseUnitsDoNotFitTheDataIsRefusedAsGapRefusesIt) 
   ASSERT_EQ(gap.exit_code, 2) << gap.err;
   ASSERT_NE(gap.err.find("give --units gyro=deg/s"), std::string::npos) << gap.err;
   const OJson overlay = {{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", "k.yaml"}};
-  for (const OJson& body : {overlay, OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"text", yaml}}}) {
+  for (const OJson& body :
+       {overlay, OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"text", yaml}}}) {
     const serve::HttpResponse r = post("/api/overlay", body);
     EXPECT_EQ(r.status, 400) << r.body;
     EXPECT_NE(r.body.find("the data look like deg/s, not rad/s; give \\\"units\\\" gyro=deg/s"), std::string::npos)
@@ -379,14 +379,13 @@ TEST_F(ServeAppTest, ExportsTheFileTheCliWritesFromTheSameResult) {
   EXPECT_EQ(cli_refused.exit_code, 2) << cli_refused.err;
   EXPECT_FALSE(std::filesystem::exists(folder_ / "out"));
   for (const std::string format : {"kalibr", "openvins", "basalt", "gz-sdf"}) {  // NOLINT(performance-for-range-copy)
-    const OJson e = body_of(post("/api/export", OJson{{"result", fit.at("document")},
-                                                      {"format", format},
-                                                      {"units", "gyro=deg/s"},
-                                                      {"partial", true}}));
+    const OJson e = body_of(
+        post("/api/export",
+             OJson{{"result", fit.at("document")}, {"format", format}, {"units", "gyro=deg/s"}, {"partial", true}}));
     EXPECT_EQ(e.at("content").get<std::string>().find("accelerometer_noise"), std::string::npos) << "none invented";
-    const CliRun r = run_gmwm({"export", "fit.json", "--format", format, "--output", "out", "--units", "gyro=deg/s",
-                               "--partial", "--quiet"},
-                              folder_);
+    const CliRun r = run_gmwm(
+        {"export", "fit.json", "--format", format, "--output", "out", "--units", "gyro=deg/s", "--partial", "--quiet"},
+        folder_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     std::string cli = read_text(folder_ / "out");
     std::string page = e.at("content");
@@ -394,7 +393,8 @@ TEST_F(ServeAppTest, ExportsTheFileTheCliWritesFromTheSameResult) {
     const auto body_after_header = [](const std::string& s) {
       std::string out;
       for (const std::string& line : lines_of(s))
-        if (line.find("Source:") == std::string::npos && line.find("\"source\"") == std::string::npos) out += line + "\n";
+        if (line.find("Source:") == std::string::npos && line.find("\"source\"") == std::string::npos)
+          out += line + "\n";
       return out;
     };
     EXPECT_EQ(body_after_header(page), body_after_header(cli)) << format;

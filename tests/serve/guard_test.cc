@@ -211,7 +211,8 @@ TEST_F(ServeGuardTest, OnlyRecordingsAndConfigsThatAreNotHiddenAreListedOrOpened
   }
   const std::string d = open_imu();
   for (const std::string name : {".env", ".git/config", "notes.yaml", "notes.md"}) {
-    const serve::HttpResponse r = post("/api/overlay", OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", name}});
+    const serve::HttpResponse r =
+        post("/api/overlay", OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", name}});
     EXPECT_EQ(r.status, 404) << name << ": " << r.body;
     EXPECT_EQ(r.body.find("API_KEY"), std::string::npos) << r.body;
   }
@@ -224,14 +225,14 @@ TEST_F(ServeGuardTest, NoAnswerNamesAPathOfTheMachine) {
   const std::vector<serve::HttpResponse> answers = {
       post("/api/overlay", OJson{{"dataset", d}, {"column", "gyro_x"}, {"format", "kalibr"}, {"file", "broken.yaml"}}),
       post("/api/open", OJson{{"file", "text.csv"}, {"freq", 100}}),
-      post("/api/open", OJson{{"file", "sub/../../recordings/imu.csv/x"}}),
-      get("/api/files")};
+      post("/api/open", OJson{{"file", "sub/../../recordings/imu.csv/x"}}), get("/api/files")};
   for (const serve::HttpResponse& r : answers) {
     EXPECT_EQ(r.body.find(dir_.string()), std::string::npos) << r.body;
     EXPECT_EQ(r.body.find(std::filesystem::canonical(dir_).string()), std::string::npos) << r.body;
   }
   EXPECT_EQ(answers[0].status, 400) << answers[0].body;
-  EXPECT_NE(error_of(answers[0]).find("broken.yaml"), std::string::npos) << "named as the page names it: " << answers[0].body;
+  EXPECT_NE(error_of(answers[0]).find("broken.yaml"), std::string::npos)
+      << "named as the page names it: " << answers[0].body;
   EXPECT_EQ(answers[1].status, 400) << answers[1].body;
   EXPECT_NE(error_of(answers[1]).find("text.csv"), std::string::npos) << answers[1].body;
 }

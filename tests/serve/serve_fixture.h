@@ -54,9 +54,8 @@ class ServeAppTest : public ::testing::Test {
   /// The headers the page's own requests carry: a Host naming the app, the page's Origin, the
   /// cookie with the access token, and for a POST its body's type (JSON, or an upload's bytes).
   std::map<std::string, std::string> page_headers(const std::string& method = "GET", const std::string& path = "/") {
-    std::map<std::string, std::string> h = {{"host", "127.0.0.1:8080"},
-                                            {"cookie", "gmwm_serve_8080=" + app().token()},
-                                            {"sec-fetch-site", "same-origin"}};
+    std::map<std::string, std::string> h = {
+        {"host", "127.0.0.1:8080"}, {"cookie", "gmwm_serve_8080=" + app().token()}, {"sec-fetch-site", "same-origin"}};
     if (method == "POST") {
       h["origin"] = "http://127.0.0.1:8080";
       h["content-type"] = path == "/api/upload" ? "application/octet-stream" : "application/json";

@@ -82,8 +82,9 @@ int main(int argc, char** argv) {
   int rows = 0, replicates = 0, above = 0, failed_alone = 0, failed_oracle = 0;
   double worst_gap = 0.0, worst_se = 0.0;
   std::string worst_row;
-  std::printf("| unit | column | row | optimism, fit alone | optimism, oracle (MC s.e.) | difference / s.e. | refits above |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| unit | column | row | optimism, fit alone | optimism, oracle (MC s.e.) | difference / s.e. | refits above |\n"
+      "|---|---|---|---|---|---|---|\n");
   for (int u = 1; u <= units; ++u) {
     const std::string file = bench::shared_data_file("adis_16405_imu" + std::to_string(u) + ".csv.gz");
     io::ReadOptions ro;
@@ -91,7 +92,8 @@ int main(int argc, char** argv) {
     const io::SignalSet set = io::read_signals(file, ro);
     for (std::size_t c = 0; c < set.signals.size(); ++c) {
       const auto& s = set.signals[c];
-      const std::vector<WaveletVariance> wv = {classical_wv(s.values.data(), static_cast<std::int64_t>(s.values.size()))};
+      const std::vector<WaveletVariance> wv = {
+          classical_wv(s.values.data(), static_cast<std::int64_t>(s.values.size()))};
       const selection::Selection sel = selection::select_models(wv, maximal).front();
       for (std::size_t k = 0; k < sel.ranking.size(); ++k) {
         const FitResult& fit = sel.ranking[k].fit;

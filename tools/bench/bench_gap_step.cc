@@ -152,7 +152,10 @@ double rice_quantile(std::vector<double> sample, double level, double upper = 1.
     bool ok = true;
     for (std::size_t i = first; i < sample.size(); ++i) {
       const double b = sample[i];
-      if (!(b * b > a)) { ok = false; break; }
+      if (!(b * b > a)) {
+        ok = false;
+        break;
+      }
       sh += std::pow(b, a) * phi(b);
       rest += std::log(std::pow(b, a - 1.0) * phi(b) * (b * b - a));
     }
@@ -210,9 +213,10 @@ int calibration_study(const std::vector<double>& sorted_null) {
     thr[3].push_back(rice_quantile(sub, level));
     thr[4].push_back(rice_quantile(sub, level, 0.5));
   }
-  std::printf("Threshold at %.3f%% from %d replicates (%d subsets of the %lld oracle null maxima); the empirical "
-              "quantile over all of them: %.3f\n\n| method | mean threshold | sd | mean exceedance |\n|---|---|---|---|\n",
-              100 * level, kSize, kSubsets, static_cast<long long>(B), target);
+  std::printf(
+      "Threshold at %.3f%% from %d replicates (%d subsets of the %lld oracle null maxima); the empirical "
+      "quantile over all of them: %.3f\n\n| method | mean threshold | sd | mean exceedance |\n|---|---|---|---|\n",
+      100 * level, kSize, kSubsets, static_cast<long long>(B), target);
   const char* names[5] = {"Gumbel, moments (gmwm before)", "max of m |N(0,1)|, m by ML",
                           "the same, upper half (censored ML)", "exp(-C b^a phi(b)), C and a by ML",
                           "the same, upper half (censored ML)"};
@@ -273,7 +277,7 @@ int main(int argc, char** argv) {
           gap::detail::scan_step(simulate(base, theta, kN, kOracleSeed + 7, static_cast<std::uint64_t>(b)), scan);
       const double peak = r.statistic * std::max(gap::detail::kStepScaleFloor, r.rms);  // max |z|
       stats[static_cast<std::size_t>(b)] = r.rms > 0.0 ? peak / r.rms : 0.0;
-      raw[static_cast<std::size_t>(b)] = peak;  // z N(0, 1) under the base by construction
+      raw[static_cast<std::size_t>(b)] = peak;             // z N(0, 1) under the base by construction
       floored[static_cast<std::size_t>(b)] = r.statistic;  // gap's: max |z| / max(1, RMS)
     });
     std::sort(floored.begin(), floored.end());
@@ -367,9 +371,9 @@ int main(int argc, char** argv) {
     const gap::GapResult g = diagnose(x, base, theta, kCalibrationSeed + 1000000 + static_cast<std::uint64_t>(i));
     null_reported[static_cast<std::size_t>(i)] = g.effect;
     char line[320];
-    std::snprintf(line, sizeof line, "| %d | %s | %s | %s | %.3f / %.3f | %.3f / %.3f |", i, i < base_cases ? "base" : "off",
-                  gap::to_string(g.effect), g.detected ? "yes" : "no", g.step_scan_statistic, g.step_scan_threshold,
-                  g.event_statistic, g.event_threshold);
+    std::snprintf(line, sizeof line, "| %d | %s | %s | %s | %.3f / %.3f | %.3f / %.3f |", i,
+                  i < base_cases ? "base" : "off", gap::to_string(g.effect), g.detected ? "yes" : "no",
+                  g.step_scan_statistic, g.step_scan_threshold, g.event_statistic, g.event_threshold);
     null_detail[static_cast<std::size_t>(i)] = line;
     null_step[static_cast<std::size_t>(i)] =
         std::find(g.steps.begin(), g.steps.end(), gap::GapEffect::kStep) != g.steps.end();
@@ -411,12 +415,13 @@ int main(int argc, char** argv) {
     steps_null += null_step[static_cast<std::size_t>(i)];
   }
   const double fa = static_cast<double>(fa_base + fa_off) / std::max(null_cases, 1);
-  std::printf("\nThe null cases that named an effect (or a STEP):\n\n| case | data | effect | detected | step scan "
-              "statistic / threshold | event statistic / threshold |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "\nThe null cases that named an effect (or a STEP):\n\n| case | data | effect | detected | step scan "
+      "statistic / threshold | event statistic / threshold |\n|---|---|---|---|---|---|\n");
   for (int i = 0; i < null_cases; ++i) {
     const gap::GapEffect e = null_reported[static_cast<std::size_t>(i)];
-    if ((e != gap::GapEffect::kNone && e != gap::GapEffect::kReparameterise) || (i < base_cases && e != gap::GapEffect::kNone) ||
-        null_step[static_cast<std::size_t>(i)])
+    if ((e != gap::GapEffect::kNone && e != gap::GapEffect::kReparameterise) ||
+        (i < base_cases && e != gap::GapEffect::kNone) || null_step[static_cast<std::size_t>(i)])
       std::printf("%s\n", null_detail[static_cast<std::size_t>(i)].c_str());
   }
   ok &= fa <= kMaxFalseAlarms;

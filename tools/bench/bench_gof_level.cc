@@ -108,14 +108,14 @@ int main(int argc, char** argv) {
         const Eigen::MatrixXd V = model_wv_covariance(truth, theta, wv.n, wv.levels());
         const Eigen::VectorXd e = wv.values() - truth.wv(theta, wv.tau);
         const double q = e.dot(V.ldlt().solve(e));
-        oracle.p[i] = boost::math::cdf(
-            boost::math::complement(boost::math::chi_squared(static_cast<double>(wv.levels())), q));
+        oracle.p[i] =
+            boost::math::cdf(boost::math::complement(boost::math::chi_squared(static_cast<double>(wv.levels())), q));
       }
       // The test as it was before issue 43 (item 4): measured with the V that formed Omega
       // (the pilot's), chi-square when Omega is that V's inverse.
       auto with_v = [&](const FitResult& f, const Eigen::MatrixXd& omega, const Eigen::MatrixXd& v, bool inverse) {
-        return goodness_of_fit(f.model.jacobian(f.theta, wv.tau), f.objective,
-                               wv.levels() - f.model.num_parameters(), omega, v, inverse)
+        return goodness_of_fit(f.model.jacobian(f.theta, wv.tau), f.objective, wv.levels() - f.model.num_parameters(),
+                               omega, v, inverse)
             .p_value;
       };
       if (do_own) {

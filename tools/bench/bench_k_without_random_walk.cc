@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
   };
   std::printf("%d series of %lld samples at %g Hz per truth, each fitted with its own structure\n\n", series,
               static_cast<long long>(kSamples), kFreq);
-  std::printf("| truth | fitted | K from the model | from the data | an upper bound | absent | median K / truth | s |\n");
+  std::printf(
+      "| truth | fitted | K from the model | from the data | an upper bound | absent | median K / truth | s |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   bool pass = true;
   for (const Case& c : cases) {

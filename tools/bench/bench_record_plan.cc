@@ -133,8 +133,9 @@ int main(int argc, char** argv) {
   const char* wr = "WN(sigma2=1)+RW(gamma2=1e-6)";
   const char* awr = "AR1(phi=0.99,sigma2=1e-4)+WN(sigma2=1)+RW(gamma2=1e-6)";
   const char* far = "AR1(phi=0.2,sigma2=1)+RW(gamma2=1e-6)";
-  const char* two_ar1 = "AR1(phi=0.16294543811918299,sigma2=2.0998025431324755e-05)+"
-                        "AR1(phi=0.9970517413225396,sigma2=3.9465869275989346e-10)";
+  const char* two_ar1 =
+      "AR1(phi=0.16294543811918299,sigma2=2.0998025431324755e-05)+"
+      "AR1(phi=0.9970517413225396,sigma2=3.9465869275989346e-10)";
   // N at +-10% (and the gyroscope's K at +-20%) is set by the model's resolution, where
   // every 95% interval of the fit is inside its parameter's domain (the white noise alone
   // would need 2 s); the tighter N rows are where N's own se sets the length.

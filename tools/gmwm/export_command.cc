@@ -224,8 +224,8 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
       ->type_name("HOW")
       ->capture_default_str();
   sub->add_flag("--partial", args->partial,
-               "Write only the sensors the source has columns of (the other's fields left out, to paste into a file "
-               "that has them); without it, a source without gyroscope or accelerometer columns is refused");
+                "Write only the sensors the source has columns of (the other's fields left out, to paste into a file "
+                "that has them); without it, a source without gyroscope or accelerometer columns is refused");
   sub->add_option("--inflate", args->inflate,
                   "Multiplies every noise figure written (densities and standard deviations, not variances)")
       ->type_name("X")

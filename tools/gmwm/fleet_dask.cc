@@ -137,8 +137,10 @@ Child start_bridge(const std::string& address) {
     ::close(to_child[1]);
     ::close(from_child[0]);
     if (err >= 0) ::close(err);
-    throw InputError("--scheduler: cannot start " + python + " (set GMWM_PYTHON to the interpreter that has gmwm and "
-                     "python3-distributed): " + std::strerror(rc));
+    throw InputError("--scheduler: cannot start " + python +
+                     " (set GMWM_PYTHON to the interpreter that has gmwm and "
+                     "python3-distributed): " +
+                     std::strerror(rc));
   }
   c.in = to_child[1];
   c.out = from_child[0];
@@ -151,8 +153,8 @@ void write_all(int fd, const std::string& text) {
   while (off < text.size()) {
     const ssize_t w = ::write(fd, text.data() + off, text.size() - off);
     if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) throw InputError(std::string("--scheduler: the Dask bridge stopped reading its tasks: ") +
-                                 std::strerror(errno));
+    if (w <= 0)
+      throw InputError(std::string("--scheduler: the Dask bridge stopped reading its tasks: ") + std::strerror(errno));
     off += static_cast<std::size_t>(w);
   }
 }
@@ -162,7 +164,8 @@ std::string reap(pid_t pid) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  if (WIFEXITED(status)) return WEXITSTATUS(status) == 0 ? std::string() : "exit code " + std::to_string(WEXITSTATUS(status));
+  if (WIFEXITED(status))
+    return WEXITSTATUS(status) == 0 ? std::string() : "exit code " + std::to_string(WEXITSTATUS(status));
   if (WIFSIGNALED(status)) return "signal " + std::to_string(WTERMSIG(status));
   return "an unknown status";
 }
@@ -207,8 +210,7 @@ fleet::FleetRunner dask_runner(const std::string& address) {
     if (tasks.empty()) return;
     Child c = start_bridge(address);
     std::string lines;
-    for (std::size_t k = 0; k < tasks.size(); ++k)
-      lines += Json{{"k", k}, {"task", tasks[k].text}}.dump() + "\n";
+    for (std::size_t k = 0; k < tasks.size(); ++k) lines += Json{{"k", k}, {"task", tasks[k].text}}.dump() + "\n";
     try {
       write_all(c.in, lines);
     } catch (...) {

@@ -123,9 +123,8 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   const pipeline::GapStudy study = pipeline::study_gap(set, options);
 
   // The corrected configuration (docs/gap.md): in the JSON and the table always, in a file with --corrected.
-  const std::optional<pipeline::CorrectedConfig> corrected =
-      pipeline::corrected_config(set, study, options,
-                                 {options.units, options.sensor, baseline_file, args.input.columns.has_value()});
+  const std::optional<pipeline::CorrectedConfig> corrected = pipeline::corrected_config(
+      set, study, options, {options.units, options.sensor, baseline_file, args.input.columns.has_value()});
   if (!args.corrected.empty()) common.outputs->stage(args.corrected, corrected->content);
   report::Json doc = report::gap_document(set, study);
   if (corrected) doc["corrected"] = report::corrected_config_json(*corrected, set.freq_known ? set.freq : 0.0);

@@ -38,10 +38,13 @@ bool is_loopback(const std::string& host) {
 
 // A ServeOptions message as the user set the field: the option or variable that sets it.
 std::string as_option(const std::string& why) {
-  constexpr std::pair<const char*, const char*> kFieldOptions[] = {
-      {"token:", kTokenVariable}, {"allowed_hosts:", "--allow-host"}, {"max_upload_bytes:", "--max-upload"},
-      {"max_upload_total_bytes:", "--max-upload-total"},
-      {"port:", "--port"}, {"host:", "--host"}, {"folder:", "FOLDER"}};
+  constexpr std::pair<const char*, const char*> kFieldOptions[] = {{"token:", kTokenVariable},
+                                                                   {"allowed_hosts:", "--allow-host"},
+                                                                   {"max_upload_bytes:", "--max-upload"},
+                                                                   {"max_upload_total_bytes:", "--max-upload-total"},
+                                                                   {"port:", "--port"},
+                                                                   {"host:", "--host"},
+                                                                   {"folder:", "FOLDER"}};
   for (const auto& [field, option] : kFieldOptions)
     if (why.rfind(field, 0) == 0) return option + why.substr(std::string(field).size() - 1);
   return why;
@@ -55,8 +58,9 @@ int run_serve(const ServeArgs& args, const CommonOptions& common) {
   o.port = args.port;
   o.max_upload_bytes = static_cast<std::int64_t>(args.max_upload_mb * 1e6);
   // The total holds at least one upload of the largest size.
-  o.max_upload_total_bytes = args.max_upload_total_mb ? static_cast<std::int64_t>(*args.max_upload_total_mb * 1e6)
-                                                      : std::max(serve::kDefaultMaxUploadTotalBytes, o.max_upload_bytes);
+  o.max_upload_total_bytes = args.max_upload_total_mb
+                                 ? static_cast<std::int64_t>(*args.max_upload_total_mb * 1e6)
+                                 : std::max(serve::kDefaultMaxUploadTotalBytes, o.max_upload_bytes);
   o.seed = common.seed;
   if (args.memory_mb) o.memory_budget = *args.memory_mb * 1e6;
   o.allowed_hosts = args.allowed_hosts;
@@ -76,8 +80,8 @@ int run_serve(const ServeArgs& args, const CommonOptions& common) {
 
   serve::Server server(o);
   server.bind();
-  std::cout << "gmwm serve: " << server.url() << " (folder " << printable_line(o.folder)
-            << "); Ctrl-C stops it" << std::endl;
+  std::cout << "gmwm serve: " << server.url() << " (folder " << printable_line(o.folder) << "); Ctrl-C stops it"
+            << std::endl;
   if (const std::string& why = server.app().plots_unavailable(); !why.empty())
     warn("the page will show no plots (its tables, numbers and exports work): " + why);
   std::thread waiter([&] {
@@ -100,7 +104,8 @@ Command add_serve_command(CLI::App& app, CommonOptions& common) {
       "serve",
       "A local web app to build a model by hand: pick a recording of FOLDER (or upload one), look at its WV and "
       "Allan deviation, tick components, fit, select, overlay a datasheet or simulator model, export");
-  sub->add_option("FOLDER", args->folder, "The recordings to offer (nothing outside it is read)")->capture_default_str();
+  sub->add_option("FOLDER", args->folder, "The recordings to offer (nothing outside it is read)")
+      ->capture_default_str();
   sub->add_option("--port", args->port, "TCP port (0: a free one, printed)")
       ->type_name("N")
       ->transform(whole_number(0, 65535))

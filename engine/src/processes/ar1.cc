@@ -5,7 +5,6 @@
 // stationary distribution x_0 ~ N(0, sigma2 / (1 - phi^2)) (docs/statistics.md section 7).
 #include <cmath>
 
-
 #include "ar1_math.h"
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"

@@ -10,7 +10,6 @@
 // (1 - phi^2). That is the limit of an infinitely long burn-in, so none is needed.
 #include <cmath>
 
-
 #include "ar1_math.h"
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
@@ -84,7 +83,8 @@ class Arma11Process final : public Process {
     double start[2];
     rng.unit_normals(start, 2);
     double e_prev = sd * scaled_normal(start[0], 1.0);
-    double x_prev = e_prev + sd * std::fabs(phi + th) / std::sqrt((1.0 - phi) * (1.0 + phi)) * scaled_normal(start[1], 1.0);
+    double x_prev =
+        e_prev + sd * std::fabs(phi + th) / std::sqrt((1.0 - phi) * (1.0 + phi)) * scaled_normal(start[1], 1.0);
     double* o = out.data();
     for_unit_normals(rng, out.size(), [&](const double* z, std::size_t t, std::size_t m) {
       double xp = x_prev, ep = e_prev;  // locals: captured ones might alias o[]

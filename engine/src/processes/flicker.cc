@@ -194,15 +194,14 @@ GMWM_REGISTER_PROCESS(Flicker, "FLICKER",
                       "sets the octaves 2^kmin..2^kmax samples",
                       "kmin", "kmax");
 
-
 namespace internal {
 
 void simulate_flicker_octaves(long kmin, long kmax, double s, Rng& rng, std::span<double> out) {
   for (long k = kmin; k <= kmax; ++k) {
     const double L = std::ldexp(1.0, static_cast<int>(-k));
     const double phi = std::exp(-L);
-    const double sd = std::sqrt(-s * std::expm1(-2.0 * L));         // innovation sd
-    simulate_ar1_path(phi, sd, std::sqrt(s), rng, out);              // stationary start
+    const double sd = std::sqrt(-s * std::expm1(-2.0 * L));  // innovation sd
+    simulate_ar1_path(phi, sd, std::sqrt(s), rng, out);      // stationary start
   }
 }
 

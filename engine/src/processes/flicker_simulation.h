@@ -48,12 +48,12 @@ inline constexpr double kBridgeRankTolerance = 2.220446049250313e-16;
 /// The bridge's constants at unit variance (s = 1), for octaves kmin..kmax and blocks of D.
 struct FlickerBridge {
   int block = 0;
-  Eigen::VectorXd decay;    ///< phi_k^D
-  Eigen::VectorXd step_sd;  ///< sqrt(1 - phi_k^(2D))
-  Eigen::VectorXd phi;      ///< phi_k (the tail's recursion)
-  Eigen::VectorXd sd;       ///< sqrt(1 - phi_k^2)
-  Eigen::MatrixXd ends;     ///< (D - 1) x 2K: [a_k(t) b_k(t)]
-  Eigen::MatrixXd chol;     ///< (D - 1) x (D - 1): lower Cholesky factor of sum_k C_k
+  Eigen::VectorXd decay;      ///< phi_k^D
+  Eigen::VectorXd step_sd;    ///< sqrt(1 - phi_k^(2D))
+  Eigen::VectorXd phi;        ///< phi_k (the tail's recursion)
+  Eigen::VectorXd sd;         ///< sqrt(1 - phi_k^2)
+  Eigen::MatrixXd ends;       ///< (D - 1) x 2K: [a_k(t) b_k(t)]
+  Eigen::MatrixXd chol;       ///< (D - 1) x (D - 1): lower Cholesky factor of sum_k C_k
   Eigen::MatrixXd mean_from;  ///< (D - 1) x r and
   Eigen::MatrixXd mean_of;    ///< r x 2K: ends = mean_from mean_of to its rounding (make_flicker_bridge)
   bool usable() const { return block > 1; }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <sstream>
 
-
 #include "ar1_math.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/process_registry.h"

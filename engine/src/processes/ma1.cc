@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
 

@@ -118,8 +118,7 @@ constexpr std::size_t kAr1Run = 512;  // draws per stream per run: G x 4 KiB, in
 // their order, as G separate passes would add them; the G recursions are independent, so
 // they overlap instead of each waiting on its own multiply-add chain.
 template <std::size_t G>
-void ar1_paths_run(const Ar1Path* p, const double (*z)[kAr1Run], double* state, double* o, std::size_t m,
-                   bool first) {
+void ar1_paths_run(const Ar1Path* p, const double (*z)[kAr1Run], double* state, double* o, std::size_t m, bool first) {
   double s[G];
   for (std::size_t i = 0; i < G; ++i) s[i] = state[i];
   std::size_t k = 0;
@@ -161,10 +160,18 @@ inline void simulate_ar1_paths(std::span<const Ar1Path> paths, std::span<Rng> rn
       const std::size_t m = std::min(detail::kAr1Run, n - t);
       for (std::size_t i = 0; i < g; ++i) rngs[g0 + i].unit_normals(z[i], m);
       switch (g) {
-        case 1: detail::ar1_paths_run<1>(p, z, state, o + t, m, t == 0); break;
-        case 2: detail::ar1_paths_run<2>(p, z, state, o + t, m, t == 0); break;
-        case 3: detail::ar1_paths_run<3>(p, z, state, o + t, m, t == 0); break;
-        default: detail::ar1_paths_run<4>(p, z, state, o + t, m, t == 0); break;
+        case 1:
+          detail::ar1_paths_run<1>(p, z, state, o + t, m, t == 0);
+          break;
+        case 2:
+          detail::ar1_paths_run<2>(p, z, state, o + t, m, t == 0);
+          break;
+        case 3:
+          detail::ar1_paths_run<3>(p, z, state, o + t, m, t == 0);
+          break;
+        default:
+          detail::ar1_paths_run<4>(p, z, state, o + t, m, t == 0);
+          break;
       }
     }
   }

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-
 #include "gmwm/engine/process_registry.h"
 #include "process_util.h"
 

@@ -22,13 +22,11 @@ struct FormatName {
 // File names: Kalibr's imu.yaml, OpenVINS's kalibr_imu_chain.yaml, VINS-Fusion's and
 // ORB-SLAM3's settings YAML, Basalt's calib.json, a gz-sensors SDF fragment and the RotorS
 // IMU plugin's parameters (as their READMEs and examples name them).
-constexpr FormatName kFormats[] = {{ExportFormat::kKalibr, "kalibr", "imu.yaml"},
-                                   {ExportFormat::kOpenVins, "openvins", "kalibr_imu_chain.yaml"},
-                                   {ExportFormat::kVins, "vins", "vins_imu.yaml"},
-                                   {ExportFormat::kOrbSlam3, "orbslam3", "orbslam3_imu.yaml"},
-                                   {ExportFormat::kBasalt, "basalt", "calib.json"},
-                                   {ExportFormat::kGzSdf, "gz-sdf", "imu_noise.sdf"},
-                                   {ExportFormat::kRotors, "rotors", "rotors_imu.xml"}};
+constexpr FormatName kFormats[] = {
+    {ExportFormat::kKalibr, "kalibr", "imu.yaml"},      {ExportFormat::kOpenVins, "openvins", "kalibr_imu_chain.yaml"},
+    {ExportFormat::kVins, "vins", "vins_imu.yaml"},     {ExportFormat::kOrbSlam3, "orbslam3", "orbslam3_imu.yaml"},
+    {ExportFormat::kBasalt, "basalt", "calib.json"},    {ExportFormat::kGzSdf, "gz-sdf", "imu_noise.sdf"},
+    {ExportFormat::kRotors, "rotors", "rotors_imu.xml"}};
 
 }  // namespace
 

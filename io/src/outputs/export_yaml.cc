@@ -79,7 +79,8 @@ std::string render_openvins(const ExportOptions& o, const ExportResult& r) {
     out += "]\n";
   }
   if (writes_kind(o, r, SensorKind::kAccel)) {
-    out += field("  ", "accelerometer_noise_density", real(a.noise_density), "[ m / s^2 / sqrt(Hz) ] accel white noise");
+    out +=
+        field("  ", "accelerometer_noise_density", real(a.noise_density), "[ m / s^2 / sqrt(Hz) ] accel white noise");
     out += field("  ", "accelerometer_random_walk", real(a.random_walk), "[ m / s^3 / sqrt(Hz) ] accel bias diffusion");
   }
   if (writes_kind(o, r, SensorKind::kGyro)) {
@@ -120,9 +121,10 @@ std::string render_vins(const ExportOptions& o, const ExportResult& r) {
        "values are inflated well beyond an Allan analysis (its authors tune them); --inflate does that explicitly."});
   const bool acc = writes_kind(o, r, SensorKind::kAccel), gyr = writes_kind(o, r, SensorKind::kGyro);
   if (acc)
-    out += field("", "acc_n", real(a.noise_density * s),
-                 "[m/s^2] accelerometer measurement noise standard deviation, N_a sqrt(R) (N_a = " +
-                     num(a.noise_density) + " m/s^2/sqrt(Hz))");
+    out +=
+        field("", "acc_n", real(a.noise_density * s),
+              "[m/s^2] accelerometer measurement noise standard deviation, N_a sqrt(R) (N_a = " + num(a.noise_density) +
+                  " m/s^2/sqrt(Hz))");
   if (gyr)
     out += field("", "gyr_n", real(g.noise_density * s),
                  "[rad/s] gyroscope measurement noise standard deviation, N_g sqrt(R) (N_g = " + num(g.noise_density) +
@@ -153,9 +155,12 @@ std::string render_orbslam3(const ExportOptions& o, const ExportResult& r) {
                     "sf = sqrt(IMU.Frequency)), the same convention as Kalibr."});
   const bool acc = writes_kind(o, r, SensorKind::kAccel), gyr = writes_kind(o, r, SensorKind::kGyro);
   if (gyr) out += field("", "IMU.NoiseGyro", real(g.noise_density), "[rad/s/sqrt(Hz)] gyroscope white noise density");
-  if (acc) out += field("", "IMU.NoiseAcc", real(a.noise_density), "[m/s^2/sqrt(Hz)] accelerometer white noise density");
-  if (gyr) out += field("", "IMU.GyroWalk", real(g.random_walk), "[rad/s^2/sqrt(Hz)] gyroscope bias random walk density");
-  if (acc) out += field("", "IMU.AccWalk", real(a.random_walk), "[m/s^3/sqrt(Hz)] accelerometer bias random walk density");
+  if (acc)
+    out += field("", "IMU.NoiseAcc", real(a.noise_density), "[m/s^2/sqrt(Hz)] accelerometer white noise density");
+  if (gyr)
+    out += field("", "IMU.GyroWalk", real(g.random_walk), "[rad/s^2/sqrt(Hz)] gyroscope bias random walk density");
+  if (acc)
+    out += field("", "IMU.AccWalk", real(a.random_walk), "[m/s^3/sqrt(Hz)] accelerometer bias random walk density");
   out += field("", "IMU.Frequency", real(r.rate), "[Hz]");
   return out;
 }

@@ -622,7 +622,8 @@ SimConfig parse_datasheet_yaml(const std::string& text, const std::string& path,
     const auto it = read.find(s.kind);
     if (it == read.end()) continue;
     for (const std::optional<Figure>* f : {&it->second.white, &it->second.bias, &it->second.time, &it->second.walk})
-      if (*f) c.fields.push_back({std::string(s.key) + "/" + (*f)->key, (*f)->value, (*f)->unit, (*f)->line, (*f)->text});
+      if (*f)
+        c.fields.push_back({std::string(s.key) + "/" + (*f)->key, (*f)->value, (*f)->unit, (*f)->line, (*f)->text});
     const auto uit = units.find(s.kind);
     const Unit u = uit != units.end() ? uit->second : si_unit(s.kind);
     std::vector<std::string>& lines = c.conversions[s.kind];

@@ -53,7 +53,7 @@ struct FitOptions {
   /// A weighting matrix given by the caller (e.g. common to all models of a selection);
   /// overrides `omega` when set.
   std::optional<Eigen::MatrixXd> omega_matrix;
-  double alpha = 0.05;                ///< parameter CIs at level 1 - alpha
+  double alpha = 0.05;  ///< parameter CIs at level 1 - alpha
   /// Local optimisations from the best shape-based starts (placements of the components
   /// on the WV); 0: only from `starts` (and the nested starts), with one placement only when
   /// none of those is a valid point (a bootstrap refit warm-started from the fit).

@@ -23,8 +23,8 @@ namespace gmwm::fleet {
 struct FleetRecord {
   std::string status = "ok";  ///< "ok", or why the recording has no result (one line)
   double freq = NAN;
-  double seconds = 0.0;          ///< wall time of reading and selecting
-  std::vector<FleetRow> axes;    ///< per column, in the recording's order
+  double seconds = 0.0;             ///< wall time of reading and selecting
+  std::vector<FleetRow> axes;       ///< per column, in the recording's order
   std::vector<FleetCurves> curves;  ///< per column
 };
 

@@ -141,7 +141,7 @@ struct ConsistentInflation {
   double smaller = 0.0;                              ///< factor / (1 + precision) (0 when factor is 1)
   double smaller_above = 0.0;                        ///< its share of output times above the band
   nav::Verdict smaller_verdict = nav::Verdict::kOptimistic;  ///< its verdict (optimistic unless factor is 1)
-  std::string reason;                                ///< one line for the file's header
+  std::string reason;                                        ///< one line for the file's header
 };
 
 /// Throws InputError for invalid options or models, or when no factor up to 1000 keeps

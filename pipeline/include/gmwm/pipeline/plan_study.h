@@ -32,8 +32,8 @@ struct PlanStudyOptions {
 
 struct PlanColumn {
   std::string name;
-  std::string unit;   ///< the data's unit ("" when unknown)
-  std::string model;  ///< with its values, every digit (usable as a model with values)
+  std::string unit;           ///< the data's unit ("" when unknown)
+  std::string model;          ///< with its values, every digit (usable as a model with values)
   std::string display_model;  ///< the same, 4 significant digits (for the terminal)
   RecordPlan plan;
 };

@@ -22,8 +22,8 @@
 namespace gmwm::report {
 
 struct HtmlFragment {
-  std::string html;             ///< the column's <section>, plot containers included
-  Json plots = Json::array();   ///< [{"id", "kind", "spec"}], in the order of the containers
+  std::string html;            ///< the column's <section>, plot containers included
+  Json plots = Json::array();  ///< [{"id", "kind", "spec"}], in the order of the containers
 };
 
 /// The section of `data.columns[column]` (std::out_of_range beyond the columns). Plot ids

@@ -59,9 +59,9 @@ inline constexpr std::size_t kDefaultMaxWalkedEntries = 100'000;
 inline constexpr double kDefaultListingSeconds = 2.0;
 
 struct ServeOptions {
-  std::string folder = ".";          ///< the recordings offered; nothing outside it is read
-  std::string host = "127.0.0.1";    ///< the address listened on (Server)
-  int port = 8080;                   ///< 0: a free port (Server::port() tells which)
+  std::string folder = ".";        ///< the recordings offered; nothing outside it is read
+  std::string host = "127.0.0.1";  ///< the address listened on (Server)
+  int port = 8080;                 ///< 0: a free port (Server::port() tells which)
   std::int64_t max_upload_bytes = kDefaultMaxUploadBytes;
   std::int64_t max_upload_total_bytes = kDefaultMaxUploadTotalBytes;  ///< at least max_upload_bytes
   std::size_t max_queued_jobs = kDefaultMaxQueuedJobs;
@@ -94,9 +94,9 @@ struct ServeOptions {
 };
 
 struct HttpRequest {
-  std::string method;                         ///< GET, POST, DELETE
-  std::string path;                           ///< decoded path, no query
-  std::map<std::string, std::string> query;   ///< decoded query parameters
+  std::string method;                        ///< GET, POST, DELETE
+  std::string path;                          ///< decoded path, no query
+  std::map<std::string, std::string> query;  ///< decoded query parameters
   std::string body;
   std::map<std::string, std::string> headers = {};  ///< by lower-case name (Host, Origin, ...)
 };
