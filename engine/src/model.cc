@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm {
 
@@ -247,10 +248,8 @@ std::string component_text(const Model& model, int c, const Eigen::VectorXd& the
   std::string s = p.name() + (p.structure().empty() ? "" : "[" + p.structure() + "]") + "(";
   const auto& specs = p.parameters();
   for (std::size_t k = 0; k < specs.size(); ++k) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", digits,
-                  p.to_display(static_cast<int>(k), theta(model.offset(c) + static_cast<int>(k))));
-    s += (k ? "," : "") + specs[k].name + "=" + buf;
+    s += (k ? "," : "") + specs[k].name + "=" +
+         significant(p.to_display(static_cast<int>(k), theta(model.offset(c) + static_cast<int>(k))), digits);
   }
   return s + ")";
 }

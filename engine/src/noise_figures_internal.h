@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gmwm/engine/noise_figures.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::figures {
 
@@ -18,11 +19,7 @@ inline constexpr double kWalkTau = 3.0;   // K = ADEV(3 s) on the +1/2 line
 // engineer reads a floor to about this (issue 43's acceptance bar for B is 25%).
 inline constexpr double kFloorAgreement = 0.2;
 
-inline std::string fmt(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+inline std::string fmt(double x) { return significant(x, 3); }
 
 // A figure's value at tau from the Allan deviation there: N = sigma sqrt(tau) on the -1/2
 // line, K = sigma sqrt(3 / tau) on the +1/2 line.

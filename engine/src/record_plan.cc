@@ -17,15 +17,12 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wv_covariance.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm {
 
 std::string RecordPlanOptions::Validate() const {
-  auto num = [](double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", x);
-    return std::string(buf);
-  };
+  auto num = [](double x) { return significant(x); };
   if (!(precision > 0.0 && precision < 1.0))
     return "record plan: precision must be in (0, 1) (a relative half-width, 0.1 = +-10%), got " + num(precision);
   if (!(confidence > 0.0 && confidence < 1.0))

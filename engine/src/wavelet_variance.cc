@@ -2,16 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm {
 namespace {
 
-std::string num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string num(double x) { return significant(x, 3); }
 
 }  // namespace
 

@@ -7,15 +7,12 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/io/units.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::fleet {
 namespace {
 
-std::string g(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string g(double x) { return significant(x, 3); }
 
 // The row's sensor kind and its unit per SI unit: from the declared unit, else from the
 // column's name with SI assumed. nullopt when neither tells the kind.

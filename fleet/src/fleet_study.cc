@@ -18,6 +18,7 @@
 #include "gmwm/fleet/fleet_joint.h"
 #include "gmwm/fleet/fleet_record.h"
 #include "gmwm/io/units.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::fleet {
 namespace {
@@ -143,11 +144,7 @@ double median_of(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string g4(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string g4(double x) { return significant(x, 3); }
 
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "html_report_detail.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::report::detail {
 
@@ -67,12 +68,7 @@ std::string script_json(const Json& j) {
   return out;
 }
 
-std::string num(double x, int digits) {
-  if (!std::isfinite(x)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
+std::string num(double x, int digits) { return significant(x, digits, NonFinite::kDash); }
 
 double tau_scale(const ReportColumn& c) { return c.freq_known && c.freq > 0.0 ? 1.0 / c.freq : 1.0; }
 

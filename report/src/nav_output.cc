@@ -8,6 +8,7 @@
 
 #include "gmwm/engine/error.h"
 #include "html_report_detail.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::report {
 
@@ -19,12 +20,7 @@ using detail::html_escape;
 constexpr std::size_t kTerminalWidth = 100;
 constexpr std::size_t kLabelWidth = 28;
 
-std::string g(double x, int digits = 4) {
-  if (!std::isfinite(x)) return "-";
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*g", digits, x);
-  return b;
-}
+std::string g(double x, int digits = 4) { return significant(x, digits, NonFinite::kDash); }
 
 std::string scenario_line(const pipeline::NavStudy& s, double imu_rate) {
   const nav::Scenario& c = s.scenario;

@@ -6,18 +6,14 @@
 #include <sstream>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::report {
 
 namespace {
 
-std::string g(double x, int digits = 4) {
-  if (std::isnan(x)) return "-";
-  if (std::isinf(x)) return "none";
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*g", digits, x);
-  return b;
-}
+// An infinite figure is a bound that does not exist ("none").
+std::string g(double x, int digits = 4) { return std::isinf(x) ? "none" : significant(x, digits, NonFinite::kDash); }
 
 // A duration as a person reads it: "38 min", "2.6 h", "11 d".
 std::string duration(double s) {

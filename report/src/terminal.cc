@@ -8,6 +8,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/io/units.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::report {
 namespace {
@@ -133,12 +134,7 @@ void add_figure(TextTable& t, const char* label, char letter, const Json& f, con
 
 }  // namespace
 
-std::string fmt(double x, int digits) {
-  if (!std::isfinite(x)) return "-";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
+std::string fmt(double x, int digits) { return significant(x, digits, NonFinite::kDash); }
 
 TextTable::TextTable(std::vector<std::string> header, int left) : left_(left) { rows_.push_back(std::move(header)); }
 

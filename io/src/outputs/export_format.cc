@@ -10,6 +10,7 @@
 #include "export_internal.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::io {
 namespace {
@@ -119,11 +120,7 @@ std::string real(double x) {
   return out;
 }
 
-std::string num(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
+std::string num(double x, int digits) { return significant(x, digits); }
 
 // Comment lines carry names from files (columns, sources): as one printable line each
 // (printable_line), so that a newline in a name cannot start a key of its own.

@@ -6,6 +6,8 @@
 #include <limits>
 #include <string>
 
+#include "gmwm/engine/number_text.h"
+
 namespace gmwm::io::detail {
 
 /// s without leading and trailing blanks (spaces, tabs, CR, LF).
@@ -17,11 +19,7 @@ inline std::string trim(const std::string& s) {
 }
 
 /// A figure for a message or a conversion line (%g, 6 significant digits by default).
-inline std::string g(double x, int digits = 6) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
+inline std::string g(double x, int digits = 6) { return significant(x, digits); }
 
 /// A figure that reads back to the same double (a model string's value).
 inline std::string exact(double x) { return g(x, 17); }
