@@ -140,6 +140,33 @@ std::vector<double> Process::scaled(std::span<const double> theta, double c) con
   return out;
 }
 
+const char* to_string(ProcessRole r) {
+  switch (r) {
+    case ProcessRole::kWhite:
+      return "white";
+    case ProcessRole::kQuantization:
+      return "quantization";
+    case ProcessRole::kWalk:
+      return "walk";
+    case ProcessRole::kDrift:
+      return "drift";
+    case ProcessRole::kBias:
+      return "bias";
+    case ProcessRole::kFlicker:
+      return "flicker";
+    case ProcessRole::kPeriodic:
+      return "periodic";
+    case ProcessRole::kOther:
+      return "other";
+  }
+  return "other";
+}
+
+bool single_per_model(ProcessRole r) {
+  return r == ProcessRole::kWhite || r == ProcessRole::kQuantization || r == ProcessRole::kWalk ||
+         r == ProcessRole::kDrift;
+}
+
 ProcessPtr make_process(const std::string& name, const ProcessContext& context) {
   ProcessArgs args;
   args.context = context;

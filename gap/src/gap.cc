@@ -29,41 +29,11 @@
 namespace gmwm::gap {
 using namespace detail;
 
-const char* to_string(GapEffect e) {
-  switch (e) {
-    case GapEffect::kNone:
-      return "none";
-    case GapEffect::kWN:
-      return "WN";
-    case GapEffect::kQN:
-      return "QN";
-    case GapEffect::kRW:
-      return "RW";
-    case GapEffect::kDR:
-      return "DR";
-    case GapEffect::kAR1:
-      return "AR1";
-    case GapEffect::kFlicker:
-      return "FLICKER";
-    case GapEffect::kSin:
-      return "SIN";
-    case GapEffect::kOutliers:
-      return "OUTLIERS";
-    case GapEffect::kStep:
-      return "STEP";
-    case GapEffect::kTransient:
-      return "TRANSIENT";
-    case GapEffect::kTemperature:
-      return "TEMPERATURE";
-    case GapEffect::kReparameterise:
-      return "REPARAMETERISE";
-  }
-  return "none";
-}
+const char* to_string(GapEffect e) { return effect_entry(e).name; }
 
 std::optional<GapEffect> parse_gap_effect(const std::string& name) {
-  for (int e = static_cast<int>(GapEffect::kNone); e <= static_cast<int>(GapEffect::kReparameterise); ++e)
-    if (name == to_string(static_cast<GapEffect>(e))) return static_cast<GapEffect>(e);
+  for (const auto& entry : effect_table())
+    if (name == entry.name) return entry.effect;
   return std::nullopt;
 }
 
@@ -251,7 +221,7 @@ std::string drift_or_walk(const Context& c, const Base& base, const Eigen::Vecto
                           const detail::TimeFindings& findings) {
   if (!findings.trend || !g.trend || !g.trend->significant || detrended.size() == 0) return {};
   if (std::find(g.steps.begin(), g.steps.end(), GapEffect::kDR) == g.steps.end()) return {};
-  if (has_process(base.model, "DR")) return {};
+  if (has_role(base.model, ProcessRole::kDrift)) return {};
   const FitResult r = refit_family(base, detrended, c.wv, c.omega, c.options);
   if (r.status == FitStatus::kFailed) return {};
   const double sd = detail::trend_slope_sd(r.model, r.theta, c.wv.n);
@@ -602,7 +572,7 @@ void shrinkage_stage(const Context& c, const Attribution& a, GapResult& g) {
   std::vector<GapLevel> outside = g.levels_after;
   for (auto& l : outside) l.z = l.outside ? l.z : 0.0;
   g.remaining = deciding_bands(c.wv, detail::find_bands(outside, 0.0, 0.0), c.options);
-  if (drift && !has_process(g.final_model, "DR")) {
+  if (drift && !has_role(g.final_model, ProcessRole::kDrift)) {
     // The drift removed in the time domain belongs to the final model too (signed).
     const FitResult d = detail::drift_fit(*g.trend, c.options);
     Eigen::VectorXd th(g.final_theta.size() + 1);

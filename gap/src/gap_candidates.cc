@@ -35,12 +35,32 @@ void checkpoint(const GapOptions& o) {
   if (o.progress) o.progress(o.replicates, o.replicates);
 }
 
-constexpr CandidateSpec kCatalogue[] = {
-    {GapEffect::kWN, "WN"},   {GapEffect::kQN, "QN"},
-    {GapEffect::kRW, "RW"},   {GapEffect::kDR, "DR"},
-    {GapEffect::kAR1, "AR1"}, {GapEffect::kFlicker, "FLICKER"},
-    {GapEffect::kSin, "SIN"}, {GapEffect::kReparameterise, nullptr},
+constexpr EffectEntry kEffects[] = {
+    {GapEffect::kNone, "none", nullptr, false},
+    {GapEffect::kWN, "WN", "WN", true},
+    {GapEffect::kQN, "QN", "QN", true},
+    {GapEffect::kRW, "RW", "RW", true},
+    {GapEffect::kDR, "DR", "DR", true},
+    {GapEffect::kAR1, "AR1", "AR1", true},
+    {GapEffect::kFlicker, "FLICKER", "FLICKER", true},
+    {GapEffect::kSin, "SIN", "SIN", true},
+    {GapEffect::kOutliers, "OUTLIERS", nullptr, false},
+    {GapEffect::kStep, "STEP", nullptr, false},
+    {GapEffect::kTransient, "TRANSIENT", nullptr, false},
+    {GapEffect::kTemperature, "TEMPERATURE", nullptr, false},
+    {GapEffect::kReparameterise, "REPARAMETERISE", nullptr, true},
 };
+constexpr bool in_enum_order() {
+  for (std::size_t k = 0; k < std::size(kEffects); ++k)
+    if (static_cast<std::size_t>(kEffects[k].effect) != k) return false;
+  return true;
+}
+static_assert(std::size(kEffects) == static_cast<std::size_t>(GapEffect::kReparameterise) + 1 && in_enum_order(),
+              "every GapEffect has its entry, in the enum's order (effect_entry reads it by index)");
+
+std::span<const EffectEntry> effect_table() { return kEffects; }
+
+const EffectEntry& effect_entry(GapEffect e) { return kEffects[static_cast<std::size_t>(e)]; }
 
 }  // namespace gmwm::gap::detail
 
@@ -48,7 +68,8 @@ namespace gmwm::gap {
 
 std::vector<GapEffect> wv_candidate_effects() {
   std::vector<GapEffect> out;
-  for (const auto& c : detail::kCatalogue) out.push_back(c.effect);
+  for (const auto& c : detail::effect_table())
+    if (c.wv_candidate) out.push_back(c.effect);
   return out;
 }
 
@@ -72,27 +93,29 @@ std::vector<GapEffect> parse_gap_candidates(const std::string& list, const std::
 
 namespace gmwm::gap::detail {
 
-bool has_process(const Model& m, const std::string& name) {
+bool has_role(const Model& m, ProcessRole r) {
   for (const auto& c : m.components())
-    if (c.process->name() == name) return true;
+    if (c.process->role() == r) return true;
   return false;
 }
 
-// The candidates tried against `base`: the requested ones (all by default), without
-// a single-instance term the base already has (adding it is a re-sizing, i.e.
-// REPARAMETERISE, docs/gap.md, method note 5), and without REPARAMETERISE when the base is refitted anyway.
+// The candidates tried against `base`: the requested ones (all by default), without a
+// process of a role the base already has and a model holds once (single_per_model: adding
+// it is a re-sizing, i.e. REPARAMETERISE, docs/gap.md, method note 5), and without
+// REPARAMETERISE when the base is refitted anyway.
 std::vector<CandidateSpec> candidates_for(const Model& base, const GapOptions& o) {
   std::vector<CandidateSpec> out;
-  for (const auto& c : kCatalogue) {
+  for (const auto& c : effect_table()) {
+    if (!c.wv_candidate) continue;
     if (!o.candidates.empty() && std::find(o.candidates.begin(), o.candidates.end(), c.effect) == o.candidates.end())
       continue;
     if (c.process == nullptr) {
-      if (!o.refit_baseline) out.push_back(c);
+      if (!o.refit_baseline) out.push_back({c.effect, nullptr});
       continue;
     }
-    const std::string p = c.process;
-    if ((p == "WN" || p == "QN" || p == "RW" || p == "DR") && has_process(base, p)) continue;
-    out.push_back(c);
+    const ProcessRole role = make_process(c.process, ProcessContext{})->role();
+    if (single_per_model(role) && has_role(base, role)) continue;
+    out.push_back({c.effect, c.process});
   }
   return out;
 }

@@ -2,6 +2,7 @@
 // The candidate effects of the gap diagnosis (docs/gap.md, method note 3), internal to gap.cc: the
 // catalogue, each candidate's fit on top of the current base (fixed, or re-estimated with
 // it), its threshold calibrated on the base's own replicates, and its bootstrap intervals.
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,6 +16,20 @@ namespace gmwm::gap::detail {
 /// The finest levels where outliers show first (docs/gap.md, method note 3: robust/classical
 /// ratio at tau = 2..8).
 inline constexpr int kOutlierLevels = 3;
+
+/// One gap effect as every part of gap reads it (the names, the attribution's candidates,
+/// gap-check's injections): its name as to_string writes it, the latent process the WV
+/// attribution adds for it (nullptr: none) and whether the attribution tries it.
+struct EffectEntry {
+  GapEffect effect;
+  const char* name;
+  const char* process;
+  bool wv_candidate;
+};
+/// Every effect once, in GapEffect's order (the attribution tries the candidates in it).
+std::span<const EffectEntry> effect_table();
+/// e's entry in effect_table().
+const EffectEntry& effect_entry(GapEffect e);
 
 struct CandidateSpec {
   GapEffect effect;
@@ -33,7 +48,8 @@ struct Step {
   int best = -1;  ///< index into scored, -1 when nothing cleared
 };
 
-bool has_process(const Model& m, const std::string& name);
+/// True when a component of m plays role r (ProcessRole: asked of the process).
+bool has_role(const Model& m, ProcessRole r);
 
 /// The candidates tried against `base` (see gap_candidates.cc).
 std::vector<CandidateSpec> candidates_for(const Model& base, const GapOptions& o);

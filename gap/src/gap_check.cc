@@ -21,6 +21,7 @@
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
 #include "gmwm/robust/robust_wv.h"
+#include "gap_candidates.h"
 
 namespace gmwm::gap {
 namespace {
@@ -94,26 +95,22 @@ Injection make_injection(GapEffect family, double strength, const Model& base, c
   const auto tau = dyadic(J);
   boost::random::uniform_01<double> u;
   Injection in;
-  std::string spec;
+  const char* spec = detail::effect_entry(family).process;
   Eigen::VectorXd unit;
   switch (family) {
     case GapEffect::kQN:
-      spec = "QN";
       unit = Eigen::VectorXd::Ones(1);
       break;
     case GapEffect::kDR:
-      spec = "DR";
       unit = Eigen::VectorXd::Ones(1);
       break;
     case GapEffect::kFlicker:
-      spec = "FLICKER";
       unit = Eigen::VectorXd::Ones(1);
       break;
     case GapEffect::kAR1: {
       const double hi = std::log2(static_cast<double>(n) * kAr1RecordShare);
       const double T = std::exp2(kAr1MinLog2T + u(rng) * (hi - kAr1MinLog2T));
       in.truth_parameter = T;
-      spec = "AR1";
       unit = (Eigen::VectorXd(2) << std::exp(-1.0 / T), 1.0).finished();
       break;
     }
@@ -121,7 +118,6 @@ Injection make_injection(GapEffect family, double strength, const Model& base, c
       const double lo = std::log(kSinMinCycles / static_cast<double>(n)), hi = std::log(kSinMaxF);
       const double f = std::exp(lo + u(rng) * (hi - lo));
       in.truth_parameter = f;
-      spec = "SIN";
       unit = (Eigen::VectorXd(2) << 1.0, f).finished();
       break;
     }

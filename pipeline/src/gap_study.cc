@@ -15,6 +15,7 @@
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/robust/robust_wv.h"
+#include "gmwm/engine/number_text.h"
 
 namespace gmwm::pipeline {
 namespace {
@@ -27,11 +28,7 @@ constexpr double kRandomWalkLikeRecords = 10.0;
 // The finest levels compared for a unit mix-up (white noise dominates there on an IMU).
 constexpr int kUnitCheckLevels = 3;
 
-std::string num(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
+std::string num(double x, int digits) { return significant(x, digits); }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -120,14 +117,17 @@ void random_walk_like(Model& base, Eigen::VectorXd& theta, std::int64_t n, std::
     const Component& comp = base.components()[static_cast<std::size_t>(c)];
     const Process& p = *comp.process;
     const double* th = theta.data() + base.offset(c);
-    const double T = p.name() == "AR1" && th[0] > 0.0 && th[0] < 1.0 ? -1.0 / std::log(th[0]) : 0.0;
-    if (T >= kRandomWalkLikeRecords * static_cast<double>(n)) {
-      const Model rw = parse_model("RW(gamma2=" + num(th[1], 17) + ")", p.context());
-      comps.push_back(rw.components()[0]);
-      values.push_back(th[1]);
+    const std::span<const double> values_c(th, static_cast<std::size_t>(p.size()));
+    const double T = p.role() == ProcessRole::kBias ? p.correlation_samples(values_c).value_or(0.0) : 0.0;
+    const std::vector<SimplerForm> forms = p.simpler_forms(values_c);
+    const auto walk = std::find_if(forms.begin(), forms.end(),
+                                   [](const SimplerForm& f) { return f.process->role() == ProcessRole::kWalk; });
+    if (T >= kRandomWalkLikeRecords * static_cast<double>(n) && walk != forms.end()) {
+      comps.push_back(Component{walk->process, walk->theta});
+      values.insert(values.end(), walk->theta.begin(), walk->theta.end());
       conversions.push_back("over this record (" + std::to_string(n) + " samples) the Gauss-Markov bias " + p.name() +
                             " (correlation time " + num(T, 3) + " samples, " + num(T / static_cast<double>(n), 3) +
-                            " records) is RW-like: RW(gamma2 = its innovation variance " + num(th[1], 6) +
+                            " records) is RW-like: RW(gamma2 = its innovation variance " + num(walk->theta[0], 6) +
                             "), as a random-walk density gives");
       changed = true;
       continue;

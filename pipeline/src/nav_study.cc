@@ -393,7 +393,7 @@ nav::ImuModel walk_inflated(nav::ImuModel m, double x) {
   for (auto* kind : {&m.gyro, &m.accel})
     for (nav::SensorModel& s : *kind)
       for (int c = 0; c < s.model.num_components(); ++c)
-        if (s.model.components()[static_cast<std::size_t>(c)].process->name() == "RW")
+        if (s.model.components()[static_cast<std::size_t>(c)].process->role() == ProcessRole::kWalk)
           s.theta(s.model.offset(c)) *= x * x;
   return m;
 }
@@ -504,7 +504,8 @@ static std::string lacking(const nav::ImuModel& truth) {
     for (const nav::SensorModel& s : *kind)
       for (int c = 0; c < s.model.num_components(); ++c) {
         const Process& p = *s.model.components()[static_cast<std::size_t>(c)].process;
-        if (p.name() == "WN" || p.name() == "RW" || p.name() == "QN") continue;
+        if (p.role() == ProcessRole::kWhite || p.role() == ProcessRole::kWalk || p.role() == ProcessRole::kQuantization)
+          continue;
         const auto form =
             p.continuous_form({s.theta.data() + s.model.offset(c), static_cast<std::size_t>(p.size())}, s.freq);
         const double T = form && form->states() == 1 && form->F(0, 0) < 0.0 ? -1.0 / form->F(0, 0) : NAN;

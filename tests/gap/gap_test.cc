@@ -48,6 +48,18 @@ GapResult diagnose(const Case& c, std::uint64_t seed, bool with_robust = false) 
   return diagnose_gap(c.wv, base, base.given_values(), o, &r, &c.x);
 }
 
+TEST(GapEffects, EveryEffectReadsBackFromItsNameAndTheAttributionTriesTheLatentOnesInOrder) {
+  // One table (gap_candidates.cc) gives the names, the parser and the candidates.
+  for (int k = static_cast<int>(GapEffect::kNone); k <= static_cast<int>(GapEffect::kReparameterise); ++k) {
+    const auto e = static_cast<GapEffect>(k);
+    EXPECT_EQ(parse_gap_effect(to_string(e)), e) << to_string(e);
+  }
+  EXPECT_FALSE(parse_gap_effect("wn").has_value());
+  std::vector<std::string> tried;
+  for (GapEffect e : wv_candidate_effects()) tried.emplace_back(to_string(e));
+  EXPECT_EQ(tried, (std::vector<std::string>{"WN", "QN", "RW", "DR", "AR1", "FLICKER", "SIN", "REPARAMETERISE"}));
+}
+
 TEST(DiagnoseGap, FindsNoEffectOnDataFromTheBaselineItself) {
   const GapResult g = diagnose(simulate_case(kBase, 8101), 8201);
   EXPECT_EQ(g.effect, GapEffect::kNone);

@@ -17,10 +17,15 @@ using internal::Jet;
 /// Lowest phi an initial guess proposes (a WV peaking at the finest scale).
 constexpr double kAr1GuessPhiMin = -0.9;
 
-class Ar1Process final : public Process, public internal::Ar1PathSource {
+class Ar1Process final : public internal::JetDifferentiated<Ar1Process, 2>, public internal::Ar1PathSource {
  public:
   explicit Ar1Process(const ProcessArgs&) {}
   std::string name() const override { return "AR1"; }
+  ProcessRole role() const override { return ProcessRole::kBias; }
+  std::optional<double> correlation_samples(std::span<const double> theta) const override {
+    if (!(theta[0] > 0.0 && theta[0] < 1.0)) return std::nullopt;
+    return -1.0 / std::log(theta[0]);
+  }
   int canonical_rank() const override { return 10; }
   int sort_key() const override { return 0; }
   const std::vector<ParameterSpec>& parameters() const override {
@@ -33,8 +38,6 @@ class Ar1Process final : public Process, public internal::Ar1PathSource {
     for (std::size_t k = 0; k < tau.size(); ++k)
       out[k] = theta[1] * unit.at(internal::haar_half_scale(tau[k], "AR1::wv"));
   }
-  using JetGradient = Jet<2, 1>;
-  using JetHessian = Jet<2>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
@@ -45,18 +48,6 @@ class Ar1Process final : public Process, public internal::Ar1PathSource {
       const double m = internal::haar_half_scale(tau[k], "AR1::wv");
       internal::store_jet_row(s * unit.at(m), static_cast<Eigen::Index>(k), jac, hess, value);
     }
-  }
-  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr);
-  }
-  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
-                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
-  }
-  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     const double phi = theta[0];

@@ -22,7 +22,7 @@ using internal::Jet;
 /// Lowest phi an initial guess proposes (as for AR1).
 constexpr double kArma11GuessPhiMin = -0.9;
 
-class Arma11Process final : public Process {
+class Arma11Process final : public internal::JetDifferentiated<Arma11Process, 3> {
  public:
   explicit Arma11Process(const ProcessArgs&) {}
   std::string name() const override { return "ARMA11"; }
@@ -39,8 +39,6 @@ class Arma11Process final : public Process {
       out[k] =
           theta[2] * internal::arma11_unit_wv(ar1, theta[0], theta[1], internal::haar_half_scale(tau[k], "ARMA11::wv"));
   }
-  using JetGradient = Jet<3, 1>;
-  using JetHessian = Jet<3>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
@@ -53,18 +51,6 @@ class Arma11Process final : public Process {
       internal::store_jet_row(s * internal::arma11_unit_wv(ar1, phi, th, m), static_cast<Eigen::Index>(k), jac, hess,
                               value);
     }
-  }
-  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr);
-  }
-  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
-                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
-  }
-  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     if (out.empty()) return;

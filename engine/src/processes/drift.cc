@@ -20,6 +20,7 @@ class Drift final : public Process {
  public:
   explicit Drift(const ProcessArgs&) {}
   std::string name() const override { return "DR"; }
+  ProcessRole role() const override { return ProcessRole::kDrift; }
   int canonical_rank() const override { return 80; }
   bool deterministic() const override { return true; }
   // Haar coefficient of omega t: (sum of the recent tau/2 samples - sum of the older

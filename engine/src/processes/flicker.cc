@@ -59,6 +59,7 @@ class Flicker final : public Process {
     for (int j = 1; j < kDyadicTable; ++j) dyadic_[static_cast<std::size_t>(j)] = compute_unit_wv(std::ldexp(1.0, j));
   }
   std::string name() const override { return "FLICKER"; }
+  ProcessRole role() const override { return ProcessRole::kFlicker; }
   std::string structure() const override {
     if (kmin_ == kFlickerDefaultKmin && kmax_ == kFlickerDefaultKmax) return {};
     return "kmin=" + std::to_string(kmin_) + ",kmax=" + std::to_string(kmax_);

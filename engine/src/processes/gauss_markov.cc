@@ -24,7 +24,7 @@ constexpr double kGmWalkL = 1e-15;
 /// Lowest phi = exp(-beta/f) an initial guess proposes (beta = 3 f).
 constexpr double kGmGuessPhiMin = 0.05;
 
-class GaussMarkov final : public Process, public internal::Ar1PathSource {
+class GaussMarkov final : public internal::JetDifferentiated<GaussMarkov, 2>, public internal::Ar1PathSource {
  public:
   explicit GaussMarkov(const ProcessArgs& args) {
     const double f = args.context.freq;
@@ -35,6 +35,12 @@ class GaussMarkov final : public Process, public internal::Ar1PathSource {
     }
   }
   std::string name() const override { return "GM"; }
+  ProcessRole role() const override { return ProcessRole::kBias; }
+  // T = 1 / beta seconds, f / beta samples.
+  std::optional<double> correlation_samples(std::span<const double> theta) const override {
+    if (!(theta[0] > 0.0)) return std::nullopt;
+    return rate() / theta[0];
+  }
   int canonical_rank() const override { return 20; }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> specs{
@@ -61,8 +67,6 @@ class GaussMarkov final : public Process, public internal::Ar1PathSource {
   void wv(std::span<const double> theta, std::span<const double> tau, std::span<double> out) const override {
     wv_levels(theta[0], theta[1], tau, [&](std::size_t k, double v) { out[k] = v; });
   }
-  using JetGradient = Jet<2, 1>;
-  using JetHessian = Jet<2>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
@@ -71,18 +75,6 @@ class GaussMarkov final : public Process, public internal::Ar1PathSource {
     wv_levels(beta, s, tau, [&](std::size_t k, const J& v) {
       internal::store_jet_row(v, static_cast<Eigen::Index>(k), jac, hess, value);
     });
-  }
-  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr);
-  }
-  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
-                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
-  }
-  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     const double L = theta[0] / rate();

@@ -76,6 +76,30 @@ inline double guess_tau(const GuessContext& ctx, double fallback) {
   return n ? ctx.tau[guess_level(ctx)] : fallback;
 }
 
+/// The derivatives of a process whose WV is written once over its scalar type (double or
+/// Jet), forwarded to Derived::derivatives<J>(theta, tau, jac, hess, value): an optimiser's
+/// gradient and the value with it through a first-order Jet, the Hessian through a
+/// second-order one. N: the number of parameters. Derive from it instead of Process.
+template <class Derived, int N>
+class JetDifferentiated : public Process {
+ public:
+  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
+                   Eigen::Ref<Eigen::MatrixXd> jac) const final {
+    self().template derivatives<Jet<N, 1>>(theta, tau, &jac, nullptr);
+  }
+  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
+                       Eigen::Ref<Eigen::MatrixXd> jac) const final {
+    self().template derivatives<Jet<N, 1>>(theta, tau, &jac, nullptr, &out);
+  }
+  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
+                  Eigen::Ref<Eigen::MatrixXd> hess) const final {
+    self().template derivatives<Jet<N>>(theta, tau, nullptr, &hess);
+  }
+
+ private:
+  const Derived& self() const { return static_cast<const Derived&>(*this); }
+};
+
 /// Writes a Jet's gradient into jac row k and its Hessian into hess row k
 /// (hess(k, l * p + m) = d^2 / d theta_l d theta_m), p = N.
 /// A Jet without a Hessian (order 1) is only for a call without `hess`.

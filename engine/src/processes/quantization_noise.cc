@@ -17,6 +17,7 @@ class QuantizationNoise final : public Process {
  public:
   explicit QuantizationNoise(const ProcessArgs&) {}
   std::string name() const override { return "QN"; }
+  ProcessRole role() const override { return ProcessRole::kQuantization; }
   int canonical_rank() const override { return 60; }
   bool linear() const override { return true; }
   const std::vector<ParameterSpec>& parameters() const override {

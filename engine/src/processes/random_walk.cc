@@ -14,6 +14,7 @@ class RandomWalk final : public Process {
  public:
   explicit RandomWalk(const ProcessArgs&) {}
   std::string name() const override { return "RW"; }
+  ProcessRole role() const override { return ProcessRole::kWalk; }
   int canonical_rank() const override { return 70; }
   bool linear() const override { return true; }
   const std::vector<ParameterSpec>& parameters() const override {

@@ -59,10 +59,11 @@ T sin_unit_wv(const T& f, const T& b, double m) {
   return 0.5 * a2 * a2 / ((m * m) * b * b);
 }
 
-class Sinusoid final : public Process {
+class Sinusoid final : public internal::JetDifferentiated<Sinusoid, 2> {
  public:
   explicit Sinusoid(const ProcessArgs&) {}
   std::string name() const override { return "SIN"; }
+  ProcessRole role() const override { return ProcessRole::kPeriodic; }
   int canonical_rank() const override { return 90; }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> specs{
@@ -74,8 +75,6 @@ class Sinusoid final : public Process {
     const double b = sin_pi_t(theta[1]);
     for (std::size_t k = 0; k < tau.size(); ++k) out[k] = theta[0] * sin_unit_wv(theta[1], b, 0.5 * tau[k]);
   }
-  using JetGradient = Jet<2, 1>;
-  using JetHessian = Jet<2>;
   template <class J>
   void derivatives(std::span<const double> theta, std::span<const double> tau, Eigen::Ref<Eigen::MatrixXd>* jac,
                    Eigen::Ref<Eigen::MatrixXd>* hess, std::span<double>* value = nullptr) const {
@@ -84,18 +83,6 @@ class Sinusoid final : public Process {
     const J b = sin_pi_t(f);
     for (std::size_t k = 0; k < tau.size(); ++k)
       internal::store_jet_row(a2 * sin_unit_wv(f, b, 0.5 * tau[k]), static_cast<Eigen::Index>(k), jac, hess, value);
-  }
-  void wv_jacobian(std::span<const double> theta, std::span<const double> tau,
-                   Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr);
-  }
-  void wv_and_jacobian(std::span<const double> theta, std::span<const double> tau, std::span<double> out,
-                       Eigen::Ref<Eigen::MatrixXd> jac) const override {
-    derivatives<JetGradient>(theta, tau, &jac, nullptr, &out);
-  }
-  void wv_hessian(std::span<const double> theta, std::span<const double> tau,
-                  Eigen::Ref<Eigen::MatrixXd> hess) const override {
-    derivatives<JetHessian>(theta, tau, nullptr, &hess);
   }
   void generalized_autocovariance(std::span<const double> theta, std::span<double> out) const override {
     for (std::size_t h = 0; h < out.size(); ++h)

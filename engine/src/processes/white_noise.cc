@@ -15,6 +15,7 @@ class WhiteNoise final : public Process {
  public:
   explicit WhiteNoise(const ProcessArgs&) {}
   std::string name() const override { return "WN"; }
+  ProcessRole role() const override { return ProcessRole::kWhite; }
   int canonical_rank() const override { return 50; }
   bool linear() const override { return true; }
   const std::vector<ParameterSpec>& parameters() const override {

@@ -16,7 +16,7 @@ namespace {
 
 TEST(ProcessRegistry, KnowsEveryProcessOfTheLibrary) {
   const auto names = ProcessRegistry::instance().names();
-  for (const char* n : {"WN", "QN", "RW", "DR", "AR1", "GM", "MA1", "ARMA11", "ARMA", "SIN"})
+  for (const char* n : {"WN", "QN", "RW", "DR", "AR1", "GM", "MA1", "ARMA11", "ARMA", "SIN", "FLICKER"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
   EXPECT_NE(ProcessRegistry::instance().find("ar1"), nullptr);
   EXPECT_EQ(ProcessRegistry::instance().find("ARMA")->structural_keys, (std::vector<std::string>{"p", "q"}));
@@ -27,6 +27,7 @@ TEST(ProcessRegistry, IsBuiltExplicitlyWithExactlyTheBuiltInProcesses) {
   // by load-time side effects: the same eleven types in a static build.
   auto names = ProcessRegistry::instance().names();
   std::erase(names, "MYWN");  // added by the next test when run in the same process
+  std::erase(names, "SDWN");  // added by added_process_test.cc
   EXPECT_EQ(names,
             (std::vector<std::string>{"AR1", "ARMA", "ARMA11", "DR", "FLICKER", "GM", "MA1", "QN", "RW", "SIN", "WN"}));
 }
@@ -41,6 +42,34 @@ TEST(ProcessRegistry, TakesAnApplicationsOwnProcessTypeButNeverReplacesOne) {
   mine.summary = "an application's white noise";
   EXPECT_TRUE(r.add(mine));
   EXPECT_NE(r.find("mywn"), nullptr);
+}
+
+TEST(ProcessRegistry, EveryBuiltInProcessSaysItsRoleInTheErrorBudget) {
+  // What gap, nav and the simulator conversions ask instead of testing names.
+  const std::vector<std::pair<std::string, ProcessRole>> roles{
+      {"WN", ProcessRole::kWhite},        {"QN", ProcessRole::kQuantization}, {"RW", ProcessRole::kWalk},
+      {"DR", ProcessRole::kDrift},        {"AR1", ProcessRole::kBias},        {"GM", ProcessRole::kBias},
+      {"FLICKER", ProcessRole::kFlicker}, {"SIN", ProcessRole::kPeriodic},    {"MA1", ProcessRole::kOther},
+      {"ARMA11", ProcessRole::kOther}};
+  for (const auto& [name, role] : roles) EXPECT_EQ(make_process(name)->role(), role) << name;
+  EXPECT_EQ(make_process("ARMA", {{"p", 1}, {"q", 1}})->role(), ProcessRole::kOther);
+  for (ProcessRole r : {ProcessRole::kWhite, ProcessRole::kQuantization, ProcessRole::kWalk, ProcessRole::kDrift})
+    EXPECT_TRUE(single_per_model(r)) << to_string(r);
+  for (ProcessRole r : {ProcessRole::kBias, ProcessRole::kFlicker, ProcessRole::kPeriodic, ProcessRole::kOther})
+    EXPECT_FALSE(single_per_model(r)) << to_string(r);
+}
+
+TEST(ProcessRegistry, CorrelatedBiasesGiveTheirCorrelationTimeInSamples) {
+  // AR1: -1 / ln(phi); GM at 100 Hz with beta = 0.5 / s: T = 2 s = 200 samples, which is the
+  // AR1 of phi = exp(-beta / f)'s. None outside the bias role or without one (phi <= 0).
+  const std::vector<double> ar1{std::exp(-1.0 / 200.0), 1.0}, negative{-0.5, 1.0};
+  EXPECT_NEAR(*make_process("AR1")->correlation_samples(ar1), 200.0, 1e-9);
+  EXPECT_FALSE(make_process("AR1")->correlation_samples(negative).has_value());
+  ProcessArgs args;
+  args.context = ProcessContext{100.0, true};
+  const auto gm = ProcessRegistry::instance().create("GM", args);
+  EXPECT_NEAR(*gm->correlation_samples(std::vector<double>{0.5, 1.0}), 200.0, 1e-12);
+  EXPECT_FALSE(make_process("WN")->correlation_samples(std::vector<double>{1.0}).has_value());
 }
 
 TEST(ProcessRegistry, RejectsAnUnknownNameListingTheKnownOnes) {

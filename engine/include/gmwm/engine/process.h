@@ -117,6 +117,27 @@ ContinuousForm stateless_form(double white);
 /// is the samples' (21% more for an AR1 with phi = 0.16; L^2 / 12 relative for a slow one).
 ContinuousForm gauss_markov_form(double T, double s2, double dt);
 
+/// What a process stands for in a sensor's error budget (the terms of IEEE Std 952-1997,
+/// annex C, and of the simulators' configs), asked of the process by every module that
+/// explains a model (gap's candidates, nav's filter, the simulator conversions) instead of
+/// testing its name. Listed with its name once (to_string below).
+enum class ProcessRole {
+  kWhite,         ///< white noise: angle / velocity random walk (WN)
+  kQuantization,  ///< quantization noise (QN)
+  kWalk,          ///< random walk of the rate: rate random walk (RW)
+  kDrift,         ///< a deterministic rate ramp (DR)
+  kBias,          ///< a correlated bias with a correlation time: Gauss-Markov (AR1, GM)
+  kFlicker,       ///< 1/f noise: bias instability's flicker floor (FLICKER)
+  kPeriodic,      ///< a sinusoid (SIN)
+  kOther,         ///< no standard sensor-error meaning (MA1, ARMA11, ARMA)
+};
+/// "white", "quantization", "walk", "drift", "bias", "flicker", "periodic", "other".
+const char* to_string(ProcessRole r);
+/// True for the roles of which a model needs one component at most, because two of them sum
+/// to one of the same role and shape (WN, QN, RW: their sizes add; DR: the slopes add):
+/// white, quantization, walk, drift.
+bool single_per_model(ProcessRole r);
+
 class Process;
 using ProcessPtr = std::shared_ptr<const Process>;
 
@@ -142,6 +163,16 @@ class Process {
   /// Parameters in the order used in theta vectors.
   virtual const std::vector<ParameterSpec>& parameters() const = 0;
   int size() const { return static_cast<int>(parameters().size()); }
+
+  /// The process's part in a sensor's error budget (ProcessRole). Default: kOther.
+  virtual ProcessRole role() const { return ProcessRole::kOther; }
+  /// The correlation time in samples of a correlated bias (role kBias) at theta: AR1
+  /// -1 / ln(phi) for 0 < phi < 1, GM f / beta; nullopt for other roles and for values
+  /// without one (an AR1 with phi <= 0 or phi >= 1). Default: nullopt.
+  virtual std::optional<double> correlation_samples(std::span<const double> theta) const {
+    (void)theta;
+    return std::nullopt;
+  }
 
   /// True when the process contributes no randomness (DR). Its Haar coefficients are then
   /// the constant deterministic_coefficient(theta, tau), which enters the covariance of
