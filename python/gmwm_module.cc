@@ -57,6 +57,7 @@
 #include "gmwm/robust/tuning.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/version.h"
+#include "gmwm/engine/choice.h"
 
 #include "module_support.h"
 
@@ -164,15 +165,15 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   if (const auto m = sel::parse_optimism_method(optimism))
     so.optimism = *m;
   else
-    throw gmwm::InputError("optimism: expected analytic, bootstrap or both, got '" + optimism + "'");
+    throw gmwm::InputError("--optimism: " + gmwm::unknown_choice(optimism, sel::optimism_method_names()));
   if (const auto w = sel::parse_omega_source(omega))
     so.omega = *w;
   else
-    throw gmwm::InputError("omega: expected model, full or data, got '" + omega + "'");
+    throw gmwm::InputError("--omega: " + gmwm::unknown_choice(omega, sel::omega_source_names()));
   if (const auto p = sel::parse_penalty(penalty))
     so.penalty = *p;
   else
-    throw gmwm::InputError("penalty: expected wvic or bic, got '" + penalty + "'");
+    throw gmwm::InputError("--penalty: " + gmwm::unknown_choice(penalty, sel::penalty_names()));
   so.bootstrap_replicates = replicates;
   so.seed = seed;
   so.fit.alpha = alpha;

@@ -9,6 +9,7 @@
 #include "gmwm/report/json_output.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::python {
 
@@ -178,7 +179,7 @@ std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::op
 
 gmwm::OmegaKind omega_kind(const std::string& s) {
   if (const auto k = gmwm::parse_omega_kind(s)) return *k;
-  throw gmwm::InputError("omega: expected model, diag, full or bootstrap, got '" + s + "'");
+  throw gmwm::InputError("--omega: " + gmwm::unknown_choice(s, gmwm::omega_kind_names()));
 }
 
 }  // namespace gmwm::python

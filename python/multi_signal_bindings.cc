@@ -54,6 +54,7 @@
 #include "gmwm/robust/tuning.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/version.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::python {
 namespace {
@@ -134,11 +135,9 @@ std::string py_select_joint(const py::sequence& recordings, const std::string& m
   const std::vector<std::string> units = units_of(r.groups, units_spec);
   gmwm::pipeline::JointSelectStudyOptions o;
   o.model = model_spec;
-  if (optimism != "replicates" && optimism != "all")
-    throw gmwm::InputError(
-        "optimism: expected replicates (the cross-validated WVIC) or all (with the joint fit's "
-        "analytic and bootstrap WVIC beside it), got '" +
-        optimism + "'");
+  const std::vector<std::string> joint = gmwm::pipeline::replicate_optimism_names();
+  if (std::find(joint.begin(), joint.end(), optimism) == joint.end())
+    throw gmwm::InputError("--optimism: " + gmwm::unknown_choice(optimism, joint));
   o.select.select.optimism =
       optimism == "all" ? gmwm::selection::OptimismMethod::kBoth : gmwm::selection::OptimismMethod::kAnalytic;
   o.select.select.seed = seed;

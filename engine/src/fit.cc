@@ -10,6 +10,7 @@
 #include <nlopt.h>
 #include <spdlog/spdlog.h>
 
+#include "gmwm/engine/choice.h"
 #include "fit_internal.h"
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
@@ -36,11 +37,13 @@ const char* to_string(OmegaKind k) {
   return "?";
 }
 
-std::optional<OmegaKind> parse_omega_kind(const std::string& name) {
-  for (OmegaKind k : {OmegaKind::kDiag, OmegaKind::kFull, OmegaKind::kBootstrap, OmegaKind::kModel})
-    if (name == to_string(k)) return k;
-  return std::nullopt;
-}
+namespace {
+constexpr OmegaKind kOmegaKinds[] = {OmegaKind::kModel, OmegaKind::kDiag, OmegaKind::kFull, OmegaKind::kBootstrap};
+}  // namespace
+
+std::optional<OmegaKind> parse_omega_kind(const std::string& name) { return parse_among(name, kOmegaKinds); }
+
+std::vector<std::string> omega_kind_names() { return names_among(kOmegaKinds); }
 
 const char* to_string(FitStatus s) {
   switch (s) {

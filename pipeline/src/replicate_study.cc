@@ -12,6 +12,9 @@
 #include "gmwm/engine/model_syntax.h"
 
 namespace gmwm::pipeline {
+
+std::vector<std::string> replicate_optimism_names() { return {"replicates", "all"}; }
+
 namespace {
 
 std::vector<std::span<const double>> spans_of(const ReplicateGroup& g) { return {g.series.begin(), g.series.end()}; }

@@ -21,6 +21,7 @@
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/engine/wv_covariance.h"
+#include "gmwm/engine/choice.h"
 #include "gmwm/selection/submodels.h"
 
 namespace gmwm::selection {
@@ -602,28 +603,22 @@ const char* to_string(OptimismMethod m) {
 }
 
 namespace {
-template <class E, std::size_t N>
-std::optional<E> parse_among(const std::string& name, const E (&all)[N]) {
-  for (E e : all)
-    if (name == to_string(e)) return e;
-  return std::nullopt;
-}
+// Each enum's names once, in the order a user reads them.
+constexpr Penalty kPenalties[] = {Penalty::kWvic, Penalty::kBic};
+constexpr OptimismMethod kOptimismMethods[] = {OptimismMethod::kAnalytic, OptimismMethod::kBootstrap,
+                                               OptimismMethod::kBoth};
+constexpr OmegaSource kOmegaSources[] = {OmegaSource::kModel, OmegaSource::kModelFull, OmegaSource::kData};
 }  // namespace
 
-std::optional<Penalty> parse_penalty(const std::string& name) {
-  constexpr Penalty kAll[] = {Penalty::kWvic, Penalty::kBic};
-  return parse_among(name, kAll);
-}
-
+std::optional<Penalty> parse_penalty(const std::string& name) { return parse_among(name, kPenalties); }
 std::optional<OptimismMethod> parse_optimism_method(const std::string& name) {
-  constexpr OptimismMethod kAll[] = {OptimismMethod::kAnalytic, OptimismMethod::kBootstrap, OptimismMethod::kBoth};
-  return parse_among(name, kAll);
+  return parse_among(name, kOptimismMethods);
 }
+std::optional<OmegaSource> parse_omega_source(const std::string& name) { return parse_among(name, kOmegaSources); }
 
-std::optional<OmegaSource> parse_omega_source(const std::string& name) {
-  constexpr OmegaSource kAll[] = {OmegaSource::kData, OmegaSource::kModel, OmegaSource::kModelFull};
-  return parse_among(name, kAll);
-}
+std::vector<std::string> penalty_names() { return names_among(kPenalties); }
+std::vector<std::string> optimism_method_names() { return names_among(kOptimismMethods); }
+std::vector<std::string> omega_source_names() { return names_among(kOmegaSources); }
 
 std::string SelectOptions::Validate() const {
   if (optimism != OptimismMethod::kAnalytic && !(bootstrap_replicates >= 2 && bootstrap_replicates <= kMaxReplicates))

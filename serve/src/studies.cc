@@ -21,6 +21,7 @@
 #include "gmwm/report/study_text.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/select.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::serve::detail {
 
@@ -242,7 +243,7 @@ Jobs::Work fit_work(const Body& body, StudyContext& c) {
   o.robust = in.robust;
   const std::string omega = body.text("omega", "model");
   const auto kind = parse_omega_kind(omega);
-  if (!kind) body.fail("omega", "found '" + omega + "', expected model, diag, full or bootstrap");
+  if (!kind) body.fail("omega", unknown_choice(omega, omega_kind_names()));
   o.fit.omega = *kind;
   o.fit.alpha = in.wv.alpha;
   o.fit.seed = c.options.seed;
@@ -273,15 +274,15 @@ Jobs::Work select_work(const Body& body, StudyContext& c) {
   o.wv = in.wv;
   o.robust = in.robust;
   selection::SelectOptions& s = o.select;
-  const auto parse = [&](const char* key, const char* fallback, auto parser, const char* expected) {
+  const auto parse = [&](const char* key, const char* fallback, auto parser, const std::vector<std::string>& names) {
     const std::string text = body.text(key, fallback);
     const auto v = parser(text);
-    if (!v) body.fail(key, "found '" + text + "', expected " + expected);
+    if (!v) body.fail(key, unknown_choice(text, names));
     return *v;
   };
-  s.optimism = parse("optimism", "analytic", selection::parse_optimism_method, "analytic, bootstrap or all");
-  s.omega = parse("omega", "model", selection::parse_omega_source, "model or full");
-  s.penalty = parse("penalty", "wvic", selection::parse_penalty, "wvic or bic");
+  s.optimism = parse("optimism", "analytic", selection::parse_optimism_method, selection::optimism_method_names());
+  s.omega = parse("omega", "model", selection::parse_omega_source, selection::omega_source_names());
+  s.penalty = parse("penalty", "wvic", selection::parse_penalty, selection::penalty_names());
   if (const auto r = body.whole("replicates", 1, kMaxReplicates)) s.bootstrap_replicates = static_cast<int>(*r);
   s.seed = c.options.seed;
   s.fit.alpha = in.wv.alpha;

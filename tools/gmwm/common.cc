@@ -17,6 +17,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::cli {
 
@@ -46,6 +47,16 @@ CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi) {
         return "";
       },
       range);
+}
+
+CLI::Validator choice_of(std::vector<std::string> names) {
+  std::string listed;
+  for (const std::string& n : names) listed += (listed.empty() ? "" : ",") + n;
+  return CLI::Validator(
+      [names](std::string& text) -> std::string {
+        return std::find(names.begin(), names.end(), text) != names.end() ? "" : unknown_choice(text, names);
+      },
+      "{" + listed + "}");
 }
 
 CLI::Validator decimal_number(std::function<bool(double)> accept, std::string expected) {

@@ -66,6 +66,9 @@ CLI::Validator whole_number(std::uint64_t lo, std::uint64_t hi);
 CLI::Validator decimal_number(std::function<bool(double)> accept, std::string expected);
 /// decimal_number accepting any finite value (the command checks its range itself).
 CLI::Validator decimal_number(std::string expected);
+/// One of an enum's names, listed once beside its parser (gmwm/engine/choice.h): any other
+/// text refused as every face refuses it ("found 'x', expected a, b or c").
+CLI::Validator choice_of(std::vector<std::string> names);
 /// decimal_number within the sampling rates of io::sampling_rate_problem (1e-9 to 1e9 Hz):
 /// "found '1e-310', expected a sampling rate in Hz from 1e-09 to 1e+09".
 CLI::Validator sampling_rate_number();

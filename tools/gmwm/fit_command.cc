@@ -161,7 +161,7 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--omega", args->omega,
                   "Weighting matrix: model (1 / Var(nuhat_j) of the model at a pilot fit; the data-only weights "
                   "bias long-memory terms low), diag (data only), full (the model's V^-1) or bootstrap")
-      ->check(CLI::IsMember({"model", "diag", "full", "bootstrap"}))
+      ->check(choice_of(omega_kind_names()))
       ->capture_default_str();
   sub->add_option("--replicates", args->replicates,
                   "Bootstrap replicates for --omega bootstrap, and for the shared-theta test with --joint")

@@ -97,10 +97,18 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   return 0;
 }
 
+// --optimism's names: a single recording's, then the replicates' (with --joint).
+std::vector<std::string> select_optimism_names() {
+  std::vector<std::string> names = selection::optimism_method_names();
+  for (std::string& n : pipeline::replicate_optimism_names()) names.push_back(std::move(n));
+  return names;
+}
+
 // The selection's settings from the options (InputError naming the option when invalid).
 selection::SelectOptions select_options(const SelectArgs& args, const CommonOptions& common) {
   selection::SelectOptions options;
-  const bool by_replicates = args.optimism == "replicates" || args.optimism == "all";
+  const std::vector<std::string> joint = pipeline::replicate_optimism_names();
+  const bool by_replicates = std::find(joint.begin(), joint.end(), args.optimism) != joint.end();
   if (by_replicates && args.joint.empty())
     throw InputError("--optimism " + args.optimism +
                      ": the replicate-based optimism needs replicates; give them with --joint FILE[:COLUMN] ...");
@@ -192,20 +200,20 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
       ->type_name("SPEC1;SPEC2;...")
       ->excludes(one);
   sub->add_option("--penalty", args->penalty, "wvic (objective + analytic optimism) or bic (+ p log N)")
-      ->check(CLI::IsMember({"wvic", "bic"}))
+      ->check(choice_of(selection::penalty_names()))
       ->capture_default_str();
   sub->add_option("--optimism", args->optimism,
                   "Optimism of the WVIC: analytic (delta method), bootstrap (parametric, --replicates per model) "
                   "or both side by side (the criterion uses the analytic one); with --joint: replicates "
                   "(cross-validated over the replicates, the joint fit's analytic WVIC beside it) or all (and the "
                   "joint fit's parametric-bootstrap WVIC, --replicates draws of every replicate per model)")
-      ->check(CLI::IsMember({"analytic", "bootstrap", "both", "replicates", "all"}))
+      ->check(choice_of(select_optimism_names()))
       ->capture_default_str();
   sub->add_option("--omega", args->omega,
                   "Omega shared by all models: model (diag 1 / V_jj, V model-based at a pilot fit of the maximal "
                   "model), full (V^-1, same V: chi-square scaled objective) or data (diag 1 / Var(nuhat_j) from the "
                   "data's WV alone)")
-      ->check(CLI::IsMember({"model", "full", "data"}))
+      ->check(choice_of(selection::omega_source_names()))
       ->capture_default_str();
   sub->add_option("--replicates", args->replicates, "Bootstrap replicates per model")
       ->type_name("B")

@@ -31,6 +31,14 @@ constexpr OptionField kOptionFields[] = {
     {"--replicates", "replicates"},
     {"--model", "model"},
     {"--models", "models"},
+    {"--omega", "omega"},
+    {"--optimism", "optimism"},
+    {"--penalty", "penalty"},
+    {"--estimator", "estimator"},
+    {"--eff", "eff"},
+    {"--robust", "robust", "true"},
+    {"--alpha", "alpha"},
+    {"--levels", "levels"},
 };
 
 bool option_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_'; }

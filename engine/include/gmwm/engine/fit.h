@@ -43,6 +43,9 @@ enum class OmegaKind {
 const char* to_string(OmegaKind k);
 /// "diag", "full", "bootstrap", "model"; nullopt for anything else.
 std::optional<OmegaKind> parse_omega_kind(const std::string& name);
+/// The names parse_omega_kind takes, in the order a user reads them: model, diag, full,
+/// bootstrap (choice.h: every face's check and refusal).
+std::vector<std::string> omega_kind_names();
 
 enum class FitStatus { kConverged, kNotConverged, kFailed };
 const char* to_string(FitStatus s);

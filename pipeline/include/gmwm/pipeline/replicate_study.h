@@ -107,6 +107,11 @@ struct JointFitStudy {
 JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const ProcessContext& context,
                               const JointFitStudyOptions& options);
 
+/// The optimisms of a selection over replicates (select --joint, Python's select_joint), listed
+/// once: replicates (the cross-validated WVIC) and all (the joint fit's analytic and bootstrap
+/// WVIC beside it). A single recording's selection takes selection::optimism_method_names().
+std::vector<std::string> replicate_optimism_names();
+
 struct JointSelectStudyOptions {
   /// The maximal model: every sub-model is ranked.
   ModelSpec model;

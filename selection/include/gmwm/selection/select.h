@@ -62,6 +62,11 @@ const char* to_string(OmegaSource o);
 std::optional<Penalty> parse_penalty(const std::string& name);
 std::optional<OptimismMethod> parse_optimism_method(const std::string& name);
 std::optional<OmegaSource> parse_omega_source(const std::string& name);
+/// The names each parser takes, in the order a user reads them (choice.h: every face's check
+/// and refusal): wvic, bic; analytic, bootstrap, both; model, full, data.
+std::vector<std::string> penalty_names();
+std::vector<std::string> optimism_method_names();
+std::vector<std::string> omega_source_names();
 
 struct SelectOptions {
   Penalty penalty = Penalty::kWvic;
