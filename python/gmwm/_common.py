@@ -69,6 +69,24 @@ class JsonResult:
         """The library's JSON text, exactly as the command writes it."""
         return self._text
 
+    def _header(self, key: str) -> str | None:
+        return self.document.get(key) if isinstance(self.document, dict) else None
+
+    @property
+    def tool(self) -> str | None:
+        """"gmwm" in a whole command's document (None for one column's)."""
+        return self._header("tool")
+
+    @property
+    def version(self) -> str | None:
+        """The version of gmwm that wrote a whole command's document (None for one column's)."""
+        return self._header("version")
+
+    @property
+    def command(self) -> str | None:
+        """The command that wrote a whole document ("fit", "gap", ...; None for one column's)."""
+        return self._header("command")
+
     @classmethod
     def from_json(cls: type[T], text: str) -> T:
         """The typed result of the library's (or the command's) JSON text."""

@@ -225,6 +225,16 @@ class JointSelectColumn(JsonResult):
                    tuple(JointRankingRow.from_dict(r) for r in d["ranking"]), d.get("best_model"), best,
                    d.get("unit"), best.allan if best else None, best.noise_figures if best else None)
 
+    @property
+    def best_continuous(self) -> tuple[ContinuousParameter, ...]:
+        """The recommended model's parameters in physical units (empty without a best fit)."""
+        return self.best_fit.continuous if self.best_fit else ()
+
+    @property
+    def best_kalman(self) -> Kalman | None:
+        """The recommended model's Kalman terms (None without a best fit)."""
+        return self.best_fit.kalman if self.best_fit else None
+
     def __repr__(self) -> str:
         return (f"JointSelectColumn({self.name}: chosen {self.chosen}, recommended {self.recommended}, "
                 f"{len(self.replicates)} recordings)")

@@ -190,6 +190,8 @@ class FitResult(JsonResult, HasParameters, _WvArrays):
     kalman: Kalman | None
     allan: AllanDeviation | None
     noise_figures: NoiseFigures | None
+    small_sample: str | None = None  # robust fits: the WV's small-sample correction, said
+    screening: dict[str, Any] | None = None  # robust fits: the spike screen's note and replaced samples
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "FitResult":
@@ -199,7 +201,7 @@ class FitResult(JsonResult, HasParameters, _WvArrays):
                    int(d["evaluations"]), d["omega"], floats(d["implied_wv"]), d["estimator"], num(d["efficiency"]),
                    num(d["alpha"]), WvLevels.from_list(d["levels"]), d.get("unit"), continuous(d.get("continuous")),
                    Kalman.from_dict(d.get("kalman")), AllanDeviation.from_dict(d.get("allan")),
-                   NoiseFigures.from_dict(d.get("noise_figures")))
+                   NoiseFigures.from_dict(d.get("noise_figures")), d.get("small_sample"), d.get("screening"))
 
     def __repr__(self) -> str:
         return (f"FitResult({self.name}: {self.model_structure}, {self.status}, "
@@ -325,6 +327,8 @@ class SelectColumn(JsonResult, _WvArrays):
     unit: str | None
     allan: AllanDeviation | None
     noise_figures: NoiseFigures | None
+    small_sample: str | None = None  # robust selections: the WV's small-sample correction, said
+    screening: dict[str, Any] | None = None  # robust selections: the spike screen's note and replaced samples
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "SelectColumn":
@@ -335,7 +339,8 @@ class SelectColumn(JsonResult, _WvArrays):
                    d["penalty"], d["omega"], int(d["models"]), int(d["representation_violations"]), ranking,
                    tuple(Candidate.from_dict(c) for c in d["candidates"]), int(d["not_converged"]), int(d["failed"]),
                    bool(d["all_rejected"]), best_fit, d["estimator"], num(d["efficiency"]), num(d["alpha"]),
-                   WvLevels.from_list(d["levels"]), d.get("unit"), best_fit.allan, best_fit.noise_figures)
+                   WvLevels.from_list(d["levels"]), d.get("unit"), best_fit.allan, best_fit.noise_figures,
+                   d.get("small_sample"), d.get("screening"))
 
     @property
     def best_continuous(self) -> tuple[ContinuousParameter, ...]:
