@@ -2,7 +2,7 @@
 """No function in the given folders is longer than a limit (issue 29: 80 lines in pipeline/
 and tools/): a long procedure reads as a pipeline of named stages, each a function.
 
-    function_length.py [--limit 80] [--plant] DIR ...
+    function_length.py [--limit 80] [--plant] [--allow FILE] DIR ...
 
 A function is a definition at namespace level, as clang-format (.clang-format, Google style)
 lays it out: its head starts at column 0 and ends with '{' at the end of a line (a head may
@@ -12,6 +12,10 @@ readability-function-size counts them (LineThreshold; lambdas inside counted in 
 function; the two agree on this repository). Prints every function over the limit as
 FILE:LINE: NAME has N lines (limit L) and exits 1; exits 0 when none is.
 --plant checks the checker: a planted long function in a temporary file must be found.
+--allow FILE: the functions still over the limit, one per line as "PATH NAME LINES" (PATH
+relative to the current directory, LINES the length it may not exceed); a list that may only
+shrink: an entry whose function is gone or back under the limit fails until it is removed,
+and a listed function longer than its LINES fails too.
 """
 import argparse
 import os
@@ -65,6 +69,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--limit", type=int, default=80)
     ap.add_argument("--plant", action="store_true")
+    ap.add_argument("--allow", help="allow-list of the functions still over the limit (may only shrink)")
     ap.add_argument("dirs", nargs="*")
     a = ap.parse_args()
     if a.plant:
@@ -76,10 +81,54 @@ def main():
             if [fn for _, _, fn, _ in found] != ["planted_long_function"]:
                 print(f"the planted function was not found: {found}")
                 return 1
-    over = check(a.dirs, a.limit)
-    for path, line, fn, n in over:
-        print(f"{path}:{line}: {fn} has {n} lines (limit {a.limit})")
-    return 1 if over else 0
+            planted = os.path.normpath(os.path.join(t, "planted.cc"))
+            n = found[0][3]
+            # Allowed at its length it passes; allowed shorter, or a stale entry, fails.
+            if verdict([t], a.limit, {(planted, "planted_long_function"): n}, "list") \
+                    or not verdict([t], a.limit, {(planted, "planted_long_function"): n - 1}, "list") \
+                    or not verdict([t], a.limit, {(planted, "planted_long_function"): n,
+                                                  (planted, "gone_function"): n}, "list"):
+                print("the allow-list is not applied as it should be (planted function)")
+                return 1
+    messages = verdict(a.dirs, a.limit, read_allow_list(a.allow) if a.allow else {}, a.allow)
+    for m in messages:
+        print(m)
+    return 1 if messages else 0
+
+
+def verdict(dirs, limit, allowed, allow_name):
+    """One line for every function over the limit that the allow-list does not hold, or holds
+    shorter, and for every entry left without a function over the limit; empty when all is well."""
+    messages = []
+    seen = set()
+    for path, line, fn, n in check(dirs, limit):
+        key = (os.path.normpath(path), fn)
+        if key in allowed:
+            seen.add(key)
+            if n <= allowed[key]:
+                continue
+            messages.append(f"{path}:{line}: {fn} has {n} lines, more than the {allowed[key]} its entry in "
+                            f"{allow_name} allows")
+        else:
+            messages.append(f"{path}:{line}: {fn} has {n} lines (limit {limit})")
+    for key in sorted(set(allowed) - seen):
+        messages.append(f"{allow_name}: {key[0]} {key[1]} is no longer over {limit} lines (or is gone): remove its "
+                        "entry (the list only shrinks)")
+    return messages
+
+
+def read_allow_list(path):
+    """{(path, name): lines} from the allow-list (comments after '#')."""
+    out = {}
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            fields = line.split("#", 1)[0].split()
+            if not fields:
+                continue
+            if len(fields) != 3 or not fields[2].isdigit():
+                raise SystemExit(f"{path}:{number}: expected 'PATH NAME LINES', got {line.strip()!r}")
+            out[(os.path.normpath(fields[0]), fields[1])] = int(fields[2])
+    return out
 
 
 if __name__ == "__main__":
