@@ -308,6 +308,14 @@ void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo 
   common.outputs->stage(common.json, report::dump_json(doc));
 }
 
+int emit(const CommonOptions& common, Outcome outcome) {
+  write_json(common, outcome.document, {.threads = 0, .seconds = std::move(outcome.seconds), .argv = {}});
+  if (!common.report.empty() && outcome.report) outcome.report();
+  commit_outputs(common);
+  if (common.show_table() && outcome.table) print_text(outcome.table(outcome.document));
+  return 0;
+}
+
 void warn(const std::string& message) { std::cerr << "gmwm: warning: " << printable_line(message) << '\n'; }
 
 void print_text(const std::string& text) { std::cout << report::wrap_to_width(printable_text(text)) << std::flush; }

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -207,6 +208,20 @@ void warn_about_timing(const io::SignalSet& set);
 
 /// Prints "gmwm: warning: <message>" on stderr, as one printable line.
 void warn(const std::string& message);
+
+/// What a command has made, for its last stage (emit): the document and its named timings,
+/// the staging of its HTML report (called only with --report; empty: the command writes none)
+/// and its terminal table (formed from the document with its "run", only when shown).
+struct Outcome {
+  report::Json document;
+  std::map<std::string, double> seconds;
+  std::function<void()> report;
+  std::function<std::string(const report::Json&)> table;
+};
+
+/// Every command's last stage: stages the JSON (write_json) and the report, writes every
+/// staged output, all or none (commit_outputs), then prints the table. Returns 0.
+int emit(const CommonOptions& common, Outcome outcome);
 
 /// Prints a terminal report on stdout with every control byte but line breaks and tabs
 /// shown as \xNN (printable_text): names from files reach the terminal as text, never as

@@ -99,23 +99,28 @@ int warn_about_fits(const pipeline::FitStudy& study) {
   return usable;
 }
 
-int run_fit(const FitArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  pipeline::FitStudyOptions study_options;
-  study_options.model = args.model;
-  study_options.wv = wv_options(args.input);
-  study_options.robust = robust_wv_options(args.robust, study_options.wv);
+// Parse: the study's options from the arguments, every input and output declared first.
+pipeline::FitStudyOptions fit_study_options(const FitArgs& args, const CommonOptions& common) {
+  pipeline::FitStudyOptions o;
+  o.model = args.model;
+  o.wv = wv_options(args.input);
+  o.robust = robust_wv_options(args.robust, o.wv);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
   check_report_option(common);
-  study_options.fit = fit_options(args, common);
-  if (!args.joint.empty()) {
-    if (study_options.fit.omega == OmegaKind::kBootstrap)
-      throw InputError(
-          "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
+  o.fit = fit_options(args, common);
+  if (!args.joint.empty() && o.fit.omega == OmegaKind::kBootstrap)
+    throw InputError(
+        "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
+  return o;
+}
+
+int run_fit(const FitArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  const pipeline::FitStudyOptions study_options = fit_study_options(args, common);
+  if (!args.joint.empty())
     return run_joint_fit(args, common, study_options.fit, study_options.robust ? &*study_options.robust : nullptr);
-  }
   check_models_before_reading(args.input, {study_options.model});
 
   Stopwatch read_clock;
@@ -123,24 +128,24 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   const double read_seconds = read_clock.seconds();
   const pipeline::FitStudy study = pipeline::study_fit(set, study_options);
 
-  // Everything is computed: build the outputs, then write them.
+  // Everything is computed: render, then emit.
   const std::vector<std::string> units = column_units(args.units, set);
   const double filter = filter_rate(args.units, set);
-  report::Json doc = report::fit_document(set, study, units, filter);
   warn_about_timing(set);
   const int usable = warn_about_fits(study);
-  write_json(common, doc,
-             {.threads = 0,
-              .seconds = {{"read", read_seconds},
-                          {"wv", study.wv_seconds},
-                          {"allan", study.allan_seconds},
-                          {"fit", study.fit_seconds},
-                          {"total", total.seconds()}},
-              .argv = {}});
-  if (!common.report.empty() && usable > 0)
-    write_report(common, report::fit_report_data(set, study, args.model, units, filter));
-  commit_outputs(common);
-  if (common.show_table()) print_text(report::fit_text(doc, set, study, {units, filter, common.verbose}));
+  std::function<void()> stage_report;  // none when every fit failed
+  if (usable > 0)
+    stage_report = [&] { write_report(common, report::fit_report_data(set, study, args.model, units, filter)); };
+  emit(common, {report::fit_document(set, study, units, filter),
+                {{"read", read_seconds},
+                 {"wv", study.wv_seconds},
+                 {"allan", study.allan_seconds},
+                 {"fit", study.fit_seconds},
+                 {"total", total.seconds()}},
+                stage_report,
+                [&](const report::Json& doc) {
+                  return report::fit_text(doc, set, study, {units, filter, common.verbose});
+                }});
   if (usable == 0) {
     std::cerr << "gmwm: error: no usable fit (every column failed)\n";
     return 1;

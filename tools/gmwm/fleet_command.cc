@@ -82,9 +82,9 @@ int refuse_rows(const std::vector<std::string>& problems) {
   return 2;
 }
 
-int run_fleet(const FleetArgs& a, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
+// Parse: the study's options from the arguments (the cache and the scheduler checked before
+// any work; InputError naming the option).
+fleet::FleetStudyOptions fleet_study_options(const FleetArgs& a, const CommonOptions& common) {
   fleet::FleetStudyOptions o;
   o.model = a.model;
   o.wv.alpha = a.alpha;
@@ -109,6 +109,25 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
     o.runner = dask_runner(a.scheduler);
   }
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("fleet: " + why);
+  return o;
+}
+
+// The rows that did not fit and the cache's entries not used, as many as the bad rows said at most.
+void warn_about_fleet(const fleet::FleetStudy& study) {
+  for (const fleet::FleetRow& r : study.rows)
+    if (r.status != "ok")
+      warn("unit '" + r.unit + "'" + (r.axis.empty() ? "" : ", axis '" + r.axis + "'") + ": " + r.status);
+  for (std::size_t i = 0; i < study.cache_problems.size() && i < kMaxRowsSaid; ++i)
+    warn("fleet cache: " + capped_line(study.cache_problems[i]));
+  if (study.cache_problems.size() > kMaxRowsSaid)
+    warn("fleet cache: ... and " + std::to_string(study.cache_problems.size() - kMaxRowsSaid) +
+         " more entries not used (the JSON's \"cache_problems\" lists them)");
+}
+
+int run_fleet(const FleetArgs& a, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  fleet::FleetStudyOptions o = fleet_study_options(a, common);
   declare_input(common, a.manifest);
   declare_output(common, "--csv", a.csv);
   declare_output(common, "--json", common.json);
@@ -128,21 +147,12 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   const fleet::FleetStudy study = fleet::study_fleet(manifest, o);
   bar.finish();
 
-  report::Json doc = report::fleet_document(study);
   if (!a.csv.empty()) common.outputs->stage(a.csv, report::fleet_csv(study));
-  if (!common.report.empty()) report::stage_fleet_report(*common.outputs, common.report, study);
-  write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
-  commit_outputs(common);
-  if (common.show_table()) print_text(report::fleet_text(study, common.verbose));
-  for (const fleet::FleetRow& r : study.rows)
-    if (r.status != "ok")
-      warn("unit '" + r.unit + "'" + (r.axis.empty() ? "" : ", axis '" + r.axis + "'") + ": " + r.status);
-  // The cache's entries not used and its failures, as many as the bad rows said at most.
-  for (std::size_t i = 0; i < study.cache_problems.size() && i < kMaxRowsSaid; ++i)
-    warn("fleet cache: " + capped_line(study.cache_problems[i]));
-  if (study.cache_problems.size() > kMaxRowsSaid)
-    warn("fleet cache: ... and " + std::to_string(study.cache_problems.size() - kMaxRowsSaid) +
-         " more entries not used (the JSON's \"cache_problems\" lists them)");
+  emit(common, {report::fleet_document(study),
+                {{"total", total.seconds()}},
+                [&] { report::stage_fleet_report(*common.outputs, common.report, study); },
+                [&](const report::Json&) { return report::fleet_text(study, common.verbose); }});
+  warn_about_fleet(study);
   return 0;
 }
 

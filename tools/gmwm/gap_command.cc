@@ -95,9 +95,8 @@ void read_baseline_file(const GapArgs& args, const io::SignalSet& set, pipeline:
         args.datasheet};
 }
 
-int run_gap(const GapArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
+// Every file gap reads and writes, declared before any work; the Kalibr file's path.
+std::string declare_gap_files(const GapArgs& args, const CommonOptions& common) {
   declare_input(common, args.input.input);
   const std::string kalibr_path = kalibr_source("--kalibr", args.kalibr).first;
   declare_input(common, kalibr_path);
@@ -106,6 +105,13 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   declare_output(common, "--json", common.json);
   declare_output(common, "--corrected", args.corrected);
   check_report_option(common);
+  return kalibr_path;
+}
+
+int run_gap(const GapArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  const std::string kalibr_path = declare_gap_files(args, common);
   pipeline::GapStudyOptions options = gap_study_options(args, common);
 
   Stopwatch read_clock;
@@ -129,18 +135,13 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
   report::Json doc = report::gap_document(set, study);
   if (corrected) doc["corrected"] = report::corrected_config_json(*corrected, set.freq_known ? set.freq : 0.0);
   warn_about_timing(set);
-  write_json(common, doc,
-             {.threads = 0,
-              .seconds = {{"read", read_seconds},
-                          {"wv", study.wv_seconds},
-                          {"gap", study.gap_seconds},
-                          {"total", total.seconds()}},
-              .argv = {}});
   const std::string baseline = !args.model.empty() ? args.model : !args.fit.empty() ? "fit " + args.fit : baseline_file;
-  if (!common.report.empty()) write_report(common, report::gap_report_data(set, study, baseline, corrected));
-  commit_outputs(common);
-  if (common.show_table()) print_text(report::gap_text(set, study, corrected, common.verbose));
-  return 0;
+  return emit(
+      common,
+      {std::move(doc),
+       {{"read", read_seconds}, {"wv", study.wv_seconds}, {"gap", study.gap_seconds}, {"total", total.seconds()}},
+       [&] { write_report(common, report::gap_report_data(set, study, baseline, corrected)); },
+       [&](const report::Json&) { return report::gap_text(set, study, corrected, common.verbose); }});
 }
 
 }  // namespace

@@ -37,10 +37,9 @@ nav::Outage parse_outage(const std::string& text) {
   return {*a, *b};
 }
 
-int run_nav(const NavArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  // The files the models are read from: no output may be one of them.
+// Every file nav reads (the models' sources: no output may be one of them) and writes,
+// declared before any work.
+void declare_nav_files(const NavArgs& args, const CommonOptions& common) {
   std::vector<std::string> sources = args.filters;
   sources.push_back(args.truth);
   for (const std::string& text : sources) {
@@ -53,6 +52,10 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
     declare_output(common, "--report", common.report);
     if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
   }
+}
+
+// Parse: the study's options from the arguments (InputError naming the option).
+pipeline::NavStudyOptions nav_study_options(const NavArgs& args, const CommonOptions& common) {
   pipeline::NavStudyOptions o;
   const auto trajectory = nav::parse_trajectory(args.trajectory);
   if (!trajectory)
@@ -73,6 +76,14 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   o.monte_carlo_runs = args.monte_carlo;
   o.seed = common.seed;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("nav: " + why);
+  return o;
+}
+
+int run_nav(const NavArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  declare_nav_files(args, common);
+  pipeline::NavStudyOptions o = nav_study_options(args, common);
   ProgressBar bar("nav", common);
   if (bar.enabled())
     o.progress = [&](double share) {
@@ -81,17 +92,11 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
     };
   const pipeline::NavStudy study = pipeline::study_nav(o);
   bar.finish();
-  report::Json doc = report::nav_document(study);
-  write_json(common, doc,
-             {.threads = active_threads(),
-              .seconds = {{"analysis", study.seconds_exact},
-                          {"monte_carlo", study.seconds_sampled},
-                          {"total", total.seconds()}},
-              .argv = {}});
-  if (!common.report.empty()) common.outputs->stage(common.report, report::render_nav_html(study));
-  commit_outputs(common);
-  if (common.show_table()) print_text(report::nav_terminal(study));
-  return 0;
+  return emit(common,
+              {report::nav_document(study),
+               {{"analysis", study.seconds_exact}, {"monte_carlo", study.seconds_sampled}, {"total", total.seconds()}},
+               [&] { common.outputs->stage(common.report, report::render_nav_html(study)); },
+               [&](const report::Json&) { return report::nav_terminal(study); }});
 }
 
 }  // namespace

@@ -51,9 +51,8 @@ struct SelectArgs {
 // The shared-theta test in a report needs at least this many draws (ReplicateTestOptions).
 constexpr int kMinReportTestDraws = 19;
 
-int run_joint_select(const SelectArgs& args, const CommonOptions& common, const selection::SelectOptions& options,
-                     const robust::RobustWvOptions* robust) {
-  Stopwatch total;
+// What a selection over replicates does not take (InputError naming the option).
+void check_joint_select_options(const SelectArgs& args) {
   if (args.model.empty() || !args.models.empty())
     throw InputError("--joint: give the maximal model with --model SPEC (not --models)");
   if (args.penalty == "bic")
@@ -62,6 +61,12 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
     throw InputError("--joint with --optimism " + args.optimism +
                      ": the selection over replicates ranks by the cross-validated WVIC; --optimism all gives the "
                      "analytic and bootstrap WVIC of the joint fit beside it");
+}
+
+int run_joint_select(const SelectArgs& args, const CommonOptions& common, const selection::SelectOptions& options,
+                     const robust::RobustWvOptions* robust) {
+  Stopwatch total;
+  check_joint_select_options(args);
   for (const auto& e : args.joint) declare_input(common, replicate_path(e));
   const WvOptions wv_opts = wv_options(args.input);
   const io::SignalSet set = read_input(args.input);
@@ -88,13 +93,32 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
       pipeline::study_joint_select(groups, ProcessContext{set.freq, set.freq_known}, o);
   bar.finish();
   const std::string estimator = report::replicate_estimator_text(o.robust);
-  report::Json doc = report::joint_select_document(set, groups, study, units, filter);
-  write_json(common, doc, {.threads = 0, .seconds = {{"total", total.seconds()}}, .argv = {}});
-  if (!common.report.empty()) write_report(common, report::joint_select_report_data(set, groups, study, estimator));
-  commit_outputs(common);
-  if (common.show_table())
-    print_text(report::joint_select_text(doc, set, groups, study, estimator, {units, filter, common.verbose}));
-  return 0;
+  return emit(common,
+              {report::joint_select_document(set, groups, study, units, filter),
+               {{"total", total.seconds()}},
+               [&] { write_report(common, report::joint_select_report_data(set, groups, study, estimator)); },
+               [&](const report::Json& doc) {
+                 return report::joint_select_text(doc, set, groups, study, estimator, {units, filter, common.verbose});
+               }});
+}
+
+// The study's warnings: repeated entries of --models (one line), failed best fits.
+void warn_about_selection(const pipeline::SelectStudy& study) {
+  if (!study.duplicates.empty()) {
+    // One line: a list of thousands of copies would otherwise bury the terminal.
+    constexpr std::size_t kSaid = 3;  // the entries named; the count says the rest
+    std::string which;
+    for (std::size_t i = 0; i < study.duplicates.size() && i < kSaid; ++i)
+      which += (i ? "; " : "") + study.duplicates[i];
+    if (study.duplicates.size() > kSaid) which += "; and " + std::to_string(study.duplicates.size() - kSaid) + " more";
+    warn(capped_line("--models: " + std::to_string(study.duplicates.size()) + " entr" +
+                     (study.duplicates.size() == 1 ? "y repeats" : "ies repeat") + " an earlier entry's model and " +
+                     (study.duplicates.size() == 1 ? "was" : "were") +
+                     " dropped (each model is ranked once): " + which));
+  }
+  for (const pipeline::SelectColumnStudy& c : study.columns)
+    if (c.selection.best_fit.status == FitStatus::kFailed)
+      warn("column '" + c.name + "': the best model's fit with inference failed");
 }
 
 // --optimism's names: a single recording's, then the replicates' (with --joint).
@@ -152,37 +176,19 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
 
   const std::vector<std::string> units = column_units(args.units, set);
   const double filter = filter_rate(args.units, set);
-  report::Json doc = report::select_document(set, study, units, filter);
   warn_about_timing(set);
-  if (!study.duplicates.empty()) {
-    // One line: a list of thousands of copies would otherwise bury the terminal.
-    constexpr std::size_t kSaid = 3;  // the entries named; the count says the rest
-    std::string which;
-    for (std::size_t i = 0; i < study.duplicates.size() && i < kSaid; ++i)
-      which += (i ? "; " : "") + study.duplicates[i];
-    if (study.duplicates.size() > kSaid) which += "; and " + std::to_string(study.duplicates.size() - kSaid) + " more";
-    warn(capped_line("--models: " + std::to_string(study.duplicates.size()) + " entr" +
-                     (study.duplicates.size() == 1 ? "y repeats" : "ies repeat") + " an earlier entry's model and " +
-                     (study.duplicates.size() == 1 ? "was" : "were") +
-                     " dropped (each model is ranked once): " + which));
-  }
-  for (const pipeline::SelectColumnStudy& c : study.columns)
-    if (c.selection.best_fit.status == FitStatus::kFailed)
-      warn("column '" + c.name + "': the best model's fit with inference failed");
-  write_json(common, doc,
-             {.threads = 0,
-              .seconds = {{"read", read_seconds},
-                          {"wv", study.wv_seconds},
-                          {"allan", study.allan_seconds},
-                          {"select", study.select_seconds},
-                          {"total", total.seconds()}},
-              .argv = {}});
-  if (!common.report.empty())
-    write_report(common,
-                 report::select_report_data(set, study, args.models.empty() ? args.model : args.models, units, filter));
-  commit_outputs(common);
-  if (common.show_table()) print_text(report::select_text(doc, set, study, {units, filter, common.verbose}));
-  return 0;
+  warn_about_selection(study);
+  const std::string models = args.models.empty() ? args.model : args.models;
+  return emit(common, {report::select_document(set, study, units, filter),
+                       {{"read", read_seconds},
+                        {"wv", study.wv_seconds},
+                        {"allan", study.allan_seconds},
+                        {"select", study.select_seconds},
+                        {"total", total.seconds()}},
+                       [&] { write_report(common, report::select_report_data(set, study, models, units, filter)); },
+                       [&](const report::Json& doc) {
+                         return report::select_text(doc, set, study, {units, filter, common.verbose});
+                       }});
 }
 
 }  // namespace

@@ -50,8 +50,8 @@ std::string as_option(const std::string& why) {
   return why;
 }
 
-int run_serve(const ServeArgs& args, const CommonOptions& common) {
-  auto threads = apply_common_options(common);
+// Parse: the server's options from the arguments (InputError naming the option).
+serve::ServeOptions serve_options(const ServeArgs& args, const CommonOptions& common) {
   serve::ServeOptions o;
   o.folder = args.folder;
   o.host = args.host;
@@ -66,6 +66,12 @@ int run_serve(const ServeArgs& args, const CommonOptions& common) {
   o.allowed_hosts = args.allowed_hosts;
   if (const char* t = std::getenv(kTokenVariable); t && *t) o.token = t;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError("serve: " + as_option(why));
+  return o;
+}
+
+int run_serve(const ServeArgs& args, const CommonOptions& common) {
+  auto threads = apply_common_options(common);
+  const serve::ServeOptions o = serve_options(args, common);
   if (!is_loopback(o.host))
     warn("serving on " + o.host + ": anyone who can reach this address and has the token in the address below can " +
          "read the recordings under " + o.folder + " and run analyses; the connection is not encrypted");

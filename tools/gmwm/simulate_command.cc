@@ -136,28 +136,19 @@ Model fully_specified_model(const SimulateArgs& args) {
   return model;
 }
 
-int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  declare_output(common, "--output", args.output);
-  declare_output(common, "--json", common.json);
-  check_arguments(args);
-  const std::vector<std::string> names = column_names(args);
-
-  const Model model = fully_specified_model(args);
-  const Eigen::VectorXd theta = model.given_values();
-
-  check_memory(args);
-  Stopwatch sim_clock;
-  std::vector<std::vector<double>> series;
+// The study: every signal of the model at the seed (InputError when a value leaves the doubles).
+std::vector<std::vector<double>> simulated_series(const SimulateArgs& args, const Model& model, std::uint64_t seed) {
   try {
-    series = simulate_many(model, theta, args.n, args.signals, common.seed);
+    return simulate_many(model, model.given_values(), args.n, args.signals, seed);
   } catch (const InputError& e) {  // a value beyond a double (simulate.h): nothing is written
     throw InputError("--model '" + args.model + "' with --n " + std::to_string(args.n) + ": " + e.what() +
                      "; expected values a double holds over --n samples (a drift's |omega| (n - 1) <= 1.8e308)");
   }
-  const double sim_seconds = sim_clock.seconds();
+}
 
+// The signals as written: named, rounded to --quantum (InputError past the largest double).
+std::vector<io::Signal> named_signals(const SimulateArgs& args, std::vector<std::vector<double>> series,
+                                      const std::vector<std::string>& names) {
   std::vector<io::Signal> signals(series.size());
   for (std::size_t k = 0; k < series.size(); ++k) {
     signals[k].name = names[k];
@@ -171,33 +162,54 @@ int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
     }
     signals[k].values = std::move(series[k]);
   }
+  return signals;
+}
 
+// Render: the document and the terminal's lines.
+report::Json simulate_document(const SimulateArgs& args, const Model& model, const std::vector<io::Signal>& signals,
+                               std::uint64_t seed) {
   report::Json doc = report::json_document("simulate");
-  doc["model"] = model.to_string(theta);
-  doc["seed"] = common.seed;
+  doc["model"] = model.to_string(model.given_values());
+  doc["seed"] = seed;
   doc["output"] = args.output;
   doc["quantum"] = args.quantum ? report::json_number(*args.quantum) : report::Json(nullptr);
-  for (std::size_t k = 0; k < signals.size(); ++k)
-    doc["columns"].push_back(
-        report::column_json({signals[k].name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
+  for (const io::Signal& s : signals)
+    doc["columns"].push_back(report::column_json({s.name, args.n, args.freq.value_or(0.0), args.freq.has_value(), {}}));
+  return doc;
+}
 
+std::string simulate_text(const SimulateArgs& args, const Model& model, const std::vector<std::string>& names,
+                          std::uint64_t seed) {
+  std::ostringstream os;
+  os << "wrote " << args.output << ": " << names.size() << " signal(s) (" << joined(names) << ") x " << args.n
+     << " samples" << (args.freq ? " at " + fmt(*args.freq) + " Hz with a timestamp column" : "")
+     << (args.quantum ? ", rounded to multiples of " + fmt(*args.quantum) : "")
+     << "\nmodel: " << model.to_string(model.given_values()) << "\nseed: " << seed << '\n';
+  return os.str();
+}
+
+int run_simulate(const SimulateArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  declare_output(common, "--output", args.output);
+  declare_output(common, "--json", common.json);
+  check_arguments(args);
+  const std::vector<std::string> names = column_names(args);
+  const Model model = fully_specified_model(args);
+
+  check_memory(args);
+  Stopwatch sim_clock;
+  const std::vector<io::Signal> signals = named_signals(args, simulated_series(args, model, common.seed), names);
+  const double sim_seconds = sim_clock.seconds();
+
+  report::Json doc = simulate_document(args, model, signals, common.seed);
   Stopwatch write_clock;
   io::stage_signals(*common.outputs, args.output, signals, args.freq);
   const double write_seconds = write_clock.seconds();
-  write_json(common, doc,
-             {.threads = 0,
-              .seconds = {{"simulate", sim_seconds}, {"write", write_seconds}, {"total", total.seconds()}},
-              .argv = {}});
-  commit_outputs(common);
-  if (common.show_table()) {
-    std::ostringstream os;
-    os << "wrote " << args.output << ": " << signals.size() << " signal(s) (" << joined(names) << ") x " << args.n
-       << " samples" << (args.freq ? " at " + fmt(*args.freq) + " Hz with a timestamp column" : "")
-       << (args.quantum ? ", rounded to multiples of " + fmt(*args.quantum) : "")
-       << "\nmodel: " << model.to_string(theta) << "\nseed: " << common.seed << '\n';
-    print_text(os.str());
-  }
-  return 0;
+  return emit(common, {std::move(doc),
+                       {{"simulate", sim_seconds}, {"write", write_seconds}, {"total", total.seconds()}},
+                       nullptr,
+                       [&](const report::Json&) { return simulate_text(args, model, names, common.seed); }});
 }
 
 }  // namespace

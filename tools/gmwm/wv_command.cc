@@ -30,11 +30,11 @@ struct WvArgs {
   UnitsOptions units;
 };
 
-int run_wv(const WvArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  const WvOptions options = wv_options(args.input);
-  const auto robust_options = robust_wv_options(args.robust, options);
+// Parse: the study's options from the arguments, every input and output declared first.
+pipeline::WvStudyOptions wv_study_options(const WvArgs& args, const CommonOptions& common) {
+  pipeline::WvStudyOptions o;
+  o.wv = wv_options(args.input);
+  o.robust = robust_wv_options(args.robust, o.wv);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
   check_report_option(common);
@@ -47,36 +47,34 @@ int run_wv(const WvArgs& args, const CommonOptions& common) {
   allan_options.points_per_octave = args.adev_points;
   allan_options.alpha = args.input.alpha;
   if (const std::string why = allan_options.Validate(); !why.empty()) throw InputError("--adev-points: " + why);
+  if (args.adev) o.allan = allan_options;
+  return o;
+}
+
+int run_wv(const WvArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  const pipeline::WvStudyOptions study_options = wv_study_options(args, common);
 
   Stopwatch read_clock;
   const io::SignalSet set = read_input(args.input);
   const double read_seconds = read_clock.seconds();
-  pipeline::WvStudyOptions study_options;
-  study_options.wv = options;
-  study_options.robust = robust_options;
-  if (args.adev) study_options.allan = allan_options;
   const pipeline::WvStudy study = pipeline::study_wv(set, study_options);
 
-  // Everything is computed: build the outputs, then write them.
+  // Everything is computed: render, then emit.
   const std::vector<std::string> units = column_units(args.units, set);
-  report::Json doc = report::wv_document(set, study, units);
-
   warn_about_timing(set);
   if (!args.csv.empty()) common.outputs->stage(args.csv, report::wv_csv(set, study));
   if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, report::adev_csv(set, study));
-  write_json(common, doc,
-             {.threads = 0,
-              .seconds = {{"read", read_seconds},
-                          {"wv", study.wv_seconds},
-                          {"allan", study.allan_seconds},
-                          {"total", total.seconds()}},
-              .argv = {}});
-  if (!common.report.empty()) write_report(common, report::wv_report_data(set, study, units));
-  commit_outputs(common);
-  if (common.show_table())
-    print_text((set.timing ? set.timing->summary() + "\n" : std::string()) + report::wv_text(set, study) +
-               report::adev_text(set, study, units));
-  return 0;
+  return emit(
+      common,
+      {report::wv_document(set, study, units),
+       {{"read", read_seconds}, {"wv", study.wv_seconds}, {"allan", study.allan_seconds}, {"total", total.seconds()}},
+       [&] { write_report(common, report::wv_report_data(set, study, units)); },
+       [&](const report::Json&) {
+         return (set.timing ? set.timing->summary() + "\n" : std::string()) + report::wv_text(set, study) +
+                report::adev_text(set, study, units);
+       }});
 }
 
 }  // namespace
