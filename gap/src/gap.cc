@@ -18,7 +18,7 @@
 #include "gap_reference.h"
 #include "gap_summary.h"
 #include "gap_windows.h"
-#include "gap_yardstick.h"
+#include "gap_acceptance.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"

@@ -2,7 +2,7 @@
 // transform per column) -> fits (in parallel, drifts oriented) -> noise figures.
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/fit_study.h"
-#include "data_curves.h"
+#include "column_wvs.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -59,7 +59,7 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   study.omega = options.fit.omega;
   study.model = options.model.bind(ProcessContext{set.freq, set.freq_known});
 
-  detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.fit.alpha);
+  detail::ColumnWvs curves = detail::column_wvs_for_fit(set, options.wv, options.robust, options.fit.alpha);
   std::vector<WaveletVariance>& wvs = curves.wvs;
   study.wv_seconds = curves.wv_seconds;
   study.allan_seconds = curves.allan_seconds;

@@ -2,7 +2,7 @@
 // deviations (one transform per column) -> selection (drifts oriented) -> the best fits'
 // noise figures.
 #include "gmwm/pipeline/select_study.h"
-#include "data_curves.h"
+#include "column_wvs.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -86,7 +86,7 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   }
   const Model maximal = !study.listed ? models.front() : selection::common_supermodel(models);
 
-  detail::DataCurves curves = detail::fit_curves(set, options.wv, options.robust, options.select.fit.alpha);
+  detail::ColumnWvs curves = detail::column_wvs_for_fit(set, options.wv, options.robust, options.select.fit.alpha);
   std::vector<WaveletVariance>& wvs = curves.wvs;
   study.wv_seconds = curves.wv_seconds;
   study.allan_seconds = curves.allan_seconds;

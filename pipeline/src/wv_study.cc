@@ -3,7 +3,7 @@
 // contamination diagnostic) -> noise figures.
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/wv_study.h"
-#include "data_curves.h"
+#include "column_wvs.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -29,7 +29,7 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
-  detail::DataCurves curves = detail::classical_curves(series, options.wv, set.freq, options.allan);
+  detail::ColumnWvs curves = detail::classical_column_wvs(series, options.wv, set.freq, options.allan);
   std::vector<WaveletVariance>& classical = curves.wvs;
   detail::check_usable_wvs(set, classical, false);
   if (options.robust) {

@@ -31,9 +31,9 @@
 namespace gmwm::serve {
 
 namespace fs = std::filesystem;
-using detail::Body;
 using detail::HttpError;
 using detail::Json;
+using detail::RequestBody;
 
 std::string ServeOptions::Validate() const {
   if (folder.empty()) return "folder: expected a folder of recordings";
@@ -96,7 +96,7 @@ struct App::State {
   std::mutex listing_mutex, walk_mutex;
   std::optional<detail::Folder::Listing> listing;
   std::chrono::steady_clock::time_point listed_at;
-  Json open(const Body& b);
+  Json open(const RequestBody& b);
   HttpResponse route(const HttpRequest& r);
 };
 
@@ -204,7 +204,7 @@ Json App::State::files() {
           {"max_upload", options.max_upload_bytes}};
 }
 
-Json App::State::open(const Body& b) {
+Json App::State::open(const RequestBody& b) {
   fs::path path;
   std::string name;
   if (b.has("file")) {
@@ -297,7 +297,7 @@ HttpResponse App::State::route(const HttpRequest& r) {
     return json_response(*jobs.status(p.substr(10)));
   }
   if (r.method != "POST") throw HttpError(405, r.method + " " + p + ": not allowed here");
-  const Body body(r.body, p, options.max_json_bytes);
+  const RequestBody body(r.body, p, options.max_json_bytes);
   detail::StudyContext context{options, folder, datasets};
   if (p == "/api/open") return json_response(open(body));
   if (p == "/api/wv") return json_response({{"job", jobs.submit("wv", detail::wv_work(body, context))}});

@@ -7,7 +7,7 @@
 
 namespace gmwm::serve::detail {
 
-Body::Body(const std::string& text, const std::string& where, std::int64_t max_bytes) : where_(where) {
+RequestBody::RequestBody(const std::string& text, const std::string& where, std::int64_t max_bytes) : where_(where) {
   if (static_cast<std::int64_t>(text.size()) > max_bytes)
     throw HttpError(413, where + ": the request body has " + std::to_string(text.size()) + " bytes, expected at most " +
                              std::to_string(max_bytes));
@@ -28,32 +28,32 @@ Body::Body(const std::string& text, const std::string& where, std::int64_t max_b
   if (!j_.is_object()) throw HttpError(400, where + ": expected a JSON object as the request body");
 }
 
-const Json* Body::find(const char* key) const {
+const Json* RequestBody::find(const char* key) const {
   const auto it = j_.find(key);
   if (it == j_.end() || it->is_null()) return nullptr;
   return &*it;
 }
 
-bool Body::has(const char* key) const { return find(key) != nullptr; }
+bool RequestBody::has(const char* key) const { return find(key) != nullptr; }
 
-void Body::fail(const char* key, const std::string& what) const {
+void RequestBody::fail(const char* key, const std::string& what) const {
   throw HttpError(400, printable_line(where_ + ": field '" + key + "': " + what));
 }
 
-std::string Body::text(const char* key, const std::string& fallback) const {
+std::string RequestBody::text(const char* key, const std::string& fallback) const {
   const Json* v = find(key);
   if (!v) return fallback;
   if (!v->is_string()) fail(key, "expected a string");
   return v->get<std::string>();
 }
 
-std::string Body::required_text(const char* key, const std::string& expected) const {
+std::string RequestBody::required_text(const char* key, const std::string& expected) const {
   const std::string s = text(key);
   if (s.empty()) fail(key, "missing, expected " + expected);
   return s;
 }
 
-std::optional<double> Body::number(const char* key) const {
+std::optional<double> RequestBody::number(const char* key) const {
   const Json* v = find(key);
   if (!v) return std::nullopt;
   if (!v->is_number()) fail(key, "expected a number");
@@ -62,7 +62,7 @@ std::optional<double> Body::number(const char* key) const {
   return x;
 }
 
-std::optional<std::int64_t> Body::whole(const char* key, std::int64_t lo, std::int64_t hi) const {
+std::optional<std::int64_t> RequestBody::whole(const char* key, std::int64_t lo, std::int64_t hi) const {
   const Json* v = find(key);
   if (!v) return std::nullopt;
   if (!v->is_number_integer())
@@ -76,14 +76,14 @@ std::optional<std::int64_t> Body::whole(const char* key, std::int64_t lo, std::i
   return x;
 }
 
-bool Body::flag(const char* key, bool fallback) const {
+bool RequestBody::flag(const char* key, bool fallback) const {
   const Json* v = find(key);
   if (!v) return fallback;
   if (!v->is_boolean()) fail(key, "expected true or false");
   return v->get<bool>();
 }
 
-std::vector<std::string> Body::list(const char* key) const {
+std::vector<std::string> RequestBody::list(const char* key) const {
   const Json* v = find(key);
   std::vector<std::string> out;
   if (!v) return out;
@@ -109,11 +109,11 @@ std::vector<std::string> Body::list(const char* key) const {
   return out;
 }
 
-std::optional<Body> Body::object(const char* key) const {
+std::optional<RequestBody> RequestBody::object(const char* key) const {
   const Json* v = find(key);
   if (!v) return std::nullopt;
   if (!v->is_object()) fail(key, "expected an object");
-  return Body(*v, where_ + " " + key);
+  return RequestBody(*v, where_ + " " + key);
 }
 
 }  // namespace gmwm::serve::detail

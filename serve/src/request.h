@@ -29,11 +29,11 @@ class HttpError : public std::runtime_error {
 };
 
 /// A request's JSON object. Throws HttpError 400 naming the endpoint and field.
-class Body {
+class RequestBody {
  public:
   /// `where`: the endpoint ("/api/fit"), for messages. 413 beyond `max_bytes`.
-  Body(const std::string& text, const std::string& where, std::int64_t max_bytes);
-  explicit Body(Json object, std::string where) : j_(std::move(object)), where_(std::move(where)) {}
+  RequestBody(const std::string& text, const std::string& where, std::int64_t max_bytes);
+  explicit RequestBody(Json object, std::string where) : j_(std::move(object)), where_(std::move(where)) {}
 
   bool has(const char* key) const;
   std::string text(const char* key, const std::string& fallback = {}) const;
@@ -44,7 +44,7 @@ class Body {
   /// A list of strings, given as an array or as one comma-separated string.
   std::vector<std::string> list(const char* key) const;
   /// A nested object, nullopt when absent or null.
-  std::optional<Body> object(const char* key) const;
+  std::optional<RequestBody> object(const char* key) const;
   const Json& json() const { return j_; }
   const std::string& where() const { return where_; }
 

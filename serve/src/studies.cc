@@ -17,7 +17,7 @@
 #include "gmwm/report/export_output.h"
 #include "gmwm/report/html_fragment.h"
 #include "gmwm/report/json_output.h"
-#include "gmwm/report/study_pages.h"
+#include "gmwm/report/report_data.h"
 #include "gmwm/report/study_text.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/select.h"
@@ -55,7 +55,7 @@ struct ColumnInput {
   std::optional<report::ReportColumn::Reference> reference;
 };
 
-std::shared_ptr<const Dataset> find_dataset(const Body& b, Datasets& datasets) {
+std::shared_ptr<const Dataset> find_dataset(const RequestBody& b, Datasets& datasets) {
   const std::string id = b.required_text("dataset", "the id /api/open answered");
   auto d = datasets.find(id);
   if (!d)
@@ -64,7 +64,7 @@ std::shared_ptr<const Dataset> find_dataset(const Body& b, Datasets& datasets) {
   return d;
 }
 
-std::optional<robust::RobustWvOptions> robust_options(const Body& b, const WvOptions& wv) {
+std::optional<robust::RobustWvOptions> robust_options(const RequestBody& b, const WvOptions& wv) {
   if (!b.flag("robust", false)) {
     for (const char* k : {"eff", "estimator"})
       if (b.has(k)) b.fail(k, "only meaningful with \"robust\": true");
@@ -96,7 +96,7 @@ struct Baseline {
   std::string name;    ///< "datasheet: WN+FLICKER", the curve's name
 };
 
-Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& set, const std::string& units) {
+Baseline baseline_of(const RequestBody& o, const StudyContext& c, const io::SignalSet& set, const std::string& units) {
   const std::string format_name = o.required_text("format", "datasheet, kalibr, gz-sdf or rotors");
   const auto format = io::parse_sim_format(format_name);
   if (!format) o.fail("format", "found '" + format_name + "', expected datasheet, kalibr, gz-sdf or rotors");
@@ -152,7 +152,7 @@ Baseline baseline_of(const Body& o, const StudyContext& c, const io::SignalSet& 
   });
 }
 
-ColumnInput column_input(const Body& b, StudyContext& c) {
+ColumnInput column_input(const RequestBody& b, StudyContext& c) {
   ColumnInput in;
   in.dataset = find_dataset(b, c.datasets);
   in.set = column_set(*in.dataset, b.required_text("column", "a column name /api/open listed"), b.where());
@@ -193,7 +193,7 @@ Json job_result(Json document, const std::string& text, report::ReportData data,
 }
 
 // A model text of the request, parsed (its values checked) and bound at the data's rate.
-ModelSpec model_of(const Body& b, const char* key, const ColumnInput& in) {
+ModelSpec model_of(const RequestBody& b, const char* key, const ColumnInput& in) {
   const std::string text = b.required_text(key, "a model such as AR1+WN+RW");
   return as_bad_request(b.where() + ": field '" + key + "'", [&] {
     ModelSpec spec(text);
@@ -211,7 +211,7 @@ struct SelectionKept {
 
 }  // namespace
 
-Jobs::Work wv_work(const Body& body, StudyContext& c) {
+Jobs::Work wv_work(const RequestBody& body, StudyContext& c) {
   ColumnInput in = column_input(body, c);
   pipeline::WvStudyOptions o;
   o.wv = in.wv;
@@ -235,7 +235,7 @@ Jobs::Work wv_work(const Body& body, StudyContext& c) {
   };
 }
 
-Jobs::Work fit_work(const Body& body, StudyContext& c) {
+Jobs::Work fit_work(const RequestBody& body, StudyContext& c) {
   ColumnInput in = column_input(body, c);
   pipeline::FitStudyOptions o;
   o.model = model_of(body, "model", in);
@@ -262,7 +262,7 @@ Jobs::Work fit_work(const Body& body, StudyContext& c) {
   };
 }
 
-Jobs::Work select_work(const Body& body, StudyContext& c) {
+Jobs::Work select_work(const RequestBody& body, StudyContext& c) {
   ColumnInput in = column_input(body, c);
   pipeline::SelectStudyOptions o;
   // "model" (every sub-model) or "models" ("SPEC1;SPEC2;..."), the rule every face uses.
@@ -335,7 +335,7 @@ Json ranking_row(const std::shared_ptr<const void>& attachment, const std::strin
   return out;
 }
 
-Json overlay(const Body& body, StudyContext& c) {
+Json overlay(const RequestBody& body, StudyContext& c) {
   std::shared_ptr<const Dataset> d = find_dataset(body, c.datasets);
   const io::SignalSet set =
       column_set(*d, body.required_text("column", "a column name /api/open listed"), body.where());
@@ -354,7 +354,7 @@ Json overlay(const Body& body, StudyContext& c) {
           {"conversions", b.conversions},        {"tau", tau},     {"wv", values}};
 }
 
-Json export_model(const Body& body) {
+Json export_model(const RequestBody& body) {
   const auto result = body.object("result");
   if (!result) body.fail("result", "missing, expected the document of a fit or select job");
   pipeline::ExportStudyOptions o;

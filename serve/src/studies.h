@@ -24,9 +24,9 @@ struct StudyContext {
 };
 
 /// POST /api/wv, /api/fit, /api/select: the job's work (HttpError for a bad request).
-Jobs::Work wv_work(const Body& body, StudyContext& context);
-Jobs::Work fit_work(const Body& body, StudyContext& context);
-Jobs::Work select_work(const Body& body, StudyContext& context);
+Jobs::Work wv_work(const RequestBody& body, StudyContext& context);
+Jobs::Work fit_work(const RequestBody& body, StudyContext& context);
+Jobs::Work select_work(const RequestBody& body, StudyContext& context);
 
 /// GET /api/jobs/ID/ranking/ROW: row ROW (1-based, in ranking order) of a finished
 /// selection, as the selection fitted it (its own theta under the selection's shared Omega,
@@ -36,10 +36,10 @@ Json ranking_row(const std::shared_ptr<const void>& attachment, const std::strin
 
 /// POST /api/overlay: a simulator's or datasheet's model for a column, its conversions and
 /// its WV at the column's scales.
-Json overlay(const Body& body, StudyContext& context);
+Json overlay(const RequestBody& body, StudyContext& context);
 
 /// POST /api/export: the file `gmwm export RESULT --format F` writes from a fit or select
 /// document.
-Json export_model(const Body& body);
+Json export_model(const RequestBody& body);
 
 }  // namespace gmwm::serve::detail

@@ -21,7 +21,7 @@
 #include "gmwm/engine/random.h"
 #include "gmwm/report/html_report.h"
 #include "gmwm/report/json_output.h"
-#include "gmwm/report/study_pages.h"
+#include "gmwm/report/report_data.h"
 #include "gmwm/report/study_text.h"
 #include "gmwm/report/terminal.h"
 #include "gmwm/io/output_set.h"

@@ -1,4 +1,4 @@
-#include "data_curves.h"
+#include "column_wvs.h"
 
 #include <chrono>
 #include <memory>
@@ -9,10 +9,10 @@
 
 namespace gmwm::pipeline::detail {
 
-DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
-                            const std::optional<AllanOptions>& allan) {
+ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
+                               const std::optional<AllanOptions>& allan) {
   using Clock = std::chrono::steady_clock;
-  DataCurves out;
+  ColumnWvs out;
   const auto wv_start = Clock::now();
   // classical_wv's own refusals (a short series, invalid options) before any transform.
   for (const auto& s : series)
@@ -33,13 +33,13 @@ DataCurves classical_curves(const std::vector<std::span<const double>>& series, 
   return out;
 }
 
-DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
-                      const std::optional<robust::RobustWvOptions>& robust, double alpha) {
+ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
+                             const std::optional<robust::RobustWvOptions>& robust, double alpha) {
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
   if (robust) {
     const auto start = std::chrono::steady_clock::now();
-    DataCurves out;
+    ColumnWvs out;
     // One transform per column for both estimates (the robust one reuses it where its
     // spike screen replaces nothing).
     out.transforms = haar_transforms(series);
@@ -54,7 +54,7 @@ DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
     allan.emplace();
     allan->alpha = alpha;
   }
-  DataCurves out = classical_curves(series, wv, set.freq, allan);
+  ColumnWvs out = classical_column_wvs(series, wv, set.freq, allan);
   out.transforms.clear();  // the fits do not read them: 16 bytes a sample, freed now
   return out;
 }

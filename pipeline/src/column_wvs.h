@@ -17,7 +17,7 @@
 
 namespace gmwm::pipeline::detail {
 
-struct DataCurves {
+struct ColumnWvs {
   std::vector<WaveletVariance> wvs;
   /// With the robust WVs: the classical ones beside them, for the report's comparison (the
   /// fits use `wvs`); else empty.
@@ -25,21 +25,21 @@ struct DataCurves {
   /// Per column when asked, else empty.
   std::vector<AllanDeviation> allan;
   double wv_seconds = 0.0, allan_seconds = 0.0;
-  /// The columns' Haar transforms the classical WVs came from (classical_curves), for the
+  /// The columns' Haar transforms the classical WVs came from (classical_column_wvs), for the
   /// robust WV and its diagnostic to reuse instead of transforming each column again;
-  /// empty after fit_curves (the fits do not read them).
+  /// empty after column_wvs_for_fit (the fits do not read them).
   std::vector<std::unique_ptr<HaarModwt>> transforms;
 };
 
 /// The classical WVs of `series` and, when `allan` is given, their Allan deviations at
 /// `freq` Hz.
-DataCurves classical_curves(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
-                            const std::optional<AllanOptions>& allan);
+ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
+                               const std::optional<AllanOptions>& allan);
 
 /// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
 /// figures then read the robust WV itself), else the classical ones with the Allan
 /// deviations at intervals of level 1 - alpha when the rate is known.
-DataCurves fit_curves(const io::SignalSet& set, const WvOptions& wv,
-                      const std::optional<robust::RobustWvOptions>& robust, double alpha);
+ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
+                             const std::optional<robust::RobustWvOptions>& robust, double alpha);
 
 }  // namespace gmwm::pipeline::detail

@@ -1,4 +1,4 @@
-#include "gap_yardstick.h"
+#include "gap_acceptance.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "gmwm/report/study_pages.h"
+#include "gmwm/report/report_data.h"
 
 namespace gmwm::report {
 namespace {
