@@ -26,11 +26,13 @@ packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlo
 # python3-distributed: the fleet's Dask runner and its LocalCluster test
 # (python/tests/test_fleet_dask.py); python3-pandas: FleetResult.to_dataframe(); nodejs and
 # npm: the web app's browser test (tests/browser: playwright-core from the npm registry, pinned
-# by its package-lock.json, driving Debian's chromium).
+# by its package-lock.json, driving Debian's chromium); mypy: the Python package's type check
+# (Repository.PythonPackageTypeChecksUnderMypyStrict); clang-format: the layout check
+# (Repository.EveryCppFileIsLaidOutAsClangFormatSays).
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
              python3-rosbag python3-sensor-msgs python3-matplotlib python3-distributed python3-pandas libjs-vega
-             chromium nodejs npm)
+             chromium nodejs npm mypy clang-format)
 fi
 
 # A package whose program another distribution already installed counts as present:

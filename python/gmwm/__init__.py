@@ -48,7 +48,7 @@ import dataclasses
 import functools
 import inspect
 import os
-from typing import Any, Callable
+from typing import Any, Callable, ParamSpec, TypeVar
 
 from . import _gmwm
 from ._common import (AllanDeviation, ContinuousParameter, FigureComponent, FitQuality, GoodnessOfFit, JsonResult,
@@ -89,11 +89,16 @@ def _signature(doc: str, returns: str) -> inspect.Signature | None:
         return None
 
 
-def _typed(raw: Callable[..., str], result: type[JsonResult]) -> Callable[..., Any]:
-    """`raw` (returning the library's JSON text) returning `result` built from that text."""
+_P = ParamSpec("_P")
+_R = TypeVar("_R", bound=JsonResult)
+
+
+def _typed(raw: Callable[_P, str], result: type[_R]) -> Callable[_P, _R]:
+    """`raw` (returning the library's JSON text) returning `result` built from that text, with
+    raw's parameters (from the module's stub, _gmwm.pyi) for type checkers."""
 
     @functools.wraps(raw)
-    def call(*args: Any, **kwargs: Any) -> Any:
+    def call(*args: _P.args, **kwargs: _P.kwargs) -> _R:
         return result.from_json(raw(*args, **kwargs))
 
     doc = raw.__doc__ or ""

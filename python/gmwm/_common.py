@@ -12,10 +12,26 @@ from dataclasses import dataclass
 from typing import Any, Iterable, Mapping, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 
 from ._json_text import item_texts, member_text
 
 T = TypeVar("T", bound="JsonResult")
+
+# The arrays of the typed results: read-only numpy arrays of the document's numbers.
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+BoolArray = npt.NDArray[np.bool_]
+
+
+X = TypeVar("X")
+
+
+def present(value: X | None, what: str) -> X:
+    """A part every document of its kind carries (ValueError naming it when missing)."""
+    if value is None:
+        raise ValueError(f"the document has no {what}")
+    return value
 
 
 def num(v: Any) -> float:
@@ -27,20 +43,20 @@ def opt_int(v: Any) -> int | None:
     return None if v is None else int(v)
 
 
-def floats(values: Iterable[Any] | None) -> np.ndarray:
+def floats(values: Iterable[Any] | None) -> FloatArray:
     """A read-only float64 array (null: NaN)."""
     a = np.array([math.nan if v is None else v for v in (values or [])], dtype=np.float64)
     a.flags.writeable = False
     return a
 
 
-def ints(values: Iterable[Any] | None) -> np.ndarray:
+def ints(values: Iterable[Any] | None) -> IntArray:
     a = np.array(list(values or []), dtype=np.int64)
     a.flags.writeable = False
     return a
 
 
-def bools(values: Iterable[Any] | None) -> np.ndarray:
+def bools(values: Iterable[Any] | None) -> BoolArray:
     a = np.array(list(values or []), dtype=bool)
     a.flags.writeable = False
     return a
@@ -266,13 +282,13 @@ class AllanDeviation:
     grid, or None."""
 
     alpha: float
-    m: np.ndarray
-    tau: np.ndarray
-    adev: np.ndarray
-    ci_low: np.ndarray
-    ci_high: np.ndarray
-    edf: np.ndarray
-    model: np.ndarray | None
+    m: IntArray
+    tau: FloatArray
+    adev: FloatArray
+    ci_low: FloatArray
+    ci_high: FloatArray
+    edf: FloatArray
+    model: FloatArray | None
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any] | None) -> "AllanDeviation | None":

@@ -6,7 +6,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._common import (ContinuousParameter, HasParameters, JsonResult, Parameter, bools, built, column_texts,
+from ._common import (BoolArray, FloatArray, IntArray, ContinuousParameter, HasParameters, JsonResult, Parameter, bools, built, column_texts,
                       continuous, floats, g, num, parameters, strings)
 
 
@@ -42,15 +42,15 @@ class GapLevels:
     reference band (`ref_low`, `ref_high`; analytic: `analytic_low`, `analytic_high`) and
     whether the level is `outside` it."""
 
-    tau: np.ndarray
-    tau_seconds: np.ndarray
-    ratio: np.ndarray
-    z: np.ndarray
-    ref_low: np.ndarray
-    analytic_low: np.ndarray
-    analytic_high: np.ndarray
-    ref_high: np.ndarray
-    outside: np.ndarray
+    tau: FloatArray
+    tau_seconds: FloatArray
+    ratio: FloatArray
+    z: FloatArray
+    ref_low: FloatArray
+    analytic_low: FloatArray
+    analytic_high: FloatArray
+    ref_high: FloatArray
+    outside: BoolArray
 
     @classmethod
     def from_list(cls, rows: list[Mapping[str, Any]]) -> "GapLevels":
@@ -86,10 +86,10 @@ class GapWindow:
 class GapSplitHalf:
     """The two halves of the record compared, per level, as arrays."""
 
-    tau: np.ndarray
-    tau_seconds: np.ndarray
-    ratio: np.ndarray
-    disjoint: np.ndarray
+    tau: FloatArray
+    tau_seconds: FloatArray
+    ratio: FloatArray
+    disjoint: BoolArray
 
     def __repr__(self) -> str:
         return f"GapSplitHalf({len(self.tau)} levels, {int(self.disjoint.sum())} disjoint)"
@@ -290,7 +290,8 @@ class Shrinkage:
 
     @classmethod
     def from_dict(cls, s: Mapping[str, Any]) -> "Shrinkage":
-        values = {k: (int(s[k]) if k.startswith("levels_outside") else num(s[k])) for k in cls.__dataclass_fields__}
+        values: dict[str, Any] = {k: (int(s[k]) if k.startswith("levels_outside") else num(s[k]))
+                                  for k in cls.__dataclass_fields__}
         return cls(**values)
 
 
@@ -521,7 +522,7 @@ class GapCheckResult(JsonResult):
 
     n: int
     replicates: int
-    strengths: np.ndarray
+    strengths: FloatArray
     seed: int
     cases: int
     correct: int

@@ -7,7 +7,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._common import JsonResult, floats, g, num, strings
+from ._common import BoolArray, FloatArray, IntArray, JsonResult, floats, g, num, strings
 
 
 @dataclass(frozen=True)
@@ -53,14 +53,14 @@ class NavCurves:
     """A filter's error curves against `time` (s): the true RMS errors, the 3-sigma the
     filter claims, and the NEES."""
 
-    time: np.ndarray
-    position_rms: np.ndarray
-    position_3sigma: np.ndarray
-    velocity_rms: np.ndarray
-    velocity_3sigma: np.ndarray
-    attitude_rms: np.ndarray
-    attitude_3sigma: np.ndarray
-    nees: np.ndarray
+    time: FloatArray
+    position_rms: FloatArray
+    position_3sigma: FloatArray
+    velocity_rms: FloatArray
+    velocity_3sigma: FloatArray
+    attitude_rms: FloatArray
+    attitude_3sigma: FloatArray
+    nees: FloatArray
 
     def __repr__(self) -> str:
         return f"NavCurves({len(self.time)} points to {g(self.time[-1]) if len(self.time) else '-'} s)"
@@ -70,10 +70,10 @@ class NavCurves:
 class NavMonteCarlo:
     """The Monte Carlo runs' curves (on the exact curves' time grid) and their verdict."""
 
-    position_rms: np.ndarray
-    velocity_rms: np.ndarray
-    attitude_rms: np.ndarray
-    nees: np.ndarray
+    position_rms: FloatArray
+    velocity_rms: FloatArray
+    attitude_rms: FloatArray
+    nees: FloatArray
     verdict: str
 
     def __repr__(self) -> str:

@@ -7,7 +7,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._common import (AllanDeviation, ContinuousParameter, GoodnessOfFit, HasParameters, JsonResult, Kalman,
+from ._common import (BoolArray, FloatArray, IntArray, AllanDeviation, ContinuousParameter, GoodnessOfFit, HasParameters, JsonResult, Kalman,
                       NoiseFigures, Parameter, built, column_texts, continuous, floats, g, num, opt_int, parameters,
                       strings)
 from ._results import BestFit
@@ -46,8 +46,8 @@ class Agmwm:
     """The average of the replicates' own estimates (AGMWM), parameter by parameter, in
     the order of the joint fit's parameters."""
 
-    value: np.ndarray
-    se: np.ndarray
+    value: FloatArray
+    se: FloatArray
 
     def __repr__(self) -> str:
         return f"Agmwm({len(self.value)} parameters)"
@@ -59,8 +59,8 @@ class ReplicateBootstrap:
     parameter."""
 
     method: str
-    ci_low: np.ndarray
-    ci_high: np.ndarray
+    ci_low: FloatArray
+    ci_high: FloatArray
     draws: int
     exhaustive: bool
 
@@ -77,7 +77,7 @@ class ReplicateTest:
     heterogeneity_p_value: float
     statistic: float
     p_value: float
-    own_minimum: np.ndarray
+    own_minimum: FloatArray
     draws: int
     calibration: str = "bootstrap"  #: 'bootstrap' or 'chi-square' (docs/multi-signal.md)
     df_heterogeneity: float = float("nan")  #: the chi-square's degrees of freedom (NaN: bootstrap)
@@ -172,7 +172,7 @@ class JointRankingRow:
     effective: str | None
     parameters: int
     cv_wvic: float
-    split_loss: np.ndarray
+    split_loss: FloatArray
     objective: float
     analytic_wvic: float
     rank_analytic: int

@@ -8,7 +8,7 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from ._common import (AllanDeviation, ContinuousParameter, FitQuality, GoodnessOfFit, HasParameters, JsonResult,
+from ._common import (present, BoolArray, FloatArray, IntArray, AllanDeviation, ContinuousParameter, FitQuality, GoodnessOfFit, HasParameters, JsonResult,
                       Kalman, NoiseFigures, Parameter, bools, built, continuous, floats, g, ints, num, opt_int,
                       parameters, strings)
 from ._json_text import item_texts
@@ -22,20 +22,20 @@ class WvLevels:
     robust estimator's diagnostics (`classical_wv`, `robust_to_classical`, `ci_disjoint`,
     `contaminated`, `rounding_ratio`, `tail_share`) are None for a classical WV."""
 
-    level: np.ndarray
-    tau: np.ndarray
-    tau_seconds: np.ndarray
-    wv: np.ndarray
-    ci_low: np.ndarray
-    ci_high: np.ndarray
-    coefficients: np.ndarray
+    level: IntArray
+    tau: FloatArray
+    tau_seconds: FloatArray
+    wv: FloatArray
+    ci_low: FloatArray
+    ci_high: FloatArray
+    coefficients: IntArray
     note: tuple[str | None, ...]
-    classical_wv: np.ndarray | None
-    robust_to_classical: np.ndarray | None
-    ci_disjoint: np.ndarray | None
-    contaminated: np.ndarray | None
-    rounding_ratio: np.ndarray | None
-    tail_share: np.ndarray | None
+    classical_wv: FloatArray | None
+    robust_to_classical: FloatArray | None
+    ci_disjoint: BoolArray | None
+    contaminated: BoolArray | None
+    rounding_ratio: FloatArray | None
+    tail_share: FloatArray | None
 
     @classmethod
     def from_list(cls, rows: list[Mapping[str, Any]]) -> "WvLevels":
@@ -66,23 +66,23 @@ class _WvArrays:
     levels: WvLevels
 
     @property
-    def tau(self) -> np.ndarray:
+    def tau(self) -> FloatArray:
         return self.levels.tau
 
     @property
-    def tau_seconds(self) -> np.ndarray:
+    def tau_seconds(self) -> FloatArray:
         return self.levels.tau_seconds
 
     @property
-    def wv(self) -> np.ndarray:
+    def wv(self) -> FloatArray:
         return self.levels.wv
 
     @property
-    def ci_low(self) -> np.ndarray:
+    def ci_low(self) -> FloatArray:
         return self.levels.ci_low
 
     @property
-    def ci_high(self) -> np.ndarray:
+    def ci_high(self) -> FloatArray:
         return self.levels.ci_high
 
 
@@ -131,22 +131,23 @@ class AllanResult(JsonResult):
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "AllanResult":
-        return cls(d, text, d["unit"], AllanDeviation.from_dict(d["allan"]), NoiseFigures.from_dict(d["noise_figures"]))
+        return cls(d, text, d["unit"], present(AllanDeviation.from_dict(d["allan"]), "allan"),
+                   present(NoiseFigures.from_dict(d["noise_figures"]), "noise_figures"))
 
     @property
-    def tau(self) -> np.ndarray:
+    def tau(self) -> FloatArray:
         return self.allan.tau
 
     @property
-    def adev(self) -> np.ndarray:
+    def adev(self) -> FloatArray:
         return self.allan.adev
 
     @property
-    def ci_low(self) -> np.ndarray:
+    def ci_low(self) -> FloatArray:
         return self.allan.ci_low
 
     @property
-    def ci_high(self) -> np.ndarray:
+    def ci_high(self) -> FloatArray:
         return self.allan.ci_high
 
     def __repr__(self) -> str:
@@ -180,7 +181,7 @@ class FitResult(JsonResult, HasParameters, _WvArrays):
     notes: tuple[str, ...]
     evaluations: int
     omega: str
-    implied_wv: np.ndarray
+    implied_wv: FloatArray
     estimator: str
     efficiency: float
     alpha: float
@@ -196,7 +197,7 @@ class FitResult(JsonResult, HasParameters, _WvArrays):
     @classmethod
     def _from(cls, d: Any, text: str) -> "FitResult":
         return cls(d, text, d["name"], int(d["n"]), num(d["freq"]), d["model"], d["model_structure"],
-                   parameters(d["parameters"]), FitQuality.from_dict(d["quality"]), num(d["objective"]),
+                   parameters(d["parameters"]), present(FitQuality.from_dict(d["quality"]), "quality"), num(d["objective"]),
                    GoodnessOfFit.from_dict(d["gof"]), d["status"], d["message"], strings(d["notes"]),
                    int(d["evaluations"]), d["omega"], floats(d["implied_wv"]), d["estimator"], num(d["efficiency"]),
                    num(d["alpha"]), WvLevels.from_list(d["levels"]), d.get("unit"), continuous(d.get("continuous")),
@@ -228,7 +229,7 @@ class RankingRow(HasParameters):
     status: str
     effective_parameters: int
     members: tuple[str, ...]
-    member_objectives: np.ndarray
+    member_objectives: FloatArray
     reductions: tuple[str, ...]
     parameters: tuple[Parameter, ...]
     optimism_note: str | None
