@@ -55,16 +55,15 @@
 #include <string>
 #include <vector>
 
+#include "gmwm/fleet/fleet_band.h"
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/report/html_report.h"
 #include "gmwm/io/output_set.h"
 
 namespace gmwm::report {
 
-/// The fewest units of a band for its 5-95% envelope: with fewer, the 5% and 95% quantiles
-/// lie between the two lowest and the two highest units (1 / 0.05 = 20 units put one unit
-/// beyond each end), so the band shows the min-max envelope and the median only.
-inline constexpr int kFleetPercentileUnits = 20;
+/// The fewest units of a band for its 5-95% envelope (fleet_band.h).
+inline constexpr int kFleetPercentileUnits = fleet::kBandPercentileUnits;
 
 /// One unit's figure as its strip draws it (in the panel's unit).
 struct FleetDot {
@@ -114,14 +113,8 @@ struct FleetUnitCurve {
 };
 
 /// The fleet's band of Allan deviations of one axis, per averaging time.
-struct FleetAdevBand {
-  std::vector<double> tau;  ///< seconds
-  std::vector<double> min, p05, median, p95, max;
-  std::vector<int> count;     ///< units reaching each tau
-  int units = 0;              ///< units in the band (with a curve, not flagged on the axis)
-  bool percentiles = false;   ///< p05/p95 hold the 5-95% envelope (units >= kFleetPercentileUnits)
-  bool interpolated = false;  ///< the units' tau grids differ: each interpolated in log-log
-};
+/// The band of Allan deviations, as fleet/ computed it (fleet_band.h).
+using fleet::FleetAdevBand;
 
 struct FleetAxisView {
   std::string axis;
