@@ -223,9 +223,9 @@ std::string py_gap(const py::object& data, double freq, const std::optional<std:
   o.units = gmwm::io::parse_units(units);
   o.units_declared = !units.empty();
   if (sensor) {
-    if (*sensor != "gyro" && *sensor != "accel")
-      throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
-    o.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
+    const auto kind = gmwm::io::parse_sensor_kind(*sensor);
+    if (!kind) throw gmwm::InputError("--sensor: " + gmwm::unknown_choice(*sensor, gmwm::io::sensor_kind_names()));
+    o.sensor = *kind;
   }
   o.temperature_column = temperature.value_or("");
   o.unit_check = unit_check;
@@ -266,7 +266,7 @@ std::string py_nav(const std::string& truth, const std::vector<std::string>& fil
                    std::optional<double> rate, const std::string& units, int monte_carlo, std::uint64_t seed) {
   gmwm::pipeline::NavStudyOptions o;
   const auto t = gmwm::nav::parse_trajectory(trajectory);
-  if (!t) throw gmwm::InputError("trajectory '" + trajectory + "': expected static, constant-velocity or manoeuvre");
+  if (!t) throw gmwm::InputError("--trajectory: " + gmwm::unknown_choice(trajectory, gmwm::nav::trajectory_names()));
   o.scenario.trajectory = *t;
   o.scenario.horizon = horizon;
   o.scenario.fix_rate = fix_rate;

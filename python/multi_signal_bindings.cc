@@ -191,9 +191,9 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
   ro.columns = columns;
   ro.rate = rate;
   if (sensor) {
-    if (*sensor != "gyro" && *sensor != "accel")
-      throw gmwm::InputError("sensor: expected gyro or accel, got '" + *sensor + "'");
-    ro.sensor = *sensor == "gyro" ? gmwm::io::SensorKind::kGyro : gmwm::io::SensorKind::kAccel;
+    const auto kind = gmwm::io::parse_sensor_kind(*sensor);
+    if (!kind) throw gmwm::InputError("--sensor: " + gmwm::unknown_choice(*sensor, gmwm::io::sensor_kind_names()));
+    ro.sensor = *kind;
   }
   if (!units.empty()) ro.units = gmwm::io::parse_declared_units(units);
   // As the CLI names its INPUT: the result file's path when the result came from one.

@@ -17,6 +17,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/random.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::nav {
 
@@ -106,11 +107,13 @@ const char* to_string(Trajectory t) {
   return "?";
 }
 
-std::optional<Trajectory> parse_trajectory(const std::string& name) {
-  for (Trajectory t : {Trajectory::kStatic, Trajectory::kConstantVelocity, Trajectory::kManoeuvre})
-    if (name == to_string(t)) return t;
-  return std::nullopt;
-}
+namespace {
+constexpr Trajectory kTrajectories[] = {Trajectory::kStatic, Trajectory::kConstantVelocity, Trajectory::kManoeuvre};
+}  // namespace
+
+std::optional<Trajectory> parse_trajectory(const std::string& name) { return parse_among(name, kTrajectories); }
+
+std::vector<std::string> trajectory_names() { return names_among(kTrajectories); }
 
 namespace {
 // The built-in manoeuvre (navigation.h): speed 10 m/s reached in 5 s, sides of 20 s, turns

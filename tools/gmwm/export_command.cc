@@ -246,7 +246,7 @@ Command add_export_command(CLI::App& app, CommonOptions& common) {
                   "Units of the data, e.g. gyro=deg/s,accel=g (default SI, or the result's own); the files are in SI")
       ->type_name("SPEC");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
-      ->check(CLI::IsMember({"gyro", "accel"}));
+      ->check(choice_of(io::sensor_kind_names()));
   sub->add_option("--rostopic", args->rostopic, "rostopic for kalibr and openvins")
       ->type_name("TOPIC")
       ->capture_default_str();

@@ -177,7 +177,7 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--units", args->units, "Units of the columns, e.g. gyro=deg/s,accel=g (SI by default)")
       ->type_name("KIND=UNIT,...");
   sub->add_option("--sensor", args->sensor, "Treat every column as this sensor (else told by its name)")
-      ->check(CLI::IsMember({"gyro", "accel"}));
+      ->check(choice_of(io::sensor_kind_names()));
   sub->add_option(
          "--temperature", args->temperature,
          "A temperature column: each signal's coupling to it is tested (TEMPERATURE); it is not diagnosed itself")

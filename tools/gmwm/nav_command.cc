@@ -13,6 +13,7 @@
 #include "gmwm/report/nav_output.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/nav_study.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::cli {
 namespace {
@@ -58,8 +59,7 @@ void declare_nav_files(const NavArgs& args, const CommonOptions& common) {
 pipeline::NavStudyOptions nav_study_options(const NavArgs& args, const CommonOptions& common) {
   pipeline::NavStudyOptions o;
   const auto trajectory = nav::parse_trajectory(args.trajectory);
-  if (!trajectory)
-    throw InputError("--trajectory '" + args.trajectory + "': expected static, constant-velocity or manoeuvre");
+  if (!trajectory) throw InputError("--trajectory: " + unknown_choice(args.trajectory, nav::trajectory_names()));
   o.scenario.trajectory = *trajectory;
   o.scenario.horizon = args.horizon;
   o.scenario.fix_rate = args.fix_rate;
@@ -119,7 +119,9 @@ Command add_nav_command(CLI::App& app, CommonOptions& common) {
       ->type_name("SOURCE");
   sub->add_option("--label", args->labels, "A name for each --filter, in order (repeatable; default: its SOURCE)")
       ->type_name("NAME");
-  sub->add_option("--trajectory", args->trajectory, "static, constant-velocity or manoeuvre")->capture_default_str();
+  sub->add_option("--trajectory", args->trajectory, "static, constant-velocity or manoeuvre")
+      ->check(choice_of(nav::trajectory_names()))
+      ->capture_default_str();
   sub->add_option("--horizon", args->horizon, "Seconds analysed")
       ->transform(decimal_number([](double x) { return x > 0.0 && x <= 1e7; }, "a duration in seconds up to 1e7"))
       ->capture_default_str();

@@ -39,6 +39,8 @@ constexpr OptionField kOptionFields[] = {
     {"--robust", "robust", "true"},
     {"--alpha", "alpha"},
     {"--levels", "levels"},
+    {"--sensor", "sensor"},
+    {"--trajectory", "trajectory"},
 };
 
 bool option_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_'; }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/choice.h"
 
 namespace gmwm::io {
 namespace {
@@ -24,6 +25,14 @@ bool contains(const std::string& s, const char* what) { return s.find(what) != s
 }  // namespace
 
 const char* to_string(SensorKind k) { return k == SensorKind::kGyro ? "gyro" : "accel"; }
+
+namespace {
+constexpr SensorKind kSensorKinds[] = {SensorKind::kGyro, SensorKind::kAccel};
+}  // namespace
+
+std::optional<SensorKind> parse_sensor_kind(const std::string& name) { return parse_among(name, kSensorKinds); }
+
+std::vector<std::string> sensor_kind_names() { return names_among(kSensorKinds); }
 
 SensorKind sensor_kind_of_column(const std::string& column) {
   const std::string c = lower(column);

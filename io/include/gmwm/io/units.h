@@ -12,6 +12,11 @@ namespace gmwm::io {
 
 enum class SensorKind { kGyro, kAccel };
 const char* to_string(SensorKind k);
+/// "gyro" or "accel" (as to_string writes them), else nullopt.
+std::optional<SensorKind> parse_sensor_kind(const std::string& name);
+/// The names parse_sensor_kind takes: gyro, accel (gmwm/engine/choice.h: every face's check
+/// and refusal of --sensor).
+std::vector<std::string> sensor_kind_names();
 
 /// The sensor kind of a column from its name ("gyro_x", "gyr", "omega", "w_RS_S_x" ->
 /// gyro; "accel_x", "acc", "alpha", "a_RS_S_x" -> accel), or InputError naming the column.

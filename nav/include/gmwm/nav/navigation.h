@@ -74,6 +74,8 @@ struct Outage {
 enum class Trajectory { kStatic, kConstantVelocity, kManoeuvre };
 const char* to_string(Trajectory t);  ///< "static", "constant-velocity", "manoeuvre"
 std::optional<Trajectory> parse_trajectory(const std::string& name);
+/// The names parse_trajectory takes: static, constant-velocity, manoeuvre (choice.h).
+std::vector<std::string> trajectory_names();
 
 /// The vehicle's state as the error dynamics see it: heading (rad, from north towards
 /// east; the body is level) and the specific force in the level frame (m/s^2).
