@@ -59,6 +59,11 @@ CLI::Validator choice_of(std::vector<std::string> names) {
       "{" + listed + "}");
 }
 
+CLI::Option* add_choice(CLI::App& sub, const std::string& name, std::string& target,
+                        const std::vector<std::string>& names, const std::string& help) {
+  return sub.add_option(name, target, help + ": " + in_words(names))->check(choice_of(names))->capture_default_str();
+}
+
 CLI::Validator decimal_number(std::function<bool(double)> accept, std::string expected) {
   return CLI::Validator(
       [accept = std::move(accept), expected](std::string& text) -> std::string {

@@ -70,6 +70,10 @@ CLI::Validator decimal_number(std::string expected);
 /// One of an enum's names, listed once beside its parser (gmwm/engine/choice.h): any other
 /// text refused as every face refuses it ("found 'x', expected a, b or c").
 CLI::Validator choice_of(std::vector<std::string> names);
+/// An option of `sub` taking one of `names` into `target`: checked with choice_of, its help
+/// `help` followed by the names ("..: static, constant-velocity or manoeuvre"), default shown.
+CLI::Option* add_choice(CLI::App& sub, const std::string& name, std::string& target,
+                        const std::vector<std::string>& names, const std::string& help);
 /// decimal_number within the sampling rates of io::sampling_rate_problem (1e-9 to 1e9 Hz):
 /// "found '1e-310', expected a sampling rate in Hz from 1e-09 to 1e+09".
 CLI::Validator sampling_rate_number();

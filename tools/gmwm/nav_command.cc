@@ -119,9 +119,7 @@ Command add_nav_command(CLI::App& app, CommonOptions& common) {
       ->type_name("SOURCE");
   sub->add_option("--label", args->labels, "A name for each --filter, in order (repeatable; default: its SOURCE)")
       ->type_name("NAME");
-  sub->add_option("--trajectory", args->trajectory, "static, constant-velocity or manoeuvre")
-      ->check(choice_of(nav::trajectory_names()))
-      ->capture_default_str();
+  add_choice(*sub, "--trajectory", args->trajectory, nav::trajectory_names(), "The vehicle's motion");
   sub->add_option("--horizon", args->horizon, "Seconds analysed")
       ->transform(decimal_number([](double x) { return x > 0.0 && x <= 1e7; }, "a duration in seconds up to 1e7"))
       ->capture_default_str();
