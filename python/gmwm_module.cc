@@ -91,11 +91,11 @@ std::string py_wv(const py::object& data, std::optional<double> freq, double alp
 
 // The data's Allan deviation and the noise figures read off it: the 'allan' and
 // 'noise_figures' fields `gmwm wv --adev` gives a column (the same engine and io functions).
-std::string py_allan(const py::object& data, double freq, int points_per_octave, double alpha, const std::string& units,
-                     const std::string& name) {
+std::string py_allan(const py::object& data, std::optional<double> given_freq, int points_per_octave, double alpha,
+                     const std::string& units, const std::string& name) {
   const std::vector<double> x = series_of(data, "data");
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
-  if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
+  const double freq = given_rate(given_freq);
   gmwm::AllanOptions allan;
   allan.points_per_octave = points_per_octave;
   allan.alpha = alpha;
@@ -195,14 +195,14 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
 
 // The gap study (gmwm::pipeline::study_gap, as `gmwm gap`): the document gmwm gap --json
 // writes, its "input" being "<array>".
-std::string py_gap(const py::object& data, double freq, const std::optional<std::string>& model,
+std::string py_gap(const py::object& data, std::optional<double> given_freq, const std::optional<std::string>& model,
                    const std::optional<std::string>& fit, const std::optional<std::string>& kalibr,
                    const std::string& kalibr_imu, const std::optional<std::string>& gazebo,
                    const std::optional<std::string>& datasheet, const std::vector<std::string>& names,
                    const std::string& units, const std::optional<std::string>& sensor,
                    const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
                    int levels, bool unit_check, const std::string& effects, double min_effect, int max_steps) {
-  if (const std::string why = gmwm::io::sampling_rate_problem(freq, "freq"); !why.empty()) throw gmwm::InputError(why);
+  const double freq = given_rate(given_freq);
   const int given =
       model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value() + datasheet.has_value();
   if (given != 1)
@@ -402,12 +402,12 @@ PYBIND11_MODULE(_gmwm, m) {
         "BIC), per column: a list of 'select' JSON columns "
         "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "
         "the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with each column's kind from its name)");
-  m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq"),
+  m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("points_per_octave") = gmwm::AllanOptions{}.points_per_octave, py::arg("alpha") = 0.05,
         py::arg("units") = "", py::arg("name") = "x1",
         "Overlapping Allan deviation with chi-square intervals and the noise figures read off it (N, K, B): "
         "the 'allan' and 'noise_figures' fields of gmwm wv --adev");
-  m.def("gap", &py_gap, py::arg("data"), py::kw_only(), py::arg("freq"), py::arg("model") = py::none(),
+  m.def("gap", &py_gap, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("model") = py::none(),
         py::arg("fit") = py::none(), py::arg("kalibr") = py::none(), py::arg("kalibr_imu") = "",
         py::arg("gazebo") = py::none(), py::arg("datasheet") = py::none(),
         py::arg("names") = std::vector<std::string>{}, py::arg("units") = "", py::arg("sensor") = py::none(),
@@ -439,6 +439,7 @@ PYBIND11_MODULE(_gmwm, m) {
         "The gap diagnosis' self-check on simulated cases with a withheld effect (families 'QN,DR,...', strengths "
         "'2,4,8'): the document gmwm gap-check --json writes");
   gmwm::python::add_multi_signal_functions(m);
+  gmwm::python::add_read_functions(m);
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

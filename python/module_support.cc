@@ -116,14 +116,20 @@ std::vector<std::vector<double>> columns_of(const py::handle& obj, std::vector<s
   return out;
 }
 
-gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
-                              const std::string& unit) {
+double given_rate(std::optional<double> freq) {
   // As the command line refuses a file without a timestamp column and no --freq: an array
   // carries no timing, and a result without a rate had no figure in seconds (issue 45: the
   // Python module took a missing freq silently).
-  if (!freq) throw gmwm::InputError(gmwm::io::missing_rate_problem("data", "an array carries no timestamps"));
+  if (!freq)
+    throw gmwm::InputError(gmwm::io::missing_rate_problem(
+        "data", "an array carries no timestamps (a Recording, or a pandas time index, carries its rate)"));
   if (const std::string why = gmwm::io::sampling_rate_problem(*freq, "freq"); !why.empty()) throw gmwm::InputError(why);
-  return {name, static_cast<std::int64_t>(n), *freq, true, unit};
+  return *freq;
+}
+
+gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
+                              const std::string& unit) {
+  return {name, static_cast<std::int64_t>(n), given_rate(freq), true, unit};
 }
 
 std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>& names,

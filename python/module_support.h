@@ -88,6 +88,8 @@ void check_wv_range(const std::string& name, const gmwm::WaveletVariance& wv, st
 // a pandas DataFrame (its columns; `labels` receives their labels) or a sequence of 1-D arrays.
 std::vector<std::vector<double>> columns_of(const py::handle& obj, std::vector<std::string>* labels = nullptr);
 
+// The rate given with data (freq): refused when missing or outside the readers' range.
+double given_rate(std::optional<double> freq);
 gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
                               const std::string& unit);
 
@@ -108,5 +110,7 @@ gmwm::OmegaKind omega_kind(const std::string& s);
 
 /// The joint fit and selection over replicates, the export and the fleet: their m.def.
 void add_multi_signal_functions(py::module_& m);
+// gmwm.read and the timing of an index (read_bindings.cc).
+void add_read_functions(py::module_& m);
 
 }  // namespace gmwm::python

@@ -34,6 +34,8 @@
 #include "gmwm/io/units.h"
 #include "gmwm/io/fleet_manifest.h"
 #include "gmwm/io/fleet_spec.h"
+#include "gmwm/io/read_request.h"
+#include "gmwm/engine/number_text.h"
 #include "gmwm/pipeline/export_study.h"
 #include "gmwm/fleet/fleet_cache.h"
 #include "gmwm/fleet/fleet_record.h"
@@ -246,7 +248,12 @@ std::string py_fleet(const std::string& manifest_path, const std::string& model_
   o.select.fit.alpha = alpha;
   o.select.fit.seed = seed;
   o.select.seed = seed;
-  if (memory_mb) o.memory_budget = *memory_mb * 1e6;
+  if (memory_mb) {
+    // The one rule for --memory on every face (io::memory_problem).
+    if (const std::string why = gmwm::io::memory_problem(*memory_mb, gmwm::significant(*memory_mb)); !why.empty())
+      throw gmwm::InputError("--memory: " + why);
+    o.memory_budget = *memory_mb * 1e6;
+  }
   if (cache) o.cache_dir = cache->empty() ? gmwm::fleet::default_fleet_cache_dir(manifest_path) : *cache;
   if (!spec.empty()) o.spec = gmwm::io::read_fleet_spec(spec);
   o.joint.enabled = joint;

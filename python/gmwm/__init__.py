@@ -35,8 +35,16 @@ JointFitResult for `gmwm fit --joint --json`, ExportResult for `gmwm export --js
 ("gyro=deg/s,accel=g", each column's kind from its name); a typo is refused. plan() takes the
 CLI's --unit (one unit name, validated too).
 
-`freq` (Hz) is needed by every function that takes data: an array carries no timestamps, as
-the CLI refuses a file without a time column and no --freq (freq=1 reads tau in samples).
+Data: a numpy array, a pandas Series or DataFrame (columns named by their labels), or a
+Recording read as the command reads a file (every format it reads, the same refusals):
+
+    imu = gmwm.read("imu.csv.gz", columns="gyro_x,gyro_y")   # .values, .names, .freq, .timing
+    f = gmwm.fit(imu["gyro_x"], "WN+RW")          # the rate and the name come with it
+
+`freq` (Hz) is needed by every function that takes data: a Recording carries its rate, and a
+pandas DatetimeIndex or TimedeltaIndex gives it (measured as a timestamp column, with the
+same checks); an array carries no timestamps, as the CLI refuses a file without a time
+column and no --freq (freq=1 reads tau in samples).
 
 Bad input raises gmwm.InputError (a ValueError) with the command's one-line message, the
 keyword argument to change named where the command names its option.
@@ -50,7 +58,7 @@ import inspect
 import os
 from typing import Any, Callable, ParamSpec, TypeVar
 
-from . import _gmwm
+from . import _gmwm, _signals
 from ._common import (AllanDeviation, ContinuousParameter, FigureComponent, FitQuality, GoodnessOfFit, JsonResult,
                       Kalman, KalmanTerm, NoiseFigure, NoiseFigures, Parameter, Readoff, WorstLevel)
 from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, CorrectedConfig, CrossAxis,
@@ -64,6 +72,7 @@ from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, Fle
                    WrittenNoise)
 from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
                           JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
+from ._signals import Recording, Timing, TimingWarning, read
 from ._results import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
                        WvResult)
 
@@ -93,35 +102,46 @@ _P = ParamSpec("_P")
 _R = TypeVar("_R", bound=JsonResult)
 
 
-def _typed(raw: Callable[_P, str], result: type[_R]) -> Callable[_P, _R]:
+def _typed(raw: Callable[_P, str], result: type[_R],
+           signals: Callable[[dict[str, Any]], None] | None = None) -> Callable[_P, _R]:
     """`raw` (returning the library's JSON text) returning `result` built from that text, with
-    raw's parameters (from the module's stub, _gmwm.pyi) for type checkers."""
+    raw's parameters (from the module's stub, _gmwm.pyi) for type checkers. `signals` turns
+    the arguments given (by name) that carry data into what raw takes: a Recording or a
+    pandas time index into arrays, names and freq (_signals)."""
+    doc = raw.__doc__ or ""
+    name = result.__name__
+    signature = _signature(doc, f"gmwm.{name}")
 
     @functools.wraps(raw)
     def call(*args: _P.args, **kwargs: _P.kwargs) -> _R:
-        return result.from_json(raw(*args, **kwargs))
+        if signals is None or signature is None:
+            return result.from_json(raw(*args, **kwargs))
+        try:
+            bound = signature.bind(*args, **kwargs)
+        except TypeError:
+            return result.from_json(raw(*args, **kwargs))  # raw's own message for a wrong call
+        arguments = dict(bound.arguments)
+        signals(arguments)
+        return result.from_json(raw(**arguments))
 
-    doc = raw.__doc__ or ""
-    name = result.__name__
     call.__doc__ = doc.replace(") -> str\n", f") -> gmwm.{name}\n", 1) + (
         f"\nReturns a gmwm.{name} (typed fields; .document the parsed JSON, .to_json() its text).\n")
     call.__module__ = __name__
-    signature = _signature(doc, f"gmwm.{name}")
     if signature is not None:
         call.__signature__ = signature  # type: ignore[attr-defined]
     return call
 
 
-wv = _typed(_gmwm.wv, WvResult)
-allan = _typed(_gmwm.allan, AllanResult)
-fit = _typed(_gmwm.fit, FitResult)
-select = _typed(_gmwm.select, SelectResult)
-gap = _typed(_gmwm.gap, GapResult)
+wv = _typed(_gmwm.wv, WvResult, _signals.one_series)
+allan = _typed(_gmwm.allan, AllanResult, _signals.one_series)
+fit = _typed(_gmwm.fit, FitResult, _signals.one_series)
+select = _typed(_gmwm.select, SelectResult, _signals.columns)
+gap = _typed(_gmwm.gap, GapResult, _signals.columns)
 gap_check = _typed(_gmwm.gap_check, GapCheckResult)
 nav = _typed(_gmwm.nav, NavResult)
 plan = _typed(_gmwm.plan, PlanResult)
-fit_joint = _typed(_gmwm.fit_joint, JointFitResult)
-select_joint = _typed(_gmwm.select_joint, JointSelectResult)
+fit_joint = _typed(_gmwm.fit_joint, JointFitResult, _signals.replicates)
+select_joint = _typed(_gmwm.select_joint, JointSelectResult, _signals.replicates)
 _fleet_raw = _typed(_gmwm.fleet, FleetResult)
 
 
@@ -206,7 +226,9 @@ def export(result: Any, *, format: str, output: str = "", **options: Any) -> Exp
 
 __all__ = [
     "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
-    "export", "fleet", "InputError", "DEFAULT_SEED",
+    "export", "fleet", "read", "InputError", "DEFAULT_SEED",
+    # signals in
+    "Recording", "Timing", "TimingWarning",
     "__version__",
     # results of the functions
     "WvResult", "AllanResult", "FitResult", "SelectResult", "GapResult", "GapCheckResult", "NavResult", "PlanResult",

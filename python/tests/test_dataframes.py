@@ -41,8 +41,10 @@ def test_given_names_replace_the_labels_and_must_count_the_columns(frame):
 
 
 def test_a_one_series_function_takes_a_one_column_dataframe_and_refuses_more(frame):
+    # Named by its label, as the file's column would be (and a named Series by its name).
     one = gmwm.fit(frame[["gyro_x"]], "WN+RW", freq=100)
-    assert one.to_json() == gmwm.fit(frame["gyro_x"].to_numpy(), "WN+RW", freq=100).to_json()
+    assert one.name == "gyro_x" and gmwm.fit(frame["gyro_x"], "WN+RW", freq=100).to_json() == one.to_json()
+    assert one.to_json() == gmwm.fit(frame["gyro_x"].to_numpy(), "WN+RW", freq=100, name="gyro_x").to_json()
     for call in (lambda: gmwm.fit(frame, "WN+RW", freq=100), lambda: gmwm.wv(frame, freq=100)):
         with pytest.raises(gmwm.InputError, match=r"data: found a DataFrame of 2 columns, expected one series "
                                                   r"\(e.g. data\['gyro_x'\]\); select, gap and the joint functions"):

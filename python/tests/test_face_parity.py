@@ -52,6 +52,19 @@ def test_python_refuses_every_bad_value_of_the_table_with_the_clis_words(recordi
     assert case["field"] in said and "--" not in said, said
 
 
+@pytest.mark.parametrize("case", TABLE["reads"], ids=lambda c: f"read {c['option']} {c['value']}")
+def test_gmwm_read_refuses_every_bad_read_of_the_table_with_the_clis_words(recording, case):
+    folder, _ = recording
+    cli = run(folder, "wv", "imu.csv", case["option"], case["value"], check=False)
+    assert cli.returncode == 2, cli.stderr
+    assert case["words"] in cli.stderr, cli.stderr
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.read(folder / "imu.csv", **{case["field"]: case["json"]})
+    said = str(e.value)
+    assert case["words"] in said, f"python: {said}\nwords: {case['words']}"
+    assert case["field"] in said and "--" not in said, said
+
+
 @pytest.mark.parametrize("case", TABLE["acceptances"], ids=lambda c: f"{c['study']} {c['json']}")
 def test_python_accepts_every_good_value_of_the_table_with_the_clis_document(recording, case):
     folder, x = recording

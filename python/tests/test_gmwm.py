@@ -304,10 +304,12 @@ def test_an_array_without_freq_is_refused_as_a_file_without_timestamps(tmp_path,
     assert cli.stderr.strip().endswith("no timestamp column found; give the sampling rate with --freq HZ")
     x = example["gyro_x"]
     for call in (lambda: gmwm.wv(x), lambda: gmwm.fit(x, "WN"), lambda: gmwm.select(x, "WN+RW"),
+                 lambda: gmwm.allan(x), lambda: gmwm.gap(x, model="WN(sigma2=1e-4)"),
                  lambda: gmwm.fit_joint([x, x * 1.1], "WN"), lambda: gmwm.select_joint([x, x * 1.1], "WN+RW")):
         with pytest.raises(gmwm.InputError) as e:
             call()
-        assert str(e.value) == "data: an array carries no timestamps; give the sampling rate with freq (Hz)"
+        assert str(e.value) == ("data: an array carries no timestamps (a Recording, or a pandas time index, "
+                                "carries its rate); give the sampling rate with freq (Hz)")
     assert gmwm.fit(x, "WN", freq=1.0).freq == 1.0  # tau in samples, said so
 
 

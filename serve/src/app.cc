@@ -18,6 +18,7 @@
 #include "gmwm/engine/error.h"
 #include "guard.h"
 #include "gmwm/io/option_wording.h"
+#include "gmwm/io/read_request.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/units.h"
 #include "gmwm/report/html_fragment.h"
@@ -51,7 +52,8 @@ std::string ServeOptions::Validate() const {
   if (max_datasets < 1) return "max_datasets: expected at least 1";
   if (!(max_dataset_bytes > 0.0)) return "max_dataset_bytes: expected a positive size";
   if (!(job_idle_seconds > 0.0)) return "job_idle_seconds: expected a positive time";
-  if (memory_budget < 0.0) return "memory_budget: expected 0 (the reader's default) or a positive size";
+  if (memory_budget != 0.0 && !io::memory_problem(memory_budget / 1e6, std::to_string(memory_budget / 1e6)).empty())
+    return "memory_budget: expected 0 (the reader's default) or 1e6 to 1e18 bytes (1 MB to 1e12 MB, as --memory)";
   if (!token.empty() && (token.size() < kMinTokenChars ||
                          token.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_") !=
                              std::string::npos))
@@ -227,22 +229,20 @@ Json App::State::open(const RequestBody& b) {
   } else {
     b.fail("file", "missing, expected a recording's path in the folder (or \"upload\": an upload's id)");
   }
-  io::ReadOptions ro;
-  ro.columns = b.list("columns");
-  ro.freq = b.number("freq");
-  ro.topic = b.text("topic");
-  ro.memory_budget = options.memory_budget;
-  if (const std::string why = ro.Validate(); !why.empty()) throw HttpError(400, "/api/open: " + why);
+  io::ReadRequest request;
+  request.path = path.string();
+  request.columns = b.list("columns");
+  request.freq = b.number("freq");
+  request.topic = b.text("topic");
+  if (options.memory_budget > 0.0) request.memory_mb = options.memory_budget / 1e6;
   detail::Dataset d;
   d.name = name;
   try {
-    d.set = io::read_signals(path.string(), ro);
+    d.set = io::read_request(request);
   } catch (const InputError& e) {
     throw HttpError(400, renamed(e.what(), path.string(), name));
   }
   d.set.path = name;  // the documents name the recording as the page does
-  if (!d.set.freq_known)
-    throw HttpError(400, name + ": found no timestamp column, expected one or the sampling rate (\"freq\" in Hz)");
   Json columns = Json::array();
   std::int64_t n = 0;
   for (const io::Signal& s : d.set.signals) {

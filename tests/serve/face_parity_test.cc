@@ -53,6 +53,26 @@ TEST_F(ServeAppTest, TheCliAndTheWebAppRefuseEveryBadValueOfTheTableWithTheSameW
   }
 }
 
+TEST_F(ServeAppTest, TheCliAndTheWebAppRefuseEveryBadReadOfTheTableWithTheSameWords) {
+  const OJson table = parity_table();
+  ASSERT_GE(table.at("reads").size(), 4u);
+  for (const OJson& c : table.at("reads")) {
+    const std::string option = c.at("option"), field = c.at("field"), words = c.at("words");
+    const CliRun cli = run_gmwm({"wv", "recordings/imu.csv", option, c.at("value")}, dir_);
+    EXPECT_EQ(cli.exit_code, 2) << option << ": " << cli.err;
+    const std::string line = cli.err.substr(0, cli.err.find_last_not_of('\n') + 1);
+    EXPECT_EQ(line.find('\n'), std::string::npos) << "one line: " << cli.err;
+    EXPECT_NE(line.find(words), std::string::npos) << option << "\n cli: " << line << "\n words: " << words;
+
+    const serve::HttpResponse r = post("/api/open", OJson{{"file", "imu.csv"}, {field, c.at("json")}});
+    EXPECT_EQ(r.status, 400) << r.body;
+    const std::string web = OJson::parse(r.body).value("error", std::string());
+    EXPECT_NE(web.find(words), std::string::npos) << option << "\n web: " << web << "\n words: " << words;
+    EXPECT_NE(web.find("\"" + field + "\""), std::string::npos) << "the web app names its field: " << web;
+    EXPECT_EQ(web.find("--"), std::string::npos) << "no CLI option on the web: " << web;
+  }
+}
+
 TEST_F(ServeAppTest, TheCliAndTheWebAppAcceptEveryGoodValueOfTheTableWithTheSameDocument) {
   const std::string d = open_imu();
   for (const OJson& c : parity_table().at("acceptances")) {

@@ -30,7 +30,7 @@ class InputError(ValueError): ...
 
 # pybind11's names for types that are no Python annotation, and their annotations.
 TYPE_NAMES = [
-    (r"\bnumpy\.ndarray\[numpy\.float64\]", "npt.NDArray[np.float64]"),
+    (r"\bnumpy\.ndarray\[numpy\.(float64|int64)\]", r"npt.NDArray[np.\1]"),
     (r"\bsequence\b", "Sequence[Any]"),
     (r"\bobject\b", "Any"),
 ]

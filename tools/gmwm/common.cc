@@ -18,6 +18,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/choice.h"
+#include "gmwm/io/read_request.h"
 
 namespace gmwm::cli {
 
@@ -87,6 +88,10 @@ CLI::Validator sampling_rate_number() {
   return decimal_number([](double f) { return io::sampling_rate_problem(f, "").empty(); }, expected);
 }
 
+CLI::Validator memory_megabytes() {
+  return decimal_number([](double mb) { return io::memory_problem(mb, "").empty(); }, io::memory_expected());
+}
+
 void add_common_options(CLI::App& sub, CommonOptions& common) {
   sub.add_option("--json", common.json, "Write the machine-readable result to PATH ('-' for standard output)")
       ->type_name("PATH");
@@ -140,14 +145,7 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
                  "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit "
                  "and select then use memory that no longer grows with it")
       ->type_name("MB")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            double mb = 0.0;
-            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), mb);
-            if (ec == std::errc() && end == text.data() + text.size() && mb >= 1.0 && mb <= 1e12) return "";
-            return "found '" + text + "', expected a number of MB from 1 to 1e12";
-          },
-          "MB"));
+      ->transform(memory_megabytes());
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
@@ -243,44 +241,19 @@ void write_report(const CommonOptions& common, const report::ReportData& data) {
   report::stage_html_report(*common.outputs, common.report, data);
 }
 
-std::vector<std::string> split_list(const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  std::istringstream is(s);
-  while (std::getline(is, cur, ',')) {
-    const auto b = cur.find_first_not_of(" \t");
-    const auto e = cur.find_last_not_of(" \t");
-    out.push_back(b == std::string::npos ? std::string() : cur.substr(b, e - b + 1));
-  }
-  return out;
-}
-
 io::SignalSet read_input(const InputOptions& input) {
-  io::ReadOptions options;
-  if (input.columns) {
-    options.columns = split_list(*input.columns);
-    if (options.columns.empty())
-      throw InputError("--columns: found an empty list, expected names or 1-based indices separated by commas");
-    for (const auto& c : options.columns)
-      if (c.empty())
-        throw InputError("--columns '" + *input.columns +
-                         "': found an empty name, expected names or 1-based indices "
-                         "separated by commas");
-  }
-  options.freq = input.freq;
-  options.topic = input.topic;
-  if (input.memory_mb) options.memory_budget = *input.memory_mb * 1e6;
-  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  io::SignalSet set = io::read_signals(input.input, options);
+  io::ReadRequest request;
+  request.path = input.input;
+  if (input.columns) request.columns = io::column_list(*input.columns);
+  request.freq = input.freq;
+  request.topic = input.topic;
+  request.memory_mb = input.memory_mb;
+  io::SignalSet set = io::read_request(request);
   if (!set.signals.empty())
     if (const std::string why =
             io::levels_problem(input.levels, static_cast<std::int64_t>(set.signals.front().values.size()), "--levels");
         !why.empty())
       throw InputError(input.input + ": " + why);
-  if (!set.freq_known)
-    throw InputError(input.input +
-                     ":1: found no timestamp column in the header, expected one (timestamp, "
-                     "time, t, ...) or the sampling rate as --freq HZ");
   return set;
 }
 

@@ -77,10 +77,9 @@ CLI::Option* add_choice(CLI::App& sub, const std::string& name, std::string& tar
 /// decimal_number within the sampling rates of io::sampling_rate_problem (1e-9 to 1e9 Hz):
 /// "found '1e-310', expected a sampling rate in Hz from 1e-09 to 1e+09".
 CLI::Validator sampling_rate_number();
-
-/// A comma-separated list with each entry trimmed ("" gives an empty list; "a,,b" keeps
-/// the empty entry for the caller to refuse).
-std::vector<std::string> split_list(const std::string& s);
+/// decimal_number within --memory's range (io::memory_problem: 1 to 1e12 MB), for every
+/// command that takes --memory.
+CLI::Validator memory_megabytes();
 
 /// INPUT and the options that pick and describe its signals.
 struct InputOptions {

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "common.h"
+#include "gmwm/io/read_request.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -74,7 +75,7 @@ std::vector<io::ExportColumn> from_result(const ExportArgs& a, io::SideFile& inp
                        "' is a gmwm result whose models are already fitted (--rate sets the update rate)");
   io::ResultReadOptions o;
   if (a.input.columns) {
-    o.columns = split_list(*a.input.columns);
+    o.columns = io::comma_list(*a.input.columns);
     if (o.columns.empty())
       throw InputError("--columns: found an empty list, expected column names separated by commas");
   }
@@ -116,7 +117,7 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
 
 // --consistent-for RATE,HORIZON[,SIGMA]: the setting of pipeline::consistent_inflation.
 pipeline::ConsistencyOptions consistency_options(const std::string& text) {
-  const std::vector<std::string> parts = split_list(text);
+  const std::vector<std::string> parts = io::comma_list(text);
   pipeline::ConsistencyOptions c;
   std::vector<double> v;
   for (const std::string& p : parts)

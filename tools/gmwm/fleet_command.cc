@@ -177,7 +177,7 @@ Command add_fleet_command(CLI::App& app, CommonOptions& common) {
          "--memory", [a = args.get()](const double& mb) { a->memory_mb = mb; },
          "Memory for one recording's samples, MB (beyond it they go on in temporary files)")
       ->type_name("MB")
-      ->transform(decimal_number([](double x) { return x > 0.0; }, "a positive number of megabytes"));
+      ->transform(memory_megabytes());
   sub->add_option_function<std::string>(
          "--cache", [a = args.get()](const std::string& dir) { a->cache = dir; },
          "Folder of the records already computed, by content and options (default: .gmwm-cache beside the "

@@ -4,6 +4,7 @@
 // length at which N, K, B or a parameter reach a relative precision at a confidence. Parses,
 // runs pipeline::study_plan, renders with io/plan_output.h, commits.
 #include "common.h"
+#include "gmwm/io/read_request.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/report/plan_output.h"
 #include "gmwm/pipeline/plan_study.h"
@@ -26,8 +27,8 @@ int run_plan(const PlanArgs& a, const CommonOptions& common) {
   o.model = a.model;
   o.freq = a.freq;
   o.unit = a.unit;
-  if (!a.columns.empty()) o.columns = split_list(a.columns);
-  if (!a.targets.empty()) o.plan.targets = split_list(a.targets);
+  if (!a.columns.empty()) o.columns = io::comma_list(a.columns);
+  if (!a.targets.empty()) o.plan.targets = io::comma_list(a.targets);
   o.plan.precision = a.precision;
   o.plan.confidence = a.confidence;
   o.plan.record_seconds = a.have;

@@ -136,7 +136,7 @@ Command add_serve_command(CLI::App& app, CommonOptions& common) {
   sub->add_option("--memory", args->memory_mb,
                   "MB a recording's values may take in memory before they go to temporary files")
       ->type_name("MB")
-      ->transform(decimal_number([](double x) { return x > 0.0; }, "a positive size in MB"));
+      ->transform(memory_megabytes());
   sub->add_option("--threads", common.threads, "Worker threads of the analyses (default: all cores)")
       ->type_name("N")
       ->transform(whole_number(1, 4096));

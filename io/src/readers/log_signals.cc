@@ -69,6 +69,8 @@ SignalSet LogColumns::finish(const std::string& preset, const TimeUnit& unit, co
   } else if (set.timing->estimated_freq > 0.0) {
     set.freq = set.timing->estimated_freq;
     set.freq_known = true;
+  } else {
+    refuse_never_increasing(path_, *set.timing);
   }
   return set;
 }

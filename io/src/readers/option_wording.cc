@@ -41,6 +41,8 @@ constexpr OptionField kOptionFields[] = {
     {"--levels", "levels"},
     {"--sensor", "sensor"},
     {"--trajectory", "trajectory"},
+    {"--memory MB", "memory", {}, "MB"},
+    {"--memory", "memory"},
 };
 
 bool option_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_'; }

@@ -412,9 +412,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
     set.freq = set.timing->estimated_freq;
     set.freq_known = true;
   } else {
-    throw InputError(path + ": found timestamps in column '" + set.timing->column +
-                     "' that never increase, expected increasing times; give the sampling rate "
-                     "with --freq HZ");
+    detail::refuse_never_increasing(path, *set.timing);
   }
   return set;
 }

@@ -1,5 +1,7 @@
 #include "timestamp.h"
 
+#include "gmwm/io/stamp_timing.h"
+
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/samples.h"
 
@@ -334,6 +336,11 @@ void check_timestamp_rate(const std::string& path, const TimingReport& timing, c
                    "there, or give --freq HZ to take the samples as evenly spaced");
 }
 
+void refuse_never_increasing(const std::string& path, const TimingReport& timing) {
+  throw InputError(path + ": found timestamps in column '" + timing.column +
+                   "' that never increase, expected increasing times; give the sampling rate with --freq HZ");
+}
+
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,
                             const TimeUnit& unit, const std::string& unit_source) {
   StepStatistics steps;
@@ -425,6 +432,23 @@ std::string TimingReport::rate_change_text() const {
   return "the sampling rate changes within the record, from about " + format_hz(rate_change->from_hz) +
          " at its start to about " + format_hz(rate_change->to_hz) + " from sample " +
          std::to_string(rate_change->sample + 1);
+}
+
+TimingReport timing_of_stamps(std::span<const std::int64_t> stamps_ns, const std::string& source,
+                              const std::string& column, std::optional<double> freq) {
+  detail::StepStatistics steps;
+  // Offsets from the first stamp, subtracted as integers: exact (a step's spacing is the
+  // nanosecond however far the stamps are from their origin).
+  const std::int64_t first = stamps_ns.empty() ? 0 : stamps_ns.front();
+  for (const std::int64_t t : stamps_ns) steps.add(static_cast<double>(t - first));
+  TimingReport timing = detail::analyse_timing(column, steps, static_cast<double>(first), detail::TimeUnit{1e-9, "ns"},
+                                               "integer nanoseconds");
+  timing.given_freq = freq;
+  ReadOptions options;
+  options.freq = freq;
+  detail::check_timestamp_rate(source, timing, options);
+  if (!freq && !(timing.estimated_freq > 0.0)) detail::refuse_never_increasing(source, timing);
+  return timing;
 }
 
 }  // namespace gmwm::io

@@ -124,6 +124,10 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
 /// rate (and says to take the samples as evenly spaced).
 void check_timestamp_rate(const std::string& path, const TimingReport& timing, const ReadOptions& options);
 
+/// Refuses (InputError naming the file and the column) timestamps that never increase when
+/// no rate was given: nothing to measure the sampling from.
+[[noreturn]] void refuse_never_increasing(const std::string& path, const TimingReport& timing);
+
 /// The same from times relative to the first one.
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,
                             const TimeUnit& unit, const std::string& unit_source);

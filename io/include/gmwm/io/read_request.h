@@ -1,0 +1,54 @@
+#pragma once
+// What every face reads a recording with: the command line's --columns, --freq, --topic and
+// --memory, the web app's /api/open fields and gmwm.read's keywords fill one ReadRequest,
+// read and refused by one function (issue 45: the CLI alone split --columns and refused a
+// recording without a rate in its own words; Python could not read a file at all).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gmwm/io/signal_reader.h"
+
+namespace gmwm::io {
+
+/// --memory's range in MB: a megabyte at least (below, not even a header's worth of values),
+/// a terabyte at most (beyond any machine's memory, so a typo rather than a budget).
+inline constexpr double kMinMemoryMb = 1.0;
+inline constexpr double kMaxMemoryMb = 1e12;
+/// "" when `mb` is within [kMinMemoryMb, kMaxMemoryMb], else "found 'TEXT', expected a
+/// number of MB from 1 to 1e12" (`text`: the value as the user wrote it).
+std::string memory_problem(double mb, const std::string& text);
+/// "a number of MB from 1 to 1e12": what memory_problem expects.
+std::string memory_expected();
+
+struct ReadRequest {
+  std::string path;
+  /// --columns: names or 1-based indices; empty: every numeric column that is not a timestamp.
+  std::vector<std::string> columns;
+  std::optional<double> freq;       ///< --freq HZ: overrides the timestamps' rate
+  std::string topic;                ///< --topic NAME[:INSTANCE] of a log or bag
+  std::optional<double> memory_mb;  ///< --memory MB (default: kMemoryShare of physical memory)
+  /// Beyond the memory: true, the columns go on in temporary files; false (a face that hands
+  /// the values over in memory, as Python's arrays), refused with one line.
+  bool spill = true;
+
+  /// The reader's options; throws InputError (naming the option) for a bad value.
+  ReadOptions options() const;
+};
+
+/// "a, b,,c" as {"a", "b", "", "c"}: entries split at commas, blanks around them trimmed
+/// (every comma-separated option of every face: --columns, --targets, --units, ...).
+std::vector<std::string> comma_list(const std::string& text);
+
+/// --columns "a, b,3" as a list: entries split at commas, blanks around them trimmed.
+/// Throws InputError for an empty list or an empty entry ("--columns 'a,,b': found an empty
+/// name, expected names or 1-based indices separated by commas").
+std::vector<std::string> column_list(const std::string& text);
+
+/// Reads the request (read_signals) and refuses a recording whose rate is unknown (no
+/// timestamp column and no --freq): "PATH:1: found no timestamp column in the header,
+/// expected one (timestamp, time, t, ...) or the sampling rate as --freq HZ".
+SignalSet read_request(const ReadRequest& request);
+
+}  // namespace gmwm::io

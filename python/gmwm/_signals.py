@@ -1,0 +1,236 @@
+"""Signals in: a recording read as the gmwm command reads it (gmwm.read), and the rate of a
+pandas index. Every function that takes data takes a numpy array, a pandas Series or
+DataFrame, or a Recording; this module turns the last two into the arrays, names and rate
+the library takes, by the rules the command line follows for a file (the same readers, the
+same timestamp checks, the same refusals, naming Python's keywords)."""
+from __future__ import annotations
+
+import json
+import math
+import os
+import warnings
+from dataclasses import dataclass
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from . import _gmwm
+from ._common import FloatArray, g, num
+from ._gmwm import InputError
+
+
+class TimingWarning(UserWarning):
+    """The timestamps of the data have gaps, samples out of order, or disagree with a given
+    freq by more than 1%: the rate taken is still the median step's (or freq), but the
+    samples are not evenly spaced as the wavelet variance assumes."""
+
+
+@dataclass(frozen=True)
+class Timing:
+    """What a timestamp column (or a pandas index) says about the sampling: the median step,
+    the rate it gives, the gaps (steps over 1.5 median steps), the steps out of order and,
+    when the rate changes within the record, where (`rate_change`). `summary` is the line
+    the command prints."""
+
+    column: str
+    unit: str
+    unit_source: str
+    samples: int
+    median_step_seconds: float
+    estimated_freq: float
+    gaps: int
+    largest_gap_seconds: float
+    disorder: int
+    given_freq: float | None
+    rate_change: str | None
+    summary: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any] | None) -> "Timing | None":
+        if d is None:
+            return None
+        return cls(d["column"], d["unit"], d["unit_source"], int(d["samples"]), num(d["median_step_seconds"]),
+                   num(d["estimated_freq"]), int(d["gaps"]), num(d["largest_gap_seconds"]), int(d["disorder"]),
+                   None if d.get("given_freq") is None else float(d["given_freq"]), d.get("rate_change"),
+                   d["summary"])
+
+    @property
+    def irregular(self) -> bool:
+        """Gaps, samples out of order, or a given freq more than 1% from the stamps' rate."""
+        disagrees = (self.given_freq is not None and self.estimated_freq > 0.0
+                     and abs(self.estimated_freq - self.given_freq) > 0.01 * self.given_freq)
+        return self.gaps > 0 or self.disorder > 0 or disagrees
+
+
+@dataclass(frozen=True, eq=False)
+class Recording:
+    """The columns of a recording as the gmwm command reads them (gmwm.read): `values` a
+    read-only samples x columns float64 array, `names` the columns' names, `units` the unit
+    each header states (None where none), `freq` the rate in Hz (the given freq, else the
+    timestamps'), `timing` what the timestamps said (None without a timestamp column).
+
+    Every function that takes data takes a Recording: its rate is the freq, its names the
+    columns' names (`rec["gyro_x"]` is the one-column recording a one-series function takes).
+    """
+
+    path: str
+    names: tuple[str, ...]
+    units: tuple[str | None, ...]
+    freq: float
+    values: FloatArray
+    timing: Timing | None
+    topic: str | None = None
+    preset: str | None = None
+
+    def __len__(self) -> int:
+        return int(self.values.shape[0])
+
+    def __getitem__(self, key: str | int | Sequence[str | int]) -> "Recording":
+        """The recording of one column (a name or 0-based position) or of several."""
+        keys = [key] if isinstance(key, (str, int)) else list(key)
+        picks = [self._position(k) for k in keys]
+        values = self.values[:, picks]
+        values.flags.writeable = False
+        return Recording(self.path, tuple(self.names[p] for p in picks), tuple(self.units[p] for p in picks),
+                         self.freq, values, self.timing, self.topic, self.preset)
+
+    def _position(self, key: str | int) -> int:
+        if isinstance(key, str):
+            if key in self.names:
+                return self.names.index(key)
+            raise KeyError(f"{key!r}: not a column of {self.path} (its columns: {', '.join(self.names)})")
+        if -len(self.names) <= key < len(self.names):
+            return key % len(self.names)
+        raise IndexError(f"column {key}: {self.path} has {len(self.names)} columns")
+
+    def column(self, name: str | int) -> FloatArray:
+        """One column's samples."""
+        return self.values[:, self._position(name)]
+
+    @property
+    def seconds(self) -> FloatArray:
+        """Each sample's time from the first, in seconds, at `freq` (the samples evenly spaced)."""
+        t = np.arange(len(self), dtype=np.float64) / self.freq
+        t.flags.writeable = False
+        return t
+
+    def to_dataframe(self) -> Any:
+        """A pandas DataFrame of the columns, its index the seconds from the first sample."""
+        import pandas  # optional: only this method needs it
+
+        frame = pandas.DataFrame(np.array(self.values), columns=list(self.names))
+        frame.index = pandas.Index(self.seconds, name="seconds")
+        return frame
+
+    def __repr__(self) -> str:
+        return (f"Recording({os.path.basename(self.path)}: {len(self)} samples x {len(self.names)} columns "
+                f"({', '.join(self.names)}), freq={g(self.freq)} Hz)")
+
+
+def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | None = None,
+         freq: float | None = None, topic: str | None = None, memory: float | None = None) -> Recording:
+    """The columns of a recording, read exactly as `gmwm fit PATH --columns ... --freq ...
+    --topic ... --memory ...` reads them: delimited text (CSV, tab, whitespace; EuRoC and
+    Kalibr layouts), gzip of it, PX4 ULog, ROS 1 bags, rosbag2 and MCAP.
+
+    columns: names or 1-based indices (a list, or "a,b,c" as the CLI's text); None: every
+    numeric column that is not a timestamp. freq: the rate in Hz, which takes the samples as
+    evenly spaced (else the timestamps give it; a recording without either is refused).
+    topic: a log's or bag's topic ("sensor_combined", "/imu0", ...). memory: MB the values may
+    take (default 75% of the machine's memory); a longer record is refused, since the values
+    are handed over in memory.
+
+    Bad input raises gmwm.InputError with the command's one-line message, naming these
+    keywords. A timing irregularity (gaps, samples out of order, a freq that disagrees with
+    the stamps) is a TimingWarning."""
+    values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory)
+    meta = json.loads(meta_text)
+    values.flags.writeable = False
+    timing = Timing.from_dict(meta["timing"])
+    if timing is not None and timing.irregular:
+        warnings.warn(f"{meta['path']}: {timing.summary}", TimingWarning, stacklevel=2)
+    return Recording(meta["path"], tuple(meta["names"]), tuple(meta["units"]), float(meta["freq"]), values, timing,
+                     meta["topic"], meta["preset"])
+
+
+def _index_timing(data: Any, freq: float | None, what: str) -> Timing | None:
+    """The timing of a pandas object's DatetimeIndex or TimedeltaIndex (None for any other
+    index), measured and refused as a file's timestamp column."""
+    index: Any = getattr(data, "index", None)
+    if getattr(getattr(index, "dtype", None), "kind", None) not in ("M", "m") or not hasattr(index, "asi8"):
+        return None
+    stamps = np.asarray(index.asi8, dtype=np.int64)
+    if np.any(stamps == np.iinfo(np.int64).min):
+        raise InputError(f"{what}.index: found NaT among the timestamps, expected a time for every sample")
+    column = str(index.name) if index.name is not None else "index"
+    text = _gmwm.stamps_timing(stamps, source=f"{what}.index", column=column, freq=freq)
+    timing = Timing.from_dict(json.loads(text))
+    if timing is not None and timing.irregular:
+        warnings.warn(f"{what}.index: {timing.summary}", TimingWarning, stacklevel=4)
+    return timing
+
+
+def _rate_of(data: Any, freq: float | None, what: str) -> float | None:
+    """The rate a signal argument carries: the given freq, a Recording's, a time index's."""
+    if isinstance(data, Recording):
+        return data.freq if freq is None else freq
+    timing = _index_timing(data, freq, what)
+    if freq is None and timing is not None:
+        return timing.estimated_freq
+    return freq
+
+
+def _label_of(data: Any) -> str | None:
+    """The name a one-series argument carries: a Recording's or one-column DataFrame's
+    column, a Series' name."""
+    if isinstance(data, Recording):
+        return data.names[0] if len(data.names) == 1 else None
+    columns = getattr(data, "columns", None)
+    if columns is not None and hasattr(data, "iloc"):
+        return str(columns[0]) if len(columns) == 1 else None
+    name = getattr(data, "name", None)
+    if hasattr(data, "iloc") and isinstance(name, str) and name:
+        return name
+    return None
+
+
+def one_series(arguments: dict[str, Any]) -> None:
+    """wv, allan, fit: `data` one series; its rate and its name taken from it when not given."""
+    data = arguments["data"]
+    arguments["freq"] = _rate_of(data, arguments.get("freq"), "data")
+    if "name" not in arguments and (label := _label_of(data)) is not None:
+        arguments["name"] = label
+    if isinstance(data, Recording):
+        if len(data.names) != 1:
+            raise InputError(f"data: found a recording of {len(data.names)} columns, expected one series (e.g. "
+                             f"data['{data.names[0]}']); select, gap and the joint functions take every column "
+                             "of a recording")
+        arguments["data"] = data.values[:, 0]
+
+
+def columns(arguments: dict[str, Any]) -> None:
+    """select, gap: `data` the columns; their rate and names taken from a Recording."""
+    data = arguments["data"]
+    arguments["freq"] = _rate_of(data, arguments.get("freq"), "data")
+    if isinstance(data, Recording):
+        arguments.setdefault("names", list(data.names))
+        arguments["data"] = data.values
+
+
+def replicates(arguments: dict[str, Any]) -> None:
+    """fit_joint, select_joint: each replicate's columns; the rate taken from them when not
+    given, and every replicate's rate the same."""
+    items = list(arguments["replicates"])
+    given = arguments.get("freq")
+    rates = [_rate_of(item, given, f"replicates[{k}]") for k, item in enumerate(items)]
+    known = [(k, r) for k, r in enumerate(rates) if r is not None]
+    if given is None and known:
+        first_k, first = known[0]
+        for k, r in known[1:]:
+            if not math.isclose(r, first, rel_tol=0.01):
+                raise InputError(f"replicates[{k}]: sampled at {g(r)} Hz, replicates[{first_k}] at {g(first)} Hz, "
+                                 "expected one rate (give freq to take every replicate at it)")
+        arguments["freq"] = first
+    if items and isinstance(items[0], Recording):
+        arguments.setdefault("names", list(items[0].names))
+    arguments["replicates"] = [item.values if isinstance(item, Recording) else item for item in items]

@@ -1,0 +1,123 @@
+// gmwm.read and the timing of a pandas index: the Python face of the readers every face
+// shares (io::ReadRequest, io::timing_of_stamps). A recording is handed over as a 2-D
+// float64 array and a JSON text of what the file said about it (names, units, rate, timing).
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <span>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/io/option_wording.h"
+#include "gmwm/io/read_request.h"
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/io/stamp_timing.h"
+#include "gmwm/report/json_output.h"
+#include "module_support.h"
+
+namespace gmwm::python {
+namespace {
+
+// The timing JSON of the documents (report::timing_json) with its one-line summary.
+Json timing_with_summary(const gmwm::io::TimingReport& t) {
+  Json j = gmwm::report::timing_json(t);
+  j["summary"] = gmwm::io::option_wording(t.summary(), gmwm::io::Face::kPython);
+  j["rate_change"] = t.rate_change ? Json(t.rate_change_text()) : Json(nullptr);
+  return j;
+}
+
+// --columns as Python gives it: None (every signal column), "a,b" (as the CLI's text) or a
+// list of names and 1-based indices.
+std::vector<std::string> columns_argument(const py::object& columns) {
+  if (columns.is_none()) return {};
+  if (py::isinstance<py::str>(columns)) return gmwm::io::column_list(columns.cast<std::string>());
+  if (!py::isinstance<py::sequence>(columns))
+    throw gmwm::InputError("--columns: expected a list of names or 1-based indices, or one text 'a,b,c'");
+  std::vector<std::string> out;
+  for (const auto& item : py::cast<py::sequence>(columns)) {
+    if (py::isinstance<py::int_>(item) && !py::isinstance<py::bool_>(item))
+      out.push_back(std::to_string(item.cast<long long>()));
+    else if (py::isinstance<py::str>(item))
+      out.push_back(item.cast<std::string>());
+    else
+      throw gmwm::InputError("--columns: found " + std::string(py::str(py::type::of(item).attr("__name__"))) +
+                             ", expected column names or 1-based indices");
+  }
+  if (out.empty()) throw gmwm::InputError("--columns: found an empty list, expected names or 1-based indices");
+  return out;
+}
+
+std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, const py::object& columns,
+                                                     std::optional<double> freq, const std::string& topic,
+                                                     std::optional<double> memory) {
+  gmwm::io::ReadRequest request;
+  request.path = path;
+  request.columns = columns_argument(columns);
+  request.freq = freq;
+  request.topic = topic;
+  request.memory_mb = memory;
+  request.spill = false;  // the values are handed over in memory, as one array
+  gmwm::io::SignalSet set;
+  {
+    py::gil_scoped_release release;
+    set = gmwm::io::read_request(request);
+  }
+  const std::size_t k = set.signals.size();
+  const std::size_t n = k ? set.signals.front().values.size() : 0;
+  py::array_t<double> values({n, k});
+  double* dst = values.mutable_data();
+  for (std::size_t c = 0; c < k; ++c) {
+    const gmwm::Samples& x = set.signals[c].values;
+    for (std::size_t i = 0; i < n; ++i) dst[i * k + c] = x[i];
+  }
+  Json meta;
+  meta["path"] = set.path;
+  Json names = Json::array(), units = Json::array();
+  for (const gmwm::io::Signal& s : set.signals) {
+    names.push_back(s.name);
+    units.push_back(s.unit.empty() ? Json(nullptr) : Json(s.unit));
+  }
+  meta["names"] = std::move(names);
+  meta["units"] = std::move(units);
+  meta["freq"] = set.freq;
+  meta["freq_given"] = freq.has_value();
+  meta["topic"] = topic.empty() ? Json(nullptr) : Json(topic);
+  meta["preset"] = set.preset.empty() ? Json(nullptr) : Json(set.preset);
+  meta["delimiter"] = set.delimiter.empty() ? Json(nullptr) : Json(set.delimiter);
+  meta["compressed"] = set.compressed;
+  meta["timing"] = set.timing ? timing_with_summary(*set.timing) : Json(nullptr);
+  return {values, to_python(meta)};
+}
+
+std::string py_stamps_timing(const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& stamps,
+                             const std::string& source, const std::string& column, std::optional<double> freq) {
+  if (stamps.ndim() != 1) throw gmwm::InputError(source + ": expected one timestamp a sample");
+  const std::span<const std::int64_t> ns(stamps.data(), static_cast<std::size_t>(stamps.size()));
+  gmwm::io::TimingReport t;
+  {
+    py::gil_scoped_release release;
+    t = gmwm::io::timing_of_stamps(ns, source, column, freq);
+  }
+  return to_python(timing_with_summary(t));
+}
+
+}  // namespace
+
+void add_read_functions(py::module_& m) {
+  m.def("read", &py_read, py::arg("path"), py::kw_only(), py::arg("columns") = py::none(), py::arg("freq") = py::none(),
+        py::arg("topic") = "", py::arg("memory") = py::none(),
+        "The columns of a recording as the gmwm command reads them (delimited text, gzip, PX4 ULog, ROS 1 bag, "
+        "rosbag2, MCAP): a samples x columns float64 array and the JSON text of names, units, rate and timing");
+  m.def("stamps_timing", &py_stamps_timing, py::arg("stamps"), py::kw_only(), py::arg("source"), py::arg("column"),
+        py::arg("freq") = py::none(),
+        "The sampling of integer-nanosecond timestamps (a pandas DatetimeIndex's asi8), measured and refused as a "
+        "file's timestamp column: the JSON of the timing");
+}
+
+}  // namespace gmwm::python

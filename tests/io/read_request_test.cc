@@ -1,0 +1,127 @@
+// What every face reads a recording with (io::ReadRequest, issue 45) and the timing of
+// stamps that come without a file (a pandas index): the same rules, the same refusals as a
+// file's timestamp column.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/io/read_request.h"
+#include "gmwm/io/stamp_timing.h"
+#include "signal_test_util.h"
+#include "test_support.h"
+
+namespace {
+
+using gmwm::InputError;
+using gmwm::io::column_list;
+using gmwm::io::ReadRequest;
+using gmwm::io::timing_of_stamps;
+using gmwm::test::contains;
+using gmwm::test::write_text;
+
+// Nanosecond stamps from 1.7e18 (a Unix time) with the given steps.
+std::vector<std::int64_t> stamps(const std::vector<std::int64_t>& steps) {
+  std::vector<std::int64_t> t{1700000000000000000};
+  for (std::int64_t s : steps) t.push_back(t.back() + s);
+  return t;
+}
+
+// The same stamps as a file's '#timestamp [ns]' column beside one varying signal.
+std::string stamps_csv(const std::vector<std::int64_t>& t) {
+  std::string s = "timestamp [ns],x\n";
+  for (std::size_t i = 0; i < t.size(); ++i)
+    s += std::to_string(t[i]) + "," + std::to_string(std::sin(0.37 * static_cast<double>(i))) + "\n";
+  return s;
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST(ReadRequest, AColumnListIsSplitAtCommasWithBlanksTrimmed) {
+  EXPECT_EQ(column_list("a, b ,3"), (std::vector<std::string>{"a", "b", "3"}));
+  EXPECT_EQ(gmwm::io::comma_list(""), std::vector<std::string>{});
+}
+
+TEST(ReadRequest, AnEmptyColumnNameOrListIsRefusedNamingTheOption) {
+  EXPECT_EQ(message_of([] { column_list("a,,b"); }),
+            "--columns 'a,,b': found an empty name, expected names or 1-based indices separated by commas");
+  EXPECT_EQ(message_of([] { column_list(""); }),
+            "--columns: found an empty list, expected names or 1-based indices separated by commas");
+}
+
+TEST(ReadRequest, AMemoryOutsideOneMegabyteToATerabyteIsRefusedAsTheCommandLineRefusesIt) {
+  ReadRequest r;
+  r.path = "x.csv";
+  r.memory_mb = 0.5;
+  EXPECT_EQ(message_of([&] { (void)r.options(); }), "--memory: found '0.5', expected a number of MB from 1 to 1e12");
+  r.memory_mb = 64.0;
+  EXPECT_DOUBLE_EQ(r.options().memory_budget, 64e6);
+  EXPECT_EQ(gmwm::io::memory_problem(2e12, "2e12"), "found '2e12', expected a number of MB from 1 to 1e12");
+}
+
+TEST(ReadRequest, ARecordingWithoutTimestampsOrFreqIsRefusedAndFreqGivesItsRate) {
+  const auto dir = gmwm::test::temp_dir("read_request");
+  const std::string p = write_text(dir, "plain.csv", "x,y\n" + gmwm::test::csv_rows(64, ',', false));
+  ReadRequest r;
+  r.path = p;
+  r.columns = {"1"};
+  EXPECT_TRUE(contains(message_of([&] { gmwm::io::read_request(r); }), "give the sampling rate with --freq HZ"));
+  r.freq = 50.0;
+  EXPECT_DOUBLE_EQ(gmwm::io::read_request(r).freq, 50.0);
+}
+
+TEST(StampTiming, StampsGiveTheRateGapsAndDisorderTheirFileColumnGives) {
+  std::vector<std::int64_t> steps(3000, 5000000);  // 200 Hz
+  steps[1000] = 15000000;                          // a gap of three steps
+  steps[2000] = -1000;                             // one out of order
+  const std::vector<std::int64_t> t = stamps(steps);
+  const auto dir = gmwm::test::temp_dir("stamp_timing");
+  gmwm::io::ReadOptions o;
+  const gmwm::io::SignalSet set = gmwm::io::read_signals(write_text(dir, "s.csv", stamps_csv(t)), o);
+  const gmwm::io::TimingReport file = *set.timing;
+  const gmwm::io::TimingReport index = timing_of_stamps(t, "data.index", "timestamp [ns]", std::nullopt);
+  EXPECT_DOUBLE_EQ(index.estimated_freq, 200.0);
+  EXPECT_DOUBLE_EQ(index.estimated_freq, file.estimated_freq);
+  EXPECT_DOUBLE_EQ(index.median_step_seconds, file.median_step_seconds);
+  EXPECT_EQ(index.gaps, 1);
+  EXPECT_EQ(index.gaps, file.gaps);
+  EXPECT_DOUBLE_EQ(index.largest_gap_seconds, file.largest_gap_seconds);
+  EXPECT_EQ(index.disorder, 1);
+  EXPECT_EQ(index.disorder, file.disorder);
+  EXPECT_EQ(index.samples, file.samples);
+}
+
+TEST(StampTiming, ARateChangeIsRefusedInTheFileReadersWordsUnlessFreqIsGiven) {
+  std::vector<std::int64_t> steps(4096, 10000000);                       // 100 Hz
+  for (std::size_t i = 2048; i < steps.size(); ++i) steps[i] = 5000000;  // then 200 Hz
+  const std::vector<std::int64_t> t = stamps(steps);
+  const auto dir = gmwm::test::temp_dir("stamp_timing_change");
+  const std::string p = write_text(dir, "c.csv", stamps_csv(t));
+  const std::string file = gmwm::test::read_error(p);
+  const std::string index = message_of([&] { timing_of_stamps(t, p, "timestamp [ns]", std::nullopt); });
+  EXPECT_TRUE(contains(index, "the sampling rate changes within the record, from about 100 Hz")) << index;
+  EXPECT_EQ(index, file);
+  EXPECT_TRUE(timing_of_stamps(t, p, "timestamp [ns]", 100.0).rate_change.has_value());
+}
+
+TEST(StampTiming, StampsThatNeverIncreaseAreRefusedAsAFilesAre) {
+  const std::vector<std::int64_t> t(64, 1700000000000000000);
+  EXPECT_EQ(message_of([&] { timing_of_stamps(t, "data.index", "when", std::nullopt); }),
+            "data.index: found timestamps in column 'when' that never increase, expected increasing times; give "
+            "the sampling rate with --freq HZ");
+  EXPECT_NO_THROW(timing_of_stamps(t, "data.index", "when", 100.0));
+}
