@@ -53,6 +53,7 @@
 #include "gmwm/report/plan_output.h"
 #include "gmwm/report/nav_output.h"
 #include "gmwm/pipeline/select_study.h"
+#include "gmwm/pipeline/wv_study.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
 #include "gmwm/selection/select.h"
@@ -67,25 +68,39 @@ namespace {
 
 using namespace gmwm::python;  // the shared helpers (module_support.h)
 
-std::string py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels,
-                  const std::string& name) {
+// The WV study (gmwm::pipeline::study_wv, as `gmwm wv`): the 'wv' JSON column, classical or
+// robust (with the classical WV and the per-level diagnostic beside it), with the Allan
+// deviation and its noise figures when `adev` (as --adev).
+std::string py_wv(const py::object& data, std::optional<double> freq, double alpha, int levels, const std::string& name,
+                  bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
+                  bool spike_screen, const std::string& units, bool adev, int adev_points) {
   const std::vector<double> x = series_of(data, "data");
-  const gmwm::report::ColumnInfo column = info(name, x.size(), freq, "");
-  gmwm::WvOptions o;
-  o.alpha = alpha;
-  o.levels = levels;
-  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
+  const gmwm::io::SignalSet set = signal_set_of({x}, {name}, freq);
+  gmwm::pipeline::WvStudyOptions o;
+  o.wv.alpha = alpha;
+  o.wv.levels = levels;
+  if (const std::string why = o.wv.Validate(); !why.empty()) throw gmwm::InputError(why);
   if (const std::string why = gmwm::io::levels_problem(levels, static_cast<std::int64_t>(x.size()), "levels");
       !why.empty())
     throw gmwm::InputError(why);
-  Json out;
-  {
-    py::gil_scoped_release release;
-    const std::vector<std::span<const double>> series{std::span<const double>(x)};
-    const gmwm::WaveletVariance wv = gmwm::classical_wv(series, o).front();
-    check_wv_range(name, wv, x);
-    out = gmwm::report::wv_column_json(column, wv);
+  o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
+  if (adev) {
+    gmwm::AllanOptions allan;
+    allan.points_per_octave = adev_points;
+    allan.alpha = alpha;
+    if (const std::string why = allan.Validate(); !why.empty()) throw gmwm::InputError("--adev-points: " + why);
+    o.allan = allan;
   }
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
+    gmwm::pipeline::WvStudyOptions oc = o;
+    if (oc.robust) oc.robust->progress = progress;
+    const gmwm::pipeline::WvStudy study = gmwm::pipeline::study_wv(set, oc);
+    const gmwm::pipeline::WvColumnStudy& c = study.columns.front();
+    check_wv_range(name, c.robust ? c.robust->classical : c.wv, x);
+    return Json(gmwm::report::wv_document(set, study, {unit})["columns"][0]);
+  });
   return to_python(out);
 }
 
@@ -120,7 +135,7 @@ std::string py_allan(const py::object& data, std::optional<double> given_freq, i
 std::string py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                    const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
                    bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
-                   const std::string& units) {
+                   bool spike_screen, const std::string& units) {
   const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   gmwm::pipeline::FitStudyOptions o;
@@ -130,7 +145,7 @@ std::string py_fit(const py::object& data, const std::string& model_spec, std::o
   o.fit.bootstrap_replicates = replicates;
   o.fit.seed = seed;
   o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
   const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
@@ -149,7 +164,7 @@ std::string py_fit(const py::object& data, const std::string& model_spec, std::o
 std::string py_select(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                       const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
                       double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
-                      std::optional<double> eff, const std::optional<std::string>& estimator,
+                      std::optional<double> eff, const std::optional<std::string>& estimator, bool spike_screen,
                       const std::string& units_spec, const std::string& models) {
   std::vector<std::string> found;
   std::vector<std::vector<double>> cols = columns_of(data, &found);
@@ -179,7 +194,7 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   so.fit.alpha = alpha;
   so.fit.seed = seed;
   o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   for (const gmwm::ModelSpec& spec : o.models)  // a bad model: InputError, GIL held
     spec.bind(gmwm::ProcessContext{set.freq, set.freq_known});
@@ -383,13 +398,18 @@ PYBIND11_MODULE(_gmwm, m) {
     }
   });
   m.def("wv", &py_wv, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(), py::arg("alpha") = 0.05,
-        py::arg("levels") = 0, py::arg("name") = "x1",
-        "Classical Haar wavelet variance with its chi-square intervals: the 'wv' JSON column");
+        py::arg("levels") = 0, py::arg("name") = "x1", py::arg("robust") = false, py::arg("eff") = py::none(),
+        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "",
+        py::arg("adev") = false, py::arg("adev_points") = gmwm::AllanOptions{}.points_per_octave,
+        "Haar wavelet variance with its intervals, as gmwm wv: the 'wv' JSON column; classical, or robust "
+        "(robust=True: Huber's Proposal 2, the classical WV and a per-level contamination diagnostic beside it); "
+        "adev=True adds the overlapping Allan deviation and the N, K, B read-offs in the column's unit (`units` as "
+        "the CLI's --units)");
   m.def("fit", &py_fit, py::arg("data"), py::arg("model"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("omega") = "model", py::arg("alpha") = 0.05,
         py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("name") = "x1", py::arg("robust") = false, py::arg("eff") = py::none(),
-        py::arg("estimator") = py::none(), py::arg("units") = "",
+        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "",
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
         "(with continuous parameters, Kalman terms, Allan deviations and noise figures in the column's unit; `units` "
         "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`)");
@@ -397,7 +417,8 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
-        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "", py::arg("models") = "",
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("spike_screen") = true,
+        py::arg("units") = "", py::arg("models") = "",
         "Every sub-model of a maximal model (or, models='SPEC1;SPEC2;...', the listed models) ranked by WVIC (or "
         "BIC), per column: a list of 'select' JSON columns "
         "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "

@@ -7,6 +7,7 @@
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/report/json_output.h"
+#include "gmwm/robust/robust_request.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/robust/tuning.h"
 #include "gmwm/engine/choice.h"
@@ -157,30 +158,15 @@ gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const s
   return set;
 }
 
-// The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust.
+// The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust
+// (robust::robust_wv_options: the checks and messages of every face).
 std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::optional<double> eff,
-                                                            const std::optional<std::string>& estimator, double alpha) {
-  if (!robust) {
-    if (eff) throw gmwm::InputError("eff: only meaningful with robust=True");
-    if (estimator) throw gmwm::InputError("estimator: only meaningful with robust=True");
-    return std::nullopt;
-  }
-  gmwm::robust::RobustWvOptions o;
-  o.alpha = alpha;
-  if (eff) {
-    if (!(*eff > 0.0 && *eff < 1.0))
-      throw gmwm::InputError("eff: expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6), got " +
-                             std::to_string(*eff));
-    o.efficiency = *eff;
-  }
-  if (estimator) {
-    const auto kind = gmwm::robust::parse_robust_kind(*estimator);
-    if (!kind)
-      throw gmwm::InputError("estimator: unknown robust estimator '" + *estimator + "'; expected huber or bisquare");
-    o.estimator = *kind;
-  }
-  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError("robust: " + why);
-  return o;
+                                                            const std::optional<std::string>& estimator, double alpha,
+                                                            int levels, bool spike_screen) {
+  gmwm::WvOptions wv;
+  wv.alpha = alpha;
+  wv.levels = levels;
+  return gmwm::robust::robust_wv_options({robust, eff, estimator, !spike_screen}, wv);
 }
 
 gmwm::OmegaKind omega_kind(const std::string& s) {

@@ -102,9 +102,11 @@ std::vector<std::string> names_for(std::size_t k, const std::vector<std::string>
 gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const std::vector<std::string>& labels,
                                   std::optional<double> freq);
 
-// The robust WV settings of `--robust [--eff E] [--estimator NAME]`; nullopt when not robust.
+// The robust WV settings of `--robust [--eff E] [--estimator NAME] [--no-spike-screen]` with the
+// WV's alpha and levels; nullopt when not robust (robust::robust_wv_options: every face's checks).
 std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::optional<double> eff,
-                                                            const std::optional<std::string>& estimator, double alpha);
+                                                            const std::optional<std::string>& estimator, double alpha,
+                                                            int levels, bool spike_screen);
 
 gmwm::OmegaKind omega_kind(const std::string& s);
 

@@ -103,7 +103,8 @@ std::vector<std::string> units_of(const std::vector<gmwm::pipeline::ReplicateGro
 std::string py_fit_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
                          const std::string& omega, double alpha, int test_draws, std::uint64_t seed,
                          const std::vector<std::string>& names, bool robust, std::optional<double> eff,
-                         const std::optional<std::string>& estimator, const std::string& units_spec) {
+                         const std::optional<std::string>& estimator, bool spike_screen,
+                         const std::string& units_spec) {
   const ReplicateArrays r = replicate_groups(recordings, freq, names);
   const std::vector<std::string> units = units_of(r.groups, units_spec);
   gmwm::pipeline::JointFitStudyOptions o;
@@ -112,7 +113,7 @@ std::string py_fit_joint(const py::sequence& recordings, const std::string& mode
   o.fit.alpha = alpha;
   o.fit.seed = seed;
   o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
   o.test_draws = test_draws;
   o.seed = seed;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
@@ -131,8 +132,8 @@ std::string py_fit_joint(const py::sequence& recordings, const std::string& mode
 std::string py_select_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
                             const std::string& optimism, double alpha, std::uint64_t seed,
                             const std::vector<std::string>& names, bool robust, std::optional<double> eff,
-                            const std::optional<std::string>& estimator, const std::string& units_spec,
-                            int test_draws) {
+                            const std::optional<std::string>& estimator, bool spike_screen,
+                            const std::string& units_spec, int test_draws) {
   const ReplicateArrays r = replicate_groups(recordings, freq, names);
   const std::vector<std::string> units = units_of(r.groups, units_spec);
   gmwm::pipeline::JointSelectStudyOptions o;
@@ -147,7 +148,7 @@ std::string py_select_joint(const py::sequence& recordings, const std::string& m
   o.select.select.fit.seed = seed;
   o.select.seed = seed;
   o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha);
+  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
   o.recommended_test_draws = test_draws;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   const gmwm::ProcessContext context{r.primary.freq, r.primary.freq_known};
@@ -292,14 +293,14 @@ void add_multi_signal_functions(py::module_& m) {
         py::arg("freq") = py::none(), py::arg("omega") = "model", py::arg("alpha") = 0.05,
         py::arg("test_draws") = gmwm::ReplicateTestOptions{}.bootstrap, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false, py::arg("eff") = py::none(),
-        py::arg("estimator") = py::none(), py::arg("units") = "",
+        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "",
         "Joint (multi-signal) GMWM fit of one model per axis over replicates (recordings of one sensor, each an "
         "array with the same columns): the document gmwm fit --joint --json writes");
   m.def("select_joint", &py_select_joint, py::arg("replicates"), py::arg("model"), py::kw_only(),
         py::arg("freq") = py::none(), py::arg("optimism") = "replicates", py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
-        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("units") = "",
-        py::arg("test_draws") = 0,
+        py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("spike_screen") = true,
+        py::arg("units") = "", py::arg("test_draws") = 0,
         "Selection over replicates (cross-validated WVIC; optimism='all' adds the joint fit's analytic and bootstrap "
         "WVIC): the document gmwm select --joint --json writes");
   m.def("export", &py_export, py::arg("result"), py::kw_only(), py::arg("format"), py::arg("output") = "",

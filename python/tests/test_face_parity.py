@@ -42,11 +42,12 @@ def test_python_refuses_every_bad_value_of_the_table_with_the_clis_words(recordi
     args = [case["study"], "imu.csv", case["option"], case["value"]]
     if case["option"] not in ("--model", "--models"):
         args += ["--model", MODEL]
-    cli = run(folder, *args, check=False)
+    also = case.get("also", {})
+    cli = run(folder, *args, *also, check=False)
     assert cli.returncode == 2, cli.stderr
     assert cli.stderr.strip().endswith(case["words"]), cli.stderr
     with pytest.raises(gmwm.InputError) as e:
-        python_call(case["study"], x, **{case["field"]: case["json"]})
+        python_call(case["study"], x, **{case["field"]: case["json"]}, **{f[2:]: on for f, on in also.items()})
     said = str(e.value)
     assert said.endswith(case["words"]), f"python: {said}\nwords: {case['words']}"
     assert case["field"] in said and "--" not in said, said

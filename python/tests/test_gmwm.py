@@ -243,9 +243,9 @@ def test_robust_fit_and_select_equal_the_cli_json_bit_for_bit(tmp_path, example)
                        estimator="bisquare")[0]
     assert_text_is_the_document(mine, col)
     check_select_column(mine, col)
-    with pytest.raises(gmwm.InputError, match="eff: only meaningful with robust=True"):
+    with pytest.raises(gmwm.InputError, match="eff 0.6: only meaningful with robust=True"):
         gmwm.fit(example["gyro_y"], "WN", freq=100.0, eff=0.6)
-    with pytest.raises(gmwm.InputError, match="unknown robust estimator 'tukey'"):
+    with pytest.raises(gmwm.InputError, match="estimator: found 'tukey', expected huber or bisquare"):
         gmwm.fit(example["gyro_y"], "WN", freq=100.0, robust=True, estimator="tukey")
 
 

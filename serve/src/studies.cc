@@ -19,6 +19,7 @@
 #include "gmwm/report/json_output.h"
 #include "gmwm/report/report_data.h"
 #include "gmwm/report/study_text.h"
+#include "gmwm/robust/robust_request.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/select.h"
 #include "gmwm/engine/choice.h"
@@ -64,27 +65,15 @@ std::shared_ptr<const Dataset> find_dataset(const RequestBody& b, Datasets& data
   return d;
 }
 
+// The request's robust fields (robust, eff, estimator, spike_screen) checked as every face's
+// (robust::robust_wv_options), its messages in the page's words.
 std::optional<robust::RobustWvOptions> robust_options(const RequestBody& b, const WvOptions& wv) {
-  if (!b.flag("robust", false)) {
-    for (const char* k : {"eff", "estimator"})
-      if (b.has(k)) b.fail(k, "only meaningful with \"robust\": true");
-    return std::nullopt;
-  }
-  robust::RobustWvOptions o;
-  o.levels = wv.levels;
-  o.alpha = wv.alpha;
-  if (const auto eff = b.number("eff")) {
-    if (!(*eff > 0.0 && *eff < 1.0))
-      b.fail("eff", "expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)");
-    o.efficiency = *eff;
-  }
-  if (b.has("estimator")) {
-    const auto kind = robust::parse_robust_kind(b.text("estimator"));
-    if (!kind) b.fail("estimator", "expected huber or bisquare");
-    o.estimator = *kind;
-  }
-  if (const std::string why = o.Validate(); !why.empty()) b.fail("robust", why);
-  return o;
+  robust::RobustRequest r;
+  r.robust = b.flag("robust", false);
+  r.eff = b.number("eff");
+  if (b.has("estimator")) r.estimator = b.text("estimator");
+  r.no_spike_screen = !b.flag("spike_screen", true);
+  return as_bad_request(b.where(), [&] { return robust::robust_wv_options(r, wv); });
 }
 
 // A simulator's or a datasheet's model of `column` from a file's text (the page's overlay).

@@ -154,10 +154,10 @@ TEST_F(GmwmCliBadInput, RejectsBadRobustOptionsWithOneLine) {
     std::vector<std::string> expect;
   };
   const std::vector<Case> cases = {
-      {{"--robust", "--eff", "0"}, {"--eff 0", "between 0 and 1"}},
-      {{"--robust", "--eff", "1"}, {"--eff 1", "between 0 and 1"}},
-      {{"--robust", "--eff", "1.5"}, {"--eff 1.5", "between 0 and 1"}},
-      {{"--robust", "--estimator", "tukey"}, {"--estimator tukey", "huber or bisquare"}},
+      {{"--robust", "--eff", "0"}, {"--eff: found 0, expected", "between 0 and 1"}},
+      {{"--robust", "--eff", "1"}, {"--eff: found 1, expected", "between 0 and 1"}},
+      {{"--robust", "--eff", "1.5"}, {"--eff: found 1.5, expected", "between 0 and 1"}},
+      {{"--robust", "--estimator", "tukey"}, {"--estimator: found 'tukey', expected huber or bisquare"}},
       {{"--eff", "0.6"}, {"--eff 0.6", "only meaningful with --robust"}},
       {{"--estimator", "huber"}, {"--estimator huber", "only meaningful with --robust"}},
       {{"--no-spike-screen"}, {"--no-spike-screen", "only meaningful with --robust"}},

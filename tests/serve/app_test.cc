@@ -154,7 +154,7 @@ TEST_F(ServeAppTest, RefusesMalformedRequestsWithOneLineNamingTheFieldAndKeepsSe
       {"/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN"}, {"omega", "nope"}}.dump(), 400,
        "field 'omega': found 'nope'"},
       {"/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN"}, {"eff", 0.5}}.dump(), 400,
-       "field 'eff': only meaningful with \"robust\": true"},
+       "\"eff\" 0.5: only meaningful with \"robust\": true"},
       {"/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN"}, {"robust", true}, {"eff", 1.5}}.dump(),
        400, "strictly between 0 and 1"},
       {"/api/fit", OJson{{"dataset", d}, {"column", "gyro_x"}, {"model", "WN"}, {"units", "gyro=furlong"}}.dump(), 400,

@@ -35,6 +35,8 @@ TEST_F(ServeAppTest, TheCliAndTheWebAppRefuseEveryBadValueOfTheTableWithTheSameW
     const bool own_model = option == "--model" || option == "--models";
     std::vector<std::string> args = {study, "recordings/imu.csv", "--columns", "gyro_x", option, c.at("value")};
     if (!own_model) args.insert(args.end(), {"--model", kParityModel});
+    const OJson also = c.value("also", OJson::object());  // switches the case needs besides
+    for (const auto& [flag, on] : also.items()) args.push_back(flag);
     const CliRun cli = run_gmwm(args, dir_);
     EXPECT_EQ(cli.exit_code, 2) << option << ": " << cli.err;
     const std::string line = cli.err.substr(0, cli.err.find_last_not_of('\n') + 1);
@@ -43,6 +45,7 @@ TEST_F(ServeAppTest, TheCliAndTheWebAppRefuseEveryBadValueOfTheTableWithTheSameW
 
     OJson body = {{"dataset", d}, {"column", "gyro_x"}, {field, c.at("json")}};
     if (!own_model) body["model"] = kParityModel;
+    for (const auto& [flag, on] : also.items()) body[flag.substr(2)] = on;
     const serve::HttpResponse r = post("/api/" + study, body);
     EXPECT_EQ(r.status, 400) << r.body;
     const std::string web = OJson::parse(r.body).value("error", std::string());

@@ -19,6 +19,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/choice.h"
 #include "gmwm/io/read_request.h"
+#include "gmwm/robust/robust_request.h"
 
 namespace gmwm::cli {
 
@@ -172,30 +173,7 @@ void add_max_evaluations_option(CLI::App& sub, int& max_evaluations) {
 }
 
 std::optional<robust::RobustWvOptions> robust_wv_options(const RobustOptions& robust, const WvOptions& wv) {
-  if (!robust.robust) {
-    if (robust.eff) throw InputError("--eff " + fmt(*robust.eff) + ": only meaningful with --robust");
-    if (robust.estimator) throw InputError("--estimator " + *robust.estimator + ": only meaningful with --robust");
-    if (robust.no_spike_screen) throw InputError("--no-spike-screen: only meaningful with --robust");
-    return std::nullopt;
-  }
-  robust::RobustWvOptions o;
-  o.levels = wv.levels;
-  o.alpha = wv.alpha;
-  o.screen_spikes = !robust.no_spike_screen;
-  if (robust.eff) {
-    if (!(*robust.eff > 0.0 && *robust.eff < 1.0))
-      throw InputError("--eff " + fmt(*robust.eff) +
-                       ": expected a Gaussian efficiency strictly between 0 and 1 (e.g. 0.6)");
-    o.efficiency = *robust.eff;
-  }
-  if (robust.estimator) {
-    const auto kind = robust::parse_robust_kind(*robust.estimator);
-    if (!kind)
-      throw InputError("--estimator " + *robust.estimator + ": unknown robust estimator; expected huber or bisquare");
-    o.estimator = *kind;
-  }
-  if (const std::string why = o.Validate(); !why.empty()) throw InputError("--robust: " + why);
-  return o;
+  return robust::robust_wv_options({robust.robust, robust.eff, robust.estimator, robust.no_spike_screen}, wv);
 }
 
 std::shared_ptr<void> apply_common_options(const CommonOptions& common) {

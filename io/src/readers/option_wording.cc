@@ -37,10 +37,12 @@ constexpr OptionField kOptionFields[] = {
     {"--estimator", "estimator"},
     {"--eff", "eff"},
     {"--robust", "robust", "true"},
+    {"--no-spike-screen", "spike_screen", "false"},
     {"--alpha", "alpha"},
     {"--levels", "levels"},
     {"--sensor", "sensor"},
     {"--trajectory", "trajectory"},
+    {"--adev-points", "adev_points"},
     {"--memory MB", "memory", {}, "MB"},
     {"--memory", "memory"},
 };

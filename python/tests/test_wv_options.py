@@ -1,0 +1,59 @@
+"""gmwm.wv takes what `gmwm wv` takes (issue 45: Python lacked the robust WV, --units and
+--adev): the same study (pipeline::study_wv) and document, so each column equals the
+command's on the same file, and a bad value is refused naming Python's keyword."""
+import json
+
+import numpy as np
+import pytest
+
+import gmwm
+from cli_support import run
+from test_read import RATE, write_csv
+
+N = 8192
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("wv_options")
+    x = gmwm.simulate("WN(sigma2=1e-4)+RW(gamma2=1e-9)", N, freq=RATE, signals=1, seed=21).reshape(-1, 1).copy()
+    x[::97] += 0.3  # outliers: the robust WV's contamination diagnostic has something to say
+    write_csv(folder / "imu.csv", x, names=("gyro_x",))
+    return folder, gmwm.read(folder / "imu.csv")
+
+
+def cli_column(folder, *args):
+    return json.loads(run(folder, "wv", "imu.csv", *args, "--json", "-", "--quiet").stdout)["columns"][0]
+
+
+@pytest.mark.parametrize("python,cli", [
+    ({}, []),
+    ({"robust": True}, ["--robust"]),
+    ({"robust": True, "eff": 0.8, "estimator": "bisquare"}, ["--robust", "--eff", "0.8", "--estimator", "bisquare"]),
+    ({"robust": True, "levels": 9, "spike_screen": False}, ["--robust", "--levels", "9", "--no-spike-screen"]),
+    ({"adev": True, "units": "deg/s"}, ["--adev", "--units", "deg/s"]),
+    ({"adev": True, "adev_points": 2, "levels": 8}, ["--adev", "--adev-points", "2", "--levels", "8"]),
+], ids=["classical", "robust", "robust bisquare", "robust levels unscreened", "adev with units",
+        "adev points and levels"])
+def test_wv_gives_the_commands_column_for_each_of_its_options(recording, python, cli):
+    folder, rec = recording
+    w = gmwm.wv(rec, **python)
+    assert w.document == cli_column(folder, *cli)
+    if python.get("robust"):
+        assert w.levels.classical_wv is not None and w.estimator != "classical"
+    if python.get("adev"):
+        assert w.allan is not None and w.noise_figures is not None
+
+
+@pytest.mark.parametrize("kw,words", [
+    ({"eff": 0.8}, "eff 0.8: only meaningful with robust=True"),
+    ({"robust": True, "estimator": "tukey"}, "estimator: "),
+    ({"units": "furlong"}, "units 'furlong'"),
+    ({"adev": True, "adev_points": 0}, "adev_points: "),
+    ({"spike_screen": False}, "spike_screen=False: only meaningful with robust=True"),
+])
+def test_a_bad_wv_option_is_refused_naming_its_keyword(recording, kw, words):
+    _, rec = recording
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.wv(rec, **kw)
+    assert str(e.value).startswith(words) and "--" not in str(e.value), str(e.value)
