@@ -135,17 +135,20 @@ std::string py_allan(const py::object& data, std::optional<double> given_freq, i
 std::string py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                    const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
                    bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
-                   bool spike_screen, const std::string& units) {
+                   bool spike_screen, const std::string& units, int levels, int max_evaluations,
+                   std::optional<double> kf_rate) {
   const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
+  const double filter = kalman_rate(kf_rate, set);
   gmwm::pipeline::FitStudyOptions o;
   o.model = model_spec;
   o.fit.omega = omega_kind(omega);
   o.fit.alpha = alpha;
   o.fit.bootstrap_replicates = replicates;
   o.fit.seed = seed;
-  o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
+  o.fit.max_evaluations = max_evaluations;
+  o.wv = wv_levels(alpha, levels, set);
+  o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
   const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
@@ -153,7 +156,7 @@ std::string py_fit(const py::object& data, const std::string& model_spec, std::o
     oc.fit.progress = progress;  // the bootstrap Omega's draws
     if (oc.robust) oc.robust->progress = progress;
     const gmwm::pipeline::FitStudy study = gmwm::pipeline::study_fit(set, oc);
-    return Json(gmwm::report::fit_document(set, study, {unit}, set.freq_known ? set.freq : 0.0)["columns"][0]);
+    return Json(gmwm::report::fit_document(set, study, {unit}, filter)["columns"][0]);
   });
   return to_python(out);
 }
@@ -165,7 +168,8 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
                       const std::string& optimism, const std::string& omega, const std::string& penalty, int replicates,
                       double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
                       std::optional<double> eff, const std::optional<std::string>& estimator, bool spike_screen,
-                      const std::string& units_spec, const std::string& models) {
+                      const std::string& units_spec, const std::string& models, int levels, int max_evaluations,
+                      std::optional<double> kf_rate) {
   std::vector<std::string> found;
   std::vector<std::vector<double>> cols = columns_of(data, &found);
   const std::vector<std::string> labels = names_for(cols.size(), names, found);
@@ -173,6 +177,7 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   std::vector<std::string> units;
   for (const std::string& label : labels) units.push_back(gmwm::io::unit_of_column(spec, label));
   const gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
+  const double filter = kalman_rate(kf_rate, set);
   namespace sel = gmwm::selection;
   gmwm::pipeline::SelectStudyOptions o;
   gmwm::pipeline::set_select_models(o, model_spec, models);
@@ -193,8 +198,9 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   so.seed = seed;
   so.fit.alpha = alpha;
   so.fit.seed = seed;
-  o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
+  so.fit.max_evaluations = max_evaluations;
+  o.wv = wv_levels(alpha, levels, set);
+  o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   for (const gmwm::ModelSpec& spec : o.models)  // a bad model: InputError, GIL held
     spec.bind(gmwm::ProcessContext{set.freq, set.freq_known});
@@ -203,7 +209,7 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
     oc.select.progress = progress;  // every fit and bootstrap draw
     if (oc.robust) oc.robust->progress = progress;
     const gmwm::pipeline::SelectStudy study = gmwm::pipeline::study_select(set, oc);
-    return Json(gmwm::report::select_document(set, study, units, set.freq_known ? set.freq : 0.0)["columns"]);
+    return Json(gmwm::report::select_document(set, study, units, filter)["columns"]);
   });
   return to_python(out);
 }
@@ -409,7 +415,8 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("omega") = "model", py::arg("alpha") = 0.05,
         py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("name") = "x1", py::arg("robust") = false, py::arg("eff") = py::none(),
-        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "",
+        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "", py::arg("levels") = 0,
+        py::arg("max_evaluations") = gmwm::FitOptions{}.max_evaluations, py::arg("kf_rate") = py::none(),
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
         "(with continuous parameters, Kalman terms, Allan deviations and noise figures in the column's unit; `units` "
         "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`)");
@@ -418,7 +425,8 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
         py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("spike_screen") = true,
-        py::arg("units") = "", py::arg("models") = "",
+        py::arg("units") = "", py::arg("models") = "", py::arg("levels") = 0,
+        py::arg("max_evaluations") = gmwm::FitOptions{}.max_evaluations, py::arg("kf_rate") = py::none(),
         "Every sub-model of a maximal model (or, models='SPEC1;SPEC2;...', the listed models) ranked by WVIC (or "
         "BIC), per column: a list of 'select' JSON columns "
         "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "

@@ -169,6 +169,24 @@ std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::op
   return gmwm::robust::robust_wv_options({robust, eff, estimator, !spike_screen}, wv);
 }
 
+gmwm::WvOptions wv_levels(double alpha, int levels, const gmwm::io::SignalSet& set) {
+  gmwm::WvOptions o;
+  o.alpha = alpha;
+  o.levels = levels;
+  if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
+  const auto n = set.signals.empty() ? std::int64_t{0} : static_cast<std::int64_t>(set.signals.front().values.size());
+  if (const std::string why = gmwm::io::levels_problem(levels, n, "--levels"); !why.empty())
+    throw gmwm::InputError(why);
+  return o;
+}
+
+double kalman_rate(std::optional<double> kf_rate, const gmwm::io::SignalSet& set) {
+  if (!kf_rate) return set.freq_known ? set.freq : 0.0;
+  if (const std::string why = gmwm::io::sampling_rate_problem(*kf_rate, "--kf-rate"); !why.empty())
+    throw gmwm::InputError(why);
+  return *kf_rate;
+}
+
 gmwm::OmegaKind omega_kind(const std::string& s) {
   if (const auto k = gmwm::parse_omega_kind(s)) return *k;
   throw gmwm::InputError("--omega: " + gmwm::unknown_choice(s, gmwm::omega_kind_names()));

@@ -110,6 +110,13 @@ std::optional<gmwm::robust::RobustWvOptions> robust_options(bool robust, std::op
 
 gmwm::OmegaKind omega_kind(const std::string& s);
 
+// The classical WV's settings of a study: alpha and levels (0: all), the levels refused as
+// the CLI's --levels beyond what the set's samples give.
+gmwm::WvOptions wv_levels(double alpha, int levels, const gmwm::io::SignalSet& set);
+
+// The Kalman table's rate (--kf-rate): the given one, checked, else the data's rate.
+double kalman_rate(std::optional<double> kf_rate, const gmwm::io::SignalSet& set);
+
 /// The joint fit and selection over replicates, the export and the fleet: their m.def.
 void add_multi_signal_functions(py::module_& m);
 // gmwm.read and the timing of an index (read_bindings.cc).

@@ -57,3 +57,32 @@ def test_a_bad_wv_option_is_refused_naming_its_keyword(recording, kw, words):
     with pytest.raises(gmwm.InputError) as e:
         gmwm.wv(rec, **kw)
     assert str(e.value).startswith(words) and "--" not in str(e.value), str(e.value)
+
+
+@pytest.mark.parametrize("python,cli", [
+    ({"levels": 9}, ["--levels", "9"]),
+    ({"kf_rate": 50}, ["--kf-rate", "50"]),
+    ({"max_evaluations": 40}, ["--max-evaluations", "40"]),
+    ({"robust": True, "levels": 10}, ["--robust", "--levels", "10"]),
+], ids=["levels", "kf_rate", "max_evaluations", "robust levels"])
+def test_fit_and_select_take_the_commands_levels_kalman_rate_and_evaluations(recording, python, cli):
+    folder, rec = recording
+    f = gmwm.fit(rec, "WN+RW", **python)
+    command = json.loads(run(folder, "fit", "imu.csv", "--model", "WN+RW", *cli, "--json", "-", "--quiet").stdout)
+    assert f.document == command["columns"][0]
+    s = gmwm.select(rec, "WN+RW", **python)
+    command = json.loads(run(folder, "select", "imu.csv", "--model", "WN+RW", *cli, "--json", "-", "--quiet").stdout)
+    assert [c.document for c in s] == command["columns"]
+
+
+@pytest.mark.parametrize("kw,words", [
+    ({"levels": 20}, "levels 20: the signals have 8192 samples, which give at most 13 levels"),
+    ({"kf_rate": 0}, "kf_rate: found 0, expected a sampling rate in Hz"),
+    ({"max_evaluations": 5}, "max_evaluations must be at least 10"),
+])
+def test_a_bad_fit_option_is_refused_naming_its_keyword(recording, kw, words):
+    _, rec = recording
+    for call in (gmwm.fit, gmwm.select):
+        with pytest.raises(gmwm.InputError) as e:
+            call(rec, "WN+RW", **kw)
+        assert words in str(e.value) and "--" not in str(e.value), str(e.value)

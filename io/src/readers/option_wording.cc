@@ -43,6 +43,8 @@ constexpr OptionField kOptionFields[] = {
     {"--sensor", "sensor"},
     {"--trajectory", "trajectory"},
     {"--adev-points", "adev_points"},
+    {"--kf-rate", "kf_rate"},
+    {"--max-evaluations", "max_evaluations"},
     {"--memory MB", "memory", {}, "MB"},
     {"--memory", "memory"},
 };
