@@ -59,8 +59,8 @@ import os
 from typing import Any, Callable, ParamSpec, TypeVar
 
 from . import _gmwm, _signals
-from ._common import (AllanDeviation, ContinuousParameter, FigureComponent, FitQuality, GoodnessOfFit, JsonResult,
-                      Kalman, KalmanTerm, NoiseFigure, NoiseFigures, Parameter, Readoff, WorstLevel)
+from ._common import (JsonResult)
+from ._types import (AllanDeviation, ContinuousParameter, FigureComponent, FitQuality, GoodnessOfFit, Kalman, KalmanTerm, NoiseFigure, NoiseFigures, Parameter, Readoff, WorstLevel)
 from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, CorrectedConfig, CrossAxis,
                    CrossAxisPair, GapAssessment, GapBand, GapCandidate, GapCheckCase, GapCheckFamily, GapCheckResult,
                    GapColumn, GapEvent, GapEventTest, GapStepScan, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,

@@ -9,12 +9,15 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
-from typing import Any, Iterable, Mapping, TypeVar
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, TypeVar
 
 import numpy as np
 import numpy.typing as npt
 
 from ._json_text import item_texts, member_text
+
+if TYPE_CHECKING:
+    from ._types import ContinuousParameter, KalmanTerm, NoiseFigure, Parameter
 
 T = TypeVar("T", bound="JsonResult")
 
@@ -122,40 +125,36 @@ def built(cls: type[T], text: str) -> T:
     return cls._from(json.loads(text), text)
 
 
-@dataclass(frozen=True)
-class Parameter:
-    """A fitted parameter in display units (docs/cli.md "fit"): `interval` is the kind of
-    [ci_low, ci_high]: two-sided, one-sided, not identified or boundary (None: not given)."""
+# The methods of the typed results (their fields, JSON keys and from_dict are generated from
+# report/schema/results.json into _types.py; each mixin names the fields it reads).
 
+
+class ParameterMethods:
     process: str
     component: int
     name: str
     value: float
-    se: float
     ci_low: float
     ci_high: float
     interval: str | None
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any]) -> "Parameter":
-        return cls(d["process"], int(d["component"]), d["name"], num(d["value"]), num(d.get("se")),
-                   num(d.get("ci_low")), num(d.get("ci_high")), d.get("interval"))
 
     def __repr__(self) -> str:
         return (f"Parameter({self.process}[{self.component}].{self.name} = {g(self.value)} "
                 f"[{g(self.ci_low)}, {g(self.ci_high)}] {self.interval or 'no interval'})")
 
 
-def parameters(rows: Iterable[Mapping[str, Any]] | None) -> tuple[Parameter, ...]:
+def parameters(rows: Iterable[Mapping[str, Any]] | None) -> tuple["Parameter", ...]:
+    from ._types import Parameter
+
     return tuple(Parameter.from_dict(r) for r in rows or ())
 
 
 class HasParameters:
     """`parameter(name, process, component)`: one row of `parameters`."""
 
-    parameters: tuple[Parameter, ...]
+    parameters: tuple["Parameter", ...]
 
-    def parameter(self, name: str, process: str | None = None, component: int | None = None) -> Parameter:
+    def parameter(self, name: str, process: str | None = None, component: int | None = None) -> "Parameter":
         """The parameter called `name` (of `process`, of `component`); KeyError when none or
         several match."""
         found = [p for p in self.parameters if p.name == name and process in (None, p.process)
@@ -166,136 +165,55 @@ class HasParameters:
         return found[0]
 
 
-@dataclass(frozen=True)
-class ContinuousParameter:
-    """A parameter as a physical quantity (correlation time, noise density, ...) with its
-    interval and unit; `component` is None where the JSON has none (gap's "physical")."""
-
+class ContinuousParameterMethods:
     process: str
-    component: int | None
     name: str
     value: float
     ci_low: float
     ci_high: float
     unit: str
-    convention: str
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any]) -> "ContinuousParameter":
-        return cls(d["process"], opt_int(d.get("component")), d["name"], num(d["value"]), num(d.get("ci_low")),
-                   num(d.get("ci_high")), d["unit"], d["convention"])
 
     def __repr__(self) -> str:
         return (f"ContinuousParameter({self.process}.{self.name} = {g(self.value)} {self.unit} "
                 f"[{g(self.ci_low)}, {g(self.ci_high)}])")
 
 
-def continuous(rows: Iterable[Mapping[str, Any]] | None) -> tuple[ContinuousParameter, ...]:
+def continuous(rows: Iterable[Mapping[str, Any]] | None) -> tuple["ContinuousParameter", ...]:
+    from ._types import ContinuousParameter
+
     return tuple(ContinuousParameter.from_dict(r) for r in rows or ())
 
 
-@dataclass(frozen=True)
-class GoodnessOfFit:
-    statistic: float
-    df: float
-    p_value: float
-    method: str
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any]) -> "GoodnessOfFit":
-        return cls(num(d["statistic"]), num(d["df"]), num(d["p_value"]), d["method"])
-
-
-@dataclass(frozen=True)
-class WorstLevel:
-    level: int
-    tau: float
-    tau_seconds: float
-    ratio: float
-    z: float
-
-
-@dataclass(frozen=True)
-class FitQuality:
-    """Whether the fit is rejected (p < 5%), the verdict, the levels that depart most and
-    whether it is degenerate."""
-
+class FitQualityMethods:
     rejected: bool
-    verdict: str | None
-    worst_levels: tuple[WorstLevel, ...]
     degenerate: bool
-    degeneracy: str | None
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any] | None) -> "FitQuality | None":
-        if d is None:
-            return None
-        worst = tuple(WorstLevel(int(w["level"]), num(w["tau"]), num(w["tau_seconds"]), num(w["ratio"]), num(w["z"]))
-                      for w in d["worst_levels"])
-        return cls(bool(d["rejected"]), d["verdict"], worst, bool(d["degenerate"]), d["degeneracy"])
 
     def __repr__(self) -> str:
         return f"FitQuality(rejected={self.rejected}, degenerate={self.degenerate})"
 
 
-@dataclass(frozen=True)
-class KalmanTerm:
-    """One Kalman-filter term: `q` the continuous spectral density, `discrete` the per-step
-    variance, `transition` the state transition (None/NaN where not a state)."""
-
+class KalmanTermMethods:
     process: str
-    component: int | None
     role: str
     q: float
     q_unit: str | None
-    transition: float
-    discrete: float
-    discrete_unit: str | None
-    note: str
 
     def __repr__(self) -> str:
         return f"KalmanTerm({self.process}: {self.role}, q={g(self.q)} {self.q_unit})"
 
 
-@dataclass(frozen=True)
-class Kalman:
+class KalmanMethods:
     filter_rate: float
-    terms: tuple[KalmanTerm, ...]
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any] | None) -> "Kalman | None":
-        if d is None:
-            return None
-        terms = tuple(KalmanTerm(t["process"], opt_int(t["component"]), t["role"], num(t["q"]), t["q_unit"],
-                                 num(t["transition"]), num(t["discrete"]), t["discrete_unit"], t["note"])
-                      for t in d["terms"])
-        return cls(num(d["filter_rate"]), terms)
+    terms: tuple["KalmanTerm", ...]
 
     def __repr__(self) -> str:
         return f"Kalman({len(self.terms)} terms at {g(self.filter_rate)} Hz)"
 
 
-@dataclass(frozen=True, eq=False)
-class AllanDeviation:
-    """The overlapping Allan deviation on its octave grid (`tau` in seconds, `m` the
-    averaging factors) with its chi-square interval; `model` the model's curve on the same
-    grid, or None."""
-
-    alpha: float
-    m: IntArray
+class AllanDeviationMethods:
     tau: FloatArray
     adev: FloatArray
-    ci_low: FloatArray
-    ci_high: FloatArray
-    edf: FloatArray
     model: FloatArray | None
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any] | None) -> "AllanDeviation | None":
-        if d is None:
-            return None
-        return cls(num(d["alpha"]), ints(d["m"]), floats(d["tau"]), floats(d["adev"]), floats(d["ci_low"]),
-                   floats(d["ci_high"]), floats(d["edf"]), None if d["model"] is None else floats(d["model"]))
 
     def __len__(self) -> int:
         return len(self.tau)
@@ -307,32 +225,11 @@ class AllanDeviation:
                 f"smallest adev {g(float(np.nanmin(self.adev)))}{', with model' if self.model is not None else ''})")
 
 
-@dataclass(frozen=True)
-class FigureComponent:
-    """A model component's share of a noise figure."""
-
-    component: str
-    share: float
-
-
-@dataclass(frozen=True)
-class Readoff:
-    """One read-off of the Allan deviation (the model's or the data's): `how` says how it
-    was read (the method), `status` read, extrapolated or bound (None: not available)."""
-
+class ReadoffMethods:
     value: float
     low: float
     high: float
     status: str | None
-    tau: float
-    region_from: float
-    region_to: float
-    how: str
-    components: tuple[FigureComponent, ...]
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any]) -> "Readoff":
-        return cls(**readoff_fields(d))
 
     @property
     def interval(self) -> tuple[float, float]:
@@ -342,57 +239,33 @@ class Readoff:
         return f"Readoff({g(self.value)} [{g(self.low)}, {g(self.high)}], {self.status})"
 
 
-def readoff_fields(d: Mapping[str, Any]) -> dict[str, Any]:
-    return dict(value=num(d["value"]), low=num(d["low"]), high=num(d["high"]), status=d["status"],
-                tau=num(d["tau"]), region_from=num(d["region_from"]), region_to=num(d["region_to"]), how=d["how"],
-                components=tuple(FigureComponent(c["component"], num(c["share"])) for c in d["components"]))
-
-
-@dataclass(frozen=True)
-class NoiseFigure(Readoff):
-    """A noise figure (N, K or B) as written: its value, interval [low, high] and unit,
-    `source` (model, data or bound: whose read-off it is), `note`, and both read-offs."""
-
+class NoiseFigureMethods:
+    value: float
+    low: float
+    high: float
+    status: str | None
     unit: str
     source: str
-    note: str
-    model: Readoff
-    data: Readoff
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any]) -> "NoiseFigure":
-        return cls(**readoff_fields(d), unit=d["unit"], source=d["source"], note=d["note"],
-                   model=Readoff.from_dict(d["model"]), data=Readoff.from_dict(d["data"]))
 
     def __repr__(self) -> str:
         return f"NoiseFigure({g(self.value)} {self.unit} [{g(self.low)}, {g(self.high)}], {self.source}, {self.status})"
 
 
-@dataclass(frozen=True)
-class NoiseFigures:
-    """The IEEE 952 figures: N (JSON "white"), K ("walk") and B ("instability")."""
-
-    N: NoiseFigure
-    K: NoiseFigure
-    B: NoiseFigure
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any] | None) -> "NoiseFigures | None":
-        if d is None:
-            return None
-        return cls(NoiseFigure.from_dict(d["white"]), NoiseFigure.from_dict(d["walk"]),
-                   NoiseFigure.from_dict(d["instability"]))
+class NoiseFiguresMethods:
+    N: "NoiseFigure"
+    K: "NoiseFigure"
+    B: "NoiseFigure"
 
     @property
-    def white(self) -> NoiseFigure:
+    def white(self) -> "NoiseFigure":
         return self.N
 
     @property
-    def walk(self) -> NoiseFigure:
+    def walk(self) -> "NoiseFigure":
         return self.K
 
     @property
-    def instability(self) -> NoiseFigure:
+    def instability(self) -> "NoiseFigure":
         return self.B
 
     def __repr__(self) -> str:

@@ -6,8 +6,9 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._common import (BoolArray, FloatArray, IntArray, ContinuousParameter, HasParameters, JsonResult, Parameter, bools, built, column_texts,
+from ._common import (BoolArray, FloatArray, HasParameters, IntArray, JsonResult, bools, built, column_texts,
                       continuous, floats, g, num, parameters, strings)
+from ._types import ContinuousParameter, Parameter
 
 
 @dataclass(frozen=True)

@@ -7,9 +7,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._common import BoolArray, FloatArray, IntArray, JsonResult, floats, g, num, strings
-
-
+from ._common import (BoolArray, FloatArray, IntArray, JsonResult, floats, g, num, strings)
 @dataclass(frozen=True)
 class NavScenario:
     """The trajectory, rates, outages ((start, end) in seconds) and initial errors."""

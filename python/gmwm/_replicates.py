@@ -7,9 +7,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ._common import (BoolArray, FloatArray, IntArray, AllanDeviation, ContinuousParameter, GoodnessOfFit, HasParameters, JsonResult, Kalman,
-                      NoiseFigures, Parameter, built, column_texts, continuous, floats, g, num, opt_int, parameters,
-                      strings)
+from ._common import (BoolArray, FloatArray, HasParameters, IntArray, JsonResult, built, column_texts, continuous, floats, g, num, opt_int, parameters, strings)
+from ._types import (AllanDeviation, ContinuousParameter, GoodnessOfFit, Kalman, NoiseFigures, Parameter)
 from ._results import BestFit
 
 

@@ -8,9 +8,8 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from ._common import (present, BoolArray, FloatArray, IntArray, AllanDeviation, ContinuousParameter, FitQuality, GoodnessOfFit, HasParameters, JsonResult,
-                      Kalman, NoiseFigures, Parameter, bools, built, continuous, floats, g, ints, num, opt_int,
-                      parameters, strings)
+from ._common import (BoolArray, FloatArray, HasParameters, IntArray, JsonResult, bools, built, continuous, floats, g, ints, num, opt_int, parameters, present, strings)
+from ._types import (AllanDeviation, ContinuousParameter, FitQuality, GoodnessOfFit, Kalman, NoiseFigures, Parameter)
 from ._json_text import item_texts
 
 
