@@ -73,8 +73,8 @@ from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, Fle
 from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
                           JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
 from ._signals import Recording, Timing, TimingWarning, read
-from ._results import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
-                       WvResult)
+from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
+                     WvResult)
 
 
 def _signature(doc: str, returns: str) -> inspect.Signature | None:

@@ -8,8 +8,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ._common import (BoolArray, FloatArray, HasParameters, IntArray, JsonResult, built, column_texts, continuous, floats, g, num, opt_int, parameters, strings)
-from ._types import (AllanDeviation, ContinuousParameter, GoodnessOfFit, Kalman, NoiseFigures, Parameter)
-from ._results import BestFit
+from ._types import (BestFit, AllanDeviation, ContinuousParameter, GoodnessOfFit, Kalman, NoiseFigures, Parameter)
 
 
 @dataclass(frozen=True, eq=False)
@@ -217,7 +216,7 @@ class JointSelectColumn(JsonResult):
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "JointSelectColumn":
-        best = BestFit.from_column(d, d["best_fit"]["model"], ()) if "best_fit" in d else None
+        best = BestFit.from_dict(d) if "best_fit" in d else None
         return cls(d, text, d["name"], num(d["freq"]), strings(d["replicates"]), d["full_model"],
                    tuple(tuple(int(i) for i in s) for s in d["training"]), d["chosen"], d["recommended"],
                    d["chosen_analytic"], d["chosen_bootstrap"], bool(d["all_rejected"]),

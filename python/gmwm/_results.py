@@ -1,53 +1,24 @@
-"""Typed results of wv, allan, fit and select (docs/cli.md, "JSON"), built from the
-library's JSON text; each keeps the parsed document (`.document`) and the text
-(`.to_json()`)."""
+"""The methods of the typed results of wv, allan, fit and select (docs/cli.md, "JSON"): their
+fields and from_dict are generated from report/schema/results.json into _types.py; each
+result keeps the parsed document (`.document`) and the text (`.to_json()`)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Iterator, Mapping
+from typing import TYPE_CHECKING, Any, Iterator, Mapping
 
 import numpy as np
 
-from ._common import (BoolArray, FloatArray, HasParameters, IntArray, JsonResult, bools, built, continuous, floats, g, ints, num, opt_int, parameters, present, strings)
-from ._types import (AllanDeviation, ContinuousParameter, FitQuality, GoodnessOfFit, Kalman, NoiseFigures, Parameter)
+from ._common import FloatArray, HasParameters, built, g, parameters
 from ._json_text import item_texts
 
+if TYPE_CHECKING:
+    from ._types import (AllanDeviation, BestFit, ContinuousParameter, GoodnessOfFit, Kalman, NoiseFigures,
+                         Parameter, SelectColumn, WvLevels)
 
-@dataclass(frozen=True, eq=False)
-class WvLevels:
-    """A wavelet variance level by level, as arrays: `level` (1, 2, ...), `tau` (samples),
-    `tau_seconds` (NaN without a rate), `wv` (nu^2), its interval `ci_low`, `ci_high`, the
-    number of wavelet `coefficients` and each level's `note` (None where it has none). The
-    robust estimator's diagnostics (`classical_wv`, `robust_to_classical`, `ci_disjoint`,
-    `contaminated`, `rounding_ratio`, `tail_share`) are None for a classical WV."""
 
-    level: IntArray
+class WvLevelsMethods:
+    level: Any
     tau: FloatArray
-    tau_seconds: FloatArray
     wv: FloatArray
-    ci_low: FloatArray
-    ci_high: FloatArray
-    coefficients: IntArray
-    note: tuple[str | None, ...]
-    classical_wv: FloatArray | None
-    robust_to_classical: FloatArray | None
-    ci_disjoint: BoolArray | None
-    contaminated: BoolArray | None
-    rounding_ratio: FloatArray | None
-    tail_share: FloatArray | None
-
-    @classmethod
-    def from_list(cls, rows: list[Mapping[str, Any]]) -> "WvLevels":
-        def col(key: str) -> list[Any]:
-            return [r.get(key) for r in rows]
-
-        robust = bool(rows) and "classical_wv" in rows[0]
-        return cls(ints(col("level")), floats(col("tau")), floats(col("tau_seconds")), floats(col("wv")),
-                   floats(col("ci_low")), floats(col("ci_high")), ints(col("coefficients")), tuple(col("note")),
-                   floats(col("classical_wv")) if robust else None,
-                   floats(col("robust_to_classical")) if robust else None,
-                   bools(col("ci_disjoint")) if robust else None, bools(col("contaminated")) if robust else None,
-                   floats(col("rounding_ratio")) if robust else None, floats(col("tail_share")) if robust else None)
 
     def __len__(self) -> int:
         return len(self.level)
@@ -85,32 +56,11 @@ class _WvArrays:
         return self.levels.ci_high
 
 
-@dataclass(frozen=True, eq=False)
-class WvResult(JsonResult, _WvArrays):
-    """The wavelet variance of one column (gmwm.wv; a column of `gmwm wv --json`):
-    `w.tau`, `w.wv`, `w.ci_low`, `w.ci_high` are float64 arrays (those of `w.levels`).
-    A `gmwm wv --adev` column also has `unit`, `allan` and `noise_figures` (else None)."""
-
+class WvResultMethods(_WvArrays):
     name: str
     n: int
     freq: float
     estimator: str
-    efficiency: float
-    alpha: float
-    levels: WvLevels
-    small_sample: str | None
-    screening: dict[str, Any] | None
-    quantization: dict[str, Any] | None
-    unit: str | None
-    allan: AllanDeviation | None
-    noise_figures: NoiseFigures | None
-
-    @classmethod
-    def _from(cls, d: Any, text: str) -> "WvResult":
-        return cls(d, text, d["name"], int(d["n"]), num(d["freq"]), d["estimator"], num(d["efficiency"]),
-                   num(d["alpha"]), WvLevels.from_list(d["levels"]), d.get("small_sample"), d.get("screening"),
-                   d.get("quantization"), d.get("unit"), AllanDeviation.from_dict(d.get("allan")),
-                   NoiseFigures.from_dict(d.get("noise_figures")))
 
     def __repr__(self) -> str:
         rate = "no rate" if np.isnan(self.freq) else f"freq={g(self.freq)} Hz"
@@ -118,20 +68,10 @@ class WvResult(JsonResult, _WvArrays):
                 f"{len(self.levels)} levels, wv {g(self.wv[0])} .. {g(self.wv[-1])})")
 
 
-@dataclass(frozen=True, eq=False)
-class AllanResult(JsonResult):
-    """The data's Allan deviation and the noise figures read off it (gmwm.allan; the
-    "unit", "allan" and "noise_figures" of a `gmwm wv --adev` column): `a.tau`, `a.adev`,
-    `a.ci_low`, `a.ci_high` are those of `a.allan`; `a.noise_figures.N`, `.K`, `.B`."""
-
+class AllanResultMethods:
     unit: str | None
     allan: AllanDeviation
     noise_figures: NoiseFigures
-
-    @classmethod
-    def _from(cls, d: Any, text: str) -> "AllanResult":
-        return cls(d, text, d["unit"], present(AllanDeviation.from_dict(d["allan"]), "allan"),
-                   present(NoiseFigures.from_dict(d["noise_figures"]), "noise_figures"))
 
     @property
     def tau(self) -> FloatArray:
@@ -159,188 +99,70 @@ def _figures_repr(f: NoiseFigures | None) -> str:
     return "" if f is None else f", N={g(f.N.value)} {f.N.unit}"
 
 
-@dataclass(frozen=True, eq=False)
-class FitResult(JsonResult, HasParameters, _WvArrays):
-    """A GMWM fit of one column (gmwm.fit; a column of `gmwm fit --json`): `model` with its
-    values, `parameters` (`f.parameter("sigma2", "WN")`), `gof`, `status`, the data's WV
-    (`levels`; `f.wv`, `f.tau`, ...) and the model's (`implied_wv`), the parameters in
-    physical units (`continuous`), `kalman`, `allan` and `noise_figures`."""
-
+class FitResultMethods(HasParameters, _WvArrays):
     name: str
-    n: int
-    freq: float
-    model: str | None
     model_structure: str
-    parameters: tuple[Parameter, ...]
-    quality: FitQuality
-    objective: float
-    gof: GoodnessOfFit
     status: str
-    message: str
-    notes: tuple[str, ...]
-    evaluations: int
-    omega: str
-    implied_wv: FloatArray
-    estimator: str
-    efficiency: float
-    alpha: float
-    levels: WvLevels
-    unit: str | None
-    continuous: tuple[ContinuousParameter, ...]
-    kalman: Kalman | None
-    allan: AllanDeviation | None
+    gof: GoodnessOfFit
     noise_figures: NoiseFigures | None
-    small_sample: str | None = None  # robust fits: the WV's small-sample correction, said
-    screening: dict[str, Any] | None = None  # robust fits: the spike screen's note and replaced samples
-
-    @classmethod
-    def _from(cls, d: Any, text: str) -> "FitResult":
-        return cls(d, text, d["name"], int(d["n"]), num(d["freq"]), d["model"], d["model_structure"],
-                   parameters(d["parameters"]), present(FitQuality.from_dict(d["quality"]), "quality"), num(d["objective"]),
-                   GoodnessOfFit.from_dict(d["gof"]), d["status"], d["message"], strings(d["notes"]),
-                   int(d["evaluations"]), d["omega"], floats(d["implied_wv"]), d["estimator"], num(d["efficiency"]),
-                   num(d["alpha"]), WvLevels.from_list(d["levels"]), d.get("unit"), continuous(d.get("continuous")),
-                   Kalman.from_dict(d.get("kalman")), AllanDeviation.from_dict(d.get("allan")),
-                   NoiseFigures.from_dict(d.get("noise_figures")), d.get("small_sample"), d.get("screening"))
 
     def __repr__(self) -> str:
         return (f"FitResult({self.name}: {self.model_structure}, {self.status}, "
                 f"gof p={g(self.gof.p_value, 3)}{_figures_repr(self.noise_figures)})")
 
 
-@dataclass(frozen=True, eq=False)
-class RankingRow(HasParameters):
-    """One distinct effective model of a selection's ranking (rank 1 the chosen one):
-    its objective, optimism, criterion (WVIC or BIC), GoF p-value and parameters (with
-    intervals for rank 1, values only for the rest)."""
-
+class RankingRowMethods(HasParameters):
     rank: int
     model: str
     objective: float
     optimism: float
     criterion: float
-    optimism_analytic: float
-    optimism_bootstrap: float
-    optimism_bootstrap_se: float
-    rank_analytic: int | None
-    rank_bootstrap: int | None
     gof_p_value: float
-    status: str
-    effective_parameters: int
-    members: tuple[str, ...]
-    member_objectives: FloatArray
-    reductions: tuple[str, ...]
-    parameters: tuple[Parameter, ...]
-    optimism_note: str | None
-    optimism_difference: float
-
-    @classmethod
-    def from_dict(cls, r: Mapping[str, Any]) -> "RankingRow":
-        return cls(int(r["rank"]), r["model"], num(r["objective"]), num(r["optimism"]), num(r["criterion"]),
-                   num(r["optimism_analytic"]), num(r["optimism_bootstrap"]), num(r["optimism_bootstrap_se"]),
-                   opt_int(r["rank_analytic"]), opt_int(r["rank_bootstrap"]), num(r["gof_p_value"]), r["status"],
-                   int(r["effective_parameters"]), strings(r["members"]), floats(r["member_objectives"]),
-                   strings(r["reductions"]), parameters(r["parameters"]), r.get("optimism_note"),
-                   num(r.get("optimism_difference")))
 
     def __repr__(self) -> str:
         return (f"RankingRow({self.rank}: {self.model}, criterion {g(self.criterion)} = objective "
                 f"{g(self.objective)} + optimism {g(self.optimism)}, gof p={g(self.gof_p_value, 3)})")
 
 
-@dataclass(frozen=True)
-class Candidate:
-    """A candidate model as fitted, and the effective model it fell onto."""
-
-    model: str
-    objective: float
-    status: str
-    effective: str
-    reductions: tuple[str, ...]
-
-    @classmethod
-    def from_dict(cls, c: Mapping[str, Any]) -> "Candidate":
-        return cls(c["model"], num(c["objective"]), c["status"], c["effective"], strings(c["reductions"]))
+def best_structure(c: Mapping[str, Any]) -> str | None:
+    """The chosen model's structure: a selection's "best" (a joint selection's best fit's model)."""
+    if "best" in c:
+        best: str | None = c["best"]
+        return best
+    model: str | None = c["best_fit"]["model"]
+    return model
 
 
-@dataclass(frozen=True, eq=False)
-class BestFit(HasParameters):
-    """A selection's chosen model fitted, in the fields of a fit: `model` with values (the
-    JSON's "best_model"), `model_structure`, `parameters` (rank 1's; empty where the JSON
-    gives none, as over replicates), `objective`, `gof`, `status`, `notes`, `quality` (None
-    over replicates), `unit`, `continuous` ("best_continuous"), `kalman` ("best_kalman"),
-    `allan` and `noise_figures`."""
+def best_parameters(c: Mapping[str, Any]) -> tuple[Parameter, ...]:
+    """The chosen model's parameters: rank 1's row of a selection's ranking (the row whose model
+    is "best"); none over replicates, whose JSON gives none."""
+    chosen = next((r for r in c.get("ranking") or () if r["model"] == c.get("best")), None)
+    return parameters(chosen["parameters"]) if chosen is not None else ()
 
-    model: str | None
+
+def best_fit_of(c: Mapping[str, Any]) -> BestFit:
+    from ._types import BestFit
+
+    return BestFit.from_dict(c)
+
+
+class BestFitMethods(HasParameters):
     model_structure: str | None
-    parameters: tuple[Parameter, ...]
-    objective: float
-    gof: GoodnessOfFit
     status: str
-    notes: tuple[str, ...]
-    quality: FitQuality | None
-    unit: str | None
-    continuous: tuple[ContinuousParameter, ...]
-    kalman: Kalman | None
-    allan: AllanDeviation | None
+    gof: GoodnessOfFit
     noise_figures: NoiseFigures | None
-
-    @classmethod
-    def from_column(cls, c: Mapping[str, Any], structure: str | None, rows: tuple[Parameter, ...]) -> "BestFit":
-        b = c["best_fit"]
-        return cls(c["best_model"], structure, rows, num(b["objective"]), GoodnessOfFit.from_dict(b["gof"]),
-                   b["status"], strings(b.get("notes")), FitQuality.from_dict(b.get("quality")), c.get("unit"),
-                   continuous(c.get("best_continuous")), Kalman.from_dict(c.get("best_kalman")),
-                   AllanDeviation.from_dict(c.get("allan")), NoiseFigures.from_dict(c.get("noise_figures")))
 
     def __repr__(self) -> str:
         return (f"BestFit({self.model_structure}, {self.status}, gof p={g(self.gof.p_value, 3)}"
                 f"{_figures_repr(self.noise_figures)})")
 
 
-@dataclass(frozen=True, eq=False)
-class SelectColumn(JsonResult, _WvArrays):
-    """One column's model selection (a column of `gmwm select --json`): the `ranking`, the
-    chosen model (`best`; with values `best_model`), its fit as `best_fit`, every
-    `candidates` fit, and the data's WV (`levels`)."""
-
+class SelectColumnMethods(_WvArrays):
     name: str
-    n: int
-    freq: float
-    full_model: str
     best: str | None
-    best_model: str | None
-    penalty: str
-    omega: str
-    models: int
-    representation_violations: int
-    ranking: tuple[RankingRow, ...]
-    candidates: tuple[Candidate, ...]
-    not_converged: int
-    failed: int
-    all_rejected: bool
+    ranking: tuple[Any, ...]
     best_fit: BestFit
-    estimator: str
-    efficiency: float
-    alpha: float
-    levels: WvLevels
-    unit: str | None
-    allan: AllanDeviation | None
     noise_figures: NoiseFigures | None
-    small_sample: str | None = None  # robust selections: the WV's small-sample correction, said
-    screening: dict[str, Any] | None = None  # robust selections: the spike screen's note and replaced samples
-
-    @classmethod
-    def _from(cls, d: Any, text: str) -> "SelectColumn":
-        ranking = tuple(RankingRow.from_dict(r) for r in d["ranking"])
-        chosen = next((r for r in ranking if r.model == d["best"]), None)
-        best_fit = BestFit.from_column(d, d["best"], chosen.parameters if chosen else ())
-        return cls(d, text, d["name"], int(d["n"]), num(d["freq"]), d["full_model"], d["best"], d["best_model"],
-                   d["penalty"], d["omega"], int(d["models"]), int(d["representation_violations"]), ranking,
-                   tuple(Candidate.from_dict(c) for c in d["candidates"]), int(d["not_converged"]), int(d["failed"]),
-                   bool(d["all_rejected"]), best_fit, d["estimator"], num(d["efficiency"]), num(d["alpha"]),
-                   WvLevels.from_list(d["levels"]), d.get("unit"), best_fit.allan, best_fit.noise_figures,
-                   d.get("small_sample"), d.get("screening"))
 
     @property
     def best_continuous(self) -> tuple[ContinuousParameter, ...]:
@@ -355,16 +177,15 @@ class SelectColumn(JsonResult, _WvArrays):
                 f"gof p={g(self.best_fit.gof.p_value, 3)}{_figures_repr(self.noise_figures)})")
 
 
-@dataclass(frozen=True, eq=False)
-class SelectResult(JsonResult):
-    """gmwm.select's columns (`s[0]`, `len(s)`, iteration), each a SelectColumn;
-    `to_json()` is the JSON array of the columns."""
+def select_columns(d: Any, text: str) -> tuple[SelectColumn, ...]:
+    """gmwm.select's columns, each built from its own text (its to_json() the column alone)."""
+    from ._types import SelectColumn
 
+    return tuple(built(SelectColumn, t) for t in item_texts(text))
+
+
+class SelectResultMethods:
     columns: tuple[SelectColumn, ...]
-
-    @classmethod
-    def _from(cls, d: Any, text: str) -> "SelectResult":
-        return cls(d, text, tuple(built(SelectColumn, t) for t in item_texts(text)))
 
     def __getitem__(self, k: int) -> SelectColumn:
         return self.columns[k]
@@ -377,7 +198,3 @@ class SelectResult(JsonResult):
 
     def __repr__(self) -> str:
         return "SelectResult(" + ", ".join(f"{c.name}: {c.best}" for c in self.columns) + ")"
-
-
-__all__ = ["WvLevels", "WvResult", "AllanResult", "FitResult", "RankingRow", "Candidate", "BestFit", "SelectColumn",
-           "SelectResult"]

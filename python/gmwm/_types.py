@@ -10,6 +10,9 @@ from ._common import (BoolArray, FloatArray, IntArray, JsonResult, bools, floats
                       strings)
 from ._common import (AllanDeviationMethods, ContinuousParameterMethods, FitQualityMethods, KalmanMethods,
                       KalmanTermMethods, NoiseFigureMethods, NoiseFiguresMethods, ParameterMethods, ReadoffMethods)
+from ._results import (AllanResultMethods, BestFitMethods, FitResultMethods, RankingRowMethods, SelectColumnMethods,
+                       SelectResultMethods, WvLevelsMethods, WvResultMethods, best_fit_of, best_parameters,
+                       best_structure, select_columns)
 
 
 @dataclass(frozen=True, repr=False)
@@ -279,3 +282,352 @@ class NoiseFigures(NoiseFiguresMethods):
         return cls(NoiseFigure.from_dict(d["white"]),
                    NoiseFigure.from_dict(d["walk"]),
                    NoiseFigure.from_dict(d["instability"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class WvLevels(WvLevelsMethods):
+    """A wavelet variance level by level, as arrays: `level` (1, 2, ...), `tau` (samples),
+    `tau_seconds` (NaN without a rate), `wv` (nu^2), its interval `ci_low`, `ci_high`, the
+    number of wavelet `coefficients` and each level's `note` (None where it has none). The
+    robust estimator's diagnostics (`classical_wv`, `robust_to_classical`, `ci_disjoint`,
+    `contaminated`, `rounding_ratio`, `tail_share`) are None for a classical WV."""
+
+    level: IntArray
+    tau: FloatArray
+    tau_seconds: FloatArray
+    wv: FloatArray
+    ci_low: FloatArray
+    ci_high: FloatArray
+    coefficients: IntArray
+    note: tuple[str | None, ...]
+    classical_wv: FloatArray | None
+    robust_to_classical: FloatArray | None
+    ci_disjoint: BoolArray | None
+    contaminated: BoolArray | None
+    rounding_ratio: FloatArray | None
+    tail_share: FloatArray | None
+
+    @classmethod
+    def from_list(cls, rows: list[Mapping[str, Any]]) -> "WvLevels":
+        return cls(ints([r.get("level") for r in rows]),
+                   floats([r.get("tau") for r in rows]),
+                   floats([r.get("tau_seconds") for r in rows]),
+                   floats([r.get("wv") for r in rows]),
+                   floats([r.get("ci_low") for r in rows]),
+                   floats([r.get("ci_high") for r in rows]),
+                   ints([r.get("coefficients") for r in rows]),
+                   tuple([r.get("note") for r in rows]),
+                   floats([r.get("classical_wv") for r in rows]) if rows and "classical_wv" in rows[0] else None,
+                   floats([r.get("robust_to_classical") for r in rows]) if rows and "robust_to_classical" in rows[0] else None,
+                   bools([r.get("ci_disjoint") for r in rows]) if rows and "ci_disjoint" in rows[0] else None,
+                   bools([r.get("contaminated") for r in rows]) if rows and "contaminated" in rows[0] else None,
+                   floats([r.get("rounding_ratio") for r in rows]) if rows and "rounding_ratio" in rows[0] else None,
+                   floats([r.get("tail_share") for r in rows]) if rows and "tail_share" in rows[0] else None)
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class WvResult(WvResultMethods, JsonResult):
+    """The wavelet variance of one column (gmwm.wv; a column of `gmwm wv --json`):
+    `w.tau`, `w.wv`, `w.ci_low`, `w.ci_high` are float64 arrays (those of `w.levels`).
+    A `gmwm wv --adev` column also has `unit`, `allan` and `noise_figures` (else None)."""
+
+    name: str
+    n: int
+    freq: float
+    estimator: str
+    efficiency: float
+    alpha: float
+    levels: WvLevels
+    small_sample: str | None
+    screening: dict[str, Any] | None
+    quantization: dict[str, Any] | None
+    unit: str | None
+    allan: AllanDeviation | None
+    noise_figures: NoiseFigures | None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "WvResult":
+        return cls(d,
+                   text,
+                   d["name"],
+                   int(d["n"]),
+                   num(d["freq"]),
+                   d["estimator"],
+                   num(d["efficiency"]),
+                   num(d["alpha"]),
+                   WvLevels.from_list(d["levels"]),
+                   d.get("small_sample"),
+                   d.get("screening"),
+                   d.get("quantization"),
+                   d.get("unit"),
+                   AllanDeviation.from_dict(d.get("allan")),
+                   NoiseFigures.from_dict(d.get("noise_figures")))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class AllanResult(AllanResultMethods, JsonResult):
+    """The data's Allan deviation and the noise figures read off it (gmwm.allan; the
+    "unit", "allan" and "noise_figures" of a `gmwm wv --adev` column): `a.tau`, `a.adev`,
+    `a.ci_low`, `a.ci_high` are those of `a.allan`; `a.noise_figures.N`, `.K`, `.B`."""
+
+    unit: str | None
+    allan: AllanDeviation
+    noise_figures: NoiseFigures
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "AllanResult":
+        return cls(d,
+                   text,
+                   d.get("unit"),
+                   present(AllanDeviation.from_dict(d["allan"]), "allan"),
+                   present(NoiseFigures.from_dict(d["noise_figures"]), "noise_figures"))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class FitResult(FitResultMethods, JsonResult):
+    """A GMWM fit of one column (gmwm.fit; a column of `gmwm fit --json`): `model` with its
+    values, `parameters` (`f.parameter("sigma2", "WN")`), `gof`, `status`, the data's WV
+    (`levels`; `f.wv`, `f.tau`, ...) and the model's (`implied_wv`), the parameters in
+    physical units (`continuous`), `kalman`, `allan` and `noise_figures`."""
+
+    name: str
+    n: int
+    freq: float
+    model: str | None
+    model_structure: str
+    parameters: tuple[Parameter, ...]
+    quality: FitQuality
+    objective: float
+    gof: GoodnessOfFit
+    status: str
+    message: str
+    notes: tuple[str, ...]
+    evaluations: int
+    omega: str
+    implied_wv: FloatArray
+    estimator: str
+    efficiency: float
+    alpha: float
+    levels: WvLevels
+    unit: str | None
+    continuous: tuple[ContinuousParameter, ...]
+    kalman: Kalman | None
+    allan: AllanDeviation | None
+    noise_figures: NoiseFigures | None
+    small_sample: str | None = None
+    screening: dict[str, Any] | None = None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "FitResult":
+        return cls(d,
+                   text,
+                   d["name"],
+                   int(d["n"]),
+                   num(d["freq"]),
+                   d.get("model"),
+                   d["model_structure"],
+                   tuple(Parameter.from_dict(r) for r in d.get("parameters") or ()),
+                   present(FitQuality.from_dict(d["quality"]), "quality"),
+                   num(d["objective"]),
+                   GoodnessOfFit.from_dict(d["gof"]),
+                   d["status"],
+                   d["message"],
+                   strings(d["notes"]),
+                   int(d["evaluations"]),
+                   d["omega"],
+                   floats(d["implied_wv"]),
+                   d["estimator"],
+                   num(d["efficiency"]),
+                   num(d["alpha"]),
+                   WvLevels.from_list(d["levels"]),
+                   d.get("unit"),
+                   tuple(ContinuousParameter.from_dict(r) for r in d.get("continuous") or ()),
+                   Kalman.from_dict(d.get("kalman")),
+                   AllanDeviation.from_dict(d.get("allan")),
+                   NoiseFigures.from_dict(d.get("noise_figures")),
+                   d.get("small_sample"),
+                   d.get("screening"))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class RankingRow(RankingRowMethods):
+    """One distinct effective model of a selection's ranking (rank 1 the chosen one):
+    its objective, optimism, criterion (WVIC or BIC), GoF p-value and parameters (with
+    intervals for rank 1, values only for the rest)."""
+
+    rank: int
+    model: str
+    objective: float
+    optimism: float
+    criterion: float
+    optimism_analytic: float
+    optimism_bootstrap: float
+    optimism_bootstrap_se: float
+    rank_analytic: int | None
+    rank_bootstrap: int | None
+    gof_p_value: float
+    status: str
+    effective_parameters: int
+    members: tuple[str, ...]
+    member_objectives: FloatArray
+    reductions: tuple[str, ...]
+    parameters: tuple[Parameter, ...]
+    optimism_note: str | None
+    optimism_difference: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "RankingRow":
+        return cls(int(d["rank"]),
+                   d["model"],
+                   num(d["objective"]),
+                   num(d["optimism"]),
+                   num(d["criterion"]),
+                   num(d["optimism_analytic"]),
+                   num(d["optimism_bootstrap"]),
+                   num(d["optimism_bootstrap_se"]),
+                   opt_int(d.get("rank_analytic")),
+                   opt_int(d.get("rank_bootstrap")),
+                   num(d["gof_p_value"]),
+                   d["status"],
+                   int(d["effective_parameters"]),
+                   strings(d["members"]),
+                   floats(d["member_objectives"]),
+                   strings(d["reductions"]),
+                   tuple(Parameter.from_dict(r) for r in d.get("parameters") or ()),
+                   d.get("optimism_note"),
+                   num(d.get("optimism_difference")))
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A candidate model as fitted, and the effective model it fell onto."""
+
+    model: str
+    objective: float
+    status: str
+    effective: str
+    reductions: tuple[str, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Candidate":
+        return cls(d["model"],
+                   num(d["objective"]),
+                   d["status"],
+                   d["effective"],
+                   strings(d["reductions"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class BestFit(BestFitMethods):
+    """A selection's chosen model fitted, in the fields of a fit: `model` with values (the
+    JSON's "best_model"), `model_structure`, `parameters` (rank 1's; empty where the JSON
+    gives none, as over replicates), `objective`, `gof`, `status`, `notes`, `quality` (None
+    over replicates), `unit`, `continuous` ("best_continuous"), `kalman` ("best_kalman"),
+    `allan` and `noise_figures`. Built from the selection's column."""
+
+    model: str | None
+    model_structure: str | None
+    parameters: tuple[Parameter, ...]
+    objective: float
+    gof: GoodnessOfFit
+    status: str
+    notes: tuple[str, ...]
+    quality: FitQuality | None
+    unit: str | None
+    continuous: tuple[ContinuousParameter, ...]
+    kalman: Kalman | None
+    allan: AllanDeviation | None
+    noise_figures: NoiseFigures | None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "BestFit":
+        return cls(d.get("best_model"),
+                   best_structure(d),
+                   best_parameters(d),
+                   num(d["best_fit"]["objective"]),
+                   GoodnessOfFit.from_dict(d["best_fit"]["gof"]),
+                   d["best_fit"]["status"],
+                   strings(d["best_fit"].get("notes")),
+                   FitQuality.from_dict(d["best_fit"].get("quality")),
+                   d.get("unit"),
+                   tuple(ContinuousParameter.from_dict(r) for r in d.get("best_continuous") or ()),
+                   Kalman.from_dict(d.get("best_kalman")),
+                   AllanDeviation.from_dict(d.get("allan")),
+                   NoiseFigures.from_dict(d.get("noise_figures")))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class SelectColumn(SelectColumnMethods, JsonResult):
+    """One column's model selection (a column of `gmwm select --json`): the `ranking`, the
+    chosen model (`best`; with values `best_model`), its fit as `best_fit`, every
+    `candidates` fit, and the data's WV (`levels`)."""
+
+    name: str
+    n: int
+    freq: float
+    full_model: str
+    best: str | None
+    best_model: str | None
+    penalty: str
+    omega: str
+    models: int
+    representation_violations: int
+    ranking: tuple[RankingRow, ...]
+    candidates: tuple[Candidate, ...]
+    not_converged: int
+    failed: int
+    all_rejected: bool
+    best_fit: BestFit
+    estimator: str
+    efficiency: float
+    alpha: float
+    levels: WvLevels
+    unit: str | None
+    allan: AllanDeviation | None
+    noise_figures: NoiseFigures | None
+    small_sample: str | None = None
+    screening: dict[str, Any] | None = None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "SelectColumn":
+        return cls(d,
+                   text,
+                   d["name"],
+                   int(d["n"]),
+                   num(d["freq"]),
+                   d["full_model"],
+                   d.get("best"),
+                   d.get("best_model"),
+                   d["penalty"],
+                   d["omega"],
+                   int(d["models"]),
+                   int(d["representation_violations"]),
+                   tuple(RankingRow.from_dict(r) for r in d.get("ranking") or ()),
+                   tuple(Candidate.from_dict(r) for r in d.get("candidates") or ()),
+                   int(d["not_converged"]),
+                   int(d["failed"]),
+                   bool(d["all_rejected"]),
+                   best_fit_of(d),
+                   d["estimator"],
+                   num(d["efficiency"]),
+                   num(d["alpha"]),
+                   WvLevels.from_list(d["levels"]),
+                   d.get("unit"),
+                   AllanDeviation.from_dict(d.get("allan")),
+                   NoiseFigures.from_dict(d.get("noise_figures")),
+                   d.get("small_sample"),
+                   d.get("screening"))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class SelectResult(SelectResultMethods, JsonResult):
+    """gmwm.select's columns (`s[0]`, `len(s)`, iteration), each a SelectColumn;
+    `to_json()` is the JSON array of the columns."""
+
+    columns: tuple[SelectColumn, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "SelectResult":
+        return cls(d,
+                   text,
+                   select_columns(d, text))

@@ -60,6 +60,7 @@ SCALARS = {
     "strings": ("tuple[str, ...]", "strings(d[{k}])", "strings(d.get({k}))"),
     "floats?": ("FloatArray | None", "None if d.get({k}) is None else floats(d[{k}])", None),
     "any": ("Any", "d.get({k})", "d.get({k})"),
+    "dict?": ("dict[str, Any] | None", "d.get({k})", "d.get({k})"),
 }
 
 
@@ -91,6 +92,12 @@ class Schema:
         options = f[2] if len(f) > 2 else {}
         return name, kind, options.get("key", name), options.get("get", False)
 
+    @staticmethod
+    def default(f):
+        """The field's default as Python text ("" when it has none)."""
+        options = f[2] if len(f) > 2 else {}
+        return f" = {json.dumps(options['default']).replace('null', 'None')}" if "default" in options else ""
+
     def annotation(self, kind):
         if isinstance(kind, dict):
             return kind["py"]
@@ -108,9 +115,12 @@ class Schema:
             raise SystemExit(f"{SCHEMA}: unknown type '{name}'")
 
     def conversion(self, kind, key, get, row="d"):
+        *path, key = key.split(".")  # "best_fit.objective": the member of a member
+        row += "".join(f"[{json.dumps(p)}]" for p in path)
         k = json.dumps(key)
         if isinstance(kind, dict):
-            return f"{kind['call']}({row})"
+            call = kind["call"].split(".")[1]
+            return f"{call}({row}, text)" if kind.get("text") else f"{call}({row})"
         if kind in SCALARS:
             _, required, optional = SCALARS[kind]
             text = optional if get and optional else required
@@ -126,6 +136,8 @@ class Schema:
                 return f"{inner}.from_dict({row}.get({k}))"
             return f"None if {row}.get({k}) is None else {inner}.from_dict({row}[{k}])"
         self.known(kind)
+        if self.types[kind].get("columnar"):
+            return f"{kind}.from_list({row}[{k}])"
         if self.types[kind].get("optional"):
             return f"present({kind}.from_dict({row}[{k}]), {json.dumps(key)})"
         return f"{kind}.from_dict({row}[{k}])"
@@ -175,9 +187,10 @@ class Schema:
         fields = self.fields(name)
         own = [self.field(f) for f in t["fields"]]
         columnar = t.get("columnar")
-        for fname, kind, _, _ in own:
+        for f in t["fields"]:
+            fname, kind, _, _ = self.field(f)
             ann = self.column_annotation(kind) if columnar else self.annotation(kind)
-            out.append(f"    {fname}: {ann}")
+            out.append(f"    {fname}: {ann}{self.default(f)}")
         out.append("")
         if columnar:
             out.append("    @classmethod")
@@ -224,6 +237,10 @@ class Schema:
             if "methods" in self.types[n]:
                 mod, cls = self.types[n]["methods"].split(".")
                 mixins.setdefault(mod, []).append(cls)
+            for f in self.types[n]["fields"]:
+                if isinstance(f[1], dict):
+                    mod, fn = f[1]["call"].split(".")
+                    mixins.setdefault(mod, []).append(fn)
         imports = [wrapped(f"from .{mod} import (", sorted(set(c))) for mod, c in sorted(mixins.items())]
         body = "\n\n\n".join(self.emit(n) for n in self.order())
         return HEADER + "\n".join(imports) + "\n\n\n" + body + "\n"
