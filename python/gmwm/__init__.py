@@ -70,8 +70,8 @@ from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, Fle
                    FleetJointModel, FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,
                    NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
                    WrittenNoise)
-from ._replicates import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
-                          JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
+from ._types import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
+                     JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
 from ._signals import Recording, Timing, TimingWarning, read
 from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
                      WvResult)

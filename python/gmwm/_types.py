@@ -10,6 +10,10 @@ from ._common import (BoolArray, FloatArray, IntArray, JsonResult, bools, floats
                       strings)
 from ._common import (AllanDeviationMethods, ContinuousParameterMethods, FitQualityMethods, KalmanMethods,
                       KalmanTermMethods, NoiseFigureMethods, NoiseFiguresMethods, ParameterMethods, ReadoffMethods)
+from ._replicates import (AgmwmMethods, JointFitColumnMethods, JointFitResultMethods, JointRankingRowMethods,
+                          JointSelectColumnMethods, JointSelectResultMethods, ReplicateBootstrapMethods,
+                          ReplicateFitMethods, ReplicateOwnFitMethods, ReplicateTestMethods, joint_best_fit,
+                          joint_fit_columns, joint_select_columns, training_of)
 from ._results import (AllanResultMethods, BestFitMethods, FitResultMethods, RankingRowMethods, SelectColumnMethods,
                        SelectResultMethods, WvLevelsMethods, WvResultMethods, best_fit_of, best_parameters,
                        best_structure, select_columns)
@@ -590,6 +594,7 @@ class SelectColumn(SelectColumnMethods, JsonResult):
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "SelectColumn":
+        best_fit = best_fit_of(d)
         return cls(d,
                    text,
                    d["name"],
@@ -607,14 +612,14 @@ class SelectColumn(SelectColumnMethods, JsonResult):
                    int(d["not_converged"]),
                    int(d["failed"]),
                    bool(d["all_rejected"]),
-                   best_fit_of(d),
+                   best_fit,
                    d["estimator"],
                    num(d["efficiency"]),
                    num(d["alpha"]),
                    WvLevels.from_list(d["levels"]),
                    d.get("unit"),
-                   AllanDeviation.from_dict(d.get("allan")),
-                   NoiseFigures.from_dict(d.get("noise_figures")),
+                   None if best_fit is None else best_fit.allan,
+                   None if best_fit is None else best_fit.noise_figures,
                    d.get("small_sample"),
                    d.get("screening"))
 
@@ -631,3 +636,286 @@ class SelectResult(SelectResultMethods, JsonResult):
         return cls(d,
                    text,
                    select_columns(d, text))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class ReplicateOwnFit(ReplicateOwnFitMethods):
+    """One recording's own fit of the model."""
+
+    model: str
+    status: str
+    objective: float
+    parameters: tuple[Parameter, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ReplicateOwnFit":
+        return cls(d["model"],
+                   d["status"],
+                   num(d["objective"]),
+                   tuple(Parameter.from_dict(r) for r in d.get("parameters") or ()))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class ReplicateFit(ReplicateFitMethods):
+    """One recording ("FILE:COLUMN") of an axis: its length, its number of WV `levels` (a
+    count here), its share of the joint objective and its own `fit`."""
+
+    source: str
+    n: int
+    levels: int
+    objective_share: float
+    fit: ReplicateOwnFit
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ReplicateFit":
+        return cls(d["source"],
+                   int(d["n"]),
+                   int(d["levels"]),
+                   num(d["objective_share"]),
+                   ReplicateOwnFit.from_dict(d["fit"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Agmwm(AgmwmMethods):
+    """The average of the replicates' own estimates (AGMWM), parameter by parameter, in
+    the order of the joint fit's parameters."""
+
+    value: FloatArray
+    se: FloatArray
+
+    @classmethod
+    def from_list(cls, rows: list[Mapping[str, Any]]) -> "Agmwm":
+        return cls(floats([r.get("value") for r in rows]),
+                   floats([r.get("se") for r in rows]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class ReplicateBootstrap(ReplicateBootstrapMethods):
+    """Replicate-t intervals from resamples of the replicates (display units), per
+    parameter."""
+
+    method: str
+    ci_low: FloatArray
+    ci_high: FloatArray
+    draws: int
+    exhaustive: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ReplicateBootstrap":
+        return cls(d["method"],
+                   floats(d["ci_low"]),
+                   floats(d["ci_high"]),
+                   int(d["draws"]),
+                   bool(d["exhaustive"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class ReplicateTest(ReplicateTestMethods):
+    """The test of whether the recordings share one theta (parametric bootstrap, or its
+    chi-square calibration: `calibration`, with the chi-square's degrees of freedom `df_heterogeneity` and
+    `df_statistic`, NaN for the bootstrap)."""
+
+    heterogeneity: float
+    heterogeneity_p_value: float
+    statistic: float
+    p_value: float
+    own_minimum: FloatArray
+    draws: int
+    calibration: str = "bootstrap"
+    df_heterogeneity: float = float("nan")
+    df_statistic: float = float("nan")
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ReplicateTest":
+        return cls(num(d["heterogeneity"]),
+                   num(d["heterogeneity_p_value"]),
+                   num(d["statistic"]),
+                   num(d["p_value"]),
+                   floats(d["own_minimum"]),
+                   int(d["draws"]),
+                   d.get("calibration", "bootstrap"),
+                   num(d.get("df_heterogeneity")),
+                   num(d.get("df_statistic")))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class JointFitColumn(JointFitColumnMethods, JsonResult):
+    """One axis fitted jointly over its recordings: the joint `model`, `parameters`, `gof`,
+    each recording's own fit (`replicates`), the AGMWM beside it, the replicate bootstrap
+    and test (None when absent), and the joint model's physical fields."""
+
+    name: str
+    freq: float
+    replicates: tuple[ReplicateFit, ...]
+    model: str
+    model_structure: str
+    parameters: tuple[Parameter, ...]
+    agmwm: Agmwm
+    objective: float
+    gof: GoodnessOfFit
+    status: str
+    message: str
+    notes: tuple[str, ...]
+    replicate_bootstrap: ReplicateBootstrap | None
+    replicate_test: ReplicateTest | None
+    unit: str | None
+    continuous: tuple[ContinuousParameter, ...]
+    kalman: Kalman | None
+    allan: AllanDeviation | None
+    noise_figures: NoiseFigures | None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "JointFitColumn":
+        return cls(d,
+                   text,
+                   d["name"],
+                   num(d["freq"]),
+                   tuple(ReplicateFit.from_dict(r) for r in d.get("replicates") or ()),
+                   d["model"],
+                   d["model_structure"],
+                   tuple(Parameter.from_dict(r) for r in d.get("parameters") or ()),
+                   Agmwm.from_list(d["agmwm"]),
+                   num(d["objective"]),
+                   GoodnessOfFit.from_dict(d["gof"]),
+                   d["status"],
+                   d["message"],
+                   strings(d["notes"]),
+                   None if d.get("replicate_bootstrap") is None else ReplicateBootstrap.from_dict(d["replicate_bootstrap"]),
+                   None if d.get("replicate_test") is None else ReplicateTest.from_dict(d["replicate_test"]),
+                   d.get("unit"),
+                   tuple(ContinuousParameter.from_dict(r) for r in d.get("continuous") or ()),
+                   Kalman.from_dict(d.get("kalman")),
+                   AllanDeviation.from_dict(d.get("allan")),
+                   NoiseFigures.from_dict(d.get("noise_figures")))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class JointFitResult(JointFitResultMethods, JsonResult):
+    """The document `gmwm fit INPUT --joint FILE ... --json` writes: one JointFitColumn
+    per axis."""
+
+    input: str
+    model_spec: str
+    seed: int
+    estimator: str
+    columns: tuple[JointFitColumn, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "JointFitResult":
+        return cls(d,
+                   text,
+                   d["input"],
+                   d["model_spec"],
+                   int(d["seed"]),
+                   d["estimator"],
+                   joint_fit_columns(d, text))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class JointRankingRow(JointRankingRowMethods):
+    """A candidate of the selection over replicates, ranked by the cross-validated WVIC
+    (`cv_wvic`; `split_loss` per split), with the `effective` model it stands for (None
+    where the document predates it). `parameters` is the number of parameters (a count, as
+    the JSON has it)."""
+
+    rank: int
+    model: str
+    effective: str | None
+    parameters: int
+    cv_wvic: float
+    split_loss: FloatArray
+    objective: float
+    analytic_wvic: float
+    rank_analytic: int
+    bootstrap_wvic: float
+    bootstrap_se: float
+    rank_bootstrap: int | None
+    p_not_worse: float
+    equivalent: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "JointRankingRow":
+        return cls(int(d["rank"]),
+                   d["model"],
+                   d.get("effective"),
+                   int(d["parameters"]),
+                   num(d["cv_wvic"]),
+                   floats(d["split_loss"]),
+                   num(d["objective"]),
+                   num(d["analytic_wvic"]),
+                   int(d["rank_analytic"]),
+                   num(d["bootstrap_wvic"]),
+                   num(d["bootstrap_se"]),
+                   opt_int(d.get("rank_bootstrap")),
+                   num(d["p_not_worse"]),
+                   bool(d["equivalent"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class JointSelectColumn(JointSelectColumnMethods, JsonResult):
+    """One axis's selection over replicates: the `ranking`, the `chosen` and `recommended`
+    models, and the recommended model fitted jointly (`best_model`, `best_fit`: None when
+    the document has none)."""
+
+    name: str
+    freq: float
+    replicates: tuple[str, ...]
+    full_model: str
+    training: tuple[tuple[int, ...], ...]
+    chosen: str
+    recommended: str
+    chosen_analytic: str
+    chosen_bootstrap: str | None
+    all_rejected: bool
+    ranking: tuple[JointRankingRow, ...]
+    best_model: str | None
+    best_fit: BestFit | None
+    unit: str | None
+    allan: AllanDeviation | None
+    noise_figures: NoiseFigures | None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "JointSelectColumn":
+        best_fit = joint_best_fit(d)
+        return cls(d,
+                   text,
+                   d["name"],
+                   num(d["freq"]),
+                   strings(d["replicates"]),
+                   d["full_model"],
+                   training_of(d),
+                   d["chosen"],
+                   d["recommended"],
+                   d["chosen_analytic"],
+                   d.get("chosen_bootstrap"),
+                   bool(d["all_rejected"]),
+                   tuple(JointRankingRow.from_dict(r) for r in d.get("ranking") or ()),
+                   d.get("best_model"),
+                   best_fit,
+                   d.get("unit"),
+                   None if best_fit is None else best_fit.allan,
+                   None if best_fit is None else best_fit.noise_figures)
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class JointSelectResult(JointSelectResultMethods, JsonResult):
+    """The document `gmwm select INPUT --joint FILE ... --json` writes: one
+    JointSelectColumn per axis."""
+
+    input: str
+    model_spec: str
+    seed: int
+    optimism: str
+    estimator: str
+    columns: tuple[JointSelectColumn, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "JointSelectResult":
+        return cls(d,
+                   text,
+                   d["input"],
+                   d["model_spec"],
+                   int(d["seed"]),
+                   d["optimism"],
+                   d["estimator"],
+                   joint_select_columns(d, text))

@@ -96,7 +96,10 @@ class Schema:
     def default(f):
         """The field's default as Python text ("" when it has none)."""
         options = f[2] if len(f) > 2 else {}
-        return f" = {json.dumps(options['default']).replace('null', 'None')}" if "default" in options else ""
+        if "default" not in options:
+            return ""
+        value = options["default"]
+        return " = " + ('float("nan")' if value == "nan" else json.dumps(value).replace("null", "None"))
 
     def annotation(self, kind):
         if isinstance(kind, dict):
@@ -114,13 +117,15 @@ class Schema:
         if name not in self.types:
             raise SystemExit(f"{SCHEMA}: unknown type '{name}'")
 
-    def conversion(self, kind, key, get, row="d"):
+    def conversion(self, kind, key, get, row="d", missing=None):
         *path, key = key.split(".")  # "best_fit.objective": the member of a member
         row += "".join(f"[{json.dumps(p)}]" for p in path)
         k = json.dumps(key)
         if isinstance(kind, dict):
             call = kind["call"].split(".")[1]
             return f"{call}({row}, text)" if kind.get("text") else f"{call}({row})"
+        if kind == "str" and missing is not None:  # a key older documents lack
+            return f"{row}.get({k}, {json.dumps(missing)})"
         if kind in SCALARS:
             _, required, optional = SCALARS[kind]
             text = optional if get and optional else required
@@ -185,7 +190,7 @@ class Schema:
             out.append(f'    """{doc}"""')
             out.append("")
         fields = self.fields(name)
-        own = [self.field(f) for f in t["fields"]]
+        self._referenced = self.referenced(fields)
         columnar = t.get("columnar")
         for f in t["fields"]:
             fname, kind, _, _ = self.field(f)
@@ -200,7 +205,8 @@ class Schema:
         elif t.get("result"):
             out.append("    @classmethod")
             out.append(f'    def _from(cls, d: Any, text: str) -> "{name}":')
-            args = ["d", "text"] + [self.conversion(kind, key, get) for _, kind, key, get in fields]
+            out += self.shared(fields)
+            args = ["d", "text"] + [self.argument(f) for f in fields]
             out.append("        return cls(" + ",\n                   ".join(args) + ")")
         else:
             out.append("    @classmethod")
@@ -210,9 +216,35 @@ class Schema:
                 out.append("            return None")
             else:
                 out.append(f'    def from_dict(cls, d: Mapping[str, Any]) -> "{name}":')
-            args = [self.conversion(kind, key, get) for _, kind, key, get in fields]
+            out += self.shared(fields)
+            args = [self.argument(f, self.missing(name, f[0])) for f in fields]
             out.append("        return cls(" + ",\n                   ".join(args) + ")")
         return "\n".join(out)
+
+    @staticmethod
+    def referenced(fields):
+        """The fields another field of the same object is read from ({"of": "FIELD.attr"})."""
+        return {k["of"].split(".")[0] for _, k, _, _ in fields if isinstance(k, dict) and "of" in k}
+
+    def shared(self, fields):
+        """Locals for the fields others are read from, built once (the same object in both)."""
+        return [f"        {n} = {self.conversion(k, key, get)}" for n, k, key, get in fields
+                if n in self.referenced(fields)]
+
+    def argument(self, field, missing=None):
+        fname, kind, key, get = field
+        if isinstance(kind, dict) and "of" in kind:
+            owner, attr = kind["of"].split(".")
+            return f"None if {owner} is None else {owner}.{attr}"
+        return fname if fname in self._referenced else self.conversion(kind, key, get, missing=missing)
+
+    def missing(self, type_name, field_name):
+        """A str field's default, taken when an older document lacks the key (None: required)."""
+        t = self.types[type_name]
+        for f in ([] if "base" not in t else self.types[t["base"]]["fields"]) + t["fields"]:
+            if f[0] == field_name and len(f) > 2 and "default" in f[2] and f[1] == "str":
+                return f[2]["default"]
+        return None
 
     def order(self):
         """The types in an order where a base comes before the types built on it."""
@@ -238,7 +270,7 @@ class Schema:
                 mod, cls = self.types[n]["methods"].split(".")
                 mixins.setdefault(mod, []).append(cls)
             for f in self.types[n]["fields"]:
-                if isinstance(f[1], dict):
+                if isinstance(f[1], dict) and "call" in f[1]:
                     mod, fn = f[1]["call"].split(".")
                     mixins.setdefault(mod, []).append(fn)
         imports = [wrapped(f"from .{mod} import (", sorted(set(c))) for mod, c in sorted(mixins.items())]
