@@ -61,10 +61,10 @@ from typing import Any, Callable, ParamSpec, TypeVar
 from . import _gmwm, _signals
 from ._common import (JsonResult)
 from ._types import (AllanDeviation, ContinuousParameter, FigureComponent, FitQuality, GoodnessOfFit, Kalman, KalmanTerm, NoiseFigure, NoiseFigures, Parameter, Readoff, WorstLevel)
-from ._gap import (Attribution, ConfigChange, Contamination, CorrectedColumn, CorrectedConfig, CrossAxis,
-                   CrossAxisPair, GapAssessment, GapBand, GapCandidate, GapCheckCase, GapCheckFamily, GapCheckResult,
-                   GapColumn, GapEvent, GapEventTest, GapStepScan, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
-                   GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
+from ._types import (Attribution, ConfigChange, Contamination, CorrectedColumn, CorrectedConfig, CrossAxis,
+                     CrossAxisPair, GapAssessment, GapBand, GapCandidate, GapCheckCase, GapCheckFamily, GapCheckResult,
+                     GapColumn, GapEvent, GapEventTest, GapStepScan, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
+                     GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
 from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
 from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
                    FleetJointModel, FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,

@@ -10,6 +10,10 @@ from ._common import (BoolArray, FloatArray, IntArray, JsonResult, bools, floats
                       strings)
 from ._common import (AllanDeviationMethods, ContinuousParameterMethods, FitQualityMethods, KalmanMethods,
                       KalmanTermMethods, NoiseFigureMethods, NoiseFiguresMethods, ParameterMethods, ReadoffMethods)
+from ._gap import (AttributionMethods, CorrectedColumnMethods, CorrectedConfigMethods, CrossAxisMethods,
+                   GapBandMethods, GapCheckResultMethods, GapColumnMethods, GapLevelsMethods, GapResultMethods,
+                   GapSplitHalfMethods, GapStepMethods, GapTestMethods, RemainingMethods, attribution_steps,
+                   confusion_of, gap_columns, power_of)
 from ._replicates import (AgmwmMethods, JointFitColumnMethods, JointFitResultMethods, JointRankingRowMethods,
                           JointSelectColumnMethods, JointSelectResultMethods, ReplicateBootstrapMethods,
                           ReplicateFitMethods, ReplicateOwnFitMethods, ReplicateTestMethods, joint_best_fit,
@@ -919,3 +923,670 @@ class JointSelectResult(JointSelectResultMethods, JsonResult):
                    d["optimism"],
                    d["estimator"],
                    joint_select_columns(d, text))
+
+
+@dataclass(frozen=True, repr=False)
+class GapBand(GapBandMethods):
+    """A band of levels beyond the multiplicity-corrected z: `direction` excess or deficit,
+    `peak_ratio` the largest departure (data WV / baseline WV)."""
+
+    tau_from_seconds: float
+    tau_to_seconds: float
+    tau_from: float
+    tau_to: float
+    direction: str
+    peak_ratio: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapBand":
+        return cls(num(d["tau_from_seconds"]),
+                   num(d["tau_to_seconds"]),
+                   num(d["tau_from"]),
+                   num(d["tau_to"]),
+                   d["direction"],
+                   num(d["peak_ratio"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GapLevels(GapLevelsMethods):
+    """Per level, as arrays: `ratio` of the data's WV to the baseline's, its `z`, the
+    reference band (`ref_low`, `ref_high`; analytic: `analytic_low`, `analytic_high`) and
+    whether the level is `outside` it."""
+
+    tau: FloatArray
+    tau_seconds: FloatArray
+    ratio: FloatArray
+    z: FloatArray
+    ref_low: FloatArray
+    analytic_low: FloatArray
+    analytic_high: FloatArray
+    ref_high: FloatArray
+    outside: BoolArray
+
+    @classmethod
+    def from_list(cls, rows: list[Mapping[str, Any]]) -> "GapLevels":
+        return cls(floats([r.get("tau") for r in rows]),
+                   floats([r.get("tau_seconds") for r in rows]),
+                   floats([r.get("ratio") for r in rows]),
+                   floats([r.get("z") for r in rows]),
+                   floats([r.get("ref_low") for r in rows]),
+                   floats([r.get("analytic_low") for r in rows]),
+                   floats([r.get("analytic_high") for r in rows]),
+                   floats([r.get("ref_high") for r in rows]),
+                   bools([r.get("outside") for r in rows]))
+
+
+@dataclass(frozen=True)
+class GapWindow:
+    """A (time window, level) cell that departs from the rest of the record."""
+
+    t_from_seconds: float
+    t_to_seconds: float
+    first_sample: int
+    last_sample: int
+    tau_seconds: float
+    tau: float
+    ratio: float
+    z: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapWindow":
+        return cls(num(d["t_from_seconds"]),
+                   num(d["t_to_seconds"]),
+                   int(d["first_sample"]),
+                   int(d["last_sample"]),
+                   num(d["tau_seconds"]),
+                   num(d["tau"]),
+                   num(d["ratio"]),
+                   num(d["z"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GapSplitHalf(GapSplitHalfMethods):
+    """The two halves of the record compared, per level, as arrays."""
+
+    tau: FloatArray
+    tau_seconds: FloatArray
+    ratio: FloatArray
+    disjoint: BoolArray
+
+    @classmethod
+    def from_list(cls, rows: list[Mapping[str, Any]]) -> "GapSplitHalf":
+        return cls(floats([r.get("tau") for r in rows]),
+                   floats([r.get("tau_seconds") for r in rows]),
+                   floats([r.get("ratio") for r in rows]),
+                   bools([r.get("disjoint") for r in rows]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GapTest(GapTestMethods):
+    """The comparison with the baseline (JSON "gap"): the global test, the bands, the
+    levels and the window map (`windows` None when the record is too short for one)."""
+
+    detected: bool
+    p_value: float
+    statistic: float
+    bands: tuple[GapBand, ...]
+    levels: GapLevels
+    windows: tuple[GapWindow, ...] | None
+    split_half: GapSplitHalf
+    window_length_seconds: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapTest":
+        return cls(bool(d["detected"]),
+                   num(d["p_value"]),
+                   num(d["statistic"]),
+                   tuple(GapBand.from_dict(r) for r in d.get("bands") or ()),
+                   GapLevels.from_list(d["levels"]),
+                   None if d.get("windows") is None else tuple(GapWindow.from_dict(r) for r in d["windows"]),
+                   GapSplitHalf.from_list(d["split_half"]),
+                   num(d["window_length_seconds"]))
+
+
+@dataclass(frozen=True, repr=False)
+class GapStep(GapStepMethods):
+    """One effect the attribution took, in order: `effect` (WN, AR1, REPARAMETERISE, ...),
+    its `detail`, its drop in the objective and its `share` of the excess removed (the JSON's
+    "steps", "step_details", "step_drops" and "step_shares", element by element)."""
+
+    effect: str
+    detail: str
+    drop: float
+    share: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapStep":
+        return cls(d["effect"],
+                   d["detail"],
+                   num(d["drop"]),
+                   num(d["share"]))
+
+
+@dataclass(frozen=True)
+class GapCandidate:
+    """A candidate effect scored against its calibrated threshold."""
+
+    effect: str
+    improvement: float
+    threshold: float
+    optimism: float
+    wvic_confirmed: bool
+    cleared: bool
+    model: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapCandidate":
+        return cls(d["effect"],
+                   num(d["improvement"]),
+                   num(d["threshold"]),
+                   num(d["optimism"]),
+                   bool(d["wvic_confirmed"]),
+                   bool(d["cleared"]),
+                   d["model"])
+
+
+@dataclass(frozen=True)
+class GapEvent:
+    """A bias STEP or warm-up TRANSIENT located in the series."""
+
+    effect: str
+    sample: int
+    time_seconds: float
+    size: float
+    time_constant: float
+    time_constant_seconds: float
+    level: int
+    statistic: float
+    threshold: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapEvent":
+        return cls(d["effect"],
+                   int(d["sample"]),
+                   num(d["time_seconds"]),
+                   num(d["size"]),
+                   num(d["time_constant"]),
+                   num(d["time_constant_seconds"]),
+                   int(d["level"]),
+                   num(d["statistic"]),
+                   num(d["threshold"]))
+
+
+@dataclass(frozen=True)
+class GapEventTest:
+    """The event search's statistic against its calibrated threshold."""
+
+    statistic: float
+    threshold: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapEventTest":
+        return cls(num(d["statistic"]),
+                   num(d["threshold"]))
+
+
+@dataclass(frozen=True)
+class GapStepScan:
+    """The step scan (docs/gap.md, "The step scan"): max |z| / RMS against its calibrated
+    threshold, and the sample where |z| peaks."""
+
+    statistic: float
+    threshold: float
+    sample: int
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapStepScan":
+        return cls(num(d["statistic"]),
+                   num(d["threshold"]),
+                   int(d["sample"]))
+
+
+@dataclass(frozen=True)
+class GapTrend:
+    """The drift test on the record's end segments (`omega` per sample, signed)."""
+
+    omega: float
+    ci_low: float
+    ci_high: float
+    z: float
+    threshold: float
+    significant: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapTrend":
+        return cls(num(d["omega"]),
+                   num(d["ci_low"]),
+                   num(d["ci_high"]),
+                   num(d["z"]),
+                   num(d["threshold"]),
+                   bool(d["significant"]))
+
+
+@dataclass(frozen=True)
+class GapTemperature:
+    """The coupling to the temperature column (wavelet covariance)."""
+
+    coupling: float
+    ci_low: float
+    ci_high: float
+    z: float
+    threshold: float
+    significant: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapTemperature":
+        return cls(num(d["coupling"]),
+                   num(d["ci_low"]),
+                   num(d["ci_high"]),
+                   num(d["z"]),
+                   num(d["threshold"]),
+                   bool(d["significant"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Attribution(AttributionMethods):
+    """Which effects explain the gap: the first `effect`, the `steps` taken (each with its
+    share of the excess), the final `model` with its `parameters` and `physical` quantities,
+    the time-domain tests (`event`, `event_test`, `drift`, `temperature`, `step_scan`; None
+    when not run), the `refused` moves and every scored candidate."""
+
+    effect: str
+    steps: tuple[GapStep, ...]
+    model: str
+    parameters: tuple[Parameter, ...]
+    physical: tuple[ContinuousParameter, ...]
+    event: GapEvent | None
+    event_test: GapEventTest | None
+    temperature: GapTemperature | None
+    drift: GapTrend | None
+    refused: tuple[Any, ...]
+    candidates: tuple[GapCandidate, ...]
+    step_scan: GapStepScan | None = None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Attribution":
+        return cls(d["effect"],
+                   attribution_steps(d),
+                   d["model"],
+                   tuple(Parameter.from_dict(r) for r in d.get("parameters") or ()),
+                   tuple(ContinuousParameter.from_dict(r) for r in d.get("physical") or ()),
+                   None if d.get("event") is None else GapEvent.from_dict(d["event"]),
+                   None if d.get("event_test") is None else GapEventTest.from_dict(d["event_test"]),
+                   None if d.get("temperature") is None else GapTemperature.from_dict(d["temperature"]),
+                   None if d.get("drift") is None else GapTrend.from_dict(d["drift"]),
+                   tuple(d["refused"]),
+                   tuple(GapCandidate.from_dict(r) for r in d.get("candidates") or ()),
+                   None if d.get("step_scan") is None else GapStepScan.from_dict(d["step_scan"]))
+
+
+@dataclass(frozen=True, repr=False)
+class Remaining(RemainingMethods):
+    """What is left after the attribution: `closed` when the final model is not rejected."""
+
+    closed: bool
+    bands: tuple[GapBand, ...]
+    levels_outside: int
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Remaining":
+        return cls(bool(d["closed"]),
+                   tuple(GapBand.from_dict(r) for r in d.get("bands") or ()),
+                   int(d["levels_outside"]))
+
+
+@dataclass(frozen=True)
+class Shrinkage:
+    """How much of the gap the attribution removed (objective, distance, excess, levels
+    outside, p-value: before and after)."""
+
+    objective_before: float
+    objective_after: float
+    null_mean: float
+    null_mean_after: float
+    distance_before: float
+    distance_after: float
+    null_distance_mean: float
+    excess_before: float
+    excess_after: float
+    excess_removed: float
+    rms_log_ratio_before: float
+    rms_log_ratio_after: float
+    levels_outside_before: int
+    levels_outside_after: int
+    p_value_before: float
+    p_value_after: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Shrinkage":
+        return cls(num(d["objective_before"]),
+                   num(d["objective_after"]),
+                   num(d["null_mean"]),
+                   num(d["null_mean_after"]),
+                   num(d["distance_before"]),
+                   num(d["distance_after"]),
+                   num(d["null_distance_mean"]),
+                   num(d["excess_before"]),
+                   num(d["excess_after"]),
+                   num(d["excess_removed"]),
+                   num(d["rms_log_ratio_before"]),
+                   num(d["rms_log_ratio_after"]),
+                   int(d["levels_outside_before"]),
+                   int(d["levels_outside_after"]),
+                   num(d["p_value_before"]),
+                   num(d["p_value_after"]))
+
+
+@dataclass(frozen=True)
+class GapNavigation:
+    """The integrated error after `horizon_seconds` under the baseline and the final model."""
+
+    horizon_seconds: float
+    rms_without: float
+    rms_with: float
+    unit: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapNavigation":
+        return cls(num(d["horizon_seconds"]),
+                   num(d["rms_without"]),
+                   num(d["rms_with"]),
+                   d["unit"])
+
+
+@dataclass(frozen=True)
+class Contamination:
+    """Whether the spike screen ran, and the levels it found contaminated."""
+
+    screened: bool
+    levels: tuple[Any, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Contamination":
+        return cls(bool(d["screened"]),
+                   tuple(d["levels"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GapColumn(GapColumnMethods, JsonResult):
+    """One column's gap diagnosis: the `headline` (the verdict the terminal prints), the
+    comparison (`gap`), the `attribution`, what `remaining`, the `shrinkage`."""
+
+    name: str
+    n: int
+    freq: float
+    baseline_model: str
+    gap: GapTest
+    attribution: Attribution
+    headline: str
+    contamination: Contamination
+    remaining: Remaining
+    shrinkage: Shrinkage
+    navigation: GapNavigation
+    conversions: tuple[str, ...]
+    notes: tuple[str, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "GapColumn":
+        return cls(d,
+                   text,
+                   d["name"],
+                   int(d["n"]),
+                   num(d["freq"]),
+                   d["baseline_model"],
+                   GapTest.from_dict(d["gap"]),
+                   Attribution.from_dict(d["attribution"]),
+                   d["headline"],
+                   Contamination.from_dict(d["contamination"]),
+                   Remaining.from_dict(d["remaining"]),
+                   Shrinkage.from_dict(d["shrinkage"]),
+                   GapNavigation.from_dict(d["navigation"]),
+                   strings(d["conversions"]),
+                   strings(d["notes"]))
+
+
+@dataclass(frozen=True)
+class GapAssessment:
+    """The gap a model leaves: objective, levels outside, p-value, navigation error."""
+
+    objective: float
+    null_mean: float
+    levels_outside: int
+    p_value: float
+    navigation_rms: float
+    remaining: tuple[GapBand, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapAssessment":
+        return cls(num(d["objective"]),
+                   num(d["null_mean"]),
+                   int(d["levels_outside"]),
+                   num(d["p_value"]),
+                   num(d["navigation_rms"]),
+                   tuple(GapBand.from_dict(r) for r in d.get("remaining") or ()))
+
+
+@dataclass(frozen=True)
+class ConfigChange:
+    """A field of the baseline's configuration: its `input` value and the `corrected` one."""
+
+    field: str
+    input: float
+    corrected: float
+    unit: str
+    changed: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ConfigChange":
+        return cls(d["field"],
+                   num(d["input"]),
+                   num(d["corrected"]),
+                   d["unit"],
+                   bool(d["changed"]))
+
+
+@dataclass(frozen=True, repr=False)
+class CorrectedColumn(CorrectedColumnMethods):
+    """A column's corrected model: the part the format can hold (`expressible`), the
+    `full` model, what the format cannot hold, the gap each leaves (`gap_left`: input,
+    config, full), what the file does with the column's figures (`verdict`: written, kept:
+    ...), `why` the input's are kept, and `warnings` (worse than the input, or more optimistic
+    than the data's model)."""
+
+    name: str
+    expressible: str | None
+    full: str
+    not_expressible: tuple[str, ...]
+    gap_left: dict[str, GapAssessment]
+    verdict: str = "written"
+    why: str = ""
+    warnings: tuple[str, ...] = ()
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "CorrectedColumn":
+        return cls(d["name"],
+                   d.get("expressible"),
+                   d["full"],
+                   strings(d["not_expressible"]),
+                   {n: GapAssessment.from_dict(v) for n, v in d["gap_left"].items()},
+                   d.get("verdict", "written"),
+                   d.get("why", ""),
+                   strings(d.get("warnings")))
+
+
+@dataclass(frozen=True, repr=False)
+class CorrectedConfig(CorrectedConfigMethods):
+    """The corrected configuration in the baseline's own format (`content` is the file)."""
+
+    format: str
+    content: str
+    header: tuple[str, ...]
+    changes: tuple[ConfigChange, ...]
+    columns: tuple[CorrectedColumn, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any] | None) -> "CorrectedConfig | None":
+        if d is None:
+            return None
+        return cls(d["format"],
+                   d["content"],
+                   strings(d["header"]),
+                   tuple(ConfigChange.from_dict(r) for r in d.get("changes") or ()),
+                   tuple(CorrectedColumn.from_dict(r) for r in d.get("columns") or ()))
+
+
+@dataclass(frozen=True)
+class CrossAxisPair:
+    """A pair of axes whose wavelet correlation at `tau` is significant."""
+
+    a: str
+    b: str
+    tau: float
+    tau_seconds: float
+    rho: float
+    z: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "CrossAxisPair":
+        return cls(d["a"],
+                   d["b"],
+                   num(d["tau"]),
+                   num(d["tau_seconds"]),
+                   num(d["rho"]),
+                   num(d["z"]))
+
+
+@dataclass(frozen=True, repr=False)
+class CrossAxis(CrossAxisMethods):
+    """The cross-axis wavelet correlations tested and the significant ones."""
+
+    tested: int
+    significant: tuple[CrossAxisPair, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "CrossAxis":
+        return cls(int(d["tested"]),
+                   tuple(CrossAxisPair.from_dict(r) for r in d.get("significant") or ()))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GapResult(GapResultMethods, JsonResult):
+    """The sim-to-real gap document (gmwm.gap, `gmwm gap --json`): `columns` (GapColumn),
+    the baseline, the cross-axis test and the `corrected` configuration (None when the
+    document has none)."""
+
+    input: str
+    baseline_source: str
+    replicates: int
+    seed: int
+    temperature_column: str | None
+    cross_axis: CrossAxis
+    columns: tuple[GapColumn, ...]
+    corrected: CorrectedConfig | None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "GapResult":
+        return cls(d,
+                   text,
+                   d["input"],
+                   d["baseline_source"],
+                   int(d["replicates"]),
+                   int(d["seed"]),
+                   d.get("temperature_column"),
+                   CrossAxis.from_dict(d["cross_axis"]),
+                   gap_columns(d, text),
+                   CorrectedConfig.from_dict(d.get("corrected")))
+
+
+@dataclass(frozen=True)
+class GapCheckFamily:
+    """The self-check's figures for one effect family."""
+
+    cases: int
+    correct: int
+    detected: int
+    located: int
+    median_excess_removed: float
+    strength_90: float
+    strength_90_crossing: str
+    oracle_strength_90: float
+    oracle_ratio: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapCheckFamily":
+        return cls(int(d["cases"]),
+                   int(d["correct"]),
+                   int(d["detected"]),
+                   int(d["located"]),
+                   num(d["median_excess_removed"]),
+                   num(d["strength_90"]),
+                   d["strength_90_crossing"],
+                   num(d["oracle_strength_90"]),
+                   num(d["oracle_ratio"]))
+
+
+@dataclass(frozen=True)
+class GapCheckCase:
+    """One simulated case: the withheld effect (`truth`) and what the diagnosis `reported`."""
+
+    truth: str
+    strength: float
+    injected: str
+    reported: str
+    detected: bool
+    located: bool
+    correct: bool
+    excess_removed: float
+    parameter_error: float
+    oracle_nc: float
+    oracle: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GapCheckCase":
+        return cls(d["truth"],
+                   num(d["strength"]),
+                   d["injected"],
+                   d["reported"],
+                   bool(d["detected"]),
+                   bool(d["located"]),
+                   bool(d["correct"]),
+                   num(d["excess_removed"]),
+                   num(d["parameter_error"]),
+                   num(d["oracle_nc"]),
+                   d["oracle"])
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GapCheckResult(GapCheckResultMethods, JsonResult):
+    """The diagnosis' self-check (gmwm.gap_check, `gmwm gap-check --json`): `confusion`
+    (truth -> reported -> count), `power` (effect -> strength -> share correctly
+    attributed; strengths as floats, the JSON's keys are text), per-family figures and
+    every case."""
+
+    n: int
+    replicates: int
+    strengths: FloatArray
+    seed: int
+    cases: int
+    correct: int
+    false_alarms: int
+    confusion: dict[str, dict[str, int]]
+    power: dict[str, dict[float, float]]
+    families: dict[str, GapCheckFamily]
+    case_list: tuple[GapCheckCase, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "GapCheckResult":
+        return cls(d,
+                   text,
+                   int(d["n"]),
+                   int(d["replicates"]),
+                   floats(d["strengths"]),
+                   int(d["seed"]),
+                   int(d["cases"]),
+                   int(d["correct"]),
+                   int(d["false_alarms"]),
+                   confusion_of(d),
+                   power_of(d),
+                   {n: GapCheckFamily.from_dict(v) for n, v in d["families"].items()},
+                   tuple(GapCheckCase.from_dict(r) for r in d.get("case_list") or ()))

@@ -20,8 +20,10 @@ The schema, per type:
     "fields"   [name, type] or [name, type, {"key": JSON key, "get": true}]
 
 Field types: float (null: NaN), int, int?, str, str?, bool, floats, ints, bools, strings
-(read-only arrays, tuple of str), floats? (None when absent), any (the JSON as parsed), a
-type of the schema (T, or T? when it may be absent), [T] (a tuple of T), or
+(read-only arrays, tuple of str), floats? (None when absent), any (the JSON as parsed), dict?
+(an object as parsed, or None), list (a tuple of what the JSON holds), a type of the schema
+(T, or T? when it may be absent), [T] (a tuple of T; [T]? None when null), {T} (names to T),
+{"of": "FIELD.attr", "py": annotation} (an attribute of another field of the object), or
 {"call": "function", "py": "annotation"} for a field a hand-written function derives from the
 whole object.
 """
@@ -61,6 +63,7 @@ SCALARS = {
     "floats?": ("FloatArray | None", "None if d.get({k}) is None else floats(d[{k}])", None),
     "any": ("Any", "d.get({k})", "d.get({k})"),
     "dict?": ("dict[str, Any] | None", "d.get({k})", "d.get({k})"),
+    "list": ("tuple[Any, ...]", "tuple(d[{k}])", "tuple(d.get({k}) or ())"),
 }
 
 
@@ -99,15 +102,21 @@ class Schema:
         if "default" not in options:
             return ""
         value = options["default"]
-        return " = " + ('float("nan")' if value == "nan" else json.dumps(value).replace("null", "None"))
+        if value == "nan":
+            return ' = float("nan")'
+        return " = " + ("()" if value == [] else json.dumps(value).replace("null", "None"))
 
     def annotation(self, kind):
         if isinstance(kind, dict):
             return kind["py"]
         if kind in SCALARS:
             return SCALARS[kind][0]
+        if kind.startswith("[") and kind.endswith("]?"):
+            return f"tuple[{kind[1:-2]}, ...] | None"
         if kind.startswith("["):
             return f"tuple[{kind[1:-1]}, ...]"
+        if kind.startswith("{"):
+            return f"dict[str, {kind[1:-1]}]"
         if kind.endswith("?"):
             return f"{kind[:-1]} | None"
         self.known(kind)
@@ -130,10 +139,18 @@ class Schema:
             _, required, optional = SCALARS[kind]
             text = optional if get and optional else required
             return text.replace("d[", f"{row}[").replace("d.get(", f"{row}.get(").format(k=k)
+        if kind.startswith("[") and kind.endswith("]?"):
+            inner = kind[1:-2]
+            self.known(inner)
+            return f"None if {row}.get({k}) is None else tuple({inner}.from_dict(r) for r in {row}[{k}])"
         if kind.startswith("["):
             inner = kind[1:-1]
             self.known(inner)
             return f"tuple({inner}.from_dict(r) for r in {row}.get({k}) or ())"
+        if kind.startswith("{"):
+            inner = kind[1:-1]
+            self.known(inner)
+            return f"{{n: {inner}.from_dict(v) for n, v in {row}[{k}].items()}}"
         if kind.endswith("?"):
             inner = kind[:-1]
             self.known(inner)
