@@ -66,13 +66,14 @@ from ._types import (Attribution, ConfigChange, Contamination, CorrectedColumn, 
                      GapColumn, GapEvent, GapEventTest, GapStepScan, GapLevels, GapNavigation, GapResult, GapSplitHalf, GapStep,
                      GapTemperature, GapTest, GapTrend, GapWindow, Remaining, Shrinkage)
 from ._gmwm import DEFAULT_SEED, InputError, __version__, simulate
-from ._nav import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
-                   FleetJointModel, FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,
-                   NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
-                   WrittenNoise)
+from ._types import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, FleetFigure, FleetFigureSummary,
+                     FleetJointModel, FleetResult, FleetRow, FleetSpecCheck, GaussMarkov, NavCurves, NavFilter,
+                     NavMonteCarlo, NavResult, NavScenario, NavSummary, PlanColumn, PlanResolved, PlanResult, PlanTarget,
+                     WrittenNoise)
 from ._types import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
                      JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
-from ._signals import Recording, Timing, TimingWarning, read
+from ._signals import Recording, TimingWarning, read
+from ._types import Timing
 from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
                      WvResult)
 

@@ -17,7 +17,7 @@ import numpy.typing as npt
 from ._json_text import item_texts, member_text
 
 if TYPE_CHECKING:
-    from ._types import ContinuousParameter, KalmanTerm, NoiseFigure, Parameter
+    from ._types import KalmanTerm, NoiseFigure, Parameter
 
 T = TypeVar("T", bound="JsonResult")
 
@@ -176,12 +176,6 @@ class ContinuousParameterMethods:
     def __repr__(self) -> str:
         return (f"ContinuousParameter({self.process}.{self.name} = {g(self.value)} {self.unit} "
                 f"[{g(self.ci_low)}, {g(self.ci_high)}])")
-
-
-def continuous(rows: Iterable[Mapping[str, Any]] | None) -> tuple["ContinuousParameter", ...]:
-    from ._types import ContinuousParameter
-
-    return tuple(ContinuousParameter.from_dict(r) for r in rows or ())
 
 
 class FitQualityMethods:

@@ -10,13 +10,16 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
-from typing import Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from . import _gmwm
-from ._common import FloatArray, g, num
+from ._common import FloatArray, g
 from ._gmwm import InputError
+
+if TYPE_CHECKING:
+    from ._types import Timing
 
 
 class TimingWarning(UserWarning):
@@ -25,34 +28,11 @@ class TimingWarning(UserWarning):
     samples are not evenly spaced as the wavelet variance assumes."""
 
 
-@dataclass(frozen=True)
-class Timing:
-    """What a timestamp column (or a pandas index) says about the sampling: the median step,
-    the rate it gives, the gaps (steps over 1.5 median steps), the steps out of order and,
-    when the rate changes within the record, where (`rate_change`). `summary` is the line
-    the command prints."""
-
-    column: str
-    unit: str
-    unit_source: str
-    samples: int
-    median_step_seconds: float
-    estimated_freq: float
+class TimingMethods:
     gaps: int
-    largest_gap_seconds: float
     disorder: int
     given_freq: float | None
-    rate_change: str | None
-    summary: str
-
-    @classmethod
-    def from_dict(cls, d: Mapping[str, Any] | None) -> "Timing | None":
-        if d is None:
-            return None
-        return cls(d["column"], d["unit"], d["unit_source"], int(d["samples"]), num(d["median_step_seconds"]),
-                   num(d["estimated_freq"]), int(d["gaps"]), num(d["largest_gap_seconds"]), int(d["disorder"]),
-                   None if d.get("given_freq") is None else float(d["given_freq"]), d.get("rate_change"),
-                   d["summary"])
+    estimated_freq: float
 
     @property
     def irregular(self) -> bool:
@@ -144,6 +124,8 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     keywords. A timing irregularity (gaps, samples out of order, a freq that disagrees with
     the stamps) is a TimingWarning."""
     values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory)
+    from ._types import Timing
+
     meta = json.loads(meta_text)
     values.flags.writeable = False
     timing = Timing.from_dict(meta["timing"])
@@ -159,6 +141,8 @@ def _index_timing(data: Any, freq: float | None, what: str) -> Timing | None:
     index: Any = getattr(data, "index", None)
     if getattr(getattr(index, "dtype", None), "kind", None) not in ("M", "m") or not hasattr(index, "asi8"):
         return None
+    from ._types import Timing
+
     stamps = np.asarray(index.asi8, dtype=np.int64)
     if np.any(stamps == np.iinfo(np.int64).min):
         raise InputError(f"{what}.index: found NaT among the timestamps, expected a time for every sample")

@@ -14,6 +14,9 @@ from ._gap import (AttributionMethods, CorrectedColumnMethods, CorrectedConfigMe
                    GapBandMethods, GapCheckResultMethods, GapColumnMethods, GapLevelsMethods, GapResultMethods,
                    GapSplitHalfMethods, GapStepMethods, GapTestMethods, RemainingMethods, attribution_steps,
                    confusion_of, gap_columns, power_of)
+from ._nav import (ExportColumnMethods, ExportResultMethods, ExportWrittenMethods, FleetResultMethods,
+                   NavCurvesMethods, NavFilterMethods, NavMonteCarloMethods, NavResultMethods, PlanColumnMethods,
+                   PlanResultMethods, PlanTargetMethods, outages_of)
 from ._replicates import (AgmwmMethods, JointFitColumnMethods, JointFitResultMethods, JointRankingRowMethods,
                           JointSelectColumnMethods, JointSelectResultMethods, ReplicateBootstrapMethods,
                           ReplicateFitMethods, ReplicateOwnFitMethods, ReplicateTestMethods, joint_best_fit,
@@ -21,6 +24,7 @@ from ._replicates import (AgmwmMethods, JointFitColumnMethods, JointFitResultMet
 from ._results import (AllanResultMethods, BestFitMethods, FitResultMethods, RankingRowMethods, SelectColumnMethods,
                        SelectResultMethods, WvLevelsMethods, WvResultMethods, best_fit_of, best_parameters,
                        best_structure, select_columns)
+from ._signals import (TimingMethods)
 
 
 @dataclass(frozen=True, repr=False)
@@ -555,7 +559,7 @@ class BestFit(BestFitMethods):
                    num(d["best_fit"]["objective"]),
                    GoodnessOfFit.from_dict(d["best_fit"]["gof"]),
                    d["best_fit"]["status"],
-                   strings(d["best_fit"].get("notes")),
+                   strings((d.get("best_fit") or {}).get("notes")),
                    FitQuality.from_dict(d["best_fit"].get("quality")),
                    d.get("unit"),
                    tuple(ContinuousParameter.from_dict(r) for r in d.get("best_continuous") or ()),
@@ -1590,3 +1594,662 @@ class GapCheckResult(GapCheckResultMethods, JsonResult):
                    power_of(d),
                    {n: GapCheckFamily.from_dict(v) for n, v in d["families"].items()},
                    tuple(GapCheckCase.from_dict(r) for r in d.get("case_list") or ()))
+
+
+@dataclass(frozen=True)
+class NavScenario:
+    """The trajectory, rates, outages ((start, end) in seconds) and initial errors."""
+
+    trajectory: str
+    imu_rate: float
+    horizon: float
+    fix_rate: float
+    fix_sigma: float
+    outages: tuple[tuple[float, float], ...]
+    gravity: float
+    initial: dict[str, float]
+    output_interval: float
+    judge_from: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "NavScenario":
+        return cls(d["trajectory"],
+                   num(d["imu_rate"]),
+                   num(d["horizon"]),
+                   num(d["fix_rate"]),
+                   num(d["fix_sigma"]),
+                   outages_of(d),
+                   num(d["gravity"]),
+                   {n: num(v) for n, v in d["initial"].items()},
+                   num(d["output_interval"]),
+                   num(d["judge_from"]))
+
+
+@dataclass(frozen=True)
+class NavSummary:
+    """A filter's errors at the judged time (`time`) and the largest over the run."""
+
+    time: float
+    position_rms: float
+    position_3sigma: float
+    velocity_rms: float
+    velocity_3sigma: float
+    attitude_rms: float
+    attitude_3sigma: float
+    nees: float
+    largest_position_rms: float
+    largest_nees: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "NavSummary":
+        return cls(num(d["time"]),
+                   num(d["position_rms"]),
+                   num(d["position_3sigma"]),
+                   num(d["velocity_rms"]),
+                   num(d["velocity_3sigma"]),
+                   num(d["attitude_rms"]),
+                   num(d["attitude_3sigma"]),
+                   num(d["nees"]),
+                   num(d["largest_position_rms"]),
+                   num(d["largest_nees"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class NavCurves(NavCurvesMethods):
+    """A filter's error curves against `time` (s): the true RMS errors, the 3-sigma the
+    filter claims, and the NEES."""
+
+    time: FloatArray
+    position_rms: FloatArray
+    position_3sigma: FloatArray
+    velocity_rms: FloatArray
+    velocity_3sigma: FloatArray
+    attitude_rms: FloatArray
+    attitude_3sigma: FloatArray
+    nees: FloatArray
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "NavCurves":
+        return cls(floats(d["time"]),
+                   floats(d["position_rms"]),
+                   floats(d["position_3sigma"]),
+                   floats(d["velocity_rms"]),
+                   floats(d["velocity_3sigma"]),
+                   floats(d["attitude_rms"]),
+                   floats(d["attitude_3sigma"]),
+                   floats(d["nees"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class NavMonteCarlo(NavMonteCarloMethods):
+    """The Monte Carlo runs' curves (on the exact curves' time grid) and their verdict."""
+
+    position_rms: FloatArray
+    velocity_rms: FloatArray
+    attitude_rms: FloatArray
+    nees: FloatArray
+    verdict: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "NavMonteCarlo":
+        return cls(floats(d["position_rms"]),
+                   floats(d["velocity_rms"]),
+                   floats(d["attitude_rms"]),
+                   floats(d["nees"]),
+                   d["verdict"])
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class NavFilter(NavFilterMethods):
+    """One filter model against the truth: its `verdict` (consistent, optimistic, ...),
+    the share of time its NEES is inside / above the band, `summary` and `curves`."""
+
+    label: str
+    source: str
+    models: tuple[str, ...]
+    notes: tuple[str, ...]
+    verdict: str
+    nees_inside: float
+    nees_above: float
+    nees_band: tuple[float, float]
+    summary: NavSummary
+    curves: NavCurves
+    monte_carlo: NavMonteCarlo | None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "NavFilter":
+        return cls(d["label"],
+                   d["source"],
+                   strings(d["models"]),
+                   strings(d["notes"]),
+                   d["verdict"],
+                   num(d["nees_inside"]),
+                   num(d["nees_above"]),
+                   (num(d["nees_band"][0]), num(d["nees_band"][1])),
+                   NavSummary.from_dict(d["summary"]),
+                   NavCurves.from_dict(d["curves"]),
+                   None if d.get("monte_carlo") is None else NavMonteCarlo.from_dict(d["monte_carlo"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class NavResult(NavResultMethods, JsonResult):
+    """What a noise model costs a navigation filter (gmwm.nav, `gmwm nav --json`): the
+    `scenario`, the truth, one NavFilter per filter, the Monte Carlo settings (`runs`,
+    `seed`; None without) and the `units` of the curves."""
+
+    scenario: NavScenario
+    truth_source: str
+    truth_models: tuple[str, ...]
+    filters: tuple[NavFilter, ...]
+    monte_carlo: dict[str, int] | None
+    units: dict[str, str]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "NavResult":
+        return cls(d,
+                   text,
+                   NavScenario.from_dict(d["scenario"]),
+                   d["truth"]["source"],
+                   strings(d["truth"]["models"]),
+                   tuple(NavFilter.from_dict(r) for r in d.get("filters") or ()),
+                   d.get("monte_carlo"),
+                   dict(d["units"]))
+
+
+@dataclass(frozen=True, repr=False)
+class PlanTarget(PlanTargetMethods):
+    """A figure to pin down (N, K, B or a parameter): the record it needs (`samples`,
+    `seconds`; `reachable` False when no length gives the precision); `precision_at_record_basis`
+    why a record of record_seconds promises no precision (None when it does)."""
+
+    name: str
+    value: float
+    unit: str
+    reachable: bool
+    samples: int
+    seconds: float
+    own_samples: int
+    relative_se: float
+    precision_at_record: float
+    basis: str
+    precision_at_record_basis: str | None = None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "PlanTarget":
+        return cls(d["name"],
+                   num(d["value"]),
+                   d["unit"],
+                   bool(d["reachable"]),
+                   int(d["samples"]),
+                   num(d["seconds"]),
+                   int(d["own_samples"]),
+                   num(d["relative_se"]),
+                   num(d["precision_at_record"]),
+                   d["basis"],
+                   d.get("precision_at_record_basis"))
+
+
+@dataclass(frozen=True)
+class PlanResolved:
+    """The record at which the model itself is resolved, and the parameter that sets it."""
+
+    samples: int
+    seconds: float
+    by: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "PlanResolved":
+        return cls(int(d["samples"]),
+                   num(d["seconds"]),
+                   d["by"])
+
+
+@dataclass(frozen=True, repr=False)
+class PlanColumn(PlanColumnMethods):
+    """One column's plan: its model and rate, the record that resolves the model and each target's."""
+
+    name: str
+    unit: str | None
+    model: str
+    freq: float
+    resolved: PlanResolved
+    targets: tuple[PlanTarget, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "PlanColumn":
+        return cls(d["name"],
+                   d.get("unit"),
+                   d["model"],
+                   num(d["freq"]),
+                   PlanResolved.from_dict(d["resolved"]),
+                   tuple(PlanTarget.from_dict(r) for r in d.get("targets") or ()))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class PlanResult(PlanResultMethods, JsonResult):
+    """How long to record (gmwm.plan, `gmwm plan --json`): per column the record each
+    target needs for `precision` at `confidence`."""
+
+    source: str
+    precision: float
+    confidence: float
+    record_seconds: float
+    columns: tuple[PlanColumn, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "PlanResult":
+        return cls(d,
+                   text,
+                   d["source"],
+                   num(d["precision"]),
+                   num(d["confidence"]),
+                   num(d["record_seconds"]),
+                   tuple(PlanColumn.from_dict(r) for r in d.get("columns") or ()))
+
+
+@dataclass(frozen=True)
+class GaussMarkov:
+    """A Gauss-Markov (AR1) component in continuous units."""
+
+    correlation_time: float
+    sigma: float
+    drive: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GaussMarkov":
+        return cls(num(d["correlation_time"]),
+                   num(d["sigma"]),
+                   num(d["drive"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class ExportColumn(ExportColumnMethods):
+    """A column's figures as the export read them (the data's unit): N (`noise_density`),
+    K (`random_walk`), its Gauss-Markov components and the `others` it cannot express."""
+
+    name: str
+    freq: float
+    kind: str
+    unit: str
+    model: str
+    noise_density: float
+    random_walk: float
+    gauss_markov: tuple[GaussMarkov, ...]
+    others: tuple[str, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ExportColumn":
+        return cls(d["name"],
+                   num(d["freq"]),
+                   d["kind"],
+                   d["unit"],
+                   d["model"],
+                   num(d["noise_density"]),
+                   num(d["random_walk"]),
+                   tuple(GaussMarkov.from_dict(r) for r in d.get("gauss_markov") or ()),
+                   strings(d["others"]))
+
+
+@dataclass(frozen=True)
+class WrittenNoise:
+    """The figures written for a sensor, in SI."""
+
+    noise_density: float
+    random_walk: float
+    bias_drive: float
+    bias_correlation_time: float
+    bias_from_random_walk: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "WrittenNoise":
+        return cls(num(d["noise_density"]),
+                   num(d["random_walk"]),
+                   num(d["bias_drive"]),
+                   num(d["bias_correlation_time"]),
+                   bool(d["bias_from_random_walk"]))
+
+
+@dataclass(frozen=True, repr=False)
+class ExportWritten(ExportWrittenMethods):
+    """One sensor kind's written figures: `combined` (the aggregate), and per axis (x, y,
+    z) in `axes` when `per_axis` (else None)."""
+
+    columns: tuple[str, ...]
+    per_axis: bool
+    combined: WrittenNoise
+    axes: dict[str, WrittenNoise] | None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ExportWritten":
+        return cls(strings(d["columns"]),
+                   bool(d["per_axis"]),
+                   WrittenNoise.from_dict(d["combined"]),
+                   None if d.get("axes") is None else {n: WrittenNoise.from_dict(v) for n, v in d["axes"].items()})
+
+
+@dataclass(frozen=True)
+class ConsistentFor:
+    """`export --consistent-for`: the inflation that keeps a WN + RW filter consistent;
+    `smaller_factor_verdict` the next smaller factor's verdict (optimistic), None when no
+    inflation was needed."""
+
+    update_rate: float
+    horizon: float
+    fix_sigma: float
+    white_factor: float
+    walk_factor: float
+    verdict: str
+    nees_inside: float
+    smaller_factor: float
+    smaller_factor_above_band: float
+    reason: str
+    smaller_factor_verdict: str | None = None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "ConsistentFor":
+        return cls(num(d["update_rate"]),
+                   num(d["horizon"]),
+                   num(d["fix_sigma"]),
+                   num(d["white_factor"]),
+                   num(d["walk_factor"]),
+                   d["verdict"],
+                   num(d["nees_inside"]),
+                   num(d["smaller_factor"]),
+                   num(d["smaller_factor_above_band"]),
+                   d["reason"],
+                   d.get("smaller_factor_verdict"))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class ExportResult(ExportResultMethods, JsonResult):
+    """The document `gmwm export ... --json` writes: the `format`, the `output` file, the
+    columns read, the figures `written` per sensor kind (gyro, accel), the `warnings` and,
+    with --consistent-for, `consistent_for` (else None). `content` and `sidecar_content`: the
+    file's text and its sidecar's (basalt's header), as gmwm.export() rendered them; None for a
+    document read with from_json (the command wrote the files itself)."""
+
+    format: str
+    output: str
+    sidecar: str | None
+    source: str
+    aggregation: str
+    inflate: float
+    inflate_walk: float
+    rate: float
+    columns: tuple[ExportColumn, ...]
+    written: dict[str, ExportWritten]
+    warnings: tuple[str, ...]
+    consistent_for: ConsistentFor | None
+    content: str | None = None
+    sidecar_content: str | None = None
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "ExportResult":
+        return cls(d,
+                   text,
+                   d["format"],
+                   d["output"],
+                   d.get("sidecar"),
+                   d["source"],
+                   d["aggregation"],
+                   num(d["inflate"]),
+                   num(d["inflate_walk"]),
+                   num(d["rate"]),
+                   tuple(ExportColumn.from_dict(r) for r in d.get("columns") or ()),
+                   {n: ExportWritten.from_dict(v) for n, v in d["written"].items()},
+                   strings(d["warnings"]),
+                   None if d.get("consistent_for") is None else ConsistentFor.from_dict(d["consistent_for"]))
+
+
+@dataclass(frozen=True)
+class FleetFigure:
+    """N, K or B of one unit's axis: `value` with its interval [`low`, `high`] (low NaN for a
+    bound) in the data's unit, and its `source` (model, data or bound)."""
+
+    value: float
+    low: float
+    high: float
+    source: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any] | None) -> "FleetFigure | None":
+        if d is None:
+            return None
+        return cls(num(d["value"]),
+                   num(d["low"]),
+                   num(d["high"]),
+                   d["source"])
+
+
+@dataclass(frozen=True)
+class FleetSpecCheck:
+    """One figure of a unit's axis against its spec limit (`gmwm fleet --spec`): `value` with
+    its interval [`low`, `high`] in the limit's unit (B as the Allan minimum 0.664 B when the
+    limit is an in-run bias stability), the `verdict` ('pass', 'fail', 'unknown') and a `note`."""
+
+    figure: str
+    limit: float
+    limit_unit: str
+    limit_key: str
+    limit_where: str
+    value: float
+    low: float
+    high: float
+    verdict: str
+    note: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "FleetSpecCheck":
+        return cls(d["figure"],
+                   num(d["limit"]),
+                   d["limit_unit"],
+                   d["limit_key"],
+                   d["limit_where"],
+                   num(d["value"]),
+                   num(d["low"]),
+                   num(d["high"]),
+                   d["verdict"],
+                   d["note"])
+
+
+@dataclass(frozen=True)
+class FleetRow:
+    """One unit x axis of a fleet (or a recording that failed: `axis` empty, `status` why)."""
+
+    unit: str
+    model: str
+    group: str
+    path: str
+    axis: str
+    unit_of_data: str
+    status: str
+    chosen: str | None
+    chosen_structure: str | None
+    gof_p_value: float
+    freq: float
+    n: int
+    N: FleetFigure | None
+    K: FleetFigure | None
+    B: FleetFigure | None
+    seconds: float
+    flags: tuple[str, ...]
+    cached: bool = False
+    spec: tuple[FleetSpecCheck, ...] = ()
+    spec_verdict: str = ""
+    spec_note: str = ""
+    gap_verdict: str = ""
+    gap_headline: str = ""
+    gap_p_value: float = float("nan")
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "FleetRow":
+        return cls(d["unit"],
+                   d["model"],
+                   d["group"],
+                   d["path"],
+                   d["axis"],
+                   d["unit_of_data"],
+                   d["status"],
+                   d.get("chosen"),
+                   d.get("chosen_structure"),
+                   num(d["gof_p_value"]),
+                   num(d["freq"]),
+                   int(d["n"]),
+                   FleetFigure.from_dict(d.get("N")),
+                   FleetFigure.from_dict(d.get("K")),
+                   FleetFigure.from_dict(d.get("B")),
+                   num(d["seconds"]),
+                   strings(d["flags"]),
+                   bool(d.get("cached", False)),
+                   tuple(FleetSpecCheck.from_dict(r) for r in d.get("spec") or ()),
+                   d.get("spec_verdict", ""),
+                   d.get("spec_note", ""),
+                   (d.get("gap") or {}).get("verdict", ""),
+                   (d.get("gap") or {}).get("headline", ""),
+                   num((d.get("gap") or {}).get("p_value")))
+
+
+@dataclass(frozen=True)
+class FleetFigureSummary:
+    """One figure ('N', 'K' or 'B') of one axis over a group's units: its median, its
+    spread as a factor (exp(MAD of the logs / 0.6745)) and the units flagged on it."""
+
+    group: str
+    axis: str
+    figure: str
+    units: int
+    median: float
+    spread: float
+    flagged: tuple[str, ...]
+    unit: str = ""
+    out_of_spec: tuple[str, ...] = ()
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "FleetFigureSummary":
+        return cls(d["group"],
+                   d["axis"],
+                   d["figure"],
+                   int(d["units"]),
+                   num(d["median"]),
+                   num(d["spread"]),
+                   strings(d["flagged"]),
+                   d.get("unit", ""),
+                   strings(d.get("out_of_spec")))
+
+
+@dataclass(frozen=True)
+class FleetJointModel:
+    """The joint model of a group's axis (`gmwm fleet --joint`): its units as replicates (the
+    ones that stand out `left_out`), the selection's `recommended` model and its `model` with
+    values, the typical unit's N, K, B, and the shared-theta test (`shared`: the units share
+    one theta at 5%; `heterogeneity_p`, `calibration` 'bootstrap' or 'chi-square'). `status`
+    says why there is none."""
+
+    group: str
+    axis: str
+    units: int
+    left_out: tuple[str, ...]
+    status: str
+    unit: str
+    recommended: str | None
+    model: str | None
+    N: FleetFigure | None
+    K: FleetFigure | None
+    B: FleetFigure | None
+    heterogeneity: float
+    heterogeneity_p: float
+    calibration: str | None
+    shared: bool | None
+    seconds: float
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "FleetJointModel":
+        return cls(d["group"],
+                   d["axis"],
+                   int(d["units"]),
+                   strings(d.get("left_out")),
+                   d["status"],
+                   d["unit"],
+                   d.get("recommended"),
+                   d.get("model"),
+                   FleetFigure.from_dict(d.get("N")),
+                   FleetFigure.from_dict(d.get("K")),
+                   FleetFigure.from_dict(d.get("B")),
+                   num((d.get("replicate_test") or {}).get("heterogeneity")),
+                   num((d.get("replicate_test") or {}).get("heterogeneity_p_value")),
+                   (d.get("replicate_test") or {}).get("calibration"),
+                   (d.get("replicate_test") or {}).get("shared"),
+                   num(d["seconds"]))
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class FleetResult(FleetResultMethods, JsonResult):
+    """The document `gmwm fleet MANIFEST --json` writes (gmwm.fleet): `rows` (one per unit x
+    axis), `summary` (per group, axis and figure), `failed` recordings."""
+
+    manifest: str
+    model_spec: str
+    recordings: int
+    failed: int
+    rows: tuple[FleetRow, ...]
+    summary: tuple[FleetFigureSummary, ...]
+    cached: int = 0
+    cache: str | None = None
+    spec: str | None = None
+    gap_baseline: str | None = None
+    joint: tuple[FleetJointModel, ...] = ()
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "FleetResult":
+        return cls(d,
+                   text,
+                   d["manifest"],
+                   d["model_spec"],
+                   int(d["recordings"]),
+                   int(d["failed"]),
+                   tuple(FleetRow.from_dict(r) for r in d.get("rows") or ()),
+                   tuple(FleetFigureSummary.from_dict(r) for r in d.get("summary") or ()),
+                   int(d.get("cached", 0)),
+                   d.get("cache"),
+                   d.get("spec"),
+                   d.get("gap_baseline"),
+                   tuple(FleetJointModel.from_dict(r) for r in d.get("joint") or ()))
+
+
+@dataclass(frozen=True)
+class Timing(TimingMethods):
+    """What a timestamp column (or a pandas index) says about the sampling (the documents'
+    "timing"): the median step, the rate it gives, the gaps (steps over 1.5 median steps), the
+    steps out of order and, when the rate changes within the record, where (`rate_change`);
+    `given_freq` the rate given besides (None when none). `summary` is the line the command
+    prints (gmwm.read's and an index's; None in a command's document)."""
+
+    column: str
+    unit: str
+    unit_source: str
+    samples: int
+    median_step_seconds: float
+    estimated_freq: float
+    gaps: int
+    largest_gap_seconds: float
+    disorder: int
+    given_freq: float | None
+    rate_change: str | None
+    summary: str | None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any] | None) -> "Timing | None":
+        if d is None:
+            return None
+        return cls(d["column"],
+                   d["unit"],
+                   d["unit_source"],
+                   int(d["samples"]),
+                   num(d["median_step_seconds"]),
+                   num(d["estimated_freq"]),
+                   int(d["gaps"]),
+                   num(d["largest_gap_seconds"]),
+                   int(d["disorder"]),
+                   None if d.get("given_freq") is None else float(d["given_freq"]),
+                   d.get("rate_change"),
+                   d.get("summary"))

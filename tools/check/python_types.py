@@ -64,6 +64,11 @@ SCALARS = {
     "any": ("Any", "d.get({k})", "d.get({k})"),
     "dict?": ("dict[str, Any] | None", "d.get({k})", "d.get({k})"),
     "list": ("tuple[Any, ...]", "tuple(d[{k}])", "tuple(d.get({k}) or ())"),
+    "bool?": ("bool | None", "d.get({k})", "d.get({k})"),
+    "float?": ("float | None", "None if d.get({k}) is None else float(d[{k}])", None),
+    "pair": ("tuple[float, float]", "(num(d[{k}][0]), num(d[{k}][1]))", None),
+    "{float}": ("dict[str, float]", "{{n: num(v) for n, v in d[{k}].items()}}", None),
+    "{str}": ("dict[str, str]", "dict(d[{k}])", None),
 }
 
 
@@ -104,17 +109,21 @@ class Schema:
         value = options["default"]
         if value == "nan":
             return ' = float("nan")'
-        return " = " + ("()" if value == [] else json.dumps(value).replace("null", "None"))
+        if value == []:
+            return " = ()"
+        return " = " + {"null": "None", "true": "True", "false": "False"}.get(json.dumps(value), json.dumps(value))
 
     def annotation(self, kind):
         if isinstance(kind, dict):
-            return kind["py"]
+            return kind["py"] if "py" in kind else kind["raw"]
         if kind in SCALARS:
             return SCALARS[kind][0]
         if kind.startswith("[") and kind.endswith("]?"):
             return f"tuple[{kind[1:-2]}, ...] | None"
         if kind.startswith("["):
             return f"tuple[{kind[1:-1]}, ...]"
+        if kind.startswith("{") and kind.endswith("}?"):
+            return f"dict[str, {kind[1:-2]}] | None"
         if kind.startswith("{"):
             return f"dict[str, {kind[1:-1]}]"
         if kind.endswith("?"):
@@ -128,8 +137,13 @@ class Schema:
 
     def conversion(self, kind, key, get, row="d", missing=None):
         *path, key = key.split(".")  # "best_fit.objective": the member of a member
-        row += "".join(f"[{json.dumps(p)}]" for p in path)
+        for p in path:  # a member that may be absent (a key with a default, or read with get) is {} then
+            row = f"({row}.get({json.dumps(p)}) or {{}})" if get or missing is not None else f"{row}[{json.dumps(p)}]"
         k = json.dumps(key)
+        if isinstance(kind, dict) and "raw" in kind:
+            return f"{row}.get({k})"
+        if kind in ("int", "bool") and missing is not None:  # a key older documents lack
+            return f"{kind}({row}.get({k}, {json.dumps(missing).replace('false', 'False').replace('true', 'True')}))"
         if isinstance(kind, dict):
             call = kind["call"].split(".")[1]
             return f"{call}({row}, text)" if kind.get("text") else f"{call}({row})"
@@ -138,7 +152,8 @@ class Schema:
         if kind in SCALARS:
             _, required, optional = SCALARS[kind]
             text = optional if get and optional else required
-            return text.replace("d[", f"{row}[").replace("d.get(", f"{row}.get(").format(k=k)
+            text = text.format(k=k)  # then the object the key is read from (itself maybe braced)
+            return text.replace("d[", "\0[").replace("d.get(", "\0.get(").replace("\0", row)
         if kind.startswith("[") and kind.endswith("]?"):
             inner = kind[1:-2]
             self.known(inner)
@@ -147,6 +162,10 @@ class Schema:
             inner = kind[1:-1]
             self.known(inner)
             return f"tuple({inner}.from_dict(r) for r in {row}.get({k}) or ())"
+        if kind.startswith("{") and kind.endswith("}?"):
+            inner = kind[1:-2]
+            self.known(inner)
+            return f"None if {row}.get({k}) is None else {{n: {inner}.from_dict(v) for n, v in {row}[{k}].items()}}"
         if kind.startswith("{"):
             inner = kind[1:-1]
             self.known(inner)
@@ -223,7 +242,8 @@ class Schema:
             out.append("    @classmethod")
             out.append(f'    def _from(cls, d: Any, text: str) -> "{name}":')
             out += self.shared(fields)
-            args = ["d", "text"] + [self.argument(f) for f in fields]
+            args = ["d", "text"] + [self.argument(f, self.missing(name, f[0])) for f in fields
+                                    if f[0] not in self.computed(name)]
             out.append("        return cls(" + ",\n                   ".join(args) + ")")
         else:
             out.append("    @classmethod")
@@ -234,7 +254,7 @@ class Schema:
             else:
                 out.append(f'    def from_dict(cls, d: Mapping[str, Any]) -> "{name}":')
             out += self.shared(fields)
-            args = [self.argument(f, self.missing(name, f[0])) for f in fields]
+            args = [self.argument(f, self.missing(name, f[0])) for f in fields if f[0] not in self.computed(name)]
             out.append("        return cls(" + ",\n                   ".join(args) + ")")
         return "\n".join(out)
 
@@ -255,11 +275,16 @@ class Schema:
             return f"None if {owner} is None else {owner}.{attr}"
         return fname if fname in self._referenced else self.conversion(kind, key, get, missing=missing)
 
+    def computed(self, type_name):
+        """Fields the document does not hold ({"computed": true}: set by the code that builds the
+        type, their defaults otherwise)."""
+        return {f[0] for f in self.types[type_name]["fields"] if len(f) > 2 and f[2].get("computed")}
+
     def missing(self, type_name, field_name):
         """A str field's default, taken when an older document lacks the key (None: required)."""
         t = self.types[type_name]
         for f in ([] if "base" not in t else self.types[t["base"]]["fields"]) + t["fields"]:
-            if f[0] == field_name and len(f) > 2 and "default" in f[2] and f[1] == "str":
+            if f[0] == field_name and len(f) > 2 and f[1] in ("str", "int", "bool") and "default" in f[2]:
                 return f[2]["default"]
         return None
 
