@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -124,4 +125,11 @@ TEST(StampTiming, StampsThatNeverIncreaseAreRefusedAsAFilesAre) {
             "data.index: found timestamps in column 'when' that never increase, expected increasing times; give "
             "the sampling rate with --freq HZ");
   EXPECT_NO_THROW(timing_of_stamps(t, "data.index", "when", 100.0));
+}
+
+TEST(StampTiming, StampsTooFarApartForNanosecondsAreRefusedNotWrapped) {
+  const std::vector<std::int64_t> t = {std::numeric_limits<std::int64_t>::min() + 1, 0,
+                                       std::numeric_limits<std::int64_t>::max()};
+  EXPECT_TRUE(contains(message_of([&] { timing_of_stamps(t, "data.index", "index", std::nullopt); }),
+                       "expected times within 292 years of the first"));
 }

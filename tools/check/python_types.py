@@ -154,22 +154,16 @@ class Schema:
             text = optional if get and optional else required
             text = text.format(k=k)  # then the object the key is read from (itself maybe braced)
             return text.replace("d[", "\0[").replace("d.get(", "\0.get(").replace("\0", row)
-        if kind.startswith("[") and kind.endswith("]?"):
-            inner = kind[1:-2]
+        if kind[0] in "[{":  # a list of T ([T]) or names to T ({T}); "?": None when null
+            nullable = kind.endswith("?")
+            inner = kind[1:-2] if nullable else kind[1:-1]
             self.known(inner)
-            return f"None if {row}.get({k}) is None else tuple({inner}.from_dict(r) for r in {row}[{k}])"
-        if kind.startswith("["):
-            inner = kind[1:-1]
-            self.known(inner)
-            return f"tuple({inner}.from_dict(r) for r in {row}.get({k}) or ())"
-        if kind.startswith("{") and kind.endswith("}?"):
-            inner = kind[1:-2]
-            self.known(inner)
-            return f"None if {row}.get({k}) is None else {{n: {inner}.from_dict(v) for n, v in {row}[{k}].items()}}"
-        if kind.startswith("{"):
-            inner = kind[1:-1]
-            self.known(inner)
-            return f"{{n: {inner}.from_dict(v) for n, v in {row}[{k}].items()}}"
+            if kind[0] == "[":
+                source = f"{row}[{k}]" if nullable else f"{row}.get({k}) or ()"
+                built = f"tuple({inner}.from_dict(r) for r in {source})"
+            else:
+                built = f"{{n: {inner}.from_dict(v) for n, v in {row}[{k}].items()}}"
+            return f"None if {row}.get({k}) is None else {built}" if nullable else built
         if kind.endswith("?"):
             inner = kind[:-1]
             self.known(inner)

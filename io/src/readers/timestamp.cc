@@ -440,7 +440,13 @@ TimingReport timing_of_stamps(std::span<const std::int64_t> stamps_ns, const std
   // Offsets from the first stamp, subtracted as integers: exact (a step's spacing is the
   // nanosecond however far the stamps are from their origin).
   const std::int64_t first = stamps_ns.empty() ? 0 : stamps_ns.front();
-  for (const std::int64_t t : stamps_ns) steps.add(static_cast<double>(t - first));
+  for (const std::int64_t t : stamps_ns) {
+    std::int64_t offset = 0;
+    if (__builtin_sub_overflow(t, first, &offset))  // stamps 292 years apart: none a sensor gives
+      throw InputError(source + ": timestamps '" + column + "': found " + std::to_string(t) + " ns after " +
+                       std::to_string(first) + " ns, expected times within 292 years of the first");
+    steps.add(static_cast<double>(offset));
+  }
   TimingReport timing = detail::analyse_timing(column, steps, static_cast<double>(first), detail::TimeUnit{1e-9, "ns"},
                                                "integer nanoseconds");
   timing.given_freq = freq;
