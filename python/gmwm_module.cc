@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <future>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -202,8 +203,8 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   o.wv = wv_levels(alpha, levels, set);
   o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
-  for (const gmwm::ModelSpec& spec : o.models)  // a bad model: InputError, GIL held
-    spec.bind(gmwm::ProcessContext{set.freq, set.freq_known});
+  for (const gmwm::ModelSpec& listed : o.models)  // a bad model: InputError, GIL held
+    listed.bind(gmwm::ProcessContext{set.freq, set.freq_known});
   const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
     gmwm::pipeline::SelectStudyOptions oc = o;
     oc.select.progress = progress;  // every fit and bootstrap draw
@@ -359,6 +360,35 @@ std::string py_gap_check(int cases, std::int64_t n, int replicates, const std::s
   return to_python(out);
 }
 
+// The WV a fully specified model implies at `tau` (samples), component by component: each
+// component's label (its process, numbered when the model repeats it) and a components x
+// levels array whose column sums are the model's WV (the plots' decomposition of a fit).
+std::tuple<std::vector<std::string>, py::array_t<double>> py_model_wv(
+    const std::string& model_spec, const py::array_t<double, py::array::c_style | py::array::forcecast>& tau,
+    std::optional<double> freq) {
+  if (tau.ndim() != 1) throw gmwm::InputError("tau: expected a 1-D array of scales in samples");
+  const gmwm::Model model = gmwm::parse_model(model_spec, gmwm::ProcessContext{freq.value_or(1.0), freq.has_value()});
+  if (!model.fully_specified())
+    throw gmwm::InputError("model '" + model_spec + "': give every parameter a value (a fit's model has them)");
+  const Eigen::VectorXd theta = model.given_values();
+  if (const std::string why = model.validate(theta); !why.empty()) throw gmwm::InputError(why);
+  const std::span<const double> scales(tau.data(), static_cast<std::size_t>(tau.size()));
+  const auto k = static_cast<py::ssize_t>(model.num_components());
+  py::array_t<double> out(std::vector<py::ssize_t>{k, static_cast<py::ssize_t>(scales.size())});
+  std::vector<std::string> labels;
+  std::map<std::string, int> seen, count;
+  for (const gmwm::Component& c : model.components()) ++count[c.process->name()];
+  for (py::ssize_t c = 0; c < k; ++c) {
+    const gmwm::Component& component = model.components()[static_cast<std::size_t>(c)];
+    const std::string name = component.process->name();
+    labels.push_back(count[name] > 1 ? name + " " + std::to_string(++seen[name]) : name);
+    const gmwm::Model alone({component});
+    const Eigen::VectorXd wv = alone.wv(alone.given_values(), scales);
+    std::copy(wv.data(), wv.data() + wv.size(), out.mutable_data(c, 0));
+  }
+  return {labels, out};
+}
+
 py::array_t<double> py_simulate(const std::string& model_spec, std::int64_t n, std::uint64_t seed, int signals,
                                 std::optional<double> freq) {
   if (n < 1) throw gmwm::InputError("n: expected a positive number of samples, got " + std::to_string(n));
@@ -469,6 +499,16 @@ PYBIND11_MODULE(_gmwm, m) {
         "'2,4,8'): the document gmwm gap-check --json writes");
   gmwm::python::add_multi_signal_functions(m);
   gmwm::python::add_read_functions(m);
+  m.def(
+      "figure_units",
+      [](const std::string& unit) {
+        const gmwm::report::FigureUnits u = gmwm::report::figure_units(unit);
+        return std::make_tuple(u.white, u.walk, u.instability);
+      },
+      py::arg("unit"), "The units of N, K and B for data in `unit` (as the documents write them)");
+  m.def("model_wv", &py_model_wv, py::arg("model"), py::arg("tau"), py::kw_only(), py::arg("freq") = py::none(),
+        "The WV a fully specified model implies at tau (samples), per component: the components' labels and a "
+        "components x levels array (the rows sum to the model's WV)");
   m.def("simulate", &py_simulate, py::arg("model"), py::arg("n"), py::kw_only(), py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("signals") = 1, py::arg("freq") = py::none(),
         "Independent series of a fully specified model: shape (n,), or (n, signals) with signal k on stream k, "

@@ -2,14 +2,15 @@
 their fields and from_dict are generated from report/schema/results.json into _types.py."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, cast
 
 import numpy as np
 
 from ._common import BoolArray, FloatArray, HasParameters, built, column_texts, g, num
 
 if TYPE_CHECKING:
-    from ._types import (Attribution, ConfigChange, GapBand, GapColumn, GapStep, GapTest, Remaining, Shrinkage)
+    from ._types import (Attribution, ConfigChange, GapBand, GapColumn, GapResult, GapStep, GapTest, Remaining,
+                         Shrinkage)
 
 
 class GapBandMethods:
@@ -109,6 +110,14 @@ class GapColumnMethods:
                 f"excess removed {g(100 * self.shrinkage.excess_removed, 3)}%, "
                 f"{'closed' if self.closed else 'remains'})")
 
+    def plot(self, ax: Any = None) -> Any:
+        """The data's WV over the baseline's, level by level, against the reference band (the
+        levels outside it in red); the axes drawn on. Needs matplotlib."""
+        from . import _plot
+
+        return _plot.gap_column(cast("GapColumn", self), ax)
+
+
 
 class CorrectedColumnMethods:
     name: str
@@ -148,6 +157,13 @@ class GapResultMethods:
     def __repr__(self) -> str:
         return "GapResult(" + "; ".join(f"{c.name}: {c.effect}, {'closed' if c.closed else 'remains'}"
                                         for c in self.columns) + ")"
+
+    def plot(self) -> Any:
+        """A figure with one plot per column (GapColumn.plot); its axes."""
+        from . import _plot
+
+        return _plot.gap(cast("GapResult", self))
+
 
 
 def confusion_of(d: Mapping[str, Any]) -> dict[str, dict[str, int]]:

@@ -3,14 +3,15 @@ docs/nav.md, docs/exports.md, docs/fleet.md): their fields and from_dict are gen
 report/schema/results.json into _types.py."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, cast
 
 import numpy as np
 
 from ._common import FloatArray, g, num
 
 if TYPE_CHECKING:
-    from ._types import (ExportWritten, FleetRow, NavFilter, NavSummary, PlanColumn, PlanTarget, WrittenNoise)
+    from ._types import (ExportWritten, FleetResult, FleetRow, NavFilter, NavResult, NavSummary, PlanColumn,
+                         PlanTarget, WrittenNoise)
 
 
 def outages_of(s: Mapping[str, Any]) -> tuple[tuple[float, float], ...]:
@@ -56,6 +57,14 @@ class NavResultMethods:
 
     def __repr__(self) -> str:
         return "NavResult(" + ", ".join(f"{f.label}: {f.verdict}" for f in self.filters) + ")"
+
+    def plot(self, ax: Any = None, quantity: str = "position") -> Any:
+        """Each filter's true RMS error and the 3 sigma it claims against time (`quantity`:
+        position, velocity or attitude), the outages shaded; the axes drawn on."""
+        from . import _plot
+
+        return _plot.nav(cast("NavResult", self), ax, quantity)
+
 
 
 class PlanTargetMethods:
@@ -159,3 +168,11 @@ class FleetResultMethods:
         flagged = sorted({r.unit for r in self.rows if r.flags})
         return (f"FleetResult({self.recordings} recordings over {self.model_spec}, {len(self.rows)} rows, "
                 f"{self.failed} failed, flagged: {', '.join(flagged) if flagged else 'none'})")
+
+    def plot(self, ax: Any = None, figure: str = "N") -> Any:
+        """`figure` (N, K or B) of every unit by axis with its interval, one colour per unit,
+        the flagged ones boxed in red; the axes drawn on. Needs matplotlib."""
+        from . import _plot
+
+        return _plot.fleet(cast("FleetResult", self), ax, figure)
+

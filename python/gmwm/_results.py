@@ -3,7 +3,7 @@ fields and from_dict are generated from report/schema/results.json into _types.p
 result keeps the parsed document (`.document`) and the text (`.to_json()`)."""
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Iterator, Mapping
+from typing import TYPE_CHECKING, Any, Iterator, Mapping, cast
 
 import numpy as np
 
@@ -11,8 +11,8 @@ from ._common import FloatArray, HasParameters, built, g, parameters
 from ._json_text import item_texts
 
 if TYPE_CHECKING:
-    from ._types import (AllanDeviation, BestFit, ContinuousParameter, GoodnessOfFit, Kalman, NoiseFigures,
-                         Parameter, SelectColumn, WvLevels)
+    from ._types import (AllanDeviation, BestFit, ContinuousParameter, FitResult, GoodnessOfFit, Kalman,
+                         NoiseFigures, Parameter, SelectColumn, SelectResult, WvLevels, WvResult)
 
 
 class WvLevelsMethods:
@@ -67,6 +67,14 @@ class WvResultMethods(_WvArrays):
         return (f"WvResult({self.name}: {self.estimator}, n={self.n}, {rate}, "
                 f"{len(self.levels)} levels, wv {g(self.wv[0])} .. {g(self.wv[-1])})")
 
+    def plot(self, ax: Any = None) -> Any:
+        """The WV with its interval against tau (the classical WV beside a robust one); the
+        axes drawn on (a new figure without `ax`). Needs matplotlib."""
+        from . import _plot
+
+        return _plot.wv(cast("WvResult", self), ax)
+
+
 
 class AllanResultMethods:
     unit: str | None
@@ -94,6 +102,13 @@ class AllanResultMethods:
         return (f"AllanResult({len(self.allan)} points, N={g(f.N.value)}, K={g(f.K.value)}, B={g(f.B.value)} "
                 f"({self.unit or 'no unit'}))")
 
+    def plot(self, ax: Any = None) -> Any:
+        """The Allan deviation with its interval and the N, K, B lines; the axes drawn on."""
+        from . import _plot
+
+        return _plot.allan(self.allan, self.noise_figures, self.unit, "", ax)
+
+
 
 def _figures_repr(f: NoiseFigures | None) -> str:
     return "" if f is None else f", N={g(f.N.value)} {f.N.unit}"
@@ -109,6 +124,14 @@ class FitResultMethods(HasParameters, _WvArrays):
     def __repr__(self) -> str:
         return (f"FitResult({self.name}: {self.model_structure}, {self.status}, "
                 f"gof p={g(self.gof.p_value, 3)}{_figures_repr(self.noise_figures)})")
+
+    def plot(self, ax: Any = None, decomposition: bool = True) -> Any:
+        """The data's WV with its interval, the fitted model's WV and (`decomposition`) each
+        process's; the axes drawn on (a new figure without `ax`). Needs matplotlib."""
+        from . import _plot
+
+        return _plot.fit(cast("FitResult", self), ax, decomposition)
+
 
 
 class RankingRowMethods(HasParameters):
@@ -176,6 +199,14 @@ class SelectColumnMethods(_WvArrays):
         return (f"SelectColumn({self.name}: best {self.best} of {len(self.ranking)} effective models, "
                 f"gof p={g(self.best_fit.gof.p_value, 3)}{_figures_repr(self.noise_figures)})")
 
+    def plot(self, ax: Any = None, ranking_ax: Any = None, decomposition: bool = True) -> Any:
+        """The chosen model's WV (and each process's) over the data's; without axes, a new
+        figure with the ranking beside it (returns both axes). Needs matplotlib."""
+        from . import _plot
+
+        return _plot.select_column(cast("SelectColumn", self), ax, ranking_ax, decomposition)
+
+
 
 def select_columns(d: Any, text: str) -> tuple[SelectColumn, ...]:
     """gmwm.select's columns, each built from its own text (its to_json() the column alone)."""
@@ -198,3 +229,10 @@ class SelectResultMethods:
 
     def __repr__(self) -> str:
         return "SelectResult(" + ", ".join(f"{c.name}: {c.best}" for c in self.columns) + ")"
+
+    def plot(self) -> Any:
+        """A figure with one row per column: its ranking and its chosen fit (the axes' grid)."""
+        from . import _plot
+
+        return _plot.select(cast("SelectResult", self))
+
