@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -50,6 +51,16 @@ std::string message_of(const std::function<void()>& f) {
   return "no error";
 }
 
+// A temporary folder removed with the test.
+class ScratchFolder {
+ public:
+  explicit ScratchFolder(const std::string& tag) : path(gmwm::test::temp_dir(tag)) {}
+  ~ScratchFolder() { std::filesystem::remove_all(path); }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const std::filesystem::path path;
+};
+
 }  // namespace
 
 TEST(ReadRequest, AColumnListIsSplitAtCommasWithBlanksTrimmed) {
@@ -75,7 +86,8 @@ TEST(ReadRequest, AMemoryOutsideOneMegabyteToATerabyteIsRefusedAsTheCommandLineR
 }
 
 TEST(ReadRequest, ARecordingWithoutTimestampsOrFreqIsRefusedAndFreqGivesItsRate) {
-  const auto dir = gmwm::test::temp_dir("read_request");
+  const ScratchFolder scratch("read_request");
+  const auto& dir = scratch.path;
   const std::string p = write_text(dir, "plain.csv", "x,y\n" + gmwm::test::csv_rows(64, ',', false));
   ReadRequest r;
   r.path = p;
@@ -90,7 +102,8 @@ TEST(StampTiming, StampsGiveTheRateGapsAndDisorderTheirFileColumnGives) {
   steps[1000] = 15000000;                          // a gap of three steps
   steps[2000] = -1000;                             // one out of order
   const std::vector<std::int64_t> t = stamps(steps);
-  const auto dir = gmwm::test::temp_dir("stamp_timing");
+  const ScratchFolder scratch("stamp_timing");
+  const auto& dir = scratch.path;
   gmwm::io::ReadOptions o;
   const gmwm::io::SignalSet set = gmwm::io::read_signals(write_text(dir, "s.csv", stamps_csv(t)), o);
   const gmwm::io::TimingReport file = *set.timing;
@@ -110,7 +123,8 @@ TEST(StampTiming, ARateChangeIsRefusedInTheFileReadersWordsUnlessFreqIsGiven) {
   std::vector<std::int64_t> steps(4096, 10000000);                       // 100 Hz
   for (std::size_t i = 2048; i < steps.size(); ++i) steps[i] = 5000000;  // then 200 Hz
   const std::vector<std::int64_t> t = stamps(steps);
-  const auto dir = gmwm::test::temp_dir("stamp_timing_change");
+  const ScratchFolder scratch("stamp_timing_change");
+  const auto& dir = scratch.path;
   const std::string p = write_text(dir, "c.csv", stamps_csv(t));
   const std::string file = gmwm::test::read_error(p);
   const std::string index = message_of([&] { timing_of_stamps(t, p, "timestamp [ns]", std::nullopt); });
