@@ -13,14 +13,15 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 demo=0
 if [[ ${1:-} == --demo ]]; then demo=1; fi
 
-# What building the program needs.
+# What building the program needs. libjs-vega: the Vega modules the HTML report (--report)
+# inlines, so that the demo's report (and every --report the README suggests) works from the
+# first command (issue 46: the demo's build said "configured without Vega").
 packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlopt-dev
           libboost-dev libboost-math-dev libboost-random-dev libspdlog-dev zlib1g-dev libssl-dev libcli11-dev
           nlohmann-json3-dev libtinyxml2-dev libyaml-cpp-dev libsqlite3-dev libbz2-dev liblz4-dev
-          libzstd-dev libcpp-httplib-dev pkg-config)
+          libzstd-dev libcpp-httplib-dev pkg-config libjs-vega)
 # What the tests, the benchmarks and the Python module need besides.
-# libjs-vega: the Vega modules the HTML report (--report) inlines; chromium: its headless
-# browser test (tests/cli/html_report_browser_test.cc); python3-rosbag and
+# chromium: the HTML report's headless browser test (tests/cli/html_report_browser_test.cc); python3-rosbag and
 # python3-sensor-msgs: ROS's own writer of the ROS 1 test bags; python3-matplotlib: the
 # plots of docs/python.md, whose cells the suite runs (python/tests/test_docs_python.py);
 # python3-distributed: the fleet's Dask runner and its LocalCluster test
@@ -31,7 +32,7 @@ packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlo
 # (Repository.EveryCppFileIsLaidOutAsClangFormatSays).
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
-             python3-rosbag python3-sensor-msgs python3-matplotlib python3-distributed python3-pandas libjs-vega
+             python3-rosbag python3-sensor-msgs python3-matplotlib python3-distributed python3-pandas
              chromium nodejs npm mypy clang-format)
 fi
 
