@@ -114,15 +114,22 @@ def _model(ax: Any, model: str | None, structure: str | None, levels: WvLevels, 
             ax.loglog(tau, part, "--", color=f"C{k + 2}", lw=1, label=label)
 
 
-def fit(f: FitResult, ax: Any = None, decomposition: bool = True) -> Any:
+def _wv_and_model(ax: Any, levels: WvLevels, model: str | None, structure: str | None, freq: float,
+                  unit: str | None, title: str, decomposition: bool) -> Any:
+    """The data's WV with its interval, a fitted model's WV over it (and each process's)."""
     ax = axes(ax)
-    _wv_data(ax, f.levels)
-    _model(ax, f.model, f.model_structure, f.levels, f.freq, decomposition)
-    _floor(ax, f.levels.ci_low)
-    ax.set_ylabel("wavelet variance" + _squared(f.unit))
-    ax.set_title(f"{f.name}: {f.model_structure}, gof p = {f.gof.p_value:.3g}")
+    _wv_data(ax, levels)
+    _model(ax, model, structure, levels, freq, decomposition)
+    _floor(ax, levels.ci_low)
+    ax.set_ylabel("wavelet variance" + _squared(unit))
+    ax.set_title(title)
     ax.legend(loc="best", fontsize=8)
     return ax
+
+
+def fit(f: FitResult, ax: Any = None, decomposition: bool = True) -> Any:
+    return _wv_and_model(ax, f.levels, f.model, f.model_structure, f.freq, f.unit,
+                         f"{f.name}: {f.model_structure}, gof p = {f.gof.p_value:.3g}", decomposition)
 
 
 def _floor(ax: Any, values: Any) -> None:
@@ -158,13 +165,8 @@ def select_column(c: SelectColumn, ax: Any = None, ranking_ax: Any = None, decom
         _, (ranking_ax, ax) = pyplot().subplots(1, 2, figsize=(2 * FIGURE_SIZE[0], FIGURE_SIZE[1]))
     if ranking_ax is not None:
         ranking(c, ranking_ax)
-    ax = axes(ax)
-    _wv_data(ax, c.levels)
-    _model(ax, c.best_model, c.best, c.levels, c.freq, decomposition)
-    _floor(ax, c.levels.ci_low)
-    ax.set_ylabel("wavelet variance" + _squared(c.unit))
-    ax.set_title(f"{c.name}: chosen {c.best}")
-    ax.legend(loc="best", fontsize=8)
+    ax = _wv_and_model(ax, c.levels, c.best_model, c.best, c.freq, c.unit, f"{c.name}: chosen {c.best}",
+                       decomposition)
     return ax if ranking_ax is None else (ranking_ax, ax)
 
 
