@@ -8,7 +8,7 @@ import pytest
 
 import gmwm
 
-from cli_support import run
+from cli_support import run, write_fleet
 
 TRUTH = "WN(sigma2=1e-4)+RW(gamma2=1e-10)"
 
@@ -16,13 +16,7 @@ TRUTH = "WN(sigma2=1e-4)+RW(gamma2=1e-10)"
 @pytest.fixture(scope="module")
 def fleet_dir(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fleet")
-    rows = ["path,unit,model,units"]
-    for k in range(1, 6):
-        spec = "WN(sigma2=4e-4)+RW(gamma2=1e-10)" if k == 3 else TRUTH
-        run(folder, "simulate", "--model", spec, "--n", "16384", "--freq", "100", "--signals", "2", "--names",
-            "gyro_x,gyro_y", "--seed", str(k), "--output", f"u{k}.csv", "--quiet")
-        rows.append(f'u{k}.csv,SN{k},IMU-X,"gyro=rad/s"')
-    (folder / "fleet.csv").write_text("\n".join(rows) + "\n")
+    write_fleet(folder, 5, TRUTH, 3, "WN(sigma2=4e-4)+RW(gamma2=1e-10)")
     return folder
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import gmwm
-from cli_support import SOURCE, run
+from cli_support import SOURCE, run, write_fleet
 
 matplotlib = pytest.importorskip("matplotlib", reason="python3-matplotlib (tools/setup.sh installs it)")
 matplotlib.use("Agg")
@@ -36,14 +36,8 @@ def results(tmp_path_factory):
     run(folder, "select", os.path.join(SOURCE, "data", "example_imu6.csv.gz"), "--model", "WN+RW", "--units",
         "gyro=rad/s,accel=m/s^2", "--json", "select.json", "--quiet")
     out["nav"] = gmwm.nav(str(folder / "select.json"), ["truth", "wnrw*2"], horizon=60.0, outages=[(20, 30)])
-    rows = ["path,unit,model,units"]
-    for k in range(1, 5):
-        spec = "WN(sigma2=4e-4)+RW(gamma2=1e-10)" if k == 3 else TRUTH
-        run(folder, "simulate", "--model", spec, "--n", "16384", "--freq", "100", "--signals", "2", "--names",
-            "gyro_x,gyro_y", "--seed", str(k), "--output", f"u{k}.csv", "--quiet")
-        rows.append(f'u{k}.csv,SN{k},IMU-X,"gyro=rad/s"')
-    (folder / "fleet.csv").write_text("\n".join(rows) + "\n")
-    out["fleet"] = gmwm.fleet(str(folder / "fleet.csv"), model="WN+RW", cache=None)
+    manifest = write_fleet(folder, 4, TRUTH, 3, "WN(sigma2=4e-4)+RW(gamma2=1e-10)")
+    out["fleet"] = gmwm.fleet(str(manifest), model="WN+RW", cache=None)
     return out
 
 
