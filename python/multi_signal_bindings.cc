@@ -103,17 +103,19 @@ std::vector<std::string> units_of(const std::vector<gmwm::pipeline::ReplicateGro
 std::string py_fit_joint(const py::sequence& recordings, const std::string& model_spec, std::optional<double> freq,
                          const std::string& omega, double alpha, int test_draws, std::uint64_t seed,
                          const std::vector<std::string>& names, bool robust, std::optional<double> eff,
-                         const std::optional<std::string>& estimator, bool spike_screen,
-                         const std::string& units_spec) {
+                         const std::optional<std::string>& estimator, bool spike_screen, const std::string& units_spec,
+                         int levels, int max_evaluations, std::optional<double> kf_rate) {
   const ReplicateArrays r = replicate_groups(recordings, freq, names);
   const std::vector<std::string> units = units_of(r.groups, units_spec);
+  const double filter = kalman_rate(kf_rate, r.primary);
   gmwm::pipeline::JointFitStudyOptions o;
   o.model = model_spec;
   o.fit.omega = omega_kind(omega);  // as fit --joint --omega: model (the default), diag or full
   o.fit.alpha = alpha;
   o.fit.seed = seed;
-  o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
+  o.fit.max_evaluations = max_evaluations;
+  o.wv = wv_levels(alpha, levels, r.primary);
+  o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
   o.test_draws = test_draws;
   o.seed = seed;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
@@ -123,7 +125,7 @@ std::string py_fit_joint(const py::sequence& recordings, const std::string& mode
     gmwm::pipeline::JointFitStudyOptions oc = o;
     oc.progress = progress;
     const gmwm::pipeline::JointFitStudy study = gmwm::pipeline::study_joint_fit(r.groups, context, oc);
-    return gmwm::report::joint_fit_document(r.primary, r.groups, study, units, context.freq_known ? context.freq : 0.0);
+    return gmwm::report::joint_fit_document(r.primary, r.groups, study, units, filter);
   }));
 }
 
@@ -133,9 +135,11 @@ std::string py_select_joint(const py::sequence& recordings, const std::string& m
                             const std::string& optimism, double alpha, std::uint64_t seed,
                             const std::vector<std::string>& names, bool robust, std::optional<double> eff,
                             const std::optional<std::string>& estimator, bool spike_screen,
-                            const std::string& units_spec, int test_draws) {
+                            const std::string& units_spec, int test_draws, int levels, int max_evaluations,
+                            std::optional<double> kf_rate) {
   const ReplicateArrays r = replicate_groups(recordings, freq, names);
   const std::vector<std::string> units = units_of(r.groups, units_spec);
+  const double filter = kalman_rate(kf_rate, r.primary);
   gmwm::pipeline::JointSelectStudyOptions o;
   o.model = model_spec;
   const std::vector<std::string> joint = gmwm::pipeline::replicate_optimism_names();
@@ -146,9 +150,10 @@ std::string py_select_joint(const py::sequence& recordings, const std::string& m
   o.select.select.seed = seed;
   o.select.select.fit.alpha = alpha;
   o.select.select.fit.seed = seed;
+  o.select.select.fit.max_evaluations = max_evaluations;
   o.select.seed = seed;
-  o.wv.alpha = alpha;
-  o.robust = robust_options(robust, eff, estimator, alpha, 0, spike_screen);
+  o.wv = wv_levels(alpha, levels, r.primary);
+  o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
   o.recommended_test_draws = test_draws;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   const gmwm::ProcessContext context{r.primary.freq, r.primary.freq_known};
@@ -157,8 +162,7 @@ std::string py_select_joint(const py::sequence& recordings, const std::string& m
     gmwm::pipeline::JointSelectStudyOptions oc = o;
     oc.select.select.progress = progress;
     const gmwm::pipeline::JointSelectStudy study = gmwm::pipeline::study_joint_select(r.groups, context, oc);
-    return gmwm::report::joint_select_document(r.primary, r.groups, study, units,
-                                               context.freq_known ? context.freq : 0.0);
+    return gmwm::report::joint_select_document(r.primary, r.groups, study, units, filter);
   }));
 }
 
@@ -293,14 +297,16 @@ void add_multi_signal_functions(py::module_& m) {
         py::arg("freq") = py::none(), py::arg("omega") = "model", py::arg("alpha") = 0.05,
         py::arg("test_draws") = gmwm::ReplicateTestOptions{}.bootstrap, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false, py::arg("eff") = py::none(),
-        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "",
+        py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "", py::arg("levels") = 0,
+        py::arg("max_evaluations") = gmwm::FitOptions{}.max_evaluations, py::arg("kf_rate") = py::none(),
         "Joint (multi-signal) GMWM fit of one model per axis over replicates (recordings of one sensor, each an "
         "array with the same columns): the document gmwm fit --joint --json writes");
   m.def("select_joint", &py_select_joint, py::arg("replicates"), py::arg("model"), py::kw_only(),
         py::arg("freq") = py::none(), py::arg("optimism") = "replicates", py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
         py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("spike_screen") = true,
-        py::arg("units") = "", py::arg("test_draws") = 0,
+        py::arg("units") = "", py::arg("test_draws") = 0, py::arg("levels") = 0,
+        py::arg("max_evaluations") = gmwm::FitOptions{}.max_evaluations, py::arg("kf_rate") = py::none(),
         "Selection over replicates (cross-validated WVIC; optimism='all' adds the joint fit's analytic and bootstrap "
         "WVIC): the document gmwm select --joint --json writes");
   m.def("export", &py_export, py::arg("result"), py::kw_only(), py::arg("format"), py::arg("output") = "",

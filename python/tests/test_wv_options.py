@@ -86,3 +86,32 @@ def test_a_bad_fit_option_is_refused_naming_its_keyword(recording, kw, words):
         with pytest.raises(gmwm.InputError) as e:
             call(rec, "WN+RW", **kw)
         assert words in str(e.value) and "--" not in str(e.value), str(e.value)
+
+
+@pytest.mark.parametrize("python,cli", [
+    ({"levels": 9, "kf_rate": 50}, ["--levels", "9", "--kf-rate", "50"]),
+    ({"max_evaluations": 40}, ["--max-evaluations", "40"]),
+], ids=["levels and kf_rate", "max_evaluations"])
+def test_the_joint_functions_take_the_commands_levels_kalman_rate_and_evaluations(recording, python, cli):
+    folder, rec = recording
+    other = gmwm.read(write_csv(folder / "other.csv", rec.values[::-1].copy(), names=("gyro_x",)))
+    joint = ["--joint", "other.csv"]
+    f = gmwm.fit_joint([rec, other], "WN+RW", test_draws=19, **python)
+    command = json.loads(run(folder, "fit", "imu.csv", *joint, "--model", "WN+RW", "--replicates", "19", *cli,
+                             "--json", "-", "--quiet").stdout)
+    assert unsourced(f.document["columns"]) == unsourced(command["columns"])
+    s = gmwm.select_joint([rec, other], "WN+RW", **python)
+    command = json.loads(run(folder, "select", "imu.csv", *joint, "--model", "WN+RW", *cli, "--json", "-",
+                             "--quiet").stdout)
+    assert unsourced(s.document["columns"]) == unsourced(command["columns"])
+
+
+def unsourced(document):
+    """The document without the names of its recordings (Python's "replicates[k]:gyro_x", the
+    command's "FILE:gyro_x"): every number and every other text compared."""
+    if isinstance(document, dict):
+        return {k: unsourced(v) for k, v in document.items() if k != "source"
+                and not (k == "replicates" and all(isinstance(r, str) for r in v))}
+    if isinstance(document, list):
+        return [unsourced(v) for v in document]
+    return document
