@@ -166,6 +166,13 @@ std::string py_select_joint(const py::sequence& recordings, const std::string& m
   }));
 }
 
+// Numbers as Python writes a tuple of them: "(20, 60)", "(5,)".
+std::string number_tuple(const std::vector<double>& v) {
+  std::string text = "(";
+  for (std::size_t i = 0; i < v.size(); ++i) text += (i ? ", " : "") + gmwm::significant(v[i]);
+  return text + (v.size() == 1 ? ",)" : ")");
+}
+
 // The export (gmwm::pipeline::study_export, as `gmwm export RESULT --format F --output
 // OUTPUT`) of a fit/select result's JSON text: (the document gmwm export --json writes
 // without "run", the file's text, the sidecar's text or None).
@@ -173,8 +180,7 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
     const std::string& result, const std::string& format, const std::string& output, const std::string& aggregate,
     double inflate, std::optional<double> rate, const std::string& rostopic, const std::string& units,
     const std::optional<std::string>& sensor, const std::vector<std::string>& columns,
-    const std::optional<std::tuple<double, double, double>>& consistent_for, const std::string& source_name,
-    bool partial) {
+    const std::optional<std::vector<double>>& consistent_for, const std::string& source_name, bool partial) {
   gmwm::pipeline::ExportStudyOptions o;
   const auto f = gmwm::io::parse_export_format(format);
   if (!f)
@@ -189,9 +195,11 @@ std::tuple<std::string, std::string, std::optional<std::string>> py_export(
   o.format.rostopic = rostopic;
   o.format.missing = partial ? gmwm::io::MissingSensor::kLeaveOut : gmwm::io::MissingSensor::kRefuse;
   if (consistent_for) {
-    gmwm::pipeline::ConsistencyOptions c;
-    std::tie(c.update_rate, c.horizon, c.fix_sigma) = *consistent_for;
-    o.consistent_for = c;
+    o.consistent_for = gmwm::pipeline::consistency_from(*consistent_for);
+    if (!o.consistent_for)
+      throw gmwm::InputError("consistent_for " + number_tuple(*consistent_for) +
+                             ": expected (rate, horizon[, sigma]): " + gmwm::pipeline::kConsistencyExpected +
+                             ", e.g. (20, 60)");
   }
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   gmwm::io::ResultReadOptions ro;
@@ -316,7 +324,7 @@ void add_multi_signal_functions(py::module_& m) {
         py::arg("source_name") = "", py::arg("partial") = false,
         "A fit/select result's noise parameters (its JSON text) in a consumer's format (kalibr, openvins, vins, "
         "orbslam3, basalt, gz-sdf, rotors): (the document gmwm export --json writes, the file's text, the "
-        "sidecar's text or None); consistent_for=(rate Hz, horizon s, update sigma m) derives the inflation");
+        "sidecar's text or None); consistent_for=(rate Hz, horizon s[, update sigma m]) derives the inflation");
   m.def(
       "fleet_task", [](const std::string& task) { return gmwm::fleet::run_fleet_task(task); }, py::arg("task"),
       py::call_guard<py::gil_scoped_release>(),

@@ -367,6 +367,17 @@ std::string ConsistencyOptions::Validate() const {
   return {};
 }
 
+std::optional<ConsistencyOptions> consistency_from(std::span<const double> values) {
+  if (values.size() < 2 || values.size() > 3) return std::nullopt;
+  for (const double v : values)
+    if (!(v > 0.0) || !std::isfinite(v)) return std::nullopt;
+  ConsistencyOptions c;
+  c.update_rate = values[0];
+  c.horizon = values[1];
+  if (values.size() == 3) c.fix_sigma = values[2];
+  return c;
+}
+
 namespace {
 
 // A filter is optimistic by nav's one verdict (nav::finish_verdict: not in band at 95% of the

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "gmwm/gap/gap.h"
 #include "gmwm/pipeline/export_study.h"
 #include "gmwm/pipeline/gap_study.h"
+#include "gmwm/pipeline/nav_study.h"
 #include "gmwm/pipeline/select_study.h"
 
 namespace gmwm::pipeline {
@@ -54,6 +56,26 @@ TEST(ExportStudyOptions, RefusesConsistentForWithAnInflationOrAGaussMarkovFormat
   o.format.inflate = 1.0;
   o.format.format = io::ExportFormat::kGzSdf;
   EXPECT_NE(o.Validate().find("for the WN + RW formats"), std::string::npos);
+}
+
+TEST(ConsistencyFrom, TakesARateAHorizonAndAnOptionalUpdateErrorAsEveryFaceGivesThem) {
+  const std::vector<double> two = {20.0, 60.0}, three = {20.0, 60.0, 0.1};
+  const auto a = consistency_from(two);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->update_rate, 20.0);
+  EXPECT_EQ(a->horizon, 60.0);
+  EXPECT_EQ(a->fix_sigma, ConsistencyOptions{}.fix_sigma);  // the default update error
+  const auto b = consistency_from(three);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->fix_sigma, 0.1);
+  EXPECT_EQ(b->Validate(), "");
+}
+
+TEST(ConsistencyFrom, RefusesOneOrFourNumbersAndAnyNotPositiveAndFinite) {
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const std::vector<double>& v : std::vector<std::vector<double>>{
+           {20.0}, {20.0, 60.0, 0.1, 1.0}, {}, {0.0, 60.0}, {20.0, -60.0}, {20.0, 60.0, nan}, {inf, 60.0}})
+    EXPECT_FALSE(consistency_from(v)) << v.size() << " numbers";
 }
 
 TEST(ExportFit, RefusesAColumnWhoseUnitNobodySaidNamingIt) {

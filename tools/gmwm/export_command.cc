@@ -118,20 +118,15 @@ std::vector<io::ExportColumn> from_data(const ExportArgs& a, const CommonOptions
 // --consistent-for RATE,HORIZON[,SIGMA]: the setting of pipeline::consistent_inflation.
 pipeline::ConsistencyOptions consistency_options(const std::string& text) {
   const std::vector<std::string> parts = io::comma_list(text);
-  pipeline::ConsistencyOptions c;
   std::vector<double> v;
   for (const std::string& p : parts)
-    if (const auto x = parse_decimal(p); x && *x > 0.0) v.push_back(*x);
-  if (v.size() != parts.size() || v.size() < 2 || v.size() > 3)
-    throw InputError(
-        "--consistent-for '" + text +
-        "': expected RATE,HORIZON[,SIGMA]: the filter's update rate in Hz, the longest time on the IMU alone "
-        "in s, and optionally an update's error in m (default 0.05), all positive, e.g. 20,60");
-  c.update_rate = v[0];
-  c.horizon = v[1];
-  if (v.size() == 3) c.fix_sigma = v[2];
-  if (const std::string why = c.Validate(); !why.empty()) throw InputError("--consistent-for: " + why);
-  return c;
+    if (const auto x = parse_decimal(p)) v.push_back(*x);
+  const auto c = v.size() == parts.size() ? pipeline::consistency_from(v) : std::nullopt;
+  if (!c)
+    throw InputError("--consistent-for '" + text +
+                     "': expected RATE,HORIZON[,SIGMA]: " + pipeline::kConsistencyExpected + ", e.g. 20,60");
+  if (const std::string why = c->Validate(); !why.empty()) throw InputError("--consistent-for: " + why);
+  return *c;
 }
 
 // The study's settings (InputError naming the option when invalid).

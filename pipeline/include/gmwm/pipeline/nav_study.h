@@ -26,6 +26,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <span>
 #include <variant>
 #include <vector>
 
@@ -125,6 +126,17 @@ struct ConsistencyOptions {
   nav::Progress progress;
   std::string Validate() const;
 };
+
+/// What a user gives for ConsistencyOptions, in every face's words after its own syntax
+/// (`--consistent-for RATE,HORIZON[,SIGMA]`, Python's `consistent_for=(rate, horizon[, sigma])`).
+inline constexpr const char* kConsistencyExpected =
+    "the filter's update rate in Hz, the longest time on the IMU alone in s, and optionally an update's error in m "
+    "(default 0.05), all positive";
+
+/// The setting from the numbers a user gives: the update rate, the horizon and optionally the
+/// update's error, all positive and finite. Empty when they are not (two or three of them):
+/// the face refuses them with kConsistencyExpected.
+std::optional<ConsistencyOptions> consistency_from(std::span<const double> values);
 
 /// The smallest inflation of a WN + RW filter model that keeps it from being optimistic
 /// against the truth: the expected NEES above its 95% band (nav::kNeesRuns-run mean) at no
