@@ -317,13 +317,14 @@ std::string py_nav(const std::string& truth, const std::vector<std::string>& fil
 }
 
 // The record-length plan (gmwm::pipeline::study_plan, as `gmwm plan`): the document gmwm
-// plan --json writes (without "run"), from a result's path or a model with values at freq.
+// plan --json writes (without "run"), from a result's JSON text or a model with values at freq.
 std::string py_plan(const std::optional<std::string>& result, const std::optional<std::string>& model,
                     std::optional<double> freq, const std::string& unit, double precision, double confidence,
                     const std::vector<std::string>& targets, std::optional<double> have,
-                    const std::vector<std::string>& columns) {
+                    const std::vector<std::string>& columns, const std::string& source_name) {
   gmwm::pipeline::PlanStudyOptions o;
-  o.result = result.value_or("");
+  o.result_text = result.value_or("");
+  o.result = source_name;
   o.model = model.value_or("");
   o.freq = freq;
   o.unit = unit;
@@ -489,9 +490,10 @@ PYBIND11_MODULE(_gmwm, m) {
   m.def("plan", &py_plan, py::arg("result") = py::none(), py::kw_only(), py::arg("model") = py::none(),
         py::arg("freq") = py::none(), py::arg("unit") = "", py::arg("precision") = 0.1, py::arg("confidence") = 0.95,
         py::arg("targets") = std::vector<std::string>{}, py::arg("have") = py::none(),
-        py::arg("columns") = std::vector<std::string>{},
-        "How long to record: per column of a fit/select result (or for model= at freq=), the record length at which "
-        "N, K, B or a parameter reach a precision: the document gmwm plan --json writes");
+        py::arg("columns") = std::vector<std::string>{}, py::arg("source_name") = "",
+        "How long to record: per column of a fit/select result's JSON text (source_name: its file; or for model= at "
+        "freq=), the record length at which N, K, B or a parameter reach a precision: the document gmwm plan --json "
+        "writes");
   m.def("gap_check", &py_gap_check, py::kw_only(), py::arg("cases") = 3, py::arg("n") = std::int64_t{1} << 18,
         py::arg("replicates") = 100, py::arg("strengths") = "2,4,8", py::arg("families") = "", py::arg("null") = true,
         py::arg("seed") = gmwm::kDefaultSeed,

@@ -21,7 +21,8 @@ std::string display_text(const Model& m, const Eigen::VectorXd& theta) {
 }  // namespace
 
 std::string PlanStudyOptions::Validate() const {
-  if (result.empty() == model.empty()) return "give either a fit/select result or a model with values";
+  const bool has_result = !result.empty() || !result_text.empty();
+  if (has_result == !model.empty()) return "give either a fit/select result or a model with values";
   if (!model.empty() && !freq) return "a model's values need its sampling rate (freq, Hz)";
   if (freq && (!(*freq > 0.0) || !std::isfinite(*freq))) return "freq must be positive (Hz)";
   if (!model.empty() && !columns.empty()) return "columns pick a result's columns, not a model's";
@@ -54,8 +55,10 @@ PlanStudy study_plan(const PlanStudyOptions& options) {
   ro.columns = options.columns;
   ro.rate = options.freq;
   ro.unit_free = true;  // a plan needs no unit: a column's own (when it says it) labels its figures
-  const io::ResultColumns r = io::read_result_columns(options.result, ro);
-  out.source = "gmwm " + r.command + " result " + options.result;
+  const std::string name = options.result.empty() ? std::string("result") : options.result;
+  const io::ResultColumns r = options.result_text.empty() ? io::read_result_columns(options.result, ro)
+                                                          : io::read_result_columns(name, options.result_text, ro);
+  out.source = "gmwm " + r.command + " result" + (options.result.empty() ? "" : " " + options.result);
   for (const io::ExportColumn& c : r.columns)
     out.columns.push_back({c.name, c.unit.name, c.model.to_string(c.theta), display_text(c.model, c.theta),
                            plan_record_length(c.model, c.theta, c.freq, options.plan)});

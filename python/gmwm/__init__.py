@@ -56,7 +56,7 @@ import dataclasses
 import functools
 import inspect
 import os
-from typing import Any, Callable, ParamSpec, TypeVar
+from typing import Any, Callable, ParamSpec, Sequence, TypeVar
 
 from . import _gmwm, _signals
 from ._common import (JsonResult)
@@ -140,7 +140,6 @@ select = _typed(_gmwm.select, SelectResult, _signals.columns)
 gap = _typed(_gmwm.gap, GapResult, _signals.columns)
 gap_check = _typed(_gmwm.gap_check, GapCheckResult)
 nav = _typed(_gmwm.nav, NavResult)
-plan = _typed(_gmwm.plan, PlanResult)
 fit_joint = _typed(_gmwm.fit_joint, JointFitResult, _signals.replicates)
 select_joint = _typed(_gmwm.select_joint, JointSelectResult, _signals.replicates)
 _fleet_raw = _typed(_gmwm.fleet, FleetResult)
@@ -192,15 +191,34 @@ def _result_document(result: Any) -> tuple[str, str]:
         return '{"tool": "gmwm", "command": "select", "columns": ' + result.to_json() + '}', ""
     if isinstance(result, str) and result.lstrip().startswith("{"):
         return result, ""
+    if isinstance(result, str) and result.lstrip().startswith("["):
+        raise InputError("result: JSON text of a list (a result's columns, as SelectResult.to_json() gives), expected "
+                         "the result itself (a gmwm.FitResult or gmwm.SelectResult), a result document's text or its "
+                         "file")
     if isinstance(result, (str, os.PathLike)):
         try:
             with open(result, encoding="utf-8") as f:
                 return f.read(), os.fspath(result)
         except OSError as e:
-            raise InputError(f"{os.fspath(result)}: {e.strerror}, expected the --json result of gmwm fit or "
-                             "gmwm select") from None
+            raise InputError(f"result {os.fspath(result)}: {e.strerror}, expected the JSON file of a gmwm fit or "
+                             "gmwm select result") from None
     raise InputError("result: expected a gmwm.FitResult, a gmwm.SelectResult, a result's JSON text or its path, "
                      f"got {type(result).__name__}")
+
+
+def plan(result: Any = None, *, model: str | None = None, freq: float | None = None, unit: str = "",
+         precision: float = 0.1, confidence: float = 0.95, targets: Sequence[str] = (), have: float | None = None,
+         columns: Sequence[str] = ()) -> PlanResult:
+    """How long to record, as `gmwm plan` says: per column of a fit/select result (a
+    gmwm.FitResult or gmwm.SelectResult, a result's JSON text or the path of a `--json`
+    file), or for `model` (every value given) at `freq` Hz, the record length at which N, K,
+    B or a parameter (`targets`: 'N', 'K', 'B', 'WN[1].sigma2', ...) reach +-`precision`
+    with probability `confidence`; `have` (s) adds the precision such a record reaches.
+    `unit` labels a model's figures; `columns` picks a result's."""
+    document, source = (None, "") if result is None else _result_document(result)
+    return PlanResult.from_json(_gmwm.plan(document, model=model, freq=freq, unit=unit, precision=precision,
+                                           confidence=confidence, targets=list(targets), have=have,
+                                           columns=list(columns), source_name=source))
 
 
 def export(result: Any, *, format: str, output: str = "", **options: Any) -> ExportResult:

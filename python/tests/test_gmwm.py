@@ -433,6 +433,26 @@ def test_plan_equals_the_cli_json_bit_for_bit_and_types_the_targets(tmp_path):
         gmwm.plan(model="WN(sigma2=1e-8)", freq=100.0, targets=["K"])
 
 
+def test_plan_of_a_result_object_its_file_or_its_text_equals_gmwm_plan_of_the_file(tmp_path):
+    # The notebook's step (issue 46, item 4): plan from the selection just made, as from its file.
+    x = gmwm.simulate("AR1(phi=0.99,sigma2=1e-6)+WN(sigma2=1e-4)+RW(gamma2=1e-9)", 2**15, seed=11, freq=100)
+    np.savetxt(tmp_path / "x.csv", x, header="gyro_x", comments="")
+    sel = tmp_path / "select.json"
+    subprocess.run([CLI, "select", str(tmp_path / "x.csv"), "--freq", "100", "--model", "AR1+WN+RW", "--units", "rad/s",
+                    "--json", str(sel), "--quiet"], check=True)
+    doc = cli_json(tmp_path, "plan", str(sel), "--targets", "N,B")
+    doc.pop("run")
+    assert gmwm.plan(str(sel), targets=["N", "B"]).document == doc
+    selection = gmwm.select(x, "AR1+WN+RW", freq=100, units="rad/s", names=["gyro_x"])
+    for given in (selection, sel.read_text()):
+        mine = gmwm.plan(given, targets=["N", "B"])
+        assert mine.source == "gmwm select result"
+        assert mine.document == {**doc, "source": "gmwm select result"}
+    one = gmwm.plan(gmwm.fit(x, "AR1+WN+RW", freq=100, units="rad/s", name="gyro_x"), targets=["N"])
+    assert one.source == "gmwm fit result" and one.columns[0].name == "gyro_x"
+    assert one.columns[0].target("N").seconds > 0
+
+
 def test_gap_check_equals_the_cli_json_bit_for_bit_and_refuses_as_it_does(tmp_path):
     args = ["--cases", "1", "--n", "4096", "--replicates", "40", "--families", "STEP,DR", "--strengths", "8",
             "--no-null"]
@@ -484,7 +504,10 @@ def test_the_functions_keep_their_signature_and_document_the_typed_return():
     assert signature.return_annotation == "gmwm.FitResult"
     assert gmwm.fit.__doc__.startswith("fit(data: object, model: str, *, freq: Optional[float] = None")
     assert "GMWM fit of a model" in gmwm.fit.__doc__ and "gmwm.FitResult" in gmwm.fit.__doc__
-    for name in ("wv", "allan", "select", "gap", "gap_check", "nav", "plan"):
+    # plan, like export, is written out in Python (it takes a result object): its own signature.
+    assert list(inspect.signature(gmwm.plan).parameters)[:2] == ["result", "model"]
+    assert inspect.signature(gmwm.plan).return_annotation in ("PlanResult", gmwm.PlanResult)
+    for name in ("wv", "allan", "select", "gap", "gap_check", "nav"):
         function = getattr(gmwm, name)
         assert function.__name__ == name and function.__doc__.startswith(name + "(")
         assert inspect.signature(function).return_annotation.startswith("gmwm.")

@@ -21,6 +21,8 @@ namespace gmwm::pipeline {
 
 struct PlanStudyOptions {
   std::string result;                ///< a fit/select --json result (its columns' models), or
+  std::string result_text;           ///< that result's text, when it is not read from the file `result`
+                                     ///< (which then only names it; "" when it has no file)
   ModelSpec model;                   ///< a model with every value, at `freq` (checked when assigned)
   std::optional<double> freq;        ///< Hz, for `model` (and results whose "freq" is null)
   std::vector<std::string> columns;  ///< of the result (empty: all)
