@@ -34,20 +34,43 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-// The folder holding the gmwm package for this program: the build tree's python/ beside the
-// program, or an installation's lib/pythonX.Y/{dist,site}-packages (GMWM_PYTHON_INSTALL_PARENT,
-// relative to the prefix). Empty: leave the interpreter's own path alone.
-std::string package_parent() {
+// The folder holding this program.
+fs::path program_folder() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return {};
-  const fs::path here = exe.parent_path();
+  return ec ? fs::path() : exe.parent_path();
+}
+
+// The folder holding the gmwm package for this program: the build tree's python/ beside the
+// program, or an installation's lib/pythonX.Y/dist-packages (CMake's install, Debian's
+// interpreter) or site-packages (pip's, in a virtual environment or elsewhere), relative to
+// the prefix (GMWM_PYTHON_INSTALL_PARENT). Empty: leave the interpreter's own path alone.
+std::string package_parent() {
+  std::error_code ec;
+  const fs::path here = program_folder();
+  if (here.empty()) return {};
   if (fs::exists(here / "python" / "gmwm" / "__init__.py", ec)) return (here / "python").string();
 #ifdef GMWM_PYTHON_INSTALL_PARENT
-  const fs::path installed = here.parent_path() / GMWM_PYTHON_INSTALL_PARENT;
-  if (fs::exists(installed / "gmwm" / "__init__.py", ec)) return installed.string();
+  for (const char* packages : {"dist-packages", "site-packages"}) {
+    const fs::path installed = here.parent_path() / GMWM_PYTHON_INSTALL_PARENT / packages;
+    if (fs::exists(installed / "gmwm" / "__init__.py", ec)) return installed.string();
+  }
 #endif
   return {};
+}
+
+// The interpreter of the bridge: GMWM_PYTHON, else the python3 beside this program (the
+// virtual environment pip installed it into: that interpreter sees the environment's
+// packages), else the one the module was built for, else python3 on the PATH.
+std::string bridge_python() {
+  if (const char* py = std::getenv("GMWM_PYTHON"); py && *py) return py;
+  std::error_code ec;
+  const fs::path here = program_folder();
+  if (!here.empty() && fs::exists(here / "python3", ec)) return (here / "python3").string();
+#ifdef GMWM_PYTHON_EXECUTABLE
+  if (fs::exists(GMWM_PYTHON_EXECUTABLE, ec)) return GMWM_PYTHON_EXECUTABLE;
+#endif
+  return "python3";
 }
 
 // The environment of the child: this one, with the package's folder first on PYTHONPATH.
@@ -105,12 +128,7 @@ std::string child_reason(int fd) {
 }
 
 Child start_bridge(const std::string& address) {
-  const char* py = std::getenv("GMWM_PYTHON");
-  std::string python = "python3";
-#ifdef GMWM_PYTHON_EXECUTABLE
-  if (std::error_code ec; fs::exists(GMWM_PYTHON_EXECUTABLE, ec)) python = GMWM_PYTHON_EXECUTABLE;
-#endif
-  if (py && *py) python = py;
+  const std::string python = bridge_python();
   int to_child[2], from_child[2];
   if (::pipe2(to_child, O_CLOEXEC) != 0 || ::pipe2(from_child, O_CLOEXEC) != 0)
     throw InputError(std::string("--scheduler: cannot make a pipe: ") + std::strerror(errno));
