@@ -29,11 +29,16 @@ packages=(cmake ninja-build g++ libeigen3-dev libtbb-dev libnlopt-cxx-dev libnlo
 # npm: the web app's browser test (tests/browser: playwright-core from the npm registry, pinned
 # by its package-lock.json, driving Debian's chromium); mypy: the Python package's type check
 # (Repository.PythonPackageTypeChecksUnderMypyStrict); clang-format: the layout check
-# (Repository.EveryCppFileIsLaidOutAsClangFormatSays).
+# (Repository.EveryCppFileIsLaidOutAsClangFormatSays); python3-venv, python3-pip,
+# python3-setuptools and python3-wheel: pip install . and pip wheel . into fresh virtual
+# environments, offline (python/tests/test_packaging.py); python3-nbconvert and
+# python3-ipykernel: the notebook examples/gmwm_tour.ipynb, executed by the suite
+# (python/tests/test_notebook.py).
 if ((!demo)); then
   packages+=(libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev python3-dev python3-numpy python3-pytest
              python3-rosbag python3-sensor-msgs python3-matplotlib python3-distributed python3-pandas
-             chromium nodejs npm mypy clang-format)
+             chromium nodejs npm mypy clang-format python3-venv python3-pip python3-setuptools python3-wheel
+             python3-nbconvert python3-ipykernel)
 fi
 
 # A package whose program another distribution already installed counts as present:
