@@ -92,7 +92,11 @@ def configure(build_dir: Path) -> None:
         args += ["-DCMAKE_BUILD_TYPE=Release", "-DGMWM_BUILD_TESTS=OFF", "-DGMWM_BUILD_BENCHMARKS=OFF"]
         if shutil.which("ninja"):
             args += ["-G", "Ninja"]
-    run(args)
+    try:
+        run(args)
+    except SystemExit as e:
+        fail(f"{e}; the module needs Debian's pybind11-dev, python3-dev and python3-numpy besides the program's "
+             "packages (bash tools/setup.sh installs them all)")
 
 
 def check_interpreter(stage: Path) -> None:
