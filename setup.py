@@ -121,7 +121,9 @@ def staged() -> Path:
         return _staged
     configure(BUILD_DIR)
     jobs = os.environ.get("GMWM_JOBS") or str(os.cpu_count() or 2)
-    run(["cmake", "--build", str(BUILD_DIR), "--target", "gmwm", "_gmwm", "--parallel", jobs])
+    # What cmake --install takes: the program (and the libraries it links), the module, and
+    # the manual page the program writes about itself.
+    run(["cmake", "--build", str(BUILD_DIR), "--target", "gmwm", "_gmwm", "gmwm_man_and_completion", "--parallel", jobs])
     shutil.rmtree(STAGE_DIR, ignore_errors=True)
     run(["cmake", "--install", str(BUILD_DIR), "--prefix", str(STAGE_DIR)])
     check_interpreter(STAGE_DIR)

@@ -341,7 +341,8 @@ class WvLevels(WvLevelsMethods):
 class WvResult(WvResultMethods, JsonResult):
     """The wavelet variance of one column (gmwm.wv; a column of `gmwm wv --json`):
     `w.tau`, `w.wv`, `w.ci_low`, `w.ci_high` are float64 arrays (those of `w.levels`).
-    A `gmwm wv --adev` column also has `unit`, `allan` and `noise_figures` (else None)."""
+    `unit`: the data's unit when --units (units=) gave it, else None; a `gmwm wv --adev`
+    column also has `allan` and `noise_figures` (else None)."""
 
     name: str
     n: int

@@ -33,8 +33,10 @@ def cli_column(folder, *args):
     ({"robust": True, "levels": 9, "spike_screen": False}, ["--robust", "--levels", "9", "--no-spike-screen"]),
     ({"adev": True, "units": "deg/s"}, ["--adev", "--units", "deg/s"]),
     ({"adev": True, "adev_points": 2, "levels": 8}, ["--adev", "--adev-points", "2", "--levels", "8"]),
+    ({"units": "gyro=deg/s,accel=g"}, ["--units", "gyro=deg/s,accel=g"]),
+    ({"robust": True, "units": "rad/s"}, ["--robust", "--units", "rad/s"]),
 ], ids=["classical", "robust", "robust bisquare", "robust levels unscreened", "adev with units",
-        "adev points and levels"])
+        "adev points and levels", "units", "robust units"])
 def test_wv_gives_the_commands_column_for_each_of_its_options(recording, python, cli):
     folder, rec = recording
     w = gmwm.wv(rec, **python)
@@ -115,3 +117,17 @@ def unsourced(document):
     if isinstance(document, list):
         return [unsourced(v) for v in document]
     return document
+
+
+def test_a_wv_states_the_units_it_was_given_and_its_plot_labels_the_variance_with_them(recording):
+    # A WV without --adev dropped the unit it was given: its plot said "wavelet variance" bare.
+    folder, rec = recording
+    assert cli_column(folder, "--units", "deg/s")["unit"] == "deg/s"
+    assert "unit" not in cli_column(folder)
+    w = gmwm.wv(rec, units="gyro=deg/s,accel=g")
+    assert w.unit == "deg/s" and gmwm.wv(rec).unit is None
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    assert w.plot().get_ylabel() == "wavelet variance [(deg/s)^2]"

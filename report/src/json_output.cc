@@ -356,8 +356,10 @@ json wv_document(const io::SignalSet& set, const pipeline::WvStudy& study, const
     const ColumnInfo info = study_column(set, k, c.name, units);
     json col = c.robust ? robust_wv_column_json(info, c.wv, c.robust->diagnostic, c.robust->quantization)
                         : wv_column_json(info, c.wv);
+    // The data's unit whenever it is known (--units), not only beside the Allan deviation: a
+    // WV's plot and table label its values (unit^2) with it.
+    if (c.allan || !info.unit.empty()) col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
     if (c.allan) {
-      col["unit"] = info.unit.empty() ? json(nullptr) : json(info.unit);
       col["allan"] = allan_json(c.allan->adev, {});
       col["noise_figures"] = noise_figures_json(c.allan->chosen, info.unit);
     }
