@@ -83,13 +83,20 @@ def build_env() -> Dict[str, str]:
     return {"GMWM_BUILD_DIR": str(Path(str(CLI)).resolve().parent)}
 
 
-def test_pip_install_dot_puts_the_package_and_the_program_into_a_fresh_environment(tmp_path: Path,
-                                                                                    build_env: Dict[str, str]) -> None:
-    env_bin = venv(tmp_path / "env")
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory: pytest.TempPathFactory, build_env: Dict[str, str]) -> Path:
+    """A fresh environment into which `pip install .` put gmwm: its bin/."""
+    env_bin = venv(tmp_path_factory.mktemp("pip") / "env")
     run([str(env_bin / "pip"), "install", "--no-build-isolation", "--no-index", "--no-deps", str(SOURCE)],
-        cwd=tmp_path, **build_env)
+        cwd=env_bin, **build_env)
+    return env_bin
+
+
+def test_pip_install_dot_puts_the_package_and_the_program_into_a_fresh_environment(tmp_path: Path,
+                                                                                    installed: Path) -> None:
+    env_bin = installed
     found = probe(env_bin, tmp_path)
-    env_root = str((tmp_path / "env").resolve())
+    env_root = str(env_bin.parent.resolve())
     # The package, its compiled module and the libraries it loads are the environment's own.
     for key in ("file", "module", "engine"):
         assert str(Path(found[key]).resolve()).startswith(env_root), f"{key} {found[key]} is outside {env_root}"
@@ -129,3 +136,27 @@ def test_pip_wheel_makes_a_wheel_that_installs_into_a_second_fresh_environment(t
     run([str(user / "pip"), "uninstall", "-y", "gmwm"], cwd=tmp_path)
     assert not (user / "gmwm").exists()
     assert not list((tmp_path / "user" / "lib").glob("libgmwm_*"))
+
+
+def test_the_installed_program_runs_a_fleet_on_a_dask_cluster_with_the_environments_python(tmp_path: Path,
+                                                                                            installed: Path) -> None:
+    # gmwm fleet --scheduler starts a Python bridge: from an environment, the environment's
+    # python3 (which sees the gmwm pip put there), not the one the build tree was made with.
+    distributed = pytest.importorskip("distributed", reason="python3-distributed is not installed")
+    rows = ["path,unit,model,units"]
+    for k in (1, 2):
+        run([str(installed / "gmwm"), "simulate", "--model", "WN(sigma2=1e-4)+RW(gamma2=1e-10)", "--n", "4096",
+             "--freq", "100", "--names", "gyro_x", "--seed", str(k), "--output", f"u{k}.csv", "--quiet"], cwd=tmp_path)
+        rows.append(f'u{k}.csv,SN{k},IMU-X,"gyro=rad/s"')
+    (tmp_path / "fleet.csv").write_text("\n".join(rows) + "\n")
+    fleet = [str(installed / "gmwm"), "fleet", "fleet.csv", "--model", "WN+RW", "--no-cache", "--quiet"]
+    run([*fleet, "--json", "local.json"], cwd=tmp_path)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None) as cluster:
+        run([*fleet, "--scheduler", cluster.scheduler_address, "--json", "dask.json"], cwd=tmp_path)
+    local, remote = (json.loads((tmp_path / f).read_text()) for f in ("local.json", "dask.json"))
+    for doc in (local, remote):
+        doc.pop("run")
+        for row in doc["rows"]:
+            row.pop("seconds")
+    assert remote == local and all(r["status"] == "ok" for r in remote["rows"])
