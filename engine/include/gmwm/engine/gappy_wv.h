@@ -1,0 +1,45 @@
+#pragma once
+// The classical Haar wavelet variance of a record with missing samples (issue 47, item 1):
+// at each level only the MODWT coefficients whose window of 2^j samples holds no missing
+// sample enter the estimate, so a gap never puts a jump inside a coefficient (joining the
+// samples end to end does: a random walk's level 1 is inflated by every join). The
+// estimate at level j is the mean of the M_j complete windows' W_{j,t}^2, with the chi-square
+// interval at eta_j = max(M_j / 2^j, 1) (Percival & Walden 2000, eq. 313c) of those M_j;
+// the missing-data GMWM of Voirol et al. (2024, GMWMX) uses the same complete-support
+// coefficients. A record without missing samples gives classical_wv's values (to rounding:
+// the sums are accumulated in another order).
+//
+//   std::vector<MissingRun> gaps = {{1000, 25}};   // grid samples 1000..1024 were not recorded
+//   WaveletVariance w = classical_wv_with_gaps(observed, gaps);
+//   w.coefficients[j - 1]   // complete windows at level j; w.notes says how many were lost
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/wavelet_variance.h"
+
+namespace gmwm {
+
+/// Samples missing from a regular record: grid positions [start, start + length) (0-based,
+/// on the grid of observed and missing samples together).
+struct MissingRun {
+  std::int64_t start = 0;
+  std::int64_t length = 0;
+};
+
+/// "" when `missing` describes gaps of a grid holding `observed` samples (runs of at least
+/// one sample, in increasing order, neither overlapping nor touching, inside the grid), else
+/// one line naming the first run that does not.
+std::string missing_runs_problem(std::int64_t observed, std::span<const MissingRun> missing);
+
+/// The classical WV from the complete windows only. `observed` holds the recorded samples
+/// in time order; `missing` places the gaps between them. Levels 1..J, J = floor(log2 N) of
+/// the grid's N samples (or options.levels, at most that); a level without one complete
+/// window is NaN with a note. Throws InvalidArgument for bad runs (missing_runs_problem),
+/// fewer than kMinSeriesLength observed samples or invalid options.
+WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
+                                       const WvOptions& options = {});
+
+}  // namespace gmwm
