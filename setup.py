@@ -95,7 +95,7 @@ def configure(build_dir: Path) -> None:
     try:
         run(args)
     except SystemExit as e:
-        fail(f"{e}; the module needs Debian's pybind11-dev, python3-dev and python3-numpy besides the program's "
+        fail(f"{str(e).removeprefix('gmwm setup.py: ')}; the module needs Debian's pybind11-dev, python3-dev and python3-numpy besides the program's "
              "packages (bash tools/setup.sh installs them all)")
 
 
