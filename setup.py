@@ -83,6 +83,11 @@ def run(cmd: List[str]) -> None:
 def configure(build_dir: Path) -> None:
     """A tree without the Python module (or no tree): configure it with the module on."""
     cache = cmake_cache(build_dir)
+    home = cache.get("CMAKE_HOME_DIRECTORY")
+    if home is not None and Path(home).resolve() != ROOT:
+        # Another checkout's tree: its program and module are not these sources'.
+        fail(f"the build tree {build_dir} was configured from {home}, not from {ROOT}: set GMWM_BUILD_DIR to a "
+             "tree of these sources (or to a new folder)")
     if cache.get("GMWM_BUILD_PYTHON") == "ON":
         return
     args = ["cmake", "-S", str(ROOT), "-B", str(build_dir), "-DGMWM_BUILD_PYTHON=ON",
@@ -179,15 +184,16 @@ class GmwmDistribution(Distribution):
         return True
 
 
-WHEEL_DIR.mkdir(parents=True, exist_ok=True)
-setup(
-    version=project_version(),
-    packages=["gmwm"],
-    package_dir={"gmwm": "python/gmwm"},
-    distclass=GmwmDistribution,
-    cmdclass={"build_py": BuildPy, "install_data": InstallData},
-    options={
-        "build": {"build_base": str(WHEEL_DIR / "setuptools")},
-        "egg_info": {"egg_base": str(WHEEL_DIR)},
-    },
-)
+if __name__ == "__main__":  # setuptools runs this file as __main__; a test imports it
+    WHEEL_DIR.mkdir(parents=True, exist_ok=True)
+    setup(
+        version=project_version(),
+        packages=["gmwm"],
+        package_dir={"gmwm": "python/gmwm"},
+        distclass=GmwmDistribution,
+        cmdclass={"build_py": BuildPy, "install_data": InstallData},
+        options={
+            "build": {"build_base": str(WHEEL_DIR / "setuptools")},
+            "egg_info": {"egg_base": str(WHEEL_DIR)},
+        },
+    )

@@ -160,3 +160,16 @@ def test_the_installed_program_runs_a_fleet_on_a_dask_cluster_with_the_environme
         for row in doc["rows"]:
             row.pop("seconds")
     assert remote == local and all(r["status"] == "ok" for r in remote["rows"])
+
+
+def test_a_build_tree_of_other_sources_is_refused_naming_both(tmp_path: Path) -> None:
+    # GMWM_BUILD_DIR left pointing at another checkout's tree would pack that checkout's
+    # program and module under these sources' name.
+    foreign = tmp_path / "other-build"
+    foreign.mkdir()
+    (foreign / "CMakeCache.txt").write_text(f"CMAKE_HOME_DIRECTORY:INTERNAL={tmp_path / 'other-checkout'}\n")
+    done = subprocess.run([sys.executable, "-B", "-c", "import setup; setup.configure(setup.BUILD_DIR)"], cwd=SOURCE,
+                          env=clean_env(GMWM_BUILD_DIR=str(foreign)), capture_output=True, text=True, timeout=120)
+    assert done.returncode != 0
+    assert f"the build tree {foreign} was configured from {tmp_path / 'other-checkout'}, not from {SOURCE.resolve()}" \
+        in done.stderr
