@@ -178,7 +178,10 @@ double interquartile_mean(std::vector<double>& b) {
 
 }  // namespace
 
-StepStatistics::StepStatistics() { block_.reserve(kRateBlock); }
+StepStatistics::StepStatistics() {
+  block_.reserve(kRateBlock);
+  block_samples_.reserve(kRateBlock);
+}
 StepStatistics::~StepStatistics() = default;
 StepStatistics::StepStatistics(StepStatistics&&) noexcept = default;
 StepStatistics& StepStatistics::operator=(StepStatistics&&) noexcept = default;
@@ -197,6 +200,7 @@ void StepStatistics::add(double offset, double magnitude) {
   }
   if (block_.empty()) block_start_ = samples_ - 2;  // the sample the step starts from
   block_.push_back(d);
+  block_samples_.push_back(samples_ - 1);
   if (block_.size() == kRateBlock) end_block();
   if (run_length_ > 0 && d == run_step_) {
     ++run_length_;
@@ -207,9 +211,23 @@ void StepStatistics::add(double offset, double magnitude) {
   run_length_ = 1;
 }
 
+void StepStatistics::keep_long_steps(double limit) const {
+  for (std::size_t k = 0; k < block_.size(); ++k) {
+    if (!(block_[k] > limit)) continue;
+    if (candidates_.size() == kMaxGapCandidates) {
+      candidates_kept_ = false;
+      break;
+    }
+    candidates_.push_back({block_samples_[k], block_[k]});
+  }
+}
+
 void StepStatistics::end_block() const {
-  const double typical = interquartile_mean(block_);
+  scratch_.assign(block_.begin(), block_.end());
+  const double typical = interquartile_mean(scratch_);
+  keep_long_steps(kGapCandidateFactor * typical);
   block_.clear();
+  block_samples_.clear();
   if (!have_first_) {
     have_first_ = true;
     first_typical_ = far_typical_ = typical;
@@ -221,11 +239,30 @@ void StepStatistics::end_block() const {
 }
 
 std::optional<RateChange> StepStatistics::rate_change() const {
-  if (block_.size() >= kRateBlockMin) end_block();
-  block_.clear();
+  finish_blocks();
   if (!have_first_ || std::fabs(std::log(far_typical_ / first_typical_)) <= std::log(kRateChangeRatio))
     return std::nullopt;
   return RateChange{first_typical_, far_typical_, 0, far_start_};
+}
+
+void StepStatistics::finish_blocks() const {
+  if (block_.size() >= kRateBlockMin) {
+    end_block();
+  } else if (!block_.empty()) {
+    // Too few steps for a typical step of their own: every step of the last, short block is
+    // a candidate (at most kRateBlockMin), judged against the median by long_steps.
+    keep_long_steps(0.0);
+    block_.clear();
+    block_samples_.clear();
+  }
+}
+
+std::vector<StepStatistics::LongStep> StepStatistics::long_steps(double limit) const {
+  finish_blocks();
+  std::vector<LongStep> out;
+  for (const LongStep& c : candidates_)
+    if (c.step > limit) out.push_back(c);
+  return out;
 }
 
 void StepStatistics::spill_to_file() {
@@ -348,6 +385,31 @@ TimingReport analyse_timing(const std::string& column, const std::vector<double>
   return analyse_timing(column, steps, first_time, unit, unit_source);
 }
 
+namespace {
+
+// Where the gaps are and how many samples each lost: round(step / median) - 1, on the grid
+// of the record's samples with the missing ones between them. A step further than
+// kGapLengthTolerance from a whole number of median steps is a gap of unknown length.
+void place_gaps(const StepStatistics& steps, double median, TimingReport& r) {
+  const std::vector<StepStatistics::LongStep> gaps = steps.long_steps(TimingReport::kGapFactor * median);
+  r.gap_positions_known = steps.gap_positions_kept() && static_cast<std::int64_t>(gaps.size()) == r.gaps;
+  if (!r.gap_positions_known) return;
+  std::int64_t before = 0;  // missing samples before the current gap
+  for (const StepStatistics::LongStep& g : gaps) {
+    const double periods = g.step / median;
+    const double whole = std::round(periods);
+    if (std::fabs(periods - whole) > TimingReport::kGapLengthTolerance) {
+      if (r.uncertain_gaps++ == 0) r.first_uncertain_gap = {g.sample, g.step * r.unit_to_seconds};
+      continue;
+    }
+    const auto lost = static_cast<std::int64_t>(whole) - 1;
+    r.missing.push_back({g.sample + before, lost});
+    before += lost;
+  }
+}
+
+}  // namespace
+
 TimingReport analyse_timing(const std::string& column, const StepStatistics& steps, double first_time,
                             const TimeUnit& unit, const std::string& unit_source) {
   TimingReport r;
@@ -394,6 +456,7 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
     const auto [gaps, largest] = steps.above(TimingReport::kGapFactor * step);
     r.gaps = gaps;
     r.largest_gap_seconds = largest * r.unit_to_seconds;
+    if (gaps > 0) place_gaps(steps, step, r);
   }
   return r;
 }

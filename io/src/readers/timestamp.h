@@ -81,6 +81,26 @@ class StepStatistics {
   double median() const;
   /// The increasing steps above `limit`: how many, and the largest (0 when none).
   std::pair<std::int64_t, double> above(double limit) const;
+  /// A step where samples may be missing: the 0-based sample that ends it, and the step.
+  struct LongStep {
+    std::int64_t sample = 0;
+    double step = 0.0;
+  };
+  /// The steps above `limit` with where they are, in time order, for a limit of at least
+  /// kGapFactor times the median step (gap_positions_kept() says whether every one was kept).
+  /// Each block of kRateBlock steps keeps those above kGapCandidateFactor times its own typical
+  /// step, since the median is known only at the end.
+  std::vector<LongStep> long_steps(double limit) const;
+  /// False when more than kMaxGapCandidates steps were candidates (their positions were then
+  /// not all kept: jittery stamps, where gaps cannot be told from jitter anyway).
+  bool gap_positions_kept() const { return candidates_kept_; }
+  /// A block keeps its steps above this factor times its typical step (its interquartile
+  /// mean): a gap is a step above TimingReport::kGapFactor (1.5) median steps, and the
+  /// typical steps of the blocks of a one-rate record stay within kRateChangeRatio (1.2) of
+  /// each other and of the median, so 1.5 / 1.2 = 1.25 keeps every gap.
+  static constexpr double kGapCandidateFactor = 1.25;
+  /// At most this many candidates are kept (16 MB).
+  static constexpr std::size_t kMaxGapCandidates = std::size_t{1} << 20;
   /// The first and the most distant block typical steps when they differ by more than
   /// kRateChangeRatio (the earliest block against the one furthest from it), else nullopt.
   std::optional<RateChange> rate_change() const;
@@ -93,6 +113,8 @@ class StepStatistics {
   struct Store;
   void flush_run() const;
   void end_block() const;
+  void finish_blocks() const;
+  void keep_long_steps(double limit) const;
 
   std::int64_t samples_ = 0;
   std::int64_t disorder_ = 0;
@@ -107,6 +129,10 @@ class StepStatistics {
   bool to_file_ = false;
   // The rate-change check: the current block, and the first and most distant typical steps.
   mutable std::vector<double> block_;
+  mutable std::vector<std::int64_t> block_samples_;  // the sample ending each step of block_
+  mutable std::vector<double> scratch_;              // block_ reordered for its interquartile mean
+  mutable std::vector<LongStep> candidates_;         // the steps that may be gaps, in time order
+  mutable bool candidates_kept_ = true;
   mutable std::int64_t block_start_ = 0;
   mutable double first_typical_ = 0.0, far_typical_ = 0.0;
   mutable std::int64_t far_start_ = 0;

@@ -38,6 +38,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/samples.h"
 
 namespace gmwm::io {
@@ -133,6 +134,21 @@ struct TimingReport {
   std::int64_t gaps = 0;             ///< steps > kGapFactor x median step
   double largest_gap_seconds = 0.0;  ///< largest step counted as a gap (0 when no gap)
   std::int64_t disorder = 0;         ///< non-increasing steps (repeated or backwards times)
+  /// Where the gaps left samples out (issue 47): runs on the grid of the record's samples
+  /// with the missing ones between them, round(step / median step) - 1 samples each, in time
+  /// order. Only the gaps whose length is known (uncertain_gaps counts the others).
+  std::vector<MissingRun> missing;
+  /// Gaps whose step is further than kGapLengthTolerance from a whole number of median steps:
+  /// how many, and the first (the 0-based sample after it, the step in seconds).
+  std::int64_t uncertain_gaps = 0;
+  struct UncertainGap {
+    std::int64_t sample = 0;
+    double step_seconds = 0.0;
+  };
+  std::optional<UncertainGap> first_uncertain_gap;
+  /// False when the gaps' places could not all be kept (more than a million candidate steps:
+  /// jittery stamps); `missing` is then empty.
+  bool gap_positions_known = true;
   /// Stamps read as decimals are held as doubles: the spacing of doubles (one unit in the
   /// last place) at the largest stamp, in seconds, and that stamp. A step between two such
   /// stamps is off by up to about that spacing, so the readers refuse (without --freq) a
@@ -156,6 +172,10 @@ struct TimingReport {
   /// stream stays well under half a period, while one dropped sample makes a step of two
   /// periods: 1.5 sits halfway, so every lost sample counts and jitter never does.
   static constexpr double kGapFactor = 1.5;
+  /// A gap's step within this many median steps of a whole number k gives k - 1 missing
+  /// samples; further, its length is unknown. Half of kGapFactor's margin (a regular stream's
+  /// jitter stays well under half a period): 0.25 of a period either side.
+  static constexpr double kGapLengthTolerance = 0.25;
   /// --freq and the estimate "disagree" above this relative difference (1%): more than
   /// timestamp jitter explains, typical of a wrong rate or a wrong time unit.
   static constexpr double kDisagreement = 0.01;
