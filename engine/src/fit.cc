@@ -501,7 +501,7 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
     const Eigen::VectorXd pilot = model_in.from_unconstrained(best.u);
     if (options.omega == OmegaKind::kFull || options.omega == OmegaKind::kModel) {
       // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
-      v_for_omega = model_wv_covariance(model_in, pilot, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
+      v_for_omega = model_wv_covariance(model_in, pilot, wv) / wv.efficiency.value_or(1.0);
     } else {
       ClassicalWvEstimator classical;
       const WvEstimator& est = options.estimator ? *options.estimator : classical;

@@ -7,6 +7,7 @@
 
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/allan.h"
 
 namespace gmwm {
 
@@ -33,47 +34,64 @@ std::string missing_runs_problem(std::int64_t observed, std::span<const MissingR
 
 namespace {
 
-// The grid's prefix sums of the mean-centred observed values (a missing sample adds 0) and
-// of the missing count: a window's sum and whether it holds a gap, each in O(1).
-struct GridSums {
-  std::vector<double> s;        // S_0 .. S_N
-  std::vector<std::int64_t> c;  // C_0 .. C_N: missing samples before k
+// The record as its segments: the runs of consecutive observed samples between the gaps.
+// A window that holds a missing sample never enters an estimate, so a complete window lies
+// inside one segment, and each segment is summed on its own: prefix sums of the mean-centred
+// observed values (8 bytes a sample, whatever the gaps' lengths: a gap of a day at 1 kHz
+// costs nothing), and the first sample of each segment.
+struct Segments {
+  std::vector<double> s;            // S_0 .. S_n over the observed samples, mean-centred
+  std::vector<std::int64_t> begin;  // the observed index each segment starts at, then n
+  std::int64_t grid = 0;            // observed and missing samples together
 };
 
-GridSums grid_sums(std::span<const double> observed, std::span<const MissingRun> missing) {
+Segments segments(std::span<const double> observed, std::span<const MissingRun> missing) {
   double mean = 0.0;
   for (const double v : observed) mean += v;
   mean /= static_cast<double>(observed.size());
-  std::int64_t n = static_cast<std::int64_t>(observed.size());
-  for (const MissingRun& r : missing) n += r.length;
-  GridSums g;
-  g.s.resize(static_cast<std::size_t>(n) + 1);
-  g.c.resize(static_cast<std::size_t>(n) + 1);
-  std::size_t next = 0, run = 0;
-  for (std::int64_t k = 0; k < n; ++k) {
-    const bool gap = run < missing.size() && k >= missing[run].start;
-    const auto i = static_cast<std::size_t>(k);
-    g.s[i + 1] = g.s[i] + (gap ? 0.0 : observed[next++] - mean);
-    g.c[i + 1] = g.c[i] + (gap ? 1 : 0);
-    if (gap && k + 1 == missing[run].start + missing[run].length) ++run;
+  Segments g;
+  g.s.resize(observed.size() + 1);
+  for (std::size_t i = 0; i < observed.size(); ++i) g.s[i + 1] = g.s[i] + (observed[i] - mean);
+  g.grid = static_cast<std::int64_t>(observed.size());
+  std::int64_t before = 0;  // missing samples before the current run
+  g.begin.push_back(0);
+  for (const MissingRun& r : missing) {
+    const std::int64_t at = r.start - before;  // the observed index after the run
+    if (at > g.begin.back())
+      g.begin.push_back(at);
+    else
+      g.begin.back() = at;  // a run at the very start: the first segment starts after it
+    before += r.length;
+    g.grid += r.length;
   }
+  g.begin.push_back(static_cast<std::int64_t>(observed.size()));
   return g;
 }
 
-void fill_gappy_level(const GridSums& g, int j, WaveletVariance& w) {
-  const auto i = static_cast<std::size_t>(j - 1);
-  const std::int64_t n = static_cast<std::int64_t>(g.s.size()) - 1;
-  const std::int64_t width = std::int64_t{1} << j, half = width / 2;
+// Sum over the complete windows of 2 * half samples of ((second half - first half) / width)^2
+// with width = 2 * half, and their count.
+std::pair<double, std::int64_t> complete_window_sum(const Segments& g, std::int64_t half, double width) {
+  const std::int64_t w = 2 * half;
   double sum = 0.0;
-  std::int64_t complete = 0;
-  for (std::int64_t t = width; t <= n; ++t) {  // the window [t - width, t) of the grid
-    const auto e = static_cast<std::size_t>(t), b = static_cast<std::size_t>(t - width);
-    if (g.c[e] != g.c[b]) continue;
-    const double c = (g.s[e] - 2.0 * g.s[e - static_cast<std::size_t>(half)] + g.s[b]) / static_cast<double>(width);
-    sum += c * c;
-    ++complete;
+  std::int64_t count = 0;
+  for (std::size_t k = 0; k + 1 < g.begin.size(); ++k) {
+    const std::int64_t b = g.begin[k], e = g.begin[k + 1];
+    for (std::int64_t t = b + w; t <= e; ++t) {  // the window [t - w, t)
+      const auto i = static_cast<std::size_t>(t);
+      const double c =
+          (g.s[i] - 2.0 * g.s[i - static_cast<std::size_t>(half)] + g.s[i - static_cast<std::size_t>(w)]) / width;
+      sum += c * c;
+    }
+    if (e - b >= w) count += e - b - w + 1;
   }
-  const std::int64_t all = n - width + 1;
+  return {sum, count};
+}
+
+void fill_gappy_level(const Segments& g, int j, WaveletVariance& w) {
+  const auto i = static_cast<std::size_t>(j - 1);
+  const std::int64_t width = std::int64_t{1} << j;
+  const auto [sum, complete] = complete_window_sum(g, width / 2, static_cast<double>(width));
+  const std::int64_t all = g.grid - width + 1;
   const double tau = static_cast<double>(width);
   w.tau[i] = tau;
   w.coefficients[i] = complete;
@@ -93,24 +111,27 @@ void fill_gappy_level(const GridSums& g, int j, WaveletVariance& w) {
   std::tie(w.ci_low[i], w.ci_high[i]) = chi_square_ci(v, eta, w.alpha);
 }
 
+void check_gappy_input(const char* what, std::span<const double> observed, std::span<const MissingRun> missing) {
+  const auto observed_n = static_cast<std::int64_t>(observed.size());
+  if (observed_n < kMinSeriesLength)
+    detail::throw_check(what, "observed samples", static_cast<double>(observed_n),
+                        "at least " + std::to_string(kMinSeriesLength));
+  if (const std::string why = missing_runs_problem(observed_n, missing); !why.empty())
+    throw InvalidArgument(std::string(what) + ": " + why);
+}
+
 }  // namespace
 
 WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
                                        const WvOptions& options) {
-  const auto observed_n = static_cast<std::int64_t>(observed.size());
-  if (observed_n < kMinSeriesLength)
-    detail::throw_check("classical_wv_with_gaps", "observed samples", static_cast<double>(observed_n),
-                        "at least " + std::to_string(kMinSeriesLength));
+  check_gappy_input("classical_wv_with_gaps", observed, missing);
   if (const std::string why = options.Validate(); !why.empty()) throw InvalidArgument("classical_wv_with_gaps: " + why);
-  if (const std::string why = missing_runs_problem(observed_n, missing); !why.empty())
-    throw InvalidArgument("classical_wv_with_gaps: " + why);
-  const GridSums g = grid_sums(observed, missing);
-  const std::int64_t n = static_cast<std::int64_t>(g.s.size()) - 1;
+  const Segments g = segments(observed, missing);
   int J = 0;
-  while ((std::int64_t{1} << (J + 1)) <= n) ++J;
+  while (J < 62 && (std::int64_t{1} << (J + 1)) <= g.grid) ++J;
   if (options.levels > 0) J = std::min(J, options.levels);
   WaveletVariance w;
-  w.n = n;
+  w.n = g.grid;
   w.alpha = options.alpha;
   const auto sz = static_cast<std::size_t>(J);
   for (auto* v : {&w.tau, &w.wv, &w.ci_low, &w.ci_high, &w.variance, &w.eta}) v->resize(sz);
@@ -118,6 +139,69 @@ WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::sp
   w.notes.resize(sz);
   for (int j = 1; j <= J; ++j) fill_gappy_level(g, j, w);
   return w;
+}
+
+int complete_levels(const WaveletVariance& wv) {
+  int j = 0;
+  while (j < wv.levels() && wv.coefficients[static_cast<std::size_t>(j)] > 0) ++j;
+  return j;
+}
+
+void drop_incomplete_levels(WaveletVariance& wv) {
+  const auto keep = static_cast<std::size_t>(complete_levels(wv));
+  for (auto* v : {&wv.tau, &wv.wv, &wv.ci_low, &wv.ci_high, &wv.variance, &wv.eta}) v->resize(keep);
+  wv.coefficients.resize(keep);
+  if (wv.notes.size() > keep) wv.notes.resize(keep);
+}
+
+WaveletVariance GappyWvEstimator::compute(const double* x, std::int64_t n, int levels, double alpha) const {
+  std::int64_t lost = 0;
+  for (const MissingRun& r : missing_) lost += r.length;
+  if (lost >= n)
+    throw InvalidArgument("GappyWvEstimator: the missing runs fill a grid of " + std::to_string(n) + " samples");
+  std::vector<double> observed;
+  observed.reserve(static_cast<std::size_t>(n - lost));
+  std::int64_t k = 0;
+  for (const MissingRun& r : missing_) {
+    for (; k < std::min(r.start, n); ++k) observed.push_back(x[k]);
+    k = r.start + r.length;
+  }
+  for (; k < n; ++k) observed.push_back(x[k]);
+  WvOptions o;
+  o.levels = levels;
+  o.alpha = alpha;
+  WaveletVariance w = classical_wv_with_gaps(observed, missing_, o);
+  drop_incomplete_levels(w);
+  return w;
+}
+
+AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
+                                         double freq, const AllanOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  check_positive("allan_deviation_with_gaps", "freq", freq);
+  check_gappy_input("allan_deviation_with_gaps", observed, missing);
+  const Segments g = segments(observed, missing);
+  AllanDeviation a;
+  a.freq = freq;
+  a.n = g.grid;
+  a.alpha = options.alpha;
+  for (const std::int64_t m : allan_factors(g.grid, options.points_per_octave)) {
+    // AVAR(m) = mean of (second m-average - first m-average)^2 / 2 over the complete windows
+    // of 2m samples: twice the mean square of ((second sum - first sum) / 2m).
+    const auto [sum, complete] = complete_window_sum(g, m, 2.0 * static_cast<double>(m));
+    if (complete == 0) break;  // no longer window is complete either
+    const double avar = 2.0 * sum / static_cast<double>(complete);
+    const double eta = std::max(static_cast<double>(complete) / static_cast<double>(2 * m), 1.0);
+    a.m.push_back(m);
+    a.tau.push_back(static_cast<double>(m) / freq);
+    a.adev.push_back(std::sqrt(avar));
+    a.edf.push_back(eta);
+    const auto [low, high] = chi_square_ci(avar, eta, options.alpha);
+    a.ci_low.push_back(std::sqrt(low));
+    a.ci_high.push_back(std::sqrt(high));
+    a.complete.push_back(complete);
+  }
+  return a;
 }
 
 }  // namespace gmwm

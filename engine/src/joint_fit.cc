@@ -62,6 +62,7 @@ std::vector<std::size_t> covariance_groups(std::span<const WaveletVariance> wvs)
     group[k] = k;
     for (std::size_t i = 0; i < k; ++i)
       if (group[i] == i && wvs[i].n == wvs[k].n && wvs[i].levels() == wvs[k].levels() &&
+          wvs[i].coefficients == wvs[k].coefficients &&
           wvs[i].efficiency.value_or(1.0) == wvs[k].efficiency.value_or(1.0)) {
         group[k] = i;
         break;
@@ -80,7 +81,7 @@ std::vector<Eigen::MatrixXd> model_covariances(std::span<const WaveletVariance> 
   std::vector<Eigen::MatrixXd> v(wvs.size());
   gmwm::parallel_for(std::size_t{0}, heads.size(), [&](std::size_t h) {
     const WaveletVariance& w = wvs[heads[h]];
-    v[heads[h]] = model_wv_covariance(model, theta, w.n, w.levels()) / w.efficiency.value_or(1.0);
+    v[heads[h]] = model_wv_covariance(model, theta, w) / w.efficiency.value_or(1.0);
   });
   for (std::size_t k = 0; k < wvs.size(); ++k)
     if (group[k] != k) v[k] = v[group[k]];

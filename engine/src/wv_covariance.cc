@@ -525,9 +525,28 @@ Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorX
   return centred.transpose() * centred / static_cast<double>(replicates - 1);
 }
 
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, const WaveletVariance& wv) {
+  Eigen::MatrixXd v = model_wv_covariance(model, theta, wv.n, wv.levels());
+  const auto J = static_cast<Eigen::Index>(wv.levels());
+  if (static_cast<Eigen::Index>(wv.coefficients.size()) != J) return v;
+  // The share of each level's windows that are complete (1 without gaps).
+  Eigen::VectorXd kept(J);
+  bool gaps = false;
+  for (Eigen::Index j = 0; j < J; ++j) {
+    const double all = static_cast<double>(wv.n) - std::exp2(static_cast<double>(j + 1)) + 1.0;
+    const double complete = static_cast<double>(wv.coefficients[static_cast<std::size_t>(j)]);
+    kept(j) = all > 0.0 && complete > 0.0 ? std::min(complete / all, 1.0) : 1.0;
+    gaps = gaps || kept(j) < 1.0;
+  }
+  if (!gaps) return v;
+  for (Eigen::Index i = 0; i < J; ++i)
+    for (Eigen::Index j = 0; j < J; ++j) v(i, j) *= std::min(kept(i), kept(j)) / (kept(i) * kept(j));
+  return v;
+}
+
 Eigen::MatrixXd wv_covariance_at(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta) {
   if (wv.covariance) return *wv.covariance;
-  return model_wv_covariance(model, theta, wv.n, wv.levels()) / wv.efficiency.value_or(1.0);
+  return model_wv_covariance(model, theta, wv) / wv.efficiency.value_or(1.0);
 }
 
 }  // namespace gmwm

@@ -68,12 +68,12 @@ Weights pilot_weights(std::span<const WaveletVariance> wvs, const Model& maximal
     const WaveletVariance& wv = wvs[k];
     std::size_t same = k;
     for (std::size_t i = 0; i < k && same == k; ++i)
-      if (wvs[i].n == wv.n && wvs[i].levels() == wv.levels() &&
+      if (wvs[i].n == wv.n && wvs[i].levels() == wv.levels() && wvs[i].coefficients == wv.coefficients &&
           wvs[i].efficiency.value_or(1.0) == wv.efficiency.value_or(1.0))
         same = i;
     Eigen::MatrixXd v =
         same < k ? w.v[same]
-                 : Eigen::MatrixXd(model_wv_covariance(pilot.joint.model, pilot.joint.theta, wv.n, wv.levels()) /
+                 : Eigen::MatrixXd(model_wv_covariance(pilot.joint.model, pilot.joint.theta, wv) /
                                    wv.efficiency.value_or(1.0));
     Eigen::MatrixXd omega = diagonal_omega(wv);
     if (o.select.omega == OmegaSource::kData) {

@@ -138,7 +138,7 @@ struct SignalWork {
   // maximal model's fit too, and its V formed Omega), else at `full`.
   Eigen::MatrixXd covariance(const FitResult& full) const {
     if (v.size() > 0) return v;
-    Eigen::MatrixXd c = model_wv_covariance(full.model, full.theta, wv->n, wv->levels());
+    Eigen::MatrixXd c = model_wv_covariance(full.model, full.theta, *wv);
     if (wv->efficiency) c /= *wv->efficiency;  // robust WV: variance inflated by 1/eff
     return c;
   }

@@ -13,6 +13,7 @@
 
 #include <boost/random/uniform_real_distribution.hpp>
 
+#include "gmwm/engine/allan.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/model_syntax.h"
@@ -179,6 +180,64 @@ TEST(GappyWv, RefusesRunsThatAreEmptyUnorderedOverlappingOrOutsideTheRecordNamin
   }
   const std::vector<double> few(15, 1.0);
   EXPECT_THROW(classical_wv_with_gaps(few, {}), InvalidArgument);
+}
+
+TEST(GappyWv, AllanDeviationWithGapsEqualsABruteForceSumAndTheRegularOneWithoutGaps) {
+  const std::vector<double> full = simulated("WN(sigma2=2)+RW(gamma2=0.01)", 3000, 31);
+  const Holed h = remove(full, {{0, 3}, {100, 1}, {102, 7}, {1500, 40}, {2990, 10}});
+  const AllanDeviation a = allan_deviation_with_gaps(h.observed, h.runs, 100.0);
+  ASSERT_FALSE(a.m.empty());
+  ASSERT_EQ(a.complete.size(), a.m.size());
+  for (std::size_t k = 0; k < a.m.size(); ++k) {
+    // Directly: every window of 2m grid samples without a hole, (mean_2 - mean_1)^2 / 2.
+    const auto m = static_cast<std::size_t>(a.m[k]);
+    double sum = 0.0;
+    std::int64_t count = 0;
+    for (std::size_t t = 0; t + 2 * m <= h.grid.size(); ++t) {
+      double first = 0.0, second = 0.0;
+      for (std::size_t i = 0; i < 2 * m; ++i) (i < m ? first : second) += h.grid[t + i];
+      if (std::isnan(first) || std::isnan(second)) continue;
+      const double d = (second - first) / static_cast<double>(m);
+      sum += d * d / 2.0;
+      ++count;
+    }
+    EXPECT_EQ(a.complete[k], count) << "m " << m;
+    EXPECT_NEAR(a.adev[k], std::sqrt(sum / static_cast<double>(count)), 1e-9 * a.adev[k]) << "m " << m;
+    EXPECT_LT(a.ci_low[k], a.adev[k]);
+    EXPECT_GT(a.ci_high[k], a.adev[k]);
+  }
+  // The points stop before the first m without a complete window of 2m samples (the
+  // longest segment holds 1490 samples: m = 724 fits, no factor above 745 does).
+  EXPECT_LE(2 * a.m.back(), 1490);
+
+  const AllanDeviation gapless = allan_deviation_with_gaps(full, {}, 100.0);
+  const AllanDeviation regular = allan_deviation(full, 100.0);
+  ASSERT_EQ(gapless.m, regular.m);
+  for (std::size_t k = 0; k < regular.m.size(); ++k) {
+    EXPECT_NEAR(gapless.adev[k], regular.adev[k], 1e-11 * regular.adev[k]) << "m " << regular.m[k];
+    EXPECT_NEAR(gapless.ci_high[k], regular.ci_high[k], 1e-11 * regular.ci_high[k]) << "m " << regular.m[k];
+    EXPECT_DOUBLE_EQ(gapless.tau[k], regular.tau[k]);
+  }
+}
+
+TEST(GappyWv, TakesAGapOfATrillionSamplesWithoutHoldingItsGrid) {
+  // A record cut by a day-long outage at 10 MHz: the estimator sums each segment on its own,
+  // so the gap's length costs no memory. The levels beyond the longest segment are NaN.
+  const std::vector<double> x = simulated("WN(sigma2=1)", 4096, 41);
+  const std::vector<double> before(x.begin(), x.begin() + 2048), after(x.begin() + 2048, x.end());
+  const std::vector<MissingRun> gap = {{2048, std::int64_t{1} << 40}};
+  const WaveletVariance w = classical_wv_with_gaps(x, gap);
+  EXPECT_EQ(w.levels(), 40);
+  EXPECT_EQ(complete_levels(w), 11);  // windows of 2048 samples: one in each segment
+  EXPECT_EQ(w.coefficients[10], 2);
+  // Two segments' complete windows: their pooled mean square, each summed on its own.
+  const WaveletVariance a = classical_wv(before.data(), 2048), b = classical_wv(after.data(), 2048);
+  for (std::size_t i = 0; i < 5; ++i) {
+    const double pooled =
+        (a.wv[i] * static_cast<double>(a.coefficients[i]) + b.wv[i] * static_cast<double>(b.coefficients[i])) /
+        static_cast<double>(a.coefficients[i] + b.coefficients[i]);
+    EXPECT_NEAR(w.wv[i], pooled, 1e-9 * pooled) << "level " << i + 1;
+  }
 }
 
 }  // namespace

@@ -42,6 +42,9 @@ struct AllanDeviation {
   std::vector<double> adev;     ///< sqrt(AVAR), in the data's unit
   std::vector<double> ci_low, ci_high;
   std::vector<double> edf;  ///< equivalent degrees of freedom of the interval
+  /// With missing samples (allan_deviation_with_gaps): the windows of 2m samples that hold
+  /// none, per point; empty for a regular record (every one of N - 2m + 1).
+  std::vector<std::int64_t> complete;
   double freq = 1.0;
   std::int64_t n = 0;
   double alpha = 0.05;

@@ -6,7 +6,7 @@
 // estimate at level j is the mean of the M_j complete windows' W_{j,t}^2, with the chi-square
 // interval at eta_j = max(M_j / 2^j, 1) (Percival & Walden 2000, eq. 313c) of those M_j;
 // the missing-data GMWM of Voirol et al. (2024, GMWMX) uses the same complete-support
-// coefficients. A record without missing samples gives classical_wv's values (to rounding:
+// coefficients. Memory: 8 bytes an observed sample, however long the gaps. A record without missing samples gives classical_wv's values (to rounding:
 // the sums are accumulated in another order).
 //
 //   std::vector<MissingRun> gaps = {{1000, 25}};   // grid samples 1000..1024 were not recorded
@@ -16,7 +16,10 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "gmwm/engine/allan.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/wavelet_variance.h"
 
@@ -41,5 +44,40 @@ std::string missing_runs_problem(std::int64_t observed, std::span<const MissingR
 /// fewer than kMinSeriesLength observed samples or invalid options.
 WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
                                        const WvOptions& options = {});
+
+/// The levels 1..j of `wv` that have at least one complete window (coefficients > 0): a
+/// window of 2^(j+1) samples without a missing sample holds two complete windows of 2^j, so
+/// the levels without one are the deepest ones, and a fit reads the levels before them.
+int complete_levels(const WaveletVariance& wv);
+
+/// Keeps the levels 1..complete_levels(wv) (the deepest ones, NaN, go; their notes with
+/// them): the WV a fit, a plot and a table read.
+void drop_incomplete_levels(WaveletVariance& wv);
+
+/// classical_wv_with_gaps as a strategy object: the bootstrap's and the gap reference's
+/// simulated series are whole grids of the record's length, and this estimator reads them
+/// through the record's own missing samples, so every draw has the data's complete windows.
+class GappyWvEstimator final : public WvEstimator {
+ public:
+  explicit GappyWvEstimator(std::vector<MissingRun> missing) : missing_(std::move(missing)) {}
+  /// `x` is a grid of n samples (observed and missing places together); throws
+  /// InvalidArgument when the runs do not fit in it.
+  WaveletVariance compute(const double* x, std::int64_t n, int levels, double alpha) const override;
+  std::string name() const override { return "classical"; }
+
+ private:
+  std::vector<MissingRun> missing_;
+};
+
+/// The gap-resistant overlapping Allan deviation: at each averaging factor m of
+/// allan_factors (on the grid's N samples), the mean of (ybar_2 - ybar_1)^2 / 2 over the
+/// windows of 2m samples that hold no missing sample, with the chi-square interval at
+/// max(M / 2m, 1) degrees of freedom of those M windows (allan_deviation's rule);
+/// `complete` holds each point's M. The points stop at the first m without a complete
+/// window. Without missing samples, allan_deviation's values. Throws as
+/// classical_wv_with_gaps, InputError for invalid options, InvalidArgument for a
+/// non-positive rate.
+AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
+                                         double freq, const AllanOptions& options = {});
 
 }  // namespace gmwm

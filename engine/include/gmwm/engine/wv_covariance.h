@@ -22,6 +22,21 @@ namespace gmwm {
 /// J x J covariance of the classical WV of levels 1..levels for a series of length n.
 Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels);
 
+/// The same for the classical WV `wv` as it was estimated: wv.n samples, wv.levels() levels
+/// and, where samples were missing (classical_wv_with_gaps), M_j^c = wv.coefficients[j]
+/// complete windows of the M_j = n - 2^j + 1. The exact sums then count the pairs of
+/// complete windows at each lag; to first order in the share of windows lost, a pair of
+/// levels (i, j) keeps the share r_ij = min(M_i^c / M_i, M_j^c / M_j) of its pairs at every
+/// lag the covariance reaches (the coarser level's windows, which hold the finer ones), so
+///   Cov^c(i, j) = Cov(i, j) (M_i M_j / (M_i^c M_j^c)) r_ij,
+/// and a level's variance grows as M_j / M_j^c. Against 4000 simulated WVs read through the
+/// same gaps (WvCovariance.FollowsTheCompleteWindowsOfARecordWithGaps): within the Monte
+/// Carlo's error where the windows are at most a quarter of the typical segment between
+/// gaps; beyond, conservative (20% above it where a window is a quarter to all of a
+/// segment, since pairs of complete windows thin out with the lag). Equal to
+/// model_wv_covariance(model, theta, n, levels) without gaps.
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, const WaveletVariance& wv);
+
 /// Cov(nuhat) of `wv` under (model, theta): the WV's own covariance when it carries one
 /// (stacked replicates, a bootstrap), else model_wv_covariance inflated by 1 / efficiency
 /// for a robust WV (spec s.2). The V a goodness of fit of (model, theta) is measured with,
