@@ -58,13 +58,16 @@ std::vector<double> series_of(const py::handle& obj, const char* what) {
                            std::to_string(gmwm::io::kMinSamples) +
                            " (the wavelet variance needs 4 levels, 2^4 samples)");
   std::vector<double> x(a.data(), a.data() + a.size());
+  // NaN marks a missing sample (io::take_nan_rows_as_missing); an infinity is refused.
   for (std::size_t i = 0; i < x.size(); ++i)
-    if (!std::isfinite(x[i]))
-      throw gmwm::InputError(std::string(what) + ": sample " + std::to_string(i) + " is not a finite number");
+    if (std::isinf(x[i]))
+      throw gmwm::InputError(std::string(what) + ": sample " + std::to_string(i) +
+                             " is not a finite number (NaN marks a missing sample; an infinity is refused)");
   // As the CLI's reader: a constant has a wavelet variance of zero, nothing to fit.
-  if (std::all_of(x.begin(), x.end(), [&](double v) { return v == x.front(); })) {
+  const auto first = std::find_if(x.begin(), x.end(), [](double v) { return !std::isnan(v); });
+  if (first != x.end() && std::all_of(first, x.end(), [&](double v) { return std::isnan(v) || v == *first; })) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", x.front());
+    std::snprintf(buf, sizeof buf, "%.17g", *first);
     throw gmwm::InputError(std::string(what) + ": found all " + std::to_string(x.size()) + " values equal to " + buf +
                            ", expected a varying signal (a constant has a wavelet variance of zero)");
   }
@@ -155,6 +158,7 @@ gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const s
   set.freq = first.freq;
   set.freq_known = first.freq_known;
   for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
+  gmwm::io::take_nan_rows_as_missing(set, "data");
   return set;
 }
 

@@ -3,6 +3,7 @@
 // float64 array and a JSON text of what the file said about it (names, units, rate, timing).
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -55,7 +56,7 @@ std::vector<std::string> columns_argument(const py::object& columns) {
 
 std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, const py::object& columns,
                                                      std::optional<double> freq, const std::string& topic,
-                                                     std::optional<double> memory) {
+                                                     std::optional<double> memory, const std::string& gaps) {
   gmwm::io::ReadRequest request;
   request.path = path;
   request.columns = columns_argument(columns);
@@ -63,18 +64,36 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   request.topic = topic;
   request.memory_mb = memory;
   request.spill = false;  // the values are handed over in memory, as one array
+  request.gaps = gmwm::io::gap_handling_of(gaps);
   gmwm::io::SignalSet set;
   {
     py::gil_scoped_release release;
     set = gmwm::io::read_request(request);
   }
+  // The samples on their grid, a NaN row where the stamps show one missing (the pandas idiom;
+  // every function taking the values reads NaN rows as missing: io::take_nan_rows_as_missing).
   const std::size_t k = set.signals.size();
-  const std::size_t n = k ? set.signals.front().values.size() : 0;
+  const std::size_t observed = k ? set.signals.front().values.size() : 0;
+  const std::size_t n = observed + static_cast<std::size_t>(set.missing_samples());
+  if (!set.missing.empty()) {
+    const double budget = memory ? *memory * 1e6 : gmwm::io::memory_budget_bytes();
+    const double bytes = static_cast<double>(n) * static_cast<double>(k) * 8.0;
+    if (budget > 0.0 && bytes > budget)
+      throw gmwm::InputError(path + ": " +
+                             gmwm::io::gaps_summary(set).substr(0, gmwm::io::gaps_summary(set).find(';')) +
+                             ": their NaN rows would take " + std::to_string(static_cast<long long>(bytes / 1e6)) +
+                             " MB, more than the memory; read with gaps=\"join\" to join the samples end to end");
+  }
   py::array_t<double> values({n, k});
   double* dst = values.mutable_data();
-  for (std::size_t c = 0; c < k; ++c) {
-    const gmwm::Samples& x = set.signals[c].values;
-    for (std::size_t i = 0; i < n; ++i) dst[i * k + c] = x[i];
+  std::size_t row = 0, next = 0, run = 0;
+  for (std::size_t g = 0; g < n; ++g) {
+    const bool hole = run < set.missing.size() && static_cast<std::int64_t>(g) >= set.missing[run].start;
+    for (std::size_t c = 0; c < k; ++c)
+      dst[row * k + c] = hole ? std::numeric_limits<double>::quiet_NaN() : set.signals[c].values[next];
+    ++row;
+    if (!hole) ++next;
+    if (hole && static_cast<std::int64_t>(g) + 1 == set.missing[run].start + set.missing[run].length) ++run;
   }
   Json meta;
   meta["path"] = set.path;
@@ -91,7 +110,14 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   meta["preset"] = set.preset.empty() ? Json(nullptr) : Json(set.preset);
   meta["delimiter"] = set.delimiter.empty() ? Json(nullptr) : Json(set.delimiter);
   meta["compressed"] = set.compressed;
-  meta["timing"] = set.timing ? timing_with_summary(*set.timing) : Json(nullptr);
+  if (set.timing) {
+    meta["timing"] = timing_with_summary(*set.timing);
+    const Json record = gmwm::report::record_timing_json(set);
+    for (const char* key : {"missing_samples", "gap_handling", "gaps_read_as_missing"})
+      meta["timing"][key] = record[key];
+  } else {
+    meta["timing"] = Json(nullptr);
+  }
   return {values, to_python(meta)};
 }
 
@@ -111,7 +137,7 @@ std::string py_stamps_timing(const py::array_t<std::int64_t, py::array::c_style 
 
 void add_read_functions(py::module_& m) {
   m.def("read", &py_read, py::arg("path"), py::kw_only(), py::arg("columns") = py::none(), py::arg("freq") = py::none(),
-        py::arg("topic") = "", py::arg("memory") = py::none(),
+        py::arg("topic") = "", py::arg("memory") = py::none(), py::arg("gaps") = "windows",
         "The columns of a recording as the gmwm command reads them (delimited text, gzip, PX4 ULog, ROS 1 bag, "
         "rosbag2, MCAP): a samples x columns float64 array and the JSON text of names, units, rate and timing");
   m.def("stamps_timing", &py_stamps_timing, py::arg("stamps"), py::kw_only(), py::arg("source"), py::arg("column"),

@@ -1,11 +1,15 @@
 #include "column_wvs.h"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <string>
 
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm::pipeline::detail {
 
@@ -33,8 +37,50 @@ ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& serie
   return out;
 }
 
+void require_regular(const io::SignalSet& set, const std::string& what) {
+  if (set.missing.empty()) return;
+  // The gaps of timestamps are joined by --gaps join; NaN rows (an array's) by dropping them.
+  const bool stamps = set.timing && set.timing->gaps > 0;
+  const std::string column = stamps ? " of the timestamps '" + set.timing->column + "'" : " (NaN rows)";
+  throw InputError((set.path.empty() ? std::string() : set.path + ": ") + std::to_string(set.missing_samples()) +
+                   " samples missing in " + std::to_string(set.missing.size()) + " gaps" + column + "; " + what +
+                   " reads a regular record: " +
+                   (stamps ? "give --gaps join to join the samples end to end"
+                           : "drop the NaN rows to join the samples end to end"));
+}
+
+ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan) {
+  using Clock = std::chrono::steady_clock;
+  ColumnWvs out;
+  out.wvs.resize(set.signals.size());
+  if (allan) out.allan.resize(set.signals.size());
+  const auto start = Clock::now();
+  gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+    out.wvs[k] = classical_wv_with_gaps(set.signals[k].values, set.missing, wv);
+    drop_incomplete_levels(out.wvs[k]);
+  });
+  out.wv_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (allan) {
+    const auto allan_start = Clock::now();
+    gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+      out.allan[k] = allan_deviation_with_gaps(set.signals[k].values, set.missing, set.freq, *allan);
+    });
+    out.allan_seconds = std::chrono::duration<double>(Clock::now() - allan_start).count();
+  }
+  return out;
+}
+
 ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
                              const std::optional<robust::RobustWvOptions>& robust, double alpha) {
+  if (!set.missing.empty()) {
+    if (robust) require_regular(set, "the robust WV");
+    std::optional<AllanOptions> allan;
+    if (set.freq_known) {
+      allan.emplace();
+      allan->alpha = alpha;
+    }
+    return gappy_column_wvs(set, wv, allan);
+  }
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
   if (robust) {

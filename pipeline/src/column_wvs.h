@@ -5,6 +5,7 @@
 // stage timed. What `fit`, `select` and `wv --adev` share.
 #include <memory>
 #include <optional>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -35,6 +36,18 @@ struct ColumnWvs {
 /// `freq` Hz.
 ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& series, const WvOptions& wv, double freq,
                                const std::optional<AllanOptions>& allan);
+
+/// "PATH: N samples missing in K gaps of the timestamps 'COL'; WHAT reads a regular record: give
+/// --gaps join to join the samples end to end" (InputError; for an array's NaN rows, "drop the
+/// NaN rows ...") when `set` holds missing samples
+/// (set.missing); nothing otherwise. Every study and estimator that has no complete-window
+/// form yet says so instead of joining the samples silently.
+void require_regular(const io::SignalSet& set, const std::string& what);
+
+/// The classical WVs and, when `allan` is given, the gap-resistant Allan deviations of the
+/// columns of a record with gaps, from the complete windows (classical_wv_with_gaps,
+/// allan_deviation_with_gaps), each WV cut to its levels with a complete window.
+ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan);
 
 /// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
 /// figures then read the robust WV itself), else the classical ones with the Allan

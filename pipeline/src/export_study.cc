@@ -7,6 +7,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/parallel.h"
+#include "column_wvs.h"
 #include "usable_wv.h"
 
 namespace gmwm::pipeline {
@@ -74,7 +75,13 @@ std::vector<io::ExportColumn> fitted_export_columns(const io::SignalSet& set, co
   }
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
-  const std::vector<WaveletVariance> wvs = classical_wv(series, options.wv);
+  // A record with gaps: the complete windows' WV and Allan deviation (gappy_column_wvs).
+  detail::ColumnWvs curves;
+  if (set.missing.empty())
+    curves.wvs = classical_wv(series, options.wv);
+  else
+    curves = detail::gappy_column_wvs(set, options.wv, AllanOptions{});
+  const std::vector<WaveletVariance>& wvs = curves.wvs;
   detail::check_usable_wvs(set, wvs, true);
   for (const auto& w : wvs) check_model_fits_levels(model, w.levels());
   FitOptions fo = options.fit;
@@ -93,7 +100,9 @@ std::vector<io::ExportColumn> fitted_export_columns(const io::SignalSet& set, co
     columns[k].model = r.model;
     columns[k].theta = r.theta;
     // N, K, B against the data's own Allan deviation (noise_figures.h).
-    const FigureReport figures = noise_figure_report(set.signals[k].values, set.freq, r.model, r.theta, nullptr);
+    const FigureReport figures = curves.allan.empty()
+                                     ? noise_figure_report(set.signals[k].values, set.freq, r.model, r.theta, nullptr)
+                                     : noise_figure_report(curves.allan[k], r.model, r.theta, nullptr);
     columns[k].figures = io::export_figures(figures.chosen);
   }
   return columns;

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/model_syntax.h"
 
 namespace gmwm::pipeline {
@@ -69,6 +70,11 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   // The bootstrap Omega recomputes the same WV on simulated series.
   std::unique_ptr<robust::RobustWvEstimator> estimator;
   FitOptions fo = options.fit;
+  std::unique_ptr<GappyWvEstimator> gappy;  // a record with gaps: every draw read through them
+  if (!set.missing.empty()) {
+    gappy = std::make_unique<GappyWvEstimator>(set.missing);
+    fo.estimator = gappy.get();
+  }
   if (options.robust) {
     estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
     fo.estimator = estimator.get();

@@ -2,6 +2,7 @@
 //   take_temperature -> resolve_baselines -> wavelet_variances -> baseline_values
 //   (simulator biases as RW, unit check, or the fit) -> diagnose_columns -> cross-axis.
 #include "gmwm/pipeline/gap_study.h"
+#include "column_wvs.h"
 #include "usable_wv.h"
 
 #include <algorithm>
@@ -253,6 +254,7 @@ std::string GapStudyOptions::Validate() const {
 
 GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
+  detail::require_regular(set, "gap diagnosis");
   const std::vector<double> temperature = take_temperature(set, options.temperature_column);
   const ProcessContext ctx{set.freq, set.freq_known};
   Baselines b = resolve_baselines(set, options, ctx);

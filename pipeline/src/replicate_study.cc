@@ -1,6 +1,7 @@
 // Studies over replicates: per group, the replicates' WVs, then the joint analysis
 // (analyse_replicates) or the selection over replicates (select_by_replicates).
 #include "gmwm/pipeline/replicate_study.h"
+#include "column_wvs.h"
 #include "usable_wv.h"
 
 #include <cmath>
@@ -34,6 +35,8 @@ std::string rate_text(double hz) {
 std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const std::string& primary_label,
                                              std::vector<ReplicateRecording> recordings) {
   std::vector<ReplicateGroup> groups;
+  detail::require_regular(primary, "a fit of replicates");
+  for (const ReplicateRecording& r : recordings) detail::require_regular(r.set, "a fit of replicates");
   for (const auto& s : primary.signals) groups.push_back({s.name, {primary.path + ":" + s.name}, {s.values}});
   for (ReplicateRecording& r : recordings) {
     const std::size_t expected = r.one_column ? 1 : groups.size();

@@ -11,6 +11,7 @@
 #include <span>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/selection/submodels.h"
@@ -96,6 +97,11 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   // Bootstrap draws get the data's WV estimator.
   std::unique_ptr<robust::RobustWvEstimator> estimator;
   selection::SelectOptions so = options.select;
+  std::unique_ptr<GappyWvEstimator> gappy;  // a record with gaps: every draw read through them
+  if (!set.missing.empty()) {
+    gappy = std::make_unique<GappyWvEstimator>(set.missing);
+    so.estimator = gappy.get();
+  }
   if (options.robust) {
     estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
     so.estimator = estimator.get();

@@ -29,7 +29,10 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
-  detail::ColumnWvs curves = detail::classical_column_wvs(series, options.wv, set.freq, options.allan);
+  if (options.robust) detail::require_regular(set, "the robust WV");
+  detail::ColumnWvs curves = set.missing.empty()
+                                 ? detail::classical_column_wvs(series, options.wv, set.freq, options.allan)
+                                 : detail::gappy_column_wvs(set, options.wv, options.allan);
   std::vector<WaveletVariance>& classical = curves.wvs;
   detail::check_usable_wvs(set, classical, false);
   if (options.robust) {

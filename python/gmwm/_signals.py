@@ -108,7 +108,8 @@ class Recording:
 
 
 def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | None = None,
-         freq: float | None = None, topic: str | None = None, memory: float | None = None) -> Recording:
+         freq: float | None = None, topic: str | None = None, memory: float | None = None,
+         gaps: str = "windows") -> Recording:
     """The columns of a recording, read exactly as `gmwm fit PATH --columns ... --freq ...
     --topic ... --memory ...` reads them: delimited text (CSV, tab, whitespace; EuRoC and
     Kalibr layouts), gzip of it, PX4 ULog, ROS 1 bags, rosbag2 and MCAP.
@@ -118,12 +119,16 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     evenly spaced (else the timestamps give it; a recording without either is refused).
     topic: a log's or bag's topic ("sensor_combined", "/imu0", ...). memory: MB the values may
     take (default 75% of the machine's memory); a longer record is refused, since the values
-    are handed over in memory.
+    are handed over in memory. gaps: "windows" (the default) puts a NaN row where the
+    timestamps show a sample missing, and every function reads NaN rows as missing (each scale
+    from the windows that hold none, as `--gaps windows`); "join" joins the samples end to
+    end as if none were missing.
 
     Bad input raises gmwm.InputError with the command's one-line message, naming these
     keywords. A timing irregularity (gaps, samples out of order, a freq that disagrees with
     the stamps) is a TimingWarning."""
-    values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory)
+    values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory,
+                                   gaps=gaps)
     from ._types import Timing
 
     meta = json.loads(meta_text)

@@ -2222,7 +2222,9 @@ class Timing(TimingMethods):
     """What a timestamp column (or a pandas index) says about the sampling (the documents'
     "timing"): the median step, the rate it gives, the gaps (steps over 1.5 median steps), the
     steps out of order and, when the rate changes within the record, where (`rate_change`);
-    `given_freq` the rate given besides (None when none). `summary` is the line the command
+    `given_freq` the rate given besides (None when none). `missing_samples`: the samples the
+    gaps left out; `gap_handling` "windows" (each scale from the windows without one,
+    `gaps_read_as_missing`) or "join" (end to end). `summary` is the line the command
     prints (gmwm.read's and an index's; None in a command's document)."""
 
     column: str
@@ -2237,6 +2239,9 @@ class Timing(TimingMethods):
     given_freq: float | None
     rate_change: str | None
     summary: str | None
+    missing_samples: int = 0
+    gap_handling: str | None = None
+    gaps_read_as_missing: bool = False
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any] | None) -> "Timing | None":
@@ -2253,4 +2258,7 @@ class Timing(TimingMethods):
                    int(d["disorder"]),
                    None if d.get("given_freq") is None else float(d["given_freq"]),
                    d.get("rate_change"),
-                   d.get("summary"))
+                   d.get("summary"),
+                   int(d.get("missing_samples", 0)),
+                   d.get("gap_handling"),
+                   bool(d.get("gaps_read_as_missing", False)))

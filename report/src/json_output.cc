@@ -102,6 +102,18 @@ json timing_json(const io::TimingReport& t) {
           {"given_freq", t.given_freq ? json_number(*t.given_freq) : json(nullptr)}};
 }
 
+json record_timing_json(const io::SignalSet& set) {
+  json j = timing_json(*set.timing);
+  std::int64_t placed = 0;
+  for (const MissingRun& r : set.timing->missing) placed += r.length;
+  j["missing_samples"] = placed;
+  j["gap_handling"] = std::string(io::gap_handling_name(set.gaps));
+  // What the studies read: the complete windows (the gaps' samples missing) or the samples
+  // joined end to end (--gaps join, or --freq across a change of rate).
+  j["gaps_read_as_missing"] = !set.missing.empty();
+  return j;
+}
+
 json column_json(const ColumnInfo& column) {
   json c = json::object();
   c["name"] = column.name;
@@ -350,7 +362,7 @@ void add_physical_fields(Json& col, const FitResult& fit, const ColumnInfo& info
 json wv_document(const io::SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
   json doc = json_document("wv");
   doc["input"] = set.path;
-  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  if (set.timing) doc["timing"] = record_timing_json(set);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::WvColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);
@@ -374,7 +386,7 @@ json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, con
   doc["input"] = set.path;
   doc["model_spec"] = study.model_spec;
   doc["seed"] = study.seed;
-  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  if (set.timing) doc["timing"] = record_timing_json(set);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::FitColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);
@@ -397,7 +409,7 @@ json select_document(const io::SignalSet& set, const pipeline::SelectStudy& stud
   doc["optimism"] = selection::to_string(study.options.optimism);
   doc["omega"] = selection::to_string(study.options.omega);
   doc["seed"] = study.options.seed;
-  if (set.timing) doc["timing"] = timing_json(*set.timing);
+  if (set.timing) doc["timing"] = record_timing_json(set);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::SelectColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);

@@ -56,7 +56,12 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     const std::optional<pipeline::RobustWvView>& rv = study.columns[k].robust;
     const auto& s = set.signals[k];
     if (k) os << '\n';
-    os << s.name << ": N = " << s.values.size() << ", " << fmt(set.freq) << " Hz, ";
+    const bool gaps = !set.missing.empty();
+    os << s.name << ": N = " << s.values.size();
+    if (gaps)
+      os << " observed of " << w.n << " (" << set.missing_samples() << " missing in " << set.missing.size()
+         << (set.missing.size() == 1 ? " gap" : " gaps") << ")";
+    os << ", " << fmt(set.freq) << " Hz, ";
     if (rv)
       os << w.estimator << " WV (efficiency " << fmt(w.efficiency.value_or(1.0)) << ")";
     else
@@ -64,6 +69,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     os << ", " << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
        << '\n';
     std::vector<std::string> head = {"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"};
+    if (gaps) head.push_back("lost");  // windows that hold a missing sample
     if (rv) head.insert(head.end(), {"classical", "ratio", "flag"});
     TextTable t(head);
     for (int j = 0; j < w.levels(); ++j) {
@@ -75,6 +81,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
                                       fmt(w.ci_low[l]),
                                       fmt(w.ci_high[l]),
                                       std::to_string(w.coefficients[l])};
+      if (gaps) row.push_back(std::to_string(w.n - static_cast<std::int64_t>(w.tau[l]) + 1 - w.coefficients[l]));
       if (rv) {
         const auto& d = rv->diagnostic[l];
         row.insert(row.end(), {fmt(d.classical_wv), fmt(d.robust_to_classical, 4),
@@ -83,6 +90,18 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
       t.add(row);
     }
     os << t.str();
+    if (gaps) {
+      os << "M_j: the windows of tau samples that hold no missing sample; lost: those that hold one\n";
+      // The longest run of samples between gaps: no window longer than it is complete.
+      std::int64_t longest = 0, from = 0;
+      for (const MissingRun& r : set.missing) longest = std::max(longest, r.start - from), from = r.start + r.length;
+      longest = std::max(longest, w.n - from);
+      int deepest = 0;
+      while (deepest < 62 && (std::int64_t{2} << deepest) <= w.n) ++deepest;
+      if (w.levels() < deepest && !w.tau.empty() && 2.0 * w.tau.back() > static_cast<double>(longest))
+        os << "levels " << w.levels() + 1 << "-" << deepest << ": no window of " << fmt(2.0 * w.tau.back(), 10)
+           << " samples or more is free of gaps (the longest stretch between them holds " << longest << " samples)\n";
+    }
     if (rv) {
       const auto& q = rv->quantization;
       if (q.detected) os << "rounding step " << fmt(q.quantum) << " detected; flags are calibrated against it\n";
@@ -137,7 +156,8 @@ std::string adev_text(const io::SignalSet& set, const pipeline::WvStudy& study, 
     const std::string unit = k < units.size() ? units[k] : std::string();
     os << '\n'
        << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
-       << "% CI (chi-square, edf = (N - 2m + 1) / 2m)" << (unit.empty() ? "" : ", in " + unit) << '\n';
+       << "% CI (chi-square, edf = " << (r.adev.complete.empty() ? "(N - 2m + 1)" : "complete windows of 2m samples")
+       << " / 2m)" << (unit.empty() ? "" : ", in " + unit) << '\n';
     TextTable t({"m", "tau [s]", "ADEV", "CI low", "CI high", "edf"});
     for (std::size_t i = 0; i < r.adev.size(); ++i)
       t.add({std::to_string(r.adev.m[i]), fmt(r.adev.tau[i]), fmt(r.adev.adev[i]), fmt(r.adev.ci_low[i]),

@@ -234,6 +234,10 @@ Json App::State::open(const RequestBody& b) {
   request.columns = b.list("columns");
   request.freq = b.number("freq");
   request.topic = b.text("topic");
+  const std::string gaps = b.text("gaps", "windows");
+  if (!io::gap_handling_from_name(gaps))
+    b.fail("gaps", "found '" + gaps + "', expected " + io::gap_handling_expected());
+  request.gaps = io::gap_handling_of(gaps);
   if (options.memory_budget > 0.0) request.memory_mb = options.memory_budget / 1e6;
   detail::Dataset d;
   d.name = name;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/error.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/io/stamp_timing.h"
 #include "signal_test_util.h"
@@ -107,6 +108,87 @@ TEST(GapPlaces, ARecordWithoutGapsHasNoRuns) {
   EXPECT_EQ(r.gaps, 0);
   EXPECT_TRUE(r.missing.empty());
   EXPECT_EQ(r.uncertain_gaps, 0);
+}
+
+// A CSV of the grid's samples but those dropped, stamped in ns.
+std::string csv_without(std::int64_t n, const std::set<std::int64_t>& dropped, std::int64_t extra_at = -1,
+                        std::int64_t extra = 0) {
+  std::vector<std::int64_t> t = stamps_without(n, dropped);
+  if (extra_at >= 0)
+    for (std::size_t k = static_cast<std::size_t>(extra_at); k < t.size(); ++k) t[k] += extra;
+  std::string csv = "timestamp [ns],x\n";
+  for (std::size_t i = 0; i < t.size(); ++i)
+    csv += std::to_string(t[i]) + "," + std::to_string(std::sin(0.37 * static_cast<double>(i))) + "\n";
+  return csv;
+}
+
+gmwm::io::SignalSet read_csv(const std::string& csv, gmwm::io::GapHandling gaps) {
+  const std::string dir = gmwm::test::temp_dir("gap_read");
+  gmwm::io::ReadOptions o;
+  o.gaps = gaps;
+  try {
+    gmwm::io::SignalSet set = gmwm::io::read_signals(gmwm::test::write_text(dir, "g.csv", csv), o);
+    std::filesystem::remove_all(dir);
+    return set;
+  } catch (...) {
+    std::filesystem::remove_all(dir);
+    throw;
+  }
+}
+
+TEST(GapReading, TheRecordCarriesTheMissingRunsItsStampsShowAndSaysSo) {
+  const gmwm::io::SignalSet set = read_csv(csv_without(3000,
+                                                       [] {
+                                                         std::set<std::int64_t> d = range(100, 7);
+                                                         d.insert(2222);
+                                                         return d;
+                                                       }()),
+                                           gmwm::io::GapHandling::kCompleteWindows);
+  ASSERT_EQ(set.missing.size(), 2u);
+  EXPECT_EQ(set.missing[1].start, 2222);
+  EXPECT_EQ(set.missing_samples(), 8);
+  EXPECT_EQ(set.signals.front().values.size(), 2992u);
+  EXPECT_EQ(gmwm::io::gaps_summary(set),
+            "8 of the record's 3000 samples missing in 2 gaps (the largest 7 samples); each scale reads only the "
+            "windows that hold no missing sample");
+}
+
+TEST(GapReading, GapsJoinLeavesTheSamplesEndToEndAsBefore) {
+  const gmwm::io::SignalSet set = read_csv(csv_without(3000, range(100, 7)), gmwm::io::GapHandling::kJoin);
+  EXPECT_TRUE(set.missing.empty());
+  EXPECT_EQ(set.gaps, gmwm::io::GapHandling::kJoin);
+  EXPECT_EQ(set.timing->gaps, 1);
+  EXPECT_EQ(gmwm::io::gaps_summary(set), "");
+}
+
+TEST(GapReading, AGapOfUnknownLengthIsRefusedWithTheStampsAroundIt) {
+  // A step of 2.5 periods after sample 1500 (15.00 s to 15.025 s from the first stamp).
+  const std::string csv = csv_without(3000, {}, 1500, 3 * kPeriod / 2);
+  try {
+    read_csv(csv, gmwm::io::GapHandling::kCompleteWindows);
+    FAIL() << "a gap of 2.5 periods was read";
+  } catch (const gmwm::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("g.csv: timestamps 'timestamp [ns]': a gap of unknown length before sample 1500: from 14.99 s "
+                     "to 15.015 s after the first stamp, a step of 25 ms = 2.5 periods of 10 ms, expected a whole "
+                     "number of periods (to 0.25); give --gaps join to join the samples end to end"),
+              std::string::npos)
+        << m;
+  }
+  EXPECT_NO_THROW(read_csv(csv, gmwm::io::GapHandling::kJoin));
+}
+
+TEST(GapReading, TheGapsOptionTakesWindowsOrJoinAndNamesBothOtherwise) {
+  EXPECT_EQ(gmwm::io::gap_handling_of("windows"), gmwm::io::GapHandling::kCompleteWindows);
+  EXPECT_EQ(gmwm::io::gap_handling_of("join"), gmwm::io::GapHandling::kJoin);
+  try {
+    gmwm::io::gap_handling_of("fill");
+    FAIL() << "--gaps fill was taken";
+  } catch (const gmwm::InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "--gaps: found 'fill', expected 'windows' (each scale from the windows without a missing sample) or "
+                 "'join' (the samples end to end)");
+  }
 }
 
 }  // namespace

@@ -147,6 +147,20 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
                  "and select then use memory that no longer grows with it")
       ->type_name("MB")
       ->transform(memory_megabytes());
+  sub.add_option("--gaps", input.gaps,
+                 "Samples the timestamps show missing: 'windows' reads each scale from the windows that hold none "
+                 "(a gap of unknown length is refused), 'join' joins the samples end to end as if none were "
+                 "missing")
+      ->type_name("windows|join")
+      ->check([](const std::string& text) {
+        try {
+          io::gap_handling_of(text);
+          return std::string();
+        } catch (const InputError& e) {
+          return std::string(e.what()).substr(std::string("--gaps: ").size());
+        }
+      })
+      ->capture_default_str();
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
@@ -226,6 +240,7 @@ io::SignalSet read_input(const InputOptions& input) {
   request.freq = input.freq;
   request.topic = input.topic;
   request.memory_mb = input.memory_mb;
+  request.gaps = io::gap_handling_of(input.gaps);
   io::SignalSet set = io::read_request(request);
   if (!set.signals.empty())
     if (const std::string why =
@@ -279,9 +294,12 @@ void print_text(const std::string& text) { std::cout << report::wrap_to_width(pr
 void warn_about_timing(const io::SignalSet& set) {
   if (!set.timing) return;
   const io::TimingReport& t = *set.timing;
-  if (t.gaps > 0)
+  if (t.gaps > 0 && !set.missing.empty())
+    warn(set.path + ": column '" + t.column + "': " + io::gaps_summary(set));
+  else if (t.gaps > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.gaps) +
-         " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) + " s); the WV assumes regular sampling");
+         " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) + " s), joined end to end" +
+         (set.gaps == io::GapHandling::kJoin ? " (--gaps join)" : " (--freq takes the samples as evenly spaced)"));
   if (t.disorder > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.disorder) +
          " repeated or backward timestamp(s)");

@@ -90,6 +90,7 @@ struct InputOptions {
   double alpha = 0.05;                 ///< --alpha
   int levels = 0;                      ///< --levels J (0: floor(log2 N))
   std::optional<double> memory_mb;     ///< --memory MB (default: io::kMemoryShare of physical memory)
+  std::string gaps = "windows";        ///< --gaps windows|join (io::gap_handling_of)
 };
 
 /// --robust, --eff, --estimator, --no-spike-screen.

@@ -45,6 +45,8 @@ constexpr OptionField kOptionFields[] = {
     {"--adev-points", "adev_points"},
     {"--kf-rate", "kf_rate"},
     {"--max-evaluations", "max_evaluations"},
+    {"--gaps join", "gaps", "join"},
+    {"--gaps", "gaps"},
     {"--memory MB", "memory", {}, "MB"},
     {"--memory", "memory"},
 };
@@ -55,12 +57,17 @@ std::string field_words(const OptionField& f, Face face) {
   std::string out;
   if (face == Face::kWeb) {
     out = "\"" + std::string(f.field) + "\"";
-    if (!f.value.empty()) out += ": " + std::string(f.value);
+    const bool literal = f.value == "true" || f.value == "false";
+    if (!f.value.empty()) out += ": " + (literal ? std::string(f.value) : "\"" + std::string(f.value) + "\"");
   } else {
     out = std::string(f.field);
-    // Python's literals: True / False.
-    if (f.value == "true") out += "=True";
-    if (f.value == "false") out += "=False";
+    // Python's literals: True / False; a text value quoted.
+    if (f.value == "true")
+      out += "=True";
+    else if (f.value == "false")
+      out += "=False";
+    else if (!f.value.empty())
+      out += "=\"" + std::string(f.value) + "\"";
   }
   if (!f.unit.empty()) out += " (" + std::string(f.unit) + ")";
   return out;

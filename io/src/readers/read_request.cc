@@ -29,6 +29,7 @@ ReadOptions ReadRequest::options() const {
     o.memory_budget = *memory_mb * 1e6;
   }
   o.spill = spill;
+  o.gaps = gaps;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError(why);
   return o;
 }

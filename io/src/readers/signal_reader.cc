@@ -168,6 +168,88 @@ bool inflation_exceeds(std::uint64_t in, std::uint64_t out) {
 
 bool is_timestamp_column_name(std::string_view name) { return detail::timestamp_name(name).has_value(); }
 
+std::string_view gap_handling_name(GapHandling g) {
+  switch (g) {
+    case GapHandling::kCompleteWindows:
+      return "windows";
+    case GapHandling::kJoin:
+      return "join";
+  }
+  return "windows";
+}
+
+std::optional<GapHandling> gap_handling_from_name(std::string_view name) {
+  for (const GapHandling g : {GapHandling::kCompleteWindows, GapHandling::kJoin})
+    if (name == gap_handling_name(g)) return g;
+  return std::nullopt;
+}
+
+std::string gap_handling_expected() {
+  return "'windows' (each scale from the windows without a missing sample) or 'join' (the samples end to end)";
+}
+
+GapHandling gap_handling_of(const std::string& text) {
+  if (const std::optional<GapHandling> g = gap_handling_from_name(text)) return *g;
+  throw InputError("--gaps: found '" + printable_line(text) + "', expected " + gap_handling_expected());
+}
+
+std::string gaps_summary(const SignalSet& set) {
+  if (set.missing.empty()) return {};
+  std::int64_t largest = 0;
+  for (const MissingRun& r : set.missing) largest = std::max(largest, r.length);
+  const std::int64_t lost = set.missing_samples();
+  const auto grid = static_cast<std::int64_t>(set.signals.empty() ? 0 : set.signals.front().values.size()) + lost;
+  return std::to_string(lost) + " of the record's " + std::to_string(grid) + " samples missing in " +
+         std::to_string(set.missing.size()) + (set.missing.size() == 1 ? " gap" : " gaps") + " (the largest " +
+         std::to_string(largest) + (largest == 1 ? " sample" : " samples") +
+         "); each scale reads only the windows that hold no missing sample";
+}
+
+void take_nan_rows_as_missing(SignalSet& set, const std::string& source) {
+  if (set.signals.empty()) return;
+  const std::size_t n = set.signals.front().values.size();
+  std::vector<char> hole(n, 0);
+  bool any = false;
+  for (const Signal& s : set.signals)
+    for (std::size_t i = 0; i < n && i < s.values.size(); ++i)
+      if (std::isnan(s.values[i])) hole[i] = 1, any = true;
+  if (!any) return;
+  if (!set.missing.empty())
+    throw InputError(source +
+                     ": found NaN rows in a record whose timestamps already place gaps, expected one or the "
+                     "other to mark the missing samples");
+  std::vector<MissingRun> runs;
+  std::int64_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!hole[i]) {
+      ++kept;
+      continue;
+    }
+    if (!runs.empty() && runs.back().start + runs.back().length == static_cast<std::int64_t>(i))
+      ++runs.back().length;
+    else
+      runs.push_back({static_cast<std::int64_t>(i), 1});
+  }
+  if (kept < kMinSamples)
+    throw InputError(source + ": found " + std::to_string(kept) + " rows without NaN of " + std::to_string(n) +
+                     ", expected at least " + std::to_string(kMinSamples) +
+                     " (NaN marks a missing sample; the wavelet variance needs 2^4 samples)");
+  for (Signal& s : set.signals) {
+    std::vector<double> v;
+    v.reserve(static_cast<std::size_t>(kept));
+    for (std::size_t i = 0; i < n; ++i)
+      if (!hole[i]) v.push_back(s.values[i]);
+    s.values = Samples(std::move(v));
+  }
+  set.missing = std::move(runs);
+}
+
+std::int64_t SignalSet::missing_samples() const {
+  std::int64_t n = 0;
+  for (const MissingRun& r : missing) n += r.length;
+  return n;
+}
+
 std::string ReadOptions::Validate() const {
   if (freq)
     if (std::string why = sampling_rate_problem(*freq, "--freq"); !why.empty()) return why;
@@ -414,6 +496,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
   } else {
     detail::refuse_never_increasing(path, *set.timing);
   }
+  detail::take_gaps(path, set, options);
   return set;
 }
 

@@ -1,5 +1,7 @@
 #include "timestamp.h"
 
+#include "gmwm/engine/number_text.h"
+
 #include "gmwm/io/stamp_timing.h"
 
 #include "gmwm/engine/error.h"
@@ -201,6 +203,7 @@ void StepStatistics::add(double offset, double magnitude) {
   if (block_.empty()) block_start_ = samples_ - 2;  // the sample the step starts from
   block_.push_back(d);
   block_samples_.push_back(samples_ - 1);
+  block_offsets_.push_back(offset);
   if (block_.size() == kRateBlock) end_block();
   if (run_length_ > 0 && d == run_step_) {
     ++run_length_;
@@ -218,7 +221,7 @@ void StepStatistics::keep_long_steps(double limit) const {
       candidates_kept_ = false;
       break;
     }
-    candidates_.push_back({block_samples_[k], block_[k]});
+    candidates_.push_back({block_samples_[k], block_[k], block_offsets_[k]});
   }
 }
 
@@ -228,6 +231,7 @@ void StepStatistics::end_block() const {
   keep_long_steps(kGapCandidateFactor * typical);
   block_.clear();
   block_samples_.clear();
+  block_offsets_.clear();
   if (!have_first_) {
     have_first_ = true;
     first_typical_ = far_typical_ = typical;
@@ -254,6 +258,7 @@ void StepStatistics::finish_blocks() const {
     keep_long_steps(0.0);
     block_.clear();
     block_samples_.clear();
+    block_offsets_.clear();
   }
 }
 
@@ -373,6 +378,39 @@ void check_timestamp_rate(const std::string& path, const TimingReport& timing, c
                    "there, or give --freq HZ to take the samples as evenly spaced");
 }
 
+void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& options) {
+  set.gaps = options.gaps;
+  if (!set.timing || set.timing->gaps == 0 || options.gaps == GapHandling::kJoin) return;
+  const TimingReport& t = *set.timing;
+  if (t.rate_change) return;  // read only under --freq, which takes the samples as evenly spaced
+  const std::string where = path + ": timestamps '" + t.column + "': ";
+  const std::string join = "; give --gaps join to join the samples end to end";
+  if (!t.gap_positions_known)
+    throw InputError(where + std::to_string(t.gaps) + " steps longer than " + significant(TimingReport::kGapFactor) +
+                     " median steps among more than " + std::to_string(StepStatistics::kMaxGapCandidates) +
+                     " irregular ones, expected gaps that can be placed (stamps this irregular cannot tell a lost "
+                     "sample from jitter)" +
+                     join);
+  if (t.first_uncertain_gap) {
+    const TimingReport::UncertainGap& g = *t.first_uncertain_gap;
+    const std::string more =
+        t.uncertain_gaps > 1 ? " (and " + std::to_string(t.uncertain_gaps - 1) + " more such gaps)" : "";
+    // The stamps to 9 digits (a nanosecond within a second, a microsecond within 1000 s).
+    const auto stamp = [](double seconds) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.9g s", seconds);
+      return std::string(buf);
+    };
+    throw InputError(where + "a gap of unknown length before sample " + std::to_string(g.sample) + ": from " +
+                     stamp(g.from_seconds) + " to " + stamp(g.to_seconds) + " after the first stamp, a step of " +
+                     format_duration(g.step_seconds) + " = " + significant(g.step_seconds / t.median_step_seconds) +
+                     " periods of " + format_duration(t.median_step_seconds) + more +
+                     ", expected a whole number of periods (to " + significant(TimingReport::kGapLengthTolerance) +
+                     ")" + join);
+  }
+  set.missing = t.missing;
+}
+
 void refuse_never_increasing(const std::string& path, const TimingReport& timing) {
   throw InputError(path + ": found timestamps in column '" + timing.column +
                    "' that never increase, expected increasing times; give the sampling rate with --freq HZ");
@@ -399,7 +437,9 @@ void place_gaps(const StepStatistics& steps, double median, TimingReport& r) {
     const double periods = g.step / median;
     const double whole = std::round(periods);
     if (std::fabs(periods - whole) > TimingReport::kGapLengthTolerance) {
-      if (r.uncertain_gaps++ == 0) r.first_uncertain_gap = {g.sample, g.step * r.unit_to_seconds};
+      if (r.uncertain_gaps++ == 0)
+        r.first_uncertain_gap = {g.sample, g.step * r.unit_to_seconds, (g.offset - g.step) * r.unit_to_seconds,
+                                 g.offset * r.unit_to_seconds};
       continue;
     }
     const auto lost = static_cast<std::int64_t>(whole) - 1;

@@ -85,6 +85,7 @@ class StepStatistics {
   struct LongStep {
     std::int64_t sample = 0;
     double step = 0.0;
+    double offset = 0.0;  ///< the stamp ending the step, from the first stamp (the file's unit)
   };
   /// The steps above `limit` with where they are, in time order, for a limit of at least
   /// kGapFactor times the median step (gap_positions_kept() says whether every one was kept).
@@ -130,6 +131,7 @@ class StepStatistics {
   // The rate-change check: the current block, and the first and most distant typical steps.
   mutable std::vector<double> block_;
   mutable std::vector<std::int64_t> block_samples_;  // the sample ending each step of block_
+  mutable std::vector<double> block_offsets_;        // the stamp ending each step of block_
   mutable std::vector<double> scratch_;              // block_ reordered for its interquartile mean
   mutable std::vector<LongStep> candidates_;         // the steps that may be gaps, in time order
   mutable bool candidates_kept_ = true;
@@ -153,6 +155,13 @@ void check_timestamp_rate(const std::string& path, const TimingReport& timing, c
 /// Refuses (InputError naming the file and the column) timestamps that never increase when
 /// no rate was given: nothing to measure the sampling from.
 [[noreturn]] void refuse_never_increasing(const std::string& path, const TimingReport& timing);
+
+/// Takes the gaps the stamps show (set.timing) as options.gaps says: kCompleteWindows puts
+/// timing->missing in set.missing, refusing (InputError naming the file, the column and the
+/// first such stamps) a gap whose length the stamps do not tell and stamps too irregular to
+/// place the gaps; kJoin leaves set.missing empty. A record read at --freq across a change
+/// of rate is taken as evenly spaced (no gaps).
+void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& options);
 
 /// The same from times relative to the first one.
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,

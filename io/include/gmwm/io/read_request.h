@@ -32,6 +32,8 @@ struct ReadRequest {
   /// Beyond the memory: true, the columns go on in temporary files; false (a face that hands
   /// the values over in memory, as Python's arrays), refused with one line.
   bool spill = true;
+  /// --gaps windows|join (gap_handling_name).
+  GapHandling gaps = GapHandling::kCompleteWindows;
 
   /// The reader's options; throws InputError (naming the option) for a bad value.
   ReadOptions options() const;

@@ -101,6 +101,27 @@ std::string levels_problem(int levels, std::int64_t n, const std::string& option
 /// "timestamp", "#timestamp [ns]", ...), not as a signal.
 bool is_timestamp_column_name(std::string_view name);
 
+/// --gaps: what the studies do with samples a record's timestamps show missing (issue 47).
+enum class GapHandling {
+  /// "windows" (the default): each scale reads only the windows of samples that hold no
+  /// missing sample (classical_wv_with_gaps, allan_deviation_with_gaps); a gap whose length
+  /// the stamps do not tell is refused.
+  kCompleteWindows,
+  /// "join": the samples are joined end to end as if none were missing (each gap then
+  /// puts a jump inside the windows across it).
+  kJoin,
+};
+/// "windows" or "join": the one spelling of every face.
+std::string_view gap_handling_name(GapHandling g);
+/// The GapHandling named `name`; nullopt for any other text.
+std::optional<GapHandling> gap_handling_from_name(std::string_view name);
+/// "'windows' (each scale from the windows without a missing sample) or 'join' (the
+/// samples end to end)".
+std::string gap_handling_expected();
+/// The GapHandling named `text`; throws InputError "--gaps: found 'TEXT', expected ..." for
+/// any other text (every face fills its request through this one rule).
+GapHandling gap_handling_of(const std::string& text);
+
 struct ReadOptions {
   /// Column names or 1-based field indices (as text). Empty: every numeric column that is
   /// not a timestamp, in file order.
@@ -117,6 +138,8 @@ struct ReadOptions {
   /// value on disk, memory that no longer grows with the record; samples.h); false, the
   /// file is refused with one line.
   bool spill = true;
+  /// --gaps: what the studies do with the samples the timestamps show missing.
+  GapHandling gaps = GapHandling::kCompleteWindows;
 
   /// "" when valid, otherwise a one-line message naming the option.
   std::string Validate() const;
@@ -139,11 +162,13 @@ struct TimingReport {
   /// order. Only the gaps whose length is known (uncertain_gaps counts the others).
   std::vector<MissingRun> missing;
   /// Gaps whose step is further than kGapLengthTolerance from a whole number of median steps:
-  /// how many, and the first (the 0-based sample after it, the step in seconds).
+  /// how many, and the first (the 0-based sample after it, the step in seconds, and the two
+  /// stamps around it in seconds from the first stamp).
   std::int64_t uncertain_gaps = 0;
   struct UncertainGap {
     std::int64_t sample = 0;
     double step_seconds = 0.0;
+    double from_seconds = 0.0, to_seconds = 0.0;
   };
   std::optional<UncertainGap> first_uncertain_gap;
   /// False when the gaps' places could not all be kept (more than a million candidate steps:
@@ -201,12 +226,34 @@ struct SignalSet {
   double freq = 0.0;  ///< from --freq, else from the timestamp column
   bool freq_known = false;
   std::optional<TimingReport> timing;
+  /// The samples the timestamps show missing, on the grid of observed and missing samples
+  /// together (the values hold the observed ones only), shared by every column; empty for a
+  /// regular record and under GapHandling::kJoin. Every study reads the complete windows
+  /// from them (gappy_wv.h) or refuses the record (pipeline::require_regular).
+  std::vector<MissingRun> missing;
+  /// How the gaps were taken (kJoin: the samples end to end, missing stays empty).
+  GapHandling gaps = GapHandling::kCompleteWindows;
+  /// The missing samples in all (the sum of the runs' lengths).
+  std::int64_t missing_samples() const;
   /// True when the columns are held in temporary files (the record exceeded the budget).
   bool spilled = false;
   std::string preset;       ///< "euroc", "kalibr" or "" when recognised by header
   std::string delimiter;    ///< "comma", "tab", "semicolon" or "whitespace"
   bool compressed = false;  ///< gzip content
 };
+
+/// One line for the terminal and the documents on a record read with gaps: "N of the
+/// record's G samples missing in K gaps (the largest L samples); each scale reads only the
+/// windows that hold no missing sample"; "" for a regular record (or one read --gaps join).
+std::string gaps_summary(const SignalSet& set);
+
+/// The rows where a column holds NaN are samples missing from a regular record (a pandas
+/// frame or a numpy array marks them so, as gmwm.read's Recording does for the gaps of its
+/// stamps; issue 47): they leave every column, and set.missing places them on the grid (a
+/// row missing in one column is missing in all: a row is one sample of every axis). No-op
+/// without NaN. Throws InputError "SOURCE: ..." when the set already has missing runs, or
+/// fewer than 16 rows would remain.
+void take_nan_rows_as_missing(SignalSet& set, const std::string& source);
 
 /// Reads the selected columns of `path`. Throws gmwm::InputError on bad input (see above).
 SignalSet read_signals(const std::string& path, const ReadOptions& options);

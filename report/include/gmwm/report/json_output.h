@@ -75,6 +75,10 @@ void add_run_info(Json& doc, const RunInfo& run);
 /// "median_step_seconds", "estimated_freq", "gaps", "largest_gap_seconds", "disorder",
 /// "given_freq"}.
 Json timing_json(const io::TimingReport& timing);
+/// A record's timing in the documents: timing_json with the samples the stamps show missing
+/// ("missing_samples"), how the gaps were taken ("gap_handling": "windows" or "join") and
+/// whether the studies read them as missing ("gaps_read_as_missing").
+Json record_timing_json(const io::SignalSet& set);
 
 /// {"name", "n", "freq"}.
 Json column_json(const ColumnInfo& column);

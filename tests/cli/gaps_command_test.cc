@@ -1,0 +1,154 @@
+// Records whose timestamps show missing samples (issue 47, item 1) on the command line: each
+// scale reads the complete windows (the WV, the Allan deviation, fit and select), the terminal
+// and the JSON say how many windows each scale lost, --gaps join keeps the samples end to end,
+// a gap of unknown length is refused, and the studies without a complete-window form refuse
+// the record instead of joining it silently.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "gmwm/engine/gappy_wv.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::flowed;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kN = 1 << 14;
+constexpr double kFreq = 100.0;
+
+class GapsCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("gaps_cli");
+    const gmwm::Model m = gmwm::parse_model("WN(sigma2=1)+RW(gamma2=1e-4)", gmwm::ProcessContext{kFreq, true});
+    full_ = gmwm::simulate(m, m.given_values(), kN, 4711);
+    // 3 gaps: 40 samples at 1000, 1 at 5000, 300 at 9000.
+    for (int k = 1000; k < 1040; ++k) dropped_.insert(k);
+    dropped_.insert(5000);
+    for (int k = 9000; k < 9300; ++k) dropped_.insert(k);
+    std::string csv = "time [s],gyro_x\n";
+    for (int k = 0; k < kN; ++k) {
+      if (dropped_.count(k)) continue;
+      csv += std::to_string(k / kFreq) + "," + std::to_string(full_[static_cast<std::size_t>(k)]) + "\n";
+      observed_.push_back(std::stod(std::to_string(full_[static_cast<std::size_t>(k)])));
+    }
+    gmwm::test::write_text(dir_ / "gappy.csv", csv);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+  std::vector<double> full_, observed_;
+  std::set<int> dropped_;
+};
+
+TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleLost) {
+  const auto r = run_gmwm({"wv", "gappy.csv", "--json", "wv.json", "--adev"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(flowed(r.err).find("341 of the record's 16384 samples missing in 3 gaps (the largest 300 samples); each "
+                               "scale reads only the windows that hold no missing sample"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.out.find("N = 16043 observed of 16384 (341 missing in 3 gaps)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lost"), std::string::npos) << r.out;
+  // The library's gappy WV, level by level, and the windows lost (level 1: 41 + 2 + 301).
+  const std::vector<gmwm::MissingRun> runs = {{1000, 40}, {5000, 1}, {9000, 300}};
+  gmwm::WaveletVariance want = gmwm::classical_wv_with_gaps(observed_, runs);
+  gmwm::drop_incomplete_levels(want);
+  const json doc = read_json(dir_ / "wv.json");
+  EXPECT_EQ(doc.at("timing").at("missing_samples"), 341);
+  EXPECT_EQ(doc.at("timing").at("gap_handling"), "windows");
+  EXPECT_EQ(doc.at("timing").at("gaps_read_as_missing"), true);
+  const json& levels = doc.at("columns").at(0).at("levels");
+  ASSERT_EQ(levels.size(), static_cast<std::size_t>(want.levels()));
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    EXPECT_NEAR(levels[k].at("wv").get<double>(), want.wv[k], 1e-12 * want.wv[k]) << "level " << k + 1;
+    EXPECT_EQ(levels[k].at("coefficients").get<std::int64_t>(), want.coefficients[k]);
+  }
+  EXPECT_EQ(levels[0].at("note"), "16039 of 16383 windows of 2 samples complete (344 hold a missing sample)");
+  // The Allan deviation is the gap-resistant one: its points stop where the stretches do.
+  const json& allan = doc.at("columns").at(0).at("allan");
+  ASSERT_TRUE(allan.is_object());
+}
+
+TEST_F(GapsCommand, GapsJoinKeepsTheSamplesEndToEndAndSaysSo) {
+  const auto r = run_gmwm({"wv", "gappy.csv", "--json", "wv.json", "--gaps", "join"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(flowed(r.err).find("3 gap(s) in its timestamps (largest 3.01 s), joined end to end (--gaps join)"),
+            std::string::npos)
+      << r.err;
+  const json doc = read_json(dir_ / "wv.json");
+  EXPECT_EQ(doc.at("timing").at("gap_handling"), "join");
+  EXPECT_EQ(doc.at("timing").at("gaps_read_as_missing"), false);
+  EXPECT_EQ(doc.at("columns").at(0).at("levels").at(0).at("coefficients"), 16042);  // N - 1 of the joined
+}
+
+TEST_F(GapsCommand, FitAndSelectReadTheGapsAndRecoverTheWhiteNoise) {
+  json levels[2];
+  int i = 0;
+  for (const char* command : {"fit", "select"}) {
+    const auto r = run_gmwm({command, "gappy.csv", "--model", "WN+RW", "--json", "out.json", "--quiet"}, dir_);
+    ASSERT_EQ(r.exit_code, 0) << command << ": " << r.err;
+    const json doc = read_json(dir_ / "out.json");
+    EXPECT_EQ(doc.at("timing").at("gaps_read_as_missing"), true) << command;
+    levels[i++] = doc.at("columns").at(0).at("levels");
+    if (std::string(command) == "fit") {
+      // WN sigma2 = 1 inside its 95% interval (16043 samples: a relative sd of about 1.2%).
+      const json& p = doc.at("columns").at(0).at("parameters").at(0);
+      EXPECT_EQ(p.at("process"), "WN");
+      EXPECT_LE(p.at("ci_low").get<double>(), 1.0);
+      EXPECT_GE(p.at("ci_high").get<double>(), 1.0);
+    }
+  }
+  // Both read the same complete-window WV: the levels the gaps leave, 12 of floor(log2 16384)
+  // = 14 (the longest stretch between gaps holds 7084 samples: windows of 4096 fit in it).
+  EXPECT_EQ(levels[0], levels[1]);
+  EXPECT_EQ(levels[0].size(), 12u);
+}
+
+TEST_F(GapsCommand, AGapOfUnknownLengthIsRefusedWithItsStampsAndNothingWritten) {
+  std::string csv = "time [s],gyro_x\n";
+  for (int k = 0; k < 4000; ++k) {
+    const double t = k / kFreq + (k >= 2000 ? 0.015 : 0.0);  // a step of 2.5 periods before sample 2000
+    csv += std::to_string(t) + "," + std::to_string(full_[static_cast<std::size_t>(k)]) + "\n";
+  }
+  gmwm::test::write_text(dir_ / "odd.csv", csv);
+  const auto r = run_gmwm({"fit", "odd.csv", "--model", "WN", "--json", "out.json"}, dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(gmwm::test::lines_of(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("odd.csv: timestamps 'time [s]': a gap of unknown length before sample 2000: from 19.99 s to "
+                       "20.015 s after the first stamp, a step of 25 ms = 2.5 periods of 10 ms"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.json"));
+  EXPECT_EQ(run_gmwm({"fit", "odd.csv", "--model", "WN", "--gaps", "join", "--quiet"}, dir_).exit_code, 0);
+}
+
+TEST_F(GapsCommand, StudiesWithoutACompleteWindowFormRefuseTheRecordNamingGapsJoin) {
+  const auto r = run_gmwm({"wv", "gappy.csv", "--robust", "--json", "out.json"}, dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; the robust WV reads a "
+                       "regular record: give --gaps join to join the samples end to end"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.json"));
+  const auto bad = run_gmwm({"wv", "gappy.csv", "--gaps", "fill"}, dir_);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("expected 'windows' (each scale from the windows without a missing sample) or 'join'"),
+            std::string::npos)
+      << bad.err;
+}
+
+}  // namespace
