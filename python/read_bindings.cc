@@ -56,7 +56,9 @@ std::vector<std::string> columns_argument(const py::object& columns) {
 
 std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, const py::object& columns,
                                                      std::optional<double> freq, const std::string& topic,
-                                                     std::optional<double> memory, const std::string& gaps) {
+                                                     std::optional<double> memory, const std::string& gaps,
+                                                     const std::string& data, int decimate,
+                                                     const std::string& decimate_filter) {
   gmwm::io::ReadRequest request;
   request.path = path;
   request.columns = columns_argument(columns);
@@ -65,6 +67,12 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   request.memory_mb = memory;
   request.spill = false;  // the values are handed over in memory, as one array
   request.gaps = gmwm::io::gap_handling_of(gaps);
+  request.data = gmwm::io::data_kind_of(data);
+  if (decimate < 1 || decimate > gmwm::io::kMaxDecimation)
+    throw gmwm::InputError("--decimate: found " + std::to_string(decimate) + ", expected a whole number from 1 to " +
+                           std::to_string(gmwm::io::kMaxDecimation));
+  request.decimate = decimate;
+  request.decimate_filter = gmwm::io::decimation_filter_of(decimate_filter);
   gmwm::io::SignalSet set;
   {
     py::gil_scoped_release release;
@@ -110,6 +118,7 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   meta["preset"] = set.preset.empty() ? Json(nullptr) : Json(set.preset);
   meta["delimiter"] = set.delimiter.empty() ? Json(nullptr) : Json(set.delimiter);
   meta["compressed"] = set.compressed;
+  meta["conditioning"] = gmwm::io::conditioning_summary(set);
   if (set.timing) {
     meta["timing"] = timing_with_summary(*set.timing);
     const Json record = gmwm::report::record_timing_json(set);
@@ -137,7 +146,8 @@ std::string py_stamps_timing(const py::array_t<std::int64_t, py::array::c_style 
 
 void add_read_functions(py::module_& m) {
   m.def("read", &py_read, py::arg("path"), py::kw_only(), py::arg("columns") = py::none(), py::arg("freq") = py::none(),
-        py::arg("topic") = "", py::arg("memory") = py::none(), py::arg("gaps") = "windows",
+        py::arg("topic") = "", py::arg("memory") = py::none(), py::arg("gaps") = "windows", py::arg("data") = "rate",
+        py::arg("decimate") = 1, py::arg("decimate_filter") = "average",
         "The columns of a recording as the gmwm command reads them (delimited text, gzip, PX4 ULog, ROS 1 bag, "
         "rosbag2, MCAP): a samples x columns float64 array and the JSON text of names, units, rate and timing");
   m.def("stamps_timing", &py_stamps_timing, py::arg("stamps"), py::kw_only(), py::arg("source"), py::arg("column"),

@@ -61,6 +61,7 @@ class Recording:
     timing: Timing | None
     topic: str | None = None
     preset: str | None = None
+    conditioning: str | None = None
 
     def __len__(self) -> int:
         return int(self.values.shape[0])
@@ -72,7 +73,7 @@ class Recording:
         values = self.values[:, picks]
         values.flags.writeable = False
         return Recording(self.path, tuple(self.names[p] for p in picks), tuple(self.units[p] for p in picks),
-                         self.freq, values, self.timing, self.topic, self.preset)
+                         self.freq, values, self.timing, self.topic, self.preset, self.conditioning)
 
     def _position(self, key: str | int) -> int:
         if isinstance(key, str):
@@ -109,7 +110,8 @@ class Recording:
 
 def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | None = None,
          freq: float | None = None, topic: str | None = None, memory: float | None = None,
-         gaps: str = "windows") -> Recording:
+         gaps: str = "windows", data: str = "rate", decimate: int = 1,
+         decimate_filter: str = "average") -> Recording:
     """The columns of a recording, read exactly as `gmwm fit PATH --columns ... --freq ...
     --topic ... --memory ...` reads them: delimited text (CSV, tab, whitespace; EuRoC and
     Kalibr layouts), gzip of it, PX4 ULog, ROS 1 bags, rosbag2 and MCAP.
@@ -122,13 +124,17 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     are handed over in memory. gaps: "windows" (the default) puts a NaN row where the
     timestamps show a sample missing, and every function reads NaN rows as missing (each scale
     from the windows that hold none, as `--gaps windows`); "join" joins the samples end to
-    end as if none were missing.
+    end as if none were missing. data: "rate" (the default) or "increment" (delta-angles,
+    delta-velocities over one period, read as increment x rate). decimate: keep one sample in
+    K after decimate_filter, "average" (the mean of each K samples: N, K and B of the band kept
+    are unchanged) or "none" (every K-th sample: the band above folds in). The Recording's
+    `conditioning` says what was done (None when nothing), and its freq is the rate after it.
 
     Bad input raises gmwm.InputError with the command's one-line message, naming these
     keywords. A timing irregularity (gaps, samples out of order, a freq that disagrees with
     the stamps) is a TimingWarning."""
     values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory,
-                                   gaps=gaps)
+                                   gaps=gaps, data=data, decimate=decimate, decimate_filter=decimate_filter)
     from ._types import Timing
 
     meta = json.loads(meta_text)
@@ -137,7 +143,7 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     if timing is not None and timing.irregular:
         warnings.warn(f"{meta['path']}: {timing.summary}", TimingWarning, stacklevel=2)
     return Recording(meta["path"], tuple(meta["names"]), tuple(meta["units"]), float(meta["freq"]), values, timing,
-                     meta["topic"], meta["preset"])
+                     meta["topic"], meta["preset"], meta["conditioning"] or None)
 
 
 def _index_timing(data: Any, freq: float | None, what: str) -> Timing | None:

@@ -70,3 +70,22 @@ def test_an_infinity_is_refused_and_a_study_without_a_window_form_says_to_drop_t
         gmwm.wv(x, freq=RATE)
     with pytest.raises(gmwm.InputError, match=r"gaps: found 'fill', expected 'windows'"):
         gmwm.read(gappy_csv, gaps="fill")
+
+
+def test_decimation_and_increments_are_read_as_the_command_reads_them(tmp_path):
+    x = gmwm.simulate("WN(sigma2=1)", 4096, freq=RATE, seed=9)
+    path = tmp_path / "wn.csv"
+    path.write_text("time [s],gyro_x\n" + "".join(f"{k / RATE!r},{float(v)!r}\n" for k, v in enumerate(x)))
+    rec = read(path, decimate=4)
+    assert len(rec) == 1024 and rec.freq == pytest.approx(RATE / 4, rel=1e-9)
+    np.testing.assert_allclose(rec.values[:3, 0], x[:12].reshape(3, 4).mean(axis=1), rtol=1e-12)
+    assert rec.conditioning.startswith("decimated by 4 (the mean of each 4 samples) from 100 Hz to 25 Hz")
+    assert gmwm.wv(rec).document == cli_json(tmp_path, "wv", str(path), "--decimate", "4")["columns"][0]
+    none = read(path, decimate=4, decimate_filter="none")
+    np.testing.assert_allclose(none.values[:3, 0], x[0:12:4], rtol=1e-12)
+    inc = read(path, data="increment")
+    np.testing.assert_allclose(inc.values[:, 0], x * RATE, rtol=1e-9)
+    assert inc.conditioning.startswith("read as increments x 100 Hz")
+    assert read(path).conditioning is None
+    with pytest.raises(gmwm.InputError, match="^decimate_filter: found 'sinc'"):
+        gmwm.read(path, decimate=2, decimate_filter="sinc")

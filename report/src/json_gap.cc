@@ -219,7 +219,7 @@ Json gap_document(const io::SignalSet& set, const pipeline::GapStudy& study) {
   doc["baseline_source"] = study.baseline_source;
   doc["replicates"] = study.replicates;
   doc["seed"] = study.seed;
-  if (set.timing) doc["timing"] = record_timing_json(set);
+  add_record_json(doc, set);
   if (!study.temperature_column.empty()) doc["temperature_column"] = study.temperature_column;
   Json significant = Json::array();
   for (const auto& p : study.cross_axis)

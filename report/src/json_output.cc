@@ -114,6 +114,18 @@ json record_timing_json(const io::SignalSet& set) {
   return j;
 }
 
+void add_record_json(json& doc, const io::SignalSet& set) {
+  if (set.timing) doc["timing"] = record_timing_json(set);
+  if (set.data == io::DataKind::kRate && set.decimation <= 1) return;
+  doc["conditioning"] = {
+      {"data", std::string(io::data_kind_name(set.data))},
+      {"decimation", set.decimation},
+      {"decimation_filter",
+       set.decimation > 1 ? json(std::string(io::decimation_filter_name(set.decimation_filter))) : json(nullptr)},
+      {"freq_before_decimation", json_number(set.freq_before_decimation)},
+      {"summary", io::conditioning_summary(set)}};
+}
+
 json column_json(const ColumnInfo& column) {
   json c = json::object();
   c["name"] = column.name;
@@ -362,7 +374,7 @@ void add_physical_fields(Json& col, const FitResult& fit, const ColumnInfo& info
 json wv_document(const io::SignalSet& set, const pipeline::WvStudy& study, const std::vector<std::string>& units) {
   json doc = json_document("wv");
   doc["input"] = set.path;
-  if (set.timing) doc["timing"] = record_timing_json(set);
+  add_record_json(doc, set);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::WvColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);
@@ -386,7 +398,7 @@ json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, con
   doc["input"] = set.path;
   doc["model_spec"] = study.model_spec;
   doc["seed"] = study.seed;
-  if (set.timing) doc["timing"] = record_timing_json(set);
+  add_record_json(doc, set);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::FitColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);
@@ -409,7 +421,7 @@ json select_document(const io::SignalSet& set, const pipeline::SelectStudy& stud
   doc["optimism"] = selection::to_string(study.options.optimism);
   doc["omega"] = selection::to_string(study.options.omega);
   doc["seed"] = study.options.seed;
-  if (set.timing) doc["timing"] = record_timing_json(set);
+  add_record_json(doc, set);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     const pipeline::SelectColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);

@@ -238,6 +238,15 @@ Json App::State::open(const RequestBody& b) {
   if (!io::gap_handling_from_name(gaps))
     b.fail("gaps", "found '" + gaps + "', expected " + io::gap_handling_expected());
   request.gaps = io::gap_handling_of(gaps);
+  const std::string data = b.text("data", "rate");
+  try {
+    request.data = io::data_kind_of(data);
+    request.decimate_filter = io::decimation_filter_of(b.text("decimate_filter", "average"));
+  } catch (const InputError& e) {
+    throw HttpError(400, "/api/open: " + std::string(e.what()));
+  }
+  if (const std::optional<std::int64_t> k = b.whole("decimate", 1, io::kMaxDecimation))
+    request.decimate = static_cast<int>(*k);
   if (options.memory_budget > 0.0) request.memory_mb = options.memory_budget / 1e6;
   detail::Dataset d;
   d.name = name;

@@ -178,6 +178,34 @@ TEST(GapReading, AGapOfUnknownLengthIsRefusedWithTheStampsAroundIt) {
   EXPECT_NO_THROW(read_csv(csv, gmwm::io::GapHandling::kJoin));
 }
 
+TEST(GapReading, StampsTooJitteryToPlaceALostSampleAreReadEndToEnd) {
+  // Uniform jitter of half a period either side (a host clock stamping a USB IMU): steps of
+  // up to 1.5 periods are late stamps, not lost samples; no gap can be placed to a sample.
+  std::vector<std::int64_t> t;
+  std::uint64_t state = 11;
+  for (std::int64_t k = 0; k < 20000; ++k) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = static_cast<double>(state >> 11) / 9007199254740992.0;
+    t.push_back(kOrigin + k * kPeriod + static_cast<std::int64_t>((u - 0.5) * kPeriod));
+  }
+  const TimingReport jittery = timing_of_stamps(t, "data.index", "t", std::nullopt);
+  // A step is the difference of two jitters, triangular over +-1 period: its 10th percentile
+  // is 1 - sqrt(0.2) = 0.553 periods short of the median (a block's sampling error ~0.03).
+  EXPECT_NEAR(jittery.jitter, 1.0 - std::sqrt(0.2), 0.04);
+  std::string csv = "timestamp [ns],x\n";
+  for (std::size_t i = 0; i < t.size(); ++i)
+    csv += std::to_string(t[i]) + "," + std::to_string(std::sin(0.37 * static_cast<double>(i))) + "\n";
+  const gmwm::io::SignalSet set = read_csv(csv, gmwm::io::GapHandling::kCompleteWindows);
+  EXPECT_TRUE(set.missing.empty());
+  // A regular clock that loses every fourth sample (a third of its steps are gaps): the
+  // lower tail of the steps is one period, the jitter 0, and every gap is placed.
+  std::set<std::int64_t> quarter;
+  for (std::int64_t k = 3; k < 7998; k += 4) quarter.insert(k);  // not the last sample: no stamp after it
+  const TimingReport lossy = timing_of_stamps(stamps_without(8000, quarter), "data.index", "t", std::nullopt);
+  EXPECT_EQ(lossy.jitter, 0.0);
+  EXPECT_EQ(lossy.missing.size(), quarter.size());
+}
+
 TEST(GapReading, TheGapsOptionTakesWindowsOrJoinAndNamesBothOtherwise) {
   EXPECT_EQ(gmwm::io::gap_handling_of("windows"), gmwm::io::GapHandling::kCompleteWindows);
   EXPECT_EQ(gmwm::io::gap_handling_of("join"), gmwm::io::GapHandling::kJoin);

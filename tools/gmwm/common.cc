@@ -114,6 +114,48 @@ void add_common_options(CLI::App& sub, CommonOptions& common) {
       ->capture_default_str();
 }
 
+// A CLI11 check that is the library's rule for an option's text: its message without the
+// option's name, which CLI11 puts in front.
+template <typename T>
+std::function<std::string(const std::string&)> library_rule(T (*of)(const std::string&), std::string prefix) {
+  return [of, prefix](const std::string& text) {
+    try {
+      of(text);
+      return std::string();
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      return m.rfind(prefix, 0) == 0 ? m.substr(prefix.size()) : m;
+    }
+  };
+}
+
+// --gaps, --data, --decimate, --decimate-filter: what reading does with the samples (issue 47).
+void add_conditioning_options(CLI::App& sub, InputOptions& input) {
+  sub.add_option("--gaps", input.gaps,
+                 "Samples the timestamps show missing: 'windows' reads each scale from the windows that hold none "
+                 "(a gap of unknown length is refused), 'join' joins the samples end to end as if none were "
+                 "missing")
+      ->type_name("windows|join")
+      ->check(library_rule<io::GapHandling>(io::gap_handling_of, "--gaps: "))
+      ->capture_default_str();
+  sub.add_option("--data", input.data,
+                 "What each sample is: 'rate' (angular rate, specific force) or 'increment' (a delta-angle or "
+                 "delta-velocity over one period, read as increment x rate)")
+      ->type_name("rate|increment")
+      ->check(library_rule<io::DataKind>(io::data_kind_of, "--data: "))
+      ->capture_default_str();
+  sub.add_option("--decimate", input.decimate,
+                 "Keep one sample in K, after the filter of --decimate-filter; the rate becomes rate / K")
+      ->type_name("K")
+      ->transform(whole_number(1, io::kMaxDecimation));
+  sub.add_option("--decimate-filter", input.decimate_filter,
+                 "The anti-alias filter of --decimate: 'average' (the mean of each K samples; N, K, B of the band "
+                 "kept are unchanged) or 'none' (every K-th sample: the band above folds in, N grows sqrt(K))")
+      ->type_name("average|none")
+      ->check(library_rule<io::DecimationFilter>(io::decimation_filter_of, "--decimate-filter: "))
+      ->capture_default_str();
+}
+
 void add_input_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("INPUT", input.input,
                  "Delimited text file (CSV/TSV/semicolon/whitespace, optionally gzip) with a "
@@ -147,20 +189,7 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
                  "and select then use memory that no longer grows with it")
       ->type_name("MB")
       ->transform(memory_megabytes());
-  sub.add_option("--gaps", input.gaps,
-                 "Samples the timestamps show missing: 'windows' reads each scale from the windows that hold none "
-                 "(a gap of unknown length is refused), 'join' joins the samples end to end as if none were "
-                 "missing")
-      ->type_name("windows|join")
-      ->check([](const std::string& text) {
-        try {
-          io::gap_handling_of(text);
-          return std::string();
-        } catch (const InputError& e) {
-          return std::string(e.what()).substr(std::string("--gaps: ").size());
-        }
-      })
-      ->capture_default_str();
+  add_conditioning_options(sub, input);
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {
@@ -241,6 +270,9 @@ io::SignalSet read_input(const InputOptions& input) {
   request.topic = input.topic;
   request.memory_mb = input.memory_mb;
   request.gaps = io::gap_handling_of(input.gaps);
+  request.data = io::data_kind_of(input.data);
+  request.decimate = input.decimate;
+  request.decimate_filter = io::decimation_filter_of(input.decimate_filter);
   io::SignalSet set = io::read_request(request);
   if (!set.signals.empty())
     if (const std::string why =
@@ -292,6 +324,8 @@ void warn(const std::string& message) { std::cerr << "gmwm: warning: " << printa
 void print_text(const std::string& text) { std::cout << report::wrap_to_width(printable_text(text)) << std::flush; }
 
 void warn_about_timing(const io::SignalSet& set) {
+  if (const std::string c = io::conditioning_summary(set); !c.empty())
+    std::cerr << "gmwm: note: " << printable_line(set.path + ": " + c) << '\n';
   if (!set.timing) return;
   const io::TimingReport& t = *set.timing;
   if (t.gaps > 0 && !set.missing.empty())
@@ -299,7 +333,11 @@ void warn_about_timing(const io::SignalSet& set) {
   else if (t.gaps > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.gaps) +
          " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) + " s), joined end to end" +
-         (set.gaps == io::GapHandling::kJoin ? " (--gaps join)" : " (--freq takes the samples as evenly spaced)"));
+         (set.gaps == io::GapHandling::kJoin ? " (--gaps join)"
+          : t.rate_change                    ? " (--freq takes the samples as evenly spaced)"
+                                             : " (the stamps' jitter, " + fmt(100.0 * t.jitter) +
+                                "% of a period between quartiles, cannot tell a lost sample from a "
+                                "late stamp)"));
   if (t.disorder > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.disorder) +
          " repeated or backward timestamp(s)");

@@ -84,13 +84,16 @@ CLI::Validator memory_megabytes();
 /// INPUT and the options that pick and describe its signals.
 struct InputOptions {
   std::string input;
-  std::optional<std::string> columns;  ///< --columns a,b,c (names or 1-based indices); given empty: refused
-  std::optional<double> freq;          ///< --freq HZ
-  std::string topic;                   ///< --topic NAME[:INSTANCE] (PX4 ULog)
-  double alpha = 0.05;                 ///< --alpha
-  int levels = 0;                      ///< --levels J (0: floor(log2 N))
-  std::optional<double> memory_mb;     ///< --memory MB (default: io::kMemoryShare of physical memory)
-  std::string gaps = "windows";        ///< --gaps windows|join (io::gap_handling_of)
+  std::optional<std::string> columns;       ///< --columns a,b,c (names or 1-based indices); given empty: refused
+  std::optional<double> freq;               ///< --freq HZ
+  std::string topic;                        ///< --topic NAME[:INSTANCE] (PX4 ULog)
+  double alpha = 0.05;                      ///< --alpha
+  int levels = 0;                           ///< --levels J (0: floor(log2 N))
+  std::optional<double> memory_mb;          ///< --memory MB (default: io::kMemoryShare of physical memory)
+  std::string gaps = "windows";             ///< --gaps windows|join (io::gap_handling_of)
+  std::string data = "rate";                ///< --data rate|increment (io::data_kind_of)
+  int decimate = 1;                         ///< --decimate K
+  std::string decimate_filter = "average";  ///< --decimate-filter average|none
 };
 
 /// --robust, --eff, --estimator, --no-spike-screen.

@@ -73,6 +73,7 @@ SignalSet LogColumns::finish(const std::string& preset, const TimeUnit& unit, co
     refuse_never_increasing(path_, *set.timing);
   }
   take_gaps(path_, set, options_);
+  condition_values(path_, set, options_);
   return set;
 }
 

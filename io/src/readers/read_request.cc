@@ -30,6 +30,9 @@ ReadOptions ReadRequest::options() const {
   }
   o.spill = spill;
   o.gaps = gaps;
+  o.data = data;
+  o.decimate = decimate;
+  o.decimate_filter = decimate_filter;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError(why);
   return o;
 }

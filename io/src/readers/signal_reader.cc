@@ -244,6 +244,49 @@ void take_nan_rows_as_missing(SignalSet& set, const std::string& source) {
   set.missing = std::move(runs);
 }
 
+std::string_view data_kind_name(DataKind d) { return d == DataKind::kIncrement ? "increment" : "rate"; }
+
+DataKind data_kind_of(const std::string& text) {
+  for (const DataKind d : {DataKind::kRate, DataKind::kIncrement})
+    if (text == data_kind_name(d)) return d;
+  throw InputError("--data: found '" + printable_line(text) +
+                   "', expected 'rate' (angular rates, specific forces) or 'increment' (delta-angles, "
+                   "delta-velocities over one sampling period)");
+}
+
+std::string_view decimation_filter_name(DecimationFilter f) {
+  return f == DecimationFilter::kNone ? "none" : "average";
+}
+
+DecimationFilter decimation_filter_of(const std::string& text) {
+  for (const DecimationFilter f : {DecimationFilter::kAverage, DecimationFilter::kNone})
+    if (text == decimation_filter_name(f)) return f;
+  throw InputError("--decimate-filter: found '" + printable_line(text) +
+                   "', expected 'average' (the mean of each K samples) or 'none' (every K-th sample, aliased)");
+}
+
+std::string conditioning_summary(const SignalSet& set) {
+  std::string out;
+  const auto hz = [](double f) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g Hz", f);
+    return std::string(buf);
+  };
+  if (set.data == DataKind::kIncrement)
+    out = "read as increments x " + hz(set.freq_before_decimation) + " (rates: rad -> rad/s, m/s -> m/s^2)";
+  if (set.decimation > 1) {
+    const std::string k = std::to_string(set.decimation);
+    out += (out.empty() ? "" : "; ") + std::string("decimated by ") + k +
+           (set.decimation_filter == DecimationFilter::kAverage ? " (the mean of each " + k + " samples)"
+                                                                : " (every " + k + "-th sample, no filter)") +
+           " from " + hz(set.freq_before_decimation) + " to " + hz(set.freq) + ": " +
+           (set.decimation_filter == DecimationFilter::kAverage
+                ? "N, K and B are those of the band below " + hz(set.freq / 2.0) + ", as in the record"
+                : "the band above " + hz(set.freq / 2.0) + " folds in, white noise's N grows sqrt(" + k + ") times");
+  }
+  return out;
+}
+
 std::int64_t SignalSet::missing_samples() const {
   std::int64_t n = 0;
   for (const MissingRun& r : missing) n += r.length;
@@ -257,6 +300,9 @@ std::string ReadOptions::Validate() const {
     if (c.find_first_not_of(" \t") == std::string::npos)
       return "--columns: found an empty entry, expected column names or 1-based indices "
              "separated by commas";
+  if (decimate < 1 || decimate > kMaxDecimation)
+    return "--decimate: found " + std::to_string(decimate) + ", expected a whole number from 1 to " +
+           std::to_string(kMaxDecimation);
   if (!(memory_budget >= 0.0) || !std::isfinite(memory_budget))
     return "memory_budget: found " + std::to_string(memory_budget) +
            ", expected a finite number of bytes >= 0 (0: the default)";
@@ -497,6 +543,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
     detail::refuse_never_increasing(path, *set.timing);
   }
   detail::take_gaps(path, set, options);
+  detail::condition_values(path, set, options);
   return set;
 }
 

@@ -228,6 +228,14 @@ void StepStatistics::keep_long_steps(double limit) const {
 void StepStatistics::end_block() const {
   scratch_.assign(block_.begin(), block_.end());
   const double typical = interquartile_mean(scratch_);
+  // The block's spread below its median: gaps only lengthen steps, so the lower tail is the
+  // stamps' jitter alone, whatever share of the steps (under half) are gaps.
+  const auto q10 = static_cast<std::ptrdiff_t>(scratch_.size() / 10);
+  const auto q50 = static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+  std::nth_element(scratch_.begin(), scratch_.begin() + q50, scratch_.end());
+  const double median = scratch_[static_cast<std::size_t>(q50)];
+  std::nth_element(scratch_.begin(), scratch_.begin() + q10, scratch_.begin() + q50);
+  if (median > 0.0) block_spreads_.push_back((median - scratch_[static_cast<std::size_t>(q10)]) / median);
   keep_long_steps(kGapCandidateFactor * typical);
   block_.clear();
   block_samples_.clear();
@@ -260,6 +268,15 @@ void StepStatistics::finish_blocks() const {
     block_samples_.clear();
     block_offsets_.clear();
   }
+}
+
+double StepStatistics::jitter() const {
+  finish_blocks();
+  if (block_spreads_.empty()) return 0.0;
+  std::vector<double> v = block_spreads_;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
 }
 
 std::vector<StepStatistics::LongStep> StepStatistics::long_steps(double limit) const {
@@ -383,6 +400,8 @@ void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& optio
   if (!set.timing || set.timing->gaps == 0 || options.gaps == GapHandling::kJoin) return;
   const TimingReport& t = *set.timing;
   if (t.rate_change) return;  // read only under --freq, which takes the samples as evenly spaced
+  // Stamps this jittery cannot tell a lost sample from a late stamp: read as before.
+  if (t.jitter > TimingReport::kMaxJitterToPlaceGaps) return;
   const std::string where = path + ": timestamps '" + t.column + "': ";
   const std::string join = "; give --gaps join to join the samples end to end";
   if (!t.gap_positions_known)
@@ -411,6 +430,53 @@ void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& optio
   set.missing = t.missing;
 }
 
+void condition_values(const std::string& path, SignalSet& set, const ReadOptions& options) {
+  set.data = options.data;
+  set.decimation = options.decimate;
+  set.decimation_filter = options.decimate_filter;
+  set.freq_before_decimation = set.freq;
+  if (options.data == DataKind::kIncrement) {
+    if (!set.freq_known)
+      throw InputError(path +
+                       ": --data increment: found no rate to divide the increments by, expected a timestamp "
+                       "column or --freq HZ");
+    for (Signal& s : set.signals) {
+      std::vector<double> v(s.values.size());
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] = s.values[i] * set.freq;
+      s.values = Samples(std::move(v));
+      s.unit.clear();  // the header's unit is the increment's; --units states the rate's
+    }
+  }
+  const int k = options.decimate;
+  if (k <= 1) return;
+  if (!set.missing.empty())
+    throw InputError(path + ": --decimate " + std::to_string(k) + ": found " + std::to_string(set.missing_samples()) +
+                     " samples missing in " + std::to_string(set.missing.size()) +
+                     " gaps, expected a regular record (a block across a gap has no mean of K samples); give "
+                     "--gaps join to join the samples end to end");
+  const std::size_t n = set.signals.empty() ? 0 : set.signals.front().values.size();
+  const std::size_t blocks = n / static_cast<std::size_t>(k);
+  if (static_cast<std::int64_t>(blocks) < kMinSamples)
+    throw InputError(path + ": --decimate " + std::to_string(k) + ": found " + std::to_string(n) + " samples, " +
+                     std::to_string(blocks) + " after decimation, expected at least " + std::to_string(kMinSamples));
+  for (Signal& s : set.signals) {
+    std::vector<double> v(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t first = b * static_cast<std::size_t>(k);
+      if (options.decimate_filter == DecimationFilter::kNone) {
+        v[b] = s.values[first];
+        continue;
+      }
+      double sum = 0.0;
+      for (std::size_t i = first; i < first + static_cast<std::size_t>(k); ++i) sum += s.values[i];
+      v[b] = sum / k;
+    }
+    s.values = Samples(std::move(v));
+  }
+  set.freq /= k;
+  set.spilled = false;  // n / K values, in memory
+}
+
 void refuse_never_increasing(const std::string& path, const TimingReport& timing) {
   throw InputError(path + ": found timestamps in column '" + timing.column +
                    "' that never increase, expected increasing times; give the sampling rate with --freq HZ");
@@ -431,6 +497,7 @@ namespace {
 void place_gaps(const StepStatistics& steps, double median, TimingReport& r) {
   const std::vector<StepStatistics::LongStep> gaps = steps.long_steps(TimingReport::kGapFactor * median);
   r.gap_positions_known = steps.gap_positions_kept() && static_cast<std::int64_t>(gaps.size()) == r.gaps;
+  r.jitter = steps.jitter();
   if (!r.gap_positions_known) return;
   std::int64_t before = 0;  // missing samples before the current gap
   for (const StepStatistics::LongStep& g : gaps) {

@@ -95,6 +95,12 @@ class StepStatistics {
   /// False when more than kMaxGapCandidates steps were candidates (their positions were then
   /// not all kept: jittery stamps, where gaps cannot be told from jitter anyway).
   bool gap_positions_kept() const { return candidates_kept_; }
+  /// The stamps' jitter: the median over the blocks of kRateBlock steps of (median step -
+  /// 10th percentile step) / median step (0 without a whole block). Gaps only lengthen steps,
+  /// so a regular clock gives 0 while under half of its steps are gaps; stamps each jittered
+  /// uniformly by half a period either side (steps: triangular over +-1 period) give
+  /// 1 - sqrt(0.2) = 0.553.
+  double jitter() const;
   /// A block keeps its steps above this factor times its typical step (its interquartile
   /// mean): a gap is a step above TimingReport::kGapFactor (1.5) median steps, and the
   /// typical steps of the blocks of a one-rate record stay within kRateChangeRatio (1.2) of
@@ -134,6 +140,7 @@ class StepStatistics {
   mutable std::vector<double> block_offsets_;        // the stamp ending each step of block_
   mutable std::vector<double> scratch_;              // block_ reordered for its interquartile mean
   mutable std::vector<LongStep> candidates_;         // the steps that may be gaps, in time order
+  mutable std::vector<double> block_spreads_;        // each block's interquartile range / typical step
   mutable bool candidates_kept_ = true;
   mutable std::int64_t block_start_ = 0;
   mutable double first_typical_ = 0.0, far_typical_ = 0.0;
@@ -162,6 +169,12 @@ void check_timestamp_rate(const std::string& path, const TimingReport& timing, c
 /// place the gaps; kJoin leaves set.missing empty. A record read at --freq across a change
 /// of rate is taken as evenly spaced (no gaps).
 void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& options);
+
+/// Applies options.data (increments x the rate) and options.decimate (the mean of each block
+/// of K samples, or every K-th sample) to the values of `set`, in that order, and records them
+/// in the set. Throws InputError naming the file and the option: increments without a rate,
+/// decimation of a record with gaps read as missing, fewer than 16 samples after it.
+void condition_values(const std::string& path, SignalSet& set, const ReadOptions& options);
 
 /// The same from times relative to the first one.
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,

@@ -34,6 +34,10 @@ struct ReadRequest {
   bool spill = true;
   /// --gaps windows|join (gap_handling_name).
   GapHandling gaps = GapHandling::kCompleteWindows;
+  /// --data rate|increment, --decimate K, --decimate-filter average|none.
+  DataKind data = DataKind::kRate;
+  int decimate = 1;
+  DecimationFilter decimate_filter = DecimationFilter::kAverage;
 
   /// The reader's options; throws InputError (naming the option) for a bad value.
   ReadOptions options() const;

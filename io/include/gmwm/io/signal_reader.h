@@ -122,6 +122,35 @@ std::string gap_handling_expected();
 /// any other text (every face fills its request through this one rule).
 GapHandling gap_handling_of(const std::string& text);
 
+/// --data: what each sample is (issue 47, item 5).
+enum class DataKind {
+  /// "rate" (the default): a rate (angular rate, specific force), as the WV models take it.
+  kRate,
+  /// "increment": a delta-angle or delta-velocity over one sampling period (an IMU's
+  /// integrated output); read as the rate increment x freq (rad -> rad/s, m/s -> m/s^2).
+  kIncrement,
+};
+std::string_view data_kind_name(DataKind d);
+/// The DataKind named `text`; throws InputError "--data: found 'TEXT', expected ...".
+DataKind data_kind_of(const std::string& text);
+
+/// --decimate-filter: the anti-alias filter before keeping every K-th sample (issue 47, item 4).
+enum class DecimationFilter {
+  /// "average" (the default): the mean of each block of K samples, a boxcar whose nulls fall
+  /// on the multiples of the new rate. White noise's variance a sample falls K times, so its
+  /// density N (units/sqrt(Hz)) and the figures of the band below the new Nyquist frequency
+  /// (K, B) stay those of the record.
+  kAverage,
+  /// "none": every K-th sample as it is. Everything above the new Nyquist frequency folds in
+  /// (aliasing): white noise keeps its variance a sample, so N grows sqrt(K) times.
+  kNone,
+};
+std::string_view decimation_filter_name(DecimationFilter f);
+/// The DecimationFilter named `text`; throws InputError "--decimate-filter: found ...".
+DecimationFilter decimation_filter_of(const std::string& text);
+/// --decimate K is at most this (a record of 2^20 blocks still needs 16 samples after it).
+inline constexpr int kMaxDecimation = 1 << 20;
+
 struct ReadOptions {
   /// Column names or 1-based field indices (as text). Empty: every numeric column that is
   /// not a timestamp, in file order.
@@ -140,6 +169,11 @@ struct ReadOptions {
   bool spill = true;
   /// --gaps: what the studies do with the samples the timestamps show missing.
   GapHandling gaps = GapHandling::kCompleteWindows;
+  /// --data: rates (default) or increments, converted to rates at the record's rate.
+  DataKind data = DataKind::kRate;
+  /// --decimate K (1: none) and its filter; the rate becomes freq / K.
+  int decimate = 1;
+  DecimationFilter decimate_filter = DecimationFilter::kAverage;
 
   /// "" when valid, otherwise a one-line message naming the option.
   std::string Validate() const;
@@ -171,6 +205,11 @@ struct TimingReport {
     double from_seconds = 0.0, to_seconds = 0.0;
   };
   std::optional<UncertainGap> first_uncertain_gap;
+  /// The stamps' jitter: how far the 10th percentile step falls short of the median step, in
+  /// median steps (the median over blocks of 1024 steps; gaps, which lengthen steps, do not
+  /// count). Above kMaxJitterToPlaceGaps the gaps are not placed
+  /// (a late stamp cannot be told from a lost sample) and the samples are read end to end.
+  double jitter = 0.0;
   /// False when the gaps' places could not all be kept (more than a million candidate steps:
   /// jittery stamps); `missing` is then empty.
   bool gap_positions_known = true;
@@ -201,6 +240,11 @@ struct TimingReport {
   /// samples; further, its length is unknown. Half of kGapFactor's margin (a regular stream's
   /// jitter stays well under half a period): 0.25 of a period either side.
   static constexpr double kGapLengthTolerance = 0.25;
+  /// Stamps whose 10th percentile step falls more than this share of a period short of the
+  /// median cannot place a gap to a sample: a step's error then reaches kGapLengthTolerance
+  /// (a quarter period) in a tenth of the steps. Each stamp jittered uniformly by a quarter
+  /// period either side gives 0.276.
+  static constexpr double kMaxJitterToPlaceGaps = 0.25;
   /// --freq and the estimate "disagree" above this relative difference (1%): more than
   /// timestamp jitter explains, typical of a wrong rate or a wrong time unit.
   static constexpr double kDisagreement = 0.01;
@@ -235,6 +279,12 @@ struct SignalSet {
   GapHandling gaps = GapHandling::kCompleteWindows;
   /// The missing samples in all (the sum of the runs' lengths).
   std::int64_t missing_samples() const;
+  /// What the values are: increments were converted to rates (x the rate at reading).
+  DataKind data = DataKind::kRate;
+  /// --decimate: the factor (1: none), its filter and the rate before it.
+  int decimation = 1;
+  DecimationFilter decimation_filter = DecimationFilter::kAverage;
+  double freq_before_decimation = 0.0;
   /// True when the columns are held in temporary files (the record exceeded the budget).
   bool spilled = false;
   std::string preset;       ///< "euroc", "kalibr" or "" when recognised by header
@@ -254,6 +304,11 @@ std::string gaps_summary(const SignalSet& set);
 /// without NaN. Throws InputError "SOURCE: ..." when the set already has missing runs, or
 /// fewer than 16 rows would remain.
 void take_nan_rows_as_missing(SignalSet& set, const std::string& source);
+
+/// One line for the terminal and the documents on what reading did to the values: "read as
+/// increments x 200 Hz (rates); decimated by 4 (the mean of each 4 samples) from 200 Hz to
+/// 50 Hz: N, K, B are those of the band below 25 Hz"; "" when nothing was done.
+std::string conditioning_summary(const SignalSet& set);
 
 /// Reads the selected columns of `path`. Throws gmwm::InputError on bad input (see above).
 SignalSet read_signals(const std::string& path, const ReadOptions& options);

@@ -79,6 +79,10 @@ Json timing_json(const io::TimingReport& timing);
 /// ("missing_samples"), how the gaps were taken ("gap_handling": "windows" or "join") and
 /// whether the studies read them as missing ("gaps_read_as_missing").
 Json record_timing_json(const io::SignalSet& set);
+/// The record's "timing" (record_timing_json, with a timestamp column) and, when reading
+/// converted increments or decimated, "conditioning": data, decimation, its filter, the rate
+/// before it and the one-line summary (io::conditioning_summary).
+void add_record_json(Json& doc, const io::SignalSet& set);
 
 /// {"name", "n", "freq"}.
 Json column_json(const ColumnInfo& column);
