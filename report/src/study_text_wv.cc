@@ -92,10 +92,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     os << t.str();
     if (gaps) {
       os << "M_j: the windows of tau samples that hold no missing sample; lost: those that hold one\n";
-      // The longest run of samples between gaps: no window longer than it is complete.
-      std::int64_t longest = 0, from = 0;
-      for (const MissingRun& r : set.missing) longest = std::max(longest, r.start - from), from = r.start + r.length;
-      longest = std::max(longest, w.n - from);
+      const std::int64_t longest = io::longest_stretch(set);
       int deepest = 0;
       while (deepest < 62 && (std::int64_t{2} << deepest) <= w.n) ++deepest;
       if (w.levels() < deepest && !w.tau.empty() && 2.0 * w.tau.back() > static_cast<double>(longest))

@@ -62,6 +62,11 @@ TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleL
             std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("N = 16043 observed of 16384 (341 missing in 3 gaps)"), std::string::npos) << r.out;
+  // Gaps that leave no window of half the record say where the long scales stop.
+  EXPECT_NE(flowed(r.err).find("the longest stretch between gaps holds 7084 samples (70.84 s) of the record's 16384: "
+                               "the WV and the Allan deviation stop below it, and K and B are read there"),
+            std::string::npos)
+      << r.err;
   EXPECT_NE(r.out.find("lost"), std::string::npos) << r.out;
   // The library's gappy WV, level by level, and the windows lost (level 1: 41 + 2 + 301).
   const std::vector<gmwm::MissingRun> runs = {{1000, 40}, {5000, 1}, {9000, 300}};

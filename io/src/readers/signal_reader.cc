@@ -287,6 +287,17 @@ std::string conditioning_summary(const SignalSet& set) {
   return out;
 }
 
+std::int64_t longest_stretch(const SignalSet& set) {
+  const std::int64_t observed = set.signals.empty() ? 0 : static_cast<std::int64_t>(set.signals.front().values.size());
+  std::int64_t longest = 0, from = 0, before = 0;  // grid position after the last run; missing before it
+  for (const MissingRun& r : set.missing) {
+    longest = std::max(longest, r.start - from);
+    from = r.start + r.length;
+    before += r.length;
+  }
+  return std::max(longest, observed + before - from);
+}
+
 std::int64_t SignalSet::missing_samples() const {
   std::int64_t n = 0;
   for (const MissingRun& r : missing) n += r.length;

@@ -310,6 +310,11 @@ void take_nan_rows_as_missing(SignalSet& set, const std::string& source);
 /// 50 Hz: N, K, B are those of the band below 25 Hz"; "" when nothing was done.
 std::string conditioning_summary(const SignalSet& set);
 
+/// The longest run of observed samples between the missing ones (the record's length
+/// without gaps): no window longer than it is complete, so the complete-window WV and Allan
+/// deviation stop below it.
+std::int64_t longest_stretch(const SignalSet& set);
+
 /// Reads the selected columns of `path`. Throws gmwm::InputError on bad input (see above).
 SignalSet read_signals(const std::string& path, const ReadOptions& options);
 
