@@ -71,10 +71,9 @@ Weights pilot_weights(std::span<const WaveletVariance> wvs, const Model& maximal
       if (wvs[i].n == wv.n && wvs[i].levels() == wv.levels() && wvs[i].coefficients == wv.coefficients &&
           wvs[i].efficiency.value_or(1.0) == wv.efficiency.value_or(1.0))
         same = i;
-    Eigen::MatrixXd v =
-        same < k ? w.v[same]
-                 : Eigen::MatrixXd(model_wv_covariance(pilot.joint.model, pilot.joint.theta, wv) /
-                                   wv.efficiency.value_or(1.0));
+    Eigen::MatrixXd v = same < k ? w.v[same]
+                                 : Eigen::MatrixXd(model_wv_covariance(pilot.joint.model, pilot.joint.theta, wv) /
+                                                   wv.efficiency.value_or(1.0));
     Eigen::MatrixXd omega = diagonal_omega(wv);
     if (o.select.omega == OmegaSource::kData) {
       // the data's own weights
