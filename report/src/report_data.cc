@@ -56,6 +56,10 @@ ReportData report_skeleton(const std::string& command, const io::SignalSet& set,
     c.unit = s.unit;
     r.columns.push_back(std::move(c));
   }
+  // What reading did: the samples missing (each scale from the windows without one), where
+  // the long scales stop, increments and decimation.
+  for (const std::string& note : {io::gaps_summary(set), io::long_scales_note(set), io::conditioning_summary(set)})
+    if (!note.empty()) r.notes.push_back(note);
   return r;
 }
 

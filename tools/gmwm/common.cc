@@ -331,13 +331,7 @@ void warn_about_timing(const io::SignalSet& set) {
   if (t.gaps > 0 && !set.missing.empty()) {
     warn(set.path + ": column '" + t.column + "': " + io::gaps_summary(set));
     // Frequent gaps leave no long window: the long scales (K, B) are not in the estimates.
-    const std::int64_t longest = io::longest_stretch(set);
-    const std::int64_t grid = static_cast<std::int64_t>(set.signals.front().values.size()) + set.missing_samples();
-    if (2 * longest < grid)
-      warn(set.path + ": the longest stretch between gaps holds " + std::to_string(longest) + " samples (" +
-           fmt(static_cast<double>(longest) / set.freq) + " s) of the record's " + std::to_string(grid) +
-           ": the WV and the Allan deviation stop below it, and K and B are read there (give --gaps join to read "
-           "the longer scales with the samples end to end)");
+    if (const std::string note = io::long_scales_note(set); !note.empty()) warn(set.path + ": " + note);
   } else if (t.gaps > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.gaps) +
          " gap(s) in its timestamps (largest " + fmt(t.largest_gap_seconds) + " s), joined end to end" +

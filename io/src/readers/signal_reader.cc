@@ -298,6 +298,19 @@ std::int64_t longest_stretch(const SignalSet& set) {
   return std::max(longest, observed + before - from);
 }
 
+std::string long_scales_note(const SignalSet& set) {
+  if (set.missing.empty() || set.signals.empty()) return {};
+  const std::int64_t longest = longest_stretch(set);
+  const std::int64_t grid = static_cast<std::int64_t>(set.signals.front().values.size()) + set.missing_samples();
+  if (2 * longest >= grid) return {};
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.6g", static_cast<double>(longest) / set.freq);
+  return "the longest stretch between gaps holds " + std::to_string(longest) + " samples (" + seconds +
+         " s) of the record's " + std::to_string(grid) +
+         ": the WV and the Allan deviation stop below it, and K and B are read there (give --gaps join to read the "
+         "longer scales with the samples end to end)";
+}
+
 std::int64_t SignalSet::missing_samples() const {
   std::int64_t n = 0;
   for (const MissingRun& r : missing) n += r.length;

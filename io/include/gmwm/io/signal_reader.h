@@ -314,6 +314,12 @@ std::string conditioning_summary(const SignalSet& set);
 /// without gaps): no window longer than it is complete, so the complete-window WV and Allan
 /// deviation stop below it.
 std::int64_t longest_stretch(const SignalSet& set);
+/// "the longest stretch between gaps holds N samples (S s) of the record's G: the WV and the
+/// Allan deviation stop below it, and K and B are read there (give --gaps join to read the
+/// longer scales with the samples end to end)" when that stretch is under half the record
+/// (frequent gaps leave no long window); "" otherwise. The terminal's warning and the
+/// report's note.
+std::string long_scales_note(const SignalSet& set);
 
 /// Reads the selected columns of `path`. Throws gmwm::InputError on bad input (see above).
 SignalSet read_signals(const std::string& path, const ReadOptions& options);
