@@ -49,6 +49,8 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
+}  // namespace
+
 std::string format_duration(double seconds) {
   char buf[64];
   const double a = std::fabs(seconds);
@@ -60,6 +62,8 @@ std::string format_duration(double seconds) {
     std::snprintf(buf, sizeof buf, "%.4g s", seconds);
   return buf;
 }
+
+namespace {
 
 std::string format_hz(double hz) {
   char buf[64];
@@ -393,88 +397,6 @@ void check_timestamp_rate(const std::string& path, const TimingReport& timing, c
   throw InputError(path + ": timestamps '" + timing.column + "': " + timing.rate_change_text() +
                    ", expected one rate (a wavelet variance's scales are counted in samples): split the record "
                    "there, or give --freq HZ to take the samples as evenly spaced");
-}
-
-void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& options) {
-  set.gaps = options.gaps;
-  if (!set.timing || set.timing->gaps == 0 || options.gaps == GapHandling::kJoin) return;
-  const TimingReport& t = *set.timing;
-  if (t.rate_change) return;  // read only under --freq, which takes the samples as evenly spaced
-  // Stamps this jittery cannot tell a lost sample from a late stamp: read as before.
-  if (t.jitter > TimingReport::kMaxJitterToPlaceGaps) return;
-  const std::string where = path + ": timestamps '" + t.column + "': ";
-  const std::string join = "; give --gaps join to join the samples end to end";
-  if (!t.gap_positions_known)
-    throw InputError(where + std::to_string(t.gaps) + " steps longer than " + significant(TimingReport::kGapFactor) +
-                     " median steps among more than " + std::to_string(StepStatistics::kMaxGapCandidates) +
-                     " irregular ones, expected gaps that can be placed (stamps this irregular cannot tell a lost "
-                     "sample from jitter)" +
-                     join);
-  if (t.first_uncertain_gap) {
-    const TimingReport::UncertainGap& g = *t.first_uncertain_gap;
-    const std::string more =
-        t.uncertain_gaps > 1 ? " (and " + std::to_string(t.uncertain_gaps - 1) + " more such gaps)" : "";
-    // The stamps to 9 digits (a nanosecond within a second, a microsecond within 1000 s).
-    const auto stamp = [](double seconds) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.9g s", seconds);
-      return std::string(buf);
-    };
-    throw InputError(where + "a gap of unknown length before sample " + std::to_string(g.sample) + ": from " +
-                     stamp(g.from_seconds) + " to " + stamp(g.to_seconds) + " after the first stamp, a step of " +
-                     format_duration(g.step_seconds) + " = " + significant(g.step_seconds / t.median_step_seconds) +
-                     " periods of " + format_duration(t.median_step_seconds) + more +
-                     ", expected a whole number of periods (to " + significant(TimingReport::kGapLengthTolerance) +
-                     ")" + join);
-  }
-  set.missing = t.missing;
-}
-
-void condition_values(const std::string& path, SignalSet& set, const ReadOptions& options) {
-  set.data = options.data;
-  set.decimation = options.decimate;
-  set.decimation_filter = options.decimate_filter;
-  set.freq_before_decimation = set.freq;
-  if (options.data == DataKind::kIncrement) {
-    if (!set.freq_known)
-      throw InputError(path +
-                       ": --data increment: found no rate to divide the increments by, expected a timestamp "
-                       "column or --freq HZ");
-    for (Signal& s : set.signals) {
-      std::vector<double> v(s.values.size());
-      for (std::size_t i = 0; i < v.size(); ++i) v[i] = s.values[i] * set.freq;
-      s.values = Samples(std::move(v));
-      s.unit.clear();  // the header's unit is the increment's; --units states the rate's
-    }
-  }
-  const int k = options.decimate;
-  if (k <= 1) return;
-  if (!set.missing.empty())
-    throw InputError(path + ": --decimate " + std::to_string(k) + ": found " + std::to_string(set.missing_samples()) +
-                     " samples missing in " + std::to_string(set.missing.size()) +
-                     " gaps, expected a regular record (a block across a gap has no mean of K samples); give "
-                     "--gaps join to join the samples end to end");
-  const std::size_t n = set.signals.empty() ? 0 : set.signals.front().values.size();
-  const std::size_t blocks = n / static_cast<std::size_t>(k);
-  if (static_cast<std::int64_t>(blocks) < kMinSamples)
-    throw InputError(path + ": --decimate " + std::to_string(k) + ": found " + std::to_string(n) + " samples, " +
-                     std::to_string(blocks) + " after decimation, expected at least " + std::to_string(kMinSamples));
-  for (Signal& s : set.signals) {
-    std::vector<double> v(blocks);
-    for (std::size_t b = 0; b < blocks; ++b) {
-      const std::size_t first = b * static_cast<std::size_t>(k);
-      if (options.decimate_filter == DecimationFilter::kNone) {
-        v[b] = s.values[first];
-        continue;
-      }
-      double sum = 0.0;
-      for (std::size_t i = first; i < first + static_cast<std::size_t>(k); ++i) sum += s.values[i];
-      v[b] = sum / k;
-    }
-    s.values = Samples(std::move(v));
-  }
-  set.freq /= k;
-  set.spilled = false;  // n / K values, in memory
 }
 
 void refuse_never_increasing(const std::string& path, const TimingReport& timing) {

@@ -163,6 +163,9 @@ void check_timestamp_rate(const std::string& path, const TimingReport& timing, c
 /// no rate was given: nothing to measure the sampling from.
 [[noreturn]] void refuse_never_increasing(const std::string& path, const TimingReport& timing);
 
+/// "25 ms", "1.5 us", "3.2 s": a duration to 4 significant digits in its unit.
+std::string format_duration(double seconds);
+
 /// Takes the gaps the stamps show (set.timing) as options.gaps says: kCompleteWindows puts
 /// timing->missing in set.missing, refusing (InputError naming the file, the column and the
 /// first such stamps) a gap whose length the stamps do not tell and stamps too irregular to
