@@ -159,6 +159,11 @@ gmwm::io::SignalSet signal_set_of(std::vector<std::vector<double>> cols, const s
   set.freq_known = first.freq_known;
   for (std::size_t k = 0; k < cols.size(); ++k) set.signals.push_back({labels[k], std::move(cols[k]), ""});
   gmwm::io::take_nan_rows_as_missing(set, "data");
+  gmwm::io::find_repeated_samples(set);  // as reading a file does: the documents say it
+  // and so does a warning, as gmwm.read's (the array's columns are named by `labels`).
+  for (const std::string& note : gmwm::io::repeated_samples_notes(set))
+    py::module_::import("warnings")
+        .attr("warn")("data: " + note, py::module_::import("gmwm._signals").attr("RepeatedSamplesWarning"), 3);
   return set;
 }
 

@@ -119,6 +119,10 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   meta["delimiter"] = set.delimiter.empty() ? Json(nullptr) : Json(set.delimiter);
   meta["compressed"] = set.compressed;
   meta["conditioning"] = gmwm::io::conditioning_summary(set);
+  Json repeated = Json::array();
+  for (const gmwm::io::Signal& s : set.signals)
+    if (s.repeated.detected()) repeated.push_back(gmwm::report::repeated_samples_json(s, set.freq, set.freq_known));
+  meta["repeated_samples"] = std::move(repeated);
   if (set.timing) {
     meta["timing"] = timing_with_summary(*set.timing);
     const Json record = gmwm::report::record_timing_json(set);

@@ -72,8 +72,8 @@ from ._types import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, F
                      WrittenNoise)
 from ._types import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
                      JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
-from ._signals import Recording, TimingWarning, read
-from ._types import Timing
+from ._signals import Recording, RepeatedSamplesWarning, TimingWarning, read
+from ._types import RepeatedSamples, Timing
 from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
                      WvResult)
 
@@ -247,7 +247,7 @@ __all__ = [
     "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
     "export", "fleet", "read", "InputError", "DEFAULT_SEED",
     # signals in
-    "Recording", "Timing", "TimingWarning",
+    "Recording", "Timing", "TimingWarning", "RepeatedSamples", "RepeatedSamplesWarning",
     "__version__",
     # results of the functions
     "WvResult", "AllanResult", "FitResult", "SelectResult", "GapResult", "GapCheckResult", "NavResult", "PlanResult",

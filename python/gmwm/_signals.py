@@ -19,13 +19,19 @@ from ._common import FloatArray, g
 from ._gmwm import InputError
 
 if TYPE_CHECKING:
-    from ._types import Timing
+    from ._types import RepeatedSamples, Timing
 
 
 class TimingWarning(UserWarning):
     """The timestamps of the data have gaps, samples out of order, or disagree with a given
     freq by more than 1%: the rate taken is still the median step's (or freq), but the
     samples are not evenly spaced as the wavelet variance assumes."""
+
+
+class RepeatedSamplesWarning(UserWarning):
+    """Some samples of a column copy the one before (held) or are an exact linear combination
+    of their neighbours (interpolated), as a driver that fills a faster stream makes them: the
+    fine scales are smoothed and N is read above them (Recording.repeated_samples says where)."""
 
 
 class TimingMethods:
@@ -62,6 +68,7 @@ class Recording:
     topic: str | None = None
     preset: str | None = None
     conditioning: str | None = None
+    repeated_samples: tuple["RepeatedSamples", ...] = ()
 
     def __len__(self) -> int:
         return int(self.values.shape[0])
@@ -73,7 +80,8 @@ class Recording:
         values = self.values[:, picks]
         values.flags.writeable = False
         return Recording(self.path, tuple(self.names[p] for p in picks), tuple(self.units[p] for p in picks),
-                         self.freq, values, self.timing, self.topic, self.preset, self.conditioning)
+                         self.freq, values, self.timing, self.topic, self.preset, self.conditioning,
+                         tuple(r for r in self.repeated_samples if r.column in [self.names[p] for p in picks]))
 
     def _position(self, key: str | int) -> int:
         if isinstance(key, str):
@@ -129,21 +137,26 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     K after decimate_filter, "average" (the mean of each K samples: N, K and B of the band kept
     are unchanged) or "none" (every K-th sample: the band above folds in). The Recording's
     `conditioning` says what was done (None when nothing), and its freq is the rate after it.
+    Its `repeated_samples` lists the columns whose samples are held or interpolated (a
+    RepeatedSamplesWarning each).
 
     Bad input raises gmwm.InputError with the command's one-line message, naming these
     keywords. A timing irregularity (gaps, samples out of order, a freq that disagrees with
     the stamps) is a TimingWarning."""
     values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory,
                                    gaps=gaps, data=data, decimate=decimate, decimate_filter=decimate_filter)
-    from ._types import Timing
+    from ._types import RepeatedSamples, Timing
 
     meta = json.loads(meta_text)
     values.flags.writeable = False
     timing = Timing.from_dict(meta["timing"])
     if timing is not None and timing.irregular:
         warnings.warn(f"{meta['path']}: {timing.summary}", TimingWarning, stacklevel=2)
+    repeated = tuple(r for r in (RepeatedSamples.from_dict(d) for d in meta["repeated_samples"]) if r is not None)
+    for r in repeated:
+        warnings.warn(f"{meta['path']}: {r.summary}", RepeatedSamplesWarning, stacklevel=2)
     return Recording(meta["path"], tuple(meta["names"]), tuple(meta["units"]), float(meta["freq"]), values, timing,
-                     meta["topic"], meta["preset"], meta["conditioning"] or None)
+                     meta["topic"], meta["preset"], meta["conditioning"] or None, repeated)
 
 
 def _index_timing(data: Any, freq: float | None, what: str) -> Timing | None:

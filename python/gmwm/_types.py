@@ -2218,6 +2218,49 @@ class FleetResult(FleetResultMethods, JsonResult):
 
 
 @dataclass(frozen=True)
+class RepeatedSamples:
+    """Held and interpolated samples in one column (the documents' "repeated_samples",
+    gmwm.read's `Recording.repeated_samples`): `held_share` the samples that copy the one before
+    beyond what rounding explains (`zero_step_share` observed, `expected_zero_step_share` from
+    rounding), `interpolated_share` those that are an exact linear combination of their
+    neighbours with their pattern's `period` (1: three on a line), where (`first`, `last`,
+    0-based samples), the samples a measurement at most, and the finest scale the smoothing
+    leaves alone (`first_clean_level`, `first_clean_tau` samples, `first_clean_tau_seconds`)."""
+
+    column: str
+    held_share: float
+    zero_step_share: float
+    expected_zero_step_share: float
+    interpolated_share: float
+    period: int
+    first: int
+    last: int
+    samples_per_measurement: float
+    first_clean_level: int
+    first_clean_tau: float
+    first_clean_tau_seconds: float | None
+    summary: str
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any] | None) -> "RepeatedSamples | None":
+        if d is None:
+            return None
+        return cls(d["column"],
+                   num(d["held_share"]),
+                   num(d["zero_step_share"]),
+                   num(d["expected_zero_step_share"]),
+                   num(d["interpolated_share"]),
+                   int(d["period"]),
+                   int(d["first"]),
+                   int(d["last"]),
+                   num(d["samples_per_measurement"]),
+                   int(d["first_clean_level"]),
+                   num(d["first_clean_tau"]),
+                   None if d.get("first_clean_tau_seconds") is None else float(d["first_clean_tau_seconds"]),
+                   d["summary"])
+
+
+@dataclass(frozen=True)
 class Timing(TimingMethods):
     """What a timestamp column (or a pandas index) says about the sampling (the documents'
     "timing"): the median step, the rate it gives, the gaps (steps over 1.5 median steps), the

@@ -114,8 +114,30 @@ json record_timing_json(const io::SignalSet& set) {
   return j;
 }
 
+json repeated_samples_json(const io::Signal& signal, double freq, bool freq_known) {
+  const RepeatedSamples& r = signal.repeated;
+  const double tau = std::ldexp(1.0, r.first_clean_level);
+  return {{"column", signal.name},
+          {"held_share", json_number(r.held_share)},
+          {"zero_step_share", json_number(r.zero_step_share)},
+          {"expected_zero_step_share", json_number(r.expected_zero_step_share)},
+          {"interpolated_share", json_number(r.interpolated_share)},
+          {"period", r.period},
+          {"first", r.first},
+          {"last", r.last},
+          {"samples_per_measurement", json_number(r.samples_per_measurement)},
+          {"first_clean_level", r.first_clean_level},
+          {"first_clean_tau", json_number(tau)},
+          {"first_clean_tau_seconds", freq_known && freq > 0.0 ? json_number(tau / freq) : json(nullptr)},
+          {"summary", repeated_samples_text(r, signal.name, freq_known ? freq : 0.0)}};
+}
+
 void add_record_json(json& doc, const io::SignalSet& set) {
   if (set.timing) doc["timing"] = record_timing_json(set);
+  json repeated = json::array();
+  for (const io::Signal& s : set.signals)
+    if (s.repeated.detected()) repeated.push_back(repeated_samples_json(s, set.freq, set.freq_known));
+  if (!repeated.empty()) doc["repeated_samples"] = std::move(repeated);
   if (set.data == io::DataKind::kRate && set.decimation <= 1) return;
   doc["conditioning"] = {
       {"data", std::string(io::data_kind_name(set.data))},

@@ -42,6 +42,14 @@ void fill_joint_column(ReportColumn& column, const pipeline::ReplicateGroup& gro
 
 }  // namespace
 
+std::vector<std::string> record_notes(const io::SignalSet& set) {
+  std::vector<std::string> notes;
+  for (const std::string& note : {io::gaps_summary(set), io::long_scales_note(set), io::conditioning_summary(set)})
+    if (!note.empty()) notes.push_back(note);
+  for (std::string& note : io::repeated_samples_notes(set)) notes.push_back(std::move(note));
+  return notes;
+}
+
 ReportData report_skeleton(const std::string& command, const io::SignalSet& set, const std::string& model_spec) {
   ReportData r;
   r.command = command;
@@ -56,10 +64,7 @@ ReportData report_skeleton(const std::string& command, const io::SignalSet& set,
     c.unit = s.unit;
     r.columns.push_back(std::move(c));
   }
-  // What reading did: the samples missing (each scale from the windows without one), where
-  // the long scales stop, increments and decimation.
-  for (const std::string& note : {io::gaps_summary(set), io::long_scales_note(set), io::conditioning_summary(set)})
-    if (!note.empty()) r.notes.push_back(note);
+  r.notes = record_notes(set);
   return r;
 }
 

@@ -23,6 +23,7 @@
 #include "gmwm/io/units.h"
 #include "gmwm/report/html_fragment.h"
 #include "gmwm/report/json_output.h"
+#include "gmwm/report/report_data.h"
 #include "jobs.h"
 #include "request.h"
 #include "studies.h"
@@ -272,6 +273,7 @@ Json App::State::open(const RequestBody& b) {
               {"columns", columns},
               {"spilled", kept->set.spilled}};
   if (kept->set.timing) out["timing"] = kept->set.timing->summary();
+  out["notes"] = report::record_notes(kept->set);  // what reading said, as the report's header
   return out;
 }
 

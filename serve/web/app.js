@@ -290,7 +290,8 @@
     $('dataset-facts').textContent = d.name + ': ' + d.n.toLocaleString('en') + ' samples at ' + fmtG(d.freq, 6) +
       ' Hz' + (d.freq_known ? '' : ' (as given)') + ', ' +
       (hours >= 1 ? hours.toFixed(2) + ' h' : (hours * 3600).toFixed(1) + ' s') + ', ' + d.columns.length +
-      ' column' + (d.columns.length === 1 ? '' : 's') + (d.timing ? '. ' + d.timing : '');
+      ' column' + (d.columns.length === 1 ? '' : 's') + (d.timing ? '. ' + d.timing : '') +
+      (d.notes || []).map(function (n) { return '. ' + n; }).join('');
     setBusy(false);
     runWv();
   }

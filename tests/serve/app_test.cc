@@ -62,6 +62,28 @@ TEST_F(ServeAppTest, OpensARecordingAndListsItsColumnsWithTheirSensorKinds) {
   EXPECT_EQ(o.at("dataset").get<std::string>().size(), 2u + 32u) << "a random 128-bit id";
 }
 
+TEST_F(ServeAppTest, OpeningARecordSaysWhatReadingSaidOfItAsTheReportsHeaderDoes) {
+  EXPECT_EQ(body_of(post("/api/open", OJson{{"file", "imu.csv"}})).at("notes"), OJson::array());
+  // A column whose every other sample copies the one before (an accelerometer at half the
+  // gyroscope's rate): the web app says it, in the library's words.
+  std::string csv = "time [s],gyro_x,accel_x\n";
+  std::uint64_t state = 7;
+  auto next = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5;
+  };
+  double held = 0.0;
+  for (int t = 0; t < 8192; ++t) {
+    if (t % 2 == 0) held = next();
+    csv += std::to_string(t / 100.0) + "," + std::to_string(next()) + "," + std::to_string(held) + "\n";
+  }
+  write_text(folder_ / "held.csv", csv);
+  const OJson o = body_of(post("/api/open", OJson{{"file", "held.csv"}}));
+  ASSERT_EQ(o.at("notes").size(), 1u) << o.dump();
+  EXPECT_EQ(o.at("notes")[0].get<std::string>().rfind("accel_x: 50% of the samples copy the one before (held", 0), 0u)
+      << o.dump();
+}
+
 TEST_F(ServeAppTest, FitsAColumnAndAnswersTheCliDocumentAndTheReportsSection) {
   const std::string d = open_imu();
   const OJson r = run_job("/api/fit", {{"dataset", d}, {"column", "gyro_y"}, {"model", "AR1+WN+RW"}});

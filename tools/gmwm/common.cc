@@ -326,6 +326,7 @@ void print_text(const std::string& text) { std::cout << report::wrap_to_width(pr
 void warn_about_timing(const io::SignalSet& set) {
   if (const std::string c = io::conditioning_summary(set); !c.empty())
     std::cerr << "gmwm: note: " << printable_line(set.path + ": " + c) << '\n';
+  for (const std::string& note : io::repeated_samples_notes(set)) warn(set.path + ": " + note);
   if (!set.timing) return;
   const io::TimingReport& t = *set.timing;
   if (t.gaps > 0 && !set.missing.empty()) {

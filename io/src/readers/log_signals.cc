@@ -72,8 +72,7 @@ SignalSet LogColumns::finish(const std::string& preset, const TimeUnit& unit, co
   } else {
     refuse_never_increasing(path_, *set.timing);
   }
-  take_gaps(path_, set, options_);
-  condition_values(path_, set, options_);
+  finish_record(path_, set, options_);
   return set;
 }
 

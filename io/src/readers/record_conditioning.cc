@@ -1,11 +1,15 @@
 // What reading does to a record's values after the readers (issue 47): the gaps its stamps
-// show taken as --gaps says, then increments and decimation (timestamp.h).
+// show taken as --gaps says, then increments and decimation (timestamp.h), and what the
+// values that come out say of themselves: held and interpolated samples.
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/number_text.h"
+#include "gmwm/engine/parallel.h"
+#include "gmwm/engine/quantization.h"
+#include "gmwm/engine/repeated_samples.h"
 #include "gmwm/engine/samples.h"
 #include "timestamp.h"
 
@@ -93,4 +97,30 @@ void condition_values(const std::string& path, SignalSet& set, const ReadOptions
   set.spilled = false;  // n / K values, in memory
 }
 
+void finish_record(const std::string& path, SignalSet& set, const ReadOptions& options) {
+  take_gaps(path, set, options);
+  condition_values(path, set, options);
+  find_repeated_samples(set);
+}
+
 }  // namespace gmwm::io::detail
+
+namespace gmwm::io {
+
+void find_repeated_samples(SignalSet& set) {
+  gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+    Signal& s = set.signals[k];
+    const auto n = static_cast<std::int64_t>(s.values.size());
+    s.repeated = detect_repeated_samples(s.values.data(), n, detect_quantization(s.values.data(), n));
+  });
+}
+
+std::vector<std::string> repeated_samples_notes(const SignalSet& set) {
+  std::vector<std::string> out;
+  for (const Signal& s : set.signals)
+    if (s.repeated.detected())
+      out.push_back(repeated_samples_text(s.repeated, s.name, set.freq_known ? set.freq : 0.0));
+  return out;
+}
+
+}  // namespace gmwm::io

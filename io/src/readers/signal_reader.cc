@@ -566,8 +566,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
   } else {
     detail::refuse_never_increasing(path, *set.timing);
   }
-  detail::take_gaps(path, set, options);
-  detail::condition_values(path, set, options);
+  detail::finish_record(path, set, options);
   return set;
 }
 

@@ -178,6 +178,9 @@ void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& optio
 /// in the set. Throws InputError naming the file and the option: increments without a rate,
 /// decimation of a record with gaps read as missing, fewer than 16 samples after it.
 void condition_values(const std::string& path, SignalSet& set, const ReadOptions& options);
+/// What every reader does last with the record it read: take_gaps, condition_values, then
+/// find_repeated_samples on the values that come out.
+void finish_record(const std::string& path, SignalSet& set, const ReadOptions& options);
 
 /// The same from times relative to the first one.
 TimingReport analyse_timing(const std::string& column, const std::vector<double>& offsets, double first_time,

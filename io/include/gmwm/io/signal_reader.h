@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "gmwm/engine/gappy_wv.h"
+#include "gmwm/engine/repeated_samples.h"
 #include "gmwm/engine/samples.h"
 
 namespace gmwm::io {
@@ -262,6 +263,8 @@ struct Signal {
   /// (ReadOptions::spill).
   Samples values;
   std::string unit = {};  ///< from the header ('[rad s^-1]') or the preset; "" when unknown
+  /// Held and interpolated samples in the values (find_repeated_samples; issue 47).
+  RepeatedSamples repeated = {};
 };
 
 struct SignalSet {
@@ -296,6 +299,15 @@ struct SignalSet {
 /// record's G samples missing in K gaps (the largest L samples); each scale reads only the
 /// windows that hold no missing sample"; "" for a regular record (or one read --gaps join).
 std::string gaps_summary(const SignalSet& set);
+
+/// Reads every column for held and interpolated samples (engine/repeated_samples.h) into
+/// its Signal::repeated, in parallel over the columns: done by read_signals and for the
+/// arrays handed to Python, after the gaps and the conditioning, so that every face says
+/// the same of the values its studies read.
+void find_repeated_samples(SignalSet& set);
+/// One line a column whose samples repeat (repeated_samples_text, with the record's rate);
+/// empty when none does. The terminal's warnings, the report's notes, Python's meta.
+std::vector<std::string> repeated_samples_notes(const SignalSet& set);
 
 /// The rows where a column holds NaN are samples missing from a regular record (a pandas
 /// frame or a numpy array marks them so, as gmwm.read's Recording does for the gaps of its

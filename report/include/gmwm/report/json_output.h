@@ -79,9 +79,15 @@ Json timing_json(const io::TimingReport& timing);
 /// ("missing_samples"), how the gaps were taken ("gap_handling": "windows" or "join") and
 /// whether the studies read them as missing ("gaps_read_as_missing").
 Json record_timing_json(const io::SignalSet& set);
+/// One column's held and interpolated samples (io::find_repeated_samples): the shares, the
+/// pattern, where, and the finest scale read without their smoothing, with the one-line
+/// summary. The documents' "repeated_samples" (a list over the columns where some were
+/// found) and gmwm.read's Recording.repeated_samples.
+Json repeated_samples_json(const io::Signal& signal, double freq, bool freq_known);
 /// The record's "timing" (record_timing_json, with a timestamp column) and, when reading
 /// converted increments or decimated, "conditioning": data, decimation, its filter, the rate
-/// before it and the one-line summary (io::conditioning_summary).
+/// before it and the one-line summary (io::conditioning_summary); "repeated_samples" when a
+/// column's samples repeat.
 void add_record_json(Json& doc, const io::SignalSet& set);
 
 /// {"name", "n", "freq"}.

@@ -18,6 +18,12 @@
 
 namespace gmwm::report {
 
+/// What reading said of the record, one sentence each: the samples missing (each scale from
+/// the windows without one), where frequent gaps stop the long scales, increments and
+/// decimation, and each column's held or interpolated samples. The report's header notes and
+/// the web app's dataset facts.
+std::vector<std::string> record_notes(const io::SignalSet& set);
+
 /// The report's skeleton: one column per signal (name, n, rate, the file's unit), no results.
 ReportData report_skeleton(const std::string& command, const io::SignalSet& set, const std::string& model_spec = {});
 

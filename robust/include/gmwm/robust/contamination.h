@@ -26,20 +26,15 @@
 #include <vector>
 
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/quantization.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/robust/tuning.h"
 
 namespace gmwm::robust {
 
-struct Quantization {
-  bool detected = false;
-  double quantum = 0.0;           ///< the rounding step q (LSB), 0 when not detected
-  double on_lattice_share = 0.0;  ///< share of the differences that are multiples of q
-};
-
-/// The rounding step: the smallest non-zero |x_t - x_{t-1}|, accepted when at least
-/// kLatticeShare of all differences are integer multiples of it.
-Quantization detect_quantization(const double* x, std::int64_t n);
+// The rounding step (engine/quantization.h), read here against the robust estimators.
+using gmwm::detect_quantization;
+using gmwm::Quantization;
 
 /// What rounding alone makes of robust / classical at a level of scale tau whose
 /// classical WV is classical_wv, for the quantum q (1 when q is 0 or negligible).

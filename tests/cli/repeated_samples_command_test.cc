@@ -1,0 +1,121 @@
+// Held and interpolated samples on the command line (issue 47, item 2): a RealSense-like
+// record (a 400 Hz gyroscope's stamps, its accelerometer measured at 200 Hz and put on them by
+// copying, accel_x, or by linear interpolation at a phase of 0.37 of a measurement, accel_y)
+// is said on the terminal, in the JSON and in the report with the share, where and the
+// scales smoothed; the gyroscope's own samples are not; N read at 1 s, far above the
+// smoothed scales, is the measured white noise's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::flowed;
+using gmwm::test::read_json;
+using gmwm::test::read_text;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kGyroRate = 400.0, kAccelRate = 200.0;
+constexpr int kN = 1 << 16;  // 164 s at 400 Hz
+// The accelerometer's white noise a 200 Hz measurement: N = sqrt(4e-4 / 200) = 1.414e-3.
+constexpr double kAccelSigma2 = 4e-4;
+
+std::vector<double> series(const char* spec, double rate, int n, unsigned seed) {
+  const gmwm::Model m = gmwm::parse_model(spec, gmwm::ProcessContext{rate, true});
+  return gmwm::simulate(m, m.given_values(), n, seed);
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return buf;
+}
+
+class RepeatedSamplesCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("repeated_cli");
+    const std::vector<double> gyro = series("WN(sigma2=1e-6)+RW(gamma2=1e-12)", kGyroRate, kN, 11);
+    const std::string accel_spec = "WN(sigma2=" + number(kAccelSigma2) + ")+RW(gamma2=1e-10)";
+    const std::vector<double> copied = series(accel_spec.c_str(), kAccelRate, kN / 2 + 2, 12);
+    const std::vector<double> joined = series(accel_spec.c_str(), kAccelRate, kN / 2 + 2, 13);
+    std::string csv = "time [s],gyro_x,accel_x,accel_y\n";
+    for (int t = 0; t < kN; ++t) {
+      const double u = t / 2.0 + 0.37;  // the accelerometer's time in measurements
+      const auto k = static_cast<std::size_t>(u);
+      const double f = u - static_cast<double>(k);
+      csv += number(t / kGyroRate) + "," + number(gyro[static_cast<std::size_t>(t)]) + "," +
+             number(copied[static_cast<std::size_t>(t / 2)]) + "," +
+             number(joined[k] + f * (joined[k + 1] - joined[k])) + "\n";
+    }
+    gmwm::test::write_text(dir_ / "realsense.csv", csv);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+};
+
+TEST_F(RepeatedSamplesCommand, TheTerminalAndTheJsonSayWhichColumnsRepeatWhereAndTheScalesSmoothed) {
+  const auto r = run_gmwm({"wv", "realsense.csv", "--adev", "--json", "wv.json", "--report", "wv.html"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string err = flowed(r.err);
+  EXPECT_NE(err.find("accel_x: 50% of the samples copy the one before (held; 50% of the steps are zero), from sample "
+                     "0 to 65535: about 2 samples a measurement at most; the WV below tau = 32 samples (0.08 s) is "
+                     "smoothed (levels 1-4): read N above it"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(err.find("accel_y: 100% of the samples are an exact linear combination of their neighbours "
+                     "(interpolated, a pattern every 2 samples)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(err.find("the WV below tau = 64 samples (0.16 s) is smoothed (levels 1-5)"), std::string::npos) << r.err;
+  EXPECT_EQ(err.find("gyro_x:"), std::string::npos) << r.err;
+
+  const json doc = read_json(dir_ / "wv.json");
+  const json& rep = doc.at("repeated_samples");
+  ASSERT_EQ(rep.size(), 2u) << rep.dump();
+  EXPECT_EQ(rep[0].at("column"), "accel_x");
+  EXPECT_NEAR(rep[0].at("held_share").get<double>(), 0.5, 1e-4);
+  EXPECT_EQ(rep[0].at("interpolated_share").get<double>(), 0.0);
+  EXPECT_EQ(rep[0].at("first_clean_level"), 5);
+  // At the stamps' rate (400 Hz to the 12 digits they are printed with).
+  EXPECT_NEAR(rep[0].at("first_clean_tau_seconds").get<double>(), 32 / kGyroRate, 1e-9);
+  EXPECT_EQ(rep[1].at("column"), "accel_y");
+  EXPECT_EQ(rep[1].at("period"), 2);
+  EXPECT_EQ(rep[1].at("held_share").get<double>(), 0.0);
+  EXPECT_EQ(rep[1].at("first_clean_level"), 6);
+  EXPECT_EQ(rep[1].at("summary").get<std::string>().rfind("accel_y: 100% of the samples are", 0), 0u);
+
+  // The report's header says it too.
+  EXPECT_NE(read_text(dir_ / "wv.html").find("copy the one before (held"), std::string::npos);
+
+  // N at 1 s (400 samples, where holding biases the WV by 0.4%) is the measured white
+  // noise's: within 5% of sqrt(sigma2 / 200 Hz) for both ways of filling.
+  for (int c : {1, 2}) {
+    const json& n = doc.at("columns").at(c).at("noise_figures").at("white");
+    const double ratio = n.at("value").get<double>() / std::sqrt(kAccelSigma2 / kAccelRate);
+    EXPECT_NEAR(ratio, 1.0, 0.05) << doc.at("columns").at(c).at("name") << " " << n.dump();
+    std::printf("[ realsense-like ] %s: N read / measured N = %.4f\n",
+                doc.at("columns").at(c).at("name").get<std::string>().c_str(), ratio);
+  }
+}
+
+TEST_F(RepeatedSamplesCommand, ARecordWithoutRepeatsSaysNothingAndItsDocumentHasNoKey) {
+  const auto r = run_gmwm({"wv", "realsense.csv", "--columns", "gyro_x", "--json", "wv.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("copy the one before"), std::string::npos) << r.err;
+  EXPECT_FALSE(read_json(dir_ / "wv.json").contains("repeated_samples"));
+}
+
+}  // namespace
