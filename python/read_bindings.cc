@@ -134,16 +134,33 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   return {values, to_python(meta)};
 }
 
+// The timing's JSON and "missing_runs": [[start, length], ...], the samples the stamps show
+// missing as a file's gaps are taken (io::missing_runs_of; none when freq is given, which
+// takes the samples as evenly spaced).
 std::string py_stamps_timing(const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& stamps,
                              const std::string& source, const std::string& column, std::optional<double> freq) {
   if (stamps.ndim() != 1) throw gmwm::InputError(source + ": expected one timestamp a sample");
   const std::span<const std::int64_t> ns(stamps.data(), static_cast<std::size_t>(stamps.size()));
   gmwm::io::TimingReport t;
+  std::vector<gmwm::MissingRun> runs;
   {
     py::gil_scoped_release release;
     t = gmwm::io::timing_of_stamps(ns, source, column, freq);
+    if (!freq) runs = gmwm::io::missing_runs_of(t, source, gmwm::io::GapHandling::kCompleteWindows);
   }
-  return to_python(timing_with_summary(t));
+  Json j = timing_with_summary(t);
+  Json missing = Json::array();
+  std::int64_t missing_samples = 0;
+  for (const gmwm::MissingRun& r : runs) {
+    missing.push_back({r.start, r.length});
+    missing_samples += r.length;
+  }
+  j["missing_runs"] = std::move(missing);
+  // As gmwm.read's timing says them (report::record_timing_json).
+  j["missing_samples"] = missing_samples;
+  j["gap_handling"] = freq ? Json(nullptr) : Json("windows");
+  j["gaps_read_as_missing"] = !runs.empty();
+  return to_python(j);
 }
 
 }  // namespace

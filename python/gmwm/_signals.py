@@ -159,33 +159,59 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
                      meta["topic"], meta["preset"], meta["conditioning"] or None, repeated)
 
 
-def _index_timing(data: Any, freq: float | None, what: str) -> Timing | None:
+def _index_timing(data: Any, freq: float | None, what: str) -> tuple[Timing | None, list[tuple[int, int]]]:
     """The timing of a pandas object's DatetimeIndex or TimedeltaIndex (None for any other
-    index), measured and refused as a file's timestamp column."""
+    index), measured and refused as a file's timestamp column, and the runs (start, length)
+    of samples its gaps leave out, taken as gmwm.read takes a file's (none when freq is given)."""
     index: Any = getattr(data, "index", None)
     if getattr(getattr(index, "dtype", None), "kind", None) not in ("M", "m") or not hasattr(index, "asi8"):
-        return None
+        return None, []
     from ._types import Timing
 
     stamps = np.asarray(index.asi8, dtype=np.int64)
     if np.any(stamps == np.iinfo(np.int64).min):
         raise InputError(f"{what}.index: found NaT among the timestamps, expected a time for every sample")
     column = str(index.name) if index.name is not None else "index"
-    text = _gmwm.stamps_timing(stamps, source=f"{what}.index", column=column, freq=freq)
-    timing = Timing.from_dict(json.loads(text))
+    found = json.loads(_gmwm.stamps_timing(stamps, source=f"{what}.index", column=column, freq=freq))
+    runs = [(int(start), int(length)) for start, length in found.pop("missing_runs")]
+    timing = Timing.from_dict(found)
     if timing is not None and timing.irregular:
         warnings.warn(f"{what}.index: {timing.summary}", TimingWarning, stacklevel=4)
-    return timing
+    return timing, runs
 
 
-def _rate_of(data: Any, freq: float | None, what: str) -> float | None:
-    """The rate a signal argument carries: the given freq, a Recording's, a time index's."""
+def _with_missing_rows(data: Any, runs: list[tuple[int, int]]) -> FloatArray:
+    """The values of `data` on the grid of its stamps: a NaN row for each sample missing (read
+    as missing by every function, as gmwm.read's Recording is)."""
+    values = np.asarray(data, dtype=np.float64)
+    one = values.ndim == 1
+    rows = values.reshape(len(values), -1)
+    n = len(rows) + sum(length for _, length in runs)
+    grid = np.full((n, rows.shape[1]), np.nan)
+    observed = np.ones(n, dtype=bool)
+    for start, length in runs:
+        observed[start:start + length] = False
+    grid[observed] = rows
+    return grid[:, 0] if one else grid
+
+
+def _column_labels(data: Any) -> list[str] | None:
+    """A DataFrame's column labels as text (as the module names its columns), else None."""
+    columns = getattr(data, "columns", None)
+    return [str(c) for c in columns] if columns is not None and hasattr(data, "iloc") else None
+
+
+def _rate_and_grid(data: Any, freq: float | None, what: str) -> tuple[float | None, Any]:
+    """The rate a signal argument carries (the given freq, a Recording's, a time index's) and
+    its values: a time index with gaps gives NaN rows where its stamps show samples missing."""
     if isinstance(data, Recording):
-        return data.freq if freq is None else freq
-    timing = _index_timing(data, freq, what)
+        return (data.freq if freq is None else freq), data
+    timing, runs = _index_timing(data, freq, what)
+    if runs:
+        data = _with_missing_rows(data, runs)
     if freq is None and timing is not None:
-        return timing.estimated_freq
-    return freq
+        return timing.estimated_freq, data
+    return freq, data
 
 
 def _label_of(data: Any) -> str | None:
@@ -205,9 +231,10 @@ def _label_of(data: Any) -> str | None:
 def one_series(arguments: dict[str, Any]) -> None:
     """wv, allan, fit: `data` one series; its rate and its name taken from it when not given."""
     data = arguments["data"]
-    arguments["freq"] = _rate_of(data, arguments.get("freq"), "data")
     if "name" not in arguments and (label := _label_of(data)) is not None:
         arguments["name"] = label
+    arguments["freq"], data = _rate_and_grid(data, arguments.get("freq"), "data")
+    arguments["data"] = data
     if isinstance(data, Recording):
         if len(data.names) != 1:
             raise InputError(f"data: found a recording of {len(data.names)} columns, expected one series (e.g. "
@@ -218,10 +245,14 @@ def one_series(arguments: dict[str, Any]) -> None:
 
 def columns(arguments: dict[str, Any]) -> None:
     """select, gap: `data` the columns; their rate and names taken from a Recording."""
-    data = arguments["data"]
-    arguments["freq"] = _rate_of(data, arguments.get("freq"), "data")
+    given = arguments["data"]
+    if isinstance(given, Recording):
+        arguments.setdefault("names", list(given.names))
+    arguments["freq"], data = _rate_and_grid(given, arguments.get("freq"), "data")
+    if data is not given and (labels := _column_labels(given)) is not None:
+        arguments.setdefault("names", labels)  # the frame's labels, kept on its grid's array
+    arguments["data"] = data
     if isinstance(data, Recording):
-        arguments.setdefault("names", list(data.names))
         arguments["data"] = data.values
 
 
@@ -230,7 +261,8 @@ def replicates(arguments: dict[str, Any]) -> None:
     given, and every replicate's rate the same."""
     items = list(arguments["replicates"])
     given = arguments.get("freq")
-    rates = [_rate_of(item, given, f"replicates[{k}]") for k, item in enumerate(items)]
+    graded = [_rate_and_grid(item, given, f"replicates[{k}]") for k, item in enumerate(items)]
+    rates = [rate for rate, _ in graded]
     known = [(k, r) for k, r in enumerate(rates) if r is not None]
     if given is None and known:
         first_k, first = known[0]
@@ -241,4 +273,6 @@ def replicates(arguments: dict[str, Any]) -> None:
         arguments["freq"] = first
     if items and isinstance(items[0], Recording):
         arguments.setdefault("names", list(items[0].names))
-    arguments["replicates"] = [item.values if isinstance(item, Recording) else item for item in items]
+    if graded and graded[0][1] is not items[0] and (labels := _column_labels(items[0])) is not None:
+        arguments.setdefault("names", labels)
+    arguments["replicates"] = [item.values if isinstance(item, Recording) else item for _, item in graded]

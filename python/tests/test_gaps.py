@@ -89,3 +89,28 @@ def test_decimation_and_increments_are_read_as_the_command_reads_them(tmp_path):
     assert read(path).conditioning is None
     with pytest.raises(gmwm.InputError, match="^decimate_filter: found 'sinc'"):
         gmwm.read(path, decimate=2, decimate_filter="sinc")
+
+
+def test_a_time_index_with_gaps_gives_nan_rows_where_its_stamps_show_samples_missing(gappy_csv, tmp_path):
+    """A Series or DataFrame whose DatetimeIndex skips samples is read as the file with the same
+    stamps: the same WV (each scale from the complete windows) and the same select."""
+    pandas = pytest.importorskip("pandas")
+    rec = read(gappy_csv)
+    keep = ~np.isnan(rec.values[:, 0])
+    stamps = pandas.to_datetime(np.flatnonzero(keep) * (1_000_000_000 // RATE), unit="ns")
+    series = pandas.Series(rec.values[keep, 0], index=stamps, name="gyro_x")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", gmwm.TimingWarning)
+        w = gmwm.wv(series)
+        frame = pandas.DataFrame({"gyro_x": rec.values[keep, 0], "copy": rec.values[keep, 0]}, index=stamps)
+        s = gmwm.select(frame, "WN+RW")
+    # The file's stamps are decimals (a rate of 100.000000002 Hz): the same windows, the same WV.
+    cli = cli_json(tmp_path, "wv", str(gappy_csv))["columns"][0]
+    assert [v["coefficients"] for v in cli["levels"]] == w.levels.coefficients.tolist()
+    assert [v["wv"] for v in cli["levels"]] == w.levels.wv.tolist()
+    assert [c.name for c in s.columns] == ["gyro_x", "copy"]
+    assert s.columns[0].levels.wv.tolist() == w.levels.wv.tolist()
+    # A given freq takes the samples as evenly spaced: joined end to end, as --freq does.
+    with pytest.warns(gmwm.TimingWarning, match="3 gaps"):
+        joined = gmwm.wv(series, freq=RATE)
+    assert joined.n == int(keep.sum())

@@ -11,6 +11,7 @@
 #include "gmwm/engine/quantization.h"
 #include "gmwm/engine/repeated_samples.h"
 #include "gmwm/engine/samples.h"
+#include "gmwm/io/stamp_timing.h"
 #include "timestamp.h"
 
 namespace gmwm::io::detail {
@@ -113,6 +114,15 @@ void find_repeated_samples(SignalSet& set) {
     const auto n = static_cast<std::int64_t>(s.values.size());
     s.repeated = detect_repeated_samples(s.values.data(), n, detect_quantization(s.values.data(), n));
   });
+}
+
+std::vector<MissingRun> missing_runs_of(const TimingReport& timing, const std::string& source, GapHandling gaps) {
+  SignalSet set;
+  set.timing = timing;
+  ReadOptions options;
+  options.gaps = gaps;
+  detail::take_gaps(source, set, options);
+  return set.missing;
 }
 
 std::vector<std::string> repeated_samples_notes(const SignalSet& set) {

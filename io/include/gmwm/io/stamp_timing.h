@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "gmwm/io/signal_reader.h"
 
@@ -22,5 +23,12 @@ namespace gmwm::io {
 /// that never increase are still reported.
 TimingReport timing_of_stamps(std::span<const std::int64_t> stamps_ns, const std::string& source,
                               const std::string& column, std::optional<double> freq);
+
+/// The samples `timing`'s stamps show missing, taken as reading a file takes them with
+/// `gaps` (read_signals: the gaps' runs on the grid; none under GapHandling::kJoin, across a
+/// change of rate or with stamps too jittery to place a lost sample). Throws InputError
+/// "SOURCE: timestamps 'COLUMN': ..." for gaps that cannot be placed, with read_signals' words.
+/// What a pandas index with gaps becomes: NaN rows at these runs (issue 47).
+std::vector<MissingRun> missing_runs_of(const TimingReport& timing, const std::string& source, GapHandling gaps);
 
 }  // namespace gmwm::io
