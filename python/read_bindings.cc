@@ -54,10 +54,26 @@ std::vector<std::string> columns_argument(const py::object& columns) {
   return out;
 }
 
+// decimate as Python gives it: any whole number (a numpy integer, 2**40) is checked against
+// 1..kMaxDecimation with its own digits in the message; anything else is refused the same way
+// (not pybind's TypeError for an int that does not fit).
+int decimate_argument(const py::object& value) {
+  const std::string expected = ", expected a whole number from 1 to " + std::to_string(gmwm::io::kMaxDecimation);
+  if (PyBool_Check(value.ptr()) || PyIndex_Check(value.ptr()) == 0)
+    throw gmwm::InputError("--decimate: found " + py::repr(value).cast<std::string>() + expected);
+  const auto whole = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!whole) throw py::error_already_set();
+  int overflow = 0;
+  const long long k = PyLong_AsLongLongAndOverflow(whole.ptr(), &overflow);
+  if (overflow != 0 || k < 1 || k > gmwm::io::kMaxDecimation)
+    throw gmwm::InputError("--decimate: found " + py::str(whole).cast<std::string>() + expected);
+  return static_cast<int>(k);
+}
+
 std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, const py::object& columns,
                                                      std::optional<double> freq, const std::string& topic,
                                                      std::optional<double> memory, const std::string& gaps,
-                                                     const std::string& data, int decimate,
+                                                     const std::string& data, const py::object& decimate,
                                                      const std::string& decimate_filter) {
   gmwm::io::ReadRequest request;
   request.path = path;
@@ -68,10 +84,7 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   request.spill = false;  // the values are handed over in memory, as one array
   request.gaps = gmwm::io::gap_handling_of(gaps);
   request.data = gmwm::io::data_kind_of(data);
-  if (decimate < 1 || decimate > gmwm::io::kMaxDecimation)
-    throw gmwm::InputError("--decimate: found " + std::to_string(decimate) + ", expected a whole number from 1 to " +
-                           std::to_string(gmwm::io::kMaxDecimation));
-  request.decimate = decimate;
+  request.decimate = decimate_argument(decimate);
   request.decimate_filter = gmwm::io::decimation_filter_of(decimate_filter);
   gmwm::io::SignalSet set;
   {

@@ -3,6 +3,7 @@ the timestamps show a sample missing, and every function reads NaN rows as missi
 from the windows that hold none), so a Recording, a DataFrame with NaN rows and the command on
 the file give the same document; gaps="join" joins the samples end to end as --gaps join."""
 import json
+import re
 import warnings
 
 import numpy as np
@@ -89,6 +90,17 @@ def test_decimation_and_increments_are_read_as_the_command_reads_them(tmp_path):
     assert read(path).conditioning is None
     with pytest.raises(gmwm.InputError, match="^decimate_filter: found 'sinc'"):
         gmwm.read(path, decimate=2, decimate_filter="sinc")
+
+
+@pytest.mark.parametrize("decimate, found", [(2**40, "1099511627776"), (0, "0"), (np.int64(-3), "-3"),
+                                             (2.5, "2.5"), (True, "True"), ("4", "'4'")])
+def test_a_decimation_python_cannot_fit_in_an_int_is_refused_with_its_own_digits(tmp_path, decimate, found):
+    path = tmp_path / "x.csv"
+    path.write_text("x\n" + "\n".join(str(v) for v in np.random.default_rng(1).standard_normal(64)) + "\n")
+    with pytest.raises(gmwm.InputError, match=rf"^decimate: found {re.escape(found)}, expected a whole number from 1 "
+                                              r"to 1048576$"):
+        gmwm.read(path, freq=100, decimate=decimate)
+    assert len(gmwm.read(path, freq=100, decimate=np.int32(2))) == 32
 
 
 def test_a_time_index_with_gaps_gives_nan_rows_where_its_stamps_show_samples_missing(gappy_csv, tmp_path):
