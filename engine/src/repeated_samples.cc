@@ -15,9 +15,10 @@ namespace gmwm {
 namespace {
 
 // The record is read for a pattern in blocks of this many samples (5 s at 400 Hz), at most
-// kInspectBlocks of them spread over the record; the zero steps are counted everywhere.
+// kInspectBlocks of them spread over the record (a driver's pattern holds throughout; the
+// least squares of 36 positions a block were half of the detection's cost with 8).
 constexpr std::int64_t kBlockSamples = 2048;
-constexpr int kInspectBlocks = 8;
+constexpr int kInspectBlocks = 4;
 // The longest pattern looked for: 250 Hz on 400 Hz stamps repeats every 8 samples (the
 // rates of RealSense's accelerometer and gyroscope: 63/250 and 200/400 Hz).
 constexpr int kMaxPeriod = 8;
@@ -56,6 +57,17 @@ constexpr double kMaxReadableZeroShare = 0.9;
 // samples, at most kLevelBlocks of them spread over the record.
 constexpr std::int64_t kLevelBlockSamples = 64;
 constexpr std::int64_t kLevelBlocks = 1024;
+
+// The record, and the part of it the shares are read from: all of it up to kSampledBlocks
+// blocks, else that many blocks spread over it, end to end (their joins add one step in
+// kBlockSamples). The shares move by 0.003 (a binomial sd) at most; where, and the pattern,
+// are read on the record itself.
+constexpr std::int64_t kSampledBlocks = 16;
+
+struct Series {
+  const double* x;
+  std::int64_t n;
+};
 
 double phi(double z) { return std::exp(-0.5 * z * z) / std::sqrt(2.0 * M_PI); }
 
@@ -143,8 +155,9 @@ double independent_zero_share(const double* x, std::int64_t n, double quantum) {
   return total / static_cast<double>(blocks);
 }
 
-void find_held(const double* x, std::int64_t n, const Quantization& q, RepeatedSamples& r) {
+void find_held(Series sample, Series record, const Quantization& q, RepeatedSamples& r) {
   const double quantum = q.detected ? q.quantum : 0.0;
+  const auto [x, n] = sample;
   const HeldCount c = count_steps(x, 0, n, quantum);
   if (c.nonzero == 0) return;  // a constant: nothing measured to repeat
   r.zero_step_share = share(c.zero, n - 1);
@@ -161,8 +174,8 @@ void find_held(const double* x, std::int64_t n, const Quantization& q, RepeatedS
   };
   r.held_share = held(c.zero, n - 1);
   if (!r.held()) return;
-  std::tie(r.first, r.last) = where(n, [&](std::int64_t b, std::int64_t e) {
-    const HeldCount bc = count_steps(x, b, e, quantum);
+  std::tie(r.first, r.last) = where(record.n, [&](std::int64_t b, std::int64_t e) {
+    const HeldCount bc = count_steps(record.x, b, e, quantum);
     return held(bc.zero, bc.zero + bc.nonzero);
   });
 }
@@ -201,26 +214,38 @@ double second_difference_sd(const double* x, std::int64_t n) {
 enum class Position { kFree, kExact, kHeld };
 
 Position position_kind(const double* x, std::int64_t b, std::int64_t e, int P, int c, double quantum, double step_var) {
-  std::vector<std::int64_t> ts;
-  for (std::int64_t t = b + 2; t + 2 < e; ++t)
-    if (t % P == c) ts.push_back(t);
-  const auto m = static_cast<Eigen::Index>(ts.size());
-  if (m < 16) return Position::kFree;
-  Eigen::MatrixXd X(m, 4);
-  Eigen::VectorXd y(m);
-  std::int64_t copies = 0;
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const std::int64_t t = ts[static_cast<std::size_t>(i)];
-    X.row(i) << x[t - 2], x[t - 1], x[t + 1], x[t + 2];
-    y(i) = x[t];
+  // The samples t in [b + 2, e - 2) with t = c mod P, regressed on their four nearest
+  // neighbours with an intercept (both sides centred): the 4x4 normal equations.
+  const std::int64_t t0 = b + 2;
+  const std::int64_t first = t0 + ((c - t0 % P) % P + P) % P;
+  using Row = Eigen::Matrix<double, 4, 1>;
+  const auto row = [x](std::int64_t t) { return Row(x[t - 2], x[t - 1], x[t + 1], x[t + 2]); };
+  std::int64_t m = 0, copies = 0;
+  Row mean = Row::Zero();
+  double y_mean = 0.0;
+  for (std::int64_t t = first; t + 2 < e; t += P, ++m) {
+    mean += row(t);
+    y_mean += x[t];
     copies += x[t] == x[t - 1] || x[t] == x[t + 1];
   }
+  if (m < 16) return Position::kFree;
   if (share(copies, m) >= kHeldPositionShare) return Position::kHeld;
-  const Eigen::RowVectorXd mean = X.colwise().mean();
-  X.rowwise() -= mean;
-  y.array() -= y.mean();
-  const Eigen::VectorXd beta = X.colPivHouseholderQr().solve(y);
-  const double resid = (y - X * beta).squaredNorm() / static_cast<double>(m);
+  mean /= static_cast<double>(m);
+  y_mean /= static_cast<double>(m);
+  Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+  Row v = Row::Zero();
+  double yy = 0.0;
+  for (std::int64_t t = first; t + 2 < e; t += P) {
+    const Row r = row(t) - mean;
+    const double y = x[t] - y_mean;
+    A.noalias() += r * r.transpose();
+    v += r * y;
+    yy += y * y;
+  }
+  // The residual y'y - v'beta of the centred sums: exact to about 1e-16 y'y, far below the
+  // kExactResidual (1e-6) of the steps' variance that an exact relation must reach.
+  const Row beta = A.colPivHouseholderQr().solve(v);
+  const double resid = std::max(0.0, yy - v.dot(beta)) / static_cast<double>(m);
   const double rounding = quantum * quantum / 12.0 * (1.0 + beta.squaredNorm());
   return resid <= kExactResidual * step_var + kRoundingAllowance * rounding ? Position::kExact : Position::kFree;
 }
@@ -301,7 +326,8 @@ bool float32_values(const double* x, std::int64_t n) {
   return true;
 }
 
-void find_interpolated(const double* x, std::int64_t n, const Quantization& q, RepeatedSamples& r) {
+void find_interpolated(Series sample, Series record, const Quantization& q, RepeatedSamples& r) {
+  const auto [x, n] = sample;
   const double quantum = q.detected ? q.quantum : 0.0;
   const double held_bound = r.samples_per_measurement;
   if (quantum == 0.0 || second_difference_sd(x, n) >= kMinQuantaForCollinear * quantum) {
@@ -310,8 +336,8 @@ void find_interpolated(const double* x, std::int64_t n, const Quantization& q, R
     if (s >= RepeatedSamples::kMinRepeatedShare) {
       r.interpolated_share = s;
       r.period = 1;
-      std::tie(r.first, r.last) =
-          where(n, [&](std::int64_t b, std::int64_t e) { return collinear_share(x, b, e, quantum, relative); });
+      std::tie(r.first, r.last) = where(
+          record.n, [&](std::int64_t b, std::int64_t e) { return collinear_share(record.x, b, e, quantum, relative); });
       r.samples_per_measurement =
           std::max(held_bound, std::min(kMaxSamplesPerMeasurement, 2.0 / std::max(1e-12, 1.0 - s)));
     }
@@ -320,7 +346,7 @@ void find_interpolated(const double* x, std::int64_t n, const Quantization& q, R
   // keep their positions in the pattern. Without such positions the zero steps are the
   // interpolation's (said in zero_step_share, not claimed as held). A slow measurement with
   // no period (three on a line) cannot tell the two apart: both are said.
-  if (!find_periodic(x, n, quantum, held_bound, r) && r.held()) {
+  if (!find_periodic(record.x, record.n, quantum, held_bound, r) && r.held()) {
     r.held_share = 0.0;
     r.samples_per_measurement = static_cast<double>(r.period);
   }
@@ -372,13 +398,24 @@ double repetition_wv_shortfall(int p, std::int64_t tau, bool interpolated) {
   return 1.0 - total / p / ideal;
 }
 
-RepeatedSamples detect_repeated_samples(const double* x, std::int64_t n, const Quantization& q) {
+RepeatedSamples detect_repeated_samples(const double* x, std::int64_t n) {
   RepeatedSamples r;
   if (n < 4) return r;
-  find_held(x, n, q, r);
+  std::vector<double> gathered;
+  if (n > kSampledBlocks * kBlockSamples) {
+    gathered.reserve(static_cast<std::size_t>(kSampledBlocks * kBlockSamples));
+    for (std::int64_t k = 0; k < kSampledBlocks; ++k) {
+      const std::int64_t b = k * (n - kBlockSamples) / (kSampledBlocks - 1);
+      gathered.insert(gathered.end(), x + b, x + b + kBlockSamples);
+    }
+  }
+  const Series record{x, n};
+  const Series sample = gathered.empty() ? record : Series{gathered.data(), static_cast<std::int64_t>(gathered.size())};
+  const Quantization q = detect_quantization(sample.x, sample.n);
+  find_held(sample, record, q, r);
   if (r.held()) r.samples_per_measurement = 1.0 / std::max(1.0 / kMaxSamplesPerMeasurement, 1.0 - r.held_share);
   const RepeatedSamples held = r;
-  find_interpolated(x, n, q, r);
+  find_interpolated(sample, record, q, r);
   if (held.held() && r.interpolated()) {  // both: where spans the two
     r.first = std::min(r.first, held.first);
     r.last = std::max(r.last, held.last);

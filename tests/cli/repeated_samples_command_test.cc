@@ -86,7 +86,8 @@ TEST_F(RepeatedSamplesCommand, TheTerminalAndTheJsonSayWhichColumnsRepeatWhereAn
   const json& rep = doc.at("repeated_samples");
   ASSERT_EQ(rep.size(), 2u) << rep.dump();
   EXPECT_EQ(rep[0].at("column"), "accel_x");
-  EXPECT_NEAR(rep[0].at("held_share").get<double>(), 0.5, 1e-4);
+  // Read from 16 blocks of 2048 samples end to end: a join in 2048 steps may be either kind.
+  EXPECT_NEAR(rep[0].at("held_share").get<double>(), 0.5, 1e-3);
   EXPECT_EQ(rep[0].at("interpolated_share").get<double>(), 0.0);
   EXPECT_EQ(rep[0].at("first_clean_level"), 5);
   // At the stamps' rate (400 Hz to the 12 digits they are printed with).

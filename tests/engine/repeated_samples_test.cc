@@ -49,8 +49,7 @@ std::vector<double> on_faster_stamps(const std::vector<double>& a, double per, d
 }
 
 RepeatedSamples detect(const std::vector<double>& y) {
-  return detect_repeated_samples(y.data(), static_cast<std::int64_t>(y.size()),
-                                 detect_quantization(y.data(), static_cast<std::int64_t>(y.size())));
+  return detect_repeated_samples(y.data(), static_cast<std::int64_t>(y.size()));
 }
 
 // The 50 cases: seed, phase, and rounding (none, or a quantum of 1/1.5 of the step noise).

@@ -8,7 +8,6 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/number_text.h"
 #include "gmwm/engine/parallel.h"
-#include "gmwm/engine/quantization.h"
 #include "gmwm/engine/repeated_samples.h"
 #include "gmwm/engine/samples.h"
 #include "gmwm/io/stamp_timing.h"
@@ -112,7 +111,7 @@ void find_repeated_samples(SignalSet& set) {
   gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
     Signal& s = set.signals[k];
     const auto n = static_cast<std::int64_t>(s.values.size());
-    s.repeated = detect_repeated_samples(s.values.data(), n, detect_quantization(s.values.data(), n));
+    s.repeated = detect_repeated_samples(s.values.data(), n);
   });
 }
 

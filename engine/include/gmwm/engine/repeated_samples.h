@@ -50,23 +50,26 @@ struct RepeatedSamples {
   /// biases by less than kAffectedWvBias; 1 when nothing was found.
   int first_clean_level = 1;
 
-  bool held() const { return held_share >= kMinRepeatedShare; }
+  bool held() const { return held_share >= kMinRepeatedShare + kRoundingModelError * expected_zero_step_share; }
   bool interpolated() const { return interpolated_share >= kMinRepeatedShare; }
   bool detected() const { return held() || interpolated(); }
 
-  /// A share claimed only from 5% of the samples: the rounding model's P_0 is within 0.02 of
-  /// the observed zero steps on every axis of the three ADIS16405 units, whose accelerometer
-  /// noise is about one quantum (0.25-0.37 of their steps are zero, 0.019 beyond P_0 at
-  /// most: RepeatedSamplesReading.NoColumnOfTheShippedRecordingsIsHeldOrInterpolated).
+  /// A share claimed only from 5% of the samples, and held samples only beyond the rounding
+  /// model's error besides: kRoundingModelError of the zero steps it explains. On the three
+  /// ADIS16405 units, whose accelerometer noise is about one quantum (0.25-0.37 of their steps
+  /// are zero), the observed zero steps exceed P_0 by up to 0.032, 0.093 of P_0; 0.25 leaves
+  /// 2.7x (RepeatedSamplesReading.NoColumnOfTheShippedRecordingsIsHeldOrInterpolated).
   static constexpr double kMinRepeatedShare = 0.05;
+  static constexpr double kRoundingModelError = 0.25;
   /// The fine scales are "affected" while white noise's WV departs by more than 5% (2.5% of
   /// a deviation) from the measured one's.
   static constexpr double kAffectedWvBias = 0.05;
 };
 
-/// Held and interpolated samples in x (n values, in time order), read against the
-/// quantization q of the same values (detect_quantization).
-RepeatedSamples detect_repeated_samples(const double* x, std::int64_t n, const Quantization& q);
+/// Held and interpolated samples in x (n values, in time order), read against the values'
+/// own rounding (detect_quantization). The shares come from 16 blocks of 2048 samples spread
+/// over a longer record, where they are from the record.
+RepeatedSamples detect_repeated_samples(const double* x, std::int64_t n);
 
 /// The relative shortfall 1 - nu_held^2 / nu^2 of the Haar WV at scale tau (samples) of
 /// white noise held (interpolated = false) or linearly interpolated p-fold (p >= 1, whole),
