@@ -44,6 +44,7 @@
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/report/fleet_output.h"
 #include "gmwm/pipeline/fit_study.h"
+#include "gmwm/pipeline/first_level.h"
 #include "gmwm/pipeline/replicate_study.h"
 #include "gmwm/io/export.h"
 #include "gmwm/report/export_output.h"
@@ -131,13 +132,32 @@ std::string py_allan(const py::object& data, std::optional<double> given_freq, i
   return to_python(out);
 }
 
+// max_evaluations='s default, the fit's.
+const int kMaxEvaluations = gmwm::FitOptions{}.max_evaluations;
+
+// first_level= as the CLI's --first-level: 'auto' or a whole number 1..62 (a Python int or
+// its digits); InputError naming the argument otherwise.
+int first_level_argument(const py::object& value) {
+  std::string text;
+  if (py::isinstance<py::str>(value))
+    text = value.cast<std::string>();
+  else if (!py::isinstance<py::bool_>(value) && py::hasattr(value, "__index__"))  // int, numpy integer
+    text = py::str(py::module_::import("operator").attr("index")(value)).cast<std::string>();
+  const std::optional<int> level = text.empty() ? std::nullopt : gmwm::pipeline::parse_first_level(text);
+  if (!level)
+    throw gmwm::InputError("first_level: found " + py::repr(value).cast<std::string>() + ", expected " +
+                           gmwm::pipeline::kFirstLevelExpected);
+  return *level;
+}
+
 // The fit study (gmwm::pipeline::study_fit, as `gmwm fit`): the 'fit' JSON column with its
 // continuous parameters, Kalman terms, Allan deviations and noise figures.
 std::string py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,
                    const std::string& omega, double alpha, int replicates, std::uint64_t seed, const std::string& name,
                    bool robust, std::optional<double> eff, const std::optional<std::string>& estimator,
                    bool spike_screen, const std::string& units, int levels, int max_evaluations,
-                   std::optional<double> kf_rate) {
+                   std::optional<double> kf_rate, const py::object& first_level) {
+  const int first = first_level_argument(first_level);
   const gmwm::io::SignalSet set = signal_set_of({series_of(data, "data")}, {name}, freq);
   const std::string unit = gmwm::io::unit_of_column(gmwm::io::parse_units_spec(units), name);
   const double filter = kalman_rate(kf_rate, set);
@@ -150,6 +170,7 @@ std::string py_fit(const py::object& data, const std::string& model_spec, std::o
   o.fit.max_evaluations = max_evaluations;
   o.wv = wv_levels(alpha, levels, set);
   o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
+  o.first_level = first;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   gmwm::parse_model(model_spec, gmwm::ProcessContext{set.freq, set.freq_known});  // a bad model: InputError, GIL held
   const Json out = run_cancellable([&](const std::function<void(int, int)>& progress) {
@@ -170,7 +191,8 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
                       double alpha, std::uint64_t seed, const std::vector<std::string>& names, bool robust,
                       std::optional<double> eff, const std::optional<std::string>& estimator, bool spike_screen,
                       const std::string& units_spec, const std::string& models, int levels, int max_evaluations,
-                      std::optional<double> kf_rate) {
+                      std::optional<double> kf_rate, const py::object& first_level) {
+  const int first = first_level_argument(first_level);
   std::vector<std::string> found;
   std::vector<std::vector<double>> cols = columns_of(data, &found);
   const std::vector<std::string> labels = names_for(cols.size(), names, found);
@@ -202,6 +224,7 @@ std::string py_select(const py::object& data, const std::string& model_spec, std
   so.fit.max_evaluations = max_evaluations;
   o.wv = wv_levels(alpha, levels, set);
   o.robust = robust_options(robust, eff, estimator, alpha, levels, spike_screen);
+  o.first_level = first;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   for (const gmwm::ModelSpec& listed : o.models)  // a bad model: InputError, GIL held
     listed.bind(gmwm::ProcessContext{set.freq, set.freq_known});
@@ -447,21 +470,23 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("replicates") = gmwm::FitOptions{}.bootstrap_replicates, py::arg("seed") = gmwm::kDefaultSeed,
         py::arg("name") = "x1", py::arg("robust") = false, py::arg("eff") = py::none(),
         py::arg("estimator") = py::none(), py::arg("spike_screen") = true, py::arg("units") = "", py::arg("levels") = 0,
-        py::arg("max_evaluations") = gmwm::FitOptions{}.max_evaluations, py::arg("kf_rate") = py::none(),
+        py::arg("max_evaluations") = kMaxEvaluations, py::arg("kf_rate") = py::none(), py::arg("first_level") = 1,
         "GMWM fit of a model (e.g. 'AR1+WN+RW') with inference, to the classical or robust WV: the 'fit' JSON column "
         "(with continuous parameters, Kalman terms, Allan deviations and noise figures in the column's unit; `units` "
-        "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`)");
+        "as the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with the kind from `name`; `first_level` as the CLI's "
+        "--first-level: the first level fitted, or 'auto' above the scales held or interpolated samples smooth)");
   m.def("select", &py_select, py::arg("data"), py::arg("model") = "", py::kw_only(), py::arg("freq") = py::none(),
         py::arg("optimism") = "analytic", py::arg("omega") = "model", py::arg("penalty") = "wvic",
         py::arg("replicates") = gmwm::selection::SelectOptions{}.bootstrap_replicates, py::arg("alpha") = 0.05,
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("names") = std::vector<std::string>{}, py::arg("robust") = false,
         py::arg("eff") = py::none(), py::arg("estimator") = py::none(), py::arg("spike_screen") = true,
         py::arg("units") = "", py::arg("models") = "", py::arg("levels") = 0,
-        py::arg("max_evaluations") = gmwm::FitOptions{}.max_evaluations, py::arg("kf_rate") = py::none(),
+        py::arg("max_evaluations") = kMaxEvaluations, py::arg("kf_rate") = py::none(), py::arg("first_level") = 1,
         "Every sub-model of a maximal model (or, models='SPEC1;SPEC2;...', the listed models) ranked by WVIC (or "
         "BIC), per column: a list of 'select' JSON columns "
         "(with the best fit's continuous parameters, Kalman terms, Allan deviations and noise figures; `units` as "
-        "the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with each column's kind from its name)");
+        "the CLI's --units: 'deg/s' or 'gyro=deg/s,accel=g' with each column's kind from its name; `first_level` as "
+        "the CLI's --first-level)");
   m.def("allan", &py_allan, py::arg("data"), py::kw_only(), py::arg("freq") = py::none(),
         py::arg("points_per_octave") = gmwm::AllanOptions{}.points_per_octave, py::arg("alpha") = 0.05,
         py::arg("units") = "", py::arg("name") = "x1",

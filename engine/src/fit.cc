@@ -449,7 +449,7 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
   for (int j = 0; j < wv.levels(); ++j)
     if (!std::isfinite(wv.wv[static_cast<std::size_t>(j)]))
       throw InputError(
-          "fit: the wavelet variance at level " + std::to_string(j + 1) + " is undefined (" +
+          "fit: the wavelet variance at level " + std::to_string(first_level(wv) + j) + " is undefined (" +
           (wv.notes[static_cast<std::size_t>(j)].empty() ? "no value" : wv.notes[static_cast<std::size_t>(j)]) + ")");
 
   Problem P;
@@ -503,10 +503,10 @@ FitResult fit_gmwm(const WaveletVariance& wv, const Model& model_in, const FitOp
       // A robust WV's variance is the Gaussian one inflated by 1/efficiency (spec s.2).
       v_for_omega = model_wv_covariance(model_in, pilot, wv) / wv.efficiency.value_or(1.0);
     } else {
-      ClassicalWvEstimator classical;
-      const WvEstimator& est = options.estimator ? *options.estimator : classical;
+      ClassicalWvEstimator classical;  // below: a WV drop_fine_levels cut simulates its own levels
+      const FromLevelEstimator from_level(options.estimator ? *options.estimator : classical, first_level(wv));
       v_for_omega = bootstrap_wv_covariance(model_in, pilot, wv.n, wv.levels(), options.bootstrap_replicates,
-                                            options.seed, est, wv.alpha, options.progress);
+                                            options.seed, from_level, wv.alpha, options.progress);
     }
     if (options.omega == OmegaKind::kModel) {
       // diag(1 / V_jj); a level whose V_jj is not positive and finite keeps the data's weight.

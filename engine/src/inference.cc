@@ -206,7 +206,7 @@ void run_inference(const WaveletVariance& wv, const FitOptions& options, bool om
   r.misfits.clear();
   for (int j = 0; j < J; ++j) {
     LevelMisfit m;
-    m.level = j + 1;
+    m.level = first_level(wv) + j;
     m.tau = wv.tau[static_cast<std::size_t>(j)];
     m.ratio = wv.wv[static_cast<std::size_t>(j)] / nu(j);
     const double sd = std::sqrt(Vp(j, j));

@@ -352,12 +352,17 @@ void find_interpolated(Series sample, Series record, const Quantization& q, Repe
   }
 }
 
-int first_clean_level(double samples_per_measurement, bool interpolated) {
-  // A share read from the data puts p = 2 at 1.93-2.07: within kWholeSlack of a whole p it
-  // is that p, otherwise the next one up (the bias grows with p).
+// The whole repetition p a share read from the data stands for: a share puts p = 2 at
+// 1.93-2.07; within kWholeSlack of a whole p it is that p, otherwise the next one up (the
+// bias grows with p).
+int whole_repetition(double samples_per_measurement) {
   const double nearest = std::round(samples_per_measurement);
-  const int p = static_cast<int>(
+  return static_cast<int>(
       std::abs(samples_per_measurement - nearest) <= kWholeSlack ? nearest : std::ceil(samples_per_measurement));
+}
+
+int first_clean_level(double samples_per_measurement, bool interpolated) {
+  const int p = whole_repetition(samples_per_measurement);
   if (p <= 1) return 1;
   int level = 1;
   while (level < 30 &&
@@ -450,6 +455,20 @@ std::string repeated_samples_text(const RepeatedSamples& r, const std::string& n
   if (r.first_clean_level > 2) os << " (levels 1-" << r.first_clean_level - 1 << ")";
   os << ": read N above it";
   return os.str();
+}
+
+int first_fit_level(const RepeatedSamples& r, const WaveletVariance& wv) {
+  if (!r.detected()) return 1;
+  const int p = whole_repetition(r.samples_per_measurement);
+  const int first = first_level(wv), last = first + wv.levels() - 1;
+  if (p <= 1 || wv.eta.size() != wv.tau.size()) return std::max(r.first_clean_level, first);
+  for (int level = std::max(r.first_clean_level, first); level <= last; ++level) {
+    const auto j = static_cast<std::size_t>(level - first);
+    const double se = std::sqrt(2.0 / wv.eta[j]);
+    const double bias = repetition_wv_shortfall(p, static_cast<std::int64_t>(wv.tau[j]), r.interpolated());
+    if (std::abs(bias) <= RepeatedSamples::kFitBiasOfStandardError * se) return level;
+  }
+  return last;
 }
 
 }  // namespace gmwm

@@ -203,12 +203,21 @@ bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::Mat
 
 namespace {
 
+// The WV's range of log2 scales, [first level, last level] (a WV drop_fine_levels cut
+// starts above 1).
+std::pair<double, double> log_scale_range(const WaveletVariance& wv) {
+  const auto first = static_cast<double>(first_level(wv));
+  return {first, first + std::max(wv.levels(), 1) - 1.0};
+}
+
 // Log-spaced scale grid over the WV's range (the placement positions).
-std::vector<double> placement_grid(int J) {
+std::vector<double> placement_grid(const WaveletVariance& wv) {
+  const int J = wv.levels();
+  const auto [lo, hi] = log_scale_range(wv);
   const int G = std::min(kGridPositions, std::max(J, 1));
   std::vector<double> grid(static_cast<std::size_t>(G));
   for (int g = 0; g < G; ++g)
-    grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? 1.0 + (J - 1.0) * g / (G - 1.0) : 1.0);
+    grid[static_cast<std::size_t>(g)] = std::exp2(G > 1 ? lo + (hi - lo) * g / (G - 1.0) : lo);
   return grid;
 }
 
@@ -261,7 +270,6 @@ std::vector<double> positive_target(const WaveletVariance& wv) {
 
 std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const Model& model,
                                               const Eigen::MatrixXd& omega, int count) {
-  const int J = wv.levels();
   const int C = model.num_components();
   const std::vector<double> target = positive_target(wv);
   std::vector<Placement> place(static_cast<std::size_t>(C));
@@ -271,7 +279,8 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
     if (place[static_cast<std::size_t>(c)] == Placement::kSpread) spread.push_back(c);
   }
   const int k = static_cast<int>(spread.size());
-  const std::vector<double> grid = placement_grid(J);
+  const std::vector<double> grid = placement_grid(wv);
+  const auto [lo, hi] = log_scale_range(wv);
   const int G = static_cast<int>(grid.size());
 
   std::vector<Scored> scored;
@@ -296,7 +305,7 @@ std::vector<Eigen::VectorXd> candidate_starts(const WaveletVariance& wv, const M
     for (int c = 0; c < C; ++c) {
       double spread_hint = wv.tau.front();
       if (place[static_cast<std::size_t>(c)] == Placement::kSpread) {
-        spread_hint = comb.empty() ? std::exp2(1.0 + (J - 1.0) * (si + 0.5) / k)
+        spread_hint = comb.empty() ? std::exp2(lo + (hi - lo) * (si + 0.5) / k)
                                    : grid[static_cast<std::size_t>(comb[static_cast<std::size_t>(si)])];
         ++si;
       }
@@ -339,7 +348,7 @@ std::vector<int> collapsed_components(const WaveletVariance& wv, const Model& mo
 std::vector<Eigen::VectorXd> revival_starts(const WaveletVariance& wv, const Model& model, const Eigen::VectorXd& theta,
                                             const Eigen::MatrixXd& omega, int count) {
   const std::vector<double> target = positive_target(wv);
-  const std::vector<double> grid = placement_grid(wv.levels());
+  const std::vector<double> grid = placement_grid(wv);
   std::vector<Scored> scored;
   for (int c : collapsed_components(wv, model, theta)) {
     const Placement pl = placement_of(*model.components()[static_cast<std::size_t>(c)].process);

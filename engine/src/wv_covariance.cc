@@ -345,11 +345,14 @@ Sums sum_smooth(const F& f, std::int64_t u, std::int64_t v, double max_step) {
 
 }  // namespace
 
-Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels) {
+// Cov(nuhat) of levels first..first + levels - 1 (tau = 2^first samples first).
+static Eigen::MatrixXd covariance_of_levels(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int first,
+                                            int levels) {
   check_at_least("model_wv_covariance", "n", static_cast<double>(n), 2.0);
   check_at_least("model_wv_covariance", "levels", levels, 1.0);
+  check_at_least("model_wv_covariance", "first level", first, 1.0);
   std::vector<Level> lv;
-  for (int j = 1; j <= levels; ++j) {
+  for (int j = first; j < first + levels; ++j) {
     const std::int64_t tau = std::int64_t{1} << j;
     check_at_least("model_wv_covariance", "coefficients at the last level", static_cast<double>(n - tau + 1), 1.0);
     lv.push_back({tau, tau / 2, n - tau + 1});
@@ -507,6 +510,10 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   return V;
 }
 
+Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels) {
+  return covariance_of_levels(model, theta, n, 1, levels);
+}
+
 Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels,
                                         int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
                                         const std::function<void(int, int)>& progress) {
@@ -526,14 +533,15 @@ Eigen::MatrixXd bootstrap_wv_covariance(const Model& model, const Eigen::VectorX
 }
 
 Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, const WaveletVariance& wv) {
-  Eigen::MatrixXd v = model_wv_covariance(model, theta, wv.n, wv.levels());
+  // A WV that drop_fine_levels cut starts above level 1: its block of the covariance.
+  Eigen::MatrixXd v = covariance_of_levels(model, theta, wv.n, first_level(wv), wv.levels());
   const auto J = static_cast<Eigen::Index>(wv.levels());
   if (static_cast<Eigen::Index>(wv.coefficients.size()) != J) return v;
   // The share of each level's windows that are complete (1 without gaps).
   Eigen::VectorXd kept(J);
   bool gaps = false;
   for (Eigen::Index j = 0; j < J; ++j) {
-    const double all = static_cast<double>(wv.n) - std::exp2(static_cast<double>(j + 1)) + 1.0;
+    const double all = static_cast<double>(wv.n) - wv.tau[static_cast<std::size_t>(j)] + 1.0;
     const double complete = static_cast<double>(wv.coefficients[static_cast<std::size_t>(j)]);
     kept(j) = all > 0.0 && complete > 0.0 ? std::min(complete / all, 1.0) : 1.0;
     gaps = gaps || kept(j) < 1.0;

@@ -3,6 +3,7 @@
 #include "gmwm/engine/parallel.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "column_wvs.h"
+#include "first_level.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -26,6 +27,7 @@ std::string FitStudyOptions::Validate() const {
   if (model.empty()) return "the model is empty";
   if (fit.estimator) return "leave FitOptions::estimator null: the study sets it";
   if (std::string why = fit.Validate(); !why.empty()) return why;
+  if (std::string why = first_level_problem(first_level); !why.empty()) return why;
   return wv.Validate();
 }
 
@@ -79,9 +81,15 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
     estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
     fo.estimator = estimator.get();
   }
+  // Each column's fitted levels: every level, or those above the smoothed scales.
+  const std::vector<detail::FittedLevels> levels = detail::fitted_levels(set, wvs, study.model, options.first_level);
+  const std::vector<WaveletVariance> fitted = detail::fitted_wvs(wvs, levels);
   const auto fit_start = std::chrono::steady_clock::now();
   std::vector<FitResult> fits(wvs.size());
-  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) { fits[k] = fit_gmwm(wvs[k], study.model, fo); });
+  gmwm::parallel_for(std::size_t{0}, wvs.size(), [&](std::size_t k) {
+    fits[k] = fit_gmwm(fitted[k], study.model, fo);
+    detail::restore_levels(fits[k], wvs[k], levels[k]);
+  });
   // A drift's sign is not in the WV: the series' own slope gives it.
   for (std::size_t k = 0; k < fits.size(); ++k)
     if (has_sign_from_series(fits[k])) orient_by_series(fits[k], set.signals[k].values);
@@ -92,7 +100,8 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   std::vector<std::optional<FigureReport>> figures = noise_figures_of(set, ptrs, wvs, curves.allan, options.fit.alpha);
   for (std::size_t k = 0; k < fits.size(); ++k)
     study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(fits[k]), std::move(figures[k]),
-                             k < curves.classical.size() ? std::optional(curves.classical[k]) : std::nullopt});
+                             k < curves.classical.size() ? std::optional(curves.classical[k]) : std::nullopt,
+                             levels[k].first, levels[k].reason});
   return study;
 }
 

@@ -3,6 +3,7 @@
 // noise figures.
 #include "gmwm/pipeline/select_study.h"
 #include "column_wvs.h"
+#include "first_level.h"
 #include "usable_wv.h"
 
 #include <chrono>
@@ -54,6 +55,7 @@ std::string SelectStudyOptions::Validate() const {
     if (m.text().find_first_not_of(" \t") == std::string::npos) return "an empty model";
   if (select.estimator) return "leave SelectOptions::estimator null: the study sets it";
   if (std::string why = select.Validate(); !why.empty()) return why;
+  if (std::string why = first_level_problem(first_level); !why.empty()) return why;
   return wv.Validate();
 }
 
@@ -106,9 +108,13 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
     estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
     so.estimator = estimator.get();
   }
+  // Each column's fitted levels: every level, or those above the smoothed scales.
+  const std::vector<detail::FittedLevels> levels = detail::fitted_levels(set, wvs, maximal, options.first_level);
+  const std::vector<WaveletVariance> fitted = detail::fitted_wvs(wvs, levels);
   const auto select_start = std::chrono::steady_clock::now();
   std::vector<selection::Selection> result =
-      !study.listed ? selection::select_models(wvs, maximal, so) : selection::select_among(wvs, models, so);
+      !study.listed ? selection::select_models(fitted, maximal, so) : selection::select_among(fitted, models, so);
+  for (std::size_t k = 0; k < result.size(); ++k) detail::restore_levels(result[k].best_fit, wvs[k], levels[k]);
   // A drift's sign is not in the WV: the series' own slope gives it.
   for (std::size_t k = 0; k < result.size(); ++k)
     if (has_sign_from_series(result[k].best_fit)) orient_by_series(result[k].best_fit, set.signals[k].values);
@@ -120,7 +126,8 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
       noise_figures_of(set, best, wvs, curves.allan, options.select.fit.alpha);
   for (std::size_t k = 0; k < result.size(); ++k)
     study.columns.push_back({set.signals[k].name, std::move(wvs[k]), std::move(result[k]), std::move(figures[k]),
-                             k < curves.classical.size() ? std::optional(curves.classical[k]) : std::nullopt});
+                             k < curves.classical.size() ? std::optional(curves.classical[k]) : std::nullopt,
+                             levels[k].first, levels[k].reason});
   return study;
 }
 

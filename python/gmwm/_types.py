@@ -400,8 +400,9 @@ class AllanResult(AllanResultMethods, JsonResult):
 class FitResult(FitResultMethods, JsonResult):
     """A GMWM fit of one column (gmwm.fit; a column of `gmwm fit --json`): `model` with its
     values, `parameters` (`f.parameter("sigma2", "WN")`), `gof`, `status`, the data's WV
-    (`levels`; `f.wv`, `f.tau`, ...) and the model's (`implied_wv`), the parameters in
-    physical units (`continuous`), `kalman`, `allan` and `noise_figures`."""
+    (`levels`; `f.wv`, `f.tau`, ...) and the model's (`implied_wv`, at every level), the parameters in
+    physical units (`continuous`), `kalman`, `allan` and `noise_figures`. The fit took the levels
+    from `first_level` on (`first_level=`; the finer ones shown, not fitted: `notes` says why)."""
 
     name: str
     n: int
@@ -429,6 +430,7 @@ class FitResult(FitResultMethods, JsonResult):
     noise_figures: NoiseFigures | None
     small_sample: str | None = None
     screening: dict[str, Any] | None = None
+    first_level: int = 1
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "FitResult":
@@ -459,7 +461,8 @@ class FitResult(FitResultMethods, JsonResult):
                    AllanDeviation.from_dict(d.get("allan")),
                    NoiseFigures.from_dict(d.get("noise_figures")),
                    d.get("small_sample"),
-                   d.get("screening"))
+                   d.get("screening"),
+                   int(d.get("first_level", 1)))
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -600,6 +603,7 @@ class SelectColumn(SelectColumnMethods, JsonResult):
     noise_figures: NoiseFigures | None
     small_sample: str | None = None
     screening: dict[str, Any] | None = None
+    first_level: int = 1
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "SelectColumn":
@@ -630,7 +634,8 @@ class SelectColumn(SelectColumnMethods, JsonResult):
                    None if best_fit is None else best_fit.allan,
                    None if best_fit is None else best_fit.noise_figures,
                    d.get("small_sample"),
-                   d.get("screening"))
+                   d.get("screening"),
+                   int(d.get("first_level", 1)))
 
 
 @dataclass(frozen=True, eq=False, repr=False)

@@ -69,3 +69,48 @@ def test_an_array_handed_to_a_function_is_read_for_them_too(realsense_csv):
     with warnings.catch_warnings():
         warnings.simplefilter("error", gmwm.RepeatedSamplesWarning)
         gmwm.wv(np.array(rec.column("gyro_x")), freq=RATE)  # nothing to say
+
+
+def test_fit_with_first_level_auto_is_the_commands_fit_above_the_smoothed_scales(realsense_csv):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", gmwm.RepeatedSamplesWarning)
+        rec = gmwm.read(realsense_csv)
+        every = gmwm.fit(rec["accel_x"], "WN+RW")
+        above = gmwm.fit(rec["accel_x"], "WN+RW", first_level="auto")
+    assert every.first_level == 1 and every.gof.p_value < 0.05
+    assert above.first_level >= 5 and above.gof.p_value > 0.05
+    assert above.notes[0].startswith(f"fitted from level {above.first_level} (tau = ")
+    assert len(above.implied_wv) == len(above.levels)
+    doc = json.loads(run(realsense_csv.parent, "fit", str(realsense_csv), "--columns", "accel_x", "--model", "WN+RW",
+                         "--first-level", "auto", "--json", "-").stdout)
+    col = doc["columns"][0]
+    assert col["first_level"] == above.first_level
+    assert col["gof"]["statistic"] == pytest.approx(above.gof.statistic, rel=1e-9)
+    # A level given as a number, a numpy integer or its digits is the same fit.
+    for given in (above.first_level, np.int64(above.first_level), str(above.first_level)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", gmwm.RepeatedSamplesWarning)
+            again = gmwm.fit(rec["accel_x"], "WN+RW", first_level=given)
+        assert again.gof.statistic == pytest.approx(above.gof.statistic, rel=1e-12)
+
+
+@pytest.mark.parametrize("bad, shown", [(0, "0"), (63, "63"), (True, "True"), ("x", "'x'"), (2.0, "2.0"),
+                                        (None, "None")])
+def test_fit_refuses_a_first_level_it_cannot_take_with_the_commands_words(bad, shown):
+    x = gmwm.simulate("WN(sigma2=1)", 1 << 12, freq=100, seed=4)
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.fit(x, "WN", first_level=bad)
+    assert str(e.value) == f"first_level: found {shown}, expected auto or a whole number from 1 to 62"
+
+
+def test_select_with_first_level_auto_is_the_commands(realsense_csv):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", gmwm.RepeatedSamplesWarning)
+        rec = gmwm.read(realsense_csv)
+        (col,) = gmwm.select(rec["accel_x"], "WN+RW", first_level="auto")
+    doc = json.loads(run(realsense_csv.parent, "select", str(realsense_csv), "--columns", "accel_x", "--model",
+                         "WN+RW", "--first-level", "auto", "--json", "-").stdout)
+    assert col.first_level == doc["columns"][0]["first_level"] >= 5
+    assert col.best == doc["columns"][0]["best"]
+    with pytest.raises(gmwm.InputError, match="first_level: found 'x', expected auto"):
+        gmwm.select(rec["accel_x"], "WN+RW", first_level="x")

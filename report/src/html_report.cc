@@ -113,8 +113,9 @@ std::string column_section(const ReportColumn& c, std::size_t k, Plots& plots) {
        << html_escape(detail::num(c.fit->gof.df)) << ", p-value " << html_escape(detail::num(c.fit->gof.p_value, 4))
        << ", status " << html_escape(gmwm::to_string(c.fit->status))
        << (c.fit->message.empty() ? "" : " (" + html_escape(c.fit->message) + ")") << "</p>\n";
-    os << detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
+    // Notes before the tables they qualify (the levels fitted, parameters left out).
     for (const auto& n : c.fit->notes) os << "<p class=\"facts\">note: " << html_escape(n) << "</p>\n";
+    os << detail::parameter_tables(*c.fit, c, "parameters of " + c.fit->model.to_string());
     os << quality_lines(*c.fit, c, false, "");
   }
   os << detail::replicate_tables(c);

@@ -39,7 +39,38 @@ struct LogLog {
   std::vector<Curve> curves;
   std::string reference_name;                    ///< empty: no reference band
   std::vector<std::array<double, 3>> reference;  ///< tau, low, high
+  /// Where a fit that left the finer levels out starts (axis units, between its first level
+  /// and the one below): the scales below are shaded "not fitted". NaN: every level fitted.
+  double fitted_from = std::numeric_limits<double>::quiet_NaN();
 };
+
+// A shade over the scales below `edge` (axis units) and its label "not fitted": the levels
+// a fit from a first level above 1 left out.
+Json not_fitted_marks(double edge_tau) {
+  const Json edge = {{"scale", "x"}, {"value", edge_tau}};
+  Json shade = {{"type", "rect"},
+                {"clip", true},
+                {"encode",
+                 {{"update",
+                   {{"x", {{"value", 0}}},
+                    {"x2", edge},
+                    {"y", {{"value", 0}}},
+                    {"y2", {{"signal", "height"}}},
+                    {"fill", {{"value", kReferenceColour}}},
+                    {"fillOpacity", {{"value", 0.18}}}}}}}};
+  Json label = {{"type", "text"},
+                {"clip", true},
+                {"encode",
+                 {{"update",
+                   {{"x", edge},
+                    {"dx", {{"value", -4}}},
+                    {"y", {{"value", 4}}},
+                    {"align", {{"value", "right"}}},
+                    {"baseline", {{"value", "top"}}},
+                    {"fill", {{"value", "#555"}}},
+                    {"text", {{"value", "not fitted"}}}}}}}};
+  return Json::array({std::move(shade), std::move(label)});
+}
 
 // log10 of the range of everything drawn, padded by 5% of its span on each side.
 std::array<double, 2> padded_log_range(std::vector<double> v) {
@@ -218,7 +249,7 @@ Json loglog_spec(const LogLog& p) {
                                 "format(datum.hi, '.3~e') : 'n/a')}";
   const std::string tip_curve = "{'series': datum.series, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), '" +
                                 p.value_name + "': format(datum.v, '.4~e')}";
-  Json marks = Json::array();
+  Json marks = std::isfinite(p.fitted_from) ? not_fitted_marks(p.fitted_from) : Json::array();  // under the rest
   if (!p.reference_name.empty()) {
     Json enc = xy("tau", "lo");
     enc["y2"] = {{"scale", "y"}, {"field", "hi"}};
@@ -315,6 +346,9 @@ Json wv_plot_spec(const ReportColumn& c) {
   if (const FitResult* f = shown_model(c); f && !c.wvs.empty()) {
     p.curves = model_curves(f->model, f->theta, model_tau(c), tau_scale(c),
                             (c.replicates ? "joint model " : "model ") + f->model.to_string(), true);
+    // A fit from a level above the first (--first-level): its start, half a level below.
+    if (!c.replicates && !f->misfits.empty() && f->misfits.front().level > 1)
+      p.fitted_from = tau_scale(c) * f->misfits.front().tau / std::sqrt(2.0);
     title += " and " +
              std::string(c.replicates  ? (c.replicates->selection ? "recommended joint model " : "joint model ")
                          : c.selection ? "chosen model "

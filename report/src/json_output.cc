@@ -425,6 +425,7 @@ json fit_document(const io::SignalSet& set, const pipeline::FitStudy& study, con
     const pipeline::FitColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);
     json col = fit_column_json(info, c.wv, c.fit, study.omega);
+    col["first_level"] = c.first_level;  // levels below it shown, not fitted (the notes say why)
     add_physical_fields(col, c.fit, info, filter_rate, c.figures, "continuous", "kalman");
     doc["columns"].push_back(std::move(col));
   }
@@ -448,6 +449,7 @@ json select_document(const io::SignalSet& set, const pipeline::SelectStudy& stud
     const pipeline::SelectColumnStudy& c = study.columns[k];
     const ColumnInfo info = study_column(set, k, c.name, units);
     json col = select_column_json(info, c.wv, c.selection, study.options.penalty);
+    col["first_level"] = c.first_level;  // levels below it shown, not fitted (the best fit's notes say why)
     add_physical_fields(col, c.selection.best_fit, info, filter_rate, c.figures, "best_continuous", "best_kalman");
     doc["columns"].push_back(std::move(col));
   }

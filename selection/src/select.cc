@@ -64,7 +64,8 @@ BootstrapResult bootstrap_optimism(const WaveletVariance& wv, const FitResult& f
   const int B = options.bootstrap_replicates;
   const Eigen::Index J = wv.levels();
   const ClassicalWvEstimator classical;
-  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
+  // A WV cut by drop_fine_levels (a fit above the smoothed scales): its own levels.
+  const FromLevelEstimator estimator(options.estimator ? *options.estimator : classical, first_level(wv));
   std::vector<Eigen::VectorXd> implied(static_cast<std::size_t>(B)), empirical(static_cast<std::size_t>(B));
   std::vector<char> ok(static_cast<std::size_t>(B), 0), converged(static_cast<std::size_t>(B), 0);
   gmwm::parallel_for(0, B, [&](int b) {

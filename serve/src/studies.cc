@@ -224,6 +224,16 @@ Jobs::Work wv_work(const RequestBody& body, StudyContext& c) {
   };
 }
 
+// "first_level": as --first-level, "auto" or a level given as a string or a whole number.
+static int first_level_field(const RequestBody& body) {
+  if (!body.has("first_level")) return 1;
+  const Json& v = body.json()["first_level"];
+  const std::string text = v.is_string() ? v.get<std::string>() : v.is_number_unsigned() ? v.dump() : std::string();
+  const std::optional<int> level = text.empty() ? std::nullopt : pipeline::parse_first_level(text);
+  if (!level) body.fail("first_level", "found " + v.dump() + ", expected " + pipeline::kFirstLevelExpected);
+  return *level;
+}
+
 Jobs::Work fit_work(const RequestBody& body, StudyContext& c) {
   ColumnInput in = column_input(body, c);
   pipeline::FitStudyOptions o;
@@ -237,6 +247,7 @@ Jobs::Work fit_work(const RequestBody& body, StudyContext& c) {
   o.fit.alpha = in.wv.alpha;
   o.fit.seed = c.options.seed;
   if (const auto r = body.whole("replicates", 1, kMaxReplicates)) o.fit.bootstrap_replicates = static_cast<int>(*r);
+  o.first_level = first_level_field(body);
   if (const std::string why = o.fit.Validate(); !why.empty()) throw HttpError(400, body.where() + ": " + why);
   const std::string model_text = body.text("model");
   return [in = std::move(in), o, model_text](JobContext& job) mutable {
@@ -276,6 +287,7 @@ Jobs::Work select_work(const RequestBody& body, StudyContext& c) {
   s.seed = c.options.seed;
   s.fit.alpha = in.wv.alpha;
   s.fit.seed = c.options.seed;
+  o.first_level = first_level_field(body);
   if (const std::string why = s.Validate(); !why.empty()) throw HttpError(400, body.where() + ": " + why);
   const std::string model_text = o.listed ? body.text("models") : body.text("model");
   return [in = std::move(in), o, model_text](JobContext& job) mutable {

@@ -343,6 +343,7 @@
     var body = baseBody();
     body.model = $('model').value.trim();
     body.omega = $('omega').value;
+    body.first_level = $('first-level').value;
     runJob('/api/fit', body, 'fit of ' + body.model, function (r) {
       setDocument(r.document, 'Exports the fit of ' + body.model + ' on ' + body.column + '.');
       document.querySelectorAll('#ranking tr.active').forEach(function (x) { x.classList.remove('active'); });
@@ -354,6 +355,7 @@
   function runSelect() {
     var body = baseBody();
     body.model = $('maximal').value.trim();
+    body.first_level = $('first-level').value;
     runJob('/api/select', body, 'selection over ' + body.model, function (r, job) {
       var best = r.document.columns[0].best;
       setDocument(r.document, 'Exports the selection\u2019s chosen model' + (best ? ' ' + best : '') + ' on ' +

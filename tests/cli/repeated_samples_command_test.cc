@@ -119,4 +119,86 @@ TEST_F(RepeatedSamplesCommand, ARecordWithoutRepeatsSaysNothingAndItsDocumentHas
   EXPECT_FALSE(read_json(dir_ / "wv.json").contains("repeated_samples"));
 }
 
+// --first-level auto fits each repeating column above the levels its repetition biases and
+// every level of the others: the fit of WN+RW on every level is rejected by its goodness of
+// fit (the smoothed fine scales), above them it is not, and its N (the model's, read on the
+// -1/2 slope) is within 5% of the measured white noise's, its interval covering it.
+TEST_F(RepeatedSamplesCommand, FirstLevelAutoFitsAboveTheSmoothedScalesAndTheFitIsNoLongerRejected) {
+  const auto all = run_gmwm({"fit", "realsense.csv", "--model", "WN+RW", "--json", "all.json"}, dir_);
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  const auto r = run_gmwm({"fit", "realsense.csv", "--model", "WN+RW", "--first-level", "auto", "--json", "auto.json",
+                           "--report", "auto.html"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json before = read_json(dir_ / "all.json"), after = read_json(dir_ / "auto.json");
+  const double truth = std::sqrt(kAccelSigma2 / kAccelRate);
+  EXPECT_EQ(after.at("columns").at(0).at("first_level"), 1);
+  EXPECT_EQ(before.at("columns").at(1).at("first_level"), 1);
+  for (int c : {1, 2}) {
+    const json& col = after.at("columns").at(c);
+    const std::string name = col.at("name");
+    EXPECT_LT(before.at("columns").at(c).at("gof").at("p_value").get<double>(), 0.05) << name;
+    EXPECT_GT(col.at("gof").at("p_value").get<double>(), 0.05) << name;
+    const int first = col.at("first_level");
+    EXPECT_GE(first, 5) << name;
+    // Every level is still shown, the model's WV beside it; the fit's degrees of freedom
+    // are those of the fitted levels.
+    EXPECT_EQ(col.at("implied_wv").size(), col.at("levels").size()) << name;
+    EXPECT_EQ(col.at("gof").at("df").get<double>(), static_cast<double>(col.at("levels").size()) - (first - 1) - 2)
+        << name;
+    EXPECT_EQ(
+        col.at("notes").at(0).get<std::string>().rfind("fitted from level " + std::to_string(first) + " (tau = ", 0),
+        0u)
+        << col.at("notes");
+    const json& n = col.at("noise_figures").at("white");
+    EXPECT_NEAR(n.at("value").get<double>() / truth, 1.0, 0.05) << name << " " << n.dump();
+    EXPECT_LE(n.at("low").get<double>(), truth) << name;
+    EXPECT_GE(n.at("high").get<double>(), truth) << name;
+    std::printf("[ first level ] %s: from level %d, GoF p %.3g (every level: %.3g), N / measured N = %.4f\n",
+                name.c_str(), first, col.at("gof").at("p_value").get<double>(),
+                before.at("columns").at(c).at("gof").at("p_value").get<double>(), n.at("value").get<double>() / truth);
+  }
+  EXPECT_NE(read_text(dir_ / "auto.html").find("shown, not fitted"), std::string::npos);
+}
+
+TEST_F(RepeatedSamplesCommand, AFirstLevelThatLeavesTooFewLevelsIsRefusedNamingTheColumnAndNothingIsWritten) {
+  const auto r =
+      run_gmwm({"fit", "realsense.csv", "--model", "WN+RW", "--first-level", "16", "--json", "fit.json"}, dir_);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err,
+            "gmwm: error: gyro_x: first level 16 leaves 1 of the WV's levels 1..16, fewer than the model's 2 "
+            "parameters: a lower first level or a smaller model\n");
+  EXPECT_FALSE(fs::exists(dir_ / "fit.json"));
+  const auto bad = run_gmwm({"fit", "realsense.csv", "--model", "WN+RW", "--first-level", "0"}, dir_);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--first-level: found '0', expected auto or a whole number from 1 to 62"), std::string::npos)
+      << bad.err;
+}
+
+// select --first-level auto ranks every sub-model on the same fitted levels as fit does, and
+// its chosen model's N is the measured white noise's.
+TEST_F(RepeatedSamplesCommand, SelectWithFirstLevelAutoRanksTheModelsOnTheLevelsFitTakes) {
+  const auto r = run_gmwm({"select", "realsense.csv", "--columns", "accel_x", "--model", "AR1+WN+RW", "--first-level",
+                           "auto", "--json", "select.json"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto f = run_gmwm({"fit", "realsense.csv", "--columns", "accel_x", "--model", "WN+RW", "--first-level", "auto",
+                           "--json", "fit.json"},
+                          dir_);
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  const json selected = read_json(dir_ / "select.json"), fitted = read_json(dir_ / "fit.json");
+  const json& col = selected.at("columns").at(0);
+  const json& fit = fitted.at("columns").at(0);
+  EXPECT_EQ(col.at("first_level"), fit.at("first_level"));
+  EXPECT_GE(col.at("first_level").get<int>(), 5);
+  const json& n = col.at("noise_figures").at("white");
+  EXPECT_NEAR(n.at("value").get<double>() / std::sqrt(kAccelSigma2 / kAccelRate), 1.0, 0.05) << n.dump();
+  EXPECT_GT(col.at("best_fit").at("gof").at("p_value").get<double>(), 0.05) << col.at("best_fit").dump();
+  const auto joint = run_gmwm(
+      {"select", "realsense.csv", "--model", "WN+RW", "--first-level", "auto", "--joint", "realsense.csv"}, dir_);
+  EXPECT_EQ(joint.exit_code, 2);
+  EXPECT_EQ(joint.err,
+            "gmwm: error: --joint with --first-level: the joint selection takes every level of each replicate\n");
+}
+
 }  // namespace

@@ -82,6 +82,28 @@ TEST_F(ServeAppTest, OpeningARecordSaysWhatReadingSaidOfItAsTheReportsHeaderDoes
   ASSERT_EQ(o.at("notes").size(), 1u) << o.dump();
   EXPECT_EQ(o.at("notes")[0].get<std::string>().rfind("accel_x: 50% of the samples copy the one before (held", 0), 0u)
       << o.dump();
+  // Its fit above the smoothed scales is the command's, "auto" or the level as a number.
+  const std::string d = o.at("dataset");
+  const OJson cli =
+      cli_document({"fit", "held.csv", "--columns", "accel_x", "--model", "WN", "--first-level", "auto"}, folder_);
+  const int first = cli.at("columns").at(0).at("first_level");
+  ASSERT_GT(first, 1) << cli.dump();
+  EXPECT_EQ(run_job("/api/fit", {{"dataset", d}, {"column", "accel_x"}, {"model", "WN"}, {"first_level", "auto"}})
+                .at("document"),
+            cli);
+  EXPECT_EQ(
+      run_job("/api/fit", {{"dataset", d}, {"column", "accel_x"}, {"model", "WN"}, {"first_level", first}})
+          .at("document"),
+      cli_document({"fit", "held.csv", "--columns", "accel_x", "--model", "WN", "--first-level", std::to_string(first)},
+                   folder_));
+  for (const OJson& bad : {OJson(0), OJson(63), OJson(2.5), OJson(true), OJson("x"), OJson(-1)}) {
+    const serve::HttpResponse r =
+        post("/api/fit", OJson{{"dataset", d}, {"column", "accel_x"}, {"model", "WN"}, {"first_level", bad}}.dump());
+    EXPECT_EQ(r.status, 400) << bad.dump();
+    EXPECT_EQ(error_of(r),
+              "/api/fit: field 'first_level': found " + bad.dump() + ", expected auto or a whole number from 1 to 62")
+        << bad.dump();
+  }
 }
 
 TEST_F(ServeAppTest, FitsAColumnAndAnswersTheCliDocumentAndTheReportsSection) {

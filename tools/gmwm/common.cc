@@ -15,6 +15,7 @@
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 
+#include "gmwm/pipeline/first_level.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/choice.h"
@@ -207,6 +208,25 @@ void add_robust_options(CLI::App& sub, RobustOptions& robust) {
   sub.add_flag("--no-spike-screen", robust.no_spike_screen,
                "Keep isolated spikes in the series (by default the robust WV replaces them first); needs --robust");
 }
+
+void add_fitting_options(CLI::App& sub, std::string& first_level, int& max_evaluations) {
+  add_max_evaluations_option(sub, max_evaluations);
+  sub.add_option("--first-level", first_level,
+                 "Fit the WV from this level on (tau = 2^L samples), the finer levels shown, not fitted: "
+                 "auto starts above the scales that held or interpolated samples bias (the warning's "
+                 "levels), 1 where a column's samples do not repeat")
+      ->type_name("L|auto")
+      ->check(CLI::Validator(
+          [](std::string& given) -> std::string {
+            return pipeline::parse_first_level(given)
+                       ? ""
+                       : "found '" + given + "', expected " + pipeline::kFirstLevelExpected;
+          },
+          "L|auto"))
+      ->capture_default_str();
+}
+
+int first_level_of(const std::string& text) { return pipeline::parse_first_level(text).value_or(1); }
 
 void add_max_evaluations_option(CLI::App& sub, int& max_evaluations) {
   sub.add_option("--max-evaluations", max_evaluations, "Objective evaluations per local optimisation before giving up")

@@ -122,6 +122,12 @@ void add_input_options(CLI::App& sub, InputOptions& input);
 void add_robust_options(CLI::App& sub, RobustOptions& robust);
 /// --max-evaluations N (fit and select).
 void add_max_evaluations_option(CLI::App& sub, int& max_evaluations);
+/// --first-level L|auto (fit, select: the first level fitted, checked by
+/// pipeline::parse_first_level; `first_level` keeps what was given, "1" by default) and
+/// --max-evaluations.
+void add_fitting_options(CLI::App& sub, std::string& first_level, int& max_evaluations);
+/// The level (or pipeline::kAutoFirstLevel) of a --first-level the option checked.
+int first_level_of(const std::string& text);
 
 /// The robust WV settings, or nullopt without --robust. Throws InputError (exit 2) for
 /// --eff outside (0, 1), an unknown --estimator, or any of them without --robust.

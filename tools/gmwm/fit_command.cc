@@ -29,6 +29,7 @@ struct FitArgs {
   int max_evaluations = FitOptions{}.max_evaluations;
   UnitsOptions units;
   std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
+  std::string first_level = "1";   ///< --first-level L|auto (pipeline::parse_first_level)
 };
 
 OmegaKind omega_kind(const std::string& s) { return parse_omega_kind(s).value_or(OmegaKind::kModel); }
@@ -109,6 +110,9 @@ pipeline::FitStudyOptions fit_study_options(const FitArgs& args, const CommonOpt
   declare_output(common, "--json", common.json);
   check_report_option(common);
   o.fit = fit_options(args, common);
+  o.first_level = first_level_of(args.first_level);
+  if (!args.joint.empty() && o.first_level != 1)
+    throw InputError("--joint with --first-level: the joint fit takes every level of each replicate");
   if (!args.joint.empty() && o.fit.omega == OmegaKind::kBootstrap)
     throw InputError(
         "--joint with --omega bootstrap: the joint fit takes --omega model (or diag, the same there) or full");
@@ -179,7 +183,7 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
                   "replicate of INPUT's single selected column")
       ->type_name("FILE[:COLUMN] ...")
       ->expected(1, -1);
-  add_max_evaluations_option(*sub, args->max_evaluations);
+  add_fitting_options(*sub, args->first_level, args->max_evaluations);
   add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);

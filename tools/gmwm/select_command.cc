@@ -43,6 +43,7 @@ struct SelectArgs {
   int max_evaluations = FitOptions{}.max_evaluations;
   UnitsOptions units;
   std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
+  std::string first_level = "1";   ///< --first-level L|auto
 };
 
 // Selection over replicates: per axis, every sub-model of the maximal model ranked by its
@@ -149,16 +150,26 @@ selection::SelectOptions select_options(const SelectArgs& args, const CommonOpti
   return options;
 }
 
-int run_select(const SelectArgs& args, const CommonOptions& common) {
-  Stopwatch total;
-  auto threads = apply_common_options(common);
-  pipeline::SelectStudyOptions study_options;
-  study_options.wv = wv_options(args.input);
-  study_options.robust = robust_wv_options(args.robust, study_options.wv);
+// Parse: the study's options from the arguments (the models aside), every input and output
+// declared first.
+pipeline::SelectStudyOptions select_study_options(const SelectArgs& args, const CommonOptions& common) {
+  pipeline::SelectStudyOptions o;
+  o.wv = wv_options(args.input);
+  o.robust = robust_wv_options(args.robust, o.wv);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
   check_report_option(common);
-  study_options.select = select_options(args, common);
+  o.select = select_options(args, common);
+  o.first_level = first_level_of(args.first_level);
+  if (!args.joint.empty() && o.first_level != 1)
+    throw InputError("--joint with --first-level: the joint selection takes every level of each replicate");
+  return o;
+}
+
+int run_select(const SelectArgs& args, const CommonOptions& common) {
+  Stopwatch total;
+  auto threads = apply_common_options(common);
+  pipeline::SelectStudyOptions study_options = select_study_options(args, common);
   if (!args.joint.empty())
     return run_joint_select(args, common, study_options.select,
                             study_options.robust ? &*study_options.robust : nullptr);
@@ -230,7 +241,7 @@ Command add_select_command(CLI::App& app, CommonOptions& common) {
                   "INPUT's single selected one): every sub-model ranked by its WVIC cross-validated over them")
       ->type_name("FILE[:COLUMN] ...")
       ->expected(1, -1);
-  add_max_evaluations_option(*sub, args->max_evaluations);
+  add_fitting_options(*sub, args->first_level, args->max_evaluations);
   add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);
   add_common_options(*sub, common);

@@ -26,6 +26,8 @@
 #include <cstdint>
 #include <string>
 
+#include "gmwm/engine/wavelet_variance.h"
+
 #include "gmwm/engine/quantization.h"
 
 namespace gmwm {
@@ -64,6 +66,12 @@ struct RepeatedSamples {
   /// The fine scales are "affected" while white noise's WV departs by more than 5% (2.5% of
   /// a deviation) from the measured one's.
   static constexpr double kAffectedWvBias = 0.05;
+  /// A fit's first level leaves a bias of at most this share of the level's own standard
+  /// error sqrt(2 / eta_j): the fitted white noise, weighted mostly to its first two levels,
+  /// then moves by about 0.24 of its own standard error, and a 95% interval covers at least
+  /// 94% (Phi(1.96 - 0.24) - Phi(-1.96 - 0.24)). kAffectedWvBias alone left N 3% low with
+  /// an interval of +-1.1% at 2^17 samples (tests/engine/first_level_test.cc).
+  static constexpr double kFitBiasOfStandardError = 0.25;
 };
 
 /// Held and interpolated samples in x (n values, in time order), read against the values'
@@ -75,6 +83,12 @@ RepeatedSamples detect_repeated_samples(const double* x, std::int64_t n);
 /// white noise held (interpolated = false) or linearly interpolated p-fold (p >= 1, whole),
 /// averaged over the p phases: the exact filter sum, O(p tau).
 double repetition_wv_shortfall(int p, std::int64_t tau, bool interpolated);
+
+/// The first level a fit of `wv` (the WV of the series r was read from) takes: 1 when
+/// nothing repeats, else the finest level from r.first_clean_level on whose white-noise
+/// shortfall is within kFitBiasOfStandardError of its standard error sqrt(2 / eta_j); the
+/// WV's last level when none is.
+int first_fit_level(const RepeatedSamples& r, const WaveletVariance& wv);
 
 /// "accel_x: 50% of the samples copy the one before (held; 200 of 400 Hz measured), from
 /// sample 0 to 65535: the WV below tau = 16 samples is smoothed (levels 1-3)"; "" when

@@ -86,4 +86,32 @@ class WvEstimator {
   virtual std::string name() const = 0;
 };
 
+/// The level (tau = 2^level samples) of the WV's first entry: 1 for every estimator's
+/// output, more after drop_fine_levels; 1 for an empty WV.
+int first_level(const WaveletVariance& wv);
+
+/// The WV from level `level` on (tau >= 2^level samples): what a fit takes when the finer
+/// scales are known to be biased (held or interpolated samples smooth them:
+/// repeated_samples.h). Every per-level field and the covariance (when set) are sliced; the
+/// result's first_level() is `level`. Throws InvalidArgument unless first_level(wv) <=
+/// level <= the WV's last level.
+WaveletVariance drop_fine_levels(const WaveletVariance& wv, int level);
+
+/// `inner`'s WV without its levels below `level`: asked for L levels, computes
+/// L + level - 1 and drops the finer ones, so that a bootstrap or a gap reference of a WV
+/// that drop_fine_levels cut recomputes "the same WV" on simulated data. Holds a reference
+/// to `inner`.
+class FromLevelEstimator final : public WvEstimator {
+ public:
+  FromLevelEstimator(const WvEstimator& inner, int level);
+  WaveletVariance compute(const double* x, std::int64_t n, int levels, double alpha) const override;
+  WaveletVariance compute(const HaarModwt& modwt, const double* x, std::int64_t n, int levels,
+                          double alpha) const override;
+  std::string name() const override { return inner_.name(); }
+
+ private:
+  const WvEstimator& inner_;
+  int level_;
+};
+
 }  // namespace gmwm

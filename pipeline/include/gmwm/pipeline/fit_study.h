@@ -21,6 +21,7 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/pipeline/first_level.h"
 #include "gmwm/robust/robust_wv.h"
 
 namespace gmwm::pipeline {
@@ -35,6 +36,10 @@ struct FitStudyOptions {
   WvOptions wv;
   /// The robust WV instead of the classical one.
   std::optional<robust::RobustWvOptions> robust;
+  /// The first level fitted (tau = 2^level samples): the finer ones are shown, not fitted
+  /// (held or interpolated samples smooth them: repeated_samples.h). kAutoFirstLevel: each
+  /// column's first_fit_level (repeated_samples.h), 1 where its samples do not repeat.
+  int first_level = 1;
 
   /// Empty when valid, else what is wrong.
   std::string Validate() const;
@@ -49,6 +54,11 @@ struct FitColumnStudy {
   std::optional<FigureReport> figures;
   /// With a robust `wv`: the classical WV of the same series, for comparison (not fitted).
   std::optional<WaveletVariance> classical;
+  /// The first level fitted: `wv` holds every level, the fit took first_level.. (its
+  /// implied_wv covers every level of `wv`, its misfits only the fitted ones).
+  int first_level = 1;
+  /// Why the finer levels were left out (empty when first_level is 1): one sentence.
+  std::string first_level_reason;
 };
 
 struct FitStudy {

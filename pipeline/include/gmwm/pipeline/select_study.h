@@ -19,6 +19,7 @@
 #include "gmwm/engine/noise_figures.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/pipeline/first_level.h"
 #include "gmwm/robust/robust_wv.h"
 #include "gmwm/selection/select.h"
 
@@ -36,6 +37,8 @@ struct SelectStudyOptions {
   WvOptions wv;
   /// The robust WV instead of the classical one.
   std::optional<robust::RobustWvOptions> robust;
+  /// The first level every model is fitted from (first_level.h; FitStudyOptions::first_level).
+  int first_level = 1;
 
   /// Empty when valid, else what is wrong.
   std::string Validate() const;
@@ -49,6 +52,11 @@ struct SelectColumnStudy {
   std::optional<FigureReport> figures;
   /// With a robust `wv`: the classical WV of the same series, for comparison (not fitted).
   std::optional<WaveletVariance> classical;
+  /// The first level fitted: `wv` holds every level, the models took first_level.. (the
+  /// best fit's implied_wv covers every level of `wv`).
+  int first_level = 1;
+  /// Why the finer levels were left out (empty when first_level is 1): one sentence.
+  std::string first_level_reason;
 };
 
 struct SelectStudy {
