@@ -201,6 +201,29 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
   }
 }
 
+// A gap band within the scales a column's held or interpolated samples smooth is theirs,
+// not the sensor's (issue 47, item 2): said in the headline and first among the notes, so
+// that no face reads an effect named for it as the sensor's. The diagnosis itself still
+// compares every level (issue 47's notes: the gap study is to take the fit's first level).
+void say_repetition(const io::Signal& s, const io::SignalSet& set, gap::GapResult& r) {
+  if (!s.repeated.detected() || s.repeated.first_clean_level <= 1) return;
+  const double clean_tau = std::ldexp(1.0, s.repeated.first_clean_level);
+  bool within = false;
+  for (const gap::GapBand& b : r.bands) within = within || b.tau_from < clean_tau;
+  if (!within) return;
+  const std::string kind = s.repeated.held() ? "held" : "interpolated";
+  const std::string levels = s.repeated.first_clean_level > 2
+                                 ? "levels 1-" + std::to_string(s.repeated.first_clean_level - 1)
+                                 : std::string("level 1");
+  const std::string note = "the gap below tau = " + significant(clean_tau, 6) + " samples" +
+                           (set.freq_known ? " (" + significant(clean_tau / set.freq, 3) + " s)" : "") + " (" + levels +
+                           ") is where " + kind +
+                           " samples smooth the WV: the repetition's, not the sensor's; an effect named for it there "
+                           "is not the sensor's (fit with --first-level auto)";
+  r.notes.insert(r.notes.begin(), note);
+  r.headline += "; " + note;
+}
+
 // Stage 5: each column diagnosed against its baseline (gap::diagnose_gap). Every column
 // draws its reference from the same streams (the seed): a column's diagnosis is the one
 // it gets alone, whichever columns come with it, and columns with the same baseline and
@@ -224,6 +247,7 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
     const std::vector<double> copy = x.vector() ? std::vector<double>() : x.to_vector();
     c.result = gap::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, x.vector() ? x.vector() : &copy,
                                  temperature.empty() ? nullptr : &temperature);
+    say_repetition(set.signals[k], set, c.result);
     if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
   }
 }

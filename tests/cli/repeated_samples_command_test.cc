@@ -201,4 +201,27 @@ TEST_F(RepeatedSamplesCommand, SelectWithFirstLevelAutoRanksTheModelsOnTheLevels
             "gmwm: error: --joint with --first-level: the joint selection takes every level of each replicate\n");
 }
 
+// gmwm gap against the accelerometer's true model finds a deficit at the scales its held
+// samples smooth and names effects for it; the headline and the first note say that the
+// gap there is the repetition's, not the sensor's. The gyroscope, measured at its own rate,
+// gets no such note.
+TEST_F(RepeatedSamplesCommand, GapSaysADeficitWithinTheSmoothedScalesIsTheRepetitionsNotTheSensors) {
+  const std::string truth = "WN(sigma2=" + number(2.0 * kAccelSigma2) + ")+RW(gamma2=5e-11)";
+  const auto r = run_gmwm({"gap", "realsense.csv", "--columns", "accel_x,gyro_x", "--model", truth, "--replicates",
+                           "60", "--json", "g.json"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "g.json");
+  const json& accel = doc.at("columns").at(0);
+  const std::string said =
+      "the gap below tau = 32 samples (0.08 s) (levels 1-4) is where held samples smooth the WV: the repetition's, "
+      "not the sensor's";
+  ASSERT_FALSE(accel.at("notes").empty());
+  EXPECT_EQ(accel.at("notes").at(0).get<std::string>().rfind(said, 0), 0u) << accel.at("notes");
+  EXPECT_NE(accel.at("headline").get<std::string>().find(said), std::string::npos) << accel.at("headline");
+  EXPECT_NE(flowed(r.out).find(said), std::string::npos) << r.out;
+  const json& gyro = doc.at("columns").at(1);
+  EXPECT_EQ(gyro.at("headline").get<std::string>().find("the repetition's"), std::string::npos);
+}
+
 }  // namespace
