@@ -246,7 +246,9 @@ std::string py_gap(const py::object& data, std::optional<double> given_freq, con
                    const std::optional<std::string>& datasheet, const std::vector<std::string>& names,
                    const std::string& units, const std::optional<std::string>& sensor,
                    const std::optional<std::string>& temperature, int replicates, std::uint64_t seed, double alpha,
-                   int levels, bool unit_check, const std::string& effects, double min_effect, int max_steps) {
+                   int levels, bool unit_check, const std::string& effects, double min_effect, int max_steps,
+                   const py::object& first_level) {
+  const int first = first_level_argument(first_level);
   const double freq = given_rate(given_freq);
   const int given =
       model.has_value() + fit.has_value() + kalibr.has_value() + gazebo.has_value() + datasheet.has_value();
@@ -274,6 +276,7 @@ std::string py_gap(const py::object& data, std::optional<double> given_freq, con
   }
   o.temperature_column = temperature.value_or("");
   o.unit_check = unit_check;
+  o.first_level = first;
   o.gap.replicates = replicates;
   o.gap.seed = seed;
   o.gap.alpha = alpha;
@@ -500,10 +503,9 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("seed") = gmwm::kDefaultSeed, py::arg("alpha") = 0.05, py::arg("levels") = 0,
         py::arg("unit_check") = true, py::arg("effects") = "",
         py::arg("min_effect") = gmwm::gap::GapOptions{}.min_effect,
-        py::arg("max_steps") = gmwm::gap::GapOptions{}.max_steps,
-        "Sim-to-real gap: where a baseline noise model (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each "
-        "column's WV, "
-        "which effect explains it and by how much: the document gmwm gap --json writes");
+        py::arg("max_steps") = gmwm::gap::GapOptions{}.max_steps, py::arg("first_level") = "auto",
+        "Sim-to-real gap: where a baseline (model=, fit=, kalibr=, gazebo=, datasheet=) departs from each column's "
+        "WV, which effect explains it, by how much (gmwm gap --json); first_level as --first-level, 'auto' default");
   m.def("nav", &py_nav, py::arg("truth"), py::arg("filters") = std::vector<std::string>{}, py::kw_only(),
         py::arg("labels") = std::vector<std::string>{}, py::arg("trajectory") = "static", py::arg("horizon") = 600.0,
         py::arg("fix_rate") = 1.0, py::arg("fix_sigma") = 1.0,

@@ -74,6 +74,23 @@ namespace {
 //   WV stepwise) -> shrinkage -> summary.
 // ---------------------------------------------------------------------------------------
 
+// The baseline's WV at every level of the series from 1 to the WV's last: the time-domain
+// statistics read the series' own levels, whichever level the compared WV starts at.
+Eigen::VectorXd series_levels_wv(const Model& baseline, const Eigen::VectorXd& theta, const WaveletVariance& wv) {
+  std::vector<double> tau;
+  for (int j = 1; j < first_level(wv) + wv.levels(); ++j) tau.push_back(std::ldexp(1.0, j));
+  return baseline.wv(theta, tau);
+}
+
+// The WV's values by the series' level (index level - 1), zero below its first level: what
+// the checks that read a level of the series (a step's persistence) take.
+Eigen::VectorXd by_series_level(const WaveletVariance& wv) {
+  const int first = first_level(wv);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(first - 1 + wv.levels());
+  v.tail(wv.levels()) = wv.values();
+  return v;
+}
+
 // Stage 1: the baseline's reference distribution (simulated replicates), or the one
 // another diagnosis sharing options.references drew under the same key.
 std::shared_ptr<const detail::Reference> reference_stage(const WaveletVariance& wv, const Model& baseline,
@@ -82,13 +99,17 @@ std::shared_ptr<const detail::Reference> reference_stage(const WaveletVariance& 
                                                          const std::vector<double>* temperature,
                                                          const std::shared_ptr<const detail::StepScan>& scan) {
   const ClassicalWvEstimator classical;
-  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
-  const Eigen::VectorXd nu_base = baseline.wv(theta, wv.tau);
+  const WvEstimator& inner = options.estimator ? *options.estimator : classical;
+  // A cut WV (drop_fine_levels) is compared with replicates cut the same way.
+  const int first = first_level(wv);
+  const FromLevelEstimator from_first(inner, first);
+  const WvEstimator& estimator = first > 1 ? static_cast<const WvEstimator&>(from_first) : inner;
+  const Eigen::VectorXd nu_series = series_levels_wv(baseline, theta, wv);
   detail::SeriesStatistic series_statistic;
   std::string statistic;  // what the series statistic reads besides the baseline and n
   if (x) {
-    series_statistic = [temperature, nu_base, scan](const std::vector<double>& s, HaarModwt& transform) {
-      return detail::series_statistics(s, transform, temperature, nu_base, *scan);
+    series_statistic = [temperature, nu_series, scan](const std::vector<double>& s, HaarModwt& transform) {
+      return detail::series_statistics(s, transform, temperature, nu_series, *scan);
     };
     statistic = "series|tau:";
     statistic.append(reinterpret_cast<const char*>(wv.tau.data()), wv.tau.size() * sizeof(double));
@@ -99,11 +120,11 @@ std::shared_ptr<const detail::Reference> reference_stage(const WaveletVariance& 
                    std::to_string(std::hash<std::string_view>{}(bytes));
     }
   }
-  const std::string key = detail::reference_key(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed,
-                                                options.estimator, wv.alpha, statistic);
+  const std::string key = detail::reference_key(baseline, theta, wv.n, first, wv.levels(), options.replicates,
+                                                options.seed, options.estimator, wv.alpha, statistic);
   return detail::cached_reference(options.references.get(), key, [&] {
-    return detail::build_reference(baseline, theta, wv.n, wv.levels(), options.replicates, options.seed, estimator,
-                                   wv.alpha, options.progress, series_statistic);
+    return detail::build_reference(baseline, theta, wv.n, first, wv.levels(), options.replicates, options.seed,
+                                   estimator, wv.alpha, options.progress, series_statistic);
   });
 }
 
@@ -134,11 +155,12 @@ void locate_stage(const Context& c, const Eigen::VectorXd& nuhat, GapResult& g) 
 // concentration test, the step scan and (with a channel) the coupling.
 detail::TimeFindings time_events_stage(const Context& c, const Eigen::VectorXd& nu_base,
                                        const std::shared_ptr<const detail::StepScan>& scan, GapResult& g) {
+  const Eigen::VectorXd nu_series = series_levels_wv(g.baseline, g.baseline_theta, c.wv);
   detail::TimeFindings time;
   if (!c.x) return time;
   const double K =
       static_cast<double>(candidates_for(g.baseline, c.options).size()) + 2.0 + (c.temperature ? 1.0 : 0.0);
-  time = detail::run_time_tests(*c.x, c.temperature, nu_base, scan, c.ref.series_stats, c.options.alpha / K,
+  time = detail::run_time_tests(*c.x, c.temperature, nu_series, scan, c.ref.series_stats, c.options.alpha / K,
                                 c.options.alpha, g);
   const bool found = time.event || time.coupling || time.trend;
   if (found && !g.detected) {
@@ -177,7 +199,7 @@ void outliers_stage(const Context& c, GapResult& g, Attribution& a) {
   const int J = c.wv.levels();
   g.contamination_screened = true;
   for (int j = 0; j < static_cast<int>(diag.size()); ++j)
-    if (diag[static_cast<std::size_t>(j)].contaminated) g.contaminated_levels.push_back(j + 1);
+    if (diag[static_cast<std::size_t>(j)].contaminated) g.contaminated_levels.push_back(first_level(c.wv) + j);
   int flagged = 0;
   for (int j = 0; j < std::min(kOutlierLevels, J); ++j) flagged += diag[static_cast<std::size_t>(j)].contaminated;
   if (flagged == 0) return;
@@ -264,12 +286,12 @@ void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapR
       robust::RobustWvOptions ro;
       ro.estimator = robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber);
       ro.efficiency = c.robust->efficiency.value_or(robust::kDefaultEfficiency);
-      ro.levels = c.wv.levels();
-      w = robust::robust_wv(corrected.data(), c.wv.n, ro);
+      ro.levels = first_level(c.wv) + c.wv.levels() - 1;
+      w = drop_fine_levels(robust::robust_wv(corrected.data(), c.wv.n, ro), first_level(c.wv));
     } else {
       const ClassicalWvEstimator classical;
       const WvEstimator& estimator = c.options.estimator ? *c.options.estimator : classical;
-      w = estimator.compute(corrected.data(), c.wv.n, c.wv.levels(), c.wv.alpha);
+      w = FromLevelEstimator(estimator, first_level(c.wv)).compute(corrected.data(), c.wv.n, c.wv.levels(), c.wv.alpha);
     }
     t.data = w.values();
     t.usable = t.data.allFinite() && (t.data.array() > 0.0).all();
@@ -285,7 +307,7 @@ void time_effects_stage(const Context& c, const detail::TimeFindings& time, GapR
     std::vector<double> series = *c.x;
     if (time.coupling && c.temperature && snapshot.temperature)
       for (std::size_t t = 0; t < series.size(); ++t) series[t] -= snapshot.temperature->k * (*c.temperature)[t];
-    if (!detail::step_persists(series, *best.g.event, c.wv.values())) {
+    if (!detail::step_persists(series, *best.g.event, by_series_level(c.wv))) {
       const GapEvent step = *best.g.event;
       const auto burst = detail::burst_alternative(series, step);
       alternative = burst ? *burst : GapEvent{};  // effect kNone: the event is not removed
@@ -536,7 +558,7 @@ void shrinkage_stage(const Context& c, const Attribution& a, GapResult& g) {
   s.objective_after = a.now.objective;
   s.levels_outside_after = a.now.outside;
   s.p_value_after = a.now.p;
-  s.rms_log_ratio_after = detail::rms_log_ratio(a.data, a.base.nu, g.bands);
+  s.rms_log_ratio_after = detail::rms_log_ratio(a.data, a.base.nu, g.bands, first_level(c.wv));
   s.null_mean_after = null_mean(c, a.base.nu);
   // The share removed (docs/gap.md): S = (X_before - X_after) / X_before with X = max(G -
   // E_m[G], 0), G on the data the diagnosis compares at each stage. Every kept step lowers
@@ -593,7 +615,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   const Eigen::VectorXd nuhat = wv.values();
   for (int j = 0; j < wv.levels(); ++j)
     if (!(nuhat(j) > 0.0) || !std::isfinite(nuhat(j)))
-      throw InputError("gap: the WV at level " + std::to_string(j + 1) + " is not positive (" +
+      throw InputError("gap: the WV at level " + std::to_string(first_level(wv) + j) + " is not positive (" +
                        std::to_string(nuhat(j)) + "); a gap is measured on log scales");
   if (temperature && (!x || temperature->size() != x->size()))
     throw InputError("gap: the temperature channel has " + std::to_string(temperature->size()) +
@@ -608,6 +630,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, ref.nu, options)};
 
   GapResult g;
+  g.first_level = first_level(wv);
   g.baseline = baseline;
   g.baseline_theta = theta;
   locate_stage(c, nuhat, g);
@@ -618,7 +641,7 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   GapShrinkage& s = g.shrinkage;
   s.objective_before = a.now.objective;
   s.null_mean = null_mean(c, ref.nu);
-  s.rms_log_ratio_before = detail::rms_log_ratio(nuhat, ref.nu, g.bands);
+  s.rms_log_ratio_before = detail::rms_log_ratio(nuhat, ref.nu, g.bands, first_level(wv));
   s.levels_outside_before = a.now.outside;
   s.distance_before = a.now.distance;
   for (double d : ref.null_distance) s.null_distance_mean += d;

@@ -99,9 +99,10 @@ std::string refusal(const std::string& what, const Fitness& before, const Fitnes
 // Bands that rest only on levels with too few coefficients are dropped (a single
 // coefficient's chi-square(1) spans three decades).
 std::vector<GapBand> deciding_bands(const WaveletVariance& wv, std::vector<GapBand> bands, const GapOptions& o) {
+  const int first = first_level(wv);
   std::erase_if(bands, [&](const GapBand& b) {
     for (int j = b.first_level; j <= b.last_level; ++j)
-      if (decides(wv, wv.tau[static_cast<std::size_t>(j - 1)], o)) return false;
+      if (decides(wv, wv.tau[static_cast<std::size_t>(j - first)], o)) return false;
     return true;
   });
   return bands;

@@ -1,4 +1,5 @@
 #include "gap_events.h"
+#include "gap_levels.h"
 
 #include <algorithm>
 #include <cmath>
@@ -461,15 +462,18 @@ std::vector<GapBand> event_bands(const TimeFindings& f, const std::vector<GapLev
   const int L = static_cast<int>(z.size());
   while (lo > 0 && z[static_cast<std::size_t>(lo - 1)] >= bar) --lo;
   while (hi + 1 < L && z[static_cast<std::size_t>(hi + 1)] >= bar) ++hi;
+  // The event's levels are the series' own; the band keeps those the map compares.
+  const int first = levels_from(levels), last = first + static_cast<int>(levels.size()) - 1;
   GapBand b;
-  b.first_level = f.first_event_level + lo;
-  b.last_level = f.first_event_level + hi;
+  b.first_level = std::max(f.first_event_level + lo, first);
+  b.last_level = std::min(f.first_event_level + hi, last);
+  if (b.first_level > b.last_level) return {};
   b.direction = "excess";
-  b.tau_from = levels[static_cast<std::size_t>(b.first_level - 1)].tau;
-  b.tau_to = levels[static_cast<std::size_t>(b.last_level - 1)].tau;
+  b.tau_from = levels[static_cast<std::size_t>(b.first_level - first)].tau;
+  b.tau_to = levels[static_cast<std::size_t>(b.last_level - first)].tau;
   b.peak_ratio = 1.0;
   for (int j = b.first_level; j <= b.last_level; ++j)
-    b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
+    b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - first)].ratio);
   return {b};
 }
 
@@ -477,8 +481,9 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
                                       const std::vector<GapLevel>& levels, GapEffect effect) {
   std::vector<GapBand> eb = event_bands(f, levels);
   if (eb.empty()) return bands;
+  const int first = levels_from(levels);
   GapBand e = eb.front();
-  if (effect == GapEffect::kStep) e.last_level = static_cast<int>(levels.size());
+  if (effect == GapEffect::kStep) e.last_level = first + static_cast<int>(levels.size()) - 1;
   std::vector<GapBand> out;
   for (const auto& b : bands) {
     if (b.direction == "excess" && b.last_level + 1 >= e.first_level && b.first_level <= e.last_level + 1) {
@@ -488,11 +493,11 @@ std::vector<GapBand> merge_event_band(const std::vector<GapBand>& bands, const T
       out.push_back(b);
     }
   }
-  e.tau_from = levels[static_cast<std::size_t>(e.first_level - 1)].tau;
-  e.tau_to = levels[static_cast<std::size_t>(e.last_level - 1)].tau;
+  e.tau_from = levels[static_cast<std::size_t>(e.first_level - first)].tau;
+  e.tau_to = levels[static_cast<std::size_t>(e.last_level - first)].tau;
   e.peak_ratio = 1.0;  // an excess band: its largest ratio
   for (int j = e.first_level; j <= e.last_level; ++j)
-    e.peak_ratio = std::max(e.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
+    e.peak_ratio = std::max(e.peak_ratio, levels[static_cast<std::size_t>(j - first)].ratio);
   out.push_back(e);
   std::sort(out.begin(), out.end(), [](const GapBand& a, const GapBand& b) { return a.first_level < b.first_level; });
   return out;

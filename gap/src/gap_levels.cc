@@ -9,8 +9,13 @@
 
 namespace gmwm::gap::detail {
 
+int levels_from(const std::vector<GapLevel>& levels) {
+  return levels.empty() ? 1 : std::ilogb(levels.front().tau);  // tau = 2^level exactly
+}
+
 std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_threshold, double min_effect) {
   std::vector<GapBand> bands;
+  const int first = levels_from(levels);
   for (std::size_t j = 0; j < levels.size();) {
     const GapLevel& l = levels[j];
     const int sign = l.z > 0 ? 1 : -1;
@@ -22,7 +27,7 @@ std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_th
       continue;
     }
     GapBand b;
-    b.first_level = static_cast<int>(j) + 1;
+    b.first_level = static_cast<int>(j) + first;
     b.direction = sign > 0 ? "excess" : "deficit";
     b.peak_ratio = l.ratio;
     std::size_t k = j;
@@ -30,7 +35,7 @@ std::vector<GapBand> find_bands(const std::vector<GapLevel>& levels, double z_th
       if (std::abs(std::log(levels[k].ratio)) > std::abs(std::log(b.peak_ratio))) b.peak_ratio = levels[k].ratio;
       ++k;
     }
-    b.last_level = static_cast<int>(k);
+    b.last_level = static_cast<int>(k) - 1 + first;
     b.tau_from = levels[j].tau;
     b.tau_to = levels[k - 1].tau;
     bands.push_back(b);
@@ -61,11 +66,12 @@ std::vector<GapLevel> map_levels(const WaveletVariance& wv, const Eigen::VectorX
   return out;
 }
 
-double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, const std::vector<GapBand>& bands) {
+double rms_log_ratio(const Eigen::VectorXd& nuhat, const Eigen::VectorXd& nu, const std::vector<GapBand>& bands,
+                     int first) {
   double s = 0.0;
   int n = 0;
   for (const auto& b : bands)
-    for (int j = b.first_level - 1; j < b.last_level; ++j) {
+    for (int j = b.first_level - first; j <= b.last_level - first; ++j) {
       const double r = std::log(nuhat(j) / nu(j));
       s += r * r;
       ++n;

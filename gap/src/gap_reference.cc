@@ -22,8 +22,8 @@ Eigen::VectorXd column_mean(const Eigen::MatrixXd& m) { return m.colwise().mean(
 
 }  // namespace
 
-Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
-                          std::uint64_t seed, const WvEstimator& estimator, double alpha,
+Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int first_level, int levels,
+                          int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
                           const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic) {
   std::vector<Eigen::VectorXd> rows(static_cast<std::size_t>(replicates)), stats(static_cast<std::size_t>(replicates));
   std::vector<char> ok(static_cast<std::size_t>(replicates), 0);
@@ -61,7 +61,7 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
     for (int b = 0; b < B; ++b) ref.series_stats.row(b) = good_stats[static_cast<std::size_t>(b)].transpose();
   }
   std::vector<double> tau;
-  for (int j = 1; j <= levels; ++j) tau.push_back(std::ldexp(1.0, j));
+  for (int j = first_level; j < first_level + levels; ++j) tau.push_back(std::ldexp(1.0, j));
   ref.nu = model.wv(theta, tau);
   const Eigen::MatrixXd L = ref.wv.array().log().matrix();
   ref.mean_log = column_mean(L);
@@ -90,16 +90,16 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
   return ref;
 }
 
-std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
-                          std::uint64_t seed, const WvEstimator* estimator, double alpha,
+std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int first_level, int levels,
+                          int replicates, std::uint64_t seed, const WvEstimator* estimator, double alpha,
                           const std::string& statistic) {
   // The values as their bits (to_string's 17 digits name the model; the bits make equal
   // keys mean equal draws whatever the display).
   std::string key = model.to_string(theta) + "|";
   key.append(reinterpret_cast<const char*>(theta.data()), static_cast<std::size_t>(theta.size()) * sizeof(double));
   char numbers[160];
-  std::snprintf(numbers, sizeof numbers, "|n=%lld|J=%d|B=%d|seed=%llu|alpha=%a|", static_cast<long long>(n), levels,
-                replicates, static_cast<unsigned long long>(seed), alpha);
+  std::snprintf(numbers, sizeof numbers, "|n=%lld|L=%d|J=%d|B=%d|seed=%llu|alpha=%a|", static_cast<long long>(n),
+                first_level, levels, replicates, static_cast<unsigned long long>(seed), alpha);
   // A caller's own estimator by its identity (its settings are not all in its name).
   const std::string by = estimator
                              ? estimator->name() + "@" + std::to_string(reinterpret_cast<std::uintptr_t>(estimator))

@@ -42,19 +42,21 @@ struct Reference {
 using SeriesStatistic = std::function<Eigen::VectorXd(const std::vector<double>&, HaarModwt&)>;
 
 /// Simulates `replicates` series of length n from (model, theta) with streams
-/// (seed, stream_base + b), computes their WV with `estimator` (J levels), and
-/// summarises them. Throws InputError if fewer than 8 replicates give a finite WV.
-Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
-                          std::uint64_t seed, const WvEstimator& estimator, double alpha,
+/// (seed, stream_base + b), computes their WV with `estimator` (`levels` levels from
+/// `first_level` on: a FromLevelEstimator when first_level > 1), and summarises them.
+/// Throws InputError if fewer than 8 replicates give a finite WV.
+Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int first_level, int levels,
+                          int replicates, std::uint64_t seed, const WvEstimator& estimator, double alpha,
                           const std::function<void(int, int)>& progress, const SeriesStatistic& series_statistic = {});
 
 /// What makes two references the same draw: the model and its values (bit for bit), the
-/// record length, levels, replicates, seed (stream family included), the replicate
+/// record length, the levels (first and count), replicates, seed (stream family included), the replicate
 /// estimator (nullptr: the classical one; another by its identity), the WV's CI level and
 /// what the series statistic reads (`statistic`: a description of its inputs, empty when
 /// there is none).
-std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int levels, int replicates,
-                          std::uint64_t seed, const WvEstimator* estimator, double alpha, const std::string& statistic);
+std::string reference_key(const Model& model, const Eigen::VectorXd& theta, std::int64_t n, int first_level, int levels,
+                          int replicates, std::uint64_t seed, const WvEstimator* estimator, double alpha,
+                          const std::string& statistic);
 
 /// The reference under `key` from `cache`, built by `build` the first time (no cache: built).
 std::shared_ptr<const Reference> cached_reference(ReferenceCache* cache, const std::string& key,

@@ -1,4 +1,5 @@
 #include "gap_summary.h"
+#include "gap_levels.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,15 +33,16 @@ std::vector<GapBand> drift_band(double omega, const WaveletVariance& wv, const E
   const Eigen::VectorXd ratio =
       parse_model("DR", ctx).wv(Eigen::VectorXd::Constant(1, omega), wv.tau).cwiseQuotient(nu_base);
   const double peak = ratio.maxCoeff();
+  const int first = levels_from(levels);
   GapBand b;
   b.direction = "excess";
-  b.last_level = static_cast<int>(levels.size());
+  b.last_level = first + static_cast<int>(levels.size()) - 1;
   b.first_level = b.last_level;
-  while (b.first_level > 1 && ratio(b.first_level - 2) >= 0.5 * peak) --b.first_level;
-  b.tau_from = levels[static_cast<std::size_t>(b.first_level - 1)].tau;
+  while (b.first_level > first && ratio(b.first_level - 1 - first) >= 0.5 * peak) --b.first_level;
+  b.tau_from = levels[static_cast<std::size_t>(b.first_level - first)].tau;
   b.tau_to = levels.back().tau;
   for (int j = b.first_level; j <= b.last_level; ++j)
-    b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - 1)].ratio);
+    b.peak_ratio = std::max(b.peak_ratio, levels[static_cast<std::size_t>(j - first)].ratio);
   return {b};
 }
 

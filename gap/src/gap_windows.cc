@@ -34,11 +34,11 @@ void map_windows(const std::vector<double>& x, const Model& baseline, const Eige
   if (levels < kMinWindowLevels) return;
   const ClassicalWvEstimator classical;
   const WvEstimator& est = options.estimator ? *options.estimator : classical;
-  const std::string key = reference_key(baseline, theta, L, levels, options.replicates,
+  const std::string key = reference_key(baseline, theta, L, 1, levels, options.replicates,
                                         options.seed + kWindowSeedOffset, options.estimator, 0.05, "windows");
   const std::shared_ptr<const Reference> kept = cached_reference(options.references.get(), key, [&] {
-    return build_reference(baseline, theta, L, levels, options.replicates, options.seed + kWindowSeedOffset, est, 0.05,
-                           nullptr);
+    return build_reference(baseline, theta, L, 1, levels, options.replicates, options.seed + kWindowSeedOffset, est,
+                           0.05, nullptr);
   });
   const Reference& ref = *kept;
   const std::int64_t W = n / L;

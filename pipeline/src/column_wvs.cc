@@ -9,6 +9,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/haar_modwt.h"
+#include "gmwm/engine/number_text.h"
 #include "gmwm/engine/parallel.h"
 
 namespace gmwm::pipeline::detail {
@@ -70,6 +71,41 @@ ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const 
   return out;
 }
 
+std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options,
+                                               const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
+  std::vector<std::span<const double>> series;
+  std::vector<std::size_t> held;
+  for (std::size_t k = 0; k < set.signals.size(); ++k) {
+    series.emplace_back(set.signals[k].values);
+    if (options.screen_spikes && set.signals[k].repeated.held()) held.push_back(k);
+  }
+  if (held.empty()) return robust::robust_wv(series, options, transforms);
+  // The held columns without the screen, the others with it (each group's columns and
+  // levels in parallel); their own transforms are rebuilt (a held record only).
+  std::vector<std::span<const double>> screened, unscreened;
+  for (std::size_t k = 0; k < series.size(); ++k)
+    (std::find(held.begin(), held.end(), k) != held.end() ? unscreened : screened).push_back(series[k]);
+  robust::RobustWvOptions off = options;
+  off.screen_spikes = false;
+  std::vector<WaveletVariance> a =
+      screened.empty() ? std::vector<WaveletVariance>() : robust::robust_wv(screened, options);
+  std::vector<WaveletVariance> b = robust::robust_wv(unscreened, off);
+  std::vector<WaveletVariance> out;
+  std::size_t ia = 0, ib = 0;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    if (std::find(held.begin(), held.end(), k) == held.end()) {
+      out.push_back(std::move(a[ia++]));
+      continue;
+    }
+    WaveletVariance w = std::move(b[ib++]);
+    w.screening = "spike screen off: " + significant(100.0 * set.signals[k].repeated.held_share, 3) +
+                  "% of the samples copy the one before (held), and their steps of exactly zero deflate the level-1 "
+                  "robust scale the screen measures spikes against";
+    out.push_back(std::move(w));
+  }
+  return out;
+}
+
 ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
                              const std::optional<robust::RobustWvOptions>& robust, double alpha) {
   if (!set.missing.empty()) {
@@ -89,7 +125,7 @@ ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
     // One transform per column for both estimates (the robust one reuses it where its
     // spike screen replaces nothing).
     out.transforms = haar_transforms(series);
-    out.wvs = robust::robust_wv(series, *robust, out.transforms);
+    out.wvs = robust_column_wvs(set, *robust, out.transforms);
     out.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.classical = classical_wv(out.transforms, wv);
     out.transforms.clear();  // the fits do not read them: 16 bytes a sample, freed now

@@ -49,6 +49,14 @@ void require_regular(const io::SignalSet& set, const std::string& what);
 /// allan_deviation_with_gaps), each WV cut to its levels with a complete window.
 ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan);
 
+/// The robust WVs of the set's columns (robust::robust_wv, reusing `transforms` when given),
+/// with the spike screen off for a column whose samples are held: its copies' steps of
+/// exactly zero (half of them for a 2x copy) deflate the level-1 robust scale the screen
+/// measures spikes against, and the screen would replace most of the record (71% of a
+/// RealSense-like accelerometer's). Its screening note says so.
+std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options,
+                                               const std::vector<std::unique_ptr<HaarModwt>>& transforms = {});
+
 /// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
 /// figures then read the robust WV itself), else the classical ones with the Allan
 /// deviations at intervals of level 1 - alpha when the rate is known.

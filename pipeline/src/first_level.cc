@@ -20,11 +20,11 @@ std::string scale_text(int level, const io::SignalSet& set) {
   return significant(tau, 6) + " samples" + (set.freq_known ? " = " + significant(tau / set.freq, 3) + " s" : "");
 }
 
-// Column k's first fitted level and why: the option's, or with "auto" the first level its
-// held or interpolated samples leave all but unbiased (first_fit_level). Throws InputError
-// when the levels left cannot hold the model.
-FittedLevels first_level_of(const io::SignalSet& set, std::size_t k, const WaveletVariance& wv, const Model& model,
-                            int option) {
+}  // namespace
+
+FittedLevels fitted_level(const io::SignalSet& set, std::size_t k, const WaveletVariance& wv, const Model& model,
+                          int option, LevelUse use) {
+  const std::string done = use == LevelUse::kFitted ? "fitted" : "compared";
   const io::Signal& s = set.signals[k];
   const bool automatic = option == kAutoFirstLevel;
   const int level = automatic ? first_fit_level(s.repeated, wv) : option;
@@ -36,19 +36,18 @@ FittedLevels first_level_of(const io::SignalSet& set, std::size_t k, const Wavel
     throw InputError(s.name + ": " + asked + " leaves " + std::to_string(std::max(last - level + 1, 0)) +
                      " of the WV's levels 1.." + std::to_string(last) + ", fewer than the model's " +
                      std::to_string(model.num_parameters()) + " parameters: a lower first level or a smaller model");
-  const std::string from = "fitted from level " + std::to_string(level) + " (tau = " + scale_text(level, set) + ")";
+  const std::string from = done + " from level " + std::to_string(level) + " (tau = " + scale_text(level, set) + ")";
   const std::string finer = level > 2 ? "levels 1-" + std::to_string(level - 1) : std::string("level 1");
   return {level, automatic ? from + ": " + finer + ", biased by " + (s.repeated.held() ? "held" : "interpolated") +
-                                 " samples beyond a quarter of their standard error, shown, not fitted"
-                           : from + " as asked: " + finer + " shown, not fitted"};
+                                 " samples beyond a quarter of their standard error, shown, not " + done
+                           : from + " as asked: " + finer + " shown, not " + done};
 }
-
-}  // namespace
 
 std::vector<FittedLevels> fitted_levels(const io::SignalSet& set, const std::vector<WaveletVariance>& wvs,
                                         const Model& model, int option) {
   std::vector<FittedLevels> out;
-  for (std::size_t k = 0; k < wvs.size(); ++k) out.push_back(first_level_of(set, k, wvs[k], model, option));
+  for (std::size_t k = 0; k < wvs.size(); ++k)
+    out.push_back(fitted_level(set, k, wvs[k], model, option, LevelUse::kFitted));
   return out;
 }
 

@@ -16,6 +16,15 @@ struct FittedLevels {
   std::string reason;
 };
 
+/// What a study does from its first level on: fit (fit, select) or compare (gap).
+enum class LevelUse { kFitted, kCompared };
+
+/// Column k's first level (`option`, or with kAutoFirstLevel its first_fit_level) and why,
+/// the reason saying the finer levels were not `use`d. Throws InputError naming the column
+/// when the levels left cannot hold `model`.
+FittedLevels fitted_level(const io::SignalSet& set, std::size_t k, const WaveletVariance& wv, const Model& model,
+                          int option, LevelUse use);
+
 /// Each column's first fitted level: `option` (a level, or kAutoFirstLevel: the first level
 /// its held or interpolated samples leave all but unbiased, first_fit_level). Throws
 /// InputError naming the column when the levels left cannot hold `model`.

@@ -3,6 +3,7 @@
 //   (simulator biases as RW, unit check, or the fit) -> diagnose_columns -> cross-axis.
 #include "gmwm/pipeline/gap_study.h"
 #include "column_wvs.h"
+#include "first_level.h"
 #include "usable_wv.h"
 
 #include <algorithm>
@@ -102,7 +103,7 @@ void wavelet_variances(const io::SignalSet& set, const WvOptions& o, std::vector
   robust::RobustWvOptions r;
   r.levels = o.levels;
   r.alpha = o.alpha;
-  robust_wvs = robust::robust_wv(series, r);
+  robust_wvs = detail::robust_column_wvs(set, r);
 }
 
 // A simulator's bias with a correlation time of many records replaced by the random walk
@@ -176,18 +177,25 @@ void check_baseline_units(const std::string& path, const std::string& column, co
 
 namespace {
 
+// A column's WV from its first compared level on (all of it at level 1).
+WaveletVariance compared(const WaveletVariance& wv, const detail::FittedLevels& levels) {
+  return levels.first == 1 ? wv : drop_fine_levels(wv, levels.first);
+}
+
 // Stage 4: the baseline's values on each column: as given (a simulator's long biases as
-// RW, then the unit check), or fitted.
-void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStudy& study) {
+// RW, then the unit check), or fitted; both on the levels compared.
+void baseline_values(const io::SignalSet& set, const GapStudyOptions& o,
+                     const std::vector<detail::FittedLevels>& levels, GapStudy& study) {
   const bool config = std::holds_alternative<ConfigBaseline>(o.baseline);
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
     GapColumnStudy& c = study.columns[k];
-    check_model_fits_levels(c.baseline, c.wv.levels());
+    const WaveletVariance wv = compared(c.wv, levels[k]);
+    check_model_fits_levels(c.baseline, wv.levels());
     if (const auto* f = std::get_if<FitBaseline>(&o.baseline)) {
       FitOptions fo;
       fo.inference = false;
       fo.omega = OmegaKind::kModel;  // as `gmwm fit` weighs by default
-      const FitResult r = fit_gmwm(c.wv, c.baseline, fo);
+      const FitResult r = fit_gmwm(wv, c.baseline, fo);
       if (r.status == FitStatus::kFailed)
         throw InputError("--fit '" + f->spec.text() + "': the fit failed on column '" + c.name + "'");
       c.baseline = r.model;
@@ -197,14 +205,15 @@ void baseline_values(const io::SignalSet& set, const GapStudyOptions& o, GapStud
     }
     c.theta = c.baseline.given_values();
     if (config) random_walk_like(c.baseline, c.theta, c.wv.n, c.conversions);
-    if (o.unit_check) check_baseline_units(set.path, c.name, c.wv, c.baseline, c.theta, o.sensor, o.units);
+    if (o.unit_check) check_baseline_units(set.path, c.name, wv, c.baseline, c.theta, o.sensor, o.units);
   }
 }
 
 // A gap band within the scales a column's held or interpolated samples smooth is theirs,
-// not the sensor's (issue 47, item 2): said in the headline and first among the notes, so
-// that no face reads an effect named for it as the sensor's. The diagnosis itself still
-// compares every level (issue 47's notes: the gap study is to take the fit's first level).
+// not the sensor's (issue 47, item 2): with the first level auto (the default) those scales
+// are not compared; compared on request (a lower first level), such a band is said to be
+// the repetition's in the headline and first among the notes, so that no face reads an
+// effect named for it as the sensor's.
 void say_repetition(const io::Signal& s, const io::SignalSet& set, gap::GapResult& r) {
   if (!s.repeated.detected() || s.repeated.first_clean_level <= 1) return;
   const double clean_tau = std::ldexp(1.0, s.repeated.first_clean_level);
@@ -219,7 +228,7 @@ void say_repetition(const io::Signal& s, const io::SignalSet& set, gap::GapResul
                            (set.freq_known ? " (" + significant(clean_tau / set.freq, 3) + " s)" : "") + " (" + levels +
                            ") is where " + kind +
                            " samples smooth the WV: the repetition's, not the sensor's; an effect named for it there "
-                           "is not the sensor's (fit with --first-level auto)";
+                           "is not the sensor's (the first level auto, the default, compares above them)";
   r.notes.insert(r.notes.begin(), note);
   r.headline += "; " + note;
 }
@@ -229,7 +238,7 @@ void say_repetition(const io::Signal& s, const io::SignalSet& set, gap::GapResul
 // it gets alone, whichever columns come with it, and columns with the same baseline and
 // length (a config's three axes of a kind) share one reference, simulated once.
 void diagnose_columns(const io::SignalSet& set, const std::vector<double>& temperature, const GapStudyOptions& o,
-                      const ProcessContext& ctx, GapStudy& study) {
+                      const ProcessContext& ctx, const std::vector<detail::FittedLevels>& levels, GapStudy& study) {
   gap::GapOptions g = o.gap;
   g.refit_baseline = std::holds_alternative<FitBaseline>(o.baseline);
   g.context = ctx;
@@ -245,8 +254,13 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
     // The time-domain stage reads the series as a vector: a series in a file is copied.
     const Samples& x = set.signals[k].values;
     const std::vector<double> copy = x.vector() ? std::vector<double>() : x.to_vector();
-    c.result = gap::diagnose_gap(c.wv, c.baseline, c.theta, gk, &c.robust_wv, x.vector() ? x.vector() : &copy,
+    const WaveletVariance wv = compared(c.wv, levels[k]), robust_wv = compared(c.robust_wv, levels[k]);
+    c.result = gap::diagnose_gap(wv, c.baseline, c.theta, gk, &robust_wv, x.vector() ? x.vector() : &copy,
                                  temperature.empty() ? nullptr : &temperature);
+    if (!levels[k].reason.empty()) {  // said where the verdict is read, as say_repetition does
+      c.result.notes.insert(c.result.notes.begin(), levels[k].reason);
+      c.result.headline += "; " + levels[k].reason;
+    }
     say_repetition(set.signals[k], set, c.result);
     if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
   }
@@ -269,6 +283,7 @@ std::string GapStudyOptions::Validate() const {
   if (gap.estimator || gap.refit_baseline || gap.progress || !gap.unit.empty() || gap.context.freq_known)
     return "leave gap.estimator, refit_baseline, context, unit and progress unset: the study sets them per column";
   if (std::string why = wv.Validate(); !why.empty()) return why;
+  if (std::string why = first_level_problem(first_level); !why.empty()) return why;
   const ModelSpec* spec = std::holds_alternative<ModelBaseline>(baseline) ? &std::get<ModelBaseline>(baseline).spec
                           : std::holds_alternative<FitBaseline>(baseline) ? &std::get<FitBaseline>(baseline).spec
                                                                           : nullptr;
@@ -303,10 +318,14 @@ GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
     c.robust_wv = std::move(robust_wvs[k]);
     study.columns.push_back(std::move(c));
   }
-  baseline_values(set, options, study);
+  std::vector<detail::FittedLevels> levels;
+  for (std::size_t k = 0; k < study.columns.size(); ++k)
+    levels.push_back(detail::fitted_level(set, k, study.columns[k].wv, study.columns[k].baseline, options.first_level,
+                                          detail::LevelUse::kCompared));
+  baseline_values(set, options, levels, study);
 
   const auto gap_start = std::chrono::steady_clock::now();
-  diagnose_columns(set, temperature, options, ctx, study);
+  diagnose_columns(set, temperature, options, ctx, levels, study);
   study.gap_seconds = seconds_since(gap_start);
 
   // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.

@@ -36,7 +36,7 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   std::vector<WaveletVariance>& classical = curves.wvs;
   detail::check_usable_wvs(set, classical, false);
   if (options.robust) {
-    std::vector<WaveletVariance> robust_wvs = robust::robust_wv(series, *options.robust, curves.transforms);
+    std::vector<WaveletVariance> robust_wvs = detail::robust_column_wvs(set, *options.robust, curves.transforms);
     const robust::Tuning tuning = robust::tune(options.robust->estimator, options.robust->efficiency);
     for (std::size_t k = 0; k < set.signals.size(); ++k) {
       const auto& x = set.signals[k].values;

@@ -1031,7 +1031,9 @@ class GapSplitHalf(GapSplitHalfMethods):
 @dataclass(frozen=True, eq=False, repr=False)
 class GapTest(GapTestMethods):
     """The comparison with the baseline (JSON "gap"): the global test, the bands, the
-    levels and the window map (`windows` None when the record is too short for one)."""
+    levels and the window map (`windows` None when the record is too short for one);
+    `levels` start at `first_level` (the finer scales, smoothed by held or interpolated
+    samples, shown, not compared: the column's notes say why)."""
 
     detected: bool
     p_value: float
@@ -1041,6 +1043,7 @@ class GapTest(GapTestMethods):
     windows: tuple[GapWindow, ...] | None
     split_half: GapSplitHalf
     window_length_seconds: float
+    first_level: int = 1
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "GapTest":
@@ -1051,7 +1054,8 @@ class GapTest(GapTestMethods):
                    GapLevels.from_list(d["levels"]),
                    None if d.get("windows") is None else tuple(GapWindow.from_dict(r) for r in d["windows"]),
                    GapSplitHalf.from_list(d["split_half"]),
-                   num(d["window_length_seconds"]))
+                   num(d["window_length_seconds"]),
+                   int(d.get("first_level", 1)))
 
 
 @dataclass(frozen=True, repr=False)

@@ -114,3 +114,23 @@ def test_select_with_first_level_auto_is_the_commands(realsense_csv):
     assert col.best == doc["columns"][0]["best"]
     with pytest.raises(gmwm.InputError, match="first_level: found 'x', expected auto"):
         gmwm.select(rec["accel_x"], "WN+RW", first_level="x")
+
+
+def test_gap_compares_above_the_smoothed_scales_by_default_as_the_command_does(realsense_csv):
+    truth = "WN(sigma2=8e-4)"  # the 200 Hz white noise at 400 Hz: its density kept
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", gmwm.RepeatedSamplesWarning)
+        rec = gmwm.read(realsense_csv)
+        (above,) = gmwm.gap(rec["accel_x"], model=truth, replicates=60).columns
+        (every,) = gmwm.gap(rec["accel_x"], model=truth, replicates=60, first_level=1).columns
+    assert above.gap.first_level >= 5 and not above.gap.detected
+    assert above.notes[0].startswith(f"compared from level {above.gap.first_level} (tau = ")
+    assert len(above.gap.levels.tau) == len(every.gap.levels.tau) - above.gap.first_level + 1
+    assert every.gap.first_level == 1 and every.gap.detected  # the copies' deficit at the finest scales
+    doc = json.loads(run(realsense_csv.parent, "gap", str(realsense_csv), "--columns", "accel_x", "--model", truth,
+                         "--replicates", "60", "--json", "-").stdout)
+    col = doc["columns"][0]
+    assert col["gap"]["first_level"] == above.gap.first_level
+    assert col["gap"]["statistic"] == pytest.approx(above.gap.statistic, rel=1e-12)
+    with pytest.raises(gmwm.InputError, match="first_level: found 0, expected auto"):
+        gmwm.gap(rec["accel_x"], model=truth, first_level=0)

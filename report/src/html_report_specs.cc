@@ -39,14 +39,16 @@ struct LogLog {
   std::vector<Curve> curves;
   std::string reference_name;                    ///< empty: no reference band
   std::vector<std::array<double, 3>> reference;  ///< tau, low, high
-  /// Where a fit that left the finer levels out starts (axis units, between its first level
-  /// and the one below): the scales below are shaded "not fitted". NaN: every level fitted.
+  /// Where a fit (or a gap comparison) that left the finer levels out starts (axis units,
+  /// between its first level and the one below): the scales below are shaded and labelled
+  /// `fitted_label`. NaN: every level used.
   double fitted_from = std::numeric_limits<double>::quiet_NaN();
+  std::string fitted_label = "not fitted";
 };
 
-// A shade over the scales below `edge` (axis units) and its label "not fitted": the levels
-// a fit from a first level above 1 left out.
-Json not_fitted_marks(double edge_tau) {
+// A shade over the scales below `edge` (axis units) and its label ("not fitted"): the levels
+// a fit (or a gap comparison) from a first level above 1 left out.
+Json not_fitted_marks(double edge_tau, const std::string& text) {
   const Json edge = {{"scale", "x"}, {"value", edge_tau}};
   Json shade = {{"type", "rect"},
                 {"clip", true},
@@ -68,7 +70,7 @@ Json not_fitted_marks(double edge_tau) {
                     {"align", {{"value", "right"}}},
                     {"baseline", {{"value", "top"}}},
                     {"fill", {{"value", "#555"}}},
-                    {"text", {{"value", "not fitted"}}}}}}}};
+                    {"text", {{"value", text}}}}}}}};
   return Json::array({std::move(shade), std::move(label)});
 }
 
@@ -249,7 +251,7 @@ Json loglog_spec(const LogLog& p) {
                                 "format(datum.hi, '.3~e') : 'n/a')}";
   const std::string tip_curve = "{'series': datum.series, 'tau [" + p.tau_unit + "]': format(datum.tau, '.4~g'), '" +
                                 p.value_name + "': format(datum.v, '.4~e')}";
-  Json marks = std::isfinite(p.fitted_from) ? not_fitted_marks(p.fitted_from) : Json::array();  // under the rest
+  Json marks = std::isfinite(p.fitted_from) ? not_fitted_marks(p.fitted_from, p.fitted_label) : Json::array();
   if (!p.reference_name.empty()) {
     Json enc = xy("tau", "lo");
     enc["y2"] = {{"scale", "y"}, {"field", "hi"}};
@@ -447,6 +449,10 @@ Json gap_curves_spec(const ReportColumn& c) {
     p.reference.push_back({l.tau * scale, l.ref_low, l.ref_high});
     tau.push_back(l.tau);
   }
+  if (g.first_level > 1 && !tau.empty()) {  // the finer levels shown, not compared
+    p.fitted_from = scale * tau.front() / std::sqrt(2.0);
+    p.fitted_label = "not compared";
+  }
   auto base = model_curves(g.baseline, g.baseline_theta, tau, scale, "baseline " + g.baseline.to_string(), false);
   p.curves.insert(p.curves.end(), base.begin(), base.end());
   if (!g.steps.empty()) {
@@ -466,7 +472,7 @@ Json gap_levels_spec(const ReportData& d) {
     columns.push_back(c.name);
     unit = tau_unit(c);
     const double scale = tau_scale(c);
-    int level = 0;
+    int level = c.gap->first_level - 1;
     for (const auto& l : c.gap->levels) {
       ++level;
       const double lr = l.ratio > 0.0 ? std::log2(l.ratio) : std::nan("");

@@ -190,8 +190,9 @@ std::string gap_tables(const ReportColumn& c) {
     if (g.contaminated_levels.empty()) os << "no level flagged";
     for (std::size_t i = 0; i < g.contaminated_levels.size(); ++i)
       os << (i ? ", " : "levels flagged at ")
-         << html_escape(num(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - 1)].tau * scale, 4)) << " "
-         << unit;
+         << html_escape(
+                num(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - g.first_level)].tau * scale, 4))
+         << " " << unit;
     os << " (robust WV below the classical one beyond the data's rounding, with far outliers)</li>\n";
   }
   const auto& s = g.shrinkage;

@@ -137,6 +137,7 @@ Json gap_column_json(const ColumnInfo& column, const gap::GapResult& g, const st
                       {"ref_high", json_number(l.ref_high)},
                       {"outside", l.outside}});
   c["gap"] = {{"detected", g.detected},
+              {"first_level", g.first_level},  // levels below it shown, not compared (the notes say why)
               {"p_value", json_number(g.p_value)},
               {"statistic", json_number(g.statistic)},
               {"bands", std::move(bands)},

@@ -77,7 +77,7 @@ std::string gap_column_text(const std::string& name, const gap::GapResult& g, co
     if (g.contaminated_levels.empty()) os << "no level flagged";
     for (std::size_t i = 0; i < g.contaminated_levels.size(); ++i)
       os << (i ? ", " : "levels flagged at ")
-         << seconds_text(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - 1)].tau, set);
+         << seconds_text(g.levels[static_cast<std::size_t>(g.contaminated_levels[i] - g.first_level)].tau, set);
     os << " (robust WV below the classical one beyond the data's rounding, with far outliers)\n";
   }
   for (const auto& r : g.refused) os << "  refused (does not lower the objective's excess): " << r << '\n';

@@ -137,7 +137,7 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& modwt, co
     if (!(robust.wv[j] > 0.0)) return;
     // Counted from the prefix sums: materialising the level's 8 MB of coefficients to
     // count them was 10% of `wv --robust` (issue 44).
-    const int level = static_cast<int>(j) + 1;
+    const int level = first_level(robust) + static_cast<int>(j);  // a cut WV starts above level 1
     const std::int64_t M = modwt.count(level);
     const std::int64_t far = modwt.count_above(level, kTailSd * kTailSd * robust.wv[j]);
     out[j].tail_share = M > 0 ? static_cast<double>(far) / static_cast<double>(M) : 0.0;

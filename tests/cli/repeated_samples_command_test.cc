@@ -205,10 +205,41 @@ TEST_F(RepeatedSamplesCommand, SelectWithFirstLevelAutoRanksTheModelsOnTheLevels
 // samples smooth and names effects for it; the headline and the first note say that the
 // gap there is the repetition's, not the sensor's. The gyroscope, measured at its own rate,
 // gets no such note.
-TEST_F(RepeatedSamplesCommand, GapSaysADeficitWithinTheSmoothedScalesIsTheRepetitionsNotTheSensors) {
+// By default the gap study compares each column from its first level auto: above the
+// scales held or interpolated samples smooth, where the accelerometer's true model (its
+// 200 Hz white noise and walk at 400 Hz) is not rejected and no effect is named; every level
+// compared (--first-level 1), the deficit the copies make there would be explained by
+// effects the sensor does not have (an AR1 of 2.5 ms and a 63 Hz tone, before the note).
+TEST_F(RepeatedSamplesCommand, GapComparesAboveTheSmoothedScalesByDefaultAndNamesNoEffectForThem) {
+  const std::string truth = "WN(sigma2=" + number(2.0 * kAccelSigma2) + ")+RW(gamma2=5e-11)";
+  const auto r = run_gmwm({"gap", "realsense.csv", "--columns", "accel_x,accel_y,gyro_x", "--model", truth,
+                           "--replicates", "60", "--json", "g.json", "--report", "g.html"},
+                          dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "g.json");
+  for (int k : {0, 1}) {
+    const json& accel = doc.at("columns").at(k);
+    const int first = accel.at("gap").at("first_level").get<int>();
+    EXPECT_GE(first, k == 0 ? 5 : 6) << accel.at("name");  // above the detection's smoothed levels
+    EXPECT_EQ(accel.at("gap").at("levels").size(), 16u - static_cast<std::size_t>(first) + 1u);
+    EXPECT_EQ(accel.at("gap").at("levels").at(0).at("tau").get<double>(), std::ldexp(1.0, first));
+    EXPECT_FALSE(accel.at("gap").at("detected").get<bool>()) << accel.at("headline");
+    EXPECT_TRUE(accel.at("attribution").at("steps").empty()) << accel.at("headline");
+    const std::string reason = "compared from level " + std::to_string(first) + " (tau = ";
+    ASSERT_FALSE(accel.at("notes").empty());
+    EXPECT_EQ(accel.at("notes").at(0).get<std::string>().rfind(reason, 0), 0u) << accel.at("notes");
+    EXPECT_NE(accel.at("headline").get<std::string>().find(reason), std::string::npos);
+    EXPECT_NE(accel.at("headline").get<std::string>().find("shown, not compared"), std::string::npos);
+  }
+  EXPECT_EQ(doc.at("columns").at(2).at("gap").at("first_level").get<int>(), 1);  // the gyroscope's own samples
+  EXPECT_NE(flowed(r.out).find("accel_x: no gap"), std::string::npos) << r.out;
+  EXPECT_NE(read_text(dir_ / "g.html").find("not compared"), std::string::npos);
+}
+
+TEST_F(RepeatedSamplesCommand, GapWithEveryLevelComparedSaysADeficitWithinTheSmoothedScalesIsTheRepetitions) {
   const std::string truth = "WN(sigma2=" + number(2.0 * kAccelSigma2) + ")+RW(gamma2=5e-11)";
   const auto r = run_gmwm({"gap", "realsense.csv", "--columns", "accel_x,gyro_x", "--model", truth, "--replicates",
-                           "60", "--json", "g.json"},
+                           "60", "--first-level", "1", "--json", "g.json"},
                           dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json doc = read_json(dir_ / "g.json");
@@ -222,6 +253,24 @@ TEST_F(RepeatedSamplesCommand, GapSaysADeficitWithinTheSmoothedScalesIsTheRepeti
   EXPECT_NE(flowed(r.out).find(said), std::string::npos) << r.out;
   const json& gyro = doc.at("columns").at(1);
   EXPECT_EQ(gyro.at("headline").get<std::string>().find("the repetition's"), std::string::npos);
+}
+
+// The robust WV's spike screen measures spikes against the level-1 robust scale, which the
+// copies' steps of exactly zero deflate: on the held column it replaced 46750 of 65536
+// samples. It is off there, said in the screening note; the gyroscope's own samples keep it.
+TEST_F(RepeatedSamplesCommand, TheRobustWvLeavesAHeldColumnUnscreenedAndSaysWhy) {
+  const auto r = run_gmwm({"wv", "realsense.csv", "--columns", "accel_x,gyro_x", "--robust", "--json", "w.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "w.json");
+  const json& held = doc.at("columns").at(0).at("screening");
+  EXPECT_EQ(held.at("replaced_samples").get<int>(), 0);
+  EXPECT_EQ(
+      held.at("note").get<std::string>().rfind("spike screen off: 50% of the samples copy the one before (held)", 0),
+      0u)
+      << held.at("note");
+  const json& own = doc.at("columns").at(1).at("screening");
+  EXPECT_EQ(own.at("note").get<std::string>().rfind("spike screen: ", 0), 0u) << own.at("note");
+  EXPECT_EQ(flowed(r.out).find("46750"), std::string::npos) << r.out;
 }
 
 }  // namespace

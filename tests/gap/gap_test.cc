@@ -316,5 +316,62 @@ TEST(DiagnoseGap, ReachesTheTruthFromADatasheetFarBelowTheDataAtCoarseScales) {
   EXPECT_NE(g.headline.find("gap closed"), std::string::npos) << g.headline;
 }
 
+// A WV cut by drop_fine_levels (the fine scales held or interpolated samples smooth) is
+// compared from its first level: the reference replicates are cut the same way, the levels'
+// map starts there, and the bands and flagged levels name the series' own levels.
+TEST(DiagnoseGap, ComparesACutWvFromItsFirstLevelAndNamesBandsByTheSeriesLevels) {
+  const Case c = simulate_case(std::string(kBase) + "+AR1(phi=0.995,sigma2=2e-7)", 8103);
+  const Model base = parse_model(kBase);
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8203;
+  const WaveletVariance robust = robust::robust_wv(c.x.data(), kN);
+  const WaveletVariance wv = drop_fine_levels(c.wv, 3), cut_robust = drop_fine_levels(robust, 3);
+  const GapResult g = diagnose_gap(wv, base, base.given_values(), o, &cut_robust, &c.x);
+  EXPECT_EQ(g.first_level, 3);
+  ASSERT_EQ(g.levels.size(), 14u);
+  EXPECT_EQ(g.levels.front().tau, 8.0);
+  EXPECT_EQ(g.levels_after.size(), 14u);
+  EXPECT_TRUE(g.detected);
+  EXPECT_EQ(g.effect, GapEffect::kAR1);
+  ASSERT_FALSE(g.bands.empty());
+  for (const GapBand& b : g.bands) {
+    EXPECT_GE(b.first_level, 3);
+    EXPECT_EQ(b.tau_from, g.levels[static_cast<std::size_t>(b.first_level - g.first_level)].tau);
+    EXPECT_EQ(b.tau_to, g.levels[static_cast<std::size_t>(b.last_level - g.first_level)].tau);
+    EXPECT_EQ(b.tau_from, std::ldexp(1.0, b.first_level));
+  }
+  for (int l : g.contaminated_levels) EXPECT_GE(l, 3);
+  ASSERT_EQ(g.final_fit.theta.size(), 2);
+  EXPECT_NEAR(g.final_fit.theta(0), 0.995, 0.003);
+}
+
+// Held samples (each measurement copied once, as a 2x-rate stream carries a slower sensor)
+// leave the WV's finest levels at about half the sensor's: compared there, the true model is
+// rejected; compared from level 5 (tau = 32 samples, where the detection of
+// repeated_samples.h calls a copy of 2 clean), it is not.
+TEST(DiagnoseGap, FindsNoGapAboveTheScalesHeldSamplesSmoothWhenTheBaselineIsTheTruth) {
+  const Model m = parse_model(kBase);
+  const std::vector<double> measured = simulate(m, m.given_values(), kN / 2, 8111, 0);
+  std::vector<double> held(kN);
+  for (std::int64_t t = 0; t < kN; ++t) held[static_cast<std::size_t>(t)] = measured[static_cast<std::size_t>(t / 2)];
+  // The held record's own model at its rate: the white noise's density kept (sigma2 x 2),
+  // the walk's increments spread over two samples (gamma2 / 2).
+  const Model truth = parse_model("WN(sigma2=2e-4)+RW(gamma2=5e-11)");
+  GapOptions o;
+  o.replicates = 100;
+  o.seed = 8211;
+  const WaveletVariance wv = classical_wv(held.data(), kN);
+  const GapResult every = diagnose_gap(wv, truth, truth.given_values(), o, nullptr, &held);
+  EXPECT_TRUE(every.detected);
+  ASSERT_FALSE(every.bands.empty());
+  EXPECT_EQ(every.bands.front().first_level, 1);
+  EXPECT_EQ(every.bands.front().direction, "deficit");
+  const GapResult above = diagnose_gap(drop_fine_levels(wv, 5), truth, truth.given_values(), o, nullptr, &held);
+  EXPECT_FALSE(above.detected) << above.headline;
+  EXPECT_GT(above.p_value, o.alpha);
+  EXPECT_TRUE(above.steps.empty());
+}
+
 }  // namespace
 }  // namespace gmwm::gap

@@ -211,10 +211,15 @@ void add_robust_options(CLI::App& sub, RobustOptions& robust) {
 
 void add_fitting_options(CLI::App& sub, std::string& first_level, int& max_evaluations) {
   add_max_evaluations_option(sub, max_evaluations);
+  add_first_level_option(sub, first_level,
+                         "Fit the WV from this level on (tau = 2^L samples), the finer levels shown, not fitted");
+}
+
+void add_first_level_option(CLI::App& sub, std::string& first_level, const std::string& what) {
   sub.add_option("--first-level", first_level,
-                 "Fit the WV from this level on (tau = 2^L samples), the finer levels shown, not fitted: "
-                 "auto starts above the scales that held or interpolated samples bias (the warning's "
-                 "levels), 1 where a column's samples do not repeat")
+                 what +
+                     ": auto starts above the scales that held or interpolated samples bias (the warning's "
+                     "levels), 1 where a column's samples do not repeat")
       ->type_name("L|auto")
       ->check(CLI::Validator(
           [](std::string& given) -> std::string {

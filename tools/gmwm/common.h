@@ -122,9 +122,11 @@ void add_input_options(CLI::App& sub, InputOptions& input);
 void add_robust_options(CLI::App& sub, RobustOptions& robust);
 /// --max-evaluations N (fit and select).
 void add_max_evaluations_option(CLI::App& sub, int& max_evaluations);
-/// --first-level L|auto (fit, select: the first level fitted, checked by
-/// pipeline::parse_first_level; `first_level` keeps what was given, "1" by default) and
-/// --max-evaluations.
+/// --first-level L|auto (fit, select: the first level fitted; gap: the first level
+/// compared), checked by pipeline::parse_first_level; `first_level` keeps what was given
+/// (its default shown). `what` is the help's opening ("Fit the WV from this level on").
+void add_first_level_option(CLI::App& sub, std::string& first_level, const std::string& what);
+/// --first-level (the first level fitted, "1" by default) and --max-evaluations.
 void add_fitting_options(CLI::App& sub, std::string& first_level, int& max_evaluations);
 /// The level (or pipeline::kAutoFirstLevel) of a --first-level the option checked.
 int first_level_of(const std::string& text);

@@ -41,8 +41,9 @@ struct GapArgs {
   std::string effects;  ///< --effects WN,DR,...: the candidates tried (empty: all)
   double min_effect = gap::GapOptions{}.min_effect;
   int max_steps = gap::GapOptions{}.max_steps;
-  bool no_unit_check = false;  ///< --no-unit-check
-  std::string corrected;       ///< --corrected PATH
+  bool no_unit_check = false;        ///< --no-unit-check
+  std::string corrected;             ///< --corrected PATH
+  std::string first_level = "auto";  ///< --first-level L|auto (pipeline::parse_first_level)
 };
 
 // The study's settings but the baseline (InputError naming the option when invalid).
@@ -60,6 +61,7 @@ pipeline::GapStudyOptions gap_study_options(const GapArgs& args, const CommonOpt
   if (!args.sensor.empty()) options.sensor = args.sensor == "gyro" ? io::SensorKind::kGyro : io::SensorKind::kAccel;
   options.temperature_column = args.temperature;
   options.unit_check = !args.no_unit_check;
+  options.first_level = first_level_of(args.first_level);
   options.gap.replicates = args.replicates;
   options.gap.seed = common.seed;
   options.gap.alpha = args.input.alpha;
@@ -146,6 +148,27 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
 
 }  // namespace
 
+// What the comparison with the baseline takes: the effect size, the stepwise limit, the unit
+// check and the first level compared.
+void add_comparison_options(CLI::App& sub, GapArgs& a) {
+  sub.add_option("--min-effect", a.min_effect,
+                 "Practical effect size of a gap band: a level departs only when its WV is off by more than this "
+                 "fraction (docs/gap.md)")
+      ->type_name("X")
+      ->transform(decimal_number([](double x) { return x >= 0.0 && x < 10.0; }, "a fraction from 0 to 10"))
+      ->capture_default_str();
+  sub.add_option("--max-steps", a.max_steps, "The most effects the forward-stepwise attribution adds")
+      ->type_name("N")
+      ->transform(whole_number(0, 20))
+      ->capture_default_str();
+  sub.add_flag("--no-unit-check", a.no_unit_check,
+               "Diagnose even when a column's finest scales sit at a unit factor ((180/pi)^2, 9.80665^2, ...) "
+               "from the baseline");
+  add_first_level_option(sub, a.first_level,
+                         "Compare the WV with the baseline from this level on (tau = 2^L samples), the finer levels "
+                         "shown, not compared");
+}
+
 Command add_gap_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<GapArgs>();
   CLI::App* sub = app.add_subcommand(
@@ -196,19 +219,7 @@ Command add_gap_command(CLI::App& app, CommonOptions& common) {
          "The effects the attribution may add, e.g. DR,AR1 (default: all of WN, QN, RW, DR, AR1, FLICKER, SIN, "
          "REPARAMETERISE; OUTLIERS, STEP, TRANSIENT and TEMPERATURE are tested on the series itself)")
       ->type_name("LIST");
-  sub->add_option("--min-effect", args->min_effect,
-                  "Practical effect size of a gap band: a level departs only when its WV is off by more than this "
-                  "fraction (docs/gap.md)")
-      ->type_name("X")
-      ->transform(decimal_number([](double x) { return x >= 0.0 && x < 10.0; }, "a fraction from 0 to 10"))
-      ->capture_default_str();
-  sub->add_option("--max-steps", args->max_steps, "The most effects the forward-stepwise attribution adds")
-      ->type_name("N")
-      ->transform(whole_number(0, 20))
-      ->capture_default_str();
-  sub->add_flag("--no-unit-check", args->no_unit_check,
-                "Diagnose even when a column's finest scales sit at a unit factor ((180/pi)^2, 9.80665^2, ...) "
-                "from the baseline");
+  add_comparison_options(*sub, *args);
   add_common_options(*sub, common);
   add_report_option(*sub, common);
   return {sub, [args, &common] { return run_gap(*args, common); }};

@@ -147,7 +147,7 @@ struct GapLevel {
 };
 
 struct GapBand {
-  int first_level = 0, last_level = 0;  ///< 1-based, inclusive
+  int first_level = 0, last_level = 0;  ///< levels (tau = 2^level samples), inclusive
   double tau_from = 0.0, tau_to = 0.0;  ///< samples
   std::string direction;                ///< "excess" or "deficit"
   double peak_ratio = 1.0;              ///< the ratio farthest from 1 within the band
@@ -276,6 +276,11 @@ class GapAssessor {
 struct GapResult {
   Model baseline;
   Eigen::VectorXd baseline_theta;
+  /// The first level compared (tau = 2^first_level samples): 1, or the first level of a WV
+  /// that drop_fine_levels cut (the finer scales smoothed by held or interpolated samples).
+  /// `levels` and `levels_after` start there; bands and contaminated_levels name levels,
+  /// so level l's entry is levels[l - first_level].
+  int first_level = 1;
   std::vector<GapLevel> levels;
   double statistic = 0.0;  ///< Mahalanobis distance of log nuhat from the reference
   double p_value = 1.0;    ///< global test
@@ -325,8 +330,8 @@ struct GapResult {
   /// excess is 0. In the order of `steps`.
   std::vector<double> step_excess, step_shares;
   std::vector<std::string> notes;  ///< e.g. why OUTLIERS, REPARAMETERISE or nothing
-  /// The contamination screen (with the robust WV and the series): the levels (1-based)
-  /// whose robust WV sits below the classical one beyond what the data's rounding
+  /// The contamination screen (with the robust WV and the series): the levels (tau = 2^level
+  /// samples) whose robust WV sits below the classical one beyond what the data's rounding
   /// explains, with an excess of far outliers (robust/contamination.h); empty when clean
   /// or not screened.
   std::vector<int> contaminated_levels;

@@ -28,6 +28,7 @@
 #include "gmwm/io/units.h"
 #include "gmwm/gap/cross_axis.h"
 #include "gmwm/gap/gap.h"
+#include "gmwm/pipeline/first_level.h"
 
 namespace gmwm::pipeline {
 
@@ -61,6 +62,12 @@ struct GapStudyOptions {
   std::string temperature_column;
   /// Off: diagnose even when a column's finest scales sit at a unit factor from the baseline.
   bool unit_check = true;
+  /// The first level compared with the baseline (tau = 2^level samples; first_level.h): the
+  /// finer ones are shown, not compared, not fitted. kAutoFirstLevel (the default): each
+  /// column's first_fit_level, above the scales its held or interpolated samples smooth (a
+  /// diagnosis there names effects of the repetition, not the sensor's), 1 where its samples
+  /// do not repeat.
+  int first_level = kAutoFirstLevel;
   /// The diagnosis' settings, handed down to every column: reference replicates, seed
   /// (every column's: a column's diagnosis does not depend on the others listed, and
   /// columns with one baseline share its reference), test level (also the cross-axis test's), practical effect
@@ -84,6 +91,7 @@ struct GapColumnStudy {
   Eigen::VectorXd theta;
   /// How the baseline was obtained (a simulator's figures converted, a bias taken as RW, a fit).
   std::vector<std::string> conversions;
+  /// Every level of the column's WVs; the diagnosis took them from result.first_level on.
   WaveletVariance wv, robust_wv;
   gap::GapResult result;
 };
