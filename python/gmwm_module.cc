@@ -135,21 +135,6 @@ std::string py_allan(const py::object& data, std::optional<double> given_freq, i
 // max_evaluations='s default, the fit's.
 const int kMaxEvaluations = gmwm::FitOptions{}.max_evaluations;
 
-// first_level= as the CLI's --first-level: 'auto' or a whole number 1..62 (a Python int or
-// its digits); InputError naming the argument otherwise.
-int first_level_argument(const py::object& value) {
-  std::string text;
-  if (py::isinstance<py::str>(value))
-    text = value.cast<std::string>();
-  else if (!py::isinstance<py::bool_>(value) && py::hasattr(value, "__index__"))  // int, numpy integer
-    text = py::str(py::module_::import("operator").attr("index")(value)).cast<std::string>();
-  const std::optional<int> level = text.empty() ? std::nullopt : gmwm::pipeline::parse_first_level(text);
-  if (!level)
-    throw gmwm::InputError("first_level: found " + py::repr(value).cast<std::string>() + ", expected " +
-                           gmwm::pipeline::kFirstLevelExpected);
-  return *level;
-}
-
 // The fit study (gmwm::pipeline::study_fit, as `gmwm fit`): the 'fit' JSON column with its
 // continuous parameters, Kalman terms, Allan deviations and noise figures.
 std::string py_fit(const py::object& data, const std::string& model_spec, std::optional<double> freq,

@@ -6,6 +6,7 @@
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/pipeline/first_level.h"
 #include "gmwm/report/json_output.h"
 #include "gmwm/robust/robust_request.h"
 #include "gmwm/robust/robust_wv.h"
@@ -199,6 +200,19 @@ double kalman_rate(std::optional<double> kf_rate, const gmwm::io::SignalSet& set
 gmwm::OmegaKind omega_kind(const std::string& s) {
   if (const auto k = gmwm::parse_omega_kind(s)) return *k;
   throw gmwm::InputError("--omega: " + gmwm::unknown_choice(s, gmwm::omega_kind_names()));
+}
+
+int first_level_argument(const py::object& value) {
+  std::string text;
+  if (py::isinstance<py::str>(value))
+    text = value.cast<std::string>();
+  else if (!py::isinstance<py::bool_>(value) && py::hasattr(value, "__index__"))  // int, numpy integer
+    text = py::str(py::module_::import("operator").attr("index")(value)).cast<std::string>();
+  const std::optional<int> level = text.empty() ? std::nullopt : gmwm::pipeline::parse_first_level(text);
+  if (!level)
+    throw gmwm::InputError("first_level: found " + py::repr(value).cast<std::string>() + ", expected " +
+                           gmwm::pipeline::kFirstLevelExpected);
+  return *level;
 }
 
 }  // namespace gmwm::python

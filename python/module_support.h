@@ -90,6 +90,9 @@ std::vector<std::vector<double>> columns_of(const py::handle& obj, std::vector<s
 
 // The rate given with data (freq): refused when missing or outside the readers' range.
 double given_rate(std::optional<double> freq);
+/// first_level= as the CLI's --first-level: 'auto' or a whole number 1..62 (a Python int, a
+/// numpy integer or its digits); InputError naming the argument otherwise.
+int first_level_argument(const py::object& value);
 gmwm::report::ColumnInfo info(const std::string& name, std::size_t n, std::optional<double> freq,
                               const std::string& unit);
 

@@ -254,8 +254,10 @@ void refuse_manifest_rows(const std::vector<std::string>& problems) {
 std::string py_fleet(const std::string& manifest_path, const std::string& model_spec, double alpha, std::uint64_t seed,
                      std::optional<double> memory_mb, std::optional<std::string> cache, py::object runner,
                      const std::string& spec, const std::string& gap_format, const std::string& gap_path,
-                     const std::string& gap_imu, int gap_replicates, bool joint, int joint_draws) {
+                     const std::string& gap_imu, int gap_replicates, bool joint, int joint_draws,
+                     const py::object& first_level) {
   gmwm::fleet::FleetStudyOptions o;
+  o.first_level = first_level_argument(first_level);
   o.model = model_spec;
   o.wv.alpha = alpha;
   o.select.fit.alpha = alpha;
@@ -334,10 +336,10 @@ void add_multi_signal_functions(py::module_& m) {
         py::arg("runner") = py::none(), py::arg("spec") = "", py::arg("gap_format") = "kalibr",
         py::arg("gap_path") = "", py::arg("gap_imu") = "",
         py::arg("gap_replicates") = gmwm::fleet::FleetGapBaseline{}.replicates, py::arg("joint") = false,
-        py::arg("joint_draws") = gmwm::fleet::FleetStudyOptions::Joint{}.test_draws,
+        py::arg("joint_draws") = gmwm::fleet::FleetStudyOptions::Joint{}.test_draws, py::arg("first_level") = "auto",
         "Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate, group]) "
         "selected over `model` as gmwm select does, one row per unit x axis with N, K, B, the fleet's summary and "
-        "the units that stand out: the document gmwm fleet --json writes");
+        "the units that stand out: the document gmwm fleet --json writes; `first_level` as the CLI's --first-level");
 }
 
 }  // namespace gmwm::python

@@ -172,6 +172,7 @@ Json result_options_json(const FleetStudyOptions& o) {
           {"gap", gap_json(o.gap)},
           {"model", o.model.text()},
           {"wv", {{"levels", o.wv.levels}, {"alpha", num(o.wv.alpha)}}},
+          {"first_level", o.first_level},
           {"select",
            {{"penalty", to_string(s.penalty)},
             {"omega", to_string(s.omega)},
@@ -187,6 +188,7 @@ FleetStudyOptions read_options(const Reader& r, const Json& j) {
   const Json& wv = r.at(j, "wv");
   o.wv.levels = static_cast<int>(r.integer(wv, "levels"));
   o.wv.alpha = r.number(wv, "alpha");
+  o.first_level = static_cast<int>(r.integer(j, "first_level"));
   const Json& s = r.at(j, "select");
   o.select.penalty = r.named<selection::Penalty>(s, "penalty", &selection::parse_penalty);
   o.select.omega = r.named<selection::OmegaSource>(s, "omega", &selection::parse_omega_source);
@@ -349,6 +351,7 @@ Json axis_json(const FleetRow& row, const FleetCurves& c) {
       {"chosen_structure", row.chosen_structure},
       {"gof_p", num(row.gof_p)},
       {"n", row.n},
+      {"first_level", row.first_level},
       {"figures", std::move(figures)},
       {"gap", row.gap_verdict.empty()
                   ? Json(nullptr)
@@ -366,6 +369,7 @@ void read_axis(const Reader& r, const Json& j, FleetRow& row, FleetCurves& c) {
   row.chosen_structure = r.text(j, "chosen_structure");
   row.gof_p = r.number(j, "gof_p");
   row.n = r.integer(j, "n");
+  row.first_level = static_cast<int>(r.integer(j, "first_level"));
   const Json& f = r.at(j, "figures");
   if (!f.is_null()) {
     row.figures.white = read_chosen(r, r.at(f, "N"));
@@ -410,6 +414,7 @@ void add_axes(const io::FleetRecording& r, const io::SignalSet& set, pipeline::S
     row.data_unit = r.units.empty() ? set.signals[k].unit : io::unit_of_column(units, c.name);
     row.n = static_cast<std::int64_t>(set.signals[k].values.size());
     row.freq = set.freq;
+    row.first_level = c.first_level;
     const FitResult& b = c.selection.best_fit;
     if (b.status == FitStatus::kFailed || b.theta.size() != b.model.num_parameters() || !b.theta.allFinite()) {
       row.status =
@@ -477,6 +482,7 @@ void add_gap(const io::FleetRecording& r, io::SignalSet& set, const FleetStudyOp
     go.units_declared = !r.units.empty();
     go.baseline = pipeline::ConfigBaseline{gap_config(*o.gap, set.freq, go.units), o.gap->name};
     go.wv = o.wv;
+    go.first_level = o.first_level;
     go.gap.replicates = o.gap->replicates;
     go.gap.seed = o.select.seed;
     const pipeline::GapStudy g = pipeline::study_gap(set, go);
@@ -521,6 +527,7 @@ FleetRecord study_fleet_recording(const io::FleetRecording& recording, const Fle
     so.models = {options.model};
     so.select = options.select;
     so.wv = options.wv;
+    so.first_level = options.first_level;
     pipeline::SelectStudy s = pipeline::study_select(set, so);
     add_axes(recording, set, s, out);
     if (options.gap) add_gap(recording, set, options, out);

@@ -271,6 +271,7 @@ std::string FleetStudyOptions::Validate() const {
     return "leave select.fit's omega_matrix, starts and estimator empty: the selection sets them per model";
   if (std::string why = select.Validate(); !why.empty()) return why;
   if (std::string why = wv.Validate(); !why.empty()) return why;
+  if (std::string why = pipeline::first_level_problem(first_level); !why.empty()) return why;
   if (!(memory_budget >= 0.0)) return "memory_budget must be >= 0";
   if (joint.enabled) {
     ReplicateTestOptions t;

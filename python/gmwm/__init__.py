@@ -150,7 +150,8 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
           scheduler: Any = None, spec: str | os.PathLike[str] | None = None,
           gap_kalibr: str | os.PathLike[str] | None = None, gap_gazebo: str | os.PathLike[str] | None = None,
           gap_datasheet: str | os.PathLike[str] | None = None, gap_imu: str = "",
-          gap_replicates: int = 200, joint: bool = False, joint_draws: int = 100) -> FleetResult:
+          gap_replicates: int = 200, joint: bool = False, joint_draws: int = 100,
+          first_level: int | str = "auto") -> FleetResult:
     """Every recording of a manifest (CSV or YAML: path, unit, model[, topic, columns, units, rate,
     group]) selected over `model` as gmwm select does: one row per unit x axis with N, K, B, the
     fleet's summary and the units that stand out (the document gmwm fleet --json writes).
@@ -165,7 +166,10 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
     against that baseline, as gmwm gap gives it (rows' "gap": verdict, headline, p_value);
     gap_imu names a Kalibr chain's IMU, gap_replicates the reference replicates.
     joint: each group's joint model per axis (its units as replicates; result.joint), the
-    shared-theta test by bootstrap (joint_draws) up to 12 units, by its chi-square beyond."""
+    shared-theta test by bootstrap (joint_draws) up to 12 units, by its chi-square beyond.
+    first_level: the first level each selection fits and each gap diagnosis compares (the
+    CLI's --first-level): "auto" (default) above the scales a unit's held or interpolated
+    samples smooth, 1 where they do not repeat; rows' "first_level" says where."""
     from . import _fleet_dask
 
     runner = None if scheduler is None else _fleet_dask.runner(scheduler)
@@ -178,7 +182,7 @@ def fleet(manifest: str | os.PathLike[str], *, model: str, alpha: float = 0.05, 
                       cache=None if cache is None else os.fspath(cache), runner=runner,
                       spec="" if spec is None else os.fspath(spec), gap_format=gap_format,
                       gap_path=os.fspath(gap_path), gap_imu=gap_imu, gap_replicates=gap_replicates, joint=joint,
-                      joint_draws=joint_draws)
+                      joint_draws=joint_draws, first_level=first_level)
 
 
 def _result_document(result: Any) -> tuple[str, str]:

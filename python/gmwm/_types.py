@@ -2090,6 +2090,7 @@ class FleetRow:
     gap_verdict: str = ""
     gap_headline: str = ""
     gap_p_value: float = float("nan")
+    first_level: int = 1
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> "FleetRow":
@@ -2116,7 +2117,8 @@ class FleetRow:
                    d.get("spec_note", ""),
                    (d.get("gap") or {}).get("verdict", ""),
                    (d.get("gap") or {}).get("headline", ""),
-                   num((d.get("gap") or {}).get("p_value")))
+                   num((d.get("gap") or {}).get("p_value")),
+                   int(d.get("first_level", 1)))
 
 
 @dataclass(frozen=True)

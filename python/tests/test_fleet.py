@@ -37,6 +37,7 @@ def test_fleet_equals_the_clis_fleet_document_bit_for_bit_with_typed_rows(fleet_
     assert doc == cli
     assert isinstance(mine, gmwm.FleetResult)
     assert len(mine.rows) == 10 and mine.failed == 0
+    assert {r.first_level for r in mine.rows} == {1}  # auto: nothing repeats in these units
     row = mine.rows[0]
     assert (row.unit, row.axis, row.unit_of_data, row.status) == ("SN1", "gyro_x", "rad/s", "ok")
     assert row.N.value == cli["rows"][0]["N"]["value"]
@@ -113,3 +114,10 @@ def test_fleet_joint_gives_each_groups_axis_its_typical_units_model_typed(fleet_
         assert (j.status, j.units, j.left_out, j.calibration) == ("ok", 4, ("SN3",), "bootstrap"), j
         assert j.N.value == pytest.approx(1e-3, rel=0.03)
         assert isinstance(j.shared, bool) and 0.0 < j.heterogeneity_p <= 1.0
+
+
+@pytest.mark.parametrize("bad, shown", [(0, "0"), ("x", "'x'"), (True, "True")])
+def test_fleet_refuses_a_first_level_it_cannot_take_with_the_commands_words(fleet_dir, bad, shown):
+    with pytest.raises(gmwm.InputError) as e:
+        gmwm.fleet(fleet_dir / "fleet.csv", model="WN+RW", cache=None, first_level=bad)
+    assert str(e.value) == f"first_level: found {shown}, expected auto or a whole number from 1 to 62"

@@ -141,7 +141,8 @@ Json fleet_document(const fleet::FleetStudy& study) {
                 {"chosen_structure", r.chosen_structure.empty() ? Json(nullptr) : Json(r.chosen_structure)},
                 {"gof_p_value", json_number(r.gof_p)},
                 {"freq", json_number(r.freq)},
-                {"n", r.n}};
+                {"n", r.n},
+                {"first_level", r.first_level}};
     const char* names[] = {"N", "K", "B"};
     for (int k = 0; k < 3; ++k) row[names[k]] = figure_of(r, k) ? figure_json(*figure_of(r, k)) : Json(nullptr);
     row["seconds"] = json_number(r.seconds);

@@ -97,6 +97,8 @@ TEST_F(FleetRecordTest, ARecordReadBackGivesEveryComputedValueToTheLastBit) {
     EXPECT_EQ(a.chosen_structure, b.chosen_structure);
     EXPECT_TRUE(same_bits(a.gof_p, b.gof_p));
     EXPECT_EQ(a.n, b.n);
+    EXPECT_EQ(a.first_level, 1);  // nothing repeats: auto is level 1
+    EXPECT_EQ(a.first_level, b.first_level);
     ASSERT_TRUE(a.figures_known && b.figures_known);
     for (auto [fa, fb] : {std::pair{&a.figures.white, &b.figures.white},
                           {&a.figures.walk, &b.figures.walk},
@@ -248,6 +250,54 @@ TEST_F(FleetRecordTest, AGapBaselineTravelsInTheTaskAndItsVerdictInTheRecord) {
     EXPECT_EQ(row.gap_verdict, "not diagnosed");
     EXPECT_FALSE(row.chosen.empty());
   }
+}
+
+// A unit whose driver holds its samples (each 50 Hz measurement copied once at 100 Hz) is
+// selected, and diagnosed, above the scales the copies smooth (the first level auto, the
+// default), as gmwm select --first-level auto and gmwm gap would: the row says where, the
+// task carries the level, and the cache key follows it.
+TEST_F(FleetRecordTest, AUnitWhoseSamplesAreHeldIsSelectedAndDiagnosedAboveTheScalesTheySmooth) {
+  const Model m = parse_model("WN(sigma2=1e-4)+RW(gamma2=1e-10)");
+  const std::int64_t n = 1 << 14;
+  const auto x = simulate(m, m.given_values(), n / 2, 21, 0);
+  const auto y = simulate(m, m.given_values(), n, 21, 1);
+  {
+    std::ofstream out(dir_ / "held.csv");
+    out.precision(17);
+    out << "time,gyro_x,gyro_y\n";
+    for (std::int64_t i = 0; i < n; ++i)
+      out << static_cast<double>(i) / 100.0 << ',' << x[static_cast<std::size_t>(i / 2)] << ','
+          << y[static_cast<std::size_t>(i)] << '\n';
+  }
+  io::FleetRecording held = recording_;
+  held.path = (dir_ / "held.csv").string();
+  FleetStudyOptions o = options_;
+  o.model = "WN+RW";
+  FleetGapBaseline g;
+  g.format = io::SimFormat::kDatasheet;
+  g.name = "sheet.yaml";
+  g.text = "gyroscope:\n  noise_density: 0.001 rad/s/sqrt(Hz)\n  rate_random_walk: 0.0001 rad/s^2/sqrt(Hz)\n";
+  g.replicates = 40;
+  o.gap = g;
+  const FleetRecord r = parse_fleet_record(run_fleet_task(fleet_task_text(held, o)), "task");
+  ASSERT_EQ(r.status, "ok");
+  ASSERT_EQ(r.axes.size(), 2u);
+  EXPECT_GE(r.axes[0].first_level, 5) << r.axes[0].axis;  // above the copies' smoothed levels 1-4
+  EXPECT_NE(r.axes[0].gap_headline.find("compared from level " + std::to_string(r.axes[0].first_level)),
+            std::string::npos)
+      << r.axes[0].gap_headline;
+  EXPECT_EQ(r.axes[1].first_level, 1);  // its own samples
+  EXPECT_EQ(r.axes[1].gap_headline.find("compared from level"), std::string::npos);
+  FleetStudyOptions every = o;
+  every.first_level = 1;
+  const FleetRecord e = study_fleet_recording(held, every);
+  EXPECT_EQ(e.axes[0].first_level, 1);
+  const FleetCache cache((dir_ / "c").string());
+  EXPECT_NE(cache.key(held, every), cache.key(held, o));
+  every.first_level = 63;
+  EXPECT_NE(every.Validate().find("first level: found 63, expected auto or a whole number from 1 to 62"),
+            std::string::npos)
+      << every.Validate();
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ struct FleetArgs {
   int gap_replicates = fleet::FleetGapBaseline{}.replicates;
   bool joint = false;  ///< --joint: each group's axis's joint model
   int joint_draws = fleet::FleetStudyOptions::Joint{}.test_draws;
+  std::string first_level = "auto";  ///< --first-level L|auto: the selection's and the gap diagnosis'
 };
 
 // The rate a gap baseline is checked at before any work when the manifest's first row gives
@@ -92,6 +93,7 @@ fleet::FleetStudyOptions fleet_study_options(const FleetArgs& a, const CommonOpt
   o.select.fit.seed = common.seed;
   o.select.fit.max_evaluations = a.max_evaluations;
   o.select.seed = common.seed;
+  o.first_level = first_level_of(a.first_level);
   if (a.memory_mb) o.memory_budget = *a.memory_mb * 1e6;
   o.joint.enabled = a.joint;
   o.joint.test_draws = a.joint_draws;
@@ -211,7 +213,7 @@ Command add_fleet_command(CLI::App& app, CommonOptions& common) {
                   "A Dask scheduler's address (tcp://HOST:8786): the recordings run as tasks on its workers, "
                   "through the gmwm Python module (docs/cli.md, \"fleet\")")
       ->type_name("ADDRESS");
-  add_max_evaluations_option(*sub, args->max_evaluations);
+  add_fitting_options(*sub, args->first_level, args->max_evaluations);  // the gap diagnosis' first level too
   add_report_option(*sub, common);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_fleet(*args, common); }};

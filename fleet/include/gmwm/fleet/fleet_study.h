@@ -37,6 +37,7 @@
 #include "gmwm/io/fleet_manifest.h"
 #include "gmwm/io/fleet_spec.h"
 #include "gmwm/io/sim_config.h"
+#include "gmwm/pipeline/first_level.h"
 #include "gmwm/selection/select.h"
 
 namespace gmwm::fleet {
@@ -84,6 +85,11 @@ struct FleetStudyOptions {
   selection::SelectOptions select;
   /// Levels and alpha of the WV.
   WvOptions wv;
+  /// The first level each axis's selection fits and its gap diagnosis compares (tau =
+  /// 2^level samples; pipeline/first_level.h). kAutoFirstLevel (the default): above the
+  /// scales a unit's held or interpolated samples smooth, 1 where its samples do not repeat,
+  /// so that no unit stands out from its fleet for its driver's copies.
+  int first_level = pipeline::kAutoFirstLevel;
   /// Bytes a recording's samples may take in memory (io::ReadOptions); 0: the default.
   double memory_budget = 0.0;
   /// The datasheet limits each unit is checked against (`--spec FILE`; fleet_spec.h): a
@@ -154,6 +160,9 @@ struct FleetRow {
   /// "not diagnosed" (the headline says why: a unit mix-up, a baseline without this sensor).
   std::string gap_verdict, gap_headline;
   double gap_p = NAN;  ///< the global test's p-value against the baseline
+  /// The first level the selection fitted (FleetStudyOptions::first_level; 1 unless the
+  /// unit's samples repeat or a level was asked).
+  int first_level = 1;
   /// Where this axis stands out from its group's (fleet_summary): "N: 4.2x the fleet's
   /// median (robust z 9.1)", one per figure flagged; empty when it does not.
   std::vector<std::string> flags;
