@@ -2275,7 +2275,9 @@ class RepeatedSamples:
 class Timing(TimingMethods):
     """What a timestamp column (or a pandas index) says about the sampling (the documents'
     "timing"): the median step, the rate it gives, the gaps (steps over 1.5 median steps), the
-    steps out of order and, when the rate changes within the record, where (`rate_change`);
+    steps out of order (`duplicated_stamps` of them repeat the stamp before, from sample
+    `first_duplicated` to `last_duplicated`; the rest go backwards, the first at
+    `first_backward`) and, when the rate changes within the record, where (`rate_change`);
     `given_freq` the rate given besides (None when none). `missing_samples`: the samples the
     gaps left out; `gap_handling` "windows" (each scale from the windows without one,
     `gaps_read_as_missing`) or "join" (end to end). `summary` is the line the command
@@ -2296,6 +2298,10 @@ class Timing(TimingMethods):
     missing_samples: int = 0
     gap_handling: str | None = None
     gaps_read_as_missing: bool = False
+    duplicated_stamps: int = 0
+    first_duplicated: int | None = None
+    last_duplicated: int | None = None
+    first_backward: int | None = None
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any] | None) -> "Timing | None":
@@ -2315,4 +2321,8 @@ class Timing(TimingMethods):
                    d.get("summary"),
                    int(d.get("missing_samples", 0)),
                    d.get("gap_handling"),
-                   bool(d.get("gaps_read_as_missing", False)))
+                   bool(d.get("gaps_read_as_missing", False)),
+                   int(d.get("duplicated_stamps", 0)),
+                   opt_int(d.get("first_duplicated")),
+                   opt_int(d.get("last_duplicated")),
+                   opt_int(d.get("first_backward")))

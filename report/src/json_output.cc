@@ -99,7 +99,11 @@ json timing_json(const io::TimingReport& t) {
           {"gaps", t.gaps},
           {"largest_gap_seconds", json_number(t.largest_gap_seconds)},
           {"disorder", t.disorder},
-          {"given_freq", t.given_freq ? json_number(*t.given_freq) : json(nullptr)}};
+          {"given_freq", t.given_freq ? json_number(*t.given_freq) : json(nullptr)},
+          {"duplicated_stamps", t.duplicated},  // of the disorder: zero steps, then where
+          {"first_duplicated", t.first_duplicated >= 0 ? json(t.first_duplicated) : json(nullptr)},
+          {"last_duplicated", t.last_duplicated >= 0 ? json(t.last_duplicated) : json(nullptr)},
+          {"first_backward", t.first_backward >= 0 ? json(t.first_backward) : json(nullptr)}};
 }
 
 json record_timing_json(const io::SignalSet& set) {

@@ -225,6 +225,45 @@ TEST_F(SignalReader, CountsGapsAndDisorderInTheTimestamps) {
   EXPECT_EQ(s.timing->disorder, 2);  // 7->7 and 9->8.5
   EXPECT_NEAR(s.freq, 100.0, 1e-9);
   EXPECT_TRUE(contains(s.timing->summary(), "2 gaps (largest 40 ms), 2 out of order")) << s.timing->summary();
+  // Which ones and where: the stamp 7 repeated (sample 7), 8.5 after 9 (sample 10).
+  EXPECT_EQ(s.timing->duplicated, 1);
+  EXPECT_EQ(s.timing->first_duplicated, 7);
+  EXPECT_EQ(s.timing->last_duplicated, 7);
+  EXPECT_EQ(s.timing->first_backward, 10);
+  EXPECT_TRUE(contains(s.timing->summary(),
+                       "2 out of order (1 repeats the stamp before (5% of the samples, at sample 7), 1 goes backwards "
+                       "(first at sample 10))"))
+      << s.timing->summary();
+}
+
+// A stream whose stamps repeat (a driver that sends a message twice, a clock that did not
+// advance) says how many, what share of the samples and from where to where; an ordered
+// stream says nothing more than "0 out of order".
+TEST_F(SignalReader, SaysTheShareOfDuplicatedStampsAndWhereTheyAre) {
+  std::string rows;
+  int sample = 0;
+  for (int i = 0; i < 200; ++i) {
+    rows += std::to_string(i * 0.01) + "," + std::to_string(i % 7) + "\n";
+    ++sample;
+    if (i == 50 || i == 120 || i == 150) {  // the same stamp again
+      rows += std::to_string(i * 0.01) + "," + std::to_string(i % 5) + "\n";
+      ++sample;
+    }
+  }
+  const SignalSet s = read_signals(file("time,x\n" + rows), {});
+  ASSERT_TRUE(s.timing);
+  EXPECT_EQ(s.timing->disorder, 3);
+  EXPECT_EQ(s.timing->duplicated, 3);
+  EXPECT_EQ(s.timing->first_duplicated, 51);  // the 52nd row repeats the 51st's stamp
+  EXPECT_EQ(s.timing->last_duplicated, 153);  // two rows added before it
+  EXPECT_EQ(s.timing->first_backward, -1);
+  EXPECT_TRUE(contains(s.timing->summary(),
+                       "3 out of order (3 repeat the stamp before (1.48% of the samples, from sample 51 to 153))"))
+      << s.timing->summary();
+  const SignalSet ordered = read_signals(file("time,x,y\n" + csv_rows(50)), {});
+  EXPECT_TRUE(contains(ordered.timing->summary(), "0 out of order")) << ordered.timing->summary();
+  EXPECT_FALSE(contains(ordered.timing->summary(), "repeat")) << ordered.timing->summary();
+  EXPECT_EQ(ordered.timing->disorder_text(), "");
 }
 
 TEST_F(SignalReader, LetsFreqOverrideTheTimestampsAndReportsADisagreement) {

@@ -202,6 +202,14 @@ void StepStatistics::add(double offset, double magnitude) {
   previous_ = offset;
   if (!(d > 0.0)) {
     ++disorder_;
+    const std::int64_t sample = samples_ - 1;
+    if (d == 0.0) {
+      ++duplicated_;
+      if (first_duplicated_ < 0) first_duplicated_ = sample;
+      last_duplicated_ = sample;
+    } else if (first_backward_ < 0) {
+      first_backward_ = sample;
+    }
     return;
   }
   if (block_.empty()) block_start_ = samples_ - 2;  // the sample the step starts from
@@ -445,6 +453,10 @@ TimingReport analyse_timing(const std::string& column, const StepStatistics& ste
   r.column = column;
   r.samples = steps.samples();
   r.disorder = steps.disorder();
+  r.duplicated = steps.duplicated();
+  r.first_duplicated = steps.first_duplicated();
+  r.last_duplicated = steps.last_duplicated();
+  r.first_backward = steps.first_backward();
   const double step = steps.median();  // in the file's unit
   if (unit.to_seconds > 0.0) {
     r.unit_to_seconds = unit.to_seconds;
@@ -506,6 +518,7 @@ std::string TimingReport::summary() const {
     s += "the times never increase";
   }
   s += ", " + std::to_string(disorder) + " out of order";
+  if (const std::string d = disorder_text(); !d.empty()) s += " (" + d + ")";
   if (rate_change) s += "; " + rate_change_text();
   if (given_freq && estimated_freq > 0.0) {
     const double rel = std::fabs(estimated_freq - *given_freq) / *given_freq;
@@ -515,6 +528,26 @@ std::string TimingReport::summary() const {
       s += "; --freq " + format_hz(*given_freq) + " disagrees with them by " + pct + " (--freq is used)";
     }
   }
+  return s;
+}
+
+std::string TimingReport::disorder_text() const {
+  if (disorder == 0) return {};
+  std::string s;
+  if (duplicated > 0) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.3g%%",
+                  100.0 * static_cast<double>(duplicated) / static_cast<double>(samples));
+    s = std::to_string(duplicated) + (duplicated == 1 ? " repeats" : " repeat") + " the stamp before (" + share +
+        " of the samples, " +
+        (first_duplicated == last_duplicated
+             ? "at sample " + std::to_string(first_duplicated)
+             : "from sample " + std::to_string(first_duplicated) + " to " + std::to_string(last_duplicated)) +
+        ")";
+  }
+  if (const std::int64_t backward = disorder - duplicated; backward > 0)
+    s += (s.empty() ? "" : ", ") + std::to_string(backward) + (backward == 1 ? " goes" : " go") +
+         " backwards (first at sample " + std::to_string(first_backward) + ")";
   return s;
 }
 

@@ -75,6 +75,13 @@ class StepStatistics {
   double largest_magnitude() const { return magnitude_; }
   /// Steps that are not increasing (zero or negative).
   std::int64_t disorder() const { return disorder_; }
+  /// Steps of zero (a stamp that repeats the one before), and the 0-based samples of the
+  /// first and last such stamp (-1 when none).
+  std::int64_t duplicated() const { return duplicated_; }
+  std::int64_t first_duplicated() const { return first_duplicated_; }
+  std::int64_t last_duplicated() const { return last_duplicated_; }
+  /// The 0-based sample of the first stamp earlier than the one before (-1 when none).
+  std::int64_t first_backward() const { return first_backward_; }
   /// Median of the increasing steps (the mean of the two middle ones for an even count);
   /// 0 when there is none. Equal, bit for bit, to the median of the list of steps, wherever
   /// the list is kept.
@@ -125,6 +132,7 @@ class StepStatistics {
 
   std::int64_t samples_ = 0;
   std::int64_t disorder_ = 0;
+  std::int64_t duplicated_ = 0, first_duplicated_ = -1, last_duplicated_ = -1, first_backward_ = -1;
   double previous_ = 0.0;
   double magnitude_ = 0.0;
   // The current run of equal steps, counted before it is added to the table (consecutive

@@ -192,6 +192,10 @@ struct TimingReport {
   std::int64_t gaps = 0;             ///< steps > kGapFactor x median step
   double largest_gap_seconds = 0.0;  ///< largest step counted as a gap (0 when no gap)
   std::int64_t disorder = 0;         ///< non-increasing steps (repeated or backwards times)
+  /// Of those, the stamps that repeat the one before (steps of zero: a message sent twice, a
+  /// clock that did not advance) and the 0-based samples of the first and last; the rest go
+  /// backwards, the first at first_backward. -1 where there is none.
+  std::int64_t duplicated = 0, first_duplicated = -1, last_duplicated = -1, first_backward = -1;
   /// Where the gaps left samples out (issue 47): runs on the grid of the record's samples
   /// with the missing ones between them, round(step / median step) - 1 samples each, in time
   /// order. Only the gaps whose length is known (uncertain_gaps counts the others).
@@ -252,6 +256,9 @@ struct TimingReport {
 
   /// One line for the terminal; mentions a disagreement with --freq above 1%.
   std::string summary() const;
+  /// What the steps out of order are and where: "2 repeat the stamp before (0.1% of the
+  /// samples, from sample 7 to 907), 1 goes backwards (first at sample 10)"; "" when none.
+  std::string disorder_text() const;
   /// "the sampling rate changes within the record, from about 100 Hz at its start to about
   /// 200 Hz from sample 2049"; "" without a rate change.
   std::string rate_change_text() const;
