@@ -132,6 +132,7 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   meta["delimiter"] = set.delimiter.empty() ? Json(nullptr) : Json(set.delimiter);
   meta["compressed"] = set.compressed;
   meta["conditioning"] = gmwm::io::conditioning_summary(set);
+  meta["notes"] = set.notes;  // what reading left out (a topic's axes that are 0 throughout)
   Json repeated = Json::array();
   for (const gmwm::io::Signal& s : set.signals)
     if (s.repeated.detected()) repeated.push_back(gmwm::report::repeated_samples_json(s, set.freq, set.freq_known));

@@ -152,6 +152,8 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     timing = Timing.from_dict(meta["timing"])
     if timing is not None and timing.irregular:
         warnings.warn(f"{meta['path']}: {timing.summary}", TimingWarning, stacklevel=2)
+    for note in meta["notes"]:  # what reading left out, as the command's warnings say it
+        warnings.warn(f"{meta['path']}: {note}", UserWarning, stacklevel=2)
     repeated = tuple(r for r in (RepeatedSamples.from_dict(d) for d in meta["repeated_samples"]) if r is not None)
     for r in repeated:
         warnings.warn(f"{meta['path']}: {r.summary}", RepeatedSamplesWarning, stacklevel=2)

@@ -160,3 +160,29 @@ def test_a_bad_bag_exits_two_with_one_line_naming_file_topic_and_message(tmp_pat
     for w in words:
         assert w in r.stderr, r.stderr
     assert not (tmp_path / "x.json").exists()
+
+
+def test_a_gyroscope_only_topic_leaves_out_the_axes_it_does_not_carry_in_python_as_on_the_command_line(tmp_path):
+    """RealSense's /camera/gyro/sample carries linear_acceleration 0 in every message: gmwm.read
+    gives the three gyroscope axes and a warning saying what it left out, as the command does."""
+    import warnings
+
+    import gmwm
+
+    n = 1024
+    gyro, _ = values(n)
+    path = str(tmp_path / "gyro.bag")
+    with rosbag.Bag(path, "w") as bag:
+        for i in range(n):
+            m = imu(i, gyro[i], (0.0, 0.0, 0.0), 1_700_000_000 * 10**9 + i * STEP_NS)
+            bag.write("/camera/gyro/sample", m, m.header.stamp)
+    said = f"accel_x, accel_y, accel_z are 0 in every one of its {n} messages (a sensor the topic does not carry): left out"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rec = gmwm.read(path)
+    assert rec.names == ("gyro_x", "gyro_y", "gyro_z")
+    assert any(said in str(w.message) for w in caught), [str(w.message) for w in caught]
+    r = subprocess.run([CLI, "wv", path, "--json", "-"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert said in " ".join(r.stderr.split())
+    assert [c["name"] for c in json.loads(r.stdout)["columns"]] == list(rec.names)

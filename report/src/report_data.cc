@@ -46,7 +46,7 @@ std::vector<std::string> record_notes(const io::SignalSet& set) {
   std::vector<std::string> notes;
   for (const std::string& note : {io::gaps_summary(set), io::long_scales_note(set), io::conditioning_summary(set)})
     if (!note.empty()) notes.push_back(note);
-  for (std::string& note : io::repeated_samples_notes(set)) notes.push_back(std::move(note));
+  for (std::string& note : io::reading_notes(set)) notes.push_back(std::move(note));
   return notes;
 }
 

@@ -96,4 +96,30 @@ TEST(GmwmBinaryLogs, MemoryGivesTheSameWvToTheLastBitForEveryBinaryLog) {
   fs::remove_all(dir);
 }
 
+// A gyroscope-only topic (RealSense's /camera/gyro/sample carries linear_acceleration 0 in
+// every message) was refused for a constant axis, so neither of a RealSense bag's topics
+// could be read: the axes that are 0 throughout are left out with a warning (and a report
+// note), the gyroscope read; an axis asked for by --columns is still refused.
+TEST(GmwmBinaryLogs, AGyroscopeOnlyTopicIsReadWithTheAxesItDoesNotCarryLeftOutAndSaid) {
+  const fs::path dir = gmwm::test::temp_dir("cli_gyro_topic");
+  gmwm::test::Ros1BagOptions bag;
+  bag.messages = 512;
+  bag.zero_accel = true;
+  bag.topic = "/camera/gyro/sample";
+  std::ofstream(dir / "gyro.bag", std::ios::binary) << gmwm::test::ros1_bag(bag).bytes;
+  const auto r = run_gmwm({"wv", "gyro.bag", "--json", "wv.json", "--report", "wv.html"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = read_json(dir / "wv.json");
+  ASSERT_EQ(doc["columns"].size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(doc["columns"][k]["name"].get<std::string>().rfind("gyro_", 0), 0u);
+  const std::string said =
+      "accel_x, accel_y, accel_z are 0 in every one of its 512 messages (a sensor the topic "
+      "does not carry): left out";
+  EXPECT_NE(gmwm::test::flowed(r.err).find(said), std::string::npos) << r.err;
+  EXPECT_NE(gmwm::test::read_text(dir / "wv.html").find(said), std::string::npos);
+  expect_bad_input(run_gmwm({"wv", "gyro.bag", "--columns", "gyro_x,accel_x", "--json", "x.json"}, dir),
+                   {"gyro.bag", "accel_x: found all 512 values equal to 0"}, dir / "x.json");
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -27,8 +27,9 @@ std::pair<std::uint32_t, std::uint32_t> stamp(int i, std::uint64_t step_ns) {
 }
 
 // The 37 doubles of sensor_msgs Imu after the header.
-std::vector<double> imu_doubles(int i) {
-  const std::vector<double> v = imu_values(i);
+std::vector<double> imu_doubles(int i, bool zero_accel = false) {
+  std::vector<double> v = imu_values(i);
+  if (zero_accel) std::fill(v.begin() + 3, v.end(), 0.0);
   std::vector<double> d(37, 0.0);
   d[3] = 1.0;  // orientation w
   for (int a = 0; a < 3; ++a) {
@@ -38,11 +39,11 @@ std::vector<double> imu_doubles(int i) {
   return d;
 }
 
-std::string imu_ros1(int i, std::uint64_t step_ns) {
+std::string imu_ros1(int i, std::uint64_t step_ns, bool zero_accel) {
   LeBytes b;
   const auto [sec, nsec] = stamp(i, step_ns);
   b.put(static_cast<std::uint32_t>(i)).put(sec).put(nsec).text(u32_string("imu"));
-  for (double x : imu_doubles(i)) b.put(x);
+  for (double x : imu_doubles(i, zero_accel)) b.put(x);
   return b.b;
 }
 
@@ -137,7 +138,7 @@ Ros1Bag ros1_bag(const Ros1BagOptions& o) {
       const auto [sec, nsec] = stamp(i, o.step_ns);
       const std::uint64_t time = sec | (std::uint64_t{nsec} << 32);
       index.put(time).put(static_cast<std::uint32_t>(records.size()));
-      const std::string data = imu_ros1(i, o.step_ns);
+      const std::string data = imu_ros1(i, o.step_ns, o.zero_accel);
       if (i == 0) {
         const std::string h = ros1_record(
             {ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}), ros1_field("time", time)}, "");

@@ -46,6 +46,9 @@ struct Ros1BagOptions {
   std::string compression = "none";  ///< "none", "bz2" or "lz4"
   std::string topic = "/imu";
   std::uint64_t step_ns = 5000000;  ///< 200 Hz
+  /// linear_acceleration 0 in every message: a gyroscope-only topic (RealSense's
+  /// /camera/gyro/sample).
+  bool zero_accel = false;
 };
 
 struct Ros1Bag {

@@ -351,7 +351,7 @@ void print_text(const std::string& text) { std::cout << report::wrap_to_width(pr
 void warn_about_timing(const io::SignalSet& set) {
   if (const std::string c = io::conditioning_summary(set); !c.empty())
     std::cerr << "gmwm: note: " << printable_line(set.path + ": " + c) << '\n';
-  for (const std::string& note : io::repeated_samples_notes(set)) warn(set.path + ": " + note);
+  for (const std::string& note : io::reading_notes(set)) warn(set.path + ": " + note);
   if (!set.timing) return;
   const io::TimingReport& t = *set.timing;
   if (t.gaps > 0 && !set.missing.empty()) {
@@ -368,7 +368,7 @@ void warn_about_timing(const io::SignalSet& set) {
                                 "late stamp)"));
   if (t.disorder > 0)
     warn(set.path + ": column '" + t.column + "' has " + std::to_string(t.disorder) +
-         " repeated or backward timestamp(s)");
+         " timestamp(s) out of order: " + t.disorder_text());
   if (t.rate_change)  // read only with --freq: the samples are taken as evenly spaced
     warn(set.path + ": column '" + t.column + "': " + t.rate_change_text() +
          "; --freq takes the samples as evenly spaced");

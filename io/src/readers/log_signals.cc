@@ -52,14 +52,30 @@ SignalSet LogColumns::finish(const std::string& preset, const TimeUnit& unit, co
   set.preset = preset;
   set.spilled = sink_.spilled();
   std::vector<Samples> values = sink_.finish();
+  // Axes left unpicked that are 0 in every message are a sensor the topic does not carry
+  // (RealSense's gyro topic has linear_acceleration 0, its accel topic angular_velocity 0):
+  // left out with a note while another axis varies. An axis named by --columns is refused.
+  std::vector<bool> absent(pick_.size(), false);
+  std::string absent_names;
+  bool varying = false;
+  for (std::size_t k = 0; k < pick_.size(); ++k) {
+    const std::optional<double> c = constant_value(values[k]);
+    absent[k] = options_.columns.empty() && c && *c == 0.0;
+    varying = varying || !c;
+    if (absent[k]) absent_names += (absent_names.empty() ? "" : ", ") + axes_[pick_[k]].name;
+  }
   for (std::size_t k = 0; k < pick_.size(); ++k) {
     const LogAxis& a = axes_[pick_[k]];
+    if (absent[k] && varying) continue;
     if (const std::optional<double> c = constant_value(values[k]))
       throw InputError(path_ + ": " + what_ + " " + a.name + ": found all " + std::to_string(count_) +
                        " values equal to " + std::to_string(*c) +
                        ", expected a varying signal (a constant has a wavelet variance of zero)");
     set.signals.push_back({a.name, std::move(values[k]), a.unit});
   }
+  if (varying && !absent_names.empty())
+    set.notes.push_back(what_ + ": " + absent_names + " are 0 in every one of its " + std::to_string(count_) +
+                        " messages (a sensor the topic does not carry): left out");
   set.timing = analyse_timing("stamp", steps_, first_, unit, unit_source);
   set.timing->given_freq = options_.freq;
   check_timestamp_rate(path_, *set.timing, options_);

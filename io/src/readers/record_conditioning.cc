@@ -124,6 +124,12 @@ std::vector<MissingRun> missing_runs_of(const TimingReport& timing, const std::s
   return set.missing;
 }
 
+std::vector<std::string> reading_notes(const SignalSet& set) {
+  std::vector<std::string> out = set.notes;
+  for (std::string& note : repeated_samples_notes(set)) out.push_back(std::move(note));
+  return out;
+}
+
 std::vector<std::string> repeated_samples_notes(const SignalSet& set) {
   std::vector<std::string> out;
   for (const Signal& s : set.signals)

@@ -297,6 +297,9 @@ struct SignalSet {
   double freq_before_decimation = 0.0;
   /// True when the columns are held in temporary files (the record exceeded the budget).
   bool spilled = false;
+  /// What reading left out, a line each (a log topic's axes that are zero in every message:
+  /// a gyroscope-only topic's linear_acceleration); reading_notes says them with the rest.
+  std::vector<std::string> notes;
   std::string preset;       ///< "euroc", "kalibr" or "" when recognised by header
   std::string delimiter;    ///< "comma", "tab", "semicolon" or "whitespace"
   bool compressed = false;  ///< gzip content
@@ -313,8 +316,11 @@ std::string gaps_summary(const SignalSet& set);
 /// the same of the values its studies read.
 void find_repeated_samples(SignalSet& set);
 /// One line a column whose samples repeat (repeated_samples_text, with the record's rate);
-/// empty when none does. The terminal's warnings, the report's notes, Python's meta.
+/// empty when none does.
 std::vector<std::string> repeated_samples_notes(const SignalSet& set);
+/// What reading says of the record besides its timing: set.notes (what it left out), then
+/// repeated_samples_notes. The terminal's warnings, the report's notes, Python's warnings.
+std::vector<std::string> reading_notes(const SignalSet& set);
 
 /// The rows where a column holds NaN are samples missing from a regular record (a pandas
 /// frame or a numpy array marks them so, as gmwm.read's Recording does for the gaps of its
