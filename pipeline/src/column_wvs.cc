@@ -71,20 +71,18 @@ ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const 
   return out;
 }
 
-std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options,
-                                               const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
-  std::vector<std::span<const double>> series;
-  std::vector<std::size_t> held;
-  for (std::size_t k = 0; k < set.signals.size(); ++k) {
-    series.emplace_back(set.signals[k].values);
-    if (options.screen_spikes && set.signals[k].repeated.held()) held.push_back(k);
-  }
-  if (held.empty()) return robust::robust_wv(series, options, transforms);
-  // The held columns without the screen, the others with it (each group's columns and
-  // levels in parallel); their own transforms are rebuilt (a held record only).
+std::vector<WaveletVariance> robust_wvs_of(const std::vector<std::span<const double>>& series,
+                                           const std::vector<const RepeatedSamples*>& repeated,
+                                           const robust::RobustWvOptions& options,
+                                           const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
+  const auto held = [&](std::size_t k) {
+    return options.screen_spikes && k < repeated.size() && repeated[k] && repeated[k]->held();
+  };
   std::vector<std::span<const double>> screened, unscreened;
-  for (std::size_t k = 0; k < series.size(); ++k)
-    (std::find(held.begin(), held.end(), k) != held.end() ? unscreened : screened).push_back(series[k]);
+  for (std::size_t k = 0; k < series.size(); ++k) (held(k) ? unscreened : screened).push_back(series[k]);
+  if (unscreened.empty()) return robust::robust_wv(series, options, transforms);
+  // The held series without the screen, the others with it (each group's series and levels
+  // in parallel); their own transforms are rebuilt (a held record only).
   robust::RobustWvOptions off = options;
   off.screen_spikes = false;
   std::vector<WaveletVariance> a =
@@ -93,17 +91,28 @@ std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const r
   std::vector<WaveletVariance> out;
   std::size_t ia = 0, ib = 0;
   for (std::size_t k = 0; k < series.size(); ++k) {
-    if (std::find(held.begin(), held.end(), k) == held.end()) {
+    if (!held(k)) {
       out.push_back(std::move(a[ia++]));
       continue;
     }
     WaveletVariance w = std::move(b[ib++]);
-    w.screening = "spike screen off: " + significant(100.0 * set.signals[k].repeated.held_share, 3) +
+    w.screening = "spike screen off: " + significant(100.0 * repeated[k]->held_share, 3) +
                   "% of the samples copy the one before (held), and their steps of exactly zero deflate the level-1 "
                   "robust scale the screen measures spikes against";
     out.push_back(std::move(w));
   }
   return out;
+}
+
+std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options,
+                                               const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
+  std::vector<std::span<const double>> series;
+  std::vector<const RepeatedSamples*> repeated;
+  for (const io::Signal& s : set.signals) {
+    series.emplace_back(s.values);
+    repeated.push_back(&s.repeated);
+  }
+  return robust_wvs_of(series, repeated, options, transforms);
 }
 
 ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,

@@ -57,6 +57,13 @@ ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const 
 std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options,
                                                const std::vector<std::unique_ptr<HaarModwt>>& transforms = {});
 
+/// The same rule for series that are not a set's columns (replicates): `repeated[k]` is
+/// series k's reading of held samples, or null when none is known.
+std::vector<WaveletVariance> robust_wvs_of(const std::vector<std::span<const double>>& series,
+                                           const std::vector<const RepeatedSamples*>& repeated,
+                                           const robust::RobustWvOptions& options,
+                                           const std::vector<std::unique_ptr<HaarModwt>>& transforms = {});
+
 /// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
 /// figures then read the robust WV itself), else the classical ones with the Allan
 /// deviations at intervals of level 1 - alpha when the rate is known.

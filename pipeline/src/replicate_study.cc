@@ -37,7 +37,8 @@ std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const
   std::vector<ReplicateGroup> groups;
   detail::require_regular(primary, "a fit of replicates");
   for (const ReplicateRecording& r : recordings) detail::require_regular(r.set, "a fit of replicates");
-  for (const auto& s : primary.signals) groups.push_back({s.name, {primary.path + ":" + s.name}, {s.values}});
+  for (const auto& s : primary.signals)
+    groups.push_back({s.name, {primary.path + ":" + s.name}, {s.values}, {s.repeated}});
   for (ReplicateRecording& r : recordings) {
     const std::size_t expected = r.one_column ? 1 : groups.size();
     if (r.one_column && groups.size() != 1)
@@ -58,6 +59,7 @@ std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const
                            " (a replicate given twice)");
       g.sources.push_back(source);
       g.series.push_back(std::move(r.set.signals[k].values));  // the recording's copy is not kept
+      g.repeated.push_back(r.set.signals[k].repeated);
     }
   }
   return groups;
@@ -79,7 +81,11 @@ std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, cons
 std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
                                            const std::optional<robust::RobustWvOptions>& robust) {
   const std::vector<std::span<const double>> series = spans_of(group);
-  std::vector<WaveletVariance> wvs = robust ? robust::robust_wv(series, *robust) : classical_wv(series, options);
+  std::vector<const RepeatedSamples*> repeated;
+  for (const RepeatedSamples& r : group.repeated) repeated.push_back(&r);
+  repeated.resize(series.size(), nullptr);
+  std::vector<WaveletVariance> wvs =
+      robust ? detail::robust_wvs_of(series, repeated, *robust) : classical_wv(series, options);
   for (std::size_t k = 0; k < wvs.size(); ++k)
     detail::check_usable_wv(group.sources[k] + ": ", wvs[k], series[k], true);
   for (std::size_t k = 0; k < wvs.size(); ++k) {

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/simulate.h"
 #include "gmwm/pipeline/replicate_study.h"
 
 namespace gmwm::pipeline {
@@ -88,6 +90,42 @@ TEST(GroupReplicates, RefusesAColumnCountThatDiffersFromThePrimarys) {
   one.push_back({"--joint b.csv:gx", recording("b.csv", {"gx"}, 100.0, 0.5), true});
   EXPECT_EQ(refusal(a, std::move(one)),
             "--joint b.csv:gx: one column, a replicate of one column, but INPUT has 2 columns");
+}
+
+// A replicate whose samples are held (read so: io::find_repeated_samples) keeps that reading
+// in its group, and its robust WV goes without the spike screen (the copies' zero steps
+// deflate the scale the screen measures spikes against), said in its screening note; the
+// other replicate keeps the screen.
+TEST(GroupReplicates, AHeldReplicatesRobustWvGoesWithoutTheSpikeScreenAndSaysWhy) {
+  const Model m = parse_model("WN(sigma2=1e-4)+RW(gamma2=1e-10)");
+  const std::int64_t n = 1 << 13;
+  const std::vector<double> measured = simulate(m, m.given_values(), n / 2, 31, 0);
+  std::vector<double> held(static_cast<std::size_t>(n));
+  for (std::int64_t t = 0; t < n; ++t) held[static_cast<std::size_t>(t)] = measured[static_cast<std::size_t>(t / 2)];
+  io::SignalSet a, b;
+  for (io::SignalSet* s : {&a, &b}) {
+    s->freq = 100.0;
+    s->freq_known = true;
+  }
+  a.path = "a.csv";
+  b.path = "b.csv";
+  a.signals.push_back({"gx", simulate(m, m.given_values(), n, 32, 0), ""});
+  b.signals.push_back({"gx", std::move(held), ""});
+  io::find_repeated_samples(a);
+  io::find_repeated_samples(b);
+  ASSERT_TRUE(b.signals[0].repeated.held());
+  std::vector<ReplicateRecording> rest;
+  rest.push_back({"--joint b.csv", std::move(b), false});
+  const std::vector<ReplicateGroup> groups = group_replicates(a, "a.csv", std::move(rest));
+  ASSERT_EQ(groups.front().repeated.size(), 2u);
+  EXPECT_FALSE(groups.front().repeated[0].held());
+  EXPECT_TRUE(groups.front().repeated[1].held());
+  const std::vector<WaveletVariance> wvs = replicate_wvs(groups.front(), m, {}, robust::RobustWvOptions{});
+  ASSERT_EQ(wvs.size(), 2u);
+  EXPECT_EQ(wvs[0].screening.rfind("spike screen: ", 0), 0u) << wvs[0].screening;
+  EXPECT_EQ(wvs[1].screening.rfind("spike screen off: 50% of the samples copy the one before (held)", 0), 0u)
+      << wvs[1].screening;
+  EXPECT_TRUE(wvs[1].replaced.empty());
 }
 
 }  // namespace

@@ -29,6 +29,9 @@ struct ReplicateGroup {
   std::string axis;                  ///< the primary recording's column name
   std::vector<std::string> sources;  ///< "FILE:COLUMN" per replicate
   std::vector<Samples> series;       ///< per replicate (in memory or in temporary files, as read)
+  /// Per replicate, its held and interpolated samples as reading found them (empty: none
+  /// known): a held replicate's robust WV goes without the spike screen.
+  std::vector<RepeatedSamples> repeated = {};
 };
 
 /// A recording of the same sensor given as replicates: `set`'s columns are replicates of
