@@ -70,11 +70,10 @@ int decimate_argument(const py::object& value) {
   return static_cast<int>(k);
 }
 
-std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, const py::object& columns,
-                                                     std::optional<double> freq, const std::string& topic,
-                                                     std::optional<double> memory, const std::string& gaps,
-                                                     const std::string& data, const py::object& decimate,
-                                                     const std::string& decimate_filter) {
+gmwm::io::ReadRequest read_request_of(const std::string& path, const py::object& columns, std::optional<double> freq,
+                                      const std::string& topic, std::optional<double> memory, const std::string& gaps,
+                                      const std::string& data, const py::object& decimate,
+                                      const std::string& decimate_filter) {
   gmwm::io::ReadRequest request;
   request.path = path;
   request.columns = columns_argument(columns);
@@ -86,11 +85,48 @@ std::tuple<py::array_t<double>, std::string> py_read(const std::string& path, co
   request.data = gmwm::io::data_kind_of(data);
   request.decimate = decimate_argument(decimate);
   request.decimate_filter = gmwm::io::decimation_filter_of(decimate_filter);
+  return request;
+}
+
+using Record = std::tuple<py::array_t<double>, std::string>;
+
+Record record_of(const gmwm::io::SignalSet& set, const std::string& path, std::optional<double> freq,
+                 const std::string& topic, std::optional<double> memory);
+
+Record py_read(const std::string& path, const py::object& columns, std::optional<double> freq, const std::string& topic,
+               std::optional<double> memory, const std::string& gaps, const std::string& data,
+               const py::object& decimate, const std::string& decimate_filter) {
+  if (gmwm::io::topic_list(topic).size() > 1)
+    throw gmwm::InputError("topic '" + topic +
+                           "': gmwm.read reads one topic; gmwm.read_parts reads several, each at its own rate");
+  const gmwm::io::ReadRequest request =
+      read_request_of(path, columns, freq, topic, memory, gaps, data, decimate, decimate_filter);
   gmwm::io::SignalSet set;
   {
     py::gil_scoped_release release;
     set = gmwm::io::read_request(request);
   }
+  return record_of(set, path, freq, topic, memory);
+}
+
+std::vector<Record> py_read_parts(const std::string& path, const py::object& columns, const std::string& topic,
+                                  std::optional<double> memory, const std::string& gaps, const std::string& data,
+                                  const py::object& decimate, const std::string& decimate_filter) {
+  const gmwm::io::ReadRequest request =
+      read_request_of(path, columns, std::nullopt, topic, memory, gaps, data, decimate, decimate_filter);
+  std::vector<gmwm::io::RecordPart> parts;
+  {
+    py::gil_scoped_release release;
+    parts = gmwm::io::read_request_parts(request);
+  }
+  std::vector<Record> out;
+  for (const gmwm::io::RecordPart& p : parts) out.push_back(record_of(p.set, path, std::nullopt, p.topic, memory));
+  return out;
+}
+
+// The samples of a set read (gmwm.read, a part of gmwm.read_parts) and the JSON of the rest.
+Record record_of(const gmwm::io::SignalSet& set, const std::string& path, std::optional<double> freq,
+                 const std::string& topic, std::optional<double> memory) {
   // The samples on their grid, a NaN row where the stamps show one missing (the pandas idiom;
   // every function taking the values reads NaN rows as missing: io::take_nan_rows_as_missing).
   const std::size_t k = set.signals.size();
@@ -185,6 +221,11 @@ void add_read_functions(py::module_& m) {
         py::arg("decimate") = 1, py::arg("decimate_filter") = "average",
         "The columns of a recording as the gmwm command reads them (delimited text, gzip, PX4 ULog, ROS 1 bag, "
         "rosbag2, MCAP): a samples x columns float64 array and the JSON text of names, units, rate and timing");
+  m.def("read_parts", &py_read_parts, py::arg("path"), py::kw_only(), py::arg("columns") = py::none(), py::arg("topic"),
+        py::arg("memory") = py::none(), py::arg("gaps") = "windows", py::arg("data") = "rate", py::arg("decimate") = 1,
+        py::arg("decimate_filter") = "average",
+        "The topics of a log or bag (topic 'A,B'), each read as gmwm.read reads one at its own rate: a list of "
+        "(samples x columns array, JSON text) pairs");
   m.def("stamps_timing", &py_stamps_timing, py::arg("stamps"), py::kw_only(), py::arg("source"), py::arg("column"),
         py::arg("freq") = py::none(),
         "The sampling of integer-nanosecond timestamps (a pandas DatetimeIndex's asi8), measured and refused as a "

@@ -40,6 +40,8 @@ Recording read as the command reads a file (every format it reads, the same refu
 
     imu = gmwm.read("imu.csv.gz", columns="gyro_x,gyro_y")   # .values, .names, .freq, .timing
     f = gmwm.fit(imu["gyro_x"], "WN+RW")          # the rate and the name come with it
+    gyro, accel = gmwm.read_parts("d435i.bag", topic="/camera/gyro/sample,/camera/accel/sample")
+                                                  # topics at different rates, each at its own
 
 `freq` (Hz) is needed by every function that takes data: a Recording carries its rate, and a
 pandas DatetimeIndex or TimedeltaIndex gives it (measured as a timestamp column, with the
@@ -72,7 +74,7 @@ from ._types import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, F
                      WrittenNoise)
 from ._types import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
                      JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
-from ._signals import Recording, RepeatedSamplesWarning, TimingWarning, read
+from ._signals import Recording, RepeatedSamplesWarning, TimingWarning, read, read_parts
 from ._types import RepeatedSamples, Timing
 from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
                      WvResult)
@@ -249,7 +251,7 @@ def export(result: Any, *, format: str, output: str = "", **options: Any) -> Exp
 
 __all__ = [
     "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
-    "export", "fleet", "read", "InputError", "DEFAULT_SEED",
+    "export", "fleet", "read", "read_parts", "InputError", "DEFAULT_SEED",
     # signals in
     "Recording", "Timing", "TimingWarning", "RepeatedSamples", "RepeatedSamplesWarning",
     "__version__",

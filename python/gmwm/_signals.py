@@ -145,18 +145,39 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     the stamps) is a TimingWarning."""
     values, meta_text = _gmwm.read(os.fspath(path), columns=columns, freq=freq, topic=topic or "", memory=memory,
                                    gaps=gaps, data=data, decimate=decimate, decimate_filter=decimate_filter)
+    return _recording(values, meta_text)
+
+
+def read_parts(path: str | os.PathLike[str], *, topic: str | Sequence[str],
+               columns: str | Sequence[str] | None = None, memory: float | None = None, gaps: str = "windows",
+               data: str = "rate", decimate: int = 1, decimate_filter: str = "average") -> list[Recording]:
+    """Several topics of a log or bag, each read at its own rate (no resampling), as `gmwm
+    wv|fit|select PATH --topic A,B` reads them: one Recording per topic, its `topic` set
+    (RealSense: topic=["/camera/gyro/sample", "/camera/accel/sample"], the gyroscope at 400 Hz
+    and the accelerometer at 250 Hz). Each takes the other keywords as gmwm.read does; columns
+    are names kept from whichever topic gives them (a topic left with none is left out); no
+    freq, since each topic's rate is its stamps'. Refused (gmwm.InputError): a name no topic
+    gives, a name two topics give, an index."""
+    topics = topic if isinstance(topic, str) else ",".join(topic)
+    found = _gmwm.read_parts(os.fspath(path), columns=columns, topic=topics, memory=memory, gaps=gaps, data=data,
+                             decimate=decimate, decimate_filter=decimate_filter)
+    return [_recording(values, meta_text) for values, meta_text in found]
+
+
+def _recording(values: FloatArray, meta_text: str) -> Recording:
+    """A Recording of what _gmwm.read gives, its warnings said (as the command's are)."""
     from ._types import RepeatedSamples, Timing
 
     meta = json.loads(meta_text)
     values.flags.writeable = False
     timing = Timing.from_dict(meta["timing"])
     if timing is not None and timing.irregular:
-        warnings.warn(f"{meta['path']}: {timing.summary}", TimingWarning, stacklevel=2)
+        warnings.warn(f"{meta['path']}: {timing.summary}", TimingWarning, stacklevel=3)
     for note in meta["notes"]:  # what reading left out, as the command's warnings say it
-        warnings.warn(f"{meta['path']}: {note}", UserWarning, stacklevel=2)
+        warnings.warn(f"{meta['path']}: {note}", UserWarning, stacklevel=3)
     repeated = tuple(r for r in (RepeatedSamples.from_dict(d) for d in meta["repeated_samples"]) if r is not None)
     for r in repeated:
-        warnings.warn(f"{meta['path']}: {r.summary}", RepeatedSamplesWarning, stacklevel=2)
+        warnings.warn(f"{meta['path']}: {r.summary}", RepeatedSamplesWarning, stacklevel=3)
     return Recording(meta["path"], tuple(meta["names"]), tuple(meta["units"]), float(meta["freq"]), values, timing,
                      meta["topic"], meta["preset"], meta["conditioning"] or None, repeated)
 

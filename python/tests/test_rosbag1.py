@@ -186,3 +186,44 @@ def test_a_gyroscope_only_topic_leaves_out_the_axes_it_does_not_carry_in_python_
     assert r.returncode == 0, r.stderr
     assert said in " ".join(r.stderr.split())
     assert [c["name"] for c in json.loads(r.stdout)["columns"]] == list(rec.names)
+
+
+def test_two_topics_at_different_rates_are_read_as_parts_in_python_as_on_the_command_line(tmp_path):
+    """Issue 47, item 3: a RealSense-like bag, the gyroscope at 400 Hz and the accelerometer at
+    250 Hz on topics of their own: gmwm.read_parts gives one Recording per topic at its own
+    rate, and their WVs are the columns `gmwm wv --topic A,B` gives in one run."""
+    import warnings
+
+    import gmwm
+
+    rng = np.random.default_rng(47)
+    topics = {"/camera/gyro/sample": (400, 4000), "/camera/accel/sample": (250, 2500)}
+    path = str(tmp_path / "d435i.bag")
+    with rosbag.Bag(path, "w") as bag:
+        for topic, (rate, n) in topics.items():
+            x = rng.standard_normal((n, 3)) * 1e-3
+            for i in range(n):
+                triplet = tuple(float(v) for v in x[i])
+                gyro, accel = (triplet, (0.0, 0.0, 0.0)) if "gyro" in topic else ((0.0, 0.0, 0.0), triplet)
+                m = imu(i, gyro, accel, 1_700_000_000 * 10**9 + i * (10**9 // rate))
+                bag.write(topic, m, m.header.stamp)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # each topic's left-out triplet, said as gmwm.read says it
+        gyro, accel = gmwm.read_parts(path, topic=list(topics))
+    assert (gyro.topic, gyro.names, len(gyro)) == ("/camera/gyro/sample", ("gyro_x", "gyro_y", "gyro_z"), 4000)
+    assert (accel.topic, accel.names, len(accel)) == ("/camera/accel/sample", ("accel_x", "accel_y", "accel_z"), 2500)
+    assert gyro.freq == pytest.approx(400.0, rel=1e-9) and accel.freq == pytest.approx(250.0, rel=1e-9)
+    r = subprocess.run([CLI, "wv", path, "--topic", ",".join(topics), "--json", "-"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(r.stdout)
+    assert [p["topic"] for p in doc["parts"]] == list(topics)
+    columns = {c["name"]: c for c in doc["columns"]}
+    for part in (gyro, accel):
+        for name in part.names:
+            col = gmwm.wv(part[name])
+            assert columns[name]["freq"] == pytest.approx(part.freq, rel=1e-12)
+            np.testing.assert_allclose(col.wv, [level["wv"] for level in columns[name]["levels"]], rtol=1e-12)
+    with pytest.raises(gmwm.InputError, match="gmwm.read reads one topic; gmwm.read_parts reads several"):
+        gmwm.read(path, topic=",".join(topics))
+    with pytest.raises(gmwm.InputError, match="columns mag_x: found in none of the topics"):
+        gmwm.read_parts(path, topic=list(topics), columns=["mag_x"])

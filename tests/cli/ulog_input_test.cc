@@ -122,4 +122,64 @@ TEST(GmwmBinaryLogs, AGyroscopeOnlyTopicIsReadWithTheAxesItDoesNotCarryLeftOutAn
   fs::remove_all(dir);
 }
 
+// Issue 47, item 3: RealSense's bag carries the gyroscope and the accelerometer on separate
+// topics at different rates; both are read in one run, each at its own rate, no resampling.
+TEST(GmwmBinaryLogs, TwoTopicsAtDifferentRatesAreReadInOneRunEachAtItsOwnRate) {
+  const fs::path dir = gmwm::test::temp_dir("cli_two_topics");
+  std::ofstream(dir / "d435i.bag", std::ios::binary)
+      << gmwm::test::ros1_bag_of_topics(gmwm::test::realsense_topics(1600, 1000)).bytes;
+  const std::string topics = "/camera/gyro/sample,/camera/accel/sample";
+  const auto r = run_gmwm(
+      {"wv", "d435i.bag", "--topic", topics, "--json", "wv.json", "--csv", "wv.csv", "--report", "wv.html"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = read_json(dir / "wv.json");
+  ASSERT_EQ(doc["columns"].size(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    const bool is_gyro = k < 3;
+    EXPECT_EQ(doc["columns"][k]["name"].get<std::string>().rfind(is_gyro ? "gyro_" : "accel_", 0), 0u);
+    EXPECT_NEAR(doc["columns"][k]["freq"].get<double>(), is_gyro ? 400.0 : 250.0, 1e-6);
+    EXPECT_EQ(doc["columns"][k]["n"].get<int>(), is_gyro ? 1600 : 1000);
+    // The first level's tau in seconds is each topic's own: 2 samples at its own rate.
+    EXPECT_NEAR(doc["columns"][k]["levels"][0]["tau_seconds"].get<double>(), is_gyro ? 2.0 / 400 : 2.0 / 250, 1e-12);
+  }
+  ASSERT_EQ(doc["parts"].size(), 2u);
+  EXPECT_EQ(doc["parts"][0]["topic"], "/camera/gyro/sample");
+  EXPECT_EQ(doc["parts"][1]["topic"], "/camera/accel/sample");
+  EXPECT_EQ(doc["parts"][1]["samples"].get<int>(), 1000);
+  EXPECT_NEAR(doc["parts"][1]["timing"]["estimated_freq"].get<double>(), 250.0, 1e-6);
+  EXPECT_FALSE(doc.contains("timing"));  // a record-wide timing would speak for one topic only
+  const std::string csv = gmwm::test::read_text(dir / "wv.csv");
+  EXPECT_EQ(csv.find("column,level"), 0u);
+  EXPECT_EQ(csv.find("column,level", 1), std::string::npos);  // one header
+  EXPECT_NE(csv.find("\naccel_z,1,2,0.008,"), std::string::npos) << csv.substr(0, 400);
+  EXPECT_NE(csv.find("\ngyro_x,1,2,0.005,"), std::string::npos);
+  const std::string html = gmwm::test::read_text(dir / "wv.html");
+  EXPECT_NE(html.find("topic /camera/accel/sample (250 Hz)"), std::string::npos);
+  EXPECT_NE(r.out.find("topic /camera/gyro/sample (400 Hz):"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("topic /camera/accel/sample (250 Hz):"), std::string::npos);
+
+  // --columns names the axes to keep from whichever topic gives them.
+  const auto some = run_gmwm({"wv", "d435i.bag", "--topic", topics, "--columns", "accel_y,gyro_z", "--json", "-"}, dir);
+  ASSERT_EQ(some.exit_code, 0) << some.err;
+  const auto picked = nlohmann::json::parse(some.out);
+  ASSERT_EQ(picked["columns"].size(), 2u);
+  EXPECT_EQ(picked["columns"][0]["name"], "gyro_z");
+  EXPECT_EQ(picked["columns"][1]["name"], "accel_y");
+
+  // Refused with one line, nothing written: a rate for both, an index, a name no topic gives,
+  // a command that reads one topic.
+  expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", topics, "--freq", "400", "--json", "x.json"}, dir),
+                   {"--freq with --topic", "each topic is read at the rate of its own stamps"}, dir / "x.json");
+  expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", topics, "--columns", "2", "--json", "x.json"}, dir),
+                   {"--columns 2", "found an index, expected the names"}, dir / "x.json");
+  expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", topics, "--columns", "mag_x", "--json", "x.json"}, dir),
+                   {"--columns mag_x: found in none of the topics", "/camera/accel/sample (accel_x, accel_y, accel_z)"},
+                   dir / "x.json");
+  expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", "/camera/gyro/sample,/camera/gyro/sample"}, dir),
+                   {"found /camera/gyro/sample twice"}, dir / "x.json");
+  expect_bad_input(run_gmwm({"gap", "d435i.bag", "--topic", topics, "--kalibr", "k.yaml", "--json", "x.json"}, dir),
+                   {"this command reads one topic"}, dir / "x.json");
+  fs::remove_all(dir);
+}
+
 }  // namespace

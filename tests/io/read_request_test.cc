@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -15,6 +16,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/io/read_request.h"
 #include "gmwm/io/stamp_timing.h"
+#include "log_writers.h"
 #include "signal_test_util.h"
 #include "test_support.h"
 
@@ -60,6 +62,63 @@ class ScratchFolder {
   ScratchFolder& operator=(const ScratchFolder&) = delete;
   const std::filesystem::path path;
 };
+
+// Issue 47, item 3: topics at different rates, each read with its own stamps (no resampling).
+TEST(ReadRequest, SeveralTopicsAreReadAsPartsEachAtTheRateOfItsOwnStamps) {
+  const std::filesystem::path dir = gmwm::test::temp_dir("io_parts");
+  std::vector<gmwm::test::Ros1BagOptions> topics = gmwm::test::realsense_topics(800, 500);
+  topics.push_back(topics[0]);  // a second unit's gyroscope topic
+  topics.back().topic = "/imu1/gyro";
+  const std::string path = (dir / "parts.bag").string();
+  std::ofstream(path, std::ios::binary) << gmwm::test::ros1_bag_of_topics(topics).bytes;
+
+  ReadRequest request;
+  request.path = path;
+  request.topic = "/camera/gyro/sample, /camera/accel/sample";
+  const std::vector<gmwm::io::RecordPart> parts = gmwm::io::read_request_parts(request);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].topic, "/camera/gyro/sample");
+  EXPECT_NEAR(parts[0].set.freq, 400.0, 1e-9);
+  ASSERT_EQ(parts[0].set.signals.size(), 3u);
+  EXPECT_EQ(parts[0].set.signals[0].values.size(), 800u);
+  EXPECT_EQ(parts[1].topic, "/camera/accel/sample");
+  EXPECT_NEAR(parts[1].set.freq, 250.0, 1e-9);
+  ASSERT_EQ(parts[1].set.signals.size(), 3u);
+  EXPECT_EQ(parts[1].set.signals[2].name, "accel_z");
+  EXPECT_EQ(parts[1].set.signals[2].values.size(), 500u);
+
+  // One topic: the record as read_request reads it.
+  request.topic = "/camera/accel/sample";
+  ASSERT_EQ(gmwm::io::read_request_parts(request).size(), 1u);
+
+  // Names keep columns from whichever topic gives them; a topic left with none is left out.
+  request.topic = "/camera/gyro/sample,/camera/accel/sample";
+  request.columns = {"accel_y"};
+  const auto kept = gmwm::io::read_request_parts(request);
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].topic, "/camera/accel/sample");
+  ASSERT_EQ(kept[0].set.signals.size(), 1u);
+  EXPECT_EQ(kept[0].set.signals[0].name, "accel_y");
+
+  const auto refused = [&](ReadRequest r, const std::vector<std::string>& words) {
+    try {
+      gmwm::io::read_request_parts(r);
+      ADD_FAILURE() << "not refused: " << r.topic;
+    } catch (const InputError& e) {
+      for (const std::string& w : words) EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << e.what();
+    }
+  };
+  ReadRequest two = request;
+  two.columns.clear();
+  two.topic = "/camera/gyro/sample,/imu1/gyro";
+  refused(two, {"topics /camera/gyro/sample and /imu1/gyro both give gyro_x", "read each in its own run"});
+  two.topic = "/camera/gyro/sample,,/imu1/gyro";
+  refused(two, {"--topic '/camera/gyro/sample,,/imu1/gyro': found an empty name"});
+  two.topic = "/camera/gyro/sample,/camera/accel/sample";
+  two.freq = 400.0;
+  refused(two, {"--freq with --topic", "rate of its own stamps"});
+  std::filesystem::remove_all(dir);
+}
 
 }  // namespace
 

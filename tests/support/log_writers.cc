@@ -27,9 +27,10 @@ std::pair<std::uint32_t, std::uint32_t> stamp(int i, std::uint64_t step_ns) {
 }
 
 // The 37 doubles of sensor_msgs Imu after the header.
-std::vector<double> imu_doubles(int i, bool zero_accel = false) {
+std::vector<double> imu_doubles(int i, bool zero_accel = false, bool zero_gyro = false) {
   std::vector<double> v = imu_values(i);
   if (zero_accel) std::fill(v.begin() + 3, v.end(), 0.0);
+  if (zero_gyro) std::fill(v.begin(), v.begin() + 3, 0.0);
   std::vector<double> d(37, 0.0);
   d[3] = 1.0;  // orientation w
   for (int a = 0; a < 3; ++a) {
@@ -39,11 +40,11 @@ std::vector<double> imu_doubles(int i, bool zero_accel = false) {
   return d;
 }
 
-std::string imu_ros1(int i, std::uint64_t step_ns, bool zero_accel) {
+std::string imu_ros1(int i, std::uint64_t step_ns, bool zero_accel, bool zero_gyro) {
   LeBytes b;
   const auto [sec, nsec] = stamp(i, step_ns);
   b.put(static_cast<std::uint32_t>(i)).put(sec).put(nsec).text(u32_string("imu"));
-  for (double x : imu_doubles(i, zero_accel)) b.put(x);
+  for (double x : imu_doubles(i, zero_accel, zero_gyro)) b.put(x);
   return b.b;
 }
 
@@ -108,73 +109,92 @@ void append_index_section(Ros1Bag& bag, const std::string& connection, const std
 
 }  // namespace
 
-Ros1Bag ros1_bag(const Ros1BagOptions& o) {
+Ros1Bag ros1_bag(const Ros1BagOptions& o) { return ros1_bag_of_topics({o}); }
+
+Ros1Bag ros1_bag_of_topics(const std::vector<Ros1BagOptions>& topics) {
   Ros1Bag bag;
-  const std::string conn_header = u32_string("topic=" + o.topic) + u32_string("type=sensor_msgs/Imu") +
-                                  u32_string(std::string("md5sum=") + kImuMd5) +
-                                  u32_string("message_definition=std_msgs/Header header\n...");
-  const std::string connection = ros1_record(
-      {ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", std::uint32_t{0}), "topic=" + o.topic}, conn_header);
+  const auto conn_count = static_cast<std::uint32_t>(topics.size());
+  std::vector<std::string> connections;
+  for (std::uint32_t c = 0; c < conn_count; ++c) {
+    const std::string& topic = topics[c].topic;
+    const std::string conn_header = u32_string("topic=" + topic) + u32_string("type=sensor_msgs/Imu") +
+                                    u32_string(std::string("md5sum=") + kImuMd5) +
+                                    u32_string("message_definition=std_msgs/Header header\n...");
+    connections.push_back(
+        ros1_record({ros1_field("op", std::uint8_t{0x07}), ros1_field("conn", c), "topic=" + topic}, conn_header));
+  }
   // The bag header is padded to 4096 bytes, as rosbag writes it; its fields are patched at the end.
   std::string& out = bag.bytes;
   out = "#ROSBAG V2.0\n";
   const std::size_t header_at = out.size();
   const auto bag_header = [&](std::uint64_t index_pos, std::uint32_t chunks) {
-    std::string rec = ros1_record({ros1_field("op", std::uint8_t{0x03}), ros1_field("index_pos", index_pos),
-                                   ros1_field("conn_count", std::uint32_t{1}), ros1_field("chunk_count", chunks)},
-                                  "");
-    const std::size_t pad = 4096 - rec.size();
-    return ros1_record({ros1_field("op", std::uint8_t{0x03}), ros1_field("index_pos", index_pos),
-                        ros1_field("conn_count", std::uint32_t{1}), ros1_field("chunk_count", chunks)},
-                       std::string(pad, ' '));
+    const std::vector<std::string> fields = {ros1_field("op", std::uint8_t{0x03}), ros1_field("index_pos", index_pos),
+                                             ros1_field("conn_count", conn_count), ros1_field("chunk_count", chunks)};
+    return ros1_record(fields, std::string(4096 - ros1_record(fields, "").size(), ' '));
   };
   out += bag_header(0, 0);
   std::vector<std::string> infos;
-  for (int first = 0; first < o.messages; first += o.per_chunk) {
-    const int last = std::min(o.messages, first + o.per_chunk);
-    std::string records = connection;
-    LeBytes index;
-    for (int i = first; i < last; ++i) {
-      const auto [sec, nsec] = stamp(i, o.step_ns);
-      const std::uint64_t time = sec | (std::uint64_t{nsec} << 32);
-      index.put(time).put(static_cast<std::uint32_t>(records.size()));
-      const std::string data = imu_ros1(i, o.step_ns, o.zero_accel);
-      if (i == 0) {
-        const std::string h = ros1_record(
-            {ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}), ros1_field("time", time)}, "");
-        bag.first_message_data_at = records.size() + h.size();
+  // Each topic's messages in chunks of their own, one topic after the other.
+  for (std::uint32_t c = 0; c < conn_count; ++c) {
+    const Ros1BagOptions& o = topics[c];
+    for (int first = 0; first < o.messages; first += o.per_chunk) {
+      const int last = std::min(o.messages, first + o.per_chunk);
+      std::string records = connections[c];
+      LeBytes index;
+      for (int i = first; i < last; ++i) {
+        const auto [sec, nsec] = stamp(i, o.step_ns);
+        const std::uint64_t time = sec | (std::uint64_t{nsec} << 32);
+        index.put(time).put(static_cast<std::uint32_t>(records.size()));
+        const std::string data = imu_ros1(i, o.step_ns, o.zero_accel, o.zero_gyro);
+        const std::string h =
+            ros1_record({ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", c), ros1_field("time", time)}, "");
+        if (i == 0 && c == 0) bag.first_message_data_at = records.size() + h.size();
+        records +=
+            ros1_record({ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", c), ros1_field("time", time)}, data);
       }
-      records += ros1_record(
-          {ros1_field("op", std::uint8_t{0x02}), ros1_field("conn", std::uint32_t{0}), ros1_field("time", time)}, data);
+      const std::string stored = o.compression == "bz2"   ? bz2_compress(records)
+                                 : o.compression == "lz4" ? lz4_frame_compress(records)
+                                                          : records;
+      const std::uint64_t chunk_pos = out.size();
+      bag.chunk_pos.push_back(chunk_pos);
+      const std::vector<std::string> fields = {ros1_field("op", std::uint8_t{0x05}), "compression=" + o.compression,
+                                               ros1_field("size", static_cast<std::uint32_t>(records.size()))};
+      // The 'size' value: after the header length (4) and the first two fields (4 + length each) and "size=".
+      bag.chunk_size_at.push_back(chunk_pos + 4 + (4 + fields[0].size()) + (4 + fields[1].size()) + 4 + 5);
+      out += ros1_record(fields, stored);
+      out += ros1_record({ros1_field("op", std::uint8_t{0x04}), ros1_field("ver", std::uint32_t{1}),
+                          ros1_field("conn", c), ros1_field("count", static_cast<std::uint32_t>(last - first))},
+                         index.b);
+      const auto [s0, n0] = stamp(first, o.step_ns);
+      const auto [s1, n1] = stamp(last - 1, o.step_ns);
+      LeBytes per;
+      per.put(c).put(static_cast<std::uint32_t>(last - first));
+      infos.push_back(
+          ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
+                       ros1_field("chunk_pos", chunk_pos), ros1_field("start_time", s0 | (std::uint64_t{n0} << 32)),
+                       ros1_field("end_time", s1 | (std::uint64_t{n1} << 32)), ros1_field("count", std::uint32_t{1})},
+                      per.b));
     }
-    const std::string stored = o.compression == "bz2"   ? bz2_compress(records)
-                               : o.compression == "lz4" ? lz4_frame_compress(records)
-                                                        : records;
-    const std::uint64_t chunk_pos = out.size();
-    bag.chunk_pos.push_back(chunk_pos);
-    const std::vector<std::string> fields = {ros1_field("op", std::uint8_t{0x05}), "compression=" + o.compression,
-                                             ros1_field("size", static_cast<std::uint32_t>(records.size()))};
-    // The 'size' value: after the header length (4) and the first two fields (4 + length each) and "size=".
-    bag.chunk_size_at.push_back(chunk_pos + 4 + (4 + fields[0].size()) + (4 + fields[1].size()) + 4 + 5);
-    out += ros1_record(fields, stored);
-    out += ros1_record(
-        {ros1_field("op", std::uint8_t{0x04}), ros1_field("ver", std::uint32_t{1}),
-         ros1_field("conn", std::uint32_t{0}), ros1_field("count", static_cast<std::uint32_t>(last - first))},
-        index.b);
-    const auto [s0, n0] = stamp(first, o.step_ns);
-    const auto [s1, n1] = stamp(last - 1, o.step_ns);
-    LeBytes per;
-    per.put(std::uint32_t{0}).put(static_cast<std::uint32_t>(last - first));
-    infos.push_back(
-        ros1_record({ros1_field("op", std::uint8_t{0x06}), ros1_field("ver", std::uint32_t{1}),
-                     ros1_field("chunk_pos", chunk_pos), ros1_field("start_time", s0 | (std::uint64_t{n0} << 32)),
-                     ros1_field("end_time", s1 | (std::uint64_t{n1} << 32)), ros1_field("count", std::uint32_t{1})},
-                    per.b));
   }
-  append_index_section(bag, connection, infos);
+  std::string all_connections;
+  for (const std::string& c : connections) all_connections += c;
+  append_index_section(bag, all_connections, infos);
   const std::string h = bag_header(bag.index_pos, static_cast<std::uint32_t>(bag.chunk_pos.size()));
   out.replace(header_at, h.size(), h);
   return bag;
+}
+
+std::vector<Ros1BagOptions> realsense_topics(int gyro_messages, int accel_messages) {
+  Ros1BagOptions gyro, accel;
+  gyro.topic = "/camera/gyro/sample";
+  gyro.messages = gyro_messages;
+  gyro.step_ns = 2500000;  // 400 Hz
+  gyro.zero_accel = true;
+  accel.topic = "/camera/accel/sample";
+  accel.messages = accel_messages;
+  accel.step_ns = 4000000;  // 250 Hz
+  accel.zero_gyro = true;
+  return {gyro, accel};
 }
 
 // --- MCAP ------------------------------------------------------------------------------------------

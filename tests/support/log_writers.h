@@ -49,6 +49,8 @@ struct Ros1BagOptions {
   /// linear_acceleration 0 in every message: a gyroscope-only topic (RealSense's
   /// /camera/gyro/sample).
   bool zero_accel = false;
+  /// angular_velocity 0 in every message: an accelerometer-only topic (/camera/accel/sample).
+  bool zero_gyro = false;
 };
 
 struct Ros1Bag {
@@ -64,6 +66,13 @@ struct Ros1Bag {
 /// A bag of one sensor_msgs/Imu topic; message i has stamp 1700000000 s + i * step_ns and
 /// imu_values(i).
 Ros1Bag ros1_bag(const Ros1BagOptions& o = {});
+/// A bag of several sensor_msgs/Imu topics, each with its own messages, rate and chunks (the
+/// topics one after the other in the file; connection c is topics[c]); chunk_pos, chunk_size_at
+/// and chunk_info_at list every chunk, first_message_data_at is the first topic's.
+Ros1Bag ros1_bag_of_topics(const std::vector<Ros1BagOptions>& topics);
+/// A RealSense D435i's two IMU topics: /camera/gyro/sample at 400 Hz (its linear_acceleration
+/// 0) and /camera/accel/sample at 250 Hz (its angular_velocity 0), with these many messages.
+std::vector<Ros1BagOptions> realsense_topics(int gyro_messages, int accel_messages);
 
 /// A ROS 1 record: {uint32 header length, header fields, uint32 data length, data}; `fields`
 /// are "name=value" strings (values raw bytes).

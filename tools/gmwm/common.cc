@@ -165,8 +165,10 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
       ->required();
   sub.add_option("--topic", input.topic,
                  "The IMU topic of a log: PX4 ULog sensor_combined (default), sensor_gyro or sensor_accel "
-                 "(NAME:K for instance K); ROS bags: a sensor_msgs Imu topic (default: the only one)")
-      ->type_name("NAME[:K]");
+                 "(NAME:K for instance K); ROS bags: a sensor_msgs Imu topic (default: the only one). wv, fit, "
+                 "select: A,B reads several topics, each at its own rate (the gyroscope and the accelerometer "
+                 "on topics of their own)")
+      ->type_name("NAME[:K][,...]");
   sub.add_option_function<std::string>(
          "--columns", [&input](const std::string& c) { input.columns = c; },
          "Columns to use: names or 1-based indices, comma-separated (default: every "
@@ -287,7 +289,9 @@ void write_report(const CommonOptions& common, const report::ReportData& data) {
   report::stage_html_report(*common.outputs, common.report, data);
 }
 
-io::SignalSet read_input(const InputOptions& input) {
+namespace {
+
+io::ReadRequest read_request_of(const InputOptions& input) {
   io::ReadRequest request;
   request.path = input.input;
   if (input.columns) request.columns = io::column_list(*input.columns);
@@ -298,13 +302,130 @@ io::SignalSet read_input(const InputOptions& input) {
   request.data = io::data_kind_of(input.data);
   request.decimate = input.decimate;
   request.decimate_filter = io::decimation_filter_of(input.decimate_filter);
-  io::SignalSet set = io::read_request(request);
+  return request;
+}
+
+void check_levels(const InputOptions& input, const io::SignalSet& set) {
   if (!set.signals.empty())
     if (const std::string why =
             io::levels_problem(input.levels, static_cast<std::int64_t>(set.signals.front().values.size()), "--levels");
         !why.empty())
       throw InputError(input.input + ": " + why);
+}
+
+}  // namespace
+
+io::SignalSet read_input(const InputOptions& input) {
+  if (io::topic_list(input.topic).size() > 1)
+    throw InputError("--topic '" + input.topic +
+                     "': this command reads one topic (wv, fit and select read several, each at its own rate)");
+  io::SignalSet set = io::read_request(read_request_of(input));
+  check_levels(input, set);
   return set;
+}
+
+std::vector<io::RecordPart> read_parts(const InputOptions& input) {
+  std::vector<io::RecordPart> parts = io::read_request_parts(read_request_of(input));
+  for (const io::RecordPart& p : parts) check_levels(input, p.set);
+  return parts;
+}
+
+namespace {
+
+// A part's line in the merged document's "parts".
+report::Json part_entry(const io::RecordPart& part, const report::Json& document) {
+  report::Json names = report::Json::array();
+  for (const io::Signal& s : part.set.signals) names.push_back(s.name);
+  report::Json entry = {{"topic", part.topic},
+                        {"freq", part.set.freq},
+                        {"samples", part.set.signals.empty() ? 0 : part.set.signals.front().values.size()},
+                        {"columns", std::move(names)}};
+  if (document.contains("timing")) entry["timing"] = document.at("timing");
+  return entry;
+}
+
+std::string part_heading(const io::RecordPart& part) {
+  return "topic " + part.topic + " (" + fmt(part.set.freq) + " Hz)";
+}
+
+}  // namespace
+
+namespace {
+
+using SharedOutcomes = std::shared_ptr<const std::vector<Outcome>>;
+
+// The parts' report pages as one: the first's header, each part's notes after a line naming
+// its columns, every part's columns in turn (a part without a page, every fit failed, left out).
+std::function<report::ReportData()> merged_report(SharedOutcomes outcomes, std::vector<std::string> headings) {
+  if (std::none_of(outcomes->begin(), outcomes->end(), [](const Outcome& o) { return bool(o.report); })) return {};
+  return [outcomes, headings] {
+    report::ReportData data;
+    bool first = true;
+    for (std::size_t i = 0; i < outcomes->size(); ++i) {
+      if (!(*outcomes)[i].report) continue;
+      report::ReportData part = (*outcomes)[i].report();
+      if (first) data = part, data.notes.clear(), data.columns.clear(), first = false;
+      std::string names;
+      for (const report::ReportColumn& c : part.columns) names += (names.empty() ? "" : ", ") + c.name;
+      data.notes.push_back(headings[i] + ": columns " + names);
+      for (const std::string& note : part.notes)  // a note naming its topic already is said as it is
+        data.notes.push_back(note.rfind("topic ", 0) == 0 ? note : headings[i] + ": " + note);
+      for (report::ReportColumn& c : part.columns) data.columns.push_back(std::move(c));
+    }
+    return data;
+  };
+}
+
+// The parts' tables in turn, each under its heading, each formed from its own document.
+std::function<std::string(const report::Json&)> merged_table(SharedOutcomes outcomes,
+                                                             std::vector<std::string> headings) {
+  return [outcomes, headings](const report::Json& doc) {
+    std::string out;
+    for (std::size_t i = 0; i < outcomes->size(); ++i) {
+      if (!(*outcomes)[i].table) continue;
+      report::Json own = (*outcomes)[i].document;
+      if (doc.contains("run")) own["run"] = doc.at("run");
+      out += (out.empty() ? "" : "\n") + headings[i] + ":\n" + (*outcomes)[i].table(own);
+    }
+    return out;
+  };
+}
+
+}  // namespace
+
+Outcome merge_parts(const std::vector<io::RecordPart>& parts, std::vector<Outcome> outcomes) {
+  if (outcomes.size() == 1) return std::move(outcomes.front());
+  Outcome merged;
+  merged.document = outcomes.front().document;
+  merged.document.erase("timing");
+  report::Json columns = report::Json::array(), entries = report::Json::array();
+  std::vector<std::string> headings;
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    for (const report::Json& c : outcomes[i].document.at("columns")) columns.push_back(c);
+    entries.push_back(part_entry(parts[i], outcomes[i].document));
+    headings.push_back(part_heading(parts[i]));
+    for (const auto& [name, seconds] : outcomes[i].seconds)
+      merged.seconds[name] = name == "total" ? std::max(merged.seconds[name], seconds) : merged.seconds[name] + seconds;
+  }
+  merged.document["columns"] = std::move(columns);
+  merged.document["parts"] = std::move(entries);
+  const auto shared = std::make_shared<const std::vector<Outcome>>(std::move(outcomes));
+  merged.report = merged_report(shared, headings);
+  merged.table = merged_table(shared, headings);
+  return merged;
+}
+
+std::string merge_csv_tables(const std::vector<std::string>& tables) {
+  std::string out;
+  for (const std::string& t : tables) {
+    if (out.empty()) {
+      out = t;
+      continue;
+    }
+    const auto body = t.find('\n');
+    if (body != std::string::npos) out += t.substr(body + 1);
+  }
+  return out;
 }
 
 WvOptions wv_options(const InputOptions& input) {
@@ -338,7 +459,8 @@ void write_json(const CommonOptions& common, report::Json& doc, report::RunInfo 
 
 int emit(const CommonOptions& common, Outcome outcome) {
   write_json(common, outcome.document, {.threads = 0, .seconds = std::move(outcome.seconds), .argv = {}});
-  if (!common.report.empty() && outcome.report) outcome.report();
+  if (!common.report.empty() && outcome.report) write_report(common, outcome.report());
+  if (!common.report.empty() && outcome.stage_own_report) outcome.stage_own_report();
   commit_outputs(common);
   if (common.show_table() && outcome.table) print_text(outcome.table(outcome.document));
   return 0;

@@ -25,6 +25,7 @@
 #include "gmwm/report/study_text.h"
 #include "gmwm/report/terminal.h"
 #include "gmwm/io/output_set.h"
+#include "gmwm/io/read_request.h"
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/robust/robust_wv.h"
 
@@ -157,7 +158,8 @@ void check_report_option(const CommonOptions& common);
 /// Stages the report and its SVG when --report was given.
 void write_report(const CommonOptions& common, const report::ReportData& data);
 
-/// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown.
+/// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown, and for a
+/// --topic list (the commands that read several topics call read_parts).
 io::SignalSet read_input(const InputOptions& input);
 
 /// WvOptions from --levels/--alpha (InputError naming the option when invalid).
@@ -225,14 +227,30 @@ void warn_about_timing(const io::SignalSet& set);
 void warn(const std::string& message);
 
 /// What a command has made, for its last stage (emit): the document and its named timings,
-/// the staging of its HTML report (called only with --report; empty: the command writes none)
-/// and its terminal table (formed from the document with its "run", only when shown).
+/// its HTML report's data (called only with --report; empty: the command writes none), its
+/// terminal table (formed from the document with its "run", only when shown) and, for a
+/// command whose page is its own (fleet, nav), the staging of that page instead of `report`.
 struct Outcome {
   report::Json document;
   std::map<std::string, double> seconds;
-  std::function<void()> report;
+  std::function<report::ReportData()> report;
   std::function<std::string(const report::Json&)> table;
+  std::function<void()> stage_own_report = {};
 };
+
+/// INPUT's parts (io::read_request_parts): one per topic of --topic A,B, each at its own
+/// rate, else the one record; each checked as read_input checks the record.
+std::vector<io::RecordPart> read_parts(const InputOptions& input);
+
+/// One run of several parts (wv, fit, select over --topic A,B): the first part's document
+/// with every part's columns (each carries its own n and freq) and, for the record's
+/// "timing", "parts" ([{topic, freq, samples, columns, timing}]); the timings summed ("total"
+/// the run's); the report's columns in turn, each part's notes after a line naming it; the
+/// tables in turn under "topic T (F Hz):". One part: its Outcome unchanged.
+Outcome merge_parts(const std::vector<io::RecordPart>& parts, std::vector<Outcome> outcomes);
+
+/// A CSV table of every part (--csv, --adev-csv): the first's header once, then each part's rows.
+std::string merge_csv_tables(const std::vector<std::string>& tables);
 
 /// Every command's last stage: stages the JSON (write_json) and the report, writes every
 /// staged output, all or none (commit_outputs), then prints the table. Returns 0.

@@ -119,6 +119,35 @@ pipeline::FitStudyOptions fit_study_options(const FitArgs& args, const CommonOpt
   return o;
 }
 
+// One part's fit (the record, or a topic of --topic A,B): its study, warnings and rendering.
+struct FitPart {
+  Outcome outcome;
+  int usable = 0;  ///< the columns whose fit did not fail
+};
+
+FitPart fit_part(const FitArgs& args, const CommonOptions& common, const pipeline::FitStudyOptions& options,
+                 const io::SignalSet& set, double read_seconds) {
+  auto study = std::make_shared<const pipeline::FitStudy>(pipeline::study_fit(set, options));
+  const std::vector<std::string> units = column_units(args.units, set);
+  const double filter = filter_rate(args.units, set);
+  warn_about_timing(set);
+  FitPart part;
+  part.usable = warn_about_fits(*study);
+  std::function<report::ReportData()> report_data;  // none when every fit failed
+  if (part.usable > 0)
+    report_data = [&set, study, model = args.model, units, filter] {
+      return report::fit_report_data(set, *study, model, units, filter);
+    };
+  part.outcome = {
+      report::fit_document(set, *study, units, filter),
+      {{"read", read_seconds}, {"wv", study->wv_seconds}, {"allan", study->allan_seconds}, {"fit", study->fit_seconds}},
+      report_data,
+      [&set, study, units, filter, verbose = common.verbose](const report::Json& doc) {
+        return report::fit_text(doc, set, *study, {units, filter, verbose});
+      }};
+  return part;
+}
+
 int run_fit(const FitArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
@@ -128,30 +157,20 @@ int run_fit(const FitArgs& args, const CommonOptions& common) {
   check_models_before_reading(args.input, {study_options.model});
 
   Stopwatch read_clock;
-  const io::SignalSet set = read_input(args.input);
-  const double read_seconds = read_clock.seconds();
-  const pipeline::FitStudy study = pipeline::study_fit(set, study_options);
-
-  // Everything is computed: render, then emit.
-  const std::vector<std::string> units = column_units(args.units, set);
-  const double filter = filter_rate(args.units, set);
-  warn_about_timing(set);
-  const int usable = warn_about_fits(study);
-  std::function<void()> stage_report;  // none when every fit failed
-  if (usable > 0)
-    stage_report = [&] { write_report(common, report::fit_report_data(set, study, args.model, units, filter)); };
-  emit(common, {report::fit_document(set, study, units, filter),
-                {{"read", read_seconds},
-                 {"wv", study.wv_seconds},
-                 {"allan", study.allan_seconds},
-                 {"fit", study.fit_seconds},
-                 {"total", total.seconds()}},
-                stage_report,
-                [&](const report::Json& doc) {
-                  return report::fit_text(doc, set, study, {units, filter, common.verbose});
-                }});
-  if (usable == 0) {
-    std::cerr << "gmwm: error: no usable fit (every column failed)\n";
+  const std::vector<io::RecordPart> parts = read_parts(args.input);
+  const double read_seconds = read_clock.seconds() / static_cast<double>(parts.size());
+  std::vector<Outcome> outcomes;
+  int failed_parts = 0;
+  for (const io::RecordPart& p : parts) {
+    FitPart part = fit_part(args, common, study_options, p.set, read_seconds);
+    outcomes.push_back(std::move(part.outcome));
+    failed_parts += part.usable == 0;
+  }
+  Outcome outcome = merge_parts(parts, std::move(outcomes));
+  outcome.seconds["total"] = total.seconds();
+  emit(common, std::move(outcome));
+  if (failed_parts > 0) {
+    std::cerr << "gmwm: error: no usable fit (every column" << (parts.size() > 1 ? " of a topic" : "") << " failed)\n";
     return 1;
   }
   return 0;

@@ -152,8 +152,9 @@ int run_fleet(const FleetArgs& a, const CommonOptions& common) {
   if (!a.csv.empty()) common.outputs->stage(a.csv, report::fleet_csv(study));
   emit(common, {report::fleet_document(study),
                 {{"total", total.seconds()}},
-                [&] { report::stage_fleet_report(*common.outputs, common.report, study); },
-                [&](const report::Json&) { return report::fleet_text(study, common.verbose); }});
+                {},
+                [&](const report::Json&) { return report::fleet_text(study, common.verbose); },
+                [&] { report::stage_fleet_report(*common.outputs, common.report, study); }});
   warn_about_fleet(study);
   return 0;
 }

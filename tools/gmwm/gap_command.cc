@@ -142,7 +142,7 @@ int run_gap(const GapArgs& args, const CommonOptions& common) {
       common,
       {std::move(doc),
        {{"read", read_seconds}, {"wv", study.wv_seconds}, {"gap", study.gap_seconds}, {"total", total.seconds()}},
-       [&] { write_report(common, report::gap_report_data(set, study, baseline, corrected)); },
+       [&] { return report::gap_report_data(set, study, baseline, corrected); },
        [&](const report::Json&) { return report::gap_text(set, study, corrected, common.verbose); }});
 }
 

@@ -95,8 +95,9 @@ int run_nav(const NavArgs& args, const CommonOptions& common) {
   return emit(common,
               {report::nav_document(study),
                {{"analysis", study.seconds_exact}, {"monte_carlo", study.seconds_sampled}, {"total", total.seconds()}},
-               [&] { common.outputs->stage(common.report, report::render_nav_html(study)); },
-               [&](const report::Json&) { return report::nav_terminal(study); }});
+               {},
+               [&](const report::Json&) { return report::nav_terminal(study); },
+               [&] { common.outputs->stage(common.report, report::render_nav_html(study)); }});
 }
 
 }  // namespace

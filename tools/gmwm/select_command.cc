@@ -97,7 +97,7 @@ int run_joint_select(const SelectArgs& args, const CommonOptions& common, const 
   return emit(common,
               {report::joint_select_document(set, groups, study, units, filter),
                {{"total", total.seconds()}},
-               [&] { write_report(common, report::joint_select_report_data(set, groups, study, estimator)); },
+               [&] { return report::joint_select_report_data(set, groups, study, estimator); },
                [&](const report::Json& doc) {
                  return report::joint_select_text(doc, set, groups, study, estimator, {units, filter, common.verbose});
                }});
@@ -166,6 +166,31 @@ pipeline::SelectStudyOptions select_study_options(const SelectArgs& args, const 
   return o;
 }
 
+// One part's selection (the record, or a topic of --topic A,B): its study, warnings and rendering.
+Outcome select_part(const SelectArgs& args, const CommonOptions& common, pipeline::SelectStudyOptions options,
+                    const io::SignalSet& set, double read_seconds) {
+  // Progress on a terminal: models done / total (bootstrap refits included), time left.
+  ProgressBar bar("select: models", common);
+  if (bar.enabled()) options.select.progress = [&](int done, int total_models) { bar.update(done, total_models); };
+  auto study = std::make_shared<const pipeline::SelectStudy>(pipeline::study_select(set, options));
+  bar.finish();
+  const std::vector<std::string> units = column_units(args.units, set);
+  const double filter = filter_rate(args.units, set);
+  warn_about_timing(set);
+  warn_about_selection(*study);
+  const std::string models = args.models.empty() ? args.model : args.models;
+  return {
+      report::select_document(set, *study, units, filter),
+      {{"read", read_seconds},
+       {"wv", study->wv_seconds},
+       {"allan", study->allan_seconds},
+       {"select", study->select_seconds}},
+      [&set, study, models, units, filter] { return report::select_report_data(set, *study, models, units, filter); },
+      [&set, study, units, filter, verbose = common.verbose](const report::Json& doc) {
+        return report::select_text(doc, set, *study, {units, filter, verbose});
+      }};
+}
+
 int run_select(const SelectArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
@@ -177,29 +202,14 @@ int run_select(const SelectArgs& args, const CommonOptions& common) {
   check_models_before_reading(args.input, study_options.models);
 
   Stopwatch read_clock;
-  const io::SignalSet set = read_input(args.input);
-  const double read_seconds = read_clock.seconds();
-  // Progress on a terminal: models done / total (bootstrap refits included), time left.
-  ProgressBar bar("select: models", common);
-  if (bar.enabled())
-    study_options.select.progress = [&](int done, int total_models) { bar.update(done, total_models); };
-  const pipeline::SelectStudy study = pipeline::study_select(set, study_options);
-
-  const std::vector<std::string> units = column_units(args.units, set);
-  const double filter = filter_rate(args.units, set);
-  warn_about_timing(set);
-  warn_about_selection(study);
-  const std::string models = args.models.empty() ? args.model : args.models;
-  return emit(common, {report::select_document(set, study, units, filter),
-                       {{"read", read_seconds},
-                        {"wv", study.wv_seconds},
-                        {"allan", study.allan_seconds},
-                        {"select", study.select_seconds},
-                        {"total", total.seconds()}},
-                       [&] { write_report(common, report::select_report_data(set, study, models, units, filter)); },
-                       [&](const report::Json& doc) {
-                         return report::select_text(doc, set, study, {units, filter, common.verbose});
-                       }});
+  const std::vector<io::RecordPart> parts = read_parts(args.input);
+  const double read_seconds = read_clock.seconds() / static_cast<double>(parts.size());
+  std::vector<Outcome> outcomes;
+  for (const io::RecordPart& p : parts)
+    outcomes.push_back(select_part(args, common, study_options, p.set, read_seconds));
+  Outcome outcome = merge_parts(parts, std::move(outcomes));
+  outcome.seconds["total"] = total.seconds();
+  return emit(common, std::move(outcome));
 }
 
 }  // namespace

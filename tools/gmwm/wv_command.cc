@@ -51,30 +51,52 @@ pipeline::WvStudyOptions wv_study_options(const WvArgs& args, const CommonOption
   return o;
 }
 
+// One part's WV (the record, or a topic of --topic A,B): its study, warnings and rendering.
+struct WvPart {
+  Outcome outcome;
+  std::string csv, adev_csv;
+};
+
+WvPart wv_part(const WvArgs& args, const pipeline::WvStudyOptions& options, const io::SignalSet& set,
+               double read_seconds) {
+  auto study = std::make_shared<const pipeline::WvStudy>(pipeline::study_wv(set, options));
+  const std::vector<std::string> units = column_units(args.units, set);
+  warn_about_timing(set);
+  WvPart part;
+  if (!args.csv.empty()) part.csv = report::wv_csv(set, *study);
+  if (!args.adev_csv.empty()) part.adev_csv = report::adev_csv(set, *study);
+  part.outcome = {report::wv_document(set, *study, units),
+                  {{"read", read_seconds}, {"wv", study->wv_seconds}, {"allan", study->allan_seconds}},
+                  [&set, study, units] { return report::wv_report_data(set, *study, units); },
+                  [&set, study, units](const report::Json&) {
+                    return (set.timing ? set.timing->summary() + "\n" : std::string()) + report::wv_text(set, *study) +
+                           report::adev_text(set, *study, units);
+                  }};
+  return part;
+}
+
 int run_wv(const WvArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
   const pipeline::WvStudyOptions study_options = wv_study_options(args, common);
 
   Stopwatch read_clock;
-  const io::SignalSet set = read_input(args.input);
+  const std::vector<io::RecordPart> parts = read_parts(args.input);
   const double read_seconds = read_clock.seconds();
-  const pipeline::WvStudy study = pipeline::study_wv(set, study_options);
-
+  std::vector<Outcome> outcomes;
+  std::vector<std::string> csvs, adev_csvs;
+  for (const io::RecordPart& p : parts) {
+    WvPart part = wv_part(args, study_options, p.set, read_seconds / static_cast<double>(parts.size()));
+    outcomes.push_back(std::move(part.outcome));
+    csvs.push_back(std::move(part.csv));
+    adev_csvs.push_back(std::move(part.adev_csv));
+  }
   // Everything is computed: render, then emit.
-  const std::vector<std::string> units = column_units(args.units, set);
-  warn_about_timing(set);
-  if (!args.csv.empty()) common.outputs->stage(args.csv, report::wv_csv(set, study));
-  if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, report::adev_csv(set, study));
-  return emit(
-      common,
-      {report::wv_document(set, study, units),
-       {{"read", read_seconds}, {"wv", study.wv_seconds}, {"allan", study.allan_seconds}, {"total", total.seconds()}},
-       [&] { write_report(common, report::wv_report_data(set, study, units)); },
-       [&](const report::Json&) {
-         return (set.timing ? set.timing->summary() + "\n" : std::string()) + report::wv_text(set, study) +
-                report::adev_text(set, study, units);
-       }});
+  if (!args.csv.empty()) common.outputs->stage(args.csv, merge_csv_tables(csvs));
+  if (!args.adev_csv.empty()) common.outputs->stage(args.adev_csv, merge_csv_tables(adev_csvs));
+  Outcome outcome = merge_parts(parts, std::move(outcomes));
+  outcome.seconds["total"] = total.seconds();
+  return emit(common, std::move(outcome));
 }
 
 }  // namespace

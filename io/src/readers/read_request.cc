@@ -1,6 +1,8 @@
 #include "gmwm/io/read_request.h"
 
 #include <cmath>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "gmwm/engine/error.h"
@@ -67,6 +69,81 @@ SignalSet read_request(const ReadRequest& request) {
                      ":1: found no timestamp column in the header, expected one (timestamp, time, t, ...) or the "
                      "sampling rate as --freq HZ");
   return set;
+}
+
+std::vector<std::string> topic_list(const std::string& text) {
+  if (text.empty()) return {};
+  const std::vector<std::string> out = comma_list(text);
+  std::set<std::string> seen;
+  for (const std::string& t : out) {
+    if (t.empty()) throw InputError("--topic '" + text + "': found an empty name, expected topics separated by commas");
+    if (!seen.insert(t).second)
+      throw InputError("--topic '" + text + "': found " + t + " twice, expected each topic once");
+  }
+  return out;
+}
+
+namespace {
+
+// "A (gyro_x, gyro_y); B (accel_x)": what each part gives, for a --columns refusal.
+std::string parts_columns(const std::vector<RecordPart>& parts) {
+  std::string out;
+  for (const RecordPart& p : parts) {
+    out += (out.empty() ? "" : "; ") + p.topic + " (";
+    for (std::size_t i = 0; i < p.set.signals.size(); ++i) out += (i ? ", " : "") + p.set.signals[i].name;
+    out += ")";
+  }
+  return out;
+}
+
+// Several topics: --columns names (not indices), no --freq.
+void check_parts_request(const ReadRequest& request) {
+  if (request.freq)
+    throw InputError("--freq with --topic '" + request.topic +
+                     "': each topic is read at the rate of its own stamps; give --freq with one topic");
+  for (const std::string& c : request.columns)
+    if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos)
+      throw InputError("--columns " + c + " with --topic '" + request.topic +
+                       "': found an index, expected the names of the columns to keep (gyro_x, accel_y, ...)");
+}
+
+// Keeps the named columns of each part (every one when none is named); refuses a name no part
+// gives and a name two parts give; leaves out a part left with none.
+std::vector<RecordPart> keep_named_columns(const ReadRequest& request, std::vector<RecordPart> parts) {
+  std::map<std::string, std::string> giver;  // column name -> the topic giving it
+  for (const RecordPart& p : parts)
+    for (const Signal& s : p.set.signals)
+      if (const auto [it, fresh] = giver.emplace(s.name, p.topic); !fresh)
+        throw InputError(request.path + ": topics " + it->second + " and " + p.topic + " both give " + s.name +
+                         ": read each in its own run (or one as a replicate of the other with --joint)");
+  if (request.columns.empty()) return parts;
+  const std::set<std::string> named(request.columns.begin(), request.columns.end());
+  for (const std::string& c : request.columns)
+    if (!giver.count(c))
+      throw InputError("--columns " + c + ": found in none of the topics, expected a column of " +
+                       parts_columns(parts));
+  std::vector<RecordPart> kept;
+  for (RecordPart& p : parts) {
+    std::erase_if(p.set.signals, [&](const Signal& s) { return !named.count(s.name); });
+    if (!p.set.signals.empty()) kept.push_back(std::move(p));
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::vector<RecordPart> read_request_parts(const ReadRequest& request) {
+  const std::vector<std::string> topics = topic_list(request.topic);
+  if (topics.size() <= 1) return {{request.topic, read_request(request)}};
+  check_parts_request(request);
+  std::vector<RecordPart> parts;
+  for (const std::string& topic : topics) {
+    ReadRequest one = request;
+    one.topic = topic;
+    one.columns.clear();  // each topic's own axes; the names are kept below
+    parts.push_back({topic, read_request(one)});
+  }
+  return keep_named_columns(request, std::move(parts));
 }
 
 }  // namespace gmwm::io
