@@ -224,8 +224,9 @@ void add_read_functions(py::module_& m) {
   m.def("read_parts", &py_read_parts, py::arg("path"), py::kw_only(), py::arg("columns") = py::none(), py::arg("topic"),
         py::arg("memory") = py::none(), py::arg("gaps") = "windows", py::arg("data") = "rate", py::arg("decimate") = 1,
         py::arg("decimate_filter") = "average",
-        "The topics of a log or bag (topic 'A,B'), each read as gmwm.read reads one at its own rate: a list of "
-        "(samples x columns array, JSON text) pairs");
+        "The parts of a recording (the topics of topic 'A,B', or a table's stamp columns that each stamp their "
+        "own), each read as gmwm.read reads one at its own rate: a list of (samples x columns array, JSON text) "
+        "pairs");
   m.def("stamps_timing", &py_stamps_timing, py::arg("stamps"), py::kw_only(), py::arg("source"), py::arg("column"),
         py::arg("freq") = py::none(),
         "The sampling of integer-nanosecond timestamps (a pandas DatetimeIndex's asi8), measured and refused as a "

@@ -148,17 +148,19 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     return _recording(values, meta_text)
 
 
-def read_parts(path: str | os.PathLike[str], *, topic: str | Sequence[str],
+def read_parts(path: str | os.PathLike[str], *, topic: str | Sequence[str] | None = None,
                columns: str | Sequence[str] | None = None, memory: float | None = None, gaps: str = "windows",
                data: str = "rate", decimate: int = 1, decimate_filter: str = "average") -> list[Recording]:
-    """Several topics of a log or bag, each read at its own rate (no resampling), as `gmwm
-    wv|fit|select PATH --topic A,B` reads them: one Recording per topic, its `topic` set
-    (RealSense: topic=["/camera/gyro/sample", "/camera/accel/sample"], the gyroscope at 400 Hz
-    and the accelerometer at 250 Hz). Each takes the other keywords as gmwm.read does; columns
-    are names kept from whichever topic gives them (a topic left with none is left out); no
-    freq, since each topic's rate is its stamps'. Refused (gmwm.InputError): a name no topic
-    gives, a name two topics give, an index."""
-    topics = topic if isinstance(topic, str) else ",".join(topic)
+    """The parts of a recording, each read at its own rate (no resampling), as `gmwm
+    wv|fit|select PATH [--topic A,B]` reads them: several topics of a log or bag (RealSense:
+    topic=["/camera/gyro/sample", "/camera/accel/sample"], the gyroscope at 400 Hz and the
+    accelerometer at 250 Hz; each Recording's `topic` set), or a table whose timestamp columns
+    each stamp the columns to their right (gyro_timestamp,gyro_x,..,accel_timestamp,accel_x,..,
+    a sensor's cells empty in the other's rows). A recording of one part gives a list of one.
+    Each part takes the other keywords as gmwm.read does; columns are names kept from whichever
+    part gives them (a part left with none is left out); no freq, since each part's rate is its
+    stamps'. Refused (gmwm.InputError): a name no part gives, a name two parts give, an index."""
+    topics = "" if topic is None else topic if isinstance(topic, str) else ",".join(topic)
     found = _gmwm.read_parts(os.fspath(path), columns=columns, topic=topics, memory=memory, gaps=gaps, data=data,
                              decimate=decimate, decimate_filter=decimate_filter)
     return [_recording(values, meta_text) for values, meta_text in found]

@@ -213,3 +213,31 @@ def test_an_index_with_gaps_warns_and_one_that_changes_rate_is_refused_as_a_file
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", gmwm.TimingWarning)  # freq takes the samples as evenly spaced
         assert gmwm.wv(pd.Series(x, index=pd.to_timedelta(changing, unit="ns")), freq=RATE).freq == RATE
+
+
+def test_a_table_whose_stamp_columns_each_stamp_their_own_is_read_as_parts_as_the_command_reads_it(tmp_path):
+    """Issue 47, item 3: gyro_timestamp,gyro_x,accel_timestamp,accel_x with each sensor's rows
+    leaving the other's cells empty: gmwm.read_parts gives each stamp column's columns at the
+    rate of its own stamps, the values the command's; gmwm.read refuses both at once and reads
+    one part's columns at their own rate."""
+    rng = np.random.default_rng(47)
+    t0 = 1_700_000_000 * 10**9
+    gyro = [(t0 + i * 2_500_000, rng.standard_normal() * 1e-3) for i in range(4000)]    # 400 Hz
+    accel = [(t0 + i * 4_000_000, rng.standard_normal() * 2e-2) for i in range(2500)]   # 250 Hz
+    rows = sorted([(t, 0, v) for t, v in gyro] + [(t, 1, v) for t, v in accel])
+    lines = ["gyro_timestamp [ns],gyro_x,accel_timestamp [ns],accel_x"]
+    lines += [f"{t},{v!r},," if s == 0 else f",,{t},{v!r}" for t, s, v in rows]
+    path = tmp_path / "mixed.csv"
+    path.write_text("\n".join(lines) + "\n")
+    g, a = gmwm.read_parts(path)
+    assert (g.names, len(g), g.topic) == (("gyro_x",), 4000, None)
+    assert (a.names, len(a)) == (("accel_x",), 2500)
+    assert g.freq == pytest.approx(400.0, rel=1e-9) and a.freq == pytest.approx(250.0, rel=1e-9)
+    np.testing.assert_array_equal(a.column("accel_x"), [v for _, v in accel])
+    with pytest.raises(gmwm.InputError, match="found 2 timestamp columns, each stamping the columns to its right"):
+        gmwm.read(path)
+    assert gmwm.read(path, columns="accel_x").freq == pytest.approx(250.0, rel=1e-9)
+    doc = json.loads(run(tmp_path, "wv", str(path), "--json", "-").stdout)
+    assert [p["stamps"] for p in doc["parts"]] == ["gyro_timestamp [ns]", "accel_timestamp [ns]"]
+    np.testing.assert_allclose(gmwm.wv(a["accel_x"]).wv, [lv["wv"] for lv in doc["columns"][1]["levels"]],
+                               rtol=1e-12)

@@ -169,12 +169,13 @@ TEST(GmwmBinaryLogs, TwoTopicsAtDifferentRatesAreReadInOneRunEachAtItsOwnRate) {
   // Refused with one line, nothing written: a rate for both, an index, a name no topic gives,
   // a command that reads one topic.
   expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", topics, "--freq", "400", "--json", "x.json"}, dir),
-                   {"--freq with --topic", "each topic is read at the rate of its own stamps"}, dir / "x.json");
+                   {"--freq with --topic", "each part is read at the rate of its own stamps"}, dir / "x.json");
   expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", topics, "--columns", "2", "--json", "x.json"}, dir),
                    {"--columns 2", "found an index, expected the names"}, dir / "x.json");
-  expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", topics, "--columns", "mag_x", "--json", "x.json"}, dir),
-                   {"--columns mag_x: found in none of the topics", "/camera/accel/sample (accel_x, accel_y, accel_z)"},
-                   dir / "x.json");
+  expect_bad_input(
+      run_gmwm({"wv", "d435i.bag", "--topic", topics, "--columns", "mag_x", "--json", "x.json"}, dir),
+      {"--columns mag_x: found in none of the parts", "topic /camera/accel/sample (accel_x, accel_y, accel_z)"},
+      dir / "x.json");
   expect_bad_input(run_gmwm({"wv", "d435i.bag", "--topic", "/camera/gyro/sample,/camera/gyro/sample"}, dir),
                    {"found /camera/gyro/sample twice"}, dir / "x.json");
   expect_bad_input(run_gmwm({"gap", "d435i.bag", "--topic", topics, "--kalibr", "k.yaml", "--json", "x.json"}, dir),

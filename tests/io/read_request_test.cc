@@ -111,13 +111,79 @@ TEST(ReadRequest, SeveralTopicsAreReadAsPartsEachAtTheRateOfItsOwnStamps) {
   ReadRequest two = request;
   two.columns.clear();
   two.topic = "/camera/gyro/sample,/imu1/gyro";
-  refused(two, {"topics /camera/gyro/sample and /imu1/gyro both give gyro_x", "read each in its own run"});
+  refused(two, {"topic /camera/gyro/sample and topic /imu1/gyro both give gyro_x", "read each in its own run"});
   two.topic = "/camera/gyro/sample,,/imu1/gyro";
   refused(two, {"--topic '/camera/gyro/sample,,/imu1/gyro': found an empty name"});
   two.topic = "/camera/gyro/sample,/camera/accel/sample";
   two.freq = 400.0;
   refused(two, {"--freq with --topic", "rate of its own stamps"});
   std::filesystem::remove_all(dir);
+}
+
+// A table whose stamp columns each stamp the columns to their right, a sensor's cells empty in
+// the other's rows ("gyro_timestamp,gyro_x,accel_timestamp,accel_x"): `gyro` rows at 400 Hz
+// and `accel` rows at 250 Hz over the same second, merged by time.
+std::string stamped_table(int gyro, int accel) {
+  std::string s = "gyro_timestamp [ns],gyro_x,gyro_y,accel_timestamp [ns],accel_x\n";
+  const std::int64_t t0 = 1700000000000000000;
+  int g = 0, a = 0;
+  while (g < gyro || a < accel) {
+    const std::int64_t tg = g < gyro ? t0 + g * 2500000LL : INT64_MAX, ta = a < accel ? t0 + a * 4000000LL : INT64_MAX;
+    const bool with_gyro = tg <= ta, with_accel = ta <= tg;
+    s += with_gyro ? std::to_string(tg) + "," + std::to_string(std::sin(g * 0.7) * 1e-3) + "," +
+                         std::to_string(std::cos(g * 1.3) * 1e-3) + ","
+                   : std::string(",,,");
+    s += with_accel ? std::to_string(ta) + "," + std::to_string(9.81 + std::sin(a * 0.9) * 1e-2) : std::string(",");
+    s += "\n";
+    g += with_gyro;
+    a += with_accel;
+  }
+  return s;
+}
+
+TEST(ReadRequest, ATableWhoseStampColumnsEachStampTheirOwnIsReadAsPartsEachAtItsRate) {
+  const std::filesystem::path dir = gmwm::test::temp_dir("io_stamp_parts");
+  const std::string path = write_text(dir, "mixed.csv", stamped_table(800, 500));
+  ReadRequest request;
+  request.path = path;
+  const auto parts = gmwm::io::read_request_parts(request);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].stamps, "gyro_timestamp [ns]");
+  EXPECT_EQ(parts[0].label(), "stamps gyro_timestamp [ns]");
+  EXPECT_NEAR(parts[0].set.freq, 400.0, 1e-9);
+  ASSERT_EQ(parts[0].set.signals.size(), 2u);
+  EXPECT_EQ(parts[0].set.signals[1].name, "gyro_y");
+  EXPECT_EQ(parts[0].set.signals[1].values.size(), 800u);
+  EXPECT_EQ(parts[0].set.timing->gaps, 0);  // the accelerometer's rows are not the gyroscope's gaps
+  EXPECT_NEAR(parts[1].set.freq, 250.0, 1e-9);
+  ASSERT_EQ(parts[1].set.signals.size(), 1u);
+  EXPECT_EQ(parts[1].set.signals[0].values.size(), 500u);
+  EXPECT_NEAR(parts[1].set.signals[0].values[1], 9.81 + std::sin(0.9) * 1e-2, 1e-6);
+
+  // One part's columns read alone take their own stamps; columns of both, or none named, are
+  // refused by the one-record read (each would be timed by the other sensor's clock).
+  request.columns = {"accel_x"};
+  const gmwm::io::SignalSet accel = gmwm::io::read_request(request);
+  EXPECT_NEAR(accel.freq, 250.0, 1e-9);
+  EXPECT_EQ(accel.signals.at(0).values.size(), 500u);
+  request.columns = {"gyro_x", "accel_x"};
+  EXPECT_TRUE(contains(message_of([&] { gmwm::io::read_request(request); }),
+                       "--columns: found columns of 2 timestamp columns"));
+  request.columns.clear();
+  EXPECT_TRUE(contains(message_of([&] { gmwm::io::read_request(request); }),
+                       "mixed.csv:1: found 2 timestamp columns, each stamping the columns to its right "
+                       "(gyro_timestamp [ns] (gyro_x, gyro_y); accel_timestamp [ns] (accel_x))"));
+  request.freq = 100.0;
+  EXPECT_TRUE(
+      contains(message_of([&] { gmwm::io::read_request_parts(request); }), "--freq with the timestamp columns of"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ReadRequest, ASensorsLabelledStampIsATimestampColumnButALetterTWithALabelIsNot) {
+  for (const std::string name : {"gyro_timestamp", "timestamp_accel", "accel_time [ns]", "imu_stamp"})
+    EXPECT_TRUE(gmwm::io::is_timestamp_column_name(name)) << name;
+  for (const std::string name : {"x_t", "t_gyro", "lifetime", "timestamp_"})
+    EXPECT_FALSE(gmwm::io::is_timestamp_column_name(name)) << name;
 }
 
 }  // namespace

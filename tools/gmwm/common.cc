@@ -336,7 +336,8 @@ namespace {
 report::Json part_entry(const io::RecordPart& part, const report::Json& document) {
   report::Json names = report::Json::array();
   for (const io::Signal& s : part.set.signals) names.push_back(s.name);
-  report::Json entry = {{"topic", part.topic},
+  report::Json entry = {{"topic", part.topic.empty() ? report::Json(nullptr) : report::Json(part.topic)},
+                        {"stamps", part.stamps.empty() ? report::Json(nullptr) : report::Json(part.stamps)},
                         {"freq", part.set.freq},
                         {"samples", part.set.signals.empty() ? 0 : part.set.signals.front().values.size()},
                         {"columns", std::move(names)}};
@@ -344,9 +345,7 @@ report::Json part_entry(const io::RecordPart& part, const report::Json& document
   return entry;
 }
 
-std::string part_heading(const io::RecordPart& part) {
-  return "topic " + part.topic + " (" + fmt(part.set.freq) + " Hz)";
-}
+std::string part_heading(const io::RecordPart& part) { return part.label() + " (" + fmt(part.set.freq) + " Hz)"; }
 
 }  // namespace
 

@@ -171,7 +171,24 @@ void RowParser::reserve(std::size_t rows) {
   for (auto& v : values_) v.reserve(rows);
 }
 
+bool RowParser::field_empty(std::string_view line, std::size_t field) const {
+  if (delim_ == Delimiter::kWhitespace) return false;  // no empty field between blanks
+  const char c = delim_ == Delimiter::kComma ? ',' : delim_ == Delimiter::kTab ? '\t' : ';';
+  std::size_t begin = 0;
+  for (std::size_t k = 0; k < field; ++k) {
+    const std::size_t next = line.find(c, begin);
+    if (next == std::string_view::npos) return false;  // too few fields: the parser says so
+    begin = next + 1;
+  }
+  const std::size_t end = line.find(c, begin);
+  return trim(line.substr(begin, end == std::string_view::npos ? std::string_view::npos : end - begin)).empty();
+}
+
 void RowParser::parse(std::string_view line, std::int64_t line_number) {
+  if (skip_without_ && field_empty(line, *skip_without_)) {
+    ++skipped_;
+    return;
+  }
   const char* p = line.data();
   const char* e = p + line.size();
   switch (delim_) {

@@ -4,6 +4,7 @@
 // wanted cell to its column without allocating per line.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,12 @@ class RowParser {
   /// wrong number of fields.
   void parse(std::string_view line, std::int64_t line_number);
 
+  /// A row whose field `field` (0-based) is empty is skipped, not parsed nor counted: another
+  /// sensor's row in a file whose stamp columns each stamp their own (stamped_columns.h).
+  void skip_rows_without(std::size_t field) { skip_without_ = field; }
+  /// The rows skipped so.
+  std::int64_t skipped_rows() const { return skipped_; }
+
   /// Reserves room for about `rows` rows in every column.
   void reserve(std::size_t rows);
 
@@ -83,6 +90,9 @@ class RowParser {
   std::vector<std::vector<double>> values_;
   StepStatistics time_steps_;
   std::int64_t rows_ = 0;
+  std::optional<std::size_t> skip_without_;
+  std::int64_t skipped_ = 0;
+  bool field_empty(std::string_view line, std::size_t field) const;
   bool has_time_ = false;
   bool first_time_is_int_ = false;
   std::int64_t first_time_int_ = 0;

@@ -7,6 +7,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/number_text.h"
+#include "gmwm/io/stamped_columns.h"
 
 namespace gmwm::io {
 
@@ -83,45 +84,51 @@ std::vector<std::string> topic_list(const std::string& text) {
   return out;
 }
 
+std::string RecordPart::label() const {
+  if (!topic.empty()) return "topic " + topic;
+  if (!stamps.empty()) return "stamps " + stamps;
+  return "";
+}
+
 namespace {
 
 // "A (gyro_x, gyro_y); B (accel_x)": what each part gives, for a --columns refusal.
 std::string parts_columns(const std::vector<RecordPart>& parts) {
   std::string out;
   for (const RecordPart& p : parts) {
-    out += (out.empty() ? "" : "; ") + p.topic + " (";
+    out += (out.empty() ? "" : "; ") + p.label() + " (";
     for (std::size_t i = 0; i < p.set.signals.size(); ++i) out += (i ? ", " : "") + p.set.signals[i].name;
     out += ")";
   }
   return out;
 }
 
-// Several topics: --columns names (not indices), no --freq.
-void check_parts_request(const ReadRequest& request) {
+// Several parts (`what`: "--topic 'A,B'", "the timestamp columns of PATH"): --columns names
+// (not indices), no --freq.
+void check_parts_request(const ReadRequest& request, const std::string& what) {
   if (request.freq)
-    throw InputError("--freq with --topic '" + request.topic +
-                     "': each topic is read at the rate of its own stamps; give --freq with one topic");
+    throw InputError("--freq with " + what +
+                     ": each part is read at the rate of its own stamps; give --freq with one part");
   for (const std::string& c : request.columns)
     if (!c.empty() && c.find_first_not_of("0123456789") == std::string::npos)
-      throw InputError("--columns " + c + " with --topic '" + request.topic +
-                       "': found an index, expected the names of the columns to keep (gyro_x, accel_y, ...)");
+      throw InputError("--columns " + c + " with " + what +
+                       ": found an index, expected the names of the columns to keep (gyro_x, accel_y, ...)");
 }
 
 // Keeps the named columns of each part (every one when none is named); refuses a name no part
 // gives and a name two parts give; leaves out a part left with none.
 std::vector<RecordPart> keep_named_columns(const ReadRequest& request, std::vector<RecordPart> parts) {
-  std::map<std::string, std::string> giver;  // column name -> the topic giving it
+  std::map<std::string, std::string> giver;  // column name -> the part giving it
   for (const RecordPart& p : parts)
     for (const Signal& s : p.set.signals)
-      if (const auto [it, fresh] = giver.emplace(s.name, p.topic); !fresh)
-        throw InputError(request.path + ": topics " + it->second + " and " + p.topic + " both give " + s.name +
+      if (const auto [it, fresh] = giver.emplace(s.name, p.label()); !fresh)
+        throw InputError(request.path + ": " + it->second + " and " + p.label() + " both give " + s.name +
                          ": read each in its own run (or one as a replicate of the other with --joint)");
   if (request.columns.empty()) return parts;
   const std::set<std::string> named(request.columns.begin(), request.columns.end());
   for (const std::string& c : request.columns)
     if (!giver.count(c))
-      throw InputError("--columns " + c + ": found in none of the topics, expected a column of " +
-                       parts_columns(parts));
+      throw InputError("--columns " + c + ": found in none of the parts, expected a column of " + parts_columns(parts));
   std::vector<RecordPart> kept;
   for (RecordPart& p : parts) {
     std::erase_if(p.set.signals, [&](const Signal& s) { return !named.count(s.name); });
@@ -130,12 +137,28 @@ std::vector<RecordPart> keep_named_columns(const ReadRequest& request, std::vect
   return kept;
 }
 
+// A table's stamp columns, each with the columns it stamps, read as parts.
+std::vector<RecordPart> read_stamp_parts(const ReadRequest& request, const std::vector<StampedColumns>& groups) {
+  check_parts_request(request, "the timestamp columns of " + request.path);
+  std::vector<RecordPart> parts;
+  for (const StampedColumns& g : groups) {
+    ReadRequest one = request;
+    one.columns.clear();
+    for (const std::size_t f : g.fields) one.columns.push_back(std::to_string(f));
+    parts.push_back({"", read_request(one), g.stamp});
+  }
+  return keep_named_columns(request, std::move(parts));
+}
+
 }  // namespace
 
 std::vector<RecordPart> read_request_parts(const ReadRequest& request) {
   const std::vector<std::string> topics = topic_list(request.topic);
+  if (topics.empty())
+    if (const std::vector<StampedColumns> groups = stamped_columns(request.path); groups.size() > 1)
+      return read_stamp_parts(request, groups);
   if (topics.size() <= 1) return {{request.topic, read_request(request)}};
-  check_parts_request(request);
+  check_parts_request(request, "--topic '" + request.topic + "'");
   std::vector<RecordPart> parts;
   for (const std::string& topic : topics) {
     ReadRequest one = request;

@@ -19,6 +19,7 @@
 #include "gmwm/engine/samples.h"
 #include "text_source.h"
 #include "timestamp.h"
+#include "gmwm/io/stamped_columns.h"
 #include "mcap_reader.h"
 #include "rosbag1_reader.h"
 #include "rosbag2_reader.h"
@@ -75,8 +76,9 @@ struct Column {
   std::string base;    // without its bracketed unit
   std::string name;    // the signal's name (preset-renamed base)
   std::string unit;
-  bool numeric = false;    // its first data cell is a number
-  bool time_like = false;  // named like a timestamp
+  bool numeric = false;      // its first data cell is a number
+  bool empty_first = false;  // its first data cell is empty (another sensor's row, stamped_columns.h)
+  bool time_like = false;    // named like a timestamp
 };
 
 const Preset* find_preset(const std::vector<Column>& cols) {
@@ -165,6 +167,101 @@ double memory_budget_bytes() {
 bool inflation_exceeds(std::uint64_t in, std::uint64_t out) {
   return out > kInflationRatioFloorBytes && static_cast<double>(out) > kMaxInflationRatio * static_cast<double>(in);
 }
+
+namespace {
+
+// stamped_columns.h: the timestamp columns that each stamp the columns to their right, when
+// two or more do. An empty first cell in them is another sensor's row: they count as numeric.
+std::vector<StampedColumns> stamp_groups(std::vector<Column>& cols) {
+  std::vector<StampedColumns> groups;
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    if (cols[k].time_like) {
+      groups.push_back({cols[k].header, k + 1, {}, {}});
+    } else if (!groups.empty() && (cols[k].numeric || cols[k].empty_first)) {
+      groups.back().fields.push_back(k + 1);
+      groups.back().columns.push_back(cols[k].name);
+    }
+  }
+  std::vector<StampedColumns> stamping;
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    if (!groups[g].fields.empty()) stamping.push_back(groups[g]);
+  if (stamping.size() < 2) return {};
+  for (const StampedColumns& g : stamping) {
+    Column& stamp = cols[g.stamp_field - 1];
+    stamp.numeric = stamp.numeric || stamp.empty_first;
+    for (const std::size_t f : g.fields) cols[f - 1].numeric = true;
+  }
+  return stamping;
+}
+
+// "gyro_timestamp (gyro_x, gyro_y); accel_timestamp (accel_x)": the groups, for a refusal.
+std::string groups_text(const std::vector<StampedColumns>& groups) {
+  std::string out;
+  for (const StampedColumns& g : groups) {
+    out += (out.empty() ? "" : "; ") + g.stamp + " (";
+    for (std::size_t i = 0; i < g.columns.size(); ++i) out += (i ? ", " : "") + g.columns[i];
+    out += ")";
+  }
+  return out;
+}
+
+// The timestamp column (0-based) of the selected columns of a file with stamp groups: the
+// one stamp column they all belong to; refused when they belong to several (each would be
+// timed by another sensor's clock).
+std::size_t stamp_of(const std::string& path, std::int64_t header_line, const std::vector<StampedColumns>& groups,
+                     const std::vector<std::size_t>& selected, const std::vector<Column>& cols,
+                     const ReadOptions& options) {
+  std::optional<std::size_t> group;
+  bool several = false;
+  for (const std::size_t k : selected)
+    if (cols[k].time_like)
+      throw InputError(path + ": --columns: found '" + cols[k].header +
+                       "', a timestamp column, expected a signal column");
+  for (const std::size_t k : selected)
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      if (std::find(groups[g].fields.begin(), groups[g].fields.end(), k + 1) != groups[g].fields.end()) {
+        several = several || (group && *group != g);
+        group = group.value_or(g);
+      }
+  if (!group || several) {
+    const std::string what = std::to_string(groups.size()) +
+                             " timestamp columns, each stamping the columns to its right (" + groups_text(groups) +
+                             "), expected the columns of one: wv, fit and select (gmwm.read_parts) read each at the "
+                             "rate of its own stamps";
+    if (options.columns.empty())
+      throw InputError(where(path, header_line) + "found " + what + ", or name one's columns with --columns");
+    throw InputError(path + ": --columns: found columns of " + what);
+  }
+  return groups[*group].stamp_field - 1;
+}
+
+// Which fields become signals, in which order: --columns, else every numeric column that is
+// not a timestamp.
+std::vector<std::size_t> selected_fields(const std::string& path, std::int64_t header_line,
+                                         const std::vector<Column>& cols, const ReadOptions& options,
+                                         std::optional<std::size_t> time_col) {
+  std::vector<std::size_t> selected;
+  if (options.columns.empty()) {
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      if (cols[k].numeric && !cols[k].time_like) selected.push_back(k);
+    if (selected.empty())
+      throw InputError(where(path, header_line) + "found no numeric column besides timestamps (" + column_list(cols) +
+                       "), expected at least one signal column");
+    return selected;
+  }
+  for (const std::string& spec : options.columns) {
+    const std::size_t k = resolve_column(path, spec, cols);
+    if (time_col && k == *time_col)
+      throw InputError(path + ": --columns: found '" + spec + "', the timestamp column '" + cols[k].header +
+                       "', expected a signal column");
+    if (std::find(selected.begin(), selected.end(), k) != selected.end())
+      throw InputError(path + ": --columns: found column '" + cols[k].name + "' twice, expected each column once");
+    selected.push_back(k);
+  }
+  return selected;
+}
+
+}  // namespace
 
 bool is_timestamp_column_name(std::string_view name) { return detail::timestamp_name(name).has_value(); }
 
@@ -341,9 +438,19 @@ bool is_log(const std::string& path) {
 
 // A delimited text file's signals; `header_only`: the header, the timestamp and the columns
 // checked as read_signals checks them, no data row read past the first (the set has no values).
-SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only);
+SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only,
+                         std::vector<StampedColumns>* groups = nullptr);
 
 }  // namespace
+
+std::vector<StampedColumns> stamped_columns(const std::string& path) {
+  if (is_log(path)) return {};
+  std::vector<StampedColumns> groups;
+  ReadOptions options;
+  options.freq = 1.0;  // a file without stamps has no groups; its rate is not asked here
+  read_delimited(path, options, true, &groups);
+  return groups;
+}
 
 void check_signals(const std::string& path, const ReadOptions& options) {
   if (const std::string msg = options.Validate(); !msg.empty()) throw InputError(msg);
@@ -362,7 +469,8 @@ SignalSet read_signals(const std::string& path, const ReadOptions& options) {
 
 namespace {
 
-SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only) {
+SignalSet read_delimited(const std::string& path, const ReadOptions& options, bool header_only,
+                         std::vector<StampedColumns>* groups_out) {
   // Opened first: a path the format sniffers found no log at may be missing, a folder or
   // unreadable, which is said as such before anything about its format.
   detail::TextSource src(path);
@@ -454,6 +562,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
     double v;
     const detail::NumberStatus s = detail::parse_number(first_fields[k], v);
     c.numeric = s != detail::NumberStatus::kEmpty && s != detail::NumberStatus::kNotANumber;
+    c.empty_first = s == detail::NumberStatus::kEmpty;
     c.time_like = detail::timestamp_name(c.header).has_value();
   }
   SignalSet set;
@@ -468,6 +577,11 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
       cols[k].unit = preset->units[k];
     }
   }
+  const std::vector<StampedColumns> groups = stamp_groups(cols);
+  if (groups_out) {
+    *groups_out = groups;
+    return set;
+  }
   std::optional<std::size_t> time_col;
   const auto time_like = std::find_if(cols.begin(), cols.end(), [](const Column& c) { return c.time_like; });
   if (time_like != cols.end()) time_col = static_cast<std::size_t>(time_like - cols.begin());
@@ -480,25 +594,8 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
   }
   if (!time_col && !options.freq) throw InputError(missing_rate_problem(path, "no timestamp column found"));
 
-  // Which fields become signals, in which order.
-  std::vector<std::size_t> selected;
-  if (options.columns.empty()) {
-    for (std::size_t k = 0; k < cols.size(); ++k)
-      if (cols[k].numeric && !cols[k].time_like) selected.push_back(k);
-    if (selected.empty())
-      throw InputError(where(path, header_line) + "found no numeric column besides timestamps (" + column_list(cols) +
-                       "), expected at least one signal column");
-  } else {
-    for (const std::string& spec : options.columns) {
-      const std::size_t k = resolve_column(path, spec, cols);
-      if (time_col && k == *time_col)
-        throw InputError(path + ": --columns: found '" + spec + "', the timestamp column '" + cols[k].header +
-                         "', expected a signal column");
-      if (std::find(selected.begin(), selected.end(), k) != selected.end())
-        throw InputError(path + ": --columns: found column '" + cols[k].name + "' twice, expected each column once");
-      selected.push_back(k);
-    }
-  }
+  const std::vector<std::size_t> selected = selected_fields(path, header_line, cols, options, time_col);
+  if (!groups.empty()) time_col = stamp_of(path, header_line, groups, selected, cols, options);
   if (header_only) {
     for (const std::size_t k : selected) set.signals.push_back({cols[k].name, {}, cols[k].unit});
     return set;
@@ -508,6 +605,7 @@ SignalSet read_delimited(const std::string& path, const ReadOptions& options, bo
   if (time_col) plan[*time_col].kind = FieldPlan::kTime;
 
   detail::RowParser parser(path, delim, std::move(plan), names, static_cast<int>(selected.size()));
+  if (!groups.empty()) parser.skip_rows_without(*time_col);  // another sensor's rows
   // A timestamp column counts as a column: jittery stamps keep a step a row (StepStatistics).
   detail::ColumnSink sink(path, parser.values(), options, {"rows", "column(s)", "read fewer columns with --columns"},
                           time_col ? &parser.time_steps() : nullptr);

@@ -95,6 +95,24 @@ std::pair<std::string, std::string> split_unit(std::string_view name) {
   return {std::string(trim(name.substr(0, open))), std::string(trim(name.substr(open + 1, end - open - 1)))};
 }
 
+namespace {
+
+// A sensor's own stamps, labelled: gyro_timestamp, accel_time, timestamp_gyro, time_accel
+// (a file whose stamp columns each stamp the columns to their right, issue 47). Not with the
+// one-letter "t" (x_t is more often a value than a stamp), nor with a unit as the label.
+bool labelled_stamp(std::string_view base) {
+  static constexpr std::array<std::string_view, 4> kStamps = {"timestamp", "time", "stamp", "timestamps"};
+  for (const std::string_view stamp : kStamps) {
+    if (base.size() <= stamp.size() + 1) continue;
+    const std::string_view head = base.substr(0, stamp.size()), tail = base.substr(base.size() - stamp.size());
+    if (head == stamp && base[stamp.size()] == '_' && !parse_time_unit(base.substr(stamp.size() + 1))) return true;
+    if (tail == stamp && base[base.size() - stamp.size() - 1] == '_') return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 std::optional<TimeUnit> timestamp_name(std::string_view name) {
   name = trim(name);
   while (!name.empty() && (name.front() == '#' || name.front() == '%')) name.remove_prefix(1);
@@ -109,9 +127,13 @@ std::optional<TimeUnit> timestamp_name(std::string_view name) {
   if (!known(base)) {
     // Unit as a suffix: time_s, timestamp_ns, t_ms, "time s".
     const std::size_t sep = base.find_last_of("_ ");
-    if (sep == std::string::npos || !known(std::string_view(base).substr(0, sep))) return std::nullopt;
-    unit = parse_time_unit(std::string_view(base).substr(sep + 1));
-    if (!unit) return std::nullopt;
+    const bool unit_suffix = sep != std::string::npos && known(std::string_view(base).substr(0, sep)) &&
+                             parse_time_unit(std::string_view(base).substr(sep + 1));
+    if (unit_suffix) {
+      unit = parse_time_unit(std::string_view(base).substr(sep + 1));
+    } else if (!labelled_stamp(base)) {
+      return std::nullopt;
+    }
   }
   return unit ? *unit : TimeUnit{};
 }

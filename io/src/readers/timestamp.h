@@ -23,8 +23,9 @@ struct TimeUnit {
 std::optional<TimeUnit> parse_time_unit(std::string_view text);
 
 /// nullopt when `name` does not name a timestamp column (timestamp, time, t, stamp,
-/// time_stamp, '#timestamp [ns]', 'time (s)', time_s, timestamp_ns, %time, ...,
-/// case-insensitive); otherwise the unit the name states (to_seconds 0 when none).
+/// time_stamp, '#timestamp [ns]', 'time (s)', time_s, timestamp_ns, %time, ..., and a sensor's
+/// own labelled ones: gyro_timestamp, timestamp_accel, accel_time [ns]; case-insensitive);
+/// otherwise the unit the name states (to_seconds 0 when none).
 std::optional<TimeUnit> timestamp_name(std::string_view name);
 
 /// The bracketed or parenthesised unit of a header name ('w_RS_S_x [rad s^-1]' ->

@@ -58,11 +58,16 @@ std::vector<std::string> column_list(const std::string& text);
 SignalSet read_request(const ReadRequest& request);
 
 /// One part of a recording, read at its own rate: a topic of --topic A,B (the RealSense case:
-/// the gyroscope and the accelerometer on separate topics at different rates), or the whole
-/// record (topic as requested).
+/// the gyroscope and the accelerometer on separate topics at different rates), the columns
+/// of one timestamp column of a table whose stamp columns each stamp their own
+/// (stamped_columns.h; `stamps` names it, `topic` empty), or the whole record (topic as
+/// requested).
 struct RecordPart {
   std::string topic;
   SignalSet set;
+  std::string stamps = {};
+  /// "topic /camera/gyro/sample", "stamps gyro_timestamp [ns]" or "" (the whole record).
+  std::string label() const;
 };
 
 /// --topic "A, B" as {"A", "B"}: entries split at commas, blanks trimmed; {} for "" and one
@@ -70,11 +75,12 @@ struct RecordPart {
 /// ("--topic 'A,,B': found an empty name, expected topics separated by commas").
 std::vector<std::string> topic_list(const std::string& text);
 
-/// The request's parts: one per topic of a --topic list, each read by read_request with its
-/// own stamps, rate, gaps and repeated samples (no resampling), else the one record. With
-/// several topics --columns names the columns to keep from whichever topic gives them (a part
-/// left with none is left out); refused (InputError, one line): --freq (each topic's rate is
-/// its stamps'), a column index, a name no topic gives, a name two topics give.
+/// The request's parts: one per topic of a --topic list, or per timestamp column of a table
+/// whose stamp columns each stamp their own (stamped_columns), each read by read_request with
+/// its own stamps, rate, gaps and repeated samples (no resampling); else the one record. With
+/// several parts --columns names the columns to keep from whichever part gives them (a part
+/// left with none is left out); refused (InputError, one line): --freq (each part's rate is
+/// its stamps'), a column index, a name no part gives, a name two parts give.
 std::vector<RecordPart> read_request_parts(const ReadRequest& request);
 
 }  // namespace gmwm::io
