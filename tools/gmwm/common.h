@@ -244,7 +244,7 @@ std::vector<io::RecordPart> read_parts(const InputOptions& input);
 
 /// One run of several parts (wv, fit, select over --topic A,B): the first part's document
 /// with every part's columns (each carries its own n and freq) and, for the record's
-/// "timing", "parts" ([{topic, freq, samples, columns, timing}]); the timings summed ("total"
+/// "timing", "parts" ([{topic, stamps, freq, samples, columns, timing}]); the timings summed ("total"
 /// the run's); the report's columns in turn, each part's notes after a line naming it; the
 /// tables in turn under "topic T (F Hz):". One part: its Outcome unchanged.
 Outcome merge_parts(const std::vector<io::RecordPart>& parts, std::vector<Outcome> outcomes);
