@@ -307,13 +307,21 @@ Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const In
     for (std::size_t q = a; flat_floor && q <= b; ++q) flat_floor = !(c.sigma[points[q]] < v);
     if ((local_minimum || flat_floor) && (best == points.size() || v < c.sigma[points[best]])) best = p;
   }
+  // A curve that ends still falling below a minimum has not reached its floor: that minimum,
+  // its whole interval above the curve's last point, is a dip between bumps (a tone over
+  // 0.06-0.07 s on a record whose gaps end its curve at 49 s read B 22x the complete
+  // record's), and the curve then only bounds B. (A curve rising from its first point, lower
+  // there than at a later minimum, has no floor at that point: the minimum stands.)
+  if (best != points.size() && lowest == points.back() && interval(points[best], 1.0).first > c.sigma[lowest])
+    best = points.size();
   if (best == points.size()) {
     out.value = c.sigma[lowest] * s;
     out.tau = c.tau[lowest];
     out.status = ReadoffStatus::kBound;
     out.high = out.value;
     out.how = lowest == points.back()
-                  ? "no flat part or minimum: an upper bound, the curve still falls at its last usable point (" +
+                  ? "no flat part or minimum at the curve's lowest level: an upper bound, the curve still falls at "
+                    "its last usable point (" +
                         fmt(out.tau) + " s)"
                   : "no flat part or minimum: an upper bound, the curve rises from its first point";
     return out;

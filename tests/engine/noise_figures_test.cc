@@ -239,6 +239,30 @@ TEST(NoiseFigures, NIsTheWhiteFloorAndATonesBumpNearOneSecondIsNamedNotCounted) 
   EXPECT_EQ(read_noise_figures(allan_deviation(w, f)).white.bends, "");
 }
 
+TEST(NoiseFigures, ACurveThatEndsStillFallingBelowADipBoundsBInsteadOfReadingTheDip) {
+  // Issue 47: a tone's Allan variance A^2 sin^4(pi f0 tau) / (pi f0 tau)^2 dips to zero at
+  // tau = k / f0, so on white noise a strong tone (10 Hz at 100 Hz) leaves local minima near 0.1, 0.2 s
+  // while the white noise's -1/2 line falls on to the curve's end, far below them. Those dips
+  // are no floor: B is an upper bound, at the last usable point (before: B read at a dip,
+  // 22x the complete record's on an ADIS axis whose gaps ended its curve at 49 s).
+  const double f = 100.0;
+  const auto x = simulated("WN(sigma2=1)+SIN(A2=2,f=0.1)", 1 << 15, 4747);
+  const AllanDeviation adev = allan_deviation(x, f);
+  const NoiseFigures r = read_noise_figures(adev);
+  std::size_t last = adev.size();
+  for (std::size_t i = 0; i < adev.size(); ++i)
+    if (adev.edf[i] >= ReadoffOptions{}.min_edf) last = i;
+  ASSERT_LT(last, adev.size());
+  bool dip = false;  // the curve has a local minimum well above its end
+  for (std::size_t i = 1; i < last; ++i)
+    dip = dip || (adev.adev[i] < adev.adev[i - 1] && adev.adev[i] < adev.adev[i + 1] &&
+                  adev.adev[i] > 2.0 * adev.adev[last]);
+  ASSERT_TRUE(dip);
+  EXPECT_EQ(r.instability.status, ReadoffStatus::kBound) << r.instability.how;
+  EXPECT_NEAR(r.instability.value * kBiasInstabilityFactor / adev.adev[last], 1.0, 1e-12) << r.instability.how;
+  EXPECT_NE(r.instability.how.find("still falls at its last usable point"), std::string::npos) << r.instability.how;
+}
+
 TEST(NoiseFigures, KalmanTermsFollowTheFigures) {
   ChosenFigures c;
   c.white.figure.value = 0.01;
