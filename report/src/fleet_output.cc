@@ -183,13 +183,14 @@ Json fleet_document(const fleet::FleetStudy& study) {
 
 std::string fleet_csv(const fleet::FleetStudy& study) {
   std::ostringstream os;
-  os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,"
+  os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,first_level,"
         "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,spec,gap,flags\n";
   for (const fleet::FleetRow& r : study.rows) {
     os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
        << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
        << io::csv_field(r.status) << ',' << io::csv_field(r.chosen) << ',' << exact(r.gof_p) << ',' << exact(r.freq)
-       << ',' << (r.n ? std::to_string(r.n) : std::string());
+       << ',' << (r.n ? std::to_string(r.n) : std::string()) << ','
+       << (r.n ? std::to_string(r.first_level) : std::string());
     for (int k = 0; k < 3; ++k) {
       const ChosenFigure* f = figure_of(r, k);
       os << ',' << (f ? exact(f->figure.value) : "") << ',' << (f ? exact(f->figure.low) : "") << ','

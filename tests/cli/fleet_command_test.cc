@@ -80,9 +80,10 @@ TEST_F(GmwmFleet, GivesEachUnitAndAxisTheNumbersSelectGivesItsRecording) {
       EXPECT_EQ(row.at("gof_p_value"), col.at("best_fit").at("gof").at("p_value"));
     }
   }
-  // The table: a header and one line per row.
+  // The table: a header and one line per row, each saying the level its figures are read from.
   const std::string table = gmwm::test::read_text(dir_ / "table.csv");
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 7);
+  EXPECT_NE(table.find(",n,first_level,N,"), std::string::npos) << table.substr(0, 200);
   EXPECT_EQ(table.rfind("unit,model,group,path,axis,unit_of_data,status,chosen,", 0), 0u);
 }
 
