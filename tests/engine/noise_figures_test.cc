@@ -255,8 +255,8 @@ TEST(NoiseFigures, ACurveThatEndsStillFallingBelowADipBoundsBInsteadOfReadingThe
   ASSERT_LT(last, adev.size());
   bool dip = false;  // the curve has a local minimum well above its end
   for (std::size_t i = 1; i < last; ++i)
-    dip = dip || (adev.adev[i] < adev.adev[i - 1] && adev.adev[i] < adev.adev[i + 1] &&
-                  adev.adev[i] > 2.0 * adev.adev[last]);
+    dip = dip ||
+          (adev.adev[i] < adev.adev[i - 1] && adev.adev[i] < adev.adev[i + 1] && adev.adev[i] > 2.0 * adev.adev[last]);
   ASSERT_TRUE(dip);
   EXPECT_EQ(r.instability.status, ReadoffStatus::kBound) << r.instability.how;
   EXPECT_NEAR(r.instability.value * kBiasInstabilityFactor / adev.adev[last], 1.0, 1e-12) << r.instability.how;
