@@ -96,9 +96,6 @@ Record record_of(const gmwm::io::SignalSet& set, const std::string& path, std::o
 Record py_read(const std::string& path, const py::object& columns, std::optional<double> freq, const std::string& topic,
                std::optional<double> memory, const std::string& gaps, const std::string& data,
                const py::object& decimate, const std::string& decimate_filter) {
-  if (gmwm::io::topic_list(topic).size() > 1)
-    throw gmwm::InputError("topic '" + topic +
-                           "': gmwm.read reads one topic; gmwm.read_parts reads several, each at its own rate");
   const gmwm::io::ReadRequest request =
       read_request_of(path, columns, freq, topic, memory, gaps, data, decimate, decimate_filter);
   gmwm::io::SignalSet set;

@@ -427,9 +427,16 @@ Json adev_plot_spec(const ReportColumn& c) {
     if (!g.tau.empty()) p.curves.push_back(std::move(g));
   };
   const double N = f.chosen.white.figure.value, K = f.chosen.walk.figure.value, B = f.chosen.instability.figure.value;
-  if (N > 0.0) guide("N = " + num(N, 4) + " (-1/2 slope)", [N](double t) { return N / std::sqrt(t); });
-  if (K > 0.0) guide("K = " + num(K, 4) + " (+1/2 slope)", [K](double t) { return K * std::sqrt(t / 3.0); });
-  if (B > 0.0) guide("0.664 B, B = " + num(B, 4), [B](double) { return kBiasInstabilityFactor * B; });
+  // A figure the curves only bound is labelled as a bound, as the tables say it ("K < 4.1e-05").
+  auto is = [](const ChosenFigure& x) -> std::string {
+    return x.source == FigureSource::kBound || x.figure.status == ReadoffStatus::kBound ? " < " : " = ";
+  };
+  if (N > 0.0)
+    guide("N" + is(f.chosen.white) + num(N, 4) + " (-1/2 slope)", [N](double t) { return N / std::sqrt(t); });
+  if (K > 0.0)
+    guide("K" + is(f.chosen.walk) + num(K, 4) + " (+1/2 slope)", [K](double t) { return K * std::sqrt(t / 3.0); });
+  if (B > 0.0)
+    guide("0.664 B, B" + is(f.chosen.instability) + num(B, 4), [B](double) { return kBiasInstabilityFactor * B; });
   p.title = c.name + ": Allan deviation" + (f.model_adev.empty() ? "" : " and the model's") + " (" +
             num(100.0 * (1.0 - f.adev.alpha), 3) + "% CI), IEEE 952 guides";
   return loglog_spec(p);

@@ -20,6 +20,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/noise_figures.h"
 #include "gmwm/selection/replicate_select.h"
 #include "gmwm/report/html_report.h"
 #include "test_support.h"
@@ -104,6 +105,29 @@ nlohmann::json specs_of(const std::string& html) {
   const auto e = html.find("</script>", b);
   EXPECT_NE(b, std::string::npos);
   return nlohmann::json::parse(html.substr(b + open.size(), e - b - open.size()));
+}
+
+// A figure the curves only bound is drawn as a bound: white noise alone, its Allan deviation
+// still falling at its last point, bounds B (and K), and the guides' legend says "<" as the
+// tables do, never "B = " for a value no curve showed.
+TEST(HtmlReport, TheAllanGuidesOfFiguresTheCurvesOnlyBoundAreLabelledAsBounds) {
+  REQUIRE_VEGA();
+  std::vector<double> x(1 << 14);
+  std::uint64_t state = 88172645463325252ULL;  // xorshift64: a fixed, portable sequence
+  for (double& v : x) {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    v = static_cast<double>(state >> 11) * 0x1.0p-53 - 0.5;  // uniform white noise
+  }
+  ReportData d = six_columns();
+  d.columns.resize(1);
+  d.columns[0].allan = gmwm::data_figure_report(x, 100.0);
+  const gmwm::ChosenFigures& chosen = d.columns[0].allan->chosen;
+  ASSERT_EQ(chosen.instability.source, gmwm::FigureSource::kBound) << chosen.instability.note;
+  // The legend's names, in the embedded specs (where the page writes '<' as \u003c).
+  const std::string names = specs_of(gmwm::report::render_html_report(d)).dump();
+  EXPECT_NE(names.find("0.664 B, B < "), std::string::npos);
+  EXPECT_EQ(names.find("0.664 B, B = "), std::string::npos);
+  EXPECT_NE(names.find("\"N = "), std::string::npos) << "the white noise is read, not bounded";
 }
 
 TEST(HtmlReport, InlinesVegaAndHoldsOneSpecPerPlotContainer) {

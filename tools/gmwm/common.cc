@@ -316,9 +316,6 @@ void check_levels(const InputOptions& input, const io::SignalSet& set) {
 }  // namespace
 
 io::SignalSet read_input(const InputOptions& input) {
-  if (io::topic_list(input.topic).size() > 1)
-    throw InputError("--topic '" + input.topic +
-                     "': this command reads one topic (wv, fit and select read several, each at its own rate)");
   io::SignalSet set = io::read_request(read_request_of(input));
   check_levels(input, set);
   return set;

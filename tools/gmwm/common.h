@@ -159,7 +159,7 @@ void check_report_option(const CommonOptions& common);
 void write_report(const CommonOptions& common, const report::ReportData& data);
 
 /// Reads INPUT with --columns/--freq; throws InputError when the rate is unknown, and for a
-/// --topic list (the commands that read several topics call read_parts).
+/// --topic list (io::read_request; the commands that read several topics call read_parts).
 io::SignalSet read_input(const InputOptions& input);
 
 /// WvOptions from --levels/--alpha (InputError naming the option when invalid).

@@ -64,6 +64,10 @@ std::vector<std::string> column_list(const std::string& text) {
 }
 
 SignalSet read_request(const ReadRequest& request) {
+  if (topic_list(request.topic).size() > 1)
+    throw InputError("--topic '" + request.topic +
+                     "': found several topics where one record is read; wv, fit and select (gmwm.read_parts) read "
+                     "several, each at its own rate");
   SignalSet set = read_signals(request.path, request.options());
   if (!set.freq_known)
     throw InputError(request.path +

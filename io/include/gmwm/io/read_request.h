@@ -54,7 +54,9 @@ std::vector<std::string> column_list(const std::string& text);
 
 /// Reads the request (read_signals) and refuses a recording whose rate is unknown (no
 /// timestamp column and no --freq): "PATH:1: found no timestamp column in the header,
-/// expected one (timestamp, time, t, ...) or the sampling rate as --freq HZ".
+/// expected one (timestamp, time, t, ...) or the sampling rate as --freq HZ"; and a --topic
+/// list (several topics are parts: read_request_parts), for every face that reads one record
+/// (gap, export, the fleet's rows, the web app, gmwm.read).
 SignalSet read_request(const ReadRequest& request);
 
 /// One part of a recording, read at its own rate: a topic of --topic A,B (the RealSense case:
