@@ -18,6 +18,9 @@ std::string AllanOptions::Validate() const {
   if (points_per_octave < 1 || points_per_octave > 64)
     return "Allan deviation: points per octave must be in [1, 64], got " + std::to_string(points_per_octave);
   if (!(alpha > 0.0 && alpha < 1.0)) return "Allan deviation: alpha must be in (0, 1), got " + std::to_string(alpha);
+  if (!(max_missing_share >= 0.0 && max_missing_share < 0.5))
+    return "Allan deviation: the missing share of a half window must be in [0, 0.5), got " +
+           std::to_string(max_missing_share);
   return {};
 }
 

@@ -120,6 +120,73 @@ void check_gappy_input(const char* what, std::span<const double> observed, std::
     throw InvalidArgument(std::string(what) + ": " + why);
 }
 
+// The Allan windows of 2m samples at one factor: the sum of (second half's mean - first
+// half's mean)^2 over the windows used, their count and how many of them hold no missing
+// sample.
+struct WindowSums {
+  double sum = 0.0;
+  std::int64_t used = 0;
+  std::int64_t complete = 0;
+};
+
+WindowSums complete_windows(const Segments& g, std::int64_t m) {
+  // complete_window_sum's terms are ((second sum - first sum) / 2m)^2: a quarter of the
+  // squared difference of the half means.
+  const auto [sum, complete] = complete_window_sum(g, m, 2.0 * static_cast<double>(m));
+  return {4.0 * sum, complete, complete};
+}
+
+// The observed samples before grid position p, for positions that never decrease: the runs
+// wholly before p are passed once.
+class ObservedBefore {
+ public:
+  explicit ObservedBefore(std::span<const MissingRun> runs) : runs_(runs) {}
+  std::int64_t operator()(std::int64_t p) {
+    at_ = p + 1;  // gap_end: the run holding p (its start <= p < its end)
+    while (k_ < runs_.size() && runs_[k_].start + runs_[k_].length <= p) missing_ += runs_[k_++].length;
+    const std::int64_t inside = k_ < runs_.size() && runs_[k_].start < p ? p - runs_[k_].start : 0;
+    return p - missing_ - inside;
+  }
+  /// One past the missing run that holds the position last asked (0 when none does).
+  std::int64_t gap_end() const {
+    return k_ < runs_.size() && runs_[k_].start < at_ ? runs_[k_].start + runs_[k_].length : 0;
+  }
+
+ private:
+  std::span<const MissingRun> runs_;
+  std::size_t k_ = 0;
+  std::int64_t missing_ = 0;  // the samples of runs_[0, k_)
+  std::int64_t at_ = 0;
+};
+
+// Every window of 2m grid samples whose halves each miss at most `allowed` samples, each
+// half's mean over its observed samples. Windows that cannot be used are stepped over: a
+// half that misses `excess` samples too many needs a shift of at least `excess` (a shift by
+// one frees at most one place), and a half that starts inside a gap must start at most
+// `allowed` samples before its end, so a gap of any length costs a few steps.
+WindowSums near_complete_windows(const Segments& g, std::span<const MissingRun> missing, std::int64_t m,
+                                 std::int64_t allowed) {
+  ObservedBefore at0(missing), at1(missing), at2(missing);
+  WindowSums w;
+  for (std::int64_t p = 0; p + 2 * m <= g.grid;) {
+    const std::int64_t o0 = at0(p), o1 = at1(p + m), o2 = at2(p + 2 * m);
+    const std::int64_t lost1 = m - (o1 - o0), lost2 = m - (o2 - o1);
+    const std::int64_t excess = std::max(lost1, lost2) - allowed;
+    if (excess > 0) {
+      p = std::max({p + excess, at0.gap_end() - allowed, at1.gap_end() - allowed - m});
+      continue;
+    }
+    const auto i0 = static_cast<std::size_t>(o0), i1 = static_cast<std::size_t>(o1), i2 = static_cast<std::size_t>(o2);
+    const double d =
+        (g.s[i2] - g.s[i1]) / static_cast<double>(o2 - o1) - (g.s[i1] - g.s[i0]) / static_cast<double>(o1 - o0);
+    w.sum += d * d;
+    ++w.used;
+    if (lost1 == 0 && lost2 == 0) ++w.complete;
+    ++p;
+  }
+  return w;
+}
+
 }  // namespace
 
 WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
@@ -186,12 +253,11 @@ AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::
   a.n = g.grid;
   a.alpha = options.alpha;
   for (const std::int64_t m : allan_factors(g.grid, options.points_per_octave)) {
-    // AVAR(m) = mean of (second m-average - first m-average)^2 / 2 over the complete windows
-    // of 2m samples: twice the mean square of ((second sum - first sum) / 2m).
-    const auto [sum, complete] = complete_window_sum(g, m, 2.0 * static_cast<double>(m));
-    if (complete == 0) break;  // no longer window is complete either
-    const double avar = 2.0 * sum / static_cast<double>(complete);
-    const double eta = std::max(static_cast<double>(complete) / static_cast<double>(2 * m), 1.0);
+    const auto allowed = static_cast<std::int64_t>(std::floor(options.max_missing_share * static_cast<double>(m)));
+    const WindowSums w = allowed == 0 ? complete_windows(g, m) : near_complete_windows(g, missing, m, allowed);
+    if (w.used == 0) break;  // no longer window is usable either
+    const double avar = w.sum / (2.0 * static_cast<double>(w.used));
+    const double eta = std::max(static_cast<double>(w.used) / static_cast<double>(2 * m), 1.0);
     a.m.push_back(m);
     a.tau.push_back(static_cast<double>(m) / freq);
     a.adev.push_back(std::sqrt(avar));
@@ -199,7 +265,8 @@ AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::
     const auto [low, high] = chi_square_ci(avar, eta, options.alpha);
     a.ci_low.push_back(std::sqrt(low));
     a.ci_high.push_back(std::sqrt(high));
-    a.complete.push_back(complete);
+    a.complete.push_back(w.complete);
+    a.partial.push_back(w.used - w.complete);
   }
   return a;
 }

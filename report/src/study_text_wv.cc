@@ -151,10 +151,12 @@ std::string adev_text(const io::SignalSet& set, const pipeline::WvStudy& study, 
     if (!study.columns[k].allan) continue;
     const FigureReport& r = *study.columns[k].allan;
     const std::string unit = k < units.size() ? units[k] : std::string();
+    const std::string gappy_edf = "the windows of 2m samples used (each half missing at most " +
+                                  fmt(100.0 * kAllanMaxMissingShare) + "% of its samples, averaged over the rest)";
     os << '\n'
        << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
-       << "% CI (chi-square, edf = " << (r.adev.complete.empty() ? "(N - 2m + 1)" : "complete windows of 2m samples")
-       << " / 2m)" << (unit.empty() ? "" : ", in " + unit) << '\n';
+       << "% CI (chi-square, edf = " << (r.adev.complete.empty() ? "(N - 2m + 1)" : gappy_edf) << " / 2m)"
+       << (unit.empty() ? "" : ", in " + unit) << '\n';
     TextTable t({"m", "tau [s]", "ADEV", "CI low", "CI high", "edf"});
     for (std::size_t i = 0; i < r.adev.size(); ++i)
       t.add({std::to_string(r.adev.m[i]), fmt(r.adev.tau[i]), fmt(r.adev.adev[i]), fmt(r.adev.ci_low[i]),

@@ -182,33 +182,63 @@ TEST(GappyWv, RefusesRunsThatAreEmptyUnorderedOverlappingOrOutsideTheRecordNamin
   EXPECT_THROW(classical_wv_with_gaps(few, {}), InvalidArgument);
 }
 
+// Directly on the grid with NaN holes: every window of 2m samples whose halves each miss at
+// most floor(share * m) samples, (mean_2 - mean_1)^2 / 2 with each mean over the observed.
+struct BruteAllan {
+  double avar = 0.0;
+  std::int64_t complete = 0, partial = 0;
+};
+
+BruteAllan brute_allan(const std::vector<double>& grid, std::size_t m, double share) {
+  const auto allowed = static_cast<std::size_t>(std::floor(share * static_cast<double>(m)));
+  double sum = 0.0;
+  BruteAllan b;
+  for (std::size_t t = 0; t + 2 * m <= grid.size(); ++t) {
+    double mean[2] = {0.0, 0.0};
+    std::size_t seen[2] = {0, 0};
+    for (std::size_t i = 0; i < 2 * m; ++i)
+      if (!std::isnan(grid[t + i])) {
+        mean[i / m] += grid[t + i];
+        ++seen[i / m];
+      }
+    if (m - seen[0] > allowed || m - seen[1] > allowed) continue;
+    const double d = mean[1] / static_cast<double>(seen[1]) - mean[0] / static_cast<double>(seen[0]);
+    sum += d * d / 2.0;
+    ++(seen[0] + seen[1] == 2 * m ? b.complete : b.partial);
+  }
+  b.avar = sum / static_cast<double>(b.complete + b.partial);
+  return b;
+}
+
 TEST(GappyWv, AllanDeviationWithGapsEqualsABruteForceSumAndTheRegularOneWithoutGaps) {
   const std::vector<double> full = simulated("WN(sigma2=2)+RW(gamma2=0.01)", 3000, 31);
   const Holed h = remove(full, {{0, 3}, {100, 1}, {102, 7}, {1500, 40}, {2990, 10}});
-  const AllanDeviation a = allan_deviation_with_gaps(h.observed, h.runs, 100.0);
-  ASSERT_FALSE(a.m.empty());
-  ASSERT_EQ(a.complete.size(), a.m.size());
-  for (std::size_t k = 0; k < a.m.size(); ++k) {
-    // Directly: every window of 2m grid samples without a hole, (mean_2 - mean_1)^2 / 2.
-    const auto m = static_cast<std::size_t>(a.m[k]);
-    double sum = 0.0;
-    std::int64_t count = 0;
-    for (std::size_t t = 0; t + 2 * m <= h.grid.size(); ++t) {
-      double first = 0.0, second = 0.0;
-      for (std::size_t i = 0; i < 2 * m; ++i) (i < m ? first : second) += h.grid[t + i];
-      if (std::isnan(first) || std::isnan(second)) continue;
-      const double d = (second - first) / static_cast<double>(m);
-      sum += d * d / 2.0;
-      ++count;
+  for (const double share : {0.0, kAllanMaxMissingShare, 0.3}) {
+    AllanOptions o;
+    o.max_missing_share = share;
+    const AllanDeviation a = allan_deviation_with_gaps(h.observed, h.runs, 100.0, o);
+    ASSERT_FALSE(a.m.empty());
+    ASSERT_EQ(a.complete.size(), a.m.size());
+    ASSERT_EQ(a.partial.size(), a.m.size());
+    for (std::size_t k = 0; k < a.m.size(); ++k) {
+      const auto m = static_cast<std::size_t>(a.m[k]);
+      const BruteAllan b = brute_allan(h.grid, m, share);
+      EXPECT_EQ(a.complete[k], b.complete) << "share " << share << ", m " << m;
+      EXPECT_EQ(a.partial[k], b.partial) << "share " << share << ", m " << m;
+      EXPECT_NEAR(a.adev[k], std::sqrt(b.avar), 1e-9 * a.adev[k]) << "share " << share << ", m " << m;
+      EXPECT_LT(a.ci_low[k], a.adev[k]);
+      EXPECT_GT(a.ci_high[k], a.adev[k]);
     }
-    EXPECT_EQ(a.complete[k], count) << "m " << m;
-    EXPECT_NEAR(a.adev[k], std::sqrt(sum / static_cast<double>(count)), 1e-9 * a.adev[k]) << "m " << m;
-    EXPECT_LT(a.ci_low[k], a.adev[k]);
-    EXPECT_GT(a.ci_high[k], a.adev[k]);
+    if (share == 0.0) {
+      // Complete windows alone stop before the first m without one of 2m samples (the
+      // longest segment holds 1490 samples: m = 724 fits, no factor above 745 does).
+      EXPECT_LE(2 * a.m.back(), 1490);
+    } else {
+      // Near-complete windows cross the gaps: the curve reaches the record's last factor, as
+      // it does without gaps (the gap of 40 fits a half of m >= 40 / share samples).
+      EXPECT_EQ(a.m.back(), allan_factors(static_cast<std::int64_t>(h.grid.size()), 4).back()) << share;
+    }
   }
-  // The points stop before the first m without a complete window of 2m samples (the
-  // longest segment holds 1490 samples: m = 724 fits, no factor above 745 does).
-  EXPECT_LE(2 * a.m.back(), 1490);
 
   const AllanDeviation gapless = allan_deviation_with_gaps(full, {}, 100.0);
   const AllanDeviation regular = allan_deviation(full, 100.0);
@@ -217,7 +247,18 @@ TEST(GappyWv, AllanDeviationWithGapsEqualsABruteForceSumAndTheRegularOneWithoutG
     EXPECT_NEAR(gapless.adev[k], regular.adev[k], 1e-11 * regular.adev[k]) << "m " << regular.m[k];
     EXPECT_NEAR(gapless.ci_high[k], regular.ci_high[k], 1e-11 * regular.ci_high[k]) << "m " << regular.m[k];
     EXPECT_DOUBLE_EQ(gapless.tau[k], regular.tau[k]);
+    EXPECT_EQ(gapless.partial[k], 0);
   }
+}
+
+TEST(GappyWv, AllanOptionsRefuseAMissingShareOutsideZeroToAHalf) {
+  AllanOptions o;
+  for (const double bad : {-0.01, 0.5, std::numeric_limits<double>::quiet_NaN()}) {
+    o.max_missing_share = bad;
+    EXPECT_NE(o.Validate().find("missing share of a half window must be in [0, 0.5)"), std::string::npos) << bad;
+  }
+  o.max_missing_share = 0.0;
+  EXPECT_EQ(o.Validate(), "");
 }
 
 TEST(GappyWv, TakesAGapOfATrillionSamplesWithoutHoldingItsGrid) {
@@ -238,6 +279,12 @@ TEST(GappyWv, TakesAGapOfATrillionSamplesWithoutHoldingItsGrid) {
         static_cast<double>(a.coefficients[i] + b.coefficients[i]);
     EXPECT_NEAR(w.wv[i], pooled, 1e-9 * pooled) << "level " << i + 1;
   }
+  // The Allan deviation steps over the gap too (in a few steps per factor, not 2^40): its
+  // points end where no half of 2048 observed samples misses at most the allowed share.
+  const AllanDeviation adev = allan_deviation_with_gaps(x, gap, 1e7);
+  ASSERT_FALSE(adev.m.empty());
+  EXPECT_LE(static_cast<double>(adev.m.back()), 2048.0 / (1.0 - kAllanMaxMissingShare));
+  EXPECT_GE(2 * adev.m.back(), 2048);
 }
 
 }  // namespace

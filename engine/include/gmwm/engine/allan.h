@@ -27,11 +27,25 @@ namespace gmwm {
 
 class HaarModwt;
 
+/// The share of each half of an Allan window that may be missing when a record has gaps
+/// (allan_deviation_with_gaps): such a half is averaged over its observed samples, as Sesia
+/// and Tavella (Metrologia 45, 2008, S134) average the data available in each interval. At
+/// 0.1 a half of fewer than 10 samples must be complete, and white noise's Allan variance
+/// over a window missing its whole share is at most 1 / (1 - 0.1) = 1.11 times its value
+/// (each half's mean over 0.9 m samples instead of m); the slow noises (walk, instability),
+/// read at long tau where gaps cut every window, change by far less. Complete windows alone
+/// end the curve at the longest run without a gap (issue 47: 5% lost in bursts ~20 s apart
+/// ends it at 82 s, where the complete record's reaches 5000 s).
+inline constexpr double kAllanMaxMissingShare = 0.1;
+
 struct AllanOptions {
   /// Averaging factors m = round(2^(k / points_per_octave)), k = 0, 1, ..., distinct,
   /// up to N / 2; 1 gives the octave points (m = 1, 2, 4, ...).
   int points_per_octave = 4;
   double alpha = 0.05;  ///< intervals at level 1 - alpha
+  /// With gaps: the largest share of each half window that may be missing, in [0, 0.5); 0
+  /// keeps the complete windows alone (allantools' gradev). See kAllanMaxMissingShare.
+  double max_missing_share = kAllanMaxMissingShare;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
@@ -45,6 +59,9 @@ struct AllanDeviation {
   /// With missing samples (allan_deviation_with_gaps): the windows of 2m samples that hold
   /// none, per point; empty for a regular record (every one of N - 2m + 1).
   std::vector<std::int64_t> complete;
+  /// With missing samples: the windows used that hold some (each half missing at most
+  /// AllanOptions::max_missing_share of its m samples, averaged over its observed ones).
+  std::vector<std::int64_t> partial;
   double freq = 1.0;
   std::int64_t n = 0;
   double alpha = 0.05;

@@ -71,10 +71,12 @@ class GappyWvEstimator final : public WvEstimator {
 
 /// The gap-resistant overlapping Allan deviation: at each averaging factor m of
 /// allan_factors (on the grid's N samples), the mean of (ybar_2 - ybar_1)^2 / 2 over the
-/// windows of 2m samples that hold no missing sample, with the chi-square interval at
-/// max(M / 2m, 1) degrees of freedom of those M windows (allan_deviation's rule);
-/// `complete` holds each point's M. The points stop at the first m without a complete
-/// window. Without missing samples, allan_deviation's values. Throws as
+/// windows of 2m samples whose halves each miss at most floor(options.max_missing_share * m)
+/// samples, each half's mean ybar over its observed samples (below 1 / max_missing_share
+/// samples a half must be complete); the chi-square interval at max(M / 2m, 1) degrees of
+/// freedom of those M windows (allan_deviation's rule). `complete` holds each point's
+/// windows without a missing sample, `partial` those with some. The points stop at the first
+/// m without a usable window. Without missing samples, allan_deviation's values. Throws as
 /// classical_wv_with_gaps, InputError for invalid options, InvalidArgument for a
 /// non-positive rate.
 AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
