@@ -40,6 +40,26 @@ std::optional<FigureSource> parse_figure_source(const std::string& name) {
 
 namespace {
 
+std::size_t nearest_point(const AllanDeviation& adev, double tau) {
+  std::size_t at = 0;
+  for (std::size_t i = 1; i < adev.size(); ++i)
+    if (std::abs(adev.tau[i] - tau) < std::abs(adev.tau[at] - tau)) at = i;
+  return at;
+}
+
+// A model's bound bounds the sensor only where its curve is not below what the data show:
+// the line touching the model's curve at tau is an upper bound for the model's term, and the
+// sensor's only if the model's curve there is at or above the low end of the data's interval
+// (a usable point). A model fitted below the data's long scales (a record whose gaps leave
+// only short complete windows: issue 47, imu1 gyro_z, the model's K bound 10x below the
+// data's) would otherwise bound the figure by its own extrapolation.
+bool model_bound_holds(const Readoff& model, const AllanDeviation& adev, std::span<const double> model_adev,
+                       const ReadoffOptions& o) {
+  if (!model.available() || !std::isfinite(model.tau) || adev.size() == 0) return false;
+  const std::size_t at = nearest_point(adev, model.tau);
+  return at < model_adev.size() && adev.edf[at] >= o.min_edf && model_adev[at] >= adev.ci_low[at];
+}
+
 ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviation& adev,
                     std::span<const double> model_adev, const char* name, const char* feature, double (*scale)(double),
                     const ReadoffOptions& o) {
@@ -50,9 +70,7 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
   const bool model_shows = model.available() && model.status != ReadoffStatus::kBound;
   if (data_shows) {
     // Where the data's figure is read: is the model's curve inside the data's interval?
-    std::size_t at = 0;
-    for (std::size_t i = 1; i < adev.size(); ++i)
-      if (std::abs(adev.tau[i] - data.tau) < std::abs(adev.tau[at] - data.tau)) at = i;
+    const std::size_t at = nearest_point(adev, data.tau);
     const double mv = at < model_adev.size() ? model_adev[at] : NAN;
     const bool inside = std::isfinite(mv) && mv >= adev.ci_low[at] && mv <= adev.ci_high[at];
     // B is the curve's level at its minimum, where the record holds the fewest averages and
@@ -85,7 +103,8 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
         const double v = adev.adev[i] * scale(adev.tau[i]);
         if (!(v >= b.value)) b.value = v, b.tau = adev.tau[i];
       }
-      const bool use_data = b.available() && !(model.value < b.value);
+      const bool use_data =
+          b.available() && (!(model.value < b.value) || !model_bound_holds(model, adev, model_adev, o));
       c.figure = use_data ? b : model;
       c.figure.status = ReadoffStatus::kBound;
       c.figure.low = NAN;
@@ -122,8 +141,9 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
       return c;
     }
   }
-  // A bound: the smaller of what either curve allows.
-  const bool use_data = data.available() && (!model.available() || data.value <= model.value);
+  // A bound: the smaller of what either curve allows (the model's where it holds).
+  const bool use_data = data.available() && (!model.available() || data.value <= model.value ||
+                                             !model_bound_holds(model, adev, model_adev, o));
   c.figure = use_data ? data : model;
   c.figure.status = ReadoffStatus::kBound;
   c.figure.low = NAN;

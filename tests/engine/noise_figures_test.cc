@@ -152,6 +152,26 @@ TEST(NoiseFigures, TheModelsFigureIsUsedOnlyWhereItMatchesTheData) {
   EXPECT_NEAR(bad.chosen.white.model.value / bad.data.white.value, 1.2, 0.05);
 }
 
+TEST(NoiseFigures, AModelsBoundCountsOnlyWhereItsCurveIsNotBelowTheData) {
+  // Data without a +1/2 slope (white noise and a Gauss-Markov term of 10 s); a model that
+  // misses the Gauss-Markov term lies far below the data's long scales, so the +1/2 line
+  // touching its curve there bounds its own K, not the sensor's: the figure is the data's
+  // bound (issue 47: a fit of short complete windows bounded K 10x below the data's).
+  const double f = 100.0;
+  const auto x = simulated("WN(sigma2=0.01)+AR1(phi=0.999,sigma2=1e-6)", 1 << 18, 35);
+  const Model wrong = parse_model("WN(sigma2=0.01)");
+  const FigureReport r = noise_figure_report(x, f, wrong, wrong.given_values(), nullptr);
+  ASSERT_EQ(r.data.walk.status, ReadoffStatus::kBound) << r.data.walk.how;
+  ASSERT_LT(r.model.walk.value, r.data.walk.value) << "the model's bound is the smaller one";
+  EXPECT_EQ(r.chosen.walk.source, FigureSource::kBound);
+  EXPECT_DOUBLE_EQ(r.chosen.walk.figure.value, r.data.walk.value) << r.chosen.walk.note;
+  EXPECT_NE(r.chosen.walk.note.find("touching the data's curve"), std::string::npos) << r.chosen.walk.note;
+  // The right model's curve follows the data's: its bound may be the figure.
+  const Model right = parse_model("WN(sigma2=0.01)+AR1(phi=0.999,sigma2=1e-6)");
+  const FigureReport ok = noise_figure_report(x, f, right, right.given_values(), nullptr);
+  EXPECT_LE(ok.chosen.walk.figure.value, ok.data.walk.value * (1.0 + 1e-12)) << ok.chosen.walk.note;
+}
+
 TEST(NoiseFigures, BIsReadAtTheCurvesMinimumNotAtAPlateauAboveItAndTheModelIsCheckedWhereItIsRead) {
   // Issue 43, item 1. GM (T = 2 s at 100 Hz) + DR: the Allan deviation rises to the GM's
   // plateau (0.617 sigma near 3.8 s), falls along its -1/2 tail and meets the drift's +1 at
