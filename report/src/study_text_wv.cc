@@ -69,7 +69,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     os << ", " << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
        << '\n';
     std::vector<std::string> head = {"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"};
-    if (gaps) head.push_back("lost");  // windows that hold a missing sample
+    if (gaps) head.push_back("lost");  // windows not read
     if (rv) head.insert(head.end(), {"classical", "ratio", "flag"});
     TextTable t(head);
     for (int j = 0; j < w.levels(); ++j) {
@@ -91,13 +91,16 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     }
     os << t.str();
     if (gaps) {
-      os << "M_j: the windows of tau samples that hold no missing sample; lost: those that hold one\n";
+      os << "M_j: the windows of tau samples read (without a missing sample, or where a level's note says so, "
+            "each half missing at most a tenth); lost: the rest\n";
       const std::int64_t longest = io::longest_stretch(set);
       int deepest = 0;
       while (deepest < 62 && (std::int64_t{2} << deepest) <= w.n) ++deepest;
       if (w.levels() < deepest && !w.tau.empty() && 2.0 * w.tau.back() > static_cast<double>(longest))
         os << "levels " << w.levels() + 1 << "-" << deepest << ": no window of " << fmt(2.0 * w.tau.back(), 10)
-           << " samples or more is free of gaps (the longest stretch between them holds " << longest << " samples)\n";
+           << " samples or more is free of gaps or misses at most a tenth of each half (the longest stretch between "
+              "them holds "
+           << longest << " samples)\n";
     }
     if (rv) {
       const auto& q = rv->quantization;

@@ -60,50 +60,51 @@ std::vector<MissingRun> bursts(std::int64_t n, double share, std::int64_t max_ru
   return runs;
 }
 
-// The oracle: every window of 2^j grid samples without a NaN, its Haar coefficient summed
-// directly: (sum of the last half - sum of the first half) / 2^j.
-std::pair<double, std::int64_t> brute_force_level(const std::vector<double>& grid, double mean, int j) {
+// The oracle, summed directly on the grid with NaN holes: the mean square of the Haar
+// coefficients (half the difference of the two halves' means) over the windows of 2^j
+// samples without a hole; or, where they at least double the windows, over those whose
+// halves each miss at most floor(0.1 * 2^(j-1)) samples, each mean over its observed ones.
+std::pair<double, std::int64_t> brute_force_level(const std::vector<double>& grid, int j) {
   const std::size_t width = std::size_t{1} << j, half = width / 2;
-  double sum = 0.0;
-  std::int64_t m = 0;
+  const auto allowed = static_cast<std::size_t>(std::floor(kAllanMaxMissingShare * static_cast<double>(half)));
+  double sum[2] = {0.0, 0.0};      // complete, near-complete
+  std::int64_t count[2] = {0, 0};  // the same
   for (std::size_t t = 0; t + width <= grid.size(); ++t) {
-    double first = 0.0, second = 0.0;
-    bool hole = false;
-    for (std::size_t k = 0; k < width && !hole; ++k) {
-      const double v = grid[t + k];
-      hole = std::isnan(v);
-      (k < half ? first : second) += v - mean;
-    }
-    if (hole) continue;
-    const double c = (second - first) / static_cast<double>(width);
-    sum += c * c;
-    ++m;
+    double mean[2] = {0.0, 0.0};
+    std::size_t seen[2] = {0, 0};
+    for (std::size_t k = 0; k < width; ++k)
+      if (!std::isnan(grid[t + k])) mean[k / half] += grid[t + k], ++seen[k / half];
+    if (half - seen[0] > allowed || half - seen[1] > allowed) continue;
+    const double c = (mean[1] / static_cast<double>(seen[1]) - mean[0] / static_cast<double>(seen[0])) / 2.0;
+    for (int kind = seen[0] + seen[1] == width ? 0 : 1; kind < 2; ++kind) sum[kind] += c * c, ++count[kind];
   }
-  return {m ? sum / static_cast<double>(m) : std::numeric_limits<double>::quiet_NaN(), m};
+  const auto all = static_cast<std::int64_t>(grid.size() - width + 1);
+  const int kind = allowed > 0 && count[0] < all && count[1] >= 2 * count[0] && count[1] > 0 ? 1 : 0;
+  const std::int64_t m = count[kind];
+  return {m ? sum[kind] / static_cast<double>(m) : std::numeric_limits<double>::quiet_NaN(), m};
 }
 
 TEST(GappyWv, EqualsABruteForceSumOverTheCompleteWindowsAtEveryLevel) {
   const std::vector<double> full = simulated("AR1(phi=0.9,sigma2=1)+WN(sigma2=2)+RW(gamma2=0.01)", 3000, 3);
   const Holed h = remove(full, {{0, 3}, {100, 1}, {102, 7}, {1500, 40}, {2990, 10}});
   const WaveletVariance w = classical_wv_with_gaps(h.observed, h.runs);
-  double mean = 0.0;
-  for (const double v : h.observed) mean += v;
-  mean /= static_cast<double>(h.observed.size());
   ASSERT_EQ(w.levels(), 11);  // floor(log2 3000)
   for (int j = 1; j <= w.levels(); ++j) {
-    const auto [v, m] = brute_force_level(h.grid, mean, j);
+    const auto [v, m] = brute_force_level(h.grid, j);
     const auto i = static_cast<std::size_t>(j - 1);
     EXPECT_EQ(w.coefficients[i], m) << "level " << j;
-    if (m == 0) {  // level 11: no window of 2048 samples between the gaps
-      EXPECT_TRUE(std::isnan(w.wv[i])) << "level " << j;
-      continue;
-    }
+    ASSERT_GT(m, 0) << "every level has windows: the deep ones near-complete, level " << j;
     // Prefix sums against direct sums: a relative round-off of a few ulps per sample summed.
     EXPECT_NEAR(w.wv[i], v, 1e-9 * v) << "level " << j;
     EXPECT_FALSE(w.notes[i].empty()) << "every level lost windows to the gaps: level " << j;
   }
   // Level 1 loses the windows holding a missing sample: 3 + 2 + 8 + 41 + 10 of 2999.
   EXPECT_EQ(w.notes[0], "2935 of 2999 windows of 2 samples complete (64 hold a missing sample)");
+  // Level 11: no window of 2048 samples between the gaps; those missing at most 102 of
+  // each half are read (every window of the grid: its 61 missing samples never reach 102).
+  EXPECT_EQ(w.notes[10],
+            "0 of 953 windows of 2048 samples complete (953 hold a missing sample); read from the 953 whose halves "
+            "each miss at most 102 samples, averaged over their observed ones");
 }
 
 TEST(GappyWv, GivesTheClassicalWvOfARecordWithoutGaps) {
@@ -122,8 +123,7 @@ TEST(GappyWv, GivesTheClassicalWvOfARecordWithoutGaps) {
 
 TEST(GappyWv, StaysInsideTheCompleteRecordsIntervalWhereJoiningEndToEndLeavesIt) {
   // A random walk over a little white noise, 5% of 2^16 samples missing in bursts of up to
-  // 50. The complete windows' WV stays inside the complete record's 95% interval at every
-  // level the gaps leave (a bar, not a rate: the two share 95% of their windows, so they
+  // 50. The gappy WV stays inside the complete record's 95% interval at every level (a bar, not a rate: the two share 95% of their windows, so they
   // differ far less than the interval's half-width). Joining the samples end to end puts
   // each gap's walk in one level-1 coefficient: nu_1^2 = (2 sigma2 + gamma2) / 4 = 0.255,
   // and the joins add about share x gamma2 / 4 = 0.0125 to it (+4.9%), where the interval
@@ -136,7 +136,10 @@ TEST(GappyWv, StaysInsideTheCompleteRecordsIntervalWhereJoiningEndToEndLeavesIt)
   const WaveletVariance joined = classical_wv(h.observed.data(), static_cast<std::int64_t>(h.observed.size()));
   const double missing = static_cast<double>(kN) - static_cast<double>(h.observed.size());
   EXPECT_NEAR(missing / static_cast<double>(kN), 0.05, 0.01);
-  for (int j = 1; j <= 10; ++j) {
+  // Every level of the complete record, the deep ones (beyond the longest run without a
+  // gap) from the windows missing at most a tenth of each half.
+  ASSERT_EQ(gappy.levels(), complete.levels());
+  for (int j = 1; j <= complete.levels(); ++j) {
     const auto i = static_cast<std::size_t>(j - 1);
     EXPECT_GE(gappy.wv[i], complete.ci_low[i]) << "level " << j;
     EXPECT_LE(gappy.wv[i], complete.ci_high[i]) << "level " << j;
@@ -147,13 +150,16 @@ TEST(GappyWv, StaysInsideTheCompleteRecordsIntervalWhereJoiningEndToEndLeavesIt)
 
 TEST(GappyWv, MakesALevelWithoutACompleteWindowNanAndSaysSo) {
   std::vector<double> x = simulated("WN(sigma2=1)", 64, 5);
-  // A gap every 16 samples: no window of 32 or 64 samples is complete.
-  const Holed h = remove(x, {{16, 1}, {33, 1}, {50, 1}});
+  // Two samples missing in every 16: no window of 16 or more samples is complete, and every
+  // half of 16 or 32 misses 2 or 4, more than the 1 or 3 (a tenth) allowed.
+  const Holed h = remove(x, {{14, 2}, {30, 2}, {46, 2}, {62, 2}});
   const WaveletVariance w = classical_wv_with_gaps(h.observed, h.runs);
   ASSERT_EQ(w.levels(), 6);
-  EXPECT_GT(w.coefficients[3], 0);  // 16 samples: some windows fit between the gaps
-  EXPECT_EQ(w.coefficients[4], 0);
-  EXPECT_TRUE(std::isnan(w.wv[4]) && std::isnan(w.ci_high[4]) && std::isnan(w.variance[4]));
+  EXPECT_GT(w.coefficients[2], 0);  // 8 samples: some windows fit between the gaps
+  for (const std::size_t i : {3u, 4u, 5u}) {
+    EXPECT_EQ(w.coefficients[i], 0) << "level " << i + 1;
+    EXPECT_TRUE(std::isnan(w.wv[i]) && std::isnan(w.ci_high[i]) && std::isnan(w.variance[i])) << "level " << i + 1;
+  }
   EXPECT_EQ(w.notes[4], "0 of 33 windows of 32 samples complete (33 hold a missing sample)");
 }
 
@@ -269,8 +275,10 @@ TEST(GappyWv, TakesAGapOfATrillionSamplesWithoutHoldingItsGrid) {
   const std::vector<MissingRun> gap = {{2048, std::int64_t{1} << 40}};
   const WaveletVariance w = classical_wv_with_gaps(x, gap);
   EXPECT_EQ(w.levels(), 40);
-  EXPECT_EQ(complete_levels(w), 11);  // windows of 2048 samples: one in each segment
-  EXPECT_EQ(w.coefficients[10], 2);
+  // Windows of 2048 samples: one complete in each segment, and 102 on each side of the gap
+  // missing at most 102 samples of one half (a tenth of 1024); none of 4096 spans it.
+  EXPECT_EQ(complete_levels(w), 11);
+  EXPECT_EQ(w.coefficients[10], 2 + 2 * 102);
   // Two segments' complete windows: their pooled mean square, each summed on its own.
   const WaveletVariance a = classical_wv(before.data(), 2048), b = classical_wv(after.data(), 2048);
   for (std::size_t i = 0; i < 5; ++i) {
