@@ -58,13 +58,15 @@ TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleL
   const auto r = run_gmwm({"wv", "gappy.csv", "--json", "wv.json", "--adev"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(flowed(r.err).find("341 of the record's 16384 samples missing in 3 gaps (the largest 300 samples); each "
-                               "scale reads only the windows that hold no missing sample"),
+                               "scale reads the windows that hold no missing sample (at long scales, those missing "
+                               "at most a tenth of each half)"),
             std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("N = 16043 observed of 16384 (341 missing in 3 gaps)"), std::string::npos) << r.out;
-  // Gaps that leave no window of half the record say where the long scales stop.
+  // Gaps that leave no window of half the record say how the long scales are read.
   EXPECT_NE(flowed(r.err).find("the longest stretch between gaps holds 7084 samples (70.84 s) of the record's 16384: "
-                               "the WV and the Allan deviation stop below it, and K and B are read there"),
+                               "the longer scales are read from the windows whose halves each miss at most a tenth of "
+                               "their samples"),
             std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("lost"), std::string::npos) << r.out;
@@ -83,7 +85,7 @@ TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleL
     EXPECT_EQ(levels[k].at("coefficients").get<std::int64_t>(), want.coefficients[k]);
   }
   EXPECT_EQ(levels[0].at("note"), "16039 of 16383 windows of 2 samples complete (344 hold a missing sample)");
-  // The Allan deviation is the gap-resistant one: its points stop where the stretches do.
+  // The Allan deviation is the gap-resistant one.
   const json& allan = doc.at("columns").at(0).at("allan");
   ASSERT_TRUE(allan.is_object());
 }

@@ -149,8 +149,8 @@ TEST(GapReading, TheRecordCarriesTheMissingRunsItsStampsShowAndSaysSo) {
   EXPECT_EQ(set.missing_samples(), 8);
   EXPECT_EQ(set.signals.front().values.size(), 2992u);
   EXPECT_EQ(gmwm::io::gaps_summary(set),
-            "8 of the record's 3000 samples missing in 2 gaps (the largest 7 samples); each scale reads only the "
-            "windows that hold no missing sample");
+            "8 of the record's 3000 samples missing in 2 gaps (the largest 7 samples); each scale reads the "
+            "windows that hold no missing sample (at long scales, those missing at most a tenth of each half)");
 }
 
 TEST(GapReading, GapsJoinLeavesTheSamplesEndToEndAsBefore) {

@@ -104,8 +104,9 @@ bool is_timestamp_column_name(std::string_view name);
 
 /// --gaps: what the studies do with samples a record's timestamps show missing (issue 47).
 enum class GapHandling {
-  /// "windows" (the default): each scale reads only the windows of samples that hold no
-  /// missing sample (classical_wv_with_gaps, allan_deviation_with_gaps); a gap whose length
+  /// "windows" (the default): each scale reads the windows of samples that hold no missing
+  /// sample, at long scales those missing at most a tenth of each half
+  /// (classical_wv_with_gaps, allan_deviation_with_gaps); a gap whose length
   /// the stamps do not tell is refused.
   kCompleteWindows,
   /// "join": the samples are joined end to end as if none were missing (each gap then
@@ -306,8 +307,9 @@ struct SignalSet {
 };
 
 /// One line for the terminal and the documents on a record read with gaps: "N of the
-/// record's G samples missing in K gaps (the largest L samples); each scale reads only the
-/// windows that hold no missing sample"; "" for a regular record (or one read --gaps join).
+/// record's G samples missing in K gaps (the largest L samples); each scale reads the windows
+/// that hold no missing sample (at long scales, ...)"; "" for a regular record (or one read
+/// --gaps join).
 std::string gaps_summary(const SignalSet& set);
 
 /// Reads every column for held and interpolated samples (engine/repeated_samples.h) into
@@ -336,12 +338,12 @@ void take_nan_rows_as_missing(SignalSet& set, const std::string& source);
 std::string conditioning_summary(const SignalSet& set);
 
 /// The longest run of observed samples between the missing ones (the record's length
-/// without gaps): no window longer than it is complete, so the complete-window WV and Allan
-/// deviation stop below it.
+/// without gaps): no window longer than it is complete, so the longer scales are read from
+/// near-complete windows (each half missing at most a tenth) or not at all.
 std::int64_t longest_stretch(const SignalSet& set);
-/// "the longest stretch between gaps holds N samples (S s) of the record's G: the WV and the
-/// Allan deviation stop below it, and K and B are read there (give --gaps join to read the
-/// longer scales with the samples end to end)" when that stretch is under half the record
+/// "the longest stretch between gaps holds N samples (S s) of the record's G: the longer
+/// scales are read from the windows whose halves each miss at most a tenth of their samples,
+/// ..." when that stretch is under half the record
 /// (frequent gaps leave no long window); "" otherwise. The terminal's warning and the
 /// report's note.
 std::string long_scales_note(const SignalSet& set);
