@@ -35,10 +35,10 @@ std::string missing_runs_problem(std::int64_t observed, std::span<const MissingR
 namespace {
 
 // The record as its segments: the runs of consecutive observed samples between the gaps.
-// A window that holds a missing sample never enters an estimate, so a complete window lies
-// inside one segment, and each segment is summed on its own: prefix sums of the mean-centred
-// observed values (8 bytes a sample, whatever the gaps' lengths: a gap of a day at 1 kHz
-// costs nothing), and the first sample of each segment.
+// A complete window lies inside one segment, and each segment is summed on its own; a
+// near-complete window reads the same sums across the gaps it spans. Prefix sums of the
+// mean-centred observed values (8 bytes a sample, whatever the gaps' lengths: a gap of a
+// day at 1 kHz costs nothing), and the first sample of each segment.
 struct Segments {
   std::vector<double> s;            // S_0 .. S_n over the observed samples, mean-centred
   std::vector<std::int64_t> begin;  // the observed index each segment starts at, then n
@@ -276,7 +276,10 @@ AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::
   for (const std::int64_t m : allan_factors(g.grid, options.points_per_octave)) {
     const auto allowed = static_cast<std::int64_t>(std::floor(options.max_missing_share * static_cast<double>(m)));
     const WindowSums w = allowed == 0 ? complete_windows(g, m) : near_complete_windows(g, missing, m, allowed);
-    if (w.used == 0) break;  // no longer window is usable either
+    // No usable window at this m: a longer one may still be (below 1 / max_missing_share a
+    // half must be complete, from there it may miss a sample: segments of 14 samples leave no
+    // complete window of 16, yet every window of 20 whose halves each miss one).
+    if (w.used == 0) continue;
     const double avar = w.sum / (2.0 * static_cast<double>(w.used));
     const double eta = std::max(static_cast<double>(w.used) / static_cast<double>(2 * m), 1.0);
     a.m.push_back(m);

@@ -60,6 +60,25 @@ bool model_bound_holds(const Readoff& model, const AllanDeviation& adev, std::sp
   return at < model_adev.size() && adev.edf[at] >= o.min_edf && model_adev[at] >= adev.ci_low[at];
 }
 
+// The line of the figure's slope touching the data's curve from below: the lowest
+// adev(tau) * scale(tau) over the usable points.
+Readoff touching_bound(const AllanDeviation& adev, double (*scale)(double), const ReadoffOptions& o) {
+  Readoff b;
+  for (std::size_t i = 0; i < adev.size(); ++i) {
+    if (!(adev.edf[i] >= o.min_edf) || !(adev.adev[i] > 0.0)) continue;
+    const double v = adev.adev[i] * scale(adev.tau[i]);
+    if (!(v >= b.value)) b.value = v, b.tau = adev.tau[i];
+  }
+  return b;
+}
+
+// Why the data's bound is written where the model's is smaller: "" when it is not.
+std::string model_bound_set_aside(const Readoff& model, double written) {
+  if (!model.available() || !(model.value < written)) return {};
+  return "; the model's smaller bound " + fmt(model.value) + " is set aside: its curve at " + fmt(model.tau) +
+         " s lies below the data's interval";
+}
+
 ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviation& adev,
                     std::span<const double> model_adev, const char* name, const char* feature, double (*scale)(double),
                     const ReadoffOptions& o) {
@@ -97,12 +116,7 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
       // The model follows the data where they show the slope, and says what makes it: no
       // term of that kind (a white noise crossing into a drift is no random walk). The
       // figure is then only bounded, by the smaller of the data's and the model's bounds.
-      Readoff b;
-      for (std::size_t i = 0; i < adev.size(); ++i) {
-        if (!(adev.edf[i] >= o.min_edf) || !(adev.adev[i] > 0.0)) continue;
-        const double v = adev.adev[i] * scale(adev.tau[i]);
-        if (!(v >= b.value)) b.value = v, b.tau = adev.tau[i];
-      }
+      const Readoff b = touching_bound(adev, scale, o);
       const bool use_data =
           b.available() && (!(model.value < b.value) || !model_bound_holds(model, adev, model_adev, o));
       c.figure = use_data ? b : model;
@@ -118,7 +132,8 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
                model.how.substr(0, model.how.find(": an upper bound")) +
                (shares.empty() ? std::string() : ": other terms crossing (" + shares + ")") +
                "; written as the upper bound " + fmt(c.figure.value) + " (the line touching the " +
-               (use_data ? "data's" : "model's") + " curve at " + fmt(c.figure.tau) + " s)";
+               (use_data ? "data's" : "model's") + " curve at " + fmt(c.figure.tau) + " s)" +
+               (use_data ? model_bound_set_aside(model, b.value) : std::string());
       return c;
     }
     c.figure = data;
@@ -160,7 +175,8 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
                               " exceeds their upper bound"
             : model_crossing ? "the data show no " + std::string(feature) + ", and " + model.how
                              : "neither the data's nor the model's Allan deviation shows a " + std::string(feature)) +
-           "; written as the upper bound " + fmt(c.figure.value) + where;
+           "; written as the upper bound " + fmt(c.figure.value) + where +
+           (use_data ? model_bound_set_aside(model, data.value) : std::string());
   return c;
 }
 

@@ -537,7 +537,8 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
   Eigen::MatrixXd v = covariance_of_levels(model, theta, wv.n, first_level(wv), wv.levels());
   const auto J = static_cast<Eigen::Index>(wv.levels());
   if (static_cast<Eigen::Index>(wv.coefficients.size()) != J) return v;
-  // The share of each level's windows that are complete (1 without gaps).
+  // The share of each level's windows read (1 without gaps): complete ones, or at long
+  // levels the near-complete ones the gappy WV read there (counted alike).
   Eigen::VectorXd kept(J);
   bool gaps = false;
   for (Eigen::Index j = 0; j < J; ++j) {

@@ -45,8 +45,9 @@ ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& serie
 void require_regular(const io::SignalSet& set, const std::string& what);
 
 /// The classical WVs and, when `allan` is given, the gap-resistant Allan deviations of the
-/// columns of a record with gaps, from the complete windows (classical_wv_with_gaps,
-/// allan_deviation_with_gaps), each WV cut to its levels with a complete window.
+/// columns of a record with gaps, from the complete windows or, where those are scarce, the
+/// near-complete ones (classical_wv_with_gaps, allan_deviation_with_gaps), each WV cut to
+/// its consecutive levels with a usable window.
 ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan);
 
 /// The robust WVs of the set's columns (robust::robust_wv, reusing `transforms` when given),

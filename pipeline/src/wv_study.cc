@@ -52,6 +52,7 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
     for (std::size_t k = 0; k < set.signals.size(); ++k)
       study.columns.push_back({set.signals[k].name, std::move(classical[k]), std::nullopt, std::nullopt});
   }
+  study.levels_asked = options.wv.levels;
   study.wv_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - curves.allan_seconds;
   study.allan_seconds = curves.allan_seconds;

@@ -112,7 +112,7 @@ json record_timing_json(const io::SignalSet& set) {
   for (const MissingRun& r : set.timing->missing) placed += r.length;
   j["missing_samples"] = placed;
   j["gap_handling"] = std::string(io::gap_handling_name(set.gaps));
-  // What the studies read: the complete windows (the gaps' samples missing) or the samples
+  // What the studies read: the gap-resistant windows (the gaps' samples missing) or the samples
   // joined end to end (--gaps join, or --freq across a change of rate).
   j["gaps_read_as_missing"] = !set.missing.empty();
   return j;

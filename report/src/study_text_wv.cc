@@ -96,10 +96,13 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
       const std::int64_t longest = io::longest_stretch(set);
       int deepest = 0;
       while (deepest < 62 && (std::int64_t{2} << deepest) <= w.n) ++deepest;
-      if (w.levels() < deepest && !w.tau.empty() && 2.0 * w.tau.back() > static_cast<double>(longest))
-        os << "levels " << w.levels() + 1 << "-" << deepest << ": no window of " << fmt(2.0 * w.tau.back(), 10)
-           << " samples or more is free of gaps or misses at most a tenth of each half (the longest stretch between "
-              "them holds "
+      if (study.levels_asked > 0) deepest = std::min(deepest, study.levels_asked);
+      // A level is dropped only when it has no window free of gaps and none missing at most a
+      // tenth of each half; the fit reads consecutive levels, so the deeper ones go with it.
+      if (w.levels() < deepest && !w.tau.empty())
+        os << "levels " << w.levels() + 1 << "-" << deepest << ": not read, level " << w.levels() + 1
+           << " has no window of " << fmt(2.0 * w.tau.back(), 10)
+           << " samples free of gaps or missing at most a tenth of each half (the longest stretch between them holds "
            << longest << " samples)\n";
     }
     if (rv) {

@@ -58,8 +58,9 @@ TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleL
   const auto r = run_gmwm({"wv", "gappy.csv", "--json", "wv.json", "--adev"}, dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(flowed(r.err).find("341 of the record's 16384 samples missing in 3 gaps (the largest 300 samples); each "
-                               "scale reads the windows that hold no missing sample (at long scales, those missing "
-                               "at most a tenth of each half)"),
+                               "scale reads the windows that hold no missing sample, or those missing at most a tenth "
+                               "of each half (the Allan deviation from 10 samples a half, the WV where complete "
+                               "windows are scarce)"),
             std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("N = 16043 observed of 16384 (341 missing in 3 gaps)"), std::string::npos) << r.out;

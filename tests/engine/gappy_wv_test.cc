@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -255,6 +256,31 @@ TEST(GappyWv, AllanDeviationWithGapsEqualsABruteForceSumAndTheRegularOneWithoutG
     EXPECT_DOUBLE_EQ(gapless.tau[k], regular.tau[k]);
     EXPECT_EQ(gapless.partial[k], 0);
   }
+}
+
+TEST(GappyWv, AnAllanFactorWithoutAUsableWindowIsSkippedNotTheEndOfTheCurve) {
+  // One sample lost in every 15 (segments of 14): no window of 16 is complete (m = 8, a
+  // half below 10 samples must be complete), yet from m = 10 a half may miss one sample and
+  // every window is usable. The WV, which reads consecutive levels, stops before level 4.
+  const std::vector<double> full = simulated("WN(sigma2=1)", 1500, 43);
+  std::vector<MissingRun> runs;
+  for (std::int64_t k = 14; k < 1500; k += 15) runs.push_back({k, 1});
+  const Holed h = remove(full, runs);
+  const AllanDeviation a = allan_deviation_with_gaps(h.observed, h.runs, 100.0);
+  auto has = [&](std::int64_t m) { return std::find(a.m.begin(), a.m.end(), m) != a.m.end(); };
+  EXPECT_TRUE(has(7)) << "windows of 14: one in each segment";
+  EXPECT_FALSE(has(8));
+  ASSERT_TRUE(has(10)) << "the curve goes on past the factor without a window";
+  for (std::size_t k = 0; k < a.m.size(); ++k) {
+    const BruteAllan b = brute_allan(h.grid, static_cast<std::size_t>(a.m[k]), kAllanMaxMissingShare);
+    EXPECT_EQ(a.complete[k] + a.partial[k], b.complete + b.partial) << "m " << a.m[k];
+    EXPECT_NEAR(a.adev[k], std::sqrt(b.avar), 1e-9 * a.adev[k]) << "m " << a.m[k];
+  }
+  EXPECT_EQ(a.m.back(), allan_factors(1500, 4).back());
+  WaveletVariance w = classical_wv_with_gaps(h.observed, h.runs);
+  EXPECT_EQ(w.coefficients[3], 0);
+  EXPECT_GT(w.coefficients[4], 0) << "level 5's halves of 16 may miss one sample";
+  EXPECT_EQ(complete_levels(w), 3);
 }
 
 TEST(GappyWv, AllanOptionsRefuseAMissingShareOutsideZeroToAHalf) {

@@ -166,6 +166,8 @@ TEST(NoiseFigures, AModelsBoundCountsOnlyWhereItsCurveIsNotBelowTheData) {
   EXPECT_EQ(r.chosen.walk.source, FigureSource::kBound);
   EXPECT_DOUBLE_EQ(r.chosen.walk.figure.value, r.data.walk.value) << r.chosen.walk.note;
   EXPECT_NE(r.chosen.walk.note.find("touching the data's curve"), std::string::npos) << r.chosen.walk.note;
+  EXPECT_NE(r.chosen.walk.note.find("the model's smaller bound"), std::string::npos) << r.chosen.walk.note;
+  EXPECT_NE(r.chosen.walk.note.find("lies below the data's interval"), std::string::npos) << r.chosen.walk.note;
   // The right model's curve follows the data's: its bound may be the figure.
   const Model right = parse_model("WN(sigma2=0.01)+AR1(phi=0.999,sigma2=1e-6)");
   const FigureReport ok = noise_figure_report(x, f, right, right.given_values(), nullptr);

@@ -150,7 +150,8 @@ TEST(GapReading, TheRecordCarriesTheMissingRunsItsStampsShowAndSaysSo) {
   EXPECT_EQ(set.signals.front().values.size(), 2992u);
   EXPECT_EQ(gmwm::io::gaps_summary(set),
             "8 of the record's 3000 samples missing in 2 gaps (the largest 7 samples); each scale reads the "
-            "windows that hold no missing sample (at long scales, those missing at most a tenth of each half)");
+            "windows that hold no missing sample, or those missing at most a tenth of each half (the Allan deviation "
+            "from 10 samples a half, the WV where complete windows are scarce)");
 }
 
 TEST(GapReading, GapsJoinLeavesTheSamplesEndToEndAsBefore) {

@@ -299,8 +299,8 @@ std::string gaps_summary(const SignalSet& set) {
   return std::to_string(lost) + " of the record's " + std::to_string(grid) + " samples missing in " +
          std::to_string(set.missing.size()) + (set.missing.size() == 1 ? " gap" : " gaps") + " (the largest " +
          std::to_string(largest) + (largest == 1 ? " sample" : " samples") +
-         "); each scale reads the windows that hold no missing sample (at long scales, those missing at most a "
-         "tenth of each half)";
+         "); each scale reads the windows that hold no missing sample, or those missing at most a tenth of each "
+         "half (the Allan deviation from 10 samples a half, the WV where complete windows are scarce)";
 }
 
 void take_nan_rows_as_missing(SignalSet& set, const std::string& source) {
@@ -406,7 +406,8 @@ std::string long_scales_note(const SignalSet& set) {
   return "the longest stretch between gaps holds " + std::to_string(longest) + " samples (" + seconds +
          " s) of the record's " + std::to_string(grid) +
          ": the longer scales are read from the windows whose halves each miss at most a tenth of their samples, "
-         "each half averaged over its observed ones (each level's note says so; --gaps join reads them end to end)";
+         "each half averaged over its observed ones (the WV's level notes say which; --gaps join reads them end to "
+         "end)";
 }
 
 std::int64_t SignalSet::missing_samples() const {

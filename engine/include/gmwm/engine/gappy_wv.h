@@ -1,17 +1,21 @@
 #pragma once
 // The classical Haar wavelet variance of a record with missing samples (issue 47, item 1):
-// at each level only the MODWT coefficients whose window of 2^j samples holds no missing
-// sample enter the estimate, so a gap never puts a jump inside a coefficient (joining the
-// samples end to end does: a random walk's level 1 is inflated by every join). The
-// estimate at level j is the mean of the M_j complete windows' W_{j,t}^2, with the chi-square
-// interval at eta_j = max(M_j / 2^j, 1) (Percival & Walden 2000, eq. 313c) of those M_j;
-// the missing-data GMWM of Voirol et al. (2024, GMWMX) uses the same complete-support
-// coefficients. Memory: 8 bytes an observed sample, however long the gaps. A record without missing samples gives classical_wv's values (to rounding:
-// the sums are accumulated in another order).
+// at each level the MODWT coefficients whose window of 2^j samples holds no missing sample
+// enter the estimate, so a gap never puts a jump inside a coefficient (joining the samples
+// end to end does: a random walk's level 1 is inflated by every join). The estimate at level
+// j is the mean of the M_j complete windows' W_{j,t}^2, with the chi-square interval at
+// eta_j = max(M_j / 2^j, 1) (Percival & Walden 2000, eq. 313c) of those M_j; the
+// missing-data GMWM of Voirol et al. (2024, GMWMX) uses the same complete-support
+// coefficients. Where complete windows are scarce (long levels), a level reads instead the
+// windows whose halves each miss at most kAllanMaxMissingShare of their samples, each half
+// averaged over its observed ones, when they at least double its windows (its note says
+// so; M_j then counts them). Memory: 8 bytes an observed sample, however long the gaps. A
+// record without missing samples gives classical_wv's values (to rounding: the sums are
+// accumulated in another order).
 //
 //   std::vector<MissingRun> gaps = {{1000, 25}};   // grid samples 1000..1024 were not recorded
 //   WaveletVariance w = classical_wv_with_gaps(observed, gaps);
-//   w.coefficients[j - 1]   // complete windows at level j; w.notes says how many were lost
+//   w.coefficients[j - 1]   // windows read at level j; w.notes says how many were lost
 
 #include <cstdint>
 #include <span>
@@ -37,17 +41,19 @@ struct MissingRun {
 /// one line naming the first run that does not.
 std::string missing_runs_problem(std::int64_t observed, std::span<const MissingRun> missing);
 
-/// The classical WV from the complete windows only. `observed` holds the recorded samples
-/// in time order; `missing` places the gaps between them. Levels 1..J, J = floor(log2 N) of
-/// the grid's N samples (or options.levels, at most that); a level without one complete
-/// window is NaN with a note. Throws InvalidArgument for bad runs (missing_runs_problem),
-/// fewer than kMinSeriesLength observed samples or invalid options.
+/// The classical WV from the complete windows (near-complete ones where they at least double a
+/// level's windows). `observed` holds the recorded samples in time order; `missing` places the
+/// gaps between them. Levels 1..J, J = floor(log2 N) of the grid's N samples (or
+/// options.levels, at most that); a level without a usable window is NaN with a note. Throws
+/// InvalidArgument for bad runs (missing_runs_problem), fewer than kMinSeriesLength observed
+/// samples or invalid options.
 WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
                                        const WvOptions& options = {});
 
-/// The levels 1..j of `wv` that have at least one complete window (coefficients > 0): a
-/// window of 2^(j+1) samples without a missing sample holds two complete windows of 2^j, so
-/// the levels without one are the deepest ones, and a fit reads the levels before them.
+/// The levels 1..j of `wv` before the first without a usable window (coefficients > 0): the
+/// fit reads consecutive levels. Usually the deepest ones lack windows (a complete window of
+/// 2^(j+1) samples holds two of 2^j); a level whose halves may miss a sample can follow one
+/// that has none (segments of 14 samples: level 4 none, level 5 some), and is dropped with it.
 int complete_levels(const WaveletVariance& wv);
 
 /// Keeps the levels 1..complete_levels(wv) (the deepest ones, NaN, go; their notes with
@@ -69,16 +75,16 @@ class GappyWvEstimator final : public WvEstimator {
   std::vector<MissingRun> missing_;
 };
 
-/// The gap-resistant overlapping Allan deviation: at each averaging factor m of
-/// allan_factors (on the grid's N samples), the mean of (ybar_2 - ybar_1)^2 / 2 over the
-/// windows of 2m samples whose halves each miss at most floor(options.max_missing_share * m)
-/// samples, each half's mean ybar over its observed samples (below 1 / max_missing_share
-/// samples a half must be complete); the chi-square interval at max(M / 2m, 1) degrees of
-/// freedom of those M windows (allan_deviation's rule). `complete` holds each point's
-/// windows without a missing sample, `partial` those with some. The points stop at the first
-/// m without a usable window. Without missing samples, allan_deviation's values. Throws as
-/// classical_wv_with_gaps, InputError for invalid options, InvalidArgument for a
-/// non-positive rate.
+/// The gap-resistant overlapping Allan deviation: at each averaging factor m of allan_factors
+/// (on the grid's N samples), the mean of (ybar_2 - ybar_1)^2 / 2 over the windows of 2m
+/// samples whose halves each miss at most floor(options.max_missing_share * m) samples, each
+/// half's mean ybar over its observed samples (below 1 / max_missing_share samples a half must
+/// be complete); the chi-square interval at max(M / 2m, 1) degrees of freedom of those M
+/// windows (allan_deviation's rule). `complete` holds each point's windows without a missing
+/// sample, `partial` those with some. An m without a usable window has no point (a longer one
+/// may still have one). Without missing samples, allan_deviation's values. Throws as
+/// classical_wv_with_gaps, InputError for invalid options, InvalidArgument for a non-positive
+/// rate.
 AllanDeviation allan_deviation_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
                                          double freq, const AllanOptions& options = {});
 

@@ -34,7 +34,11 @@ Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& t
 /// Carlo's error where the windows are at most a quarter of the typical segment between
 /// gaps; beyond, conservative (20% above it where a window is a quarter to all of a
 /// segment, since pairs of complete windows thin out with the lag). Equal to
-/// model_wv_covariance(model, theta, n, levels) without gaps.
+/// model_wv_covariance(model, theta, n, levels) without gaps. A level read from
+/// near-complete windows (each half missing at most a tenth, gappy_wv.h) counts them in
+/// M_j^c as complete ones: validated for complete windows only, and it leaves out the up to
+/// 1.11 times larger white-noise term of a window missing its whole tenth (small at the long
+/// levels where such windows are read).
 Eigen::MatrixXd model_wv_covariance(const Model& model, const Eigen::VectorXd& theta, const WaveletVariance& wv);
 
 /// Cov(nuhat) of `wv` under (model, theta): the WV's own covariance when it carries one

@@ -105,7 +105,8 @@ bool is_timestamp_column_name(std::string_view name);
 /// --gaps: what the studies do with samples a record's timestamps show missing (issue 47).
 enum class GapHandling {
   /// "windows" (the default): each scale reads the windows of samples that hold no missing
-  /// sample, at long scales those missing at most a tenth of each half
+  /// sample, or those missing at most a tenth of each half (the Allan deviation from 10
+  /// samples a half, the WV where complete windows are scarce)
   /// (classical_wv_with_gaps, allan_deviation_with_gaps); a gap whose length
   /// the stamps do not tell is refused.
   kCompleteWindows,
@@ -283,8 +284,8 @@ struct SignalSet {
   std::optional<TimingReport> timing;
   /// The samples the timestamps show missing, on the grid of observed and missing samples
   /// together (the values hold the observed ones only), shared by every column; empty for a
-  /// regular record and under GapHandling::kJoin. Every study reads the complete windows
-  /// from them (gappy_wv.h) or refuses the record (pipeline::require_regular).
+  /// regular record and under GapHandling::kJoin. Every study reads the gap-resistant
+  /// windows from them (gappy_wv.h) or refuses the record (pipeline::require_regular).
   std::vector<MissingRun> missing;
   /// How the gaps were taken (kJoin: the samples end to end, missing stays empty).
   GapHandling gaps = GapHandling::kCompleteWindows;
@@ -308,7 +309,7 @@ struct SignalSet {
 
 /// One line for the terminal and the documents on a record read with gaps: "N of the
 /// record's G samples missing in K gaps (the largest L samples); each scale reads the windows
-/// that hold no missing sample (at long scales, ...)"; "" for a regular record (or one read
+/// that hold no missing sample, or those missing at most a tenth of each half (...)"; "" for a regular record (or one read
 /// --gaps join).
 std::string gaps_summary(const SignalSet& set);
 

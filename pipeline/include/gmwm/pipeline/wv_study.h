@@ -50,6 +50,9 @@ struct WvStudy {
   std::vector<WvColumnStudy> columns;
   /// Stage times: the WVs, the Allan deviations from the same transforms (0 without one).
   double wv_seconds = 0.0, allan_seconds = 0.0;
+  /// The levels asked (WvStudyOptions::wv.levels; 0: every level the record holds), so a
+  /// level the gaps leave without a window is told from one not asked.
+  int levels_asked = 0;
 };
 
 /// Runs the study on every column of `set` (the Allan deviations in parallel). Throws
