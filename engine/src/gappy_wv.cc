@@ -169,17 +169,18 @@ void fill_gappy_level(const Segments& g, std::span<const MissingRun> missing, in
   auto [sum, complete] = complete_window_sum(g, half, static_cast<double>(width));
   const std::int64_t all = g.grid - width + 1;
   const double tau = static_cast<double>(width);
-  std::int64_t used = complete;
+  std::int64_t used = complete, partial = 0;
   const auto allowed = static_cast<std::int64_t>(std::floor(kAllanMaxMissingShare * static_cast<double>(half)));
   bool near = false;
   if (complete < all && allowed > 0) {
     const WindowSums n = near_complete_windows(g, missing, half, allowed);
     // Each term is (ybar_2 - ybar_1)^2; the Haar coefficient is half that difference.
     near = n.used > 0 && static_cast<double>(n.used) >= kNearCompleteGain * static_cast<double>(complete);
-    if (near) sum = n.sum / 4.0, used = n.used;
+    if (near) sum = n.sum / 4.0, used = n.used, partial = n.used - n.complete;
   }
   w.tau[i] = tau;
   w.coefficients[i] = used;
+  w.partial[i] = partial;
   if (complete < all)
     w.notes[i] = std::to_string(complete) + " of " + std::to_string(all) + " windows of " + std::to_string(width) +
                  " samples complete (" + std::to_string(all - complete) + " hold a missing sample)" +
@@ -224,6 +225,7 @@ WaveletVariance classical_wv_with_gaps(std::span<const double> observed, std::sp
   const auto sz = static_cast<std::size_t>(J);
   for (auto* v : {&w.tau, &w.wv, &w.ci_low, &w.ci_high, &w.variance, &w.eta}) v->resize(sz);
   w.coefficients.resize(sz);
+  w.partial.resize(sz);
   w.notes.resize(sz);
   for (int j = 1; j <= J; ++j) fill_gappy_level(g, missing, j, w);
   return w;
@@ -239,6 +241,7 @@ void drop_incomplete_levels(WaveletVariance& wv) {
   const auto keep = static_cast<std::size_t>(complete_levels(wv));
   for (auto* v : {&wv.tau, &wv.wv, &wv.ci_low, &wv.ci_high, &wv.variance, &wv.eta}) v->resize(keep);
   wv.coefficients.resize(keep);
+  if (wv.partial.size() > keep) wv.partial.resize(keep);
   if (wv.notes.size() > keep) wv.notes.resize(keep);
 }
 

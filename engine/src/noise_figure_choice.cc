@@ -145,11 +145,7 @@ ChosenFigure choose(const Readoff& model, const Readoff& data, const AllanDeviat
   const bool data_shows = data.available() && data.status != ReadoffStatus::kBound;
   const bool model_shows = model.available() && model.status != ReadoffStatus::kBound;
   if (data_shows) {
-    const WhereRead w = check_where_read(data, adev, model_adev, !scale, o);
-    const std::size_t at = w.at;
-    const double mv = w.model_value;
-    const bool inside = w.inside;
-    const double floor_from = w.from, floor_to = w.to;
+    const auto [at, mv, inside, floor_from, floor_to] = check_where_read(data, adev, model_adev, !scale, o);
     // B is the curve's level at its minimum, where the record holds the fewest averages and
     // the interval is widest (imu3 gyro_x: a model 35% above the data's minimum at 390 s
     // was inside it): the model's value must also be within kFloorAgreement of the data's.

@@ -41,6 +41,7 @@ WaveletVariance drop_fine_levels(const WaveletVariance& wv, int level) {
   out.variance = tail_of(wv.variance, from, J);
   out.eta = tail_of(wv.eta, from, J);
   out.coefficients = tail_of(wv.coefficients, from, J);
+  if (!wv.partial.empty()) out.partial = tail_of(wv.partial, from, J);
   out.notes = tail_of(wv.notes, from, J);
   if (wv.covariance && wv.covariance->rows() == static_cast<Eigen::Index>(J)) {
     const auto k = static_cast<Eigen::Index>(J - from);

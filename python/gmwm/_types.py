@@ -184,7 +184,9 @@ class Kalman(KalmanMethods):
 class AllanDeviation(AllanDeviationMethods):
     """The overlapping Allan deviation on its octave grid (`tau` in seconds, `m` the
     averaging factors) with its chi-square interval; `model` the model's curve on the same
-    grid, or None."""
+    grid, or None. With missing samples, `complete` counts each point's windows that hold none
+    and `partial` those read that miss some (each half at most a tenth of its samples, averaged
+    over its observed ones); both None for a regular record."""
 
     alpha: float
     m: IntArray
@@ -194,6 +196,8 @@ class AllanDeviation(AllanDeviationMethods):
     ci_high: FloatArray
     edf: FloatArray
     model: FloatArray | None
+    complete: IntArray | None
+    partial: IntArray | None
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any] | None) -> "AllanDeviation | None":
@@ -206,7 +210,9 @@ class AllanDeviation(AllanDeviationMethods):
                    floats(d["ci_low"]),
                    floats(d["ci_high"]),
                    floats(d["edf"]),
-                   None if d.get("model") is None else floats(d["model"]))
+                   None if d.get("model") is None else floats(d["model"]),
+                   None if d.get("complete") is None else ints(d["complete"]),
+                   None if d.get("partial") is None else ints(d["partial"]))
 
 
 @dataclass(frozen=True)
@@ -300,7 +306,8 @@ class NoiseFigures(NoiseFiguresMethods):
 class WvLevels(WvLevelsMethods):
     """A wavelet variance level by level, as arrays: `level` (1, 2, ...), `tau` (samples),
     `tau_seconds` (NaN without a rate), `wv` (nu^2), its interval `ci_low`, `ci_high`, the
-    number of wavelet `coefficients` and each level's `note` (None where it has none). The
+    number of wavelet `coefficients` (with missing samples: the windows read, of which `partial`
+    miss some; None for a regular record) and each level's `note` (None where it has none). The
     robust estimator's diagnostics (`classical_wv`, `robust_to_classical`, `ci_disjoint`,
     `contaminated`, `rounding_ratio`, `tail_share`) are None for a classical WV."""
 
@@ -311,6 +318,7 @@ class WvLevels(WvLevelsMethods):
     ci_low: FloatArray
     ci_high: FloatArray
     coefficients: IntArray
+    partial: IntArray | None
     note: tuple[str | None, ...]
     classical_wv: FloatArray | None
     robust_to_classical: FloatArray | None
@@ -328,6 +336,7 @@ class WvLevels(WvLevelsMethods):
                    floats([r.get("ci_low") for r in rows]),
                    floats([r.get("ci_high") for r in rows]),
                    ints([r.get("coefficients") for r in rows]),
+                   ints([r.get("partial") for r in rows]) if rows and "partial" in rows[0] else None,
                    tuple([r.get("note") for r in rows]),
                    floats([r.get("classical_wv") for r in rows]) if rows and "classical_wv" in rows[0] else None,
                    floats([r.get("robust_to_classical") for r in rows]) if rows and "robust_to_classical" in rows[0] else None,

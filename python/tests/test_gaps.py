@@ -62,6 +62,21 @@ def test_wv_and_fit_of_the_recording_and_of_a_frame_with_nan_rows_equal_the_comm
     assert gmwm.fit(frame, "WN+RW", freq=RATE).levels.wv.tolist() == f.levels.wv.tolist()
 
 
+def test_each_level_and_allan_point_says_how_many_of_its_windows_miss_samples(gappy_csv):
+    w = gmwm.wv(read(gappy_csv), adev=True)
+    partial = w.levels.partial
+    assert partial is not None and len(partial) == len(w.levels.coefficients)
+    assert (partial >= 0).all() and (partial <= w.levels.coefficients).all()
+    assert partial[0] == 0, "level 1 reads the windows without a missing sample"
+    assert partial[-1] > 0, "the longest windows cross a gap: read missing some samples"
+    assert w.allan.complete is not None and w.allan.partial is not None
+    assert len(w.allan.complete) == len(w.allan.tau) == len(w.allan.partial)
+    assert w.allan.partial[-1] > 0
+    # A regular record has neither.
+    plain = gmwm.wv(gmwm.simulate("WN(sigma2=1)", 4096, freq=RATE, seed=1), freq=RATE, adev=True)
+    assert plain.levels.partial is None and plain.allan.complete is None and plain.allan.partial is None
+
+
 def test_an_infinity_is_refused_and_a_study_without_a_window_form_says_to_drop_the_nan_rows(gappy_csv):
     x = read(gappy_csv).values[:, 0].copy()
     with pytest.raises(gmwm.InputError, match="robust WV reads a regular record: drop the NaN rows"):

@@ -261,15 +261,27 @@ std::string wv_table(const ReportColumn& c) {
         c.replicates && k < c.replicates->sources.size()
             ? "replicate " + std::to_string(k + 1) + " (" + c.replicates->sources[k] + "): " + wv_label(w)
             : wv_label(w);
+    // A record with missing samples: the windows read that miss some (partial_windows).
+    const bool gaps = !w.partial.empty();
+    std::vector<std::string> head = {"level", "tau [samples]", "tau [" + tau_unit(c) + "]", "WV", "CI low", "CI high",
+                                     "M_j"};
+    if (gaps) head.emplace_back("partial");
     os << "<details><summary>" << html_escape(label) << " by level</summary>\n<table class=\"levels\">\n"
-       << th_row({"level", "tau [samples]", "tau [" + tau_unit(c) + "]", "WV", "CI low", "CI high", "M_j"});
-    for (std::size_t j = 0; j < w.wv.size(); ++j)
+       << th_row(head);
+    for (std::size_t j = 0; j < w.wv.size(); ++j) {
       os << "<tr>" << td(std::to_string(j + 1), "num") << td(num(w.tau[j], 10), "num")
          << td(num(w.tau[j] * scale, 5), "num") << td(num(w.wv[j]), "num")
          << td(num(j < w.ci_low.size() ? w.ci_low[j] : NAN), "num")
          << td(num(j < w.ci_high.size() ? w.ci_high[j] : NAN), "num")
-         << td(j < w.coefficients.size() ? std::to_string(w.coefficients[j]) : "-", "num") << "</tr>\n";
-    os << "</table>\n</details>\n";
+         << td(j < w.coefficients.size() ? std::to_string(w.coefficients[j]) : "-", "num");
+      if (gaps) os << td(j < w.partial.size() ? std::to_string(w.partial[j]) : "-", "num");
+      os << "</tr>\n";
+    }
+    os << "</table>\n";
+    if (gaps)
+      os << "<p>M_j: the windows read; partial: those of them missing some samples (each half at most a tenth, "
+            "averaged over its observed ones)</p>\n";
+    os << "</details>\n";
   }
   return os.str();
 }

@@ -31,6 +31,10 @@ Json allan_json(const AllanDeviation& adev, const std::vector<double>& model_ade
   j["ci_high"] = numbers(adev.ci_high);
   j["edf"] = numbers(adev.edf);
   j["model"] = model_adev.size() == adev.size() ? numbers(model_adev) : Json(nullptr);
+  if (!adev.complete.empty()) {  // a record with missing samples: the windows each point read
+    j["complete"] = adev.complete;
+    j["partial"] = adev.partial;
+  }
   return j;
 }
 

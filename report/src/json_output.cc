@@ -172,6 +172,7 @@ json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known) {
     l["ci_low"] = json_number(wv.ci_low[k]);
     l["ci_high"] = json_number(wv.ci_high[k]);
     l["coefficients"] = wv.coefficients[k];
+    if (k < wv.partial.size()) l["partial"] = wv.partial[k];
     if (k < wv.notes.size() && !wv.notes[k].empty()) l["note"] = wv.notes[k];
     levels.push_back(std::move(l));
   }

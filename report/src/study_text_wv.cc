@@ -69,7 +69,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     os << ", " << fmt(100.0 * (1.0 - w.alpha)) << "% CI" << (s.unit.empty() ? "" : ", WV in (" + s.unit + ")^2")
        << '\n';
     std::vector<std::string> head = {"level", "tau", "tau [s]", "WV", "CI low", "CI high", "M_j"};
-    if (gaps) head.push_back("lost");  // windows not read
+    if (gaps) head.insert(head.end(), {"partial", "lost"});  // windows read missing some; not read
     if (rv) head.insert(head.end(), {"classical", "ratio", "flag"});
     TextTable t(head);
     for (int j = 0; j < w.levels(); ++j) {
@@ -81,7 +81,9 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
                                       fmt(w.ci_low[l]),
                                       fmt(w.ci_high[l]),
                                       std::to_string(w.coefficients[l])};
-      if (gaps) row.push_back(std::to_string(w.n - static_cast<std::int64_t>(w.tau[l]) + 1 - w.coefficients[l]));
+      if (gaps)
+        row.insert(row.end(), {l < w.partial.size() ? std::to_string(w.partial[l]) : "0",
+                               std::to_string(w.n - static_cast<std::int64_t>(w.tau[l]) + 1 - w.coefficients[l])});
       if (rv) {
         const auto& d = rv->diagnostic[l];
         row.insert(row.end(), {fmt(d.classical_wv), fmt(d.robust_to_classical, 4),
@@ -91,8 +93,8 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
     }
     os << t.str();
     if (gaps) {
-      os << "M_j: the windows of tau samples read (without a missing sample, or where a level's note says so, "
-            "each half missing at most a tenth); lost: the rest\n";
+      os << "M_j: the windows of tau samples read; partial: those of them missing some samples (each half at most "
+            "a tenth, averaged over its observed ones; read where complete windows are scarce); lost: the rest\n";
       const std::int64_t longest = io::longest_stretch(set);
       int deepest = 0;
       while (deepest < 62 && (std::int64_t{2} << deepest) <= w.n) ++deepest;
@@ -163,11 +165,22 @@ std::string adev_text(const io::SignalSet& set, const pipeline::WvStudy& study, 
        << set.signals[k].name << ": overlapping Allan deviation, " << fmt(100.0 * (1.0 - r.adev.alpha))
        << "% CI (chi-square, edf = " << (r.adev.complete.empty() ? "(N - 2m + 1)" : gappy_edf) << " / 2m)"
        << (unit.empty() ? "" : ", in " + unit) << '\n';
-    TextTable t({"m", "tau [s]", "ADEV", "CI low", "CI high", "edf"});
-    for (std::size_t i = 0; i < r.adev.size(); ++i)
-      t.add({std::to_string(r.adev.m[i]), fmt(r.adev.tau[i]), fmt(r.adev.adev[i]), fmt(r.adev.ci_low[i]),
-             fmt(r.adev.ci_high[i]), fmt(r.adev.edf[i], 4)});
-    os << t.str() << noise_figures_table(r.chosen, unit);
+    // With missing samples: each point's windows without one (complete) and those read that
+    // miss some (partial), as the JSON's allan says.
+    const bool gaps = r.adev.complete.size() == r.adev.size() && r.adev.partial.size() == r.adev.size();
+    std::vector<std::string> head = {"m", "tau [s]", "ADEV", "CI low", "CI high", "edf"};
+    if (gaps) head.insert(head.end(), {"complete", "partial"});
+    TextTable t(head);
+    for (std::size_t i = 0; i < r.adev.size(); ++i) {
+      std::vector<std::string> row = {std::to_string(r.adev.m[i]), fmt(r.adev.tau[i]),     fmt(r.adev.adev[i]),
+                                      fmt(r.adev.ci_low[i]),       fmt(r.adev.ci_high[i]), fmt(r.adev.edf[i], 4)};
+      if (gaps) row.insert(row.end(), {std::to_string(r.adev.complete[i]), std::to_string(r.adev.partial[i])});
+      t.add(row);
+    }
+    os << t.str();
+    if (gaps)
+      os << "complete: the windows of 2m samples without a missing sample; partial: those read that miss some\n";
+    os << noise_figures_table(r.chosen, unit);
   }
   return os.str();
 }

@@ -70,7 +70,14 @@ TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleL
                                "their samples"),
             std::string::npos)
       << r.err;
+  EXPECT_NE(r.out.find("partial"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("lost"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("partial: those of them missing some samples"), std::string::npos) << r.out;
+  EXPECT_NE(
+      flowed(r.out).find("complete: the windows of 2m samples without a missing sample; partial: those read that miss "
+                         "some"),
+      std::string::npos)
+      << r.out;
   // The library's gappy WV, level by level, and the windows lost (level 1: 41 + 2 + 301).
   const std::vector<gmwm::MissingRun> runs = {{1000, 40}, {5000, 1}, {9000, 300}};
   gmwm::WaveletVariance want = gmwm::classical_wv_with_gaps(observed_, runs);
@@ -84,11 +91,24 @@ TEST_F(GapsCommand, TheWvReadsTheCompleteWindowsAndTheTerminalSaysWhatEachScaleL
   for (std::size_t k = 0; k < levels.size(); ++k) {
     EXPECT_NEAR(levels[k].at("wv").get<double>(), want.wv[k], 1e-12 * want.wv[k]) << "level " << k + 1;
     EXPECT_EQ(levels[k].at("coefficients").get<std::int64_t>(), want.coefficients[k]);
+    EXPECT_EQ(levels[k].at("partial").get<std::int64_t>(), want.partial[k]) << "level " << k + 1;
   }
+  // The deepest level has no window of its width between the 300-sample gap and the ends
+  // (7084 samples at most): it reads windows missing samples, and says how many.
+  ASSERT_GT(want.partial.back(), 0);
   EXPECT_EQ(levels[0].at("note"), "16039 of 16383 windows of 2 samples complete (344 hold a missing sample)");
   // The Allan deviation is the gap-resistant one.
   const json& allan = doc.at("columns").at(0).at("allan");
   ASSERT_TRUE(allan.is_object());
+  // Each point's windows: those holding no missing sample and those read missing some, as
+  // the library counts them.
+  const gmwm::AllanDeviation adev = gmwm::allan_deviation_with_gaps(observed_, runs, kFreq);
+  ASSERT_EQ(allan.at("complete").size(), adev.size());
+  for (std::size_t k = 0; k < adev.size(); ++k) {
+    EXPECT_EQ(allan.at("complete")[k].get<std::int64_t>(), adev.complete[k]) << "point " << k;
+    EXPECT_EQ(allan.at("partial")[k].get<std::int64_t>(), adev.partial[k]) << "point " << k;
+  }
+  EXPECT_GT(adev.partial.back(), 0) << "the longest windows are read missing some samples";
 }
 
 TEST_F(GapsCommand, GapsJoinKeepsTheSamplesEndToEndAndSaysSo) {

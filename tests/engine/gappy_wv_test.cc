@@ -65,7 +65,11 @@ std::vector<MissingRun> bursts(std::int64_t n, double share, std::int64_t max_ru
 // coefficients (half the difference of the two halves' means) over the windows of 2^j
 // samples without a hole; or, where they at least double the windows, over those whose
 // halves each miss at most floor(0.1 * 2^(j-1)) samples, each mean over its observed ones.
-std::pair<double, std::int64_t> brute_force_level(const std::vector<double>& grid, int j) {
+struct BruteForceLevel {
+  double wv;
+  std::int64_t read, partial;  // windows read, those of them missing a sample
+};
+BruteForceLevel brute_force_level(const std::vector<double>& grid, int j) {
   const std::size_t width = std::size_t{1} << j, half = width / 2;
   const auto allowed = static_cast<std::size_t>(std::floor(kAllanMaxMissingShare * static_cast<double>(half)));
   double sum[2] = {0.0, 0.0};      // complete, near-complete
@@ -82,18 +86,20 @@ std::pair<double, std::int64_t> brute_force_level(const std::vector<double>& gri
   const auto all = static_cast<std::int64_t>(grid.size() - width + 1);
   const int kind = allowed > 0 && count[0] < all && count[1] >= 2 * count[0] && count[1] > 0 ? 1 : 0;
   const std::int64_t m = count[kind];
-  return {m ? sum[kind] / static_cast<double>(m) : std::numeric_limits<double>::quiet_NaN(), m};
+  return {m ? sum[kind] / static_cast<double>(m) : std::numeric_limits<double>::quiet_NaN(), m,
+          kind ? count[1] - count[0] : 0};
 }
 
-TEST(GappyWv, EqualsABruteForceSumOverTheCompleteWindowsAtEveryLevel) {
+TEST(GappyWv, EqualsABruteForceSumOverTheWindowsItReadsAndCountsThoseMissingSamplesAtEveryLevel) {
   const std::vector<double> full = simulated("AR1(phi=0.9,sigma2=1)+WN(sigma2=2)+RW(gamma2=0.01)", 3000, 3);
   const Holed h = remove(full, {{0, 3}, {100, 1}, {102, 7}, {1500, 40}, {2990, 10}});
   const WaveletVariance w = classical_wv_with_gaps(h.observed, h.runs);
   ASSERT_EQ(w.levels(), 11);  // floor(log2 3000)
   for (int j = 1; j <= w.levels(); ++j) {
-    const auto [v, m] = brute_force_level(h.grid, j);
+    const auto [v, m, partial] = brute_force_level(h.grid, j);
     const auto i = static_cast<std::size_t>(j - 1);
     EXPECT_EQ(w.coefficients[i], m) << "level " << j;
+    EXPECT_EQ(w.partial[i], partial) << "the windows read that miss a sample, level " << j;
     ASSERT_GT(m, 0) << "every level has windows: the deep ones near-complete, level " << j;
     // Prefix sums against direct sums: a relative round-off of a few ulps per sample summed.
     EXPECT_NEAR(w.wv[i], v, 1e-9 * v) << "level " << j;
@@ -119,7 +125,9 @@ TEST(GappyWv, GivesTheClassicalWvOfARecordWithoutGaps) {
     EXPECT_DOUBLE_EQ(a.eta[i], b.eta[i]);
     EXPECT_NEAR(a.ci_high[i], b.ci_high[i], 1e-11 * b.ci_high[i]);
     EXPECT_TRUE(a.notes[i].empty());
+    EXPECT_EQ(a.partial[i], 0) << "no window misses a sample, level " << i + 1;
   }
+  EXPECT_TRUE(b.partial.empty()) << "the regular estimator has no missing samples to count";
 }
 
 TEST(GappyWv, StaysInsideTheCompleteRecordsIntervalWhereJoiningEndToEndLeavesIt) {

@@ -20,7 +20,7 @@ The schema, per type:
     "fields"   [name, type] or [name, type, {"key": JSON key, "get": true}]
 
 Field types: float (null: NaN), int, int?, str, str?, bool, floats, ints, bools, strings
-(read-only arrays, tuple of str), floats? (None when absent), any (the JSON as parsed), dict?
+(read-only arrays, tuple of str), floats? and ints? (None when absent), any (the JSON as parsed), dict?
 (an object as parsed, or None), list (a tuple of what the JSON holds), a type of the schema
 (T, or T? when it may be absent), [T] (a tuple of T; [T]? None when null), {T} (names to T),
 {"of": "FIELD.attr", "py": annotation} (an attribute of another field of the object), or
@@ -61,6 +61,7 @@ SCALARS = {
     "bools": ("BoolArray", "bools(d[{k}])", "bools(d.get({k}))"),
     "strings": ("tuple[str, ...]", "strings(d[{k}])", "strings(d.get({k}))"),
     "floats?": ("FloatArray | None", "None if d.get({k}) is None else floats(d[{k}])", None),
+    "ints?": ("IntArray | None", "None if d.get({k}) is None else ints(d[{k}])", None),
     "any": ("Any", "d.get({k})", "d.get({k})"),
     "dict?": ("dict[str, Any] | None", "d.get({k})", "d.get({k})"),
     "list": ("tuple[Any, ...]", "tuple(d[{k}])", "tuple(d.get({k}) or ())"),
@@ -189,6 +190,8 @@ class Schema:
             return f"floats({values}) if rows and {k} in rows[0] else None"
         if kind == "bools?":
             return f"bools({values}) if rows and {k} in rows[0] else None"
+        if kind == "ints?":
+            return f"ints({values}) if rows and {k} in rows[0] else None"
         if kind in ("str?", "any"):
             return f"tuple({values})"
         raise SystemExit(f"{SCHEMA}: a columnar field cannot be '{kind}'")
@@ -196,7 +199,7 @@ class Schema:
     def column_annotation(self, kind):
         return {"float": "FloatArray", "int": "IntArray", "bool": "BoolArray", "floats": "FloatArray",
                 "ints": "IntArray", "bools": "BoolArray", "floats?": "FloatArray | None",
-                "bools?": "BoolArray | None", "str?": "tuple[str | None, ...]",
+                "bools?": "BoolArray | None", "ints?": "IntArray | None", "str?": "tuple[str | None, ...]",
                 "any": "tuple[Any, ...]"}[kind]
 
     def emit(self, name):

@@ -22,6 +22,10 @@ struct WaveletVariance {
   std::vector<double> variance;            ///< Var(nu_hat_j^2) used for diag Omega
   std::vector<double> eta;                 ///< equivalent degrees of freedom of the CI
   std::vector<std::int64_t> coefficients;  ///< M_j = N - tau_j + 1
+  /// With missing samples (classical_wv_with_gaps): the windows read at each level that
+  /// miss some samples (each half at most a tenth, averaged over its observed ones; 0 where
+  /// the level reads complete windows only); empty for a regular record.
+  std::vector<std::int64_t> partial;
   /// Full Cov(nu_hat) when the caller knows it better than the model-based one at a fit
   /// (a stacked WV of replicates carries blockdiag(V_k) here): used instead of it by the
   /// fit's inference and the selection's optimism and goodness of fit. Unset by the
