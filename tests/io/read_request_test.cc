@@ -179,6 +179,19 @@ TEST(ReadRequest, ATableWhoseStampColumnsEachStampTheirOwnIsReadAsPartsEachAtIts
   std::filesystem::remove_all(dir);
 }
 
+TEST(ReadRequest, AStampColumnWithTooFewSamplesIsRefusedNamingItAndItsColumns) {
+  // The accelerometer stamps only 10 rows of the table: the refusal names which part of the
+  // file is short, not only the file.
+  const std::filesystem::path dir = gmwm::test::temp_dir("io_stamp_parts_short");
+  ReadRequest request;
+  request.path = write_text(dir, "short.csv", stamped_table(800, 10));
+  const std::string message = message_of([&] { gmwm::io::read_request_parts(request); });
+  EXPECT_EQ(message, request.path +
+                         ": the columns stamped by 'accel_timestamp [ns]' (accel_x): found 10 samples, expected at "
+                         "least 16 (the wavelet variance needs 4 levels, 2^4 samples)");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ReadRequest, ASensorsLabelledStampIsATimestampColumnButALetterTWithALabelIsNot) {
   for (const std::string name : {"gyro_timestamp", "timestamp_accel", "accel_time [ns]", "imu_stamp"})
     EXPECT_TRUE(gmwm::io::is_timestamp_column_name(name)) << name;

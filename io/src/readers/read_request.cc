@@ -141,6 +141,22 @@ std::vector<RecordPart> keep_named_columns(const ReadRequest& request, std::vect
   return kept;
 }
 
+// One stamp column's part. A refusal of the whole part ("PATH: found 10 samples, expected at
+// least 16") names the stamp column and its columns, since the file holds several; one that
+// names its line and column already says where.
+SignalSet read_stamped_part(const ReadRequest& one, const StampedColumns& g) {
+  try {
+    return read_request(one);
+  } catch (const InputError& e) {
+    const std::string message = e.what(), prefix = one.path + ": ";
+    if (!message.starts_with(prefix)) throw;
+    std::string columns;
+    for (const std::string& c : g.columns) columns += (columns.empty() ? "" : ", ") + c;
+    throw InputError(prefix + "the columns stamped by '" + g.stamp + "' (" + columns +
+                     "): " + message.substr(prefix.size()));
+  }
+}
+
 // A table's stamp columns, each with the columns it stamps, read as parts.
 std::vector<RecordPart> read_stamp_parts(const ReadRequest& request, const std::vector<StampedColumns>& groups) {
   check_parts_request(request, "the timestamp columns of " + request.path);
@@ -149,7 +165,7 @@ std::vector<RecordPart> read_stamp_parts(const ReadRequest& request, const std::
     ReadRequest one = request;
     one.columns.clear();
     for (const std::size_t f : g.fields) one.columns.push_back(std::to_string(f));
-    parts.push_back({"", read_request(one), g.stamp});
+    parts.push_back({"", read_stamped_part(one, g), g.stamp});
   }
   return keep_named_columns(request, std::move(parts));
 }
