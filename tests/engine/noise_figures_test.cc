@@ -210,6 +210,9 @@ TEST(NoiseFigures, TheModelsBIsWrittenOnlyWhereItsCurveStaysInsideTheDataAlongTh
   EXPECT_EQ(choose_b(low_at_64).source, FigureSource::kModel) << choose_b(low_at_64).note;
   // A model inside all along: its figure.
   EXPECT_EQ(choose_b(adev.adev).source, FigureSource::kModel);
+  // A model's curve that stops short of the floor's end (5 of 7 points) has not followed the
+  // data there: the data's figure.
+  EXPECT_EQ(choose_b({adev.adev.begin(), adev.adev.begin() + 5}).source, FigureSource::kData);
 }
 
 TEST(NoiseFigures, BIsReadAtTheCurvesMinimumNotAtAPlateauAboveItAndTheModelIsCheckedWhereItIsRead) {

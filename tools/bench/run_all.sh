@@ -60,6 +60,10 @@ out=tools/bench/results/$(date -u +%Y-%m-%d)-run-all.md
   echo
   "$build/bench_noise_figures" || true
   echo
+  echo "## B's floor rule against an oracle (bench_floor_choice)"
+  echo
+  "$build/bench_floor_choice" 400 || true
+  echo
   echo "## Robust goodness of fit (bench_robust_gof)"
   echo
   "$build/bench_robust_gof" || true

@@ -94,8 +94,9 @@ void add_record_json(Json& doc, const io::SignalSet& set);
 Json column_json(const ColumnInfo& column);
 
 /// The "levels" list of a WV: {"level", "tau", "tau_seconds", "wv", "ci_low", "ci_high",
-/// "coefficients"} per level (tau_seconds null when the rate is unknown), plus "note"
-/// when the WV has one for the level.
+/// "coefficients"} per level (tau_seconds null when the rate is unknown), plus "partial"
+/// when the WV counts the windows read that miss samples, and "note" when it has one for
+/// the level.
 Json wv_levels_json(const WaveletVariance& wv, double freq, bool freq_known);
 
 /// A "wv" column: column_json + "estimator", "efficiency", "alpha", "levels".
@@ -227,7 +228,8 @@ Json corrected_config_json(const pipeline::CorrectedConfig& c, double freq);
 
 /// The data's Allan deviation and the model's on the same grid: {"points_per_octave"?,
 /// "alpha", "tau" [s], "m", "adev", "ci_low", "ci_high", "edf", "model" (null entries
-/// when no model)}, in the column's unit.
+/// when no model), and with missing samples "complete" and "partial" (each point's windows
+/// without one, and those read that miss some)}, in the column's unit.
 Json allan_json(const AllanDeviation& adev, const std::vector<double>& model_adev);
 
 /// One read-off: {"value", "low", "high", "status", "tau", "region_from", "region_to",
