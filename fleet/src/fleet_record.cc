@@ -271,6 +271,7 @@ Json wv_json(const WaveletVariance& wv) {
           {"variance", numbers_json(wv.variance)},
           {"eta", numbers_json(wv.eta)},
           {"coefficients", wv.coefficients},
+          {"partial", wv.partial},
           {"alpha", num(wv.alpha)},
           {"n", wv.n},
           {"estimator", wv.estimator},
@@ -290,6 +291,7 @@ WaveletVariance read_wv(const Reader& r, const Json& j) {
   wv.variance = r.numbers(j, "variance");
   wv.eta = r.numbers(j, "eta");
   wv.coefficients = r.integers(j, "coefficients");
+  wv.partial = r.integers(j, "partial");
   wv.alpha = r.number(j, "alpha");
   wv.n = r.integer(j, "n");
   wv.estimator = r.text(j, "estimator");
@@ -306,6 +308,8 @@ WaveletVariance read_wv(const Reader& r, const Json& j) {
   for (const auto* v : {&wv.tau, &wv.ci_low, &wv.ci_high, &wv.variance, &wv.eta})
     if (v->size() != J) malformed(r.what, "wv", "arrays of one length per level");
   if (wv.coefficients.size() != J) malformed(r.what, "wv", "arrays of one length per level");
+  if (!wv.partial.empty() && wv.partial.size() != J)
+    malformed(r.what, "wv", "partial empty (a record without missing samples) or one count per level");
   return wv;
 }
 
@@ -316,6 +320,8 @@ Json adev_json(const AllanDeviation& a) {
           {"ci_low", numbers_json(a.ci_low)},
           {"ci_high", numbers_json(a.ci_high)},
           {"edf", numbers_json(a.edf)},
+          {"complete", a.complete},
+          {"partial", a.partial},
           {"freq", num(a.freq)},
           {"n", a.n},
           {"alpha", num(a.alpha)}};
@@ -329,11 +335,16 @@ AllanDeviation read_adev(const Reader& r, const Json& j) {
   a.ci_low = r.numbers(j, "ci_low");
   a.ci_high = r.numbers(j, "ci_high");
   a.edf = r.numbers(j, "edf");
+  a.complete = r.integers(j, "complete");
+  a.partial = r.integers(j, "partial");
   a.freq = r.number(j, "freq");
   a.n = r.integer(j, "n");
   a.alpha = r.number(j, "alpha");
   for (const auto* v : {&a.tau, &a.adev, &a.ci_low, &a.ci_high, &a.edf})
     if (v->size() != a.m.size()) malformed(r.what, "adev", "arrays of one length per averaging factor");
+  for (const auto* v : {&a.complete, &a.partial})
+    if (!v->empty() && v->size() != a.m.size())
+      malformed(r.what, "adev", "complete and partial empty (a record without missing samples) or one per factor");
   return a;
 }
 
