@@ -146,6 +146,19 @@ TEST_F(FleetRecordTest, ARecordWithMissingSamplesKeepsTheWindowsEachScaleReadTha
     EXPECT_EQ(a.adev.complete, b.adev.complete);
     EXPECT_EQ(a.adev.partial, b.adev.partial);
   }
+  // A record whose counts do not match its levels (a worker's or a cache file's fault) is
+  // refused naming the field, not read into a WV of mismatched arrays.
+  std::string text = fleet_record_text(r);
+  const std::size_t at = text.find("\"partial\":[");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + 11, "7,");
+  try {
+    parse_fleet_record(text, "entry.json");
+    FAIL() << "took a partial count too many";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("entry.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("partial"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(FleetRecordTest, ATaskRunFromItsTextGivesTheRecordOfTheStudyHere) {
