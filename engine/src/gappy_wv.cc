@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "gmwm/engine/check.h"
@@ -68,9 +69,17 @@ Segments segments(std::span<const double> observed, std::span<const MissingRun> 
   return g;
 }
 
+// A window pass's sink for its terms: none (the sums alone), or a buffer that keeps them.
+struct NoSink {
+  void operator()(double) const {}
+};
+
 // Sum over the complete windows of 2 * half samples of ((second half - first half) / width)^2
-// with width = 2 * half, and their count.
-std::pair<double, std::int64_t> complete_window_sum(const Segments& g, std::int64_t half, double width) {
+// with width = 2 * half, and their count; each term's root ((second half - first half) /
+// width) goes to `sink` in time order.
+template <class Sink = NoSink>
+std::pair<double, std::int64_t> complete_window_sum(const Segments& g, std::int64_t half, double width,
+                                                    Sink&& sink = {}) {
   const std::int64_t w = 2 * half;
   double sum = 0.0;
   std::int64_t count = 0;
@@ -81,6 +90,7 @@ std::pair<double, std::int64_t> complete_window_sum(const Segments& g, std::int6
       const double c =
           (g.s[i] - 2.0 * g.s[i - static_cast<std::size_t>(half)] + g.s[i - static_cast<std::size_t>(w)]) / width;
       sum += c * c;
+      sink(c);
     }
     if (e - b >= w) count += e - b - w + 1;
   }
@@ -131,8 +141,11 @@ class ObservedBefore {
 // half that misses `excess` samples too many needs a shift of at least `excess` (a shift by
 // one frees at most one place), and a half that starts inside a gap must start at most
 // `allowed` samples before its end, so a gap of any length costs a few steps.
+// Each window's (second half's mean - first half's mean) / 2, its Haar coefficient, goes to
+// `sink` in time order.
+template <class Sink = NoSink>
 WindowSums near_complete_windows(const Segments& g, std::span<const MissingRun> missing, std::int64_t m,
-                                 std::int64_t allowed) {
+                                 std::int64_t allowed, Sink&& sink = {}) {
   ObservedBefore at0(missing), at1(missing), at2(missing);
   WindowSums w;
   for (std::int64_t p = 0; p + 2 * m <= g.grid;) {
@@ -147,6 +160,7 @@ WindowSums near_complete_windows(const Segments& g, std::span<const MissingRun> 
     const double d =
         (g.s[i2] - g.s[i1]) / static_cast<double>(o2 - o1) - (g.s[i1] - g.s[i0]) / static_cast<double>(o1 - o0);
     w.sum += d * d;
+    sink(0.5 * d);
     ++w.used;
     if (lost1 == 0 && lost2 == 0) ++w.complete;
     ++p;
@@ -163,6 +177,16 @@ WindowSums near_complete_windows(const Segments& g, std::span<const MissingRun> 
 // (issue 47: 5% lost in bursts ~20 s apart left 13 levels of the complete record's 19).
 constexpr double kNearCompleteGain = 2.0;
 
+// The samples each half of level j's window may miss when near-complete windows are read.
+std::int64_t allowed_missing(std::int64_t half) {
+  return static_cast<std::int64_t>(std::floor(kAllanMaxMissingShare * static_cast<double>(half)));
+}
+
+// Whether a level reads its near-complete windows instead of its `complete` ones.
+bool reads_near_complete(std::int64_t complete, const WindowSums& near) {
+  return near.used > 0 && static_cast<double>(near.used) >= kNearCompleteGain * static_cast<double>(complete);
+}
+
 void fill_gappy_level(const Segments& g, std::span<const MissingRun> missing, int j, WaveletVariance& w) {
   const auto i = static_cast<std::size_t>(j - 1);
   const std::int64_t width = std::int64_t{1} << j, half = width / 2;
@@ -170,12 +194,12 @@ void fill_gappy_level(const Segments& g, std::span<const MissingRun> missing, in
   const std::int64_t all = g.grid - width + 1;
   const double tau = static_cast<double>(width);
   std::int64_t used = complete, partial = 0;
-  const auto allowed = static_cast<std::int64_t>(std::floor(kAllanMaxMissingShare * static_cast<double>(half)));
+  const std::int64_t allowed = allowed_missing(half);
   bool near = false;
   if (complete < all && allowed > 0) {
     const WindowSums n = near_complete_windows(g, missing, half, allowed);
     // Each term is (ybar_2 - ybar_1)^2; the Haar coefficient is half that difference.
-    near = n.used > 0 && static_cast<double>(n.used) >= kNearCompleteGain * static_cast<double>(complete);
+    near = reads_near_complete(complete, n);
     if (near) sum = n.sum / 4.0, used = n.used, partial = n.used - n.complete;
   }
   w.tau[i] = tau;
@@ -245,19 +269,76 @@ void drop_incomplete_levels(WaveletVariance& wv) {
   if (wv.notes.size() > keep) wv.notes.resize(keep);
 }
 
-WaveletVariance GappyWvEstimator::compute(const double* x, std::int64_t n, int levels, double alpha) const {
+struct GappyWindows::Sums {
+  Segments g;
+  std::vector<MissingRun> missing;
+  double largest = 0.0;  // the largest |prefix sum|, for the rounding floor
+};
+
+GappyWindows::GappyWindows(std::span<const double> observed, std::span<const MissingRun> missing) {
+  check_gappy_input("GappyWindows", observed, missing);
+  auto sums = std::make_unique<Sums>();
+  sums->g = segments(observed, missing);
+  sums->missing.assign(missing.begin(), missing.end());
+  for (const double v : sums->g.s) sums->largest = std::max(sums->largest, std::abs(v));
+  sums_ = std::move(sums);
+}
+
+GappyWindows::~GappyWindows() = default;
+
+std::int64_t GappyWindows::grid() const { return sums_->g.grid; }
+
+GappyLevelWindows GappyWindows::coefficients(int j, std::vector<double>& out) const {
+  if (j < 1 || j > 62) throw InvalidArgument("GappyWindows: level must be in 1..62, got " + std::to_string(j));
+  const Segments& g = sums_->g;
+  const std::int64_t width = std::int64_t{1} << j, half = width / 2;
+  out.clear();
+  GappyLevelWindows r;
+  if (width > g.grid) return r;
+  const auto keep = [&out](double c) { out.push_back(c); };
+  r.complete = complete_window_sum(g, half, static_cast<double>(width), keep).second;
+  r.used = r.complete;
+  std::int64_t smallest_half = half;  // the fewest observed samples a half mean divides by
+  const std::int64_t allowed = allowed_missing(half);
+  if (r.complete < g.grid - width + 1 && allowed > 0) {
+    thread_local std::vector<double> near_out;
+    near_out.clear();
+    const WindowSums n =
+        near_complete_windows(g, sums_->missing, half, allowed, [](double c) { near_out.push_back(c); });
+    if (reads_near_complete(r.complete, n)) {
+      out.swap(near_out);
+      r.used = n.used;
+      smallest_half = half - allowed;
+    }
+  }
+  // Each prefix sum carries a relative rounding error of eps / 2 of the largest; a
+  // coefficient combines at most four of them, each divided by at least smallest_half, and
+  // halves their difference (HaarModwt::noise_floor's bound with its safety factor 4).
+  constexpr double kSafety = 4.0;
+  r.noise_floor =
+      kSafety * 2.0 * std::numeric_limits<double>::epsilon() * sums_->largest / static_cast<double>(smallest_half);
+  return r;
+}
+
+std::vector<double> observed_samples(const char* what, const double* x, std::int64_t n,
+                                     std::span<const MissingRun> missing) {
   std::int64_t lost = 0;
-  for (const MissingRun& r : missing_) lost += r.length;
+  for (const MissingRun& r : missing) lost += r.length;
   if (lost >= n)
-    throw InvalidArgument("GappyWvEstimator: the missing runs fill a grid of " + std::to_string(n) + " samples");
+    throw InvalidArgument(std::string(what) + ": the missing runs fill a grid of " + std::to_string(n) + " samples");
   std::vector<double> observed;
   observed.reserve(static_cast<std::size_t>(n - lost));
   std::int64_t k = 0;
-  for (const MissingRun& r : missing_) {
+  for (const MissingRun& r : missing) {
     for (; k < std::min(r.start, n); ++k) observed.push_back(x[k]);
     k = r.start + r.length;
   }
   for (; k < n; ++k) observed.push_back(x[k]);
+  return observed;
+}
+
+WaveletVariance GappyWvEstimator::compute(const double* x, std::int64_t n, int levels, double alpha) const {
+  const std::vector<double> observed = observed_samples("GappyWvEstimator", x, n, missing_);
   WvOptions o;
   o.levels = levels;
   o.alpha = alpha;

@@ -1,6 +1,7 @@
 #include "column_wvs.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -50,6 +51,14 @@ void require_regular(const io::SignalSet& set, const std::string& what) {
                            : "drop the NaN rows to join the samples end to end"));
 }
 
+std::unique_ptr<WvEstimator> draw_estimator(const io::SignalSet& set,
+                                            const std::optional<robust::RobustWvOptions>& robust) {
+  if (robust && !set.missing.empty()) return std::make_unique<robust::GappyRobustWvEstimator>(*robust, set.missing);
+  if (robust) return std::make_unique<robust::RobustWvEstimator>(*robust);
+  if (!set.missing.empty()) return std::make_unique<GappyWvEstimator>(set.missing);
+  return nullptr;
+}
+
 ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan) {
   using Clock = std::chrono::steady_clock;
   ColumnWvs out;
@@ -70,6 +79,17 @@ ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const 
   }
   return out;
 }
+
+namespace {
+
+// The held-samples sentence a column's screening note says when its screen is off.
+std::string held_screen_note(const RepeatedSamples& repeated) {
+  return "spike screen off: " + significant(100.0 * repeated.held_share, 3) +
+         "% of the samples copy the one before (held), and their steps of exactly zero deflate the level-1 "
+         "robust scale the screen measures spikes against";
+}
+
+}  // namespace
 
 std::vector<WaveletVariance> robust_wvs_of(const std::vector<std::span<const double>>& series,
                                            const std::vector<const RepeatedSamples*>& repeated,
@@ -96,16 +116,40 @@ std::vector<WaveletVariance> robust_wvs_of(const std::vector<std::span<const dou
       continue;
     }
     WaveletVariance w = std::move(b[ib++]);
-    w.screening = "spike screen off: " + significant(100.0 * repeated[k]->held_share, 3) +
-                  "% of the samples copy the one before (held), and their steps of exactly zero deflate the level-1 "
-                  "robust scale the screen measures spikes against";
+    w.screening = held_screen_note(*repeated[k]);
     out.push_back(std::move(w));
   }
   return out;
 }
 
+namespace {
+
+// robust_wv_with_gaps of every column (in parallel), cut to its consecutive levels with a
+// usable window as the classical one; the screen off for held columns as robust_wvs_of.
+std::vector<WaveletVariance> gappy_robust_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options) {
+  std::vector<WaveletVariance> out(set.signals.size());
+  std::atomic<int> done{0};
+  const auto total = static_cast<int>(set.signals.size());
+  gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
+    const io::Signal& s = set.signals[k];
+    robust::RobustWvOptions o = options;
+    o.progress = nullptr;
+    const bool held = options.screen_spikes && s.repeated.held();
+    if (held) o.screen_spikes = false;
+    out[k] = robust::robust_wv_with_gaps(s.values, set.missing, o);
+    drop_incomplete_levels(out[k]);
+    if (held) out[k].screening = held_screen_note(s.repeated);
+    const int d = ++done;
+    if (options.progress) options.progress(d, total);
+  });
+  return out;
+}
+
+}  // namespace
+
 std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const robust::RobustWvOptions& options,
                                                const std::vector<std::unique_ptr<HaarModwt>>& transforms) {
+  if (!set.missing.empty()) return gappy_robust_wvs(set, options);
   std::vector<std::span<const double>> series;
   std::vector<const RepeatedSamples*> repeated;
   for (const io::Signal& s : set.signals) {
@@ -118,7 +162,16 @@ std::vector<WaveletVariance> robust_column_wvs(const io::SignalSet& set, const r
 ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
                              const std::optional<robust::RobustWvOptions>& robust, double alpha) {
   if (!set.missing.empty()) {
-    if (robust) require_regular(set, "the robust WV");
+    if (robust) {
+      // The robust WVs the fits read, the classical ones beside them (the report's
+      // comparison), both from the windows without a gap.
+      const auto start = std::chrono::steady_clock::now();
+      ColumnWvs out = gappy_column_wvs(set, wv, std::nullopt);
+      out.classical = std::move(out.wvs);
+      out.wvs = robust_column_wvs(set, *robust);
+      out.wv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return out;
+    }
     std::optional<AllanOptions> allan;
     if (set.freq_known) {
       allan.emplace();

@@ -44,13 +44,21 @@ ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& serie
 /// form yet says so instead of joining the samples silently.
 void require_regular(const io::SignalSet& set, const std::string& what);
 
+/// The WV estimator a fit's bootstrap draws recompute on simulated series: the data's own,
+/// robust or classical, read through the record's gaps when it has some; null for the
+/// classical WV of a regular record (the fits' default).
+std::unique_ptr<WvEstimator> draw_estimator(const io::SignalSet& set,
+                                            const std::optional<robust::RobustWvOptions>& robust);
+
 /// The classical WVs and, when `allan` is given, the gap-resistant Allan deviations of the
 /// columns of a record with gaps, from the complete windows or, where those are scarce, the
 /// near-complete ones (classical_wv_with_gaps, allan_deviation_with_gaps), each WV cut to
 /// its consecutive levels with a usable window.
 ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan);
 
-/// The robust WVs of the set's columns (robust::robust_wv, reusing `transforms` when given),
+/// The robust WVs of the set's columns (robust::robust_wv, reusing `transforms` when given;
+/// robust::robust_wv_with_gaps on a record with gaps, cut to its usable levels as the
+/// classical one),
 /// with the spike screen off for a column whose samples are held: its copies' steps of
 /// exactly zero (half of them for a 2x copy) deflate the level-1 robust scale the screen
 /// measures spikes against, and the screen would replace most of the record (71% of a
@@ -67,7 +75,8 @@ std::vector<WaveletVariance> robust_wvs_of(const std::vector<std::span<const dou
 
 /// The fit and selection studies' stage: the robust WVs when `robust` is given (the noise
 /// figures then read the robust WV itself), else the classical ones with the Allan
-/// deviations at intervals of level 1 - alpha when the rate is known.
+/// deviations at intervals of level 1 - alpha when the rate is known; on a record with gaps
+/// each from the windows without one (gappy_column_wvs, robust_column_wvs).
 ColumnWvs column_wvs_for_fit(const io::SignalSet& set, const WvOptions& wv,
                              const std::optional<robust::RobustWvOptions>& robust, double alpha);
 

@@ -70,17 +70,9 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
   for (const auto& w : wvs) check_model_fits_levels(study.model, w.levels());
 
   // The bootstrap Omega recomputes the same WV on simulated series.
-  std::unique_ptr<robust::RobustWvEstimator> estimator;
   FitOptions fo = options.fit;
-  std::unique_ptr<GappyWvEstimator> gappy;  // a record with gaps: every draw read through them
-  if (!set.missing.empty()) {
-    gappy = std::make_unique<GappyWvEstimator>(set.missing);
-    fo.estimator = gappy.get();
-  }
-  if (options.robust) {
-    estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
-    fo.estimator = estimator.get();
-  }
+  const std::unique_ptr<WvEstimator> estimator = detail::draw_estimator(set, options.robust);
+  if (estimator) fo.estimator = estimator.get();
   // Each column's fitted levels: every level, or those above the smoothed scales.
   const std::vector<detail::FittedLevels> levels = detail::fitted_levels(set, wvs, study.model, options.first_level);
   const std::vector<WaveletVariance> fitted = detail::fitted_wvs(wvs, levels);

@@ -97,17 +97,9 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
   for (const auto& w : wvs) check_model_fits_levels(maximal, w.levels());
 
   // Bootstrap draws get the data's WV estimator.
-  std::unique_ptr<robust::RobustWvEstimator> estimator;
   selection::SelectOptions so = options.select;
-  std::unique_ptr<GappyWvEstimator> gappy;  // a record with gaps: every draw read through them
-  if (!set.missing.empty()) {
-    gappy = std::make_unique<GappyWvEstimator>(set.missing);
-    so.estimator = gappy.get();
-  }
-  if (options.robust) {
-    estimator = std::make_unique<robust::RobustWvEstimator>(*options.robust);
-    so.estimator = estimator.get();
-  }
+  const std::unique_ptr<WvEstimator> estimator = detail::draw_estimator(set, options.robust);
+  if (estimator) so.estimator = estimator.get();
   // Each column's fitted levels: every level, or those above the smoothed scales.
   const std::vector<detail::FittedLevels> levels = detail::fitted_levels(set, wvs, maximal, options.first_level);
   const std::vector<WaveletVariance> fitted = detail::fitted_wvs(wvs, levels);

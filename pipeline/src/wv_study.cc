@@ -29,7 +29,6 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
-  if (options.robust) detail::require_regular(set, "the robust WV");
   detail::ColumnWvs curves = set.missing.empty()
                                  ? detail::classical_column_wvs(series, options.wv, set.freq, options.allan)
                                  : detail::gappy_column_wvs(set, options.wv, options.allan);
@@ -43,8 +42,11 @@ WvStudy study_wv(const io::SignalSet& set, const WvStudyOptions& options) {
       const auto n = static_cast<std::int64_t>(x.size());
       RobustWvView view;
       view.quantization = robust::detect_quantization(x.data(), n);
-      view.diagnostic = robust::contamination_diagnostic(*curves.transforms[k], robust_wvs[k], classical[k],
-                                                         view.quantization, tuning);
+      view.diagnostic = set.missing.empty()
+                            ? robust::contamination_diagnostic(*curves.transforms[k], robust_wvs[k], classical[k],
+                                                               view.quantization, tuning)
+                            : robust::contamination_diagnostic_with_gaps(x, set.missing, robust_wvs[k], classical[k],
+                                                                         view.quantization, tuning);
       view.classical = std::move(classical[k]);
       study.columns.push_back({set.signals[k].name, std::move(robust_wvs[k]), std::move(view), std::nullopt});
     }

@@ -77,10 +77,20 @@ def test_each_level_and_allan_point_says_how_many_of_its_windows_miss_samples(ga
     assert plain.levels.partial is None and plain.allan.complete is None and plain.allan.partial is None
 
 
+def test_the_robust_wv_reads_the_windows_without_a_gap_as_the_command_does(gappy_csv, tmp_path):
+    rec = read(gappy_csv)
+    w = gmwm.wv(rec, robust=True)
+    assert w.document["estimator"] == "huber"
+    assert w.document == cli_json(tmp_path, "wv", str(gappy_csv), "--robust")["columns"][0]
+    # The windows read are the classical WV's, and a plain array with the NaN rows reads them too.
+    assert w.levels.coefficients.tolist() == gmwm.wv(rec).levels.coefficients.tolist()
+    assert gmwm.wv(rec.values[:, 0], freq=RATE, robust=True).levels.wv.tolist() == w.levels.wv.tolist()
+
+
 def test_an_infinity_is_refused_and_a_study_without_a_window_form_says_to_drop_the_nan_rows(gappy_csv):
     x = read(gappy_csv).values[:, 0].copy()
-    with pytest.raises(gmwm.InputError, match="robust WV reads a regular record: drop the NaN rows"):
-        gmwm.wv(x, freq=RATE, robust=True)
+    with pytest.raises(gmwm.InputError, match="gap diagnosis reads a regular record: drop the NaN rows"):
+        gmwm.gap(x, freq=RATE, model="WN(sigma2=1)", replicates=40)
     x[7] = np.inf
     with pytest.raises(gmwm.InputError, match="sample 7 is not a finite number"):
         gmwm.wv(x, freq=RATE)

@@ -8,6 +8,7 @@
 #include <boost/math/tools/roots.hpp>
 
 #include "gmwm/engine/check.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/parallel.h"
 
@@ -125,9 +126,13 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int6
   return contamination_diagnostic(HaarModwt(x, n), robust, classical, quantization, tuning);
 }
 
-std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& modwt, const WaveletVariance& robust,
-                                                      const WaveletVariance& classical,
-                                                      const Quantization& quantization, const Tuning& tuning) {
+namespace {
+
+// The diagnostic of each level from `far_share(level, threshold)`: the share of the level's
+// coefficients whose square exceeds the threshold.
+template <class FarShare>
+std::vector<LevelDiagnostic> diagnose(const WaveletVariance& robust, const WaveletVariance& classical,
+                                      const Quantization& quantization, const Tuning& tuning, FarShare&& far_share) {
   check_size_match("contamination_diagnostic", "robust levels", robust.wv.size(), "classical levels",
                    classical.wv.size());
   std::vector<LevelDiagnostic> out(robust.wv.size());
@@ -135,12 +140,8 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& modwt, co
       2.0 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), kTailSd));
   gmwm::parallel_for(std::size_t{0}, out.size(), [&](std::size_t j) {
     if (!(robust.wv[j] > 0.0)) return;
-    // Counted from the prefix sums: materialising the level's 8 MB of coefficients to
-    // count them was 10% of `wv --robust` (issue 44).
     const int level = first_level(robust) + static_cast<int>(j);  // a cut WV starts above level 1
-    const std::int64_t M = modwt.count(level);
-    const std::int64_t far = modwt.count_above(level, kTailSd * kTailSd * robust.wv[j]);
-    out[j].tail_share = M > 0 ? static_cast<double>(far) / static_cast<double>(M) : 0.0;
+    out[j].tail_share = far_share(level, kTailSd * kTailSd * robust.wv[j]);
   });
   for (std::size_t j = 0; j < out.size(); ++j) {
     LevelDiagnostic& d = out[j];
@@ -156,6 +157,32 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& modwt, co
     d.contaminated = tails && robust.ci_high[j] / (d.expected_ratio * (1.0 - slack)) < classical.ci_low[j];
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& modwt, const WaveletVariance& robust,
+                                                      const WaveletVariance& classical,
+                                                      const Quantization& quantization, const Tuning& tuning) {
+  // Counted from the prefix sums: materialising the level's 8 MB of coefficients to count
+  // them was 10% of `wv --robust` (issue 44).
+  return diagnose(robust, classical, quantization, tuning, [&](int level, double threshold) {
+    const std::int64_t M = modwt.count(level);
+    const std::int64_t far = modwt.count_above(level, threshold);
+    return M > 0 ? static_cast<double>(far) / static_cast<double>(M) : 0.0;
+  });
+}
+
+std::vector<LevelDiagnostic> contamination_diagnostic_with_gaps(
+    std::span<const double> observed, std::span<const MissingRun> missing, const WaveletVariance& robust,
+    const WaveletVariance& classical, const Quantization& quantization, const Tuning& tuning) {
+  const GappyWindows windows(observed, missing);
+  return diagnose(robust, classical, quantization, tuning, [&](int level, double threshold) {
+    thread_local std::vector<double> coef;
+    windows.coefficients(level, coef);
+    const auto far = std::count_if(coef.begin(), coef.end(), [&](double c) { return c * c > threshold; });
+    return coef.empty() ? 0.0 : static_cast<double>(far) / static_cast<double>(coef.size());
+  });
 }
 
 }  // namespace gmwm::robust

@@ -14,6 +14,7 @@
 #include "gmwm/engine/parallel.h"
 #include "gmwm/engine/vector_clones.h"
 #include "gmwm/robust/spike_screen.h"
+#include "robust_level.h"
 #include "small_sample.h"
 
 namespace gmwm::robust {
@@ -320,14 +321,7 @@ ScaleSolution solve(std::span<const double> w, const Tuning& t, double start, co
 void check_series(const char* fn, std::int64_t n, const RobustWvOptions& o) {
   if (n < kMinSeriesLength)
     detail::throw_check(fn, "series length", static_cast<double>(n), "at least " + std::to_string(kMinSeriesLength));
-  if (const std::string why = o.Validate(); !why.empty()) throw InvalidArgument(std::string(fn) + ": " + why);
-}
-
-// One buffer per thread for a level's coefficients (and the spike screen's jumps before
-// them): its pages stay, where each fresh 8 MB vector was page faults and zeroing.
-std::vector<double>& level_buffer() {
-  thread_local std::vector<double> buffer;
-  return buffer;
+  internal::check_options(fn, o);
 }
 
 struct Prepared {
@@ -360,20 +354,11 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
   std::vector<double> cleaned;
   const double* data = x;
   if (o.screen_spikes) {
-    std::vector<double>& jumps = level_buffer();
+    std::vector<double>& jumps = internal::level_buffer();
     level_one_jumps(x, n, jumps);
-    double ms = 0.0;
-    for (double v : jumps) ms += v * v;
-    ms /= static_cast<double>(jumps.size());
-    const ScaleSolution s1 = solve_level(jumps, t, ms > 0.0 ? ms : 1.0, value_stats(jumps));
+    const ScaleSolution s1 = internal::solve_jumps(jumps, t);
     screen = screen_spikes(x, n, s1.scale);
-    if (!s1.has_root) {
-      std::ostringstream os;
-      os.precision(3);
-      os << "spike screen not applied: the level-1 " << to_string(t.kind) << " equation has no root ("
-         << 100.0 * s1.zero_fraction << "% of the jumps are exactly 0)";
-      screen.note = os.str();
-    }
+    if (!s1.has_root) screen.note = internal::unscreened_note(s1, t);
     if (!screen.ranges.empty()) {
       cleaned = replace_ranges(x, n, screen.ranges);
       data = cleaned.data();
@@ -388,29 +373,68 @@ Prepared prepare(const double* x, std::int64_t n, const RobustWvOptions& o, cons
     p.modwt = p.owned.get();
   }
   p.w = classical_wv(*p.modwt, co);
-  p.w.estimator = to_string(t.kind);
-  p.w.efficiency = t.efficiency;
-  p.w.replaced = std::move(screen.ranges);
-  p.w.screening = std::move(screen.note);
-  std::ostringstream os;
-  os << "second-order bias correction at levels with " << kRobustMinEta << " <= eta <= " << internal::kSmallSampleMaxEta
-     << " (long-run covariances by overlapping batch means); classical estimate below eta = " << kRobustMinEta;
-  p.w.small_sample = os.str();
+  internal::describe_robust(p.w, t, std::move(screen));
   return p;
 }
 
 void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVariance& w) {
-  const auto i = static_cast<std::size_t>(j - 1);
-  if (w.eta[i] < kRobustMinEta) {
-    std::ostringstream os;
-    os << "classical estimate: eta = " << w.eta[i] << " < " << kRobustMinEta
-       << " effective coefficients, too few for the robust estimator's consistency";
-    w.notes[i] = os.str();
-    return;
-  }
-  std::vector<double>& coef = level_buffer();
+  if (internal::keeps_classical(j, w)) return;
+  std::vector<double>& coef = internal::level_buffer();
   modwt.coefficients(j, coef);
-  const double floor = modwt.noise_floor(j);
+  internal::robust_level_from(coef, modwt.noise_floor(j), j, t, w);
+}
+
+}  // namespace
+
+namespace internal {
+
+std::vector<double>& level_buffer() {
+  thread_local std::vector<double> buffer;
+  return buffer;
+}
+
+ScaleSolution solve_jumps(std::span<const double> jumps, const Tuning& t) {
+  double ms = 0.0;
+  for (double v : jumps) ms += v * v;
+  ms /= static_cast<double>(std::max<std::size_t>(jumps.size(), 1));
+  return solve_level(jumps, t, ms > 0.0 ? ms : 1.0, value_stats(jumps));
+}
+
+std::string unscreened_note(const ScaleSolution& s1, const Tuning& t) {
+  std::ostringstream os;
+  os.precision(3);
+  os << "spike screen not applied: the level-1 " << to_string(t.kind) << " equation has no root ("
+     << 100.0 * s1.zero_fraction << "% of the jumps are exactly 0)";
+  return os.str();
+}
+
+void describe_robust(WaveletVariance& w, const Tuning& t, SpikeScreen screen) {
+  w.estimator = to_string(t.kind);
+  w.efficiency = t.efficiency;
+  w.replaced = std::move(screen.ranges);
+  w.screening = std::move(screen.note);
+  std::ostringstream os;
+  os << "second-order bias correction at levels with " << kRobustMinEta << " <= eta <= " << kSmallSampleMaxEta
+     << " (long-run covariances by overlapping batch means); classical estimate below eta = " << kRobustMinEta;
+  w.small_sample = os.str();
+}
+
+void add_note(WaveletVariance& w, std::size_t i, const std::string& note) {
+  w.notes[i] = w.notes[i].empty() ? note : w.notes[i] + "; " + note;
+}
+
+bool keeps_classical(int j, WaveletVariance& w) {
+  const auto i = static_cast<std::size_t>(j - 1);
+  if (!(w.eta[i] < kRobustMinEta)) return false;
+  std::ostringstream os;
+  os << "classical estimate: eta = " << w.eta[i] << " < " << kRobustMinEta
+     << " effective coefficients, too few for the robust estimator's consistency";
+  add_note(w, i, os.str());
+  return true;
+}
+
+void robust_level_from(std::vector<double>& coef, double floor, int j, const Tuning& t, WaveletVariance& w) {
+  const auto i = static_cast<std::size_t>(j - 1);
   ValueStats stats;
   if (t.kind == RobustKind::kHuber) {  // two loops: each vectorises
     for (double& v : coef) {
@@ -436,13 +460,13 @@ void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVarianc
     if (t.kind == RobustKind::kHuber)
       os << "; the limit at efficiency " << t.efficiency << " is " << 100.0 * (1.0 - t.a / (t.c * t.c)) << "%";
     os << ")";
-    w.notes[i] = os.str();
+    add_note(w, i, os.str());
     w.wv[i] = w.ci_low[i] = w.ci_high[i] = w.variance[i] = std::numeric_limits<double>::quiet_NaN();
     return;
   }
   double scale = s.scale;
-  if (w.eta[i] <= internal::kSmallSampleMaxEta) {
-    const double bias = internal::small_sample_bias(coef, t, s.scale, w.tau[i]);
+  if (w.eta[i] <= kSmallSampleMaxEta) {
+    const double bias = small_sample_bias(coef, t, s.scale, w.tau[i]);
     // |bias| is ~1 / eta <= 0.1 at the robust levels; a value outside (-0.5, 1) would
     // mean the expansion does not hold (it never did in our studies): leave it.
     if (bias > -0.5 && bias < 1.0) scale /= 1.0 + bias;
@@ -455,7 +479,11 @@ void robust_level(const HaarModwt& modwt, int j, const Tuning& t, WaveletVarianc
   std::tie(w.ci_low[i], w.ci_high[i]) = chi_square_ci(scale, eta, w.alpha);
 }
 
-}  // namespace
+void check_options(const char* fn, const RobustWvOptions& o) {
+  if (const std::string why = o.Validate(); !why.empty()) throw InvalidArgument(std::string(fn) + ": " + why);
+}
+
+}  // namespace internal
 
 std::string RobustWvOptions::Validate() const {
   std::ostringstream os;

@@ -51,13 +51,17 @@ SpikeScreen screen_spikes(const double* x, std::int64_t n, double level_one_scal
   }
   if (count > 0) close_cluster();
   for (const auto& [a, b] : out.ranges) out.samples += b - a + 1;
+  out.note = describe_screen(out);
+  return out;
+}
+
+std::string describe_screen(const SpikeScreen& screen) {
   std::ostringstream os;
-  os << "spike screen: " << out.samples << " sample" << (out.samples == 1 ? "" : "s") << " in " << out.ranges.size()
-     << " range" << (out.ranges.size() == 1 ? "" : "s")
+  os << "spike screen: " << screen.samples << " sample" << (screen.samples == 1 ? "" : "s") << " in "
+     << screen.ranges.size() << " range" << (screen.ranges.size() == 1 ? "" : "s")
      << " replaced by interpolation (clusters of level-1 jumps beyond " << kSpikeThreshold << " robust sd, at most "
      << kSpikeMaxGap << " samples apart)";
-  out.note = os.str();
-  return out;
+  return os.str();
 }
 
 namespace {

@@ -1,8 +1,8 @@
 // Records whose timestamps show missing samples (issue 47, item 1) on the command line: each
 // scale reads the complete windows (the WV, the Allan deviation, fit and select), the terminal
 // and the JSON say how many windows each scale lost, --gaps join keeps the samples end to end,
-// a gap of unknown length is refused, and the studies without a complete-window form refuse
-// the record instead of joining it silently.
+// a gap of unknown length is refused, the robust WV reads the windows without a gap, and the
+// studies without a complete-window form refuse the record instead of joining it silently.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +16,7 @@
 #include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "gmwm/robust/robust_wv.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -168,10 +169,37 @@ TEST_F(GapsCommand, AGapOfUnknownLengthIsRefusedWithItsStampsAndNothingWritten) 
   EXPECT_EQ(run_gmwm({"fit", "odd.csv", "--model", "WN", "--gaps", "join", "--quiet"}, dir_).exit_code, 0);
 }
 
+TEST_F(GapsCommand, TheRobustWvReadsTheWindowsWithoutAGapAndTheRobustFitFitsIt) {
+  const auto r = run_gmwm({"wv", "gappy.csv", "--robust", "--json", "wv.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json column = read_json(dir_ / "wv.json")["columns"][0];
+  EXPECT_EQ(column["estimator"], "huber");
+  const std::vector<gmwm::MissingRun> runs = {{1000, 40}, {5000, 1}, {9000, 300}};
+  gmwm::WaveletVariance w = gmwm::robust::robust_wv_with_gaps(observed_, runs);
+  gmwm::drop_incomplete_levels(w);
+  const json& levels = column["levels"];
+  ASSERT_EQ(levels.size(), static_cast<std::size_t>(w.levels()));
+  for (int j = 0; j < w.levels(); ++j) {
+    const auto i = static_cast<std::size_t>(j);
+    EXPECT_NEAR(levels[i]["wv"].get<double>(), w.wv[i], 1e-9 * w.wv[i]) << "level " << j + 1;
+    EXPECT_EQ(levels[i]["coefficients"].get<std::int64_t>(), w.coefficients[i]) << "level " << j + 1;
+  }
+  // The fit, weighted by the model's covariance and by bootstrap draws read through the same gaps.
+  for (const char* omega : {"model", "bootstrap"}) {
+    const auto fit = run_gmwm({"fit", "gappy.csv", "--robust", "--model", "WN+RW", "--omega", omega, "--replicates",
+                               "20", "--json", "fit.json"},
+                              dir_);
+    ASSERT_EQ(fit.exit_code, 0) << fit.err;
+    const json c = read_json(dir_ / "fit.json")["columns"][0];
+    EXPECT_EQ(c["estimator"], "huber") << omega;
+    EXPECT_EQ(c["levels"].size(), static_cast<std::size_t>(w.levels())) << omega;
+  }
+}
+
 TEST_F(GapsCommand, StudiesWithoutACompleteWindowFormRefuseTheRecordNamingGapsJoin) {
-  const auto r = run_gmwm({"wv", "gappy.csv", "--robust", "--json", "out.json"}, dir_);
+  const auto r = run_gmwm({"gap", "gappy.csv", "--model", "WN(sigma2=1)", "--json", "out.json"}, dir_);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; the robust WV reads a "
+  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; gap diagnosis reads a "
                        "regular record: give --gaps join to join the samples end to end"),
             std::string::npos)
       << r.err;

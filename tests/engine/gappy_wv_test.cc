@@ -20,6 +20,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/engine/simulate.h"
+#include "holed_record.h"
 
 namespace gmwm {
 namespace {
@@ -29,21 +30,8 @@ std::vector<double> simulated(const char* spec, std::int64_t n, std::uint64_t se
   return simulate(m, m.given_values(), n, seed);
 }
 
-// The grid with NaN where a sample is missing, and the observed samples alone.
-struct Holed {
-  std::vector<double> grid, observed;
-  std::vector<MissingRun> runs;
-};
-
-Holed remove(const std::vector<double>& full, const std::vector<MissingRun>& runs) {
-  Holed h{full, {}, runs};
-  for (const MissingRun& r : runs)
-    for (std::int64_t k = r.start; k < r.start + r.length; ++k)
-      h.grid[static_cast<std::size_t>(k)] = std::numeric_limits<double>::quiet_NaN();
-  for (const double v : h.grid)
-    if (!std::isnan(v)) h.observed.push_back(v);
-  return h;
-}
+using test::Holed;
+using test::remove;
 
 // Bursts of missing samples: about `share` of the record, in runs of 1..max_run samples.
 std::vector<MissingRun> bursts(std::int64_t n, double share, std::int64_t max_run, std::uint64_t seed) {

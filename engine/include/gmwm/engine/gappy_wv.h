@@ -18,6 +18,7 @@
 //   w.coefficients[j - 1]   // windows read at level j; w.notes says how many were lost
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -59,6 +60,49 @@ int complete_levels(const WaveletVariance& wv);
 /// Keeps the levels 1..complete_levels(wv) (the deepest ones, NaN, go; their notes with
 /// them): the WV a fit, a plot and a table read.
 void drop_incomplete_levels(WaveletVariance& wv);
+
+/// The windows one level of classical_wv_with_gaps reads.
+struct GappyLevelWindows {
+  std::int64_t complete = 0;  ///< windows without a missing sample
+  std::int64_t used = 0;      ///< windows read: the complete ones, or the near-complete ones
+  /// Below this a coefficient's magnitude is rounding error of the sums it is made of (a
+  /// quantized record's coefficients of exactly zero): HaarModwt::noise_floor's bound.
+  double noise_floor = 0.0;
+};
+
+/// The windows of a record with missing samples, level by level, as classical_wv_with_gaps
+/// reads them: built once (prefix sums of the observed samples, 8 bytes each), then each
+/// level's coefficients for another estimator of the same windows (the robust WV of a
+/// record with gaps, robust::robust_wv_with_gaps; its contamination diagnostic). Reading
+/// levels from several threads at once is safe.
+class GappyWindows {
+ public:
+  /// Throws as classical_wv_with_gaps (bad runs, too few observed samples).
+  GappyWindows(std::span<const double> observed, std::span<const MissingRun> missing);
+  ~GappyWindows();
+  GappyWindows(const GappyWindows&) = delete;
+  GappyWindows& operator=(const GappyWindows&) = delete;
+
+  /// Observed and missing samples together.
+  std::int64_t grid() const;
+
+  /// Into `out`, in time order, the Haar coefficient (mean of the window's second half -
+  /// mean of its first) / 2 of each window level j reads (its complete windows, or the
+  /// near-complete ones where they at least double them): their mean square is that level's
+  /// classical WV. Empty when the level has no usable window or is longer than the grid.
+  /// Throws InvalidArgument for j outside 1..62.
+  GappyLevelWindows coefficients(int j, std::vector<double>& out) const;
+
+ private:
+  struct Sums;
+  std::unique_ptr<const Sums> sums_;
+};
+
+/// The samples of a grid of n (observed and missing places together) that `missing` leaves,
+/// in order: what a strategy object reads a simulated grid through. Throws InvalidArgument
+/// "WHAT: the missing runs fill a grid of n samples" when nothing is left.
+std::vector<double> observed_samples(const char* what, const double* x, std::int64_t n,
+                                     std::span<const MissingRun> missing);
 
 /// classical_wv_with_gaps as a strategy object: the bootstrap's and the gap reference's
 /// simulated series are whole grids of the record's length, and this estimator reads them

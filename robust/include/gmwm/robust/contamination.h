@@ -23,8 +23,10 @@
 //     below the classical CI: contamination inflates the classical WV.
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/quantization.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -58,5 +60,13 @@ std::vector<LevelDiagnostic> contamination_diagnostic(const double* x, std::int6
 std::vector<LevelDiagnostic> contamination_diagnostic(const HaarModwt& transform, const WaveletVariance& robust,
                                                       const WaveletVariance& classical,
                                                       const Quantization& quantization, const Tuning& tuning);
+/// The same for a record with missing samples, whose WVs came from the windows
+/// classical_wv_with_gaps reads (robust_wv_with_gaps, classical_wv_with_gaps): the tails are
+/// counted among those windows' coefficients (GappyWindows).
+std::vector<LevelDiagnostic> contamination_diagnostic_with_gaps(std::span<const double> observed,
+                                                                std::span<const MissingRun> missing,
+                                                                const WaveletVariance& robust,
+                                                                const WaveletVariance& classical,
+                                                                const Quantization& quantization, const Tuning& tuning);
 
 }  // namespace gmwm::robust

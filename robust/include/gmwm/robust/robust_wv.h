@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/haar_modwt.h"
 #include "gmwm/engine/wavelet_variance.h"
 #include "gmwm/robust/tuning.h"
@@ -81,6 +82,33 @@ std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>
 std::vector<WaveletVariance> robust_wv(const std::vector<std::span<const double>>& series,
                                        const RobustWvOptions& options,
                                        const std::vector<std::unique_ptr<HaarModwt>>& transforms);
+
+/// The robust WV of a record with missing samples (issue 47): at each level the equation is
+/// solved on the coefficients classical_wv_with_gaps reads (its complete windows, or the
+/// near-complete ones where they at least double them: GappyWindows), so a gap
+/// never enters a coefficient; eta, intervals, the small-sample correction and the classical
+/// fallback below kRobustMinEta as robust_wv's, from those windows. The spike screen runs on
+/// each segment between gaps, against the robust scale of the jumps inside the segments (a
+/// step across a gap is no sample's jump); its replaced ranges are grid positions (observed
+/// and missing samples together, as the WV's n). A level without a usable window is NaN with
+/// a note, as classical_wv_with_gaps's. Without missing samples, robust_wv's values (to
+/// rounding). Throws as classical_wv_with_gaps, InvalidArgument on invalid options.
+WaveletVariance robust_wv_with_gaps(std::span<const double> observed, std::span<const MissingRun> missing,
+                                    const RobustWvOptions& options = {});
+
+/// robust_wv_with_gaps as a strategy object (GappyWvEstimator's robust twin): the gap
+/// diagnosis's simulated series are whole grids of the record's length, read through the
+/// record's own missing samples, so each draw has the data's windows.
+class GappyRobustWvEstimator final : public WvEstimator {
+ public:
+  GappyRobustWvEstimator(RobustWvOptions options, std::vector<MissingRun> missing);
+  WaveletVariance compute(const double* x, std::int64_t n, int levels, double alpha) const override;
+  std::string name() const override { return to_string(options_.estimator); }
+
+ private:
+  RobustWvOptions options_;
+  std::vector<MissingRun> missing_;
+};
 
 /// The robust estimator as a strategy object (bootstrap Omega, gap reference
 /// distributions recompute "the same WV" on simulated series).

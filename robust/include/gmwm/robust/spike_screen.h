@@ -61,6 +61,10 @@ void level_one_jumps(const double* x, std::int64_t n, std::vector<double>& out);
 /// (NaN or <= 0: not applied, with a note saying so).
 SpikeScreen screen_spikes(const double* x, std::int64_t n, double level_one_scale);
 
+/// "spike screen: N samples in R ranges replaced by interpolation (clusters of ...)": an
+/// applied screen's note, from its ranges and samples.
+std::string describe_screen(const SpikeScreen& screen);
+
 /// x with each range replaced by the straight line between the medians of the
 /// kAnchorSamples samples on each side (a range at an end takes the one side's median).
 std::vector<double> replace_ranges(const double* x, std::int64_t n,
