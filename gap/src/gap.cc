@@ -99,7 +99,10 @@ std::shared_ptr<const detail::Reference> reference_stage(const WaveletVariance& 
                                                          const std::vector<double>* temperature,
                                                          const std::shared_ptr<const detail::StepScan>& scan) {
   const ClassicalWvEstimator classical;
-  const WvEstimator& inner = options.estimator ? *options.estimator : classical;
+  const GappyWvEstimator gappy(options.missing);  // a record with gaps: its replicates read through them
+  const WvEstimator& inner = options.estimator         ? *options.estimator
+                             : options.missing.empty() ? static_cast<const WvEstimator&>(classical)
+                                                       : gappy;
   // A cut WV (drop_fine_levels) is compared with replicates cut the same way.
   const int first = first_level(wv);
   const FromLevelEstimator from_first(inner, first);
@@ -120,12 +123,28 @@ std::shared_ptr<const detail::Reference> reference_stage(const WaveletVariance& 
                    std::to_string(std::hash<std::string_view>{}(bytes));
     }
   }
+  if (!options.missing.empty()) {  // the gaps' places, for the key
+    const std::string_view runs(reinterpret_cast<const char*>(options.missing.data()),
+                                options.missing.size() * sizeof(MissingRun));
+    statistic += "|missing:" + std::to_string(options.missing.size()) + ":" +
+                 std::to_string(std::hash<std::string_view>{}(runs));
+  }
   const std::string key = detail::reference_key(baseline, theta, wv.n, first, wv.levels(), options.replicates,
                                                 options.seed, options.estimator, wv.alpha, statistic);
   return detail::cached_reference(options.references.get(), key, [&] {
     return detail::build_reference(baseline, theta, wv.n, first, wv.levels(), options.replicates, options.seed,
                                    estimator, wv.alpha, options.progress, series_statistic);
   });
+}
+
+// What a diagnosis of a record with gaps does not do.
+std::string gappy_note(const std::vector<MissingRun>& missing) {
+  std::int64_t samples = 0;
+  for (const MissingRun& r : missing) samples += r.length;
+  return "the record misses " + std::to_string(samples) + " samples in " + std::to_string(missing.size()) +
+         " gaps: the WV and its reference read the windows without a gap; the time-window map, the split halves "
+         "and the time-domain effects (STEP, TRANSIENT, the trend, TEMPERATURE) read a regular series and were "
+         "not tried";
 }
 
 // Stage 2: where the data depart from the reference (levels, bands, global test, time
@@ -188,14 +207,15 @@ struct Attribution {
 
 // Stage 4a: OUTLIERS, a fine-scale excess the robust WV does not show.
 void outliers_stage(const Context& c, GapResult& g, Attribution& a) {
-  if (!c.robust || !c.x) return;
-  const std::vector<double>& x = *c.x;
+  if (!c.robust || !(c.x || c.observed)) return;
+  const std::vector<double>& x = c.x ? *c.x : *c.observed;
   const robust::Quantization q = robust::detect_quantization(x.data(), static_cast<std::int64_t>(x.size()));
   const robust::Tuning tuning =
       robust::tune(robust::parse_robust_kind(c.robust->estimator).value_or(robust::RobustKind::kHuber),
                    c.robust->efficiency.value_or(robust::kDefaultEfficiency));
   const auto diag =
-      robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), *c.robust, c.wv, q, tuning);
+      c.x ? robust::contamination_diagnostic(x.data(), static_cast<std::int64_t>(x.size()), *c.robust, c.wv, q, tuning)
+          : robust::contamination_diagnostic_with_gaps(x, c.options.missing, *c.robust, c.wv, q, tuning);
   const int J = c.wv.levels();
   g.contamination_screened = true;
   for (int j = 0; j < static_cast<int>(diag.size()); ++j)
@@ -620,6 +640,12 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   if (temperature && (!x || temperature->size() != x->size()))
     throw InputError("gap: the temperature channel has " + std::to_string(temperature->size()) +
                      " samples, the signal " + std::to_string(x ? x->size() : 0));
+  if (temperature && !options.missing.empty())
+    throw InputError("gap: TEMPERATURE reads a regular record; this one misses samples in " +
+                     std::to_string(options.missing.size()) + " gaps");
+  // A record with gaps: the observed samples go to the contamination screen only.
+  const std::vector<double>* observed = options.missing.empty() ? nullptr : x;
+  if (observed) x = nullptr;
 
   // The step scan's weights, shared by the data and every replicate (the baseline's).
   const auto scan =
@@ -627,13 +653,14 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   const std::shared_ptr<const detail::Reference> kept =
       reference_stage(wv, baseline, theta, options, x, temperature, scan);
   const detail::Reference& ref = *kept;
-  Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, ref.nu, options)};
+  Context c{wv, options, ref, robust, x, temperature, objective_weights(wv, nuhat, ref, ref.nu, options), observed};
 
   GapResult g;
   g.first_level = first_level(wv);
   g.baseline = baseline;
   g.baseline_theta = theta;
   locate_stage(c, nuhat, g);
+  if (observed) g.notes.push_back(gappy_note(options.missing));
   const bool wv_detected = g.detected;
   const detail::TimeFindings time = time_events_stage(c, ref.nu, scan, g);
 

@@ -25,6 +25,9 @@ struct Context {
   const std::vector<double>* temperature;
   /// The objective's weights (objective_weights).
   Eigen::MatrixXd omega;
+  /// A record with gaps (options.missing): its observed samples, which only the
+  /// contamination screen reads (x is then null: the time-domain stages need a regular series).
+  const std::vector<double>* observed = nullptr;
 };
 
 // How well a model describes the current data: the objective, the levels outside its

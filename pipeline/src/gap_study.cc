@@ -93,12 +93,13 @@ Baselines resolve_baselines(const io::SignalSet& set, const GapStudyOptions& o, 
   return b;
 }
 
-// Stage 3: classical and robust WVs of every column.
+// Stage 3: classical and robust WVs of every column (on a record with gaps, from the
+// windows without one).
 void wavelet_variances(const io::SignalSet& set, const WvOptions& o, std::vector<WaveletVariance>& wvs,
                        std::vector<WaveletVariance>& robust_wvs) {
   std::vector<std::span<const double>> series;
   for (const auto& s : set.signals) series.emplace_back(s.values);
-  wvs = classical_wv(series, o);
+  wvs = set.missing.empty() ? classical_wv(series, o) : detail::gappy_column_wvs(set, o, std::nullopt).wvs;
   detail::check_usable_wvs(set, wvs, true);
   robust::RobustWvOptions r;
   r.levels = o.levels;
@@ -242,6 +243,7 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
   gap::GapOptions g = o.gap;
   g.refit_baseline = std::holds_alternative<FitBaseline>(o.baseline);
   g.context = ctx;
+  g.missing = set.missing;
   if (!g.references) g.references = gap::make_reference_cache();
   const std::size_t K = study.columns.size();
   const double per_column = 2.0 * o.gap.replicates;  // the reference replicates, then the attribution
@@ -262,6 +264,8 @@ void diagnose_columns(const io::SignalSet& set, const std::vector<double>& tempe
       c.result.headline += "; " + levels[k].reason;
     }
     say_repetition(set.signals[k], set, c.result);
+    if (!set.missing.empty() && K > 1)
+      c.result.notes.push_back("the cross-axis correlation reads a regular series: not computed on this record");
     if (o.progress) o.progress(static_cast<double>(k + 1) * per_column, K * per_column);
   }
 }
@@ -280,8 +284,10 @@ std::optional<ColumnBaseline> config_baseline(const io::SimConfig& config, io::S
 
 std::string GapStudyOptions::Validate() const {
   if (std::string why = gap.Validate(); !why.empty()) return why;
-  if (gap.estimator || gap.refit_baseline || gap.progress || !gap.unit.empty() || gap.context.freq_known)
-    return "leave gap.estimator, refit_baseline, context, unit and progress unset: the study sets them per column";
+  if (gap.estimator || gap.refit_baseline || gap.progress || !gap.unit.empty() || gap.context.freq_known ||
+      !gap.missing.empty())
+    return "leave gap.estimator, refit_baseline, context, unit, progress and missing unset: the study sets them per "
+           "column";
   if (std::string why = wv.Validate(); !why.empty()) return why;
   if (std::string why = first_level_problem(first_level); !why.empty()) return why;
   const ModelSpec* spec = std::holds_alternative<ModelBaseline>(baseline) ? &std::get<ModelBaseline>(baseline).spec
@@ -293,7 +299,9 @@ std::string GapStudyOptions::Validate() const {
 
 GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError("gap: " + why);
-  detail::require_regular(set, "gap diagnosis");
+  // A record with gaps is diagnosed from the windows without one (GapOptions::missing);
+  // a temperature coupling and the cross-axis correlation read a regular series.
+  if (!options.temperature_column.empty()) detail::require_regular(set, "--temperature");
   const std::vector<double> temperature = take_temperature(set, options.temperature_column);
   const ProcessContext ctx{set.freq, set.freq_known};
   Baselines b = resolve_baselines(set, options, ctx);
@@ -331,7 +339,7 @@ GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   // Cross-axis wavelet correlation (docs/gap.md, method note 2) when several columns are given.
   std::vector<std::span<const double>> spans;
   for (const auto& s : set.signals) spans.emplace_back(s.values);
-  study.cross_axis = gap::cross_axis_correlation(spans, options.wv.levels, options.gap.alpha);
+  if (set.missing.empty()) study.cross_axis = gap::cross_axis_correlation(spans, options.wv.levels, options.gap.alpha);
   return study;
 }
 

@@ -87,10 +87,20 @@ def test_the_robust_wv_reads_the_windows_without_a_gap_as_the_command_does(gappy
     assert gmwm.wv(rec.values[:, 0], freq=RATE, robust=True).levels.wv.tolist() == w.levels.wv.tolist()
 
 
+def test_gap_diagnosis_reads_the_windows_without_a_gap_as_the_command_does(gappy_csv, tmp_path):
+    rec = read(gappy_csv)
+    g = gmwm.gap(rec, model="WN(sigma2=1)+RW(gamma2=1e-4)", replicates=40)
+    cli = cli_json(tmp_path, "gap", str(gappy_csv), "--model", "WN(sigma2=1)+RW(gamma2=1e-4)", "--replicates", "40")
+    for key in ("baseline_source", "replicates", "seed", "cross_axis", "columns"):
+        assert g.document[key] == cli[key], key
+    notes = " ".join(g.columns[0].notes)
+    assert f"the record misses {len(DROPPED)} samples in 3 gaps" in notes
+
+
 def test_an_infinity_is_refused_and_a_study_without_a_window_form_says_to_drop_the_nan_rows(gappy_csv):
     x = read(gappy_csv).values[:, 0].copy()
-    with pytest.raises(gmwm.InputError, match="gap diagnosis reads a regular record: drop the NaN rows"):
-        gmwm.gap(x, freq=RATE, model="WN(sigma2=1)", replicates=40)
+    with pytest.raises(gmwm.InputError, match="a fit of replicates reads a regular record: drop the NaN rows"):
+        gmwm.fit_joint([x, x], "WN+RW", freq=RATE)
     x[7] = np.inf
     with pytest.raises(gmwm.InputError, match="sample 7 is not a finite number"):
         gmwm.wv(x, freq=RATE)

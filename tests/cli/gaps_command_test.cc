@@ -196,11 +196,35 @@ TEST_F(GapsCommand, TheRobustWvReadsTheWindowsWithoutAGapAndTheRobustFitFitsIt) 
   }
 }
 
+TEST_F(GapsCommand, GapDiagnosisReadsTheWindowsWithoutAGapAndSaysWhatItLeftOut) {
+  // Against the truth: no gap; against white noise alone: an excess at the long scales (the
+  // walk; which effect explains it over one short record, a drift, a slow tone or the walk,
+  // is the attribution's business). Both compared with replicates read through the gaps.
+  const auto truth = run_gmwm({"gap", "gappy.csv", "--model", "WN(sigma2=1)+RW(gamma2=1e-4)", "--replicates", "60",
+                               "--json", "truth.json", "--quiet"},
+                              dir_);
+  ASSERT_EQ(truth.exit_code, 0) << truth.err;
+  const json t = read_json(dir_ / "truth.json")["columns"][0];
+  EXPECT_FALSE(t["gap"]["detected"].get<bool>()) << t["headline"];
+  EXPECT_NE(t["notes"].dump().find("the record misses 341 samples in 3 gaps: the WV and its reference read the "
+                                   "windows without a gap"),
+            std::string::npos)
+      << t["notes"].dump();
+  const auto wn = run_gmwm(
+      {"gap", "gappy.csv", "--model", "WN(sigma2=1)", "--replicates", "60", "--json", "wn.json", "--quiet"}, dir_);
+  ASSERT_EQ(wn.exit_code, 0) << wn.err;
+  const json w = read_json(dir_ / "wn.json")["columns"][0];
+  EXPECT_TRUE(w["gap"]["detected"].get<bool>()) << w["headline"];
+  ASSERT_FALSE(w["gap"]["bands"].empty()) << w["headline"];
+  EXPECT_EQ(w["gap"]["bands"][0]["direction"], "excess") << w["headline"];
+  EXPECT_GE(w["gap"]["bands"][0]["tau_to"].get<double>(), 1024.0) << "the walk shows at the long scales";
+}
+
 TEST_F(GapsCommand, StudiesWithoutACompleteWindowFormRefuseTheRecordNamingGapsJoin) {
-  const auto r = run_gmwm({"gap", "gappy.csv", "--model", "WN(sigma2=1)", "--json", "out.json"}, dir_);
+  const auto r = run_gmwm({"fit", "gappy.csv", "--model", "WN+RW", "--joint", "gappy.csv", "--json", "out.json"}, dir_);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; gap diagnosis reads a "
-                       "regular record: give --gaps join to join the samples end to end"),
+  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; a fit of replicates "
+                       "reads a regular record: give --gaps join to join the samples end to end"),
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "out.json"));

@@ -26,9 +26,12 @@ TEST(GapStudyOptions, HandsDownTheDiagnosisSettingsAndRefusesTheStudysOwnFields)
   o.gap.candidates = {gap::GapEffect::kDR};
   EXPECT_EQ(o.Validate(), "");
   o.gap.unit = "deg/s";
-  EXPECT_NE(o.Validate().find("leave gap.estimator, refit_baseline, context, unit and progress unset"),
+  EXPECT_NE(o.Validate().find("leave gap.estimator, refit_baseline, context, unit, progress and missing unset"),
             std::string::npos);
   o.gap.unit.clear();
+  o.gap.missing = {{10, 2}};  // the record's own gaps, which the study sets
+  EXPECT_NE(o.Validate().find("missing unset: the study sets them per column"), std::string::npos);
+  o.gap.missing.clear();
   o.gap.replicates = 5;
   EXPECT_EQ(o.Validate(), "replicates must be in [20, 100000], got 5");
 }

@@ -38,6 +38,7 @@
 
 #include <Eigen/Core>
 
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/fit.h"
 #include "gmwm/engine/model.h"
 #include "gmwm/engine/wavelet_variance.h"
@@ -130,6 +131,13 @@ struct GapOptions {
   /// Where references are kept for other diagnoses (make_reference_cache); null: each
   /// diagnosis simulates its own.
   std::shared_ptr<ReferenceCache> references;
+  /// The record's missing samples (grid positions, as classical_wv_with_gaps reads them;
+  /// issue 47): the WV compared is then the one from the windows without a gap, `x` holds
+  /// the observed samples, the reference's replicates are read through the same gaps and the
+  /// contamination screen counts among the same windows. The stages that read a regular
+  /// series (the time-window map, the split halves, STEP, TRANSIENT, the trend and
+  /// TEMPERATURE) are not run, and a note says so.
+  std::vector<MissingRun> missing;
   /// Empty when valid, else one line.
   std::string Validate() const;
 };
