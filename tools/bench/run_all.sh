@@ -76,6 +76,12 @@ out=tools/bench/results/$(date -u +%Y-%m-%d)-run-all.md
   echo
   python3 tools/bench/gap_real.py "$build/gmwm" || true
   echo
+  echo "## The ADIS units with 5% removed (gaps_real.py, gaps_real_robust.py)"
+  echo
+  python3 tools/bench/gaps_real.py "$build/gmwm" || true
+  echo
+  python3 tools/bench/gaps_real_robust.py "$build/gmwm" || true
+  echo
   echo "## Sim-to-real gap diagnosis (bench_gap)"
   echo
   "$build/bench_gap" || true
