@@ -43,7 +43,11 @@ if [[ $mode == quick ]]; then
   # 2-core machine, one after another: engine 256 s, readers 102 s, fuzz corpus 28 s; CLI
   # hostile inputs 250 s, web app 172 s), each into its own log, printed in order afterwards.
   logs=$(mktemp -d)
-  trap 'rm -rf "$logs"' EXIT
+  lanes=()
+  # Background jobs of a script ignore SIGINT: on an interrupt or exit the lanes (and the test
+  # programs they run) are stopped, not left running into deleted logs.
+  trap '((${#lanes[@]} == 0)) || kill -- "${lanes[@]}" 2>/dev/null || true; rm -rf "$logs"' EXIT
+  trap 'exit 130' INT TERM
   run() {
     local name=$1
     shift
@@ -64,16 +68,21 @@ if [[ $mode == quick ]]; then
       --gtest_filter='ServeServerTest.*:ServeGuardTest.*:ServeLimitsTest.*:Corpus/ServeHostileRequests.*:ServeAppTest.Refuses*:ServeAppTest.AJsonBody*:ServeAppTest.AnUpload*:ServeAppTest.TwoTabs*:ServeAppTest.Cancelling*'
   }
   if ((jobs >= 2)); then
+    set -m  # each lane its own process group, so that the trap's kill reaches its test program
     lane_library &
+    lanes+=("-$!")
     lane_program &
+    lanes+=("-$!")
+    set +m
     wait
+    lanes=()
   else
     lane_library
     lane_program
   fi
   rc=0
   for name in test_engine test_io test_fuzz cli serve; do
-    cat "$logs/$name.log"
+    cat "$logs/$name.log" 2>/dev/null || echo "sanitizer pass: no log for $name"
     [[ $(cat "$logs/$name.rc" 2>/dev/null) == 0 ]] || { echo "sanitizer pass: $name FAILED"; rc=1; }
   done
   echo "gmwm sanitizer pass (ASan+UBSan: engine, readers, fuzz corpus, hostile inputs, output safety, web app): $([[ $rc == 0 ]] && echo clean || echo FAILED)"

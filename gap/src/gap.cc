@@ -19,6 +19,7 @@
 #include "gap_summary.h"
 #include "gap_windows.h"
 #include "gap_acceptance.h"
+#include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
@@ -640,6 +641,18 @@ GapResult diagnose_gap(const WaveletVariance& wv, const Model& baseline, const E
   if (temperature && (!x || temperature->size() != x->size()))
     throw InputError("gap: the temperature channel has " + std::to_string(temperature->size()) +
                      " samples, the signal " + std::to_string(x ? x->size() : 0));
+  if (!options.missing.empty()) {  // the runs must place x's samples on the WV's grid
+    std::string why = x ? missing_runs_problem(static_cast<std::int64_t>(x->size()), options.missing)
+                        : "the observed samples (x) are not given";
+    if (why.empty()) {  // the runs' total cannot overflow once they are valid
+      std::int64_t grid = static_cast<std::int64_t>(x->size());
+      for (const MissingRun& r : options.missing) grid += r.length;
+      if (grid != wv.n) why = "x and the runs make a grid of " + std::to_string(grid);
+    }
+    if (!why.empty())
+      throw InvalidArgument("diagnose_gap: options.missing does not place x on the WV's grid of " +
+                            std::to_string(wv.n) + " samples: " + why);
+  }
   if (temperature && !options.missing.empty())
     throw InputError("gap: TEMPERATURE reads a regular record; this one misses samples in " +
                      std::to_string(options.missing.size()) + " gaps");

@@ -35,7 +35,7 @@ Reference build_reference(const Model& model, const Eigen::VectorXd& theta, std:
     if (series_statistic) statistic = series_statistic(x, transform);
     const WaveletVariance w = estimator.compute(transform, x.data(), n, levels, alpha);
     const Eigen::VectorXd v = w.values();
-    if (v.allFinite() && (v.array() > 0.0).all()) {
+    if (v.size() == levels && v.allFinite() && (v.array() > 0.0).all()) {
       rows[static_cast<std::size_t>(b)] = v;
       stats[static_cast<std::size_t>(b)] = std::move(statistic);
       ok[static_cast<std::size_t>(b)] = 1;

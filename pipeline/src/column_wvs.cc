@@ -51,6 +51,22 @@ void require_regular(const io::SignalSet& set, const std::string& what) {
                            : "drop the NaN rows to join the samples end to end"));
 }
 
+void check_simulated_grid(const io::SignalSet& set, const std::string& what) {
+  if (set.missing.empty() || set.signals.empty()) return;
+  const auto observed = static_cast<double>(set.signals.front().values.size());
+  const double grid = observed + static_cast<double>(set.missing_samples());
+  if (!(grid > kMaxSimulatedGridFactor * observed)) return;
+  const MissingRun longest =
+      *std::max_element(set.missing.begin(), set.missing.end(),
+                        [](const MissingRun& a, const MissingRun& b) { return a.length < b.length; });
+  throw InputError(
+      (set.path.empty() ? std::string() : set.path + ": ") + what + " simulates the record's whole grid of " +
+      significant(grid, 6) + " samples, " + significant(grid / observed, 3) + " times its " + significant(observed, 6) +
+      " observed ones (at most " + significant(kMaxSimulatedGridFactor, 3) + "): cut the record at its longest gap (" +
+      std::to_string(longest.length) + " samples missing from grid sample " + std::to_string(longest.start) +
+      "), or give --gaps join to join the samples end to end");
+}
+
 std::unique_ptr<WvEstimator> draw_estimator(const io::SignalSet& set,
                                             const std::optional<robust::RobustWvOptions>& robust) {
   if (robust && !set.missing.empty()) return std::make_unique<robust::GappyRobustWvEstimator>(*robust, set.missing);

@@ -44,6 +44,21 @@ ColumnWvs classical_column_wvs(const std::vector<std::span<const double>>& serie
 /// form yet says so instead of joining the samples silently.
 void require_regular(const io::SignalSet& set, const std::string& what);
 
+/// A record with gaps is simulated over its whole grid (observed and missing samples
+/// together) wherever a study draws series like it: the gap diagnosis's reference, a
+/// bootstrap Omega or optimism. Each replicate holds its grid in memory (8 bytes a sample,
+/// and a Haar transform of 16 more, a replicate per core), so the grid is bounded at this many
+/// times the observed samples, the memory a regular record of those samples takes already:
+/// without a bound a crafted file of a few rows and one far stamp asked for gigabytes per
+/// replicate (a review of session 22: 10 000 rows at 1 kHz, then one stamp a day later).
+inline constexpr double kMaxSimulatedGridFactor = 4.0;
+
+/// "PATH: WHAT simulates the record's whole grid of N samples, R times its M observed ones (at
+/// most 4): cut the record at its longest gap (G samples at S), or give --gaps join to join
+/// the samples end to end" (InputError) when `set` has gaps and its grid is beyond that bound;
+/// nothing otherwise.
+void check_simulated_grid(const io::SignalSet& set, const std::string& what);
+
 /// The WV estimator a fit's bootstrap draws recompute on simulated series: the data's own,
 /// robust or classical, read through the record's gaps when it has some; null for the
 /// classical WV of a regular record (the fits' default).

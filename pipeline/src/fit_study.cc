@@ -71,6 +71,7 @@ FitStudy study_fit(const io::SignalSet& set, const FitStudyOptions& options) {
 
   // The bootstrap Omega recomputes the same WV on simulated series.
   FitOptions fo = options.fit;
+  if (fo.omega == OmegaKind::kBootstrap) detail::check_simulated_grid(set, "--omega bootstrap");
   const std::unique_ptr<WvEstimator> estimator = detail::draw_estimator(set, options.robust);
   if (estimator) fo.estimator = estimator.get();
   // Each column's fitted levels: every level, or those above the smoothed scales.

@@ -302,6 +302,7 @@ GapStudy study_gap(io::SignalSet& set, const GapStudyOptions& options) {
   // A record with gaps is diagnosed from the windows without one (GapOptions::missing);
   // a temperature coupling and the cross-axis correlation read a regular series.
   if (!options.temperature_column.empty()) detail::require_regular(set, "--temperature");
+  detail::check_simulated_grid(set, "gap diagnosis");
   const std::vector<double> temperature = take_temperature(set, options.temperature_column);
   const ProcessContext ctx{set.freq, set.freq_known};
   Baselines b = resolve_baselines(set, options, ctx);

@@ -98,6 +98,8 @@ SelectStudy study_select(const io::SignalSet& set, const SelectStudyOptions& opt
 
   // Bootstrap draws get the data's WV estimator.
   selection::SelectOptions so = options.select;
+  if (so.fit.omega == OmegaKind::kBootstrap) detail::check_simulated_grid(set, "--omega bootstrap");
+  if (so.optimism != selection::OptimismMethod::kAnalytic) detail::check_simulated_grid(set, "the bootstrap optimism");
   const std::unique_ptr<WvEstimator> estimator = detail::draw_estimator(set, options.robust);
   if (estimator) so.estimator = estimator.get();
   // Each column's fitted levels: every level, or those above the smoothed scales.

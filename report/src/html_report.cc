@@ -67,7 +67,9 @@ std::string quality_lines(const FitResult& f, const ReportColumn& c, bool all_re
 // Where a robust WV's spike screen replaced samples: a strip over the record with a mark at
 // each range (hover: its samples and time), under the summary the terminal prints.
 std::string screening_strip(const ReportColumn& c, const WaveletVariance& w) {
-  const std::string summary = screening_summary(w, c.n, c.freq, c.freq_known);
+  // The ranges are positions on the WV's grid (observed and missing samples together).
+  const std::int64_t grid = w.n > 0 ? w.n : c.n;
+  const std::string summary = screening_summary(w, grid, c.freq, c.freq_known);
   if (summary.empty()) return {};
   constexpr double kWidth = 1000.0, kHeight = 18.0;
   std::ostringstream os;
@@ -75,13 +77,13 @@ std::string screening_strip(const ReportColumn& c, const WaveletVariance& w) {
   for (std::size_t p = lines.find('\n'); p != std::string::npos && p + 1 < lines.size(); p = lines.find('\n', p + 5))
     lines.replace(p, 1, "<br>");
   const std::string end =
-      c.freq_known ? detail::num(static_cast<double>(c.n) / c.freq, 6) + " s" : std::to_string(c.n) + " samples";
+      c.freq_known ? detail::num(static_cast<double>(grid) / c.freq, 6) + " s" : std::to_string(grid) + " samples";
   os << "<div class=\"screening\"><p class=\"facts\">" << lines << "</p>\n"
      << "<svg class=\"screening-strip\" viewBox=\"0 0 " << kWidth << " " << kHeight
      << "\" preserveAspectRatio=\"none\" width=\"100%\" height=\"" << kHeight
      << "\" role=\"img\" aria-label=\"replaced samples over the record\">"
      << "<rect x=\"0\" y=\"0\" width=\"" << kWidth << "\" height=\"" << kHeight << "\" fill=\"#f6f8fa\"/>";
-  const double n = static_cast<double>(std::max<std::int64_t>(c.n, 1));
+  const double n = static_cast<double>(std::max<std::int64_t>(grid, 1));
   for (const auto& [a, b] : w.replaced) {
     const double x = kWidth * static_cast<double>(a) / n;
     const double width = std::max(1.0, kWidth * static_cast<double>(b - a + 1) / n);

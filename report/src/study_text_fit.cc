@@ -317,8 +317,7 @@ template <class Columns>
 std::string screening_lines(const io::SignalSet& set, const Columns& columns) {
   std::string out;
   for (std::size_t k = 0; k < columns.size() && k < set.signals.size(); ++k) {
-    const std::string s = screening_summary(columns[k].wv, static_cast<std::int64_t>(set.signals[k].values.size()),
-                                            set.freq, set.freq_known);
+    const std::string s = screening_summary(columns[k].wv, columns[k].wv.n, set.freq, set.freq_known);
     if (!s.empty()) out += printable_line(set.signals[k].name) + ": " + s;
   }
   return out;

@@ -31,7 +31,9 @@ std::string screening_summary(const WaveletVariance& wv, std::int64_t n, double 
   for (const auto& [a, b] : wv.replaced) {
     samples += b - a + 1;
     if (b - a + 1 > longest) longest = b - a + 1, longest_at = a;
-    const auto bin = std::min<std::int64_t>(kScreeningBins - 1, a * kScreeningBins / n);
+    // In double: a grid position times the bins may pass 2^63 on a record with long gaps.
+    const auto bin = static_cast<std::int64_t>(
+        std::min(kScreeningBins - 1.0, std::floor(static_cast<double>(a) * kScreeningBins / static_cast<double>(n))));
     ++bins[static_cast<std::size_t>(bin)];
   }
   const auto when = [&](std::int64_t i) {
@@ -113,7 +115,7 @@ std::string wv_text(const io::SignalSet& set, const pipeline::WvStudy& study) {
       int flagged = 0;
       for (const auto& d : rv->diagnostic) flagged += d.contaminated;
       if (flagged) os << flagged << " level(s) flagged as contaminated: there the robust WV is the one to trust\n";
-      os << screening_summary(w, static_cast<std::int64_t>(s.values.size()), set.freq, set.freq_known);
+      os << screening_summary(w, w.n, set.freq, set.freq_known);
       for (int j = 0; j < w.levels(); ++j)
         if (!w.notes[static_cast<std::size_t>(j)].empty() && !std::isfinite(w.wv[static_cast<std::size_t>(j)]))
           os << "level " << j + 1 << ": " << w.notes[static_cast<std::size_t>(j)] << '\n';

@@ -63,7 +63,9 @@ SpikeScreen screen_segments(std::span<const double> x, const std::vector<Segment
     std::copy(y.begin(), y.end(), cleaned.begin() + s.begin);
     for (const auto& [a, b] : one.ranges) all.ranges.emplace_back(a + s.begin + s.offset, b + s.begin + s.offset);
   }
-  if (!s1.has_root) {
+  if (jumps.empty()) {
+    all.note = "spike screen not applied: no two consecutive samples between the record's gaps";
+  } else if (!s1.has_root) {
     all.note = internal::unscreened_note(s1, t);
   } else if (all.applied) {
     for (const auto& [a, b] : all.ranges) all.samples += b - a + 1;

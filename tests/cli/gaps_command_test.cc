@@ -220,6 +220,33 @@ TEST_F(GapsCommand, GapDiagnosisReadsTheWindowsWithoutAGapAndSaysWhatItLeftOut) 
   EXPECT_GE(w["gap"]["bands"][0]["tau_to"].get<double>(), 1024.0) << "the walk shows at the long scales";
 }
 
+TEST_F(GapsCommand, AStudyThatSimulatesAGridFarLongerThanTheRecordRefusesItNamingTheLongestGap) {
+  // 2000 samples, 100 000 missing (a stamp 1000 s later), 2000 more: the grid is 26 times
+  // the observed samples. The WV and a fit weighted by the model read the windows; the gap
+  // diagnosis and a bootstrap Omega, which simulate the whole grid, refuse it.
+  std::string csv = "time [s],gyro_x\n";
+  for (int k = 0; k < 4000; ++k) {
+    const int at = k < 2000 ? k : k + 100000;
+    csv += std::to_string(at / kFreq) + "," + std::to_string(full_[static_cast<std::size_t>(k)]) + "\n";
+  }
+  gmwm::test::write_text(dir_ / "far.csv", csv);
+  EXPECT_EQ(run_gmwm({"fit", "far.csv", "--model", "WN+RW", "--quiet"}, dir_).exit_code, 0);
+  const std::string why =
+      " simulates the record's whole grid of 104000 samples, 26 times its 4000 observed ones (at most 4): cut the "
+      "record at its longest gap (100000 samples missing from grid sample 2000), or give --gaps join to join the "
+      "samples end to end";
+  for (const auto& [args, what] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"gap", "far.csv", "--model", "WN(sigma2=1)", "--json", "out.json"}, "gap diagnosis"},
+           {{"fit", "far.csv", "--model", "WN+RW", "--omega", "bootstrap", "--json", "out.json"},
+            "--omega bootstrap"}}) {
+    const auto r = run_gmwm(args, dir_);
+    EXPECT_EQ(r.exit_code, 2) << what;
+    EXPECT_EQ(gmwm::test::lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("far.csv: " + what + why), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.json"));
+  }
+}
+
 TEST_F(GapsCommand, StudiesWithoutACompleteWindowFormRefuseTheRecordNamingGapsJoin) {
   const auto r = run_gmwm({"fit", "gappy.csv", "--model", "WN+RW", "--joint", "gappy.csv", "--json", "out.json"}, dir_);
   EXPECT_EQ(r.exit_code, 2);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/model_syntax.h"
@@ -110,6 +111,25 @@ TEST(DiagnoseGapWithMissingSamples, RefusesATemperatureChannelNamingTheGaps) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "gap: TEMPERATURE reads a regular record; this one misses samples in 40 gaps");
   }
+}
+
+TEST(DiagnoseGapWithMissingSamples, RefusesRunsThatDoNotPlaceTheSamplesOnTheWvsGrid) {
+  const GappyCase c = gappy_case(simulated(kBase, 8305));
+  const Model base = parse_model(kBase);
+  GapOptions o;
+  o.replicates = 40;
+  o.missing = c.h.runs;
+  o.missing.back().length += 1;  // one sample more than the WV's grid holds
+  try {
+    diagnose_gap(c.wv, base, base.given_values(), o, nullptr, &c.h.observed);
+    FAIL() << "runs of another grid were read";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "diagnose_gap: options.missing does not place x on the WV's grid of 65536 "
+              "samples: x and the runs make a grid of 65537");
+  }
+  o.missing = c.h.runs;
+  EXPECT_THROW(diagnose_gap(c.wv, base, base.given_values(), o), InvalidArgument) << "no observed samples given";
 }
 
 }  // namespace

@@ -49,8 +49,9 @@ struct TextOptions {
 /// Where a robust WV's spike screen replaced samples, in a few lines: how many in how many
 /// ranges and their share of the record, when (the first and last, the count in each tenth of
 /// the record, the longest range), and that the JSON lists every range ("" when nothing was
-/// replaced). Times in seconds when the rate is known, else in samples. The terminal (wv,
-/// fit, select) and the HTML report's strip say the same.
+/// replaced). Times in seconds when the rate is known, else in samples. `n` is the WV's grid
+/// (wv.n: observed and missing samples together, where the ranges are placed). The terminal
+/// (wv, fit, select) and the HTML report's strip say the same.
 std::string screening_summary(const WaveletVariance& wv, std::int64_t n, double freq, bool freq_known);
 
 /// The parameters in continuous units with their intervals ("" when none has a unit).
