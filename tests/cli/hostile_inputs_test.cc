@@ -284,6 +284,18 @@ std::vector<Case> corpus() {
        {"k.yaml:1"},
        both(base, file("k.yaml", "gyroscope_noise_density: 0x1p-10\n" + kYamlWithoutGyroDensity))},
       {"invalid YAML", {"gap", "base.csv", "--kalibr", "k.yaml"}, {"k.yaml"}, both(base, file("k.yaml", "a: [1, 2\n"))},
+      // 200 rows, then one stamp 1e5 s later: a grid of 1e7 samples the reference would simulate.
+      {"a far stamp making a grid to simulate 50000 times the record",
+       {"gap", "far.csv", "--model", "WN(sigma2=1)"},
+       {"far.csv", "gap diagnosis simulates the record's whole grid", "--gaps join"},
+       file("far.csv",
+            [] {
+              std::string t = "time [s],gyro_x\n";
+              for (int k = 0; k < 200; ++k)
+                t += std::to_string((k < 100 ? k : k + 9999900) / 100.0) + "," + std::to_string((k * 37 % 11) - 5) +
+                     "\n";
+              return t;
+            }())},
       {"invalid SDF", {"gap", "base.csv", "--gazebo", "s.sdf"}, {"s.sdf"}, both(base, file("s.sdf", "<sdf><model>"))},
       {"datasheet figure without a unit",
        {"gap", "base.csv", "--datasheet", "d.yaml"},

@@ -61,6 +61,14 @@ GapResult diagnose(const GappyCase& c, std::uint64_t seed, bool with_robust = fa
   return diagnose_gap(c.wv, base, base.given_values(), o, &r, &c.h.observed);
 }
 
+// Options for the refusal tests: the fewest replicates, the record's runs.
+GapOptions refusal_options(const GappyCase& c) {
+  GapOptions o;
+  o.replicates = 40;
+  o.missing = c.h.runs;
+  return o;
+}
+
 const std::string kNote =
     "the record misses 2000 samples in 40 gaps: the WV and its reference read the windows without a gap; the "
     "time-window map, the split halves and the time-domain effects (STEP, TRANSIENT, the trend, TEMPERATURE) read a "
@@ -101,9 +109,7 @@ TEST(DiagnoseGapWithMissingSamples, NamesSpikesOutliersFromTheWindowsWithoutAGap
 TEST(DiagnoseGapWithMissingSamples, RefusesATemperatureChannelNamingTheGaps) {
   const GappyCase c = gappy_case(simulated(kBase, 8304));
   const Model base = parse_model(kBase);
-  GapOptions o;
-  o.replicates = 40;
-  o.missing = c.h.runs;
+  GapOptions o = refusal_options(c);
   const std::vector<double> temperature(c.h.observed.size(), 20.0);
   try {
     diagnose_gap(c.wv, base, base.given_values(), o, nullptr, &c.h.observed, &temperature);
@@ -116,9 +122,7 @@ TEST(DiagnoseGapWithMissingSamples, RefusesATemperatureChannelNamingTheGaps) {
 TEST(DiagnoseGapWithMissingSamples, RefusesRunsThatDoNotPlaceTheSamplesOnTheWvsGrid) {
   const GappyCase c = gappy_case(simulated(kBase, 8305));
   const Model base = parse_model(kBase);
-  GapOptions o;
-  o.replicates = 40;
-  o.missing = c.h.runs;
+  GapOptions o = refusal_options(c);
   o.missing.back().length += 1;  // one sample more than the WV's grid holds
   try {
     diagnose_gap(c.wv, base, base.given_values(), o, nullptr, &c.h.observed);
