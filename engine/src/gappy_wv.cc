@@ -12,6 +12,12 @@
 
 namespace gmwm {
 
+std::int64_t missing_samples(std::span<const MissingRun> missing) {
+  std::int64_t total = 0;
+  for (const MissingRun& r : missing) total += r.length;
+  return total;
+}
+
 std::string missing_runs_problem(std::int64_t observed, std::span<const MissingRun> missing) {
   std::int64_t grid = observed;
   for (const MissingRun& r : missing) {

@@ -482,6 +482,19 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
   return out;
 }
 
+const WvEstimator& replicate_estimator(std::span<const WvEstimator* const> each, std::size_t k,
+                                       const WvEstimator* common, const WvEstimator& fallback) {
+  if (k < each.size() && each[k]) return *each[k];
+  return common ? *common : fallback;
+}
+
+void check_replicate_estimators(const std::string& what, std::span<const WvEstimator* const> each,
+                                std::size_t replicates) {
+  if (!each.empty() && each.size() != replicates)
+    throw InputError(what + ": " + std::to_string(each.size()) + " estimators for " + std::to_string(replicates) +
+                     " replicates (one per replicate, or none)");
+}
+
 const char* to_string(ReplicateCalibration c) {
   return c == ReplicateCalibration::kChiSquare ? "chi-square" : "bootstrap";
 }
@@ -573,6 +586,7 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
   const FitResult& j = joint.joint;
   if (j.status == FitStatus::kFailed || !j.theta.allFinite() || wvs.size() != joint.singles.size())
     throw InputError("replicate test: the joint fit has no usable estimate");
+  check_replicate_estimators("replicate test", options.estimators, wvs.size());
   const Model& model = j.model;
   std::vector<Eigen::MatrixXd> omegas;
   const Eigen::VectorXd theta = efficient_point(wvs, j, options.fit, omegas);
@@ -589,7 +603,6 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
   }
 
   const ClassicalWvEstimator classical;
-  const WvEstimator& estimator = options.estimator ? *options.estimator : classical;
   FitOptions draw_fit = options.fit;
   draw_fit.log_not_converged = false;  // K + 1 minimisations per draw: their statuses are not the data's
   std::vector<double> t(static_cast<std::size_t>(options.bootstrap)), h(t.size());
@@ -599,6 +612,7 @@ ReplicateTest replicate_test(std::span<const WaveletVariance> wvs, const JointFi
     for (std::size_t k = 0; k < wvs.size(); ++k) {
       const std::vector<double> x =
           simulate(model, theta, wvs[k].n, options.seed, static_cast<std::uint64_t>(b) * wvs.size() + k);
+      const WvEstimator& estimator = replicate_estimator(options.estimators, k, options.estimator, classical);
       sim.push_back(estimator.compute(x.data(), wvs[k].n, wvs[k].levels(), wvs[k].alpha));
     }
     bool finite = true;

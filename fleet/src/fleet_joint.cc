@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <memory>
 
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/replicate_study.h"
@@ -25,6 +27,8 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 // share, else SI: a WV scales with the unit squared, its variance with the fourth power).
 struct Members {
   std::vector<WaveletVariance> wvs;
+  // Per unit, its simulated series read through its own gaps; empty when no unit has gaps.
+  std::vector<std::unique_ptr<WvEstimator>> estimators;
   std::vector<std::string> left_out;  // the units that stand out on this axis
   std::string unit;
   double freq = NAN;
@@ -74,7 +78,7 @@ Members members(const FleetStudy& study, const std::string& group, const std::st
       return m;
     }
     same_unit = same_unit && r.data_unit == study.rows[rows.front()].data_unit;
-    m.n = std::max(m.n, r.n);
+    m.n = std::max(m.n, r.n + missing_samples(study.curves[i].missing));  // the grid the WV read
   }
   m.unit = study.rows[rows.front()].data_unit;
   if (!same_unit) {
@@ -87,6 +91,10 @@ Members members(const FleetStudy& study, const std::string& group, const std::st
   }
   for (std::size_t i : rows)
     m.wvs.push_back(same_unit ? study.curves[i].wv : scaled(study.curves[i].wv, 1.0 / per_si(study.rows[i])));
+  if (std::any_of(rows.begin(), rows.end(), [&](std::size_t i) { return !study.curves[i].missing.empty(); }))
+    for (std::size_t i : rows)
+      m.estimators.push_back(
+          study.curves[i].missing.empty() ? nullptr : std::make_unique<GappyWvEstimator>(study.curves[i].missing));
   return m;
 }
 
@@ -101,6 +109,9 @@ void analyse(FleetJointModel& out, const Members& m, const FleetStudyOptions& o)
   so.select = o.select;
   so.select.progress = o.select.progress;
   so.seed = o.select.seed;
+  std::vector<const WvEstimator*> own;  // each unit's gaps (null: the classical WV of a regular unit)
+  for (const auto& e : m.estimators) own.push_back(e.get());
+  so.estimators = own;
   const selection::ReplicateSelection sel = selection::select_by_replicates(m.wvs, maximal, so);
   out.recommended = sel.recommended;
   out.chosen = sel.chosen;
@@ -118,6 +129,7 @@ void analyse(FleetJointModel& out, const Members& m, const FleetStudyOptions& o)
   to.fit = fo;
   to.fit.inference = false;
   to.bootstrap = o.joint.test_draws;
+  to.estimators = own;
   to.calibration =
       out.units <= kMaxBootstrapTestUnits ? ReplicateCalibration::kBootstrap : ReplicateCalibration::kChiSquare;
   out.test = replicate_test(m.wvs, out.fit, to);

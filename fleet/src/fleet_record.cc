@@ -348,6 +348,24 @@ AllanDeviation read_adev(const Reader& r, const Json& j) {
   return a;
 }
 
+// The record's missing runs ([start, length] pairs on the grid), checked against its first
+// axis's observed samples (missing_runs_problem): a crafted record is refused naming the
+// field, never read into a grid its WV does not describe.
+std::vector<MissingRun> read_missing(const Reader& r, const Json& j, const Json& axes) {
+  if (!j.is_array()) malformed(r.what, "missing", "an array of [start, length] pairs");
+  std::vector<MissingRun> out;
+  for (const Json& p : j) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number_integer() || !p[1].is_number_integer())
+      malformed(r.what, "missing", "an array of [start, length] pairs");
+    out.push_back({p[0].get<std::int64_t>(), p[1].get<std::int64_t>()});
+  }
+  if (out.empty()) return out;
+  const std::int64_t observed = axes.empty() || !axes.front().is_object() ? 0 : r.integer(axes.front(), "n");
+  if (const std::string why = missing_runs_problem(observed, out); !why.empty())
+    malformed(r.what, "missing", "runs on the grid of the axes' samples (" + why + ")");
+  return out;
+}
+
 Json axis_json(const FleetRow& row, const FleetCurves& c) {
   Json figures = nullptr;
   if (row.figures_known)
@@ -438,6 +456,7 @@ void add_axes(const io::FleetRecording& r, const io::SignalSet& set, pipeline::S
     FleetCurves curves;
     curves.wv = std::move(c.wv);
     curves.wv.covariance.reset();  // the estimators leave it unset; a record carries none
+    curves.missing = set.missing;
     if (c.figures) {
       row.figures = c.figures->chosen;
       row.figures_known = true;
@@ -590,11 +609,11 @@ std::string run_fleet_task(const std::string& task_text, const std::function<voi
 std::string fleet_record_text(const FleetRecord& record) {
   Json axes = Json::array();
   for (std::size_t k = 0; k < record.axes.size(); ++k) axes.push_back(axis_json(record.axes[k], record.curves[k]));
-  Json j = {{"version", kFleetRecordVersion},
-            {"status", record.status},
-            {"freq", num(record.freq)},
-            {"seconds", num(record.seconds)},
-            {"axes", std::move(axes)}};
+  Json missing = Json::array();  // the recording's, shared by its axes
+  if (!record.curves.empty())
+    for (const MissingRun& m : record.curves.front().missing) missing.push_back({m.start, m.length});
+  Json j = {{"version", kFleetRecordVersion}, {"status", record.status},       {"freq", num(record.freq)},
+            {"seconds", num(record.seconds)}, {"missing", std::move(missing)}, {"axes", std::move(axes)}};
   return j.dump();
 }
 
@@ -613,10 +632,12 @@ FleetRecord parse_fleet_record(const std::string& text, const std::string& sourc
   out.seconds = r.number(j, "seconds");
   const Json& axes = r.at(j, "axes");
   if (!axes.is_array()) malformed(source, "axes", "an array");
+  const std::vector<MissingRun> missing = read_missing(r, r.at(j, "missing"), axes);
   for (const Json& a : axes) {
     FleetRow row;
     FleetCurves c;
     read_axis(r, a, row, c);
+    c.missing = missing;
     row.freq = out.freq;
     row.seconds = out.seconds;
     out.axes.push_back(std::move(row));

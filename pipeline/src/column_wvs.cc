@@ -67,12 +67,47 @@ void check_simulated_grid(const io::SignalSet& set, const std::string& what) {
       "), or give --gaps join to join the samples end to end");
 }
 
+namespace {
+
+// The held-samples sentence a column's screening note says when its screen is off.
+std::string held_screen_note(const RepeatedSamples& repeated) {
+  return "spike screen off: " + significant(100.0 * repeated.held_share, 3) +
+         "% of the samples copy the one before (held), and their steps of exactly zero deflate the level-1 "
+         "robust scale the screen measures spikes against";
+}
+
+}  // namespace
+
+std::unique_ptr<WvEstimator> draw_estimator(const std::vector<MissingRun>& missing,
+                                            const std::optional<robust::RobustWvOptions>& robust) {
+  if (robust && !missing.empty()) return std::make_unique<robust::GappyRobustWvEstimator>(*robust, missing);
+  if (robust) return std::make_unique<robust::RobustWvEstimator>(*robust);
+  if (!missing.empty()) return std::make_unique<GappyWvEstimator>(missing);
+  return nullptr;
+}
+
 std::unique_ptr<WvEstimator> draw_estimator(const io::SignalSet& set,
                                             const std::optional<robust::RobustWvOptions>& robust) {
-  if (robust && !set.missing.empty()) return std::make_unique<robust::GappyRobustWvEstimator>(*robust, set.missing);
-  if (robust) return std::make_unique<robust::RobustWvEstimator>(*robust);
-  if (!set.missing.empty()) return std::make_unique<GappyWvEstimator>(set.missing);
-  return nullptr;
+  return draw_estimator(set.missing, robust);
+}
+
+WaveletVariance gappy_wv_of(std::span<const double> observed, const std::vector<MissingRun>& missing,
+                            const RepeatedSamples* repeated, const WvOptions& wv,
+                            const robust::RobustWvOptions* robust) {
+  WaveletVariance out;
+  if (!robust) {
+    out = classical_wv_with_gaps(observed, missing, wv);
+    drop_incomplete_levels(out);
+    return out;
+  }
+  robust::RobustWvOptions o = *robust;
+  o.progress = nullptr;
+  const bool held = robust->screen_spikes && repeated && repeated->held();
+  if (held) o.screen_spikes = false;
+  out = robust::robust_wv_with_gaps(observed, missing, o);
+  drop_incomplete_levels(out);
+  if (held) out.screening = held_screen_note(*repeated);
+  return out;
 }
 
 ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const std::optional<AllanOptions>& allan) {
@@ -82,8 +117,7 @@ ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const 
   if (allan) out.allan.resize(set.signals.size());
   const auto start = Clock::now();
   gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
-    out.wvs[k] = classical_wv_with_gaps(set.signals[k].values, set.missing, wv);
-    drop_incomplete_levels(out.wvs[k]);
+    out.wvs[k] = gappy_wv_of(set.signals[k].values, set.missing, nullptr, wv, nullptr);
   });
   out.wv_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (allan) {
@@ -95,17 +129,6 @@ ColumnWvs gappy_column_wvs(const io::SignalSet& set, const WvOptions& wv, const 
   }
   return out;
 }
-
-namespace {
-
-// The held-samples sentence a column's screening note says when its screen is off.
-std::string held_screen_note(const RepeatedSamples& repeated) {
-  return "spike screen off: " + significant(100.0 * repeated.held_share, 3) +
-         "% of the samples copy the one before (held), and their steps of exactly zero deflate the level-1 "
-         "robust scale the screen measures spikes against";
-}
-
-}  // namespace
 
 std::vector<WaveletVariance> robust_wvs_of(const std::vector<std::span<const double>>& series,
                                            const std::vector<const RepeatedSamples*>& repeated,
@@ -148,13 +171,7 @@ std::vector<WaveletVariance> gappy_robust_wvs(const io::SignalSet& set, const ro
   const auto total = static_cast<int>(set.signals.size());
   gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {
     const io::Signal& s = set.signals[k];
-    robust::RobustWvOptions o = options;
-    o.progress = nullptr;
-    const bool held = options.screen_spikes && s.repeated.held();
-    if (held) o.screen_spikes = false;
-    out[k] = robust::robust_wv_with_gaps(s.values, set.missing, o);
-    drop_incomplete_levels(out[k]);
-    if (held) out[k].screening = held_screen_note(s.repeated);
+    out[k] = gappy_wv_of(s.values, set.missing, &s.repeated, {}, &options);
     const int d = ++done;
     if (options.progress) options.progress(d, total);
   });

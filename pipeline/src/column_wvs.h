@@ -64,6 +64,17 @@ void check_simulated_grid(const io::SignalSet& set, const std::string& what);
 /// classical WV of a regular record (the fits' default).
 std::unique_ptr<WvEstimator> draw_estimator(const io::SignalSet& set,
                                             const std::optional<robust::RobustWvOptions>& robust);
+/// The same for a series read through `missing` (a replicate's own gaps).
+std::unique_ptr<WvEstimator> draw_estimator(const std::vector<MissingRun>& missing,
+                                            const std::optional<robust::RobustWvOptions>& robust);
+
+/// The WV of one series with gaps (its observed samples, its missing runs on the grid):
+/// classical_wv_with_gaps, or robust_wv_with_gaps when `robust` is given, with the spike
+/// screen off when `repeated` says the samples are held (robust_wvs_of's rule and note); cut
+/// to its consecutive levels with a usable window (drop_incomplete_levels).
+WaveletVariance gappy_wv_of(std::span<const double> observed, const std::vector<MissingRun>& missing,
+                            const RepeatedSamples* repeated, const WvOptions& wv,
+                            const robust::RobustWvOptions* robust);
 
 /// The classical WVs and, when `allan` is given, the gap-resistant Allan deviations of the
 /// columns of a record with gaps, from the complete windows or, where those are scarce, the

@@ -4,6 +4,7 @@
 #include "column_wvs.h"
 #include "usable_wv.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -11,6 +12,7 @@
 
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm::pipeline {
 
@@ -24,6 +26,13 @@ std::unique_ptr<robust::RobustWvEstimator> estimator_for(const std::optional<rob
   return robust ? std::make_unique<robust::RobustWvEstimator>(*robust) : nullptr;
 }
 
+// What simulates a replicate's grid, in check_simulated_grid's refusal.
+constexpr const char* kJointTestName = "the shared-theta test of replicates";
+
+bool has_gaps(const ReplicateGroup& g) {
+  return std::any_of(g.missing.begin(), g.missing.end(), [](const auto& m) { return !m.empty(); });
+}
+
 std::string rate_text(double hz) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", hz);
@@ -35,10 +44,11 @@ std::string rate_text(double hz) {
 std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const std::string& primary_label,
                                              std::vector<ReplicateRecording> recordings) {
   std::vector<ReplicateGroup> groups;
-  detail::require_regular(primary, "a fit of replicates");
-  for (const ReplicateRecording& r : recordings) detail::require_regular(r.set, "a fit of replicates");
+  // The shared-theta test simulates each replicate over its whole grid (observed and missing).
+  detail::check_simulated_grid(primary, kJointTestName);
+  for (const ReplicateRecording& r : recordings) detail::check_simulated_grid(r.set, kJointTestName);
   for (const auto& s : primary.signals)
-    groups.push_back({s.name, {primary.path + ":" + s.name}, {s.values}, {s.repeated}});
+    groups.push_back({s.name, {primary.path + ":" + s.name}, {s.values}, {s.repeated}, {primary.missing}});
   for (ReplicateRecording& r : recordings) {
     const std::size_t expected = r.one_column ? 1 : groups.size();
     if (r.one_column && groups.size() != 1)
@@ -60,6 +70,7 @@ std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const
       g.sources.push_back(source);
       g.series.push_back(std::move(r.set.signals[k].values));  // the recording's copy is not kept
       g.repeated.push_back(r.set.signals[k].repeated);
+      g.missing.push_back(r.set.missing);
     }
   }
   return groups;
@@ -74,18 +85,67 @@ std::optional<ChosenFigures> joint_noise_figures(const JointFitResult& fit, cons
   ReadoffOptions ro;
   ro.alpha = alpha;
   const Eigen::MatrixXd* covariance = j.covariance.size() > 0 && j.covariance.allFinite() ? &j.covariance : nullptr;
-  return model_only_figures(j.model, j.theta, context.freq, static_cast<std::int64_t>(group.series.front().size()), ro,
-                            covariance, "the joint model's Allan deviation (the replicates share the model)");
+  // On the first replicate's grid (its observed and missing samples: the span its WV reads).
+  const std::int64_t grid = static_cast<std::int64_t>(group.series.front().size()) + group.missing_samples(0);
+  return model_only_figures(j.model, j.theta, context.freq, grid, ro, covariance,
+                            "the joint model's Allan deviation (the replicates share the model)");
 }
+
+std::vector<std::unique_ptr<WvEstimator>> ReplicateGroup::draw_estimators(
+    const std::optional<robust::RobustWvOptions>& robust) const {
+  std::vector<std::unique_ptr<WvEstimator>> out;
+  if (!has_gaps(*this)) return out;
+  for (std::size_t k = 0; k < series.size(); ++k)
+    out.push_back(detail::draw_estimator(k < missing.size() ? missing[k] : std::vector<MissingRun>{}, robust));
+  return out;
+}
+
+std::int64_t ReplicateGroup::missing_samples(std::size_t k) const {
+  return k < missing.size() ? gmwm::missing_samples(missing[k]) : 0;
+}
+
+std::vector<const WvEstimator*> estimator_pointers(const std::vector<std::unique_ptr<WvEstimator>>& owned) {
+  std::vector<const WvEstimator*> out;
+  for (const auto& e : owned) out.push_back(e.get());
+  return out;
+}
+
+namespace {
+
+// The WVs of a group's replicates: regular ones together (classical_wv, robust_wvs_of), each
+// one with gaps from its windows without a gap (gappy_wv_of).
+std::vector<WaveletVariance> wvs_of(const ReplicateGroup& group, const WvOptions& options,
+                                    const std::optional<robust::RobustWvOptions>& robust) {
+  const std::vector<std::span<const double>> series = spans_of(group);
+  const auto gappy = [&](std::size_t k) { return k < group.missing.size() && !group.missing[k].empty(); };
+  const auto repeated_of = [&](std::size_t k) { return k < group.repeated.size() ? &group.repeated[k] : nullptr; };
+  std::vector<std::span<const double>> regular;
+  std::vector<const RepeatedSamples*> repeated;
+  for (std::size_t k = 0; k < series.size(); ++k)
+    if (!gappy(k)) {
+      regular.push_back(series[k]);
+      repeated.push_back(repeated_of(k));
+    }
+  std::vector<WaveletVariance> done = regular.empty() ? std::vector<WaveletVariance>()
+                                      : robust        ? detail::robust_wvs_of(regular, repeated, *robust)
+                                                      : classical_wv(regular, options);
+  std::vector<WaveletVariance> wvs(series.size());
+  std::size_t next = 0;
+  gmwm::parallel_for(std::size_t{0}, series.size(), [&](std::size_t k) {
+    if (gappy(k))
+      wvs[k] = detail::gappy_wv_of(series[k], group.missing[k], repeated_of(k), options, robust ? &*robust : nullptr);
+  });
+  for (std::size_t k = 0; k < series.size(); ++k)
+    if (!gappy(k)) wvs[k] = std::move(done[next++]);
+  return wvs;
+}
+
+}  // namespace
 
 std::vector<WaveletVariance> replicate_wvs(const ReplicateGroup& group, const Model& model, const WvOptions& options,
                                            const std::optional<robust::RobustWvOptions>& robust) {
   const std::vector<std::span<const double>> series = spans_of(group);
-  std::vector<const RepeatedSamples*> repeated;
-  for (const RepeatedSamples& r : group.repeated) repeated.push_back(&r);
-  repeated.resize(series.size(), nullptr);
-  std::vector<WaveletVariance> wvs =
-      robust ? detail::robust_wvs_of(series, repeated, *robust) : classical_wv(series, options);
+  std::vector<WaveletVariance> wvs = wvs_of(group, options, robust);
   for (std::size_t k = 0; k < wvs.size(); ++k)
     detail::check_usable_wv(group.sources[k] + ": ", wvs[k], series[k], true);
   for (std::size_t k = 0; k < wvs.size(); ++k) {
@@ -128,6 +188,8 @@ JointFitStudy study_joint_fit(const std::vector<ReplicateGroup>& groups, const P
     JointFitGroupStudy s;
     s.wvs = replicate_wvs(g, model, options.wv, options.robust);
     const std::vector<std::span<const double>> series = spans_of(g);
+    const auto own = g.draw_estimators(options.robust);  // each replicate's gaps
+    ao.test.estimators = estimator_pointers(own);
     s.analysis = analyse_replicates(s.wvs, series, model, ao);
     s.figures = joint_noise_figures(s.analysis.fit, g, context, options.fit.alpha);
     study.groups.push_back(std::move(s));
@@ -160,6 +222,11 @@ JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, c
   study.robust = options.robust.has_value();
   study.all_optimisms = options.select.select.optimism == selection::OptimismMethod::kBoth;
   for (const ReplicateGroup& g : groups) study.wvs.push_back(replicate_wvs(g, maximal, options.wv, options.robust));
+  // Each replicate's simulated series read through its own gaps (its recording's, the same
+  // on every axis); none when no replicate has gaps.
+  const auto own =
+      groups.empty() ? std::vector<std::unique_ptr<WvEstimator>>() : groups.front().draw_estimators(options.robust);
+  ro.estimators = estimator_pointers(own);
   study.results = selection::select_by_replicates(study.wvs, maximal, ro);
   // The recommended model of each axis fitted jointly (the values a consumer takes), with
   // its shared-theta test and replicate-t intervals when asked.
@@ -168,6 +235,7 @@ JointSelectStudy study_joint_select(const std::vector<ReplicateGroup>& groups, c
   ao.fit.estimator = estimator.get();
   ao.test.seed = options.select.seed;
   ao.test.estimator = estimator.get();
+  ao.test.estimators = ro.estimators;
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const std::vector<std::span<const double>> series = spans_of(groups[i]);
     const Model recommended = parse_model(study.results[i].recommended, context);

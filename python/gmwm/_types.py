@@ -680,11 +680,15 @@ class ReplicateOwnFit(ReplicateOwnFitMethods):
 
 @dataclass(frozen=True, eq=False, repr=False)
 class ReplicateFit(ReplicateFitMethods):
-    """One recording ("FILE:COLUMN") of an axis: its length, its number of WV `levels` (a
-    count here), its share of the joint objective and its own `fit`."""
+    """One recording ("FILE:COLUMN") of an axis: its length `n` (observed samples), the
+    `missing_samples` its stamps or NaN rows show missing in `gaps` gaps (0 without; its WV reads
+    the windows without one), its number of WV `levels` (a count here), its share of the joint
+    objective and its own `fit`."""
 
     source: str
     n: int
+    missing_samples: int
+    gaps: int
     levels: int
     objective_share: float
     fit: ReplicateOwnFit
@@ -693,6 +697,8 @@ class ReplicateFit(ReplicateFitMethods):
     def from_dict(cls, d: Mapping[str, Any]) -> "ReplicateFit":
         return cls(d["source"],
                    int(d["n"]),
+                   int(d["missing_samples"]),
+                   int(d["gaps"]),
                    int(d["levels"]),
                    num(d["objective_share"]),
                    ReplicateOwnFit.from_dict(d["fit"]))

@@ -97,10 +97,28 @@ def test_gap_diagnosis_reads_the_windows_without_a_gap_as_the_command_does(gappy
     assert f"the record misses {len(DROPPED)} samples in 3 gaps" in notes
 
 
-def test_an_infinity_is_refused_and_a_study_without_a_window_form_says_to_drop_the_nan_rows(gappy_csv):
+def test_the_joint_fit_reads_each_replicate_through_its_own_nan_rows_as_the_command_does(gappy_csv, tmp_path):
+    rec = read(gappy_csv)
+    other = gmwm.simulate("WN(sigma2=1)+RW(gamma2=1e-4)", N, freq=RATE, seed=6)
+    other[3000:3200] = np.nan  # another unit, other gaps
+    j = gmwm.fit_joint([rec, other], "WN+RW", test_draws=19)
+    reps = j.document["columns"][0]["replicates"]
+    assert [(r["missing_samples"], r["gaps"]) for r in reps] == [(len(DROPPED), 3), (200, 1)]
+    # The first replicate's own fit is the fit of its record alone (its windows without a gap).
+    alone = gmwm.fit(rec, "WN+RW").document["parameters"]
+    for own, one in zip(reps[0]["fit"]["parameters"], alone):
+        assert own["value"] == pytest.approx(one["value"], rel=1e-6)
+    # The command on the two files: the same joint model.
+    keep = np.flatnonzero(~np.isnan(other))
+    path = tmp_path / "other.csv"
+    path.write_text("time [s],gyro_x\n" + "".join(f"{k / RATE!r},{float(other[k])!r}\n" for k in keep))
+    cli = cli_json(tmp_path, "fit", str(gappy_csv), "--model", "WN+RW", "--joint", str(path), "--replicates", "19")
+    assert [p["value"] for p in cli["columns"][0]["parameters"]] == pytest.approx(
+        [p["value"] for p in j.document["columns"][0]["parameters"]], rel=1e-9)
+
+
+def test_an_infinity_and_an_unknown_gap_handling_are_refused(gappy_csv):
     x = read(gappy_csv).values[:, 0].copy()
-    with pytest.raises(gmwm.InputError, match="a fit of replicates reads a regular record: drop the NaN rows"):
-        gmwm.fit_joint([x, x], "WN+RW", freq=RATE)
     x[7] = np.inf
     with pytest.raises(gmwm.InputError, match="sample 7 is not a finite number"):
         gmwm.wv(x, freq=RATE)

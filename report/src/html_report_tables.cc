@@ -393,7 +393,11 @@ std::string replicate_tables(const ReportColumn& c) {
   for (std::size_t k = 0; k < r.sources.size(); ++k) {
     const bool fitted = r.joint && k < r.joint->singles.size();
     os << "<tr>" << td(std::to_string(k + 1)) << td(r.sources[k])
-       << td(k < r.n.size() ? std::to_string(r.n[k]) : "-", "num")
+       << td(k >= r.n.size() ? "-"
+             : k < r.missing.size() && r.missing[k] > 0
+                 ? std::to_string(r.n[k]) + " (+" + std::to_string(r.missing[k]) + " missing)"
+                 : std::to_string(r.n[k]),
+             "num")
        << td(k < c.wvs.size() ? std::to_string(c.wvs[k].levels()) : "-", "num")
        << td(r.joint && k < r.joint->objective_share.size() ? num(r.joint->objective_share[k], 4) : "-", "num")
        << td(fitted ? gmwm::to_string(r.joint->singles[k].status) : "-") << "</tr>\n";

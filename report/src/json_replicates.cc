@@ -28,6 +28,8 @@ Json joint_column_json(const pipeline::ReplicateGroup& g, const JointFitResult& 
     const FitResult& s = r.singles[k];
     reps.push_back({{"source", g.sources[k]},
                     {"n", g.series[k].size()},
+                    {"missing_samples", g.missing_samples(k)},
+                    {"gaps", g.gaps(k)},
                     {"levels", r.levels[k]},
                     {"objective_share", json_number(k < r.objective_share.size() ? r.objective_share[k] : NAN)},
                     {"fit",

@@ -32,7 +32,10 @@ void fill_joint_column(ReportColumn& column, const pipeline::ReplicateGroup& gro
   column.fit = analysis.fit.joint;
   ReplicateReport r;
   r.sources = group.sources;
-  for (const auto& s : group.series) r.n.push_back(static_cast<std::int64_t>(s.size()));
+  for (std::size_t k = 0; k < group.series.size(); ++k) {
+    r.n.push_back(static_cast<std::int64_t>(group.series[k].size()));
+    r.missing.push_back(group.missing_samples(k));
+  }
   r.estimator = estimator;
   r.joint = analysis.fit;
   r.test = analysis.test;

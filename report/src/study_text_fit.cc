@@ -31,14 +31,22 @@ std::string members_text(const selection::RankedModel& r) {
   return out;
 }
 
+// " (+M missing in G gaps: each scale reads the windows without one)" for a replicate with
+// gaps; "" otherwise.
+std::string missing_text(const pipeline::ReplicateGroup& g, std::size_t k) {
+  if (g.gaps(k) == 0) return {};
+  return " (+" + std::to_string(g.missing_samples(k)) + " missing in " + std::to_string(g.gaps(k)) +
+         " gaps: each scale reads the windows without one)";
+}
+
 std::string joint_fit_detail(const pipeline::ReplicateGroup& g, const JointFitResult& r, const ReplicateTest* test,
                              const ReplicateBootstrap* boot, OmegaKind omega, const std::string& estimator) {
   std::ostringstream os;
   os << g.axis << ": joint fit of " << g.sources.size() << " replicates, Omega " << to_string(omega) << ", "
      << estimator << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
-    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << ", " << r.levels[k]
-       << " levels"
+    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << missing_text(g, k)
+       << ", " << r.levels[k] << " levels"
        << (k < r.objective_share.size() ? ", its share of the objective " + fmt(r.objective_share[k], 4) : "")
        << ", own fit " << to_string(r.singles[k].status) << '\n';
   const FitResult& j = r.joint;
@@ -112,7 +120,8 @@ std::string joint_select_detail(const pipeline::ReplicateGroup& g, const selecti
      << " training splits of " << r.training.front().size() << "), maximal model " << r.full_model << ", " << estimator
      << '\n';
   for (std::size_t k = 0; k < g.sources.size(); ++k)
-    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << '\n';
+    os << "  replicate " << k + 1 << ": " << g.sources[k] << ", N = " << g.series[k].size() << missing_text(g, k)
+       << '\n';
   const std::vector<detail::FoldedRow> folded = detail::fold_by_effective(r);
   os << "  " << r.ranking.size() << " candidates, " << folded.size()
      << " distinct effective models (each listed once with the numbers of its best candidate; p: that candidate's "

@@ -150,11 +150,14 @@ std::vector<std::vector<int>> training_splits(int K, std::uint64_t seed) {
 struct Part {
   std::vector<WaveletVariance> wvs;
   std::vector<Eigen::MatrixXd> v, omega;
+  std::vector<const WvEstimator*> estimators;  // the members' own, when each replicate has one
   ReducedReplicates reduced;
 };
-Part part_of(std::span<const WaveletVariance> wvs, const std::vector<int>& members, const Weights& w) {
+Part part_of(std::span<const WaveletVariance> wvs, const std::vector<int>& members, const Weights& w,
+             const ReplicateSelectOptions& o) {
   Part p;
   for (int k : members) {
+    if (!o.estimators.empty()) p.estimators.push_back(o.estimators[static_cast<std::size_t>(k)]);
     p.wvs.push_back(wvs[static_cast<std::size_t>(k)]);
     p.v.push_back(w.v[static_cast<std::size_t>(k)]);
     p.omega.push_back(w.omega[static_cast<std::size_t>(k)]);
@@ -164,21 +167,22 @@ Part part_of(std::span<const WaveletVariance> wvs, const std::vector<int>& membe
 }
 
 // The parametric-bootstrap draw of the part's reduced WV: every member replicate simulated
-// from the fitted model at its own length, its WV by the selection's estimator at its own
-// levels, reduced under the same Omega_k (the stacked draw's reduction).
+// from the fitted model at its own length, its WV by its estimator (its own, else the
+// selection's) at its own levels, reduced under the same Omega_k (the stacked draw's reduction).
 SelectOptions::BootstrapDraw reduced_draw(const Part& part, const ReplicateSelectOptions& o) {
-  return [wvs = part.wvs, omega = part.omega, estimator = o.select.estimator, seed = o.seed](
-             const WaveletVariance&, const Model& model, const Eigen::VectorXd& theta, std::uint64_t stream) {
-    const ClassicalWvEstimator classical;
-    const WvEstimator& e = estimator ? *estimator : classical;
-    const std::uint64_t per_draw = std::max<std::uint64_t>(kStreamsPerDraw, wvs.size());
-    std::vector<WaveletVariance> draws;
-    for (std::size_t k = 0; k < wvs.size(); ++k) {
-      const std::vector<double> x = simulate(model, theta, wvs[k].n, seed, stream * per_draw + k);
-      draws.push_back(e.compute(x.data(), wvs[k].n, static_cast<int>(wvs[k].levels()), wvs[k].alpha));
-    }
-    return reduce_replicates(draws, omega).wv;
-  };
+  return
+      [wvs = part.wvs, omega = part.omega, estimators = part.estimators, estimator = o.select.estimator, seed = o.seed](
+          const WaveletVariance&, const Model& model, const Eigen::VectorXd& theta, std::uint64_t stream) {
+        const ClassicalWvEstimator classical;
+        const std::uint64_t per_draw = std::max<std::uint64_t>(kStreamsPerDraw, wvs.size());
+        std::vector<WaveletVariance> draws;
+        for (std::size_t k = 0; k < wvs.size(); ++k) {
+          const WvEstimator& e = replicate_estimator(estimators, k, estimator, classical);
+          const std::vector<double> x = simulate(model, theta, wvs[k].n, seed, stream * per_draw + k);
+          draws.push_back(e.compute(x.data(), wvs[k].n, static_cast<int>(wvs[k].levels()), wvs[k].alpha));
+        }
+        return reduce_replicates(draws, omega).wv;
+      };
 }
 
 // The selection on the reduced WV as the stacked problem's: every objective plus C, and
@@ -209,7 +213,7 @@ void as_stacked(Selection& sel, const ReducedReplicates& r) {
 // parametric-bootstrap optimism beside the analytic one when `bootstrap` is set.
 Selection select_on(std::span<const WaveletVariance> wvs, const std::vector<int>& members, const Weights& w,
                     const Model& maximal, const ReplicateSelectOptions& o, bool bootstrap) {
-  const Part part = part_of(wvs, members, w);
+  const Part part = part_of(wvs, members, w, o);
   SelectOptions so = o.select;
   so.optimism = bootstrap ? OptimismMethod::kBoth : OptimismMethod::kAnalytic;
   so.penalty = Penalty::kWvic;
@@ -276,6 +280,7 @@ ReplicateSelection select_by_replicates(std::span<const WaveletVariance> wvs, co
   if (K < 2)
     throw InputError("select by replicates: the replicate-based optimism needs at least 2 replicates, got " +
                      std::to_string(K));
+  check_replicate_estimators("select by replicates", options.estimators, wvs.size());
   for (int k = 0; k < K; ++k) {
     try {
       check_model_fits_levels(maximal, wvs[static_cast<std::size_t>(k)].levels());

@@ -1,8 +1,9 @@
 // Records whose timestamps show missing samples (issue 47, item 1) on the command line: each
 // scale reads the complete windows (the WV, the Allan deviation, fit and select), the terminal
 // and the JSON say how many windows each scale lost, --gaps join keeps the samples end to end,
-// a gap of unknown length is refused, the robust WV reads the windows without a gap, and the
-// studies without a complete-window form refuse the record instead of joining it silently.
+// a gap of unknown length is refused, the robust WV reads the windows without a gap, the joint
+// fit reads each replicate through its own gaps, and a study without a complete-window form
+// refuses the record instead of joining it silently.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -247,10 +248,56 @@ TEST_F(GapsCommand, AStudyThatSimulatesAGridFarLongerThanTheRecordRefusesItNamin
   }
 }
 
-TEST_F(GapsCommand, StudiesWithoutACompleteWindowFormRefuseTheRecordNamingGapsJoin) {
-  const auto r = run_gmwm({"fit", "gappy.csv", "--model", "WN+RW", "--joint", "gappy.csv", "--json", "out.json"}, dir_);
+TEST_F(GapsCommand, TheJointFitReadsEachReplicateThroughItsOwnGapsAndSaysWhatEachMisses) {
+  // A second unit with other gaps (205 samples in 2): each replicate's WV reads its own
+  // complete windows, its own fit is the one `fit` gives on its file alone, and the
+  // shared-theta test's draws are read through each replicate's gaps.
+  const gmwm::Model m = gmwm::parse_model("WN(sigma2=1)+RW(gamma2=1e-4)", gmwm::ProcessContext{kFreq, true});
+  const std::vector<double> other = gmwm::simulate(m, m.given_values(), kN, 4712);
+  std::string csv = "time [s],gyro_x\n";
+  for (int k = 0; k < kN; ++k)
+    if (!(k >= 3000 && k < 3200) && !(k >= 12000 && k < 12005))
+      csv += std::to_string(k / kFreq) + "," + std::to_string(other[static_cast<std::size_t>(k)]) + "\n";
+  gmwm::test::write_text(dir_ / "gappy2.csv", csv);
+  const auto r = run_gmwm(
+      {"fit", "gappy.csv", "--model", "WN+RW", "--joint", "gappy2.csv", "--replicates", "19", "--json", "joint.json"},
+      dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(flowed(r.out).find("gappy.csv:gyro_x, N = 16043 (+341 missing in 3 gaps: each scale reads the windows "
+                               "without one)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(flowed(r.out).find("gappy2.csv:gyro_x, N = 16179 (+205 missing in 2 gaps"), std::string::npos) << r.out;
+  const json joint = read_json(dir_ / "joint.json");
+  const json& reps = joint["columns"][0]["replicates"];
+  ASSERT_EQ(reps.size(), 2u);
+  EXPECT_EQ(reps[0]["missing_samples"], 341);
+  EXPECT_EQ(reps[0]["gaps"], 3);
+  EXPECT_EQ(reps[1]["missing_samples"], 205);
+  EXPECT_EQ(reps[1]["gaps"], 2);
+  EXPECT_EQ(joint["columns"][0]["replicate_test"]["draws"], 19);
+  for (const auto& [file, k] : std::vector<std::pair<std::string, int>>{{"gappy.csv", 0}, {"gappy2.csv", 1}}) {
+    ASSERT_EQ(run_gmwm({"fit", file, "--model", "WN+RW", "--json", "one.json", "--quiet"}, dir_).exit_code, 0);
+    const json one = read_json(dir_ / "one.json")["columns"][0]["parameters"];
+    const json& own = reps[static_cast<std::size_t>(k)]["fit"]["parameters"];
+    ASSERT_EQ(own.size(), one.size());
+    for (std::size_t i = 0; i < one.size(); ++i)
+      EXPECT_NEAR(own[i]["value"].get<double>() / one[i]["value"].get<double>(), 1.0, 1e-6) << file << " " << i;
+  }
+  // The selection over replicates with the joint fit's bootstrap WVIC draws them alike.
+  const auto sel = run_gmwm({"select", "gappy.csv", "--model", "WN+RW", "--joint", "gappy2.csv", "--optimism", "all",
+                             "--json", "select.json", "--quiet"},
+                            dir_);
+  ASSERT_EQ(sel.exit_code, 0) << sel.err;
+  EXPECT_TRUE(read_json(dir_ / "select.json")["columns"][0].contains("recommended"));
+}
+
+TEST_F(GapsCommand, AStudyWithoutACompleteWindowFormRefusesTheRecordNamingGapsJoin) {
+  const auto r =
+      run_gmwm({"gap", "gappy.csv", "--model", "WN(sigma2=1)", "--temperature", "temp", "--json", "out.json"}, dir_);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; a fit of replicates "
+  EXPECT_EQ(gmwm::test::lines_of(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("gappy.csv: 341 samples missing in 3 gaps of the timestamps 'time [s]'; --temperature "
                        "reads a regular record: give --gaps join to join the samples end to end"),
             std::string::npos)
       << r.err;

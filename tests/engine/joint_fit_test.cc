@@ -11,9 +11,11 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "counting_estimator.h"
 #include "test_support.h"
 
 namespace gmwm {
@@ -255,6 +257,43 @@ TEST(JointFit, TheReplicateBootstrapDrawsResamplesWhenThereAreTooManyAndRepeatsW
   const ReplicateBootstrap b = replicate_bootstrap(wvs, r, 0.05, 40, 5);
   EXPECT_EQ(a.ci_low, b.ci_low);
   EXPECT_EQ(a.ci_high, b.ci_high);
+}
+
+TEST(JointFit, TheReplicateTestReadsEachReplicatesDrawsThroughItsOwnEstimator) {
+  // Two units with their own gaps: each WV reads its own complete windows, and every
+  // bootstrap draw of replicate k is read through replicate k's gaps (its estimator).
+  const Model truth = parse_model("WN(sigma2=1e-2)+RW(gamma2=1e-8)");
+  constexpr std::int64_t kGrid = 1 << 13;
+  const GappyWvEstimator a({{1000, 40}, {5000, 300}}), b({{3000, 200}});
+  std::vector<WaveletVariance> wvs;
+  for (const auto& [e, seed] : std::vector<std::pair<const GappyWvEstimator*, std::uint64_t>>{{&a, 312}, {&b, 313}}) {
+    const std::vector<double> x = simulate(truth, truth.given_values(), kGrid, seed);
+    wvs.push_back(e->compute(x.data(), kGrid, 9, 0.05));
+  }
+  ASSERT_NE(wvs[0].coefficients, wvs[1].coefficients);  // each read its own windows
+  const test::CountingEstimator ca(a), cb(b);
+  ReplicateTestOptions o;
+  o.bootstrap = 19;
+  o.seed = 9;
+  o.estimators = {&ca, &cb};
+  const JointFitResult r = fit_gmwm_joint(wvs, parse_model("WN+RW"));
+  const ReplicateTest t = replicate_test(wvs, r, o);
+  EXPECT_EQ(t.draws, 19);
+  EXPECT_EQ(ca.calls(), 19);
+  EXPECT_EQ(cb.calls(), 19);
+  // Null entries take the common estimator; a list of another length is refused.
+  o.estimators = {&ca, nullptr};
+  o.estimator = &cb;
+  replicate_test(wvs, r, o);
+  EXPECT_EQ(ca.calls(), 38);
+  EXPECT_EQ(cb.calls(), 38);
+  o.estimators = {&ca};
+  try {
+    replicate_test(wvs, r, o);
+    FAIL() << "one estimator for two replicates accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "replicate test: 1 estimators for 2 replicates (one per replicate, or none)");
+  }
 }
 
 TEST(JointFit, TheReplicateTestNeedsAtLeastNineteenDraws) {

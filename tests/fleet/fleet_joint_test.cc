@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "gmwm/engine/classical_wv.h"
+#include "gmwm/engine/gappy_wv.h"
+#include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
 #include "gmwm/fleet/fleet_joint.h"
@@ -21,6 +24,18 @@ namespace {
 constexpr double kFreq = 100.0;
 constexpr std::int64_t kN = std::int64_t{1} << 16;
 
+// Unit k's row of group "IMU-X", axis gyro_x in rad/s, of n observed samples.
+FleetRow unit_row(std::size_t k, std::int64_t n) {
+  FleetRow r;
+  r.unit = "SN" + std::to_string(k + 1);
+  r.model = r.group = "IMU-X";
+  r.axis = "gyro_x";
+  r.data_unit = "rad/s";
+  r.freq = kFreq;
+  r.n = n;
+  return r;
+}
+
 // A study of `specs.size()` units of group "IMU-X", axis gyro_x, each unit's WV of a series
 // of `spec` (values given) with its own stream.
 FleetStudy fleet_of(const std::vector<std::string>& specs, std::uint64_t seed) {
@@ -28,14 +43,7 @@ FleetStudy fleet_of(const std::vector<std::string>& specs, std::uint64_t seed) {
   for (std::size_t k = 0; k < specs.size(); ++k) {
     const Model m = parse_model(specs[k]);
     const auto x = simulate(m, m.given_values(), kN, seed, k);
-    FleetRow r;
-    r.unit = "SN" + std::to_string(k + 1);
-    r.model = r.group = "IMU-X";
-    r.axis = "gyro_x";
-    r.data_unit = "rad/s";
-    r.freq = kFreq;
-    r.n = kN;
-    s.rows.push_back(r);
+    s.rows.push_back(unit_row(k, kN));
     FleetCurves c;
     c.wv = classical_wv(x.data(), kN);
     s.curves.push_back(std::move(c));
@@ -117,6 +125,50 @@ TEST(FleetJoint, SaysWhyAGroupsAxisHasNoJointModel) {
   ASSERT_EQ(m.status, "ok");
   EXPECT_EQ(m.unit, "rad/s");
   EXPECT_NEAR(m.figures->white.figure.value, 1e-3, 0.03e-3);
+}
+
+TEST(FleetJoint, UnitsWithGapsHaveTheTestsSimulatedUnitsReadThroughTheirOwnGaps) {
+  // Three units, each missing its own samples: the shared-theta test's draws of unit k go
+  // through unit k's gaps. Its p-values are those of replicate_test run here with each unit's
+  // own estimator, bit for bit (the same streams), and not those of the classical WV of
+  // whole grids the fleet used to draw.
+  constexpr std::int64_t kGrid = std::int64_t{1} << 13;
+  // A third to a half of each unit missing: its WV varies far more than a whole grid's.
+  const std::vector<std::vector<MissingRun>> gaps = {
+      {{1000, 1500}, {5000, 1500}}, {{2000, 3000}}, {{500, 1000}, {4000, 1000}, {6500, 800}}};
+  FleetStudy s;
+  std::vector<std::unique_ptr<GappyWvEstimator>> own;
+  const Model truth = parse_model("WN(sigma2=1e-4)+RW(gamma2=1e-10)");
+  for (std::size_t k = 0; k < gaps.size(); ++k) {
+    own.push_back(std::make_unique<GappyWvEstimator>(gaps[k]));
+    const auto x = simulate(truth, truth.given_values(), kGrid, 13, k);
+    s.rows.push_back(unit_row(k, kGrid - missing_samples(gaps[k])));
+    FleetCurves c;
+    c.wv = own.back()->compute(x.data(), kGrid, 9, 0.05);
+    c.missing = gaps[k];
+    s.curves.push_back(std::move(c));
+  }
+  FleetStudyOptions o = options();
+  o.model = "WN+RW";
+  o.joint.test_draws = 19;
+  const FleetJointModel m = fleet_joint_models(s, o).front();
+  ASSERT_EQ(m.status, "ok");
+  ASSERT_TRUE(m.test.has_value());
+  EXPECT_EQ(m.n, kGrid);  // the figures' averaging factors span the grid, not the observed samples
+  std::vector<WaveletVariance> wvs;
+  for (const FleetCurves& c : s.curves) wvs.push_back(c.wv);
+  ReplicateTestOptions to;
+  to.seed = o.select.seed;
+  to.fit = o.select.fit;
+  to.fit.inference = false;
+  to.bootstrap = 19;
+  to.estimators = {own[0].get(), own[1].get(), own[2].get()};
+  const ReplicateTest mine = replicate_test(wvs, m.fit, to);
+  EXPECT_EQ(m.test->heterogeneity_p, mine.heterogeneity_p);
+  EXPECT_EQ(m.test->p_value, mine.p_value);
+  to.estimators.clear();
+  const ReplicateTest whole = replicate_test(wvs, m.fit, to);
+  EXPECT_TRUE(whole.heterogeneity_p != mine.heterogeneity_p || whole.p_value != mine.p_value);
 }
 
 }  // namespace

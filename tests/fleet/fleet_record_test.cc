@@ -123,9 +123,10 @@ TEST_F(FleetRecordTest, ARecordReadBackGivesEveryComputedValueToTheLastBit) {
   }
 }
 
-TEST_F(FleetRecordTest, ARecordWithMissingSamplesKeepsTheWindowsEachScaleReadThatMissSome) {
+TEST_F(FleetRecordTest, ARecordWithMissingSamplesKeepsTheWindowsEachScaleReadThatMissSomeAndItsGaps) {
   // The recording less 300 samples at 50 s: its WV's deep levels and its Allan deviation's
-  // long factors read windows missing samples, and the record read back says how many.
+  // long factors read windows missing samples, and the record read back says how many and
+  // where the samples are missing (the joint model reads its simulated unit through them).
   std::ifstream in(dir_ / "unit.csv");
   std::ofstream out(dir_ / "gappy.csv");
   std::string line;
@@ -145,6 +146,26 @@ TEST_F(FleetRecordTest, ARecordWithMissingSamplesKeepsTheWindowsEachScaleReadTha
     ASSERT_EQ(a.adev.complete.size(), a.adev.size());
     EXPECT_EQ(a.adev.complete, b.adev.complete);
     EXPECT_EQ(a.adev.partial, b.adev.partial);
+    ASSERT_EQ(a.missing.size(), 1u);
+    EXPECT_EQ(a.missing.front().start, 5000);
+    EXPECT_EQ(a.missing.front().length, 300);
+    ASSERT_EQ(b.missing.size(), 1u);
+    EXPECT_EQ(b.missing.front().start, 5000);
+    EXPECT_EQ(b.missing.front().length, 300);
+  }
+  // Runs that do not lie on the grid of the axes' samples are refused naming the field.
+  for (const char* runs : {"[[5000,300],[5100,2]]", "[[5000,0]]", "[[5000]]", "{}"}) {
+    std::string text = fleet_record_text(r);
+    const std::string was = "\"missing\":[[5000,300]]";
+    const std::size_t at = text.find(was);
+    ASSERT_NE(at, std::string::npos) << text.substr(0, 200);
+    text.replace(at, was.size(), std::string("\"missing\":") + runs);
+    try {
+      parse_fleet_record(text, "entry.json");
+      FAIL() << "took missing runs " << runs;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("entry.json: field 'missing': expected "), std::string::npos) << e.what();
+    }
   }
   // A record whose counts do not match its levels (a worker's or a cache file's fault) is
   // refused naming the field, not read into a WV of mismatched arrays.

@@ -11,8 +11,10 @@
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/engine/simulate.h"
+#include "counting_estimator.h"
 #include "test_support.h"
 #include "gmwm/selection/replicate_select.h"
 
@@ -105,6 +107,35 @@ TEST(ReplicateSelect, PutsTheBootstrapWvicOfTheJointFitBesideTheAnalyticOne) {
   EXPECT_TRUE(plain.chosen_bootstrap.empty());
   EXPECT_TRUE(std::isnan(plain.ranking.front().bootstrap_wvic));
   EXPECT_EQ(plain.ranking.front().rank_bootstrap, 0);
+}
+
+TEST(ReplicateSelect, TheBootstrapWvicReadsEachReplicatesDrawsThroughItsOwnEstimator) {
+  // Two units with their own gaps: every bootstrap draw of the joint fit simulates both and
+  // reads each through its own estimator; a list of another length is refused.
+  const Model truth = parse_model("WN(sigma2=1e-2)+RW(gamma2=1e-6)");
+  constexpr std::int64_t kGrid = 1 << 13;
+  const GappyWvEstimator a({{700, 90}}), b({{2000, 15}, {6000, 400}});
+  std::vector<WaveletVariance> wvs;
+  for (const auto& [e, seed] : std::vector<std::pair<const GappyWvEstimator*, std::uint64_t>>{{&a, 408}, {&b, 409}}) {
+    const std::vector<double> x = simulate(truth, truth.given_values(), kGrid, seed);
+    wvs.push_back(e->compute(x.data(), kGrid, 9, 0.05));
+  }
+  const test::CountingEstimator ca(a), cb(b);
+  ReplicateSelectOptions o;
+  o.select.optimism = OptimismMethod::kBoth;
+  o.select.bootstrap_replicates = 20;
+  o.estimators = {&ca, &cb};
+  const ReplicateSelection r = select_by_replicates(wvs, parse_model("WN+RW"), o);
+  EXPECT_FALSE(r.chosen_bootstrap.empty());
+  EXPECT_GE(ca.calls(), 20);
+  EXPECT_EQ(ca.calls(), cb.calls());
+  o.estimators = {&ca, &cb, &cb};
+  try {
+    select_by_replicates(wvs, parse_model("WN+RW"), o);
+    FAIL() << "three estimators for two replicates accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "select by replicates: 3 estimators for 2 replicates (one per replicate, or none)");
+  }
 }
 
 TEST(ReplicateSelect, SaysWhenNoCandidateDescribesTheRecordings) {

@@ -410,11 +410,7 @@ std::string long_scales_note(const SignalSet& set) {
          "end)";
 }
 
-std::int64_t SignalSet::missing_samples() const {
-  std::int64_t n = 0;
-  for (const MissingRun& r : missing) n += r.length;
-  return n;
-}
+std::int64_t SignalSet::missing_samples() const { return gmwm::missing_samples(missing); }
 
 std::string ReadOptions::Validate() const {
   if (freq)

@@ -42,6 +42,9 @@ struct MissingRun {
 /// one line naming the first run that does not.
 std::string missing_runs_problem(std::int64_t observed, std::span<const MissingRun> missing);
 
+/// The samples the runs miss (the sum of their lengths).
+std::int64_t missing_samples(std::span<const MissingRun> missing);
+
 /// The classical WV from the complete windows (near-complete ones where they at least double a
 /// level's windows). `observed` holds the recorded samples in time order; `missing` places the
 /// gaps between them. Levels 1..J, J = floor(log2 N) of the grid's N samples (or

@@ -144,6 +144,14 @@ JointFitResult fit_gmwm_joint(std::span<const WaveletVariance> wvs, const Model&
 /// its own length and its WV recomputed with the same estimator; p = (1 + #{null >= obs}) /
 /// (1 + B). T also rejects a model that fits no replicate; H is the test of a shared theta.
 /// Or (ReplicateCalibration::kChiSquare) by their asymptotic chi-square distributions.
+/// The WV estimator of replicate k's simulated series: each[k] when `each` is given (one per
+/// replicate), else `common`, else `fallback`. Throws InputError ("WHAT: N estimators for K
+/// replicates") when `each` is given with another size than `replicates`.
+const WvEstimator& replicate_estimator(std::span<const WvEstimator* const> each, std::size_t k,
+                                       const WvEstimator* common, const WvEstimator& fallback);
+void check_replicate_estimators(const std::string& what, std::span<const WvEstimator* const> each,
+                                std::size_t replicates);
+
 enum class ReplicateCalibration {
   /// The parametric bootstrap above (the default): B x K simulated series.
   kBootstrap,
@@ -163,6 +171,10 @@ struct ReplicateTestOptions {
   int bootstrap = 100;                     ///< B (kBootstrap)
   std::uint64_t seed = 0;                  ///< bootstrap streams (seed, b, k)
   const WvEstimator* estimator = nullptr;  ///< WV of simulated series (default classical)
+  /// Per replicate, the WV estimator of its simulated series when the replicates are read
+  /// differently (each through its own gaps: GappyWvEstimator); empty: `estimator` for all.
+  /// Its size must be the replicates' (InputError otherwise).
+  std::vector<const WvEstimator*> estimators;
   FitOptions fit;                          ///< minimisation settings (Omega is set here)
   std::function<void(int, int)> progress;  ///< (done, total) bootstrap draws
   ReplicateCalibration calibration = ReplicateCalibration::kBootstrap;

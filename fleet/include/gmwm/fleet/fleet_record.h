@@ -30,7 +30,8 @@ struct FleetRecord {
 
 /// The version of the record and task texts: a cached record of another version is not read.
 /// 2: the WV's partial windows and the Allan deviation's complete and partial ones.
-inline constexpr int kFleetRecordVersion = 2;
+/// 3: the recording's missing samples (FleetCurves::missing).
+inline constexpr int kFleetRecordVersion = 3;
 
 /// Reads and selects one recording as the study does (read -> select -> one row per axis).
 /// Never throws for the recording's own faults (unreadable, too short, a fit that fails):

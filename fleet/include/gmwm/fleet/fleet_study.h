@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "gmwm/engine/allan.h"
+#include "gmwm/engine/gappy_wv.h"
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/joint_fit.h"
 #include "gmwm/engine/model_syntax.h"
@@ -178,6 +179,10 @@ struct FleetCurves {
   WaveletVariance wv;         ///< the classical WV the selection ran on
   AllanDeviation adev;        ///< the data's Allan deviation (empty without a rate)
   std::vector<double> model;  ///< the chosen model's Allan deviation on adev's grid (may be empty)
+  /// The samples the recording's stamps show missing, on its grid (io::SignalSet::missing,
+  /// shared by its axes; empty: none): `wv` read the windows without a gap, and the joint
+  /// model's simulated units are read through the same gaps.
+  std::vector<MissingRun> missing;
 };
 
 /// The most units whose shared-theta test is calibrated by its parametric bootstrap (K x B

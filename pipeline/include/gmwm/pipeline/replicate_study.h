@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,7 +33,25 @@ struct ReplicateGroup {
   /// Per replicate, its held and interpolated samples as reading found them (empty: none
   /// known): a held replicate's robust WV goes without the spike screen.
   std::vector<RepeatedSamples> repeated = {};
+  /// Per replicate, the samples its timestamps (or NaN rows) show missing, on its grid
+  /// (io::SignalSet::missing; empty: none): its WV reads the windows without a gap, and its
+  /// simulated series (the shared-theta test, the bootstrap WVIC) are read through the same
+  /// gaps. Empty, or one per replicate.
+  std::vector<std::vector<MissingRun>> missing = {};
+
+  /// The estimators of the replicates' simulated series, each read through its own gaps
+  /// (robust when `robust` is given): empty when no replicate has gaps (every replicate then
+  /// takes the study's one estimator).
+  std::vector<std::unique_ptr<WvEstimator>> draw_estimators(const std::optional<robust::RobustWvOptions>& robust) const;
+  /// Replicate k's missing samples (the sum of its runs' lengths) and gaps (its runs); 0 without.
+  std::int64_t missing_samples(std::size_t k) const;
+  std::int64_t gaps(std::size_t k) const {
+    return k < missing.size() ? static_cast<std::int64_t>(missing[k].size()) : 0;
+  }
 };
+
+/// Raw pointers to `owned` (ReplicateTestOptions::estimators, ReplicateSelectOptions::estimators).
+std::vector<const WvEstimator*> estimator_pointers(const std::vector<std::unique_ptr<WvEstimator>>& owned);
 
 /// A recording of the same sensor given as replicates: `set`'s columns are replicates of
 /// the primary recording's columns of the same names, in order (`one_column` false), or its
@@ -49,9 +68,11 @@ struct ReplicateRecording {
 inline constexpr double kReplicateRateTolerance = 1e-6;
 
 /// The groups: per column of `primary` (named `primary_label` in messages), its series
-/// then each recording's column, sources "PATH:COLUMN". Throws InputError (one line naming
-/// the recording) when a recording's rate differs from the primary's, its column count
-/// does not match, or a series is given twice (the same samples as another replicate).
+/// then each recording's column, sources "PATH:COLUMN", each with its recording's gaps.
+/// Throws InputError (one line naming the recording) when a recording's rate differs from
+/// the primary's, its column count does not match, a series is given twice (the same
+/// samples as another replicate), or a recording's grid is too long to simulate
+/// (check_simulated_grid: the shared-theta test simulates it).
 std::vector<ReplicateGroup> group_replicates(const io::SignalSet& primary, const std::string& primary_label,
                                              std::vector<ReplicateRecording> recordings);
 

@@ -72,9 +72,10 @@ namespace gmwm::report {
 /// are the replicates' WVs (in this order, overlaid and labelled by their sources) and its
 /// `fit` is the joint model drawn over them (for select: the recommended model's joint fit).
 struct ReplicateReport {
-  std::vector<std::string> sources;  ///< "FILE:COLUMN" per replicate
-  std::vector<std::int64_t> n;       ///< per replicate
-  std::string estimator;             ///< "classical WV", "robust WV (...)"
+  std::vector<std::string> sources;   ///< "FILE:COLUMN" per replicate
+  std::vector<std::int64_t> n;        ///< per replicate, its observed samples
+  std::vector<std::int64_t> missing;  ///< per replicate, the samples its stamps show missing (0: none)
+  std::string estimator;              ///< "classical WV", "robust WV (...)"
   /// The joint fit with each replicate's own fit and AGMWM (per-parameter view).
   std::optional<JointFitResult> joint;
   std::optional<ReplicateTest> test;                       ///< the shared-theta test

@@ -45,6 +45,11 @@ struct ReplicateSelectOptions {
   /// this struct's `seed`, not select.seed); the splits
   /// are always scored by their held-out loss.
   SelectOptions select;
+  /// Per replicate, the WV estimator of its simulated series when the replicates are read
+  /// differently (each through its own gaps); empty: `select.estimator` for all. Its size
+  /// must be the replicates' (InputError otherwise). Over several axes, replicate k of
+  /// every axis takes estimators[k] (one recording's columns share its gaps).
+  std::vector<const WvEstimator*> estimators;
   int split_bootstrap = 2000;       ///< resamples of the splits for the equivalence test
   double equivalence_level = 0.05;  ///< a model is equivalent unless its excess loss is significant at this level
   /// Streams of the random splits (beyond 12 replicates), of the equivalence test's
