@@ -7,6 +7,7 @@
 #   robust -> engine
 #   selection, gap -> robust, engine    (beside each other, never including each other)
 #   nav -> engine
+#   stability -> engine                 (the frequency-stability deviations)
 #   io (readers and writers) -> engine  (file formats in both directions)
 #   pipeline -> io, selection, gap, nav, robust, engine
 #   fleet -> pipeline and below         (many recordings of many units: tasks, records, cache)
@@ -23,12 +24,13 @@ set(_allowed_robust engine robust)
 set(_allowed_selection engine robust selection)
 set(_allowed_gap engine robust gap)
 set(_allowed_nav engine nav)
+set(_allowed_stability engine stability)
 set(_allowed_io engine io)
 set(_allowed_pipeline engine robust selection gap nav io pipeline)
 set(_allowed_fleet engine robust selection gap nav io pipeline fleet)
 set(_allowed_report engine robust selection gap nav io pipeline fleet report)
 set(_allowed_serve engine robust selection gap nav io pipeline fleet report serve)
-set(_modules engine robust selection gap nav io pipeline fleet report serve)
+set(_modules engine robust selection gap nav stability io pipeline fleet report serve)
 
 set(_violations "")
 set(_checked 0)

@@ -1,0 +1,100 @@
+#pragma once
+// The frequency-stability family (issue 48): the deviations metrologists and inertial
+// engineers read, as NIST SP 1065 (Riley 2008, "Handbook of Frequency Stability Analysis")
+// defines them, computed from phase (time-error) data x_0 .. x_{N-1} spaced tau0 apart; a
+// rate or fractional-frequency series y becomes phase by x_{i+1} = x_i + y_i tau0
+// (phase_from_frequency). At averaging factor m (tau = m tau0):
+//
+//   AVAR   = sum_i (X_{i+2} - 2 X_{i+1} + X_i)^2 / (2 tau^2 (n - 2)),  X_i = x_{im}, n = floor((N-1)/m) + 1
+//   OAVAR  = sum_{i=0}^{N-2m-1} (x_{i+2m} - 2 x_{i+m} + x_i)^2 / (2 tau^2 (N - 2m))
+//   MVAR   = sum_{j=0}^{N-3m} (sum_{i=j}^{j+m-1} x_{i+2m} - 2 x_{i+m} + x_i)^2 / (2 m^2 tau^2 (N - 3m + 1))
+//   TVAR   = tau^2 MVAR / 3
+//   HVAR   = sum_i (X_{i+3} - 3 X_{i+2} + 3 X_{i+1} - X_i)^2 / (6 tau^2 (n - 3))
+//   OHVAR  = sum_{i=0}^{N-3m-1} (x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} - x_i)^2 / (6 tau^2 (N - 3m))
+//   TOTVAR = sum_{i=1}^{N-2} (x*_{i-m} - 2 x*_i + x*_{i+m})^2 / (2 tau^2 (N - 2)), x* the phase
+//            reflected at both ends: x*_{-j} = 2 x_0 - x_j, x*_{N-1+j} = 2 x_{N-1} - x_{N-1-j}
+//
+// each in O(N) per tau (MVAR's inner sums from prefix sums), the taus in parallel; `terms` is
+// the number of squares averaged (Stable32's "#" column). Checked against the NBS14 9-point
+// set and Stable32's values for its 1000-point set (tests/stability/deviation_test.cc).
+//
+//   const auto x = gmwm::stability::phase_from_frequency(y, 0.01);
+//   const auto f = gmwm::stability::factors(gmwm::stability::TauSet::kOctave, kind, x.size());
+//   const gmwm::stability::DeviationCurve c = gmwm::stability::deviation(kind, x, 0.01, f);
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gmwm::stability {
+
+enum class DeviationKind {
+  kAdev,    ///< "adev": the Allan deviation (non-overlapping)
+  kOadev,   ///< "oadev": the overlapping Allan deviation
+  kMdev,    ///< "mdev": the modified Allan deviation
+  kTdev,    ///< "tdev": the time deviation, tau MDEV / sqrt(3), in the phase's unit
+  kHdev,    ///< "hdev": the Hadamard deviation (non-overlapping)
+  kOhdev,   ///< "ohdev": the overlapping Hadamard deviation
+  kTotdev,  ///< "totdev": the total deviation (the phase reflected at both ends)
+};
+
+/// Every kind, in the order above.
+std::span<const DeviationKind> deviation_kinds();
+/// "adev", "oadev", ...: the one spelling of every face.
+std::string_view deviation_name(DeviationKind kind);
+/// The kind named `name`; nullopt for any other text.
+std::optional<DeviationKind> deviation_from_name(std::string_view name);
+/// The kind named `text`; throws InputError "--kind: found 'TEXT', expected adev, oadev, ...
+/// or totdev" for any other.
+DeviationKind deviation_of(const std::string& text);
+
+/// The phase of a rate or fractional-frequency series: x_0 = 0, x_{i+1} = x_i + y_i tau0
+/// (N + 1 points, summed in long double). Throws InputError for a tau0 that is not positive
+/// and finite or a sample that is not finite (naming it).
+std::vector<double> phase_from_frequency(std::span<const double> y, double tau0);
+
+/// The fewest phase points a kind needs for one term at m = 1: 3 for the Allan family, MDEV,
+/// TDEV and the total deviation, 4 for the Hadamard family (NBS14's 9-point frequency set, 10
+/// phase points, reaches m = 3 of every kind).
+std::int64_t min_phase_points(DeviationKind kind);
+
+/// The largest averaging factor with at least one term on N phase points (0 when none):
+/// (N - 1) / 2 for ADEV, OADEV and TOTDEV, (N - 1) / 3 for HDEV and OHDEV, N / 3 for MDEV
+/// and TDEV (integer division).
+std::int64_t max_factor(DeviationKind kind, std::int64_t phase_points);
+
+/// The number of squares averaged at factor m (Stable32's "#"): floor((N-1)/m) - 1 (ADEV),
+/// N - 2m (OADEV), N - 3m + 1 (MDEV, TDEV), floor((N-1)/m) - 2 (HDEV), N - 3m (OHDEV),
+/// N - 2 (TOTDEV).
+std::int64_t terms(DeviationKind kind, std::int64_t phase_points, std::int64_t m);
+
+/// Which averaging factors: every one (1, 2, ..., max), the octaves (1, 2, 4, ...), the
+/// decades' 1-2-4 steps (1, 2, 4, 10, 20, 40, 100, ...: Stable32's and allantools' decade).
+enum class TauSet { kAll, kOctave, kDecade };
+std::string_view tau_set_name(TauSet set);  ///< "all", "octave", "decade"
+std::optional<TauSet> tau_set_from_name(std::string_view name);
+
+/// The factors of `set` up to max_factor(kind, phase_points), increasing.
+std::vector<std::int64_t> factors(TauSet set, DeviationKind kind, std::int64_t phase_points);
+
+struct DeviationCurve {
+  DeviationKind kind = DeviationKind::kOadev;
+  double tau0 = 1.0;                ///< the phase's spacing (s)
+  std::vector<std::int64_t> m;      ///< averaging factors
+  std::vector<double> tau;          ///< m tau0 (s)
+  std::vector<double> value;        ///< the deviation (TDEV in the phase's unit, the others dimensionless)
+  std::vector<std::int64_t> terms;  ///< squares averaged at each factor
+};
+
+/// The deviation of `phase` (tau0 apart) at each factor of `m` (each in 1 .. max_factor),
+/// computed in parallel over the factors (the same values whatever the thread count).
+/// Throws InputError naming the problem: tau0 not positive and finite, a phase point that is
+/// not finite (its index), fewer phase points than min_phase_points, a factor outside
+/// 1 .. max_factor (the factor and the bound).
+DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, double tau0,
+                         std::span<const std::int64_t> m);
+
+}  // namespace gmwm::stability

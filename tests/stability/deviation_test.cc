@@ -1,0 +1,247 @@
+// The frequency-stability deviations (stability/deviation.h) against published values: the
+// NBS14 9-point set (NIST SP 1065 table 31, to 1e-6) and Stable32's results for the NBS14
+// 1000-point set (its PHASE.DAT; every octave and tau 10 and 99, to the digits Stable32
+// prints), one battery over every kind; the overlapping Allan deviation equals the engine's;
+// the factor sets; and the error paths with their messages.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <oneapi/tbb/global_control.h>
+
+#include "gmwm/engine/allan.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/stability/deviation.h"
+
+namespace gmwm::stability {
+namespace {
+
+// NBS14's 9-point fractional-frequency set, tau0 = 1 s.
+const std::vector<double> kNbs9 = {892, 809, 823, 798, 671, 644, 883, 903, 677};
+
+// NBS14's 1000-point set: n0 = 1234567890, n(i+1) = 16807 n(i) mod 2147483647, each n(i) /
+// 2147483647 a frequency sample (Stable32's PHASE.DAT is its phase, the mean removed, which
+// no deviation here sees).
+std::vector<double> nbs1000() {
+  std::vector<double> y;
+  std::int64_t n = 1234567890;
+  for (int i = 0; i < 1000; ++i) {
+    y.push_back(static_cast<double>(n) / 2147483647.0);
+    n = (16807 * n) % 2147483647;
+  }
+  return y;
+}
+
+// Half a unit in the last of the 5 significant digits Stable32 prints.
+double printed_tolerance(double v) { return 0.5e-4 * std::pow(10.0, std::floor(std::log10(std::abs(v)))); }
+
+struct Row {
+  std::int64_t m, terms;
+  double sigma;
+};
+
+TEST(Deviation, GivesNbs14NinePointValuesAtTauOneAndTwo) {
+  // NIST SP 1065 table 31 (the deviations of the 9-point set at tau 1 and 2).
+  const std::map<std::string, std::pair<double, double>> published = {
+      {"adev", {91.22945, 115.8082}},   {"oadev", {91.22945, 85.95287}}, {"mdev", {91.22945, 74.78849}},
+      {"totdev", {91.22945, 93.90379}}, {"hdev", {70.80608, 116.7980}},  {"tdev", {52.67135, 86.35831}},
+      {"ohdev", {70.80607, 85.61487}}};
+  const std::vector<double> x = phase_from_frequency(kNbs9, 1.0);
+  ASSERT_EQ(x.size(), 10u);
+  for (const DeviationKind kind : deviation_kinds()) {
+    const auto& [one, two] = published.at(std::string(deviation_name(kind)));
+    const std::vector<std::int64_t> m = {1, 2};
+    const DeviationCurve c = deviation(kind, x, 1.0, m);
+    EXPECT_NEAR(c.value[0] / one, 1.0, 1e-6) << deviation_name(kind);
+    EXPECT_NEAR(c.value[1] / two, 1.0, 1e-6) << deviation_name(kind);
+  }
+}
+
+TEST(Deviation, GivesStable32sValuesAndTermCountsForTheNbs14ThousandPointSet) {
+  // Stable32 1.60 on PHASE.DAT: each kind's octave rows and its rows at tau 10 and 99 (AF, #,
+  // sigma), as printed.
+  const std::map<std::string, std::vector<Row>> stable32 = {{"adev",
+                                                             {{1, 999, 2.9223e-01},
+                                                              {2, 499, 2.0510e-01},
+                                                              {4, 249, 1.4943e-01},
+                                                              {8, 124, 1.1013e-01},
+                                                              {16, 61, 6.2381e-02},
+                                                              {32, 30, 5.6233e-02},
+                                                              {64, 14, 3.2550e-02},
+                                                              {128, 6, 3.3855e-02},
+                                                              {10, 99, 9.9657e-02},
+                                                              {99, 9, 3.5841e-02}}},
+                                                            {"oadev",
+                                                             {{1, 999, 2.9223e-01},
+                                                              {2, 997, 2.0102e-01},
+                                                              {4, 993, 1.4479e-01},
+                                                              {8, 985, 1.0570e-01},
+                                                              {16, 969, 6.1915e-02},
+                                                              {32, 937, 4.8082e-02},
+                                                              {64, 873, 3.6237e-02},
+                                                              {128, 745, 2.7674e-02},
+                                                              {10, 981, 9.1600e-02},
+                                                              {99, 803, 3.2616e-02}}},
+                                                            {"mdev",
+                                                             {{1, 999, 2.9223e-01},
+                                                              {2, 996, 1.5821e-01},
+                                                              {4, 990, 1.0780e-01},
+                                                              {8, 978, 7.4192e-02},
+                                                              {16, 954, 4.1376e-02},
+                                                              {32, 906, 3.4255e-02},
+                                                              {64, 810, 2.7871e-02},
+                                                              {128, 618, 1.8669e-02},
+                                                              {10, 972, 6.1724e-02},
+                                                              {99, 705, 2.1850e-02}}},
+                                                            {"tdev",
+                                                             {{1, 999, 1.6872e-01},
+                                                              {2, 996, 1.8268e-01},
+                                                              {4, 990, 2.4895e-01},
+                                                              {8, 978, 3.4268e-01},
+                                                              {16, 954, 3.8221e-01},
+                                                              {32, 906, 6.3287e-01},
+                                                              {64, 810, 1.0298e+00},
+                                                              {128, 618, 1.3797e+00},
+                                                              {10, 972, 3.5636e-01},
+                                                              {99, 705, 1.2489e+00}}},
+                                                            {"hdev",
+                                                             {{1, 998, 2.9439e-01},
+                                                              {2, 498, 2.0716e-01},
+                                                              {4, 248, 1.4890e-01},
+                                                              {8, 123, 1.1649e-01},
+                                                              {16, 60, 5.9589e-02},
+                                                              {32, 29, 5.4697e-02},
+                                                              {64, 13, 3.0569e-02},
+                                                              {128, 5, 3.8060e-02},
+                                                              {10, 98, 1.0528e-01},
+                                                              {99, 8, 3.3647e-02}}},
+                                                            {"ohdev",
+                                                             {{1, 998, 2.9439e-01},
+                                                              {2, 995, 2.0125e-01},
+                                                              {4, 989, 1.4368e-01},
+                                                              {8, 977, 1.0987e-01},
+                                                              {16, 953, 6.0638e-02},
+                                                              {32, 905, 4.5095e-02},
+                                                              {64, 809, 3.3824e-02},
+                                                              {128, 617, 2.9147e-02},
+                                                              {10, 971, 9.5811e-02},
+                                                              {99, 704, 3.2526e-02}}},
+                                                            {"totdev",
+                                                             {{1, 999, 2.9223e-01},
+                                                              {2, 999, 2.0089e-01},
+                                                              {4, 999, 1.4444e-01},
+                                                              {8, 999, 1.0540e-01},
+                                                              {16, 999, 6.1788e-02},
+                                                              {32, 999, 4.8580e-02},
+                                                              {64, 999, 3.5905e-02},
+                                                              {128, 999, 3.1259e-02},
+                                                              {256, 999, 1.3369e-02},
+                                                              {10, 999, 9.1347e-02},
+                                                              {99, 999, 3.4106e-02}}}};
+  const std::vector<double> x = phase_from_frequency(nbs1000(), 1.0);
+  ASSERT_EQ(x.size(), 1001u);
+  for (const DeviationKind kind : deviation_kinds()) {
+    const std::vector<Row>& rows = stable32.at(std::string(deviation_name(kind)));
+    std::vector<std::int64_t> m;
+    for (const Row& r : rows) m.push_back(r.m);
+    const DeviationCurve c = deviation(kind, x, 1.0, m);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      EXPECT_NEAR(c.value[k], rows[k].sigma, printed_tolerance(rows[k].sigma))
+          << deviation_name(kind) << " AF " << rows[k].m;
+      EXPECT_EQ(c.terms[k], rows[k].terms) << deviation_name(kind) << " AF " << rows[k].m;
+      EXPECT_EQ(c.tau[k], static_cast<double>(rows[k].m));
+    }
+  }
+}
+
+TEST(Deviation, TheOverlappingAllanDeviationIsTheEnginesOfTheSameRate) {
+  // The engine's AVAR(m) of a rate series is OAVAR of its phase: two derivations, one value.
+  const std::vector<double> y = nbs1000();
+  const double freq = 200.0;
+  AllanOptions o;
+  o.points_per_octave = 1;
+  const AllanDeviation a = allan_deviation(y, freq, o);
+  const DeviationCurve c = deviation(DeviationKind::kOadev, phase_from_frequency(y, 1.0 / freq), 1.0 / freq, a.m);
+  ASSERT_EQ(c.value.size(), a.adev.size());
+  for (std::size_t k = 0; k < a.adev.size(); ++k) {
+    EXPECT_NEAR(c.value[k] / a.adev[k], 1.0, 1e-12) << "m " << a.m[k];
+    EXPECT_NEAR(c.tau[k] / a.tau[k], 1.0, 1e-15);
+  }
+}
+
+TEST(Deviation, IsTheSameWhateverTheThreadCount) {
+  const std::vector<double> x = phase_from_frequency(nbs1000(), 1.0);
+  for (const DeviationKind kind : deviation_kinds()) {
+    const std::vector<std::int64_t> m = factors(TauSet::kAll, kind, static_cast<std::int64_t>(x.size()));
+    const DeviationCurve many = deviation(kind, x, 1.0, m);
+    oneapi::tbb::global_control one(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+    EXPECT_EQ(deviation(kind, x, 1.0, m).value, many.value) << deviation_name(kind);
+  }
+}
+
+TEST(Deviation, FactorSetsStopWhereTheDefinitionLeavesNoTerm) {
+  EXPECT_EQ(factors(TauSet::kOctave, DeviationKind::kOadev, 1001),
+            (std::vector<std::int64_t>{1, 2, 4, 8, 16, 32, 64, 128, 256}));
+  EXPECT_EQ(factors(TauSet::kDecade, DeviationKind::kOadev, 1001),
+            (std::vector<std::int64_t>{1, 2, 4, 10, 20, 40, 100, 200, 400}));
+  EXPECT_EQ(factors(TauSet::kAll, DeviationKind::kOhdev, 10), (std::vector<std::int64_t>{1, 2, 3}));
+  for (const DeviationKind kind : deviation_kinds()) {
+    const std::int64_t n = 1001, top = max_factor(kind, n);
+    EXPECT_GE(terms(kind, n, top), 1) << deviation_name(kind);
+    // The total deviation averages N - 2 squares at every factor (its reflected phase); it
+    // stops where the overlapping Allan deviation does, as Stable32's total does.
+    if (kind != DeviationKind::kTotdev) EXPECT_LT(terms(kind, n, top + 1), 1) << deviation_name(kind);
+    EXPECT_EQ(max_factor(kind, min_phase_points(kind) - 1), 0) << deviation_name(kind);
+  }
+  for (const TauSet s : {TauSet::kAll, TauSet::kOctave, TauSet::kDecade})
+    EXPECT_EQ(tau_set_from_name(tau_set_name(s)), s);
+  EXPECT_FALSE(tau_set_from_name("fortnight"));
+}
+
+TEST(Deviation, EachKindIsNamedOnceAndAnUnknownNameIsRefusedListingTheKinds) {
+  for (const DeviationKind kind : deviation_kinds()) EXPECT_EQ(deviation_from_name(deviation_name(kind)), kind);
+  try {
+    deviation_of("allan");
+    FAIL() << "took 'allan'";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev or totdev");
+  }
+}
+
+TEST(Deviation, RefusesBadPhaseSpacingAndFactorsNamingThem) {
+  const std::vector<double> x = phase_from_frequency(kNbs9, 1.0);
+  const auto refusal = [&](DeviationKind kind, std::span<const double> phase, double tau0,
+                           std::vector<std::int64_t> m) {
+    try {
+      deviation(kind, phase, tau0, m);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal(DeviationKind::kOadev, x, 1.0, {5}),
+            "oadev: averaging factor 5 is outside 1 .. 4 (10 phase points)");
+  EXPECT_EQ(refusal(DeviationKind::kHdev, x, 1.0, {0}), "hdev: averaging factor 0 is outside 1 .. 3 (10 phase points)");
+  EXPECT_EQ(refusal(DeviationKind::kOadev, x, 0.0, {1}),
+            "tau0: found 0, expected a positive, finite spacing in seconds");
+  EXPECT_EQ(refusal(DeviationKind::kOhdev, std::span<const double>(x).first(3), 1.0, {1}),
+            "ohdev: found 3 phase points, expected at least 4");
+  std::vector<double> holed = x;
+  holed[6] = NAN;
+  EXPECT_EQ(refusal(DeviationKind::kMdev, holed, 1.0, {1}), "phase point 6 is not a finite number");
+  std::vector<double> y = kNbs9;
+  y[2] = INFINITY;
+  try {
+    phase_from_frequency(y, 1.0);
+    FAIL() << "took an infinite sample";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "sample 2 is not a finite number");
+  }
+}
+
+}  // namespace
+}  // namespace gmwm::stability
