@@ -64,6 +64,14 @@ out=tools/bench/results/$(date -u +%Y-%m-%d)-run-all.md
   echo
   "$build/bench_floor_choice" 400 || true
   echo
+  echo "## Replicates with gaps: the shared-theta test's level (bench_shared_theta_level)"
+  echo
+  for missing in 0.05 0.2; do "$build/bench_shared_theta_level" 1 3 14 1000 39 "$missing" || true; done
+  echo
+  echo "## Long gaps: the windows pooled or the segments as replicates (bench_segments)"
+  echo
+  "$build/bench_segments" 400 18 || true
+  echo
   echo "## Robust goodness of fit (bench_robust_gof)"
   echo
   "$build/bench_robust_gof" || true
