@@ -9,7 +9,7 @@
 #   nav -> engine
 #   stability -> engine                 (the frequency-stability deviations)
 #   io (readers and writers) -> engine  (file formats in both directions)
-#   pipeline -> io, selection, gap, nav, robust, engine
+#   pipeline -> io, selection, gap, nav, stability, robust, engine
 #   fleet -> pipeline and below         (many recordings of many units: tasks, records, cache)
 #   report -> fleet and below           (JSON, HTML, terminal: every rendering)
 #   serve -> report and below           (the web app: an HTTP face over the studies and renderings)
@@ -26,10 +26,10 @@ set(_allowed_gap engine robust gap)
 set(_allowed_nav engine nav)
 set(_allowed_stability engine stability)
 set(_allowed_io engine io)
-set(_allowed_pipeline engine robust selection gap nav io pipeline)
-set(_allowed_fleet engine robust selection gap nav io pipeline fleet)
-set(_allowed_report engine robust selection gap nav io pipeline fleet report)
-set(_allowed_serve engine robust selection gap nav io pipeline fleet report serve)
+set(_allowed_pipeline engine robust selection gap nav stability io pipeline)
+set(_allowed_fleet engine robust selection gap nav stability io pipeline fleet)
+set(_allowed_report engine robust selection gap nav stability io pipeline fleet report)
+set(_allowed_serve engine robust selection gap nav stability io pipeline fleet report serve)
 set(_modules engine robust selection gap nav stability io pipeline fleet report serve)
 
 set(_violations "")

@@ -132,8 +132,9 @@ def read(path: str | os.PathLike[str], *, columns: str | Sequence[str | int] | N
     are handed over in memory. gaps: "windows" (the default) puts a NaN row where the
     timestamps show a sample missing, and every function reads NaN rows as missing (each scale
     from the windows that hold none, as `--gaps windows`); "join" joins the samples end to
-    end as if none were missing. data: "rate" (the default) or "increment" (delta-angles,
-    delta-velocities over one period, read as increment x rate). decimate: keep one sample in
+    end as if none were missing. data: "rate" (the default), "increment" (delta-angles,
+    delta-velocities over one period, read as increment x rate) or "phase" (a phase or time
+    error, an angle: read as its first differences x rate). decimate: keep one sample in
     K after decimate_filter, "average" (the mean of each K samples: N, K and B of the band kept
     are unchanged) or "none" (every K-th sample: the band above folds in). The Recording's
     `conditioning` says what was done (None when nothing), and its freq is the rate after it.

@@ -83,7 +83,7 @@ TEST_F(DecimateCommand, IncrementsAreFittedAsTheRatesTheyIntegrate) {
   EXPECT_NEAR(inc_sigma2.at("value").get<double>() / rate_sigma2.at("value").get<double>(), 160000.0, 1e-6 * 160000);
   const auto bad = run_gmwm({"wv", "wn.csv", "--data", "delta"}, dir_);
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("expected 'rate' (angular rates, specific forces) or 'increment'"), std::string::npos)
+  EXPECT_NE(bad.err.find("expected 'rate' (angular rates, specific forces), 'increment'"), std::string::npos)
       << bad.err;
 }
 

@@ -1,5 +1,6 @@
-// What reading does to the values on request (issue 47, items 4 and 5): --data increment
-// reads delta-angles and delta-velocities as rates (x the rate), --decimate K keeps one sample
+// What reading does to the values on request (issue 47, items 4 and 5; issue 48): --data
+// increment reads delta-angles and delta-velocities as rates (x the rate), --data phase a
+// phase or time error as the rate of its first differences, --decimate K keeps one sample
 // in K after the mean of each block (or none), the rate becomes rate / K, and the set says
 // what was done; bad requests are refused naming the option.
 #include <gtest/gtest.h>
@@ -73,6 +74,28 @@ TEST(Conditioning, IncrementsAreReadAsRatesTimesTheSamplingRate) {
   EXPECT_EQ(gmwm::io::conditioning_summary(set), "read as increments x 100 Hz (rates: rad -> rad/s, m/s -> m/s^2)");
 }
 
+TEST(Conditioning, PhaseIsReadAsTheRateOfItsFirstDifferencesOneSampleFewer) {
+  gmwm::io::ReadOptions o;
+  o.data = DataKind::kPhase;
+  const gmwm::io::SignalSet set = read_with(ramp_csv(64), o);
+  ASSERT_EQ(set.signals.front().values.size(), 63u);
+  EXPECT_NEAR(set.signals.front().values[5], 100.0, 1e-9);  // a step of 1 per 10 ms
+  EXPECT_EQ(gmwm::io::conditioning_summary(set),
+            "read as phase: its first differences x 100 Hz (s -> fractional frequency, rad -> rad/s), one sample "
+            "fewer");
+  // A step across a gap spans several periods: refused, naming --gaps join.
+  try {
+    read_with(ramp_csv(400, 3), o);
+    FAIL() << "took phase across a gap";
+  } catch (const gmwm::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.csv: --data phase: found 3 samples missing in 1 gaps, expected a "
+                                         "regular record (a phase step across a gap spans several periods); give "
+                                         "--gaps join"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Conditioning, RefusesDecimationAcrossGapsTooFewBlocksAndUnknownWords) {
   gmwm::io::ReadOptions o;
   o.decimate = 4;
@@ -93,8 +116,9 @@ TEST(Conditioning, RefusesDecimationAcrossGapsTooFewBlocksAndUnknownWords) {
     FAIL();
   } catch (const gmwm::InputError& e) {
     EXPECT_STREQ(e.what(),
-                 "--data: found 'delta', expected 'rate' (angular rates, specific forces) or 'increment' "
-                 "(delta-angles, delta-velocities over one sampling period)");
+                 "--data: found 'delta', expected 'rate' (angular rates, specific forces), 'increment' "
+                 "(delta-angles, delta-velocities over one sampling period) or 'phase' (a phase or time error, "
+                 "an angle)");
   }
   EXPECT_THROW(gmwm::io::decimation_filter_of("sinc"), gmwm::InputError);
   o.decimate = 0;

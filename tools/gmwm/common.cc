@@ -140,9 +140,10 @@ void add_conditioning_options(CLI::App& sub, InputOptions& input) {
       ->check(library_rule<io::GapHandling>(io::gap_handling_of, "--gaps: "))
       ->capture_default_str();
   sub.add_option("--data", input.data,
-                 "What each sample is: 'rate' (angular rate, specific force) or 'increment' (a delta-angle or "
-                 "delta-velocity over one period, read as increment x rate)")
-      ->type_name("rate|increment")
+                 "What each sample is: 'rate' (angular rate, specific force, fractional frequency), 'increment' "
+                 "(a delta-angle or delta-velocity over one period, read as increment x rate) or 'phase' (a phase "
+                 "or time error, an angle: read as its first differences x rate)")
+      ->type_name("rate|increment|phase")
       ->check(library_rule<io::DataKind>(io::data_kind_of, "--data: "))
       ->capture_default_str();
   sub.add_option("--decimate", input.decimate,
@@ -157,7 +158,10 @@ void add_conditioning_options(CLI::App& sub, InputOptions& input) {
       ->capture_default_str();
 }
 
-void add_input_options(CLI::App& sub, InputOptions& input) {
+namespace {
+
+// INPUT, --topic, --columns, --freq: where the record is and which of it.
+void add_source_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("INPUT", input.input,
                  "Delimited text file (CSV/TSV/semicolon/whitespace, optionally gzip) with a "
                  "header row, a PX4 ULog flight log (.ulg), a ROS 1 bag (.bag) or a ROS 2 bag (sqlite3 .db3 or "
@@ -179,13 +183,10 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
          "Sampling rate in Hz (required when the file has no timestamp column)")
       ->type_name("HZ")
       ->transform(sampling_rate_number());
-  sub.add_option("--alpha", input.alpha, "Confidence intervals at level 1 - alpha")
-      ->transform(decimal_number([](double a) { return a >= kMinAlpha && a < 1.0; },
-                                 "a number from 1e-10 to below 1 (the intervals' level is 1 - alpha)"))
-      ->capture_default_str();
-  sub.add_option("--levels", input.levels, "Number of WV levels J (default: floor(log2 N))")
-      ->type_name("J")
-      ->transform(whole_number(1, kMaxLevelsOption));
+}
+
+// --memory and the conditioning (--gaps, --data, --decimate): how the record is read.
+void add_reading_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("--memory", input.memory_mb,
                  "Memory for the samples in MB (default: 75% of physical memory, at 16 bytes a value); a longer "
                  "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit "
@@ -193,6 +194,25 @@ void add_input_options(CLI::App& sub, InputOptions& input) {
       ->type_name("MB")
       ->transform(memory_megabytes());
   add_conditioning_options(sub, input);
+}
+
+}  // namespace
+
+void add_record_options(CLI::App& sub, InputOptions& input) {
+  add_source_options(sub, input);
+  add_reading_options(sub, input);
+}
+
+void add_input_options(CLI::App& sub, InputOptions& input) {
+  add_source_options(sub, input);
+  sub.add_option("--alpha", input.alpha, "Confidence intervals at level 1 - alpha")
+      ->transform(decimal_number([](double a) { return a >= kMinAlpha && a < 1.0; },
+                                 "a number from 1e-10 to below 1 (the intervals' level is 1 - alpha)"))
+      ->capture_default_str();
+  sub.add_option("--levels", input.levels, "Number of WV levels J (default: floor(log2 N))")
+      ->type_name("J")
+      ->transform(whole_number(1, kMaxLevelsOption));
+  add_reading_options(sub, input);
 }
 
 void add_robust_options(CLI::App& sub, RobustOptions& robust) {

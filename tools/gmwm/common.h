@@ -117,9 +117,12 @@ Command add_simulate_command(CLI::App& app, CommonOptions& common);
 Command add_select_command(CLI::App& app, CommonOptions& common);
 Command add_gap_command(CLI::App& app, CommonOptions& common);
 Command add_gap_check_command(CLI::App& app, CommonOptions& common);
+Command add_stability_command(CLI::App& app, CommonOptions& common);
 
 void add_common_options(CLI::App& sub, CommonOptions& common);
 void add_input_options(CLI::App& sub, InputOptions& input);
+/// add_input_options without --alpha and --levels (a command that reads no WV: stability).
+void add_record_options(CLI::App& sub, InputOptions& input);
 void add_robust_options(CLI::App& sub, RobustOptions& robust);
 /// --max-evaluations N (fit and select).
 void add_max_evaluations_option(CLI::App& sub, int& max_evaluations);

@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
                               add_export_command(app, common),
                               add_nav_command(app, common),
                               add_plan_command(app, common),
+                              add_stability_command(app, common),
                               add_fleet_command(app, common),
                               add_serve_command(app, common),
                               add_completion_command(app),

@@ -342,14 +342,24 @@ void take_nan_rows_as_missing(SignalSet& set, const std::string& source) {
   set.missing = std::move(runs);
 }
 
-std::string_view data_kind_name(DataKind d) { return d == DataKind::kIncrement ? "increment" : "rate"; }
+std::string_view data_kind_name(DataKind d) {
+  switch (d) {
+    case DataKind::kIncrement:
+      return "increment";
+    case DataKind::kPhase:
+      return "phase";
+    case DataKind::kRate:
+      break;
+  }
+  return "rate";
+}
 
 DataKind data_kind_of(const std::string& text) {
-  for (const DataKind d : {DataKind::kRate, DataKind::kIncrement})
+  for (const DataKind d : {DataKind::kRate, DataKind::kIncrement, DataKind::kPhase})
     if (text == data_kind_name(d)) return d;
   throw InputError("--data: found '" + printable_line(text) +
-                   "', expected 'rate' (angular rates, specific forces) or 'increment' (delta-angles, "
-                   "delta-velocities over one sampling period)");
+                   "', expected 'rate' (angular rates, specific forces), 'increment' (delta-angles, "
+                   "delta-velocities over one sampling period) or 'phase' (a phase or time error, an angle)");
 }
 
 std::string_view decimation_filter_name(DecimationFilter f) {
@@ -372,6 +382,9 @@ std::string conditioning_summary(const SignalSet& set) {
   };
   if (set.data == DataKind::kIncrement)
     out = "read as increments x " + hz(set.freq_before_decimation) + " (rates: rad -> rad/s, m/s -> m/s^2)";
+  if (set.data == DataKind::kPhase)
+    out = "read as phase: its first differences x " + hz(set.freq_before_decimation) +
+          " (s -> fractional frequency, rad -> rad/s), one sample fewer";
   if (set.decimation > 1) {
     const std::string k = std::to_string(set.decimation);
     out += (out.empty() ? "" : "; ") + std::string("decimated by ") + k +

@@ -132,6 +132,11 @@ enum class DataKind {
   /// "increment": a delta-angle or delta-velocity over one sampling period (an IMU's
   /// integrated output); read as the rate increment x freq (rad -> rad/s, m/s -> m/s^2).
   kIncrement,
+  /// "phase": a phase or time error x (a clock's, in s), or an angle; read as the rate of its
+  /// first differences (x_{i+1} - x_i) x freq (s -> fractional frequency, rad -> rad/s), one
+  /// sample fewer (NIST SP 1065's y from x). A regular record only: a difference across a gap
+  /// spans several periods.
+  kPhase,
 };
 std::string_view data_kind_name(DataKind d);
 /// The DataKind named `text`; throws InputError "--data: found 'TEXT', expected ...".

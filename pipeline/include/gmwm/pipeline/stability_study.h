@@ -1,0 +1,52 @@
+#pragma once
+// The frequency-stability study of a signal set (issue 48): each column's deviations of the
+// kinds asked (stability/deviation.h) at the averaging times asked, from the column read as
+// a rate (or fractional frequency) and turned into phase, or read as phase (--data phase).
+// What `gmwm stability` and Python's gmwm.stability run; report::stability_document writes it.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gmwm/io/signal_reader.h"
+#include "gmwm/stability/deviation.h"
+
+namespace gmwm::pipeline {
+
+struct StabilityStudyOptions {
+  /// The kinds, in the order asked (each once).
+  std::vector<stability::DeviationKind> kinds = {stability::DeviationKind::kOadev};
+  /// The averaging factors of each kind: every one, the octaves or the decades' 1-2-4 steps
+  /// up to the kind's largest (stability::factors) ...
+  stability::TauSet taus = stability::TauSet::kOctave;
+  /// ... or these averaging times in seconds (--taus 1,10,100), each a whole number of
+  /// sampling periods (to kWholePeriodTolerance) and within every kind's largest factor.
+  std::vector<double> tau_list;
+
+  /// Empty when valid, else one line.
+  std::string Validate() const;
+};
+
+/// A tau of --taus is a whole number m of sampling periods when |tau / tau0 - m| <= this
+/// times m: stamps and decimal taus (0.1 s at 100 Hz is 10.000000000000002 periods) agree to
+/// the last digits of a double, never to a whole period.
+inline constexpr double kWholePeriodTolerance = 1e-9;
+
+struct StabilityColumn {
+  std::string name;
+  std::vector<stability::DeviationCurve> deviations;  ///< per kind, in the order asked
+};
+
+struct StabilityStudy {
+  double tau0 = 0.0;              ///< the sampling period (s)
+  std::int64_t phase_points = 0;  ///< the phase points each deviation read (the samples + 1 for a rate)
+  std::vector<StabilityColumn> columns;
+  double seconds = 0.0;  ///< wall time of the deviations
+};
+
+/// Throws InputError (one line naming the file or the option) for invalid options, a record
+/// without a known rate, a record with missing samples (the deviations read a regular record:
+/// --gaps join), a tau that is no whole number of periods or beyond a kind's largest factor.
+StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOptions& options);
+
+}  // namespace gmwm::pipeline

@@ -1,0 +1,82 @@
+// The frequency-stability study: checks -> each column as phase -> each kind's deviation at
+// its factors (stability_study.h).
+#include "gmwm/pipeline/stability_study.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "column_wvs.h"
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/number_text.h"
+
+namespace gmwm::pipeline {
+namespace {
+
+std::string file_place(const io::SignalSet& set) { return set.path.empty() ? std::string() : set.path + ": "; }
+
+// The averaging factors of --taus LIST: each tau a whole number of periods, within `top`.
+std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double tau0, std::int64_t top,
+                                         stability::DeviationKind kind, std::int64_t phase_points) {
+  std::vector<std::int64_t> m;
+  for (const double tau : taus) {
+    const double periods = tau / tau0;
+    const double whole = std::round(periods);
+    if (!(whole >= 1.0) || std::abs(periods - whole) > kWholePeriodTolerance * whole)
+      throw InputError("--taus: " + significant(tau, 9) + " s is not a whole number of sampling periods of " +
+                       significant(tau0, 9) + " s");
+    const auto f = static_cast<std::int64_t>(whole);
+    if (f > top)
+      throw InputError("--taus: " + significant(tau, 9) + " s is " + std::to_string(f) + " periods, beyond " +
+                       std::string(stability::deviation_name(kind)) + "'s largest " + std::to_string(top) + " on " +
+                       std::to_string(phase_points) + " phase points (" + significant(top * tau0, 9) + " s)");
+    m.push_back(f);
+  }
+  return m;
+}
+
+}  // namespace
+
+std::string StabilityStudyOptions::Validate() const {
+  if (kinds.empty()) return "--kind: expected at least one deviation";
+  for (std::size_t i = 0; i < kinds.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (kinds[i] == kinds[j]) return "--kind: " + std::string(stability::deviation_name(kinds[i])) + " given twice";
+  for (std::size_t i = 0; i < tau_list.size(); ++i) {
+    if (!(tau_list[i] > 0.0) || !std::isfinite(tau_list[i]))
+      return "--taus: found " + significant(tau_list[i], 9) + ", expected positive averaging times in seconds";
+    if (i > 0 && !(tau_list[i] > tau_list[i - 1])) return "--taus: expected increasing averaging times";
+  }
+  return {};
+}
+
+StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  if (!set.freq_known)
+    throw InputError(file_place(set) +
+                     "the stability deviations need the sampling rate: give --freq HZ or a timestamp column");
+  detail::require_regular(set, "gmwm stability");
+  const auto start = std::chrono::steady_clock::now();
+  StabilityStudy study;
+  study.tau0 = 1.0 / set.freq;
+  for (const io::Signal& s : set.signals) {
+    const std::vector<double> phase = stability::phase_from_frequency(s.values, study.tau0);
+    study.phase_points = static_cast<std::int64_t>(phase.size());
+    StabilityColumn column{s.name, {}};
+    for (const stability::DeviationKind kind : options.kinds) {
+      const std::int64_t top = stability::max_factor(kind, study.phase_points);
+      const std::vector<std::int64_t> m =
+          options.tau_list.empty() ? stability::factors(options.taus, kind, study.phase_points)
+                                   : listed_factors(options.tau_list, study.tau0, top, kind, study.phase_points);
+      if (m.empty())
+        throw InputError(file_place(set) + "column '" + s.name + "': " + std::to_string(s.values.size()) +
+                         " samples leave " + std::string(stability::deviation_name(kind)) + " no averaging time");
+      column.deviations.push_back(stability::deviation(kind, phase, study.tau0, m));
+    }
+    study.columns.push_back(std::move(column));
+  }
+  study.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return study;
+}
+
+}  // namespace gmwm::pipeline

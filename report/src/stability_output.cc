@@ -1,0 +1,96 @@
+// The frequency-stability study's JSON document and terminal tables (stability_output.h).
+#include "gmwm/report/stability_output.h"
+
+#include <map>
+#include <sstream>
+
+#include "gmwm/engine/number_text.h"
+#include "gmwm/report/terminal.h"
+
+namespace gmwm::report {
+namespace {
+
+// A deviation's unit: the data's, TDEV's the data's times seconds (the phase's); "" unknown.
+std::string deviation_unit(stability::DeviationKind kind, const std::string& data_unit) {
+  if (data_unit.empty()) return {};
+  return kind == stability::DeviationKind::kTdev ? "(" + data_unit + ")*s" : data_unit;
+}
+
+Json curve_json(const stability::DeviationCurve& c, const std::string& data_unit) {
+  Json values = Json::array();
+  for (const double v : c.value) values.push_back(json_number(v));
+  const std::string unit = deviation_unit(c.kind, data_unit);
+  return {{"m", c.m},
+          {"tau", c.tau},
+          {"value", std::move(values)},
+          {"n", c.terms},
+          {"unit", unit.empty() ? Json(nullptr) : Json(unit)}};
+}
+
+}  // namespace
+
+Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy& study,
+                        const pipeline::StabilityStudyOptions& options, const std::vector<std::string>& units) {
+  Json doc = json_document("stability");
+  doc["input"] = set.path;
+  doc["data"] = std::string(io::data_kind_name(set.data));
+  Json kinds = Json::array();
+  for (const stability::DeviationKind k : options.kinds) kinds.push_back(std::string(stability::deviation_name(k)));
+  doc["kinds"] = std::move(kinds);
+  doc["taus"] =
+      options.tau_list.empty() ? Json(std::string(stability::tau_set_name(options.taus))) : Json(options.tau_list);
+  doc["tau0"] = study.tau0;
+  doc["phase_points"] = study.phase_points;
+  add_record_json(doc, set);
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::StabilityColumn& c = study.columns[k];
+    const std::string unit = k < units.size() ? units[k] : std::string();
+    Json col =
+        column_json({c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known, unit});
+    col["unit"] = unit.empty() ? Json(nullptr) : Json(unit);
+    Json deviations = Json::object();
+    for (const stability::DeviationCurve& d : c.deviations)
+      deviations[std::string(stability::deviation_name(d.kind))] = curve_json(d, unit);
+    col["deviations"] = std::move(deviations);
+    doc["columns"].push_back(std::move(col));
+  }
+  return doc;
+}
+
+std::string stability_text(const pipeline::StabilityStudy& study, const std::vector<std::string>& units) {
+  std::ostringstream os;
+  for (std::size_t k = 0; k < study.columns.size(); ++k) {
+    const pipeline::StabilityColumn& c = study.columns[k];
+    const std::string unit = k < units.size() ? units[k] : std::string();
+    os << c.name << ": stability deviations, tau0 = " << significant(study.tau0, 6) << " s, " << study.phase_points
+       << " phase points\n";
+    // Every averaging factor any kind has, in order; each kind's value at it or "-".
+    std::map<std::int64_t, std::vector<std::string>> rows;
+    for (std::size_t d = 0; d < c.deviations.size(); ++d)
+      for (std::size_t i = 0; i < c.deviations[d].m.size(); ++i) {
+        auto& row = rows[c.deviations[d].m[i]];
+        row.resize(c.deviations.size(), "-");
+        row[d] = significant(c.deviations[d].value[i], 5);
+      }
+    std::vector<std::string> header = {"tau [s]"};
+    for (const stability::DeviationCurve& d : c.deviations) header.emplace_back(stability::deviation_name(d.kind));
+    TextTable t(header, 0);
+    for (auto& [m, values] : rows) {
+      std::vector<std::string> row = {significant(static_cast<double>(m) * study.tau0, 6)};
+      values.resize(c.deviations.size(), "-");
+      row.insert(row.end(), values.begin(), values.end());
+      t.add(std::move(row));
+    }
+    os << t.str();
+    std::string units_line;
+    for (const stability::DeviationCurve& d : c.deviations) {
+      const std::string u = deviation_unit(d.kind, unit);
+      units_line += (units_line.empty() ? "" : ", ") + std::string(stability::deviation_name(d.kind)) + " in " +
+                    (u.empty() ? (d.kind == stability::DeviationKind::kTdev ? "U*s" : "U") : u);
+    }
+    os << "  " << units_line << (unit.empty() ? " (U: the data's unit; --units declares it)" : "") << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace gmwm::report

@@ -1,0 +1,147 @@
+// gmwm stability (issue 48): the deviations of a file's columns on the command line, their
+// JSON against Stable32's values for the NBS14 1000-point set, the terminal table, and the
+// refusals (exit 2, one line naming what was expected, nothing written).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+using gmwm::test::read_json;
+using gmwm::test::run_gmwm;
+using nlohmann::json;
+
+namespace {
+
+class StabilityCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = gmwm::test::temp_dir("stability_cli");
+    // NBS14's 1000-point set as fractional frequency at 1 Hz, its stamps in seconds.
+    std::string csv = "time [s],y\n";
+    std::int64_t n = 1234567890;
+    for (int i = 0; i < 1000; ++i) {
+      char line[64];
+      std::snprintf(line, sizeof line, "%d,%.17g\n", i, static_cast<double>(n) / 2147483647.0);
+      csv += line;
+      n = (16807 * n) % 2147483647;
+    }
+    gmwm::test::write_text(dir_ / "nbs.csv", csv);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // The run's exit code 2, its one line holding `why`, nothing written.
+  void expect_refused(const std::vector<std::string>& args, const std::string& why) {
+    const auto r = run_gmwm(args, dir_);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(gmwm::test::lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.json"));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(StabilityCommand, WritesEachKindsDeviationAtTheAskedTausAsStable32Gives) {
+  const auto r = run_gmwm(
+      {"stability", "nbs.csv", "--kind", "oadev,mdev,totdev", "--taus", "1,10,99", "--json", "out.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "out.json");
+  EXPECT_EQ(doc["command"], "stability");
+  EXPECT_EQ(doc["data"], "rate");
+  EXPECT_EQ(doc["kinds"], json({"oadev", "mdev", "totdev"}));
+  EXPECT_EQ(doc["phase_points"], 1001);
+  const json& d = doc["columns"][0]["deviations"];
+  // Stable32 1.60 on the set's phase (AF 1, 10, 99), as printed.
+  const std::vector<std::pair<std::string, std::vector<double>>> stable32 = {
+      {"oadev", {2.9223e-01, 9.1600e-02, 3.2616e-02}},
+      {"mdev", {2.9223e-01, 6.1724e-02, 2.1850e-02}},
+      {"totdev", {2.9223e-01, 9.1347e-02, 3.4106e-02}}};
+  for (const auto& [kind, values] : stable32) {
+    ASSERT_TRUE(d.contains(kind)) << kind;
+    EXPECT_EQ(d[kind]["m"], json({1, 10, 99}));
+    EXPECT_EQ(d[kind]["tau"], json({1.0, 10.0, 99.0}));
+    for (std::size_t k = 0; k < values.size(); ++k)
+      EXPECT_NEAR(d[kind]["value"][k].get<double>(), values[k], 0.5e-4 * values[k]) << kind << " " << k;
+  }
+  EXPECT_EQ(d["oadev"]["n"], json({999, 981, 803}));
+  EXPECT_TRUE(d["oadev"]["unit"].is_null());
+  // The terminal: one row per tau, one column per kind, the units said below.
+  EXPECT_NE(r.out.find("y: stability deviations, tau0 = 1 s, 1001 phase points"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("oadev"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("     10    0.0916  0.061724  0.091347"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("oadev in U, mdev in U, totdev in U (U: the data's unit; --units declares it)"),
+            std::string::npos)
+      << r.out;
+}
+
+TEST_F(StabilityCommand, TheOctavesStopAtEachKindsLargestFactorAndTdevCarriesThePhasesUnit) {
+  const auto r =
+      run_gmwm({"stability", "nbs.csv", "--kind", "oadev,tdev", "--units", "deg/s", "--json", "out.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json d = read_json(dir_ / "out.json")["columns"][0]["deviations"];
+  EXPECT_EQ(d["oadev"]["m"], json({1, 2, 4, 8, 16, 32, 64, 128, 256}));  // up to (1001 - 1) / 2
+  EXPECT_EQ(d["tdev"]["m"], json({1, 2, 4, 8, 16, 32, 64, 128, 256}));   // up to 1001 / 3
+  EXPECT_EQ(d["oadev"]["unit"], "deg/s");
+  EXPECT_EQ(d["tdev"]["unit"], "(deg/s)*s");
+}
+
+TEST_F(StabilityCommand, PhaseDataGiveTheDeviationsOfTheFrequencyTheyIntegrate) {
+  // The set's phase (x_0 = 0, x_{i+1} = x_i + y_i) read with --data phase: its first
+  // differences are the frequencies again, so every deviation is the rate file's.
+  std::string csv = "time [s],x\n0,0\n";
+  std::int64_t n = 1234567890;
+  long double x = 0.0L;
+  for (int i = 0; i < 1000; ++i) {
+    x += static_cast<long double>(n) / 2147483647.0L;
+    char line[64];
+    std::snprintf(line, sizeof line, "%d,%.17g\n", i + 1, static_cast<double>(x));
+    csv += line;
+    n = (16807 * n) % 2147483647;
+  }
+  gmwm::test::write_text(dir_ / "phase.csv", csv);
+  const std::vector<std::string> kinds = {"--kind", "adev,oadev,mdev,tdev,hdev,ohdev,totdev", "--taus", "decade"};
+  std::vector<std::string> rate = {"stability", "nbs.csv", "--json", "rate.json"};
+  std::vector<std::string> phase = {"stability", "phase.csv", "--data", "phase", "--json", "phase.json"};
+  rate.insert(rate.end(), kinds.begin(), kinds.end());
+  phase.insert(phase.end(), kinds.begin(), kinds.end());
+  ASSERT_EQ(run_gmwm(rate, dir_).exit_code, 0);
+  const auto r = run_gmwm(phase, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json a = read_json(dir_ / "rate.json")["columns"][0]["deviations"];
+  const json b = read_json(dir_ / "phase.json");
+  EXPECT_EQ(b["data"], "phase");
+  for (const auto& [kind, curve] : a.items()) {
+    const json& other = b["columns"][0]["deviations"][kind];
+    ASSERT_EQ(other["m"], curve["m"]) << kind;
+    for (std::size_t k = 0; k < curve["value"].size(); ++k)  // the phase's 17 digits, differenced
+      EXPECT_NEAR(other["value"][k].get<double>() / curve["value"][k].get<double>(), 1.0, 1e-9) << kind << " " << k;
+  }
+}
+
+TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
+  expect_refused({"stability", "nbs.csv", "--kind", "allan", "--json", "out.json"},
+                 "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev or totdev");
+  expect_refused({"stability", "nbs.csv", "--taus", "1,2.5", "--json", "out.json"},
+                 "--taus: 2.5 s is not a whole number of sampling periods of 1 s");
+  expect_refused({"stability", "nbs.csv", "--kind", "hdev", "--taus", "400", "--json", "out.json"},
+                 "--taus: 400 s is 400 periods, beyond hdev's largest 333 on 1001 phase points (333 s)");
+  expect_refused({"stability", "nbs.csv", "--taus", "fortnight", "--json", "out.json"},
+                 "--taus: found 'fortnight', expected all, octave, decade or averaging times in seconds");
+  expect_refused({"stability", "nbs.csv", "--kind", "mdev,mdev", "--json", "out.json"}, "--kind: mdev given twice");
+  // A record with missing samples: the deviations read a regular record.
+  std::string csv = "time [s],y\n";
+  for (int i = 0; i < 200; ++i)
+    if (i < 50 || i > 60) csv += std::to_string(i) + "," + std::to_string(i % 7) + "\n";
+  gmwm::test::write_text(dir_ / "gappy.csv", csv);
+  expect_refused({"stability", "gappy.csv", "--json", "out.json"},
+                 "gappy.csv: 11 samples missing in 1 gaps of the timestamps 'time [s]'; gmwm stability reads a "
+                 "regular record: give --gaps join");
+}
+
+}  // namespace
