@@ -513,6 +513,7 @@ PYBIND11_MODULE(_gmwm, m) {
         "'2,4,8'): the document gmwm gap-check --json writes");
   gmwm::python::add_multi_signal_functions(m);
   gmwm::python::add_read_functions(m);
+  gmwm::python::add_stability_functions(m);
   m.def(
       "figure_units",
       [](const std::string& unit) {

@@ -124,5 +124,7 @@ double kalman_rate(std::optional<double> kf_rate, const gmwm::io::SignalSet& set
 void add_multi_signal_functions(py::module_& m);
 // gmwm.read and the timing of an index (read_bindings.cc).
 void add_read_functions(py::module_& m);
+// gmwm.stability (stability_bindings.cc).
+void add_stability_functions(py::module_& m);
 
 }  // namespace gmwm::python

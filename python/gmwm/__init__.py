@@ -19,6 +19,8 @@ float64 arrays) built from the JSON the `gmwm` command writes for the same data 
     c = gmwm.gap_check(cases=3, n=2**14, families="STEP,DR")   # c.confusion, c.power
     p = gmwm.plan(model="WN(sigma2=1e-8)+RW(gamma2=1e-14)", freq=100, unit="rad/s")
                                                    # p.columns[0].targets[k].seconds
+    d = gmwm.stability(x, freq=100, kind="oadev,mdev", taus="decade")
+                                                   # d.columns[0].deviations["mdev"].value
     f.to_json()                                    # the command's JSON text, unchanged
     f.document                                     # the same, parsed (every field)
 
@@ -76,6 +78,7 @@ from ._types import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, Joi
                      JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
 from ._signals import Recording, RepeatedSamplesWarning, TimingWarning, read, read_parts
 from ._types import RepeatedSamples, Timing
+from ._types import Deviation, StabilityColumn, StabilityResult
 from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
                      WvResult)
 
@@ -144,6 +147,7 @@ gap_check = _typed(_gmwm.gap_check, GapCheckResult)
 nav = _typed(_gmwm.nav, NavResult)
 fit_joint = _typed(_gmwm.fit_joint, JointFitResult, _signals.replicates)
 select_joint = _typed(_gmwm.select_joint, JointSelectResult, _signals.replicates)
+stability = _typed(_gmwm.stability, StabilityResult, _signals.columns)
 _fleet_raw = _typed(_gmwm.fleet, FleetResult)
 
 
@@ -251,12 +255,14 @@ def export(result: Any, *, format: str, output: str = "", **options: Any) -> Exp
 
 __all__ = [
     "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
+    "stability",
     "export", "fleet", "read", "read_parts", "InputError", "DEFAULT_SEED",
     # signals in
     "Recording", "Timing", "TimingWarning", "RepeatedSamples", "RepeatedSamplesWarning",
     "__version__",
     # results of the functions
     "WvResult", "AllanResult", "FitResult", "SelectResult", "GapResult", "GapCheckResult", "NavResult", "PlanResult",
+    "StabilityResult", "StabilityColumn", "Deviation",
     # documents of the command line
     "JointFitResult", "JointSelectResult", "ExportResult",
     # their parts

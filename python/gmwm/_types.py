@@ -1873,6 +1873,74 @@ class PlanResult(PlanResultMethods, JsonResult):
 
 
 @dataclass(frozen=True)
+class Deviation:
+    """One frequency-stability deviation of a column at its averaging factors `m` (tau = m tau0,
+    `tau` in s): its `value`, the squares averaged at each (`n`, Stable32's "#") and its `unit`
+    (the data's; tdev's times seconds; None when not declared)."""
+
+    m: IntArray
+    tau: FloatArray
+    value: FloatArray
+    n: IntArray
+    unit: str | None
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "Deviation":
+        return cls(ints(d["m"]),
+                   floats(d["tau"]),
+                   floats(d["value"]),
+                   ints(d["n"]),
+                   d.get("unit"))
+
+
+@dataclass(frozen=True)
+class StabilityColumn:
+    """One column's deviations, by kind (`deviations["oadev"]`), with its length `n`, rate and unit."""
+
+    name: str
+    n: int
+    freq: float
+    unit: str | None
+    deviations: dict[str, Deviation]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "StabilityColumn":
+        return cls(d["name"],
+                   int(d["n"]),
+                   num(d["freq"]),
+                   d.get("unit"),
+                   {n: Deviation.from_dict(v) for n, v in d["deviations"].items()})
+
+
+@dataclass(frozen=True, eq=False)
+class StabilityResult(JsonResult):
+    """The frequency-stability deviations (gmwm.stability, `gmwm stability --json`): how the
+    columns were read (`data`: rate or phase), the `kinds` asked, the `taus` (a set's name or
+    the times asked), the sampling period `tau0` (s), the `phase_points` each deviation read and
+    per column its deviations."""
+
+    input: str
+    data: str
+    kinds: tuple[str, ...]
+    taus: Any
+    tau0: float
+    phase_points: int
+    columns: tuple[StabilityColumn, ...]
+
+    @classmethod
+    def _from(cls, d: Any, text: str) -> "StabilityResult":
+        return cls(d,
+                   text,
+                   d["input"],
+                   d["data"],
+                   strings(d["kinds"]),
+                   d.get("taus"),
+                   num(d["tau0"]),
+                   int(d["phase_points"]),
+                   tuple(StabilityColumn.from_dict(r) for r in d.get("columns") or ()))
+
+
+@dataclass(frozen=True)
 class GaussMarkov:
     """A Gauss-Markov (AR1) component in continuous units."""
 

@@ -50,25 +50,6 @@ void take_gaps(const std::string& path, SignalSet& set, const ReadOptions& optio
   set.missing = t.missing;
 }
 
-// --data phase: each column's first differences x freq (NIST SP 1065's y from x).
-void phase_to_rate(const std::string& path, SignalSet& set) {
-  const std::string what = path + ": --data phase: ";
-  if (!set.freq_known)
-    throw InputError(what + "found no rate to divide the phase steps by, expected a timestamp column or --freq HZ");
-  if (!set.missing.empty())
-    throw InputError(what + "found " + std::to_string(set.missing_samples()) + " samples missing in " +
-                     std::to_string(set.missing.size()) +
-                     " gaps, expected a regular record (a phase step across a gap spans several periods); give "
-                     "--gaps join to join the samples end to end");
-  for (Signal& s : set.signals) {
-    const std::size_t n = s.values.size();
-    std::vector<double> v(n > 0 ? n - 1 : 0);
-    for (std::size_t i = 0; i + 1 < n; ++i) v[i] = (s.values[i + 1] - s.values[i]) * set.freq;
-    s.values = Samples(std::move(v));
-    s.unit.clear();  // the header's unit is the phase's; --units states the rate's
-  }
-}
-
 void condition_values(const std::string& path, SignalSet& set, const ReadOptions& options) {
   set.data = options.data;
   set.decimation = options.decimate;
@@ -86,7 +67,7 @@ void condition_values(const std::string& path, SignalSet& set, const ReadOptions
       s.unit.clear();  // the header's unit is the increment's; --units states the rate's
     }
   }
-  if (options.data == DataKind::kPhase) phase_to_rate(path, set);
+  if (options.data == DataKind::kPhase) take_phase_as_rate(set, path);
   const int k = options.decimate;
   if (k <= 1) return;
   if (!set.missing.empty())
@@ -126,6 +107,25 @@ void finish_record(const std::string& path, SignalSet& set, const ReadOptions& o
 }  // namespace gmwm::io::detail
 
 namespace gmwm::io {
+
+void take_phase_as_rate(SignalSet& set, const std::string& source) {
+  const std::string what = source + ": --data phase: ";
+  if (!set.freq_known)
+    throw InputError(what + "found no rate to divide the phase steps by, expected a timestamp column or --freq HZ");
+  if (!set.missing.empty())
+    throw InputError(what + "found " + std::to_string(set.missing_samples()) + " samples missing in " +
+                     std::to_string(set.missing.size()) +
+                     " gaps, expected a regular record (a phase step across a gap spans several periods); give "
+                     "--gaps join to join the samples end to end");
+  for (Signal& s : set.signals) {
+    const std::size_t n = s.values.size();
+    std::vector<double> v(n > 0 ? n - 1 : 0);
+    for (std::size_t i = 0; i + 1 < n; ++i) v[i] = (s.values[i + 1] - s.values[i]) * set.freq;
+    s.values = Samples(std::move(v));
+    s.unit.clear();  // the header's unit is the phase's; --units states the rate's
+  }
+  set.data = DataKind::kPhase;
+}
 
 void find_repeated_samples(SignalSet& set) {
   gmwm::parallel_for(std::size_t{0}, set.signals.size(), [&](std::size_t k) {

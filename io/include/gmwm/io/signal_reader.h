@@ -338,6 +338,13 @@ std::vector<std::string> reading_notes(const SignalSet& set);
 /// fewer than 16 rows would remain.
 void take_nan_rows_as_missing(SignalSet& set, const std::string& source);
 
+/// --data phase (DataKind::kPhase): each column, a phase or time error, becomes the rate of
+/// its first differences (x_{i+1} - x_i) x freq, one sample fewer; set.data says so. Throws
+/// InputError "SOURCE: --data phase: ..." without a known rate, or with missing samples (a
+/// step across a gap spans several periods). What reading does for --data phase, and what
+/// Python's functions do for phase=True.
+void take_phase_as_rate(SignalSet& set, const std::string& source);
+
 /// One line for the terminal and the documents on what reading did to the values: "read as
 /// increments x 200 Hz (rates); decimated by 4 (the mean of each 4 samples) from 200 Hz to
 /// 50 Hz: N, K, B are those of the band below 25 Hz"; "" when nothing was done.

@@ -1,0 +1,57 @@
+"""gmwm.stability (issue 48): the frequency-stability deviations in Python, the command's
+document for the same data, Stable32's values for NBS14's 1000-point set, phase input, and the
+refusals."""
+import json
+
+import numpy as np
+import pytest
+
+import gmwm
+from cli_support import run
+
+
+def nbs1000():
+    n, y = 1234567890, []
+    for _ in range(1000):
+        y.append(n / 2147483647)
+        n = (16807 * n) % 2147483647
+    return np.array(y)
+
+
+def test_the_deviations_are_stable32s_and_the_commands_for_the_same_data(tmp_path):
+    y = nbs1000()
+    d = gmwm.stability(y, freq=1.0, kind=["oadev", "mdev"], taus=[1, 10, 99], names=["y"])
+    oadev = d.columns[0].deviations["oadev"]
+    assert oadev.m.tolist() == [1, 10, 99] and oadev.n.tolist() == [999, 981, 803]
+    # Stable32 1.60 on the set's phase, as printed.
+    assert oadev.value.tolist() == pytest.approx([2.9223e-01, 9.1600e-02, 3.2616e-02], rel=5e-5)
+    assert d.columns[0].deviations["mdev"].value.tolist() == pytest.approx([2.9223e-01, 6.1724e-02, 2.1850e-02],
+                                                                           rel=5e-5)
+    path = tmp_path / "y.csv"
+    path.write_text("time [s],y\n" + "".join(f"{k},{v!r}\n" for k, v in enumerate(y)))
+    cli = json.loads(run(tmp_path, "stability", str(path), "--kind", "oadev,mdev", "--taus", "1,10,99",
+                         "--json", "-").stdout)
+    assert cli["columns"][0]["deviations"] == d.document["columns"][0]["deviations"]
+    assert (tuple(cli["kinds"]), cli["taus"], cli["tau0"]) == (d.kinds, list(d.taus), d.tau0)
+
+
+def test_phase_gives_the_deviations_of_the_frequency_it_integrates():
+    y = nbs1000()
+    x = np.concatenate([[0.0], np.cumsum(y)])
+    a = gmwm.stability(y, freq=1.0, kind="adev,hdev,totdev", taus="decade")
+    b = gmwm.stability(x, freq=1.0, kind="adev,hdev,totdev", taus="decade", phase=True)
+    assert b.data == "phase"
+    for kind in ("adev", "hdev", "totdev"):
+        assert b.columns[0].deviations[kind].value == pytest.approx(a.columns[0].deviations[kind].value, rel=1e-9)
+
+
+def test_a_bad_kind_tau_or_rate_is_refused_naming_it():
+    y = nbs1000()
+    with pytest.raises(gmwm.InputError, match="--kind: found 'allan', expected adev, oadev"):
+        gmwm.stability(y, freq=1.0, kind="allan")
+    with pytest.raises(gmwm.InputError, match="--taus: 2.5 s is not a whole number of sampling periods of 1 s"):
+        gmwm.stability(y, freq=1.0, taus=[1, 2.5])
+    with pytest.raises(gmwm.InputError, match="taus: found 'weekly', expected all, octave, decade"):
+        gmwm.stability(y, freq=1.0, taus="weekly")
+    with pytest.raises(gmwm.InputError, match="give the sampling rate with freq"):
+        gmwm.stability(y)
