@@ -73,20 +73,13 @@ int main(int argc, char** argv) {
 
   CommonOptions common;
   for (int i = 0; i < argc; ++i) common.argv.emplace_back(argv[i]);
-  const Command commands[] = {add_wv_command(app, common),
-                              add_fit_command(app, common),
-                              add_select_command(app, common),
-                              add_gap_command(app, common),
-                              add_gap_check_command(app, common),
-                              add_simulate_command(app, common),
-                              add_export_command(app, common),
-                              add_nav_command(app, common),
-                              add_plan_command(app, common),
-                              add_stability_command(app, common),
-                              add_fleet_command(app, common),
-                              add_serve_command(app, common),
-                              add_completion_command(app),
-                              add_man_command(app)};
+  const Command commands[] = {add_wv_command(app, common),        add_fit_command(app, common),
+                              add_select_command(app, common),    add_gap_command(app, common),
+                              add_gap_check_command(app, common), add_simulate_command(app, common),
+                              add_export_command(app, common),    add_nav_command(app, common),
+                              add_plan_command(app, common),      add_stability_command(app, common),
+                              add_fleet_command(app, common),     add_serve_command(app, common),
+                              add_completion_command(app),        add_man_command(app)};
   // A first word that names no command: say so, listing them (CLI11 would only say that a
   // command is required).
   if (argc > 1 && argv[1][0] != '-') {
