@@ -13,6 +13,19 @@
 namespace gmwm::pipeline {
 namespace {
 
+// The rate less its mean: the phase of a rate with an offset (a gyroscope's bias, a clock's
+// frequency offset) grows linearly, and a double holding it loses the digits its differences
+// need; no deviation sees the line (they difference it away), so it is removed first, as
+// Stable32's PHASE.DAT is the NBS14 set's phase without its mean frequency.
+std::vector<double> without_mean(const Samples& y) {
+  long double sum = 0.0L;
+  for (std::size_t i = 0; i < y.size(); ++i) sum += y[i];
+  const double mean = y.size() > 0 ? static_cast<double>(sum / static_cast<long double>(y.size())) : 0.0;
+  std::vector<double> out(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) out[i] = y[i] - mean;
+  return out;
+}
+
 std::string file_place(const io::SignalSet& set) { return set.path.empty() ? std::string() : set.path + ": "; }
 
 // The averaging factors of --taus LIST: each tau a whole number of periods, within `top`.
@@ -60,7 +73,7 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
   StabilityStudy study;
   study.tau0 = 1.0 / set.freq;
   for (const io::Signal& s : set.signals) {
-    const std::vector<double> phase = stability::phase_from_frequency(s.values, study.tau0);
+    const std::vector<double> phase = stability::phase_from_frequency(without_mean(s.values), study.tau0);
     study.phase_points = static_cast<std::int64_t>(phase.size());
     StabilityColumn column{s.name, {}};
     for (const stability::DeviationKind kind : options.kinds) {

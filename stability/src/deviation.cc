@@ -2,6 +2,7 @@
 // sum of squares per factor (the kind's differences, O(N) each) -> the deviation.
 #include "gmwm/stability/deviation.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -34,83 +35,107 @@ bool hadamard(DeviationKind k) { return k == DeviationKind::kHdev || k == Deviat
 // The decades' 1-2-4 steps (Stable32's and allantools' "decade" taus).
 constexpr std::array<std::int64_t, 3> kDecadeSteps = {1, 2, 4};
 
-// Sum over i in [0, count) of (sum_k c_k x_{i + k m})^2, in long double: the squared
-// differences of every overlapping estimator (c = 1, -2, 1 for the Allan variance; 1, -3,
-// 3, -1 for the Hadamard), with `stride` between consecutive i (m for the non-overlapping
-// ones, 1 for the overlapping).
-template <std::size_t K>
-long double squared_differences(std::span<const double> x, std::int64_t m, std::int64_t count, std::int64_t stride,
-                                const std::array<double, K>& c) {
-  long double sum = 0.0L;
-  for (std::int64_t t = 0; t < count; ++t) {
-    const std::int64_t i = t * stride;
-    long double d = 0.0L;
-    for (std::size_t k = 0; k < K; ++k)
-      d += static_cast<long double>(c[k]) * x[static_cast<std::size_t>(i + static_cast<std::int64_t>(k) * m)];
-    sum += d * d;
+// Sum of d(t)^2 over t in [0, count), in four interleaved double lanes: the loop vectorises
+// (each lane's order fixed, so the value does not depend on the machine's vector width), and
+// 1e7 squares summed so keep their rounding near 1e-13 relative (checked against allantools
+// and Stable32: tools/bench/RESULTS.md, "The frequency-stability deviations").
+constexpr int kLanes = 4;
+template <class D>
+double sum_of_squares(std::int64_t count, D d) {
+  std::array<double, kLanes> lane{};
+  std::int64_t t = 0;
+  for (; t + kLanes <= count; t += kLanes)
+    for (int l = 0; l < kLanes; ++l) {
+      const double v = d(t + l);
+      lane[static_cast<std::size_t>(l)] += v * v;
+    }
+  for (; t < count; ++t) {
+    const double v = d(t);
+    lane[0] += v * v;
   }
-  return sum;
+  return (lane[0] + lane[1]) + (lane[2] + lane[3]);
 }
 
-constexpr std::array<double, 3> kSecond = {1.0, -2.0, 1.0};
-constexpr std::array<double, 4> kThird = {-1.0, 3.0, -3.0, 1.0};
+// The squared second differences x_{i+2m} - 2 x_{i+m} + x_i (the Allan variances) or third
+// differences x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} - x_i (the Hadamard), summed over `count` i
+// spaced `stride` apart (m for the non-overlapping estimators, 1 for the overlapping).
+double second_differences(const double* x, std::int64_t m, std::int64_t count, std::int64_t stride) {
+  return sum_of_squares(count, [=](std::int64_t t) {
+    const double* p = x + t * stride;
+    return p[2 * m] - 2.0 * p[m] + p[0];
+  });
+}
+double third_differences(const double* x, std::int64_t m, std::int64_t count, std::int64_t stride) {
+  return sum_of_squares(count, [=](std::int64_t t) {
+    const double* p = x + t * stride;
+    return p[3 * m] - 3.0 * p[2 * m] + 3.0 * p[m] - p[0];
+  });
+}
 
-// MVAR's numerator: the inner sums of m second differences from their prefix sums.
-long double modified_sum(std::span<const double> x, std::int64_t m) {
+// MVAR's numerator: the inner sums of m second differences from their prefix sums (which
+// telescope: they stay on the scale of the phase, whatever N).
+double modified_sum(std::span<const double> x, std::int64_t m) {
   const auto n = static_cast<std::int64_t>(x.size());
   const std::int64_t d = n - 2 * m;  // second differences x_{i+2m} - 2 x_{i+m} + x_i
-  std::vector<long double> prefix(static_cast<std::size_t>(d) + 1, 0.0L);
-  for (std::int64_t i = 0; i < d; ++i) {
-    const auto u = static_cast<std::size_t>(i);
-    prefix[u + 1] = prefix[u] + (static_cast<long double>(x[u + 2 * static_cast<std::size_t>(m)]) -
-                                 2.0L * x[u + static_cast<std::size_t>(m)] + x[u]);
-  }
-  long double sum = 0.0L;
-  for (std::int64_t j = 0; j + m <= d; ++j) {
-    const long double inner = prefix[static_cast<std::size_t>(j + m)] - prefix[static_cast<std::size_t>(j)];
-    sum += inner * inner;
-  }
-  return sum;
+  std::vector<double> prefix(static_cast<std::size_t>(d) + 1, 0.0);
+  const double* p = x.data();
+  for (std::int64_t i = 0; i < d; ++i)
+    prefix[static_cast<std::size_t>(i) + 1] =
+        prefix[static_cast<std::size_t>(i)] + (p[i + 2 * m] - 2.0 * p[i + m] + p[i]);
+  const double* s = prefix.data();
+  return sum_of_squares(d - m + 1, [=](std::int64_t j) { return s[j + m] - s[j]; });
 }
 
 // TOTVAR's numerator: the second differences of the phase reflected at both ends, for the
-// centres i = 1 .. N-2.
-long double total_sum(std::span<const double> x, std::int64_t m) {
+// centres i = 1 .. N-2 (the interior m .. N-1-m reads no reflection).
+double total_sum(std::span<const double> x, std::int64_t m) {
   const auto n = static_cast<std::int64_t>(x.size());
-  const auto at = [&](std::int64_t i) -> long double {
-    if (i < 0) return 2.0L * x.front() - x[static_cast<std::size_t>(-i)];
-    if (i > n - 1) return 2.0L * x.back() - x[static_cast<std::size_t>(2 * (n - 1) - i)];
+  const auto at = [&](std::int64_t i) -> double {
+    if (i < 0) return 2.0 * x.front() - x[static_cast<std::size_t>(-i)];
+    if (i > n - 1) return 2.0 * x.back() - x[static_cast<std::size_t>(2 * (n - 1) - i)];
     return x[static_cast<std::size_t>(i)];
   };
-  long double sum = 0.0L;
-  for (std::int64_t i = 1; i <= n - 2; ++i) {
-    const long double d = at(i - m) - 2.0L * at(i) + at(i + m);
-    sum += d * d;
-  }
-  return sum;
+  const auto edge = [&](std::int64_t from, std::int64_t to) {  // centres [from, to) near an end
+    double sum = 0.0;
+    for (std::int64_t i = from; i < to; ++i) {
+      const double d = at(i - m) - 2.0 * at(i) + at(i + m);
+      sum += d * d;
+    }
+    return sum;
+  };
+  // Centres m .. n-1-m read no reflection (i - m >= 0, i + m <= n - 1).
+  const std::int64_t lo = std::min(m, n - 1);
+  const std::int64_t hi = std::max(lo, n - m);  // one past the last
+  const double* p = x.data();
+  const double interior = sum_of_squares(hi - lo, [=](std::int64_t t) {
+    const double* c = p + lo + t;
+    return c[m] - 2.0 * c[0] + c[-m];
+  });
+  return edge(1, lo) + interior + edge(hi, n - 1);
 }
 
 // The variance of `kind` at factor m (terms(kind, N, m) >= 1).
 double variance(DeviationKind kind, std::span<const double> x, std::int64_t m, double tau0) {
   const auto n = static_cast<std::int64_t>(x.size());
-  const long double tau = static_cast<long double>(m) * tau0;
-  const auto count = static_cast<long double>(terms(kind, n, m));
+  const double tau = static_cast<double>(m) * tau0;
+  const std::int64_t count = terms(kind, n, m);
+  const double scale = tau * tau * static_cast<double>(count);
   switch (kind) {
     case DeviationKind::kAdev:
-      return static_cast<double>(squared_differences(x, m, terms(kind, n, m), m, kSecond) / (2.0L * tau * tau * count));
+      return second_differences(x.data(), m, count, m) / (2.0 * scale);
     case DeviationKind::kOadev:
-      return static_cast<double>(squared_differences(x, m, terms(kind, n, m), 1, kSecond) / (2.0L * tau * tau * count));
+      return second_differences(x.data(), m, count, 1) / (2.0 * scale);
     case DeviationKind::kMdev:
     case DeviationKind::kTdev: {
-      const long double mvar = modified_sum(x, m) / (2.0L * m * m * tau * tau * count);
-      return static_cast<double>(kind == DeviationKind::kMdev ? mvar : tau * tau * mvar / 3.0L);
+      const double mvar = modified_sum(x, m) / (2.0 * static_cast<double>(m) * static_cast<double>(m) * scale);
+      return kind == DeviationKind::kMdev ? mvar : tau * tau * mvar / 3.0;
     }
     case DeviationKind::kHdev:
-      return static_cast<double>(squared_differences(x, m, terms(kind, n, m), m, kThird) / (6.0L * tau * tau * count));
+      return third_differences(x.data(), m, count, m) / (6.0 * scale);
     case DeviationKind::kOhdev:
-      return static_cast<double>(squared_differences(x, m, terms(kind, n, m), 1, kThird) / (6.0L * tau * tau * count));
+      return third_differences(x.data(), m, count, 1) / (6.0 * scale);
     case DeviationKind::kTotdev:
-      return static_cast<double>(total_sum(x, m) / (2.0L * tau * tau * count));
+      return total_sum(x, m) / (2.0 * scale);
   }
   return NAN;
 }

@@ -124,6 +124,34 @@ TEST_F(StabilityCommand, PhaseDataGiveTheDeviationsOfTheFrequencyTheyIntegrate) 
   }
 }
 
+TEST_F(StabilityCommand, ARateWithALargeOffsetGivesTheDeviationsOfItsFluctuations) {
+  // The set plus 1e6 (a clock's frequency offset, a gyroscope's bias): its phase grows to
+  // 1e9, where a double keeps 1e-7 of the steps it differences; the study removes the mean
+  // rate first, so every deviation is the set's to the file's own digits.
+  std::string csv = "time [s],y\n";
+  std::int64_t n = 1234567890;
+  for (int i = 0; i < 1000; ++i) {
+    char line[64];
+    std::snprintf(line, sizeof line, "%d,%.17g\n", i, 1e6 + static_cast<double>(n) / 2147483647.0);
+    csv += line;
+    n = (16807 * n) % 2147483647;
+  }
+  gmwm::test::write_text(dir_ / "offset.csv", csv);
+  const std::vector<std::string> kinds = {"--kind", "adev,oadev,mdev,hdev,ohdev,totdev", "--json"};
+  std::vector<std::string> plain = {"stability", "nbs.csv"}, offset = {"stability", "offset.csv"};
+  plain.insert(plain.end(), kinds.begin(), kinds.end());
+  offset.insert(offset.end(), kinds.begin(), kinds.end());
+  plain.push_back("plain.json");
+  offset.push_back("offset.json");
+  ASSERT_EQ(run_gmwm(plain, dir_).exit_code, 0);
+  ASSERT_EQ(run_gmwm(offset, dir_).exit_code, 0);
+  const json a = read_json(dir_ / "plain.json")["columns"][0]["deviations"];
+  const json b = read_json(dir_ / "offset.json")["columns"][0]["deviations"];
+  for (const auto& [kind, curve] : a.items())
+    for (std::size_t k = 0; k < curve["value"].size(); ++k)  // 1e6 + y keeps y to ~1e-10 in the file
+      EXPECT_NEAR(b[kind]["value"][k].get<double>() / curve["value"][k].get<double>(), 1.0, 1e-8) << kind << " " << k;
+}
+
 TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
   expect_refused({"stability", "nbs.csv", "--kind", "allan", "--json", "out.json"},
                  "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev or totdev");

@@ -1,0 +1,79 @@
+"""Speed of `gmwm stability` against allantools (issue 48), on the same samples in one run.
+
+    python3 tools/bench/stability_speed.py build/gmwm ALLANTOOLS_GIT_DIR [N ...]
+
+ALLANTOOLS_GIT_DIR: a clone of github.com/aewallin/allantools (its package is imported from
+a copy of that tree; run with Debian's numpy and scipy). For each N (default 1e6): white noise
+plus a random walk as fractional frequency at 1 Hz, every kind at the octave taus: allantools'
+computation alone (its function on the numpy array, best of 3), gmwm's deviations alone (the
+JSON's run.seconds.deviations) and gmwm's whole process (reading the CSV included, best of
+3), and the largest relative difference of the two values where both give one (the oracle of
+the comparison: the same numbers). Prints a markdown table.
+"""
+import json
+import os
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+
+import numpy as np
+
+KINDS = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"]
+RUNS = 3
+
+
+def allantools_from(git_dir, into):
+    """Imports allantools from a copy of the clone's tree (no install, nothing downloaded)."""
+    archive = os.path.join(into, "allantools.tar")
+    subprocess.run(["git", "--git-dir", git_dir, "archive", "-o", archive, "HEAD", "allantools"], check=True)
+    with tarfile.open(archive) as t:
+        t.extractall(into)
+    sys.path.insert(0, into)
+    import allantools  # noqa: E402  (the copy just made)
+    return allantools
+
+
+def best(f):
+    times = []
+    out = None
+    for _ in range(RUNS):
+        t = time.perf_counter()
+        out = f()
+        times.append(time.perf_counter() - t)
+    return min(times), out
+
+
+def main():
+    gmwm, git_dir = sys.argv[1], sys.argv[2]
+    sizes = [int(float(a)) for a in sys.argv[3:]] or [10**6]
+    with tempfile.TemporaryDirectory() as tmp:
+        at = allantools_from(git_dir, tmp)
+        print("| N | kind | allantools (s) | gmwm deviations (s) | gmwm process (s) | ratio (deviations) | "
+              "ratio (process) | largest relative difference |")
+        print("|---|---|---|---|---|---|---|---|")
+        for n in sizes:
+            rng = np.random.default_rng(48)
+            y = rng.normal(size=n) + np.cumsum(rng.normal(scale=1e-3, size=n))
+            path = os.path.join(tmp, "y.csv")
+            np.savetxt(path, y, header="y", comments="", fmt="%.17g")
+            for kind in KINDS:
+                fn = getattr(at, kind)
+                t_at, (taus, dev, _, _) = best(lambda: fn(y, rate=1.0, data_type="freq", taus="octave"))
+                out = os.path.join(tmp, "out.json")
+                cmd = [gmwm, "stability", path, "--freq", "1", "--kind", kind, "--json", out, "--quiet"]
+                t_proc, _ = best(lambda: subprocess.run(cmd, check=True))
+                with open(out) as f:
+                    doc = json.load(f)
+                d = doc["columns"][0]["deviations"][kind]
+                mine = dict(zip(d["tau"], d["value"]))
+                diffs = [abs(mine[t] / v - 1) for t, v in zip(taus, dev) if t in mine and v > 0]
+                t_dev = doc["run"]["seconds"]["deviations"]
+                print(f"| {n:.0e} | {kind} | {t_at:.3f} | {t_dev:.3f} | {t_proc:.3f} | {t_at / t_dev:.1f}x | "
+                      f"{t_at / t_proc:.1f}x | {max(diffs) if diffs else float('nan'):.1e} ({len(diffs)} taus) |",
+                      flush=True)
+
+
+if __name__ == "__main__":
+    main()
