@@ -38,12 +38,11 @@ std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double
     if (!(whole >= 1.0) || std::abs(periods - whole) > kWholePeriodTolerance * whole)
       throw InputError("--taus: " + significant(tau, 9) + " s is not a whole number of sampling periods of " +
                        significant(tau0, 9) + " s");
-    const auto f = static_cast<std::int64_t>(whole);
-    if (f > top)
-      throw InputError("--taus: " + significant(tau, 9) + " s is " + std::to_string(f) + " periods, beyond " +
+    if (whole > static_cast<double>(top))  // compared as doubles: 1e300 periods fit no integer
+      throw InputError("--taus: " + significant(tau, 9) + " s is " + significant(whole, 9) + " periods, beyond " +
                        std::string(stability::deviation_name(kind)) + "'s largest " + std::to_string(top) + " on " +
                        std::to_string(phase_points) + " phase points (" + significant(top * tau0, 9) + " s)");
-    m.push_back(f);
+    m.push_back(static_cast<std::int64_t>(whole));
   }
   return m;
 }

@@ -159,6 +159,8 @@ TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
                  "--taus: 2.5 s is not a whole number of sampling periods of 1 s");
   expect_refused({"stability", "nbs.csv", "--kind", "hdev", "--taus", "400", "--json", "out.json"},
                  "--taus: 400 s is 400 periods, beyond hdev's largest 333 on 1001 phase points (333 s)");
+  expect_refused({"stability", "nbs.csv", "--taus", "1e300", "--json", "out.json"},
+                 "--taus: 1e+300 s is 1e+300 periods, beyond oadev's largest 500 on 1001 phase points (500 s)");
   expect_refused({"stability", "nbs.csv", "--taus", "fortnight", "--json", "out.json"},
                  "--taus: found 'fortnight', expected all, octave, decade or averaging times in seconds");
   expect_refused({"stability", "nbs.csv", "--kind", "mdev,mdev", "--json", "out.json"}, "--kind: mdev given twice");
