@@ -42,7 +42,10 @@ void taus_argument(const py::object& taus, gmwm::pipeline::StabilityStudyOptions
     o.taus = *set;
     return;
   }
-  for (const py::handle t : taus) o.tau_list.push_back(t.cast<double>());
+  if (!py::isinstance<py::sequence>(taus) || py::len(taus) == 0)
+    throw gmwm::InputError("taus: expected all, octave, decade or a non-empty list of averaging times in seconds");
+  for (const py::handle t : taus)
+    o.tau_list.push_back(py::float_(py::reinterpret_borrow<py::object>(t)).cast<double>());
 }
 
 std::string py_stability(const py::object& data, const py::object& kind, const py::object& taus,

@@ -42,6 +42,9 @@ std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double
       throw InputError("--taus: " + significant(tau, 9) + " s is " + significant(whole, 9) + " periods, beyond " +
                        std::string(stability::deviation_name(kind)) + "'s largest " + std::to_string(top) + " on " +
                        std::to_string(phase_points) + " phase points (" + significant(top * tau0, 9) + " s)");
+    if (!m.empty() && static_cast<std::int64_t>(whole) == m.back())
+      throw InputError("--taus: " + significant(tau, 15) + " s is the averaging factor " + significant(whole, 9) +
+                       " again (" + significant(whole * tau0, 9) + " s)");
     m.push_back(static_cast<std::int64_t>(whole));
   }
   return m;
@@ -57,7 +60,9 @@ std::string StabilityStudyOptions::Validate() const {
   for (std::size_t i = 0; i < tau_list.size(); ++i) {
     if (!(tau_list[i] > 0.0) || !std::isfinite(tau_list[i]))
       return "--taus: found " + significant(tau_list[i], 9) + ", expected positive averaging times in seconds";
-    if (i > 0 && !(tau_list[i] > tau_list[i - 1])) return "--taus: expected increasing averaging times";
+    if (i > 0 && !(tau_list[i] > tau_list[i - 1]))
+      return "--taus: expected increasing averaging times, found " + significant(tau_list[i], 9) + " s after " +
+             significant(tau_list[i - 1], 9) + " s";
   }
   return {};
 }
@@ -68,6 +73,14 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
     throw InputError(file_place(set) +
                      "the stability deviations need the sampling rate: give --freq HZ or a timestamp column");
   detail::require_regular(set, "gmwm stability");
+  const std::int64_t phase_points =
+      set.signals.empty() ? 0 : static_cast<std::int64_t>(set.signals.front().values.size()) + 1;
+  if (options.tau_list.empty() && options.taus == stability::TauSet::kAll && phase_points > kMaxPhasePointsForAllTaus)
+    throw InputError(file_place(set) + "--taus all: " + std::to_string(phase_points) + " phase points give about " +
+                     std::to_string(phase_points / 2) +
+                     " averaging times of O(N) each, hours of work; give octave, decade or a list of times (all is "
+                     "read up to " +
+                     std::to_string(kMaxPhasePointsForAllTaus) + " points)");
   const auto start = std::chrono::steady_clock::now();
   StabilityStudy study;
   study.tau0 = 1.0 / set.freq;

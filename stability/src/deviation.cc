@@ -142,6 +142,29 @@ double variance(DeviationKind kind, std::span<const double> x, std::int64_t m, d
 
 std::string text_of(double v) { return significant(v, 6); }
 
+// The phase's spread from its first point beyond which its squared differences, summed over
+// up to 1e9 terms, could overflow (above) or lose every digit to underflow (below): a double
+// holds 1.8e308 and its normal numbers start at 2.2e-308, and the squares of differences of
+// up to 8 x the spread, times 1e9 terms, stay inside that range for spreads in [1e-100, 1e100].
+constexpr double kLargestSafeSpread = 1e100;
+constexpr double kSmallestSafeSpread = 1e-100;
+
+struct Scaled {
+  std::vector<double> phase;  // the phase over its spread (empty: read as it is)
+  double factor = 1.0;        // what the deviations are multiplied by
+};
+
+Scaled scaled_phase(std::span<const double> x) {
+  double spread = 0.0;
+  for (const double v : x) spread = std::max(spread, std::abs(v - x.front()));
+  Scaled s;
+  if (spread == 0.0 || (spread <= kLargestSafeSpread && spread >= kSmallestSafeSpread)) return s;
+  s.factor = spread;
+  s.phase.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) s.phase[i] = (x[i] - x.front()) / spread;
+  return s;
+}
+
 }  // namespace
 
 std::span<const DeviationKind> deviation_kinds() { return kAll; }
@@ -273,8 +296,11 @@ DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, doub
   c.tau0 = tau0;
   c.m.assign(m.begin(), m.end());
   c.value.resize(m.size());
+  // Every deviation is linear in the phase: one far from 1 is read scaled to 1 and scaled back.
+  const Scaled scaled = scaled_phase(phase);
+  const std::span<const double> x = scaled.phase.empty() ? phase : std::span<const double>(scaled.phase);
   gmwm::parallel_for(std::size_t{0}, m.size(),
-                     [&](std::size_t k) { c.value[k] = std::sqrt(variance(kind, phase, m[k], tau0)); });
+                     [&](std::size_t k) { c.value[k] = std::sqrt(variance(kind, x, m[k], tau0)) * scaled.factor; });
   for (const std::int64_t f : m) {
     c.tau.push_back(static_cast<double>(f) * tau0);
     c.terms.push_back(terms(kind, n, f));

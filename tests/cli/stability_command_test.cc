@@ -164,6 +164,19 @@ TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
   expect_refused({"stability", "nbs.csv", "--taus", "fortnight", "--json", "out.json"},
                  "--taus: found 'fortnight', expected all, octave, decade or averaging times in seconds");
   expect_refused({"stability", "nbs.csv", "--kind", "mdev,mdev", "--json", "out.json"}, "--kind: mdev given twice");
+  expect_refused({"stability", "nbs.csv", "--taus", "2,1", "--json", "out.json"},
+                 "--taus: expected increasing averaging times, found 1 s after 2 s");
+  expect_refused({"stability", "nbs.csv", "--taus", "1,1.0000000001", "--json", "out.json"},
+                 "--taus: 1.0000000001 s is the averaging factor 1 again (1 s)");
+  expect_refused({"stability", "nbs.csv", "--taus", "", "--json", "out.json"},
+                 "--taus: found '', expected all, octave, decade or averaging times in seconds");
+  // Every factor of a long record: O(N^2), refused beyond 2^17 phase points.
+  std::string big = "y\n";
+  for (int i = 0; i < (1 << 17); ++i) big += std::to_string(i % 5) + "\n";
+  gmwm::test::write_text(dir_ / "big.csv", big);
+  expect_refused({"stability", "big.csv", "--freq", "100", "--taus", "all", "--json", "out.json"},
+                 "big.csv: --taus all: 131073 phase points give about 65536 averaging times of O(N) each, hours of "
+                 "work; give octave, decade or a list of times (all is read up to 131072 points)");
   // A record with missing samples: the deviations read a regular record.
   std::string csv = "time [s],y\n";
   for (int i = 0; i < 200; ++i)

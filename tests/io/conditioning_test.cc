@@ -83,14 +83,28 @@ TEST(Conditioning, PhaseIsReadAsTheRateOfItsFirstDifferencesOneSampleFewer) {
   EXPECT_EQ(gmwm::io::conditioning_summary(set),
             "read as phase: its first differences x 100 Hz (s -> fractional frequency, rad -> rad/s), one sample "
             "fewer");
-  // A step across a gap spans several periods: refused, naming --gaps join.
+  // A step across a gap spans several periods, missing or joined: refused either way (joining
+  // would read the step as one period's frequency), and so are too few steps.
+  for (const auto gaps : {gmwm::io::GapHandling::kCompleteWindows, gmwm::io::GapHandling::kJoin}) {
+    o.gaps = gaps;
+    try {
+      read_with(ramp_csv(400, 3), o);
+      FAIL() << "took phase across a gap";
+    } catch (const gmwm::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("c.csv: --data phase: found 1 gaps, expected a regular record (a phase "
+                                           "step across a gap spans several periods, joined or not); cut the record "
+                                           "at its gaps"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  o.gaps = gmwm::io::GapHandling::kCompleteWindows;
   try {
-    read_with(ramp_csv(400, 3), o);
-    FAIL() << "took phase across a gap";
+    read_with(ramp_csv(16), o);
+    FAIL() << "took 15 steps";
   } catch (const gmwm::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("c.csv: --data phase: found 3 samples missing in 1 gaps, expected a "
-                                         "regular record (a phase step across a gap spans several periods); give "
-                                         "--gaps join"),
+    EXPECT_NE(std::string(e.what()).find("c.csv: --data phase: found 16 phase samples, 15 steps, expected at least "
+                                         "16 steps"),
               std::string::npos)
         << e.what();
   }

@@ -173,6 +173,23 @@ TEST(Deviation, TheOverlappingAllanDeviationIsTheEnginesOfTheSameRate) {
   }
 }
 
+TEST(Deviation, ScalesWithThePhaseFromTheSmallestToTheLargestDoubles) {
+  // Every deviation is linear in the phase: 1e-300 and 1e300 times the 9-point set give
+  // 1e-300 and 1e300 times its values (summed as they are, the squares underflow to 0 or
+  // overflow to infinity).
+  const std::vector<double> x = phase_from_frequency(kNbs9, 1.0);
+  for (const double factor : {1e-300, 1e300}) {
+    std::vector<double> scaled = x;
+    for (double& v : scaled) v *= factor;
+    for (const DeviationKind kind : deviation_kinds()) {
+      const std::vector<std::int64_t> m = {1, 2};
+      const DeviationCurve a = deviation(kind, x, 1.0, m), b = deviation(kind, scaled, 1.0, m);
+      for (std::size_t k = 0; k < m.size(); ++k)
+        EXPECT_NEAR(b.value[k] / (a.value[k] * factor), 1.0, 1e-12) << deviation_name(kind) << " x " << factor;
+    }
+  }
+}
+
 TEST(Deviation, IsTheSameWhateverTheThreadCount) {
   const std::vector<double> x = phase_from_frequency(nbs1000(), 1.0);
   for (const DeviationKind kind : deviation_kinds()) {

@@ -28,7 +28,11 @@ void parse_taus(const std::string& text, pipeline::StabilityStudyOptions& o) {
     o.taus = *set;
     return;
   }
-  for (const std::string& entry : io::comma_list(text)) {
+  const std::vector<std::string> entries = io::comma_list(text);
+  if (entries.empty())
+    throw InputError("--taus: found '" + text +
+                     "', expected all, octave, decade or averaging times in seconds (1,10,100)");
+  for (const std::string& entry : entries) {
     char* end = nullptr;
     const double tau = std::strtod(entry.c_str(), &end);
     if (entry.empty() || end != entry.c_str() + entry.size() || !std::isfinite(tau))

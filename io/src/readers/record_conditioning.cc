@@ -112,19 +112,27 @@ void take_phase_as_rate(SignalSet& set, const std::string& source) {
   const std::string what = source + ": --data phase: ";
   if (!set.freq_known)
     throw InputError(what + "found no rate to divide the phase steps by, expected a timestamp column or --freq HZ");
-  if (!set.missing.empty())
-    throw InputError(what + "found " + std::to_string(set.missing_samples()) + " samples missing in " +
-                     std::to_string(set.missing.size()) +
-                     " gaps, expected a regular record (a phase step across a gap spans several periods); give "
-                     "--gaps join to join the samples end to end");
+  // A step across a gap spans several periods, missing or joined end to end (--gaps join
+  // leaves no missing run but the same step): either way not one period's frequency.
+  const std::int64_t gaps = !set.missing.empty()                 ? static_cast<std::int64_t>(set.missing.size())
+                            : set.timing && set.timing->gaps > 0 ? set.timing->gaps
+                                                                 : 0;
+  if (gaps > 0)
+    throw InputError(what + "found " + std::to_string(gaps) +
+                     " gaps, expected a regular record (a phase step across a gap spans several periods, joined or "
+                     "not); cut the record at its gaps");
+  const std::size_t n = set.signals.empty() ? 0 : set.signals.front().values.size();
+  if (n < static_cast<std::size_t>(kMinSamples) + 1)
+    throw InputError(what + "found " + std::to_string(n) + " phase samples, " + std::to_string(n > 0 ? n - 1 : 0) +
+                     " steps, expected at least " + std::to_string(kMinSamples) + " steps");
   for (Signal& s : set.signals) {
-    const std::size_t n = s.values.size();
-    std::vector<double> v(n > 0 ? n - 1 : 0);
+    std::vector<double> v(n - 1);
     for (std::size_t i = 0; i + 1 < n; ++i) v[i] = (s.values[i + 1] - s.values[i]) * set.freq;
     s.values = Samples(std::move(v));
     s.unit.clear();  // the header's unit is the phase's; --units states the rate's
   }
   set.data = DataKind::kPhase;
+  set.spilled = false;  // n - 1 values, in memory
 }
 
 void find_repeated_samples(SignalSet& set) {

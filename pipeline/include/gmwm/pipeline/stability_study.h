@@ -32,6 +32,11 @@ struct StabilityStudyOptions {
 /// the last digits of a double, never to a whole period.
 inline constexpr double kWholePeriodTolerance = 1e-9;
 
+/// --taus all reads every factor up to about N / 2, each in O(N): O(N^2) in all (0.23 s per
+/// kind at 2e4 samples on one core, so about 10 s at 1.3e5 and hours at 1e6). Beyond this
+/// many phase points it is refused, naming octave, decade and a list instead.
+inline constexpr std::int64_t kMaxPhasePointsForAllTaus = std::int64_t{1} << 17;
+
 struct StabilityColumn {
   std::string name;
   std::vector<stability::DeviationCurve> deviations;  ///< per kind, in the order asked
