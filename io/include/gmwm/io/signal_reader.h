@@ -340,9 +340,10 @@ void take_nan_rows_as_missing(SignalSet& set, const std::string& source);
 
 /// --data phase (DataKind::kPhase): each column, a phase or time error, becomes the rate of
 /// its first differences (x_{i+1} - x_i) x freq, one sample fewer; set.data says so. Throws
-/// InputError "SOURCE: --data phase: ..." without a known rate, or with missing samples (a
-/// step across a gap spans several periods). What reading does for --data phase, and what
-/// Python's functions do for phase=True.
+/// InputError "SOURCE: --data phase: ..." without a known rate, with gaps (missing samples, or
+/// gaps the stamps show that --gaps join joined: a step across a gap spans several periods),
+/// or with fewer than 16 steps. What reading does for --data phase, and what Python's
+/// functions do for phase=True.
 void take_phase_as_rate(SignalSet& set, const std::string& source);
 
 /// One line for the terminal and the documents on what reading did to the values: "read as
