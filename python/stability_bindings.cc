@@ -58,7 +58,10 @@ std::string py_stability(const py::object& data, const py::object& kind, const p
   std::vector<std::string> column_units;
   for (const std::string& label : labels) column_units.push_back(gmwm::io::unit_of_column(spec, label));
   gmwm::io::SignalSet set = signal_set_of(std::move(cols), labels, freq);
-  if (phase) gmwm::io::take_phase_as_rate(set, "data");
+  if (phase) {
+    gmwm::io::take_phase_as_rate(set, "data");
+    gmwm::io::find_repeated_samples(set);  // of the rates the study reads, as the command finds them
+  }
   gmwm::pipeline::StabilityStudyOptions o;
   o.kinds = kinds_argument(kind);
   taus_argument(taus, o);

@@ -35,14 +35,22 @@ def test_the_deviations_are_stable32s_and_the_commands_for_the_same_data(tmp_pat
     assert (tuple(cli["kinds"]), cli["taus"], cli["tau0"]) == (d.kinds, list(d.taus), d.tau0)
 
 
-def test_phase_gives_the_deviations_of_the_frequency_it_integrates():
+def test_phase_gives_the_deviations_of_the_frequency_it_integrates_as_the_command_does(tmp_path):
     y = nbs1000()
     x = np.concatenate([[0.0], np.cumsum(y)])
     a = gmwm.stability(y, freq=1.0, kind="adev,hdev,totdev", taus="decade")
-    b = gmwm.stability(x, freq=1.0, kind="adev,hdev,totdev", taus="decade", phase=True)
+    b = gmwm.stability(x, freq=1.0, kind="adev,hdev,totdev", taus="decade", phase=True, names=["x"])
     assert b.data == "phase"
     for kind in ("adev", "hdev", "totdev"):
         assert b.columns[0].deviations[kind].value == pytest.approx(a.columns[0].deviations[kind].value, rel=1e-9)
+    # The command on the same phase: the same deviations and the same reading of the rates
+    # (held samples looked for in the rates both read, not in the phase).
+    path = tmp_path / "x.csv"
+    path.write_text("time [s],x\n" + "".join(f"{k},{v!r}\n" for k, v in enumerate(x)))
+    cli = json.loads(run(tmp_path, "stability", str(path), "--data", "phase", "--kind", "adev,hdev,totdev",
+                         "--taus", "decade", "--json", "-").stdout)
+    assert cli["columns"][0]["deviations"] == b.document["columns"][0]["deviations"]
+    assert cli.get("repeated_samples") == b.document.get("repeated_samples")
 
 
 def test_a_bad_kind_tau_or_rate_is_refused_naming_it():
