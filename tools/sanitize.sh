@@ -32,7 +32,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan
 export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 if [[ $mode == quick ]]; then
   main_build=${GMWM_BUILD_DIR:-build}
-  targets=(gmwm test_engine test_io test_fuzz test_serve)
+  targets=(gmwm test_engine test_stability test_io test_fuzz test_serve)
   cli_tests=$main_build/test_cli
   if [[ ! -x $cli_tests ]]; then
     targets+=(test_cli)
@@ -57,10 +57,11 @@ if [[ $mode == quick ]]; then
   }
   cli=$(pwd)/$dir/gmwm
   lane_library() {
-    for t in test_engine test_io test_fuzz; do run "$t" "$dir/$t" --gtest_brief=1; done
+    for t in test_engine test_stability test_io test_fuzz; do run "$t" "$dir/$t" --gtest_brief=1; done
   }
   lane_program() {
-    run cli env GMWM_CLI="$cli" "$cli_tests" --gtest_brief=1 --gtest_filter='Corpus/Hostile.*:GmwmCliOutputSafety.*'
+    run cli env GMWM_CLI="$cli" "$cli_tests" --gtest_brief=1 \
+      --gtest_filter='Corpus/Hostile.*:GmwmCliOutputSafety.*:StabilityCommand.*'
     # The web app's hostile requests (traversal, limits, malformed bodies, a hundred clients,
     # dropped connections, cancellation, the guard's rules, the bounds, the hostile corpus of
     # crafted requests), served by the sanitized library.
@@ -81,11 +82,11 @@ if [[ $mode == quick ]]; then
     lane_program
   fi
   rc=0
-  for name in test_engine test_io test_fuzz cli serve; do
+  for name in test_engine test_stability test_io test_fuzz cli serve; do
     cat "$logs/$name.log" 2>/dev/null || echo "sanitizer pass: no log for $name"
     [[ $(cat "$logs/$name.rc" 2>/dev/null) == 0 ]] || { echo "sanitizer pass: $name FAILED"; rc=1; }
   done
-  echo "gmwm sanitizer pass (ASan+UBSan: engine, readers, fuzz corpus, hostile inputs, output safety, web app): $([[ $rc == 0 ]] && echo clean || echo FAILED)"
+  echo "gmwm sanitizer pass (ASan+UBSan: engine, stability, readers, fuzz corpus, hostile inputs, output safety, stability command, web app): $([[ $rc == 0 ]] && echo clean || echo FAILED)"
   exit $rc
 fi
 cmake --build "$dir" --parallel "$jobs"
