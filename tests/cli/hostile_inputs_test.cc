@@ -297,6 +297,30 @@ std::vector<Case> corpus() {
               return t;
             }())},
       {"invalid SDF", {"gap", "base.csv", "--gazebo", "s.sdf"}, {"s.sdf"}, both(base, file("s.sdf", "<sdf><model>"))},
+      // gmwm stability: a tau no integer holds, a phase joined across its gaps, every tau of a long record.
+      {"a stability tau of 1e300 s",
+       {"stability", "base.csv", "--taus", "1e300"},
+       {"--taus: 1e+300 s", "beyond"},
+       base},
+      {"phase joined across a gap",
+       {"stability", "far.csv", "--data", "phase", "--gaps", "join"},
+       {"far.csv: --data phase: found 1 gaps", "cut the record at its gaps"},
+       file("far.csv",
+            [] {
+              std::string t = "time [s],x\n";
+              for (int k = 0; k < 200; ++k)
+                t += std::to_string((k < 100 ? k : k + 50) / 100.0) + "," + std::to_string(k) + "\n";
+              return t;
+            }())},
+      {"every tau of a record of 2^18 samples",
+       {"stability", "long.csv", "--freq", "100", "--taus", "all"},
+       {"long.csv: --taus all", "give octave, decade or a list"},
+       file("long.csv",
+            [] {
+              std::string t = "y\n";
+              for (int k = 0; k < (1 << 18); ++k) t += std::to_string(k % 7) + "\n";
+              return t;
+            }())},
       {"datasheet figure without a unit",
        {"gap", "base.csv", "--datasheet", "d.yaml"},
        {"d.yaml:2", "without a unit"},
