@@ -1,0 +1,130 @@
+// The deviations' confidence intervals (confidence.h): noise identification -> equivalent
+// degrees of freedom -> chi-square interval, at each factor in parallel.
+#include "gmwm/stability/confidence.h"
+
+#include <array>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <cmath>
+#include <string>
+
+#include "gmwm/engine/error.h"
+#include "gmwm/engine/number_text.h"
+#include "gmwm/engine/parallel.h"
+
+namespace gmwm::stability {
+namespace {
+
+// TOTVAR's degrees of freedom b (T / tau) - c, T = N tau0 the record's length, for white,
+// flicker and random-walk FM (NIST SP 1065, Table 7; D. A. Howe, "The total deviation
+// approach to long-term characterization of frequency stability", IEEE UFFC 47, 2000).
+struct TotalDof {
+  int alpha;
+  double b, c;
+};
+constexpr std::array<TotalDof, 3> kTotvarDof = {{{0, 1.50, 0.0}, {-1, 1.17, 0.22}, {-2, 0.93, 0.36}}};
+
+std::optional<double> total_dof(int alpha, std::int64_t n, std::int64_t m) {
+  for (const TotalDof& t : kTotvarDof)
+    if (t.alpha == alpha) return t.b * static_cast<double>(n) / static_cast<double>(m) - t.c;
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<double> equivalent_dof(DeviationKind kind, int alpha, std::int64_t n, std::int64_t m) {
+  switch (kind) {
+    case DeviationKind::kAdev:
+      return greenhall_edf(alpha, 2, m, n, m, 1);
+    case DeviationKind::kOadev:
+      return greenhall_edf(alpha, 2, m, n, m, m);
+    case DeviationKind::kMdev:
+    case DeviationKind::kTdev:
+      return greenhall_edf(alpha, 2, m, n, 1, m);
+    case DeviationKind::kHdev:
+      return greenhall_edf(alpha, 3, m, n, m, 1);
+    case DeviationKind::kOhdev:
+      return greenhall_edf(alpha, 3, m, n, m, m);
+    case DeviationKind::kTotdev:
+      if (const auto dof = total_dof(alpha, n, m)) return dof;
+      return greenhall_edf(alpha, 2, m, n, m, m);  // phase noise: TOTVAR reads as OAVAR
+    default:
+      return std::nullopt;
+  }
+}
+
+std::string_view interval_method_name(IntervalMethod method) {
+  return method == IntervalMethod::kExact ? "exact" : "stable32";
+}
+
+std::optional<IntervalMethod> interval_method_from_name(std::string_view name) {
+  for (const IntervalMethod m : {IntervalMethod::kStable32, IntervalMethod::kExact})
+    if (interval_method_name(m) == name) return m;
+  return std::nullopt;
+}
+
+ChiSquareInterval chi_square_interval(double deviation, double edf, double confidence, IntervalMethod method) {
+  if (!(confidence > 0.0 && confidence < 1.0))
+    throw InputError("confidence: found " + significant(confidence, 6) + ", expected a number between 0 and 1");
+  if (!(edf > 0.0) || !std::isfinite(edf))
+    throw InputError("edf: found " + significant(edf, 6) + ", expected a positive number of degrees of freedom");
+  const double tail = (1.0 - confidence) / 2.0;
+  double upper = 0.0, lower = 0.0;  // chi2 quantiles at 1 - tail and tail
+  if (method == IntervalMethod::kExact || edf <= kStable32ExactDof) {
+    const boost::math::chi_squared_distribution<double> chi2(edf);
+    upper = boost::math::quantile(chi2, 1.0 - tail);
+    lower = boost::math::quantile(chi2, tail);
+  } else {
+    const double q = std::round((1.0 - tail) * 100.0) / 100.0;
+    const double z = boost::math::quantile(boost::math::normal_distribution<double>(), q);
+    const double a = 2.0 / (9.0 * edf);
+    upper = edf * std::pow(1.0 - a + z * std::sqrt(a), 3);
+    lower = edf * std::pow(1.0 - a - z * std::sqrt(a), 3);
+  }
+  ChiSquareInterval ci;
+  ci.low = deviation * std::sqrt(edf / upper);
+  ci.high = deviation * std::sqrt(edf / lower);
+  return ci;
+}
+
+std::string IntervalOptions::Validate() const {
+  if (!(confidence > 0.0 && confidence < 1.0))
+    return "confidence: found " + significant(confidence, 6) + ", expected a number between 0 and 1";
+  if (alpha && (*alpha < -4 || *alpha > 2))
+    return "noise alpha: found " + std::to_string(*alpha) +
+           ", expected an integer from -4 (random-run FM) to 2 (white PM)";
+  return "";
+}
+
+DeviationIntervals deviation_intervals(const DeviationCurve& curve, std::span<const double> phase,
+                                       const IntervalOptions& options) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  const auto n = static_cast<std::int64_t>(phase.size());
+  const std::int64_t top = max_factor(curve.kind, n);
+  for (const std::int64_t f : curve.m)
+    if (f < 1 || f > top)
+      throw InputError(std::string(deviation_name(curve.kind)) + ": averaging factor " + std::to_string(f) +
+                       " is outside 1 .. " + std::to_string(top) + " (" + std::to_string(n) + " phase points)");
+  const std::size_t k = curve.m.size();
+  DeviationIntervals out;
+  out.options = options;
+  out.noise.resize(k);
+  out.edf.assign(k, NAN);
+  out.low.assign(k, NAN);
+  out.high.assign(k, NAN);
+  gmwm::parallel_for(std::size_t{0}, k, [&](std::size_t i) {
+    if (options.alpha)
+      out.noise[i] = {*options.alpha, NAN, NoiseIdMethod::kFixed};
+    else
+      out.noise[i] = identify_noise(curve.kind, phase, curve.m[i]);
+    const auto edf = equivalent_dof(curve.kind, out.noise[i].alpha, n, curve.m[i]);
+    if (!edf || !(*edf > 0.0)) return;
+    out.edf[i] = *edf;
+    const ChiSquareInterval ci = chi_square_interval(curve.value[i], *edf, options.confidence, options.method);
+    out.low[i] = ci.low;
+    out.high[i] = ci.high;
+  });
+  return out;
+}
+
+}  // namespace gmwm::stability
