@@ -57,6 +57,9 @@ std::string StabilityStudyOptions::Validate() const {
   for (std::size_t i = 0; i < kinds.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (kinds[i] == kinds[j]) return "--kind: " + std::string(stability::deviation_name(kinds[i])) + " given twice";
+  // The interval options' fields as the command spells them.
+  if (std::string why = intervals.Validate(); !why.empty())
+    return why.starts_with("noise_alpha") ? "--noise-alpha" + why.substr(11) : "--" + why;
   for (std::size_t i = 0; i < tau_list.size(); ++i) {
     if (!(tau_list[i] > 0.0) || !std::isfinite(tau_list[i]))
       return "--taus: found " + significant(tau_list[i], 9) + ", expected positive averaging times in seconds";
@@ -87,7 +90,7 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
   for (const io::Signal& s : set.signals) {
     const std::vector<double> phase = stability::phase_from_frequency(without_mean(s.values), study.tau0);
     study.phase_points = static_cast<std::int64_t>(phase.size());
-    StabilityColumn column{s.name, {}};
+    StabilityColumn column{s.name, {}, {}};
     for (const stability::DeviationKind kind : options.kinds) {
       const std::int64_t top = stability::max_factor(kind, study.phase_points);
       const std::vector<std::int64_t> m =
@@ -97,6 +100,7 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
         throw InputError(file_place(set) + "column '" + s.name + "': " + std::to_string(s.values.size()) +
                          " samples leave " + std::string(stability::deviation_name(kind)) + " no averaging time");
       column.deviations.push_back(stability::deviation(kind, phase, study.tau0, m));
+      column.intervals.push_back(stability::deviation_intervals(column.deviations.back(), phase, options.intervals));
     }
     study.columns.push_back(std::move(column));
   }

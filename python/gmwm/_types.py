@@ -258,7 +258,7 @@ class Readoff(ReadoffMethods):
 
 @dataclass(frozen=True, repr=False)
 class NoiseFigure(NoiseFigureMethods, Readoff):
-    """A noise figure (N, K or B) as written: its value, interval [low, high] and unit,
+    """A noise figure (N, K, B, Q or R) as written: its value, interval [low, high] and unit,
     `source` (model, data or bound: whose read-off it is), `note`, and both read-offs."""
 
     unit: str
@@ -287,11 +287,15 @@ class NoiseFigure(NoiseFigureMethods, Readoff):
 
 @dataclass(frozen=True, repr=False)
 class NoiseFigures(NoiseFiguresMethods):
-    """The IEEE 952 figures: N (JSON "white"), K ("walk") and B ("instability")."""
+    """The IEEE 952 figures: N (JSON "white"), K ("walk"), B ("instability"), Q
+    ("quantization", the data's unit times s) and R ("ramp", the data's unit per s); Q and R
+    are None in a document written before them."""
 
     N: NoiseFigure
     K: NoiseFigure
     B: NoiseFigure
+    Q: NoiseFigure | None
+    R: NoiseFigure | None
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any] | None) -> "NoiseFigures | None":
@@ -299,7 +303,9 @@ class NoiseFigures(NoiseFiguresMethods):
             return None
         return cls(NoiseFigure.from_dict(d["white"]),
                    NoiseFigure.from_dict(d["walk"]),
-                   NoiseFigure.from_dict(d["instability"]))
+                   NoiseFigure.from_dict(d["instability"]),
+                   None if d.get("quantization") is None else NoiseFigure.from_dict(d["quantization"]),
+                   None if d.get("ramp") is None else NoiseFigure.from_dict(d["ramp"]))
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -1875,12 +1881,21 @@ class PlanResult(PlanResultMethods, JsonResult):
 @dataclass(frozen=True)
 class Deviation:
     """One frequency-stability deviation of a column at its averaging factors `m` (tau = m tau0,
-    `tau` in s): its `value`, the squares averaged at each (`n`, Stable32's "#") and its `unit`
-    (the data's; tdev's times seconds; None when not declared)."""
+    `tau` in s): its `value`, its chi-square interval `ci_low`..`ci_high` from `edf` equivalent
+    degrees of freedom (NaN where the kind has no rule), the power-law noise exponent `alpha`
+    they were computed for (`noise` its name, `noise_id` how it was found: acf, b1, b1+rn,
+    default, fixed), the squares averaged at each (`n`, Stable32's "#") and its `unit` (the
+    data's; tdev's times seconds; None when not declared)."""
 
     m: IntArray
     tau: FloatArray
     value: FloatArray
+    ci_low: FloatArray
+    ci_high: FloatArray
+    edf: FloatArray
+    alpha: IntArray
+    noise: tuple[str, ...]
+    noise_id: tuple[str, ...]
     n: IntArray
     unit: str | None
 
@@ -1889,6 +1904,12 @@ class Deviation:
         return cls(ints(d["m"]),
                    floats(d["tau"]),
                    floats(d["value"]),
+                   floats(d["ci_low"]),
+                   floats(d["ci_high"]),
+                   floats(d["edf"]),
+                   ints(d["alpha"]),
+                   strings(d["noise"]),
+                   strings(d["noise_id"]),
                    ints(d["n"]),
                    d.get("unit"))
 
@@ -1916,13 +1937,17 @@ class StabilityColumn:
 class StabilityResult(JsonResult):
     """The frequency-stability deviations (gmwm.stability, `gmwm stability --json`): how the
     columns were read (`data`: rate or phase), the `kinds` asked, the `taus` (a set's name or
-    the times asked), the sampling period `tau0` (s), the `phase_points` each deviation read and
-    per column its deviations."""
+    the times asked), the intervals' `confidence`, quantiles (`interval_method`: stable32 or
+    exact) and fixed noise exponent (`noise_alpha`, None: identified at each tau), the sampling
+    period `tau0` (s), the `phase_points` each deviation read and per column its deviations."""
 
     input: str
     data: str
     kinds: tuple[str, ...]
     taus: Any
+    confidence: float
+    interval_method: str
+    noise_alpha: int | None
     tau0: float
     phase_points: int
     columns: tuple[StabilityColumn, ...]
@@ -1935,6 +1960,9 @@ class StabilityResult(JsonResult):
                    d["data"],
                    strings(d["kinds"]),
                    d.get("taus"),
+                   num(d["confidence"]),
+                   d["interval_method"],
+                   opt_int(d.get("noise_alpha")),
                    num(d["tau0"]),
                    int(d["phase_points"]),
                    tuple(StabilityColumn.from_dict(r) for r in d.get("columns") or ()))
@@ -2096,8 +2124,9 @@ class ExportResult(ExportResultMethods, JsonResult):
 
 @dataclass(frozen=True)
 class FleetFigure:
-    """N, K or B of one unit's axis: `value` with its interval [`low`, `high`] (low NaN for a
-    bound) in the data's unit, and its `source` (model, data or bound)."""
+    """N, K, B, Q or R of one unit's axis: `value` with its interval [`low`, `high`] (low NaN
+    for a bound) in the data's unit, and its `source` (model, data or bound); Q and R are None in
+    a document written before them."""
 
     value: float
     low: float
@@ -2164,6 +2193,8 @@ class FleetRow:
     N: FleetFigure | None
     K: FleetFigure | None
     B: FleetFigure | None
+    Q: FleetFigure | None
+    R: FleetFigure | None
     seconds: float
     flags: tuple[str, ...]
     cached: bool = False
@@ -2192,6 +2223,8 @@ class FleetRow:
                    FleetFigure.from_dict(d.get("N")),
                    FleetFigure.from_dict(d.get("K")),
                    FleetFigure.from_dict(d.get("B")),
+                   FleetFigure.from_dict(d.get("Q")),
+                   FleetFigure.from_dict(d.get("R")),
                    num(d["seconds"]),
                    strings(d["flags"]),
                    bool(d.get("cached", False)),
@@ -2206,7 +2239,7 @@ class FleetRow:
 
 @dataclass(frozen=True)
 class FleetFigureSummary:
-    """One figure ('N', 'K' or 'B') of one axis over a group's units: its median, its
+    """One figure ('N', 'K', 'B', 'Q' or 'R') of one axis over a group's units: its median, its
     spread as a factor (exp(MAD of the logs / 0.6745)) and the units flagged on it."""
 
     group: str
@@ -2236,7 +2269,7 @@ class FleetFigureSummary:
 class FleetJointModel:
     """The joint model of a group's axis (`gmwm fleet --joint`): its units as replicates (the
     ones that stand out `left_out`), the selection's `recommended` model and its `model` with
-    values, the typical unit's N, K, B, and the shared-theta test (`shared`: the units share
+    values, the typical unit's N, K, B, Q, R, and the shared-theta test (`shared`: the units share
     one theta at 5%; `heterogeneity_p`, `calibration` 'bootstrap' or 'chi-square'). `status`
     says why there is none."""
 
@@ -2251,6 +2284,8 @@ class FleetJointModel:
     N: FleetFigure | None
     K: FleetFigure | None
     B: FleetFigure | None
+    Q: FleetFigure | None
+    R: FleetFigure | None
     heterogeneity: float
     heterogeneity_p: float
     calibration: str | None
@@ -2270,6 +2305,8 @@ class FleetJointModel:
                    FleetFigure.from_dict(d.get("N")),
                    FleetFigure.from_dict(d.get("K")),
                    FleetFigure.from_dict(d.get("B")),
+                   FleetFigure.from_dict(d.get("Q")),
+                   FleetFigure.from_dict(d.get("R")),
                    num((d.get("replicate_test") or {}).get("heterogeneity")),
                    num((d.get("replicate_test") or {}).get("heterogeneity_p_value")),
                    (d.get("replicate_test") or {}).get("calibration"),

@@ -53,6 +53,30 @@ def test_phase_gives_the_deviations_of_the_frequency_it_integrates_as_the_comman
     assert cli.get("repeated_samples") == b.document.get("repeated_samples")
 
 
+def test_each_deviation_carries_stable32s_interval_and_its_noise_as_the_command_does(tmp_path):
+    y = nbs1000()
+    d = gmwm.stability(y, freq=1.0, kind="oadev,totdev", names=["y"])
+    oadev = d.columns[0].deviations["oadev"]
+    # Stable32 1.60's one-sigma ("0.683") interval at tau = 1 s, white FM.
+    assert (oadev.ci_low[0], oadev.ci_high[0]) == pytest.approx((2.8515e-01, 2.9987e-01), abs=0.5e-5)
+    assert oadev.alpha[0] == 0 and oadev.noise[0] == "white FM" and oadev.noise_id[0] == "acf"
+    assert np.all(oadev.ci_low < oadev.value) and np.all(oadev.value < oadev.ci_high)
+    assert d.confidence == pytest.approx(0.6827, abs=1e-4) and d.interval_method == "stable32" and d.noise_alpha is None
+    fixed = gmwm.stability(y, freq=1.0, kind="oadev", noise_alpha=0, intervals="exact", confidence=0.95)
+    f = fixed.columns[0].deviations["oadev"]
+    assert set(f.noise_id) == {"fixed"} and set(f.alpha.tolist()) == {0}
+    assert fixed.noise_alpha == 0 and fixed.interval_method == "exact" and fixed.confidence == 0.95
+    path = tmp_path / "y.csv"
+    path.write_text("time [s],y\n" + "".join(f"{k},{v!r}\n" for k, v in enumerate(y)))
+    cli = json.loads(run(tmp_path, "stability", str(path), "--kind", "oadev", "--noise-alpha", "0", "--intervals",
+                         "exact", "--confidence", "0.95", "--json", "-").stdout)
+    assert cli["columns"][0]["deviations"] == fixed.document["columns"][0]["deviations"]
+    with pytest.raises(gmwm.InputError, match="--confidence: found 1.5, expected a number between 0 and 1"):
+        gmwm.stability(y, freq=1.0, confidence=1.5)
+    with pytest.raises(gmwm.InputError, match="intervals: found 'fast', expected stable32 or exact"):
+        gmwm.stability(y, freq=1.0, intervals="fast")
+
+
 def test_a_bad_kind_tau_or_rate_is_refused_naming_it():
     y = nbs1000()
     with pytest.raises(gmwm.InputError, match="--kind: found 'allan', expected adev, oadev"):

@@ -1,6 +1,7 @@
 // The frequency-stability study's JSON document and terminal tables (stability_output.h).
 #include "gmwm/report/stability_output.h"
 
+#include <cmath>
 #include <map>
 #include <sstream>
 
@@ -16,15 +17,45 @@ std::string deviation_unit(stability::DeviationKind kind, const std::string& dat
   return kind == stability::DeviationKind::kTdev ? "(" + data_unit + ")*s" : data_unit;
 }
 
-Json curve_json(const stability::DeviationCurve& c, const std::string& data_unit) {
-  Json values = Json::array();
-  for (const double v : c.value) values.push_back(json_number(v));
+Json numbers(const std::vector<double>& v) {
+  Json out = Json::array();
+  for (const double x : v) out.push_back(json_number(x));
+  return out;
+}
+
+Json curve_json(const stability::DeviationCurve& c, const stability::DeviationIntervals& ci,
+                const std::string& data_unit) {
   const std::string unit = deviation_unit(c.kind, data_unit);
+  Json alpha = Json::array(), noise = Json::array(), method = Json::array();
+  for (const stability::NoiseIdentification& id : ci.noise) {
+    alpha.push_back(id.alpha);
+    noise.push_back(std::string(stability::noise_name(id.alpha)));
+    method.push_back(std::string(stability::noise_id_method_name(id.method)));
+  }
   return {{"m", c.m},
           {"tau", c.tau},
-          {"value", std::move(values)},
+          {"value", numbers(c.value)},
+          {"ci_low", numbers(ci.low)},
+          {"ci_high", numbers(ci.high)},
+          {"edf", numbers(ci.edf)},
+          {"alpha", std::move(alpha)},
+          {"noise", std::move(noise)},
+          {"noise_id", std::move(method)},
           {"n", c.terms},
           {"unit", unit.empty() ? Json(nullptr) : Json(unit)}};
+}
+
+// "white FM at 1-64 s, flicker PM at 128 s": the identified noise over runs of factors.
+std::string noise_runs(const stability::DeviationCurve& c, const stability::DeviationIntervals& ci) {
+  std::string out;
+  for (std::size_t i = 0; i < ci.noise.size();) {
+    std::size_t j = i;
+    while (j + 1 < ci.noise.size() && ci.noise[j + 1].alpha == ci.noise[i].alpha) ++j;
+    out += (out.empty() ? "" : ", ") + std::string(stability::noise_name(ci.noise[i].alpha)) + " at " +
+           significant(c.tau[i], 4) + (j > i ? "-" + significant(c.tau[j], 4) : std::string()) + " s";
+    i = j + 1;
+  }
+  return out;
 }
 
 }  // namespace
@@ -39,6 +70,9 @@ Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy
   doc["kinds"] = std::move(kinds);
   doc["taus"] =
       options.tau_list.empty() ? Json(std::string(stability::tau_set_name(options.taus))) : Json(options.tau_list);
+  doc["confidence"] = options.intervals.confidence;
+  doc["interval_method"] = std::string(stability::interval_method_name(options.intervals.method));
+  doc["noise_alpha"] = options.intervals.noise_alpha ? Json(*options.intervals.noise_alpha) : Json(nullptr);
   doc["tau0"] = study.tau0;
   doc["phase_points"] = study.phase_points;
   add_record_json(doc, set);
@@ -49,8 +83,9 @@ Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy
         column_json({c.name, static_cast<std::int64_t>(set.signals[k].values.size()), set.freq, set.freq_known, unit});
     col["unit"] = unit.empty() ? Json(nullptr) : Json(unit);
     Json deviations = Json::object();
-    for (const stability::DeviationCurve& d : c.deviations)
-      deviations[std::string(stability::deviation_name(d.kind))] = curve_json(d, unit);
+    for (std::size_t d = 0; d < c.deviations.size(); ++d)
+      deviations[std::string(stability::deviation_name(c.deviations[d].kind))] =
+          curve_json(c.deviations[d], c.intervals[d], unit);
     col["deviations"] = std::move(deviations);
     doc["columns"].push_back(std::move(col));
   }
@@ -70,7 +105,10 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
       for (std::size_t i = 0; i < c.deviations[d].m.size(); ++i) {
         auto& row = rows[c.deviations[d].m[i]];
         row.resize(c.deviations.size(), "-");
-        row[d] = significant(c.deviations[d].value[i], 5);
+        const stability::DeviationIntervals& ci = c.intervals[d];
+        row[d] = significant(c.deviations[d].value[i], 5) +
+                 (std::isfinite(ci.low[i]) ? " [" + significant(ci.low[i], 5) + ", " + significant(ci.high[i], 5) + "]"
+                                           : std::string());
       }
     std::vector<std::string> header = {"tau [s]"};
     for (const stability::DeviationCurve& d : c.deviations) header.emplace_back(stability::deviation_name(d.kind));
@@ -89,6 +127,15 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
                     (u.empty() ? (d.kind == stability::DeviationKind::kTdev ? "U*s" : "U") : u);
     }
     os << "  " << units_line << (unit.empty() ? " (U: the data's unit; --units declares it)" : "") << "\n";
+    if (!c.intervals.empty()) {
+      const stability::IntervalOptions& o = c.intervals.front().options;
+      os << "  [low, high]: the " << significant(100.0 * o.confidence, 4) << "% chi-square interval ("
+         << stability::interval_method_name(o.method) << " quantiles) from the equivalent degrees of freedom of the "
+         << (o.noise_alpha ? "noise given" : "noise identified at each tau") << "\n";
+      for (std::size_t d = 0; d < c.deviations.size(); ++d)
+        os << "  " << stability::deviation_name(c.deviations[d].kind)
+           << " noise: " << noise_runs(c.deviations[d], c.intervals[d]) << "\n";
+    }
   }
   return os.str();
 }

@@ -90,8 +90,8 @@ ChiSquareInterval chi_square_interval(double deviation, double edf, double confi
 std::string IntervalOptions::Validate() const {
   if (!(confidence > 0.0 && confidence < 1.0))
     return "confidence: found " + significant(confidence, 6) + ", expected a number between 0 and 1";
-  if (alpha && (*alpha < -4 || *alpha > 2))
-    return "noise alpha: found " + std::to_string(*alpha) +
+  if (noise_alpha && (*noise_alpha < -4 || *noise_alpha > 2))
+    return "noise_alpha: found " + std::to_string(*noise_alpha) +
            ", expected an integer from -4 (random-run FM) to 2 (white PM)";
   return "";
 }
@@ -113,8 +113,8 @@ DeviationIntervals deviation_intervals(const DeviationCurve& curve, std::span<co
   out.low.assign(k, NAN);
   out.high.assign(k, NAN);
   gmwm::parallel_for(std::size_t{0}, k, [&](std::size_t i) {
-    if (options.alpha)
-      out.noise[i] = {*options.alpha, NAN, NoiseIdMethod::kFixed};
+    if (options.noise_alpha)
+      out.noise[i] = {*options.noise_alpha, NAN, NoiseIdMethod::kFixed};
     else
       out.noise[i] = identify_noise(curve.kind, phase, curve.m[i]);
     const auto edf = equivalent_dof(curve.kind, out.noise[i].alpha, n, curve.m[i]);

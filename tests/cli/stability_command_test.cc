@@ -71,13 +71,61 @@ TEST_F(StabilityCommand, WritesEachKindsDeviationAtTheAskedTausAsStable32Gives) 
   }
   EXPECT_EQ(d["oadev"]["n"], json({999, 981, 803}));
   EXPECT_TRUE(d["oadev"]["unit"].is_null());
-  // The terminal: one row per tau, one column per kind, the units said below.
+  // Each value's interval, Stable32's at tau = 1 s (its one-sigma "0.683", white FM).
+  EXPECT_NEAR(doc["confidence"].get<double>(), 0.6827, 1e-4);
+  EXPECT_EQ(doc["interval_method"], "stable32");
+  EXPECT_TRUE(doc["noise_alpha"].is_null());
+  EXPECT_NEAR(d["oadev"]["ci_low"][0].get<double>(), 2.8515e-01, 0.5e-5);
+  EXPECT_NEAR(d["oadev"]["ci_high"][0].get<double>(), 2.9987e-01, 0.5e-5);
+  EXPECT_NEAR(d["totdev"]["ci_low"][0].get<double>(), 2.8707e-01, 0.5e-5);
+  EXPECT_EQ(d["oadev"]["alpha"][0], 0);
+  EXPECT_EQ(d["oadev"]["noise"][0], "white FM");
+  EXPECT_EQ(d["oadev"]["noise_id"][0], "acf");
+  EXPECT_EQ(d["mdev"]["noise_id"][2], "b1+rn");  // 11 decimated points at 99 s
+  for (const auto& [kind, curve] : d.items())
+    for (std::size_t k = 0; k < curve["value"].size(); ++k) {
+      EXPECT_LT(curve["ci_low"][k].get<double>(), curve["value"][k].get<double>()) << kind;
+      EXPECT_GT(curve["ci_high"][k].get<double>(), curve["value"][k].get<double>()) << kind;
+      EXPECT_GT(curve["edf"][k].get<double>(), 0.0) << kind;
+    }
+  // The terminal: one row per tau, one column per kind (value [low, high]), the units, the
+  // interval's meaning and each kind's noise said below.
   EXPECT_NE(r.out.find("y: stability deviations, tau0 = 1 s, 1001 phase points"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("oadev"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("     10    0.0916  0.061724  0.091347"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("      1    0.29223 [0.28515, 0.29987]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("[low, high]: the 68.27% chi-square interval (stable32 quantiles)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("oadev noise: white FM at 1-10 s, flicker PM at 99 s"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("oadev in U, mdev in U, totdev in U (U: the data's unit; --units declares it)"),
             std::string::npos)
       << r.out;
+}
+
+TEST_F(StabilityCommand, AGivenNoiseAndExactQuantilesChangeTheIntervalsAsStable32sFixedAlphaRuns) {
+  // At 128 s (7 averaged frequencies) B1 reads flicker PM; Stable32 1.60 printed white FM's
+  // interval, 0.023045 .. 0.037027: --noise-alpha 0 gives it (within its 2.5e-4 of the
+  // asymptotic edf, confidence_test.cc). --intervals exact moves the 1 s ends (782 degrees of
+  // freedom) by under 0.3%.
+  ASSERT_EQ(run_gmwm({"stability", "nbs.csv", "--taus", "1,128", "--json", "id.json"}, dir_).exit_code, 0);
+  ASSERT_EQ(run_gmwm({"stability", "nbs.csv", "--taus", "1,128", "--noise-alpha", "0", "--json", "fixed.json"}, dir_)
+                .exit_code,
+            0);
+  ASSERT_EQ(run_gmwm({"stability", "nbs.csv", "--taus", "1,128", "--intervals", "exact", "--json", "exact.json"}, dir_)
+                .exit_code,
+            0);
+  const json id = read_json(dir_ / "id.json"), fixed = read_json(dir_ / "fixed.json"),
+             exact = read_json(dir_ / "exact.json");
+  const json& a = id["columns"][0]["deviations"]["oadev"];
+  const json& f = fixed["columns"][0]["deviations"]["oadev"];
+  EXPECT_EQ(a["alpha"], json({0, 1}));
+  EXPECT_EQ(f["alpha"], json({0, 0}));
+  EXPECT_EQ(f["noise_id"], json({"fixed", "fixed"}));
+  EXPECT_EQ(fixed["noise_alpha"], 0);
+  EXPECT_NEAR(f["ci_low"][1].get<double>(), 0.023045, 2.5e-4 * 0.023045);
+  EXPECT_NEAR(f["ci_high"][1].get<double>(), 0.037027, 2.5e-4 * 0.037027);
+  const json& e = exact["columns"][0]["deviations"]["oadev"];
+  EXPECT_EQ(exact["interval_method"], "exact");
+  EXPECT_NE(e["ci_low"][0].get<double>(), a["ci_low"][0].get<double>());
+  EXPECT_NEAR(e["ci_low"][0].get<double>(), a["ci_low"][0].get<double>(), 0.003 * 0.29223);
 }
 
 TEST_F(StabilityCommand, TheOctavesStopAtEachKindsLargestFactorAndTdevCarriesThePhasesUnit) {
@@ -154,7 +202,13 @@ TEST_F(StabilityCommand, ARateWithALargeOffsetGivesTheDeviationsOfItsFluctuation
 
 TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
   expect_refused({"stability", "nbs.csv", "--kind", "allan", "--json", "out.json"},
-                 "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev or totdev");
+                 "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev");
+  expect_refused({"stability", "nbs.csv", "--confidence", "1", "--json", "out.json"},
+                 "--confidence: found 1, expected a number between 0 and 1");
+  expect_refused({"stability", "nbs.csv", "--noise-alpha", "-5", "--json", "out.json"},
+                 "--noise-alpha: found -5, expected an integer from -4 (random-run FM) to 2 (white PM)");
+  expect_refused({"stability", "nbs.csv", "--intervals", "fast", "--json", "out.json"},
+                 "--intervals: found 'fast', expected stable32 or exact");
   expect_refused({"stability", "nbs.csv", "--taus", "1,2.5", "--json", "out.json"},
                  "--taus: 2.5 s is not a whole number of sampling periods of 1 s");
   expect_refused({"stability", "nbs.csv", "--kind", "hdev", "--taus", "400", "--json", "out.json"},

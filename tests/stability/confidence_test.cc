@@ -131,7 +131,7 @@ TEST(ConfidenceIntervals, MatchStable32sOnPhaseDatAtEveryOctaveOfEveryKind) {
     const DeviationCurve c = deviation(kind, x, 1.0, m);
     const DeviationIntervals identified = deviation_intervals(c, x);
     IntervalOptions white_fm;
-    white_fm.alpha = 0;
+    white_fm.noise_alpha = 0;
     const DeviationIntervals fixed = deviation_intervals(c, x, white_fm);
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const DeviationIntervals& ci = rows[i].m == kStable32NoiseDiffers ? fixed : identified;
@@ -283,8 +283,8 @@ TEST(ConfidenceIntervals, RefuseBadOptionsAndArgumentsNamingThem) {
   EXPECT_EQ(o.Validate(), "confidence: found 1.5, expected a number between 0 and 1");
   EXPECT_THROW(deviation_intervals(c, x, o), InputError);
   o = {};
-  o.alpha = 3;
-  EXPECT_EQ(o.Validate(), "noise alpha: found 3, expected an integer from -4 (random-run FM) to 2 (white PM)");
+  o.noise_alpha = 3;
+  EXPECT_EQ(o.Validate(), "noise_alpha: found 3, expected an integer from -4 (random-run FM) to 2 (white PM)");
   const std::vector<double> short_phase(x.begin(), x.begin() + 2);
   try {
     deviation_intervals(c, short_phase);

@@ -1,8 +1,10 @@
 // gmwm stability INPUT [--kind oadev,mdev,...] [--taus octave|decade|all|T1,T2,...]
+//                      [--confidence P] [--intervals stable32|exact] [--noise-alpha A]
 //                      [--data rate|increment|phase] [--columns ..] [--freq HZ] [--units ..]
 // The frequency-stability deviations of every selected column (docs/stability.md): parses,
 // runs pipeline::study_stability, renders with report/stability_output.h, commits.
 #include <cmath>
+#include <optional>
 
 #include "common.h"
 #include "units_tables.h"
@@ -19,6 +21,9 @@ struct StabilityArgs {
   InputOptions input;
   std::string kinds = "oadev";
   std::string taus = "octave";
+  double confidence = stability::kStable32Confidence;
+  std::string intervals = "stable32";
+  std::optional<int> noise_alpha;
   UnitsOptions units;
 };
 
@@ -47,6 +52,11 @@ pipeline::StabilityStudyOptions stability_options(const StabilityArgs& args, con
   o.kinds.clear();
   for (const std::string& k : io::comma_list(args.kinds)) o.kinds.push_back(stability::deviation_of(k));
   parse_taus(args.taus, o);
+  o.intervals.confidence = args.confidence;
+  const auto method = stability::interval_method_from_name(args.intervals);
+  if (!method) throw InputError("--intervals: found '" + args.intervals + "', expected stable32 or exact");
+  o.intervals.method = *method;
+  o.intervals.noise_alpha = args.noise_alpha;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError(why);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
@@ -93,6 +103,19 @@ Command add_stability_command(CLI::App& app, CommonOptions& common) {
                   "a list in seconds (each a whole number of sampling periods)")
       ->type_name("SET|T1,T2")
       ->capture_default_str();
+  sub->add_option("--confidence", args->confidence,
+                  "Confidence of each deviation's chi-square interval (default: Stable32's one sigma, "
+                  "0.6827)")
+      ->type_name("P");
+  sub->add_option("--intervals", args->intervals,
+                  "Chi-square quantiles: stable32 (exact up to 100 degrees of freedom, as Stable32 prints them) "
+                  "or exact")
+      ->type_name("stable32|exact")
+      ->capture_default_str();
+  sub->add_option("--noise-alpha", args->noise_alpha,
+                  "The noise exponent for every tau's degrees of freedom (2 white PM, 1 flicker PM, 0 white FM, "
+                  "-1 flicker FM, -2 random-walk FM, ...), instead of identifying it at each tau")
+      ->type_name("A");
   add_units_option(*sub, args->units);
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_stability(*args, common); }};

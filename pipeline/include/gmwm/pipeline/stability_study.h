@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gmwm/io/signal_reader.h"
+#include "gmwm/stability/confidence.h"
 #include "gmwm/stability/deviation.h"
 
 namespace gmwm::pipeline {
@@ -22,6 +23,8 @@ struct StabilityStudyOptions {
   /// ... or these averaging times in seconds (--taus 1,10,100), each a whole number of
   /// sampling periods (to kWholePeriodTolerance) and within every kind's largest factor.
   std::vector<double> tau_list;
+  /// Each deviation's interval: confidence, quantiles, a fixed noise (stability/confidence.h).
+  stability::IntervalOptions intervals;
 
   /// Empty when valid, else one line.
   std::string Validate() const;
@@ -39,7 +42,8 @@ inline constexpr std::int64_t kMaxPhasePointsForAllTaus = std::int64_t{1} << 17;
 
 struct StabilityColumn {
   std::string name;
-  std::vector<stability::DeviationCurve> deviations;  ///< per kind, in the order asked
+  std::vector<stability::DeviationCurve> deviations;     ///< per kind, in the order asked
+  std::vector<stability::DeviationIntervals> intervals;  ///< per kind: noise, edf, interval at each factor
 };
 
 struct StabilityStudy {

@@ -3,11 +3,14 @@
 // terminal tables of the frequency-stability study (pipeline/stability_study.h).
 //
 // JSON (docs/cli.md, "stability"): {"tool", "version", "command": "stability", "input",
-//   "data", "kinds", "taus", "tau0", "phase_points", the record's "timing", "columns":
-//   [{"name", "n", "freq", "unit", "deviations": {"<kind>": {"m", "tau", "value", "n",
-//   "unit"}}}], "run": {...}}. "n" of a deviation is the number of squares averaged at each
-//   factor (Stable32's "#"); "unit" the data's (TDEV: the data's times seconds), null when
-//   not declared.
+//   "data", "kinds", "taus", "confidence", "interval_method", "noise_alpha", "tau0",
+//   "phase_points", the record's "timing", "columns": [{"name", "n", "freq", "unit",
+//   "deviations": {"<kind>": {"m", "tau", "value", "ci_low", "ci_high", "edf", "alpha",
+//   "noise", "noise_id", "n", "unit"}}}], "run": {...}}. "n" of a deviation is the number of
+//   squares averaged at each factor (Stable32's "#"); "alpha" the noise exponent used for the
+//   degrees of freedom ("noise" its name, "noise_id" how it was found: acf, b1, b1+rn,
+//   default, fixed); "ci_low"/"ci_high"/"edf" null where the kind has no rule; "unit" the
+//   data's (TDEV: the data's times seconds), null when not declared.
 #include <string>
 #include <vector>
 

@@ -52,7 +52,7 @@ enum class NoiseIdMethod {
   kB1,       ///< "b1": Barnes' B1 ratio
   kB1Rn,     ///< "b1+rn": B1, then R(n) = MVAR / AVAR between white and flicker PM
   kDefault,  ///< "default": too few points for either (under 4 averaged frequencies): white FM assumed
-  kFixed,    ///< "fixed": given (IntervalOptions::alpha), as Stable32's fixed-alpha runs
+  kFixed,    ///< "fixed": given (IntervalOptions::noise_alpha), as Stable32's fixed-alpha runs
 };
 std::string_view noise_id_method_name(NoiseIdMethod method);
 
@@ -113,8 +113,8 @@ struct IntervalOptions {
   double confidence = kStable32Confidence;  ///< in (0, 1)
   IntervalMethod method = IntervalMethod::kStable32;
   /// The noise exponent of every factor (-4 .. 2), instead of identifying it per factor.
-  std::optional<int> alpha;
-  /// Empty when valid, else one line naming the field.
+  std::optional<int> noise_alpha;
+  /// Empty when valid, else one line naming the field ("confidence: ...", "noise_alpha: ...").
   std::string Validate() const;
 };
 
