@@ -14,7 +14,7 @@ namespace {
 // A deviation's unit: the data's, TDEV's the data's times seconds (the phase's); "" unknown.
 std::string deviation_unit(stability::DeviationKind kind, const std::string& data_unit) {
   if (data_unit.empty()) return {};
-  return kind == stability::DeviationKind::kTdev ? "(" + data_unit + ")*s" : data_unit;
+  return stability::in_time_units(kind) ? "(" + data_unit + ")*s" : data_unit;
 }
 
 Json numbers(const std::vector<double>& v) {
@@ -124,7 +124,7 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
     for (const stability::DeviationCurve& d : c.deviations) {
       const std::string u = deviation_unit(d.kind, unit);
       units_line += (units_line.empty() ? "" : ", ") + std::string(stability::deviation_name(d.kind)) + " in " +
-                    (u.empty() ? (d.kind == stability::DeviationKind::kTdev ? "U*s" : "U") : u);
+                    (u.empty() ? (stability::in_time_units(d.kind) ? "U*s" : "U") : u);
     }
     os << "  " << units_line << (unit.empty() ? " (U: the data's unit; --units declares it)" : "") << "\n";
     if (!c.intervals.empty()) {

@@ -1,5 +1,6 @@
 // The frequency-stability deviations from phase data (deviation.h): factor checks -> one
-// sum of squares per factor (the kind's differences, O(N) each) -> the deviation.
+// sum of squares per factor (the kind's differences, O(N) each) -> the deviation. The total
+// variances beyond TOTVAR, Theo1, MTIE and TIE rms have their own files (kinds_internal.h).
 #include "gmwm/stability/deviation.h"
 
 #include <algorithm>
@@ -11,50 +12,50 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/number_text.h"
 #include "gmwm/engine/parallel.h"
+#include "kinds_internal.h"
 
 namespace gmwm::stability {
 namespace {
+
+using detail::sum_of_squares;
 
 struct Named {
   DeviationKind kind;
   std::string_view name;
 };
-constexpr std::array<Named, 7> kKinds = {{{DeviationKind::kAdev, "adev"},
-                                          {DeviationKind::kOadev, "oadev"},
-                                          {DeviationKind::kMdev, "mdev"},
-                                          {DeviationKind::kTdev, "tdev"},
-                                          {DeviationKind::kHdev, "hdev"},
-                                          {DeviationKind::kOhdev, "ohdev"},
-                                          {DeviationKind::kTotdev, "totdev"}}};
-constexpr std::array<DeviationKind, 7> kAll = {DeviationKind::kAdev,  DeviationKind::kOadev, DeviationKind::kMdev,
-                                               DeviationKind::kTdev,  DeviationKind::kHdev,  DeviationKind::kOhdev,
-                                               DeviationKind::kTotdev};
+constexpr std::array<Named, 13> kKinds = {{{DeviationKind::kAdev, "adev"},
+                                           {DeviationKind::kOadev, "oadev"},
+                                           {DeviationKind::kMdev, "mdev"},
+                                           {DeviationKind::kTdev, "tdev"},
+                                           {DeviationKind::kHdev, "hdev"},
+                                           {DeviationKind::kOhdev, "ohdev"},
+                                           {DeviationKind::kTotdev, "totdev"},
+                                           {DeviationKind::kMtotdev, "mtotdev"},
+                                           {DeviationKind::kTtotdev, "ttotdev"},
+                                           {DeviationKind::kHtotdev, "htotdev"},
+                                           {DeviationKind::kTheo1, "theo1"},
+                                           {DeviationKind::kMtie, "mtie"},
+                                           {DeviationKind::kTierms, "tierms"}}};
+constexpr std::array<DeviationKind, 13> kAll = {
+    DeviationKind::kAdev,    DeviationKind::kOadev,   DeviationKind::kMdev,   DeviationKind::kTdev,
+    DeviationKind::kHdev,    DeviationKind::kOhdev,   DeviationKind::kTotdev, DeviationKind::kMtotdev,
+    DeviationKind::kTtotdev, DeviationKind::kHtotdev, DeviationKind::kTheo1,  DeviationKind::kMtie,
+    DeviationKind::kTierms};
 
-bool hadamard(DeviationKind k) { return k == DeviationKind::kHdev || k == DeviationKind::kOhdev; }
+// Theo1's factors are even and at least 10 (NIST SP 1065 eq. 30: 10 <= m <= N - 1, m even).
+constexpr std::int64_t kTheo1SmallestFactor = 10;
+// Theo1's averaging time is 0.75 m tau0 (NIST SP 1065 eq. 30; Stable32's "Theo1 Tau").
+constexpr double kTheo1TauPerFactor = 0.75;
+
+bool hadamard(DeviationKind k) {
+  return k == DeviationKind::kHdev || k == DeviationKind::kOhdev || k == DeviationKind::kHtotdev;
+}
+// The smallest factor and the step between factors: Theo1's are 10, 12, 14, ...
+std::int64_t smallest_factor(DeviationKind k) { return k == DeviationKind::kTheo1 ? kTheo1SmallestFactor : 1; }
+std::int64_t factor_step(DeviationKind k) { return k == DeviationKind::kTheo1 ? 2 : 1; }
 
 // The decades' 1-2-4 steps (Stable32's and allantools' "decade" taus).
 constexpr std::array<std::int64_t, 3> kDecadeSteps = {1, 2, 4};
-
-// Sum of d(t)^2 over t in [0, count), in four interleaved double lanes: the loop vectorises
-// (each lane's order fixed, so the value does not depend on the machine's vector width), and
-// 1e7 squares summed so keep their rounding near 1e-13 relative (checked against allantools
-// and Stable32: tools/bench/RESULTS.md, "The frequency-stability deviations").
-constexpr int kLanes = 4;
-template <class D>
-double sum_of_squares(std::int64_t count, D d) {
-  std::array<double, kLanes> lane{};
-  std::int64_t t = 0;
-  for (; t + kLanes <= count; t += kLanes)
-    for (int l = 0; l < kLanes; ++l) {
-      const double v = d(t + l);
-      lane[static_cast<std::size_t>(l)] += v * v;
-    }
-  for (; t < count; ++t) {
-    const double v = d(t);
-    lane[0] += v * v;
-  }
-  return (lane[0] + lane[1]) + (lane[2] + lane[3]);
-}
 
 // The squared second differences x_{i+2m} - 2 x_{i+m} + x_i (the Allan variances) or third
 // differences x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} - x_i (the Hadamard), summed over `count` i
@@ -136,8 +137,28 @@ double variance(DeviationKind kind, std::span<const double> x, std::int64_t m, d
       return third_differences(x.data(), m, count, 1) / (6.0 * scale);
     case DeviationKind::kTotdev:
       return total_sum(x, m) / (2.0 * scale);
+    case DeviationKind::kMtotdev:
+    case DeviationKind::kTtotdev: {
+      const double mtotvar = detail::modified_total_variance(x, m, tau0);
+      return kind == DeviationKind::kMtotdev ? mtotvar : tau * tau * mtotvar / 3.0;
+    }
+    case DeviationKind::kHtotdev:  // Stable32 reads OHVAR at m = 1 (kinds_internal.h)
+      return m == 1 ? third_differences(x.data(), m, count, 1) / (6.0 * scale)
+                    : detail::hadamard_total_variance(x, m, tau0);
+    case DeviationKind::kTheo1:
+      return detail::theo1_variance(x, m, tau0);
+    case DeviationKind::kMtie:
+    case DeviationKind::kTierms:
+      break;
   }
   return NAN;
+}
+
+// The deviation of `kind` at factor m: the square root of its variance, or MTIE and TIE rms.
+double deviation_at(DeviationKind kind, std::span<const double> x, std::int64_t m, double tau0) {
+  if (kind == DeviationKind::kMtie) return detail::max_time_interval_error(x, m);
+  if (kind == DeviationKind::kTierms) return detail::time_interval_error_rms(x, m);
+  return std::sqrt(variance(kind, x, m, tau0));
 }
 
 std::string text_of(double v) { return significant(v, 6); }
@@ -201,7 +222,17 @@ std::vector<double> phase_from_frequency(std::span<const double> y, double tau0)
   return x;
 }
 
-std::int64_t min_phase_points(DeviationKind kind) { return hadamard(kind) ? 4 : 3; }
+std::int64_t min_phase_points(DeviationKind kind) {
+  switch (kind) {
+    case DeviationKind::kTheo1:
+      return kTheo1SmallestFactor + 1;
+    case DeviationKind::kMtie:
+    case DeviationKind::kTierms:
+      return 2;
+    default:
+      return hadamard(kind) ? 4 : 3;
+  }
+}
 
 std::int64_t max_factor(DeviationKind kind, std::int64_t n) {
   if (n < min_phase_points(kind)) return 0;
@@ -212,10 +243,18 @@ std::int64_t max_factor(DeviationKind kind, std::int64_t n) {
       return (n - 1) / 2;
     case DeviationKind::kMdev:
     case DeviationKind::kTdev:
+    case DeviationKind::kMtotdev:
+    case DeviationKind::kTtotdev:
       return n / 3;
     case DeviationKind::kHdev:
     case DeviationKind::kOhdev:
+    case DeviationKind::kHtotdev:
       return (n - 1) / 3;
+    case DeviationKind::kTheo1:
+      return (n - 1) / 2 * 2;  // the largest even factor below N
+    case DeviationKind::kMtie:
+    case DeviationKind::kTierms:
+      return n - 1;
   }
   return 0;
 }
@@ -228,15 +267,32 @@ std::int64_t terms(DeviationKind kind, std::int64_t n, std::int64_t m) {
       return n - 2 * m;
     case DeviationKind::kMdev:
     case DeviationKind::kTdev:
+    case DeviationKind::kMtotdev:
+    case DeviationKind::kTtotdev:
       return n - 3 * m + 1;
     case DeviationKind::kHdev:
       return (n - 1) / m - 2;
     case DeviationKind::kOhdev:
+    case DeviationKind::kHtotdev:
       return n - 3 * m;
     case DeviationKind::kTotdev:
       return n - 2;
+    case DeviationKind::kTheo1:
+      return (n - m) * (m / 2);
+    case DeviationKind::kMtie:
+    case DeviationKind::kTierms:
+      return n - m;
   }
   return 0;
+}
+
+bool in_time_units(DeviationKind kind) {
+  return kind == DeviationKind::kTdev || kind == DeviationKind::kTtotdev || kind == DeviationKind::kMtie ||
+         kind == DeviationKind::kTierms;
+}
+
+double averaging_time(DeviationKind kind, std::int64_t m, double tau0) {
+  return (kind == DeviationKind::kTheo1 ? kTheo1TauPerFactor : 1.0) * static_cast<double>(m) * tau0;
 }
 
 std::string_view tau_set_name(TauSet set) {
@@ -258,19 +314,20 @@ std::optional<TauSet> tau_set_from_name(std::string_view name) {
 }
 
 std::vector<std::int64_t> factors(TauSet set, DeviationKind kind, std::int64_t phase_points) {
-  const std::int64_t top = max_factor(kind, phase_points);
+  const std::int64_t top = max_factor(kind, phase_points), smallest = smallest_factor(kind);
   std::vector<std::int64_t> out;
   switch (set) {
     case TauSet::kAll:
-      for (std::int64_t m = 1; m <= top; ++m) out.push_back(m);
+      for (std::int64_t m = smallest; m <= top; m += factor_step(kind)) out.push_back(m);
       break;
     case TauSet::kOctave:
-      for (std::int64_t m = 1; m <= top; m *= 2) out.push_back(m);
+      // MTIE's are Stable32's windows of 2^k points (m = 2^k - 1); Theo1's start at 10.
+      for (std::int64_t m = smallest; m <= top; m = kind == DeviationKind::kMtie ? 2 * m + 1 : 2 * m) out.push_back(m);
       break;
     case TauSet::kDecade:
       for (std::int64_t decade = 1; decade <= top; decade *= 10)
         for (const std::int64_t step : kDecadeSteps)
-          if (step * decade <= top) out.push_back(step * decade);
+          if (step * decade <= top && step * decade >= smallest) out.push_back(step * decade);
       break;
   }
   return out;
@@ -286,11 +343,12 @@ DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, doub
                      " phase points, expected at least " + std::to_string(min_phase_points(kind)));
   for (std::size_t i = 0; i < phase.size(); ++i)
     if (!std::isfinite(phase[i])) throw InputError("phase point " + std::to_string(i) + " is not a finite number");
-  const std::int64_t top = max_factor(kind, n);
+  const std::int64_t top = max_factor(kind, n), smallest = smallest_factor(kind);
   for (const std::int64_t f : m)
-    if (f < 1 || f > top)
-      throw InputError(std::string(deviation_name(kind)) + ": averaging factor " + std::to_string(f) +
-                       " is outside 1 .. " + std::to_string(top) + " (" + std::to_string(n) + " phase points)");
+    if (f < smallest || f > top || (f - smallest) % factor_step(kind) != 0)
+      throw InputError(std::string(deviation_name(kind)) + ": averaging factor " + std::to_string(f) + " is outside " +
+                       (factor_step(kind) == 1 ? "" : "the even factors ") + std::to_string(smallest) + " .. " +
+                       std::to_string(top) + " (" + std::to_string(n) + " phase points)");
   DeviationCurve c;
   c.kind = kind;
   c.tau0 = tau0;
@@ -300,9 +358,9 @@ DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, doub
   const Scaled scaled = scaled_phase(phase);
   const std::span<const double> x = scaled.phase.empty() ? phase : std::span<const double>(scaled.phase);
   gmwm::parallel_for(std::size_t{0}, m.size(),
-                     [&](std::size_t k) { c.value[k] = std::sqrt(variance(kind, x, m[k], tau0)) * scaled.factor; });
+                     [&](std::size_t k) { c.value[k] = deviation_at(kind, x, m[k], tau0) * scaled.factor; });
   for (const std::int64_t f : m) {
-    c.tau.push_back(static_cast<double>(f) * tau0);
+    c.tau.push_back(averaging_time(kind, f, tau0));
     c.terms.push_back(terms(kind, n, f));
   }
   return c;

@@ -2,7 +2,9 @@
 // NBS14 9-point set (NIST SP 1065 table 31, to 1e-6) and Stable32's results for the NBS14
 // 1000-point set (its PHASE.DAT; every octave and tau 10 and 99, to the digits Stable32
 // prints), one battery over every kind; the overlapping Allan deviation equals the engine's;
-// the factor sets; and the error paths with their messages.
+// the factor sets; and the error paths with their messages. Every kind, the six of
+// total_deviation_test.cc and theo1_time_error_test.cc too, in the scaling, thread-count and
+// factor-set tests.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -52,8 +54,9 @@ TEST(Deviation, GivesNbs14NinePointValuesAtTauOneAndTwo) {
       {"ohdev", {70.80607, 85.61487}}};
   const std::vector<double> x = phase_from_frequency(kNbs9, 1.0);
   ASSERT_EQ(x.size(), 10u);
-  for (const DeviationKind kind : deviation_kinds()) {
-    const auto& [one, two] = published.at(std::string(deviation_name(kind)));
+  for (const auto& [name, published_values] : published) {
+    const DeviationKind kind = *deviation_from_name(name);
+    const auto& [one, two] = published_values;
     const std::vector<std::int64_t> m = {1, 2};
     const DeviationCurve c = deviation(kind, x, 1.0, m);
     EXPECT_NEAR(c.value[0] / one, 1.0, 1e-6) << deviation_name(kind);
@@ -144,8 +147,8 @@ TEST(Deviation, GivesStable32sValuesAndTermCountsForTheNbs14ThousandPointSet) {
                                                               {99, 999, 3.4106e-02}}}};
   const std::vector<double> x = phase_from_frequency(nbs1000(), 1.0);
   ASSERT_EQ(x.size(), 1001u);
-  for (const DeviationKind kind : deviation_kinds()) {
-    const std::vector<Row>& rows = stable32.at(std::string(deviation_name(kind)));
+  for (const auto& [name, rows] : stable32) {  // the other kinds: total_deviation_test.cc, theo1_time_error_test.cc
+    const DeviationKind kind = *deviation_from_name(name);
     std::vector<std::int64_t> m;
     for (const Row& r : rows) m.push_back(r.m);
     const DeviationCurve c = deviation(kind, x, 1.0, m);
@@ -174,15 +177,17 @@ TEST(Deviation, TheOverlappingAllanDeviationIsTheEnginesOfTheSameRate) {
 }
 
 TEST(Deviation, ScalesWithThePhaseFromTheSmallestToTheLargestDoubles) {
-  // Every deviation is linear in the phase: 1e-300 and 1e300 times the 9-point set give
-  // 1e-300 and 1e300 times its values (summed as they are, the squares underflow to 0 or
-  // overflow to infinity).
-  const std::vector<double> x = phase_from_frequency(kNbs9, 1.0);
+  // Every deviation is linear in the phase: 1e-300 and 1e300 times the 9-point set (and the
+  // 1000-point set for Theo1, whose factors start at 10) give 1e-300 and 1e300 times its values
+  // (summed as they are, the squares underflow to 0 or overflow to infinity).
   for (const double factor : {1e-300, 1e300}) {
-    std::vector<double> scaled = x;
-    for (double& v : scaled) v *= factor;
     for (const DeviationKind kind : deviation_kinds()) {
-      const std::vector<std::int64_t> m = {1, 2};
+      const std::vector<double> x = phase_from_frequency(kind == DeviationKind::kTheo1 ? nbs1000() : kNbs9, 1.0);
+      std::vector<double> scaled = x;
+      for (double& v : scaled) v *= factor;
+      std::vector<std::int64_t> m = factors(TauSet::kAll, kind, static_cast<std::int64_t>(x.size()));
+      m.resize(2);
+      m.push_back(max_factor(kind, static_cast<std::int64_t>(x.size())));
       const DeviationCurve a = deviation(kind, x, 1.0, m), b = deviation(kind, scaled, 1.0, m);
       for (std::size_t k = 0; k < m.size(); ++k)
         EXPECT_NEAR(b.value[k] / (a.value[k] * factor), 1.0, 1e-12) << deviation_name(kind) << " x " << factor;
@@ -206,12 +211,20 @@ TEST(Deviation, FactorSetsStopWhereTheDefinitionLeavesNoTerm) {
   EXPECT_EQ(factors(TauSet::kDecade, DeviationKind::kOadev, 1001),
             (std::vector<std::int64_t>{1, 2, 4, 10, 20, 40, 100, 200, 400}));
   EXPECT_EQ(factors(TauSet::kAll, DeviationKind::kOhdev, 10), (std::vector<std::int64_t>{1, 2, 3}));
+  EXPECT_EQ(factors(TauSet::kOctave, DeviationKind::kMtie, 1001),
+            (std::vector<std::int64_t>{1, 3, 7, 15, 31, 63, 127, 255, 511}));
+  EXPECT_EQ(factors(TauSet::kDecade, DeviationKind::kTheo1, 1001),
+            (std::vector<std::int64_t>{10, 20, 40, 100, 200, 400, 1000}));
+  EXPECT_EQ(factors(TauSet::kOctave, DeviationKind::kHtotdev, 1001),
+            (std::vector<std::int64_t>{1, 2, 4, 8, 16, 32, 64, 128, 256}));
   for (const DeviationKind kind : deviation_kinds()) {
     const std::int64_t n = 1001, top = max_factor(kind, n);
     EXPECT_GE(terms(kind, n, top), 1) << deviation_name(kind);
     // The total deviation averages N - 2 squares at every factor (its reflected phase); it
     // stops where the overlapping Allan deviation does, as Stable32's total does.
-    if (kind != DeviationKind::kTotdev) EXPECT_LT(terms(kind, n, top + 1), 1) << deviation_name(kind);
+    if (kind != DeviationKind::kTotdev) {
+      EXPECT_LT(terms(kind, n, top + 1), 1) << deviation_name(kind);
+    }
     EXPECT_EQ(max_factor(kind, min_phase_points(kind) - 1), 0) << deviation_name(kind);
   }
   for (const TauSet s : {TauSet::kAll, TauSet::kOctave, TauSet::kDecade})
@@ -225,7 +238,9 @@ TEST(Deviation, EachKindIsNamedOnceAndAnUnknownNameIsRefusedListingTheKinds) {
     deviation_of("allan");
     FAIL() << "took 'allan'";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev or totdev");
+    EXPECT_STREQ(e.what(),
+                 "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev, ttotdev, "
+                 "htotdev, theo1, mtie or tierms");
   }
 }
 
