@@ -85,7 +85,8 @@ void add_stability_functions(py::module_& m) {
         py::arg("units") = "", py::arg("phase") = false, py::arg("confidence") = gmwm::stability::kStable32Confidence,
         py::arg("intervals") = "stable32", py::arg("noise_alpha") = py::none(),
         "The frequency-stability deviations of each column (kind: 'adev', 'oadev', 'mdev', 'tdev', 'hdev', "
-        "'ohdev', 'totdev', a comma list or a list; taus: 'octave', 'decade', 'all' or averaging times in "
+        "'ohdev', 'totdev', 'mtotdev', 'ttotdev', 'htotdev', 'theo1', 'mtie', 'tierms', a comma list or a list; taus: "
+        "'octave', 'decade', 'all' or averaging times in "
         "seconds), the columns read as rates or fractional frequency (phase=True: as phase or time error), each "
         "with its chi-square interval at `confidence` (Stable32's one sigma by default; intervals: 'stable32' "
         "or 'exact' quantiles; noise_alpha: one noise exponent for every tau instead of identifying it): the "

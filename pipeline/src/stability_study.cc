@@ -28,23 +28,27 @@ std::vector<double> without_mean(const Samples& y) {
 
 std::string file_place(const io::SignalSet& set) { return set.path.empty() ? std::string() : set.path + ": "; }
 
-// The averaging factors of --taus LIST: each tau a whole number of periods, within `top`.
+// The averaging factors of --taus LIST: each tau a whole number of the kind's step (the
+// sampling period; Theo1's 0.75 of it: tau = 0.75 m tau0), within `top`.
 std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double tau0, std::int64_t top,
                                          stability::DeviationKind kind, std::int64_t phase_points) {
+  const double step = stability::averaging_time(kind, 1, tau0);
+  const std::string what =
+      step == tau0 ? "sampling periods of " + significant(tau0, 9) + " s"
+                   : std::string(stability::deviation_name(kind)) + "'s steps of " + significant(step, 9) + " s";
   std::vector<std::int64_t> m;
   for (const double tau : taus) {
-    const double periods = tau / tau0;
+    const double periods = tau / step;
     const double whole = std::round(periods);
     if (!(whole >= 1.0) || std::abs(periods - whole) > kWholePeriodTolerance * whole)
-      throw InputError("--taus: " + significant(tau, 9) + " s is not a whole number of sampling periods of " +
-                       significant(tau0, 9) + " s");
+      throw InputError("--taus: " + significant(tau, 9) + " s is not a whole number of " + what);
     if (whole > static_cast<double>(top))  // compared as doubles: 1e300 periods fit no integer
       throw InputError("--taus: " + significant(tau, 9) + " s is " + significant(whole, 9) + " periods, beyond " +
                        std::string(stability::deviation_name(kind)) + "'s largest " + std::to_string(top) + " on " +
-                       std::to_string(phase_points) + " phase points (" + significant(top * tau0, 9) + " s)");
+                       std::to_string(phase_points) + " phase points (" + significant(top * step, 9) + " s)");
     if (!m.empty() && static_cast<std::int64_t>(whole) == m.back())
       throw InputError("--taus: " + significant(tau, 15) + " s is the averaging factor " + significant(whole, 9) +
-                       " again (" + significant(whole * tau0, 9) + " s)");
+                       " again (" + significant(whole * step, 9) + " s)");
     m.push_back(static_cast<std::int64_t>(whole));
   }
   return m;

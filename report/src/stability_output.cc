@@ -99,11 +99,11 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
     const std::string unit = k < units.size() ? units[k] : std::string();
     os << c.name << ": stability deviations, tau0 = " << significant(study.tau0, 6) << " s, " << study.phase_points
        << " phase points\n";
-    // Every averaging factor any kind has, in order; each kind's value at it or "-".
-    std::map<std::int64_t, std::vector<std::string>> rows;
+    // Every averaging time any kind has, in order; each kind's value at it or "-".
+    std::map<double, std::vector<std::string>> rows;
     for (std::size_t d = 0; d < c.deviations.size(); ++d)
       for (std::size_t i = 0; i < c.deviations[d].m.size(); ++i) {
-        auto& row = rows[c.deviations[d].m[i]];
+        auto& row = rows[c.deviations[d].tau[i]];
         row.resize(c.deviations.size(), "-");
         const stability::DeviationIntervals& ci = c.intervals[d];
         row[d] = significant(c.deviations[d].value[i], 5) +
@@ -113,8 +113,8 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
     std::vector<std::string> header = {"tau [s]"};
     for (const stability::DeviationCurve& d : c.deviations) header.emplace_back(stability::deviation_name(d.kind));
     TextTable t(header, 0);
-    for (auto& [m, values] : rows) {
-      std::vector<std::string> row = {significant(static_cast<double>(m) * study.tau0, 6)};
+    for (auto& [tau, values] : rows) {
+      std::vector<std::string> row = {significant(tau, 6)};
       values.resize(c.deviations.size(), "-");
       row.insert(row.end(), values.begin(), values.end());
       t.add(std::move(row));

@@ -24,8 +24,16 @@ struct TotalDof {
 };
 constexpr std::array<TotalDof, 3> kTotvarDof = {{{0, 1.50, 0.0}, {-1, 1.17, 0.22}, {-2, 0.93, 0.36}}};
 
-std::optional<double> total_dof(int alpha, std::int64_t n, std::int64_t m) {
-  for (const TotalDof& t : kTotvarDof)
+// MTOTVAR's (and TTOTVAR's) b (T / tau) - c for the five noises from white PM to random-walk
+// FM (NIST SP 1065, Table 8). Stable32's intervals on PHASE.DAT do not follow it: at m <= 8
+// they carry MDEV's Greenhall edf, at 16 .. 256 about 4/3 (T / tau) - 1.89 for white FM (21%
+// above this table; docs/stability.md, "Confidence intervals").
+constexpr std::array<TotalDof, 5> kMtotvarDof = {
+    {{2, 1.90, 2.10}, {1, 1.20, 1.40}, {0, 1.10, 1.20}, {-1, 0.85, 0.50}, {-2, 0.75, 0.31}}};
+
+template <std::size_t K>
+std::optional<double> table_dof(const std::array<TotalDof, K>& table, int alpha, std::int64_t n, std::int64_t m) {
+  for (const TotalDof& t : table)
     if (t.alpha == alpha) return t.b * static_cast<double>(n) / static_cast<double>(m) - t.c;
   return std::nullopt;
 }
@@ -46,9 +54,18 @@ std::optional<double> equivalent_dof(DeviationKind kind, int alpha, std::int64_t
     case DeviationKind::kOhdev:
       return greenhall_edf(alpha, 3, m, n, m, m);
     case DeviationKind::kTotdev:
-      if (const auto dof = total_dof(alpha, n, m)) return dof;
+      if (const auto dof = table_dof(kTotvarDof, alpha, n, m)) return dof;
       return greenhall_edf(alpha, 2, m, n, m, m);  // phase noise: TOTVAR reads as OAVAR
-    default:
+    case DeviationKind::kMtotdev:
+    case DeviationKind::kTtotdev:
+      return table_dof(kMtotvarDof, alpha, n, m);
+    case DeviationKind::kHtotdev:
+      // No published rule: OHDEV's, a lower bound (a total variance averages more; Stable32's
+      // HTOTDEV edf on PHASE.DAT are 1.1-1.5 times these), so the interval is conservative.
+      return greenhall_edf(alpha, 3, m, n, m, m);
+    case DeviationKind::kTheo1:  // no published rule that Stable32's tables show (they print none)
+    case DeviationKind::kMtie:   // not variances: no chi-square interval
+    case DeviationKind::kTierms:
       return std::nullopt;
   }
 }

@@ -21,7 +21,7 @@ namespace {
 constexpr double kStationaryDelta = 0.25;
 
 int difference_order(DeviationKind kind) {
-  return kind == DeviationKind::kHdev || kind == DeviationKind::kOhdev ? 3 : 2;
+  return kind == DeviationKind::kHdev || kind == DeviationKind::kOhdev || kind == DeviationKind::kHtotdev ? 3 : 2;
 }
 
 // x_0, x_m, x_2m, ...: the phase seen at tau = m tau0.

@@ -128,6 +128,21 @@ TEST_F(StabilityCommand, AGivenNoiseAndExactQuantilesChangeTheIntervalsAsStable3
   EXPECT_NEAR(e["ci_low"][0].get<double>(), a["ci_low"][0].get<double>(), 0.003 * 0.29223);
 }
 
+TEST_F(StabilityCommand, Theo1sTimesAreThreeQuartersOfItsFactorsAndItsTableRowsReadThem) {
+  const auto r =
+      run_gmwm({"stability", "nbs.csv", "--kind", "theo1", "--taus", "7.5,15", "--json", "theo1.json"}, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json d = read_json(dir_ / "theo1.json")["columns"][0]["deviations"];
+  EXPECT_EQ(d["theo1"]["m"], json({10, 20}));
+  EXPECT_EQ(d["theo1"]["tau"], json({7.5, 15.0}));
+  EXPECT_TRUE(d["theo1"]["ci_low"][0].is_null());  // no published interval rule
+  // oadev reads 7.5 s as no whole number of periods
+  expect_refused({"stability", "nbs.csv", "--kind", "oadev", "--taus", "7.5", "--json", "out.json"},
+                 "--taus: 7.5 s is not a whole number of sampling periods of 1 s");
+  expect_refused({"stability", "nbs.csv", "--kind", "theo1", "--taus", "1", "--json", "out.json"},
+                 "--taus: 1 s is not a whole number of theo1's steps of 0.75 s");
+}
+
 TEST_F(StabilityCommand, TheOctavesStopAtEachKindsLargestFactorAndTdevCarriesThePhasesUnit) {
   const auto r =
       run_gmwm({"stability", "nbs.csv", "--kind", "oadev,tdev", "--units", "deg/s", "--json", "out.json"}, dir_);

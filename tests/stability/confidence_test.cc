@@ -236,6 +236,25 @@ TEST(GreenhallEdf, GivesTheClosedFormOfWhitePmAndTheTablesBeyondOneHundredLags) 
   EXPECT_NEAR(greenhall_edf(0, 2, 34, 100001, 1, 34), r1 / (1.033 - 0.607 / r1), 1e-9);
 }
 
+TEST(ConfidenceIntervals, TheTotalKindsFollowTheirTablesHadamardTotalOhdevsAndTheRestHaveNone) {
+  const std::vector<double> x = phase_dat();
+  const auto n = static_cast<std::int64_t>(x.size());
+  // MTOTVAR and TTOTVAR: SP 1065 Table 8, white FM b = 1.10, c = 1.20 at T / tau = N / m.
+  EXPECT_DOUBLE_EQ(*equivalent_dof(DeviationKind::kMtotdev, 0, n, 16), 1.10 * 1001.0 / 16.0 - 1.20);
+  EXPECT_DOUBLE_EQ(*equivalent_dof(DeviationKind::kTtotdev, -2, n, 16), 0.75 * 1001.0 / 16.0 - 0.31);
+  EXPECT_DOUBLE_EQ(*equivalent_dof(DeviationKind::kHtotdev, 0, n, 8), greenhall_edf(0, 3, 8, n, 8, 8));
+  for (const DeviationKind kind : {DeviationKind::kTheo1, DeviationKind::kMtie, DeviationKind::kTierms}) {
+    EXPECT_FALSE(equivalent_dof(kind, 0, n, 10)) << deviation_name(kind);
+    const std::int64_t m[] = {10};
+    const DeviationIntervals ci = deviation_intervals(deviation(kind, x, 1.0, m), x);
+    EXPECT_TRUE(std::isnan(ci.low[0]) && std::isnan(ci.high[0]) && std::isnan(ci.edf[0])) << deviation_name(kind);
+  }
+  // HTOTDEV identifies its noise among the Hadamard's (down to random-run FM).
+  const std::int64_t m4[] = {4};
+  const std::vector<double> run = power_law_phase(3, 1 << 13, 7u);
+  EXPECT_EQ(deviation_intervals(deviation(DeviationKind::kHtotdev, run, 1.0, m4), run).noise[0].alpha, -4);
+}
+
 TEST(ChiSquareInterval, Stable32sQuantilesAreExactUpTo100DegreesAndWilsonHilfertysAtTheRoundedQuantileBeyond) {
   for (const double edf : {2.5, 20.0, 100.0}) {
     const ChiSquareInterval a = chi_square_interval(1.0, edf, kStable32Confidence, IntervalMethod::kStable32);

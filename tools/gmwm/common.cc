@@ -304,6 +304,13 @@ void check_report_option(const CommonOptions& common) {
   if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
 }
 
+void check_page_report_option(const CommonOptions& common) {
+  if (common.report.empty()) return;
+  if (common.report == "-") throw InputError("--report '-': expected a file path (the report is a file)");
+  declare_output(common, "--report", common.report);
+  if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
+}
+
 void write_report(const CommonOptions& common, const report::ReportData& data) {
   if (common.report.empty()) return;
   report::stage_html_report(*common.outputs, common.report, data);

@@ -158,6 +158,8 @@ void add_report_option(CLI::App& sub, CommonOptions& common);
 /// Checked before any work (InputError, exit 2): --report names a file in an existing
 /// folder (not '-') and the Vega modules the page inlines can be read.
 void check_report_option(const CommonOptions& common);
+/// The same for a report that is one page without PATH.svg (nav, stability).
+void check_page_report_option(const CommonOptions& common);
 /// Stages the report and its SVG when --report was given.
 void write_report(const CommonOptions& common, const report::ReportData& data);
 

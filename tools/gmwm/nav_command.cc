@@ -48,11 +48,7 @@ void declare_nav_files(const NavArgs& args, const CommonOptions& common) {
     if (const auto* file = std::get_if<pipeline::ModelFile>(&source.what)) declare_input(common, file->path);
   }
   declare_output(common, "--json", common.json);
-  if (!common.report.empty()) {
-    if (common.report == "-") throw InputError("--report '-': expected a file path (the report is a file)");
-    declare_output(common, "--report", common.report);
-    if (const std::string why = report::vega_missing_reason(); !why.empty()) throw InputError("--report: " + why);
-  }
+  check_page_report_option(common);
 }
 
 // Parse: the study's options from the arguments (InputError naming the option).

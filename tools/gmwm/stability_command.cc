@@ -1,5 +1,5 @@
 // gmwm stability INPUT [--kind oadev,mdev,...] [--taus octave|decade|all|T1,T2,...]
-//                      [--confidence P] [--intervals stable32|exact] [--noise-alpha A]
+//                      [--confidence P] [--intervals stable32|exact] [--noise-alpha A] [--report PATH]
 //                      [--data rate|increment|phase] [--columns ..] [--freq HZ] [--units ..]
 // The frequency-stability deviations of every selected column (docs/stability.md): parses,
 // runs pipeline::study_stability, renders with report/stability_output.h, commits.
@@ -12,6 +12,7 @@
 #include "gmwm/io/read_request.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/stability_study.h"
+#include "gmwm/report/html_report.h"
 #include "gmwm/report/stability_output.h"
 
 namespace gmwm::cli {
@@ -60,6 +61,7 @@ pipeline::StabilityStudyOptions stability_options(const StabilityArgs& args, con
   if (const std::string why = o.Validate(); !why.empty()) throw InputError(why);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
+  check_page_report_option(common);
   if (!args.units.units.empty()) io::parse_units(args.units.units);  // a bad --units fails before any work
   return o;
 }
@@ -80,6 +82,8 @@ int run_stability(const StabilityArgs& args, const CommonOptions& common) {
              {.threads = active_threads(),
               .seconds = {{"read", read_seconds}, {"deviations", study.seconds}, {"total", total.seconds()}},
               .argv = {}});
+  if (!common.report.empty())
+    common.outputs->stage(common.report, report::render_stability_html(set, study, options, units));
   commit_outputs(common);
   if (common.show_table())
     print_text((set.timing ? set.timing->summary() + "\n" : std::string()) + report::stability_text(study, units));
@@ -92,10 +96,13 @@ Command add_stability_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<StabilityArgs>();
   CLI::App* sub = app.add_subcommand(
       "stability",
-      "Frequency-stability deviations of each column (Allan, modified, time, Hadamard, total; NIST SP 1065)");
+      "Frequency-stability deviations of each column with their intervals (Allan, modified, time, Hadamard, "
+      "total, Theo1, MTIE, TIE rms; NIST SP 1065)");
   add_record_options(*sub, args->input);
-  sub->add_option("--kind", args->kinds,
-                  "Deviations, comma-separated: adev, oadev, mdev, tdev, hdev, ohdev, totdev (docs/stability.md)")
+  std::string kinds;
+  for (const stability::DeviationKind k : stability::deviation_kinds())
+    kinds += (kinds.empty() ? "" : ", ") + std::string(stability::deviation_name(k));
+  sub->add_option("--kind", args->kinds, "Deviations, comma-separated: " + kinds + " (docs/stability.md)")
       ->type_name("K1,K2")
       ->capture_default_str();
   sub->add_option("--taus", args->taus,
@@ -117,6 +124,8 @@ Command add_stability_command(CLI::App& app, CommonOptions& common) {
                   "-1 flicker FM, -2 random-walk FM, ...), instead of identifying it at each tau")
       ->type_name("A");
   add_units_option(*sub, args->units);
+  sub->add_option("--report", common.report,
+                  "Write a self-contained HTML report: the deviations with their interval bands, and the table");
   add_common_options(*sub, common);
   return {sub, [args, &common] { return run_stability(*args, common); }};
 }

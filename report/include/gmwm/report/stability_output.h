@@ -24,6 +24,15 @@ namespace gmwm::report {
 Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy& study,
                         const pipeline::StabilityStudyOptions& options, const std::vector<std::string>& units);
 
+/// The self-contained HTML report (`gmwm stability --report`): per column the deviations on
+/// log-log axes with their interval bands (the time deviations on their own plot: another
+/// unit) and the table of every value [low, high] with its noise. Throws InputError when
+/// Vega cannot be read (vega_missing_reason()). DOM: plots of kind "stability" and
+/// "stability-time" (html_report.h's contract).
+std::string render_stability_html(const io::SignalSet& set, const pipeline::StabilityStudy& study,
+                                  const pipeline::StabilityStudyOptions& options,
+                                  const std::vector<std::string>& units);
+
 /// Per column, a table of the averaging times (s) and each kind's deviation there ("-" where
 /// a kind has no factor), its unit below it.
 std::string stability_text(const pipeline::StabilityStudy& study, const std::vector<std::string>& units);

@@ -13,6 +13,8 @@
 //      differences") for ADEV, OADEV, MDEV, TDEV, HDEV, OHDEV; Howe's b (T / tau) - c for
 //      TOTDEV (SP 1065 Table 7), its noises beyond white, flicker and random-walk FM read
 //      with OADEV's (the total and the overlapping Allan variance agree for phase noise);
+//      SP 1065 Table 8's for MTOTDEV and TTOTDEV; OHDEV's for HTOTDEV (no published rule:
+//      a lower bound, so a conservative interval); none for Theo1, MTIE and TIE rms;
 //   3. the interval at confidence p is the chi-square one: deviation * sqrt(edf / chi2_q),
 //      q = (1 + p) / 2 for the low end, (1 - p) / 2 for the high (SP 1065 eq. 45): exact
 //      quantiles, or Stable32's (the default: exact up to 100 degrees of freedom, Wilson and
