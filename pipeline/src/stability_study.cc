@@ -104,11 +104,15 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
         throw InputError(file_place(set) + "column '" + s.name + "': " + std::to_string(s.values.size()) +
                          " samples leave " + std::string(stability::deviation_name(kind)) + " no averaging time");
       column.deviations.push_back(stability::deviation(kind, phase, study.tau0, m));
+      const auto intervals_start = std::chrono::steady_clock::now();
       column.intervals.push_back(stability::deviation_intervals(column.deviations.back(), phase, options.intervals));
+      study.interval_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - intervals_start).count();
     }
     study.columns.push_back(std::move(column));
   }
-  study.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  study.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - study.interval_seconds;
   return study;
 }
 

@@ -68,6 +68,7 @@ std::optional<double> equivalent_dof(DeviationKind kind, int alpha, std::int64_t
     case DeviationKind::kTierms:
       return std::nullopt;
   }
+  return std::nullopt;
 }
 
 std::string_view interval_method_name(IntervalMethod method) {

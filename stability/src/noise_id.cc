@@ -6,6 +6,7 @@
 // spectral densities", NBS Technical Note 375, 1969) and the R(n) ratio (NIST SP 1065,
 // section 5.6).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -24,50 +25,74 @@ int difference_order(DeviationKind kind) {
   return kind == DeviationKind::kHdev || kind == DeviationKind::kOhdev || kind == DeviationKind::kHtotdev ? 3 : 2;
 }
 
-// x_0, x_m, x_2m, ...: the phase seen at tau = m tau0.
-std::vector<double> decimated(std::span<const double> x, std::int64_t m) {
-  std::vector<double> out;
-  for (std::size_t i = 0; i < x.size(); i += static_cast<std::size_t>(m)) out.push_back(x[i]);
-  return out;
-}
-
-// Removes the least-squares line a + b i (the frequency offset of phase data).
-void remove_line(std::vector<double>& v) {
-  const double n = static_cast<double>(v.size());
-  const double mean_i = (n - 1.0) / 2.0;
-  double mean_v = 0.0;
-  for (const double x : v) mean_v += x;
-  mean_v /= n;
-  double sxy = 0.0, sxx = 0.0;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const double di = static_cast<double>(i) - mean_i;
-    sxy += di * (v[i] - mean_v);
-    sxx += di * di;
+// The lag-1 autocorrelation of the series s(t), t in [0, n) (Riley and Greenhall's eq. 2:
+// sum (s_t - sbar)(s_{t+1} - sbar) / sum (s_t - sbar)^2), in one pass without a copy: the
+// sums of s - s(0) (a shift that keeps the squares on the scale of the series' spread, not
+// of its offset), centred afterwards.
+template <class S>
+double lag1_autocorrelation(std::int64_t n, const S& s) {
+  const double shift = s(0);
+  double sum = 0.0, squares = 0.0, products = 0.0, previous = 0.0;
+  for (std::int64_t t = 0; t < n; ++t) {
+    const double v = s(t) - shift;
+    sum += v;
+    squares += v * v;
+    if (t > 0) products += previous * v;
+    previous = v;
   }
-  const double slope = sxx > 0.0 ? sxy / sxx : 0.0;
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] -= mean_v + slope * (static_cast<double>(i) - mean_i);
-}
-
-// Riley and Greenhall's eq. (2): sum (z_t - zbar)(z_{t+1} - zbar) / sum (z_t - zbar)^2.
-double lag1_autocorrelation(const std::vector<double>& z) {
-  double mean = 0.0;
-  for (const double v : z) mean += v;
-  mean /= static_cast<double>(z.size());
-  double num = 0.0, den = 0.0;
-  for (std::size_t t = 0; t < z.size(); ++t) {
-    const double a = z[t] - mean;
-    den += a * a;
-    if (t + 1 < z.size()) num += a * (z[t + 1] - mean);
-  }
+  const double nn = static_cast<double>(n), mean = sum / nn;
+  const double first = 0.0, last = previous;  // s(0) - shift and s(n - 1) - shift
+  // sum_{t<n-1} (a_t - mean)(a_{t+1} - mean) = products - mean (2 sum - first - last) + (n - 1) mean^2
+  const double num = products - mean * (2.0 * sum - first - last) + (nn - 1.0) * mean * mean;
+  const double den = squares - nn * mean * mean;
   return den > 0.0 ? num / den : 0.0;
 }
 
-NoiseIdentification by_autocorrelation(std::vector<double> z, int dmax) {
-  remove_line(z);
+// The phase decimated by m (z_t = x_{tm}, t < points), less its least-squares line (the
+// frequency offset), then differenced d times. Differencing after the line's removal is
+// differencing z itself less a constant (d = 1) or nothing (d >= 2), which the
+// autocorrelation's mean removes: the d-th difference of z is read directly.
+struct DecimatedSeries {
+  const double* x;
+  std::int64_t m;
+  double mean = 0.0, slope = 0.0, centre = 0.0;  // the line: mean + slope (t - centre)
+
+  DecimatedSeries(std::span<const double> phase, std::int64_t factor, std::int64_t points)
+      : x(phase.data()), m(factor), centre((static_cast<double>(points) - 1.0) / 2.0) {
+    // One pass: sum z and sum (t - centre) z (the centred times sum to zero, so the slope is
+    // their ratio to sum (t - centre)^2 = n (n^2 - 1) / 12).
+    const double z0 = z(0);
+    double sum = 0.0, sxy = 0.0;
+    for (std::int64_t t = 0; t < points; ++t) {
+      const double v = z(t) - z0;
+      sum += v;
+      sxy += (static_cast<double>(t) - centre) * v;
+    }
+    const double n = static_cast<double>(points);
+    mean = z0 + sum / n;
+    const double sxx = n * (n * n - 1.0) / 12.0;
+    slope = sxx > 0.0 ? sxy / sxx : 0.0;
+  }
+  double z(std::int64_t t) const { return x[t * m]; }
+  double detrended(std::int64_t t) const { return z(t) - mean - slope * (static_cast<double>(t) - centre); }
+  double difference(int d, std::int64_t t) const {
+    static constexpr std::array<std::array<double, 4>, 3> kWeights = {
+        {{-1.0, 1.0, 0.0, 0.0}, {1.0, -2.0, 1.0, 0.0}, {-1.0, 3.0, -3.0, 1.0}}};
+    const auto& w = kWeights[static_cast<std::size_t>(d - 1)];
+    double v = 0.0;
+    for (int k = 0; k <= d; ++k) v += w[static_cast<std::size_t>(k)] * z(t + k);
+    return v;
+  }
+};
+
+NoiseIdentification by_autocorrelation(std::span<const double> x, std::int64_t m, std::int64_t points, int dmax) {
+  const DecimatedSeries series(x, m, points);
   for (int d = 0;; ++d) {
-    const double r1 = lag1_autocorrelation(z);
+    const std::int64_t n = points - d;
+    const double r1 = d == 0 ? lag1_autocorrelation(n, [&](std::int64_t t) { return series.detrended(t); })
+                             : lag1_autocorrelation(n, [&](std::int64_t t) { return series.difference(d, t); });
     const double delta = r1 / (1.0 + r1);
-    if (delta < kStationaryDelta || d >= dmax || z.size() < 3) {
+    if (delta < kStationaryDelta || d >= dmax || n < 3) {
       // p = -2 (delta + d) is the phase's spectral index; the frequency's is alpha = p + 2.
       const double p = -2.0 * (delta + d);
       NoiseIdentification id;
@@ -76,8 +101,6 @@ NoiseIdentification by_autocorrelation(std::vector<double> z, int dmax) {
       id.method = NoiseIdMethod::kLag1Acf;
       return id;
     }
-    for (std::size_t t = 0; t + 1 < z.size(); ++t) z[t] = z[t + 1] - z[t];
-    z.pop_back();
   }
 }
 
@@ -113,10 +136,12 @@ int white_or_flicker_pm(std::span<const double> x, std::int64_t m) {
 
 // B1 = s^2 / AVAR of the m-averaged frequencies, both from the same values (Barnes' ratio:
 // the N-sample variance over the two-sample variance of N frequencies at tau).
-NoiseIdentification by_b1(std::span<const double> x, const std::vector<double>& z, std::int64_t m, int dmax) {
+NoiseIdentification by_b1(std::span<const double> x, std::int64_t m, std::int64_t points, int dmax) {
   NoiseIdentification id;
-  std::vector<double> y;  // the m-averaged frequencies (tau0 = 1)
-  for (std::size_t i = 0; i + 1 < z.size(); ++i) y.push_back((z[i + 1] - z[i]) / static_cast<double>(m));
+  std::vector<double> y;  // the m-averaged frequencies (tau0 = 1): differences of the decimated phase
+  for (std::int64_t i = 0; i + 1 < points; ++i)
+    y.push_back((x[static_cast<std::size_t>((i + 1) * m)] - x[static_cast<std::size_t>(i * m)]) /
+                static_cast<double>(m));
   if (y.size() < 3) return id;  // two Allan differences at least
   const double n = static_cast<double>(y.size());
   double mean = 0.0;
@@ -188,9 +213,9 @@ std::string_view noise_name(int alpha) {
 
 NoiseIdentification identify_noise(DeviationKind kind, std::span<const double> phase, std::int64_t m) {
   const int dmax = difference_order(kind);
-  const std::vector<double> z = decimated(phase, m);
+  const std::int64_t points = (static_cast<std::int64_t>(phase.size()) - 1) / m + 1;  // x_0, x_m, x_2m, ...
   NoiseIdentification id =
-      static_cast<std::int64_t>(z.size()) >= kMinAcfPoints ? by_autocorrelation(z, dmax) : by_b1(phase, z, m, dmax);
+      points >= kMinAcfPoints ? by_autocorrelation(phase, m, points, dmax) : by_b1(phase, m, points, dmax);
   id.alpha = std::clamp(id.alpha, 2 - 2 * dmax, 2);
   return id;
 }

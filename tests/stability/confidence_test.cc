@@ -200,6 +200,22 @@ TEST(NoiseIdentification, IdentifiesSimulatedPowerLawNoisesByTheLagOneAutocorrel
 // B1's classes: the Allan variance's exponent mu (both PM noises -2, white FM -1, ...).
 int b1_class(int alpha) { return alpha >= 1 ? -2 : -alpha - 1; }
 
+TEST(NoiseIdentification, IsTheSameWhateverThePhasesOffsetAndFrequencyOffset) {
+  // x + 1e9 + 1e3 t: the line is removed (d = 0) or differenced away (d >= 1); the sums are
+  // taken about the series' first value, so the offsets cost no digits the noise needs.
+  for (const int sums : {0, 1, 2}) {
+    const std::vector<double> x = power_law_phase(sums, 1 << 12, 99u + static_cast<unsigned>(sums));
+    std::vector<double> shifted(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) shifted[i] = x[i] + 1e9 + 1e3 * static_cast<double>(i);
+    for (const std::int64_t m : {1, 16}) {
+      const NoiseIdentification a = identify_noise(DeviationKind::kOadev, x, m);
+      const NoiseIdentification b = identify_noise(DeviationKind::kOadev, shifted, m);
+      EXPECT_EQ(a.alpha, b.alpha) << sums << " sums, m = " << m;
+      EXPECT_NEAR(a.estimate, b.estimate, 1e-3) << sums << " sums, m = " << m;
+    }
+  }
+}
+
 TEST(NoiseIdentification, B1ReadsTheNoiseOfMostShortSeriesAndNeverMissesByMoreThanOneClass) {
   // 29 decimated points (m = 292 of 8192): B1 and R(n). Over 200 series of each noise,
   // measured: white PM 93%, white FM 85%, random-walk FM 78% read right (400 series), each

@@ -1,6 +1,6 @@
 """Speed of `gmwm stability` against allantools (issue 48), on the same samples in one run.
 
-    python3 tools/bench/stability_speed.py build/gmwm ALLANTOOLS_GIT_DIR [N ...]
+    python3 tools/bench/stability_speed.py build/gmwm ALLANTOOLS_GIT_DIR [N ...] [--slow N ...]
 
 ALLANTOOLS_GIT_DIR: a clone of github.com/aewallin/allantools (its package is imported from
 a copy of that tree; run with Debian's numpy and scipy). For each N (default 1e6): white noise
@@ -9,6 +9,10 @@ computation alone (its function on the numpy array, best of 3), gmwm's deviation
 JSON's run.seconds.deviations) and gmwm's whole process (reading the CSV included, best of
 3), and the largest relative difference of the two values where both give one (the oracle of
 the comparison: the same numbers). Prints a markdown table.
+
+The total deviations and Theo1 (SLOW_KINDS) are compared at the sizes after --slow (default
+1000 and 4000): allantools reads them window by window (O(N m) per tau, 40 s for MTOTDEV's
+octaves at 4000 samples), so at 1e6 it would take days.
 """
 import json
 import os
@@ -20,7 +24,8 @@ import time
 
 import numpy as np
 
-KINDS = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"]
+KINDS = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtie", "tierms"]
+SLOW_KINDS = ["mtotdev", "ttotdev", "htotdev", "theo1"]
 RUNS = 3
 
 
@@ -35,44 +40,54 @@ def allantools_from(git_dir, into):
     return allantools
 
 
-def best(f):
+def best(f, runs=RUNS):
     times = []
     out = None
-    for _ in range(RUNS):
+    for _ in range(runs):
         t = time.perf_counter()
         out = f()
         times.append(time.perf_counter() - t)
     return min(times), out
 
 
+def compare(at, gmwm, tmp, n, kinds, runs):
+    """One table row per kind on n samples (white noise plus a random walk, 1 Hz)."""
+    rng = np.random.default_rng(48)
+    y = rng.normal(size=n) + np.cumsum(rng.normal(scale=1e-3, size=n))
+    path = os.path.join(tmp, "y.csv")
+    np.savetxt(path, y, header="y", comments="", fmt="%.17g")
+    for kind in kinds:
+        fn = getattr(at, kind)
+        t_at, (taus, dev, _, _) = best(lambda: fn(y, rate=1.0, data_type="freq", taus="octave"), runs)
+        out = os.path.join(tmp, "out.json")
+        cmd = [gmwm, "stability", path, "--freq", "1", "--kind", kind, "--json", out, "--quiet"]
+        t_proc, _ = best(lambda: subprocess.run(cmd, check=True), RUNS)
+        with open(out) as f:
+            doc = json.load(f)
+        d = doc["columns"][0]["deviations"][kind]
+        mine = {round(t, 9): v for t, v in zip(d["tau"], d["value"])}
+        diffs = [abs(mine[round(t, 9)] / v - 1) for t, v in zip(taus, dev) if round(t, 9) in mine and v > 0]
+        t_dev = doc["run"]["seconds"]["deviations"]
+        print(f"| {n:.0e} | {kind} | {t_at:.3f} | {t_dev:.4f} | {t_proc:.3f} | {t_at / t_dev:.1f}x | "
+              f"{t_at / t_proc:.1f}x | {max(diffs) if diffs else float('nan'):.1e} ({len(diffs)} taus) |",
+              flush=True)
+
+
 def main():
     gmwm, git_dir = sys.argv[1], sys.argv[2]
-    sizes = [int(float(a)) for a in sys.argv[3:]] or [10**6]
+    rest = sys.argv[3:]
+    slow_at = rest.index("--slow") if "--slow" in rest else len(rest)
+    sizes = [int(float(a)) for a in rest[:slow_at]] or [10**6]
+    slow_sizes = [int(float(a)) for a in rest[slow_at + 1:]] or [1000, 4000]
     with tempfile.TemporaryDirectory() as tmp:
         at = allantools_from(git_dir, tmp)
         print("| N | kind | allantools (s) | gmwm deviations (s) | gmwm process (s) | ratio (deviations) | "
               "ratio (process) | largest relative difference |")
         print("|---|---|---|---|---|---|---|---|")
         for n in sizes:
-            rng = np.random.default_rng(48)
-            y = rng.normal(size=n) + np.cumsum(rng.normal(scale=1e-3, size=n))
-            path = os.path.join(tmp, "y.csv")
-            np.savetxt(path, y, header="y", comments="", fmt="%.17g")
-            for kind in KINDS:
-                fn = getattr(at, kind)
-                t_at, (taus, dev, _, _) = best(lambda: fn(y, rate=1.0, data_type="freq", taus="octave"))
-                out = os.path.join(tmp, "out.json")
-                cmd = [gmwm, "stability", path, "--freq", "1", "--kind", kind, "--json", out, "--quiet"]
-                t_proc, _ = best(lambda: subprocess.run(cmd, check=True))
-                with open(out) as f:
-                    doc = json.load(f)
-                d = doc["columns"][0]["deviations"][kind]
-                mine = dict(zip(d["tau"], d["value"]))
-                diffs = [abs(mine[t] / v - 1) for t, v in zip(taus, dev) if t in mine and v > 0]
-                t_dev = doc["run"]["seconds"]["deviations"]
-                print(f"| {n:.0e} | {kind} | {t_at:.3f} | {t_dev:.3f} | {t_proc:.3f} | {t_at / t_dev:.1f}x | "
-                      f"{t_at / t_proc:.1f}x | {max(diffs) if diffs else float('nan'):.1e} ({len(diffs)} taus) |",
-                      flush=True)
+            compare(at, gmwm, tmp, n, KINDS, RUNS)
+        for n in slow_sizes:
+            compare(at, gmwm, tmp, n, SLOW_KINDS, 1)
 
 
 if __name__ == "__main__":

@@ -80,7 +80,10 @@ int run_stability(const StabilityArgs& args, const CommonOptions& common) {
   report::Json doc = report::stability_document(set, study, options, units);
   write_json(common, doc,
              {.threads = active_threads(),
-              .seconds = {{"read", read_seconds}, {"deviations", study.seconds}, {"total", total.seconds()}},
+              .seconds = {{"read", read_seconds},
+                          {"deviations", study.seconds},
+                          {"intervals", study.interval_seconds},
+                          {"total", total.seconds()}},
               .argv = {}});
   if (!common.report.empty())
     common.outputs->stage(common.report, report::render_stability_html(set, study, options, units));

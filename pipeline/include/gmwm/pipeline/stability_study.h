@@ -50,7 +50,8 @@ struct StabilityStudy {
   double tau0 = 0.0;              ///< the sampling period (s)
   std::int64_t phase_points = 0;  ///< the phase points each deviation read (the samples + 1 for a rate)
   std::vector<StabilityColumn> columns;
-  double seconds = 0.0;  ///< wall time of the deviations
+  double seconds = 0.0;           ///< wall time of the phases and the deviations
+  double interval_seconds = 0.0;  ///< wall time of the noise identifications and intervals
 };
 
 /// Throws InputError (one line naming the file or the option) for invalid options, a record
