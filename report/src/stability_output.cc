@@ -2,7 +2,6 @@
 #include "gmwm/report/stability_output.h"
 
 #include <cmath>
-#include <map>
 #include <sstream>
 
 #include "gmwm/engine/number_text.h"
@@ -45,19 +44,6 @@ Json curve_json(const stability::DeviationCurve& c, const stability::DeviationIn
           {"unit", unit.empty() ? Json(nullptr) : Json(unit)}};
 }
 
-// "white FM at 1-64 s, flicker PM at 128 s": the identified noise over runs of factors.
-std::string noise_runs(const stability::DeviationCurve& c, const stability::DeviationIntervals& ci) {
-  std::string out;
-  for (std::size_t i = 0; i < ci.noise.size();) {
-    std::size_t j = i;
-    while (j + 1 < ci.noise.size() && ci.noise[j + 1].alpha == ci.noise[i].alpha) ++j;
-    out += (out.empty() ? "" : ", ") + std::string(stability::noise_name(ci.noise[i].alpha)) + " at " +
-           significant(c.tau[i], 4) + (j > i ? "-" + significant(c.tau[j], 4) : std::string()) + " s";
-    i = j + 1;
-  }
-  return out;
-}
-
 }  // namespace
 
 Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy& study,
@@ -92,6 +78,24 @@ Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy
   return doc;
 }
 
+namespace {
+
+// One kind's table: each averaging time's value, interval, degrees of freedom and noise.
+std::string kind_table(const stability::DeviationCurve& c, const stability::DeviationIntervals& ci,
+                       const std::string& unit) {
+  const std::string u = unit.empty() ? (stability::in_time_units(c.kind) ? "U*s" : "U") : unit;
+  TextTable t(
+      {"tau [s]", std::string(stability::deviation_name(c.kind)) + " [" + u + "]", "low", "high", "edf", "noise"}, 0);
+  for (std::size_t i = 0; i < c.m.size(); ++i)
+    t.add({significant(c.tau[i], 6), significant(c.value[i], 5), significant(ci.low[i], 5, NonFinite::kDash),
+           significant(ci.high[i], 5, NonFinite::kDash), significant(ci.edf[i], 4, NonFinite::kDash),
+           std::string(stability::noise_name(ci.noise[i].alpha)) + " (" +
+               std::string(stability::noise_id_method_name(ci.noise[i].method)) + ")"});
+  return t.str();
+}
+
+}  // namespace
+
 std::string stability_text(const pipeline::StabilityStudy& study, const std::vector<std::string>& units) {
   std::ostringstream os;
   for (std::size_t k = 0; k < study.columns.size(); ++k) {
@@ -99,42 +103,14 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
     const std::string unit = k < units.size() ? units[k] : std::string();
     os << c.name << ": stability deviations, tau0 = " << significant(study.tau0, 6) << " s, " << study.phase_points
        << " phase points\n";
-    // Every averaging time any kind has, in order; each kind's value at it or "-".
-    std::map<double, std::vector<std::string>> rows;
     for (std::size_t d = 0; d < c.deviations.size(); ++d)
-      for (std::size_t i = 0; i < c.deviations[d].m.size(); ++i) {
-        auto& row = rows[c.deviations[d].tau[i]];
-        row.resize(c.deviations.size(), "-");
-        const stability::DeviationIntervals& ci = c.intervals[d];
-        row[d] = significant(c.deviations[d].value[i], 5) +
-                 (std::isfinite(ci.low[i]) ? " [" + significant(ci.low[i], 5) + ", " + significant(ci.high[i], 5) + "]"
-                                           : std::string());
-      }
-    std::vector<std::string> header = {"tau [s]"};
-    for (const stability::DeviationCurve& d : c.deviations) header.emplace_back(stability::deviation_name(d.kind));
-    TextTable t(header, 0);
-    for (auto& [tau, values] : rows) {
-      std::vector<std::string> row = {significant(tau, 6)};
-      values.resize(c.deviations.size(), "-");
-      row.insert(row.end(), values.begin(), values.end());
-      t.add(std::move(row));
-    }
-    os << t.str();
-    std::string units_line;
-    for (const stability::DeviationCurve& d : c.deviations) {
-      const std::string u = deviation_unit(d.kind, unit);
-      units_line += (units_line.empty() ? "" : ", ") + std::string(stability::deviation_name(d.kind)) + " in " +
-                    (u.empty() ? (stability::in_time_units(d.kind) ? "U*s" : "U") : u);
-    }
-    os << "  " << units_line << (unit.empty() ? " (U: the data's unit; --units declares it)" : "") << "\n";
+      os << kind_table(c.deviations[d], c.intervals[d], deviation_unit(c.deviations[d].kind, unit));
+    if (unit.empty()) os << "  U: the data's unit (--units declares it)\n";
     if (!c.intervals.empty()) {
       const stability::IntervalOptions& o = c.intervals.front().options;
-      os << "  [low, high]: the " << significant(100.0 * o.confidence, 4) << "% chi-square interval ("
-         << stability::interval_method_name(o.method) << " quantiles) from the equivalent degrees of freedom of the "
-         << (o.noise_alpha ? "noise given" : "noise identified at each tau") << "\n";
-      for (std::size_t d = 0; d < c.deviations.size(); ++d)
-        os << "  " << stability::deviation_name(c.deviations[d].kind)
-           << " noise: " << noise_runs(c.deviations[d], c.intervals[d]) << "\n";
+      os << "  low, high: the " << significant(100.0 * o.confidence, 4) << "% chi-square interval ("
+         << stability::interval_method_name(o.method) << " quantiles) from edf, the equivalent degrees of freedom of "
+         << (o.noise_alpha ? "the noise given" : "the noise identified at each tau") << " (docs/stability.md)\n";
     }
   }
   return os.str();

@@ -88,15 +88,16 @@ TEST_F(StabilityCommand, WritesEachKindsDeviationAtTheAskedTausAsStable32Gives) 
       EXPECT_GT(curve["ci_high"][k].get<double>(), curve["value"][k].get<double>()) << kind;
       EXPECT_GT(curve["edf"][k].get<double>(), 0.0) << kind;
     }
-  // The terminal: one row per tau, one column per kind (value [low, high]), the units, the
-  // interval's meaning and each kind's noise said below.
+  // The terminal: per kind a table of tau, value, interval, degrees of freedom and noise;
+  // what the interval is said below.
   EXPECT_NE(r.out.find("y: stability deviations, tau0 = 1 s, 1001 phase points"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("oadev"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("      1    0.29223 [0.28515, 0.29987]"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("[low, high]: the 68.27% chi-square interval (stable32 quantiles)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("oadev noise: white FM at 1-10 s, flicker PM at 99 s"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("oadev in U, mdev in U, totdev in U (U: the data's unit; --units declares it)"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("tau [s]  oadev [U]       low      high    edf               noise"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("      1    0.29223   0.28515   0.29987    782      white FM (acf)"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("flicker PM (b1+rn)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("U: the data's unit (--units declares it)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("low, high: the 68.27% chi-square interval (stable32 quantiles) from edf"), std::string::npos)
       << r.out;
 }
 
