@@ -17,6 +17,8 @@ namespace gmwm {
 
 using figures::fmt;
 using figures::kFloorAgreement;
+using figures::quantization_scale;
+using figures::ramp_scale;
 using figures::shows;
 using figures::walk_scale;
 using figures::white_scale;
@@ -261,6 +263,9 @@ ChosenFigures choose_noise_figures(const NoiseFigures& model, const NoiseFigures
   out.walk = choose(model.walk, data.walk, data_adev, model_adev, "K", "+1/2 slope", walk_scale, options);
   out.instability =
       choose(model.instability, data.instability, data_adev, model_adev, "B", "minimum", nullptr, options);
+  out.quantization = choose(model.quantization, data.quantization, data_adev, model_adev, "Q", "-1 slope",
+                            quantization_scale, options);
+  out.ramp = choose(model.ramp, data.ramp, data_adev, model_adev, "R", "+1 slope", ramp_scale, options);
   return out;
 }
 
@@ -278,7 +283,9 @@ ChosenFigures one_sided_choice(const NoiseFigures& f, FigureSource shown, const 
     c.note = std::string(name) + (shows ? " from " + curve : " not read in " + curve + ": " + r.how);
     return c;
   };
-  return {take(f.white, "N"), take(f.walk, "K"), take(f.instability, "B")};
+  ChosenFigures out;
+  for (int k = 0; k < kFigureCount; ++k) out[k] = take(f[k], std::string(1, kFigureNames[k].symbol).c_str());
+  return out;
 }
 
 }  // namespace
@@ -398,6 +405,20 @@ std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter
         "T = tau_B / 1.8926, sigma = 0.664 B / 0.6174: its Allan deviation peaks at the flat minimum "
         "(an approximation of a flicker floor); " +
         t.note;
+    out.push_back(t);
+  }
+  const Readoff& Q = figures.quantization.figure;
+  if (shows(Q) && figures.quantization.source != FigureSource::kBound) {
+    // A bound would add a noise no curve shows: the -1 line touching a white curve at its first
+    // point tau_1 gives, at f_k = 1 / tau_1, 2 Q^2 f_k^2 = (2/3) AVAR(tau_1): the white noise's R again.
+    KalmanTerm t;
+    t.role = "quantization measurement noise R (from Q)";
+    t.discrete = 2.0 * Q.value * Q.value * filter_rate * filter_rate;
+    t.discrete_unit = "U^2";
+    t.note =
+        "R = 2 Q^2 f_k^2: the rate averaged over 1 / f_k is the difference of two roundings of its integral, "
+        "lag-1 correlated (a white R is the usual approximation); not part of N (Q: " +
+        std::string(to_string(figures.quantization.source)) + ")";
     out.push_back(t);
   }
   return out;

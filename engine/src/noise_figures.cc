@@ -43,28 +43,18 @@ std::string ReadoffOptions::Validate() const {
 
 namespace {
 
+using figures::Curve;
 using figures::fmt;
-using figures::kWalkTau;
+using figures::kMinRegionPoints;
 using figures::kWhiteTau;
+using figures::Region;
 using figures::shows;
-using figures::walk_scale;
-using figures::white_scale;
+using figures::SlopeFigure;
 
-// Points in a slope region at least (one alone could be a wiggle of the curve).
-constexpr std::size_t kMinRegionPoints = 2;
-// How far beyond the record a model's curve is searched for its -1/2 and +1/2 slopes.
+// How far beyond the record a model's curve is searched for its power-law slopes.
 constexpr double kModelReachRecords = 100.0;
 // Local slopes are least-squares fits over points within half an octave on each side.
 constexpr double kSlopeHalfWindowOctaves = 0.5;
-// Two slope stretches are as long as each other within this (octaves): rounding.
-constexpr double kSameOctaves = 1e-9;
-
-struct Curve {
-  std::vector<double> tau, sigma;
-  std::vector<bool> usable;     ///< points that decide slopes
-  std::vector<bool> in_record;  ///< points a bound may come from (empty: the usable ones)
-  bool bounds_from(std::size_t i) const { return in_record.empty() ? usable[i] : in_record[i]; }
-};
 
 /// (low, high) of sigma_i times `scale` at 1 - alpha.
 using IntervalFn = std::function<std::pair<double, double>(std::size_t i, double scale)>;
@@ -175,15 +165,14 @@ std::string bump_text(const Bump& b, const std::string& what) {
          "): " + (what.empty() ? "a tone or a fast correlated term" : what) + ", not white noise and not counted in N";
 }
 
-/// The line of slope `target` (N: -1/2, K: +1/2): value = sigma(tau_i) * scale(tau_i).
-Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double target, double ieee_tau,
-                   const std::function<double(double)>& scale, const IntervalFn& interval, const char* slope_name,
+/// The line of figure `sf`'s slope (N: -1/2, K: +1/2, Q: -1, R: +1): value = sigma(tau_i) *
+/// scale(tau_i) on the region pick_region chooses.
+Readoff read_slope(const Curve& c, const std::vector<double>& slopes, const SlopeFigure& sf, const IntervalFn& interval,
                    const ReadoffOptions& o) {
   const std::size_t K = c.tau.size();
+  const double target = sf.slope, ieee_tau = sf.tau;
+  const char* slope_name = sf.slope_name;
   // Runs of consecutive usable points on the slope.
-  struct Region {
-    std::size_t first, last, count;
-  };
   std::vector<Region> regions;
   for (std::size_t i = 0; i < K; ++i) {
     const bool on = c.usable[i] && std::isfinite(slopes[i]) && std::abs(slopes[i] - target) <= o.slope_tolerance;
@@ -196,44 +185,13 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
     }
   }
   auto log_distance = [&](std::size_t i) { return std::abs(std::log(c.tau[i] / ieee_tau)); };
-  const Region* best = nullptr;
-  if (target < 0.0) {
-    // N: the white floor, the longest straight -1/2 stretch (the finer on a tie). The one
-    // nearest the IEEE tau read a short stretch after a tone's bump on the ADIS
-    // accelerometers' z axes, 19-29% above the floor (issue 43, item 3).
-    // Over the record only: a model's curve is searched far beyond it, where a slow AR1's
-    // white tail would be the longest stretch of all.
-    auto octaves = [&](const Region& r) {
-      std::size_t last = r.first;
-      for (std::size_t i = r.first; i <= r.last && c.bounds_from(i); ++i) last = i;
-      return std::log2(c.tau[last] / c.tau[r.first]);
-    };
-    for (const auto& r : regions)
-      if (r.count >= kMinRegionPoints && c.bounds_from(r.first) &&
-          (!best || octaves(r) > octaves(*best) + kSameOctaves))
-        best = &r;
-    if (!best)  // a model whose white noise shows beyond the record only: the nearest stretch
-      for (const auto& r : regions)
-        if (r.count >= kMinRegionPoints &&
-            (!best || std::log(c.tau[r.first] / ieee_tau) < std::log(c.tau[best->first] / ieee_tau)))
-          best = &r;
-  } else {
-    // K: the region holding the IEEE tau, else the one nearest to it.
-    auto distance = [&](const Region& r) {
-      if (c.tau[r.first] <= ieee_tau && ieee_tau <= c.tau[r.last]) return 0.0;
-      return std::min(log_distance(r.first), log_distance(r.last));
-    };
-    for (const auto& r : regions) {
-      if (r.count < kMinRegionPoints) continue;
-      if (!best || distance(r) < distance(*best)) best = &r;
-    }
-  }
+  const Region* best = figures::pick_region(c, regions, sf);
   Readoff out;
   if (best) {
     std::size_t at = best->first;
     for (std::size_t i = best->first; i <= best->last; ++i)
       if (log_distance(i) < log_distance(at)) at = i;
-    const double s = scale(c.tau[at]);
+    const double s = sf.scale(c.tau[at]);
     out.value = c.sigma[at] * s;
     std::tie(out.low, out.high) = interval(at, s);
     out.tau = c.tau[at];
@@ -244,7 +202,7 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
     out.how = std::string("on the ") + slope_name + " slope over " + fmt(out.region_from) + "-" + fmt(out.region_to) +
               " s, " +
               (holds ? "at " + fmt(out.tau) + " s" : "extended from " + fmt(out.tau) + " s to " + fmt(ieee_tau) + " s");
-    if (target < 0.0) {
+    if (sf.rule == figures::RegionRule::kLongest) {  // N
       if (const std::optional<Bump> b = find_bump(c, slopes, best->first, best->last, out.value, o))
         out.bends = bump_text(*b, "");
       // A finer -1/2 stretch on a lower line: a fast correlated term (white beyond its
@@ -261,7 +219,7 @@ Readoff read_slope(const Curve& c, const std::vector<double>& slopes, double tar
     }
     return out;
   }
-  return bound_of(c, scale, std::string("no ") + slope_name + " slope", slope_name);
+  return bound_of(c, sf.scale, std::string("no ") + slope_name + " slope", slope_name);
 }
 
 // B: the minimum of the curve (IEEE 952: the bias instability is the floor of the flat
@@ -341,35 +299,14 @@ Readoff read_minimum(const Curve& c, const std::vector<double>& slopes, const In
   return out;
 }
 
-// Where both lines were read, each read point still carries the other term: the Allan
-// variance there is N^2 / tau + K^2 tau / 3 (the two add). Solving that pair of equations
-// at the two read points removes it (a +1/2 region starting where the white noise still
-// adds a quarter of the variance would otherwise read K 12% high). Intervals scale along.
-void separate_white_and_walk(NoiseFigures& f) {
-  auto shows = [](const Readoff& r) { return r.available() && r.status != ReadoffStatus::kBound; };
-  if (!shows(f.white) || !shows(f.walk) || !(f.walk.tau > f.white.tau)) return;
-  const double tn = f.white.tau, tk = f.walk.tau;
-  const double sn2 = f.white.value * f.white.value / tn;           // AVAR at tn
-  const double sk2 = f.walk.value * f.walk.value * tk / kWalkTau;  // AVAR at tk
-  const double det = (tk / tn - tn / tk) / 3.0;
-  const double n2 = (sn2 * tk / 3.0 - sk2 * tn / 3.0) / det;
-  const double k2 = (sk2 / tn - sn2 / tk) / det;
-  if (!(n2 > 0.0) || !(k2 > 0.0)) return;
-  const double rn = std::sqrt(n2) / f.white.value, rk = std::sqrt(k2) / f.walk.value;
-  f.white.value *= rn, f.white.low *= rn, f.white.high *= rn;
-  f.walk.value *= rk, f.walk.low *= rk, f.walk.high *= rk;
-  f.white.how += "; the random walk's share at " + fmt(tn) + " s removed";
-  f.walk.how += "; the white noise's share at " + fmt(tk) + " s removed";
-}
-
 NoiseFigures read_all(const Curve& c, const IntervalFn& interval, const ReadoffOptions& o) {
   const std::vector<double> slopes = local_slopes(c);
   NoiseFigures f;
-  f.white = read_slope(
-      c, slopes, -0.5, kWhiteTau, [](double t) { return std::sqrt(t); }, interval, "-1/2", o);
-  f.walk = read_slope(
-      c, slopes, 0.5, kWalkTau, [](double t) { return std::sqrt(kWalkTau / t); }, interval, "+1/2", o);
+  f.white = read_slope(c, slopes, figures::kWhiteSlope, interval, o);
+  f.walk = read_slope(c, slopes, figures::kWalkSlope, interval, o);
   f.instability = read_minimum(c, slopes, interval, o);
+  f.quantization = read_slope(c, slopes, figures::kQuantizationSlope, interval, o);
+  f.ramp = read_slope(c, slopes, figures::kRampSlope, interval, o);
   return f;
 }
 
@@ -411,13 +348,14 @@ std::vector<double> component_slopes(const Model& model, const Eigen::VectorXd& 
   return out;
 }
 
-// A model's N (or K) at grid point `at` of its curve: only the components whose own slope
-// there is nearest that slope among the canonical ones count (the others' share is not
+// A model's N (or K, Q, R) at grid point `at` of its curve: only the components whose own
+// slope there is nearest that slope among the canonical ones count (the others' share is not
 // white noise, or not random walk), each with its exact continuous figure when it states
-// one (WN's noise density, RW's random walk: engine/physical.h) and otherwise its Allan
-// variance there on the line (a fast AR1's long-run white level, a slow one's early
-// random walk). So a WN + RW model gives back sqrt(sigma2 / f) and sqrt(gamma2 f) exactly,
-// and the white-and-walk separation is not needed.
+// one (WN's noise density, RW's random walk, QN's quantization, DR's drift rate:
+// engine/physical.h) and otherwise its Allan variance there on the line (a fast AR1's
+// long-run white level, a slow one's early random walk). So a WN + RW + QN + DR model gives
+// back sqrt(sigma2 / f), sqrt(gamma2 f), sqrt(Q2) / f and |omega| f exactly, and the
+// separation of the lines is not needed.
 //
 // K counts only what is itself a random walk over the record (`record_end`: the record's
 // last usable point): a component whose Allan deviation still rises there, i.e. RW, or an
@@ -438,15 +376,17 @@ std::vector<double> component_slopes(const Model& model, const Eigen::VectorXd& 
 //
 // False when no component is on the slope there (r unchanged).
 bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
-                            std::size_t at, Readoff& r, double target, PhysicalKind kind, std::size_t record_end,
+                            std::size_t at, Readoff& r, const SlopeFigure& sf, std::size_t record_end,
                             const Eigen::MatrixXd* cov, double z) {
+  const double target = sf.slope;
+  const bool walk = sf.rule == figures::RegionRule::kNearest;  // K
   if (!r.available() || r.status == ReadoffStatus::kBound) return false;
   if (grid.size() < 2) return false;
   const auto here = component_allan_variances(model, theta, grid.m[at]);
   const std::vector<double> slopes = component_slopes(model, theta, grid, at);
   const std::vector<double> end_slopes =
-      target > 0.0 ? component_slopes(model, theta, grid, record_end) : std::vector<double>();
-  const double scale2 = target < 0.0 ? grid.tau[at] : kWalkTau / grid.tau[at];  // value^2 = AVAR * scale2
+      walk ? component_slopes(model, theta, grid, record_end) : std::vector<double>();
+  const double scale2 = sf.scale(grid.tau[at]) * sf.scale(grid.tau[at]);  // value^2 = AVAR * scale2
   double sum = 0.0;
   const double tau2[1] = {2.0 * static_cast<double>(grid.m[at])};
   const Eigen::RowVectorXd jac = cov ? Eigen::RowVectorXd(model.jacobian(theta, tau2).row(0)) : Eigen::RowVectorXd();
@@ -454,10 +394,10 @@ bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, co
   for (int k = 0; k < model.num_components(); ++k) {
     const auto c = static_cast<std::size_t>(k);
     if (!std::isfinite(slopes[c]) || !nearest_canonical(slopes[c], target)) continue;
-    if (target > 0.0 && !(std::isfinite(end_slopes[c]) && end_slopes[c] > 0.0)) continue;
+    if (walk && !(std::isfinite(end_slopes[c]) && end_slopes[c] > 0.0)) continue;
     const Process& p = *model.components()[c].process;
     const std::span<const double> th(theta.data() + model.offset(k), static_cast<std::size_t>(p.size()));
-    const double exact = quantity_of_kind(p.physical(th, grid.freq), kind);
+    const double exact = quantity_of_kind(p.physical(th, grid.freq), sf.kind);  // DR's is signed: squared
     sum += std::isfinite(exact) ? exact * exact : here[c] * scale2;
     if (cov) g.segment(model.offset(k), p.size()) = 2.0 * scale2 * jac.segment(model.offset(k), p.size());
   }
@@ -472,8 +412,8 @@ bool refine_from_components(const Model& model, const Eigen::VectorXd& theta, co
       r.low = r.value * std::exp(-rel), r.high = r.value * std::exp(rel);
     }
   }
-  r.how += target < 0.0 ? "; the components on this slope at " + fmt(grid.tau[at]) + " s only"
-                        : "; the components random-walk-like over the record at " + fmt(grid.tau[at]) + " s only";
+  r.how += walk ? "; the components random-walk-like over the record at " + fmt(grid.tau[at]) + " s only"
+                : "; the components on this slope at " + fmt(grid.tau[at]) + " s only";
   return true;
 }
 
@@ -513,46 +453,79 @@ NoiseFigures read_noise_figures(const AllanDeviation& adev, const ReadoffOptions
   Curve c{adev.tau, adev.adev, usable_points(adev, options), {}};
   NoiseFigures f = read_all(
       c, [&](std::size_t i, double s) { return std::make_pair(adev.ci_low[i] * s, adev.ci_high[i] * s); }, options);
-  separate_white_and_walk(f);
+  figures::separate_power_laws(f);
   return f;
 }
 
-NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
-                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options,
-                                 const NoiseFigures* at) {
-  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
-  check_size_match("model_noise_figures", "theta", static_cast<std::size_t>(theta.size()), "parameters",
-                   static_cast<std::size_t>(model.num_parameters()));
-  // N and K: the model's curve is known beyond the record, so its slopes are sought on the
-  // data's grid extended to kModelReachRecords records (a fitted random walk shows its +1/2
-  // slope even where the record is too short to; whether the data allow it is decided by
-  // choose_noise_figures). B: the data's usable range only (a minimum is about the record).
-  std::vector<std::int64_t> m_ext = grid.m;
-  const std::int64_t reach = static_cast<std::int64_t>(kModelReachRecords) * std::max<std::int64_t>(grid.n, 2);
-  for (int k = 1; !m_ext.empty(); ++k) {
-    const double v = std::round(static_cast<double>(m_ext.back()) * std::exp2(1.0 / AllanOptions{}.points_per_octave));
-    if (v > static_cast<double>(reach)) break;
-    m_ext.push_back(std::max(static_cast<std::int64_t>(v), m_ext.back() + 1));
-  }
+namespace {
+
+// The averaging factors of `grid` extended to kModelReachRecords records, at the Allan
+// grid's own density (the model's curve is known beyond the record).
+AllanDeviation extended_grid(const AllanDeviation& grid) {
   AllanDeviation ext;
   ext.freq = grid.freq;
   ext.n = grid.n;
-  ext.m = m_ext;
-  for (std::int64_t m : m_ext) ext.tau.push_back(static_cast<double>(m) / grid.freq);
-  const Curve cd{grid.tau, model_allan_deviation(model, theta, grid.m), usable_points(grid, options), {}};
-  // Slopes anywhere on the extended curve; a bound (no such slope) only over the record.
-  std::vector<bool> in_record = cd.usable;
-  in_record.resize(ext.m.size(), false);
-  const Curve ce{ext.tau, model_allan_deviation(model, theta, ext.m), std::vector<bool>(ext.m.size(), true), in_record};
-  // Components at a boundary have no standard errors (NaN rows in the fit's covariance):
-  // they enter the delta method with none.
+  ext.m = grid.m;
+  const std::int64_t reach = static_cast<std::int64_t>(kModelReachRecords) * std::max<std::int64_t>(grid.n, 2);
+  while (!ext.m.empty()) {
+    const double v = std::round(static_cast<double>(ext.m.back()) * std::exp2(1.0 / AllanOptions{}.points_per_octave));
+    if (v > static_cast<double>(reach)) break;
+    ext.m.push_back(std::max(static_cast<std::int64_t>(v), ext.m.back() + 1));
+  }
+  for (std::int64_t m : ext.m) ext.tau.push_back(static_cast<double>(m) / grid.freq);
+  return ext;
+}
+
+// What a model's curve showing a slope lacks when no component of that kind makes it.
+const char* no_term_of(const SlopeFigure& sf) {
+  switch (sf.rule) {
+    case figures::RegionRule::kLongest:
+      return "no white noise";
+    case figures::RegionRule::kNearest:
+      return "no random walk (no RW, nor an AR1/GM random-walk-like over the record)";
+    case figures::RegionRule::kFirst:
+      return "no quantization noise";
+    case figures::RegionRule::kLast:
+      break;
+  }
+  return "no rate ramp";
+}
+
+// A model's curve as its read-offs see it: on the data's grid (cd: B, and the data's read
+// points) and extended beyond the record (ce: the power-law slopes, a bound only over the
+// record), with the delta method's covariance. (N and K: a fitted random walk shows its +1/2
+// slope even where the record is too short to; whether the data allow it is decided by
+// choose_noise_figures. B: the data's usable range only, a minimum is about the record.)
+struct ModelCurves {
+  const Model& model;
+  const Eigen::VectorXd& theta;
+  const AllanDeviation& grid;
+  AllanDeviation ext;
+  Curve cd, ce;
   Eigen::MatrixXd cov;
-  const bool with_cov = covariance && covariance->rows() == theta.size() && covariance->cols() == theta.size();
-  if (with_cov) cov = covariance->unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
-  const double z = boost::math::quantile(boost::math::normal(), 1.0 - options.alpha / 2.0);
+  bool with_cov = false;
+  double z = 0.0;
+  std::size_t record_end = 0;  // the record's last usable point: where a random walk must still be one
+
+  ModelCurves(const Model& m, const Eigen::VectorXd& th, const AllanDeviation& g, const Eigen::MatrixXd* covariance,
+              const ReadoffOptions& o)
+      : model(m), theta(th), grid(g), ext(extended_grid(g)) {
+    cd = Curve{grid.tau, model_allan_deviation(model, theta, grid.m), usable_points(grid, o), {}};
+    std::vector<bool> in_record = cd.usable;
+    in_record.resize(ext.m.size(), false);
+    ce = Curve{ext.tau, model_allan_deviation(model, theta, ext.m), std::vector<bool>(ext.m.size(), true), in_record};
+    // Components at a boundary have no standard errors (NaN rows in the fit's covariance):
+    // they enter the delta method with none.
+    with_cov = covariance && covariance->rows() == theta.size() && covariance->cols() == theta.size();
+    if (with_cov) cov = covariance->unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
+    z = boost::math::quantile(boost::math::normal(), 1.0 - o.alpha / 2.0);
+    for (std::size_t i = 0; i < cd.usable.size(); ++i)
+      if (cd.usable[i]) record_end = i;
+  }
+
   // Delta method on log(value): value = sigma(tau_i) s, d sigma = d AVAR / (2 sigma) = d nu^2(2m) / sigma.
-  auto interval_on = [&](const Curve& c, const std::vector<std::int64_t>& ms) -> IntervalFn {
-    return [&, ms](std::size_t i, double s) -> std::pair<double, double> {
+  IntervalFn interval_on(const Curve& c, const std::vector<std::int64_t>& ms) const {
+    return [this, &c, &ms](std::size_t i, double s) -> std::pair<double, double> {
       if (!with_cov || !(c.sigma[i] > 0.0)) return {NAN, NAN};
       const double tau2[1] = {2.0 * static_cast<double>(ms[i])};
       const Eigen::RowVectorXd g = model.jacobian(theta, tau2).row(0) / c.sigma[i];
@@ -562,91 +535,108 @@ NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& thet
       const double v = c.sigma[i] * s;
       return {v * std::exp(-rel), v * std::exp(rel)};
     };
-  };
-  NoiseFigures f;
-  const std::vector<double> slopes_e = local_slopes(ce);
-  f.white = read_slope(ce, slopes_e, -0.5, kWhiteTau, white_scale, interval_on(ce, ext.m), "-1/2", options);
-  const Readoff own_white = f.white;
-  f.walk = read_slope(ce, slopes_e, 0.5, kWalkTau, walk_scale, interval_on(ce, ext.m), "+1/2", options);
-  f.instability = read_minimum(cd, local_slopes(cd), interval_on(cd, grid.m), options);
-  // The record's last usable point: where a random walk must still be one (refine_from_components).
-  std::size_t record_end = 0;
-  for (std::size_t i = 0; i < cd.usable.size(); ++i)
-    if (cd.usable[i]) record_end = i;
-  // N and K of the components on their slope where the figure is read; where none is, the
+  }
+
+  // A power-law figure from the components on its slope where it is read; where none is, the
   // model's curve only bounds the figure (the slope is other terms crossing).
-  auto components_or_bound = [&](Readoff& r, double target, PhysicalKind kind, double (*scale)(double),
-                                 const char* slope_name) {
+  void components_or_bound(Readoff& r, const SlopeFigure& sf) const {
     if (!shows(r)) return;
     const std::size_t i = nearest_index(ext.tau, r.tau);
-    if (refine_from_components(model, theta, ext, i, r, target, kind, record_end, with_cov ? &cov : nullptr, z)) return;
-    const std::string what =
-        target < 0.0 ? "no white noise" : "no random walk (no RW, nor an AR1/GM random-walk-like over the record)";
-    Readoff b =
-        bound_of(ce, scale, std::string("the model's ") + slope_name + " slope at " + fmt(ext.tau[i]) + " s is " + what,
-                 slope_name);
+    if (refine_from_components(model, theta, ext, i, r, sf, record_end, with_cov ? &cov : nullptr, z)) return;
+    Readoff b = bound_of(
+        ce, sf.scale,
+        std::string("the model's ") + sf.slope_name + " slope at " + fmt(ext.tau[i]) + " s is " + no_term_of(sf),
+        sf.slope_name);
     b.region_from = r.region_from;
     b.region_to = r.region_to;
     r = b;
-  };
-  components_or_bound(f.white, -0.5, PhysicalKind::kNoiseDensity, white_scale, "-1/2");
-  components_or_bound(f.walk, 0.5, PhysicalKind::kRandomWalk, walk_scale, "+1/2");
-  if (at) {
-    // The one rule (issue 43): a figure the data show is read where they show it, on the
-    // model's curve too, so that the model's value and the check of the model against the
-    // data (choose_noise_figures) are about the same tau. (The model's own read-offs were
-    // taken at its own taus: B at a plateau of the model's curve over 463-927 s was
-    // accepted because the model matched the data at their minimum, 17.2 s.) N and K
-    // count the components on their slope there only (else the model only bounds them);
-    // B is the curve itself.
-    auto at_data = [&](const Readoff& d, Readoff& r, double (*scale)(double), const char* slope_name) {
-      if (!shows(d)) return false;
-      const std::size_t i = nearest_index(grid.tau, d.tau);
-      const double sc = scale(grid.tau[i]);
-      Readoff x;
-      x.value = cd.sigma[i] * sc;
-      std::tie(x.low, x.high) = interval_on(cd, grid.m)(i, sc);
-      x.tau = grid.tau[i];
-      x.region_from = d.region_from;
-      x.region_to = d.region_to;
-      x.status = d.status;
-      x.how = std::string("the model's curve where the data's figure is read, ") + fmt(x.tau) + " s" +
-              (slope_name ? std::string(" (on the data's ") + slope_name + " slope)" : std::string());
-      r = x;
-      return true;
-    };
-    if (at_data(at->white, f.white, white_scale, "-1/2"))
-      components_or_bound(f.white, -0.5, PhysicalKind::kNoiseDensity, white_scale, "-1/2");
-    if (at_data(at->walk, f.walk, walk_scale, "+1/2"))
-      components_or_bound(f.walk, 0.5, PhysicalKind::kRandomWalk, walk_scale, "+1/2");
-    // B: where the model's own curve has a floor (a white noise alone has none: its value at
-    // the data's minimum is no bias instability of the model's).
-    if (shows(f.instability))
-      at_data(
-          at->instability, f.instability, [](double) { return 1.0 / kBiasInstabilityFactor; }, nullptr);
   }
-  // The components behind each figure: their shares of the Allan variance where it was read.
-  constexpr double kShownShare = 0.01;
-  for (Readoff* r : {&f.white, &f.walk, &f.instability}) {
-    if (!std::isfinite(r->tau)) continue;
-    const auto parts = component_allan_variances(model, theta, ext.m[nearest_index(ext.tau, r->tau)]);
+
+  // The model's curve where the data's figure `d` is read (false, r unchanged, when the data
+  // do not show it): `scale` the figure's at tau, `slope_name` nullptr for B.
+  bool at_data(const Readoff& d, Readoff& r, const std::function<double(double)>& scale, const char* slope_name) const {
+    if (!shows(d)) return false;
+    const std::size_t i = nearest_index(grid.tau, d.tau);
+    const double sc = scale(grid.tau[i]);
+    Readoff x;
+    x.value = cd.sigma[i] * sc;
+    std::tie(x.low, x.high) = interval_on(cd, grid.m)(i, sc);
+    x.tau = grid.tau[i];
+    x.region_from = d.region_from;
+    x.region_to = d.region_to;
+    x.status = d.status;
+    x.how = std::string("the model's curve where the data's figure is read, ") + fmt(x.tau) + " s" +
+            (slope_name ? std::string(" (on the data's ") + slope_name + " slope)" : std::string());
+    r = x;
+    return true;
+  }
+
+  // The components behind a figure: their shares of the Allan variance where it was read.
+  std::vector<std::pair<std::string, double>> sources_at(double tau) const {
+    constexpr double kShownShare = 0.01;
+    std::vector<std::pair<std::string, double>> shares;
+    const auto parts = component_allan_variances(model, theta, ext.m[nearest_index(ext.tau, tau)]);
     double total = 0.0;
     for (double v : parts) total += std::max(v, 0.0);
-    if (!(total > 0.0)) continue;
-    std::vector<std::pair<std::string, double>> shares;
+    if (!(total > 0.0)) return shares;
     for (int k = 0; k < model.num_components(); ++k) {
       const double share = std::max(parts[static_cast<std::size_t>(k)], 0.0) / total;
       if (share >= kShownShare) shares.emplace_back(component_text(model, k, theta), share);
     }
     std::sort(shares.begin(), shares.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-    r->sources = std::move(shares);
+    return shares;
   }
+};
+
+// The power-law figures with their slopes, in NoiseFigures.
+constexpr std::pair<Readoff NoiseFigures::*, const SlopeFigure*> kPowerLaws[] = {
+    {&NoiseFigures::white, &figures::kWhiteSlope},
+    {&NoiseFigures::walk, &figures::kWalkSlope},
+    {&NoiseFigures::quantization, &figures::kQuantizationSlope},
+    {&NoiseFigures::ramp, &figures::kRampSlope},
+};
+
+}  // namespace
+
+NoiseFigures model_noise_figures(const Model& model, const Eigen::VectorXd& theta, const AllanDeviation& grid,
+                                 const Eigen::MatrixXd* covariance, const ReadoffOptions& options,
+                                 const NoiseFigures* at) {
+  if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
+  check_size_match("model_noise_figures", "theta", static_cast<std::size_t>(theta.size()), "parameters",
+                   static_cast<std::size_t>(model.num_parameters()));
+  const ModelCurves mc(model, theta, grid, covariance, options);
+  NoiseFigures f;
+  const std::vector<double> slopes_e = local_slopes(mc.ce);
+  for (const auto& [figure, sf] : kPowerLaws)
+    f.*figure = read_slope(mc.ce, slopes_e, *sf, mc.interval_on(mc.ce, mc.ext.m), options);
+  const Readoff own_white = f.white;
+  f.instability = read_minimum(mc.cd, local_slopes(mc.cd), mc.interval_on(mc.cd, grid.m), options);
+  for (const auto& [figure, sf] : kPowerLaws) mc.components_or_bound(f.*figure, *sf);
+  if (at) {
+    // The one rule (issue 43): a figure the data show is read where they show it, on the
+    // model's curve too, so that the model's value and the check of the model against the
+    // data (choose_noise_figures) are about the same tau. (The model's own read-offs were
+    // taken at its own taus: B at a plateau of the model's curve over 463-927 s was
+    // accepted because the model matched the data at their minimum, 17.2 s.) N, K, Q and R
+    // count the components on their slope there only (else the model only bounds them);
+    // B is the curve itself.
+    for (const auto& [figure, sf] : kPowerLaws)
+      if (mc.at_data((*at).*figure, f.*figure, sf->scale, sf->slope_name)) mc.components_or_bound(f.*figure, *sf);
+    // B: where the model's own curve has a floor (a white noise alone has none: its value at
+    // the data's minimum is no bias instability of the model's).
+    if (shows(f.instability))
+      mc.at_data(
+          at->instability, f.instability, [](double) { return 1.0 / kBiasInstabilityFactor; }, nullptr);
+  }
+  for (int k = 0; k < kFigureCount; ++k)
+    if (std::isfinite(f[k].tau)) f[k].sources = mc.sources_at(f[k].tau);
   // A bump on the model's own curve after its white floor, with the component making it.
   if (shows(own_white)) {
-    const std::size_t first = nearest_index(ext.tau, own_white.region_from),
-                      last = nearest_index(ext.tau, own_white.region_to);
-    if (const std::optional<Bump> b = find_bump(ce, slopes_e, first, last, own_white.value, options))
-      f.white.bends = bump_text(*b, bump_maker(model, theta, ext, nearest_index(ext.tau, own_white.tau), b->peak_tau));
+    const std::size_t first = nearest_index(mc.ext.tau, own_white.region_from),
+                      last = nearest_index(mc.ext.tau, own_white.region_to);
+    if (const std::optional<Bump> b = find_bump(mc.ce, slopes_e, first, last, own_white.value, options))
+      f.white.bends =
+          bump_text(*b, bump_maker(model, theta, mc.ext, nearest_index(mc.ext.tau, own_white.tau), b->peak_tau));
   }
   return f;
 }

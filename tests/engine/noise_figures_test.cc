@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/check.h"
 #include "gmwm/engine/classical_wv.h"
@@ -25,6 +27,36 @@ namespace {
 std::vector<double> simulated(const std::string& spec, std::int64_t n, std::uint64_t seed) {
   const Model m = parse_model(spec);
   return simulate(m, m.given_values(), n, seed, 0);
+}
+
+// The exact Allan deviation of a model on the averaging factors of a record of n samples at
+// f Hz, with the chi-square interval of a data curve (edf = (n - 2m + 1) / (2m)): a curve
+// without estimation noise, read as the data's.
+AllanDeviation exact_curve(const std::string& spec, double f, std::int64_t n, double alpha = 0.05) {
+  const Model m = parse_model(spec);
+  AllanDeviation a;
+  a.freq = f;
+  a.n = n;
+  a.alpha = alpha;
+  a.m = allan_factors(n, AllanOptions{}.points_per_octave);
+  a.adev = model_allan_deviation(m, m.given_values(), a.m);
+  for (std::size_t i = 0; i < a.m.size(); ++i) {
+    const auto mi = static_cast<double>(a.m[i]);
+    a.tau.push_back(mi / f);
+    a.edf.push_back(std::max((static_cast<double>(n) - 2.0 * mi + 1.0) / (2.0 * mi), 1.0));
+    const boost::math::chi_squared chi(a.edf[i]);
+    a.ci_low.push_back(a.adev[i] * std::sqrt(a.edf[i] / boost::math::quantile(chi, 1.0 - alpha / 2.0)));
+    a.ci_high.push_back(a.adev[i] * std::sqrt(a.edf[i] / boost::math::quantile(chi, alpha / 2.0)));
+  }
+  return a;
+}
+
+// The last point with at least ReadoffOptions' min_edf degrees of freedom.
+std::size_t last_usable(const AllanDeviation& a) {
+  std::size_t last = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a.edf[i] >= ReadoffOptions{}.min_edf) last = i;
+  return last;
 }
 
 // Continuous closed forms at rate f: WN of variance s2 per sample has N = sqrt(s2 / f),
@@ -341,6 +373,138 @@ TEST(NoiseFigures, KalmanTermsFollowTheFigures) {
   EXPECT_NE(t[1].note.find("upper bound"), std::string::npos);
   EXPECT_NEAR(t[2].transition, std::exp(-1.0 / (200.0 * 100.0)), 1e-12);  // T = 189.26 / 1.8926 = 100 s
   EXPECT_THROW(kalman_terms(c, 0.0), InvalidArgument);
+}
+
+TEST(NoiseFigures, QuantizationNoiseAloneReadsQAtRootThreeSecondsWithinItsChiSquareInterval) {
+  // IEEE 952 Annex C: quantization noise has AVAR = 3 Q^2 / tau^2, slope -1, and Q is the
+  // Allan deviation at tau = sqrt(3) s on that line. QN(Q2) at f Hz has Q = sqrt(Q2) / f
+  // (AVAR(m) = 3 Q2 / m^2 exactly): Q2 = 1e-4 at 100 Hz, Q = 1e-4 U*s.
+  const double f = 100.0, Q = 1e-4;
+  const auto x = simulated("QN(Q2=1e-4)", 1 << 18, 4801);
+  const NoiseFigures data = read_noise_figures(allan_deviation(x, f));
+  const Readoff& q = data.quantization;
+  EXPECT_EQ(q.status, ReadoffStatus::kRead) << q.how;
+  EXPECT_NEAR(q.tau, std::sqrt(3.0), 0.1) << q.how;
+  EXPECT_LE(q.low, Q) << q.how;
+  EXPECT_GE(q.high, Q) << q.how;
+  EXPECT_NEAR(q.value / Q, 1.0, 0.1) << q.how;
+  EXPECT_NE(q.how.find("on the -1 slope"), std::string::npos) << q.how;
+  // Nothing else is read off a curve that is -1 everywhere.
+  EXPECT_EQ(data.white.status, ReadoffStatus::kBound) << data.white.how;
+  EXPECT_EQ(data.walk.status, ReadoffStatus::kBound) << data.walk.how;
+  EXPECT_EQ(data.ramp.status, ReadoffStatus::kBound) << data.ramp.how;
+  // The exact curve read as the data's: Q itself, inside its interval.
+  const NoiseFigures exact = read_noise_figures(exact_curve("QN(Q2=1e-4)", f, 1 << 18));
+  EXPECT_EQ(exact.quantization.status, ReadoffStatus::kRead);
+  EXPECT_NEAR(exact.quantization.value / Q, 1.0, 1e-12) << exact.quantization.how;
+  // The model's: QN's own Q, from the model, its source named.
+  const Model m = parse_model("QN(Q2=1e-4)");
+  const ChosenFigures c = model_only_figures(m, m.given_values(), f, 1 << 18);
+  EXPECT_EQ(c.quantization.source, FigureSource::kModel) << c.quantization.note;
+  EXPECT_NEAR(c.quantization.figure.value / Q, 1.0, 1e-12) << c.quantization.figure.how;
+  ASSERT_FALSE(c.quantization.model.sources.empty());
+  EXPECT_EQ(c.quantization.model.sources.front().first.rfind("QN(", 0), 0u);
+}
+
+TEST(NoiseFigures, ADriftReadsRAsItsRateAloneAndOnWhiteNoiseWhereTheRampShows) {
+  // A deterministic drift omega per sample at f Hz is IEEE 952's rate ramp R = omega f: its
+  // Allan deviation is R tau / sqrt(2) (slope +1), R the value at tau = sqrt(2) s on that line.
+  const double f = 100.0;
+  const NoiseFigures alone = read_noise_figures(allan_deviation(simulated("DR(omega=1e-5)", 1 << 16, 1), f));
+  EXPECT_EQ(alone.ramp.status, ReadoffStatus::kRead) << alone.ramp.how;
+  EXPECT_NEAR(alone.ramp.value / 1e-3, 1.0, 1e-6) << alone.ramp.how;
+  EXPECT_NE(alone.ramp.how.find("on the +1 slope"), std::string::npos) << alone.ramp.how;
+  // On white noise the ramp shows beyond ~6 s only: read there, extended along its line to
+  // sqrt(2) s, the white noise's share at the read point removed. R = 1e-4 * 100 = 0.01.
+  const double R = 0.01;
+  const auto x = simulated("WN(sigma2=1)+DR(omega=1e-4)", 1 << 20, 4802);
+  const NoiseFigures data = read_noise_figures(allan_deviation(x, f));
+  EXPECT_EQ(data.ramp.status, ReadoffStatus::kExtrapolated) << data.ramp.how;
+  EXPECT_LE(data.ramp.low, R) << data.ramp.how;
+  EXPECT_GE(data.ramp.high, R) << data.ramp.how;
+  EXPECT_NE(data.ramp.how.find("the white noise's share"), std::string::npos) << data.ramp.how;
+  EXPECT_NEAR(data.white.value / 0.1, 1.0, 0.05) << data.white.how;
+  // The model's: DR's |omega| f exactly, whatever the drift's sign, from the model.
+  const Model m = parse_model("WN(sigma2=1)+DR(omega=-1e-4)");
+  const FigureReport r = noise_figure_report(x, f, m, m.given_values(), nullptr);
+  EXPECT_EQ(r.chosen.ramp.source, FigureSource::kModel) << r.chosen.ramp.note;
+  EXPECT_NEAR(r.chosen.ramp.figure.value / R, 1.0, 1e-12) << r.chosen.ramp.figure.how;
+  ASSERT_FALSE(r.chosen.ramp.model.sources.empty());
+  EXPECT_EQ(r.chosen.ramp.model.sources.front().first.rfind("DR(", 0), 0u);
+}
+
+TEST(NoiseFigures, WhiteNoiseAloneOnlyBoundsQAndRByTheLinesTouchingItsCurve) {
+  // No -1 or +1 slope: the white noise's own Allan deviation bounds both. sqrt(3) Q / tau
+  // never exceeds the total, so Q <= min ADEV(tau) tau / sqrt(3), at the first point for a
+  // white curve (ADEV tau grows as sqrt(tau)); R <= min ADEV(tau) sqrt(2) / tau, at the last
+  // usable point.
+  const double f = 100.0;
+  const AllanDeviation a = exact_curve("WN(sigma2=1)", f, 1 << 18);
+  const NoiseFigures exact = read_noise_figures(a);
+  EXPECT_EQ(exact.quantization.status, ReadoffStatus::kBound) << exact.quantization.how;
+  EXPECT_NEAR(exact.quantization.value / (a.adev[0] * a.tau[0] / std::sqrt(3.0)), 1.0, 1e-12);
+  EXPECT_TRUE(std::isnan(exact.quantization.low));
+  const std::size_t last = last_usable(a);
+  EXPECT_EQ(exact.ramp.status, ReadoffStatus::kBound) << exact.ramp.how;
+  EXPECT_NEAR(exact.ramp.value / (a.adev[last] * std::sqrt(2.0) / a.tau[last]), 1.0, 1e-12);
+  EXPECT_NE(exact.ramp.how.find("no +1 slope: an upper bound"), std::string::npos) << exact.ramp.how;
+  // The same on simulated white noise, and on the model's own curve.
+  const NoiseFigures data = read_noise_figures(allan_deviation(simulated("WN(sigma2=1)", 1 << 18, 4804), f));
+  EXPECT_EQ(data.quantization.status, ReadoffStatus::kBound) << data.quantization.how;
+  EXPECT_EQ(data.ramp.status, ReadoffStatus::kBound) << data.ramp.how;
+  const Model m = parse_model("WN(sigma2=1)");
+  const ChosenFigures c = model_only_figures(m, m.given_values(), f, 1 << 18);
+  EXPECT_EQ(c.quantization.source, FigureSource::kBound) << c.quantization.note;
+  EXPECT_EQ(c.ramp.source, FigureSource::kBound) << c.ramp.note;
+}
+
+TEST(NoiseFigures, QIsTheModelsWhereItsCurveMatchesTheDataAndTheDatasWhereTheModelHasNoQuantization) {
+  // QN (Q = 1 / 100 = 0.01 U*s) under white noise: -1 up to ~0.75 s, -1/2 beyond ~12 s.
+  const double f = 100.0, Q = 0.01;
+  const auto x = simulated("QN(Q2=1)+WN(sigma2=0.01)", 1 << 18, 4803);
+  const Model right = parse_model("QN(Q2=1)+WN(sigma2=0.01)");
+  const FigureReport good = noise_figure_report(x, f, right, right.given_values(), nullptr);
+  ASSERT_NE(good.data.quantization.status, ReadoffStatus::kBound) << good.data.quantization.how;
+  // The data's, the white noise's share at its read point removed.
+  EXPECT_NEAR(good.data.quantization.value / Q, 1.0, 0.05) << good.data.quantization.how;
+  EXPECT_NE(good.data.quantization.how.find("the white noise's share"), std::string::npos);
+  EXPECT_EQ(good.chosen.quantization.source, FigureSource::kModel) << good.chosen.quantization.note;
+  EXPECT_NEAR(good.chosen.quantization.figure.value / Q, 1.0, 1e-12);
+  // A model without QN shows no -1 slope: the data's Q, saying why.
+  const Model wrong = parse_model("WN(sigma2=0.01)");
+  const FigureReport bad = noise_figure_report(x, f, wrong, wrong.given_values(), nullptr);
+  EXPECT_EQ(bad.chosen.quantization.source, FigureSource::kData) << bad.chosen.quantization.note;
+  EXPECT_DOUBLE_EQ(bad.chosen.quantization.figure.value, bad.data.quantization.value);
+  EXPECT_NE(bad.chosen.quantization.note.find("Q from the data's Allan deviation"), std::string::npos)
+      << bad.chosen.quantization.note;
+}
+
+TEST(NoiseFigures, AToneFallingAfterItsPeakIsNotReadAsQuantizationNorItsRiseAsARamp) {
+  // A sinusoid's Allan deviation rises as tau (+1) below its period and its envelope falls as
+  // 1 / tau (-1) after its peak: neither is Q nor R, which show at the curve's two ends only.
+  // WN plus a 0.05 Hz tone (period 20 s at 100 Hz) over a record of 2^20 samples.
+  const double f = 100.0;
+  const AllanDeviation a = exact_curve("WN(sigma2=1e-4)+SIN(A2=1,f=0.0005)", f, 1 << 20);
+  const NoiseFigures r = read_noise_figures(a);
+  EXPECT_EQ(r.quantization.status, ReadoffStatus::kBound) << r.quantization.how;
+  EXPECT_EQ(r.ramp.status, ReadoffStatus::kBound) << r.ramp.how;
+}
+
+TEST(NoiseFigures, KalmanTermsHaveAQuantizationNoiseFromAReadQButNoneFromABoundAndNoneFromR) {
+  ChosenFigures c;
+  c.quantization.figure.value = 1e-4;
+  c.quantization.figure.status = ReadoffStatus::kRead;
+  c.quantization.source = FigureSource::kModel;
+  c.ramp.figure.value = 1e-3;
+  c.ramp.figure.status = ReadoffStatus::kRead;
+  c.ramp.source = FigureSource::kModel;
+  const auto t = kalman_terms(c, 200.0);
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_NE(t[0].role.find("(from Q)"), std::string::npos);
+  EXPECT_NEAR(t[0].discrete, 2.0 * 1e-8 * 200.0 * 200.0, 1e-18);  // R = 2 Q^2 f_k^2
+  c.quantization.figure.status = ReadoffStatus::kBound;
+  c.quantization.source = FigureSource::kBound;
+  EXPECT_TRUE(kalman_terms(c, 200.0).empty());
 }
 
 TEST(NoiseFigures, TheGaussMarkovPeakConstantsMaximiseItsAllanDeviation) {

@@ -1,21 +1,27 @@
 #pragma once
 // The noise figures consumers read (IEEE Std 952-1997, Annex C): the white noise density
-// N, the random walk K and the bias instability B, read off an Allan deviation curve,
-// the data's or a fitted model's as a whole.
+// N, the random walk K, the bias instability B, the quantization noise Q and the rate ramp
+// R, read off an Allan deviation curve, the data's or a fitted model's as a whole.
 //
 //   N: on the slope -1/2 (ADEV = N / sqrt(tau)), N = ADEV(1 s) on that line;
 //   K: on the slope +1/2 (ADEV = K sqrt(tau / 3)), K = ADEV(3 s) on that line;
-//   B: at the flat minimum, B = min ADEV / sqrt(2 ln 2 / pi) = min ADEV / 0.664.
+//   B: at the flat minimum, B = min ADEV / sqrt(2 ln 2 / pi) = min ADEV / 0.664;
+//   Q: on the slope -1 (ADEV = sqrt(3) Q / tau), Q = ADEV(sqrt(3) s) on that line;
+//   R: on the slope +1 (ADEV = R tau / sqrt(2)), R = ADEV(sqrt(2) s) on that line.
 //
 // A slope region is a run of (at least two) points whose local log-log slope (least
 // squares over one octave) is within `slope_tolerance` of the slope's value, among the
 // points with at least `min_edf` equivalent degrees of freedom; the figure is read at the
 // region's point nearest the IEEE tau (status kRead when the region spans that tau, else
-// kExtrapolated along the line). Without such a region the curve still bounds the figure
-// (kBound): a white noise's ADEV N / sqrt(tau) never exceeds the total, so
-// N <= min_tau ADEV(tau) sqrt(tau), and likewise K <= min_tau ADEV(tau) sqrt(3 / tau).
-// B is not read when the curve has no interior minimum (still falling at its last usable
-// point: B <= that value / 0.664).
+// kExtrapolated along the line). N is read on the longest -1/2 region, K on the +1/2 one
+// nearest 3 s; Q only on a -1 region starting at the curve's first point and R only on a
+// +1 region ending at its last (quantization shows at the shortest taus, a ramp at the
+// longest: a -1 fall after a bump, or a +1 rise before one, is a tone or a correlated
+// term). Without such a region the curve still bounds the figure (kBound): a white
+// noise's ADEV N / sqrt(tau) never exceeds the total, so N <= min_tau ADEV(tau) sqrt(tau),
+// and likewise K <= min ADEV(tau) sqrt(3 / tau), Q <= min ADEV(tau) tau / sqrt(3),
+// R <= min ADEV(tau) sqrt(2) / tau. B is not read when the curve has no interior minimum
+// (still falling at its last usable point: B <= that value / 0.664).
 //
 // For a model the read-offs use its implied curve on the data's grid (so that both read
 // at the same taus); a fast AR1 then adds to N and a slow one to B, whatever the
@@ -27,6 +33,7 @@
 //   const auto data = gmwm::read_noise_figures(gmwm::allan_deviation(x, f));
 //   const auto model = gmwm::model_noise_figures(fit.model, fit.theta, adev, &fit.covariance);
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -54,7 +61,7 @@ const char* to_string(ReadoffStatus s);
 std::optional<ReadoffStatus> parse_readoff_status(const std::string& name);
 
 struct Readoff {
-  double value = NAN;            ///< in the data's unit pattern (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U)
+  double value = NAN;            ///< in the data's unit pattern (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U, Q: U*s, R: U/s)
   double low = NAN, high = NAN;  ///< interval at 1 - alpha (NaN when unknown; a bound has low NaN)
   ReadoffStatus status = ReadoffStatus::kBound;
   double tau = NAN;                           ///< where it was read, in seconds
@@ -69,10 +76,33 @@ struct Readoff {
   bool available() const { return std::isfinite(value); }
 };
 
+/// The figures in the order every face shows them, with their symbol, JSON key, name and
+/// unit pattern (physical.h: "U" is the data's unit; a gyro in deg/s has Q in deg, the
+/// angle quantum, and R in deg/s^2).
+struct FigureName {
+  char symbol;               ///< 'N'
+  const char* key;           ///< the JSON key: "white"
+  const char* name;          ///< "white noise"
+  const char* unit_pattern;  ///< "U/sqrt(Hz)"
+};
+inline constexpr int kFigureCount = 5;
+inline constexpr FigureName kFigureNames[kFigureCount] = {
+    {'N', "white", "white noise", "U/sqrt(Hz)"},
+    {'K', "walk", "random walk", "U/s/sqrt(Hz)"},
+    {'B', "instability", "bias instability", "U"},
+    {'Q', "quantization", "quantization noise", "U*s"},
+    {'R', "ramp", "rate ramp", "U/s"},
+};
+
 struct NoiseFigures {
-  Readoff white;        ///< N: white noise density (angle / velocity random walk), U/sqrt(Hz)
-  Readoff walk;         ///< K: random walk (rate / acceleration random walk), U/s/sqrt(Hz)
-  Readoff instability;  ///< B: bias instability, U
+  Readoff white;         ///< N: white noise density (angle / velocity random walk), U/sqrt(Hz)
+  Readoff walk;          ///< K: random walk (rate / acceleration random walk), U/s/sqrt(Hz)
+  Readoff instability;   ///< B: bias instability, U
+  Readoff quantization;  ///< Q: quantization noise, U*s (a gyro in deg/s: deg, the angle quantum)
+  Readoff ramp;          ///< R: rate ramp, U/s (a gyro in deg/s: deg/s^2)
+  /// The figure k in kFigureNames' order (N, K, B, Q, R).
+  const Readoff& operator[](int k) const { return *std::array{&white, &walk, &instability, &quantization, &ramp}[k]; }
+  Readoff& operator[](int k) { return *std::array{&white, &walk, &instability, &quantization, &ramp}[k]; }
 };
 
 /// sqrt(2 ln 2 / pi): the flat part of a flicker-floor ADEV in units of B (IEEE 952 C.1).
@@ -122,7 +152,12 @@ struct ChosenFigure {
 };
 
 struct ChosenFigures {
-  ChosenFigure white, walk, instability;
+  ChosenFigure white, walk, instability, quantization, ramp;
+  /// The figure k in kFigureNames' order (N, K, B, Q, R).
+  const ChosenFigure& operator[](int k) const {
+    return *std::array{&white, &walk, &instability, &quantization, &ramp}[k];
+  }
+  ChosenFigure& operator[](int k) { return *std::array{&white, &walk, &instability, &quantization, &ramp}[k]; }
 };
 
 /// The figures to put in a filter: the model's read-off where the model's Allan deviation
@@ -143,10 +178,14 @@ inline constexpr double kGaussMarkovPeakAdev = 0.61736;
 
 /// The Kalman-filter terms of the figures at filter_rate Hz (kalman.h conventions):
 /// white measurement noise R = N^2 f_k from N; a bias random-walk state Q_d = K^2 / f_k
-/// from K; and, when B was read at an interior minimum tau_B, a Gauss-Markov bias state
+/// from K; when B was read at an interior minimum tau_B, a Gauss-Markov bias state
 /// whose Allan deviation peaks there at the flat level 0.664 B (T = tau_B / 1.8926,
-/// sigma = 0.664 B / 0.6174), an approximation of a flicker floor. Each term's note says
-/// where its figure came from.
+/// sigma = 0.664 B / 0.6174), an approximation of a flicker floor; and, when Q was read (not
+/// a bound), the quantization's measurement noise R = 2 Q^2 f_k^2 (the rate averaged over
+/// 1 / f_k: the difference of two roundings of the integral, QN's own term). R (the rate
+/// ramp) gives none: a ramp is deterministic over the record, no process noise (a filter that
+/// follows it carries a drift-rate state, DR's own Kalman term). Each term's note says where
+/// its figure came from.
 std::vector<KalmanTerm> kalman_terms(const ChosenFigures& figures, double filter_rate);
 
 /// Everything about one column's noise figures: the data's Allan deviation, the model's
