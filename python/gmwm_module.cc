@@ -518,9 +518,9 @@ PYBIND11_MODULE(_gmwm, m) {
       "figure_units",
       [](const std::string& unit) {
         const gmwm::report::FigureUnits u = gmwm::report::figure_units(unit);
-        return std::make_tuple(u.white, u.walk, u.instability);
+        return std::make_tuple(u.white, u.walk, u.instability, u.quantization, u.ramp);
       },
-      py::arg("unit"), "The units of N, K and B for data in `unit` (as the documents write them)");
+      py::arg("unit"), "The units of N, K, B, Q and R for data in `unit` (as the documents write them)");
   m.def("model_wv", &py_model_wv, py::arg("model"), py::arg("tau"), py::kw_only(), py::arg("freq") = py::none(),
         "The WV a fully specified model implies at tau (samples), per component: the components' labels and a "
         "components x levels array (the rows sum to the model's WV)");

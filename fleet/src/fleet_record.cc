@@ -368,10 +368,11 @@ std::vector<MissingRun> read_missing(const Reader& r, const Json& j, const Json&
 
 Json axis_json(const FleetRow& row, const FleetCurves& c) {
   Json figures = nullptr;
-  if (row.figures_known)
-    figures = {{"N", chosen_json(row.figures.white)},
-               {"K", chosen_json(row.figures.walk)},
-               {"B", chosen_json(row.figures.instability)}};
+  if (row.figures_known) {
+    figures = Json::object();
+    for (int k = 0; k < kFigureCount; ++k)
+      figures[std::string(1, kFigureNames[k].symbol)] = chosen_json(row.figures[k]);  // "N", "K", "B", "Q", "R"
+  }
   return {
       {"axis", row.axis},
       {"data_unit", row.data_unit},
@@ -401,9 +402,8 @@ void read_axis(const Reader& r, const Json& j, FleetRow& row, FleetCurves& c) {
   row.first_level = static_cast<int>(r.integer(j, "first_level"));
   const Json& f = r.at(j, "figures");
   if (!f.is_null()) {
-    row.figures.white = read_chosen(r, r.at(f, "N"));
-    row.figures.walk = read_chosen(r, r.at(f, "K"));
-    row.figures.instability = read_chosen(r, r.at(f, "B"));
+    for (int k = 0; k < kFigureCount; ++k)
+      row.figures[k] = read_chosen(r, r.at(f, std::string(1, kFigureNames[k].symbol).c_str()));
     row.figures_known = true;
   }
   if (const Json& gap = r.at(j, "gap"); !gap.is_null()) {

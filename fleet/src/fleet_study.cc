@@ -185,15 +185,16 @@ SummaryUnit summary_unit(const std::vector<FleetRow*>& members) {
   return u;
 }
 
-const ChosenFigure& figure_of(const FleetRow& r, int k) {
-  return k == 0 ? r.figures.white : k == 1 ? r.figures.walk : r.figures.instability;
-}
+const ChosenFigure& figure_of(const FleetRow& r, int k) { return r.figures[k]; }
 
 // One figure of one group's axis: the median and spread of the logs, the units beyond the
 // outlier rule (their rows flagged), the units above the spec.
 FleetFigureSummary summarise_figure(std::vector<FleetRow>& rows, const std::string& group, const std::string& axis,
                                     int k, double z_half) {
-  FleetFigureSummary s{group, axis, "NKB"[k]};
+  FleetFigureSummary s;
+  s.group = group;
+  s.axis = axis;
+  s.figure = kFigureNames[k].symbol;
   std::vector<FleetRow*> all, members;
   for (FleetRow& r : rows)
     if (r.group == group && r.axis == axis) all.push_back(&r);
@@ -259,7 +260,7 @@ std::vector<FleetFigureSummary> fleet_summary(std::vector<FleetRow>& rows, doubl
       keys.emplace_back(r.group, r.axis);
   std::vector<FleetFigureSummary> out;
   for (const auto& [group, axis] : keys)
-    for (int k = 0; k < 3; ++k) out.push_back(summarise_figure(rows, group, axis, k, z_half));
+    for (int k = 0; k < kFigureCount; ++k) out.push_back(summarise_figure(rows, group, axis, k, z_half));
   return out;
 }
 

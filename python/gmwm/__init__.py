@@ -9,7 +9,7 @@ float64 arrays) built from the JSON the `gmwm` command writes for the same data 
     w = gmwm.wv(x, freq=100)                       # w.tau, w.tau_seconds, w.wv, w.ci_low, w.ci_high
     f = gmwm.fit(x, "WN+RW", freq=100, units="rad/s")
     f.parameters[0].value, f.parameter("gamma2").ci_high, f.gof.p_value, f.implied_wv
-    f.noise_figures.N.value, f.noise_figures.N.unit   # N, K, B with intervals and read-offs
+    f.noise_figures.N.value, f.noise_figures.N.unit   # N, K, B, Q, R with intervals and read-offs
     s = gmwm.select(np.column_stack([x, x]), "AR1+WN+RW", freq=100)   # s[0].best, s[0].ranking
     a = gmwm.allan(x, freq=100, units="rad/s")     # a.tau, a.adev, a.noise_figures.B
     g = gmwm.gap(np.column_stack([x]), freq=100, names=["gyro_x"], kalibr="imu.yaml")

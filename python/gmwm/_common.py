@@ -249,6 +249,8 @@ class NoiseFiguresMethods:
     N: "NoiseFigure"
     K: "NoiseFigure"
     B: "NoiseFigure"
+    Q: "NoiseFigure | None"
+    R: "NoiseFigure | None"
 
     @property
     def white(self) -> "NoiseFigure":
@@ -262,6 +264,15 @@ class NoiseFiguresMethods:
     def instability(self) -> "NoiseFigure":
         return self.B
 
+    @property
+    def quantization(self) -> "NoiseFigure | None":
+        return self.Q
+
+    @property
+    def ramp(self) -> "NoiseFigure | None":
+        return self.R
+
     def __repr__(self) -> str:
+        more = "".join(f", {name}={g(f.value)} {f.unit}" for name, f in (("Q", self.Q), ("R", self.R)) if f is not None)
         return (f"NoiseFigures(N={g(self.N.value)} {self.N.unit}, K={g(self.K.value)} {self.K.unit}, "
-                f"B={g(self.B.value)} {self.B.unit})")
+                f"B={g(self.B.value)} {self.B.unit}{more})")

@@ -144,7 +144,7 @@ class FleetResultMethods:
     rows: tuple[FleetRow, ...]
 
     def to_dataframe(self) -> Any:
-        """The rows as a pandas DataFrame (N, K, B as value columns with _low and _high);
+        """The rows as a pandas DataFrame (N, K, B, Q, R as value columns with _low and _high);
         ImportError when pandas is not installed (Debian: python3-pandas)."""
         import pandas  # optional: only this method needs it
 
@@ -152,7 +152,7 @@ class FleetResultMethods:
         for r in self.rows:
             rec = {k: getattr(r, k) for k in ("unit", "model", "group", "path", "axis", "unit_of_data", "status",
                                               "chosen_structure", "gof_p_value", "freq", "n", "seconds")}
-            for name in ("N", "K", "B"):
+            for name in ("N", "K", "B", "Q", "R"):
                 f = getattr(r, name)
                 rec[name] = f.value if f else np.nan
                 rec[name + "_low"] = f.low if f else np.nan
@@ -170,7 +170,7 @@ class FleetResultMethods:
                 f"{self.failed} failed, flagged: {', '.join(flagged) if flagged else 'none'})")
 
     def plot(self, ax: Any = None, figure: str = "N") -> Any:
-        """`figure` (N, K or B) of every unit by axis with its interval, one colour per unit,
+        """`figure` (N, K, B, Q or R) of every unit by axis with its interval, one colour per unit,
         the flagged ones boxed in red; the axes drawn on. Needs matplotlib."""
         from . import _plot
 

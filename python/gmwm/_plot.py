@@ -75,6 +75,11 @@ def wv(w: WvResult, ax: Any = None) -> Any:
     return ax
 
 
+def _is(figure: Any) -> str:
+    """'<' for a figure the curves only bound (as the report's guides say it), else '='."""
+    return "<" if figure.status == "bound" or figure.source == "bound" else "="
+
+
 def allan(a: AllanDeviation, figures: NoiseFigures | None, unit: str | None, name: str, ax: Any = None) -> Any:
     ax = axes(ax)
     ax.fill_between(a.tau, a.ci_low, a.ci_high, color="C0", alpha=BAND_ALPHA, label="interval")
@@ -85,12 +90,19 @@ def allan(a: AllanDeviation, figures: NoiseFigures | None, unit: str | None, nam
         n, k, b = figures.N, figures.K, figures.B
         if math.isfinite(n.value):
             ax.loglog(a.tau, n.value / np.sqrt(a.tau), "--", color="C2",
-                      label=f"N / sqrt(tau), N = {n.value:.3g} {n.unit}")
+                      label=f"N / sqrt(tau), N {_is(n)} {n.value:.3g} {n.unit}")
         if math.isfinite(k.value):
             ax.loglog(a.tau, k.value * np.sqrt(a.tau / 3), "-.", color="C3",
-                      label=f"K sqrt(tau / 3), K = {k.value:.3g} {k.unit}")
+                      label=f"K sqrt(tau / 3), K {_is(k)} {k.value:.3g} {k.unit}")
         if math.isfinite(b.value):
-            ax.axhline(0.664 * b.value, ls=":", color="C4", label=f"0.664 B, B = {b.value:.3g} {b.unit}")
+            ax.axhline(0.664 * b.value, ls=":", color="C4", label=f"0.664 B, B {_is(b)} {b.value:.3g} {b.unit}")
+        q, r = figures.Q, figures.R  # None in a document written before them
+        if q is not None and math.isfinite(q.value):
+            ax.loglog(a.tau, math.sqrt(3) * q.value / a.tau, "--", color="C5",
+                      label=f"sqrt(3) Q / tau, Q {_is(q)} {q.value:.3g} {q.unit}")
+        if r is not None and math.isfinite(r.value):
+            ax.loglog(a.tau, r.value * a.tau / math.sqrt(2), "-.", color="C6",
+                      label=f"R tau / sqrt(2), R {_is(r)} {r.value:.3g} {r.unit}")
     finite = a.adev[np.isfinite(a.adev) & (a.adev > 0)]
     if len(finite):
         ax.set_ylim(finite.min() / 3, finite.max() * 3)
@@ -231,8 +243,8 @@ def nav(n: NavResult, ax: Any = None, quantity: str = "position") -> Any:
 
 
 def fleet(r: FleetResult, ax: Any = None, figure: str = "N") -> Any:
-    if figure not in ("N", "K", "B"):
-        raise ValueError(f"figure: found {figure!r}, expected N, K or B")
+    if figure not in ("N", "K", "B", "Q", "R"):
+        raise ValueError(f"figure: found {figure!r}, expected N, K, B, Q or R")
     ax = axes(ax)
     axis_names: list[str] = sorted({row.axis for row in r.rows if row.axis})
     units = sorted({row.unit for row in r.rows if row.axis})
@@ -262,12 +274,12 @@ def fleet(r: FleetResult, ax: Any = None, figure: str = "N") -> Any:
 
 
 def _figure_unit(r: FleetResult, figure: str) -> str | None:
-    """The figure's unit (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U, as the documents write them) for
-    the rows' data unit; None when the rows' units differ or are not known."""
+    """The figure's unit (N: U/sqrt(Hz), K: U/s/sqrt(Hz), B: U, Q: U*s, R: U/s, as the documents
+    write them) for the rows' data unit; None when the rows' units differ or are not known."""
     units = {row.unit_of_data for row in r.rows if row.axis and row.unit_of_data}
     if len(units) != 1:
         return None
-    return dict(zip("NKB", _gmwm.figure_units(units.pop())))[figure]
+    return dict(zip("NKBQR", _gmwm.figure_units(units.pop())))[figure]
 
 
 def labels_of(ax: Any) -> Sequence[str]:

@@ -99,11 +99,12 @@ class AllanResultMethods:
 
     def __repr__(self) -> str:
         f = self.noise_figures
-        return (f"AllanResult({len(self.allan)} points, N={g(f.N.value)}, K={g(f.K.value)}, B={g(f.B.value)} "
+        more = "".join(f", {name}={g(x.value)}" for name, x in (("Q", f.Q), ("R", f.R)) if x is not None)
+        return (f"AllanResult({len(self.allan)} points, N={g(f.N.value)}, K={g(f.K.value)}, B={g(f.B.value)}{more} "
                 f"({self.unit or 'no unit'}))")
 
     def plot(self, ax: Any = None) -> Any:
-        """The Allan deviation with its interval and the N, K, B lines; the axes drawn on."""
+        """The Allan deviation with its interval and the N, K, B, Q, R lines; the axes drawn on."""
         from . import _plot
 
         return _plot.allan(self.allan, self.noise_figures, self.unit, "", ax)

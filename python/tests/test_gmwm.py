@@ -6,6 +6,7 @@ import dataclasses
 import gzip
 import inspect
 import json
+import math
 import os
 import subprocess
 import threading
@@ -103,6 +104,26 @@ def test_allan_equals_the_cli_adev_json_bit_for_bit_and_types_n_k_b(tmp_path, ex
         col["noise_figures"]["white"]["unit"], col["noise_figures"]["walk"]["unit"],
         col["noise_figures"]["instability"]["unit"])
     assert mine.noise_figures.N.how == col["noise_figures"]["white"]["how"]
+
+
+def test_q_and_r_are_typed_beside_n_k_b_and_none_in_a_document_written_before_them():
+    # QN(Q2 = 1) at 100 Hz: Q = sqrt(Q2) / f = 0.01 rad (the angle quantum of a rad/s gyro),
+    # under white noise; no -1 or +1 slope beyond: R is only bounded.
+    x = gmwm.simulate("QN(Q2=1)+WN(sigma2=0.01)", 2**18, freq=100, seed=4803)
+    a = gmwm.allan(x, freq=100, units="rad/s")
+    q, r = a.noise_figures.Q, a.noise_figures.R
+    assert a.noise_figures.quantization is q and a.noise_figures.ramp is r
+    assert (q.unit, r.unit) == ("rad", "rad/s^2")
+    assert q.status in ("read", "extrapolated") and abs(q.value / 0.01 - 1) < 0.05
+    assert r.status == "bound" and r.source == "bound" and math.isnan(r.low)
+    assert "Q=" in repr(a.noise_figures) and "R=" in repr(a.noise_figures)
+    assert gmwm._gmwm.figure_units("deg/s") == ("deg/s/sqrt(Hz)", "deg/s^2/sqrt(Hz)", "deg/s", "deg", "deg/s^2")
+    # A document of an older gmwm: no "quantization" or "ramp", still read.
+    old = json.loads(a.to_json())["noise_figures"]
+    del old["quantization"], old["ramp"]
+    typed = gmwm.NoiseFigures.from_dict(old)
+    assert typed.Q is None and typed.R is None and typed.N.value == a.noise_figures.N.value
+    assert "Q=" not in repr(typed)
 
 
 def test_allan_refuses_a_missing_rate_and_bad_points_with_one_line(example):

@@ -64,12 +64,15 @@ def test_the_wv_plot_labels_its_unit_and_shows_the_classical_wv_beside_the_robus
     rendered(ax, tmp_path / "wv.png")
 
 
-def test_the_allan_plot_draws_the_data_and_the_n_k_b_lines_in_their_unit(results, tmp_path):
+def test_the_allan_plot_draws_the_data_and_the_n_k_b_q_r_lines_in_their_unit(results, tmp_path):
     ax = results["allan"].plot()
     assert ax.get_xlabel() == "tau [s]" and ax.get_ylabel() == "Allan deviation [rad/s]"
     lines = colours(ax)
     assert "data" in lines and any(k.startswith("N / sqrt(tau)") for k in lines)
     assert any(k.startswith("K sqrt(tau / 3)") for k in lines) and any(k.startswith("0.664 B") for k in lines)
+    # Q and R: only bounded on this gyroscope, and labelled so, in their units.
+    assert any(k.startswith("sqrt(3) Q / tau, Q < ") and k.endswith(" rad") for k in lines), list(lines)
+    assert any(k.startswith("R tau / sqrt(2), R < ") and k.endswith(" rad/s^2") for k in lines), list(lines)
     assert len(set(lines.values())) == len(lines)
     rendered(ax, tmp_path / "allan.png")
 

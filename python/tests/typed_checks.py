@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-FIGURES = (("N", "white"), ("K", "walk"), ("B", "instability"))
+FIGURES = (("N", "white"), ("K", "walk"), ("B", "instability"), ("Q", "quantization"), ("R", "ramp"))
 
 
 def same(typed, value):

@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "gmwm/engine/physical.h"
 #include "gmwm/io/signal_writer.h"
 #include "gmwm/report/terminal.h"
 
@@ -28,9 +29,12 @@ std::string exact(double x) {
   return std::string(buf, r.ptr);
 }
 
-const ChosenFigure* figure_of(const fleet::FleetRow& r, int k) {
-  if (!r.figures_known) return nullptr;
-  return k == 0 ? &r.figures.white : k == 1 ? &r.figures.walk : &r.figures.instability;
+const ChosenFigure* figure_of(const fleet::FleetRow& r, int k) { return r.figures_known ? &r.figures[k] : nullptr; }
+
+std::string symbol(int k) { return std::string(1, kFigureNames[k].symbol); }
+
+bool read_off(const ChosenFigure& c) {
+  return c.source != FigureSource::kBound && c.figure.available() && c.figure.status != ReadoffStatus::kBound;
 }
 
 Json spec_json(const fleet::FleetRow& r) {
@@ -103,15 +107,7 @@ Json joint_json(const fleet::FleetJointModel& m) {
               {"p_value", json_number(f.gof.p_value)},
               {"method", f.gof.method}};
   j["replicate_test"] = m.test ? replicate_test_json(*m.test) : Json(nullptr);
-  const char* names[] = {"N", "K", "B"};
-  for (int k = 0; k < 3; ++k) {
-    if (!m.figures) {
-      j[names[k]] = nullptr;
-      continue;
-    }
-    const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
-    j[names[k]] = figure_json(c);
-  }
+  for (int k = 0; k < kFigureCount; ++k) j[symbol(k)] = m.figures ? figure_json((*m.figures)[k]) : Json(nullptr);
   return j;
 }
 
@@ -143,8 +139,8 @@ Json fleet_document(const fleet::FleetStudy& study) {
                 {"freq", json_number(r.freq)},
                 {"n", r.n},
                 {"first_level", r.first_level}};
-    const char* names[] = {"N", "K", "B"};
-    for (int k = 0; k < 3; ++k) row[names[k]] = figure_of(r, k) ? figure_json(*figure_of(r, k)) : Json(nullptr);
+    for (int k = 0; k < kFigureCount; ++k)
+      row[symbol(k)] = figure_of(r, k) ? figure_json(*figure_of(r, k)) : Json(nullptr);
     row["seconds"] = json_number(r.seconds);
     row["cached"] = r.cached;
     row["flags"] = r.flags;
@@ -184,14 +180,14 @@ Json fleet_document(const fleet::FleetStudy& study) {
 std::string fleet_csv(const fleet::FleetStudy& study) {
   std::ostringstream os;
   os << "unit,model,group,path,axis,unit_of_data,status,chosen,gof_p_value,freq,n,first_level,"
-        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,seconds,cached,spec,gap,flags\n";
+        "N,N_low,N_high,K,K_low,K_high,B,B_low,B_high,Q,Q_low,Q_high,R,R_low,R_high,seconds,cached,spec,gap,flags\n";
   for (const fleet::FleetRow& r : study.rows) {
     os << io::csv_field(r.unit) << ',' << io::csv_field(r.model) << ',' << io::csv_field(r.group) << ','
        << io::csv_field(r.path) << ',' << io::csv_field(r.axis) << ',' << io::csv_field(r.data_unit) << ','
        << io::csv_field(r.status) << ',' << io::csv_field(r.chosen) << ',' << exact(r.gof_p) << ',' << exact(r.freq)
        << ',' << (r.n ? std::to_string(r.n) : std::string()) << ','
        << (r.n ? std::to_string(r.first_level) : std::string());
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < kFigureCount; ++k) {
       const ChosenFigure* f = figure_of(r, k);
       os << ',' << (f ? exact(f->figure.value) : "") << ',' << (f ? exact(f->figure.low) : "") << ','
          << (f ? exact(f->figure.high) : "");
@@ -215,17 +211,25 @@ std::string figure_text(char figure, double value, const std::string& unit, doub
     return fmt(d->value, 3) + " " + d->unit + x;
   // The data's unit unknown: the number alone (the headings say N in U/sqrt(Hz), ...).
   if (unit.empty()) return fmt(value, 3) + x;
+  if (figure == 'Q' || figure == 'R') return fmt(value, 3) + " " + render_unit(figure == 'Q' ? "U*s" : "U/s", unit) + x;
   const char* per = figure == 'N' ? "/sqrt(Hz)" : figure == 'K' ? "/s/sqrt(Hz)" : "";
   return fmt(value, 3) + " " + unit + per + x;
 }
 
+std::vector<std::string> with_figures(std::vector<std::string> head, const std::vector<int>& shown) {
+  for (int k : shown) head.push_back(symbol(k));
+  return head;
+}
+
 std::string summary_table(const fleet::FleetStudy& study) {
-  TextTable s({"group", "axis", "units", "N", "K", "B"}, 2);
-  for (std::size_t i = 0; i + 2 < study.summary.size(); i += 3) {
+  const std::vector<int> shown = fleet_shown_figures(study);
+  TextTable s(with_figures({"group", "axis", "units"}, shown), 2);
+  const auto per = static_cast<std::size_t>(kFigureCount);  // fleet_summary: every figure per group and axis
+  for (std::size_t i = 0; i + per - 1 < study.summary.size(); i += per) {
     std::vector<std::string> row = {study.summary[i].group, study.summary[i].axis,
                                     std::to_string(study.summary[i].units)};
-    for (std::size_t k = 0; k < 3; ++k) {
-      const fleet::FleetFigureSummary& f = study.summary[i + k];
+    for (int k : shown) {
+      const fleet::FleetFigureSummary& f = study.summary[i + static_cast<std::size_t>(k)];
       row.push_back(f.units ? figure_text(f.figure, f.median, f.unit, f.spread) : "-");
     }
     s.add(row);
@@ -290,7 +294,10 @@ std::string gap_table(const fleet::FleetStudy& study) {
 // Each group's axis: the joint model's structure, N, K, B (datasheet units) and whether its
 // units share one theta; a model that could not be had says why.
 std::string joint_text(const fleet::FleetStudy& study) {
-  TextTable t({"group", "axis", "units", "joint model", "N", "K", "B", "shared?"}, 3);
+  const std::vector<int> shown = fleet_shown_figures(study);
+  std::vector<std::string> head = with_figures({"group", "axis", "units", "joint model"}, shown);
+  head.push_back("shared?");
+  TextTable t(head, 3);
   std::string why;
   for (const fleet::FleetJointModel& m : study.joint) {
     if (m.status != "ok") {
@@ -299,40 +306,60 @@ std::string joint_text(const fleet::FleetStudy& study) {
     }
     auto fig = [&](int k) {
       if (!m.figures) return std::string("-");
-      const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
+      const ChosenFigure& c = (*m.figures)[k];
       return (c.figure.status == ReadoffStatus::kBound ? "< " : "") +
-             figure_text("NKB"[k], c.figure.value, m.unit, 0.0);
+             figure_text(kFigureNames[k].symbol, c.figure.value, m.unit, 0.0);
     };
     std::string shared = "-";
     if (m.test)
       shared = std::string(m.test->rejects() ? "no" : "yes") + " p " + fmt(m.test->heterogeneity_p, 2) +
                (m.test->calibration == ReplicateCalibration::kChiSquare ? " chi2" : "");
-    t.add({m.group, m.axis,
-           std::to_string(m.units) + (m.left_out.empty() ? "" : "+" + std::to_string(m.left_out.size())), m.recommended,
-           fig(0), fig(1), fig(2), shared});
+    std::vector<std::string> row = {
+        m.group, m.axis, std::to_string(m.units) + (m.left_out.empty() ? "" : "+" + std::to_string(m.left_out.size())),
+        m.recommended};
+    for (int k : shown) row.push_back(fig(k));
+    row.push_back(shared);
+    t.add(std::move(row));
   }
   return "the joint model of each group's axis: its units as replicates (the selection over them; +k: the units that "
-         "stand out, left out), N, K, B of the group's typical unit, and whether the units share one theta (the "
+         "stand out, left out), the figures of the group's typical unit, and whether the units share one theta (the "
          "shared-theta test's p, chi2 where calibrated by its chi-square beyond 12 units):\n" +
          t.str() + why;
 }
 
 std::string unit_table(const fleet::FleetStudy& study) {
-  TextTable t({"unit", "axis", "N", "K", "B", "GoF p", "chosen"}, 2);
+  const std::vector<int> shown = fleet_shown_figures(study);
+  std::vector<std::string> head = with_figures({"unit", "axis"}, shown);
+  head.insert(head.end(), {"GoF p", "chosen"});
+  TextTable t(head, 2);
   for (const fleet::FleetRow& r : study.rows) {
     if (r.axis.empty()) continue;
     auto fig = [&](int k) {
       const ChosenFigure* f = figure_of(r, k);
       if (!f) return std::string("-");
       return (f->figure.status == ReadoffStatus::kBound ? "< " : "") +
-             figure_text("NKB"[k], f -> figure.value, r.data_unit, 0.0);
+             figure_text(kFigureNames[k].symbol, f->figure.value, r.data_unit, 0.0);
     };
-    t.add({r.unit, r.axis, fig(0), fig(1), fig(2), fmt(r.gof_p, 2), r.status == "ok" ? r.chosen_structure : r.status});
+    std::vector<std::string> row = {r.unit, r.axis};
+    for (int k : shown) row.push_back(fig(k));
+    row.insert(row.end(), {fmt(r.gof_p, 2), r.status == "ok" ? r.chosen_structure : r.status});
+    t.add(std::move(row));
   }
   return t.str();
 }
 
 }  // namespace
+
+std::vector<int> fleet_shown_figures(const fleet::FleetStudy& study) {
+  std::vector<int> shown;
+  for (int k = 0; k < kFigureCount; ++k) {
+    bool read = kFigureNames[k].symbol != 'Q' && kFigureNames[k].symbol != 'R';
+    for (const fleet::FleetRow& r : study.rows) read = read || (r.figures_known && read_off(r.figures[k]));
+    for (const fleet::FleetJointModel& m : study.joint) read = read || (m.figures && read_off((*m.figures)[k]));
+    if (read) shown.push_back(k);
+  }
+  return shown;
+}
 
 std::string fleet_text(const fleet::FleetStudy& study, bool verbose) {
   std::ostringstream os;
@@ -340,7 +367,8 @@ std::string fleet_text(const fleet::FleetStudy& study, bool verbose) {
      << (study.cache_dir.empty() ? std::string()
                                  : ", " + std::to_string(study.cached) + " from the cache " + study.cache_dir)
      << "; each selected over " << study.model_spec
-     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U, U the data's unit, unless in datasheet units)\n";
+     << " (N in U/sqrt(Hz), K in U/s/sqrt(Hz), B in U, Q in U*s, R in U/s, U the data's unit, unless in datasheet "
+        "units; Q and R shown where a unit reads them)\n";
   os << "\nper group and axis: the median of the units' figures, xS their spread (one robust sigma as a factor, "
         "exp(MAD of the logs / 0.6745)):\n"
      << summary_table(study);

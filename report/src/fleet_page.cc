@@ -1,5 +1,5 @@
 // The fleet's HTML report (fleet_page.h): the page's data from the study (per group: the
-// headline, per axis the strips of N, K, B and the band of Allan deviations), its Vega
+// headline, per axis the strips of N, K, B (Q, R where read) and the band of Allan deviations), its Vega
 // specs, the page and its static SVG.
 
 #include "gmwm/report/fleet_page.h"
@@ -16,7 +16,9 @@
 #include <boost/math/distributions/normal.hpp>
 #include <spdlog/spdlog.h>
 
+#include "gmwm/engine/physical.h"
 #include "gmwm/io/units.h"
+#include "gmwm/report/fleet_output.h"
 #include "gmwm/report/html_report.h"
 #include "gmwm/report/terminal.h"
 #include "html_report_detail.h"
@@ -32,8 +34,13 @@ using fleet::FleetStudy;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-const ChosenFigure& figure_of(const FleetRow& r, int k) {
-  return k == 0 ? r.figures.white : k == 1 ? r.figures.walk : r.figures.instability;
+const ChosenFigure& figure_of(const FleetRow& r, int k) { return r.figures[k]; }
+
+// The index of a figure's symbol in kFigureNames (N, K, B, Q, R).
+int index_of(char figure) {
+  int k = 0;
+  while (k + 1 < kFigureCount && kFigureNames[k].symbol != figure) ++k;
+  return k;
 }
 
 // ---- units -----------------------------------------------------------------------------
@@ -55,14 +62,16 @@ double to_summary_unit(const FleetRow& r, const std::string& summary_unit) {
   return r.data_unit == summary_unit ? 1.0 : 1.0 / per_si(r.data_unit);
 }
 
-// The figure's unit pattern in `unit`: N per sqrt(Hz), K per s per sqrt(Hz), B as is.
+// The figure's unit pattern in `unit`: N per sqrt(Hz), K per s per sqrt(Hz), B as is, Q times
+// s, R per s.
 std::string pattern(char figure, const std::string& unit) {
   const std::string u = unit.empty() ? "U" : unit;
+  if (figure == 'Q' || figure == 'R') return render_unit(kFigureNames[index_of(figure)].unit_pattern, u);
   return u + (figure == 'N' ? "/sqrt(Hz)" : figure == 'K' ? "/s/sqrt(Hz)" : "");
 }
 
 const char* figure_name(char figure) {
-  return figure == 'N' ? "white noise density" : figure == 'K' ? "random walk" : "bias instability";
+  return figure == 'N' ? "white noise density" : figure == 'K' ? "random walk" : kFigureNames[index_of(figure)].name;
 }
 
 // "0.577 deg/sqrt(h)"; "-" when not finite.
@@ -136,7 +145,7 @@ FleetFigurePanel figure_panel(const FleetStudy& s, const fleet::FleetFigureSumma
   const bool summarised = sum.units > 0 && std::isfinite(sum.median) && std::isfinite(sum.spread);
   p.median = summarised ? sum.median * p.to_panel : kNaN;
   p.spread = summarised ? sum.spread : kNaN;
-  const int k = sum.figure == 'N' ? 0 : sum.figure == 'K' ? 1 : 2;
+  const int k = index_of(sum.figure);
   for (const std::size_t i : rows) {
     const FleetRow& r = s.rows[i];
     if (!r.figures_known) continue;
@@ -229,11 +238,11 @@ double interval_alpha(const FleetStudy& s) {
 // Where the row's worst flagged figure (largest |robust z|) was read, in seconds (NaN: unknown).
 double worst_flag_tau(const FleetRow& r, const FleetAxisView& a) {
   double worst = -1.0, tau = kNaN;
-  for (std::size_t k = 0; k < 3; ++k)
-    for (const FleetDot& d : a.figures[k].dots)
+  for (const FleetFigurePanel& p : a.figures)
+    for (const FleetDot& d : p.dots)
       if (d.unit == r.unit && d.flagged && std::abs(d.z) > worst) {
         worst = std::abs(d.z);
-        tau = figure_of(r, static_cast<int>(k)).figure.tau;
+        tau = figure_of(r, index_of(p.figure)).figure.tau;
       }
   return tau;
 }
@@ -245,13 +254,15 @@ FleetAxisView axis_view(const FleetStudy& s, const std::string& group, const std
   std::vector<std::size_t> rows;
   for (const std::size_t i : group_rows)
     if (s.rows[i].axis == axis) rows.push_back(i);
-  for (int k = 0; k < 3; ++k)
-    if (const fleet::FleetFigureSummary* sum = summary_of(s, group, axis, "NKB"[k])) {
-      a.figures[static_cast<std::size_t>(k)] = figure_panel(s, *sum, rows, units, interval_alpha(s));
+  for (const int k : fleet_shown_figures(s)) {
+    const char figure = kFigureNames[k].symbol;
+    if (const fleet::FleetFigureSummary* sum = summary_of(s, group, axis, figure)) {
+      a.figures.push_back(figure_panel(s, *sum, rows, units, interval_alpha(s)));
       a.unit = sum->unit;
     } else {
-      a.figures[static_cast<std::size_t>(k)].figure = "NKB"[k];
+      a.figures.emplace_back().figure = figure;
     }
+  }
   std::vector<fleet::AdevSeries> band;
   double level = 0.05;
   for (const std::size_t i : rows) {
@@ -330,7 +341,8 @@ std::string unit_sentence(const FleetGroupView& g, const std::string& unit) {
 // "K on gyro_x (2), gyro_y (2)": the figures with too few read-offs to flag, "" when none.
 std::string not_judged(const FleetGroupView& g) {
   std::string out;
-  for (const char f : {'N', 'K', 'B'}) {
+  for (const FigureName& name : kFigureNames) {
+    const char f = name.symbol;
     // Axes by their count of read-offs, in order: "0 on gyro_x, gyro_y, 2 on accel_x".
     std::vector<std::pair<int, std::string>> counts;
     std::size_t axes = 0, short_axes = 0;
@@ -359,7 +371,12 @@ std::string not_judged(const FleetGroupView& g) {
 void flag_headline(FleetGroupView& g, const std::vector<std::string>& flagged) {
   std::string per_figure, beyond;
   int n_beyond = 0;
-  for (const char f : {'N', 'K', 'B'}) {
+  for (const FigureName& name : kFigureNames) {
+    const char f = name.symbol;
+    bool shown = false;
+    for (const FleetAxisView& a : g.axes)
+      for (const FleetFigurePanel& p : a.figures) shown = shown || p.figure == f;
+    if (!shown) continue;
     std::vector<std::string> on;
     for (const FleetAxisView& a : g.axes)
       for (const FleetFigurePanel& p : a.figures)
@@ -370,7 +387,7 @@ void flag_headline(FleetGroupView& g, const std::vector<std::string>& flagged) {
   }
   for (const std::string& u : flagged)
     if (severity(g, u).first) beyond += (n_beyond++ ? ", " : "") + u;
-  std::string line = std::to_string(flagged.size()) + " unit(s) flagged (robust z of log N, K or B beyond " +
+  std::string line = std::to_string(flagged.size()) + " unit(s) flagged (robust z of a figure's log beyond " +
                      num(fleet::kFleetOutlierZ, 2) + "; units per figure: " + per_figure + "). ";
   if (n_beyond == 0)
     line += "None has an interval wholly outside its flag limits: each flagged figure's interval reaches within them.";
@@ -688,15 +705,23 @@ Json strip_data(const FleetFigurePanel& p) {
        {{"name", name + "_marks"}, {"values", std::move(marks)}}});
 }
 
+// "N, K and B" (or "N, K, B, Q and R"): the figures the axis shows.
+std::string figure_list(const FleetAxisView& a) {
+  std::string out;
+  for (std::size_t k = 0; k < a.figures.size(); ++k)
+    out += (k == 0 ? "" : k + 1 == a.figures.size() ? " and " : ", ") + std::string(1, a.figures[k].figure);
+  return out;
+}
+
 Json strips_spec(const FleetAxisView& a, const std::string& group) {
   const std::string z = num(fleet::kFleetOutlierZ, 2);
   Json spec = {
       {"$schema", "https://vega.github.io/schema/vega/v5.json"},
       {"width", kPlotWidth},
-      {"height", 3 * kStripHeight + 2 * kStripGap + kStripTop},
+      {"height", static_cast<int>(a.figures.size()) * (kStripHeight + kStripGap) - kStripGap + kStripTop},
       {"padding", 5},
       {"title",
-       {{"text", group + ", " + a.axis + ": N, K and B of each unit"},
+       {{"text", group + ", " + a.axis + ": " + figure_list(a) + " of each unit"},
         {"subtitle",
          "dot: a unit's figure, rule: its interval; line: the group's median; shaded: the flag band, robust "
          "z within +-" +
@@ -707,7 +732,7 @@ Json strips_spec(const FleetAxisView& a, const std::string& group) {
         {"fontSize", 13}}}};
   Json data = Json::array();
   Json marks = Json::array();
-  for (std::size_t k = 0; k < 3; ++k) {
+  for (std::size_t k = 0; k < a.figures.size(); ++k) {
     for (Json& d : strip_data(a.figures[k])) data.push_back(std::move(d));
     marks.push_back(strip_group(a.figures[k], kStripTop + static_cast<int>(k) * (kStripHeight + kStripGap)));
   }
@@ -981,9 +1006,9 @@ std::string head_row(const std::vector<std::string>& head) {
 
 // A row's figure in the panel's unit of its axis ("< " before a bound) as a cell, bold when
 // flagged; "-" when none.
-std::string figure_cell(const FleetRow& r, const FleetAxisView* a, int k) {
-  if (!a || !r.figures_known) return td("-", "num");
-  const FleetFigurePanel& p = a->figures[static_cast<std::size_t>(k)];
+std::string figure_cell(const FleetRow& r, const FleetAxisView* a, std::size_t k) {
+  if (!a || !r.figures_known || k >= a->figures.size()) return td("-", "num");
+  const FleetFigurePanel& p = a->figures[k];
   for (const FleetDot& d : p.dots) {
     if (d.unit != r.unit) continue;
     const std::string text =
@@ -1016,6 +1041,17 @@ const FleetAxisView* axis_of(const FleetGroupView& g, const std::string& axis) {
   return nullptr;
 }
 
+// The figures each axis of the group shows (the study's: fleet_shown_figures).
+std::size_t shown_count(const FleetGroupView& g) { return g.axes.empty() ? 0 : g.axes.front().figures.size(); }
+
+std::vector<std::string> flagged_head(const FleetGroupView& g) {
+  std::vector<std::string> head = {"unit", "axis", "why flagged", "interval against its flag limits"};
+  if (!g.axes.empty())
+    for (const FleetFigurePanel& p : g.axes.front().figures) head.emplace_back(1, p.figure);
+  head.insert(head.end(), {"chosen model", "GoF p", "recording"});
+  return head;
+}
+
 std::string flagged_table(const FleetStudy& s, const FleetGroupView& g) {
   if (g.flagged_rows.empty()) return {};
   std::ostringstream os;
@@ -1025,17 +1061,16 @@ std::string flagged_table(const FleetStudy& s, const FleetGroupView& g) {
      << ", the surest unit first (a figure whose interval lies wholly outside its flag limits, then the largest robust "
         "z); "
         "figures with their intervals, in the strips' units</caption>\n"
-     << head_row({"unit", "axis", "why flagged", "interval against its flag limits", "N", "K", "B", "chosen model",
-                  "GoF p", "recording"});
+     << head_row(flagged_head(g));
   for (const std::size_t i : g.flagged_rows) {
     const FleetRow& r = s.rows[i];
     std::string why;
     for (const std::string& f : r.flags) why += (why.empty() ? "" : "; ") + f;
     const FleetAxisView* a = axis_of(g, r.axis);
     os << "<tr class=\"outside\" data-unit=\"" << html_escape(r.unit) << "\" data-axis=\"" << html_escape(r.axis)
-       << "\">" << td(r.unit) << td(r.axis) << td(why) << td(against_band(r, a)) << figure_cell(r, a, 0)
-       << figure_cell(r, a, 1) << figure_cell(r, a, 2) << td(r.chosen_structure) << td(num(r.gof_p, 3), "num")
-       << td(r.path) << "</tr>\n";
+       << "\">" << td(r.unit) << td(r.axis) << td(why) << td(against_band(r, a));
+    for (std::size_t k = 0; k < shown_count(g); ++k) os << figure_cell(r, a, k);
+    os << td(r.chosen_structure) << td(num(r.gof_p, 3), "num") << td(r.path) << "</tr>\n";
   }
   return os.str() + "</table>\n";
 }
@@ -1103,7 +1138,7 @@ std::string summary_table(const FleetStudy& s, const FleetGroupView& g) {
 }
 
 // The group's joint model per axis (`--joint`): its units as replicates, the typical unit's
-// N, K, B, and whether the units share one theta.
+// figures (N, K, B, and Q, R where shown), and whether the units share one theta.
 std::string joint_table(const FleetStudy& s, const FleetGroupView& g) {
   std::ostringstream os;
   bool any = false;
@@ -1111,28 +1146,31 @@ std::string joint_table(const FleetStudy& s, const FleetGroupView& g) {
   if (!any) return {};
   os << "<h3>joint model</h3>\n<table class=\"fleet-joint\">\n<caption>per axis, the units as replicates of one "
         "sensor: the selection over them recommends a model, fitted jointly (the units that stand out left out); "
-        "its N, K, B are the group's typical unit's, with replicate-t intervals from the units resampled; the "
+        "its figures are the group's typical unit's, with replicate-t intervals from the units resampled; the "
         "shared-theta test says whether the units differ beyond their own noise (bootstrap up to 12 units, "
         "chi-square beyond)</caption>\n";
-  os << head_row({"axis", "units", "left out", "model", "N", "K", "B", "shared theta?"});
+  const std::vector<int> shown = fleet_shown_figures(s);
+  std::vector<std::string> head = {"axis", "units", "left out", "model"};
+  for (const int k : shown) head.emplace_back(1, kFigureNames[k].symbol);
+  head.emplace_back("shared theta?");
+  os << head_row(head);
   for (const fleet::FleetJointModel& m : s.joint) {
     if (m.group != g.name) continue;
     std::string left;
     for (const std::string& u : m.left_out) left += (left.empty() ? "" : ", ") + u;
     os << "<tr>" << td(m.axis) << td(std::to_string(m.units), "num") << td(left.empty() ? "none" : left);
     if (m.status != "ok") {
-      os << "<td colspan=\"5\">" << html_escape(m.status) << "</td></tr>\n";
+      os << "<td colspan=\"" << shown.size() + 2 << "\">" << html_escape(m.status) << "</td></tr>\n";
       continue;
     }
     os << td(m.fit.joint.model.to_string(m.fit.joint.theta));
-    for (int k = 0; k < 3; ++k) {
+    for (const int k : shown) {
       if (!m.figures) {
         os << td("-");
         continue;
       }
-      const ChosenFigure& c = k == 0 ? m.figures->white : k == 1 ? m.figures->walk : m.figures->instability;
-      const Readoff& f = c.figure;
-      const std::string unit = pattern("NKB"[k], m.unit);
+      const Readoff& f = (*m.figures)[k].figure;
+      const std::string unit = pattern(kFigureNames[k].symbol, m.unit);
       std::string text = (f.status == ReadoffStatus::kBound ? "< " : "") + with_unit(f.value, unit);
       if (std::isfinite(f.low) && std::isfinite(f.high)) text += " [" + num(f.low, 3) + ", " + num(f.high, 3) + "]";
       os << td(text, "num");
@@ -1189,7 +1227,8 @@ std::string page_header(const FleetStudy& s, const FleetPageData& d) {
      << "</code> &middot; model <code>" << html_escape(s.model_spec) << "</code></p>\n<p>" << s.recordings
      << " recording(s), " << s.failed << " failed, " << d.groups.size()
      << " group(s). Each unit x axis selected over the model; N white noise density, K random walk, B bias "
-        "instability (IEEE 952). A unit is flagged when log N, K or B lies more than "
+        "instability, Q quantization and R rate ramp (IEEE 952; Q and R drawn where a unit reads them, their upper "
+        "bounds alone in the JSON and CSV). A unit is flagged when the log of a figure lies more than "
      << num(fleet::kFleetOutlierZ, 2)
      << " standard deviations from its group's median, the deviation of the units between them (robust: MAD) "
         "and of its own read-off (its interval) together: robust z = log(x / median) / sqrt(tau^2 + se^2), "

@@ -437,6 +437,13 @@ Json adev_plot_spec(const ReportColumn& c) {
     guide("K" + is(f.chosen.walk) + num(K, 4) + " (+1/2 slope)", [K](double t) { return K * std::sqrt(t / 3.0); });
   if (B > 0.0)
     guide("0.664 B, B" + is(f.chosen.instability) + num(B, 4), [B](double) { return kBiasInstabilityFactor * B; });
+  // Q and R (IEEE 952: ADEV = sqrt(3) Q / tau, R tau / sqrt(2)).
+  const double Q = f.chosen.quantization.figure.value, R = f.chosen.ramp.figure.value;
+  if (Q > 0.0)
+    guide("Q" + is(f.chosen.quantization) + num(Q, 4) + " (-1 slope)",
+          [Q](double t) { return std::sqrt(3.0) * Q / t; });
+  if (R > 0.0)
+    guide("R" + is(f.chosen.ramp) + num(R, 4) + " (+1 slope)", [R](double t) { return R * t / std::sqrt(2.0); });
   p.title = c.name + ": Allan deviation" + (f.model_adev.empty() ? "" : " and the model's") + " (" +
             num(100.0 * (1.0 - f.adev.alpha), 3) + "% CI), IEEE 952 guides";
   return loglog_spec(p);

@@ -168,6 +168,8 @@ std::string noise_figures_table(const ReportColumn& c) {
   row("N white noise", f.white, units.white);
   row("K random walk", f.walk, units.walk);
   row("B bias instability", f.instability, units.instability);
+  row("Q quantization", f.quantization, units.quantization);
+  row("R rate ramp", f.ramp, units.ramp);
   os << "</table>\n" << notes << "</div>\n";
   return os.str();
 }

@@ -68,7 +68,8 @@ Json kalman_json(const FitResult& fit, const ColumnInfo& c, double filter_rate, 
                             {"note", t.note}});
   };
   if (figures)
-    for (const KalmanTerm& t : kalman_terms(*figures, filter_rate)) row(t, "N, K, B", nullptr);
+    for (const KalmanTerm& t : kalman_terms(*figures, filter_rate))
+      row(t, t.role.ends_with("(from Q)") ? "Q" : "N, K, B", nullptr);
   for (int k = 0; k < fit.model.num_components(); ++k) {
     const Process& p = *fit.model.components()[static_cast<std::size_t>(k)].process;
     for (const KalmanTerm& t : p.kalman(part(fit.theta, fit.model, k), c.freq, filter_rate)) row(t, p.name(), k + 1);

@@ -18,7 +18,8 @@ Json numbers(const std::vector<double>& v) {
 
 FigureUnits figure_units(const std::string& unit) {
   const std::string u = unit.empty() ? "U" : unit;
-  return {render_unit("U/sqrt(Hz)", u), render_unit("U/s/sqrt(Hz)", u), render_unit("U", u)};
+  auto in = [&](int k) { return render_unit(kFigureNames[k].unit_pattern, u); };  // N, K, B, Q, R
+  return {in(0), in(1), in(2), in(3), in(4)};
 }
 
 Json allan_json(const AllanDeviation& adev, const std::vector<double>& model_adev) {
@@ -69,6 +70,8 @@ Json noise_figures_json(const ChosenFigures& figures, const std::string& unit) {
   j["white"] = one(figures.white, units.white);
   j["walk"] = one(figures.walk, units.walk);
   j["instability"] = one(figures.instability, units.instability);
+  j["quantization"] = one(figures.quantization, units.quantization);
+  j["ramp"] = one(figures.ramp, units.ramp);
   return j;
 }
 

@@ -239,6 +239,8 @@ std::string noise_figures_table(const ChosenFigures& figures, const std::string&
   row("N white noise", figures.white, units.white);
   row("K random walk", figures.walk, units.walk);
   row("B bias instability", figures.instability, units.instability);
+  row("Q quantization", figures.quantization, units.quantization);
+  row("R rate ramp", figures.ramp, units.ramp);
   return t.str() + notes;
 }
 

@@ -31,6 +31,8 @@ constexpr double kDegreesPerRadian = 57.295779513082320877;
 constexpr double kSecondsPerHour = 3600.0;
 constexpr double kSqrtSecondsPerHour = 60.0;
 constexpr double kStandardGravity = 9.80665;
+constexpr double kArcsecondsPerDegree = 3600.0;
+constexpr double kSecondsPerHourSquared = kSecondsPerHour * kSecondsPerHour;
 
 std::size_t width_of(std::string_view s) {
   // UTF-8 continuation bytes take no column.
@@ -264,6 +266,12 @@ std::optional<DatasheetValue> datasheet_value(char figure, double value, const s
     case 'B':
       return gyro ? DatasheetValue{si * kDegreesPerRadian * kSecondsPerHour, "deg/h"}
                   : DatasheetValue{si / kStandardGravity * 1e3, "mg"};
+    case 'Q':  // rad (the angle quantum) or m/s (the velocity quantum)
+      return gyro ? DatasheetValue{si * kDegreesPerRadian * kArcsecondsPerDegree, "arcsec"}
+                  : DatasheetValue{si * 1e3, "mm/s"};
+    case 'R':  // rad/s^2 or m/s^3: IEEE 952's (deg/h)/h for a gyro
+      return gyro ? DatasheetValue{si * kDegreesPerRadian * kSecondsPerHourSquared, "deg/h^2"}
+                  : DatasheetValue{si / kStandardGravity * 1e3 * kSecondsPerHour, "mg/h"};
     default:
       return std::nullopt;
   }
@@ -294,6 +302,9 @@ std::string axis_summary(const Json& doc, std::size_t width) {
     add_figure(t, "  N white noise", 'N', nf->contains("white") ? nf->at("white") : none, unit);
     add_figure(t, "  K random walk", 'K', nf->contains("walk") ? nf->at("walk") : none, unit);
     add_figure(t, "  B bias instability", 'B', nf->contains("instability") ? nf->at("instability") : none, unit);
+    // Q and R (issue 48): a document written before them has neither.
+    if (nf->contains("quantization")) add_figure(t, "  Q quantization", 'Q', nf->at("quantization"), unit);
+    if (nf->contains("ramp")) add_figure(t, "  R rate ramp", 'R', nf->at("ramp"), unit);
     out += t.str(width);
   }
   if (unit_missing)

@@ -121,3 +121,39 @@ TEST_F(GmwmNoiseFigures, SelectReportsTheFiguresOfItsChosenModel) {
   EXPECT_EQ(n.at("unit"), "U/sqrt(Hz)") << "the data unit is not declared without --units";
   EXPECT_EQ(col.at("allan").at("model").size(), col.at("allan").at("adev").size());
 }
+
+TEST_F(GmwmNoiseFigures, FitReportsQAndRBesideNKBOnEveryFaceWithTheirUnits) {
+  // QN(Q2 = 1) at 100 Hz: Q = sqrt(Q2) / f = 0.01 deg (the angle quantum of a deg/s gyro);
+  // DR(omega = 1e-5 per sample): R = omega f = 1e-3 deg/s^2; white noise between them.
+  simulate("QN(Q2=1)+WN(sigma2=0.01)+DR(omega=1e-5)", "gyro_x");
+  const auto r = run_gmwm(
+      {"fit", "sim.csv.gz", "--model", "QN+WN+DR", "--units", "gyro=deg/s", "--json", "f.json", "--report", "f.html"},
+      dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string out = flowed(r.out);
+  EXPECT_NE(out.find("Q quantization"), std::string::npos) << r.out;
+  EXPECT_NE(out.find("R rate ramp"), std::string::npos) << r.out;
+  EXPECT_NE(out.find("arcsec"), std::string::npos) << r.out;
+  EXPECT_NE(out.find("deg/h^2"), std::string::npos) << r.out;
+  const json col = read_json(dir_ / "f.json").at("columns").at(0);
+  const json& q = col.at("noise_figures").at("quantization");
+  EXPECT_EQ(q.at("unit"), "deg");
+  EXPECT_EQ(q.at("source"), "model") << q.at("note");
+  EXPECT_NEAR(q.at("value").get<double>() / 0.01, 1.0, 0.05) << q.at("how");
+  EXPECT_EQ(q.at("components").at(0).at("component").get<std::string>().rfind("QN(", 0), 0u);
+  const json& ramp = col.at("noise_figures").at("ramp");
+  EXPECT_EQ(ramp.at("unit"), "deg/s^2");
+  EXPECT_EQ(ramp.at("source"), "model") << ramp.at("note");
+  EXPECT_NEAR(ramp.at("value").get<double>() / 1e-3, 1.0, 0.1) << ramp.at("how");
+  EXPECT_EQ(ramp.at("data").at("status"), "extrapolated") << ramp.at("data").at("how");
+  // The Kalman table: the quantization's measurement noise from Q (R = 2 Q^2 f_k^2), none from R.
+  bool from_q = false;
+  for (const json& t : col.at("kalman").at("terms")) {
+    from_q = from_q || t.at("process") == "Q";
+    EXPECT_EQ(t.at("role").get<std::string>().find("(from R)"), std::string::npos);
+  }
+  EXPECT_TRUE(from_q);
+  const std::string html = read_text(dir_ / "f.html");
+  EXPECT_NE(html.find("<td>Q quantization</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>R rate ramp</td>"), std::string::npos);
+}

@@ -106,7 +106,7 @@ TEST(FleetSummary, RowsRecordedInDifferentUnitsAreSummarisedInSi) {
               : gyro_row("u" + std::to_string(k), "rad/s", 1e-3 * (1.0 + 0.01 * k) / kDegPerRad, 1e-3 / kDegPerRad));
   rows.push_back(gyro_row("odd", "deg/s", 3e-3, 1e-3));
   const std::vector<FleetFigureSummary> s = fleet_summary(rows);
-  ASSERT_EQ(s.size(), 3u);
+  ASSERT_EQ(s.size(), static_cast<std::size_t>(kFigureCount));  // N, K, B, Q, R
   EXPECT_EQ(s[0].unit, "rad/s");
   EXPECT_NEAR(s[0].median, 1.03e-3 / kDegPerRad, 1e-3 * 0.011 / kDegPerRad);
   EXPECT_EQ(s[0].flagged, std::vector<std::string>{"odd"});

@@ -23,6 +23,7 @@
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/fleet/fleet_study.h"
 #include "gmwm/io/output_set.h"
+#include "gmwm/report/fleet_output.h"
 #include "gmwm/report/fleet_page.h"
 #include "gmwm/report/html_report.h"
 #include "test_support.h"
@@ -534,6 +535,36 @@ TEST(FleetPage, AStudyWithoutRecordingsIsAPageThatSaysSo) {
   EXPECT_TRUE(fleet_page_data(s).groups.empty());
   EXPECT_NE(gmwm::report::render_fleet_page(s).find("The manifest has no recording."), std::string::npos);
   EXPECT_EQ(gmwm::report::render_fleet_svg(fleet_page_data(s)), "");
+}
+
+TEST(FleetPage, QAndRAreDrawnAndTabulatedWhereAUnitReadsThemAndAlwaysWrittenInTheCsvAndJson) {
+  // Every unit's Q and R only bounded (as on the ADIS recordings): N, K, B alone on the page
+  // and in the terminal's tables; the CSV and JSON carry Q and R all the same.
+  FleetStudy s = fleet_of(6);
+  EXPECT_EQ(gmwm::report::fleet_shown_figures(s), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(fleet_page_data(s).groups.at(0).axes.at(0).figures.size(), 3u);
+  EXPECT_EQ(gmwm::report::fleet_text(s).find("R rate ramp"), std::string::npos);
+  const std::string csv = gmwm::report::fleet_csv(s);
+  EXPECT_NE(csv.find(",B_high,Q,Q_low,Q_high,R,R_low,R_high,seconds,"), std::string::npos) << csv.substr(0, 300);
+  const nlohmann::json doc = gmwm::report::fleet_document(s);
+  EXPECT_TRUE(doc.at("rows").at(0).contains("Q"));
+  EXPECT_TRUE(doc.at("rows").at(0).contains("R"));
+  // A ramp read on every unit (R = 1e-6 deg/s^2, +-1%): its strip, summary and column appear.
+  for (FleetRow& r : s.rows) {
+    r.figures.ramp.figure = readoff(1e-6, 500.0);
+    r.figures.ramp.source = gmwm::FigureSource::kData;
+  }
+  s.summary = gmwm::fleet::fleet_summary(s.rows);
+  EXPECT_EQ(gmwm::report::fleet_shown_figures(s), (std::vector<int>{0, 1, 2, 4}));
+  const FleetPageData d = fleet_page_data(s);
+  ASSERT_EQ(d.groups.at(0).axes.at(0).figures.size(), 4u);
+  const FleetFigurePanel& r = d.groups.at(0).axes.at(0).figures.at(3);
+  EXPECT_EQ(r.figure, 'R');
+  EXPECT_EQ(r.units, 6);
+  EXPECT_EQ(r.unit, "deg/h^2");  // datasheet units: 1e-6 deg/s^2 = 12.96 deg/h^2
+  EXPECT_NEAR(r.median, 12.96, 12.96 * 0.05);
+  const std::string text = gmwm::report::fleet_text(s);
+  EXPECT_NE(text.find("deg/h^2"), std::string::npos) << text;
 }
 
 TEST(FleetPage, ListsEachAxissJointModelWithTheUnitsLeftOutAndWhyAnAxisHasNone) {

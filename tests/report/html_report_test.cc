@@ -128,6 +128,16 @@ TEST(HtmlReport, TheAllanGuidesOfFiguresTheCurvesOnlyBoundAreLabelledAsBounds) {
   EXPECT_NE(names.find("0.664 B, B < "), std::string::npos);
   EXPECT_EQ(names.find("0.664 B, B = "), std::string::npos);
   EXPECT_NE(names.find("\"N = "), std::string::npos) << "the white noise is read, not bounded";
+  // White noise shows no -1 or +1 slope: Q and R are bounds, their guides say so, and the
+  // figures table has their rows with their units.
+  ASSERT_EQ(chosen.quantization.source, gmwm::FigureSource::kBound) << chosen.quantization.note;
+  ASSERT_EQ(chosen.ramp.source, gmwm::FigureSource::kBound) << chosen.ramp.note;
+  EXPECT_NE(names.find("Q < "), std::string::npos);
+  EXPECT_NE(names.find("R < "), std::string::npos);
+  EXPECT_EQ(names.find("Q = "), std::string::npos);
+  const std::string html = gmwm::report::render_html_report(d);
+  EXPECT_NE(html.find("<td>Q quantization</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>R rate ramp</td>"), std::string::npos);
 }
 
 TEST(HtmlReport, InlinesVegaAndHoldsOneSpecPerPlotContainer) {

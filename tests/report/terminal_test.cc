@@ -131,6 +131,21 @@ TEST(DatasheetValue, ConvertsEachFigureExactly) {
   EXPECT_FALSE(datasheet_value('N', 1.0, "V").has_value());
 }
 
+TEST(DatasheetValue, ConvertsQAndRToTheQuantumAndTheRampADatasheetStates) {
+  // Q: 1 deg (the angle quantum of a deg/s gyro) = 3600 arcsec; 1 m/s (of an m/s^2
+  // accelerometer) = 1000 mm/s. R: 1 deg/s^2 = 3600^2 deg/h^2; 1 g/s = 1000 mg x 3600 s/h.
+  EXPECT_DOUBLE_EQ(datasheet_value('Q', 1.0, "deg/s")->value, 3600.0);
+  EXPECT_EQ(datasheet_value('Q', 1.0, "deg/s")->unit, "arcsec");
+  EXPECT_NEAR(datasheet_value('Q', 1.0, "rad/s")->value, 206264.80624709636, 1e-8);
+  EXPECT_DOUBLE_EQ(datasheet_value('Q', 1.0, "m/s^2")->value, 1000.0);
+  EXPECT_EQ(datasheet_value('Q', 1.0, "m/s^2")->unit, "mm/s");
+  EXPECT_DOUBLE_EQ(datasheet_value('R', 1.0, "deg/s")->value, 3600.0 * 3600.0);
+  EXPECT_EQ(datasheet_value('R', 1.0, "deg/s")->unit, "deg/h^2");
+  EXPECT_DOUBLE_EQ(datasheet_value('R', 1.0, "g")->value, 3.6e6);
+  EXPECT_EQ(datasheet_value('R', 1.0, "g")->unit, "mg/h");
+  EXPECT_FALSE(datasheet_value('R', 1.0, "V").has_value());
+}
+
 Json figure(double v, double lo, double hi, const char* status, const char* unit) {
   return Json{{"value", v}, {"low", lo}, {"high", hi}, {"status", status}, {"unit", unit}, {"source", "model"}};
 }
@@ -157,6 +172,29 @@ TEST(AxisSummary, ShowsEachAxisModelVerdictAndTheJsonsFiguresInBothUnits) {
   EXPECT_NE(s.find("< 0.0002537"), std::string::npos);          // K is an upper bound
   EXPECT_NE(s.find("upper bound"), std::string::npos);
   EXPECT_NE(s.find("3.195 deg/h"), std::string::npos);  // 8.875e-4 x 3600
+}
+
+TEST(AxisSummary, ShowsQAndRBesideNKBAndLeavesThemOutOfADocumentWrittenBeforeThem) {
+  Json col;
+  col["name"] = "gyro_x";
+  col["alpha"] = 0.05;
+  col["unit"] = "deg/s";
+  col["model_structure"] = "WN+QN+DR";
+  col["gof"] = Json{{"p_value", 0.5}};
+  col["noise_figures"] = Json{{"white", figure(1e-3, 9e-4, 1.1e-3, "read", "deg/s/sqrt(Hz)")},
+                              {"walk", figure(1e-4, std::nan(""), 1e-4, "bound", "deg/s^2/sqrt(Hz)")},
+                              {"instability", figure(1e-3, 9e-4, 1.1e-3, "read", "deg/s")}};
+  const std::string before = axis_summary(Json{{"columns", Json::array({col})}});
+  EXPECT_EQ(before.find("Q quantization"), std::string::npos) << before;
+  EXPECT_EQ(before.find("R rate ramp"), std::string::npos) << before;
+  col["noise_figures"]["quantization"] = figure(2e-4, 1.9e-4, 2.1e-4, "read", "deg");
+  col["noise_figures"]["ramp"] = figure(1e-6, std::nan(""), 1e-6, "bound", "deg/s^2");
+  const std::string s = axis_summary(Json{{"columns", Json::array({col})}});
+  EXPECT_LE(widest_line(s), kTerminalWidth);
+  EXPECT_NE(s.find("Q quantization"), std::string::npos) << s;
+  EXPECT_NE(s.find("0.72 arcsec"), std::string::npos) << s;      // 2e-4 deg x 3600
+  EXPECT_NE(s.find("< 1e-06"), std::string::npos) << s;          // R only bounded
+  EXPECT_NE(s.find("< 12.96 deg/h^2"), std::string::npos) << s;  // 1e-6 x 3600^2
 }
 
 TEST(AxisSummary, SaysHowToGetDatasheetUnitsWhenTheDatasUnitIsUnknown) {

@@ -31,7 +31,8 @@ struct FleetRecord {
 /// The version of the record and task texts: a cached record of another version is not read.
 /// 2: the WV's partial windows and the Allan deviation's complete and partial ones.
 /// 3: the recording's missing samples (FleetCurves::missing).
-inline constexpr int kFleetRecordVersion = 3;
+/// 4: the figures Q and R beside N, K and B (a version-3 record is computed again).
+inline constexpr int kFleetRecordVersion = 4;
 
 /// Reads and selects one recording as the study does (read -> select -> one row per axis).
 /// Never throws for the recording's own faults (unreadable, too short, a fit that fails):

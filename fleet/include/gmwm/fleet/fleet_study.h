@@ -1,7 +1,7 @@
 #pragma once
 // The fleet study (what `gmwm fleet MANIFEST` runs): every recording of a manifest analysed
 // the same way (the selection over a maximal model with its noise figures, as `gmwm select`),
-// one row per unit x axis: N, K, B with their intervals, the chosen model and its goodness of
+// one row per unit x axis: N, K, B, Q, R with their intervals, the chosen model and its goodness of
 // fit. A recording that cannot be read or analysed is a row with its one-line reason, never
 // a stopped run. report::fleet_document / fleet_csv / fleet_text write it.
 //
@@ -13,7 +13,7 @@
 //             stored in the cache as soon as it is done: an interrupted run loses at most the
 //             recordings in flight, and a re-run computes only what is missing or changed;
 //   assemble  the rows, labelled from the manifest;
-//   summarise the distribution of N, K, B per group and axis and the units that stand out
+//   summarise the distribution of N, K, B, Q, R per group and axis and the units that stand out
 //             (fleet_summary.h).
 //
 //   const io::FleetManifest m = io::read_fleet_manifest("fleet.csv");
@@ -149,7 +149,7 @@ struct FleetRow {
   double gof_p = NAN;            ///< the chosen model's own goodness-of-fit p-value
   double freq = NAN;             ///< Hz
   std::int64_t n = 0;            ///< samples
-  /// N, K, B as the filter should take them (noise_figures.h), in the data's unit.
+  /// N, K, B, Q, R as the filter should take them (noise_figures.h), in the data's unit.
   ChosenFigures figures;
   bool figures_known = false;
   /// The recording's wall time (read and select) when it was computed, on each of its rows
@@ -213,7 +213,7 @@ struct FleetJointModel {
   JointFitResult fit;                           ///< the recommended model fitted jointly (fit.joint)
   std::optional<ReplicateTest> test;            ///< the shared-theta test
   std::optional<ReplicateBootstrap> intervals;  ///< replicate-t intervals
-  std::optional<ChosenFigures> figures;         ///< N, K, B of the joint model
+  std::optional<ChosenFigures> figures;         ///< N, K, B, Q, R of the joint model
   double seconds = 0.0;
 };
 
@@ -252,9 +252,9 @@ double log_standard_error(double low, double high, double z_half);
 /// One figure of one axis over a group's units.
 struct FleetFigureSummary {
   std::string group, axis;
-  char figure = 'N';  ///< 'N', 'K' or 'B'
+  char figure = 'N';  ///< 'N', 'K', 'B', 'Q' or 'R' (kFigureNames)
   int units = 0;      ///< units with a read-off (bounds left out)
-  /// The unit of `median` (N per sqrt(Hz), K per s per sqrt(Hz)): the data unit the group's
+  /// The unit of `median` (N per sqrt(Hz), K per s per sqrt(Hz), Q times s, R per s): the data unit the group's
   /// rows share, else the SI unit (rows declared in different units are converted to it).
   std::string unit;
   double median = NAN;
@@ -299,7 +299,7 @@ FleetStudy study_fleet(const io::FleetManifest& manifest, const FleetStudyOption
 /// a spec is given, before fleet_summary.
 void check_spec(std::vector<FleetRow>& rows, const io::FleetSpec& spec);
 
-/// The distribution of N, K, B per group and axis over the rows that have them (read-offs,
+/// The distribution of N, K, B, Q, R per group and axis over the rows that have them (read-offs,
 /// not bounds), and the units beyond kFleetOutlierZ (their rows' `flags` set); `alpha` is the
 /// level of the figures' intervals (their standard errors). Called by study_fleet;
 /// deterministic (the rows' order does not matter).

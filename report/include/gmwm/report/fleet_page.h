@@ -119,7 +119,9 @@ using fleet::FleetAdevBand;
 struct FleetAxisView {
   std::string axis;
   std::string unit;  ///< the unit of its figures' data pattern and of the ADEVs ("" undeclared: "U")
-  std::array<FleetFigurePanel, 3> figures;  ///< N, K, B
+  /// N, K, B, and Q, R where a unit of the study reads them (fleet_shown_figures), in
+  /// kFigureNames' order.
+  std::vector<FleetFigurePanel> figures;
   FleetAdevBand band;
   std::vector<FleetUnitCurve> flagged;  ///< the units flagged on this axis, in manifest order
   std::vector<std::string> notes;       ///< what the reader must know to read its plots

@@ -236,15 +236,17 @@ Json allan_json(const AllanDeviation& adev, const std::vector<double>& model_ade
 /// "how", "components": [{"component", "share"}]}.
 Json readoff_json(const Readoff& r);
 
-/// The figures to use: {"unit": {N, K, B units}, "white"/"walk"/"instability": {value,
-/// low, high, unit, source ("model"|"data"|"bound"), status, tau, how, note, components,
-/// "model": readoff, "data": readoff}} in the column's unit ("U" when undeclared).
+/// The figures to use: {"white"/"walk"/"instability"/"quantization"/"ramp" (N, K, B, Q, R):
+/// {value, low, high, unit, source ("model"|"data"|"bound"), status, tau, how, note,
+/// components, "model": readoff, "data": readoff}} in the column's unit ("U" when
+/// undeclared). Q and R were added beside N, K and B (issue 48): a reader of older documents
+/// finds no "quantization" or "ramp".
 Json noise_figures_json(const ChosenFigures& figures, const std::string& unit);
 
-/// The units of N, K and B for a data unit ("deg/s" -> deg/s/sqrt(Hz), deg/s^2/sqrt(Hz),
-/// deg/s); "U" patterns when the unit is empty.
+/// The units of N, K, B, Q and R for a data unit ("deg/s" -> deg/s/sqrt(Hz),
+/// deg/s^2/sqrt(Hz), deg/s, deg, deg/s^2); "U" patterns when the unit is empty.
 struct FigureUnits {
-  std::string white, walk, instability;
+  std::string white, walk, instability, quantization, ramp;
 };
 FigureUnits figure_units(const std::string& unit);
 
@@ -258,7 +260,8 @@ Json continuous_json(const FitResult& fit, const ColumnInfo& column);
 /// [{process, component, role, q, q_unit, transition, discrete, discrete_unit, note}]}.
 /// With `figures`, the terms of the model as a whole come first (kalman_terms of
 /// noise_figures.h: R from N, the bias random walk from K, a Gauss-Markov state for B),
-/// their "process" "N, K, B"; the per-component terms follow.
+/// their "process" "N, K, B", then the quantization's measurement noise from a read Q,
+/// its "process" "Q"; the per-component terms follow.
 Json kalman_json(const FitResult& fit, const ColumnInfo& column, double filter_rate,
                  const ChosenFigures* figures = nullptr);
 

@@ -47,9 +47,11 @@ class TextTable {
 std::string wrap_to_width(const std::string& text, std::size_t width = kTerminalWidth);
 
 /// A noise figure in a datasheet's unit: N in deg/sqrt(h) (gyro) or ug/sqrt(Hz) (accel), K in
-/// deg/h/sqrt(h) or m/s^2/sqrt(h), B in deg/h or mg. `figure` is 'N', 'K' or 'B'; `value` is
+/// deg/h/sqrt(h) or m/s^2/sqrt(h), B in deg/h or mg, Q in arcsec or mm/s (the angle or
+/// velocity quantum), R in deg/h^2 or mg/h. `figure` is 'N', 'K', 'B', 'Q' or 'R'; `value` is
 /// in the data's unit `data_unit` (rad/s, deg/s, deg/h, m/s^2, g, mg) per sqrt(Hz), per
-/// s/sqrt(Hz) or as is. nullopt when the data's unit is not one of those (unknown).
+/// s/sqrt(Hz), as is, times s or per s. nullopt when the data's unit is not one of those
+/// (unknown).
 struct DatasheetValue {
   double value = 0.0;
   std::string unit;
@@ -57,8 +59,9 @@ struct DatasheetValue {
 std::optional<DatasheetValue> datasheet_value(char figure, double value, const std::string& data_unit);
 
 /// The per-axis summary of a fit, select or joint document (`doc["columns"]`): for each
-/// axis its model, goodness-of-fit verdict at the column's level, and N, K, B with their
-/// intervals in the data's units and in datasheet units; one block per axis, <= width.
+/// axis its model, goodness-of-fit verdict at the column's level, and N, K, B (and Q, R where
+/// the document has them) with their intervals in the data's units and in datasheet units;
+/// one block per axis, <= width.
 std::string axis_summary(const Json& doc, std::size_t width = kTerminalWidth);
 
 }  // namespace gmwm::report
