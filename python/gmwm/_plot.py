@@ -14,7 +14,7 @@ from . import _gmwm
 
 if TYPE_CHECKING:
     from ._types import (AllanDeviation, FitResult, FleetResult, GapColumn, GapResult, NavResult, NoiseFigures,
-                         SelectColumn, SelectResult, WvLevels, WvResult)
+                         SelectColumn, SelectResult, StabilityColumn, WvLevels, WvResult)
 
 # The figure size of a single plot, in inches (matplotlib's default is 6.4 x 4.8).
 FIGURE_SIZE = (7.0, 4.5)
@@ -286,3 +286,29 @@ def labels_of(ax: Any) -> Sequence[str]:
     """The legend's labels of an axes (the tests read them)."""
     legend = ax.get_legend()
     return [t.get_text() for t in legend.get_texts()] if legend else []
+
+
+TIME_KINDS = ("tdev", "ttotdev", "mtie", "tierms")
+
+
+def stability(c: "StabilityColumn", ax: Any = None, kinds: Sequence[str] | None = None) -> Any:
+    chosen = list(kinds) if kinds is not None else [k for k in c.deviations if k not in TIME_KINDS]
+    for k in chosen:
+        if k not in c.deviations:
+            raise ValueError(f"kinds: {k!r} is not among this column's deviations ({', '.join(c.deviations)})")
+    units = {(k in TIME_KINDS) for k in chosen}
+    if len(units) > 1:
+        raise ValueError("kinds: the time deviations (tdev, ttotdev, mtie, tierms) are in the phase's unit; "
+                         "plot them apart from the others")
+    ax = axes(ax)
+    for i, k in enumerate(chosen):
+        d = c.deviations[k]
+        ax.loglog(d.tau, d.value, "o-", ms=3, color=f"C{i}", label=k)
+        ax.fill_between(d.tau, d.ci_low, d.ci_high, color=f"C{i}", alpha=BAND_ALPHA, lw=0)
+    unit = c.unit if c.unit else "data unit"
+    time_units = bool(chosen) and chosen[0] in TIME_KINDS
+    ax.set_xlabel("tau [s]")
+    ax.set_ylabel("deviation [" + (f"({unit})*s" if time_units else unit) + "]")
+    ax.set_title(f"{c.name}: stability deviations (bands: their intervals)")
+    ax.legend(loc="best", fontsize=8)
+    return ax

@@ -25,6 +25,7 @@ from ._results import (AllanResultMethods, BestFitMethods, FitResultMethods, Ran
                        SelectResultMethods, WvLevelsMethods, WvResultMethods, best_fit_of, best_parameters,
                        best_structure, select_columns)
 from ._signals import (TimingMethods)
+from ._stability import (StabilityColumnMethods, StabilityResultMethods)
 
 
 @dataclass(frozen=True, repr=False)
@@ -1915,7 +1916,7 @@ class Deviation:
 
 
 @dataclass(frozen=True)
-class StabilityColumn:
+class StabilityColumn(StabilityColumnMethods):
     """One column's deviations, by kind (`deviations["oadev"]`), with its length `n`, rate and unit."""
 
     name: str
@@ -1934,7 +1935,7 @@ class StabilityColumn:
 
 
 @dataclass(frozen=True, eq=False)
-class StabilityResult(JsonResult):
+class StabilityResult(StabilityResultMethods, JsonResult):
     """The frequency-stability deviations (gmwm.stability, `gmwm stability --json`): how the
     columns were read (`data`: rate or phase), the `kinds` asked, the `taus` (a set's name or
     the times asked), the intervals' `confidence`, quantiles (`interval_method`: stable32 or

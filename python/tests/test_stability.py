@@ -87,3 +87,30 @@ def test_a_bad_kind_tau_or_rate_is_refused_naming_it():
         gmwm.stability(y, freq=1.0, taus="weekly")
     with pytest.raises(gmwm.InputError, match="give the sampling rate with freq"):
         gmwm.stability(y)
+
+
+def test_the_plot_draws_each_kind_with_its_interval_band_in_its_unit_and_the_table_is_a_dataframe(tmp_path):
+    matplotlib = pytest.importorskip("matplotlib", reason="python3-matplotlib (tools/setup.sh installs it)")
+    matplotlib.use("Agg")
+    y = nbs1000()
+    d = gmwm.stability(y, freq=1.0, kind="oadev,mdev,tdev", names=["y"], units="deg/s")
+    ax = d.plot()
+    labels = [line.get_label() for line in ax.get_lines() if not line.get_label().startswith("_")]
+    assert labels == ["oadev", "mdev"]  # tdev is in the phase's unit: plotted on its own
+    assert ax.get_xlabel() == "tau [s]" and ax.get_ylabel() == "deviation [deg/s]"
+    assert len(ax.collections) == 2  # one band per kind
+    tdev = d.plot(kinds=["tdev"])
+    assert tdev.get_ylabel() == "deviation [(deg/s)*s]"
+    with pytest.raises(ValueError, match="the time deviations .* are in the phase's unit"):
+        d.plot(kinds=["oadev", "tdev"])
+    with pytest.raises(ValueError, match="'hdev' is not among this column's deviations"):
+        d.plot(kinds=["hdev"])
+    ax.figure.savefig(tmp_path / "stability.png", dpi=80)
+    assert (tmp_path / "stability.png").stat().st_size > 12_000
+    pandas = pytest.importorskip("pandas")
+    frame = d.columns[0].to_dataframe()
+    assert isinstance(frame, pandas.DataFrame)
+    assert set(frame["kind"]) == {"oadev", "mdev", "tdev"}
+    first = frame[(frame.kind == "oadev") & (frame.m == 1)].iloc[0]
+    assert (first.ci_low, first.ci_high) == pytest.approx((2.8515e-01, 2.9987e-01), abs=0.5e-5)
+    assert first.noise == "white FM" and first.unit == "deg/s"
