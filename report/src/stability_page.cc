@@ -97,30 +97,87 @@ Json deviation_spec(const std::string& title, const std::string& y_title, const 
   return spec;
 }
 
-// Every value [low, high] and its noise, one row per averaging time, one column per kind.
-std::string deviation_table(const pipeline::StabilityColumn& c) {
+// The unit of a kind's values: the data's (`unit`), the phase's for the time deviations.
+std::string kind_unit(stability::DeviationKind kind, const std::string& unit) {
+  return stability::in_time_units(kind) ? "(" + unit + ")*s" : unit;
+}
+
+// A table cell: the value, under it its interval [low, high] (where the kind has one) and
+// the noise its degrees of freedom assumed, each on its own line (HTML).
+std::string deviation_cell(const pipeline::StabilityColumn& c, std::size_t d, std::size_t i) {
+  const stability::DeviationIntervals& ci = c.intervals[d];
+  std::string cell = html_escape(g(c.deviations[d].value[i]));
+  if (std::isfinite(ci.low[i]))
+    cell += "<br><small>[" + html_escape(g(ci.low[i])) + ",&nbsp;" + html_escape(g(ci.high[i])) + "]</small>";
+  return cell + "<br><small>" + html_escape(stability::noise_name(ci.noise[i].alpha)) + "</small>";
+}
+
+// Every value with its interval and noise, one row per averaging time, one column per kind
+// (headed by its unit: `unit` the data's).
+std::string deviation_table(const pipeline::StabilityColumn& c, const std::string& unit) {
   std::map<double, std::vector<std::string>> rows;
   for (std::size_t d = 0; d < c.deviations.size(); ++d)
     for (std::size_t i = 0; i < c.deviations[d].m.size(); ++i) {
       auto& row = rows[c.deviations[d].tau[i]];
       row.resize(c.deviations.size(), "-");
-      const stability::DeviationIntervals& ci = c.intervals[d];
-      row[d] = g(c.deviations[d].value[i]) +
-               (std::isfinite(ci.low[i]) ? " [" + g(ci.low[i]) + ", " + g(ci.high[i]) + "]" : std::string()) + " " +
-               std::string(stability::noise_name(ci.noise[i].alpha));
+      row[d] = deviation_cell(c, d, i);
     }
   std::ostringstream t;
   t << "<table><tr><th>tau [s]</th>";
-  for (const stability::DeviationCurve& d : c.deviations) t << "<th>" << stability::deviation_name(d.kind) << "</th>";
+  for (const stability::DeviationCurve& d : c.deviations)
+    t << "<th>" << stability::deviation_name(d.kind) << "<br><small>[" << html_escape(kind_unit(d.kind, unit))
+      << "]</small></th>";
   t << "</tr>\n";
   for (auto& [tau, cells] : rows) {
     cells.resize(c.deviations.size(), "-");
     t << "<tr><td class=\"num\">" << g(tau, 6) << "</td>";
-    for (const std::string& cell : cells) t << "<td class=\"num\">" << html_escape(cell) << "</td>";
+    for (const std::string& cell : cells) t << "<td class=\"num\">" << cell << "</td>";
     t << "</tr>\n";
   }
   t << "</table>\n";
   return t.str();
+}
+
+// How the study read the column: the record's data kind, tau0, the phase points.
+std::string study_facts(const io::SignalSet& set, const pipeline::StabilityStudy& study) {
+  return "read as " + html_escape(io::data_kind_name(set.data)) + " &middot; tau0 = " + html_escape(g(study.tau0, 6)) +
+         " s &middot; " + std::to_string(study.phase_points) + " phase points";
+}
+
+// What the bands and [low, high] are: the interval's confidence, its quantiles, its noise.
+std::string interval_note(const pipeline::StabilityStudyOptions& options) {
+  return "Bands and [low, high]: the " + html_escape(g(100.0 * options.intervals.confidence, 4)) +
+         "% chi-square interval (" + html_escape(stability::interval_method_name(options.intervals.method)) +
+         " quantiles) from the equivalent degrees of freedom of the " +
+         (options.intervals.noise_alpha
+              ? "noise given (alpha " + std::to_string(*options.intervals.noise_alpha) + ", " +
+                    html_escape(stability::noise_name(*options.intervals.noise_alpha)) + ")"
+              : std::string("noise identified at each tau (lag-1 autocorrelation; B1 and R(n) on fewer than 30 "
+                            "points)")) +
+         " (docs/stability.md).";
+}
+
+// Column k's section: its heading, `intro` (HTML), the deviations in the data's unit and
+// those in the phase's on a plot each, and the table. The report's and the web app's.
+std::string column_section(const pipeline::StabilityColumn& c, std::size_t k, const std::string& unit,
+                           const std::string& intro, detail::Plots& plots) {
+  const std::string id = "plot-" + std::to_string(k + 1);
+  std::ostringstream body;
+  body << "<section class=\"column\" id=\"stability-" << k + 1 << "\">\n<h2>" << html_escape(c.name) << "</h2>\n"
+       << intro;
+  const Json rows = deviation_rows(c, false), time_rows = deviation_rows(c, true);
+  if (!rows.empty())
+    body << plots.add(id + "-stability", "stability",
+                      deviation_spec(c.name + ": deviations", "deviation [" + unit + "]", rows));
+  if (!time_rows.empty())
+    body << plots.add(id + "-stability-time", "stability-time",
+                      deviation_spec(c.name + ": time deviations", "deviation [(" + unit + ")*s]", time_rows));
+  body << deviation_table(c, unit) << "</section>\n";
+  return body.str();
+}
+
+std::string unit_of(const std::vector<std::string>& units, std::size_t k) {
+  return k < units.size() && !units[k].empty() ? units[k] : "U";
 }
 
 }  // namespace
@@ -133,34 +190,27 @@ std::string render_stability_html(const io::SignalSet& set, const pipeline::Stab
   detail::Plots plots;
   std::ostringstream body;
   body << "<header>\n<h1>" << html_escape(title) << "</h1>\n<p>gmwm " << html_escape(version())
-       << " &middot; command <code>stability</code> &middot; read as " << html_escape(io::data_kind_name(set.data))
-       << " &middot; tau0 = " << html_escape(g(study.tau0, 6)) << " s &middot; " << study.phase_points
-       << " phase points</p>\n<p>Bands and [low, high]: the " << html_escape(g(100.0 * options.intervals.confidence, 4))
-       << "% chi-square interval (" << html_escape(stability::interval_method_name(options.intervals.method))
-       << " quantiles) from the equivalent degrees of freedom of the "
-       << (options.intervals.noise_alpha ? "noise given (alpha " + std::to_string(*options.intervals.noise_alpha) + ")"
-                                         : std::string("noise identified at each tau (lag-1 autocorrelation; B1 and "
-                                                       "R(n) on fewer than 30 points)"))
-       << " (docs/stability.md).</p>\n</header>\n<main>\n"
+       << " &middot; command <code>stability</code> &middot; " << study_facts(set, study) << "</p>\n<p>"
+       << interval_note(options) << "</p>\n</header>\n<main>\n"
        << "<div id=\"gmwm-errors\" class=\"errors\" hidden></div>\n<div id=\"gmwm-warnings\" class=\"warnings\" "
           "hidden></div>\n"
        << detail::kErrorCapture;
-  for (std::size_t k = 0; k < study.columns.size(); ++k) {
-    const pipeline::StabilityColumn& c = study.columns[k];
-    const std::string unit = k < units.size() && !units[k].empty() ? units[k] : "U";
-    const std::string id = "plot-" + std::to_string(k + 1);
-    body << "<section class=\"column\" id=\"stability-" << k + 1 << "\">\n<h2>" << html_escape(c.name) << "</h2>\n";
-    const Json rows = deviation_rows(c, false), time_rows = deviation_rows(c, true);
-    if (!rows.empty())
-      body << plots.add(id + "-stability", "stability",
-                        deviation_spec(c.name + ": deviations", "deviation [" + unit + "]", rows));
-    if (!time_rows.empty())
-      body << plots.add(id + "-stability-time", "stability-time",
-                        deviation_spec(c.name + ": time deviations", "deviation [(" + unit + ")*s]", time_rows));
-    body << deviation_table(c) << "</section>\n";
-  }
+  for (std::size_t k = 0; k < study.columns.size(); ++k)
+    body << column_section(study.columns[k], k, unit_of(units, k), "", plots);
   body << "</main>\n<footer>Plots: Vega 5 (Debian libjs-vega), inlined; the file needs no network.</footer>\n";
   return detail::html_page(title, body.str(), plots, vega);
+}
+
+HtmlFragment render_stability_fragment(const io::SignalSet& set, const pipeline::StabilityStudy& study,
+                                       const pipeline::StabilityStudyOptions& options,
+                                       const std::vector<std::string>& units, std::size_t column) {
+  const pipeline::StabilityColumn& c = study.columns.at(column);
+  detail::Plots plots;
+  HtmlFragment f;
+  f.html = column_section(c, column, unit_of(units, column),
+                          "<p>" + study_facts(set, study) + "</p>\n<p>" + interval_note(options) + "</p>\n", plots);
+  for (const Json& entry : plots.specs) f.plots.push_back(entry);
+  return f;
 }
 
 }  // namespace gmwm::report

@@ -1,6 +1,7 @@
 // The app's routes (docs/serve.md): the page and its files, the folder's listing, uploads,
-// opening a recording, the analysis jobs, the overlay and the export. Every refusal is an
-// HttpError turned into {"error": "one line"}; nothing a request sends stops the app.
+// opening a recording, the analysis jobs (wv, fit, select, stability), the overlay and the
+// export. Every refusal is an HttpError turned into {"error": "one line"}; nothing a request
+// sends stops the app.
 
 #include "gmwm/serve/app.h"
 
@@ -295,6 +296,7 @@ HttpResponse App::State::route(const HttpRequest& r) {
                             {"upload_bytes", uploads.held_bytes()},
                             {"jobs", jobs.size()},
                             {"queued", jobs.queued()}});
+    if (p == "/api/stability") return json_response(detail::stability_choices());
     if (p.starts_with("/api/jobs/") && p.find("/ranking/") != std::string::npos) {
       const std::string id = p.substr(10, p.find("/ranking/") - 10);
       const std::string row = p.substr(p.find("/ranking/") + 9);
@@ -318,6 +320,8 @@ HttpResponse App::State::route(const HttpRequest& r) {
   if (p == "/api/wv") return json_response({{"job", jobs.submit("wv", detail::wv_work(body, context))}});
   if (p == "/api/fit") return json_response({{"job", jobs.submit("fit", detail::fit_work(body, context))}});
   if (p == "/api/select") return json_response({{"job", jobs.submit("select", detail::select_work(body, context))}});
+  if (p == "/api/stability")
+    return json_response({{"job", jobs.submit("stability", detail::stability_work(body, context))}});
   if (p == "/api/overlay") return json_response(detail::overlay(body, context));
   if (p == "/api/export") return json_response(detail::export_model(body));
   throw HttpError(404, "POST " + p + ": no such endpoint");

@@ -1,23 +1,32 @@
 #include "studies.h"
 
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <optional>
+#include <string_view>
+#include <utility>
 
 #include "gmwm/engine/classical_wv.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/model_syntax.h"
 #include "gmwm/io/export.h"
 #include "gmwm/io/option_wording.h"
+#include "gmwm/io/read_request.h"
 #include "gmwm/io/sim_config.h"
 #include "gmwm/io/units.h"
 #include "gmwm/pipeline/export_study.h"
 #include "gmwm/pipeline/fit_study.h"
 #include "gmwm/pipeline/gap_study.h"
 #include "gmwm/pipeline/select_study.h"
+#include "gmwm/pipeline/stability_study.h"
 #include "gmwm/pipeline/wv_study.h"
 #include "gmwm/report/export_output.h"
 #include "gmwm/report/html_fragment.h"
 #include "gmwm/report/json_output.h"
 #include "gmwm/report/report_data.h"
+#include "gmwm/report/stability_output.h"
 #include "gmwm/report/study_text.h"
 #include "gmwm/robust/robust_request.h"
 #include "gmwm/robust/robust_wv.h"
@@ -141,7 +150,8 @@ Baseline baseline_of(const RequestBody& o, const StudyContext& c, const io::Sign
   });
 }
 
-ColumnInput column_input(const RequestBody& b, StudyContext& c) {
+// The request's dataset, its one column and the column's declared unit ("units").
+ColumnInput column_of(const RequestBody& b, StudyContext& c) {
   ColumnInput in;
   in.dataset = find_dataset(b, c.datasets);
   in.set = column_set(*in.dataset, b.required_text("column", "a column name /api/open listed"), b.where());
@@ -150,6 +160,12 @@ ColumnInput column_input(const RequestBody& b, StudyContext& c) {
     in.unit = io::unit_of_column(io::parse_units_spec(units), in.set.signals.front().name);
     return 0;
   });
+  return in;
+}
+
+ColumnInput column_input(const RequestBody& b, StudyContext& c) {
+  ColumnInput in = column_of(b, c);
+  const std::string units = b.text("units");
   in.filter_rate = in.set.freq_known ? in.set.freq : 0.0;
   if (const auto kf = b.number("kf_rate")) {
     if (!(*kf > 0.0)) b.fail("kf_rate", "expected the filter's rate in Hz, above 0");
@@ -391,6 +407,234 @@ Json export_model(const RequestBody& body) {
     if (study.result.sidecar) out["sidecar"] = {{"filename", filename + ".txt"}, {"content", *study.result.sidecar}};
     return out;
   });
+}
+
+namespace {
+
+// The stability study's options as the library's messages name them (the command's) and the
+// request's fields that set them; the library's own field names ("confidence: ...") too.
+constexpr std::pair<std::string_view, const char*> kStabilityFields[] = {{"--kind", "kind"},
+                                                                         {"--taus", "taus"},
+                                                                         {"--confidence", "confidence"},
+                                                                         {"--intervals", "intervals"},
+                                                                         {"--noise-alpha", "noise_alpha"},
+                                                                         {"confidence", "confidence"},
+                                                                         {"noise_alpha", "noise_alpha"}};
+
+// A library message in the page's words: each of those options, wherever it is named, as its
+// field ("--taus: 2.5 s is not ..." -> "\"taus\": 2.5 s is not ..."), then the other faces'
+// table (io::option_wording: "--data phase" -> "\"data\" phase").
+std::string stability_words(std::string message) {
+  for (const auto& [option, field] : kStabilityFields) {
+    if (!option.starts_with("--")) continue;
+    const std::string to = "\"" + std::string(field) + "\"";
+    std::size_t p = message.find(option);
+    while (p != std::string::npos) {
+      const std::size_t end = p + option.size();
+      const bool longer =
+          end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) != 0 || message[end] == '-');
+      if (!longer) message.replace(p, option.size(), to);
+      p = message.find(option, longer ? end : p + to.size());
+    }
+  }
+  return io::option_wording(std::move(message), io::Face::kWeb);
+}
+
+// A refusal of the request's options (StabilityStudyOptions::Validate, deviation_of): one line
+// naming the field it starts with ("<where>: field 'kind': found 'allan', expected ...").
+[[noreturn]] void refuse_stability(const RequestBody& b, const std::string& why) {
+  for (const auto& [option, field] : kStabilityFields)
+    if (why.starts_with(std::string(option) + ": ")) b.fail(field, why.substr(option.size() + 2));
+  throw HttpError(400, stability_words(b.where() + ": " + why));
+}
+
+// "taus": "octave", "decade", "all", or averaging times in seconds (a list, or "1,10,100" as
+// the command's --taus).
+void read_taus(const RequestBody& b, pipeline::StabilityStudyOptions& o) {
+  if (!b.has("taus")) return;
+  const char* expected = "expected all, octave, decade or averaging times in seconds ([1, 10, 100] or \"1,10,100\")";
+  const Json& v = b.json()["taus"];
+  if (v.is_string()) {
+    const std::string text = v.get<std::string>();
+    if (const auto set = stability::tau_set_from_name(text)) {
+      o.taus = *set;
+      return;
+    }
+    const std::vector<std::string> entries = io::comma_list(text);
+    if (entries.empty()) b.fail("taus", "found '" + text + "', " + expected);
+    for (const std::string& entry : entries) {
+      char* end = nullptr;
+      const double tau = std::strtod(entry.c_str(), &end);
+      if (entry.empty() || end != entry.c_str() + entry.size() || !std::isfinite(tau))
+        b.fail("taus", "found '" + entry + "', " + expected);
+      o.tau_list.push_back(tau);
+    }
+    return;
+  }
+  if (!v.is_array() || v.empty()) b.fail("taus", expected);
+  for (const Json& t : v) {
+    if (!t.is_number() || !std::isfinite(t.get<double>())) b.fail("taus", "found " + t.dump() + ", " + expected);
+    o.tau_list.push_back(t.get<double>());
+  }
+}
+
+// The request's study options ("kind", "taus", "confidence", "intervals", "noise_alpha"),
+// checked by the library's rule (StabilityStudyOptions::Validate) before a job is queued.
+pipeline::StabilityStudyOptions stability_options(const RequestBody& b) {
+  pipeline::StabilityStudyOptions o;
+  if (b.has("kind")) {
+    o.kinds.clear();
+    for (const std::string& name : b.list("kind")) {
+      try {
+        o.kinds.push_back(stability::deviation_of(name));
+      } catch (const InputError& e) {
+        refuse_stability(b, e.what());
+      }
+    }
+  }
+  read_taus(b, o);
+  if (const auto confidence = b.number("confidence")) o.intervals.confidence = *confidence;
+  const std::string method = b.text("intervals", "stable32");
+  const auto m = stability::interval_method_from_name(method);
+  if (!m) b.fail("intervals", "found '" + method + "', expected stable32 or exact");
+  o.intervals.method = *m;
+  if (b.has("noise_alpha")) {
+    const Json& a = b.json()["noise_alpha"];
+    const bool whole = a.is_number_integer() && !(a.is_number_unsigned() && a.get<std::uint64_t>() > 1000u);
+    if (!whole || a.get<std::int64_t>() < -1000)
+      b.fail("noise_alpha", "found " + a.dump() + ", expected an integer from -4 (random-run FM) to 2 (white PM)");
+    o.intervals.noise_alpha = static_cast<int>(a.get<std::int64_t>());
+  }
+  if (const std::string why = o.Validate(); !why.empty()) refuse_stability(b, why);
+  return o;
+}
+
+// "data": "rate" (the default: the column as /api/open read it) or "phase" (its values a
+// phase or time error, read as the rate of their steps, as the command's --data phase).
+void read_data(const RequestBody& b, ColumnInput& in) {
+  const std::string data = b.text("data", "rate");
+  if (data == "rate") return;
+  const std::string expected = "expected rate (a rate or fractional frequency) or phase (a phase or time error)";
+  if (data != "phase") b.fail("data", "found '" + data + "', " + expected);
+  if (in.set.data != io::DataKind::kRate)
+    b.fail("data", "the recording was opened as " + std::string(io::data_kind_name(in.set.data)) +
+                       " (/api/open's \"data\"); open it as rate to read a column as phase here");
+  as_bad_request(b.where(), [&] {
+    io::take_phase_as_rate(in.set, in.set.path);
+    io::find_repeated_samples(in.set);  // of the rates the study reads, as the command finds them
+    return 0;
+  });
+}
+
+// The study of every kind, one kind at a time (the progress the page shows, and a cancel
+// heard between kinds): the same deviations and intervals as one call with them all.
+pipeline::StabilityStudy study_by_kind(const io::SignalSet& set, const pipeline::StabilityStudyOptions& o,
+                                       JobContext& job) {
+  pipeline::StabilityStudy study;
+  const auto total = static_cast<double>(o.kinds.size());
+  for (std::size_t k = 0; k < o.kinds.size(); ++k) {
+    job.progress(static_cast<double>(k), total);
+    pipeline::StabilityStudyOptions one = o;
+    one.kinds = {o.kinds[k]};
+    pipeline::StabilityStudy part;
+    try {
+      part = pipeline::study_stability(set, one);
+    } catch (const InputError& e) {
+      throw InputError(stability_words(e.what()));
+    }
+    if (k == 0) {
+      study = std::move(part);
+      continue;
+    }
+    for (std::size_t c = 0; c < study.columns.size(); ++c) {
+      study.columns[c].deviations.push_back(std::move(part.columns[c].deviations.front()));
+      study.columns[c].intervals.push_back(std::move(part.columns[c].intervals.front()));
+    }
+    study.seconds += part.seconds;
+  }
+  job.progress(total, total);
+  return study;
+}
+
+// The title of each kind, for the page's choices (docs/stability.md's table).
+const char* deviation_title(stability::DeviationKind kind) {
+  using K = stability::DeviationKind;
+  switch (kind) {
+    case K::kAdev:
+      return "Allan deviation (non-overlapping)";
+    case K::kOadev:
+      return "overlapping Allan deviation";
+    case K::kMdev:
+      return "modified Allan deviation";
+    case K::kTdev:
+      return "time deviation";
+    case K::kHdev:
+      return "Hadamard deviation (non-overlapping)";
+    case K::kOhdev:
+      return "overlapping Hadamard deviation";
+    case K::kTotdev:
+      return "total deviation";
+    case K::kMtotdev:
+      return "modified total deviation";
+    case K::kTtotdev:
+      return "time total deviation";
+    case K::kHtotdev:
+      return "Hadamard total deviation";
+    case K::kTheo1:
+      return "Theo1 (at 0.75 m tau0, m even from 10)";
+    case K::kMtie:
+      return "maximum time interval error";
+    case K::kTierms:
+      return "rms time interval error";
+  }
+  return "";
+}
+
+}  // namespace
+
+Jobs::Work stability_work(const RequestBody& body, StudyContext& c) {
+  ColumnInput in = column_of(body, c);
+  const pipeline::StabilityStudyOptions o = stability_options(body);
+  read_data(body, in);
+  return [in = std::move(in), o](JobContext& job) {
+    const pipeline::StabilityStudy study = study_by_kind(in.set, o, job);
+    job.check();
+    const std::vector<std::string> units = units_of(in);
+    Json doc = report::stability_document(in.set, study, o, units);
+    const std::string text =
+        (in.set.timing ? in.set.timing->summary() + "\n" : std::string()) + report::stability_text(study, units);
+    const report::HtmlFragment f = report::render_stability_fragment(in.set, study, o, units, 0);
+    return Json{{"document", std::move(doc)}, {"text", text}, {"html", f.html}, {"plots", f.plots}};
+  };
+}
+
+Json stability_choices() {
+  const pipeline::StabilityStudyOptions defaults;
+  Json kinds = Json::array();
+  for (const stability::DeviationKind k : stability::deviation_kinds()) {
+    bool chosen = false;
+    for (const stability::DeviationKind d : defaults.kinds) chosen = chosen || d == k;
+    kinds.push_back({{"name", std::string(stability::deviation_name(k))},
+                     {"title", deviation_title(k)},
+                     {"time_units", stability::in_time_units(k)},
+                     {"default", chosen}});
+  }
+  Json taus = Json::array();
+  for (const stability::TauSet t : {stability::TauSet::kOctave, stability::TauSet::kDecade, stability::TauSet::kAll})
+    taus.push_back(std::string(stability::tau_set_name(t)));
+  Json noises = Json::array();
+  for (int alpha = 2; alpha >= -4; --alpha)
+    noises.push_back({{"alpha", alpha}, {"name", std::string(stability::noise_name(alpha))}});
+  return {{"kinds", std::move(kinds)},
+          {"taus", std::move(taus)},
+          {"default_taus", std::string(stability::tau_set_name(defaults.taus))},
+          {"all_taus_max_points", pipeline::kMaxPhasePointsForAllTaus},
+          {"confidence", defaults.intervals.confidence},
+          {"intervals",
+           {std::string(stability::interval_method_name(stability::IntervalMethod::kStable32)),
+            std::string(stability::interval_method_name(stability::IntervalMethod::kExact))}},
+          {"default_intervals", std::string(stability::interval_method_name(defaults.intervals.method))},
+          {"noises", std::move(noises)}};
 }
 
 }  // namespace gmwm::serve::detail

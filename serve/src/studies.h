@@ -28,6 +28,15 @@ Jobs::Work wv_work(const RequestBody& body, StudyContext& context);
 Jobs::Work fit_work(const RequestBody& body, StudyContext& context);
 Jobs::Work select_work(const RequestBody& body, StudyContext& context);
 
+/// POST /api/stability: the frequency-stability deviations of a column (`gmwm stability`:
+/// pipeline::study_stability, one kind at a time for the progress), the command's document
+/// and text and the report's section (report::render_stability_fragment).
+Jobs::Work stability_work(const RequestBody& body, StudyContext& context);
+
+/// GET /api/stability: what the stability request takes, from the library (the kinds with
+/// their titles and the defaults, the tau sets, the interval methods, the noises).
+Json stability_choices();
+
 /// GET /api/jobs/ID/ranking/ROW: row ROW (1-based, in ranking order) of a finished
 /// selection, as the selection fitted it (its own theta under the selection's shared Omega,
 /// no intervals): the model, its criterion and parameters, the report's section for that

@@ -8,6 +8,8 @@
 
   // How often a running job is polled.
   var POLL_MS = 150;
+  // The studies whose plots draw an overlay (the WV and the Allan deviation's).
+  var OVERLAID = ['/api/wv', '/api/fit', '/api/select'];
 
   var $ = function (id) { return document.getElementById(id); };
   var state = {
@@ -19,6 +21,7 @@
     lastRequest: null, // {endpoint, body, label, done}: run again when an overlay is set or cleared
     overlay: null,     // {format, file | text}: sent with every study while set
     overlayName: null, // the name of the file last loaded into the overlay's text box
+    stability: null,   // GET /api/stability: the kinds, tau sets, quantiles and noises offered
     views: [],         // the Vega views shown, finalized when replaced
     shown: 0           // how many results were shown (a result's plots are drawn only while it is)
   };
@@ -85,6 +88,7 @@
     var open = !!state.dataset;
     var enabled = {
       open: true, upload: true, column: open, wv: open, fit: open, select: open, overlay: open,
+      stability: open && !!state.stability,
       'overlay-clear': !!state.overlay, export: !!state.document
     };
     Object.keys(enabled).forEach(function (id) { $(id).disabled = busy || !enabled[id]; });
@@ -107,7 +111,7 @@
     showError('');
     state.lastRequest = { endpoint: endpoint, body: body, label: label, done: done };
     var b = Object.assign({}, body);
-    if (state.overlay) b.overlay = state.overlay;
+    if (state.overlay && OVERLAID.indexOf(endpoint) >= 0) b.overlay = state.overlay;
     var started = performance.now();
     var elapsed = function () { return ((performance.now() - started) / 1000).toFixed(1) + ' s'; };
     state.job = null;
@@ -410,6 +414,62 @@
     }).catch(function (e) { status('ranking row ' + row + ': refused'); showError(e.message); });
   }
 
+  // ---- the frequency-stability deviations ----
+
+  // The choices the library offers (GET /api/stability): a box per kind, its defaults ticked.
+  function loadStability() {
+    return api('GET', '/api/stability').then(function (c) {
+      state.stability = c;
+      var box = $('stability-kinds');
+      box.textContent = '';
+      c.kinds.forEach(function (k) {
+        var label = document.createElement('label');
+        label.title = k.title + (k.time_units ? ' (in the phase\u2019s unit)' : '');
+        var input = document.createElement('input');
+        input.type = 'checkbox';
+        input.value = k.name;
+        input.checked = k.default;
+        label.appendChild(input);
+        label.appendChild(document.createTextNode(' ' + k.name));
+        box.appendChild(label);
+      });
+      var taus = $('stability-taus');
+      taus.textContent = '';
+      c.taus.forEach(function (t) { taus.appendChild(option(t, t)); });
+      taus.appendChild(option('list', 'times listed'));
+      taus.value = c.default_taus;
+      var quantiles = $('stability-intervals');
+      quantiles.textContent = '';
+      c.intervals.forEach(function (m) { quantiles.appendChild(option(m, m)); });
+      quantiles.value = c.default_intervals;
+      c.noises.forEach(function (n) {
+        $('stability-noise').appendChild(option(String(n.alpha), 'alpha ' + n.alpha + ': ' + n.name));
+      });
+      $('stability-confidence').placeholder = fmtG(c.confidence, 4) + ' (one sigma)';
+      setBusy(state.busy);
+    }).catch(function (e) { showError('Frequency stability: ' + e.message); });
+  }
+
+  // POST /api/stability's body: the ticked kinds, the averaging times, the interval's settings
+  // (a blank confidence is the server's default, Stable32's one sigma, to its last digit).
+  function stabilityBody() {
+    var b = { dataset: state.dataset.dataset, column: column(), units: $('units').value.trim(),
+      data: $('stability-data').value, intervals: $('stability-intervals').value, kind: [] };
+    document.querySelectorAll('#stability-kinds input:checked').forEach(function (c) { b.kind.push(c.value); });
+    var taus = $('stability-taus').value;
+    b.taus = taus === 'list' ? $('stability-list').value.trim() : taus;
+    var confidence = $('stability-confidence').value.trim();
+    if (confidence) b.confidence = parseFloat(confidence);
+    var noise = $('stability-noise').value;
+    if (noise) b.noise_alpha = parseInt(noise, 10);
+    return b;
+  }
+
+  function runStability() {
+    var body = stabilityBody();
+    runJob('/api/stability', body, 'stability of ' + body.column, showResult);
+  }
+
   // ---- the overlay ----
 
   // The overlay's source: a file in the folder, else the text box (named after the file it was
@@ -471,10 +531,10 @@
     rerun();
   }
 
-  // Runs the last study again (an overlay changes every plot).
+  // Runs the last study again when it draws the overlay (an overlay changes its plots).
   function rerun() {
     var r = state.lastRequest;
-    if (r) runJob(r.endpoint, r.body, r.label, r.done);
+    if (r && OVERLAID.indexOf(r.endpoint) >= 0) runJob(r.endpoint, r.body, r.label, r.done);
   }
 
   // A file's text read into the overlay's text box (the folder's file choice then cleared).
@@ -558,6 +618,10 @@
   $('wv').addEventListener('click', runWv);
   $('fit').addEventListener('click', runFit);
   $('select').addEventListener('click', runSelect);
+  $('stability').addEventListener('click', runStability);
+  $('stability-taus').addEventListener('change', function () {
+    $('stability-list-label').hidden = $('stability-taus').value !== 'list';
+  });
   $('overlay').addEventListener('click', applyOverlay);
   $('overlay-clear').addEventListener('click', clearOverlay);
   $('overlay-load').addEventListener('change', loadOverlayFile);
@@ -571,10 +635,13 @@
     c.addEventListener('change', modelFromComponents);
   });
   $('model').addEventListener('input', componentsFromModel);
-  // Enter in a model field runs it, as its button would.
-  [['model', 'fit'], ['maximal', 'select']].forEach(function (p) {
+  // Enter in a model field (or the stability's times or confidence) runs it, as its button would.
+  var enterRuns = [['model', 'fit'], ['maximal', 'select'], ['stability-list', 'stability'],
+    ['stability-confidence', 'stability']];
+  enterRuns.forEach(function (p) {
     $(p[0]).addEventListener('keydown', function (e) { if (e.key === 'Enter' && !$(p[1]).disabled) $(p[1]).click(); });
   });
   setBusy(false);
   loadFiles();
+  loadStability();
 })();

@@ -11,11 +11,13 @@
 //   degrees of freedom ("noise" its name, "noise_id" how it was found: acf, b1, b1+rn,
 //   default, fixed); "ci_low"/"ci_high"/"edf" null where the kind has no rule; "unit" the
 //   data's (TDEV: the data's times seconds), null when not declared.
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/pipeline/stability_study.h"
+#include "gmwm/report/html_fragment.h"
 #include "gmwm/report/json_output.h"
 
 namespace gmwm::report {
@@ -32,6 +34,14 @@ Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy
 std::string render_stability_html(const io::SignalSet& set, const pipeline::StabilityStudy& study,
                                   const pipeline::StabilityStudyOptions& options,
                                   const std::vector<std::string>& units);
+
+/// Column `column`'s section of that report (std::out_of_range beyond the columns) with its
+/// Vega specs, for the web app (gmwm serve): the same heading, plots and table, rendered by
+/// the same code, with what the report's header says (how the column was read, what the
+/// intervals are) under the heading. Plot ids "plot-<column+1>-stability[-time]".
+HtmlFragment render_stability_fragment(const io::SignalSet& set, const pipeline::StabilityStudy& study,
+                                       const pipeline::StabilityStudyOptions& options,
+                                       const std::vector<std::string>& units, std::size_t column);
 
 /// Per column, a table of the averaging times (s) and each kind's deviation there ("-" where
 /// a kind has no factor), its unit below it.
