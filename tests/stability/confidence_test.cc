@@ -20,7 +20,7 @@
 namespace gmwm::stability {
 namespace {
 
-std::vector<double> phase_dat() { return phase_from_frequency(testing::nbs1000(), 1.0); }
+using testing::phase_dat;
 
 // Stable32's interval ends (min sigma, max sigma) for PHASE.DAT at each octave factor; its
 // noise column reads white FM (alpha 0) at every one.
@@ -109,8 +109,7 @@ const std::map<DeviationKind, std::vector<Ends>> kStable32 = {
      }},
 };
 
-// Half a unit in the last of the 5 significant digits Stable32 prints.
-double half_unit(double v) { return 0.5e-4 * std::pow(10.0, std::floor(std::log10(std::abs(v)))); }
+double half_unit(double v) { return testing::printed_half_unit(v); }
 
 // Stable32 1.60 reads white FM at m = 128 (7 averaged frequencies) where Barnes' B1, 0.69,
 // lies below the white-FM/PM boundary 0.87: gmwm reads flicker PM there, as Stable32 1.53's

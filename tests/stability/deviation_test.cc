@@ -18,6 +18,7 @@
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/stability/deviation.h"
+#include "nbs14.h"
 
 namespace gmwm::stability {
 namespace {
@@ -25,21 +26,9 @@ namespace {
 // NBS14's 9-point fractional-frequency set, tau0 = 1 s.
 const std::vector<double> kNbs9 = {892, 809, 823, 798, 671, 644, 883, 903, 677};
 
-// NBS14's 1000-point set: n0 = 1234567890, n(i+1) = 16807 n(i) mod 2147483647, each n(i) /
-// 2147483647 a frequency sample (Stable32's PHASE.DAT is its phase, the mean removed, which
-// no deviation here sees).
-std::vector<double> nbs1000() {
-  std::vector<double> y;
-  std::int64_t n = 1234567890;
-  for (int i = 0; i < 1000; ++i) {
-    y.push_back(static_cast<double>(n) / 2147483647.0);
-    n = (16807 * n) % 2147483647;
-  }
-  return y;
-}
+using testing::nbs1000;
 
-// Half a unit in the last of the 5 significant digits Stable32 prints.
-double printed_tolerance(double v) { return 0.5e-4 * std::pow(10.0, std::floor(std::log10(std::abs(v)))); }
+double printed_tolerance(double v) { return testing::printed_half_unit(v); }
 
 struct Row {
   std::int64_t m, terms;

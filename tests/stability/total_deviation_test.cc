@@ -19,18 +19,9 @@
 namespace gmwm::stability {
 namespace {
 
-// PHASE.DAT: the phase of NBS14's 1000-point set less its mean (tau0 = 1 s).
-std::vector<double> phase_dat() {
-  std::vector<double> y = testing::nbs1000();
-  double mean = 0.0;
-  for (const double v : y) mean += v;
-  mean /= static_cast<double>(y.size());
-  for (double& v : y) v -= mean;
-  return phase_from_frequency(y, 1.0);
-}
+using testing::phase_dat;
 
-// Half a unit in the last of the 5 significant digits Stable32 prints.
-double printed_tolerance(double v) { return 0.5e-4 * std::pow(10.0, std::floor(std::log10(std::abs(v)))); }
+double printed_tolerance(double v) { return testing::printed_half_unit(v); }
 
 // A row of Stable32's table: AF, "#", the noise exponent alpha it identified, the deviation.
 struct Row {
