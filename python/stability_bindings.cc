@@ -1,6 +1,6 @@
 // gmwm.stability: the frequency-stability study (pipeline::study_stability, as `gmwm
-// stability`) on arrays, a Recording or a DataFrame; the document gmwm stability --json
-// writes (without "run").
+// stability`, hat=True its --hat) on arrays, a Recording or a DataFrame; the document gmwm
+// stability --json writes (without "run").
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,7 +50,8 @@ void taus_argument(const py::object& taus, gmwm::pipeline::StabilityStudyOptions
 
 std::string py_stability(const py::object& data, const py::object& kind, const py::object& taus,
                          std::optional<double> freq, const std::vector<std::string>& names, const std::string& units,
-                         bool phase, double confidence, const std::string& intervals, std::optional<int> noise_alpha) {
+                         bool phase, double confidence, const std::string& intervals, std::optional<int> noise_alpha,
+                         bool hat) {
   std::vector<std::string> found;
   std::vector<std::vector<double>> cols = columns_of(data, &found);
   const std::vector<std::string> labels = names_for(cols.size(), names, found);
@@ -70,6 +71,7 @@ std::string py_stability(const py::object& data, const py::object& kind, const p
   if (!method) throw gmwm::InputError("intervals: found '" + intervals + "', expected stable32 or exact");
   o.intervals.method = *method;
   o.intervals.noise_alpha = noise_alpha;
+  o.three_cornered_hat = hat;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
   const Json out = run_cancellable([&](const std::function<void(int, int)>&) {
     return gmwm::report::stability_document(set, gmwm::pipeline::study_stability(set, o), o, column_units);
@@ -83,14 +85,15 @@ void add_stability_functions(py::module_& m) {
   m.def("stability", &py_stability, py::arg("data"), py::kw_only(), py::arg("kind") = "oadev",
         py::arg("taus") = "octave", py::arg("freq") = py::none(), py::arg("names") = std::vector<std::string>{},
         py::arg("units") = "", py::arg("phase") = false, py::arg("confidence") = gmwm::stability::kStable32Confidence,
-        py::arg("intervals") = "stable32", py::arg("noise_alpha") = py::none(),
+        py::arg("intervals") = "stable32", py::arg("noise_alpha") = py::none(), py::arg("hat") = false,
         "The frequency-stability deviations of each column (kind: 'adev', 'oadev', 'mdev', 'tdev', 'hdev', "
         "'ohdev', 'totdev', 'mtotdev', 'ttotdev', 'htotdev', 'theo1', 'mtie', 'tierms', a comma list or a list; taus: "
         "'octave', 'decade', 'all' or averaging times in "
         "seconds), the columns read as rates or fractional frequency (phase=True: as phase or time error), each "
         "with its chi-square interval at `confidence` (Stable32's one sigma by default; intervals: 'stable32' "
-        "or 'exact' quantiles; noise_alpha: one noise exponent for every tau instead of identifying it): the "
-        "document gmwm stability --json writes");
+        "or 'exact' quantiles; noise_alpha: one noise exponent for every tau instead of identifying it); hat=True: "
+        "the three-cornered hat of three columns recorded together, each column's own deviation separated from "
+        "what the three share (its 'hat'): the document gmwm stability --json writes");
 }
 
 }  // namespace gmwm::python

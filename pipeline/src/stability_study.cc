@@ -17,7 +17,7 @@ namespace {
 // frequency offset) grows linearly, and a double holding it loses the digits its differences
 // need; no deviation sees the line (they difference it away), so it is removed first, as
 // Stable32's PHASE.DAT is the NBS14 set's phase without its mean frequency.
-std::vector<double> without_mean(const Samples& y) {
+std::vector<double> without_mean(std::span<const double> y) {
   long double sum = 0.0L;
   for (std::size_t i = 0; i < y.size(); ++i) sum += y[i];
   const double mean = y.size() > 0 ? static_cast<double>(sum / static_cast<long double>(y.size())) : 0.0;
@@ -54,6 +54,65 @@ std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double
   return m;
 }
 
+// One series' deviations of every kind asked, with their intervals (their wall time added to
+// `interval_seconds`): the rate `y` less its mean, as phase.
+StabilityColumn study_column(const io::SignalSet& set, const std::string& name, std::span<const double> y,
+                             const StabilityStudyOptions& options, double tau0, double& interval_seconds) {
+  const std::vector<double> phase = stability::phase_from_frequency(without_mean(y), tau0);
+  const auto phase_points = static_cast<std::int64_t>(phase.size());
+  StabilityColumn column{name, {}, {}};
+  for (const stability::DeviationKind kind : options.kinds) {
+    const std::int64_t top = stability::max_factor(kind, phase_points);
+    const std::vector<std::int64_t> m = options.tau_list.empty()
+                                            ? stability::factors(options.taus, kind, phase_points)
+                                            : listed_factors(options.tau_list, tau0, top, kind, phase_points);
+    if (m.empty())
+      throw InputError(file_place(set) + "column '" + name + "': " + std::to_string(y.size()) + " samples leave " +
+                       std::string(stability::deviation_name(kind)) + " no averaging time");
+    column.deviations.push_back(stability::deviation(kind, phase, tau0, m));
+    const auto intervals_start = std::chrono::steady_clock::now();
+    column.intervals.push_back(stability::deviation_intervals(column.deviations.back(), phase, options.intervals));
+    interval_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - intervals_start).count();
+  }
+  return column;
+}
+
+// The hat reads three columns of one record (InputError naming --hat and the columns found).
+void require_three_columns(const io::SignalSet& set) {
+  if (set.signals.size() == stability::kHatSensors) return;
+  std::string names;
+  for (const io::Signal& s : set.signals) names += (names.empty() ? "" : ", ") + s.name;
+  throw InputError(file_place(set) +
+                   "--hat: the three-cornered hat reads three columns recorded together (--columns A,B,C), found " +
+                   std::to_string(set.signals.size()) + (names.empty() ? std::string() : " (" + names + ")"));
+}
+
+// The three-cornered hat of the set's three columns: the pairs A - B, B - C, C - A studied as
+// columns are (differences of rates recorded together: what the sensors share cancels), then
+// each kind's separation.
+StabilityHat study_hat(const io::SignalSet& set, const StabilityStudyOptions& options, double tau0,
+                       double& interval_seconds) {
+  StabilityHat hat;
+  for (std::size_t k = 0; k < stability::kHatSensors; ++k) hat.sensors[k] = set.signals[k].name;
+  for (std::size_t k = 0; k < stability::kHatSensors; ++k) {
+    const std::size_t next = (k + 1) % stability::kHatSensors;
+    const Samples& a = set.signals[k].values;
+    const Samples& b = set.signals[next].values;
+    std::vector<double> difference(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) difference[i] = a[i] - b[i];
+    hat.pairs.push_back(
+        study_column(set, hat.sensors[k] + " - " + hat.sensors[next], difference, options, tau0, interval_seconds));
+  }
+  for (std::size_t d = 0; d < options.kinds.size(); ++d) {
+    const std::array<stability::DeviationCurve, stability::kHatSensors> curves = {
+        hat.pairs[0].deviations[d], hat.pairs[1].deviations[d], hat.pairs[2].deviations[d]};
+    const std::array<stability::DeviationIntervals, stability::kHatSensors> intervals = {
+        hat.pairs[0].intervals[d], hat.pairs[1].intervals[d], hat.pairs[2].intervals[d]};
+    hat.kinds.push_back(stability::three_cornered_hat(curves, intervals));
+  }
+  return hat;
+}
+
 }  // namespace
 
 std::string StabilityStudyOptions::Validate() const {
@@ -64,6 +123,11 @@ std::string StabilityStudyOptions::Validate() const {
   // The interval options' fields as the command spells them.
   if (std::string why = intervals.Validate(); !why.empty())
     return why.starts_with("noise_alpha") ? "--noise-alpha" + why.substr(11) : "--" + why;
+  if (three_cornered_hat)
+    for (const stability::DeviationKind k : kinds)
+      if (!stability::separable(k))
+        return "--hat: " + std::string(stability::deviation_name(k)) +
+               " is a maximum, not a variance: the three-cornered hat separates every kind but mtie";
   for (std::size_t i = 0; i < tau_list.size(); ++i) {
     if (!(tau_list[i] > 0.0) || !std::isfinite(tau_list[i]))
       return "--taus: found " + significant(tau_list[i], 9) + ", expected positive averaging times in seconds";
@@ -80,6 +144,7 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
     throw InputError(file_place(set) +
                      "the stability deviations need the sampling rate: give --freq HZ or a timestamp column");
   detail::require_regular(set, "gmwm stability");
+  if (options.three_cornered_hat) require_three_columns(set);
   const std::int64_t phase_points =
       set.signals.empty() ? 0 : static_cast<std::int64_t>(set.signals.front().values.size()) + 1;
   if (options.tau_list.empty() && options.taus == stability::TauSet::kAll && phase_points > kMaxPhasePointsForAllTaus)
@@ -91,26 +156,10 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
   const auto start = std::chrono::steady_clock::now();
   StabilityStudy study;
   study.tau0 = 1.0 / set.freq;
-  for (const io::Signal& s : set.signals) {
-    const std::vector<double> phase = stability::phase_from_frequency(without_mean(s.values), study.tau0);
-    study.phase_points = static_cast<std::int64_t>(phase.size());
-    StabilityColumn column{s.name, {}, {}};
-    for (const stability::DeviationKind kind : options.kinds) {
-      const std::int64_t top = stability::max_factor(kind, study.phase_points);
-      const std::vector<std::int64_t> m =
-          options.tau_list.empty() ? stability::factors(options.taus, kind, study.phase_points)
-                                   : listed_factors(options.tau_list, study.tau0, top, kind, study.phase_points);
-      if (m.empty())
-        throw InputError(file_place(set) + "column '" + s.name + "': " + std::to_string(s.values.size()) +
-                         " samples leave " + std::string(stability::deviation_name(kind)) + " no averaging time");
-      column.deviations.push_back(stability::deviation(kind, phase, study.tau0, m));
-      const auto intervals_start = std::chrono::steady_clock::now();
-      column.intervals.push_back(stability::deviation_intervals(column.deviations.back(), phase, options.intervals));
-      study.interval_seconds +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - intervals_start).count();
-    }
-    study.columns.push_back(std::move(column));
-  }
+  study.phase_points = phase_points;
+  for (const io::Signal& s : set.signals)
+    study.columns.push_back(study_column(set, s.name, s.values, options, study.tau0, study.interval_seconds));
+  if (options.three_cornered_hat) study.hat = study_hat(set, options, study.tau0, study.interval_seconds);
   study.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - study.interval_seconds;
   return study;

@@ -1940,7 +1940,8 @@ class StabilityResult(StabilityResultMethods, JsonResult):
     columns were read (`data`: rate or phase), the `kinds` asked, the `taus` (a set's name or
     the times asked), the intervals' `confidence`, quantiles (`interval_method`: stable32 or
     exact) and fixed noise exponent (`noise_alpha`, None: identified at each tau), the sampling
-    period `tau0` (s), the `phase_points` each deviation read and per column its deviations."""
+    period `tau0` (s), the `phase_points` each deviation read, per column its deviations and, with
+    hat=True, the three-cornered `hat` (None otherwise)."""
 
     input: str
     data: str
@@ -1952,6 +1953,7 @@ class StabilityResult(StabilityResultMethods, JsonResult):
     tau0: float
     phase_points: int
     columns: tuple[StabilityColumn, ...]
+    hat: StabilityHat | None
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "StabilityResult":
@@ -1966,7 +1968,83 @@ class StabilityResult(StabilityResultMethods, JsonResult):
                    opt_int(d.get("noise_alpha")),
                    num(d["tau0"]),
                    int(d["phase_points"]),
-                   tuple(StabilityColumn.from_dict(r) for r in d.get("columns") or ()))
+                   tuple(StabilityColumn.from_dict(r) for r in d.get("columns") or ()),
+                   None if d.get("hat") is None else StabilityHat.from_dict(d["hat"]))
+
+
+@dataclass(frozen=True, eq=False)
+class HatSensor:
+    """One column's own deviation from the three-cornered hat at the hat's factors: its `value`
+    (NaN where the separated `variance`, kept as computed, is `negative`) and its score interval
+    `ci_low`..`ci_high` (NaN where none fits; 0 from below where the variance is negative)."""
+
+    name: str
+    value: FloatArray
+    variance: FloatArray
+    negative: BoolArray
+    ci_low: FloatArray
+    ci_high: FloatArray
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "HatSensor":
+        return cls(d["name"],
+                   floats(d["value"]),
+                   floats(d["variance"]),
+                   bools(d["negative"]),
+                   floats(d["ci_low"]),
+                   floats(d["ci_high"]))
+
+
+@dataclass(frozen=True, eq=False)
+class HatDeviation:
+    """One kind's three-cornered hat: the factors `m`, `tau` (s), `edf` (the smallest of the three
+    pairs' degrees of freedom, which the intervals read), the `unit` and each column's separated
+    deviation (`sensors`, in the order A, B, C)."""
+
+    m: IntArray
+    tau: FloatArray
+    edf: FloatArray
+    unit: str | None
+    sensors: tuple[HatSensor, ...]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "HatDeviation":
+        return cls(ints(d["m"]),
+                   floats(d["tau"]),
+                   floats(d["edf"]),
+                   d.get("unit"),
+                   tuple(HatSensor.from_dict(r) for r in d.get("sensors") or ()))
+
+
+@dataclass(frozen=True)
+class HatPair:
+    """A pair's difference ("A - B") and its deviations by kind, as a column's."""
+
+    name: str
+    deviations: dict[str, Deviation]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "HatPair":
+        return cls(d["name"],
+                   {n: Deviation.from_dict(v) for n, v in d["deviations"].items()})
+
+
+@dataclass(frozen=True)
+class StabilityHat:
+    """The three-cornered hat of three columns recorded together (gmwm.stability(hat=True),
+    `gmwm stability --hat`; docs/stability.md): the columns (`sensors`, A, B, C), the `pairs` A - B,
+    B - C, C - A with their deviations, and per kind each column's own deviation separated from
+    what the three share (`deviations["oadev"].sensors[0]`)."""
+
+    sensors: tuple[str, ...]
+    pairs: tuple[HatPair, ...]
+    deviations: dict[str, HatDeviation]
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "StabilityHat":
+        return cls(strings(d["sensors"]),
+                   tuple(HatPair.from_dict(r) for r in d.get("pairs") or ()),
+                   {n: HatDeviation.from_dict(v) for n, v in d["deviations"].items()})
 
 
 @dataclass(frozen=True)

@@ -114,3 +114,49 @@ def test_the_plot_draws_each_kind_with_its_interval_band_in_its_unit_and_the_tab
     first = frame[(frame.kind == "oadev") & (frame.m == 1)].iloc[0]
     assert (first.ci_low, first.ci_high) == pytest.approx((2.8515e-01, 2.9987e-01), abs=0.5e-5)
     assert first.noise == "white FM" and first.unit == "deg/s"
+
+
+def three_sensors(levels, n=20000, seed=11):
+    """Three sensors at 100 Hz: white rate noise of 1e-3 times `levels` each under a common input
+    (white 0.3, a random walk, a slow sine: a platform's rotation) a hundred times larger."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n)
+    common = 0.3 * rng.normal(size=n) + np.cumsum(3e-4 * rng.normal(size=n)) + 0.5 * np.sin(2 * np.pi * t / 6000)
+    return np.stack([common + 1e-3 * s * rng.normal(size=n) for s in levels], axis=1)
+
+
+def test_the_hat_separates_three_columns_from_their_common_input_as_the_command_does(tmp_path):
+    x = three_sensors([1.0, 2.0, 3.0])
+    d = gmwm.stability(x, freq=100.0, kind="oadev,mdev", hat=True, names=["a", "b", "c"], units="rad/s")
+    hat = d.hat
+    assert hat.sensors == ("a", "b", "c") and [p.name for p in hat.pairs] == ["a - b", "b - c", "c - a"]
+    assert d.columns[0].deviations["oadev"].value[0] > 0.29  # each column alone: the common input
+    for kind in ("oadev", "mdev"):
+        k = hat.deviations[kind]
+        assert k.unit == "rad/s" and k.m.tolist() == hat.pairs[0].deviations[kind].m.tolist()
+        for s, sensor in enumerate(k.sensors):
+            # At 0.01 s (15650 degrees of freedom) each within 9% / 3% / 3% of its level.
+            assert sensor.value[0] == pytest.approx(1e-3 * (s + 1), rel=0.09 if s == 0 else 0.03)
+            assert sensor.ci_low[0] < sensor.value[0] < sensor.ci_high[0]
+            assert np.all(np.isnan(sensor.value[sensor.negative]))
+            assert np.all(sensor.variance[sensor.negative] < 0)
+    assert gmwm.stability(x, freq=100.0).hat is None
+    path = tmp_path / "three.csv"
+    path.write_text("a,b,c\n" + "".join(f"{r[0]!r},{r[1]!r},{r[2]!r}\n" for r in x))
+    cli = json.loads(run(tmp_path, "stability", str(path), "--freq", "100", "--hat", "--kind", "oadev,mdev", "--units",
+                         "rad/s", "--json", "-").stdout)
+    assert cli["hat"] == d.document["hat"]
+    from test_every_key_typed import untyped_keys  # every key of the hat typed (issue 45's walk)
+    assert untyped_keys(d, d.document, "stability") == []
+
+
+def test_the_hat_flags_a_negative_variance_and_reads_only_three_columns():
+    x = three_sensors([0.0, 2.0, 3.0], seed=1)  # a is the common input alone: its deviation is 0
+    a = gmwm.stability(x, freq=100.0, hat=True).hat.deviations["oadev"].sensors[0]
+    assert a.negative.sum() >= 3
+    assert np.all(np.isnan(a.value[a.negative])) and np.all(a.variance[a.negative] < 0)
+    with pytest.raises(gmwm.InputError, match=r"--hat: the three-cornered hat reads three columns recorded together "
+                                              r"\(columns A,B,C\), found 2 \(x1, x2\)"):
+        gmwm.stability(x[:, :2], freq=100.0, hat=True)
+    with pytest.raises(gmwm.InputError, match="--hat: mtie is a maximum, not a variance"):
+        gmwm.stability(x, freq=100.0, kind="oadev,mtie", hat=True)

@@ -44,6 +44,53 @@ Json curve_json(const stability::DeviationCurve& c, const stability::DeviationIn
           {"unit", unit.empty() ? Json(nullptr) : Json(unit)}};
 }
 
+// The hat's unit: the three columns' when they share one, else "" (unknown).
+std::string hat_unit(const std::vector<std::string>& units) {
+  if (units.size() < stability::kHatSensors || units[0] != units[1] || units[1] != units[2]) return {};
+  return units[0];
+}
+
+Json hat_sensor_json(const std::string& name, const stability::HatSensor& s) {
+  Json negative = Json::array();
+  for (const bool b : s.negative) negative.push_back(b);
+  return {{"name", name},
+          {"value", numbers(s.value)},
+          {"variance", numbers(s.variance)},
+          {"negative", std::move(negative)},
+          {"ci_low", numbers(s.low)},
+          {"ci_high", numbers(s.high)}};
+}
+
+// One kind's separation: the factors, the pairs' smallest edf, each column's deviation.
+Json hat_kind_json(const pipeline::StabilityHat& hat, const stability::ThreeCorneredHat& k,
+                   const std::string& data_unit) {
+  const std::string unit = deviation_unit(k.kind, data_unit);
+  Json sensors = Json::array();
+  for (std::size_t s = 0; s < stability::kHatSensors; ++s)
+    sensors.push_back(hat_sensor_json(hat.sensors[s], k.sensors[s]));
+  return {{"m", k.m},
+          {"tau", k.tau},
+          {"edf", numbers(k.edf)},
+          {"unit", unit.empty() ? Json(nullptr) : Json(unit)},
+          {"sensors", std::move(sensors)}};
+}
+
+// The document's "hat": the columns, the pairs' deviations (as a column's), each kind's separation.
+Json hat_json(const pipeline::StabilityHat& hat, const std::string& unit) {
+  Json pairs = Json::array();
+  for (const pipeline::StabilityColumn& p : hat.pairs) {
+    Json deviations = Json::object();
+    for (std::size_t d = 0; d < p.deviations.size(); ++d)
+      deviations[std::string(stability::deviation_name(p.deviations[d].kind))] =
+          curve_json(p.deviations[d], p.intervals[d], unit);
+    pairs.push_back({{"name", p.name}, {"deviations", std::move(deviations)}});
+  }
+  Json kinds = Json::object();
+  for (const stability::ThreeCorneredHat& k : hat.kinds)
+    kinds[std::string(stability::deviation_name(k.kind))] = hat_kind_json(hat, k, unit);
+  return {{"sensors", hat.sensors}, {"pairs", std::move(pairs)}, {"deviations", std::move(kinds)}};
+}
+
 }  // namespace
 
 Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy& study,
@@ -75,6 +122,7 @@ Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy
     col["deviations"] = std::move(deviations);
     doc["columns"].push_back(std::move(col));
   }
+  if (study.hat) doc["hat"] = hat_json(*study.hat, hat_unit(units));
   return doc;
 }
 
@@ -92,6 +140,45 @@ std::string kind_table(const stability::DeviationCurve& c, const stability::Devi
            std::string(stability::noise_name(ci.noise[i].alpha)) + " (" +
                std::string(stability::noise_id_method_name(ci.noise[i].method)) + ")"});
   return t.str();
+}
+
+// One kind's separation: each averaging time's three rows (a column's deviation, its
+// interval and the pairs' edf); a negative variance as "[var V]".
+std::string hat_kind_table(const pipeline::StabilityHat& hat, const stability::ThreeCorneredHat& k,
+                           const std::string& unit) {
+  const std::string u = unit.empty() ? (stability::in_time_units(k.kind) ? "U*s" : "U") : unit;
+  TextTable t(
+      {"tau [s]", "column", std::string(stability::deviation_name(k.kind)) + " [" + u + "]", "low", "high", "edf"}, 0);
+  for (std::size_t i = 0; i < k.m.size(); ++i)
+    for (std::size_t s = 0; s < stability::kHatSensors; ++s) {
+      const stability::HatSensor& h = k.sensors[s];
+      t.add({s == 0 ? significant(k.tau[i], 6) : std::string(), hat.sensors[s],
+             h.negative[i] ? "[var " + significant(h.variance[i], 5) + "]" : significant(h.value[i], 5),
+             significant(h.low[i], 5, NonFinite::kDash), significant(h.high[i], 5, NonFinite::kDash),
+             s == 0 ? significant(k.edf[i], 4, NonFinite::kDash) : std::string()});
+    }
+  return t.str();
+}
+
+// The hat's tables and what they read.
+std::string hat_text(const pipeline::StabilityHat& hat, const std::string& unit, double confidence) {
+  std::ostringstream os;
+  os << "three-cornered hat of " << hat.sensors[0] << ", " << hat.sensors[1] << ", " << hat.sensors[2]
+     << ": each column's own deviation, separated from what the three share\n";
+  bool negative = false;
+  for (const stability::ThreeCorneredHat& k : hat.kinds) {
+    os << hat_kind_table(hat, k, deviation_unit(k.kind, unit));
+    for (const stability::HatSensor& s : k.sensors)
+      for (const bool b : s.negative) negative = negative || b;
+  }
+  if (negative)
+    os << "  [var V]: the separated variance V (in the unit squared) is negative: no deviation (records too short "
+          "for it, or sensors not independent); kept, not clamped\n";
+  os << "  low, high: the " << significant(100.0 * confidence, 4)
+     << "% score interval of each separated variance from edf, the smallest of the three pairs' degrees of freedom; "
+        "- where none fits (docs/stability.md, \"Three-cornered hat\"); the pairs' deviations are in the JSON "
+        "(hat.pairs)\n";
+  return os.str();
 }
 
 }  // namespace
@@ -113,6 +200,7 @@ std::string stability_text(const pipeline::StabilityStudy& study, const std::vec
          << (o.noise_alpha ? "the noise given" : "the noise identified at each tau") << " (docs/stability.md)\n";
     }
   }
+  if (study.hat) os << hat_text(*study.hat, hat_unit(units), study.hat->kinds.front().confidence);
   return os.str();
 }
 

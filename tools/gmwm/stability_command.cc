@@ -1,8 +1,9 @@
 // gmwm stability INPUT [--kind oadev,mdev,...] [--taus octave|decade|all|T1,T2,...]
 //                      [--confidence P] [--intervals stable32|exact] [--noise-alpha A] [--report PATH]
-//                      [--data rate|increment|phase] [--columns ..] [--freq HZ] [--units ..]
-// The frequency-stability deviations of every selected column (docs/stability.md): parses,
-// runs pipeline::study_stability, renders with report/stability_output.h, commits.
+//                      [--hat] [--data rate|increment|phase] [--columns ..] [--freq HZ] [--units ..]
+// The frequency-stability deviations of every selected column (docs/stability.md), with --hat
+// the three-cornered hat of three columns recorded together: parses, runs
+// pipeline::study_stability, renders with report/stability_output.h, commits.
 #include <cmath>
 #include <optional>
 
@@ -25,6 +26,7 @@ struct StabilityArgs {
   double confidence = stability::kStable32Confidence;
   std::string intervals = "stable32";
   std::optional<int> noise_alpha;
+  bool hat = false;
   UnitsOptions units;
 };
 
@@ -58,6 +60,7 @@ pipeline::StabilityStudyOptions stability_options(const StabilityArgs& args, con
   if (!method) throw InputError("--intervals: found '" + args.intervals + "', expected stable32 or exact");
   o.intervals.method = *method;
   o.intervals.noise_alpha = args.noise_alpha;
+  o.three_cornered_hat = args.hat;
   if (const std::string why = o.Validate(); !why.empty()) throw InputError(why);
   declare_input(common, args.input.input);
   declare_output(common, "--json", common.json);
@@ -126,6 +129,10 @@ Command add_stability_command(CLI::App& app, CommonOptions& common) {
                   "The noise exponent for every tau's degrees of freedom (2 white PM, 1 flicker PM, 0 white FM, "
                   "-1 flicker FM, -2 random-walk FM, ...), instead of identifying it at each tau")
       ->type_name("A");
+  sub->add_flag("--hat,--three-cornered-hat", args->hat,
+                "The three-cornered hat of three columns recorded together (--columns A,B,C: three co-located "
+                "sensors' same axis, three clocks): each column's own deviation separated from what the three "
+                "share, from the pairs' differences, with its interval (docs/stability.md)");
   add_units_option(*sub, args->units);
   sub->add_option("--report", common.report,
                   "Write a self-contained HTML report: the deviations with their interval bands, and the table");

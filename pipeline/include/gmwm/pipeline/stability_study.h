@@ -1,16 +1,21 @@
 #pragma once
 // The frequency-stability study of a signal set (issue 48): each column's deviations of the
 // kinds asked (stability/deviation.h) at the averaging times asked, from the column read as
-// a rate (or fractional frequency) and turned into phase, or read as phase (--data phase).
+// a rate (or fractional frequency) and turned into phase, or read as phase (--data phase);
+// with three_cornered_hat, the hat of three columns recorded together (each column's own
+// deviation separated from what the three share: stability/three_cornered_hat.h).
 // What `gmwm stability` and Python's gmwm.stability run; report::stability_document writes it.
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "gmwm/io/signal_reader.h"
 #include "gmwm/stability/confidence.h"
 #include "gmwm/stability/deviation.h"
+#include "gmwm/stability/three_cornered_hat.h"
 
 namespace gmwm::pipeline {
 
@@ -25,6 +30,9 @@ struct StabilityStudyOptions {
   std::vector<double> tau_list;
   /// Each deviation's interval: confidence, quantiles, a fixed noise (stability/confidence.h).
   stability::IntervalOptions intervals;
+  /// The three-cornered hat of the record's three columns (--hat): their pairwise differences'
+  /// deviations of every kind asked (each kind separable: not MTIE) and each column's own.
+  bool three_cornered_hat = false;
 
   /// Empty when valid, else one line.
   std::string Validate() const;
@@ -46,17 +54,28 @@ struct StabilityColumn {
   std::vector<stability::DeviationIntervals> intervals;  ///< per kind: noise, edf, interval at each factor
 };
 
+/// The three-cornered hat of three columns A, B, C recorded together: the pairs' deviations
+/// and intervals (A - B, B - C, C - A: each difference of the rates read as a column is, its
+/// mean removed) and per kind each column's separated deviation with its interval.
+struct StabilityHat {
+  std::array<std::string, stability::kHatSensors> sensors;  ///< the columns' names, A, B, C
+  std::vector<StabilityColumn> pairs;                       ///< named "A - B", "B - C", "C - A"
+  std::vector<stability::ThreeCorneredHat> kinds;           ///< per kind, in the order asked
+};
+
 struct StabilityStudy {
   double tau0 = 0.0;              ///< the sampling period (s)
   std::int64_t phase_points = 0;  ///< the phase points each deviation read (the samples + 1 for a rate)
   std::vector<StabilityColumn> columns;
-  double seconds = 0.0;           ///< wall time of the phases and the deviations
-  double interval_seconds = 0.0;  ///< wall time of the noise identifications and intervals
+  std::optional<StabilityHat> hat;  ///< with three_cornered_hat
+  double seconds = 0.0;             ///< wall time of the phases and the deviations
+  double interval_seconds = 0.0;    ///< wall time of the noise identifications and intervals
 };
 
 /// Throws InputError (one line naming the file or the option) for invalid options, a record
 /// without a known rate, a record with missing samples (the deviations read a regular record:
-/// --gaps join), a tau that is no whole number of periods or beyond a kind's largest factor.
+/// --gaps join), a tau that is no whole number of periods or beyond a kind's largest factor,
+/// and with three_cornered_hat a record of other than three columns.
 StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOptions& options);
 
 }  // namespace gmwm::pipeline

@@ -10,7 +10,13 @@
 //   squares averaged at each factor (Stable32's "#"); "alpha" the noise exponent used for the
 //   degrees of freedom ("noise" its name, "noise_id" how it was found: acf, b1, b1+rn,
 //   default, fixed); "ci_low"/"ci_high"/"edf" null where the kind has no rule; "unit" the
-//   data's (TDEV: the data's times seconds), null when not declared.
+//   data's (TDEV: the data's times seconds), null when not declared. With --hat, "hat":
+//   {"sensors": [A, B, C], "pairs": [{"name": "A - B", "deviations": {"<kind>": as a
+//   column's}}, B - C, C - A], "deviations": {"<kind>": {"m", "tau", "edf" (the pairs'
+//   smallest, which the intervals read), "unit", "sensors": [{"name", "value" (null where the
+//   separated variance is negative), "variance" (kept as computed, negative or not),
+//   "negative", "ci_low", "ci_high" (the score interval: null where none fits)}]}}}
+//   (stability/three_cornered_hat.h).
 #include <cstddef>
 #include <string>
 #include <vector>
