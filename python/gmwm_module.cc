@@ -511,9 +511,7 @@ PYBIND11_MODULE(_gmwm, m) {
         py::arg("seed") = gmwm::kDefaultSeed,
         "The gap diagnosis' self-check on simulated cases with a withheld effect (families 'QN,DR,...', strengths "
         "'2,4,8'): the document gmwm gap-check --json writes");
-  gmwm::python::add_multi_signal_functions(m);
-  gmwm::python::add_read_functions(m);
-  gmwm::python::add_stability_functions(m);
+  gmwm::python::add_other_files_functions(m);
   m.def(
       "figure_units",
       [](const std::string& unit) {

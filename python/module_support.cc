@@ -215,4 +215,11 @@ int first_level_argument(const py::object& value) {
   return *level;
 }
 
+void add_other_files_functions(py::module_& m) {
+  add_multi_signal_functions(m);
+  add_read_functions(m);
+  add_stability_functions(m);
+  add_curve_functions(m);
+}
+
 }  // namespace gmwm::python

@@ -126,5 +126,9 @@ void add_multi_signal_functions(py::module_& m);
 void add_read_functions(py::module_& m);
 // gmwm.stability (stability_bindings.cc).
 void add_stability_functions(py::module_& m);
+// gmwm.fit_curve (curve_bindings.cc).
+void add_curve_functions(py::module_& m);
+// The functions bound in their own files: each add_*_functions above, in that order.
+void add_other_files_functions(py::module_& m);
 
 }  // namespace gmwm::python

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -203,9 +204,13 @@ bool solve_sizes(const WaveletVariance& wv, const Model& model, const Eigen::Mat
 
 namespace {
 
-// The WV's range of log2 scales, [first level, last level] (a WV drop_fine_levels cut
-// starts above 1).
+// The WV's range of log2 scales: the log2 of its first and last scale when they increase
+// (a record's dyadic levels: [first level, last level], exactly; a curve's scales, curve.h:
+// any, several to an octave, whose count is no number of octaves); else (replicates' WVs
+// stacked, joint_fit.h) [first level, first level + levels - 1].
 std::pair<double, double> log_scale_range(const WaveletVariance& wv) {
+  if (!wv.tau.empty() && wv.tau.front() >= 2.0 && std::is_sorted(wv.tau.begin(), wv.tau.end(), std::less_equal<>()))
+    return {std::log2(wv.tau.front()), std::log2(wv.tau.back())};
   const auto first = static_cast<double>(first_level(wv));
   return {first, first + std::max(wv.levels(), 1) - 1.0};
 }

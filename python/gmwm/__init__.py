@@ -21,6 +21,7 @@ float64 arrays) built from the JSON the `gmwm` command writes for the same data 
                                                    # p.columns[0].targets[k].seconds
     d = gmwm.stability(x, freq=100, kind="oadev,mdev", taus="decade")
                                                    # d.columns[0].deviations["mdev"].value
+    c = gmwm.fit_curve("adev.csv", "WN+RW+AR1")    # a given Allan deviation curve: c.curve.weights
     f.to_json()                                    # the command's JSON text, unchanged
     f.document                                     # the same, parsed (every field)
 
@@ -77,6 +78,8 @@ from ._types import (ConsistentFor, ExportColumn, ExportResult, ExportWritten, F
 from ._types import (Agmwm, JointFitColumn, JointFitResult, JointRankingRow, JointSelectColumn,
                      JointSelectResult, ReplicateBootstrap, ReplicateFit, ReplicateOwnFit, ReplicateTest)
 from ._signals import Recording, RepeatedSamplesWarning, TimingWarning, read, read_parts
+from ._curve import fit_curve
+from ._types import CurveInfo
 from ._types import RepeatedSamples, Timing
 from ._types import Deviation, StabilityColumn, StabilityResult
 from ._types import (AllanResult, BestFit, Candidate, FitResult, RankingRow, SelectColumn, SelectResult, WvLevels,
@@ -255,7 +258,7 @@ def export(result: Any, *, format: str, output: str = "", **options: Any) -> Exp
 
 __all__ = [
     "wv", "allan", "fit", "select", "gap", "gap_check", "nav", "plan", "simulate", "fit_joint", "select_joint",
-    "stability",
+    "stability", "fit_curve", "CurveInfo",
     "export", "fleet", "read", "read_parts", "InputError", "DEFAULT_SEED",
     # signals in
     "Recording", "Timing", "TimingWarning", "RepeatedSamples", "RepeatedSamplesWarning",

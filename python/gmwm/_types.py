@@ -418,7 +418,8 @@ class FitResult(FitResultMethods, JsonResult):
     values, `parameters` (`f.parameter("sigma2", "WN")`), `gof`, `status`, the data's WV
     (`levels`; `f.wv`, `f.tau`, ...) and the model's (`implied_wv`, at every level), the parameters in
     physical units (`continuous`), `kalman`, `allan` and `noise_figures`. The fit took the levels
-    from `first_level` on (`first_level=`; the finer ones shown, not fitted: `notes` says why)."""
+    from `first_level` on (`first_level=`; the finer ones shown, not fitted: `notes` says why).
+    A fit of a given curve (gmwm.fit_curve) has its `curve`, None otherwise."""
 
     name: str
     n: int
@@ -447,6 +448,7 @@ class FitResult(FitResultMethods, JsonResult):
     small_sample: str | None = None
     screening: dict[str, Any] | None = None
     first_level: int = 1
+    curve: CurveInfo | None = None
 
     @classmethod
     def _from(cls, d: Any, text: str) -> "FitResult":
@@ -478,7 +480,42 @@ class FitResult(FitResultMethods, JsonResult):
                    NoiseFigures.from_dict(d.get("noise_figures")),
                    d.get("small_sample"),
                    d.get("screening"),
-                   int(d.get("first_level", 1)))
+                   int(d.get("first_level", 1)),
+                   None if d.get("curve") is None else CurveInfo.from_dict(d["curve"]))
+
+
+@dataclass(frozen=True, eq=False)
+class CurveInfo:
+    """A fit of a given curve (gmwm.fit_curve, `gmwm fit --curve`; docs/curve-fit.md): the curve's
+    `source`, what its values are (`value`: adev, avar or wv), its taus as given (`tau`, s), which
+    points were `fitted` (the others `excluded` by its ranges), where the weights came from
+    (`weights`: edf, intervals, record, shortest-record), the given intervals' `confidence`, the
+    `record_seconds` given, whether the `rate` was given or the curve's own, and whether every
+    tau is a whole number of samples at it (`whole_samples`)."""
+
+    source: str
+    value: str
+    tau: FloatArray
+    fitted: BoolArray
+    excluded: str | None
+    weights: str
+    confidence: float | None
+    record_seconds: float | None
+    rate: str
+    whole_samples: bool
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "CurveInfo":
+        return cls(d["source"],
+                   d["value"],
+                   floats(d["tau"]),
+                   bools(d["fitted"]),
+                   d.get("excluded"),
+                   d["weights"],
+                   None if d.get("confidence") is None else float(d["confidence"]),
+                   None if d.get("record_seconds") is None else float(d["record_seconds"]),
+                   d["rate"],
+                   bool(d["whole_samples"]))
 
 
 @dataclass(frozen=True, eq=False, repr=False)

@@ -101,11 +101,14 @@ def results(tmp_path_factory):
     reps = [gmwm.simulate(TRUTH, 2**14, seed=k, signals=2, freq=100) for k in (1, 2, 3)]
     out["fit_joint"] = gmwm.fit_joint(reps, "AR1+WN+RW", freq=100, names=names[:2], units="gyro=rad/s")
     out["select_joint"] = gmwm.select_joint(reps, "AR1+WN+RW", freq=100, names=names[:2], units="gyro=rad/s")
+    a = out["allan"].allan
+    out["fit_curve"] = gmwm.fit_curve({"tau": a.tau, "adev": a.adev, "ci_low": a.ci_low, "ci_high": a.ci_high},
+                                      "AR1+WN+RW", units="rad/s", exclude_taus=":0.015")
     return out
 
 
 @pytest.mark.parametrize("study", ["wv", "allan", "fit", "fit robust", "select", "select robust", "gap", "plan",
-                                   "gap_check", "nav", "export", "fit_joint", "select_joint"])
+                                   "gap_check", "nav", "export", "fit_joint", "select_joint", "fit_curve"])
 def test_every_key_of_the_document_has_its_typed_field(results, study):
     result = results[study]
     assert untyped_keys(result, result.document, study) == []

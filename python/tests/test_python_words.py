@@ -7,6 +7,7 @@ import pytest
 import gmwm
 
 TRUTH = "WN(sigma2=1e-4)+RW(gamma2=1e-9)"
+CURVE = {"tau": [0.01, 0.02, 0.04], "value": [1.0, 0.5, 0.25]}  # a curve whose values say no quantity
 
 
 @pytest.fixture(scope="module")
@@ -58,6 +59,12 @@ CASES = [
     ("read columns", lambda x, f: gmwm.read("data/example_imu6.csv.gz", columns=["nope"]), "columns"),
     ("read memory", lambda x, f: gmwm.read("data/example_imu6.csv.gz", memory=0), "memory"),
     ("fleet memory", lambda x, f: gmwm.fleet("fleet.csv", model="WN", memory=0), "memory"),
+    ("fit_curve value", lambda x, f: gmwm.fit_curve(CURVE, "WN"), "value"),
+    ("fit_curve freq", lambda x, f: gmwm.fit_curve(CURVE, "WN", value="avar", freq=10), "freq"),
+    ("fit_curve record", lambda x, f: gmwm.fit_curve(CURVE, "WN", value="avar", record=0.01), "record"),
+    ("fit_curve exclude_taus", lambda x, f: gmwm.fit_curve(CURVE, "WN", value="avar", exclude_taus="2:1"),
+     "exclude_taus"),
+    ("fit_curve confidence", lambda x, f: gmwm.fit_curve(CURVE, "WN", value="avar", confidence=1.5), "confidence"),
 ]
 
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common.h"
+#include "curve_fit.h"
 #include "replicates.h"
 #include "units_tables.h"
 #include "gmwm/engine/classical_wv.h"
@@ -30,6 +31,8 @@ struct FitArgs {
   UnitsOptions units;
   std::vector<std::string> joint;  ///< --joint FILE[:COLUMN] ...: replicates of INPUT's columns
   std::string first_level = "1";   ///< --first-level L|auto (pipeline::parse_first_level)
+  CurveArgs curve;                 ///< --curve FILE and its options: a given curve instead of INPUT
+  const CLI::App* command = nullptr;
 };
 
 OmegaKind omega_kind(const std::string& s) { return parse_omega_kind(s).value_or(OmegaKind::kModel); }
@@ -151,6 +154,12 @@ FitPart fit_part(const FitArgs& args, const CommonOptions& common, const pipelin
 int run_fit(const FitArgs& args, const CommonOptions& common) {
   Stopwatch total;
   auto threads = apply_common_options(common);
+  if (!args.curve.curve.empty())
+    return run_curve_fit(*args.command, args.curve,
+                         {args.model, args.omega, args.input.alpha, args.max_evaluations, args.input.freq,
+                          args.input.columns, args.units},
+                         common);
+  if (args.input.input.empty()) throw InputError("INPUT is required (a record to fit, or --curve FILE)");
   const pipeline::FitStudyOptions study_options = fit_study_options(args, common);
   if (!args.joint.empty())
     return run_joint_fit(args, common, study_options.fit, study_options.robust ? &*study_options.robust : nullptr);
@@ -182,6 +191,8 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
   auto args = std::make_shared<FitArgs>();
   CLI::App* sub = app.add_subcommand("fit", "GMWM fit of a latent model (e.g. AR1+WN+RW) to the WV of each column");
   add_input_options(*sub, args->input);
+  sub->get_option("INPUT")->required(false);  // not with --curve: run_fit asks for one of the two
+  args->command = sub;
   sub->add_option("--model", args->model,
                   "Model, e.g. '2*AR1+WN+RW' or 'AR1(phi=0.99)+WN' (values are starting values)")
       ->type_name("SPEC")
@@ -205,6 +216,7 @@ Command add_fit_command(CLI::App& app, CommonOptions& common) {
   add_fitting_options(*sub, args->first_level, args->max_evaluations);
   add_units_options(*sub, args->units);
   add_robust_options(*sub, args->robust);
+  add_curve_options(*sub, args->curve);
   add_common_options(*sub, common);
   add_report_option(*sub, common);
   return {sub, [args, &common] { return run_fit(*args, common); }};

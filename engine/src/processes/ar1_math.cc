@@ -5,6 +5,9 @@
 #include <array>
 #include <cmath>
 
+#include <boost/math/policies/policy.hpp>
+#include <boost/math/special_functions/cos_pi.hpp>
+
 namespace gmwm::internal {
 namespace {
 
@@ -24,6 +27,9 @@ constexpr int kE1Terms = 21;
 // where y = m L reaches 1e5 (issue 44). The same value either way.
 constexpr double kExpUnderflowArg = 746.0;
 double exp_of_minus(double y) { return y > kExpUnderflowArg ? 0.0 : std::exp(-y); }
+
+// cos(pi m) with m reduced exactly (Boost.Math), in double (sinusoid.cc: no long double).
+using CosPolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
 
 double factorial(int n) {
   double f = 1.0;
@@ -132,7 +138,15 @@ D2 one_minus_pow_d2(double phi, double m) {
   // keeps full precision), expm1 when above (then 1 + it does).
   const bool small = lm <= -kLn2;
   const double e = small ? exp_of_minus(-lm) : std::expm1(lm);
-  const double am = small ? e : 1.0 + e;            // |phi|^m
+  const double am = small ? e : 1.0 + e;  // |phi|^m
+  if (phi < 0.0 && m != std::floor(m)) {
+    // Between whole m a negative phi's power is continued as |phi|^m cos(pi m), the real part of
+    // the principal |phi|^m e^{i pi m}, and the closed forms, written in a = phi^m, take it
+    // (docs/statistics.md section 3): smooth, and +-|phi|^m at every whole m. d/dphi of
+    // |phi|^m cos(pi m) is m p / phi, as for a whole m.
+    const double p = am * boost::math::cos_pi(m, CosPolicy());
+    return {1.0 - p, -m * (p / phi), -m * (m - 1.0) * (p / (phi * phi))};
+  }
   const double p = (phi > 0.0 || even) ? am : -am;  // phi^m
   // 1 - |phi|^m without cancellation; an odd power of a negative phi adds.
   const double f = (phi > 0.0 || even) ? (small ? 1.0 - e : -e) : 1.0 + am;

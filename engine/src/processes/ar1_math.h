@@ -56,12 +56,13 @@ inline constexpr double kLn2 = 0.69314718055994530942;
 /// is 0.34 from terms of size 9.6), and the series need ~30 terms.
 inline constexpr double kSeriesMaxArg = 1.0;
 
-D2 sinhc_d2(double x);                      ///< sinh(x)/x
-D2 sinh_minus_x_over_x3_d2(double x);       ///< (sinh x - x)/x^3
-D2 haar_h_over_y3_d2(double y);             ///< (4y - 6 + 8e^-y - 2e^-2y)/y^3, y >= 0
-D2 one_minus_exp_over_y_d2(double y);       ///< (1 - e^-y)/y, y >= 0
-D2 neg_log_d2(double phi);                  ///< -log(phi), phi in (0, 1]
-D2 one_minus_pow_d2(double phi, double m);  ///< 1 - phi^m, m a positive integer when phi < 0
+D2 sinhc_d2(double x);                 ///< sinh(x)/x
+D2 sinh_minus_x_over_x3_d2(double x);  ///< (sinh x - x)/x^3
+D2 haar_h_over_y3_d2(double y);        ///< (4y - 6 + 8e^-y - 2e^-2y)/y^3, y >= 0
+D2 one_minus_exp_over_y_d2(double y);  ///< (1 - e^-y)/y, y >= 0
+D2 neg_log_d2(double phi);             ///< -log(phi), phi in (0, 1]
+/// 1 - phi^m, m >= 1; for phi < 0 and m not whole, phi^m is the continuation |phi|^m cos(pi m).
+D2 one_minus_pow_d2(double phi, double m);
 
 template <class T>
 T one_minus_pow(const T& phi, double m) {

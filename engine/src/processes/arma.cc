@@ -63,6 +63,7 @@ class ArmaProcess final : public Process {
   std::string structure() const override { return "p=" + std::to_string(p_) + ",q=" + std::to_string(q_); }
   int canonical_rank() const override { return 45; }
   const std::vector<ParameterSpec>& parameters() const override { return specs_; }
+  bool needs_whole_scales() const override { return true; }  // sums its autocovariance over lags
 
   std::span<const double> phi(std::span<const double> t) const { return t.subspan(0, p_); }
   std::span<const double> theta(std::span<const double> t) const { return t.subspan(p_, q_); }

@@ -181,7 +181,7 @@ std::vector<ArmaJet> arma_unit_wv(std::span<const double> phi, std::span<const d
 
   // Levels by decreasing m: those with 2m - 1 >= k are a prefix.
   std::vector<double> m(tau.size());
-  for (std::size_t l = 0; l < tau.size(); ++l) m[l] = haar_half_scale(tau[l], "ARMA::wv");
+  for (std::size_t l = 0; l < tau.size(); ++l) m[l] = haar_whole_half_scale(tau[l], "ARMA::wv");
   std::vector<std::size_t> idx(tau.size());
   std::iota(idx.begin(), idx.end(), std::size_t{0});
   std::sort(idx.begin(), idx.end(), [&](std::size_t x, std::size_t y) { return m[x] > m[y]; });

@@ -20,9 +20,19 @@
 
 namespace gmwm::internal {
 
-/// m = tau / 2 for a Haar scale. Closed forms with phi^(tau/2) of a negative phi and the
-/// autocovariance sums need an even integer tau >= 2.
+/// m = tau / 2 for a Haar scale tau >= 2 samples (finite). At even whole tau the closed
+/// forms are the WV exactly; between them (an averaging time that is no whole number of
+/// samples: a curve digitised from a datasheet, curve.h) they are continued in m, smooth and
+/// equal to the exact WV at every whole m (docs/statistics.md section 3). A form that sums
+/// over lags takes haar_whole_half_scale.
 inline double haar_half_scale(double tau, std::string_view who) {
+  check_at_least(who, "tau", tau, 2.0);
+  check_finite(who, "tau", tau);
+  return 0.5 * tau;
+}
+
+/// m = tau / 2 for an even whole tau >= 2: the autocovariance sums (ARMA) need one.
+inline double haar_whole_half_scale(double tau, std::string_view who) {
   check_at_least(who, "tau", tau, 2.0);
   // Evenness through an integer below 2^62 (every Haar scale of a record): fmod here was 1%
   // of a selection's CPU (issue 44); above, fmod.

@@ -52,6 +52,10 @@ constexpr OptionField kOptionFields[] = {
     {"--gaps", "gaps"},
     {"--memory MB", "memory", {}, "MB"},
     {"--memory", "memory"},
+    {"--value", "value"},
+    {"--exclude-taus", "exclude_taus"},
+    {"--record", "record"},
+    {"--curve-confidence", "confidence"},
 };
 
 bool option_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_'; }

@@ -148,11 +148,39 @@ TEST(Ar1Process, RejectsPhiOutsideTheUnitIntervalNamingIt) {
   EXPECT_NE(p->validate(std::vector<double>{0.5, 0.0}).find("sigma2"), std::string::npos);
 }
 
-TEST(Ar1Process, RefusesScalesThatAreNotEvenIntegers) {
+// The closed form of docs/statistics.md section 3 at a real half-scale m in long double, written
+// in a = phi^m (phi^tau = a^2), with a continued as |phi|^m cos(pi m) for a negative phi.
+long double ar1_closed_form(long double phi, long double m) {
+  const long double pi = 3.141592653589793238462643383279502884L;
+  const long double a = std::pow(std::fabs(phi), m) * (phi < 0 ? std::cos(pi * m) : 1.0L);
+  const long double tau = 2.0L * m;
+  return ((phi * phi - 1.0L) * tau + 2.0L * phi * (a * a - 4.0L * a + 3.0L)) /
+         ((phi - 1.0L) * (phi - 1.0L) * (phi - 1.0L) * (phi + 1.0L) * tau * tau);
+}
+
+TEST(Ar1Process, TakesScalesBetweenWholeNumbersOfSamplesAsItsClosedFormContinued) {
+  // An averaging time of m samples, m not whole (a digitised curve's tau, curve.h): the
+  // closed form in m, as at every whole m; for phi < 0 written in a = phi^m, continued as
+  // |phi|^m cos(pi m). Against the naive form in long double (no cancellation to speak of
+  // at these phi): 1e-12.
+  const auto p = make_process("AR1");
+  const std::vector<double> tau{2.5, 3.0, 5.5, 13.7, 101.3};
+  for (double phi : {0.3, 0.6, 0.9, 0.99, -0.3, -0.6}) {
+    std::vector<double> expected;
+    for (double t : tau) expected.push_back(static_cast<double>(ar1_closed_form(phi, 0.5L * t)));
+    expect_all_relatively_near(wv_of(*p, std::vector<double>{phi, 1.0}, tau), expected, 1e-12,
+                               "AR1(" + std::to_string(phi) + ", 1) at non-whole m");
+    expect_derivatives_match_finite_differences(*p, {phi, 1.0}, tau);
+  }
+}
+
+TEST(Ar1Process, RefusesScalesBelowTwoSamplesOrNotFinite) {
   const auto p = make_process("AR1");
   std::vector<double> out(1);
-  EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{3.0}, out), InvalidArgument);
   EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{1.0}, out), InvalidArgument);
+  EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{INFINITY}, out), InvalidArgument);
+  EXPECT_THROW(p->wv(std::vector<double>{0.5, 1.0}, std::vector<double>{NAN}, out), InvalidArgument);
+  EXPECT_FALSE(p->needs_whole_scales());
 }
 
 TEST(Ar1Process, PhysicalCorrelationTimeAndStationarySigma) {

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "gmwm/engine/check.h"
 #include "gmwm/engine/error.h"
 #include "process_test_support.h"
 
@@ -11,6 +12,21 @@ namespace gmwm::test {
 namespace {
 
 std::unique_ptr<Process> arma(long p, long q) { return make_process("ARMA", {{"p", p}, {"q", q}}); }
+
+TEST(ArmaProcess, NeedsWholeScalesAndRefusesOthersNamingTheScale) {
+  // Its WV sums the autocovariance over whole lags (docs/statistics.md section 3): a scale
+  // between even whole numbers is refused, and the process says so (a curve study refuses
+  // such taus before fitting, pipeline/curve_study.h).
+  const auto p = make_process("ARMA", {{"p", 1}, {"q", 1}});
+  EXPECT_TRUE(p->needs_whole_scales());
+  std::vector<double> out(1);
+  try {
+    p->wv(std::vector<double>{0.5, 0.2, 1.0}, std::vector<double>{3.0}, out);
+    FAIL() << "an odd scale was taken";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("an even integer"), std::string::npos) << e.what();
+  }
+}
 
 TEST(ArmaProcess, NamesItsStructureAndParameters) {
   const auto p = arma(2, 1);

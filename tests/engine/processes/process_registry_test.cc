@@ -170,5 +170,34 @@ TEST(ProcessRegistry, EveryProcessGivesItsWvAndJacobianTogetherAsItGivesThemApar
   }
 }
 
+TEST(ProcessRegistry, EveryProcessButArmaGivesItsWvBetweenWholeScalesContinuously) {
+  // A curve's averaging times need not be whole numbers of samples (curve.h): every process
+  // whose WV is a closed form continues it in m = tau / 2, smoothly (the value at 2m +- 1e-7
+  // within 1e-6 relative of the value at 2m, whole or not) and with the derivatives of that
+  // continuation; ARMA(p, q), whose WV sums over lags, says it needs whole scales.
+  const std::vector<double> tau{2.2, 7.4, 16.0, 41.3};
+  for (const auto& n : ProcessRegistry::instance().names()) {
+    const auto p = n == "ARMA" ? make_process(n, {{"p", 2}, {"q", 1}}) : make_process(n);
+    EXPECT_EQ(p->needs_whole_scales(), n == "ARMA") << n;
+    if (p->needs_whole_scales()) continue;
+    GuessContext guess;
+    const std::vector<double> wv(tau.size(), 1.0);
+    guess.tau = tau;
+    guess.wv = wv;
+    const std::vector<double> theta = p->initial_guess(guess);
+    ASSERT_EQ(p->validate(theta), "") << n;
+    for (double t : tau) {
+      std::vector<double> at(1), below(1), above(1);
+      p->wv(theta, std::vector<double>{t}, at);
+      p->wv(theta, std::vector<double>{t - 1e-7}, below);
+      p->wv(theta, std::vector<double>{t + 1e-7}, above);
+      ASSERT_TRUE(std::isfinite(at[0]) && at[0] > 0.0) << n << " at tau = " << t;
+      EXPECT_NEAR(below[0], at[0], 1e-6 * at[0]) << n << " at tau = " << t;
+      EXPECT_NEAR(above[0], at[0], 1e-6 * at[0]) << n << " at tau = " << t;
+    }
+    expect_derivatives_match_finite_differences(*p, theta, tau);
+  }
+}
+
 }  // namespace
 }  // namespace gmwm::test

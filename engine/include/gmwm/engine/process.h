@@ -9,7 +9,8 @@
 // Transform of each ParameterSpec.
 //
 // Scales are given as tau = 2^j in samples (doubles, so that the formulas read as in
-// docs/statistics.md section 3).
+// docs/statistics.md section 3); wv() takes any tau >= 2 (an averaging time of tau / 2
+// samples, whole or not) unless needs_whole_scales().
 
 #include <cstdint>
 #include <memory>
@@ -188,6 +189,10 @@ class Process {
   }
   /// True when the WV is linear in every parameter (WN, QN, RW): used by optimism checks.
   virtual bool linear() const { return false; }
+  /// True when wv() takes even whole scales only (a sum over lags: ARMA). The closed forms
+  /// of the others are continued in m = tau / 2 between whole numbers (docs/statistics.md
+  /// section 3), so that a curve given at any averaging time can be fitted (curve.h).
+  virtual bool needs_whole_scales() const { return false; }
   /// Index of the parameter whose order sorts repeated components (AR1: phi), or -1.
   virtual int sort_key() const { return -1; }
 
