@@ -12,6 +12,7 @@
 #include "gmwm/engine/choice.h"
 #include "gmwm/engine/curve.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/number_text.h"
 #include "gmwm/io/curve_reader.h"
 #include "gmwm/engine/random.h"
 #include "gmwm/io/units.h"
@@ -80,7 +81,7 @@ std::string py_fit_curve(const py::object& curve, const std::string& model_spec,
   o.fit.omega = omega_kind(omega);
   o.fit.confidence = confidence;
   if (record && !(*record > 0.0))
-    throw gmwm::InputError("--record: found " + std::to_string(*record) +
+    throw gmwm::InputError("--record: found " + gmwm::significant(*record, 6) +
                            ", expected a record length in seconds above 0");
   o.fit.record_seconds = record.value_or(0.0);
   o.fit.fit.alpha = alpha;

@@ -43,7 +43,11 @@ std::string curve_head(const pipeline::CurveFitStudy& study, const pipeline::Cur
   os << c.curve.name << ": a curve of " << c.curve.size() << " points (" << to_string(c.curve.quantity) << ", "
      << c.curve.source << ")";
   if (static_cast<std::size_t>(fitted) < c.curve.size()) os << ", " << fitted << " fitted";
-  os << "; " << fmt(c.freq) << " Hz (" << (study.freq_given ? "given" : "its finest tau one sample")
+  const double m0 = c.wv.tau.empty() ? 1.0 : 0.5 * c.wv.tau.front();  // the finest averaging time, samples
+  os << "; " << fmt(c.freq) << " Hz ("
+     << (study.freq_given ? std::string("given")
+         : m0 == 1.0      ? std::string("its finest tau one sample")
+                          : "its finest tau " + fmt(m0) + " samples, the others no multiples of it")
      << "), weights from " << to_string(c.weights) << ", Omega " << to_string(study.omega) << '\n';
   return os.str();
 }
