@@ -2,7 +2,7 @@
 
     python3 tools/bench/stability_hat_real.py build/gmwm [AXIS ...]   (default gyro_x gyro_z)
 
-The shared folder ($GMWM_SHARED_DATA, else ../shared/data) holds three units' static
+The folder $GMWM_SHARED_DATA (the ADIS recordings) holds three units' static
 recordings of 1e6 samples at 100 Hz. They were recorded separately (no stamps; their slow
 components do not move together): not three sensors recorded together, so no hat of theirs
 separates a common input. They share no input a deviation sees (Earth's rate is constant), so
@@ -26,8 +26,10 @@ UNITS = ["adis_16405_imu1.csv.gz", "adis_16405_imu2.csv.gz", "adis_16405_imu3.cs
 
 
 def shared_folder():
-    here = os.path.dirname(os.path.abspath(__file__))
-    return os.environ.get("GMWM_SHARED_DATA", os.path.join(here, "..", "..", "..", "shared", "data"))
+    folder = os.environ.get("GMWM_SHARED_DATA")
+    if not folder:
+        sys.exit("GMWM_SHARED_DATA is not set to the folder with the ADIS recordings")
+    return folder
 
 
 def axis_side_by_side(axis, into):
