@@ -42,7 +42,8 @@ bool shows(const Readoff& data) { return data.available() && data.status != Read
 void compare(const char* unit, const std::string& column, const std::string& model, const NoiseFigures& d,
              const ChosenFigures& chosen, Tally& t) {
   ++t.axes;
-  NoiseFigures m{chosen.white.figure, chosen.walk.figure, chosen.instability.figure};
+  NoiseFigures m{chosen.white.figure, chosen.walk.figure, chosen.instability.figure, chosen.quantization.figure,
+                 chosen.ramp.figure};
   const double raw = chosen.white.model.value / d.white.value;
   const double rn = m.white.value / d.white.value;
   const bool n_ok = std::isfinite(rn) && std::abs(rn - 1.0) <= 0.15;
