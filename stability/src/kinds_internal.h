@@ -3,31 +3,58 @@
 // at one averaging factor m of phase x (tau0 apart): the modified and Hadamard total variances
 // (total_deviation.cc), Theo1 (theo1.cc), MTIE and TIE rms (time_error.cc). deviation.cc checks
 // the factor and the phase before it calls them.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
+
+#include "gmwm/engine/parallel.h"
 
 namespace gmwm::stability::detail {
 
-// Sum of d(t)^2 over t in [0, count), in four interleaved double lanes: the loop vectorises
-// (each lane's order fixed, so the value does not depend on the machine's vector width), and
-// 1e7 squares summed so keep their rounding near 1e-13 relative (checked against allantools
-// and Stable32: tools/bench/RESULTS.md, "The frequency-stability deviations").
+// Sum of d(t)^2 over t in [first, last), in four interleaved double lanes: the loop
+// vectorises (each lane's order fixed, so the value does not depend on the machine's vector
+// width).
 constexpr int kLanes = 4;
 template <class D>
-double sum_of_squares(std::int64_t count, D d) {
+double lane_sum_of_squares(std::int64_t first, std::int64_t last, const D& d) {
   std::array<double, kLanes> lane{};
-  std::int64_t t = 0;
-  for (; t + kLanes <= count; t += kLanes)
+  std::int64_t t = first;
+  for (; t + kLanes <= last; t += kLanes)
     for (int l = 0; l < kLanes; ++l) {
       const double v = d(t + l);
       lane[static_cast<std::size_t>(l)] += v * v;
     }
-  for (; t < count; ++t) {
+  for (; t < last; ++t) {
     const double v = d(t);
     lane[0] += v * v;
   }
   return (lane[0] + lane[1]) + (lane[2] + lane[3]);
+}
+
+// Terms summed in one piece; a longer sum is cut into pieces of this many, summed in parallel
+// and added in their order, so that one factor's sum uses every thread (the first factors of
+// an octave set are most of its work: m = 1 alone is half a non-overlapping ADEV's) and its
+// value does not depend on the thread count. 2^16 terms (512 kB of phase a piece) amortise a
+// task's cost (microseconds) over ~30 us of sums, and the pieces' partial sums keep 1e7
+// squares' rounding near 1e-14 relative (checked against allantools and Stable32:
+// tools/bench/RESULTS.md, "The frequency-stability deviations").
+constexpr std::int64_t kPieceTerms = std::int64_t{1} << 16;
+
+// Sum of d(t)^2 over t in [0, count): d must be a pure function of t (pieces run at once).
+template <class D>
+double sum_of_squares(std::int64_t count, const D& d) {
+  if (count <= kPieceTerms) return lane_sum_of_squares(0, count, d);
+  const std::int64_t pieces = (count + kPieceTerms - 1) / kPieceTerms;
+  std::vector<double> piece(static_cast<std::size_t>(pieces));
+  gmwm::parallel_for(std::int64_t{0}, pieces, [&](std::int64_t p) {
+    piece[static_cast<std::size_t>(p)] =
+        lane_sum_of_squares(p * kPieceTerms, std::min(count, (p + 1) * kPieceTerms), d);
+  });
+  double sum = 0.0;
+  for (const double v : piece) sum += v;
+  return sum;
 }
 
 /// MTOTVAR (NIST SP 1065 eq. 27): O(N) whatever m (total_deviation.cc explains how).

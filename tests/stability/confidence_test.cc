@@ -135,7 +135,9 @@ TEST(ConfidenceIntervals, MatchStable32sOnPhaseDatAtEveryOctaveOfEveryKind) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const DeviationIntervals& ci = rows[i].m == kStable32NoiseDiffers ? fixed : identified;
       SCOPED_TRACE(std::string(deviation_name(kind)) + " m = " + std::to_string(rows[i].m));
-      if (rows[i].m != kStable32NoiseDiffers) EXPECT_EQ(ci.noise[i].alpha, 0);
+      if (rows[i].m != kStable32NoiseDiffers) {
+        EXPECT_EQ(ci.noise[i].alpha, 0);
+      }
       for (const auto& [ours, theirs] : {std::pair{ci.low[i], rows[i].low}, std::pair{ci.high[i], rows[i].high}}) {
         EXPECT_NEAR(ours, theirs, kLargestRelativeGap * theirs);
         ++ends;

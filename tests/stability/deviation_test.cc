@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -194,6 +195,46 @@ TEST(Deviation, IsTheSameWhateverTheThreadCount) {
   }
 }
 
+// A sum longer than one piece (kinds_internal.h: 2^16 terms) is summed piece by piece in
+// parallel: the same value on one thread as on all, and the direct long-double sum's to
+// 1e-13 (the double lanes' rounding over 3e5 squares: ~sqrt(3e5) x 1.1e-16 = 6e-14).
+TEST(Deviation, SumsLongerThanAPieceAreTheSameWhateverTheThreadCountAndMatchALongDoubleSum) {
+  std::mt19937_64 rng(48);
+  std::normal_distribution<double> normal;
+  std::vector<double> y(300000);
+  for (double& v : y) v = normal(rng);
+  const std::vector<double> x = phase_from_frequency(y, 1.0);
+  const std::vector<std::int64_t> m = {1, 2, 4};
+  for (const DeviationKind kind : {DeviationKind::kAdev, DeviationKind::kOadev, DeviationKind::kHdev,
+                                   DeviationKind::kOhdev, DeviationKind::kTotdev, DeviationKind::kTierms}) {
+    const DeviationCurve many = deviation(kind, x, 1.0, m);
+    {
+      const oneapi::tbb::global_control one(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+      EXPECT_EQ(deviation(kind, x, 1.0, m).value, many.value) << deviation_name(kind);
+    }
+    if (kind != DeviationKind::kOadev && kind != DeviationKind::kAdev) continue;
+    for (std::size_t k = 0; k < m.size(); ++k) {  // AVAR = sum (x_{i+2m} - 2 x_{i+m} + x_i)^2 / (2 m^2 terms)
+      const std::int64_t f = m[k], stride = kind == DeviationKind::kAdev ? f : 1;
+      long double sum = 0.0L;
+      for (std::int64_t t = 0; t < many.terms[k]; ++t) {
+        const auto i = static_cast<std::size_t>(t * stride), step = static_cast<std::size_t>(f);
+        const long double d = static_cast<long double>(x[i + 2 * step]) - 2.0L * x[i + step] + x[i];
+        sum += d * d;
+      }
+      const double direct = std::sqrt(static_cast<double>(sum / (2.0L * f * f * many.terms[k])));
+      EXPECT_NEAR(many.value[k], direct, 1e-13 * direct) << deviation_name(kind) << " m = " << f;
+    }
+  }
+}
+
+TEST(Deviation, PhaseLessAnOffsetIsThePhaseOfTheRateLessIt) {
+  std::vector<double> shifted = kNbs9;
+  for (double& v : shifted) v -= 800.0;
+  const std::vector<double> a = phase_from_frequency(kNbs9, 0.5, 800.0), b = phase_from_frequency(shifted, 0.5);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_DOUBLE_EQ(a[i], b[i]) << i;
+}
+
 TEST(Deviation, FactorSetsStopWhereTheDefinitionLeavesNoTerm) {
   EXPECT_EQ(factors(TauSet::kOctave, DeviationKind::kOadev, 1001),
             (std::vector<std::int64_t>{1, 2, 4, 8, 16, 32, 64, 128, 256}));
@@ -254,6 +295,12 @@ TEST(Deviation, RefusesBadPhaseSpacingAndFactorsNamingThem) {
   std::vector<double> holed = x;
   holed[6] = NAN;
   EXPECT_EQ(refusal(DeviationKind::kMdev, holed, 1.0, {1}), "phase point 6 is not a finite number");
+  holed[6] = x[6];
+  holed[8] = -INFINITY;
+  EXPECT_EQ(refusal(DeviationKind::kAdev, holed, 1.0, {1}), "phase point 8 is not a finite number");
+  const std::vector<double> apart = {-1e308, 0.0, 1e308, 0.0};  // finite, 2e308 apart
+  EXPECT_EQ(refusal(DeviationKind::kAdev, apart, 1.0, {1}),
+            "phase: points differ by more than a double holds (1.8e308)");
   std::vector<double> y = kNbs9;
   y[2] = INFINITY;
   try {
@@ -261,6 +308,12 @@ TEST(Deviation, RefusesBadPhaseSpacingAndFactorsNamingThem) {
     FAIL() << "took an infinite sample";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "sample 2 is not a finite number");
+  }
+  try {
+    phase_from_frequency(kNbs9, 1.0, NAN);
+    FAIL() << "took a NaN offset";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "offset: found nan, expected a finite number");
   }
 }
 

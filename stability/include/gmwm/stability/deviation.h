@@ -72,10 +72,12 @@ std::optional<DeviationKind> deviation_from_name(std::string_view name);
 /// or tierms" for any other.
 DeviationKind deviation_of(const std::string& text);
 
-/// The phase of a rate or fractional-frequency series: x_0 = 0, x_{i+1} = x_i + y_i tau0
-/// (N + 1 points, summed in long double). Throws InputError for a tau0 that is not positive
-/// and finite or a sample that is not finite (naming it).
-std::vector<double> phase_from_frequency(std::span<const double> y, double tau0);
+/// The phase of a rate or fractional-frequency series less `offset` (its mean, say: the
+/// phase of a rate with an offset grows linearly, which no deviation sees but the doubles'
+/// digits do): x_0 = 0, x_{i+1} = x_i + (y_i - offset) tau0 (N + 1 points, summed in long
+/// double). Throws InputError for a tau0 that is not positive and finite, an offset or a
+/// sample that is not finite (naming it).
+std::vector<double> phase_from_frequency(std::span<const double> y, double tau0, double offset = 0.0);
 
 /// The fewest phase points a kind needs for one term at its smallest factor: 3 for the Allan
 /// family, MDEV, TDEV and the total, modified total and time total deviations, 4 for the
