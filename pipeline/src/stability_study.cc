@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "column_wvs.h"
 #include "gmwm/engine/error.h"
@@ -14,18 +15,40 @@
 namespace gmwm::pipeline {
 namespace {
 
-// The rate's mean (four long-double lanes): the phase of a rate with an offset (a gyroscope's
-// bias, a clock's frequency offset) grows linearly, and a double holding it loses the digits
-// its differences need; no deviation sees the line (they difference it away), so it is
-// removed first, as Stable32's PHASE.DAT is the NBS14 set's phase without its mean frequency.
+// The rate's mean (four long-double lanes, block by block: a record in a temporary file is
+// released behind the pass): the phase of a rate with an offset (a gyroscope's bias, a
+// clock's frequency offset) grows linearly, and a double holding it loses the digits its
+// differences need; no deviation sees the line (they difference it away), so it is removed
+// first, as Stable32's PHASE.DAT is the NBS14 set's phase without its mean frequency.
 double mean_of(std::span<const double> y) {
   std::array<long double, 4> lane{};
-  std::size_t i = 0;
-  for (; i + lane.size() <= y.size(); i += lane.size())
-    for (std::size_t k = 0; k < lane.size(); ++k) lane[k] += y[i + k];
-  for (; i < y.size(); ++i) lane[0] += y[i];
+  for_each_block(y, [&](std::span<const double> part, std::size_t) {
+    std::size_t i = 0;
+    for (; i + lane.size() <= part.size(); i += lane.size())
+      for (std::size_t k = 0; k < lane.size(); ++k) lane[k] += part[i + k];
+    for (; i < part.size(); ++i) lane[0] += part[i];
+  });
   const long double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
   return y.empty() ? 0.0 : static_cast<double>(sum / static_cast<long double>(y.size()));
+}
+
+// The kinds that read a phase in a temporary file in pieces, holding memory that does not
+// grow with the record (deviation.h); the others keep working arrays as long as it.
+bool reads_in_bounded_memory(stability::DeviationKind kind) {
+  using K = stability::DeviationKind;
+  switch (kind) {
+    case K::kAdev:
+    case K::kOadev:
+    case K::kMdev:
+    case K::kTdev:
+    case K::kHdev:
+    case K::kOhdev:
+    case K::kTotdev:
+    case K::kTierms:
+      return true;
+    default:
+      return false;
+  }
 }
 
 std::string file_place(const io::SignalSet& set) { return set.path.empty() ? std::string() : set.path + ": "; }
@@ -58,9 +81,17 @@ std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double
 
 // One series' deviations of every kind asked, with their intervals (their wall time added to
 // `interval_seconds`): the rate `y` less its mean, as phase.
-StabilityColumn study_column(const io::SignalSet& set, const std::string& name, std::span<const double> y,
+StabilityColumn study_column(const io::SignalSet& set, const std::string& name, const Samples& y,
                              const StabilityStudyOptions& options, double tau0, double& interval_seconds) {
-  const std::vector<double> phase = stability::phase_from_frequency(y, tau0, mean_of(y));
+  if (y.in_file())
+    for (const stability::DeviationKind kind : options.kinds)
+      if (!reads_in_bounded_memory(kind))
+        throw InputError(file_place(set) + "column '" + name + "': its " + std::to_string(y.size()) +
+                         " samples are beyond the memory budget (--memory), and " +
+                         std::string(stability::deviation_name(kind)) +
+                         " keeps working arrays as long as the record in memory; the kinds read in bounded memory "
+                         "are adev, oadev, mdev, tdev, hdev, ohdev, totdev and tierms (or raise --memory)");
+  const Samples phase = stability::phase_from_record(y, tau0, mean_of(y));
   const auto phase_points = static_cast<std::int64_t>(phase.size());
   StabilityColumn column{name, {}, {}};
   for (const stability::DeviationKind kind : options.kinds) {
@@ -89,6 +120,28 @@ void require_three_columns(const io::SignalSet& set) {
                    std::to_string(set.signals.size()) + (names.empty() ? std::string() : " (" + names + ")"));
 }
 
+// a - b, in a temporary file when a is in one (a record beyond the memory budget), both
+// released behind the pass.
+Samples difference_of(const Samples& a, const Samples& b) {
+  std::optional<SampleFileWriter> file;
+  std::vector<double> memory;
+  if (a.in_file())
+    file.emplace();
+  else
+    memory.reserve(a.size());
+  std::vector<double> block;
+  for_each_block(a, [&](std::span<const double> part, std::size_t at) {
+    block.resize(part.size());
+    for (std::size_t i = 0; i < part.size(); ++i) block[i] = part[i] - b[at + i];
+    gmwm::detail::release_file_pages(b.data() + at, b.data() + at + part.size());
+    if (file)
+      file->append(block.data(), block.size());
+    else
+      memory.insert(memory.end(), block.begin(), block.end());
+  });
+  return file ? file->finish() : Samples(std::move(memory));
+}
+
 // The three-cornered hat of the set's three columns: the pairs A - B, B - C, C - A studied as
 // columns are (differences of rates recorded together: what the sensors share cancels), then
 // each kind's separation.
@@ -98,10 +151,7 @@ StabilityHat study_hat(const io::SignalSet& set, const StabilityStudyOptions& op
   for (std::size_t k = 0; k < stability::kHatSensors; ++k) hat.sensors[k] = set.signals[k].name;
   for (std::size_t k = 0; k < stability::kHatSensors; ++k) {
     const std::size_t next = (k + 1) % stability::kHatSensors;
-    const Samples& a = set.signals[k].values;
-    const Samples& b = set.signals[next].values;
-    std::vector<double> difference(a.size());
-    for (std::size_t i = 0; i < a.size(); ++i) difference[i] = a[i] - b[i];
+    const Samples difference = difference_of(set.signals[k].values, set.signals[next].values);
     hat.pairs.push_back(
         study_column(set, hat.sensors[k] + " - " + hat.sensors[next], difference, options, tau0, interval_seconds));
   }

@@ -11,6 +11,7 @@
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/number_text.h"
 #include "gmwm/engine/parallel.h"
+#include "gmwm/engine/samples.h"
 
 namespace gmwm::stability {
 namespace {
@@ -135,6 +136,9 @@ DeviationIntervals deviation_intervals(const DeviationCurve& curve, std::span<co
       out.noise[i] = {*options.noise_alpha, NAN, NoiseIdMethod::kFixed};
     else
       out.noise[i] = identify_noise(curve.kind, phase, curve.m[i]);
+    // A phase in a temporary file: its pages dropped after each factor (samples.h; nothing
+    // for a phase in memory).
+    gmwm::detail::release_file_pages(phase.data(), phase.data() + phase.size());
     const auto edf = equivalent_dof(curve.kind, out.noise[i].alpha, n, curve.m[i]);
     if (!edf || !(*edf > 0.0)) return;
     out.edf[i] = *edf;

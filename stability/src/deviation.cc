@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "gmwm/engine/choice.h"
 #include "gmwm/engine/error.h"
 #include "gmwm/engine/number_text.h"
 #include "gmwm/engine/parallel.h"
+#include "gmwm/engine/samples.h"
 #include "kinds_internal.h"
 
 namespace gmwm::stability {
@@ -60,59 +62,113 @@ constexpr std::array<std::int64_t, 3> kDecadeSteps = {1, 2, 4};
 // The squared second differences x_{i+2m} - 2 x_{i+m} + x_i (the Allan variances) or third
 // differences x_{i+3m} - 3 x_{i+2m} + 3 x_{i+m} - x_i (the Hadamard), summed over `count` i
 // spaced `stride` apart (m for the non-overlapping estimators, 1 for the overlapping).
-double second_differences(const double* x, std::int64_t m, std::int64_t count, std::int64_t stride) {
-  return sum_of_squares(count, [=](std::int64_t t) {
-    const double* p = x + t * stride;
-    return p[2 * m] - 2.0 * p[m] + p[0];
-  });
+double second_differences(std::span<const double> x, std::int64_t m, std::int64_t count, std::int64_t stride) {
+  const double* p0 = x.data();
+  return sum_of_squares(
+      count,
+      [=](std::int64_t t) {
+        const double* p = p0 + t * stride;
+        return p[2 * m] - 2.0 * p[m] + p[0];
+      },
+      detail::reads_at(x, 0, m, 3, stride), stride);
 }
-double third_differences(const double* x, std::int64_t m, std::int64_t count, std::int64_t stride) {
-  return sum_of_squares(count, [=](std::int64_t t) {
-    const double* p = x + t * stride;
-    return p[3 * m] - 3.0 * p[2 * m] + 3.0 * p[m] - p[0];
-  });
+double third_differences(std::span<const double> x, std::int64_t m, std::int64_t count, std::int64_t stride) {
+  const double* p0 = x.data();
+  return sum_of_squares(
+      count,
+      [=](std::int64_t t) {
+        const double* p = p0 + t * stride;
+        return p[3 * m] - 3.0 * p[2 * m] + 3.0 * p[m] - p[0];
+      },
+      detail::reads_at(x, 0, m, 4, stride), stride);
 }
 
-// MVAR's numerator: the inner sums of m second differences from their prefix sums (which
-// telescope: they stay on the scale of the phase, whatever N).
+// MDEV's pieces start from a direct sum of m second differences; beyond this factor that
+// start would cost more than an eighth of a piece's work, and the pieces run in turn instead,
+// each continuing the last one's sum.
+constexpr std::int64_t kLargestRestartedFactor = detail::kPieceTerms / 8;
+
+// MVAR's numerator: the sum over j < N - 3m + 1 of S_j^2, S_j the sum of the m second
+// differences d_i = x_{i+2m} - 2 x_{i+m} + x_i, i = j .. j + m - 1, each S_{j+1} from S_j
+// (d_{j+m} in, d_j out: O(1) a term, on the scale of the differences whatever N), in pieces
+// that read the phase where they are and release it behind them (a phase in a file).
 double modified_sum(std::span<const double> x, std::int64_t m) {
-  const auto n = static_cast<std::int64_t>(x.size());
-  const std::int64_t d = n - 2 * m;  // second differences x_{i+2m} - 2 x_{i+m} + x_i
-  std::vector<double> prefix(static_cast<std::size_t>(d) + 1, 0.0);
   const double* p = x.data();
-  for (std::int64_t i = 0; i < d; ++i)
-    prefix[static_cast<std::size_t>(i) + 1] =
-        prefix[static_cast<std::size_t>(i)] + (p[i + 2 * m] - 2.0 * p[i + m] + p[i]);
-  const double* s = prefix.data();
-  return sum_of_squares(d - m + 1, [=](std::int64_t j) { return s[j + m] - s[j]; });
+  const std::int64_t count = static_cast<std::int64_t>(x.size()) - 3 * m + 1;
+  const auto second = [=](std::int64_t i) { return p[i + 2 * m] - 2.0 * p[i + m] + p[i]; };
+  const detail::Reads reads = detail::reads_at(x, 0, m, 4, 1);
+  const auto start = [&](std::int64_t j) {  // S_j directly (m up to N / 3: released as it goes)
+    double s = 0.0;
+    for (std::int64_t from = j; from < j + m; from += detail::kPieceTerms) {
+      const std::int64_t to = std::min(j + m, from + detail::kPieceTerms);
+      for (std::int64_t i = from; i < to; ++i) s += second(i);
+      if ((to - j) % (detail::kReleasePieces * detail::kPieceTerms) == 0) reads.release(j, to);
+    }
+    return s;
+  };
+  const auto run = [&](std::int64_t first, std::int64_t last, double& s) {  // S_first in, S_last out
+    double sum = 0.0;
+    for (std::int64_t j = first; j < last; ++j) {
+      sum += s * s;
+      if (j + 1 < count) s += second(j + m) - second(j);
+    }
+    return sum;
+  };
+  if (m <= kLargestRestartedFactor)
+    return detail::sum_in_pieces(count, detail::kPieceTerms, reads, [&](std::int64_t first, std::int64_t last) {
+      double s = start(first);
+      return run(first, last, s);
+    });
+  double s = start(0), sum = 0.0;
+  for (std::int64_t first = 0; first < count; first += detail::kPieceTerms) {
+    const std::int64_t last = std::min(count, first + detail::kPieceTerms);
+    sum += run(first, last, s);
+    if ((first / detail::kPieceTerms + 1) % detail::kReleasePieces == 0 || last == count)
+      reads.release(std::max<std::int64_t>(0, last - detail::kReleasePieces * detail::kPieceTerms), last);
+  }
+  return sum;
 }
 
 // TOTVAR's numerator: the second differences of the phase reflected at both ends, for the
-// centres i = 1 .. N-2 (the interior m .. N-1-m reads no reflection).
+// centres i = 1 .. N-2 (the interior m .. N-1-m reads no reflection; m <= (N - 1) / 2, so a
+// centre's differences reflect at one end at most).
 double total_sum(std::span<const double> x, std::int64_t m) {
   const auto n = static_cast<std::int64_t>(x.size());
-  const auto at = [&](std::int64_t i) -> double {
-    if (i < 0) return 2.0 * x.front() - x[static_cast<std::size_t>(-i)];
-    if (i > n - 1) return 2.0 * x.back() - x[static_cast<std::size_t>(2 * (n - 1) - i)];
-    return x[static_cast<std::size_t>(i)];
-  };
-  const auto edge = [&](std::int64_t from, std::int64_t to) {  // centres [from, to) near an end
-    double sum = 0.0;
-    for (std::int64_t i = from; i < to; ++i) {
-      const double d = at(i - m) - 2.0 * at(i) + at(i + m);
-      sum += d * d;
-    }
-    return sum;
+  const double* p = x.data();
+  const auto at = [=](std::int64_t i) -> double {
+    if (i < 0) return 2.0 * p[0] - p[-i];
+    if (i > n - 1) return 2.0 * p[n - 1] - p[2 * (n - 1) - i];
+    return p[i];
   };
   // Centres m .. n-1-m read no reflection (i - m >= 0, i + m <= n - 1).
   const std::int64_t lo = std::min(m, n - 1);
   const std::int64_t hi = std::max(lo, n - m);  // one past the last
-  const double* p = x.data();
-  const double interior = sum_of_squares(hi - lo, [=](std::int64_t t) {
-    const double* c = p + lo + t;
-    return c[m] - 2.0 * c[0] + c[-m];
-  });
-  return edge(1, lo) + interior + edge(hi, n - 1);
+  // Centres [from, to) near an end, reading where `reads` says (the reflected read runs backwards).
+  const auto centres = [&](std::int64_t from, std::int64_t to, detail::Reads reads) {
+    return sum_of_squares(
+        to - from,
+        [=](std::int64_t t) {
+          const std::int64_t i = from + t;
+          return at(i - m) - 2.0 * at(i) + at(i + m);
+        },
+        reads);
+  };
+  detail::Reads left = detail::reads_at(x, 1, m, 2, 1), interior = detail::reads_at(x, lo - m, m, 3, 1),
+                right = detail::reads_at(x, hi - m, m, 2, 1);
+  if (left.x != nullptr) {
+    left.read[2] = {m - 1, -1};  // at(i - m) = 2 x_0 - x_{m-i}
+    left.count = 3;
+    right.read[2] = {2 * (n - 1) - hi - m, -1};  // at(i + m) = 2 x_{N-1} - x_{2(N-1)-i-m}
+    right.count = 3;
+  }
+  const double inside = sum_of_squares(
+      hi - lo,
+      [=](std::int64_t t) {
+        const double* c = p + lo + t;
+        return c[m] - 2.0 * c[0] + c[-m];
+      },
+      interior);
+  return centres(1, lo, left) + inside + centres(hi, n - 1, right);
 }
 
 // The variance of `kind` at factor m (terms(kind, N, m) >= 1).
@@ -123,18 +179,18 @@ double variance(DeviationKind kind, std::span<const double> x, std::int64_t m, d
   const double scale = tau * tau * static_cast<double>(count);
   switch (kind) {
     case DeviationKind::kAdev:
-      return second_differences(x.data(), m, count, m) / (2.0 * scale);
+      return second_differences(x, m, count, m) / (2.0 * scale);
     case DeviationKind::kOadev:
-      return second_differences(x.data(), m, count, 1) / (2.0 * scale);
+      return second_differences(x, m, count, 1) / (2.0 * scale);
     case DeviationKind::kMdev:
     case DeviationKind::kTdev: {
       const double mvar = modified_sum(x, m) / (2.0 * static_cast<double>(m) * static_cast<double>(m) * scale);
       return kind == DeviationKind::kMdev ? mvar : tau * tau * mvar / 3.0;
     }
     case DeviationKind::kHdev:
-      return third_differences(x.data(), m, count, m) / (6.0 * scale);
+      return third_differences(x, m, count, m) / (6.0 * scale);
     case DeviationKind::kOhdev:
-      return third_differences(x.data(), m, count, 1) / (6.0 * scale);
+      return third_differences(x, m, count, 1) / (6.0 * scale);
     case DeviationKind::kTotdev:
       return total_sum(x, m) / (2.0 * scale);
     case DeviationKind::kMtotdev:
@@ -143,8 +199,7 @@ double variance(DeviationKind kind, std::span<const double> x, std::int64_t m, d
       return kind == DeviationKind::kMtotdev ? mtotvar : tau * tau * mtotvar / 3.0;
     }
     case DeviationKind::kHtotdev:  // Stable32 reads OHVAR at m = 1 (kinds_internal.h)
-      return m == 1 ? third_differences(x.data(), m, count, 1) / (6.0 * scale)
-                    : detail::hadamard_total_variance(x, m, tau0);
+      return m == 1 ? third_differences(x, m, count, 1) / (6.0 * scale) : detail::hadamard_total_variance(x, m, tau0);
     case DeviationKind::kTheo1:
       return detail::theo1_variance(x, m, tau0);
     case DeviationKind::kMtie:
@@ -171,8 +226,8 @@ constexpr double kLargestSafeSpread = 1e100;
 constexpr double kSmallestSafeSpread = 1e-100;
 
 struct Scaled {
-  std::vector<double> phase;  // the phase over its spread (empty: read as it is)
-  double factor = 1.0;        // what the deviations are multiplied by
+  Samples phase;        // the phase over its spread (empty: read as it is)
+  double factor = 1.0;  // what the deviations are multiplied by
 };
 
 // One pass over the phase: its spread from the first point (the largest |x_i - x_0|), NaN
@@ -182,24 +237,28 @@ struct Scaled {
 // every finite point and NaN for any other.
 double spread_or_nan(std::span<const double> x) {
   const double x0 = x.front();
-  const double* p = x.data();
-  const auto n = static_cast<std::int64_t>(x.size());
   std::array<double, detail::kLanes> lo{}, hi{}, bad{};
-  std::int64_t i = 0;
-  for (; i + detail::kLanes <= n; i += detail::kLanes)
-    for (int l = 0; l < detail::kLanes; ++l) {
-      const auto k = static_cast<std::size_t>(l);
-      const double v = p[i + l] - x0;
-      lo[k] = v < lo[k] ? v : lo[k];
-      hi[k] = v > hi[k] ? v : hi[k];
-      bad[k] += v * 0.0;
+  // Block by block (a phase in a file is released behind the pass: samples.h); extremes and
+  // sums of zeros are exact, so the blocks change nothing.
+  gmwm::for_each_block(x, [&](std::span<const double> part, std::size_t) {
+    const double* p = part.data();
+    const auto n = static_cast<std::int64_t>(part.size());
+    std::int64_t i = 0;
+    for (; i + detail::kLanes <= n; i += detail::kLanes)
+      for (int l = 0; l < detail::kLanes; ++l) {
+        const auto k = static_cast<std::size_t>(l);
+        const double v = p[i + l] - x0;
+        lo[k] = v < lo[k] ? v : lo[k];
+        hi[k] = v > hi[k] ? v : hi[k];
+        bad[k] += v * 0.0;
+      }
+    for (; i < n; ++i) {
+      const double v = p[i] - x0;
+      lo[0] = v < lo[0] ? v : lo[0];
+      hi[0] = v > hi[0] ? v : hi[0];
+      bad[0] += v * 0.0;
     }
-  for (; i < n; ++i) {
-    const double v = p[i] - x0;
-    lo[0] = v < lo[0] ? v : lo[0];
-    hi[0] = v > hi[0] ? v : hi[0];
-    bad[0] += v * 0.0;
-  }
+  });
   double spread = 0.0, check = 0.0;
   for (std::size_t k = 0; k < lo.size(); ++k) {
     spread = std::max({spread, -lo[k], hi[k]});
@@ -220,8 +279,20 @@ Scaled checked_scaled_phase(std::span<const double> x) {
   Scaled s;
   if (spread == 0.0 || (spread <= kLargestSafeSpread && spread >= kSmallestSafeSpread)) return s;
   s.factor = spread;
-  s.phase.resize(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) s.phase[i] = (x[i] - x.front()) / spread;
+  // In a temporary file when the phase is in one (samples.h), else in memory.
+  const bool file = gmwm::detail::in_sample_file(x.data(), x.size());
+  std::optional<SampleFileWriter> writer;
+  if (file) writer.emplace();
+  std::vector<double> memory;
+  gmwm::for_each_block(x, [&](std::span<const double> part, std::size_t) {
+    std::vector<double> block(part.size());
+    for (std::size_t i = 0; i < part.size(); ++i) block[i] = (part[i] - x.front()) / spread;
+    if (file)
+      writer->append(block.data(), block.size());
+    else
+      memory.insert(memory.end(), block.begin(), block.end());
+  });
+  s.phase = file ? writer->finish() : Samples(std::move(memory));
   return s;
 }
 
@@ -248,20 +319,54 @@ DeviationKind deviation_of(const std::string& text) {
   throw InputError("--kind: " + unknown_choice(text, names));
 }
 
-std::vector<double> phase_from_frequency(std::span<const double> y, double tau0, double offset) {
+namespace {
+
+// The phase of y less `offset`: x_0 = 0 then, block by block of y (released behind the pass
+// when it lives in a file), x_{at+1 ..} into place(at, count), a buffer handed to done(count).
+template <class Place, class Done>
+void phase_blocks(std::span<const double> y, double tau0, double offset, const Place& place, const Done& done) {
   if (!(tau0 > 0.0) || !std::isfinite(tau0))
     throw InputError("tau0: found " + text_of(tau0) + ", expected a positive, finite spacing in seconds");
-  for (std::size_t i = 0; i < y.size(); ++i)
-    if (!std::isfinite(y[i])) throw InputError("sample " + std::to_string(i) + " is not a finite number");
+  gmwm::for_each_block(y, [&](std::span<const double> part, std::size_t at) {
+    for (std::size_t i = 0; i < part.size(); ++i)
+      if (!std::isfinite(part[i])) throw InputError("sample " + std::to_string(at + i) + " is not a finite number");
+  });
   if (!std::isfinite(offset)) throw InputError("offset: found " + text_of(offset) + ", expected a finite number");
+  long double sum = 0.0L;
+  gmwm::for_each_block(y, [&](std::span<const double> part, std::size_t at) {
+    double* out = place(at, part.size());
+    for (std::size_t i = 0; i < part.size(); ++i) {
+      sum += (static_cast<long double>(part[i]) - offset) * tau0;
+      out[i] = static_cast<double>(sum);
+    }
+    done(part.size());
+  });
+}
+
+}  // namespace
+
+std::vector<double> phase_from_frequency(std::span<const double> y, double tau0, double offset) {
   std::vector<double> x(y.size() + 1);
   x[0] = 0.0;
-  long double sum = 0.0L;
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    sum += (static_cast<long double>(y[i]) - offset) * tau0;
-    x[i + 1] = static_cast<double>(sum);
-  }
+  phase_blocks(
+      y, tau0, offset, [&](std::size_t at, std::size_t) { return x.data() + at + 1; }, [](std::size_t) {});
   return x;
+}
+
+Samples phase_from_record(const Samples& y, double tau0, double offset) {
+  if (!y.in_file()) return phase_from_frequency(std::span<const double>(y), tau0, offset);
+  SampleFileWriter writer;
+  const double zero = 0.0;
+  writer.append(&zero, 1);
+  std::vector<double> block;
+  phase_blocks(
+      y, tau0, offset,
+      [&](std::size_t, std::size_t count) {
+        block.resize(count);
+        return block.data();
+      },
+      [&](std::size_t count) { writer.append(block.data(), count); });
+  return writer.finish();
 }
 
 std::int64_t min_phase_points(DeviationKind kind) {
@@ -397,8 +502,13 @@ DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, doub
   // Every deviation is linear in the phase: one far from 1 is read scaled to 1 and scaled back.
   const Scaled scaled = checked_scaled_phase(phase);
   const std::span<const double> x = scaled.phase.empty() ? phase : std::span<const double>(scaled.phase);
-  gmwm::parallel_for(std::size_t{0}, m.size(),
-                     [&](std::size_t k) { c.value[k] = deviation_at(kind, x, m[k], tau0) * scaled.factor; });
+  // A phase in a temporary file is released after each factor (the pieces release the pages
+  // they pass; this, the few a piece's ends share with the next).
+  const bool file = gmwm::detail::in_sample_file(x.data(), x.size());
+  gmwm::parallel_for(std::size_t{0}, m.size(), [&](std::size_t k) {
+    c.value[k] = deviation_at(kind, x, m[k], tau0) * scaled.factor;
+    if (file) gmwm::detail::release_file_pages(x.data(), x.data() + x.size());
+  });
   for (const std::int64_t f : m) {
     c.tau.push_back(averaging_time(kind, f, tau0));
     c.terms.push_back(terms(kind, n, f));

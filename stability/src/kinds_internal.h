@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gmwm/engine/parallel.h"
+#include "gmwm/engine/samples.h"
 
 namespace gmwm::stability::detail {
 
@@ -41,20 +42,105 @@ double lane_sum_of_squares(std::int64_t first, std::int64_t last, const D& d) {
 // squares' rounding near 1e-14 relative (checked against allantools and Stable32:
 // tools/bench/RESULTS.md, "The frequency-stability deviations").
 constexpr std::int64_t kPieceTerms = std::int64_t{1} << 16;
+// A piece's terms span at most this many phase points (a strided sum's pieces hold fewer
+// terms), so that the pages a piece reads, released once it is done when the phase lives in a
+// temporary file (samples.h), stay a few MB whatever the factor.
+constexpr std::int64_t kPiecePoints = std::int64_t{1} << 16;
 
-// Sum of d(t)^2 over t in [0, count): d must be a pure function of t (pieces run at once).
-template <class D>
-double sum_of_squares(std::int64_t count, const D& d) {
-  if (count <= kPieceTerms) return lane_sum_of_squares(0, count, d);
-  const std::int64_t pieces = (count + kPieceTerms - 1) / kPieceTerms;
-  std::vector<double> piece(static_cast<std::size_t>(pieces));
+// A fault in a file mapping maps the whole page-cache folio around it, up to 2 MiB (a PMD on
+// x86-64 Linux; 6.x kernels keep file pages in such large folios), so what a piece releases
+// is widened to the 2 MiB boundaries of the file around its reads: the pages a strided read
+// brought in on either side of it are dropped too (a sum read again after is faulted back in
+// from the page cache). A strided ADEV on 1e8 points in a file peaked at 250 MB at m = 1e5
+// when only the pages between a piece's reads were released, 23 MB with this
+// (tools/bench/RESULTS.md, "Stability beyond the memory budget").
+constexpr std::int64_t kFolioPoints = (std::int64_t{2} << 20) / 8;
+
+// Releases x[lo, hi) of a phase of `points` points in a file, widened to the folio
+// boundaries around it (nothing for a phase in memory).
+inline void release_around(const double* x, std::int64_t points, std::int64_t lo, std::int64_t hi) {
+  if (hi <= lo) return;
+  const std::int64_t from = lo / kFolioPoints * kFolioPoints;
+  const std::int64_t to = std::min(points, (hi + kFolioPoints - 1) / kFolioPoints * kFolioPoints);
+  gmwm::detail::release_file_pages(x + from, x + to);
+}
+
+// Pieces between two releases: each release is a TLB shootdown on every thread (madvise),
+// which at one a piece (512 kB) took 40% of a pass's time in the kernel; one every 16 pieces
+// (8 MB of each read stream) holds a few tens of MB at most.
+constexpr std::int64_t kReleasePieces = 16;
+
+// Where term t of a sum reads the phase x: x[offset + t * stride] for each of `count` reads.
+// When x lives in a temporary file, each piece's pages are released once it is summed, so a
+// pass over a record of any length holds memory that does not grow with it (samples.h).
+struct Reads {
+  struct Read {
+    std::int64_t offset = 0, stride = 1;
+  };
+  const double* x = nullptr;
+  std::int64_t points = 0;  // x's length
+  std::array<Read, 4> read{};
+  int count = 0;
+  // The pages terms [first, last) read, released (nothing when x is in memory).
+  void release(std::int64_t first, std::int64_t last) const {
+    if (x == nullptr || last <= first) return;
+    for (int k = 0; k < count; ++k) {
+      const Read& r = read[static_cast<std::size_t>(k)];
+      const std::int64_t a = r.offset + first * r.stride, b = r.offset + (last - 1) * r.stride;
+      const std::int64_t lo = std::clamp<std::int64_t>(std::min(a, b), 0, points);
+      const std::int64_t hi = std::clamp<std::int64_t>(std::max(a, b) + 1, 0, points);
+      release_around(x, points, lo, hi);
+    }
+  }
+};
+
+// Reads at offsets k * step (k < count), stride `stride`: the differences of the Allan and
+// Hadamard families (step m), TIE's.
+inline Reads reads_at(std::span<const double> x, std::int64_t start, std::int64_t step, int count,
+                      std::int64_t stride) {
+  Reads r;
+  if (!gmwm::detail::in_sample_file(x.data(), x.size())) return r;
+  r.x = x.data();
+  r.points = static_cast<std::int64_t>(x.size());
+  r.count = count;
+  for (int k = 0; k < count; ++k) r.read[static_cast<std::size_t>(k)] = {start + k * step, stride};
+  return r;
+}
+
+// Terms a piece holds when consecutive terms are `stride` phase points apart (the same in
+// memory and in a file: the value does not depend on where the phase lives).
+inline std::int64_t piece_terms(std::int64_t stride) {
+  return std::clamp<std::int64_t>(kPiecePoints / std::max<std::int64_t>(stride, 1), 1, kPieceTerms);
+}
+
+// Sum over t in [0, count) of piece(first, last) for the pieces of `per` terms, in parallel
+// and added in their order; each piece's pages released behind it.
+template <class P>
+double sum_in_pieces(std::int64_t count, std::int64_t per, const Reads& reads, const P& piece) {
+  const std::int64_t pieces = (count + per - 1) / per;
+  if (pieces <= 1) {
+    const double v = piece(0, count);
+    reads.release(0, count);
+    return v;
+  }
+  std::vector<double> part(static_cast<std::size_t>(pieces));
   gmwm::parallel_for(std::int64_t{0}, pieces, [&](std::int64_t p) {
-    piece[static_cast<std::size_t>(p)] =
-        lane_sum_of_squares(p * kPieceTerms, std::min(count, (p + 1) * kPieceTerms), d);
+    const std::int64_t first = p * per, last = std::min(count, first + per);
+    part[static_cast<std::size_t>(p)] = piece(first, last);
+    if ((p + 1) % kReleasePieces == 0 || last == count)
+      reads.release(std::max<std::int64_t>(0, last - kReleasePieces * per), last);
   });
   double sum = 0.0;
-  for (const double v : piece) sum += v;
+  for (const double v : part) sum += v;
   return sum;
+}
+
+// Sum of d(t)^2 over t in [0, count): d must be a pure function of t (pieces run at once),
+// reading the phase where `reads` says, consecutive terms `stride` points apart.
+template <class D>
+double sum_of_squares(std::int64_t count, const D& d, const Reads& reads = {}, std::int64_t stride = 1) {
+  return sum_in_pieces(count, piece_terms(stride), reads,
+                       [&](std::int64_t first, std::int64_t last) { return lane_sum_of_squares(first, last, d); });
 }
 
 /// MTOTVAR (NIST SP 1065 eq. 27): O(N) whatever m (total_deviation.cc explains how).

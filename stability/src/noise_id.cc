@@ -11,7 +11,9 @@
 #include <numbers>
 #include <vector>
 
+#include "gmwm/engine/samples.h"
 #include "gmwm/stability/confidence.h"
+#include "kinds_internal.h"
 
 namespace gmwm::stability {
 namespace {
@@ -29,11 +31,13 @@ int difference_order(DeviationKind kind) {
 // sum (s_t - sbar)(s_{t+1} - sbar) / sum (s_t - sbar)^2), in one pass without a copy: the
 // sums of s - s(0) (a shift that keeps the squares on the scale of the series' spread, not
 // of its offset), centred afterwards.
-template <class S>
-double lag1_autocorrelation(std::int64_t n, const S& s) {
+// `passed(t)` is called as the pass goes (Behind: a phase in a file released behind it).
+template <class S, class P>
+double lag1_autocorrelation(std::int64_t n, const S& s, P& passed) {
   const double shift = s(0);
   double sum = 0.0, squares = 0.0, products = 0.0, previous = 0.0;
   for (std::int64_t t = 0; t < n; ++t) {
+    passed(t);
     const double v = s(t) - shift;
     sum += v;
     squares += v * v;
@@ -47,6 +51,32 @@ double lag1_autocorrelation(std::int64_t n, const S& s) {
   const double den = squares - nn * mean * mean;
   return den > 0.0 ? num / den : 0.0;
 }
+
+// Every this many phase points a pass over the decimated phase has crossed (8 MB), the pages
+// behind it are released when the phase lives in a temporary file (samples.h): a pass over a
+// record of any length then holds memory that does not grow with it, and the releases' TLB
+// shootdowns stay rare.
+constexpr std::int64_t kReleaseEvery = std::int64_t{1} << 20;
+
+// Releases the phase behind a pass reading x_{t m} (nothing for a phase in memory).
+struct Behind {
+  const double* x;
+  std::int64_t points, m;
+  bool file;
+  std::int64_t done = 0;
+  Behind(std::span<const double> phase, std::int64_t factor)
+      : x(phase.data()),
+        points(static_cast<std::int64_t>(phase.size())),
+        m(factor),
+        file(gmwm::detail::in_sample_file(phase.data(), phase.size())) {}
+  void operator()(std::int64_t t) {
+    if (!file) return;
+    if (t < done) done = 0;  // a new pass
+    if ((t - done) * m < kReleaseEvery) return;
+    detail::release_around(x, points, done * m, t * m);
+    done = t;
+  }
+};
 
 // The phase decimated by m (z_t = x_{tm}, t < points), less its least-squares line (the
 // frequency offset), then differenced d times. Differencing after the line's removal is
@@ -63,7 +93,9 @@ struct DecimatedSeries {
     // their ratio to sum (t - centre)^2 = n (n^2 - 1) / 12).
     const double z0 = z(0);
     double sum = 0.0, sxy = 0.0;
+    Behind passed(phase, factor);
     for (std::int64_t t = 0; t < points; ++t) {
+      passed(t);
       const double v = z(t) - z0;
       sum += v;
       sxy += (static_cast<double>(t) - centre) * v;
@@ -87,10 +119,13 @@ struct DecimatedSeries {
 
 NoiseIdentification by_autocorrelation(std::span<const double> x, std::int64_t m, std::int64_t points, int dmax) {
   const DecimatedSeries series(x, m, points);
+  Behind passed(x, m);
   for (int d = 0;; ++d) {
     const std::int64_t n = points - d;
-    const double r1 = d == 0 ? lag1_autocorrelation(n, [&](std::int64_t t) { return series.detrended(t); })
-                             : lag1_autocorrelation(n, [&](std::int64_t t) { return series.difference(d, t); });
+    const double r1 = d == 0 ? lag1_autocorrelation(
+                                   n, [&](std::int64_t t) { return series.detrended(t); }, passed)
+                             : lag1_autocorrelation(
+                                   n, [&](std::int64_t t) { return series.difference(d, t); }, passed);
     const double delta = r1 / (1.0 + r1);
     if (delta < kStationaryDelta || d >= dmax || n < 3) {
       // p = -2 (delta + d) is the phase's spectral index; the frequency's is alpha = p + 2.

@@ -45,7 +45,9 @@ double max_time_interval_error(std::span<const double> x, std::int64_t m) {
 double time_interval_error_rms(std::span<const double> x, std::int64_t m) {
   const std::int64_t count = static_cast<std::int64_t>(x.size()) - m;
   const double* p = x.data();
-  return std::sqrt(sum_of_squares(count, [=](std::int64_t i) { return p[i + m] - p[i]; }) / static_cast<double>(count));
+  const double sum = sum_of_squares(
+      count, [=](std::int64_t i) { return p[i + m] - p[i]; }, reads_at(x, 0, m, 2, 1));
+  return std::sqrt(sum / static_cast<double>(count));
 }
 
 }  // namespace gmwm::stability::detail

@@ -216,6 +216,37 @@ TEST_F(StabilityCommand, ARateWithALargeOffsetGivesTheDeviationsOfItsFluctuation
       EXPECT_NEAR(b[kind]["value"][k].get<double>() / curve["value"][k].get<double>(), 1.0, 1e-8) << kind << " " << k;
 }
 
+// 2^19 samples need 8 MB at 16 bytes a value: --memory 4 sends the record to a temporary
+// file, and its phase follows; every value, interval and noise is the same as in memory, and a
+// kind that keeps arrays as long as the record is refused naming the kinds that do not.
+TEST_F(StabilityCommand, ARecordBeyondTheMemoryBudgetGivesTheSameDeviationsAsInMemory) {
+  std::string csv = "y\n";
+  std::uint64_t state = 48;
+  for (int i = 0; i < (1 << 19); ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;  // Knuth's MMIX LCG
+    csv += std::to_string(static_cast<double>(state >> 11) / 9007199254740992.0 + 1e-6 * i) + "\n";
+  }
+  gmwm::test::write_text(dir_ / "long.csv", csv);
+  const std::vector<std::string> args = {
+      "stability", "long.csv", "--freq", "10", "--kind", "adev,oadev,mdev,tdev,hdev,ohdev,totdev,tierms", "--quiet"};
+  auto in_memory = args, spilled = args;
+  in_memory.insert(in_memory.end(), {"--json", "a.json"});
+  spilled.insert(spilled.end(), {"--memory", "4", "--json", "b.json"});
+  ASSERT_EQ(run_gmwm(in_memory, dir_).exit_code, 0);
+  const auto r = run_gmwm(spilled, dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  json a = read_json(dir_ / "a.json"), b = read_json(dir_ / "b.json");
+  a.erase("run");
+  b.erase("run");
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(b["columns"][0]["deviations"].size(), 8u);
+  expect_refused(
+      {"stability", "long.csv", "--freq", "10", "--kind", "adev,mtotdev", "--memory", "4", "--json", "out.json"},
+      "long.csv: column 'y': its 524288 samples are beyond the memory budget (--memory), and mtotdev keeps "
+      "working arrays as long as the record in memory; the kinds read in bounded memory are adev, oadev, "
+      "mdev, tdev, hdev, ohdev, totdev and tierms (or raise --memory)");
+}
+
 TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
   expect_refused({"stability", "nbs.csv", "--kind", "allan", "--json", "out.json"},
                  "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev");

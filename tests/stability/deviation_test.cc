@@ -18,6 +18,8 @@
 
 #include "gmwm/engine/allan.h"
 #include "gmwm/engine/error.h"
+#include "gmwm/engine/samples.h"
+#include "gmwm/stability/confidence.h"
 #include "gmwm/stability/deviation.h"
 #include "nbs14.h"
 
@@ -223,6 +225,38 @@ TEST(Deviation, SumsLongerThanAPieceAreTheSameWhateverTheThreadCountAndMatchALon
       }
       const double direct = std::sqrt(static_cast<double>(sum / (2.0L * f * f * many.terms[k])));
       EXPECT_NEAR(many.value[k], direct, 1e-13 * direct) << deviation_name(kind) << " m = " << f;
+    }
+  }
+}
+
+// A record in a temporary file (samples.h): its phase goes to one too, and every kind the
+// study reads in bounded memory gives the same values and intervals as from memory (the same
+// pieces, in the same order; only the pages released differ).
+TEST(Deviation, APhaseInATemporaryFileGivesTheSameDeviationsAndIntervalsAsInMemory) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  std::vector<double> y(200000);
+  double walk = 0.0;
+  for (double& v : y) v = normal(rng) + (walk += 1e-3 * normal(rng));
+  SampleFileWriter writer;
+  writer.append(y.data(), y.size());
+  const Samples in_file = writer.finish();
+  ASSERT_TRUE(in_file.in_file());
+  const Samples phase_file = phase_from_record(in_file, 0.1, 0.25), phase_memory = phase_from_record(y, 0.1, 0.25);
+  ASSERT_TRUE(phase_file.in_file());
+  ASSERT_FALSE(phase_memory.in_file());
+  EXPECT_TRUE(phase_file == phase_memory);
+  for (const DeviationKind kind :
+       {DeviationKind::kAdev, DeviationKind::kOadev, DeviationKind::kMdev, DeviationKind::kTdev, DeviationKind::kHdev,
+        DeviationKind::kOhdev, DeviationKind::kTotdev, DeviationKind::kTierms}) {
+    const std::vector<std::int64_t> m = factors(TauSet::kOctave, kind, static_cast<std::int64_t>(phase_file.size()));
+    const DeviationCurve a = deviation(kind, phase_file, 0.1, m), b = deviation(kind, phase_memory, 0.1, m);
+    EXPECT_EQ(a.value, b.value) << deviation_name(kind);
+    const DeviationIntervals ia = deviation_intervals(a, phase_file), ib = deviation_intervals(b, phase_memory);
+    for (std::size_t k = 0; k < m.size(); ++k) {  // equal, or both absent (TIE rms has no interval)
+      EXPECT_EQ(ia.noise[k].alpha, ib.noise[k].alpha) << deviation_name(kind) << " m = " << m[k];
+      EXPECT_TRUE(ia.low[k] == ib.low[k] || (std::isnan(ia.low[k]) && std::isnan(ib.low[k])));
+      EXPECT_TRUE(ia.high[k] == ib.high[k] || (std::isnan(ia.high[k]) && std::isnan(ib.high[k])));
     }
   }
 }

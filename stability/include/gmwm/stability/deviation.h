@@ -44,6 +44,8 @@
 #include <string_view>
 #include <vector>
 
+#include "gmwm/engine/samples.h"
+
 namespace gmwm::stability {
 
 enum class DeviationKind {
@@ -78,6 +80,11 @@ DeviationKind deviation_of(const std::string& text);
 /// double). Throws InputError for a tau0 that is not positive and finite, an offset or a
 /// sample that is not finite (naming it).
 std::vector<double> phase_from_frequency(std::span<const double> y, double tau0, double offset = 0.0);
+/// phase_from_frequency of a series that may live in a temporary file (a record beyond the memory budget,
+/// samples.h): its phase then goes to one too, written as it is summed, and the deviations
+/// read it in pieces, releasing the pages behind them (docs/stability.md, "Records beyond the
+/// memory budget"); in memory otherwise.
+Samples phase_from_record(const Samples& y, double tau0, double offset);
 
 /// The fewest phase points a kind needs for one term at its smallest factor: 3 for the Allan
 /// family, MDEV, TDEV and the total, modified total and time total deviations, 4 for the
