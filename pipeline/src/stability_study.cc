@@ -15,23 +15,6 @@
 namespace gmwm::pipeline {
 namespace {
 
-// The rate's mean (four long-double lanes, block by block: a record in a temporary file is
-// released behind the pass): the phase of a rate with an offset (a gyroscope's bias, a
-// clock's frequency offset) grows linearly, and a double holding it loses the digits its
-// differences need; no deviation sees the line (they difference it away), so it is removed
-// first, as Stable32's PHASE.DAT is the NBS14 set's phase without its mean frequency.
-double mean_of(std::span<const double> y) {
-  std::array<long double, 4> lane{};
-  for_each_block(y, [&](std::span<const double> part, std::size_t) {
-    std::size_t i = 0;
-    for (; i + lane.size() <= part.size(); i += lane.size())
-      for (std::size_t k = 0; k < lane.size(); ++k) lane[k] += part[i + k];
-    for (; i < part.size(); ++i) lane[0] += part[i];
-  });
-  const long double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
-  return y.empty() ? 0.0 : static_cast<double>(sum / static_cast<long double>(y.size()));
-}
-
 // The kinds that read a phase in a temporary file in pieces, holding memory that does not
 // grow with the record (deviation.h); the others keep working arrays as long as it.
 bool reads_in_bounded_memory(stability::DeviationKind kind) {
@@ -91,7 +74,7 @@ StabilityColumn study_column(const io::SignalSet& set, const std::string& name, 
                          std::string(stability::deviation_name(kind)) +
                          " keeps working arrays as long as the record in memory; the kinds read in bounded memory "
                          "are adev, oadev, mdev, tdev, hdev, ohdev, totdev and tierms (or raise --memory)");
-  const Samples phase = stability::phase_from_record(y, tau0, mean_of(y));
+  const Samples phase = stability::phase_from_record(y, tau0);  // less its mean
   const auto phase_points = static_cast<std::int64_t>(phase.size());
   StabilityColumn column{name, {}, {}};
   for (const stability::DeviationKind kind : options.kinds) {

@@ -319,56 +319,6 @@ DeviationKind deviation_of(const std::string& text) {
   throw InputError("--kind: " + unknown_choice(text, names));
 }
 
-namespace {
-
-// The phase of y less `offset`: x_0 = 0 then, block by block of y (released behind the pass
-// when it lives in a file), x_{at+1 ..} into place(at, count), a buffer handed to done(count).
-template <class Place, class Done>
-void phase_blocks(std::span<const double> y, double tau0, double offset, const Place& place, const Done& done) {
-  if (!(tau0 > 0.0) || !std::isfinite(tau0))
-    throw InputError("tau0: found " + text_of(tau0) + ", expected a positive, finite spacing in seconds");
-  gmwm::for_each_block(y, [&](std::span<const double> part, std::size_t at) {
-    for (std::size_t i = 0; i < part.size(); ++i)
-      if (!std::isfinite(part[i])) throw InputError("sample " + std::to_string(at + i) + " is not a finite number");
-  });
-  if (!std::isfinite(offset)) throw InputError("offset: found " + text_of(offset) + ", expected a finite number");
-  long double sum = 0.0L;
-  gmwm::for_each_block(y, [&](std::span<const double> part, std::size_t at) {
-    double* out = place(at, part.size());
-    for (std::size_t i = 0; i < part.size(); ++i) {
-      sum += (static_cast<long double>(part[i]) - offset) * tau0;
-      out[i] = static_cast<double>(sum);
-    }
-    done(part.size());
-  });
-}
-
-}  // namespace
-
-std::vector<double> phase_from_frequency(std::span<const double> y, double tau0, double offset) {
-  std::vector<double> x(y.size() + 1);
-  x[0] = 0.0;
-  phase_blocks(
-      y, tau0, offset, [&](std::size_t at, std::size_t) { return x.data() + at + 1; }, [](std::size_t) {});
-  return x;
-}
-
-Samples phase_from_record(const Samples& y, double tau0, double offset) {
-  if (!y.in_file()) return phase_from_frequency(std::span<const double>(y), tau0, offset);
-  SampleFileWriter writer;
-  const double zero = 0.0;
-  writer.append(&zero, 1);
-  std::vector<double> block;
-  phase_blocks(
-      y, tau0, offset,
-      [&](std::size_t, std::size_t count) {
-        block.resize(count);
-        return block.data();
-      },
-      [&](std::size_t count) { writer.append(block.data(), count); });
-  return writer.finish();
-}
-
 std::int64_t min_phase_points(DeviationKind kind) {
   switch (kind) {
     case DeviationKind::kTheo1:

@@ -242,7 +242,7 @@ TEST(Deviation, APhaseInATemporaryFileGivesTheSameDeviationsAndIntervalsAsInMemo
   writer.append(y.data(), y.size());
   const Samples in_file = writer.finish();
   ASSERT_TRUE(in_file.in_file());
-  const Samples phase_file = phase_from_record(in_file, 0.1, 0.25), phase_memory = phase_from_record(y, 0.1, 0.25);
+  const Samples phase_file = phase_from_record(in_file, 0.1), phase_memory = phase_from_record(y, 0.1);
   ASSERT_TRUE(phase_file.in_file());
   ASSERT_FALSE(phase_memory.in_file());
   EXPECT_TRUE(phase_file == phase_memory);

@@ -189,8 +189,8 @@ void add_source_options(CLI::App& sub, InputOptions& input) {
 void add_reading_options(CLI::App& sub, InputOptions& input) {
   sub.add_option("--memory", input.memory_mb,
                  "Memory for the samples in MB (default: 75% of physical memory, at 16 bytes a value); a longer "
-                 "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit "
-                 "and select then use memory that no longer grows with it")
+                 "record goes on in temporary files in $TMPDIR (8 bytes a value on disk) and the classical WV, fit, "
+                 "select and stability then use memory that no longer grows with it")
       ->type_name("MB")
       ->transform(memory_megabytes());
   add_conditioning_options(sub, input);

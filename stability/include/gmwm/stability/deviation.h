@@ -77,14 +77,17 @@ DeviationKind deviation_of(const std::string& text);
 /// The phase of a rate or fractional-frequency series less `offset` (its mean, say: the
 /// phase of a rate with an offset grows linearly, which no deviation sees but the doubles'
 /// digits do): x_0 = 0, x_{i+1} = x_i + (y_i - offset) tau0 (N + 1 points, summed in long
-/// double). Throws InputError for a tau0 that is not positive and finite, an offset or a
-/// sample that is not finite (naming it).
+/// double, from each 2^16-sample chunk's start: the chunks run in parallel, the values the same
+/// whatever the thread count). Throws InputError for a tau0 that is not positive and finite,
+/// an offset or a sample that is not finite (naming it).
 std::vector<double> phase_from_frequency(std::span<const double> y, double tau0, double offset = 0.0);
-/// phase_from_frequency of a series that may live in a temporary file (a record beyond the memory budget,
-/// samples.h): its phase then goes to one too, written as it is summed, and the deviations
-/// read it in pieces, releasing the pages behind them (docs/stability.md, "Records beyond the
-/// memory budget"); in memory otherwise.
-Samples phase_from_record(const Samples& y, double tau0, double offset);
+/// The phase of a record's rate less its mean (what `gmwm stability` reads: no deviation sees
+/// the line a rate's offset draws in its phase, but the doubles' digits do). A record in a
+/// temporary file (beyond the memory budget, samples.h) gets its phase in one too, written as
+/// it is summed, and the deviations read it in pieces, releasing the pages behind them
+/// (docs/stability.md, "Records beyond the memory budget"); in memory otherwise. Both sum in
+/// the same chunks (in parallel in memory): the same values.
+Samples phase_from_record(const Samples& y, double tau0);
 
 /// The fewest phase points a kind needs for one term at its smallest factor: 3 for the Allan
 /// family, MDEV, TDEV and the total, modified total and time total deviations, 4 for the
