@@ -33,6 +33,20 @@ TEST(OptionWording, NamesPythonsKeywordArgumentsWhereTheLibrarySaysAnOption) {
             "temperature 'T': no such column; replicates: at least 2");
 }
 
+TEST(OptionWording, NamesTheStabilityKeywordsWhereTheLibrarySaysTheirOptions) {
+  EXPECT_EQ(option_wording("--kind: found 'allan', expected adev, oadev", Face::kPython),
+            "kind: found 'allan', expected adev, oadev");
+  EXPECT_EQ(option_wording("--taus: 2.5 s is not a whole number; --confidence: found 1.5", Face::kPython),
+            "taus: 2.5 s is not a whole number; confidence: found 1.5");
+  EXPECT_EQ(option_wording("--intervals: found 'fast'; --noise-alpha: found -5", Face::kPython),
+            "intervals: found 'fast'; noise_alpha: found -5");
+  EXPECT_EQ(option_wording("--hat: the three-cornered hat reads three columns", Face::kPython),
+            "hat=True: the three-cornered hat reads three columns");
+  EXPECT_EQ(option_wording("--hat: mtie is a maximum", Face::kWeb), "\"hat\": true: mtie is a maximum");
+  // --curve-confidence is fit_curve's confidence, not a longer --confidence.
+  EXPECT_EQ(option_wording("--curve-confidence: found 2", Face::kPython), "confidence: found 2");
+}
+
 TEST(OptionWording, ReplacesWholeOptionsOnly) {
   // An option that starts a longer one, or ends one, is not that option.
   EXPECT_EQ(option_wording("--frequency and --freqs and x--units-file", Face::kPython),

@@ -56,6 +56,12 @@ constexpr OptionField kOptionFields[] = {
     {"--exclude-taus", "exclude_taus"},
     {"--record", "record"},
     {"--curve-confidence", "confidence"},
+    {"--kind", "kind"},
+    {"--taus", "taus"},
+    {"--confidence", "confidence"},
+    {"--intervals", "intervals"},
+    {"--noise-alpha", "noise_alpha"},
+    {"--hat", "hat", "true"},
 };
 
 bool option_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_'; }
