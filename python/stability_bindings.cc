@@ -73,7 +73,8 @@ std::string py_stability(const py::object& data, const py::object& kind, const p
   o.intervals.noise_alpha = noise_alpha;
   o.three_cornered_hat = hat;
   if (const std::string why = o.Validate(); !why.empty()) throw gmwm::InputError(why);
-  const Json out = run_cancellable([&](const std::function<void(int, int)>&) {
+  const Json out = run_cancellable([&](const std::function<void(int, int)>& cancellation_point) {
+    o.progress = cancellation_point;  // after each factor: Ctrl-C stops a long study there
     return gmwm::report::stability_document(set, gmwm::pipeline::study_stability(set, o), o, column_units);
   });
   return to_python(out);

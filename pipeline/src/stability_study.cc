@@ -62,10 +62,22 @@ std::vector<std::int64_t> listed_factors(const std::vector<double>& taus, double
   return m;
 }
 
+// The study's steps (each factor's deviation, each kind's intervals) told to the options'
+// progress as they are done.
+struct Steps {
+  const std::function<void(int, int)>& progress;
+  int done = 0, total = 0;
+  void tick() {
+    ++done;
+    if (progress) progress(done, total);
+  }
+};
+
 // One series' deviations of every kind asked, with their intervals (their wall time added to
 // `interval_seconds`): the rate `y` less its mean, as phase.
 StabilityColumn study_column(const io::SignalSet& set, const std::string& name, const Samples& y,
-                             const StabilityStudyOptions& options, double tau0, double& interval_seconds) {
+                             const StabilityStudyOptions& options, double tau0, double& interval_seconds,
+                             Steps& steps) {
   if (y.in_file())
     for (const stability::DeviationKind kind : options.kinds)
       if (!reads_in_bounded_memory(kind))
@@ -85,10 +97,12 @@ StabilityColumn study_column(const io::SignalSet& set, const std::string& name, 
     if (m.empty())
       throw InputError(file_place(set) + "column '" + name + "': " + std::to_string(y.size()) + " samples leave " +
                        std::string(stability::deviation_name(kind)) + " no averaging time");
-    column.deviations.push_back(stability::deviation(kind, phase, tau0, m));
+    column.deviations.push_back(
+        stability::deviation(kind, phase, tau0, m, [&](std::size_t, std::size_t) { steps.tick(); }));
     const auto intervals_start = std::chrono::steady_clock::now();
     column.intervals.push_back(stability::deviation_intervals(column.deviations.back(), phase, options.intervals));
     interval_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - intervals_start).count();
+    steps.tick();
   }
   return column;
 }
@@ -129,14 +143,14 @@ Samples difference_of(const Samples& a, const Samples& b) {
 // columns are (differences of rates recorded together: what the sensors share cancels), then
 // each kind's separation.
 StabilityHat study_hat(const io::SignalSet& set, const StabilityStudyOptions& options, double tau0,
-                       double& interval_seconds) {
+                       double& interval_seconds, Steps& steps) {
   StabilityHat hat;
   for (std::size_t k = 0; k < stability::kHatSensors; ++k) hat.sensors[k] = set.signals[k].name;
   for (std::size_t k = 0; k < stability::kHatSensors; ++k) {
     const std::size_t next = (k + 1) % stability::kHatSensors;
     const Samples difference = difference_of(set.signals[k].values, set.signals[next].values);
-    hat.pairs.push_back(
-        study_column(set, hat.sensors[k] + " - " + hat.sensors[next], difference, options, tau0, interval_seconds));
+    hat.pairs.push_back(study_column(set, hat.sensors[k] + " - " + hat.sensors[next], difference, options, tau0,
+                                     interval_seconds, steps));
   }
   for (std::size_t d = 0; d < options.kinds.size(); ++d) {
     const std::array<stability::DeviationCurve, stability::kHatSensors> curves = {
@@ -192,9 +206,16 @@ StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOpt
   StabilityStudy study;
   study.tau0 = 1.0 / set.freq;
   study.phase_points = phase_points;
+  Steps steps{options.progress};
+  for (const stability::DeviationKind kind : options.kinds) {  // each factor, then the kind's intervals
+    const auto factors = options.tau_list.empty() ? stability::factors(options.taus, kind, phase_points).size()
+                                                  : options.tau_list.size();
+    steps.total += static_cast<int>(factors) + 1;
+  }
+  steps.total *= static_cast<int>(set.signals.size() + (options.three_cornered_hat ? stability::kHatSensors : 0));
   for (const io::Signal& s : set.signals)
-    study.columns.push_back(study_column(set, s.name, s.values, options, study.tau0, study.interval_seconds));
-  if (options.three_cornered_hat) study.hat = study_hat(set, options, study.tau0, study.interval_seconds);
+    study.columns.push_back(study_column(set, s.name, s.values, options, study.tau0, study.interval_seconds, steps));
+  if (options.three_cornered_hat) study.hat = study_hat(set, options, study.tau0, study.interval_seconds, steps);
   study.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - study.interval_seconds;
   return study;

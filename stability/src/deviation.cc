@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -431,7 +432,7 @@ std::vector<std::int64_t> factors(TauSet set, DeviationKind kind, std::int64_t p
 }
 
 DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, double tau0,
-                         std::span<const std::int64_t> m) {
+                         std::span<const std::int64_t> m, const FactorProgress& progress) {
   if (!(tau0 > 0.0) || !std::isfinite(tau0))
     throw InputError("tau0: found " + text_of(tau0) + ", expected a positive, finite spacing in seconds");
   const auto n = static_cast<std::int64_t>(phase.size());
@@ -455,9 +456,15 @@ DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, doub
   // A phase in a temporary file is released after each factor (the pieces release the pages
   // they pass; this, the few a piece's ends share with the next).
   const bool file = gmwm::detail::in_sample_file(x.data(), x.size());
+  std::mutex told;  // progress is told one factor at a time
+  std::size_t done = 0;
   gmwm::parallel_for(std::size_t{0}, m.size(), [&](std::size_t k) {
     c.value[k] = deviation_at(kind, x, m[k], tau0) * scaled.factor;
     if (file) gmwm::detail::release_file_pages(x.data(), x.data() + x.size());
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(told);
+      progress(++done, m.size());
+    }
   });
   for (const std::int64_t f : m) {
     c.tau.push_back(averaging_time(kind, f, tau0));

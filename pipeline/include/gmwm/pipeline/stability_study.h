@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,10 @@ struct StabilityStudyOptions {
   /// The three-cornered hat of the record's three columns (--hat): their pairwise differences'
   /// deviations of every kind asked (each kind separable: not MTIE) and each column's own.
   bool three_cornered_hat = false;
+  /// Told (steps done, steps in all) after each averaging factor's deviation and each kind's
+  /// intervals, one call at a time; it may throw (gmwm::Cancelled) to stop the study, which
+  /// then ends with that exception (the web app's and Python's cancellation).
+  std::function<void(int, int)> progress;
 
   /// Empty when valid, else one line.
   std::string Validate() const;

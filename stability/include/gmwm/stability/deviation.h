@@ -37,7 +37,9 @@
 //   const auto f = gmwm::stability::factors(gmwm::stability::TauSet::kOctave, kind, x.size());
 //   const gmwm::stability::DeviationCurve c = gmwm::stability::deviation(kind, x, 0.01, f);
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -134,13 +136,17 @@ struct DeviationCurve {
   std::vector<std::int64_t> terms;  ///< squares averaged at each factor
 };
 
+/// Called as each averaging factor is done, with (factors done, factors in all), one call at a
+/// time; it may throw (gmwm::Cancelled) to stop the work, which then ends with that exception.
+using FactorProgress = std::function<void(std::size_t done, std::size_t total)>;
+
 /// The deviation of `phase` (tau0 apart) at each factor of `m` (each in 1 .. max_factor;
 /// Theo1's even, in 10 .. max_factor), computed in parallel over the factors (the same values
-/// whatever the thread count). Throws InputError naming the problem: tau0 not positive and
+/// whatever the thread count), `progress` told after each. Throws InputError naming the problem: tau0 not positive and
 /// finite, a phase point that is not finite (its index), fewer phase points than
 /// min_phase_points, a factor outside 1 .. max_factor or, for Theo1, not among the even
 /// factors 10 .. max_factor (the factor and the bounds).
 DeviationCurve deviation(DeviationKind kind, std::span<const double> phase, double tau0,
-                         std::span<const std::int64_t> m);
+                         std::span<const std::int64_t> m, const FactorProgress& progress = {});
 
 }  // namespace gmwm::stability
