@@ -236,14 +236,10 @@ struct Scaled {
 // no chain from one point to the next (a running std::max kept in memory was 70% of an ADEV
 // at 1e5 points); NaN and infinity are caught by summing (x_i - x_0) * 0, which is 0 for
 // every finite point and NaN for any other.
-double spread_or_nan(std::span<const double> x) {
-  const double x0 = x.front();
+// The lanes' extremes of x - x0 and their sum of (x - x0) * 0 over a stretch of the phase.
+struct Extent {
   std::array<double, detail::kLanes> lo{}, hi{}, bad{};
-  // Block by block (a phase in a file is released behind the pass: samples.h); extremes and
-  // sums of zeros are exact, so the blocks change nothing.
-  gmwm::for_each_block(x, [&](std::span<const double> part, std::size_t) {
-    const double* p = part.data();
-    const auto n = static_cast<std::int64_t>(part.size());
+  void add(const double* p, std::int64_t n, double x0) {
     std::int64_t i = 0;
     for (; i + detail::kLanes <= n; i += detail::kLanes)
       for (int l = 0; l < detail::kLanes; ++l) {
@@ -259,12 +255,33 @@ double spread_or_nan(std::span<const double> x) {
       hi[0] = v > hi[0] ? v : hi[0];
       bad[0] += v * 0.0;
     }
-  });
-  double spread = 0.0, check = 0.0;
-  for (std::size_t k = 0; k < lo.size(); ++k) {
-    spread = std::max({spread, -lo[k], hi[k]});
-    check += bad[k];
   }
+};
+
+double spread_or_nan(std::span<const double> x) {
+  const double x0 = x.front();
+  std::vector<Extent> part(1);
+  // Extremes and sums of zeros are exact, so neither the pieces nor their order change the
+  // result: in parallel pieces in memory, block by block for a phase in a file (released
+  // behind the pass: samples.h).
+  if (gmwm::detail::in_sample_file(x.data(), x.size())) {
+    gmwm::for_each_block(x, [&](std::span<const double> b, std::size_t) {
+      part[0].add(b.data(), static_cast<std::int64_t>(b.size()), x0);
+    });
+  } else {
+    const auto n = static_cast<std::int64_t>(x.size());
+    part.resize(static_cast<std::size_t>((n + detail::kPieceTerms - 1) / detail::kPieceTerms));
+    gmwm::parallel_for(std::size_t{0}, part.size(), [&](std::size_t k) {
+      const auto first = static_cast<std::int64_t>(k) * detail::kPieceTerms;
+      part[k].add(x.data() + first, std::min(detail::kPieceTerms, n - first), x0);
+    });
+  }
+  double spread = 0.0, check = 0.0;
+  for (const Extent& e : part)
+    for (std::size_t k = 0; k < e.lo.size(); ++k) {
+      spread = std::max({spread, -e.lo[k], e.hi[k]});
+      check += e.bad[k];
+    }
   return check == 0.0 ? spread : NAN;
 }
 
