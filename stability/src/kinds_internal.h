@@ -51,8 +51,8 @@ constexpr std::int64_t kPiecePoints = std::int64_t{1} << 16;
 // x86-64 Linux; 6.x kernels keep file pages in such large folios), so what a piece releases
 // is widened to the 2 MiB boundaries of the file around its reads: the pages a strided read
 // brought in on either side of it are dropped too (a sum read again after is faulted back in
-// from the page cache). A strided ADEV on 1e8 points in a file peaked at 250 MB at m = 1e5
-// when only the pages between a piece's reads were released, 23 MB with this
+// from the page cache). A strided ADEV of 3e7 points in a file peaked at 249 MB at m = 1e5
+// when only the whole pages between a piece's reads were released, 23 MB with this
 // (tools/bench/RESULTS.md, "Stability beyond the memory budget").
 constexpr std::int64_t kFolioPoints = (std::int64_t{2} << 20) / 8;
 
