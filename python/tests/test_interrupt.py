@@ -1,5 +1,6 @@
-"""Ctrl-C stops a long computation (issue 25): SIGINT during gmwm.select, gmwm.fit or
-gmwm.gap raises KeyboardInterrupt within a bound, instead of the study running to its end."""
+"""Ctrl-C stops a long computation (issue 25): SIGINT during gmwm.select, gmwm.fit,
+gmwm.gap or gmwm.stability raises KeyboardInterrupt within a bound, instead of the study
+running to its end."""
 import os
 import signal
 import subprocess
@@ -31,6 +32,8 @@ CHILD = textwrap.dedent(
             gmwm.select(x, "3*AR1+WN+RW+QN+DR", freq=100.0, optimism="bootstrap", replicates=500)
         elif sys.argv[1] == "fit":
             gmwm.fit(x, "2*AR1+WN+RW", freq=100.0, omega="bootstrap", replicates=100000)
+        elif sys.argv[1] == "stability":  # seconds of total deviations and Theo1 at 2^20 samples
+            gmwm.stability(x, freq=100.0, kind="theo1,mtotdev,ttotdev,htotdev")
         else:
             gmwm.gap(x, freq=100.0, model="AR1(phi=0.999,sigma2=1e-6)+WN(sigma2=1e-2)", replicates=100000)
     except KeyboardInterrupt:
@@ -42,7 +45,7 @@ CHILD = textwrap.dedent(
 )
 
 
-@pytest.mark.parametrize("study", ["select", "fit", "gap"])
+@pytest.mark.parametrize("study", ["select", "fit", "gap", "stability"])
 def test_sigint_raises_keyboard_interrupt_within_a_bound(study):
     env = dict(os.environ)
     proc = subprocess.Popen([sys.executable, "-c", CHILD, study], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
