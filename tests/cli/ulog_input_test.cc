@@ -71,7 +71,8 @@ TEST_F(GmwmUlog, ABadLogExitsTwoWithOneLineAndWritesNothing) {
 // files and the WV is the same to the last bit (140,000 messages: 6.7 MB of values, past a
 // budget of 1 MB from the first check on).
 TEST(GmwmBinaryLogs, MemoryGivesTheSameWvToTheLastBitForEveryBinaryLog) {
-  const fs::path dir = gmwm::test::temp_dir("cli_log_memory");
+  const gmwm::test::TempFolder folder("cli_log_memory");
+  const fs::path& dir = folder.path;
   gmwm::test::Ros1BagOptions bag;
   bag.messages = 140000;
   bag.per_chunk = 2000;
@@ -93,7 +94,6 @@ TEST(GmwmBinaryLogs, MemoryGivesTheSameWvToTheLastBitForEveryBinaryLog) {
     for (std::size_t k = 0; k < 6; ++k)
       EXPECT_EQ(a["columns"][k]["levels"], b["columns"][k]["levels"]) << log << " " << k;
   }
-  fs::remove_all(dir);
 }
 
 // A gyroscope-only topic (RealSense's /camera/gyro/sample carries linear_acceleration 0 in
@@ -101,7 +101,8 @@ TEST(GmwmBinaryLogs, MemoryGivesTheSameWvToTheLastBitForEveryBinaryLog) {
 // could be read: the axes that are 0 throughout are left out with a warning (and a report
 // note), the gyroscope read; an axis asked for by --columns is still refused.
 TEST(GmwmBinaryLogs, AGyroscopeOnlyTopicIsReadWithTheAxesItDoesNotCarryLeftOutAndSaid) {
-  const fs::path dir = gmwm::test::temp_dir("cli_gyro_topic");
+  const gmwm::test::TempFolder folder("cli_gyro_topic");
+  const fs::path& dir = folder.path;
   gmwm::test::Ros1BagOptions bag;
   bag.messages = 512;
   bag.zero_accel = true;
@@ -119,13 +120,13 @@ TEST(GmwmBinaryLogs, AGyroscopeOnlyTopicIsReadWithTheAxesItDoesNotCarryLeftOutAn
   EXPECT_NE(gmwm::test::read_text(dir / "wv.html").find(said), std::string::npos);
   expect_bad_input(run_gmwm({"wv", "gyro.bag", "--columns", "gyro_x,accel_x", "--json", "x.json"}, dir),
                    {"gyro.bag", "accel_x: found all 512 values equal to 0"}, dir / "x.json");
-  fs::remove_all(dir);
 }
 
 // Issue 47, item 3: RealSense's bag carries the gyroscope and the accelerometer on separate
 // topics at different rates; both are read in one run, each at its own rate, no resampling.
 TEST(GmwmBinaryLogs, TwoTopicsAtDifferentRatesAreReadInOneRunEachAtItsOwnRate) {
-  const fs::path dir = gmwm::test::temp_dir("cli_two_topics");
+  const gmwm::test::TempFolder folder("cli_two_topics");
+  const fs::path& dir = folder.path;
   std::ofstream(dir / "d435i.bag", std::ios::binary)
       << gmwm::test::ros1_bag_of_topics(gmwm::test::realsense_topics(1600, 1000)).bytes;
   const std::string topics = "/camera/gyro/sample,/camera/accel/sample";
@@ -180,7 +181,6 @@ TEST(GmwmBinaryLogs, TwoTopicsAtDifferentRatesAreReadInOneRunEachAtItsOwnRate) {
                    {"found /camera/gyro/sample twice"}, dir / "x.json");
   expect_bad_input(run_gmwm({"gap", "d435i.bag", "--topic", topics, "--kalibr", "k.yaml", "--json", "x.json"}, dir),
                    {"found several topics where one record is read", "wv, fit and select"}, dir / "x.json");
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -17,8 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string write(const std::string& name, const std::string& text) {
-  static const fs::path dir = test::temp_dir("curve_reader");
-  const fs::path p = dir / name;
+  static const test::TempFolder dir("curve_reader");  // removed when the test program ends
+  const fs::path p = dir.path / name;
   std::ofstream(p, std::ios::binary) << text;
   return p.string();
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "gmwm/engine/wavelet_variance.h"
@@ -26,6 +27,19 @@ std::string gzip_member(const std::string& text);
 
 /// A fresh temporary directory for one test.
 std::filesystem::path temp_dir(const std::string& tag);
+
+/// A fresh temporary directory removed with everything in it when the folder goes out of
+/// scope, however the test ends (an ASSERT's early return left temp_dir's folders behind).
+struct TempFolder {
+  std::filesystem::path path;
+  explicit TempFolder(const std::string& tag) : path(temp_dir(tag)) {}
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+  ~TempFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
 
 /// Classical WVs of replicates of `spec` (a model with every value): replicate k has
 /// 2^log2n[k] samples, stream (seed, k).
