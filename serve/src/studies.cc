@@ -526,34 +526,17 @@ void read_data(const RequestBody& b, ColumnInput& in) {
   });
 }
 
-// The study of every kind, one kind at a time (the progress the page shows, and a cancel
-// heard between kinds): the same deviations and intervals as one call with them all.
-pipeline::StabilityStudy study_by_kind(const io::SignalSet& set, const pipeline::StabilityStudyOptions& o,
-                                       JobContext& job) {
-  pipeline::StabilityStudy study;
-  const auto total = static_cast<double>(o.kinds.size());
-  for (std::size_t k = 0; k < o.kinds.size(); ++k) {
-    job.progress(static_cast<double>(k), total);
-    pipeline::StabilityStudyOptions one = o;
-    one.kinds = {o.kinds[k]};
-    pipeline::StabilityStudy part;
-    try {
-      part = pipeline::study_stability(set, one);
-    } catch (const InputError& e) {
-      throw InputError(stability_words(e.what()));
-    }
-    if (k == 0) {
-      study = std::move(part);
-      continue;
-    }
-    for (std::size_t c = 0; c < study.columns.size(); ++c) {
-      study.columns[c].deviations.push_back(std::move(part.columns[c].deviations.front()));
-      study.columns[c].intervals.push_back(std::move(part.columns[c].intervals.front()));
-    }
-    study.seconds += part.seconds;
+// The study of every kind in one call, its progress told after each averaging factor (the
+// page's bar, and a cancel heard there: gmwm::Cancelled from job.progress ends the study);
+// the library's refusals of the data in the page's words.
+pipeline::StabilityStudy study_with_progress(const io::SignalSet& set, pipeline::StabilityStudyOptions o,
+                                             JobContext& job) {
+  o.progress = [&job](int done, int total) { job.progress(done, total); };
+  try {
+    return pipeline::study_stability(set, o);
+  } catch (const InputError& e) {
+    throw InputError(stability_words(e.what()));
   }
-  job.progress(total, total);
-  return study;
 }
 
 // The title of each kind, for the page's choices (docs/stability.md's table).
@@ -597,7 +580,7 @@ Jobs::Work stability_work(const RequestBody& body, StudyContext& c) {
   const pipeline::StabilityStudyOptions o = stability_options(body);
   read_data(body, in);
   return [in = std::move(in), o](JobContext& job) {
-    const pipeline::StabilityStudy study = study_by_kind(in.set, o, job);
+    const pipeline::StabilityStudy study = study_with_progress(in.set, o, job);
     job.check();
     const std::vector<std::string> units = units_of(in);
     Json doc = report::stability_document(in.set, study, o, units);

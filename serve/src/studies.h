@@ -29,7 +29,7 @@ Jobs::Work fit_work(const RequestBody& body, StudyContext& context);
 Jobs::Work select_work(const RequestBody& body, StudyContext& context);
 
 /// POST /api/stability: the frequency-stability deviations of a column (`gmwm stability`:
-/// pipeline::study_stability, one kind at a time for the progress), the command's document
+/// pipeline::study_stability, its progress and cancellation after each factor), the command's document
 /// and text and the report's section (report::render_stability_fragment).
 Jobs::Work stability_work(const RequestBody& body, StudyContext& context);
 

@@ -180,12 +180,13 @@ TEST_F(ServeAppTest, StabilitysRefusalsOfTheDataAreTheJobsErrorInThePagesWords) 
   EXPECT_NE(far.at("error").get<std::string>().find("\"taus\": 10000 s is 1000000 periods, beyond mdev's largest"),
             std::string::npos)
       << far.dump();
-  // Progress by kind, the last the total.
+  // Progress by averaging factor (a cancel is heard after each), the last the total: every
+  // kind's octave factors and its intervals, 43 steps for OADEV, MDEV and HDEV here.
   const OJson ok =
       wait_job(body_of(post("/api/stability", OJson{{"dataset", d}, {"column", "gyro_x"}, {"kind", "oadev,mdev,hdev"}}))
                    .at("job"));
   EXPECT_EQ(ok.at("state"), "done");
-  EXPECT_EQ(ok.at("progress"), OJson({3, 3}));
+  EXPECT_EQ(ok.at("progress"), OJson({43, 43}));
 }
 
 TEST_F(ServeAppTest, StabilityEscapesEveryNameItShows) {
