@@ -12,12 +12,11 @@ The file (about 0.8 GB for 2e7 rows) is written once with numpy and reused.
 import argparse
 import json
 import os
-import re
-import subprocess
 import sys
-import time
 
 import numpy as np
+
+from peak_memory import run_measured
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -40,14 +39,8 @@ def write_record(path, n, seed=20261126):
 
 
 def run(cli, path, extra, out_json):
-    cmd = ["/usr/bin/time", "-v", cli, "wv", path, "--json", out_json, "--quiet"] + extra
-    t0 = time.monotonic()
-    done = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.monotonic() - t0
-    if done.returncode != 0:
-        sys.exit("gmwm failed: " + done.stderr)
-    rss_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", done.stderr).group(1))
-    return rss_kb / 1024.0, wall
+    rss, wall, _ = run_measured([cli, "wv", path, "--json", out_json, "--quiet"] + extra)
+    return rss, wall
 
 
 def main():

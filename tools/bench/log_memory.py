@@ -12,8 +12,6 @@ tools/bench/results/2026-11-26-binary-log-memory.md; new runs go into a new date
 import argparse
 import json
 import os
-import re
-import subprocess
 import sys
 import time
 
@@ -21,20 +19,15 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import imu_logs  # noqa: E402
+from peak_memory import run_measured  # noqa: E402
 
 LABELS = {"ulog": "PX4 ULog (sensor_combined)", "ros1": "ROS 1 bag (uncompressed chunks)", "mcap": "MCAP (uncompressed chunks)"}
 SUFFIX = {"ulog": ".ulg", "ros1": ".bag", "mcap": ".mcap"}
 
 
 def measure(cli, path, out, *extra):
-    cmd = ["/usr/bin/time", "-v", cli, "wv", path, "--json", out, "--quiet", *extra]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        raise SystemExit(f"{' '.join(cmd)}: exit {r.returncode}: {r.stderr.strip()[-2000:]}")
-    rss_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", r.stderr).group(1))
-    wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (\S+)", r.stderr).group(1)
-    seconds = sum(float(x) * 60 ** k for k, x in enumerate(reversed(wall.split(":"))))
-    return rss_kb * 1024, seconds
+    rss_mb, seconds, _ = run_measured([cli, "wv", path, "--json", out, "--quiet", *extra])
+    return rss_mb * 1024 * 1024, seconds
 
 
 def levels(path):

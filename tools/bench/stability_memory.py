@@ -13,10 +13,10 @@ The record (white noise plus a random walk, quantised to 1e-3, one column, gzip 
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
-import time
+
+from peak_memory import run_measured
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -32,17 +32,11 @@ def simulate(cli, path, n):
 
 
 def run(cli, path, kinds, extra, out_json):
-    cmd = ["/usr/bin/time", "-v", cli, "stability", path, "--freq", "1", "--kind", kinds, "--json", out_json,
-           "--quiet"] + extra
-    t0 = time.monotonic()
-    done = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.monotonic() - t0
-    if done.returncode != 0:
-        sys.exit("gmwm failed: " + done.stderr)
-    rss_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", done.stderr).group(1))
+    rss, wall, _ = run_measured([cli, "stability", path, "--freq", "1", "--kind", kinds, "--json", out_json,
+                                 "--quiet"] + extra)
     with open(out_json) as f:
         doc = json.load(f)
-    return rss_kb / 1024.0, wall, doc
+    return rss, wall, doc
 
 
 def main():
