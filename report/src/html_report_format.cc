@@ -221,11 +221,12 @@ std::string Plots::add(const std::string& id, const std::string& kind, Json spec
   // navigation curves at each output time, the stability deviations at each point.
   const bool zooms = kind == "wv" || kind == "gap-curves";
   const bool curves = kind.rfind("nav-", 0) == 0;
-  const bool points = kind.rfind("stability", 0) == 0;
+  const bool points = kind.rfind("stability", 0) == 0, hat = kind == "stability-hat";
   return "<div class=\"gmwm-plot\" data-plot=\"" + kind + "\" id=\"" + id +
          "\"><div class=\"view\"></div><div class=\"hint\">" +
          (zooms    ? "drag to pan, wheel to zoom, double-click to reset; hover a point for its values"
           : curves ? "hover a curve for its value at each output time"
+          : hat    ? "hover a point for its value, interval and degrees of freedom"
           : points ? "hover a point for its value, interval, degrees of freedom and noise"
                    : "hover a cell for its values") +
          "<span class=\"export\"></span></div></div>\n";

@@ -6,15 +6,55 @@
 
 #include "gmwm/engine/number_text.h"
 #include "gmwm/report/terminal.h"
+#include "stability_detail.h"
 
 namespace gmwm::report {
-namespace {
 
-// A deviation's unit: the data's, TDEV's the data's times seconds (the phase's); "" unknown.
+namespace detail {
+
 std::string deviation_unit(stability::DeviationKind kind, const std::string& data_unit) {
   if (data_unit.empty()) return {};
   return stability::in_time_units(kind) ? "(" + data_unit + ")*s" : data_unit;
 }
+
+std::string hat_unit(const std::vector<std::string>& units) {
+  if (units.size() < stability::kHatSensors || units[0] != units[1] || units[1] != units[2]) return {};
+  return units[0];
+}
+
+std::string hat_heading(const pipeline::StabilityHat& hat) {
+  return "three-cornered hat of " + hat.sensors[0] + ", " + hat.sensors[1] + ", " + hat.sensors[2] +
+         ": each column's own deviation, separated from what the three share";
+}
+
+std::string hat_value_text(const stability::HatSensor& s, std::size_t i) {
+  return s.negative[i] ? "[var " + significant(s.variance[i], 5) + "]" : significant(s.value[i], 5);
+}
+
+bool hat_has_negative(const pipeline::StabilityHat& hat) {
+  for (const stability::ThreeCorneredHat& k : hat.kinds)
+    for (const stability::HatSensor& s : k.sensors)
+      for (const bool b : s.negative)
+        if (b) return true;
+  return false;
+}
+
+std::string hat_negative_note() {
+  return "[var V]: the separated variance V (in the unit squared) is negative: no deviation (records too short for "
+         "it, or sensors not independent); kept, not clamped";
+}
+
+std::string hat_interval_words(double confidence) {
+  return "the " + significant(100.0 * confidence, 4) +
+         "% score interval of each separated variance from edf, the smallest of the three pairs' degrees of freedom";
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::deviation_unit;
+using detail::hat_unit;
 
 Json numbers(const std::vector<double>& v) {
   Json out = Json::array();
@@ -42,12 +82,6 @@ Json curve_json(const stability::DeviationCurve& c, const stability::DeviationIn
           {"noise_id", std::move(method)},
           {"n", c.terms},
           {"unit", unit.empty() ? Json(nullptr) : Json(unit)}};
-}
-
-// The hat's unit: the three columns' when they share one, else "" (unknown).
-std::string hat_unit(const std::vector<std::string>& units) {
-  if (units.size() < stability::kHatSensors || units[0] != units[1] || units[1] != units[2]) return {};
-  return units[0];
 }
 
 Json hat_sensor_json(const std::string& name, const stability::HatSensor& s) {
@@ -152,8 +186,7 @@ std::string hat_kind_table(const pipeline::StabilityHat& hat, const stability::T
   for (std::size_t i = 0; i < k.m.size(); ++i)
     for (std::size_t s = 0; s < stability::kHatSensors; ++s) {
       const stability::HatSensor& h = k.sensors[s];
-      t.add({s == 0 ? significant(k.tau[i], 6) : std::string(), hat.sensors[s],
-             h.negative[i] ? "[var " + significant(h.variance[i], 5) + "]" : significant(h.value[i], 5),
+      t.add({s == 0 ? significant(k.tau[i], 6) : std::string(), hat.sensors[s], detail::hat_value_text(h, i),
              significant(h.low[i], 5, NonFinite::kDash), significant(h.high[i], 5, NonFinite::kDash),
              s == 0 ? significant(k.edf[i], 4, NonFinite::kDash) : std::string()});
     }
@@ -163,20 +196,11 @@ std::string hat_kind_table(const pipeline::StabilityHat& hat, const stability::T
 // The hat's tables and what they read.
 std::string hat_text(const pipeline::StabilityHat& hat, const std::string& unit, double confidence) {
   std::ostringstream os;
-  os << "three-cornered hat of " << hat.sensors[0] << ", " << hat.sensors[1] << ", " << hat.sensors[2]
-     << ": each column's own deviation, separated from what the three share\n";
-  bool negative = false;
-  for (const stability::ThreeCorneredHat& k : hat.kinds) {
-    os << hat_kind_table(hat, k, deviation_unit(k.kind, unit));
-    for (const stability::HatSensor& s : k.sensors)
-      for (const bool b : s.negative) negative = negative || b;
-  }
-  if (negative)
-    os << "  [var V]: the separated variance V (in the unit squared) is negative: no deviation (records too short "
-          "for it, or sensors not independent); kept, not clamped\n";
-  os << "  low, high: the " << significant(100.0 * confidence, 4)
-     << "% score interval of each separated variance from edf, the smallest of the three pairs' degrees of freedom; "
-        "- where none fits (docs/stability.md, \"Three-cornered hat\"); the pairs' deviations are in the JSON "
+  os << detail::hat_heading(hat) << "\n";
+  for (const stability::ThreeCorneredHat& k : hat.kinds) os << hat_kind_table(hat, k, deviation_unit(k.kind, unit));
+  if (detail::hat_has_negative(hat)) os << "  " << detail::hat_negative_note() << "\n";
+  os << "  low, high: " << detail::hat_interval_words(confidence)
+     << "; - where none fits (docs/stability.md, \"Three-cornered hat\"); the pairs' deviations are in the JSON "
         "(hat.pairs)\n";
   return os.str();
 }

@@ -34,9 +34,13 @@ Json stability_document(const io::SignalSet& set, const pipeline::StabilityStudy
 
 /// The self-contained HTML report (`gmwm stability --report`): per column the deviations on
 /// log-log axes with their interval bands (the time deviations on their own plot: another
-/// unit) and the table of every value [low, high] with its noise. Throws InputError when
-/// Vega cannot be read (vega_missing_reason()). DOM: plots of kind "stability" and
-/// "stability-time" (html_report.h's contract).
+/// unit) and the table of every value [low, high] with its noise; with the hat (--hat), its
+/// section after the columns: what it is, and per kind each column's separated deviation with
+/// its interval band on log-log axes (a negative variance not drawn) and the table of every
+/// value [low, high] ("[var V]" where the variance is negative) with the pairs' edf. Throws
+/// InputError when Vega cannot be read (vega_missing_reason()). DOM: plots of kind
+/// "stability" and "stability-time" (html_report.h's contract), the hat's "stability-hat"
+/// (ids "plot-hat-<kind+1>", in <section id="stability-hat">).
 std::string render_stability_html(const io::SignalSet& set, const pipeline::StabilityStudy& study,
                                   const pipeline::StabilityStudyOptions& options,
                                   const std::vector<std::string>& units);
@@ -48,6 +52,14 @@ std::string render_stability_html(const io::SignalSet& set, const pipeline::Stab
 HtmlFragment render_stability_fragment(const io::SignalSet& set, const pipeline::StabilityStudy& study,
                                        const pipeline::StabilityStudyOptions& options,
                                        const std::vector<std::string>& units, std::size_t column);
+
+/// Every column's section of that report and, with the hat, the hat's, with their Vega specs:
+/// the whole study for the web app (a hat's three columns), rendered by the same code, with
+/// what the report's header says under the first column's heading (so that for one column
+/// without the hat it is that column's fragment above).
+HtmlFragment render_stability_fragment(const io::SignalSet& set, const pipeline::StabilityStudy& study,
+                                       const pipeline::StabilityStudyOptions& options,
+                                       const std::vector<std::string>& units);
 
 /// Per column, a table of the averaging times (s) and each kind's deviation there ("-" where
 /// a kind has no factor), its unit below it.
