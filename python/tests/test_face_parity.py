@@ -41,7 +41,7 @@ def python_call(study, x, **kw):
 @pytest.mark.parametrize("case", TABLE["refusals"], ids=lambda c: f"{c['study']} {c['option']} {c['value']}")
 def test_python_refuses_every_bad_value_of_the_table_with_the_clis_words(recording, case):
     folder, x = recording
-    args = [case["study"], "imu.csv", case["option"], case["value"]]
+    args = [case["study"], "imu.csv", case["option"]] + ([case["value"]] if case["value"] is not None else [])  # a switch
     if case["option"] not in ("--model", "--models") and case["study"] != "stability":
         args += ["--model", MODEL]
     also = case.get("also", {})

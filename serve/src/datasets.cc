@@ -39,19 +39,30 @@ std::size_t Datasets::size() const {
   return entries_.size();
 }
 
-io::SignalSet column_set(const Dataset& d, const std::string& column, const std::string& where) {
+io::SignalSet columns_set(const Dataset& d, const std::vector<std::string>& columns, const char* field,
+                          const std::string& where) {
   io::SignalSet s = d.set;  // the samples are shared, not copied
-  const auto it =
-      std::find_if(s.signals.begin(), s.signals.end(), [&](const io::Signal& x) { return x.name == column; });
-  if (it == s.signals.end()) {
-    std::string names;
-    for (const io::Signal& x : d.set.signals) names += (names.empty() ? "" : ", ") + x.name;
-    throw HttpError(400,
-                    where + ": field 'column': '" + column + "' is not a column of " + d.name + " (" + names + ")");
+  s.signals.clear();
+  for (const std::string& column : columns) {
+    const auto it =
+        std::find_if(d.set.signals.begin(), d.set.signals.end(), [&](const io::Signal& x) { return x.name == column; });
+    if (it == d.set.signals.end()) {
+      std::string names;
+      for (const io::Signal& x : d.set.signals) names += (names.empty() ? "" : ", ") + x.name;
+      throw HttpError(
+          400, where + ": field '" + field + "': '" + column + "' is not a column of " + d.name + " (" + names + ")");
+    }
+    for (const io::Signal& kept : s.signals)
+      if (kept.name == column)
+        throw HttpError(
+            400, where + ": field '" + field + "': found column '" + column + "' twice, expected each column once");
+    s.signals.push_back(*it);
   }
-  io::Signal kept = *it;
-  s.signals.assign(1, std::move(kept));
   return s;
+}
+
+io::SignalSet column_set(const Dataset& d, const std::string& column, const std::string& where) {
+  return columns_set(d, {column}, "column", where);
 }
 
 }  // namespace gmwm::serve::detail

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "gmwm/io/signal_reader.h"
 
@@ -42,6 +43,12 @@ class Datasets {
   mutable std::mutex mutex_;
   std::map<std::string, Entry> entries_;
 };
+
+/// The set a study of `columns` runs on, in their order (the CLI's `--columns A,B,C`);
+/// HttpError 400 naming the request's `field` and the dataset's columns when one is not a
+/// column, or naming the column given twice.
+io::SignalSet columns_set(const Dataset& d, const std::vector<std::string>& columns, const char* field,
+                          const std::string& where);
 
 /// The one-column set a study of `column` runs on (the CLI's `--columns COLUMN`); HttpError
 /// 400 naming the columns when `column` is not one.

@@ -478,8 +478,9 @@ void read_taus(const RequestBody& b, pipeline::StabilityStudyOptions& o) {
   }
 }
 
-// The request's study options ("kind", "taus", "confidence", "intervals", "noise_alpha"),
-// checked by the library's rule (StabilityStudyOptions::Validate) before a job is queued.
+// The request's study options ("kind", "taus", "confidence", "intervals", "noise_alpha",
+// "hat"), checked by the library's rule (StabilityStudyOptions::Validate) before a job is
+// queued.
 pipeline::StabilityStudyOptions stability_options(const RequestBody& b) {
   pipeline::StabilityStudyOptions o;
   if (b.has("kind")) {
@@ -505,23 +506,62 @@ pipeline::StabilityStudyOptions stability_options(const RequestBody& b) {
       b.fail("noise_alpha", "found " + a.dump() + ", expected an integer from -4 (random-run FM) to 2 (white PM)");
     o.intervals.noise_alpha = static_cast<int>(a.get<std::int64_t>());
   }
+  o.three_cornered_hat = b.flag("hat", false);
   if (const std::string why = o.Validate(); !why.empty()) refuse_stability(b, why);
   return o;
 }
 
+// What the stability study reads: the dataset's columns the request names and each one's
+// declared unit ("" when not).
+struct StabilityInput {
+  std::shared_ptr<const Dataset> dataset;
+  io::SignalSet set;
+  std::vector<std::string> units;
+};
+
+// "columns" (the hat's A, B, C in their order, as the command's --columns A,B,C) or "column"
+// (one), each one's unit of "units"; with "hat", the hat's rule on the columns
+// (pipeline::require_hat_columns) before any job, in the page's words.
+StabilityInput stability_input(const RequestBody& b, StudyContext& c, const pipeline::StabilityStudyOptions& o) {
+  StabilityInput in;
+  in.dataset = find_dataset(b, c.datasets);
+  if (b.has("columns") && b.has("column")) b.fail("columns", "give \"column\" (one) or \"columns\", not both");
+  if (b.has("columns")) {
+    const std::vector<std::string> names = b.list("columns");
+    if (names.empty()) b.fail("columns", "expected column names /api/open listed");
+    in.set = columns_set(*in.dataset, names, "columns", b.where());
+  } else {
+    in.set = column_set(*in.dataset, b.required_text("column", "a column name /api/open listed"), b.where());
+  }
+  const std::string units = b.text("units");
+  as_bad_request(b.where() + ": field 'units'", [&] {
+    const auto spec = io::parse_units_spec(units);
+    for (const io::Signal& s : in.set.signals) in.units.push_back(io::unit_of_column(spec, s.name));
+    return 0;
+  });
+  if (o.three_cornered_hat) {
+    try {
+      pipeline::require_hat_columns(in.set);
+    } catch (const InputError& e) {
+      throw HttpError(400, stability_words(b.where() + ": " + e.what()));
+    }
+  }
+  return in;
+}
+
 // "data": "rate" (the default: the column as /api/open read it) or "phase" (its values a
 // phase or time error, read as the rate of their steps, as the command's --data phase).
-void read_data(const RequestBody& b, ColumnInput& in) {
+void read_data(const RequestBody& b, io::SignalSet& set) {
   const std::string data = b.text("data", "rate");
   if (data == "rate") return;
   const std::string expected = "expected rate (a rate or fractional frequency) or phase (a phase or time error)";
   if (data != "phase") b.fail("data", "found '" + data + "', " + expected);
-  if (in.set.data != io::DataKind::kRate)
-    b.fail("data", "the recording was opened as " + std::string(io::data_kind_name(in.set.data)) +
+  if (set.data != io::DataKind::kRate)
+    b.fail("data", "the recording was opened as " + std::string(io::data_kind_name(set.data)) +
                        " (/api/open's \"data\"); open it as rate to read a column as phase here");
   as_bad_request(b.where(), [&] {
-    io::take_phase_as_rate(in.set, in.set.path);
-    io::find_repeated_samples(in.set);  // of the rates the study reads, as the command finds them
+    io::take_phase_as_rate(set, set.path);
+    io::find_repeated_samples(set);  // of the rates the study reads, as the command finds them
     return 0;
   });
 }
@@ -576,17 +616,16 @@ const char* deviation_title(stability::DeviationKind kind) {
 }  // namespace
 
 Jobs::Work stability_work(const RequestBody& body, StudyContext& c) {
-  ColumnInput in = column_of(body, c);
   const pipeline::StabilityStudyOptions o = stability_options(body);
-  read_data(body, in);
+  StabilityInput in = stability_input(body, c, o);
+  read_data(body, in.set);
   return [in = std::move(in), o](JobContext& job) {
     const pipeline::StabilityStudy study = study_with_progress(in.set, o, job);
     job.check();
-    const std::vector<std::string> units = units_of(in);
-    Json doc = report::stability_document(in.set, study, o, units);
+    Json doc = report::stability_document(in.set, study, o, in.units);
     const std::string text =
-        (in.set.timing ? in.set.timing->summary() + "\n" : std::string()) + report::stability_text(study, units);
-    const report::HtmlFragment f = report::render_stability_fragment(in.set, study, o, units, 0);
+        (in.set.timing ? in.set.timing->summary() + "\n" : std::string()) + report::stability_text(study, in.units);
+    const report::HtmlFragment f = report::render_stability_fragment(in.set, study, o, in.units);
     return Json{{"document", std::move(doc)}, {"text", text}, {"html", f.html}, {"plots", f.plots}};
   };
 }

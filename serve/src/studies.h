@@ -28,9 +28,10 @@ Jobs::Work wv_work(const RequestBody& body, StudyContext& context);
 Jobs::Work fit_work(const RequestBody& body, StudyContext& context);
 Jobs::Work select_work(const RequestBody& body, StudyContext& context);
 
-/// POST /api/stability: the frequency-stability deviations of a column (`gmwm stability`:
-/// pipeline::study_stability, its progress and cancellation after each factor), the command's document
-/// and text and the report's section (report::render_stability_fragment).
+/// POST /api/stability: the frequency-stability deviations of a column, or with "hat" the
+/// three-cornered hat of three ("columns": A, B, C) (`gmwm stability [--hat]`:
+/// pipeline::study_stability, its progress and cancellation after each factor), the command's
+/// document and text and the report's sections (report::render_stability_fragment).
 Jobs::Work stability_work(const RequestBody& body, StudyContext& context);
 
 /// GET /api/stability: what the stability request takes, from the library (the kinds with

@@ -290,6 +290,7 @@
       var facts = [c.kind, c.unit].filter(function (x) { return x; }).join(', ');
       sel.appendChild(option(c.name, c.name + (facts ? ' (' + facts + ')' : '')));
     });
+    hatColumns(d.columns);
     var hours = d.n / d.freq / 3600;
     $('dataset-facts').textContent = d.name + ': ' + d.n.toLocaleString('en') + ' samples at ' + fmtG(d.freq, 6) +
       ' Hz' + (d.freq_known ? '' : ' (as given)') + ', ' +
@@ -450,11 +451,31 @@
     }).catch(function (e) { showError('Frequency stability: ' + e.message); });
   }
 
-  // POST /api/stability's body: the ticked kinds, the averaging times, the interval's settings
-  // (a blank confidence is the server's default, Stable32's one sigma, to its last digit).
+  // The hat's columns A, B, C: the recording's first three by default; "(none)" where it has
+  // fewer (the server then says what the hat needs).
+  var HAT_SELECTS = ['stability-hat-a', 'stability-hat-b', 'stability-hat-c'];
+  function hatColumns(columns) {
+    HAT_SELECTS.forEach(function (id, i) {
+      var sel = $(id);
+      sel.textContent = '';
+      sel.appendChild(option('', '(none)'));
+      columns.forEach(function (c) { sel.appendChild(option(c.name, c.name)); });
+      sel.value = i < columns.length ? columns[i].name : '';
+    });
+  }
+
+  // POST /api/stability's body: the column (with the hat, "hat" and its three "columns"), the
+  // ticked kinds, the averaging times, the interval's settings (a blank confidence is the
+  // server's default, Stable32's one sigma, to its last digit).
   function stabilityBody() {
-    var b = { dataset: state.dataset.dataset, column: column(), units: $('units').value.trim(),
+    var b = { dataset: state.dataset.dataset, units: $('units').value.trim(),
       data: $('stability-data').value, intervals: $('stability-intervals').value, kind: [] };
+    if ($('stability-hat').checked) {
+      b.hat = true;
+      b.columns = HAT_SELECTS.map(function (id) { return $(id).value; }).filter(function (c) { return c; });
+    } else {
+      b.column = column();
+    }
     document.querySelectorAll('#stability-kinds input:checked').forEach(function (c) { b.kind.push(c.value); });
     var taus = $('stability-taus').value;
     b.taus = taus === 'list' ? $('stability-list').value.trim() : taus;
@@ -467,7 +488,8 @@
 
   function runStability() {
     var body = stabilityBody();
-    runJob('/api/stability', body, 'stability of ' + body.column, showResult);
+    runJob('/api/stability', body, body.hat ? 'three-cornered hat of ' + body.columns.join(', ') :
+      'stability of ' + body.column, showResult);
   }
 
   // ---- the overlay ----
@@ -619,6 +641,9 @@
   $('fit').addEventListener('click', runFit);
   $('select').addEventListener('click', runSelect);
   $('stability').addEventListener('click', runStability);
+  $('stability-hat').addEventListener('change', function () {
+    $('stability-hat-columns').hidden = !$('stability-hat').checked;
+  });
   $('stability-taus').addEventListener('change', function () {
     $('stability-list-label').hidden = $('stability-taus').value !== 'list';
   });

@@ -3,6 +3,8 @@
 // the command's document with the report's section for the column; its bad fields are 400s
 // naming them; the guard refuses a hostile request to it as to every route.
 
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -10,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gmwm/io/option_wording.h"
 #include "serve_fixture.h"
 
 namespace gmwm::test {
@@ -207,6 +210,115 @@ TEST_F(ServeAppTest, StabilityEscapesEveryNameItShows) {
   EXPECT_NE(html.find("<h2>gyro_&lt;img src=x onerror=alert(1)&gt;</h2>"), std::string::npos) << html;
   // In the specs the name is data (Vega draws it as text); the page embeds none of them as HTML.
   EXPECT_EQ(r.at("plots")[0].at("spec").at("title").at("text"), name + ": deviations");
+}
+
+// Three sensors a, b, c at 100 Hz sharing an input a hundred times their own white noises
+// (1, 2 and 4 times 1e-3), for the three-cornered hat.
+std::string three_sensors_csv() {
+  std::string csv = "time [s],a,b,c\n";
+  std::uint64_t state = 48;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5;
+  };
+  double walk = 0.0;
+  for (int t = 0; t < 4096; ++t) {
+    walk += 1e-3 * uniform();
+    const double common = 0.3 * uniform() + walk;
+    csv += std::to_string(t / 100.0);
+    for (const double level : {1e-3, 2e-3, 4e-3}) {
+      char value[32];
+      std::snprintf(value, sizeof value, ",%.17g", common + level * uniform());
+      csv += value;
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+TEST_F(ServeAppTest, AHatRequestReadsItsThreeColumnsAndAnswersTheCommandsDocumentWithTheHatsSection) {
+  write_text(folder_ / "three.csv", three_sensors_csv());
+  const std::string d = body_of(post("/api/open", OJson{{"file", "three.csv"}})).at("dataset");
+  const OJson r = run_job(
+      "/api/stability",
+      {{"dataset", d}, {"columns", {"c", "a", "b"}}, {"hat", true}, {"kind", "oadev,tdev"}, {"units", "gyro=deg/s"}});
+  const OJson cli = cli_document(
+      {"stability", "three.csv", "--columns", "c,a,b", "--hat", "--kind", "oadev,tdev", "--units", "gyro=deg/s"},
+      folder_);
+  EXPECT_EQ(r.at("document"), cli);
+  ASSERT_TRUE(r.at("document").contains("hat"));
+  EXPECT_EQ(r.at("document").at("hat").at("sensors"), OJson({"c", "a", "b"}));
+  // The report's sections: each column's, then the hat's with a plot per kind.
+  const std::string html = r.at("html");
+  EXPECT_EQ(html.rfind("<section class=\"column\" id=\"stability-1\">\n<h2>c</h2>", 0), 0u) << html;
+  const auto hat = html.find("<section class=\"column\" id=\"stability-hat\">");
+  ASSERT_NE(hat, std::string::npos) << html;
+  EXPECT_LT(html.find("id=\"stability-3\""), hat);
+  EXPECT_NE(html.find("three-cornered hat of c, a, b: each column&#39;s own deviation"), std::string::npos);
+  std::vector<std::string> hats;
+  for (const OJson& p : r.at("plots")) {
+    EXPECT_NE(html.find("id=\"" + p.at("id").get<std::string>() + "\""), std::string::npos) << p.at("id");
+    if (p.at("kind") == "stability-hat") hats.push_back(p.at("id"));
+  }
+  EXPECT_EQ(hats, (std::vector<std::string>{"plot-hat-1", "plot-hat-2"}));
+  EXPECT_NE(r.at("text").get<std::string>().find("three-cornered hat of c, a, b"), std::string::npos);
+  // The same code renders the report: its hat section is the command's --report's to the byte.
+  const CliRun page = run_gmwm({"stability", "three.csv", "--columns", "c,a,b", "--hat", "--kind", "oadev,tdev",
+                                "--units", "gyro=deg/s", "--report", "hat.html", "--quiet"},
+                               folder_);
+  ASSERT_EQ(page.exit_code, 0) << page.err;
+  const std::string from = "<section class=\"column\" id=\"stability-hat\">";
+  EXPECT_EQ(between(read_text(folder_ / "hat.html"), from, "</section>"), between(html, from, "</section>"));
+}
+
+TEST_F(ServeAppTest, AHatRequestOfOtherThanThreeColumnsIsRefusedBeforeAnyJobInTheCommandsWordsNamingItsFields) {
+  write_text(folder_ / "three.csv", three_sensors_csv());
+  const std::string three = body_of(post("/api/open", OJson{{"file", "three.csv"}})).at("dataset");
+  const std::string imu = open_imu();
+  struct Case {
+    OJson body;
+    std::vector<std::string> cli;  // the command's arguments of the same request
+  };
+  const std::vector<Case> cases = {
+      {{{"dataset", three}, {"columns", {"a", "b"}}, {"hat", true}}, {"three.csv", "--columns", "a,b"}},
+      {{{"dataset", three}, {"column", "a"}, {"hat", true}}, {"three.csv", "--columns", "a"}},
+      {{{"dataset", imu}, {"column", "gyro_x"}, {"hat", true}}, {"imu.csv", "--columns", "gyro_x"}},
+  };
+  for (const Case& c : cases) {
+    const serve::HttpResponse r = post("/api/stability", c.body);
+    EXPECT_EQ(r.status, 400) << c.body.dump() << " -> " << r.body;
+    const std::string web = error_of(r);
+    EXPECT_EQ(web.find('\n'), std::string::npos) << "one line: " << web;
+    EXPECT_EQ(web.find("--"), std::string::npos) << "no option of the command line: " << web;
+    EXPECT_NE(web.find("\"hat\": true: the three-cornered hat reads three columns recorded together (\"columns\" "
+                       "A,B,C), found "),
+              std::string::npos)
+        << web;
+    // The command's refusal of the same request, in the page's words (io::option_wording).
+    std::vector<std::string> args = {"stability"};
+    args.insert(args.end(), c.cli.begin(), c.cli.end());
+    args.push_back("--hat");
+    const CliRun cli = run_gmwm(args, folder_);
+    EXPECT_EQ(cli.exit_code, 2) << cli.err;
+    const std::string line =
+        cli.err.substr(cli.err.find(c.cli[0]), cli.err.find_last_not_of('\n') + 1 - cli.err.find(c.cli[0]));
+    EXPECT_EQ(web, "/api/stability: " + io::option_wording(line, io::Face::kWeb)) << cli.err;
+  }
+  const auto refused = [&](const OJson& body, const std::string& says) {
+    const serve::HttpResponse r = post("/api/stability", body);
+    EXPECT_EQ(r.status, 400) << r.body;
+    EXPECT_EQ(error_of(r), says);
+  };
+  refused({{"dataset", three}, {"columns", {"a", "b", "a"}}, {"hat", true}},
+          "/api/stability: field 'columns': found column 'a' twice, expected each column once");
+  refused({{"dataset", three}, {"columns", {"a", "b", "q"}}, {"hat", true}},
+          "/api/stability: field 'columns': 'q' is not a column of three.csv (a, b, c)");
+  refused({{"dataset", three}, {"column", "a"}, {"columns", {"a", "b", "c"}}, {"hat", true}},
+          "/api/stability: field 'columns': give \"column\" (one) or \"columns\", not both");
+  refused({{"dataset", three}, {"columns", {"a", "b", "c"}}, {"hat", true}, {"kind", "oadev,mtie"}},
+          "/api/stability: \"hat\": true: mtie is a maximum, not a variance: the three-cornered hat separates every "
+          "kind but mtie");
+  EXPECT_EQ(body_of(get("/api/status")).at("jobs"), 0) << "no refused request started a job";
 }
 
 // The guard's rules (serve/src/guard.h) hold for the new route as for every other: a rebound

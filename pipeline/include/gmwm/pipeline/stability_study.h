@@ -77,6 +77,12 @@ struct StabilityStudy {
   double interval_seconds = 0.0;    ///< wall time of the noise identifications and intervals
 };
 
+/// The hat's rule on the record: three columns recorded together (stability::kHatSensors).
+/// Throws InputError naming --hat, --columns A,B,C and the columns found otherwise: what
+/// study_stability refuses with three_cornered_hat, for a face that checks a request before
+/// running it (the web app's 400).
+void require_hat_columns(const io::SignalSet& set);
+
 /// Throws InputError (one line naming the file or the option) for invalid options, a record
 /// without a known rate, a record with missing samples (the deviations read a regular record:
 /// --gaps join), a tau that is no whole number of periods or beyond a kind's largest factor,
