@@ -107,16 +107,6 @@ StabilityColumn study_column(const io::SignalSet& set, const std::string& name, 
   return column;
 }
 
-// The hat reads three columns of one record (InputError naming --hat and the columns found).
-void require_three_columns(const io::SignalSet& set) {
-  if (set.signals.size() == stability::kHatSensors) return;
-  std::string names;
-  for (const io::Signal& s : set.signals) names += (names.empty() ? "" : ", ") + s.name;
-  throw InputError(file_place(set) +
-                   "--hat: the three-cornered hat reads three columns recorded together (--columns A,B,C), found " +
-                   std::to_string(set.signals.size()) + (names.empty() ? std::string() : " (" + names + ")"));
-}
-
 // a - b, in a temporary file when a is in one (a record beyond the memory budget), both
 // released behind the pass.
 Samples difference_of(const Samples& a, const Samples& b) {
@@ -187,21 +177,48 @@ std::string StabilityStudyOptions::Validate() const {
   return {};
 }
 
+namespace {
+
+// Every factor of the kinds asked (--taus all) within kMaxAllTausWork points read; beyond,
+// refused naming the work and what reads less.
+void require_all_taus_within_work(const io::SignalSet& set, const StabilityStudyOptions& options,
+                                  std::int64_t phase_points) {
+  if (!options.tau_list.empty() || options.taus != stability::TauSet::kAll) return;
+  double work = 0.0;
+  std::size_t count = 0;
+  for (const stability::DeviationKind kind : options.kinds) {
+    const std::vector<std::int64_t> m = stability::factors(stability::TauSet::kAll, kind, phase_points);
+    count += m.size();
+    for (const std::int64_t f : m) work += stability::factor_work(kind, phase_points, f);
+  }
+  if (work <= kMaxAllTausWork) return;
+  throw InputError(file_place(set) + "--taus all: the " + std::to_string(count) + " averaging factors of " +
+                   std::to_string(phase_points) + " phase points read " + significant(work, 2) +
+                   " points, beyond the " + significant(kMaxAllTausWork, 2) +
+                   " read for every factor (about 3.5 minutes); give octave, decade, a list of times or fewer kinds");
+}
+
+}  // namespace
+
+void require_hat_columns(const io::SignalSet& set) {
+  if (set.signals.size() == stability::kHatSensors) return;
+  std::string names;
+  for (const io::Signal& s : set.signals) names += (names.empty() ? "" : ", ") + s.name;
+  throw InputError(file_place(set) +
+                   "--hat: the three-cornered hat reads three columns recorded together (--columns A,B,C), found " +
+                   std::to_string(set.signals.size()) + (names.empty() ? std::string() : " (" + names + ")"));
+}
+
 StabilityStudy study_stability(const io::SignalSet& set, const StabilityStudyOptions& options) {
   if (const std::string why = options.Validate(); !why.empty()) throw InputError(why);
   if (!set.freq_known)
     throw InputError(file_place(set) +
                      "the stability deviations need the sampling rate: give --freq HZ or a timestamp column");
   detail::require_regular(set, "gmwm stability");
-  if (options.three_cornered_hat) require_three_columns(set);
+  if (options.three_cornered_hat) require_hat_columns(set);
   const std::int64_t phase_points =
       set.signals.empty() ? 0 : static_cast<std::int64_t>(set.signals.front().values.size()) + 1;
-  if (options.tau_list.empty() && options.taus == stability::TauSet::kAll && phase_points > kMaxPhasePointsForAllTaus)
-    throw InputError(file_place(set) + "--taus all: " + std::to_string(phase_points) + " phase points give about " +
-                     std::to_string(phase_points / 2) +
-                     " averaging times of O(N) each, hours of work; give octave, decade or a list of times (all is "
-                     "read up to " +
-                     std::to_string(kMaxPhasePointsForAllTaus) + " points)");
+  require_all_taus_within_work(set, options, phase_points);
   const auto start = std::chrono::steady_clock::now();
   StabilityStudy study;
   study.tau0 = 1.0 / set.freq;

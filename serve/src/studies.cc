@@ -650,7 +650,7 @@ Json stability_choices() {
   return {{"kinds", std::move(kinds)},
           {"taus", std::move(taus)},
           {"default_taus", std::string(stability::tau_set_name(defaults.taus))},
-          {"all_taus_max_points", pipeline::kMaxPhasePointsForAllTaus},
+          {"all_taus_max_work", pipeline::kMaxAllTausWork},
           {"confidence", defaults.intervals.confidence},
           {"intervals",
            {std::string(stability::interval_method_name(stability::IntervalMethod::kStable32)),

@@ -312,9 +312,9 @@ std::vector<Case> corpus() {
                 t += std::to_string((k < 100 ? k : k + 50) / 100.0) + "," + std::to_string(k) + "\n";
               return t;
             }())},
-      {"every tau of a record of 2^18 samples",
-       {"stability", "long.csv", "--freq", "100", "--taus", "all"},
-       {"long.csv: --taus all", "give octave, decade or a list"},
+      {"every Theo1 tau of a record of 2^18 samples",
+       {"stability", "long.csv", "--freq", "100", "--kind", "theo1", "--taus", "all"},
+       {"long.csv: --taus all", "give octave, decade, a list of times or fewer kinds"},
        file("long.csv",
             [] {
               std::string t = "y\n";

@@ -247,6 +247,23 @@ TEST_F(StabilityCommand, ARecordBeyondTheMemoryBudgetGivesTheSameDeviationsAsInM
       "mdev, tdev, hdev, ohdev, totdev and tierms (or raise --memory)");
 }
 
+TEST_F(StabilityCommand, EveryFactorOfALongRecordIsReadWhereItsWorkIsBounded) {
+  // 2^17 samples: every ADEV and HDEV factor (65536 and 43690 of them, N / m points each)
+  // reads 2.9e6 points; every OADEV factor 8.6e9, within the 2^39 (pipeline::kMaxAllTausWork).
+  std::string csv = "y\n";
+  for (int i = 0; i < (1 << 17); ++i) csv += std::to_string((i * 7919) % 13) + "\n";
+  gmwm::test::write_text(dir_ / "long.csv", csv);
+  const auto r = run_gmwm(
+      {"stability", "long.csv", "--freq", "1", "--kind", "adev,hdev", "--taus", "all", "--json", "out.json", "--quiet"},
+      dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = read_json(dir_ / "out.json");
+  const json& d = doc["columns"][0]["deviations"];
+  EXPECT_EQ(d["adev"]["tau"].size(), 65536u);
+  EXPECT_EQ(d["hdev"]["tau"].size(), 43690u);
+  EXPECT_EQ(d["adev"]["tau"].back(), 65536.0);
+}
+
 TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
   expect_refused({"stability", "nbs.csv", "--kind", "allan", "--json", "out.json"},
                  "--kind: found 'allan', expected adev, oadev, mdev, tdev, hdev, ohdev");
@@ -271,13 +288,15 @@ TEST_F(StabilityCommand, RefusesWhatItCannotComputeInOneLineWritingNothing) {
                  "--taus: 1.0000000001 s is the averaging factor 1 again (1 s)");
   expect_refused({"stability", "nbs.csv", "--taus", "", "--json", "out.json"},
                  "--taus: found '', expected all, octave, decade or averaging times in seconds");
-  // Every factor of a long record: O(N^2), refused beyond 2^17 phase points.
+  // Every factor of a long record, beyond the points read for all (2^39): Theo1's 65536
+  // factors of 2^17 samples, each N min(m / 2, log2(m)^2) points.
   std::string big = "y\n";
   for (int i = 0; i < (1 << 17); ++i) big += std::to_string(i % 5) + "\n";
   gmwm::test::write_text(dir_ / "big.csv", big);
-  expect_refused({"stability", "big.csv", "--freq", "100", "--taus", "all", "--json", "out.json"},
-                 "big.csv: --taus all: 131073 phase points give about 65536 averaging times of O(N) each, hours of "
-                 "work; give octave, decade or a list of times (all is read up to 131072 points)");
+  expect_refused({"stability", "big.csv", "--freq", "100", "--kind", "theo1", "--taus", "all", "--json", "out.json"},
+                 "big.csv: --taus all: the 65532 averaging factors of 131073 phase points read 1.5e+13 points, beyond "
+                 "the 5.5e+11 read for every factor (about 3.5 minutes); give octave, decade, a list of times or fewer "
+                 "kinds");
   // A record with missing samples: the deviations read a regular record.
   std::string csv = "time [s],y\n";
   for (int i = 0; i < 200; ++i)

@@ -296,6 +296,26 @@ TEST(Deviation, FactorSetsStopWhereTheDefinitionLeavesNoTerm) {
   EXPECT_FALSE(tau_set_from_name("fortnight"));
 }
 
+TEST(Deviation, AFactorsWorkIsOnePointInMForTheNonOverlappingKindsAndTheRecordForTheOthers) {
+  const std::int64_t n = 1000001;
+  EXPECT_DOUBLE_EQ(factor_work(DeviationKind::kAdev, n, 1000), 1000.001);
+  EXPECT_DOUBLE_EQ(factor_work(DeviationKind::kHdev, n, 10), 100000.1);
+  for (const DeviationKind kind : {DeviationKind::kOadev, DeviationKind::kMdev, DeviationKind::kTotdev,
+                                   DeviationKind::kMtotdev, DeviationKind::kMtie, DeviationKind::kTierms})
+    EXPECT_DOUBLE_EQ(factor_work(kind, n, 4096), 1000001.0) << deviation_name(kind);
+  // Theo1: m points a point summed directly up to m = 256, 7 log2(m)^2 through correlations.
+  EXPECT_DOUBLE_EQ(factor_work(DeviationKind::kTheo1, n, 100), 100.0 * 1000001.0);
+  EXPECT_DOUBLE_EQ(factor_work(DeviationKind::kTheo1, n, 4096), 7.0 * 144.0 * 1000001.0);
+  // Every factor: O(N log N) points for ADEV, O(N^2) for OADEV.
+  double adev = 0.0, oadev = 0.0;
+  for (const std::int64_t m : factors(TauSet::kAll, DeviationKind::kAdev, n))
+    adev += factor_work(DeviationKind::kAdev, n, m);
+  for (const std::int64_t m : factors(TauSet::kAll, DeviationKind::kOadev, n))
+    oadev += factor_work(DeviationKind::kOadev, n, m);
+  EXPECT_NEAR(adev / (static_cast<double>(n) * std::log(static_cast<double>(n) / 2.0)), 1.0, 0.05);
+  EXPECT_DOUBLE_EQ(oadev, 500000.0 * static_cast<double>(n));
+}
+
 TEST(Deviation, EachKindIsNamedOnceAndAnUnknownNameIsRefusedListingTheKinds) {
   for (const DeviationKind kind : deviation_kinds()) EXPECT_EQ(deviation_from_name(deviation_name(kind)), kind);
   try {

@@ -48,10 +48,14 @@ struct StabilityStudyOptions {
 /// the last digits of a double, never to a whole period.
 inline constexpr double kWholePeriodTolerance = 1e-9;
 
-/// --taus all reads every factor up to about N / 2, each in O(N): O(N^2) in all (0.23 s per
-/// kind at 2e4 samples on one core, so about 10 s at 1.3e5 and hours at 1e6). Beyond this
-/// many phase points it is refused, naming octave, decade and a list instead.
-inline constexpr std::int64_t kMaxPhasePointsForAllTaus = std::int64_t{1} << 17;
+/// --taus all reads every factor up to about N / 2: O(N log N) points in all for ADEV and
+/// HDEV (N / m a factor), O(N^2) for the others (N a factor: 5e11 points for OADEV's 5e5
+/// factors of 1e6 samples). The points read over the kinds asked (stability::factor_work) are
+/// bounded by this, 2^39: about 3.5 minutes on two cores for a phase beyond the caches (every
+/// OADEV factor of 1e6 samples, 5e11 points, in 193 s; 0.14 ns a point within them, 2^17
+/// samples' 8.6e9 in 1.24 s: tools/bench/RESULTS.md, "Every factor"); beyond, the study is
+/// refused, naming octave, decade, a list of times or fewer kinds instead.
+inline constexpr double kMaxAllTausWork = 549755813888.0;  // 2^39
 
 struct StabilityColumn {
   std::string name;

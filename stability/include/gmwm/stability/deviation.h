@@ -109,6 +109,13 @@ std::int64_t max_factor(DeviationKind kind, std::int64_t phase_points);
 /// (TOTDEV), (N - m) m / 2 (Theo1), N - m (the windows of MTIE, the differences of TIE rms).
 std::int64_t terms(DeviationKind kind, std::int64_t phase_points, std::int64_t m);
 
+/// The work of factor m on N phase points, in OADEV's points read (a proxy for time: 0.14
+/// to 0.39 ns a point on two cores, within the caches and beyond: tools/bench/RESULTS.md):
+/// N / m for ADEV and HDEV (one point in m), N for the other kinds read in O(N) per factor,
+/// N m for Theo1 up to m = 256 (its terms summed directly) and 7 N log2(m)^2 beyond (through
+/// correlations). What bounds a study of every factor (pipeline::kMaxAllTausWork).
+double factor_work(DeviationKind kind, std::int64_t phase_points, std::int64_t m);
+
 /// Whether the kind is in the phase's unit (time, for phase in seconds: TDEV, TTOTDEV, MTIE,
 /// TIE rms) rather than the fractional frequency's (the others).
 bool in_time_units(DeviationKind kind);
