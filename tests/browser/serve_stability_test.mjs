@@ -234,6 +234,29 @@ await check('a column read as phase is the command\'s --data phase', async () =>
   await page.selectOption('#stability-data', 'rate');
 });
 
+await check('the three-cornered hat of three columns draws each one\'s separated deviation as gmwm stability --hat', async () => {
+  await page.check('#stability-hat');
+  assert.equal(await page.isVisible('#stability-hat-columns'), true, 'the hat asks for its columns');
+  await page.selectOption('#stability-hat-a', 'gyro_x');
+  await page.selectOption('#stability-hat-b', 'gyro_y');
+  await page.selectOption('#stability-hat-c', 'gyro_z');
+  await tick(['oadev', 'tdev']);
+  await page.selectOption('#stability-taus', 'octave');
+  await page.click('#stability');
+  await waitStatus('three-cornered hat of gyro_x, gyro_y, gyro_z: done');
+  await page.waitForSelector('#result .gmwm-plot[data-plot=stability-hat][data-rendered=svg]');
+  const r = await lastStability();
+  assert.deepEqual(r.document, cliDocument(['stability', RECORDING, '--columns', 'gyro_x,gyro_y,gyro_z', '--hat',
+                                            '--kind', 'oadev,tdev', '--units', 'gyro=rad/s,accel=m/s^2']));
+  const hats = await page.$$eval('#result .gmwm-plot[data-plot=stability-hat]', (e) => e.map((x) => x.textContent));
+  assert.equal(hats.length, 2, 'a hat plot per kind');
+  for (const c of ['gyro_x', 'gyro_y', 'gyro_z']) assert.ok(hats[0].includes(c), `${c} in the legend: ${hats[0]}`);
+  assert.ok(hats[1].includes('[(rad/s)*s]'), `tdev's hat in the phase's unit: ${hats[1]}`);
+  await noErrors();
+  await page.screenshot({ path: join(shots, 'serve-stability-3-hat-full.png'), fullPage: true });
+  await page.uncheck('#stability-hat');
+});
+
 await check('a time that is no whole number of periods is a message on the page naming "taus"', async () => {
   await page.selectOption('#stability-taus', 'list');
   await page.fill('#stability-list', '0.015');
