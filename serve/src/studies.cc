@@ -412,7 +412,8 @@ Json export_model(const RequestBody& body) {
 namespace {
 
 // The stability study's options as the library's messages name them (the command's) and the
-// request's fields that set them; the library's own field names ("confidence: ...") too.
+// request's fields that set them; the library's own field names ("confidence: ...") too: which
+// field a refusal of the options names.
 constexpr std::pair<std::string_view, const char*> kStabilityFields[] = {{"--kind", "kind"},
                                                                          {"--taus", "taus"},
                                                                          {"--confidence", "confidence"},
@@ -421,24 +422,9 @@ constexpr std::pair<std::string_view, const char*> kStabilityFields[] = {{"--kin
                                                                          {"confidence", "confidence"},
                                                                          {"noise_alpha", "noise_alpha"}};
 
-// A library message in the page's words: each of those options, wherever it is named, as its
-// field ("--taus: 2.5 s is not ..." -> "\"taus\": 2.5 s is not ..."), then the other faces'
-// table (io::option_wording: "--data phase" -> "\"data\" phase").
-std::string stability_words(std::string message) {
-  for (const auto& [option, field] : kStabilityFields) {
-    if (!option.starts_with("--")) continue;
-    const std::string to = "\"" + std::string(field) + "\"";
-    std::size_t p = message.find(option);
-    while (p != std::string::npos) {
-      const std::size_t end = p + option.size();
-      const bool longer =
-          end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) != 0 || message[end] == '-');
-      if (!longer) message.replace(p, option.size(), to);
-      p = message.find(option, longer ? end : p + to.size());
-    }
-  }
-  return io::option_wording(std::move(message), io::Face::kWeb);
-}
+// A library message in the page's words: the options as the request's fields, as every face
+// words them (io::option_wording: "--taus: 2.5 s is not ..." -> "\"taus\": 2.5 s is not ...").
+std::string stability_words(std::string message) { return io::option_wording(std::move(message), io::Face::kWeb); }
 
 // A refusal of the request's options (StabilityStudyOptions::Validate, deviation_of): one line
 // naming the field it starts with ("<where>: field 'kind': found 'allan', expected ...").
